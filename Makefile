@@ -1,0 +1,165 @@
+# evo — top-level build. `make help` lists the targets.
+#
+# Layout of the output (BUILD, default build/):
+#   BUILD/evo                the evo command
+#   BUILD/libevocore.a       core/ (freestanding C11)
+#   BUILD/libevohost.a       sim/ (host side)
+#   BUILD/tests/test_*       one test binary per tests/*/test_*.c
+# `make test` builds and runs every test twice: plainly (build/) and under
+# AddressSanitizer + UndefinedBehaviorSanitizer (build/asan/).
+
+BUILD ?= build
+CC ?= cc
+CLANG ?= clang
+ARM_CC ?= arm-none-eabi-gcc
+ARM_SIZE ?= arm-none-eabi-size
+ARM_NM ?= arm-none-eabi-nm
+PREFIX ?= /usr/local
+FUZZ_SECONDS ?= 20
+SAN ?=
+
+WARN := -Wall -Wextra -Werror -Wpedantic -Wshadow -Wstrict-prototypes \
+	-Wmissing-prototypes -Wpointer-arith -Wvla
+OPT ?= -O2 -g
+CFLAGS_ALL := -std=c11 $(OPT) $(WARN) -Icore/include -Isim -Itests $(SAN) $(CFLAGS)
+LDFLAGS_ALL := $(SAN) $(LDFLAGS)
+LIBS := -lm
+
+CORE_SRCS := $(sort $(wildcard core/src/*.c))
+# What a robot's firmware carries: the tick, networks, variables, hard-coded
+# skills and the image loader. Parsers, the image writer and the network
+# compiler are core too (freestanding) but run only on the host.
+CORE_RUNTIME := status mind variables hardcoded hash net
+HOST_SRCS := $(filter-out sim/evo_main.c,$(sort $(wildcard sim/*.c)))
+TEST_SUPPORT := $(sort $(wildcard tests/support/*.c))
+TEST_SRCS := $(sort $(wildcard tests/*/test_*.c))
+TEST_BINS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRCS))
+FUZZ_SRCS := $(sort $(wildcard tests/fuzz/fuzz_*.c))
+
+CORE_OBJS := $(patsubst %.c,$(BUILD)/obj/%.o,$(CORE_SRCS))
+HOST_OBJS := $(patsubst %.c,$(BUILD)/obj/%.o,$(HOST_SRCS))
+SUPPORT_OBJS := $(patsubst %.c,$(BUILD)/obj/%.o,$(TEST_SUPPORT))
+
+.PHONY: all help deps test test-plain test-asan run install core-check fuzz \
+	format clean
+.DEFAULT_GOAL := all
+
+all: $(BUILD)/evo $(BUILD)/libevocore.a $(BUILD)/libevohost.a
+
+help:
+	@echo "make            build build/evo and the libraries"
+	@echo "make deps       install the Debian packages evo needs (as root)"
+	@echo "make test       deps, build, run every test plainly and under ASan+UBSan"
+	@echo "make run        deps, build, run the main job on a shipped example"
+	@echo "make core-check compile core/ for Cortex-M0+ and check what it links"
+	@echo "make fuzz       run each parser's fuzz target for FUZZ_SECONDS"
+	@echo "make install    install evo and lua/ under PREFIX ($(PREFIX))"
+	@echo "make format     apply .clang-format to the C sources"
+
+deps:
+	@sh .ci/deps
+
+$(BUILD)/obj/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) -MMD -MP -c $< -o $@
+
+$(BUILD)/libevocore.a: $(CORE_OBJS)
+	@rm -f $@
+	ar rcs $@ $^
+
+$(BUILD)/libevohost.a: $(HOST_OBJS)
+	@rm -f $@
+	ar rcs $@ $^
+
+$(BUILD)/evo: $(BUILD)/obj/sim/evo_main.o $(BUILD)/libevohost.a $(BUILD)/libevocore.a
+	$(CC) $(LDFLAGS_ALL) -o $@ $^ $(LIBS)
+
+$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(SUPPORT_OBJS) $(BUILD)/libevohost.a $(BUILD)/libevocore.a
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS_ALL) -o $@ $^ $(LIBS)
+
+# Networks compiled at -O0 and at -O2 must give bit-identical outputs:
+# tests/core/test_net_opt runs these two and compares what they print.
+NET_DUMP_SRCS := tests/support/net_dump_main.c $(CORE_SRCS)
+$(BUILD)/tests/net_dump_O0 $(BUILD)/tests/net_dump_O2: $(NET_DUMP_SRCS)
+	@mkdir -p $(dir $@)
+	$(CC) -std=c11 $(subst $(BUILD)/tests/net_dump_,-,$@) $(WARN) -Icore/include -Itests $(SAN) -o $@ $^ -lm
+
+test-bins: $(TEST_BINS) $(BUILD)/evo $(BUILD)/tests/net_dump_O0 $(BUILD)/tests/net_dump_O2
+
+# Runs every test binary; a failing one fails the target after all have run.
+test-plain: test-bins
+	@failed=0; for t in $(TEST_BINS); do \
+		echo "== $$t"; \
+		EVO_BUILD=$(BUILD) $$t || { echo "FAILED: $$t"; failed=1; }; \
+	done; exit $$failed
+
+test-asan:
+	@$(MAKE) --no-print-directory BUILD=build/asan OPT="-O1 -g" \
+		SAN="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" \
+		test-plain
+
+test: deps
+	@$(MAKE) --no-print-directory test-plain
+	@$(MAKE) --no-print-directory test-asan
+	@echo "make test: all test binaries passed, plain and under ASan+UBSan"
+
+run: deps all
+	$(BUILD)/evo info minds/Collect
+	$(BUILD)/evo tick minds/Collect --ticks 20
+
+install: all
+	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/evo
+	install -m 755 $(BUILD)/evo $(DESTDIR)$(PREFIX)/bin/evo
+	cp -r lua $(DESTDIR)$(PREFIX)/share/evo/ 2>/dev/null || true
+
+# ---- core on a Cortex-M0+ ------------------------------------------------
+ARM_FLAGS := -mcpu=cortex-m0plus -mthumb -std=c11 -Os -ffreestanding \
+	-fno-builtin -ffunction-sections -fdata-sections -DEVO_FREESTANDING \
+	$(WARN) -Icore/include
+ARM_OBJS := $(patsubst core/src/%.c,$(BUILD)/arm/%.o,$(CORE_SRCS))
+ARM_RUNTIME_OBJS := $(patsubst %,$(BUILD)/arm/%.o,$(CORE_RUNTIME))
+
+$(BUILD)/arm/%.o: core/src/%.c
+	@mkdir -p $(dir $@)
+	$(ARM_CC) $(ARM_FLAGS) -c $< -o $@
+
+$(BUILD)/arm/runtime.elf: $(ARM_RUNTIME_OBJS) tests/core_check_entry.c
+	$(ARM_CC) $(ARM_FLAGS) -nostdlib -nostartfiles -Wl,--gc-sections \
+		-Wl,-e,evo_core_check_entry -o $@ tests/core_check_entry.c \
+		$(ARM_RUNTIME_OBJS) -lgcc
+
+core-check: deps $(ARM_OBJS) $(BUILD)/arm/runtime.elf
+	@bad=$$($(ARM_NM) -u $(ARM_OBJS) $(BUILD)/arm/runtime.elf | \
+		grep -E ' (malloc|calloc|realloc|free|printf|fprintf|sprintf|snprintf|puts|putchar|__aeabi_f[a-z0-9_]*|__aeabi_d[a-z0-9_]*|__aeabi_[ui]?[lf]2[fd]|__(add|sub|mul|div)[sd]f3)$$' | sort -u); \
+	if [ -n "$$bad" ]; then echo "core-check: core/ references forbidden symbols:"; echo "$$bad"; exit 1; fi
+	@echo "core-check: core/ builds freestanding for Cortex-M0+ at -Os; no malloc, free, printf or soft-float"
+	@echo "MIND runtime ($(CORE_RUNTIME)), linked with --gc-sections:"
+	@$(ARM_SIZE) $(BUILD)/arm/runtime.elf
+
+# ---- fuzzing --------------------------------------------------------------
+FUZZ_BINS := $(patsubst tests/fuzz/%.c,$(BUILD)/fuzz/%,$(FUZZ_SRCS))
+$(BUILD)/fuzz/%: tests/fuzz/%.c $(CORE_SRCS)
+	@mkdir -p $(dir $@)
+	$(CLANG) -std=c11 -O1 -g $(WARN) -Icore/include -Itests \
+		-fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
+		-o $@ $< $(CORE_SRCS)
+
+fuzz: deps $(FUZZ_BINS)
+	@for f in $(FUZZ_BINS); do \
+		name=$$(basename $$f); corpus=$(BUILD)/fuzz/corpus-$$name; \
+		mkdir -p $$corpus; \
+		echo "== $$name ($(FUZZ_SECONDS)s)"; \
+		$$f -max_total_time=$(FUZZ_SECONDS) -timeout=5 -rss_limit_mb=1024 \
+			$$corpus tests/data > $(BUILD)/fuzz/$$name.log 2>&1; rc=$$?; \
+		tail -n 3 $(BUILD)/fuzz/$$name.log; \
+		[ $$rc -eq 0 ] || { echo "fuzz: $$name failed, see $(BUILD)/fuzz/$$name.log"; exit 1; }; \
+	done; echo "fuzz: every target ran $(FUZZ_SECONDS)s without a crash, hang or sanitizer report"
+
+format:
+	clang-format -i $$(find core sim tests firmware -name '*.[ch]' 2>/dev/null)
+
+clean:
+	rm -rf build
+
+-include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)

@@ -1,0 +1,102 @@
+/* evo — fixed-point numbers.
+ *
+ * Every signal, weight, bias and activation in the core is an evo_q16:
+ * a signed 32-bit integer holding value * 65536 (Q15.16). Range
+ * [-32768, 32768 - 2^-16], resolution 2^-16 (about 1.5e-5).
+ *
+ * Rounding: results are rounded to the nearest representable value, ties
+ * towards +infinity (add half an ulp, then shift right arithmetically).
+ * Saturation: results outside the range are clamped to EVO_Q16_MIN or
+ * EVO_Q16_MAX, never wrapped.
+ *
+ * docs/fixed-point.md is the reference for the format. */
+#ifndef EVO_FIXED_H
+#define EVO_FIXED_H
+
+#include <stdint.h>
+
+typedef int32_t evo_q16;
+
+#define EVO_Q16_ONE ((evo_q16)65536)
+#define EVO_Q16_HALF ((evo_q16)32768)
+#define EVO_Q16_MAX ((evo_q16)INT32_MAX)
+#define EVO_Q16_MIN ((evo_q16)INT32_MIN)
+
+/* Boolean sensor conventions: 0.2 for false, 0.8 for true. */
+#define EVO_Q16_FALSE ((evo_q16)13107) /* round(0.2 * 65536) */
+#define EVO_Q16_TRUE ((evo_q16)52429)  /* round(0.8 * 65536) */
+
+/* Clamp a 64-bit intermediate into the Q16 range. */
+static inline evo_q16 evo_q16_sat(int64_t v)
+{
+	if (v > INT32_MAX)
+		return EVO_Q16_MAX;
+	if (v < INT32_MIN)
+		return EVO_Q16_MIN;
+	return (evo_q16)v;
+}
+
+/* Round a Q32 (value * 2^32) intermediate to Q16, saturating. */
+static inline evo_q16 evo_q32_to_q16(int64_t v)
+{
+	/* v + 2^15 cannot overflow for the sums the core forms (see net.c). */
+	return evo_q16_sat((v + 32768) >> 16);
+}
+
+/* a * b, rounded and saturated. */
+static inline evo_q16 evo_q16_mul(evo_q16 a, evo_q16 b)
+{
+	return evo_q32_to_q16((int64_t)a * b);
+}
+
+/* Clamp to the signal range [0, 1]. */
+static inline evo_q16 evo_q16_clamp01(evo_q16 v)
+{
+	return v < 0 ? 0 : v > EVO_Q16_ONE ? EVO_Q16_ONE : v;
+}
+
+#ifndef EVO_FREESTANDING
+/* Host-side conversions; never called on the firmware's tick path. The
+ * double is rounded to the nearest Q16 (ties away from zero) and saturated. */
+static inline evo_q16 evo_q16_from_double(double d)
+{
+	double s = d * 65536.0;
+	if (s >= 2147483647.0)
+		return EVO_Q16_MAX;
+	if (s <= -2147483648.0)
+		return EVO_Q16_MIN;
+	return (evo_q16)(s < 0 ? s - 0.5 : s + 0.5);
+}
+
+static inline double evo_q16_to_double(evo_q16 q)
+{
+	return (double)q / 65536.0;
+}
+#endif
+
+/* Activation functions of network nodes. The numbering is part of the mind
+ * image format: append, never reorder. */
+#define EVO_ACT_LIST(X)                                                        \
+	X(EVO_ACT_IDENTITY, "identity")   /* f(x) = x                     */   \
+	X(EVO_ACT_SIGMOID, "sigmoid")     /* 1 / (1 + e^-x)               */   \
+	X(EVO_ACT_NEAT_SIGMOID, "neat_sigmoid") /* 1 / (1 + e^-4.9x)      */   \
+	X(EVO_ACT_TANH, "tanh")           /* tanh(x)                      */   \
+	X(EVO_ACT_RELU, "relu")           /* max(0, x)                    */   \
+	X(EVO_ACT_STEP, "step")           /* x > 0 ? 1 : 0                */   \
+	X(EVO_ACT_CLAMPED, "clamped")     /* min(1, max(0, x))            */   \
+	X(EVO_ACT_GAUSS, "gauss")         /* e^(-x^2)                     */
+
+typedef enum evo_act {
+#define EVO_ACT_ENUM(code, name) code,
+	EVO_ACT_LIST(EVO_ACT_ENUM)
+#undef EVO_ACT_ENUM
+		EVO_ACT_COUNT
+} evo_act;
+
+/* The name of an activation as written in .net files, or NULL. */
+const char *evo_act_name(unsigned act);
+
+/* f(x) for activation act; an unknown act gives 0. */
+evo_q16 evo_act_apply(unsigned act, evo_q16 x);
+
+#endif
