@@ -1,0 +1,181 @@
+/* .simbatch: a task (tutorial chapter 4). KEY:VALUE pairs in any order;
+ * keys evo does not know are skipped with a warning, as the tutorial asks
+ * superfluous parameters to be ignored. */
+#include "evo/formats.h"
+#include "text.h"
+
+const char *const evo_simbatch_keys[] = {
+	"TYPE", "BOTMODEL", "BOTNAME", "MASTERSKILL", "LEARNINGSKILL", "ENV",
+	"LEARNINGMETHOD", "ROOTFOLDER", "NUMGEN", "EVALREP", "TICKLIM",
+	"POPSIZE", "SEED", "THREADS",
+	/* The learning algorithms' settings: reserved here so they are not
+	 * warned about; the Lua side checks their values. */
+	"NEAT_COMPAT_THRESHOLD", "NEAT_C1", "NEAT_C2", "NEAT_C3",
+	"NEAT_WEIGHT_MUT_RATE", "NEAT_WEIGHT_MUT_POWER", "NEAT_ADD_NODE_RATE",
+	"NEAT_ADD_LINK_RATE", "NEAT_RECURRENT", "NEAT_STAGNATION",
+	"NEAT_ELITISM", "NEAT_SURVIVAL", "GA_MUT_RATE", "GA_MUT_POWER",
+	"GA_CROSSOVER_RATE", "GA_ELITISM", "GA_TOURNAMENT", "SA_T0",
+	"SA_COOLING", "SA_STEP", "HIDDEN", NULL};
+
+const char *const evo_task_types[] = {
+	"DEMOSIM",	 "LEARNSIM",	"LEARNSIMCONTINUOUS",
+	"DEMO2DSIMMULTI", "LEARN2DSIMMULTI", "DEMO3DSIM",
+	"LEARN3DSIM",	 "DEMOREMOTE",	"DEMOREMOTESIM",
+	"LEARNREMOTESIM", "OPENENDED",	NULL};
+
+#define WHOLE_MAX 2147483647u /* whole-number values fit an int */
+
+/* The smallest value a whole-number key takes, or -1 for other keys. */
+static int whole_min(const char *key)
+{
+	if (txt_eq(key, "NUMGEN") || txt_eq(key, "EVALREP") ||
+	    txt_eq(key, "TICKLIM") || txt_eq(key, "POPSIZE") ||
+	    txt_eq(key, "THREADS"))
+		return 1;
+	if (txt_eq(key, "SEED"))
+		return 0;
+	return -1;
+}
+
+static void warn(evo_simbatch *out, const txt_entry *e, const char *file)
+{
+	if (out->n_warnings < EVO_MAX_WARNINGS)
+		txt_diag(&out->warning[out->n_warnings], file, e->line,
+			 "unknown key '%.*s' ignored; did you mean %s?",
+			 TXT_Q(e->field[0]),
+			 txt_closest(e->field[0], evo_simbatch_keys, 0));
+	if (out->n_warnings < UINT32_MAX)
+		out->n_warnings++;
+}
+
+static evo_status check_value(const char *key, txt_slice v,
+			      const txt_entry *e, const char *file,
+			      evo_diag *err)
+{
+	int min = whole_min(key);
+	uint32_t n;
+	if (min >= 0) {
+		int r = txt_uint(v, WHOLE_MAX, &n);
+		if (r != 0 || n < (uint32_t)min) {
+			txt_diag(err, file, e->line,
+				 "expected a whole number %s for %s, found "
+				 "'%.*s'",
+				 min ? "1..2147483647" : "0..2147483647", key,
+				 TXT_Q(v));
+			return r == -2 ? EVO_ERR_LIMIT : EVO_ERR_SYNTAX;
+		}
+	} else if (txt_eq(key, "TYPE")) {
+		size_t i;
+		for (i = 0; evo_task_types[i]; i++)
+			if (txt_slice_ieq(v, evo_task_types[i]))
+				return EVO_OK;
+		txt_diag(err, file, e->line,
+			 "expected a task type for TYPE, found '%.*s'; did you "
+			 "mean %s? (see docs/formats.md for the list)",
+			 TXT_Q(v), txt_closest(v, evo_task_types, 0));
+		return EVO_ERR_NAME;
+	}
+	return EVO_OK;
+}
+
+static evo_status add_pair(evo_simbatch *out, const txt_entry *e,
+			   const char *file, evo_diag *err)
+{
+	/* A pointer, not a copy: gcc -Os turns a struct copy into memcpy. */
+	const txt_slice *key = &e->field[0];
+	txt_slice value;
+	const char *known = NULL;
+	evo_simbatch_pair *p;
+	evo_status st;
+	uint32_t i;
+
+	if (e->n_fields < 2) {
+		txt_diag(err, file, e->line,
+			 "expected KEY:VALUE, found '%.*s' (no ':')",
+			 TXT_Q(e->text));
+		return EVO_ERR_SYNTAX;
+	}
+	if (key->len == 0) {
+		txt_diag(err, file, e->line,
+			 "expected a key before ':', found '%.*s'",
+			 TXT_Q(e->text));
+		return EVO_ERR_SYNTAX;
+	}
+	/* The value runs to the end of the entry: a path may hold ':'. */
+	value = txt_rest(e, 1);
+	if (value.len == 0) {
+		txt_diag(err, file, e->line,
+			 "expected a value after '%.*s:', found nothing",
+			 TXT_Q(*key));
+		return EVO_ERR_SYNTAX;
+	}
+	for (i = 0; evo_simbatch_keys[i]; i++)
+		if (txt_slice_ieq(*key, evo_simbatch_keys[i]))
+			known = evo_simbatch_keys[i];
+	if (!known) {
+		warn(out, e, file);
+		return EVO_OK;
+	}
+	for (i = 0; i < out->n_pairs; i++) {
+		if (txt_eq(out->pair[i].key, known)) {
+			txt_diag(err, file, e->line,
+				 "expected each key once, found %s again "
+				 "(first on line %u)",
+				 known, (unsigned)out->pair[i].line);
+			return EVO_ERR_NAME;
+		}
+	}
+	if (out->n_pairs >= EVO_MAX_SIMBATCH) {
+		txt_diag(err, file, e->line,
+			 "expected at most %u pairs, found another: '%.*s'",
+			 (unsigned)EVO_MAX_SIMBATCH, TXT_Q(e->text));
+		return EVO_ERR_LIMIT;
+	}
+	st = check_value(known, value, e, file, err);
+	if (st != EVO_OK)
+		return st;
+	p = &out->pair[out->n_pairs];
+	if (txt_copy(p->value, sizeof p->value, value) != 0) {
+		txt_diag(err, file, e->line,
+			 "expected a value of at most %u bytes for %s, found "
+			 "'%.*s'",
+			 (unsigned)(EVO_VALUE_MAX - 1), known, TXT_Q(value));
+		return EVO_ERR_LIMIT;
+	}
+	for (i = 0; known[i]; i++)
+		p->key[i] = known[i];
+	for (; i < sizeof p->key; i++)
+		p->key[i] = 0;
+	p->line = e->line;
+	out->n_pairs++;
+	return EVO_OK;
+}
+
+evo_status evo_simbatch_parse(const char *buf, size_t len, const char *file,
+			      evo_simbatch *out, evo_diag *err)
+{
+	txt_lexer lx;
+	txt_entry e;
+	int r;
+
+	out->n_pairs = 0;
+	out->n_warnings = 0;
+	txt_lex_init(&lx, buf, len, file);
+	while ((r = txt_lex_next(&lx, &e, err)) > 0) {
+		evo_status st = add_pair(out, &e, file, err);
+		if (st != EVO_OK)
+			return st;
+	}
+	return r < 0 ? EVO_ERR_SYNTAX : EVO_OK;
+}
+
+const char *evo_simbatch_get(const evo_simbatch *sb, const char *key)
+{
+	uint32_t i;
+	if (!sb || !key)
+		return NULL;
+	for (i = 0; i < sb->n_pairs && i < EVO_MAX_SIMBATCH; i++)
+		if (txt_ieq(sb->pair[i].key, key))
+			return sb->pair[i].value;
+	return NULL;
+}
