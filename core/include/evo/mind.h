@@ -72,12 +72,13 @@ typedef struct evo_state {
 	uint64_t *acc_num;    /* n_actuators + n_vars weighted sums, Q32 */
 	uint32_t *acc_den;    /* n_actuators + n_vars summed influence, Q16 */
 	evo_q16 *io_in, *io_out; /* max_io each */
+	uint8_t *hc_class;	 /* per hard-coded skill: evo_hc_classes index */
 } evo_state;
 
 /* Bytes of caller memory a state for m needs (the evo_state included). */
 size_t evo_state_size(const evo_mind *m);
 
-/* Lay out a state in mem (4-byte aligned, at least evo_state_size bytes)
+/* Lay out a state in mem (8-byte aligned, at least evo_state_size bytes)
  * and reset it. *out points into mem. */
 evo_status evo_state_init(const evo_mind *m, void *mem, size_t size,
 			  evo_state **out);

@@ -1,0 +1,497 @@
+/* The mind: opening an image, laying out a state, and the tick.
+ *
+ * docs/mind.md is the reference for the tick and for influence; the
+ * comments here say why the code is shaped as it is. */
+#include "evo/mind.h"
+
+#include "evo/formats.h"
+#include "variables.h"
+
+#if !defined(__BYTE_ORDER__) || __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
+#error "evo's mind image is little-endian; this target is not"
+#endif
+
+/* ---- opening an image ------------------------------------------------ */
+
+#define FEED_FORWARD 0xFFFFFFFFu
+
+static int in_image(uint32_t length, uint32_t off, uint32_t count,
+		    uint32_t size)
+{
+	if (off % 4 || off > length)
+		return 0;
+	return (uint64_t)count * size <= length - off;
+}
+
+static evo_status check_io(const evo_mind *m, unsigned skill)
+{
+	const evo_image_skill *k = &m->skill[skill];
+	for (unsigned j = 0; j < k->n_in; j++) {
+		const evo_image_io *io = &m->io[k->in_start + j];
+		unsigned limit;
+		switch (io->type) {
+		case EVO_IN_SE:
+		case EVO_IN_SD:
+			limit = m->n_sensors;
+			break;
+		case EVO_IN_VA:
+		case EVO_IN_VD:
+			limit = m->n_vars;
+			break;
+		default:
+			return EVO_ERR_IMAGE_LAYOUT;
+		}
+		if (io->index >= limit)
+			return EVO_ERR_IMAGE_LAYOUT;
+	}
+	for (unsigned j = 0; j < k->n_out; j++) {
+		const evo_image_io *io = &m->io[k->out_start + j];
+		switch (io->type) {
+		case EVO_OUT_MO:
+			if (io->index >= m->n_actuators)
+				return EVO_ERR_IMAGE_LAYOUT;
+			break;
+		case EVO_OUT_SK:
+			/* Sub-skills come after their parents: this is what
+			 * makes one top-down pass enough, and rules out
+			 * cycles in an image. */
+			if (io->index <= skill || io->index >= m->n_skills)
+				return EVO_ERR_IMAGE_LAYOUT;
+			break;
+		case EVO_OUT_VA:
+			if (io->index >= m->n_vars)
+				return EVO_ERR_IMAGE_LAYOUT;
+			break;
+		default:
+			return EVO_ERR_IMAGE_LAYOUT;
+		}
+	}
+	return EVO_OK;
+}
+
+static evo_status check_net(const evo_mind *m, const evo_image_net *n,
+			    uint32_t *persist, uint16_t *max_ff)
+{
+	uint32_t len = m->length;
+	if (n->n_nodes < n->n_in || n->n_nodes - n->n_in > EVO_NET_MAX_NODES ||
+	    n->n_links > EVO_NET_MAX_LINKS)
+		return EVO_ERR_IMAGE_LAYOUT;
+	if (!in_image(len, n->off_nodes, n->n_nodes - n->n_in,
+		      sizeof(evo_net_node)) ||
+	    !in_image(len, n->off_links, n->n_links, sizeof(evo_net_link)) ||
+	    !in_image(len, n->off_out, n->n_out, sizeof(uint16_t)))
+		return EVO_ERR_IMAGE_LAYOUT;
+	const evo_net_node *nodes =
+		(const evo_net_node *)(m->base + n->off_nodes);
+	const evo_net_link *links =
+		(const evo_net_link *)(m->base + n->off_links);
+	const uint16_t *out = (const uint16_t *)(m->base + n->off_out);
+	int recurrent = 0;
+	for (unsigned i = n->n_in; i < n->n_nodes; i++) {
+		const evo_net_node *nd = &nodes[i - n->n_in];
+		if (nd->act >= EVO_ACT_COUNT ||
+		    nd->link_count > EVO_NET_MAX_FANIN ||
+		    (uint32_t)nd->link_start + nd->link_count > n->n_links)
+			return EVO_ERR_IMAGE_LAYOUT;
+		for (unsigned l = 0; l < nd->link_count; l++) {
+			const evo_net_link *lk = &links[nd->link_start + l];
+			if (lk->src >= n->n_nodes)
+				return EVO_ERR_IMAGE_LAYOUT;
+			if (lk->src >= i)
+				recurrent = 1;
+		}
+	}
+	for (unsigned k = 0; k < n->n_out; k++)
+		if (out[k] >= n->n_nodes)
+			return EVO_ERR_IMAGE_LAYOUT;
+	/* Recurrent networks keep their activations between ticks, so each
+	 * gets its own words, allotted in network order; feed-forward ones
+	 * share one scratch array. */
+	if (recurrent) {
+		if (n->persist != *persist)
+			return EVO_ERR_IMAGE_LAYOUT;
+		*persist += n->n_nodes;
+	} else {
+		if (n->persist != FEED_FORWARD)
+			return EVO_ERR_IMAGE_LAYOUT;
+		if (n->n_nodes > *max_ff)
+			*max_ff = n->n_nodes;
+	}
+	return EVO_OK;
+}
+
+static evo_status check_skills(evo_mind *m)
+{
+	uint16_t n_hc = 0, max_io = 0;
+	for (unsigned i = 0; i < m->n_skills; i++) {
+		const evo_image_skill *k = &m->skill[i];
+		const evo_image_header *h = (const evo_image_header *)m->base;
+		if ((uint32_t)k->in_start + k->n_in > h->n_io ||
+		    (uint32_t)k->out_start + k->n_out > h->n_io ||
+		    k->n_in > EVO_MAX_SKILL_IO || k->n_out > EVO_MAX_SKILL_IO)
+			return EVO_ERR_IMAGE_LAYOUT;
+		if (k->n_in > max_io)
+			max_io = k->n_in;
+		if (k->n_out > max_io)
+			max_io = k->n_out;
+		evo_status st = check_io(m, i);
+		if (st != EVO_OK)
+			return st;
+		if (k->kind == EVO_SKILL_NEURAL) {
+			if (k->slot >= m->n_nets)
+				return EVO_ERR_IMAGE_LAYOUT;
+			const evo_image_net *n = &m->net[k->slot];
+			if (n->n_in != k->n_in || n->n_out != k->n_out)
+				return EVO_ERR_IMAGE_LAYOUT;
+			/* One network, one skill: recurrent memory is per
+			 * network. */
+			for (unsigned j = 0; j < i; j++)
+				if (m->skill[j].kind == EVO_SKILL_NEURAL &&
+				    m->skill[j].slot == k->slot)
+					return EVO_ERR_IMAGE_LAYOUT;
+		} else if (k->kind == EVO_SKILL_HARDCODED) {
+			const evo_hc_class *c = evo_hc_find_hash(k->hc_class);
+			if (!c)
+				return EVO_ERR_IMAGE_CLASS;
+			if ((c->n_in >= 0 && c->n_in != k->n_in) ||
+			    (c->n_out >= 0 && c->n_out != k->n_out))
+				return EVO_ERR_IMAGE_CLASS;
+			if (k->slot != n_hc)
+				return EVO_ERR_IMAGE_LAYOUT;
+			n_hc++;
+		} else {
+			return EVO_ERR_IMAGE_LAYOUT;
+		}
+	}
+	m->n_hardcoded = n_hc;
+	m->max_io = max_io;
+	return EVO_OK;
+}
+
+evo_status evo_mind_open(const void *buf, size_t len, uint32_t names_hash,
+			 evo_mind *m)
+{
+	const uint8_t *base = buf;
+	if ((uintptr_t)buf % 4)
+		return EVO_ERR_ALIGN;
+	if (len < sizeof(evo_image_header))
+		return EVO_ERR_IMAGE_LENGTH;
+	const evo_image_header *h = buf;
+	if (h->magic != EVO_IMAGE_MAGIC)
+		return EVO_ERR_IMAGE_MAGIC;
+	if (h->version != EVO_IMAGE_VERSION ||
+	    h->header_size != sizeof(evo_image_header))
+		return EVO_ERR_IMAGE_VERSION;
+	if (h->length > len || h->length < sizeof(evo_image_header) ||
+	    h->length % 4)
+		return EVO_ERR_IMAGE_LENGTH;
+	if (evo_crc32(0, base + 16, h->length - 16) != h->crc)
+		return EVO_ERR_IMAGE_CRC;
+	if (h->names_hash != names_hash)
+		return EVO_ERR_IMAGE_NAMES;
+
+	*m = (evo_mind){0};
+	m->base = base;
+	m->length = h->length;
+	m->n_sensors = h->n_sensors;
+	m->n_actuators = h->n_actuators;
+	m->n_vars = h->n_vars;
+	m->n_skills = h->n_skills;
+	m->n_nets = h->n_nets;
+	if (m->n_skills == 0 || m->n_sensors > EVO_MAX_SENSORS ||
+	    m->n_actuators > EVO_MAX_ACTUATORS ||
+	    m->n_vars > EVO_MAX_VARIABLES ||
+	    !in_image(h->length, h->off_vars, h->n_vars, 1) ||
+	    !in_image(h->length, h->off_skills, h->n_skills,
+		      sizeof(evo_image_skill)) ||
+	    !in_image(h->length, h->off_io, h->n_io, sizeof(evo_image_io)) ||
+	    !in_image(h->length, h->off_nets, h->n_nets,
+		      sizeof(evo_image_net)) ||
+	    !in_image(h->length, h->off_names, h->names_len, 1))
+		return EVO_ERR_IMAGE_LAYOUT;
+	m->var_type = base + h->off_vars;
+	m->skill = (const evo_image_skill *)(base + h->off_skills);
+	m->io = (const evo_image_io *)(base + h->off_io);
+	m->net = (const evo_image_net *)(base + h->off_nets);
+	m->names = (const char *)(base + h->off_names);
+	m->names_len = h->names_len;
+	if (m->names_len && m->names[m->names_len - 1] != 0)
+		return EVO_ERR_IMAGE_LAYOUT;
+	for (unsigned i = 0; i < m->n_vars; i++)
+		if (m->var_type[i] >= EVO_VAR_TYPE_COUNT)
+			return EVO_ERR_IMAGE_LAYOUT;
+	uint32_t persist = 0;
+	uint16_t max_ff = 0;
+	for (unsigned i = 0; i < m->n_nets; i++) {
+		evo_status st = check_net(m, &m->net[i], &persist, &max_ff);
+		if (st != EVO_OK)
+			return st;
+	}
+	m->n_persist = persist;
+	m->max_ff_nodes = max_ff;
+	return check_skills(m);
+}
+
+void evo_mind_net(const evo_mind *m, unsigned skill, evo_net *net)
+{
+	const evo_image_net *n = &m->net[m->skill[skill].slot];
+	net->n_in = n->n_in;
+	net->n_out = n->n_out;
+	net->n_nodes = n->n_nodes;
+	net->n_links = n->n_links;
+	net->nodes = (const evo_net_node *)(m->base + n->off_nodes);
+	net->links = (const evo_net_link *)(m->base + n->off_links);
+	net->out = (const uint16_t *)(m->base + n->off_out);
+}
+
+/* The names table holds sensors, actuators, variables, then skills. */
+static const char *nth_name(const evo_mind *m, unsigned n)
+{
+	uint32_t pos = 0;
+	while (n && pos < m->names_len)
+		if (m->names[pos++] == 0)
+			n--;
+	return pos < m->names_len ? m->names + pos : "";
+}
+
+const char *evo_mind_sensor_name(const evo_mind *m, unsigned i)
+{
+	return i < m->n_sensors ? nth_name(m, i) : "";
+}
+
+const char *evo_mind_actuator_name(const evo_mind *m, unsigned i)
+{
+	return i < m->n_actuators ? nth_name(m, m->n_sensors + i) : "";
+}
+
+const char *evo_mind_var_name(const evo_mind *m, unsigned i)
+{
+	return i < m->n_vars ? nth_name(m, m->n_sensors + m->n_actuators + i)
+			     : "";
+}
+
+const char *evo_mind_skill_name(const evo_mind *m, unsigned i)
+{
+	return i < m->n_skills ? nth_name(m, m->n_sensors + m->n_actuators +
+						     m->n_vars + i)
+			       : "";
+}
+
+/* ---- the state ------------------------------------------------------- */
+
+static size_t round8(size_t n)
+{
+	return (n + 7u) & ~(size_t)7u;
+}
+
+/* One layout, used both to size a state and to carve it, so the two
+ * cannot disagree. With mem NULL it only counts. */
+static size_t layout(const evo_mind *m, uint8_t *mem, evo_state *s)
+{
+	size_t off = round8(sizeof(evo_state));
+	unsigned acc = m->n_actuators + m->n_vars;
+#define CARVE(field, type, count)                                              \
+	do {                                                                   \
+		if (s)                                                         \
+			s->field = (type *)(void *)(mem + off);                \
+		off = round8(off + sizeof(type) * (size_t)(count));            \
+	} while (0)
+	CARVE(acc_num, uint64_t, acc);
+	CARVE(acc_den, uint32_t, acc);
+	CARVE(influence, evo_q16, m->n_skills);
+	CARVE(actuator, evo_q16, m->n_actuators);
+	CARVE(sensor_prev, evo_q16, m->n_sensors);
+	CARVE(var, evo_var_state, m->n_vars);
+	CARVE(persist, evo_q16, m->n_persist);
+	CARVE(ff, evo_q16, m->max_ff_nodes);
+	CARVE(hc, int32_t, (size_t)m->n_hardcoded * EVO_HC_WORDS);
+	CARVE(io_in, evo_q16, m->max_io);
+	CARVE(io_out, evo_q16, m->max_io);
+	CARVE(hc_class, uint8_t, m->n_hardcoded);
+#undef CARVE
+	return off;
+}
+
+size_t evo_state_size(const evo_mind *m)
+{
+	return layout(m, NULL, NULL);
+}
+
+evo_status evo_state_init(const evo_mind *m, void *mem, size_t size,
+			  evo_state **out)
+{
+	if ((uintptr_t)mem % 8)
+		return EVO_ERR_ALIGN;
+	if (size < evo_state_size(m))
+		return EVO_ERR_NOMEM;
+	evo_state *s = mem;
+	layout(m, mem, s);
+	/* Resolve hard-coded classes once, not every tick; evo_mind_open
+	 * has checked that each one exists. */
+	for (unsigned i = 0; i < m->n_skills; i++) {
+		const evo_image_skill *k = &m->skill[i];
+		if (k->kind == EVO_SKILL_HARDCODED)
+			s->hc_class[k->slot] = (uint8_t)(
+				evo_hc_find_hash(k->hc_class) - evo_hc_classes);
+	}
+	evo_state_reset(m, s);
+	*out = s;
+	return EVO_OK;
+}
+
+void evo_state_reset(const evo_mind *m, evo_state *s)
+{
+	s->tick = 0;
+	for (unsigned i = 0; i < m->n_skills; i++)
+		s->influence[i] = 0;
+	for (unsigned i = 0; i < m->n_actuators; i++)
+		s->actuator[i] = EVO_Q16_HALF;
+	for (unsigned i = 0; i < m->n_sensors; i++)
+		s->sensor_prev[i] = 0;
+	for (unsigned i = 0; i < m->n_vars; i++)
+		var_reset(m->var_type[i], &s->var[i]);
+	for (uint32_t i = 0; i < m->n_persist; i++)
+		s->persist[i] = 0;
+	for (unsigned i = 0; i < (unsigned)m->n_hardcoded * EVO_HC_WORDS; i++)
+		s->hc[i] = 0;
+}
+
+/* ---- the tick -------------------------------------------------------- */
+
+/* A derivative input: 0.5 + delta / 2, delta = now - before. */
+static evo_q16 derivative(evo_q16 now, evo_q16 before)
+{
+	return evo_q16_clamp01(EVO_Q16_HALF + ((now - before + 1) >> 1));
+}
+
+static void read_inputs(const evo_mind *m, const evo_state *s,
+			const evo_image_skill *k, const evo_q16 *sensors)
+{
+	for (unsigned j = 0; j < k->n_in; j++) {
+		const evo_image_io *io = &m->io[k->in_start + j];
+		evo_q16 v;
+		switch (io->type) {
+		case EVO_IN_SE:
+			v = evo_q16_clamp01(sensors[io->index]);
+			break;
+		case EVO_IN_SD: {
+			evo_q16 now = evo_q16_clamp01(sensors[io->index]);
+			/* At tick 0 there is no previous value: no change. */
+			evo_q16 before = s->tick ? s->sensor_prev[io->index]
+						 : now;
+			v = derivative(now, before);
+			break;
+		}
+		case EVO_IN_VA:
+			v = s->var[io->index].value;
+			break;
+		default: /* EVO_IN_VD */
+			v = derivative(s->var[io->index].value,
+				       s->var[io->index].prev);
+			break;
+		}
+		s->io_in[j] = v;
+	}
+}
+
+static void compute(const evo_mind *m, evo_state *s, unsigned i)
+{
+	const evo_image_skill *k = &m->skill[i];
+	if (k->kind == EVO_SKILL_NEURAL) {
+		evo_net net;
+		evo_mind_net(m, i, &net);
+		uint32_t persist = m->net[k->slot].persist;
+		evo_q16 *act =
+			persist == FEED_FORWARD ? s->ff : s->persist + persist;
+		evo_net_eval(&net, act, s->io_in, s->io_out);
+	} else {
+		evo_hc_ctx c = {
+			.in = s->io_in,
+			.out = s->io_out,
+			.n_in = k->n_in,
+			.n_out = k->n_out,
+			.mem = s->hc + (unsigned)k->slot * EVO_HC_WORDS,
+			.tick = s->tick,
+		};
+		for (unsigned j = 0; j < k->n_out; j++)
+			s->io_out[j] = EVO_Q16_HALF;
+		evo_hc_classes[s->hc_class[k->slot]].fn(&c);
+	}
+}
+
+/* Adds influence * value to the weighted mean of actuator or variable a. */
+static void accumulate(evo_state *s, unsigned a, evo_q16 influence,
+		       evo_q16 value)
+{
+	s->acc_num[a] += (uint64_t)(uint32_t)influence * (uint32_t)value;
+	s->acc_den[a] += (uint32_t)influence;
+}
+
+static void write_outputs(const evo_mind *m, evo_state *s, unsigned i,
+			  evo_q16 influence)
+{
+	const evo_image_skill *k = &m->skill[i];
+	for (unsigned j = 0; j < k->n_out; j++) {
+		const evo_image_io *io = &m->io[k->out_start + j];
+		evo_q16 o = evo_q16_clamp01(s->io_out[j]);
+		if (io->type == EVO_OUT_MO) {
+			accumulate(s, io->index, influence, o);
+		} else if (io->type == EVO_OUT_VA) {
+			accumulate(s, m->n_actuators + io->index, influence, o);
+		} else { /* EVO_OUT_SK */
+			evo_q16 *child = &s->influence[io->index];
+			evo_q16 sum = *child + evo_q16_mul(influence, o);
+			*child = sum > EVO_Q16_ONE ? EVO_Q16_ONE : sum;
+		}
+	}
+}
+
+/* The influence-weighted mean, rounded; den > 0. */
+static evo_q16 weighted_mean(uint64_t num, uint32_t den)
+{
+	return (evo_q16)((num + den / 2) / den);
+}
+
+void evo_mind_step(const evo_mind *m, evo_state *s, const evo_q16 *sensors,
+		   evo_q16 *actuators)
+{
+	unsigned acc = m->n_actuators + m->n_vars;
+	for (unsigned a = 0; a < acc; a++) {
+		s->acc_num[a] = 0;
+		s->acc_den[a] = 0;
+	}
+	for (unsigned i = 1; i < m->n_skills; i++)
+		s->influence[i] = 0;
+	s->influence[0] = EVO_Q16_ONE;
+
+	/* Skills run top-down: every parent of skill i has an index below
+	 * i, so its influence is final when its turn comes. */
+	for (unsigned i = 0; i < m->n_skills; i++) {
+		evo_q16 influence = s->influence[i];
+		if (influence < EVO_INFLUENCE_MIN)
+			continue;
+		read_inputs(m, s, &m->skill[i], sensors);
+		compute(m, s, i);
+		write_outputs(m, s, i, influence);
+	}
+
+	for (unsigned a = 0; a < m->n_actuators; a++) {
+		evo_q16 v = s->acc_den[a]
+				    ? weighted_mean(s->acc_num[a], s->acc_den[a])
+				    : EVO_Q16_HALF;
+		s->actuator[a] = v;
+		actuators[a] = v;
+	}
+	/* Variables change only after every skill has read them, so all
+	 * readers in a tick see the same value whatever their order. */
+	for (unsigned v = 0; v < m->n_vars; v++) {
+		unsigned a = m->n_actuators + v;
+		int written = s->acc_den[a] != 0;
+		evo_q16 w = written ? weighted_mean(s->acc_num[a], s->acc_den[a])
+				    : 0;
+		var_update(m->var_type[v], &s->var[v], written, w);
+	}
+	for (unsigned i = 0; i < m->n_sensors; i++)
+		s->sensor_prev[i] = evo_q16_clamp01(sensors[i]);
+	s->tick++;
+}
