@@ -197,7 +197,8 @@ static int entry_for(loader *ld, const char *name, const char *where,
 					"%s:%u: SK:%s names a skill that does "
 					"not exist: no file %s",
 					where, line, name, e->path);
-		return evo_fail(ld->err, "%s: no such skill file", e->path);
+		return evo_fail(ld->err, "master skill %s: no file %s", name,
+				e->path);
 	}
 	e->ades = malloc(sizeof *e->ades);
 	if (!e->ades)
@@ -221,8 +222,8 @@ static int entry_for(loader *ld, const char *name, const char *where,
 	return (int)(ld->n_entries - 1);
 }
 
-/* Depth-first from a skill along its SK outputs, in the order written;
- * the reverse post-order is the top-down order. */
+/* Depth-first from a skill along its SK outputs; the reverse post-order
+ * is the top-down order: every skill before its sub-skills. */
 static int walk(loader *ld, unsigned idx)
 {
 	skill_entry *e = &ld->entry[idx];
@@ -230,7 +231,9 @@ static int walk(loader *ld, unsigned idx)
 		return 0;
 	e->mark = 1;
 	ld->path[ld->depth++] = idx;
-	for (unsigned j = 0; j < e->ades->n_out; j++) {
+	/* Sub-skills are visited last to first, so that in the reversed
+	 * post-order they come in the order the .ades lists them. */
+	for (unsigned j = e->ades->n_out; j-- > 0;) {
 		const evo_ades_io *o = &ld->entry[idx].ades->out[j];
 		if (o->type != EVO_OUT_SK)
 			continue;
@@ -293,6 +296,8 @@ static int find_master(loader *ld, char *out, size_t cap)
 			return -1;
 	const char *root_skill = NULL;
 	unsigned roots = 0;
+	char list[512] = "";
+	size_t used = 0;
 	for (unsigned i = 0; i < ld->n_entries; i++) {
 		int named = 0;
 		for (unsigned k = 0; k < ld->n_entries && !named; k++) {
@@ -306,13 +311,19 @@ static int find_master(loader *ld, char *out, size_t cap)
 		if (!named) {
 			roots++;
 			root_skill = ld->entry[i].name;
+			if (used < sizeof list)
+				used += (size_t)snprintf(
+					list + used, sizeof list - used,
+					"%s%s", roots > 1 ? ", " : "",
+					root_skill);
 		}
 	}
 	if (roots != 1)
 		return evo_fail(ld->err,
-				"%s: %u skills are not sub-skills of any "
-				"other; name the master skill (MASTERSKILL)",
-				dir, roots);
+				"%s: %u skills are no other skill's sub-skill "
+				"(%s); say which is the master skill "
+				"(MASTERSKILL, or --master)",
+				dir, roots, list);
 	snprintf(out, cap, "%s", root_skill);
 	return 0;
 }
@@ -635,11 +646,8 @@ static int load(evo_loaded *l, loader *ld, const evo_load_opts *o,
 	else if (find_master(ld, master, sizeof master) != 0)
 		return -1;
 	int m = entry_for(ld, master, NULL, 0);
-	if (m < 0) {
-		skill_path(path, sizeof path, l->root, master, "ades");
-		return evo_fail(err,
-				"master skill %s: no file %s", master, path);
-	}
+	if (m < 0)
+		return -1;
 	if (walk(ld, (unsigned)m) != 0)
 		return -1;
 

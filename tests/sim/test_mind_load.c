@@ -1,0 +1,386 @@
+/* The mind loader (sim/mind_load.c): the tutorial's files load; every
+ * way a mind folder can be wrong is refused with file:line and a message
+ * that says what is wrong. */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "harness.h"
+#include "mind_load.h"
+#include "task.h"
+
+#define TUTORIAL "tests/data/minds/T6-NEAT"
+
+TEST(tutorial_task_loads)
+{
+	evo_task t;
+	evo_err err = {{0}};
+	int rc = evo_task_load(TUTORIAL "/Tasks/T6-NEAT.simbatch", &t, &err);
+	CHECK_EQ_STR(err.msg, "");
+	CHECK_EQ_INT(rc, 0);
+	if (rc != 0)
+		return;
+	CHECK_EQ_STR(t.type, "LEARNSIM");
+	CHECK_EQ_STR(evo_simbatch_get(t.sb, "ENV"), "EXP_Avoid");
+	CHECK_EQ_STR(evo_simbatch_get(t.sb, "LEARNINGMETHOD"), "NEAT");
+	CHECK_EQ_STR(evo_simbatch_get(t.sb, "TICKLIM"), "100000");
+	/* Avoid and the four movement skills it names, master first. */
+	CHECK_EQ_INT(t.mind->n_skills, 5);
+	CHECK_EQ_STR(t.mind->skill[0].name, "Avoid");
+	CHECK_EQ_STR(t.mind->skill[1].name, "moveForward");
+	CHECK_EQ_STR(t.mind->skill[4].name, "moveBackwards");
+	CHECK_EQ_INT(t.mind->mind.n_skills, 5);
+	CHECK_EQ_INT(t.mind->mind.n_vars, 3);
+	evo_task_free(&t);
+}
+
+TEST(tutorial_collect_hierarchy_loads_top_down)
+{
+	evo_err err = {{0}};
+	evo_load_opts o = {.master = "Collect"};
+	evo_loaded *l = evo_mind_load(TUTORIAL, &o, &err);
+	CHECK_EQ_STR(err.msg, "");
+	CHECK(l != NULL);
+	if (!l)
+		return;
+	static const char *const order[] = {
+		"Collect",  "GTO+Avoid", "GTDZ+Avoid", "moveForward",
+		"turnLeft", "turnRight", "ClawControl"};
+	CHECK_EQ_INT(l->n_skills, 7);
+	for (unsigned i = 0; i < 7 && i < l->n_skills; i++) {
+		CHECK_EQ_STR(l->skill[i].name, order[i]);
+		CHECK_EQ_STR(evo_mind_skill_name(&l->mind, i), order[i]);
+	}
+	CHECK_EQ_STR(evo_mind_sensor_name(&l->mind, 0), "US_1");
+	CHECK_EQ_STR(evo_mind_actuator_name(&l->mind, 2), "EMAG");
+	CHECK_EQ_STR(evo_mind_var_name(&l->mind, 2), "VAR_COUNT");
+	evo_mind_free(l);
+}
+
+/* ---- broken mind folders ------------------------------------------------ */
+
+static char dir[256];
+
+static void put(const char *rel, const char *text)
+{
+	char path[512];
+	snprintf(path, sizeof path, "%s/%s", dir, rel);
+	for (char *p = path + strlen(dir) + 1; *p; p++)
+		if (*p == '/') {
+			*p = 0;
+			mkdir(path, 0755);
+			*p = '/';
+		}
+	FILE *f = fopen(path, "w");
+	if (!f) {
+		perror(path);
+		exit(2);
+	}
+	fputs(text, f);
+	fclose(f);
+}
+
+/* A fresh mind folder "Bot": sensors A B, actuators L R, variable V, a
+ * master M over a hard-coded Fwd. */
+static void fresh(void)
+{
+	static int n;
+	snprintf(dir, sizeof dir, "/tmp/evo-test-load-%ld-%d/Bot",
+		 (long)getpid(), n++);
+	char parent[256];
+	snprintf(parent, sizeof parent, "%.*s", (int)(strlen(dir) - 4), dir);
+	mkdir(parent, 0755);
+	mkdir(dir, 0755);
+	put("Bot.botdesc", "SENSORS\nA:prox\nB:prox\nACTUATORS\nL:wheel\n"
+			   "R:wheel\n");
+	put("Bot.vardesc", "V:VariableModule\n");
+	put("Skills/Fwd/Fwd.ades",
+	    "Fwd\ninput:0\noutput:2\nMO:L\nMO:R\nhardCoded\n"
+	    "class:MoveForward\n");
+	put("Skills/M/M.ades", "M\ninput:1\nSE:A\noutput:1\nSK:Fwd\n"
+			       "neural\nlayers:0\n");
+	put("Skills/M/M.net", "inputs:1\noutputs:1\nnode:1:sigmoid:0\n"
+			      "output:1\nlink:0:1:1\n");
+}
+
+static char *load_error(const char *master)
+{
+	static evo_err err;
+	memset(&err, 0, sizeof err);
+	evo_load_opts o = {.master = master};
+	evo_loaded *l = evo_mind_load(dir, &o, &err);
+	if (l) {
+		evo_mind_free(l);
+		return NULL;
+	}
+	/* Messages name files under the folder; strip it for comparison. */
+	char *p;
+	while ((p = strstr(err.msg, dir)) != NULL)
+		memmove(p, p + strlen(dir) + 1, strlen(p + strlen(dir) + 1) + 1);
+	return err.msg;
+}
+
+TEST(fresh_folder_loads)
+{
+	fresh();
+	CHECK(load_error("M") == NULL);
+	CHECK(load_error(NULL) == NULL); /* M is the only root */
+}
+
+TEST(unknown_sensor)
+{
+	fresh();
+	put("Skills/M/M.ades", "M\ninput:1\nSE:Bx\noutput:1\nSK:Fwd\n"
+			       "neural\nlayers:0\n");
+	CHECK_EQ_STR(load_error("M"),
+		     "Skills/M/M.ades:3: unknown sensor 'Bx': Bot.botdesc has "
+		     "no such sensor; did you mean B?");
+}
+
+TEST(unknown_sensor_in_derivative)
+{
+	fresh();
+	put("Skills/M/M.ades", "M\ninput:1\nSD:Z\noutput:1\nSK:Fwd\n"
+			       "neural\nlayers:0\n");
+	CHECK_CONTAINS(load_error("M"),
+		       "Skills/M/M.ades:3: unknown sensor 'Z'");
+}
+
+TEST(unknown_actuator)
+{
+	fresh();
+	put("Skills/Fwd/Fwd.ades", "Fwd\ninput:0\noutput:2\nMO:L\nMO:Right\n"
+				   "hardCoded\nclass:MoveForward\n");
+	CHECK_EQ_STR(load_error("M"),
+		     "Skills/Fwd/Fwd.ades:5: unknown actuator 'Right': "
+		     "Bot.botdesc has no such actuator");
+}
+
+TEST(unknown_variable)
+{
+	fresh();
+	put("Skills/M/M.ades", "M\ninput:1\nVA:W\noutput:1\nSK:Fwd\n"
+			       "neural\nlayers:0\n");
+	CHECK_EQ_STR(load_error("M"),
+		     "Skills/M/M.ades:3: unknown variable 'W': Bot.vardesc "
+		     "has no such variable; did you mean V?");
+}
+
+TEST(unknown_output_variable)
+{
+	fresh();
+	put("Skills/M/M.ades", "M\ninput:1\nSE:A\noutput:2\nSK:Fwd\nVA:Q\n"
+			       "neural\nlayers:0\n");
+	CHECK_CONTAINS(load_error("M"),
+		       "Skills/M/M.ades:6: unknown variable 'Q'");
+}
+
+TEST(sk_names_a_missing_skill)
+{
+	fresh();
+	put("Skills/M/M.ades", "M\ninput:1\nSE:A\noutput:1\nSK:Back\n"
+			       "neural\nlayers:0\n");
+	CHECK_EQ_STR(load_error("M"),
+		     "Skills/M/M.ades:5: SK:Back names a skill that does not "
+		     "exist: no file Skills/Back/Back.ades");
+}
+
+TEST(cycle_among_skills)
+{
+	fresh();
+	put("Skills/M/M.ades", "M\ninput:1\nSE:A\noutput:1\nSK:P\n"
+			       "neural\nlayers:0\n");
+	put("Skills/P/P.ades", "P\ninput:0\noutput:1\nSK:Q\nhardCoded\n"
+			       "class:Stop\n");
+	put("Skills/Q/Q.ades", "Q\ninput:0\noutput:1\nSK:P\nhardCoded\n"
+			       "class:Stop\n");
+	/* Stop writes two outputs; the cycle is found first, while walking. */
+	CHECK_EQ_STR(load_error("M"),
+		     "Skills/Q/Q.ades:4: SK:P makes a cycle among skills: "
+		     "P -> Q -> P");
+}
+
+TEST(skill_that_names_itself)
+{
+	fresh();
+	put("Skills/M/M.ades", "M\ninput:1\nSE:A\noutput:2\nSK:Fwd\nSK:M\n"
+			       "neural\nlayers:0\n");
+	CHECK_CONTAINS(load_error("M"),
+		       "Skills/M/M.ades:6: SK:M makes a cycle among skills: "
+		       "M -> M");
+}
+
+TEST(count_that_does_not_match_its_lines)
+{
+	fresh();
+	put("Skills/M/M.ades", "M\ninput:2\nSE:A\noutput:1\nSK:Fwd\n"
+			       "neural\nlayers:0\n");
+	CHECK_CONTAINS(load_error("M"), "Skills/M/M.ades:4: ");
+	CHECK_CONTAINS(load_error("M"), "output:1");
+}
+
+TEST(unknown_internal_function_type)
+{
+	fresh();
+	put("Skills/M/M.ades", "M\ninput:1\nSE:A\noutput:1\nSK:Fwd\n"
+			       "fuzzy\n");
+	CHECK_CONTAINS(load_error("M"), "Skills/M/M.ades:6: ");
+	CHECK_CONTAINS(load_error("M"), "fuzzy");
+}
+
+TEST(unknown_hardcoded_class)
+{
+	fresh();
+	put("Skills/Fwd/Fwd.ades", "Fwd\ninput:0\noutput:2\nMO:L\nMO:R\n"
+				   "hardCoded\nclass:MoveForwards\n");
+	CHECK_CONTAINS(load_error("M"),
+		       "Skills/Fwd/Fwd.ades:6: unknown hard-coded class "
+		       "'MoveForwards'; did you mean MoveForward? (known "
+		       "classes: MoveForward, MoveBackwards, TurnLeft, "
+		       "TurnRight, Stop");
+}
+
+TEST(hardcoded_class_with_wrong_outputs)
+{
+	fresh();
+	put("Skills/Fwd/Fwd.ades", "Fwd\ninput:0\noutput:1\nMO:L\n"
+				   "hardCoded\nclass:MoveForward\n");
+	CHECK_EQ_STR(load_error("M"),
+		     "Skills/Fwd/Fwd.ades:5: hard-coded class MoveForward "
+		     "writes 2 outputs, but the skill declares 1");
+}
+
+TEST(neural_skill_without_network)
+{
+	fresh();
+	char path[512];
+	snprintf(path, sizeof path, "%s/Skills/M/M.net", dir);
+	unlink(path);
+	CHECK_EQ_STR(load_error("M"),
+		     "Skills/M/M.ades:6: neural skill M has no trained "
+		     "network: expected Skills/M/M.net");
+	/* ...unless it is the skill being trained. */
+	evo_err err;
+	evo_load_opts o = {.master = "M", .learning_skill = "M"};
+	evo_loaded *l = evo_mind_load(dir, &o, &err);
+	CHECK(l != NULL);
+	evo_mind_free(l);
+}
+
+TEST(network_of_the_wrong_shape)
+{
+	fresh();
+	put("Skills/M/M.net", "inputs:2\noutputs:1\nnode:2:sigmoid:0\n"
+			      "output:2\nlink:0:2:1\n");
+	CHECK_EQ_STR(load_error("M"),
+		     "Skills/M/M.net:1: the network has 2 inputs and 1 "
+		     "outputs, but skill M declares 1 and 1");
+}
+
+TEST(malformed_network_file)
+{
+	fresh();
+	put("Skills/M/M.net", "inputs:1\noutputs:1\nnode:1:sigmoid:zero\n");
+	CHECK_CONTAINS(load_error("M"), "Skills/M/M.net:3: ");
+}
+
+TEST(skill_file_for_another_skill)
+{
+	fresh();
+	put("Skills/Fwd/Fwd.ades", "Forward\ninput:0\noutput:2\nMO:L\nMO:R\n"
+				   "hardCoded\nclass:MoveForward\n");
+	CHECK_EQ_STR(load_error("M"),
+		     "Skills/Fwd/Fwd.ades:1: the skill is named 'Forward' but "
+		     "its file is for 'Fwd' (Skills/Fwd/Fwd.ades)");
+}
+
+TEST(missing_master)
+{
+	fresh();
+	CHECK_CONTAINS(load_error("Nope"), "master skill Nope: no file ");
+}
+
+TEST(not_a_mind_folder)
+{
+	fresh();
+	char path[512];
+	snprintf(path, sizeof path, "%s/Bot.botdesc", dir);
+	unlink(path);
+	CHECK_CONTAINS(load_error("M"), "not a mind folder: no Bot.botdesc");
+}
+
+TEST(malformed_botdesc)
+{
+	fresh();
+	put("Bot.botdesc", "A:prox\nSENSORS\n");
+	CHECK_CONTAINS(load_error("M"), "Bot.botdesc:1: ");
+}
+
+TEST(vardesc_is_optional)
+{
+	fresh();
+	char path[512];
+	snprintf(path, sizeof path, "%s/Bot.vardesc", dir);
+	unlink(path);
+	CHECK(load_error("M") == NULL);
+}
+
+TEST(task_with_unknown_method)
+{
+	fresh();
+	put("Tasks/T.simbatch",
+	    "TYPE:LEARNSIM BOTMODEL:BotType8 ENV:EXP_Avoid\nMASTERSKILL:M\n"
+	    "LEARNINGSKILL:M\nLEARNINGMETHOD:HILLCLIMB\nNUMGEN:3\n");
+	char path[512];
+	snprintf(path, sizeof path, "%s/Tasks/T.simbatch", dir);
+	evo_task t;
+	evo_err err;
+	CHECK_EQ_INT(evo_task_load(path, &t, &err), -1);
+	CHECK_CONTAINS(err.msg, "T.simbatch:4: LEARNINGMETHOD must be NEAT, "
+				"GENETIC or ANNEALING, found 'HILLCLIMB'");
+}
+
+TEST(task_missing_a_key)
+{
+	fresh();
+	put("Tasks/T.simbatch", "TYPE:DEMOSIM\nBOTMODEL:BotType8\nENV:X\n");
+	char path[512];
+	snprintf(path, sizeof path, "%s/Tasks/T.simbatch", dir);
+	evo_task t;
+	evo_err err;
+	CHECK_EQ_INT(evo_task_load(path, &t, &err), -1);
+	CHECK_CONTAINS(err.msg, "a DEMOSIM task needs the key MASTERSKILL");
+}
+
+int main(void)
+{
+	RUN(tutorial_task_loads);
+	RUN(tutorial_collect_hierarchy_loads_top_down);
+	RUN(fresh_folder_loads);
+	RUN(unknown_sensor);
+	RUN(unknown_sensor_in_derivative);
+	RUN(unknown_actuator);
+	RUN(unknown_variable);
+	RUN(unknown_output_variable);
+	RUN(sk_names_a_missing_skill);
+	RUN(cycle_among_skills);
+	RUN(skill_that_names_itself);
+	RUN(count_that_does_not_match_its_lines);
+	RUN(unknown_internal_function_type);
+	RUN(unknown_hardcoded_class);
+	RUN(hardcoded_class_with_wrong_outputs);
+	RUN(neural_skill_without_network);
+	RUN(network_of_the_wrong_shape);
+	RUN(malformed_network_file);
+	RUN(skill_file_for_another_skill);
+	RUN(missing_master);
+	RUN(not_a_mind_folder);
+	RUN(malformed_botdesc);
+	RUN(vardesc_is_optional);
+	RUN(task_with_unknown_method);
+	RUN(task_missing_a_key);
+	return test_summary();
+}
