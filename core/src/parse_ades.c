@@ -106,8 +106,8 @@ static evo_status read_count(ades_reader *rd, const char *kw,
 	}
 	if (kw[0] == 'o' && is_io_line(e)) {
 		txt_diag(rd->err, rd->file, e->line,
-			 "expected output:COUNT after the %u inputs of "
-			 "input:%u, found one input line more: '%.*s'",
+			 "expected output:COUNT, found an input line beyond "
+			 "the %u that input:%u declares: '%.*s'",
 			 (unsigned)prev_count, (unsigned)prev_count,
 			 TXT_Q(e->text));
 		return EVO_ERR_COUNT;
@@ -163,7 +163,7 @@ static evo_status read_io(ades_reader *rd, int outputs, uint32_t n,
 			return EVO_ERR_NAME;
 		}
 		st = txt_name(list[k].name, e->field[1], e,
-			      outputs ? "output name" : "input name",
+			      outputs ? "an output name" : "an input name",
 			      rd->file, rd->err);
 		if (st != EVO_OK)
 			return st;
@@ -200,8 +200,8 @@ static evo_status read_function(ades_reader *rd, evo_ades *out)
 	if (is_io_line(e)) {
 		txt_diag(rd->err, rd->file, e->line,
 			 "expected the internal function type (neural or "
-			 "hardCoded) after the %u outputs of output:%u, found "
-			 "one output line more: '%.*s'",
+			 "hardCoded), found an output line beyond the %u that "
+			 "output:%u declares: '%.*s'",
 			 (unsigned)out->n_out, (unsigned)out->n_out,
 			 TXT_Q(e->text));
 		return EVO_ERR_COUNT;
@@ -242,7 +242,7 @@ static evo_status read_function(ades_reader *rd, evo_ades *out)
 				 TXT_Q(e->text));
 			return EVO_ERR_MISSING;
 		}
-		st = txt_name(out->hc_class, e->field[1], e, "class name",
+		st = txt_name(out->hc_class, e->field[1], e, "a class name",
 			      rd->file, rd->err);
 		if (st != EVO_OK)
 			return st;
@@ -281,7 +281,7 @@ evo_status evo_ades_parse(const char *buf, size_t len, const char *file,
 			 TXT_Q(rd.e.text));
 		return EVO_ERR_MISSING;
 	}
-	st = txt_name(out->name, rd.e.text, &rd.e, "skill name", file, err);
+	st = txt_name(out->name, rd.e.text, &rd.e, "a skill name", file, err);
 	if (st != EVO_OK)
 		return st;
 	out->name_line = rd.e.line;

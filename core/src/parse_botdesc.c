@@ -16,8 +16,9 @@ static evo_status add_entry(const txt_entry *e, evo_botdesc_entry *list,
 	uint32_t i;
 
 	if (e->n_fields < 2) {
-		txt_diag(err, file, e->line, "expected a %s entry name:type, "
-			 "found '%.*s'", what, TXT_Q(e->text));
+		txt_diag(err, file, e->line,
+			 "expected %s %s entry name:type, found '%.*s'",
+			 what[0] == 'a' ? "an" : "a", what, TXT_Q(e->text));
 		return EVO_ERR_SYNTAX;
 	}
 	if (*n >= cap) {
@@ -27,11 +28,13 @@ static evo_status add_entry(const txt_entry *e, evo_botdesc_entry *list,
 		return EVO_ERR_LIMIT;
 	}
 	d = &list[*n];
-	txt_fmt(label, sizeof label, "%s name", what);
+	txt_fmt(label, sizeof label, "%s %s name", what[0] == 'a' ? "an" : "a",
+		what);
 	st = txt_name(d->name, e->field[0], e, label, file, err);
 	if (st != EVO_OK)
 		return st;
-	txt_fmt(label, sizeof label, "%s type", what);
+	txt_fmt(label, sizeof label, "%s %s type", what[0] == 'a' ? "an" : "a",
+		what);
 	st = txt_name(d->type, e->field[1], e, label, file, err);
 	if (st != EVO_OK)
 		return st;

@@ -214,9 +214,11 @@ static evo_status read_output(net_reader *rd, const txt_entry *e)
 		return bad_id(rd, e, e->field[1], "output:ID");
 	if (d->n_out >= rd->n_out_want) {
 		txt_diag(rd->err, rd->file, e->line,
-			 "expected %u output lines (outputs:%u), found one "
-			 "more: '%.*s'",
-			 (unsigned)rd->n_out_want, (unsigned)rd->n_out_want,
+			 "expected %u output:ID line%s (outputs:%u), found "
+			 "one more: '%.*s'",
+			 (unsigned)rd->n_out_want,
+			 rd->n_out_want == 1 ? "" : "s",
+			 (unsigned)rd->n_out_want,
 			 TXT_Q(e->text));
 		return EVO_ERR_COUNT;
 	}
@@ -387,8 +389,9 @@ evo_status evo_netdesc_parse(const char *buf, size_t len, const char *file,
 	}
 	if (out->n_out != rd.n_out_want) {
 		txt_diag(err, file, txt_lex_end_line(&lx),
-			 "expected %u output lines (outputs:%u), found %u",
-			 (unsigned)rd.n_out_want, (unsigned)rd.n_out_want,
+			 "expected %u output:ID line%s (outputs:%u), found %u",
+			 (unsigned)rd.n_out_want,
+			 rd.n_out_want == 1 ? "" : "s", (unsigned)rd.n_out_want,
 			 (unsigned)out->n_out);
 		return EVO_ERR_COUNT;
 	}

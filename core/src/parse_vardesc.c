@@ -36,7 +36,7 @@ static evo_status add_var(const txt_entry *e, evo_vardesc *out,
 		return EVO_ERR_LIMIT;
 	}
 	v = &out->var[out->n_vars];
-	st = txt_name(v->name, e->field[0], e, "variable name", file, err);
+	st = txt_name(v->name, e->field[0], e, "a variable name", file, err);
 	if (st != EVO_OK)
 		return st;
 	if (e->field[1].len == 0) {

@@ -426,13 +426,13 @@ evo_status txt_name(char *dst, txt_slice f, const txt_entry *e,
 		    const char *what, const char *file, evo_diag *err)
 {
 	if (f.len == 0) {
-		txt_diag(err, file, e->line, "expected a %s, found '%.*s'", what,
+		txt_diag(err, file, e->line, "expected %s, found '%.*s'", what,
 			 TXT_Q(e->text));
 		return EVO_ERR_SYNTAX;
 	}
 	if (f.len >= EVO_NAME_MAX) {
 		txt_diag(err, file, e->line,
-			 "expected a %s of at most %u bytes, found one of %u "
+			 "expected %s of at most %u bytes, found one of %u "
 			 "bytes: '%.*s'",
 			 what, (unsigned)(EVO_NAME_MAX - 1),
 			 f.len > UINT_MAX ? UINT_MAX : (unsigned)f.len,

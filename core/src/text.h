@@ -100,7 +100,7 @@ const char *txt_closest(txt_slice s, const char *const *list, size_t n);
 
 /* Copies field f of entry e into dst (EVO_NAME_MAX bytes) as a name:
  * EVO_ERR_SYNTAX when it is empty, EVO_ERR_LIMIT when too long, both with
- * err filled. what says which name ("sensor name", ...). */
+ * err filled. what says which name, with its article ("a sensor name"). */
 evo_status txt_name(char *dst, txt_slice f, const txt_entry *e,
 		    const char *what, const char *file, evo_diag *err);
 
