@@ -190,7 +190,8 @@ evo_status evo_mind_open(const void *buf, size_t len, uint32_t names_hash,
 	if (h->names_hash != names_hash)
 		return EVO_ERR_IMAGE_NAMES;
 
-	*m = (evo_mind){0};
+	/* Field by field: a struct assignment would call memset, which a
+	 * freestanding runtime does not have. */
 	m->base = base;
 	m->length = h->length;
 	m->n_sensors = h->n_sensors;
