@@ -11,6 +11,15 @@
 #error "evo's mind image is little-endian; this target is not"
 #endif
 
+/* The image layout is a file format: these sizes are fixed by
+ * docs/mind-image.md, on every target. */
+_Static_assert(sizeof(evo_image_header) == 56, "image header layout");
+_Static_assert(sizeof(evo_image_skill) == 16, "image skill layout");
+_Static_assert(sizeof(evo_image_io) == 4, "image io layout");
+_Static_assert(sizeof(evo_image_net) == 24, "image net layout");
+_Static_assert(sizeof(evo_net_node) == 12, "image node layout");
+_Static_assert(sizeof(evo_net_link) == 8, "image link layout");
+
 /* ---- opening an image ------------------------------------------------ */
 
 #define FEED_FORWARD 0xFFFFFFFFu
