@@ -102,10 +102,20 @@ static int32_t sigmoid_offset(uint32_t u)
 	return (int32_t)table_lerp(sigmoid_tab, u, SIGMOID_SHIFT);
 }
 
-static evo_q16 sigmoid(evo_q16 x)
+/* sigmoid(x), given u = |x| or a scaled |x|: built from |x| so that
+ * sigmoid(-x) = 1 - sigmoid(x) holds exactly. */
+static evo_q16 sigmoid_signed(evo_q16 x, uint32_t u)
 {
-	int32_t off = sigmoid_offset(magnitude(x));
+	int32_t off = sigmoid_offset(u);
 	return x < 0 ? EVO_Q16_HALF - off : EVO_Q16_HALF + off;
+}
+
+/* sigmoid(4.9 x): the scaled magnitude is rounded to nearest (ties away
+ * from zero, which keeps the symmetry) and clamped where the table ends. */
+static evo_q16 neat_sigmoid(evo_q16 x)
+{
+	uint64_t s = ((uint64_t)magnitude(x) * NEAT_SLOPE_Q16 + 32768) >> 16;
+	return sigmoid_signed(x, s < SIGMOID_END ? (uint32_t)s : SIGMOID_END);
 }
 
 /* tanh(x) = 2 sigmoid(2x) - 1 = 2 (sigmoid(2x) - 1/2): odd by
@@ -131,9 +141,9 @@ evo_q16 evo_act_apply(unsigned act, evo_q16 x)
 	case EVO_ACT_IDENTITY:
 		return x;
 	case EVO_ACT_SIGMOID:
-		return sigmoid(x);
+		return sigmoid_signed(x, magnitude(x));
 	case EVO_ACT_NEAT_SIGMOID:
-		return sigmoid(evo_q32_to_q16((int64_t)x * NEAT_SLOPE_Q16));
+		return neat_sigmoid(x);
 	case EVO_ACT_TANH:
 		return tanh_q16(x);
 	case EVO_ACT_RELU:
