@@ -16,6 +16,7 @@ ARM_SIZE ?= arm-none-eabi-size
 ARM_NM ?= arm-none-eabi-nm
 PREFIX ?= /usr/local
 FUZZ_SECONDS ?= 20
+TEST_FUZZ_SECONDS ?= 5
 SAN ?=
 
 WARN := -Wall -Wextra -Werror -Wpedantic -Wshadow -Wstrict-prototypes \
@@ -31,7 +32,7 @@ CORE_SRCS := $(sort $(wildcard core/src/*.c))
 # compiler are core too (freestanding) but run only on the host.
 CORE_RUNTIME := status mind variables hardcoded hash net
 HOST_SRCS := $(filter-out sim/evo_main.c,$(sort $(wildcard sim/*.c)))
-TEST_SUPPORT := $(sort $(wildcard tests/support/*.c))
+TEST_SUPPORT := $(filter-out tests/support/net_dump_main.c,$(sort $(wildcard tests/support/*.c)))
 TEST_SRCS := $(sort $(wildcard tests/*/test_*.c))
 TEST_BINS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRCS))
 FUZZ_SRCS := $(sort $(wildcard tests/fuzz/fuzz_*.c))
@@ -43,6 +44,8 @@ SUPPORT_OBJS := $(patsubst %.c,$(BUILD)/obj/%.o,$(TEST_SUPPORT))
 .PHONY: all help deps test test-plain test-asan run install core-check fuzz \
 	format clean
 .DEFAULT_GOAL := all
+# Keep objects make would otherwise treat as intermediate and delete.
+.SECONDARY:
 
 all: $(BUILD)/evo $(BUILD)/libevocore.a $(BUILD)/libevohost.a
 
@@ -88,11 +91,9 @@ $(BUILD)/tests/net_dump_O0 $(BUILD)/tests/net_dump_O2: $(NET_DUMP_SRCS)
 test-bins: $(TEST_BINS) $(BUILD)/evo $(BUILD)/tests/net_dump_O0 $(BUILD)/tests/net_dump_O2
 
 # Runs every test binary; a failing one fails the target after all have run.
+# tests/run.sh sums their counts into one closing line.
 test-plain: test-bins
-	@failed=0; for t in $(TEST_BINS); do \
-		echo "== $$t"; \
-		EVO_BUILD=$(BUILD) $$t || { echo "FAILED: $$t"; failed=1; }; \
-	done; exit $$failed
+	@EVO_BUILD=$(BUILD) sh tests/run.sh $(TEST_BINS)
 
 test-asan:
 	@$(MAKE) --no-print-directory BUILD=build/asan OPT="-O1 -g" \
@@ -100,9 +101,10 @@ test-asan:
 		test-plain
 
 test: deps
+	@$(MAKE) --no-print-directory core-check
+	@$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=$(TEST_FUZZ_SECONDS)
 	@$(MAKE) --no-print-directory test-plain
 	@$(MAKE) --no-print-directory test-asan
-	@echo "make test: all test binaries passed, plain and under ASan+UBSan"
 
 run: deps all
 	$(BUILD)/evo info minds/Collect

@@ -286,7 +286,8 @@ static int find_master(loader *ld, char *out, size_t cap)
 		char path[1400];
 		skill_path(path, sizeof path, ld->root, de->d_name, "ades");
 		if (evo_file_exists(path))
-			snprintf(names[n++], EVO_NAME_MAX, "%s", de->d_name);
+			memcpy(names[n++], de->d_name,
+			       strlen(de->d_name) + 1); /* < EVO_NAME_MAX */
 	}
 	closedir(d);
 	qsort(names, n, sizeof names[0],
