@@ -8,7 +8,7 @@
 /* Indexed by evo_input_type and evo_output_type. */
 static const char *const input_names[] = {"SE", "SD", "VA", "VD"};
 static const char *const output_names[] = {"MO", "SK", "VA"};
-#define N_INPUT_TYPES (sizeof input_names / sizeof input_names[0])
+#define N_INPUT_TYPES  (sizeof input_names / sizeof input_names[0])
 #define N_OUTPUT_TYPES (sizeof output_names / sizeof output_names[0])
 
 const char *evo_input_type_name(unsigned type)
@@ -157,8 +157,9 @@ static evo_status read_io(ades_reader *rd, int outputs, uint32_t n,
 				 "expected an %s type (%s), found %s%.*s%s "
 				 "in '%.*s'",
 				 kind, expect,
-				 o < 0 ? "'" : outputs ? "the input type '"
-						       : "the output type '",
+				 o < 0	   ? "'"
+				 : outputs ? "the input type '"
+					   : "the output type '",
 				 TXT_Q(e->field[0]), "'", TXT_Q(e->text));
 			return EVO_ERR_NAME;
 		}

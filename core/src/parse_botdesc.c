@@ -75,10 +75,10 @@ evo_status evo_botdesc_parse(const char *buf, size_t len, const char *file,
 		evo_status st;
 		/* A keyword is a bare word; "sensors:x" is an entry named
 		 * "sensors". */
-		int is_sensors = e.n_fields == 1 &&
-				 txt_slice_ieq(e.text, "SENSORS");
-		int is_actuators = e.n_fields == 1 &&
-				   txt_slice_ieq(e.text, "ACTUATORS");
+		int is_sensors =
+		    e.n_fields == 1 && txt_slice_ieq(e.text, "SENSORS");
+		int is_actuators =
+		    e.n_fields == 1 && txt_slice_ieq(e.text, "ACTUATORS");
 		if (state == BEFORE_SENSORS) {
 			if (!is_sensors) {
 				txt_diag(err, file, e.line,
@@ -115,9 +115,9 @@ evo_status evo_botdesc_parse(const char *buf, size_t len, const char *file,
 			st = add_entry(&e, out->sensor, &out->n_sensors,
 				       EVO_MAX_SENSORS, "sensor", file, err);
 		else
-			st = add_entry(&e, out->actuator, &out->n_actuators,
-				       EVO_MAX_ACTUATORS, "actuator", file,
-				       err);
+			st =
+			    add_entry(&e, out->actuator, &out->n_actuators,
+				      EVO_MAX_ACTUATORS, "actuator", file, err);
 		if (st != EVO_OK)
 			return st;
 	}

@@ -10,9 +10,9 @@
 static const char *const act_names[EVO_ACT_COUNT] = {EVO_ACT_LIST(ACT_NAME)};
 #undef ACT_NAME
 #define ACT_JOIN(code, name) " " name
-#define ACT_ALL EVO_ACT_LIST(ACT_JOIN)
+#define ACT_ALL		     EVO_ACT_LIST(ACT_JOIN)
 
-#define ID_MAX 65535u
+#define ID_MAX	 65535u
 #define POW10_17 100000000000000000ull
 
 /* A decimal number -?DIGITS(.DIGITS)? to Q16, rounded to nearest with
@@ -218,8 +218,7 @@ static evo_status read_output(net_reader *rd, const txt_entry *e)
 			 "one more: '%.*s'",
 			 (unsigned)rd->n_out_want,
 			 rd->n_out_want == 1 ? "" : "s",
-			 (unsigned)rd->n_out_want,
-			 TXT_Q(e->text));
+			 (unsigned)rd->n_out_want, TXT_Q(e->text));
 		return EVO_ERR_COUNT;
 	}
 	if (find_node(d, id) < 0) {
@@ -390,9 +389,8 @@ evo_status evo_netdesc_parse(const char *buf, size_t len, const char *file,
 	if (out->n_out != rd.n_out_want) {
 		txt_diag(err, file, txt_lex_end_line(&lx),
 			 "expected %u output:ID line%s (outputs:%u), found %u",
-			 (unsigned)rd.n_out_want,
-			 rd.n_out_want == 1 ? "" : "s", (unsigned)rd.n_out_want,
-			 (unsigned)out->n_out);
+			 (unsigned)rd.n_out_want, rd.n_out_want == 1 ? "" : "s",
+			 (unsigned)rd.n_out_want, (unsigned)out->n_out);
 		return EVO_ERR_COUNT;
 	}
 	return EVO_OK;

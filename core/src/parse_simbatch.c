@@ -5,23 +5,22 @@
 #include "text.h"
 
 const char *const evo_simbatch_keys[] = {
-	"TYPE", "BOTMODEL", "BOTNAME", "MASTERSKILL", "LEARNINGSKILL", "ENV",
-	"LEARNINGMETHOD", "ROOTFOLDER", "NUMGEN", "EVALREP", "TICKLIM",
-	"POPSIZE", "SEED", "THREADS",
-	/* The learning algorithms' settings: reserved here so they are not
-	 * warned about; the Lua side checks their values. */
-	"NEAT_COMPAT_THRESHOLD", "NEAT_C1", "NEAT_C2", "NEAT_C3",
-	"NEAT_WEIGHT_MUT_RATE", "NEAT_WEIGHT_MUT_POWER", "NEAT_ADD_NODE_RATE",
-	"NEAT_ADD_LINK_RATE", "NEAT_RECURRENT", "NEAT_STAGNATION",
-	"NEAT_ELITISM", "NEAT_SURVIVAL", "GA_MUT_RATE", "GA_MUT_POWER",
-	"GA_CROSSOVER_RATE", "GA_ELITISM", "GA_TOURNAMENT", "SA_T0",
-	"SA_COOLING", "SA_STEP", "HIDDEN", NULL};
+    "TYPE", "BOTMODEL", "BOTNAME", "MASTERSKILL", "LEARNINGSKILL", "ENV",
+    "LEARNINGMETHOD", "ROOTFOLDER", "NUMGEN", "EVALREP", "TICKLIM", "POPSIZE",
+    "SEED", "THREADS",
+    /* The learning algorithms' settings: reserved here so they are not
+     * warned about; the Lua side checks their values. */
+    "NEAT_COMPAT_THRESHOLD", "NEAT_C1", "NEAT_C2", "NEAT_C3",
+    "NEAT_WEIGHT_MUT_RATE", "NEAT_WEIGHT_MUT_POWER", "NEAT_ADD_NODE_RATE",
+    "NEAT_ADD_LINK_RATE", "NEAT_RECURRENT", "NEAT_STAGNATION", "NEAT_ELITISM",
+    "NEAT_SURVIVAL", "GA_MUT_RATE", "GA_MUT_POWER", "GA_CROSSOVER_RATE",
+    "GA_ELITISM", "GA_TOURNAMENT", "SA_T0", "SA_COOLING", "SA_STEP", "HIDDEN",
+    NULL};
 
 const char *const evo_task_types[] = {
-	"DEMOSIM",	 "LEARNSIM",	"LEARNSIMCONTINUOUS",
-	"DEMO2DSIMMULTI", "LEARN2DSIMMULTI", "DEMO3DSIM",
-	"LEARN3DSIM",	 "DEMOREMOTE",	"DEMOREMOTESIM",
-	"LEARNREMOTESIM", "OPENENDED",	NULL};
+    "DEMOSIM",	       "LEARNSIM",	 "LEARNSIMCONTINUOUS", "DEMO2DSIMMULTI",
+    "LEARN2DSIMMULTI", "DEMO3DSIM",	 "LEARN3DSIM",	       "DEMOREMOTE",
+    "DEMOREMOTESIM",   "LEARNREMOTESIM", "OPENENDED",	       NULL};
 
 #define WHOLE_MAX 2147483647u /* whole-number values fit an int */
 
@@ -48,9 +47,8 @@ static void warn(evo_simbatch *out, const txt_entry *e, const char *file)
 		out->n_warnings++;
 }
 
-static evo_status check_value(const char *key, txt_slice v,
-			      const txt_entry *e, const char *file,
-			      evo_diag *err)
+static evo_status check_value(const char *key, txt_slice v, const txt_entry *e,
+			      const char *file, evo_diag *err)
 {
 	int min = whole_min(key);
 	uint32_t n;

@@ -4,9 +4,9 @@
 
 /* Indexed by evo_var_type. */
 static const char *const var_type_names[EVO_VAR_TYPE_COUNT] = {
-	"VariableModule",
-	"TickWaveSinVariableModule",
-	"CounterVariableModule",
+    "VariableModule",
+    "TickWaveSinVariableModule",
+    "CounterVariableModule",
 };
 
 const char *evo_var_type_name(unsigned type)

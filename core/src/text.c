@@ -151,7 +151,8 @@ size_t txt_vfmt(char *dst, size_t cap, const char *fmt, va_list ap)
 		} else if (c == '%') {
 			put(&o, '%');
 		} else {
-			/* A bad format is a bug in evo: show it, don't guess. */
+			/* A bad format is a bug in evo: show it, don't guess.
+			 */
 			put(&o, '%');
 			if (!c)
 				break;
@@ -209,8 +210,7 @@ static int class_at(const txt_lexer *lx, size_t p)
 	return CH_OTHER;
 }
 
-void txt_lex_init(txt_lexer *lx, const char *buf, size_t len,
-		  const char *file)
+void txt_lex_init(txt_lexer *lx, const char *buf, size_t len, const char *file)
 {
 	lx->buf = buf;
 	lx->len = buf ? len : 0;

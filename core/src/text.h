@@ -70,8 +70,7 @@ typedef struct txt_lexer {
 	const char *file;
 } txt_lexer;
 
-void txt_lex_init(txt_lexer *lx, const char *buf, size_t len,
-		  const char *file);
+void txt_lex_init(txt_lexer *lx, const char *buf, size_t len, const char *file);
 
 /* The next entry: 1 with *e filled, 0 at the end of the input, or -1
  * with err filled when a control byte (NUL, ...) stands outside a

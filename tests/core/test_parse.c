@@ -87,20 +87,19 @@ TEST(botdesc_crlf_bom_blanks)
 
 TEST(botdesc_zero_actuators_and_verbatim_params)
 {
-	CHECK_OK(PARSE(evo_botdesc_parse,
-			   "SENSORS\nCAM:camera: a\nACTUATORS\n", &bd));
+	CHECK_OK(PARSE(evo_botdesc_parse, "SENSORS\nCAM:camera: a\nACTUATORS\n",
+		       &bd));
 	CHECK_EQ_INT(bd.n_sensors, 1);
 	CHECK_EQ_INT(bd.n_actuators, 0);
 	/* Spaces right after ':' join words into one entry; params keep
 	 * what follows the type. */
 	CHECK_EQ_STR(bd.sensor[0].params, "a");
 	CHECK_EQ_INT(PARSE(evo_botdesc_parse,
-			       "SENSORS\nCAM:camera:x: y:z\nACTUATORS", &bd),
+			   "SENSORS\nCAM:camera:x: y:z\nACTUATORS", &bd),
 		     EVO_OK);
 	CHECK_EQ_STR(bd.sensor[0].params, "x: y:z");
 	/* Names are case-sensitive: s1 and S1 are two sensors. */
-	CHECK_OK(PARSE(evo_botdesc_parse,
-			   "SENSORS s1:a S1:a ACTUATORS", &bd));
+	CHECK_OK(PARSE(evo_botdesc_parse, "SENSORS s1:a S1:a ACTUATORS", &bd));
 	CHECK_EQ_INT(bd.n_sensors, 2);
 }
 
@@ -125,11 +124,10 @@ TEST(vardesc_empty_and_case)
 	CHECK_OK(evo_vardesc_parse("", 0, "e", &vd, &err));
 	CHECK_EQ_INT(vd.n_vars, 0);
 	CHECK_OK(evo_vardesc_parse(NULL, 0, "e", &vd, &err));
-	CHECK_OK(PARSE(evo_vardesc_parse,
-			   "# only a comment\n\n   \n", &vd));
+	CHECK_OK(PARSE(evo_vardesc_parse, "# only a comment\n\n   \n", &vd));
 	CHECK_EQ_INT(vd.n_vars, 0);
 	CHECK_OK(PARSE(evo_vardesc_parse,
-			   "a:countervariablemodule\tb : VARIABLEMODULE", &vd));
+		       "a:countervariablemodule\tb : VARIABLEMODULE", &vd));
 	CHECK_EQ_INT(vd.n_vars, 2);
 	CHECK_EQ_INT(vd.var[0].type, EVO_VAR_COUNTER);
 	CHECK_EQ_INT(vd.var[1].type, EVO_VAR_PLAIN);
@@ -162,8 +160,8 @@ TEST(tutorial_collect)
 TEST(tutorial_move_forward)
 {
 	CHECK(load(DATA "moveForward.ades"));
-	CHECK_OK(evo_ades_parse(file_buf, file_len, "moveForward.ades", &ad,
-				&err));
+	CHECK_OK(
+	    evo_ades_parse(file_buf, file_len, "moveForward.ades", &ad, &err));
 	CHECK_EQ_STR(ad.name, "moveForward");
 	CHECK_EQ_INT(ad.n_in, 0);
 	CHECK_EQ_INT(ad.n_out, 2);
@@ -194,8 +192,8 @@ TEST(tutorial_avoid)
 TEST(ades_crlf_bom_case_one_line)
 {
 	CHECK(load(DATA "crlf_bom.ades"));
-	CHECK_OK(evo_ades_parse(file_buf, file_len, "crlf_bom.ades", &ad,
-				&err));
+	CHECK_OK(
+	    evo_ades_parse(file_buf, file_len, "crlf_bom.ades", &ad, &err));
 	CHECK_EQ_STR(ad.name, "Collect");
 	CHECK_EQ_INT(ad.n_in, 1);
 	CHECK_EQ_INT(ad.in[0].type, EVO_IN_SE);
@@ -204,8 +202,8 @@ TEST(ades_crlf_bom_case_one_line)
 	CHECK_EQ_INT(ad.out[1].line, 6);
 	CHECK_EQ_INT(ad.layers, 0);
 	/* neural without layers: one hidden layer; whole skill on a line */
-	CHECK_OK(PARSE(evo_ades_parse,
-			   "S input:1 VD:v output:1 VA:v neural", &ad));
+	CHECK_OK(
+	    PARSE(evo_ades_parse, "S input:1 VD:v output:1 VA:v neural", &ad));
 	CHECK_EQ_INT(ad.layers, 1);
 	CHECK_EQ_INT(ad.in[0].type, EVO_IN_VD);
 	CHECK_EQ_INT(ad.out[0].type, EVO_OUT_VA);
@@ -338,27 +336,27 @@ TEST(net_numbers_round_exactly)
 		const char *text;
 		long long q16;
 	} cases[] = {
-		{"0", 0},
-		{"-0", 0},
-		{"1", 65536},
-		{"-1", -65536},
-		{"0.5", 32768},
-		{"0.53", 34734},
-		{"-0.53", -34734},
-		{"0.00001525878906250", 1},       /* 2^-16, one ulp */
-		{"0.000007629394531249999999", 0}, /* just below a tie */
-		{"0.00000762939453125", 1},        /* a tie: away from 0 */
-		{"-0.00000762939453125", -1},
-		{"0.00002288818359375", 2}, /* 1.5 ulp: tie, away from 0 */
-		{"-0.00002288818359375", -2},
-		{"1.99999999999999999999999999", 131072},
-		{"127.99999", 8388607},
-		{"-127.99999", -8388607},
-		{"3.14159265358979", 205887},
-		{"0000002.25", 147456},
-		{"0.1", 6554},  /* 6553.6 */
-		{"-0.1", -6554},
-		{"0.3", 19661}, /* 19660.8 */
+	    {"0", 0},
+	    {"-0", 0},
+	    {"1", 65536},
+	    {"-1", -65536},
+	    {"0.5", 32768},
+	    {"0.53", 34734},
+	    {"-0.53", -34734},
+	    {"0.00001525878906250", 1},	       /* 2^-16, one ulp */
+	    {"0.000007629394531249999999", 0}, /* just below a tie */
+	    {"0.00000762939453125", 1},	       /* a tie: away from 0 */
+	    {"-0.00000762939453125", -1},
+	    {"0.00002288818359375", 2}, /* 1.5 ulp: tie, away from 0 */
+	    {"-0.00002288818359375", -2},
+	    {"1.99999999999999999999999999", 131072},
+	    {"127.99999", 8388607},
+	    {"-127.99999", -8388607},
+	    {"3.14159265358979", 205887},
+	    {"0000002.25", 147456},
+	    {"0.1", 6554}, /* 6553.6 */
+	    {"-0.1", -6554},
+	    {"0.3", 19661}, /* 19660.8 */
 	};
 	size_t i;
 	for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
@@ -376,9 +374,9 @@ TEST(net_numbers_round_exactly)
 TEST(net_any_order_after_header)
 {
 	CHECK_OK(PARSE(evo_netdesc_parse,
-			   "OUTPUTS:2\nINPUTS:0\nnode:7:relu:3\nNODE:9:Step:-2\n"
-			   "link:7:9:1.5\noutput:9\nlink:9:7:0.25\noutput:7\n",
-			   &nd));
+		       "OUTPUTS:2\nINPUTS:0\nnode:7:relu:3\nNODE:9:Step:-2\n"
+		       "link:7:9:1.5\noutput:9\nlink:9:7:0.25\noutput:7\n",
+		       &nd));
 	CHECK_EQ_INT(nd.n_in, 0);
 	CHECK_EQ_INT(nd.n_out, 2);
 	CHECK_EQ_INT(nd.out_id[0], 9);
@@ -386,8 +384,7 @@ TEST(net_any_order_after_header)
 	CHECK_EQ_INT(nd.node[1].act, EVO_ACT_STEP);
 	CHECK_EQ_INT(nd.link[1].weight, 16384);
 	/* outputs:0 and no nodes is a valid (empty) network */
-	CHECK_OK(PARSE(evo_netdesc_parse, "inputs:3 outputs:0",
-			   &nd));
+	CHECK_OK(PARSE(evo_netdesc_parse, "inputs:3 outputs:0", &nd));
 	CHECK_EQ_INT(nd.n_in, 3);
 }
 

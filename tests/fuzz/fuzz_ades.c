@@ -35,7 +35,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		if (!evo_input_type_name(out.in[i].type) || !out.in[i].name[0])
 			abort();
 	for (uint32_t i = 0; i < out.n_out; i++)
-		if (!evo_output_type_name(out.out[i].type) || !out.out[i].name[0])
+		if (!evo_output_type_name(out.out[i].type) ||
+		    !out.out[i].name[0])
 			abort();
 	return 0;
 }

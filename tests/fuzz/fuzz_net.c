@@ -1,6 +1,7 @@
-/* libFuzzer target for evo_netdesc_parse (core/src/parse_net.c). Besides crashes
- * and sanitizer reports it checks the parser's promises: an error always
- * comes with a "file:line: " message, and a success stays within limits. */
+/* libFuzzer target for evo_netdesc_parse (core/src/parse_net.c). Besides
+ * crashes and sanitizer reports it checks the parser's promises: an error
+ * always comes with a "file:line: " message, and a success stays within limits.
+ */
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,12 +28,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 			abort();
 		return 0;
 	}
-	if (out.n_nodes > EVO_NET_MAX_NODES || out.n_links > EVO_NET_MAX_LINKS ||
-	    out.n_out > EVO_MAX_SKILL_IO)
+	if (out.n_nodes > EVO_NET_MAX_NODES ||
+	    out.n_links > EVO_NET_MAX_LINKS || out.n_out > EVO_MAX_SKILL_IO)
 		abort();
 	for (uint32_t i = 0; i < out.n_links; i++) {
 		evo_q16 w = out.link[i].weight;
-		if (out.link[i].to < out.n_in || w >= EVO_NET_WEIGHT_MAX * 65536 ||
+		if (out.link[i].to < out.n_in ||
+		    w >= EVO_NET_WEIGHT_MAX * 65536 ||
 		    w <= -EVO_NET_WEIGHT_MAX * 65536)
 			abort();
 	}

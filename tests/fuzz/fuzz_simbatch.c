@@ -1,6 +1,7 @@
-/* libFuzzer target for evo_simbatch_parse (core/src/parse_simbatch.c). Besides crashes
- * and sanitizer reports it checks the parser's promises: an error always
- * comes with a "file:line: " message, and a success stays within limits. */
+/* libFuzzer target for evo_simbatch_parse (core/src/parse_simbatch.c). Besides
+ * crashes and sanitizer reports it checks the parser's promises: an error
+ * always comes with a "file:line: " message, and a success stays within limits.
+ */
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,12 +19,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	evo_status st;
 
 	memset(err.msg, 'x', sizeof err.msg);
-	st = evo_simbatch_parse((const char *)data, size, "f.simbatch", &out, &err);
+	st = evo_simbatch_parse((const char *)data, size, "f.simbatch", &out,
+				&err);
 	if (st >= EVO_STATUS_COUNT)
 		abort();
 	if (st != EVO_OK) {
 		if (!memchr(err.msg, 0, sizeof err.msg) ||
-		    strncmp(err.msg, "f.simbatch:", sizeof "f.simbatch:" - 1) != 0)
+		    strncmp(err.msg, "f.simbatch:", sizeof "f.simbatch:" - 1) !=
+			0)
 			abort();
 		return 0;
 	}
