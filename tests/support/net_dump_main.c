@@ -81,9 +81,7 @@ static evo_q16 random_input(rng *r)
 	return (evo_q16)rng_int(r, 0, EVO_Q16_ONE);
 }
 
-/* Weak, because the test build also links tests/support/ sources into
- * each test binary, whose own main must win. */
-__attribute__((weak)) int main(void)
+int main(void)
 {
 	rng r = rng_seed(0x6e65745f64756d70u);
 	int n, t, i;
