@@ -31,45 +31,12 @@ typedef struct loader {
 
 /* ---- names ----------------------------------------------------------- */
 
-static unsigned edit_distance(const char *a, const char *b)
-{
-	size_t la = strlen(a), lb = strlen(b);
-	if (la > 63 || lb > 63)
-		return 99;
-	unsigned row[64];
-	for (size_t j = 0; j <= lb; j++)
-		row[j] = (unsigned)j;
-	for (size_t i = 1; i <= la; i++) {
-		unsigned diag = row[0];
-		row[0] = (unsigned)i;
-		for (size_t j = 1; j <= lb; j++) {
-			unsigned up = row[j];
-			unsigned cost = a[i - 1] == b[j - 1] ? 0 : 1;
-			unsigned best = diag + cost;
-			if (up + 1 < best)
-				best = up + 1;
-			if (row[j - 1] + 1 < best)
-				best = row[j - 1] + 1;
-			row[j] = best;
-			diag = up;
-		}
-	}
-	return row[lb];
-}
-
 /* "; did you mean X?" for the closest of names, or "" when none is near. */
 static void suggest(char *out, size_t cap, const char *word,
 		    const char *const *names, unsigned n)
 {
-	unsigned best = 99;
-	const char *pick = NULL;
-	for (unsigned i = 0; i < n; i++) {
-		unsigned d = edit_distance(word, names[i]);
-		if (d < best) {
-			best = d;
-			pick = names[i];
-		}
-	}
+	unsigned best;
+	const char *pick = evo_closest_name(word, names, n, &best);
 	size_t wl = strlen(word);
 	if (pick && best <= (wl < 4 ? 1u : wl / 3 + 1))
 		snprintf(out, cap, "; did you mean %s?", pick);

@@ -442,3 +442,13 @@ evo_status txt_name(char *dst, txt_slice f, const txt_entry *e,
 	txt_copy(dst, EVO_NAME_MAX, f);
 	return EVO_OK;
 }
+
+const char *evo_closest_name(const char *word, const char *const *list,
+			     size_t n, unsigned *distance)
+{
+	txt_slice w = {word, txt_len(word)};
+	const char *best = n ? txt_closest(w, list, n) : NULL;
+	if (distance)
+		*distance = best ? txt_distance(w, best) : UINT_MAX;
+	return best;
+}

@@ -1,5 +1,6 @@
 /* Tests core/src/parse_*.c on well-formed input: the tutorial's own example
- * files (kept in tests/data/parse/, which also seeds the fuzzers), then the
+ * files (the mind folder tests/data/minds/T6-NEAT and tests/data/parse/,
+ * which also seed the fuzzers), then the
  * lexer's leniencies, then .net numbers. Run from the repository root. */
 #include <stdio.h>
 #include <string.h>
@@ -8,6 +9,8 @@
 #include "harness.h"
 
 #define DATA "tests/data/parse/"
+/* The tutorial's files that a mind folder holds live in one. */
+#define TUTORIAL "tests/data/minds/T6-NEAT/"
 
 static char file_buf[1 << 16];
 static size_t file_len;
@@ -105,7 +108,7 @@ TEST(botdesc_zero_actuators_and_verbatim_params)
 
 TEST(tutorial_vardesc)
 {
-	CHECK(load(DATA "MyAgentName.vardesc"));
+	CHECK(load(TUTORIAL "T6-NEAT.vardesc"));
 	CHECK_OK(evo_vardesc_parse(file_buf, file_len, "MyAgentName.vardesc",
 				   &vd, &err));
 	CHECK_EQ_INT(vd.n_vars, 3);
@@ -138,7 +141,7 @@ TEST(vardesc_empty_and_case)
 
 TEST(tutorial_collect)
 {
-	CHECK(load(DATA "Collect.ades"));
+	CHECK(load(TUTORIAL "Skills/Collect/Collect.ades"));
 	CHECK_OK(evo_ades_parse(file_buf, file_len, "Collect.ades", &ad, &err));
 	CHECK_EQ_STR(ad.name, "Collect");
 	CHECK_EQ_INT(ad.name_line, 1);
@@ -159,7 +162,7 @@ TEST(tutorial_collect)
 
 TEST(tutorial_move_forward)
 {
-	CHECK(load(DATA "moveForward.ades"));
+	CHECK(load(TUTORIAL "Skills/moveForward/moveForward.ades"));
 	CHECK_OK(
 	    evo_ades_parse(file_buf, file_len, "moveForward.ades", &ad, &err));
 	CHECK_EQ_STR(ad.name, "moveForward");
@@ -174,7 +177,7 @@ TEST(tutorial_move_forward)
 
 TEST(tutorial_avoid)
 {
-	CHECK(load(DATA "Avoid.ades"));
+	CHECK(load(TUTORIAL "Skills/Avoid/Avoid.ades"));
 	CHECK_OK(evo_ades_parse(file_buf, file_len, "Avoid.ades", &ad, &err));
 	CHECK_EQ_INT(ad.n_in, 15);
 	CHECK_EQ_INT(ad.in[10].type, EVO_IN_SD);
@@ -215,7 +218,7 @@ TEST(ades_crlf_bom_case_one_line)
 
 TEST(tutorial_simbatch)
 {
-	CHECK(load(DATA "T6-NEAT.simbatch"));
+	CHECK(load(TUTORIAL "Tasks/T6-NEAT.simbatch"));
 	CHECK_OK(evo_simbatch_parse(file_buf, file_len, "T6-NEAT.simbatch", &sb,
 				    &err));
 	CHECK_EQ_INT(sb.n_pairs, 11);

@@ -41,6 +41,12 @@ typedef struct evo_diag {
 	char msg[EVO_DIAG_MAX];
 } evo_diag;
 
+/* The name of list (n names) closest to word by edit distance, ignoring
+ * ASCII case, for "did you mean" hints; NULL when n is 0. *distance gets
+ * the distance when not NULL. */
+const char *evo_closest_name(const char *word, const char *const *list,
+			     size_t n, unsigned *distance);
+
 /* ---- .botdesc ----------------------------------------------------- */
 
 typedef struct evo_botdesc_entry {

@@ -72,9 +72,12 @@ typedef struct evo_net_compile_ws {
  *     node comes after everything it reads except along a cycle;
  *   - nodes no output depends on come last, in listing order.
  * nodes must hold d->n_nodes entries, links d->n_links, out d->n_out.
- * On success fills *net to view those arrays. Fails with EVO_ERR_LIMIT when
- * a node's fan-in exceeds EVO_NET_MAX_FANIN, EVO_ERR_NAME when an output
- * or link names an id that is not a node. */
+ * On success fills *net to view those arrays; on failure those arrays hold
+ * garbage. Fails with EVO_ERR_LIMIT for a fan-in above EVO_NET_MAX_FANIN,
+ * more than EVO_MAX_SKILL_IO inputs, or a weight or bias of 128 or more;
+ * EVO_ERR_NAME for an output or link naming an id that is not a node, a
+ * link into an input, a node reusing an input's or another node's id, or
+ * an unknown activation. ws needs no initialisation. */
 evo_status evo_net_compile(const evo_netdesc *d, evo_net_compile_ws *ws,
 			   evo_net_node *nodes, evo_net_link *links,
 			   uint16_t *out, evo_net *net);
