@@ -113,7 +113,7 @@ run: deps all
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/evo
 	install -m 755 $(BUILD)/evo $(DESTDIR)$(PREFIX)/bin/evo
-	cp -r lua $(DESTDIR)$(PREFIX)/share/evo/ 2>/dev/null || true
+	[ ! -d lua ] || cp -r lua $(DESTDIR)$(PREFIX)/share/evo/
 
 # ---- core on a Cortex-M0+ ------------------------------------------------
 ARM_FLAGS := -mcpu=cortex-m0plus -mthumb -std=c11 -Os -ffreestanding \

@@ -31,6 +31,7 @@ typedef struct loader {
 
 /* ---- names ----------------------------------------------------------- */
 
+
 /* "; did you mean X?" for the closest of names, or "" when none is near. */
 static void suggest(char *out, size_t cap, const char *word,
 		    const char *const *names, unsigned n)
@@ -44,55 +45,47 @@ static void suggest(char *out, size_t cap, const char *word,
 		out[0] = 0;
 }
 
-static int find_sensor(const evo_botdesc *b, const char *name)
-{
-	for (unsigned i = 0; i < b->n_sensors; i++)
-		if (strcmp(b->sensor[i].name, name) == 0)
-			return (int)i;
-	return -1;
-}
-
-static int find_actuator(const evo_botdesc *b, const char *name)
-{
-	for (unsigned i = 0; i < b->n_actuators; i++)
-		if (strcmp(b->actuator[i].name, name) == 0)
-			return (int)i;
-	return -1;
-}
-
-static int find_var(const evo_vardesc *v, const char *name)
-{
-	for (unsigned i = 0; i < v->n_vars; i++)
-		if (strcmp(v->var[i].name, name) == 0)
-			return (int)i;
-	return -1;
-}
-
-/* Up to 256 names of one kind, as a list for suggest(). */
-typedef struct name_list {
-	const char *name[256];
+/* The names an io entry can refer to, with the words a message uses. */
+typedef struct name_kind {
+	const char *what; /* "sensor" */
+	const char *file; /* "botdesc" */
+	const char *name[EVO_MAX_SENSORS];
 	unsigned n;
-} name_list;
+} name_kind;
 
-static void sensor_names(const evo_botdesc *b, name_list *l)
+static void sensors_of(const evo_loaded *l, name_kind *k)
 {
-	l->n = 0;
-	for (unsigned i = 0; i < b->n_sensors && l->n < 256; i++)
-		l->name[l->n++] = b->sensor[i].name;
+	*k = (name_kind){.what = "sensor", .file = "botdesc"};
+	for (unsigned i = 0; i < l->botdesc->n_sensors; i++)
+		k->name[k->n++] = l->botdesc->sensor[i].name;
 }
 
-static void actuator_names(const evo_botdesc *b, name_list *l)
+static void actuators_of(const evo_loaded *l, name_kind *k)
 {
-	l->n = 0;
-	for (unsigned i = 0; i < b->n_actuators && l->n < 256; i++)
-		l->name[l->n++] = b->actuator[i].name;
+	*k = (name_kind){.what = "actuator", .file = "botdesc"};
+	for (unsigned i = 0; i < l->botdesc->n_actuators; i++)
+		k->name[k->n++] = l->botdesc->actuator[i].name;
 }
 
-static void var_names(const evo_vardesc *v, name_list *l)
+static void variables_of(const evo_loaded *l, name_kind *k)
 {
-	l->n = 0;
-	for (unsigned i = 0; i < v->n_vars && l->n < 256; i++)
-		l->name[l->n++] = v->var[i].name;
+	*k = (name_kind){.what = "variable", .file = "vardesc"};
+	for (unsigned i = 0; i < l->vardesc->n_vars; i++)
+		k->name[k->n++] = l->vardesc->var[i].name;
+}
+
+/* The index of io's name among k's names, or -1 with err saying where. */
+static int lookup(const evo_loaded *l, const name_kind *k, const char *file,
+		  const evo_ades_io *io, evo_err *err)
+{
+	for (unsigned i = 0; i < k->n; i++)
+		if (strcmp(k->name[i], io->name) == 0)
+			return (int)i;
+	char hint[128];
+	suggest(hint, sizeof hint, io->name, k->name, k->n);
+	return evo_fail(err, "%s:%u: unknown %s '%s': %s.%s has no such %s%s",
+			file, io->line, k->what, io->name, l->bot_name,
+			k->file, k->what, hint);
 }
 
 /* ---- reading skills -------------------------------------------------- */
@@ -301,81 +294,36 @@ static int find_master(loader *ld, char *out, size_t cap)
 static int resolve_input(const evo_loaded *l, const char *file,
 			 const evo_ades_io *io, evo_image_io *out, evo_err *err)
 {
-	name_list names;
-	char hint[128];
-	out->type = io->type;
-	out->pad = 0;
-	int idx;
-	if (io->type == EVO_IN_SE || io->type == EVO_IN_SD) {
-		idx = find_sensor(l->botdesc, io->name);
-		if (idx < 0) {
-			sensor_names(l->botdesc, &names);
-			suggest(hint, sizeof hint, io->name, names.name,
-				names.n);
-			return evo_fail(err,
-					"%s:%u: unknown sensor '%s': %s.botdesc "
-					"has no such sensor%s",
-					file, io->line, io->name, l->bot_name,
-					hint);
-		}
-	} else {
-		idx = find_var(l->vardesc, io->name);
-		if (idx < 0) {
-			var_names(l->vardesc, &names);
-			suggest(hint, sizeof hint, io->name, names.name,
-				names.n);
-			return evo_fail(err,
-					"%s:%u: unknown variable '%s': %s.vardesc "
-					"has no such variable%s",
-					file, io->line, io->name, l->bot_name,
-					hint);
-		}
-	}
-	out->index = (uint16_t)idx;
-	return 0;
+	name_kind k;
+	if (io->type == EVO_IN_SE || io->type == EVO_IN_SD)
+		sensors_of(l, &k);
+	else
+		variables_of(l, &k);
+	int idx = lookup(l, &k, file, io, err);
+	*out = (evo_image_io){.type = io->type, .index = (uint16_t)idx};
+	return idx < 0 ? -1 : 0;
 }
 
 static int resolve_output(const evo_loaded *l, const char *file,
 			  const evo_ades_io *io, evo_image_io *out,
 			  evo_err *err)
 {
-	name_list names;
-	char hint[128];
-	out->type = io->type;
-	out->pad = 0;
+	name_kind k;
 	int idx;
-	if (io->type == EVO_OUT_MO) {
-		idx = find_actuator(l->botdesc, io->name);
-		if (idx < 0) {
-			actuator_names(l->botdesc, &names);
-			suggest(hint, sizeof hint, io->name, names.name,
-				names.n);
-			return evo_fail(err,
-					"%s:%u: unknown actuator '%s': %s.botdesc "
-					"has no such actuator%s",
-					file, io->line, io->name, l->bot_name,
-					hint);
-		}
-	} else if (io->type == EVO_OUT_VA) {
-		idx = find_var(l->vardesc, io->name);
-		if (idx < 0) {
-			var_names(l->vardesc, &names);
-			suggest(hint, sizeof hint, io->name, names.name,
-				names.n);
-			return evo_fail(err,
-					"%s:%u: unknown variable '%s': %s.vardesc "
-					"has no such variable%s",
-					file, io->line, io->name, l->bot_name,
-					hint);
-		}
-	} else {
+	if (io->type == EVO_OUT_SK) {
 		idx = evo_loaded_skill(l, io->name);
 		if (idx < 0) /* the walk has read every SK target */
 			return evo_fail(err, "%s:%u: unknown skill '%s'", file,
 					io->line, io->name);
+	} else {
+		if (io->type == EVO_OUT_MO)
+			actuators_of(l, &k);
+		else
+			variables_of(l, &k);
+		idx = lookup(l, &k, file, io, err);
 	}
-	out->index = (uint16_t)idx;
-	return 0;
+	*out = (evo_image_io){.type = io->type, .index = (uint16_t)idx};
+	return idx < 0 ? -1 : 0;
 }
 
 static int check_hardcoded(const evo_ades *a, const char *file, evo_err *err)
