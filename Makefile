@@ -108,7 +108,9 @@ test: deps
 
 run: deps all
 	$(BUILD)/evo info minds/Collect
-	$(BUILD)/evo tick minds/Collect --ticks 20
+	$(BUILD)/evo check minds/Collect/Tasks/Collect-DEMO.simbatch
+	$(BUILD)/evo tick minds/Collect --ticks 5 --sensor SENSOBJ=0.2 \
+		--sensor SENSDZ=0.2 --sensor RADOBJ=0.8
 
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/evo
