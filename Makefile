@@ -10,6 +10,7 @@
 
 BUILD ?= build
 CC ?= cc
+CXX ?= c++
 CLANG ?= clang
 ARM_CC ?= arm-none-eabi-gcc
 ARM_SIZE ?= arm-none-eabi-size
@@ -24,7 +25,8 @@ WARN := -Wall -Wextra -Werror -Wpedantic -Wshadow -Wstrict-prototypes \
 OPT ?= -O2 -g
 CFLAGS_ALL := -std=c11 $(OPT) $(WARN) -Icore/include -Isim -Itests $(SAN) $(CFLAGS)
 LDFLAGS_ALL := $(SAN) $(LDFLAGS)
-LIBS := -lm
+LIBS := -lbox2d -lstdc++ -lm
+CXXFLAGS_ALL := -std=c++17 $(OPT) -Wall -Wextra -Werror -Wshadow -Isim $(SAN) $(CXXFLAGS)
 
 CORE_SRCS := $(sort $(wildcard core/src/*.c))
 # What a robot's firmware carries: the tick, networks, variables, hard-coded
@@ -32,13 +34,16 @@ CORE_SRCS := $(sort $(wildcard core/src/*.c))
 # compiler are core too (freestanding) but run only on the host.
 CORE_RUNTIME := status mind variables hardcoded hash net
 HOST_SRCS := $(filter-out sim/evo_main.c,$(sort $(wildcard sim/*.c)))
+# The Box2D shim is the only C++ in evo.
+HOST_CXX_SRCS := $(sort $(wildcard sim/*.cpp))
 TEST_SUPPORT := $(filter-out tests/support/net_dump_main.c,$(sort $(wildcard tests/support/*.c)))
 TEST_SRCS := $(sort $(wildcard tests/*/test_*.c))
 TEST_BINS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRCS))
 FUZZ_SRCS := $(sort $(wildcard tests/fuzz/fuzz_*.c))
 
 CORE_OBJS := $(patsubst %.c,$(BUILD)/obj/%.o,$(CORE_SRCS))
-HOST_OBJS := $(patsubst %.c,$(BUILD)/obj/%.o,$(HOST_SRCS))
+HOST_OBJS := $(patsubst %.c,$(BUILD)/obj/%.o,$(HOST_SRCS)) \
+	$(patsubst %.cpp,$(BUILD)/obj/%.o,$(HOST_CXX_SRCS))
 SUPPORT_OBJS := $(patsubst %.c,$(BUILD)/obj/%.o,$(TEST_SUPPORT))
 
 .PHONY: all help deps test test-plain test-asan run install core-check fuzz \
@@ -65,6 +70,10 @@ deps:
 $(BUILD)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_ALL) -MMD -MP -c $< -o $@
+
+$(BUILD)/obj/%.o: %.cpp
+	@mkdir -p $(dir $@)
+	$(CXX) $(CXXFLAGS_ALL) -MMD -MP -c $< -o $@
 
 $(BUILD)/libevocore.a: $(CORE_OBJS)
 	@rm -f $@

@@ -1,0 +1,130 @@
+/* evo — the 2D world: a small C API over Box2D 2.4.
+ *
+ * sim/world_box2d.cpp is the only C++ file in evo; everything above it
+ * (sensors, actuators, environments, the task runner) is C and sees only
+ * this header. Units are Box2D's (metres, kilograms, seconds, radians);
+ * the world has no gravity (it is seen from above) and steps 30 times a
+ * simulated second with 8 velocity and 3 position iterations, as
+ * EvoAgents did.
+ *
+ * Bodies are reached through ids (index + generation), the Box2D v3 way:
+ * an id of a removed body is refused instead of touching freed memory. */
+#ifndef EVO_WORLD_H
+#define EVO_WORLD_H
+
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct evo_world evo_world;
+
+typedef struct evo_body_id {
+	int32_t index; /* 0 based; -1 for none */
+	uint16_t generation;
+} evo_body_id;
+
+#define EVO_BODY_NONE ((evo_body_id){-1, 0})
+
+typedef enum evo_shape_type {
+	EVO_SHAPE_CIRCLE = 0,
+	EVO_SHAPE_BOX = 1,
+} evo_shape_type;
+
+/* Collision categories: a body collides with another when each one's
+ * category is in the other's mask. */
+#define EVO_CAT_BOT 0x0001u
+#define EVO_CAT_OBSTACLE 0x0002u
+#define EVO_CAT_OBJECT 0x0004u
+#define EVO_CAT_ALL 0xFFFFu
+
+typedef struct evo_body_def {
+	int dynamic; /* 0: static, never moves */
+	double x, y, angle;
+	evo_shape_type shape;
+	double radius;	       /* circle */
+	double half_w, half_h; /* box */
+	double density, friction, restitution;
+	double linear_damping, angular_damping;
+	int allow_sleep;
+	uint16_t category, mask;
+} evo_body_def;
+
+/* A static circle of radius 1 at the origin, density 1, no friction. */
+evo_body_def evo_default_body_def(void);
+
+typedef struct evo_world_def {
+	double step;	/* seconds per step, 1/30 */
+	int velocity_iterations; /* 8 */
+	int position_iterations; /* 3 */
+} evo_world_def;
+
+evo_world_def evo_default_world_def(void);
+
+evo_world *evo_world_create(const evo_world_def *def);
+void evo_world_destroy(evo_world *w);
+
+/* One physics step. */
+void evo_world_step(evo_world *w);
+
+/* Add a body; EVO_BODY_NONE when the definition is invalid (a size that
+ * is not positive). */
+evo_body_id evo_world_add_body(evo_world *w, const evo_body_def *def);
+
+/* Remove a body; returns 0, or -1 for a stale or invalid id. */
+int evo_world_remove_body(evo_world *w, evo_body_id id);
+
+/* 1 when id names a body of w. */
+int evo_body_valid(const evo_world *w, evo_body_id id);
+
+/* Static obstacles, as fixtures of one static body: the way to add the
+ * hundreds of a grid cheaply. Returns the obstacle's index. */
+int evo_world_add_static_circle(evo_world *w, double x, double y, double r);
+int evo_world_add_static_box(evo_world *w, double x, double y,
+			     double half_w, double half_h, double angle);
+
+typedef struct evo_pose {
+	double x, y, angle;
+} evo_pose;
+
+evo_pose evo_body_pose(const evo_world *w, evo_body_id id);
+void evo_body_set_pose(evo_world *w, evo_body_id id, evo_pose p);
+void evo_body_velocity(const evo_world *w, evo_body_id id, double *vx,
+		       double *vy, double *omega);
+void evo_body_set_velocity(evo_world *w, evo_body_id id, double vx,
+			   double vy, double omega);
+
+/* Apply a force (newtons, world frame) at a world point. */
+void evo_body_apply_force(evo_world *w, evo_body_id id, double fx,
+			  double fy, double px, double py);
+
+/* Number of bodies or obstacles a body is touching now. */
+int evo_body_touching(const evo_world *w, evo_body_id id);
+
+/* The nearest hit along the segment p1 -> p2 among shapes whose category
+ * is in mask, ignoring the body `ignore`: fraction of the segment in
+ * [0, 1], or -1 when nothing is hit. */
+double evo_world_raycast(const evo_world *w, double x1, double y1, double x2,
+			 double y2, uint16_t mask, evo_body_id ignore);
+
+/* A shape found by evo_world_query, in world coordinates. */
+typedef struct evo_shape_info {
+	evo_shape_type type;
+	uint16_t category;
+	double x, y;	  /* centre */
+	double radius;	  /* circle */
+	double vx[4], vy[4]; /* box corners, counter-clockwise */
+	evo_body_id body; /* EVO_BODY_NONE for static obstacles */
+} evo_shape_info;
+
+/* The shapes whose bounding boxes overlap the box [x0, x1] x [y0, y1],
+ * in Box2D's order; writes at most cap and returns how many there are. */
+int evo_world_query(const evo_world *w, double x0, double y0, double x1,
+		    double y1, uint16_t mask, evo_shape_info *out, int cap);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
