@@ -107,29 +107,19 @@ static int parse_file(const char *path, evo_err *err,
 	return 0;
 }
 
-static evo_status parse_ades_any(const char *b, size_t n, const char *f,
-				 void *o, evo_diag *d)
-{
-	return evo_ades_parse(b, n, f, o, d);
-}
-
-static evo_status parse_botdesc_any(const char *b, size_t n, const char *f,
-				    void *o, evo_diag *d)
-{
-	return evo_botdesc_parse(b, n, f, o, d);
-}
-
-static evo_status parse_vardesc_any(const char *b, size_t n, const char *f,
-				    void *o, evo_diag *d)
-{
-	return evo_vardesc_parse(b, n, f, o, d);
-}
-
-static evo_status parse_net_any(const char *b, size_t n, const char *f,
-				void *o, evo_diag *d)
-{
-	return evo_netdesc_parse(b, n, f, o, d);
-}
+/* parse_file takes any parser through a void * output; these adapt the
+ * typed ones. */
+#define ANY_PARSER(name, parse, type)                                          \
+	static evo_status name(const char *b, size_t n, const char *f,         \
+			       void *o, evo_diag *d)                           \
+	{                                                                      \
+		return parse(b, n, f, (type *)o, d);                           \
+	}
+ANY_PARSER(parse_ades_any, evo_ades_parse, evo_ades)
+ANY_PARSER(parse_botdesc_any, evo_botdesc_parse, evo_botdesc)
+ANY_PARSER(parse_vardesc_any, evo_vardesc_parse, evo_vardesc)
+ANY_PARSER(parse_net_any, evo_netdesc_parse, evo_netdesc)
+#undef ANY_PARSER
 
 static void skill_path(char *out, size_t cap, const char *root,
 		       const char *name, const char *ext)
