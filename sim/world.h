@@ -102,6 +102,24 @@ void evo_body_apply_force(evo_world *w, evo_body_id id, double fx,
 /* Number of bodies or obstacles a body is touching now. */
 int evo_body_touching(const evo_world *w, evo_body_id id);
 
+/* 1 when body id touches body other, or obstacle `obstacle`, now. */
+int evo_body_touching_body(const evo_world *w, evo_body_id id,
+			   evo_body_id other);
+int evo_body_touching_obstacle(const evo_world *w, evo_body_id id,
+			       int obstacle);
+
+/* Remove every static obstacle; indices start again at 0. */
+void evo_world_clear_obstacles(evo_world *w);
+
+/* A disabled body takes no part in collisions, queries or ray casts. */
+void evo_body_set_enabled(evo_world *w, evo_body_id id, int enabled);
+
+/* Weld b to a where they are now (they then stop colliding with each
+ * other): the claw's grip. Returns a joint id >= 0, or -1. Removing a
+ * body removes its welds first with evo_world_unweld. */
+int evo_world_weld(evo_world *w, evo_body_id a, evo_body_id b);
+void evo_world_unweld(evo_world *w, int joint);
+
 /* The nearest hit along the segment p1 -> p2 among shapes whose category
  * is in mask, ignoring the body `ignore`: fraction of the segment in
  * [0, 1], or -1 when nothing is hit. */
@@ -116,6 +134,7 @@ typedef struct evo_shape_info {
 	double radius;	  /* circle */
 	double vx[4], vy[4]; /* box corners, counter-clockwise */
 	evo_body_id body; /* EVO_BODY_NONE for static obstacles */
+	int obstacle;	  /* the obstacle's index, -1 for a body */
 } evo_shape_info;
 
 /* The shapes whose bounding boxes overlap the box [x0, x1] x [y0, y1],

@@ -19,6 +19,7 @@ struct Slot {
 
 struct evo_world {
 	b2World world{b2Vec2(0.0f, 0.0f)};
+	std::vector<b2Joint *> joints; // welds by id; nullptr once removed
 	evo_world_def def;
 	std::vector<Slot> slots;
 	std::vector<int32_t> free_slots;
@@ -26,10 +27,22 @@ struct evo_world {
 	int n_obstacles = 0;
 };
 
-// Fixture user data holds the owning body's slot index + 1 (0: obstacle).
+// Fixture user data holds the owning body's slot index + 1, or for an
+// obstacle minus (its index + 1).
 static uintptr_t slot_tag(int32_t index)
 {
 	return (uintptr_t)index + 1;
+}
+
+static uintptr_t obstacle_tag(int index)
+{
+	return (uintptr_t)(-(intptr_t)index - 1);
+}
+
+static int obstacle_of_fixture(b2Fixture *f)
+{
+	intptr_t tag = (intptr_t)f->GetUserData().pointer;
+	return tag < 0 ? (int)(-tag - 1) : -1;
 }
 
 static b2Body *lookup(const evo_world *w, evo_body_id id)
@@ -42,8 +55,8 @@ static b2Body *lookup(const evo_world *w, evo_body_id id)
 
 static evo_body_id id_of_fixture(const evo_world *w, b2Fixture *f)
 {
-	uintptr_t tag = f->GetUserData().pointer;
-	if (tag == 0)
+	intptr_t tag = (intptr_t)f->GetUserData().pointer;
+	if (tag <= 0)
 		return EVO_BODY_NONE;
 	int32_t index = (int32_t)(tag - 1);
 	return evo_body_id{index, w->slots[(size_t)index].generation};
@@ -150,6 +163,10 @@ int evo_world_remove_body(evo_world *w, evo_body_id id)
 	b2Body *b = lookup(w, id);
 	if (!b)
 		return -1;
+	// Box2D destroys the body's joints with it: forget them first.
+	for (b2Joint *&j : w->joints)
+		if (j && (j->GetBodyA() == b || j->GetBodyB() == b))
+			j = nullptr;
 	w->world.DestroyBody(b);
 	Slot &s = w->slots[(size_t)id.index];
 	s.body = nullptr;
@@ -167,7 +184,7 @@ static int add_obstacle(evo_world *w, b2Shape *shape)
 {
 	b2FixtureDef fd;
 	evo_body_def d = evo_default_body_def();
-	fill_fixture(&fd, &d, 0);
+	fill_fixture(&fd, &d, obstacle_tag(w->n_obstacles));
 	fd.shape = shape;
 	w->obstacles->CreateFixture(&fd);
 	return w->n_obstacles++;
@@ -249,6 +266,70 @@ int evo_body_touching(const evo_world *w, evo_body_id id)
 	return n;
 }
 
+int evo_body_touching_body(const evo_world *w, evo_body_id id,
+			   evo_body_id other)
+{
+	const b2Body *b = lookup(w, id), *o = lookup(w, other);
+	for (const b2ContactEdge *e = b && o ? b->GetContactList() : nullptr;
+	     e; e = e->next)
+		if (e->other == o && e->contact->IsTouching())
+			return 1;
+	return 0;
+}
+
+int evo_body_touching_obstacle(const evo_world *w, evo_body_id id,
+			       int obstacle)
+{
+	const b2Body *b = lookup(w, id);
+	for (const b2ContactEdge *e = b ? b->GetContactList() : nullptr; e;
+	     e = e->next) {
+		b2Contact *c = e->contact;
+		if (!c->IsTouching())
+			continue;
+		if (obstacle_of_fixture(c->GetFixtureA()) == obstacle ||
+		    obstacle_of_fixture(c->GetFixtureB()) == obstacle)
+			return 1;
+	}
+	return 0;
+}
+
+void evo_world_clear_obstacles(evo_world *w)
+{
+	w->world.DestroyBody(w->obstacles);
+	b2BodyDef bd;
+	bd.type = b2_staticBody;
+	w->obstacles = w->world.CreateBody(&bd);
+	w->n_obstacles = 0;
+}
+
+void evo_body_set_enabled(evo_world *w, evo_body_id id, int enabled)
+{
+	b2Body *b = lookup(w, id);
+	if (b)
+		b->SetEnabled(enabled != 0);
+}
+
+int evo_world_weld(evo_world *w, evo_body_id a, evo_body_id b)
+{
+	b2Body *ba = lookup(w, a), *bb = lookup(w, b);
+	if (!ba || !bb || ba == bb)
+		return -1;
+	b2WeldJointDef jd;
+	jd.Initialize(ba, bb, bb->GetPosition());
+	jd.collideConnected = false;
+	w->joints.push_back(w->world.CreateJoint(&jd));
+	return (int)w->joints.size() - 1;
+}
+
+void evo_world_unweld(evo_world *w, int joint)
+{
+	if (joint < 0 || (size_t)joint >= w->joints.size() ||
+	    !w->joints[(size_t)joint])
+		return;
+	w->world.DestroyJoint(w->joints[(size_t)joint]);
+	w->joints[(size_t)joint] = nullptr;
+}
+
 namespace {
 
 struct NearestHit : b2RayCastCallback {
@@ -283,6 +364,7 @@ struct Collect : b2QueryCallback {
 			s = evo_shape_info{};
 			s.category = f->GetFilterData().categoryBits;
 			s.body = id_of_fixture(w, f);
+			s.obstacle = obstacle_of_fixture(f);
 			const b2Transform &xf = f->GetBody()->GetTransform();
 			if (f->GetType() == b2Shape::e_circle) {
 				const b2CircleShape *c =
