@@ -29,6 +29,14 @@
 #define EVO_REWARD_MAX_SENSORS 16
 #define EVO_DOF_HISTORY 30 /* ticks of positions the movement sensor spreads over */
 
+/* -std=c11 leaves these out of <math.h>. */
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+#ifndef M_SQRT2
+#define M_SQRT2 1.41421356237309504880
+#endif
+
 /* Boolean signals (DESIGN.md). */
 #define EVO_FALSE 0.2
 #define EVO_TRUE 0.8
@@ -282,19 +290,21 @@ typedef struct evo_control {
 
 /* ---- the scene ------------------------------------------------------- */
 
+typedef struct evo_scene evo_scene;
+
 /* Lua (or a test) can hook into a scene. Each hook returns 0, or -1 with
  * the scene's err set (a script error); the step then fails. */
 typedef struct evo_scene_hooks {
 	void *ctx;
-	int (*reward)(void *ctx, struct evo_scene *sc, const evo_reward *r,
+	int (*reward)(void *ctx, evo_scene *sc, const evo_reward *r,
 		      double *out);
-	int (*control)(void *ctx, struct evo_scene *sc,
+	int (*control)(void *ctx, evo_scene *sc,
 		       const evo_control *c, int *next);
 	/* After each step, before rewards (EvoAgents' postStepOps). */
-	int (*post_step)(void *ctx, struct evo_scene *sc);
+	int (*post_step)(void *ctx, evo_scene *sc);
 } evo_scene_hooks;
 
-typedef struct evo_scene {
+struct evo_scene {
 	evo_world *world;
 	long tick; /* ticks since the reset */
 	evo_rng rng; /* the episode's randomness (RANDOM sensors, placements) */
@@ -311,7 +321,7 @@ typedef struct evo_scene {
 	double episode_reward; /* since the reset */
 	evo_scene_hooks hooks;
 	evo_err err;
-} evo_scene;
+};
 
 evo_scene *evo_scene_create(void);
 void evo_scene_destroy(evo_scene *sc);
