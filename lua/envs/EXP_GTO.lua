@@ -1,0 +1,39 @@
+-- EXP_GTO: go to an object. The bot is rewarded for closing on the nearest
+-- object and for having it within reach of its claw; once reached, the
+-- object moves to a new random place (docs/world.md).
+local arena = require "lib.arena"
+
+local env = {}
+local object
+
+local function place_object(scene, bot)
+	local bx, by = bot:pose()
+	local x, y = arena.random_point(scene, 40, { { bx, by } }, 10)
+	object:place(x, y)
+end
+
+function env.init(scene, task)
+	arena.border(scene, 50, 2)
+	object = scene:object{ name = "object", x = 20, y = 0, radius = 0.5 }
+	env.bot = scene:bot{ x = 0, y = 0 }
+	scene:reward("ClosingOnTarget", { bot = env.bot, target = "nearest_object", k = 1 })
+	scene:reward("SensorOverThreshold", { bot = env.bot, sensors = { "SENSOBJ" },
+		threshold = 0.5, k = 1 })
+	scene:reward("PunishOnCollision", { bot = env.bot, k = -1 })
+	scene:control("NextOnTimeout", { bot = env.bot, ticks = tonumber(task.TICKLIM) or 3000 })
+end
+
+function env.reset(scene, episode)
+	place_object(scene, env.bot)
+end
+
+-- Reached: move the object (EvoAgents' postStepOps) and forget the
+-- distances, so the jump is not punished.
+function env.post_step(scene)
+	if env.bot:value("SENSOBJ") > 0.5 then
+		place_object(scene, env.bot)
+		scene:reset_rewards()
+	end
+end
+
+return env
