@@ -6,11 +6,16 @@
 
 #include "fileio.h"
 #include "mind_load.h"
+#include "run.h"
 #include "task.h"
 
 static void usage(FILE *f)
 {
 	fputs("usage:\n"
+	      "  evo run TASK.simbatch [--headless|-nog] [--seed N]\n"
+	      "          [--episodes N] [--ticks N] [--trace FILE]\n"
+	      "      run a task: DEMOSIM in the viewer, or headless\n"
+	      "      (evo run with no task lists every option)\n"
 	      "  evo info MINDFOLDER [--master SKILL]\n"
 	      "      load a mind folder and show its hierarchy in tick order\n"
 	      "  evo check TASK.simbatch\n"
@@ -134,6 +139,8 @@ int main(int argc, char **argv)
 	}
 	const char *cmd = argv[1];
 	evo_err err = {{0}};
+	if (strcmp(cmd, "run") == 0)
+		return evo_run_main(argc, argv);
 	if (strcmp(cmd, "check") == 0) {
 		if (argc != 3) {
 			usage(stderr);
