@@ -22,7 +22,7 @@ static const char *const reward_names[EVO_RW_KIND_COUNT] = {
     [EVO_RW_PUNISH_ON_COLLISION] = "PunishOnCollision",
     [EVO_RW_FORWARD_MOTION] = "ForwardMotion",
     [EVO_RW_SPEED] = "Speed",
-    [EVO_RW_STEP] = "Step",
+    [EVO_RW_STEP] = "StepReward",
     [EVO_RW_COLLECT] = "Collect",
     [EVO_RW_LUA] = "Lua",
 };
@@ -32,7 +32,7 @@ static const char *const control_names[EVO_CF_KIND_COUNT] = {
     [EVO_CF_NEXT_ON_COLLISION] = "NextOnCollision",
     [EVO_CF_NEXT_ON_COLLISION_AND_TIMEOUT] = "NextOnCollisionAndTimeout",
     [EVO_CF_NEXT_ON_COLLISION_WITH_TARGET] = "NextOnCollisionWithTarget",
-    [EVO_CF_NEXT_ON_SENSOR_BELOW] = "NextOnSensorBelow",
+    [EVO_CF_NEXT_ON_SENSOR_BELOW] = "NextOnSensorBelowThreshold",
     [EVO_CF_LUA] = "Lua",
 };
 
@@ -43,6 +43,7 @@ static const struct {
 } reward_aliases[] = {
     {"SensorOver", EVO_RW_SENSOR_OVER},
     {"SensorUnder", EVO_RW_SENSOR_UNDER},
+    {"Step", EVO_RW_STEP},
 };
 
 /* Index of name (after an optional prefix) in names[0..n), or -1. */
@@ -79,7 +80,12 @@ int evo_reward_kind_by_name(const char *name)
 /* "CF_NextOnTimeout" or "NextOnTimeout" (case matters); -1 when unknown. */
 int evo_control_kind_by_name(const char *name)
 {
-	return kind_by_name(name, "CF_", control_names, EVO_CF_KIND_COUNT);
+	int k = kind_by_name(name, "CF_", control_names, EVO_CF_KIND_COUNT);
+	if (k < 0 && name &&
+	    (strcmp(name, "NextOnSensorBelow") == 0 ||
+	     strcmp(name, "CF_NextOnSensorBelow") == 0))
+		k = EVO_CF_NEXT_ON_SENSOR_BELOW;
+	return k;
 }
 
 /* The unprefixed name ("ClosingOnTarget"); NULL for a kind out of range. */
