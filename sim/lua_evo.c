@@ -6,6 +6,7 @@
  * function does not know is an error naming the ones it does, so a typo
  * in a script never goes unnoticed. Angles are in degrees in Lua and in
  * radians in C. */
+#define _DEFAULT_SOURCE /* realpath */
 #define _POSIX_C_SOURCE 200809L
 #include "lua_evo.h"
 
@@ -69,8 +70,9 @@ const char *evo_lua_dir(void)
 		const char *tries[] = {"%s/../lua", "%s/../../lua",
 				       "%s/../share/evo/lua"};
 		for (unsigned i = 0; i < 3; i++) {
-			snprintf(dir, sizeof dir, tries[i], exe);
-			if (is_dir_with(dir, "envs"))
+			char raw[1100];
+			snprintf(raw, sizeof raw, tries[i], exe);
+			if (is_dir_with(raw, "envs") && realpath(raw, dir))
 				return dir;
 		}
 	}

@@ -391,7 +391,7 @@ int evo_scene_add_sensor(evo_scene *sc, int bot, const evo_sensor_def *d)
 				name);
 	if (check_target(sc, d->target, name))
 		return -1;
-	if (d->kind == EVO_SENSOR_ZONE &&
+	if (d->kind == EVO_SENSOR_ZONE && d->target != EVO_TARGET_NONE &&
 	    (d->target < 0 || sc->element[d->target].kind != EVO_ELEM_ZONE))
 		return evo_fail(&sc->err,
 				"sensor '%s': a zone sensor needs a zone", name);

@@ -1,0 +1,324 @@
+/* `evo run` end to end (sim/run.c): every shipped example's DEMOSIM runs
+ * headless with the same rewards on every run of a seed; an environment and
+ * a bot written in a test's own mind folder run without recompiling;
+ * script errors and unknown sensor names end the run with file:line and a
+ * non-zero exit and leave no trace behind; traces hold every tick. */
+#define _POSIX_C_SOURCE 200809L
+#include <dirent.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "harness.h"
+
+static char evo_bin[256];
+static char tmpdir[256];
+
+/* Run a shell command; its stdout and stderr go to out. Returns the exit
+ * status (or -1 when it did not exit normally). */
+static int run(const char *cmd, char *out, size_t cap)
+{
+	char full[4096];
+	snprintf(full, sizeof full, "%s 2>&1", cmd);
+	FILE *p = popen(full, "r");
+	if (!p)
+		return -1;
+	size_t n = fread(out, 1, cap - 1, p);
+	out[n] = 0;
+	int st = pclose(p);
+	return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+static void write_file(const char *path, const char *text)
+{
+	FILE *f = fopen(path, "w");
+	if (!f) {
+		perror(path);
+		return;
+	}
+	fputs(text, f);
+	fclose(f);
+}
+
+static void mkdirs(const char *path)
+{
+	char p[512];
+	snprintf(p, sizeof p, "%s", path);
+	for (char *s = p + 1; *s; s++)
+		if (*s == '/') {
+			*s = 0;
+			mkdir(p, 0755);
+			*s = '/';
+		}
+	mkdir(p, 0755);
+}
+
+/* Number of entries in dir whose name starts with prefix. */
+static int count_files(const char *dir, const char *prefix)
+{
+	DIR *d = opendir(dir);
+	int n = 0;
+	struct dirent *e;
+	while (d && (e = readdir(d)))
+		n += strncmp(e->d_name, prefix, strlen(prefix)) == 0;
+	if (d)
+		closedir(d);
+	return n;
+}
+
+static char out1[1 << 16], out2[1 << 16];
+
+static void same_rewards(const char *task, const char *args)
+{
+	char cmd[1024];
+	snprintf(cmd, sizeof cmd, "%s run %s --headless %s", evo_bin, task,
+		 args);
+	int a = run(cmd, out1, sizeof out1);
+	int b = run(cmd, out2, sizeof out2);
+	CHECK_EQ_INT(a, 0);
+	CHECK_EQ_INT(b, 0);
+	CHECK_CONTAINS(out1, "episode 1: reward ");
+	CHECK_CONTAINS(out1, "episode 2: reward ");
+	CHECK_EQ_STR(out1, out2);
+	if (a != 0 || strcmp(out1, out2) != 0)
+		printf("  %s:\n%s\n---\n%s\n", task, out1, out2);
+}
+
+TEST(avoid_demo_is_repeatable)
+{
+	same_rewards("minds/Avoid/Tasks/Avoid-DEMO.simbatch",
+		     "--seed 7 --episodes 2 --ticks 1500");
+}
+
+TEST(gto_demo_is_repeatable)
+{
+	same_rewards("minds/GTO/Tasks/GTO-DEMO.simbatch",
+		     "--seed 3 --episodes 2 --ticks 1500");
+}
+
+TEST(collect_demo_is_repeatable)
+{
+	same_rewards("minds/Collect/Tasks/Collect-DEMO.simbatch",
+		     "--seed 5 --episodes 2 --ticks 1500");
+}
+
+/* Another seed gives other grids, so other rewards. */
+TEST(another_seed_gives_another_run)
+{
+	char cmd[1024];
+	snprintf(cmd, sizeof cmd,
+		 "%s run minds/Avoid/Tasks/Avoid-DEMO.simbatch -nog "
+		 "--seed 1 --ticks 600",
+		 evo_bin);
+	CHECK_EQ_INT(run(cmd, out1, sizeof out1), 0);
+	snprintf(cmd, sizeof cmd,
+		 "%s run minds/Avoid/Tasks/Avoid-DEMO.simbatch -nog "
+		 "--seed 2 --ticks 600",
+		 evo_bin);
+	CHECK_EQ_INT(run(cmd, out2, sizeof out2), 0);
+	CHECK(strcmp(out1, out2) != 0);
+}
+
+/* A mind folder of the test's own, with its own bot model and
+ * environment: found in Bots/ and Envs/, run without recompiling. */
+static void make_own_mind(const char *root, const char *env_body,
+			  const char *botdesc_extra)
+{
+	char p[512];
+	snprintf(p, sizeof p, "%s/Skills/Go", root);
+	mkdirs(p);
+	snprintf(p, sizeof p, "%s/Tasks", root);
+	mkdirs(p);
+	snprintf(p, sizeof p, "%s/Bots", root);
+	mkdirs(p);
+	snprintf(p, sizeof p, "%s/Envs", root);
+	mkdirs(p);
+	char text[2048];
+	snprintf(text, sizeof text,
+		 "SENSORS\nFront:prox\n%sACTUATORS\nLeft:wheel\nRight:wheel\n",
+		 botdesc_extra);
+	snprintf(p, sizeof p, "%s/Mine.botdesc", root);
+	write_file(p, text);
+	snprintf(p, sizeof p, "%s/Skills/Go/Go.ades", root);
+	write_file(p, "Go\ninput:1\nSE:Front\noutput:2\nMO:Left\nMO:Right\n"
+		      "neural\nlayers:0\n");
+	snprintf(p, sizeof p, "%s/Skills/Go/Go.net", root);
+	/* full speed while the front is clear, stop when it is not */
+	write_file(p, "inputs:1\noutputs:2\nnode:1:sigmoid:-4\n"
+		      "node:2:sigmoid:-4\noutput:1\noutput:2\nlink:0:1:12\n"
+		      "link:0:2:12\n");
+	snprintf(p, sizeof p, "%s/Tasks/Go.simbatch", root);
+	write_file(p, "TYPE:DEMOSIM\nBOTMODEL:Tiny\nMASTERSKILL:Go\n"
+		      "ENV:Corridor\n");
+	snprintf(p, sizeof p, "%s/Bots/Tiny.lua", root);
+	write_file(p, "return {\n"
+		      "  body = { radius = 0.5, density = 1, linear_damping = 2 },\n"
+		      "  build = function(bot)\n"
+		      "    bot:proximity{ name = 'Front', x = 0.5, range = 5 }\n"
+		      "    bot:wheel{ name = 'Left', y = -0.5, max_force = 10 }\n"
+		      "    bot:wheel{ name = 'Right', y = 0.5, max_force = 10 }\n"
+		      "  end,\n"
+		      "}\n");
+	snprintf(p, sizeof p, "%s/Envs/Corridor.lua", root);
+	write_file(p, env_body);
+}
+
+static const char *good_env =
+	"local env = {}\n"
+	"function env.init(scene, task)\n"
+	"  scene:box{ x = 20, y = 0, half_width = 1, half_height = 5 }\n"
+	"  env.bot = scene:bot{ x = 0, y = 0 }\n"
+	"  scene:reward(function(s) local x = env.bot:pose() return x end)\n"
+	"  scene:control('NextOnTimeout', { ticks = 300 })\n"
+	"end\n"
+	"return env\n";
+
+TEST(own_bot_and_environment_run)
+{
+	char root[512], cmd[2048];
+	snprintf(root, sizeof root, "%s/own/Mine", tmpdir);
+	make_own_mind(root, good_env, "");
+	snprintf(cmd, sizeof cmd, "%s run %s/Tasks/Go.simbatch --headless",
+		 evo_bin, root);
+	int rc = run(cmd, out1, sizeof out1);
+	CHECK_EQ_INT(rc, 0);
+	/* the control ends the episode after 300 checks: 301 ticks */
+	CHECK_CONTAINS(out1, "over 301 ticks");
+	/* the bot drove towards the wall and stopped short of it: the reward,
+	 * the sum of its x over the ticks, is large and positive */
+	double reward = 0;
+	const char *r = strstr(out1, "reward ");
+	if (r)
+		reward = atof(r + 7);
+	CHECK(reward > 1000);
+	if (rc != 0)
+		printf("%s\n", out1);
+}
+
+/* A failing run: exit 1, the message names file:line, no trace left. */
+static void fails_with(const char *sub, const char *env_body,
+		       const char *botdesc_extra, const char *want1,
+		       const char *want2)
+{
+	char root[512], cmd[2048], trace_dir[512];
+	snprintf(root, sizeof root, "%s/%s/Mine", tmpdir, sub);
+	make_own_mind(root, env_body, botdesc_extra);
+	snprintf(trace_dir, sizeof trace_dir, "%s/%s", tmpdir, sub);
+	snprintf(cmd, sizeof cmd,
+		 "%s run %s/Tasks/Go.simbatch --headless --trace %s/t.trace",
+		 evo_bin, root, trace_dir);
+	int rc = run(cmd, out1, sizeof out1);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out1, want1);
+	CHECK_CONTAINS(out1, want2);
+	CHECK_EQ_INT(count_files(trace_dir, "t.trace"), 0);
+	if (rc != 1)
+		printf("%s\n", out1);
+}
+
+TEST(syntax_error_names_file_and_line)
+{
+	fails_with("syntax",
+		   "local env = {}\nfunction env.init(scene, task)\n"
+		   "  scene:bot{ x = 0 y = 0 }\nend\nreturn env\n",
+		   "", "Envs/Corridor.lua:3:", "'}' expected");
+}
+
+TEST(reward_runtime_error_names_file_and_line)
+{
+	fails_with("runtime",
+		   "local env = {}\n"
+		   "function env.init(scene, task)\n"
+		   "  env.bot = scene:bot{}\n"
+		   "  scene:reward(function(s)\n"
+		   "    if s:tick() > 50 then return nil + 1 end\n"
+		   "    return 0\n"
+		   "  end)\n"
+		   "end\n"
+		   "return env\n",
+		   "", "Envs/Corridor.lua:5:", "arithmetic");
+}
+
+TEST(unknown_sensor_names_botdesc_line)
+{
+	fails_with("sensor", good_env, "Rear:prox\n", "Mine.botdesc:3:",
+		   "sensor 'Rear' is not on the bot");
+}
+
+TEST(unknown_option_is_an_error)
+{
+	fails_with("option",
+		   "local env = {}\nfunction env.init(scene, task)\n"
+		   "  scene:bot{}\n"
+		   "  scene:grid{ spacin = 20 }\nend\nreturn env\n",
+		   "", "Envs/Corridor.lua:4:", "unknown option 'spacin'");
+}
+
+/* The trace has a header and one line per tick, each with the botdesc's
+ * sensors and actuators. */
+TEST(trace_records_every_tick)
+{
+	char cmd[2048], path[512];
+	snprintf(path, sizeof path, "%s/collect.trace", tmpdir);
+	snprintf(cmd, sizeof cmd,
+		 "%s run minds/Collect/Tasks/Collect-DEMO.simbatch --headless "
+		 "--ticks 500 --trace %s",
+		 evo_bin, path);
+	CHECK_EQ_INT(run(cmd, out1, sizeof out1), 0);
+	FILE *f = fopen(path, "r");
+	CHECK(f != NULL);
+	if (!f)
+		return;
+	char line[4096];
+	int n = 0, bad = 0;
+	long expect_tick = 0;
+	while (fgets(line, sizeof line, f)) {
+		n++;
+		if (n == 1)
+			CHECK_EQ_STR(line, "evo-trace 1\n");
+		if (n == 3)
+			CHECK(strncmp(line, "sensors 20 S1 S2", 16) == 0);
+		if (n == 4)
+			CHECK_EQ_STR(line, "actuators 3 MotL MotR EMAG\n");
+		if (n <= 4)
+			continue;
+		/* tick, 20 sensors, '|', 3 actuators */
+		int fields = 0;
+		for (char *t = strtok(line, " \n"); t; t = strtok(NULL, " \n"))
+			fields++;
+		bad += fields != 25 || atol(line) != expect_tick;
+		expect_tick++;
+	}
+	fclose(f);
+	CHECK_EQ_INT(n, 4 + 500);
+	CHECK_EQ_INT(bad, 0);
+}
+
+int main(void)
+{
+	const char *b = getenv("EVO_BUILD");
+	snprintf(evo_bin, sizeof evo_bin, "%s/evo", b && b[0] ? b : "build");
+	snprintf(tmpdir, sizeof tmpdir, "/tmp/evo-test-run-XXXXXX");
+	if (!mkdtemp(tmpdir)) {
+		perror("mkdtemp");
+		return 1;
+	}
+	RUN(avoid_demo_is_repeatable);
+	RUN(gto_demo_is_repeatable);
+	RUN(collect_demo_is_repeatable);
+	RUN(another_seed_gives_another_run);
+	RUN(own_bot_and_environment_run);
+	RUN(syntax_error_names_file_and_line);
+	RUN(reward_runtime_error_names_file_and_line);
+	RUN(unknown_sensor_names_botdesc_line);
+	RUN(unknown_option_is_an_error);
+	RUN(trace_records_every_tick);
+	char cmd[300];
+	snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
+	if (system(cmd) != 0)
+		printf("could not remove %s\n", tmpdir);
+	return test_summary();
+}
