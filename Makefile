@@ -50,7 +50,7 @@ HOST_OBJS := $(patsubst %.c,$(BUILD)/obj/%.o,$(HOST_SRCS)) \
 SUPPORT_OBJS := $(patsubst %.c,$(BUILD)/obj/%.o,$(TEST_SUPPORT))
 
 .PHONY: all help deps test test-plain test-asan run install core-check fuzz \
-	format clean
+	format clean bench
 .DEFAULT_GOAL := all
 # Keep objects make would otherwise treat as intermediate and delete.
 .SECONDARY:
@@ -64,6 +64,7 @@ help:
 	@echo "make run        deps, build, run the main job on a shipped example"
 	@echo "make core-check compile core/ for Cortex-M0+ and check what it links"
 	@echo "make fuzz       run each parser's fuzz target for FUZZ_SECONDS"
+	@echo "make bench      benchmarks, each beside its baseline in the same run"
 	@echo "make install    install evo and lua/ under PREFIX ($(PREFIX))"
 	@echo "make format     apply .clang-format to the C sources"
 
@@ -99,6 +100,18 @@ NET_DUMP_SRCS := tests/support/net_dump_main.c $(CORE_SRCS)
 $(BUILD)/tests/net_dump_O0 $(BUILD)/tests/net_dump_O2: $(NET_DUMP_SRCS)
 	@mkdir -p $(dir $@)
 	$(CC) -std=c11 $(subst $(BUILD)/tests/net_dump_,-,$@) $(WARN) -Icore/include -Itests $(SAN) -o $@ $^ -lm
+
+# Benchmarks: each prints its figure beside a baseline measured in the
+# same run (timings on a shared machine are noisy; ratios hold).
+BENCH_SRCS := $(sort $(wildcard bench/bench_*.c))
+BENCH_BINS := $(patsubst bench/%.c,$(BUILD)/bench/%,$(BENCH_SRCS))
+
+$(BUILD)/bench/%: $(BUILD)/obj/bench/%.o $(BUILD)/libevohost.a $(BUILD)/libevocore.a
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS_ALL) -o $@ $^ $(LIBS)
+
+bench: deps $(BENCH_BINS)
+	@for b in $(BENCH_BINS); do echo "== $$b"; $$b || exit 1; done
 
 test-bins: $(TEST_BINS) $(BUILD)/evo $(BUILD)/tests/net_dump_O0 $(BUILD)/tests/net_dump_O2
 

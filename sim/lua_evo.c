@@ -391,7 +391,14 @@ static int bot_value(lua_State *L)
 {
 	int bot = check_bot(L, 1);
 	int s = bot_sensor_index(L, bot, luaL_checkstring(L, 2), "bot:value");
-	lua_pushnumber(L, ctx(L)->sc->bot[bot].sensor[s].value);
+	evo_scene *sc = ctx(L)->sc;
+	evo_sensor *se = &sc->bot[bot].sensor[s];
+	if (se->idle) {
+		/* Not sampled so far: from now on it is, every tick. */
+		se->idle = 0;
+		evo_sensor_sample(sc, bot, s);
+	}
+	lua_pushnumber(L, se->value);
 	return 1;
 }
 

@@ -176,6 +176,7 @@ void evo_scene_destroy(evo_scene *sc)
 		free(sc->bot[i].actuator);
 	}
 	free(sc->element);
+	free(sc->object);
 	free(sc->bot);
 	free(sc->obstacle);
 	free(sc->reward);
@@ -309,9 +310,12 @@ int evo_scene_add_element(evo_scene *sc, const evo_element_def *d)
 			return -1;
 		sc->n_fixed_obstacles = sc->n_obstacles;
 	} else if (d->kind == EVO_ELEM_OBJECT) {
+		if (GROW(sc, object, n_objects, cap_objects))
+			return -1;
 		e.body = add_object_body(sc, d);
 		if (e.body.index < 0)
 			return evo_fail(&sc->err, "element: bad object");
+		sc->object[sc->n_objects++] = sc->n_elements;
 	}
 	sc->element[sc->n_elements] = e;
 	return sc->n_elements++;
@@ -412,6 +416,14 @@ int evo_scene_add_sensor(evo_scene *sc, int bot, const evo_sensor_def *d)
 	s->def.name = NULL;
 	for (int i = 0; i < EVO_PROX_MAX_RAYS; i++)
 		s->ray[i] = 1.0f;
+	if (d->kind == EVO_SENSOR_PROXIMITY) {
+		double arc = d->rays > 1 ? fabs(d->arc) : 0;
+		double step = d->rays > 1 ? 2 * arc / (d->rays - 1) : 0;
+		for (int i = 0; i < d->rays; i++) {
+			s->ray_c[i] = cos(d->angle - arc + step * i);
+			s->ray_s[i] = sin(d->angle - arc + step * i);
+		}
+	}
 	return b->n_sensors++;
 }
 
@@ -707,9 +719,9 @@ int evo_scene_step(evo_scene *sc)
 			b->collisions++;
 	}
 	/* Objects follow their bodies. */
-	for (int i = 0; i < sc->n_elements; i++) {
-		evo_element *e = &sc->element[i];
-		if (e->kind == EVO_ELEM_OBJECT && e->active) {
+	for (int k = 0; k < sc->n_objects; k++) {
+		evo_element *e = &sc->element[sc->object[k]];
+		if (e->active) {
 			evo_pose p = evo_body_pose(sc->world, e->body);
 			e->x = p.x;
 			e->y = p.y;
@@ -763,9 +775,9 @@ int evo_scene_target_pos(const evo_scene *sc, int bot, int target, double *x,
 		return 0;
 	evo_pose p = evo_body_pose(sc->world, sc->bot[bot].body);
 	double best = INFINITY;
-	for (int i = 0; i < sc->n_elements; i++) {
-		const evo_element *e = &sc->element[i];
-		if (e->kind != EVO_ELEM_OBJECT || !e->active || e->held_by >= 0)
+	for (int k = 0; k < sc->n_objects; k++) {
+		const evo_element *e = &sc->element[sc->object[k]];
+		if (!e->active || e->held_by >= 0)
 			continue;
 		double d = hypot(e->x - p.x, e->y - p.y);
 		if (d < best) {

@@ -168,9 +168,16 @@ typedef struct evo_sensor {
 	char name[EVO_SCENE_NAME_MAX];
 	evo_sensor_def def; /* def.name points at name */
 	double value;	    /* the last sample, in [0, 1] */
+	/* 1: evo_bot_sense skips it, because nothing reads it (evo_sim sets
+	 * this from the botdesc and the rewards); evo_sensor_sample still
+	 * samples it */
+	int idle;
 	/* proximity: each ray's hit fraction in [0, 1] (1: nothing), for the
 	 * viewer */
 	float ray[EVO_PROX_MAX_RAYS];
+	/* proximity: each ray's unit direction in the bot's frame, worked
+	 * out once when the sensor is added */
+	double ray_c[EVO_PROX_MAX_RAYS], ray_s[EVO_PROX_MAX_RAYS];
 } evo_sensor;
 
 /* ---- actuators ------------------------------------------------------ */
@@ -312,6 +319,8 @@ struct evo_scene {
 	int cap_elements, cap_bots, cap_obstacles, cap_rewards, cap_controls;
 	evo_element *element;
 	evo_bot *bot;
+	int n_objects, cap_objects;
+	int *object; /* the element indices of the objects, in order */
 	evo_obstacle *obstacle; /* every static obstacle: elements', grid's */
 	int n_fixed_obstacles;	/* the first ones, from elements; the grid follows */
 	evo_reward *reward;

@@ -190,24 +190,17 @@ static double sample_proximity(evo_sensor *se, const frame *f,
 	int n = d->rays < 1 ? 1 : d->rays;
 	n = n > EVO_PROX_MAX_RAYS ? EVO_PROX_MAX_RAYS : n;
 	double arc = n > 1 ? fabs(d->arc) : 0;
-	double step = n > 1 ? 2 * arc / (n - 1) : 0;
 	double px, py;
 	to_world(f, d->x, d->y, &px, &py);
 
-	/* Ray directions by rotating the first one step by step: two sines
-	 * and cosines per sensor instead of one pair per ray. */
+	/* Ray directions: the sensor's own, worked out once in the bot's
+	 * frame (evo_scene_add_sensor), turned with the bot. */
 	double dx[EVO_PROX_MAX_RAYS], dy[EVO_PROX_MAX_RAYS];
 	double best[EVO_PROX_MAX_RAYS];
-	double ca = cos(d->angle - arc), sa = sin(d->angle - arc);
-	double ux = f->c * ca - f->s * sa, uy = f->s * ca + f->c * sa;
-	double cs = cos(step), ss = sin(step);
 	for (int i = 0; i < n; i++) {
-		dx[i] = ux * d->range;
-		dy[i] = uy * d->range;
+		dx[i] = (f->c * se->ray_c[i] - f->s * se->ray_s[i]) * d->range;
+		dy[i] = (f->s * se->ray_c[i] + f->c * se->ray_s[i]) * d->range;
 		best[i] = 1;
-		double t = ux * cs - uy * ss;
-		uy = ux * ss + uy * cs;
-		ux = t;
 	}
 
 	/* Cheap culling of shapes whose bounding circle cannot meet the
@@ -401,7 +394,7 @@ void evo_bot_sense(evo_scene *sc, int bot)
 	uint16_t mask = 0;
 	for (int i = 0; i < b->n_sensors; i++) {
 		const evo_sensor_def *d = &b->sensor[i].def;
-		if (d->kind != EVO_SENSOR_PROXIMITY)
+		if (d->kind != EVO_SENSOR_PROXIMITY || b->sensor[i].idle)
 			continue;
 		double r = sensor_reach(d);
 		reach = r > reach ? r : reach;
@@ -413,6 +406,8 @@ void evo_bot_sense(evo_scene *sc, int bot)
 	if (mask)
 		gather(sc, b, &f, reach, mask, &set);
 	for (int i = 0; i < b->n_sensors; i++)
-		b->sensor[i].value = sample(sc, bot, &b->sensor[i], &f, &set);
+		if (!b->sensor[i].idle)
+			b->sensor[i].value =
+				sample(sc, bot, &b->sensor[i], &f, &set);
 	release_set(&set);
 }

@@ -18,6 +18,29 @@ static const char *closest(const char *word, const evo_bot *b, int sensors)
 	return c ? c : "";
 }
 
+/* Sensors nothing reads are not sampled: the mind reads the botdesc's,
+ * rewards and controls name theirs, and a script's bot:value wakes the one
+ * it asks for. */
+static void mark_idle(evo_sim *s)
+{
+	evo_scene *sc = s->scene;
+	evo_bot *b = &sc->bot[s->bot];
+	for (int i = 0; i < b->n_sensors; i++)
+		b->sensor[i].idle = 1;
+	for (unsigned i = 0; i < s->mind->botdesc->n_sensors; i++)
+		b->sensor[s->sensor_map[i]].idle = 0;
+	for (int i = 0; i < sc->n_rewards; i++) {
+		const evo_reward_def *d = &sc->reward[i].def;
+		for (int k = 0; k < d->n_sensors; k++)
+			sc->bot[d->bot].sensor[d->sensor[k]].idle = 0;
+	}
+	for (int i = 0; i < sc->n_controls; i++) {
+		const evo_control_def *d = &sc->control[i].def;
+		if (d->sensor >= 0)
+			sc->bot[d->bot].sensor[d->sensor].idle = 0;
+	}
+}
+
 /* Bind botdesc names to the bot's sensors and actuators. A name the bot
  * model lacks is the botdesc's error, reported at its line. */
 static int bind(evo_sim *s, const evo_loaded *mind, evo_err *err)
@@ -64,7 +87,10 @@ int evo_sim_set_mind(evo_sim *s, const evo_loaded *mind, evo_err *err)
 	if (st != EVO_OK)
 		return evo_fail(err, "mind state: %s", evo_status_str(st));
 	s->mind = mind;
-	return bind(s, mind, err);
+	if (bind(s, mind, err))
+		return -1;
+	mark_idle(s);
+	return 0;
 }
 
 evo_sim *evo_sim_create(const evo_loaded *mind, const evo_simbatch *task,

@@ -1,0 +1,183 @@
+/* make bench: evo's full tick on EXP_Avoid beside the physics floor of the
+ * same world, measured in the same run.
+ *
+ * The floor is a plain Box2D loop: the same static obstacles, each a
+ * fixture of one static body, and BotType8's body pushed by constant wheel
+ * forces, with no sensing, no mind and no Lua. The full tick is what
+ * `evo run --headless` does: ten proximity sensors and the other sensors,
+ * the mind, the actuators, the physics, the rewards and the controls.
+ * Bar (issue 3): the full tick reaches at least 0.35 of the floor.
+ *
+ * usage: bench_world [TASK.simbatch] [--ticks N] */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "scene.h"
+#include "sim.h"
+#include "task.h"
+
+static double now(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* The same world in plain Box2D: obstacles and the bot's body only. */
+static evo_world *floor_world(const evo_scene *sc, evo_body_id *bot)
+{
+	evo_world *w = evo_world_create(NULL);
+	for (int i = 0; i < sc->n_obstacles; i++) {
+		const evo_obstacle *o = &sc->obstacle[i];
+		if (o->shape == EVO_SHAPE_CIRCLE)
+			evo_world_add_static_circle(w, o->x, o->y, o->radius);
+		else
+			evo_world_add_static_box(w, o->x, o->y, o->half_w,
+						 o->half_h, o->angle);
+	}
+	evo_body_def d = sc->bot[0].def.body;
+	*bot = evo_world_add_body(w, &d);
+	return w;
+}
+
+/* Constant wheel commands 0.9 and 0.85: the robot drives in wide
+ * circles, meeting obstacles now and then, as a moving robot does. */
+static double run_floor(const evo_scene *sc, long ticks)
+{
+	evo_body_id bot;
+	evo_world *w = floor_world(sc, &bot);
+	const double fl = (2 * 0.9 - 1) * 80, fr = (2 * 0.85 - 1) * 80;
+	double t0 = now();
+	for (long t = 0; t < ticks; t++) {
+		evo_pose p = evo_body_pose(w, bot);
+		double c = cos(p.angle), s = sin(p.angle);
+		/* MotL at (0, -1), MotR at (0, +1) in the body frame */
+		evo_body_apply_force(w, bot, c * fl, s * fl, p.x + s, p.y - c);
+		evo_body_apply_force(w, bot, c * fr, s * fr, p.x - s, p.y + c);
+		evo_world_step(w);
+	}
+	double dt = now() - t0;
+	evo_world_destroy(w);
+	return (double)ticks / dt;
+}
+
+static double run_full(evo_sim *s, long ticks, uint64_t *episode)
+{
+	evo_err err;
+	double t0 = now();
+	for (long t = 0; t < ticks; t++) {
+		int r = evo_sim_tick(s, &err);
+		if (r < 0) {
+			fprintf(stderr, "%s\n", err.msg);
+			exit(1);
+		}
+		if (r > 0) {
+			++*episode;
+			evo_sim_reset(s, (int)*episode, *episode, *episode, &err);
+		}
+	}
+	return (double)ticks / (now() - t0);
+}
+
+/* What sensing would cost casting BotType8's 90 rays through Box2D one
+ * by one, in microseconds per tick, over the robot's poses of a run. */
+static double raycast_sensing_us(evo_sim *s, long ticks)
+{
+	evo_scene *sc = s->scene;
+	evo_err err;
+	double total = 0, sink = 0;
+	for (long t = 0; t < ticks; t++) {
+		if (evo_sim_tick(s, &err) != 0)
+			evo_sim_reset(s, 1, 1, 1, &err);
+		const evo_bot *b = &sc->bot[0];
+		double t0 = now();
+		for (int k = 0; k < b->n_sensors; k++) {
+			const evo_sensor_def *d = &b->sensor[k].def;
+			if (d->kind != EVO_SENSOR_PROXIMITY)
+				continue;
+			double x0, y0;
+			evo_bot_to_world(sc, 0, d->x, d->y, &x0, &y0);
+			evo_pose p = evo_body_pose(sc->world, b->body);
+			for (int r = 0; r < d->rays; r++) {
+				double a = p.angle + d->angle - d->arc +
+					   (d->rays > 1 ? 2 * d->arc * r /
+								  (d->rays - 1)
+							: d->arc);
+				sink += evo_world_raycast(
+					sc->world, x0, y0,
+					x0 + d->range * cos(a),
+					y0 + d->range * sin(a), d->mask,
+					b->body);
+			}
+		}
+		total += now() - t0;
+	}
+	if (sink == 12345.678)
+		printf(" ");
+	return total / (double)ticks * 1e6;
+}
+
+int main(int argc, char **argv)
+{
+	const char *task_path = "minds/Avoid/Tasks/Avoid-DEMO.simbatch";
+	long ticks = 30000;
+	for (int i = 1; i < argc; i++) {
+		if (strcmp(argv[i], "--ticks") == 0 && i + 1 < argc)
+			ticks = atol(argv[++i]);
+		else
+			task_path = argv[i];
+	}
+	if (ticks <= 0) {
+		fprintf(stderr, "bench_world: --ticks must be positive\n");
+		return 2;
+	}
+	evo_err err = {{0}};
+	evo_task task;
+	if (evo_task_load(task_path, &task, &err)) {
+		fprintf(stderr, "%s\n", err.msg);
+		return 1;
+	}
+	evo_sim *s = evo_sim_create(task.mind, task.sb, task_path, &err);
+	if (!s || evo_sim_reset(s, 1, 1, 1, &err)) {
+		fprintf(stderr, "%s\n", err.msg);
+		return 1;
+	}
+	uint64_t episode = 1;
+	int n_prox = 0;
+	for (int k = 0; k < s->scene->bot[0].n_sensors; k++)
+		n_prox += s->scene->bot[0].sensor[k].def.kind ==
+			  EVO_SENSOR_PROXIMITY;
+	/* Alternate the two, best of five each: the machine's noise hits
+	 * both alike. */
+	double best_floor = 0, best_full = 0;
+	for (int round = 0; round < 5; round++) {
+		double f = run_floor(s->scene, ticks);
+		double e = run_full(s, ticks, &episode);
+		best_floor = f > best_floor ? f : best_floor;
+		best_full = e > best_full ? e : best_full;
+	}
+	double ratio = best_full / best_floor;
+	double naive = raycast_sensing_us(s, ticks / 10);
+	printf("EXP_Avoid, one robot (%s), %d static obstacles, best of 5 "
+	       "runs of %ld ticks:\n",
+	       evo_simbatch_get(task.sb, "BOTMODEL"), s->scene->n_obstacles,
+	       ticks);
+	printf("  physics floor (Box2D alone, constant wheel forces) "
+	       "%9.0f ticks/s  %6.2f us/tick\n",
+	       best_floor, 1e6 / best_floor);
+	printf("  evo full tick (%d proximity sensors, mind, rewards)  "
+	       "%9.0f ticks/s  %6.2f us/tick\n",
+	       n_prox, best_full, 1e6 / best_full);
+	printf("  ratio %.2f of the floor (bar: at least 0.35): %s\n", ratio,
+	       ratio >= 0.35 ? "met" : "NOT MET");
+	printf("  for scale: casting the same rays one by one through "
+	       "Box2D costs %.1f us/tick\n",
+	       naive);
+	evo_sim_destroy(s);
+	evo_task_free(&task);
+	return ratio >= 0.35 ? 0 : 1;
+}
