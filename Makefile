@@ -133,9 +133,9 @@ test: deps
 
 run: deps all
 	$(BUILD)/evo info minds/Collect
-	$(BUILD)/evo check minds/Collect/Tasks/Collect-DEMO.simbatch
-	$(BUILD)/evo tick minds/Collect --ticks 5 --sensor SENSOBJ=0.2 \
-		--sensor SENSDZ=0.2 --sensor RADOBJ=0.8
+	$(BUILD)/evo run minds/Collect/Tasks/Collect-DEMO.simbatch --headless \
+		--episodes 2 --ticks 6000
+	$(BUILD)/evo run minds/Avoid/Tasks/Avoid-DEMO.simbatch --headless
 
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/evo
