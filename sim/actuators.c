@@ -9,33 +9,6 @@
 /* The claw takes what lies within ±45 degrees of its direction. */
 #define CLAW_ARC (M_PI / 4)
 
-/* The object detector's test (sim/sensors.c has the same one, so that a
- * SENSOBJ reading true means the claw would grab): the nearest active
- * object no claw holds, with its surface within reach of (px, py) and its
- * centre within arc of the direction (ux, uy). Its element index, or -1. */
-static int object_in_reach(const evo_scene *sc, double px, double py, double ux,
-			   double uy, double reach, double arc)
-{
-	double cos_arc = cos(arc);
-	double best = INFINITY;
-	int found = -1;
-	for (int i = 0; i < sc->n_elements; i++) {
-		const evo_element *e = &sc->element[i];
-		if (e->kind != EVO_ELEM_OBJECT || !e->active || e->held_by >= 0)
-			continue;
-		double ox = e->x - px, oy = e->y - py;
-		double dist = hypot(ox, oy);
-		double gap = dist - e->size;
-		if (gap > reach || gap >= best)
-			continue;
-		if (ox * ux + oy * uy < dist * cos_arc)
-			continue;
-		best = gap;
-		found = i;
-	}
-	return found;
-}
-
 /* Force (2c - 1) * max_force along the bot's heading turned by the
  * wheel's angle, at the wheel's point. A command that is not a number
  * pushes with no force rather than full reverse. */
@@ -63,7 +36,7 @@ static void claw_grab(evo_scene *sc, int bot, evo_actuator *a)
 	double px = p.x + bc * a->def.x - bs * a->def.y;
 	double py = p.y + bs * a->def.x + bc * a->def.y;
 	double dir = p.angle + a->def.angle;
-	int k = object_in_reach(sc, px, py, cos(dir), sin(dir), a->def.reach,
+	int k = evo_scene_object_in_reach(sc, px, py, cos(dir), sin(dir), a->def.reach,
 				CLAW_ARC);
 	if (k < 0)
 		return;

@@ -789,6 +789,29 @@ int evo_scene_target_pos(const evo_scene *sc, int bot, int target, double *x,
 	return best < INFINITY;
 }
 
+int evo_scene_object_in_reach(const evo_scene *sc, double px, double py,
+			      double ux, double uy, double reach, double arc)
+{
+	double cos_arc = cos(arc);
+	double best = INFINITY;
+	int found = -1;
+	for (int k = 0; k < sc->n_objects; k++) {
+		const evo_element *e = &sc->element[sc->object[k]];
+		if (!e->active || e->held_by >= 0)
+			continue;
+		double ox = e->x - px, oy = e->y - py;
+		double dist = hypot(ox, oy);
+		double gap = dist - e->size;
+		if (gap > reach || gap >= best)
+			continue;
+		if (ox * ux + oy * uy < dist * cos_arc)
+			continue;
+		best = gap;
+		found = sc->object[k];
+	}
+	return found;
+}
+
 int evo_zone_contains(const evo_element *z, double x, double y)
 {
 	if (z->kind != EVO_ELEM_ZONE || !z->active)

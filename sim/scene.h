@@ -380,6 +380,13 @@ void evo_bot_to_world(const evo_scene *sc, int bot, double bx, double by,
  * bot); 0 when there is none. */
 int evo_scene_target_pos(const evo_scene *sc, int bot, int target, double *x,
 			 double *y);
+/* The object detector's test, which the claw shares: the nearest active
+ * object no claw holds whose surface is within reach of (px, py) and whose
+ * centre is within arc (radians) of the unit direction (ux, uy). Its
+ * element index, or -1. */
+int evo_scene_object_in_reach(const evo_scene *sc, double px, double py,
+			      double ux, double uy, double reach, double arc);
+
 /* 1 when the world point lies inside zone element z. */
 int evo_zone_contains(const evo_element *z, double x, double y);
 

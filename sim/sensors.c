@@ -247,33 +247,6 @@ static double sample_proximity(evo_sensor *se, const frame *f,
 
 /* ---- the others ------------------------------------------------------- */
 
-/* The object detector's test, which the claw shares (sim/actuators.c
- * keeps a copy): an active object no claw holds, its surface within
- * reach of (px, py), its centre within arc of the direction (ux, uy).
- * Returns the element's index of the nearest such object, or -1. */
-static int object_in_reach(const evo_scene *sc, double px, double py, double ux,
-			   double uy, double reach, double arc)
-{
-	double cos_arc = cos(arc);
-	double best = INFINITY;
-	int found = -1;
-	for (int i = 0; i < sc->n_elements; i++) {
-		const evo_element *e = &sc->element[i];
-		if (e->kind != EVO_ELEM_OBJECT || !e->active || e->held_by >= 0)
-			continue;
-		double ox = e->x - px, oy = e->y - py;
-		double dist = hypot(ox, oy);
-		double gap = dist - e->size;
-		if (gap > reach || gap >= best)
-			continue;
-		if (ox * ux + oy * uy < dist * cos_arc)
-			continue;
-		best = gap;
-		found = i;
-	}
-	return found;
-}
-
 /* Spread of the last positions: the root of the summed variances of x
  * and y. The ring's order does not matter to a variance. */
 static double spread(const evo_bot *b)
@@ -350,7 +323,7 @@ static double sample(evo_scene *sc, int bot, evo_sensor *se, const frame *f,
 		double ux = f->c * cos(d->angle) - f->s * sin(d->angle);
 		double uy = f->s * cos(d->angle) + f->c * sin(d->angle);
 		return boolean(
-		    object_in_reach(sc, px, py, ux, uy, d->reach, d->arc) >= 0);
+		    evo_scene_object_in_reach(sc, px, py, ux, uy, d->reach, d->arc) >= 0);
 	}
 	case EVO_SENSOR_MOVEMENT:
 		return clamp01(spread(b) / d->scale);
