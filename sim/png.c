@@ -15,8 +15,8 @@
 
 #define STORED_MAX 65535u
 
-static const uint8_t signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A,
-				     '\n'};
+static const uint8_t signature[8] = {0x89, 'P',	 'N',  'G',
+				     '\r', '\n', 0x1A, '\n'};
 
 /* ---- checksums ------------------------------------------------------ */
 
@@ -25,10 +25,9 @@ static const uint8_t signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A,
  * const table needs no first-use initialisation that threads could
  * race on. */
 static const uint32_t crc_nibble[16] = {
-	0x00000000, 0x1DB71064, 0x3B6E20C8, 0x26D930AC,
-	0x76DC4190, 0x6B6B51F4, 0x4DB26158, 0x5005713C,
-	0xEDB88320, 0xF00F9344, 0xD6D6A3E8, 0xCB61B38C,
-	0x9B64C2B0, 0x86D3D2D4, 0xA00AE278, 0xBDBDF21C,
+    0x00000000, 0x1DB71064, 0x3B6E20C8, 0x26D930AC, 0x76DC4190, 0x6B6B51F4,
+    0x4DB26158, 0x5005713C, 0xEDB88320, 0xF00F9344, 0xD6D6A3E8, 0xCB61B38C,
+    0x9B64C2B0, 0x86D3D2D4, 0xA00AE278, 0xBDBDF21C,
 };
 
 uint32_t evo_png_crc32(uint32_t crc, const void *data, size_t len)
@@ -116,8 +115,8 @@ int evo_png_encode(const uint8_t *pixels, int w, int h, int channels,
 	size_t total = sizeof signature + (12 + 13) + (12 + zlen) + 12;
 	uint8_t *out = malloc(total);
 	if (!out)
-		return evo_fail(err, "PNG of %d x %d pixels: out of memory",
-				w, h);
+		return evo_fail(err, "PNG of %d x %d pixels: out of memory", w,
+				h);
 
 	uint8_t *p = out, *chunk;
 	memcpy(p, signature, sizeof signature);
@@ -127,11 +126,11 @@ int evo_png_encode(const uint8_t *pixels, int w, int h, int channels,
 	p = put32(p, 0);
 	memcpy(p, "IHDR", 4);
 	p = put32(put32(p + 4, (uint32_t)w), (uint32_t)h);
-	*p++ = 8;			  /* bits per sample */
+	*p++ = 8;		      /* bits per sample */
 	*p++ = channels == 4 ? 6 : 2; /* colour type: RGBA or RGB */
-	*p++ = 0;			  /* compression: deflate */
-	*p++ = 0;			  /* filter method 0 */
-	*p++ = 0;			  /* no interlace */
+	*p++ = 0;		      /* compression: deflate */
+	*p++ = 0;		      /* filter method 0 */
+	*p++ = 0;		      /* no interlace */
 	p = end_chunk(chunk, p);
 
 	chunk = p;
@@ -236,14 +235,13 @@ static int inflate_stored(const uint8_t *z, size_t zlen, uint8_t *raw,
 		final = z[at] & 1;
 		if (type != 0)
 			return evo_fail(
-				err,
-				"deflate block %d is %s (type %d): evo's "
-				"reader takes only stored blocks, as evo "
-				"writes them; this PNG was not written by evo",
-				block,
-				type == 3 ? "of the reserved type 3"
-					  : "compressed",
-				type);
+			    err,
+			    "deflate block %d is %s (type %d): evo's "
+			    "reader takes only stored blocks, as evo "
+			    "writes them; this PNG was not written by evo",
+			    block,
+			    type == 3 ? "of the reserved type 3" : "compressed",
+			    type);
 		if (zlen - at < 5)
 			return evo_fail(err,
 					"deflate block %d: its header is cut "
@@ -313,10 +311,9 @@ static int decode(const uint8_t *png, size_t len, evo_png_image *img,
 		char name[5];
 		for (int k = 0; k < 4; k++)
 			name[k] = (type[k] >= 'A' && type[k] <= 'Z') ||
-						  (type[k] >= 'a' &&
-						   type[k] <= 'z')
-					  ? (char)type[k]
-					  : '?';
+					  (type[k] >= 'a' && type[k] <= 'z')
+				      ? (char)type[k]
+				      : '?';
 		name[4] = 0;
 		if (n > len - at - 12) {
 			evo_fail(err,
@@ -325,7 +322,8 @@ static int decode(const uint8_t *png, size_t len, evo_png_image *img,
 				 index, name, at, n, len - at - 12);
 			goto out;
 		}
-		uint32_t want = get32(data + n), got = evo_png_crc32(0, type, n + 4u);
+		uint32_t want = get32(data + n),
+			 got = evo_png_crc32(0, type, n + 4u);
 		if (want != got) {
 			evo_fail(err,
 				 "chunk %d (%s) at byte %zu is damaged: "
@@ -360,8 +358,7 @@ static int decode(const uint8_t *png, size_t len, evo_png_image *img,
 			w = (int)uw;
 			h = (int)uh;
 			if (data[8] != 8) {
-				evo_fail(err,
-					 "%d bits per sample: evo reads 8",
+				evo_fail(err, "%d bits per sample: evo reads 8",
 					 data[8]);
 				goto out;
 			}
@@ -413,8 +410,7 @@ static int decode(const uint8_t *png, size_t len, evo_png_image *img,
 			idat_done = 1;
 		if (!memcmp(type, "IEND", 4)) {
 			if (at != len) {
-				evo_fail(err,
-					 "%zu bytes after IEND, want none",
+				evo_fail(err, "%zu bytes after IEND, want none",
 					 len - at);
 				goto out;
 			}

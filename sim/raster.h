@@ -45,8 +45,7 @@ int evo_image_rgb_save_png(const evo_image_rgb *im, const char *path,
 uint32_t evo_raster_get(const evo_image_rgb *im, int x, int y);
 /* Paint the whole image. */
 void evo_raster_clear(evo_image_rgb *im, uint32_t rgb);
-void evo_raster_pixel(evo_image_rgb *im, int x, int y, uint32_t rgb,
-		      int alpha);
+void evo_raster_pixel(evo_image_rgb *im, int x, int y, uint32_t rgb, int alpha);
 /* A one-pixel line from (x0, y0) to (x1, y1), both ends included
  * (Bresenham): each pixel is painted once, so a translucent line has an
  * even tone. */
@@ -54,9 +53,8 @@ void evo_raster_line(evo_image_rgb *im, int x0, int y0, int x1, int y1,
 		     uint32_t rgb, int alpha);
 /* A line `width` pixels wide with square ends, as a filled quadrilateral;
  * widths below 1 draw a one-pixel line. */
-void evo_raster_thick_line(evo_image_rgb *im, double x0, double y0,
-			   double x1, double y1, double width, uint32_t rgb,
-			   int alpha);
+void evo_raster_thick_line(evo_image_rgb *im, double x0, double y0, double x1,
+			   double y1, double width, uint32_t rgb, int alpha);
 /* The w x h pixels from (x, y); nothing when w or h is not positive. */
 void evo_raster_fill_rect(evo_image_rgb *im, int x, int y, int w, int h,
 			  uint32_t rgb, int alpha);
@@ -64,8 +62,8 @@ void evo_raster_fill_rect(evo_image_rgb *im, int x, int y, int w, int h,
 void evo_raster_rect(evo_image_rgb *im, int x, int y, int w, int h,
 		     uint32_t rgb, int alpha);
 /* Pixels whose centres lie within r of (cx, cy). */
-void evo_raster_fill_circle(evo_image_rgb *im, double cx, double cy,
-			    double r, uint32_t rgb, int alpha);
+void evo_raster_fill_circle(evo_image_rgb *im, double cx, double cy, double r,
+			    uint32_t rgb, int alpha);
 /* A ring `width` pixels wide just inside radius r. */
 void evo_raster_circle(evo_image_rgb *im, double cx, double cy, double r,
 		       double width, uint32_t rgb, int alpha);
@@ -81,10 +79,11 @@ void evo_raster_polygon(evo_image_rgb *im, const double *x, const double *y,
 
 /* The font: glyphs 5 x 7 pixels in cells of EVO_FONT_CELL_W x
  * EVO_FONT_CELL_H (a column and two rows of spacing), all scaled by an
- * integer `scale` >= 1. ASCII 32-126 have glyphs; any other byte draws
- * as a hollow box, so a wrong character shows instead of vanishing. */
-#define EVO_FONT_W 5
-#define EVO_FONT_H 7
+ * integer `scale` in [1, 64] (clamped). ASCII 32-126 have glyphs; any
+ * other byte draws as a hollow box, so a wrong character shows instead
+ * of vanishing. */
+#define EVO_FONT_W	5
+#define EVO_FONT_H	7
 #define EVO_FONT_CELL_W 6
 #define EVO_FONT_CELL_H 9
 

@@ -92,14 +92,14 @@ static int pix(double v)
 
 /* ---- the world ------------------------------------------------------- */
 
-#define GRID_LINE 0xE0DED6u
+#define GRID_LINE     0xE0DED6u
 #define OBSTACLE_EDGE 0x5E5E5Eu
-#define ZONE_EDGE 0x2A8C3Au
-#define ZONE_OFF 0xA8A8A8u
-#define OBJECT_EDGE 0xA0560Au
-#define BOT_EDGE 0x1C447Fu
-#define GRIP 0x333333u
-#define SCALE_BAR 0x555555u
+#define ZONE_EDGE     0x2A8C3Au
+#define ZONE_OFF      0xA8A8A8u
+#define OBJECT_EDGE   0xA0560Au
+#define BOT_EDGE      0x1C447Fu
+#define GRIP	      0x333333u
+#define SCALE_BAR     0x555555u
 
 /* World-space corners of a box of half sides (hw, hh) turned by angle
  * about (x, y), in screen pixels. */
@@ -136,8 +136,8 @@ static void draw_grid(evo_image_rgb *im, const evo_view_camera *cam)
 	for (double y = ceil(wy0 / step) * step; y <= wy1; y += step) {
 		double sx, sy;
 		evo_view_to_screen(cam, 0, y, &sx, &sy);
-		evo_raster_fill_rect(im, 0, pix(sy), cam->world_w, 1,
-				     GRID_LINE, 255);
+		evo_raster_fill_rect(im, 0, pix(sy), cam->world_w, 1, GRID_LINE,
+				     255);
 	}
 }
 
@@ -201,7 +201,7 @@ static void draw_rays(evo_image_rgb *im, const evo_view_camera *cam,
 		      const evo_scene *sc, int b, const evo_sensor *se)
 {
 	const evo_sensor_def *d = &se->def;
-	int n = d->rays < 1 ? 1
+	int n = d->rays < 1		      ? 1
 		: d->rays > EVO_PROX_MAX_RAYS ? EVO_PROX_MAX_RAYS
 					      : d->rays;
 	double arc = n > 1 ? fabs(d->arc) : 0;
@@ -223,8 +223,8 @@ static void draw_rays(evo_image_rgb *im, const evo_view_camera *cam,
 				EVO_VIEW_RAY_HIT,
 				hit ? 255 : EVO_VIEW_RAY_CLEAR_ALPHA);
 		if (hit)
-			evo_raster_fill_rect(im, pix(ex) - 1, pix(ey) - 1, 3,
-					     3, EVO_VIEW_RAY_HIT, 255);
+			evo_raster_fill_rect(im, pix(ex) - 1, pix(ey) - 1, 3, 3,
+					     EVO_VIEW_RAY_HIT, 255);
 	}
 }
 
@@ -265,8 +265,7 @@ static void draw_claws(evo_image_rgb *im, const evo_view_camera *cam,
 				oy = op.y;
 			}
 			evo_view_to_screen(cam, ox, oy, &tx, &ty);
-			evo_raster_thick_line(im, sx, sy, tx, ty, 2, GRIP,
-					      255);
+			evo_raster_thick_line(im, sx, sy, tx, ty, 2, GRIP, 255);
 		}
 		evo_raster_fill_rect(im, pix(sx) - 2, pix(sy) - 2, 5, 5, GRIP,
 				     255);
@@ -281,7 +280,7 @@ static void draw_scale_bar(evo_image_rgb *im, const evo_view_camera *cam)
 	if (!(want > 1e-3 && want < 1e6))
 		return;
 	double unit = pow(10, floor(log10(want)));
-	double len = want / unit >= 5 ? 5 * unit
+	double len = want / unit >= 5	? 5 * unit
 		     : want / unit >= 2 ? 2 * unit
 					: unit;
 	int px = (int)lround(len * cam->scale);
@@ -296,13 +295,13 @@ static void draw_scale_bar(evo_image_rgb *im, const evo_view_camera *cam)
 
 /* ---- the panel ------------------------------------------------------- */
 
-#define PANEL_DIM 0x9AA0A8u
-#define BAR_BACK 0x3A3F47u
+#define PANEL_DIM   0x9AA0A8u
+#define BAR_BACK    0x3A3F47u
 #define PAUSED_TEXT 0xFFC23Du
 
 /* Draw s clipped to `chars` characters (the last one a '~' when cut). */
-static void text_fit(evo_image_rgb *im, int x, int y, const char *s,
-		     int chars, uint32_t rgb, int scale)
+static void text_fit(evo_image_rgb *im, int x, int y, const char *s, int chars,
+		     uint32_t rgb, int scale)
 {
 	char buf[128];
 	if (chars < 1)
@@ -363,9 +362,9 @@ static void draw_panel(evo_image_rgb *im, const evo_scene *sc,
 	}
 
 	/* The key help takes the bottom; skills get what is between. */
-	static const char *const help[] = {
-		"space pause   n step", "up/down speed r reset",
-		"+/- zoom      s shot", "q quit"};
+	static const char *const help[] = {"space pause   n step",
+					   "up/down speed r reset",
+					   "+/- zoom      s shot", "q quit"};
 	int help_h = 4 * EVO_FONT_CELL_H + 8;
 	int n = p && p->influence ? p->n_influence : 0;
 	if (n > 0) {
@@ -381,10 +380,10 @@ static void draw_panel(evo_image_rgb *im, const evo_scene *sc,
 		for (int k = 0; k < n && y + row <= im->h - help_h; k++) {
 			double v = p->influence[k];
 			v = v > 1 ? 1 : v > 0 ? v : 0; /* NaN: 0 */
-			const char *name = p->influence_name &&
-							   p->influence_name[k]
-						   ? p->influence_name[k]
-						   : "?";
+			const char *name =
+			    p->influence_name && p->influence_name[k]
+				? p->influence_name[k]
+				: "?";
 			int bar_x = x, bar_y = y + lh, bar_w = w - 24,
 			    bar_h = 9;
 			if (compact) {
@@ -439,7 +438,8 @@ void evo_view_render(evo_image_rgb *im, const evo_scene *sc,
 		for (int s = 0; s < sc->bot[b].n_sensors; s++)
 			if (sc->bot[b].sensor[s].def.kind ==
 			    EVO_SENSOR_PROXIMITY)
-				draw_rays(im, cam, sc, b, &sc->bot[b].sensor[s]);
+				draw_rays(im, cam, sc, b,
+					  &sc->bot[b].sensor[s]);
 	/* Held objects over the bot that carries them. */
 	for (int e = 0; e < sc->n_elements; e++)
 		if (sc->element[e].kind == EVO_ELEM_OBJECT &&
@@ -452,8 +452,8 @@ void evo_view_render(evo_image_rgb *im, const evo_scene *sc,
 		for (int b = 0; b < sc->n_bots; b++) {
 			evo_pose bp = evo_body_pose(sc->world, sc->bot[b].body);
 			double sx, sy;
-			evo_view_to_screen(cam, bp.x,
-					   bp.y + sc->bot[b].radius, &sx, &sy);
+			evo_view_to_screen(cam, bp.x, bp.y + sc->bot[b].radius,
+					   &sx, &sy);
 			int tw = evo_raster_text_width(sc->bot[b].name, 1);
 			evo_raster_text(im, pix(sx) - tw / 2, pix(sy) + 4,
 					sc->bot[b].name, BOT_EDGE, 1);
@@ -481,6 +481,13 @@ evo_viewer *evo_viewer_open(int width, int height, evo_err *err)
 		width = 1024;
 		height = 720;
 	}
+	/* Left alone, SDL backs the window of a software renderer with a
+	 * GL texture, loading Mesa (llvmpipe under Xvfb) for each window
+	 * only to copy a bitmap. Plain X11 (XShm) images are enough; at
+	 * default priority, so SDL_FRAMEBUFFER_ACCELERATION in the
+	 * environment still wins. */
+	SDL_SetHintWithPriority(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0",
+				SDL_HINT_DEFAULT);
 	if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0) {
 		evo_fail(err,
 			 "cannot open the viewer: %s (no display? set "
@@ -680,7 +687,15 @@ int evo_viewer_screenshot(evo_viewer *v, const char *png_path, evo_err *err)
 {
 	if (!v->drawn)
 		return evo_fail(err, "%s: no frame drawn yet", png_path);
-	int w = v->frame.w, h = v->frame.h;
+	int w = v->frame.w, h = v->frame.h, tw, th;
+	/* Resized since the last frame: the target no longer holds it, and
+	 * reading it into a buffer of the frame's size would not fit. */
+	if (SDL_GetRendererOutputSize(v->renderer, &tw, &th) != 0 || tw != w ||
+	    th != h)
+		return evo_fail(err,
+				"%s: the window changed size since the last "
+				"frame; draw one first",
+				png_path);
 	uint8_t *px = malloc((size_t)w * h * 3);
 	if (!px)
 		return evo_fail(err, "%s: out of memory", png_path);

@@ -49,21 +49,22 @@ typedef struct evo_viewer_panel {
 
 /* What a key (or closing the window) asks of the calling loop. */
 typedef enum evo_view_action {
-	EVO_VIEW_NONE = 0,	 /* no pending action */
-	EVO_VIEW_QUIT,		 /* q, Esc, closing the window, Ctrl-C */
-	EVO_VIEW_PAUSE,		 /* space or p: toggle pause */
-	EVO_VIEW_STEP,		 /* n or right arrow: one tick while paused */
-	EVO_VIEW_FASTER,	 /* up arrow or ] */
-	EVO_VIEW_SLOWER,	 /* down arrow or [ */
-	EVO_VIEW_RESET,		 /* r: restart the episode */
-	EVO_VIEW_SCREENSHOT,	 /* s: the caller picks a path and calls
-				    evo_viewer_screenshot */
+	EVO_VIEW_NONE = 0,   /* no pending action */
+	EVO_VIEW_QUIT,	     /* q, Esc, closing the window, Ctrl-C */
+	EVO_VIEW_PAUSE,	     /* space or p: toggle pause */
+	EVO_VIEW_STEP,	     /* n or right arrow: one tick while paused */
+	EVO_VIEW_FASTER,     /* up arrow or ] */
+	EVO_VIEW_SLOWER,     /* down arrow or [ */
+	EVO_VIEW_RESET,	     /* r: restart the episode */
+	EVO_VIEW_SCREENSHOT, /* s: the caller picks a path and calls
+				evo_viewer_screenshot */
 } evo_view_action;
 
 /* ---- drawing without a window --------------------------------------- */
 
-/* Half the side of the world square shown at zoom 1, in metres: about
- * +-30 m around the followed bot, as the brief for DEMOSIM asks. */
+/* Half the side of the world square shown at zoom 1, in metres: +-30 m
+ * around the followed bot shows the obstacles its 12 m rays can reach and
+ * the zone it heads for. */
 #define EVO_VIEW_HALF_SPAN 30.0
 /* Width of the panel at the right of the frame, in pixels (at most a
  * third of a narrow frame). */
@@ -98,19 +99,19 @@ void evo_view_render(evo_image_rgb *im, const evo_scene *sc,
 		     const evo_view_camera *cam, const evo_viewer_panel *p);
 
 /* The colours evo_view_render uses, for tests that look for them. */
-#define EVO_VIEW_BACKGROUND 0xF2F1ECu
-#define EVO_VIEW_OBSTACLE 0x8C8C8Cu
-#define EVO_VIEW_ZONE 0x3CB44Bu /* drawn at EVO_VIEW_ZONE_ALPHA */
-#define EVO_VIEW_ZONE_ALPHA 80
-#define EVO_VIEW_OBJECT 0xF08C1Eu
-#define EVO_VIEW_BOT 0x2F6FD0u
-#define EVO_VIEW_HEADING 0xFFFFFFu
-#define EVO_VIEW_RAY_HIT 0xE02828u /* a clear ray: EVO_VIEW_RAY_CLEAR_ALPHA */
+#define EVO_VIEW_BACKGROUND	 0xF2F1ECu
+#define EVO_VIEW_OBSTACLE	 0x8C8C8Cu
+#define EVO_VIEW_ZONE		 0x3CB44Bu /* drawn at EVO_VIEW_ZONE_ALPHA */
+#define EVO_VIEW_ZONE_ALPHA	 80
+#define EVO_VIEW_OBJECT		 0xF08C1Eu
+#define EVO_VIEW_BOT		 0x2F6FD0u
+#define EVO_VIEW_HEADING	 0xFFFFFFu
+#define EVO_VIEW_RAY_HIT	 0xE02828u /* a clear ray: EVO_VIEW_RAY_CLEAR_ALPHA */
 #define EVO_VIEW_RAY_CLEAR_ALPHA 50
-#define EVO_VIEW_HELD 0xFFD21Fu /* ring around an object a claw holds */
-#define EVO_VIEW_PANEL 0x23262Bu
-#define EVO_VIEW_TEXT 0xE8E8E8u
-#define EVO_VIEW_BAR 0x4FB0E8u
+#define EVO_VIEW_HELD		 0xFFD21Fu /* ring around an object a claw holds */
+#define EVO_VIEW_PANEL		 0x23262Bu
+#define EVO_VIEW_TEXT		 0xE8E8E8u
+#define EVO_VIEW_BAR		 0x4FB0E8u
 
 /* ---- the window ------------------------------------------------------ */
 
@@ -129,7 +130,9 @@ void evo_viewer_draw(evo_viewer *v, const evo_scene *sc, int follow_bot,
 		     const evo_viewer_panel *p);
 
 /* The next pending action, EVO_VIEW_NONE when there is none; never
- * waits. Call until NONE once per frame. */
+ * waits. Call until NONE once per frame: SDL (2.24 on) ends each round
+ * of polling at a marker it queues, so an event that arrives during a
+ * round comes out in the next frame's round, never lost. */
 evo_view_action evo_viewer_poll(evo_viewer *v);
 
 /* The camera of the last frame drawn (to find a world point on it). */
@@ -139,7 +142,8 @@ void evo_viewer_zoom(evo_viewer *v, double factor);
 
 /* Save the last frame as an RGB PNG, read back from the renderer: the
  * pixels shown, not a redraw. Returns 0, or -1 with err set (nothing
- * drawn yet, SDL cannot read back, the file cannot be written). */
+ * drawn yet, the window resized since the last draw, SDL cannot read
+ * back, the file cannot be written). */
 int evo_viewer_screenshot(evo_viewer *v, const char *png_path, evo_err *err);
 
 #endif
