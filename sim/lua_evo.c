@@ -660,30 +660,44 @@ static const char *const reward_keys[] = {"bot",       "k",	  "k2",
 					  "threshold", "target", "sensors",
 					  NULL};
 
+/* The first argument of scene:reward and scene:control: a Lua function
+ * (returns lua_kind, with *ref set) or the name of a built-in one (its
+ * kind); an empty options table is pushed at 3 when none was given. */
+static int function_or_name(lua_State *L, const char *what, const char *noun,
+			    int (*by_name)(const char *), int lua_kind,
+			    int *ref)
+{
+	if (lua_isfunction(L, 2)) {
+		if (ctx(L)->sc->n_bots == 0)
+			luaL_error(L, "%s: there is no bot yet", what);
+		lua_pushvalue(L, 2);
+		*ref = luaL_ref(L, LUA_REGISTRYINDEX);
+		return lua_kind;
+	}
+	const char *name = luaL_checkstring(L, 2);
+	int kind = by_name(name);
+	if (kind < 0 || kind == lua_kind)
+		luaL_error(L,
+			   "%s: unknown %s function '%s' (pass a Lua function "
+			   "for your own)",
+			   what, noun, name);
+	if (lua_isnoneornil(L, 3)) {
+		lua_settop(L, 2);
+		lua_newtable(L);
+	}
+	return kind;
+}
+
 static int scene_reward(lua_State *L)
 {
 	evo_lua *l = ctx(L);
 	const char *what = "scene:reward";
-	evo_reward_def d;
-	if (lua_isfunction(L, 2)) {
-		d = evo_default_reward_def(EVO_RW_LUA);
-		if (l->sc->n_bots == 0)
-			luaL_error(L, "%s: there is no bot yet", what);
-		lua_pushvalue(L, 2);
-		d.lua_ref = luaL_ref(L, LUA_REGISTRYINDEX);
-	} else {
-		const char *name = luaL_checkstring(L, 2);
-		int kind = evo_reward_kind_by_name(name);
-		if (kind < 0 || kind == EVO_RW_LUA)
-			luaL_error(L,
-				   "%s: unknown reward function '%s' (pass a "
-				   "Lua function for your own)",
-				   what, name);
-		d = evo_default_reward_def((evo_reward_kind)kind);
-		if (lua_isnoneornil(L, 3)) {
-			lua_settop(L, 2);
-			lua_newtable(L);
-		}
+	int ref = -1;
+	int kind = function_or_name(L, what, "reward", evo_reward_kind_by_name,
+				    EVO_RW_LUA, &ref);
+	evo_reward_def d = evo_default_reward_def((evo_reward_kind)kind);
+	d.lua_ref = ref;
+	if (kind != EVO_RW_LUA) {
 		check_keys(L, 3, what, reward_keys);
 		d.bot = opt_bot(L, 3, what);
 		d.k = opt_num(L, 3, "k", d.k, what);
@@ -720,26 +734,12 @@ static int scene_control(lua_State *L)
 					   "sensor", "threshold", NULL};
 	evo_lua *l = ctx(L);
 	const char *what = "scene:control";
-	evo_control_def d;
-	if (lua_isfunction(L, 2)) {
-		d = evo_default_control_def(EVO_CF_LUA);
-		if (l->sc->n_bots == 0)
-			luaL_error(L, "%s: there is no bot yet", what);
-		lua_pushvalue(L, 2);
-		d.lua_ref = luaL_ref(L, LUA_REGISTRYINDEX);
-	} else {
-		const char *name = luaL_checkstring(L, 2);
-		int kind = evo_control_kind_by_name(name);
-		if (kind < 0 || kind == EVO_CF_LUA)
-			luaL_error(L,
-				   "%s: unknown control function '%s' (pass a "
-				   "Lua function for your own)",
-				   what, name);
-		d = evo_default_control_def((evo_control_kind)kind);
-		if (lua_isnoneornil(L, 3)) {
-			lua_settop(L, 2);
-			lua_newtable(L);
-		}
+	int ref = -1;
+	int kind = function_or_name(L, what, "control", evo_control_kind_by_name,
+				    EVO_CF_LUA, &ref);
+	evo_control_def d = evo_default_control_def((evo_control_kind)kind);
+	d.lua_ref = ref;
+	if (kind != EVO_CF_LUA) {
 		check_keys(L, 3, what, keys);
 		d.bot = opt_bot(L, 3, what);
 		double ticks = opt_num(L, 3, "ticks", (double)d.ticks, what);

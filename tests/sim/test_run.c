@@ -99,6 +99,12 @@ TEST(gto_demo_is_repeatable)
 		     "--seed 3 --episodes 2 --ticks 1500");
 }
 
+TEST(gtoa_demo_is_repeatable)
+{
+	same_rewards("minds/GTO/Tasks/GTOA-DEMO.simbatch",
+		     "--seed 4 --episodes 2 --ticks 1500");
+}
+
 TEST(collect_demo_is_repeatable)
 {
 	same_rewards("minds/Collect/Tasks/Collect-DEMO.simbatch",
@@ -308,6 +314,7 @@ int main(void)
 	}
 	RUN(avoid_demo_is_repeatable);
 	RUN(gto_demo_is_repeatable);
+	RUN(gtoa_demo_is_repeatable);
 	RUN(collect_demo_is_repeatable);
 	RUN(another_seed_gives_another_run);
 	RUN(own_bot_and_environment_run);
