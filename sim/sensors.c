@@ -236,11 +236,11 @@ static double sample_proximity(evo_sensor *se, const frame *f,
 		}
 	}
 
+	/* Rays past n keep the 1 evo_scene_add_sensor gave them. */
 	double nearest = 1;
-	for (int i = 0; i < EVO_PROX_MAX_RAYS; i++) {
-		se->ray[i] = i < n ? (float)best[i] : 1.0f;
-		if (i < n && best[i] < nearest)
-			nearest = best[i];
+	for (int i = 0; i < n; i++) {
+		se->ray[i] = (float)best[i];
+		nearest = best[i] < nearest ? best[i] : nearest;
 	}
 	return nearest < d->deadzone ? 0 : clamp01(nearest);
 }
