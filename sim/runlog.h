@@ -1,0 +1,51 @@
+/* evo — what a learning run leaves behind, and the line it prints each
+ * generation.
+ *
+ * A run folder holds log.csv (one row per generation), the best network
+ * of each generation (best/gen-NNNN.net) and the checkpoint. Every file is
+ * written whole to a temporary name and renamed, so a run killed at any
+ * moment leaves each file either as it was or complete. docs/learning.md. */
+#ifndef EVO_RUNLOG_H
+#define EVO_RUNLOG_H
+
+#include <stddef.h>
+
+#include "fileio.h"
+
+typedef struct evo_gen_stats {
+	int generation;	   /* 0 based */
+	int generations;   /* planned, for the ETA; 0 when open-ended */
+	double best, mean; /* fitness of this generation */
+	double best_ever;
+	int species;	   /* 0 when the method has none */
+	long evaluations;  /* this generation's */
+	double seconds;	   /* this generation's wall time */
+	double elapsed;	   /* since the run started */
+} evo_gen_stats;
+
+typedef struct evo_runlog {
+	char dir[1024];
+	char *csv; /* the whole log, rewritten each generation */
+	size_t len, cap;
+} evo_runlog;
+
+/* Create (or reuse) the run folder dir and its best/ folder; start the log
+ * with its header, or, when resuming, keep the rows of generations before
+ * `from_generation` of the existing log. Returns 0 or -1 with err. */
+int evo_runlog_open(evo_runlog *log, const char *dir, int from_generation,
+		    evo_err *err);
+void evo_runlog_close(evo_runlog *log);
+
+/* Add a generation's row and save log.csv atomically. */
+int evo_runlog_add(evo_runlog *log, const evo_gen_stats *s, evo_err *err);
+
+/* Save text as <dir>/<name> atomically (a network, a checkpoint). */
+int evo_runlog_save(const evo_runlog *log, const char *name, const char *text,
+		    size_t len, evo_err *err);
+
+/* The progress line of a generation: with tty, a bar and no newline (the
+ * caller rewrites it in place with '\r'); without, a plain line. */
+void evo_progress_format(char *buf, size_t cap, const evo_gen_stats *s,
+			 int tty);
+
+#endif
