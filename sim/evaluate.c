@@ -94,41 +94,6 @@ static int evaluate_one(worker *w, int i, double *fitness, evo_err *err)
 	return 0;
 }
 
-static void *worker_main(void *arg)
-{
-	worker *w = arg;
-	evo_evaluator *ev = w->ev;
-	unsigned long seen = 0;
-	pthread_mutex_lock(&ev->mu);
-	for (;;) {
-		while (!ev->quit && ev->batch_id == seen)
-			pthread_cond_wait(&ev->start_cv, &ev->mu);
-		if (ev->quit)
-			break;
-		seen = ev->batch_id;
-		/* Take candidates until the batch is empty or has failed. */
-		while (!ev->failed && ev->next < ev->n) {
-			int i = ev->next++;
-			pthread_mutex_unlock(&ev->mu);
-			evo_err e = {{0}};
-			double f = 0;
-			int rc = evaluate_one(w, i, &f, &e);
-			pthread_mutex_lock(&ev->mu);
-			if (rc == 0) {
-				ev->fitness[i] = f;
-			} else if (!ev->failed) {
-				ev->failed = 1;
-				evo_fail(&ev->err, "candidate %d: %s", i,
-					 e.msg);
-			}
-		}
-		if (--ev->busy == 0)
-			pthread_cond_signal(&ev->done_cv);
-	}
-	pthread_mutex_unlock(&ev->mu);
-	return NULL;
-}
-
 static long simbatch_number(const evo_simbatch *sb, const char *key,
 			    long fallback)
 {
@@ -145,7 +110,6 @@ static long simbatch_number(const evo_simbatch *sb, const char *key,
 /* Load worker k's own copy of the task and build its simulation. */
 static int worker_load(evo_evaluator *ev, worker *w, evo_err *err)
 {
-	w->ev = ev;
 	if (evo_task_load(ev->task_path, &w->task, err))
 		return -1;
 	const char *learn = evo_simbatch_get(w->task.sb, "LEARNINGSKILL");
@@ -160,6 +124,48 @@ static int worker_load(evo_evaluator *ev, worker *w, evo_err *err)
 				ev->task_path, learn);
 	w->sim = evo_sim_create(w->task.mind, w->task.sb, ev->task_path, err);
 	return w->sim ? 0 : -1;
+}
+
+static void *worker_main(void *arg)
+{
+	worker *w = arg;
+	evo_evaluator *ev = w->ev;
+	unsigned long seen = 0;
+	evo_err e = {{0}};
+	int rc = worker_load(ev, w, &e);
+	pthread_mutex_lock(&ev->mu);
+	if (rc && !ev->failed) {
+		ev->failed = 1;
+		ev->err = e;
+	}
+	if (--ev->busy == 0)
+		pthread_cond_signal(&ev->done_cv);
+	for (;;) {
+		while (!ev->quit && ev->batch_id == seen)
+			pthread_cond_wait(&ev->start_cv, &ev->mu);
+		if (ev->quit)
+			break;
+		seen = ev->batch_id;
+		/* Take candidates until the batch is empty or has failed. */
+		while (!ev->failed && ev->next < ev->n) {
+			int i = ev->next++;
+			pthread_mutex_unlock(&ev->mu);
+			double f = 0;
+			rc = evaluate_one(w, i, &f, &e);
+			pthread_mutex_lock(&ev->mu);
+			if (rc == 0) {
+				ev->fitness[i] = f;
+			} else if (!ev->failed) {
+				ev->failed = 1;
+				evo_fail(&ev->err, "candidate %d: %s", i,
+					 e.msg);
+			}
+		}
+		if (--ev->busy == 0)
+			pthread_cond_signal(&ev->done_cv);
+	}
+	pthread_mutex_unlock(&ev->mu);
+	return NULL;
 }
 
 evo_evaluator *evo_evaluator_create(const evo_eval_def *def, evo_err *err)
@@ -197,9 +203,37 @@ evo_evaluator *evo_evaluator_create(const evo_eval_def *def, evo_err *err)
 		evo_fail(err, "out of memory");
 		goto fail;
 	}
-	for (int k = 0; k < threads; k++)
-		if (worker_load(ev, &ev->w[k], err))
-			goto fail;
+	/* Each worker loads its task on its own thread: glibc then takes
+	 * its world, Lua state and mind from that thread's malloc arena, so
+	 * two workers' objects never share a cache line. */
+	ev->busy = threads;
+	for (int k = 0; k < threads; k++) {
+		ev->w[k].ev = ev;
+		int rc = pthread_create(&ev->w[k].thread, NULL, worker_main,
+					&ev->w[k]);
+		if (rc) {
+			pthread_mutex_lock(&ev->mu);
+			ev->busy -= threads - k;
+			if (!ev->failed) {
+				ev->failed = 1;
+				evo_fail(&ev->err,
+					 "evaluator: cannot start a thread: %s",
+					 strerror(rc));
+			}
+			pthread_mutex_unlock(&ev->mu);
+			break;
+		}
+		ev->w[k].started = 1;
+	}
+	pthread_mutex_lock(&ev->mu);
+	while (ev->busy > 0)
+		pthread_cond_wait(&ev->done_cv, &ev->mu);
+	int failed = ev->failed;
+	if (failed)
+		*err = ev->err;
+	pthread_mutex_unlock(&ev->mu);
+	if (failed)
+		goto fail;
 	const evo_simbatch *sb = ev->w[0].task.sb;
 	ev->reps = def->reps ? def->reps
 			     : (int)simbatch_number(sb, "EVALREP", 1);
@@ -208,16 +242,6 @@ evo_evaluator *evo_evaluator_create(const evo_eval_def *def, evo_err *err)
 	const evo_ades *a = &ev->w[0].task.mind->skill[ev->w[0].skill];
 	ev->n_in = a->n_in;
 	ev->n_out = a->n_out;
-	for (int k = 0; k < threads; k++) {
-		int rc = pthread_create(&ev->w[k].thread, NULL, worker_main,
-					&ev->w[k]);
-		if (rc) {
-			evo_fail(err, "evaluator: cannot start a thread: %s",
-				 strerror(rc));
-			goto fail;
-		}
-		ev->w[k].started = 1;
-	}
 	return ev;
 fail:
 	evo_evaluator_destroy(ev);
