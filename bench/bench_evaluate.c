@@ -21,7 +21,7 @@
 
 #define N_CAND 32
 #define ROUNDS 3
-#define BAR 1.8
+#define BAR    1.8
 
 static double now(void)
 {
@@ -54,8 +54,8 @@ int main(int argc, char **argv)
 			task = argv[i];
 	}
 	evo_err err = {{0}};
-	evo_eval_def d1 = {.task_path = task, .threads = 1, .seed = 1,
-			   .ticks = ticks};
+	evo_eval_def d1 = {
+	    .task_path = task, .threads = 1, .seed = 1, .ticks = ticks};
 	evo_eval_def d2 = d1;
 	d2.threads = 2;
 	evo_evaluator *e1 = evo_evaluator_create(&d1, &err);
@@ -79,7 +79,8 @@ int main(int argc, char **argv)
 		for (size_t k = 0; k < nw; k++)
 			w[k] = evo_rng_range(&r, -4, 4);
 		if (evo_net_build_layered(n_in, n_out, 0, 1, EVO_ACT_SIGMOID,
-					  EVO_ACT_SIGMOID, w, &net[i]) != EVO_OK)
+					  EVO_ACT_SIGMOID, w,
+					  &net[i]) != EVO_OK)
 			goto out;
 		c[i] = &net[i];
 	}
@@ -108,10 +109,8 @@ int main(int argc, char **argv)
 	}
 	double eps1 = N_CAND / best1, eps2 = N_CAND / best2;
 	double ratio = eps2 / eps1;
-	printf("  1 thread : %8.1f evaluations/s (best of %d)\n", eps1,
-	       ROUNDS);
-	printf("  2 threads: %8.1f evaluations/s (best of %d)\n", eps2,
-	       ROUNDS);
+	printf("  1 thread : %8.1f evaluations/s (best of %d)\n", eps1, ROUNDS);
+	printf("  2 threads: %8.1f evaluations/s (best of %d)\n", eps2, ROUNDS);
 	printf("  ratio %.2f, bar %.2f: %s\n", ratio, BAR,
 	       ratio >= BAR ? "met" : "NOT MET");
 	rc = ratio >= BAR ? 0 : 1;

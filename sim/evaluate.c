@@ -61,9 +61,9 @@ uint64_t evo_eval_grid_seed(uint64_t seed, int gen, int rep)
 
 uint64_t evo_eval_episode_seed(uint64_t seed, int gen, int cand, int rep)
 {
-	evo_rng r = evo_rng_for(seed,
-				(uint64_t)TAG_EPISODE << 32 | (uint32_t)gen,
-				(uint64_t)cand, (uint64_t)rep);
+	evo_rng r =
+	    evo_rng_for(seed, (uint64_t)TAG_EPISODE << 32 | (uint32_t)gen,
+			(uint64_t)cand, (uint64_t)rep);
 	return evo_rng_next(&r);
 }
 
@@ -77,9 +77,9 @@ static int evaluate_one(worker *w, int i, double *fitness, evo_err *err)
 		return -1;
 	double sum = 0;
 	for (int r = 0; r < ev->reps; r++) {
-		if (evo_sim_reset(w->sim, r + 1,
-				  evo_eval_grid_seed(ev->seed, ev->gen, r),
-				  evo_eval_episode_seed(ev->seed, ev->gen, i, r), err))
+		if (evo_sim_reset(
+			w->sim, r + 1, evo_eval_grid_seed(ev->seed, ev->gen, r),
+			evo_eval_episode_seed(ev->seed, ev->gen, i, r), err))
 			return -1;
 		for (long t = 0; t < ev->ticks; t++) {
 			int st = evo_sim_tick(w->sim, err);
@@ -235,10 +235,10 @@ evo_evaluator *evo_evaluator_create(const evo_eval_def *def, evo_err *err)
 	if (failed)
 		goto fail;
 	const evo_simbatch *sb = ev->w[0].task.sb;
-	ev->reps = def->reps ? def->reps
-			     : (int)simbatch_number(sb, "EVALREP", 1);
-	ev->ticks = def->ticks ? def->ticks
-			       : simbatch_number(sb, "TICKLIM", 1000);
+	ev->reps =
+	    def->reps ? def->reps : (int)simbatch_number(sb, "EVALREP", 1);
+	ev->ticks =
+	    def->ticks ? def->ticks : simbatch_number(sb, "TICKLIM", 1000);
 	const evo_ades *a = &ev->w[0].task.mind->skill[ev->w[0].skill];
 	ev->n_in = a->n_in;
 	ev->n_out = a->n_out;
@@ -297,8 +297,8 @@ unsigned evo_evaluator_n_out(const evo_evaluator *ev)
 	return ev->n_out;
 }
 
-int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates,
-		 int n, int gen, double *fitness, evo_err *err)
+int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
+		 int gen, double *fitness, evo_err *err)
 {
 	if (n < 0 || (n > 0 && (!candidates || !fitness)))
 		return evo_fail(err, "evaluate: no candidates or no fitness "

@@ -70,7 +70,7 @@ uint64_t evo_eval_episode_seed(uint64_t seed, int gen, int cand, int rep);
  * refuses, a script error); then fitness is unspecified, and the other
  * workers stopped at their next candidate. Not reentrant: one batch at a
  * time per evaluator. */
-int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates,
-		 int n, int gen, double *fitness, evo_err *err);
+int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
+		 int gen, double *fitness, evo_err *err);
 
 #endif

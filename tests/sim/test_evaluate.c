@@ -16,7 +16,7 @@
 #include "net_build.h"
 #include "support/rng.h"
 
-#define AVOID "minds/Avoid/Tasks/Avoid-NEAT.simbatch"
+#define AVOID  "minds/Avoid/Tasks/Avoid-NEAT.simbatch"
 #define N_CAND 8
 
 static evo_netdesc *cand[N_CAND];
