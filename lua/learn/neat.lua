@@ -1,0 +1,789 @@
+-- NEAT (NeuroEvolution of Augmenting Topologies), as Stanley & Miikkulainen
+-- define it in "Evolving Neural Networks through Augmenting Topologies"
+-- (Evolutionary Computation 10(2), 2002), in pure Lua 5.4.
+--
+--	local neat = require "learn.neat"
+--	local pop = neat.new{ inputs = 2, outputs = 1, options = { pop_size = 150 },
+--		rng = neat.rng(42) }
+--	for gen = 1, 100 do
+--		local fit = {}
+--		for i, g in ipairs(pop:genomes()) do fit[i] = evaluate(neat.to_net(g)) end
+--		pop:tell(fit)
+--	end
+--	print(pop.best.fitness, neat.to_net_text(neat.to_net(pop.best.genome)))
+--
+-- Genomes. Node ids 0..n-1 are the inputs, n is the bias node (its value is
+-- always 1, as in the paper), n+1..n+m the outputs, then hidden nodes in the
+-- order the innovation registry created them. A link gene is
+-- { innov, from, to, weight, enabled }; links are kept sorted by innovation.
+--
+-- Bias. The paper feeds a constant-1 bias input; evo's .net has no such
+-- input but a bias per node. neat.to_net therefore drops the bias node and
+-- turns every enabled link bias->X into X's bias (the same value, since the
+-- bias node is 1). Genomes stay exactly the paper's; the mapping is exact.
+--
+-- Determinism. Every random draw goes through the rng object given to
+-- neat.new (methods :unit() in [0,1) and :normal()); math.random is never
+-- used, and every loop runs over arrays, never over pairs(), so the same
+-- seed gives the same run. neat.save / neat.load hold the whole state.
+--
+-- Fitness is "higher is better". Fitness sharing needs fitness >= 0: when a
+-- generation has negative values they are shifted by the minimum for the
+-- offspring allotment only (the shift does not change the ranking).
+local neat = {}
+
+-- Every parameter, with the paper's value where the paper gives one.
+-- neat.task_keys says which .simbatch key sets each.
+neat.defaults = {
+	pop_size = 150, -- genomes per generation (paper: 150)
+	c1 = 1.0, -- distance weight of excess genes (paper: 1.0)
+	c2 = 1.0, -- distance weight of disjoint genes (paper: 1.0)
+	c3 = 0.4, -- distance weight of the mean weight difference (paper: 0.4)
+	threshold = 3.0, -- compatibility threshold delta_t (paper: 3.0)
+	normalize_below = 20, -- N = 1 when both genomes have fewer genes than this (paper: 20)
+	weight_mut_prob = 0.8, -- chance a genome's weights are mutated (paper: 80%)
+	perturb_prob = 0.9, -- per weight: perturbed, else replaced (paper: 90%)
+	perturb_power = 2.5, -- a perturbation adds uniform(-p, p) (NEAT's original code: 2.5)
+	replace_power = 2.5, -- a replacement, a new link and a first weight draw uniform(-p, p)
+	weight_max = 8.0, -- weights are clamped to [-w, w] (.net needs |w| < 128)
+	add_node_prob = 0.03, -- chance of an add-node mutation (paper: 3%)
+	add_link_prob = 0.05, -- chance of an add-link mutation (paper: 5%; 30% for large populations)
+	add_link_tries = 20, -- random (from, to) pairs tried to find a new link
+	recurrent = false, -- add-link may create cycles (tasks that allow memory)
+	activation = "neat_sigmoid", -- hidden and output nodes: an evo activation (paper: 1/(1+e^-4.9x))
+	mutate_only_prob = 0.25, -- offspring from mutation without crossover (paper: 25%)
+	mate_only_prob = 0.2, -- crossover offspring left unmutated (NEAT's original code: 0.2)
+	interspecies_prob = 0.001, -- crossover partner from another species (paper: 0.001)
+	disable_prob = 0.75, -- a gene disabled in either parent is disabled in the child (paper: 75%)
+	survival = 0.2, -- top fraction of each species that may reproduce (original code: 0.2)
+	stagnation = 15, -- generations without improvement before a species gets no offspring (paper: 15)
+	elitism_min_size = 5, -- species of at least this many keep their champion unchanged (paper: 5)
+}
+
+-- .simbatch key -> option name. POPSIZE is the tutorial's own key.
+neat.task_keys = {
+	POPSIZE = "pop_size",
+	NEAT_POPSIZE = "pop_size",
+	NEAT_C1 = "c1",
+	NEAT_C2 = "c2",
+	NEAT_C3 = "c3",
+	NEAT_THRESHOLD = "threshold",
+	NEAT_NORMALIZE_BELOW = "normalize_below",
+	NEAT_WEIGHT_MUT_PROB = "weight_mut_prob",
+	NEAT_PERTURB_PROB = "perturb_prob",
+	NEAT_PERTURB_POWER = "perturb_power",
+	NEAT_REPLACE_POWER = "replace_power",
+	NEAT_WEIGHT_MAX = "weight_max",
+	NEAT_ADD_NODE_PROB = "add_node_prob",
+	NEAT_ADD_LINK_PROB = "add_link_prob",
+	NEAT_ADD_LINK_TRIES = "add_link_tries",
+	NEAT_RECURRENT = "recurrent",
+	NEAT_ACTIVATION = "activation",
+	NEAT_MUTATE_ONLY_PROB = "mutate_only_prob",
+	NEAT_MATE_ONLY_PROB = "mate_only_prob",
+	NEAT_INTERSPECIES_PROB = "interspecies_prob",
+	NEAT_DISABLE_PROB = "disable_prob",
+	NEAT_SURVIVAL = "survival",
+	NEAT_STAGNATION = "stagnation",
+	NEAT_ELITISM_MIN_SIZE = "elitism_min_size",
+}
+
+local ACTIVATIONS = {
+	identity = function(x) return x end,
+	sigmoid = function(x) return 1 / (1 + math.exp(-x)) end,
+	neat_sigmoid = function(x) return 1 / (1 + math.exp(-4.9 * x)) end,
+	tanh = function(x)
+		local e = math.exp(-2 * math.abs(x))
+		local t = (1 - e) / (1 + e)
+		return x < 0 and -t or t
+	end,
+	relu = function(x) return x > 0 and x or 0 end,
+	step = function(x) return x > 0 and 1 or 0 end,
+	clamped = function(x) return math.min(1, math.max(0, x)) end,
+	gauss = function(x) return math.exp(-x * x) end,
+}
+
+local function parse_value(key, default, value)
+	local t = type(default)
+	if t == "number" then
+		local v = tonumber(value)
+		if not v then error(key .. ": expected a number, found '" .. tostring(value) .. "'", 0) end
+		return v
+	elseif t == "boolean" then
+		if value == true or value == false then return value end
+		local s = tostring(value):lower()
+		if s == "1" or s == "true" or s == "yes" then return true end
+		if s == "0" or s == "false" or s == "no" then return false end
+		error(key .. ": expected true or false, found '" .. tostring(value) .. "'", 0)
+	end
+	local s = tostring(value):lower()
+	if key == "NEAT_ACTIVATION" and not ACTIVATIONS[s] then
+		error(key .. ": unknown activation '" .. tostring(value) .. "'", 0)
+	end
+	return s
+end
+
+-- Options from a task table (.simbatch key -> value, values as strings or
+-- numbers). Returns the options and the sorted list of NEAT_* keys it does
+-- not know (the caller warns); raises on a malformed value.
+function neat.options_from_task(task)
+	local keys = {}
+	for k in pairs(task) do keys[#keys + 1] = k end
+	table.sort(keys)
+	local opts, unknown = {}, {}
+	for _, k in ipairs(keys) do
+		local name = neat.task_keys[k]
+		if name then
+			opts[name] = parse_value(k, neat.defaults[name], task[k])
+		elseif type(k) == "string" and k:sub(1, 5) == "NEAT_" then
+			unknown[#unknown + 1] = k
+		end
+	end
+	return opts, unknown
+end
+
+---------------------------------------------------------------------------
+-- Random numbers: xoshiro256** seeded by splitmix64, on Lua 5.4's 64-bit
+-- integers (wrapping arithmetic, logical shifts).
+
+local Rng = {}
+Rng.__index = Rng
+
+local function rotl(x, k) return (x << k) | (x >> (64 - k)) end
+
+function Rng:next()
+	local s = self.s
+	local result = rotl(s[2] * 5, 7) * 9
+	local t = s[2] << 17
+	s[3] = s[3] ~ s[1]
+	s[4] = s[4] ~ s[2]
+	s[2] = s[2] ~ s[3]
+	s[1] = s[1] ~ s[4]
+	s[3] = s[3] ~ t
+	s[4] = rotl(s[4], 45)
+	return result
+end
+
+-- Uniform in [0, 1) with 53 random bits.
+function Rng:unit() return (self:next() >> 11) * (1.0 / 9007199254740992.0) end
+
+-- Standard normal by Box-Muller; no cached second value, so the state is
+-- only the four words.
+function Rng:normal()
+	local u1 = 1.0 - self:unit()
+	local u2 = self:unit()
+	return math.sqrt(-2 * math.log(u1)) * math.cos(2 * math.pi * u2)
+end
+
+function Rng:save() return { self.s[1], self.s[2], self.s[3], self.s[4] } end
+
+function neat.rng(seed)
+	local x = math.tointeger(seed) or error("neat.rng: seed must be an integer")
+	local s = {}
+	for i = 1, 4 do
+		x = x + 0x9e3779b97f4a7c15
+		local z = x
+		z = (z ~ (z >> 30)) * 0xbf58476d1ce4e5b9
+		z = (z ~ (z >> 27)) * 0x94d049bb133111eb
+		s[i] = z ~ (z >> 31)
+	end
+	return setmetatable({ s = s }, Rng)
+end
+
+function neat.rng_load(t) return setmetatable({ s = { t[1], t[2], t[3], t[4] } }, Rng) end
+
+---------------------------------------------------------------------------
+-- Genomes
+
+local function copy_genome(g)
+	local nodes, links = {}, {}
+	for i, n in ipairs(g.nodes) do nodes[i] = { id = n.id, kind = n.kind, act = n.act } end
+	for i, l in ipairs(g.links) do
+		links[i] = { innov = l.innov, from = l.from, to = l.to, weight = l.weight, enabled = l.enabled }
+	end
+	return { nodes = nodes, links = links }
+end
+neat.copy_genome = copy_genome
+
+local function sort_genome(g)
+	table.sort(g.links, function(a, b) return a.innov < b.innov end)
+	table.sort(g.nodes, function(a, b) return a.id < b.id end)
+end
+
+local function clamp(w, m) return w > m and m or (w < -m and -m or w) end
+
+-- Compatibility distance delta = c1*E/N + c2*D/N + c3*W.
+function neat.distance(a, b, o)
+	local la, lb = a.links, b.links
+	local i, j, na, nb = 1, 1, #la, #lb
+	local matching, wdiff, disjoint = 0, 0.0, 0
+	while i <= na and j <= nb do
+		local x, y = la[i], lb[j]
+		if x.innov == y.innov then
+			matching = matching + 1
+			wdiff = wdiff + math.abs(x.weight - y.weight)
+			i, j = i + 1, j + 1
+		elseif x.innov < y.innov then
+			disjoint, i = disjoint + 1, i + 1
+		else
+			disjoint, j = disjoint + 1, j + 1
+		end
+	end
+	local excess = (na - i + 1) + (nb - j + 1)
+	local n = math.max(na, nb)
+	if n < o.normalize_below then n = 1 end
+	local w = matching > 0 and wdiff / matching or 0
+	return o.c1 * excess / n + o.c2 * disjoint / n + o.c3 * w
+end
+
+-- Innovation registry: within one generation the same structural mutation
+-- gets the same numbers. Links by (from, to); node splits by the innovation
+-- of the link they split. Counters live in the population, the per-
+-- generation maps are cleared by tell().
+local function link_innovation(pop, from, to)
+	local key = from .. ">" .. to
+	local inn = pop.gen_links[key]
+	if not inn then
+		pop.next_innov = pop.next_innov + 1
+		inn = pop.next_innov
+		pop.gen_links[key] = inn
+	end
+	return inn
+end
+
+local function split_innovation(pop, link)
+	local key = tostring(link.innov)
+	local s = pop.gen_splits[key]
+	if not s then
+		pop.next_node = pop.next_node + 1
+		s = { node = pop.next_node, inn_in = pop.next_innov + 1, inn_out = pop.next_innov + 2 }
+		pop.next_innov = pop.next_innov + 2
+		pop.gen_splits[key] = s
+	end
+	return s
+end
+
+local function mutate_weights(g, o, rng)
+	for _, l in ipairs(g.links) do
+		if rng:unit() < o.perturb_prob then
+			l.weight = clamp(l.weight + (rng:unit() * 2 - 1) * o.perturb_power, o.weight_max)
+		else
+			l.weight = clamp((rng:unit() * 2 - 1) * o.replace_power, o.weight_max)
+		end
+	end
+end
+neat.mutate_weights = mutate_weights
+
+-- Does a path from `from` reach `to` over the genome's links (enabled or
+-- not: a disabled link may come back through crossover)?
+local function reaches(g, from, to)
+	if from == to then return true end
+	local seen, stack = { [from] = true }, { from }
+	while #stack > 0 do
+		local n = table.remove(stack)
+		for _, l in ipairs(g.links) do
+			if l.from == n and not seen[l.to] then
+				if l.to == to then return true end
+				seen[l.to] = true
+				stack[#stack + 1] = l.to
+			end
+		end
+	end
+	return false
+end
+
+-- Add a link between two unlinked nodes; without `recurrent`, only one that
+-- keeps the genome acyclic. Returns the new gene or nil.
+function neat.mutate_add_link(pop, g, rng)
+	local o = pop.options
+	local nodes = g.nodes
+	for _ = 1, o.add_link_tries do
+		local a = nodes[1 + math.floor(rng:unit() * #nodes)]
+		local b = nodes[1 + math.floor(rng:unit() * #nodes)]
+		if b.kind ~= "input" and b.kind ~= "bias" then
+			local exists = false
+			for _, l in ipairs(g.links) do
+				if l.from == a.id and l.to == b.id then exists = true break end
+			end
+			if not exists and (o.recurrent or not reaches(g, b.id, a.id)) then
+				local l = { innov = link_innovation(pop, a.id, b.id), from = a.id, to = b.id,
+					weight = clamp((rng:unit() * 2 - 1) * o.replace_power, o.weight_max), enabled = true }
+				g.links[#g.links + 1] = l
+				sort_genome(g)
+				return l
+			end
+		end
+	end
+	return nil
+end
+
+-- Split an enabled link from->to: it is disabled, from->new gets weight 1
+-- and new->to the old weight, so the network computes nearly the same.
+function neat.mutate_add_node(pop, g, rng, link)
+	if not link then
+		local enabled = {}
+		for _, l in ipairs(g.links) do
+			if l.enabled then enabled[#enabled + 1] = l end
+		end
+		if #enabled == 0 then return nil end
+		link = enabled[1 + math.floor(rng:unit() * #enabled)]
+	end
+	local s = split_innovation(pop, link)
+	for _, n in ipairs(g.nodes) do
+		if n.id == s.node then return nil end -- already split this generation
+	end
+	link.enabled = false
+	g.nodes[#g.nodes + 1] = { id = s.node, kind = "hidden", act = pop.options.activation }
+	g.links[#g.links + 1] = { innov = s.inn_in, from = link.from, to = s.node, weight = 1.0, enabled = true }
+	g.links[#g.links + 1] = { innov = s.inn_out, from = s.node, to = link.to, weight = link.weight, enabled = true }
+	sort_genome(g)
+	return s.node
+end
+
+-- One mutation step as NEAT's original code does it: a structural mutation,
+-- else (maybe) the weights.
+function neat.mutate(pop, g, rng)
+	local o = pop.options
+	if rng:unit() < o.add_node_prob then
+		neat.mutate_add_node(pop, g, rng)
+	elseif rng:unit() < o.add_link_prob then
+		neat.mutate_add_link(pop, g, rng)
+	elseif rng:unit() < o.weight_mut_prob then
+		mutate_weights(g, o, rng)
+	end
+end
+
+-- Crossover: genes aligned by innovation; matching genes from either parent
+-- at random; disjoint and excess genes from the fitter parent (from both, at
+-- random, on equal fitness); a gene disabled in either parent is disabled
+-- with probability disable_prob.
+function neat.crossover(a, fa, b, fb, o, rng)
+	if fb > fa then a, fa, b, fb = b, fb, a, fa end
+	local equal = fa == fb
+	local child = { nodes = {}, links = {} }
+	local bl = {}
+	for _, l in ipairs(b.links) do bl[l.innov] = l end
+	local al = {}
+	for _, l in ipairs(a.links) do al[l.innov] = l end
+	local function add(l, disabled_somewhere)
+		local c = { innov = l.innov, from = l.from, to = l.to, weight = l.weight, enabled = true }
+		if disabled_somewhere then c.enabled = rng:unit() >= o.disable_prob end
+		child.links[#child.links + 1] = c
+	end
+	for _, l in ipairs(a.links) do
+		local m = bl[l.innov]
+		if m then
+			local pick = rng:unit() < 0.5 and l or m
+			add(pick, not l.enabled or not m.enabled)
+		elseif not equal or rng:unit() < 0.5 then
+			add(l, not l.enabled)
+		end
+	end
+	if equal then
+		for _, l in ipairs(b.links) do
+			if not al[l.innov] and rng:unit() < 0.5 then
+				-- Genes of two acyclic parents may close a cycle together.
+				if o.recurrent or not reaches(child, l.to, l.from) then add(l, not l.enabled) end
+			end
+		end
+	end
+	-- Nodes: all of the fitter parent's, then any the child's links need.
+	local have = {}
+	for _, n in ipairs(a.nodes) do
+		child.nodes[#child.nodes + 1] = { id = n.id, kind = n.kind, act = n.act }
+		have[n.id] = true
+	end
+	for _, n in ipairs(b.nodes) do
+		if not have[n.id] then
+			for _, l in ipairs(child.links) do
+				if l.from == n.id or l.to == n.id then
+					child.nodes[#child.nodes + 1] = { id = n.id, kind = n.kind, act = n.act }
+					have[n.id] = true
+					break
+				end
+			end
+		end
+	end
+	sort_genome(child)
+	return child
+end
+
+---------------------------------------------------------------------------
+-- Population
+
+local Pop = {}
+Pop.__index = Pop
+
+local function merged_options(user)
+	local o = {}
+	for k, v in pairs(neat.defaults) do o[k] = v end
+	for k, v in pairs(user or {}) do
+		if neat.defaults[k] == nil then error("neat: unknown option '" .. tostring(k) .. "'", 2) end
+		o[k] = v
+	end
+	return o
+end
+
+-- Assign genomes to species: the first species (in id order) whose
+-- representative from the previous generation is within the threshold;
+-- otherwise a new species with this genome as representative. Empty
+-- species disappear.
+local function speciate(pop)
+	local o = pop.options
+	for _, s in ipairs(pop.species) do s.members = {} end
+	for gi, g in ipairs(pop.population) do
+		local home
+		for _, s in ipairs(pop.species) do
+			if neat.distance(g, s.rep, o) < o.threshold then home = s break end
+		end
+		if not home then
+			pop.next_species = pop.next_species + 1
+			home = { id = pop.next_species, rep = copy_genome(g), members = {},
+				best_fitness = -math.huge, last_improved = pop.generation, created = pop.generation }
+			pop.species[#pop.species + 1] = home
+		end
+		home.members[#home.members + 1] = gi
+		g.species = home.id
+	end
+	local kept = {}
+	for _, s in ipairs(pop.species) do
+		if #s.members > 0 then kept[#kept + 1] = s end
+	end
+	pop.species = kept
+	-- The next generation is compared to a random member of this one.
+	for _, s in ipairs(pop.species) do
+		s.rep = copy_genome(pop.population[s.members[1 + math.floor(pop.rng:unit() * #s.members)]])
+	end
+end
+neat.speciate = speciate
+
+function neat.new(args)
+	local o = merged_options(args.options)
+	local n, m = args.inputs, args.outputs
+	assert(math.tointeger(n) and n >= 0 and math.tointeger(m) and m >= 1, "neat.new: inputs >= 0, outputs >= 1")
+	local rng = args.rng or error("neat.new: an rng is required (neat.rng(seed))")
+	local pop = setmetatable({
+		options = o, inputs = n, outputs = m, rng = rng, generation = 0,
+		next_innov = 0, next_node = n + m, next_species = 0,
+		gen_links = {}, gen_splits = {}, species = {}, population = {},
+		best = nil, evaluations = 0,
+	}, Pop)
+	-- The paper's start: every input and the bias linked to every output,
+	-- no hidden node, random weights; the same innovation numbers in all.
+	for i = 1, o.pop_size do
+		local g = { nodes = {}, links = {} }
+		for id = 0, n - 1 do g.nodes[#g.nodes + 1] = { id = id, kind = "input" } end
+		g.nodes[#g.nodes + 1] = { id = n, kind = "bias" }
+		for k = 1, m do g.nodes[#g.nodes + 1] = { id = n + k, kind = "output", act = o.activation } end
+		local inn = 0
+		for k = 1, m do
+			for from = 0, n do
+				inn = inn + 1
+				g.links[#g.links + 1] = { innov = inn, from = from, to = n + k,
+					weight = clamp((rng:unit() * 2 - 1) * o.replace_power, o.weight_max), enabled = true }
+			end
+		end
+		pop.population[i] = g
+	end
+	pop.next_innov = (n + 1) * m
+	speciate(pop)
+	return pop
+end
+
+-- The genomes of the current generation, to evaluate in this order.
+function Pop:genomes() return self.population end
+
+-- Offspring per species in proportion to its summed adjusted fitness
+-- (fitness / species size), rounded by largest remainder so the counts sum
+-- to exactly `total`. `shares` are non-negative numbers.
+function neat.allot(shares, total)
+	local sum = 0
+	for _, s in ipairs(shares) do sum = sum + s end
+	local counts, rems, given = {}, {}, 0
+	for i, s in ipairs(shares) do
+		local exact = sum > 0 and s / sum * total or total / #shares
+		counts[i] = math.floor(exact)
+		rems[i] = exact - counts[i]
+		given = given + counts[i]
+	end
+	local order = {}
+	for i = 1, #shares do order[i] = i end
+	table.sort(order, function(x, y)
+		if rems[x] ~= rems[y] then return rems[x] > rems[y] end
+		return x < y
+	end)
+	for k = 1, total - given do
+		local i = order[(k - 1) % #order + 1]
+		counts[i] = counts[i] + 1
+	end
+	return counts
+end
+
+-- Advance one generation given the fitness of each genome of genomes().
+function Pop:tell(fitness)
+	local o, rng, popl = self.options, self.rng, self.population
+	assert(#fitness == #popl, "tell: one fitness per genome")
+	self.evaluations = self.evaluations + #popl
+	local minf = math.huge
+	for i, g in ipairs(popl) do
+		local f = fitness[i]
+		assert(type(f) == "number" and f == f, "tell: fitness must be a number")
+		g.fitness = f
+		if f < minf then minf = f end
+		if not self.best or f > self.best.fitness then
+			self.best = { genome = copy_genome(g), fitness = f, generation = self.generation }
+		end
+	end
+	local shift = minf < 0 and -minf or 0
+
+	-- Stagnation, and the species that holds the best genome of this
+	-- generation (it is never dropped).
+	local best_species, best_f = nil, -math.huge
+	for _, s in ipairs(self.species) do
+		local smax = -math.huge
+		for _, gi in ipairs(s.members) do smax = math.max(smax, popl[gi].fitness) end
+		if smax > s.best_fitness then s.best_fitness, s.last_improved = smax, self.generation end
+		if smax > best_f then best_species, best_f = s, smax end
+	end
+	local alive = {}
+	for _, s in ipairs(self.species) do
+		if s == best_species or self.generation - s.last_improved < o.stagnation then
+			alive[#alive + 1] = s
+		end
+	end
+
+	-- Explicit fitness sharing: adjusted fitness = fitness / species size.
+	local shares = {}
+	for i, s in ipairs(alive) do
+		local sum = 0
+		for _, gi in ipairs(s.members) do
+			local g = popl[gi]
+			g.adjusted = (g.fitness + shift) / #s.members
+			sum = sum + g.adjusted
+		end
+		shares[i] = sum
+	end
+	local counts = neat.allot(shares, o.pop_size)
+	-- What the last generation decided, for logs and tests.
+	self.last_counts, self.last_alive = counts, {}
+	for i, s in ipairs(alive) do self.last_alive[i] = s.id end
+
+	-- Reproduce.
+	self.gen_links, self.gen_splits = {}, {}
+	local children = {}
+	for si, s in ipairs(alive) do
+		local members = {}
+		for k, gi in ipairs(s.members) do members[k] = popl[gi] end
+		-- Fittest first; ties keep their order.
+		local idx = {}
+		for k = 1, #members do idx[k] = k end
+		table.sort(idx, function(x, y)
+			if members[x].fitness ~= members[y].fitness then return members[x].fitness > members[y].fitness end
+			return x < y
+		end)
+		local sorted = {}
+		for k, x in ipairs(idx) do sorted[k] = members[x] end
+		local n = counts[si]
+		if n > 0 and #sorted >= o.elitism_min_size then
+			children[#children + 1] = copy_genome(sorted[1])
+			n = n - 1
+		end
+		local parents = math.max(1, math.ceil(#sorted * o.survival))
+		for _ = 1, n do
+			local p1 = sorted[1 + math.floor(rng:unit() * parents)]
+			local child
+			if rng:unit() < o.mutate_only_prob then
+				child = copy_genome(p1)
+				neat.mutate(self, child, rng)
+			else
+				local p2
+				if rng:unit() < o.interspecies_prob and #alive > 1 then
+					local other = alive[1 + math.floor(rng:unit() * #alive)]
+					p2 = popl[other.members[1 + math.floor(rng:unit() * #other.members)]]
+				else
+					p2 = sorted[1 + math.floor(rng:unit() * parents)]
+				end
+				child = neat.crossover(p1, p1.fitness, p2, p2.fitness, o, rng)
+				if rng:unit() >= o.mate_only_prob then neat.mutate(self, child, rng) end
+			end
+			children[#children + 1] = child
+		end
+	end
+	self.species = alive
+	self.population = children
+	self.generation = self.generation + 1
+	speciate(self)
+end
+
+-- Summary numbers for a log line.
+function Pop:stats()
+	return { generation = self.generation, species = #self.species, evaluations = self.evaluations,
+		best = self.best and self.best.fitness }
+end
+
+---------------------------------------------------------------------------
+-- Checkpoints: a plain table (numbers, strings, booleans, tables) with the
+-- whole state, the rng's included.
+
+local function deep_copy(v)
+	if type(v) ~= "table" then
+		assert(type(v) ~= "function" and type(v) ~= "userdata", "neat.save: not plain data")
+		return v
+	end
+	local t = {}
+	for k, x in pairs(v) do t[k] = deep_copy(x) end
+	return t
+end
+
+function neat.save(pop)
+	local t = {}
+	for k, v in pairs(pop) do
+		if k ~= "rng" then t[k] = deep_copy(v) end
+	end
+	t.rng = pop.rng.save and pop.rng:save() or error("neat.save: the rng has no save()")
+	t.format = "evo-neat-1"
+	return t
+end
+
+-- The reverse of neat.save. Give `rng` to use another rng object (its
+-- state is then the caller's business); by default neat.rng_load(t.rng).
+function neat.load(t, rng)
+	assert(t.format == "evo-neat-1", "neat.load: not a NEAT checkpoint")
+	local pop = setmetatable({}, Pop)
+	for k, v in pairs(t) do
+		if k ~= "rng" and k ~= "format" then pop[k] = deep_copy(v) end
+	end
+	pop.rng = rng or neat.rng_load(t.rng)
+	return pop
+end
+
+---------------------------------------------------------------------------
+-- Networks in evo's .net shape
+
+-- Genome -> network. Ids: 0..n-1 the inputs, n..n+m-1 the outputs in order,
+-- then the hidden nodes in id order (renumbered so ids stay small whatever
+-- the node counter reached). Disabled links are left out; links from the
+-- bias node become node biases.
+function neat.to_net(g)
+	local n, m = 0, 0
+	local bias_id
+	for _, nd in ipairs(g.nodes) do
+		if nd.kind == "input" then n = n + 1
+		elseif nd.kind == "output" then m = m + 1
+		elseif nd.kind == "bias" then bias_id = nd.id end
+	end
+	local map, nodes, outputs_ids = {}, {}, {}
+	for _, nd in ipairs(g.nodes) do
+		if nd.kind == "input" then map[nd.id] = nd.id end
+	end
+	local next_id = n
+	for _, nd in ipairs(g.nodes) do
+		if nd.kind == "output" then
+			map[nd.id] = next_id
+			nodes[#nodes + 1] = { id = next_id, act = nd.act, bias = 0.0 }
+			outputs_ids[#outputs_ids + 1] = next_id
+			next_id = next_id + 1
+		end
+	end
+	for _, nd in ipairs(g.nodes) do
+		if nd.kind == "hidden" then
+			map[nd.id] = next_id
+			nodes[#nodes + 1] = { id = next_id, act = nd.act, bias = 0.0 }
+			next_id = next_id + 1
+		end
+	end
+	local by_id = {}
+	for _, nd in ipairs(nodes) do by_id[nd.id] = nd end
+	local links = {}
+	for _, l in ipairs(g.links) do
+		if l.enabled then
+			if l.from == bias_id then
+				local nd = by_id[map[l.to]]
+				nd.bias = nd.bias + l.weight
+			else
+				links[#links + 1] = { from = map[l.from], to = map[l.to], weight = l.weight }
+			end
+		end
+	end
+	return { inputs = n, outputs = m, nodes = nodes, outputs_ids = outputs_ids, links = links }
+end
+
+-- A decimal the .net reader accepts: no exponent, no leading '+'.
+local function decimal(x)
+	local s = string.format("%.6f", x):gsub("0+$", ""):gsub("%.$", "")
+	if s == "-0" then s = "0" end
+	return s
+end
+
+function neat.to_net_text(net, comment)
+	local out = {}
+	if comment then
+		for line in (comment .. "\n"):gmatch("(.-)\n") do out[#out + 1] = "# " .. line end
+	end
+	out[#out + 1] = "inputs:" .. net.inputs
+	out[#out + 1] = "outputs:" .. net.outputs
+	for _, nd in ipairs(net.nodes) do
+		out[#out + 1] = string.format("node:%d:%s:%s", nd.id, nd.act, decimal(nd.bias))
+	end
+	for _, id in ipairs(net.outputs_ids) do out[#out + 1] = "output:" .. id end
+	for _, l in ipairs(net.links) do
+		out[#out + 1] = string.format("link:%d:%d:%s", l.from, l.to, decimal(l.weight))
+	end
+	return table.concat(out, "\n") .. "\n"
+end
+
+-- Evaluation order as evo_net_compile computes it (docs/fixed-point.md):
+-- depth-first from each output, sources in the listing order of their
+-- links, post-order; a source on the search path closes a cycle; nodes no
+-- output needs come last in listing order.
+local function compile(net)
+	local incoming = {}
+	for _, nd in ipairs(net.nodes) do incoming[nd.id] = {} end
+	for _, l in ipairs(net.links) do table.insert(incoming[l.to], l) end
+	local placed, on_path, order = {}, {}, {}
+	local function visit(id)
+		if id < net.inputs or placed[id] or on_path[id] then return end
+		on_path[id] = true
+		for _, l in ipairs(incoming[id]) do visit(l.from) end
+		on_path[id] = nil
+		placed[id] = true
+		order[#order + 1] = id
+	end
+	for _, id in ipairs(net.outputs_ids) do visit(id) end
+	for _, nd in ipairs(net.nodes) do
+		if not placed[nd.id] then placed[nd.id] = true; order[#order + 1] = nd.id end
+	end
+	local by_id = {}
+	for _, nd in ipairs(net.nodes) do by_id[nd.id] = nd end
+	local steps = {}
+	for k, id in ipairs(order) do
+		local nd = by_id[id]
+		steps[k] = { id = id, bias = nd.bias, f = ACTIVATIONS[nd.act] or error("unknown activation " .. nd.act),
+			links = incoming[id] }
+	end
+	return steps
+end
+
+local compiled = setmetatable({}, { __mode = "k" })
+
+-- Evaluate a network in floating point, the way evo's C core does in Q16
+-- (for tests; no rounding). `act` is the network's memory: pass the same
+-- table on every step of an episode for recurrent networks (absent: a
+-- fresh zeroed one). Returns the outputs and `act`.
+function neat.eval_float(net, inputs, act)
+	local steps = compiled[net]
+	if not steps then steps = compile(net); compiled[net] = steps end
+	act = act or {}
+	for i = 1, net.inputs do act[i - 1] = inputs[i] end
+	for _, st in ipairs(steps) do
+		local sum = st.bias
+		for _, l in ipairs(st.links) do sum = sum + l.weight * (act[l.from] or 0) end
+		act[st.id] = st.f(sum)
+	end
+	local out = {}
+	for k, id in ipairs(net.outputs_ids) do out[k] = act[id] end
+	return out, act
+end
+
+neat.activations = ACTIVATIONS
+return neat

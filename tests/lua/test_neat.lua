@@ -1,0 +1,459 @@
+-- Unit tests of lua/learn/neat.lua, run by tests/sim/test_lua_scripts.c.
+-- Each entry of the returned table is one test; it fails by raising.
+local neat = require "learn.neat"
+
+-- Raise with the caller's file:line so the runner can show where.
+local function check(cond, msg)
+	if not cond then error(msg or "check failed", 2) end
+end
+
+local function near(a, b, eps) return math.abs(a - b) <= (eps or 1e-9) end
+
+-- A genome by hand: n inputs (ids 0..n-1), bias n, outputs, hidden ids and
+-- links { innov, from, to, weight, enabled? }.
+local function genome(n, outputs, hidden, links)
+	local g = { nodes = {}, links = {} }
+	for id = 0, n - 1 do g.nodes[#g.nodes + 1] = { id = id, kind = "input" } end
+	g.nodes[#g.nodes + 1] = { id = n, kind = "bias" }
+	for _, id in ipairs(outputs) do g.nodes[#g.nodes + 1] = { id = id, kind = "output", act = "neat_sigmoid" } end
+	for _, id in ipairs(hidden or {}) do g.nodes[#g.nodes + 1] = { id = id, kind = "hidden", act = "neat_sigmoid" } end
+	for _, l in ipairs(links) do
+		g.links[#g.links + 1] = { innov = l[1], from = l[2], to = l[3], weight = l[4], enabled = l[5] ~= false }
+	end
+	return g
+end
+
+local function innovs(g)
+	local t = {}
+	for i, l in ipairs(g.links) do t[i] = l.innov end
+	return table.concat(t, ",")
+end
+
+local function deep_equal(a, b)
+	if type(a) ~= type(b) then return false end
+	if type(a) ~= "table" then return a == b or (a ~= a and b ~= b) end
+	for k, v in pairs(a) do
+		if not deep_equal(v, b[k]) then return false end
+	end
+	for k in pairs(b) do
+		if a[k] == nil then return false end
+	end
+	return true
+end
+
+-- Two parents with matching genes 1, 2, disjoint 3, 4, 5 and excess 6, 7.
+-- Inputs 0, 1, bias 2, output 3, hidden 4, 5.
+local function parents()
+	local a = genome(2, { 3 }, { 4 }, {
+		{ 1, 0, 3, 1.1 }, { 2, 1, 3, 1.2 }, { 3, 2, 3, 1.3 }, { 5, 0, 4, 1.5 } })
+	local b = genome(2, { 3 }, { 5 }, {
+		{ 1, 0, 3, 2.1 }, { 2, 1, 3, 2.2 }, { 4, 1, 5, 2.4 }, { 6, 5, 3, 2.6 }, { 7, 2, 5, 2.7 } })
+	return a, b
+end
+
+-- XOR with the float evaluator; fitness (4 - sum |err|)^2.
+local XOR = { { 0, 0, 0 }, { 0, 1, 1 }, { 1, 0, 1 }, { 1, 1, 0 } }
+local function xor_fitness(g)
+	local net = neat.to_net(g)
+	local err, solved = 0, true
+	for _, c in ipairs(XOR) do
+		local out = neat.eval_float(net, { c[1], c[2] })[1]
+		err = err + math.abs(out - c[3])
+		if (out > 0.5) ~= (c[3] == 1) then solved = false end
+	end
+	return (4 - err) ^ 2, solved
+end
+
+local function run_xor(seed, generations)
+	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(seed) }
+	for gen = 1, generations do
+		local fit, done = {}, false
+		for i, g in ipairs(pop:genomes()) do
+			local f, ok = xor_fitness(g)
+			fit[i] = f
+			if ok then done = true end
+		end
+		if done then
+			-- Evaluations up to and including this generation.
+			return gen, pop.evaluations + #fit, pop
+		end
+		pop:tell(fit)
+	end
+	return nil, pop.evaluations, pop
+end
+
+local T = {}
+
+function T.rng_is_deterministic_and_uniform()
+	local a, b = neat.rng(7), neat.rng(7)
+	local sum, sum2 = 0, 0
+	for _ = 1, 10000 do
+		local u = a:unit()
+		check(u == b:unit(), "same seed, same draws")
+		check(u >= 0 and u < 1, "unit in [0, 1)")
+		sum = sum + u
+		local z = a:normal()
+		b:normal()
+		sum2 = sum2 + z * z
+	end
+	check(math.abs(sum / 10000 - 0.5) < 0.02, "mean of unit near 0.5")
+	check(math.abs(sum2 / 10000 - 1) < 0.1, "variance of normal near 1")
+	check(neat.rng(8):unit() ~= neat.rng(7):unit(), "other seed, other draws")
+	local c = neat.rng_load(a:save())
+	check(c:unit() == a:unit(), "saved state continues the same sequence")
+end
+
+function T.crossover_aligns_matching_genes()
+	local a, b = parents()
+	local o = neat.defaults
+	local from_a, from_b = 0, 0
+	local rng = neat.rng(1)
+	for _ = 1, 200 do
+		local c = neat.crossover(a, 10, b, 5, o, rng)
+		check(innovs(c) == "1,2,3,5", "child genes by innovation: " .. innovs(c))
+		for k = 1, 2 do
+			local l = c.links[k]
+			check(l.from == a.links[k].from and l.to == a.links[k].to, "matching gene keeps its ends")
+			if l.weight == a.links[k].weight then from_a = from_a + 1
+			elseif l.weight == b.links[k].weight then from_b = from_b + 1
+			else check(false, "matching gene weight from neither parent") end
+		end
+	end
+	check(from_a > 150 and from_b > 150, "matching genes from either parent at random")
+end
+
+function T.disjoint_and_excess_come_from_the_fitter_parent()
+	local a, b = parents()
+	local rng = neat.rng(2)
+	for _ = 1, 50 do
+		local c = neat.crossover(a, 1, b, 9, neat.defaults, rng)
+		check(innovs(c) == "1,2,4,6,7", "b fitter: b's structure, got " .. innovs(c))
+		local ids = {}
+		for _, n in ipairs(c.nodes) do ids[#ids + 1] = n.id end
+		check(table.concat(ids, ",") == "0,1,2,3,5", "b's nodes")
+		c = neat.crossover(a, 9, b, 1, neat.defaults, rng)
+		check(innovs(c) == "1,2,3,5", "a fitter: a's structure")
+	end
+end
+
+function T.gene_disabled_in_a_parent_is_disabled_75_percent()
+	local a, b = parents()
+	a.links[1].enabled = false
+	local rng, off = neat.rng(3), 0
+	for _ = 1, 4000 do
+		if not neat.crossover(a, 10, b, 5, neat.defaults, rng).links[1].enabled then off = off + 1 end
+	end
+	check(math.abs(off / 4000 - 0.75) < 0.03, "disabled in " .. off .. " of 4000")
+end
+
+function T.same_mutation_same_generation_same_innovation()
+	local pop = neat.new { inputs = 1, outputs = 1, rng = neat.rng(4), options = { pop_size = 4, add_link_tries = 1000 } }
+	-- Input 0, bias 1, output 2, hidden 3: the only new acyclic link is 1->3.
+	local base = genome(1, { 2 }, { 3 }, { { 1, 0, 2, 0.5 }, { 2, 1, 2, 0.5 }, { 3, 0, 3, 0.5 }, { 4, 3, 2, 0.5 } })
+	pop.next_innov, pop.next_node = 4, 3
+	local g1, g2 = neat.copy_genome(base), neat.copy_genome(base)
+	local l1 = neat.mutate_add_link(pop, g1, pop.rng)
+	local l2 = neat.mutate_add_link(pop, g2, pop.rng)
+	check(l1 and l2 and l1.from == 1 and l1.to == 3, "the only possible link")
+	check(l1.innov == 5 and l2.innov == 5, "one innovation number for both")
+	local n1 = neat.mutate_add_node(pop, g1, pop.rng, g1.links[1])
+	local n2 = neat.mutate_add_node(pop, g2, pop.rng, g2.links[1])
+	check(n1 == 4 and n2 == 4, "one node id for the same split")
+	check(innovs(g1) == innovs(g2) and innovs(g1) == "1,2,3,4,5,6,7", "same split innovations: " .. innovs(g1))
+	-- A new generation: the same mutation is a new innovation.
+	pop.gen_links, pop.gen_splits = {}, {}
+	local g3 = neat.copy_genome(base)
+	check(neat.mutate_add_link(pop, g3, pop.rng).innov == 8, "next generation, next number")
+	check(neat.mutate_add_node(pop, g3, pop.rng, g3.links[1]) == 5, "next generation, next node")
+end
+
+function T.add_node_splits_a_link()
+	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(5), options = { pop_size = 2 } }
+	local g = neat.copy_genome(pop:genomes()[1])
+	local old = g.links[2] -- 1 -> 3
+	local w = old.weight
+	local id = neat.mutate_add_node(pop, g, pop.rng, old)
+	check(id == 4, "first hidden id after inputs, bias and output")
+	check(not old.enabled, "the split link is disabled")
+	local a, b
+	for _, l in ipairs(g.links) do
+		if l.to == id then a = l end
+		if l.from == id then b = l end
+	end
+	check(a.from == 1 and a.weight == 1.0 and a.enabled, "in -> new with weight 1")
+	check(b.to == 3 and b.weight == w and b.enabled, "new -> out with the old weight")
+	check(a.innov == 4 and b.innov == 5, "two new innovations")
+end
+
+function T.distance_and_speciation_by_threshold()
+	local o = neat.defaults
+	local rep = genome(2, { 3 }, {}, { { 1, 0, 3, 0 }, { 2, 1, 3, 0 }, { 3, 2, 3, 0 } })
+	-- Only weights differ: delta = c3 * mean |dw| = 0.4 * 7.45 = 2.98.
+	local below = genome(2, { 3 }, {}, { { 1, 0, 3, 7.45 }, { 2, 1, 3, 7.45 }, { 3, 2, 3, 7.45 } })
+	local above = genome(2, { 3 }, {}, { { 1, 0, 3, 7.55 }, { 2, 1, 3, 7.55 }, { 3, 2, 3, 7.55 } })
+	check(near(neat.distance(rep, below, o), 2.98), "delta below")
+	check(near(neat.distance(rep, above, o), 3.02), "delta above")
+	-- Structure: 1 disjoint + 2 excess, N = 1 under 20 genes.
+	local s = genome(2, { 3 }, { 4 }, { { 1, 0, 3, 0 }, { 3, 2, 3, 0 }, { 4, 0, 4, 0 }, { 5, 4, 3, 0 } })
+	check(near(neat.distance(rep, s, o), 1 * 2 + 1 * 1), "c1 E + c2 D")
+	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(6), options = { pop_size = 2 } }
+	pop.species = { { id = 1, rep = rep, members = {}, best_fitness = 0, last_improved = 0 } }
+	pop.next_species = 1
+	pop.population = { below, above, neat.copy_genome(rep) }
+	neat.speciate(pop)
+	check(below.species == 1 and pop.population[3].species == 1, "within the threshold: the species")
+	check(above.species == 2, "beyond the threshold: a new species")
+	check(#pop.species == 2, "two species")
+end
+
+function T.fitness_sharing_divides_by_species_size()
+	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(7), options = { pop_size = 6 } }
+	local g = pop:genomes()
+	pop.species = {
+		{ id = 1, rep = g[1], members = { 1, 2 }, best_fitness = -math.huge, last_improved = 0 },
+		{ id = 2, rep = g[3], members = { 3, 4, 5, 6 }, best_fitness = -math.huge, last_improved = 0 },
+	}
+	pop.next_species = 2
+	local fit = { 4, 2, 1, 1, 1, 1 }
+	pop:tell(fit)
+	for i = 1, 2 do check(near(g[i].adjusted, fit[i] / 2), "species of 2") end
+	for i = 3, 6 do check(near(g[i].adjusted, fit[i] / 4), "species of 4") end
+	-- Shares 3 and 1: offspring 4.5 and 1.5 of 6, largest remainder, tie to the first.
+	check(pop.last_counts[1] == 5 and pop.last_counts[2] == 1, "offspring in proportion: " ..
+		pop.last_counts[1] .. "," .. pop.last_counts[2])
+end
+
+function T.allot_sums_to_total()
+	local rng = neat.rng(8)
+	for _ = 1, 200 do
+		local shares, n = {}, 1 + math.floor(rng:unit() * 10)
+		for i = 1, n do shares[i] = rng:unit() < 0.2 and 0 or rng:unit() * 10 end
+		local total = math.floor(rng:unit() * 300)
+		local c, sum = neat.allot(shares, total), 0
+		for i = 1, n do
+			check(c[i] >= 0, "non-negative")
+			sum = sum + c[i]
+		end
+		check(sum == total, "counts sum to the total")
+	end
+	local c = neat.allot({ 0, 0 }, 5)
+	check(c[1] + c[2] == 5, "all-zero shares still fill the population")
+end
+
+function T.offspring_fill_the_population()
+	local pop = neat.new { inputs = 3, outputs = 2, rng = neat.rng(9), options = { pop_size = 50, threshold = 1.0 } }
+	local rng = neat.rng(99)
+	for _ = 1, 15 do
+		local fit = {}
+		for i = 1, #pop:genomes() do fit[i] = rng:unit() * 10 - 3 end
+		pop:tell(fit)
+		check(#pop:genomes() == 50, "population size kept")
+		local sum = 0
+		for _, c in ipairs(pop.last_counts) do sum = sum + c end
+		check(sum == 50, "offspring counts sum to the population size")
+		local members = 0
+		for _, s in ipairs(pop.species) do members = members + #s.members end
+		check(members == 50, "every genome in one species")
+	end
+end
+
+local function two_species_pop(seed)
+	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(seed), options = { pop_size = 10, stagnation = 15 } }
+	pop.generation = 30
+	pop.species = {
+		{ id = 1, rep = pop.population[1], members = { 1, 2, 3, 4, 5 }, best_fitness = 100, last_improved = 5 },
+		{ id = 2, rep = pop.population[6], members = { 6, 7, 8, 9, 10 }, best_fitness = 100, last_improved = 29 },
+	}
+	pop.next_species = 2
+	return pop
+end
+
+function T.stagnant_species_get_no_offspring_but_the_best_survives()
+	-- Species 1 has not improved for 25 generations and is not the best.
+	local pop = two_species_pop(10)
+	pop:tell({ 1, 1, 1, 1, 1, 5, 5, 5, 5, 5 })
+	check(#pop.last_alive == 1 and pop.last_alive[1] == 2, "stagnant species dropped")
+	check(pop.last_counts[1] == 10, "the rest get every offspring")
+	-- Both stagnant: the one with the best genome survives.
+	pop = two_species_pop(11)
+	pop.species[2].last_improved = 1
+	pop:tell({ 1, 1, 9, 1, 1, 5, 5, 5, 5, 5 })
+	check(#pop.last_alive == 1 and pop.last_alive[1] == 1, "the best species survives its stagnation")
+	check(#pop:genomes() == 10, "population refilled")
+end
+
+function T.elitism_copies_champions_unchanged()
+	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(12),
+		options = { pop_size = 30, threshold = 100, weight_mut_prob = 1, perturb_prob = 0 } }
+	local fit = {}
+	for i = 1, 30 do fit[i] = i % 7 + i / 100 end -- best: genome 27 (6.27)
+	local champ = neat.copy_genome(pop:genomes()[27])
+	pop:tell(fit)
+	local copies = 0
+	for _, g in ipairs(pop:genomes()) do
+		if deep_equal(g.links, champ.links) and deep_equal(g.nodes, champ.nodes) then copies = copies + 1 end
+	end
+	check(copies >= 1, "the champion is in the next generation unchanged")
+	-- A species under 5 members keeps no elite.
+	pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(12),
+		options = { pop_size = 4, threshold = 100, weight_mut_prob = 1, perturb_prob = 0,
+			mutate_only_prob = 1, add_node_prob = 0, add_link_prob = 0 } }
+	champ = neat.copy_genome(pop:genomes()[1])
+	pop:tell({ 9, 1, 1, 1 })
+	for _, g in ipairs(pop:genomes()) do check(not deep_equal(g.links, champ.links), "no elite under 5") end
+end
+
+-- The checkpoint must be plain data: write it as Lua source and read it back.
+local function serialise(v)
+	local t = type(v)
+	if t == "number" then
+		if math.type(v) == "integer" then return string.format("%d", v) end
+		if v == math.huge then return "math.huge" elseif v == -math.huge then return "-math.huge" end
+		return string.format("%.17g", v)
+	elseif t == "string" then return string.format("%q", v)
+	elseif t == "boolean" then return tostring(v)
+	elseif t == "table" then
+		local keys = {}
+		for k in pairs(v) do keys[#keys + 1] = k end
+		table.sort(keys, function(a, b)
+			if type(a) == type(b) then return a < b end
+			return type(a) == "number"
+		end)
+		local parts = {}
+		for _, k in ipairs(keys) do parts[#parts + 1] = "[" .. serialise(k) .. "]=" .. serialise(v[k]) end
+		return "{" .. table.concat(parts, ",") .. "}"
+	end
+	error("not plain data: " .. t)
+end
+
+local function xor_generation(pop)
+	local fit = {}
+	for i, g in ipairs(pop:genomes()) do fit[i] = xor_fitness(g) end
+	pop:tell(fit)
+end
+
+function T.save_load_continues_the_same_run()
+	local a = neat.new { inputs = 2, outputs = 1, rng = neat.rng(13), options = { pop_size = 60 } }
+	for _ = 1, 5 do xor_generation(a) end
+	local text = serialise(neat.save(a))
+	local b = neat.load(load("return " .. text)())
+	check(serialise(neat.save(b)) == text, "save(load(save)) is save")
+	for _ = 1, 5 do
+		xor_generation(a)
+		xor_generation(b)
+	end
+	check(serialise(neat.save(a)) == serialise(neat.save(b)), "the resumed run matches the uninterrupted one")
+	check(b.generation == 10 and b.next_innov == a.next_innov and b.next_species == a.next_species, "counters")
+end
+
+function T.same_seed_same_populations()
+	local function run(seed)
+		local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(seed), options = { pop_size = 50 } }
+		for _ = 1, 8 do xor_generation(pop) end
+		return serialise(neat.save(pop))
+	end
+	check(run(14) == run(14), "same seed, same run")
+	check(run(14) ~= run(15), "other seed, other run")
+end
+
+function T.to_net_maps_bias_and_renumbers()
+	-- Inputs 0, 1, bias 2, outputs 3, 4, hidden 9 (ids need not be dense).
+	local g = genome(2, { 3, 4 }, { 9 }, {
+		{ 1, 0, 9, 1.5 }, { 2, 2, 9, -0.5 }, { 3, 9, 3, 2.0 }, { 4, 1, 3, 0.25, false },
+		{ 5, 2, 4, 0.75 }, { 6, 1, 4, -1.0 } })
+	local net = neat.to_net(g)
+	check(net.inputs == 2 and net.outputs == 2, "sizes")
+	check(net.outputs_ids[1] == 2 and net.outputs_ids[2] == 3, "outputs renumbered after the inputs")
+	check(net.nodes[3].id == 4 and near(net.nodes[3].bias, -0.5), "hidden node with the bias link's weight")
+	check(near(net.nodes[2].bias, 0.75), "output bias")
+	check(#net.links == 3, "disabled and bias links left out")
+	local text = neat.to_net_text(net)
+	check(text == "inputs:2\noutputs:2\nnode:2:neat_sigmoid:0\nnode:3:neat_sigmoid:0.75\n" ..
+		"node:4:neat_sigmoid:-0.5\noutput:2\noutput:3\nlink:0:4:1.5\nlink:4:2:2\nlink:1:3:-1\n", text)
+	local s = neat.activations.neat_sigmoid
+	local out = neat.eval_float(net, { 1, 1 })
+	local h = s(1.5 - 0.5)
+	check(near(out[1], s(2 * h)) and near(out[2], s(0.75 - 1)), "float evaluation")
+end
+
+function T.eval_float_recurrence_reads_the_previous_step()
+	-- Node 1 = in + 0.5 * node 1 (a self-loop). Nodes 2 and 3 form a cycle:
+	-- the search from output 2 reaches 3, whose source 2 is on the path, so
+	-- 3 comes first and reads 2's previous value; 2 = 1 + 3.
+	local net = { inputs = 1, outputs = 2, outputs_ids = { 1, 2 },
+		nodes = { { id = 1, act = "identity", bias = 0 }, { id = 2, act = "identity", bias = 1 },
+			{ id = 3, act = "identity", bias = 0 } },
+		links = { { from = 0, to = 1, weight = 1 }, { from = 1, to = 1, weight = 0.5 },
+			{ from = 3, to = 2, weight = 1 }, { from = 2, to = 3, weight = 1 } } }
+	local out, act = neat.eval_float(net, { 1 })
+	check(out[1] == 1 and out[2] == 1, "first step: memory is zero")
+	out = neat.eval_float(net, { 1 }, act)
+	check(out[1] == 1.5 and out[2] == 2, "second step reads the first")
+	out = neat.eval_float(net, { 0 }, act)
+	check(out[1] == 0.75 and out[2] == 3, "third step reads the second")
+	out = neat.eval_float(net, { 0 })
+	check(out[1] == 0 and out[2] == 1, "a fresh memory starts over")
+end
+
+function T.options_from_task()
+	local o, unknown = neat.options_from_task { POPSIZE = "60", NEAT_C3 = "0.5", NEAT_RECURRENT = "1",
+		NEAT_ACTIVATION = "tanh", NEAT_BOGUS = "3", NEAT_ALSO = "x", EVALREP = "2" }
+	check(o.pop_size == 60 and o.c3 == 0.5 and o.recurrent == true and o.activation == "tanh", "mapped")
+	check(#unknown == 2 and unknown[1] == "NEAT_ALSO" and unknown[2] == "NEAT_BOGUS", "unknown NEAT_ keys listed")
+	check(o.EVALREP == nil, "other keys ignored")
+	check(not pcall(neat.options_from_task, { NEAT_C1 = "one" }), "a malformed value raises")
+	for key, name in pairs(neat.task_keys) do check(neat.defaults[name] ~= nil, key .. " names an option") end
+	local pop = neat.new { inputs = 1, outputs = 1, rng = neat.rng(1), options = o }
+	check(#pop:genomes() == 60, "options reach the population")
+end
+
+function T.recurrent_option_controls_cycles()
+	local function count_cycles(recurrent)
+		local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(16),
+			options = { pop_size = 40, recurrent = recurrent, add_link_prob = 0.5, add_node_prob = 0.2 } }
+		for _ = 1, 10 do xor_generation(pop) end
+		-- Kahn's algorithm over the enabled links: what is left is on a cycle.
+		local cyclic = 0
+		for _, g in ipairs(pop:genomes()) do
+			local indeg, left = {}, 0
+			for _, n in ipairs(g.nodes) do indeg[n.id] = 0 end
+			for _, l in ipairs(g.links) do
+				if l.enabled then indeg[l.to] = indeg[l.to] + 1 end
+			end
+			local ready = {}
+			for _, n in ipairs(g.nodes) do
+				if indeg[n.id] == 0 then ready[#ready + 1] = n.id end
+			end
+			local done = 0
+			while #ready > 0 do
+				local id = table.remove(ready)
+				done = done + 1
+				for _, l in ipairs(g.links) do
+					if l.enabled and l.from == id then
+						indeg[l.to] = indeg[l.to] - 1
+						if indeg[l.to] == 0 then ready[#ready + 1] = l.to end
+					end
+				end
+			end
+			left = #g.nodes - done
+			if left > 0 then cyclic = cyclic + 1 end
+		end
+		return cyclic
+	end
+	check(count_cycles(false) == 0, "feed-forward: no self-loop, nothing leaves the output")
+	check(count_cycles(true) > 0, "recurrent: loops appear")
+end
+
+function T.xor_is_solved()
+	local solved, lines = 0, {}
+	for seed = 1, 5 do
+		local gen, evals, pop = run_xor(seed, 100)
+		if gen then solved = solved + 1 end
+		lines[#lines + 1] = string.format("seed %d: %s, %d evaluations, %d species", seed,
+			gen and ("generation " .. gen) or "not solved", evals, #pop.species)
+	end
+	io.write("    XOR: " .. table.concat(lines, "; ") .. "\n")
+	check(solved >= 4, "XOR solved for " .. solved .. " of 5 seeds")
+end
+
+return T
