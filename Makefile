@@ -111,7 +111,7 @@ $(BUILD)/bench/%: $(BUILD)/obj/bench/%.o $(BUILD)/libevohost.a $(BUILD)/libevoco
 	$(CC) $(LDFLAGS_ALL) -o $@ $^ $(LIBS)
 
 bench: deps $(BENCH_BINS)
-	@for b in $(BENCH_BINS); do echo "== $$b"; $$b || exit 1; done
+	@rc=0; for b in $(BENCH_BINS); do echo "== $$b"; $$b || rc=1; done; exit $$rc
 
 test-bins: $(TEST_BINS) $(BUILD)/evo $(BUILD)/tests/net_dump_O0 $(BUILD)/tests/net_dump_O2
 
