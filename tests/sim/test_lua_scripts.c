@@ -143,7 +143,7 @@ int main(void)
 			if (strncmp(e->d_name, "test_", 5) == 0 && len > 4 &&
 			    strcmp(e->d_name + len - 4, ".lua") == 0 && n < MAX_FILES &&
 			    len < NAME_MAX_LEN) {
-				snprintf(files[n], NAME_MAX_LEN, "%s", e->d_name);
+				memcpy(files[n], e->d_name, len + 1);
 				n++;
 			}
 		}
