@@ -10,6 +10,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "learn.h"
 #include "sim.h"
 #include "task.h"
 #include "viewer.h"
@@ -31,6 +32,9 @@ typedef struct run_opts {
 	long ticks; /* per episode; 0: until a control function ends it */
 	const char *trace;
 	const char *screenshot; /* viewer: save a PNG after `ticks` ticks */
+	long threads;		/* LEARNSIM: 0 for one per core */
+	const char *run_dir;	/* LEARNSIM */
+	int resume;
 } run_opts;
 
 static void run_usage(FILE *f)
@@ -45,7 +49,11 @@ static void run_usage(FILE *f)
 	      "  --trace FILE       record each tick's sensor and actuator\n"
 	      "                     values (docs/trace.md)\n"
 	      "  --screenshot FILE  with the viewer: save a PNG after the\n"
-	      "                     first --ticks ticks and quit\n",
+	      "                     first --ticks ticks and quit\n"
+	      "LEARNSIM:\n"
+	      "  --threads N        worker threads (default: one per core)\n"
+	      "  --run DIR          run folder (default MIND/Runs/TASK-seedN)\n"
+	      "  --resume           go on from the run folder's checkpoint\n",
 	      f);
 }
 
@@ -90,6 +98,15 @@ static int parse_args(int argc, char **argv, run_opts *o)
 		} else if (strcmp(a, "--trace") == 0 && v) {
 			o->trace = v;
 			i++;
+		} else if (strcmp(a, "--threads") == 0) {
+			if (parse_count(a, v, &o->threads))
+				return -1;
+			i++;
+		} else if (strcmp(a, "--run") == 0 && v) {
+			o->run_dir = v;
+			i++;
+		} else if (strcmp(a, "--resume") == 0) {
+			o->resume = 1;
 		} else if (strcmp(a, "--screenshot") == 0 && v) {
 			o->screenshot = v;
 			i++;
@@ -306,20 +323,33 @@ int evo_run_main(int argc, char **argv)
 		fprintf(stderr, "%s\n", err.msg);
 		return 1;
 	}
-	if (strcmp(task.type, "DEMOSIM") != 0) {
-		fprintf(stderr,
-			"%s: evo run does not run %s tasks yet (it runs "
-			"DEMOSIM)\n",
-			o.task, task.type);
-		evo_task_free(&task);
-		return 1;
-	}
 	uint64_t seed = 1;
 	const char *sv = evo_simbatch_get(task.sb, "SEED");
 	if (o.seed_set)
 		seed = o.seed;
 	else if (sv)
 		seed = strtoull(sv, NULL, 10);
+	if (strcmp(task.type, "LEARNSIM") == 0) {
+		evo_learn_opts lo = {
+			.seed = seed,
+			.threads = (int)o.threads,
+			.run_dir = o.run_dir,
+			.resume = o.resume,
+		};
+		int rc = evo_learn_run(o.task, &task, &lo, &err);
+		if (rc)
+			fprintf(stderr, "%s\n", err.msg);
+		evo_task_free(&task);
+		return rc ? 1 : 0;
+	}
+	if (strcmp(task.type, "DEMOSIM") != 0) {
+		fprintf(stderr,
+			"%s: evo run does not run %s tasks yet (it runs "
+			"DEMOSIM and LEARNSIM)\n",
+			o.task, task.type);
+		evo_task_free(&task);
+		return 1;
+	}
 	struct sigaction sa;
 	memset(&sa, 0, sizeof sa);
 	sa.sa_handler = on_signal;

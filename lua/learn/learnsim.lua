@@ -1,0 +1,70 @@
+-- LEARNSIM: train the task's LEARNINGSKILL inside its hierarchy
+-- (docs/learning.md). The algorithm proposes networks; evo.evaluate runs
+-- them in C on the worker threads; every generation is logged, its best
+-- network saved and a checkpoint written, so --resume goes on exactly where
+-- a killed run stopped.
+local evo = require "evo"
+local serialize = require "learn.serialize"
+
+local task = evo.task
+local method = (task.LEARNINGMETHOD or "NEAT"):upper()
+if method ~= "NEAT" then
+	error("LEARNINGMETHOD " .. method .. " is not available yet: evo trains with NEAT for now", 0)
+end
+local neat = require "learn.neat"
+
+local generations = tonumber(task.NUMGEN or "50")
+if not generations or generations < 1 or generations ~= math.floor(generations) then
+	error("NUMGEN must be a whole number of generations, found '" .. tostring(task.NUMGEN) .. "'", 0)
+end
+
+local options, unknown = neat.options_from_task(task)
+for _, k in ipairs(unknown) do evo.warn("unknown key " .. k .. " (ignored)") end
+
+local pop, first, history
+local saved = evo.resume and evo.read("checkpoint.lua")
+if saved then
+	local c = serialize.load(saved, "checkpoint.lua")
+	pop = neat.load(c.pop)
+	first = c.generation + 1
+	history = c.history
+	evo.print(string.format("resuming after generation %d", c.generation))
+else
+	pop = neat.new{ inputs = evo.inputs, outputs = evo.outputs, options = options,
+		rng = neat.rng(evo.seed) }
+	first = 0
+	history = { best = {}, mean = {} }
+end
+evo.open_log(first)
+
+for gen = first, generations - 1 do
+	local genomes = pop:genomes()
+	local nets = {}
+	for i, g in ipairs(genomes) do nets[i] = neat.to_net(g) end
+	local fitness, seconds = evo.evaluate(nets, gen)
+	local best_i, sum = 1, 0
+	for i, f in ipairs(fitness) do
+		sum = sum + f
+		if f > fitness[best_i] then best_i = i end
+	end
+	local best_net = nets[best_i]
+	pop:tell(fitness)
+	history.best[#history.best + 1] = fitness[best_i]
+	history.mean[#history.mean + 1] = sum / #fitness
+	evo.save(string.format("best/gen-%04d.net", gen), neat.to_net_text(best_net,
+		string.format("generation %d, fitness %.17g", gen, fitness[best_i])))
+	evo.log{ generation = gen, generations = generations, best = fitness[best_i],
+		mean = sum / #fitness, best_ever = pop.best.fitness, species = #pop.species,
+		evaluations = #fitness, seconds = seconds }
+	-- The checkpoint last: a run killed before it is written resumes from
+	-- the previous generation and redoes this one identically.
+	evo.save("checkpoint.lua", serialize.dump{ generation = gen, pop = neat.save(pop),
+		history = history })
+end
+
+local champion = neat.to_net(pop.best.genome)
+evo.save_champion(neat.to_net_text(champion, string.format(
+	"trained by evo: %s, seed %d, %d generations, fitness %.17g",
+	method, evo.seed, generations, pop.best.fitness)))
+evo.curve(history.best, history.mean)
+return pop.best.fitness
