@@ -433,11 +433,13 @@ void evo_view_render(evo_image_rgb *im, const evo_scene *sc,
 	for (int b = 0; b < sc->n_bots; b++)
 		draw_bot(im, cam, sc, b);
 	/* Rays over the bots: a sensor placed inside the body still shows
-	 * its whole fan. */
+	 * its whole fan. An idle sensor (nothing reads it) is not sampled,
+	 * so it has no rays to show. */
 	for (int b = 0; b < sc->n_bots; b++)
 		for (int s = 0; s < sc->bot[b].n_sensors; s++)
 			if (sc->bot[b].sensor[s].def.kind ==
-			    EVO_SENSOR_PROXIMITY)
+				    EVO_SENSOR_PROXIMITY &&
+			    !sc->bot[b].sensor[s].idle)
 				draw_rays(im, cam, sc, b,
 					  &sc->bot[b].sensor[s]);
 	/* Held objects over the bot that carries them. */
