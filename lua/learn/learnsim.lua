@@ -18,6 +18,14 @@ if not generations or generations < 1 or generations ~= math.floor(generations) 
 	error("NUMGEN must be a whole number of generations, found '" .. tostring(task.NUMGEN) .. "'", 0)
 end
 
+-- Stop early once the best fitness reaches a target: TARGETFITNESS, or for
+-- the literature tasks (ENV XOR, DPV, DPNV) their solved mark, 1e6, which
+-- sim/literature.h adds to a candidate that solves the task.
+local target = tonumber(task.TARGETFITNESS or "")
+if not target and ({ XOR = true, DPV = true, DPNV = true })[(task.ENV or ""):upper()] then
+	target = 1e6
+end
+
 local options, unknown = neat.options_from_task(task)
 for _, k in ipairs(unknown) do evo.warn("unknown key " .. k .. " (ignored)") end
 
@@ -60,6 +68,11 @@ for gen = first, generations - 1 do
 	-- the previous generation and redoes this one identically.
 	evo.save("checkpoint.lua", serialize.dump{ generation = gen, pop = neat.save(pop),
 		history = history })
+	if target and pop.best.fitness >= target then
+		evo.print(string.format("target fitness %.17g reached in generation %d", target, gen))
+		generations = gen + 1
+		break
+	end
 end
 
 local champion = neat.to_net(pop.best.genome)
