@@ -333,6 +333,12 @@ static int open_module(lua_State *L)
 	lua_setfield(L, -2, "outputs");
 	lua_pushboolean(L, l->opts->resume);
 	lua_setfield(L, -2, "resume");
+	/* GENETIC and ANNEALING evolve the fixed layered network of the
+	 * skill's `layers:` (1 when absent, as the .ades reader says). */
+	int k = evo_loaded_skill(l->task->mind, l->skill);
+	lua_pushinteger(L, k >= 0 ? (lua_Integer)l->task->mind->skill[k].layers
+				  : 1);
+	lua_setfield(L, -2, "layers");
 	return 1;
 }
 

@@ -35,7 +35,11 @@ annealing.defaults = {
 	weight_max = 8.0, -- weights are clamped to [-w, w] (.net needs |w| < 128)
 }
 
+-- .simbatch key -> option name; SA_COOLING and SA_STEP are the short names
+-- core's .simbatch parser already reserves (core/src/parse_simbatch.c).
 annealing.task_keys = {
+	SA_COOLING = "alpha",
+	SA_STEP = "step_power",
 	SA_T0 = "t0",
 	SA_ALPHA = "alpha",
 	SA_STEP_POWER = "step_power",

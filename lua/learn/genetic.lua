@@ -45,8 +45,12 @@ genetic.defaults = {
 	weight_max = 8.0, -- weights are clamped to [-w, w] (.net needs |w| < 128)
 }
 
--- .simbatch key -> option name. POPSIZE is the tutorial's own key.
+-- .simbatch key -> option name. POPSIZE is the tutorial's own key;
+-- GA_MUT_RATE and GA_MUT_POWER are the short names core's .simbatch parser
+-- already reserves (core/src/parse_simbatch.c).
 genetic.task_keys = {
+	GA_MUT_RATE = "mutation_rate",
+	GA_MUT_POWER = "mutation_power",
 	POPSIZE = "pop_size",
 	GA_POPSIZE = "pop_size",
 	GA_ELITISM = "elitism",
