@@ -9,6 +9,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "literature.h"
 #include "scene.h"
 #include "sim.h"
 #include "task.h"
@@ -23,9 +24,10 @@ typedef struct worker {
 	struct evo_evaluator *ev;
 	pthread_t thread;
 	int started;
-	evo_task task; /* its own mind folder */
-	evo_sim *sim;  /* its own world and Lua state */
-	int skill;     /* the learning skill's index in task.mind */
+	evo_task task;	  /* its own mind folder */
+	evo_sim *sim;	  /* its own world and Lua state */
+	int skill;	  /* the learning skill's index in task.mind */
+	evo_lit_task lit; /* ENV names a literature task: no sim */
 } worker;
 
 struct evo_evaluator {
@@ -71,6 +73,14 @@ uint64_t evo_eval_episode_seed(uint64_t seed, int gen, int cand, int rep)
 static int evaluate_one(worker *w, int i, double *fitness, evo_err *err)
 {
 	evo_evaluator *ev = w->ev;
+	if (w->lit) {
+		/* Deterministic and seedless: one run, whatever EVALREP. */
+		evo_lit_result r;
+		if (evo_lit_evaluate(w->lit, ev->cand[i], &r, err))
+			return -1;
+		*fitness = r.fitness + (r.solved ? EVO_LIT_SOLVED_BONUS : 0);
+		return 0;
+	}
 	evo_loaded *l = w->task.mind;
 	*l->net[w->skill] = *ev->cand[i];
 	if (evo_loaded_rebuild(l, err) || evo_sim_set_mind(w->sim, l, err))
@@ -122,6 +132,20 @@ static int worker_load(evo_evaluator *ev, worker *w, evo_err *err)
 	if (w->skill < 0 || !w->task.mind->net[w->skill])
 		return evo_fail(err, "%s: LEARNINGSKILL %s has no network",
 				ev->task_path, learn);
+	w->lit = evo_lit_task_named(evo_simbatch_get(w->task.sb, "ENV"));
+	if (w->lit) {
+		const evo_ades *a = &w->task.mind->skill[w->skill];
+		if (a->n_in != evo_lit_n_in(w->lit) || a->n_out != 1)
+			return evo_fail(err,
+					"%s: ENV %s needs a LEARNINGSKILL with "
+					"%u inputs and 1 output; %s has %u and "
+					"%u",
+					ev->task_path,
+					evo_simbatch_get(w->task.sb, "ENV"),
+					evo_lit_n_in(w->lit), learn,
+					(unsigned)a->n_in, (unsigned)a->n_out);
+		return 0;
+	}
 	w->sim = evo_sim_create(w->task.mind, w->task.sb, ev->task_path, err);
 	return w->sim ? 0 : -1;
 }
@@ -235,8 +259,9 @@ evo_evaluator *evo_evaluator_create(const evo_eval_def *def, evo_err *err)
 	if (failed)
 		goto fail;
 	const evo_simbatch *sb = ev->w[0].task.sb;
-	ev->reps =
-	    def->reps ? def->reps : (int)simbatch_number(sb, "EVALREP", 1);
+	ev->reps = ev->w[0].lit ? 1
+		   : def->reps	? def->reps
+				: (int)simbatch_number(sb, "EVALREP", 1);
 	ev->ticks =
 	    def->ticks ? def->ticks : simbatch_number(sb, "TICKLIM", 1000);
 	const evo_ades *a = &ev->w[0].task.mind->skill[ev->w[0].skill];
@@ -297,6 +322,26 @@ unsigned evo_evaluator_n_out(const evo_evaluator *ev)
 	return ev->n_out;
 }
 
+/* DPNV as the paper runs it: the best candidate of the generation (the
+ * first of equals) is tested for 100,000 steps and generalisation; a
+ * solver gets the solved mark. Done here, after the batch, so it does not
+ * depend on the threads. */
+static int dpnv_check_champion(const evo_netdesc *const *cand, int n,
+			       double *fitness, evo_err *err)
+{
+	int best = 0;
+	for (int i = 1; i < n; i++)
+		if (fitness[i] > fitness[best])
+			best = i;
+	evo_lit_result r;
+	evo_err e;
+	if (evo_lit_dpnv_check(cand[best], &r, &e))
+		return evo_fail(err, "candidate %d: %s", best, e.msg);
+	if (r.solved)
+		fitness[best] += EVO_LIT_SOLVED_BONUS;
+	return 0;
+}
+
 int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
 		 int gen, double *fitness, evo_err *err)
 {
@@ -337,6 +382,8 @@ int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
 	int failed = ev->failed;
 	if (failed)
 		*err = ev->err;
+	else if (ev->w[0].lit == EVO_LIT_DPNV)
+		failed = dpnv_check_champion(candidates, n, fitness, err);
 	ev->cand = NULL;
 	ev->fitness = NULL;
 	pthread_mutex_unlock(&ev->mu);

@@ -21,7 +21,14 @@
  * apart from `evo run`'s). Every candidate of a generation thus meets the
  * same obstacle grids, while the rest of its randomness (placements,
  * RANDOM sensors) is its own; and nothing depends on which worker ran
- * which candidate, so results do not depend on the number of threads. */
+ * which candidate, so results do not depend on the number of threads.
+ *
+ * Literature tasks: when the task's ENV is XOR, DPV or DPNV the workers
+ * build no simulation and score each candidate once with sim/literature.h
+ * (seedless and deterministic; EVALREP and TICKLIM do not apply); a
+ * candidate that solves the task gets EVO_LIT_SOLVED_BONUS added. For DPNV
+ * the batch's best candidate (the first of equals) is then given the
+ * paper's success test, on the calling thread. */
 #ifndef EVO_EVALUATE_H
 #define EVO_EVALUATE_H
 
