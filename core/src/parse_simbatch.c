@@ -1,21 +1,32 @@
 /* .simbatch: a task (tutorial chapter 4). KEY:VALUE pairs in any order;
  * keys evo does not know are skipped with a warning, as the tutorial asks
- * superfluous parameters to be ignored. */
+ * superfluous parameters to be ignored. Keys of a learning method
+ * (NEAT_*, GA_*, SA_*) are all kept: the method itself knows its settings
+ * and warns about the ones it does not (docs/learning.md). */
 #include "evo/formats.h"
 #include "text.h"
 
 const char *const evo_simbatch_keys[] = {
     "TYPE", "BOTMODEL", "BOTNAME", "MASTERSKILL", "LEARNINGSKILL", "ENV",
     "LEARNINGMETHOD", "ROOTFOLDER", "NUMGEN", "EVALREP", "TICKLIM", "POPSIZE",
-    "SEED", "THREADS",
-    /* The learning algorithms' settings: reserved here so they are not
-     * warned about; the Lua side checks their values. */
-    "NEAT_COMPAT_THRESHOLD", "NEAT_C1", "NEAT_C2", "NEAT_C3",
-    "NEAT_WEIGHT_MUT_RATE", "NEAT_WEIGHT_MUT_POWER", "NEAT_ADD_NODE_RATE",
-    "NEAT_ADD_LINK_RATE", "NEAT_RECURRENT", "NEAT_STAGNATION", "NEAT_ELITISM",
-    "NEAT_SURVIVAL", "GA_MUT_RATE", "GA_MUT_POWER", "GA_CROSSOVER_RATE",
-    "GA_ELITISM", "GA_TOURNAMENT", "SA_T0", "SA_COOLING", "SA_STEP", "HIDDEN",
-    NULL};
+    "SEED", "THREADS", "HIDDEN", "TARGETFITNESS", NULL};
+
+/* The prefixes of the learning methods' own keys. */
+static const char *const method_prefixes[] = {"NEAT_", "GA_", "SA_", NULL};
+
+/* 1 when key starts with a method's prefix and has a name after it. */
+static int method_key(txt_slice key)
+{
+	for (unsigned p = 0; method_prefixes[p]; p++) {
+		size_t n = 0;
+		while (method_prefixes[p][n] && n < key.len &&
+		       txt_upper(key.s[n]) == method_prefixes[p][n])
+			n++;
+		if (!method_prefixes[p][n] && key.len > n)
+			return 1;
+	}
+	return 0;
+}
 
 const char *const evo_task_types[] = {
     "DEMOSIM",	       "LEARNSIM",	 "LEARNSIMCONTINUOUS", "DEMO2DSIMMULTI",
@@ -83,6 +94,7 @@ static evo_status add_pair(evo_simbatch *out, const txt_entry *e,
 	const txt_slice *key = &e->field[0];
 	txt_slice value;
 	const char *known = NULL;
+	char method_name[EVO_NAME_MAX];
 	evo_simbatch_pair *p;
 	evo_status st;
 	uint32_t i;
@@ -110,6 +122,20 @@ static evo_status add_pair(evo_simbatch *out, const txt_entry *e,
 	for (i = 0; evo_simbatch_keys[i]; i++)
 		if (txt_slice_ieq(*key, evo_simbatch_keys[i]))
 			known = evo_simbatch_keys[i];
+	if (!known && method_key(*key)) {
+		/* Kept as written, upper-cased. */
+		if (key->len >= EVO_NAME_MAX) {
+			txt_diag(err, file, e->line,
+				 "expected a key of at most %u bytes, found "
+				 "'%.*s'",
+				 (unsigned)(EVO_NAME_MAX - 1), TXT_Q(*key));
+			return EVO_ERR_LIMIT;
+		}
+		for (i = 0; i < key->len; i++)
+			method_name[i] = txt_upper(key->s[i]);
+		method_name[i] = 0;
+		known = method_name;
+	}
 	if (!known) {
 		warn(out, e, file);
 		return EVO_OK;
