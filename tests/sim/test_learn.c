@@ -2,7 +2,9 @@
  * seed gives the same log with one thread and with two; a run killed with
  * SIGKILL in the middle of a generation and resumed ends with the same log
  * and champion as a run never interrupted; the champion lands in the
- * skill's folder with a learning curve in the run folder. */
+ * skill's folder with a learning curve in the run folder. GENETIC and
+ * ANNEALING train a copy of Avoid whose skill has `layers:1`, and their
+ * champion is a layered network evo loads. */
 #define _POSIX_C_SOURCE 200809L
 #include <signal.h>
 #include <stdio.h>
@@ -13,97 +15,58 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "support/cli.h"
 #include "fileio.h"
 #include "harness.h"
 
-static char evo_bin[256];
-static char tmpdir[128];
-
-static int sh(const char *cmd)
+/* A copy of the Avoid example with a small LEARNSIM task for `method`,
+ * so training never touches minds/ and runs in seconds; `extra` is more
+ * simbatch lines. A layered method gets the skill `layers:1`. */
+static void make_mind(const char *name, const char *method, int numgen,
+		      const char *extra)
 {
-	int st = system(cmd);
-	return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/%s && cp -r minds/Avoid %s/%s/ && "
+			    "printf 'TYPE:LEARNSIM\\nBOTMODEL:BotType8\\n"
+			    "MASTERSKILL:Avoid\\nLEARNINGSKILL:Avoid\\n"
+			    "ENV:EXP_Avoid\\nLEARNINGMETHOD:%s\\nNUMGEN:%d\\n"
+			    "EVALREP:2\\nTICKLIM:150\\n%s' "
+			    "> %s/%s/Avoid/Tasks/Small.simbatch",
+			    cli_tmp, name, cli_tmp, name, method, numgen,
+			    extra, cli_tmp, name),
+		     0);
+	if (strcmp(method, "NEAT") != 0)
+		CHECK_EQ_INT(cli_sh("sed -i 's/^layers:0$/layers:1/' "
+				    "%s/%s/Avoid/Skills/Avoid/Avoid.ades",
+				    cli_tmp, name),
+			     0);
 }
 
-/* A copy of the Avoid example with a small LEARNSIM task, so training
- * never touches minds/ and runs in seconds. */
-static void make_mind(const char *name)
-{
-	char cmd[1024];
-	snprintf(cmd, sizeof cmd,
-		 "mkdir -p %s/%s && cp -r minds/Avoid %s/%s/ && "
-		 "printf 'TYPE:LEARNSIM\\nBOTMODEL:BotType8\\nMASTERSKILL:Avoid\\n"
-		 "LEARNINGSKILL:Avoid\\nENV:EXP_Avoid\\nLEARNINGMETHOD:NEAT\\n"
-		 "NUMGEN:%d\\nEVALREP:2\\nTICKLIM:150\\nNEAT_POPSIZE:24\\n' "
-		 "> %s/%s/Avoid/Tasks/Small.simbatch",
-		 tmpdir, name, tmpdir, name, 6, tmpdir, name);
-	CHECK_EQ_INT(sh(cmd), 0);
-}
-
-/* The log without its two time columns. */
-static char *fitness_log(const char *run)
-{
-	char path[512], *data;
-	size_t len;
-	evo_err err;
-	snprintf(path, sizeof path, "%s/log.csv", run);
-	if (evo_read_file(path, &data, &len, &err))
-		return NULL;
-	char *out = data, *w = data;
-	for (char *line = data; *line;) {
-		char *end = strchr(line, '\n');
-		size_t n = end ? (size_t)(end - line) : strlen(line);
-		/* keep up to the 6th comma */
-		size_t keep = 0;
-		int commas = 0;
-		while (keep < n && commas < 6)
-			commas += line[keep++] == ',';
-		memmove(w, line, keep);
-		w += keep;
-		*w++ = '\n';
-		line += n + (end ? 1 : 0);
-	}
-	*w = 0;
-	return out;
-}
-
-static char *read_text(const char *path)
-{
-	char *data;
-	size_t len;
-	evo_err err;
-	return evo_read_file(path, &data, &len, &err) ? NULL : data;
-}
+#define NEAT_TASK "NEAT_POPSIZE:24\\n"
 
 static int train(const char *name, const char *extra)
 {
-	char cmd[1024];
-	snprintf(cmd, sizeof cmd,
-		 "%s run %s/%s/Avoid/Tasks/Small.simbatch --seed 11 --run "
-		 "%s/%s/run %s > %s/%s/out.txt 2>&1",
-		 evo_bin, tmpdir, name, tmpdir, name, extra, tmpdir, name);
-	return sh(cmd);
+	return cli_sh("%s run %s/%s/Avoid/Tasks/Small.simbatch --seed 11 --run "
+		      "%s/%s/run %s > %s/%s/out.txt 2>&1",
+		      cli_evo, cli_tmp, name, cli_tmp, name, extra, cli_tmp,
+		      name);
 }
 
 static char *log_of(const char *name)
 {
 	char run[256];
-	snprintf(run, sizeof run, "%s/%s/run", tmpdir, name);
-	return fitness_log(run);
+	snprintf(run, sizeof run, "%s/%s/run", cli_tmp, name);
+	return cli_fitness_log(run);
 }
 
 static char *champion_of(const char *name)
 {
-	char path[256];
-	snprintf(path, sizeof path, "%s/%s/Avoid/Skills/Avoid/Avoid.net",
-		 tmpdir, name);
-	return read_text(path);
+	return cli_read("%s/%s/Avoid/Skills/Avoid/Avoid.net", cli_tmp, name);
 }
 
 TEST(one_thread_and_two_give_the_same_log)
 {
-	make_mind("t1");
-	make_mind("t2");
+	make_mind("t1", "NEAT", 6, NEAT_TASK);
+	make_mind("t2", "NEAT", 6, NEAT_TASK);
 	CHECK_EQ_INT(train("t1", "--threads 1"), 0);
 	CHECK_EQ_INT(train("t2", "--threads 2"), 0);
 	char *a = log_of("t1"), *b = log_of("t2");
@@ -119,9 +82,9 @@ TEST(one_thread_and_two_give_the_same_log)
 		CHECK_EQ_STR(ca, cb);
 	}
 	char png[256];
-	snprintf(png, sizeof png, "%s/t1/run/curve.png", tmpdir);
+	snprintf(png, sizeof png, "%s/t1/run/curve.png", cli_tmp);
 	CHECK(evo_file_exists(png));
-	snprintf(png, sizeof png, "%s/t1/run/best/gen-0005.net", tmpdir);
+	snprintf(png, sizeof png, "%s/t1/run/best/gen-0005.net", cli_tmp);
 	CHECK(evo_file_exists(png));
 	free(a);
 	free(b);
@@ -132,9 +95,7 @@ TEST(one_thread_and_two_give_the_same_log)
 /* Rows in the run's log.csv so far (header excluded). */
 static int rows(const char *name)
 {
-	char path[256];
-	snprintf(path, sizeof path, "%s/%s/run/log.csv", tmpdir, name);
-	char *t = read_text(path);
+	char *t = cli_read("%s/%s/run/log.csv", cli_tmp, name);
 	int n = -1;
 	for (const char *p = t; p && *p; p++)
 		n += *p == '\n';
@@ -144,12 +105,12 @@ static int rows(const char *name)
 
 TEST(killed_and_resumed_run_ends_as_an_uninterrupted_one)
 {
-	make_mind("k");
+	make_mind("k", "NEAT", 6, NEAT_TASK);
 	char cmd[1024];
 	snprintf(cmd, sizeof cmd,
 		 "exec %s run %s/k/Avoid/Tasks/Small.simbatch --seed 11 "
 		 "--threads 2 --run %s/k/run > %s/k/out1.txt 2>&1",
-		 evo_bin, tmpdir, tmpdir, tmpdir);
+		 cli_evo, cli_tmp, cli_tmp, cli_tmp);
 	pid_t pid = fork();
 	if (pid == 0) {
 		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
@@ -176,9 +137,7 @@ TEST(killed_and_resumed_run_ends_as_an_uninterrupted_one)
 	CHECK(ca && cb);
 	if (ca && cb)
 		CHECK_EQ_STR(cb, ca);
-	char out[256];
-	snprintf(out, sizeof out, "%s/k/out.txt", tmpdir);
-	char *text = read_text(out);
+	char *text = cli_read("%s/k/out.txt", cli_tmp);
 	CHECK(text && strstr(text, "resuming after generation"));
 	free(text);
 	free(a);
@@ -189,34 +148,98 @@ TEST(killed_and_resumed_run_ends_as_an_uninterrupted_one)
 
 TEST(unknown_method_is_a_clear_error)
 {
-	make_mind("m");
-	char cmd[1024];
-	snprintf(cmd, sizeof cmd,
-		 "sed -i 's/LEARNINGMETHOD:NEAT/LEARNINGMETHOD:BOGUS/' "
-		 "%s/m/Avoid/Tasks/Small.simbatch",
-		 tmpdir);
-	CHECK_EQ_INT(sh(cmd), 0);
+	make_mind("m", "NEAT", 6, NEAT_TASK);
+	CHECK_EQ_INT(cli_sh("sed -i 's/LEARNINGMETHOD:NEAT/LEARNINGMETHOD:BOGUS/' "
+			    "%s/m/Avoid/Tasks/Small.simbatch",
+			    cli_tmp),
+		     0);
 	CHECK_EQ_INT(train("m", ""), 1);
-	char out[256];
-	snprintf(out, sizeof out, "%s/m/out.txt", tmpdir);
-	char *text = read_text(out);
+	char *text = cli_read("%s/m/out.txt", cli_tmp);
 	CHECK(text && strstr(text, "Small.simbatch:6: LEARNINGMETHOD must be NEAT, GENETIC or ANNEALING, found 'BOGUS'"));
 	free(text);
 }
 
+static int count_rows(const char *log)
+{
+	int n = -1; /* the header */
+	for (const char *p = log; p && *p; p++)
+		n += *p == '\n';
+	return n;
+}
+
+/* The champion of a layered method is where DEMOSIM finds it, and the
+ * copy's DEMO task (which loads every skill's network) passes evo check. */
+static void check_layered_champion(const char *name, const char *method)
+{
+	char *net = champion_of(name);
+	CHECK(net != NULL);
+	if (net) {
+		char want[64];
+		snprintf(want, sizeof want, "trained by evo: %s, seed 11",
+			 method);
+		CHECK_CONTAINS(net, want);
+		/* layers:1 over 11 inputs and 2 outputs: 11 hidden nodes,
+		 * ids 13..23, 11*11 + 2*11 links. */
+		CHECK_CONTAINS(net, "node:23:sigmoid:");
+		CHECK_CONTAINS(net, "link:10:23:");
+		CHECK_CONTAINS(net, "link:23:12:");
+		int links = 0;
+		for (const char *p = strstr(net, "link:"); p;
+		     p = strstr(p + 1, "\nlink:"))
+			links++;
+		CHECK_EQ_INT(links, 143);
+	}
+	free(net);
+	CHECK_EQ_INT(cli_sh("%s check %s/%s/Avoid/Tasks/Avoid-DEMO.simbatch > "
+			    "%s/%s/check.txt 2>&1",
+			    cli_evo, cli_tmp, name, cli_tmp, name),
+		     0);
+}
+
+TEST(genetic_trains_and_threads_do_not_change_the_log)
+{
+	make_mind("g1", "GENETIC", 3, "POPSIZE:10\\nGA_ELITISM:1\\n");
+	make_mind("g2", "GENETIC", 3, "POPSIZE:10\\nGA_ELITISM:1\\n");
+	CHECK_EQ_INT(train("g1", "--threads 1"), 0);
+	CHECK_EQ_INT(train("g2", "--threads 2"), 0);
+	char *a = log_of("g1"), *b = log_of("g2");
+	CHECK(a && b);
+	if (a && b) {
+		CHECK_EQ_INT(count_rows(a), 3);
+		/* 10 evaluations a generation, no species */
+		CHECK_CONTAINS(a, "\n2,");
+		CHECK_CONTAINS(a, ",0,10,\n");
+		CHECK_EQ_STR(a, b);
+	}
+	free(a);
+	free(b);
+	check_layered_champion("g1", "GENETIC");
+}
+
+TEST(annealing_trains)
+{
+	make_mind("a", "ANNEALING", 3, "SA_T0:5\\n");
+	CHECK_EQ_INT(train("a", "--threads 2"), 0);
+	char *a = log_of("a");
+	CHECK(a != NULL);
+	if (a) {
+		CHECK_EQ_INT(count_rows(a), 3);
+		/* SA_STEPS_PER_GENERATION's default: 10 candidates */
+		CHECK_CONTAINS(a, ",0,10,\n");
+	}
+	free(a);
+	check_layered_champion("a", "ANNEALING");
+}
+
 int main(void)
 {
-	const char *b = getenv("EVO_BUILD");
-	snprintf(evo_bin, sizeof evo_bin, "%s/evo", b && b[0] ? b : "build");
-	snprintf(tmpdir, sizeof tmpdir, "/tmp/evo-test-learn-XXXXXX");
-	if (!mkdtemp(tmpdir))
+	if (cli_setup("learn"))
 		return 1;
 	RUN(one_thread_and_two_give_the_same_log);
 	RUN(killed_and_resumed_run_ends_as_an_uninterrupted_one);
 	RUN(unknown_method_is_a_clear_error);
-	char cmd[200];
-	snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
-	if (sh(cmd) != 0)
-		printf("could not remove %s\n", tmpdir);
+	RUN(genetic_trains_and_threads_do_not_change_the_log);
+	RUN(annealing_trains);
+	cli_cleanup();
 	return test_summary();
 }

@@ -17,15 +17,7 @@
 #include "fileio.h"
 #include "harness.h"
 #include "literature.h"
-
-static char evo_bin[256];
-static char tmpdir[128];
-
-static int sh(const char *cmd)
-{
-	int st = system(cmd);
-	return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
+#include "support/cli.h"
 
 static evo_netdesc *parse_net(const char *text)
 {
@@ -184,35 +176,27 @@ TEST(task_names)
 /* On a copy of minds/XOR, so the champion never lands in minds/. */
 TEST(short_learnsim_xor_run_writes_a_log)
 {
-	char cmd[2048];
-	snprintf(cmd, sizeof cmd,
-		 "cp -r minds/XOR %s/ && sed -i 's/^NUMGEN:.*/NUMGEN:3/' "
-		 "%s/XOR/Tasks/XOR-NEAT.simbatch && %s run "
-		 "%s/XOR/Tasks/XOR-NEAT.simbatch --seed 2 --threads 2 --run "
-		 "%s/run > %s/out.txt 2>&1",
-		 tmpdir, tmpdir, evo_bin, tmpdir, tmpdir, tmpdir);
-	CHECK_EQ_INT(sh(cmd), 0);
-	char path[512], *data = NULL;
-	size_t len = 0;
-	evo_err err;
-	snprintf(path, sizeof path, "%s/run/log.csv", tmpdir);
-	CHECK_EQ_INT(evo_read_file(path, &data, &len, &err), 0);
+	CHECK_EQ_INT(cli_sh("cp -r minds/XOR %s/ && sed -i 's/^NUMGEN:.*/NUMGEN:3/' "
+			    "%s/XOR/Tasks/XOR-NEAT.simbatch && %s run "
+			    "%s/XOR/Tasks/XOR-NEAT.simbatch --seed 2 --threads 2 "
+			    "--run %s/run > %s/out.txt 2>&1",
+			    cli_tmp, cli_tmp, cli_evo, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	char *data = cli_read("%s/run/log.csv", cli_tmp);
+	CHECK(data != NULL);
 	int lines = 0;
-	for (size_t i = 0; data && i < len; i++)
-		lines += data[i] == '\n';
+	for (const char *p = data; p && *p; p++)
+		lines += *p == '\n';
 	CHECK(lines >= 2); /* a header and at least one generation */
 	free(data);
-	snprintf(path, sizeof path, "%s/XOR/Skills/XOR/XOR.net", tmpdir);
-	CHECK_EQ_INT(evo_read_file(path, &data, &len, &err), 0);
+	data = cli_read("%s/XOR/Skills/XOR/XOR.net", cli_tmp);
+	CHECK(data != NULL);
 	free(data);
 }
 
 int main(void)
 {
-	const char *b = getenv("EVO_BUILD");
-	snprintf(evo_bin, sizeof evo_bin, "%s/evo", b && b[0] ? b : "build");
-	snprintf(tmpdir, sizeof tmpdir, "/tmp/evo-test-literature-XXXXXX");
-	if (!mkdtemp(tmpdir))
+	if (cli_setup("literature"))
 		return 1;
 	RUN(xor_solver_scores_near_16);
 	RUN(xor_zero_network_is_not_solved);
@@ -224,9 +208,6 @@ int main(void)
 	RUN(zero_network_generalises_only_to_rest);
 	RUN(task_names);
 	RUN(short_learnsim_xor_run_writes_a_log);
-	char cmd[200];
-	snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
-	if (sh(cmd) != 0)
-		printf("could not remove %s\n", tmpdir);
+	cli_cleanup();
 	return test_summary();
 }

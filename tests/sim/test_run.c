@@ -13,24 +13,7 @@
 #include <unistd.h>
 
 #include "harness.h"
-
-static char evo_bin[256];
-static char tmpdir[256];
-
-/* Run a shell command; its stdout and stderr go to out. Returns the exit
- * status (or -1 when it did not exit normally). */
-static int run(const char *cmd, char *out, size_t cap)
-{
-	char full[4096];
-	snprintf(full, sizeof full, "%s 2>&1", cmd);
-	FILE *p = popen(full, "r");
-	if (!p)
-		return -1;
-	size_t n = fread(out, 1, cap - 1, p);
-	out[n] = 0;
-	int st = pclose(p);
-	return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
+#include "support/cli.h"
 
 static void write_file(const char *path, const char *text)
 {
@@ -74,10 +57,10 @@ static char out1[1 << 16], out2[1 << 16];
 static void same_rewards(const char *task, const char *args)
 {
 	char cmd[1024];
-	snprintf(cmd, sizeof cmd, "%s run %s --headless %s", evo_bin, task,
+	snprintf(cmd, sizeof cmd, "%s run %s --headless %s", cli_evo, task,
 		 args);
-	int a = run(cmd, out1, sizeof out1);
-	int b = run(cmd, out2, sizeof out2);
+	int a = cli_capture(out1, sizeof out1, "%s", cmd);
+	int b = cli_capture(out2, sizeof out2, "%s", cmd);
 	CHECK_EQ_INT(a, 0);
 	CHECK_EQ_INT(b, 0);
 	CHECK_CONTAINS(out1, "episode 1: reward ");
@@ -118,13 +101,13 @@ TEST(another_seed_gives_another_run)
 	snprintf(cmd, sizeof cmd,
 		 "%s run minds/Avoid/Tasks/Avoid-DEMO.simbatch -nog "
 		 "--seed 1 --ticks 600",
-		 evo_bin);
-	CHECK_EQ_INT(run(cmd, out1, sizeof out1), 0);
+		 cli_evo);
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s", cmd), 0);
 	snprintf(cmd, sizeof cmd,
 		 "%s run minds/Avoid/Tasks/Avoid-DEMO.simbatch -nog "
 		 "--seed 2 --ticks 600",
-		 evo_bin);
-	CHECK_EQ_INT(run(cmd, out2, sizeof out2), 0);
+		 cli_evo);
+	CHECK_EQ_INT(cli_capture(out2, sizeof out2, "%s", cmd), 0);
 	CHECK(strcmp(out1, out2) != 0);
 }
 
@@ -185,11 +168,11 @@ static const char *good_env =
 TEST(own_bot_and_environment_run)
 {
 	char root[512], cmd[2048];
-	snprintf(root, sizeof root, "%s/own/Mine", tmpdir);
+	snprintf(root, sizeof root, "%s/own/Mine", cli_tmp);
 	make_own_mind(root, good_env, "");
 	snprintf(cmd, sizeof cmd, "%s run %s/Tasks/Go.simbatch --headless",
-		 evo_bin, root);
-	int rc = run(cmd, out1, sizeof out1);
+		 cli_evo, root);
+	int rc = cli_capture(out1, sizeof out1, "%s", cmd);
 	CHECK_EQ_INT(rc, 0);
 	/* the control ends the episode after 300 checks: 301 ticks */
 	CHECK_CONTAINS(out1, "over 301 ticks");
@@ -210,13 +193,13 @@ static void fails_with(const char *sub, const char *env_body,
 		       const char *want2)
 {
 	char root[512], cmd[2048], trace_dir[512];
-	snprintf(root, sizeof root, "%s/%s/Mine", tmpdir, sub);
+	snprintf(root, sizeof root, "%s/%s/Mine", cli_tmp, sub);
 	make_own_mind(root, env_body, botdesc_extra);
-	snprintf(trace_dir, sizeof trace_dir, "%s/%s", tmpdir, sub);
+	snprintf(trace_dir, sizeof trace_dir, "%s/%s", cli_tmp, sub);
 	snprintf(cmd, sizeof cmd,
 		 "%s run %s/Tasks/Go.simbatch --headless --trace %s/t.trace",
-		 evo_bin, root, trace_dir);
-	int rc = run(cmd, out1, sizeof out1);
+		 cli_evo, root, trace_dir);
+	int rc = cli_capture(out1, sizeof out1, "%s", cmd);
 	CHECK_EQ_INT(rc, 1);
 	CHECK_CONTAINS(out1, want1);
 	CHECK_CONTAINS(out1, want2);
@@ -268,12 +251,12 @@ TEST(unknown_option_is_an_error)
 TEST(trace_records_every_tick)
 {
 	char cmd[2048], path[512];
-	snprintf(path, sizeof path, "%s/collect.trace", tmpdir);
+	snprintf(path, sizeof path, "%s/collect.trace", cli_tmp);
 	snprintf(cmd, sizeof cmd,
 		 "%s run minds/Collect/Tasks/Collect-DEMO.simbatch --headless "
 		 "--ticks 500 --trace %s",
-		 evo_bin, path);
-	CHECK_EQ_INT(run(cmd, out1, sizeof out1), 0);
+		 cli_evo, path);
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s", cmd), 0);
 	FILE *f = fopen(path, "r");
 	CHECK(f != NULL);
 	if (!f)
@@ -305,13 +288,8 @@ TEST(trace_records_every_tick)
 
 int main(void)
 {
-	const char *b = getenv("EVO_BUILD");
-	snprintf(evo_bin, sizeof evo_bin, "%s/evo", b && b[0] ? b : "build");
-	snprintf(tmpdir, sizeof tmpdir, "/tmp/evo-test-run-XXXXXX");
-	if (!mkdtemp(tmpdir)) {
-		perror("mkdtemp");
+	if (cli_setup("run"))
 		return 1;
-	}
 	RUN(avoid_demo_is_repeatable);
 	RUN(gto_demo_is_repeatable);
 	RUN(gtoa_demo_is_repeatable);
@@ -323,9 +301,6 @@ int main(void)
 	RUN(unknown_sensor_names_botdesc_line);
 	RUN(unknown_option_is_an_error);
 	RUN(trace_records_every_tick);
-	char cmd[300];
-	snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
-	if (system(cmd) != 0)
-		printf("could not remove %s\n", tmpdir);
+	cli_cleanup();
 	return test_summary();
 }

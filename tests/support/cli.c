@@ -1,0 +1,100 @@
+/* Helpers for tests that drive the evo program (tests/support/cli.h). */
+#define _POSIX_C_SOURCE 200809L
+#include "cli.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+
+#include "fileio.h"
+
+char cli_evo[256];
+char cli_tmp[128];
+
+int cli_setup(const char *name)
+{
+	const char *b = getenv("EVO_BUILD");
+	snprintf(cli_evo, sizeof cli_evo, "%s/evo", b && b[0] ? b : "build");
+	snprintf(cli_tmp, sizeof cli_tmp, "/tmp/evo-test-%s-XXXXXX", name);
+	if (!mkdtemp(cli_tmp)) {
+		perror("mkdtemp");
+		return -1;
+	}
+	return 0;
+}
+
+void cli_cleanup(void)
+{
+	if (cli_tmp[0] && cli_sh("rm -rf %s", cli_tmp) != 0)
+		printf("could not remove %s\n", cli_tmp);
+}
+
+static int status_of(int st)
+{
+	return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+int cli_sh(const char *fmt, ...)
+{
+	char cmd[4096];
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(cmd, sizeof cmd, fmt, ap);
+	va_end(ap);
+	return status_of(system(cmd));
+}
+
+int cli_capture(char *out, size_t cap, const char *fmt, ...)
+{
+	char cmd[4096];
+	va_list ap;
+	va_start(ap, fmt);
+	int n = vsnprintf(cmd, sizeof cmd - 8, fmt, ap);
+	va_end(ap);
+	if (n < 0 || (size_t)n >= sizeof cmd - 8)
+		return -1;
+	strcat(cmd, " 2>&1");
+	FILE *p = popen(cmd, "r");
+	if (!p)
+		return -1;
+	size_t got = fread(out, 1, cap - 1, p);
+	out[got] = 0;
+	return status_of(pclose(p));
+}
+
+char *cli_read(const char *fmt, ...)
+{
+	char path[1024], *data;
+	size_t len;
+	evo_err err;
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(path, sizeof path, fmt, ap);
+	va_end(ap);
+	return evo_read_file(path, &data, &len, &err) ? NULL : data;
+}
+
+char *cli_fitness_log(const char *run_dir)
+{
+	char *data = cli_read("%s/log.csv", run_dir);
+	if (!data)
+		return NULL;
+	char *w = data;
+	for (char *line = data; *line;) {
+		char *end = strchr(line, '\n');
+		size_t n = end ? (size_t)(end - line) : strlen(line);
+		/* keep up to the 6th comma: generation .. evaluations */
+		size_t keep = 0;
+		int commas = 0;
+		while (keep < n && commas < 6)
+			commas += line[keep++] == ',';
+		memmove(w, line, keep);
+		w += keep;
+		*w++ = '\n';
+		line += n + (end ? 1 : 0);
+	}
+	*w = 0;
+	return data;
+}

@@ -1,0 +1,30 @@
+/* Helpers for tests that drive the evo program from the shell: where evo
+ * is, a fresh temporary folder, commands built printf-style, files read
+ * back. */
+#ifndef EVO_TEST_CLI_H
+#define EVO_TEST_CLI_H
+
+#include <stddef.h>
+
+extern char cli_evo[256]; /* $EVO_BUILD/evo (default build/evo) */
+extern char cli_tmp[128]; /* made by cli_setup, removed by cli_cleanup */
+
+/* Fill cli_evo and make cli_tmp (/tmp/evo-test-<name>-XXXXXX). 0 or -1. */
+int cli_setup(const char *name);
+void cli_cleanup(void);
+
+/* Run a shell command; its exit status, or -1 when it did not exit. */
+int cli_sh(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/* Run a shell command with its stdout and stderr in out (NUL-ended). */
+int cli_capture(char *out, size_t cap, const char *fmt, ...)
+	__attribute__((format(printf, 3, 4)));
+
+/* A file's whole text (free it), or NULL. */
+char *cli_read(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/* A learning run's log.csv without its two time columns, so runs can be
+ * compared (free it), or NULL. */
+char *cli_fitness_log(const char *run_dir);
+
+#endif
