@@ -21,6 +21,7 @@
 --
 -- Determinism as in learn.genetic: every draw goes through the given rng,
 -- and annealing.save / annealing.load hold the whole state.
+local common = require "learn.common"
 local neat = require "learn.neat"
 local genetic = require "learn.genetic"
 
@@ -35,8 +36,8 @@ annealing.defaults = {
 	weight_max = 8.0, -- weights are clamped to [-w, w] (.net needs |w| < 128)
 }
 
--- .simbatch key -> option name; SA_COOLING and SA_STEP are the short names
--- core's .simbatch parser already reserves (core/src/parse_simbatch.c).
+-- .simbatch key -> option name; SA_COOLING and SA_STEP are short names
+-- kept for tasks written with them.
 annealing.task_keys = {
 	SA_COOLING = "alpha",
 	SA_STEP = "step_power",
@@ -49,7 +50,7 @@ annealing.task_keys = {
 }
 
 function annealing.options_from_task(task)
-	return genetic.options_from(task, "SA_", annealing.task_keys, annealing.defaults)
+	return common.options_from(task, "SA_", annealing.task_keys, annealing.defaults)
 end
 
 annealing.to_net = genetic.to_net
@@ -141,23 +142,11 @@ function Pop:tell(fitness)
 end
 
 function annealing.save(pop)
-	local t = {}
-	for k, v in pairs(pop) do
-		if k ~= "rng" then t[k] = genetic.deep_copy(v) end
-	end
-	t.rng = pop.rng:save()
-	t.format = "evo-annealing-1"
-	return t
+	return common.save(pop, "evo-annealing-1")
 end
 
 function annealing.load(t, rng)
-	assert(t.format == "evo-annealing-1", "annealing.load: not an ANNEALING checkpoint")
-	local pop = setmetatable({}, Pop)
-	for k, v in pairs(t) do
-		if k ~= "rng" and k ~= "format" then pop[k] = genetic.deep_copy(v) end
-	end
-	pop.rng = rng or neat.rng_load(t.rng)
-	return pop
+	return common.load(t, "evo-annealing-1", Pop, rng, neat.rng_load)
 end
 
 return annealing

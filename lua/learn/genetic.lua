@@ -29,6 +29,7 @@
 -- seed gives the same run, and genetic.save / genetic.load hold it all.
 --
 -- Fitness is "higher is better"; NaN counts as the worst.
+local common = require "learn.common"
 local neat = require "learn.neat"
 
 local genetic = {}
@@ -46,8 +47,8 @@ genetic.defaults = {
 }
 
 -- .simbatch key -> option name. POPSIZE is the tutorial's own key;
--- GA_MUT_RATE and GA_MUT_POWER are the short names core's .simbatch parser
--- already reserves (core/src/parse_simbatch.c).
+-- GA_MUT_RATE and GA_MUT_POWER are short names kept for tasks written with
+-- them.
 genetic.task_keys = {
 	GA_MUT_RATE = "mutation_rate",
 	GA_MUT_POWER = "mutation_power",
@@ -65,38 +66,14 @@ genetic.task_keys = {
 
 local CHOICES = { crossover = { uniform = true, one_point = true } }
 
--- Options from a task table with `keys` (key -> option) over `defaults`;
--- keys starting with `prefix` that are not known are returned sorted (the
--- caller warns). Shared with learn.annealing.
-function genetic.options_from(task, prefix, keys, defaults, choices)
-	local names = {}
-	for k in pairs(task) do names[#names + 1] = k end
-	table.sort(names, function(a, b) return tostring(a) < tostring(b) end)
-	local opts, unknown = {}, {}
-	for _, k in ipairs(names) do
-		local name = keys[k]
-		if name then
-			local v = task[k]
-			if type(defaults[name]) == "number" then
-				local x = tonumber(v)
-				if not x then error(k .. ": expected a number, found '" .. tostring(v) .. "'", 0) end
-				opts[name] = x
-			else
-				local s = tostring(v):lower()
-				if choices and choices[name] and not choices[name][s] then
-					error(k .. ": unknown value '" .. tostring(v) .. "'", 0)
-				end
-				opts[name] = s
-			end
-		elseif type(k) == "string" and k:sub(1, #prefix) == prefix then
-			unknown[#unknown + 1] = k
-		end
-	end
-	return opts, unknown
-end
-
 function genetic.options_from_task(task)
-	return genetic.options_from(task, "GA_", genetic.task_keys, genetic.defaults, CHOICES)
+	return common.options_from(task, "GA_", genetic.task_keys, genetic.defaults,
+		function(key, s, value)
+			local name = genetic.task_keys[key]
+			if CHOICES[name] and not CHOICES[name][s] then
+				error(key .. ": unknown value '" .. tostring(value) .. "'", 0)
+			end
+		end)
 end
 
 local function merged(defaults, user, who)
@@ -298,35 +275,12 @@ end
 ---------------------------------------------------------------------------
 -- Checkpoints: plain tables, the rng's state included.
 
-local function deep_copy(v)
-	if type(v) ~= "table" then
-		assert(type(v) ~= "function" and type(v) ~= "userdata", "save: not plain data")
-		return v
-	end
-	local t = {}
-	for k, x in pairs(v) do t[k] = deep_copy(x) end
-	return t
-end
-genetic.deep_copy = deep_copy
-
 function genetic.save(pop)
-	local t = {}
-	for k, v in pairs(pop) do
-		if k ~= "rng" then t[k] = deep_copy(v) end
-	end
-	t.rng = pop.rng:save()
-	t.format = "evo-genetic-1"
-	return t
+	return common.save(pop, "evo-genetic-1")
 end
 
 function genetic.load(t, rng)
-	assert(t.format == "evo-genetic-1", "genetic.load: not a GENETIC checkpoint")
-	local pop = setmetatable({}, Pop)
-	for k, v in pairs(t) do
-		if k ~= "rng" and k ~= "format" then pop[k] = deep_copy(v) end
-	end
-	pop.rng = rng or neat.rng_load(t.rng)
-	return pop
+	return common.load(t, "evo-genetic-1", Pop, rng, neat.rng_load)
 end
 
 return genetic

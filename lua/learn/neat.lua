@@ -30,6 +30,8 @@
 -- Fitness is "higher is better". Fitness sharing needs fitness >= 0: when a
 -- generation has negative values they are shifted by the minimum for the
 -- offspring allotment only (the shift does not change the ranking).
+local common = require "learn.common"
+
 local neat = {}
 
 -- Every parameter, with the paper's value where the paper gives one.
@@ -111,43 +113,15 @@ local ACTIVATIONS = {
 	gauss = function(x) return math.exp(-x * x) end,
 }
 
-local function parse_value(key, default, value)
-	local t = type(default)
-	if t == "number" then
-		local v = tonumber(value)
-		if not v then error(key .. ": expected a number, found '" .. tostring(value) .. "'", 0) end
-		return v
-	elseif t == "boolean" then
-		if value == true or value == false then return value end
-		local s = tostring(value):lower()
-		if s == "1" or s == "true" or s == "yes" then return true end
-		if s == "0" or s == "false" or s == "no" then return false end
-		error(key .. ": expected true or false, found '" .. tostring(value) .. "'", 0)
-	end
-	local s = tostring(value):lower()
-	if key == "NEAT_ACTIVATION" and not ACTIVATIONS[s] then
-		error(key .. ": unknown activation '" .. tostring(value) .. "'", 0)
-	end
-	return s
-end
-
 -- Options from a task table (.simbatch key -> value, values as strings or
 -- numbers). Returns the options and the sorted list of NEAT_* keys it does
 -- not know (the caller warns); raises on a malformed value.
 function neat.options_from_task(task)
-	local keys = {}
-	for k in pairs(task) do keys[#keys + 1] = k end
-	table.sort(keys)
-	local opts, unknown = {}, {}
-	for _, k in ipairs(keys) do
-		local name = neat.task_keys[k]
-		if name then
-			opts[name] = parse_value(k, neat.defaults[name], task[k])
-		elseif type(k) == "string" and k:sub(1, 5) == "NEAT_" then
-			unknown[#unknown + 1] = k
+	return common.options_from(task, "NEAT_", neat.task_keys, neat.defaults, function(key, s, value)
+		if key == "NEAT_ACTIVATION" and not ACTIVATIONS[s] then
+			error(key .. ": unknown activation '" .. tostring(value) .. "'", 0)
 		end
-	end
-	return opts, unknown
+	end)
 end
 
 ---------------------------------------------------------------------------
@@ -663,36 +637,14 @@ end
 -- Checkpoints: a plain table (numbers, strings, booleans, tables) with the
 -- whole state, the rng's included.
 
-local function deep_copy(v)
-	if type(v) ~= "table" then
-		assert(type(v) ~= "function" and type(v) ~= "userdata", "neat.save: not plain data")
-		return v
-	end
-	local t = {}
-	for k, x in pairs(v) do t[k] = deep_copy(x) end
-	return t
-end
-
 function neat.save(pop)
-	local t = {}
-	for k, v in pairs(pop) do
-		if k ~= "rng" then t[k] = deep_copy(v) end
-	end
-	t.rng = pop.rng.save and pop.rng:save() or error("neat.save: the rng has no save()")
-	t.format = "evo-neat-1"
-	return t
+	return common.save(pop, "evo-neat-1")
 end
 
 -- The reverse of neat.save. Give `rng` to use another rng object (its
 -- state is then the caller's business); by default neat.rng_load(t.rng).
 function neat.load(t, rng)
-	assert(t.format == "evo-neat-1", "neat.load: not a NEAT checkpoint")
-	local pop = setmetatable({}, Pop)
-	for k, v in pairs(t) do
-		if k ~= "rng" and k ~= "format" then pop[k] = deep_copy(v) end
-	end
-	pop.rng = rng or neat.rng_load(t.rng)
-	return pop
+	return common.load(t, "evo-neat-1", Pop, rng, neat.rng_load)
 end
 
 ---------------------------------------------------------------------------

@@ -1,0 +1,82 @@
+-- What every learning method shares: reading its settings from a task and
+-- saving its whole state for a checkpoint.
+local common = {}
+
+-- A copy of plain data (numbers, strings, booleans, tables).
+function common.deep_copy(v)
+	if type(v) ~= "table" then
+		assert(type(v) ~= "function" and type(v) ~= "userdata", "save: not plain data")
+		return v
+	end
+	local t = {}
+	for k, x in pairs(v) do t[k] = common.deep_copy(x) end
+	return t
+end
+
+-- A value of .simbatch key `key` for an option whose default is `default`:
+-- a number, a boolean, or a lower-case string that check(key, s) may refuse
+-- by raising.
+local function parse_value(key, default, value, check)
+	local t = type(default)
+	if t == "number" then
+		local v = tonumber(value)
+		if not v then error(key .. ": expected a number, found '" .. tostring(value) .. "'", 0) end
+		return v
+	elseif t == "boolean" then
+		if value == true or value == false then return value end
+		local s = tostring(value):lower()
+		if s == "1" or s == "true" or s == "yes" then return true end
+		if s == "0" or s == "false" or s == "no" then return false end
+		error(key .. ": expected true or false, found '" .. tostring(value) .. "'", 0)
+	end
+	local s = tostring(value):lower()
+	if check then check(key, s, value) end
+	return s
+end
+
+-- Options from a task table (.simbatch key -> value) through `keys` (key ->
+-- option name) over `defaults`. Returns the options and the sorted list of
+-- keys starting with `prefix` that no option takes (the caller warns);
+-- raises on a malformed value.
+function common.options_from(task, prefix, keys, defaults, check)
+	local names = {}
+	for k in pairs(task) do names[#names + 1] = k end
+	table.sort(names, function(a, b) return tostring(a) < tostring(b) end)
+	local opts, unknown = {}, {}
+	for _, k in ipairs(names) do
+		local name = keys[k]
+		if name then
+			opts[name] = parse_value(k, defaults[name], task[k], check)
+		elseif type(k) == "string" and k:sub(1, #prefix) == prefix then
+			unknown[#unknown + 1] = k
+		end
+	end
+	return opts, unknown
+end
+
+-- A population as a plain table tagged with `format`, its rng's state
+-- included.
+function common.save(pop, format)
+	local t = {}
+	for k, v in pairs(pop) do
+		if k ~= "rng" then t[k] = common.deep_copy(v) end
+	end
+	t.rng = pop.rng.save and pop.rng:save() or error("save: the rng has no save()")
+	t.format = format
+	return t
+end
+
+-- The reverse of common.save: a population with metatable `class`. Give
+-- `rng` to use another rng object; by default one restored with
+-- rng_load(t.rng).
+function common.load(t, format, class, rng, rng_load)
+	assert(t.format == format, "load: not a " .. format .. " checkpoint")
+	local pop = setmetatable({}, class)
+	for k, v in pairs(t) do
+		if k ~= "rng" and k ~= "format" then pop[k] = common.deep_copy(v) end
+	end
+	pop.rng = rng or rng_load(t.rng)
+	return pop
+end
+
+return common
