@@ -19,24 +19,22 @@ static void wheel(evo_scene *sc, const evo_bot *b, const evo_actuator *a)
 	double f = (2 * c - 1) * a->def.max_force;
 	if (f == 0)
 		return;
-	evo_pose p = evo_body_pose(sc->world, b->body);
-	double bc = cos(p.angle), bs = sin(p.angle);
-	double wx = p.x + bc * a->def.x - bs * a->def.y;
-	double wy = p.y + bs * a->def.x + bc * a->def.y;
-	double dir = p.angle + a->def.angle;
-	evo_body_apply_force(sc->world, b->body, f * cos(dir), f * sin(dir), wx,
-			     wy);
+	double wx = b->x + b->c * a->def.x - b->s * a->def.y;
+	double wy = b->y + b->s * a->def.x + b->c * a->def.y;
+	/* the heading turned by the wheel's angle */
+	double ux = b->c * a->dir_c - b->s * a->dir_s;
+	double uy = b->s * a->dir_c + b->c * a->dir_s;
+	evo_body_apply_force(sc->world, b->body, f * ux, f * uy, wx, wy);
 }
 
 static void claw_grab(evo_scene *sc, int bot, evo_actuator *a)
 {
 	evo_bot *b = &sc->bot[bot];
-	evo_pose p = evo_body_pose(sc->world, b->body);
-	double bc = cos(p.angle), bs = sin(p.angle);
-	double px = p.x + bc * a->def.x - bs * a->def.y;
-	double py = p.y + bs * a->def.x + bc * a->def.y;
-	double dir = p.angle + a->def.angle;
-	int k = evo_scene_object_in_reach(sc, px, py, cos(dir), sin(dir), a->def.reach,
+	double px = b->x + b->c * a->def.x - b->s * a->def.y;
+	double py = b->y + b->s * a->def.x + b->c * a->def.y;
+	double ux = b->c * a->dir_c - b->s * a->dir_s;
+	double uy = b->s * a->dir_c + b->c * a->dir_s;
+	int k = evo_scene_object_in_reach(sc, px, py, ux, uy, a->def.reach,
 				CLAW_ARC);
 	if (k < 0)
 		return;

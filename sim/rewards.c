@@ -131,8 +131,7 @@ static double closing_on_target(evo_scene *sc, evo_reward *r, evo_bot *b)
 		r->previous = -1;
 		return 0;
 	}
-	evo_pose p = evo_body_pose(sc->world, b->body);
-	double d = hypot(tx - p.x, ty - p.y);
+	double d = hypot(tx - b->x, ty - b->y);
 	double v = r->previous >= 0 ? r->def.k * (r->previous - d) : 0;
 	r->previous = d;
 	return v;
@@ -166,9 +165,8 @@ static double forward_motion(evo_scene *sc, const evo_reward *r,
 			     const evo_bot *b)
 {
 	double vx, vy, w;
-	evo_pose p = evo_body_pose(sc->world, b->body);
 	evo_body_velocity(sc->world, b->body, &vx, &vy, &w);
-	double vf = vx * cos(p.angle) + vy * sin(p.angle);
+	double vf = vx * b->c + vy * b->s;
 	if (vf > 1e-3)
 		return r->def.k;
 	if (vf < -1e-3)

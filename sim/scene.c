@@ -321,6 +321,17 @@ int evo_scene_add_element(evo_scene *sc, const evo_element_def *d)
 	return sc->n_elements++;
 }
 
+/* Read the body's pose into the bot's cached frame. */
+static void refresh_pose(evo_scene *sc, evo_bot *b)
+{
+	evo_pose p = evo_body_pose(sc->world, b->body);
+	b->x = p.x;
+	b->y = p.y;
+	b->angle = p.angle;
+	b->c = cos(p.angle);
+	b->s = sin(p.angle);
+}
+
 int evo_scene_add_bot(evo_scene *sc, const evo_bot_def *d)
 {
 	double v[] = {d->x, d->y, d->angle};
@@ -348,6 +359,7 @@ int evo_scene_add_bot(evo_scene *sc, const evo_bot_def *d)
 			   : sqrt(d->body.half_w * d->body.half_w +
 				  d->body.half_h * d->body.half_h);
 	sc->bot[sc->n_bots] = b;
+	refresh_pose(sc, &sc->bot[sc->n_bots]);
 	return sc->n_bots++;
 }
 
@@ -458,6 +470,8 @@ int evo_scene_add_actuator(evo_scene *sc, int bot, const evo_actuator_def *d)
 	a->def.name = NULL;
 	a->command = a->previous = 0.5;
 	a->held = a->joint = -1;
+	a->dir_c = cos(d->angle);
+	a->dir_s = sin(d->angle);
 	return b->n_actuators++;
 }
 
@@ -673,6 +687,7 @@ void evo_scene_place_bot(evo_scene *sc, int bot, double x, double y,
 	evo_pose p = {x, y, angle};
 	evo_body_set_pose(sc->world, id, p);
 	evo_body_set_velocity(sc->world, id, 0, 0, 0);
+	refresh_pose(sc, &sc->bot[bot]);
 }
 
 void evo_scene_place_element(evo_scene *sc, int element, double x, double y)
@@ -691,6 +706,7 @@ void evo_scene_place_element(evo_scene *sc, int element, double x, double y)
 
 /* ---- the tick --------------------------------------------------------- */
 
+
 void evo_scene_sense(evo_scene *sc)
 {
 	for (int i = 0; i < sc->n_bots; i++)
@@ -706,9 +722,9 @@ int evo_scene_step(evo_scene *sc)
 	sc->tick++;
 	for (int i = 0; i < sc->n_bots; i++) {
 		evo_bot *b = &sc->bot[i];
-		evo_pose p = evo_body_pose(sc->world, b->body);
-		b->hist_x[b->hist_i] = p.x;
-		b->hist_y[b->hist_i] = p.y;
+		refresh_pose(sc, b);
+		b->hist_x[b->hist_i] = b->x;
+		b->hist_y[b->hist_i] = b->y;
 		b->hist_i = (b->hist_i + 1) % EVO_DOF_HISTORY;
 		if (b->hist_n < EVO_DOF_HISTORY)
 			b->hist_n++;
@@ -754,10 +770,9 @@ int evo_scene_step(evo_scene *sc)
 void evo_bot_to_world(const evo_scene *sc, int bot, double bx, double by,
 		      double *wx, double *wy)
 {
-	evo_pose p = evo_body_pose(sc->world, sc->bot[bot].body);
-	double c = cos(p.angle), s = sin(p.angle);
-	*wx = p.x + c * bx - s * by;
-	*wy = p.y + s * bx + c * by;
+	const evo_bot *b = &sc->bot[bot];
+	*wx = b->x + b->c * bx - b->s * by;
+	*wy = b->y + b->s * bx + b->c * by;
 }
 
 int evo_scene_target_pos(const evo_scene *sc, int bot, int target, double *x,
@@ -773,13 +788,13 @@ int evo_scene_target_pos(const evo_scene *sc, int bot, int target, double *x,
 	}
 	if (target != EVO_TARGET_NEAREST_OBJECT || bot < 0 || bot >= sc->n_bots)
 		return 0;
-	evo_pose p = evo_body_pose(sc->world, sc->bot[bot].body);
+	const evo_bot *b = &sc->bot[bot];
 	double best = INFINITY;
 	for (int k = 0; k < sc->n_objects; k++) {
 		const evo_element *e = &sc->element[sc->object[k]];
 		if (!e->active || e->held_by >= 0)
 			continue;
-		double d = hypot(e->x - p.x, e->y - p.y);
+		double d = hypot(e->x - b->x, e->y - b->y);
 		if (d < best) {
 			best = d;
 			*x = e->x;

@@ -205,6 +205,7 @@ typedef struct evo_actuator {
 	double previous; /* the command of the previous step (claw edges) */
 	int held;	 /* claw: element index held, or -1 */
 	int joint;	 /* claw: the weld's id in the world, or -1 */
+	double dir_c, dir_s; /* cos and sin of def.angle */
 } evo_actuator;
 
 /* ---- bots ------------------------------------------------------------ */
@@ -229,6 +230,11 @@ typedef struct evo_bot {
 	/* movement: a ring of the last EVO_DOF_HISTORY positions */
 	double hist_x[EVO_DOF_HISTORY], hist_y[EVO_DOF_HISTORY];
 	int hist_n, hist_i;
+	/* The body's pose after the last step or placement, with its
+	 * cosine and sine: worked out once and read by the sensors, the
+	 * actuators and the rewards of the tick (the pose changes only
+	 * there) */
+	double x, y, angle, c, s;
 	int touching;	 /* contacts this tick */
 	int collisions;	 /* ticks spent touching since the reset */
 	int delivered;	 /* objects this bot carried into a zone since the reset */

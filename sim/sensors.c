@@ -48,10 +48,9 @@ static int same_body(evo_body_id a, evo_body_id b)
 	return a.index == b.index && a.generation == b.generation;
 }
 
-static frame bot_frame(const evo_scene *sc, const evo_bot *b)
+static frame bot_frame(const evo_bot *b)
 {
-	evo_pose p = evo_body_pose(sc->world, b->body);
-	frame f = {p.x, p.y, cos(p.angle), sin(p.angle)};
+	frame f = {b->x, b->y, b->c, b->s};
 	return f;
 }
 
@@ -345,7 +344,7 @@ double evo_sensor_sample(evo_scene *sc, int bot, int sensor)
 	evo_bot *b = &sc->bot[bot];
 	assert(sensor >= 0 && sensor < b->n_sensors);
 	evo_sensor *se = &b->sensor[sensor];
-	frame f = bot_frame(sc, b);
+	frame f = bot_frame(b);
 	shape_set set;
 	set.s = set.local;
 	set.n = 0;
@@ -362,7 +361,7 @@ void evo_bot_sense(evo_scene *sc, int bot)
 {
 	assert(bot >= 0 && bot < sc->n_bots);
 	evo_bot *b = &sc->bot[bot];
-	frame f = bot_frame(sc, b);
+	frame f = bot_frame(b);
 	double reach = 0;
 	uint16_t mask = 0;
 	for (int i = 0; i < b->n_sensors; i++) {
