@@ -384,8 +384,8 @@ int evo_run_main(int argc, char **argv)
 	int r = v ? run_viewer(s, v, &o, seed, &err)
 		  : run_headless(s, &o, seed, &err);
 	s->trace = NULL;
-	if (trace_close(&tf, r == 0, r == 0 ? &err : &(evo_err){{0}}) == 0 &&
-	    r == 0)
+	/* A failed run drops its trace; trace_close then leaves err alone. */
+	if (trace_close(&tf, r == 0, &err) == 0 && r == 0)
 		rc = 0;
 out:
 	if (rc != 0 && err.msg[0])
