@@ -5,6 +5,7 @@
 #include <math.h>
 
 #include "harness.h"
+#include "support/scenes.h"
 #include "scene.h"
 
 #define NEAR(a, b, tol) (fabs((a) - (b)) <= (tol))
@@ -15,15 +16,9 @@ enum { MOT_L = 0, MOT_R = 1, CLAW = 2 };
 /* BotType8: MotL at (0, -1) (its left), MotR at (0, +1), both pushing
  * along the heading with 80 N; a claw on the rim ahead. Objects are added
  * by the caller, which then resets. */
-static evo_scene *scene_with_bot(double x, double y, double angle)
+static evo_scene *bot_with_wheels_and_claw(double x, double y, double angle)
 {
-	evo_scene *sc = evo_scene_create();
-	evo_bot_def b = evo_default_bot_def();
-	b.name = "bot";
-	b.x = x;
-	b.y = y;
-	b.angle = angle;
-	evo_scene_add_bot(sc, &b);
+	evo_scene *sc = scene_with_bot(x, y, angle);
 	evo_actuator_def w = evo_default_actuator_def(EVO_ACT_WHEEL);
 	w.name = "MotL";
 	w.y = -1;
@@ -35,15 +30,6 @@ static evo_scene *scene_with_bot(double x, double y, double angle)
 	c.name = "Claw";
 	evo_scene_add_actuator(sc, 0, &c);
 	return sc;
-}
-
-static int add_object(evo_scene *sc, double x, double y, double r)
-{
-	evo_element_def e = evo_default_element_def(EVO_ELEM_OBJECT);
-	e.x = x;
-	e.y = y;
-	e.size = r;
-	return evo_scene_add_element(sc, &e);
 }
 
 static void drive(evo_scene *sc, double left, double right, int ticks)
@@ -69,7 +55,7 @@ static evo_pose object_pose(const evo_scene *sc, int obj)
 
 TEST(full_forward_drives_straight_ahead)
 {
-	evo_scene *sc = scene_with_bot(0, 5, 0);
+	evo_scene *sc = bot_with_wheels_and_claw(0, 5, 0);
 	evo_scene_reset(sc, 1, 1);
 	drive(sc, 1, 1, 60);
 	evo_pose p = pose(sc);
@@ -82,7 +68,7 @@ TEST(full_forward_drives_straight_ahead)
 
 TEST(full_reverse_drives_straight_back)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
 	evo_scene_reset(sc, 1, 1);
 	drive(sc, 0, 0, 60);
 	CHECK(pose(sc).x < -8);
@@ -93,7 +79,7 @@ TEST(full_reverse_drives_straight_back)
 TEST(forward_follows_the_heading)
 {
 	/* Facing 90° (clockwise on screen: downward, +y). */
-	evo_scene *sc = scene_with_bot(0, 0, 90 * DEG);
+	evo_scene *sc = bot_with_wheels_and_claw(0, 0, 90 * DEG);
 	evo_scene_reset(sc, 1, 1);
 	drive(sc, 1, 1, 30);
 	evo_pose p = pose(sc);
@@ -105,7 +91,7 @@ TEST(forward_follows_the_heading)
 
 TEST(neutral_commands_leave_the_bot_still)
 {
-	evo_scene *sc = scene_with_bot(2, 3, 0.4);
+	evo_scene *sc = bot_with_wheels_and_claw(2, 3, 0.4);
 	evo_scene_reset(sc, 1, 1);
 	drive(sc, 0.5, 0.5, 60);
 	evo_pose p = pose(sc);
@@ -119,7 +105,7 @@ TEST(turn_left_decreases_the_heading)
 	/* MotR pushing forward at (0, +1) and MotL backward at (0, -1): a
 	 * negative torque in Box2D's frame, which y down shows as a turn
 	 * counter-clockwise on screen, to the bot's left. */
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
 	evo_scene_reset(sc, 1, 1);
 	drive(sc, 0, 1, 15);
 	evo_pose p = pose(sc);
@@ -131,7 +117,7 @@ TEST(turn_left_decreases_the_heading)
 
 TEST(turn_right_increases_the_heading)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
 	evo_scene_reset(sc, 1, 1);
 	drive(sc, 1, 0, 15);
 	CHECK(pose(sc).angle > 0.2);
@@ -141,7 +127,7 @@ TEST(turn_right_increases_the_heading)
 TEST(one_wheel_curves_toward_the_other_side)
 {
 	/* Only MotL pushes: the bot moves forward and turns right. */
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
 	evo_scene_reset(sc, 1, 1);
 	drive(sc, 1, 0.5, 20);
 	evo_pose p = pose(sc);
@@ -156,14 +142,14 @@ TEST(commands_are_clamped)
 	/* 3 pushes as 1 does; a command that is not a number, not at all. */
 	double x[2];
 	for (int k = 0; k < 2; k++) {
-		evo_scene *sc = scene_with_bot(0, 0, 0);
+		evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
 		evo_scene_reset(sc, 1, 1);
 		drive(sc, k ? 3 : 1, k ? 3 : 1, 20);
 		x[k] = pose(sc).x;
 		evo_scene_destroy(sc);
 	}
 	CHECK(x[0] == x[1]);
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
 	evo_scene_reset(sc, 1, 1);
 	drive(sc, NAN, NAN, 20);
 	CHECK(pose(sc).x == 0);
@@ -202,8 +188,8 @@ static void claw(evo_scene *sc, double command)
 
 TEST(claw_grabs_on_a_rising_edge_and_carries)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
-	int obj = add_object(sc, 2.2, 0, 0.5); /* surface 0.7 from the claw */
+	evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
+	int obj = scene_add_element(sc, EVO_ELEM_OBJECT, 2.2, 0, 0.5); /* surface 0.7 from the claw */
 	evo_scene_reset(sc, 1, 1);
 	const evo_actuator *a = &sc->bot[0].actuator[CLAW];
 	claw(sc, 0.5);
@@ -230,8 +216,8 @@ TEST(claw_grabs_on_a_rising_edge_and_carries)
 
 TEST(claw_releases_on_a_falling_edge)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
-	int obj = add_object(sc, 2.2, 0, 0.5);
+	evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
+	int obj = scene_add_element(sc, EVO_ELEM_OBJECT, 2.2, 0, 0.5);
 	evo_scene_reset(sc, 1, 1);
 	const evo_actuator *a = &sc->bot[0].actuator[CLAW];
 	claw(sc, 1);
@@ -254,8 +240,8 @@ TEST(claw_grabs_on_the_edge_not_the_level)
 {
 	/* Shut while nothing was in reach: an object arriving later is not
 	 * taken until the claw opens and closes again. */
-	evo_scene *sc = scene_with_bot(0, 0, 0);
-	int obj = add_object(sc, 10, 0, 0.5);
+	evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
+	int obj = scene_add_element(sc, EVO_ELEM_OBJECT, 10, 0, 0.5);
 	evo_scene_reset(sc, 1, 1);
 	const evo_actuator *a = &sc->bot[0].actuator[CLAW];
 	claw(sc, 1);
@@ -280,8 +266,8 @@ TEST(claw_does_not_grab_out_of_reach_or_behind)
 	    {20, 20},
 	};
 	for (unsigned k = 0; k < sizeof where / sizeof where[0]; k++) {
-		evo_scene *sc = scene_with_bot(0, 0, 0);
-		int obj = add_object(sc, where[k][0], where[k][1], 0.5);
+		evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
+		int obj = scene_add_element(sc, EVO_ELEM_OBJECT, where[k][0], where[k][1], 0.5);
 		evo_scene_reset(sc, 1, 1);
 		claw(sc, 1);
 		CHECK_EQ_INT(sc->bot[0].actuator[CLAW].held, -1);
@@ -292,9 +278,9 @@ TEST(claw_does_not_grab_out_of_reach_or_behind)
 
 TEST(claw_takes_the_nearest_free_object)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
-	int far = add_object(sc, 2.8, 0.9, 0.5);
-	int near = add_object(sc, 2.3, -0.4, 0.5);
+	evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
+	int far = scene_add_element(sc, EVO_ELEM_OBJECT, 2.8, 0.9, 0.5);
+	int near = scene_add_element(sc, EVO_ELEM_OBJECT, 2.3, -0.4, 0.5);
 	evo_scene_reset(sc, 1, 1);
 	claw(sc, 1);
 	CHECK_EQ_INT(sc->bot[0].actuator[CLAW].held, near);
@@ -304,8 +290,8 @@ TEST(claw_takes_the_nearest_free_object)
 
 TEST(a_held_object_is_not_taken_by_another_bot)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
-	int obj = add_object(sc, 2.2, 0, 0.5);
+	evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
+	int obj = scene_add_element(sc, EVO_ELEM_OBJECT, 2.2, 0, 0.5);
 	/* A second bot facing the first, its claw reaching the object. */
 	evo_bot_def b = evo_default_bot_def();
 	b.name = "other";
@@ -326,8 +312,8 @@ TEST(a_held_object_is_not_taken_by_another_bot)
 
 TEST(release_opens_every_claw)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
-	int obj = add_object(sc, 2.2, 0, 0.5);
+	evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
+	int obj = scene_add_element(sc, EVO_ELEM_OBJECT, 2.2, 0, 0.5);
 	evo_scene_reset(sc, 1, 1);
 	claw(sc, 1);
 	CHECK_EQ_INT(sc->element[obj].held_by, 0);

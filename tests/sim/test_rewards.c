@@ -5,30 +5,24 @@
 #include <stdio.h>
 
 #include "harness.h"
+#include "support/scenes.h"
 #include "scene.h"
 
 #define NEAR(a, b) (fabs((a) - (b)) <= 1e-9)
 
 /* A scene with one BotType8 body at (x, y) facing `angle`. */
-static evo_scene *scene_with_bot(double x, double y, double angle)
+/* scene_with_bot, checking that the bot was added */
+static evo_scene *scene_with_one_bot(double x, double y, double angle)
 {
-	evo_scene *sc = evo_scene_create();
-	evo_bot_def d = evo_default_bot_def();
-	d.x = x;
-	d.y = y;
-	d.angle = angle;
-	CHECK_EQ_INT(evo_scene_add_bot(sc, &d), 0);
+	evo_scene *sc = scene_with_bot(x, y, angle);
+	CHECK_EQ_INT(sc->n_bots, 1);
 	return sc;
 }
 
 static int add_element(evo_scene *sc, evo_element_kind kind, double x, double y,
 		       double size)
 {
-	evo_element_def d = evo_default_element_def(kind);
-	d.x = x;
-	d.y = y;
-	d.size = size;
-	int i = evo_scene_add_element(sc, &d);
+	int i = scene_add_element(sc, kind, x, y, size);
 	CHECK(i >= 0);
 	return i;
 }
@@ -36,12 +30,7 @@ static int add_element(evo_scene *sc, evo_element_kind kind, double x, double y,
 static int add_box(evo_scene *sc, double x, double y, double half_w,
 		   double half_h)
 {
-	evo_element_def d = evo_default_element_def(EVO_ELEM_BOX);
-	d.x = x;
-	d.y = y;
-	d.half_w = half_w;
-	d.half_h = half_h;
-	int i = evo_scene_add_element(sc, &d);
+	int i = scene_add_box(sc, x, y, half_w, half_h, 0);
 	CHECK(i >= 0);
 	return i;
 }
@@ -168,7 +157,7 @@ TEST(names_resolve_with_and_without_their_prefix)
 
 TEST(closing_on_target_pays_k_per_unit_of_distance_gained)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = scene_with_one_bot(0, 0, 0);
 	int zone = add_element(sc, EVO_ELEM_ZONE, 10, 0, 1);
 	evo_reward_def d = reward_def(EVO_RW_CLOSING_ON_TARGET, 0.5);
 	d.target = zone;
@@ -203,7 +192,7 @@ TEST(closing_on_target_pays_k_per_unit_of_distance_gained)
 
 TEST(closing_on_the_nearest_object_and_on_no_target)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = scene_with_one_bot(0, 0, 0);
 	int a = add_element(sc, EVO_ELEM_OBJECT, 5, 0, 0.5);
 	int b = add_element(sc, EVO_ELEM_OBJECT, -8, 0, 0.5);
 	evo_reward_def d = reward_def(EVO_RW_CLOSING_ON_TARGET, 1.0);
@@ -232,7 +221,7 @@ TEST(closing_on_the_nearest_object_and_on_no_target)
 
 TEST(sensor_over_and_under_sum_the_distance_past_the_threshold)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = scene_with_one_bot(0, 0, 0);
 	for (int i = 0; i < 3; i++)
 		add_constant_sensor(sc, 0.5);
 	evo_reward_def under = reward_def(EVO_RW_SENSOR_UNDER, -10);
@@ -270,7 +259,7 @@ TEST(sensor_over_and_under_sum_the_distance_past_the_threshold)
 /* The bot driven at 6 m/s towards a wall whose face is 2.5 m ahead. */
 static evo_scene *bot_before_a_wall(void)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = scene_with_one_bot(0, 0, 0);
 	add_box(sc, 4, 0, 0.5, 3);
 	return sc;
 }
@@ -305,7 +294,7 @@ TEST(punish_on_collision_pays_k_every_touching_step)
 
 TEST(forward_motion_pays_k_ahead_and_k2_backward)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = scene_with_one_bot(0, 0, 0);
 	evo_reward_def d = reward_def(EVO_RW_FORWARD_MOTION, 0.002);
 	d.k2 = -0.02;
 	int r = add_reward(sc, &d);
@@ -344,7 +333,7 @@ TEST(forward_motion_pays_k_ahead_and_k2_backward)
 
 TEST(speed_pays_k_times_speed_squared)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = scene_with_one_bot(0, 0, 0);
 	evo_reward_def d = reward_def(EVO_RW_SPEED, 0.1);
 	int r = add_reward(sc, &d);
 	evo_scene_reset(sc, 1, 1);
@@ -360,7 +349,7 @@ TEST(speed_pays_k_times_speed_squared)
 
 TEST(step_pays_k_every_step)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = scene_with_one_bot(0, 0, 0);
 	evo_reward_def d = reward_def(EVO_RW_STEP, 0.25);
 	int r = add_reward(sc, &d);
 	evo_scene_reset(sc, 1, 1);
@@ -388,7 +377,7 @@ static void grab(evo_scene *sc)
 
 TEST(collect_delivers_a_carried_object_once)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = scene_with_one_bot(0, 0, 0);
 	int obj = add_element(sc, EVO_ELEM_OBJECT, 1.6, 0, 0.5);
 	int zone = add_element(sc, EVO_ELEM_ZONE, 6, 0, 1);
 	int claw = add_claw(sc, 1, 0);
@@ -437,7 +426,7 @@ TEST(collect_delivers_a_carried_object_once)
 
 TEST(collect_ignores_a_free_object_in_the_zone)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = scene_with_one_bot(0, 0, 0);
 	int obj = add_element(sc, EVO_ELEM_OBJECT, 6, 0, 0.5);
 	int zone = add_element(sc, EVO_ELEM_ZONE, 6, 0, 2);
 	add_claw(sc, 1, 0);
@@ -461,7 +450,7 @@ TEST(collect_ignores_a_free_object_in_the_zone)
  * episode has them back and delivers them again. */
 TEST(collect_two_objects_in_the_last_step)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = scene_with_one_bot(0, 0, 0);
 	int o1 = add_element(sc, EVO_ELEM_OBJECT, 1.6, -1, 0.4);
 	int o2 = add_element(sc, EVO_ELEM_OBJECT, 1.6, 1, 0.4);
 	int zone = add_element(sc, EVO_ELEM_ZONE, 1.6, 0, 1.5);
@@ -532,7 +521,7 @@ static int control_hook(void *ctx, evo_scene *sc, const evo_control *c,
 
 TEST(a_lua_reward_calls_the_hook_and_reports_its_failure)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = scene_with_one_bot(0, 0, 0);
 	evo_reward_def d = reward_def(EVO_RW_LUA, 1);
 	int r = add_reward(sc, &d);
 	evo_scene_reset(sc, 1, 1);
@@ -565,7 +554,7 @@ TEST(a_lua_reward_calls_the_hook_and_reports_its_failure)
 
 TEST(timeout_ends_after_ticks_plus_one_checks)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = scene_with_one_bot(0, 0, 0);
 	int c = add_control(sc, EVO_CF_NEXT_ON_TIMEOUT, 3, EVO_TARGET_NONE);
 	evo_scene_reset(sc, 1, 1);
 	for (int t = 0; t < 3; t++)
@@ -615,7 +604,7 @@ TEST(next_on_collision_ends_at_the_first_touch_not_before)
 TEST(collision_and_timeout_ends_on_either_and_keeps_counting)
 {
 	/* Nothing to hit: the timeout. */
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = scene_with_one_bot(0, 0, 0);
 	int c = add_control(sc, EVO_CF_NEXT_ON_COLLISION_AND_TIMEOUT, 5,
 			    EVO_TARGET_NONE);
 	evo_scene_reset(sc, 1, 1);
@@ -662,7 +651,7 @@ static int drive_until_touching(evo_scene *sc, double vx, double vy)
 
 TEST(collision_with_target_ends_only_on_that_element)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = scene_with_one_bot(0, 0, 0);
 	int cyl = add_element(sc, EVO_ELEM_CYLINDER, 0, -4, 1);
 	int box = add_box(sc, 4, 0, 0.5, 1);
 	int obj = add_element(sc, EVO_ELEM_OBJECT, -3.5, 0, 0.5);
@@ -711,7 +700,7 @@ TEST(collision_with_target_ends_only_on_that_element)
 
 TEST(sensor_below_ends_under_the_threshold)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = scene_with_one_bot(0, 0, 0);
 	int s = add_constant_sensor(sc, 0.5);
 	evo_control_def d =
 	    evo_default_control_def(EVO_CF_NEXT_ON_SENSOR_BELOW);
@@ -735,7 +724,7 @@ TEST(sensor_below_ends_under_the_threshold)
 
 TEST(a_lua_control_calls_the_hook_and_reports_its_failure)
 {
-	evo_scene *sc = scene_with_bot(0, 0, 0);
+	evo_scene *sc = scene_with_one_bot(0, 0, 0);
 	int c = add_control(sc, EVO_CF_LUA, 0, EVO_TARGET_NONE);
 	evo_scene_reset(sc, 1, 1);
 

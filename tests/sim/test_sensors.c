@@ -5,6 +5,7 @@
 #include <stdio.h>
 
 #include "harness.h"
+#include "support/scenes.h"
 #include "scene.h"
 
 #define NEAR(a, b, tol) (fabs((a) - (b)) <= (tol))
@@ -12,18 +13,6 @@
 
 /* A scene with one BotType8 body at (x, y) facing angle; reset by the
  * caller once everything is added. */
-static evo_scene *scene_with_bot(double x, double y, double angle)
-{
-	evo_scene *sc = evo_scene_create();
-	evo_bot_def b = evo_default_bot_def();
-	b.name = "bot";
-	b.x = x;
-	b.y = y;
-	b.angle = angle;
-	evo_scene_add_bot(sc, &b);
-	return sc;
-}
-
 /* BotType8's proximity sensor: on the rim at `angle`, range 12, ±6°,
  * nine rays. */
 static int add_prox(evo_scene *sc, double angle)
@@ -42,45 +31,6 @@ static int add_sensor(evo_scene *sc, evo_sensor_kind kind, int target)
 	return evo_scene_add_sensor(sc, 0, &d);
 }
 
-static int add_cylinder(evo_scene *sc, double x, double y, double r)
-{
-	evo_element_def e = evo_default_element_def(EVO_ELEM_CYLINDER);
-	e.x = x;
-	e.y = y;
-	e.size = r;
-	return evo_scene_add_element(sc, &e);
-}
-
-static int add_box(evo_scene *sc, double x, double y, double hw, double hh,
-		   double angle)
-{
-	evo_element_def e = evo_default_element_def(EVO_ELEM_BOX);
-	e.x = x;
-	e.y = y;
-	e.half_w = hw;
-	e.half_h = hh;
-	e.angle = angle;
-	return evo_scene_add_element(sc, &e);
-}
-
-static int add_zone(evo_scene *sc, double x, double y, double half)
-{
-	evo_element_def e = evo_default_element_def(EVO_ELEM_ZONE);
-	e.x = x;
-	e.y = y;
-	e.size = half;
-	return evo_scene_add_element(sc, &e);
-}
-
-static int add_object(evo_scene *sc, double x, double y, double r)
-{
-	evo_element_def e = evo_default_element_def(EVO_ELEM_OBJECT);
-	e.x = x;
-	e.y = y;
-	e.size = r;
-	return evo_scene_add_element(sc, &e);
-}
-
 static double value(evo_scene *sc, int sensor)
 {
 	return sc->bot[0].sensor[sensor].value;
@@ -92,7 +42,7 @@ TEST(proximity_reads_a_wall_ahead)
 {
 	/* The wall's face is at x = 2.5, the sensor on the rim at x = 1. */
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	add_box(sc, 3.0, 0, 0.5, 5, 0);
+	scene_add_box(sc, 3.0, 0, 0.5, 5, 0);
 	int s = add_prox(sc, 0);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
@@ -109,7 +59,7 @@ TEST(proximity_reads_a_wall_ahead)
 TEST(proximity_reads_a_cylinder_ahead)
 {
 	evo_scene *sc = scene_with_bot(10, -4, 0);
-	add_cylinder(sc, 10 + 1 + 4 + 2, -4, 2); /* rim 4 away */
+	scene_add_element(sc, EVO_ELEM_CYLINDER, 10 + 1 + 4 + 2, -4, 2); /* rim 4 away */
 	int s = add_prox(sc, 0);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
@@ -120,9 +70,9 @@ TEST(proximity_reads_a_cylinder_ahead)
 TEST(proximity_reads_one_when_clear)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	add_cylinder(sc, 30, 0, 2); /* beyond the range */
-	add_cylinder(sc, -5, 0, 2); /* behind */
-	add_cylinder(sc, 6, 4, 1);  /* beside the fan (±6°) */
+	scene_add_element(sc, EVO_ELEM_CYLINDER, 30, 0, 2); /* beyond the range */
+	scene_add_element(sc, EVO_ELEM_CYLINDER, -5, 0, 2); /* behind */
+	scene_add_element(sc, EVO_ELEM_CYLINDER, 6, 4, 1);  /* beside the fan (±6°) */
 	int s = add_prox(sc, 0);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
@@ -139,7 +89,7 @@ TEST(proximity_dead_zone_reads_zero)
 	for (int k = 0; k < 2; k++) {
 		double gap = k == 0 ? 0.05 : 0.1;
 		evo_scene *sc = scene_with_bot(0, 0, 0);
-		add_box(sc, 1 + gap + 0.5, 0, 0.5, 5, 0);
+		scene_add_box(sc, 1 + gap + 0.5, 0, 0.5, 5, 0);
 		int s = add_prox(sc, 0);
 		evo_scene_reset(sc, 1, 1);
 		evo_scene_sense(sc);
@@ -159,7 +109,7 @@ TEST(proximity_at_90_degrees_looks_right)
 	for (int k = 0; k < 2; k++) {
 		double side = k == 0 ? 1 : -1;
 		evo_scene *sc = scene_with_bot(0, 0, 0);
-		add_cylinder(sc, 0, 5 * side, 1);
+		scene_add_element(sc, EVO_ELEM_CYLINDER, 0, 5 * side, 1);
 		int right = add_prox(sc, 90 * DEG);
 		int left = add_prox(sc, -90 * DEG);
 		evo_scene_reset(sc, 1, 1);
@@ -177,7 +127,7 @@ TEST(proximity_turns_with_the_bot)
 	/* Facing +y (90° clockwise on screen), the front sensor sees what
 	 * lies below the bot on screen. */
 	evo_scene *sc = scene_with_bot(0, 0, 90 * DEG);
-	add_cylinder(sc, 0, 7, 1);
+	scene_add_element(sc, EVO_ELEM_CYLINDER, 0, 7, 1);
 	int front = add_prox(sc, 0);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
@@ -221,7 +171,7 @@ TEST(proximity_sees_other_bots_and_masks_them)
 TEST(proximity_ignores_an_object_its_claw_holds)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	int obj = add_object(sc, 2.0, 0, 0.5);
+	int obj = scene_add_element(sc, EVO_ELEM_OBJECT, 2.0, 0, 0.5);
 	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_PROXIMITY);
 	d.x = 1;
 	d.mask = EVO_CAT_OBSTACLE | EVO_CAT_BOT | EVO_CAT_OBJECT;
@@ -243,8 +193,8 @@ TEST(proximity_ignores_an_object_its_claw_holds)
 TEST(sample_of_one_sensor_matches_sense)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0.3);
-	add_cylinder(sc, 6, 3, 1.5);
-	add_box(sc, 4, -4, 1, 2, 0.4);
+	scene_add_element(sc, EVO_ELEM_CYLINDER, 6, 3, 1.5);
+	scene_add_box(sc, 4, -4, 1, 2, 0.4);
 	int ids[10];
 	for (int i = 0; i < 10; i++)
 		ids[i] = add_prox(sc, (i * 36 - 180) * DEG);
@@ -343,15 +293,15 @@ TEST(proximity_agrees_with_box2d_ray_casts)
 			double x = evo_rng_range(&r, -15, 15);
 			double y = evo_rng_range(&r, -15, 15);
 			if (evo_rng_unit(&r) < 0.5)
-				add_cylinder(sc, x, y,
+				scene_add_element(sc, EVO_ELEM_CYLINDER, x, y,
 					     evo_rng_range(&r, 0.3, 4));
 			else
-				add_box(sc, x, y, evo_rng_range(&r, 0.2, 3),
+				scene_add_box(sc, x, y, evo_rng_range(&r, 0.2, 3),
 					evo_rng_range(&r, 0.2, 3),
 					evo_rng_range(&r, -M_PI, M_PI));
 		}
 		for (int i = 0; i < 4; i++)
-			add_object(sc, evo_rng_range(&r, -12, 12),
+			scene_add_element(sc, EVO_ELEM_OBJECT, evo_rng_range(&r, -12, 12),
 				   evo_rng_range(&r, -12, 12),
 				   evo_rng_range(&r, 0.3, 1));
 		for (int i = 0; i < 3; i++) {
@@ -417,7 +367,7 @@ TEST(proximity_in_a_crowd)
 TEST(distance_to_the_target)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	int z = add_zone(sc, 30, 0, 2);
+	int z = scene_add_element(sc, EVO_ELEM_ZONE, 30, 0, 2);
 	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_DISTANCE);
 	d.target = z;
 	d.x = 1; /* measured from the sensor's point */
@@ -442,8 +392,8 @@ TEST(distance_to_the_target)
 TEST(distance_to_the_nearest_object)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	add_object(sc, 0, 40, 0.5);
-	add_object(sc, -20, 0, 0.5);
+	scene_add_element(sc, EVO_ELEM_OBJECT, 0, 40, 0.5);
+	scene_add_element(sc, EVO_ELEM_OBJECT, -20, 0, 0.5);
 	int s = add_sensor(sc, EVO_SENSOR_DISTANCE, EVO_TARGET_NEAREST_OBJECT);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
@@ -461,7 +411,7 @@ TEST(bearing_of_the_target)
 		     {-20, 0, 1.0}, {20, 20, 0.625}, {-20, -20, 0.125}};
 	for (unsigned k = 0; k < sizeof cases / sizeof cases[0]; k++) {
 		evo_scene *sc = scene_with_bot(5, 5, 0);
-		int z = add_zone(sc, 5 + cases[k].x, 5 + cases[k].y, 1);
+		int z = scene_add_element(sc, EVO_ELEM_ZONE, 5 + cases[k].x, 5 + cases[k].y, 1);
 		int s = add_sensor(sc, EVO_SENSOR_BEARING, z);
 		evo_scene_reset(sc, 1, 1);
 		evo_scene_sense(sc);
@@ -471,8 +421,8 @@ TEST(bearing_of_the_target)
 	/* The bearing is relative to the heading: facing +y, a target at
 	 * +y is ahead and one at +x is on the left. */
 	evo_scene *sc = scene_with_bot(0, 0, 90 * DEG);
-	int ahead = add_zone(sc, 0, 20, 1);
-	int left = add_zone(sc, 20, 0, 1);
+	int ahead = scene_add_element(sc, EVO_ELEM_ZONE, 0, 20, 1);
+	int left = scene_add_element(sc, EVO_ELEM_ZONE, 20, 0, 1);
 	int s1 = add_sensor(sc, EVO_SENSOR_BEARING, ahead);
 	int s2 = add_sensor(sc, EVO_SENSOR_BEARING, left);
 	int s3 = add_sensor(sc, EVO_SENSOR_BEARING, EVO_TARGET_NONE);
@@ -487,8 +437,8 @@ TEST(bearing_of_the_target)
 TEST(zone_in_and_out)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	int home = add_zone(sc, 1, 1, 3);
-	int away = add_zone(sc, 20, 0, 3);
+	int home = scene_add_element(sc, EVO_ELEM_ZONE, 1, 1, 3);
+	int away = scene_add_element(sc, EVO_ELEM_ZONE, 20, 0, 3);
 	int in = add_sensor(sc, EVO_SENSOR_ZONE, home);
 	int out = add_sensor(sc, EVO_SENSOR_ZONE, away);
 	evo_scene_reset(sc, 1, 1);
@@ -511,7 +461,7 @@ TEST(zone_in_and_out)
 TEST(presence_of_the_target)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	int z = add_zone(sc, 10, 0, 3);
+	int z = scene_add_element(sc, EVO_ELEM_ZONE, 10, 0, 3);
 	int s = add_sensor(sc, EVO_SENSOR_PRESENCE, z);
 	int obj =
 	    add_sensor(sc, EVO_SENSOR_PRESENCE, EVO_TARGET_NEAREST_OBJECT);
@@ -528,7 +478,7 @@ TEST(presence_of_the_target)
 
 	/* Objects: present while one is active and free. */
 	sc = scene_with_bot(0, 0, 0);
-	int o = add_object(sc, 2, 0, 0.5);
+	int o = scene_add_element(sc, EVO_ELEM_OBJECT, 2, 0, 0.5);
 	obj = add_sensor(sc, EVO_SENSOR_PRESENCE, EVO_TARGET_NEAREST_OBJECT);
 	evo_actuator_def c = evo_default_actuator_def(EVO_ACT_CLAW);
 	int claw = evo_scene_add_actuator(sc, 0, &c);
@@ -562,7 +512,7 @@ TEST(object_detector_in_reach_ahead_only)
 	};
 	for (unsigned k = 0; k < sizeof cases / sizeof cases[0]; k++) {
 		evo_scene *sc = scene_with_bot(0, 0, 0);
-		add_object(sc, cases[k].x, cases[k].y, 0.5);
+		scene_add_element(sc, EVO_ELEM_OBJECT, cases[k].x, cases[k].y, 0.5);
 		int s = add_sensor(sc, EVO_SENSOR_OBJECT, EVO_TARGET_NONE);
 		evo_scene_reset(sc, 1, 1);
 		evo_scene_sense(sc);
@@ -576,7 +526,7 @@ TEST(object_detector_in_reach_ahead_only)
 TEST(object_detector_ignores_held_and_inactive_objects)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	int o = add_object(sc, 2.0, 0, 0.5);
+	int o = scene_add_element(sc, EVO_ELEM_OBJECT, 2.0, 0, 0.5);
 	int s = add_sensor(sc, EVO_SENSOR_OBJECT, EVO_TARGET_NONE);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
@@ -698,7 +648,7 @@ TEST(constant_reads_its_value_clamped)
 TEST(holding_while_the_claw_holds)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	add_object(sc, 2.0, 0, 0.5);
+	scene_add_element(sc, EVO_ELEM_OBJECT, 2.0, 0, 0.5);
 	int s = add_sensor(sc, EVO_SENSOR_HOLDING, EVO_TARGET_NONE);
 	evo_actuator_def c = evo_default_actuator_def(EVO_ACT_CLAW);
 	int claw = evo_scene_add_actuator(sc, 0, &c);
