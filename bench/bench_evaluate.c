@@ -32,11 +32,11 @@ static double now(void)
 
 /* Seconds for one batch, or a negative value on failure. */
 static double time_batch(evo_evaluator *ev, const evo_netdesc *const *c,
-			 double *fit)
+			 evo_eval_result *res)
 {
 	evo_err err = {{0}};
 	double t0 = now();
-	if (evo_evaluate(ev, c, N_CAND, 0, fit, &err)) {
+	if (evo_evaluate(ev, c, N_CAND, 0, res, &err)) {
 		fprintf(stderr, "bench_evaluate: %s\n", err.msg);
 		return -1;
 	}
@@ -84,7 +84,7 @@ int main(int argc, char **argv)
 			goto out;
 		c[i] = &net[i];
 	}
-	double f1[N_CAND], f2[N_CAND];
+	evo_eval_result f1[N_CAND], f2[N_CAND];
 	/* A first batch each, untimed: page faults, Lua's first calls. */
 	if (time_batch(e1, c, f1) < 0 || time_batch(e2, c, f2) < 0)
 		goto out;
@@ -102,7 +102,11 @@ int main(int argc, char **argv)
 		best1 = t1 < best1 ? t1 : best1;
 		best2 = t2 < best2 ? t2 : best2;
 	}
-	if (memcmp(f1, f2, sizeof f1) != 0) {
+	int same = 1;
+	for (int i = 0; i < N_CAND; i++)
+		same &= f1[i].fitness == f2[i].fitness &&
+			f1[i].collisions == f2[i].collisions;
+	if (!same) {
 		fprintf(stderr, "bench_evaluate: 1 and 2 threads gave "
 				"different fitness\n");
 		goto out;

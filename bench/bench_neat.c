@@ -10,7 +10,7 @@
  * (minds/XOR/Tasks/XOR-NEAT.simbatch, minds/DoublePole/Tasks/DPV-NEAT,
  * minds/DoublePoleNV/Tasks/DPNV-NEAT) with --seed s for s = 1 .. N, so
  * it is exactly what a user gets. A run stops in the generation where a
- * candidate solves the task (learnsim.lua, the solved mark 1e6); its
+ * candidate solves the task (the log's `solved` column); its
  * evaluations are the sum of log.csv's evaluations column, and a run that
  * reaches NUMGEN unsolved is a failure. Means are over the solved runs.
  * DPNV's generalisation is that of each solved run's champion, recomputed
@@ -92,22 +92,22 @@ static int run_once(const task *t, int seed, long *evals, int *solved,
 		fprintf(stderr, "bench_neat: %s\n", err.msg);
 		return -1;
 	}
-	/* generation,best,mean,best_ever,species,evaluations,... */
+	/* generation,best,mean,best_ever,species,evaluations,solved,... */
 	*evals = 0;
-	double best_ever = 0;
+	*solved = 0;
 	char *line = strchr(data, '\n'); /* skip the header */
 	while (line && line[1]) {
 		line++;
-		double col[6];
-		if (sscanf(line, "%lf,%lf,%lf,%lf,%lf,%lf", &col[0], &col[1],
-			   &col[2], &col[3], &col[4], &col[5]) == 6) {
+		double col[7];
+		if (sscanf(line, "%lf,%lf,%lf,%lf,%lf,%lf,%lf", &col[0],
+			   &col[1], &col[2], &col[3], &col[4], &col[5],
+			   &col[6]) == 7) {
 			*evals += (long)col[5];
-			best_ever = col[3];
+			*solved = col[6] > 0;
 		}
 		line = strchr(line, '\n');
 	}
 	free(data);
-	*solved = best_ever >= EVO_LIT_SOLVED_BONUS;
 	*general = -1;
 	if (*solved && t->paper_general) {
 		snprintf(path, sizeof path, "%s/m/%s/Skills/%s/%s.net", tmpdir,

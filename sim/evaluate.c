@@ -49,7 +49,7 @@ struct evo_evaluator {
 	int busy;
 	const evo_netdesc *const *cand;
 	int n, gen, next;
-	double *fitness;
+	evo_eval_result *res;
 	int failed;
 	evo_err err; /* the first failure */
 };
@@ -70,22 +70,24 @@ uint64_t evo_eval_episode_seed(uint64_t seed, int gen, int cand, int rep)
 }
 
 /* Candidate i on worker w: bind it, run the reps, sum the rewards. */
-static int evaluate_one(worker *w, int i, double *fitness, evo_err *err)
+static int evaluate_one(worker *w, int i, evo_eval_result *res, evo_err *err)
 {
 	evo_evaluator *ev = w->ev;
+	memset(res, 0, sizeof *res);
 	if (w->lit) {
 		/* Deterministic and seedless: one run, whatever EVALREP. */
 		evo_lit_result r;
 		if (evo_lit_evaluate(w->lit, ev->cand[i], &r, err))
 			return -1;
-		*fitness = r.fitness + (r.solved ? EVO_LIT_SOLVED_BONUS : 0);
+		res->fitness = r.fitness;
+		res->solved = r.solved;
 		return 0;
 	}
 	evo_loaded *l = w->task.mind;
 	*l->net[w->skill] = *ev->cand[i];
 	if (evo_loaded_rebuild(l, err) || evo_sim_set_mind(w->sim, l, err))
 		return -1;
-	double sum = 0;
+	const evo_bot *bot = &w->sim->scene->bot[w->sim->bot];
 	for (int r = 0; r < ev->reps; r++) {
 		if (evo_sim_reset(
 			w->sim, r + 1, evo_eval_grid_seed(ev->seed, ev->gen, r),
@@ -98,9 +100,9 @@ static int evaluate_one(worker *w, int i, double *fitness, evo_err *err)
 			if (st > 0)
 				break;
 		}
-		sum += w->sim->scene->episode_reward;
+		res->fitness += w->sim->scene->episode_reward;
+		res->collisions += bot->collisions;
 	}
-	*fitness = sum;
 	return 0;
 }
 
@@ -174,11 +176,11 @@ static void *worker_main(void *arg)
 		while (!ev->failed && ev->next < ev->n) {
 			int i = ev->next++;
 			pthread_mutex_unlock(&ev->mu);
-			double f = 0;
-			rc = evaluate_one(w, i, &f, &e);
+			evo_eval_result r;
+			rc = evaluate_one(w, i, &r, &e);
 			pthread_mutex_lock(&ev->mu);
 			if (rc == 0) {
-				ev->fitness[i] = f;
+				ev->res[i] = r;
 			} else if (!ev->failed) {
 				ev->failed = 1;
 				evo_fail(&ev->err, "candidate %d: %s", i,
@@ -323,30 +325,29 @@ unsigned evo_evaluator_n_out(const evo_evaluator *ev)
 }
 
 /* DPNV as the paper runs it: the best candidate of the generation (the
- * first of equals) is tested for 100,000 steps and generalisation; a
- * solver gets the solved mark. Done here, after the batch, so it does not
+ * first of equals) is tested for 100,000 steps and generalisation, and
+ * only it can be a solver. Done here, after the batch, so it does not
  * depend on the threads. */
 static int dpnv_check_champion(const evo_netdesc *const *cand, int n,
-			       double *fitness, evo_err *err)
+			       evo_eval_result *res, evo_err *err)
 {
 	int best = 0;
 	for (int i = 1; i < n; i++)
-		if (fitness[i] > fitness[best])
+		if (res[i].fitness > res[best].fitness)
 			best = i;
 	evo_lit_result r;
 	evo_err e;
 	if (evo_lit_dpnv_check(cand[best], &r, &e))
 		return evo_fail(err, "candidate %d: %s", best, e.msg);
-	if (r.solved)
-		fitness[best] += EVO_LIT_SOLVED_BONUS;
+	res[best].solved = r.solved;
 	return 0;
 }
 
 int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
-		 int gen, double *fitness, evo_err *err)
+		 int gen, evo_eval_result *res, evo_err *err)
 {
-	if (n < 0 || (n > 0 && (!candidates || !fitness)))
-		return evo_fail(err, "evaluate: no candidates or no fitness "
+	if (n < 0 || (n > 0 && (!candidates || !res)))
+		return evo_fail(err, "evaluate: no candidates or no result "
 				     "array");
 	/* Shapes are checked here, before any worker starts, so a wrong
 	 * candidate is named the same way whatever the thread count. */
@@ -371,7 +372,7 @@ int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
 	ev->n = n;
 	ev->gen = gen;
 	ev->next = 0;
-	ev->fitness = fitness;
+	ev->res = res;
 	ev->failed = 0;
 	ev->err.msg[0] = 0;
 	ev->busy = ev->threads;
@@ -383,9 +384,9 @@ int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
 	if (failed)
 		*err = ev->err;
 	else if (ev->w[0].lit == EVO_LIT_DPNV)
-		failed = dpnv_check_champion(candidates, n, fitness, err);
+		failed = dpnv_check_champion(candidates, n, res, err);
 	ev->cand = NULL;
-	ev->fitness = NULL;
+	ev->res = NULL;
 	pthread_mutex_unlock(&ev->mu);
 	return failed ? -1 : 0;
 }

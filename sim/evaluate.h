@@ -8,9 +8,11 @@
  * worker's net slot of the learning skill, the mind image is rebuilt and
  * rebound, and the repetitions run.
  *
- * Fitness: fitness[i] is the sum over the `reps` repetitions of the
+ * Fitness: res[i].fitness is the sum over the `reps` repetitions of the
  * episode reward (scene->episode_reward) of candidate i, each episode
- * ending when a control function ends it or after `ticks` ticks.
+ * ending when a control function ends it or after `ticks` ticks;
+ * res[i].collisions sums the ticks the learning bot spent touching
+ * something.
  *
  * Seeds: repetition r (0-based) of candidate i (its index in the batch)
  * in generation g runs
@@ -25,10 +27,11 @@
  *
  * Literature tasks: when the task's ENV is XOR, DPV or DPNV the workers
  * build no simulation and score each candidate once with sim/literature.h
- * (seedless and deterministic; EVALREP and TICKLIM do not apply); a
- * candidate that solves the task gets EVO_LIT_SOLVED_BONUS added. For DPNV
- * the batch's best candidate (the first of equals) is then given the
- * paper's success test, on the calling thread. */
+ * (seedless and deterministic; EVALREP and TICKLIM do not apply), and
+ * res[i].solved says whether candidate i met the task's success
+ * criterion. For DPNV only the batch's best candidate (the first of
+ * equals) is given the paper's success test, on the calling thread, as
+ * the paper did. */
 #ifndef EVO_EVALUATE_H
 #define EVO_EVALUATE_H
 
@@ -70,14 +73,23 @@ unsigned evo_evaluator_n_out(const evo_evaluator *ev);
 uint64_t evo_eval_grid_seed(uint64_t seed, int gen, int rep);
 uint64_t evo_eval_episode_seed(uint64_t seed, int gen, int cand, int rep);
 
+/* What an evaluation gives. */
+typedef struct evo_eval_result {
+	double fitness;	 /* summed over the repetitions */
+	long collisions; /* ticks the learning bot spent touching something,
+			  * summed over the repetitions (0 for literature
+			  * tasks) */
+	int solved;	 /* literature tasks: the success criterion was met */
+} evo_eval_result;
+
 /* Evaluate candidates[0 .. n-1] (not owned; read while the call runs) in
- * generation gen, filling fitness[0 .. n-1]. Returns when the whole batch
- * is done. Returns 0, or -1 with err set to "candidate I: why" (a network
+ * generation gen, filling res[0 .. n-1]. Returns when the whole batch is
+ * done. Returns 0, or -1 with err set to "candidate I: why" (a network
  * whose inputs or outputs do not fit the skill, a network the mind image
- * refuses, a script error); then fitness is unspecified, and the other
+ * refuses, a script error); then res is unspecified, and the other
  * workers stopped at their next candidate. Not reentrant: one batch at a
  * time per evaluator. */
 int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
-		 int gen, double *fitness, evo_err *err);
+		 int gen, evo_eval_result *res, evo_err *err);
 
 #endif

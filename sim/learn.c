@@ -120,7 +120,9 @@ static void to_netdesc(lua_State *L, int idx, int which, evo_netdesc *d)
 	lua_pop(L, 1);
 }
 
-/* evo.evaluate(nets, generation) -> fitness list, seconds */
+/* evo.evaluate(nets, generation) -> fitness list, seconds, solved list
+ * (booleans: the literature tasks' success criterion), collisions list
+ * (ticks the bot spent touching, summed over the repetitions). */
 static int l_evaluate(lua_State *L)
 {
 	learn *l = ctx(L);
@@ -129,11 +131,11 @@ static int l_evaluate(lua_State *L)
 	int n = (int)luaL_len(L, 1);
 	evo_netdesc *nets = calloc((size_t)(n ? n : 1), sizeof *nets);
 	const evo_netdesc **ptr = calloc((size_t)(n ? n : 1), sizeof *ptr);
-	double *fit = calloc((size_t)(n ? n : 1), sizeof *fit);
-	if (!nets || !ptr || !fit) {
+	evo_eval_result *res = calloc((size_t)(n ? n : 1), sizeof *res);
+	if (!nets || !ptr || !res) {
 		free(nets);
 		free(ptr);
-		free(fit);
+		free(res);
 		return luaL_error(L, "out of memory");
 	}
 	for (int i = 0; i < n; i++) {
@@ -144,23 +146,33 @@ static int l_evaluate(lua_State *L)
 	}
 	evo_err err = {{0}};
 	double t0 = now();
-	int rc = evo_evaluate(l->ev, ptr, n, gen, fit, &err);
+	int rc = evo_evaluate(l->ev, ptr, n, gen, res, &err);
 	double dt = now() - t0;
 	free(nets);
 	free(ptr);
 	if (rc) {
-		free(fit);
+		free(res);
 		lua_pushstring(L, err.msg);
 		return lua_error(L);
 	}
 	lua_createtable(L, n, 0);
 	for (int i = 0; i < n; i++) {
-		lua_pushnumber(L, fit[i]);
+		lua_pushnumber(L, res[i].fitness);
 		lua_rawseti(L, -2, i + 1);
 	}
-	free(fit);
 	lua_pushnumber(L, dt);
-	return 2;
+	lua_createtable(L, n, 0);
+	for (int i = 0; i < n; i++) {
+		lua_pushboolean(L, res[i].solved);
+		lua_rawseti(L, -2, i + 1);
+	}
+	lua_createtable(L, n, 0);
+	for (int i = 0; i < n; i++) {
+		lua_pushinteger(L, res[i].collisions);
+		lua_rawseti(L, -2, i + 1);
+	}
+	free(res);
+	return 4;
 }
 
 static int l_open_log(lua_State *L)
@@ -190,6 +202,7 @@ static int l_log(lua_State *L)
 		.best_ever = field_num(L, 1, "best_ever", NAN),
 		.species = (int)field_num(L, 1, "species", 0),
 		.evaluations = (long)field_num(L, 1, "evaluations", 0),
+		.solved = (int)field_num(L, 1, "solved", 0),
 		.seconds = field_num(L, 1, "seconds", 0),
 		.elapsed = now() - l->started,
 	};
@@ -333,6 +346,10 @@ static int open_module(lua_State *L)
 	lua_setfield(L, -2, "outputs");
 	lua_pushboolean(L, l->opts->resume);
 	lua_setfield(L, -2, "resume");
+	lua_pushinteger(L, evo_evaluator_reps(l->ev));
+	lua_setfield(L, -2, "reps");
+	lua_pushinteger(L, (lua_Integer)evo_evaluator_ticks(l->ev));
+	lua_setfield(L, -2, "ticks");
 	/* GENETIC and ANNEALING evolve the fixed layered network of the
 	 * skill's `layers:` (1 when absent, as the .ades reader says). */
 	int k = evo_loaded_skill(l->task->mind, l->skill);

@@ -26,12 +26,6 @@
 #include "evo/evo.h"
 #include "fileio.h"
 
-/* What a candidate that solves its task gets added to its fitness, so a
- * run can stop on a fitness threshold (learnsim.lua). The run stops at the
- * end of that generation, so the mark never steers evolution; it only
- * makes the champion a solver. */
-#define EVO_LIT_SOLVED_BONUS 1e6
-
 #define EVO_LIT_POLE_SUCCESS   100000L /* steps that count as balanced */
 #define EVO_LIT_DAMPING_STEPS  1000L   /* the DPNV fitness run */
 #define EVO_LIT_GENERAL_STEPS  1000L   /* each generalisation start */

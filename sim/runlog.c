@@ -9,7 +9,8 @@
 #include <sys/stat.h>
 
 static const char HEADER[] =
-	"generation,best,mean,best_ever,species,evaluations,seconds,elapsed\n";
+	"generation,best,mean,best_ever,species,evaluations,solved,seconds,"
+	"elapsed\n";
 
 static int make_dirs(const char *path, evo_err *err)
 {
@@ -96,9 +97,10 @@ int evo_runlog_add(evo_runlog *log, const evo_gen_stats *s, evo_err *err)
 	 * only when their fitness values are bit for bit the same. The
 	 * times come last and are left out of such comparisons. */
 	char row[512];
-	int n = snprintf(row, sizeof row, "%d,%.17g,%.17g,%.17g,%d,%ld,%.3f,%.3f\n",
+	int n = snprintf(row, sizeof row, "%d,%.17g,%.17g,%.17g,%d,%ld,%d,%.3f,%.3f\n",
 			 s->generation, s->best, s->mean, s->best_ever,
-			 s->species, s->evaluations, s->seconds, s->elapsed);
+			 s->species, s->evaluations, s->solved, s->seconds,
+			 s->elapsed);
 	if (append(log, row, (size_t)n, err))
 		return -1;
 	return evo_runlog_save(log, "log.csv", log->csv, log->len, err);
@@ -143,9 +145,13 @@ void evo_progress_format(char *buf, size_t cap, const evo_gen_stats *s,
 		bar[22] = ' ';
 		bar[23] = 0;
 	}
-	char species[32] = "";
+	char species[64] = "";
 	if (s->species > 0)
 		snprintf(species, sizeof species, "  species %d", s->species);
+	if (s->solved > 0)
+		snprintf(species + strlen(species),
+			 sizeof species - strlen(species), "  solved %d",
+			 s->solved);
 	char total[32] = "";
 	if (s->generations > 0)
 		snprintf(total, sizeof total, "/%d", s->generations);

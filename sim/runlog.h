@@ -19,6 +19,8 @@ typedef struct evo_gen_stats {
 	double best_ever;
 	int species;	   /* 0 when the method has none */
 	long evaluations;  /* this generation's */
+	int solved;	   /* candidates that met the task's success
+			    * criterion (literature tasks), else 0 */
 	double seconds;	   /* this generation's wall time */
 	double elapsed;	   /* since the run started */
 } evo_gen_stats;

@@ -22,25 +22,28 @@ if not generations or generations < 1 or generations ~= math.floor(generations) 
 	error("NUMGEN must be a whole number of generations, found '" .. tostring(task.NUMGEN) .. "'", 0)
 end
 
--- Stop early once the best fitness reaches a target: TARGETFITNESS, or for
--- the literature tasks (ENV XOR, DPV, DPNV) their solved mark, 1e6, which
--- sim/literature.h adds to a candidate that solves the task.
+-- Stop early once the best fitness reaches TARGETFITNESS, or, on the
+-- literature tasks (ENV XOR, DPV, DPNV), once a candidate solves the task.
 local target = tonumber(task.TARGETFITNESS or "")
-if not target and ({ XOR = true, DPV = true, DPNV = true })[(task.ENV or ""):upper()] then
-	target = 1e6
-end
+local literature = ({ XOR = true, DPV = true, DPNV = true })[(task.ENV or ""):upper()]
+
+-- How many of a fresh population's networks the final replay compares the
+-- champion with.
+local REPLAY_RANDOM = 20
 
 local options, unknown = algo.options_from_task(task)
 for _, k in ipairs(unknown) do evo.warn("unknown key " .. k .. " (ignored)") end
 
-local pop, first, history
+local pop, first, history, solver
 local saved = evo.resume and evo.read("checkpoint.lua")
 if saved then
 	local c = serialize.load(saved, "checkpoint.lua")
 	pop = algo.load(c.pop)
 	first = c.generation + 1
 	history = c.history
+	solver = c.solver
 	evo.print(string.format("resuming after generation %d", c.generation))
+	if c.stopped then generations = c.generation + 1 end
 else
 	-- layers: the skill's `layers:`, the fixed shape of GENETIC and
 	-- ANNEALING (NEAT grows its own and ignores it).
@@ -55,11 +58,17 @@ for gen = first, generations - 1 do
 	local genomes = pop:genomes()
 	local nets = {}
 	for i, g in ipairs(genomes) do nets[i] = algo.to_net(g) end
-	local fitness, seconds = evo.evaluate(nets, gen)
-	local best_i, sum = 1, 0
+	local fitness, seconds, solved = evo.evaluate(nets, gen)
+	local best_i, sum, n_solved = 1, 0, 0
 	for i, f in ipairs(fitness) do
 		sum = sum + f
 		if f > fitness[best_i] then best_i = i end
+		if solved[i] then
+			n_solved = n_solved + 1
+			if not solver or f > solver.fitness then
+				solver = { net = nets[i], fitness = f, generation = gen }
+			end
+		end
 	end
 	local best_net = nets[best_i]
 	pop:tell(fitness)
@@ -69,21 +78,58 @@ for gen = first, generations - 1 do
 		string.format("generation %d, fitness %.17g", gen, fitness[best_i])))
 	evo.log{ generation = gen, generations = generations, best = fitness[best_i],
 		mean = sum / #fitness, best_ever = pop.best.fitness, species = #pop.species,
-		evaluations = #fitness, seconds = seconds }
+		evaluations = #fitness, solved = n_solved, seconds = seconds }
+	local stop
+	if solver then
+		stop = string.format("solved in generation %d", gen)
+	elseif target and pop.best.fitness >= target then
+		stop = string.format("target fitness %.17g reached in generation %d", target, gen)
+	end
 	-- The checkpoint last: a run killed before it is written resumes from
 	-- the previous generation and redoes this one identically.
 	evo.save("checkpoint.lua", serialize.dump{ generation = gen, pop = algo.save(pop),
-		history = history })
-	if target and pop.best.fitness >= target then
-		evo.print(string.format("target fitness %.17g reached in generation %d", target, gen))
+		history = history, solver = solver, stopped = stop ~= nil })
+	if stop then
+		evo.print(stop)
 		generations = gen + 1
 		break
 	end
 end
 
-local champion = algo.to_net(pop.best.genome)
+-- The champion: the best solver when the task has a success criterion and
+-- a candidate met it, else the best network the method has seen.
+local champion, champion_fitness
+if solver then
+	champion, champion_fitness = solver.net, solver.fitness
+else
+	champion, champion_fitness = algo.to_net(pop.best.genome), pop.best.fitness
+end
 evo.save_champion(algo.to_net_text(champion, string.format(
 	"trained by evo: %s, seed %d, %d generations, fitness %.17g",
-	method, evo.seed, generations, pop.best.fitness)))
+	method, evo.seed, generations, champion_fitness)))
 evo.curve(history.best, history.mean)
-return pop.best.fitness
+
+-- In a world, replay the champion beside networks as the method first
+-- drew them, on episodes training never saw (those of generation NUMGEN),
+-- and print what each scores and how long each spent touching things.
+if not literature then
+	local fresh = algo.new{ inputs = evo.inputs, outputs = evo.outputs, layers = evo.layers,
+		options = options, rng = neat.rng(evo.seed + 1) }
+	local nets = { champion }
+	for i, g in ipairs(fresh:genomes()) do
+		if i > REPLAY_RANDOM then break end
+		nets[#nets + 1] = algo.to_net(g)
+	end
+	local fitness, _, _, collisions = evo.evaluate(nets, tonumber(task.NUMGEN or "50"))
+	local f_sum, c_sum = 0, 0
+	for i = 2, #nets do
+		f_sum, c_sum = f_sum + fitness[i], c_sum + collisions[i]
+	end
+	local n = #nets - 1
+	evo.print(string.format("replay on unseen episodes (%d x %d ticks each):", evo.reps, evo.ticks))
+	evo.print(string.format("  champion:                 fitness %12.1f, %7d collision ticks",
+		fitness[1], collisions[1]))
+	evo.print(string.format("  untrained networks (%2d): fitness %12.1f, %7.0f collision ticks (mean)",
+		n, f_sum / n, c_sum / n))
+end
+return champion_fitness

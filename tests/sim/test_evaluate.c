@@ -55,17 +55,23 @@ static evo_evaluator *make(int threads, uint64_t seed, int reps, long ticks)
 	return ev;
 }
 
+/* The last batch's results, whose fitness run_batch copies to fit. */
+static evo_eval_result last[N_CAND + 8];
+
 static int run_batch(evo_evaluator *ev, const evo_netdesc *const *c, int n,
 		     int gen, double *fit)
 {
 	evo_err err = {{0}};
-	int rc = evo_evaluate(ev, c, n, gen, fit, &err);
+	int rc = evo_evaluate(ev, c, n, gen, last, &err);
 	if (rc)
 		printf("  evaluate: %s\n", err.msg);
+	for (int i = 0; i < n && rc == 0; i++)
+		fit[i] = last[i].fitness;
 	return rc;
 }
 
 static double fit1[N_CAND], fit2[N_CAND];
+static long col1[N_CAND];
 
 TEST(defaults_from_the_task)
 {
@@ -93,15 +99,24 @@ TEST(threads_do_not_change_fitness)
 		goto out;
 	const evo_netdesc *const *c = (const evo_netdesc *const *)cand;
 	CHECK_EQ_INT(run_batch(e1, c, N_CAND, 0, fit1), 0);
+	for (int i = 0; i < N_CAND; i++)
+		col1[i] = last[i].collisions;
 	CHECK_EQ_INT(run_batch(e2, c, N_CAND, 0, fit2), 0);
 	CHECK(memcmp(fit1, fit2, sizeof fit1) == 0);
-	for (int i = 0; i < N_CAND; i++)
-		printf("  candidate %d: %.6f\n", i, fit1[i]);
-	/* Not all alike: the candidates really differ. */
-	int differ = 0;
-	for (int i = 1; i < N_CAND; i++)
+	/* Not all alike: the candidates really differ. Random weights this
+	 * large drive the bot into things: some candidate collides, and
+	 * the collision counts too do not depend on the threads. */
+	int differ = 0, collided = 0;
+	for (int i = 0; i < N_CAND; i++) {
+		printf("  candidate %d: %.6f, %ld collision ticks\n", i,
+		       fit1[i], col1[i]);
 		differ |= fit1[i] != fit1[0];
+		collided |= col1[i] > 0;
+		CHECK(last[i].collisions == col1[i]);
+		CHECK(!last[i].solved);
+	}
 	CHECK(differ);
+	CHECK(collided);
 
 	double again[N_CAND];
 	CHECK_EQ_INT(run_batch(e2, c, N_CAND, 0, again), 0);
@@ -171,14 +186,15 @@ TEST(wrong_shape_is_refused)
 	evo_netdesc *bad = random_net(&r, 10, 2, 1);
 	const evo_netdesc *c[3] = {cand[0], cand[1], bad};
 	double f[3];
+	evo_eval_result res[3];
 	evo_err err = {{0}};
-	CHECK_EQ_INT(evo_evaluate(ev, c, 3, 0, f, &err), -1);
+	CHECK_EQ_INT(evo_evaluate(ev, c, 3, 0, res, &err), -1);
 	CHECK_CONTAINS(err.msg, "candidate 2");
 	CHECK_CONTAINS(err.msg, "10 inputs");
 	CHECK_CONTAINS(err.msg, "skill Avoid has 11 inputs");
 	bad->n_in = 11;
 	bad->n_out = 3;
-	CHECK_EQ_INT(evo_evaluate(ev, c, 3, 0, f, &err), -1);
+	CHECK_EQ_INT(evo_evaluate(ev, c, 3, 0, res, &err), -1);
 	CHECK_CONTAINS(err.msg, "candidate 2");
 	CHECK_CONTAINS(err.msg, "3 outputs");
 	c[2] = cand[2];

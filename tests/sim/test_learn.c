@@ -18,6 +18,7 @@
 #include "support/cli.h"
 #include "fileio.h"
 #include "harness.h"
+#include "literature.h"
 
 /* A copy of the Avoid example with a small LEARNSIM task for `method`,
  * so training never touches minds/ and runs in seconds; `extra` is more
@@ -208,7 +209,7 @@ TEST(genetic_trains_and_threads_do_not_change_the_log)
 		CHECK_EQ_INT(count_rows(a), 3);
 		/* 10 evaluations a generation, no species */
 		CHECK_CONTAINS(a, "\n2,");
-		CHECK_CONTAINS(a, ",0,10,\n");
+		CHECK_CONTAINS(a, ",0,10,0,\n");
 		CHECK_EQ_STR(a, b);
 	}
 	free(a);
@@ -225,10 +226,88 @@ TEST(annealing_trains)
 	if (a) {
 		CHECK_EQ_INT(count_rows(a), 3);
 		/* SA_STEPS_PER_GENERATION's default: 10 candidates */
-		CHECK_CONTAINS(a, ",0,10,\n");
+		CHECK_CONTAINS(a, ",0,10,0,\n");
 	}
 	free(a);
 	check_layered_champion("a", "ANNEALING");
+}
+
+/* The last row of a log (fitness columns only). */
+static const char *last_row(const char *log)
+{
+	const char *end = log + strlen(log);
+	const char *p = end - 1; /* the last row's newline */
+	while (p > log && p[-1] != '\n')
+		p--;
+	return p;
+}
+
+/* XOR stops in the generation where a candidate first solves it (the
+ * log's `solved` column), not at NUMGEN, and the champion saved is a
+ * solver: evo's own XOR check passes on the saved network. */
+TEST(xor_stops_when_solved_and_keeps_the_solver)
+{
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/x && cp -r minds/XOR %s/x/ && "
+			    "sed -i 's/^NUMGEN:.*/NUMGEN:300/' "
+			    "%s/x/XOR/Tasks/XOR-NEAT.simbatch",
+			    cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_sh("%s run %s/x/XOR/Tasks/XOR-NEAT.simbatch --seed 3 "
+			    "--run %s/x/run > %s/x/out.txt 2>&1",
+			    cli_evo, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	char run[256];
+	snprintf(run, sizeof run, "%s/x/run", cli_tmp);
+	char *log = cli_fitness_log(run), *out = cli_read("%s/x/out.txt", cli_tmp);
+	CHECK(log && out);
+	if (log && out) {
+		int rows = count_rows(log);
+		const char *last = last_row(log);
+		printf("  solved after %d generations: %s", rows, last);
+		CHECK(rows < 300);
+		/* generation,best,mean,best_ever,species,evaluations,solved */
+		int commas = 0;
+		const char *p = last;
+		while (*p && commas < 6)
+			commas += *p++ == ',';
+		CHECK(atoi(p) >= 1);
+		/* only the last generation has a solver */
+		CHECK(strstr(log, ",0,\n") != NULL || rows == 1);
+		CHECK_CONTAINS(out, "solved in generation");
+		CHECK(strstr(out, "replay on unseen episodes") == NULL);
+	}
+	free(log);
+	free(out);
+	char *net = cli_read("%s/x/XOR/Skills/XOR/XOR.net", cli_tmp);
+	CHECK(net != NULL);
+	if (net) {
+		static evo_netdesc d;
+		evo_diag diag;
+		CHECK(evo_netdesc_parse(net, strlen(net), "XOR.net", &d,
+					&diag) == EVO_OK);
+		evo_lit_result r;
+		evo_err err = {{0}};
+		CHECK_EQ_INT(evo_lit_xor(&d, &r, &err), 0);
+		CHECK_EQ_INT(r.solved, 1);
+	}
+	free(net);
+}
+
+/* A world task ends by replaying the champion beside untrained networks
+ * on unseen episodes, printing both fitness and collision ticks. */
+TEST(world_run_ends_with_a_replay_report)
+{
+	make_mind("r", "NEAT", 2, NEAT_TASK);
+	CHECK_EQ_INT(train("r", "--threads 2"), 0);
+	char *out = cli_read("%s/r/out.txt", cli_tmp);
+	CHECK(out != NULL);
+	if (out) {
+		CHECK_CONTAINS(out, "replay on unseen episodes (2 x 150 ticks");
+		CHECK_CONTAINS(out, "  champion: ");
+		CHECK_CONTAINS(out, "  untrained networks (20): ");
+		CHECK_CONTAINS(out, "collision ticks (mean)");
+	}
+	free(out);
 }
 
 int main(void)
@@ -240,6 +319,8 @@ int main(void)
 	RUN(unknown_method_is_a_clear_error);
 	RUN(genetic_trains_and_threads_do_not_change_the_log);
 	RUN(annealing_trains);
+	RUN(xor_stops_when_solved_and_keeps_the_solver);
+	RUN(world_run_ends_with_a_replay_report);
 	cli_cleanup();
 	return test_summary();
 }

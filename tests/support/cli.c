@@ -85,10 +85,10 @@ char *cli_fitness_log(const char *run_dir)
 	for (char *line = data; *line;) {
 		char *end = strchr(line, '\n');
 		size_t n = end ? (size_t)(end - line) : strlen(line);
-		/* keep up to the 6th comma: generation .. evaluations */
+		/* keep up to the 7th comma: generation .. solved */
 		size_t keep = 0;
 		int commas = 0;
-		while (keep < n && commas < 6)
+		while (keep < n && commas < 7)
 			commas += line[keep++] == ',';
 		memmove(w, line, keep);
 		w += keep;
