@@ -24,6 +24,7 @@ static const char *const reward_names[EVO_RW_KIND_COUNT] = {
     [EVO_RW_SPEED] = "Speed",
     [EVO_RW_STEP] = "StepReward",
     [EVO_RW_COLLECT] = "Collect",
+    [EVO_RW_FORWARD_SPEED] = "ForwardSpeed",
     [EVO_RW_LUA] = "Lua",
 };
 
@@ -174,6 +175,16 @@ static double forward_motion(evo_scene *sc, const evo_reward *r,
 	return 0;
 }
 
+/* ForwardSpeed (evo's own): k times the velocity along the heading, in
+ * units per second; negative when backing, 0 sliding sideways. */
+static double forward_speed(evo_scene *sc, const evo_reward *r,
+			    const evo_bot *b)
+{
+	double vx, vy, w;
+	evo_body_velocity(sc->world, b->body, &vx, &vy, &w);
+	return r->def.k * (vx * b->c + vy * b->s);
+}
+
 /* Speed: k * |v|^2, v the bot's linear velocity. */
 static double speed(evo_scene *sc, const evo_reward *r, const evo_bot *b)
 {
@@ -264,6 +275,9 @@ double evo_reward_compute(evo_scene *sc, evo_reward *r, int *failed)
 		break;
 	case EVO_RW_FORWARD_MOTION:
 		v = forward_motion(sc, r, b);
+		break;
+	case EVO_RW_FORWARD_SPEED:
+		v = forward_speed(sc, r, b);
 		break;
 	case EVO_RW_SPEED:
 		v = speed(sc, r, b);

@@ -251,6 +251,7 @@ typedef enum evo_reward_kind {
 	EVO_RW_SPEED,		      /* k * speed^2 */
 	EVO_RW_STEP,		      /* k every tick */
 	EVO_RW_COLLECT,		      /* k for each object delivered into the target zone */
+	EVO_RW_FORWARD_SPEED,	      /* k * speed along the heading (< 0 backing) */
 	EVO_RW_LUA,		      /* a Lua function (sim/lua_evo.c) */
 	EVO_RW_KIND_COUNT
 } evo_reward_kind;

@@ -292,6 +292,33 @@ TEST(punish_on_collision_pays_k_every_touching_step)
 	evo_scene_destroy(sc);
 }
 
+/* ForwardSpeed pays k per unit/s along the heading: in proportion ahead,
+ * negative backing, nothing sideways, and it turns with the bot. */
+TEST(forward_speed_pays_k_per_unit_of_speed_ahead)
+{
+	evo_scene *sc = scene_with_one_bot(0, 0, 0);
+	evo_reward_def d = reward_def(EVO_RW_FORWARD_SPEED, 0.2);
+	int r = add_reward(sc, &d);
+	evo_scene_reset(sc, 1, 1);
+	CHECK(strcmp(evo_reward_kind_name(EVO_RW_FORWARD_SPEED), "ForwardSpeed") ==
+	      0);
+	set_velocity(sc, 3, 0);
+	CHECK(NEAR(compute(sc, r), 0.6));
+	set_velocity(sc, 1.5, 0);
+	CHECK(NEAR(compute(sc, r), 0.3));
+	set_velocity(sc, -3, 0);
+	CHECK(NEAR(compute(sc, r), -0.6));
+	set_velocity(sc, 0, 3); /* sideways */
+	CHECK(NEAR(compute(sc, r), 0));
+	evo_scene_place_bot(sc, 0, 0, 0, M_PI / 2); /* facing +y */
+	set_velocity(sc, 0, 3);
+	CHECK(NEAR(compute(sc, r), 0.6));
+	set_velocity(sc, 3, 0);
+	/* Box2D keeps the angle in single precision: cos(pi/2) is 4e-8. */
+	CHECK(fabs(compute(sc, r)) < 1e-6);
+	evo_scene_destroy(sc);
+}
+
 TEST(forward_motion_pays_k_ahead_and_k2_backward)
 {
 	evo_scene *sc = scene_with_one_bot(0, 0, 0);
@@ -756,6 +783,7 @@ int main(void)
 	RUN(sensor_over_and_under_sum_the_distance_past_the_threshold);
 	RUN(punish_on_collision_pays_k_every_touching_step);
 	RUN(forward_motion_pays_k_ahead_and_k2_backward);
+	RUN(forward_speed_pays_k_per_unit_of_speed_ahead);
 	RUN(speed_pays_k_times_speed_squared);
 	RUN(step_pays_k_every_step);
 	RUN(collect_delivers_a_carried_object_once);
