@@ -34,8 +34,9 @@ CXXFLAGS_ALL := -std=c++17 $(OPT) -Wall -Wextra -Werror -Wshadow -Isim $(SAN) $(
 CORE_SRCS := $(sort $(wildcard core/src/*.c))
 # What a robot's firmware carries: the tick, networks, variables, hard-coded
 # skills and the image loader. Parsers, the image writer and the network
-# compiler are core too (freestanding) but run only on the host.
-CORE_RUNTIME := status mind variables hardcoded hash net
+# compiler are core too (freestanding) but run only on the host, and so do
+# the status messages (status.c): a firmware reports a status by its code.
+CORE_RUNTIME := mind variables hardcoded hash net
 HOST_SRCS := $(filter-out sim/evo_main.c,$(sort $(wildcard sim/*.c)))
 # The Box2D shim is the only C++ in evo.
 HOST_CXX_SRCS := $(sort $(wildcard sim/*.cpp))

@@ -289,32 +289,30 @@ const char *evo_mind_skill_name(const evo_mind *m, unsigned i)
 
 /* ---- the state ------------------------------------------------------- */
 
-static size_t round8(size_t n)
-{
-	return (n + 7u) & ~(size_t)7u;
-}
-
 /* One layout, used both to size a state and to carve it, so the two
- * cannot disagree. With mem NULL it only counts. */
-static size_t layout(const evo_mind *m, uint8_t *mem, evo_state *s)
+ * cannot disagree. To only count, pass base 0 and a scratch s (integers,
+ * not pointer arithmetic on NULL, so that is defined). The 8-byte sums come
+ * first and the bytes last, so with mem 8-byte aligned every array is
+ * aligned without padding. influence .. hc are the int32 words a reset
+ * zeroes, one run of them; hc_class, set once at init, is last. */
+static size_t layout(const evo_mind *m, uintptr_t base, evo_state *s)
 {
-	size_t off = round8(sizeof(evo_state));
+	size_t off = (sizeof(evo_state) + 7u) & ~(size_t)7u;
 	unsigned acc = m->n_actuators + m->n_vars;
 #define CARVE(field, type, count)                                              \
 	do {                                                                   \
-		if (s)                                                         \
-			s->field = (type *)(void *)(mem + off);                \
-		off = round8(off + sizeof(type) * (size_t)(count));            \
+		s->field = (type *)(base + off);                               \
+		off += sizeof(type) * (size_t)(count);                         \
 	} while (0)
 	CARVE(acc_num, uint64_t, acc);
-	CARVE(acc_den, uint32_t, acc);
 	CARVE(influence, evo_q16, m->n_skills);
-	CARVE(actuator, evo_q16, m->n_actuators);
 	CARVE(sensor_prev, evo_q16, m->n_sensors);
-	CARVE(var, evo_var_state, m->n_vars);
 	CARVE(persist, evo_q16, m->n_persist);
-	CARVE(ff, evo_q16, m->max_ff_nodes);
 	CARVE(hc, int32_t, (size_t)m->n_hardcoded * EVO_HC_WORDS);
+	CARVE(actuator, evo_q16, m->n_actuators);
+	CARVE(var, evo_var_state, m->n_vars);
+	CARVE(acc_den, uint32_t, acc);
+	CARVE(ff, evo_q16, m->max_ff_nodes);
 	CARVE(io_in, evo_q16, m->max_io);
 	CARVE(io_out, evo_q16, m->max_io);
 	CARVE(hc_class, uint8_t, m->n_hardcoded);
@@ -324,7 +322,8 @@ static size_t layout(const evo_mind *m, uint8_t *mem, evo_state *s)
 
 size_t evo_state_size(const evo_mind *m)
 {
-	return layout(m, NULL, NULL);
+	evo_state scratch;
+	return layout(m, 0, &scratch);
 }
 
 evo_status evo_state_init(const evo_mind *m, void *mem, size_t size,
@@ -335,7 +334,7 @@ evo_status evo_state_init(const evo_mind *m, void *mem, size_t size,
 	if (size < evo_state_size(m))
 		return EVO_ERR_NOMEM;
 	evo_state *s = mem;
-	layout(m, mem, s);
+	layout(m, (uintptr_t)mem, s);
 	/* Resolve hard-coded classes once, not every tick; evo_mind_open
 	 * has checked that each one exists. */
 	for (unsigned i = 0; i < m->n_skills; i++) {
@@ -352,18 +351,13 @@ evo_status evo_state_init(const evo_mind *m, void *mem, size_t size,
 void evo_state_reset(const evo_mind *m, evo_state *s)
 {
 	s->tick = 0;
-	for (unsigned i = 0; i < m->n_skills; i++)
-		s->influence[i] = 0;
+	/* influence, sensor_prev, persist and hc: adjacent (layout). */
+	for (int32_t *w = s->influence; w < s->actuator; w++)
+		*w = 0;
 	for (unsigned i = 0; i < m->n_actuators; i++)
 		s->actuator[i] = EVO_Q16_HALF;
-	for (unsigned i = 0; i < m->n_sensors; i++)
-		s->sensor_prev[i] = 0;
 	for (unsigned i = 0; i < m->n_vars; i++)
 		var_reset(m->var_type[i], &s->var[i]);
-	for (uint32_t i = 0; i < m->n_persist; i++)
-		s->persist[i] = 0;
-	for (unsigned i = 0; i < (unsigned)m->n_hardcoded * EVO_HC_WORDS; i++)
-		s->hc[i] = 0;
 }
 
 /* ---- the tick -------------------------------------------------------- */
@@ -459,7 +453,7 @@ static void write_outputs(const evo_mind *m, evo_state *s, unsigned i,
 /* The influence-weighted mean, rounded; den > 0. */
 static evo_q16 weighted_mean(uint64_t num, uint32_t den)
 {
-	return (evo_q16)((num + den / 2) / den);
+	return (evo_q16)evo_u64_div_u32(num + den / 2, den);
 }
 
 void evo_mind_step(const evo_mind *m, evo_state *s, const evo_q16 *sensors,

@@ -49,6 +49,41 @@ static inline evo_q16 evo_q16_mul(evo_q16 a, evo_q16 b)
 	return evo_q32_to_q16((int64_t)a * b);
 }
 
+/* n / d for d > 0, truncated: exactly what C's 64-bit division gives, but
+ * by shift and subtract on 32-bit words. A Cortex-M0+ has no divide
+ * instruction, and the C operator would link libgcc's general 64-bit
+ * division (__udivmoddi4, about 0.5 KB, a tenth of the runtime's flash
+ * budget). Schoolbook long division in base 2^32: each word of n is
+ * divided with the remainder of the word above it; the remainder stays
+ * below d, so it fits 32 bits once the bit shifted out of it (carry) is
+ * accounted for. The weighted means of the tick have a quotient below
+ * 2^17, so their high word is skipped and the loop runs 32 times. */
+static inline uint64_t evo_u64_div_u32(uint64_t n, uint32_t d)
+{
+	uint32_t w[2] = {(uint32_t)(n >> 32), (uint32_t)n};
+	uint32_t r = 0;
+	int k = 0;
+	if (w[0] < d) { /* the high word of the quotient is 0 */
+		r = w[0];
+		w[0] = 0;
+		k = 1;
+	}
+	for (; k < 2; k++) {
+		uint32_t q = w[k];
+		for (int i = 0; i < 32; i++) {
+			uint32_t carry = r >> 31;
+			r = (r << 1) | (q >> 31);
+			q <<= 1;
+			if (carry || r >= d) {
+				r -= d; /* mod 2^32: the true value is < d */
+				q |= 1;
+			}
+		}
+		w[k] = q;
+	}
+	return (uint64_t)w[0] << 32 | w[1];
+}
+
 /* Clamp to the signal range [0, 1]. */
 static inline evo_q16 evo_q16_clamp01(evo_q16 v)
 {
