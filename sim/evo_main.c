@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "export_c.h"
 #include "fileio.h"
 #include "mind_load.h"
 #include "run.h"
@@ -25,8 +26,11 @@ static void usage(FILE *f)
 	      "           [--sensor NAME=VALUE ...]\n"
 	      "      run the mind for N ticks (default 10) on fixed sensor\n"
 	      "      values (default 0.5) and print actuators and influences\n"
-	      "  evo export MINDFOLDER [--master SKILL] [-o FILE]\n"
-	      "      write the mind image (default MINDFOLDER/mind.bin)\n",
+	      "  evo export MINDFOLDER [--master SKILL] [--format bin|c]\n"
+	      "             [-o FILE]\n"
+	      "      write the mind image (default MINDFOLDER/mind.bin), or\n"
+	      "      with --format c a C header of it for a firmware\n"
+	      "      (default MINDFOLDER/mind.h)\n",
 	      f);
 }
 
@@ -171,6 +175,7 @@ int main(int argc, char **argv)
 	evo_load_opts opts = {0};
 	long ticks = 10;
 	const char *out = NULL;
+	int format_c = 0;
 	const char *sensor_args[EVO_MAX_SENSORS];
 	unsigned n_sensor_args = 0;
 	for (int i = 3; i < argc; i++) {
@@ -196,6 +201,17 @@ int main(int argc, char **argv)
 			i++;
 		} else if (strcmp(a, "-o") == 0 && v) {
 			out = v;
+			i++;
+		} else if (strcmp(a, "--format") == 0 && v &&
+			   strcmp(cmd, "export") == 0) {
+			if (strcmp(v, "c") != 0 && strcmp(v, "bin") != 0) {
+				fprintf(stderr,
+					"evo export: --format expects bin or c, "
+					"found '%s'\n",
+					v);
+				return 2;
+			}
+			format_c = strcmp(v, "c") == 0;
 			i++;
 		} else {
 			fprintf(stderr, "evo %s: unexpected argument '%s'\n",
@@ -223,17 +239,23 @@ int main(int argc, char **argv)
 	} else {
 		char path[1200];
 		if (!out) {
-			snprintf(path, sizeof path, "%s/mind.bin", l->root);
+			snprintf(path, sizeof path, "%s/mind.%s", l->root,
+				 format_c ? "h" : "bin");
 			out = path;
 		}
-		if (evo_write_file_atomic(out, l->image, l->image_len, &err) !=
-		    0) {
+		size_t len = l->image_len;
+		char *text = format_c ? evo_export_c(l, &len, &err) : NULL;
+		if ((format_c && !text) ||
+		    evo_write_file_atomic(out, format_c ? text : l->image, len,
+					  &err) != 0) {
 			fprintf(stderr, "%s\n", err.msg);
 			rc = 1;
 		} else {
-			printf("%s: mind image of %s, %zu bytes\n", out,
-			       l->bot_name, l->image_len);
+			printf("%s: mind image of %s, %zu bytes%s\n", out,
+			       l->bot_name, l->image_len,
+			       format_c ? ", as a C header" : "");
 		}
+		free(text);
 	}
 	evo_mind_free(l);
 	return rc;
