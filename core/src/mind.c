@@ -368,33 +368,23 @@ static evo_q16 derivative(evo_q16 now, evo_q16 before)
 	return evo_q16_clamp01(EVO_Q16_HALF + ((now - before + 1) >> 1));
 }
 
+/* SE and SD read a sensor, VA and VD a variable; SD and VD (odd types)
+ * take the change since the previous tick. */
 static void read_inputs(const evo_mind *m, const evo_state *s,
 			const evo_image_skill *k, const evo_q16 *sensors)
 {
 	for (unsigned j = 0; j < k->n_in; j++) {
 		const evo_image_io *io = &m->io[k->in_start + j];
-		evo_q16 v;
-		switch (io->type) {
-		case EVO_IN_SE:
-			v = evo_q16_clamp01(sensors[io->index]);
-			break;
-		case EVO_IN_SD: {
-			evo_q16 now = evo_q16_clamp01(sensors[io->index]);
+		evo_q16 now, before;
+		if (io->type <= EVO_IN_SD) {
+			now = evo_q16_clamp01(sensors[io->index]);
 			/* At tick 0 there is no previous value: no change. */
-			evo_q16 before = s->tick ? s->sensor_prev[io->index]
-						 : now;
-			v = derivative(now, before);
-			break;
+			before = s->tick ? s->sensor_prev[io->index] : now;
+		} else {
+			now = s->var[io->index].value;
+			before = s->var[io->index].prev;
 		}
-		case EVO_IN_VA:
-			v = s->var[io->index].value;
-			break;
-		default: /* EVO_IN_VD */
-			v = derivative(s->var[io->index].value,
-				       s->var[io->index].prev);
-			break;
-		}
-		s->io_in[j] = v;
+		s->io_in[j] = io->type & 1u ? derivative(now, before) : now;
 	}
 }
 
@@ -423,14 +413,9 @@ static void compute(const evo_mind *m, evo_state *s, unsigned i)
 	}
 }
 
-/* Adds influence * value to the weighted mean of actuator or variable a. */
-static void accumulate(evo_state *s, unsigned a, evo_q16 influence,
-		       evo_q16 value)
-{
-	s->acc_num[a] += (uint64_t)(uint32_t)influence * (uint32_t)value;
-	s->acc_den[a] += (uint32_t)influence;
-}
-
+/* MO and VA outputs add influence * value to the weighted mean of their
+ * actuator or variable (variables after the actuators in acc_*); SK
+ * outputs add to the sub-skill's influence. */
 static void write_outputs(const evo_mind *m, evo_state *s, unsigned i,
 			  evo_q16 influence)
 {
@@ -438,22 +423,19 @@ static void write_outputs(const evo_mind *m, evo_state *s, unsigned i,
 	for (unsigned j = 0; j < k->n_out; j++) {
 		const evo_image_io *io = &m->io[k->out_start + j];
 		evo_q16 o = evo_q16_clamp01(s->io_out[j]);
-		if (io->type == EVO_OUT_MO) {
-			accumulate(s, io->index, influence, o);
-		} else if (io->type == EVO_OUT_VA) {
-			accumulate(s, m->n_actuators + io->index, influence, o);
-		} else { /* EVO_OUT_SK */
+		if (io->type == EVO_OUT_SK) {
 			evo_q16 *child = &s->influence[io->index];
 			evo_q16 sum = *child + evo_q16_mul(influence, o);
 			*child = sum > EVO_Q16_ONE ? EVO_Q16_ONE : sum;
+		} else {
+			unsigned a = io->index;
+			if (io->type == EVO_OUT_VA)
+				a += m->n_actuators;
+			s->acc_num[a] +=
+				(uint64_t)(uint32_t)influence * (uint32_t)o;
+			s->acc_den[a] += (uint32_t)influence;
 		}
 	}
-}
-
-/* The influence-weighted mean, rounded; den > 0. */
-static evo_q16 weighted_mean(uint64_t num, uint32_t den)
-{
-	return (evo_q16)evo_u64_div_u32(num + den / 2, den);
 }
 
 void evo_mind_step(const evo_mind *m, evo_state *s, const evo_q16 *sensors,
@@ -479,21 +461,21 @@ void evo_mind_step(const evo_mind *m, evo_state *s, const evo_q16 *sensors,
 		write_outputs(m, s, i, influence);
 	}
 
-	for (unsigned a = 0; a < m->n_actuators; a++) {
-		evo_q16 v = s->acc_den[a]
-				    ? weighted_mean(s->acc_num[a], s->acc_den[a])
-				    : EVO_Q16_HALF;
-		s->actuator[a] = v;
-		actuators[a] = v;
-	}
-	/* Variables change only after every skill has read them, so all
-	 * readers in a tick see the same value whatever their order. */
-	for (unsigned v = 0; v < m->n_vars; v++) {
-		unsigned a = m->n_actuators + v;
-		int written = s->acc_den[a] != 0;
-		evo_q16 w = written ? weighted_mean(s->acc_num[a], s->acc_den[a])
-				    : 0;
-		var_update(m->var_type[v], &s->var[v], written, w);
+	/* The influence-weighted means, rounded. Variables change only
+	 * here, after every skill has read them, so all readers in a tick
+	 * see the same value whatever their order. */
+	for (unsigned a = 0; a < acc; a++) {
+		uint32_t den = s->acc_den[a];
+		evo_q16 w = den ? (evo_q16)evo_u64_div_u32(
+					  s->acc_num[a] + den / 2, den)
+				: EVO_Q16_HALF;
+		if (a < m->n_actuators) {
+			s->actuator[a] = w;
+			actuators[a] = w;
+		} else {
+			unsigned v = a - m->n_actuators;
+			var_update(m->var_type[v], &s->var[v], den != 0, w);
+		}
 	}
 	for (unsigned i = 0; i < m->n_sensors; i++)
 		s->sensor_prev[i] = evo_q16_clamp01(sensors[i]);
