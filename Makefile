@@ -51,7 +51,7 @@ HOST_OBJS := $(patsubst %.c,$(BUILD)/obj/%.o,$(HOST_SRCS)) \
 SUPPORT_OBJS := $(patsubst %.c,$(BUILD)/obj/%.o,$(TEST_SUPPORT))
 
 .PHONY: all help deps test test-plain test-asan run install core-check fuzz \
-	format clean bench
+	format clean bench firmware-test
 .DEFAULT_GOAL := all
 # Keep objects make would otherwise treat as intermediate and delete.
 .SECONDARY:
@@ -134,12 +134,18 @@ test: deps
 	@$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=$(TEST_FUZZ_SECONDS)
 	@$(MAKE) --no-print-directory test-plain
 	@$(MAKE) --no-print-directory test-asan
+	@$(MAKE) --no-print-directory firmware-test
 
+# The main job: train the Avoid example with NEAT on a copy of its folder
+# (so minds/ keeps its shipped network), then replay the champion headless.
+RUN_DIR := $(BUILD)/run
 run: deps all
-	$(BUILD)/evo info minds/Collect
-	$(BUILD)/evo run minds/Collect/Tasks/Collect-DEMO.simbatch --headless \
-		--episodes 2 --ticks 6000
-	$(BUILD)/evo run minds/Avoid/Tasks/Avoid-DEMO.simbatch --headless
+	rm -rf $(RUN_DIR) && mkdir -p $(RUN_DIR) && cp -r minds/Avoid $(RUN_DIR)/
+	$(BUILD)/evo run $(RUN_DIR)/Avoid/Tasks/Avoid-NEAT.simbatch --seed 1 \
+		--run $(RUN_DIR)/avoid-neat
+	$(BUILD)/evo run $(RUN_DIR)/Avoid/Tasks/Avoid-DEMO.simbatch --headless \
+		--seed 2 --episodes 3 --ticks 3000
+	@echo "run folder: $(RUN_DIR)/avoid-neat (log.csv, curve.png); trained mind: $(RUN_DIR)/Avoid"
 
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/evo
@@ -188,6 +194,8 @@ fuzz: deps $(FUZZ_BINS)
 		tail -n 3 $(BUILD)/fuzz/$$name.log; \
 		[ $$rc -eq 0 ] || { echo "fuzz: $$name failed, see $(BUILD)/fuzz/$$name.log"; exit 1; }; \
 	done; echo "fuzz: every target ran $(FUZZ_SECONDS)s without a crash, hang or sanitizer report"
+
+include firmware/firmware.mk
 
 format:
 	clang-format -i $$(find core sim tests firmware -name '*.[ch]' 2>/dev/null)
