@@ -131,7 +131,7 @@ static evo_status check_net(const evo_mind *m, const evo_image_net *n,
 
 static evo_status check_skills(evo_mind *m)
 {
-	uint16_t n_hc = 0, max_io = 0;
+	uint16_t n_hc = 0, n_neural = 0, max_io = 0;
 	for (unsigned i = 0; i < m->n_skills; i++) {
 		const evo_image_skill *k = &m->skill[i];
 		const evo_image_header *h = (const evo_image_header *)m->base;
@@ -147,17 +147,13 @@ static evo_status check_skills(evo_mind *m)
 		if (st != EVO_OK)
 			return st;
 		if (k->kind == EVO_SKILL_NEURAL) {
-			if (k->slot >= m->n_nets)
+			/* Networks are numbered in tick order, one per neural
+			 * skill (recurrent memory is per network). */
+			if (k->slot != n_neural++ || k->slot >= m->n_nets)
 				return EVO_ERR_IMAGE_LAYOUT;
 			const evo_image_net *n = &m->net[k->slot];
 			if (n->n_in != k->n_in || n->n_out != k->n_out)
 				return EVO_ERR_IMAGE_LAYOUT;
-			/* One network, one skill: recurrent memory is per
-			 * network. */
-			for (unsigned j = 0; j < i; j++)
-				if (m->skill[j].kind == EVO_SKILL_NEURAL &&
-				    m->skill[j].slot == k->slot)
-					return EVO_ERR_IMAGE_LAYOUT;
 		} else if (k->kind == EVO_SKILL_HARDCODED) {
 			const evo_hc_class *c = evo_hc_find_hash(k->hc_class);
 			if (!c)

@@ -58,10 +58,13 @@ uint32_t var_sin_step(evo_q16 w)
 	return lo + (uint32_t)((x + 32768u) >> 16);
 }
 
-/* count / 10 in Q16, rounded. */
-static const evo_q16 counter_value[11] = {
-	0, 6554, 13107, 19661, 26214, 32768, 39322, 45875, 52429, 58982, 65536,
-};
+/* count / 10 in Q16 rounded to nearest, for count 0 .. 10: 104857 / 16 is
+ * 6553.5625, close enough to 6553.6 that every one of the eleven comes out
+ * as round(count * 65536 / 10) (test_variables checks all of them). */
+static evo_q16 counter_value(int32_t count)
+{
+	return (count * 104857 + 10) >> 4;
+}
 
 #define LEVEL_HIGH 52429 /* 0.8 */
 #define LEVEL_LOW 13107	 /* 0.2 */
@@ -98,7 +101,7 @@ void var_update(unsigned type, evo_var_state *v, int written, evo_q16 w)
 				v->a = 0;
 			v->b = w;
 		}
-		v->value = counter_value[v->a];
+		v->value = counter_value(v->a);
 		break;
 	default:
 		if (written)
