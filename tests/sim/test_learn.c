@@ -15,10 +15,10 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "support/cli.h"
 #include "fileio.h"
 #include "harness.h"
 #include "literature.h"
+#include "support/cli.h"
 
 /* A copy of the Avoid example with a small LEARNSIM task for `method`,
  * so training never touches minds/ and runs in seconds; `extra` is more
@@ -32,8 +32,8 @@ static void make_mind(const char *name, const char *method, int numgen,
 			    "ENV:EXP_Avoid\\nLEARNINGMETHOD:%s\\nNUMGEN:%d\\n"
 			    "EVALREP:2\\nTICKLIM:150\\n%s' "
 			    "> %s/%s/Avoid/Tasks/Small.simbatch",
-			    cli_tmp, name, cli_tmp, name, method, numgen,
-			    extra, cli_tmp, name),
+			    cli_tmp, name, cli_tmp, name, method, numgen, extra,
+			    cli_tmp, name),
 		     0);
 	if (strcmp(method, "NEAT") != 0)
 		CHECK_EQ_INT(cli_sh("sed -i 's/^layers:0$/layers:1/' "
@@ -150,13 +150,16 @@ TEST(killed_and_resumed_run_ends_as_an_uninterrupted_one)
 TEST(unknown_method_is_a_clear_error)
 {
 	make_mind("m", "NEAT", 6, NEAT_TASK);
-	CHECK_EQ_INT(cli_sh("sed -i 's/LEARNINGMETHOD:NEAT/LEARNINGMETHOD:BOGUS/' "
-			    "%s/m/Avoid/Tasks/Small.simbatch",
-			    cli_tmp),
-		     0);
+	CHECK_EQ_INT(
+	    cli_sh("sed -i 's/LEARNINGMETHOD:NEAT/LEARNINGMETHOD:BOGUS/' "
+		   "%s/m/Avoid/Tasks/Small.simbatch",
+		   cli_tmp),
+	    0);
 	CHECK_EQ_INT(train("m", ""), 1);
 	char *text = cli_read("%s/m/out.txt", cli_tmp);
-	CHECK(text && strstr(text, "Small.simbatch:6: LEARNINGMETHOD must be NEAT, GENETIC or ANNEALING, found 'BOGUS'"));
+	CHECK(text &&
+	      strstr(text, "Small.simbatch:6: LEARNINGMETHOD must be NEAT, "
+			   "GENETIC or ANNEALING, found 'BOGUS'"));
 	free(text);
 }
 
@@ -258,7 +261,8 @@ TEST(xor_stops_when_solved_and_keeps_the_solver)
 		     0);
 	char run[256];
 	snprintf(run, sizeof run, "%s/x/run", cli_tmp);
-	char *log = cli_fitness_log(run), *out = cli_read("%s/x/out.txt", cli_tmp);
+	char *log = cli_fitness_log(run),
+	     *out = cli_read("%s/x/out.txt", cli_tmp);
 	CHECK(log && out);
 	if (log && out) {
 		int rows = count_rows(log);
@@ -310,6 +314,52 @@ TEST(world_run_ends_with_a_replay_report)
 	free(out);
 }
 
+/* Focused training: Collect's sub-skill GTO+Avoid is trained inside the
+ * whole hierarchy (Collect's own network picks it), the champion lands in
+ * its folder and no other skill's network changes. Without a saved
+ * network for a skill that is not being trained, the run stops with a
+ * clear error naming the missing file. */
+TEST(a_sub_skill_trains_inside_its_hierarchy)
+{
+	CHECK_EQ_INT(
+	    cli_sh("mkdir -p %s/c && cp -r minds/Collect %s/c/ && "
+		   "printf 'TYPE:LEARNSIM\nBOTMODEL:BotType8\n"
+		   "MASTERSKILL:Collect\nLEARNINGSKILL:GTO+Avoid\n"
+		   "ENV:EXP_Collect\nLEARNINGMETHOD:NEAT\nNUMGEN:2\nEVALREP:1\n"
+		   "TICKLIM:200\nNEAT_POPSIZE:12\n' > "
+		   "%s/c/Collect/Tasks/Sub.simbatch",
+		   cli_tmp, cli_tmp, cli_tmp),
+	    0);
+	CHECK_EQ_INT(cli_sh("%s run %s/c/Collect/Tasks/Sub.simbatch --seed 4 "
+			    "--run %s/c/run > %s/c/out.txt 2>&1",
+			    cli_evo, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	char *net =
+	    cli_read("%s/c/Collect/Skills/GTO+Avoid/GTO+Avoid.net", cli_tmp);
+	CHECK(net != NULL);
+	if (net)
+		CHECK_CONTAINS(net, "# trained by evo: NEAT, seed 4");
+	free(net);
+	const char *others[] = {"Collect", "GTDZ+Avoid"};
+	for (int i = 0; i < 2; i++)
+		CHECK_EQ_INT(cli_sh("cmp -s minds/Collect/Skills/%s/%s.net "
+				    "%s/c/Collect/Skills/%s/%s.net",
+				    others[i], others[i], cli_tmp, others[i],
+				    others[i]),
+			     0);
+
+	CHECK_EQ_INT(
+	    cli_sh("rm %s/c/Collect/Skills/GTDZ+Avoid/GTDZ+Avoid.net", cli_tmp),
+	    0);
+	char out[4096];
+	int rc = cli_capture(out, sizeof out,
+			     "%s run %s/c/Collect/Tasks/Sub.simbatch --run "
+			     "%s/c/run2",
+			     cli_evo, cli_tmp, cli_tmp);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "GTDZ+Avoid.net");
+}
+
 int main(void)
 {
 	if (cli_setup("learn"))
@@ -321,6 +371,7 @@ int main(void)
 	RUN(annealing_trains);
 	RUN(xor_stops_when_solved_and_keeps_the_solver);
 	RUN(world_run_ends_with_a_replay_report);
+	RUN(a_sub_skill_trains_inside_its_hierarchy);
 	cli_cleanup();
 	return test_summary();
 }
