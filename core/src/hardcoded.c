@@ -5,14 +5,20 @@
  *      reads c->in[0 .. n_in-1] and writes c->out[0 .. n_out-1] (Q16,
  *      clamped to [0, 1] by the caller); c->mem gives EVO_HC_WORDS words
  *      that persist across ticks and are zero after a reset;
- *   2. add a row { "MySkill", n_in, n_out, my_skill } to evo_hc_classes,
- *      with -1 for a count the skill does not constrain;
+ *   2. add a row X("MySkill", hash, n_in, n_out, my_skill) to HC_CLASSES,
+ *      with -1 for a count the skill does not constrain, and hash
+ *      evo_name_hash("MySkill") written out (tests/core/test_hardcoded
+ *      checks every hash and prints the right one);
  *   3. rebuild. The mind loader refuses a .ades whose counts do not fit.
  * A mind image names its classes by evo_name_hash(name), so rows may be
  * added or reordered without invalidating images; a renamed class does
  * invalidate them (the image is refused with EVO_ERR_IMAGE_CLASS).
+ *
+ * One list makes two tables: evo_hc_classes, with the names, for the host,
+ * and hc_table, with the hashes, for the tick. A firmware links only the
+ * second, so it carries neither the names nor a string hash.
  * docs/skills.md lists the classes. */
-#include "evo/mind.h"
+#include "hardcoded.h"
 
 #define FULL_FORWARD EVO_Q16_ONE
 #define FULL_BACK 0
@@ -52,23 +58,40 @@ static void stop(evo_hc_ctx *c)
 	wheels(c, STILL, STILL);
 }
 
+#define HC_CLASSES(X)                                                          \
+	X("MoveForward", 0x869A64D9u, -1, 2, move_forward)                     \
+	X("MoveBackwards", 0xF45868EAu, -1, 2, move_backwards)                 \
+	X("TurnLeft", 0xA837A0D7u, -1, 2, turn_left)                           \
+	X("TurnRight", 0x5AB6F648u, -1, 2, turn_right)                         \
+	X("Stop", 0x4B7F7705u, -1, 2, stop)
+
 const evo_hc_class evo_hc_classes[] = {
-	{"MoveForward", -1, 2, move_forward},
-	{"MoveBackwards", -1, 2, move_backwards},
-	{"TurnLeft", -1, 2, turn_left},
-	{"TurnRight", -1, 2, turn_right},
-	{"Stop", -1, 2, stop},
+#define HOST_ROW(name, hash, n_in, n_out, fn) {name, n_in, n_out, fn},
+	HC_CLASSES(HOST_ROW)
+#undef HOST_ROW
 };
 
 const unsigned evo_hc_class_count =
 	sizeof evo_hc_classes / sizeof evo_hc_classes[0];
 
+const hc_class hc_table[] = {
+#define TICK_ROW(name, hash, n_in, n_out, fn) {hash, n_in, n_out, fn},
+	HC_CLASSES(TICK_ROW)
+#undef TICK_ROW
+};
+
+int hc_index_of(uint32_t hash)
+{
+	for (unsigned i = 0; i < sizeof hc_table / sizeof hc_table[0]; i++)
+		if (hc_table[i].hash == hash)
+			return (int)i;
+	return -1;
+}
+
 const evo_hc_class *evo_hc_find_hash(uint32_t hash)
 {
-	for (unsigned i = 0; i < evo_hc_class_count; i++)
-		if (evo_name_hash(evo_hc_classes[i].name) == hash)
-			return &evo_hc_classes[i];
-	return NULL;
+	int i = hc_index_of(hash);
+	return i < 0 ? NULL : &evo_hc_classes[i];
 }
 
 static int same_name(const char *a, const char *b)

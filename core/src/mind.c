@@ -5,6 +5,7 @@
 #include "evo/mind.h"
 
 #include "evo/formats.h"
+#include "hardcoded.h"
 #include "variables.h"
 
 #if !defined(__BYTE_ORDER__) || __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
@@ -155,11 +156,11 @@ static evo_status check_skills(evo_mind *m)
 			if (n->n_in != k->n_in || n->n_out != k->n_out)
 				return EVO_ERR_IMAGE_LAYOUT;
 		} else if (k->kind == EVO_SKILL_HARDCODED) {
-			const evo_hc_class *c = evo_hc_find_hash(k->hc_class);
-			if (!c)
-				return EVO_ERR_IMAGE_CLASS;
-			if ((c->n_in >= 0 && c->n_in != k->n_in) ||
-			    (c->n_out >= 0 && c->n_out != k->n_out))
+			int c = hc_index_of(k->hc_class);
+			if (c < 0 ||
+			    (hc_table[c].n_in >= 0 && hc_table[c].n_in != k->n_in) ||
+			    (hc_table[c].n_out >= 0 &&
+			     hc_table[c].n_out != k->n_out))
 				return EVO_ERR_IMAGE_CLASS;
 			if (k->slot != n_hc)
 				return EVO_ERR_IMAGE_LAYOUT;
@@ -336,8 +337,7 @@ evo_status evo_state_init(const evo_mind *m, void *mem, size_t size,
 	for (unsigned i = 0; i < m->n_skills; i++) {
 		const evo_image_skill *k = &m->skill[i];
 		if (k->kind == EVO_SKILL_HARDCODED)
-			s->hc_class[k->slot] = (uint8_t)(
-				evo_hc_find_hash(k->hc_class) - evo_hc_classes);
+			s->hc_class[k->slot] = (uint8_t)hc_index_of(k->hc_class);
 	}
 	evo_state_reset(m, s);
 	*out = s;
@@ -405,7 +405,7 @@ static void compute(const evo_mind *m, evo_state *s, unsigned i)
 		};
 		for (unsigned j = 0; j < k->n_out; j++)
 			s->io_out[j] = EVO_Q16_HALF;
-		evo_hc_classes[s->hc_class[k->slot]].fn(&c);
+		hc_table[s->hc_class[k->slot]].fn(&c);
 	}
 }
 
