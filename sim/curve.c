@@ -25,6 +25,16 @@ static void range_of(const double *v, int n, double *lo, double *hi)
 	}
 }
 
+/* A round step (1, 2 or 5 times a power of ten) that cuts span into
+ * about `parts` pieces. */
+static double nice_step(double span, int parts)
+{
+	double raw = span / parts;
+	double p = pow(10, floor(log10(raw)));
+	double f = raw / p;
+	return (f <= 1 ? 1 : f <= 2 ? 2 : f <= 5 ? 5 : 10) * p;
+}
+
 static double px_x(int i, int n)
 {
 	return LEFT + (n > 1 ? (double)i / (n - 1) : 0.5) * (W - LEFT - RIGHT);
@@ -74,24 +84,41 @@ int evo_curve_write(const char *path, const char *title, const double *best,
 		lo -= 0.5;
 		hi += 0.5;
 	}
-	/* A little room above and below the curves. */
-	double pad = (hi - lo) * 0.05;
-	lo -= pad;
-	hi += pad;
+	/* Round the range out to whole steps, with the grid on each. */
+	double step = nice_step(hi - lo, 5);
+	lo = floor(lo / step) * step;
+	hi = ceil(hi / step) * step;
+	if (hi - lo < step / 2)
+		hi = lo + step;
 	char label[64];
-	for (int k = 0; k <= 4; k++) {
-		double v = lo + (hi - lo) * k / 4;
+	for (double v = lo; v <= hi + step / 2; v += step) {
 		int y = (int)px_y(v, lo, hi);
 		evo_raster_line(&im, LEFT, y, W - RIGHT, y, GRID, 255);
-		snprintf(label, sizeof label, "%.4g", v);
+		/* a step's rounding error must not print as 1e-13 */
+		double shown = fabs(v) < step / 1e6 ? 0 : v;
+		snprintf(label, sizeof label, "%.6g", shown);
 		evo_raster_text(&im, LEFT - 8 - evo_raster_text_width(label, 1),
 				y - 4, label, AXIS, 1);
+	}
+	/* Generation marks on round numbers. */
+	if (n > 1) {
+		double gstep = nice_step(n - 1, 8);
+		gstep = gstep < 1 ? 1 : gstep;
+		for (double g = 0; g <= n - 1; g += gstep) {
+			int x = (int)px_x((int)g, n);
+			evo_raster_line(&im, x, H - BOTTOM, x, H - BOTTOM + 4,
+					AXIS, 255);
+			snprintf(label, sizeof label, "%d", (int)g);
+			evo_raster_text(&im,
+					x - evo_raster_text_width(label, 1) / 2,
+					H - BOTTOM + 8, label, AXIS, 1);
+		}
 	}
 	evo_raster_line(&im, LEFT, TOP, LEFT, H - BOTTOM, AXIS, 255);
 	evo_raster_line(&im, LEFT, H - BOTTOM, W - RIGHT, H - BOTTOM, AXIS,
 			255);
-	snprintf(label, sizeof label, "generation 0 .. %d", n > 0 ? n - 1 : 0);
-	evo_raster_text(&im, LEFT, H - BOTTOM + 12, label, AXIS, 1);
+	evo_raster_text(&im, (LEFT + W - RIGHT) / 2 - 40, H - BOTTOM + 24,
+			"generation", AXIS, 1);
 	evo_raster_text(&im, LEFT, 12, title ? title : "", AXIS, 2);
 	evo_raster_fill_rect(&im, W - 200, 14, 14, 4, EVO_CURVE_BEST, 255);
 	evo_raster_text(&im, W - 180, 11, "best", AXIS, 1);
