@@ -6,8 +6,8 @@
 -- maximisation: always when it is no worse, else with probability
 -- exp((f_new - f_cur) / T). After every move T <- alpha * T.
 --
--- A "generation" is a batch of K = SA_STEPS_PER_GENERATION moves, so the
--- evaluator can run the K neighbours on its threads:
+-- A "generation" is a batch of K = SA_STEPS_PER_GENERATION moves (default
+-- 1); with K > 1 the evaluator runs the K neighbours on its threads:
 --   * the K neighbours are all drawn around the current point as it is at
 --     the start of the generation (they are independent of each other);
 --   * after evaluation they are decided in order 1..K: neighbour i is
@@ -31,7 +31,8 @@ annealing.defaults = {
 	t0 = 100.0, -- starting temperature, in fitness units
 	alpha = 0.995, -- cooling factor per move
 	step_power = 0.3, -- a neighbour adds normal(0, power) to every weight
-	steps_per_generation = 10, -- K: moves (candidates) per generation
+	steps_per_generation = 1, -- K: moves (candidates) per generation; 1 is
+	-- the tutorial's sequential, single-threaded annealing
 	init_power = 1.0, -- the starting point's weights are normal(0, power)
 	weight_max = 8.0, -- weights are clamped to [-w, w] (.net needs |w| < 128)
 }

@@ -222,15 +222,26 @@ TEST(genetic_trains_and_threads_do_not_change_the_log)
 
 TEST(annealing_trains)
 {
-	make_mind("a", "ANNEALING", 3, "SA_T0:5\\n");
+	make_mind("a", "ANNEALING", 12, "SA_T0:5\\n");
 	CHECK_EQ_INT(train("a", "--threads 2"), 0);
 	char *a = log_of("a");
 	CHECK(a != NULL);
 	if (a) {
-		CHECK_EQ_INT(count_rows(a), 3);
-		/* SA_STEPS_PER_GENERATION's default: 10 candidates */
-		CHECK_CONTAINS(a, ",0,10,0,\n");
+		CHECK_EQ_INT(count_rows(a), 12);
+		/* sequential by default: one move, one evaluation, each
+		 * generation */
+		CHECK_CONTAINS(a, ",0,1,0,\n");
+		CHECK(strstr(a, ",0,10,0,\n") == NULL);
 	}
+	free(a);
+	/* SA_STEPS_PER_GENERATION:10 batches ten moves */
+	make_mind("a10", "ANNEALING", 3,
+		  "SA_T0:5\\nSA_STEPS_PER_GENERATION:10\\n");
+	CHECK_EQ_INT(train("a10", "--threads 2"), 0);
+	a = log_of("a10");
+	CHECK(a != NULL);
+	if (a)
+		CHECK_CONTAINS(a, ",0,10,0,\n");
 	free(a);
 	check_layered_champion("a", "ANNEALING");
 }
