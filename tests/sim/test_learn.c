@@ -104,47 +104,62 @@ static int rows(const char *name)
 	return n;
 }
 
-TEST(killed_and_resumed_run_ends_as_an_uninterrupted_one)
+/* Start training `name` (6 generations), kill it with SIGKILL once
+ * generation 2 is logged, so inside generation 3's evaluations (or just
+ * past them), resume it, and compare its log and champion with those of
+ * the uninterrupted run `reference`. */
+static void kill_and_resume(const char *name, const char *reference)
 {
-	make_mind("k", "NEAT", 6, NEAT_TASK);
 	char cmd[1024];
 	snprintf(cmd, sizeof cmd,
-		 "exec %s run %s/k/Avoid/Tasks/Small.simbatch --seed 11 "
-		 "--threads 2 --run %s/k/run > %s/k/out1.txt 2>&1",
-		 cli_evo, cli_tmp, cli_tmp, cli_tmp);
+		 "exec %s run %s/%s/Avoid/Tasks/Small.simbatch --seed 11 "
+		 "--threads 2 --run %s/%s/run > %s/%s/out1.txt 2>&1",
+		 cli_evo, cli_tmp, name, cli_tmp, name, cli_tmp, name);
 	pid_t pid = fork();
 	if (pid == 0) {
 		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
 		_exit(127);
 	}
-	/* Wait for generation 2 to be logged, then kill at once: the run is
-	 * inside generation 3's evaluations (or just past them). */
 	struct timespec ms = {0, 2000000};
-	for (int i = 0; i < 20000 && rows("k") < 3; i++)
+	for (int i = 0; i < 20000 && rows(name) < 3; i++)
 		nanosleep(&ms, NULL);
-	CHECK(rows("k") >= 3);
+	CHECK(rows(name) >= 3);
 	kill(pid, SIGKILL);
 	int st;
 	waitpid(pid, &st, 0);
 	CHECK(WIFSIGNALED(st));
-	int before = rows("k");
-	CHECK(before < 6); /* it really was interrupted */
-	CHECK_EQ_INT(train("k", "--threads 2 --resume"), 0);
-	char *a = log_of("t2"), *b = log_of("k");
+	CHECK(rows(name) < 6); /* it really was interrupted */
+	CHECK_EQ_INT(train(name, "--threads 2 --resume"), 0);
+	char *a = log_of(reference), *b = log_of(name);
 	CHECK(a && b);
 	if (a && b)
 		CHECK_EQ_STR(b, a);
-	char *ca = champion_of("t2"), *cb = champion_of("k");
+	char *ca = champion_of(reference), *cb = champion_of(name);
 	CHECK(ca && cb);
 	if (ca && cb)
 		CHECK_EQ_STR(cb, ca);
-	char *text = cli_read("%s/k/out.txt", cli_tmp);
+	char *text = cli_read("%s/%s/out.txt", cli_tmp, name);
 	CHECK(text && strstr(text, "resuming after generation"));
 	free(text);
 	free(a);
 	free(b);
 	free(ca);
 	free(cb);
+}
+
+TEST(killed_and_resumed_run_ends_as_an_uninterrupted_one)
+{
+	make_mind("k", "NEAT", 6, NEAT_TASK);
+	kill_and_resume("k", "t2");
+}
+
+/* The same for GENETIC, whose checkpoint holds its own state. */
+TEST(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one)
+{
+	make_mind("gr", "GENETIC", 6, "POPSIZE:40\\n");
+	make_mind("gk", "GENETIC", 6, "POPSIZE:40\\n");
+	CHECK_EQ_INT(train("gr", "--threads 2"), 0);
+	kill_and_resume("gk", "gr");
 }
 
 TEST(unknown_method_is_a_clear_error)
@@ -377,6 +392,7 @@ int main(void)
 		return 1;
 	RUN(one_thread_and_two_give_the_same_log);
 	RUN(killed_and_resumed_run_ends_as_an_uninterrupted_one);
+	RUN(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one);
 	RUN(unknown_method_is_a_clear_error);
 	RUN(genetic_trains_and_threads_do_not_change_the_log);
 	RUN(annealing_trains);
