@@ -34,6 +34,7 @@ typedef struct learn {
 	char run_dir[1024];
 	char skill[EVO_NAME_MAX];
 	double started;
+	int first; /* the generation this process started with */
 	int tty;
 } learn;
 
@@ -179,8 +180,8 @@ static int l_open_log(lua_State *L)
 {
 	learn *l = ctx(L);
 	evo_err err = {{0}};
-	if (evo_runlog_open(&l->log, l->run_dir, (int)luaL_checkinteger(L, 1),
-			    &err))
+	l->first = (int)luaL_checkinteger(L, 1);
+	if (evo_runlog_open(&l->log, l->run_dir, l->first, &err))
 		return luaL_error(L, "%s", err.msg);
 	l->log_open = 1;
 	return 0;
@@ -205,6 +206,7 @@ static int l_log(lua_State *L)
 		.solved = (int)field_num(L, 1, "solved", 0),
 		.seconds = field_num(L, 1, "seconds", 0),
 		.elapsed = now() - l->started,
+		.first = l->first,
 	};
 	evo_err err = {{0}};
 	if (evo_runlog_add(&l->log, &s, &err))

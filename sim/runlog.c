@@ -129,10 +129,10 @@ void evo_progress_format(char *buf, size_t cap, const evo_gen_stats *s,
 {
 	char elapsed[32], eta[32] = "?";
 	clock_text(elapsed, sizeof elapsed, s->elapsed);
-	int done = s->generation + 1;
-	if (s->generations > 0 && done > 0)
+	int done = s->generation + 1, ran = done - s->first;
+	if (s->generations > 0 && ran > 0)
 		clock_text(eta, sizeof eta,
-			   s->elapsed / done * (s->generations - done));
+			   s->elapsed / ran * (s->generations - done));
 	double rate = s->seconds > 0 ? (double)s->evaluations / s->seconds : 0;
 	char bar[32] = "";
 	if (tty && s->generations > 0) {

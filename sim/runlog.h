@@ -22,7 +22,10 @@ typedef struct evo_gen_stats {
 	int solved;	   /* candidates that met the task's success
 			    * criterion (literature tasks), else 0 */
 	double seconds;	   /* this generation's wall time */
-	double elapsed;	   /* since the run started */
+	double elapsed;	   /* since this process started the run */
+	int first;	   /* the first generation this process ran (after
+			    * --resume, the one after the checkpoint): the
+			    * ETA extrapolates from the generations since */
 } evo_gen_stats;
 
 typedef struct evo_runlog {

@@ -112,6 +112,16 @@ TEST(progress_line_on_a_terminal_and_off)
 			  "elapsed 0:03  ETA 0:03");
 	evo_progress_format(buf, sizeof buf, &s, 1);
 	CHECK(strncmp(buf, "[##########..........] gen 4/10", 31) == 0);
+	/* Resumed after generation 3: one generation in 2.5 s, five to go. */
+	s.first = 4;
+	evo_progress_format(buf, sizeof buf, &s, 0);
+	CHECK_CONTAINS(buf, "elapsed 0:03  ETA 0:13");
+	s.first = 0;
+	/* Solvers show. */
+	s.solved = 2;
+	evo_progress_format(buf, sizeof buf, &s, 0);
+	CHECK_CONTAINS(buf, "species 3  solved 2  300 eval/s");
+	s.solved = 0;
 	s.generations = 0;
 	s.species = 0;
 	evo_progress_format(buf, sizeof buf, &s, 1);
