@@ -52,6 +52,8 @@ neat.defaults = {
 	add_node_prob = 0.03, -- chance of an add-node mutation (paper: 3%)
 	add_link_prob = 0.05, -- chance of an add-link mutation (paper: 5%; 30% for large populations)
 	add_link_tries = 20, -- random (from, to) pairs tried to find a new link
+	split_bias = false, -- add-node may split a link from the bias node (NEAT's original code never
+	-- does: the new node would be a constant, and evo folds the bias links into node biases)
 	recurrent = false, -- add-link may create cycles (tasks that allow memory)
 	activation = "neat_sigmoid", -- hidden and output nodes: an evo activation (paper: 1/(1+e^-4.9x))
 	mutate_only_prob = 0.25, -- offspring from mutation without crossover (paper: 25%)
@@ -61,6 +63,8 @@ neat.defaults = {
 	disable_prob = 0.75, -- a gene disabled in either parent is disabled in the child (paper: 75%)
 	survival = 0.2, -- top fraction of each species that may reproduce (original code: 0.2)
 	stagnation = 15, -- generations without improvement before a species gets no offspring (paper: 15)
+	stagnation_penalty = 0, -- a stagnant species' share of offspring is multiplied by this instead
+	-- (0: it gets none; NEAT's original code: 0.01)
 	elitism_min_size = 5, -- species of at least this many keep their champion unchanged (paper: more than 5)
 	pop_stagnation = 0, -- generations without a new best before only the top two species reproduce;
 	-- 0: off (paper: 20; in evo's Q16 evaluation XOR's plateau at exactly 9.0 triggers it
@@ -85,6 +89,7 @@ neat.task_keys = {
 	NEAT_ADD_NODE_PROB = "add_node_prob",
 	NEAT_ADD_LINK_PROB = "add_link_prob",
 	NEAT_ADD_LINK_TRIES = "add_link_tries",
+	NEAT_SPLIT_BIAS = "split_bias",
 	NEAT_RECURRENT = "recurrent",
 	NEAT_ACTIVATION = "activation",
 	NEAT_MUTATE_ONLY_PROB = "mutate_only_prob",
@@ -94,6 +99,7 @@ neat.task_keys = {
 	NEAT_DISABLE_PROB = "disable_prob",
 	NEAT_SURVIVAL = "survival",
 	NEAT_STAGNATION = "stagnation",
+	NEAT_STAGNATION_PENALTY = "stagnation_penalty",
 	NEAT_ELITISM_MIN_SIZE = "elitism_min_size",
 	NEAT_POP_STAGNATION = "pop_stagnation",
 }
@@ -301,11 +307,19 @@ end
 
 -- Split an enabled link from->to: it is disabled, from->new gets weight 1
 -- and new->to the old weight, so the network computes nearly the same.
+-- Links from the bias node are not split unless split_bias is set: the new
+-- node would only turn a constant into another constant.
 function neat.mutate_add_node(pop, g, rng, link)
 	if not link then
+		local bias_id
+		if not pop.options.split_bias then
+			for _, n in ipairs(g.nodes) do
+				if n.kind == "bias" then bias_id = n.id break end
+			end
+		end
 		local enabled = {}
 		for _, l in ipairs(g.links) do
-			if l.enabled then enabled[#enabled + 1] = l end
+			if l.enabled and l.from ~= bias_id then enabled[#enabled + 1] = l end
 		end
 		if #enabled == 0 then return nil end
 		link = enabled[1 + math.floor(rng:unit() * #enabled)]
@@ -533,10 +547,12 @@ function Pop:tell(fitness)
 		if smax > best_f then best_species, best_f = s, smax end
 		smaxes[s] = smax
 	end
-	local alive = {}
+	local alive, stagnant = {}, {}
 	for _, s in ipairs(self.species) do
-		if s == best_species or self.generation - s.last_improved < o.stagnation then
+		local stale = s ~= best_species and self.generation - s.last_improved >= o.stagnation
+		if not stale or o.stagnation_penalty > 0 then
 			alive[#alive + 1] = s
+			stagnant[#alive] = stale
 		end
 	end
 
@@ -549,7 +565,7 @@ function Pop:tell(fitness)
 			g.adjusted = (g.fitness + shift) / #s.members
 			sum = sum + g.adjusted
 		end
-		shares[i] = sum
+		shares[i] = stagnant[i] and sum * o.stagnation_penalty or sum
 	end
 	local counts = neat.allot(shares, o.pop_size)
 	-- The paper's population-wide stagnation: when the best fitness has not

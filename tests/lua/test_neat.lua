@@ -185,6 +185,28 @@ function T.add_node_splits_a_link()
 	check(a.innov == 4 and b.innov == 5, "two new innovations")
 end
 
+function T.add_node_leaves_the_bias_links_alone()
+	-- A new node on a bias link would only be a constant: by default
+	-- add-node splits the input links and never the bias one.
+	local function splits_of_bias(split_bias)
+		local pop = neat.new { inputs = 1, outputs = 1, rng = neat.rng(17),
+			options = { pop_size = 2, split_bias = split_bias } }
+		local bias = 0
+		for _ = 1, 200 do
+			local g = neat.copy_genome(pop:genomes()[1]) -- links 0->2 and bias 1->2
+			pop.gen_splits = {}
+			neat.mutate_add_node(pop, g, pop.rng)
+			for _, l in ipairs(g.links) do
+				if l.from == 1 and not l.enabled then bias = bias + 1 end
+			end
+		end
+		return bias
+	end
+	check(splits_of_bias(false) == 0, "the bias link is never split")
+	local n = splits_of_bias(true)
+	check(n > 60 and n < 140, "with NEAT_SPLIT_BIAS, half the splits: " .. n)
+end
+
 function T.distance_and_speciation_by_threshold()
 	local o = neat.defaults
 	local rep = genome(2, { 3 }, {}, { { 1, 0, 3, 0 }, { 2, 1, 3, 0 }, { 3, 2, 3, 0 } })
@@ -280,6 +302,18 @@ function T.stagnant_species_get_no_offspring_but_the_best_survives()
 	pop:tell({ 1, 1, 9, 1, 1, 5, 5, 5, 5, 5 })
 	check(#pop.last_alive == 1 and pop.last_alive[1] == 1, "the best species survives its stagnation")
 	check(#pop:genomes() == 10, "population refilled")
+end
+
+function T.stagnation_penalty_keeps_stagnant_species_small()
+	-- With a penalty, species 1 (stagnant for 25 generations) is not
+	-- dropped: its share is multiplied by the penalty.
+	local pop = two_species_pop(10)
+	pop.options.stagnation_penalty = 0.5
+	pop:tell({ 1, 1, 1, 1, 1, 2, 2, 2, 2, 2 })
+	check(#pop.last_alive == 2, "both species reproduce")
+	-- Shares 1 and 2 before the penalty, 0.5 and 2 after: 2 and 8 of 10.
+	check(pop.last_counts[1] == 2 and pop.last_counts[2] == 8, "the stagnant species gets a fifth: " ..
+		pop.last_counts[1] .. "," .. pop.last_counts[2])
 end
 
 function T.elitism_copies_champions_unchanged()
