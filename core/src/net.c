@@ -20,42 +20,52 @@ _Static_assert(((int64_t)-1 >> 1) == -1, "arithmetic right shift required");
 _Static_assert(EVO_NET_MAX_FANIN <= 256 && EVO_NET_WEIGHT_MAX <= 128,
 	       "the 64-bit node sum is sized for these limits");
 
-/* sigmoid(i / 16) - 1/2 in Q16 for i = 0 .. 127, rounded to nearest. The
- * last entry is the asymptote 1/2 instead of sigmoid(8) - 1/2, so the
- * function meets its saturation value continuously at x = 8. Negative
- * arguments use sigmoid(-x) = 1 - sigmoid(x), and tanh is built from the
- * same table, which is why it holds an offset from 1/2. */
-static const uint16_t sigmoid_tab[129] = {
-	0, 1024, 2045, 3063, 4075, 5079, 6073, 7056, 8025, 8980, 9919, 10840,
-	11743, 12625, 13486, 14326, 15143, 15936, 16706, 17452, 18173, 18870,
-	19542, 20189, 20813, 21411, 21986, 22538, 23066, 23571, 24054, 24516,
-	24956, 25376, 25776, 26157, 26519, 26864, 27191, 27502, 27797, 28076,
-	28341, 28592, 28830, 29055, 29268, 29470, 29660, 29840, 30010, 30170,
-	30322, 30465, 30600, 30727, 30847, 30960, 31067, 31167, 31262, 31351,
-	31435, 31515, 31589, 31659, 31726, 31788, 31846, 31901, 31953, 32002,
-	32048, 32091, 32132, 32170, 32206, 32240, 32271, 32301, 32329, 32356,
-	32381, 32404, 32426, 32447, 32466, 32484, 32501, 32517, 32532, 32547,
-	32560, 32573, 32584, 32596, 32606, 32616, 32625, 32634, 32642, 32649,
-	32657, 32663, 32670, 32676, 32681, 32686, 32691, 32696, 32700, 32704,
-	32708, 32712, 32715, 32718, 32721, 32724, 32727, 32729, 32732, 32734,
-	32736, 32738, 32740, 32741, 32743, 32745, 32768,
+/* Two increasing tables, sampled at equal steps and interpolated linearly:
+ *
+ *   sigmoid  sigmoid(i / 16) - 1/2 in Q16 for i = 0 .. 128, rounded to
+ *            nearest. The last entry is the asymptote 1/2 instead of
+ *            sigmoid(8) - 1/2, so the function meets its saturation value
+ *            continuously at x = 8. Negative arguments use sigmoid(-x) =
+ *            1 - sigmoid(x), and tanh is built from the same table, which is
+ *            why it holds an offset from 1/2.
+ *   gauss    1 - e^(-(i / 32)^2) in Q16 for i = 0 .. 109, rounded to
+ *            nearest; the complement, so that gauss(0) = 1 (65536) needs no
+ *            17th bit. Beyond 109/32 the function is below one ulp and gauss
+ *            gives 0.
+ *
+ * A table t is stored as its second differences, which are small: for each
+ * 16th entry c a checkpoint holds t[c] and the rise t[c+1] - t[c]; then
+ * dd[j] = (t[j+2] - t[j+1]) - (t[j+1] - t[j]) - 1 (the -1 brings gauss's
+ * first, 128, into an int8). A lookup walks at most 15 steps from its
+ * checkpoint. That is 160 + 136 bytes instead of 258 + 220: the runtime
+ * must fit 4 KB of a Cortex-M0+'s flash. The entries, and so every result,
+ * are exactly those of the full tables (test_net pins them). */
+static const uint16_t sigmoid_cp[16] = {
+	0, 1024, 15143, 793, 24956, 420, 29660, 180, 31589, 70, 32329, 27,
+	32606, 10, 32708, 4,
 };
-
-/* 1 - e^(-(i / 32)^2) in Q16 for i = 0 .. 109, rounded to nearest. Stored
- * as the complement so that gauss(0) = 1 (65536) fits in 16 bits. Beyond
- * 109/32 the function is below one ulp and gauss gives 0. */
-static const uint16_t gauss_tab[110] = {
-	0, 64, 256, 573, 1016, 1581, 2264, 3062, 3971, 4984, 6097, 7304, 8597,
-	9971, 11417, 12928, 14497, 16115, 17776, 19471, 21192, 22933, 24685,
-	26441, 28195, 29939, 31669, 33377, 35059, 36709, 38323, 39897, 41427,
-	42909, 44343, 45724, 47051, 48323, 49538, 50697, 51799, 52844, 53832,
-	54764, 55642, 56465, 57237, 57957, 58629, 59253, 59832, 60368, 60862,
-	61318, 61736, 62120, 62471, 62791, 63083, 63348, 63588, 63805, 64001,
-	64177, 64336, 64478, 64605, 64718, 64819, 64909, 64989, 65059, 65121,
-	65176, 65224, 65266, 65303, 65336, 65364, 65388, 65409, 65428, 65444,
-	65458, 65469, 65479, 65488, 65496, 65502, 65507, 65512, 65516, 65519,
-	65522, 65524, 65526, 65528, 65529, 65530, 65531, 65532, 65533, 65533,
-	65534, 65534, 65535, 65535, 65535, 65535, 65535,
+static const int8_t sigmoid_dd[127] = {
+	-4, -4, -7, -9, -11, -12, -15, -15, -17, -19, -19, -22, -22, -22, -24,
+	-25, -24, -25, -26, -25, -26, -26, -24, -27, -24, -24, -25, -24, -23,
+	-22, -23, -21, -21, -20, -20, -18, -19, -17, -17, -17, -15, -15, -14,
+	-14, -13, -12, -13, -11, -11, -11, -9, -10, -9, -9, -8, -8, -7, -8,
+	-6, -7, -6, -5, -7, -5, -4, -6, -5, -4, -4, -4, -4, -4, -3, -4, -3,
+	-3, -4, -2, -3, -2, -3, -3, -2, -2, -3, -2, -2, -2, -2, -1, -3, -1,
+	-3, 0, -3, -1, -2, -1, -2, -2, 0, -3, 0, -2, -2, -1, -1, -1, -2, -1,
+	-1, -1, -2, -1, -1, -1, -1, -2, 0, -2, -1, -1, -1, -2, 0, -1, 20,
+};
+static const uint16_t gauss_cp[14] = {
+	0, 64, 14497, 1618, 41427, 1482, 58629, 624, 64336, 142, 65409, 19,
+	65528, 1,
+};
+static const int8_t gauss_dd[108] = {
+	127, 124, 125, 121, 117, 114, 110, 103, 99, 93, 85, 80, 71, 64, 57,
+	48, 42, 33, 25, 19, 10, 3, -3, -11, -15, -23, -27, -33, -37, -41, -45,
+	-49, -49, -54, -55, -56, -58, -57, -58, -58, -58, -57, -55, -56, -52,
+	-53, -49, -49, -46, -44, -43, -39, -39, -35, -34, -32, -29, -28, -26,
+	-24, -22, -21, -18, -18, -16, -15, -13, -12, -11, -11, -9, -8, -8, -7,
+	-6, -5, -6, -5, -4, -3, -4, -3, -4, -2, -2, -2, -3, -2, -1, -2, -2,
+	-1, -2, -1, -1, -2, -1, -1, -1, -1, -2, 0, -2, 0, -2, -1, -1, -1,
 };
 
 #define SIGMOID_SHIFT 12 /* table step 1/16 in Q16 */
@@ -77,15 +87,22 @@ const char *evo_act_name(unsigned act)
 	return act < EVO_ACT_COUNT ? act_names[act] : NULL;
 }
 
-/* Linear interpolation in an increasing table at u (Q16, u >> shift must
- * be a valid index with a successor). Differences are non-negative, so
- * the arithmetic stays unsigned; the rounding matches fixed.h. */
-static uint32_t table_lerp(const uint16_t *tab, uint32_t u, unsigned shift)
+/* Linear interpolation at u (Q16; u >> shift must be an index whose
+ * rise is stored) in a table stored as above. Rises are non-negative, so
+ * the interpolation stays unsigned; its rounding matches fixed.h. */
+static uint32_t table_lerp(const uint16_t *cp, const int8_t *dd, uint32_t u,
+			   unsigned shift)
 {
 	uint32_t i = u >> shift;
 	uint32_t frac = u & ((1u << shift) - 1);
-	uint32_t rise = (uint32_t)(tab[i + 1] - tab[i]);
-	return tab[i] + ((rise * frac + (1u << (shift - 1))) >> shift);
+	uint32_t j = i & ~15u;
+	int32_t t = cp[j / 8], rise = cp[j / 8 + 1];
+	for (; j < i; j++) {
+		t += rise;
+		rise += dd[j] + 1;
+	}
+	return (uint32_t)t +
+	       (((uint32_t)rise * frac + (1u << (shift - 1))) >> shift);
 }
 
 /* |x| without overflow at INT32_MIN. */
@@ -99,7 +116,7 @@ static int32_t sigmoid_offset(uint32_t u)
 {
 	if (u >= SIGMOID_END)
 		return EVO_Q16_HALF;
-	return (int32_t)table_lerp(sigmoid_tab, u, SIGMOID_SHIFT);
+	return (int32_t)table_lerp(sigmoid_cp, sigmoid_dd, u, SIGMOID_SHIFT);
 }
 
 /* sigmoid(x), given u = |x| or a scaled |x|: built from |x| so that
@@ -132,7 +149,7 @@ static evo_q16 gauss(evo_q16 x)
 	uint32_t u = magnitude(x);
 	if (u >= GAUSS_END)
 		return 0;
-	return (evo_q16)(EVO_Q16_ONE - (int32_t)table_lerp(gauss_tab, u, GAUSS_SHIFT));
+	return (evo_q16)(EVO_Q16_ONE - (int32_t)table_lerp(gauss_cp, gauss_dd, u, GAUSS_SHIFT));
 }
 
 evo_q16 evo_act_apply(unsigned act, evo_q16 x)

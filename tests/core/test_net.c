@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "evo/image.h"
 #include "evo/net.h"
 #include "harness.h"
 #include "net_build.h"
@@ -178,6 +179,52 @@ TEST(table_activations_match_math_h)
 		CHECK(err <= cases[i].bound);
 		CHECK(sym);
 		CHECK(mono);
+	}
+}
+
+/* The table entries themselves: at its sample points a table function
+ * gives its entry, and each entry is the true value rounded to nearest
+ * (net.c stores the tables compressed; this pins what they hold). */
+TEST(table_entries_are_rounded_math_h)
+{
+	for (int i = 0; i <= 136; i++) {
+		double x = i / 16.0;
+		int32_t want = i >= 128 ? EVO_Q16_ONE
+					: EVO_Q16_HALF +
+						  (int32_t)floor((1 / (1 + exp(-x)) - 0.5) *
+								 65536 +
+							 0.5);
+		CHECK_EQ_INT(evo_act_apply(EVO_ACT_SIGMOID, i << 12), want);
+	}
+	for (int i = 0; i <= 120; i++) {
+		double x = i / 32.0;
+		int32_t want = i >= 109 ? 0
+					: EVO_Q16_ONE -
+						  (int32_t)floor((1 - exp(-x * x)) *
+								 65536 +
+							 0.5);
+		CHECK_EQ_INT(evo_act_apply(EVO_ACT_GAUSS, i << 11), want);
+	}
+}
+
+/* Every activation at every Q16 argument in [-16, 16], folded into a
+ * CRC-32: the values of the full-table code this replaced (checked equal
+ * to it at all 2^32 arguments when the tables were compressed). Any change
+ * to an activation's output, however small, changes trained skills'
+ * behaviour: this must not move. */
+TEST(activations_are_pinned)
+{
+	static const uint32_t want[EVO_ACT_COUNT] = {
+		0xCAD2CCA0u, 0x1281744Eu, 0xC89AEBF7u, 0x2EB58232u,
+		0xF2CE448Eu, 0xA73919EBu, 0x3C9C7086u, 0x1C1CE926u,
+	};
+	for (unsigned f = 0; f < EVO_ACT_COUNT; f++) {
+		uint32_t crc = 0;
+		for (int32_t x = -16 * 65536; x <= 16 * 65536; x++) {
+			evo_q16 y = evo_act_apply(f, x);
+			crc = evo_crc32(crc, &y, sizeof y);
+		}
+		CHECK_EQ_INT(crc, want[f]);
 	}
 }
 
@@ -766,6 +813,8 @@ int main(void)
 	RUN(act_names_follow_the_list);
 	RUN(exact_activations);
 	RUN(table_activations_match_math_h);
+	RUN(table_entries_are_rounded_math_h);
+	RUN(activations_are_pinned);
 	RUN(single_neuron);
 	RUN(xor_2_2_1);
 	RUN(self_loop_remembers);
