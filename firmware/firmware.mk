@@ -1,0 +1,172 @@
+# evo's firmware: a Cortex-M0(+) build for QEMU's microbit and a Cortex-M3
+# build for QEMU's mps2-an385, each running the mind of FW_MIND with the
+# robot's names of firmware/bots/$(FW_BOT).h. Included from the Makefile.
+# docs/firmware.md describes what is built and how to run it.
+#
+#   make firmware        BUILD/firmware/evo-m0.elf, evo-m3.elf (+ .bin)
+#   make firmware-test   replay a trace through both under QEMU, and more
+#   make firmware-size   text/data/bss of each firmware and of the runtime
+#
+# Outputs go to BUILD/firmware/: per core m0/ and m3/ (objects, the core
+# archive), mind/ (the exported images), the test driver, the plugin.
+
+FW_BUILD := $(BUILD)/firmware
+FW_MIND ?= minds/Collect
+FW_BOT ?= Collect
+FW_TASK ?= $(FW_MIND)/Tasks/Collect-DEMO.simbatch
+FW_TRACE_TICKS ?= 10000
+# Another mind folder, for the image built for another botdesc.
+FW_OTHER_MIND ?= minds/Avoid
+# The evo that exports images and records the trace.
+FW_EVO ?= $(BUILD)/evo
+QEMU_ARM ?= qemu-system-arm
+ARM_OBJCOPY ?= arm-none-eabi-objcopy
+ARM_AR ?= arm-none-eabi-ar
+# Seconds the whole firmware-test may take before it is stopped.
+FW_TEST_TIMEOUT ?= 240
+
+FW_CORES := m0 m3
+FW_CPU_m0 := -mcpu=cortex-m0plus
+FW_CPU_m3 := -mcpu=cortex-m3
+FW_BOARD_m0 := microbit
+FW_BOARD_m3 := mps2_an385
+FW_MACHINE_m0 := microbit
+FW_MACHINE_m3 := mps2-an385
+
+FW_CFLAGS := -mthumb -std=c11 -Os -g -ffreestanding -fno-builtin \
+	-fno-tree-loop-distribute-patterns -ffunction-sections \
+	-fdata-sections -DEVO_FREESTANDING $(WARN) -Icore/include -Ifirmware \
+	-I$(FW_BUILD)/mind '-DFW_BOT="bots/$(FW_BOT).h"' $(FW_CFLAGS_EXTRA)
+FW_LDFLAGS := -nostdlib -nostartfiles -Wl,--gc-sections -Lfirmware
+
+# What the firmware carries of core/: the MIND runtime, and status.c for
+# the message that says why an image was refused.
+FW_CORE_NAMES := $(sort $(CORE_RUNTIME) status)
+FW_SRCS := main wire cortex_m mind_slot
+
+fw_core_objs = $(patsubst %,$(FW_BUILD)/$(1)/core/%.o,$(FW_CORE_NAMES))
+fw_objs = $(patsubst %,$(FW_BUILD)/$(1)/%.o,$(FW_SRCS) board_$(FW_BOARD_$(1)))
+
+.PHONY: firmware firmware-test firmware-size
+
+firmware: $(foreach c,$(FW_CORES),$(FW_BUILD)/evo-$(c).elf $(FW_BUILD)/evo-$(c).bin)
+
+# ---- the images the firmware carries or is tested with -----------------
+FW_MIND_FILES := $(shell find $(FW_MIND) -name '*.botdesc' -o -name '*.vardesc' -o -name '*.ades' -o -name '*.net' 2>/dev/null)
+FW_OTHER_FILES := $(shell find $(FW_OTHER_MIND) -name '*.botdesc' -o -name '*.vardesc' -o -name '*.ades' -o -name '*.net' 2>/dev/null)
+
+$(FW_BUILD)/mind/mind.h: $(FW_EVO) $(FW_MIND_FILES)
+	@mkdir -p $(dir $@)
+	$(FW_EVO) export $(FW_MIND) --format c -o $@
+
+$(FW_BUILD)/mind/mind.bin: $(FW_EVO) $(FW_MIND_FILES)
+	@mkdir -p $(dir $@)
+	$(FW_EVO) export $(FW_MIND) -o $@
+
+$(FW_BUILD)/mind/other.bin: $(FW_EVO) $(FW_OTHER_FILES)
+	@mkdir -p $(dir $@)
+	$(FW_EVO) export $(FW_OTHER_MIND) -o $@
+
+# The trace the firmware must reproduce, byte for byte.
+$(FW_BUILD)/mind/run.trace: $(FW_EVO) $(FW_MIND_FILES) $(FW_TASK)
+	@mkdir -p $(dir $@)
+	$(FW_EVO) run $(FW_TASK) --headless --ticks $(FW_TRACE_TICKS) --trace $@
+
+# ---- per core ------------------------------------------------------------
+define FW_CORE_RULES
+$(FW_BUILD)/$(1)/core/%.o: core/src/%.c
+	@mkdir -p $$(dir $$@)
+	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) -MMD -MP -c $$< -o $$@
+
+$(FW_BUILD)/$(1)/%.o: firmware/%.c
+	@mkdir -p $$(dir $$@)
+	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) -MMD -MP -c $$< -o $$@
+
+$(FW_BUILD)/$(1)/mind_slot.o: $(FW_BUILD)/mind/mind.h
+
+$(FW_BUILD)/$(1)/libevocore.a: $(call fw_core_objs,$(1))
+	@rm -f $$@
+	$(ARM_AR) rcs $$@ $$^
+
+$(FW_BUILD)/evo-$(1).elf: $(call fw_objs,$(1)) $(FW_BUILD)/$(1)/libevocore.a \
+		firmware/$(1).ld firmware/sections.ld
+	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) $(FW_LDFLAGS) -T firmware/$(1).ld \
+		-Wl,-Map=$(FW_BUILD)/evo-$(1).map -o $$@ $(call fw_objs,$(1)) \
+		$(FW_BUILD)/$(1)/libevocore.a -lgcc
+
+# The MIND runtime alone: what size_entry.c reaches of the core archive.
+$(FW_BUILD)/runtime-$(1).elf: $(FW_BUILD)/$(1)/size_entry.o $(FW_BUILD)/$(1)/libevocore.a
+	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) -nostdlib -nostartfiles \
+		-Wl,--gc-sections -Wl,-e,fw_size_entry -o $$@ $$^ -lgcc
+endef
+$(foreach c,$(FW_CORES),$(eval $(call FW_CORE_RULES,$(c))))
+
+
+$(FW_BUILD)/%.bin: $(FW_BUILD)/%.elf
+	$(ARM_OBJCOPY) -O binary $< $@
+
+# ---- host side: the test driver, the QEMU plugin, the fuzz target -------
+FW_HOST_CFLAGS := -std=c11 $(OPT) $(WARN) -Icore/include -Ifirmware -Itests $(SAN)
+
+FW_TEST_SRCS := tests/firmware/firmware_test.c tests/firmware/qemu_session.c \
+	tests/firmware/trace_file.c firmware/wire.c
+$(FW_BUILD)/firmware_test: $(FW_TEST_SRCS) tests/firmware/qemu_session.h \
+		tests/firmware/trace_file.h firmware/wire.h tests/harness.h
+	@mkdir -p $(dir $@)
+	$(CC) $(FW_HOST_CFLAGS) -o $@ $(FW_TEST_SRCS)
+
+# Counts the instructions QEMU executes in an address range (TCG plugin).
+$(FW_BUILD)/insn_count.so: firmware/qemu/insn_count.c firmware/qemu/qemu_plugin_api.h
+	@mkdir -p $(dir $@)
+	$(CC) -std=c11 -O2 $(WARN) -fPIC -shared -Ifirmware/qemu -o $@ $<
+
+$(BUILD)/fuzz/fuzz_slcan: tests/fuzz/fuzz_slcan.c firmware/wire.c firmware/wire.h
+	@mkdir -p $(dir $@)
+	$(CLANG) -std=c11 -O1 -g $(WARN) -Icore/include -Ifirmware -Itests \
+		-fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
+		-o $@ tests/fuzz/fuzz_slcan.c firmware/wire.c
+
+# make bench runs it: instructions per tick on the M3 beside the host's ns.
+FW_HOST_OBJS := $(FW_BUILD)/host/qemu_session.o $(FW_BUILD)/host/trace_file.o \
+	$(FW_BUILD)/host/wire.o
+$(FW_BUILD)/host/%.o: tests/firmware/%.c tests/firmware/qemu_session.h \
+		tests/firmware/trace_file.h firmware/wire.h
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) -Ifirmware -c $< -o $@
+$(FW_BUILD)/host/%.o: firmware/%.c firmware/wire.h
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) -Ifirmware -c $< -o $@
+$(FW_BUILD)/host/bench_firmware.o: bench/bench_firmware.c tests/firmware/qemu_session.h
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) -Ifirmware -c $< -o $@
+
+$(BUILD)/bench/bench_firmware: $(FW_BUILD)/host/bench_firmware.o $(FW_HOST_OBJS) \
+		$(BUILD)/libevohost.a $(BUILD)/libevocore.a \
+		$(FW_BUILD)/evo-m3.elf $(FW_BUILD)/insn_count.so $(FW_BUILD)/mind/run.trace
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS_ALL) -o $@ $(filter %.o %.a,$^) $(LIBS)
+
+# ---- the targets -----------------------------------------------------------
+FW_TEST_INPUTS := $(foreach c,$(FW_CORES),$(FW_BUILD)/evo-$(c).elf) \
+	$(FW_BUILD)/firmware_test $(FW_BUILD)/mind/mind.bin \
+	$(FW_BUILD)/mind/other.bin $(FW_BUILD)/mind/run.trace
+
+firmware-test: $(FW_TEST_INPUTS)
+	timeout -k 5 $(FW_TEST_TIMEOUT) $(FW_BUILD)/firmware_test \
+		--qemu $(QEMU_ARM) --objcopy $(ARM_OBJCOPY) \
+		--trace $(FW_BUILD)/mind/run.trace --image $(FW_BUILD)/mind/mind.bin \
+		--other-image $(FW_BUILD)/mind/other.bin --tmp $(FW_BUILD)/test \
+		$(foreach c,$(FW_CORES),--firmware $(FW_MACHINE_$(c))=$(FW_BUILD)/evo-$(c).elf)
+
+firmware-size: $(foreach c,$(FW_CORES),$(FW_BUILD)/evo-$(c).elf $(FW_BUILD)/runtime-$(c).elf) \
+		$(FW_EVO) $(FW_BUILD)/mind/mind.bin
+	@for c in $(FW_CORES); do \
+		echo "== $$c: the firmware (flash = text + data; RAM = data + bss, stack included)"; \
+		$(ARM_SIZE) $(FW_BUILD)/evo-$$c.elf | sed 1d | awk '{print "   text " $$1 ", data " $$2 ", bss " $$3}'; \
+		echo "   mind slot: $$($(ARM_SIZE) -A $(FW_BUILD)/evo-$$c.elf | awk '$$1==".mind"{print $$2}') bytes of flash (the image fills $$(wc -c < $(FW_BUILD)/mind/mind.bin) of them)"; \
+		echo "== $$c: the MIND runtime alone (tick, networks, variables, image loader)"; \
+		$(ARM_SIZE) $(FW_BUILD)/runtime-$$c.elf | sed 1d | awk '{print "   text " $$1 ", data " $$2 ", bss " $$3}'; \
+	done
+	@$(FW_EVO) info $(FW_MIND) | grep 'mind state' | sed 's/^/   $(notdir $(FW_MIND)): /'
+
+-include $(shell find $(FW_BUILD) -name '*.d' 2>/dev/null)

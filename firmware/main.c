@@ -1,0 +1,347 @@
+/* The firmware's main loop: wait for a tick's sensor frames, step the
+ * mind, send its actuator frames; when sensor frames stop for longer than
+ * the link timeout, set every actuator to neutral until they come back.
+ *
+ * The mind image is used in place where it lies in flash (the mind slot,
+ * mind_slot.c); only its state is in RAM. The wire is docs/wire.md, the
+ * exit statuses and log lines docs/firmware.md. */
+#include <stddef.h>
+#include <stdint.h>
+
+#include "board.h"
+#include "evo/mind.h"
+#include "mind_slot.h"
+#include "wire.h"
+
+#ifndef FW_BOT
+#error "build with -DFW_BOT=\"bots/NAME.h\" (the robot's names)"
+#endif
+#include FW_BOT
+
+/* Bytes of RAM for the mind state (evo_state_size); a mind that needs
+ * more is refused. */
+#ifndef FW_STATE_BYTES
+#define FW_STATE_BYTES 1024
+#endif
+
+/* Milliseconds without a sensor frame before the actuators go neutral;
+ * an EVO_WIRE_CONFIG frame changes it at run time. */
+#ifndef FW_LINK_TIMEOUT_MS
+#define FW_LINK_TIMEOUT_MS 100
+#endif
+
+/* Exit statuses (docs/firmware.md). */
+enum {
+	FW_EXIT_IMAGE_CORRUPT = 3,  /* not an image, truncated, CRC */
+	FW_EXIT_IMAGE_MISMATCH = 4, /* built for other names */
+	FW_EXIT_IMAGE_INVALID = 5,  /* bad layout, unknown class */
+	FW_EXIT_NO_RAM = 6,	    /* state larger than FW_STATE_BYTES */
+	FW_EXIT_OTHER = 8,
+};
+
+static const char *const sensor_names[] = {FW_BOT_SENSORS 0};
+static const char *const actuator_names[] = {FW_BOT_ACTUATORS 0};
+static const char *const var_names[] = {FW_BOT_VARIABLES 0};
+#define N_SENSORS (sizeof sensor_names / sizeof *sensor_names - 1)
+#define N_ACTUATORS (sizeof actuator_names / sizeof *actuator_names - 1)
+#define N_VARS (sizeof var_names / sizeof *var_names - 1)
+#define N_SENSOR_FRAMES ((N_SENSORS + 1) / 2)
+/* Every sensor frame of a tick, bit k for frame k. */
+#define ALL_SENSOR_FRAMES                                                      \
+	(N_SENSOR_FRAMES == 64 ? ~(uint64_t)0                                  \
+			       : ((uint64_t)1 << (N_SENSOR_FRAMES % 64)) - 1)
+
+_Static_assert(N_SENSORS <= 2 * EVO_WIRE_SENSOR_FRAMES, "too many sensors");
+_Static_assert(N_ACTUATORS <= 2 * EVO_WIRE_ACTUATOR_FRAMES,
+	       "too many actuators");
+_Static_assert(N_SENSORS > 0 && N_ACTUATORS > 0, "a robot senses and acts");
+
+static _Alignas(8) uint8_t state_mem[FW_STATE_BYTES];
+static evo_q16 sensors[N_SENSORS], actuators[N_ACTUATORS];
+
+/* ---- output --------------------------------------------------------- */
+
+static void put_str(const char *s)
+{
+	while (*s)
+		board_putc((uint8_t)*s++);
+}
+
+static void put_uint(uint32_t v)
+{
+	char buf[11];
+	int i = sizeof buf;
+	buf[--i] = 0;
+	do {
+		buf[--i] = (char)('0' + v % 10u);
+		v /= 10u;
+	} while (v);
+	put_str(buf + i);
+}
+
+static void put_hex32(uint32_t v)
+{
+	for (int shift = 28; shift >= 0; shift -= 4)
+		board_putc((uint8_t)"0123456789abcdef"[(v >> shift) & 0xFu]);
+}
+
+static void send_frame(const evo_can_frame *f)
+{
+	char line[EVO_SLCAN_LINE_MAX + 1];
+	size_t n = evo_slcan_encode(f, line);
+	for (size_t i = 0; i < n; i++)
+		board_putc((uint8_t)line[i]);
+}
+
+static void send_actuators(uint32_t tick, uint8_t flags)
+{
+	evo_can_frame f;
+	for (unsigned k = 0; k < evo_wire_frames(N_ACTUATORS); k++) {
+		evo_wire_pack(EVO_WIRE_ACTUATOR, actuators, N_ACTUATORS, k, &f);
+		send_frame(&f);
+	}
+	f.id = EVO_WIRE_TICKED;
+	f.len = 5;
+	evo_wire_put_u32(f.data, tick);
+	f.data[4] = flags;
+	send_frame(&f);
+}
+
+/* ---- refusing an image ---------------------------------------------- */
+
+static int exit_status(evo_status st)
+{
+	switch (st) {
+	case EVO_ERR_ALIGN:
+	case EVO_ERR_IMAGE_MAGIC:
+	case EVO_ERR_IMAGE_VERSION:
+	case EVO_ERR_IMAGE_LENGTH:
+	case EVO_ERR_IMAGE_CRC:
+		return FW_EXIT_IMAGE_CORRUPT;
+	case EVO_ERR_IMAGE_NAMES:
+		return FW_EXIT_IMAGE_MISMATCH;
+	case EVO_ERR_IMAGE_LAYOUT:
+	case EVO_ERR_IMAGE_CLASS:
+		return FW_EXIT_IMAGE_INVALID;
+	default:
+		return FW_EXIT_OTHER;
+	}
+}
+
+__attribute__((noreturn)) static void refuse(evo_status st,
+					     uint32_t names_hash)
+{
+	put_str("# evo firmware: mind image refused: ");
+	put_str(evo_status_str(st));
+	if (st == EVO_ERR_IMAGE_NAMES && fw_mind_slot_size() >= 20) {
+		/* The header's names hash is at byte 16 (docs/mind-image.md). */
+		put_str(" (image built for names ");
+		put_hex32(evo_wire_get_u32(fw_mind_slot + 16));
+		put_str(", this robot's ");
+		put_str(FW_BOT_NAME);
+		put_str(" has ");
+		put_hex32(names_hash);
+		put_str(")");
+	}
+	put_str("\r\n");
+	board_exit(exit_status(st));
+}
+
+/* ---- the loop ------------------------------------------------------- */
+
+typedef struct link_state {
+	uint32_t last_ms;  /* when the last sensor or tick frame came */
+	uint32_t timeout_ms;
+	int up;		   /* sensor frames are coming */
+	uint64_t got;	   /* sensor frames received this tick, bit k */
+	uint64_t known;	   /* sensor frames received since the link came up */
+	uint32_t last_tick; /* the last tick number received */
+	uint32_t ticks, incomplete, link_losses;
+	uint32_t bad[EVO_WIRE_BAD_COUNT];
+} link_state;
+
+static void count_bad(link_state *l, evo_wire_bad why)
+{
+	l->bad[why]++;
+}
+
+static uint16_t sat16(uint32_t v)
+{
+	return v > 0xFFFFu ? 0xFFFFu : (uint16_t)v;
+}
+
+static void send_status(const link_state *l)
+{
+	evo_can_frame f;
+	f.id = EVO_WIRE_STATUS_LINES;
+	f.len = 8;
+	for (unsigned i = 0; i < EVO_WIRE_BAD_COUNT; i++)
+		evo_wire_put_u16(f.data + 2 * i, sat16(l->bad[i]));
+	send_frame(&f);
+	f.id = EVO_WIRE_STATUS_LINK;
+	evo_wire_put_u32(f.data, l->ticks);
+	evo_wire_put_u16(f.data + 4, sat16(l->incomplete));
+	evo_wire_put_u16(f.data + 6, sat16(l->link_losses));
+	send_frame(&f);
+}
+
+static void go_neutral(link_state *l)
+{
+	for (unsigned a = 0; a < N_ACTUATORS; a++)
+		actuators[a] = EVO_Q16_HALF;
+	board_actuate(actuators, N_ACTUATORS);
+	send_actuators(l->last_tick, EVO_WIRE_F_NEUTRAL);
+}
+
+static void on_frame(const evo_mind *m, evo_state *s, link_state *l,
+		     const evo_can_frame *f)
+{
+	if (f->id >= EVO_WIRE_SENSOR &&
+	    f->id < EVO_WIRE_SENSOR + EVO_WIRE_SENSOR_FRAMES) {
+		int k = evo_wire_unpack(EVO_WIRE_SENSOR, f, sensors, N_SENSORS);
+		if (k < 0) {
+			count_bad(l, (evo_wire_bad)(-1 - k));
+			return;
+		}
+		l->got |= (uint64_t)1 << k;
+		l->last_ms = board_millis();
+		l->up = 1;
+		return;
+	}
+	switch (f->id) {
+	case EVO_WIRE_TICK: {
+		/* DLC 4: all frames were sent; DLC 8: those of the mask, the
+		 * others keep their values (docs/wire.md). */
+		if (f->len != 4 && (f->len != 8 || N_SENSOR_FRAMES > 32)) {
+			count_bad(l, EVO_WIRE_BAD_LENGTH);
+			return;
+		}
+		uint64_t sent = f->len == 4 ? ALL_SENSOR_FRAMES
+					    : evo_wire_get_u32(f->data + 4);
+		l->last_tick = evo_wire_get_u32(f->data);
+		l->last_ms = board_millis();
+		l->up = 1;
+		l->known |= l->got;
+		int complete = l->got == sent && l->known == ALL_SENSOR_FRAMES;
+		l->got = 0;
+		if (!complete) {
+			l->incomplete++;
+			send_actuators(l->last_tick, EVO_WIRE_F_INCOMPLETE);
+			return;
+		}
+		evo_mind_step(m, s, sensors, actuators);
+		board_actuate(actuators, N_ACTUATORS);
+		l->ticks++;
+		send_actuators(l->last_tick, 0);
+		return;
+	}
+	case EVO_WIRE_STATUS_REQ:
+		if (f->len != 0) {
+			count_bad(l, EVO_WIRE_BAD_LENGTH);
+			return;
+		}
+		send_status(l);
+		return;
+	case EVO_WIRE_CONFIG:
+		if (f->len != 2) {
+			count_bad(l, EVO_WIRE_BAD_LENGTH);
+			return;
+		}
+		l->timeout_ms = evo_wire_get_u16(f->data);
+		if (l->timeout_ms == 0)
+			l->timeout_ms = 1;
+		return;
+	default:
+		count_bad(l, EVO_WIRE_BAD_ID);
+		return;
+	}
+}
+
+int main(void)
+{
+	board_init();
+	put_str("# evo firmware on ");
+	put_str(board_name);
+	put_str(", robot ");
+	put_str(FW_BOT_NAME);
+	put_str("\r\n");
+
+	uint32_t names_hash = evo_names_hash(sensor_names, N_SENSORS,
+					     actuator_names, N_ACTUATORS,
+					     var_names, N_VARS);
+	evo_mind m;
+	evo_status st =
+		evo_mind_open(fw_mind_slot, fw_mind_slot_size(), names_hash,
+			      &m);
+	if (st != EVO_OK)
+		refuse(st, names_hash);
+	size_t need = evo_state_size(&m);
+	if (need > sizeof state_mem) {
+		put_str("# evo firmware: the mind state needs ");
+		put_uint((uint32_t)need);
+		put_str(" bytes of RAM; this firmware has ");
+		put_uint(sizeof state_mem);
+		put_str(" (FW_STATE_BYTES)\r\n");
+		board_exit(FW_EXIT_NO_RAM);
+	}
+	evo_state *s;
+	st = evo_state_init(&m, state_mem, sizeof state_mem, &s);
+	if (st != EVO_OK)
+		refuse(st, names_hash);
+
+	link_state l = {0};
+	l.timeout_ms = FW_LINK_TIMEOUT_MS;
+	for (unsigned a = 0; a < N_ACTUATORS; a++)
+		actuators[a] = EVO_Q16_HALF;
+	board_actuate(actuators, N_ACTUATORS);
+
+	put_str("# mind ");
+	put_str(evo_mind_skill_name(&m, 0));
+	put_str(": image ");
+	put_uint(m.length);
+	put_str(" bytes in flash, state ");
+	put_uint((uint32_t)need);
+	put_str(" bytes in RAM; names ");
+	put_hex32(names_hash);
+	put_str("; link timeout ");
+	put_uint(l.timeout_ms);
+	put_str(" ms\r\n");
+	evo_can_frame f;
+	f.id = EVO_WIRE_HELLO;
+	f.len = 8;
+	evo_wire_put_u32(f.data, names_hash);
+	f.data[4] = (uint8_t)N_SENSORS;
+	f.data[5] = (uint8_t)N_ACTUATORS;
+	f.data[6] = (uint8_t)N_VARS;
+	f.data[7] = EVO_WIRE_VERSION;
+	send_frame(&f);
+
+	evo_slcan_rx rx;
+	evo_slcan_rx_init(&rx);
+	for (;;) {
+		int c = board_getc();
+		if (c < 0) {
+			board_idle();
+		} else {
+			evo_wire_bad why;
+			switch (evo_slcan_rx_byte(&rx, (uint8_t)c, &f, &why)) {
+			case EVO_SLCAN_FRAME:
+				on_frame(&m, s, &l, &f);
+				break;
+			case EVO_SLCAN_BAD:
+				count_bad(&l, why);
+				break;
+			default:
+				break;
+			}
+		}
+		/* Unsigned difference: right across the clock's wrap. */
+		if (l.up && board_millis() - l.last_ms > l.timeout_ms) {
+			l.up = 0;
+			l.got = 0;
+			l.known = 0; /* the next tick must bring every frame */
+			l.link_losses++;
+			go_neutral(&l);
+		}
+	}
+}

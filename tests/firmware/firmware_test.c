@@ -1,0 +1,640 @@
+/* The firmware under QEMU (make firmware-test): for each firmware given,
+ *   - a trace recorded by `evo run --trace` is replayed as sensor frames and
+ *     every actuator value the firmware sends back must equal the trace's;
+ *   - when sensor frames stop, the actuators go neutral within the link
+ *     timeout, and the mind goes on as before when frames come back;
+ *   - malformed lines are counted by reason and ignored;
+ *   - a tick with a sensor frame missing is not stepped;
+ *   - a corrupt image, one built for another botdesc, and an empty mind
+ *     slot are refused, with the reason and a distinct exit status.
+ * Ends with "N passed, N failed"; exits non-zero on a failure.
+ *
+ * usage: firmware_test --qemu QEMU --objcopy OBJCOPY --trace TRACE
+ *        --image MIND.bin --other-image OTHER.bin --tmp DIR
+ *        --firmware MACHINE=ELF [--firmware MACHINE=ELF ...] */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "harness.h"
+#include "qemu_session.h"
+#include "trace_file.h"
+
+#define SLOT_BYTES 8192 /* the MIND region of firmware/m0.ld and m3.ld */
+#define EXIT_IMAGE_CORRUPT 3
+#define EXIT_IMAGE_MISMATCH 4
+
+static struct {
+	const char *qemu, *objcopy, *trace_path, *image, *other_image, *tmp;
+	const char *machine[4], *elf[4];
+	unsigned n_fw;
+} opt;
+
+static trace_file trace;
+static const char *machine, *elf; /* the firmware under test */
+
+/* ---- helpers ---------------------------------------------------------- */
+
+static int start(qemu_session *q, const char *kernel, double deadline_s)
+{
+	char err[256], errfile[512];
+	snprintf(errfile, sizeof errfile, "%s/qemu-%s.stderr", opt.tmp,
+		 machine);
+	qemu_opts o = {opt.qemu, machine, kernel, NULL, errfile, deadline_s};
+	if (qs_start(q, &o, err, sizeof err) != 0) {
+		printf("  cannot start %s: %s\n", opt.qemu, err);
+		return -1;
+	}
+	return 0;
+}
+
+/* Read up to the firmware's HELLO frame; its names hash, or 0 on failure
+ * (with what came instead printed). */
+static uint32_t wait_hello(qemu_session *q)
+{
+	evo_can_frame f;
+	char line[512];
+	for (;;) {
+		int r = qs_next(q, 10.0, &f, line, sizeof line);
+		if (r == QS_FRAME && f.id == EVO_WIRE_HELLO && f.len == 8)
+			return evo_wire_get_u32(f.data);
+		if (r == QS_LOG)
+			continue;
+		printf("  waiting for HELLO: got %s%s\n",
+		       r == QS_TIMEOUT ? "nothing within 10 s"
+		       : r == QS_EXIT	? "the guest's exit"
+		       : r == QS_JUNK	? "the line "
+					: "another frame",
+		       r == QS_JUNK ? line : "");
+		return 0;
+	}
+}
+
+/* Tick i of the trace: every sensor frame (full), or only those whose
+ * values differ from tick i - 1's, with their mask in the tick frame. */
+static void queue_tick(qemu_session *q, size_t i, int full)
+{
+	evo_can_frame f;
+	const int32_t *s = trace.sensor + i * trace.n_sensors;
+	const int32_t *prev = s - trace.n_sensors;
+	unsigned frames = evo_wire_frames(trace.n_sensors);
+	uint32_t mask = 0;
+	if (frames > 32)
+		full = 1;
+	for (unsigned k = 0; k < frames; k++) {
+		unsigned n = 2 * k + 1 < trace.n_sensors ? 2 : 1;
+		if (!full && memcmp(s + 2 * k, prev + 2 * k,
+				    n * sizeof *s) == 0)
+			continue;
+		evo_wire_pack(EVO_WIRE_SENSOR, s, trace.n_sensors, k, &f);
+		qs_queue_frame(q, &f);
+		mask |= 1u << k;
+	}
+	f.id = EVO_WIRE_TICK;
+	f.len = full ? 4 : 8;
+	evo_wire_put_u32(f.data, trace.tick[i]);
+	evo_wire_put_u32(f.data + 4, mask);
+	qs_queue_frame(q, &f);
+}
+
+/* One reply: the actuator frames and the TICKED frame that ends them. */
+typedef struct reply {
+	int32_t value[64];
+	uint32_t got; /* actuator frames received, bit k */
+	uint32_t tick;
+	uint8_t flags;
+} reply;
+
+/* The next reply within timeout_s: 1, or 0 with the reason printed. */
+static int read_reply(qemu_session *q, double timeout_s, reply *r)
+{
+	evo_can_frame f;
+	char line[512];
+	memset(r, 0, sizeof *r);
+	for (;;) {
+		int k = qs_next(q, timeout_s, &f, line, sizeof line);
+		if (k == QS_LOG)
+			continue;
+		if (k != QS_FRAME) {
+			printf("  waiting for actuator frames: %s %s\n",
+			       k == QS_TIMEOUT ? "nothing came"
+			       : k == QS_EXIT	? "the guest stopped"
+						: "junk:",
+			       k == QS_JUNK ? line : "");
+			return 0;
+		}
+		if (f.id == EVO_WIRE_TICKED && f.len == 5) {
+			r->tick = evo_wire_get_u32(f.data);
+			r->flags = f.data[4];
+			return 1;
+		}
+		int a = evo_wire_unpack(EVO_WIRE_ACTUATOR, &f, r->value,
+					trace.n_actuators);
+		if (a < 0) {
+			printf("  unexpected frame id 0x%03x len %u\n", f.id,
+			       f.len);
+			return 0;
+		}
+		r->got |= 1u << a;
+	}
+}
+
+static uint32_t all_actuator_frames(void)
+{
+	return (1u << evo_wire_frames(trace.n_actuators)) - 1;
+}
+
+/* Ticks [from, to) of the trace, up to `window` in flight, the first with
+ * every sensor frame and the others with those that changed; every reply
+ * must be complete, unflagged, and equal to the trace. Returns the values
+ * that differ (the first few printed), or -1 when replies stop. */
+static long replay(qemu_session *q, size_t from, size_t to, unsigned window)
+{
+	size_t sent = from, done = from;
+	long differ = 0;
+	reply r;
+	while (done < to) {
+		for (; sent < to && sent - done < window; sent++)
+			queue_tick(q, sent, sent == from);
+		if (!read_reply(q, 5.0, &r))
+			return -1;
+		if (r.tick != trace.tick[done] || r.flags != 0 ||
+		    r.got != all_actuator_frames()) {
+			printf("  tick %u: reply for tick %u, flags %u, "
+			       "frames 0x%x\n",
+			       trace.tick[done], r.tick, r.flags, r.got);
+			return -1;
+		}
+		const int32_t *want = trace.actuator + done * trace.n_actuators;
+		for (unsigned a = 0; a < trace.n_actuators; a++)
+			if (r.value[a] != want[a] && differ++ < 5)
+				printf("  tick %u actuator %u: firmware %d, "
+				       "trace %d\n",
+				       trace.tick[done], a, r.value[a], want[a]);
+		done++;
+	}
+	return differ;
+}
+
+/* The two status frames: bad[4], ticks, incomplete, losses. */
+typedef struct status {
+	unsigned bad[EVO_WIRE_BAD_COUNT];
+	uint32_t ticks;
+	unsigned incomplete, losses;
+} status;
+
+static int read_status(qemu_session *q, status *st)
+{
+	evo_can_frame f = {EVO_WIRE_STATUS_REQ, 0, {0}};
+	char line[512];
+	int got = 0;
+	qs_queue_frame(q, &f);
+	while (got != 3) {
+		int k = qs_next(q, 5.0, &f, line, sizeof line);
+		if (k == QS_LOG)
+			continue;
+		if (k != QS_FRAME) {
+			printf("  no status reply\n");
+			return -1;
+		}
+		if (f.id == EVO_WIRE_STATUS_LINES && f.len == 8) {
+			for (unsigned i = 0; i < EVO_WIRE_BAD_COUNT; i++)
+				st->bad[i] = evo_wire_get_u16(f.data + 2 * i);
+			got |= 1;
+		} else if (f.id == EVO_WIRE_STATUS_LINK && f.len == 8) {
+			st->ticks = evo_wire_get_u32(f.data);
+			st->incomplete = evo_wire_get_u16(f.data + 4);
+			st->losses = evo_wire_get_u16(f.data + 6);
+			got |= 2;
+		}
+	}
+	return 0;
+}
+
+/* ---- tests ------------------------------------------------------------ */
+
+/* Acceptance: the whole trace through the firmware, byte for byte. */
+TEST(replay_matches_trace)
+{
+	qemu_session q;
+	if (start(&q, elf, 100.0) != 0) {
+		CHECK(0);
+		return;
+	}
+	uint32_t hash = wait_hello(&q);
+	CHECK_EQ_INT(hash, trace.names_hash);
+	double t0 = qs_now();
+	long differ = replay(&q, 0, trace.n_ticks, 8);
+	double dt = qs_now() - t0;
+	CHECK_EQ_INT(differ, 0);
+	status st;
+	memset(&st, 0xff, sizeof st);
+	CHECK(read_status(&q, &st) == 0);
+	CHECK_EQ_INT(st.ticks, trace.n_ticks);
+	CHECK_EQ_INT(st.incomplete, 0);
+	CHECK_EQ_INT(st.losses, 0);
+	for (unsigned i = 0; i < EVO_WIRE_BAD_COUNT; i++)
+		CHECK_EQ_INT(st.bad[i], 0);
+	qs_stop(&q);
+	if (differ == 0)
+		printf("  %s: %zu ticks, %zu actuator values equal to the "
+		       "trace's (%.1f s, %.0f ticks/s)\n",
+		       machine, trace.n_ticks,
+		       trace.n_ticks * trace.n_actuators, dt,
+		       (double)trace.n_ticks / dt);
+}
+
+/* Sensor frames stop: neutral within the timeout; then the mind goes on. */
+TEST(link_loss_goes_neutral_and_resumes)
+{
+	const unsigned timeout_ms = 200;
+	qemu_session q;
+	if (start(&q, elf, 30.0) != 0) {
+		CHECK(0);
+		return;
+	}
+	CHECK(wait_hello(&q) == trace.names_hash);
+	evo_can_frame f = {EVO_WIRE_CONFIG, 2, {0}};
+	evo_wire_put_u16(f.data, timeout_ms);
+	qs_queue_frame(&q, &f);
+	CHECK_EQ_INT(replay(&q, 0, 50, 1), 0);
+
+	/* Half a tick, then silence: the half tick must not count later. */
+	evo_wire_pack(EVO_WIRE_SENSOR, trace.sensor + 50 * trace.n_sensors,
+		      trace.n_sensors, 0, &f);
+	qs_queue_frame(&q, &f);
+	CHECK(qs_flush(&q) == 0);
+	double silent_at = qs_now();
+	reply r;
+	CHECK(read_reply(&q, 2.0, &r));
+	double after = qs_now() - silent_at;
+	CHECK_EQ_INT(r.flags, EVO_WIRE_F_NEUTRAL);
+	CHECK_EQ_INT(r.tick, trace.tick[49]);
+	CHECK_EQ_INT(r.got, all_actuator_frames());
+	for (unsigned a = 0; a < trace.n_actuators; a++)
+		CHECK_EQ_INT(r.value[a], EVO_Q16_HALF);
+	/* Not before the timeout; within it, give or take the host's
+	 * scheduling (QEMU's clock follows the host's). */
+	CHECK(after >= timeout_ms * 0.9e-3);
+	CHECK(after <= timeout_ms * 1e-3 + 0.3);
+	printf("  %s: neutral %.0f ms after the last sensor frame (timeout "
+	       "%u ms)\n",
+	       machine, after * 1e3, timeout_ms);
+
+	/* Frames again: the mind goes on exactly as in the trace. */
+	CHECK_EQ_INT(replay(&q, 50, 100, 1), 0);
+	status st;
+	memset(&st, 0, sizeof st);
+	CHECK(read_status(&q, &st) == 0);
+	CHECK_EQ_INT(st.losses, 1);
+	CHECK_EQ_INT(st.ticks, 100);
+	CHECK_EQ_INT(st.incomplete, 0);
+	qs_stop(&q);
+}
+
+/* A tick whose sensor frames are not all there is not stepped. */
+TEST(incomplete_tick_is_not_stepped)
+{
+	qemu_session q;
+	if (start(&q, elf, 30.0) != 0) {
+		CHECK(0);
+		return;
+	}
+	CHECK(wait_hello(&q) == trace.names_hash);
+	/* Just started, "nothing changed" is not enough: no values yet. */
+	evo_can_frame f = {EVO_WIRE_TICK, 8, {0}};
+	qs_queue_frame(&q, &f);
+	reply r;
+	CHECK(read_reply(&q, 5.0, &r));
+	CHECK_EQ_INT(r.flags, EVO_WIRE_F_INCOMPLETE);
+	for (unsigned a = 0; a < trace.n_actuators; a++)
+		CHECK_EQ_INT(r.value[a], EVO_Q16_HALF);
+	CHECK_EQ_INT(replay(&q, 0, 10, 1), 0);
+	/* A tick whose mask names a frame that did not come. */
+	f.id = EVO_WIRE_TICK;
+	f.len = 8;
+	evo_wire_put_u32(f.data, 77);
+	evo_wire_put_u32(f.data + 4, 1u << 3);
+	qs_queue_frame(&q, &f);
+	CHECK(read_reply(&q, 5.0, &r));
+	CHECK_EQ_INT(r.flags, EVO_WIRE_F_INCOMPLETE);
+	CHECK_EQ_INT(r.tick, 77);
+	/* Tick 10 without its last sensor frame. */
+	unsigned frames = evo_wire_frames(trace.n_sensors);
+	for (unsigned k = 0; k + 1 < frames; k++) {
+		evo_wire_pack(EVO_WIRE_SENSOR,
+			      trace.sensor + 10 * trace.n_sensors,
+			      trace.n_sensors, k, &f);
+		qs_queue_frame(&q, &f);
+	}
+	f.id = EVO_WIRE_TICK;
+	f.len = 4;
+	evo_wire_put_u32(f.data, trace.tick[10]);
+	qs_queue_frame(&q, &f);
+	/* The reply holds tick 9's commands, flagged. */
+	CHECK(read_reply(&q, 5.0, &r));
+	CHECK_EQ_INT(r.flags, EVO_WIRE_F_INCOMPLETE);
+	CHECK_EQ_INT(r.tick, trace.tick[10]);
+	CHECK_EQ_INT(r.got, all_actuator_frames());
+	for (unsigned a = 0; a < trace.n_actuators; a++)
+		CHECK_EQ_INT(r.value[a],
+			     trace.actuator[9 * trace.n_actuators + a]);
+	/* Had it stepped, tick 10 sent whole would now differ. */
+	CHECK_EQ_INT(replay(&q, 10, 20, 1), 0);
+	status st;
+	memset(&st, 0, sizeof st);
+	CHECK(read_status(&q, &st) == 0);
+	CHECK_EQ_INT(st.incomplete, 3);
+	CHECK_EQ_INT(st.ticks, 20);
+	qs_stop(&q);
+}
+
+/* Every kind of malformed line, and a stream of garbage. */
+TEST(malformed_lines_are_counted_and_ignored)
+{
+	static const char *const lines[] = {
+		/* overlong: 2 */
+		"t100800000100000001000000000000000000000000000000000\r",
+		"xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx\n",
+		/* syntax: 5 */
+		"t10080000G00000001000\r", /* G is not hex */
+		"T123456780\r",	     /* extended frames: unused */
+		"r1000\r",			/* remote frames: unused */
+		"O\r",				/* adapter commands: not here */
+		"\x01\xff\x80 t1008\r",
+		/* bad length: 6 */
+		"t10080000010000\r",	       /* DLC 8, 4 bytes */
+		"t10090000010000000100\r", /* DLC 9 */
+		"t100400000100\r", /* sensor frame 0 carries 2 values */
+		"t140100\r",	   /* a tick number is 4 bytes */
+		"t1",		   /* too short (ended by the next line) */
+		"\rt1C101\r", /* a status request has no data */
+		/* unknown id: 4 */
+		"t7FF0\r",
+		"t1800\r",	       /* actuator frames go the other way */
+		"t10A80000010000000100\r", /* sensors 20, 21: Collect has 20 */
+		"t8000\r", /* beyond 11 bits */
+	};
+	const unsigned want[EVO_WIRE_BAD_COUNT] = {2, 5, 6, 4};
+	qemu_session q;
+	if (start(&q, elf, 30.0) != 0) {
+		CHECK(0);
+		return;
+	}
+	CHECK(wait_hello(&q) == trace.names_hash);
+	for (size_t i = 0; i < sizeof lines / sizeof *lines; i++)
+		qs_queue(&q, lines[i], strlen(lines[i]));
+	status st;
+	memset(&st, 0, sizeof st);
+	CHECK(read_status(&q, &st) == 0);
+	for (unsigned i = 0; i < EVO_WIRE_BAD_COUNT; i++)
+		CHECK_EQ_INT(st.bad[i], want[i]);
+
+	/* 64 KB of garbage without a 't' (so no line can be a frame): the
+	 * firmware must count what the host's decoder counts. */
+	static char junk[65536];
+	unsigned model[EVO_WIRE_BAD_COUNT] = {0};
+	uint32_t x = 12345;
+	evo_slcan_rx rx;
+	evo_slcan_rx_init(&rx);
+	for (size_t i = 0; i < sizeof junk; i++) {
+		x = x * 1103515245u + 12345u;
+		char c = (char)(x >> 16);
+		junk[i] = c == 't' ? 'T' : c;
+	}
+	junk[sizeof junk - 1] = '\r'; /* end the last garbage line */
+	for (size_t i = 0; i < sizeof junk; i++) {
+		evo_can_frame f;
+		evo_wire_bad bad;
+		if (evo_slcan_rx_byte(&rx, (uint8_t)junk[i], &f, &bad) ==
+		    EVO_SLCAN_BAD)
+			model[bad]++;
+	}
+	qs_queue(&q, junk, sizeof junk);
+	status st2;
+	memset(&st2, 0, sizeof st2);
+	CHECK(read_status(&q, &st2) == 0);
+	unsigned total = 0;
+	for (unsigned i = 0; i < EVO_WIRE_BAD_COUNT; i++) {
+		CHECK_EQ_INT(st2.bad[i] - st.bad[i], model[i]);
+		total += model[i];
+	}
+	CHECK(total > 100);
+	/* Still ticking as the host does. */
+	CHECK_EQ_INT(replay(&q, 0, 20, 1), 0);
+	printf("  %s: %u garbage lines counted and ignored\n", machine,
+	       total);
+	qs_stop(&q);
+}
+
+/* A firmware ELF with slot holding `image` (len bytes, padded as erased
+ * flash) instead of the mind it was built with. 0 or -1. */
+static int with_image(const char *name, const void *image, size_t len,
+		      char *out, size_t cap)
+{
+	char bin[512];
+	static unsigned char slot[SLOT_BYTES];
+	if (len > sizeof slot)
+		return -1;
+	memset(slot, 0xFF, sizeof slot);
+	memcpy(slot, image, len);
+	snprintf(bin, sizeof bin, "%s/%s-%s.slot", opt.tmp, machine, name);
+	snprintf(out, cap, "%s/%s-%s.elf", opt.tmp, machine, name);
+	FILE *f = fopen(bin, "wb");
+	if (!f || fwrite(slot, 1, sizeof slot, f) != sizeof slot) {
+		if (f)
+			fclose(f);
+		return -1;
+	}
+	fclose(f);
+	char cmd[2048];
+	snprintf(cmd, sizeof cmd, "%s --update-section .mind=%s %s %s",
+		 opt.objcopy, bin, elf, out);
+	return system(cmd) == 0 ? 0 : -1;
+}
+
+static unsigned char *read_all(const char *path, size_t *len)
+{
+	FILE *f = fopen(path, "rb");
+	static unsigned char buf[SLOT_BYTES + 1];
+	if (!f)
+		return NULL;
+	*len = fread(buf, 1, sizeof buf, f);
+	fclose(f);
+	return *len > 0 && *len <= SLOT_BYTES ? buf : NULL;
+}
+
+/* The firmware with `image` must print `reason` and exit with status. */
+static void expect_refused(const char *name, const void *image, size_t len,
+			   const char *reason, int want_status)
+{
+	char variant[512], line[512], seen[1024] = "";
+	if (with_image(name, image, len, variant, sizeof variant) != 0) {
+		test_fail_at(__FILE__, __LINE__, "objcopy --update-section");
+		return;
+	}
+	qemu_session q;
+	if (start(&q, variant, 20.0) != 0) {
+		CHECK(0);
+		return;
+	}
+	evo_can_frame f;
+	int k;
+	while ((k = qs_next(&q, 10.0, &f, line, sizeof line)) != QS_EXIT &&
+	       k != QS_TIMEOUT)
+		if (k == QS_LOG && strstr(line, "refused"))
+			snprintf(seen, sizeof seen, "%s", line);
+	CHECK(k == QS_EXIT);
+	int st = qs_wait_exit(&q, 5.0);
+	qs_stop(&q);
+	CHECK_CONTAINS(seen, reason);
+	CHECK_EQ_INT(st, want_status);
+	printf("  %s: %s -> exit %d\n", machine, seen, st);
+}
+
+TEST(corrupt_image_is_refused)
+{
+	size_t len;
+	unsigned char *img = read_all(opt.image, &len);
+	CHECK(img != NULL);
+	if (!img)
+		return;
+	img[len / 2] ^= 0x10; /* one bit, inside the networks */
+	expect_refused("corrupt", img, len,
+		       "mind image refused: mind image is corrupt (CRC-32 "
+		       "mismatch)",
+		       EXIT_IMAGE_CORRUPT);
+}
+
+TEST(image_for_other_botdesc_is_refused)
+{
+	size_t len;
+	unsigned char *img = read_all(opt.other_image, &len);
+	CHECK(img != NULL);
+	if (!img)
+		return;
+	expect_refused("other", img, len,
+		       "mind image refused: mind image was built for other "
+		       "sensors, actuators or variables",
+		       EXIT_IMAGE_MISMATCH);
+}
+
+TEST(empty_slot_is_refused)
+{
+	expect_refused("empty", "", 0,
+		       "mind image refused: not a mind image (bad magic)",
+		       EXIT_IMAGE_CORRUPT);
+}
+
+/* ---- main ------------------------------------------------------------- */
+
+static int usage(void)
+{
+	fprintf(stderr,
+		"usage: firmware_test --qemu QEMU --objcopy OBJCOPY --trace "
+		"TRACE --image MIND.bin --other-image OTHER.bin --tmp DIR "
+		"--firmware MACHINE=ELF ...\n");
+	return 2;
+}
+
+int main(int argc, char **argv)
+{
+	for (int i = 1; i + 1 < argc; i += 2) {
+		const char *a = argv[i], *v = argv[i + 1];
+		if (strcmp(a, "--qemu") == 0)
+			opt.qemu = v;
+		else if (strcmp(a, "--objcopy") == 0)
+			opt.objcopy = v;
+		else if (strcmp(a, "--trace") == 0)
+			opt.trace_path = v;
+		else if (strcmp(a, "--image") == 0)
+			opt.image = v;
+		else if (strcmp(a, "--other-image") == 0)
+			opt.other_image = v;
+		else if (strcmp(a, "--tmp") == 0)
+			opt.tmp = v;
+		else if (strcmp(a, "--firmware") == 0 && strchr(v, '=') &&
+			 opt.n_fw < 4) {
+			char *eq = strchr(v, '=');
+			opt.machine[opt.n_fw] = strndup(v, (size_t)(eq - v));
+			opt.elf[opt.n_fw++] = eq + 1;
+		} else
+			return usage();
+	}
+	if ((argc - 1) % 2 || !opt.qemu || !opt.objcopy || !opt.trace_path ||
+	    !opt.image || !opt.other_image || !opt.tmp || !opt.n_fw)
+		return usage();
+	mkdir(opt.tmp, 0755);
+	char err[512];
+	if (trace_load(opt.trace_path, &trace, err, sizeof err) != 0) {
+		printf("%s\n", err);
+		return 1;
+	}
+	printf("trace %s: mind %s, %zu ticks, %u sensors, %u actuators\n",
+	       opt.trace_path, trace.mind, trace.n_ticks, trace.n_sensors,
+	       trace.n_actuators);
+	if (trace.n_ticks < 100) {
+		printf("the trace needs at least 100 ticks\n");
+		return 1;
+	}
+	/* One process per firmware, run side by side: QEMU's emulated UART
+	 * is the slow part, and each core's tests are independent. Their
+	 * reports are printed in order once all are done. */
+	pid_t pid[4];
+	char log[4][600];
+	for (unsigned i = 0; i < opt.n_fw; i++) {
+		snprintf(log[i], sizeof log[i], "%s/%s.log", opt.tmp,
+			 opt.machine[i]);
+		fflush(stdout);
+		pid[i] = fork();
+		if (pid[i] < 0) {
+			perror("fork");
+			return 1;
+		}
+		if (pid[i] == 0) {
+			if (!freopen(log[i], "w", stdout))
+				_exit(1);
+			machine = opt.machine[i];
+			elf = opt.elf[i];
+			printf("== %s: %s\n", machine, elf);
+			RUN(replay_matches_trace);
+			RUN(link_loss_goes_neutral_and_resumes);
+			RUN(incomplete_tick_is_not_stepped);
+			RUN(malformed_lines_are_counted_and_ignored);
+			RUN(corrupt_image_is_refused);
+			RUN(image_for_other_botdesc_is_refused);
+			RUN(empty_slot_is_refused);
+			test_summary();
+			fflush(stdout);
+			_exit(0);
+		}
+	}
+	for (unsigned i = 0; i < opt.n_fw; i++) {
+		int st;
+		char line[1024];
+		unsigned p = 0, f = 0;
+		waitpid(pid[i], &st, 0);
+		FILE *in = fopen(log[i], "r");
+		while (in && fgets(line, sizeof line, in)) {
+			if (sscanf(line, "%u passed, %u failed", &p, &f) == 2)
+				continue;
+			fputs(line, stdout);
+		}
+		if (in)
+			fclose(in);
+		if (!WIFEXITED(st) || WEXITSTATUS(st) != 0 || p + f == 0) {
+			printf("FAIL %s: the tests stopped (status %d)\n",
+			       opt.machine[i], st);
+			f++;
+		}
+		test_passed_count += (int)p;
+		test_failed_count += (int)f;
+	}
+	trace_free(&trace);
+	return test_summary();
+}
