@@ -36,7 +36,7 @@ CORE_SRCS := $(sort $(wildcard core/src/*.c))
 # skills and the image loader. Parsers, the image writer and the network
 # compiler are core too (freestanding) but run only on the host, and so do
 # the status messages (status.c): a firmware reports a status by its code.
-CORE_RUNTIME := mind variables hardcoded hash net
+CORE_RUNTIME := mind variables hardcoded hash net table
 HOST_SRCS := $(filter-out sim/evo_main.c,$(sort $(wildcard sim/*.c)))
 # The Box2D shim is the only C++ in evo.
 HOST_CXX_SRCS := $(sort $(wildcard sim/*.cpp))

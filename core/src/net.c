@@ -8,6 +8,7 @@
 #include <stdint.h>
 
 #include "evo/net.h"
+#include "table.h"
 
 /* Rounding (fixed.h) and the sign handling below rely on >> of a negative
  * value being arithmetic, which GCC and Clang guarantee but C11 does not. */
@@ -33,13 +34,10 @@ _Static_assert(EVO_NET_MAX_FANIN <= 256 && EVO_NET_WEIGHT_MAX <= 128,
  *            17th bit. Beyond 109/32 the function is below one ulp and gauss
  *            gives 0.
  *
- * A table t is stored as its second differences, which are small: for each
- * 16th entry c a checkpoint holds t[c] and the rise t[c+1] - t[c]; then
- * dd[j] = (t[j+2] - t[j+1]) - (t[j+1] - t[j]) - 1 (the -1 brings gauss's
- * first, 128, into an int8). A lookup walks at most 15 steps from its
- * checkpoint. That is 160 + 136 bytes instead of 258 + 220: the runtime
- * must fit 4 KB of a Cortex-M0+'s flash. The entries, and so every result,
- * are exactly those of the full tables (test_net pins them). */
+ * Both are stored as table.h describes: 160 + 136 bytes instead of 258 +
+ * 220, for the runtime must fit 4 KB of a Cortex-M0+'s flash. The entries,
+ * and so every result, are exactly those of the full tables (test_net
+ * pins them). */
 static const uint16_t sigmoid_cp[16] = {
 	0, 1024, 15143, 793, 24956, 420, 29660, 180, 31589, 70, 32329, 27,
 	32606, 10, 32708, 4,
@@ -85,24 +83,6 @@ static const char *const act_names[] = {
 const char *evo_act_name(unsigned act)
 {
 	return act < EVO_ACT_COUNT ? act_names[act] : NULL;
-}
-
-/* Linear interpolation at u (Q16; u >> shift must be an index whose
- * rise is stored) in a table stored as above. Rises are non-negative, so
- * the interpolation stays unsigned; its rounding matches fixed.h. */
-static uint32_t table_lerp(const uint16_t *cp, const int8_t *dd, uint32_t u,
-			   unsigned shift)
-{
-	uint32_t i = u >> shift;
-	uint32_t frac = u & ((1u << shift) - 1);
-	uint32_t j = i & ~15u;
-	int32_t t = cp[j / 8], rise = cp[j / 8 + 1];
-	for (; j < i; j++) {
-		t += rise;
-		rise += dd[j] + 1;
-	}
-	return (uint32_t)t +
-	       (((uint32_t)rise * frac + (1u << (shift - 1))) >> shift);
 }
 
 /* |x| without overflow at INT32_MIN. */

@@ -17,22 +17,20 @@
 #include "variables.h"
 
 #include "evo/formats.h"
+#include "table.h"
 
-/* sin(k * pi / 128) in Q16 for k = 0..63; k = 64 is 1.0 (65536). */
-static const uint16_t sin_quarter[64] = {
-	0,     1608,  3216,  4821,  6424,  8022,  9616,  11204, 12785, 14359,
-	15924, 17479, 19024, 20557, 22078, 23586, 25080, 26558, 28020, 29466,
-	30893, 32303, 33692, 35062, 36410, 37736, 39040, 40320, 41576, 42806,
-	44011, 45190, 46341, 47464, 48559, 49624, 50660, 51665, 52639, 53581,
-	54491, 55368, 56212, 57022, 57798, 58538, 59244, 59914, 60547, 61145,
-	61705, 62228, 62714, 63162, 63572, 63944, 64277, 64571, 64827, 65043,
-	65220, 65358, 65457, 65516,
+/* sin(k * pi / 128) in Q16 for k = 0 .. 64, rounded to nearest, stored as
+ * table.h describes (79 bytes instead of 128). */
+static const uint16_t sin_cp[8] = {
+	0, 1608, 25080, 1478, 46341, 1123, 60547, 598,
 };
-
-static int32_t quarter(unsigned i)
-{
-	return i >= 64 ? 65536 : sin_quarter[i];
-}
+static const int8_t sin_dd[63] = {
+	-1,  -4,  -3,  -6,  -5,  -7,  -8,  -8,  -10, -11, -11, -13, -13,
+	-14, -15, -17, -17, -17, -20, -18, -22, -20, -23, -23, -23, -25,
+	-25, -27, -26, -27, -29, -29, -29, -31, -30, -32, -32, -33, -33,
+	-34, -34, -35, -35, -37, -35, -37, -38, -36, -39, -38, -38, -39,
+	-39, -39, -40, -40, -39, -41, -40, -40, -40, -41, -40,
+};
 
 evo_q16 var_sin01(uint32_t phase)
 {
@@ -40,11 +38,10 @@ evo_q16 var_sin01(uint32_t phase)
 	uint32_t p = phase & 0x3FFFFFFFu;
 	if (quadrant & 1u)
 		p = 0x40000000u - p; /* falling half of each lobe: mirror */
-	unsigned i = p >> 24;
-	int32_t frac = (int32_t)((p >> 8) & 0xFFFFu);
-	int32_t s = quarter(i);
-	if (frac)
-		s += (int32_t)(((quarter(i + 1) - s) * frac + 32768) >> 16);
+	/* A quarter turn in 2^30 steps: table index in the top 6 bits,
+	 * interpolated over the next 16; p = 2^30 is the peak, 1. */
+	int32_t s = p >> 30 ? EVO_Q16_ONE
+			    : (int32_t)table_lerp(sin_cp, sin_dd, p >> 8, 16);
 	if (quadrant & 2u)
 		s = -s;
 	return (s + EVO_Q16_ONE + 1) >> 1;

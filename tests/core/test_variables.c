@@ -1,6 +1,7 @@
 /* Variables (core/src/variables.c; docs/mind.md, "Variables"). */
 #include <math.h>
 
+#include "../../core/src/variables.h"
 #include "harness.h"
 #include "support/minibuild.h"
 
@@ -48,6 +49,28 @@ TEST(plain_variable_starts_at_zero_and_keeps_what_was_written)
 	CHECK_EQ_INT(b.state->var[0].value, 49152);
 	write(0.25);
 	CHECK_EQ_INT(b.state->var[0].value, 16384);
+}
+
+/* The sine, at a million phases spread over the turn and around each
+ * quadrant's start, folded into a CRC-32: the values of the plain-table
+ * code this replaced (checked equal to it at all 2^32 phases when the
+ * table was compressed). A change here changes every sin variable. */
+TEST(sin_is_pinned)
+{
+	uint32_t crc = 0;
+	for (uint64_t p = 0; p < (1ull << 32); p += 4093) {
+		evo_q16 y = var_sin01((uint32_t)p);
+		crc = evo_crc32(crc, &y, sizeof y);
+	}
+	for (uint32_t q = 0; q < 4; q++)
+		for (uint32_t d = 0; d < 3; d++) {
+			evo_q16 y = var_sin01((q << 30) + d - 1);
+			crc = evo_crc32(crc, &y, sizeof y);
+		}
+	CHECK_EQ_INT(crc, 0xC2828C41u);
+	CHECK_EQ_INT(var_sin01(0), EVO_Q16_HALF);
+	CHECK_EQ_INT(var_sin01(1u << 30), EVO_Q16_ONE);
+	CHECK_EQ_INT(var_sin01(3u << 30), 0);
 }
 
 /* Unwritten, it reads (sin t + 1) / 2 at tick t. */
@@ -174,6 +197,7 @@ TEST(reset_restores_tick_zero)
 
 int main(void)
 {
+	RUN(sin_is_pinned);
 	RUN(plain_variable_starts_at_zero_and_keeps_what_was_written);
 	RUN(sin_variable_follows_the_tick);
 	RUN(sin_variable_frequency_follows_what_is_written);
