@@ -158,15 +158,23 @@ firmware-test: $(FW_TEST_INPUTS)
 		--other-image $(FW_BUILD)/mind/other.bin --tmp $(FW_BUILD)/test \
 		$(foreach c,$(FW_CORES),--firmware $(FW_MACHINE_$(c))=$(FW_BUILD)/evo-$(c).elf)
 
+# Per core: the firmware without its mind slot (the slot is flash kept for
+# the image, printed apart), and the MIND runtime linked alone.
+fw_sec = $(ARM_SIZE) -A $(1) | awk '$$1=="$(2)"{s+=$$2} END{print s+0}'
 firmware-size: $(foreach c,$(FW_CORES),$(FW_BUILD)/evo-$(c).elf $(FW_BUILD)/runtime-$(c).elf) \
 		$(FW_EVO) $(FW_BUILD)/mind/mind.bin
+	@echo "bytes: text = code and constants (flash), data = initialised RAM (flash too), bss = zeroed RAM"
+	@printf '%-5s %-34s %6s %6s %6s\n' core what text data bss
 	@for c in $(FW_CORES); do \
-		echo "== $$c: the firmware (flash = text + data; RAM = data + bss, stack included)"; \
-		$(ARM_SIZE) $(FW_BUILD)/evo-$$c.elf | sed 1d | awk '{print "   text " $$1 ", data " $$2 ", bss " $$3}'; \
-		echo "   mind slot: $$($(ARM_SIZE) -A $(FW_BUILD)/evo-$$c.elf | awk '$$1==".mind"{print $$2}') bytes of flash (the image fills $$(wc -c < $(FW_BUILD)/mind/mind.bin) of them)"; \
-		echo "== $$c: the MIND runtime alone (tick, networks, variables, image loader)"; \
-		$(ARM_SIZE) $(FW_BUILD)/runtime-$$c.elf | sed 1d | awk '{print "   text " $$1 ", data " $$2 ", bss " $$3}'; \
+		elf=$(FW_BUILD)/evo-$$c.elf; \
+		text=$$($(call fw_sec,$$elf,.text)); data=$$($(call fw_sec,$$elf,.data)); \
+		bss=$$($(call fw_sec,$$elf,.bss)); stack=$$($(call fw_sec,$$elf,.stack)); \
+		slot=$$($(call fw_sec,$$elf,.mind)); \
+		printf '%-5s %-34s %6s %6s %6s  + stack %s; + mind slot %s (image %s)\n' \
+			$$c "firmware (mind slot apart)" $$text $$data $$bss $$stack $$slot \
+			$$(wc -c < $(FW_BUILD)/mind/mind.bin); \
+		$(ARM_SIZE) $(FW_BUILD)/runtime-$$c.elf | awk -v c=$$c 'NR==2{printf "%-5s %-34s %6s %6s %6s\n", c, "MIND runtime alone", $$1, $$2, $$3}'; \
 	done
-	@$(FW_EVO) info $(FW_MIND) | grep 'mind state' | sed 's/^/   $(notdir $(FW_MIND)): /'
+	@$(FW_EVO) info $(FW_MIND) | sed -n 's/^mind image: \([0-9]*\) bytes; mind state: \([0-9]*\) bytes/$(notdir $(FW_MIND)): image \1 bytes (flash), mind state \2 bytes (RAM, in the bss above)/p'
 
 -include $(shell find $(FW_BUILD) -name '*.d' 2>/dev/null)
