@@ -314,7 +314,9 @@ static size_t layout(const evo_mind *m, uintptr_t base, evo_state *s)
 	CARVE(io_out, evo_q16, m->max_io);
 	CARVE(hc_class, uint8_t, m->n_hardcoded);
 #undef CARVE
-	return off;
+	/* A multiple of 8, so that states can sit end to end and
+	 * aligned_alloc(8, size) is valid. */
+	return (off + 7u) & ~(size_t)7u;
 }
 
 size_t evo_state_size(const evo_mind *m)

@@ -75,7 +75,8 @@ typedef struct evo_state {
 	uint8_t *hc_class;	 /* per hard-coded skill: evo_hc_classes index */
 } evo_state;
 
-/* Bytes of caller memory a state for m needs (the evo_state included). */
+/* Bytes of caller memory a state for m needs (the evo_state included); a
+ * multiple of 8. */
 size_t evo_state_size(const evo_mind *m);
 
 /* Lay out a state in mem (8-byte aligned, at least evo_state_size bytes)
