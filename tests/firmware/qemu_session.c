@@ -251,6 +251,13 @@ int qs_wait_exit(qemu_session *q, double timeout_s)
 	return q->status;
 }
 
+int qs_terminate(qemu_session *q, double timeout_s)
+{
+	if (q->pid > 0 && !q->exited)
+		kill(q->pid, SIGTERM);
+	return qs_wait_exit(q, timeout_s);
+}
+
 void qs_stop(qemu_session *q)
 {
 	if (q->pid > 0 && !q->exited) {

@@ -67,6 +67,10 @@ int qs_next(qemu_session *q, double timeout_s, evo_can_frame *f, char *line,
  * or -1 (then it is killed). */
 int qs_wait_exit(qemu_session *q, double timeout_s);
 
+/* Ask QEMU to quit (SIGTERM: it exits cleanly, so plugins write their
+ * results) and wait up to timeout_s; then kill it. Its exit status. */
+int qs_terminate(qemu_session *q, double timeout_s);
+
 /* Kill QEMU (if running) and reap it. */
 void qs_stop(qemu_session *q);
 

@@ -1,0 +1,242 @@
+/* make bench: the cost of one tick of the Collect hierarchy on a Cortex-M3,
+ * as instructions counted in QEMU, beside the host's nanoseconds per tick
+ * for the same ticks in the same run.
+ *
+ * The M3 figure: the firmware (BUILD/firmware/evo-m3.elf) runs under
+ * qemu-system-arm -M mps2-an385 with the counting plugin
+ * (BUILD/firmware/insn_count.so, firmware/qemu/insn_count.c), which counts
+ * the instructions executed in the MIND runtime's code (the core archive
+ * and the libgcc helpers it calls, __evo_core_start .. __evo_core_end in
+ * the firmware's map) from the first call of evo_mind_step on, and the
+ * calls of evo_mind_step. The trace's sensor values go in as slcan frames;
+ * every actuator value that comes back must equal the trace's.
+ * The host figure: evo_mind_step over the same sensor values, best of 5.
+ *
+ * usage: bench_firmware [--ticks N]  (from the top of the repo; BUILD from
+ *        $EVO_BUILD, default build; qemu-system-arm and arm-none-eabi-nm
+ *        from $QEMU_ARM and $ARM_NM or the PATH) */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "firmware/qemu_session.h"
+#include "firmware/trace_file.h"
+#include "mind_load.h"
+
+static const char *build = "build";
+static trace_file trace;
+
+static double now(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* The address of a symbol of elf, or 0. */
+static unsigned long symbol(const char *nm, const char *elf, const char *name)
+{
+	char cmd[1024], line[256];
+	unsigned long addr = 0;
+	snprintf(cmd, sizeof cmd, "%s %s", nm, elf);
+	FILE *p = popen(cmd, "r");
+	while (p && fgets(line, sizeof line, p)) {
+		unsigned long a;
+		char type, sym[200];
+		if (sscanf(line, "%lx %c %199s", &a, &type, sym) == 3 &&
+		    strcmp(sym, name) == 0)
+			addr = a & ~1ul; /* no Thumb bit: QEMU's pc is even */
+	}
+	if (p)
+		pclose(p);
+	return addr;
+}
+
+/* Host: ns per tick of evo_mind_step over the trace's first n ticks. */
+static double host_ns_per_tick(const char *mind_dir, size_t n, int *same)
+{
+	evo_err err;
+	evo_loaded *l = evo_mind_load(mind_dir, NULL, &err);
+	if (!l) {
+		fprintf(stderr, "%s\n", err.msg);
+		return -1;
+	}
+	size_t size = evo_state_size(&l->mind);
+	void *mem = aligned_alloc(8, (size + 7) & ~(size_t)7);
+	evo_state *s;
+	evo_q16 act[64];
+	double best = 1e30;
+	*same = 1;
+	for (int rep = 0; rep < 5; rep++) {
+		if (evo_state_init(&l->mind, mem, size, &s) != EVO_OK) {
+			free(mem);
+			evo_mind_free(l);
+			return -1;
+		}
+		double t0 = now();
+		for (size_t i = 0; i < n; i++) {
+			evo_mind_step(&l->mind, s,
+				      trace.sensor + i * trace.n_sensors, act);
+			if (rep == 0 &&
+			    memcmp(act, trace.actuator + i * trace.n_actuators,
+				   trace.n_actuators * sizeof *act) != 0)
+				*same = 0;
+		}
+		double dt = now() - t0;
+		if (dt < best)
+			best = dt;
+	}
+	free(mem);
+	evo_mind_free(l);
+	return best / (double)n * 1e9;
+}
+
+static void queue_tick(qemu_session *q, size_t i, int full)
+{
+	evo_can_frame f;
+	const int32_t *s = trace.sensor + i * trace.n_sensors;
+	unsigned frames = evo_wire_frames(trace.n_sensors);
+	uint32_t mask = 0;
+	for (unsigned k = 0; k < frames; k++) {
+		unsigned n = 2 * k + 1 < trace.n_sensors ? 2 : 1;
+		if (!full && frames <= 32 &&
+		    memcmp(s + 2 * k, s - trace.n_sensors + 2 * k,
+			   n * sizeof *s) == 0)
+			continue;
+		evo_wire_pack(EVO_WIRE_SENSOR, s, trace.n_sensors, k, &f);
+		qs_queue_frame(q, &f);
+		mask |= 1u << k;
+	}
+	f.id = EVO_WIRE_TICK;
+	f.len = full || frames > 32 ? 4 : 8;
+	evo_wire_put_u32(f.data, trace.tick[i]);
+	evo_wire_put_u32(f.data + 4, mask);
+	qs_queue_frame(q, &f);
+}
+
+/* M3: instructions per tick in the runtime, or -1. */
+static double m3_insns_per_tick(size_t n, unsigned long *marks_out)
+{
+	char elf[512], plugin[2048], out[512], err[256];
+	const char *nm = getenv("ARM_NM") ? getenv("ARM_NM") : "arm-none-eabi-nm";
+	const char *qemu =
+		getenv("QEMU_ARM") ? getenv("QEMU_ARM") : "qemu-system-arm";
+	snprintf(elf, sizeof elf, "%s/firmware/evo-m3.elf", build);
+	snprintf(out, sizeof out, "%s/firmware/bench-insns.txt", build);
+	unsigned long lo = symbol(nm, elf, "__evo_core_start"),
+		      hi = symbol(nm, elf, "__evo_core_end"),
+		      mark = symbol(nm, elf, "evo_mind_step");
+	if (!lo || !hi || !mark) {
+		fprintf(stderr, "bench_firmware: %s lacks __evo_core_start, "
+				"__evo_core_end or evo_mind_step\n",
+			elf);
+		return -1;
+	}
+	snprintf(plugin, sizeof plugin,
+		 "%s/firmware/insn_count.so,lo=0x%lx,hi=0x%lx,mark=0x%lx,out=%s",
+		 build, lo, hi, mark, out);
+	remove(out);
+	qemu_opts o = {qemu, "mps2-an385", elf, plugin, NULL, 120.0};
+	qemu_session q;
+	if (qs_start(&q, &o, err, sizeof err) != 0) {
+		fprintf(stderr, "bench_firmware: %s\n", err);
+		return -1;
+	}
+	evo_can_frame f;
+	char line[512];
+	size_t sent = 0, done = 0;
+	int differ = 0, k;
+	while (done < n) {
+		for (; sent < n && sent - done < 8; sent++)
+			queue_tick(&q, sent, sent == 0);
+		k = qs_next(&q, 10.0, &f, line, sizeof line);
+		if (k == QS_LOG || (k == QS_FRAME && f.id == EVO_WIRE_HELLO))
+			continue;
+		if (k != QS_FRAME) {
+			fprintf(stderr, "bench_firmware: the firmware stopped "
+					"answering at tick %zu\n",
+				done);
+			qs_stop(&q);
+			return -1;
+		}
+		if (f.id == EVO_WIRE_TICKED) {
+			if (f.data[4] != 0)
+				differ = 1;
+			done++;
+			continue;
+		}
+		evo_q16 v[64];
+		const int32_t *want = trace.actuator + done * trace.n_actuators;
+		int a = evo_wire_unpack(EVO_WIRE_ACTUATOR, &f, v,
+					trace.n_actuators);
+		if (a < 0)
+			differ = 1;
+		else
+			for (unsigned j = 2 * (unsigned)a;
+			     j < trace.n_actuators && j < 2 * (unsigned)a + 2;
+			     j++)
+				differ |= v[j] != want[j];
+	}
+	qs_terminate(&q, 10.0);
+	qs_stop(&q);
+	if (differ) {
+		fprintf(stderr, "bench_firmware: the M3's actuator values "
+				"differ from the trace's\n");
+		return -1;
+	}
+	FILE *in = fopen(out, "r");
+	unsigned long long total, range, marks;
+	int ok = in && fscanf(in, "insns %llu range %llu marks %llu", &total,
+			      &range, &marks) == 3;
+	if (in)
+		fclose(in);
+	if (!ok || marks == 0) {
+		fprintf(stderr, "bench_firmware: no count from the plugin (%s)\n",
+			out);
+		return -1;
+	}
+	*marks_out = (unsigned long)marks;
+	return (double)range / (double)marks;
+}
+
+int main(int argc, char **argv)
+{
+	size_t ticks = 2000;
+	for (int i = 1; i < argc; i++) {
+		if (strcmp(argv[i], "--ticks") == 0 && i + 1 < argc) {
+			ticks = strtoul(argv[++i], NULL, 10);
+		} else {
+			fprintf(stderr, "usage: bench_firmware [--ticks N]\n");
+			return 2;
+		}
+	}
+	if (getenv("EVO_BUILD"))
+		build = getenv("EVO_BUILD");
+	char path[512], err[512];
+	snprintf(path, sizeof path, "%s/firmware/mind/run.trace", build);
+	if (trace_load(path, &trace, err, sizeof err) != 0) {
+		fprintf(stderr, "bench_firmware: %s\n", err);
+		return 1;
+	}
+	if (ticks == 0 || ticks > trace.n_ticks)
+		ticks = trace.n_ticks;
+	snprintf(path, sizeof path, "minds/%s", trace.mind);
+	int same = 0;
+	double ns = host_ns_per_tick(path, ticks, &same);
+	unsigned long marks = 0;
+	double insns = m3_insns_per_tick(ticks, &marks);
+	printf("bench_firmware: the %s hierarchy, %zu ticks of %s\n",
+	       trace.mind, ticks, "its recorded trace");
+	if (ns > 0)
+		printf("  host:           %8.1f ns per tick (evo_mind_step, "
+		       "best of 5)%s\n",
+		       ns, same ? "" : "  ACTUATORS DIFFER FROM THE TRACE");
+	if (insns > 0)
+		printf("  Cortex-M3:      %8.1f instructions per tick in the "
+		       "MIND runtime (QEMU, %lu ticks counted)\n",
+		       insns, marks);
+	trace_free(&trace);
+	return ns > 0 && same && insns > 0 ? 0 : 1;
+}
