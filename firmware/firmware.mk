@@ -175,6 +175,12 @@ firmware-size: $(foreach c,$(FW_CORES),$(FW_BUILD)/evo-$(c).elf $(FW_BUILD)/runt
 			$$(wc -c < $(FW_BUILD)/mind/mind.bin); \
 		$(ARM_SIZE) $(FW_BUILD)/runtime-$$c.elf | awk -v c=$$c 'NR==2{printf "%-5s %-34s %6s %6s %6s\n", c, "MIND runtime alone", $$1, $$2, $$3}'; \
 	done
-	@$(FW_EVO) info $(FW_MIND) | sed -n 's/^mind image: \([0-9]*\) bytes; mind state: \([0-9]*\) bytes/$(notdir $(FW_MIND)): image \1 bytes (flash), mind state \2 bytes (RAM, in the bss above)/p'
+	@for c in $(FW_CORES); do \
+		m=$$(case $$c in m0) echo $(FW_MACHINE_m0);; m3) echo $(FW_MACHINE_m3);; esac); \
+		state=$$(timeout -k 1 3 $(QEMU_ARM) -M $$m -nographic -monitor none -serial stdio \
+			-semihosting-config enable=on,target=native -kernel $(FW_BUILD)/evo-$$c.elf \
+			</dev/null 2>/dev/null | tr '\r' '\n' | sed -n 's/.*state \([0-9]*\) bytes in RAM.*/\1/p'); \
+		echo "$$c    $(notdir $(FW_MIND)): image $$(wc -c < $(FW_BUILD)/mind/mind.bin) bytes in the slot, mind state $${state:-?} bytes of RAM in the bss above (as the firmware prints it at start under QEMU)"; \
+	done
 
 -include $(shell find $(FW_BUILD) -name '*.d' 2>/dev/null)
