@@ -23,17 +23,17 @@
 /* A copy of the Avoid example with a small LEARNSIM task for `method`,
  * so training never touches minds/ and runs in seconds; `extra` is more
  * simbatch lines. A layered method gets the skill `layers:1`. */
-static void make_mind(const char *name, const char *method, int numgen,
-		      const char *extra)
+static void make_mind_ticks(const char *name, const char *method, int numgen,
+			    int ticks, const char *extra)
 {
 	CHECK_EQ_INT(cli_sh("mkdir -p %s/%s && cp -r minds/Avoid %s/%s/ && "
 			    "printf 'TYPE:LEARNSIM\\nBOTMODEL:BotType8\\n"
 			    "MASTERSKILL:Avoid\\nLEARNINGSKILL:Avoid\\n"
 			    "ENV:EXP_Avoid\\nLEARNINGMETHOD:%s\\nNUMGEN:%d\\n"
-			    "EVALREP:2\\nTICKLIM:150\\n%s' "
+			    "EVALREP:2\\nTICKLIM:%d\\n%s' "
 			    "> %s/%s/Avoid/Tasks/Small.simbatch",
-			    cli_tmp, name, cli_tmp, name, method, numgen, extra,
-			    cli_tmp, name),
+			    cli_tmp, name, cli_tmp, name, method, numgen, ticks,
+			    extra, cli_tmp, name),
 		     0);
 	if (strcmp(method, "NEAT") != 0)
 		CHECK_EQ_INT(cli_sh("sed -i 's/^layers:0$/layers:1/' "
@@ -41,6 +41,18 @@ static void make_mind(const char *name, const char *method, int numgen,
 				    cli_tmp, name),
 			     0);
 }
+
+/* The usual small task: 150 ticks a repetition. */
+static void make_mind(const char *name, const char *method, int numgen,
+		      const char *extra)
+{
+	make_mind_ticks(name, method, numgen, 150, extra);
+}
+
+/* Runs to be killed: 1,500 ticks a repetition, so a generation lasts long
+ * enough (a tenth of a second or more) that the kill lands inside the
+ * run even on a busy machine. */
+#define KILL_TICKS 1500
 
 #define NEAT_TASK "NEAT_POPSIZE:24\\n"
 
@@ -149,15 +161,17 @@ static void kill_and_resume(const char *name, const char *reference)
 
 TEST(killed_and_resumed_run_ends_as_an_uninterrupted_one)
 {
-	make_mind("k", "NEAT", 6, NEAT_TASK);
-	kill_and_resume("k", "t2");
+	make_mind_ticks("kr", "NEAT", 6, KILL_TICKS, NEAT_TASK);
+	make_mind_ticks("k", "NEAT", 6, KILL_TICKS, NEAT_TASK);
+	CHECK_EQ_INT(train("kr", "--threads 2"), 0);
+	kill_and_resume("k", "kr");
 }
 
 /* The same for GENETIC, whose checkpoint holds its own state. */
 TEST(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one)
 {
-	make_mind("gr", "GENETIC", 6, "POPSIZE:40\\n");
-	make_mind("gk", "GENETIC", 6, "POPSIZE:40\\n");
+	make_mind_ticks("gr", "GENETIC", 6, KILL_TICKS, "POPSIZE:24\\n");
+	make_mind_ticks("gk", "GENETIC", 6, KILL_TICKS, "POPSIZE:24\\n");
 	CHECK_EQ_INT(train("gr", "--threads 2"), 0);
 	kill_and_resume("gk", "gr");
 }
