@@ -161,7 +161,7 @@ ARM_RUNTIME_OBJS := $(patsubst %,$(BUILD)/arm/%.o,$(CORE_RUNTIME))
 
 $(BUILD)/arm/%.o: core/src/%.c
 	@mkdir -p $(dir $@)
-	$(ARM_CC) $(ARM_FLAGS) -c $< -o $@
+	$(ARM_CC) $(ARM_FLAGS) -MMD -MP -c $< -o $@
 
 $(BUILD)/arm/runtime.elf: $(ARM_RUNTIME_OBJS) tests/core_check_entry.c
 	$(ARM_CC) $(ARM_FLAGS) -nostdlib -nostartfiles -Wl,--gc-sections \
@@ -234,4 +234,4 @@ format:
 clean:
 	rm -rf build
 
--include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)
+-include $(shell find $(BUILD)/obj $(BUILD)/arm -name '*.d' 2>/dev/null)
