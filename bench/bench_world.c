@@ -123,7 +123,7 @@ static double raycast_sensing_us(evo_sim *s, long ticks)
 
 int main(int argc, char **argv)
 {
-	const char *task_path = "minds/Avoid/Tasks/Avoid-DEMO.simbatch";
+	const char *task_path = "minds/Avoid/Tasks/Avoid-EXP.simbatch";
 	long ticks = 30000;
 	for (int i = 1; i < argc; i++) {
 		if (strcmp(argv[i], "--ticks") == 0 && i + 1 < argc)
