@@ -46,7 +46,8 @@ neat.defaults = {
 	weight_mut_prob = 0.8, -- chance a genome's weights are mutated (paper: 80%)
 	perturb_prob = 0.9, -- per weight: perturbed, else replaced (paper: 90%)
 	perturb_power = 2.5, -- a perturbation adds uniform(-p, p) (NEAT's original code: 2.5)
-	replace_power = 2.5, -- a replacement and a new link's weight draw uniform(-p, p)
+	replace_power = 2.5, -- a replaced weight draws uniform(-p, p)
+	new_link_power = 2.5, -- an added link's weight draws uniform(-p, p) (NEAT's original code: 1.0)
 	init_power = 1.0, -- the first generation's weights: uniform(-p, p) (NEAT's original code: 1.0)
 	weight_max = 8.0, -- weights are clamped to [-w, w] (.net needs |w| < 128)
 	add_node_prob = 0.03, -- chance of an add-node mutation (paper: 3%)
@@ -84,6 +85,7 @@ neat.task_keys = {
 	NEAT_PERTURB_PROB = "perturb_prob",
 	NEAT_PERTURB_POWER = "perturb_power",
 	NEAT_REPLACE_POWER = "replace_power",
+	NEAT_NEW_LINK_POWER = "new_link_power",
 	NEAT_INIT_POWER = "init_power",
 	NEAT_WEIGHT_MAX = "weight_max",
 	NEAT_ADD_NODE_PROB = "add_node_prob",
@@ -295,7 +297,7 @@ function neat.mutate_add_link(pop, g, rng)
 			end
 			if not exists and (o.recurrent or not reaches(g, b.id, a.id)) then
 				local l = { innov = link_innovation(pop, a.id, b.id), from = a.id, to = b.id,
-					weight = clamp((rng:unit() * 2 - 1) * o.replace_power, o.weight_max), enabled = true }
+					weight = clamp((rng:unit() * 2 - 1) * o.new_link_power, o.weight_max), enabled = true }
 				g.links[#g.links + 1] = l
 				sort_genome(g)
 				return l

@@ -207,6 +207,22 @@ function T.add_node_leaves_the_bias_links_alone()
 	check(n > 60 and n < 140, "with NEAT_SPLIT_BIAS, half the splits: " .. n)
 end
 
+function T.new_link_power_sets_the_range_of_added_links()
+	local function widest(power)
+		local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(18),
+			options = { pop_size = 2, new_link_power = power, recurrent = true, add_link_tries = 1000 } }
+		local w = 0
+		for _ = 1, 100 do
+			local g = neat.copy_genome(pop:genomes()[1])
+			local l = neat.mutate_add_link(pop, g, pop.rng) -- the only free link: 3 -> 3
+			w = math.max(w, math.abs(l.weight))
+		end
+		return w
+	end
+	check(widest(0.5) <= 0.5, "within +-0.5")
+	check(widest(4) > 3, "up to +-4")
+end
+
 function T.distance_and_speciation_by_threshold()
 	local o = neat.defaults
 	local rep = genome(2, { 3 }, {}, { { 1, 0, 3, 0 }, { 2, 1, 3, 0 }, { 3, 2, 3, 0 } })
