@@ -1,6 +1,6 @@
-/* The LEARNSIM evaluator (sim/evaluate.c) on EXP_Avoid (a copy of the
- * Avoid example with EvoAgents' environment, whose start is fixed and
- * whose rewards pay for standing still in the open): fitness does not
+/* The LEARNSIM evaluator (sim/evaluate.c) on EXP_Avoid (the Avoid example
+ * in EvoAgents' environment, whose start is fixed and whose rewards pay
+ * for standing still in the open): fitness does not
  * depend on the number of threads and repeats bit for bit; generations
  * change the grids; a candidate's index changes its episode seed but not
  * its grids; a network of the wrong shape is refused by name; a
@@ -16,12 +16,10 @@
 #include "evaluate.h"
 #include "harness.h"
 #include "net_build.h"
-#include "support/cli.h"
 #include "support/rng.h"
 
+#define AVOID  "minds/Avoid/Tasks/Avoid-EXP-NEAT.simbatch"
 #define N_CAND 8
-
-static char AVOID[256]; /* the copy's LEARNSIM task */
 
 static evo_netdesc *cand[N_CAND];
 static evo_netdesc *zero_net;
@@ -246,13 +244,6 @@ TEST(bad_task_is_refused)
 
 int main(void)
 {
-	if (cli_setup("evaluate") ||
-	    cli_sh("cp -r minds/Avoid %s/ && sed -i 's/^ENV:.*/ENV:EXP_Avoid/; "
-		   "s/^TICKLIM:.*/TICKLIM:2000/' %s/Avoid/Tasks/Avoid-NEAT.simbatch",
-		   cli_tmp, cli_tmp) != 0)
-		return 1;
-	snprintf(AVOID, sizeof AVOID, "%s/Avoid/Tasks/Avoid-NEAT.simbatch",
-		 cli_tmp);
 	rng r = rng_seed(2024);
 	for (int i = 0; i < N_CAND; i++)
 		cand[i] = random_net(&r, 11, 2, 1);
@@ -267,6 +258,5 @@ int main(void)
 	for (int i = 0; i < N_CAND; i++)
 		free(cand[i]);
 	free(zero_net);
-	cli_cleanup();
 	return test_summary();
 }
