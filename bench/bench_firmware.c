@@ -93,29 +93,6 @@ static double host_ns_per_tick(const char *mind_dir, size_t n, int *same)
 	return best / (double)n * 1e9;
 }
 
-static void queue_tick(qemu_session *q, size_t i, int full)
-{
-	evo_can_frame f;
-	const int32_t *s = trace.sensor + i * trace.n_sensors;
-	unsigned frames = evo_wire_frames(trace.n_sensors);
-	uint32_t mask = 0;
-	for (unsigned k = 0; k < frames; k++) {
-		unsigned n = 2 * k + 1 < trace.n_sensors ? 2 : 1;
-		if (!full && frames <= 32 &&
-		    memcmp(s + 2 * k, s - trace.n_sensors + 2 * k,
-			   n * sizeof *s) == 0)
-			continue;
-		evo_wire_pack(EVO_WIRE_SENSOR, s, trace.n_sensors, k, &f);
-		qs_queue_frame(q, &f);
-		mask |= 1u << k;
-	}
-	f.id = EVO_WIRE_TICK;
-	f.len = full || frames > 32 ? 4 : 8;
-	evo_wire_put_u32(f.data, trace.tick[i]);
-	evo_wire_put_u32(f.data + 4, mask);
-	qs_queue_frame(q, &f);
-}
-
 /* M3: instructions per tick in the runtime, or -1. */
 static double m3_insns_per_tick(size_t n, unsigned long *marks_out)
 {
@@ -150,7 +127,7 @@ static double m3_insns_per_tick(size_t n, unsigned long *marks_out)
 	int differ = 0, k;
 	while (done < n) {
 		for (; sent < n && sent - done < 8; sent++)
-			queue_tick(&q, sent, sent == 0);
+			qs_queue_trace_tick(&q, &trace, sent, sent == 0);
 		k = qs_next(&q, 10.0, &f, line, sizeof line);
 		if (k == QS_LOG || (k == QS_FRAME && f.id == EVO_WIRE_HELLO))
 			continue;

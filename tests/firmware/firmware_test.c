@@ -84,31 +84,17 @@ static uint32_t wait_hello(qemu_session *q)
 	}
 }
 
-/* Tick i of the trace: every sensor frame (full), or only those whose
- * values differ from tick i - 1's, with their mask in the tick frame. */
-static void queue_tick(qemu_session *q, size_t i, int full)
+/* Start the firmware, check its HELLO names the trace's robot, and give
+ * it the patient link: 0, or -1 with a failed check. */
+static int start_ready(qemu_session *q, double deadline_s)
 {
-	evo_can_frame f;
-	const int32_t *s = trace.sensor + i * trace.n_sensors;
-	const int32_t *prev = s - trace.n_sensors;
-	unsigned frames = evo_wire_frames(trace.n_sensors);
-	uint32_t mask = 0;
-	if (frames > 32)
-		full = 1;
-	for (unsigned k = 0; k < frames; k++) {
-		unsigned n = 2 * k + 1 < trace.n_sensors ? 2 : 1;
-		if (!full && memcmp(s + 2 * k, prev + 2 * k,
-				    n * sizeof *s) == 0)
-			continue;
-		evo_wire_pack(EVO_WIRE_SENSOR, s, trace.n_sensors, k, &f);
-		qs_queue_frame(q, &f);
-		mask |= 1u << k;
+	if (start(q, elf, deadline_s) != 0) {
+		CHECK(0);
+		return -1;
 	}
-	f.id = EVO_WIRE_TICK;
-	f.len = full ? 4 : 8;
-	evo_wire_put_u32(f.data, trace.tick[i]);
-	evo_wire_put_u32(f.data + 4, mask);
-	qs_queue_frame(q, &f);
+	CHECK_EQ_INT(wait_hello(q), trace.names_hash);
+	patient_link(q);
+	return 0;
 }
 
 /* One reply: the actuator frames and the TICKED frame that ends them. */
@@ -169,7 +155,7 @@ static long replay(qemu_session *q, size_t from, size_t to, unsigned window)
 	reply r;
 	while (done < to) {
 		for (; sent < to && sent - done < window; sent++)
-			queue_tick(q, sent, sent == from);
+			qs_queue_trace_tick(q, &trace, sent, sent == from);
 		if (!read_reply(q, 5.0, &r))
 			return -1;
 		if (r.tick != trace.tick[done] || r.flags != 0 ||
@@ -231,13 +217,8 @@ static int read_status(qemu_session *q, status *st)
 TEST(replay_matches_trace)
 {
 	qemu_session q;
-	if (start(&q, elf, 100.0) != 0) {
-		CHECK(0);
+	if (start_ready(&q, 100.0) != 0)
 		return;
-	}
-	uint32_t hash = wait_hello(&q);
-	CHECK_EQ_INT(hash, trace.names_hash);
-	patient_link(&q);
 	double t0 = qs_now();
 	long differ = replay(&q, 0, trace.n_ticks, 8);
 	double dt = qs_now() - t0;
@@ -311,12 +292,8 @@ TEST(link_loss_goes_neutral_and_resumes)
 TEST(incomplete_tick_is_not_stepped)
 {
 	qemu_session q;
-	if (start(&q, elf, 30.0) != 0) {
-		CHECK(0);
+	if (start_ready(&q, 30.0) != 0)
 		return;
-	}
-	CHECK(wait_hello(&q) == trace.names_hash);
-	patient_link(&q);
 	/* Just started, "nothing changed" is not enough: no values yet. */
 	evo_can_frame f = {EVO_WIRE_TICK, 8, {0}};
 	qs_queue_frame(&q, &f);
@@ -393,12 +370,8 @@ TEST(malformed_lines_are_counted_and_ignored)
 	};
 	const unsigned want[EVO_WIRE_BAD_COUNT] = {2, 5, 6, 4};
 	qemu_session q;
-	if (start(&q, elf, 30.0) != 0) {
-		CHECK(0);
+	if (start_ready(&q, 30.0) != 0)
 		return;
-	}
-	CHECK(wait_hello(&q) == trace.names_hash);
-	patient_link(&q);
 	for (size_t i = 0; i < sizeof lines / sizeof *lines; i++)
 		qs_queue(&q, lines[i], strlen(lines[i]));
 	status st;

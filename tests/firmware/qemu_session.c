@@ -270,3 +270,29 @@ void qs_stop(qemu_session *q)
 		close(q->from_guest);
 	q->to_guest = q->from_guest = -1;
 }
+
+void qs_queue_trace_tick(qemu_session *q, const trace_file *t, size_t i,
+			 int full)
+{
+	evo_can_frame f;
+	const int32_t *s = t->sensor + i * t->n_sensors;
+	const int32_t *prev = s - t->n_sensors;
+	unsigned frames = evo_wire_frames(t->n_sensors);
+	uint32_t mask = 0;
+	if (frames > 32)
+		full = 1;
+	for (unsigned k = 0; k < frames; k++) {
+		unsigned n = 2 * k + 1 < t->n_sensors ? 2 : 1;
+		if (!full &&
+		    memcmp(s + 2 * k, prev + 2 * k, n * sizeof *s) == 0)
+			continue;
+		evo_wire_pack(EVO_WIRE_SENSOR, s, t->n_sensors, k, &f);
+		qs_queue_frame(q, &f);
+		mask |= 1u << k;
+	}
+	f.id = EVO_WIRE_TICK;
+	f.len = full ? 4 : 8;
+	evo_wire_put_u32(f.data, t->tick[i]);
+	evo_wire_put_u32(f.data + 4, mask);
+	qs_queue_frame(q, &f);
+}

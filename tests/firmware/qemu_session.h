@@ -11,6 +11,7 @@
 #include <stddef.h>
 #include <sys/types.h>
 
+#include "trace_file.h"
 #include "wire.h"
 
 typedef struct qemu_opts {
@@ -52,6 +53,13 @@ int qs_start(qemu_session *q, const qemu_opts *o, char *err, size_t cap);
 /* Queue bytes or a frame for the guest; qs_flush or qs_next send them. */
 void qs_queue(qemu_session *q, const char *data, size_t n);
 void qs_queue_frame(qemu_session *q, const evo_can_frame *f);
+
+/* Queue tick i of trace t: every sensor frame (full, which tick 0 needs),
+ * or only those whose values differ from tick i - 1's, with their mask in
+ * the tick frame (docs/wire.md). More than 32 sensor frames are always
+ * sent in full. */
+void qs_queue_trace_tick(qemu_session *q, const trace_file *t, size_t i,
+			 int full);
 
 /* Send everything queued (reading what the guest sends meanwhile, so
  * neither side blocks). 0, or -1 when the guest stopped or the deadline
