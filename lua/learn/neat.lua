@@ -67,6 +67,12 @@ neat.defaults = {
 	stagnation_penalty = 0, -- a stagnant species' share of offspring is multiplied by this instead
 	-- (0: it gets none; NEAT's original code: 0.01)
 	elitism_min_size = 5, -- species of at least this many keep their champion unchanged (paper: more than 5)
+	pop_champion = true, -- the generation's best genome is always copied unchanged into the next,
+	-- whatever the size of its species (its species gets at least one offspring)
+	target_species = 0, -- 0: the threshold stays delta_t; else it moves by threshold_step each
+	-- generation towards this many species (NEAT 1.2's compat_adjust)
+	threshold_step = 0.3, -- the threshold's step when target_species is set (NEAT 1.2: 0.3)
+	threshold_min = 0.3, -- the threshold never goes below this (NEAT 1.2: 0.3)
 	pop_stagnation = 0, -- generations without a new best before only the top two species reproduce;
 	-- 0: off (paper: 20; in evo's Q16 evaluation XOR's plateau at exactly 9.0 triggers it
 	-- every 20 generations and it cost 8 failures in 20 seeds against 2 without it)
@@ -104,6 +110,10 @@ neat.task_keys = {
 	NEAT_STAGNATION_PENALTY = "stagnation_penalty",
 	NEAT_ELITISM_MIN_SIZE = "elitism_min_size",
 	NEAT_POP_STAGNATION = "pop_stagnation",
+	NEAT_POP_CHAMPION = "pop_champion",
+	NEAT_TARGET_SPECIES = "target_species",
+	NEAT_THRESHOLD_STEP = "threshold_step",
+	NEAT_THRESHOLD_MIN = "threshold_min",
 }
 
 local ACTIVATIONS = {
@@ -432,11 +442,12 @@ end
 -- species disappear.
 local function speciate(pop)
 	local o = pop.options
+	local threshold = pop.threshold or o.threshold
 	for _, s in ipairs(pop.species) do s.members = {} end
 	for gi, g in ipairs(pop.population) do
 		local home
 		for _, s in ipairs(pop.species) do
-			if neat.distance(g, s.rep, o) < o.threshold then home = s break end
+			if neat.distance(g, s.rep, o) < threshold then home = s break end
 		end
 		if not home then
 			pop.next_species = pop.next_species + 1
@@ -537,6 +548,7 @@ function Pop:tell(fitness)
 		end
 	end
 	local shift = minf < 0 and -minf or 0
+	local nspecies = #self.species
 
 	-- Stagnation, and the species that holds the best genome of this
 	-- generation (it is never dropped).
@@ -570,6 +582,19 @@ function Pop:tell(fitness)
 		shares[i] = stagnant[i] and sum * o.stagnation_penalty or sum
 	end
 	local counts = neat.allot(shares, o.pop_size)
+	-- The species of the generation's best genome gets at least one
+	-- offspring, so the champion copy below has a place.
+	local best_alive
+	for i, s in ipairs(alive) do
+		if s == best_species then best_alive = i end
+	end
+	if o.pop_champion and best_alive and counts[best_alive] == 0 then
+		local big = 1
+		for i = 2, #counts do
+			if counts[i] > counts[big] then big = i end
+		end
+		counts[big], counts[best_alive] = counts[big] - 1, 1
+	end
 	-- The paper's population-wide stagnation: when the best fitness has not
 	-- improved for pop_stagnation generations, only the two species with
 	-- the best genomes reproduce, half the population each; then the count
@@ -607,7 +632,7 @@ function Pop:tell(fitness)
 		local sorted = {}
 		for k, x in ipairs(idx) do sorted[k] = members[x] end
 		local n = counts[si]
-		if n > 0 and #sorted >= o.elitism_min_size then
+		if n > 0 and (#sorted >= o.elitism_min_size or (o.pop_champion and s == best_species)) then
 			children[#children + 1] = copy_genome(sorted[1])
 			n = n - 1
 		end
@@ -642,6 +667,17 @@ function Pop:tell(fitness)
 	self.species = alive
 	self.population = children
 	self.generation = self.generation + 1
+	-- NEAT 1.2's compat_adjust: move the threshold towards target_species,
+	-- judged on the species of the generation just evaluated.
+	if o.target_species > 0 then
+		local t = self.threshold or o.threshold
+		if nspecies < o.target_species then
+			t = math.max(o.threshold_min, t - o.threshold_step)
+		elseif nspecies > o.target_species then
+			t = t + o.threshold_step
+		end
+		self.threshold = t
+	end
 	speciate(self)
 end
 

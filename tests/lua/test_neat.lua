@@ -344,13 +344,66 @@ function T.elitism_copies_champions_unchanged()
 		if deep_equal(g.links, champ.links) and deep_equal(g.nodes, champ.nodes) then copies = copies + 1 end
 	end
 	check(copies >= 1, "the champion is in the next generation unchanged")
-	-- A species under 5 members keeps no elite.
+	-- A species under 5 members keeps no elite (without pop_champion).
 	pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(12),
 		options = { pop_size = 4, threshold = 100, weight_mut_prob = 1, perturb_prob = 0,
-			mutate_only_prob = 1, add_node_prob = 0, add_link_prob = 0 } }
+			mutate_only_prob = 1, add_node_prob = 0, add_link_prob = 0, pop_champion = false } }
 	champ = neat.copy_genome(pop:genomes()[1])
 	pop:tell({ 9, 1, 1, 1 })
 	for _, g in ipairs(pop:genomes()) do check(not deep_equal(g.links, champ.links), "no elite under 5") end
+end
+
+function T.pop_champion_survives_in_a_small_species()
+	-- Threshold 0: every genome is a species of one, and none reaches
+	-- elitism_min_size; the generation's best is still copied unchanged,
+	-- even when its share alone would give its species no offspring.
+	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(13),
+		options = { pop_size = 20, threshold = 0, weight_mut_prob = 1, perturb_prob = 0,
+			add_node_prob = 0, add_link_prob = 0 } }
+	check(#pop.species == 20, "one species per genome")
+	local fit = {}
+	for i = 1, 20 do fit[i] = 1 end
+	fit[7] = 1.01
+	local champ = neat.copy_genome(pop:genomes()[7])
+	pop:tell(fit)
+	local copies = 0
+	for _, g in ipairs(pop:genomes()) do
+		if deep_equal(g.links, champ.links) then copies = copies + 1 end
+	end
+	check(copies == 1, "the champion is copied once: " .. copies)
+	check(#pop:genomes() == 20, "population size kept")
+end
+
+function T.target_species_moves_the_threshold()
+	local function run(target)
+		local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(14),
+			options = { pop_size = 30, threshold = 3.0, target_species = target, threshold_step = 0.5,
+				threshold_min = 0.5 } }
+		local fit = {}
+		for i = 1, 30 do fit[i] = 1 end
+		pop:tell(fit)
+		return pop
+	end
+	-- One species at the start: under a target of 10 the threshold drops one
+	-- step; with target_species 0 it stays the option's.
+	check(run(0).threshold == nil, "off by default")
+	check(run(10).threshold == 2.5, "below the target: one step down")
+	local pop = run(10)
+	for _ = 1, 20 do
+		local fit = {}
+		for i = 1, 30 do fit[i] = 1 end
+		pop:tell(fit)
+		check(pop.threshold >= 0.5, "never below threshold_min")
+	end
+	-- Many species: the threshold rises.
+	pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(15),
+		options = { pop_size = 30, threshold = 0, target_species = 5, threshold_step = 0.5 } }
+	local fit = {}
+	for i = 1, 30 do fit[i] = 1 end
+	pop:tell(fit)
+	check(pop.threshold == 0.5, "above the target: one step up")
+	-- The threshold is state: a checkpoint keeps it.
+	check(neat.load(neat.save(pop)).threshold == 0.5, "saved and loaded")
 end
 
 -- The checkpoint must be plain data: write it as Lua source and read it back.
