@@ -3,7 +3,7 @@
 -- covering ground without touching anything:
 --   +0.2 per unit/s of speed along the heading (about +1 a tick flat out,
 --        negative when backing),
---   -2 every tick the bot touches something,
+--   -10 every tick the bot touches something,
 --   -1 * sum(0.25 - v) over the proximity sensors reading 0.25 or less
 --        (something within 3 of the rim).
 -- A bot standing still scores 0, so only a bot that moves can do well;
@@ -22,7 +22,7 @@ function env.init(scene, task)
 	local sensors = {}
 	for i = 1, 10 do sensors[i] = "S" .. i end
 	scene:reward("ForwardSpeed", { bot = bot, k = 0.2 })
-	scene:reward("PunishOnCollision", { bot = bot, k = -2 })
+	scene:reward("PunishOnCollision", { bot = bot, k = -10 })
 	scene:reward("SensorUnderThreshold", { bot = bot, sensors = sensors,
 		threshold = 0.25, k = -1 })
 	scene:control("NextOnTimeout", { bot = bot, ticks = tonumber(task.TICKLIM) or 15000 })
