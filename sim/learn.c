@@ -370,10 +370,7 @@ static int run_script(lua_State *L)
 	luaL_requiref(L, "evo", open_module, 0);
 	lua_pop(L, 1);
 	const char *dir = evo_lua_dir();
-	lua_getglobal(L, "package");
-	lua_pushfstring(L, "%s/?.lua;%s/?.lua", l->task->mind->root, dir);
-	lua_setfield(L, -2, "path");
-	lua_pop(L, 1);
+	evo_lua_set_path(L, l->task->mind->root, dir);
 	char path[1200];
 	snprintf(path, sizeof path, "%s/learn/learnsim.lua", dir);
 	if (luaL_loadfilex(L, path, "t") != LUA_OK)

@@ -1010,6 +1010,18 @@ static void new_class(lua_State *L, const char *mt, const luaL_Reg *methods)
 	lua_pop(L, 1);
 }
 
+void evo_lua_set_path(lua_State *L, const char *mind_dir,
+		      const char *lua_dir)
+{
+	lua_getglobal(L, "package");
+	lua_pushfstring(L, "%s/?.lua;%s/?.lua", mind_dir[0] ? mind_dir : ".",
+			lua_dir);
+	lua_setfield(L, -2, "path");
+	lua_pushstring(L, "");
+	lua_setfield(L, -2, "cpath");
+	lua_pop(L, 1);
+}
+
 static int open_evo(lua_State *L)
 {
 	lua_newtable(L);
@@ -1038,13 +1050,7 @@ static int setup(lua_State *L)
 	luaL_requiref(L, "evo", open_evo, 0);
 	lua_pop(L, 1);
 	/* require finds modules beside the scripts: the mind folder first */
-	lua_getglobal(L, "package");
-	lua_pushfstring(L, "%s/?.lua;%s/?.lua", l->mind_dir[0] ? l->mind_dir : ".",
-			l->lua_dir);
-	lua_setfield(L, -2, "path");
-	lua_pushstring(L, "");
-	lua_setfield(L, -2, "cpath");
-	lua_pop(L, 1);
+	evo_lua_set_path(L, l->mind_dir, l->lua_dir);
 	return 0;
 }
 

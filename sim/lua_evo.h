@@ -27,6 +27,12 @@ typedef struct evo_lua_def {
  * the evo program (a build tree), else share/evo/lua under its prefix. */
 const char *evo_lua_dir(void);
 
+/* Point a Lua state's `require` at mind_dir (the mind folder, or "." when
+ * empty) first, then at lua_dir, and at no C modules. */
+struct lua_State;
+void evo_lua_set_path(struct lua_State *L, const char *mind_dir,
+		      const char *lua_dir);
+
 /* A Lua state with the evo module, ready to load an environment. Sets
  * the scene's hooks. NULL with err set on failure. */
 evo_lua *evo_lua_create(const evo_lua_def *def, evo_err *err);
