@@ -43,11 +43,15 @@ neat.defaults = {
 	c3 = 0.4, -- distance weight of the mean weight difference (paper: 0.4)
 	threshold = 3.0, -- compatibility threshold delta_t (paper: 3.0)
 	normalize_below = 20, -- N = 1 when both genomes have fewer genes than this (paper: 20)
-	weight_mut_prob = 0.8, -- chance a genome's weights are mutated (paper: 80%)
-	perturb_prob = 0.9, -- per weight: perturbed, else replaced (paper: 90%)
-	perturb_power = 2.5, -- a perturbation adds uniform(-p, p) (NEAT's original code: 2.5)
-	replace_power = 2.5, -- a replaced weight draws uniform(-p, p)
-	new_link_power = 2.5, -- an added link's weight draws uniform(-p, p) (NEAT's original code: 1.0)
+	weight_mut_prob = 0.9, -- chance a genome's weights are mutated (NEAT's original code: 0.9; paper: 0.8)
+	weight_mutation = "code", -- "code": NEAT's original code's scheme (see mutate_weights);
+	-- "paper": each weight perturbed with perturb_prob, else replaced
+	severe_prob = 0.5, -- "code": chance that a weight mutation is a severe one (NEAT's original code: 0.5)
+	perturb_prob = 0.9, -- "paper": per weight, perturbed, else replaced (paper: 90%)
+	perturb_power = 3.0, -- a perturbation adds uniform(-p, p) (NEAT's original code: 2.5; evo's
+	-- fixed-point outputs saturate sooner, and larger steps leave the plateaus faster)
+	replace_power = 3.0, -- a replaced weight draws uniform(-p, p) (NEAT's original code: 2.5)
+	new_link_power = 1.0, -- an added link's weight draws uniform(-p, p) (NEAT's original code: 1.0)
 	init_power = 1.0, -- the first generation's weights: uniform(-p, p) (NEAT's original code: 1.0)
 	weight_max = 8.0, -- weights are clamped to [-w, w] (.net needs |w| < 128)
 	add_node_prob = 0.03, -- chance of an add-node mutation (paper: 3%)
@@ -55,18 +59,27 @@ neat.defaults = {
 	add_link_tries = 20, -- random (from, to) pairs tried to find a new link
 	split_bias = false, -- add-node may split a link from the bias node (NEAT's original code never
 	-- does: the new node would be a constant, and evo folds the bias links into node biases)
+	split_older = true, -- in a genome of fewer than 15 links, add-node prefers older links
+	-- (NEAT's original code); else it picks an enabled link uniformly
 	recurrent = false, -- add-link may create cycles (tasks that allow memory)
+	recur_only_prob = 0, -- with recurrent: 0, add-link links any two nodes; above 0, the chance
+	-- that it closes a cycle, and otherwise it does not (NEAT's original code; its p2nv: 0.2)
 	activation = "neat_sigmoid", -- hidden and output nodes: an evo activation (paper: 1/(1+e^-4.9x))
 	mutate_only_prob = 0.25, -- offspring from mutation without crossover (paper: 25%)
 	mate_only_prob = 0.2, -- crossover offspring left unmutated (NEAT's original code: 0.2)
-	mate_avg_prob = 0.0, -- crossover averages matching weights, else picks one (paper: 0; original code: 0.4)
+	mate_avg_prob = 0.4, -- crossover averages matching weights, else picks one (original code: 0.4)
 	interspecies_prob = 0.001, -- crossover partner from another species (paper: 0.001)
 	disable_prob = 0.75, -- a gene disabled in either parent is disabled in the child (paper: 75%)
+	tie_smaller = true, -- crossover of equal fitness: the parent with fewer links counts as the
+	-- fitter (NEAT's original code); false: disjoint genes of both at random (the paper)
 	survival = 0.2, -- top fraction of each species that may reproduce (original code: 0.2)
 	stagnation = 15, -- generations without improvement before a species gets no offspring (paper: 15)
-	stagnation_penalty = 0, -- a stagnant species' share of offspring is multiplied by this instead
-	-- (0: it gets none; NEAT's original code: 0.01)
-	elitism_min_size = 5, -- species of at least this many keep their champion unchanged (paper: more than 5)
+	stagnation_penalty = 0.01, -- a stagnant species' share of offspring is multiplied by this
+	-- (NEAT's original code: 0.01; 0: it gets none)
+	elitism_offspring = 5, -- a species given more offspring than this keeps its champion unchanged
+	-- (NEAT's original code; the paper says "species with more than five networks")
+	rep_champion = true, -- the next generation is speciated against each species' champion
+	-- (NEAT's original code); false: against a random member
 	pop_champion = true, -- the generation's best genome is always copied unchanged into the next,
 	-- whatever the size of its species (its species gets at least one offspring)
 	target_species = 0, -- 0: the threshold stays delta_t; else it moves by threshold_step each
@@ -74,8 +87,8 @@ neat.defaults = {
 	threshold_step = 0.3, -- the threshold's step when target_species is set (NEAT 1.2: 0.3)
 	threshold_min = 0.3, -- the threshold never goes below this (NEAT 1.2: 0.3)
 	pop_stagnation = 0, -- generations without a new best before only the top two species reproduce;
-	-- 0: off (paper: 20; in evo's Q16 evaluation XOR's plateau at exactly 9.0 triggers it
-	-- every 20 generations and it cost 8 failures in 20 seeds against 2 without it)
+	-- 0: off (paper: 20; evo's fixed-point XOR sits at exactly 9.0 for generations, which fires
+	-- it while the search is still making progress)
 }
 
 -- .simbatch key -> option name. POPSIZE is the tutorial's own key.
@@ -88,6 +101,8 @@ neat.task_keys = {
 	NEAT_THRESHOLD = "threshold",
 	NEAT_NORMALIZE_BELOW = "normalize_below",
 	NEAT_WEIGHT_MUT_PROB = "weight_mut_prob",
+	NEAT_WEIGHT_MUTATION = "weight_mutation",
+	NEAT_SEVERE_PROB = "severe_prob",
 	NEAT_PERTURB_PROB = "perturb_prob",
 	NEAT_PERTURB_POWER = "perturb_power",
 	NEAT_REPLACE_POWER = "replace_power",
@@ -98,17 +113,21 @@ neat.task_keys = {
 	NEAT_ADD_LINK_PROB = "add_link_prob",
 	NEAT_ADD_LINK_TRIES = "add_link_tries",
 	NEAT_SPLIT_BIAS = "split_bias",
+	NEAT_SPLIT_OLDER = "split_older",
 	NEAT_RECURRENT = "recurrent",
+	NEAT_RECUR_ONLY_PROB = "recur_only_prob",
 	NEAT_ACTIVATION = "activation",
 	NEAT_MUTATE_ONLY_PROB = "mutate_only_prob",
 	NEAT_MATE_ONLY_PROB = "mate_only_prob",
 	NEAT_MATE_AVG_PROB = "mate_avg_prob",
 	NEAT_INTERSPECIES_PROB = "interspecies_prob",
 	NEAT_DISABLE_PROB = "disable_prob",
+	NEAT_TIE_SMALLER = "tie_smaller",
 	NEAT_SURVIVAL = "survival",
 	NEAT_STAGNATION = "stagnation",
 	NEAT_STAGNATION_PENALTY = "stagnation_penalty",
-	NEAT_ELITISM_MIN_SIZE = "elitism_min_size",
+	NEAT_ELITISM_OFFSPRING = "elitism_offspring",
+	NEAT_REP_CHAMPION = "rep_champion",
 	NEAT_POP_STAGNATION = "pop_stagnation",
 	NEAT_POP_CHAMPION = "pop_champion",
 	NEAT_TARGET_SPECIES = "target_species",
@@ -138,6 +157,9 @@ function neat.options_from_task(task)
 	return common.options_from(task, "NEAT_", neat.task_keys, neat.defaults, function(key, s, value)
 		if key == "NEAT_ACTIVATION" and not ACTIVATIONS[s] then
 			error(key .. ": unknown activation '" .. tostring(value) .. "'", 0)
+		end
+		if key == "NEAT_WEIGHT_MUTATION" and s ~= "code" and s ~= "paper" then
+			error(key .. ": '" .. tostring(value) .. "' is not a weight mutation scheme (code or paper)", 0)
 		end
 	end)
 end
@@ -263,11 +285,30 @@ local function split_innovation(pop, link)
 	return s
 end
 
+-- Weight mutation. "paper": each weight is perturbed with perturb_prob,
+-- else replaced. "code", as NEAT's original code does it
+-- (Genome::mutate_link_weights): with severe_prob the mutation is severe
+-- and each weight is perturbed with chance 0.7, replaced with 0.2 and
+-- kept with 0.1; otherwise every weight is perturbed, except that in a
+-- genome of 10 links or more the newest fifth (the links past 80% in
+-- innovation order) is perturbed with 0.5, replaced with 0.2, kept with 0.3.
 local function mutate_weights(g, o, rng)
-	for _, l in ipairs(g.links) do
-		if rng:unit() < o.perturb_prob then
+	local perturb, replace = o.perturb_prob, 1.0
+	local severe = false
+	if o.weight_mutation == "code" then
+		severe = rng:unit() < o.severe_prob
+		perturb, replace = severe and 0.7 or 1.0, severe and 0.9 or 1.0
+	end
+	local n = #g.links
+	for k, l in ipairs(g.links) do
+		local p, r = perturb, replace
+		if o.weight_mutation == "code" and not severe and n >= 10 and k - 1 > n * 0.8 then
+			p, r = 0.5, 0.7
+		end
+		local u = rng:unit()
+		if u < p then
 			l.weight = clamp(l.weight + (rng:unit() * 2 - 1) * o.perturb_power, o.weight_max)
-		else
+		elseif u < r then
 			l.weight = clamp((rng:unit() * 2 - 1) * o.replace_power, o.weight_max)
 		end
 	end
@@ -293,19 +334,38 @@ local function reaches(g, from, to)
 end
 
 -- Add a link between two unlinked nodes; without `recurrent`, only one that
--- keeps the genome acyclic. Returns the new gene or nil.
+-- keeps the genome acyclic. With `recurrent` and recur_only_prob above 0,
+-- as in NEAT's original code, the mutation makes a link that closes a
+-- cycle with that chance (a self-loop half the time) and one that does
+-- not otherwise. Returns the new gene or nil.
 function neat.mutate_add_link(pop, g, rng)
 	local o = pop.options
 	local nodes = g.nodes
+	local graded = o.recurrent and o.recur_only_prob > 0
+	local recur = graded and rng:unit() < o.recur_only_prob
+	local targets = {}
+	for _, n in ipairs(nodes) do
+		if n.kind ~= "input" and n.kind ~= "bias" then targets[#targets + 1] = n end
+	end
 	for _ = 1, o.add_link_tries do
-		local a = nodes[1 + math.floor(rng:unit() * #nodes)]
-		local b = nodes[1 + math.floor(rng:unit() * #nodes)]
+		local a, b
+		if recur and rng:unit() < 0.5 then
+			a = targets[1 + math.floor(rng:unit() * #targets)]
+			b = a
+		else
+			a = nodes[1 + math.floor(rng:unit() * #nodes)]
+			b = nodes[1 + math.floor(rng:unit() * #nodes)]
+		end
 		if b.kind ~= "input" and b.kind ~= "bias" then
 			local exists = false
 			for _, l in ipairs(g.links) do
 				if l.from == a.id and l.to == b.id then exists = true break end
 			end
-			if not exists and (o.recurrent or not reaches(g, b.id, a.id)) then
+			local ok
+			if not o.recurrent then ok = not reaches(g, b.id, a.id)
+			elseif graded then ok = reaches(g, b.id, a.id) == recur
+			else ok = true end
+			if not exists and ok then
 				local l = { innov = link_innovation(pop, a.id, b.id), from = a.id, to = b.id,
 					weight = clamp((rng:unit() * 2 - 1) * o.new_link_power, o.weight_max), enabled = true }
 				g.links[#g.links + 1] = l
@@ -320,7 +380,11 @@ end
 -- Split an enabled link from->to: it is disabled, from->new gets weight 1
 -- and new->to the old weight, so the network computes nearly the same.
 -- Links from the bias node are not split unless split_bias is set: the new
--- node would only turn a constant into another constant.
+-- node would only turn a constant into another constant. With
+-- split_older, a genome of fewer than 15 links is walked oldest link
+-- first, each candidate taken with chance 0.7 (none, at the end of the
+-- walk: no mutation), as NEAT's original code does so that small genomes
+-- do not keep splitting their newest links into chains.
 function neat.mutate_add_node(pop, g, rng, link)
 	if not link then
 		local bias_id
@@ -334,7 +398,14 @@ function neat.mutate_add_node(pop, g, rng, link)
 			if l.enabled and l.from ~= bias_id then enabled[#enabled + 1] = l end
 		end
 		if #enabled == 0 then return nil end
-		link = enabled[1 + math.floor(rng:unit() * #enabled)]
+		if pop.options.split_older and #g.links < 15 then
+			for _, l in ipairs(enabled) do
+				if rng:unit() < 0.7 then link = l break end
+			end
+			if not link then return nil end
+		else
+			link = enabled[1 + math.floor(rng:unit() * #enabled)]
+		end
 	end
 	local s = split_innovation(pop, link)
 	for _, n in ipairs(g.nodes) do
@@ -362,12 +433,18 @@ function neat.mutate(pop, g, rng)
 end
 
 -- Crossover: genes aligned by innovation; matching genes from either parent
--- at random; disjoint and excess genes from the fitter parent (from both, at
--- random, on equal fitness); a gene disabled in either parent is disabled
--- with probability disable_prob.
+-- at random, disabled with probability disable_prob when disabled in
+-- either; disjoint and excess genes from the fitter parent, as they are
+-- there. On equal fitness, with tie_smaller (NEAT's original code) the
+-- parent with fewer links counts as the fitter; without it (the paper)
+-- the disjoint and excess genes of both are inherited at random.
 function neat.crossover(a, fa, b, fb, o, rng)
 	if fb > fa then a, fa, b, fb = b, fb, a, fa end
 	local equal = fa == fb
+	if equal and o.tie_smaller then
+		if #b.links < #a.links then a, b = b, a end
+		equal = false
+	end
 	-- NEAT's original code averages the matching weights in 40% of its
 	-- crossovers (mate_multipoint_avg) and picks one parent's in the rest.
 	local average = rng:unit() < (o.mate_avg_prob or 0)
@@ -377,7 +454,7 @@ function neat.crossover(a, fa, b, fb, o, rng)
 	local al = {}
 	for _, l in ipairs(a.links) do al[l.innov] = l end
 	local function add(l, disabled_somewhere)
-		local c = { innov = l.innov, from = l.from, to = l.to, weight = l.weight, enabled = true }
+		local c = { innov = l.innov, from = l.from, to = l.to, weight = l.weight, enabled = l.enabled }
 		if disabled_somewhere then c.enabled = rng:unit() >= o.disable_prob end
 		child.links[#child.links + 1] = c
 	end
@@ -388,14 +465,14 @@ function neat.crossover(a, fa, b, fb, o, rng)
 			add(pick, not l.enabled or not m.enabled)
 			if average then child.links[#child.links].weight = (l.weight + m.weight) / 2 end
 		elseif not equal or rng:unit() < 0.5 then
-			add(l, not l.enabled)
+			add(l, false)
 		end
 	end
 	if equal then
 		for _, l in ipairs(b.links) do
 			if not al[l.innov] and rng:unit() < 0.5 then
 				-- Genes of two acyclic parents may close a cycle together.
-				if o.recurrent or not reaches(child, l.to, l.from) then add(l, not l.enabled) end
+				if o.recurrent or not reaches(child, l.to, l.from) then add(l, false) end
 			end
 		end
 	end
@@ -463,9 +540,12 @@ local function speciate(pop)
 		if #s.members > 0 then kept[#kept + 1] = s end
 	end
 	pop.species = kept
-	-- The next generation is compared to a random member of this one.
-	for _, s in ipairs(pop.species) do
-		s.rep = copy_genome(pop.population[s.members[1 + math.floor(pop.rng:unit() * #s.members)]])
+	-- Without rep_champion, the next generation is compared to a random
+	-- member of this one (with it, tell() sets each species' champion).
+	if not o.rep_champion then
+		for _, s in ipairs(pop.species) do
+			s.rep = copy_genome(pop.population[s.members[1 + math.floor(pop.rng:unit() * #s.members)]])
+		end
 	end
 end
 neat.speciate = speciate
@@ -622,17 +702,22 @@ function Pop:tell(fitness)
 	for si, s in ipairs(alive) do
 		local members = {}
 		for k, gi in ipairs(s.members) do members[k] = popl[gi] end
-		-- Fittest first; ties keep their order.
-		local idx = {}
-		for k = 1, #members do idx[k] = k end
+		-- Fittest first; equal fitness in random order. Fixed-point
+		-- outputs saturate to exact values, so ties are common (XOR's
+		-- networks that get three cases right score exactly 9), and a
+		-- fixed order would make the same few genomes parents every time.
+		local idx, key = {}, {}
+		for k = 1, #members do idx[k], key[k] = k, rng:unit() end
 		table.sort(idx, function(x, y)
 			if members[x].fitness ~= members[y].fitness then return members[x].fitness > members[y].fitness end
+			if key[x] ~= key[y] then return key[x] < key[y] end
 			return x < y
 		end)
 		local sorted = {}
 		for k, x in ipairs(idx) do sorted[k] = members[x] end
+		if o.rep_champion then s.rep = copy_genome(sorted[1]) end
 		local n = counts[si]
-		if n > 0 and (#sorted >= o.elitism_min_size or (o.pop_champion and s == best_species)) then
+		if n > 0 and (n > o.elitism_offspring or (o.pop_champion and s == best_species)) then
 			children[#children + 1] = copy_genome(sorted[1])
 			n = n - 1
 		end

@@ -105,7 +105,9 @@ end
 
 function T.crossover_aligns_matching_genes()
 	local a, b = parents()
-	local o = neat.defaults
+	local o = {}
+	for k, v in pairs(neat.defaults) do o[k] = v end
+	o.mate_avg_prob = 0
 	local from_a, from_b = 0, 0
 	local rng = neat.rng(1)
 	for _ = 1, 200 do
@@ -120,6 +122,10 @@ function T.crossover_aligns_matching_genes()
 		end
 	end
 	check(from_a > 150 and from_b > 150, "matching genes from either parent at random")
+	-- mate_avg_prob: the matching weights averaged instead.
+	o.mate_avg_prob = 1
+	local c = neat.crossover(a, 10, b, 5, o, rng)
+	check(near(c.links[1].weight, 1.6) and near(c.links[2].weight, 1.7), "matching weights averaged")
 end
 
 function T.disjoint_and_excess_come_from_the_fitter_parent()
@@ -190,7 +196,7 @@ function T.add_node_leaves_the_bias_links_alone()
 	-- add-node splits the input links and never the bias one.
 	local function splits_of_bias(split_bias)
 		local pop = neat.new { inputs = 1, outputs = 1, rng = neat.rng(17),
-			options = { pop_size = 2, split_bias = split_bias } }
+			options = { pop_size = 2, split_bias = split_bias, split_older = false } }
 		local bias = 0
 		for _ = 1, 200 do
 			local g = neat.copy_genome(pop:genomes()[1]) -- links 0->2 and bias 1->2
@@ -221,6 +227,170 @@ function T.new_link_power_sets_the_range_of_added_links()
 	end
 	check(widest(0.5) <= 0.5, "within +-0.5")
 	check(widest(4) > 3, "up to +-4")
+end
+
+function T.weight_mutation_as_neat_code_does_it()
+	-- 20 links: the newest fifth is the links past 80%, places 18 to 20
+	-- (NEAT's code counts from 0 and takes those above 0.8 * 20).
+	local function kept_fractions(severe_prob)
+		local rng = neat.rng(21)
+		local o = { weight_mutation = "code", severe_prob = severe_prob, perturb_power = 1,
+			replace_power = 1, weight_max = 8 }
+		local head, tail, trials = 0, 0, 2000
+		for _ = 1, trials do
+			local g = { links = {} }
+			for k = 1, 20 do g.links[k] = { innov = k, weight = 0.5 } end
+			neat.mutate_weights(g, o, rng)
+			for k, l in ipairs(g.links) do
+				if l.weight == 0.5 then
+					if k <= 17 then head = head + 1 else tail = tail + 1 end
+				end
+			end
+		end
+		return head / (17 * trials), tail / (3 * trials)
+	end
+	local head, tail = kept_fractions(0)
+	check(head == 0, "a mild mutation changes every older weight: " .. head)
+	check(math.abs(tail - 0.3) < 0.02, "and keeps 30% of the newest fifth: " .. tail)
+	head, tail = kept_fractions(1)
+	check(math.abs(head - 0.1) < 0.01 and math.abs(tail - 0.1) < 0.02,
+		"a severe one keeps 10% everywhere: " .. head .. ", " .. tail)
+	-- "paper": perturbed or replaced, never kept.
+	local g = { links = {} }
+	for k = 1, 20 do g.links[k] = { innov = k, weight = 0.5 } end
+	neat.mutate_weights(g, { weight_mutation = "paper", perturb_prob = 0.9, perturb_power = 1,
+		replace_power = 1, weight_max = 8 }, neat.rng(22))
+	for _, l in ipairs(g.links) do check(l.weight ~= 0.5, "paper: every weight changes") end
+end
+
+function T.add_node_prefers_older_links_in_small_genomes()
+	-- Three input links and a bias link: walked oldest first, each taken
+	-- with chance 0.7, so 70%, 21%, 6.3%, and 2.7% no split.
+	local function picks(older)
+		local pop = neat.new { inputs = 3, outputs = 1, rng = neat.rng(23),
+			options = { pop_size = 2, split_older = older } }
+		local n = { 0, 0, 0, 0 }
+		for _ = 1, 4000 do
+			local g = neat.copy_genome(pop:genomes()[1])
+			pop.gen_splits = {}
+			local k = 4
+			if neat.mutate_add_node(pop, g, pop.rng) then
+				for i = 1, 3 do
+					if not g.links[i].enabled then k = i end
+				end
+			end
+			n[k] = n[k] + 1
+		end
+		return n
+	end
+	local n = picks(true)
+	check(math.abs(n[1] / 4000 - 0.7) < 0.03 and math.abs(n[2] / 4000 - 0.21) < 0.03
+		and math.abs(n[3] / 4000 - 0.063) < 0.015 and math.abs(n[4] / 4000 - 0.027) < 0.01,
+		"older links first: " .. table.concat(n, ","))
+	n = picks(false)
+	for i = 1, 3 do check(math.abs(n[i] / 4000 - 1 / 3) < 0.03, "uniform: " .. table.concat(n, ",")) end
+	check(n[4] == 0, "uniform: always a split")
+end
+
+function T.equal_fitness_crossover_takes_the_smaller_parent()
+	local a, b = parents() -- a: 4 links, b: 5
+	local rng = neat.rng(24)
+	for _ = 1, 50 do
+		check(innovs(neat.crossover(a, 3, b, 3, neat.defaults, rng)) == "1,2,3,5", "a is smaller")
+		check(innovs(neat.crossover(b, 3, a, 3, neat.defaults, rng)) == "1,2,3,5", "in either order")
+	end
+	local o = {}
+	for k, v in pairs(neat.defaults) do o[k] = v end
+	o.tie_smaller = false
+	local seen = {}
+	for _ = 1, 200 do seen[innovs(neat.crossover(a, 3, b, 3, o, rng))] = true end
+	local kinds = 0
+	for _ in pairs(seen) do kinds = kinds + 1 end
+	check(kinds > 5, "without tie_smaller, the disjoint genes of both at random")
+end
+
+function T.disjoint_genes_keep_their_state()
+	local a, b = parents()
+	a.links[3].enabled = false -- innovation 3, disjoint
+	local rng = neat.rng(25)
+	for _ = 1, 200 do
+		local c = neat.crossover(a, 10, b, 5, neat.defaults, rng)
+		check(c.links[3].innov == 3 and not c.links[3].enabled, "a disabled disjoint gene stays disabled")
+		check(c.links[4].enabled, "an enabled one stays enabled")
+	end
+end
+
+function T.species_are_compared_to_their_champion()
+	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(26),
+		options = { pop_size = 12, threshold = 100 } }
+	local fit = {}
+	for i = 1, 12 do fit[i] = i == 5 and 2 or 1 end
+	local champ = neat.copy_genome(pop:genomes()[5])
+	pop:tell(fit)
+	check(#pop.species == 1 and deep_equal(pop.species[1].rep.links, champ.links),
+		"the representative is the last generation's champion")
+end
+
+function T.equal_fitness_ranks_at_random()
+	-- Ten genomes of equal fitness in one species: the champion kept
+	-- unchanged is a different one from seed to seed.
+	local copied = {}
+	for seed = 1, 12 do
+		local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(seed),
+			options = { pop_size = 10, threshold = 100 } }
+		local old = {}
+		for i, g in ipairs(pop:genomes()) do old[i] = neat.copy_genome(g) end
+		pop:tell({ 1, 1, 1, 1, 1, 1, 1, 1, 1, 1 })
+		for i, g in ipairs(old) do
+			for _, c in ipairs(pop:genomes()) do
+				if deep_equal(c.links, g.links) then copied[i] = true end
+			end
+		end
+	end
+	local n = 0
+	for _ in pairs(copied) do n = n + 1 end
+	check(n >= 4, "champions drawn from " .. n .. " of 10 places")
+end
+
+function T.recur_only_prob_decides_cycles()
+	-- Does the genome, with `l` added, have a path from l.to back to l.from?
+	local function closes(g, l)
+		if l.from == l.to then return true end
+		local seen, stack = { [l.to] = true }, { l.to }
+		while #stack > 0 do
+			local n = table.remove(stack)
+			for _, k in ipairs(g.links) do
+				if k ~= l and k.from == n and not seen[k.to] then
+					if k.to == l.from then return true end
+					seen[k.to] = true
+					stack[#stack + 1] = k.to
+				end
+			end
+		end
+		return false
+	end
+	local function count(p)
+		local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(27),
+			options = { pop_size = 2, recurrent = true, recur_only_prob = p } }
+		local base = genome(2, { 3 }, { 4 }, { { 1, 0, 3, 1 }, { 2, 1, 4, 1 }, { 3, 4, 3, 1 } })
+		local cyc, loops, n = 0, 0, 0
+		for _ = 1, 400 do
+			local g = neat.copy_genome(base)
+			pop.gen_links = {}
+			local l = neat.mutate_add_link(pop, g, pop.rng)
+			if l then
+				n = n + 1
+				if closes(g, l) then cyc = cyc + 1 end
+				if l.from == l.to then loops = loops + 1 end
+			end
+		end
+		return cyc, loops, n
+	end
+	local cyc, loops, n = count(1)
+	check(n > 350 and cyc == n, "every link closes a cycle: " .. cyc .. " of " .. n)
+	check(loops > 0 and loops < n, "self-loops and longer cycles: " .. loops .. " self-loops")
+	cyc, _, n = count(1e-9)
+	check(n > 350 and cyc == 0, "none closes a cycle: " .. cyc .. " of " .. n)
 end
 
 function T.distance_and_speciation_by_threshold()
@@ -296,7 +466,8 @@ function T.offspring_fill_the_population()
 end
 
 local function two_species_pop(seed)
-	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(seed), options = { pop_size = 10, stagnation = 15 } }
+	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(seed),
+		options = { pop_size = 10, stagnation = 15, stagnation_penalty = 0 } }
 	pop.generation = 30
 	pop.species = {
 		{ id = 1, rep = pop.population[1], members = { 1, 2, 3, 4, 5 }, best_fitness = 100, last_improved = 5 },
@@ -334,7 +505,7 @@ end
 
 function T.elitism_copies_champions_unchanged()
 	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(12),
-		options = { pop_size = 30, threshold = 100, weight_mut_prob = 1, perturb_prob = 0 } }
+		options = { pop_size = 30, threshold = 100, weight_mut_prob = 1, weight_mutation = "paper", perturb_prob = 0 } }
 	local fit = {}
 	for i = 1, 30 do fit[i] = i % 7 + i / 100 end -- best: genome 27 (6.27)
 	local champ = neat.copy_genome(pop:genomes()[27])
@@ -344,21 +515,22 @@ function T.elitism_copies_champions_unchanged()
 		if deep_equal(g.links, champ.links) and deep_equal(g.nodes, champ.nodes) then copies = copies + 1 end
 	end
 	check(copies >= 1, "the champion is in the next generation unchanged")
-	-- A species under 5 members keeps no elite (without pop_champion).
+	-- A species given 5 offspring or fewer keeps no elite (without pop_champion).
 	pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(12),
-		options = { pop_size = 4, threshold = 100, weight_mut_prob = 1, perturb_prob = 0,
+		options = { pop_size = 4, threshold = 100, weight_mut_prob = 1, weight_mutation = "paper", perturb_prob = 0,
 			mutate_only_prob = 1, add_node_prob = 0, add_link_prob = 0, pop_champion = false } }
 	champ = neat.copy_genome(pop:genomes()[1])
 	pop:tell({ 9, 1, 1, 1 })
-	for _, g in ipairs(pop:genomes()) do check(not deep_equal(g.links, champ.links), "no elite under 5") end
+	for _, g in ipairs(pop:genomes()) do check(not deep_equal(g.links, champ.links), "no elite for 5 offspring or fewer") end
 end
 
 function T.pop_champion_survives_in_a_small_species()
-	-- Threshold 0: every genome is a species of one, and none reaches
-	-- elitism_min_size; the generation's best is still copied unchanged,
-	-- even when its share alone would give its species no offspring.
+	-- Threshold 0: every genome is a species of one, and none gets more
+	-- than elitism_offspring offspring; the generation's best is still
+	-- copied unchanged, even when its share alone would give its species
+	-- no offspring.
 	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(13),
-		options = { pop_size = 20, threshold = 0, weight_mut_prob = 1, perturb_prob = 0,
+		options = { pop_size = 20, threshold = 0, weight_mut_prob = 1, weight_mutation = "paper", perturb_prob = 0,
 			add_node_prob = 0, add_link_prob = 0 } }
 	check(#pop.species == 20, "one species per genome")
 	local fit = {}
