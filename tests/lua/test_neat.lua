@@ -677,6 +677,10 @@ function T.options_from_task()
 	check(#unknown == 2 and unknown[1] == "NEAT_ALSO" and unknown[2] == "NEAT_BOGUS", "unknown NEAT_ keys listed")
 	check(o.EVALREP == nil, "other keys ignored")
 	check(not pcall(neat.options_from_task, { NEAT_C1 = "one" }), "a malformed value raises")
+	check(neat.options_from_task { NEAT_WEIGHT_MUTATION = "Paper" }.weight_mutation == "paper", "a scheme")
+	local ok, msg = pcall(neat.options_from_task, { NEAT_WEIGHT_MUTATION = "gauss" })
+	check(not ok and msg:find("NEAT_WEIGHT_MUTATION: 'gauss' is not a weight mutation scheme", 1, true),
+		"an unknown scheme raises: " .. tostring(msg))
 	for key, name in pairs(neat.task_keys) do check(neat.defaults[name] ~= nil, key .. " names an option") end
 	local pop = neat.new { inputs = 1, outputs = 1, rng = neat.rng(1), options = o }
 	check(#pop:genomes() == 60, "options reach the population")
