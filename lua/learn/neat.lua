@@ -774,16 +774,18 @@ end
 
 ---------------------------------------------------------------------------
 -- Checkpoints: a plain table (numbers, strings, booleans, tables) with the
--- whole state, the rng's included.
+-- whole state, the rng's included. Format 2 came with NEAT's original
+-- code's options (elitism_offspring and the rest): a checkpoint of format 1
+-- would resume a different algorithm, so it is refused.
 
 function neat.save(pop)
-	return common.save(pop, "evo-neat-1")
+	return common.save(pop, "evo-neat-2")
 end
 
 -- The reverse of neat.save. Give `rng` to use another rng object (its
 -- state is then the caller's business); by default neat.rng_load(t.rng).
 function neat.load(t, rng)
-	return common.load(t, "evo-neat-1", Pop, rng, neat.rng_load)
+	return common.load(t, "evo-neat-2", Pop, rng, neat.rng_load)
 end
 
 ---------------------------------------------------------------------------
