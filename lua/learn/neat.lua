@@ -343,9 +343,11 @@ function neat.mutate_add_link(pop, g, rng)
 	local nodes = g.nodes
 	local graded = o.recurrent and o.recur_only_prob > 0
 	local recur = graded and rng:unit() < o.recur_only_prob
-	local targets = {}
-	for _, n in ipairs(nodes) do
-		if n.kind ~= "input" and n.kind ~= "bias" then targets[#targets + 1] = n end
+	local targets = {} -- the nodes a self-loop may go round, needed only then
+	if recur then
+		for _, n in ipairs(nodes) do
+			if n.kind ~= "input" and n.kind ~= "bias" then targets[#targets + 1] = n end
+		end
 	end
 	for _ = 1, o.add_link_tries do
 		local a, b
