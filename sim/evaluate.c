@@ -324,23 +324,9 @@ unsigned evo_evaluator_n_out(const evo_evaluator *ev)
 	return ev->n_out;
 }
 
-/* DPNV as the paper runs it: the best candidate of the generation (the
- * first of equals) is tested for 100,000 steps and generalisation, and
- * only it can be a solver. Done here, after the batch, so it does not
- * depend on the threads. */
-static int dpnv_check_champion(const evo_netdesc *const *cand, int n,
-			       evo_eval_result *res, evo_err *err)
+int evo_evaluator_deferred_success(const evo_evaluator *ev)
 {
-	int best = 0;
-	for (int i = 1; i < n; i++)
-		if (res[i].fitness > res[best].fitness)
-			best = i;
-	evo_lit_result r;
-	evo_err e;
-	if (evo_lit_dpnv_check(cand[best], &r, &e))
-		return evo_fail(err, "candidate %d: %s", best, e.msg);
-	res[best].solved = r.solved;
-	return 0;
+	return ev->w[0].lit == EVO_LIT_DPNV;
 }
 
 int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
@@ -383,8 +369,6 @@ int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
 	int failed = ev->failed;
 	if (failed)
 		*err = ev->err;
-	else if (ev->w[0].lit == EVO_LIT_DPNV)
-		failed = dpnv_check_champion(candidates, n, res, err);
 	ev->cand = NULL;
 	ev->res = NULL;
 	pthread_mutex_unlock(&ev->mu);

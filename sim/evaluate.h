@@ -29,9 +29,9 @@
  * build no simulation and score each candidate once with sim/literature.h
  * (seedless and deterministic; EVALREP and TICKLIM do not apply), and
  * res[i].solved says whether candidate i met the task's success
- * criterion. For DPNV only the batch's best candidate (the first of
- * equals) is given the paper's success test, on the calling thread, as
- * the paper did. */
+ * criterion. DPNV's success is decided after the batch, on one candidate
+ * the caller picks (evo_evaluator_deferred_success): its solved flags
+ * stay 0 here. */
 #ifndef EVO_EVALUATE_H
 #define EVO_EVALUATE_H
 
@@ -91,5 +91,11 @@ typedef struct evo_eval_result {
  * time per evaluator. */
 int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
 		 int gen, evo_eval_result *res, evo_err *err);
+
+/* 1 when the task decides success after a generation, on one candidate:
+ * DPNV, where the paper gives one network per generation the 100,000-step
+ * and generalisation test (evo_lit_dpnv_check). The learning loop picks
+ * that network, as its method says (docs/learning.md). */
+int evo_evaluator_deferred_success(const evo_evaluator *ev);
 
 #endif

@@ -20,6 +20,7 @@
 
 #include "curve.h"
 #include "evaluate.h"
+#include "literature.h"
 #include "lua_evo.h"
 #include "net_build.h"
 #include "runlog.h"
@@ -174,6 +175,27 @@ static int l_evaluate(lua_State *L)
 	}
 	free(res);
 	return 4;
+}
+
+/* evo.success_test(net) -> solved, generalisation: DPNV's success test
+ * (100,000 steps from the start state, then Gruau's 625 starts) for the
+ * one network of a generation the loop picked. generalisation is nil when
+ * the network did not last the 100,000 steps. Present only on DPNV. */
+static int l_success_test(lua_State *L)
+{
+	/* A userdata, so an error in the network frees it too. */
+	evo_netdesc *d = lua_newuserdatauv(L, sizeof *d, 0);
+	to_netdesc(L, 1, 1, d);
+	evo_lit_result r;
+	evo_err err = {{0}};
+	if (evo_lit_dpnv_check(d, &r, &err))
+		return luaL_error(L, "%s", err.msg);
+	lua_pushboolean(L, r.solved);
+	if (r.generalisation >= 0)
+		lua_pushinteger(L, r.generalisation);
+	else
+		lua_pushnil(L);
+	return 2;
 }
 
 static int l_open_log(lua_State *L)
@@ -340,6 +362,10 @@ static int open_module(lua_State *L)
 		lua_setfield(L, -2, l->task->sb->pair[i].key);
 	}
 	lua_setfield(L, -2, "task");
+	if (evo_evaluator_deferred_success(l->ev)) {
+		lua_pushcfunction(L, l_success_test);
+		lua_setfield(L, -2, "success_test");
+	}
 	lua_pushinteger(L, (lua_Integer)l->opts->seed);
 	lua_setfield(L, -2, "seed");
 	lua_pushinteger(L, (lua_Integer)evo_evaluator_n_in(l->ev));

@@ -59,6 +59,20 @@ for gen = first, generations - 1 do
 	local nets = {}
 	for i, g in ipairs(genomes) do nets[i] = algo.to_net(g) end
 	local fitness, seconds, solved = evo.evaluate(nets, gen)
+	-- DPNV decides success after the generation, on one network: the one
+	-- the method picks (NEAT: as NEAT's original code picks it), else the
+	-- best (the first of equals).
+	if evo.success_test then
+		local pick = 1
+		if pop.test_candidate then
+			pick = pop:test_candidate(fitness)
+		else
+			for i, f in ipairs(fitness) do
+				if f > fitness[pick] then pick = i end
+			end
+		end
+		solved[pick] = evo.success_test(nets[pick])
+	end
 	local best_i, sum, n_solved = 1, 0, 0
 	for i, f in ipairs(fitness) do
 		sum = sum + f

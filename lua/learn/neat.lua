@@ -89,6 +89,13 @@ neat.defaults = {
 	pop_stagnation = 0, -- generations without a new best before only the top two species reproduce;
 	-- 0: off (paper: 20; evo's fixed-point XOR sits at exactly 9.0 for generations, which fires
 	-- it while the search is still making progress)
+	toggle_prob = 0, -- chance that a non-structural mutation also toggles a link on or off
+	-- (NEAT's original code: mutate_toggle_enable_prob, 0.1 in its parameter files)
+	reenable_prob = 0, -- chance that it also switches the first disabled link back on
+	-- (NEAT's original code: mutate_gene_reenable_prob, 0.05)
+	delta_coding = false, -- when pop_stagnation fires, the two species' offspring are all copies of
+	-- their champion, weights mutated (0.8) or a link added (0.2), the last one unchanged
+	-- (NEAT's original code); false: the two species reproduce as usual (the paper)
 }
 
 -- .simbatch key -> option name. POPSIZE is the tutorial's own key.
@@ -129,6 +136,9 @@ neat.task_keys = {
 	NEAT_ELITISM_OFFSPRING = "elitism_offspring",
 	NEAT_REP_CHAMPION = "rep_champion",
 	NEAT_POP_STAGNATION = "pop_stagnation",
+	NEAT_DELTA_CODING = "delta_coding",
+	NEAT_TOGGLE_PROB = "toggle_prob",
+	NEAT_REENABLE_PROB = "reenable_prob",
 	NEAT_POP_CHAMPION = "pop_champion",
 	NEAT_TARGET_SPECIES = "target_species",
 	NEAT_THRESHOLD_STEP = "threshold_step",
@@ -421,6 +431,36 @@ function neat.mutate_add_node(pop, g, rng, link)
 	return s.node
 end
 
+-- NEAT's original code's toggle: a random link is switched on if it is
+-- off, and off if it is on and its source feeds another enabled link (so
+-- no node is cut off from the outputs by it).
+function neat.mutate_toggle(g, rng)
+	local n = #g.links
+	if n == 0 then return end
+	local l = g.links[1 + math.floor(rng:unit() * n)]
+	if not l.enabled then
+		l.enabled = true
+		return
+	end
+	for _, other in ipairs(g.links) do
+		if other ~= l and other.enabled and other.from == l.from then
+			l.enabled = false
+			return
+		end
+	end
+end
+
+-- NEAT's original code's re-enable: the first disabled link, in
+-- innovation order, is switched back on.
+function neat.mutate_reenable(g)
+	for _, l in ipairs(g.links) do
+		if not l.enabled then
+			l.enabled = true
+			return
+		end
+	end
+end
+
 -- One mutation step as NEAT's original code does it: a structural mutation,
 -- else (maybe) the weights.
 function neat.mutate(pop, g, rng)
@@ -429,8 +469,10 @@ function neat.mutate(pop, g, rng)
 		neat.mutate_add_node(pop, g, rng)
 	elseif rng:unit() < o.add_link_prob then
 		neat.mutate_add_link(pop, g, rng)
-	elseif rng:unit() < o.weight_mut_prob then
-		mutate_weights(g, o, rng)
+	else
+		if rng:unit() < o.weight_mut_prob then mutate_weights(g, o, rng) end
+		if o.toggle_prob > 0 and rng:unit() < o.toggle_prob then neat.mutate_toggle(g, rng) end
+		if o.reenable_prob > 0 and rng:unit() < o.reenable_prob then neat.mutate_reenable(g) end
 	end
 end
 
@@ -588,6 +630,36 @@ end
 -- The genomes of the current generation, to evaluate in this order.
 function Pop:genomes() return self.population end
 
+-- The genome of this generation to put through a costly success test
+-- (DPNV's 100,000 steps and generalisation), picked as NEAT's original code
+-- picks it: the champion of the best species whose best fitness rose above
+-- its previous best since its champion was last tested; when every species
+-- has been tested, the best species' champion. A species whose champion
+-- failed is not tested again until it improves, so a plateau does not test
+-- the same genome every generation. `fitness` is this generation's, in
+-- genomes() order.
+function Pop:test_candidate(fitness)
+	local entries = {}
+	for _, s in ipairs(self.species) do
+		local champ
+		for _, gi in ipairs(s.members) do
+			if not champ or fitness[gi] > fitness[champ] then champ = gi end
+		end
+		if fitness[champ] > s.best_fitness then s.tested = false end
+		entries[#entries + 1] = { s = s, champ = champ, f = fitness[champ] }
+	end
+	table.sort(entries, function(a, b)
+		if a.f ~= b.f then return a.f > b.f end
+		return a.s.id < b.s.id
+	end)
+	local pick = entries[1]
+	for _, e in ipairs(entries) do
+		if not e.s.tested then pick = e break end
+	end
+	pick.s.tested = true
+	return pick.champ
+end
+
 -- Offspring per species in proportion to its summed adjusted fitness
 -- (fitness / species size), rounded by largest remainder so the counts sum
 -- to exactly `total`. `shares` are non-negative numbers.
@@ -681,6 +753,7 @@ function Pop:tell(fitness)
 	-- improved for pop_stagnation generations, only the two species with
 	-- the best genomes reproduce, half the population each; then the count
 	-- starts again (NEAT's original code resets it the same way).
+	local clones = {}
 	local since = math.max(self.best.generation, self.dropoff_generation or -1)
 	if o.pop_stagnation > 0 and self.generation - since >= o.pop_stagnation and #alive > 1 then
 		self.dropoff_generation = self.generation
@@ -693,6 +766,11 @@ function Pop:tell(fitness)
 		for i = 1, #alive do counts[i] = 0 end
 		counts[order[1]] = o.pop_size - o.pop_size // 2
 		counts[order[2]] = o.pop_size // 2
+		if o.delta_coding then
+			clones = { [order[1]] = true, [order[2]] = true }
+			alive[order[1]].last_improved = self.generation
+			alive[order[2]].last_improved = self.generation
+		end
 	end
 	-- What the last generation decided, for logs and tests.
 	self.last_counts, self.last_alive = counts, {}
@@ -719,7 +797,21 @@ function Pop:tell(fitness)
 		for k, x in ipairs(idx) do sorted[k] = members[x] end
 		if o.rep_champion then s.rep = copy_genome(sorted[1]) end
 		local n = counts[si]
-		if n > 0 and (n > o.elitism_offspring or (o.pop_champion and s == best_species)) then
+		if clones[si] then
+			-- Delta coding: the champion's neighbourhood, the champion last.
+			for k = 1, n do
+				local child = copy_genome(sorted[1])
+				if k < n then
+					if rng:unit() < 0.8 then
+						mutate_weights(child, o, rng)
+					else
+						neat.mutate_add_link(self, child, rng)
+					end
+				end
+				children[#children + 1] = child
+			end
+			n = 0
+		elseif n > 0 and (n > o.elitism_offspring or (o.pop_champion and s == best_species)) then
 			children[#children + 1] = copy_genome(sorted[1])
 			n = n - 1
 		end

@@ -723,6 +723,106 @@ function T.recurrent_option_controls_cycles()
 	check(count_cycles(true) > 0, "recurrent: loops appear")
 end
 
+function T.test_candidate_moves_on_from_a_tested_species()
+	-- Species 1 holds the best genome (fitness 9), species 2 the next (7).
+	local pop = two_species_pop(16)
+	local fit = { 1, 9, 1, 1, 1, 1, 1, 7, 1, 1 }
+	pop.species[1].best_fitness, pop.species[2].best_fitness = -math.huge, -math.huge
+	check(pop:test_candidate(fit) == 2, "first the best species' champion")
+	-- Its species now counts as tested until its best rises above its
+	-- record; tell() sets the records.
+	pop.species[1].best_fitness, pop.species[2].best_fitness = 9, 7
+	check(pop:test_candidate(fit) == 8, "then the next species' champion, not the same genome again")
+	check(pop:test_candidate(fit) == 2, "every species tested: the best species' champion")
+	-- Species 2 improves: its new champion is tested before species 1's.
+	fit[9] = 8
+	check(pop:test_candidate(fit) == 9, "an improved species is tested again")
+	-- Equal fitness: the first member, then species order by id.
+	pop = two_species_pop(17)
+	fit = { 3, 5, 5, 1, 1, 5, 1, 1, 1, 1 }
+	check(pop:test_candidate(fit) == 2, "first of equals, lower species id first")
+	check(pop:test_candidate(fit) == 6, "then the other species")
+	-- The tested marks are state: a checkpoint keeps them.
+	local loaded = neat.load(neat.save(pop))
+	check(loaded:test_candidate(fit) == pop:test_candidate(fit), "saved and loaded")
+end
+
+function T.toggle_and_reenable()
+	-- Input 0 feeds the output (innovation 1) and hidden node 4 (2); input 1
+	-- feeds only the output (3).
+	local function g3()
+		return genome(2, { 3 }, { 4 }, { { 1, 0, 3, 1 }, { 2, 0, 4, 1 }, { 3, 1, 3, 1 }, { 4, 4, 3, 1 } })
+	end
+	local rng = neat.rng(18)
+	local off = {}
+	for _ = 1, 400 do
+		local g = g3()
+		neat.mutate_toggle(g, rng)
+		for _, l in ipairs(g.links) do
+			if not l.enabled then off[l.innov] = (off[l.innov] or 0) + 1 end
+		end
+	end
+	check((off[1] or 0) > 60 and (off[2] or 0) > 60, "a link whose source feeds another can be switched off")
+	check(off[3] == nil and off[4] == nil, "a node's only enabled outgoing link stays on")
+	local g = g3()
+	g.links[1].enabled, g.links[3].enabled = false, false
+	neat.mutate_toggle(g, { unit = function() return 0.0 end })
+	check(g.links[1].enabled, "a disabled link is switched on")
+	g = g3()
+	g.links[2].enabled, g.links[3].enabled = false, false
+	neat.mutate_reenable(g)
+	check(g.links[2].enabled and not g.links[3].enabled, "re-enable: the first disabled link only")
+	-- Off by default: a non-structural mutation changes no enabled state.
+	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(19), options = { pop_size = 5 } }
+	g = g3()
+	g.links[3].enabled = false
+	for _ = 1, 200 do neat.mutate(pop, g, pop.rng) end
+	check(not g.links[3].enabled, "toggle_prob and reenable_prob are 0 unless set")
+	-- Set, they act.
+	pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(20),
+		options = { pop_size = 5, add_node_prob = 0, add_link_prob = 0, reenable_prob = 1 } }
+	g = g3()
+	g.links[3].enabled = false
+	neat.mutate(pop, g, pop.rng)
+	check(g.links[3].enabled, "reenable_prob 1 re-enables")
+end
+
+function T.delta_coding_breeds_two_champions()
+	local function run(delta)
+		local pop = two_species_pop(21)
+		pop.options.pop_stagnation, pop.options.delta_coding = 20, delta
+		pop.options.stagnation = 100
+		-- The best has not improved since generation 5 (now 30).
+		pop.best = { genome = neat.copy_genome(pop.population[3]), fitness = 50, generation = 5 }
+		local champs = { neat.copy_genome(pop.population[3]), neat.copy_genome(pop.population[7]) }
+		pop:tell({ 1, 1, 9, 1, 1, 1, 8, 1, 1, 1 })
+		return pop, champs
+	end
+	local pop, champs = run(true)
+	check(pop.last_counts[1] == 5 and pop.last_counts[2] == 5, "half the population each")
+	-- Every child is one of the champions, its weights mutated or a link
+	-- added; the last of each species is its champion unchanged.
+	local same = { 0, 0 }
+	for _, g in ipairs(pop:genomes()) do
+		local innov = {}
+		for _, l in ipairs(g.links) do innov[l.innov] = true end
+		for _, l in ipairs(champs[1].links) do check(innov[l.innov], "a champion's links are all kept") end
+		check(#g.links <= #champs[1].links + 1, "at most one link added")
+		for k = 1, 2 do
+			if deep_equal(g.links, champs[k].links) then same[k] = same[k] + 1 end
+		end
+	end
+	-- (A link cannot be added to these full genomes, so an add-link child
+	-- may be unchanged as well.)
+	check(same[1] >= 1 and same[2] >= 1, "each champion kept unchanged: " .. same[1] .. "," .. same[2])
+	check(same[1] + same[2] < 10, "the others are mutated")
+	for _, s in ipairs(pop.species) do check(s.last_improved == 30 or s.created == 31, "stagnation count restarted") end
+	-- Without delta coding (the paper's rule) the two species still get
+	-- half the population each.
+	pop, champs = run(false)
+	check(pop.last_counts[1] == 5 and pop.last_counts[2] == 5, "half the population each, without delta coding too")
+end
+
 function T.xor_is_solved()
 	local solved, lines = 0, {}
 	for seed = 1, 5 do

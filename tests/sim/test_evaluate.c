@@ -232,6 +232,36 @@ out:
 	evo_evaluator_destroy(b);
 }
 
+/* Only DPNV leaves success to the learning loop, which picks the one
+ * network a generation that gets the paper's test: the batch itself marks
+ * no DPNV candidate solved, however well it does. XOR marks its solvers. */
+TEST(dpnv_success_is_deferred)
+{
+	evo_err err = {{0}};
+	evo_eval_def def = {.task_path =
+				"minds/DoublePoleNV/Tasks/DPNV-NEAT.simbatch",
+			    .threads = 2};
+	evo_evaluator *ev = evo_evaluator_create(&def, &err);
+	CHECK(ev != NULL);
+	if (!ev) {
+		printf("  evaluator: %s\n", err.msg);
+		return;
+	}
+	CHECK_EQ_INT(evo_evaluator_deferred_success(ev), 1);
+	evo_evaluator_destroy(ev);
+	def.task_path = "minds/XOR/Tasks/XOR-NEAT.simbatch";
+	ev = evo_evaluator_create(&def, &err);
+	CHECK(ev != NULL);
+	if (ev)
+		CHECK_EQ_INT(evo_evaluator_deferred_success(ev), 0);
+	evo_evaluator_destroy(ev);
+	ev = make(1, 1, 1, 10);
+	CHECK(ev != NULL);
+	if (ev)
+		CHECK_EQ_INT(evo_evaluator_deferred_success(ev), 0);
+	evo_evaluator_destroy(ev);
+}
+
 TEST(bad_task_is_refused)
 {
 	evo_err err = {{0}};
@@ -254,6 +284,7 @@ int main(void)
 	RUN(same_candidate_two_indices_same_grids);
 	RUN(wrong_shape_is_refused);
 	RUN(zero_network_stands_still);
+	RUN(dpnv_success_is_deferred);
 	RUN(bad_task_is_refused);
 	for (int i = 0; i < N_CAND; i++)
 		free(cand[i]);

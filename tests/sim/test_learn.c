@@ -337,6 +337,63 @@ TEST(xor_stops_when_solved_and_keeps_the_solver)
 	free(net);
 }
 
+/* DPNV gives one network a generation the paper's success test, so the
+ * log's `solved` column is 0 or 1, and the run stops at the first network
+ * that passes: the champion saved balances 100,000 steps and at least 200
+ * of Gruau's 625 starts. Seed 4 solves in a few generations. */
+TEST(dpnv_tests_one_network_a_generation_and_keeps_the_solver)
+{
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/d && cp -r minds/DoublePoleNV %s/d/",
+			    cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_sh("%s run %s/d/DoublePoleNV/Tasks/DPNV-NEAT.simbatch "
+			    "--seed 4 --run %s/d/run > %s/d/out.txt 2>&1",
+			    cli_evo, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	char run[256];
+	snprintf(run, sizeof run, "%s/d/run", cli_tmp);
+	char *log = cli_fitness_log(run),
+	     *out = cli_read("%s/d/out.txt", cli_tmp);
+	CHECK(log && out);
+	if (log && out) {
+		int rows = count_rows(log), solved_rows = 0;
+		printf("  solved after %d generations: %s", rows,
+		       last_row(log));
+		CHECK(rows < 200);
+		/* generation,best,mean,best_ever,species,evaluations,solved */
+		for (const char *row = strchr(log, '\n'); row && row[1];
+		     row = strchr(row + 1, '\n')) {
+			const char *p = row + 1;
+			int commas = 0;
+			while (*p && *p != '\n' && commas < 6)
+				commas += *p++ == ',';
+			int solved = atoi(p);
+			CHECK(solved == 0 || solved == 1);
+			solved_rows += solved;
+		}
+		CHECK_EQ_INT(solved_rows, 1);
+		CHECK_CONTAINS(out, "solved in generation");
+	}
+	free(log);
+	free(out);
+	char *net = cli_read("%s/d/DoublePoleNV/Skills/Balance/Balance.net",
+			     cli_tmp);
+	CHECK(net != NULL);
+	if (net) {
+		static evo_netdesc d;
+		evo_diag diag;
+		CHECK(evo_netdesc_parse(net, strlen(net), "Balance.net", &d,
+					&diag) == EVO_OK);
+		evo_lit_result r;
+		evo_err err = {{0}};
+		CHECK_EQ_INT(evo_lit_dpnv_check(&d, &r, &err), 0);
+		printf("  champion: generalisation %d/625\n", r.generalisation);
+		CHECK_EQ_INT(r.solved, 1);
+		CHECK(r.generalisation >= 200);
+	}
+	free(net);
+}
+
 /* A world task ends by replaying the champion beside untrained networks
  * on unseen episodes, printing both fitness and collision ticks. */
 TEST(world_run_ends_with_a_replay_report)
@@ -411,6 +468,7 @@ int main(void)
 	RUN(genetic_trains_and_threads_do_not_change_the_log);
 	RUN(annealing_trains);
 	RUN(xor_stops_when_solved_and_keeps_the_solver);
+	RUN(dpnv_tests_one_network_a_generation_and_keeps_the_solver);
 	RUN(world_run_ends_with_a_replay_report);
 	RUN(a_sub_skill_trains_inside_its_hierarchy);
 	cli_cleanup();
