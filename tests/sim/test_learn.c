@@ -285,36 +285,71 @@ static const char *last_row(const char *log)
 	return p;
 }
 
+/* Runs a copy of minds/<mind> in <cli_tmp>/<sub> with `extra` shell
+ * commands applied to the copy first (or NULL), task Tasks/<task>, seed
+ * `seed`; *log gets the run's log.csv and *out its output (to free). */
+static void literature_run(const char *sub, const char *mind,
+			   const char *task, int seed, const char *extra,
+			   char **log, char **out)
+{
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/%s && cp -r minds/%s %s/%s/ && %s",
+			    cli_tmp, sub, mind, cli_tmp, sub,
+			    extra ? extra : "true"),
+		     0);
+	CHECK_EQ_INT(cli_sh("%s run %s/%s/%s/Tasks/%s --seed %d "
+			    "--run %s/%s/run > %s/%s/out.txt 2>&1",
+			    cli_evo, cli_tmp, sub, mind, task, seed, cli_tmp,
+			    sub, cli_tmp, sub),
+		     0);
+	char run[256];
+	snprintf(run, sizeof run, "%s/%s/run", cli_tmp, sub);
+	*log = cli_fitness_log(run);
+	*out = cli_read("%s/%s/out.txt", cli_tmp, sub);
+	CHECK(*log && *out);
+}
+
+/* The `solved` column of a log.csv row. */
+static int solved_column(const char *row)
+{
+	/* generation,best,mean,best_ever,species,evaluations,solved */
+	int commas = 0;
+	while (*row && *row != '\n' && commas < 6)
+		commas += *row++ == ',';
+	return atoi(row);
+}
+
+/* Parses the champion .net at <cli_tmp>/<rel> into d; 0 when it is there
+ * and valid. */
+static int read_champion(const char *rel, evo_netdesc *d)
+{
+	char *net = cli_read("%s/%s", cli_tmp, rel);
+	CHECK(net != NULL);
+	if (!net)
+		return -1;
+	evo_diag diag;
+	evo_status st = evo_netdesc_parse(net, strlen(net), rel, d, &diag);
+	CHECK(st == EVO_OK);
+	free(net);
+	return st == EVO_OK ? 0 : -1;
+}
+
 /* XOR stops in the generation where a candidate first solves it (the
  * log's `solved` column), not at NUMGEN, and the champion saved is a
  * solver: evo's own XOR check passes on the saved network. */
 TEST(xor_stops_when_solved_and_keeps_the_solver)
 {
-	CHECK_EQ_INT(cli_sh("mkdir -p %s/x && cp -r minds/XOR %s/x/ && "
-			    "sed -i 's/^NUMGEN:.*/NUMGEN:300/' "
-			    "%s/x/XOR/Tasks/XOR-NEAT.simbatch",
-			    cli_tmp, cli_tmp, cli_tmp),
-		     0);
-	CHECK_EQ_INT(cli_sh("%s run %s/x/XOR/Tasks/XOR-NEAT.simbatch --seed 3 "
-			    "--run %s/x/run > %s/x/out.txt 2>&1",
-			    cli_evo, cli_tmp, cli_tmp, cli_tmp),
-		     0);
-	char run[256];
-	snprintf(run, sizeof run, "%s/x/run", cli_tmp);
-	char *log = cli_fitness_log(run),
-	     *out = cli_read("%s/x/out.txt", cli_tmp);
-	CHECK(log && out);
+	char *log, *out, extra[256];
+	snprintf(extra, sizeof extra,
+		 "sed -i 's/^NUMGEN:.*/NUMGEN:300/' "
+		 "%s/x/XOR/Tasks/XOR-NEAT.simbatch",
+		 cli_tmp);
+	literature_run("x", "XOR", "XOR-NEAT.simbatch", 3, extra, &log, &out);
 	if (log && out) {
 		int rows = count_rows(log);
 		const char *last = last_row(log);
 		printf("  solved after %d generations: %s", rows, last);
 		CHECK(rows < 300);
-		/* generation,best,mean,best_ever,species,evaluations,solved */
-		int commas = 0;
-		const char *p = last;
-		while (*p && commas < 6)
-			commas += *p++ == ',';
-		CHECK(atoi(p) >= 1);
+		CHECK(solved_column(last) >= 1);
 		/* only the last generation has a solver */
 		CHECK(strstr(log, ",0,\n") != NULL || rows == 1);
 		CHECK_CONTAINS(out, "solved in generation");
@@ -322,19 +357,13 @@ TEST(xor_stops_when_solved_and_keeps_the_solver)
 	}
 	free(log);
 	free(out);
-	char *net = cli_read("%s/x/XOR/Skills/XOR/XOR.net", cli_tmp);
-	CHECK(net != NULL);
-	if (net) {
-		static evo_netdesc d;
-		evo_diag diag;
-		CHECK(evo_netdesc_parse(net, strlen(net), "XOR.net", &d,
-					&diag) == EVO_OK);
+	static evo_netdesc d;
+	if (read_champion("x/XOR/Skills/XOR/XOR.net", &d) == 0) {
 		evo_lit_result r;
 		evo_err err = {{0}};
 		CHECK_EQ_INT(evo_lit_xor(&d, &r, &err), 0);
 		CHECK_EQ_INT(r.solved, 1);
 	}
-	free(net);
 }
 
 /* DPNV gives one network a generation the paper's success test, so the
@@ -343,31 +372,17 @@ TEST(xor_stops_when_solved_and_keeps_the_solver)
  * of Gruau's 625 starts. Seed 4 solves in a few generations. */
 TEST(dpnv_tests_one_network_a_generation_and_keeps_the_solver)
 {
-	CHECK_EQ_INT(cli_sh("mkdir -p %s/d && cp -r minds/DoublePoleNV %s/d/",
-			    cli_tmp, cli_tmp),
-		     0);
-	CHECK_EQ_INT(cli_sh("%s run %s/d/DoublePoleNV/Tasks/DPNV-NEAT.simbatch "
-			    "--seed 4 --run %s/d/run > %s/d/out.txt 2>&1",
-			    cli_evo, cli_tmp, cli_tmp, cli_tmp),
-		     0);
-	char run[256];
-	snprintf(run, sizeof run, "%s/d/run", cli_tmp);
-	char *log = cli_fitness_log(run),
-	     *out = cli_read("%s/d/out.txt", cli_tmp);
-	CHECK(log && out);
+	char *log, *out;
+	literature_run("d", "DoublePoleNV", "DPNV-NEAT.simbatch", 4, NULL, &log,
+		       &out);
 	if (log && out) {
 		int rows = count_rows(log), solved_rows = 0;
 		printf("  solved after %d generations: %s", rows,
 		       last_row(log));
 		CHECK(rows < 200);
-		/* generation,best,mean,best_ever,species,evaluations,solved */
 		for (const char *row = strchr(log, '\n'); row && row[1];
 		     row = strchr(row + 1, '\n')) {
-			const char *p = row + 1;
-			int commas = 0;
-			while (*p && *p != '\n' && commas < 6)
-				commas += *p++ == ',';
-			int solved = atoi(p);
+			int solved = solved_column(row + 1);
 			CHECK(solved == 0 || solved == 1);
 			solved_rows += solved;
 		}
@@ -376,14 +391,9 @@ TEST(dpnv_tests_one_network_a_generation_and_keeps_the_solver)
 	}
 	free(log);
 	free(out);
-	char *net = cli_read("%s/d/DoublePoleNV/Skills/Balance/Balance.net",
-			     cli_tmp);
-	CHECK(net != NULL);
-	if (net) {
-		static evo_netdesc d;
-		evo_diag diag;
-		CHECK(evo_netdesc_parse(net, strlen(net), "Balance.net", &d,
-					&diag) == EVO_OK);
+	static evo_netdesc d;
+	if (read_champion("d/DoublePoleNV/Skills/Balance/Balance.net", &d) ==
+	    0) {
 		evo_lit_result r;
 		evo_err err = {{0}};
 		CHECK_EQ_INT(evo_lit_dpnv_check(&d, &r, &err), 0);
@@ -391,7 +401,6 @@ TEST(dpnv_tests_one_network_a_generation_and_keeps_the_solver)
 		CHECK_EQ_INT(r.solved, 1);
 		CHECK(r.generalisation >= 200);
 	}
-	free(net);
 }
 
 /* A world task ends by replaying the champion beside untrained networks
