@@ -52,6 +52,8 @@ neat.defaults = {
 	-- fixed-point outputs saturate sooner, and larger steps leave the plateaus faster)
 	replace_power = 3.0, -- a replaced weight draws uniform(-p, p) (NEAT's original code: 2.5)
 	new_link_power = 1.0, -- an added link's weight draws uniform(-p, p) (NEAT's original code: 1.0)
+	bias_input = 1.0, -- the bias node's constant input: a bias link of weight w gives its node a
+	-- bias of w times this (NEAT's original code: 1.0 for XOR, 0.5 for the pole tasks)
 	init_power = 1.0, -- the first generation's weights: uniform(-p, p) (NEAT's original code: 1.0)
 	weight_max = 8.0, -- weights are clamped to [-w, w] (.net needs |w| < 128)
 	add_node_prob = 0.03, -- chance of an add-node mutation (paper: 3%)
@@ -115,6 +117,7 @@ neat.task_keys = {
 	NEAT_REPLACE_POWER = "replace_power",
 	NEAT_NEW_LINK_POWER = "new_link_power",
 	NEAT_INIT_POWER = "init_power",
+	NEAT_BIAS_INPUT = "bias_input",
 	NEAT_WEIGHT_MAX = "weight_max",
 	NEAT_ADD_NODE_PROB = "add_node_prob",
 	NEAT_ADD_LINK_PROB = "add_link_prob",
@@ -229,7 +232,7 @@ function neat.rng_load(t) return setmetatable({ s = { t[1], t[2], t[3], t[4] } }
 
 local function copy_genome(g)
 	local nodes, links = {}, {}
-	for i, n in ipairs(g.nodes) do nodes[i] = { id = n.id, kind = n.kind, act = n.act } end
+	for i, n in ipairs(g.nodes) do nodes[i] = { id = n.id, kind = n.kind, act = n.act, value = n.value } end
 	for i, l in ipairs(g.links) do
 		links[i] = { innov = l.innov, from = l.from, to = l.to, weight = l.weight, enabled = l.enabled }
 	end
@@ -523,14 +526,14 @@ function neat.crossover(a, fa, b, fb, o, rng)
 	-- Nodes: all of the fitter parent's, then any the child's links need.
 	local have = {}
 	for _, n in ipairs(a.nodes) do
-		child.nodes[#child.nodes + 1] = { id = n.id, kind = n.kind, act = n.act }
+		child.nodes[#child.nodes + 1] = { id = n.id, kind = n.kind, act = n.act, value = n.value }
 		have[n.id] = true
 	end
 	for _, n in ipairs(b.nodes) do
 		if not have[n.id] then
 			for _, l in ipairs(child.links) do
 				if l.from == n.id or l.to == n.id then
-					child.nodes[#child.nodes + 1] = { id = n.id, kind = n.kind, act = n.act }
+					child.nodes[#child.nodes + 1] = { id = n.id, kind = n.kind, act = n.act, value = n.value }
 					have[n.id] = true
 					break
 				end
@@ -610,7 +613,7 @@ function neat.new(args)
 	for i = 1, o.pop_size do
 		local g = { nodes = {}, links = {} }
 		for id = 0, n - 1 do g.nodes[#g.nodes + 1] = { id = id, kind = "input" } end
-		g.nodes[#g.nodes + 1] = { id = n, kind = "bias" }
+		g.nodes[#g.nodes + 1] = { id = n, kind = "bias", value = o.bias_input }
 		for k = 1, m do g.nodes[#g.nodes + 1] = { id = n + k, kind = "output", act = o.activation } end
 		local inn = 0
 		for k = 1, m do
@@ -888,14 +891,14 @@ end
 -- Genome -> network. Ids: 0..n-1 the inputs, n..n+m-1 the outputs in order,
 -- then the hidden nodes in id order (renumbered so ids stay small whatever
 -- the node counter reached). Disabled links are left out; links from the
--- bias node become node biases.
+-- bias node become node biases (weight times the bias node's input value).
 function neat.to_net(g)
 	local n, m = 0, 0
-	local bias_id
+	local bias_id, bias_value
 	for _, nd in ipairs(g.nodes) do
 		if nd.kind == "input" then n = n + 1
 		elseif nd.kind == "output" then m = m + 1
-		elseif nd.kind == "bias" then bias_id = nd.id end
+		elseif nd.kind == "bias" then bias_id, bias_value = nd.id, nd.value or 1.0 end
 	end
 	local map, nodes, outputs_ids = {}, {}, {}
 	for _, nd in ipairs(g.nodes) do
@@ -924,7 +927,7 @@ function neat.to_net(g)
 		if l.enabled then
 			if l.from == bias_id then
 				local nd = by_id[map[l.to]]
-				nd.bias = nd.bias + l.weight
+				nd.bias = nd.bias + l.weight * bias_value
 			else
 				links[#links + 1] = { from = map[l.from], to = map[l.to], weight = l.weight }
 			end

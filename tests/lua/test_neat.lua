@@ -823,6 +823,32 @@ function T.delta_coding_breeds_two_champions()
 	check(pop.last_counts[1] == 5 and pop.last_counts[2] == 5, "half the population each, without delta coding too")
 end
 
+function T.bias_input_scales_bias_links()
+	-- A genome without a bias value (as written before the option): the
+	-- bias link's weight is the node's bias.
+	local g = genome(2, { 3 }, {}, { { 1, 0, 3, 1 }, { 2, 2, 3, 2.5 } })
+	check(neat.to_net(g).nodes[1].bias == 2.5, "bias input 1 by default")
+	-- NEAT's pole tasks feed 0.5: the same link gives half the bias, and
+	-- copies and children keep the value.
+	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(22), options = { pop_size = 6, bias_input = 0.5 } }
+	local a = pop:genomes()[1]
+	local w
+	for _, l in ipairs(a.links) do
+		if l.from == 2 then w = l.weight end
+	end
+	check(near(neat.to_net(a).nodes[1].bias, 0.5 * w), "bias = 0.5 x the bias link's weight")
+	check(near(neat.to_net(neat.copy_genome(a)).nodes[1].bias, 0.5 * w), "a copy keeps the bias input")
+	local child = neat.crossover(a, 2, a, 1, pop.options, pop.rng)
+	check(near(neat.to_net(child).nodes[1].bias, 0.5 * w), "a child keeps the bias input")
+	pop:tell({ 1, 2, 3, 4, 5, 6 })
+	for _, c in ipairs(pop:genomes()) do
+		for _, nd in ipairs(c.nodes) do
+			if nd.kind == "bias" then check(nd.value == 0.5, "every next-generation genome keeps it") end
+		end
+	end
+	check(neat.options_from_task({ NEAT_BIAS_INPUT = "0.5" }).bias_input == 0.5, "NEAT_BIAS_INPUT sets it")
+end
+
 function T.xor_is_solved()
 	local solved, lines = 0, {}
 	for seed = 1, 5 do
