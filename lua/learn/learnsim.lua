@@ -59,24 +59,20 @@ for gen = first, generations - 1 do
 	local nets = {}
 	for i, g in ipairs(genomes) do nets[i] = algo.to_net(g) end
 	local fitness, seconds, solved = evo.evaluate(nets, gen)
+	local best_i, sum = 1, 0
+	for i, f in ipairs(fitness) do
+		sum = sum + f
+		if f > fitness[best_i] then best_i = i end
+	end
 	-- DPNV decides success after the generation, on one network: the one
 	-- the method picks (NEAT: as NEAT's original code picks it), else the
 	-- best (the first of equals).
 	if evo.success_test then
-		local pick = 1
-		if pop.test_candidate then
-			pick = pop:test_candidate(fitness)
-		else
-			for i, f in ipairs(fitness) do
-				if f > fitness[pick] then pick = i end
-			end
-		end
+		local pick = pop.test_candidate and pop:test_candidate(fitness) or best_i
 		solved[pick] = evo.success_test(nets[pick])
 	end
-	local best_i, sum, n_solved = 1, 0, 0
+	local n_solved = 0
 	for i, f in ipairs(fitness) do
-		sum = sum + f
-		if f > fitness[best_i] then best_i = i end
 		if solved[i] then
 			n_solved = n_solved + 1
 			if not solver or f > solver.fitness then

@@ -230,9 +230,11 @@ function neat.rng_load(t) return setmetatable({ s = { t[1], t[2], t[3], t[4] } }
 ---------------------------------------------------------------------------
 -- Genomes
 
+local function copy_node(n) return { id = n.id, kind = n.kind, act = n.act, value = n.value } end
+
 local function copy_genome(g)
 	local nodes, links = {}, {}
-	for i, n in ipairs(g.nodes) do nodes[i] = { id = n.id, kind = n.kind, act = n.act, value = n.value } end
+	for i, n in ipairs(g.nodes) do nodes[i] = copy_node(n) end
 	for i, l in ipairs(g.links) do
 		links[i] = { innov = l.innov, from = l.from, to = l.to, weight = l.weight, enabled = l.enabled }
 	end
@@ -526,14 +528,14 @@ function neat.crossover(a, fa, b, fb, o, rng)
 	-- Nodes: all of the fitter parent's, then any the child's links need.
 	local have = {}
 	for _, n in ipairs(a.nodes) do
-		child.nodes[#child.nodes + 1] = { id = n.id, kind = n.kind, act = n.act, value = n.value }
+		child.nodes[#child.nodes + 1] = copy_node(n)
 		have[n.id] = true
 	end
 	for _, n in ipairs(b.nodes) do
 		if not have[n.id] then
 			for _, l in ipairs(child.links) do
 				if l.from == n.id or l.to == n.id then
-					child.nodes[#child.nodes + 1] = { id = n.id, kind = n.kind, act = n.act, value = n.value }
+					child.nodes[#child.nodes + 1] = copy_node(n)
 					have[n.id] = true
 					break
 				end
