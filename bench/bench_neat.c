@@ -188,10 +188,11 @@ int main(int argc, char **argv)
 	const char *only = NULL;
 	for (int i = 1; i < argc; i++) {
 		if (strcmp(argv[i], "--seeds") == 0 && i + 1 < argc) {
-			seeds = atoi(argv[++i]);
+			char *end;
+			long v = strtol(argv[++i], &end, 10);
+			seeds = *end || v < 1 || v > 100000 ? 0 : (int)v;
 			seeds_given = 1;
-		}
-		else if (strcmp(argv[i], "--only") == 0 && i + 1 < argc)
+		} else if (strcmp(argv[i], "--only") == 0 && i + 1 < argc)
 			only = argv[++i];
 		else {
 			fprintf(stderr, "usage: bench_neat [--seeds N] "
@@ -200,7 +201,8 @@ int main(int argc, char **argv)
 		}
 	}
 	if (seeds_given && seeds < 1) {
-		fprintf(stderr, "bench_neat: --seeds must be at least 1\n");
+		fprintf(stderr, "bench_neat: --seeds wants a whole number "
+				"from 1 to 100000\n");
 		return 2;
 	}
 	const char *b = getenv("EVO_BUILD");
