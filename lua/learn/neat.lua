@@ -309,17 +309,16 @@ end
 -- innovation order) is perturbed with 0.5, replaced with 0.2, kept with 0.3.
 local function mutate_weights(g, o, rng)
 	local perturb, replace = o.perturb_prob, 1.0
-	local severe = false
+	-- "code", not severe: the links past this index are the newest fifth
+	local newest_after = math.huge
 	if o.weight_mutation == "code" then
-		severe = rng:unit() < o.severe_prob
+		local severe = rng:unit() < o.severe_prob
 		perturb, replace = severe and 0.7 or 1.0, severe and 0.9 or 1.0
+		if not severe and #g.links >= 10 then newest_after = #g.links * 0.8 end
 	end
-	local n = #g.links
 	for k, l in ipairs(g.links) do
 		local p, r = perturb, replace
-		if o.weight_mutation == "code" and not severe and n >= 10 and k - 1 > n * 0.8 then
-			p, r = 0.5, 0.7
-		end
+		if k - 1 > newest_after then p, r = 0.5, 0.7 end
 		local u = rng:unit()
 		if u < p then
 			l.weight = clamp(l.weight + (rng:unit() * 2 - 1) * o.perturb_power, o.weight_max)
