@@ -1,51 +1,101 @@
 -- Plain Lua data (tables of numbers, strings, booleans) to text and back,
--- exactly: floats keep every bit (%.17g, and inf/nan spelled out), so a
--- run resumed from a checkpoint goes on as if it had never stopped.
+-- exactly: floats keep every bit (%.17g, and inf/nan spelled out) and stay
+-- floats (8.0 is written "8.0", not "8", which would load as the integer
+-- 8; -0.0 keeps its sign), so a run resumed from a checkpoint goes on as if
+-- it had never stopped.
+--
+-- A table whose keys are exactly 1 .. n is written as a list, {a,b,c,};
+-- any other table as [key]=value pairs in a fixed key order, so the same
+-- state always gives the same text. A checkpoint of a population of 1,000
+-- is mostly lists and small records, and it is written every generation.
 local serialize = {}
 
+local format, mtype, tostring, type, pairs = string.format, math.type, tostring, type, pairs
+
 local function number(x)
-	if math.type(x) == "integer" then return string.format("%d", x) end
+	if mtype(x) == "integer" then
+		-- "-9223372036854775808" would read as minus a float
+		return x == math.mininteger and "(-9223372036854775807-1)" or tostring(x)
+	end
 	if x ~= x then return "(0/0)" end
 	if x == math.huge then return "(1/0)" end
 	if x == -math.huge then return "(-1/0)" end
-	return string.format("%.17g", x)
+	local s = format("%.17g", x)
+	if not s:find("[.eEn]") then s = s .. ".0" end
+	return s
 end
 
-local function write(v, out)
+-- Keys of mixed types: by type name, then by value.
+local function key_order(a, b)
+	local ta, tb = type(a), type(b)
+	if ta ~= tb then return ta < tb end
+	return a < b
+end
+
+-- n when the table's keys are exactly 1 .. n, else nil.
+local function list_length(v)
+	local n = #v
+	for i = 1, n do
+		if v[i] == nil then return nil end
+	end
+	local count = 0
+	for _ in pairs(v) do
+		count = count + 1
+		if count > n then return nil end
+	end
+	return n
+end
+
+-- Appends v's text to out, whose last filled index is n; returns the new one.
+local function write(v, out, n)
 	local t = type(v)
 	if t == "number" then
-		out[#out + 1] = number(v)
+		n = n + 1
+		out[n] = number(v)
 	elseif t == "string" then
-		out[#out + 1] = string.format("%q", v)
+		n = n + 1
+		out[n] = format("%q", v)
 	elseif t == "boolean" then
-		out[#out + 1] = tostring(v)
+		n = n + 1
+		out[n] = v and "true" or "false"
 	elseif t == "table" then
-		out[#out + 1] = "{"
-		-- Keys in a fixed order: the same state always gives the same text.
-		local keys = {}
-		for k in pairs(v) do keys[#keys + 1] = k end
-		table.sort(keys, function(a, b)
-			local ta, tb = type(a), type(b)
-			if ta ~= tb then return ta < tb end
-			return a < b
-		end)
-		for _, k in ipairs(keys) do
-			out[#out + 1] = "["
-			write(k, out)
-			out[#out + 1] = "]="
-			write(v[k], out)
-			out[#out + 1] = ","
+		n = n + 1
+		out[n] = "{"
+		local len = list_length(v)
+		if len then
+			for i = 1, len do
+				n = write(v[i], out, n) + 1
+				out[n] = ","
+			end
+		else
+			local keys, strings = {}, true
+			for k in pairs(v) do
+				keys[#keys + 1] = k
+				if type(k) ~= "string" then strings = false end
+			end
+			if strings then table.sort(keys) else table.sort(keys, key_order) end
+			for i = 1, #keys do
+				local k = keys[i]
+				n = n + 1
+				out[n] = "["
+				n = write(k, out, n) + 1
+				out[n] = "]="
+				n = write(v[k], out, n) + 1
+				out[n] = ","
+			end
 		end
-		out[#out + 1] = "}"
+		n = n + 1
+		out[n] = "}"
 	else
 		error("serialize: cannot save a " .. t, 3)
 	end
+	return n
 end
 
 function serialize.dump(v)
 	local out = { "return " }
-	write(v, out)
-	out[#out + 1] = "\n"
+	local n = write(v, out, 1) + 1
+	out[n] = "\n"
 	return table.concat(out)
 end
 
