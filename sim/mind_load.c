@@ -1,3 +1,4 @@
+#define _DEFAULT_SOURCE /* realpath */
 #define _POSIX_C_SOURCE 200809L
 #include "mind_load.h"
 
@@ -617,7 +618,19 @@ evo_loaded *evo_mind_load(const char *root, const evo_load_opts *opts,
 	while (n > 1 && l->root[n - 1] == '/')
 		l->root[--n] = 0;
 	const char *slash = strrchr(l->root, '/');
-	l->bot_name = strdup(slash ? slash + 1 : l->root);
+	const char *name = slash ? slash + 1 : l->root;
+	/* "." or ".." (a task run from inside its mind folder): the name is
+	 * the folder's own. Other paths keep the name as typed, so that a
+	 * symbolic link to a mind folder is named after the link. */
+	char *abs = NULL;
+	if (strcmp(name, ".") == 0 || strcmp(name, "..") == 0) {
+		abs = realpath(l->root, NULL);
+		const char *s = abs ? strrchr(abs, '/') : NULL;
+		if (s && s[1])
+			name = s + 1;
+	}
+	l->bot_name = strdup(name);
+	free(abs);
 	ld->root = l->root;
 	ld->err = err;
 	int rc = load(l, ld, opts, err);

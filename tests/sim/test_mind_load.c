@@ -355,6 +355,33 @@ TEST(task_missing_a_key)
 	CHECK_CONTAINS(err.msg, "a DEMOSIM task needs the key MASTERSKILL");
 }
 
+/* evo run Tasks/T.simbatch from inside the mind folder: the folder is "."
+ * and its name is the directory's own, not ".". */
+TEST(task_run_from_inside_its_mind_folder)
+{
+	char here[1024];
+	CHECK(getcwd(here, sizeof here) != NULL);
+	CHECK_EQ_INT(chdir(TUTORIAL), 0);
+	evo_task t;
+	evo_err err = {{0}};
+	int rc = evo_task_load("Tasks/T6-NEAT.simbatch", &t, &err);
+	CHECK_EQ_STR(err.msg, "");
+	CHECK_EQ_INT(rc, 0);
+	if (rc == 0) {
+		CHECK_EQ_STR(t.mind->bot_name, "T6-NEAT");
+		CHECK_EQ_STR(t.mind->skill[0].name, "Avoid");
+		evo_task_free(&t);
+	}
+	CHECK_EQ_INT(chdir("Skills"), 0);
+	evo_load_opts o = {.master = "Collect"};
+	evo_loaded *l = evo_mind_load("..", &o, &err);
+	CHECK_EQ_STR(err.msg, "");
+	if (l)
+		CHECK_EQ_STR(l->bot_name, "T6-NEAT");
+	evo_mind_free(l);
+	CHECK_EQ_INT(chdir(here), 0);
+}
+
 int main(void)
 {
 	RUN(tutorial_task_loads);
@@ -382,5 +409,6 @@ int main(void)
 	RUN(vardesc_is_optional);
 	RUN(task_with_unknown_method);
 	RUN(task_missing_a_key);
+	RUN(task_run_from_inside_its_mind_folder);
 	return test_summary();
 }
