@@ -15,6 +15,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -47,6 +48,14 @@ static learn *ctx(lua_State *L)
 	learn *l = lua_touserdata(L, -1);
 	lua_pop(L, 1);
 	return l;
+}
+
+/* An error about a file or a run: its message names the file, so it goes
+ * out without the Lua position that luaL_error would put before it. */
+static int raise_msg(lua_State *L, const char *msg)
+{
+	lua_pushstring(L, msg);
+	return lua_error(L);
 }
 
 static double now(void)
@@ -189,7 +198,7 @@ static int l_success_test(lua_State *L)
 	evo_lit_result r;
 	evo_err err = {{0}};
 	if (evo_lit_dpnv_check(d, &r, &err))
-		return luaL_error(L, "%s", err.msg);
+		return raise_msg(L, err.msg);
 	lua_pushboolean(L, r.solved);
 	if (r.generalisation >= 0)
 		lua_pushinteger(L, r.generalisation);
@@ -204,7 +213,7 @@ static int l_open_log(lua_State *L)
 	evo_err err = {{0}};
 	l->first = (int)luaL_checkinteger(L, 1);
 	if (evo_runlog_open(&l->log, l->run_dir, l->first, &err))
-		return luaL_error(L, "%s", err.msg);
+		return raise_msg(L, err.msg);
 	l->log_open = 1;
 	return 0;
 }
@@ -232,7 +241,7 @@ static int l_log(lua_State *L)
 	};
 	evo_err err = {{0}};
 	if (evo_runlog_add(&l->log, &s, &err))
-		return luaL_error(L, "%s", err.msg);
+		return raise_msg(L, err.msg);
 	char line[256];
 	evo_progress_format(line, sizeof line, &s, l->tty);
 	if (l->tty)
@@ -253,7 +262,7 @@ static int l_save(lua_State *L)
 	if (!l->log_open)
 		return luaL_error(L, "evo.save before evo.open_log");
 	if (evo_runlog_save(&l->log, name, text, len, &err))
-		return luaL_error(L, "%s", err.msg);
+		return raise_msg(L, err.msg);
 	return 0;
 }
 
@@ -264,10 +273,17 @@ static int l_read(lua_State *L)
 	size_t len;
 	evo_err err;
 	snprintf(path, sizeof path, "%s/%s", l->run_dir, luaL_checkstring(L, 1));
-	if (!evo_file_exists(path) || evo_read_file(path, &data, &len, &err)) {
+	struct stat st;
+	if (stat(path, &st) != 0) {
 		lua_pushnil(L);
 		return 1;
 	}
+	/* Something that is there but cannot be read is an error, not a
+	 * fresh start that would overwrite the run's log. */
+	if (!S_ISREG(st.st_mode))
+		return raise_msg(L, lua_pushfstring(L, "%s: not a file", path));
+	if (evo_read_file(path, &data, &len, &err))
+		return raise_msg(L, err.msg);
 	lua_pushlstring(L, data, len);
 	free(data);
 	return 1;
@@ -284,7 +300,7 @@ static int l_save_champion(lua_State *L)
 		 l->skill, l->skill);
 	evo_err err = {{0}};
 	if (evo_write_file_atomic(path, text, len, &err))
-		return luaL_error(L, "%s", err.msg);
+		return raise_msg(L, err.msg);
 	if (l->tty)
 		printf("\n");
 	printf("champion saved in %s\n", path);
@@ -319,7 +335,7 @@ static int l_curve(lua_State *L)
 	free(best);
 	free(mean);
 	if (rc)
-		return luaL_error(L, "%s", err.msg);
+		return raise_msg(L, err.msg);
 	printf("learning curve in %s\n", path);
 	return 0;
 }
@@ -374,6 +390,8 @@ static int open_module(lua_State *L)
 	lua_setfield(L, -2, "outputs");
 	lua_pushboolean(L, l->opts->resume);
 	lua_setfield(L, -2, "resume");
+	lua_pushstring(L, l->run_dir);
+	lua_setfield(L, -2, "run_dir");
 	lua_pushinteger(L, evo_evaluator_reps(l->ev));
 	lua_setfield(L, -2, "reps");
 	lua_pushinteger(L, (lua_Integer)evo_evaluator_ticks(l->ev));

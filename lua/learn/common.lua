@@ -70,7 +70,10 @@ end
 -- `rng` to use another rng object; by default one restored with
 -- rng_load(t.rng).
 function common.load(t, format, class, rng, rng_load)
-	assert(t.format == format, "load: not a " .. format .. " checkpoint")
+	if type(t) ~= "table" or t.format ~= format then
+		error(string.format("the checkpoint holds %s, not %s: another learning method's, or an "
+			.. "older evo's", type(t) == "table" and tostring(t.format) or type(t), format), 0)
+	end
 	local pop = setmetatable({}, class)
 	for k, v in pairs(t) do
 		if k ~= "rng" and k ~= "format" then pop[k] = common.deep_copy(v) end

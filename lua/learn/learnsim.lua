@@ -35,10 +35,21 @@ local options, unknown = algo.options_from_task(task)
 for _, k in ipairs(unknown) do evo.warn("unknown key " .. k .. " (ignored)") end
 
 local pop, first, history, solver
+local checkpoint = evo.run_dir .. "/checkpoint.lua"
 local saved = evo.resume and evo.read("checkpoint.lua")
+if evo.resume and not saved then
+	evo.print("no checkpoint in " .. evo.run_dir .. ": starting from generation 0")
+end
 if saved then
-	local c = serialize.load(saved, "checkpoint.lua")
-	pop = algo.load(c.pop)
+	local c = serialize.load(saved, checkpoint)
+	if type(c) ~= "table" or math.type(c.generation) ~= "integer" or c.generation < 0
+		or type(c.pop) ~= "table" or type(c.history) ~= "table"
+		or type(c.history.best) ~= "table" or type(c.history.mean) ~= "table" then
+		error(checkpoint .. ": not a learning run's checkpoint (it needs generation, pop and history)", 0)
+	end
+	local ok, p = pcall(algo.load, c.pop)
+	if not ok then error(checkpoint .. ": " .. tostring(p), 0) end
+	pop = p
 	first = c.generation + 1
 	history = c.history
 	solver = c.solver

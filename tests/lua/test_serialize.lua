@@ -68,8 +68,30 @@ end
 function T.what_is_not_plain_data_is_refused()
 	local ok, err = pcall(serialize.dump, { f = print })
 	check(not ok and err:find("cannot save a function", 1, true), "a function: " .. tostring(err))
-	ok, err = pcall(serialize.load, "return {1,", "broken.lua")
-	check(not ok and err:find("broken.lua", 1, true), "a broken text names itself: " .. tostring(err))
+	ok, err = pcall(serialize.load, "return {1,", "run/broken.lua")
+	check(not ok and err:find("^run/broken.lua:1: "), "a broken text names itself and its line: " .. tostring(err))
+end
+
+function T.a_damaged_text_cannot_hang_or_smuggle_code()
+	local cases = {
+		{ "while true do end", "it runs code" },
+		{ "local s = 0 for i = 1, 1e7 do s = s + i end return s", "it runs code" },
+		{ "local t = {} t.x = t return t", "a table appears twice" },
+		{ "return {f = function() end}", "it holds a function" },
+		{ "return print", "holds no data" },
+		{ "", "holds no data" },
+	}
+	for _, c in ipairs(cases) do
+		local ok, err = pcall(serialize.load, c[1], "cp.lua")
+		check(not ok and err == "cp.lua: " .. (c[2]:find("holds no") and "" or "not plain data: ") .. c[2],
+			string.format("%q: %s", c[1], tostring(err)))
+	end
+	check(debug.gethook() == nil, "the instruction limit is lifted after a load")
+	-- Plain data far longer than any budget slack still loads.
+	local big = {}
+	for i = 1, 200000 do big[i] = i % 7 end
+	local back = serialize.load(serialize.dump(big), "big")
+	check(#back == 200000 and back[200000] == 200000 % 7, "200,000 small integers load")
 end
 
 return T

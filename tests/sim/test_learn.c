@@ -192,6 +192,58 @@ TEST(unknown_method_is_a_clear_error)
 	free(text);
 }
 
+/* --resume on a damaged checkpoint stops with the file's path and what is
+ * wrong, and leaves the run's log as it was; a checkpoint that cannot be
+ * read is an error, not a fresh start. Without a checkpoint, --resume
+ * says so and starts from generation 0. */
+TEST(resume_refuses_a_damaged_checkpoint_and_keeps_the_log)
+{
+	make_mind("dmg", "NEAT", 2, NEAT_TASK);
+	CHECK_EQ_INT(train("dmg", "--resume"), 0);
+	char *out = cli_read("%s/dmg/out.txt", cli_tmp);
+	CHECK(out && strstr(out, "no checkpoint in ") &&
+	      strstr(out, ": starting from generation 0"));
+	free(out);
+	char *before = cli_read("%s/dmg/run/log.csv", cli_tmp);
+	CHECK(before != NULL);
+	static const char *const bad[][2] = {
+	    {"return {", "checkpoint.lua:1: unexpected symbol near <eof>"},
+	    {"while true do end", "checkpoint.lua: not plain data: it runs code"},
+	    {"return {generation = 1}",
+	     "checkpoint.lua: not a learning run's checkpoint"},
+	};
+	for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+		char path[512];
+		snprintf(path, sizeof path, "%s/dmg/run/checkpoint.lua", cli_tmp);
+		FILE *f = fopen(path, "w");
+		CHECK(f != NULL);
+		if (!f)
+			return;
+		fputs(bad[k][0], f);
+		fclose(f);
+		CHECK_EQ_INT(train("dmg", "--resume"), 1);
+		out = cli_read("%s/dmg/out.txt", cli_tmp);
+		CHECK(out && strstr(out, "/dmg/run/") &&
+		      strstr(out, bad[k][1]));
+		if (out && !strstr(out, bad[k][1]))
+			fprintf(stderr, "    for %s: %s\n", bad[k][0], out);
+		free(out);
+		char *after = cli_read("%s/dmg/run/log.csv", cli_tmp);
+		CHECK(before && after && strcmp(before, after) == 0);
+		free(after);
+	}
+	CHECK_EQ_INT(cli_sh("rm %s/dmg/run/checkpoint.lua && mkdir "
+			    "%s/dmg/run/checkpoint.lua",
+			    cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(train("dmg", "--resume"), 1);
+	out = cli_read("%s/dmg/out.txt", cli_tmp);
+	CHECK(out && strstr(out, "checkpoint.lua") &&
+	      !strstr(out, "starting from generation 0"));
+	free(out);
+	free(before);
+}
+
 static int count_rows(const char *log)
 {
 	int n = -1; /* the header */
@@ -473,6 +525,7 @@ int main(void)
 	RUN(one_thread_and_two_give_the_same_log);
 	RUN(killed_and_resumed_run_ends_as_an_uninterrupted_one);
 	RUN(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one);
+	RUN(resume_refuses_a_damaged_checkpoint_and_keeps_the_log);
 	RUN(unknown_method_is_a_clear_error);
 	RUN(genetic_trains_and_threads_do_not_change_the_log);
 	RUN(annealing_trains);
