@@ -47,7 +47,7 @@ static void run_usage(FILE *f)
 	      "  --episodes N       episodes to run (default 1)\n"
 	      "  --ticks N          at most N ticks per episode\n"
 	      "  --trace FILE       record each tick's sensor and actuator\n"
-	      "                     values (docs/trace.md)\n"
+	      "                     values (docs/running.md)\n"
 	      "  --screenshot FILE  with the viewer: save a PNG after the\n"
 	      "                     first --ticks ticks and quit\n"
 	      "LEARNSIM:\n"

@@ -54,7 +54,7 @@ int evo_sim_set_mind(evo_sim *s, const evo_loaded *mind, evo_err *err);
  * episode, -1 with err set (a script error). */
 int evo_sim_tick(evo_sim *s, evo_err *err);
 
-/* Traces (docs/trace.md): a header naming the sensors and actuators,
+/* Traces (docs/running.md, Traces): a header naming the sensors and actuators,
  * then one line per tick with the Q15.16 values the mind read and wrote. */
 void evo_sim_trace_header(evo_sim *s);
 

@@ -4,7 +4,7 @@
  * sits in (Minds/Agent/Tasks/T.simbatch runs Minds/Agent), so a task runs
  * from any working directory. A .simbatch outside a Tasks/ folder names its
  * mind with ROOTFOLDER, relative to the working directory, as EvoAgents
- * did. docs/tasks.md. */
+ * did. docs/formats.md, .simbatch. */
 #ifndef EVO_TASK_H
 #define EVO_TASK_H
 

@@ -17,7 +17,7 @@
  * One list makes two tables: evo_hc_classes, with the names, for the host,
  * and hc_table, with the hashes, for the tick. A firmware links only the
  * second, so it carries neither the names nor a string hash.
- * docs/skills.md lists the classes. */
+ * docs/mind.md, Hard-coded skills, lists the classes. */
 #include "hardcoded.h"
 
 #define FULL_FORWARD EVO_Q16_ONE
