@@ -347,10 +347,21 @@ static int l_print(lua_State *L)
 	return 0;
 }
 
+/* evo.warn(msg [, key]): a warning on the task, at the line of its key
+ * `key` when that is given and in the file. */
 static int l_warn(lua_State *L)
 {
-	fprintf(stderr, "%s: warning: %s\n", ctx(L)->task_path,
-		luaL_checkstring(L, 1));
+	learn *l = ctx(L);
+	const char *msg = luaL_checkstring(L, 1);
+	const char *key = luaL_optstring(L, 2, NULL);
+	const evo_simbatch *sb = l->task->sb;
+	for (unsigned i = 0; key && i < sb->n_pairs; i++)
+		if (strcmp(sb->pair[i].key, key) == 0) {
+			fprintf(stderr, "%s:%u: warning: %s\n", l->task_path,
+				(unsigned)sb->pair[i].line, msg);
+			return 0;
+		}
+	fprintf(stderr, "%s: warning: %s\n", l->task_path, msg);
 	return 0;
 }
 
@@ -378,6 +389,15 @@ static int open_module(lua_State *L)
 		lua_setfield(L, -2, l->task->sb->pair[i].key);
 	}
 	lua_setfield(L, -2, "task");
+	/* Where each key is, for messages: evo.task_path, evo.task_lines. */
+	lua_pushstring(L, l->task_path);
+	lua_setfield(L, -2, "task_path");
+	lua_newtable(L);
+	for (unsigned i = 0; i < l->task->sb->n_pairs; i++) {
+		lua_pushinteger(L, l->task->sb->pair[i].line);
+		lua_setfield(L, -2, l->task->sb->pair[i].key);
+	}
+	lua_setfield(L, -2, "task_lines");
 	if (evo_evaluator_deferred_success(l->ev)) {
 		lua_pushcfunction(L, l_success_test);
 		lua_setfield(L, -2, "success_test");

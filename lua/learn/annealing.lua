@@ -50,8 +50,17 @@ annealing.task_keys = {
 	SA_WEIGHT_MAX = "weight_max",
 }
 
+-- The numbers each option takes (common.options_from); alpha = 1 is no
+-- cooling at all.
+annealing.ranges = {
+	t0 = common.POSITIVE, alpha = { lo = 0, hi = 1, above = true }, step_power = common.POSITIVE,
+	steps_per_generation = common.COUNT, init_power = common.POSITIVE,
+	weight_max = common.WEIGHT_MAX,
+}
+
 function annealing.options_from_task(task)
-	return common.options_from(task, "SA_", annealing.task_keys, annealing.defaults)
+	return common.options_from(task, "SA_", annealing.task_keys, annealing.defaults, nil,
+		annealing.ranges)
 end
 
 annealing.to_net = genetic.to_net

@@ -13,14 +13,45 @@ function common.deep_copy(v)
 	return t
 end
 
+-- The numbers an option takes: { lo, hi } (either may be nil), with
+-- int = true for a whole number and above = true / below = true when the
+-- bound itself is excluded. Its words, for messages: "a number from 0 to 1".
+local function range_text(r)
+	local what = r.int and "a whole number" or "a number"
+	local lo, hi = r.lo and string.format("%.17g", r.lo), r.hi and string.format("%.17g", r.hi)
+	if lo and hi then
+		if not r.above and not r.below then return what .. " from " .. lo .. " to " .. hi end
+		return what .. (r.above and " above " or " of at least ") .. lo
+			.. (r.below and " and below " or " and at most ") .. hi
+	elseif lo then
+		return what .. (r.above and " above " .. lo or " of " .. lo .. " or more")
+	elseif hi then
+		return what .. (r.below and " below " .. hi or " of " .. hi .. " or less")
+	end
+	return what
+end
+
+local function in_range(v, r)
+	if v ~= v or v == math.huge or v == -math.huge then return false end
+	if r.int and v ~= math.floor(v) then return false end
+	if r.lo and (v < r.lo or (r.above and v == r.lo)) then return false end
+	if r.hi and (v > r.hi or (r.below and v == r.hi)) then return false end
+	return true
+end
+
 -- A value of .simbatch key `key` for an option whose default is `default`:
--- a number, a boolean, or a lower-case string that check(key, s) may refuse
--- by raising.
-local function parse_value(key, default, value, check)
+-- a number (finite, and within `range` when there is one), a boolean, or a
+-- lower-case string that check(key, s) may refuse by raising. Messages
+-- start with the key, so the caller can add where it is.
+local function parse_value(key, default, value, check, range)
 	local t = type(default)
 	if t == "number" then
 		local v = tonumber(value)
-		if not v then error(key .. ": expected a number, found '" .. tostring(value) .. "'", 0) end
+		local r = range or {}
+		if not v or not in_range(v, r) then
+			error(key .. ": expected " .. (range and range_text(r) or "a number") .. ", found '"
+				.. tostring(value) .. "'", 0)
+		end
 		return v
 	elseif t == "boolean" then
 		if value == true or value == false then return value end
@@ -35,10 +66,12 @@ local function parse_value(key, default, value, check)
 end
 
 -- Options from a task table (.simbatch key -> value) through `keys` (key ->
--- option name) over `defaults`. Returns the options and the sorted list of
--- keys starting with `prefix` that no option takes (the caller warns);
--- raises on a malformed value.
-function common.options_from(task, prefix, keys, defaults, check)
+-- option name) over `defaults`, each number within `ranges[name]` (option
+-- name -> range, as range_text reads it). Returns the options and the
+-- sorted list of keys starting with `prefix` that no option takes (the
+-- caller warns); raises on a malformed value, the message starting with
+-- the key.
+function common.options_from(task, prefix, keys, defaults, check, ranges)
 	local names = {}
 	for k in pairs(task) do names[#names + 1] = k end
 	table.sort(names, function(a, b) return tostring(a) < tostring(b) end)
@@ -46,13 +79,19 @@ function common.options_from(task, prefix, keys, defaults, check)
 	for _, k in ipairs(names) do
 		local name = keys[k]
 		if name then
-			opts[name] = parse_value(k, defaults[name], task[k], check)
+			opts[name] = parse_value(k, defaults[name], task[k], check, ranges and ranges[name])
 		elseif type(k) == "string" and k:sub(1, #prefix) == prefix then
 			unknown[#unknown + 1] = k
 		end
 	end
 	return opts, unknown
 end
+
+-- Ranges every method shares.
+common.PROB = { lo = 0, hi = 1 } -- a probability
+common.POSITIVE = { lo = 0 } -- a size of step, a weight of distance
+common.COUNT = { lo = 1, int = true } -- a population, a number of generations
+common.WEIGHT_MAX = { lo = 0, hi = 128, above = true, below = true } -- .net needs |w| < 128
 
 -- A population as a plain table tagged with `format`, its rng's state
 -- included.

@@ -66,6 +66,13 @@ genetic.task_keys = {
 
 local CHOICES = { crossover = { uniform = true, one_point = true } }
 
+-- The numbers each option takes (common.options_from).
+genetic.ranges = {
+	pop_size = common.COUNT, elitism = { lo = 0, int = true }, tournament = common.COUNT,
+	crossover_rate = common.PROB, mutation_rate = common.PROB, mutation_power = common.POSITIVE,
+	init_power = common.POSITIVE, weight_max = common.WEIGHT_MAX,
+}
+
 function genetic.options_from_task(task)
 	return common.options_from(task, "GA_", genetic.task_keys, genetic.defaults,
 		function(key, s, value)
@@ -73,7 +80,7 @@ function genetic.options_from_task(task)
 			if CHOICES[name] and not CHOICES[name][s] then
 				error(key .. ": unknown value '" .. tostring(value) .. "'", 0)
 			end
-		end)
+		end, genetic.ranges)
 end
 
 local function merged(defaults, user, who)

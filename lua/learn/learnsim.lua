@@ -31,8 +31,14 @@ local literature = ({ XOR = true, DPV = true, DPNV = true })[(task.ENV or ""):up
 -- champion with.
 local REPLAY_RANDOM = 20
 
-local options, unknown = algo.options_from_task(task)
-for _, k in ipairs(unknown) do evo.warn("unknown key " .. k .. " (ignored)") end
+-- A malformed option stops the run at its line in the task file.
+local ok, options, unknown = pcall(algo.options_from_task, task)
+if not ok then
+	local key = tostring(options):match("^([%w_]+): ")
+	local line = key and evo.task_lines[key]
+	error(evo.task_path .. (line and ":" .. line or "") .. ": " .. tostring(options), 0)
+end
+for _, k in ipairs(unknown) do evo.warn("unknown key " .. k .. " (ignored)", k) end
 
 local pop, first, history, solver
 local checkpoint = evo.run_dir .. "/checkpoint.lua"

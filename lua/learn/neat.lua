@@ -166,6 +166,22 @@ local ACTIVATIONS = {
 -- Options from a task table (.simbatch key -> value, values as strings or
 -- numbers). Returns the options and the sorted list of NEAT_* keys it does
 -- not know (the caller warns); raises on a malformed value.
+-- The numbers each option takes (common.options_from); bias_input takes
+-- any finite number.
+local P, W, C = common.PROB, common.POSITIVE, common.COUNT
+local WHOLE = { lo = 0, int = true }
+neat.ranges = {
+	pop_size = C, c1 = W, c2 = W, c3 = W, threshold = W, normalize_below = WHOLE,
+	weight_mut_prob = P, severe_prob = P, perturb_prob = P, perturb_power = W,
+	replace_power = W, new_link_power = W, init_power = W, weight_max = common.WEIGHT_MAX,
+	add_node_prob = P, add_link_prob = P, add_link_tries = WHOLE, recur_only_prob = P,
+	mutate_only_prob = P, mate_only_prob = P, mate_avg_prob = P, interspecies_prob = P,
+	disable_prob = P, survival = { lo = 0, hi = 1, above = true }, stagnation = C,
+	stagnation_penalty = P, elitism_offspring = WHOLE, target_species = WHOLE,
+	threshold_step = W, threshold_min = W, pop_stagnation = WHOLE, toggle_prob = P,
+	reenable_prob = P,
+}
+
 function neat.options_from_task(task)
 	return common.options_from(task, "NEAT_", neat.task_keys, neat.defaults, function(key, s, value)
 		if key == "NEAT_ACTIVATION" and not ACTIVATIONS[s] then
@@ -174,7 +190,7 @@ function neat.options_from_task(task)
 		if key == "NEAT_WEIGHT_MUTATION" and s ~= "code" and s ~= "paper" then
 			error(key .. ": '" .. tostring(value) .. "' is not a weight mutation scheme (code or paper)", 0)
 		end
-	end)
+	end, neat.ranges)
 end
 
 ---------------------------------------------------------------------------

@@ -192,6 +192,25 @@ TEST(unknown_method_is_a_clear_error)
 	free(text);
 }
 
+/* A learning option out of its range stops the run at its line in the
+ * task file, saying what the option takes; an unknown one is a warning at
+ * its line. */
+TEST(bad_learning_option_is_refused_at_its_line)
+{
+	make_mind("opt", "NEAT", 2, NEAT_TASK "NEAT_SURVIVAL:20\\n");
+	CHECK_EQ_INT(train("opt", ""), 1);
+	char *text = cli_read("%s/opt/out.txt", cli_tmp);
+	CHECK(text && strstr(text, "Small.simbatch:11: NEAT_SURVIVAL: expected a "
+				   "number above 0 and at most 1, found '20'"));
+	free(text);
+	make_mind("opt2", "NEAT", 1, NEAT_TASK "NEAT_SURVIVALL:0.2\\n");
+	CHECK_EQ_INT(train("opt2", ""), 0);
+	text = cli_read("%s/opt2/out.txt", cli_tmp);
+	CHECK(text && strstr(text, "Small.simbatch:11: warning: unknown key "
+				   "NEAT_SURVIVALL (ignored)"));
+	free(text);
+}
+
 /* --resume on a damaged checkpoint stops with the file's path and what is
  * wrong, and leaves the run's log as it was; a checkpoint that cannot be
  * read is an error, not a fresh start. Without a checkpoint, --resume
@@ -527,6 +546,7 @@ int main(void)
 	RUN(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one);
 	RUN(resume_refuses_a_damaged_checkpoint_and_keeps_the_log);
 	RUN(unknown_method_is_a_clear_error);
+	RUN(bad_learning_option_is_refused_at_its_line);
 	RUN(genetic_trains_and_threads_do_not_change_the_log);
 	RUN(annealing_trains);
 	RUN(xor_stops_when_solved_and_keeps_the_solver);
