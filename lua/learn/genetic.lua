@@ -225,7 +225,10 @@ function genetic.new(args)
 	local rng = args.rng or error("genetic.new: an rng is required (neat.rng(seed))")
 	local layers = args.layers or 1
 	assert(o.pop_size >= 1 and o.pop_size == math.floor(o.pop_size), "GA_POPSIZE must be a whole number >= 1")
-	assert(o.elitism >= 0 and o.elitism <= o.pop_size, "GA_ELITISM must be between 0 and the population size")
+	assert(o.elitism >= 0, "GA_ELITISM must be 0 or more")
+	if o.elitism > o.pop_size then
+		error(string.format("GA_ELITISM: %d is more than the population (%d)", o.elitism, o.pop_size), 0)
+	end
 	assert(o.tournament >= 1, "GA_TOURNAMENT must be at least 1")
 	local pop = setmetatable({
 		options = o, inputs = args.inputs, outputs = args.outputs, layers = layers,

@@ -31,13 +31,15 @@ local literature = ({ XOR = true, DPV = true, DPNV = true })[(task.ENV or ""):up
 -- champion with.
 local REPLAY_RANDOM = 20
 
--- A malformed option stops the run at its line in the task file.
-local ok, options, unknown = pcall(algo.options_from_task, task)
-if not ok then
-	local key = tostring(options):match("^([%w_]+): ")
+-- A malformed option stops the run at its line in the task file: the
+-- methods' messages start with the key.
+local function at_key(msg)
+	local key = tostring(msg):match("^([%w_]+): ")
 	local line = key and evo.task_lines[key]
-	error(evo.task_path .. (line and ":" .. line or "") .. ": " .. tostring(options), 0)
+	error(evo.task_path .. (line and ":" .. line or "") .. ": " .. tostring(msg), 0)
 end
+local ok, options, unknown = pcall(algo.options_from_task, task)
+if not ok then at_key(options) end
 for _, k in ipairs(unknown) do evo.warn("unknown key " .. k .. " (ignored)", k) end
 
 local pop, first, history, solver
@@ -64,8 +66,10 @@ if saved then
 else
 	-- layers: the skill's `layers:`, the fixed shape of GENETIC and
 	-- ANNEALING (NEAT grows its own and ignores it).
-	pop = algo.new{ inputs = evo.inputs, outputs = evo.outputs, layers = evo.layers,
-		options = options, rng = neat.rng(evo.seed) }
+	local made, p = pcall(algo.new, { inputs = evo.inputs, outputs = evo.outputs, layers = evo.layers,
+		options = options, rng = neat.rng(evo.seed) })
+	if not made then at_key(p) end
+	pop = p
 	first = 0
 	history = { best = {}, mean = {} }
 end

@@ -209,6 +209,12 @@ TEST(bad_learning_option_is_refused_at_its_line)
 	CHECK(text && strstr(text, "Small.simbatch:11: warning: unknown key "
 				   "NEAT_SURVIVALL (ignored)"));
 	free(text);
+	make_mind("opt3", "GENETIC", 1, "POPSIZE:4\\nGA_ELITISM:9\\n");
+	CHECK_EQ_INT(train("opt3", ""), 1);
+	text = cli_read("%s/opt3/out.txt", cli_tmp);
+	CHECK(text && strstr(text, "Small.simbatch:11: GA_ELITISM: 9 is more "
+				   "than the population (4)"));
+	free(text);
 }
 
 /* --resume on a damaged checkpoint stops with the file's path and what is
