@@ -12,6 +12,7 @@
 #include <lua.h>
 #include <lualib.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -443,6 +444,42 @@ static int run_script(lua_State *L)
 	return 0;
 }
 
+/* Ctrl-C stops a run at once, as it always did; the handler first says
+ * that nothing finished is lost and how to go on. Every generation's log
+ * row and checkpoint are already on disk, written atomically. */
+static char interrupt_msg[1400];
+static size_t interrupt_len;
+
+static void on_interrupt(int sig)
+{
+	ssize_t n = write(STDERR_FILENO, interrupt_msg, interrupt_len);
+	(void)n;
+	signal(sig, SIG_DFL);
+	raise(sig);
+}
+
+static void catch_interrupt(const learn *l, struct sigaction *old)
+{
+	int n = snprintf(interrupt_msg, sizeof interrupt_msg,
+			 "\ninterrupted: %s holds every finished generation; "
+			 "evo run %s --seed %llu --resume%s%s goes on\n",
+			 l->run_dir, l->task_path,
+			 (unsigned long long)l->opts->seed,
+			 l->opts->run_dir ? " --run " : "",
+			 l->opts->run_dir ? l->opts->run_dir : "");
+	interrupt_len = n < 0 ? 0
+		      : (size_t)n < sizeof interrupt_msg ? (size_t)n
+							 : sizeof interrupt_msg - 1;
+	struct sigaction sa;
+	memset(&sa, 0, sizeof sa);
+	sa.sa_handler = on_interrupt;
+	sigemptyset(&sa.sa_mask);
+	sigaction(SIGINT, NULL, old);
+	/* A shell runs background jobs with SIGINT ignored; keep that. */
+	if (old->sa_handler != SIG_IGN)
+		sigaction(SIGINT, &sa, NULL);
+}
+
 int evo_learn_run(const char *task_path, evo_task *task,
 		  const evo_learn_opts *o, evo_err *err)
 {
@@ -478,6 +515,8 @@ int evo_learn_run(const char *task_path, evo_task *task,
 	       l.skill, (unsigned long long)o->seed,
 	       evo_evaluator_threads(l.ev), l.run_dir);
 	fflush(stdout);
+	struct sigaction old_int;
+	catch_interrupt(&l, &old_int);
 	lua_State *L = luaL_newstate();
 	int rc = 0;
 	if (!L) {
@@ -494,6 +533,7 @@ int evo_learn_run(const char *task_path, evo_task *task,
 	}
 	if (l.log_open)
 		evo_runlog_close(&l.log);
+	sigaction(SIGINT, &old_int, NULL);
 	evo_evaluator_destroy(l.ev);
 	return rc;
 }

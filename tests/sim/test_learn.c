@@ -1,7 +1,8 @@
 /* LEARNSIM end to end (sim/learn.c, lua/learn/learnsim.lua): the same
  * seed gives the same log with one thread and with two; a run killed with
- * SIGKILL in the middle of a generation and resumed ends with the same log
- * and champion as a run never interrupted; the champion lands in the
+ * SIGKILL or interrupted with Ctrl-C's SIGINT in the middle of a generation
+ * and resumed ends with the same log and champion as a run never
+ * interrupted; the champion lands in the
  * skill's folder with a learning curve in the run folder. GENETIC and
  * ANNEALING train a copy of Avoid whose skill has `layers:1`, and their
  * champion is a layered network evo loads. */
@@ -116,11 +117,11 @@ static int rows(const char *name)
 	return n;
 }
 
-/* Start training `name` (6 generations), kill it with SIGKILL once
- * generation 2 is logged, so inside generation 3's evaluations (or just
- * past them), resume it, and compare its log and champion with those of
- * the uninterrupted run `reference`. */
-static void kill_and_resume(const char *name, const char *reference)
+/* Start training `name` (6 generations), stop it with `sig` (SIGKILL, or
+ * SIGINT as Ctrl-C sends) once generation 2 is logged, so inside
+ * generation 3's evaluations (or just past them), resume it, and compare
+ * its log and champion with those of the uninterrupted run `reference`. */
+static void stop_and_resume(const char *name, const char *reference, int sig)
 {
 	char cmd[1024];
 	snprintf(cmd, sizeof cmd,
@@ -129,6 +130,7 @@ static void kill_and_resume(const char *name, const char *reference)
 		 cli_evo, cli_tmp, name, cli_tmp, name, cli_tmp, name);
 	pid_t pid = fork();
 	if (pid == 0) {
+		signal(SIGINT, SIG_DFL); /* even if this test runs in background */
 		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
 		_exit(127);
 	}
@@ -136,11 +138,19 @@ static void kill_and_resume(const char *name, const char *reference)
 	for (int i = 0; i < 20000 && rows(name) < 3; i++)
 		nanosleep(&ms, NULL);
 	CHECK(rows(name) >= 3);
-	kill(pid, SIGKILL);
+	kill(pid, sig);
 	int st;
 	waitpid(pid, &st, 0);
-	CHECK(WIFSIGNALED(st));
+	CHECK(WIFSIGNALED(st) && WTERMSIG(st) == sig);
 	CHECK(rows(name) < 6); /* it really was interrupted */
+	if (sig == SIGINT) {
+		/* Ctrl-C says that nothing finished is lost and how to go on. */
+		char *said = cli_read("%s/%s/out1.txt", cli_tmp, name);
+		CHECK(said && strstr(said, "interrupted: ") &&
+		      strstr(said, " holds every finished generation; evo run ") &&
+		      strstr(said, "--seed 11 --resume --run "));
+		free(said);
+	}
 	CHECK_EQ_INT(train(name, "--threads 2 --resume"), 0);
 	char *a = log_of(reference), *b = log_of(name);
 	CHECK(a && b);
@@ -159,12 +169,14 @@ static void kill_and_resume(const char *name, const char *reference)
 	free(cb);
 }
 
-TEST(killed_and_resumed_run_ends_as_an_uninterrupted_one)
+TEST(killed_or_interrupted_and_resumed_run_ends_as_an_uninterrupted_one)
 {
 	make_mind_ticks("kr", "NEAT", 6, KILL_TICKS, NEAT_TASK);
 	make_mind_ticks("k", "NEAT", 6, KILL_TICKS, NEAT_TASK);
 	CHECK_EQ_INT(train("kr", "--threads 2"), 0);
-	kill_and_resume("k", "kr");
+	stop_and_resume("k", "kr", SIGKILL);
+	make_mind_ticks("ki", "NEAT", 6, KILL_TICKS, NEAT_TASK);
+	stop_and_resume("ki", "kr", SIGINT);
 }
 
 /* The same for GENETIC, whose checkpoint holds its own state. */
@@ -173,7 +185,7 @@ TEST(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one)
 	make_mind_ticks("gr", "GENETIC", 6, KILL_TICKS, "POPSIZE:24\\n");
 	make_mind_ticks("gk", "GENETIC", 6, KILL_TICKS, "POPSIZE:24\\n");
 	CHECK_EQ_INT(train("gr", "--threads 2"), 0);
-	kill_and_resume("gk", "gr");
+	stop_and_resume("gk", "gr", SIGKILL);
 }
 
 TEST(unknown_method_is_a_clear_error)
@@ -548,7 +560,7 @@ int main(void)
 	if (cli_setup("learn"))
 		return 1;
 	RUN(one_thread_and_two_give_the_same_log);
-	RUN(killed_and_resumed_run_ends_as_an_uninterrupted_one);
+	RUN(killed_or_interrupted_and_resumed_run_ends_as_an_uninterrupted_one);
 	RUN(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one);
 	RUN(resume_refuses_a_damaged_checkpoint_and_keeps_the_log);
 	RUN(unknown_method_is_a_clear_error);
