@@ -444,9 +444,10 @@ static int run_script(lua_State *L)
 	return 0;
 }
 
-/* Ctrl-C stops a run at once, as it always did; the handler first says
- * that nothing finished is lost and how to go on. Every generation's log
- * row and checkpoint are already on disk, written atomically. */
+/* Ctrl-C (SIGINT) and a scheduler's SIGTERM stop a run at once, as they
+ * always did; the handler first says that nothing finished is lost and
+ * how to go on. Every generation's log row and checkpoint are already on
+ * disk, written atomically. */
 static char interrupt_msg[1400];
 static size_t interrupt_len;
 
@@ -458,7 +459,7 @@ static void on_interrupt(int sig)
 	raise(sig);
 }
 
-static void catch_interrupt(const learn *l, struct sigaction *old)
+static void catch_interrupt(const learn *l, struct sigaction old[2])
 {
 	int n = snprintf(interrupt_msg, sizeof interrupt_msg,
 			 "\ninterrupted: %s holds every finished generation; "
@@ -474,10 +475,13 @@ static void catch_interrupt(const learn *l, struct sigaction *old)
 	memset(&sa, 0, sizeof sa);
 	sa.sa_handler = on_interrupt;
 	sigemptyset(&sa.sa_mask);
-	sigaction(SIGINT, NULL, old);
-	/* A shell runs background jobs with SIGINT ignored; keep that. */
-	if (old->sa_handler != SIG_IGN)
-		sigaction(SIGINT, &sa, NULL);
+	static const int sigs[2] = {SIGINT, SIGTERM};
+	for (int k = 0; k < 2; k++) {
+		sigaction(sigs[k], NULL, &old[k]);
+		/* A shell runs background jobs with SIGINT ignored; keep that. */
+		if (old[k].sa_handler != SIG_IGN)
+			sigaction(sigs[k], &sa, NULL);
+	}
 }
 
 int evo_learn_run(const char *task_path, evo_task *task,
@@ -515,8 +519,8 @@ int evo_learn_run(const char *task_path, evo_task *task,
 	       l.skill, (unsigned long long)o->seed,
 	       evo_evaluator_threads(l.ev), l.run_dir);
 	fflush(stdout);
-	struct sigaction old_int;
-	catch_interrupt(&l, &old_int);
+	struct sigaction old_sig[2];
+	catch_interrupt(&l, old_sig);
 	lua_State *L = luaL_newstate();
 	int rc = 0;
 	if (!L) {
@@ -533,7 +537,8 @@ int evo_learn_run(const char *task_path, evo_task *task,
 	}
 	if (l.log_open)
 		evo_runlog_close(&l.log);
-	sigaction(SIGINT, &old_int, NULL);
+	sigaction(SIGINT, &old_sig[0], NULL);
+	sigaction(SIGTERM, &old_sig[1], NULL);
 	evo_evaluator_destroy(l.ev);
 	return rc;
 }
