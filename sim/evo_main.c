@@ -6,6 +6,7 @@
 
 #include "export_c.h"
 #include "fileio.h"
+#include "learn.h"
 #include "mind_load.h"
 #include "run.h"
 #include "task.h"
@@ -21,7 +22,8 @@ static void usage(FILE *f)
 	      "  evo info MINDFOLDER [--master SKILL]\n"
 	      "      load a mind folder and show its hierarchy in tick order\n"
 	      "  evo check TASK.simbatch\n"
-	      "      check a task file and the mind folder it names\n"
+	      "      check a task file, the mind folder it names and,\n"
+	      "      for LEARNSIM, the learning method's options\n"
 	      "  evo tick MINDFOLDER [--master SKILL] [--ticks N]\n"
 	      "           [--sensor NAME=VALUE ...]\n"
 	      "      run the mind for N ticks (default 10) on fixed sensor\n"
@@ -154,6 +156,12 @@ int main(int argc, char **argv)
 		evo_task task;
 		if (evo_task_load(argv[2], &task, &err) != 0) {
 			fprintf(stderr, "%s\n", err.msg);
+			return 1;
+		}
+		if (strcmp(task.type, "LEARNSIM") == 0 &&
+		    evo_learn_check(argv[2], &task, &err) != 0) {
+			fprintf(stderr, "%s\n", err.msg);
+			evo_task_free(&task);
 			return 1;
 		}
 		printf("%s: task %s, mind folder %s, master skill %s: ok\n",

@@ -444,6 +444,59 @@ static int run_script(lua_State *L)
 	return 0;
 }
 
+/* evo check on a LEARNSIM task: the method's options as evo run reads
+ * them (common.task_options), warnings included, without training. */
+static const char CHECK_OPTIONS[] =
+    "local method, task, path, lines = ...\n"
+    "local common = require 'learn.common'\n"
+    "local algo = require(common.MODULES[method])\n"
+    "common.task_options(algo, task, path, lines, function(msg, key)\n"
+    "  local line = lines[key]\n"
+    "  io.stderr:write(path .. (line and ':' .. line or '') .. ': warning: '"
+    " .. msg .. '\\n')\n"
+    "end)\n";
+
+static int check_options(lua_State *L)
+{
+	const char *task_path = lua_touserdata(L, 1);
+	const evo_task *task = lua_touserdata(L, 2);
+	luaL_openlibs(L);
+	evo_lua_set_path(L, task->mind->root, evo_lua_dir());
+	if (luaL_loadbufferx(L, CHECK_OPTIONS, sizeof CHECK_OPTIONS - 1,
+			     "=evo check", "t") != LUA_OK)
+		return lua_error(L);
+	const char *method = evo_simbatch_get(task->sb, "LEARNINGMETHOD");
+	lua_pushstring(L, method ? method : "NEAT");
+	lua_newtable(L);
+	lua_newtable(L);
+	for (unsigned i = 0; i < task->sb->n_pairs; i++) {
+		const evo_simbatch_pair *p = &task->sb->pair[i];
+		lua_pushstring(L, p->value);
+		lua_setfield(L, -3, p->key);
+		lua_pushinteger(L, p->line);
+		lua_setfield(L, -2, p->key);
+	}
+	lua_pushstring(L, task_path);
+	lua_insert(L, -2); /* method, task, path, lines */
+	lua_call(L, 4, 0);
+	return 0;
+}
+
+int evo_learn_check(const char *task_path, evo_task *task, evo_err *err)
+{
+	lua_State *L = luaL_newstate();
+	if (!L)
+		return evo_fail(err, "cannot create a Lua state");
+	lua_pushcfunction(L, check_options);
+	lua_pushlightuserdata(L, (void *)task_path);
+	lua_pushlightuserdata(L, task);
+	int rc = 0;
+	if (lua_pcall(L, 2, 0, 0) != LUA_OK)
+		rc = evo_fail(err, "%s", lua_tostring(L, -1));
+	lua_close(L);
+	return rc;
+}
+
 /* Ctrl-C (SIGINT) and a scheduler's SIGTERM stop a run at once, as they
  * always did; the handler first says that nothing finished is lost and
  * how to go on. Every generation's log row and checkpoint are already on

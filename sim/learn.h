@@ -22,4 +22,9 @@ typedef struct evo_learn_opts {
 int evo_learn_run(const char *task_path, evo_task *task,
 		  const evo_learn_opts *o, evo_err *err);
 
+/* Check a LEARNSIM task's learning options as evo_learn_run reads them,
+ * without training: unknown keys are warnings on stderr, a value an
+ * option cannot take an error at its line. Returns 0 or -1 with err set. */
+int evo_learn_check(const char *task_path, evo_task *task, evo_err *err);
+
 #endif

@@ -87,6 +87,26 @@ function common.options_from(task, prefix, keys, defaults, check, ranges)
 	return opts, unknown
 end
 
+-- The learning methods and their modules; every module has the same
+-- interface: options_from_task, new, genomes/tell, best, species,
+-- save/load, to_net, to_net_text.
+common.MODULES = { NEAT = "learn.neat", GENETIC = "learn.genetic", ANNEALING = "learn.annealing" }
+
+-- The options of `algo` (a method's module) from a task, as `evo run` and
+-- `evo check` read them. The methods' messages start with the key; a
+-- malformed value raises "path:line: KEY: ...", and an unknown key goes to
+-- warn(message, key). `lines` maps each key of the task to its line.
+function common.task_options(algo, task, path, lines, warn)
+	local ok, options, unknown = pcall(algo.options_from_task, task)
+	if not ok then
+		local key = tostring(options):match("^([%w_]+): ")
+		local line = key and lines[key]
+		error(path .. (line and ":" .. line or "") .. ": " .. tostring(options), 0)
+	end
+	for _, k in ipairs(unknown) do warn("unknown key " .. k .. " (ignored)", k) end
+	return options
+end
+
 -- Ranges every method shares.
 common.PROB = { lo = 0, hi = 1 } -- a probability
 common.POSITIVE = { lo = 0 } -- a size of step, a weight of distance

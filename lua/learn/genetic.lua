@@ -74,13 +74,19 @@ genetic.ranges = {
 }
 
 function genetic.options_from_task(task)
-	return common.options_from(task, "GA_", genetic.task_keys, genetic.defaults,
+	local o, unknown = common.options_from(task, "GA_", genetic.task_keys, genetic.defaults,
 		function(key, s, value)
 			local name = genetic.task_keys[key]
 			if CHOICES[name] and not CHOICES[name][s] then
 				error(key .. ": unknown value '" .. tostring(value) .. "'", 0)
 			end
 		end, genetic.ranges)
+	local elitism = o.elitism or genetic.defaults.elitism
+	local size = o.pop_size or genetic.defaults.pop_size
+	if elitism > size then
+		error(string.format("GA_ELITISM: %d is more than the population (%d)", elitism, size), 0)
+	end
+	return o, unknown
 end
 
 local function merged(defaults, user, who)
@@ -225,10 +231,7 @@ function genetic.new(args)
 	local rng = args.rng or error("genetic.new: an rng is required (neat.rng(seed))")
 	local layers = args.layers or 1
 	assert(o.pop_size >= 1 and o.pop_size == math.floor(o.pop_size), "GA_POPSIZE must be a whole number >= 1")
-	assert(o.elitism >= 0, "GA_ELITISM must be 0 or more")
-	if o.elitism > o.pop_size then
-		error(string.format("GA_ELITISM: %d is more than the population (%d)", o.elitism, o.pop_size), 0)
-	end
+	assert(o.elitism >= 0 and o.elitism <= o.pop_size, "GA_ELITISM must be between 0 and the population size")
 	assert(o.tournament >= 1, "GA_TOURNAMENT must be at least 1")
 	local pop = setmetatable({
 		options = o, inputs = args.inputs, outputs = args.outputs, layers = layers,

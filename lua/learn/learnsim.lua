@@ -6,11 +6,11 @@
 local evo = require "evo"
 local serialize = require "learn.serialize"
 
+local common = require "learn.common"
+
 local task = evo.task
 local method = (task.LEARNINGMETHOD or "NEAT"):upper()
--- Every method's module has the same interface: options_from_task, new,
--- genomes/tell, best, species, save/load, to_net, to_net_text.
-local MODULES = { NEAT = "learn.neat", GENETIC = "learn.genetic", ANNEALING = "learn.annealing" }
+local MODULES = common.MODULES
 if not MODULES[method] then
 	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC or ANNEALING", 0)
 end
@@ -31,16 +31,8 @@ local literature = ({ XOR = true, DPV = true, DPNV = true })[(task.ENV or ""):up
 -- champion with.
 local REPLAY_RANDOM = 20
 
--- A malformed option stops the run at its line in the task file: the
--- methods' messages start with the key.
-local function at_key(msg)
-	local key = tostring(msg):match("^([%w_]+): ")
-	local line = key and evo.task_lines[key]
-	error(evo.task_path .. (line and ":" .. line or "") .. ": " .. tostring(msg), 0)
-end
-local ok, options, unknown = pcall(algo.options_from_task, task)
-if not ok then at_key(options) end
-for _, k in ipairs(unknown) do evo.warn("unknown key " .. k .. " (ignored)", k) end
+-- A malformed option stops the run at its line in the task file.
+local options = common.task_options(algo, task, evo.task_path, evo.task_lines, evo.warn)
 
 local pop, first, history, solver
 local checkpoint = evo.run_dir .. "/checkpoint.lua"
@@ -66,10 +58,8 @@ if saved then
 else
 	-- layers: the skill's `layers:`, the fixed shape of GENETIC and
 	-- ANNEALING (NEAT grows its own and ignores it).
-	local made, p = pcall(algo.new, { inputs = evo.inputs, outputs = evo.outputs, layers = evo.layers,
-		options = options, rng = neat.rng(evo.seed) })
-	if not made then at_key(p) end
-	pop = p
+	pop = algo.new{ inputs = evo.inputs, outputs = evo.outputs, layers = evo.layers,
+		options = options, rng = neat.rng(evo.seed) }
 	first = 0
 	history = { best = {}, mean = {} }
 end

@@ -204,22 +204,41 @@ TEST(unknown_method_is_a_clear_error)
 	free(text);
 }
 
+/* evo check on a copy's Small task; its output in check.txt. */
+static int check_task(const char *name)
+{
+	return cli_sh("%s check %s/%s/Avoid/Tasks/Small.simbatch > "
+		      "%s/%s/check.txt 2>&1",
+		      cli_evo, cli_tmp, name, cli_tmp, name);
+}
+
 /* A learning option out of its range stops the run at its line in the
  * task file, saying what the option takes; an unknown one is a warning at
- * its line. */
+ * its line. evo check says the same without training. */
 TEST(bad_learning_option_is_refused_at_its_line)
 {
+	static const char *const refused =
+	    "Small.simbatch:11: NEAT_SURVIVAL: expected a number above 0 and "
+	    "at most 1, found '20'";
 	make_mind("opt", "NEAT", 2, NEAT_TASK "NEAT_SURVIVAL:20\\n");
 	CHECK_EQ_INT(train("opt", ""), 1);
 	char *text = cli_read("%s/opt/out.txt", cli_tmp);
-	CHECK(text && strstr(text, "Small.simbatch:11: NEAT_SURVIVAL: expected a "
-				   "number above 0 and at most 1, found '20'"));
+	CHECK(text && strstr(text, refused));
 	free(text);
+	CHECK_EQ_INT(check_task("opt"), 1);
+	text = cli_read("%s/opt/check.txt", cli_tmp);
+	CHECK(text && strstr(text, refused) && !strstr(text, ": ok"));
+	free(text);
+	static const char *const warned =
+	    "Small.simbatch:11: warning: unknown key NEAT_SURVIVALL (ignored)";
 	make_mind("opt2", "NEAT", 1, NEAT_TASK "NEAT_SURVIVALL:0.2\\n");
+	CHECK_EQ_INT(check_task("opt2"), 0);
+	text = cli_read("%s/opt2/check.txt", cli_tmp);
+	CHECK(text && strstr(text, warned) && strstr(text, ": ok"));
+	free(text);
 	CHECK_EQ_INT(train("opt2", ""), 0);
 	text = cli_read("%s/opt2/out.txt", cli_tmp);
-	CHECK(text && strstr(text, "Small.simbatch:11: warning: unknown key "
-				   "NEAT_SURVIVALL (ignored)"));
+	CHECK(text && strstr(text, warned));
 	free(text);
 	make_mind("opt3", "GENETIC", 1, "POPSIZE:4\\nGA_ELITISM:9\\n");
 	CHECK_EQ_INT(train("opt3", ""), 1);
@@ -227,6 +246,7 @@ TEST(bad_learning_option_is_refused_at_its_line)
 	CHECK(text && strstr(text, "Small.simbatch:11: GA_ELITISM: 9 is more "
 				   "than the population (4)"));
 	free(text);
+	CHECK_EQ_INT(check_task("opt3"), 1);
 }
 
 /* --resume on a damaged checkpoint stops with the file's path and what is
