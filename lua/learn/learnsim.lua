@@ -50,6 +50,24 @@ if saved then
 	local ok, p = pcall(algo.load, c.pop)
 	if not ok then error(checkpoint .. ": " .. tostring(p), 0) end
 	pop = p
+	if pop.inputs ~= evo.inputs or pop.outputs ~= evo.outputs then
+		error(string.format("%s: the checkpoint's networks have %s inputs and %s outputs; the skill "
+			.. "now has %d and %d", checkpoint, tostring(pop.inputs), tostring(pop.outputs),
+			evo.inputs, evo.outputs), 0)
+	end
+	-- The run goes on with the checkpoint's options; say where the task
+	-- now asks for others.
+	local keys = {}
+	for k in pairs(task) do keys[#keys + 1] = k end
+	table.sort(keys)
+	for _, k in ipairs(keys) do
+		local name = algo.task_keys[k]
+		local was = name and pop.options and pop.options[name]
+		if was ~= nil and options[name] ~= nil and was ~= options[name] then
+			evo.warn(string.format("%s is %s in the task but %s in the checkpoint; the run goes "
+				.. "on with %s", k, tostring(options[name]), tostring(was), tostring(was)), k)
+		end
+	end
 	first = c.generation + 1
 	history = c.history
 	solver = c.solver

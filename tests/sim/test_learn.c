@@ -204,6 +204,28 @@ TEST(unknown_method_is_a_clear_error)
 	free(text);
 }
 
+/* A resumed run goes on with its checkpoint's options; where the task
+ * now asks for others, a warning at the key's line says so. */
+TEST(resume_warns_when_the_task_asks_for_other_options)
+{
+	make_mind("rw", "NEAT", 2, NEAT_TASK);
+	CHECK_EQ_INT(train("rw", ""), 0);
+	CHECK_EQ_INT(cli_sh("sed -i 's/^NUMGEN:2$/NUMGEN:3/' "
+			    "%s/rw/Avoid/Tasks/Small.simbatch && "
+			    "printf 'NEAT_C3:1.5\\n' >> "
+			    "%s/rw/Avoid/Tasks/Small.simbatch",
+			    cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(train("rw", "--resume"), 0);
+	char *text = cli_read("%s/rw/out.txt", cli_tmp);
+	CHECK(text && strstr(text, "Small.simbatch:11: warning: NEAT_C3 is "
+				   "1.5 in the task but 0.4 in the checkpoint; "
+				   "the run goes on with 0.4") &&
+	      strstr(text, "resuming after generation 1"));
+	free(text);
+	CHECK_EQ_INT(rows("rw"), 3);
+}
+
 /* evo check on a copy's Small task; its output in check.txt. */
 static int check_task(const char *name)
 {
@@ -583,6 +605,7 @@ int main(void)
 	RUN(killed_or_interrupted_and_resumed_run_ends_as_an_uninterrupted_one);
 	RUN(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one);
 	RUN(resume_refuses_a_damaged_checkpoint_and_keeps_the_log);
+	RUN(resume_warns_when_the_task_asks_for_other_options);
 	RUN(unknown_method_is_a_clear_error);
 	RUN(bad_learning_option_is_refused_at_its_line);
 	RUN(genetic_trains_and_threads_do_not_change_the_log);
