@@ -151,8 +151,9 @@ function Pop:tell(fitness)
 	self.generation = self.generation + 1
 end
 
-function annealing.save(pop)
-	return common.save(pop, "evo-annealing-1")
+-- `shared`: see common.save.
+function annealing.save(pop, shared)
+	return common.save(pop, "evo-annealing-1", shared)
 end
 
 function annealing.load(t, rng)

@@ -114,11 +114,14 @@ common.COUNT = { lo = 1, int = true } -- a population, a number of generations
 common.WEIGHT_MAX = { lo = 0, hi = 128, above = true, below = true } -- .net needs |w| < 128
 
 -- A population as a plain table tagged with `format`, its rng's state
--- included.
-function common.save(pop, format)
+-- included. With `shared`, the table holds the population's own tables
+-- instead of copies: it is for writing out at once (a checkpoint of a
+-- population of 1,000 is written every generation), before the
+-- population changes again.
+function common.save(pop, format, shared)
 	local t = {}
 	for k, v in pairs(pop) do
-		if k ~= "rng" then t[k] = common.deep_copy(v) end
+		if k ~= "rng" then t[k] = shared and v or common.deep_copy(v) end
 	end
 	t.rng = pop.rng.save and pop.rng:save() or error("save: the rng has no save()")
 	t.format = format

@@ -288,8 +288,9 @@ end
 ---------------------------------------------------------------------------
 -- Checkpoints: plain tables, the rng's state included.
 
-function genetic.save(pop)
-	return common.save(pop, "evo-genetic-1")
+-- `shared`: see common.save.
+function genetic.save(pop, shared)
+	return common.save(pop, "evo-genetic-1", shared)
 end
 
 function genetic.load(t, rng)

@@ -126,7 +126,7 @@ for gen = first, generations - 1 do
 	end
 	-- The checkpoint last: a run killed before it is written resumes from
 	-- the previous generation and redoes this one identically.
-	evo.save("checkpoint.lua", serialize.dump{ generation = gen, pop = algo.save(pop),
+	evo.save("checkpoint.lua", serialize.dump{ generation = gen, pop = algo.save(pop, true),
 		history = history, solver = solver, stopped = stop ~= nil })
 	if stop then
 		evo.print(stop)

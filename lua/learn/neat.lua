@@ -892,8 +892,9 @@ end
 -- code's options (elitism_offspring and the rest): a checkpoint of format 1
 -- would resume a different algorithm, so it is refused.
 
-function neat.save(pop)
-	return common.save(pop, "evo-neat-2")
+-- `shared`: see common.save.
+function neat.save(pop, shared)
+	return common.save(pop, "evo-neat-2", shared)
 end
 
 -- The reverse of neat.save. Give `rng` to use another rng object (its
