@@ -611,6 +611,10 @@ function T.save_load_continues_the_same_run()
 	local a = neat.new { inputs = 2, outputs = 1, rng = neat.rng(13), options = { pop_size = 60 } }
 	for _ = 1, 5 do xor_generation(a) end
 	local text = serialise(neat.save(a))
+	check(serialise(neat.save(a, true)) == text, "the shared save writes what the copy writes")
+	local shared, copied = neat.save(a, true), neat.save(a)
+	check(shared.population == a.population and copied.population ~= a.population,
+		"shared holds the population's tables, the copy does not")
 	local b = neat.load(load("return " .. text)())
 	check(serialise(neat.save(b)) == text, "save(load(save)) is save")
 	for _ = 1, 5 do
