@@ -28,7 +28,7 @@ LUA_CFLAGS := -isystem /usr/include/lua5.4
 SDL_CFLAGS := $(patsubst -I%,-isystem %,$(shell pkg-config --cflags sdl2 2>/dev/null))
 CFLAGS_ALL := -std=c11 $(OPT) $(WARN) -Icore/include -Isim -Itests $(LUA_CFLAGS) $(SDL_CFLAGS) $(SAN) $(CFLAGS)
 LDFLAGS_ALL := $(SAN) $(LDFLAGS)
-LIBS := -llua5.4 $(shell pkg-config --libs sdl2 2>/dev/null || echo -lSDL2) -lbox2d -lstdc++ -lm
+LIBS := -llua5.4 $(shell pkg-config --libs sdl2 2>/dev/null || echo -lSDL2) -lbox2d -lz -lstdc++ -lm
 CXXFLAGS_ALL := -std=c++17 $(OPT) -Wall -Wextra -Werror -Wshadow -Isim $(SAN) $(CXXFLAGS)
 
 CORE_SRCS := $(sort $(wildcard core/src/*.c))

@@ -1,19 +1,15 @@
-/* PNG without a compression library: see png.h.
+/* PNG through zlib: see png.h.
  *
  * A file is the signature, IHDR, one IDAT holding the zlib stream, IEND.
- * The zlib stream is the 2-byte header 78 01 (deflate, 32K window, no
- * dictionary, "fastest"), then the filtered rows (a 0 before each row:
- * filter None) cut into stored blocks of at most 65535 bytes, then the
- * Adler-32 of the rows. A stored block is one header byte (BFINAL in bit
- * 0, BTYPE 00 in bits 1-2, padding to the byte boundary), LEN and its
- * complement NLEN in little-endian order, then LEN bytes as they are. */
+ * The stream holds the rows, each after its filter byte 0 (None): a
+ * learning curve or a screenshot is mostly runs of one colour, which
+ * deflate packs well without a row filter. */
 #include "png.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-#define STORED_MAX 65535u
+#include <zlib.h>
 
 static const uint8_t signature[8] = {0x89, 'P',	 'N',  'G',
 				     '\r', '\n', 0x1A, '\n'};
@@ -40,25 +36,6 @@ uint32_t evo_png_crc32(uint32_t crc, const void *data, size_t len)
 		crc = (crc >> 4) ^ crc_nibble[crc & 15];
 	}
 	return ~crc;
-}
-
-uint32_t evo_png_adler32(uint32_t adler, const void *data, size_t len)
-{
-	const uint8_t *p = data;
-	uint32_t a = adler & 0xFFFF, b = adler >> 16;
-	while (len) {
-		/* 5552 bytes is the most that cannot overflow b before the
-		 * reduction (zlib's NMAX). */
-		size_t n = len < 5552 ? len : 5552;
-		len -= n;
-		while (n--) {
-			a += *p++;
-			b += a;
-		}
-		a %= 65521;
-		b %= 65521;
-	}
-	return b << 16 | a;
 }
 
 /* ---- writing -------------------------------------------------------- */
@@ -108,15 +85,22 @@ int evo_png_encode(const uint8_t *pixels, int w, int h, int channels,
 	*len = 0;
 	if (check_shape(w, h, channels, err))
 		return -1;
-	/* Sides of at most 2^14 keep every size below 2^31. */
-	size_t row = (size_t)w * channels, raw = (size_t)h * (row + 1);
-	size_t blocks = (raw + STORED_MAX - 1) / STORED_MAX;
-	size_t zlen = 2 + blocks * 5 + raw + 4;
-	size_t total = sizeof signature + (12 + 13) + (12 + zlen) + 12;
-	uint8_t *out = malloc(total);
-	if (!out)
+	/* Sides of at most 2^14 keep every size below 2^32. */
+	size_t row = (size_t)w * channels, rawlen = (size_t)h * (row + 1);
+	uLong zcap = compressBound((uLong)rawlen);
+	size_t total = sizeof signature + (12 + 13) + (12 + zcap) + 12;
+	uint8_t *raw = malloc(rawlen), *out = malloc(total);
+	if (!raw || !out) {
+		free(raw);
+		free(out);
 		return evo_fail(err, "PNG of %d x %d pixels: out of memory", w,
 				h);
+	}
+	for (int y = 0; y < h; y++) {
+		uint8_t *r = raw + (size_t)y * (row + 1);
+		r[0] = 0; /* filter None */
+		memcpy(r + 1, pixels + (size_t)y * row, row);
+	}
 
 	uint8_t *p = out, *chunk;
 	memcpy(p, signature, sizeof signature);
@@ -137,40 +121,16 @@ int evo_png_encode(const uint8_t *pixels, int w, int h, int channels,
 	p = put32(p, 0);
 	memcpy(p, "IDAT", 4);
 	p += 4;
-	*p++ = 0x78;
-	*p++ = 0x01;
-	/* The rows go in as a stream of (filter byte, row) pairs, cut at
-	 * block boundaries wherever they fall. */
-	uint32_t adler = 1;
-	size_t done = 0; /* bytes of the filtered stream written */
-	for (size_t b = 0; b < blocks; b++) {
-		size_t n = raw - done < STORED_MAX ? raw - done : STORED_MAX;
-		*p++ = b + 1 == blocks; /* BFINAL, BTYPE 00 */
-		*p++ = (uint8_t)n;
-		*p++ = (uint8_t)(n >> 8);
-		*p++ = (uint8_t)~n;
-		*p++ = (uint8_t)(~n >> 8);
-		uint8_t *start = p;
-		for (size_t k = 0; k < n;) {
-			size_t y = (done + k) / (row + 1);
-			size_t at = (done + k) % (row + 1);
-			if (at == 0) {
-				*p++ = 0; /* filter None */
-				k++;
-				continue;
-			}
-			size_t take = row + 1 - at;
-			if (take > n - k)
-				take = n - k;
-			memcpy(p, pixels + y * row + (at - 1), take);
-			p += take;
-			k += take;
-		}
-		adler = evo_png_adler32(adler, start, n);
-		done += n;
+	uLongf zlen = zcap;
+	int zrc = compress2(p, &zlen, raw, (uLong)rawlen,
+			    Z_DEFAULT_COMPRESSION);
+	free(raw);
+	if (zrc != Z_OK) {
+		free(out);
+		return evo_fail(err, "PNG of %d x %d pixels: zlib: %s", w, h,
+				zError(zrc));
 	}
-	p = put32(p, adler);
-	p = end_chunk(chunk, p);
+	p = end_chunk(chunk, p + zlen);
 
 	chunk = p;
 	p = put32(p, 0);
@@ -205,87 +165,50 @@ void evo_png_image_free(evo_png_image *img)
 	memset(img, 0, sizeof *img);
 }
 
-/* The zlib stream, gathered from the IDAT chunks, inflated block by
- * block into the filtered rows. */
-static int inflate_stored(const uint8_t *z, size_t zlen, uint8_t *raw,
-			  size_t rawlen, evo_err *err)
+/* The zlib stream, gathered from the IDAT chunks, inflated into exactly
+ * the filtered rows the header implies: no more, no less, and nothing
+ * after the stream's end. zlib checks the stream's Adler-32. */
+static int inflate_rows(const uint8_t *z, size_t zlen, uint8_t *raw,
+			size_t rawlen, evo_err *err)
 {
-	if (zlen < 2)
-		return evo_fail(err, "zlib stream of %zu bytes is too short",
-				zlen);
-	if ((z[0] & 0x0F) != 8 || (z[0] >> 4) > 7)
-		return evo_fail(err,
-				"zlib header 0x%02X: not deflate with a window "
-				"of at most 32K",
-				z[0]);
-	if (((unsigned)z[0] << 8 | z[1]) % 31 != 0)
-		return evo_fail(err, "zlib header 0x%02X%02X fails its check",
-				z[0], z[1]);
-	if (z[1] & 0x20)
-		return evo_fail(err, "zlib stream wants a preset dictionary, "
-				     "which PNG does not allow");
-	size_t at = 2, out = 0;
-	for (int final = 0, block = 0; !final; block++) {
-		if (at >= zlen)
+	z_stream s;
+	memset(&s, 0, sizeof s);
+	if (inflateInit(&s) != Z_OK)
+		return evo_fail(err, "zlib: cannot start inflating");
+	s.next_in = (Bytef *)z;
+	s.avail_in = (uInt)zlen;
+	s.next_out = raw;
+	s.avail_out = (uInt)rawlen;
+	int zrc = inflate(&s, Z_FINISH);
+	size_t out = s.total_out, left = s.avail_in, room = s.avail_out;
+	char why[64];
+	snprintf(why, sizeof why, "%s", s.msg ? s.msg : zError(zrc));
+	inflateEnd(&s);
+	if (zrc == Z_STREAM_END) {
+		if (out != rawlen)
 			return evo_fail(err,
-					"zlib stream ends before its last "
-					"deflate block (block %d)",
-					block);
-		int type = z[at] >> 1 & 3;
-		final = z[at] & 1;
-		if (type != 0)
-			return evo_fail(
-			    err,
-			    "deflate block %d is %s (type %d): evo's "
-			    "reader takes only stored blocks, as evo "
-			    "writes them; this PNG was not written by evo",
-			    block,
-			    type == 3 ? "of the reserved type 3" : "compressed",
-			    type);
-		if (zlen - at < 5)
+					"image data has %zu bytes, its header "
+					"implies %zu",
+					out, rawlen);
+		if (left)
 			return evo_fail(err,
-					"deflate block %d: its header is cut "
-					"off",
-					block);
-		unsigned n = z[at + 1] | (unsigned)z[at + 2] << 8;
-		unsigned nn = z[at + 3] | (unsigned)z[at + 4] << 8;
-		if ((n ^ 0xFFFFu) != nn)
-			return evo_fail(err,
-					"deflate block %d: length %u does not "
-					"match its complement 0x%04X",
-					block, n, nn);
-		at += 5;
-		if (zlen - at < n)
-			return evo_fail(err,
-					"deflate block %d: %u bytes announced, "
-					"%zu left",
-					block, n, zlen - at);
-		if (rawlen - out < n)
-			return evo_fail(err,
-					"image data is longer than the %zu "
-					"bytes its header implies",
-					rawlen);
-		memcpy(raw + out, z + at, n);
-		at += n;
-		out += n;
+					"zlib stream: %zu bytes after its end",
+					left);
+		return 0;
 	}
-	if (out != rawlen)
+	/* Stuck with input left: no room for more rows; with none left:
+	 * the stream stops before its end. */
+	if (zrc == Z_BUF_ERROR && left > 0 && room == 0)
 		return evo_fail(err,
-				"image data has %zu bytes, its header implies "
-				"%zu",
+				"image data is longer than the %zu bytes its "
+				"header implies",
+				rawlen);
+	if (zrc == Z_BUF_ERROR && left == 0)
+		return evo_fail(err,
+				"image data is cut off: the zlib stream stops "
+				"before its end, after %zu of %zu bytes",
 				out, rawlen);
-	if (zlen - at != 4)
-		return evo_fail(err,
-				"zlib stream: %zu bytes after the last block, "
-				"want the 4 of the Adler-32",
-				zlen - at);
-	uint32_t want = get32(z + at), got = evo_png_adler32(1, raw, rawlen);
-	if (want != got)
-		return evo_fail(err,
-				"image data is damaged: Adler-32 0x%08X, the "
-				"stream says 0x%08X",
-				got, want);
-	return 0;
+	return evo_fail(err, "image data is damaged: zlib: %s", why);
 }
 
 static int decode(const uint8_t *png, size_t len, evo_png_image *img,
@@ -432,14 +355,14 @@ static int decode(const uint8_t *png, size_t len, evo_png_image *img,
 		goto out;
 	}
 	size_t row = (size_t)w * channels, rawlen = (size_t)h * (row + 1);
-	/* Stored blocks hold the rows as they are: a stream shorter than
-	 * the rows is refused before a header's sizes can make us allocate
-	 * far more than the file holds. */
-	if (zlen < rawlen) {
+	/* Deflate writes at most 258 bytes for a length code and a distance
+	 * code of at least 1 bit each, so it packs at most 1032 bytes into
+	 * one: a header whose sizes the stream cannot fill is refused before
+	 * we allocate what it announces. */
+	if (rawlen / 1032 > zlen) {
 		evo_fail(err,
-			 "image data has %zu bytes, fewer than the %zu rows "
-			 "of a %d x %d image need uncompressed; evo's reader "
-			 "takes only the stored blocks evo writes",
+			 "image data has %zu bytes, fewer than deflate needs "
+			 "for the %zu bytes of rows of a %d x %d image",
 			 zlen, rawlen, w, h);
 		goto out;
 	}
@@ -450,7 +373,7 @@ static int decode(const uint8_t *png, size_t len, evo_png_image *img,
 		evo_fail(err, "image of %d x %d pixels: out of memory", w, h);
 		goto out;
 	}
-	if (inflate_stored(z, zlen, raw, rawlen, err)) {
+	if (inflate_rows(z, zlen, raw, rawlen, err)) {
 		free(raw);
 		goto out;
 	}

@@ -1,15 +1,12 @@
-/* evo — PNG files with no compression library: evo writes 8-bit RGB or
- * RGBA images (screenshots, learning curves) as zlib streams of "stored"
- * deflate blocks, so a file is a little larger than the raw pixels and
- * every PNG reader opens it.
+/* evo — PNG files through zlib: evo writes 8-bit RGB or RGBA images
+ * (screenshots, learning curves) that every PNG reader opens.
  *
- * The reader takes exactly what the writer makes, so tests can check
- * saved images: 8-bit RGB or RGBA, no interlace, filter 0 (None) on every
- * row, stored deflate blocks only. Anything else, a damaged file above
- * all, is refused with a message that says what was found where; it
- * never crashes and never returns pixels from a damaged file (every
- * chunk's CRC-32 and the stream's Adler-32 are checked). Ancillary chunks
- * (tEXt, gAMA, ...) are skipped. */
+ * The reader takes what the writer makes, so tests can check saved
+ * images: 8-bit RGB or RGBA, no interlace, filter 0 (None) on every row.
+ * Anything else, a damaged file above all, is refused with a message that
+ * says what was found where; it never crashes and never returns pixels
+ * from a damaged file (every chunk's CRC-32 and the stream's Adler-32 are
+ * checked). Ancillary chunks (tEXt, gAMA, ...) are skipped. */
 #ifndef EVO_PNG_H
 #define EVO_PNG_H
 
@@ -46,10 +43,9 @@ int evo_png_read(const char *path, evo_png_image *img, evo_err *err);
 /* Free the pixels and zero the struct; safe on a zeroed struct. */
 void evo_png_image_free(evo_png_image *img);
 
-/* The two checksums PNG uses, fed in pieces: start CRC-32 with 0 and
- * Adler-32 with 1. CRC-32 is table-driven here (core's evo_crc32 goes
- * bit by bit: fine for a mind image, slow for a screenshot a frame). */
+/* The CRC-32 of PNG's chunks, fed in pieces: start with 0. Table-driven
+ * (core's evo_crc32 goes bit by bit: fine for a mind image, slow for a
+ * screenshot a frame). */
 uint32_t evo_png_crc32(uint32_t crc, const void *data, size_t len);
-uint32_t evo_png_adler32(uint32_t adler, const void *data, size_t len);
 
 #endif
