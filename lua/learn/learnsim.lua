@@ -4,9 +4,8 @@
 -- network saved and a checkpoint written, so --resume goes on exactly where
 -- a killed run stopped.
 local evo = require "evo"
-local serialize = require "learn.serialize"
-
 local common = require "learn.common"
+local serialize = require "learn.serialize"
 
 local task = evo.task
 local method = (task.LEARNINGMETHOD or "NEAT"):upper()
@@ -34,40 +33,46 @@ local REPLAY_RANDOM = 20
 -- A malformed option stops the run at its line in the task file.
 local options = common.task_options(algo, task, evo.task_path, evo.task_lines, evo.warn)
 
-local pop, first, history, solver
-local checkpoint = evo.run_dir .. "/checkpoint.lua"
-local saved = evo.resume and evo.read("checkpoint.lua")
-if evo.resume and not saved then
-	evo.print("no checkpoint in " .. evo.run_dir .. ": starting from generation 0")
-end
-if saved then
-	local c = serialize.load(saved, checkpoint)
+-- The checkpoint `text` read back: the population and the checkpoint's
+-- table. It is refused, with its path and what is wrong, unless it is a
+-- learning run's checkpoint for this skill; where the task now sets an
+-- option otherwise, a warning says the run goes on with the checkpoint's.
+local function resume(text, path)
+	local c = serialize.load(text, path)
 	if type(c) ~= "table" or math.type(c.generation) ~= "integer" or c.generation < 0
 		or type(c.pop) ~= "table" or type(c.history) ~= "table"
 		or type(c.history.best) ~= "table" or type(c.history.mean) ~= "table" then
-		error(checkpoint .. ": not a learning run's checkpoint (it needs generation, pop and history)", 0)
+		error(path .. ": not a learning run's checkpoint (it needs generation, pop and history)", 0)
 	end
 	local ok, p = pcall(algo.load, c.pop)
-	if not ok then error(checkpoint .. ": " .. tostring(p), 0) end
-	pop = p
-	if pop.inputs ~= evo.inputs or pop.outputs ~= evo.outputs then
+	if not ok then error(path .. ": " .. tostring(p), 0) end
+	if p.inputs ~= evo.inputs or p.outputs ~= evo.outputs then
 		error(string.format("%s: the checkpoint's networks have %s inputs and %s outputs; the skill "
-			.. "now has %d and %d", checkpoint, tostring(pop.inputs), tostring(pop.outputs),
+			.. "now has %d and %d", path, tostring(p.inputs), tostring(p.outputs),
 			evo.inputs, evo.outputs), 0)
 	end
-	-- The run goes on with the checkpoint's options; say where the task
-	-- now asks for others.
 	local keys = {}
 	for k in pairs(task) do keys[#keys + 1] = k end
 	table.sort(keys)
 	for _, k in ipairs(keys) do
 		local name = algo.task_keys[k]
-		local was = name and pop.options and pop.options[name]
+		local was = name and p.options and p.options[name]
 		if was ~= nil and options[name] ~= nil and was ~= options[name] then
 			evo.warn(string.format("%s is %s in the task but %s in the checkpoint; the run goes "
 				.. "on with %s", k, tostring(options[name]), tostring(was), tostring(was)), k)
 		end
 	end
+	return p, c
+end
+
+local pop, first, history, solver
+local saved = evo.resume and evo.read("checkpoint.lua")
+if evo.resume and not saved then
+	evo.print("no checkpoint in " .. evo.run_dir .. ": starting from generation 0")
+end
+if saved then
+	local c
+	pop, c = resume(saved, evo.run_dir .. "/checkpoint.lua")
 	first = c.generation + 1
 	history = c.history
 	solver = c.solver
