@@ -283,6 +283,9 @@ TEST(resume_refuses_a_damaged_checkpoint_and_keeps_the_log)
 	CHECK(out && strstr(out, "no checkpoint in ") &&
 	      strstr(out, ": starting from generation 0"));
 	free(out);
+	CHECK_EQ_INT(cli_sh("cp %s/dmg/run/checkpoint.lua %s/dmg/good.lua",
+			    cli_tmp, cli_tmp),
+		     0);
 	char *before = cli_read("%s/dmg/run/log.csv", cli_tmp);
 	CHECK(before != NULL);
 	static const char *const bad[][2] = {
@@ -311,6 +314,17 @@ TEST(resume_refuses_a_damaged_checkpoint_and_keeps_the_log)
 		CHECK(before && after && strcmp(before, after) == 0);
 		free(after);
 	}
+	/* A sound checkpoint of networks that no longer fit the skill. */
+	CHECK_EQ_INT(cli_sh("sed 's/\\[\"inputs\"\\]=11,/[\"inputs\"]=5,/' "
+			    "%s/dmg/good.lua > %s/dmg/run/checkpoint.lua",
+			    cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(train("dmg", "--resume"), 1);
+	out = cli_read("%s/dmg/out.txt", cli_tmp);
+	CHECK(out && strstr(out, "checkpoint.lua: the checkpoint's networks "
+				 "have 5 inputs and 2 outputs; the skill now "
+				 "has 11 and 2"));
+	free(out);
 	CHECK_EQ_INT(cli_sh("rm %s/dmg/run/checkpoint.lua && mkdir "
 			    "%s/dmg/run/checkpoint.lua",
 			    cli_tmp, cli_tmp),
