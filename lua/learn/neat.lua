@@ -163,9 +163,6 @@ local ACTIVATIONS = {
 	gauss = function(x) return math.exp(-x * x) end,
 }
 
--- Options from a task table (.simbatch key -> value, values as strings or
--- numbers). Returns the options and the sorted list of NEAT_* keys it does
--- not know (the caller warns); raises on a malformed value.
 -- The numbers each option takes (common.options_from); bias_input takes
 -- any finite number.
 local P, W, C = common.PROB, common.POSITIVE, common.COUNT
@@ -182,6 +179,9 @@ neat.ranges = {
 	reenable_prob = P,
 }
 
+-- Options from a task table (.simbatch key -> value, values as strings or
+-- numbers). Returns the options and the sorted list of NEAT_* keys it does
+-- not know (the caller warns); raises on a malformed value.
 function neat.options_from_task(task)
 	return common.options_from(task, "NEAT_", neat.task_keys, neat.defaults, function(key, s, value)
 		if key == "NEAT_ACTIVATION" and not ACTIVATIONS[s] then
