@@ -271,6 +271,13 @@ TEST(bad_learning_option_is_refused_at_its_line)
 	CHECK_EQ_INT(check_task("opt3"), 1);
 }
 
+/* Resume the run "dmg", which must refuse; what it printed (free it). */
+static char *refused_resume(void)
+{
+	CHECK_EQ_INT(train("dmg", "--resume"), 1);
+	return cli_read("%s/dmg/out.txt", cli_tmp);
+}
+
 /* --resume on a damaged checkpoint stops with the file's path and what is
  * wrong, and leaves the run's log as it was; a checkpoint that cannot be
  * read is an error, not a fresh start. Without a checkpoint, --resume
@@ -303,8 +310,7 @@ TEST(resume_refuses_a_damaged_checkpoint_and_keeps_the_log)
 			return;
 		fputs(bad[k][0], f);
 		fclose(f);
-		CHECK_EQ_INT(train("dmg", "--resume"), 1);
-		out = cli_read("%s/dmg/out.txt", cli_tmp);
+		out = refused_resume();
 		CHECK(out && strstr(out, "/dmg/run/") &&
 		      strstr(out, bad[k][1]));
 		if (out && !strstr(out, bad[k][1]))
@@ -319,8 +325,7 @@ TEST(resume_refuses_a_damaged_checkpoint_and_keeps_the_log)
 			    "%s/dmg/good.lua > %s/dmg/run/checkpoint.lua",
 			    cli_tmp, cli_tmp),
 		     0);
-	CHECK_EQ_INT(train("dmg", "--resume"), 1);
-	out = cli_read("%s/dmg/out.txt", cli_tmp);
+	out = refused_resume();
 	CHECK(out && strstr(out, "checkpoint.lua: the checkpoint's networks "
 				 "have 5 inputs and 2 outputs; the skill now "
 				 "has 11 and 2"));
@@ -329,8 +334,7 @@ TEST(resume_refuses_a_damaged_checkpoint_and_keeps_the_log)
 			    "%s/dmg/run/checkpoint.lua",
 			    cli_tmp, cli_tmp),
 		     0);
-	CHECK_EQ_INT(train("dmg", "--resume"), 1);
-	out = cli_read("%s/dmg/out.txt", cli_tmp);
+	out = refused_resume();
 	CHECK(out && strstr(out, "checkpoint.lua") &&
 	      !strstr(out, "starting from generation 0"));
 	free(out);
