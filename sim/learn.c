@@ -348,24 +348,6 @@ static int l_print(lua_State *L)
 	return 0;
 }
 
-/* evo.warn(msg [, key]): a warning on the task, at the line of its key
- * `key` when that is given and in the file. */
-static int l_warn(lua_State *L)
-{
-	learn *l = ctx(L);
-	const char *msg = luaL_checkstring(L, 1);
-	const char *key = luaL_optstring(L, 2, NULL);
-	const evo_simbatch *sb = l->task->sb;
-	for (unsigned i = 0; key && i < sb->n_pairs; i++)
-		if (strcmp(sb->pair[i].key, key) == 0) {
-			fprintf(stderr, "%s:%u: warning: %s\n", l->task_path,
-				(unsigned)sb->pair[i].line, msg);
-			return 0;
-		}
-	fprintf(stderr, "%s: warning: %s\n", l->task_path, msg);
-	return 0;
-}
-
 static const luaL_Reg learn_fns[] = {
 	{"evaluate", l_evaluate},
 	{"open_log", l_open_log},
@@ -375,7 +357,6 @@ static const luaL_Reg learn_fns[] = {
 	{"save_champion", l_save_champion},
 	{"curve", l_curve},
 	{"print", l_print},
-	{"warn", l_warn},
 	{NULL, NULL},
 };
 
@@ -449,12 +430,8 @@ static int run_script(lua_State *L)
 static const char CHECK_OPTIONS[] =
     "local method, task, path, lines = ...\n"
     "local common = require 'learn.common'\n"
-    "local algo = require(common.MODULES[method])\n"
-    "common.task_options(algo, task, path, lines, function(msg, key)\n"
-    "  local line = lines[key]\n"
-    "  io.stderr:write(path .. (line and ':' .. line or '') .. ': warning: '"
-    " .. msg .. '\\n')\n"
-    "end)\n";
+    "common.task_options(require(common.MODULES[method]), task, path, "
+    "lines)\n";
 
 static int check_options(lua_State *L)
 {

@@ -92,18 +92,29 @@ end
 -- save/load, to_net, to_net_text.
 common.MODULES = { NEAT = "learn.neat", GENETIC = "learn.genetic", ANNEALING = "learn.annealing" }
 
+-- Where key `key` of a task is, for messages: "path:line", or "path" when
+-- the key is not in the file. `lines` maps each key of the task to its line.
+function common.where(path, lines, key)
+	local line = key and lines[key]
+	return path .. (line and ":" .. line or "")
+end
+
+-- A warning on a task, at the line of `key`, on stderr.
+function common.warning(path, lines, key, msg)
+	io.stderr:write(common.where(path, lines, key), ": warning: ", msg, "\n")
+end
+
 -- The options of `algo` (a method's module) from a task, as `evo run` and
 -- `evo check` read them. The methods' messages start with the key; a
--- malformed value raises "path:line: KEY: ...", and an unknown key goes to
--- warn(message, key). `lines` maps each key of the task to its line.
-function common.task_options(algo, task, path, lines, warn)
+-- malformed value raises "path:line: KEY: ...", and an unknown key is a
+-- warning at its line.
+function common.task_options(algo, task, path, lines)
 	local ok, options, unknown = pcall(algo.options_from_task, task)
 	if not ok then
 		local key = tostring(options):match("^([%w_]+): ")
-		local line = key and lines[key]
-		error(path .. (line and ":" .. line or "") .. ": " .. tostring(options), 0)
+		error(common.where(path, lines, key) .. ": " .. tostring(options), 0)
 	end
-	for _, k in ipairs(unknown) do warn("unknown key " .. k .. " (ignored)", k) end
+	for _, k in ipairs(unknown) do common.warning(path, lines, k, "unknown key " .. k .. " (ignored)") end
 	return options
 end
 

@@ -31,7 +31,7 @@ local literature = ({ XOR = true, DPV = true, DPNV = true })[(task.ENV or ""):up
 local REPLAY_RANDOM = 20
 
 -- A malformed option stops the run at its line in the task file.
-local options = common.task_options(algo, task, evo.task_path, evo.task_lines, evo.warn)
+local options = common.task_options(algo, task, evo.task_path, evo.task_lines)
 
 -- The checkpoint `text` read back: the population and the checkpoint's
 -- table. It is refused, with its path and what is wrong, unless it is a
@@ -58,8 +58,9 @@ local function resume(text, path)
 		local name = algo.task_keys[k]
 		local was = name and p.options and p.options[name]
 		if was ~= nil and options[name] ~= nil and was ~= options[name] then
-			evo.warn(string.format("%s is %s in the task but %s in the checkpoint; the run goes "
-				.. "on with %s", k, tostring(options[name]), tostring(was), tostring(was)), k)
+			common.warning(evo.task_path, evo.task_lines, k, string.format("%s is %s in the task "
+				.. "but %s in the checkpoint; the run goes on with %s", k, tostring(options[name]),
+				tostring(was), tostring(was)))
 		end
 	end
 	return p, c
