@@ -1,3 +1,4 @@
+#define _DEFAULT_SOURCE /* realpath */
 #define _POSIX_C_SOURCE 200809L
 #include "task.h"
 
@@ -48,6 +49,22 @@ static int mind_folder(const char *path, const evo_simbatch *sb, char *out,
 		else
 			snprintf(out, cap, "%.*s", (int)(base - dir - 1), dir);
 		return 0;
+	}
+	/* "T.simbatch" run from inside Tasks/, or a path through "..":
+	 * the folder's real name decides. */
+	char *real = realpath(dir, NULL);
+	if (real) {
+		const char *rbase = strrchr(real, '/');
+		int in_tasks = rbase && strcmp(rbase + 1, "Tasks") == 0;
+		free(real);
+		if (in_tasks) {
+			int n = strcmp(dir, ".") == 0
+				    ? snprintf(out, cap, "..")
+				    : snprintf(out, cap, "%s/..", dir);
+			if ((size_t)n >= cap)
+				return evo_fail(err, "%s: path too long", path);
+			return 0;
+		}
 	}
 	const char *root = evo_simbatch_get(sb, "ROOTFOLDER");
 	if (!root)

@@ -2,7 +2,7 @@
  *
  * The mind folder is the folder that holds the Tasks/ folder the .simbatch
  * sits in (Minds/Agent/Tasks/T.simbatch runs Minds/Agent), so a task runs
- * from any working directory. A .simbatch outside a Tasks/ folder names its
+ * from any working directory, Tasks/ itself included. A .simbatch outside a Tasks/ folder names its
  * mind with ROOTFOLDER, relative to the working directory, as EvoAgents
  * did. docs/formats.md, .simbatch. */
 #ifndef EVO_TASK_H

@@ -356,7 +356,8 @@ TEST(task_missing_a_key)
 }
 
 /* evo run Tasks/T.simbatch from inside the mind folder: the folder is "."
- * and its name is the directory's own, not ".". */
+ * and its name is the directory's own, not "."; evo run T.simbatch from
+ * inside Tasks/ finds the mind folder above. */
 TEST(task_run_from_inside_its_mind_folder)
 {
 	char here[1024];
@@ -372,7 +373,17 @@ TEST(task_run_from_inside_its_mind_folder)
 		CHECK_EQ_STR(t.mind->skill[0].name, "Avoid");
 		evo_task_free(&t);
 	}
-	CHECK_EQ_INT(chdir("Skills"), 0);
+	/* and from inside its Tasks/ folder: the mind folder is ".." */
+	CHECK_EQ_INT(chdir("Tasks"), 0);
+	rc = evo_task_load("T6-NEAT.simbatch", &t, &err);
+	CHECK_EQ_STR(err.msg, "");
+	CHECK_EQ_INT(rc, 0);
+	if (rc == 0) {
+		CHECK_EQ_STR(t.mind->root, "..");
+		CHECK_EQ_STR(t.mind->bot_name, "T6-NEAT");
+		evo_task_free(&t);
+	}
+	CHECK_EQ_INT(chdir("../Skills"), 0);
 	evo_load_opts o = {.master = "Collect"};
 	evo_loaded *l = evo_mind_load("..", &o, &err);
 	CHECK_EQ_STR(err.msg, "");
