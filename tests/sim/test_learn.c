@@ -106,6 +106,48 @@ TEST(one_thread_and_two_give_the_same_log)
 	free(cb);
 }
 
+/* A fresh run into a run folder that holds an earlier run moves that run
+ * to <folder>.1, whole: none of its files is lost, and none stays among
+ * the new run's. */
+TEST(a_new_run_moves_the_earlier_run_aside)
+{
+	make_mind("again", "NEAT", 3, NEAT_TASK);
+	CHECK_EQ_INT(train("again", ""), 0);
+	char *first = log_of("again");
+	CHECK_EQ_INT(cli_sh("sed -i 's/^NUMGEN:3$/NUMGEN:1/' "
+			    "%s/again/Avoid/Tasks/Small.simbatch",
+			    cli_tmp),
+		     0);
+	CHECK_EQ_INT(train("again", ""), 0);
+	char *out = cli_read("%s/again/out.txt", cli_tmp);
+	CHECK(out != NULL);
+	if (out)
+		CHECK_CONTAINS(out, "again/run is now in ");
+	char path[256];
+	snprintf(path, sizeof path, "%s/again/run.1", cli_tmp);
+	char *moved = cli_fitness_log(path);
+	CHECK(first && moved);
+	if (first && moved) {
+		CHECK_CONTAINS(moved, "\n2,");
+		CHECK_EQ_STR(moved, first);
+	}
+	snprintf(path, sizeof path, "%s/again/run.1/best/gen-0002.net",
+		 cli_tmp);
+	CHECK(evo_file_exists(path));
+	snprintf(path, sizeof path, "%s/again/run/best/gen-0002.net", cli_tmp);
+	CHECK(!evo_file_exists(path));
+	char *now = cli_read("%s/again/run/log.csv", cli_tmp);
+	CHECK(now != NULL);
+	if (now) {
+		CHECK_CONTAINS(now, "\n0,");
+		CHECK(strstr(now, "\n1,") == NULL);
+	}
+	free(first);
+	free(out);
+	free(moved);
+	free(now);
+}
+
 /* Rows in the run's log.csv so far (header excluded). */
 static int rows(const char *name)
 {
@@ -620,6 +662,7 @@ int main(void)
 	if (cli_setup("learn"))
 		return 1;
 	RUN(one_thread_and_two_give_the_same_log);
+	RUN(a_new_run_moves_the_earlier_run_aside);
 	RUN(killed_or_interrupted_and_resumed_run_ends_as_an_uninterrupted_one);
 	RUN(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one);
 	RUN(resume_refuses_a_damaged_checkpoint_and_keeps_the_log);
