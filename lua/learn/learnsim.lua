@@ -44,6 +44,10 @@ local function resume(text, path)
 		or type(c.history.best) ~= "table" or type(c.history.mean) ~= "table" then
 		error(path .. ": not a learning run's checkpoint (it needs generation, pop and history)", 0)
 	end
+	if c.seed ~= nil and c.seed ~= evo.seed then
+		error(string.format("%s: the checkpoint is of a run with seed %s, not %s: resume it with "
+			.. "--seed %s", path, tostring(c.seed), tostring(evo.seed), tostring(c.seed)), 0)
+	end
 	local ok, p = pcall(algo.load, c.pop)
 	if not ok then error(path .. ": " .. tostring(p), 0) end
 	if p.inputs ~= evo.inputs or p.outputs ~= evo.outputs then
@@ -132,7 +136,7 @@ for gen = first, generations - 1 do
 	end
 	-- The checkpoint last: a run killed before it is written resumes from
 	-- the previous generation and redoes this one identically.
-	evo.save("checkpoint.lua", serialize.dump{ generation = gen, pop = algo.save(pop, true),
+	evo.save("checkpoint.lua", serialize.dump{ generation = gen, seed = evo.seed, pop = algo.save(pop, true),
 		history = history, solver = solver, stopped = stop ~= nil })
 	if stop then
 		evo.print(stop)

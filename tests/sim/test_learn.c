@@ -247,7 +247,9 @@ TEST(unknown_method_is_a_clear_error)
 }
 
 /* A resumed run goes on with its checkpoint's options; where the task
- * now asks for others, a warning at the key's line says so. */
+ * now asks for others, a warning at the key's line says so. A --seed
+ * other than the checkpoint's is refused: the episodes of the generations
+ * to come would be another run's. */
 TEST(resume_warns_when_the_task_asks_for_other_options)
 {
 	make_mind("rw", "NEAT", 2, NEAT_TASK);
@@ -258,8 +260,16 @@ TEST(resume_warns_when_the_task_asks_for_other_options)
 			    "%s/rw/Avoid/Tasks/Small.simbatch",
 			    cli_tmp, cli_tmp),
 		     0);
-	CHECK_EQ_INT(train("rw", "--resume"), 0);
+	/* the checkpoint of seed 11 does not go on with another seed */
+	CHECK_EQ_INT(train("rw", "--resume --seed 12"), 1);
 	char *text = cli_read("%s/rw/out.txt", cli_tmp);
+	CHECK(text && strstr(text, "/rw/run/checkpoint.lua: the checkpoint is "
+				   "of a run with seed 11, not 12: resume it "
+				   "with --seed 11"));
+	free(text);
+	CHECK_EQ_INT(rows("rw"), 2);
+	CHECK_EQ_INT(train("rw", "--resume"), 0);
+	text = cli_read("%s/rw/out.txt", cli_tmp);
 	CHECK(text && strstr(text, "Small.simbatch:11: warning: NEAT_C3 is "
 				   "1.5 in the task but 0.4 in the checkpoint; "
 				   "the run goes on with 0.4") &&
