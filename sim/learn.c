@@ -291,18 +291,23 @@ static int l_read(lua_State *L)
 	return 1;
 }
 
-/* The champion goes where DEMOSIM and evo export look for it. */
+/* The champion goes into the run folder, which keeps each run's own, and
+ * then where DEMOSIM and evo export look for it. */
 static int l_save_champion(lua_State *L)
 {
 	learn *l = ctx(L);
 	size_t len;
 	const char *text = luaL_checklstring(L, 1, &len);
-	char path[1400];
+	char kept[1200], path[1400];
+	snprintf(kept, sizeof kept, "%s/champion.net", l->run_dir);
+	evo_err err = {{0}};
+	if (evo_write_file_atomic(kept, text, len, &err))
+		return raise_msg(L, err.msg);
 	snprintf(path, sizeof path, "%s/Skills/%s/%s.net", l->task->mind->root,
 		 l->skill, l->skill);
-	evo_err err = {{0}};
 	if (evo_write_file_atomic(path, text, len, &err))
-		return raise_msg(L, err.msg);
+		return raise_msg(L, lua_pushfstring(L, "%s; the champion is in %s",
+						    err.msg, kept));
 	if (l->tty)
 		printf("\n");
 	printf("champion saved in %s\n", path);

@@ -95,6 +95,11 @@ TEST(one_thread_and_two_give_the_same_log)
 		CHECK_CONTAINS(ca, "trained by evo: NEAT, seed 11");
 		CHECK_EQ_STR(ca, cb);
 	}
+	char *kept = cli_read("%s/t1/run/champion.net", cli_tmp);
+	CHECK(kept && ca);
+	if (kept && ca)
+		CHECK_EQ_STR(kept, ca);
+	free(kept);
 	char png[256];
 	snprintf(png, sizeof png, "%s/t1/run/curve.png", cli_tmp);
 	CHECK(evo_file_exists(png));
