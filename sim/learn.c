@@ -8,10 +8,10 @@
 #define _POSIX_C_SOURCE 200809L
 #include "learn.h"
 
+#include <errno.h>
 #include <lauxlib.h>
 #include <lua.h>
 #include <lualib.h>
-#include <errno.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
