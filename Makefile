@@ -145,7 +145,7 @@ run: deps all
 		--run $(RUN_DIR)/avoid-neat
 	$(BUILD)/evo run $(RUN_DIR)/Avoid/Tasks/Avoid-DEMO.simbatch --headless \
 		--seed 2 --episodes 3 --ticks 3000
-	@echo "run folder: $(RUN_DIR)/avoid-neat (log.csv, curve.png); trained mind: $(RUN_DIR)/Avoid"
+	@echo "run folder: $(RUN_DIR)/avoid-neat (log.csv, champion.net, curve.png); trained mind: $(RUN_DIR)/Avoid"
 
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/evo
