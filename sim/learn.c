@@ -8,7 +8,6 @@
 #define _POSIX_C_SOURCE 200809L
 #include "learn.h"
 
-#include <errno.h>
 #include <lauxlib.h>
 #include <lua.h>
 #include <lualib.h>
@@ -520,42 +519,6 @@ static void catch_interrupt(const learn *l, struct sigaction old[2])
 	}
 }
 
-/* A fresh run (no --resume) into a folder that holds an earlier run moves
- * that run aside to <dir>.N, the first N free, so that none of its files
- * is lost and none is left among the new run's. A folder without log.csv
- * or checkpoint.lua is not a run and is written into as it is. */
-static int set_aside_earlier_run(const char *dir, evo_err *err)
-{
-	char path[1100];
-	struct stat st;
-	snprintf(path, sizeof path, "%s/log.csv", dir);
-	int has_log = stat(path, &st) == 0;
-	snprintf(path, sizeof path, "%s/checkpoint.lua", dir);
-	if (!has_log && stat(path, &st) != 0)
-		return 0;
-	char base[1024];
-	snprintf(base, sizeof base, "%s", dir);
-	for (size_t n = strlen(base); n > 1 && base[n - 1] == '/'; n--)
-		base[n - 1] = 0;
-	for (int k = 1; k < 1000; k++) {
-		snprintf(path, sizeof path, "%s.%d", base, k);
-		if (lstat(path, &st) == 0)
-			continue;
-		if (rename(base, path) != 0)
-			return evo_fail(err,
-					"%s holds an earlier run, and it cannot "
-					"be moved to %s: %s",
-					dir, path, strerror(errno));
-		printf("the earlier run in %s is now in %s\n", base, path);
-		return 0;
-	}
-	return evo_fail(err,
-			"%s holds an earlier run, and %s.1 to %s.999 are all "
-			"taken: remove some, or name another run folder with "
-			"--run",
-			dir, base, base);
-}
-
 int evo_learn_run(const char *task_path, evo_task *task,
 		  const evo_learn_opts *o, evo_err *err)
 {
@@ -583,15 +546,21 @@ int evo_learn_run(const char *task_path, evo_task *task,
 		.threads = o->threads,
 		.seed = o->seed,
 	};
-	l.ev = evo_evaluator_create(&ed, err);
-	if (!l.ev)
+	int lock = evo_runlog_claim(l.run_dir, err);
+	if (lock < 0)
 		return -1;
+	l.ev = evo_evaluator_create(&ed, err);
+	if (!l.ev) {
+		close(lock);
+		return -1;
+	}
 	printf("%s: %s of skill %s, seed %llu, %d threads, run folder %s\n",
 	       task_path, evo_simbatch_get(task->sb, "LEARNINGMETHOD"),
 	       l.skill, (unsigned long long)o->seed,
 	       evo_evaluator_threads(l.ev), l.run_dir);
 	fflush(stdout);
-	if (!o->resume && set_aside_earlier_run(l.run_dir, err)) {
+	if (!o->resume && evo_runlog_set_aside(l.run_dir, err)) {
+		close(lock);
 		evo_evaluator_destroy(l.ev);
 		return -1;
 	}
@@ -616,5 +585,6 @@ int evo_learn_run(const char *task_path, evo_task *task,
 	sigaction(SIGINT, &old_sig[0], NULL);
 	sigaction(SIGTERM, &old_sig[1], NULL);
 	evo_evaluator_destroy(l.ev);
+	close(lock);
 	return rc;
 }

@@ -2,11 +2,14 @@
 #define _POSIX_C_SOURCE 200809L
 #include "runlog.h"
 
+#include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 static const char HEADER[] =
 	"generation,best,mean,best_ever,species,evaluations,solved,seconds,"
@@ -30,6 +33,120 @@ static int make_dirs(const char *path, evo_err *err)
 		}
 	}
 	return 0;
+}
+
+static int exists(const char *dir, const char *name)
+{
+	char p[1100];
+	struct stat st;
+	snprintf(p, sizeof p, "%s/%s", dir, name);
+	return stat(p, &st) == 0;
+}
+
+int evo_runlog_set_aside(const char *dir, evo_err *err)
+{
+	if (!exists(dir, "log.csv") && !exists(dir, "checkpoint.lua"))
+		return 0;
+	char base[1024], aside[1100];
+	snprintf(base, sizeof base, "%s", dir);
+	for (size_t n = strlen(base); n > 1 && base[n - 1] == '/'; n--)
+		base[n - 1] = 0;
+	int k = 1;
+	for (; k < 1000; k++) {
+		snprintf(aside, sizeof aside, "%s.%d", base, k);
+		if (mkdir(aside, 0755) == 0)
+			break;
+		if (errno != EEXIST)
+			return evo_fail(err, "%s: cannot create: %s", aside,
+					strerror(errno));
+	}
+	if (k == 1000)
+		return evo_fail(err,
+				"%s holds an earlier run, and %s.1 to %s.999 "
+				"are all taken: remove some, or name another "
+				"run folder with --run",
+				dir, base, base);
+	/* The names first, then the moves: a directory read while it
+	 * changes may skip or repeat entries. */
+	DIR *d = opendir(base);
+	if (!d)
+		return evo_fail(err, "%s: cannot read: %s", base,
+				strerror(errno));
+	char **names = NULL;
+	size_t n = 0, cap = 0;
+	int rc = 0;
+	struct dirent *e;
+	while (rc == 0 && (e = readdir(d)) != NULL) {
+		if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..") ||
+		    !strcmp(e->d_name, ".lock"))
+			continue;
+		if (n == cap) {
+			cap = cap ? cap * 2 : 16;
+			char **more = realloc(names, cap * sizeof *names);
+			if (!more) {
+				rc = evo_fail(err, "out of memory");
+				break;
+			}
+			names = more;
+		}
+		if (!(names[n] = strdup(e->d_name)))
+			rc = evo_fail(err, "out of memory");
+		else
+			n++;
+	}
+	closedir(d);
+	for (size_t i = 0; i < n; i++) {
+		char from[1400], to[1400];
+		snprintf(from, sizeof from, "%s/%s", base, names[i]);
+		snprintf(to, sizeof to, "%s/%s", aside, names[i]);
+		if (rc == 0 && rename(from, to) != 0)
+			rc = evo_fail(err,
+				      "%s holds an earlier run, and %s cannot "
+				      "be moved to %s: %s",
+				      dir, from, to, strerror(errno));
+		free(names[i]);
+	}
+	free(names);
+	if (rc == 0)
+		printf("the earlier run in %s is now in %s\n", base, aside);
+	return rc;
+}
+
+int evo_runlog_claim(const char *dir, evo_err *err)
+{
+	char path[1100];
+	if (snprintf(path, sizeof path, "%s/.lock", dir) >= (int)sizeof path)
+		return evo_fail(err, "%s: path too long", dir);
+	if (make_dirs(dir, err))
+		return -1;
+	int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+	if (fd < 0)
+		return evo_fail(err, "%s: cannot create: %s", path,
+				strerror(errno));
+	struct flock fl = {.l_type = F_WRLCK, .l_whence = SEEK_SET};
+	if (fcntl(fd, F_SETLK, &fl) != 0) {
+		int busy = errno == EACCES || errno == EAGAIN;
+		const char *why = strerror(errno);
+		struct flock who = {.l_type = F_WRLCK, .l_whence = SEEK_SET};
+		long pid = busy && fcntl(fd, F_GETLK, &who) == 0 &&
+				   who.l_type != F_UNLCK
+			       ? (long)who.l_pid
+			       : 0;
+		close(fd);
+		if (!busy)
+			return evo_fail(err, "%s: cannot lock: %s", path, why);
+		if (pid > 0)
+			return evo_fail(err,
+					"%s is in use by another evo run "
+					"(process %ld): wait for it to end, or "
+					"name another run folder with --run",
+					dir, pid);
+		return evo_fail(err,
+				"%s is in use by another evo run: wait for it "
+				"to end, or name another run folder with --run",
+				dir);
+	}
+	return fd;
 }
 
 static int append(evo_runlog *log, const char *s, size_t n, evo_err *err)

@@ -2,7 +2,8 @@
  * generation.
  *
  * A run folder holds log.csv (one row per generation), the best network
- * of each generation (best/gen-NNNN.net) and the checkpoint. Every file is
+ * of each generation (best/gen-NNNN.net), the checkpoint, the champion
+ * and .lock, locked by the run that holds the folder. Every file is
  * written whole to a temporary name and renamed, so a run killed at any
  * moment leaves each file either as it was or complete. docs/learning.md. */
 #ifndef EVO_RUNLOG_H
@@ -40,6 +41,18 @@ typedef struct evo_runlog {
 int evo_runlog_open(evo_runlog *log, const char *dir, int from_generation,
 		    evo_err *err);
 void evo_runlog_close(evo_runlog *log);
+
+/* Claim the run folder dir for this process: create it and lock its
+ * .lock file, so that a second evo run into the same folder is refused
+ * while this one lives (the lock goes with the process, however it ends).
+ * Returns the lock's descriptor, to close when the run is over, or -1
+ * with err. */
+int evo_runlog_claim(const char *dir, evo_err *err);
+
+/* A fresh run into a folder that holds an earlier run (log.csv or
+ * checkpoint.lua): move the earlier run's files, all but the lock, to the
+ * first free dir.N and say so on stdout. Returns 0 or -1 with err. */
+int evo_runlog_set_aside(const char *dir, evo_err *err);
 
 /* Add a generation's row and save log.csv atomically. */
 int evo_runlog_add(evo_runlog *log, const evo_gen_stats *s, evo_err *err);

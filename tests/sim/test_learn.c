@@ -167,7 +167,8 @@ static int rows(const char *name)
 /* Start training `name` (6 generations), stop it with `sig` (SIGKILL, or
  * SIGINT as Ctrl-C sends) once generation 2 is logged, so inside
  * generation 3's evaluations (or just past them), resume it, and compare
- * its log and champion with those of the uninterrupted run `reference`. */
+ * its log and champion with those of the uninterrupted run `reference`.
+ * While it runs, a second run into its folder is refused. */
 static void stop_and_resume(const char *name, const char *reference, int sig)
 {
 	char cmd[1024];
@@ -185,6 +186,13 @@ static void stop_and_resume(const char *name, const char *reference, int sig)
 	for (int i = 0; i < 20000 && rows(name) < 3; i++)
 		nanosleep(&ms, NULL);
 	CHECK(rows(name) >= 3);
+	/* A second run into the folder while this one lives is refused, and
+	 * leaves it alone (the logs compared below show it). */
+	CHECK_EQ_INT(train(name, "--threads 2"), 1);
+	char *busy = cli_read("%s/%s/out.txt", cli_tmp, name);
+	CHECK(busy && strstr(busy, "/run is in use by another evo run "
+				   "(process "));
+	free(busy);
 	kill(pid, sig);
 	int st;
 	waitpid(pid, &st, 0);

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "harness.h"
@@ -103,6 +104,54 @@ TEST(files_are_saved_whole)
 	evo_runlog_close(&log);
 }
 
+/* A fresh run's claim: the folder is created and locked; an earlier
+ * run's files move whole to the first free .N, the lock stays; a folder
+ * that holds no run is left as it is. (Two processes and the lock:
+ * tests/sim/test_learn.c.) */
+TEST(claim_locks_and_an_earlier_run_moves_aside)
+{
+	char run[256], path[400];
+	snprintf(run, sizeof run, "%s/claimed", dir);
+	evo_err err = {{0}};
+	int fd = evo_runlog_claim(run, &err);
+	CHECK(fd >= 0);
+	snprintf(path, sizeof path, "%s/.lock", run);
+	CHECK(evo_file_exists(path));
+	/* nothing to move yet */
+	CHECK_EQ_INT(evo_runlog_set_aside(run, &err), 0);
+	snprintf(path, sizeof path, "%s.1", run);
+	CHECK(!evo_file_exists(path));
+	/* an earlier run, and a .1 already taken by another */
+	evo_runlog log;
+	CHECK_EQ_INT(evo_runlog_open(&log, run, 0, &err), 0);
+	evo_gen_stats s = stats(0);
+	CHECK_EQ_INT(evo_runlog_add(&log, &s, &err), 0);
+	CHECK_EQ_INT(evo_runlog_save(&log, "best/gen-0000.net", "inputs:1\n",
+				     9, &err),
+		     0);
+	evo_runlog_close(&log);
+	snprintf(path, sizeof path, "%s.1", run);
+	CHECK_EQ_INT(mkdir(path, 0755), 0);
+	CHECK_EQ_INT(evo_runlog_set_aside(run, &err), 0);
+	CHECK_EQ_STR(err.msg, "");
+	snprintf(path, sizeof path, "%s.2/log.csv", run);
+	CHECK(evo_file_exists(path));
+	snprintf(path, sizeof path, "%s.2/best/gen-0000.net", run);
+	CHECK(evo_file_exists(path));
+	snprintf(path, sizeof path, "%s.2/.lock", run);
+	CHECK(!evo_file_exists(path));
+	snprintf(path, sizeof path, "%s/log.csv", run);
+	CHECK(!evo_file_exists(path));
+	snprintf(path, sizeof path, "%s/best", run);
+	CHECK(!evo_file_exists(path));
+	snprintf(path, sizeof path, "%s/.lock", run);
+	CHECK(evo_file_exists(path));
+	if (fd >= 0)
+		close(fd);
+	CHECK_EQ_INT(evo_runlog_claim("/proc/no/such/run", &err), -1);
+	CHECK_CONTAINS(err.msg, "cannot create");
+}
+
 TEST(progress_line_on_a_terminal_and_off)
 {
 	char buf[256];
@@ -137,6 +186,7 @@ int main(void)
 	RUN(log_has_a_row_per_generation_with_exact_values);
 	RUN(resume_keeps_rows_before_the_checkpoint);
 	RUN(files_are_saved_whole);
+	RUN(claim_locks_and_an_earlier_run_moves_aside);
 	RUN(progress_line_on_a_terminal_and_off);
 	char cmd[200];
 	snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
