@@ -91,12 +91,18 @@ static int evaluate_one(worker *w, int i, evo_eval_result *res, evo_err *err)
 	for (int r = 0; r < ev->reps; r++) {
 		if (evo_sim_reset(
 			w->sim, r + 1, evo_eval_grid_seed(ev->seed, ev->gen, r),
-			evo_eval_episode_seed(ev->seed, ev->gen, i, r), err))
-			return -1;
+			evo_eval_episode_seed(ev->seed, ev->gen, i, r), err)) {
+			evo_err inner = *err;
+			return evo_fail(err, "repetition %d, at its start: %s",
+					r + 1, inner.msg);
+		}
 		for (long t = 0; t < ev->ticks; t++) {
 			int st = evo_sim_tick(w->sim, err);
-			if (st < 0)
-				return -1;
+			if (st < 0) {
+				evo_err inner = *err;
+				return evo_fail(err, "repetition %d, tick %ld: %s",
+						r + 1, t, inner.msg);
+			}
 			if (st > 0)
 				break;
 		}
@@ -183,8 +189,8 @@ static void *worker_main(void *arg)
 				ev->res[i] = r;
 			} else if (!ev->failed) {
 				ev->failed = 1;
-				evo_fail(&ev->err, "candidate %d: %s", i,
-					 e.msg);
+				evo_fail(&ev->err, "generation %d, candidate %d: %s",
+					 ev->gen, i, e.msg);
 			}
 		}
 		if (--ev->busy == 0)

@@ -554,10 +554,11 @@ int evo_learn_run(const char *task_path, evo_task *task,
 		close(lock);
 		return -1;
 	}
-	printf("%s: %s of skill %s, seed %llu, %d threads, run folder %s\n",
+	int threads = evo_evaluator_threads(l.ev);
+	printf("%s: %s of skill %s, seed %llu, %d thread%s, run folder %s\n",
 	       task_path, evo_simbatch_get(task->sb, "LEARNINGMETHOD"),
-	       l.skill, (unsigned long long)o->seed,
-	       evo_evaluator_threads(l.ev), l.run_dir);
+	       l.skill, (unsigned long long)o->seed, threads,
+	       threads == 1 ? "" : "s", l.run_dir);
 	fflush(stdout);
 	if (!o->resume && evo_runlog_set_aside(l.run_dir, err)) {
 		close(lock);

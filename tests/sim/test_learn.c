@@ -259,6 +259,36 @@ TEST(unknown_method_is_a_clear_error)
 	free(text);
 }
 
+/* An environment script that fails in the middle of training stops the
+ * run with where: the generation, candidate, repetition and tick, and the
+ * script's file and line; the generations before it stay in the log. */
+TEST(environment_error_says_where_it_happened)
+{
+	make_mind_ticks("envf", "NEAT", 4, 20, "NEAT_POPSIZE:10\\n");
+	CHECK_EQ_INT(
+	    cli_sh("cd %s/envf/Avoid && "
+		   "sed -i 's/^ENV:EXP_Avoid$/ENV:Roam/' Tasks/Small.simbatch && "
+		   "sed -i 's/^return env$/local n = 0\\nfunction "
+		   "env.post_step() n = n + 1; if n > 430 then "
+		   "error(\"broken on purpose\") end end\\nreturn env/' "
+		   "Envs/Roam.lua",
+		   cli_tmp),
+	    0);
+	CHECK_EQ_INT(train("envf", "--threads 1"), 1);
+	char *out = cli_read("%s/envf/out.txt", cli_tmp);
+	/* 10 candidates x 2 repetitions x 20 ticks in generation 0; the
+	 * 431st tick is the 11th of generation 1's first candidate's second
+	 * repetition. */
+	CHECK(out && strstr(out, "generation 1, candidate 0: repetition 2, "
+				 "tick 10: ") &&
+	      strstr(out, "Envs/Roam.lua:") &&
+	      strstr(out, "broken on purpose"));
+	if (out && !strstr(out, "generation 1, candidate 0"))
+		fprintf(stderr, "    said: %s\n", out);
+	free(out);
+	CHECK_EQ_INT(rows("envf"), 1);
+}
+
 /* A resumed run goes on with its checkpoint's options; where the task
  * now asks for others, a warning at the key's line says so. A --seed
  * other than the checkpoint's is refused: the episodes of the generations
@@ -691,6 +721,7 @@ int main(void)
 	RUN(resume_refuses_a_damaged_checkpoint_and_keeps_the_log);
 	RUN(resume_warns_when_the_task_asks_for_other_options);
 	RUN(unknown_method_is_a_clear_error);
+	RUN(environment_error_says_where_it_happened);
 	RUN(bad_learning_option_is_refused_at_its_line);
 	RUN(genetic_trains_and_threads_do_not_change_the_log);
 	RUN(annealing_trains);
