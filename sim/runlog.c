@@ -107,8 +107,10 @@ int evo_runlog_set_aside(const char *dir, evo_err *err)
 		free(names[i]);
 	}
 	free(names);
-	if (rc == 0)
+	if (rc == 0) {
 		printf("the earlier run in %s is now in %s\n", base, aside);
+		fflush(stdout);
+	}
 	return rc;
 }
 
