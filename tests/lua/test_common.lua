@@ -1,0 +1,52 @@
+-- Unit tests of the options machinery the learning methods share
+-- (lua/learn/common.lua), run by tests/sim/test_lua_scripts.c over every
+-- method in common.MODULES. Each entry of the returned table is one test;
+-- it fails by raising.
+local common = require "learn.common"
+
+local function check(cond, msg)
+	if not cond then error(msg or "check failed", 2) end
+end
+
+-- Options that take any finite number, so have no range.
+local ANY_FINITE = { ["learn.neat"] = { bias_input = true } }
+
+local T = {}
+
+function T.every_numeric_option_has_a_range()
+	for _, path in pairs(common.MODULES) do
+		local m = require(path)
+		local free = ANY_FINITE[path] or {}
+		for name, v in pairs(m.defaults) do
+			if type(v) == "number" and not free[name] then
+				check(m.ranges[name], path .. ": " .. name .. " has a range")
+			end
+		end
+	end
+end
+
+-- Out of range, not finite, or not whole where a count is meant: refused
+-- at the key, with what it takes.
+function T.values_out_of_range_are_refused_with_what_the_key_takes()
+	for _, c in ipairs {
+		{ "learn.neat", "NEAT_SURVIVAL", "20", "a number above 0 and at most 1" },
+		{ "learn.neat", "NEAT_SURVIVAL", "0", "a number above 0 and at most 1" },
+		{ "learn.neat", "NEAT_ADD_NODE_PROB", "-0.1", "a number from 0 to 1" },
+		{ "learn.neat", "NEAT_C3", "-1", "a number of 0 or more" },
+		{ "learn.neat", "NEAT_WEIGHT_MAX", "128", "a number above 0 and below 128" },
+		{ "learn.neat", "NEAT_TARGET_SPECIES", "2.5", "a whole number of 0 or more" },
+		{ "learn.neat", "NEAT_STAGNATION", "0", "a whole number of 1 or more" },
+		{ "learn.neat", "NEAT_PERTURB_POWER", "1e999", "a number of 0 or more" },
+		{ "learn.neat", "NEAT_BIAS_INPUT", "inf", "a number" },
+		{ "learn.genetic", "GA_MUTATION_RATE", "10", "a number from 0 to 1" },
+		{ "learn.genetic", "GA_TOURNAMENT", "0", "a whole number of 1 or more" },
+		{ "learn.annealing", "SA_ALPHA", "1.5", "a number above 0 and at most 1" },
+		{ "learn.annealing", "SA_T0", "-1", "a number of 0 or more" },
+	} do
+		local ok, msg = pcall(require(c[1]).options_from_task, { [c[2]] = c[3] })
+		local want = c[2] .. ": expected " .. c[4] .. ", found '" .. c[3] .. "'"
+		check(not ok and msg == want, c[2] .. ":" .. c[3] .. ": " .. tostring(msg))
+	end
+end
+
+return T
