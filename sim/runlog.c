@@ -35,17 +35,12 @@ static int make_dirs(const char *path, evo_err *err)
 	return 0;
 }
 
-static int exists(const char *dir, const char *name)
-{
-	char p[1100];
-	struct stat st;
-	snprintf(p, sizeof p, "%s/%s", dir, name);
-	return stat(p, &st) == 0;
-}
-
 int evo_runlog_set_aside(const char *dir, evo_err *err)
 {
-	if (!exists(dir, "log.csv") && !exists(dir, "checkpoint.lua"))
+	char log[1100], checkpoint[1100];
+	snprintf(log, sizeof log, "%s/log.csv", dir);
+	snprintf(checkpoint, sizeof checkpoint, "%s/checkpoint.lua", dir);
+	if (!evo_file_exists(log) && !evo_file_exists(checkpoint))
 		return 0;
 	char base[1024], aside[1100];
 	snprintf(base, sizeof base, "%s", dir);
