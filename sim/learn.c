@@ -365,26 +365,31 @@ static const luaL_Reg learn_fns[] = {
 	{NULL, NULL},
 };
 
+/* Push two tables of a task: key -> value, and key -> its line in the
+ * file (for messages). */
+static void push_task(lua_State *L, const evo_simbatch *sb)
+{
+	lua_newtable(L);
+	lua_newtable(L);
+	for (unsigned i = 0; i < sb->n_pairs; i++) {
+		lua_pushstring(L, sb->pair[i].value);
+		lua_setfield(L, -3, sb->pair[i].key);
+		lua_pushinteger(L, sb->pair[i].line);
+		lua_setfield(L, -2, sb->pair[i].key);
+	}
+}
+
 static int open_module(lua_State *L)
 {
 	learn *l = ctx(L);
 	lua_newtable(L);
 	luaL_setfuncs(L, learn_fns, 0);
-	lua_newtable(L);
-	for (unsigned i = 0; i < l->task->sb->n_pairs; i++) {
-		lua_pushstring(L, l->task->sb->pair[i].value);
-		lua_setfield(L, -2, l->task->sb->pair[i].key);
-	}
-	lua_setfield(L, -2, "task");
 	/* Where each key is, for messages: evo.task_path, evo.task_lines. */
+	push_task(L, l->task->sb);
+	lua_setfield(L, -3, "task_lines");
+	lua_setfield(L, -2, "task");
 	lua_pushstring(L, l->task_path);
 	lua_setfield(L, -2, "task_path");
-	lua_newtable(L);
-	for (unsigned i = 0; i < l->task->sb->n_pairs; i++) {
-		lua_pushinteger(L, l->task->sb->pair[i].line);
-		lua_setfield(L, -2, l->task->sb->pair[i].key);
-	}
-	lua_setfield(L, -2, "task_lines");
 	if (evo_evaluator_deferred_success(l->ev)) {
 		lua_pushcfunction(L, l_success_test);
 		lua_setfield(L, -2, "success_test");
@@ -449,15 +454,7 @@ static int check_options(lua_State *L)
 		return lua_error(L);
 	const char *method = evo_simbatch_get(task->sb, "LEARNINGMETHOD");
 	lua_pushstring(L, method ? method : "NEAT");
-	lua_newtable(L);
-	lua_newtable(L);
-	for (unsigned i = 0; i < task->sb->n_pairs; i++) {
-		const evo_simbatch_pair *p = &task->sb->pair[i];
-		lua_pushstring(L, p->value);
-		lua_setfield(L, -3, p->key);
-		lua_pushinteger(L, p->line);
-		lua_setfield(L, -2, p->key);
-	}
+	push_task(L, task->sb);
 	lua_pushstring(L, task_path);
 	lua_insert(L, -2); /* method, task, path, lines */
 	lua_call(L, 4, 0);
