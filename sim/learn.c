@@ -2,7 +2,8 @@
  * evaluator (sim/learn.h, docs/learning.md).
  *
  * The loop runs in a Lua state of its own, apart from the workers' scene
- * states. It reaches C through the `evo` module set up here: evaluate a
+ * states. It reaches C through the `evo.learn` module set up here (the
+ * scene scripts have their own `evo` module, sim/lua_evo.c): evaluate a
  * batch of networks, log a generation, save files into the run folder,
  * save the champion, draw the curve. */
 #define _POSIX_C_SOURCE 200809L
@@ -423,7 +424,7 @@ static int run_script(lua_State *L)
 	luaL_openlibs(L);
 	lua_pushlightuserdata(L, l);
 	lua_rawsetp(L, LUA_REGISTRYINDEX, &LEARN_KEY);
-	luaL_requiref(L, "evo", open_module, 0);
+	luaL_requiref(L, "evo.learn", open_module, 0);
 	lua_pop(L, 1);
 	const char *dir = evo_lua_dir();
 	evo_lua_set_path(L, l->task->mind->root, dir);

@@ -3,7 +3,7 @@
 -- them in C on the worker threads; every generation is logged, its best
 -- network saved and a checkpoint written, so --resume goes on exactly where
 -- a killed run stopped.
-local evo = require "evo"
+local evo = require "evo.learn"
 local common = require "learn.common"
 local serialize = require "learn.serialize"
 
