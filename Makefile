@@ -37,9 +37,9 @@ CORE_SRCS := $(sort $(wildcard core/src/*.c))
 # compiler are core too (freestanding) but run only on the host, and so do
 # the status messages (status.c): a firmware reports a status by its code.
 CORE_RUNTIME := mind variables hardcoded hash net table
-HOST_SRCS := $(filter-out sim/evo_main.c,$(sort $(wildcard sim/*.c)))
+HOST_SRCS := $(filter-out sim/cmd/evo_main.c,$(sort $(wildcard sim/*/*.c)))
 # The Box2D shim is the only C++ in evo.
-HOST_CXX_SRCS := $(sort $(wildcard sim/*.cpp))
+HOST_CXX_SRCS := $(sort $(wildcard sim/*/*.cpp))
 TEST_SUPPORT := $(filter-out tests/support/net_dump_main.c,$(sort $(wildcard tests/support/*.c)))
 TEST_SRCS := $(sort $(wildcard tests/*/test_*.c))
 TEST_BINS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRCS))
@@ -76,6 +76,10 @@ $(BUILD)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_ALL) -MMD -MP -c $< -o $@
 
+# A module's own tests may use its private headers (core's tests, core/src);
+# no other code may.
+$(BUILD)/obj/tests/core/%.o: CFLAGS_ALL += -Icore/src
+
 $(BUILD)/obj/%.o: %.cpp
 	@mkdir -p $(dir $@)
 	$(CXX) $(CXXFLAGS_ALL) -MMD -MP -c $< -o $@
@@ -88,7 +92,7 @@ $(BUILD)/libevohost.a: $(HOST_OBJS)
 	@rm -f $@
 	ar rcs $@ $^
 
-$(BUILD)/evo: $(BUILD)/obj/sim/evo_main.o $(BUILD)/libevohost.a $(BUILD)/libevocore.a
+$(BUILD)/evo: $(BUILD)/obj/sim/cmd/evo_main.o $(BUILD)/libevohost.a $(BUILD)/libevocore.a
 	$(CC) $(LDFLAGS_ALL) -o $@ $^ $(LIBS)
 
 $(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(SUPPORT_OBJS) $(BUILD)/libevohost.a $(BUILD)/libevocore.a

@@ -18,9 +18,9 @@
 #include <string.h>
 #include <time.h>
 
-#include "evaluate.h"
-#include "net_build.h"
-#include "scene.h"
+#include "learn/evaluate.h"
+#include "mind/net_build.h"
+#include "world2d/scene.h"
 
 #define N_CAND 128
 #define ROUNDS 5

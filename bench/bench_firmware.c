@@ -23,7 +23,7 @@
 
 #include "firmware/qemu_session.h"
 #include "firmware/trace_file.h"
-#include "mind_load.h"
+#include "mind/mindfolder.h"
 
 static const char *build = "build";
 static trace_file trace;

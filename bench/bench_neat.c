@@ -34,8 +34,8 @@
 #include <sys/wait.h>
 #include <time.h>
 
-#include "fileio.h"
-#include "literature.h"
+#include "base/fileio.h"
+#include "learn/literature.h"
 
 static char evo_bin[256];
 static char tmpdir[128];

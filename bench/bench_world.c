@@ -16,9 +16,9 @@
 #include <string.h>
 #include <time.h>
 
-#include "scene.h"
-#include "sim.h"
-#include "task.h"
+#include "world2d/scene.h"
+#include "tasksim/tasksim.h"
+#include "mind/task.h"
 
 static double now(void)
 {

@@ -9,7 +9,7 @@
 #include "evo/image.h"
 #include "evo/net.h"
 #include "harness.h"
-#include "net_build.h"
+#include "mind/net_build.h"
 #include "support/net_float.h"
 #include "support/rng.h"
 

@@ -6,9 +6,9 @@
 #include <stdlib.h>
 #include <unistd.h>
 
-#include "curve.h"
+#include "learn/curve.h"
 #include "harness.h"
-#include "png.h"
+#include "viewer/png.h"
 
 static uint32_t pixel(const evo_png_image *img, int x, int y)
 {

@@ -13,9 +13,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "evaluate.h"
+#include "learn/evaluate.h"
 #include "harness.h"
-#include "net_build.h"
+#include "mind/net_build.h"
 #include "support/rng.h"
 
 #define AVOID  "minds/Avoid/Tasks/Avoid-EXP-NEAT.simbatch"

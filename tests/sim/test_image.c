@@ -7,7 +7,7 @@
 #include <unistd.h>
 
 #include "harness.h"
-#include "mind_load.h"
+#include "mind/mindfolder.h"
 #include "support/rng.h"
 
 #define TUTORIAL "tests/data/minds/T6-NEAT"

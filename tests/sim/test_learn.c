@@ -16,9 +16,9 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "fileio.h"
+#include "base/fileio.h"
 #include "harness.h"
-#include "literature.h"
+#include "learn/literature.h"
 #include "support/cli.h"
 
 /* A copy of the Avoid example with a small LEARNSIM task for `method`,

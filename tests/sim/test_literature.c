@@ -14,9 +14,9 @@
 #include <string.h>
 #include <sys/wait.h>
 
-#include "fileio.h"
+#include "base/fileio.h"
 #include "harness.h"
-#include "literature.h"
+#include "learn/literature.h"
 #include "support/cli.h"
 
 static evo_netdesc *parse_net(const char *text)

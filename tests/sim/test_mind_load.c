@@ -9,8 +9,8 @@
 #include <unistd.h>
 
 #include "harness.h"
-#include "mind_load.h"
-#include "task.h"
+#include "mind/mindfolder.h"
+#include "mind/task.h"
 
 #define TUTORIAL "tests/data/minds/T6-NEAT"
 

@@ -12,8 +12,8 @@
 
 #include "evo/image.h"
 #include "harness.h"
-#include "png.h"
-#include "raster.h"
+#include "viewer/png.h"
+#include "viewer/raster.h"
 
 #define PI 3.14159265358979323846
 

@@ -6,7 +6,7 @@
 
 #include "harness.h"
 #include "support/scenes.h"
-#include "scene.h"
+#include "world2d/scene.h"
 
 #define NEAR(a, b) (fabs((a) - (b)) <= 1e-9)
 

@@ -7,7 +7,7 @@
 #include <unistd.h>
 
 #include "harness.h"
-#include "runlog.h"
+#include "learn/runlog.h"
 
 static char dir[128];
 

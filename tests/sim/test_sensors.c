@@ -6,7 +6,7 @@
 
 #include "harness.h"
 #include "support/scenes.h"
-#include "scene.h"
+#include "world2d/scene.h"
 
 #define NEAR(a, b, tol) (fabs((a) - (b)) <= (tol))
 #define DEG		(M_PI / 180.0)

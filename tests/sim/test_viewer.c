@@ -25,8 +25,8 @@
 #include <SDL.h>
 
 #include "harness.h"
-#include "png.h"
-#include "viewer.h"
+#include "viewer/png.h"
+#include "viewer/viewer.h"
 
 #define PI 3.14159265358979323846
 

@@ -4,7 +4,7 @@
 #include <math.h>
 
 #include "harness.h"
-#include "world.h"
+#include "world2d/world.h"
 
 #define NEAR(a, b, tol) (fabs((a) - (b)) <= (tol))
 

@@ -8,7 +8,7 @@
 #include <string.h>
 #include <sys/wait.h>
 
-#include "fileio.h"
+#include "base/fileio.h"
 
 char cli_evo[256];
 char cli_tmp[128];

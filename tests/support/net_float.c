@@ -2,7 +2,7 @@
 
 #include <math.h>
 
-#include "net_build.h"
+#include "mind/net_build.h"
 
 double net_float_act(unsigned act, double x)
 {

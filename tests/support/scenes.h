@@ -2,7 +2,7 @@
 #ifndef EVO_TEST_SCENES_H
 #define EVO_TEST_SCENES_H
 
-#include "scene.h"
+#include "world2d/scene.h"
 
 /* A scene with one BotType8-like bot (evo_default_bot_def) named "bot"
  * at (x, y) heading `angle` radians. */

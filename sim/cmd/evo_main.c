@@ -1,0 +1,270 @@
+/* The evo command. `evo help` lists what it does. */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cmd/export_c.h"
+#include "base/fileio.h"
+#include "learn/learn.h"
+#include "mind/mindfolder.h"
+#include "cmd/run.h"
+#include "mind/task.h"
+
+static void usage(FILE *f)
+{
+	fputs("usage:\n"
+	      "  evo run TASK.simbatch [--headless|-nog] [--seed N]\n"
+	      "          [--episodes N] [--ticks N] [--trace FILE]\n"
+	      "      run a task: DEMOSIM in the viewer, or headless;\n"
+	      "      LEARNSIM trains (--threads N, --run DIR, --resume)\n"
+	      "      (evo run with no task lists every option)\n"
+	      "  evo info MINDFOLDER [--master SKILL]\n"
+	      "      load a mind folder and show its hierarchy in tick order\n"
+	      "  evo check TASK.simbatch\n"
+	      "      check a task file, the mind folder it names and,\n"
+	      "      for LEARNSIM, the learning method's options\n"
+	      "  evo tick MINDFOLDER [--master SKILL] [--ticks N]\n"
+	      "           [--sensor NAME=VALUE ...]\n"
+	      "      run the mind for N ticks (default 10) on fixed sensor\n"
+	      "      values (default 0.5) and print actuators and influences\n"
+	      "  evo export MINDFOLDER [--master SKILL] [--format bin|c]\n"
+	      "             [-o FILE]\n"
+	      "      write the mind image (default MINDFOLDER/mind.bin), or\n"
+	      "      with --format c a C header of it for a firmware\n"
+	      "      (default MINDFOLDER/mind.h)\n",
+	      f);
+}
+
+static const char *kind_name(const evo_ades *a)
+{
+	return a->kind == EVO_SKILL_NEURAL ? "neural" : "hardCoded";
+}
+
+static int cmd_info(const evo_loaded *l)
+{
+	const evo_mind *m = &l->mind;
+	printf("mind %s: %u sensors, %u actuators, %u variables, %u skills\n",
+	       l->bot_name, m->n_sensors, m->n_actuators, m->n_vars,
+	       m->n_skills);
+	printf("tick order (master first, parents before sub-skills):\n");
+	for (unsigned i = 0; i < l->n_skills; i++) {
+		const evo_ades *a = &l->skill[i];
+		printf("  %2u %-16s %-9s in %-2u out %-2u", i, a->name,
+		       kind_name(a), a->n_in, a->n_out);
+		if (a->kind == EVO_SKILL_HARDCODED)
+			printf(" class:%s", a->hc_class);
+		else
+			printf(" network: %u nodes, %u links",
+			       (unsigned)(l->net[i]->n_in + l->net[i]->n_nodes),
+			       (unsigned)l->net[i]->n_links);
+		int first = 1;
+		for (unsigned j = 0; j < a->n_out; j++)
+			if (a->out[j].type == EVO_OUT_SK) {
+				printf("%s%s", first ? " -> " : ", ",
+				       a->out[j].name);
+				first = 0;
+			}
+		printf("\n");
+	}
+	printf("mind image: %zu bytes; mind state: %zu bytes\n", l->image_len,
+	       evo_state_size(m));
+	return 0;
+}
+
+static int set_sensor(const evo_loaded *l, const char *arg, double *values)
+{
+	const char *eq = strchr(arg, '=');
+	char *end;
+	if (!eq)
+		return fprintf(stderr,
+			       "evo: --sensor expects NAME=VALUE, found '%s'\n",
+			       arg),
+		       -1;
+	double v = strtod(eq + 1, &end);
+	if (end == eq + 1 || *end || v < 0 || v > 1)
+		return fprintf(stderr,
+			       "evo: --sensor %s: the value must be a number "
+			       "in [0, 1]\n",
+			       arg),
+		       -1;
+	for (unsigned i = 0; i < l->botdesc->n_sensors; i++)
+		if (strlen(l->botdesc->sensor[i].name) == (size_t)(eq - arg) &&
+		    strncmp(l->botdesc->sensor[i].name, arg,
+			    (size_t)(eq - arg)) == 0) {
+			values[i] = v;
+			return 0;
+		}
+	fprintf(stderr, "evo: --sensor %s: %s.botdesc has no sensor '%.*s'\n",
+		arg, l->bot_name, (int)(eq - arg), arg);
+	return -1;
+}
+
+static int cmd_tick(const evo_loaded *l, long ticks, double *sensor_values)
+{
+	const evo_mind *m = &l->mind;
+	size_t size = evo_state_size(m);
+	void *mem = aligned_alloc(8, (size + 7) & ~(size_t)7);
+	evo_q16 sensors[EVO_MAX_SENSORS], actuators[EVO_MAX_ACTUATORS];
+	evo_state *s;
+	if (!mem || evo_state_init(m, mem, size, &s) != EVO_OK) {
+		free(mem);
+		fprintf(stderr, "evo: cannot set up the mind state\n");
+		return 1;
+	}
+	for (unsigned i = 0; i < m->n_sensors; i++)
+		sensors[i] = evo_q16_from_double(sensor_values[i]);
+	printf("tick");
+	for (unsigned a = 0; a < m->n_actuators; a++)
+		printf(" %8s", evo_mind_actuator_name(m, a));
+	for (unsigned v = 0; v < m->n_vars; v++)
+		printf(" %8s", evo_mind_var_name(m, v));
+	printf("  influences\n");
+	for (long t = 0; t < ticks; t++) {
+		evo_mind_step(m, s, sensors, actuators);
+		printf("%4ld", t);
+		for (unsigned a = 0; a < m->n_actuators; a++)
+			printf(" %8.4f", evo_q16_to_double(actuators[a]));
+		for (unsigned v = 0; v < m->n_vars; v++)
+			printf(" %8.4f", evo_q16_to_double(s->var[v].value));
+		printf(" ");
+		for (unsigned i = 0; i < m->n_skills; i++)
+			printf(" %s=%.2f", evo_mind_skill_name(m, i),
+			       evo_q16_to_double(s->influence[i]));
+		printf("\n");
+	}
+	free(mem);
+	return 0;
+}
+
+int main(int argc, char **argv)
+{
+	if (argc < 2 || strcmp(argv[1], "help") == 0 ||
+	    strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+		usage(argc < 2 ? stderr : stdout);
+		return argc < 2 ? 2 : 0;
+	}
+	const char *cmd = argv[1];
+	evo_err err = {{0}};
+	if (strcmp(cmd, "run") == 0)
+		return evo_run_main(argc, argv);
+	if (strcmp(cmd, "check") == 0) {
+		if (argc != 3) {
+			usage(stderr);
+			return 2;
+		}
+		evo_task task;
+		if (evo_task_load(argv[2], &task, &err) != 0) {
+			fprintf(stderr, "%s\n", err.msg);
+			return 1;
+		}
+		if (strcmp(task.type, "LEARNSIM") == 0 &&
+		    evo_learn_check(argv[2], &task, &err) != 0) {
+			fprintf(stderr, "%s\n", err.msg);
+			evo_task_free(&task);
+			return 1;
+		}
+		printf("%s: task %s, mind folder %s, master skill %s: ok\n",
+		       argv[2], task.type, task.mind->root,
+		       evo_mind_skill_name(&task.mind->mind, 0));
+		evo_task_free(&task);
+		return 0;
+	}
+	if (strcmp(cmd, "info") != 0 && strcmp(cmd, "tick") != 0 &&
+	    strcmp(cmd, "export") != 0) {
+		fprintf(stderr, "evo: unknown command '%s'\n", cmd);
+		usage(stderr);
+		return 2;
+	}
+	if (argc < 3) {
+		usage(stderr);
+		return 2;
+	}
+	evo_load_opts opts = {0};
+	long ticks = 10;
+	const char *out = NULL;
+	int format_c = 0;
+	const char *sensor_args[EVO_MAX_SENSORS];
+	unsigned n_sensor_args = 0;
+	for (int i = 3; i < argc; i++) {
+		const char *a = argv[i];
+		const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+		if (strcmp(a, "--master") == 0 && v) {
+			opts.master = v;
+			i++;
+		} else if (strcmp(a, "--ticks") == 0 && v) {
+			char *end;
+			ticks = strtol(v, &end, 10);
+			if (*end || ticks < 0) {
+				fprintf(stderr,
+					"evo: --ticks expects a whole number, "
+					"found '%s'\n",
+					v);
+				return 2;
+			}
+			i++;
+		} else if (strcmp(a, "--sensor") == 0 && v &&
+			   n_sensor_args < EVO_MAX_SENSORS) {
+			sensor_args[n_sensor_args++] = v;
+			i++;
+		} else if (strcmp(a, "-o") == 0 && v) {
+			out = v;
+			i++;
+		} else if (strcmp(a, "--format") == 0 && v &&
+			   strcmp(cmd, "export") == 0) {
+			if (strcmp(v, "c") != 0 && strcmp(v, "bin") != 0) {
+				fprintf(stderr,
+					"evo export: --format expects bin or c, "
+					"found '%s'\n",
+					v);
+				return 2;
+			}
+			format_c = strcmp(v, "c") == 0;
+			i++;
+		} else {
+			fprintf(stderr, "evo %s: unexpected argument '%s'\n",
+				cmd, a);
+			usage(stderr);
+			return 2;
+		}
+	}
+	evo_loaded *l = evo_mind_load(argv[2], &opts, &err);
+	if (!l) {
+		fprintf(stderr, "%s\n", err.msg);
+		return 1;
+	}
+	int rc = 0;
+	if (strcmp(cmd, "info") == 0) {
+		rc = cmd_info(l);
+	} else if (strcmp(cmd, "tick") == 0) {
+		double values[EVO_MAX_SENSORS];
+		for (unsigned i = 0; i < EVO_MAX_SENSORS; i++)
+			values[i] = 0.5;
+		for (unsigned i = 0; i < n_sensor_args && rc == 0; i++)
+			rc = set_sensor(l, sensor_args[i], values) ? 2 : 0;
+		if (rc == 0)
+			rc = cmd_tick(l, ticks, values);
+	} else {
+		char path[1200];
+		if (!out) {
+			snprintf(path, sizeof path, "%s/mind.%s", l->root,
+				 format_c ? "h" : "bin");
+			out = path;
+		}
+		size_t len = l->image_len;
+		char *text = format_c ? evo_export_c(l, &len, &err) : NULL;
+		if ((format_c && !text) ||
+		    evo_write_file_atomic(out, format_c ? text : l->image, len,
+					  &err) != 0) {
+			fprintf(stderr, "%s\n", err.msg);
+			rc = 1;
+		} else {
+			printf("%s: mind image of %s, %zu bytes%s\n", out,
+			       l->bot_name, l->image_len,
+			       format_c ? ", as a C header" : "");
+		}
+		free(text);
+	}
+	evo_mind_free(l);
+	return rc;
+}

@@ -1,0 +1,397 @@
+/* `evo run TASK.simbatch`: run a task (sim/run.h, docs/running.md). */
+#define _POSIX_C_SOURCE 200809L
+#include "cmd/run.h"
+
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "learn/learn.h"
+#include "tasksim/tasksim.h"
+#include "mind/task.h"
+#include "viewer/viewer.h"
+
+static volatile sig_atomic_t stop_requested;
+
+static void on_signal(int sig)
+{
+	(void)sig;
+	stop_requested = 1;
+}
+
+typedef struct run_opts {
+	const char *task;
+	int headless;
+	uint64_t seed;
+	int seed_set;
+	long episodes;
+	long ticks; /* per episode; 0: until a control function ends it */
+	const char *trace;
+	const char *screenshot; /* viewer: save a PNG after `ticks` ticks */
+	long threads;		/* LEARNSIM: 0 for one per core */
+	const char *run_dir;	/* LEARNSIM */
+	int resume;
+} run_opts;
+
+static void run_usage(FILE *f)
+{
+	fputs("usage: evo run TASK.simbatch [options]\n"
+	      "  --headless, -nog   no window; run as fast as possible and\n"
+	      "                     print each episode's reward\n"
+	      "  --seed N           seed of the obstacle grids and of every\n"
+	      "                     random choice (default: SEED or 1)\n"
+	      "  --episodes N       episodes to run (default 1)\n"
+	      "  --ticks N          at most N ticks per episode\n"
+	      "  --trace FILE       record each tick's sensor and actuator\n"
+	      "                     values (docs/running.md)\n"
+	      "  --screenshot FILE  with the viewer: save a PNG after the\n"
+	      "                     first --ticks ticks and quit\n"
+	      "LEARNSIM:\n"
+	      "  --threads N        worker threads (default: one per core)\n"
+	      "  --run DIR          run folder (default MIND/Runs/TASK-seedN)\n"
+	      "  --resume           go on from the run folder's checkpoint\n",
+	      f);
+}
+
+static int parse_count(const char *flag, const char *v, long *out)
+{
+	char *end;
+	errno = 0;
+	long n = v ? strtol(v, &end, 10) : -1;
+	if (!v || *end || errno || n < 0) {
+		fprintf(stderr, "evo run: %s expects a whole number, found '%s'\n",
+			flag, v ? v : "nothing");
+		return -1;
+	}
+	*out = n;
+	return 0;
+}
+
+static int parse_args(int argc, char **argv, run_opts *o)
+{
+	memset(o, 0, sizeof *o);
+	o->episodes = 1;
+	for (int i = 2; i < argc; i++) {
+		const char *a = argv[i];
+		const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+		long n;
+		if (strcmp(a, "--headless") == 0 || strcmp(a, "-nog") == 0) {
+			o->headless = 1;
+		} else if (strcmp(a, "--seed") == 0) {
+			if (parse_count(a, v, &n))
+				return -1;
+			o->seed = (uint64_t)n;
+			o->seed_set = 1;
+			i++;
+		} else if (strcmp(a, "--episodes") == 0) {
+			if (parse_count(a, v, &o->episodes))
+				return -1;
+			i++;
+		} else if (strcmp(a, "--ticks") == 0) {
+			if (parse_count(a, v, &o->ticks))
+				return -1;
+			i++;
+		} else if (strcmp(a, "--trace") == 0 && v) {
+			o->trace = v;
+			i++;
+		} else if (strcmp(a, "--threads") == 0) {
+			if (parse_count(a, v, &o->threads))
+				return -1;
+			i++;
+		} else if (strcmp(a, "--run") == 0 && v) {
+			o->run_dir = v;
+			i++;
+		} else if (strcmp(a, "--resume") == 0) {
+			o->resume = 1;
+		} else if (strcmp(a, "--screenshot") == 0 && v) {
+			o->screenshot = v;
+			i++;
+		} else if (a[0] == '-' || o->task) {
+			fprintf(stderr, "evo run: unexpected argument '%s'\n", a);
+			run_usage(stderr);
+			return -1;
+		} else {
+			o->task = a;
+		}
+	}
+	if (!o->task) {
+		run_usage(stderr);
+		return -1;
+	}
+	return 0;
+}
+
+/* The seeds of episode e: the grid's and the rest's, from (seed, e). */
+static uint64_t grid_seed(uint64_t seed, long e)
+{
+	evo_rng r = evo_rng_for(seed, 1, (uint64_t)e, 0);
+	return evo_rng_next(&r);
+}
+
+static uint64_t episode_seed(uint64_t seed, long e)
+{
+	evo_rng r = evo_rng_for(seed, 2, (uint64_t)e, 0);
+	return evo_rng_next(&r);
+}
+
+/* A trace is written to FILE.tmp.PID and renamed when the run ends well:
+ * a failed run leaves nothing behind. */
+typedef struct trace_file {
+	FILE *f;
+	char tmp[1100];
+	const char *path;
+} trace_file;
+
+static int trace_open(trace_file *t, const char *path, evo_err *err)
+{
+	memset(t, 0, sizeof *t);
+	if (!path)
+		return 0;
+	t->path = path;
+	snprintf(t->tmp, sizeof t->tmp, "%s.tmp.%ld", path, (long)getpid());
+	t->f = fopen(t->tmp, "w");
+	if (!t->f)
+		return evo_fail(err, "%s: cannot create: %s", t->tmp,
+				strerror(errno));
+	return 0;
+}
+
+static int trace_close(trace_file *t, int keep, evo_err *err)
+{
+	if (!t->f)
+		return 0;
+	int bad = ferror(t->f) | (fflush(t->f) != 0) |
+		  (fsync(fileno(t->f)) != 0);
+	bad |= fclose(t->f) != 0;
+	t->f = NULL;
+	if (keep && !bad && rename(t->tmp, t->path) == 0)
+		return 0;
+	unlink(t->tmp);
+	if (keep)
+		return evo_fail(err, "%s: cannot save the trace: %s", t->path,
+				strerror(errno));
+	return 0;
+}
+
+static int run_headless(evo_sim *s, const run_opts *o, uint64_t seed,
+			evo_err *err)
+{
+	for (long e = 1; e <= o->episodes && !stop_requested; e++) {
+		if (evo_sim_reset(s, (int)e, grid_seed(seed, e),
+				  episode_seed(seed, e), err))
+			return -1;
+		long t = 0;
+		int r = 0;
+		while (!stop_requested && (o->ticks == 0 || t < o->ticks)) {
+			r = evo_sim_tick(s, err);
+			t++;
+			if (r != 0)
+				break;
+		}
+		if (r < 0)
+			return -1;
+		const evo_bot *b = &s->scene->bot[s->bot];
+		printf("episode %ld: reward %.6f over %ld ticks, %d collision "
+		       "ticks, %d delivered\n",
+		       e, s->scene->episode_reward, t, b->collisions,
+		       b->delivered);
+		fflush(stdout);
+	}
+	return 0;
+}
+
+static double now(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static void sleep_until(double t)
+{
+	double d = t - now();
+	if (d <= 0)
+		return;
+	struct timespec ts = {(time_t)d, (long)((d - (double)(time_t)d) * 1e9)};
+	nanosleep(&ts, NULL);
+}
+
+/* DEMOSIM in a window: real time (30 ticks a second) times the speed,
+ * with pause, single step, speed and reset keys. */
+static int run_viewer(evo_sim *s, evo_viewer *v, const run_opts *o,
+		      uint64_t seed, evo_err *err)
+{
+	const evo_mind *m = &s->mind->mind;
+	const char *names[256];
+	double infl[256];
+	int n_skills = m->n_skills < 256 ? m->n_skills : 256;
+	for (int i = 0; i < n_skills; i++)
+		names[i] = evo_mind_skill_name(m, (unsigned)i);
+	long e = 1, t = 0;
+	if (evo_sim_reset(s, 1, grid_seed(seed, 1), episode_seed(seed, 1), err))
+		return -1;
+	double speed = 1.0, next = now();
+	int paused = 0;
+	for (;;) {
+		if (stop_requested)
+			return 0;
+		int steps = paused ? 0 : 1;
+		evo_view_action a;
+		while ((a = evo_viewer_poll(v)) != EVO_VIEW_NONE) {
+			if (a == EVO_VIEW_QUIT)
+				return 0;
+			if (a == EVO_VIEW_PAUSE)
+				paused = !paused;
+			else if (a == EVO_VIEW_STEP)
+				steps = 1, paused = 1;
+			else if (a == EVO_VIEW_FASTER && speed < 64)
+				speed *= 2;
+			else if (a == EVO_VIEW_SLOWER && speed > 1.0 / 16)
+				speed /= 2;
+			else if (a == EVO_VIEW_RESET)
+				t = -1;
+			else if (a == EVO_VIEW_SCREENSHOT) {
+				char path[64];
+				snprintf(path, sizeof path,
+					 "evo-screenshot-%ld.png",
+					 s->scene->tick);
+				if (evo_viewer_screenshot(v, path, err))
+					fprintf(stderr, "%s\n", err->msg);
+				else
+					printf("saved %s\n", path);
+				err->msg[0] = 0;
+			}
+		}
+		if (t < 0 || (o->episodes && e > o->episodes)) {
+			if (e > o->episodes && o->episodes)
+				return 0;
+			t = 0;
+			if (evo_sim_reset(s, (int)e, grid_seed(seed, e),
+					  episode_seed(seed, e), err))
+				return -1;
+		}
+		for (int k = 0; k < steps; k++) {
+			int r = evo_sim_tick(s, err);
+			if (r < 0)
+				return -1;
+			t++;
+			if (r > 0 || (o->ticks && t >= o->ticks && !o->screenshot)) {
+				printf("episode %ld: reward %.6f over %ld ticks\n",
+				       e, s->scene->episode_reward, t);
+				fflush(stdout);
+				e++;
+				t = -1;
+				break;
+			}
+		}
+		for (int i = 0; i < n_skills; i++)
+			infl[i] = evo_q16_to_double(s->state->influence[i]);
+		evo_viewer_panel p = {
+			.tick = s->scene->tick,
+			.episode = (int)e,
+			.step_reward = s->scene->step_reward,
+			.episode_reward = s->scene->episode_reward,
+			.n_influence = n_skills,
+			.influence_name = names,
+			.influence = infl,
+			.speed = speed,
+			.paused = paused,
+			.title = o->task,
+		};
+		evo_viewer_draw(v, s->scene, s->bot, &p);
+		if (o->screenshot && t >= o->ticks)
+			return evo_viewer_screenshot(v, o->screenshot, err);
+		next += 1.0 / (30.0 * speed);
+		if (next < now() - 0.5)
+			next = now();
+		sleep_until(next);
+	}
+}
+
+int evo_run_main(int argc, char **argv)
+{
+	run_opts o;
+	if (parse_args(argc, argv, &o))
+		return 2;
+	evo_err err = {{0}};
+	evo_task task;
+	if (evo_task_load(o.task, &task, &err) != 0) {
+		fprintf(stderr, "%s\n", err.msg);
+		return 1;
+	}
+	uint64_t seed = 1;
+	const char *sv = evo_simbatch_get(task.sb, "SEED");
+	if (o.seed_set)
+		seed = o.seed;
+	else if (sv)
+		seed = strtoull(sv, NULL, 10);
+	if (strcmp(task.type, "LEARNSIM") == 0) {
+		evo_learn_opts lo = {
+			.seed = seed,
+			.threads = (int)o.threads,
+			.run_dir = o.run_dir,
+			.resume = o.resume,
+		};
+		int rc = evo_learn_run(o.task, &task, &lo, &err);
+		if (rc)
+			fprintf(stderr, "%s\n", err.msg);
+		evo_task_free(&task);
+		return rc ? 1 : 0;
+	}
+	if (strcmp(task.type, "DEMOSIM") != 0) {
+		fprintf(stderr,
+			"%s: evo run does not run %s tasks yet (it runs "
+			"DEMOSIM and LEARNSIM)\n",
+			o.task, task.type);
+		evo_task_free(&task);
+		return 1;
+	}
+	struct sigaction sa;
+	memset(&sa, 0, sizeof sa);
+	sa.sa_handler = on_signal;
+	sigaction(SIGINT, &sa, NULL);
+	sigaction(SIGTERM, &sa, NULL);
+
+	int rc = 1;
+	evo_viewer *v = NULL;
+	trace_file tf;
+	evo_sim *s = evo_sim_create(task.mind, task.sb, o.task, &err);
+	if (!s)
+		goto out;
+	if (!o.headless) {
+		const char *d = getenv("DISPLAY");
+		const char *w = getenv("WAYLAND_DISPLAY");
+		if ((d && d[0]) || (w && w[0]))
+			v = evo_viewer_open(1024, 720, &err);
+		if (!v) {
+			fprintf(stderr,
+				"evo run: no display (%s); running headless\n",
+				err.msg[0] ? err.msg : "DISPLAY is not set");
+			err.msg[0] = 0;
+			if (o.screenshot)
+				goto out;
+		}
+	}
+	if (trace_open(&tf, o.trace, &err))
+		goto out;
+	s->trace = tf.f;
+	if (s->trace)
+		evo_sim_trace_header(s);
+	int r = v ? run_viewer(s, v, &o, seed, &err)
+		  : run_headless(s, &o, seed, &err);
+	s->trace = NULL;
+	/* A failed run drops its trace; trace_close then leaves err alone. */
+	if (trace_close(&tf, r == 0, &err) == 0 && r == 0)
+		rc = 0;
+out:
+	if (rc != 0 && err.msg[0])
+		fprintf(stderr, "%s\n", err.msg);
+	evo_viewer_close(v);
+	evo_sim_destroy(s);
+	evo_task_free(&task);
+	return rc;
+}

@@ -1,0 +1,101 @@
+/* The evaluator of LEARNSIM: runs batches of candidate networks for a
+ * task's LEARNINGSKILL on a pool of worker threads.
+ *
+ * The pool is created once; each worker owns its own loaded mind folder
+ * (the task's MASTERSKILL hierarchy with the other skills' saved networks)
+ * and its own simulation (own Box2D world, own Lua state), so workers
+ * share nothing but the batch counter. A candidate is copied into the
+ * worker's net slot of the learning skill, the mind image is rebuilt and
+ * rebound, and the repetitions run.
+ *
+ * Fitness: res[i].fitness is the sum over the `reps` repetitions of the
+ * episode reward (scene->episode_reward) of candidate i, each episode
+ * ending when a control function ends it or after `ticks` ticks;
+ * res[i].collisions sums the ticks the learning bot spent touching
+ * something.
+ *
+ * Seeds: repetition r (0-based) of candidate i (its index in the batch)
+ * in generation g runs
+ *     episode number  r + 1
+ *     grid seed       from evo_rng_for(seed, GRID << 32 | g, r, 0)
+ *     episode seed    from evo_rng_for(seed, EPISODE << 32 | g, i, r)
+ * (GRID = 3 and EPISODE = 4 are tags that keep the two streams apart and
+ * apart from `evo run`'s). Every candidate of a generation thus meets the
+ * same obstacle grids, while the rest of its randomness (placements,
+ * RANDOM sensors) is its own; and nothing depends on which worker ran
+ * which candidate, so results do not depend on the number of threads.
+ *
+ * Literature tasks: when the task's ENV is XOR, DPV or DPNV the workers
+ * build no simulation and score each candidate once with sim/literature.h
+ * (seedless and deterministic; EVALREP and TICKLIM do not apply), and
+ * res[i].solved says whether candidate i met the task's success
+ * criterion. DPNV's success is decided after the batch, on one candidate
+ * the caller picks (evo_evaluator_deferred_success): its solved flags
+ * stay 0 here. */
+#ifndef EVO_EVALUATE_H
+#define EVO_EVALUATE_H
+
+#include <stdint.h>
+
+#include "evo/evo.h"
+#include "base/fileio.h"
+
+typedef struct evo_evaluator evo_evaluator;
+
+typedef struct evo_eval_def {
+	const char *task_path; /* a LEARN* .simbatch; copied */
+	int threads;	       /* workers; 0: the number of online cores */
+	uint64_t seed;	       /* the run seed */
+	int reps;	       /* repetitions; 0: EVALREP, else 1 */
+	long ticks;	       /* ticks per episode at most; 0: TICKLIM,
+				* else 1000 */
+} evo_eval_def;
+
+/* Load the task once per worker and start the workers. Returns NULL with
+ * err set (the task's own file:line message) when the task does not load,
+ * its simulation cannot be built, or a thread cannot start. */
+evo_evaluator *evo_evaluator_create(const evo_eval_def *def, evo_err *err);
+
+/* Stop and join the workers, free everything. NULL is allowed. */
+void evo_evaluator_destroy(evo_evaluator *ev);
+
+/* The effective settings (after defaults). */
+int evo_evaluator_threads(const evo_evaluator *ev);
+int evo_evaluator_reps(const evo_evaluator *ev);
+long evo_evaluator_ticks(const evo_evaluator *ev);
+
+/* The learning skill's inputs and outputs: a candidate must match them. */
+unsigned evo_evaluator_n_in(const evo_evaluator *ev);
+unsigned evo_evaluator_n_out(const evo_evaluator *ev);
+
+/* The seeds of repetition rep of candidate cand in generation gen (see
+ * the top of this file), for replaying one evaluation outside the pool. */
+uint64_t evo_eval_grid_seed(uint64_t seed, int gen, int rep);
+uint64_t evo_eval_episode_seed(uint64_t seed, int gen, int cand, int rep);
+
+/* What an evaluation gives. */
+typedef struct evo_eval_result {
+	double fitness;	 /* summed over the repetitions */
+	long collisions; /* ticks the learning bot spent touching something,
+			  * summed over the repetitions (0 for literature
+			  * tasks) */
+	int solved;	 /* literature tasks: the success criterion was met */
+} evo_eval_result;
+
+/* Evaluate candidates[0 .. n-1] (not owned; read while the call runs) in
+ * generation gen, filling res[0 .. n-1]. Returns when the whole batch is
+ * done. Returns 0, or -1 with err set to "candidate I: why" (a network
+ * whose inputs or outputs do not fit the skill, a network the mind image
+ * refuses, a script error); then res is unspecified, and the other
+ * workers stopped at their next candidate. Not reentrant: one batch at a
+ * time per evaluator. */
+int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
+		 int gen, evo_eval_result *res, evo_err *err);
+
+/* 1 when the task decides success after a generation, on one candidate:
+ * DPNV, where the paper gives one network per generation the 100,000-step
+ * and generalisation test (evo_lit_dpnv_check). The learning loop picks
+ * that network, as its method says (docs/learning.md). */
+int evo_evaluator_deferred_success(const evo_evaluator *ev);
+
+#endif

@@ -1,0 +1,589 @@
+/* LEARNSIM: the learning loop in Lua (lua/learn/learnsim.lua) over the C
+ * evaluator (sim/learn.h, docs/learning.md).
+ *
+ * The loop runs in a Lua state of its own, apart from the workers' scene
+ * states. It reaches C through the `evo.learn` module set up here (the
+ * scene scripts have their own `evo` module, sim/lua_evo.c): evaluate a
+ * batch of networks, log a generation, save files into the run folder,
+ * save the champion, draw the curve. */
+#define _POSIX_C_SOURCE 200809L
+#include "learn/learn.h"
+
+#include <lauxlib.h>
+#include <lua.h>
+#include <lualib.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "learn/curve.h"
+#include "learn/evaluate.h"
+#include "learn/literature.h"
+#include "lua/lua_evo.h"
+#include "mind/net_build.h"
+#include "learn/runlog.h"
+
+typedef struct learn {
+	const char *task_path;
+	evo_task *task;
+	const evo_learn_opts *opts;
+	evo_evaluator *ev;
+	evo_runlog log;
+	int log_open;
+	char run_dir[1024];
+	char skill[EVO_NAME_MAX];
+	double started;
+	int first; /* the generation this process started with */
+	int tty;
+} learn;
+
+static const char LEARN_KEY = 'l';
+
+static learn *ctx(lua_State *L)
+{
+	lua_rawgetp(L, LUA_REGISTRYINDEX, &LEARN_KEY);
+	learn *l = lua_touserdata(L, -1);
+	lua_pop(L, 1);
+	return l;
+}
+
+/* An error about a file or a run: its message names the file, so it goes
+ * out without the Lua position that luaL_error would put before it. */
+static int raise_msg(lua_State *L, const char *msg)
+{
+	lua_pushstring(L, msg);
+	return lua_error(L);
+}
+
+static double now(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static double field_num(lua_State *L, int idx, const char *key, double dflt)
+{
+	lua_getfield(L, idx, key);
+	int ok;
+	double v = lua_tonumberx(L, -1, &ok);
+	lua_pop(L, 1);
+	return ok ? v : dflt;
+}
+
+/* A network table of learn.neat (inputs, outputs, nodes {id, act, bias},
+ * outputs_ids, links {from, to, weight}) as evo's network description. */
+static void to_netdesc(lua_State *L, int idx, int which, evo_netdesc *d)
+{
+	memset(d, 0, sizeof *d);
+	luaL_checktype(L, idx, LUA_TTABLE);
+	d->n_in = (uint16_t)field_num(L, idx, "inputs", 0);
+	d->n_out = (uint16_t)field_num(L, idx, "outputs", 0);
+	if (d->n_out > EVO_MAX_SKILL_IO)
+		luaL_error(L, "network %d: %d outputs", which, d->n_out);
+	lua_getfield(L, idx, "nodes");
+	int n = (int)luaL_len(L, -1);
+	if (n > EVO_NET_MAX_NODES)
+		luaL_error(L, "network %d: %d nodes (at most %d)", which, n,
+			   EVO_NET_MAX_NODES);
+	for (int i = 1; i <= n; i++) {
+		lua_geti(L, -1, i);
+		int t = lua_gettop(L);
+		evo_netdesc_node *nd = &d->node[d->n_nodes++];
+		nd->id = (uint16_t)field_num(L, t, "id", 0);
+		nd->bias = evo_net_weight_q16(field_num(L, t, "bias", 0));
+		lua_getfield(L, t, "act");
+		const char *act = lua_tostring(L, -1);
+		unsigned a = 0;
+		while (act && evo_act_name(a) && strcmp(evo_act_name(a), act))
+			a++;
+		if (!act || !evo_act_name(a))
+			luaL_error(L, "network %d: unknown activation '%s'",
+				   which, act ? act : "nil");
+		nd->act = (uint8_t)a;
+		lua_pop(L, 2);
+	}
+	lua_pop(L, 1);
+	lua_getfield(L, idx, "outputs_ids");
+	for (int i = 1; i <= d->n_out; i++) {
+		lua_geti(L, -1, i);
+		d->out_id[i - 1] = (uint16_t)lua_tointeger(L, -1);
+		lua_pop(L, 1);
+	}
+	lua_pop(L, 1);
+	lua_getfield(L, idx, "links");
+	n = (int)luaL_len(L, -1);
+	if (n > EVO_NET_MAX_LINKS)
+		luaL_error(L, "network %d: %d links (at most %d)", which, n,
+			   EVO_NET_MAX_LINKS);
+	for (int i = 1; i <= n; i++) {
+		lua_geti(L, -1, i);
+		int t = lua_gettop(L);
+		evo_netdesc_link *lk = &d->link[d->n_links++];
+		lk->from = (uint16_t)field_num(L, t, "from", 0);
+		lk->to = (uint16_t)field_num(L, t, "to", 0);
+		lk->weight = evo_net_weight_q16(field_num(L, t, "weight", 0));
+		lua_pop(L, 1);
+	}
+	lua_pop(L, 1);
+}
+
+/* evo.evaluate(nets, generation) -> fitness list, seconds, solved list
+ * (booleans: the literature tasks' success criterion), collisions list
+ * (ticks the bot spent touching, summed over the repetitions). */
+static int l_evaluate(lua_State *L)
+{
+	learn *l = ctx(L);
+	luaL_checktype(L, 1, LUA_TTABLE);
+	int gen = (int)luaL_checkinteger(L, 2);
+	int n = (int)luaL_len(L, 1);
+	evo_netdesc *nets = calloc((size_t)(n ? n : 1), sizeof *nets);
+	const evo_netdesc **ptr = calloc((size_t)(n ? n : 1), sizeof *ptr);
+	evo_eval_result *res = calloc((size_t)(n ? n : 1), sizeof *res);
+	if (!nets || !ptr || !res) {
+		free(nets);
+		free(ptr);
+		free(res);
+		return luaL_error(L, "out of memory");
+	}
+	for (int i = 0; i < n; i++) {
+		lua_geti(L, 1, i + 1);
+		to_netdesc(L, lua_gettop(L), i, &nets[i]);
+		ptr[i] = &nets[i];
+		lua_pop(L, 1);
+	}
+	evo_err err = {{0}};
+	double t0 = now();
+	int rc = evo_evaluate(l->ev, ptr, n, gen, res, &err);
+	double dt = now() - t0;
+	free(nets);
+	free(ptr);
+	if (rc) {
+		free(res);
+		lua_pushstring(L, err.msg);
+		return lua_error(L);
+	}
+	lua_createtable(L, n, 0);
+	for (int i = 0; i < n; i++) {
+		lua_pushnumber(L, res[i].fitness);
+		lua_rawseti(L, -2, i + 1);
+	}
+	lua_pushnumber(L, dt);
+	lua_createtable(L, n, 0);
+	for (int i = 0; i < n; i++) {
+		lua_pushboolean(L, res[i].solved);
+		lua_rawseti(L, -2, i + 1);
+	}
+	lua_createtable(L, n, 0);
+	for (int i = 0; i < n; i++) {
+		lua_pushinteger(L, res[i].collisions);
+		lua_rawseti(L, -2, i + 1);
+	}
+	free(res);
+	return 4;
+}
+
+/* evo.success_test(net) -> solved, generalisation: DPNV's success test
+ * (100,000 steps from the start state, then Gruau's 625 starts) for the
+ * one network of a generation the loop picked. generalisation is nil when
+ * the network did not last the 100,000 steps. Present only on DPNV. */
+static int l_success_test(lua_State *L)
+{
+	/* A userdata, so an error in the network frees it too. */
+	evo_netdesc *d = lua_newuserdatauv(L, sizeof *d, 0);
+	to_netdesc(L, 1, 1, d);
+	evo_lit_result r;
+	evo_err err = {{0}};
+	if (evo_lit_dpnv_check(d, &r, &err))
+		return raise_msg(L, err.msg);
+	lua_pushboolean(L, r.solved);
+	if (r.generalisation >= 0)
+		lua_pushinteger(L, r.generalisation);
+	else
+		lua_pushnil(L);
+	return 2;
+}
+
+static int l_open_log(lua_State *L)
+{
+	learn *l = ctx(L);
+	evo_err err = {{0}};
+	l->first = (int)luaL_checkinteger(L, 1);
+	if (evo_runlog_open(&l->log, l->run_dir, l->first, &err))
+		return raise_msg(L, err.msg);
+	l->log_open = 1;
+	return 0;
+}
+
+/* evo.log{generation, generations, best, mean, best_ever, species,
+ * evaluations, seconds}: a row of log.csv and the progress line. */
+static int l_log(lua_State *L)
+{
+	learn *l = ctx(L);
+	luaL_checktype(L, 1, LUA_TTABLE);
+	if (!l->log_open)
+		return luaL_error(L, "evo.log before evo.open_log");
+	evo_gen_stats s = {
+		.generation = (int)field_num(L, 1, "generation", 0),
+		.generations = (int)field_num(L, 1, "generations", 0),
+		.best = field_num(L, 1, "best", NAN),
+		.mean = field_num(L, 1, "mean", NAN),
+		.best_ever = field_num(L, 1, "best_ever", NAN),
+		.species = (int)field_num(L, 1, "species", 0),
+		.evaluations = (long)field_num(L, 1, "evaluations", 0),
+		.solved = (int)field_num(L, 1, "solved", 0),
+		.seconds = field_num(L, 1, "seconds", 0),
+		.elapsed = now() - l->started,
+		.first = l->first,
+	};
+	evo_err err = {{0}};
+	if (evo_runlog_add(&l->log, &s, &err))
+		return raise_msg(L, err.msg);
+	char line[256];
+	evo_progress_format(line, sizeof line, &s, l->tty);
+	if (l->tty)
+		printf("\r%s\033[K", line);
+	else
+		printf("%s\n", line);
+	fflush(stdout);
+	return 0;
+}
+
+static int l_save(lua_State *L)
+{
+	learn *l = ctx(L);
+	size_t len;
+	const char *name = luaL_checkstring(L, 1);
+	const char *text = luaL_checklstring(L, 2, &len);
+	evo_err err = {{0}};
+	if (!l->log_open)
+		return luaL_error(L, "evo.save before evo.open_log");
+	if (evo_runlog_save(&l->log, name, text, len, &err))
+		return raise_msg(L, err.msg);
+	return 0;
+}
+
+static int l_read(lua_State *L)
+{
+	learn *l = ctx(L);
+	char path[1200], *data;
+	size_t len;
+	evo_err err;
+	snprintf(path, sizeof path, "%s/%s", l->run_dir, luaL_checkstring(L, 1));
+	struct stat st;
+	if (stat(path, &st) != 0) {
+		lua_pushnil(L);
+		return 1;
+	}
+	/* Something that is there but cannot be read is an error, not a
+	 * fresh start that would overwrite the run's log. */
+	if (!S_ISREG(st.st_mode))
+		return raise_msg(L, lua_pushfstring(L, "%s: not a file", path));
+	if (evo_read_file(path, &data, &len, &err))
+		return raise_msg(L, err.msg);
+	lua_pushlstring(L, data, len);
+	free(data);
+	return 1;
+}
+
+/* The champion goes into the run folder, which keeps each run's own, and
+ * then where DEMOSIM and evo export look for it. */
+static int l_save_champion(lua_State *L)
+{
+	learn *l = ctx(L);
+	size_t len;
+	const char *text = luaL_checklstring(L, 1, &len);
+	char kept[1200], path[1400];
+	snprintf(kept, sizeof kept, "%s/champion.net", l->run_dir);
+	evo_err err = {{0}};
+	if (evo_write_file_atomic(kept, text, len, &err))
+		return raise_msg(L, err.msg);
+	snprintf(path, sizeof path, "%s/Skills/%s/%s.net", l->task->mind->root,
+		 l->skill, l->skill);
+	if (evo_write_file_atomic(path, text, len, &err))
+		return raise_msg(L, lua_pushfstring(L, "%s; the champion is in %s",
+						    err.msg, kept));
+	if (l->tty)
+		printf("\n");
+	printf("champion saved in %s\n", path);
+	return 0;
+}
+
+static double *number_list(lua_State *L, int idx, int *n)
+{
+	luaL_checktype(L, idx, LUA_TTABLE);
+	*n = (int)luaL_len(L, idx);
+	double *v = calloc((size_t)(*n ? *n : 1), sizeof *v);
+	for (int i = 0; v && i < *n; i++) {
+		lua_geti(L, idx, i + 1);
+		v[i] = lua_tonumber(L, -1);
+		lua_pop(L, 1);
+	}
+	return v;
+}
+
+static int l_curve(lua_State *L)
+{
+	learn *l = ctx(L);
+	int nb, nm;
+	double *best = number_list(L, 1, &nb), *mean = number_list(L, 2, &nm);
+	char path[1200], title[200];
+	snprintf(path, sizeof path, "%s/curve.png", l->run_dir);
+	snprintf(title, sizeof title, "%s", l->skill);
+	evo_err err = {{0}};
+	int rc = best && mean ? evo_curve_write(path, title, best, mean,
+						 nb < nm ? nb : nm, &err)
+			      : evo_fail(&err, "out of memory");
+	free(best);
+	free(mean);
+	if (rc)
+		return raise_msg(L, err.msg);
+	printf("learning curve in %s\n", path);
+	return 0;
+}
+
+static int l_print(lua_State *L)
+{
+	printf("%s\n", luaL_checkstring(L, 1));
+	fflush(stdout);
+	return 0;
+}
+
+static const luaL_Reg learn_fns[] = {
+	{"evaluate", l_evaluate},
+	{"open_log", l_open_log},
+	{"log", l_log},
+	{"save", l_save},
+	{"read", l_read},
+	{"save_champion", l_save_champion},
+	{"curve", l_curve},
+	{"print", l_print},
+	{NULL, NULL},
+};
+
+/* Push two tables of a task: key -> value, and key -> its line in the
+ * file (for messages). */
+static void push_task(lua_State *L, const evo_simbatch *sb)
+{
+	lua_newtable(L);
+	lua_newtable(L);
+	for (unsigned i = 0; i < sb->n_pairs; i++) {
+		lua_pushstring(L, sb->pair[i].value);
+		lua_setfield(L, -3, sb->pair[i].key);
+		lua_pushinteger(L, sb->pair[i].line);
+		lua_setfield(L, -2, sb->pair[i].key);
+	}
+}
+
+static int open_module(lua_State *L)
+{
+	learn *l = ctx(L);
+	lua_newtable(L);
+	luaL_setfuncs(L, learn_fns, 0);
+	/* Where each key is, for messages: evo.task_path, evo.task_lines. */
+	push_task(L, l->task->sb);
+	lua_setfield(L, -3, "task_lines");
+	lua_setfield(L, -2, "task");
+	lua_pushstring(L, l->task_path);
+	lua_setfield(L, -2, "task_path");
+	if (evo_evaluator_deferred_success(l->ev)) {
+		lua_pushcfunction(L, l_success_test);
+		lua_setfield(L, -2, "success_test");
+	}
+	lua_pushinteger(L, (lua_Integer)l->opts->seed);
+	lua_setfield(L, -2, "seed");
+	lua_pushinteger(L, (lua_Integer)evo_evaluator_n_in(l->ev));
+	lua_setfield(L, -2, "inputs");
+	lua_pushinteger(L, (lua_Integer)evo_evaluator_n_out(l->ev));
+	lua_setfield(L, -2, "outputs");
+	lua_pushboolean(L, l->opts->resume);
+	lua_setfield(L, -2, "resume");
+	lua_pushstring(L, l->run_dir);
+	lua_setfield(L, -2, "run_dir");
+	lua_pushinteger(L, evo_evaluator_reps(l->ev));
+	lua_setfield(L, -2, "reps");
+	lua_pushinteger(L, (lua_Integer)evo_evaluator_ticks(l->ev));
+	lua_setfield(L, -2, "ticks");
+	/* GENETIC and ANNEALING evolve the fixed layered network of the
+	 * skill's `layers:` (1 when absent, as the .ades reader says). */
+	int k = evo_loaded_skill(l->task->mind, l->skill);
+	lua_pushinteger(L, k >= 0 ? (lua_Integer)l->task->mind->skill[k].layers
+				  : 1);
+	lua_setfield(L, -2, "layers");
+	return 1;
+}
+
+static int run_script(lua_State *L)
+{
+	learn *l = lua_touserdata(L, 1);
+	luaL_openlibs(L);
+	lua_pushlightuserdata(L, l);
+	lua_rawsetp(L, LUA_REGISTRYINDEX, &LEARN_KEY);
+	luaL_requiref(L, "evo.learn", open_module, 0);
+	lua_pop(L, 1);
+	const char *dir = evo_lua_dir();
+	evo_lua_set_path(L, l->task->mind->root, dir);
+	char path[1200];
+	snprintf(path, sizeof path, "%s/learn/learnsim.lua", dir);
+	if (luaL_loadfilex(L, path, "t") != LUA_OK)
+		return lua_error(L);
+	lua_call(L, 0, 0);
+	return 0;
+}
+
+/* evo check on a LEARNSIM task: the method's options as evo run reads
+ * them (common.task_options), warnings included, without training. */
+static const char CHECK_OPTIONS[] =
+    "local method, task, path, lines = ...\n"
+    "local common = require 'learn.common'\n"
+    "common.task_options(require(common.MODULES[method]), task, path, "
+    "lines)\n";
+
+static int check_options(lua_State *L)
+{
+	const char *task_path = lua_touserdata(L, 1);
+	const evo_task *task = lua_touserdata(L, 2);
+	luaL_openlibs(L);
+	evo_lua_set_path(L, task->mind->root, evo_lua_dir());
+	if (luaL_loadbufferx(L, CHECK_OPTIONS, sizeof CHECK_OPTIONS - 1,
+			     "=evo check", "t") != LUA_OK)
+		return lua_error(L);
+	const char *method = evo_simbatch_get(task->sb, "LEARNINGMETHOD");
+	lua_pushstring(L, method ? method : "NEAT");
+	push_task(L, task->sb);
+	lua_pushstring(L, task_path);
+	lua_insert(L, -2); /* method, task, path, lines */
+	lua_call(L, 4, 0);
+	return 0;
+}
+
+int evo_learn_check(const char *task_path, evo_task *task, evo_err *err)
+{
+	lua_State *L = luaL_newstate();
+	if (!L)
+		return evo_fail(err, "cannot create a Lua state");
+	lua_pushcfunction(L, check_options);
+	lua_pushlightuserdata(L, (void *)task_path);
+	lua_pushlightuserdata(L, task);
+	int rc = 0;
+	if (lua_pcall(L, 2, 0, 0) != LUA_OK)
+		rc = evo_fail(err, "%s", lua_tostring(L, -1));
+	lua_close(L);
+	return rc;
+}
+
+/* Ctrl-C (SIGINT) and a scheduler's SIGTERM stop a run at once, as they
+ * always did; the handler first says that nothing finished is lost and
+ * how to go on. Every generation's log row and checkpoint are already on
+ * disk, written atomically. */
+static char interrupt_msg[1400];
+static size_t interrupt_len;
+
+static void on_interrupt(int sig)
+{
+	ssize_t n = write(STDERR_FILENO, interrupt_msg, interrupt_len);
+	(void)n;
+	signal(sig, SIG_DFL);
+	raise(sig);
+}
+
+static void catch_interrupt(const learn *l, struct sigaction old[2])
+{
+	int n = snprintf(interrupt_msg, sizeof interrupt_msg,
+			 "\ninterrupted: %s holds every finished generation; "
+			 "evo run %s --seed %llu --resume%s%s goes on\n",
+			 l->run_dir, l->task_path,
+			 (unsigned long long)l->opts->seed,
+			 l->opts->run_dir ? " --run " : "",
+			 l->opts->run_dir ? l->opts->run_dir : "");
+	interrupt_len = n < 0 ? 0
+		      : (size_t)n < sizeof interrupt_msg ? (size_t)n
+							 : sizeof interrupt_msg - 1;
+	struct sigaction sa;
+	memset(&sa, 0, sizeof sa);
+	sa.sa_handler = on_interrupt;
+	sigemptyset(&sa.sa_mask);
+	static const int sigs[2] = {SIGINT, SIGTERM};
+	for (int k = 0; k < 2; k++) {
+		sigaction(sigs[k], NULL, &old[k]);
+		/* A shell runs background jobs with SIGINT ignored; keep that. */
+		if (old[k].sa_handler != SIG_IGN)
+			sigaction(sigs[k], &sa, NULL);
+	}
+}
+
+int evo_learn_run(const char *task_path, evo_task *task,
+		  const evo_learn_opts *o, evo_err *err)
+{
+	learn l;
+	memset(&l, 0, sizeof l);
+	l.task_path = task_path;
+	l.task = task;
+	l.opts = o;
+	l.tty = isatty(fileno(stdout));
+	l.started = now();
+	snprintf(l.skill, sizeof l.skill, "%s",
+		 evo_simbatch_get(task->sb, "LEARNINGSKILL"));
+	if (o->run_dir) {
+		snprintf(l.run_dir, sizeof l.run_dir, "%s", o->run_dir);
+	} else {
+		const char *base = strrchr(task_path, '/');
+		base = base ? base + 1 : task_path;
+		int n = (int)strcspn(base, ".");
+		snprintf(l.run_dir, sizeof l.run_dir, "%s/Runs/%.*s-seed%llu",
+			 task->mind->root, n, base,
+			 (unsigned long long)o->seed);
+	}
+	evo_eval_def ed = {
+		.task_path = task_path,
+		.threads = o->threads,
+		.seed = o->seed,
+	};
+	int lock = evo_runlog_claim(l.run_dir, err);
+	if (lock < 0)
+		return -1;
+	l.ev = evo_evaluator_create(&ed, err);
+	if (!l.ev) {
+		close(lock);
+		return -1;
+	}
+	int threads = evo_evaluator_threads(l.ev);
+	printf("%s: %s of skill %s, seed %llu, %d thread%s, run folder %s\n",
+	       task_path, evo_simbatch_get(task->sb, "LEARNINGMETHOD"),
+	       l.skill, (unsigned long long)o->seed, threads,
+	       threads == 1 ? "" : "s", l.run_dir);
+	fflush(stdout);
+	if (!o->resume && evo_runlog_set_aside(l.run_dir, err)) {
+		close(lock);
+		evo_evaluator_destroy(l.ev);
+		return -1;
+	}
+	struct sigaction old_sig[2];
+	catch_interrupt(&l, old_sig);
+	lua_State *L = luaL_newstate();
+	int rc = 0;
+	if (!L) {
+		rc = evo_fail(err, "cannot create a Lua state");
+	} else {
+		lua_pushcfunction(L, run_script);
+		lua_pushlightuserdata(L, &l);
+		if (lua_pcall(L, 1, 0, 0) != LUA_OK) {
+			if (l.tty)
+				printf("\n");
+			rc = evo_fail(err, "%s", lua_tostring(L, -1));
+		}
+		lua_close(L);
+	}
+	if (l.log_open)
+		evo_runlog_close(&l.log);
+	sigaction(SIGINT, &old_sig[0], NULL);
+	sigaction(SIGTERM, &old_sig[1], NULL);
+	evo_evaluator_destroy(l.ev);
+	close(lock);
+	return rc;
+}

@@ -1,0 +1,58 @@
+/* The mind loader: reads a mind folder and builds its mind model.
+ *
+ * A mind folder <root>/ named after its agent <Bot> holds
+ *     <Bot>.botdesc                sensors and actuators
+ *     <Bot>.vardesc                variables (optional: none if absent)
+ *     Skills/<Name>/<Name>.ades    one per skill
+ *     Skills/<Name>/<Name>.net     a neural skill's trained network
+ *     Tasks/<Task>.simbatch         tasks
+ * Every skill reachable from the master skill through SK outputs is read;
+ * skills are put in a fixed top-down order (master first, every skill
+ * before its sub-skills) and every name is resolved. docs/mind.md. */
+#ifndef EVO_MIND_LOAD_H
+#define EVO_MIND_LOAD_H
+
+#include "evo/evo.h"
+#include "base/fileio.h"
+
+typedef struct evo_load_opts {
+	/* The master skill; NULL: the one skill of Skills/ that no other
+	 * skill names in an SK output. */
+	const char *master;
+	/* A neural skill being trained: it may lack a .net; it then gets a
+	 * layered network with zero weights (every output 0.5). */
+	const char *learning_skill;
+} evo_load_opts;
+
+typedef struct evo_loaded {
+	char *root;	/* the mind folder, as given */
+	char *bot_name; /* its last path component */
+	evo_botdesc *botdesc;
+	evo_vardesc *vardesc;
+	unsigned n_skills; /* top-down order, master first */
+	evo_ades *skill;
+	evo_netdesc **net; /* per skill; NULL for hard-coded */
+	uint32_t names_hash;
+	void *image; /* the mind image (the model) */
+	size_t image_len;
+	evo_mind mind; /* a view over image */
+} evo_loaded;
+
+/* Load the mind folder at root. Returns NULL with err set to
+ * "file:line: what was wrong" on any problem. */
+evo_loaded *evo_mind_load(const char *root, const evo_load_opts *opts,
+			  evo_err *err);
+
+void evo_mind_free(evo_loaded *l);
+
+/* Skill index in l's order, or -1. */
+int evo_loaded_skill(const evo_loaded *l, const char *name);
+
+/* Rebuild l's image after changing l->net[...] (e.g. a new candidate
+ * network for the learning skill). */
+int evo_loaded_rebuild(evo_loaded *l, evo_err *err);
+
+/* The names hash of a botdesc and vardesc (vardesc may be NULL). */
+uint32_t evo_names_hash_of(const evo_botdesc *b, const evo_vardesc *v);
+
+#endif

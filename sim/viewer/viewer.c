@@ -1,0 +1,716 @@
+/* The DEMOSIM viewer: see viewer.h.
+ *
+ * Why a raster of evo's own and not SDL_Render's primitives: SDL 2 draws
+ * no filled circles, no rotated boxes and no text, its software renderer
+ * blends differently from its GL ones, and reading a GL back buffer after
+ * a present is undefined. Drawing into memory gives the same pixels on
+ * every machine, with or without a display, and one texture upload a
+ * frame is cheap at these sizes. */
+#include "viewer/viewer.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <SDL.h>
+
+#include "viewer/png.h"
+
+/* ---- camera ---------------------------------------------------------- */
+
+static int panel_width(int w)
+{
+	return w < 3 * EVO_VIEW_PANEL_W ? w / 3 : EVO_VIEW_PANEL_W;
+}
+
+/* The middle of the bounding box of everything placed in the scene: what
+ * to look at when no bot is followed. */
+static void scene_middle(const evo_scene *sc, double *x, double *y)
+{
+	double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+#define GROW(px, py)                                                           \
+	do {                                                                   \
+		x0 = fmin(x0, (px));                                           \
+		x1 = fmax(x1, (px));                                           \
+		y0 = fmin(y0, (py));                                           \
+		y1 = fmax(y1, (py));                                           \
+	} while (0)
+	for (int b = 0; b < sc->n_bots; b++) {
+		evo_pose p = evo_body_pose(sc->world, sc->bot[b].body);
+		GROW(p.x, p.y);
+	}
+	for (int e = 0; e < sc->n_elements; e++)
+		GROW(sc->element[e].x, sc->element[e].y);
+#undef GROW
+	if (x0 > x1) {
+		*x = *y = 0;
+		return;
+	}
+	*x = (x0 + x1) / 2;
+	*y = (y0 + y1) / 2;
+}
+
+evo_view_camera evo_view_camera_for(const evo_scene *sc, int follow_bot,
+				    double zoom, int w, int h)
+{
+	evo_view_camera c;
+	c.world_w = w - panel_width(w);
+	c.cx = c.world_w / 2.0;
+	c.cy = h / 2.0;
+	if (!(zoom > 0))
+		zoom = 1;
+	int side = c.world_w < h ? c.world_w : h;
+	c.scale = (side > 0 ? side : 1) * zoom / (2 * EVO_VIEW_HALF_SPAN);
+	if (follow_bot >= 0 && follow_bot < sc->n_bots) {
+		evo_pose p = evo_body_pose(sc->world, sc->bot[follow_bot].body);
+		c.x = p.x;
+		c.y = p.y;
+	} else {
+		scene_middle(sc, &c.x, &c.y);
+	}
+	return c;
+}
+
+void evo_view_to_screen(const evo_view_camera *cam, double x, double y,
+			double *sx, double *sy)
+{
+	*sx = cam->cx + (x - cam->x) * cam->scale;
+	*sy = cam->cy + (y - cam->y) * cam->scale;
+}
+
+/* A pixel index for a screen coordinate, kept where int arithmetic is
+ * safe (a point may project anywhere). */
+static int pix(double v)
+{
+	if (!(v > -1e6))
+		return -1000000;
+	if (v > 1e6)
+		return 1000000;
+	return (int)floor(v);
+}
+
+/* ---- the world ------------------------------------------------------- */
+
+#define GRID_LINE     0xE0DED6u
+#define OBSTACLE_EDGE 0x5E5E5Eu
+#define ZONE_EDGE     0x2A8C3Au
+#define ZONE_OFF      0xA8A8A8u
+#define OBJECT_EDGE   0xA0560Au
+#define BOT_EDGE      0x1C447Fu
+#define GRIP	      0x333333u
+#define SCALE_BAR     0x555555u
+
+/* World-space corners of a box of half sides (hw, hh) turned by angle
+ * about (x, y), in screen pixels. */
+static void box_corners(const evo_view_camera *cam, double x, double y,
+			double angle, double hw, double hh, double *sx,
+			double *sy)
+{
+	double c = cos(angle), s = sin(angle);
+	static const double ux[4] = {-1, 1, 1, -1}, uy[4] = {-1, -1, 1, 1};
+	for (int k = 0; k < 4; k++) {
+		double bx = ux[k] * hw, by = uy[k] * hh;
+		evo_view_to_screen(cam, x + c * bx - s * by,
+				   y + s * bx + c * by, &sx[k], &sy[k]);
+	}
+}
+
+/* Faint lines every 10 m (every 50 m when they would crowd), so motion
+ * shows while the camera follows a bot. */
+static void draw_grid(evo_image_rgb *im, const evo_view_camera *cam)
+{
+	double step = cam->scale * 10 >= 24 ? 10 : 50;
+	double wx0 = cam->x - cam->cx / cam->scale;
+	double wx1 = cam->x + (cam->world_w - cam->cx) / cam->scale;
+	double wy0 = cam->y - cam->cy / cam->scale;
+	double wy1 = cam->y + (im->h - cam->cy) / cam->scale;
+	if (!isfinite(wx0) || !isfinite(wx1) || !isfinite(wy0) ||
+	    !isfinite(wy1) || (wx1 - wx0) / step > 1000)
+		return;
+	for (double x = ceil(wx0 / step) * step; x <= wx1; x += step) {
+		double sx, sy;
+		evo_view_to_screen(cam, x, 0, &sx, &sy);
+		evo_raster_fill_rect(im, pix(sx), 0, 1, im->h, GRID_LINE, 255);
+	}
+	for (double y = ceil(wy0 / step) * step; y <= wy1; y += step) {
+		double sx, sy;
+		evo_view_to_screen(cam, 0, y, &sx, &sy);
+		evo_raster_fill_rect(im, 0, pix(sy), cam->world_w, 1, GRID_LINE,
+				     255);
+	}
+}
+
+static void draw_obstacle(evo_image_rgb *im, const evo_view_camera *cam,
+			  const evo_obstacle *o)
+{
+	if (o->shape == EVO_SHAPE_CIRCLE) {
+		double sx, sy, r = o->radius * cam->scale;
+		evo_view_to_screen(cam, o->x, o->y, &sx, &sy);
+		evo_raster_fill_circle(im, sx, sy, r, EVO_VIEW_OBSTACLE, 255);
+		evo_raster_circle(im, sx, sy, r, 1, OBSTACLE_EDGE, 255);
+		return;
+	}
+	double bx[4], by[4];
+	box_corners(cam, o->x, o->y, o->angle, o->half_w, o->half_h, bx, by);
+	evo_raster_fill_polygon(im, bx, by, 4, EVO_VIEW_OBSTACLE, 255);
+	evo_raster_polygon(im, bx, by, 4, OBSTACLE_EDGE, 255);
+}
+
+static void draw_zone(evo_image_rgb *im, const evo_view_camera *cam,
+		      const evo_element *z)
+{
+	double bx[4], by[4];
+	box_corners(cam, z->x, z->y, z->angle, z->size, z->size, bx, by);
+	if (!z->active) {
+		evo_raster_polygon(im, bx, by, 4, ZONE_OFF, 255);
+		return;
+	}
+	evo_raster_fill_polygon(im, bx, by, 4, EVO_VIEW_ZONE,
+				EVO_VIEW_ZONE_ALPHA);
+	evo_raster_polygon(im, bx, by, 4, ZONE_EDGE, 255);
+}
+
+static void draw_object(evo_image_rgb *im, const evo_view_camera *cam,
+			const evo_scene *sc, const evo_element *o)
+{
+	double x = o->x, y = o->y;
+	if (evo_body_valid(sc->world, o->body)) {
+		evo_pose p = evo_body_pose(sc->world, o->body);
+		x = p.x;
+		y = p.y;
+	}
+	double sx, sy, r = o->size * cam->scale;
+	evo_view_to_screen(cam, x, y, &sx, &sy);
+	/* A delivered object is off the world until the next episode: a
+	 * faint outline where it was says it is gone, not lost. */
+	if (!o->active) {
+		evo_raster_circle(im, sx, sy, r, 1, OBJECT_EDGE, 70);
+		return;
+	}
+	evo_raster_fill_circle(im, sx, sy, r, EVO_VIEW_OBJECT, 255);
+	evo_raster_circle(im, sx, sy, r, 1, OBJECT_EDGE, 255);
+	if (o->held_by >= 0)
+		evo_raster_circle(im, sx, sy, r + 3, 2, EVO_VIEW_HELD, 255);
+}
+
+/* A proximity sensor's fan, ray by ray as sim/sensors.c casts it: from
+ * the sensor's point, ray i at angle - arc + i * 2 arc / (n - 1) in the
+ * bot's frame, `range` long, stopped at its hit fraction. */
+static void draw_rays(evo_image_rgb *im, const evo_view_camera *cam,
+		      const evo_scene *sc, int b, const evo_sensor *se)
+{
+	const evo_sensor_def *d = &se->def;
+	int n = d->rays < 1		      ? 1
+		: d->rays > EVO_PROX_MAX_RAYS ? EVO_PROX_MAX_RAYS
+					      : d->rays;
+	double arc = n > 1 ? fabs(d->arc) : 0;
+	double step = n > 1 ? 2 * arc / (n - 1) : 0;
+	evo_pose p = evo_body_pose(sc->world, sc->bot[b].body);
+	double px, py, sx, sy;
+	evo_bot_to_world(sc, b, d->x, d->y, &px, &py);
+	evo_view_to_screen(cam, px, py, &sx, &sy);
+	for (int i = 0; i < n; i++) {
+		double a = p.angle + d->angle - arc + i * step;
+		double f = se->ray[i];
+		int hit = f < 1;
+		if (!(f >= 0) || f > 1)
+			f = 1;
+		double ex, ey;
+		evo_view_to_screen(cam, px + cos(a) * d->range * f,
+				   py + sin(a) * d->range * f, &ex, &ey);
+		evo_raster_line(im, pix(sx), pix(sy), pix(ex), pix(ey),
+				EVO_VIEW_RAY_HIT,
+				hit ? 255 : EVO_VIEW_RAY_CLEAR_ALPHA);
+		if (hit)
+			evo_raster_fill_rect(im, pix(ex) - 1, pix(ey) - 1, 3, 3,
+					     EVO_VIEW_RAY_HIT, 255);
+	}
+}
+
+static void draw_bot(evo_image_rgb *im, const evo_view_camera *cam,
+		     const evo_scene *sc, int b)
+{
+	const evo_bot *bot = &sc->bot[b];
+	evo_pose p = evo_body_pose(sc->world, bot->body);
+	double sx, sy, r = bot->radius * cam->scale;
+	evo_view_to_screen(cam, p.x, p.y, &sx, &sy);
+	evo_raster_fill_circle(im, sx, sy, r, EVO_VIEW_BOT, 255);
+	evo_raster_circle(im, sx, sy, r, r > 8 ? 2 : 1, BOT_EDGE, 255);
+	double hx, hy;
+	evo_view_to_screen(cam, p.x + cos(p.angle) * bot->radius,
+			   p.y + sin(p.angle) * bot->radius, &hx, &hy);
+	evo_raster_thick_line(im, sx, sy, hx, hy, r > 8 ? 2 : 1,
+			      EVO_VIEW_HEADING, 255);
+}
+
+/* Each claw: a dark mark where it grips, joined to what it holds. */
+static void draw_claws(evo_image_rgb *im, const evo_view_camera *cam,
+		       const evo_scene *sc, int b)
+{
+	const evo_bot *bot = &sc->bot[b];
+	for (int k = 0; k < bot->n_actuators; k++) {
+		const evo_actuator *a = &bot->actuator[k];
+		if (a->def.kind != EVO_ACT_CLAW)
+			continue;
+		double cx, cy, sx, sy;
+		evo_bot_to_world(sc, b, a->def.x, a->def.y, &cx, &cy);
+		evo_view_to_screen(cam, cx, cy, &sx, &sy);
+		if (a->held >= 0 && a->held < sc->n_elements) {
+			const evo_element *o = &sc->element[a->held];
+			double ox = o->x, oy = o->y, tx, ty;
+			if (evo_body_valid(sc->world, o->body)) {
+				evo_pose op = evo_body_pose(sc->world, o->body);
+				ox = op.x;
+				oy = op.y;
+			}
+			evo_view_to_screen(cam, ox, oy, &tx, &ty);
+			evo_raster_thick_line(im, sx, sy, tx, ty, 2, GRIP, 255);
+		}
+		evo_raster_fill_rect(im, pix(sx) - 2, pix(sy) - 2, 5, 5, GRIP,
+				     255);
+	}
+}
+
+/* A bar of a round length (1, 2 or 5 times a power of ten metres) near
+ * 100 pixels, at the bottom left of the world area. */
+static void draw_scale_bar(evo_image_rgb *im, const evo_view_camera *cam)
+{
+	double want = 100 / cam->scale;
+	if (!(want > 1e-3 && want < 1e6))
+		return;
+	double unit = pow(10, floor(log10(want)));
+	double len = want / unit >= 5	? 5 * unit
+		     : want / unit >= 2 ? 2 * unit
+					: unit;
+	int px = (int)lround(len * cam->scale);
+	int x = 12, y = im->h - 14;
+	evo_raster_fill_rect(im, x, y, px, 2, SCALE_BAR, 255);
+	evo_raster_fill_rect(im, x, y - 4, 1, 6, SCALE_BAR, 255);
+	evo_raster_fill_rect(im, x + px - 1, y - 4, 1, 6, SCALE_BAR, 255);
+	char label[32];
+	snprintf(label, sizeof label, "%g m", len);
+	evo_raster_text(im, x + px + 6, y - 5, label, SCALE_BAR, 1);
+}
+
+/* ---- the panel ------------------------------------------------------- */
+
+#define PANEL_DIM   0x9AA0A8u
+#define BAR_BACK    0x3A3F47u
+#define PAUSED_TEXT 0xFFC23Du
+
+/* Draw s clipped to `chars` characters (the last one a '~' when cut). */
+static void text_fit(evo_image_rgb *im, int x, int y, const char *s, int chars,
+		     uint32_t rgb, int scale)
+{
+	char buf[128];
+	if (chars < 1)
+		return;
+	if (chars > (int)sizeof buf - 1)
+		chars = (int)sizeof buf - 1;
+	snprintf(buf, sizeof buf, "%s", s);
+	for (char *c = buf; *c; c++)
+		if (*c == '\n')
+			*c = ' ';
+	if ((int)strlen(buf) > chars) {
+		buf[chars - 1] = '~';
+		buf[chars] = 0;
+	}
+	evo_raster_text(im, x, y, buf, rgb, scale);
+}
+
+static void draw_panel(evo_image_rgb *im, const evo_scene *sc,
+		       const evo_view_camera *cam, const evo_viewer_panel *p)
+{
+	int x0 = cam->world_w, w = im->w - x0;
+	if (w < 40)
+		return;
+	evo_raster_fill_rect(im, x0, 0, w, im->h, EVO_VIEW_PANEL, 255);
+	int scale = w >= 200 ? 2 : 1;
+	int cw = EVO_FONT_CELL_W * scale, lh = EVO_FONT_CELL_H * scale + 4;
+	int x = x0 + 12, y = 12, chars = (w - 24) / cw;
+	char line[128];
+
+	text_fit(im, x, y, p && p->title ? p->title : "evo", chars,
+		 EVO_VIEW_TEXT, scale);
+	y += lh + 6;
+	long tick = p ? p->tick : sc->tick;
+	snprintf(line, sizeof line, "tick    %ld", tick);
+	text_fit(im, x, y, line, chars, EVO_VIEW_TEXT, scale);
+	y += lh;
+	if (p) {
+		snprintf(line, sizeof line, "episode %d", p->episode);
+		text_fit(im, x, y, line, chars, EVO_VIEW_TEXT, scale);
+		y += lh;
+	}
+	snprintf(line, sizeof line, "step    %.4g",
+		 p ? p->step_reward : sc->step_reward);
+	text_fit(im, x, y, line, chars, EVO_VIEW_TEXT, scale);
+	y += lh;
+	snprintf(line, sizeof line, "total   %.6g",
+		 p ? p->episode_reward : sc->episode_reward);
+	text_fit(im, x, y, line, chars, EVO_VIEW_TEXT, scale);
+	y += lh;
+	if (p && p->speed > 0) {
+		snprintf(line, sizeof line, "speed   %gx", p->speed);
+		text_fit(im, x, y, line, chars, EVO_VIEW_TEXT, scale);
+		y += lh;
+	}
+	if (p && p->paused) {
+		text_fit(im, x, y, "PAUSED", chars, PAUSED_TEXT, scale);
+		y += lh;
+	}
+
+	/* The key help takes the bottom; skills get what is between. */
+	static const char *const help[] = {"space pause   n step",
+					   "up/down speed r reset",
+					   "+/- zoom      s shot", "q quit"};
+	int help_h = 4 * EVO_FONT_CELL_H + 8;
+	int n = p && p->influence ? p->n_influence : 0;
+	if (n > 0) {
+		y += 10;
+		text_fit(im, x, y, "skills", chars, PANEL_DIM, scale);
+		y += lh;
+		int room = im->h - help_h - y;
+		/* A skill takes a name line and a bar; when they do not
+		 * fit, small names with the bar beside them. */
+		int row = lh + 14, compact = n * row > room;
+		if (compact)
+			row = EVO_FONT_CELL_H + 4;
+		for (int k = 0; k < n && y + row <= im->h - help_h; k++) {
+			double v = p->influence[k];
+			v = v > 1 ? 1 : v > 0 ? v : 0; /* NaN: 0 */
+			const char *name =
+			    p->influence_name && p->influence_name[k]
+				? p->influence_name[k]
+				: "?";
+			int bar_x = x, bar_y = y + lh, bar_w = w - 24,
+			    bar_h = 9;
+			if (compact) {
+				int name_chars = (w - 24) / 2 / EVO_FONT_CELL_W;
+				text_fit(im, x, y, name, name_chars,
+					 EVO_VIEW_TEXT, 1);
+				bar_x = x + name_chars * EVO_FONT_CELL_W + 4;
+				bar_w = x0 + w - 12 - bar_x;
+				bar_y = y;
+				bar_h = EVO_FONT_H;
+			} else {
+				snprintf(line, sizeof line, "%.2f", v);
+				int vw = evo_raster_text_width(line, scale);
+				text_fit(im, x, y, name, chars - 5,
+					 EVO_VIEW_TEXT, scale);
+				evo_raster_text(im, x0 + w - 12 - vw, y, line,
+						PANEL_DIM, scale);
+			}
+			evo_raster_fill_rect(im, bar_x, bar_y, bar_w, bar_h,
+					     BAR_BACK, 255);
+			evo_raster_fill_rect(im, bar_x, bar_y,
+					     (int)lround(v * bar_w), bar_h,
+					     EVO_VIEW_BAR, 255);
+			y += row;
+		}
+	}
+	y = im->h - help_h + 4;
+	for (int k = 0; k < 4; k++, y += EVO_FONT_CELL_H)
+		text_fit(im, x, y, help[k], (w - 24) / EVO_FONT_CELL_W,
+			 PANEL_DIM, 1);
+}
+
+void evo_view_render(evo_image_rgb *im, const evo_scene *sc,
+		     const evo_view_camera *cam, const evo_viewer_panel *p)
+{
+	evo_raster_clear(im, EVO_VIEW_BACKGROUND);
+	draw_grid(im, cam);
+	for (int e = 0; e < sc->n_elements; e++)
+		if (sc->element[e].kind == EVO_ELEM_ZONE)
+			draw_zone(im, cam, &sc->element[e]);
+	for (int o = 0; o < sc->n_obstacles; o++)
+		draw_obstacle(im, cam, &sc->obstacle[o]);
+	for (int e = 0; e < sc->n_elements; e++)
+		if (sc->element[e].kind == EVO_ELEM_OBJECT &&
+		    sc->element[e].held_by < 0)
+			draw_object(im, cam, sc, &sc->element[e]);
+	for (int b = 0; b < sc->n_bots; b++)
+		draw_bot(im, cam, sc, b);
+	/* Rays over the bots: a sensor placed inside the body still shows
+	 * its whole fan. An idle sensor (nothing reads it) is not sampled,
+	 * so it has no rays to show. */
+	for (int b = 0; b < sc->n_bots; b++)
+		for (int s = 0; s < sc->bot[b].n_sensors; s++)
+			if (sc->bot[b].sensor[s].def.kind ==
+				    EVO_SENSOR_PROXIMITY &&
+			    !sc->bot[b].sensor[s].idle)
+				draw_rays(im, cam, sc, b,
+					  &sc->bot[b].sensor[s]);
+	/* Held objects over the bot that carries them. */
+	for (int e = 0; e < sc->n_elements; e++)
+		if (sc->element[e].kind == EVO_ELEM_OBJECT &&
+		    sc->element[e].held_by >= 0)
+			draw_object(im, cam, sc, &sc->element[e]);
+	for (int b = 0; b < sc->n_bots; b++)
+		draw_claws(im, cam, sc, b);
+	/* Names only where there is more than one bot to tell apart. */
+	if (sc->n_bots > 1)
+		for (int b = 0; b < sc->n_bots; b++) {
+			evo_pose bp = evo_body_pose(sc->world, sc->bot[b].body);
+			double sx, sy;
+			evo_view_to_screen(cam, bp.x, bp.y + sc->bot[b].radius,
+					   &sx, &sy);
+			int tw = evo_raster_text_width(sc->bot[b].name, 1);
+			evo_raster_text(im, pix(sx) - tw / 2, pix(sy) + 4,
+					sc->bot[b].name, BOT_EDGE, 1);
+		}
+	draw_scale_bar(im, cam);
+	draw_panel(im, sc, cam, p);
+}
+
+/* ---- the window ------------------------------------------------------ */
+
+struct evo_viewer {
+	SDL_Window *window;
+	SDL_Renderer *renderer;
+	SDL_Texture *texture; /* the frame's size, streaming RGB24 */
+	evo_image_rgb frame;
+	evo_view_camera cam;
+	double zoom;
+	int drawn;
+	char title[128];
+};
+
+evo_viewer *evo_viewer_open(int width, int height, evo_err *err)
+{
+	if (width <= 0 || height <= 0) {
+		width = 1024;
+		height = 720;
+	}
+	/* Left alone, SDL backs the window of a software renderer with a
+	 * GL texture, loading Mesa (llvmpipe under Xvfb) for each window
+	 * only to copy a bitmap. Plain X11 (XShm) images are enough; at
+	 * default priority, so SDL_FRAMEBUFFER_ACCELERATION in the
+	 * environment still wins. */
+	SDL_SetHintWithPriority(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0",
+				SDL_HINT_DEFAULT);
+	if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0) {
+		evo_fail(err,
+			 "cannot open the viewer: %s (no display? set "
+			 "DISPLAY, or run with --headless)",
+			 SDL_GetError());
+		return NULL;
+	}
+	evo_viewer *v = calloc(1, sizeof *v);
+	if (!v) {
+		evo_fail(err, "cannot open the viewer: out of memory");
+		SDL_QuitSubSystem(SDL_INIT_VIDEO);
+		return NULL;
+	}
+	v->zoom = 1;
+	v->window = SDL_CreateWindow("evo", SDL_WINDOWPOS_CENTERED,
+				     SDL_WINDOWPOS_CENTERED, width, height,
+				     SDL_WINDOW_RESIZABLE);
+	if (!v->window) {
+		evo_fail(err, "cannot open the viewer's window: %s",
+			 SDL_GetError());
+		evo_viewer_close(v);
+		return NULL;
+	}
+	/* The software renderer first: it needs no GL (Xvfb, remote X) and
+	 * reads back exactly what it shows. */
+	v->renderer = SDL_CreateRenderer(v->window, -1, SDL_RENDERER_SOFTWARE);
+	if (!v->renderer)
+		v->renderer = SDL_CreateRenderer(v->window, -1, 0);
+	if (!v->renderer) {
+		evo_fail(err, "cannot make a renderer for the viewer: %s",
+			 SDL_GetError());
+		evo_viewer_close(v);
+		return NULL;
+	}
+	return v;
+}
+
+void evo_viewer_close(evo_viewer *v)
+{
+	if (!v)
+		return;
+	if (v->texture)
+		SDL_DestroyTexture(v->texture);
+	if (v->renderer)
+		SDL_DestroyRenderer(v->renderer);
+	if (v->window)
+		SDL_DestroyWindow(v->window);
+	evo_image_rgb_free(&v->frame);
+	free(v);
+	SDL_QuitSubSystem(SDL_INIT_VIDEO);
+	/* Whoever started SDL for video alone (evo does) also ends it, so
+	 * SDL's global state does not outlive the last viewer. */
+	if (SDL_WasInit(SDL_INIT_EVERYTHING) == 0)
+		SDL_Quit();
+}
+
+/* Frame and texture at the renderer's size, made again after a resize. */
+static int fit_frame(evo_viewer *v)
+{
+	int w, h;
+	if (SDL_GetRendererOutputSize(v->renderer, &w, &h) != 0 || w < 1 ||
+	    h < 1)
+		return -1;
+	if (v->texture && v->frame.w == w && v->frame.h == h)
+		return 0;
+	if (v->texture)
+		SDL_DestroyTexture(v->texture);
+	v->texture = NULL;
+	evo_image_rgb_free(&v->frame);
+	if (evo_image_rgb_init(&v->frame, w, h, NULL))
+		return -1;
+	v->texture = SDL_CreateTexture(v->renderer, SDL_PIXELFORMAT_RGB24,
+				       SDL_TEXTUREACCESS_STREAMING, w, h);
+	if (!v->texture) {
+		evo_image_rgb_free(&v->frame);
+		return -1;
+	}
+	return 0;
+}
+
+/* Put the frame on the renderer's target (not yet shown). */
+static int blit(evo_viewer *v)
+{
+	if (SDL_UpdateTexture(v->texture, NULL, v->frame.pixels,
+			      v->frame.w * 3) != 0)
+		return -1;
+	if (SDL_RenderCopy(v->renderer, v->texture, NULL, NULL) != 0)
+		return -1;
+	return 0;
+}
+
+void evo_viewer_draw(evo_viewer *v, const evo_scene *sc, int follow_bot,
+		     const evo_viewer_panel *p)
+{
+	if (fit_frame(v))
+		return; /* a minimised window or no memory: skip the frame */
+	if (p && p->title && strncmp(p->title, v->title, sizeof v->title)) {
+		snprintf(v->title, sizeof v->title, "%s", p->title);
+		char t[160];
+		snprintf(t, sizeof t, "evo - %s", v->title);
+		SDL_SetWindowTitle(v->window, t);
+	}
+	v->cam = evo_view_camera_for(sc, follow_bot, v->zoom, v->frame.w,
+				     v->frame.h);
+	evo_view_render(&v->frame, sc, &v->cam, p);
+	if (blit(v) == 0) {
+		SDL_RenderPresent(v->renderer);
+		v->drawn = 1;
+	}
+}
+
+evo_view_camera evo_viewer_camera(const evo_viewer *v)
+{
+	return v->cam;
+}
+
+void evo_viewer_zoom(evo_viewer *v, double factor)
+{
+	if (!(factor > 0))
+		return;
+	v->zoom *= factor;
+	if (v->zoom < 1.0 / 16)
+		v->zoom = 1.0 / 16;
+	if (v->zoom > 64)
+		v->zoom = 64;
+}
+
+evo_view_action evo_viewer_poll(evo_viewer *v)
+{
+	SDL_Event ev;
+	while (SDL_PollEvent(&ev)) {
+		if (ev.type == SDL_QUIT)
+			return EVO_VIEW_QUIT;
+		if (ev.type == SDL_WINDOWEVENT &&
+		    ev.window.event == SDL_WINDOWEVENT_CLOSE)
+			return EVO_VIEW_QUIT;
+		if (ev.type == SDL_MOUSEWHEEL) {
+			evo_viewer_zoom(v, ev.wheel.y > 0   ? 1.25
+					   : ev.wheel.y < 0 ? 0.8
+							    : 1);
+			continue;
+		}
+		if (ev.type != SDL_KEYDOWN)
+			continue;
+		/* A held key repeats what is meant to repeat (stepping,
+		 * speed, zoom), never a toggle, a reset or quitting. */
+		int rep = ev.key.repeat;
+		switch (ev.key.keysym.sym) {
+		case SDLK_q:
+		case SDLK_ESCAPE:
+			if (!rep)
+				return EVO_VIEW_QUIT;
+			break;
+		case SDLK_SPACE:
+		case SDLK_p:
+			if (!rep)
+				return EVO_VIEW_PAUSE;
+			break;
+		case SDLK_n:
+		case SDLK_RIGHT:
+			return EVO_VIEW_STEP;
+		case SDLK_UP:
+		case SDLK_RIGHTBRACKET:
+			return EVO_VIEW_FASTER;
+		case SDLK_DOWN:
+		case SDLK_LEFTBRACKET:
+			return EVO_VIEW_SLOWER;
+		case SDLK_r:
+			if (!rep)
+				return EVO_VIEW_RESET;
+			break;
+		case SDLK_s:
+			if (!rep)
+				return EVO_VIEW_SCREENSHOT;
+			break;
+		case SDLK_PLUS:
+		case SDLK_EQUALS:
+		case SDLK_KP_PLUS:
+			evo_viewer_zoom(v, 1.25);
+			break;
+		case SDLK_MINUS:
+		case SDLK_KP_MINUS:
+			evo_viewer_zoom(v, 0.8);
+			break;
+		case SDLK_0:
+		case SDLK_KP_0:
+			v->zoom = 1;
+			break;
+		default:
+			break;
+		}
+	}
+	return EVO_VIEW_NONE;
+}
+
+int evo_viewer_screenshot(evo_viewer *v, const char *png_path, evo_err *err)
+{
+	if (!v->drawn)
+		return evo_fail(err, "%s: no frame drawn yet", png_path);
+	int w = v->frame.w, h = v->frame.h, tw, th;
+	/* Resized since the last frame: the target no longer holds it, and
+	 * reading it into a buffer of the frame's size would not fit. */
+	if (SDL_GetRendererOutputSize(v->renderer, &tw, &th) != 0 || tw != w ||
+	    th != h)
+		return evo_fail(err,
+				"%s: the window changed size since the last "
+				"frame; draw one first",
+				png_path);
+	uint8_t *px = malloc((size_t)w * h * 3);
+	if (!px)
+		return evo_fail(err, "%s: out of memory", png_path);
+	/* After a present the target's contents are undefined on some
+	 * renderers: put the frame back, then read the target. */
+	if (blit(v) != 0 ||
+	    SDL_RenderReadPixels(v->renderer, NULL, SDL_PIXELFORMAT_RGB24, px,
+				 w * 3) != 0) {
+		free(px);
+		return evo_fail(err, "%s: cannot read the window back: %s",
+				png_path, SDL_GetError());
+	}
+	int rc = evo_png_write(png_path, px, w, h, 3, err);
+	free(px);
+	return rc;
+}

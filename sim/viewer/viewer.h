@@ -1,0 +1,149 @@
+/* evo — the DEMOSIM viewer: a window on SDL2 that shows a scene as it
+ * runs, with a panel of what the mind is doing.
+ *
+ * Each frame is drawn by evo's own code into an RGB raster (sim/raster.h)
+ * and blitted with one streaming texture, so it needs no GPU (it runs
+ * under Xvfb) and a screenshot is exactly the frame on screen. The
+ * drawing itself (evo_view_render) needs no window, for tests and for
+ * frames saved without a display.
+ *
+ * Frame: world x to the right and y downward on screen, with no flip, as
+ * in EvoAgents (scene.h); a world point (x, y) is drawn at
+ *     sx = cx + (x - camx) * scale,  sy = cy + (y - camy) * scale,
+ * so angles grow clockwise on screen.
+ *
+ * The calling loop (the evo command's DEMOSIM task) owns the pace:
+ *
+ *     evo_viewer *v = evo_viewer_open(1024, 720, &err);
+ *     for (;;) {
+ *             for (a = evo_viewer_poll(v); a; a = evo_viewer_poll(v))
+ *                     ... act on a ...
+ *             if (!paused) ... tick ...
+ *             evo_viewer_draw(v, sc, 0, &panel);  // also while paused
+ *     }
+ *     evo_viewer_close(v);
+ *
+ * Zoom (+, -, 0, the mouse wheel) and window resizes are handled inside
+ * and show at the next draw, which is why a paused loop still draws. */
+#ifndef EVO_VIEWER_H
+#define EVO_VIEWER_H
+
+#include "base/fileio.h"
+#include "viewer/raster.h"
+#include "world2d/scene.h"
+
+/* What the panel shows beside the world. Every pointer may be NULL. */
+typedef struct evo_viewer_panel {
+	const char *title; /* the task's name; also the window's title */
+	long tick;
+	int episode;
+	double step_reward, episode_reward;
+	/* The live influence of each skill of the hierarchy, in [0, 1]
+	 * (clamped when drawn), one bar each, named. */
+	int n_influence;
+	const char *const *influence_name;
+	const double *influence;
+	double speed; /* simulated time per real time; 0 hides it */
+	int paused;
+} evo_viewer_panel;
+
+/* What a key (or closing the window) asks of the calling loop. */
+typedef enum evo_view_action {
+	EVO_VIEW_NONE = 0,   /* no pending action */
+	EVO_VIEW_QUIT,	     /* q, Esc, closing the window, Ctrl-C */
+	EVO_VIEW_PAUSE,	     /* space or p: toggle pause */
+	EVO_VIEW_STEP,	     /* n or right arrow: one tick while paused */
+	EVO_VIEW_FASTER,     /* up arrow or ] */
+	EVO_VIEW_SLOWER,     /* down arrow or [ */
+	EVO_VIEW_RESET,	     /* r: restart the episode */
+	EVO_VIEW_SCREENSHOT, /* s: the caller picks a path and calls
+				evo_viewer_screenshot */
+} evo_view_action;
+
+/* ---- drawing without a window --------------------------------------- */
+
+/* Half the side of the world square shown at zoom 1, in metres: +-30 m
+ * around the followed bot shows the obstacles its 12 m rays can reach and
+ * the zone it heads for. */
+#define EVO_VIEW_HALF_SPAN 30.0
+/* Width of the panel at the right of the frame, in pixels (at most a
+ * third of a narrow frame). */
+#define EVO_VIEW_PANEL_W 264
+
+typedef struct evo_view_camera {
+	double x, y;   /* world point at the centre of the world area */
+	double scale;  /* pixels per metre */
+	double cx, cy; /* that centre, in pixels */
+	int world_w;   /* width of the world area; the panel follows */
+} evo_view_camera;
+
+/* The camera for a w x h frame: centred on bot follow_bot, or when that
+ * is not a bot index, on the middle of everything in the scene; zoom 1
+ * shows +-EVO_VIEW_HALF_SPAN metres across the smaller side of the world
+ * area, zoom 2 half as much. */
+evo_view_camera evo_view_camera_for(const evo_scene *sc, int follow_bot,
+				    double zoom, int w, int h);
+
+/* Where world point (x, y) falls in a frame drawn with cam, in pixels
+ * (pixel (i, j) covers [i, i + 1) x [j, j + 1)). */
+void evo_view_to_screen(const evo_view_camera *cam, double x, double y,
+			double *sx, double *sy);
+
+/* Draw sc into im as cam sees it, with the panel (p may be NULL: the
+ * scene's own tick and rewards are shown). Colours: obstacles grey, zones
+ * translucent green, objects orange (a faint outline once delivered),
+ * bots blue with a white heading line, proximity rays red up to what they
+ * hit and faint where clear, a claw's grip dark with the object it holds
+ * ringed. */
+void evo_view_render(evo_image_rgb *im, const evo_scene *sc,
+		     const evo_view_camera *cam, const evo_viewer_panel *p);
+
+/* The colours evo_view_render uses, for tests that look for them. */
+#define EVO_VIEW_BACKGROUND	 0xF2F1ECu
+#define EVO_VIEW_OBSTACLE	 0x8C8C8Cu
+#define EVO_VIEW_ZONE		 0x3CB44Bu /* drawn at EVO_VIEW_ZONE_ALPHA */
+#define EVO_VIEW_ZONE_ALPHA	 80
+#define EVO_VIEW_OBJECT		 0xF08C1Eu
+#define EVO_VIEW_BOT		 0x2F6FD0u
+#define EVO_VIEW_HEADING	 0xFFFFFFu
+#define EVO_VIEW_RAY_HIT	 0xE02828u /* a clear ray: EVO_VIEW_RAY_CLEAR_ALPHA */
+#define EVO_VIEW_RAY_CLEAR_ALPHA 50
+#define EVO_VIEW_HELD		 0xFFD21Fu /* ring around an object a claw holds */
+#define EVO_VIEW_PANEL		 0x23262Bu
+#define EVO_VIEW_TEXT		 0xE8E8E8u
+#define EVO_VIEW_BAR		 0x4FB0E8u
+
+/* ---- the window ------------------------------------------------------ */
+
+typedef struct evo_viewer evo_viewer;
+
+/* Open a width x height window (0 or less: 1024 x 720). NULL with err set
+ * when there is no display or SDL cannot make a renderer; the caller then
+ * runs headless. */
+evo_viewer *evo_viewer_open(int width, int height, evo_err *err);
+/* Close the window and release SDL's video subsystem; NULL is fine. */
+void evo_viewer_close(evo_viewer *v);
+
+/* Draw one frame and show it. follow_bot as in evo_view_camera_for; p may
+ * be NULL. */
+void evo_viewer_draw(evo_viewer *v, const evo_scene *sc, int follow_bot,
+		     const evo_viewer_panel *p);
+
+/* The next pending action, EVO_VIEW_NONE when there is none; never
+ * waits. Call until NONE once per frame: SDL (2.24 on) ends each round
+ * of polling at a marker it queues, so an event that arrives during a
+ * round comes out in the next frame's round, never lost. */
+evo_view_action evo_viewer_poll(evo_viewer *v);
+
+/* The camera of the last frame drawn (to find a world point on it). */
+evo_view_camera evo_viewer_camera(const evo_viewer *v);
+/* Multiply the zoom (as the keys do); clamped to [1/16, 64]. */
+void evo_viewer_zoom(evo_viewer *v, double factor);
+
+/* Save the last frame as an RGB PNG, read back from the renderer: the
+ * pixels shown, not a redraw. Returns 0, or -1 with err set (nothing
+ * drawn yet, the window resized since the last draw, SDL cannot read
+ * back, the file cannot be written). */
+int evo_viewer_screenshot(evo_viewer *v, const char *png_path, evo_err *err);
+
+#endif

@@ -1,0 +1,386 @@
+/* evo — the reward and control functions of an episode (EvoAgents' RW_ and
+ * CF_ classes, tutorial sections 6.3 and 6.4).
+ *
+ * evo_scene_step calls evo_reward_compute on every reward after the
+ * physics step (and after the post-step hook) and sums the values, then
+ * evo_control_check on every control; any control returning 1 ends the
+ * episode. Each function reads the bot and the elements it names by index;
+ * an index that names nothing gives 0 (a reward) or "go on" (a control)
+ * rather than a crash, since environments move things between episodes. */
+#include <math.h>
+#include <string.h>
+
+#include "world2d/scene.h"
+
+/* ---- names ------------------------------------------------------------ */
+
+/* The tutorial's class names without their RW_ / CF_ prefix, by kind. */
+static const char *const reward_names[EVO_RW_KIND_COUNT] = {
+    [EVO_RW_CLOSING_ON_TARGET] = "ClosingOnTarget",
+    [EVO_RW_SENSOR_OVER] = "SensorOverThreshold",
+    [EVO_RW_SENSOR_UNDER] = "SensorUnderThreshold",
+    [EVO_RW_PUNISH_ON_COLLISION] = "PunishOnCollision",
+    [EVO_RW_FORWARD_MOTION] = "ForwardMotion",
+    [EVO_RW_SPEED] = "Speed",
+    [EVO_RW_STEP] = "StepReward",
+    [EVO_RW_COLLECT] = "Collect",
+    [EVO_RW_FORWARD_SPEED] = "ForwardSpeed",
+    [EVO_RW_LUA] = "Lua",
+};
+
+static const char *const control_names[EVO_CF_KIND_COUNT] = {
+    [EVO_CF_NEXT_ON_TIMEOUT] = "NextOnTimeout",
+    [EVO_CF_NEXT_ON_COLLISION] = "NextOnCollision",
+    [EVO_CF_NEXT_ON_COLLISION_AND_TIMEOUT] = "NextOnCollisionAndTimeout",
+    [EVO_CF_NEXT_ON_COLLISION_WITH_TARGET] = "NextOnCollisionWithTarget",
+    [EVO_CF_NEXT_ON_SENSOR_BELOW] = "NextOnSensorBelowThreshold",
+    [EVO_CF_LUA] = "Lua",
+};
+
+/* Shorter spellings also accepted (evo's own enum names). */
+static const struct {
+	const char *name;
+	int kind;
+} reward_aliases[] = {
+    {"SensorOver", EVO_RW_SENSOR_OVER},
+    {"SensorUnder", EVO_RW_SENSOR_UNDER},
+    {"Step", EVO_RW_STEP},
+};
+
+/* Index of name (after an optional prefix) in names[0..n), or -1. */
+static int kind_by_name(const char *name, const char *prefix,
+			const char *const *names, int n)
+{
+	if (!name)
+		return -1;
+	size_t plen = strlen(prefix);
+	if (strncmp(name, prefix, plen) == 0)
+		name += plen;
+	for (int k = 0; k < n; k++)
+		if (strcmp(name, names[k]) == 0)
+			return k;
+	return -1;
+}
+
+/* "RW_ClosingOnTarget" or "ClosingOnTarget" (case matters), or an alias
+ * ("SensorOver"); -1 when unknown. */
+int evo_reward_kind_by_name(const char *name)
+{
+	int k = kind_by_name(name, "RW_", reward_names, EVO_RW_KIND_COUNT);
+	if (k >= 0 || !name)
+		return k;
+	if (strncmp(name, "RW_", 3) == 0)
+		name += 3;
+	for (size_t i = 0; i < sizeof reward_aliases / sizeof *reward_aliases;
+	     i++)
+		if (strcmp(name, reward_aliases[i].name) == 0)
+			return reward_aliases[i].kind;
+	return -1;
+}
+
+/* "CF_NextOnTimeout" or "NextOnTimeout" (case matters); -1 when unknown. */
+int evo_control_kind_by_name(const char *name)
+{
+	int k = kind_by_name(name, "CF_", control_names, EVO_CF_KIND_COUNT);
+	if (k < 0 && name &&
+	    (strcmp(name, "NextOnSensorBelow") == 0 ||
+	     strcmp(name, "CF_NextOnSensorBelow") == 0))
+		k = EVO_CF_NEXT_ON_SENSOR_BELOW;
+	return k;
+}
+
+/* The unprefixed name ("ClosingOnTarget"); NULL for a kind out of range. */
+const char *evo_reward_kind_name(int kind)
+{
+	return kind >= 0 && kind < EVO_RW_KIND_COUNT ? reward_names[kind]
+						     : NULL;
+}
+
+/* The unprefixed name ("NextOnTimeout"); NULL for a kind out of range. */
+const char *evo_control_kind_name(int kind)
+{
+	return kind >= 0 && kind < EVO_CF_KIND_COUNT ? control_names[kind]
+						     : NULL;
+}
+
+/* ---- helpers ------------------------------------------------------------ */
+
+static evo_bot *bot_at(evo_scene *sc, int bot)
+{
+	return bot >= 0 && bot < sc->n_bots ? &sc->bot[bot] : NULL;
+}
+
+static evo_element *element_at(evo_scene *sc, int e)
+{
+	return e >= 0 && e < sc->n_elements ? &sc->element[e] : NULL;
+}
+
+static const evo_sensor *sensor_at(const evo_bot *b, int s)
+{
+	return s >= 0 && s < b->n_sensors ? &b->sensor[s] : NULL;
+}
+
+/* ---- rewards ------------------------------------------------------------ */
+
+/* ClosingOnTarget: k * (previous - d), d the distance from the bot's centre
+ * to the target; 0 on the first step after a reset and whenever the target
+ * is gone (previous is then -1, so a reappearing target is no jump). */
+static double closing_on_target(evo_scene *sc, evo_reward *r, evo_bot *b)
+{
+	double tx, ty;
+	if (!evo_scene_target_pos(sc, r->def.bot, r->def.target, &tx, &ty)) {
+		r->previous = -1;
+		return 0;
+	}
+	double d = hypot(tx - b->x, ty - b->y);
+	double v = r->previous >= 0 ? r->def.k * (r->previous - d) : 0;
+	r->previous = d;
+	return v;
+}
+
+/* SensorOverThreshold: k * sum(v - threshold) over the listed sensors whose
+ * value v > threshold. SensorUnderThreshold: k * sum(threshold - v) over
+ * those with v <= threshold. */
+static double sensor_threshold(const evo_reward *r, const evo_bot *b, int over)
+{
+	double sum = 0;
+	int n = r->def.n_sensors;
+	if (n > EVO_REWARD_MAX_SENSORS)
+		n = EVO_REWARD_MAX_SENSORS;
+	for (int i = 0; i < n; i++) {
+		const evo_sensor *s = sensor_at(b, r->def.sensor[i]);
+		if (!s)
+			continue;
+		double v = s->value;
+		if (over && v > r->def.threshold)
+			sum += v - r->def.threshold;
+		else if (!over && v <= r->def.threshold)
+			sum += r->def.threshold - v;
+	}
+	return r->def.k * sum;
+}
+
+/* ForwardMotion: k when the velocity along the heading is above 1e-3, k2
+ * when it is below -1e-3, 0 in between (standing, or sliding sideways). */
+static double forward_motion(evo_scene *sc, const evo_reward *r,
+			     const evo_bot *b)
+{
+	double vx, vy, w;
+	evo_body_velocity(sc->world, b->body, &vx, &vy, &w);
+	double vf = vx * b->c + vy * b->s;
+	if (vf > 1e-3)
+		return r->def.k;
+	if (vf < -1e-3)
+		return r->def.k2;
+	return 0;
+}
+
+/* ForwardSpeed (evo's own): k times the velocity along the heading, in
+ * units per second; negative when backing, 0 sliding sideways. */
+static double forward_speed(evo_scene *sc, const evo_reward *r,
+			    const evo_bot *b)
+{
+	double vx, vy, w;
+	evo_body_velocity(sc->world, b->body, &vx, &vy, &w);
+	return r->def.k * (vx * b->c + vy * b->s);
+}
+
+/* Speed: k * |v|^2, v the bot's linear velocity. */
+static double speed(evo_scene *sc, const evo_reward *r, const evo_bot *b)
+{
+	double vx, vy, w;
+	evo_body_velocity(sc->world, b->body, &vx, &vy, &w);
+	return r->def.k * (vx * vx + vy * vy);
+}
+
+/* Collect: k for each active object the bot holds whose centre lies in the
+ * target zone (an active EVO_ELEM_ZONE; anything else gives 0). A delivery
+ * opens the bot's claws (all of them), takes the object off the world
+ * until the next reset and counts it in bot->delivered.
+ *
+ * EvoAgents crashed here by destroying a body still welded to the claw.
+ * The order below avoids that and handles several objects in one step:
+ * first mark every delivered object inactive (the claws still say who
+ * holds what), then open the claws (removing the welds), and only then
+ * disable the bodies of inactive objects. Disabling is idempotent, and an
+ * inactive object is off the world by definition, so the second pass
+ * needs no list of its own. */
+static double collect(evo_scene *sc, const evo_reward *r, evo_bot *b)
+{
+	const evo_element *z = element_at(sc, r->def.target);
+	int n = 0;
+	if (!z || z->kind != EVO_ELEM_ZONE || !z->active)
+		return 0;
+	for (int i = 0; i < sc->n_elements; i++) {
+		evo_element *e = &sc->element[i];
+		if (e->kind != EVO_ELEM_OBJECT || !e->active ||
+		    e->held_by != r->def.bot)
+			continue;
+		evo_pose p = evo_body_pose(sc->world, e->body);
+		if (!evo_zone_contains(z, p.x, p.y))
+			continue;
+		e->active = 0;
+		n++;
+	}
+	if (n == 0)
+		return 0;
+	evo_bot_release(sc, r->def.bot);
+	for (int i = 0; i < sc->n_elements; i++) {
+		evo_element *e = &sc->element[i];
+		if (e->kind == EVO_ELEM_OBJECT && !e->active)
+			evo_body_set_enabled(sc->world, e->body, 0);
+	}
+	b->delivered += n;
+	return r->def.k * n;
+}
+
+/* Lua: the scene's reward hook gives the value; no hook gives 0. */
+static double lua_reward(evo_scene *sc, const evo_reward *r, int *failed)
+{
+	double out = 0;
+	if (!sc->hooks.reward)
+		return 0;
+	if (sc->hooks.reward(sc->hooks.ctx, sc, r, &out) != 0) {
+		*failed = 1;
+		return 0;
+	}
+	return out;
+}
+
+/* The value of reward r for the step just taken; r->total adds it up.
+ * A reward whose bot index names no bot gives 0. */
+double evo_reward_compute(evo_scene *sc, evo_reward *r, int *failed)
+{
+	evo_bot *b = bot_at(sc, r->def.bot);
+	double v = 0;
+	int dummy = 0;
+	if (!failed)
+		failed = &dummy;
+	if (!b && r->def.kind != EVO_RW_LUA && r->def.kind != EVO_RW_STEP)
+		return 0;
+	switch (r->def.kind) {
+	case EVO_RW_CLOSING_ON_TARGET:
+		v = closing_on_target(sc, r, b);
+		break;
+	case EVO_RW_SENSOR_OVER:
+		v = sensor_threshold(r, b, 1);
+		break;
+	case EVO_RW_SENSOR_UNDER:
+		v = sensor_threshold(r, b, 0);
+		break;
+	/* PunishOnCollision: k (negative) every step the bot touches
+	 * anything. */
+	case EVO_RW_PUNISH_ON_COLLISION:
+		v = b->touching > 0 ? r->def.k : 0;
+		break;
+	case EVO_RW_FORWARD_MOTION:
+		v = forward_motion(sc, r, b);
+		break;
+	case EVO_RW_FORWARD_SPEED:
+		v = forward_speed(sc, r, b);
+		break;
+	case EVO_RW_SPEED:
+		v = speed(sc, r, b);
+		break;
+	/* Step: k every step. */
+	case EVO_RW_STEP:
+		v = r->def.k;
+		break;
+	case EVO_RW_COLLECT:
+		v = collect(sc, r, b);
+		break;
+	case EVO_RW_LUA:
+		v = lua_reward(sc, r, failed);
+		break;
+	default:
+		v = 0;
+		break;
+	}
+	r->total += v;
+	return v;
+}
+
+/* Forget the previous distance (ClosingOnTarget: comparing with the last
+ * episode would make no sense) and the episode's total. */
+void evo_reward_reset(evo_reward *r)
+{
+	r->previous = -1;
+	r->total = 0;
+}
+
+/* ---- controls ------------------------------------------------------------ */
+
+/* NextOnTimeout: counts its checks and ends the episode when the count
+ * exceeds ticks, i.e. at the (ticks + 1)th check (the tutorial's rule). */
+static int timeout(evo_control *c)
+{
+	c->counter++;
+	return c->counter > c->def.ticks;
+}
+
+/* NextOnCollisionWithTarget: the bot touches the target element: an object
+ * body, or a cylinder's or box's obstacle. A zone has no body and an
+ * inactive object no contacts, so neither ever ends the episode. */
+static int touching_target(evo_scene *sc, const evo_control *c,
+			   const evo_bot *b)
+{
+	const evo_element *e = element_at(sc, c->def.target);
+	if (!e)
+		return 0;
+	switch (e->kind) {
+	case EVO_ELEM_OBJECT:
+		return e->active &&
+		       evo_body_touching_body(sc->world, b->body, e->body);
+	case EVO_ELEM_CYLINDER:
+	case EVO_ELEM_BOX:
+		return evo_body_touching_obstacle(sc->world, b->body,
+						  e->obstacle);
+	default:
+		return 0;
+	}
+}
+
+/* 1 to end the episode, 0 to go on, -1 when the Lua hook failed (sc->err
+ * set by the hook). A control whose bot index names no bot goes on, but
+ * still counts its ticks. */
+int evo_control_check(evo_scene *sc, evo_control *c)
+{
+	evo_bot *b = bot_at(sc, c->def.bot);
+	switch (c->def.kind) {
+	case EVO_CF_NEXT_ON_TIMEOUT:
+		return timeout(c);
+	/* NextOnCollision: the bot touches anything this step. */
+	case EVO_CF_NEXT_ON_COLLISION:
+		return b && b->touching > 0;
+	/* NextOnCollisionAndTimeout: either rule; the counter counts every
+	 * check, touching or not. */
+	case EVO_CF_NEXT_ON_COLLISION_AND_TIMEOUT: {
+		int t = timeout(c);
+		return t || (b && b->touching > 0);
+	}
+	case EVO_CF_NEXT_ON_COLLISION_WITH_TARGET:
+		return b && touching_target(sc, c, b);
+	/* NextOnSensorBelow: the sensor's last value < threshold. */
+	case EVO_CF_NEXT_ON_SENSOR_BELOW: {
+		const evo_sensor *s = b ? sensor_at(b, c->def.sensor) : NULL;
+		return s && s->value < c->def.threshold;
+	}
+	/* Lua: the scene's control hook decides; no hook goes on. */
+	case EVO_CF_LUA: {
+		int next = 0;
+		if (!sc->hooks.control)
+			return 0;
+		if (sc->hooks.control(sc->hooks.ctx, sc, c, &next) != 0)
+			return -1;
+		return next != 0;
+	}
+	default:
+		return 0;
+	}
+}
+
+/* Start counting again. */
+void evo_control_reset(evo_control *c)
+{
+	c->counter = 0;
+}

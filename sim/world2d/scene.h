@@ -1,0 +1,430 @@
+/* evo — a 2D scene: one physics world with its world elements, any number
+ * of bots with their sensors and actuators, and the reward and control
+ * functions of an episode.
+ *
+ * Everything here is C and runs every tick; Lua (sim/lua_evo.c) only
+ * creates the pieces and may add hooks. The structs are open so that the
+ * viewer and the tests can read them; they are changed only through the
+ * functions below.
+ *
+ * Frame. evo keeps EvoAgents' frame: world x to the right and y downward
+ * on screen, angles in radians growing clockwise on screen. In a bot's own
+ * frame x points ahead and +y to its right-hand side, so MotR sits at
+ * (0, +1) and a sensor at +90 degrees looks to the right. docs/world.md.
+ *
+ * The tick (DESIGN.md): evo_scene_sense, then the caller steps each bot's
+ * mind and writes actuator commands, then evo_scene_step (actuators act,
+ * physics steps, rewards add up, control functions decide whether the
+ * episode goes on). */
+#ifndef EVO_SCENE_H
+#define EVO_SCENE_H
+
+#include <stdint.h>
+
+#include "base/fileio.h"
+#include "world2d/world.h"
+
+#define EVO_SCENE_NAME_MAX 64
+#define EVO_PROX_MAX_RAYS 32
+#define EVO_REWARD_MAX_SENSORS 16
+#define EVO_DOF_HISTORY 30 /* ticks of positions the movement sensor spreads over */
+
+/* -std=c11 leaves these out of <math.h>. */
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+#ifndef M_SQRT2
+#define M_SQRT2 1.41421356237309504880
+#endif
+
+/* Boolean signals (DESIGN.md). */
+#define EVO_FALSE 0.2
+#define EVO_TRUE 0.8
+
+/* ---- randomness ---------------------------------------------------- */
+
+/* splitmix64: small, seedable, one per scene (never shared between
+ * threads). */
+typedef struct evo_rng {
+	uint64_t s;
+} evo_rng;
+
+evo_rng evo_rng_seed(uint64_t seed);
+/* A stream for (seed, a, b, c): evaluations are seeded from (run seed,
+ * generation, candidate, repetition). */
+evo_rng evo_rng_for(uint64_t seed, uint64_t a, uint64_t b, uint64_t c);
+uint64_t evo_rng_next(evo_rng *r);
+/* Uniform in [0, 1). */
+double evo_rng_unit(evo_rng *r);
+/* Uniform in [lo, hi). */
+double evo_rng_range(evo_rng *r, double lo, double hi);
+
+/* ---- world elements ------------------------------------------------ */
+
+typedef enum evo_element_kind {
+	EVO_ELEM_CYLINDER = 0, /* static circle, radius = size */
+	EVO_ELEM_BOX = 1,      /* static box, half sides half_w x half_h */
+	EVO_ELEM_ZONE = 2,     /* trigger zone: a square of half side size, no body */
+	EVO_ELEM_OBJECT = 3,   /* dynamic circle of radius size, can be carried */
+} evo_element_kind;
+
+typedef struct evo_element_def {
+	evo_element_kind kind;
+	const char *name; /* may be NULL */
+	double x, y, angle;
+	double size;	       /* cylinder/object radius, zone half side */
+	double half_w, half_h; /* box */
+	/* objects: Box2D properties (defaults: density 2, friction 0,
+	 * restitution 0, linear damping 5, angular damping 5) */
+	double density, friction, restitution, linear_damping, angular_damping;
+} evo_element_def;
+
+evo_element_def evo_default_element_def(evo_element_kind kind);
+
+typedef struct evo_element {
+	evo_element_kind kind;
+	char name[EVO_SCENE_NAME_MAX];
+	double x, y, angle; /* where it starts each episode */
+	double size, half_w, half_h;
+	/* Objects: 0 once delivered (off the world until the next reset);
+	 * zones: 1 unless the environment turns them off. */
+	int active;
+	int held_by;	  /* objects: index of the bot whose claw holds it, or -1 */
+	evo_body_id body; /* objects only */
+	int obstacle;	  /* cylinders and boxes: their obstacle index */
+	evo_element_def def;
+} evo_element;
+
+/* A static obstacle as the viewer and the sensors see it. The grid's
+ * obstacles are not elements: there are hundreds, rebuilt every episode. */
+typedef struct evo_obstacle {
+	evo_shape_type shape;
+	double x, y, angle;
+	double radius;	       /* circle */
+	double half_w, half_h; /* box */
+} evo_obstacle;
+
+/* The tutorial's obstacle grid: one obstacle per cell of a square grid
+ * over the area, each moved by up to `jitter` on each axis, of size
+ * min_size + [0, size_variability). Cells too close to a bot's start,
+ * a zone or an object are left empty. Rebuilt at every reset from the
+ * grid seed given to evo_scene_reset. */
+typedef struct evo_grid_def {
+	int enabled;
+	double x0, y0, x1, y1; /* area */
+	double spacing, jitter;
+	double min_size, size_variability;
+	int boxes;	  /* 0: cylinders; 1: boxes; 2: a mix */
+	double clearance; /* free space kept around starts, zones, objects */
+} evo_grid_def;
+
+/* EvoAgents' defaults: min size 1.0, variability 2.0, spacing 18. */
+evo_grid_def evo_default_grid_def(void);
+
+/* ---- sensors -------------------------------------------------------- */
+
+typedef enum evo_sensor_kind {
+	EVO_SENSOR_PROXIMITY = 0, /* rays over an arc: distance/range, 1 = clear */
+	EVO_SENSOR_DISTANCE,	  /* distance to target / scale, clamped */
+	EVO_SENSOR_ZONE,	  /* TRUE when the bot's centre is in the target zone */
+	EVO_SENSOR_BEARING,	  /* 0.5 + angle to target / 2 pi; 0.5 ahead */
+	EVO_SENSOR_PRESENCE,	  /* TRUE when the target exists (is active) */
+	EVO_SENSOR_OBJECT,	  /* TRUE when a free object is within reach ahead */
+	EVO_SENSOR_MOVEMENT,	  /* spread of recent positions / scale, clamped */
+	EVO_SENSOR_RANDOM,	  /* uniform in [0, 1) from the scene's rng */
+	EVO_SENSOR_CONSTANT,	  /* value */
+	EVO_SENSOR_HOLDING,	  /* TRUE when the bot's claw holds an object */
+	EVO_SENSOR_KIND_COUNT
+} evo_sensor_kind;
+
+/* What a distance, zone, bearing or presence sensor looks at. */
+#define EVO_TARGET_NEAREST_OBJECT (-2) /* the nearest active, free object */
+#define EVO_TARGET_NONE (-1)
+
+typedef struct evo_sensor_def {
+	evo_sensor_kind kind;
+	const char *name;
+	double x, y;  /* body frame */
+	double angle; /* radians, body frame */
+	/* proximity */
+	double range;	 /* 12 */
+	double arc;	 /* half angle, radians (6 degrees) */
+	int rays;	 /* 9, spread evenly over [-arc, +arc] */
+	double deadzone; /* 0.005: a reading below it is 0 */
+	uint16_t mask;	 /* what the rays see: obstacles and bots */
+	/* distance, zone, bearing, presence */
+	int target; /* element index or EVO_TARGET_NEAREST_OBJECT */
+	/* distance (100), movement (1): the distance that reads 1 */
+	double scale;
+	/* object detector: reach ahead of (x, y) along angle */
+	double reach;
+	/* constant */
+	double value;
+} evo_sensor_def;
+
+evo_sensor_def evo_default_sensor_def(evo_sensor_kind kind);
+
+typedef struct evo_sensor {
+	char name[EVO_SCENE_NAME_MAX];
+	evo_sensor_def def; /* def.name points at name */
+	double value;	    /* the last sample, in [0, 1] */
+	/* 1: evo_bot_sense skips it, because nothing reads it (evo_sim sets
+	 * this from the botdesc and the rewards); evo_sensor_sample still
+	 * samples it */
+	int idle;
+	/* proximity: each ray's hit fraction in [0, 1] (1: nothing), for the
+	 * viewer */
+	float ray[EVO_PROX_MAX_RAYS];
+	/* proximity: each ray's unit direction in the bot's frame, worked
+	 * out once when the sensor is added */
+	double ray_c[EVO_PROX_MAX_RAYS], ray_s[EVO_PROX_MAX_RAYS];
+} evo_sensor;
+
+/* ---- actuators ------------------------------------------------------ */
+
+typedef enum evo_actuator_kind {
+	EVO_ACT_WHEEL = 0, /* force (2c - 1) * max_force along angle at (x, y) */
+	EVO_ACT_CLAW = 1,  /* grabs on a rising crossing of 0.5, releases on a falling one */
+	EVO_ACT_KIND_COUNT
+} evo_actuator_kind;
+
+typedef struct evo_actuator_def {
+	evo_actuator_kind kind;
+	const char *name;
+	double x, y, angle; /* body frame */
+	double max_force;   /* wheel: 80 */
+	double reach;	    /* claw: 1.5, from (x, y) */
+} evo_actuator_def;
+
+evo_actuator_def evo_default_actuator_def(evo_actuator_kind kind);
+
+typedef struct evo_actuator {
+	char name[EVO_SCENE_NAME_MAX];
+	evo_actuator_def def;
+	double command; /* [0, 1], written by the caller before evo_scene_step */
+	double previous; /* the command of the previous step (claw edges) */
+	int held;	 /* claw: element index held, or -1 */
+	int joint;	 /* claw: the weld's id in the world, or -1 */
+	double dir_c, dir_s; /* cos and sin of def.angle */
+} evo_actuator;
+
+/* ---- bots ------------------------------------------------------------ */
+
+typedef struct evo_bot_def {
+	const char *name;
+	evo_body_def body; /* a dynamic circle: radius 1, density 2, friction
+			      0, damping 5 / 20, never sleeps (BotType8) */
+	double x, y, angle; /* start pose */
+} evo_bot_def;
+
+evo_bot_def evo_default_bot_def(void);
+
+typedef struct evo_bot {
+	char name[EVO_SCENE_NAME_MAX];
+	evo_bot_def def;
+	evo_body_id body;
+	double radius; /* bounding radius */
+	int n_sensors, n_actuators;
+	evo_sensor *sensor; /* owned */
+	evo_actuator *actuator; /* owned */
+	/* movement: a ring of the last EVO_DOF_HISTORY positions */
+	double hist_x[EVO_DOF_HISTORY], hist_y[EVO_DOF_HISTORY];
+	int hist_n, hist_i;
+	/* The body's pose after the last step or placement, with its
+	 * cosine and sine: worked out once and read by the sensors, the
+	 * actuators and the rewards of the tick (the pose changes only
+	 * there) */
+	double x, y, angle, c, s;
+	int touching;	 /* contacts this tick */
+	int collisions;	 /* ticks spent touching since the reset */
+	int delivered;	 /* objects this bot carried into a zone since the reset */
+} evo_bot;
+
+/* ---- reward and control functions ----------------------------------- */
+
+typedef enum evo_reward_kind {
+	EVO_RW_CLOSING_ON_TARGET = 0, /* k * (previous distance - distance) */
+	EVO_RW_SENSOR_OVER,	      /* k * sum(v - threshold) over v > threshold */
+	EVO_RW_SENSOR_UNDER,	      /* k * sum(threshold - v) over v <= threshold */
+	EVO_RW_PUNISH_ON_COLLISION,   /* k every tick the bot touches anything (k < 0) */
+	EVO_RW_FORWARD_MOTION,	      /* k moving forward, k2 moving backward */
+	EVO_RW_SPEED,		      /* k * speed^2 */
+	EVO_RW_STEP,		      /* k every tick */
+	EVO_RW_COLLECT,		      /* k for each object delivered into the target zone */
+	EVO_RW_FORWARD_SPEED,	      /* k * speed along the heading (< 0 backing) */
+	EVO_RW_LUA,		      /* a Lua function (sim/lua_evo.c) */
+	EVO_RW_KIND_COUNT
+} evo_reward_kind;
+
+typedef struct evo_reward_def {
+	evo_reward_kind kind;
+	int bot;
+	double k, k2;
+	double threshold;
+	int target; /* element (zone for Collect) */
+	int n_sensors;
+	int sensor[EVO_REWARD_MAX_SENSORS]; /* indices into the bot's sensors */
+	int lua_ref;			    /* EVO_RW_LUA: a registry reference */
+} evo_reward_def;
+
+evo_reward_def evo_default_reward_def(evo_reward_kind kind);
+
+typedef struct evo_reward {
+	evo_reward_def def;
+	double previous; /* ClosingOnTarget: last distance, -1 for none */
+	double total;	 /* this episode */
+} evo_reward;
+
+typedef enum evo_control_kind {
+	EVO_CF_NEXT_ON_TIMEOUT = 0,	     /* after `ticks` ticks */
+	EVO_CF_NEXT_ON_COLLISION,	     /* when the bot touches anything */
+	EVO_CF_NEXT_ON_COLLISION_AND_TIMEOUT, /* either */
+	EVO_CF_NEXT_ON_COLLISION_WITH_TARGET, /* when the bot touches the target element */
+	EVO_CF_NEXT_ON_SENSOR_BELOW,	     /* when sensor's value < threshold */
+	EVO_CF_LUA,
+	EVO_CF_KIND_COUNT
+} evo_control_kind;
+
+typedef struct evo_control_def {
+	evo_control_kind kind;
+	int bot;
+	long ticks;
+	int target;
+	int sensor;
+	double threshold;
+	int lua_ref;
+} evo_control_def;
+
+evo_control_def evo_default_control_def(evo_control_kind kind);
+
+typedef struct evo_control {
+	evo_control_def def;
+	long counter;
+} evo_control;
+
+/* ---- the scene ------------------------------------------------------- */
+
+typedef struct evo_scene evo_scene;
+
+/* Lua (or a test) can hook into a scene. Each hook returns 0, or -1 with
+ * the scene's err set (a script error); the step then fails. */
+typedef struct evo_scene_hooks {
+	void *ctx;
+	int (*reward)(void *ctx, evo_scene *sc, const evo_reward *r,
+		      double *out);
+	int (*control)(void *ctx, evo_scene *sc,
+		       const evo_control *c, int *next);
+	/* After each step, before rewards (EvoAgents' postStepOps). */
+	int (*post_step)(void *ctx, evo_scene *sc);
+} evo_scene_hooks;
+
+struct evo_scene {
+	evo_world *world;
+	long tick; /* ticks since the reset */
+	evo_rng rng; /* the episode's randomness (RANDOM sensors, placements) */
+	int n_elements, n_bots, n_obstacles, n_rewards, n_controls;
+	int cap_elements, cap_bots, cap_obstacles, cap_rewards, cap_controls;
+	evo_element *element;
+	evo_bot *bot;
+	int n_objects, cap_objects;
+	int *object; /* the element indices of the objects, in order */
+	evo_obstacle *obstacle; /* every static obstacle: elements', grid's */
+	int n_fixed_obstacles;	/* the first ones, from elements; the grid follows */
+	evo_reward *reward;
+	evo_control *control;
+	evo_grid_def grid;
+	double step_reward;    /* what the rewards gave in the last step */
+	double episode_reward; /* since the reset */
+	evo_scene_hooks hooks;
+	evo_err err;
+};
+
+evo_scene *evo_scene_create(void);
+void evo_scene_destroy(evo_scene *sc);
+
+/* Each add returns the new index, or -1 with sc->err set (bad value,
+ * unknown bot or sensor index, a name used twice). */
+int evo_scene_add_element(evo_scene *sc, const evo_element_def *def);
+int evo_scene_add_bot(evo_scene *sc, const evo_bot_def *def);
+int evo_scene_add_sensor(evo_scene *sc, int bot, const evo_sensor_def *def);
+int evo_scene_add_actuator(evo_scene *sc, int bot,
+			   const evo_actuator_def *def);
+int evo_scene_add_reward(evo_scene *sc, const evo_reward_def *def);
+int evo_scene_add_control(evo_scene *sc, const evo_control_def *def);
+void evo_scene_set_grid(evo_scene *sc, const evo_grid_def *def);
+
+/* Lookups by name; -1 when absent. */
+int evo_scene_find_element(const evo_scene *sc, const char *name);
+int evo_scene_find_bot(const evo_scene *sc, const char *name);
+int evo_bot_find_sensor(const evo_bot *b, const char *name);
+int evo_bot_find_actuator(const evo_bot *b, const char *name);
+
+/* Start an episode: bots back at their starts with no speed and neutral
+ * commands, claws open, objects back and active, rewards and controls
+ * cleared, the grid rebuilt from grid_seed, the rng reseeded from
+ * episode_seed. */
+void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed);
+
+/* Step 1 of the tick: every sensor of every bot samples. */
+void evo_scene_sense(evo_scene *sc);
+
+/* Steps 3-5: actuators act on their commands, the physics steps, the
+ * post-step hook runs, rewards add up into step_reward and
+ * episode_reward. Returns 1 when a control function ends the episode,
+ * 0 when it goes on, -1 with sc->err set when a hook failed. */
+int evo_scene_step(evo_scene *sc);
+
+/* Place a bot (pose and zero speed) or an element; used by environments. */
+void evo_scene_place_bot(evo_scene *sc, int bot, double x, double y,
+			 double angle);
+void evo_scene_place_element(evo_scene *sc, int element, double x, double y);
+
+/* Geometry helpers shared by sensors, rewards and the viewer. */
+/* World position of a point given in bot's frame. */
+void evo_bot_to_world(const evo_scene *sc, int bot, double bx, double by,
+		      double *wx, double *wy);
+/* Centre of a target (element index or EVO_TARGET_NEAREST_OBJECT seen from
+ * bot); 0 when there is none. */
+int evo_scene_target_pos(const evo_scene *sc, int bot, int target, double *x,
+			 double *y);
+/* The object detector's test, which the claw shares: the nearest active
+ * object no claw holds whose surface is within reach of (px, py) and whose
+ * centre is within arc (radians) of the unit direction (ux, uy). Its
+ * element index, or -1. */
+int evo_scene_object_in_reach(const evo_scene *sc, double px, double py,
+			      double ux, double uy, double reach, double arc);
+
+/* 1 when the world point lies inside zone element z. */
+int evo_zone_contains(const evo_element *z, double x, double y);
+
+/* ---- per piece, one file each --------------------------------------- */
+
+/* sim/sensors.c: sample one sensor; returns its value in [0, 1] and
+ * stores it (and a proximity sensor's rays). */
+double evo_sensor_sample(evo_scene *sc, int bot, int sensor);
+/* Sample every sensor of a bot, sharing one area query among its
+ * proximity sensors (what evo_scene_sense calls). */
+void evo_bot_sense(evo_scene *sc, int bot);
+
+/* sim/actuators.c: act on the actuator's command for one step (before the
+ * physics steps). */
+void evo_actuator_act(evo_scene *sc, int bot, int actuator);
+/* Open every claw of a bot (reset, delivery). */
+void evo_bot_release(evo_scene *sc, int bot);
+
+/* sim/rewards.c: one reward's value for the step just taken (0 on a hook
+ * error, which sets sc->err and returns through *failed). */
+double evo_reward_compute(evo_scene *sc, evo_reward *r, int *failed);
+/* 1: end the episode; 0: go on; -1: hook error. */
+int evo_control_check(evo_scene *sc, evo_control *c);
+void evo_reward_reset(evo_reward *r);
+void evo_control_reset(evo_control *c);
+
+/* The names users write (RW_ClosingOnTarget or ClosingOnTarget, ...);
+ * -1 when unknown. */
+int evo_reward_kind_by_name(const char *name);
+int evo_control_kind_by_name(const char *name);
+const char *evo_reward_kind_name(int kind);
+const char *evo_control_kind_name(int kind);
+
+#endif

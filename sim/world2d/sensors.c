@@ -1,0 +1,385 @@
+/* evo — the sensors of a bot (sim/scene.h): each one samples the scene and
+ * gives a value in [0, 1]; booleans read EVO_FALSE or EVO_TRUE.
+ *
+ * Proximity sensors are the costly ones: BotType8 carries ten of them with
+ * nine rays each, and a Box2D ray cast through the world's tree costs
+ * about 25 µs a tick for those 90 rays. So evo_bot_sense asks Box2D once
+ * for the shapes around the bot and intersects every ray with those few
+ * shapes here, with the same arithmetic as Box2D's own ray casts (in
+ * double): the readings agree with evo_world_raycast to float precision
+ * (tests/sim/test_sensors.c checks it on random scenes). */
+#include <assert.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include "world2d/scene.h"
+
+/* Shapes kept on the stack for one query; a crowd larger than this goes
+ * to the heap. */
+#define QUERY_CAP 64
+
+/* The bot's pose, with its rotation worked out once for every sensor. */
+typedef struct frame {
+	double x, y, c, s;
+} frame;
+
+/* What a bot's proximity rays can hit this tick. For a box, `radius`
+ * holds its bounding radius, which the culling uses. */
+typedef struct shape_set {
+	evo_shape_info *s;
+	int n;
+	evo_shape_info local[QUERY_CAP];
+} shape_set;
+
+static double clamp01(double v)
+{
+	if (v > 1)
+		return 1;
+	return v >= 0 ? v : 0; /* NaN reads 0 */
+}
+
+static double boolean(int v)
+{
+	return v ? EVO_TRUE : EVO_FALSE;
+}
+
+static int same_body(evo_body_id a, evo_body_id b)
+{
+	return a.index == b.index && a.generation == b.generation;
+}
+
+static frame bot_frame(const evo_bot *b)
+{
+	frame f = {b->x, b->y, b->c, b->s};
+	return f;
+}
+
+static void to_world(const frame *f, double bx, double by, double *wx,
+		     double *wy)
+{
+	*wx = f->x + f->c * bx - f->s * by;
+	*wy = f->y + f->s * bx + f->c * by;
+}
+
+/* ---- proximity: the shapes around the bot ----------------------------- */
+
+/* A bot's rays never see its own body, nor an object one of its claws
+ * holds: the object sits right before the claw and would blind every
+ * forward sensor while carried. */
+static int unseen(const evo_scene *sc, const evo_bot *b, evo_body_id id)
+{
+	if (id.index < 0)
+		return 0;
+	if (same_body(id, b->body))
+		return 1;
+	for (int i = 0; i < b->n_actuators; i++) {
+		int held = b->actuator[i].held;
+		if (b->actuator[i].def.kind == EVO_ACT_CLAW && held >= 0 &&
+		    held < sc->n_elements &&
+		    same_body(id, sc->element[held].body))
+			return 1;
+	}
+	return 0;
+}
+
+/* One area query for the square of half side `reach` around the bot,
+ * keeping what its rays may see. */
+static void gather(const evo_scene *sc, const evo_bot *b, const frame *f,
+		   double reach, uint16_t mask, shape_set *set)
+{
+	double x0 = f->x - reach, y0 = f->y - reach;
+	double x1 = f->x + reach, y1 = f->y + reach;
+	set->s = set->local;
+	int n = evo_world_query(sc->world, x0, y0, x1, y1, mask, set->local,
+				QUERY_CAP);
+	if (n > QUERY_CAP) {
+		evo_shape_info *big = malloc((size_t)n * sizeof *big);
+		if (big) {
+			set->s = big;
+			n = evo_world_query(sc->world, x0, y0, x1, y1, mask,
+					    big, n);
+		} else {
+			n = QUERY_CAP; /* out of memory: see what fits */
+		}
+	}
+	int kept = 0;
+	for (int i = 0; i < n; i++) {
+		evo_shape_info *s = &set->s[i];
+		if (unseen(sc, b, s->body))
+			continue;
+		if (s->type == EVO_SHAPE_BOX)
+			s->radius = hypot(s->vx[0] - s->x, s->vy[0] - s->y);
+		set->s[kept++] = *s;
+	}
+	set->n = kept;
+}
+
+static void release_set(shape_set *set)
+{
+	if (set->s != set->local)
+		free(set->s);
+	set->s = set->local;
+	set->n = 0;
+}
+
+/* How far from the bot's centre a proximity sensor's rays can reach. */
+static double sensor_reach(const evo_sensor_def *d)
+{
+	return hypot(d->x, d->y) + d->range;
+}
+
+/* ---- proximity: rays against circles and boxes ------------------------ */
+
+/* The segment p -> p + d against a circle, as b2CircleShape::RayCast
+ * does it: the fraction of the first crossing of the rim if it lies in
+ * [0, max], else max. A segment that starts inside sees nothing. */
+static double ray_circle(const evo_shape_info *s, double px, double py,
+			 double dx, double dy, double max)
+{
+	double sx = px - s->x, sy = py - s->y;
+	double b = sx * sx + sy * sy - s->radius * s->radius;
+	double c = sx * dx + sy * dy;
+	/* Inside, or outside and heading away: no crossing ahead. */
+	if (b < 0 || c > 0)
+		return max;
+	double rr = dx * dx + dy * dy;
+	double sigma = c * c - rr * b;
+	if (sigma < 0)
+		return max;
+	double a = -(c + sqrt(sigma));
+	return a <= max * rr ? a / rr : max;
+}
+
+/* The segment against a box given by its corners counter-clockwise (in
+ * Box2D's sense), clipping against each edge's half plane as
+ * b2PolygonShape::RayCast does. Box2D 2.4 casts against the bare polygon,
+ * without its skin (b2_polygonRadius), and so does this. */
+static double ray_box(const evo_shape_info *s, double px, double py, double dx,
+		      double dy, double max)
+{
+	double lower = 0, upper = max;
+	int entered = 0;
+	for (int i = 0; i < 4; i++) {
+		int j = (i + 1) & 3;
+		/* Outward normal of edge i -> j, not normalised: only the
+		 * ratio of the two dot products counts. */
+		double nx = s->vy[j] - s->vy[i], ny = s->vx[i] - s->vx[j];
+		double num = nx * (s->vx[i] - px) + ny * (s->vy[i] - py);
+		double den = nx * dx + ny * dy;
+		if (den == 0) {
+			if (num < 0)
+				return max; /* parallel and outside */
+		} else if (den < 0 && num < lower * den) {
+			lower = num / den;
+			entered = 1;
+		} else if (den > 0 && num < upper * den) {
+			upper = num / den;
+		}
+		if (upper < lower)
+			return max;
+	}
+	return entered ? lower : max;
+}
+
+/* A proximity sensor against the shapes of set. */
+static double sample_proximity(evo_sensor *se, const frame *f,
+			       const shape_set *set)
+{
+	const evo_sensor_def *d = &se->def;
+	int n = d->rays < 1 ? 1 : d->rays;
+	n = n > EVO_PROX_MAX_RAYS ? EVO_PROX_MAX_RAYS : n;
+	double arc = n > 1 ? fabs(d->arc) : 0;
+	double px, py;
+	to_world(f, d->x, d->y, &px, &py);
+
+	/* Ray directions: the sensor's own, worked out once in the bot's
+	 * frame (evo_scene_add_sensor), turned with the bot. */
+	double dx[EVO_PROX_MAX_RAYS], dy[EVO_PROX_MAX_RAYS];
+	double best[EVO_PROX_MAX_RAYS];
+	for (int i = 0; i < n; i++) {
+		dx[i] = (f->c * se->ray_c[i] - f->s * se->ray_s[i]) * d->range;
+		dy[i] = (f->s * se->ray_c[i] + f->c * se->ray_s[i]) * d->range;
+		best[i] = 1;
+	}
+
+	/* Cheap culling of shapes whose bounding circle cannot meet the
+	 * fan: too far, behind, or beyond either edge ray. The edge test
+	 * holds while the fan is convex (spans less than half a turn). */
+	double fx = dx[0], fy = dy[0], lx = dx[n - 1], ly = dy[n - 1];
+	int convex = 2 * arc < M_PI;
+	for (int k = 0; k < set->n; k++) {
+		const evo_shape_info *s = &set->s[k];
+		if (!(s->category & d->mask))
+			continue;
+		double ox = s->x - px, oy = s->y - py;
+		double lim = d->range + s->radius;
+		if (ox * ox + oy * oy > lim * lim)
+			continue;
+		if (convex) {
+			/* Each test is scaled by range (dx, dy are range
+			 * long), and so is its bound. */
+			double rr = s->radius * d->range;
+			/* (fx + lx, fy + ly) is at most 2 range long. */
+			if (ox * (fx + lx) + oy * (fy + ly) < -2 * rr)
+				continue;
+			/* Outward normals: the first edge rotated by -90
+			 * degrees, the last one by +90. */
+			if (ox * fy - oy * fx > rr || oy * lx - ox * ly > rr)
+				continue;
+		}
+		for (int i = 0; i < n; i++) {
+			best[i] =
+			    s->type == EVO_SHAPE_CIRCLE
+				? ray_circle(s, px, py, dx[i], dy[i], best[i])
+				: ray_box(s, px, py, dx[i], dy[i], best[i]);
+		}
+	}
+
+	/* Rays past n keep the 1 evo_scene_add_sensor gave them. */
+	double nearest = 1;
+	for (int i = 0; i < n; i++) {
+		se->ray[i] = (float)best[i];
+		nearest = best[i] < nearest ? best[i] : nearest;
+	}
+	return nearest < d->deadzone ? 0 : clamp01(nearest);
+}
+
+/* ---- the others ------------------------------------------------------- */
+
+/* Spread of the last positions: the root of the summed variances of x
+ * and y. The ring's order does not matter to a variance. */
+static double spread(const evo_bot *b)
+{
+	int n = b->hist_n < EVO_DOF_HISTORY ? b->hist_n : EVO_DOF_HISTORY;
+	if (n < 2)
+		return 0;
+	double mx = 0, my = 0;
+	for (int k = 1; k <= n; k++) {
+		int i = (b->hist_i - k + EVO_DOF_HISTORY) % EVO_DOF_HISTORY;
+		mx += b->hist_x[i];
+		my += b->hist_y[i];
+	}
+	mx /= n;
+	my /= n;
+	double v = 0;
+	for (int k = 1; k <= n; k++) {
+		int i = (b->hist_i - k + EVO_DOF_HISTORY) % EVO_DOF_HISTORY;
+		double ex = b->hist_x[i] - mx, ey = b->hist_y[i] - my;
+		v += ex * ex + ey * ey;
+	}
+	return sqrt(v / n);
+}
+
+static int holding(const evo_bot *b)
+{
+	for (int i = 0; i < b->n_actuators; i++)
+		if (b->actuator[i].def.kind == EVO_ACT_CLAW &&
+		    b->actuator[i].held >= 0)
+			return 1;
+	return 0;
+}
+
+/* One sensor's value; set holds the shapes around the bot for a
+ * proximity sensor. */
+static double sample(evo_scene *sc, int bot, evo_sensor *se, const frame *f,
+		     const shape_set *set)
+{
+	const evo_bot *b = &sc->bot[bot];
+	const evo_sensor_def *d = &se->def;
+	double px, py, tx, ty;
+	switch (d->kind) {
+	case EVO_SENSOR_PROXIMITY:
+		return sample_proximity(se, f, set);
+	case EVO_SENSOR_DISTANCE:
+		if (!evo_scene_target_pos(sc, bot, d->target, &tx, &ty))
+			return 1;
+		to_world(f, d->x, d->y, &px, &py);
+		return clamp01(hypot(tx - px, ty - py) / d->scale);
+	case EVO_SENSOR_ZONE:
+		return boolean(
+		    d->target >= 0 && d->target < sc->n_elements &&
+		    evo_zone_contains(&sc->element[d->target], f->x, f->y));
+	case EVO_SENSOR_BEARING: {
+		if (!evo_scene_target_pos(sc, bot, d->target, &tx, &ty))
+			return 0.5;
+		/* The target in the bot's frame: +y is its right. */
+		double ox = tx - f->x, oy = ty - f->y;
+		double fwd = f->c * ox + f->s * oy;
+		double right = -f->s * ox + f->c * oy;
+		double a = atan2(right, fwd);
+		if (a <= -M_PI)
+			a = M_PI; /* straight behind reads 1, never 0 */
+		return clamp01(0.5 + a / (2 * M_PI));
+	}
+	case EVO_SENSOR_PRESENCE:
+		if (d->target >= 0 && d->target < sc->n_elements)
+			return boolean(sc->element[d->target].active);
+		return boolean(
+		    d->target == EVO_TARGET_NEAREST_OBJECT &&
+		    evo_scene_target_pos(sc, bot, d->target, &tx, &ty));
+	case EVO_SENSOR_OBJECT: {
+		to_world(f, d->x, d->y, &px, &py);
+		double ux = f->c * cos(d->angle) - f->s * sin(d->angle);
+		double uy = f->s * cos(d->angle) + f->c * sin(d->angle);
+		return boolean(
+		    evo_scene_object_in_reach(sc, px, py, ux, uy, d->reach, d->arc) >= 0);
+	}
+	case EVO_SENSOR_MOVEMENT:
+		return clamp01(spread(b) / d->scale);
+	case EVO_SENSOR_RANDOM:
+		return evo_rng_unit(&sc->rng);
+	case EVO_SENSOR_CONSTANT:
+		return clamp01(d->value);
+	case EVO_SENSOR_HOLDING:
+		return boolean(holding(b));
+	case EVO_SENSOR_KIND_COUNT:
+		break;
+	}
+	return 0;
+}
+
+double evo_sensor_sample(evo_scene *sc, int bot, int sensor)
+{
+	assert(bot >= 0 && bot < sc->n_bots);
+	evo_bot *b = &sc->bot[bot];
+	assert(sensor >= 0 && sensor < b->n_sensors);
+	evo_sensor *se = &b->sensor[sensor];
+	frame f = bot_frame(b);
+	shape_set set;
+	set.s = set.local;
+	set.n = 0;
+	if (se->def.kind == EVO_SENSOR_PROXIMITY)
+		gather(sc, b, &f, sensor_reach(&se->def), se->def.mask, &set);
+	se->value = sample(sc, bot, se, &f, &set);
+	release_set(&set);
+	return se->value;
+}
+
+/* One query serves every proximity sensor: the square that holds all of
+ * their rays, for the union of what they see. */
+void evo_bot_sense(evo_scene *sc, int bot)
+{
+	assert(bot >= 0 && bot < sc->n_bots);
+	evo_bot *b = &sc->bot[bot];
+	frame f = bot_frame(b);
+	double reach = 0;
+	uint16_t mask = 0;
+	for (int i = 0; i < b->n_sensors; i++) {
+		const evo_sensor_def *d = &b->sensor[i].def;
+		if (d->kind != EVO_SENSOR_PROXIMITY || b->sensor[i].idle)
+			continue;
+		double r = sensor_reach(d);
+		reach = r > reach ? r : reach;
+		mask |= d->mask;
+	}
+	shape_set set;
+	set.s = set.local;
+	set.n = 0;
+	if (mask)
+		gather(sc, b, &f, reach, mask, &set);
+	for (int i = 0; i < b->n_sensors; i++)
+		if (!b->sensor[i].idle)
+			b->sensor[i].value =
+				sample(sc, bot, &b->sensor[i], &f, &set);
+	release_set(&set);
+}
