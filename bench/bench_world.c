@@ -16,6 +16,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "world2d/query.h"
 #include "world2d/scene.h"
 #include "tasksim/tasksim.h"
 #include "mind/task.h"

@@ -5,14 +5,7 @@
 
 #include <stddef.h>
 
-/* A message for the user: where and what went wrong. */
-typedef struct evo_err {
-	char msg[1024];
-} evo_err;
-
-/* Fill err with a printf-style message; returns -1 for `return fail(...)`. */
-int evo_fail(evo_err *err, const char *fmt, ...)
-	__attribute__((format(printf, 2, 3)));
+#include "base/err.h"
 
 /* Read a whole file into a malloc'd buffer (NUL-terminated, *len excludes
  * the NUL). Returns 0, or -1 with err set. */

@@ -5,7 +5,7 @@
 
 #include <stddef.h>
 
-#include "base/fileio.h"
+#include "base/err.h"
 #include "mind/mindfolder.h"
 
 /* The C header for l's image: a malloc'd NUL-terminated text (*len

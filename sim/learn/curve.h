@@ -3,7 +3,7 @@
 #ifndef EVO_CURVE_H
 #define EVO_CURVE_H
 
-#include "base/fileio.h"
+#include "base/err.h"
 
 /* Draw n generations of best[] and mean[] (either may be NULL) with a
  * title, axes and their ranges, and save the PNG atomically at path.

@@ -38,7 +38,7 @@
 #include <stdint.h>
 
 #include "evo/evo.h"
-#include "base/fileio.h"
+#include "base/err.h"
 
 typedef struct evo_evaluator evo_evaluator;
 

@@ -21,6 +21,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "base/fileio.h"
 #include "learn/curve.h"
 #include "learn/evaluate.h"
 #include "learn/literature.h"

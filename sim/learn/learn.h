@@ -6,7 +6,7 @@
 
 #include <stdint.h>
 
-#include "base/fileio.h"
+#include "base/err.h"
 #include "mind/task.h"
 
 typedef struct evo_learn_opts {

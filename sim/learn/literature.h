@@ -24,7 +24,7 @@
 #define EVO_LITERATURE_H
 
 #include "evo/evo.h"
-#include "base/fileio.h"
+#include "base/err.h"
 
 #define EVO_LIT_POLE_SUCCESS   100000L /* steps that count as balanced */
 #define EVO_LIT_DAMPING_STEPS  1000L   /* the DPNV fitness run */

@@ -1,6 +1,7 @@
 /* A learning run's folder, log and progress line (sim/runlog.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "learn/runlog.h"
+#include "base/fileio.h"
 
 #include <dirent.h>
 #include <errno.h>

@@ -11,7 +11,7 @@
 
 #include <stddef.h>
 
-#include "base/fileio.h"
+#include "base/err.h"
 
 typedef struct evo_gen_stats {
 	int generation;	   /* 0 based */

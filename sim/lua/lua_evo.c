@@ -9,6 +9,10 @@
 #define _DEFAULT_SOURCE /* realpath */
 #define _POSIX_C_SOURCE 200809L
 #include "lua/lua_evo.h"
+#include "world2d/rewards.h"
+#include "world2d/actuators.h"
+#include "world2d/sensors.h"
+#include "base/fileio.h"
 
 #include <lauxlib.h>
 #include <lua.h>
@@ -335,12 +339,12 @@ static int add_actuator(lua_State *L, evo_actuator_kind kind,
 
 static int wheel(lua_State *L)
 {
-	return add_actuator(L, EVO_ACT_WHEEL, "bot:wheel");
+	return add_actuator(L, EVO_ACTUATOR_WHEEL, "bot:wheel");
 }
 
 static int claw(lua_State *L)
 {
-	return add_actuator(L, EVO_ACT_CLAW, "bot:claw");
+	return add_actuator(L, EVO_ACTUATOR_CLAW, "bot:claw");
 }
 
 /* bot:target(sensor name, element or "nearest_object"): what a tracker

@@ -10,7 +10,7 @@
 #define EVO_LUA_EVO_H
 
 #include "evo/evo.h"
-#include "base/fileio.h"
+#include "base/err.h"
 #include "world2d/scene.h"
 
 typedef struct evo_lua evo_lua;

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/fileio.h"
 #include "mind/net_build.h"
 
 #define MAX_SKILLS 256

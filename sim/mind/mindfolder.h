@@ -13,7 +13,7 @@
 #define EVO_MIND_LOAD_H
 
 #include "evo/evo.h"
-#include "base/fileio.h"
+#include "base/err.h"
 
 typedef struct evo_load_opts {
 	/* The master skill; NULL: the one skill of Skills/ that no other

@@ -1,6 +1,7 @@
 #define _DEFAULT_SOURCE /* realpath */
 #define _POSIX_C_SOURCE 200809L
 #include "mind/task.h"
+#include "base/fileio.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -9,7 +9,7 @@
 #define EVO_TASK_H
 
 #include "evo/evo.h"
-#include "base/fileio.h"
+#include "base/err.h"
 #include "mind/mindfolder.h"
 
 typedef struct evo_task {

@@ -5,6 +5,7 @@
  * learning curve or a screenshot is mostly runs of one colour, which
  * deflate packs well without a row filter. */
 #include "viewer/png.h"
+#include "base/fileio.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -13,7 +13,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "base/fileio.h"
+#include "base/err.h"
 
 /* Largest side either direction accepts (as EVO_IMAGE_MAX_SIDE). */
 #define EVO_PNG_MAX_SIDE 16384

@@ -19,7 +19,7 @@
 
 #include <stdint.h>
 
-#include "base/fileio.h"
+#include "base/err.h"
 
 /* A w x h image, 3 bytes per pixel (R, G, B), rows top first, no padding:
  * pixel (x, y) starts at pixels[3 * (y * w + x)]. */

@@ -28,7 +28,7 @@
 #ifndef EVO_VIEWER_H
 #define EVO_VIEWER_H
 
-#include "base/fileio.h"
+#include "base/err.h"
 #include "viewer/raster.h"
 #include "world2d/scene.h"
 

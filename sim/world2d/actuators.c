@@ -4,7 +4,8 @@
 #include <assert.h>
 #include <math.h>
 
-#include "world2d/scene.h"
+#include "world2d/actuators.h"
+#include "world2d/query.h"
 
 /* The claw takes what lies within ±45 degrees of its direction. */
 #define CLAW_ARC (M_PI / 4)
@@ -65,10 +66,10 @@ void evo_actuator_act(evo_scene *sc, int bot, int actuator)
 	assert(actuator >= 0 && actuator < b->n_actuators);
 	evo_actuator *a = &b->actuator[actuator];
 	switch (a->def.kind) {
-	case EVO_ACT_WHEEL:
+	case EVO_ACTUATOR_WHEEL:
 		wheel(sc, b, a);
 		break;
-	case EVO_ACT_CLAW:
+	case EVO_ACTUATOR_CLAW:
 		/* Edges, not levels: a claw held shut does not keep
 		 * grabbing, and one that was opened from outside (a
 		 * delivery) waits for the next closing. */
@@ -77,7 +78,7 @@ void evo_actuator_act(evo_scene *sc, int bot, int actuator)
 		else if (a->previous >= 0.5 && a->command < 0.5)
 			claw_open(sc, a);
 		break;
-	case EVO_ACT_KIND_COUNT:
+	case EVO_ACTUATOR_KIND_COUNT:
 		break;
 	}
 	a->previous = a->command;
@@ -88,6 +89,6 @@ void evo_bot_release(evo_scene *sc, int bot)
 	assert(bot >= 0 && bot < sc->n_bots);
 	evo_bot *b = &sc->bot[bot];
 	for (int i = 0; i < b->n_actuators; i++)
-		if (b->actuator[i].def.kind == EVO_ACT_CLAW)
+		if (b->actuator[i].def.kind == EVO_ACTUATOR_CLAW)
 			claw_open(sc, &b->actuator[i]);
 }

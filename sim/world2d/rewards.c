@@ -10,7 +10,9 @@
 #include <math.h>
 #include <string.h>
 
-#include "world2d/scene.h"
+#include "world2d/actuators.h"
+#include "world2d/query.h"
+#include "world2d/rewards.h"
 
 /* ---- names ------------------------------------------------------------ */
 

@@ -1,156 +1,16 @@
-/* The 2D scene: creation, the episode reset with its obstacle grid, and
- * the step (sim/scene.h). Sensors, actuators and the reward and control
- * functions live in sensors.c, actuators.c and rewards.c. */
+/* The 2D scene's storage: creation, adding elements, bots, sensors,
+ * actuators, rewards and controls, lookups by name, and placing bots and
+ * elements (world2d/scene.h). It calls nothing above it: the pieces that
+ * run each tick (sensors.c, actuators.c, rewards.c) read the scene, and
+ * step.c drives them. */
 #include "world2d/scene.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* ---- randomness ---------------------------------------------------- */
-
-evo_rng evo_rng_seed(uint64_t seed)
-{
-	evo_rng r = {seed};
-	return r;
-}
-
-uint64_t evo_rng_next(evo_rng *r)
-{
-	uint64_t z = (r->s += 0x9E3779B97F4A7C15ull);
-	z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-	z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-	return z ^ (z >> 31);
-}
-
-/* Each coordinate goes through a full mix, so nearby tuples such as
- * (seed, 3, 1, 0) and (seed, 3, 0, 1) give unrelated streams. */
-evo_rng evo_rng_for(uint64_t seed, uint64_t a, uint64_t b, uint64_t c)
-{
-	evo_rng r = evo_rng_seed(seed);
-	uint64_t parts[3] = {a, b, c};
-	for (int i = 0; i < 3; i++) {
-		r.s ^= parts[i] + 0x632BE59BD9B4E019ull;
-		r.s = evo_rng_next(&r);
-	}
-	return r;
-}
-
-double evo_rng_unit(evo_rng *r)
-{
-	return (double)(evo_rng_next(r) >> 11) * (1.0 / 9007199254740992.0);
-}
-
-double evo_rng_range(evo_rng *r, double lo, double hi)
-{
-	return lo + (hi - lo) * evo_rng_unit(r);
-}
-
-/* ---- definitions ----------------------------------------------------- */
-
-evo_element_def evo_default_element_def(evo_element_kind kind)
-{
-	evo_element_def d;
-	memset(&d, 0, sizeof d);
-	d.kind = kind;
-	d.size = 1.0;
-	d.half_w = d.half_h = 1.0;
-	d.density = 2.0;
-	d.linear_damping = 5.0;
-	d.angular_damping = 5.0;
-	return d;
-}
-
-evo_grid_def evo_default_grid_def(void)
-{
-	evo_grid_def g;
-	memset(&g, 0, sizeof g);
-	g.x0 = g.y0 = -100;
-	g.x1 = g.y1 = 100;
-	g.spacing = 18.0;
-	g.min_size = 1.0;
-	g.size_variability = 2.0;
-	g.clearance = 3.0;
-	return g;
-}
-
-evo_sensor_def evo_default_sensor_def(evo_sensor_kind kind)
-{
-	evo_sensor_def d;
-	memset(&d, 0, sizeof d);
-	d.kind = kind;
-	d.range = 12.0;
-	d.arc = 6.0 * M_PI / 180.0;
-	d.rays = 9;
-	d.deadzone = 0.005;
-	d.mask = EVO_CAT_OBSTACLE | EVO_CAT_BOT;
-	d.target = EVO_TARGET_NONE;
-	d.scale = kind == EVO_SENSOR_MOVEMENT ? 1.5 : 100.0;
-	d.reach = 1.5;
-	if (kind == EVO_SENSOR_OBJECT) {
-		d.x = 1.0;
-		d.arc = 45.0 * M_PI / 180.0;
-	}
-	d.value = 0.5;
-	return d;
-}
-
-evo_actuator_def evo_default_actuator_def(evo_actuator_kind kind)
-{
-	evo_actuator_def d;
-	memset(&d, 0, sizeof d);
-	d.kind = kind;
-	d.max_force = 80.0;
-	d.reach = 1.5;
-	if (kind == EVO_ACT_CLAW)
-		d.x = 1.0;
-	return d;
-}
-
-evo_bot_def evo_default_bot_def(void)
-{
-	evo_bot_def d;
-	memset(&d, 0, sizeof d);
-	d.body = evo_default_body_def();
-	d.body.dynamic = 1;
-	d.body.shape = EVO_SHAPE_CIRCLE;
-	d.body.radius = 1.0;
-	d.body.density = 2.0;
-	d.body.friction = 0.0;
-	d.body.linear_damping = 5.0;
-	d.body.angular_damping = 20.0;
-	d.body.allow_sleep = 0;
-	d.body.category = EVO_CAT_BOT;
-	d.body.mask = EVO_CAT_ALL;
-	return d;
-}
-
-evo_reward_def evo_default_reward_def(evo_reward_kind kind)
-{
-	evo_reward_def d;
-	memset(&d, 0, sizeof d);
-	d.kind = kind;
-	d.k = 1.0;
-	d.threshold = 0.5;
-	d.target = EVO_TARGET_NONE;
-	d.lua_ref = -1;
-	return d;
-}
-
-evo_control_def evo_default_control_def(evo_control_kind kind)
-{
-	evo_control_def d;
-	memset(&d, 0, sizeof d);
-	d.kind = kind;
-	d.ticks = 1000;
-	d.target = EVO_TARGET_NONE;
-	d.sensor = -1;
-	d.threshold = 0.5;
-	d.lua_ref = -1;
-	return d;
-}
-
-/* ---- creation -------------------------------------------------------- */
+#include "world2d/rewards.h"
+#include "world2d/scene_internal.h"
 
 evo_scene *evo_scene_create(void)
 {
@@ -223,7 +83,7 @@ static int finite_all(const double *v, int n)
 	return 1;
 }
 
-static int add_obstacle(evo_scene *sc, const evo_obstacle *o)
+int evo_scene_add_obstacle(evo_scene *sc, const evo_obstacle *o)
 {
 	if (GROW(sc, obstacle, n_obstacles, cap_obstacles))
 		return -1;
@@ -305,7 +165,7 @@ int evo_scene_add_element(evo_scene *sc, const evo_element_def *d)
 		o.radius = d->size;
 		o.half_w = d->half_w;
 		o.half_h = d->half_h;
-		e.obstacle = add_obstacle(sc, &o);
+		e.obstacle = evo_scene_add_obstacle(sc, &o);
 		if (e.obstacle < 0)
 			return -1;
 		sc->n_fixed_obstacles = sc->n_obstacles;
@@ -321,8 +181,7 @@ int evo_scene_add_element(evo_scene *sc, const evo_element_def *d)
 	return sc->n_elements++;
 }
 
-/* Read the body's pose into the bot's cached frame. */
-static void refresh_pose(evo_scene *sc, evo_bot *b)
+void evo_bot_refresh_pose(evo_scene *sc, evo_bot *b)
 {
 	evo_pose p = evo_body_pose(sc->world, b->body);
 	b->x = p.x;
@@ -359,7 +218,7 @@ int evo_scene_add_bot(evo_scene *sc, const evo_bot_def *d)
 			   : sqrt(d->body.half_w * d->body.half_w +
 				  d->body.half_h * d->body.half_h);
 	sc->bot[sc->n_bots] = b;
-	refresh_pose(sc, &sc->bot[sc->n_bots]);
+	evo_bot_refresh_pose(sc, &sc->bot[sc->n_bots]);
 	return sc->n_bots++;
 }
 
@@ -449,7 +308,7 @@ int evo_scene_add_actuator(evo_scene *sc, int bot, const evo_actuator_def *d)
 	if (!finite_all(v, 5))
 		return evo_fail(&sc->err,
 				"actuator '%s': a value is not a number", name);
-	if ((unsigned)d->kind >= EVO_ACT_KIND_COUNT)
+	if ((unsigned)d->kind >= EVO_ACTUATOR_KIND_COUNT)
 		return evo_fail(&sc->err, "actuator '%s': unknown kind %d",
 				name, (int)d->kind);
 	if (name[0] && evo_bot_find_actuator(b, name) >= 0)
@@ -566,118 +425,6 @@ int evo_bot_find_actuator(const evo_bot *b, const char *name)
 	return -1;
 }
 
-/* ---- reset and the obstacle grid ------------------------------------- */
-
-/* Distance from (x, y) to the nearest thing the grid must keep clear of
- * (bot starts, zones, objects), less that thing's own size. */
-static double clear_distance(const evo_scene *sc, double x, double y)
-{
-	double best = INFINITY;
-	for (int i = 0; i < sc->n_bots; i++) {
-		const evo_bot *b = &sc->bot[i];
-		double d = hypot(x - b->def.x, y - b->def.y) - b->radius;
-		best = d < best ? d : best;
-	}
-	for (int i = 0; i < sc->n_elements; i++) {
-		const evo_element *e = &sc->element[i];
-		double size = e->kind == EVO_ELEM_ZONE ? e->size * M_SQRT2
-			      : e->kind == EVO_ELEM_OBJECT ? e->size
-							   : -1;
-		if (size < 0)
-			continue;
-		double d = hypot(x - e->x, y - e->y) - size;
-		best = d < best ? d : best;
-	}
-	return best;
-}
-
-/* The tutorial's grid: one obstacle per cell, jittered, of random size.
- * An obstacle that would reach within `clearance` of a start, a zone or an
- * object is left out (EvoAgents let one sit on the start). */
-static void build_grid(evo_scene *sc, uint64_t seed)
-{
-	const evo_grid_def *g = &sc->grid;
-	if (!g->enabled || !(g->spacing > 0))
-		return;
-	evo_rng r = evo_rng_seed(seed);
-	for (double y = g->y0; y <= g->y1 + 1e-9; y += g->spacing) {
-		for (double x = g->x0; x <= g->x1 + 1e-9; x += g->spacing) {
-			/* Draw every number whether or not the cell is used,
-			 * so one cell's fate never shifts the others. */
-			double ox = x + evo_rng_range(&r, -g->jitter, g->jitter);
-			double oy = y + evo_rng_range(&r, -g->jitter, g->jitter);
-			double size =
-				g->min_size + g->size_variability * evo_rng_unit(&r);
-			double angle = evo_rng_range(&r, 0, M_PI);
-			int box = g->boxes == 1 ||
-				  (g->boxes == 2 && evo_rng_unit(&r) < 0.5);
-			double extent = box ? size * M_SQRT2 : size;
-			if (clear_distance(sc, ox, oy) - extent < g->clearance)
-				continue;
-			evo_obstacle o;
-			memset(&o, 0, sizeof o);
-			o.shape = box ? EVO_SHAPE_BOX : EVO_SHAPE_CIRCLE;
-			o.x = ox;
-			o.y = oy;
-			o.angle = box ? angle : 0;
-			o.radius = size;
-			o.half_w = o.half_h = size;
-			if (add_obstacle(sc, &o) < 0)
-				return;
-		}
-	}
-}
-
-static void reset_bot(evo_scene *sc, int i)
-{
-	evo_bot *b = &sc->bot[i];
-	evo_bot_release(sc, i);
-	evo_scene_place_bot(sc, i, b->def.x, b->def.y, b->def.angle);
-	for (int k = 0; k < b->n_actuators; k++) {
-		b->actuator[k].command = b->actuator[k].previous = 0.5;
-	}
-	b->hist_n = b->hist_i = 0;
-	b->touching = b->collisions = b->delivered = 0;
-}
-
-void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
-{
-	for (int i = 0; i < sc->n_bots; i++)
-		reset_bot(sc, i);
-	for (int i = 0; i < sc->n_elements; i++) {
-		evo_element *e = &sc->element[i];
-		e->held_by = -1;
-		if (e->kind == EVO_ELEM_OBJECT) {
-			e->active = 1;
-			evo_body_set_enabled(sc->world, e->body, 1);
-			evo_scene_place_element(sc, i, e->def.x, e->def.y);
-		} else {
-			e->active = 1;
-			e->x = e->def.x;
-			e->y = e->def.y;
-		}
-	}
-	/* The grid is rebuilt: the elements' obstacles come back first, with
-	 * the same indices. */
-	if (sc->grid.enabled || sc->n_obstacles != sc->n_fixed_obstacles) {
-		int n = sc->n_fixed_obstacles;
-		evo_world_clear_obstacles(sc->world);
-		sc->n_obstacles = 0;
-		for (int i = 0; i < n; i++) {
-			evo_obstacle o = sc->obstacle[i];
-			add_obstacle(sc, &o);
-		}
-		build_grid(sc, grid_seed);
-	}
-	for (int i = 0; i < sc->n_rewards; i++)
-		evo_reward_reset(&sc->reward[i]);
-	for (int i = 0; i < sc->n_controls; i++)
-		evo_control_reset(&sc->control[i]);
-	sc->rng = evo_rng_seed(episode_seed);
-	sc->tick = 0;
-	sc->step_reward = sc->episode_reward = 0;
-}
-
 void evo_scene_place_bot(evo_scene *sc, int bot, double x, double y,
 			 double angle)
 {
@@ -687,7 +434,7 @@ void evo_scene_place_bot(evo_scene *sc, int bot, double x, double y,
 	evo_pose p = {x, y, angle};
 	evo_body_set_pose(sc->world, id, p);
 	evo_body_set_velocity(sc->world, id, 0, 0, 0);
-	refresh_pose(sc, &sc->bot[bot]);
+	evo_bot_refresh_pose(sc, &sc->bot[bot]);
 }
 
 void evo_scene_place_element(evo_scene *sc, int element, double x, double y)
@@ -702,137 +449,4 @@ void evo_scene_place_element(evo_scene *sc, int element, double x, double y)
 		evo_body_set_pose(sc->world, e->body, p);
 		evo_body_set_velocity(sc->world, e->body, 0, 0, 0);
 	}
-}
-
-/* ---- the tick --------------------------------------------------------- */
-
-
-void evo_scene_sense(evo_scene *sc)
-{
-	for (int i = 0; i < sc->n_bots; i++)
-		evo_bot_sense(sc, i);
-}
-
-int evo_scene_step(evo_scene *sc)
-{
-	for (int i = 0; i < sc->n_bots; i++)
-		for (int k = 0; k < sc->bot[i].n_actuators; k++)
-			evo_actuator_act(sc, i, k);
-	evo_world_step(sc->world);
-	sc->tick++;
-	for (int i = 0; i < sc->n_bots; i++) {
-		evo_bot *b = &sc->bot[i];
-		refresh_pose(sc, b);
-		b->hist_x[b->hist_i] = b->x;
-		b->hist_y[b->hist_i] = b->y;
-		b->hist_i = (b->hist_i + 1) % EVO_DOF_HISTORY;
-		if (b->hist_n < EVO_DOF_HISTORY)
-			b->hist_n++;
-		b->touching = evo_body_touching(sc->world, b->body);
-		/* A held object is welded and does not collide with its
-		 * bot, so it never counts. */
-		if (b->touching)
-			b->collisions++;
-	}
-	/* Objects follow their bodies. */
-	for (int k = 0; k < sc->n_objects; k++) {
-		evo_element *e = &sc->element[sc->object[k]];
-		if (e->active) {
-			evo_pose p = evo_body_pose(sc->world, e->body);
-			e->x = p.x;
-			e->y = p.y;
-			e->angle = p.angle;
-		}
-	}
-	if (sc->hooks.post_step && sc->hooks.post_step(sc->hooks.ctx, sc))
-		return -1;
-	double total = 0;
-	for (int i = 0; i < sc->n_rewards; i++) {
-		int failed = 0;
-		total += evo_reward_compute(sc, &sc->reward[i], &failed);
-		if (failed)
-			return -1;
-	}
-	sc->step_reward = total;
-	sc->episode_reward += total;
-	int next = 0;
-	for (int i = 0; i < sc->n_controls; i++) {
-		int r = evo_control_check(sc, &sc->control[i]);
-		if (r < 0)
-			return -1;
-		next |= r;
-	}
-	return next;
-}
-
-/* ---- geometry --------------------------------------------------------- */
-
-void evo_bot_to_world(const evo_scene *sc, int bot, double bx, double by,
-		      double *wx, double *wy)
-{
-	const evo_bot *b = &sc->bot[bot];
-	*wx = b->x + b->c * bx - b->s * by;
-	*wy = b->y + b->s * bx + b->c * by;
-}
-
-int evo_scene_target_pos(const evo_scene *sc, int bot, int target, double *x,
-			 double *y)
-{
-	if (target >= 0 && target < sc->n_elements) {
-		const evo_element *e = &sc->element[target];
-		if (!e->active)
-			return 0;
-		*x = e->x;
-		*y = e->y;
-		return 1;
-	}
-	if (target != EVO_TARGET_NEAREST_OBJECT || bot < 0 || bot >= sc->n_bots)
-		return 0;
-	const evo_bot *b = &sc->bot[bot];
-	double best = INFINITY;
-	for (int k = 0; k < sc->n_objects; k++) {
-		const evo_element *e = &sc->element[sc->object[k]];
-		if (!e->active || e->held_by >= 0)
-			continue;
-		double d = hypot(e->x - b->x, e->y - b->y);
-		if (d < best) {
-			best = d;
-			*x = e->x;
-			*y = e->y;
-		}
-	}
-	return best < INFINITY;
-}
-
-int evo_scene_object_in_reach(const evo_scene *sc, double px, double py,
-			      double ux, double uy, double reach, double arc)
-{
-	double cos_arc = cos(arc);
-	double best = INFINITY;
-	int found = -1;
-	for (int k = 0; k < sc->n_objects; k++) {
-		const evo_element *e = &sc->element[sc->object[k]];
-		if (!e->active || e->held_by >= 0)
-			continue;
-		double ox = e->x - px, oy = e->y - py;
-		double dist = hypot(ox, oy);
-		double gap = dist - e->size;
-		if (gap > reach || gap >= best)
-			continue;
-		if (ox * ux + oy * uy < dist * cos_arc)
-			continue;
-		best = gap;
-		found = sc->object[k];
-	}
-	return found;
-}
-
-int evo_zone_contains(const evo_element *z, double x, double y)
-{
-	if (z->kind != EVO_ELEM_ZONE || !z->active)
-		return 0;
-	double c = cos(z->angle), s = sin(z->angle);
-	double dx = x - z->x, dy = y - z->y;
-	double lx = c * dx + s * dy, ly = -s * dx + c * dy;
-	return fabs(lx) <= z->size && fabs(ly) <= z->size;
 }

@@ -21,7 +21,8 @@
 
 #include <stdint.h>
 
-#include "base/fileio.h"
+#include "base/err.h"
+#include "base/rng.h"
 #include "world2d/world.h"
 
 #define EVO_SCENE_NAME_MAX 64
@@ -40,24 +41,6 @@
 /* Boolean signals (DESIGN.md). */
 #define EVO_FALSE 0.2
 #define EVO_TRUE 0.8
-
-/* ---- randomness ---------------------------------------------------- */
-
-/* splitmix64: small, seedable, one per scene (never shared between
- * threads). */
-typedef struct evo_rng {
-	uint64_t s;
-} evo_rng;
-
-evo_rng evo_rng_seed(uint64_t seed);
-/* A stream for (seed, a, b, c): evaluations are seeded from (run seed,
- * generation, candidate, repetition). */
-evo_rng evo_rng_for(uint64_t seed, uint64_t a, uint64_t b, uint64_t c);
-uint64_t evo_rng_next(evo_rng *r);
-/* Uniform in [0, 1). */
-double evo_rng_unit(evo_rng *r);
-/* Uniform in [lo, hi). */
-double evo_rng_range(evo_rng *r, double lo, double hi);
 
 /* ---- world elements ------------------------------------------------ */
 
@@ -183,9 +166,9 @@ typedef struct evo_sensor {
 /* ---- actuators ------------------------------------------------------ */
 
 typedef enum evo_actuator_kind {
-	EVO_ACT_WHEEL = 0, /* force (2c - 1) * max_force along angle at (x, y) */
-	EVO_ACT_CLAW = 1,  /* grabs on a rising crossing of 0.5, releases on a falling one */
-	EVO_ACT_KIND_COUNT
+	EVO_ACTUATOR_WHEEL = 0, /* force (2c - 1) * max_force along angle at (x, y) */
+	EVO_ACTUATOR_CLAW = 1,  /* grabs on a rising crossing of 0.5, releases on a falling one */
+	EVO_ACTUATOR_KIND_COUNT
 } evo_actuator_kind;
 
 typedef struct evo_actuator_def {
@@ -378,53 +361,5 @@ int evo_scene_step(evo_scene *sc);
 void evo_scene_place_bot(evo_scene *sc, int bot, double x, double y,
 			 double angle);
 void evo_scene_place_element(evo_scene *sc, int element, double x, double y);
-
-/* Geometry helpers shared by sensors, rewards and the viewer. */
-/* World position of a point given in bot's frame. */
-void evo_bot_to_world(const evo_scene *sc, int bot, double bx, double by,
-		      double *wx, double *wy);
-/* Centre of a target (element index or EVO_TARGET_NEAREST_OBJECT seen from
- * bot); 0 when there is none. */
-int evo_scene_target_pos(const evo_scene *sc, int bot, int target, double *x,
-			 double *y);
-/* The object detector's test, which the claw shares: the nearest active
- * object no claw holds whose surface is within reach of (px, py) and whose
- * centre is within arc (radians) of the unit direction (ux, uy). Its
- * element index, or -1. */
-int evo_scene_object_in_reach(const evo_scene *sc, double px, double py,
-			      double ux, double uy, double reach, double arc);
-
-/* 1 when the world point lies inside zone element z. */
-int evo_zone_contains(const evo_element *z, double x, double y);
-
-/* ---- per piece, one file each --------------------------------------- */
-
-/* sim/sensors.c: sample one sensor; returns its value in [0, 1] and
- * stores it (and a proximity sensor's rays). */
-double evo_sensor_sample(evo_scene *sc, int bot, int sensor);
-/* Sample every sensor of a bot, sharing one area query among its
- * proximity sensors (what evo_scene_sense calls). */
-void evo_bot_sense(evo_scene *sc, int bot);
-
-/* sim/actuators.c: act on the actuator's command for one step (before the
- * physics steps). */
-void evo_actuator_act(evo_scene *sc, int bot, int actuator);
-/* Open every claw of a bot (reset, delivery). */
-void evo_bot_release(evo_scene *sc, int bot);
-
-/* sim/rewards.c: one reward's value for the step just taken (0 on a hook
- * error, which sets sc->err and returns through *failed). */
-double evo_reward_compute(evo_scene *sc, evo_reward *r, int *failed);
-/* 1: end the episode; 0: go on; -1: hook error. */
-int evo_control_check(evo_scene *sc, evo_control *c);
-void evo_reward_reset(evo_reward *r);
-void evo_control_reset(evo_control *c);
-
-/* The names users write (RW_ClosingOnTarget or ClosingOnTarget, ...);
- * -1 when unknown. */
-int evo_reward_kind_by_name(const char *name);
-int evo_control_kind_by_name(const char *name);
-const char *evo_reward_kind_name(int kind);
-const char *evo_control_kind_name(int kind);
 
 #endif

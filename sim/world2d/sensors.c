@@ -12,7 +12,8 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "world2d/scene.h"
+#include "world2d/query.h"
+#include "world2d/sensors.h"
 
 /* Shapes kept on the stack for one query; a crowd larger than this goes
  * to the heap. */
@@ -74,7 +75,7 @@ static int unseen(const evo_scene *sc, const evo_bot *b, evo_body_id id)
 		return 1;
 	for (int i = 0; i < b->n_actuators; i++) {
 		int held = b->actuator[i].held;
-		if (b->actuator[i].def.kind == EVO_ACT_CLAW && held >= 0 &&
+		if (b->actuator[i].def.kind == EVO_ACTUATOR_CLAW && held >= 0 &&
 		    held < sc->n_elements &&
 		    same_body(id, sc->element[held].body))
 			return 1;
@@ -273,7 +274,7 @@ static double spread(const evo_bot *b)
 static int holding(const evo_bot *b)
 {
 	for (int i = 0; i < b->n_actuators; i++)
-		if (b->actuator[i].def.kind == EVO_ACT_CLAW &&
+		if (b->actuator[i].def.kind == EVO_ACTUATOR_CLAW &&
 		    b->actuator[i].held >= 0)
 			return 1;
 	return 0;

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "base/fileio.h"
 #include "harness.h"
 #include "mind/mindfolder.h"
 #include "support/rng.h"

@@ -1,0 +1,17 @@
+/* evo — the host side's error message: where and what went wrong, for the
+ * user. Every host function that can fail returns -1 (or NULL) and fills
+ * one of these; the caller prints it or passes it up. */
+#ifndef EVO_ERR_H
+#define EVO_ERR_H
+
+/* A message for the user: "file:line: what was expected, what was found". */
+typedef struct evo_err {
+	char msg[1024];
+} evo_err;
+
+/* Fill err (may be NULL) with a printf-style message; returns -1, for
+ * `return evo_fail(err, ...)`. */
+int evo_fail(evo_err *err, const char *fmt, ...)
+	__attribute__((format(printf, 2, 3)));
+
+#endif

@@ -1,0 +1,109 @@
+/* The defaults every Def of the 2D world starts from (world2d/scene.h):
+ * EvoAgents' values, so a bot model or environment that leaves a field
+ * out gets what the tutorial's did. */
+#include <math.h>
+#include <string.h>
+
+#include "world2d/scene.h"
+
+evo_element_def evo_default_element_def(evo_element_kind kind)
+{
+	evo_element_def d;
+	memset(&d, 0, sizeof d);
+	d.kind = kind;
+	d.size = 1.0;
+	d.half_w = d.half_h = 1.0;
+	d.density = 2.0;
+	d.linear_damping = 5.0;
+	d.angular_damping = 5.0;
+	return d;
+}
+
+evo_grid_def evo_default_grid_def(void)
+{
+	evo_grid_def g;
+	memset(&g, 0, sizeof g);
+	g.x0 = g.y0 = -100;
+	g.x1 = g.y1 = 100;
+	g.spacing = 18.0;
+	g.min_size = 1.0;
+	g.size_variability = 2.0;
+	g.clearance = 3.0;
+	return g;
+}
+
+evo_sensor_def evo_default_sensor_def(evo_sensor_kind kind)
+{
+	evo_sensor_def d;
+	memset(&d, 0, sizeof d);
+	d.kind = kind;
+	d.range = 12.0;
+	d.arc = 6.0 * M_PI / 180.0;
+	d.rays = 9;
+	d.deadzone = 0.005;
+	d.mask = EVO_CAT_OBSTACLE | EVO_CAT_BOT;
+	d.target = EVO_TARGET_NONE;
+	d.scale = kind == EVO_SENSOR_MOVEMENT ? 1.5 : 100.0;
+	d.reach = 1.5;
+	if (kind == EVO_SENSOR_OBJECT) {
+		d.x = 1.0;
+		d.arc = 45.0 * M_PI / 180.0;
+	}
+	d.value = 0.5;
+	return d;
+}
+
+evo_actuator_def evo_default_actuator_def(evo_actuator_kind kind)
+{
+	evo_actuator_def d;
+	memset(&d, 0, sizeof d);
+	d.kind = kind;
+	d.max_force = 80.0;
+	d.reach = 1.5;
+	if (kind == EVO_ACTUATOR_CLAW)
+		d.x = 1.0;
+	return d;
+}
+
+evo_bot_def evo_default_bot_def(void)
+{
+	evo_bot_def d;
+	memset(&d, 0, sizeof d);
+	d.body = evo_default_body_def();
+	d.body.dynamic = 1;
+	d.body.shape = EVO_SHAPE_CIRCLE;
+	d.body.radius = 1.0;
+	d.body.density = 2.0;
+	d.body.friction = 0.0;
+	d.body.linear_damping = 5.0;
+	d.body.angular_damping = 20.0;
+	d.body.allow_sleep = 0;
+	d.body.category = EVO_CAT_BOT;
+	d.body.mask = EVO_CAT_ALL;
+	return d;
+}
+
+evo_reward_def evo_default_reward_def(evo_reward_kind kind)
+{
+	evo_reward_def d;
+	memset(&d, 0, sizeof d);
+	d.kind = kind;
+	d.k = 1.0;
+	d.threshold = 0.5;
+	d.target = EVO_TARGET_NONE;
+	d.lua_ref = -1;
+	return d;
+}
+
+evo_control_def evo_default_control_def(evo_control_kind kind)
+{
+	evo_control_def d;
+	memset(&d, 0, sizeof d);
+	d.kind = kind;
+	d.ticks = 1000;
+	d.target = EVO_TARGET_NONE;
+	d.sensor = -1;
+	d.threshold = 0.5;
+	d.lua_ref = -1;
+	return d;
+}

@@ -1,0 +1,15 @@
+/* evo — the sensors of the 2D world (the kinds in world2d/scene.h,
+ * docs/world.md): each samples the scene into a value in [0, 1]. */
+#ifndef EVO_SENSORS_H
+#define EVO_SENSORS_H
+
+#include "world2d/scene.h"
+
+/* Sample one sensor; returns its value in [0, 1] and
+ * stores it (and a proximity sensor's rays). */
+double evo_sensor_sample(evo_scene *sc, int bot, int sensor);
+/* Sample every sensor of a bot, sharing one area query among its
+ * proximity sensors (what evo_scene_sense calls). */
+void evo_bot_sense(evo_scene *sc, int bot);
+
+#endif

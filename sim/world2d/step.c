@@ -1,0 +1,110 @@
+/* The 2D scene's episode and tick (world2d/scene.h): the reset, then each
+ * tick the sensing (step 1 of DESIGN.md's tick) and the step (steps 3-5:
+ * actuators act, the physics steps, the post-step hook, rewards, controls).
+ * This is the top of the 2D world: it calls the pieces below it (sensors.c,
+ * actuators.c, rewards.c, grid.c, scene.c), none of which calls back. */
+#include <stdint.h>
+
+#include "base/rng.h"
+#include "world2d/actuators.h"
+#include "world2d/rewards.h"
+#include "world2d/scene.h"
+#include "world2d/scene_internal.h"
+#include "world2d/sensors.h"
+
+static void reset_bot(evo_scene *sc, int i)
+{
+	evo_bot *b = &sc->bot[i];
+	evo_bot_release(sc, i);
+	evo_scene_place_bot(sc, i, b->def.x, b->def.y, b->def.angle);
+	for (int k = 0; k < b->n_actuators; k++) {
+		b->actuator[k].command = b->actuator[k].previous = 0.5;
+	}
+	b->hist_n = b->hist_i = 0;
+	b->touching = b->collisions = b->delivered = 0;
+}
+
+void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
+{
+	for (int i = 0; i < sc->n_bots; i++)
+		reset_bot(sc, i);
+	for (int i = 0; i < sc->n_elements; i++) {
+		evo_element *e = &sc->element[i];
+		e->held_by = -1;
+		if (e->kind == EVO_ELEM_OBJECT) {
+			e->active = 1;
+			evo_body_set_enabled(sc->world, e->body, 1);
+			evo_scene_place_element(sc, i, e->def.x, e->def.y);
+		} else {
+			e->active = 1;
+			e->x = e->def.x;
+			e->y = e->def.y;
+		}
+	}
+	evo_grid_rebuild(sc, grid_seed);
+	for (int i = 0; i < sc->n_rewards; i++)
+		evo_reward_reset(&sc->reward[i]);
+	for (int i = 0; i < sc->n_controls; i++)
+		evo_control_reset(&sc->control[i]);
+	sc->rng = evo_rng_seed(episode_seed);
+	sc->tick = 0;
+	sc->step_reward = sc->episode_reward = 0;
+}
+
+void evo_scene_sense(evo_scene *sc)
+{
+	for (int i = 0; i < sc->n_bots; i++)
+		evo_bot_sense(sc, i);
+}
+
+int evo_scene_step(evo_scene *sc)
+{
+	for (int i = 0; i < sc->n_bots; i++)
+		for (int k = 0; k < sc->bot[i].n_actuators; k++)
+			evo_actuator_act(sc, i, k);
+	evo_world_step(sc->world);
+	sc->tick++;
+	for (int i = 0; i < sc->n_bots; i++) {
+		evo_bot *b = &sc->bot[i];
+		evo_bot_refresh_pose(sc, b);
+		b->hist_x[b->hist_i] = b->x;
+		b->hist_y[b->hist_i] = b->y;
+		b->hist_i = (b->hist_i + 1) % EVO_DOF_HISTORY;
+		if (b->hist_n < EVO_DOF_HISTORY)
+			b->hist_n++;
+		b->touching = evo_body_touching(sc->world, b->body);
+		/* A held object is welded and does not collide with its
+		 * bot, so it never counts. */
+		if (b->touching)
+			b->collisions++;
+	}
+	/* Objects follow their bodies. */
+	for (int k = 0; k < sc->n_objects; k++) {
+		evo_element *e = &sc->element[sc->object[k]];
+		if (e->active) {
+			evo_pose p = evo_body_pose(sc->world, e->body);
+			e->x = p.x;
+			e->y = p.y;
+			e->angle = p.angle;
+		}
+	}
+	if (sc->hooks.post_step && sc->hooks.post_step(sc->hooks.ctx, sc))
+		return -1;
+	double total = 0;
+	for (int i = 0; i < sc->n_rewards; i++) {
+		int failed = 0;
+		total += evo_reward_compute(sc, &sc->reward[i], &failed);
+		if (failed)
+			return -1;
+	}
+	sc->step_reward = total;
+	sc->episode_reward += total;
+	int next = 0;
+	for (int i = 0; i < sc->n_controls; i++) {
+		int r = evo_control_check(sc, &sc->control[i]);
+		if (r < 0)
+			return -1;
+		next |= r;
+	}
+	return next;
+}
