@@ -22,8 +22,8 @@
 -- Determinism as in learn.genetic: every draw goes through the given rng,
 -- and annealing.save / annealing.load hold the whole state.
 local common = require "learn.common"
-local neat = require "learn.neat"
 local genetic = require "learn.genetic"
+local random = require "learn.rng"
 
 local annealing = {}
 
@@ -93,7 +93,7 @@ Pop.__index = Pop
 -- args: inputs, outputs, layers (hidden layers, default 1), options, rng.
 function annealing.new(args)
 	local o = genetic.merged_options(annealing.defaults, args.options, "annealing.new")
-	local rng = args.rng or error("annealing.new: an rng is required (neat.rng(seed))")
+	local rng = args.rng or error("annealing.new: an rng is required (learn.rng: random.new(seed))")
 	local k = o.steps_per_generation
 	assert(k >= 1 and k == math.floor(k), "SA_STEPS_PER_GENERATION must be a whole number >= 1")
 	assert(o.t0 >= 0 and o.alpha > 0 and o.alpha <= 1, "SA_T0 must be >= 0 and SA_ALPHA in (0, 1]")
@@ -157,7 +157,7 @@ function annealing.save(pop, shared)
 end
 
 function annealing.load(t, rng)
-	return common.load(t, "evo-annealing-1", Pop, rng, neat.rng_load)
+	return common.load(t, "evo-annealing-1", Pop, rng, random.load)
 end
 
 return annealing

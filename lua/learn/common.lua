@@ -1,5 +1,6 @@
 -- What every learning method shares: reading its settings from a task and
--- saving its whole state for a checkpoint.
+-- saving its whole state for a checkpoint. The methods' random generator
+-- is learn.rng, and their .net writer learn.netfile.
 local common = {}
 
 -- A copy of plain data (numbers, strings, booleans, tables).

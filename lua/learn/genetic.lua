@@ -2,9 +2,9 @@
 -- networks, in pure Lua 5.4 (docs/learning.md).
 --
 --	local genetic = require "learn.genetic"
---	local neat = require "learn.neat"
+--	local random = require "learn.rng"
 --	local pop = genetic.new{ inputs = 2, outputs = 1, layers = 1,
---		options = { pop_size = 50 }, rng = neat.rng(42) }
+--		options = { pop_size = 50 }, rng = random.new(42) }
 --	for gen = 1, 100 do
 --		local fit = {}
 --		for i, g in ipairs(pop:genomes()) do fit[i] = evaluate(genetic.to_net(g)) end
@@ -25,12 +25,13 @@
 -- travels with the weights so to_net needs nothing else.
 --
 -- Determinism. Every draw goes through the rng given to genetic.new (the
--- xoshiro generator of learn.neat); loops run over arrays only, so the same
+-- xoshiro generator of learn.rng); loops run over arrays only, so the same
 -- seed gives the same run, and genetic.save / genetic.load hold it all.
 --
 -- Fitness is "higher is better"; NaN counts as the worst.
 local common = require "learn.common"
-local neat = require "learn.neat"
+local netfile = require "learn.netfile"
+local random = require "learn.rng"
 
 local genetic = {}
 
@@ -115,8 +116,8 @@ function genetic.weight_count(n_in, n_out, layers)
 	return count + n_out * (prev + 1)
 end
 
--- Genome -> network table, the shape neat.to_net gives (evo.evaluate and
--- neat.to_net_text take it), with net_build's ids and listing order.
+-- Genome -> network table, the shape neat.to_net gives (the host's evaluate
+-- and learn.netfile take it), with net_build's ids and listing order.
 function genetic.to_net(g)
 	local n_in, n_out, layers = g.inputs, g.outputs, g.layers
 	local width = genetic.width(n_in, n_out)
@@ -143,7 +144,7 @@ function genetic.to_net(g)
 	return { inputs = n_in, outputs = n_out, nodes = nodes, outputs_ids = outputs_ids, links = links }
 end
 
-genetic.to_net_text = neat.to_net_text
+genetic.to_net_text = netfile.text
 
 local function clamp(x, m) return x > m and m or (x < -m and -m or x) end
 
@@ -228,7 +229,7 @@ Pop.__index = Pop
 -- args: inputs, outputs, layers (hidden layers, default 1), options, rng.
 function genetic.new(args)
 	local o = merged(genetic.defaults, args.options, "genetic.new")
-	local rng = args.rng or error("genetic.new: an rng is required (neat.rng(seed))")
+	local rng = args.rng or error("genetic.new: an rng is required (learn.rng: random.new(seed))")
 	local layers = args.layers or 1
 	assert(o.pop_size >= 1 and o.pop_size == math.floor(o.pop_size), "GA_POPSIZE must be a whole number >= 1")
 	assert(o.elitism >= 0 and o.elitism <= o.pop_size, "GA_ELITISM must be between 0 and the population size")
@@ -294,7 +295,7 @@ function genetic.save(pop, shared)
 end
 
 function genetic.load(t, rng)
-	return common.load(t, "evo-genetic-1", Pop, rng, neat.rng_load)
+	return common.load(t, "evo-genetic-1", Pop, rng, random.load)
 end
 
 return genetic

@@ -1,19 +1,22 @@
 -- LEARNSIM: train the task's LEARNINGSKILL inside its hierarchy
--- (docs/learning.md). The algorithm proposes networks; evo.evaluate runs
+-- (docs/learning.md). The algorithm proposes networks; host.evaluate runs
 -- them in C on the worker threads; every generation is logged, its best
 -- network saved and a checkpoint written, so --resume goes on exactly where
 -- a killed run stopped.
-local evo = require "evo.learn"
+--
+-- `host` is the loop's C side, the module evo.learn: the task, the run
+-- folder, the evaluator. It is not the scene scripts' evo module.
+local host = require "evo.learn"
 local common = require "learn.common"
+local random = require "learn.rng"
 local serialize = require "learn.serialize"
 
-local task = evo.task
+local task = host.task
 local method = (task.LEARNINGMETHOD or "NEAT"):upper()
 local MODULES = common.MODULES
 if not MODULES[method] then
 	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC or ANNEALING", 0)
 end
-local neat = require "learn.neat"
 local algo = require(MODULES[method])
 
 local generations = tonumber(task.NUMGEN or "50")
@@ -31,7 +34,7 @@ local literature = ({ XOR = true, DPV = true, DPNV = true })[(task.ENV or ""):up
 local REPLAY_RANDOM = 20
 
 -- A malformed option stops the run at its line in the task file.
-local options = common.task_options(algo, task, evo.task_path, evo.task_lines)
+local options = common.task_options(algo, task, host.task_path, host.task_lines)
 
 -- The checkpoint `text` read back: the population and the checkpoint's
 -- table. It is refused, with its path and what is wrong, unless it is a
@@ -44,16 +47,16 @@ local function resume(text, path)
 		or type(c.history.best) ~= "table" or type(c.history.mean) ~= "table" then
 		error(path .. ": not a learning run's checkpoint (it needs generation, pop and history)", 0)
 	end
-	if c.seed ~= nil and c.seed ~= evo.seed then
+	if c.seed ~= nil and c.seed ~= host.seed then
 		error(string.format("%s: the checkpoint is of a run with seed %s, not %s: resume it with "
-			.. "--seed %s", path, tostring(c.seed), tostring(evo.seed), tostring(c.seed)), 0)
+			.. "--seed %s", path, tostring(c.seed), tostring(host.seed), tostring(c.seed)), 0)
 	end
 	local ok, p = pcall(algo.load, c.pop)
 	if not ok then error(path .. ": " .. tostring(p), 0) end
-	if p.inputs ~= evo.inputs or p.outputs ~= evo.outputs then
+	if p.inputs ~= host.inputs or p.outputs ~= host.outputs then
 		error(string.format("%s: the checkpoint's networks have %s inputs and %s outputs; the skill "
 			.. "now has %d and %d", path, tostring(p.inputs), tostring(p.outputs),
-			evo.inputs, evo.outputs), 0)
+			host.inputs, host.outputs), 0)
 	end
 	local keys = {}
 	for k in pairs(task) do keys[#keys + 1] = k end
@@ -62,7 +65,7 @@ local function resume(text, path)
 		local name = algo.task_keys[k]
 		local was = name and p.options and p.options[name]
 		if was ~= nil and options[name] ~= nil and was ~= options[name] then
-			common.warning(evo.task_path, evo.task_lines, k, string.format("%s is %s in the task "
+			common.warning(host.task_path, host.task_lines, k, string.format("%s is %s in the task "
 				.. "but %s in the checkpoint; the run goes on with %s", k, tostring(options[name]),
 				tostring(was), tostring(was)))
 		end
@@ -71,33 +74,33 @@ local function resume(text, path)
 end
 
 local pop, first, history, solver
-local saved = evo.resume and evo.read("checkpoint.lua")
-if evo.resume and not saved then
-	evo.print("no checkpoint in " .. evo.run_dir .. ": starting from generation 0")
+local saved = host.resume and host.read("checkpoint.lua")
+if host.resume and not saved then
+	host.print("no checkpoint in " .. host.run_dir .. ": starting from generation 0")
 end
 if saved then
 	local c
-	pop, c = resume(saved, evo.run_dir .. "/checkpoint.lua")
+	pop, c = resume(saved, host.run_dir .. "/checkpoint.lua")
 	first = c.generation + 1
 	history = c.history
 	solver = c.solver
-	evo.print(string.format("resuming after generation %d", c.generation))
+	host.print(string.format("resuming after generation %d", c.generation))
 	if c.stopped then generations = c.generation + 1 end
 else
 	-- layers: the skill's `layers:`, the fixed shape of GENETIC and
 	-- ANNEALING (NEAT grows its own and ignores it).
-	pop = algo.new{ inputs = evo.inputs, outputs = evo.outputs, layers = evo.layers,
-		options = options, rng = neat.rng(evo.seed) }
+	pop = algo.new{ inputs = host.inputs, outputs = host.outputs, layers = host.layers,
+		options = options, rng = random.new(host.seed) }
 	first = 0
 	history = { best = {}, mean = {} }
 end
-evo.open_log(first)
+host.open_log(first)
 
 for gen = first, generations - 1 do
 	local genomes = pop:genomes()
 	local nets = {}
 	for i, g in ipairs(genomes) do nets[i] = algo.to_net(g) end
-	local fitness, seconds, solved = evo.evaluate(nets, gen)
+	local fitness, seconds, solved = host.evaluate(nets, gen)
 	local best_i, sum = 1, 0
 	for i, f in ipairs(fitness) do
 		sum = sum + f
@@ -106,9 +109,9 @@ for gen = first, generations - 1 do
 	-- DPNV decides success after the generation, on one network: the one
 	-- the method picks (NEAT: as NEAT's original code picks it), else the
 	-- best (the first of equals).
-	if evo.success_test then
+	if host.success_test then
 		local pick = pop.test_candidate and pop:test_candidate(fitness) or best_i
-		solved[pick] = evo.success_test(nets[pick])
+		solved[pick] = host.success_test(nets[pick])
 	end
 	local n_solved = 0
 	for i, f in ipairs(fitness) do
@@ -123,9 +126,9 @@ for gen = first, generations - 1 do
 	pop:tell(fitness)
 	history.best[#history.best + 1] = fitness[best_i]
 	history.mean[#history.mean + 1] = sum / #fitness
-	evo.save(string.format("best/gen-%04d.net", gen), algo.to_net_text(best_net,
+	host.save(string.format("best/gen-%04d.net", gen), algo.to_net_text(best_net,
 		string.format("generation %d, fitness %.17g", gen, fitness[best_i])))
-	evo.log{ generation = gen, generations = generations, best = fitness[best_i],
+	host.log{ generation = gen, generations = generations, best = fitness[best_i],
 		mean = sum / #fitness, best_ever = pop.best.fitness, species = #pop.species,
 		evaluations = #fitness, solved = n_solved, seconds = seconds }
 	local stop
@@ -136,10 +139,10 @@ for gen = first, generations - 1 do
 	end
 	-- The checkpoint last: a run killed before it is written resumes from
 	-- the previous generation and redoes this one identically.
-	evo.save("checkpoint.lua", serialize.dump{ generation = gen, seed = evo.seed, pop = algo.save(pop, true),
+	host.save("checkpoint.lua", serialize.dump{ generation = gen, seed = host.seed, pop = algo.save(pop, true),
 		history = history, solver = solver, stopped = stop ~= nil })
 	if stop then
-		evo.print(stop)
+		host.print(stop)
 		generations = gen + 1
 		break
 	end
@@ -153,32 +156,32 @@ if solver then
 else
 	champion, champion_fitness = algo.to_net(pop.best.genome), pop.best.fitness
 end
-evo.save_champion(algo.to_net_text(champion, string.format(
+host.save_champion(algo.to_net_text(champion, string.format(
 	"trained by evo: %s, seed %d, %d generations, fitness %.17g",
-	method, evo.seed, generations, champion_fitness)))
-evo.curve(history.best, history.mean)
+	method, host.seed, generations, champion_fitness)))
+host.curve(history.best, history.mean)
 
 -- In a world, replay the champion beside networks as the method first
 -- drew them, on episodes training never saw (those of generation NUMGEN),
 -- and print what each scores and how long each spent touching things.
 if not literature then
-	local fresh = algo.new{ inputs = evo.inputs, outputs = evo.outputs, layers = evo.layers,
-		options = options, rng = neat.rng(evo.seed + 1) }
+	local fresh = algo.new{ inputs = host.inputs, outputs = host.outputs, layers = host.layers,
+		options = options, rng = random.new(host.seed + 1) }
 	local nets = { champion }
 	for i, g in ipairs(fresh:genomes()) do
 		if i > REPLAY_RANDOM then break end
 		nets[#nets + 1] = algo.to_net(g)
 	end
-	local fitness, _, _, collisions = evo.evaluate(nets, tonumber(task.NUMGEN or "50"))
+	local fitness, _, _, collisions = host.evaluate(nets, tonumber(task.NUMGEN or "50"))
 	local f_sum, c_sum = 0, 0
 	for i = 2, #nets do
 		f_sum, c_sum = f_sum + fitness[i], c_sum + collisions[i]
 	end
 	local n = #nets - 1
-	evo.print(string.format("replay on unseen episodes (%d x %d ticks each):", evo.reps, evo.ticks))
-	evo.print(string.format("  champion:                 fitness %12.1f, %7d collision ticks",
+	host.print(string.format("replay on unseen episodes (%d x %d ticks each):", host.reps, host.ticks))
+	host.print(string.format("  champion:                 fitness %12.1f, %7d collision ticks",
 		fitness[1], collisions[1]))
-	evo.print(string.format("  untrained networks (%2d): fitness %12.1f, %7.0f collision ticks (mean)",
+	host.print(string.format("  untrained networks (%2d): fitness %12.1f, %7.0f collision ticks (mean)",
 		n, f_sum / n, c_sum / n))
 end
 return champion_fitness

@@ -3,8 +3,9 @@
 -- (Evolutionary Computation 10(2), 2002), in pure Lua 5.4.
 --
 --	local neat = require "learn.neat"
+--	local random = require "learn.rng"
 --	local pop = neat.new{ inputs = 2, outputs = 1, options = { pop_size = 150 },
---		rng = neat.rng(42) }
+--		rng = random.new(42) }
 --	for gen = 1, 100 do
 --		local fit = {}
 --		for i, g in ipairs(pop:genomes()) do fit[i] = evaluate(neat.to_net(g)) end
@@ -23,14 +24,17 @@
 -- bias node is 1). Genomes stay exactly the paper's; the mapping is exact.
 --
 -- Determinism. Every random draw goes through the rng object given to
--- neat.new (methods :unit() in [0,1) and :normal()); math.random is never
--- used, and every loop runs over arrays, never over pairs(), so the same
--- seed gives the same run. neat.save / neat.load hold the whole state.
+-- neat.new (a learn.rng generator: methods :unit() in [0,1) and
+-- :normal()); math.random is never used, and every loop runs over arrays,
+-- never over pairs(), so the same seed gives the same run. neat.save /
+-- neat.load hold the whole state.
 --
 -- Fitness is "higher is better". Fitness sharing needs fitness >= 0: when a
 -- generation has negative values they are shifted by the minimum for the
 -- offspring allotment only (the shift does not change the ranking).
 local common = require "learn.common"
+local netfile = require "learn.netfile"
+local random = require "learn.rng"
 
 local neat = {}
 
@@ -192,56 +196,6 @@ function neat.options_from_task(task)
 		end
 	end, neat.ranges)
 end
-
----------------------------------------------------------------------------
--- Random numbers: xoshiro256** seeded by splitmix64, on Lua 5.4's 64-bit
--- integers (wrapping arithmetic, logical shifts).
-
-local Rng = {}
-Rng.__index = Rng
-
-local function rotl(x, k) return (x << k) | (x >> (64 - k)) end
-
-function Rng:next()
-	local s = self.s
-	local result = rotl(s[2] * 5, 7) * 9
-	local t = s[2] << 17
-	s[3] = s[3] ~ s[1]
-	s[4] = s[4] ~ s[2]
-	s[2] = s[2] ~ s[3]
-	s[1] = s[1] ~ s[4]
-	s[3] = s[3] ~ t
-	s[4] = rotl(s[4], 45)
-	return result
-end
-
--- Uniform in [0, 1) with 53 random bits.
-function Rng:unit() return (self:next() >> 11) * (1.0 / 9007199254740992.0) end
-
--- Standard normal by Box-Muller; no cached second value, so the state is
--- only the four words.
-function Rng:normal()
-	local u1 = 1.0 - self:unit()
-	local u2 = self:unit()
-	return math.sqrt(-2 * math.log(u1)) * math.cos(2 * math.pi * u2)
-end
-
-function Rng:save() return { self.s[1], self.s[2], self.s[3], self.s[4] } end
-
-function neat.rng(seed)
-	local x = math.tointeger(seed) or error("neat.rng: seed must be an integer")
-	local s = {}
-	for i = 1, 4 do
-		x = x + 0x9e3779b97f4a7c15
-		local z = x
-		z = (z ~ (z >> 30)) * 0xbf58476d1ce4e5b9
-		z = (z ~ (z >> 27)) * 0x94d049bb133111eb
-		s[i] = z ~ (z >> 31)
-	end
-	return setmetatable({ s = s }, Rng)
-end
-
-function neat.rng_load(t) return setmetatable({ s = { t[1], t[2], t[3], t[4] } }, Rng) end
 
 ---------------------------------------------------------------------------
 -- Genomes
@@ -618,7 +572,7 @@ function neat.new(args)
 	local o = merged_options(args.options)
 	local n, m = args.inputs, args.outputs
 	assert(math.tointeger(n) and n >= 0 and math.tointeger(m) and m >= 1, "neat.new: inputs >= 0, outputs >= 1")
-	local rng = args.rng or error("neat.new: an rng is required (neat.rng(seed))")
+	local rng = args.rng or error("neat.new: an rng is required (learn.rng: random.new(seed))")
 	local pop = setmetatable({
 		options = o, inputs = n, outputs = m, rng = rng, generation = 0,
 		next_innov = 0, next_node = n + m, next_species = 0,
@@ -898,9 +852,10 @@ function neat.save(pop, shared)
 end
 
 -- The reverse of neat.save. Give `rng` to use another rng object (its
--- state is then the caller's business); by default neat.rng_load(t.rng).
+-- state is then the caller's business); by default learn.rng's
+-- load(t.rng).
 function neat.load(t, rng)
-	return common.load(t, "evo-neat-2", Pop, rng, neat.rng_load)
+	return common.load(t, "evo-neat-2", Pop, rng, random.load)
 end
 
 ---------------------------------------------------------------------------
@@ -954,29 +909,8 @@ function neat.to_net(g)
 	return { inputs = n, outputs = m, nodes = nodes, outputs_ids = outputs_ids, links = links }
 end
 
--- A decimal the .net reader accepts: no exponent, no leading '+'.
-local function decimal(x)
-	local s = string.format("%.6f", x):gsub("0+$", ""):gsub("%.$", "")
-	if s == "-0" then s = "0" end
-	return s
-end
-
-function neat.to_net_text(net, comment)
-	local out = {}
-	if comment then
-		for line in (comment .. "\n"):gmatch("(.-)\n") do out[#out + 1] = "# " .. line end
-	end
-	out[#out + 1] = "inputs:" .. net.inputs
-	out[#out + 1] = "outputs:" .. net.outputs
-	for _, nd in ipairs(net.nodes) do
-		out[#out + 1] = string.format("node:%d:%s:%s", nd.id, nd.act, decimal(nd.bias))
-	end
-	for _, id in ipairs(net.outputs_ids) do out[#out + 1] = "output:" .. id end
-	for _, l in ipairs(net.links) do
-		out[#out + 1] = string.format("link:%d:%d:%s", l.from, l.to, decimal(l.weight))
-	end
-	return table.concat(out, "\n") .. "\n"
-end
+-- The network as .net text (learn.netfile), as every method writes it.
+neat.to_net_text = netfile.text
 
 -- Evaluation order as evo_net_compile computes it (docs/fixed-point.md):
 -- depth-first from each output, sources in the listing order of their

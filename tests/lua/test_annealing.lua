@@ -2,7 +2,7 @@
 -- Each entry of the returned table is one test; it fails by raising.
 local annealing = require "learn.annealing"
 local genetic = require "learn.genetic"
-local neat = require "learn.neat"
+local random = require "learn.rng"
 local serialize = require "learn.serialize"
 
 local function check(cond, msg)
@@ -11,8 +11,22 @@ end
 
 local T = {}
 
+-- ANNEALING draws from learn.rng and writes with learn.netfile (through
+-- learn.genetic); it does not load NEAT. Every learn.* module is unloaded
+-- first, so learn.annealing and what it requires load afresh, whatever
+-- this file loaded.
+function T.annealing_does_not_load_neat()
+	for name in pairs(package.loaded) do
+		if name:match("^learn%.") then package.loaded[name] = nil end
+	end
+	local m = require "learn.annealing"
+	check(type(m.to_net_text) == "function" and type(m.load) == "function", "learn.annealing loads")
+	check(package.loaded["learn.rng"] and package.loaded["learn.netfile"], "with the shared rng and writer")
+	check(package.loaded["learn.neat"] == nil, "learn.annealing loaded learn.neat")
+end
+
 function T.worse_moves_are_accepted_with_the_metropolis_probability()
-	local rng = neat.rng(1)
+	local rng = random.new(1)
 	local n = 40000
 	for _, c in ipairs { { -1, 1 }, { -5, 10 }, { -3, 1 }, { -0.1, 2 } } do
 		local delta, temp = c[1], c[2]
@@ -28,7 +42,7 @@ function T.worse_moves_are_accepted_with_the_metropolis_probability()
 end
 
 function T.improvements_are_always_accepted_without_a_draw()
-	local rng = neat.rng(2)
+	local rng = random.new(2)
 	local before = serialize.dump(rng:save())
 	for _, d in ipairs { 0, 1e-12, 1, 1e9 } do
 		check(annealing.accept(d, 1, rng), "improvement accepted")
@@ -55,7 +69,7 @@ end
 
 function T.cooling_schedule_is_exact()
 	local o = { t0 = 50, alpha = 0.9, steps_per_generation = 4 }
-	local pop = annealing.new { inputs = 2, outputs = 1, layers = 1, rng = neat.rng(3), options = o }
+	local pop = annealing.new { inputs = 2, outputs = 1, layers = 1, rng = random.new(3), options = o }
 	check(pop.temperature == 50, "starts at T0")
 	generation(pop)
 	-- The first batch holds the start and 3 moves.
@@ -71,7 +85,7 @@ function T.cooling_schedule_is_exact()
 end
 
 function T.batch_is_start_then_neighbours_decided_in_order()
-	local pop = annealing.new { inputs = 2, outputs = 1, layers = 1, rng = neat.rng(4),
+	local pop = annealing.new { inputs = 2, outputs = 1, layers = 1, rng = random.new(4),
 		options = { steps_per_generation = 3, t0 = 0 } }
 	local start = genetic.copy(pop.current)
 	local b = pop:genomes()
@@ -98,7 +112,7 @@ function T.batch_is_start_then_neighbours_decided_in_order()
 end
 
 function T.it_climbs_and_keeps_the_best()
-	local pop = annealing.new { inputs = 2, outputs = 1, layers = 1, rng = neat.rng(5),
+	local pop = annealing.new { inputs = 2, outputs = 1, layers = 1, rng = random.new(5),
 		options = { t0 = 0.1, alpha = 0.99, step_power = 0.1 } }
 	generation(pop)
 	local first = pop.best.fitness
@@ -111,7 +125,7 @@ function T.it_climbs_and_keeps_the_best()
 end
 
 function T.save_load_continues_identically()
-	local a = annealing.new { inputs = 2, outputs = 1, layers = 1, rng = neat.rng(6) }
+	local a = annealing.new { inputs = 2, outputs = 1, layers = 1, rng = random.new(6) }
 	for _ = 1, 5 do generation(a) end
 	a:genomes() -- a batch drawn but not yet told is part of the state too
 	local text = serialize.dump(annealing.save(a))
@@ -126,7 +140,7 @@ end
 
 function T.same_seed_same_run()
 	local function run(seed)
-		local pop = annealing.new { inputs = 3, outputs = 2, layers = 1, rng = neat.rng(seed) }
+		local pop = annealing.new { inputs = 3, outputs = 2, layers = 1, rng = random.new(seed) }
 		for _ = 1, 10 do generation(pop) end
 		return serialize.dump(annealing.save(pop))
 	end
@@ -140,7 +154,7 @@ function T.options_from_task()
 	check(o.t0 == 5 and o.alpha == 0.9 and o.step_power == 0.2 and o.steps_per_generation == 1, "values")
 	check(#unknown == 1 and unknown[1] == "SA_NOPE", "only unknown SA_ keys")
 	check(not pcall(annealing.options_from_task, { SA_T0 = "hot" }), "a malformed number raises")
-	check(not pcall(annealing.new, { inputs = 1, outputs = 1, rng = neat.rng(1),
+	check(not pcall(annealing.new, { inputs = 1, outputs = 1, rng = random.new(1),
 		options = { steps_per_generation = 0 } }), "K >= 1")
 end
 

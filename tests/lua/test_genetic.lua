@@ -1,7 +1,7 @@
 -- Unit tests of lua/learn/genetic.lua, run by tests/sim/test_lua_scripts.c.
 -- Each entry of the returned table is one test; it fails by raising.
 local genetic = require "learn.genetic"
-local neat = require "learn.neat"
+local random = require "learn.rng"
 local serialize = require "learn.serialize"
 
 local function check(cond, msg)
@@ -9,6 +9,19 @@ local function check(cond, msg)
 end
 
 local T = {}
+
+-- GENETIC draws from learn.rng and writes with learn.netfile; it does not
+-- load NEAT. Every learn.* module is unloaded first, so learn.genetic and
+-- what it requires load afresh, whatever this file loaded.
+function T.genetic_does_not_load_neat()
+	for name in pairs(package.loaded) do
+		if name:match("^learn%.") then package.loaded[name] = nil end
+	end
+	local m = require "learn.genetic"
+	check(type(m.to_net_text) == "function" and type(m.load) == "function", "learn.genetic loads")
+	check(package.loaded["learn.rng"] and package.loaded["learn.netfile"], "with the shared rng and writer")
+	check(package.loaded["learn.neat"] == nil, "learn.genetic loaded learn.neat")
+end
 
 -- A genome whose genes are base+1, base+2, ... so each gene says which
 -- parent and position it came from.
@@ -21,7 +34,7 @@ end
 function T.uniform_crossover_takes_each_gene_from_a_parent_at_its_position()
 	local n = 200
 	local a, b = tagged(n, 1000), tagged(n, 2000)
-	local rng = neat.rng(1)
+	local rng = random.new(1)
 	local from_a = 0
 	for _ = 1, 20 do
 		local c = genetic.crossover_uniform(a, b, rng)
@@ -39,7 +52,7 @@ end
 function T.one_point_crossover_is_a_prefix_of_one_parent_and_a_suffix_of_the_other()
 	local n = 50
 	local a, b = tagged(n, 1000), tagged(n, 2000)
-	local rng = neat.rng(2)
+	local rng = random.new(2)
 	for _ = 1, 100 do
 		local c = genetic.crossover_one_point(a, b, rng)
 		local cut = 0
@@ -51,7 +64,7 @@ end
 
 function T.mutation_changes_about_rate_times_n_genes()
 	local n, rate, total, trials = 1000, 0.1, 0, 20
-	local rng = neat.rng(3)
+	local rng = random.new(3)
 	for _ = 1, trials do
 		local g = tagged(n, 0)
 		local before = genetic.copy(g)
@@ -69,13 +82,13 @@ end
 
 function T.mutation_clamps_to_weight_max()
 	local g = tagged(100, 0)
-	genetic.mutate(g, 1, 100, 8, neat.rng(4))
+	genetic.mutate(g, 1, 100, 8, random.new(4))
 	for _, x in ipairs(g.weights) do check(x >= -8 and x <= 8, "clamped") end
 end
 
 function T.tournament_prefers_fitter()
 	local fitness = { 1, 2, 3, 4, 5, 6, 7, 8, 9, 10 }
-	local rng = neat.rng(5)
+	local rng = random.new(5)
 	local wins = {}
 	for i = 1, 10 do wins[i] = 0 end
 	local trials = 20000
@@ -98,7 +111,7 @@ function T.tournament_prefers_fitter()
 end
 
 function T.elitism_keeps_the_best_unchanged()
-	local pop = genetic.new { inputs = 2, outputs = 1, layers = 1, rng = neat.rng(6),
+	local pop = genetic.new { inputs = 2, outputs = 1, layers = 1, rng = random.new(6),
 		options = { pop_size = 10, elitism = 2, mutation_rate = 1, crossover_rate = 1 } }
 	local g = pop:genomes()
 	local fitness = { 1, 2, 9, 4, 5, 8, 7, 0, 3, 6 }
@@ -125,7 +138,7 @@ function T.weight_count_matches_net_build()
 	check(genetic.weight_count(2, 1, 0) == 3, "2-1")
 	check(genetic.weight_count(11, 2, 1) == 11 * 12 + 2 * 12, "Avoid with layers:1")
 	check(genetic.weight_count(1, 3, 2) == 3 * 2 + 3 * 4 + 3 * 4, "1-3-3-3")
-	local pop = genetic.new { inputs = 11, outputs = 2, layers = 1, rng = neat.rng(7) }
+	local pop = genetic.new { inputs = 11, outputs = 2, layers = 1, rng = random.new(7) }
 	check(#pop:genomes()[1].weights == 156, "genomes have weight_count genes")
 	check(#pop:genomes() == genetic.defaults.pop_size, "default population")
 end
@@ -153,7 +166,10 @@ function T.to_net_matches_net_build_layout()
 	local net = genetic.to_net(g)
 	check(genetic.to_net_text(net) == HAND_NET, "layout:\n" .. genetic.to_net_text(net))
 	check(net.outputs_ids[1] == 2 and net.inputs == 2 and net.outputs == 1, "shape")
-	-- And the float evaluation of it: sigmoid everywhere.
+	-- And the float evaluation of it: sigmoid everywhere. (NEAT's float
+	-- evaluator, which any network table takes; learn.genetic itself does
+	-- not load learn.neat.)
+	local neat = require "learn.neat"
 	local s = neat.activations.sigmoid
 	local x1, x2 = 0.3, 0.7
 	local h3, h4 = s(1 + 2 * x1 + 3 * x2), s(4 + 5 * x1 + 6 * x2)
@@ -190,7 +206,7 @@ local function generation(pop)
 end
 
 function T.save_load_continues_identically()
-	local a = genetic.new { inputs = 2, outputs = 1, layers = 1, rng = neat.rng(8), options = { pop_size = 20 } }
+	local a = genetic.new { inputs = 2, outputs = 1, layers = 1, rng = random.new(8), options = { pop_size = 20 } }
 	for _ = 1, 5 do generation(a) end
 	local text = serialize.dump(genetic.save(a))
 	local b = genetic.load(serialize.load(text, "checkpoint"))
@@ -205,7 +221,7 @@ end
 
 function T.same_seed_same_run_and_it_learns()
 	local function run(seed)
-		local pop = genetic.new { inputs = 2, outputs = 1, layers = 1, rng = neat.rng(seed), options = { pop_size = 30 } }
+		local pop = genetic.new { inputs = 2, outputs = 1, layers = 1, rng = random.new(seed), options = { pop_size = 30 } }
 		generation(pop)
 		local first = pop.best.fitness
 		for _ = 1, 40 do generation(pop) end

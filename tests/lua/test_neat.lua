@@ -1,6 +1,7 @@
 -- Unit tests of lua/learn/neat.lua, run by tests/sim/test_lua_scripts.c.
 -- Each entry of the returned table is one test; it fails by raising.
 local neat = require "learn.neat"
+local random = require "learn.rng"
 
 -- Raise with the caller's file:line so the runner can show where.
 local function check(cond, msg)
@@ -65,7 +66,7 @@ local function xor_fitness(g)
 end
 
 local function run_xor(seed, generations)
-	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(seed) }
+	local pop = neat.new { inputs = 2, outputs = 1, rng = random.new(seed) }
 	for gen = 1, generations do
 		local fit, done = {}, false
 		for i, g in ipairs(pop:genomes()) do
@@ -84,32 +85,13 @@ end
 
 local T = {}
 
-function T.rng_is_deterministic_and_uniform()
-	local a, b = neat.rng(7), neat.rng(7)
-	local sum, sum2 = 0, 0
-	for _ = 1, 10000 do
-		local u = a:unit()
-		check(u == b:unit(), "same seed, same draws")
-		check(u >= 0 and u < 1, "unit in [0, 1)")
-		sum = sum + u
-		local z = a:normal()
-		b:normal()
-		sum2 = sum2 + z * z
-	end
-	check(math.abs(sum / 10000 - 0.5) < 0.02, "mean of unit near 0.5")
-	check(math.abs(sum2 / 10000 - 1) < 0.1, "variance of normal near 1")
-	check(neat.rng(8):unit() ~= neat.rng(7):unit(), "other seed, other draws")
-	local c = neat.rng_load(a:save())
-	check(c:unit() == a:unit(), "saved state continues the same sequence")
-end
-
 function T.crossover_aligns_matching_genes()
 	local a, b = parents()
 	local o = {}
 	for k, v in pairs(neat.defaults) do o[k] = v end
 	o.mate_avg_prob = 0
 	local from_a, from_b = 0, 0
-	local rng = neat.rng(1)
+	local rng = random.new(1)
 	for _ = 1, 200 do
 		local c = neat.crossover(a, 10, b, 5, o, rng)
 		check(innovs(c) == "1,2,3,5", "child genes by innovation: " .. innovs(c))
@@ -130,7 +112,7 @@ end
 
 function T.disjoint_and_excess_come_from_the_fitter_parent()
 	local a, b = parents()
-	local rng = neat.rng(2)
+	local rng = random.new(2)
 	for _ = 1, 50 do
 		local c = neat.crossover(a, 1, b, 9, neat.defaults, rng)
 		check(innovs(c) == "1,2,4,6,7", "b fitter: b's structure, got " .. innovs(c))
@@ -145,7 +127,7 @@ end
 function T.gene_disabled_in_a_parent_is_disabled_75_percent()
 	local a, b = parents()
 	a.links[1].enabled = false
-	local rng, off = neat.rng(3), 0
+	local rng, off = random.new(3), 0
 	for _ = 1, 4000 do
 		if not neat.crossover(a, 10, b, 5, neat.defaults, rng).links[1].enabled then off = off + 1 end
 	end
@@ -153,7 +135,7 @@ function T.gene_disabled_in_a_parent_is_disabled_75_percent()
 end
 
 function T.same_mutation_same_generation_same_innovation()
-	local pop = neat.new { inputs = 1, outputs = 1, rng = neat.rng(4), options = { pop_size = 4, add_link_tries = 1000 } }
+	local pop = neat.new { inputs = 1, outputs = 1, rng = random.new(4), options = { pop_size = 4, add_link_tries = 1000 } }
 	-- Input 0, bias 1, output 2, hidden 3: the only new acyclic link is 1->3.
 	local base = genome(1, { 2 }, { 3 }, { { 1, 0, 2, 0.5 }, { 2, 1, 2, 0.5 }, { 3, 0, 3, 0.5 }, { 4, 3, 2, 0.5 } })
 	pop.next_innov, pop.next_node = 4, 3
@@ -174,7 +156,7 @@ function T.same_mutation_same_generation_same_innovation()
 end
 
 function T.add_node_splits_a_link()
-	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(5), options = { pop_size = 2 } }
+	local pop = neat.new { inputs = 2, outputs = 1, rng = random.new(5), options = { pop_size = 2 } }
 	local g = neat.copy_genome(pop:genomes()[1])
 	local old = g.links[2] -- 1 -> 3
 	local w = old.weight
@@ -195,7 +177,7 @@ function T.add_node_leaves_the_bias_links_alone()
 	-- A new node on a bias link would only be a constant: by default
 	-- add-node splits the input links and never the bias one.
 	local function splits_of_bias(split_bias)
-		local pop = neat.new { inputs = 1, outputs = 1, rng = neat.rng(17),
+		local pop = neat.new { inputs = 1, outputs = 1, rng = random.new(17),
 			options = { pop_size = 2, split_bias = split_bias, split_older = false } }
 		local bias = 0
 		for _ = 1, 200 do
@@ -215,7 +197,7 @@ end
 
 function T.new_link_power_sets_the_range_of_added_links()
 	local function widest(power)
-		local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(18),
+		local pop = neat.new { inputs = 2, outputs = 1, rng = random.new(18),
 			options = { pop_size = 2, new_link_power = power, recurrent = true, add_link_tries = 1000 } }
 		local w = 0
 		for _ = 1, 100 do
@@ -233,7 +215,7 @@ function T.weight_mutation_as_neat_code_does_it()
 	-- 20 links: the newest fifth is the links past 80%, places 18 to 20
 	-- (NEAT's code counts from 0 and takes those above 0.8 * 20).
 	local function kept_fractions(severe_prob)
-		local rng = neat.rng(21)
+		local rng = random.new(21)
 		local o = { weight_mutation = "code", severe_prob = severe_prob, perturb_power = 1,
 			replace_power = 1, weight_max = 8 }
 		local head, tail, trials = 0, 0, 2000
@@ -259,7 +241,7 @@ function T.weight_mutation_as_neat_code_does_it()
 	local g = { links = {} }
 	for k = 1, 20 do g.links[k] = { innov = k, weight = 0.5 } end
 	neat.mutate_weights(g, { weight_mutation = "paper", perturb_prob = 0.9, perturb_power = 1,
-		replace_power = 1, weight_max = 8 }, neat.rng(22))
+		replace_power = 1, weight_max = 8 }, random.new(22))
 	for _, l in ipairs(g.links) do check(l.weight ~= 0.5, "paper: every weight changes") end
 end
 
@@ -267,7 +249,7 @@ function T.add_node_prefers_older_links_in_small_genomes()
 	-- Three input links and a bias link: walked oldest first, each taken
 	-- with chance 0.7, so 70%, 21%, 6.3%, and 2.7% no split.
 	local function picks(older)
-		local pop = neat.new { inputs = 3, outputs = 1, rng = neat.rng(23),
+		local pop = neat.new { inputs = 3, outputs = 1, rng = random.new(23),
 			options = { pop_size = 2, split_older = older } }
 		local n = { 0, 0, 0, 0 }
 		for _ = 1, 4000 do
@@ -294,7 +276,7 @@ end
 
 function T.equal_fitness_crossover_takes_the_smaller_parent()
 	local a, b = parents() -- a: 4 links, b: 5
-	local rng = neat.rng(24)
+	local rng = random.new(24)
 	for _ = 1, 50 do
 		check(innovs(neat.crossover(a, 3, b, 3, neat.defaults, rng)) == "1,2,3,5", "a is smaller")
 		check(innovs(neat.crossover(b, 3, a, 3, neat.defaults, rng)) == "1,2,3,5", "in either order")
@@ -312,7 +294,7 @@ end
 function T.disjoint_genes_keep_their_state()
 	local a, b = parents()
 	a.links[3].enabled = false -- innovation 3, disjoint
-	local rng = neat.rng(25)
+	local rng = random.new(25)
 	for _ = 1, 200 do
 		local c = neat.crossover(a, 10, b, 5, neat.defaults, rng)
 		check(c.links[3].innov == 3 and not c.links[3].enabled, "a disabled disjoint gene stays disabled")
@@ -321,7 +303,7 @@ function T.disjoint_genes_keep_their_state()
 end
 
 function T.species_are_compared_to_their_champion()
-	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(26),
+	local pop = neat.new { inputs = 2, outputs = 1, rng = random.new(26),
 		options = { pop_size = 12, threshold = 100 } }
 	local fit = {}
 	for i = 1, 12 do fit[i] = i == 5 and 2 or 1 end
@@ -336,7 +318,7 @@ function T.equal_fitness_ranks_at_random()
 	-- unchanged is a different one from seed to seed.
 	local copied = {}
 	for seed = 1, 12 do
-		local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(seed),
+		local pop = neat.new { inputs = 2, outputs = 1, rng = random.new(seed),
 			options = { pop_size = 10, threshold = 100 } }
 		local old = {}
 		for i, g in ipairs(pop:genomes()) do old[i] = neat.copy_genome(g) end
@@ -370,7 +352,7 @@ function T.recur_only_prob_decides_cycles()
 		return false
 	end
 	local function count(p)
-		local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(27),
+		local pop = neat.new { inputs = 2, outputs = 1, rng = random.new(27),
 			options = { pop_size = 2, recurrent = true, recur_only_prob = p } }
 		local base = genome(2, { 3 }, { 4 }, { { 1, 0, 3, 1 }, { 2, 1, 4, 1 }, { 3, 4, 3, 1 } })
 		local cyc, loops, n = 0, 0, 0
@@ -404,7 +386,7 @@ function T.distance_and_speciation_by_threshold()
 	-- Structure: 1 disjoint + 2 excess, N = 1 under 20 genes.
 	local s = genome(2, { 3 }, { 4 }, { { 1, 0, 3, 0 }, { 3, 2, 3, 0 }, { 4, 0, 4, 0 }, { 5, 4, 3, 0 } })
 	check(near(neat.distance(rep, s, o), 1 * 2 + 1 * 1), "c1 E + c2 D")
-	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(6), options = { pop_size = 2 } }
+	local pop = neat.new { inputs = 2, outputs = 1, rng = random.new(6), options = { pop_size = 2 } }
 	pop.species = { { id = 1, rep = rep, members = {}, best_fitness = 0, last_improved = 0 } }
 	pop.next_species = 1
 	pop.population = { below, above, neat.copy_genome(rep) }
@@ -415,7 +397,7 @@ function T.distance_and_speciation_by_threshold()
 end
 
 function T.fitness_sharing_divides_by_species_size()
-	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(7), options = { pop_size = 6 } }
+	local pop = neat.new { inputs = 2, outputs = 1, rng = random.new(7), options = { pop_size = 6 } }
 	local g = pop:genomes()
 	pop.species = {
 		{ id = 1, rep = g[1], members = { 1, 2 }, best_fitness = -math.huge, last_improved = 0 },
@@ -432,7 +414,7 @@ function T.fitness_sharing_divides_by_species_size()
 end
 
 function T.allot_sums_to_total()
-	local rng = neat.rng(8)
+	local rng = random.new(8)
 	for _ = 1, 200 do
 		local shares, n = {}, 1 + math.floor(rng:unit() * 10)
 		for i = 1, n do shares[i] = rng:unit() < 0.2 and 0 or rng:unit() * 10 end
@@ -449,8 +431,8 @@ function T.allot_sums_to_total()
 end
 
 function T.offspring_fill_the_population()
-	local pop = neat.new { inputs = 3, outputs = 2, rng = neat.rng(9), options = { pop_size = 50, threshold = 1.0 } }
-	local rng = neat.rng(99)
+	local pop = neat.new { inputs = 3, outputs = 2, rng = random.new(9), options = { pop_size = 50, threshold = 1.0 } }
+	local rng = random.new(99)
 	for _ = 1, 15 do
 		local fit = {}
 		for i = 1, #pop:genomes() do fit[i] = rng:unit() * 10 - 3 end
@@ -466,7 +448,7 @@ function T.offspring_fill_the_population()
 end
 
 local function two_species_pop(seed)
-	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(seed),
+	local pop = neat.new { inputs = 2, outputs = 1, rng = random.new(seed),
 		options = { pop_size = 10, stagnation = 15, stagnation_penalty = 0 } }
 	pop.generation = 30
 	pop.species = {
@@ -504,7 +486,7 @@ function T.stagnation_penalty_keeps_stagnant_species_small()
 end
 
 function T.elitism_copies_champions_unchanged()
-	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(12),
+	local pop = neat.new { inputs = 2, outputs = 1, rng = random.new(12),
 		options = { pop_size = 30, threshold = 100, weight_mut_prob = 1, weight_mutation = "paper", perturb_prob = 0 } }
 	local fit = {}
 	for i = 1, 30 do fit[i] = i % 7 + i / 100 end -- best: genome 27 (6.27)
@@ -516,7 +498,7 @@ function T.elitism_copies_champions_unchanged()
 	end
 	check(copies >= 1, "the champion is in the next generation unchanged")
 	-- A species given 5 offspring or fewer keeps no elite (without pop_champion).
-	pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(12),
+	pop = neat.new { inputs = 2, outputs = 1, rng = random.new(12),
 		options = { pop_size = 4, threshold = 100, weight_mut_prob = 1, weight_mutation = "paper", perturb_prob = 0,
 			mutate_only_prob = 1, add_node_prob = 0, add_link_prob = 0, pop_champion = false } }
 	champ = neat.copy_genome(pop:genomes()[1])
@@ -529,7 +511,7 @@ function T.pop_champion_survives_in_a_small_species()
 	-- than elitism_offspring offspring; the generation's best is still
 	-- copied unchanged, even when its share alone would give its species
 	-- no offspring.
-	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(13),
+	local pop = neat.new { inputs = 2, outputs = 1, rng = random.new(13),
 		options = { pop_size = 20, threshold = 0, weight_mut_prob = 1, weight_mutation = "paper", perturb_prob = 0,
 			add_node_prob = 0, add_link_prob = 0 } }
 	check(#pop.species == 20, "one species per genome")
@@ -548,7 +530,7 @@ end
 
 function T.target_species_moves_the_threshold()
 	local function run(target)
-		local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(14),
+		local pop = neat.new { inputs = 2, outputs = 1, rng = random.new(14),
 			options = { pop_size = 30, threshold = 3.0, target_species = target, threshold_step = 0.5,
 				threshold_min = 0.5 } }
 		local fit = {}
@@ -568,7 +550,7 @@ function T.target_species_moves_the_threshold()
 		check(pop.threshold >= 0.5, "never below threshold_min")
 	end
 	-- Many species: the threshold rises.
-	pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(15),
+	pop = neat.new { inputs = 2, outputs = 1, rng = random.new(15),
 		options = { pop_size = 30, threshold = 0, target_species = 5, threshold_step = 0.5 } }
 	local fit = {}
 	for i = 1, 30 do fit[i] = 1 end
@@ -608,7 +590,7 @@ local function xor_generation(pop)
 end
 
 function T.save_load_continues_the_same_run()
-	local a = neat.new { inputs = 2, outputs = 1, rng = neat.rng(13), options = { pop_size = 60 } }
+	local a = neat.new { inputs = 2, outputs = 1, rng = random.new(13), options = { pop_size = 60 } }
 	for _ = 1, 5 do xor_generation(a) end
 	local text = serialise(neat.save(a))
 	check(serialise(neat.save(a, true)) == text, "the shared save writes what the copy writes")
@@ -627,7 +609,7 @@ end
 
 function T.same_seed_same_populations()
 	local function run(seed)
-		local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(seed), options = { pop_size = 50 } }
+		local pop = neat.new { inputs = 2, outputs = 1, rng = random.new(seed), options = { pop_size = 50 } }
 		for _ = 1, 8 do xor_generation(pop) end
 		return serialise(neat.save(pop))
 	end
@@ -688,13 +670,13 @@ function T.options_from_task()
 	for key, name in pairs(neat.task_keys) do check(neat.defaults[name] ~= nil, key .. " names an option") end
 	-- Ranges and refused values: tests/lua/test_common.lua.
 	check(neat.options_from_task({ NEAT_BIAS_INPUT = "-3" }).bias_input == -3, "any finite bias input")
-	local pop = neat.new { inputs = 1, outputs = 1, rng = neat.rng(1), options = o }
+	local pop = neat.new { inputs = 1, outputs = 1, rng = random.new(1), options = o }
 	check(#pop:genomes() == 60, "options reach the population")
 end
 
 function T.recurrent_option_controls_cycles()
 	local function count_cycles(recurrent)
-		local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(16),
+		local pop = neat.new { inputs = 2, outputs = 1, rng = random.new(16),
 			options = { pop_size = 40, recurrent = recurrent, add_link_prob = 0.5, add_node_prob = 0.2 } }
 		for _ = 1, 10 do xor_generation(pop) end
 		-- Kahn's algorithm over the enabled links: what is left is on a cycle.
@@ -759,7 +741,7 @@ function T.toggle_and_reenable()
 	local function g3()
 		return genome(2, { 3 }, { 4 }, { { 1, 0, 3, 1 }, { 2, 0, 4, 1 }, { 3, 1, 3, 1 }, { 4, 4, 3, 1 } })
 	end
-	local rng = neat.rng(18)
+	local rng = random.new(18)
 	local off = {}
 	for _ = 1, 400 do
 		local g = g3()
@@ -779,13 +761,13 @@ function T.toggle_and_reenable()
 	neat.mutate_reenable(g)
 	check(g.links[2].enabled and not g.links[3].enabled, "re-enable: the first disabled link only")
 	-- Off by default: a non-structural mutation changes no enabled state.
-	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(19), options = { pop_size = 5 } }
+	local pop = neat.new { inputs = 2, outputs = 1, rng = random.new(19), options = { pop_size = 5 } }
 	g = g3()
 	g.links[3].enabled = false
 	for _ = 1, 200 do neat.mutate(pop, g, pop.rng) end
 	check(not g.links[3].enabled, "toggle_prob and reenable_prob are 0 unless set")
 	-- Set, they act.
-	pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(20),
+	pop = neat.new { inputs = 2, outputs = 1, rng = random.new(20),
 		options = { pop_size = 5, add_node_prob = 0, add_link_prob = 0, reenable_prob = 1 } }
 	g = g3()
 	g.links[3].enabled = false
@@ -836,7 +818,7 @@ function T.bias_input_scales_bias_links()
 	check(neat.to_net(g).nodes[1].bias == 2.5, "bias input 1 by default")
 	-- NEAT's pole tasks feed 0.5: the same link gives half the bias, and
 	-- copies and children keep the value.
-	local pop = neat.new { inputs = 2, outputs = 1, rng = neat.rng(22), options = { pop_size = 6, bias_input = 0.5 } }
+	local pop = neat.new { inputs = 2, outputs = 1, rng = random.new(22), options = { pop_size = 6, bias_input = 0.5 } }
 	local a = pop:genomes()[1]
 	local w
 	for _, l in ipairs(a.links) do
