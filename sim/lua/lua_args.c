@@ -1,0 +1,167 @@
+/* Option tables and handles for the scene scripts' `evo` module
+ * (lua/lua_internal.h). Lua holds handles, not pointers: a bot or element
+ * handle is a small userdata with its index in the scene, and every
+ * method finds the scene through the state's registry. Options come in
+ * tables; an option the function does not know is an error naming the
+ * ones it does, so a typo in a script never goes unnoticed. */
+#include <string.h>
+
+#include "lua/lua_internal.h"
+
+const char evo_lua_ctx_key = 'k';
+const char evo_lua_scene_key = 's';
+
+evo_lua *evo_lua_ctx(lua_State *L)
+{
+	lua_rawgetp(L, LUA_REGISTRYINDEX, &evo_lua_ctx_key);
+	evo_lua *l = lua_touserdata(L, -1);
+	lua_pop(L, 1);
+	return l;
+}
+
+/* ---- option tables ----------------------------------------------------- */
+
+/* Raise an error for any key of the table at idx not in `known`. */
+void evo_lua_check_keys(lua_State *L, int idx, const char *what,
+		       const char *const *known)
+{
+	luaL_checktype(L, idx, LUA_TTABLE);
+	lua_pushnil(L);
+	while (lua_next(L, idx)) {
+		lua_pop(L, 1);
+		if (lua_type(L, -1) != LUA_TSTRING) {
+			luaL_error(L, "%s: option keys are names", what);
+			return;
+		}
+		const char *k = lua_tostring(L, -1);
+		int ok = 0;
+		for (unsigned i = 0; known[i]; i++)
+			ok |= strcmp(k, known[i]) == 0;
+		if (!ok) {
+			luaL_Buffer b;
+			luaL_buffinit(L, &b);
+			for (unsigned i = 0; known[i]; i++) {
+				luaL_addstring(&b, i ? ", " : "");
+				luaL_addstring(&b, known[i]);
+			}
+			luaL_pushresult(&b);
+			luaL_error(L, "%s: unknown option '%s' (known: %s)",
+				   what, k, lua_tostring(L, -1));
+			return;
+		}
+	}
+}
+
+double evo_lua_opt_num(lua_State *L, int idx, const char *key, double dflt,
+		      const char *what)
+{
+	lua_getfield(L, idx, key);
+	double v = dflt;
+	if (!lua_isnil(L, -1)) {
+		int isnum;
+		v = lua_tonumberx(L, -1, &isnum);
+		if (!isnum || !isfinite(v))
+			luaL_error(L, "%s: option '%s' must be a number, found %s",
+				   what, key, luaL_typename(L, -1));
+	}
+	lua_pop(L, 1);
+	return v;
+}
+
+const char *evo_lua_opt_str(lua_State *L, int idx, const char *key,
+			   const char *dflt, const char *what)
+{
+	lua_getfield(L, idx, key);
+	const char *v = dflt;
+	if (!lua_isnil(L, -1)) {
+		if (lua_type(L, -1) != LUA_TSTRING)
+			luaL_error(L, "%s: option '%s' must be a string, found %s",
+				   what, key, luaL_typename(L, -1));
+		v = lua_tostring(L, -1); /* kept alive by the table */
+	}
+	lua_pop(L, 1);
+	return v;
+}
+
+/* ---- handles ------------------------------------------------------------ */
+
+void evo_lua_push_handle(lua_State *L, const char *mt, int index)
+{
+	int *p = lua_newuserdatauv(L, sizeof *p, 0);
+	*p = index;
+	luaL_setmetatable(L, mt);
+}
+
+int evo_lua_check_bot(lua_State *L, int idx)
+{
+	int i = *(int *)luaL_checkudata(L, idx, EVO_LUA_BOT_MT);
+	if (i < 0 || i >= evo_lua_ctx(L)->sc->n_bots)
+		luaL_error(L, "stale bot handle");
+	return i;
+}
+
+int evo_lua_check_element(lua_State *L, int idx)
+{
+	int i = *(int *)luaL_checkudata(L, idx, EVO_LUA_ELEMENT_MT);
+	if (i < 0 || i >= evo_lua_ctx(L)->sc->n_elements)
+		luaL_error(L, "stale element handle");
+	return i;
+}
+
+/* A target option: an element handle, "nearest_object", or nil. */
+int evo_lua_opt_target(lua_State *L, int idx, const char *key,
+		      const char *what)
+{
+	lua_getfield(L, idx, key);
+	int t = EVO_TARGET_NONE;
+	if (lua_type(L, -1) == LUA_TSTRING) {
+		if (strcmp(lua_tostring(L, -1), "nearest_object") != 0)
+			luaL_error(L,
+				   "%s: %s must be an element or "
+				   "\"nearest_object\", found \"%s\"",
+				   what, key, lua_tostring(L, -1));
+		t = EVO_TARGET_NEAREST_OBJECT;
+	} else if (!lua_isnil(L, -1)) {
+		if (!luaL_testudata(L, -1, EVO_LUA_ELEMENT_MT))
+			luaL_error(L, "%s: %s must be an element, found %s",
+				   what, key, luaL_typename(L, -1));
+		t = evo_lua_check_element(L, lua_gettop(L));
+	}
+	lua_pop(L, 1);
+	return t;
+}
+
+int evo_lua_opt_bot(lua_State *L, int idx, const char *what)
+{
+	lua_getfield(L, idx, "bot");
+	int b = 0;
+	if (!lua_isnil(L, -1)) {
+		if (!luaL_testudata(L, -1, EVO_LUA_BOT_MT))
+			luaL_error(L, "%s: bot must be a bot, found %s", what,
+				   luaL_typename(L, -1));
+		b = evo_lua_check_bot(L, lua_gettop(L));
+	} else if (evo_lua_ctx(L)->sc->n_bots == 0) {
+		luaL_error(L, "%s: there is no bot yet", what);
+	}
+	lua_pop(L, 1);
+	return b;
+}
+
+int evo_lua_bot_sensor_index(lua_State *L, int bot, const char *name,
+			    const char *what)
+{
+	const evo_bot *b = &evo_lua_ctx(L)->sc->bot[bot];
+	int s = evo_bot_find_sensor(b, name);
+	if (s < 0)
+		luaL_error(L, "%s: bot '%s' has no sensor '%s'", what, b->name,
+			   name);
+	return s;
+}
+
+/* Turn a scene error into a Lua error at the caller's line. */
+int evo_lua_scene_result(lua_State *L, int r)
+{
+	if (r < 0)
+		luaL_error(L, "%s", evo_lua_ctx(L)->sc->err.msg);
+	return r;
+}

@@ -1,0 +1,240 @@
+/* Bot methods of the scene scripts' `evo` module (docs/lua.md): adding
+ * sensors and actuators, and reading or placing a bot. */
+#include <string.h>
+
+#include "lua/lua_internal.h"
+#include "world2d/actuators.h"
+#include "world2d/sensors.h"
+
+/* ---- bot: sensors and actuators ---------------------------------------- */
+
+static const char *const sensor_keys[] = {
+	"name",	 "x",	   "y",	    "angle", "range", "arc",   "rays",
+	"deadzone", "sees", "target", "scale", "reach", "value", NULL};
+
+static uint16_t parse_sees(lua_State *L, int idx, const char *what)
+{
+	lua_getfield(L, idx, "sees");
+	uint16_t mask = EVO_CAT_OBSTACLE | EVO_CAT_BOT;
+	if (!lua_isnil(L, -1)) {
+		luaL_checktype(L, -1, LUA_TTABLE);
+		mask = 0;
+		int n = (int)luaL_len(L, -1);
+		for (int i = 1; i <= n; i++) {
+			lua_geti(L, -1, i);
+			const char *s = lua_tostring(L, -1);
+			if (s && strcmp(s, "obstacles") == 0)
+				mask |= EVO_CAT_OBSTACLE;
+			else if (s && strcmp(s, "bots") == 0)
+				mask |= EVO_CAT_BOT;
+			else if (s && strcmp(s, "objects") == 0)
+				mask |= EVO_CAT_OBJECT;
+			else
+				luaL_error(L,
+					   "%s: sees lists \"obstacles\", "
+					   "\"bots\" or \"objects\", found %s",
+					   what, s ? s : luaL_typename(L, -1));
+			lua_pop(L, 1);
+		}
+	}
+	lua_pop(L, 1);
+	return mask;
+}
+
+static int add_sensor(lua_State *L, evo_sensor_kind kind, const char *what)
+{
+	int bot = evo_lua_check_bot(L, 1);
+	evo_lua_check_keys(L, 2, what, sensor_keys);
+	evo_sensor_def d = evo_default_sensor_def(kind);
+	d.name = evo_lua_opt_str(L, 2, "name", NULL, what);
+	if (!d.name)
+		luaL_error(L, "%s: a sensor needs a name", what);
+	d.x = evo_lua_opt_num(L, 2, "x", d.x, what);
+	d.y = evo_lua_opt_num(L, 2, "y", d.y, what);
+	d.angle = evo_lua_opt_num(L, 2, "angle", d.angle / EVO_LUA_DEG, what) * EVO_LUA_DEG;
+	d.range = evo_lua_opt_num(L, 2, "range", d.range, what);
+	d.arc = evo_lua_opt_num(L, 2, "arc", d.arc / EVO_LUA_DEG, what) * EVO_LUA_DEG;
+	double rays = evo_lua_opt_num(L, 2, "rays", d.rays, what);
+	if (rays != floor(rays) || rays < 1 || rays > EVO_PROX_MAX_RAYS)
+		luaL_error(L, "%s: rays must be a whole number from 1 to %d",
+			   what, EVO_PROX_MAX_RAYS);
+	d.rays = (int)rays;
+	d.deadzone = evo_lua_opt_num(L, 2, "deadzone", d.deadzone, what);
+	d.mask = parse_sees(L, 2, what);
+	d.target = evo_lua_opt_target(L, 2, "target", what);
+	d.scale = evo_lua_opt_num(L, 2, "scale", d.scale, what);
+	d.reach = evo_lua_opt_num(L, 2, "reach", d.reach, what);
+	d.value = evo_lua_opt_num(L, 2, "value", d.value, what);
+	lua_pushinteger(L, evo_lua_scene_result(L, evo_scene_add_sensor(evo_lua_ctx(L)->sc,
+								bot, &d)) +
+				   1);
+	return 1;
+}
+
+#define SENSOR_FN(fn, kind)                                                  \
+	static int sensor_##fn(lua_State *L)                                 \
+	{                                                                    \
+		return add_sensor(L, kind, "bot:" #fn);                      \
+	}
+SENSOR_FN(proximity, EVO_SENSOR_PROXIMITY)
+SENSOR_FN(distance, EVO_SENSOR_DISTANCE)
+SENSOR_FN(zone, EVO_SENSOR_ZONE)
+SENSOR_FN(bearing, EVO_SENSOR_BEARING)
+SENSOR_FN(presence, EVO_SENSOR_PRESENCE)
+SENSOR_FN(object_detector, EVO_SENSOR_OBJECT)
+SENSOR_FN(movement, EVO_SENSOR_MOVEMENT)
+SENSOR_FN(random, EVO_SENSOR_RANDOM)
+SENSOR_FN(constant, EVO_SENSOR_CONSTANT)
+SENSOR_FN(holding, EVO_SENSOR_HOLDING)
+
+static int add_actuator(lua_State *L, evo_actuator_kind kind,
+			const char *what)
+{
+	static const char *const keys[] = {"name", "x", "y", "angle",
+					   "max_force", "reach", NULL};
+	int bot = evo_lua_check_bot(L, 1);
+	evo_lua_check_keys(L, 2, what, keys);
+	evo_actuator_def d = evo_default_actuator_def(kind);
+	d.name = evo_lua_opt_str(L, 2, "name", NULL, what);
+	if (!d.name)
+		luaL_error(L, "%s: an actuator needs a name", what);
+	d.x = evo_lua_opt_num(L, 2, "x", d.x, what);
+	d.y = evo_lua_opt_num(L, 2, "y", d.y, what);
+	d.angle = evo_lua_opt_num(L, 2, "angle", d.angle / EVO_LUA_DEG, what) * EVO_LUA_DEG;
+	d.max_force = evo_lua_opt_num(L, 2, "max_force", d.max_force, what);
+	d.reach = evo_lua_opt_num(L, 2, "reach", d.reach, what);
+	lua_pushinteger(L, evo_lua_scene_result(L, evo_scene_add_actuator(evo_lua_ctx(L)->sc,
+								  bot, &d)) +
+				   1);
+	return 1;
+}
+
+static int wheel(lua_State *L)
+{
+	return add_actuator(L, EVO_ACTUATOR_WHEEL, "bot:wheel");
+}
+
+static int claw(lua_State *L)
+{
+	return add_actuator(L, EVO_ACTUATOR_CLAW, "bot:claw");
+}
+
+/* bot:target(sensor name, element or "nearest_object"): what a tracker
+ * looks at (EvoAgents' setTarget). */
+static int bot_target(lua_State *L)
+{
+	int bot = evo_lua_check_bot(L, 1);
+	const char *name = luaL_checkstring(L, 2);
+	evo_scene *sc = evo_lua_ctx(L)->sc;
+	int s = evo_lua_bot_sensor_index(L, bot, name, "bot:target");
+	lua_settop(L, 3);
+	lua_newtable(L);
+	lua_pushvalue(L, 3);
+	lua_setfield(L, -2, "target");
+	int t = evo_lua_opt_target(L, 4, "target", "bot:target");
+	evo_sensor *sn = &sc->bot[bot].sensor[s];
+	if (sn->def.kind == EVO_SENSOR_ZONE && t >= 0 &&
+	    sc->element[t].kind != EVO_ELEM_ZONE)
+		luaL_error(L, "bot:target: zone sensor '%s' needs a zone",
+			   name);
+	sn->def.target = t;
+	return 0;
+}
+
+static int bot_pose(lua_State *L)
+{
+	int bot = evo_lua_check_bot(L, 1);
+	evo_scene *sc = evo_lua_ctx(L)->sc;
+	evo_pose p = evo_body_pose(sc->world, sc->bot[bot].body);
+	lua_pushnumber(L, p.x);
+	lua_pushnumber(L, p.y);
+	lua_pushnumber(L, p.angle / EVO_LUA_DEG);
+	return 3;
+}
+
+static int bot_place(lua_State *L)
+{
+	int bot = evo_lua_check_bot(L, 1);
+	double x = luaL_checknumber(L, 2), y = luaL_checknumber(L, 3);
+	double a = luaL_optnumber(L, 4, 0) * EVO_LUA_DEG;
+	if (!isfinite(x) || !isfinite(y) || !isfinite(a))
+		luaL_error(L, "bot:place: a value is not a number");
+	evo_scene_place_bot(evo_lua_ctx(L)->sc, bot, x, y, a);
+	return 0;
+}
+
+static int bot_value(lua_State *L)
+{
+	int bot = evo_lua_check_bot(L, 1);
+	int s = evo_lua_bot_sensor_index(L, bot, luaL_checkstring(L, 2), "bot:value");
+	evo_scene *sc = evo_lua_ctx(L)->sc;
+	evo_sensor *se = &sc->bot[bot].sensor[s];
+	if (se->idle) {
+		/* Not sampled so far: from now on it is, every tick. */
+		se->idle = 0;
+		evo_sensor_sample(sc, bot, s);
+	}
+	lua_pushnumber(L, se->value);
+	return 1;
+}
+
+static int bot_command(lua_State *L)
+{
+	int bot = evo_lua_check_bot(L, 1);
+	const evo_bot *b = &evo_lua_ctx(L)->sc->bot[bot];
+	const char *name = luaL_checkstring(L, 2);
+	int a = evo_bot_find_actuator(b, name);
+	if (a < 0)
+		luaL_error(L, "bot:command: bot '%s' has no actuator '%s'",
+			   b->name, name);
+	lua_pushnumber(L, b->actuator[a].command);
+	return 1;
+}
+
+static int bot_counts(lua_State *L)
+{
+	int bot = evo_lua_check_bot(L, 1);
+	const evo_bot *b = &evo_lua_ctx(L)->sc->bot[bot];
+	int holding = 0;
+	for (int i = 0; i < b->n_actuators; i++)
+		holding |= b->actuator[i].held >= 0;
+	lua_newtable(L);
+	lua_pushinteger(L, b->touching);
+	lua_setfield(L, -2, "touching");
+	lua_pushinteger(L, b->collisions);
+	lua_setfield(L, -2, "collisions");
+	lua_pushinteger(L, b->delivered);
+	lua_setfield(L, -2, "delivered");
+	lua_pushboolean(L, holding);
+	lua_setfield(L, -2, "holding");
+	return 1;
+}
+
+static int bot_name(lua_State *L)
+{
+	lua_pushstring(L, evo_lua_ctx(L)->sc->bot[evo_lua_check_bot(L, 1)].name);
+	return 1;
+}
+
+const luaL_Reg evo_lua_bot_methods[] = {
+	{"proximity", sensor_proximity},
+	{"distance", sensor_distance},
+	{"zone", sensor_zone},
+	{"bearing", sensor_bearing},
+	{"presence", sensor_presence},
+	{"object_detector", sensor_object_detector},
+	{"movement", sensor_movement},
+	{"random", sensor_random},
+	{"constant", sensor_constant},
+	{"holding", sensor_holding},
+	{"wheel", wheel},
+	{"claw", claw},
+	{"target", bot_target},
+	{"pose", bot_pose},
+	{"place", bot_place},
+	{"value", bot_value},
+	{"command", bot_command},
+	{"counts", bot_counts},
+	{"name", bot_name},
+	{NULL, NULL},
+};

@@ -1,0 +1,102 @@
+/* evo — private to sim/lua/: what the files of the scene scripts' `evo`
+ * module share (lua_evo.c sets up a state and loads scripts, lua_args.c
+ * reads options and handles, lua_bot.c and lua_scene.c are the methods
+ * of bots, elements and the scene, lua_hooks.c calls Lua from the tick).
+ * No other folder may include it. */
+#ifndef EVO_LUA_INTERNAL_H
+#define EVO_LUA_INTERNAL_H
+
+#include <lauxlib.h>
+#include <lua.h>
+#include <math.h>
+
+#include "lua/lua_evo.h"
+
+struct evo_lua {
+	lua_State *L;
+	evo_scene *sc;
+	char mind_dir[1024];
+	char lua_dir[1024];
+	char botmodel[EVO_NAME_MAX];
+	const evo_simbatch *task;
+	int env_ref; /* the environment's table */
+	int has_post_step;
+	char env_path[1200];
+	char bot_path[1200];
+};
+
+/* Registry keys, by their addresses: the evo_lua of a state, and the one
+ * scene object that hooks pass to Lua functions. */
+extern const char evo_lua_ctx_key;
+extern const char evo_lua_scene_key;
+
+/* Metatables of the handles Lua holds. */
+#define EVO_LUA_BOT_MT "evo.bot"
+#define EVO_LUA_ELEMENT_MT "evo.element"
+#define EVO_LUA_SCENE_MT "evo.scene"
+
+/* Angles are degrees in Lua, radians in C. */
+#define EVO_LUA_DEG (M_PI / 180.0)
+
+/* The evo_lua of a state. */
+evo_lua *evo_lua_ctx(lua_State *L);
+
+/* ---- lua_args.c: option tables and handles (each raises a Lua error
+ * naming `what` on a bad value) ----------------------------------------- */
+
+/* Raise an error for any key of the table at idx not in `known` (NULL
+ * ended), naming the known ones. */
+void evo_lua_check_keys(lua_State *L, int idx, const char *what,
+			const char *const *known);
+double evo_lua_opt_num(lua_State *L, int idx, const char *key, double dflt,
+		       const char *what);
+const char *evo_lua_opt_str(lua_State *L, int idx, const char *key,
+			    const char *dflt, const char *what);
+/* Push a handle: a userdata holding index, with metatable mt. */
+void evo_lua_push_handle(lua_State *L, const char *mt, int index);
+/* The index a bot or element handle at idx holds; raises on a stale one. */
+int evo_lua_check_bot(lua_State *L, int idx);
+int evo_lua_check_element(lua_State *L, int idx);
+/* A target option: an element handle, "nearest_object", or nil
+ * (EVO_TARGET_NONE). */
+int evo_lua_opt_target(lua_State *L, int idx, const char *key,
+		       const char *what);
+/* The `bot` option: a bot handle, or the first bot when absent. */
+int evo_lua_opt_bot(lua_State *L, int idx, const char *what);
+int evo_lua_bot_sensor_index(lua_State *L, int bot, const char *name,
+			     const char *what);
+/* Turn a scene error (r < 0) into a Lua error at the caller's line. */
+int evo_lua_scene_result(lua_State *L, int r);
+
+/* ---- the methods of the three classes (lua_bot.c, lua_scene.c) ------- */
+
+extern const luaL_Reg evo_lua_bot_methods[];
+extern const luaL_Reg evo_lua_element_methods[];
+extern const luaL_Reg evo_lua_scene_methods[];
+
+/* ---- lua_evo.c: loading scripts --------------------------------------- */
+
+/* Find NAME.lua in mind_dir/<mind_sub>, then lua_dir/<lua_sub>; 0 or -1. */
+int evo_lua_find_script(const evo_lua *l, const char *mind_sub,
+			const char *lua_sub, const char *name, char *out,
+			size_t cap);
+/* Run a script file and leave its single result, a table, on the stack;
+ * raises otherwise. */
+void evo_lua_run_file(lua_State *L, const char *path, const char *what);
+/* Build a bot from the bot model file (docs/lua.md, bot models); leaves
+ * the model's table on the stack. */
+int evo_lua_load_model(lua_State *L, evo_lua *l, const char *model);
+
+/* ---- lua_hooks.c: Lua called from the tick ---------------------------- */
+
+int evo_lua_hook_reward(void *c, evo_scene *sc, const evo_reward *r,
+			double *out);
+int evo_lua_hook_control(void *c, evo_scene *sc, const evo_control *ctl,
+			 int *next);
+int evo_lua_hook_post_step(void *c, evo_scene *sc);
+/* Call env[name](scene, arg) if the environment has it: with_arg 0 no
+ * argument, 1 the integer arg, 2 the task's table. 0, or -1 with err. */
+int evo_lua_call_env(evo_lua *l, const char *name, int with_arg,
+		     lua_Integer arg, evo_err *err);
+
+#endif

@@ -1,0 +1,409 @@
+/* Scene and element methods of the scene scripts' `evo` module
+ * (docs/lua.md): adding bots, elements, the obstacle grid, rewards and
+ * controls; reading and placing elements. */
+#include <string.h>
+
+#include "lua/lua_internal.h"
+#include "world2d/actuators.h"
+#include "world2d/rewards.h"
+
+/* ---- elements ------------------------------------------------------------ */
+
+static int element_pos(lua_State *L)
+{
+	const evo_element *e = &evo_lua_ctx(L)->sc->element[evo_lua_check_element(L, 1)];
+	lua_pushnumber(L, e->x);
+	lua_pushnumber(L, e->y);
+	return 2;
+}
+
+static int element_place(lua_State *L)
+{
+	int e = evo_lua_check_element(L, 1);
+	double x = luaL_checknumber(L, 2), y = luaL_checknumber(L, 3);
+	evo_scene *sc = evo_lua_ctx(L)->sc;
+	if (!isfinite(x) || !isfinite(y))
+		luaL_error(L, "element:place: a value is not a number");
+	if (sc->element[e].kind == EVO_ELEM_CYLINDER ||
+	    sc->element[e].kind == EVO_ELEM_BOX)
+		luaL_error(L, "element:place: static elements do not move");
+	evo_scene_place_element(sc, e, x, y);
+	return 0;
+}
+
+static int element_active(lua_State *L)
+{
+	lua_pushboolean(L, evo_lua_ctx(L)->sc->element[evo_lua_check_element(L, 1)].active);
+	return 1;
+}
+
+static int element_set_active(lua_State *L)
+{
+	int i = evo_lua_check_element(L, 1);
+	evo_scene *sc = evo_lua_ctx(L)->sc;
+	evo_element *e = &sc->element[i];
+	int on = lua_toboolean(L, 2);
+	if (e->kind == EVO_ELEM_OBJECT) {
+		if (!on && e->held_by >= 0)
+			evo_bot_release(sc, e->held_by);
+		evo_body_set_enabled(sc->world, e->body, on);
+	}
+	e->active = on;
+	return 0;
+}
+
+static int element_name(lua_State *L)
+{
+	lua_pushstring(L, evo_lua_ctx(L)->sc->element[evo_lua_check_element(L, 1)].name);
+	return 1;
+}
+
+/* ---- scene ---------------------------------------------------------------- */
+
+static int add_element(lua_State *L, evo_element_kind kind, const char *what)
+{
+	static const char *const keys[] = {
+		"name",	    "x",	"y",	   "angle",
+		"radius",   "size",	"half_width", "half_height",
+		"density",  "friction", "restitution", "linear_damping",
+		"angular_damping", NULL};
+	evo_lua_check_keys(L, 2, what, keys);
+	evo_element_def d = evo_default_element_def(kind);
+	d.name = evo_lua_opt_str(L, 2, "name", NULL, what);
+	d.x = evo_lua_opt_num(L, 2, "x", 0, what);
+	d.y = evo_lua_opt_num(L, 2, "y", 0, what);
+	d.angle = evo_lua_opt_num(L, 2, "angle", 0, what) * EVO_LUA_DEG;
+	d.size = evo_lua_opt_num(L, 2, kind == EVO_ELEM_ZONE ? "size" : "radius",
+			 d.size, what);
+	d.half_w = evo_lua_opt_num(L, 2, "half_width", d.half_w, what);
+	d.half_h = evo_lua_opt_num(L, 2, "half_height", d.half_h, what);
+	d.density = evo_lua_opt_num(L, 2, "density", d.density, what);
+	d.friction = evo_lua_opt_num(L, 2, "friction", d.friction, what);
+	d.restitution = evo_lua_opt_num(L, 2, "restitution", d.restitution, what);
+	d.linear_damping =
+		evo_lua_opt_num(L, 2, "linear_damping", d.linear_damping, what);
+	d.angular_damping =
+		evo_lua_opt_num(L, 2, "angular_damping", d.angular_damping, what);
+	int i = evo_lua_scene_result(L, evo_scene_add_element(evo_lua_ctx(L)->sc, &d));
+	evo_lua_push_handle(L, EVO_LUA_ELEMENT_MT, i);
+	return 1;
+}
+
+static int scene_cylinder(lua_State *L)
+{
+	return add_element(L, EVO_ELEM_CYLINDER, "scene:cylinder");
+}
+
+static int scene_box(lua_State *L)
+{
+	return add_element(L, EVO_ELEM_BOX, "scene:box");
+}
+
+static int scene_zone(lua_State *L)
+{
+	return add_element(L, EVO_ELEM_ZONE, "scene:zone");
+}
+
+static int scene_object(lua_State *L)
+{
+	return add_element(L, EVO_ELEM_OBJECT, "scene:object");
+}
+
+static int scene_grid(lua_State *L)
+{
+	static const char *const keys[] = {
+		"x0",	     "y0",	 "x1",	     "y1", "spacing", "jitter",
+		"min_size", "size_variability", "shapes", "clearance", NULL};
+	const char *what = "scene:grid";
+	evo_lua_check_keys(L, 2, what, keys);
+	evo_grid_def g = evo_default_grid_def();
+	g.enabled = 1;
+	g.x0 = evo_lua_opt_num(L, 2, "x0", g.x0, what);
+	g.y0 = evo_lua_opt_num(L, 2, "y0", g.y0, what);
+	g.x1 = evo_lua_opt_num(L, 2, "x1", g.x1, what);
+	g.y1 = evo_lua_opt_num(L, 2, "y1", g.y1, what);
+	g.spacing = evo_lua_opt_num(L, 2, "spacing", g.spacing, what);
+	g.jitter = evo_lua_opt_num(L, 2, "jitter", g.jitter, what);
+	g.min_size = evo_lua_opt_num(L, 2, "min_size", g.min_size, what);
+	g.size_variability =
+		evo_lua_opt_num(L, 2, "size_variability", g.size_variability, what);
+	g.clearance = evo_lua_opt_num(L, 2, "clearance", g.clearance, what);
+	const char *shapes = evo_lua_opt_str(L, 2, "shapes", "cylinders", what);
+	if (strcmp(shapes, "cylinders") == 0)
+		g.boxes = 0;
+	else if (strcmp(shapes, "boxes") == 0)
+		g.boxes = 1;
+	else if (strcmp(shapes, "mixed") == 0)
+		g.boxes = 2;
+	else
+		luaL_error(L,
+			   "%s: shapes is \"cylinders\", \"boxes\" or "
+			   "\"mixed\", found \"%s\"",
+			   what, shapes);
+	if (!(g.spacing > 0) || g.x1 < g.x0 || g.y1 < g.y0 || g.jitter < 0 ||
+	    !(g.min_size > 0) || g.size_variability < 0)
+		luaL_error(L,
+			   "%s: needs spacing > 0, x0 <= x1, y0 <= y1, "
+			   "jitter >= 0, min_size > 0, size_variability >= 0",
+			   what);
+	if ((g.x1 - g.x0) / g.spacing * (g.y1 - g.y0) / g.spacing > 1e6)
+		luaL_error(L, "%s: more than a million cells", what);
+	evo_scene_set_grid(evo_lua_ctx(L)->sc, &g);
+	return 0;
+}
+
+static int scene_bot(lua_State *L)
+{
+	static const char *const keys[] = {"name", "x", "y", "angle", "model",
+					   NULL};
+	const char *what = "scene:bot";
+	evo_lua *l = evo_lua_ctx(L);
+	if (lua_isnoneornil(L, 2)) {
+		lua_settop(L, 1);
+		lua_newtable(L);
+	}
+	evo_lua_check_keys(L, 2, what, keys);
+	const char *model = evo_lua_opt_str(L, 2, "model", l->botmodel, what);
+	if (!model[0])
+		luaL_error(L, "%s: the task names no BOTMODEL", what);
+	lua_settop(L, 2);
+	evo_lua_load_model(L, l, model); /* pushes the model table at 3 */
+	evo_bot_def d = evo_default_bot_def();
+	char auto_name[32];
+	snprintf(auto_name, sizeof auto_name, "bot%d", l->sc->n_bots + 1);
+	d.name = evo_lua_opt_str(L, 2, "name", auto_name, what);
+	d.x = evo_lua_opt_num(L, 2, "x", 0, what);
+	d.y = evo_lua_opt_num(L, 2, "y", 0, what);
+	d.angle = evo_lua_opt_num(L, 2, "angle", 0, what) * EVO_LUA_DEG;
+	lua_getfield(L, 3, "body");
+	if (!lua_isnil(L, -1)) {
+		static const char *const bkeys[] = {
+			"shape",	  "radius",	    "half_width",
+			"half_height", "density",	    "friction",
+			"restitution", "linear_damping", "angular_damping",
+			"sleep",	  NULL};
+		int b = lua_gettop(L);
+		const char *bw = "bot model body";
+		evo_lua_check_keys(L, b, bw, bkeys);
+		const char *shape = evo_lua_opt_str(L, b, "shape", "circle", bw);
+		if (strcmp(shape, "circle") == 0)
+			d.body.shape = EVO_SHAPE_CIRCLE;
+		else if (strcmp(shape, "box") == 0)
+			d.body.shape = EVO_SHAPE_BOX;
+		else
+			luaL_error(L, "%s: shape is \"circle\" or \"box\"", bw);
+		d.body.radius = evo_lua_opt_num(L, b, "radius", d.body.radius, bw);
+		d.body.half_w = evo_lua_opt_num(L, b, "half_width", d.body.half_w, bw);
+		d.body.half_h =
+			evo_lua_opt_num(L, b, "half_height", d.body.half_h, bw);
+		d.body.density = evo_lua_opt_num(L, b, "density", d.body.density, bw);
+		d.body.friction =
+			evo_lua_opt_num(L, b, "friction", d.body.friction, bw);
+		d.body.restitution =
+			evo_lua_opt_num(L, b, "restitution", d.body.restitution, bw);
+		d.body.linear_damping = evo_lua_opt_num(L, b, "linear_damping",
+						d.body.linear_damping, bw);
+		d.body.angular_damping = evo_lua_opt_num(L, b, "angular_damping",
+						 d.body.angular_damping, bw);
+		lua_getfield(L, b, "sleep");
+		d.body.allow_sleep = lua_toboolean(L, -1);
+		lua_pop(L, 1);
+	}
+	lua_pop(L, 1);
+	int i = evo_lua_scene_result(L, evo_scene_add_bot(l->sc, &d));
+	lua_getfield(L, 3, "build");
+	if (!lua_isfunction(L, -1))
+		luaL_error(L, "bot model %s: has no build(bot) function", model);
+	evo_lua_push_handle(L, EVO_LUA_BOT_MT, i);
+	lua_call(L, 1, 0);
+	evo_lua_push_handle(L, EVO_LUA_BOT_MT, i);
+	return 1;
+}
+
+static const char *const reward_keys[] = {"bot",       "k",	  "k2",
+					  "threshold", "target", "sensors",
+					  NULL};
+
+/* The first argument of scene:reward and scene:control: a Lua function
+ * (returns lua_kind, with *ref set) or the name of a built-in one (its
+ * kind); an empty options table is pushed at 3 when none was given. */
+static int function_or_name(lua_State *L, const char *what, const char *noun,
+			    int (*by_name)(const char *), int lua_kind,
+			    int *ref)
+{
+	if (lua_isfunction(L, 2)) {
+		if (evo_lua_ctx(L)->sc->n_bots == 0)
+			luaL_error(L, "%s: there is no bot yet", what);
+		lua_pushvalue(L, 2);
+		*ref = luaL_ref(L, LUA_REGISTRYINDEX);
+		return lua_kind;
+	}
+	const char *name = luaL_checkstring(L, 2);
+	int kind = by_name(name);
+	if (kind < 0 || kind == lua_kind)
+		luaL_error(L,
+			   "%s: unknown %s function '%s' (pass a Lua function "
+			   "for your own)",
+			   what, noun, name);
+	if (lua_isnoneornil(L, 3)) {
+		lua_settop(L, 2);
+		lua_newtable(L);
+	}
+	return kind;
+}
+
+static int scene_reward(lua_State *L)
+{
+	evo_lua *l = evo_lua_ctx(L);
+	const char *what = "scene:reward";
+	int ref = -1;
+	int kind = function_or_name(L, what, "reward", evo_reward_kind_by_name,
+				    EVO_RW_LUA, &ref);
+	evo_reward_def d = evo_default_reward_def((evo_reward_kind)kind);
+	d.lua_ref = ref;
+	if (kind != EVO_RW_LUA) {
+		evo_lua_check_keys(L, 3, what, reward_keys);
+		d.bot = evo_lua_opt_bot(L, 3, what);
+		d.k = evo_lua_opt_num(L, 3, "k", d.k, what);
+		d.k2 = evo_lua_opt_num(L, 3, "k2", d.k2, what);
+		d.threshold = evo_lua_opt_num(L, 3, "threshold", d.threshold, what);
+		d.target = evo_lua_opt_target(L, 3, "target", what);
+		lua_getfield(L, 3, "sensors");
+		if (!lua_isnil(L, -1)) {
+			luaL_checktype(L, -1, LUA_TTABLE);
+			int n = (int)luaL_len(L, -1);
+			if (n > EVO_REWARD_MAX_SENSORS)
+				luaL_error(L, "%s: at most %d sensors", what,
+					   EVO_REWARD_MAX_SENSORS);
+			for (int i = 1; i <= n; i++) {
+				lua_geti(L, -1, i);
+				const char *s = lua_tostring(L, -1);
+				if (!s)
+					luaL_error(L, "%s: sensors are names",
+						   what);
+				d.sensor[d.n_sensors++] =
+					evo_lua_bot_sensor_index(L, d.bot, s, what);
+				lua_pop(L, 1);
+			}
+		}
+		lua_pop(L, 1);
+	}
+	evo_lua_scene_result(L, evo_scene_add_reward(l->sc, &d));
+	return 0;
+}
+
+static int scene_control(lua_State *L)
+{
+	static const char *const keys[] = {"bot",    "ticks",     "target",
+					   "sensor", "threshold", NULL};
+	evo_lua *l = evo_lua_ctx(L);
+	const char *what = "scene:control";
+	int ref = -1;
+	int kind = function_or_name(L, what, "control", evo_control_kind_by_name,
+				    EVO_CF_LUA, &ref);
+	evo_control_def d = evo_default_control_def((evo_control_kind)kind);
+	d.lua_ref = ref;
+	if (kind != EVO_CF_LUA) {
+		evo_lua_check_keys(L, 3, what, keys);
+		d.bot = evo_lua_opt_bot(L, 3, what);
+		double ticks = evo_lua_opt_num(L, 3, "ticks", (double)d.ticks, what);
+		if (ticks < 0 || ticks != floor(ticks) || ticks > 1e15)
+			luaL_error(L, "%s: ticks must be a whole number >= 0",
+				   what);
+		d.ticks = (long)ticks;
+		d.target = evo_lua_opt_target(L, 3, "target", what);
+		d.threshold = evo_lua_opt_num(L, 3, "threshold", d.threshold, what);
+		const char *s = evo_lua_opt_str(L, 3, "sensor", NULL, what);
+		if (s)
+			d.sensor = evo_lua_bot_sensor_index(L, d.bot, s, what);
+	}
+	evo_lua_scene_result(L, evo_scene_add_control(l->sc, &d));
+	return 0;
+}
+
+static int scene_element(lua_State *L)
+{
+	int i = evo_scene_find_element(evo_lua_ctx(L)->sc, luaL_checkstring(L, 2));
+	if (i < 0)
+		lua_pushnil(L);
+	else
+		evo_lua_push_handle(L, EVO_LUA_ELEMENT_MT, i);
+	return 1;
+}
+
+static int scene_get_bot(lua_State *L)
+{
+	evo_scene *sc = evo_lua_ctx(L)->sc;
+	int i;
+	if (lua_type(L, 2) == LUA_TSTRING)
+		i = evo_scene_find_bot(sc, lua_tostring(L, 2));
+	else
+		i = (int)luaL_checkinteger(L, 2) - 1;
+	if (i < 0 || i >= sc->n_bots)
+		lua_pushnil(L);
+	else
+		evo_lua_push_handle(L, EVO_LUA_BOT_MT, i);
+	return 1;
+}
+
+static int scene_random(lua_State *L)
+{
+	evo_scene *sc = evo_lua_ctx(L)->sc;
+	double u = evo_rng_unit(&sc->rng);
+	if (lua_gettop(L) >= 3) {
+		double lo = luaL_checknumber(L, 2), hi = luaL_checknumber(L, 3);
+		u = lo + (hi - lo) * u;
+	}
+	lua_pushnumber(L, u);
+	return 1;
+}
+
+static int scene_tick(lua_State *L)
+{
+	lua_pushinteger(L, evo_lua_ctx(L)->sc->tick);
+	return 1;
+}
+
+/* Forget what the reward functions remember (ClosingOnTarget's last
+ * distance), e.g. after moving a target: EvoAgents' r.reset(). */
+static int scene_reset_rewards(lua_State *L)
+{
+	evo_scene *sc = evo_lua_ctx(L)->sc;
+	for (int i = 0; i < sc->n_rewards; i++)
+		evo_reward_reset(&sc->reward[i]);
+	return 0;
+}
+
+static int scene_episode_reward(lua_State *L)
+{
+	lua_pushnumber(L, evo_lua_ctx(L)->sc->episode_reward);
+	return 1;
+}
+
+const luaL_Reg evo_lua_element_methods[] = {
+	{"pos", element_pos},
+	{"place", element_place},
+	{"active", element_active},
+	{"set_active", element_set_active},
+	{"name", element_name},
+	{NULL, NULL},
+};
+
+
+const luaL_Reg evo_lua_scene_methods[] = {
+	{"bot", scene_bot},
+	{"get_bot", scene_get_bot},
+	{"cylinder", scene_cylinder},
+	{"box", scene_box},
+	{"zone", scene_zone},
+	{"object", scene_object},
+	{"grid", scene_grid},
+	{"reward", scene_reward},
+	{"control", scene_control},
+	{"element", scene_element},
+	{"random", scene_random},
+	{"tick", scene_tick},
+	{"episode_reward", scene_episode_reward},
+	{"reset_rewards", scene_reset_rewards},
+	{NULL, NULL},
+};
