@@ -58,7 +58,7 @@ static unsigned long symbol(const char *nm, const char *elf, const char *name)
 static double host_ns_per_tick(const char *mind_dir, size_t n, int *same)
 {
 	evo_err err;
-	evo_loaded *l = evo_mind_load(mind_dir, NULL, &err);
+	evo_mindfolder *l = evo_mindfolder_load(mind_dir, NULL, &err);
 	if (!l) {
 		fprintf(stderr, "%s\n", err.msg);
 		return -1;
@@ -72,7 +72,7 @@ static double host_ns_per_tick(const char *mind_dir, size_t n, int *same)
 	for (int rep = 0; rep < 5; rep++) {
 		if (evo_state_init(&l->mind, mem, size, &s) != EVO_OK) {
 			free(mem);
-			evo_mind_free(l);
+			evo_mindfolder_free(l);
 			return -1;
 		}
 		double t0 = now();
@@ -89,7 +89,7 @@ static double host_ns_per_tick(const char *mind_dir, size_t n, int *same)
 			best = dt;
 	}
 	free(mem);
-	evo_mind_free(l);
+	evo_mindfolder_free(l);
 	return best / (double)n * 1e9;
 }
 

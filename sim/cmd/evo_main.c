@@ -41,7 +41,7 @@ static const char *kind_name(const evo_ades *a)
 	return a->kind == EVO_SKILL_NEURAL ? "neural" : "hardCoded";
 }
 
-static int cmd_info(const evo_loaded *l)
+static int cmd_info(const evo_mindfolder *l)
 {
 	const evo_mind *m = &l->mind;
 	printf("mind %s: %u sensors, %u actuators, %u variables, %u skills\n",
@@ -72,7 +72,7 @@ static int cmd_info(const evo_loaded *l)
 	return 0;
 }
 
-static int set_sensor(const evo_loaded *l, const char *arg, double *values)
+static int set_sensor(const evo_mindfolder *l, const char *arg, double *values)
 {
 	const char *eq = strchr(arg, '=');
 	char *end;
@@ -100,7 +100,7 @@ static int set_sensor(const evo_loaded *l, const char *arg, double *values)
 	return -1;
 }
 
-static int cmd_tick(const evo_loaded *l, long ticks, double *sensor_values)
+static int cmd_tick(const evo_mindfolder *l, long ticks, double *sensor_values)
 {
 	const evo_mind *m = &l->mind;
 	size_t size = evo_state_size(m);
@@ -180,7 +180,7 @@ int main(int argc, char **argv)
 		usage(stderr);
 		return 2;
 	}
-	evo_load_opts opts = {0};
+	evo_mindfolder_opts opts = {0};
 	long ticks = 10;
 	const char *out = NULL;
 	int format_c = 0;
@@ -228,7 +228,7 @@ int main(int argc, char **argv)
 			return 2;
 		}
 	}
-	evo_loaded *l = evo_mind_load(argv[2], &opts, &err);
+	evo_mindfolder *l = evo_mindfolder_load(argv[2], &opts, &err);
 	if (!l) {
 		fprintf(stderr, "%s\n", err.msg);
 		return 1;
@@ -265,6 +265,6 @@ int main(int argc, char **argv)
 		}
 		free(text);
 	}
-	evo_mind_free(l);
+	evo_mindfolder_free(l);
 	return rc;
 }

@@ -51,7 +51,7 @@ static void name_list(FILE *f, const char *what, unsigned n,
 	fprintf(f, "\n");
 }
 
-char *evo_export_c(const evo_loaded *l, size_t *len, evo_err *err)
+char *evo_export_c(const evo_mindfolder *l, size_t *len, evo_err *err)
 {
 	char *text = NULL;
 	FILE *f = open_memstream(&text, len);

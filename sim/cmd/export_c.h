@@ -16,6 +16,6 @@
  *     evo_mind_image[]           the image, static const, 4-byte aligned
  * and puts EVO_MIND_IMAGE_ATTR (empty unless the includer defines it, e.g.
  * as a section attribute) before the array. */
-char *evo_export_c(const evo_loaded *l, size_t *len, evo_err *err);
+char *evo_export_c(const evo_mindfolder *l, size_t *len, evo_err *err);
 
 #endif

@@ -45,7 +45,7 @@ static double px_y(double v, double lo, double hi)
 	return TOP + (hi - v) / (hi - lo) * (H - TOP - BOTTOM);
 }
 
-static void plot(evo_image_rgb *im, const double *v, int n, double lo,
+static void plot(evo_raster *im, const double *v, int n, double lo,
 		 double hi, uint32_t rgb)
 {
 	int have = 0;
@@ -69,8 +69,8 @@ static void plot(evo_image_rgb *im, const double *v, int n, double lo,
 int evo_curve_write(const char *path, const char *title, const double *best,
 		    const double *mean, int n, evo_err *err)
 {
-	evo_image_rgb im;
-	if (evo_image_rgb_init(&im, W, H, err))
+	evo_raster im;
+	if (evo_raster_init(&im, W, H, err))
 		return -1;
 	evo_raster_clear(&im, EVO_CURVE_BACKGROUND);
 	double lo = INFINITY, hi = -INFINITY;
@@ -126,7 +126,7 @@ int evo_curve_write(const char *path, const char *title, const double *best,
 	evo_raster_text(&im, W - 100, 11, "mean", AXIS, 1);
 	plot(&im, mean, n, lo, hi, EVO_CURVE_MEAN);
 	plot(&im, best, n, lo, hi, EVO_CURVE_BEST);
-	int rc = evo_image_rgb_save_png(&im, path, err);
-	evo_image_rgb_free(&im);
+	int rc = evo_raster_save_png(&im, path, err);
+	evo_raster_free(&im);
 	return rc;
 }

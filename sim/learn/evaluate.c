@@ -83,9 +83,9 @@ static int evaluate_one(worker *w, int i, evo_eval_result *res, evo_err *err)
 		res->solved = r.solved;
 		return 0;
 	}
-	evo_loaded *l = w->task.mind;
+	evo_mindfolder *l = w->task.mind;
 	*l->net[w->skill] = *ev->cand[i];
-	if (evo_loaded_rebuild(l, err) || evo_sim_set_mind(w->sim, l, err))
+	if (evo_mindfolder_rebuild(l, err) || evo_sim_set_mind(w->sim, l, err))
 		return -1;
 	const evo_bot *bot = &w->sim->scene->bot[w->sim->bot];
 	for (int r = 0; r < ev->reps; r++) {
@@ -136,7 +136,7 @@ static int worker_load(evo_evaluator *ev, worker *w, evo_err *err)
 				"%s: not a learning task (TYPE %s): the "
 				"evaluator needs LEARNINGSKILL",
 				ev->task_path, w->task.type);
-	w->skill = evo_loaded_skill(w->task.mind, learn);
+	w->skill = evo_mindfolder_skill(w->task.mind, learn);
 	if (w->skill < 0 || !w->task.mind->net[w->skill])
 		return evo_fail(err, "%s: LEARNINGSKILL %s has no network",
 				ev->task_path, learn);

@@ -412,7 +412,7 @@ static int open_module(lua_State *L)
 	lua_setfield(L, -2, "ticks");
 	/* GENETIC and ANNEALING evolve the fixed layered network of the
 	 * skill's `layers:` (1 when absent, as the .ades reader says). */
-	int k = evo_loaded_skill(l->task->mind, l->skill);
+	int k = evo_mindfolder_skill(l->task->mind, l->skill);
 	lua_pushinteger(L, k >= 0 ? (lua_Integer)l->task->mind->skill[k].layers
 				  : 1);
 	lua_setfield(L, -2, "layers");

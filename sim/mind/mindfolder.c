@@ -55,21 +55,21 @@ typedef struct name_kind {
 	unsigned n;
 } name_kind;
 
-static void sensors_of(const evo_loaded *l, name_kind *k)
+static void sensors_of(const evo_mindfolder *l, name_kind *k)
 {
 	*k = (name_kind){.what = "sensor", .file = "botdesc"};
 	for (unsigned i = 0; i < l->botdesc->n_sensors; i++)
 		k->name[k->n++] = l->botdesc->sensor[i].name;
 }
 
-static void actuators_of(const evo_loaded *l, name_kind *k)
+static void actuators_of(const evo_mindfolder *l, name_kind *k)
 {
 	*k = (name_kind){.what = "actuator", .file = "botdesc"};
 	for (unsigned i = 0; i < l->botdesc->n_actuators; i++)
 		k->name[k->n++] = l->botdesc->actuator[i].name;
 }
 
-static void variables_of(const evo_loaded *l, name_kind *k)
+static void variables_of(const evo_mindfolder *l, name_kind *k)
 {
 	*k = (name_kind){.what = "variable", .file = "vardesc"};
 	for (unsigned i = 0; i < l->vardesc->n_vars; i++)
@@ -77,7 +77,7 @@ static void variables_of(const evo_loaded *l, name_kind *k)
 }
 
 /* The index of io's name among k's names, or -1 with err saying where. */
-static int lookup(const evo_loaded *l, const name_kind *k, const char *file,
+static int lookup(const evo_mindfolder *l, const name_kind *k, const char *file,
 		  const evo_ades_io *io, evo_err *err)
 {
 	for (unsigned i = 0; i < k->n; i++)
@@ -283,7 +283,7 @@ static int find_master(loader *ld, char *out, size_t cap)
 
 /* ---- resolving names ------------------------------------------------- */
 
-static int resolve_input(const evo_loaded *l, const char *file,
+static int resolve_input(const evo_mindfolder *l, const char *file,
 			 const evo_ades_io *io, evo_image_io *out, evo_err *err)
 {
 	name_kind k;
@@ -296,14 +296,14 @@ static int resolve_input(const evo_loaded *l, const char *file,
 	return idx < 0 ? -1 : 0;
 }
 
-static int resolve_output(const evo_loaded *l, const char *file,
+static int resolve_output(const evo_mindfolder *l, const char *file,
 			  const evo_ades_io *io, evo_image_io *out,
 			  evo_err *err)
 {
 	name_kind k;
 	int idx;
 	if (io->type == EVO_OUT_SK) {
-		idx = evo_loaded_skill(l, io->name);
+		idx = evo_mindfolder_skill(l, io->name);
 		if (idx < 0) /* the walk has read every SK target */
 			return evo_fail(err, "%s:%u: unknown skill '%s'", file,
 					io->line, io->name);
@@ -357,8 +357,8 @@ static int check_hardcoded(const evo_ades *a, const char *file, evo_err *err)
 
 /* The network of neural skill i: its .net, or for the learning skill a
  * placeholder when it has none yet. */
-static int load_net(evo_loaded *l, unsigned i, const char *ades_path,
-		    const evo_load_opts *o, evo_err *err)
+static int load_net(evo_mindfolder *l, unsigned i, const char *ades_path,
+		    const evo_mindfolder_opts *o, evo_err *err)
 {
 	const evo_ades *a = &l->skill[i];
 	char path[1200];
@@ -419,7 +419,7 @@ uint32_t evo_names_hash_of(const evo_botdesc *b, const evo_vardesc *v)
 	return evo_names_hash(s, b->n_sensors, a, b->n_actuators, n, nv);
 }
 
-int evo_loaded_skill(const evo_loaded *l, const char *name)
+int evo_mindfolder_skill(const evo_mindfolder *l, const char *name)
 {
 	for (unsigned i = 0; i < l->n_skills; i++)
 		if (strcmp(l->skill[i].name, name) == 0)
@@ -428,7 +428,7 @@ int evo_loaded_skill(const evo_loaded *l, const char *name)
 }
 
 /* Resolved io of every skill, kept for rebuilding. */
-static int build_image(evo_loaded *l, evo_image_io *io, evo_err *err)
+static int build_image(evo_mindfolder *l, evo_image_io *io, evo_err *err)
 {
 	const evo_botdesc *b = l->botdesc;
 	const evo_vardesc *v = l->vardesc;
@@ -499,16 +499,16 @@ static int build_image(evo_loaded *l, evo_image_io *io, evo_err *err)
 
 /* The io arrays live after the loaded struct's skills; see load. */
 typedef struct loaded_private {
-	evo_loaded pub;
+	evo_mindfolder pub;
 	evo_image_io *io;
 } loaded_private;
 
-int evo_loaded_rebuild(evo_loaded *l, evo_err *err)
+int evo_mindfolder_rebuild(evo_mindfolder *l, evo_err *err)
 {
 	return build_image(l, ((loaded_private *)l)->io, err);
 }
 
-void evo_mind_free(evo_loaded *l)
+void evo_mindfolder_free(evo_mindfolder *l)
 {
 	if (!l)
 		return;
@@ -525,7 +525,7 @@ void evo_mind_free(evo_loaded *l)
 	free(l);
 }
 
-static int load(evo_loaded *l, loader *ld, const evo_load_opts *o,
+static int load(evo_mindfolder *l, loader *ld, const evo_mindfolder_opts *o,
 		evo_err *err)
 {
 	char path[1200];
@@ -602,7 +602,7 @@ static int load(evo_loaded *l, loader *ld, const evo_load_opts *o,
 	return build_image(l, io, err);
 }
 
-evo_loaded *evo_mind_load(const char *root, const evo_load_opts *opts,
+evo_mindfolder *evo_mindfolder_load(const char *root, const evo_mindfolder_opts *opts,
 			  evo_err *err)
 {
 	loaded_private *p = calloc(1, sizeof *p);
@@ -613,7 +613,7 @@ evo_loaded *evo_mind_load(const char *root, const evo_load_opts *opts,
 		evo_fail(err, "out of memory");
 		return NULL;
 	}
-	evo_loaded *l = &p->pub;
+	evo_mindfolder *l = &p->pub;
 	l->root = strdup(root);
 	size_t n = strlen(l->root);
 	while (n > 1 && l->root[n - 1] == '/')
@@ -639,7 +639,7 @@ evo_loaded *evo_mind_load(const char *root, const evo_load_opts *opts,
 		free(ld->entry[i].ades);
 	free(ld);
 	if (rc != 0) {
-		evo_mind_free(l);
+		evo_mindfolder_free(l);
 		return NULL;
 	}
 	return l;

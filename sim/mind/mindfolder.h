@@ -15,16 +15,16 @@
 #include "evo/evo.h"
 #include "base/err.h"
 
-typedef struct evo_load_opts {
+typedef struct evo_mindfolder_opts {
 	/* The master skill; NULL: the one skill of Skills/ that no other
 	 * skill names in an SK output. */
 	const char *master;
 	/* A neural skill being trained: it may lack a .net; it then gets a
 	 * layered network with zero weights (every output 0.5). */
 	const char *learning_skill;
-} evo_load_opts;
+} evo_mindfolder_opts;
 
-typedef struct evo_loaded {
+typedef struct evo_mindfolder {
 	char *root;	/* the mind folder, as given */
 	char *bot_name; /* its last path component */
 	evo_botdesc *botdesc;
@@ -36,21 +36,21 @@ typedef struct evo_loaded {
 	void *image; /* the mind image (the model) */
 	size_t image_len;
 	evo_mind mind; /* a view over image */
-} evo_loaded;
+} evo_mindfolder;
 
 /* Load the mind folder at root. Returns NULL with err set to
  * "file:line: what was wrong" on any problem. */
-evo_loaded *evo_mind_load(const char *root, const evo_load_opts *opts,
+evo_mindfolder *evo_mindfolder_load(const char *root, const evo_mindfolder_opts *opts,
 			  evo_err *err);
 
-void evo_mind_free(evo_loaded *l);
+void evo_mindfolder_free(evo_mindfolder *l);
 
 /* Skill index in l's order, or -1. */
-int evo_loaded_skill(const evo_loaded *l, const char *name);
+int evo_mindfolder_skill(const evo_mindfolder *l, const char *name);
 
 /* Rebuild l's image after changing l->net[...] (e.g. a new candidate
  * network for the learning skill). */
-int evo_loaded_rebuild(evo_loaded *l, evo_err *err);
+int evo_mindfolder_rebuild(evo_mindfolder *l, evo_err *err);
 
 /* The names hash of a botdesc and vardesc (vardesc may be NULL). */
 uint32_t evo_names_hash_of(const evo_botdesc *b, const evo_vardesc *v);

@@ -135,20 +135,20 @@ int evo_task_load(const char *path, evo_task *t, evo_err *err)
 		evo_task_free(t);
 		return -1;
 	}
-	evo_load_opts opts = {
+	evo_mindfolder_opts opts = {
 		.master = evo_simbatch_get(t->sb, "MASTERSKILL"),
 		.learning_skill = strncmp(t->type, "LEARN", 5) == 0
 					  ? evo_simbatch_get(t->sb,
 							     "LEARNINGSKILL")
 					  : NULL,
 	};
-	t->mind = evo_mind_load(root, &opts, err);
+	t->mind = evo_mindfolder_load(root, &opts, err);
 	if (!t->mind) {
 		evo_task_free(t);
 		return -1;
 	}
 	if (opts.learning_skill) {
-		int k = evo_loaded_skill(t->mind, opts.learning_skill);
+		int k = evo_mindfolder_skill(t->mind, opts.learning_skill);
 		if (k < 0 || t->mind->skill[k].kind != EVO_SKILL_NEURAL) {
 			evo_fail(err,
 				 "%s: LEARNINGSKILL %s is not a neural skill "
@@ -163,7 +163,7 @@ int evo_task_load(const char *path, evo_task *t, evo_err *err)
 
 void evo_task_free(evo_task *t)
 {
-	evo_mind_free(t->mind);
+	evo_mindfolder_free(t->mind);
 	free(t->sb);
 	memset(t, 0, sizeof *t);
 }

@@ -15,7 +15,7 @@
 typedef struct evo_task {
 	evo_simbatch *sb;
 	const char *type; /* TYPE, as written */
-	evo_loaded *mind;
+	evo_mindfolder *mind;
 } evo_task;
 
 /* Parse path, check the keys its TYPE needs, load its mind folder.

@@ -43,7 +43,7 @@ static void mark_idle(evo_sim *s)
 
 /* Bind botdesc names to the bot's sensors and actuators. A name the bot
  * model lacks is the botdesc's error, reported at its line. */
-static int bind(evo_sim *s, const evo_loaded *mind, evo_err *err)
+static int bind(evo_sim *s, const evo_mindfolder *mind, evo_err *err)
 {
 	const evo_bot *b = &s->scene->bot[s->bot];
 	const evo_botdesc *d = mind->botdesc;
@@ -74,7 +74,7 @@ static int bind(evo_sim *s, const evo_loaded *mind, evo_err *err)
 	return 0;
 }
 
-int evo_sim_set_mind(evo_sim *s, const evo_loaded *mind, evo_err *err)
+int evo_sim_set_mind(evo_sim *s, const evo_mindfolder *mind, evo_err *err)
 {
 	size_t need = evo_state_size(&mind->mind);
 	free(s->state_mem);
@@ -93,7 +93,7 @@ int evo_sim_set_mind(evo_sim *s, const evo_loaded *mind, evo_err *err)
 	return 0;
 }
 
-evo_sim *evo_sim_create(const evo_loaded *mind, const evo_simbatch *task,
+evo_sim *evo_sim_create(const evo_mindfolder *mind, const evo_simbatch *task,
 			const char *task_path, evo_err *err)
 {
 	evo_sim *s = calloc(1, sizeof *s);

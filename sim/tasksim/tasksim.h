@@ -18,7 +18,7 @@
 typedef struct evo_sim {
 	evo_scene *scene;
 	evo_lua *lua;
-	const evo_loaded *mind; /* not owned */
+	const evo_mindfolder *mind; /* not owned */
 	const evo_simbatch *task; /* not owned */
 	int bot;		/* the bot the mind drives */
 	/* botdesc order -> the bot's sensor / actuator index */
@@ -37,7 +37,7 @@ typedef struct evo_sim {
  * first bot by the botdesc's names. Returns NULL with err set
  * ("file:line: ...") on a script error or a botdesc name the bot model
  * lacks. */
-evo_sim *evo_sim_create(const evo_loaded *mind, const evo_simbatch *task,
+evo_sim *evo_sim_create(const evo_mindfolder *mind, const evo_simbatch *task,
 			const char *task_path, evo_err *err);
 void evo_sim_destroy(evo_sim *s);
 
@@ -48,7 +48,7 @@ int evo_sim_reset(evo_sim *s, int episode, uint64_t grid_seed,
 		  uint64_t episode_seed, evo_err *err);
 
 /* Rebind the mind after its image was rebuilt (a new candidate). */
-int evo_sim_set_mind(evo_sim *s, const evo_loaded *mind, evo_err *err);
+int evo_sim_set_mind(evo_sim *s, const evo_mindfolder *mind, evo_err *err);
 
 /* One tick. Returns 0 to go on, 1 when a control function ended the
  * episode, -1 with err set (a script error). */

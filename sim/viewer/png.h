@@ -15,7 +15,7 @@
 
 #include "base/err.h"
 
-/* Largest side either direction accepts (as EVO_IMAGE_MAX_SIDE). */
+/* Largest side either direction accepts (as EVO_RASTER_MAX_SIDE). */
 #define EVO_PNG_MAX_SIDE 16384
 
 /* Encode w x h pixels, `channels` bytes each (3: R, G, B; 4: R, G, B, A),

@@ -8,15 +8,15 @@
 
 #include "viewer/png.h"
 
-int evo_image_rgb_init(evo_image_rgb *im, int w, int h, evo_err *err)
+int evo_raster_init(evo_raster *im, int w, int h, evo_err *err)
 {
 	im->w = im->h = 0;
 	im->pixels = NULL;
-	if (w < 1 || h < 1 || w > EVO_IMAGE_MAX_SIDE || h > EVO_IMAGE_MAX_SIDE)
+	if (w < 1 || h < 1 || w > EVO_RASTER_MAX_SIDE || h > EVO_RASTER_MAX_SIDE)
 		return evo_fail(err,
 				"image of %d x %d pixels: each side must be "
 				"in [1, %d]",
-				w, h, EVO_IMAGE_MAX_SIDE);
+				w, h, EVO_RASTER_MAX_SIDE);
 	im->pixels = calloc((size_t)w * (size_t)h, 3);
 	if (!im->pixels)
 		return evo_fail(err, "image of %d x %d pixels: out of memory",
@@ -26,20 +26,20 @@ int evo_image_rgb_init(evo_image_rgb *im, int w, int h, evo_err *err)
 	return 0;
 }
 
-void evo_image_rgb_free(evo_image_rgb *im)
+void evo_raster_free(evo_raster *im)
 {
 	free(im->pixels);
 	im->pixels = NULL;
 	im->w = im->h = 0;
 }
 
-int evo_image_rgb_save_png(const evo_image_rgb *im, const char *path,
+int evo_raster_save_png(const evo_raster *im, const char *path,
 			   evo_err *err)
 {
 	return evo_png_write(path, im->pixels, im->w, im->h, 3, err);
 }
 
-uint32_t evo_raster_get(const evo_image_rgb *im, int x, int y)
+uint32_t evo_raster_get(const evo_raster *im, int x, int y)
 {
 	if (x < 0 || y < 0 || x >= im->w || y >= im->h)
 		return 0;
@@ -47,7 +47,7 @@ uint32_t evo_raster_get(const evo_image_rgb *im, int x, int y)
 	return (uint32_t)p[0] << 16 | (uint32_t)p[1] << 8 | p[2];
 }
 
-void evo_raster_clear(evo_image_rgb *im, uint32_t rgb)
+void evo_raster_clear(evo_raster *im, uint32_t rgb)
 {
 	uint8_t c[3] = {(uint8_t)(rgb >> 16), (uint8_t)(rgb >> 8),
 			(uint8_t)rgb};
@@ -57,7 +57,7 @@ void evo_raster_clear(evo_image_rgb *im, uint32_t rgb)
 }
 
 /* Paint pixels [x0, x1] of row y, already clipped. */
-static void span(evo_image_rgb *im, int y, int x0, int x1, uint32_t rgb,
+static void span(evo_raster *im, int y, int x0, int x1, uint32_t rgb,
 		 int alpha)
 {
 	uint8_t *p = im->pixels + 3 * ((size_t)y * im->w + x0);
@@ -82,7 +82,7 @@ static void span(evo_image_rgb *im, int y, int x0, int x1, uint32_t rgb,
 }
 
 /* Clip [x0, x1] of row y to the image and paint it. */
-static void clipped_span(evo_image_rgb *im, long long y, long long x0,
+static void clipped_span(evo_raster *im, long long y, long long x0,
 			 long long x1, uint32_t rgb, int alpha)
 {
 	if (alpha <= 0 || y < 0 || y >= im->h)
@@ -96,12 +96,12 @@ static void clipped_span(evo_image_rgb *im, long long y, long long x0,
 	span(im, (int)y, (int)x0, (int)x1, rgb, alpha);
 }
 
-void evo_raster_pixel(evo_image_rgb *im, int x, int y, uint32_t rgb, int alpha)
+void evo_raster_pixel(evo_raster *im, int x, int y, uint32_t rgb, int alpha)
 {
 	clipped_span(im, y, x, x, rgb, alpha);
 }
 
-void evo_raster_fill_rect(evo_image_rgb *im, int x, int y, int w, int h,
+void evo_raster_fill_rect(evo_raster *im, int x, int y, int w, int h,
 			  uint32_t rgb, int alpha)
 {
 	if (w <= 0 || h <= 0)
@@ -113,7 +113,7 @@ void evo_raster_fill_rect(evo_image_rgb *im, int x, int y, int w, int h,
 		clipped_span(im, j, x, (long long)x + w - 1, rgb, alpha);
 }
 
-void evo_raster_rect(evo_image_rgb *im, int x, int y, int w, int h,
+void evo_raster_rect(evo_raster *im, int x, int y, int w, int h,
 		     uint32_t rgb, int alpha)
 {
 	if (w <= 0 || h <= 0)
@@ -149,7 +149,7 @@ static int clip_axis(double p, double q, double *t0, double *t1)
 	return 1;
 }
 
-void evo_raster_line(evo_image_rgb *im, int x0, int y0, int x1, int y1,
+void evo_raster_line(evo_raster *im, int x0, int y0, int x1, int y1,
 		     uint32_t rgb, int alpha)
 {
 	if (alpha <= 0)
@@ -211,7 +211,7 @@ static void centres_in(double a, double b, long long *i0, long long *i1)
 	*i1 = (long long)floor(b - 0.5);
 }
 
-void evo_raster_fill_polygon(evo_image_rgb *im, const double *x,
+void evo_raster_fill_polygon(evo_raster *im, const double *x,
 			     const double *y, int n, uint32_t rgb, int alpha)
 {
 	if (n < 3 || alpha <= 0 || !finite_all(x, n) || !finite_all(y, n))
@@ -251,7 +251,7 @@ void evo_raster_fill_polygon(evo_image_rgb *im, const double *x,
 	}
 }
 
-void evo_raster_polygon(evo_image_rgb *im, const double *x, const double *y,
+void evo_raster_polygon(evo_raster *im, const double *x, const double *y,
 			int n, uint32_t rgb, int alpha)
 {
 	if (n < 2 || !finite_all(x, n) || !finite_all(y, n))
@@ -263,7 +263,7 @@ void evo_raster_polygon(evo_image_rgb *im, const double *x, const double *y,
 	}
 }
 
-void evo_raster_thick_line(evo_image_rgb *im, double x0, double y0, double x1,
+void evo_raster_thick_line(evo_raster *im, double x0, double y0, double x1,
 			   double y1, double width, uint32_t rgb, int alpha)
 {
 	double v[4] = {x0, y0, x1, y1};
@@ -299,7 +299,7 @@ static int circle_row(double cx, double cy, double r, long long j,
 	return *i0 <= *i1;
 }
 
-void evo_raster_circle(evo_image_rgb *im, double cx, double cy, double r,
+void evo_raster_circle(evo_raster *im, double cx, double cy, double r,
 		       double width, uint32_t rgb, int alpha)
 {
 	double v[3] = {cx, cy, r};
@@ -334,7 +334,7 @@ void evo_raster_circle(evo_image_rgb *im, double cx, double cy, double r,
 	}
 }
 
-void evo_raster_fill_circle(evo_image_rgb *im, double cx, double cy, double r,
+void evo_raster_fill_circle(evo_raster *im, double cx, double cy, double r,
 			    uint32_t rgb, int alpha)
 {
 	evo_raster_circle(im, cx, cy, r, r + 1, rgb, alpha);
@@ -463,7 +463,7 @@ static int clamp_scale(int scale)
 	return scale < 1 ? 1 : scale > MAX_SCALE ? MAX_SCALE : scale;
 }
 
-int evo_raster_text(evo_image_rgb *im, int x, int y, const char *s,
+int evo_raster_text(evo_raster *im, int x, int y, const char *s,
 		    uint32_t rgb, int scale)
 {
 	scale = clamp_scale(scale);

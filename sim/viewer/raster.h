@@ -21,58 +21,58 @@
 
 #include "base/err.h"
 
-/* A w x h image, 3 bytes per pixel (R, G, B), rows top first, no padding:
+/* A w x h raster, 3 bytes per pixel (R, G, B), rows top first, no padding:
  * pixel (x, y) starts at pixels[3 * (y * w + x)]. */
-typedef struct evo_image_rgb {
+typedef struct evo_raster {
 	int w, h;
-	uint8_t *pixels; /* owned when made by evo_image_rgb_init */
-} evo_image_rgb;
+	uint8_t *pixels; /* owned when made by evo_raster_init */
+} evo_raster;
 
-/* Largest side evo_image_rgb_init accepts; keeps w * h * 3 far from
+/* Largest side evo_raster_init accepts; keeps w * h * 3 far from
  * overflowing and a typo from allocating gigabytes. */
-#define EVO_IMAGE_MAX_SIDE 16384
+#define EVO_RASTER_MAX_SIDE 16384
 
-/* Allocate a w x h image filled with black. Returns 0, or -1 with err set
- * (a side not in [1, EVO_IMAGE_MAX_SIDE], out of memory). */
-int evo_image_rgb_init(evo_image_rgb *im, int w, int h, evo_err *err);
+/* Allocate a w x h raster filled with black. Returns 0, or -1 with err set
+ * (a side not in [1, EVO_RASTER_MAX_SIDE], out of memory). */
+int evo_raster_init(evo_raster *im, int w, int h, evo_err *err);
 /* Free the pixels and zero the struct; safe on a zeroed struct. */
-void evo_image_rgb_free(evo_image_rgb *im);
+void evo_raster_free(evo_raster *im);
 /* Save as an 8-bit RGB PNG, atomically (sim/png.h). */
-int evo_image_rgb_save_png(const evo_image_rgb *im, const char *path,
+int evo_raster_save_png(const evo_raster *im, const char *path,
 			   evo_err *err);
 
 /* 0xRRGGBB of pixel (x, y); 0 outside the image. */
-uint32_t evo_raster_get(const evo_image_rgb *im, int x, int y);
+uint32_t evo_raster_get(const evo_raster *im, int x, int y);
 /* Paint the whole image. */
-void evo_raster_clear(evo_image_rgb *im, uint32_t rgb);
-void evo_raster_pixel(evo_image_rgb *im, int x, int y, uint32_t rgb, int alpha);
+void evo_raster_clear(evo_raster *im, uint32_t rgb);
+void evo_raster_pixel(evo_raster *im, int x, int y, uint32_t rgb, int alpha);
 /* A one-pixel line from (x0, y0) to (x1, y1), both ends included
  * (Bresenham): each pixel is painted once, so a translucent line has an
  * even tone. */
-void evo_raster_line(evo_image_rgb *im, int x0, int y0, int x1, int y1,
+void evo_raster_line(evo_raster *im, int x0, int y0, int x1, int y1,
 		     uint32_t rgb, int alpha);
 /* A line `width` pixels wide with square ends, as a filled quadrilateral;
  * widths below 1 draw a one-pixel line. */
-void evo_raster_thick_line(evo_image_rgb *im, double x0, double y0, double x1,
+void evo_raster_thick_line(evo_raster *im, double x0, double y0, double x1,
 			   double y1, double width, uint32_t rgb, int alpha);
 /* The w x h pixels from (x, y); nothing when w or h is not positive. */
-void evo_raster_fill_rect(evo_image_rgb *im, int x, int y, int w, int h,
+void evo_raster_fill_rect(evo_raster *im, int x, int y, int w, int h,
 			  uint32_t rgb, int alpha);
 /* The one-pixel border of that rectangle. */
-void evo_raster_rect(evo_image_rgb *im, int x, int y, int w, int h,
+void evo_raster_rect(evo_raster *im, int x, int y, int w, int h,
 		     uint32_t rgb, int alpha);
 /* Pixels whose centres lie within r of (cx, cy). */
-void evo_raster_fill_circle(evo_image_rgb *im, double cx, double cy, double r,
+void evo_raster_fill_circle(evo_raster *im, double cx, double cy, double r,
 			    uint32_t rgb, int alpha);
 /* A ring `width` pixels wide just inside radius r. */
-void evo_raster_circle(evo_image_rgb *im, double cx, double cy, double r,
+void evo_raster_circle(evo_raster *im, double cx, double cy, double r,
 		       double width, uint32_t rgb, int alpha);
 /* A convex polygon of n >= 3 vertices (either winding). Each pixel is
  * painted at most once. */
-void evo_raster_fill_polygon(evo_image_rgb *im, const double *x,
+void evo_raster_fill_polygon(evo_raster *im, const double *x,
 			     const double *y, int n, uint32_t rgb, int alpha);
 /* Its outline, one pixel wide. */
-void evo_raster_polygon(evo_image_rgb *im, const double *x, const double *y,
+void evo_raster_polygon(evo_raster *im, const double *x, const double *y,
 			int n, uint32_t rgb, int alpha);
 
 /* ---- text ----------------------------------------------------------- */
@@ -92,7 +92,7 @@ const uint8_t *evo_font_glyph(unsigned char c);
 
 /* Draw s with its cell's top-left corner at (x, y); '\n' starts a new
  * line at x. Returns the width in pixels of the widest line. */
-int evo_raster_text(evo_image_rgb *im, int x, int y, const char *s,
+int evo_raster_text(evo_raster *im, int x, int y, const char *s,
 		    uint32_t rgb, int scale);
 /* The width and height s would take, without drawing. */
 int evo_raster_text_width(const char *s, int scale);

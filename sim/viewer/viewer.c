@@ -119,7 +119,7 @@ static void box_corners(const evo_view_camera *cam, double x, double y,
 
 /* Faint lines every 10 m (every 50 m when they would crowd), so motion
  * shows while the camera follows a bot. */
-static void draw_grid(evo_image_rgb *im, const evo_view_camera *cam)
+static void draw_grid(evo_raster *im, const evo_view_camera *cam)
 {
 	double step = cam->scale * 10 >= 24 ? 10 : 50;
 	double wx0 = cam->x - cam->cx / cam->scale;
@@ -142,7 +142,7 @@ static void draw_grid(evo_image_rgb *im, const evo_view_camera *cam)
 	}
 }
 
-static void draw_obstacle(evo_image_rgb *im, const evo_view_camera *cam,
+static void draw_obstacle(evo_raster *im, const evo_view_camera *cam,
 			  const evo_obstacle *o)
 {
 	if (o->shape == EVO_SHAPE_CIRCLE) {
@@ -158,7 +158,7 @@ static void draw_obstacle(evo_image_rgb *im, const evo_view_camera *cam,
 	evo_raster_polygon(im, bx, by, 4, OBSTACLE_EDGE, 255);
 }
 
-static void draw_zone(evo_image_rgb *im, const evo_view_camera *cam,
+static void draw_zone(evo_raster *im, const evo_view_camera *cam,
 		      const evo_element *z)
 {
 	double bx[4], by[4];
@@ -172,7 +172,7 @@ static void draw_zone(evo_image_rgb *im, const evo_view_camera *cam,
 	evo_raster_polygon(im, bx, by, 4, ZONE_EDGE, 255);
 }
 
-static void draw_object(evo_image_rgb *im, const evo_view_camera *cam,
+static void draw_object(evo_raster *im, const evo_view_camera *cam,
 			const evo_scene *sc, const evo_element *o)
 {
 	double x = o->x, y = o->y;
@@ -198,7 +198,7 @@ static void draw_object(evo_image_rgb *im, const evo_view_camera *cam,
 /* A proximity sensor's fan, ray by ray as sim/sensors.c casts it: from
  * the sensor's point, ray i at angle - arc + i * 2 arc / (n - 1) in the
  * bot's frame, `range` long, stopped at its hit fraction. */
-static void draw_rays(evo_image_rgb *im, const evo_view_camera *cam,
+static void draw_rays(evo_raster *im, const evo_view_camera *cam,
 		      const evo_scene *sc, int b, const evo_sensor *se)
 {
 	const evo_sensor_def *d = &se->def;
@@ -229,7 +229,7 @@ static void draw_rays(evo_image_rgb *im, const evo_view_camera *cam,
 	}
 }
 
-static void draw_bot(evo_image_rgb *im, const evo_view_camera *cam,
+static void draw_bot(evo_raster *im, const evo_view_camera *cam,
 		     const evo_scene *sc, int b)
 {
 	const evo_bot *bot = &sc->bot[b];
@@ -246,7 +246,7 @@ static void draw_bot(evo_image_rgb *im, const evo_view_camera *cam,
 }
 
 /* Each claw: a dark mark where it grips, joined to what it holds. */
-static void draw_claws(evo_image_rgb *im, const evo_view_camera *cam,
+static void draw_claws(evo_raster *im, const evo_view_camera *cam,
 		       const evo_scene *sc, int b)
 {
 	const evo_bot *bot = &sc->bot[b];
@@ -275,7 +275,7 @@ static void draw_claws(evo_image_rgb *im, const evo_view_camera *cam,
 
 /* A bar of a round length (1, 2 or 5 times a power of ten metres) near
  * 100 pixels, at the bottom left of the world area. */
-static void draw_scale_bar(evo_image_rgb *im, const evo_view_camera *cam)
+static void draw_scale_bar(evo_raster *im, const evo_view_camera *cam)
 {
 	double want = 100 / cam->scale;
 	if (!(want > 1e-3 && want < 1e6))
@@ -301,7 +301,7 @@ static void draw_scale_bar(evo_image_rgb *im, const evo_view_camera *cam)
 #define PAUSED_TEXT 0xFFC23Du
 
 /* Draw s clipped to `chars` characters (the last one a '~' when cut). */
-static void text_fit(evo_image_rgb *im, int x, int y, const char *s, int chars,
+static void text_fit(evo_raster *im, int x, int y, const char *s, int chars,
 		     uint32_t rgb, int scale)
 {
 	char buf[128];
@@ -320,7 +320,7 @@ static void text_fit(evo_image_rgb *im, int x, int y, const char *s, int chars,
 	evo_raster_text(im, x, y, buf, rgb, scale);
 }
 
-static void draw_panel(evo_image_rgb *im, const evo_scene *sc,
+static void draw_panel(evo_raster *im, const evo_scene *sc,
 		       const evo_view_camera *cam, const evo_viewer_panel *p)
 {
 	int x0 = cam->world_w, w = im->w - x0;
@@ -417,7 +417,7 @@ static void draw_panel(evo_image_rgb *im, const evo_scene *sc,
 			 PANEL_DIM, 1);
 }
 
-void evo_view_render(evo_image_rgb *im, const evo_scene *sc,
+void evo_view_render(evo_raster *im, const evo_scene *sc,
 		     const evo_view_camera *cam, const evo_viewer_panel *p)
 {
 	evo_raster_clear(im, EVO_VIEW_BACKGROUND);
@@ -471,7 +471,7 @@ struct evo_viewer {
 	SDL_Window *window;
 	SDL_Renderer *renderer;
 	SDL_Texture *texture; /* the frame's size, streaming RGB24 */
-	evo_image_rgb frame;
+	evo_raster frame;
 	evo_view_camera cam;
 	double zoom;
 	int drawn;
@@ -538,7 +538,7 @@ void evo_viewer_close(evo_viewer *v)
 		SDL_DestroyRenderer(v->renderer);
 	if (v->window)
 		SDL_DestroyWindow(v->window);
-	evo_image_rgb_free(&v->frame);
+	evo_raster_free(&v->frame);
 	free(v);
 	SDL_QuitSubSystem(SDL_INIT_VIDEO);
 	/* Whoever started SDL for video alone (evo does) also ends it, so
@@ -559,13 +559,13 @@ static int fit_frame(evo_viewer *v)
 	if (v->texture)
 		SDL_DestroyTexture(v->texture);
 	v->texture = NULL;
-	evo_image_rgb_free(&v->frame);
-	if (evo_image_rgb_init(&v->frame, w, h, NULL))
+	evo_raster_free(&v->frame);
+	if (evo_raster_init(&v->frame, w, h, NULL))
 		return -1;
 	v->texture = SDL_CreateTexture(v->renderer, SDL_PIXELFORMAT_RGB24,
 				       SDL_TEXTUREACCESS_STREAMING, w, h);
 	if (!v->texture) {
-		evo_image_rgb_free(&v->frame);
+		evo_raster_free(&v->frame);
 		return -1;
 	}
 	return 0;

@@ -95,7 +95,7 @@ void evo_view_to_screen(const evo_view_camera *cam, double x, double y,
  * bots blue with a white heading line, proximity rays red up to what they
  * hit and faint where clear, a claw's grip dark with the object it holds
  * ringed. */
-void evo_view_render(evo_image_rgb *im, const evo_scene *sc,
+void evo_view_render(evo_raster *im, const evo_scene *sc,
 		     const evo_view_camera *cam, const evo_viewer_panel *p);
 
 /* The colours evo_view_render uses, for tests that look for them. */

@@ -13,11 +13,11 @@
 
 #define TUTORIAL "tests/data/minds/T6-NEAT"
 
-static evo_loaded *collect(void)
+static evo_mindfolder *collect(void)
 {
 	evo_err err;
-	evo_load_opts o = {.master = "Collect"};
-	evo_loaded *l = evo_mind_load(TUTORIAL, &o, &err);
+	evo_mindfolder_opts o = {.master = "Collect"};
+	evo_mindfolder *l = evo_mindfolder_load(TUTORIAL, &o, &err);
 	if (!l)
 		printf("    %s\n", err.msg);
 	return l;
@@ -54,7 +54,7 @@ static uint32_t run(const evo_mind *m, int ticks, evo_q16 *last)
  * outputs, tick for tick, as the loaded model. */
 TEST(image_round_trips_through_a_file)
 {
-	evo_loaded *l = collect();
+	evo_mindfolder *l = collect();
 	CHECK(l != NULL);
 	if (!l)
 		return;
@@ -83,25 +83,25 @@ TEST(image_round_trips_through_a_file)
 	/* The outputs move: a mind stuck at neutral would prove nothing. */
 	CHECK(a[0] != EVO_Q16_HALF || a[1] != EVO_Q16_HALF);
 	free(copy);
-	evo_mind_free(l);
+	evo_mindfolder_free(l);
 }
 
 /* The same model always writes the same bytes. */
 TEST(image_is_reproducible)
 {
-	evo_loaded *a = collect(), *b = collect();
+	evo_mindfolder *a = collect(), *b = collect();
 	CHECK(a && b);
 	if (a && b) {
 		CHECK_EQ_INT(a->image_len, b->image_len);
 		CHECK_EQ_INT(memcmp(a->image, b->image, a->image_len), 0);
 	}
-	evo_mind_free(a);
-	evo_mind_free(b);
+	evo_mindfolder_free(a);
+	evo_mindfolder_free(b);
 }
 
 TEST(flipped_byte_is_refused)
 {
-	evo_loaded *l = collect();
+	evo_mindfolder *l = collect();
 	if (!l) {
 		CHECK(l != NULL);
 		return;
@@ -135,12 +135,12 @@ TEST(flipped_byte_is_refused)
 	img[0] ^= 1;
 	CHECK_EQ_INT(evo_mind_open(img, l->image_len, l->names_hash, &m),
 		     EVO_OK);
-	evo_mind_free(l);
+	evo_mindfolder_free(l);
 }
 
 TEST(truncated_image_is_refused)
 {
-	evo_loaded *l = collect();
+	evo_mindfolder *l = collect();
 	if (!l) {
 		CHECK(l != NULL);
 		return;
@@ -151,13 +151,13 @@ TEST(truncated_image_is_refused)
 			     EVO_ERR_IMAGE_LENGTH);
 	CHECK_EQ_STR(evo_status_str(EVO_ERR_IMAGE_LENGTH),
 		     "mind image is truncated or has a bad length");
-	evo_mind_free(l);
+	evo_mindfolder_free(l);
 }
 
 /* An image built for another botdesc: one sensor renamed. */
 TEST(image_for_another_botdesc_is_refused)
 {
-	evo_loaded *l = collect();
+	evo_mindfolder *l = collect();
 	if (!l) {
 		CHECK(l != NULL);
 		return;
@@ -182,7 +182,7 @@ TEST(image_for_another_botdesc_is_refused)
 		     "mind image was built for other sensors, actuators or "
 		     "variables");
 	free(other);
-	evo_mind_free(l);
+	evo_mindfolder_free(l);
 }
 
 static void fix_crc(uint8_t *img)
@@ -194,7 +194,7 @@ static void fix_crc(uint8_t *img)
 /* A well-formed CRC does not make a bad layout acceptable. */
 TEST(bad_layout_with_valid_crc_is_refused)
 {
-	evo_loaded *l = collect();
+	evo_mindfolder *l = collect();
 	if (!l) {
 		CHECK(l != NULL);
 		return;
@@ -245,13 +245,13 @@ TEST(bad_layout_with_valid_crc_is_refused)
 		     EVO_ERR_ALIGN);
 	free(odd);
 	free(img);
-	evo_mind_free(l);
+	evo_mindfolder_free(l);
 }
 
 /* A state needs the memory evo_state_size says, no less. */
 TEST(state_memory_is_checked)
 {
-	evo_loaded *l = collect();
+	evo_mindfolder *l = collect();
 	if (!l) {
 		CHECK(l != NULL);
 		return;
@@ -267,7 +267,7 @@ TEST(state_memory_is_checked)
 	printf("    Collect example: image %zu bytes, state %zu bytes\n",
 	       l->image_len, size);
 	free(mem);
-	evo_mind_free(l);
+	evo_mindfolder_free(l);
 }
 
 TEST(crc32_matches_the_standard)

@@ -40,8 +40,8 @@ TEST(tutorial_task_loads)
 TEST(tutorial_collect_hierarchy_loads_top_down)
 {
 	evo_err err = {{0}};
-	evo_load_opts o = {.master = "Collect"};
-	evo_loaded *l = evo_mind_load(TUTORIAL, &o, &err);
+	evo_mindfolder_opts o = {.master = "Collect"};
+	evo_mindfolder *l = evo_mindfolder_load(TUTORIAL, &o, &err);
 	CHECK_EQ_STR(err.msg, "");
 	CHECK(l != NULL);
 	if (!l)
@@ -57,7 +57,7 @@ TEST(tutorial_collect_hierarchy_loads_top_down)
 	CHECK_EQ_STR(evo_mind_sensor_name(&l->mind, 0), "US_1");
 	CHECK_EQ_STR(evo_mind_actuator_name(&l->mind, 2), "EMAG");
 	CHECK_EQ_STR(evo_mind_var_name(&l->mind, 2), "VAR_COUNT");
-	evo_mind_free(l);
+	evo_mindfolder_free(l);
 }
 
 /* ---- broken mind folders ------------------------------------------------ */
@@ -110,10 +110,10 @@ static char *load_error(const char *master)
 {
 	static evo_err err;
 	memset(&err, 0, sizeof err);
-	evo_load_opts o = {.master = master};
-	evo_loaded *l = evo_mind_load(dir, &o, &err);
+	evo_mindfolder_opts o = {.master = master};
+	evo_mindfolder *l = evo_mindfolder_load(dir, &o, &err);
 	if (l) {
-		evo_mind_free(l);
+		evo_mindfolder_free(l);
 		return NULL;
 	}
 	/* Messages name files under the folder; strip it for comparison. */
@@ -264,10 +264,10 @@ TEST(neural_skill_without_network)
 		     "network: expected Skills/M/M.net");
 	/* ...unless it is the skill being trained. */
 	evo_err err;
-	evo_load_opts o = {.master = "M", .learning_skill = "M"};
-	evo_loaded *l = evo_mind_load(dir, &o, &err);
+	evo_mindfolder_opts o = {.master = "M", .learning_skill = "M"};
+	evo_mindfolder *l = evo_mindfolder_load(dir, &o, &err);
 	CHECK(l != NULL);
-	evo_mind_free(l);
+	evo_mindfolder_free(l);
 }
 
 TEST(network_of_the_wrong_shape)
@@ -384,12 +384,12 @@ TEST(task_run_from_inside_its_mind_folder)
 		evo_task_free(&t);
 	}
 	CHECK_EQ_INT(chdir("../Skills"), 0);
-	evo_load_opts o = {.master = "Collect"};
-	evo_loaded *l = evo_mind_load("..", &o, &err);
+	evo_mindfolder_opts o = {.master = "Collect"};
+	evo_mindfolder *l = evo_mindfolder_load("..", &o, &err);
 	CHECK_EQ_STR(err.msg, "");
 	if (l)
 		CHECK_EQ_STR(l->bot_name, "T6-NEAT");
-	evo_mind_free(l);
+	evo_mindfolder_free(l);
 	CHECK_EQ_INT(chdir(here), 0);
 }
 

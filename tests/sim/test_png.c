@@ -383,7 +383,7 @@ TEST(damage_is_named)
 
 /* ---- raster --------------------------------------------------------- */
 
-static int count(const evo_image_rgb *im, uint32_t rgb)
+static int count(const evo_raster *im, uint32_t rgb)
 {
 	int n = 0;
 	for (int y = 0; y < im->h; y++)
@@ -394,11 +394,11 @@ static int count(const evo_image_rgb *im, uint32_t rgb)
 
 TEST(pixels_rects_and_blending)
 {
-	evo_image_rgb im;
+	evo_raster im;
 	evo_err err;
-	CHECK_EQ_INT(evo_image_rgb_init(&im, 0, 5, &err), -1);
+	CHECK_EQ_INT(evo_raster_init(&im, 0, 5, &err), -1);
 	CHECK_CONTAINS(err.msg, "0 x 5");
-	CHECK_EQ_INT(evo_image_rgb_init(&im, 40, 30, &err), 0);
+	CHECK_EQ_INT(evo_raster_init(&im, 40, 30, &err), 0);
 	CHECK_EQ_INT(count(&im, 0x000000), 1200);
 	evo_raster_clear(&im, 0x102030);
 	CHECK_EQ_INT(evo_raster_get(&im, 39, 29), 0x102030);
@@ -426,16 +426,16 @@ TEST(pixels_rects_and_blending)
 	CHECK_EQ_INT(evo_raster_get(&im, 1, 21), 0x808080);
 	evo_raster_pixel(&im, 0, 20, 0xFFFFFF, 0);
 	CHECK_EQ_INT(evo_raster_get(&im, 0, 20), 0x808080);
-	evo_image_rgb_free(&im);
+	evo_raster_free(&im);
 	CHECK(im.pixels == NULL);
-	evo_image_rgb_free(&im);
+	evo_raster_free(&im);
 }
 
 TEST(lines_run_between_their_ends)
 {
-	evo_image_rgb im;
+	evo_raster im;
 	evo_err err;
-	CHECK_EQ_INT(evo_image_rgb_init(&im, 50, 50, &err), 0);
+	CHECK_EQ_INT(evo_raster_init(&im, 50, 50, &err), 0);
 	evo_raster_line(&im, 5, 5, 25, 5, 0xFF0000, 255);
 	CHECK_EQ_INT(count(&im, 0xFF0000), 21);
 	evo_raster_line(&im, 2, 10, 12, 20, 0x00FF00, 255);
@@ -460,14 +460,14 @@ TEST(lines_run_between_their_ends)
 	CHECK_EQ_INT(evo_raster_get(&im, 20, 22), 0);
 	CHECK_EQ_INT(evo_raster_get(&im, 20, 17), 0);
 	CHECK_EQ_INT(count(&im, 0xFF00FF), 4 * 24);
-	evo_image_rgb_free(&im);
+	evo_raster_free(&im);
 }
 
 TEST(circles_and_polygons_cover_their_area)
 {
-	evo_image_rgb im;
+	evo_raster im;
 	evo_err err;
-	CHECK_EQ_INT(evo_image_rgb_init(&im, 100, 100, &err), 0);
+	CHECK_EQ_INT(evo_raster_init(&im, 100, 100, &err), 0);
 	evo_raster_fill_circle(&im, 50, 50, 20, 0xFF0000, 255);
 	int n = count(&im, 0xFF0000);
 	CHECK(fabs(n - PI * 400) < 40);
@@ -511,7 +511,7 @@ TEST(circles_and_polygons_cover_their_area)
 	evo_raster_fill_circle(&im, 1e300, 0, 5, 0xFFFF00, 255);
 	evo_raster_fill_circle(&im, 50, 50, INFINITY, 0xFFFF00, 255);
 	CHECK_EQ_INT(count(&im, 0xFFFF00), 0);
-	evo_image_rgb_free(&im);
+	evo_raster_free(&im);
 }
 
 /* Every printable character has ink but the space; the bitmap is what
@@ -540,9 +540,9 @@ TEST(text_draws_its_glyphs)
 	CHECK_EQ_INT(evo_font_glyph(200)[0], 0x1F);
 	CHECK_EQ_INT(evo_font_glyph('\t')[3], 0x11);
 
-	evo_image_rgb im;
+	evo_raster im;
 	evo_err err;
-	CHECK_EQ_INT(evo_image_rgb_init(&im, 64, 32, &err), 0);
+	CHECK_EQ_INT(evo_raster_init(&im, 64, 32, &err), 0);
 	CHECK_EQ_INT(evo_raster_text(&im, 2, 3, "Hi", 0xFFFFFF, 1), 12);
 	/* 'H' is 7 + 7 + 3 pixels; 'i' 1 + 2 + 1 + 1 + 1 + 3. */
 	CHECK_EQ_INT(count(&im, 0xFFFFFF), 17 + 9);
@@ -568,7 +568,7 @@ TEST(text_draws_its_glyphs)
 	CHECK_EQ_INT(evo_raster_text(&im, 2147483000, 2147483000, "WWW\nW",
 				     0xFFFFFF, 64),
 		     3 * 6 * 64);
-	evo_image_rgb_free(&im);
+	evo_raster_free(&im);
 }
 
 /* What the raster saves, the reader gives back, byte for byte. */
@@ -578,16 +578,16 @@ TEST(a_drawing_saves_as_png)
 	CHECK(mkdtemp(dir) != NULL);
 	char path[64];
 	snprintf(path, sizeof path, "%s/curve.png", dir);
-	evo_image_rgb im;
+	evo_raster im;
 	evo_err err;
-	CHECK_EQ_INT(evo_image_rgb_init(&im, 320, 200, &err), 0);
+	CHECK_EQ_INT(evo_raster_init(&im, 320, 200, &err), 0);
 	evo_raster_clear(&im, 0xFFFFFF);
 	evo_raster_text(&im, 10, 10, "fitness", 0x000000, 2);
 	for (int i = 0; i < 30; i++)
 		evo_raster_thick_line(&im, 10 + i * 10, 190 - i * 5,
 				      20 + i * 10, 185 - i * 5, 2, 0x2060C0,
 				      255);
-	CHECK_EQ_INT(evo_image_rgb_save_png(&im, path, &err), 0);
+	CHECK_EQ_INT(evo_raster_save_png(&im, path, &err), 0);
 	evo_png_image img;
 	CHECK_EQ_INT(evo_png_read(path, &img, &err), 0);
 	CHECK_EQ_INT(img.w, 320);
@@ -595,7 +595,7 @@ TEST(a_drawing_saves_as_png)
 	CHECK_EQ_INT(img.channels, 3);
 	CHECK(img.pixels && !memcmp(img.pixels, im.pixels, 320 * 200 * 3));
 	evo_png_image_free(&img);
-	evo_image_rgb_free(&im);
+	evo_raster_free(&im);
 	unlink(path);
 	rmdir(dir);
 }

@@ -252,9 +252,9 @@ TEST(render_draws_the_scene_without_a_window)
 	CHECK(sc != NULL);
 	if (!sc)
 		return;
-	evo_image_rgb im;
+	evo_raster im;
 	evo_err err;
-	CHECK_EQ_INT(evo_image_rgb_init(&im, 900, 640, &err), 0);
+	CHECK_EQ_INT(evo_raster_init(&im, 900, 640, &err), 0);
 	evo_viewer_panel p = make_panel();
 	evo_view_camera cam = evo_view_camera_for(sc, 0, 1.5, im.w, im.h);
 	CHECK_EQ_INT(cam.world_w, 900 - EVO_VIEW_PANEL_W);
@@ -289,7 +289,7 @@ TEST(render_draws_the_scene_without_a_window)
 	evo_view_render(&im, sc, &cam, NULL);
 	cam = evo_view_camera_for(sc, 0, 1e9, im.w, im.h);
 	evo_view_render(&im, sc, &cam, NULL);
-	evo_image_rgb_free(&im);
+	evo_raster_free(&im);
 	evo_scene_destroy(sc);
 }
 
@@ -457,11 +457,11 @@ TEST(viewer_under_x_draws_robot_obstacles_and_rays)
 		check_panel(shot, &cam);
 		/* What the window shows is the frame evo drew, pixel for
 		 * pixel: the same scene rendered off screen matches. */
-		evo_image_rgb ref;
-		CHECK_EQ_INT(evo_image_rgb_init(&ref, 800, 600, &err), 0);
+		evo_raster ref;
+		CHECK_EQ_INT(evo_raster_init(&ref, 800, 600, &err), 0);
 		evo_view_render(&ref, sc, &cam, &p);
 		CHECK(memcmp(ref.pixels, img.pixels, 800 * 600 * 3) == 0);
-		evo_image_rgb_free(&ref);
+		evo_raster_free(&ref);
 		evo_png_image_free(&img);
 	}
 	unlink(path);
