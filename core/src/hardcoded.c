@@ -15,7 +15,7 @@
  * invalidate them (the image is refused with EVO_ERR_IMAGE_CLASS).
  *
  * One list makes two tables: evo_hc_classes, with the names, for the host,
- * and hc_table, with the hashes, for the tick. A firmware links only the
+ * and evo_hc_table, with the hashes, for the tick. A firmware links only the
  * second, so it carries neither the names nor a string hash.
  * docs/mind.md, Hard-coded skills, lists the classes. */
 #include "hardcoded.h"
@@ -74,23 +74,24 @@ const evo_hc_class evo_hc_classes[] = {
 const unsigned evo_hc_class_count =
 	sizeof evo_hc_classes / sizeof evo_hc_classes[0];
 
-const hc_class hc_table[] = {
+const evo_hc_row evo_hc_table[] = {
 #define TICK_ROW(name, hash, n_in, n_out, fn) {hash, n_in, n_out, fn},
 	HC_CLASSES(TICK_ROW)
 #undef TICK_ROW
 };
 
-int hc_index_of(uint32_t hash)
+int evo_hc_index_of(uint32_t hash)
 {
-	for (unsigned i = 0; i < sizeof hc_table / sizeof hc_table[0]; i++)
-		if (hc_table[i].hash == hash)
+	for (unsigned i = 0; i < sizeof evo_hc_table / sizeof evo_hc_table[0];
+	     i++)
+		if (evo_hc_table[i].hash == hash)
 			return (int)i;
 	return -1;
 }
 
 const evo_hc_class *evo_hc_find_hash(uint32_t hash)
 {
-	int i = hc_index_of(hash);
+	int i = evo_hc_index_of(hash);
 	return i < 0 ? NULL : &evo_hc_classes[i];
 }
 

@@ -156,11 +156,12 @@ static evo_status check_skills(evo_mind *m)
 			if (n->n_in != k->n_in || n->n_out != k->n_out)
 				return EVO_ERR_IMAGE_LAYOUT;
 		} else if (k->kind == EVO_SKILL_HARDCODED) {
-			int c = hc_index_of(k->hc_class);
+			int c = evo_hc_index_of(k->hc_class);
 			if (c < 0 ||
-			    (hc_table[c].n_in >= 0 && hc_table[c].n_in != k->n_in) ||
-			    (hc_table[c].n_out >= 0 &&
-			     hc_table[c].n_out != k->n_out))
+			    (evo_hc_table[c].n_in >= 0 &&
+			     evo_hc_table[c].n_in != k->n_in) ||
+			    (evo_hc_table[c].n_out >= 0 &&
+			     evo_hc_table[c].n_out != k->n_out))
 				return EVO_ERR_IMAGE_CLASS;
 			if (k->slot != n_hc)
 				return EVO_ERR_IMAGE_LAYOUT;
@@ -339,7 +340,8 @@ evo_status evo_state_init(const evo_mind *m, void *mem, size_t size,
 	for (unsigned i = 0; i < m->n_skills; i++) {
 		const evo_image_skill *k = &m->skill[i];
 		if (k->kind == EVO_SKILL_HARDCODED)
-			s->hc_class[k->slot] = (uint8_t)hc_index_of(k->hc_class);
+			s->hc_class[k->slot] =
+			    (uint8_t)evo_hc_index_of(k->hc_class);
 	}
 	evo_state_reset(m, s);
 	*out = s;
@@ -355,7 +357,7 @@ void evo_state_reset(const evo_mind *m, evo_state *s)
 	for (unsigned i = 0; i < m->n_actuators; i++)
 		s->actuator[i] = EVO_Q16_HALF;
 	for (unsigned i = 0; i < m->n_vars; i++)
-		var_reset(m->var_type[i], &s->var[i]);
+		evo_var_reset(m->var_type[i], &s->var[i]);
 }
 
 /* ---- the tick -------------------------------------------------------- */
@@ -407,7 +409,7 @@ static void compute(const evo_mind *m, evo_state *s, unsigned i)
 		};
 		for (unsigned j = 0; j < k->n_out; j++)
 			s->io_out[j] = EVO_Q16_HALF;
-		hc_table[s->hc_class[k->slot]].fn(&c);
+		evo_hc_table[s->hc_class[k->slot]].fn(&c);
 	}
 }
 
@@ -472,7 +474,7 @@ void evo_mind_step(const evo_mind *m, evo_state *s, const evo_q16 *sensors,
 			actuators[a] = w;
 		} else {
 			unsigned v = a - m->n_actuators;
-			var_update(m->var_type[v], &s->var[v], den != 0, w);
+			evo_var_update(m->var_type[v], &s->var[v], den != 0, w);
 		}
 	}
 	for (unsigned i = 0; i < m->n_sensors; i++)

@@ -96,7 +96,8 @@ static int32_t sigmoid_offset(uint32_t u)
 {
 	if (u >= SIGMOID_END)
 		return EVO_Q16_HALF;
-	return (int32_t)table_lerp(sigmoid_cp, sigmoid_dd, u, SIGMOID_SHIFT);
+	return (int32_t)evo_table_lerp(sigmoid_cp, sigmoid_dd, u,
+				       SIGMOID_SHIFT);
 }
 
 /* sigmoid(x), given u = |x| or a scaled |x|: built from |x| so that
@@ -129,7 +130,8 @@ static evo_q16 gauss(evo_q16 x)
 	uint32_t u = magnitude(x);
 	if (u >= GAUSS_END)
 		return 0;
-	return (evo_q16)(EVO_Q16_ONE - (int32_t)table_lerp(gauss_cp, gauss_dd, u, GAUSS_SHIFT));
+	return (evo_q16)(EVO_Q16_ONE - (int32_t)evo_table_lerp(
+					   gauss_cp, gauss_dd, u, GAUSS_SHIFT));
 }
 
 evo_q16 evo_act_apply(unsigned act, evo_q16 x)

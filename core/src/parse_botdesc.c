@@ -5,54 +5,57 @@
 enum { BEFORE_SENSORS, IN_SENSORS, IN_ACTUATORS };
 
 /* One sensor or actuator entry, name:type(:params), into list[*n]. */
-static evo_status add_entry(const txt_entry *e, evo_botdesc_entry *list,
+static evo_status add_entry(const evo_txt_entry *e, evo_botdesc_entry *list,
 			    uint32_t *n, uint32_t cap, const char *what,
 			    const char *file, evo_diag *err)
 {
 	evo_botdesc_entry *d;
-	txt_slice params;
+	evo_txt_slice params;
 	evo_status st;
 	char label[24];
 	uint32_t i;
 
 	if (e->n_fields < 2) {
-		txt_diag(err, file, e->line,
-			 "expected %s %s entry name:type, found '%.*s'",
-			 what[0] == 'a' ? "an" : "a", what, TXT_Q(e->text));
+		evo_txt_diag(err, file, e->line,
+			     "expected %s %s entry name:type, found '%.*s'",
+			     what[0] == 'a' ? "an" : "a", what,
+			     EVO_TXT_Q(e->text));
 		return EVO_ERR_SYNTAX;
 	}
 	if (*n >= cap) {
-		txt_diag(err, file, e->line,
-			 "expected at most %u %ss, found another: '%.*s'",
-			 (unsigned)cap, what, TXT_Q(e->text));
+		evo_txt_diag(err, file, e->line,
+			     "expected at most %u %ss, found another: '%.*s'",
+			     (unsigned)cap, what, EVO_TXT_Q(e->text));
 		return EVO_ERR_LIMIT;
 	}
 	d = &list[*n];
-	txt_fmt(label, sizeof label, "%s %s name", what[0] == 'a' ? "an" : "a",
-		what);
-	st = txt_name(d->name, e->field[0], e, label, file, err);
+	evo_txt_fmt(label, sizeof label, "%s %s name",
+		    what[0] == 'a' ? "an" : "a", what);
+	st = evo_txt_name(d->name, e->field[0], e, label, file, err);
 	if (st != EVO_OK)
 		return st;
-	txt_fmt(label, sizeof label, "%s %s type", what[0] == 'a' ? "an" : "a",
-		what);
-	st = txt_name(d->type, e->field[1], e, label, file, err);
+	evo_txt_fmt(label, sizeof label, "%s %s type",
+		    what[0] == 'a' ? "an" : "a", what);
+	st = evo_txt_name(d->type, e->field[1], e, label, file, err);
 	if (st != EVO_OK)
 		return st;
-	params = e->n_fields > 2 ? txt_rest(e, 2) : txt_rest(e, e->n_fields);
-	if (txt_copy(d->params, sizeof d->params, params) != 0) {
-		txt_diag(err, file, e->line,
-			 "expected %s parameters of at most %u bytes, found "
-			 "'%.*s'",
-			 what, (unsigned)(EVO_VALUE_MAX - 1), TXT_Q(params));
+	params =
+	    e->n_fields > 2 ? evo_txt_rest(e, 2) : evo_txt_rest(e, e->n_fields);
+	if (evo_txt_copy(d->params, sizeof d->params, params) != 0) {
+		evo_txt_diag(
+		    err, file, e->line,
+		    "expected %s parameters of at most %u bytes, found "
+		    "'%.*s'",
+		    what, (unsigned)(EVO_VALUE_MAX - 1), EVO_TXT_Q(params));
 		return EVO_ERR_LIMIT;
 	}
 	d->line = e->line;
 	for (i = 0; i < *n; i++) {
-		if (txt_eq(list[i].name, d->name)) {
-			txt_diag(err, file, e->line,
-				 "expected a new %s name, found '%s' again "
-				 "(first on line %u)",
-				 what, d->name, (unsigned)list[i].line);
+		if (evo_txt_eq(list[i].name, d->name)) {
+			evo_txt_diag(err, file, e->line,
+				     "expected a new %s name, found '%s' again "
+				     "(first on line %u)",
+				     what, d->name, (unsigned)list[i].line);
 			return EVO_ERR_NAME;
 		}
 	}
@@ -63,28 +66,29 @@ static evo_status add_entry(const txt_entry *e, evo_botdesc_entry *list,
 evo_status evo_botdesc_parse(const char *buf, size_t len, const char *file,
 			     evo_botdesc *out, evo_diag *err)
 {
-	txt_lexer lx;
-	txt_entry e;
+	evo_txt_lexer lx;
+	evo_txt_entry e;
 	int state = BEFORE_SENSORS, r;
 	uint32_t sensors_line = 0, actuators_line = 0;
 
 	out->n_sensors = 0;
 	out->n_actuators = 0;
-	txt_lex_init(&lx, buf, len, file);
-	while ((r = txt_lex_next(&lx, &e, err)) > 0) {
+	evo_txt_lex_init(&lx, buf, len, file);
+	while ((r = evo_txt_lex_next(&lx, &e, err)) > 0) {
 		evo_status st;
 		/* A keyword is a bare word; "sensors:x" is an entry named
 		 * "sensors". */
 		int is_sensors =
-		    e.n_fields == 1 && txt_slice_ieq(e.text, "SENSORS");
+		    e.n_fields == 1 && evo_txt_slice_ieq(e.text, "SENSORS");
 		int is_actuators =
-		    e.n_fields == 1 && txt_slice_ieq(e.text, "ACTUATORS");
+		    e.n_fields == 1 && evo_txt_slice_ieq(e.text, "ACTUATORS");
 		if (state == BEFORE_SENSORS) {
 			if (!is_sensors) {
-				txt_diag(err, file, e.line,
-					 "expected the keyword SENSORS first, "
-					 "found '%.*s'",
-					 TXT_Q(e.text));
+				evo_txt_diag(
+				    err, file, e.line,
+				    "expected the keyword SENSORS first, "
+				    "found '%.*s'",
+				    EVO_TXT_Q(e.text));
 				return is_actuators ? EVO_ERR_MISSING
 						    : EVO_ERR_SYNTAX;
 			}
@@ -93,18 +97,20 @@ evo_status evo_botdesc_parse(const char *buf, size_t len, const char *file,
 			continue;
 		}
 		if (is_sensors) {
-			txt_diag(err, file, e.line,
-				 "expected SENSORS only once, found it again "
-				 "(first on line %u)",
-				 (unsigned)sensors_line);
+			evo_txt_diag(
+			    err, file, e.line,
+			    "expected SENSORS only once, found it again "
+			    "(first on line %u)",
+			    (unsigned)sensors_line);
 			return EVO_ERR_SYNTAX;
 		}
 		if (is_actuators) {
 			if (state == IN_ACTUATORS) {
-				txt_diag(err, file, e.line,
-					 "expected ACTUATORS only once, found "
-					 "it again (first on line %u)",
-					 (unsigned)actuators_line);
+				evo_txt_diag(
+				    err, file, e.line,
+				    "expected ACTUATORS only once, found "
+				    "it again (first on line %u)",
+				    (unsigned)actuators_line);
 				return EVO_ERR_SYNTAX;
 			}
 			actuators_line = e.line;
@@ -124,15 +130,17 @@ evo_status evo_botdesc_parse(const char *buf, size_t len, const char *file,
 	if (r < 0)
 		return EVO_ERR_SYNTAX;
 	if (state == BEFORE_SENSORS) {
-		txt_diag(err, file, txt_lex_end_line(&lx),
-			 "expected the keyword SENSORS, found the end of the "
-			 "file");
+		evo_txt_diag(
+		    err, file, evo_txt_lex_end_line(&lx),
+		    "expected the keyword SENSORS, found the end of the "
+		    "file");
 		return EVO_ERR_MISSING;
 	}
 	if (state == IN_SENSORS) {
-		txt_diag(err, file, txt_lex_end_line(&lx),
-			 "expected the keyword ACTUATORS after the sensors, "
-			 "found the end of the file");
+		evo_txt_diag(
+		    err, file, evo_txt_lex_end_line(&lx),
+		    "expected the keyword ACTUATORS after the sensors, "
+		    "found the end of the file");
 		return EVO_ERR_MISSING;
 	}
 	return EVO_OK;

@@ -18,7 +18,7 @@ static const char *const act_names[EVO_ACT_COUNT] = {EVO_ACT_LIST(ACT_NAME)};
 /* A decimal number -?DIGITS(.DIGITS)? to Q16, rounded to nearest with
  * ties away from zero. Returns 0, -1 when malformed, -2 when |value|
  * (after rounding) is not below EVO_NET_WEIGHT_MAX. */
-static int parse_q16(txt_slice s, evo_q16 *out)
+static int parse_q16(evo_txt_slice s, evo_q16 *out)
 {
 	size_t i = 0, n_int = 0, n_frac = 0;
 	uint32_t ip = 0, bits = 0, mag;
@@ -84,51 +84,54 @@ static int find_node(const evo_netdesc *d, uint32_t id)
 	return -1;
 }
 
-static evo_status bad_number(net_reader *rd, const txt_entry *e, int r,
-			     const char *what, txt_slice num)
+static evo_status bad_number(net_reader *rd, const evo_txt_entry *e, int r,
+			     const char *what, evo_txt_slice num)
 {
 	if (r == -2)
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected a %s with |%s| < %u, found '%.*s' in '%.*s'",
-			 what, what, (unsigned)EVO_NET_WEIGHT_MAX, TXT_Q(num),
-			 TXT_Q(e->text));
+		evo_txt_diag(
+		    rd->err, rd->file, e->line,
+		    "expected a %s with |%s| < %u, found '%.*s' in '%.*s'",
+		    what, what, (unsigned)EVO_NET_WEIGHT_MAX, EVO_TXT_Q(num),
+		    EVO_TXT_Q(e->text));
 	else
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected a decimal number like -1.25 for the %s, "
-			 "found '%.*s' in '%.*s'",
-			 what, TXT_Q(num), TXT_Q(e->text));
+		evo_txt_diag(rd->err, rd->file, e->line,
+			     "expected a decimal number like -1.25 for the %s, "
+			     "found '%.*s' in '%.*s'",
+			     what, EVO_TXT_Q(num), EVO_TXT_Q(e->text));
 	return r == -2 ? EVO_ERR_LIMIT : EVO_ERR_SYNTAX;
 }
 
-static evo_status bad_id(net_reader *rd, const txt_entry *e, txt_slice id,
-			 const char *form)
+static evo_status bad_id(net_reader *rd, const evo_txt_entry *e,
+			 evo_txt_slice id, const char *form)
 {
-	txt_diag(rd->err, rd->file, e->line,
-		 "expected %s with a node id 0..%u, found '%.*s' in '%.*s'",
-		 form, ID_MAX, TXT_Q(id), TXT_Q(e->text));
+	evo_txt_diag(rd->err, rd->file, e->line,
+		     "expected %s with a node id 0..%u, found '%.*s' in '%.*s'",
+		     form, ID_MAX, EVO_TXT_Q(id), EVO_TXT_Q(e->text));
 	return EVO_ERR_SYNTAX;
 }
 
 /* "inputs:N" or "outputs:M". */
-static evo_status read_size(net_reader *rd, const txt_entry *e, int is_in)
+static evo_status read_size(net_reader *rd, const evo_txt_entry *e, int is_in)
 {
 	const char *kw = is_in ? "inputs" : "outputs";
 	uint32_t *line = is_in ? &rd->inputs_line : &rd->outputs_line;
 	uint32_t n;
 	int r;
 	if (*line) {
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected %s:COUNT once, found it again (first on "
-			 "line %u)",
-			 kw, (unsigned)*line);
+		evo_txt_diag(rd->err, rd->file, e->line,
+			     "expected %s:COUNT once, found it again (first on "
+			     "line %u)",
+			     kw, (unsigned)*line);
 		return EVO_ERR_SYNTAX;
 	}
-	r = e->n_fields == 2 ? txt_uint(e->field[1], EVO_MAX_SKILL_IO, &n) : -1;
+	r = e->n_fields == 2 ? evo_txt_uint(e->field[1], EVO_MAX_SKILL_IO, &n)
+			     : -1;
 	if (r != 0) {
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected %s:COUNT with a whole number 0..%u, found "
-			 "'%.*s'",
-			 kw, (unsigned)EVO_MAX_SKILL_IO, TXT_Q(e->text));
+		evo_txt_diag(
+		    rd->err, rd->file, e->line,
+		    "expected %s:COUNT with a whole number 0..%u, found "
+		    "'%.*s'",
+		    kw, (unsigned)EVO_MAX_SKILL_IO, EVO_TXT_Q(e->text));
 		return r == -2 ? EVO_ERR_LIMIT : EVO_ERR_SYNTAX;
 	}
 	*line = e->line;
@@ -139,7 +142,7 @@ static evo_status read_size(net_reader *rd, const txt_entry *e, int is_in)
 	return EVO_OK;
 }
 
-static evo_status read_node(net_reader *rd, const txt_entry *e)
+static evo_status read_node(net_reader *rd, const evo_txt_entry *e)
 {
 	evo_netdesc *d = rd->out;
 	evo_netdesc_node *nd;
@@ -148,44 +151,47 @@ static evo_status read_node(net_reader *rd, const txt_entry *e)
 	int i, r;
 
 	if (e->n_fields != 4) {
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected node:ID:ACTIVATION:BIAS, found '%.*s'",
-			 TXT_Q(e->text));
+		evo_txt_diag(rd->err, rd->file, e->line,
+			     "expected node:ID:ACTIVATION:BIAS, found '%.*s'",
+			     EVO_TXT_Q(e->text));
 		return EVO_ERR_SYNTAX;
 	}
-	if (txt_uint(e->field[1], ID_MAX, &id) != 0)
+	if (evo_txt_uint(e->field[1], ID_MAX, &id) != 0)
 		return bad_id(rd, e, e->field[1], "node:ID:ACTIVATION:BIAS");
 	if (id < d->n_in) {
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected a node id of at least %u (ids 0..%u are the "
-			 "inputs), found '%.*s'",
-			 (unsigned)d->n_in, (unsigned)d->n_in - 1,
-			 TXT_Q(e->text));
+		evo_txt_diag(
+		    rd->err, rd->file, e->line,
+		    "expected a node id of at least %u (ids 0..%u are the "
+		    "inputs), found '%.*s'",
+		    (unsigned)d->n_in, (unsigned)d->n_in - 1,
+		    EVO_TXT_Q(e->text));
 		return EVO_ERR_NAME;
 	}
 	i = find_node(d, id);
 	if (i >= 0) {
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected a new node id, found node %u again (first "
-			 "on line %u)",
-			 (unsigned)id, (unsigned)d->node[i].line);
+		evo_txt_diag(
+		    rd->err, rd->file, e->line,
+		    "expected a new node id, found node %u again (first "
+		    "on line %u)",
+		    (unsigned)id, (unsigned)d->node[i].line);
 		return EVO_ERR_NAME;
 	}
 	if (d->n_nodes >= EVO_NET_MAX_NODES) {
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected at most %u nodes, found another: '%.*s'",
-			 (unsigned)EVO_NET_MAX_NODES, TXT_Q(e->text));
+		evo_txt_diag(rd->err, rd->file, e->line,
+			     "expected at most %u nodes, found another: '%.*s'",
+			     (unsigned)EVO_NET_MAX_NODES, EVO_TXT_Q(e->text));
 		return EVO_ERR_LIMIT;
 	}
 	for (a = 0; a < EVO_ACT_COUNT; a++)
-		if (txt_slice_ieq(e->field[2], act_names[a]))
+		if (evo_txt_slice_ieq(e->field[2], act_names[a]))
 			break;
 	if (a == EVO_ACT_COUNT) {
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected an activation name, found '%.*s'; did you "
-			 "mean %s? (known:" ACT_ALL ")",
-			 TXT_Q(e->field[2]),
-			 txt_closest(e->field[2], act_names, EVO_ACT_COUNT));
+		evo_txt_diag(
+		    rd->err, rd->file, e->line,
+		    "expected an activation name, found '%.*s'; did you "
+		    "mean %s? (known:" ACT_ALL ")",
+		    EVO_TXT_Q(e->field[2]),
+		    evo_txt_closest(e->field[2], act_names, EVO_ACT_COUNT));
 		return EVO_ERR_NAME;
 	}
 	nd = &d->node[d->n_nodes];
@@ -199,42 +205,45 @@ static evo_status read_node(net_reader *rd, const txt_entry *e)
 	return EVO_OK;
 }
 
-static evo_status read_output(net_reader *rd, const txt_entry *e)
+static evo_status read_output(net_reader *rd, const evo_txt_entry *e)
 {
 	evo_netdesc *d = rd->out;
 	uint32_t id;
 	unsigned k;
 
 	if (e->n_fields != 2) {
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected output:ID, found '%.*s'", TXT_Q(e->text));
+		evo_txt_diag(rd->err, rd->file, e->line,
+			     "expected output:ID, found '%.*s'",
+			     EVO_TXT_Q(e->text));
 		return EVO_ERR_SYNTAX;
 	}
-	if (txt_uint(e->field[1], ID_MAX, &id) != 0)
+	if (evo_txt_uint(e->field[1], ID_MAX, &id) != 0)
 		return bad_id(rd, e, e->field[1], "output:ID");
 	if (d->n_out >= rd->n_out_want) {
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected %u output:ID line%s (outputs:%u), found "
-			 "one more: '%.*s'",
-			 (unsigned)rd->n_out_want,
-			 rd->n_out_want == 1 ? "" : "s",
-			 (unsigned)rd->n_out_want, TXT_Q(e->text));
+		evo_txt_diag(rd->err, rd->file, e->line,
+			     "expected %u output:ID line%s (outputs:%u), found "
+			     "one more: '%.*s'",
+			     (unsigned)rd->n_out_want,
+			     rd->n_out_want == 1 ? "" : "s",
+			     (unsigned)rd->n_out_want, EVO_TXT_Q(e->text));
 		return EVO_ERR_COUNT;
 	}
 	if (find_node(d, id) < 0) {
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected an output that is a node declared above, "
-			 "found %s %u in '%.*s'",
-			 id < d->n_in ? "input" : "undeclared node",
-			 (unsigned)id, TXT_Q(e->text));
+		evo_txt_diag(
+		    rd->err, rd->file, e->line,
+		    "expected an output that is a node declared above, "
+		    "found %s %u in '%.*s'",
+		    id < d->n_in ? "input" : "undeclared node", (unsigned)id,
+		    EVO_TXT_Q(e->text));
 		return EVO_ERR_NAME;
 	}
 	for (k = 0; k < d->n_out; k++) {
 		if (d->out_id[k] == id) {
-			txt_diag(rd->err, rd->file, e->line,
-				 "expected each output node once, found node "
-				 "%u again (it is output %u)",
-				 (unsigned)id, k);
+			evo_txt_diag(
+			    rd->err, rd->file, e->line,
+			    "expected each output node once, found node "
+			    "%u again (it is output %u)",
+			    (unsigned)id, k);
 			return EVO_ERR_NAME;
 		}
 	}
@@ -242,7 +251,7 @@ static evo_status read_output(net_reader *rd, const txt_entry *e)
 	return EVO_OK;
 }
 
-static evo_status read_link(net_reader *rd, const txt_entry *e)
+static evo_status read_link(net_reader *rd, const evo_txt_entry *e)
 {
 	evo_netdesc *d = rd->out;
 	evo_netdesc_link *ln;
@@ -251,34 +260,36 @@ static evo_status read_link(net_reader *rd, const txt_entry *e)
 	int r;
 
 	if (e->n_fields != 4) {
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected link:FROM:TO:WEIGHT, found '%.*s'",
-			 TXT_Q(e->text));
+		evo_txt_diag(rd->err, rd->file, e->line,
+			     "expected link:FROM:TO:WEIGHT, found '%.*s'",
+			     EVO_TXT_Q(e->text));
 		return EVO_ERR_SYNTAX;
 	}
-	if (txt_uint(e->field[1], ID_MAX, &from) != 0)
+	if (evo_txt_uint(e->field[1], ID_MAX, &from) != 0)
 		return bad_id(rd, e, e->field[1], "link:FROM:TO:WEIGHT");
-	if (txt_uint(e->field[2], ID_MAX, &to) != 0)
+	if (evo_txt_uint(e->field[2], ID_MAX, &to) != 0)
 		return bad_id(rd, e, e->field[2], "link:FROM:TO:WEIGHT");
 	if (from >= d->n_in && find_node(d, from) < 0) {
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected a link from an input or a node declared "
-			 "above, found undeclared node %u in '%.*s'",
-			 (unsigned)from, TXT_Q(e->text));
+		evo_txt_diag(rd->err, rd->file, e->line,
+			     "expected a link from an input or a node declared "
+			     "above, found undeclared node %u in '%.*s'",
+			     (unsigned)from, EVO_TXT_Q(e->text));
 		return EVO_ERR_NAME;
 	}
 	if (to < d->n_in) {
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected a link into a node, found a link into input "
-			 "%u in '%.*s'",
-			 (unsigned)to, TXT_Q(e->text));
+		evo_txt_diag(
+		    rd->err, rd->file, e->line,
+		    "expected a link into a node, found a link into input "
+		    "%u in '%.*s'",
+		    (unsigned)to, EVO_TXT_Q(e->text));
 		return EVO_ERR_NAME;
 	}
 	if (find_node(d, to) < 0) {
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected a link into a node declared above, found "
-			 "undeclared node %u in '%.*s'",
-			 (unsigned)to, TXT_Q(e->text));
+		evo_txt_diag(
+		    rd->err, rd->file, e->line,
+		    "expected a link into a node declared above, found "
+		    "undeclared node %u in '%.*s'",
+		    (unsigned)to, EVO_TXT_Q(e->text));
 		return EVO_ERR_NAME;
 	}
 	for (i = 0; i < d->n_links; i++) {
@@ -286,26 +297,27 @@ static evo_status read_link(net_reader *rd, const txt_entry *e)
 			continue;
 		fanin++;
 		if (d->link[i].from == from) {
-			txt_diag(rd->err, rd->file, e->line,
-				 "expected each link once, found link %u:%u "
-				 "again (first on line %u)",
-				 (unsigned)from, (unsigned)to,
-				 (unsigned)d->link[i].line);
+			evo_txt_diag(
+			    rd->err, rd->file, e->line,
+			    "expected each link once, found link %u:%u "
+			    "again (first on line %u)",
+			    (unsigned)from, (unsigned)to,
+			    (unsigned)d->link[i].line);
 			return EVO_ERR_NAME;
 		}
 	}
 	if (fanin >= EVO_NET_MAX_FANIN) {
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected at most %u links into node %u, found "
-			 "another: '%.*s'",
-			 (unsigned)EVO_NET_MAX_FANIN, (unsigned)to,
-			 TXT_Q(e->text));
+		evo_txt_diag(rd->err, rd->file, e->line,
+			     "expected at most %u links into node %u, found "
+			     "another: '%.*s'",
+			     (unsigned)EVO_NET_MAX_FANIN, (unsigned)to,
+			     EVO_TXT_Q(e->text));
 		return EVO_ERR_LIMIT;
 	}
 	if (d->n_links >= EVO_NET_MAX_LINKS) {
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected at most %u links, found another: '%.*s'",
-			 (unsigned)EVO_NET_MAX_LINKS, TXT_Q(e->text));
+		evo_txt_diag(rd->err, rd->file, e->line,
+			     "expected at most %u links, found another: '%.*s'",
+			     (unsigned)EVO_NET_MAX_LINKS, EVO_TXT_Q(e->text));
 		return EVO_ERR_LIMIT;
 	}
 	ln = &d->link[d->n_links];
@@ -319,41 +331,44 @@ static evo_status read_link(net_reader *rd, const txt_entry *e)
 	return EVO_OK;
 }
 
-static evo_status read_entry(net_reader *rd, const txt_entry *e)
+static evo_status read_entry(net_reader *rd, const evo_txt_entry *e)
 {
 	/* A pointer, not a copy: gcc -Os turns a struct copy into memcpy. */
-	const txt_slice *kw = &e->field[0];
-	int is_in = txt_slice_ieq(*kw, "inputs");
-	if (is_in || txt_slice_ieq(*kw, "outputs")) {
+	const evo_txt_slice *kw = &e->field[0];
+	int is_in = evo_txt_slice_ieq(*kw, "inputs");
+	if (is_in || evo_txt_slice_ieq(*kw, "outputs")) {
 		if (rd->out->n_nodes || rd->out->n_out || rd->out->n_links) {
-			txt_diag(rd->err, rd->file, e->line,
-				 "expected inputs:COUNT and outputs:COUNT "
-				 "before any node, output or link line, found "
-				 "'%.*s'",
-				 TXT_Q(e->text));
+			evo_txt_diag(
+			    rd->err, rd->file, e->line,
+			    "expected inputs:COUNT and outputs:COUNT "
+			    "before any node, output or link line, found "
+			    "'%.*s'",
+			    EVO_TXT_Q(e->text));
 			return EVO_ERR_SYNTAX;
 		}
 		return read_size(rd, e, is_in);
 	}
-	if (!txt_slice_ieq(*kw, "node") && !txt_slice_ieq(*kw, "output") &&
-	    !txt_slice_ieq(*kw, "link")) {
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected an inputs:, outputs:, node:, output: or "
-			 "link: line, found '%.*s'",
-			 TXT_Q(e->text));
+	if (!evo_txt_slice_ieq(*kw, "node") &&
+	    !evo_txt_slice_ieq(*kw, "output") &&
+	    !evo_txt_slice_ieq(*kw, "link")) {
+		evo_txt_diag(rd->err, rd->file, e->line,
+			     "expected an inputs:, outputs:, node:, output: or "
+			     "link: line, found '%.*s'",
+			     EVO_TXT_Q(e->text));
 		return EVO_ERR_SYNTAX;
 	}
 	if (!rd->inputs_line || !rd->outputs_line) {
-		txt_diag(rd->err, rd->file, e->line,
-			 "expected %s before the first node, output or link "
-			 "line, found '%.*s'",
-			 rd->inputs_line ? "outputs:COUNT" : "inputs:COUNT",
-			 TXT_Q(e->text));
+		evo_txt_diag(
+		    rd->err, rd->file, e->line,
+		    "expected %s before the first node, output or link "
+		    "line, found '%.*s'",
+		    rd->inputs_line ? "outputs:COUNT" : "inputs:COUNT",
+		    EVO_TXT_Q(e->text));
 		return EVO_ERR_MISSING;
 	}
-	if (txt_slice_ieq(*kw, "node"))
+	if (evo_txt_slice_ieq(*kw, "node"))
 		return read_node(rd, e);
-	if (txt_slice_ieq(*kw, "output"))
+	if (evo_txt_slice_ieq(*kw, "output"))
 		return read_output(rd, e);
 	return read_link(rd, e);
 }
@@ -362,8 +377,8 @@ evo_status evo_netdesc_parse(const char *buf, size_t len, const char *file,
 			     evo_netdesc *out, evo_diag *err)
 {
 	net_reader rd;
-	txt_lexer lx;
-	txt_entry e;
+	evo_txt_lexer lx;
+	evo_txt_entry e;
 	int r;
 
 	out->n_in = out->n_out = out->n_nodes = out->n_links = 0;
@@ -372,8 +387,8 @@ evo_status evo_netdesc_parse(const char *buf, size_t len, const char *file,
 	rd.out = out;
 	rd.inputs_line = rd.outputs_line = 0;
 	rd.n_out_want = 0;
-	txt_lex_init(&lx, buf, len, file);
-	while ((r = txt_lex_next(&lx, &e, err)) > 0) {
+	evo_txt_lex_init(&lx, buf, len, file);
+	while ((r = evo_txt_lex_next(&lx, &e, err)) > 0) {
 		evo_status st = read_entry(&rd, &e);
 		if (st != EVO_OK)
 			return st;
@@ -381,16 +396,17 @@ evo_status evo_netdesc_parse(const char *buf, size_t len, const char *file,
 	if (r < 0)
 		return EVO_ERR_SYNTAX;
 	if (!rd.inputs_line || !rd.outputs_line) {
-		txt_diag(err, file, txt_lex_end_line(&lx),
-			 "expected %s, found the end of the file",
-			 rd.inputs_line ? "outputs:COUNT" : "inputs:COUNT");
+		evo_txt_diag(err, file, evo_txt_lex_end_line(&lx),
+			     "expected %s, found the end of the file",
+			     rd.inputs_line ? "outputs:COUNT" : "inputs:COUNT");
 		return EVO_ERR_MISSING;
 	}
 	if (out->n_out != rd.n_out_want) {
-		txt_diag(err, file, txt_lex_end_line(&lx),
-			 "expected %u output:ID line%s (outputs:%u), found %u",
-			 (unsigned)rd.n_out_want, rd.n_out_want == 1 ? "" : "s",
-			 (unsigned)rd.n_out_want, (unsigned)out->n_out);
+		evo_txt_diag(
+		    err, file, evo_txt_lex_end_line(&lx),
+		    "expected %u output:ID line%s (outputs:%u), found %u",
+		    (unsigned)rd.n_out_want, rd.n_out_want == 1 ? "" : "s",
+		    (unsigned)rd.n_out_want, (unsigned)out->n_out);
 		return EVO_ERR_COUNT;
 	}
 	return EVO_OK;

@@ -15,12 +15,12 @@ const char *const evo_simbatch_keys[] = {
 static const char *const method_prefixes[] = {"NEAT_", "GA_", "SA_", NULL};
 
 /* 1 when key starts with a method's prefix and has a name after it. */
-static int method_key(txt_slice key)
+static int method_key(evo_txt_slice key)
 {
 	for (unsigned p = 0; method_prefixes[p]; p++) {
 		size_t n = 0;
 		while (method_prefixes[p][n] && n < key.len &&
-		       txt_upper(key.s[n]) == method_prefixes[p][n])
+		       evo_txt_upper(key.s[n]) == method_prefixes[p][n])
 			n++;
 		if (!method_prefixes[p][n] && key.len > n)
 			return 1;
@@ -38,61 +38,64 @@ const char *const evo_task_types[] = {
 /* The smallest value a whole-number key takes, or -1 for other keys. */
 static int whole_min(const char *key)
 {
-	if (txt_eq(key, "NUMGEN") || txt_eq(key, "EVALREP") ||
-	    txt_eq(key, "TICKLIM") || txt_eq(key, "POPSIZE") ||
-	    txt_eq(key, "THREADS"))
+	if (evo_txt_eq(key, "NUMGEN") || evo_txt_eq(key, "EVALREP") ||
+	    evo_txt_eq(key, "TICKLIM") || evo_txt_eq(key, "POPSIZE") ||
+	    evo_txt_eq(key, "THREADS"))
 		return 1;
-	if (txt_eq(key, "SEED"))
+	if (evo_txt_eq(key, "SEED"))
 		return 0;
 	return -1;
 }
 
-static void warn(evo_simbatch *out, const txt_entry *e, const char *file)
+static void warn(evo_simbatch *out, const evo_txt_entry *e, const char *file)
 {
 	if (out->n_warnings < EVO_MAX_WARNINGS)
-		txt_diag(&out->warning[out->n_warnings], file, e->line,
-			 "unknown key '%.*s' ignored; did you mean %s?",
-			 TXT_Q(e->field[0]),
-			 txt_closest(e->field[0], evo_simbatch_keys, 0));
+		evo_txt_diag(
+		    &out->warning[out->n_warnings], file, e->line,
+		    "unknown key '%.*s' ignored; did you mean %s?",
+		    EVO_TXT_Q(e->field[0]),
+		    evo_txt_closest(e->field[0], evo_simbatch_keys, 0));
 	if (out->n_warnings < UINT32_MAX)
 		out->n_warnings++;
 }
 
-static evo_status check_value(const char *key, txt_slice v, const txt_entry *e,
-			      const char *file, evo_diag *err)
+static evo_status check_value(const char *key, evo_txt_slice v,
+			      const evo_txt_entry *e, const char *file,
+			      evo_diag *err)
 {
 	int min = whole_min(key);
 	uint32_t n;
 	if (min >= 0) {
-		int r = txt_uint(v, WHOLE_MAX, &n);
+		int r = evo_txt_uint(v, WHOLE_MAX, &n);
 		if (r != 0 || n < (uint32_t)min) {
-			txt_diag(err, file, e->line,
-				 "expected a whole number %s for %s, found "
-				 "'%.*s'",
-				 min ? "1..2147483647" : "0..2147483647", key,
-				 TXT_Q(v));
+			evo_txt_diag(err, file, e->line,
+				     "expected a whole number %s for %s, found "
+				     "'%.*s'",
+				     min ? "1..2147483647" : "0..2147483647",
+				     key, EVO_TXT_Q(v));
 			return r == -2 ? EVO_ERR_LIMIT : EVO_ERR_SYNTAX;
 		}
-	} else if (txt_eq(key, "TYPE")) {
+	} else if (evo_txt_eq(key, "TYPE")) {
 		size_t i;
 		for (i = 0; evo_task_types[i]; i++)
-			if (txt_slice_ieq(v, evo_task_types[i]))
+			if (evo_txt_slice_ieq(v, evo_task_types[i]))
 				return EVO_OK;
-		txt_diag(err, file, e->line,
-			 "expected a task type for TYPE, found '%.*s'; did you "
-			 "mean %s? (see docs/formats.md for the list)",
-			 TXT_Q(v), txt_closest(v, evo_task_types, 0));
+		evo_txt_diag(
+		    err, file, e->line,
+		    "expected a task type for TYPE, found '%.*s'; did you "
+		    "mean %s? (see docs/formats.md for the list)",
+		    EVO_TXT_Q(v), evo_txt_closest(v, evo_task_types, 0));
 		return EVO_ERR_NAME;
 	}
 	return EVO_OK;
 }
 
-static evo_status add_pair(evo_simbatch *out, const txt_entry *e,
+static evo_status add_pair(evo_simbatch *out, const evo_txt_entry *e,
 			   const char *file, evo_diag *err)
 {
 	/* A pointer, not a copy: gcc -Os turns a struct copy into memcpy. */
-	const txt_slice *key = &e->field[0];
-	txt_slice value;
+	const evo_txt_slice *key = &e->field[0];
+	evo_txt_slice value;
 	const char *known = NULL;
 	char method_name[EVO_NAME_MAX];
 	evo_simbatch_pair *p;
@@ -100,39 +103,40 @@ static evo_status add_pair(evo_simbatch *out, const txt_entry *e,
 	uint32_t i;
 
 	if (e->n_fields < 2) {
-		txt_diag(err, file, e->line,
-			 "expected KEY:VALUE, found '%.*s' (no ':')",
-			 TXT_Q(e->text));
+		evo_txt_diag(err, file, e->line,
+			     "expected KEY:VALUE, found '%.*s' (no ':')",
+			     EVO_TXT_Q(e->text));
 		return EVO_ERR_SYNTAX;
 	}
 	if (key->len == 0) {
-		txt_diag(err, file, e->line,
-			 "expected a key before ':', found '%.*s'",
-			 TXT_Q(e->text));
+		evo_txt_diag(err, file, e->line,
+			     "expected a key before ':', found '%.*s'",
+			     EVO_TXT_Q(e->text));
 		return EVO_ERR_SYNTAX;
 	}
 	/* The value runs to the end of the entry: a path may hold ':'. */
-	value = txt_rest(e, 1);
+	value = evo_txt_rest(e, 1);
 	if (value.len == 0) {
-		txt_diag(err, file, e->line,
-			 "expected a value after '%.*s:', found nothing",
-			 TXT_Q(*key));
+		evo_txt_diag(err, file, e->line,
+			     "expected a value after '%.*s:', found nothing",
+			     EVO_TXT_Q(*key));
 		return EVO_ERR_SYNTAX;
 	}
 	for (i = 0; evo_simbatch_keys[i]; i++)
-		if (txt_slice_ieq(*key, evo_simbatch_keys[i]))
+		if (evo_txt_slice_ieq(*key, evo_simbatch_keys[i]))
 			known = evo_simbatch_keys[i];
 	if (!known && method_key(*key)) {
 		/* Kept as written, upper-cased. */
 		if (key->len >= EVO_NAME_MAX) {
-			txt_diag(err, file, e->line,
-				 "expected a key of at most %u bytes, found "
-				 "'%.*s'",
-				 (unsigned)(EVO_NAME_MAX - 1), TXT_Q(*key));
+			evo_txt_diag(
+			    err, file, e->line,
+			    "expected a key of at most %u bytes, found "
+			    "'%.*s'",
+			    (unsigned)(EVO_NAME_MAX - 1), EVO_TXT_Q(*key));
 			return EVO_ERR_LIMIT;
 		}
 		for (i = 0; i < key->len; i++)
-			method_name[i] = txt_upper(key->s[i]);
+			method_name[i] = evo_txt_upper(key->s[i]);
 		method_name[i] = 0;
 		known = method_name;
 	}
@@ -141,29 +145,30 @@ static evo_status add_pair(evo_simbatch *out, const txt_entry *e,
 		return EVO_OK;
 	}
 	for (i = 0; i < out->n_pairs; i++) {
-		if (txt_eq(out->pair[i].key, known)) {
-			txt_diag(err, file, e->line,
-				 "expected each key once, found %s again "
-				 "(first on line %u)",
-				 known, (unsigned)out->pair[i].line);
+		if (evo_txt_eq(out->pair[i].key, known)) {
+			evo_txt_diag(err, file, e->line,
+				     "expected each key once, found %s again "
+				     "(first on line %u)",
+				     known, (unsigned)out->pair[i].line);
 			return EVO_ERR_NAME;
 		}
 	}
 	if (out->n_pairs >= EVO_MAX_SIMBATCH) {
-		txt_diag(err, file, e->line,
-			 "expected at most %u pairs, found another: '%.*s'",
-			 (unsigned)EVO_MAX_SIMBATCH, TXT_Q(e->text));
+		evo_txt_diag(err, file, e->line,
+			     "expected at most %u pairs, found another: '%.*s'",
+			     (unsigned)EVO_MAX_SIMBATCH, EVO_TXT_Q(e->text));
 		return EVO_ERR_LIMIT;
 	}
 	st = check_value(known, value, e, file, err);
 	if (st != EVO_OK)
 		return st;
 	p = &out->pair[out->n_pairs];
-	if (txt_copy(p->value, sizeof p->value, value) != 0) {
-		txt_diag(err, file, e->line,
-			 "expected a value of at most %u bytes for %s, found "
-			 "'%.*s'",
-			 (unsigned)(EVO_VALUE_MAX - 1), known, TXT_Q(value));
+	if (evo_txt_copy(p->value, sizeof p->value, value) != 0) {
+		evo_txt_diag(
+		    err, file, e->line,
+		    "expected a value of at most %u bytes for %s, found "
+		    "'%.*s'",
+		    (unsigned)(EVO_VALUE_MAX - 1), known, EVO_TXT_Q(value));
 		return EVO_ERR_LIMIT;
 	}
 	for (i = 0; known[i]; i++)
@@ -178,14 +183,14 @@ static evo_status add_pair(evo_simbatch *out, const txt_entry *e,
 evo_status evo_simbatch_parse(const char *buf, size_t len, const char *file,
 			      evo_simbatch *out, evo_diag *err)
 {
-	txt_lexer lx;
-	txt_entry e;
+	evo_txt_lexer lx;
+	evo_txt_entry e;
 	int r;
 
 	out->n_pairs = 0;
 	out->n_warnings = 0;
-	txt_lex_init(&lx, buf, len, file);
-	while ((r = txt_lex_next(&lx, &e, err)) > 0) {
+	evo_txt_lex_init(&lx, buf, len, file);
+	while ((r = evo_txt_lex_next(&lx, &e, err)) > 0) {
 		evo_status st = add_pair(out, &e, file, err);
 		if (st != EVO_OK)
 			return st;
@@ -199,7 +204,7 @@ const char *evo_simbatch_get(const evo_simbatch *sb, const char *key)
 	if (!sb || !key)
 		return NULL;
 	for (i = 0; i < sb->n_pairs && i < EVO_MAX_SIMBATCH; i++)
-		if (txt_ieq(sb->pair[i].key, key))
+		if (evo_txt_ieq(sb->pair[i].key, key))
 			return sb->pair[i].value;
 	return NULL;
 }

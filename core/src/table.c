@@ -1,7 +1,7 @@
 #include "table.h"
 
-uint32_t table_lerp(const uint16_t *cp, const int8_t *dd, uint32_t u,
-		    unsigned shift)
+uint32_t evo_table_lerp(const uint16_t *cp, const int8_t *dd, uint32_t u,
+			unsigned shift)
 {
 	uint32_t i = u >> shift;
 	uint32_t frac = u & ((1u << shift) - 1);

@@ -18,7 +18,7 @@
  * where i = u >> shift and frac = u's low shift bits. Every rise must be
  * non-negative, and rise[i] stored: i below 16 * (checkpoints - 1) + the
  * dd entries that follow the last checkpoint, plus one. */
-uint32_t table_lerp(const uint16_t *cp, const int8_t *dd, uint32_t u,
-		    unsigned shift);
+uint32_t evo_table_lerp(const uint16_t *cp, const int8_t *dd, uint32_t u,
+			unsigned shift);
 
 #endif

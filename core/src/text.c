@@ -2,7 +2,7 @@
 
 #include <limits.h>
 
-size_t txt_len(const char *s)
+size_t evo_txt_len(const char *s)
 {
 	size_t n = 0;
 	while (s[n])
@@ -10,12 +10,12 @@ size_t txt_len(const char *s)
 	return n;
 }
 
-char txt_upper(char c)
+char evo_txt_upper(char c)
 {
 	return (c >= 'a' && c <= 'z') ? (char)(c - 'a' + 'A') : c;
 }
 
-int txt_eq(const char *a, const char *b)
+int evo_txt_eq(const char *a, const char *b)
 {
 	while (*a && *a == *b) {
 		a++;
@@ -24,16 +24,16 @@ int txt_eq(const char *a, const char *b)
 	return *a == *b;
 }
 
-int txt_ieq(const char *a, const char *b)
+int evo_txt_ieq(const char *a, const char *b)
 {
-	while (*a && txt_upper(*a) == txt_upper(*b)) {
+	while (*a && evo_txt_upper(*a) == evo_txt_upper(*b)) {
 		a++;
 		b++;
 	}
-	return txt_upper(*a) == txt_upper(*b);
+	return evo_txt_upper(*a) == evo_txt_upper(*b);
 }
 
-int txt_slice_eq(txt_slice a, const char *b)
+int evo_txt_slice_eq(evo_txt_slice a, const char *b)
 {
 	size_t i;
 	for (i = 0; i < a.len; i++)
@@ -42,16 +42,16 @@ int txt_slice_eq(txt_slice a, const char *b)
 	return b[i] == 0;
 }
 
-int txt_slice_ieq(txt_slice a, const char *b)
+int evo_txt_slice_ieq(evo_txt_slice a, const char *b)
 {
 	size_t i;
 	for (i = 0; i < a.len; i++)
-		if (b[i] == 0 || txt_upper(a.s[i]) != txt_upper(b[i]))
+		if (b[i] == 0 || evo_txt_upper(a.s[i]) != evo_txt_upper(b[i]))
 			return 0;
 	return b[i] == 0;
 }
 
-int txt_copy(char *dst, size_t cap, txt_slice s)
+int evo_txt_copy(char *dst, size_t cap, evo_txt_slice s)
 {
 	size_t i, n = s.len < cap ? s.len : cap - 1;
 	for (i = 0; i < n; i++)
@@ -99,8 +99,8 @@ static void put_quoted(out_buf *o, const char *s, size_t len)
 {
 	size_t i, n = len;
 	int cut = 0;
-	if (n > TXT_QUOTE_MAX) {
-		n = TXT_QUOTE_MAX - 3;
+	if (n > EVO_TXT_QUOTE_MAX) {
+		n = EVO_TXT_QUOTE_MAX - 3;
 		while (n > 0 && ((unsigned char)s[n] & 0xC0) == 0x80)
 			n--;
 		cut = 1;
@@ -113,7 +113,7 @@ static void put_quoted(out_buf *o, const char *s, size_t len)
 		put_str(o, "...");
 }
 
-size_t txt_vfmt(char *dst, size_t cap, const char *fmt, va_list ap)
+size_t evo_txt_vfmt(char *dst, size_t cap, const char *fmt, va_list ap)
 {
 	out_buf o;
 	o.dst = dst;
@@ -163,27 +163,27 @@ size_t txt_vfmt(char *dst, size_t cap, const char *fmt, va_list ap)
 	return o.n;
 }
 
-size_t txt_fmt(char *dst, size_t cap, const char *fmt, ...)
+size_t evo_txt_fmt(char *dst, size_t cap, const char *fmt, ...)
 {
 	va_list ap;
 	size_t n;
 	va_start(ap, fmt);
-	n = txt_vfmt(dst, cap, fmt, ap);
+	n = evo_txt_vfmt(dst, cap, fmt, ap);
 	va_end(ap);
 	return n;
 }
 
-void txt_diag(evo_diag *d, const char *file, uint32_t line, const char *fmt,
-	      ...)
+void evo_txt_diag(evo_diag *d, const char *file, uint32_t line, const char *fmt,
+		  ...)
 {
 	va_list ap;
 	size_t n;
 	if (!d)
 		return;
-	n = txt_fmt(d->msg, sizeof d->msg, "%s:%u: ", file ? file : "(input)",
-		    (unsigned)line);
+	n = evo_txt_fmt(d->msg, sizeof d->msg,
+			"%s:%u: ", file ? file : "(input)", (unsigned)line);
 	va_start(ap, fmt);
-	txt_vfmt(d->msg + n, sizeof d->msg - n, fmt, ap);
+	evo_txt_vfmt(d->msg + n, sizeof d->msg - n, fmt, ap);
 	va_end(ap);
 }
 
@@ -193,7 +193,7 @@ enum { CH_OTHER, CH_BLANK, CH_EOL, CH_COLON, CH_CONTROL };
 
 /* A CR before LF is a blank (CRLF files); a lone CR ends a line, as in old
  * Mac files. */
-static int class_at(const txt_lexer *lx, size_t p)
+static int class_at(const evo_txt_lexer *lx, size_t p)
 {
 	unsigned char c = (unsigned char)lx->buf[p];
 	if (c == ' ' || c == '\t' || c == '\v' || c == '\f')
@@ -210,7 +210,8 @@ static int class_at(const txt_lexer *lx, size_t p)
 	return CH_OTHER;
 }
 
-void txt_lex_init(txt_lexer *lx, const char *buf, size_t len, const char *file)
+void evo_txt_lex_init(evo_txt_lexer *lx, const char *buf, size_t len,
+		      const char *file)
 {
 	lx->buf = buf;
 	lx->len = buf ? len : 0;
@@ -223,15 +224,15 @@ void txt_lex_init(txt_lexer *lx, const char *buf, size_t len, const char *file)
 		lx->pos = 3;
 }
 
-static void bad_byte(const txt_lexer *lx, evo_diag *err)
+static void bad_byte(const evo_txt_lexer *lx, evo_diag *err)
 {
-	txt_diag(err, lx->file, lx->line,
-		 "expected text, found a control byte (code %u); is this a "
-		 "text file?",
-		 (unsigned)(unsigned char)lx->buf[lx->pos]);
+	evo_txt_diag(err, lx->file, lx->line,
+		     "expected text, found a control byte (code %u); is this a "
+		     "text file?",
+		     (unsigned)(unsigned char)lx->buf[lx->pos]);
 }
 
-static void split_fields(txt_entry *e)
+static void split_fields(evo_txt_entry *e)
 {
 	const char *s = e->text.s;
 	size_t i = 0, n = e->text.len;
@@ -246,7 +247,7 @@ static void split_fields(txt_entry *e)
 		end = i;
 		while (end > start && (s[end - 1] == ' ' || s[end - 1] == '\t'))
 			end--;
-		if (e->n_fields < TXT_MAX_FIELDS) {
+		if (e->n_fields < EVO_TXT_MAX_FIELDS) {
 			e->field[e->n_fields].s = s + start;
 			e->field[e->n_fields].len = end - start;
 		}
@@ -257,7 +258,7 @@ static void split_fields(txt_entry *e)
 	}
 }
 
-int txt_lex_next(txt_lexer *lx, txt_entry *e, evo_diag *err)
+int evo_txt_lex_next(evo_txt_lexer *lx, evo_txt_entry *e, evo_diag *err)
 {
 	size_t start, end;
 	/* Skip blanks, line ends and comment lines to the next entry. */
@@ -328,7 +329,7 @@ int txt_lex_next(txt_lexer *lx, txt_entry *e, evo_diag *err)
 	return 1;
 }
 
-uint32_t txt_lex_end_line(const txt_lexer *lx)
+uint32_t evo_txt_lex_end_line(const evo_txt_lexer *lx)
 {
 	/* After a final newline the lexer is on an empty line past the end. */
 	if (lx->line > 1 && lx->len > 0 &&
@@ -337,9 +338,9 @@ uint32_t txt_lex_end_line(const txt_lexer *lx)
 	return lx->line;
 }
 
-txt_slice txt_rest(const txt_entry *e, size_t i)
+evo_txt_slice evo_txt_rest(const evo_txt_entry *e, size_t i)
 {
-	txt_slice r;
+	evo_txt_slice r;
 	const char *s = e->text.s, *end = e->text.s + e->text.len;
 	size_t k = 0;
 	/* Field i starts after the i-th ':'; blanks after it are skipped. */
@@ -357,7 +358,7 @@ txt_slice txt_rest(const txt_entry *e, size_t i)
 
 /* ---- numbers and names -------------------------------------------- */
 
-int txt_uint(txt_slice s, uint32_t max, uint32_t *out)
+int evo_txt_uint(evo_txt_slice s, uint32_t max, uint32_t *out)
 {
 	uint32_t v = 0;
 	int big = 0;
@@ -379,12 +380,12 @@ int txt_uint(txt_slice s, uint32_t max, uint32_t *out)
 	return 0;
 }
 
-unsigned txt_distance(txt_slice s, const char *b)
+unsigned evo_txt_distance(evo_txt_slice s, const char *b)
 {
 	/* One row of the DP table; names are short, so it fits the stack. */
 	unsigned row[EVO_NAME_MAX + 1];
 	size_t la = s.len < EVO_NAME_MAX ? s.len : EVO_NAME_MAX;
-	size_t lb = txt_len(b), i, j;
+	size_t lb = evo_txt_len(b), i, j;
 	if (lb > EVO_NAME_MAX)
 		lb = EVO_NAME_MAX;
 	for (j = 0; j <= lb; j++)
@@ -394,8 +395,8 @@ unsigned txt_distance(txt_slice s, const char *b)
 		row[0] = (unsigned)i;
 		for (j = 1; j <= lb; j++) {
 			unsigned up = row[j];
-			unsigned best = diag + (txt_upper(s.s[i - 1]) !=
-						txt_upper(b[j - 1]));
+			unsigned best = diag + (evo_txt_upper(s.s[i - 1]) !=
+						evo_txt_upper(b[j - 1]));
 			if (up + 1 < best)
 				best = up + 1;
 			if (row[j - 1] + 1 < best)
@@ -407,13 +408,13 @@ unsigned txt_distance(txt_slice s, const char *b)
 	return row[lb];
 }
 
-const char *txt_closest(txt_slice s, const char *const *list, size_t n)
+const char *evo_txt_closest(evo_txt_slice s, const char *const *list, size_t n)
 {
 	const char *best = NULL;
 	unsigned best_d = UINT_MAX;
 	size_t i;
 	for (i = 0; n ? i < n : list[i] != NULL; i++) {
-		unsigned d = txt_distance(s, list[i]);
+		unsigned d = evo_txt_distance(s, list[i]);
 		if (d < best_d) {
 			best_d = d;
 			best = list[i];
@@ -422,33 +423,33 @@ const char *txt_closest(txt_slice s, const char *const *list, size_t n)
 	return best;
 }
 
-evo_status txt_name(char *dst, txt_slice f, const txt_entry *e,
-		    const char *what, const char *file, evo_diag *err)
+evo_status evo_txt_name(char *dst, evo_txt_slice f, const evo_txt_entry *e,
+			const char *what, const char *file, evo_diag *err)
 {
 	if (f.len == 0) {
-		txt_diag(err, file, e->line, "expected %s, found '%.*s'", what,
-			 TXT_Q(e->text));
+		evo_txt_diag(err, file, e->line, "expected %s, found '%.*s'",
+			     what, EVO_TXT_Q(e->text));
 		return EVO_ERR_SYNTAX;
 	}
 	if (f.len >= EVO_NAME_MAX) {
-		txt_diag(err, file, e->line,
-			 "expected %s of at most %u bytes, found one of %u "
-			 "bytes: '%.*s'",
-			 what, (unsigned)(EVO_NAME_MAX - 1),
-			 f.len > UINT_MAX ? UINT_MAX : (unsigned)f.len,
-			 TXT_Q(f));
+		evo_txt_diag(err, file, e->line,
+			     "expected %s of at most %u bytes, found one of %u "
+			     "bytes: '%.*s'",
+			     what, (unsigned)(EVO_NAME_MAX - 1),
+			     f.len > UINT_MAX ? UINT_MAX : (unsigned)f.len,
+			     EVO_TXT_Q(f));
 		return EVO_ERR_LIMIT;
 	}
-	txt_copy(dst, EVO_NAME_MAX, f);
+	evo_txt_copy(dst, EVO_NAME_MAX, f);
 	return EVO_OK;
 }
 
 const char *evo_closest_name(const char *word, const char *const *list,
 			     size_t n, unsigned *distance)
 {
-	txt_slice w = {word, txt_len(word)};
-	const char *best = n ? txt_closest(w, list, n) : NULL;
+	evo_txt_slice w = {word, evo_txt_len(word)};
+	const char *best = n ? evo_txt_closest(w, list, n) : NULL;
 	if (distance)
-		*distance = best ? txt_distance(w, best) : UINT_MAX;
+		*distance = best ? evo_txt_distance(w, best) : UINT_MAX;
 	return best;
 }

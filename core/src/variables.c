@@ -32,7 +32,7 @@ static const int8_t sin_dd[63] = {
 	-39, -39, -40, -40, -39, -41, -40, -40, -40, -41, -40,
 };
 
-evo_q16 var_sin01(uint32_t phase)
+evo_q16 evo_var_sin01(uint32_t phase)
 {
 	unsigned quadrant = phase >> 30;
 	uint32_t p = phase & 0x3FFFFFFFu;
@@ -40,14 +40,15 @@ evo_q16 var_sin01(uint32_t phase)
 		p = 0x40000000u - p; /* falling half of each lobe: mirror */
 	/* A quarter turn in 2^30 steps: table index in the top 6 bits,
 	 * interpolated over the next 16; p = 2^30 is the peak, 1. */
-	int32_t s = p >> 30 ? EVO_Q16_ONE
-			    : (int32_t)table_lerp(sin_cp, sin_dd, p >> 8, 16);
+	int32_t s = p >> 30
+			? EVO_Q16_ONE
+			: (int32_t)evo_table_lerp(sin_cp, sin_dd, p >> 8, 16);
 	if (quadrant & 2u)
 		s = -s;
 	return (s + EVO_Q16_ONE + 1) >> 1;
 }
 
-uint32_t var_sin_step(evo_q16 w)
+uint32_t evo_var_sin_step(evo_q16 w)
 {
 	/* 2^32 * 0.001 / (2 pi) and 2^32 * 2.999 / (2 pi), rounded. */
 	const uint32_t lo = 683565u, span = 2050012262u;
@@ -66,29 +67,29 @@ static evo_q16 counter_value(int32_t count)
 #define LEVEL_HIGH 52429 /* 0.8 */
 #define LEVEL_LOW 13107	 /* 0.2 */
 
-void var_reset(unsigned type, evo_var_state *v)
+void evo_var_reset(unsigned type, evo_var_state *v)
 {
 	v->value = 0;
 	v->a = 0;
 	v->b = 0;
 	if (type == EVO_VAR_SINWAVE) {
-		v->b = (int32_t)VAR_RADIAN_TURNS;
-		v->value = var_sin01(0);
+		v->b = (int32_t)EVO_VAR_RADIAN_TURNS;
+		v->value = evo_var_sin01(0);
 	} else if (type == EVO_VAR_COUNTER) {
 		v->b = EVO_Q16_HALF;
 	}
 	v->prev = v->value;
 }
 
-void var_update(unsigned type, evo_var_state *v, int written, evo_q16 w)
+void evo_var_update(unsigned type, evo_var_state *v, int written, evo_q16 w)
 {
 	v->prev = v->value;
 	switch (type) {
 	case EVO_VAR_SINWAVE:
 		if (written)
-			v->b = (int32_t)var_sin_step(w);
+			v->b = (int32_t)evo_var_sin_step(w);
 		v->a = (int32_t)((uint32_t)v->a + (uint32_t)v->b);
-		v->value = var_sin01((uint32_t)v->a);
+		v->value = evo_var_sin01((uint32_t)v->a);
 		break;
 	case EVO_VAR_COUNTER:
 		if (written) {
