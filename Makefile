@@ -4,7 +4,7 @@
 #   BUILD/evo                the evo command
 #   BUILD/libevocore.a       core/ (freestanding C11)
 #   BUILD/libevohost.a       sim/ (host side)
-#   BUILD/tests/test_*       one test binary per tests/*/test_*.c
+#   BUILD/tests/...          one test binary per tests/**/test_*.c
 # `make test` builds and runs every test twice: plainly (build/) and under
 # AddressSanitizer + UndefinedBehaviorSanitizer (build/asan/).
 
@@ -41,7 +41,7 @@ HOST_SRCS := $(filter-out sim/cmd/evo_main.c,$(sort $(wildcard sim/*/*.c)))
 # The Box2D shim is the only C++ in evo.
 HOST_CXX_SRCS := $(sort $(wildcard sim/*/*.cpp))
 TEST_SUPPORT := $(filter-out tests/support/net_dump_main.c,$(sort $(wildcard tests/support/*.c)))
-TEST_SRCS := $(sort $(wildcard tests/*/test_*.c))
+TEST_SRCS := $(sort $(wildcard tests/*/test_*.c tests/sim/*/test_*.c))
 TEST_BINS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRCS))
 FUZZ_SRCS := $(sort $(wildcard tests/fuzz/fuzz_*.c))
 

@@ -21,8 +21,8 @@
 #include <string.h>
 #include <time.h>
 
-#include "firmware/qemu_session.h"
-#include "firmware/trace_file.h"
+#include "host/qemu_session.h"
+#include "host/trace_file.h"
 #include "mind/mindfolder.h"
 
 static const char *build = "build";

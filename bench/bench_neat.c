@@ -14,7 +14,7 @@
  * evaluations are the sum of log.csv's evaluations column, and a run that
  * reaches NUMGEN unsolved is a failure. Means are over the solved runs.
  * DPNV's generalisation is that of each solved run's champion, recomputed
- * here from the saved network (sim/literature.h).
+ * here from the saved network (sim/learn/literature.h).
  *
  * Bar (issue 4): at least as good as the paper on all three (means no
  * higher, no XOR failure, generalisation no lower); exit 1 otherwise.

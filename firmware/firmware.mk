@@ -108,10 +108,13 @@ $(FW_BUILD)/%.bin: $(FW_BUILD)/%.elf
 # ---- host side: the test driver, the QEMU plugin, the fuzz target -------
 FW_HOST_CFLAGS := -std=c11 $(OPT) $(WARN) -Icore/include -Ifirmware -Itests $(SAN)
 
-FW_TEST_SRCS := tests/firmware/firmware_test.c tests/firmware/qemu_session.c \
-	tests/firmware/trace_file.c firmware/wire.c
-$(FW_BUILD)/firmware_test: $(FW_TEST_SRCS) tests/firmware/qemu_session.h \
-		tests/firmware/trace_file.h firmware/wire.h tests/harness.h
+# firmware/host/ holds what the host uses to drive a firmware under QEMU
+# (a session over slcan, the trace reader): the test and make bench share it.
+FW_HOST_HDRS := firmware/host/qemu_session.h firmware/host/trace_file.h \
+	firmware/wire.h
+FW_TEST_SRCS := tests/firmware/firmware_test.c firmware/host/qemu_session.c \
+	firmware/host/trace_file.c firmware/wire.c
+$(FW_BUILD)/firmware_test: $(FW_TEST_SRCS) $(FW_HOST_HDRS) tests/harness.h
 	@mkdir -p $(dir $@)
 	$(CC) $(FW_HOST_CFLAGS) -o $@ $(FW_TEST_SRCS)
 
@@ -129,14 +132,13 @@ $(BUILD)/fuzz/fuzz_slcan: tests/fuzz/fuzz_slcan.c firmware/wire.c firmware/wire.
 # make bench runs it: instructions per tick on the M3 beside the host's ns.
 FW_HOST_OBJS := $(FW_BUILD)/host/qemu_session.o $(FW_BUILD)/host/trace_file.o \
 	$(FW_BUILD)/host/wire.o
-$(FW_BUILD)/host/%.o: tests/firmware/%.c tests/firmware/qemu_session.h \
-		tests/firmware/trace_file.h firmware/wire.h
+$(FW_BUILD)/host/%.o: firmware/host/%.c $(FW_HOST_HDRS)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_ALL) -Ifirmware -c $< -o $@
 $(FW_BUILD)/host/%.o: firmware/%.c firmware/wire.h
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_ALL) -Ifirmware -c $< -o $@
-$(FW_BUILD)/host/bench_firmware.o: bench/bench_firmware.c tests/firmware/qemu_session.h
+$(FW_BUILD)/host/bench_firmware.o: bench/bench_firmware.c $(FW_HOST_HDRS)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_ALL) -Ifirmware -c $< -o $@
 

@@ -12,7 +12,7 @@
 --	end
 --
 -- Topology. The network is the one evo builds for a neural skill with
--- `layers:N` (sim/net_build.h): N hidden layers of width max(n_in, n_out),
+-- `layers:N` (sim/mind/net_build.h): N hidden layers of width max(n_in, n_out),
 -- every node fed by every node of the previous layer plus a bias, sigmoid
 -- everywhere. Ids: inputs 0..n_in-1, outputs n_in..n_in+n_out-1, hidden
 -- nodes from n_in+n_out on, layer by layer. A genome is the flat weight
@@ -102,7 +102,7 @@ end
 genetic.merged_options = merged
 
 ---------------------------------------------------------------------------
--- The layered shape (sim/net_build.h)
+-- The layered shape (sim/mind/net_build.h)
 
 function genetic.width(n_in, n_out) return math.max(n_in, n_out, 1) end
 

@@ -1,4 +1,4 @@
-/* `evo export --format c` (sim/export_c.h). */
+/* `evo export --format c` (sim/cmd/export_c.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "cmd/export_c.h"
 

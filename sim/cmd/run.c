@@ -1,4 +1,4 @@
-/* `evo run TASK.simbatch`: run a task (sim/run.h, docs/running.md). */
+/* `evo run TASK.simbatch`: run a task (sim/cmd/run.h, docs/running.md). */
 #define _POSIX_C_SOURCE 200809L
 #include "cmd/run.h"
 

@@ -1,4 +1,4 @@
-/* The learning curve (sim/curve.h). */
+/* The learning curve (sim/learn/curve.h). */
 #include "learn/curve.h"
 
 #include <math.h>

@@ -26,7 +26,7 @@
  * which candidate, so results do not depend on the number of threads.
  *
  * Literature tasks: when the task's ENV is XOR, DPV or DPNV the workers
- * build no simulation and score each candidate once with sim/literature.h
+ * build no simulation and score each candidate once with sim/learn/literature.h
  * (seedless and deterministic; EVALREP and TICKLIM do not apply), and
  * res[i].solved says whether candidate i met the task's success
  * criterion. DPNV's success is decided after the batch, on one candidate

@@ -1,9 +1,9 @@
 /* LEARNSIM: the learning loop in Lua (lua/learn/learnsim.lua) over the C
- * evaluator (sim/learn.h, docs/learning.md).
+ * evaluator (sim/learn/learn.h, docs/learning.md).
  *
  * The loop runs in a Lua state of its own, apart from the workers' scene
  * states. It reaches C through the `evo.learn` module set up here (the
- * scene scripts have their own `evo` module, sim/lua_evo.c): evaluate a
+ * scene scripts have their own `evo` module, sim/lua/lua_evo.c): evaluate a
  * batch of networks, log a generation, save files into the run folder,
  * save the champion, draw the curve. */
 #define _POSIX_C_SOURCE 200809L

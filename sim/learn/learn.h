@@ -1,6 +1,6 @@
 /* evo — LEARNSIM: train a task's LEARNINGSKILL inside its hierarchy.
  * The loop is Lua (lua/learn/learnsim.lua), the evaluation C on worker
- * threads (sim/evaluate.h). docs/learning.md. */
+ * threads (sim/learn/evaluate.h). docs/learning.md. */
 #ifndef EVO_LEARN_H
 #define EVO_LEARN_H
 

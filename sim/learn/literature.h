@@ -3,7 +3,7 @@
  * without (DPNV), evaluating evo's fixed-point networks (evo/net.h).
  *
  * A LEARNSIM task whose ENV is XOR, DPV or DPNV is evaluated here instead
- * of in a Box2D scene (sim/evaluate.c); docs/learning.md, "Literature
+ * of in a Box2D scene (sim/learn/evaluate.c); docs/learning.md, "Literature
  * tasks", says how each is set up and scored.
  *
  * Double pole (Wieland's equations, as in the NEAT and ESP code): cart

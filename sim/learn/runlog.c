@@ -1,4 +1,4 @@
-/* A learning run's folder, log and progress line (sim/runlog.h). */
+/* A learning run's folder, log and progress line (sim/learn/runlog.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "learn/runlog.h"
 #include "base/fileio.h"

@@ -1,4 +1,4 @@
-/* A task's simulation: scene + Lua environment + mind (sim/sim.h). */
+/* A task's simulation: scene + Lua environment + mind (sim/tasksim/tasksim.h). */
 #include "tasksim/tasksim.h"
 
 #include <inttypes.h>

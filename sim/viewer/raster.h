@@ -2,7 +2,7 @@
  * lines, rectangles, circles, convex polygons and text in a built-in 5x7
  * bitmap font. The viewer draws every frame into one and blits it, so a
  * screenshot is exactly what was shown; the learning loop draws its
- * learning curve into one and saves it as a PNG (sim/png.h).
+ * learning curve into one and saves it as a PNG (sim/viewer/png.h).
  *
  * Coordinates are pixels, x to the right and y downward, (0, 0) the
  * top-left corner. Pixel (i, j) covers [i, i + 1) x [j, j + 1); shapes
@@ -37,7 +37,7 @@ typedef struct evo_raster {
 int evo_raster_init(evo_raster *im, int w, int h, evo_err *err);
 /* Free the pixels and zero the struct; safe on a zeroed struct. */
 void evo_raster_free(evo_raster *im);
-/* Save as an 8-bit RGB PNG, atomically (sim/png.h). */
+/* Save as an 8-bit RGB PNG, atomically (sim/viewer/png.h). */
 int evo_raster_save_png(const evo_raster *im, const char *path,
 			   evo_err *err);
 

@@ -195,7 +195,7 @@ static void draw_object(evo_raster *im, const evo_view_camera *cam,
 		evo_raster_circle(im, sx, sy, r + 3, 2, EVO_VIEW_HELD, 255);
 }
 
-/* A proximity sensor's fan, ray by ray as sim/sensors.c casts it: from
+/* A proximity sensor's fan, ray by ray as sim/world2d/sensors.c casts it: from
  * the sensor's point, ray i at angle - arc + i * 2 arc / (n - 1) in the
  * bot's frame, `range` long, stopped at its hit fraction. */
 static void draw_rays(evo_raster *im, const evo_view_camera *cam,

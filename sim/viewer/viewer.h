@@ -1,7 +1,7 @@
 /* evo — the DEMOSIM viewer: a window on SDL2 that shows a scene as it
  * runs, with a panel of what the mind is doing.
  *
- * Each frame is drawn by evo's own code into an RGB raster (sim/raster.h)
+ * Each frame is drawn by evo's own code into an RGB raster (sim/viewer/raster.h)
  * and blitted with one streaming texture, so it needs no GPU (it runs
  * under Xvfb) and a screenshot is exactly the frame on screen. The
  * drawing itself (evo_view_render) needs no window, for tests and for

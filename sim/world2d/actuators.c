@@ -1,4 +1,4 @@
-/* evo — the actuators of a bot (sim/scene.h): wheels push, claws grab and
+/* evo — the actuators of a bot (sim/world2d/scene.h): wheels push, claws grab and
  * let go. evo_scene_step calls evo_actuator_act on each one before the
  * physics steps; a command is in [0, 1] and 0.5 is neutral. */
 #include <assert.h>

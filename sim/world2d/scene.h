@@ -2,7 +2,7 @@
  * of bots with their sensors and actuators, and the reward and control
  * functions of an episode.
  *
- * Everything here is C and runs every tick; Lua (sim/lua_evo.c) only
+ * Everything here is C and runs every tick; Lua (sim/lua/lua_evo.c) only
  * creates the pieces and may add hooks. The structs are open so that the
  * viewer and the tests can read them; they are changed only through the
  * functions below.
@@ -235,7 +235,7 @@ typedef enum evo_reward_kind {
 	EVO_RW_STEP,		      /* k every tick */
 	EVO_RW_COLLECT,		      /* k for each object delivered into the target zone */
 	EVO_RW_FORWARD_SPEED,	      /* k * speed along the heading (< 0 backing) */
-	EVO_RW_LUA,		      /* a Lua function (sim/lua_evo.c) */
+	EVO_RW_LUA,		      /* a Lua function (sim/lua/lua_evo.c) */
 	EVO_RW_KIND_COUNT
 } evo_reward_kind;
 

@@ -1,4 +1,4 @@
-/* evo — the sensors of a bot (sim/scene.h): each one samples the scene and
+/* evo — the sensors of a bot (sim/world2d/scene.h): each one samples the scene and
  * gives a value in [0, 1]; booleans read EVO_FALSE or EVO_TRUE.
  *
  * Proximity sensors are the costly ones: BotType8 carries ten of them with
@@ -7,7 +7,7 @@
  * for the shapes around the bot and intersects every ray with those few
  * shapes here, with the same arithmetic as Box2D's own ray casts (in
  * double): the readings agree with evo_world_raycast to float precision
- * (tests/sim/test_sensors.c checks it on random scenes). */
+ * (tests/sim/world2d/test_sensors.c checks it on random scenes). */
 #include <assert.h>
 #include <math.h>
 #include <stdlib.h>

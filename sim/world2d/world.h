@@ -1,6 +1,6 @@
 /* evo — the 2D world: a small C API over Box2D 2.4.
  *
- * sim/world_box2d.cpp is the only C++ file in evo; everything above it
+ * sim/world2d/world_box2d.cpp is the only C++ file in evo; everything above it
  * (sensors, actuators, environments, the task runner) is C and sees only
  * this header. Units are Box2D's (metres, kilograms, seconds, radians);
  * the world has no gravity (it is seen from above) and steps 30 times a

@@ -1,4 +1,4 @@
-// The 2D world over Box2D 2.4: the only C++ in evo (sim/world.h).
+// The 2D world over Box2D 2.4: the only C++ in evo (sim/world2d/world.h).
 #include "world2d/world.h"
 
 #include <box2d/box2d.h>

@@ -1,6 +1,6 @@
 /* Tests for core/src/net.c and core/src/net_compile.c: activation
  * functions against <math.h>, hand-computed networks, the compile order
- * and its errors, the layered builder (sim/net_build.c), and the bound on
+ * and its errors, the layered builder (sim/mind/net_build.c), and the bound on
  * the fixed-point error against the float reference (tests/support). */
 #include <math.h>
 #include <stdio.h>

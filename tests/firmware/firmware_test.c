@@ -22,8 +22,8 @@
 #include <unistd.h>
 
 #include "harness.h"
-#include "qemu_session.h"
-#include "trace_file.h"
+#include "host/qemu_session.h"
+#include "host/trace_file.h"
 
 #define SLOT_BYTES 8192 /* the MIND region of firmware/m0.ld and m3.ld */
 #define EXIT_IMAGE_CORRUPT 3

@@ -1,4 +1,4 @@
--- Unit tests of lua/learn/annealing.lua, run by tests/sim/test_lua_scripts.c.
+-- Unit tests of lua/learn/annealing.lua, run by tests/sim/lua/test_lua_scripts.c.
 -- Each entry of the returned table is one test; it fails by raising.
 local annealing = require "learn.annealing"
 local genetic = require "learn.genetic"

@@ -1,5 +1,5 @@
 -- Unit tests of the options machinery the learning methods share
--- (lua/learn/common.lua), run by tests/sim/test_lua_scripts.c over every
+-- (lua/learn/common.lua), run by tests/sim/lua/test_lua_scripts.c over every
 -- method in common.MODULES. Each entry of the returned table is one test;
 -- it fails by raising.
 local common = require "learn.common"

@@ -1,4 +1,4 @@
--- Unit tests of lua/learn/genetic.lua, run by tests/sim/test_lua_scripts.c.
+-- Unit tests of lua/learn/genetic.lua, run by tests/sim/lua/test_lua_scripts.c.
 -- Each entry of the returned table is one test; it fails by raising.
 local genetic = require "learn.genetic"
 local random = require "learn.rng"
@@ -143,7 +143,7 @@ function T.weight_count_matches_net_build()
 	check(#pop:genomes() == genetic.defaults.pop_size, "default population")
 end
 
--- The network sim/net_build.c builds for 2 inputs, 1 hidden layer, 1 output,
+-- The network sim/mind/net_build.c builds for 2 inputs, 1 hidden layer, 1 output,
 -- written by hand: hidden ids 3, 4 (after inputs 0, 1 and output 2), listed
 -- hidden first, each node its bias then its links from the previous layer.
 local HAND_NET = [[

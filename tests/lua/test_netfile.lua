@@ -1,5 +1,5 @@
 -- Unit tests of lua/learn/netfile.lua, the .net writer every learning
--- method uses, run by tests/sim/test_lua_scripts.c. Each entry of the
+-- method uses, run by tests/sim/lua/test_lua_scripts.c. Each entry of the
 -- returned table is one test; it fails by raising.
 local netfile = require "learn.netfile"
 

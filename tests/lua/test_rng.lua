@@ -1,5 +1,5 @@
 -- Unit tests of lua/learn/rng.lua, the generator every learning method
--- draws from, run by tests/sim/test_lua_scripts.c. Each entry of the
+-- draws from, run by tests/sim/lua/test_lua_scripts.c. Each entry of the
 -- returned table is one test; it fails by raising.
 local random = require "learn.rng"
 

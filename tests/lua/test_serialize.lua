@@ -1,5 +1,5 @@
 -- Unit tests of lua/learn/serialize.lua (the checkpoint's text), run by
--- tests/sim/test_lua_scripts.c. Each entry is one test; it fails by raising.
+-- tests/sim/lua/test_lua_scripts.c. Each entry is one test; it fails by raising.
 local serialize = require "learn.serialize"
 
 local function check(cond, msg)

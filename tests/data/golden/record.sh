@@ -1,5 +1,5 @@
 #!/bin/sh
-# Records the golden outputs that tests/sim/test_golden.c compares against:
+# Records the golden outputs that tests/sim/cmd/test_golden.c compares against:
 # the DEMOSIM traces and rewards of the four 2D examples, and the logs,
 # champions and reports of short learning runs. tests/data/golden/README.md
 # says what each file is.
@@ -10,7 +10,7 @@
 # the evo binary EVO (which finds its lua/ beside itself, as build/evo
 # does). It writes into OUTDIR, by default this script's folder. Learning
 # runs train copies of the mind folders in a temporary folder, never
-# minds/ itself. The commands here and in tests/sim/test_golden.c must stay
+# minds/ itself. The commands here and in tests/sim/cmd/test_golden.c must stay
 # the same.
 set -eu
 
@@ -85,7 +85,7 @@ sed -i 's/^NUMGEN:.*/NUMGEN:3/' "$tmp/dpnv-neat/DoublePoleNV/Tasks/DPNV-NEAT.sim
 learn dpnv-neat DoublePoleNV DPNV-NEAT.simbatch
 
 # Avoid in the 2D world, with this folder's small tasks; GENETIC and
-# ANNEALING train a layered network (layers:1), as tests/sim/test_learn.c
+# ANNEALING train a layered network (layers:1), as tests/sim/learn/test_learn.c
 # does.
 for method in NEAT GENETIC ANNEALING; do
 	name=avoid-$(echo "$method" | tr 'A-Z' 'a-z')

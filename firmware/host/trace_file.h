@@ -1,7 +1,7 @@
 /* A trace recorded by `evo run --trace` (docs/running.md): per tick the
  * sensor values the mind read and the actuator values it wrote, Q16. */
-#ifndef EVO_TEST_TRACE_FILE_H
-#define EVO_TEST_TRACE_FILE_H
+#ifndef EVO_FW_TRACE_FILE_H
+#define EVO_FW_TRACE_FILE_H
 
 #include <stddef.h>
 #include <stdint.h>

@@ -1,4 +1,4 @@
-/* The mind loader (sim/mind_load.c): the tutorial's files load; every
+/* The mind loader (sim/mind/mindfolder.c): the tutorial's files load; every
  * way a mind folder can be wrong is refused with file:line and a message
  * that says what is wrong. */
 #define _POSIX_C_SOURCE 200809L

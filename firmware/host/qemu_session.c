@@ -1,5 +1,5 @@
 /* A firmware under qemu-system-arm, driven over its serial line
- * (tests/firmware/qemu_session.h). */
+ * (firmware/host/qemu_session.h). */
 #define _GNU_SOURCE
 #include "qemu_session.h"
 

@@ -1,4 +1,4 @@
-/* Reward and control functions (sim/rewards.c): each one with bodies in a
+/* Reward and control functions (sim/world2d/rewards.c): each one with bodies in a
  * known situation and the value its documentation promises, computed
  * directly or through evo_scene_step. */
 #include <math.h>

@@ -1,4 +1,4 @@
-/* Reading a trace (tests/firmware/trace_file.h). */
+/* Reading a trace (firmware/host/trace_file.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "trace_file.h"
 

@@ -1,4 +1,4 @@
-/* The LEARNSIM evaluator (sim/evaluate.c) on EXP_Avoid (the Avoid example
+/* The LEARNSIM evaluator (sim/learn/evaluate.c) on EXP_Avoid (the Avoid example
  * in EvoAgents' environment, whose start is fixed and whose rewards pay
  * for standing still in the open): fitness does not
  * depend on the number of threads and repeats bit for bit; generations

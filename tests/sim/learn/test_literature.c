@@ -1,4 +1,4 @@
-/* The literature tasks (sim/literature.c): XOR scores a hand-made solver
+/* The literature tasks (sim/learn/literature.c): XOR scores a hand-made solver
  * near 16 and a zero network as unsolved; the double-pole physics keeps
  * an unperturbed upright cart still, lets a leaning pole fall the right
  * way, agrees with a ten times finer RK4, and a zero-force network fails

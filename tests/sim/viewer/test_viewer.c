@@ -1,4 +1,4 @@
-/* The DEMOSIM viewer (sim/viewer.c): a scene drawn where its pieces are,
+/* The DEMOSIM viewer (sim/viewer/viewer.c): a scene drawn where its pieces are,
  * in a real window under X. When DISPLAY is not set the test starts its
  * own Xvfb (the display number from -displayfd, never a fixed one) and
  * stops it at the end; when Xvfb cannot start, the window tests fail and

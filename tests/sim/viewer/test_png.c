@@ -1,5 +1,5 @@
-/* evo's PNG writer and reader (sim/png.c) and the raster it saves
- * (sim/raster.c): images round-trip, the checksums match their published
+/* evo's PNG writer and reader (sim/viewer/png.c) and the raster it saves
+ * (sim/viewer/raster.c): images round-trip, the checksums match their published
  * values, damaged or foreign files are refused with a reason, and the
  * drawing primitives put pixels where their contracts say. */
 #define _POSIX_C_SOURCE 200809L

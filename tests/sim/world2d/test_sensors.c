@@ -1,5 +1,5 @@
-/* The sensors (sim/sensors.c): each one placed in a known situation reads
- * what sim/scene.h promises, and the proximity sensors' own ray geometry
+/* The sensors (sim/world2d/sensors.c): each one placed in a known situation reads
+ * what sim/world2d/scene.h promises, and the proximity sensors' own ray geometry
  * agrees with Box2D's ray casts. */
 #include <math.h>
 #include <stdio.h>

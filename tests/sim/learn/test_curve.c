@@ -1,4 +1,4 @@
-/* The learning curve (sim/curve.c): the PNG reads back, and the curves
+/* The learning curve (sim/learn/curve.c): the PNG reads back, and the curves
  * are where the values put them. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>

@@ -1,4 +1,4 @@
-/* The 2D world over Box2D (sim/world_box2d.cpp): bodies move under forces
+/* The 2D world over Box2D (sim/world2d/world_box2d.cpp): bodies move under forces
  * as Box2D moves them, obstacles block, rays and queries find what is
  * there, stale ids are refused. */
 #include <math.h>

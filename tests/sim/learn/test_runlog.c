@@ -1,4 +1,4 @@
-/* A learning run's folder, log and progress line (sim/runlog.c). */
+/* A learning run's folder, log and progress line (sim/learn/runlog.c). */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -108,7 +108,7 @@ TEST(files_are_saved_whole)
 /* A fresh run's claim: the folder is created and locked; an earlier
  * run's files move whole to the first free .N, the lock stays; a folder
  * that holds no run is left as it is. (Two processes and the lock:
- * tests/sim/test_learn.c.) */
+ * tests/sim/learn/test_learn.c.) */
 TEST(claim_locks_and_an_earlier_run_moves_aside)
 {
 	char run[256], path[400];

@@ -1,4 +1,4 @@
-/* `evo run` end to end (sim/run.c): every shipped example's DEMOSIM runs
+/* `evo run` end to end (sim/cmd/run.c): every shipped example's DEMOSIM runs
  * headless with the same rewards on every run of a seed; an environment and
  * a bot written in a test's own mind folder run without recompiling;
  * script errors and unknown sensor names end the run with file:line and a

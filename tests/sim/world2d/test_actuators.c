@@ -1,4 +1,4 @@
-/* The actuators (sim/actuators.c): wheels push the bot the way the frame
+/* The actuators (sim/world2d/actuators.c): wheels push the bot the way the frame
  * says (y down on screen, angles clockwise), and the claw grabs on a
  * rising edge what lies in reach, carries it, and lets go on a falling
  * edge. */

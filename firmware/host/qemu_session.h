@@ -5,8 +5,8 @@
  *
  * Every session has a deadline: past it QEMU is killed, so a test can
  * never hang; QEMU also dies with the process that started it. */
-#ifndef EVO_TEST_QEMU_SESSION_H
-#define EVO_TEST_QEMU_SESSION_H
+#ifndef EVO_FW_QEMU_SESSION_H
+#define EVO_FW_QEMU_SESSION_H
 
 #include <stddef.h>
 #include <sys/types.h>

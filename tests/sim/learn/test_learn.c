@@ -1,4 +1,4 @@
-/* LEARNSIM end to end (sim/learn.c, lua/learn/learnsim.lua): the same
+/* LEARNSIM end to end (sim/learn/learn.c, lua/learn/learnsim.lua): the same
  * seed gives the same log with one thread and with two; a run killed with
  * SIGKILL or interrupted with Ctrl-C's SIGINT in the middle of a generation
  * and resumed ends with the same log and champion as a run never
