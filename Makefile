@@ -190,7 +190,12 @@ $(BUILD)/obj/tests/core_check_entry_host.o: tests/core_check_entry.c
 	$(CC) -std=c11 $(WARN) -Icore/include -c $< -o $@
 
 core-check: deps $(ARM_OBJS) $(BUILD)/arm/runtime.elf $(BUILD)/evo \
+		$(BUILD)/libevocore.a \
 		$(BUILD)/arm/core_check_entry.o $(BUILD)/obj/tests/core_check_entry_host.o
+	@syms=$$(nm -A -g --defined-only $(BUILD)/libevocore.a) || { echo "core-check: FAIL: cannot list the symbols of $(BUILD)/libevocore.a"; exit 1; }; \
+	bad=$$(printf '%s\n' "$$syms" | awk 'NF == 3 && $$3 !~ /^evo_/ { n = split($$1, p, ":"); print "  " $$3 " (" p[n - 1] ")" }' | sort -u); \
+	if [ -n "$$bad" ]; then echo "core-check: FAIL: $(BUILD)/libevocore.a exports global symbols without the evo_ prefix (a firmware linking core beside other code could clash on them):"; echo "$$bad"; exit 1; fi; \
+	echo "core-check: every global symbol of $(BUILD)/libevocore.a starts with evo_"
 	@bad=$$($(ARM_NM) -u $(ARM_OBJS) $(BUILD)/arm/runtime.elf | \
 		grep -E ' (malloc|calloc|realloc|free|printf|fprintf|sprintf|snprintf|puts|putchar|__aeabi_f[a-z0-9_]*|__aeabi_d[a-z0-9_]*|__aeabi_[ui]?[lf]2[fd]|__(add|sub|mul|div)[sd]f3)$$' | sort -u); \
 	if [ -n "$$bad" ]; then echo "core-check: core/ references forbidden symbols:"; echo "$$bad"; exit 1; fi
