@@ -16,10 +16,10 @@
 #include <string.h>
 #include <time.h>
 
+#include "mind/task.h"
+#include "tasksim/tasksim.h"
 #include "world2d/query.h"
 #include "world2d/scene.h"
-#include "tasksim/tasksim.h"
-#include "mind/task.h"
 
 static double now(void)
 {

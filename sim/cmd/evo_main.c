@@ -4,11 +4,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cmd/export_c.h"
 #include "base/fileio.h"
+#include "cmd/export_c.h"
+#include "cmd/run.h"
 #include "learn/learn.h"
 #include "mind/mindfolder.h"
-#include "cmd/run.h"
 #include "mind/task.h"
 
 static void usage(FILE *f)

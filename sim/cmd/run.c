@@ -11,8 +11,8 @@
 #include <unistd.h>
 
 #include "learn/learn.h"
-#include "tasksim/tasksim.h"
 #include "mind/task.h"
+#include "tasksim/tasksim.h"
 #include "viewer/viewer.h"
 
 static volatile sig_atomic_t stop_requested;

@@ -10,9 +10,9 @@
 #include <unistd.h>
 
 #include "learn/literature.h"
-#include "world2d/scene.h"
-#include "tasksim/tasksim.h"
 #include "mind/task.h"
+#include "tasksim/tasksim.h"
+#include "world2d/scene.h"
 
 /* Stream tags of evo_rng_for (evaluate.h); `evo run` uses 1 and 2. */
 enum { TAG_GRID = 3, TAG_EPISODE = 4 };

@@ -37,8 +37,8 @@
 
 #include <stdint.h>
 
-#include "evo/evo.h"
 #include "base/err.h"
+#include "evo/evo.h"
 
 typedef struct evo_evaluator evo_evaluator;
 

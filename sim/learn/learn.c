@@ -25,9 +25,9 @@
 #include "learn/curve.h"
 #include "learn/evaluate.h"
 #include "learn/literature.h"
+#include "learn/runlog.h"
 #include "lua/lua_evo.h"
 #include "mind/net_build.h"
-#include "learn/runlog.h"
 
 typedef struct learn {
 	const char *task_path;

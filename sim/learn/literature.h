@@ -23,8 +23,8 @@
 #ifndef EVO_LITERATURE_H
 #define EVO_LITERATURE_H
 
-#include "evo/evo.h"
 #include "base/err.h"
+#include "evo/evo.h"
 
 #define EVO_LIT_POLE_SUCCESS   100000L /* steps that count as balanced */
 #define EVO_LIT_DAMPING_STEPS  1000L   /* the DPNV fitness run */

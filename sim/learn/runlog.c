@@ -1,7 +1,6 @@
 /* A learning run's folder, log and progress line (sim/learn/runlog.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "learn/runlog.h"
-#include "base/fileio.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -11,6 +10,8 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+
+#include "base/fileio.h"
 
 static const char HEADER[] =
 	"generation,best,mean,best_ever,species,evaluations,solved,seconds,"

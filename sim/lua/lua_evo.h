@@ -9,8 +9,8 @@
 #ifndef EVO_LUA_EVO_H
 #define EVO_LUA_EVO_H
 
-#include "evo/evo.h"
 #include "base/err.h"
+#include "evo/evo.h"
 #include "world2d/scene.h"
 
 typedef struct evo_lua evo_lua;

@@ -12,8 +12,8 @@
 #ifndef EVO_MIND_LOAD_H
 #define EVO_MIND_LOAD_H
 
-#include "evo/evo.h"
 #include "base/err.h"
+#include "evo/evo.h"
 
 typedef struct evo_mindfolder_opts {
 	/* The master skill; NULL: the one skill of Skills/ that no other

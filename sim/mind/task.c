@@ -1,11 +1,12 @@
 #define _DEFAULT_SOURCE /* realpath */
 #define _POSIX_C_SOURCE 200809L
 #include "mind/task.h"
-#include "base/fileio.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "base/fileio.h"
 
 /* Keys a task type cannot run without. */
 static const char *const demo_keys[] = {"MASTERSKILL", "BOTMODEL", "ENV",

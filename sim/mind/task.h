@@ -8,8 +8,8 @@
 #ifndef EVO_TASK_H
 #define EVO_TASK_H
 
-#include "evo/evo.h"
 #include "base/err.h"
+#include "evo/evo.h"
 #include "mind/mindfolder.h"
 
 typedef struct evo_task {

@@ -5,12 +5,13 @@
  * learning curve or a screenshot is mostly runs of one colour, which
  * deflate packs well without a row filter. */
 #include "viewer/png.h"
-#include "base/fileio.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <zlib.h>
+
+#include "base/fileio.h"
 
 static const uint8_t signature[8] = {0x89, 'P',	 'N',  'G',
 				     '\r', '\n', 0x1A, '\n'};

@@ -1,10 +1,11 @@
 /* evo — the actuators of a bot (sim/world2d/scene.h): wheels push, claws grab and
  * let go. evo_scene_step calls evo_actuator_act on each one before the
  * physics steps; a command is in [0, 1] and 0.5 is neutral. */
+#include "world2d/actuators.h"
+
 #include <assert.h>
 #include <math.h>
 
-#include "world2d/actuators.h"
 #include "world2d/query.h"
 
 /* The claw takes what lies within ±45 degrees of its direction. */

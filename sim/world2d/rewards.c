@@ -7,12 +7,13 @@
  * episode. Each function reads the bot and the elements it names by index;
  * an index that names nothing gives 0 (a reward) or "go on" (a control)
  * rather than a crash, since environments move things between episodes. */
+#include "world2d/rewards.h"
+
 #include <math.h>
 #include <string.h>
 
 #include "world2d/actuators.h"
 #include "world2d/query.h"
-#include "world2d/rewards.h"
 
 /* ---- names ------------------------------------------------------------ */
 

@@ -8,12 +8,13 @@
  * shapes here, with the same arithmetic as Box2D's own ray casts (in
  * double): the readings agree with evo_world_raycast to float precision
  * (tests/sim/world2d/test_sensors.c checks it on random scenes). */
+#include "world2d/sensors.h"
+
 #include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 
 #include "world2d/query.h"
-#include "world2d/sensors.h"
 
 /* Shapes kept on the stack for one query; a crowd larger than this goes
  * to the heap. */

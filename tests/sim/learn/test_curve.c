@@ -6,8 +6,8 @@
 #include <stdlib.h>
 #include <unistd.h>
 
-#include "learn/curve.h"
 #include "harness.h"
+#include "learn/curve.h"
 #include "viewer/png.h"
 
 static uint32_t pixel(const evo_png_image *img, int x, int y)

@@ -1,0 +1,115 @@
+#!/bin/sh
+# The layout rules of sim/README.md and STYLE.md, checked on the tree:
+#   - every sim/ folder is in sim/README.md's table and has a README;
+#   - a sim/ folder includes only its own headers and those of the folders
+#     its row lets it use (core's public evo/*.h where the row says core);
+#   - no file outside a folder includes that folder's *_internal.h, except
+#     the folder's own tests (tests/sim/<folder>/);
+#   - core/ includes nothing of sim/, and nothing includes a header by a
+#     relative path ("../");
+#   - bench/ includes no test code (tests/);
+#   - every file docs/architecture.md names exists (a bare name such as
+#     `step.c` must name exactly one file of the tree).
+# Run from the repository root (make test does). Ends with
+# "N passed, N failed" and exits non-zero on a failure.
+cd "$(dirname "$0")/.." || exit 2
+passed=0
+failed=0
+pass() { passed=$((passed + 1)); }
+fail() {
+	echo "FAIL: $*"
+	failed=$((failed + 1))
+}
+
+# The table: "| `name/` | what | a, b, core |" -> "name: a b core".
+table=$(awk -F'|' '/^\| `[a-z0-9]+\/` \|/ {
+	name = $2; gsub(/[ `\/]/, "", name)
+	uses = $4; gsub(/[,—]/, " ", uses); gsub(/  +/, " ", uses)
+	print name ":" uses }' sim/README.md)
+[ -n "$table" ] || fail "sim/README.md: no folder table found"
+
+allowed() { # folder -> its allowed folders, space separated
+	printf '%s\n' "$table" | awk -F: -v f="$1" '$1 == f { print $2 }'
+}
+
+# Every folder of sim/ is in the table and has a README.
+for d in sim/*/; do
+	f=$(basename "$d")
+	if printf '%s\n' "$table" | grep -q "^$f:"; then pass; else
+		fail "sim/$f/ is not in sim/README.md's table"; fi
+	if [ -f "sim/$f/README.md" ]; then pass; else
+		fail "sim/$f/ has no README.md"; fi
+done
+
+# Includes of each sim/ folder.
+for d in sim/*/; do
+	f=$(basename "$d")
+	ok=$(allowed "$f")
+	bad=0
+	for src in "$d"*.c "$d"*.h "$d"*.cpp; do
+		[ -f "$src" ] || continue
+		for inc in $(sed -n 's/^#include "\([^"]*\)".*/\1/p' "$src"); do
+			case $inc in
+			*/*) dir=${inc%%/*} ;;
+			*) fail "$src: includes \"$inc\" without its folder"; bad=1; continue ;;
+			esac
+			[ "$dir" = "$f" ] && continue
+			[ "$dir" = evo ] && dir=core
+			case " $ok " in
+			*" $dir "*) ;;
+			*) fail "$src: includes \"$inc\", but sim/$f/ may use only:$ok"; bad=1 ;;
+			esac
+		done
+	done
+	[ $bad = 0 ] && pass
+done
+
+# Private headers stay in their folder (and its tests).
+for h in sim/*/*_internal.h; do
+	[ -f "$h" ] || continue
+	f=$(basename "$(dirname "$h")")
+	name="$f/$(basename "$h")"
+	users=$(grep -rl --include='*.c' --include='*.h' --include='*.cpp' \
+		"#include \"$name\"" sim tests bench firmware core 2>/dev/null |
+		grep -v "^sim/$f/" | grep -v "^tests/sim/$f/")
+	if [ -z "$users" ]; then pass; else
+		fail "$name is private to sim/$f/, but included by: $(echo $users)"; fi
+done
+
+# core/ stands alone; no relative includes anywhere.
+if grep -rn '#include "' core | grep -v '#include "evo/' |
+	grep -qv '^core/src/'; then
+	fail "core/include includes something other than evo/*.h"
+else pass; fi
+rel=$(grep -rn '#include "[^"]*\.\./' core sim tests bench firmware 2>/dev/null)
+if [ -z "$rel" ]; then pass; else fail "relative includes: $rel"; fi
+
+# bench/ includes no test code.
+benchbad=""
+for src in bench/*.c; do
+	for inc in $(sed -n 's/^#include "\([^"]*\)".*/\1/p' "$src"); do
+		[ -f "tests/$inc" ] && benchbad="$benchbad $src:$inc"
+	done
+done
+if [ -z "$benchbad" ]; then pass; else fail "bench includes test code:$benchbad"; fi
+
+# Every file docs/architecture.md names exists.
+if [ -f docs/architecture.md ]; then
+	missing=""
+	for p in $(grep -o '`[a-z0-9_./-]*\.\(c\|h\|cpp\|lua\|md\)`' docs/architecture.md |
+		tr -d '`' | sort -u); do
+		case $p in
+		*/*) [ -f "$p" ] || missing="$missing $p" ;;
+		*) # a bare name must name exactly one file of the tree
+			n=$(find core sim lua firmware -name "$p" | wc -l)
+			[ "$n" -eq 1 ] || missing="$missing $p($n found)" ;;
+		esac
+	done
+	if [ -z "$missing" ]; then pass; else
+		fail "docs/architecture.md names files that do not exist:$missing"; fi
+else
+	fail "docs/architecture.md is missing"
+fi
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
