@@ -51,7 +51,7 @@ HOST_OBJS := $(patsubst %.c,$(BUILD)/obj/%.o,$(HOST_SRCS)) \
 SUPPORT_OBJS := $(patsubst %.c,$(BUILD)/obj/%.o,$(TEST_SUPPORT))
 
 .PHONY: all help deps test test-plain test-asan run install core-check fuzz \
-	format clean bench firmware-test
+	format clean bench bench-compare firmware-test
 .DEFAULT_GOAL := all
 # Keep objects make would otherwise treat as intermediate and delete.
 .SECONDARY:
@@ -66,6 +66,7 @@ help:
 	@echo "make core-check compile core/ for Cortex-M0+ and check what it links"
 	@echo "make fuzz       run each parser's fuzz target for FUZZ_SECONDS"
 	@echo "make bench      benchmarks, each beside its baseline in the same run"
+	@echo "make bench-compare BASE=REV  bench_world and bench_evaluate of REV beside this tree's"
 	@echo "make install    install evo and lua/ under PREFIX ($(PREFIX))"
 	@echo "make format     apply .clang-format to the C sources"
 
@@ -117,6 +118,14 @@ $(BUILD)/bench/%: $(BUILD)/obj/bench/%.o $(BUILD)/libevohost.a $(BUILD)/libevoco
 
 bench: deps $(BENCH_BINS)
 	@rc=0; for b in $(BENCH_BINS); do echo "== $$b"; $$b || rc=1; done; exit $$rc
+
+# bench_world and bench_evaluate of commit BASE beside this tree's, in turns
+# in the same run (bench/compare.sh): a change that should cost nothing is
+# checked against the commit before it.
+BASE ?= HEAD
+ROUNDS ?= 3
+bench-compare: deps
+	@sh bench/compare.sh $(BASE) $(ROUNDS)
 
 test-bins: $(TEST_BINS) $(BUILD)/evo $(BUILD)/tests/net_dump_O0 $(BUILD)/tests/net_dump_O2
 

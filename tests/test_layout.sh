@@ -93,6 +93,26 @@ for src in bench/*.c; do
 done
 if [ -z "$benchbad" ]; then pass; else fail "bench includes test code:$benchbad"; fi
 
+# One tick flows downward in world2d/: the element queries and the pieces
+# that run each tick (sensors, actuators, rewards) call nothing of the
+# scene's storage, grid or step, which drive them. Checked on the objects
+# the build made (EVO_BUILD, default build), by the symbols they use.
+obj=${EVO_BUILD:-build}/obj/sim/world2d
+if [ -f "$obj/step.o" ]; then
+	tmp=$(mktemp -d)
+	nm --defined-only -g "$obj/scene.o" "$obj/step.o" "$obj/grid.o" |
+		awk 'NF == 3 { print $3 }' | sort -u >"$tmp/above"
+	for piece in query sensors actuators rewards; do
+		nm -u "$obj/$piece.o" | awk '{ print $2 }' | sort -u >"$tmp/used"
+		up=$(comm -12 "$tmp/above" "$tmp/used")
+		if [ -z "$up" ]; then pass; else
+			fail "world2d/$piece.c calls up into scene.c, grid.c or step.c: $(echo $up)"; fi
+	done
+	rm -rf "$tmp"
+else
+	fail "no $obj/step.o: build first (make test-bins)"
+fi
+
 # Every file docs/architecture.md names exists.
 if [ -f docs/architecture.md ]; then
 	missing=""
