@@ -142,11 +142,43 @@ test-asan:
 		SAN="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" \
 		test-plain
 
+# ThreadSanitizer over the tests that start threads (the evaluator's pool,
+# the learning loop) and the viewer-free `evo run --headless` runs, whose
+# evo is build/tsan/evo. A report makes its process exit 66 at once
+# (halt_on_error), which tests/run.sh counts as a failure; as an evo that
+# a test expects to fail could hide its exit status, every report also
+# goes to a file under TSAN_REPORTS, and any such file fails the target.
+# tests/tsan.supp may name only Box2D's own races; it names none (see there).
+TSAN_SRCS := tests/sim/learn/test_evaluate.c tests/sim/learn/test_learn.c \
+	tests/sim/learn/test_literature.c tests/sim/cmd/test_run.c \
+	tests/sim/cmd/test_golden.c
+TSAN_BINS := $(patsubst tests/%.c,build/tsan/tests/%,$(TSAN_SRCS))
+TSAN_REPORTS := build/tsan/reports
+TSAN_OPTIONS_ALL := suppressions=$(CURDIR)/tests/tsan.supp halt_on_error=1 \
+	exitcode=66 print_suppressions=0 second_deadlock_stack=1 \
+	log_path=$(CURDIR)/$(TSAN_REPORTS)/tsan
+
+.PHONY: test-tsan
+test-tsan:
+	@$(MAKE) --no-print-directory BUILD=build/tsan OPT="-O1 -g" \
+		SAN="-fsanitize=thread -fno-omit-frame-pointer" \
+		build/tsan/evo $(TSAN_BINS)
+	@rm -rf $(TSAN_REPORTS) && mkdir -p $(TSAN_REPORTS)
+	@TSAN_OPTIONS="$(TSAN_OPTIONS_ALL)" EVO_BUILD=build/tsan \
+		sh tests/run.sh $(TSAN_BINS); rc=$$?; \
+	for f in $(TSAN_REPORTS)/tsan.*; do \
+		[ -e "$$f" ] || continue; rc=1; \
+		echo "== ThreadSanitizer report $$f"; cat "$$f"; \
+	done; \
+	[ $$rc -eq 0 ] || echo "test-tsan: FAILED (see the tests and reports above)"; \
+	exit $$rc
+
 test: deps
 	@$(MAKE) --no-print-directory core-check
 	@$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=$(TEST_FUZZ_SECONDS)
 	@$(MAKE) --no-print-directory test-plain
 	@$(MAKE) --no-print-directory test-asan
+	@$(MAKE) --no-print-directory test-tsan
 	@$(MAKE) --no-print-directory firmware-test
 
 # The main job: train the Avoid example with NEAT on a copy of its folder

@@ -3,7 +3,9 @@
  * for standing still in the open): fitness does not
  * depend on the number of threads and repeats bit for bit; generations
  * change the grids; a candidate's index changes its episode seed but not
- * its grids; a network of the wrong shape is refused by name; a
+ * its grids; a network of the wrong shape is refused by name; a network
+ * the mind image refuses fails its batch by name while the other workers
+ * run theirs, and leaves the evaluator as good as new; a
  * zero-weight network (wheels neutral) earns a fitness we can reason
  * about. Episodes are kept short (300 ticks) so this runs in seconds, also
  * under ASan. */
@@ -205,6 +207,65 @@ TEST(wrong_shape_is_refused)
 	evo_evaluator_destroy(ev);
 }
 
+/* A candidate of the right shape that the mind image refuses (its output
+ * names a node it does not have) passes evo_evaluate's shape check and
+ * fails on its worker only, while the other workers are mid-evaluation:
+ * four threads, sixteen candidates of 2 x 300 ticks, the bad one at index
+ * 6, which a worker takes only after the first four are under way. The
+ * batch fails naming that candidate and its generation; the failing
+ * worker's mind folder then holds the refused network and no image. A
+ * second batch failing at its last index is named by its own index, not
+ * the first's. A good batch afterwards gets the same fitness and
+ * collisions, bit for bit, as a fresh evaluator gives it, and destroy
+ * joins cleanly (ASan and TSan runs see it). */
+TEST(failing_candidate_amid_a_batch)
+{
+	enum { THREADS = 4, N = 16, BAD = 6 };
+	evo_evaluator *ev = make(THREADS, 42, 2, 300), *fresh = NULL;
+	evo_netdesc *bad = malloc(sizeof *bad);
+	CHECK(ev && bad);
+	if (!ev || !bad)
+		goto out;
+	*bad = *cand[1];
+	bad->out_id[0] = 999; /* no node 999: EVO_ERR_NAME */
+	const evo_netdesc *c[N];
+	for (int i = 0; i < N; i++)
+		c[i] = cand[i % N_CAND];
+	c[BAD] = bad;
+	evo_eval_result res[N];
+	evo_err err = {{0}};
+	CHECK_EQ_INT(evo_evaluate(ev, c, N, 3, res, &err), -1);
+	CHECK_CONTAINS(err.msg, "generation 3, candidate 6: ");
+	CHECK_CONTAINS(err.msg, "cannot build the mind image");
+	printf("  failed as: %s\n", err.msg);
+
+	c[BAD] = cand[BAD % N_CAND];
+	c[N - 1] = bad;
+	err.msg[0] = 0;
+	CHECK_EQ_INT(evo_evaluate(ev, c, N, 3, res, &err), -1);
+	CHECK_CONTAINS(err.msg, "generation 3, candidate 15: ");
+	CHECK(!strstr(err.msg, "candidate 6:"));
+
+	c[N - 1] = cand[(N - 1) % N_CAND];
+	double after[N], want[N];
+	long after_col[N];
+	CHECK_EQ_INT(run_batch(ev, c, N, 3, after), 0);
+	for (int i = 0; i < N; i++)
+		after_col[i] = last[i].collisions;
+	fresh = make(THREADS, 42, 2, 300);
+	CHECK(fresh != NULL);
+	if (!fresh)
+		goto out;
+	CHECK_EQ_INT(run_batch(fresh, c, N, 3, want), 0);
+	CHECK(memcmp(after, want, sizeof want) == 0);
+	for (int i = 0; i < N; i++)
+		CHECK_EQ_INT(after_col[i], last[i].collisions);
+out:
+	free(bad);
+	evo_evaluator_destroy(ev);
+	evo_evaluator_destroy(fresh);
+}
+
 /* All weights zero: both wheels get 0.5, which is neutral, so the bot
  * stays where it starts (no obstacle within reach of the start: the grid
  * keeps clear of it). Its sensors then read the same every tick and every
@@ -283,6 +344,7 @@ int main(void)
 	RUN(seed_derivation);
 	RUN(same_candidate_two_indices_same_grids);
 	RUN(wrong_shape_is_refused);
+	RUN(failing_candidate_amid_a_batch);
 	RUN(zero_network_stands_still);
 	RUN(dpnv_success_is_deferred);
 	RUN(bad_task_is_refused);
