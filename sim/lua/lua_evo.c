@@ -9,6 +9,7 @@
 #include <lauxlib.h>
 #include <lua.h>
 #include <lualib.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,30 +27,41 @@ static int is_dir_with(const char *dir, const char *sub)
 	return access(p, R_OK) == 0;
 }
 
+/* Found once: the evaluator's workers each create a Lua state at the same
+ * time, and two realpath calls into one static buffer were a data race
+ * (ThreadSanitizer, make test-tsan). Empty when no candidate exists. */
+static char exe_lua_dir[1024];
+static pthread_once_t exe_lua_dir_once = PTHREAD_ONCE_INIT;
+
+static void find_exe_lua_dir(void)
+{
+	char exe[1024];
+	ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+	if (n <= 0)
+		return;
+	exe[n] = 0;
+	char *slash = strrchr(exe, '/');
+	if (slash)
+		*slash = 0;
+	/* build/evo, build/asan/evo, PREFIX/bin/evo */
+	const char *tries[] = {"%s/../lua", "%s/../../lua",
+			       "%s/../share/evo/lua"};
+	for (unsigned i = 0; i < 3; i++) {
+		char raw[1100];
+		snprintf(raw, sizeof raw, tries[i], exe);
+		if (is_dir_with(raw, "envs") && realpath(raw, exe_lua_dir))
+			return;
+	}
+	exe_lua_dir[0] = 0;
+}
+
 const char *evo_lua_dir(void)
 {
-	static char dir[1024];
 	const char *env = getenv("EVO_LUA_DIR");
 	if (env && env[0])
 		return env;
-	char exe[1024];
-	ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
-	if (n > 0) {
-		exe[n] = 0;
-		char *slash = strrchr(exe, '/');
-		if (slash)
-			*slash = 0;
-		/* build/evo, build/asan/evo, PREFIX/bin/evo */
-		const char *tries[] = {"%s/../lua", "%s/../../lua",
-				       "%s/../share/evo/lua"};
-		for (unsigned i = 0; i < 3; i++) {
-			char raw[1100];
-			snprintf(raw, sizeof raw, tries[i], exe);
-			if (is_dir_with(raw, "envs") && realpath(raw, dir))
-				return dir;
-		}
-	}
-	return "lua";
+	pthread_once(&exe_lua_dir_once, find_exe_lua_dir);
+	return exe_lua_dir[0] ? exe_lua_dir : "lua";
 }
 
 /* ---- loading files ------------------------------------------------------- */

@@ -15,8 +15,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "learn/evaluate.h"
 #include "harness.h"
+#include "learn/evaluate.h"
 #include "mind/net_build.h"
 #include "support/rng.h"
 
