@@ -5,8 +5,9 @@
 #   BUILD/libevocore.a       core/ (freestanding C11)
 #   BUILD/libevohost.a       sim/ (host side)
 #   BUILD/tests/...          one test binary per tests/**/test_*.c
-# `make test` builds and runs every test twice: plainly (build/) and under
-# AddressSanitizer + UndefinedBehaviorSanitizer (build/asan/).
+# `make test` builds and runs every test plainly (build/), under
+# AddressSanitizer + UndefinedBehaviorSanitizer (build/asan/), and the
+# threaded ones under ThreadSanitizer (build/tsan/).
 
 BUILD ?= build
 CC ?= cc
@@ -61,7 +62,7 @@ all: $(BUILD)/evo $(BUILD)/libevocore.a $(BUILD)/libevohost.a
 help:
 	@echo "make            build build/evo and the libraries"
 	@echo "make deps       install the Debian packages evo needs (as root)"
-	@echo "make test       deps, build, run every test plainly and under ASan+UBSan"
+	@echo "make test       deps, build, run every test plainly, under ASan+UBSan and TSan"
 	@echo "make run        deps, build, run the main job on a shipped example"
 	@echo "make core-check compile core/ for Cortex-M0+ and check what it links"
 	@echo "make fuzz       run each parser's fuzz target for FUZZ_SECONDS"
@@ -148,7 +149,7 @@ test-asan:
 # (halt_on_error), which tests/run.sh counts as a failure; as an evo that
 # a test expects to fail could hide its exit status, every report also
 # goes to a file under TSAN_REPORTS, and any such file fails the target.
-# tests/tsan.supp may name only Box2D's own races; it names none (see there).
+# tests/tsan.supp names only Box2D's own unlocked global counters.
 TSAN_SRCS := tests/sim/learn/test_evaluate.c tests/sim/learn/test_learn.c \
 	tests/sim/learn/test_literature.c tests/sim/cmd/test_run.c \
 	tests/sim/cmd/test_golden.c
