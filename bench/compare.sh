@@ -8,6 +8,9 @@
 # fall on one side only), and the best figure of each build is printed
 # with the ratio of this tree's to the base's. A ratio at or above 1 is no
 # worse. Timings on a shared machine are noisy; the ratio of one run holds.
+# Where valgrind is installed, the instructions a DEMOSIM run and a short
+# learning run execute are counted in each build too: a figure no other
+# process on the machine can move.
 #
 # usage: sh bench/compare.sh BASE [ROUNDS]   (from the repository root)
 set -eu
@@ -68,4 +71,39 @@ report tick/floor bench_world '/ratio .* of the floor/ { print $2 }'
 report physics-floor-ticks/s bench_world '/physics floor/ { print $(NF - 3) }'
 report evaluations/s-1-thread bench_evaluate '/1 thread :/ { print $4 }'
 report evaluations/s-2-threads bench_evaluate '/2 threads:/ { print $3 }'
+
+# Instructions, which no other process on the machine changes: callgrind
+# counts what a DEMOSIM run and a short learning run (one thread) execute
+# in each build. Fewer is better, so here a ratio at or below 1 is no worse.
+if command -v valgrind >/dev/null 2>&1; then
+	task=tests/data/golden/tasks/Avoid-NEAT-golden.simbatch
+	count() { # tree label command...
+		tree=$1 label=$2
+		shift 2
+		(cd "$tree" && valgrind --tool=callgrind \
+			--callgrind-out-file=/dev/null "$@" 2>&1) |
+			sed -n 's/.*Collected : \([0-9]*\).*/\1/p' >"$out/ir-$label-$(basename "$tree")"
+	}
+	for tree in "$dir" .; do
+		count "$tree" demo build/evo run minds/Avoid/Tasks/Avoid-DEMO.simbatch \
+			--headless --seed 3 --episodes 2 --ticks 3000
+		t=$(mktemp -d)
+		cp -r minds/Avoid "$t/" && cp "$task" "$t/Avoid/Tasks/"
+		count "$tree" learn build/evo run "$t/Avoid/Tasks/$(basename "$task")" \
+			--seed 1 --threads 1 --run "$t/run"
+		rm -rf "$t"
+	done
+	echo "instructions (callgrind)                base $rev   this tree   ratio"
+	for label in demo learn; do
+		a=$(cat "$out/ir-$label-$(basename "$dir")")
+		b=$(cat "$out/ir-$label-.")
+		if [ -z "$a" ] || [ -z "$b" ]; then
+			echo "bench-compare: callgrind counted nothing for '$label'" >&2
+			exit 1
+		fi
+		echo "$label $a $b" | awk '{ printf "  %-34s %12.0f %12.0f   %5.3f\n", $1, $2, $3, $3 / $2 }'
+	done
+else
+	echo "bench-compare: no valgrind, so no instruction counts (apt-get install valgrind)"
+fi
 echo "bench-compare: the benchmarks' own output is in $out"

@@ -181,16 +181,6 @@ int evo_scene_add_element(evo_scene *sc, const evo_element_def *d)
 	return sc->n_elements++;
 }
 
-void evo_bot_refresh_pose(evo_scene *sc, evo_bot *b)
-{
-	evo_pose p = evo_body_pose(sc->world, b->body);
-	b->x = p.x;
-	b->y = p.y;
-	b->angle = p.angle;
-	b->c = cos(p.angle);
-	b->s = sin(p.angle);
-}
-
 int evo_scene_add_bot(evo_scene *sc, const evo_bot_def *d)
 {
 	double v[] = {d->x, d->y, d->angle};
