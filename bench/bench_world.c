@@ -6,7 +6,8 @@
  * forces, with no sensing, no mind and no Lua. The full tick is what
  * `evo run --headless` does: ten proximity sensors and the other sensors,
  * the mind, the actuators, the physics, the rewards and the controls.
- * Bar (issue 3): the full tick reaches at least 0.35 of the floor.
+ * Bar (issue 15, raised from issue 3's 0.35): the full tick reaches at
+ * least 0.40 of the floor.
  *
  * usage: bench_world [TASK.simbatch] [--ticks N] */
 #define _POSIX_C_SOURCE 200809L
@@ -20,6 +21,9 @@
 #include "tasksim/tasksim.h"
 #include "world2d/query.h"
 #include "world2d/scene.h"
+
+#define ROUNDS 15
+#define BAR 0.40
 
 static double now(void)
 {
@@ -152,10 +156,11 @@ int main(int argc, char **argv)
 	for (int k = 0; k < s->scene->bot[0].n_sensors; k++)
 		n_prox += s->scene->bot[0].sensor[k].def.kind ==
 			  EVO_SENSOR_PROXIMITY;
-	/* Alternate the two, best of five each: the machine's noise hits
-	 * both alike. */
+	/* Alternate the two, best of ROUNDS each: the machine's noise hits
+	 * both alike, and a run is short (tens of milliseconds), so enough
+	 * of them find a quiet spell. */
 	double best_floor = 0, best_full = 0;
-	for (int round = 0; round < 5; round++) {
+	for (int round = 0; round < ROUNDS; round++) {
 		double f = run_floor(s->scene, ticks);
 		double e = run_full(s, ticks, &episode);
 		best_floor = f > best_floor ? f : best_floor;
@@ -163,22 +168,22 @@ int main(int argc, char **argv)
 	}
 	double ratio = best_full / best_floor;
 	double naive = raycast_sensing_us(s, ticks / 10);
-	printf("EXP_Avoid, one robot (%s), %d static obstacles, best of 5 "
+	printf("EXP_Avoid, one robot (%s), %d static obstacles, best of %d "
 	       "runs of %ld ticks:\n",
 	       evo_simbatch_get(task.sb, "BOTMODEL"), s->scene->n_obstacles,
-	       ticks);
+	       ROUNDS, ticks);
 	printf("  physics floor (Box2D alone, constant wheel forces) "
 	       "%9.0f ticks/s  %6.2f us/tick\n",
 	       best_floor, 1e6 / best_floor);
 	printf("  evo full tick (%d proximity sensors, mind, rewards)  "
 	       "%9.0f ticks/s  %6.2f us/tick\n",
 	       n_prox, best_full, 1e6 / best_full);
-	printf("  ratio %.2f of the floor (bar: at least 0.35): %s\n", ratio,
-	       ratio >= 0.35 ? "met" : "NOT MET");
+	printf("  ratio %.2f of the floor (bar: at least %.2f): %s\n", ratio,
+	       BAR, ratio >= BAR ? "met" : "NOT MET");
 	printf("  for scale: casting the same rays one by one through "
 	       "Box2D costs %.1f us/tick\n",
 	       naive);
 	evo_sim_destroy(s);
 	evo_task_free(&task);
-	return ratio >= 0.35 ? 0 : 1;
+	return ratio >= BAR ? 0 : 1;
 }
