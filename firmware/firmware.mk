@@ -22,8 +22,10 @@ FW_EVO ?= $(BUILD)/evo
 QEMU_ARM ?= qemu-system-arm
 ARM_OBJCOPY ?= arm-none-eabi-objcopy
 ARM_AR ?= arm-none-eabi-ar
-# Seconds the whole firmware-test may take before it is stopped.
-FW_TEST_TIMEOUT ?= 240
+# Seconds the whole firmware-test may take before it is stopped: a guard
+# against a hang, well above the few minutes a host with slow system calls
+# needs (docs/firmware.md).
+FW_TEST_TIMEOUT ?= 900
 
 FW_CORES := m0 m3
 FW_CPU_m0 := -mcpu=cortex-m0plus
