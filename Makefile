@@ -27,7 +27,10 @@ OPT ?= -O2 -g
 # Lua and SDL2 headers are system headers: their own warnings are not ours.
 LUA_CFLAGS := -isystem /usr/include/lua5.4
 SDL_CFLAGS := $(patsubst -I%,-isystem %,$(shell pkg-config --cflags sdl2 2>/dev/null))
-CFLAGS_ALL := -std=c11 $(OPT) $(WARN) -Icore/include -Isim -Itests $(LUA_CFLAGS) $(SDL_CFLAGS) $(SAN) $(CFLAGS)
+# sim/, core/ and bench/ see no test headers (-Itests is the tests' alone),
+# so neither the host side nor a benchmark can include test code.
+CFLAGS_HOST := -std=c11 $(OPT) $(WARN) -Icore/include -Isim $(LUA_CFLAGS) $(SDL_CFLAGS) $(SAN) $(CFLAGS)
+CFLAGS_ALL := $(CFLAGS_HOST) -Itests
 LDFLAGS_ALL := $(SAN) $(LDFLAGS)
 LIBS := -llua5.4 $(shell pkg-config --libs sdl2 2>/dev/null || echo -lSDL2) -lbox2d -lz -lstdc++ -lm
 CXXFLAGS_ALL := -std=c++17 $(OPT) -Wall -Wextra -Werror -Wshadow -Isim $(SAN) $(CXXFLAGS)
@@ -81,6 +84,7 @@ $(BUILD)/obj/%.o: %.c
 # A module's own tests may use its private headers (core's tests, core/src);
 # no other code may.
 $(BUILD)/obj/tests/core/%.o: CFLAGS_ALL += -Icore/src
+$(BUILD)/obj/sim/%.o $(BUILD)/obj/core/%.o $(BUILD)/obj/bench/%.o: CFLAGS_ALL = $(CFLAGS_HOST)
 
 $(BUILD)/obj/%.o: %.cpp
 	@mkdir -p $(dir $@)

@@ -136,13 +136,13 @@ FW_HOST_OBJS := $(FW_BUILD)/host/qemu_session.o $(FW_BUILD)/host/trace_file.o \
 	$(FW_BUILD)/host/wire.o
 $(FW_BUILD)/host/%.o: firmware/host/%.c $(FW_HOST_HDRS)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_ALL) -Ifirmware -c $< -o $@
+	$(CC) $(CFLAGS_HOST) -Ifirmware -c $< -o $@
 $(FW_BUILD)/host/%.o: firmware/%.c firmware/wire.h
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_ALL) -Ifirmware -c $< -o $@
+	$(CC) $(CFLAGS_HOST) -Ifirmware -c $< -o $@
 $(FW_BUILD)/host/bench_firmware.o: bench/bench_firmware.c $(FW_HOST_HDRS)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_ALL) -Ifirmware -c $< -o $@
+	$(CC) $(CFLAGS_HOST) -Ifirmware -c $< -o $@
 
 $(BUILD)/bench/bench_firmware: $(FW_BUILD)/host/bench_firmware.o $(FW_HOST_OBJS) \
 		$(BUILD)/libevohost.a $(BUILD)/libevocore.a \
