@@ -95,22 +95,31 @@ if [ -z "$benchbad" ]; then pass; else fail "bench includes test code:$benchbad"
 
 # One tick flows downward in world2d/: the element queries and the pieces
 # that run each tick (sensors, actuators, rewards) call nothing of the
-# scene's storage, grid or step, which drive them. Checked on the objects
-# the build made (EVO_BUILD, default build), by the symbols they use.
-obj=${EVO_BUILD:-build}/obj/sim/world2d
-if [ -f "$obj/step.o" ]; then
+# scene's storage, grid or step, which drive them. Checked on the library
+# the build made (EVO_BUILD, default build), by the symbols its objects use.
+lib=${EVO_BUILD:-build}/libevohost.a
+if [ -f "$lib" ]; then
 	tmp=$(mktemp -d)
-	nm --defined-only -g "$obj/scene.o" "$obj/step.o" "$obj/grid.o" |
-		awk 'NF == 3 { print $3 }' | sort -u >"$tmp/above"
+	syms() { # --defined-only -g | -u, then object names
+		opt=$1
+		shift
+		for o in "$@"; do
+			nm -A $opt "$lib" 2>/dev/null | awk -v o="$o" -F: \
+				'$2 == o { n = split($3, f, " "); print f[n] }'
+		done | sort -u
+	}
+	syms "--defined-only -g" scene.o step.o grid.o >"$tmp/above"
+	if [ -s "$tmp/above" ]; then pass; else
+		fail "$lib: no symbols of scene.o, step.o and grid.o"; fi
 	for piece in query sensors actuators rewards; do
-		nm -u "$obj/$piece.o" | awk '{ print $2 }' | sort -u >"$tmp/used"
+		syms -u "$piece.o" >"$tmp/used"
 		up=$(comm -12 "$tmp/above" "$tmp/used")
 		if [ -z "$up" ]; then pass; else
 			fail "world2d/$piece.c calls up into scene.c, grid.c or step.c: $(echo $up)"; fi
 	done
 	rm -rf "$tmp"
 else
-	fail "no $obj/step.o: build first (make test-bins)"
+	fail "no $lib: build first (make test-bins)"
 fi
 
 # Every file docs/architecture.md names exists.
