@@ -2,8 +2,8 @@
  * of bots with their sensors and actuators, and the reward and control
  * functions of an episode.
  *
- * Everything here is C and runs every tick; Lua (sim/lua/lua_evo.c) only
- * creates the pieces and may add hooks. The structs are open so that the
+ * Everything here is C and runs every tick; Lua (sim/lua/) only creates
+ * the pieces and may add hooks. The structs are open so that the
  * viewer and the tests can read them; they are changed only through the
  * functions below.
  *
@@ -15,7 +15,9 @@
  * The tick (DESIGN.md): evo_scene_sense, then the caller steps each bot's
  * mind and writes actuator commands, then evo_scene_step (actuators act,
  * physics steps, rewards add up, control functions decide whether the
- * episode goes on). */
+ * episode goes on). Both are in step.c, which drives the pieces of
+ * sensors.h, actuators.h and rewards.h; those read the scene and ask
+ * query.h, and call nothing back (sim/world2d/README.md). */
 #ifndef EVO_SCENE_H
 #define EVO_SCENE_H
 
@@ -235,7 +237,7 @@ typedef enum evo_reward_kind {
 	EVO_RW_STEP,		      /* k every tick */
 	EVO_RW_COLLECT,		      /* k for each object delivered into the target zone */
 	EVO_RW_FORWARD_SPEED,	      /* k * speed along the heading (< 0 backing) */
-	EVO_RW_LUA,		      /* a Lua function (sim/lua/lua_evo.c) */
+	EVO_RW_LUA,		      /* a Lua function (sim/lua/lua_hooks.c) */
 	EVO_RW_KIND_COUNT
 } evo_reward_kind;
 
@@ -342,6 +344,8 @@ int evo_scene_find_bot(const evo_scene *sc, const char *name);
 int evo_bot_find_sensor(const evo_bot *b, const char *name);
 int evo_bot_find_actuator(const evo_bot *b, const char *name);
 
+/* ---- the episode and the tick (step.c) -------------------------------- */
+
 /* Start an episode: bots back at their starts with no speed and neutral
  * commands, claws open, objects back and active, rewards and controls
  * cleared, the grid rebuilt from grid_seed, the rng reseeded from
@@ -357,7 +361,8 @@ void evo_scene_sense(evo_scene *sc);
  * 0 when it goes on, -1 with sc->err set when a hook failed. */
 int evo_scene_step(evo_scene *sc);
 
-/* Place a bot (pose and zero speed) or an element; used by environments. */
+/* Place a bot (pose and zero speed) or an element; used by environments
+ * (scene.c). */
 void evo_scene_place_bot(evo_scene *sc, int bot, double x, double y,
 			 double angle);
 void evo_scene_place_element(evo_scene *sc, int element, double x, double y);
