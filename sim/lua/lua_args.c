@@ -23,7 +23,7 @@ evo_lua *evo_lua_ctx(lua_State *L)
 
 /* Raise an error for any key of the table at idx not in `known`. */
 void evo_lua_check_keys(lua_State *L, int idx, const char *what,
-		       const char *const *known)
+			const char *const *known)
 {
 	luaL_checktype(L, idx, LUA_TTABLE);
 	lua_pushnil(L);
@@ -53,7 +53,7 @@ void evo_lua_check_keys(lua_State *L, int idx, const char *what,
 }
 
 double evo_lua_opt_num(lua_State *L, int idx, const char *key, double dflt,
-		      const char *what)
+		       const char *what)
 {
 	lua_getfield(L, idx, key);
 	double v = dflt;
@@ -69,7 +69,7 @@ double evo_lua_opt_num(lua_State *L, int idx, const char *key, double dflt,
 }
 
 const char *evo_lua_opt_str(lua_State *L, int idx, const char *key,
-			   const char *dflt, const char *what)
+			    const char *dflt, const char *what)
 {
 	lua_getfield(L, idx, key);
 	const char *v = dflt;
@@ -109,8 +109,7 @@ int evo_lua_check_element(lua_State *L, int idx)
 }
 
 /* A target option: an element handle, "nearest_object", or nil. */
-int evo_lua_opt_target(lua_State *L, int idx, const char *key,
-		      const char *what)
+int evo_lua_opt_target(lua_State *L, int idx, const char *key, const char *what)
 {
 	lua_getfield(L, idx, key);
 	int t = EVO_TARGET_NONE;
@@ -148,7 +147,7 @@ int evo_lua_opt_bot(lua_State *L, int idx, const char *what)
 }
 
 int evo_lua_bot_sensor_index(lua_State *L, int bot, const char *name,
-			    const char *what)
+			     const char *what)
 {
 	const evo_bot *b = &evo_lua_ctx(L)->sc->bot[bot];
 	int s = evo_bot_find_sensor(b, name);

@@ -51,9 +51,11 @@ static int add_sensor(lua_State *L, evo_sensor_kind kind, const char *what)
 		luaL_error(L, "%s: a sensor needs a name", what);
 	d.x = evo_lua_opt_num(L, 2, "x", d.x, what);
 	d.y = evo_lua_opt_num(L, 2, "y", d.y, what);
-	d.angle = evo_lua_opt_num(L, 2, "angle", d.angle / EVO_LUA_DEG, what) * EVO_LUA_DEG;
+	d.angle = evo_lua_opt_num(L, 2, "angle", d.angle / EVO_LUA_DEG, what) *
+		  EVO_LUA_DEG;
 	d.range = evo_lua_opt_num(L, 2, "range", d.range, what);
-	d.arc = evo_lua_opt_num(L, 2, "arc", d.arc / EVO_LUA_DEG, what) * EVO_LUA_DEG;
+	d.arc = evo_lua_opt_num(L, 2, "arc", d.arc / EVO_LUA_DEG, what) *
+		EVO_LUA_DEG;
 	double rays = evo_lua_opt_num(L, 2, "rays", d.rays, what);
 	if (rays != floor(rays) || rays < 1 || rays > EVO_PROX_MAX_RAYS)
 		luaL_error(L, "%s: rays must be a whole number from 1 to %d",
@@ -65,9 +67,10 @@ static int add_sensor(lua_State *L, evo_sensor_kind kind, const char *what)
 	d.scale = evo_lua_opt_num(L, 2, "scale", d.scale, what);
 	d.reach = evo_lua_opt_num(L, 2, "reach", d.reach, what);
 	d.value = evo_lua_opt_num(L, 2, "value", d.value, what);
-	lua_pushinteger(L, evo_lua_scene_result(L, evo_scene_add_sensor(evo_lua_ctx(L)->sc,
-								bot, &d)) +
-				   1);
+	lua_pushinteger(
+	    L, evo_lua_scene_result(
+		   L, evo_scene_add_sensor(evo_lua_ctx(L)->sc, bot, &d)) +
+		   1);
 	return 1;
 }
 
@@ -100,12 +103,14 @@ static int add_actuator(lua_State *L, evo_actuator_kind kind,
 		luaL_error(L, "%s: an actuator needs a name", what);
 	d.x = evo_lua_opt_num(L, 2, "x", d.x, what);
 	d.y = evo_lua_opt_num(L, 2, "y", d.y, what);
-	d.angle = evo_lua_opt_num(L, 2, "angle", d.angle / EVO_LUA_DEG, what) * EVO_LUA_DEG;
+	d.angle = evo_lua_opt_num(L, 2, "angle", d.angle / EVO_LUA_DEG, what) *
+		  EVO_LUA_DEG;
 	d.max_force = evo_lua_opt_num(L, 2, "max_force", d.max_force, what);
 	d.reach = evo_lua_opt_num(L, 2, "reach", d.reach, what);
-	lua_pushinteger(L, evo_lua_scene_result(L, evo_scene_add_actuator(evo_lua_ctx(L)->sc,
-								  bot, &d)) +
-				   1);
+	lua_pushinteger(
+	    L, evo_lua_scene_result(
+		   L, evo_scene_add_actuator(evo_lua_ctx(L)->sc, bot, &d)) +
+		   1);
 	return 1;
 }
 
@@ -166,7 +171,8 @@ static int bot_place(lua_State *L)
 static int bot_value(lua_State *L)
 {
 	int bot = evo_lua_check_bot(L, 1);
-	int s = evo_lua_bot_sensor_index(L, bot, luaL_checkstring(L, 2), "bot:value");
+	int s = evo_lua_bot_sensor_index(L, bot, luaL_checkstring(L, 2),
+					 "bot:value");
 	evo_scene *sc = evo_lua_ctx(L)->sc;
 	evo_sensor *se = &sc->bot[bot].sensor[s];
 	if (se->idle) {
@@ -212,7 +218,8 @@ static int bot_counts(lua_State *L)
 
 static int bot_name(lua_State *L)
 {
-	lua_pushstring(L, evo_lua_ctx(L)->sc->bot[evo_lua_check_bot(L, 1)].name);
+	lua_pushstring(L,
+		       evo_lua_ctx(L)->sc->bot[evo_lua_check_bot(L, 1)].name);
 	return 1;
 }
 

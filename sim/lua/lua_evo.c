@@ -68,8 +68,8 @@ const char *evo_lua_dir(void)
 
 /* Find NAME.lua in mind_dir/<mind_sub> then lua_dir/<lua_sub>. */
 int evo_lua_find_script(const evo_lua *l, const char *mind_sub,
-		       const char *lua_sub, const char *name, char *out,
-		       size_t cap)
+			const char *lua_sub, const char *name, char *out,
+			size_t cap)
 {
 	if (!name[0] || strchr(name, '/') || strstr(name, ".."))
 		return -1;
@@ -223,7 +223,7 @@ static int load_env(lua_State *L)
 int evo_lua_init_env(evo_lua *l, const char *env, evo_err *err)
 {
 	if (evo_lua_find_script(l, "Envs", "envs", env, l->env_path,
-			sizeof l->env_path))
+				sizeof l->env_path))
 		return evo_fail(err,
 				"environment '%s' not found: looked for "
 				"%s/Envs/%s.lua and %s/envs/%s.lua",

@@ -21,7 +21,7 @@ static int call_ref(evo_lua *l, int ref, const char *what)
 }
 
 int evo_lua_hook_reward(void *c, evo_scene *sc, const evo_reward *r,
-		       double *out)
+			double *out)
 {
 	evo_lua *l = c;
 	(void)sc;
@@ -39,7 +39,7 @@ int evo_lua_hook_reward(void *c, evo_scene *sc, const evo_reward *r,
 }
 
 int evo_lua_hook_control(void *c, evo_scene *sc, const evo_control *ctl,
-			int *next)
+			 int *next)
 {
 	evo_lua *l = c;
 	(void)sc;
@@ -51,8 +51,8 @@ int evo_lua_hook_control(void *c, evo_scene *sc, const evo_control *ctl,
 }
 
 /* Call env[name](scene, arg) if the environment has it. */
-int evo_lua_call_env(evo_lua *l, const char *name, int with_arg, lua_Integer arg,
-		    evo_err *err)
+int evo_lua_call_env(evo_lua *l, const char *name, int with_arg,
+		     lua_Integer arg, evo_err *err)
 {
 	lua_State *L = l->L;
 	lua_rawgeti(L, LUA_REGISTRYINDEX, l->env_ref);

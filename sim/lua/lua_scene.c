@@ -11,7 +11,8 @@
 
 static int element_pos(lua_State *L)
 {
-	const evo_element *e = &evo_lua_ctx(L)->sc->element[evo_lua_check_element(L, 1)];
+	const evo_element *e =
+	    &evo_lua_ctx(L)->sc->element[evo_lua_check_element(L, 1)];
 	lua_pushnumber(L, e->x);
 	lua_pushnumber(L, e->y);
 	return 2;
@@ -33,7 +34,8 @@ static int element_place(lua_State *L)
 
 static int element_active(lua_State *L)
 {
-	lua_pushboolean(L, evo_lua_ctx(L)->sc->element[evo_lua_check_element(L, 1)].active);
+	lua_pushboolean(
+	    L, evo_lua_ctx(L)->sc->element[evo_lua_check_element(L, 1)].active);
 	return 1;
 }
 
@@ -54,7 +56,8 @@ static int element_set_active(lua_State *L)
 
 static int element_name(lua_State *L)
 {
-	lua_pushstring(L, evo_lua_ctx(L)->sc->element[evo_lua_check_element(L, 1)].name);
+	lua_pushstring(
+	    L, evo_lua_ctx(L)->sc->element[evo_lua_check_element(L, 1)].name);
 	return 1;
 }
 
@@ -73,18 +76,20 @@ static int add_element(lua_State *L, evo_element_kind kind, const char *what)
 	d.x = evo_lua_opt_num(L, 2, "x", 0, what);
 	d.y = evo_lua_opt_num(L, 2, "y", 0, what);
 	d.angle = evo_lua_opt_num(L, 2, "angle", 0, what) * EVO_LUA_DEG;
-	d.size = evo_lua_opt_num(L, 2, kind == EVO_ELEM_ZONE ? "size" : "radius",
-			 d.size, what);
+	d.size = evo_lua_opt_num(
+	    L, 2, kind == EVO_ELEM_ZONE ? "size" : "radius", d.size, what);
 	d.half_w = evo_lua_opt_num(L, 2, "half_width", d.half_w, what);
 	d.half_h = evo_lua_opt_num(L, 2, "half_height", d.half_h, what);
 	d.density = evo_lua_opt_num(L, 2, "density", d.density, what);
 	d.friction = evo_lua_opt_num(L, 2, "friction", d.friction, what);
-	d.restitution = evo_lua_opt_num(L, 2, "restitution", d.restitution, what);
+	d.restitution =
+	    evo_lua_opt_num(L, 2, "restitution", d.restitution, what);
 	d.linear_damping =
-		evo_lua_opt_num(L, 2, "linear_damping", d.linear_damping, what);
+	    evo_lua_opt_num(L, 2, "linear_damping", d.linear_damping, what);
 	d.angular_damping =
-		evo_lua_opt_num(L, 2, "angular_damping", d.angular_damping, what);
-	int i = evo_lua_scene_result(L, evo_scene_add_element(evo_lua_ctx(L)->sc, &d));
+	    evo_lua_opt_num(L, 2, "angular_damping", d.angular_damping, what);
+	int i = evo_lua_scene_result(
+	    L, evo_scene_add_element(evo_lua_ctx(L)->sc, &d));
 	evo_lua_push_handle(L, EVO_LUA_ELEMENT_MT, i);
 	return 1;
 }
@@ -126,7 +131,7 @@ static int scene_grid(lua_State *L)
 	g.jitter = evo_lua_opt_num(L, 2, "jitter", g.jitter, what);
 	g.min_size = evo_lua_opt_num(L, 2, "min_size", g.min_size, what);
 	g.size_variability =
-		evo_lua_opt_num(L, 2, "size_variability", g.size_variability, what);
+	    evo_lua_opt_num(L, 2, "size_variability", g.size_variability, what);
 	g.clearance = evo_lua_opt_num(L, 2, "clearance", g.clearance, what);
 	const char *shapes = evo_lua_opt_str(L, 2, "shapes", "cylinders", what);
 	if (strcmp(shapes, "cylinders") == 0)
@@ -185,26 +190,30 @@ static int scene_bot(lua_State *L)
 		int b = lua_gettop(L);
 		const char *bw = "bot model body";
 		evo_lua_check_keys(L, b, bw, bkeys);
-		const char *shape = evo_lua_opt_str(L, b, "shape", "circle", bw);
+		const char *shape =
+		    evo_lua_opt_str(L, b, "shape", "circle", bw);
 		if (strcmp(shape, "circle") == 0)
 			d.body.shape = EVO_SHAPE_CIRCLE;
 		else if (strcmp(shape, "box") == 0)
 			d.body.shape = EVO_SHAPE_BOX;
 		else
 			luaL_error(L, "%s: shape is \"circle\" or \"box\"", bw);
-		d.body.radius = evo_lua_opt_num(L, b, "radius", d.body.radius, bw);
-		d.body.half_w = evo_lua_opt_num(L, b, "half_width", d.body.half_w, bw);
+		d.body.radius =
+		    evo_lua_opt_num(L, b, "radius", d.body.radius, bw);
+		d.body.half_w =
+		    evo_lua_opt_num(L, b, "half_width", d.body.half_w, bw);
 		d.body.half_h =
-			evo_lua_opt_num(L, b, "half_height", d.body.half_h, bw);
-		d.body.density = evo_lua_opt_num(L, b, "density", d.body.density, bw);
+		    evo_lua_opt_num(L, b, "half_height", d.body.half_h, bw);
+		d.body.density =
+		    evo_lua_opt_num(L, b, "density", d.body.density, bw);
 		d.body.friction =
-			evo_lua_opt_num(L, b, "friction", d.body.friction, bw);
-		d.body.restitution =
-			evo_lua_opt_num(L, b, "restitution", d.body.restitution, bw);
-		d.body.linear_damping = evo_lua_opt_num(L, b, "linear_damping",
-						d.body.linear_damping, bw);
-		d.body.angular_damping = evo_lua_opt_num(L, b, "angular_damping",
-						 d.body.angular_damping, bw);
+		    evo_lua_opt_num(L, b, "friction", d.body.friction, bw);
+		d.body.restitution = evo_lua_opt_num(L, b, "restitution",
+						     d.body.restitution, bw);
+		d.body.linear_damping = evo_lua_opt_num(
+		    L, b, "linear_damping", d.body.linear_damping, bw);
+		d.body.angular_damping = evo_lua_opt_num(
+		    L, b, "angular_damping", d.body.angular_damping, bw);
 		lua_getfield(L, b, "sleep");
 		d.body.allow_sleep = lua_toboolean(L, -1);
 		lua_pop(L, 1);
@@ -266,7 +275,8 @@ static int scene_reward(lua_State *L)
 		d.bot = evo_lua_opt_bot(L, 3, what);
 		d.k = evo_lua_opt_num(L, 3, "k", d.k, what);
 		d.k2 = evo_lua_opt_num(L, 3, "k2", d.k2, what);
-		d.threshold = evo_lua_opt_num(L, 3, "threshold", d.threshold, what);
+		d.threshold =
+		    evo_lua_opt_num(L, 3, "threshold", d.threshold, what);
 		d.target = evo_lua_opt_target(L, 3, "target", what);
 		lua_getfield(L, 3, "sensors");
 		if (!lua_isnil(L, -1)) {
@@ -282,7 +292,7 @@ static int scene_reward(lua_State *L)
 					luaL_error(L, "%s: sensors are names",
 						   what);
 				d.sensor[d.n_sensors++] =
-					evo_lua_bot_sensor_index(L, d.bot, s, what);
+				    evo_lua_bot_sensor_index(L, d.bot, s, what);
 				lua_pop(L, 1);
 			}
 		}
@@ -306,13 +316,15 @@ static int scene_control(lua_State *L)
 	if (kind != EVO_CF_LUA) {
 		evo_lua_check_keys(L, 3, what, keys);
 		d.bot = evo_lua_opt_bot(L, 3, what);
-		double ticks = evo_lua_opt_num(L, 3, "ticks", (double)d.ticks, what);
+		double ticks =
+		    evo_lua_opt_num(L, 3, "ticks", (double)d.ticks, what);
 		if (ticks < 0 || ticks != floor(ticks) || ticks > 1e15)
 			luaL_error(L, "%s: ticks must be a whole number >= 0",
 				   what);
 		d.ticks = (long)ticks;
 		d.target = evo_lua_opt_target(L, 3, "target", what);
-		d.threshold = evo_lua_opt_num(L, 3, "threshold", d.threshold, what);
+		d.threshold =
+		    evo_lua_opt_num(L, 3, "threshold", d.threshold, what);
 		const char *s = evo_lua_opt_str(L, 3, "sensor", NULL, what);
 		if (s)
 			d.sensor = evo_lua_bot_sensor_index(L, d.bot, s, what);
@@ -323,7 +335,8 @@ static int scene_control(lua_State *L)
 
 static int scene_element(lua_State *L)
 {
-	int i = evo_scene_find_element(evo_lua_ctx(L)->sc, luaL_checkstring(L, 2));
+	int i =
+	    evo_scene_find_element(evo_lua_ctx(L)->sc, luaL_checkstring(L, 2));
 	if (i < 0)
 		lua_pushnil(L);
 	else

@@ -602,8 +602,9 @@ static int load(evo_mindfolder *l, loader *ld, const evo_mindfolder_opts *o,
 	return build_image(l, io, err);
 }
 
-evo_mindfolder *evo_mindfolder_load(const char *root, const evo_mindfolder_opts *opts,
-			  evo_err *err)
+evo_mindfolder *evo_mindfolder_load(const char *root,
+				    const evo_mindfolder_opts *opts,
+				    evo_err *err)
 {
 	loaded_private *p = calloc(1, sizeof *p);
 	loader *ld = calloc(1, sizeof *ld);

@@ -40,8 +40,9 @@ typedef struct evo_mindfolder {
 
 /* Load the mind folder at root. Returns NULL with err set to
  * "file:line: what was wrong" on any problem. */
-evo_mindfolder *evo_mindfolder_load(const char *root, const evo_mindfolder_opts *opts,
-			  evo_err *err);
+evo_mindfolder *evo_mindfolder_load(const char *root,
+				    const evo_mindfolder_opts *opts,
+				    evo_err *err);
 
 void evo_mindfolder_free(evo_mindfolder *l);
 

@@ -33,8 +33,7 @@ void evo_raster_free(evo_raster *im)
 	im->w = im->h = 0;
 }
 
-int evo_raster_save_png(const evo_raster *im, const char *path,
-			   evo_err *err)
+int evo_raster_save_png(const evo_raster *im, const char *path, evo_err *err)
 {
 	return evo_png_write(path, im->pixels, im->w, im->h, 3, err);
 }

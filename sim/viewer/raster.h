@@ -38,8 +38,7 @@ int evo_raster_init(evo_raster *im, int w, int h, evo_err *err);
 /* Free the pixels and zero the struct; safe on a zeroed struct. */
 void evo_raster_free(evo_raster *im);
 /* Save as an 8-bit RGB PNG, atomically (sim/viewer/png.h). */
-int evo_raster_save_png(const evo_raster *im, const char *path,
-			   evo_err *err);
+int evo_raster_save_png(const evo_raster *im, const char *path, evo_err *err);
 
 /* 0xRRGGBB of pixel (x, y); 0 outside the image. */
 uint32_t evo_raster_get(const evo_raster *im, int x, int y);

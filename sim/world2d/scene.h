@@ -168,8 +168,10 @@ typedef struct evo_sensor {
 /* ---- actuators ------------------------------------------------------ */
 
 typedef enum evo_actuator_kind {
-	EVO_ACTUATOR_WHEEL = 0, /* force (2c - 1) * max_force along angle at (x, y) */
-	EVO_ACTUATOR_CLAW = 1,  /* grabs on a rising crossing of 0.5, releases on a falling one */
+	EVO_ACTUATOR_WHEEL =
+	    0, /* force (2c - 1) * max_force along angle at (x, y) */
+	EVO_ACTUATOR_CLAW = 1, /* grabs on a rising crossing of 0.5, releases on
+				  a falling one */
 	EVO_ACTUATOR_KIND_COUNT
 } evo_actuator_kind;
 
