@@ -1,4 +1,4 @@
-/* splitmix64 streams (base/rng.h). */
+/* splitmix64 streams (sim/base/rng.h). */
 #include "base/rng.h"
 
 /* Each coordinate goes through a full mix, so nearby tuples such as

@@ -1,5 +1,5 @@
 /* Option tables and handles for the scene scripts' `evo` module
- * (lua/lua_internal.h). Lua holds handles, not pointers: a bot or element
+ * (sim/lua/lua_internal.h). Lua holds handles, not pointers: a bot or element
  * handle is a small userdata with its index in the scene, and every
  * method finds the scene through the state's registry. Options come in
  * tables; an option the function does not know is an error naming the

@@ -1,4 +1,4 @@
-/* The scene scripts' `evo` module (lua/lua_evo.h, docs/lua.md): a Lua
+/* The scene scripts' `evo` module (sim/lua/lua_evo.h, docs/lua.md): a Lua
  * state per scene, the lua/ folder, loading bot models and environments.
  * The methods live in lua_bot.c and lua_scene.c, the hooks the tick calls
  * in lua_hooks.c, and what they share in lua_internal.h. */

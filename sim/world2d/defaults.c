@@ -1,4 +1,4 @@
-/* The defaults every Def of the 2D world starts from (world2d/scene.h):
+/* The defaults every Def of the 2D world starts from (sim/world2d/scene.h):
  * EvoAgents' values, so a bot model or environment that leaves a field
  * out gets what the tutorial's did. */
 #include <math.h>

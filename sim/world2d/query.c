@@ -1,4 +1,4 @@
-/* Element queries (world2d/query.h): where a target is, which object is
+/* Element queries (sim/world2d/query.h): where a target is, which object is
  * within reach, whether a zone holds a point. The sensors, the actuators
  * and the rewards ask these; they only read the scene. */
 #include "world2d/query.h"

@@ -1,6 +1,6 @@
 /* The 2D scene's storage: creation, adding elements, bots, sensors,
  * actuators, rewards and controls, lookups by name, and placing bots and
- * elements (world2d/scene.h). It calls nothing above it: the pieces that
+ * elements (sim/world2d/scene.h). It calls nothing above it: the pieces that
  * run each tick (sensors.c, actuators.c, rewards.c) read the scene, and
  * step.c drives them. */
 #include "world2d/scene.h"

@@ -1,4 +1,4 @@
-/* The 2D scene's episode and tick (world2d/scene.h): the reset, then each
+/* The 2D scene's episode and tick (sim/world2d/scene.h): the reset, then each
  * tick the sensing (step 1 of DESIGN.md's tick) and the step (steps 3-5:
  * actuators act, the physics steps, the post-step hook, rewards, controls).
  * This is the top of the 2D world: it calls the pieces below it (sensors.c,
