@@ -1,4 +1,4 @@
-/* The tutorial's obstacle grid (evo_grid_def in world2d/scene.h), rebuilt
+/* The tutorial's obstacle grid (evo_grid_def in sim/world2d/scene.h), rebuilt
  * at every reset from the grid seed. */
 #include <math.h>
 #include <string.h>
