@@ -66,6 +66,7 @@ help:
 	@echo "make            build build/evo and the libraries"
 	@echo "make deps       install the Debian packages evo needs (as root)"
 	@echo "make test       deps, build, run every test plainly, under ASan+UBSan and TSan"
+	@echo "make test-tsan  the threaded tests and headless runs under ThreadSanitizer"
 	@echo "make run        deps, build, run the main job on a shipped example"
 	@echo "make core-check compile core/ for Cortex-M0+ and check what it links"
 	@echo "make fuzz       run each parser's fuzz target for FUZZ_SECONDS"
