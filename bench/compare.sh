@@ -21,16 +21,16 @@ rev=$(git rev-parse --short "$base^{commit}") || {
 	exit 2
 }
 dir=build/bench-base/$rev
-if [ ! -x "$dir/build/bench/bench_evaluate" ]; then
+if [ ! -x "$dir/build/bench/bench_evaluate" ] || [ ! -x "$dir/build/evo" ]; then
 	echo "bench-compare: building $rev in $dir"
 	rm -rf "$dir" && mkdir -p "$dir"
 	git archive "$rev" | tar -x -C "$dir"
-	make -C "$dir" -j2 build/bench/bench_world build/bench/bench_evaluate >"$dir.log" 2>&1 || {
+	make -C "$dir" -j2 build/evo build/bench/bench_world build/bench/bench_evaluate >"$dir.log" 2>&1 || {
 		echo "bench-compare: the build of $rev failed; see $dir.log" >&2
 		exit 1
 	}
 fi
-make -j2 build/bench/bench_world build/bench/bench_evaluate >/dev/null
+make -j2 build/evo build/bench/bench_world build/bench/bench_evaluate >/dev/null
 
 out=build/bench-base/compare-$rev
 rm -rf "$out" && mkdir -p "$out"
