@@ -3,17 +3,21 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "base/fileio.h"
 #include "cmd/export_c.h"
 #include "cmd/run.h"
 #include "learn/learn.h"
+#include "learn/literature.h"
 #include "mind/mindfolder.h"
 #include "mind/task.h"
+#include "tasksim/tasksim.h"
 
 static void usage(FILE *f)
 {
 	fputs("usage:\n"
+	      "  evo [-nog] TASK.simbatch   the tutorial's form of evo run\n"
 	      "  evo run TASK.simbatch [--headless|-nog] [--seed N]\n"
 	      "          [--episodes N] [--ticks N] [--trace FILE]\n"
 	      "      run a task: DEMOSIM in the viewer, or headless;\n"
@@ -22,8 +26,9 @@ static void usage(FILE *f)
 	      "  evo info MINDFOLDER [--master SKILL]\n"
 	      "      load a mind folder and show its hierarchy in tick order\n"
 	      "  evo check TASK.simbatch\n"
-	      "      check a task file, the mind folder it names and,\n"
-	      "      for LEARNSIM, the learning method's options\n"
+	      "      check a task file, the mind folder it names, its bot\n"
+	      "      model and environment, and, for LEARNSIM, the learning\n"
+	      "      method's options\n"
 	      "  evo tick MINDFOLDER [--master SKILL] [--ticks N]\n"
 	      "           [--sensor NAME=VALUE ...]\n"
 	      "      run the mind for N ticks (default 10) on fixed sensor\n"
@@ -137,6 +142,38 @@ static int cmd_tick(const evo_mindfolder *l, long ticks, double *sensor_values)
 	return 0;
 }
 
+/* What `evo check` adds to loading the task: a type `evo run` runs; for
+ * LEARNSIM the learning options; and, where the task runs in the 2D
+ * world, the scene built as `evo run` builds it, so that a misspelled
+ * BOTMODEL, ENV or botdesc sensor name fails here. 0 or -1 with err. */
+static int check_task(const char *path, evo_task *task, evo_err *err)
+{
+	if (!evo_run_supports(task->type))
+		return evo_fail(err,
+				"%s: evo run does not run %s tasks yet (it runs "
+				"DEMOSIM and LEARNSIM)",
+				path, task->type);
+	if (strcmp(task->type, "LEARNSIM") == 0 &&
+	    evo_learn_check(path, task, err) != 0)
+		return -1;
+	const char *env = evo_simbatch_get(task->sb, "ENV");
+	if (strcmp(task->type, "LEARNSIM") == 0 &&
+	    evo_lit_task_named(env ? env : "") != EVO_LIT_NONE)
+		return 0; /* a literature task: no scene */
+	evo_sim *s = evo_sim_create(task->mind, task->sb, path, err);
+	if (!s)
+		return -1;
+	evo_sim_destroy(s);
+	return 0;
+}
+
+/* A path ending in .simbatch (any case). */
+static int is_task_path(const char *a)
+{
+	size_t n = strlen(a);
+	return n > 9 && strcasecmp(a + n - 9, ".simbatch") == 0;
+}
+
 int main(int argc, char **argv)
 {
 	if (argc < 2 || strcmp(argv[1], "help") == 0 ||
@@ -148,6 +185,23 @@ int main(int argc, char **argv)
 	evo_err err = {{0}};
 	if (strcmp(cmd, "run") == 0)
 		return evo_run_main(argc, argv);
+	/* The tutorial's command line: `evo TASK.simbatch` and
+	 * `evo -nog TASK.simbatch` are `evo run` with the same arguments. */
+	if (strcmp(cmd, "-nog") == 0 || strcmp(cmd, "--headless") == 0 ||
+	    is_task_path(cmd)) {
+		char **run_argv = calloc((size_t)argc + 2, sizeof *run_argv);
+		if (!run_argv) {
+			fprintf(stderr, "evo: out of memory\n");
+			return 1;
+		}
+		run_argv[0] = argv[0];
+		run_argv[1] = "run";
+		for (int i = 1; i < argc; i++)
+			run_argv[i + 1] = argv[i];
+		int rc = evo_run_main(argc + 1, run_argv);
+		free(run_argv);
+		return rc;
+	}
 	if (strcmp(cmd, "check") == 0) {
 		if (argc != 3) {
 			usage(stderr);
@@ -158,8 +212,7 @@ int main(int argc, char **argv)
 			fprintf(stderr, "%s\n", err.msg);
 			return 1;
 		}
-		if (strcmp(task.type, "LEARNSIM") == 0 &&
-		    evo_learn_check(argv[2], &task, &err) != 0) {
+		if (check_task(argv[2], &task, &err) != 0) {
 			fprintf(stderr, "%s\n", err.msg);
 			evo_task_free(&task);
 			return 1;

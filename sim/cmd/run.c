@@ -125,6 +125,11 @@ static int parse_args(int argc, char **argv, run_opts *o)
 	return 0;
 }
 
+int evo_run_supports(const char *type)
+{
+	return strcmp(type, "DEMOSIM") == 0 || strcmp(type, "LEARNSIM") == 0;
+}
+
 /* The seeds of episode e: the grid's and the rest's, from (seed, e). */
 static uint64_t grid_seed(uint64_t seed, long e)
 {
@@ -342,7 +347,7 @@ int evo_run_main(int argc, char **argv)
 		evo_task_free(&task);
 		return rc ? 1 : 0;
 	}
-	if (strcmp(task.type, "DEMOSIM") != 0) {
+	if (!evo_run_supports(task.type)) {
 		fprintf(stderr,
 			"%s: evo run does not run %s tasks yet (it runs "
 			"DEMOSIM and LEARNSIM)\n",

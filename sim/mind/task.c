@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "base/fileio.h"
 
@@ -109,6 +110,11 @@ int evo_task_load(const char *path, evo_task *t, evo_err *err)
 				"e.g. TYPE:DEMOSIM or TYPE:LEARNSIM",
 				path);
 	}
+	/* TYPE is matched without regard to case (the parser refused an
+	 * unknown one): from here on it is the canonical upper-case name. */
+	for (unsigned i = 0; evo_task_types[i]; i++)
+		if (strcasecmp(t->type, evo_task_types[i]) == 0)
+			t->type = evo_task_types[i];
 	const char *const *req = required_keys(t->type);
 	for (unsigned i = 0; req && req[i]; i++)
 		if (!evo_simbatch_get(t->sb, req[i])) {
@@ -158,6 +164,20 @@ int evo_task_load(const char *path, evo_task *t, evo_err *err)
 			evo_task_free(t);
 			return -1;
 		}
+	}
+	/* The mind folder is the agent: a BOTNAME that names another one is
+	 * most likely a task copied from another folder. */
+	const char *botname = evo_simbatch_get(t->sb, "BOTNAME");
+	if (botname && strcmp(botname, t->mind->bot_name) != 0) {
+		uint32_t line = 0;
+		for (unsigned i = 0; i < t->sb->n_pairs; i++)
+			if (strcmp(t->sb->pair[i].key, "BOTNAME") == 0)
+				line = t->sb->pair[i].line;
+		fprintf(stderr,
+			"warning: %s:%u: BOTNAME is %s, but the task's mind "
+			"folder is %s (%s); evo runs that folder\n",
+			path, (unsigned)line, botname, t->mind->bot_name,
+			t->mind->root);
 	}
 	return 0;
 }

@@ -14,7 +14,7 @@
 
 typedef struct evo_task {
 	evo_simbatch *sb;
-	const char *type; /* TYPE, as written */
+	const char *type; /* TYPE, upper-cased (an entry of evo_task_types) */
 	evo_mindfolder *mind;
 } evo_task;
 

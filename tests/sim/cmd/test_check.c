@@ -1,0 +1,183 @@
+/* The evo command around a task (sim/cmd/evo_main.c): the tutorial's own
+ * command line (`evo TASK.simbatch`, `evo -nog TASK.simbatch`) runs the
+ * task as `evo run` does; `evo check` fails on what `evo run` would fail on
+ * (a misspelled bot model, environment or botdesc sensor, a task type evo
+ * cannot run yet); TYPE is read in any case; a BOTNAME naming another
+ * agent than the mind folder gets a warning at its line. */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "harness.h"
+#include "support/cli.h"
+
+static char out1[1 << 15], out2[1 << 15];
+
+#define DEMO "minds/Avoid/Tasks/Avoid-DEMO.simbatch"
+
+/* The episode lines of a run's output (stdout and stderr together). */
+static const char *episodes(const char *out)
+{
+	const char *e = strstr(out, "episode 1: reward ");
+	return e ? e : "";
+}
+
+TEST(nog_is_evo_run_headless)
+{
+	int a = cli_capture(out1, sizeof out1,
+			    "%s run " DEMO " --headless --seed 7 --ticks 60",
+			    cli_evo);
+	int b = cli_capture(out2, sizeof out2,
+			    "%s -nog " DEMO " --seed 7 --ticks 60", cli_evo);
+	CHECK_EQ_INT(a, 0);
+	CHECK_EQ_INT(b, 0);
+	CHECK_CONTAINS(out1, "episode 1: reward ");
+	CHECK_EQ_STR(episodes(out2), episodes(out1));
+}
+
+TEST(a_task_path_alone_is_evo_run)
+{
+	/* no display here: the viewer is not available and the run goes on
+	 * headless, as `evo run` without --headless does */
+	int a = cli_capture(out1, sizeof out1,
+			    "%s run " DEMO " --headless --seed 5 --ticks 40",
+			    cli_evo);
+	int b = cli_capture(out2, sizeof out2,
+			    "env -u DISPLAY -u WAYLAND_DISPLAY %s " DEMO
+			    " --seed 5 --ticks 40",
+			    cli_evo);
+	CHECK_EQ_INT(a, 0);
+	CHECK_EQ_INT(b, 0);
+	CHECK_CONTAINS(out2, "running headless");
+	CHECK_EQ_STR(episodes(out2), episodes(out1));
+	/* a path that is no task is still an unknown command */
+	CHECK(cli_capture(out1, sizeof out1, "%s minds/Avoid", cli_evo) != 0);
+	CHECK_CONTAINS(out1, "unknown command");
+}
+
+/* A copy of minds/Avoid in cli_tmp with one task, TEXT. */
+static void avoid_with_task(const char *name, const char *text)
+{
+	cli_sh("rm -rf %s/Avoid && cp -r minds/Avoid %s/", cli_tmp, cli_tmp);
+	char path[512];
+	snprintf(path, sizeof path, "%s/Avoid/Tasks/%s", cli_tmp, name);
+	FILE *f = fopen(path, "w");
+	if (!f) {
+		perror(path);
+		return;
+	}
+	fputs(text, f);
+	fclose(f);
+}
+
+TEST(check_passes_the_shipped_tasks)
+{
+	const char *tasks[] = {DEMO, "minds/Avoid/Tasks/Avoid-NEAT.simbatch",
+			       "minds/Collect/Tasks/Collect-DEMO.simbatch",
+			       "minds/GTO/Tasks/GTOA-DEMO.simbatch",
+			       "minds/XOR/Tasks/XOR-NEAT.simbatch"};
+	for (unsigned i = 0; i < sizeof tasks / sizeof *tasks; i++) {
+		int rc = cli_capture(out1, sizeof out1, "%s check %s", cli_evo,
+				     tasks[i]);
+		CHECK_EQ_INT(rc, 0);
+		CHECK_CONTAINS(out1, ": ok");
+	}
+}
+
+TEST(check_fails_on_a_misspelled_bot_model_or_environment)
+{
+	avoid_with_task("T.simbatch", "TYPE:DEMOSIM\nBOTMODEL:BotType88\n"
+				      "MASTERSKILL:Avoid\nENV:Roam\n");
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s check %s/Avoid/Tasks/"
+						    "T.simbatch",
+				 cli_evo, cli_tmp),
+		     1);
+	CHECK_CONTAINS(out1, "bot model 'BotType88' not found");
+
+	avoid_with_task("T.simbatch", "TYPE:LEARNSIM\nBOTMODEL:BotType8\n"
+				      "MASTERSKILL:Avoid\nLEARNINGSKILL:Avoid\n"
+				      "LEARNINGMETHOD:NEAT\nNUMGEN:2\n"
+				      "ENV:EXP_Avoidd\n");
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s check %s/Avoid/Tasks/"
+						    "T.simbatch",
+				 cli_evo, cli_tmp),
+		     1);
+	CHECK_CONTAINS(out1, "environment 'EXP_Avoidd' not found");
+}
+
+TEST(check_fails_on_a_botdesc_sensor_the_bot_lacks)
+{
+	avoid_with_task("T.simbatch", "TYPE:DEMOSIM\nBOTMODEL:BotType8\n"
+				      "MASTERSKILL:Avoid\nENV:Roam\n");
+	/* S10 becomes S11 in the botdesc, and so in the skill that reads it */
+	cli_sh("sed -i 's/\\bS10\\b/S11/' %s/Avoid/Avoid.botdesc "
+	       "%s/Avoid/Skills/Avoid/Avoid.ades",
+	       cli_tmp, cli_tmp);
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s check %s/Avoid/Tasks/"
+						    "T.simbatch",
+				 cli_evo, cli_tmp),
+		     1);
+	CHECK_CONTAINS(out1, "S11");
+}
+
+TEST(check_refuses_a_type_evo_run_cannot_run_yet)
+{
+	avoid_with_task("T.simbatch", "TYPE:DEMO3DSIM\nBOTMODEL:BotType8\n"
+				      "MASTERSKILL:Avoid\nENV:Roam\n");
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s check %s/Avoid/Tasks/"
+						    "T.simbatch",
+				 cli_evo, cli_tmp),
+		     1);
+	CHECK_CONTAINS(out1, "evo run does not run DEMO3DSIM tasks yet");
+}
+
+TEST(type_is_read_in_any_case)
+{
+	avoid_with_task("T.simbatch", "TYPE:demosim\nBOTMODEL:BotType8\n"
+				      "MASTERSKILL:Avoid\nENV:Roam\n");
+	int rc = cli_capture(out1, sizeof out1,
+			     "%s run %s/Avoid/Tasks/T.simbatch --headless "
+			     "--ticks 20",
+			     cli_evo, cli_tmp);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out1, "episode 1: reward ");
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1,
+				 "%s check %s/Avoid/Tasks/T.simbatch", cli_evo,
+				 cli_tmp),
+		     0);
+	CHECK_CONTAINS(out1, "task DEMOSIM");
+}
+
+TEST(a_botname_of_another_agent_is_warned_at_its_line)
+{
+	avoid_with_task("T.simbatch", "TYPE:DEMOSIM\nBOTMODEL:BotType8\n"
+				      "MASTERSKILL:Avoid\nENV:Roam\n"
+				      "BOTNAME:T6-NEAT\n");
+	int rc = cli_capture(out1, sizeof out1,
+			     "%s check %s/Avoid/Tasks/T.simbatch", cli_evo,
+			     cli_tmp);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out1, "T.simbatch:5: BOTNAME is T6-NEAT, but the "
+			     "task's mind folder is Avoid");
+	/* the folder's own name: no warning */
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s check " DEMO, cli_evo),
+		     0);
+	CHECK(!strstr(out1, "BOTNAME"));
+}
+
+int main(void)
+{
+	if (cli_setup("check"))
+		return 1;
+	RUN(nog_is_evo_run_headless);
+	RUN(a_task_path_alone_is_evo_run);
+	RUN(check_passes_the_shipped_tasks);
+	RUN(check_fails_on_a_misspelled_bot_model_or_environment);
+	RUN(check_fails_on_a_botdesc_sensor_the_bot_lacks);
+	RUN(check_refuses_a_type_evo_run_cannot_run_yet);
+	RUN(type_is_read_in_any_case);
+	RUN(a_botname_of_another_agent_is_warned_at_its_line);
+	cli_cleanup();
+	return test_summary();
+}
