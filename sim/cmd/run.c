@@ -335,9 +335,14 @@ int evo_run_main(int argc, char **argv)
 	else if (sv)
 		seed = strtoull(sv, NULL, 10);
 	if (strcmp(task.type, "LEARNSIM") == 0) {
+		/* --threads, else the task's THREADS, else one per core */
+		const char *tv = evo_simbatch_get(task.sb, "THREADS");
+		long threads = o.threads ? o.threads
+			       : tv	 ? strtol(tv, NULL, 10)
+					 : 0;
 		evo_learn_opts lo = {
 			.seed = seed,
-			.threads = (int)o.threads,
+			.threads = (int)threads,
 			.run_dir = o.run_dir,
 			.resume = o.resume,
 		};

@@ -3,7 +3,8 @@
  * task as `evo run` does; `evo check` fails on what `evo run` would fail on
  * (a misspelled bot model, environment or botdesc sensor, a task type evo
  * cannot run yet); TYPE is read in any case; a BOTNAME naming another
- * agent than the mind folder gets a warning at its line. */
+ * agent than the mind folder gets a warning at its line; a learning
+ * task's THREADS key sets its workers unless --threads does. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -166,6 +167,32 @@ TEST(a_botname_of_another_agent_is_warned_at_its_line)
 	CHECK(!strstr(out1, "BOTNAME"));
 }
 
+TEST(a_tasks_threads_key_sets_the_workers)
+{
+	cli_sh("rm -rf %s/XOR && cp -r minds/XOR %s/", cli_tmp, cli_tmp);
+	const char *task = "TYPE:LEARNSIM\nBOTMODEL:none\nMASTERSKILL:XOR\n"
+			   "LEARNINGSKILL:XOR\nENV:XOR\nLEARNINGMETHOD:NEAT\n"
+			   "POPSIZE:20\nNUMGEN:1\nTHREADS:1\n";
+	char path[512];
+	snprintf(path, sizeof path, "%s/XOR/Tasks/T.simbatch", cli_tmp);
+	FILE *f = fopen(path, "w");
+	CHECK(f != NULL);
+	if (!f)
+		return;
+	fputs(task, f);
+	fclose(f);
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s run %s --run %s/r1",
+				 cli_evo, path, cli_tmp),
+		     0);
+	CHECK_CONTAINS(out1, ", 1 thread, run folder");
+	/* --threads wins over the task's key */
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1,
+				 "%s run %s --run %s/r2 --threads 2", cli_evo,
+				 path, cli_tmp),
+		     0);
+	CHECK_CONTAINS(out1, ", 2 threads, run folder");
+}
+
 int main(void)
 {
 	if (cli_setup("check"))
@@ -178,6 +205,7 @@ int main(void)
 	RUN(check_refuses_a_type_evo_run_cannot_run_yet);
 	RUN(type_is_read_in_any_case);
 	RUN(a_botname_of_another_agent_is_warned_at_its_line);
+	RUN(a_tasks_threads_key_sets_the_workers);
 	cli_cleanup();
 	return test_summary();
 }
