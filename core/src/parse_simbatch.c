@@ -40,7 +40,7 @@ static int whole_min(const char *key)
 {
 	if (evo_txt_eq(key, "NUMGEN") || evo_txt_eq(key, "EVALREP") ||
 	    evo_txt_eq(key, "TICKLIM") || evo_txt_eq(key, "POPSIZE") ||
-	    evo_txt_eq(key, "THREADS"))
+	    evo_txt_eq(key, "THREADS") || evo_txt_eq(key, "HIDDEN"))
 		return 1;
 	if (evo_txt_eq(key, "SEED"))
 		return 0;

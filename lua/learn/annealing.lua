@@ -90,7 +90,8 @@ end
 local Pop = {}
 Pop.__index = Pop
 
--- args: inputs, outputs, layers (hidden layers, default 1), options, rng.
+-- args: inputs, outputs, layers (hidden layers, default 1), hidden (their
+-- width, default max(inputs, outputs): the task's HIDDEN), options, rng.
 function annealing.new(args)
 	local o = genetic.merged_options(annealing.defaults, args.options, "annealing.new")
 	local rng = args.rng or error("annealing.new: an rng is required (learn.rng: random.new(seed))")
@@ -100,9 +101,10 @@ function annealing.new(args)
 	local layers = args.layers or 1
 	local pop = setmetatable({
 		options = o, inputs = args.inputs, outputs = args.outputs, layers = layers,
-		rng = rng, generation = 0, evaluations = 0, moves = 0, accepted = 0,
-		species = {}, temperature = o.t0,
-		current = genetic.random_genome(args.inputs, args.outputs, layers, o.init_power, o.weight_max, rng),
+		width = args.hidden, rng = rng, generation = 0, evaluations = 0, moves = 0,
+		accepted = 0, species = {}, temperature = o.t0,
+		current = genetic.random_genome(args.inputs, args.outputs, layers, o.init_power,
+			o.weight_max, rng, args.hidden),
 		current_fitness = nil, batch = nil, best = nil,
 	}, Pop)
 	return pop

@@ -13,7 +13,7 @@
 --
 -- Topology. The network is the one evo builds for a neural skill with
 -- `layers:N` (sim/mind/net_build.h): N hidden layers of width max(n_in, n_out),
--- every node fed by every node of the previous layer plus a bias, sigmoid
+-- or the task's HIDDEN, every node fed by every node of the previous layer plus a bias, sigmoid
 -- everywhere. Ids: inputs 0..n_in-1, outputs n_in..n_in+n_out-1, hidden
 -- nodes from n_in+n_out on, layer by layer. A genome is the flat weight
 -- vector in net_build's order: nodes listed hidden layer 1, ..., hidden
@@ -21,8 +21,9 @@
 -- the previous layer's nodes in id order. Keeping net_build's order means a
 -- genome and the C builder can never disagree about which weight is which.
 --
--- A genome is { inputs, outputs, layers, weights = {...} }: the shape
--- travels with the weights so to_net needs nothing else.
+-- A genome is { inputs, outputs, layers, width, weights = {...} } (width nil:
+-- the default): the shape travels with the weights so to_net needs nothing
+-- else.
 --
 -- Determinism. Every draw goes through the rng given to genetic.new (the
 -- xoshiro generator of learn.rng); loops run over arrays only, so the same
@@ -104,11 +105,13 @@ genetic.merged_options = merged
 ---------------------------------------------------------------------------
 -- The layered shape (sim/mind/net_build.h)
 
-function genetic.width(n_in, n_out) return math.max(n_in, n_out, 1) end
+-- The hidden layers' width: the task's HIDDEN when given, else net_build's
+-- default max(n_in, n_out).
+function genetic.width(n_in, n_out, hidden) return hidden or math.max(n_in, n_out, 1) end
 
 -- Number of weights of the layered network: net_build's weight count.
-function genetic.weight_count(n_in, n_out, layers)
-	local w, prev, count = genetic.width(n_in, n_out), n_in, 0
+function genetic.weight_count(n_in, n_out, layers, hidden)
+	local w, prev, count = genetic.width(n_in, n_out, hidden), n_in, 0
 	for _ = 1, layers do
 		count = count + w * (prev + 1)
 		prev = w
@@ -120,9 +123,9 @@ end
 -- and learn.netfile take it), with net_build's ids and listing order.
 function genetic.to_net(g)
 	local n_in, n_out, layers = g.inputs, g.outputs, g.layers
-	local width = genetic.width(n_in, n_out)
+	local width = genetic.width(n_in, n_out, g.width)
 	local w = g.weights
-	assert(#w == genetic.weight_count(n_in, n_out, layers), "to_net: wrong number of weights")
+	assert(#w == genetic.weight_count(n_in, n_out, layers, g.width), "to_net: wrong number of weights")
 	local nodes, links, outputs_ids = {}, {}, {}
 	local k = 0
 	local prev_first, prev_count = 0, n_in
@@ -151,16 +154,17 @@ local function clamp(x, m) return x > m and m or (x < -m and -m or x) end
 function genetic.copy(g)
 	local w = {}
 	for i, x in ipairs(g.weights) do w[i] = x end
-	return { inputs = g.inputs, outputs = g.outputs, layers = g.layers, weights = w }
+	return { inputs = g.inputs, outputs = g.outputs, layers = g.layers, width = g.width, weights = w }
 end
 
--- A genome of normal(0, power) weights.
-function genetic.random_genome(n_in, n_out, layers, power, weight_max, rng)
+-- A genome of normal(0, power) weights; hidden: the hidden layers' width
+-- (nil: the default).
+function genetic.random_genome(n_in, n_out, layers, power, weight_max, rng, hidden)
 	local w = {}
-	for i = 1, genetic.weight_count(n_in, n_out, layers) do
+	for i = 1, genetic.weight_count(n_in, n_out, layers, hidden) do
 		w[i] = clamp(rng:normal() * power, weight_max)
 	end
-	return { inputs = n_in, outputs = n_out, layers = layers, weights = w }
+	return { inputs = n_in, outputs = n_out, layers = layers, width = hidden, weights = w }
 end
 
 ---------------------------------------------------------------------------
@@ -226,7 +230,8 @@ end
 local Pop = {}
 Pop.__index = Pop
 
--- args: inputs, outputs, layers (hidden layers, default 1), options, rng.
+-- args: inputs, outputs, layers (hidden layers, default 1), hidden (their
+-- width, default max(inputs, outputs): the task's HIDDEN), options, rng.
 function genetic.new(args)
 	local o = merged(genetic.defaults, args.options, "genetic.new")
 	local rng = args.rng or error("genetic.new: an rng is required (learn.rng: random.new(seed))")
@@ -236,12 +241,12 @@ function genetic.new(args)
 	assert(o.tournament >= 1, "GA_TOURNAMENT must be at least 1")
 	local pop = setmetatable({
 		options = o, inputs = args.inputs, outputs = args.outputs, layers = layers,
-		rng = rng, generation = 0, evaluations = 0, species = {}, population = {},
-		best = nil,
+		width = args.hidden, rng = rng, generation = 0, evaluations = 0, species = {},
+		population = {}, best = nil,
 	}, Pop)
 	for i = 1, o.pop_size do
 		pop.population[i] = genetic.random_genome(args.inputs, args.outputs, layers,
-			o.init_power, o.weight_max, rng)
+			o.init_power, o.weight_max, rng, args.hidden)
 	end
 	return pop
 end

@@ -36,6 +36,15 @@ local REPLAY_RANDOM = 20
 -- A malformed option stops the run at its line in the task file.
 local options = common.task_options(algo, task, host.task_path, host.task_lines)
 
+-- HIDDEN: the width of GENETIC's and ANNEALING's hidden layers (the
+-- parser checked it is a whole number >= 1). NEAT grows its own.
+local hidden = tonumber(task.HIDDEN or "")
+if hidden and method == "NEAT" then
+	common.warning(host.task_path, host.task_lines, "HIDDEN", "HIDDEN is the width of "
+		.. "GENETIC's and ANNEALING's hidden layers; NEAT grows its own and ignores it")
+	hidden = nil
+end
+
 -- The checkpoint `text` read back: the population and the checkpoint's
 -- table. It is refused, with its path and what is wrong, unless it is a
 -- learning run's checkpoint for this skill; where the task now sets an
@@ -57,6 +66,12 @@ local function resume(text, path)
 		error(string.format("%s: the checkpoint's networks have %s inputs and %s outputs; the skill "
 			.. "now has %d and %d", path, tostring(p.inputs), tostring(p.outputs),
 			host.inputs, host.outputs), 0)
+	end
+	if hidden ~= p.width and method ~= "NEAT" then
+		common.warning(host.task_path, host.task_lines, "HIDDEN", string.format("HIDDEN is %s "
+			.. "in the task but the checkpoint's hidden layers are %s wide; the run goes on "
+			.. "with %s", tostring(hidden or "not set"), tostring(p.width or "the default"),
+			tostring(p.width or "the default")))
 	end
 	local keys = {}
 	for k in pairs(task) do keys[#keys + 1] = k end
@@ -87,10 +102,11 @@ if saved then
 	host.print(string.format("resuming after generation %d", c.generation))
 	if c.stopped then generations = c.generation + 1 end
 else
-	-- layers: the skill's `layers:`, the fixed shape of GENETIC and
-	-- ANNEALING (NEAT grows its own and ignores it).
+	-- layers: the skill's `layers:`, and hidden: the task's HIDDEN, the
+	-- fixed shape of GENETIC and ANNEALING (NEAT grows its own and
+	-- ignores both).
 	pop = algo.new{ inputs = host.inputs, outputs = host.outputs, layers = host.layers,
-		options = options, rng = random.new(host.seed) }
+		hidden = hidden, options = options, rng = random.new(host.seed) }
 	first = 0
 	history = { best = {}, mean = {} }
 end
@@ -166,6 +182,7 @@ host.curve(history.best, history.mean)
 -- and print what each scores and how long each spent touching things.
 if not literature then
 	local fresh = algo.new{ inputs = host.inputs, outputs = host.outputs, layers = host.layers,
+		hidden = hidden,
 		options = options, rng = random.new(host.seed + 1) }
 	local nets = { champion }
 	for i, g in ipairs(fresh:genomes()) do

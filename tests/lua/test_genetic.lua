@@ -143,6 +143,27 @@ function T.weight_count_matches_net_build()
 	check(#pop:genomes() == genetic.defaults.pop_size, "default population")
 end
 
+function T.hidden_sets_the_width_of_the_hidden_layers()
+	-- HIDDEN:4 on Avoid: 4 hidden nodes of 11 + 1 weights, 2 outputs of 4 + 1
+	check(genetic.weight_count(11, 2, 1, 4) == 4 * 12 + 2 * 5, "Avoid with HIDDEN:4")
+	check(genetic.weight_count(2, 1, 2, 3) == 3 * 3 + 3 * 4 + 1 * 4, "2-3-3-1")
+	local pop = genetic.new { inputs = 11, outputs = 2, layers = 1, hidden = 4, rng = random.new(7) }
+	local g = pop:genomes()[1]
+	check(#g.weights == 58 and g.width == 4, "genomes carry HIDDEN's width")
+	local net = genetic.to_net(g)
+	-- 4 hidden nodes and 2 outputs; hidden ids from 13 on
+	check(#net.nodes == 6, "nodes: 4 hidden + 2 outputs")
+	check(net.nodes[4].id == 16 and net.nodes[5].id == 11, "ids: hidden 13..16, then outputs")
+	check(#net.links == 4 * 11 + 2 * 4, "links")
+	-- the width survives a copy, a generation and a checkpoint
+	local fit = {}
+	for i = 1, #pop:genomes() do fit[i] = i end
+	pop:tell(fit)
+	check(pop:genomes()[1].width == 4 and #pop:genomes()[1].weights == 58, "after tell")
+	local back = genetic.load(genetic.save(pop))
+	check(back.width == 4 and back:genomes()[2].width == 4, "after a checkpoint")
+end
+
 -- The network sim/mind/net_build.c builds for 2 inputs, 1 hidden layer, 1 output,
 -- written by hand: hidden ids 3, 4 (after inputs 0, 1 and output 2), listed
 -- hidden first, each node its bias then its links from the previous layer.

@@ -4,7 +4,8 @@
  * (a misspelled bot model, environment or botdesc sensor, a task type evo
  * cannot run yet); TYPE is read in any case; a BOTNAME naming another
  * agent than the mind folder gets a warning at its line; a learning
- * task's THREADS key sets its workers unless --threads does. */
+ * task's THREADS key sets its workers unless --threads does, and HIDDEN
+ * the width of GENETIC's and ANNEALING's hidden layers. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -193,6 +194,57 @@ TEST(a_tasks_threads_key_sets_the_workers)
 	CHECK_CONTAINS(out1, ", 2 threads, run folder");
 }
 
+/* Lines of text that start with prefix. */
+static int count_lines(const char *text, const char *prefix)
+{
+	int n = 0;
+	size_t len = strlen(prefix);
+	for (const char *l = text; l && *l; l = strchr(l, '\n'), l = l ? l + 1 : l)
+		n += strncmp(l, prefix, len) == 0;
+	return n;
+}
+
+TEST(hidden_sets_the_width_of_genetic_networks)
+{
+	cli_sh("rm -rf %s/XOR && cp -r minds/XOR %s/ && sed -i "
+	       "'s/layers:0/layers:2/' %s/XOR/Skills/XOR/XOR.ades && "
+	       "rm -f %s/XOR/Skills/XOR/XOR.net",
+	       cli_tmp, cli_tmp, cli_tmp, cli_tmp);
+	char path[512];
+	snprintf(path, sizeof path, "%s/XOR/Tasks/G.simbatch", cli_tmp);
+	FILE *f = fopen(path, "w");
+	CHECK(f != NULL);
+	if (!f)
+		return;
+	fputs("TYPE:LEARNSIM\nBOTMODEL:none\nMASTERSKILL:XOR\n"
+	      "LEARNINGSKILL:XOR\nENV:XOR\nLEARNINGMETHOD:GENETIC\n"
+	      "GA_POPSIZE:10\nNUMGEN:2\nHIDDEN:3\n",
+	      f);
+	fclose(f);
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s run %s --run %s/g",
+				 cli_evo, path, cli_tmp),
+		     0);
+	/* two hidden layers of HIDDEN:3 nodes, then the output (the default
+	 * width would be max(2, 1) = 2) */
+	char *net = cli_read("%s/g/champion.net", cli_tmp);
+	CHECK(net != NULL);
+	CHECK_EQ_INT(count_lines(net, "node:"), 3 + 3 + 1);
+	CHECK_EQ_INT(count_lines(net, "link:"), 3 * 2 + 3 * 3 + 1 * 3);
+	free(net);
+	/* NEAT grows its own hidden nodes: a warning at HIDDEN's line */
+	cli_sh("sed -i 's/GENETIC/NEAT/; s/GA_POPSIZE/POPSIZE/' %s", path);
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s run %s --run %s/n",
+				 cli_evo, path, cli_tmp),
+		     0);
+	CHECK_CONTAINS(out1, "G.simbatch:9: warning: HIDDEN is the width of "
+			     "GENETIC's and ANNEALING's hidden layers");
+	/* and 0 is no width */
+	cli_sh("sed -i 's/HIDDEN:3/HIDDEN:0/' %s", path);
+	CHECK(cli_capture(out1, sizeof out1, "%s check %s", cli_evo, path) !=
+	      0);
+	CHECK_CONTAINS(out1, "HIDDEN");
+}
+
 int main(void)
 {
 	if (cli_setup("check"))
@@ -206,6 +258,7 @@ int main(void)
 	RUN(type_is_read_in_any_case);
 	RUN(a_botname_of_another_agent_is_warned_at_its_line);
 	RUN(a_tasks_threads_key_sets_the_workers);
+	RUN(hidden_sets_the_width_of_genetic_networks);
 	cli_cleanup();
 	return test_summary();
 }
