@@ -138,7 +138,8 @@ test-bins: $(TEST_BINS) $(BUILD)/evo $(BUILD)/tests/net_dump_O0 $(BUILD)/tests/n
 # Runs every test binary; a failing one fails the target after all have run.
 # tests/run.sh sums their counts into one closing line.
 test-plain: test-bins
-	@EVO_BUILD=$(BUILD) sh tests/run.sh $(TEST_BINS) tests/test_layout.sh
+	@EVO_BUILD=$(BUILD) sh tests/run.sh $(TEST_BINS) tests/test_layout.sh \
+		tests/test_docs.sh
 
 # X11 and Mesa leak at exit inside SDL's viewer; tests/lsan.supp names only
 # those libraries, so leaks in evo's own code still fail the run.
