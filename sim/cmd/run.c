@@ -28,7 +28,7 @@ typedef struct run_opts {
 	int headless;
 	uint64_t seed;
 	int seed_set;
-	long episodes;
+	long episodes; /* 0 with the viewer: until the window is closed */
 	long ticks; /* per episode; 0: until a control function ends it */
 	const char *trace;
 	const char *screenshot; /* viewer: save a PNG after `ticks` ticks */
@@ -44,7 +44,8 @@ static void run_usage(FILE *f)
 	      "                     print each episode's reward\n"
 	      "  --seed N           seed of the obstacle grids and of every\n"
 	      "                     random choice (default: SEED or 1)\n"
-	      "  --episodes N       episodes to run (default 1)\n"
+	      "  --episodes N       episodes to run (default: 1 headless;\n"
+	      "                     with the viewer, until it is closed)\n"
 	      "  --ticks N          at most N ticks per episode\n"
 	      "  --trace FILE       record each tick's sensor and actuator\n"
 	      "                     values (docs/running.md)\n"
@@ -74,7 +75,7 @@ static int parse_count(const char *flag, const char *v, long *out)
 static int parse_args(int argc, char **argv, run_opts *o)
 {
 	memset(o, 0, sizeof *o);
-	o->episodes = 1;
+	o->episodes = -1; /* not given */
 	for (int i = 2; i < argc; i++) {
 		const char *a = argv[i];
 		const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -386,6 +387,10 @@ int evo_run_main(int argc, char **argv)
 				goto out;
 		}
 	}
+	/* Not given: one episode headless; with the viewer, episodes until
+	 * the window is closed, as EvoAgents' viewer ran them. */
+	if (o.episodes < 0)
+		o.episodes = v ? 0 : 1;
 	if (trace_open(&tf, o.trace, &err))
 		goto out;
 	s->trace = tf.f;

@@ -5,7 +5,8 @@
  * cannot run yet); TYPE is read in any case; a BOTNAME naming another
  * agent than the mind folder gets a warning at its line; a learning
  * task's THREADS key sets its workers unless --threads does, and HIDDEN
- * the width of GENETIC's and ANNEALING's hidden layers. */
+ * the width of GENETIC's and ANNEALING's hidden layers; the DEMOSIM viewer
+ * runs episodes until its window is closed. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -194,6 +195,29 @@ TEST(a_tasks_threads_key_sets_the_workers)
 	CHECK_CONTAINS(out1, ", 2 threads, run folder");
 }
 
+TEST(the_viewer_runs_episodes_until_it_is_closed)
+{
+	/* 5-tick episodes in real time (30 ticks a second) under a virtual
+	 * display: after 3 s, many episodes have run and the viewer is still
+	 * up, until SIGTERM closes it (timeout's 124) */
+	int rc = cli_capture(out1, sizeof out1,
+			     "xvfb-run -a sh -c 'timeout -s TERM 3 %s run " DEMO
+			     " --ticks 5; echo \"exit $?\"'",
+			     cli_evo);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out1, "episode 1: reward ");
+	CHECK_CONTAINS(out1, "episode 3: reward ");
+	CHECK_CONTAINS(out1, "exit 124");
+	/* --episodes still bounds it */
+	rc = cli_capture(out1, sizeof out1,
+			 "xvfb-run -a sh -c 'timeout -s TERM 20 %s run " DEMO
+			 " --ticks 5 --episodes 2; echo \"exit $?\"'",
+			 cli_evo);
+	CHECK_CONTAINS(out1, "episode 2: reward ");
+	CHECK(!strstr(out1, "episode 3:"));
+	CHECK_CONTAINS(out1, "exit 0");
+}
+
 /* Lines of text that start with prefix. */
 static int count_lines(const char *text, const char *prefix)
 {
@@ -259,6 +283,7 @@ int main(void)
 	RUN(a_botname_of_another_agent_is_warned_at_its_line);
 	RUN(a_tasks_threads_key_sets_the_workers);
 	RUN(hidden_sets_the_width_of_genetic_networks);
+	RUN(the_viewer_runs_episodes_until_it_is_closed);
 	cli_cleanup();
 	return test_summary();
 }
