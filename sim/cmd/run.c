@@ -49,8 +49,9 @@ static void run_usage(FILE *f)
 	      "  --ticks N          at most N ticks per episode\n"
 	      "  --trace FILE       record each tick's sensor and actuator\n"
 	      "                     values (docs/running.md)\n"
-	      "  --screenshot FILE  with the viewer: save a PNG after the\n"
-	      "                     first --ticks ticks and quit\n"
+	      "  --screenshot FILE  save a PNG of what the viewer shows after\n"
+	      "                     the first --ticks ticks and quit (drawn\n"
+	      "                     without a window when headless)\n"
 	      "LEARNSIM:\n"
 	      "  --threads N        worker threads (default: one per core)\n"
 	      "  --run DIR          run folder (default MIND/Runs/TASK-seedN)\n"
@@ -226,17 +227,75 @@ static void sleep_until(double t)
 	nanosleep(&ts, NULL);
 }
 
+/* The viewer's window, and a screenshot drawn without one. */
+#define VIEW_W 1024
+#define VIEW_H 720
+
+/* What the viewer's panel shows: the tick, the episode, the rewards and
+ * each skill's live influence. */
+typedef struct panel_data {
+	const char *names[256];
+	double infl[256];
+} panel_data;
+
+static evo_viewer_panel panel_for(panel_data *pd, const evo_sim *s, long e,
+				  const char *title)
+{
+	const evo_mind *m = &s->mind->mind;
+	int n = m->n_skills < 256 ? (int)m->n_skills : 256;
+	for (int i = 0; i < n; i++) {
+		pd->names[i] = evo_mind_skill_name(m, (unsigned)i);
+		pd->infl[i] = evo_q16_to_double(s->state->influence[i]);
+	}
+	evo_viewer_panel p = {
+		.tick = s->scene->tick,
+		.episode = (int)e,
+		.step_reward = s->scene->step_reward,
+		.episode_reward = s->scene->episode_reward,
+		.n_influence = n,
+		.influence_name = pd->names,
+		.influence = pd->infl,
+		.title = title,
+	};
+	return p;
+}
+
+/* --screenshot without a window: episode 1 for --ticks ticks, then the
+ * frame the viewer would show at its default size, drawn off screen. */
+static int screenshot_headless(evo_sim *s, const run_opts *o, uint64_t seed,
+			       evo_err *err)
+{
+	if (evo_sim_reset(s, 1, grid_seed(seed, 1), episode_seed(seed, 1), err))
+		return -1;
+	for (long t = 0; t < o->ticks && !stop_requested; t++) {
+		int r = evo_sim_tick(s, err);
+		if (r < 0)
+			return -1;
+		if (r > 0)
+			break;
+	}
+	evo_raster im;
+	if (evo_raster_init(&im, VIEW_W, VIEW_H, err))
+		return -1;
+	panel_data pd;
+	evo_viewer_panel p = panel_for(&pd, s, 1, o->task);
+	evo_view_camera cam =
+		evo_view_camera_for(s->scene, s->bot, 1.0, VIEW_W, VIEW_H);
+	evo_view_render(&im, s->scene, &cam, &p);
+	int rc = evo_raster_save_png(&im, o->screenshot, err);
+	evo_raster_free(&im);
+	if (rc == 0)
+		printf("saved %s (tick %ld, drawn without a window)\n",
+		       o->screenshot, s->scene->tick);
+	return rc;
+}
+
 /* DEMOSIM in a window: real time (30 ticks a second) times the speed,
  * with pause, single step, speed and reset keys. */
 static int run_viewer(evo_sim *s, evo_viewer *v, const run_opts *o,
 		      uint64_t seed, evo_err *err)
 {
-	const evo_mind *m = &s->mind->mind;
-	const char *names[256];
-	double infl[256];
-	int n_skills = m->n_skills < 256 ? m->n_skills : 256;
-	for (int i = 0; i < n_skills; i++)
-		names[i] = evo_mind_skill_name(m, (unsigned)i);
+	panel_data pd;
 	long e = 1, t = 0;
 	if (evo_sim_reset(s, 1, grid_seed(seed, 1), episode_seed(seed, 1), err))
 		return -1;
@@ -294,20 +353,9 @@ static int run_viewer(evo_sim *s, evo_viewer *v, const run_opts *o,
 				break;
 			}
 		}
-		for (int i = 0; i < n_skills; i++)
-			infl[i] = evo_q16_to_double(s->state->influence[i]);
-		evo_viewer_panel p = {
-			.tick = s->scene->tick,
-			.episode = (int)e,
-			.step_reward = s->scene->step_reward,
-			.episode_reward = s->scene->episode_reward,
-			.n_influence = n_skills,
-			.influence_name = names,
-			.influence = infl,
-			.speed = speed,
-			.paused = paused,
-			.title = o->task,
-		};
+		evo_viewer_panel p = panel_for(&pd, s, e, o->task);
+		p.speed = speed;
+		p.paused = paused;
 		evo_viewer_draw(v, s->scene, s->bot, &p);
 		if (o->screenshot && t >= o->ticks)
 			return evo_viewer_screenshot(v, o->screenshot, err);
@@ -377,14 +425,12 @@ int evo_run_main(int argc, char **argv)
 		const char *d = getenv("DISPLAY");
 		const char *w = getenv("WAYLAND_DISPLAY");
 		if ((d && d[0]) || (w && w[0]))
-			v = evo_viewer_open(1024, 720, &err);
+			v = evo_viewer_open(VIEW_W, VIEW_H, &err);
 		if (!v) {
 			fprintf(stderr,
 				"evo run: no display (%s); running headless\n",
 				err.msg[0] ? err.msg : "DISPLAY is not set");
 			err.msg[0] = 0;
-			if (o.screenshot)
-				goto out;
 		}
 	}
 	/* Not given: one episode headless; with the viewer, episodes until
@@ -396,8 +442,9 @@ int evo_run_main(int argc, char **argv)
 	s->trace = tf.f;
 	if (s->trace)
 		evo_sim_trace_header(s);
-	int r = v ? run_viewer(s, v, &o, seed, &err)
-		  : run_headless(s, &o, seed, &err);
+	int r = v		? run_viewer(s, v, &o, seed, &err)
+		: o.screenshot	? screenshot_headless(s, &o, seed, &err)
+				: run_headless(s, &o, seed, &err);
 	s->trace = NULL;
 	/* A failed run drops its trace; trace_close then leaves err alone. */
 	if (trace_close(&tf, r == 0, &err) == 0 && r == 0)

@@ -6,7 +6,8 @@
  * agent than the mind folder gets a warning at its line; a learning
  * task's THREADS key sets its workers unless --threads does, and HIDDEN
  * the width of GENETIC's and ANNEALING's hidden layers; the DEMOSIM viewer
- * runs episodes until its window is closed. */
+ * runs episodes until its window is closed, and --screenshot without a
+ * window draws the frame off screen. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,6 +15,8 @@
 
 #include "harness.h"
 #include "support/cli.h"
+#include "viewer/png.h"
+#include "viewer/viewer.h"
 
 static char out1[1 << 15], out2[1 << 15];
 
@@ -218,6 +221,40 @@ TEST(the_viewer_runs_episodes_until_it_is_closed)
 	CHECK_CONTAINS(out1, "exit 0");
 }
 
+TEST(a_screenshot_without_a_window_is_drawn_off_screen)
+{
+	char png[512];
+	snprintf(png, sizeof png, "%s/shot.png", cli_tmp);
+	int rc = cli_capture(out1, sizeof out1,
+			     "%s -nog minds/Collect/Tasks/Collect-DEMO.simbatch "
+			     "--ticks 30 --screenshot %s",
+			     cli_evo, png);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out1, "(tick 30, drawn without a window)");
+	evo_png_image im;
+	evo_err err = {{0}};
+	CHECK_EQ_INT(evo_png_read(png, &im, &err), 0);
+	CHECK_EQ_INT(im.w, 1024);
+	CHECK_EQ_INT(im.h, 720);
+	/* the bot is drawn in the viewer's colour, the panel on the right */
+	long bot = 0;
+	for (long i = 0; im.pixels && i < (long)im.w * im.h; i++) {
+		const uint8_t *px = im.pixels + i * im.channels;
+		bot += ((uint32_t)px[0] << 16 | (uint32_t)px[1] << 8 | px[2]) ==
+		       EVO_VIEW_BOT;
+	}
+	CHECK(bot > 20);
+	evo_png_image_free(&im);
+	/* no display and no -nog: the same, after saying so */
+	rc = cli_capture(out1, sizeof out1,
+			 "env -u DISPLAY -u WAYLAND_DISPLAY %s run " DEMO
+			 " --ticks 10 --screenshot %s",
+			 cli_evo, png);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out1, "running headless");
+	CHECK_CONTAINS(out1, "drawn without a window");
+}
+
 /* Lines of text that start with prefix. */
 static int count_lines(const char *text, const char *prefix)
 {
@@ -284,6 +321,7 @@ int main(void)
 	RUN(a_tasks_threads_key_sets_the_workers);
 	RUN(hidden_sets_the_width_of_genetic_networks);
 	RUN(the_viewer_runs_episodes_until_it_is_closed);
+	RUN(a_screenshot_without_a_window_is_drawn_off_screen);
 	cli_cleanup();
 	return test_summary();
 }
