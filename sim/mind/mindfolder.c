@@ -174,6 +174,31 @@ static int entry_for(loader *ld, const char *name, const char *where,
 	return (int)(ld->n_entries - 1);
 }
 
+/* "P -> Q -> P": the walk's path from skill c back to c, for the cycle
+ * message. A cycle can be up to MAX_SKILLS long names, far more than a
+ * message holds, so names that do not fit become "... -> " and the text
+ * still ends with the name that closes the cycle. */
+static void cycle_text(char *out, size_t cap, const loader *ld, unsigned c)
+{
+	/* Room kept for "... -> ", the closing name and the NUL; cap is
+	 * larger, so every write below fits. */
+	const size_t tail = sizeof "... -> " - 1 + EVO_NAME_MAX;
+	size_t n = 0;
+	unsigned k = 0;
+	while (ld->path[k] != c)
+		k++;
+	for (; k < ld->depth; k++) {
+		const char *name = ld->entry[ld->path[k]].name;
+		size_t len = strlen(name) + sizeof " -> " - 1;
+		if (n + len + tail > cap) {
+			n += (size_t)snprintf(out + n, cap - n, "... -> ");
+			break;
+		}
+		n += (size_t)snprintf(out + n, cap - n, "%s -> ", name);
+	}
+	snprintf(out + n, cap - n, "%s", ld->entry[c].name);
+}
+
 /* Depth-first from a skill along its SK outputs; the reverse post-order
  * is the top-down order: every skill before its sub-skills. */
 static int walk(loader *ld, unsigned idx)
@@ -194,17 +219,8 @@ static int walk(loader *ld, unsigned idx)
 			return -1;
 		e = &ld->entry[idx];
 		if (ld->entry[c].mark == 1) {
-			char cycle[1024] = "";
-			size_t n = 0;
-			unsigned k = 0;
-			while (ld->path[k] != (unsigned)c)
-				k++;
-			for (; k < ld->depth; k++)
-				n += (size_t)snprintf(cycle + n,
-						      sizeof cycle - n, "%s -> ",
-						      ld->entry[ld->path[k]].name);
-			snprintf(cycle + n, sizeof cycle - n, "%s",
-				 ld->entry[c].name);
+			char cycle[512];
+			cycle_text(cycle, sizeof cycle, ld, (unsigned)c);
 			return evo_fail(ld->err,
 					"%s:%u: SK:%s makes a cycle among "
 					"skills: %s",

@@ -203,6 +203,47 @@ TEST(cycle_among_skills)
 		     "P -> Q -> P");
 }
 
+/* Twenty skills of the longest names a skill can have, each naming the
+ * next and the last the first: the message cannot hold the whole cycle,
+ * so it must cut it short ("... -> ") rather than write past its buffer
+ * (ASan catches that in make test-asan), and still name the cycle. */
+TEST(long_cycle_of_long_names)
+{
+	enum { N = 20 };
+	char name[N][EVO_NAME_MAX];
+	for (int i = 0; i < N; i++) {
+		memset(name[i], 'a' + i, EVO_NAME_MAX - 1);
+		name[i][EVO_NAME_MAX - 1] = 0;
+	}
+	fresh();
+	/* %.*s with the longest name, so the compiler sees the bound. */
+	const int w = EVO_NAME_MAX - 1;
+	char rel[256], text[512];
+	snprintf(text, sizeof text,
+		 "M\ninput:1\nSE:A\noutput:1\nSK:%.*s\nneural\nlayers:0\n", w,
+		 name[0]);
+	put("Skills/M/M.ades", text);
+	for (int i = 0; i < N; i++) {
+		snprintf(rel, sizeof rel, "Skills/%.*s/%.*s.ades", w, name[i],
+			 w, name[i]);
+		snprintf(text, sizeof text,
+			 "%.*s\ninput:0\noutput:1\nSK:%.*s\nhardCoded\n"
+			 "class:Stop\n",
+			 w, name[i], w, name[(i + 1) % N]);
+		put(rel, text);
+	}
+	const char *msg = load_error("M");
+	char want[256];
+	snprintf(want, sizeof want,
+		 "SK:%.*s makes a cycle among skills: %.*s -> ", w, name[0], w,
+		 name[0]);
+	CHECK_CONTAINS(msg, want);
+	CHECK_CONTAINS(msg, "... -> ");
+	snprintf(want, sizeof want, " -> %.*s", w, name[0]);
+	size_t ml = msg ? strlen(msg) : 0, wl = strlen(want);
+	CHECK(ml >= wl && strcmp(msg + ml - wl, want) == 0);
+}
+
 TEST(skill_that_names_itself)
 {
 	fresh();
@@ -405,6 +446,7 @@ int main(void)
 	RUN(unknown_output_variable);
 	RUN(sk_names_a_missing_skill);
 	RUN(cycle_among_skills);
+	RUN(long_cycle_of_long_names);
 	RUN(skill_that_names_itself);
 	RUN(count_that_does_not_match_its_lines);
 	RUN(unknown_internal_function_type);
