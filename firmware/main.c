@@ -122,6 +122,7 @@ static int exit_status(evo_status st)
 		return FW_EXIT_IMAGE_MISMATCH;
 	case EVO_ERR_IMAGE_LAYOUT:
 	case EVO_ERR_IMAGE_CLASS:
+	case EVO_ERR_IMAGE_RANGE:
 		return FW_EXIT_IMAGE_INVALID;
 	default:
 		return FW_EXIT_OTHER;

@@ -79,6 +79,15 @@ static evo_status check_io(const evo_mind *m, unsigned skill)
 	return EVO_OK;
 }
 
+/* |v| < EVO_NET_WEIGHT_MAX, the bound on weights and biases that keeps a
+ * network's sums from overflowing (docs/fixed-point.md). One unsigned
+ * compare: v + lim - 1 lands in [0, 2 lim - 2] exactly when it holds. */
+static int weight_in_range(evo_q16 v)
+{
+	const uint32_t lim = (uint32_t)EVO_NET_WEIGHT_MAX * EVO_Q16_ONE;
+	return (uint32_t)v + (lim - 1u) <= 2u * lim - 2u;
+}
+
 static evo_status check_net(const evo_mind *m, const evo_image_net *n,
 			    uint32_t *persist, uint16_t *max_ff)
 {
@@ -103,10 +112,14 @@ static evo_status check_net(const evo_mind *m, const evo_image_net *n,
 		    nd->link_count > EVO_NET_MAX_FANIN ||
 		    (uint32_t)nd->link_start + nd->link_count > n->n_links)
 			return EVO_ERR_IMAGE_LAYOUT;
+		if (!weight_in_range(nd->bias))
+			return EVO_ERR_IMAGE_RANGE;
 		for (unsigned l = 0; l < nd->link_count; l++) {
 			const evo_net_link *lk = &links[nd->link_start + l];
 			if (lk->src >= n->n_nodes)
 				return EVO_ERR_IMAGE_LAYOUT;
+			if (!weight_in_range(lk->weight))
+				return EVO_ERR_IMAGE_RANGE;
 			if (lk->src >= i)
 				recurrent = 1;
 		}

@@ -49,7 +49,9 @@ typedef struct evo_mind {
  * other sensors, actuators or variables is refused. Checks, in order:
  * alignment, magic, version, length, CRC-32, names hash, layout (every
  * offset, count and index in range; sub-skills come after their parents;
- * networks match their skills), and hard-coded classes. */
+ * networks match their skills; every network weight and bias below
+ * EVO_NET_WEIGHT_MAX in magnitude, else EVO_ERR_IMAGE_RANGE), and
+ * hard-coded classes. */
 evo_status evo_mind_open(const void *buf, size_t len, uint32_t names_hash,
 			 evo_mind *m);
 

@@ -23,7 +23,9 @@
 	X(EVO_ERR_IMAGE_LAYOUT, "mind image has an invalid section layout")    \
 	X(EVO_ERR_IMAGE_CLASS,                                                 \
 	  "mind image uses a hard-coded skill class this build lacks")         \
-	X(EVO_ERR_ALIGN, "buffer is not 4-byte aligned")
+	X(EVO_ERR_ALIGN, "buffer is not 4-byte aligned")                       \
+	X(EVO_ERR_IMAGE_RANGE,                                                 \
+	  "mind image has a network weight or bias out of range")
 
 typedef enum evo_status {
 #define EVO_STATUS_ENUM(code, text) code,
