@@ -87,11 +87,13 @@ static int set_sensor(const evo_mindfolder *l, const char *arg, double *values)
 			       arg),
 		       -1;
 	double v = strtod(eq + 1, &end);
-	if (end == eq + 1 || *end || v < 0 || v > 1)
+	/* Written so that NaN fails too: nan and inf are refused here rather
+	 * than mapped (docs/mind.md, "Sensor values"). */
+	if (end == eq + 1 || *end || !(v >= 0 && v <= 1))
 		return fprintf(stderr,
-			       "evo: --sensor %s: the value must be a number "
-			       "in [0, 1]\n",
-			       arg),
+			       "evo: --sensor %s: the value of sensor '%.*s' "
+			       "must be a number in [0, 1]\n",
+			       arg, (int)(eq - arg), arg),
 		       -1;
 	for (unsigned i = 0; i < l->botdesc->n_sensors; i++)
 		if (strlen(l->botdesc->sensor[i].name) == (size_t)(eq - arg) &&
@@ -118,7 +120,7 @@ static int cmd_tick(const evo_mindfolder *l, long ticks, double *sensor_values)
 		return 1;
 	}
 	for (unsigned i = 0; i < m->n_sensors; i++)
-		sensors[i] = evo_q16_from_double(sensor_values[i]);
+		sensors[i] = evo_q16_from_sensor(sensor_values[i]);
 	printf("tick");
 	for (unsigned a = 0; a < m->n_actuators; a++)
 		printf(" %8s", evo_mind_actuator_name(m, a));

@@ -158,7 +158,7 @@ int evo_sim_tick(evo_sim *s, evo_err *err)
 	evo_scene_sense(sc);
 	for (unsigned i = 0; i < m->n_sensors; i++)
 		s->sensors[i] =
-			evo_q16_from_double(b->sensor[s->sensor_map[i]].value);
+			evo_q16_from_sensor(b->sensor[s->sensor_map[i]].value);
 	evo_mind_step(m, s->state, s->sensors, s->actuators);
 	for (unsigned i = 0; i < m->n_actuators; i++)
 		b->actuator[s->actuator_map[i]].command =

@@ -2,8 +2,11 @@
  * C's 64-bit division in the tick (the weighted means), so it must give the
  * same quotient for every input with d > 0: checked here against the C
  * operator on every edge of its two paths, exhaustively on small values,
- * and on tens of millions of random ones. */
+ * and on tens of millions of random ones. evo_q16_from_sensor is the one
+ * rule for sensor values from any source (docs/mind.md, "Sensor values"),
+ * NaN and infinities included. */
 #include <inttypes.h>
+#include <math.h>
 #include <stdio.h>
 
 #include "evo/fixed.h"
@@ -120,10 +123,45 @@ TEST(division_random)
 	CHECK_EQ_INT(mismatches, 0);
 }
 
+/* NaN reads 0.5; below 0 reads 0 and above 1 reads 1, infinities too;
+ * values in [0, 1] are rounded as evo_q16_from_double rounds them. */
+TEST(sensor_values)
+{
+	CHECK_EQ_INT(evo_q16_from_sensor(NAN), EVO_Q16_HALF);
+	CHECK_EQ_INT(evo_q16_from_sensor(-NAN), EVO_Q16_HALF);
+	CHECK_EQ_INT(evo_q16_from_sensor(INFINITY), EVO_Q16_ONE);
+	CHECK_EQ_INT(evo_q16_from_sensor(-INFINITY), 0);
+	CHECK_EQ_INT(evo_q16_from_sensor(-0.0), 0);
+	CHECK_EQ_INT(evo_q16_from_sensor(0.0), 0);
+	CHECK_EQ_INT(evo_q16_from_sensor(1e300), EVO_Q16_ONE);
+	CHECK_EQ_INT(evo_q16_from_sensor(-1e300), 0);
+	CHECK_EQ_INT(evo_q16_from_sensor(1.0), EVO_Q16_ONE);
+	CHECK_EQ_INT(evo_q16_from_sensor(0.5), EVO_Q16_HALF);
+	CHECK_EQ_INT(evo_q16_from_sensor(0.2), EVO_Q16_FALSE);
+	CHECK_EQ_INT(evo_q16_from_sensor(0.8), EVO_Q16_TRUE);
+	CHECK_EQ_INT(evo_q16_from_sensor(1e-300), 0);
+}
+
+/* The general conversion saturates infinities and gives NaN 0, where a
+ * plain cast would be undefined. The NaN goes through a volatile so that
+ * the compiler cannot fold the conversion at build time. */
+TEST(double_conversion_edges)
+{
+	volatile double nan = NAN;
+	CHECK_EQ_INT(evo_q16_from_double(nan), 0);
+	CHECK_EQ_INT(evo_q16_from_double(INFINITY), EVO_Q16_MAX);
+	CHECK_EQ_INT(evo_q16_from_double(-INFINITY), EVO_Q16_MIN);
+	CHECK_EQ_INT(evo_q16_from_double(1e300), EVO_Q16_MAX);
+	CHECK_EQ_INT(evo_q16_from_double(-0.0), 0);
+	CHECK_EQ_INT(evo_q16_from_double(-1.5), -98304);
+}
+
 int main(void)
 {
 	RUN(division_edges);
 	RUN(division_small_exhaustive);
 	RUN(division_random);
+	RUN(sensor_values);
+	RUN(double_conversion_edges);
 	return test_summary();
 }

@@ -92,15 +92,34 @@ static inline evo_q16 evo_q16_clamp01(evo_q16 v)
 
 #ifndef EVO_FREESTANDING
 /* Host-side conversions; never called on the firmware's tick path. The
- * double is rounded to the nearest Q16 (ties away from zero) and saturated. */
+ * double is rounded to the nearest Q16 (ties away from zero) and saturated;
+ * NaN, which no integer holds, becomes 0. */
 static inline evo_q16 evo_q16_from_double(double d)
 {
 	double s = d * 65536.0;
+	if (s != s) /* NaN */
+		return 0;
 	if (s >= 2147483647.0)
 		return EVO_Q16_MAX;
 	if (s <= -2147483648.0)
 		return EVO_Q16_MIN;
 	return (evo_q16)(s < 0 ? s - 0.5 : s + 0.5);
+}
+
+/* A sensor value as Q16, by the one rule for sensor values from any
+ * source (docs/mind.md, "Sensor values"): clamped to [0, 1], so -inf
+ * reads 0 and +inf 1; NaN reads 0.5, the neutral value, which is also
+ * what `evo tick` gives a sensor it is not told about. Every double that
+ * becomes a sensor's Q16 on the host goes through here. */
+static inline evo_q16 evo_q16_from_sensor(double v)
+{
+	if (v != v) /* NaN */
+		return EVO_Q16_HALF;
+	if (v <= 0)
+		return 0;
+	if (v >= 1)
+		return EVO_Q16_ONE;
+	return evo_q16_from_double(v);
 }
 
 static inline double evo_q16_to_double(evo_q16 q)
