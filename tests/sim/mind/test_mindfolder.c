@@ -463,5 +463,12 @@ int main(void)
 	RUN(task_with_unknown_method);
 	RUN(task_missing_a_key);
 	RUN(task_run_from_inside_its_mind_folder);
+	/* The folders fresh() made: one per test, under this process's id. */
+	char cmd[128];
+	snprintf(cmd, sizeof cmd, "rm -rf /tmp/evo-test-load-%ld-*",
+		 (long)getpid());
+	if (system(cmd) != 0)
+		printf("could not remove /tmp/evo-test-load-%ld-*\n",
+		       (long)getpid());
 	return test_summary();
 }
