@@ -8,7 +8,8 @@
 --        (something within 3 of the rim).
 -- A bot standing still scores 0, so only a bot that moves can do well;
 -- EXP_Avoid pays about 1 a tick for standing still in the open.
--- Each episode starts at (0, 5), clear of the grid, facing a random way.
+-- Each episode starts at (0, 5), clear of the grid, facing a random way
+-- (bot:place takes degrees, as every angle in Lua does).
 local arena = require "lib.arena"
 
 local env = {}
@@ -29,7 +30,7 @@ function env.init(scene, task)
 end
 
 function env.reset(scene, episode)
-	bot:place(0, 5, scene:random(0, 2 * math.pi))
+	bot:place(0, 5, scene:random(0, 360))
 end
 
 return env
