@@ -184,6 +184,15 @@ static int trace_close(trace_file *t, int keep, evo_err *err)
 	return 0;
 }
 
+/* 1 when the scene can deliver objects: it has a Collect reward. */
+static int delivers(const evo_scene *sc)
+{
+	for (int i = 0; i < sc->n_rewards; i++)
+		if (sc->reward[i].def.kind == EVO_RW_COLLECT)
+			return 1;
+	return 0;
+}
+
 static int run_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 			evo_err *err)
 {
@@ -203,9 +212,12 @@ static int run_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 			return -1;
 		const evo_bot *b = &s->scene->bot[s->bot];
 		printf("episode %ld: reward %.6f over %ld ticks, %d collision "
-		       "ticks, %d delivered\n",
-		       e, s->scene->episode_reward, t, b->collisions,
-		       b->delivered);
+		       "ticks",
+		       e, s->scene->episode_reward, t, b->collisions);
+		/* deliveries only where a Collect reward can make them */
+		if (delivers(s->scene))
+			printf(", %d delivered", b->delivered);
+		printf("\n");
 		fflush(stdout);
 	}
 	return 0;
