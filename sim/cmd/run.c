@@ -46,7 +46,8 @@ static void run_usage(FILE *f)
 	      "                     random choice (default: SEED or 1)\n"
 	      "  --episodes N       episodes to run (default: 1 headless;\n"
 	      "                     with the viewer, until it is closed)\n"
-	      "  --ticks N          at most N ticks per episode\n"
+	      "  --ticks N          at most N ticks per episode (default:\n"
+	      "                     the task's TICKLIM)\n"
 	      "  --trace FILE       record each tick's sensor and actuator\n"
 	      "                     values (docs/running.md)\n"
 	      "  --screenshot FILE  save a PNG of what the viewer shows after\n"
@@ -445,6 +446,13 @@ int evo_run_main(int argc, char **argv)
 			err.msg[0] = 0;
 		}
 	}
+	/* An episode lasts at most TICKLIM ticks, as in learning, unless
+	 * --ticks says otherwise: a timeout control ends it one check later
+	 * (the tutorial's CF_NextOnTimeout), which would make a demo's
+	 * episodes one tick longer than the ones the skill was trained on. */
+	const char *tl = evo_simbatch_get(task.sb, "TICKLIM");
+	if (o.ticks == 0 && tl)
+		o.ticks = strtol(tl, NULL, 10);
 	/* Not given: one episode headless; with the viewer, episodes until
 	 * the window is closed, as EvoAgents' viewer ran them. */
 	if (o.episodes < 0)

@@ -7,7 +7,7 @@
  * task's THREADS key sets its workers unless --threads does, and HIDDEN
  * the width of GENETIC's and ANNEALING's hidden layers; the DEMOSIM viewer
  * runs episodes until its window is closed, and --screenshot without a
- * window draws the frame off screen. */
+ * window draws the frame off screen; a demo episode lasts TICKLIM ticks. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -255,6 +255,31 @@ TEST(a_screenshot_without_a_window_is_drawn_off_screen)
 	CHECK_CONTAINS(out1, "drawn without a window");
 }
 
+TEST(a_demo_episode_lasts_ticklim_ticks)
+{
+	/* Roam ends an episode with NextOnTimeout(TICKLIM), which fires at
+	 * its (TICKLIM + 1)th check, as the tutorial's does; the run stops
+	 * the episode at TICKLIM ticks, as learning does */
+	cli_sh("rm -rf %s/Avoid && cp -r minds/Avoid %s/ && sed -i "
+	       "'s/^TICKLIM:15000$/TICKLIM:50/' %s/Avoid/Tasks/Avoid-DEMO.simbatch",
+	       cli_tmp, cli_tmp, cli_tmp);
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1,
+				 "%s -nog %s/Avoid/Tasks/Avoid-DEMO.simbatch "
+				 "--episodes 2",
+				 cli_evo, cli_tmp),
+		     0);
+	CHECK_CONTAINS(out1, "episode 1: reward ");
+	CHECK_CONTAINS(out1, " over 50 ticks");
+	CHECK(!strstr(out1, " over 51 ticks"));
+	/* --ticks still shortens it */
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1,
+				 "%s -nog %s/Avoid/Tasks/Avoid-DEMO.simbatch "
+				 "--ticks 20",
+				 cli_evo, cli_tmp),
+		     0);
+	CHECK_CONTAINS(out1, " over 20 ticks");
+}
+
 /* Lines of text that start with prefix. */
 static int count_lines(const char *text, const char *prefix)
 {
@@ -322,6 +347,7 @@ int main(void)
 	RUN(hidden_sets_the_width_of_genetic_networks);
 	RUN(the_viewer_runs_episodes_until_it_is_closed);
 	RUN(a_screenshot_without_a_window_is_drawn_off_screen);
+	RUN(a_demo_episode_lasts_ticklim_ticks);
 	cli_cleanup();
 	return test_summary();
 }
