@@ -35,9 +35,11 @@ int trace_load(const char *path, trace_file *t, char *err, size_t cap)
 	size_t linecap = 0, lineno = 0, alloc = 0;
 	int rc = -1;
 	unsigned long hash;
+	int version = 0;
 	if (next_line(f, &line, &linecap, &lineno) ||
-	    strcmp(line, "evo-trace 1\n") != 0) {
-		fail(err, cap, path, 1, "expected 'evo-trace 1'");
+	    sscanf(line, "evo-trace %d", &version) != 1 || version < 1 ||
+	    version > 2) {
+		fail(err, cap, path, 1, "expected 'evo-trace 1' or 'evo-trace 2'");
 		goto out;
 	}
 	if (next_line(f, &line, &linecap, &lineno) ||
@@ -56,6 +58,13 @@ int trace_load(const char *path, trace_file *t, char *err, size_t cap)
 		     "expected 'sensors N ...' then 'actuators M ...'");
 		goto out;
 	}
+	if (version >= 2 &&
+	    (next_line(f, &line, &linecap, &lineno) ||
+	     sscanf(line, "skills %u", &t->n_skills) != 1 || t->n_skills == 0 ||
+	     t->n_skills > 256)) {
+		fail(err, cap, path, lineno, "expected 'skills K ...'");
+		goto out;
+	}
 	while (next_line(f, &line, &linecap, &lineno) == 0) {
 		if (t->n_ticks == alloc) {
 			alloc = alloc ? 2 * alloc : 1024;
@@ -65,7 +74,12 @@ int trace_load(const char *path, trace_file *t, char *err, size_t cap)
 			t->actuator =
 				realloc(t->actuator, alloc * t->n_actuators *
 							     sizeof *t->actuator);
-			if (!t->tick || !t->sensor || !t->actuator) {
+			if (t->n_skills)
+				t->influence = realloc(
+				    t->influence,
+				    alloc * t->n_skills * sizeof *t->influence);
+			if (!t->tick || !t->sensor || !t->actuator ||
+			    (t->n_skills && !t->influence)) {
 				fail(err, cap, path, lineno, "out of memory");
 				goto out;
 			}
@@ -92,6 +106,18 @@ int trace_load(const char *path, trace_file *t, char *err, size_t cap)
 			if (end == p)
 				goto bad;
 		}
+		if (t->n_skills) {
+			while (*p == ' ')
+				p++;
+			if (*p++ != '|')
+				goto bad;
+			for (unsigned k = 0; k < t->n_skills; k++, p = end) {
+				t->influence[i * t->n_skills + k] =
+					(int32_t)strtol(p, &end, 10);
+				if (end == p)
+					goto bad;
+			}
+		}
 		if (*p != '\n' && *p != 0)
 			goto bad;
 		t->n_ticks++;
@@ -100,8 +126,8 @@ int trace_load(const char *path, trace_file *t, char *err, size_t cap)
 	goto out;
 bad:
 	fail(err, cap, path, lineno,
-	     "expected 'TICK sensors... | actuators...' with the counts of "
-	     "the header");
+	     "expected 'TICK sensors... | actuators... [| influences...]' "
+	     "with the counts of the header");
 out:
 	free(line);
 	fclose(f);
@@ -115,6 +141,7 @@ void trace_free(trace_file *t)
 	free(t->tick);
 	free(t->sensor);
 	free(t->actuator);
+	free(t->influence);
 	t->tick = NULL;
-	t->sensor = t->actuator = NULL;
+	t->sensor = t->actuator = t->influence = NULL;
 }

@@ -170,6 +170,9 @@ int evo_sim_tick(evo_sim *s, evo_err *err)
 		fputs(" |", s->trace);
 		for (unsigned i = 0; i < m->n_actuators; i++)
 			fprintf(s->trace, " %" PRId32, s->actuators[i]);
+		fputs(" |", s->trace);
+		for (unsigned i = 0; i < m->n_skills; i++)
+			fprintf(s->trace, " %" PRId32, s->state->influence[i]);
 		fputc('\n', s->trace);
 	}
 	int r = evo_scene_step(sc);
@@ -181,7 +184,7 @@ int evo_sim_tick(evo_sim *s, evo_err *err)
 void evo_sim_trace_header(evo_sim *s)
 {
 	const evo_mind *m = &s->mind->mind;
-	fprintf(s->trace, "evo-trace 1\n");
+	fprintf(s->trace, "evo-trace 2\n");
 	fprintf(s->trace, "mind %s names %08" PRIx32 "\n", s->mind->bot_name,
 		s->mind->names_hash);
 	fprintf(s->trace, "sensors %u", (unsigned)m->n_sensors);
@@ -190,5 +193,8 @@ void evo_sim_trace_header(evo_sim *s)
 	fprintf(s->trace, "\nactuators %u", (unsigned)m->n_actuators);
 	for (unsigned i = 0; i < m->n_actuators; i++)
 		fprintf(s->trace, " %s", evo_mind_actuator_name(m, i));
+	fprintf(s->trace, "\nskills %u", (unsigned)m->n_skills);
+	for (unsigned i = 0; i < m->n_skills; i++)
+		fprintf(s->trace, " %s", evo_mind_skill_name(m, i));
 	fprintf(s->trace, "\n");
 }

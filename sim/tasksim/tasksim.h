@@ -54,8 +54,9 @@ int evo_sim_set_mind(evo_sim *s, const evo_mindfolder *mind, evo_err *err);
  * episode, -1 with err set (a script error). */
 int evo_sim_tick(evo_sim *s, evo_err *err);
 
-/* Traces (docs/running.md, Traces): a header naming the sensors and actuators,
- * then one line per tick with the Q15.16 values the mind read and wrote. */
+/* Traces (docs/running.md, Traces): a header naming the sensors, actuators
+ * and skills, then one line per tick with the Q15.16 values the mind read
+ * and wrote and each skill's influence. */
 void evo_sim_trace_header(evo_sim *s);
 
 #endif

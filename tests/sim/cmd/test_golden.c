@@ -109,12 +109,13 @@ static int word(const char *line, size_t len, int n, char *out, size_t cap)
 }
 
 /* In a trace: the name of data column `col` (0 the tick, then the sensors,
- * "|", the actuators), from the header of `text`. */
+ * "|", the actuators, "|", the skills' influences), from the header of
+ * `text`. */
 static void trace_column(const char *text, int col, char *out, size_t cap)
 {
 	const char *p = text, *line;
 	size_t len;
-	int ns = -1;
+	int ns = -1, na = -1;
 	char w[64];
 	snprintf(out, cap, "column %d", col);
 	if (col == 0) {
@@ -128,11 +129,19 @@ static void trace_column(const char *text, int col, char *out, size_t cap)
 			    word(line, len, col + 1, w, sizeof w) == 0)
 				snprintf(out, cap, "sensor %s", w);
 		} else if (len > 10 && strncmp(line, "actuators ", 10) == 0) {
+			na = atoi(line + 10);
 			if (ns >= 0 && col == ns + 1)
 				snprintf(out, cap, "the '|'");
-			else if (ns >= 0 && col > ns + 1 &&
+			else if (ns >= 0 && col > ns + 1 && col <= ns + 1 + na &&
 				 word(line, len, col - ns, w, sizeof w) == 0)
 				snprintf(out, cap, "actuator %s", w);
+		} else if (len > 7 && strncmp(line, "skills ", 7) == 0) {
+			int k0 = ns + 1 + na + 1; /* the second '|' */
+			if (ns >= 0 && na >= 0 && col == k0)
+				snprintf(out, cap, "the second '|'");
+			else if (ns >= 0 && na >= 0 && col > k0 &&
+				 word(line, len, col - k0 + 1, w, sizeof w) == 0)
+				snprintf(out, cap, "influence of %s", w);
 			return;
 		}
 	}
@@ -264,8 +273,9 @@ static int botdesc_header(const char *path, char *sens, char *acts, size_t cap)
 }
 
 /* The trace's header names the .botdesc's sensors and actuators in order,
- * and its data lines are `episodes` episodes of `ticks` ticks, each line
- * the tick, the sensor values, "|" and the actuator values. */
+ * then the skills, and its data lines are `episodes` episodes of `ticks`
+ * ticks, each line the tick, the sensor values, "|", the actuator values,
+ * "|" and the skills' influences. */
 static void check_trace_shape(const char *trace, const char *botdesc,
 			      int episodes, int ticks)
 {
@@ -278,7 +288,7 @@ static void check_trace_shape(const char *trace, const char *botdesc,
 	size_t len;
 	char buf[4096];
 	line = next_line(&p, &len);
-	CHECK(line && len == 11 && strncmp(line, "evo-trace 1", 11) == 0);
+	CHECK(line && len == 11 && strncmp(line, "evo-trace 2", 11) == 0);
 	line = next_line(&p, &len); /* mind NAME names HASH */
 	CHECK(line && strncmp(line, "mind ", 5) == 0);
 	line = next_line(&p, &len);
@@ -289,6 +299,10 @@ static void check_trace_shape(const char *trace, const char *botdesc,
 	snprintf(buf, sizeof buf, "%.*s", line ? (int)len : 0,
 		 line ? line : "");
 	CHECK_EQ_STR(buf, acts);
+	line = next_line(&p, &len); /* skills K master ... */
+	CHECK(line && strncmp(line, "skills ", 7) == 0);
+	int nk = line ? atoi(line + 7) : 0;
+	CHECK(nk >= 1);
 	int ns = atoi(sens + 8), na = atoi(acts + 10), rows = 0, bad = 0;
 	while ((line = next_line(&p, &len))) {
 		char w[64];
@@ -296,11 +310,14 @@ static void check_trace_shape(const char *trace, const char *botdesc,
 		while (word(line, len, words, w, sizeof w) == 0)
 			words++;
 		word(line, len, 0, w, sizeof w);
-		int ok = atoi(w) == rows % ticks && words == 1 + ns + 1 + na &&
+		int ok = atoi(w) == rows % ticks &&
+			 words == 1 + ns + 1 + na + 1 + nk &&
 			 word(line, len, 1 + ns, w, sizeof w) == 0 &&
+			 strcmp(w, "|") == 0 &&
+			 word(line, len, 1 + ns + 1 + na, w, sizeof w) == 0 &&
 			 strcmp(w, "|") == 0;
 		if (!ok && !bad++)
-			printf("  trace line %d: %.*s\n", rows + 5, (int)len,
+			printf("  trace line %d: %.*s\n", rows + 6, (int)len,
 			       line);
 		rows++;
 	}

@@ -267,22 +267,29 @@ TEST(trace_records_every_tick)
 	while (fgets(line, sizeof line, f)) {
 		n++;
 		if (n == 1)
-			CHECK_EQ_STR(line, "evo-trace 1\n");
+			CHECK_EQ_STR(line, "evo-trace 2\n");
 		if (n == 3)
 			CHECK(strncmp(line, "sensors 20 S1 S2", 16) == 0);
 		if (n == 4)
 			CHECK_EQ_STR(line, "actuators 3 MotL MotR EMAG\n");
-		if (n <= 4)
+		if (n == 5)
+			CHECK_EQ_STR(line, "skills 7 Collect GTO+Avoid GTDZ+Avoid "
+					   "MoveForward TurnLeft TurnRight "
+					   "ClawControl\n");
+		if (n <= 5)
 			continue;
-		/* tick, 20 sensors, '|', 3 actuators */
-		int fields = 0;
+		/* tick, 20 sensors, '|', 3 actuators, '|', 7 influences; the
+		 * master's influence is 1.0 every tick (DESIGN.md) */
+		int fields = 0, master = 0;
+		long tick = atol(line);
 		for (char *t = strtok(line, " \n"); t; t = strtok(NULL, " \n"))
-			fields++;
-		bad += fields != 25 || atol(line) != expect_tick;
+			if (++fields == 27)
+				master = atoi(t);
+		bad += fields != 33 || tick != expect_tick || master != 65536;
 		expect_tick++;
 	}
 	fclose(f);
-	CHECK_EQ_INT(n, 4 + 500);
+	CHECK_EQ_INT(n, 5 + 500);
 	CHECK_EQ_INT(bad, 0);
 }
 
