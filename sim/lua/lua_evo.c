@@ -144,10 +144,99 @@ static int open_evo(lua_State *L)
 	return 1;
 }
 
+/* ---- the sandbox (docs/lua.md, "What a script may use") -------------- */
+
+/* `load` of text chunks only: a binary chunk can crash the Lua VM. */
+static int load_text(lua_State *L)
+{
+	int n = lua_gettop(L);
+	if (n < 3)
+		lua_settop(L, n = 3);
+	lua_pushliteral(L, "t");
+	lua_replace(L, 3);
+	lua_pushvalue(L, lua_upvalueindex(1));
+	lua_insert(L, 1);
+	lua_call(L, n, LUA_MULTRET);
+	return lua_gettop(L);
+}
+
+/* __index of the stand-ins for io and os: any name but the ones they
+ * keep is an error at the script's line. */
+static int not_available(lua_State *L)
+{
+	const char *lib = lua_tostring(L, lua_upvalueindex(1));
+	const char *why = strcmp(lib, LUA_IOLIBNAME) == 0
+			      ? "they may not read or write files"
+			      : "of os they have os.clock only";
+	return luaL_error(L,
+			  "%s.%s is not available in scene scripts: %s "
+			  "(docs/lua.md, \"What a script may use\")",
+			  lib, luaL_optstring(L, 2, "?"), why);
+}
+
+/* A global table `lib` whose unknown names raise not_available; for os,
+ * it keeps os.clock. */
+static void stand_in(lua_State *L, const char *lib)
+{
+	lua_newtable(L);
+	if (strcmp(lib, LUA_OSLIBNAME) == 0) {
+		luaL_requiref(L, LUA_OSLIBNAME, luaopen_os, 0);
+		lua_getfield(L, -1, "clock");
+		lua_setfield(L, -3, "clock");
+		lua_pop(L, 1);
+	}
+	lua_newtable(L);
+	lua_pushstring(L, lib);
+	lua_pushcclosure(L, not_available, 1);
+	lua_setfield(L, -2, "__index");
+	lua_setmetatable(L, -2);
+	luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
+	lua_pushvalue(L, -2);
+	lua_setfield(L, -2, lib); /* require "os" gives the stand-in */
+	lua_pop(L, 1);
+	lua_setglobal(L, lib);
+}
+
+/* The libraries a scene script gets: the base library without dofile and
+ * loadfile, load of text only; package (require, which evo_lua_set_path
+ * points at the mind folder and lua/), coroutine, string, table, math,
+ * utf8; io and os as stand-ins that say what is missing, os keeping
+ * os.clock. No debug. The learning loop's state (sim/learn/learn.c) is
+ * evo's own code and keeps every library. */
+static void open_sandbox(lua_State *L)
+{
+	static const luaL_Reg libs[] = {
+	    {LUA_GNAME, luaopen_base},
+	    {LUA_LOADLIBNAME, luaopen_package},
+	    {LUA_COLIBNAME, luaopen_coroutine},
+	    {LUA_TABLIBNAME, luaopen_table},
+	    {LUA_STRLIBNAME, luaopen_string},
+	    {LUA_MATHLIBNAME, luaopen_math},
+	    {LUA_UTF8LIBNAME, luaopen_utf8},
+	};
+	for (unsigned i = 0; i < sizeof libs / sizeof libs[0]; i++) {
+		luaL_requiref(L, libs[i].name, libs[i].func, 1);
+		lua_pop(L, 1);
+	}
+	lua_pushnil(L);
+	lua_setglobal(L, "dofile");
+	lua_pushnil(L);
+	lua_setglobal(L, "loadfile");
+	lua_getglobal(L, "load");
+	lua_pushcclosure(L, load_text, 1);
+	lua_setglobal(L, "load");
+	lua_getglobal(L, LUA_LOADLIBNAME);
+	lua_pushnil(L);
+	lua_setfield(L, -2, "loadlib");
+	lua_pop(L, 1);
+	stand_in(L, LUA_IOLIBNAME);
+	stand_in(L, LUA_OSLIBNAME);
+}
+
 static int setup(lua_State *L)
 {
 	evo_lua *l = lua_touserdata(L, 1);
-	luaL_openlibs(L);
+	open_sandbox(L);
 	lua_pushlightuserdata(L, l);
 	lua_rawsetp(L, LUA_REGISTRYINDEX, &evo_lua_ctx_key);
 	new_class(L, EVO_LUA_BOT_MT, evo_lua_bot_methods);

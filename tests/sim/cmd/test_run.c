@@ -246,6 +246,41 @@ TEST(unknown_option_is_an_error)
 		   "", "Envs/Corridor.lua:4:", "unknown option 'spacin'");
 }
 
+/* The sandbox (docs/lua.md, "What a script may use"): no io, and of os
+ * only os.clock; the error names the script's line. */
+TEST(io_is_not_available)
+{
+	fails_with("io",
+		   "local env = {}\nfunction env.init(scene, task)\n"
+		   "  scene:bot{}\n"
+		   "  local f = io.open('/etc/passwd')\nend\nreturn env\n",
+		   "", "Envs/Corridor.lua:4:",
+		   "io.open is not available in scene scripts");
+}
+
+TEST(os_keeps_only_clock)
+{
+	fails_with("os",
+		   "local env = {}\nfunction env.init(scene, task)\n"
+		   "  scene:bot{}\n"
+		   "  assert(os.clock() >= 0)\n"
+		   "  os.execute('true')\nend\nreturn env\n",
+		   "", "Envs/Corridor.lua:5:",
+		   "os.execute is not available in scene scripts");
+}
+
+TEST(no_dofile_or_binary_chunks)
+{
+	fails_with("dofile",
+		   "local env = {}\nfunction env.init(scene, task)\n"
+		   "  scene:bot{}\n"
+		   "  assert(dofile == nil and loadfile == nil)\n"
+		   "  assert(load('return 1')() == 1)\n"
+		   "  error(select(2, load(string.dump(function() end))))\n"
+		   "end\nreturn env\n",
+		   "", "Envs/Corridor.lua:6:", "binary chunk");
+}
+
 /* The trace has a header and one line per tick, each with the botdesc's
  * sensors and actuators. */
 TEST(trace_records_every_tick)
@@ -307,6 +342,9 @@ int main(void)
 	RUN(reward_runtime_error_names_file_and_line);
 	RUN(unknown_sensor_names_botdesc_line);
 	RUN(unknown_option_is_an_error);
+	RUN(io_is_not_available);
+	RUN(os_keeps_only_clock);
+	RUN(no_dofile_or_binary_chunks);
 	RUN(trace_records_every_tick);
 	cli_cleanup();
 	return test_summary();
