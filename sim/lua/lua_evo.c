@@ -321,7 +321,8 @@ int evo_lua_init_env(evo_lua *l, const char *env, evo_err *err)
 	lua_State *L = l->L;
 	lua_pushcfunction(L, load_env);
 	lua_pushlightuserdata(L, l);
-	if (lua_pcall(L, 1, 1, 0) != LUA_OK) {
+	if (evo_lua_pcall(l, 1, 1, EVO_LUA_BUDGET_INIT,
+			  "loading the environment") != LUA_OK) {
 		evo_fail(err, "%s", lua_tostring(L, -1));
 		lua_pop(L, 1);
 		return -1;

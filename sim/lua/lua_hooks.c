@@ -1,7 +1,65 @@
 /* Lua called from the tick: a Lua function as a reward or control
  * function, and the environment's post_step, reset and init (docs/lua.md).
  * A script error here becomes the scene's error, and the step fails. */
+#include <stdio.h>
+#include <string.h>
+
 #include "lua/lua_internal.h"
+
+/* ---- the instruction budget ---------------------------------------- */
+
+/* The count hook runs every HOOK_EVERY instructions, while a call is
+ * under way only: with a hook set, Lua 5.4 checks it at each instruction,
+ * so the hook is cleared between calls and a tick without Lua pays
+ * nothing. Coroutines the script makes inherit the hook and count to the
+ * same budget. */
+#define HOOK_EVERY 1000
+
+static void count_hook(lua_State *L, lua_Debug *ar)
+{
+	(void)ar;
+	evo_lua *l = evo_lua_ctx(L);
+	if (!l->over) {
+		l->used += HOOK_EVERY;
+		if (l->used < l->budget)
+			return;
+		l->over = 1;
+		/* level 0 in a hook: the Lua function it interrupted */
+		luaL_where(L, 0);
+		snprintf(l->over_msg, sizeof l->over_msg,
+			 "%sthe script ran past its budget of %ld instructions "
+			 "in %s; an endless loop?",
+			 lua_tostring(L, -1), l->budget, l->call_what);
+		lua_pop(L, 1);
+	}
+	/* Raise at every instruction from now on, so a pcall in the script
+	 * cannot catch the error and loop on. */
+	lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);
+	lua_pushstring(L, l->over_msg);
+	lua_error(L);
+}
+
+int evo_lua_pcall(evo_lua *l, int nargs, int nresults, long budget,
+		  const char *what)
+{
+	lua_State *L = l->L;
+	if (l->in_call)
+		return lua_pcall(L, nargs, nresults, 0);
+	l->in_call = 1;
+	l->budget = budget;
+	l->used = 0;
+	l->over = 0;
+	l->call_what = what;
+	lua_sethook(L, count_hook, LUA_MASKCOUNT, HOOK_EVERY);
+	int r = lua_pcall(L, nargs, nresults, 0);
+	lua_sethook(L, NULL, 0, 0);
+	l->in_call = 0;
+	if (r != LUA_OK && l->over) {
+		lua_pop(L, 1);
+		lua_pushstring(L, l->over_msg);
+	}
+	return r;
+}
 
 /* ---- hooks: Lua reward and control functions ------------------------- */
 
@@ -11,9 +69,13 @@ static int call_ref(evo_lua *l, int ref, const char *what)
 	lua_State *L = l->L;
 	lua_rawgeti(L, LUA_REGISTRYINDEX, ref);
 	lua_rawgetp(L, LUA_REGISTRYINDEX, &evo_lua_scene_key);
-	if (lua_pcall(L, 1, 1, 0) != LUA_OK) {
-		evo_fail(&l->sc->err, "%s (in a %s)", lua_tostring(L, -1),
-			 what);
+	if (evo_lua_pcall(l, 1, 1, EVO_LUA_BUDGET_TICK, what) != LUA_OK) {
+		/* the budget's message names the function already */
+		if (l->over)
+			evo_fail(&l->sc->err, "%s", lua_tostring(L, -1));
+		else
+			evo_fail(&l->sc->err, "%s (in %s)", lua_tostring(L, -1),
+				 what);
 		lua_pop(L, 1);
 		return -1;
 	}
@@ -25,7 +87,7 @@ int evo_lua_hook_reward(void *c, evo_scene *sc, const evo_reward *r,
 {
 	evo_lua *l = c;
 	(void)sc;
-	if (call_ref(l, r->def.lua_ref, "reward function"))
+	if (call_ref(l, r->def.lua_ref, "a reward function"))
 		return -1;
 	int isnum;
 	*out = lua_tonumberx(l->L, -1, &isnum);
@@ -43,7 +105,7 @@ int evo_lua_hook_control(void *c, evo_scene *sc, const evo_control *ctl,
 {
 	evo_lua *l = c;
 	(void)sc;
-	if (call_ref(l, ctl->def.lua_ref, "control function"))
+	if (call_ref(l, ctl->def.lua_ref, "a control function"))
 		return -1;
 	*next = lua_toboolean(l->L, -1);
 	lua_pop(l->L, 1);
@@ -76,7 +138,10 @@ int evo_lua_call_env(evo_lua *l, const char *name, int with_arg,
 		}
 		nargs = 2;
 	}
-	if (lua_pcall(L, nargs, 0, 0) != LUA_OK) {
+	long budget = strcmp(name, "init") == 0	   ? EVO_LUA_BUDGET_INIT
+		      : strcmp(name, "reset") == 0 ? EVO_LUA_BUDGET_RESET
+						   : EVO_LUA_BUDGET_TICK;
+	if (evo_lua_pcall(l, nargs, 0, budget, name) != LUA_OK) {
 		evo_fail(err, "%s", lua_tostring(L, -1));
 		lua_pop(L, 1);
 		return -1;

@@ -23,7 +23,26 @@ struct evo_lua {
 	int has_post_step;
 	char env_path[1200];
 	char bot_path[1200];
+	/* the instruction budget of the call into Lua under way
+	 * (evo_lua_pcall): its size, what was used, whether it ran out and
+	 * then the message, which stays the error however the script
+	 * catches it */
+	long budget;
+	long used;
+	int in_call;
+	int over;
+	const char *call_what;
+	char over_msg[1400];
 };
+
+/* Instruction budgets of a call into Lua from C (docs/lua.md, "The
+ * instruction budget"): loading a script and init run once and may build
+ * large scenes; reset runs once an episode; post_step and Lua reward and
+ * control functions run every tick. An endless loop in any of them ends
+ * the run within about a second. */
+#define EVO_LUA_BUDGET_INIT  100000000L
+#define EVO_LUA_BUDGET_RESET 10000000L
+#define EVO_LUA_BUDGET_TICK  1000000L
 
 /* Registry keys, by their addresses: the evo_lua of a state, and the one
  * scene object that hooks pass to Lua functions. */
@@ -88,6 +107,15 @@ void evo_lua_run_file(lua_State *L, const char *path, const char *what);
 int evo_lua_load_model(lua_State *L, evo_lua *l, const char *model);
 
 /* ---- lua_hooks.c: Lua called from the tick ---------------------------- */
+
+/* lua_pcall under an instruction budget: what the call is ("init",
+ * "post_step", "a reward function") names it in the message when the
+ * script runs past it, "FILE:LINE: the script ran past its budget of N
+ * instructions in WHAT; an endless loop?", which is then the error on the
+ * stack. A call from within a call shares the outer one's budget. Returns
+ * lua_pcall's status. */
+int evo_lua_pcall(evo_lua *l, int nargs, int nresults, long budget,
+		  const char *what);
 
 int evo_lua_hook_reward(void *c, evo_scene *sc, const evo_reward *r,
 			double *out);

@@ -187,7 +187,8 @@ TEST(own_bot_and_environment_run)
 		printf("%s\n", out1);
 }
 
-/* A failing run: exit 1, the message names file:line, no trace left. */
+/* A failing run: exit 1, the message names file:line, no trace left. A
+ * run that hangs is stopped after a minute and fails. */
 static void fails_with(const char *sub, const char *env_body,
 		       const char *botdesc_extra, const char *want1,
 		       const char *want2)
@@ -197,7 +198,8 @@ static void fails_with(const char *sub, const char *env_body,
 	make_own_mind(root, env_body, botdesc_extra);
 	snprintf(trace_dir, sizeof trace_dir, "%s/%s", cli_tmp, sub);
 	snprintf(cmd, sizeof cmd,
-		 "%s run %s/Tasks/Go.simbatch --headless --trace %s/t.trace",
+		 "timeout 60 %s run %s/Tasks/Go.simbatch --headless "
+		 "--trace %s/t.trace",
 		 cli_evo, root, trace_dir);
 	int rc = cli_capture(out1, sizeof out1, "%s", cmd);
 	CHECK_EQ_INT(rc, 1);
@@ -281,6 +283,40 @@ TEST(no_dofile_or_binary_chunks)
 		   "", "Envs/Corridor.lua:6:", "binary chunk");
 }
 
+/* The instruction budget (docs/lua.md): an endless loop in init or in a
+ * reward function ends the run at the loop's line, within seconds. */
+TEST(endless_init_runs_out_of_budget)
+{
+	fails_with("budget_init",
+		   "local env = {}\nfunction env.init(scene, task)\n"
+		   "  scene:bot{}\n"
+		   "  while true do end\nend\nreturn env\n",
+		   "",
+		   "Envs/Corridor.lua:4: the script ran past its budget of "
+		   "100000000 instructions in init",
+		   "an endless loop?");
+}
+
+/* The loop catches errors with pcall: the budget's error still ends it. */
+TEST(endless_reward_runs_out_of_budget)
+{
+	fails_with(
+	    "budget_reward",
+	    "local env = {}\n"
+	    "function env.init(scene, task)\n"
+	    "  env.bot = scene:bot{}\n"
+	    "  scene:reward(function(s)\n"
+	    "    if s:tick() < 20 then return 0 end\n"
+	    "    while true do pcall(function() while true do end end) end\n"
+	    "  end)\n"
+	    "end\n"
+	    "return env\n",
+	    "",
+	    "Envs/Corridor.lua:6: the script ran past its budget of "
+	    "1000000 instructions in a reward function",
+	    "an endless loop?");
+}
+
 /* The trace has a header and one line per tick, each with the botdesc's
  * sensors and actuators. */
 TEST(trace_records_every_tick)
@@ -345,6 +381,8 @@ int main(void)
 	RUN(io_is_not_available);
 	RUN(os_keeps_only_clock);
 	RUN(no_dofile_or_binary_chunks);
+	RUN(endless_init_runs_out_of_budget);
+	RUN(endless_reward_runs_out_of_budget);
 	RUN(trace_records_every_tick);
 	cli_cleanup();
 	return test_summary();
