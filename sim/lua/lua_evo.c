@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "base/fileio.h"
+#include "base/rng.h"
 #include "lua/lua_internal.h"
 
 /* ---- the lua/ folder --------------------------------------------------- */
@@ -233,6 +234,21 @@ static void open_sandbox(lua_State *L)
 	stand_in(L, LUA_OSLIBNAME);
 }
 
+/* math.randomseed, kept at setup: a script may replace math or its
+ * fields, and the seeding must not depend on that. */
+static const char randomseed_key = 0;
+
+/* math.randomseed(seed): Lua 5.4 seeds math.random from the time and an
+ * address when it opens math, so a script that draws from it would give
+ * other figures on every run. Cannot fail; protected all the same. */
+static void seed_math_random(lua_State *L, uint64_t seed)
+{
+	lua_rawgetp(L, LUA_REGISTRYINDEX, &randomseed_key);
+	lua_pushinteger(L, (lua_Integer)seed);
+	if (lua_pcall(L, 1, 0, 0) != LUA_OK)
+		lua_pop(L, 1);
+}
+
 static int setup(lua_State *L)
 {
 	evo_lua *l = lua_touserdata(L, 1);
@@ -250,6 +266,13 @@ static int setup(lua_State *L)
 	lua_pop(L, 1);
 	/* require finds modules beside the scripts: the mind folder first */
 	evo_lua_set_path(L, l->mind_dir, l->lua_dir);
+	/* the same numbers in init on every run; each episode's reset seeds
+	 * them from the episode's seed (evo_lua_reset) */
+	lua_getglobal(L, LUA_MATHLIBNAME);
+	lua_getfield(L, -1, "randomseed");
+	lua_rawsetp(L, LUA_REGISTRYINDEX, &randomseed_key);
+	lua_pop(L, 1);
+	seed_math_random(L, 0);
 	return 0;
 }
 
@@ -343,6 +366,11 @@ int evo_lua_init_env(evo_lua *l, const char *env, evo_err *err)
 
 int evo_lua_reset(evo_lua *l, int episode, evo_err *err)
 {
+	/* math.random is seeded per episode from the scene's rng, itself just
+	 * seeded from the episode's seed, through a copy: the scene's stream
+	 * (RANDOM sensors, scene:random) stays as it was. */
+	evo_rng r = evo_rng_for(l->sc->rng.s, 0x4c7561 /* "Lua" */, 0, 0);
+	seed_math_random(l->L, evo_rng_next(&r));
 	return evo_lua_call_env(l, "reset", 1, episode, err);
 }
 

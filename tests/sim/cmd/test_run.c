@@ -317,6 +317,44 @@ TEST(endless_reward_runs_out_of_budget)
 	    "an endless loop?");
 }
 
+/* math.random is seeded from the run's seed at each reset: a bot placed
+ * with it gives the same rewards on the same seed, others on another. */
+TEST(math_random_follows_the_seed)
+{
+	char root[512], cmd[2048];
+	static char out3[1 << 16];
+	snprintf(root, sizeof root, "%s/random/Mine", cli_tmp);
+	make_own_mind(
+	    root,
+	    "local env = {}\n"
+	    "function env.init(scene, task)\n"
+	    "  env.bot = scene:bot{}\n"
+	    "  scene:reward(function(s) local x, y = env.bot:pose() "
+	    "return x + y end)\n"
+	    "  scene:control('NextOnTimeout', { ticks = 50 })\n"
+	    "end\n"
+	    "function env.reset(scene, episode)\n"
+	    "  env.bot:place(math.random(-20, 20), 10 * math.random(), "
+	    "math.random(0, 359))\n"
+	    "end\n"
+	    "return env\n",
+	    "");
+	for (int i = 0; i < 3; i++) {
+		snprintf(cmd, sizeof cmd,
+			 "%s run %s/Tasks/Go.simbatch --headless --episodes 2 "
+			 "--seed %d",
+			 cli_evo, root, i < 2 ? 5 : 6);
+		char *out = i == 0 ? out1 : i == 1 ? out2 : out3;
+		CHECK_EQ_INT(cli_capture(out, sizeof out1, "%s", cmd), 0);
+		CHECK_CONTAINS(out, "episode 2: reward ");
+	}
+	CHECK_EQ_STR(out1, out2);
+	CHECK(strcmp(out1, out3) != 0);
+	/* the two episodes start from other places */
+	const char *e2 = strstr(out1, "episode 2: reward ");
+	CHECK(e2 && strncmp(out1 + 18, e2 + 18, 12) != 0);
+}
+
 /* The trace has a header and one line per tick, each with the botdesc's
  * sensors and actuators. */
 TEST(trace_records_every_tick)
@@ -383,6 +421,7 @@ int main(void)
 	RUN(no_dofile_or_binary_chunks);
 	RUN(endless_init_runs_out_of_budget);
 	RUN(endless_reward_runs_out_of_budget);
+	RUN(math_random_follows_the_seed);
 	RUN(trace_records_every_tick);
 	cli_cleanup();
 	return test_summary();
