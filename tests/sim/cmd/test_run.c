@@ -198,7 +198,7 @@ static void fails_with(const char *sub, const char *env_body,
 	make_own_mind(root, env_body, botdesc_extra);
 	snprintf(trace_dir, sizeof trace_dir, "%s/%s", cli_tmp, sub);
 	snprintf(cmd, sizeof cmd,
-		 "timeout 60 %s run %s/Tasks/Go.simbatch --headless "
+		 "timeout -s KILL 60 %s run %s/Tasks/Go.simbatch --headless "
 		 "--trace %s/t.trace",
 		 cli_evo, root, trace_dir);
 	int rc = cli_capture(out1, sizeof out1, "%s", cmd);
