@@ -371,6 +371,11 @@ int evo_lua_reset(evo_lua *l, int episode, evo_err *err)
 	 * (RANDOM sensors, scene:random) stays as it was. */
 	evo_rng r = evo_rng_for(l->sc->rng.s, 0x4c7561 /* "Lua" */, 0, 0);
 	seed_math_random(l->L, evo_rng_next(&r));
+	/* the Lua rewards' and controls' own resets, as the C ones were
+	 * reset by evo_scene_reset, then the environment's */
+	if (evo_lua_call_resets(l, &evo_lua_reward_resets_key, err) ||
+	    evo_lua_call_resets(l, &evo_lua_control_resets_key, err))
+		return -1;
 	return evo_lua_call_env(l, "reset", 1, episode, err);
 }
 

@@ -92,10 +92,22 @@ int evo_lua_hook_reward(void *c, evo_scene *sc, const evo_reward *r,
 	int isnum;
 	*out = lua_tonumberx(l->L, -1, &isnum);
 	int ok = isnum && isfinite(*out);
-	if (!ok)
+	if (!ok) {
+		/* where the function was written, what it gave, and when */
+		lua_State *L = l->L;
+		char got[64];
+		if (isnum)
+			snprintf(got, sizeof got, "%g", *out);
+		else
+			snprintf(got, sizeof got, "%s", luaL_typename(L, -1));
+		lua_Debug ar;
+		lua_rawgeti(L, LUA_REGISTRYINDEX, r->def.lua_ref);
+		lua_getinfo(L, ">S", &ar);
 		evo_fail(&l->sc->err,
-			 "a reward function returned %s, not a finite number",
-			 luaL_typename(l->L, -1));
+			 "%s:%d: the reward function written here returned "
+			 "%s at tick %ld, not a finite number",
+			 ar.short_src, ar.linedefined, got, l->sc->tick);
+	}
 	lua_pop(l->L, 1);
 	return ok ? 0 : -1;
 }
@@ -155,3 +167,30 @@ int evo_lua_hook_post_step(void *c, evo_scene *sc)
 	(void)sc;
 	return evo_lua_call_env(l, "post_step", 0, 0, &l->sc->err);
 }
+
+const char evo_lua_reward_resets_key = 'r';
+const char evo_lua_control_resets_key = 'c';
+
+int evo_lua_call_resets(evo_lua *l, const void *key, evo_err *err)
+{
+	lua_State *L = l->L;
+	if (lua_rawgetp(L, LUA_REGISTRYINDEX, key) != LUA_TTABLE) {
+		lua_pop(L, 1);
+		return 0;
+	}
+	lua_Integer n = luaL_len(L, -1);
+	for (lua_Integer i = 1; i <= n; i++) {
+		lua_geti(L, -1, i);
+		lua_rawgetp(L, LUA_REGISTRYINDEX, &evo_lua_scene_key);
+		if (evo_lua_pcall(l, 1, 0, EVO_LUA_BUDGET_RESET,
+				  "a reset function") != LUA_OK) {
+			evo_fail(err, "%s (in a reset function)",
+				 lua_tostring(L, -1));
+			lua_pop(L, 2);
+			return -1;
+		}
+	}
+	lua_pop(L, 1);
+	return 0;
+}
+

@@ -106,6 +106,17 @@ void evo_lua_run_file(lua_State *L, const char *path, const char *what);
  * the model's table on the stack. */
 int evo_lua_load_model(lua_State *L, evo_lua *l, const char *model);
 
+/* The reset functions of Lua rewards and controls (scene:reward(fn,
+ * {reset = f})), in the registry under these keys' addresses: a list of
+ * functions each. */
+extern const char evo_lua_reward_resets_key;
+extern const char evo_lua_control_resets_key;
+
+/* Call every function of the list under key with the scene, inside the
+ * call under way (from a scene method) or as a call of its own with the
+ * reset budget. 0, or -1 with err set. */
+int evo_lua_call_resets(evo_lua *l, const void *key, evo_err *err);
+
 /* ---- lua_hooks.c: Lua called from the tick ---------------------------- */
 
 /* lua_pcall under an instruction budget: what the call is ("init",

@@ -236,6 +236,34 @@ static const char *const reward_keys[] = {"bot",       "k",	  "k2",
 /* The first argument of scene:reward and scene:control: a Lua function
  * (returns lua_kind, with *ref set) or the name of a built-in one (its
  * kind); an empty options table is pushed at 3 when none was given. */
+/* A Lua function's options, {reset = f}: f goes on the list under
+ * resets_key, called with the scene at every episode's reset (and, for a
+ * reward, by scene:reset_rewards). */
+static void lua_function_options(lua_State *L, const char *what,
+				 const void *resets_key)
+{
+	static const char *const keys[] = {"reset", NULL};
+	if (lua_isnoneornil(L, 3))
+		return;
+	evo_lua_check_keys(L, 3, what, keys);
+	if (lua_getfield(L, 3, "reset") == LUA_TNIL) {
+		lua_pop(L, 1);
+		return;
+	}
+	if (!lua_isfunction(L, -1))
+		luaL_error(L, "%s: option 'reset' must be a function, found %s",
+			   what, luaL_typename(L, -1));
+	if (lua_rawgetp(L, LUA_REGISTRYINDEX, resets_key) != LUA_TTABLE) {
+		lua_pop(L, 1);
+		lua_newtable(L);
+		lua_pushvalue(L, -1);
+		lua_rawsetp(L, LUA_REGISTRYINDEX, resets_key);
+	}
+	lua_pushvalue(L, -2);
+	lua_seti(L, -2, luaL_len(L, -2) + 1);
+	lua_pop(L, 2);
+}
+
 static int function_or_name(lua_State *L, const char *what, const char *noun,
 			    int (*by_name)(const char *), int lua_kind,
 			    int *ref)
@@ -243,6 +271,10 @@ static int function_or_name(lua_State *L, const char *what, const char *noun,
 	if (lua_isfunction(L, 2)) {
 		if (evo_lua_ctx(L)->sc->n_bots == 0)
 			luaL_error(L, "%s: there is no bot yet", what);
+		lua_function_options(L, what,
+				     lua_kind == EVO_RW_LUA
+					 ? &evo_lua_reward_resets_key
+					 : &evo_lua_control_resets_key);
 		lua_pushvalue(L, 2);
 		*ref = luaL_ref(L, LUA_REGISTRYINDEX);
 		return lua_kind;
@@ -381,9 +413,13 @@ static int scene_tick(lua_State *L)
  * distance), e.g. after moving a target: EvoAgents' r.reset(). */
 static int scene_reset_rewards(lua_State *L)
 {
-	evo_scene *sc = evo_lua_ctx(L)->sc;
+	evo_lua *l = evo_lua_ctx(L);
+	evo_scene *sc = l->sc;
 	for (int i = 0; i < sc->n_rewards; i++)
 		evo_reward_reset(&sc->reward[i]);
+	evo_err err = {{0}};
+	if (evo_lua_call_resets(l, &evo_lua_reward_resets_key, &err))
+		luaL_error(L, "%s", err.msg);
 	return 0;
 }
 

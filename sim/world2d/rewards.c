@@ -2,7 +2,7 @@
  * CF_ classes, tutorial sections 6.3 and 6.4).
  *
  * evo_scene_step calls evo_reward_compute on every reward after the
- * physics step (and after the post-step hook) and sums the values, then
+ * physics step (and before the post-step hook) and sums the values, then
  * evo_control_check on every control; any control returning 1 ends the
  * episode. Each function reads the bot and the elements it names by index;
  * an index that names nothing gives 0 (a reward) or "go on" (a control)

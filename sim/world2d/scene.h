@@ -301,7 +301,8 @@ typedef struct evo_scene_hooks {
 		      double *out);
 	int (*control)(void *ctx, evo_scene *sc,
 		       const evo_control *c, int *next);
-	/* After each step, before rewards (EvoAgents' postStepOps). */
+	/* After each step's rewards, before its controls (EvoAgents'
+	 * postStepOps). */
 	int (*post_step)(void *ctx, evo_scene *sc);
 } evo_scene_hooks;
 
@@ -357,9 +358,9 @@ void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed);
 /* Step 1 of the tick: every sensor of every bot samples. */
 void evo_scene_sense(evo_scene *sc);
 
-/* Steps 3-5: actuators act on their commands, the physics steps, the
- * post-step hook runs, rewards add up into step_reward and
- * episode_reward. Returns 1 when a control function ends the episode,
+/* Steps 3-5: actuators act on their commands, the physics steps, rewards
+ * add up into step_reward and episode_reward, the post-step hook runs,
+ * the controls decide. Returns 1 when a control function ends the episode,
  * 0 when it goes on, -1 with sc->err set when a hook failed. */
 int evo_scene_step(evo_scene *sc);
 

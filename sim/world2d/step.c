@@ -1,6 +1,6 @@
 /* The 2D scene's episode and tick (sim/world2d/scene.h): the reset, then each
  * tick the sensing (step 1 of DESIGN.md's tick) and the step (steps 3-5:
- * actuators act, the physics steps, the post-step hook, rewards, controls).
+ * actuators act, the physics steps, rewards, the post-step hook, controls).
  * This is the top of the 2D world: it calls the pieces below it (sensors.c,
  * actuators.c, rewards.c, grid.c, scene.c), none of which calls back. */
 #include <stdint.h>
@@ -88,8 +88,6 @@ int evo_scene_step(evo_scene *sc)
 			e->angle = p.angle;
 		}
 	}
-	if (sc->hooks.post_step && sc->hooks.post_step(sc->hooks.ctx, sc))
-		return -1;
 	double total = 0;
 	for (int i = 0; i < sc->n_rewards; i++) {
 		int failed = 0;
@@ -99,6 +97,10 @@ int evo_scene_step(evo_scene *sc)
 	}
 	sc->step_reward = total;
 	sc->episode_reward += total;
+	/* EvoAgents' postStepOps, after the rewards: the bot has been paid
+	 * for this step before the environment moves its target away. */
+	if (sc->hooks.post_step && sc->hooks.post_step(sc->hooks.ctx, sc))
+		return -1;
 	int next = 0;
 	for (int i = 0; i < sc->n_controls; i++) {
 		int r = evo_control_check(sc, &sc->control[i]);

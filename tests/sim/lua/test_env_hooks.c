@@ -1,0 +1,154 @@
+/* When the scene scripts' own code runs (sim/lua/lua_hooks.c,
+ * sim/world2d/step.c), seen through `evo run` on environments written for
+ * the test: post_step runs after the step's rewards, as EvoAgents'
+ * postStepOps, and reads this tick's sensor values; a Lua reward's or
+ * control's reset function runs at every episode's start and, for a reward,
+ * at scene:reset_rewards; a Lua reward that returns no number is reported
+ * at the line where the function was written, with the tick. */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "harness.h"
+#include "support/cli.h"
+
+static char out[1 << 15];
+
+/* A copy of minds/Avoid running environment Envs/Test.lua = lua, for
+ * `episodes` episodes; its exit status, the output in out. */
+static int run_env(const char *lua, int episodes)
+{
+	cli_sh("rm -rf %s/Avoid && cp -r minds/Avoid %s/", cli_tmp, cli_tmp);
+	char path[512];
+	snprintf(path, sizeof path, "%s/Avoid/Envs/Test.lua", cli_tmp);
+	FILE *f = fopen(path, "w");
+	if (!f)
+		return -1;
+	fputs(lua, f);
+	fclose(f);
+	snprintf(path, sizeof path, "%s/Avoid/Tasks/T.simbatch", cli_tmp);
+	f = fopen(path, "w");
+	if (!f)
+		return -1;
+	fputs("TYPE:DEMOSIM\nBOTMODEL:BotType8\nMASTERSKILL:Avoid\n"
+	      "ENV:Test\nTICKLIM:30\n",
+	      f);
+	fclose(f);
+	return cli_capture(out, sizeof out,
+			   "timeout -s KILL 60 %s run %s --headless "
+			   "--episodes %d",
+			   cli_evo, path, episodes);
+}
+
+TEST(post_step_runs_after_the_rewards)
+{
+	/* StepReward pays 1 a tick: after the rewards, the episode's reward
+	 * at post_step is the tick count; before them, one less */
+	int rc = run_env(
+	    "local env = {}\n"
+	    "function env.init(scene, task)\n"
+	    "  env.bot = scene:bot{ x = 0, y = 0 }\n"
+	    "  scene:reward(\"StepReward\", { bot = env.bot, k = 1 })\n"
+	    "  scene:control(\"NextOnTimeout\", { bot = env.bot, ticks = 30 })\n"
+	    "end\n"
+	    "function env.post_step(scene)\n"
+	    "  if scene:episode_reward() ~= scene:tick() then\n"
+	    "    error(string.format('post_step at tick %d saw %g', "
+	    "scene:tick(), scene:episode_reward()))\n"
+	    "  end\n"
+	    "  -- this tick's readings: what the mind read this tick\n"
+	    "  local v = env.bot:value(\"S1\")\n"
+	    "  assert(v >= 0 and v <= 1)\n"
+	    "end\n"
+	    "return env\n",
+	    2);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out, "episode 1: reward 30.000000 over 30 ticks");
+	CHECK_CONTAINS(out, "episode 2: reward 30.000000 over 30 ticks");
+	if (rc != 0)
+		printf("  said: %s\n", out);
+}
+
+TEST(lua_rewards_and_controls_are_reset)
+{
+	/* The reward counts its calls since its reset and pays the count;
+	 * the control ends the episode at its own tenth call since reset.
+	 * Reset at every episode's start, each episode pays 1 + 2 + ... +
+	 * 10 = 55; without, episode 2 would start counting at 11. The
+	 * environment resets the rewards at tick 5 of episode 3: then 1..5
+	 * and 1..5 again = 30. */
+	int rc = run_env(
+	    "local env = {}\n"
+	    "local n, c, episode = 0, 0, 0\n"
+	    "function env.init(scene, task)\n"
+	    "  env.bot = scene:bot{ x = 0, y = 0 }\n"
+	    "  scene:reward(function() n = n + 1; return n end,\n"
+	    "    { reset = function(s) n = 0 end })\n"
+	    "  scene:control(function() c = c + 1; return c >= 10 end,\n"
+	    "    { reset = function(s) c = 0 end })\n"
+	    "end\n"
+	    "function env.reset(scene, e) episode = e end\n"
+	    "function env.post_step(scene)\n"
+	    "  if episode == 3 and scene:tick() == 5 then "
+	    "scene:reset_rewards() end\n"
+	    "end\n"
+	    "return env\n",
+	    3);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out, "episode 1: reward 55.000000 over 10 ticks");
+	CHECK_CONTAINS(out, "episode 2: reward 55.000000 over 10 ticks");
+	CHECK_CONTAINS(out, "episode 3: reward 30.000000 over 10 ticks");
+	if (rc != 0)
+		printf("  said: %s\n", out);
+	/* a reset that is not a function, or an unknown option */
+	rc = run_env("local env = {}\n"
+		     "function env.init(scene, task)\n"
+		     "  env.bot = scene:bot{ x = 0, y = 0 }\n"
+		     "  scene:reward(function() return 0 end, { reste = 1 })\n"
+		     "end\n"
+		     "return env\n",
+		     1);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "Test.lua:4: scene:reward: unknown option 'reste'");
+}
+
+TEST(a_reward_that_returns_no_number_is_reported_where_written)
+{
+	const char *gave[] = {"nil", "'ten'", "0/0"};
+	const char *said[] = {"returned nil", "returned string",
+			      "returned -nan"};
+	for (int i = 0; i < 3; i++) {
+		char lua[1024];
+		snprintf(lua, sizeof lua,
+			 "local env = {}\n"
+			 "function env.init(scene, task)\n"
+			 "  env.bot = scene:bot{ x = 0, y = 0 }\n"
+			 "  scene:reward(function(scene)\n"
+			 "    if scene:tick() < 7 then return 1 end\n"
+			 "    return %s\n"
+			 "  end)\n"
+			 "end\n"
+			 "return env\n",
+			 gave[i]);
+		int rc = run_env(lua, 1);
+		CHECK_EQ_INT(rc, 1);
+		CHECK_CONTAINS(out, "Envs/Test.lua:4: the reward function "
+				    "written here ");
+		CHECK_CONTAINS(out, "at tick 7, not a finite number");
+		/* NaN prints as nan or -nan */
+		CHECK(strstr(out, said[i]) ||
+		      (i == 2 && strstr(out, "returned nan")));
+	}
+}
+
+int main(void)
+{
+	if (cli_setup("hooks"))
+		return 1;
+	RUN(post_step_runs_after_the_rewards);
+	RUN(lua_rewards_and_controls_are_reset);
+	RUN(a_reward_that_returns_no_number_is_reported_where_written);
+	cli_cleanup();
+	return test_summary();
+}
