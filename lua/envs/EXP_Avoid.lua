@@ -11,8 +11,8 @@ function env.init(scene, task)
 	scene:grid{ x0 = -189, y0 = -189, x1 = 189, y1 = 189, spacing = 23,
 		jitter = 12, min_size = 2.2, size_variability = 4, clearance = 2 }
 	local bot = scene:bot{ x = 0, y = 5 }
-	local sensors = {}
-	for i = 1, 10 do sensors[i] = "S" .. i end
+	-- every proximity sensor of the bot, whatever the bot model calls them
+	local sensors = bot:sensors("proximity")
 	scene:reward("ForwardMotion", { bot = bot, k = 0.002, k2 = -0.02 })
 	scene:reward("Speed", { bot = bot, k = 0.0001 })
 	scene:reward("PunishOnCollision", { bot = bot, k = -15 })

@@ -27,8 +27,12 @@ function env.init(scene, task)
 		objects[i] = scene:object{ name = "object" .. i, x = 10 * i, y = 10, radius = 0.5 }
 	end
 	env.bot = scene:bot{ x = 0, y = 0 }
-	for _, s in ipairs{ "ACTDZ", "DISTDZ", "RADDZ", "SENSDZ" } do
-		env.bot:target(s, zone)
+	-- the drop-zone trackers, whatever the bot model calls them: every
+	-- presence, distance, bearing and zone sensor that looks at nothing yet
+	for _, kind in ipairs{ "presence", "distance", "bearing", "zone" } do
+		for _, s in ipairs(env.bot:sensors(kind, "untargeted")) do
+			env.bot:target(s, zone)
+		end
 	end
 	scene:reward("Collect", { bot = env.bot, target = zone, k = 100 })
 	scene:reward("ClosingOnTarget", { bot = env.bot, target = "nearest_object", k = 0.2 })

@@ -19,7 +19,9 @@ if not MODULES[method] then
 end
 local algo = require(MODULES[method])
 
-local generations = tonumber(task.NUMGEN or "50")
+-- NUMGEN, or `evo run --generations N` for a quick try of a task as it is
+local generations = host.generations or tonumber(task.NUMGEN or "50")
+local planned = generations
 if not generations or generations < 1 or generations ~= math.floor(generations) then
 	error("NUMGEN must be a whole number of generations, found '" .. tostring(task.NUMGEN) .. "'", 0)
 end
@@ -178,7 +180,8 @@ host.save_champion(algo.to_net_text(champion, string.format(
 host.curve(history.best, history.mean)
 
 -- In a world, replay the champion beside networks as the method first
--- drew them, on episodes training never saw (those of generation NUMGEN),
+-- drew them, on episodes training never saw (those of generation NUMGEN,
+-- or of --generations),
 -- and print what each scores and how long each spent touching things.
 if not literature then
 	local fresh = algo.new{ inputs = host.inputs, outputs = host.outputs, layers = host.layers,
@@ -189,7 +192,7 @@ if not literature then
 		if i > REPLAY_RANDOM then break end
 		nets[#nets + 1] = algo.to_net(g)
 	end
-	local fitness, _, _, collisions = host.evaluate(nets, tonumber(task.NUMGEN or "50"))
+	local fitness, _, _, collisions = host.evaluate(nets, planned)
 	local f_sum, c_sum = 0, 0
 	for i = 2, #nets do
 		f_sum, c_sum = f_sum + fitness[i], c_sum + collisions[i]

@@ -21,7 +21,9 @@ return function(opts)
 		env.bot = scene:bot{ x = 0, y = 0 }
 		if opts.grid then scene:grid(opts.grid) end
 		scene:reward("ClosingOnTarget", { bot = env.bot, target = "nearest_object", k = 1 })
-		scene:reward("SensorOverThreshold", { bot = env.bot, sensors = { "SENSOBJ" },
+		-- every object detector of the bot, whatever the model calls it
+		env.detectors = env.bot:sensors("object_detector")
+		scene:reward("SensorOverThreshold", { bot = env.bot, sensors = env.detectors,
 			threshold = 0.5, k = 1 })
 		scene:reward("PunishOnCollision", { bot = env.bot, k = opts.collision })
 		scene:control("NextOnTimeout", { bot = env.bot,
@@ -35,7 +37,8 @@ return function(opts)
 	-- Reached: move the object and forget the distances, so the jump is
 	-- not punished.
 	function env.post_step(scene)
-		if env.bot:value("SENSOBJ") > 0.5 then
+		local d = env.detectors[1]
+		if d and env.bot:value(d) > 0.5 then
 			place_object(scene)
 			scene:reset_rewards()
 		end

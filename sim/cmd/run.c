@@ -33,6 +33,7 @@ typedef struct run_opts {
 	const char *trace;
 	const char *screenshot; /* viewer: save a PNG after `ticks` ticks */
 	long threads;		/* LEARNSIM: 0 for one per core */
+	long generations;	/* LEARNSIM: 0 for NUMGEN */
 	const char *run_dir;	/* LEARNSIM */
 	int resume;
 } run_opts;
@@ -53,7 +54,8 @@ static void run_usage(FILE *f)
 	      "  --screenshot FILE  save a PNG of what the viewer shows after\n"
 	      "                     the first --ticks ticks and quit (drawn\n"
 	      "                     without a window when headless)\n"
-	      "LEARNSIM:\n"
+	      "LEARNSIM (--ticks N bounds each evaluation's episodes too):\n"
+	      "  --generations N    train N generations instead of NUMGEN\n"
 	      "  --threads N        worker threads (default: one per core)\n"
 	      "  --run DIR          run folder (default MIND/Runs/TASK-seedN)\n"
 	      "  --resume           go on from the run folder's checkpoint\n",
@@ -100,6 +102,16 @@ static int parse_args(int argc, char **argv, run_opts *o)
 			i++;
 		} else if (strcmp(a, "--trace") == 0 && v) {
 			o->trace = v;
+			i++;
+		} else if (strcmp(a, "--generations") == 0) {
+			if (parse_count(a, v, &o->generations))
+				return -1;
+			if (o->generations < 1 || o->generations > 1000000000L) {
+				fprintf(stderr, "evo run: --generations expects a "
+						"whole number from 1, found '%s'\n",
+					v);
+				return -1;
+			}
 			i++;
 		} else if (strcmp(a, "--threads") == 0) {
 			if (parse_count(a, v, &o->threads))
@@ -405,6 +417,8 @@ int evo_run_main(int argc, char **argv)
 		evo_learn_opts lo = {
 			.seed = seed,
 			.threads = (int)threads,
+			.generations = (int)o.generations,
+			.ticks = o.ticks,
 			.run_dir = o.run_dir,
 			.resume = o.resume,
 		};

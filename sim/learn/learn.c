@@ -410,6 +410,10 @@ static int open_module(lua_State *L)
 	lua_setfield(L, -2, "reps");
 	lua_pushinteger(L, (lua_Integer)evo_evaluator_ticks(l->ev));
 	lua_setfield(L, -2, "ticks");
+	if (l->opts->generations > 0) {
+		lua_pushinteger(L, l->opts->generations);
+		lua_setfield(L, -2, "generations");
+	}
 	/* GENETIC and ANNEALING evolve the fixed layered network of the
 	 * skill's `layers:` (1 when absent, as the .ades reader says). */
 	int k = evo_mindfolder_skill(l->task->mind, l->skill);
@@ -544,6 +548,7 @@ int evo_learn_run(const char *task_path, evo_task *task,
 		.task_path = task_path,
 		.threads = o->threads,
 		.seed = o->seed,
+		.ticks = o->ticks,
 	};
 	int lock = evo_runlog_claim(l.run_dir, err);
 	if (lock < 0)

@@ -14,6 +14,8 @@ typedef struct evo_learn_opts {
 	int threads;	     /* 0: one per core */
 	const char *run_dir; /* NULL: <mind>/Runs/<task>-seed<N> */
 	int resume;	     /* go on from the run folder's checkpoint */
+	int generations;     /* 0: NUMGEN */
+	long ticks;	     /* ticks per episode at most; 0: TICKLIM */
 } evo_learn_opts;
 
 /* Run the learning task; prints one line per generation, writes the run

@@ -216,6 +216,63 @@ static int bot_counts(lua_State *L)
 	return 1;
 }
 
+/* The kinds as bot:sensors names them, the names of the bot's methods
+ * that add them. */
+static const char *const sensor_kind_names[EVO_SENSOR_KIND_COUNT] = {
+    [EVO_SENSOR_PROXIMITY] = "proximity",
+    [EVO_SENSOR_DISTANCE] = "distance",
+    [EVO_SENSOR_ZONE] = "zone",
+    [EVO_SENSOR_BEARING] = "bearing",
+    [EVO_SENSOR_PRESENCE] = "presence",
+    [EVO_SENSOR_OBJECT] = "object_detector",
+    [EVO_SENSOR_MOVEMENT] = "movement",
+    [EVO_SENSOR_RANDOM] = "random",
+    [EVO_SENSOR_CONSTANT] = "constant",
+    [EVO_SENSOR_HOLDING] = "holding",
+};
+
+/* bot:sensors(kind[, "untargeted"]): the names of the bot's sensors of a
+ * kind, in the order the bot model added them; with "untargeted", only
+ * those that look at nothing yet (for bot:target). Environments use it to
+ * work with any bot model instead of naming one model's sensors. */
+static int bot_sensors(lua_State *L)
+{
+	int bot = evo_lua_check_bot(L, 1);
+	const char *kind = luaL_checkstring(L, 2);
+	const char *filter = luaL_optstring(L, 3, NULL);
+	if (filter && strcmp(filter, "untargeted") != 0)
+		luaL_error(L, "bot:sensors: the filter is \"untargeted\", found "
+			      "\"%s\"",
+			   filter);
+	int k = -1;
+	for (int i = 0; i < EVO_SENSOR_KIND_COUNT; i++)
+		if (strcmp(kind, sensor_kind_names[i]) == 0)
+			k = i;
+	if (k < 0) {
+		luaL_Buffer b;
+		luaL_buffinit(L, &b);
+		for (int i = 0; i < EVO_SENSOR_KIND_COUNT; i++) {
+			luaL_addstring(&b, i ? ", " : "");
+			luaL_addstring(&b, sensor_kind_names[i]);
+		}
+		luaL_pushresult(&b);
+		luaL_error(L, "bot:sensors: unknown kind '%s' (known: %s)", kind,
+			   lua_tostring(L, -1));
+	}
+	const evo_bot *b = &evo_lua_ctx(L)->sc->bot[bot];
+	lua_newtable(L);
+	lua_Integer n = 0;
+	for (int i = 0; i < b->n_sensors; i++) {
+		const evo_sensor *se = &b->sensor[i];
+		if ((int)se->def.kind != k ||
+		    (filter && se->def.target != EVO_TARGET_NONE))
+			continue;
+		lua_pushstring(L, se->name);
+		lua_seti(L, -2, ++n);
+	}
+	return 1;
+}
+
 static int bot_name(lua_State *L)
 {
 	lua_pushstring(L,
@@ -242,6 +299,7 @@ const luaL_Reg evo_lua_bot_methods[] = {
 	{"value", bot_value},
 	{"command", bot_command},
 	{"counts", bot_counts},
+	{"sensors", bot_sensors},
 	{"name", bot_name},
 	{NULL, NULL},
 };
