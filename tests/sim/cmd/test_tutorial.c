@@ -3,7 +3,8 @@
  * prints it, BOTMODEL BotType6, sensors US_1..US_10 and DOF, ENV
  * EXP_Avoid) trains with no edit, for two generations of short episodes
  * (`--generations 2 --ticks 200`, so the test is quick), and the trained
- * skill then runs under DEMOSIM, headless. */
+ * skill then runs under DEMOSIM, headless; the tutorial's environment
+ * example, EXP_GTDZA, is built in. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -89,12 +90,39 @@ TEST(t6_neat_then_runs_under_demosim)
 		printf("  said: %s\n", out);
 }
 
+TEST(the_tutorials_environment_example_is_built_in)
+{
+	/* EXP_GTDZA, the tutorial's section 6.2, with its GTDZ+Avoid skill
+	 * as the master, on BotType6 */
+	char path[512];
+	snprintf(path, sizeof path, "%s/T6-NEAT/Tasks/GTDZA-DEMO.simbatch",
+		 cli_tmp);
+	FILE *f = fopen(path, "w");
+	CHECK(f != NULL);
+	if (!f)
+		return;
+	fputs("TYPE:DEMOSIM\nBOTMODEL:BotType6\nBOTNAME:T6-NEAT\n"
+	      "MASTERSKILL:GTDZ+Avoid\nENV:EXP_GTDZA\nTICKLIM:500\n",
+	      f);
+	fclose(f);
+	CHECK_EQ_INT(cli_capture(out, sizeof out, "%s check %s", cli_evo, path),
+		     0);
+	int rc = cli_capture(out, sizeof out,
+			     "%s -nog %s --episodes 2 --seed 4", cli_evo, path);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_EQ_INT(count_lines(out, "episode "), 2);
+	CHECK_CONTAINS(out, "over 500 ticks");
+	if (rc != 0)
+		printf("  said: %s\n", out);
+}
+
 int main(void)
 {
 	if (cli_setup("tutorial"))
 		return 1;
 	RUN(t6_neat_trains_as_written);
 	RUN(t6_neat_then_runs_under_demosim);
+	RUN(the_tutorials_environment_example_is_built_in);
 	cli_cleanup();
 	return test_summary();
 }
