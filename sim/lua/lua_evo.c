@@ -358,9 +358,83 @@ int evo_lua_init_env(evo_lua *l, const char *env, evo_err *err)
 				l->env_path);
 	lua_rawgeti(L, LUA_REGISTRYINDEX, l->env_ref);
 	l->has_post_step = lua_getfield(L, -1, "post_step") == LUA_TFUNCTION;
-	lua_pop(L, 2);
+	/* an obstacle generator of its own replaces the grid */
+	if (lua_getfield(L, -2, "obstacles") == LUA_TFUNCTION)
+		l->sc->grid.enabled = 0;
+	lua_pop(L, 3);
 	if (l->has_post_step)
 		l->sc->hooks.post_step = evo_lua_hook_post_step;
+	return 0;
+}
+
+/* random(lo, hi) for env.obstacles: the grid seed's stream, so every
+ * candidate of a generation meets the same obstacles (docs/lua.md). */
+static int obstacle_random(lua_State *L)
+{
+	evo_rng *r = lua_touserdata(L, lua_upvalueindex(1));
+	double lo = luaL_optnumber(L, 1, 0), hi = luaL_optnumber(L, 2, 1);
+	lua_pushnumber(L, evo_rng_range(r, lo, hi));
+	return 1;
+}
+
+/* env.obstacles(scene, random, episode), when the environment has it: a list of
+ * {x, y, size, angle, shape} added for this episode (the tutorial's
+ * generateObstaclesParameters). Raises with the environment's path. */
+static int run_obstacles(lua_State *L)
+{
+	static const char *const keys[] = {"x",	    "y",     "size",
+					   "angle", "shape", NULL};
+	evo_lua *l = lua_touserdata(L, 1);
+	lua_rawgeti(L, LUA_REGISTRYINDEX, l->env_ref);
+	if (lua_getfield(L, -1, "obstacles") != LUA_TFUNCTION)
+		return 0;
+	lua_rawgetp(L, LUA_REGISTRYINDEX, &evo_lua_scene_key);
+	evo_rng *r = lua_newuserdatauv(L, sizeof *r, 0);
+	*r = evo_rng_for(l->sc->grid_seed, 0x6f6273 /* "obs" */, 0, 0);
+	lua_pushcclosure(L, obstacle_random, 1);
+	lua_pushinteger(L, l->episode);
+	lua_call(L, 3, 1);
+	if (!lua_istable(L, -1))
+		return luaL_error(L, "%s: env.obstacles must return a list of "
+				     "obstacles, returned %s",
+				  l->env_path, luaL_typename(L, -1));
+	lua_Integer n = luaL_len(L, -1);
+	for (lua_Integer i = 1; i <= n; i++) {
+		char what[64];
+		snprintf(what, sizeof what, "env.obstacles: obstacle %lld",
+			 (long long)i);
+		lua_geti(L, -1, i);
+		if (!lua_istable(L, -1))
+			return luaL_error(L, "%s: %s is %s, not a table",
+					  l->env_path, what,
+					  luaL_typename(L, -1));
+		int t = lua_gettop(L);
+		evo_lua_check_keys(L, t, what, keys);
+		evo_obstacle o;
+		memset(&o, 0, sizeof o);
+		o.x = evo_lua_opt_num(L, t, "x", 0, what);
+		o.y = evo_lua_opt_num(L, t, "y", 0, what);
+		double size = evo_lua_opt_num(L, t, "size", 1, what);
+		const char *shape = evo_lua_opt_str(L, t, "shape", "circle", what);
+		/* as the grid makes them: a circle of radius size, or a
+		 * square box of half side size, turned by angle */
+		o.radius = o.half_w = o.half_h = size;
+		if (strcmp(shape, "circle") == 0) {
+			o.shape = EVO_SHAPE_CIRCLE;
+		} else if (strcmp(shape, "box") == 0) {
+			o.shape = EVO_SHAPE_BOX;
+			o.angle = evo_lua_opt_num(L, t, "angle", 0, what) *
+				  EVO_LUA_DEG;
+		} else {
+			return luaL_error(L, "%s: %s: shape must be \"circle\" "
+					     "or \"box\", found \"%s\"",
+					  l->env_path, what, shape);
+		}
+		if (evo_scene_add_episode_obstacle(l->sc, &o) < 0)
+			return luaL_error(L, "%s: %s: %s", l->env_path, what,
+					  l->sc->err.msg);
+		lua_pop(L, 1);
+	}
 	return 0;
 }
 
@@ -372,11 +446,25 @@ int evo_lua_reset(evo_lua *l, int episode, evo_err *err)
 	evo_rng r = evo_rng_for(l->sc->rng.s, 0x4c7561 /* "Lua" */, 0, 0);
 	seed_math_random(l->L, evo_rng_next(&r));
 	/* the Lua rewards' and controls' own resets, as the C ones were
-	 * reset by evo_scene_reset, then the environment's */
+	 * reset by evo_scene_reset, then the environment's obstacles and
+	 * its reset */
 	if (evo_lua_call_resets(l, &evo_lua_reward_resets_key, err) ||
 	    evo_lua_call_resets(l, &evo_lua_control_resets_key, err))
 		return -1;
-	return evo_lua_call_env(l, "reset", 1, episode, err);
+	lua_State *L = l->L;
+	l->episode = episode;
+	lua_pushcfunction(L, run_obstacles);
+	lua_pushlightuserdata(L, l);
+	if (evo_lua_pcall(l, 1, 0, EVO_LUA_BUDGET_RESET, "obstacles") !=
+	    LUA_OK) {
+		evo_fail(err, "%s", lua_tostring(L, -1));
+		lua_pop(L, 1);
+		return -1;
+	}
+	l->in_reset = 1;
+	int rc = evo_lua_call_env(l, "reset", 1, episode, err);
+	l->in_reset = 0;
+	return rc;
 }
 
 const char *evo_lua_env_path(const evo_lua *l)

@@ -20,6 +20,8 @@ struct evo_lua {
 	char botmodel[EVO_NAME_MAX];
 	const evo_simbatch *task;
 	int env_ref; /* the environment's table */
+	int episode; /* the episode being reset (env.obstacles) */
+	int in_reset; /* env.reset is running: no new elements */
 	int has_post_step;
 	char env_path[1200];
 	char bot_path[1200];

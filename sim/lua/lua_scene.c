@@ -63,14 +63,32 @@ static int element_name(lua_State *L)
 
 /* ---- scene ---------------------------------------------------------------- */
 
+/* Each kind's options, as docs/lua.md lists them: a zone takes `size`, a
+ * cylinder `radius`, and neither takes the other's. */
+static const char *const cylinder_keys[] = {"x", "y", "radius", "name", NULL};
+static const char *const box_keys[] = {"x",	      "y",     "half_width",
+				       "half_height", "angle", "name",
+				       NULL};
+static const char *const zone_keys[] = {"x",	 "y",	 "size",
+					"angle", "name", NULL};
+static const char *const object_keys[] = {
+    "x",	"y",	      "radius",		"name",		   "density",
+    "friction", "restitution", "linear_damping", "angular_damping", NULL};
+
 static int add_element(lua_State *L, evo_element_kind kind, const char *what)
 {
-	static const char *const keys[] = {
-		"name",	    "x",	"y",	   "angle",
-		"radius",   "size",	"half_width", "half_height",
-		"density",  "friction", "restitution", "linear_damping",
-		"angular_damping", NULL};
+	const char *const *keys = kind == EVO_ELEM_CYLINDER ? cylinder_keys
+				  : kind == EVO_ELEM_BOX    ? box_keys
+				  : kind == EVO_ELEM_ZONE   ? zone_keys
+							    : object_keys;
 	evo_lua_check_keys(L, 2, what, keys);
+	if (evo_lua_ctx(L)->in_reset)
+		luaL_error(L,
+			   "%s: elements are made in init and placed in reset "
+			   "(made in reset, one more would pile up every "
+			   "episode); per-episode obstacles come from "
+			   "env.obstacles (docs/lua.md)",
+			   what);
 	evo_element_def d = evo_default_element_def(kind);
 	d.name = evo_lua_opt_str(L, 2, "name", NULL, what);
 	d.x = evo_lua_opt_num(L, 2, "x", 0, what);

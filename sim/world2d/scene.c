@@ -118,6 +118,15 @@ static evo_body_id add_object_body(evo_scene *sc, const evo_element_def *d)
 	return evo_world_add_body(sc->world, &bd);
 }
 
+int evo_scene_add_episode_obstacle(evo_scene *sc, const evo_obstacle *o)
+{
+	if (!isfinite(o->x) || !isfinite(o->y) || !isfinite(o->angle) ||
+	    !isfinite(o->radius) || !isfinite(o->half_w) ||
+	    !isfinite(o->half_h))
+		return evo_fail(&sc->err, "obstacle: a value is not a number");
+	return evo_scene_add_obstacle(sc, o);
+}
+
 int evo_scene_add_element(evo_scene *sc, const evo_element_def *d)
 {
 	double v[] = {d->x, d->y, d->angle, d->size, d->half_w, d->half_h};

@@ -321,6 +321,8 @@ struct evo_scene {
 	evo_reward *reward;
 	evo_control *control;
 	evo_grid_def grid;
+	uint64_t grid_seed; /* the last reset's: an environment's own
+			       obstacle generator draws from it */
 	double step_reward;    /* what the rewards gave in the last step */
 	double episode_reward; /* since the reset */
 	evo_scene_hooks hooks;
@@ -363,6 +365,12 @@ void evo_scene_sense(evo_scene *sc);
  * the controls decide. Returns 1 when a control function ends the episode,
  * 0 when it goes on, -1 with sc->err set when a hook failed. */
 int evo_scene_step(evo_scene *sc);
+
+/* A static obstacle for this episode only, after the elements' and the
+ * grid's: the next reset removes it. An environment's own obstacle
+ * generator adds its obstacles so (the tutorial's
+ * generateObstaclesParameters). Its index, or -1 with sc->err set. */
+int evo_scene_add_episode_obstacle(evo_scene *sc, const evo_obstacle *o);
 
 /* Place a bot (pose and zero speed) or an element; used by environments
  * (scene.c). */

@@ -42,6 +42,7 @@ void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
 		}
 	}
 	evo_grid_rebuild(sc, grid_seed);
+	sc->grid_seed = grid_seed;
 	for (int i = 0; i < sc->n_rewards; i++)
 		evo_reward_reset(&sc->reward[i]);
 	for (int i = 0; i < sc->n_controls; i++)

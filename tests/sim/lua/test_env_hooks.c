@@ -4,7 +4,9 @@
  * postStepOps, and reads this tick's sensor values; a Lua reward's or
  * control's reset function runs at every episode's start and, for a reward,
  * at scene:reset_rewards; a Lua reward that returns no number is reported
- * at the line where the function was written, with the tick. */
+ * at the line where the function was written, with the tick; an
+ * environment can make its own obstacles each episode (env.obstacles),
+ * makes no elements in reset, and each element takes its own options. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -142,6 +144,111 @@ TEST(a_reward_that_returns_no_number_is_reported_where_written)
 	}
 }
 
+/* The first value of column col (0: the tick) on the tick-0 line of
+ * episode e (from 1) of the trace at path; -1 when absent. */
+static long tick0_value(const char *path, int e, int col)
+{
+	FILE *f = fopen(path, "r");
+	if (!f)
+		return -1;
+	char line[4096];
+	int seen = 0;
+	long v = -1;
+	while (fgets(line, sizeof line, f))
+		if (strncmp(line, "0 ", 2) == 0 && ++seen == e) {
+			char *p = line;
+			for (int c = 0; c < col && p; c++) {
+				p = strchr(p, ' ');
+				p = p ? p + 1 : NULL;
+			}
+			v = p ? atol(p) : -1;
+			break;
+		}
+	fclose(f);
+	return v;
+}
+
+TEST(an_environment_makes_its_own_obstacles)
+{
+	/* env.obstacles replaces the grid: episode 1 has one cylinder
+	 * ahead of the bot, episode 2 one box behind it, and the first is
+	 * gone by then */
+	int rc = run_env(
+	    "local env = {}\n"
+	    "function env.init(scene, task)\n"
+	    "  env.bot = scene:bot{ x = 0, y = 0 }\n"
+	    "  scene:grid{ x0 = -40, y0 = -40, x1 = 40, y1 = 40, spacing = 5 }\n"
+	    "end\n"
+	    "function env.obstacles(scene, random, episode)\n"
+	    "  local r = random(0, 1)\n"
+	    "  assert(r >= 0 and r < 1)\n"
+	    "  if episode == 1 then return { { x = 3, y = 0, size = 1 } } end\n"
+	    "  return { { x = -3, y = 0, size = 1, shape = 'box', angle = 45 } }\n"
+	    "end\n"
+	    "return env\n",
+	    0);
+	(void)rc;
+	char trace[512];
+	snprintf(trace, sizeof trace, "%s/obs.trace", cli_tmp);
+	rc = cli_capture(out, sizeof out,
+			 "%s run %s/Avoid/Tasks/T.simbatch --headless "
+			 "--episodes 2 --ticks 2 --trace %s",
+			 cli_evo, cli_tmp, trace);
+	CHECK_EQ_INT(rc, 0);
+	/* S1 looks ahead, S6 behind (BotType8); range 12: the cylinder's
+	 * surface is 3 - 1 - 1 (the bot's radius) = 1 away, 1/12 of the
+	 * range */
+	long s1 = tick0_value(trace, 1, 1), s6 = tick0_value(trace, 1, 6);
+	CHECK(s1 > 65536 / 12 - 600 && s1 < 65536 / 12 + 600);
+	CHECK_EQ_INT(s6, 65536); /* no grid: nothing else around */
+	CHECK_EQ_INT(tick0_value(trace, 2, 1), 65536);
+	CHECK(tick0_value(trace, 2, 6) < 65536);
+	/* a bad obstacle says which and where */
+	rc = run_env("local env = {}\n"
+		     "function env.init(scene, task)\n"
+		     "  env.bot = scene:bot{ x = 0, y = 0 }\n"
+		     "end\n"
+		     "function env.obstacles(scene, random, episode)\n"
+		     "  return { { x = 9, y = 9 }, { x = 1, y = 1, shape = 'star' } }\n"
+		     "end\n"
+		     "return env\n",
+		     1);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "Envs/Test.lua: env.obstacles: obstacle 2: shape "
+			    "must be \"circle\" or \"box\"");
+}
+
+TEST(elements_are_not_made_in_reset)
+{
+	int rc = run_env("local env = {}\n"
+			 "function env.init(scene, task)\n"
+			 "  env.bot = scene:bot{ x = 0, y = 0 }\n"
+			 "end\n"
+			 "function env.reset(scene, episode)\n"
+			 "  scene:cylinder{ x = 5, y = 5, radius = 1 }\n"
+			 "end\n"
+			 "return env\n",
+			 2);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "Test.lua:6: scene:cylinder: elements are made in "
+			    "init and placed in reset");
+}
+
+TEST(each_element_takes_its_own_options)
+{
+	/* a zone has a size, not a radius; the message lists the zone's */
+	int rc = run_env("local env = {}\n"
+			 "function env.init(scene, task)\n"
+			 "  env.bot = scene:bot{ x = 0, y = 0 }\n"
+			 "  scene:zone{ x = 5, y = 5, radius = 2.5 }\n"
+			 "end\n"
+			 "return env\n",
+			 1);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "Test.lua:4: scene:zone: unknown option 'radius' "
+			    "(known: x, y, size, angle, name)");
+}
+
 int main(void)
 {
 	if (cli_setup("hooks"))
@@ -149,6 +256,9 @@ int main(void)
 	RUN(post_step_runs_after_the_rewards);
 	RUN(lua_rewards_and_controls_are_reset);
 	RUN(a_reward_that_returns_no_number_is_reported_where_written);
+	RUN(an_environment_makes_its_own_obstacles);
+	RUN(elements_are_not_made_in_reset);
+	RUN(each_element_takes_its_own_options);
 	cli_cleanup();
 	return test_summary();
 }
