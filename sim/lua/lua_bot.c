@@ -8,9 +8,32 @@
 
 /* ---- bot: sensors and actuators ---------------------------------------- */
 
-static const char *const sensor_keys[] = {
-	"name",	 "x",	   "y",	    "angle", "range", "arc",   "rays",
-	"deadzone", "sees", "target", "scale", "reach", "value", NULL};
+/* Each kind's options, as docs/lua.md lists them: an unknown key's
+ * message names what this kind of sensor takes. */
+static const char *const proximity_keys[] = {
+    "name", "x", "y", "angle", "range", "arc", "rays", "deadzone", "sees",
+    NULL};
+static const char *const distance_keys[] = {"name",   "x",     "y",
+					    "target", "scale", NULL};
+static const char *const tracker_keys[] = {"name", "target", NULL};
+static const char *const detector_keys[] = {"name",  "x",     "y",
+					    "angle", "reach", "arc", NULL};
+static const char *const movement_keys[] = {"name", "scale", NULL};
+static const char *const name_keys[] = {"name", NULL};
+static const char *const constant_keys[] = {"name", "value", NULL};
+
+static const char *const *const sensor_keys[EVO_SENSOR_KIND_COUNT] = {
+    [EVO_SENSOR_PROXIMITY] = proximity_keys,
+    [EVO_SENSOR_DISTANCE] = distance_keys,
+    [EVO_SENSOR_ZONE] = tracker_keys,
+    [EVO_SENSOR_BEARING] = tracker_keys,
+    [EVO_SENSOR_PRESENCE] = tracker_keys,
+    [EVO_SENSOR_OBJECT] = detector_keys,
+    [EVO_SENSOR_MOVEMENT] = movement_keys,
+    [EVO_SENSOR_RANDOM] = name_keys,
+    [EVO_SENSOR_CONSTANT] = constant_keys,
+    [EVO_SENSOR_HOLDING] = name_keys,
+};
 
 static uint16_t parse_sees(lua_State *L, int idx, const char *what)
 {
@@ -44,7 +67,7 @@ static uint16_t parse_sees(lua_State *L, int idx, const char *what)
 static int add_sensor(lua_State *L, evo_sensor_kind kind, const char *what)
 {
 	int bot = evo_lua_check_bot(L, 1);
-	evo_lua_check_keys(L, 2, what, sensor_keys);
+	evo_lua_check_keys(L, 2, what, sensor_keys[kind]);
 	evo_sensor_def d = evo_default_sensor_def(kind);
 	d.name = evo_lua_opt_str(L, 2, "name", NULL, what);
 	if (!d.name)

@@ -175,6 +175,43 @@ static int scene_grid(lua_State *L)
 	return 0;
 }
 
+/* The body table of a bot model (at 1) into the evo_body_def at 2.
+ * Called through lua_pcall, so that its errors carry no script line:
+ * scene:bot puts the bot model's file before them. */
+static int read_body(lua_State *L)
+{
+	evo_body_def *body = lua_touserdata(L, 2);
+	static const char *const bkeys[] = {
+	    "shape",	       "radius",   "half_width",  "half_height",
+	    "density",	       "friction", "restitution", "linear_damping",
+	    "angular_damping", "sleep",	   NULL};
+	int b = 1;
+	const char *bw = "body";
+	evo_lua_check_keys(L, b, bw, bkeys);
+	const char *shape = evo_lua_opt_str(L, b, "shape", "circle", bw);
+	if (strcmp(shape, "circle") == 0)
+		body->shape = EVO_SHAPE_CIRCLE;
+	else if (strcmp(shape, "box") == 0)
+		body->shape = EVO_SHAPE_BOX;
+	else
+		luaL_error(L, "%s: shape is \"circle\" or \"box\"", bw);
+	body->radius = evo_lua_opt_num(L, b, "radius", body->radius, bw);
+	body->half_w = evo_lua_opt_num(L, b, "half_width", body->half_w, bw);
+	body->half_h = evo_lua_opt_num(L, b, "half_height", body->half_h, bw);
+	body->density = evo_lua_opt_num(L, b, "density", body->density, bw);
+	body->friction = evo_lua_opt_num(L, b, "friction", body->friction, bw);
+	body->restitution =
+	    evo_lua_opt_num(L, b, "restitution", body->restitution, bw);
+	body->linear_damping =
+	    evo_lua_opt_num(L, b, "linear_damping", body->linear_damping, bw);
+	body->angular_damping =
+	    evo_lua_opt_num(L, b, "angular_damping", body->angular_damping, bw);
+	lua_getfield(L, b, "sleep");
+	body->allow_sleep = lua_toboolean(L, -1);
+	lua_pop(L, 1);
+	return 0;
+}
+
 static int scene_bot(lua_State *L)
 {
 	static const char *const keys[] = {"name", "x", "y", "angle", "model",
@@ -200,41 +237,15 @@ static int scene_bot(lua_State *L)
 	d.angle = evo_lua_opt_num(L, 2, "angle", 0, what) * EVO_LUA_DEG;
 	lua_getfield(L, 3, "body");
 	if (!lua_isnil(L, -1)) {
-		static const char *const bkeys[] = {
-			"shape",	  "radius",	    "half_width",
-			"half_height", "density",	    "friction",
-			"restitution", "linear_damping", "angular_damping",
-			"sleep",	  NULL};
-		int b = lua_gettop(L);
-		const char *bw = "bot model body";
-		evo_lua_check_keys(L, b, bw, bkeys);
-		const char *shape =
-		    evo_lua_opt_str(L, b, "shape", "circle", bw);
-		if (strcmp(shape, "circle") == 0)
-			d.body.shape = EVO_SHAPE_CIRCLE;
-		else if (strcmp(shape, "box") == 0)
-			d.body.shape = EVO_SHAPE_BOX;
-		else
-			luaL_error(L, "%s: shape is \"circle\" or \"box\"", bw);
-		d.body.radius =
-		    evo_lua_opt_num(L, b, "radius", d.body.radius, bw);
-		d.body.half_w =
-		    evo_lua_opt_num(L, b, "half_width", d.body.half_w, bw);
-		d.body.half_h =
-		    evo_lua_opt_num(L, b, "half_height", d.body.half_h, bw);
-		d.body.density =
-		    evo_lua_opt_num(L, b, "density", d.body.density, bw);
-		d.body.friction =
-		    evo_lua_opt_num(L, b, "friction", d.body.friction, bw);
-		d.body.restitution = evo_lua_opt_num(L, b, "restitution",
-						     d.body.restitution, bw);
-		d.body.linear_damping = evo_lua_opt_num(
-		    L, b, "linear_damping", d.body.linear_damping, bw);
-		d.body.angular_damping = evo_lua_opt_num(
-		    L, b, "angular_damping", d.body.angular_damping, bw);
-		lua_getfield(L, b, "sleep");
-		d.body.allow_sleep = lua_toboolean(L, -1);
-		lua_pop(L, 1);
+		/* a mistake in the body is the bot model's: its file first */
+		lua_pushcfunction(L, read_body);
+		lua_pushvalue(L, -2);
+		lua_pushlightuserdata(L, &d.body);
+		if (lua_pcall(L, 2, 0, 0) != LUA_OK) {
+			lua_pushfstring(L, "%s: %s", l->bot_path,
+					lua_tostring(L, -1));
+			return lua_error(L);
+		}
 	}
 	lua_pop(L, 1);
 	int i = evo_lua_scene_result(L, evo_scene_add_bot(l->sc, &d));
@@ -251,9 +262,6 @@ static const char *const reward_keys[] = {"bot",       "k",	  "k2",
 					  "threshold", "target", "sensors",
 					  NULL};
 
-/* The first argument of scene:reward and scene:control: a Lua function
- * (returns lua_kind, with *ref set) or the name of a built-in one (its
- * kind); an empty options table is pushed at 3 when none was given. */
 /* A Lua function's options, {reset = f}: f goes on the list under
  * resets_key, called with the scene at every episode's reset (and, for a
  * reward, by scene:reset_rewards). */
@@ -282,6 +290,9 @@ static void lua_function_options(lua_State *L, const char *what,
 	lua_pop(L, 2);
 }
 
+/* The first argument of scene:reward and scene:control: a Lua function
+ * (returns lua_kind, with *ref set) or the name of a built-in one (its
+ * kind); an empty options table is pushed at 3 when none was given. */
 static int function_or_name(lua_State *L, const char *what, const char *noun,
 			    int (*by_name)(const char *), int lua_kind,
 			    int *ref)

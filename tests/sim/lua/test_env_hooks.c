@@ -16,6 +16,8 @@
 #include "support/cli.h"
 
 static char out[1 << 15];
+/* When set, run_env also writes it as the bot model Bots/Mine.lua. */
+static const char *bot_lua;
 
 /* A copy of minds/Avoid running environment Envs/Test.lua = lua, for
  * `episodes` episodes; its exit status, the output in out. */
@@ -29,6 +31,15 @@ static int run_env(const char *lua, int episodes)
 		return -1;
 	fputs(lua, f);
 	fclose(f);
+	if (bot_lua) {
+		cli_sh("mkdir -p %s/Avoid/Bots", cli_tmp);
+		snprintf(path, sizeof path, "%s/Avoid/Bots/Mine.lua", cli_tmp);
+		f = fopen(path, "w");
+		if (!f)
+			return -1;
+		fputs(bot_lua, f);
+		fclose(f);
+	}
 	snprintf(path, sizeof path, "%s/Avoid/Tasks/T.simbatch", cli_tmp);
 	f = fopen(path, "w");
 	if (!f)
@@ -249,6 +260,33 @@ TEST(each_element_takes_its_own_options)
 			    "(known: x, y, size, angle, name)");
 }
 
+TEST(a_bot_models_mistakes_are_its_own)
+{
+	const char *env = "local env = {}\n"
+			  "function env.init(scene, task)\n"
+			  "  env.bot = scene:bot{ x = 0, y = 0, model = 'Mine' }\n"
+			  "end\n"
+			  "return env\n";
+	/* a body typo: the bot model's file, not the environment's line */
+	bot_lua = "return {\n"
+		  "  body = { shape = 'circle', radius = 1, dnsity = 2 },\n"
+		  "  build = function(bot) end,\n"
+		  "}\n";
+	CHECK_EQ_INT(run_env(env, 1), 1);
+	CHECK_CONTAINS(out, "Bots/Mine.lua: body: unknown option 'dnsity'");
+	CHECK(!strstr(out, "Test.lua:3"));
+	/* a sensor's options are its kind's, and the message says which */
+	bot_lua = "return {\n"
+		  "  build = function(bot)\n"
+		  "    bot:zone{ name = 'Z', range = 12 }\n"
+		  "  end,\n"
+		  "}\n";
+	CHECK_EQ_INT(run_env(env, 1), 1);
+	CHECK_CONTAINS(out, "Bots/Mine.lua:3: bot:zone: unknown option 'range' "
+			    "(known: name, target)");
+	bot_lua = NULL;
+}
+
 int main(void)
 {
 	if (cli_setup("hooks"))
@@ -259,6 +297,7 @@ int main(void)
 	RUN(an_environment_makes_its_own_obstacles);
 	RUN(elements_are_not_made_in_reset);
 	RUN(each_element_takes_its_own_options);
+	RUN(a_bot_models_mistakes_are_its_own);
 	cli_cleanup();
 	return test_summary();
 }
