@@ -12,6 +12,7 @@
 #include <lauxlib.h>
 #include <lua.h>
 #include <lualib.h>
+#include <limits.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -142,16 +143,21 @@ static int l_evaluate(lua_State *L)
 	learn *l = ctx(L);
 	luaL_checktype(L, 1, LUA_TTABLE);
 	int gen = (int)luaL_checkinteger(L, 2);
-	int n = (int)luaL_len(L, 1);
-	evo_netdesc *nets = calloc((size_t)(n ? n : 1), sizeof *nets);
-	const evo_netdesc **ptr = calloc((size_t)(n ? n : 1), sizeof *ptr);
-	evo_eval_result *res = calloc((size_t)(n ? n : 1), sizeof *res);
-	if (!nets || !ptr || !res) {
-		free(nets);
-		free(ptr);
-		free(res);
-		return luaL_error(L, "out of memory");
-	}
+	lua_Integer len = luaL_len(L, 1);
+	if (len < 0 || len > INT_MAX / (lua_Integer)sizeof(evo_netdesc))
+		return luaL_error(L, "evo.evaluate: %I networks is too many",
+				  len);
+	int n = (int)len;
+	/* Userdata, not malloc: a malformed network (to_netdesc raises)
+	 * or a failed batch unwinds through here, and the collector then
+	 * frees the arrays. */
+	evo_netdesc *nets = lua_newuserdatauv(L, (size_t)(n ? n : 1) *
+						     sizeof *nets, 0);
+	const evo_netdesc **ptr =
+	    lua_newuserdatauv(L, (size_t)(n ? n : 1) * sizeof *ptr, 0);
+	evo_eval_result *res =
+	    lua_newuserdatauv(L, (size_t)(n ? n : 1) * sizeof *res, 0);
+	memset(res, 0, (size_t)(n ? n : 1) * sizeof *res);
 	for (int i = 0; i < n; i++) {
 		lua_geti(L, 1, i + 1);
 		to_netdesc(L, lua_gettop(L), i, &nets[i]);
@@ -162,13 +168,8 @@ static int l_evaluate(lua_State *L)
 	double t0 = now();
 	int rc = evo_evaluate(l->ev, ptr, n, gen, res, &err);
 	double dt = now() - t0;
-	free(nets);
-	free(ptr);
-	if (rc) {
-		free(res);
-		lua_pushstring(L, err.msg);
-		return lua_error(L);
-	}
+	if (rc)
+		return raise_msg(L, err.msg);
 	lua_createtable(L, n, 0);
 	for (int i = 0; i < n; i++) {
 		lua_pushnumber(L, res[i].fitness);
@@ -185,7 +186,6 @@ static int l_evaluate(lua_State *L)
 		lua_pushinteger(L, res[i].collisions);
 		lua_rawseti(L, -2, i + 1);
 	}
-	free(res);
 	return 4;
 }
 
@@ -315,12 +315,17 @@ static int l_save_champion(lua_State *L)
 	return 0;
 }
 
+/* A list of numbers as a userdata left on the stack, so that an error
+ * (a second argument that is no table) frees it too. */
 static double *number_list(lua_State *L, int idx, int *n)
 {
 	luaL_checktype(L, idx, LUA_TTABLE);
-	*n = (int)luaL_len(L, idx);
-	double *v = calloc((size_t)(*n ? *n : 1), sizeof *v);
-	for (int i = 0; v && i < *n; i++) {
+	lua_Integer len = luaL_len(L, idx);
+	if (len < 0 || len > INT_MAX / (lua_Integer)sizeof(double))
+		luaL_error(L, "evo.curve: %I values is too many", len);
+	*n = (int)len;
+	double *v = lua_newuserdatauv(L, (size_t)(*n ? *n : 1) * sizeof *v, 0);
+	for (int i = 0; i < *n; i++) {
 		lua_geti(L, idx, i + 1);
 		v[i] = lua_tonumber(L, -1);
 		lua_pop(L, 1);
@@ -337,12 +342,7 @@ static int l_curve(lua_State *L)
 	snprintf(path, sizeof path, "%s/curve.png", l->run_dir);
 	snprintf(title, sizeof title, "%s", l->skill);
 	evo_err err = {{0}};
-	int rc = best && mean ? evo_curve_write(path, title, best, mean,
-						 nb < nm ? nb : nm, &err)
-			      : evo_fail(&err, "out of memory");
-	free(best);
-	free(mean);
-	if (rc)
+	if (evo_curve_write(path, title, best, mean, nb < nm ? nb : nm, &err))
 		return raise_msg(L, err.msg);
 	printf("learning curve in %s\n", path);
 	return 0;

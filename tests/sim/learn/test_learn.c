@@ -436,6 +436,28 @@ TEST(resume_refuses_a_damaged_checkpoint_and_keeps_the_log)
 	free(before);
 }
 
+/* A checkpoint whose networks the loop reads back but the evaluator
+ * refuses (an unknown activation) stops the run with that message, and
+ * frees what evo.evaluate had allocated for the batch: under test-asan
+ * LeakSanitizer reports the leak otherwise (in out.txt: the exit status
+ * stays 1). */
+TEST(a_network_the_evaluator_refuses_stops_the_run_without_a_leak)
+{
+	make_mind("act", "NEAT", 2, NEAT_TASK);
+	CHECK_EQ_INT(train("act", ""), 0);
+	CHECK_EQ_INT(cli_sh("sed -i 's/^NUMGEN:2$/NUMGEN:3/' "
+			    "%s/act/Avoid/Tasks/Small.simbatch && "
+			    "sed -i 's/\"neat_sigmoid\"/\"bogus\"/g' "
+			    "%s/act/run/checkpoint.lua",
+			    cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(train("act", "--resume"), 1);
+	char *out = cli_read("%s/act/out.txt", cli_tmp);
+	CHECK(out && strstr(out, "unknown activation 'bogus'"));
+	CHECK(out && !strstr(out, "LeakSanitizer"));
+	free(out);
+}
+
 static int count_rows(const char *log)
 {
 	int n = -1; /* the header */
@@ -719,6 +741,7 @@ int main(void)
 	RUN(killed_or_interrupted_and_resumed_run_ends_as_an_uninterrupted_one);
 	RUN(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one);
 	RUN(resume_refuses_a_damaged_checkpoint_and_keeps_the_log);
+	RUN(a_network_the_evaluator_refuses_stops_the_run_without_a_leak);
 	RUN(resume_warns_when_the_task_asks_for_other_options);
 	RUN(unknown_method_is_a_clear_error);
 	RUN(environment_error_says_where_it_happened);
