@@ -2,11 +2,14 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 
+#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
 
 #include "base/fileio.h"
 
@@ -97,4 +100,61 @@ char *cli_fitness_log(const char *run_dir)
 	}
 	*w = 0;
 	return data;
+}
+
+static double mono(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static int has_mark(const char *path, const char *mark)
+{
+	char *t = cli_read("%s", path);
+	int yes = t && strstr(t, mark);
+	free(t);
+	return yes;
+}
+
+int cli_stop(const char *cmd, const char *ready, const char *mark,
+	     double delay, int sig, int *status, double *seconds)
+{
+	*status = 0;
+	*seconds = -1;
+	pid_t pid = fork();
+	if (pid < 0)
+		return -1;
+	if (pid == 0) {
+		/* Even if this test itself runs in the background. */
+		signal(SIGINT, SIG_DFL);
+		signal(SIGTERM, SIG_DFL);
+		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
+		_exit(127);
+	}
+	struct timespec ms = {0, 1000000};
+	int ended = 0;
+	double limit = mono() + 60;
+	while (!has_mark(ready, mark) && mono() < limit &&
+	       !(ended = waitpid(pid, status, WNOHANG) == pid))
+		nanosleep(&ms, NULL);
+	limit = mono() + delay;
+	while (!ended && mono() < limit &&
+	       !(ended = waitpid(pid, status, WNOHANG) == pid))
+		nanosleep(&ms, NULL);
+	if (ended)
+		return -1;
+	double t0 = mono();
+	kill(pid, sig);
+	limit = t0 + 10;
+	while (!(ended = waitpid(pid, status, WNOHANG) == pid) &&
+	       mono() < limit)
+		nanosleep(&ms, NULL);
+	*seconds = mono() - t0;
+	if (!ended) {
+		kill(pid, SIGKILL);
+		waitpid(pid, status, 0);
+		return -1;
+	}
+	return 0;
 }

@@ -27,4 +27,13 @@ char *cli_read(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
  * compared (free it), or NULL. */
 char *cli_fitness_log(const char *run_dir);
 
+/* Start `sh -c "exec CMD"` (SIGINT and SIGTERM at their defaults), wait
+ * until the file `ready` holds the text `mark` (at most 60 s), then
+ * `delay` seconds more, send it signal sig and wait for it to end (at
+ * most 10 s; then SIGKILL). Fills *status (as waitpid gives it) and
+ * *seconds (from the signal to the end). Returns 0, or -1 when it ended
+ * before the signal or had to be killed. */
+int cli_stop(const char *cmd, const char *ready, const char *mark,
+	     double delay, int sig, int *status, double *seconds);
+
 #endif

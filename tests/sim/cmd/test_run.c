@@ -5,6 +5,7 @@
  * non-zero exit and leave no trace behind; traces hold every tick. */
 #define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -402,6 +403,60 @@ TEST(trace_records_every_tick)
 	CHECK_EQ_INT(bad, 0);
 }
 
+/* SIGTERM and SIGINT stop a headless run that would go on for a million
+ * episodes within a second, between two ticks: it exits 0 and keeps its
+ * trace, complete up to the last tick (docs/running.md), with no
+ * temporary file left behind. */
+static void stop_a_long_run(int sig)
+{
+	char cmd[2048], path[512], out[512];
+	snprintf(path, sizeof path, "%s/long-%d.trace", cli_tmp, sig);
+	snprintf(out, sizeof out, "%s/long-%d.out", cli_tmp, sig);
+	snprintf(cmd, sizeof cmd,
+		 "exec %s run minds/Collect/Tasks/Collect-DEMO.simbatch "
+		 "--headless --ticks 0 --episodes 1000000 --trace %s > %s 2>&1",
+		 cli_evo, path, out);
+	int st;
+	double s;
+	CHECK_EQ_INT(cli_stop(cmd, out, "", 0.5, sig, &st, &s), 0);
+	CHECK(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+	CHECK(s >= 0 && s < 1.0);
+	if (s >= 1.0)
+		fprintf(stderr, "    signal %d: %.3f s to stop\n", sig, s);
+	CHECK_EQ_INT(cli_sh("ls %s.tmp.* 2>/dev/null | grep -q .", path), 1);
+	char *t = cli_read("%s", path);
+	CHECK(t != NULL);
+	if (!t)
+		return;
+	size_t len = strlen(t);
+	CHECK(len > 0 && t[len - 1] == '\n');
+	CHECK(strncmp(t, "evo-trace 1\n", 12) == 0);
+	/* After the 4 header lines: each tick's 25 fields, the tick one
+	 * more than the line before or 0 (a new episode). */
+	int n = 0, bad = 0, ticks = 0;
+	long prev = -1;
+	for (char *line = strtok(t, "\n"); line; line = strtok(NULL, "\n")) {
+		if (++n <= 4)
+			continue;
+		int fields = 0;
+		for (const char *c = line; *c; c++)
+			fields += *c != ' ' && (c == line || c[-1] == ' ');
+		long tick = atol(line);
+		bad += fields != 25 || (tick != prev + 1 && tick != 0);
+		prev = tick;
+		ticks++;
+	}
+	CHECK(ticks > 0);
+	CHECK_EQ_INT(bad, 0);
+	free(t);
+}
+
+TEST(sigterm_and_sigint_stop_a_long_run_and_keep_its_trace)
+{
+	stop_a_long_run(SIGTERM);
+	stop_a_long_run(SIGINT);
+}
+
 int main(void)
 {
 	if (cli_setup("run"))
@@ -423,6 +478,7 @@ int main(void)
 	RUN(endless_reward_runs_out_of_budget);
 	RUN(math_random_follows_the_seed);
 	RUN(trace_records_every_tick);
+	RUN(sigterm_and_sigint_stop_a_long_run_and_keep_its_trace);
 	cli_cleanup();
 	return test_summary();
 }

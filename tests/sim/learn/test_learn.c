@@ -234,6 +234,59 @@ TEST(killed_or_interrupted_and_resumed_run_ends_as_an_uninterrupted_one)
 	stop_and_resume("ki", "kr", SIGINT);
 }
 
+/* SIGTERM (a scheduler's) and SIGINT (Ctrl-C) end a run within a second
+ * even in the middle of a batch whose episodes last a million ticks, the
+ * way docs/learning.md says: by that signal, after saying how to go on,
+ * with the finished generation's checkpoint and log as they were. */
+static void stop_in_a_long_batch(const char *name, int sig)
+{
+	make_mind(name, "NEAT", 1, NEAT_TASK);
+	CHECK_EQ_INT(train(name, ""), 0);
+	char *ckpt = cli_read("%s/%s/run/checkpoint.lua", cli_tmp, name);
+	char *log = cli_read("%s/%s/run/log.csv", cli_tmp, name);
+	CHECK(ckpt && log);
+	CHECK_EQ_INT(cli_sh("sed -i -e 's/^NUMGEN:1$/NUMGEN:3/' "
+			    "-e 's/^TICKLIM:150$/TICKLIM:1000000/' "
+			    "%s/%s/Avoid/Tasks/Small.simbatch",
+			    cli_tmp, name),
+		     0);
+	char cmd[1024], out[256];
+	snprintf(out, sizeof out, "%s/%s/out1.txt", cli_tmp, name);
+	snprintf(cmd, sizeof cmd,
+		 "exec %s run %s/%s/Avoid/Tasks/Small.simbatch --seed 11 "
+		 "--threads 2 --run %s/%s/run --resume > %s 2>&1",
+		 cli_evo, cli_tmp, name, cli_tmp, name, out);
+	int st;
+	double s;
+	/* The batch starts right after "resuming"; 0.3 s puts the signal
+	 * well inside it (each episode lasts minutes). */
+	CHECK_EQ_INT(cli_stop(cmd, out, "resuming after generation", 0.3, sig,
+			      &st, &s),
+		     0);
+	CHECK(WIFSIGNALED(st) && WTERMSIG(st) == sig);
+	CHECK(s >= 0 && s < 1.0);
+	if (s >= 1.0)
+		fprintf(stderr, "    signal %d: %.3f s to stop\n", sig, s);
+	char *said = cli_read("%s", out);
+	CHECK(said && strstr(said, "interrupted: ") &&
+	      strstr(said, "--seed 11 --resume --run "));
+	free(said);
+	char *ckpt2 = cli_read("%s/%s/run/checkpoint.lua", cli_tmp, name);
+	char *log2 = cli_read("%s/%s/run/log.csv", cli_tmp, name);
+	CHECK(ckpt && ckpt2 && strcmp(ckpt, ckpt2) == 0);
+	CHECK(log && log2 && strcmp(log, log2) == 0);
+	free(ckpt);
+	free(ckpt2);
+	free(log);
+	free(log2);
+}
+
+TEST(sigterm_and_sigint_stop_a_long_batch_within_a_second)
+{
+	stop_in_a_long_batch("st", SIGTERM);
+	stop_in_a_long_batch("si", SIGINT);
+}
+
 /* The same for GENETIC, whose checkpoint holds its own state. */
 TEST(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one)
 {
@@ -740,6 +793,7 @@ int main(void)
 	RUN(a_new_run_moves_the_earlier_run_aside);
 	RUN(killed_or_interrupted_and_resumed_run_ends_as_an_uninterrupted_one);
 	RUN(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one);
+	RUN(sigterm_and_sigint_stop_a_long_batch_within_a_second);
 	RUN(resume_refuses_a_damaged_checkpoint_and_keeps_the_log);
 	RUN(a_network_the_evaluator_refuses_stops_the_run_without_a_leak);
 	RUN(resume_warns_when_the_task_asks_for_other_options);
