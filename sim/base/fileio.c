@@ -2,6 +2,7 @@
 #include "base/fileio.h"
 
 #include <errno.h>
+#include <stdarg.h>
 #include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -88,4 +89,18 @@ int evo_write_file_atomic(const char *path, const void *data, size_t len,
 	}
 	free(tmp);
 	return 0;
+}
+
+int evo_path_fmt(char *buf, size_t cap, evo_err *err, const char *fmt, ...)
+{
+	va_list ap;
+	va_start(ap, fmt);
+	int n = vsnprintf(buf, cap, fmt, ap);
+	va_end(ap);
+	if (n >= 0 && (size_t)n < cap)
+		return 0;
+	/* The start of the path says which one; all of it would not fit
+	 * the message either. */
+	return evo_fail(err, "%.80s...: path too long (%d bytes; at most %zu)",
+			buf, n, cap ? cap - 1 : 0);
 }

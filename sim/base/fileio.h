@@ -19,4 +19,10 @@ int evo_file_exists(const char *path);
 int evo_write_file_atomic(const char *path, const void *data, size_t len,
 			  evo_err *err);
 
+/* Format a path into buf (cap bytes). Returns 0, or -1 with err set to
+ * "PATH...: path too long (N bytes; at most M)" when it does not fit: a
+ * cut path would name another file. */
+int evo_path_fmt(char *buf, size_t cap, evo_err *err, const char *fmt, ...)
+	__attribute__((format(printf, 4, 5)));
+
 #endif

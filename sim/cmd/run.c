@@ -10,6 +10,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "base/fileio.h"
 #include "learn/learn.h"
 #include "mind/task.h"
 #include "tasksim/tasksim.h"
@@ -172,7 +173,9 @@ static int trace_open(trace_file *t, const char *path, evo_err *err)
 	if (!path)
 		return 0;
 	t->path = path;
-	snprintf(t->tmp, sizeof t->tmp, "%s.tmp.%ld", path, (long)getpid());
+	if (evo_path_fmt(t->tmp, sizeof t->tmp, err, "%s.tmp.%ld", path,
+			 (long)getpid()))
+		return -1;
 	t->f = fopen(t->tmp, "w");
 	if (!t->f)
 		return evo_fail(err, "%s: cannot create: %s", t->tmp,

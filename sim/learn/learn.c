@@ -275,7 +275,9 @@ static int l_read(lua_State *L)
 	char path[1200], *data;
 	size_t len;
 	evo_err err;
-	snprintf(path, sizeof path, "%s/%s", l->run_dir, luaL_checkstring(L, 1));
+	if (evo_path_fmt(path, sizeof path, &err, "%s/%s", l->run_dir,
+			 luaL_checkstring(L, 1)))
+		return raise_msg(L, err.msg);
 	struct stat st;
 	if (stat(path, &st) != 0) {
 		lua_pushnil(L);
@@ -300,13 +302,14 @@ static int l_save_champion(lua_State *L)
 	size_t len;
 	const char *text = luaL_checklstring(L, 1, &len);
 	char kept[1200], path[1400];
-	snprintf(kept, sizeof kept, "%s/champion.net", l->run_dir);
 	evo_err err = {{0}};
-	if (evo_write_file_atomic(kept, text, len, &err))
+	if (evo_path_fmt(kept, sizeof kept, &err, "%s/champion.net",
+			 l->run_dir) ||
+	    evo_write_file_atomic(kept, text, len, &err))
 		return raise_msg(L, err.msg);
-	snprintf(path, sizeof path, "%s/Skills/%s/%s.net", l->task->mind->root,
-		 l->skill, l->skill);
-	if (evo_write_file_atomic(path, text, len, &err))
+	if (evo_path_fmt(path, sizeof path, &err, "%s/Skills/%s/%s.net",
+			 l->task->mind->root, l->skill, l->skill) ||
+	    evo_write_file_atomic(path, text, len, &err))
 		return raise_msg(L, lua_pushfstring(L, "%s; the champion is in %s",
 						    err.msg, kept));
 	if (l->tty)
@@ -339,10 +342,10 @@ static int l_curve(lua_State *L)
 	int nb, nm;
 	double *best = number_list(L, 1, &nb), *mean = number_list(L, 2, &nm);
 	char path[1200], title[200];
-	snprintf(path, sizeof path, "%s/curve.png", l->run_dir);
 	snprintf(title, sizeof title, "%s", l->skill);
 	evo_err err = {{0}};
-	if (evo_curve_write(path, title, best, mean, nb < nm ? nb : nm, &err))
+	if (evo_path_fmt(path, sizeof path, &err, "%s/curve.png", l->run_dir) ||
+	    evo_curve_write(path, title, best, mean, nb < nm ? nb : nm, &err))
 		return raise_msg(L, err.msg);
 	printf("learning curve in %s\n", path);
 	return 0;
@@ -434,7 +437,9 @@ static int run_script(lua_State *L)
 	const char *dir = evo_lua_dir();
 	evo_lua_set_path(L, l->task->mind->root, dir);
 	char path[1200];
-	snprintf(path, sizeof path, "%s/learn/learnsim.lua", dir);
+	evo_err err;
+	if (evo_path_fmt(path, sizeof path, &err, "%s/learn/learnsim.lua", dir))
+		return raise_msg(L, err.msg);
 	if (luaL_loadfilex(L, path, "t") != LUA_OK)
 		return lua_error(L);
 	lua_call(L, 0, 0);
@@ -535,14 +540,17 @@ int evo_learn_run(const char *task_path, evo_task *task,
 	snprintf(l.skill, sizeof l.skill, "%s",
 		 evo_simbatch_get(task->sb, "LEARNINGSKILL"));
 	if (o->run_dir) {
-		snprintf(l.run_dir, sizeof l.run_dir, "%s", o->run_dir);
+		if (evo_path_fmt(l.run_dir, sizeof l.run_dir, err, "%s",
+				 o->run_dir))
+			return -1;
 	} else {
 		const char *base = strrchr(task_path, '/');
 		base = base ? base + 1 : task_path;
 		int n = (int)strcspn(base, ".");
-		snprintf(l.run_dir, sizeof l.run_dir, "%s/Runs/%.*s-seed%llu",
-			 task->mind->root, n, base,
-			 (unsigned long long)o->seed);
+		if (evo_path_fmt(l.run_dir, sizeof l.run_dir, err,
+				 "%s/Runs/%.*s-seed%llu", task->mind->root, n,
+				 base, (unsigned long long)o->seed))
+			return -1;
 	}
 	evo_eval_def ed = {
 		.task_path = task_path,

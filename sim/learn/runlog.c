@@ -40,8 +40,10 @@ static int make_dirs(const char *path, evo_err *err)
 int evo_runlog_set_aside(const char *dir, evo_err *err)
 {
 	char log[1100], checkpoint[1100];
-	snprintf(log, sizeof log, "%s/log.csv", dir);
-	snprintf(checkpoint, sizeof checkpoint, "%s/checkpoint.lua", dir);
+	if (evo_path_fmt(log, sizeof log, err, "%s/log.csv", dir) ||
+	    evo_path_fmt(checkpoint, sizeof checkpoint, err,
+			 "%s/checkpoint.lua", dir))
+		return -1;
 	if (!evo_file_exists(log) && !evo_file_exists(checkpoint))
 		return 0;
 	char base[1024], aside[1100];
@@ -226,7 +228,8 @@ int evo_runlog_save(const evo_runlog *log, const char *name, const char *text,
 		    size_t len, evo_err *err)
 {
 	char path[1200];
-	snprintf(path, sizeof path, "%s/%s", log->dir, name);
+	if (evo_path_fmt(path, sizeof path, err, "%s/%s", log->dir, name))
+		return -1;
 	return evo_write_file_atomic(path, text, len, err);
 }
 

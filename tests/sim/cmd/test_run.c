@@ -457,6 +457,30 @@ TEST(sigterm_and_sigint_stop_a_long_run_and_keep_its_trace)
 	stop_a_long_run(SIGINT);
 }
 
+/* A --trace path too long for its temporary file's name is refused
+ * before the run, with a message that says so, and nothing is written
+ * under a cut name. */
+TEST(too_long_trace_path_is_refused)
+{
+	char path[1400], seg[201];
+	memset(seg, 't', 200);
+	seg[200] = 0;
+	int n = snprintf(path, sizeof path, "%s/tr", cli_tmp);
+	for (int k = 0; k < 5; k++)
+		n += snprintf(path + n, sizeof path - (size_t)n, "/%s", seg);
+	int dir = n;
+	n += snprintf(path + n, sizeof path - (size_t)n, "/%.100s.trace", seg);
+	CHECK(n > 1100 && n < (int)sizeof path);
+	CHECK_EQ_INT(cli_sh("mkdir -p %.*s", dir, path), 0);
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1,
+				 "%s run minds/Collect/Tasks/Collect-DEMO.simbatch "
+				 "--headless --ticks 5 --trace %s",
+				 cli_evo, path),
+		     1);
+	CHECK(strstr(out1, "path too long") != NULL);
+	CHECK_EQ_INT(cli_sh("find %s/tr -type f | grep -q .", cli_tmp), 1);
+}
+
 int main(void)
 {
 	if (cli_setup("run"))
@@ -479,6 +503,7 @@ int main(void)
 	RUN(math_random_follows_the_seed);
 	RUN(trace_records_every_tick);
 	RUN(sigterm_and_sigint_stop_a_long_run_and_keep_its_trace);
+	RUN(too_long_trace_path_is_refused);
 	cli_cleanup();
 	return test_summary();
 }

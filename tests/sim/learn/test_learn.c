@@ -287,6 +287,31 @@ TEST(sigterm_and_sigint_stop_a_long_batch_within_a_second)
 	stop_in_a_long_batch("si", SIGINT);
 }
 
+/* A --run folder longer than evo keeps (1023 bytes) is refused with a
+ * message that says so; it used to be cut short, and the run went into
+ * another folder (a prefix of the one asked for). */
+TEST(too_long_run_folder_is_refused)
+{
+	make_mind("lr", "NEAT", 1, NEAT_TASK);
+	char dir[1400], seg[201];
+	memset(seg, 'd', 200);
+	seg[200] = 0;
+	int n = snprintf(dir, sizeof dir, "%s/lr/deep", cli_tmp);
+	for (int k = 0; k < 6; k++)
+		n += snprintf(dir + n, sizeof dir - (size_t)n, "/%s", seg);
+	CHECK(n > 1100 && n < (int)sizeof dir);
+	CHECK_EQ_INT(cli_sh("%s run %s/lr/Avoid/Tasks/Small.simbatch --run %s "
+			    "> %s/lr/out.txt 2>&1",
+			    cli_evo, cli_tmp, dir, cli_tmp),
+		     1);
+	char *out = cli_read("%s/lr/out.txt", cli_tmp);
+	CHECK(out && strstr(out, "/lr/deep/ddd") &&
+	      strstr(out, "path too long"));
+	free(out);
+	/* Nothing was made, under any prefix of it. */
+	CHECK_EQ_INT(cli_sh("test -e %s/lr/deep", cli_tmp), 1);
+}
+
 /* The same for GENETIC, whose checkpoint holds its own state. */
 TEST(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one)
 {
@@ -794,6 +819,7 @@ int main(void)
 	RUN(killed_or_interrupted_and_resumed_run_ends_as_an_uninterrupted_one);
 	RUN(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one);
 	RUN(sigterm_and_sigint_stop_a_long_batch_within_a_second);
+	RUN(too_long_run_folder_is_refused);
 	RUN(resume_refuses_a_damaged_checkpoint_and_keeps_the_log);
 	RUN(a_network_the_evaluator_refuses_stops_the_run_without_a_leak);
 	RUN(resume_warns_when_the_task_asks_for_other_options);
