@@ -3,6 +3,7 @@
 #include "cmd/run.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,6 +12,7 @@
 #include <unistd.h>
 
 #include "base/fileio.h"
+#include "learn/evaluate.h"
 #include "learn/learn.h"
 #include "mind/task.h"
 #include "tasksim/tasksim.h"
@@ -63,14 +65,18 @@ static void run_usage(FILE *f)
 	      f);
 }
 
-static int parse_count(const char *flag, const char *v, long *out)
+/* A whole number 0..max: one that the int or long it goes into holds,
+ * so that no count is silently cut (--threads 4294967297 was 1). */
+static int parse_count(const char *flag, const char *v, long max, long *out)
 {
 	char *end;
 	errno = 0;
 	long n = v ? strtol(v, &end, 10) : -1;
-	if (!v || *end || errno || n < 0) {
-		fprintf(stderr, "evo run: %s expects a whole number, found '%s'\n",
-			flag, v ? v : "nothing");
+	if (!v || *end || errno || n < 0 || n > max) {
+		fprintf(stderr,
+			"evo run: %s expects a whole number 0..%ld, found "
+			"'%s'\n",
+			flag, max, v ? v : "nothing");
 		return -1;
 	}
 	*out = n;
@@ -88,17 +94,17 @@ static int parse_args(int argc, char **argv, run_opts *o)
 		if (strcmp(a, "--headless") == 0 || strcmp(a, "-nog") == 0) {
 			o->headless = 1;
 		} else if (strcmp(a, "--seed") == 0) {
-			if (parse_count(a, v, &n))
+			if (parse_count(a, v, LONG_MAX, &n))
 				return -1;
 			o->seed = (uint64_t)n;
 			o->seed_set = 1;
 			i++;
 		} else if (strcmp(a, "--episodes") == 0) {
-			if (parse_count(a, v, &o->episodes))
+			if (parse_count(a, v, INT_MAX, &o->episodes))
 				return -1;
 			i++;
 		} else if (strcmp(a, "--ticks") == 0) {
-			if (parse_count(a, v, &o->ticks))
+			if (parse_count(a, v, LONG_MAX, &o->ticks))
 				return -1;
 			i++;
 		} else if (strcmp(a, "--trace") == 0 && v) {
@@ -115,7 +121,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
 			}
 			i++;
 		} else if (strcmp(a, "--threads") == 0) {
-			if (parse_count(a, v, &o->threads))
+			if (parse_count(a, v, EVO_EVAL_MAX_THREADS, &o->threads))
 				return -1;
 			i++;
 		} else if (strcmp(a, "--run") == 0 && v) {

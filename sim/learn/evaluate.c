@@ -17,8 +17,7 @@
 /* Stream tags of evo_rng_for (evaluate.h); `evo run` uses 1 and 2. */
 enum { TAG_GRID = 3, TAG_EPISODE = 4 };
 
-/* More workers than this is a typo, not a machine. */
-#define MAX_THREADS 1024
+#define MAX_THREADS EVO_EVAL_MAX_THREADS
 
 typedef struct worker {
 	struct evo_evaluator *ev;

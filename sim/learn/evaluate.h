@@ -42,9 +42,13 @@
 
 typedef struct evo_evaluator evo_evaluator;
 
+/* More workers than this is a typo, not a machine. */
+#define EVO_EVAL_MAX_THREADS 1024
+
 typedef struct evo_eval_def {
 	const char *task_path; /* a LEARN* .simbatch; copied */
-	int threads;	       /* workers; 0: the number of online cores */
+	int threads;	       /* workers, 0..EVO_EVAL_MAX_THREADS; 0: the
+				* number of online cores (at most the max) */
 	uint64_t seed;	       /* the run seed */
 	int reps;	       /* repetitions; 0: EVALREP, else 1 */
 	long ticks;	       /* ticks per episode at most; 0: TICKLIM,

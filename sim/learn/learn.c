@@ -78,14 +78,31 @@ static double field_num(lua_State *L, int idx, const char *key, double dflt)
 	return ok ? v : dflt;
 }
 
+/* A whole-number field in lo..hi (missing: 0). A Lua number out of an
+ * integer type's range has no C value (the cast is undefined), so it is
+ * refused by name: "network 3: id 1e+30 is not a whole number in
+ * 0..65535" (which >= 0), or "evo.log: generation ..." (which < 0). */
+static lua_Integer field_int(lua_State *L, int idx, const char *key,
+			     lua_Integer lo, lua_Integer hi, int which)
+{
+	double v = field_num(L, idx, key, 0);
+	if (v >= (double)lo && v <= (double)hi && v < 0x1p63 && v == floor(v))
+		return (lua_Integer)v;
+	if (which >= 0)
+		luaL_error(L, "network %d: %s %f is not a whole number in %I..%I",
+			   which, key, (lua_Number)v, lo, hi);
+	return luaL_error(L, "evo.log: %s %f is not a whole number in %I..%I",
+			  key, (lua_Number)v, lo, hi);
+}
+
 /* A network table of learn.neat (inputs, outputs, nodes {id, act, bias},
  * outputs_ids, links {from, to, weight}) as evo's network description. */
 static void to_netdesc(lua_State *L, int idx, int which, evo_netdesc *d)
 {
 	memset(d, 0, sizeof *d);
 	luaL_checktype(L, idx, LUA_TTABLE);
-	d->n_in = (uint16_t)field_num(L, idx, "inputs", 0);
-	d->n_out = (uint16_t)field_num(L, idx, "outputs", 0);
+	d->n_in = (uint16_t)field_int(L, idx, "inputs", 0, UINT16_MAX, which);
+	d->n_out = (uint16_t)field_int(L, idx, "outputs", 0, UINT16_MAX, which);
 	if (d->n_out > EVO_MAX_SKILL_IO)
 		luaL_error(L, "network %d: %d outputs", which, d->n_out);
 	lua_getfield(L, idx, "nodes");
@@ -97,7 +114,7 @@ static void to_netdesc(lua_State *L, int idx, int which, evo_netdesc *d)
 		lua_geti(L, -1, i);
 		int t = lua_gettop(L);
 		evo_netdesc_node *nd = &d->node[d->n_nodes++];
-		nd->id = (uint16_t)field_num(L, t, "id", 0);
+		nd->id = (uint16_t)field_int(L, t, "id", 0, UINT16_MAX, which);
 		nd->bias = evo_net_weight_q16(field_num(L, t, "bias", 0));
 		lua_getfield(L, t, "act");
 		const char *act = lua_tostring(L, -1);
@@ -127,8 +144,9 @@ static void to_netdesc(lua_State *L, int idx, int which, evo_netdesc *d)
 		lua_geti(L, -1, i);
 		int t = lua_gettop(L);
 		evo_netdesc_link *lk = &d->link[d->n_links++];
-		lk->from = (uint16_t)field_num(L, t, "from", 0);
-		lk->to = (uint16_t)field_num(L, t, "to", 0);
+		lk->from =
+		    (uint16_t)field_int(L, t, "from", 0, UINT16_MAX, which);
+		lk->to = (uint16_t)field_int(L, t, "to", 0, UINT16_MAX, which);
 		lk->weight = evo_net_weight_q16(field_num(L, t, "weight", 0));
 		lua_pop(L, 1);
 	}
@@ -230,14 +248,16 @@ static int l_log(lua_State *L)
 	if (!l->log_open)
 		return luaL_error(L, "evo.log before evo.open_log");
 	evo_gen_stats s = {
-		.generation = (int)field_num(L, 1, "generation", 0),
-		.generations = (int)field_num(L, 1, "generations", 0),
+		.generation = (int)field_int(L, 1, "generation", 0, INT_MAX, -1),
+		.generations =
+		    (int)field_int(L, 1, "generations", 0, INT_MAX, -1),
 		.best = field_num(L, 1, "best", NAN),
 		.mean = field_num(L, 1, "mean", NAN),
 		.best_ever = field_num(L, 1, "best_ever", NAN),
-		.species = (int)field_num(L, 1, "species", 0),
-		.evaluations = (long)field_num(L, 1, "evaluations", 0),
-		.solved = (int)field_num(L, 1, "solved", 0),
+		.species = (int)field_int(L, 1, "species", 0, INT_MAX, -1),
+		.evaluations =
+		    (long)field_int(L, 1, "evaluations", 0, LONG_MAX, -1),
+		.solved = (int)field_int(L, 1, "solved", 0, INT_MAX, -1),
 		.seconds = field_num(L, 1, "seconds", 0),
 		.elapsed = now() - l->started,
 		.first = l->first,

@@ -481,6 +481,32 @@ TEST(too_long_trace_path_is_refused)
 	CHECK_EQ_INT(cli_sh("find %s/tr -type f | grep -q .", cli_tmp), 1);
 }
 
+/* A count that does not fit the int or long it goes into is refused
+ * (exit 2) with the range, never silently cut: --threads 4294967297 was
+ * one thread, and --episodes past INT_MAX would have wrapped. */
+TEST(out_of_range_counts_are_refused)
+{
+	static const char *const bad[][2] = {
+	    {"--threads 4294967297", "--threads expects a whole number 0..1024"},
+	    {"--threads 1025", "--threads expects a whole number 0..1024"},
+	    {"--episodes 4294967297",
+	     "--episodes expects a whole number 0..2147483647"},
+	    {"--ticks 1e30", "--ticks expects a whole number 0.."},
+	    {"--ticks 99999999999999999999", "--ticks expects a whole number"},
+	};
+	for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+		/* No such task: the arguments are read first (exit 2);
+		 * had one been let through, the load fails (exit 1). */
+		CHECK_EQ_INT(cli_capture(out1, sizeof out1,
+					 "%s run %s/no-such.simbatch %s",
+					 cli_evo, cli_tmp, bad[k][0]),
+			     2);
+		CHECK(strstr(out1, bad[k][1]) != NULL);
+		if (!strstr(out1, bad[k][1]))
+			fprintf(stderr, "    for %s: %s\n", bad[k][0], out1);
+	}
+}
+
 int main(void)
 {
 	if (cli_setup("run"))
@@ -504,6 +530,7 @@ int main(void)
 	RUN(trace_records_every_tick);
 	RUN(sigterm_and_sigint_stop_a_long_run_and_keep_its_trace);
 	RUN(too_long_trace_path_is_refused);
+	RUN(out_of_range_counts_are_refused);
 	cli_cleanup();
 	return test_summary();
 }
