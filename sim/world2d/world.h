@@ -18,6 +18,16 @@
 extern "C" {
 #endif
 
+/* No C++ exception leaves these functions (sim/world2d/world_box2d.cpp
+ * catches std::bad_alloc where it can arise and returns the failure
+ * value): unwinding through C callers is undefined. Under C++ the
+ * promise is checked: anything else that escaped would terminate. */
+#ifdef __cplusplus
+#define EVO_WORLD_NOEXCEPT noexcept
+#else
+#define EVO_WORLD_NOEXCEPT
+#endif
+
 typedef struct evo_world evo_world;
 
 typedef struct evo_body_id {
@@ -52,7 +62,7 @@ typedef struct evo_body_def {
 } evo_body_def;
 
 /* A static circle of radius 1 at the origin, density 1, no friction. */
-evo_body_def evo_default_body_def(void);
+evo_body_def evo_default_body_def(void) EVO_WORLD_NOEXCEPT;
 
 typedef struct evo_world_def {
 	double step;	/* seconds per step, 1/30 */
@@ -60,71 +70,78 @@ typedef struct evo_world_def {
 	int position_iterations; /* 3 */
 } evo_world_def;
 
-evo_world_def evo_default_world_def(void);
+evo_world_def evo_default_world_def(void) EVO_WORLD_NOEXCEPT;
 
-evo_world *evo_world_create(const evo_world_def *def);
-void evo_world_destroy(evo_world *w);
+evo_world *evo_world_create(const evo_world_def *def) EVO_WORLD_NOEXCEPT;
+void evo_world_destroy(evo_world *w) EVO_WORLD_NOEXCEPT;
 
 /* One physics step. */
-void evo_world_step(evo_world *w);
+void evo_world_step(evo_world *w) EVO_WORLD_NOEXCEPT;
 
 /* Add a body; EVO_BODY_NONE when the definition is invalid (a size that
- * is not positive). */
-evo_body_id evo_world_add_body(evo_world *w, const evo_body_def *def);
+ * is not positive) or memory runs out. */
+evo_body_id evo_world_add_body(evo_world *w,
+			       const evo_body_def *def) EVO_WORLD_NOEXCEPT;
 
 /* Remove a body; returns 0, or -1 for a stale or invalid id. */
-int evo_world_remove_body(evo_world *w, evo_body_id id);
+int evo_world_remove_body(evo_world *w, evo_body_id id) EVO_WORLD_NOEXCEPT;
 
 /* 1 when id names a body of w. */
-int evo_body_valid(const evo_world *w, evo_body_id id);
+int evo_body_valid(const evo_world *w, evo_body_id id) EVO_WORLD_NOEXCEPT;
 
 /* Static obstacles, as fixtures of one static body: the way to add the
  * hundreds of a grid cheaply. Returns the obstacle's index. */
-int evo_world_add_static_circle(evo_world *w, double x, double y, double r);
-int evo_world_add_static_box(evo_world *w, double x, double y,
-			     double half_w, double half_h, double angle);
+int evo_world_add_static_circle(evo_world *w, double x, double y,
+				double r) EVO_WORLD_NOEXCEPT;
+int evo_world_add_static_box(evo_world *w, double x, double y, double half_w,
+			     double half_h, double angle) EVO_WORLD_NOEXCEPT;
 
 typedef struct evo_pose {
 	double x, y, angle;
 } evo_pose;
 
-evo_pose evo_body_pose(const evo_world *w, evo_body_id id);
-void evo_body_set_pose(evo_world *w, evo_body_id id, evo_pose p);
+evo_pose evo_body_pose(const evo_world *w, evo_body_id id) EVO_WORLD_NOEXCEPT;
+void evo_body_set_pose(evo_world *w, evo_body_id id,
+		       evo_pose p) EVO_WORLD_NOEXCEPT;
 void evo_body_velocity(const evo_world *w, evo_body_id id, double *vx,
-		       double *vy, double *omega);
-void evo_body_set_velocity(evo_world *w, evo_body_id id, double vx,
-			   double vy, double omega);
+		       double *vy, double *omega) EVO_WORLD_NOEXCEPT;
+void evo_body_set_velocity(evo_world *w, evo_body_id id, double vx, double vy,
+			   double omega) EVO_WORLD_NOEXCEPT;
 
 /* Apply a force (newtons, world frame) at a world point. */
-void evo_body_apply_force(evo_world *w, evo_body_id id, double fx,
-			  double fy, double px, double py);
+void evo_body_apply_force(evo_world *w, evo_body_id id, double fx, double fy,
+			  double px, double py) EVO_WORLD_NOEXCEPT;
 
 /* Number of bodies or obstacles a body is touching now. */
-int evo_body_touching(const evo_world *w, evo_body_id id);
+int evo_body_touching(const evo_world *w, evo_body_id id) EVO_WORLD_NOEXCEPT;
 
 /* 1 when body id touches body other, or obstacle `obstacle`, now. */
 int evo_body_touching_body(const evo_world *w, evo_body_id id,
-			   evo_body_id other);
+			   evo_body_id other) EVO_WORLD_NOEXCEPT;
 int evo_body_touching_obstacle(const evo_world *w, evo_body_id id,
-			       int obstacle);
+			       int obstacle) EVO_WORLD_NOEXCEPT;
 
 /* Remove every static obstacle; indices start again at 0. */
-void evo_world_clear_obstacles(evo_world *w);
+void evo_world_clear_obstacles(evo_world *w) EVO_WORLD_NOEXCEPT;
 
 /* A disabled body takes no part in collisions, queries or ray casts. */
-void evo_body_set_enabled(evo_world *w, evo_body_id id, int enabled);
+void evo_body_set_enabled(evo_world *w, evo_body_id id,
+			  int enabled) EVO_WORLD_NOEXCEPT;
 
 /* Weld b to a where they are now (they then stop colliding with each
- * other): the claw's grip. Returns a joint id >= 0, or -1. Removing a
+ * other): the claw's grip. Returns a joint id >= 0, or -1 (not two
+ * bodies of w, or out of memory). Removing a
  * body removes its welds first with evo_world_unweld. */
-int evo_world_weld(evo_world *w, evo_body_id a, evo_body_id b);
-void evo_world_unweld(evo_world *w, int joint);
+int evo_world_weld(evo_world *w, evo_body_id a,
+		   evo_body_id b) EVO_WORLD_NOEXCEPT;
+void evo_world_unweld(evo_world *w, int joint) EVO_WORLD_NOEXCEPT;
 
 /* The nearest hit along the segment p1 -> p2 among shapes whose category
  * is in mask, ignoring the body `ignore`: fraction of the segment in
  * [0, 1], or -1 when nothing is hit. */
 double evo_world_raycast(const evo_world *w, double x1, double y1, double x2,
-			 double y2, uint16_t mask, evo_body_id ignore);
+			 double y2, uint16_t mask,
+			 evo_body_id ignore) EVO_WORLD_NOEXCEPT;
 
 /* A shape found by evo_world_query, in world coordinates. */
 typedef struct evo_shape_info {
@@ -140,7 +157,8 @@ typedef struct evo_shape_info {
 /* The shapes whose bounding boxes overlap the box [x0, x1] x [y0, y1],
  * in Box2D's order; writes at most cap and returns how many there are. */
 int evo_world_query(const evo_world *w, double x0, double y0, double x1,
-		    double y1, uint16_t mask, evo_shape_info *out, int cap);
+		    double y1, uint16_t mask, evo_shape_info *out,
+		    int cap) EVO_WORLD_NOEXCEPT;
 
 #ifdef __cplusplus
 }

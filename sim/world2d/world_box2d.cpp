@@ -64,7 +64,7 @@ static evo_body_id id_of_fixture(const evo_world *w, b2Fixture *f)
 
 extern "C" {
 
-evo_body_def evo_default_body_def(void)
+evo_body_def evo_default_body_def(void) noexcept
 {
 	evo_body_def d = {};
 	d.shape = EVO_SHAPE_CIRCLE;
@@ -77,7 +77,7 @@ evo_body_def evo_default_body_def(void)
 	return d;
 }
 
-evo_world_def evo_default_world_def(void)
+evo_world_def evo_default_world_def(void) noexcept
 {
 	evo_world_def d;
 	d.step = 1.0 / 30.0;
@@ -86,7 +86,7 @@ evo_world_def evo_default_world_def(void)
 	return d;
 }
 
-evo_world *evo_world_create(const evo_world_def *def)
+evo_world *evo_world_create(const evo_world_def *def) noexcept
 {
 	evo_world *w = new (std::nothrow) evo_world;
 	if (!w)
@@ -98,12 +98,12 @@ evo_world *evo_world_create(const evo_world_def *def)
 	return w;
 }
 
-void evo_world_destroy(evo_world *w)
+void evo_world_destroy(evo_world *w) noexcept
 {
 	delete w;
 }
 
-void evo_world_step(evo_world *w)
+void evo_world_step(evo_world *w) noexcept
 {
 	w->world.Step((float)w->def.step, w->def.velocity_iterations,
 		      w->def.position_iterations);
@@ -120,7 +120,7 @@ static void fill_fixture(b2FixtureDef *fd, const evo_body_def *d,
 	fd->userData.pointer = tag;
 }
 
-evo_body_id evo_world_add_body(evo_world *w, const evo_body_def *d)
+evo_body_id evo_world_add_body(evo_world *w, const evo_body_def *d) noexcept
 {
 	if (d->shape == EVO_SHAPE_CIRCLE ? !(d->radius > 0)
 					 : !(d->half_w > 0 && d->half_h > 0))
@@ -130,8 +130,16 @@ evo_body_id evo_world_add_body(evo_world *w, const evo_body_def *d)
 		index = w->free_slots.back();
 		w->free_slots.pop_back();
 	} else {
-		index = (int32_t)w->slots.size();
-		w->slots.push_back(Slot{});
+		// The vectors grow here, the only place they can throw; a
+		// body's removal then pushes onto free_slots within the
+		// capacity reserved now, so it cannot throw.
+		try {
+			w->free_slots.reserve(w->slots.size() + 1);
+			w->slots.push_back(Slot{});
+		} catch (...) { // std::bad_alloc, std::length_error
+			return EVO_BODY_NONE;
+		}
+		index = (int32_t)w->slots.size() - 1;
 	}
 	b2BodyDef bd;
 	bd.type = d->dynamic ? b2_dynamicBody : b2_staticBody;
@@ -158,7 +166,7 @@ evo_body_id evo_world_add_body(evo_world *w, const evo_body_def *d)
 	return evo_body_id{index, s.generation};
 }
 
-int evo_world_remove_body(evo_world *w, evo_body_id id)
+int evo_world_remove_body(evo_world *w, evo_body_id id) noexcept
 {
 	b2Body *b = lookup(w, id);
 	if (!b)
@@ -175,7 +183,7 @@ int evo_world_remove_body(evo_world *w, evo_body_id id)
 	return 0;
 }
 
-int evo_body_valid(const evo_world *w, evo_body_id id)
+int evo_body_valid(const evo_world *w, evo_body_id id) noexcept
 {
 	return lookup(w, id) != nullptr;
 }
@@ -190,7 +198,8 @@ static int add_obstacle(evo_world *w, b2Shape *shape)
 	return w->n_obstacles++;
 }
 
-int evo_world_add_static_circle(evo_world *w, double x, double y, double r)
+int evo_world_add_static_circle(evo_world *w, double x, double y,
+				double r) noexcept
 {
 	if (!(r > 0))
 		return -1;
@@ -200,8 +209,8 @@ int evo_world_add_static_circle(evo_world *w, double x, double y, double r)
 	return add_obstacle(w, &c);
 }
 
-int evo_world_add_static_box(evo_world *w, double x, double y,
-			     double half_w, double half_h, double angle)
+int evo_world_add_static_box(evo_world *w, double x, double y, double half_w,
+			     double half_h, double angle) noexcept
 {
 	if (!(half_w > 0 && half_h > 0))
 		return -1;
@@ -211,7 +220,7 @@ int evo_world_add_static_box(evo_world *w, double x, double y,
 	return add_obstacle(w, &p);
 }
 
-evo_pose evo_body_pose(const evo_world *w, evo_body_id id)
+evo_pose evo_body_pose(const evo_world *w, evo_body_id id) noexcept
 {
 	const b2Body *b = lookup(w, id);
 	if (!b)
@@ -220,7 +229,7 @@ evo_pose evo_body_pose(const evo_world *w, evo_body_id id)
 			b->GetAngle()};
 }
 
-void evo_body_set_pose(evo_world *w, evo_body_id id, evo_pose p)
+void evo_body_set_pose(evo_world *w, evo_body_id id, evo_pose p) noexcept
 {
 	b2Body *b = lookup(w, id);
 	if (b)
@@ -229,7 +238,7 @@ void evo_body_set_pose(evo_world *w, evo_body_id id, evo_pose p)
 }
 
 void evo_body_velocity(const evo_world *w, evo_body_id id, double *vx,
-		       double *vy, double *omega)
+		       double *vy, double *omega) noexcept
 {
 	const b2Body *b = lookup(w, id);
 	*vx = b ? b->GetLinearVelocity().x : 0;
@@ -237,8 +246,8 @@ void evo_body_velocity(const evo_world *w, evo_body_id id, double *vx,
 	*omega = b ? b->GetAngularVelocity() : 0;
 }
 
-void evo_body_set_velocity(evo_world *w, evo_body_id id, double vx,
-			   double vy, double omega)
+void evo_body_set_velocity(evo_world *w, evo_body_id id, double vx, double vy,
+			   double omega) noexcept
 {
 	b2Body *b = lookup(w, id);
 	if (!b)
@@ -247,8 +256,8 @@ void evo_body_set_velocity(evo_world *w, evo_body_id id, double vx,
 	b->SetAngularVelocity((float)omega);
 }
 
-void evo_body_apply_force(evo_world *w, evo_body_id id, double fx,
-			  double fy, double px, double py)
+void evo_body_apply_force(evo_world *w, evo_body_id id, double fx, double fy,
+			  double px, double py) noexcept
 {
 	b2Body *b = lookup(w, id);
 	if (b)
@@ -256,7 +265,7 @@ void evo_body_apply_force(evo_world *w, evo_body_id id, double fx,
 			      b2Vec2((float)px, (float)py), true);
 }
 
-int evo_body_touching(const evo_world *w, evo_body_id id)
+int evo_body_touching(const evo_world *w, evo_body_id id) noexcept
 {
 	const b2Body *b = lookup(w, id);
 	int n = 0;
@@ -267,7 +276,7 @@ int evo_body_touching(const evo_world *w, evo_body_id id)
 }
 
 int evo_body_touching_body(const evo_world *w, evo_body_id id,
-			   evo_body_id other)
+			   evo_body_id other) noexcept
 {
 	const b2Body *b = lookup(w, id), *o = lookup(w, other);
 	for (const b2ContactEdge *e = b && o ? b->GetContactList() : nullptr;
@@ -278,7 +287,7 @@ int evo_body_touching_body(const evo_world *w, evo_body_id id,
 }
 
 int evo_body_touching_obstacle(const evo_world *w, evo_body_id id,
-			       int obstacle)
+			       int obstacle) noexcept
 {
 	const b2Body *b = lookup(w, id);
 	for (const b2ContactEdge *e = b ? b->GetContactList() : nullptr; e;
@@ -293,7 +302,7 @@ int evo_body_touching_obstacle(const evo_world *w, evo_body_id id,
 	return 0;
 }
 
-void evo_world_clear_obstacles(evo_world *w)
+void evo_world_clear_obstacles(evo_world *w) noexcept
 {
 	w->world.DestroyBody(w->obstacles);
 	b2BodyDef bd;
@@ -302,26 +311,32 @@ void evo_world_clear_obstacles(evo_world *w)
 	w->n_obstacles = 0;
 }
 
-void evo_body_set_enabled(evo_world *w, evo_body_id id, int enabled)
+void evo_body_set_enabled(evo_world *w, evo_body_id id, int enabled) noexcept
 {
 	b2Body *b = lookup(w, id);
 	if (b)
 		b->SetEnabled(enabled != 0);
 }
 
-int evo_world_weld(evo_world *w, evo_body_id a, evo_body_id b)
+int evo_world_weld(evo_world *w, evo_body_id a, evo_body_id b) noexcept
 {
 	b2Body *ba = lookup(w, a), *bb = lookup(w, b);
 	if (!ba || !bb || ba == bb)
 		return -1;
+	// Room for the joint first, so that no joint exists without an id.
+	try {
+		w->joints.push_back(nullptr);
+	} catch (...) { // std::bad_alloc, std::length_error
+		return -1;
+	}
 	b2WeldJointDef jd;
 	jd.Initialize(ba, bb, bb->GetPosition());
 	jd.collideConnected = false;
-	w->joints.push_back(w->world.CreateJoint(&jd));
+	w->joints.back() = w->world.CreateJoint(&jd);
 	return (int)w->joints.size() - 1;
 }
 
-void evo_world_unweld(evo_world *w, int joint)
+void evo_world_unweld(evo_world *w, int joint) noexcept
 {
 	if (joint < 0 || (size_t)joint >= w->joints.size() ||
 	    !w->joints[(size_t)joint])
@@ -396,7 +411,7 @@ struct Collect : b2QueryCallback {
 } // namespace
 
 double evo_world_raycast(const evo_world *w, double x1, double y1, double x2,
-			 double y2, uint16_t mask, evo_body_id ignore)
+			 double y2, uint16_t mask, evo_body_id ignore) noexcept
 {
 	NearestHit cb;
 	cb.w = w;
@@ -410,7 +425,8 @@ double evo_world_raycast(const evo_world *w, double x1, double y1, double x2,
 }
 
 int evo_world_query(const evo_world *w, double x0, double y0, double x1,
-		    double y1, uint16_t mask, evo_shape_info *out, int cap)
+		    double y1, uint16_t mask, evo_shape_info *out,
+		    int cap) noexcept
 {
 	Collect cb;
 	cb.w = w;
