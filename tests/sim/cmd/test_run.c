@@ -466,6 +466,14 @@ static void stop_a_long_run(int sig)
 
 TEST(sigterm_and_sigint_stop_a_long_run_and_keep_its_trace)
 {
+#ifdef __SANITIZE_THREAD__
+	/* ThreadSanitizer holds an asynchronous signal back until the
+	 * thread next enters a function it intercepts, and the tick loop of
+	 * this run enters none: under make test-tsan evo would not see the
+	 * signal at all. test-plain and test-asan run this test. */
+	printf("  (skipped under ThreadSanitizer)\n");
+	return;
+#endif
 	stop_a_long_run(SIGTERM);
 	stop_a_long_run(SIGINT);
 }
