@@ -111,9 +111,9 @@ static int parse_args(int argc, char **argv, run_opts *o)
 			o->trace = v;
 			i++;
 		} else if (strcmp(a, "--generations") == 0) {
-			if (parse_count(a, v, &o->generations))
+			if (parse_count(a, v, 1000000000L, &o->generations))
 				return -1;
-			if (o->generations < 1 || o->generations > 1000000000L) {
+			if (o->generations < 1) {
 				fprintf(stderr, "evo run: --generations expects a "
 						"whole number from 1, found '%s'\n",
 					v);

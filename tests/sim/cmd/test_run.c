@@ -442,24 +442,27 @@ static void stop_a_long_run(int sig)
 		return;
 	size_t len = strlen(t);
 	CHECK(len > 0 && t[len - 1] == '\n');
-	CHECK(strncmp(t, "evo-trace 1\n", 12) == 0);
-	/* After the 4 header lines: each tick's 5 fields (the tick, 1
-	 * sensor, '|', 2 actuators), the tick one more than the line
-	 * before, from 0. */
-	int n = 0, bad = 0, ticks = 0;
+	CHECK(strncmp(t, "evo-trace 2\n", 12) == 0);
+	/* After the 5 header lines: each tick's fields (the tick, 1
+	 * sensor, '|', 2 actuators, '|', one influence per skill), the
+	 * tick one more than the line before, from 0. */
+	int n = 0, bad = 0, ticks = 0, skills = -1;
 	long prev = -1;
 	for (char *line = strtok(t, "\n"); line; line = strtok(NULL, "\n")) {
-		if (++n <= 4)
+		if (++n == 5 && strncmp(line, "skills ", 7) == 0)
+			skills = atoi(line + 7);
+		if (n <= 5)
 			continue;
 		int fields = 0;
 		for (const char *c = line; *c; c++)
 			fields += *c != ' ' && (c == line || c[-1] == ' ');
 		long tick = atol(line);
-		bad += fields != 5 || tick != prev + 1;
+		bad += fields != 6 + skills || tick != prev + 1;
 		prev = tick;
 		ticks++;
 	}
 	CHECK(ticks > 0);
+	CHECK(skills >= 1);
 	CHECK_EQ_INT(bad, 0);
 	free(t);
 }
