@@ -42,8 +42,12 @@ static uint16_t parse_sees(lua_State *L, int idx, const char *what)
 	if (!lua_isnil(L, -1)) {
 		luaL_checktype(L, -1, LUA_TTABLE);
 		mask = 0;
-		int n = (int)luaL_len(L, -1);
-		for (int i = 1; i <= n; i++) {
+		lua_Integer n = luaL_len(L, -1);
+		if (n > 3)
+			luaL_error(L, "%s: sees lists at most \"obstacles\", "
+				      "\"bots\" and \"objects\"",
+				   what);
+		for (lua_Integer i = 1; i <= n; i++) {
 			lua_geti(L, -1, i);
 			const char *s = lua_tostring(L, -1);
 			if (s && strcmp(s, "obstacles") == 0)

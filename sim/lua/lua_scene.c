@@ -342,11 +342,11 @@ static int scene_reward(lua_State *L)
 		lua_getfield(L, 3, "sensors");
 		if (!lua_isnil(L, -1)) {
 			luaL_checktype(L, -1, LUA_TTABLE);
-			int n = (int)luaL_len(L, -1);
+			lua_Integer n = luaL_len(L, -1);
 			if (n > EVO_REWARD_MAX_SENSORS)
 				luaL_error(L, "%s: at most %d sensors", what,
 					   EVO_REWARD_MAX_SENSORS);
-			for (int i = 1; i <= n; i++) {
+			for (lua_Integer i = 1; i <= n; i++) {
 				lua_geti(L, -1, i);
 				const char *s = lua_tostring(L, -1);
 				if (!s)
@@ -411,8 +411,11 @@ static int scene_get_bot(lua_State *L)
 	int i;
 	if (lua_type(L, 2) == LUA_TSTRING)
 		i = evo_scene_find_bot(sc, lua_tostring(L, 2));
-	else
-		i = (int)luaL_checkinteger(L, 2) - 1;
+	else {
+		/* 1-based; anything past the bots, however large, is nil */
+		lua_Integer k = luaL_checkinteger(L, 2);
+		i = k >= 1 && k <= sc->n_bots ? (int)k - 1 : -1;
+	}
 	if (i < 0 || i >= sc->n_bots)
 		lua_pushnil(L);
 	else

@@ -632,6 +632,12 @@ evo_mindfolder *evo_mindfolder_load(const char *root,
 	}
 	evo_mindfolder *l = &p->pub;
 	l->root = strdup(root);
+	if (!l->root) {
+		free(p);
+		free(ld);
+		evo_fail(err, "out of memory");
+		return NULL;
+	}
 	size_t n = strlen(l->root);
 	while (n > 1 && l->root[n - 1] == '/')
 		l->root[--n] = 0;
@@ -649,6 +655,12 @@ evo_mindfolder *evo_mindfolder_load(const char *root,
 	}
 	l->bot_name = strdup(name);
 	free(abs);
+	if (!l->bot_name) {
+		free(ld);
+		evo_mindfolder_free(l);
+		evo_fail(err, "out of memory");
+		return NULL;
+	}
 	ld->root = l->root;
 	ld->err = err;
 	int rc = load(l, ld, opts, err);

@@ -287,6 +287,25 @@ TEST(a_bot_models_mistakes_are_its_own)
 	bot_lua = NULL;
 }
 
+TEST(numbers_past_an_int_are_no_index)
+{
+	/* scene:get_bot(4294967297) once wrapped round to bot 1, and
+	 * -2147483648 overflowed (UBSan, make test-asan) */
+	int rc = run_env("local env = {}\n"
+			 "function env.init(scene, task)\n"
+			 "  env.bot = scene:bot{ x = 0, y = 0 }\n"
+			 "  assert(scene:get_bot(1) ~= nil)\n"
+			 "  assert(scene:get_bot(4294967297) == nil, 'wrapped')\n"
+			 "  assert(scene:get_bot(-2147483648) == nil)\n"
+			 "  assert(scene:get_bot(0) == nil)\n"
+			 "end\n"
+			 "return env\n",
+			 1);
+	CHECK_EQ_INT(rc, 0);
+	if (rc != 0)
+		printf("  said: %s\n", out);
+}
+
 int main(void)
 {
 	if (cli_setup("hooks"))
@@ -298,6 +317,7 @@ int main(void)
 	RUN(elements_are_not_made_in_reset);
 	RUN(each_element_takes_its_own_options);
 	RUN(a_bot_models_mistakes_are_its_own);
+	RUN(numbers_past_an_int_are_no_index);
 	cli_cleanup();
 	return test_summary();
 }
