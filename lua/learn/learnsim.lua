@@ -149,6 +149,8 @@ for gen = first, generations - 1 do
 	host.log{ generation = gen, generations = generations, best = fitness[best_i],
 		mean = sum / #fitness, best_ever = pop.best.fitness, species = #pop.species,
 		evaluations = #fitness, solved = n_solved, seconds = seconds }
+	-- the curve so far, so a long run can be watched as it goes
+	host.curve(history.best, history.mean, true)
 	local stop
 	if solver then
 		stop = string.format("solved in generation %d", gen)

@@ -356,6 +356,8 @@ static double *number_list(lua_State *L, int idx, int *n)
 	return v;
 }
 
+/* evo.curve(best, mean[, quiet]): draw curve.png; quiet says nothing (the
+ * loop redraws it every generation and names it once, at the end). */
 static int l_curve(lua_State *L)
 {
 	learn *l = ctx(L);
@@ -367,7 +369,8 @@ static int l_curve(lua_State *L)
 	if (evo_path_fmt(path, sizeof path, &err, "%s/curve.png", l->run_dir) ||
 	    evo_curve_write(path, title, best, mean, nb < nm ? nb : nm, &err))
 		return raise_msg(L, err.msg);
-	printf("learning curve in %s\n", path);
+	if (!lua_toboolean(L, 3))
+		printf("learning curve in %s\n", path);
 	return 0;
 }
 

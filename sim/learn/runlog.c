@@ -3,6 +3,7 @@
 #include "learn/runlog.h"
 
 #include <dirent.h>
+#include <math.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <stdio.h>
@@ -192,10 +193,18 @@ int evo_runlog_open(evo_runlog *log, const char *dir, int from_generation,
 		const char *end = strchr(line, '\n');
 		if (!end)
 			break;
-		if (atoi(line) < from_generation &&
-		    append(log, line, (size_t)(end - line + 1), err)) {
-			free(old);
-			return -1;
+		if (atoi(line) < from_generation) {
+			if (append(log, line, (size_t)(end - line + 1), err)) {
+				free(old);
+				return -1;
+			}
+			/* elapsed is the last column */
+			const char *comma = end;
+			while (comma > line && comma[-1] != ',')
+				comma--;
+			double e = strtod(comma, NULL);
+			if (isfinite(e) && e > log->elapsed_before)
+				log->elapsed_before = e;
 		}
 		line = end;
 	}
@@ -218,7 +227,7 @@ int evo_runlog_add(evo_runlog *log, const evo_gen_stats *s, evo_err *err)
 	int n = snprintf(row, sizeof row, "%d,%.17g,%.17g,%.17g,%d,%ld,%d,%.3f,%.3f\n",
 			 s->generation, s->best, s->mean, s->best_ever,
 			 s->species, s->evaluations, s->solved, s->seconds,
-			 s->elapsed);
+			 log->elapsed_before + s->elapsed);
 	if (append(log, row, (size_t)n, err))
 		return -1;
 	return evo_runlog_save(log, "log.csv", log->csv, log->len, err);

@@ -33,6 +33,10 @@ typedef struct evo_runlog {
 	char dir[1024];
 	char *csv; /* the whole log, rewritten each generation */
 	size_t len, cap;
+	/* resumed: the elapsed time of the last row kept, which the rows
+	 * of this process add to, so log.csv's elapsed column counts the
+	 * whole run's time, not this process's */
+	double elapsed_before;
 } evo_runlog;
 
 /* Create (or reuse) the run folder dir and its best/ folder; start the log

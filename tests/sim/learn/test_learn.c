@@ -20,6 +20,7 @@
 #include "harness.h"
 #include "learn/literature.h"
 #include "support/cli.h"
+#include "viewer/png.h"
 
 /* A copy of the Avoid example with a small LEARNSIM task for `method`,
  * so training never touches minds/ and runs in seconds; `extra` is more
@@ -198,6 +199,14 @@ static void stop_and_resume(const char *name, const char *reference, int sig)
 	waitpid(pid, &st, 0);
 	CHECK(WIFSIGNALED(st) && WTERMSIG(st) == sig);
 	CHECK(rows(name) < 6); /* it really was interrupted */
+	/* the learning curve is drawn every generation, not only at the
+	 * end: an interrupted run has one of its finished generations */
+	char curve[512];
+	snprintf(curve, sizeof curve, "%s/%s/run/curve.png", cli_tmp, name);
+	evo_png_image im;
+	evo_err perr = {{0}};
+	CHECK_EQ_INT(evo_png_read(curve, &im, &perr), 0);
+	evo_png_image_free(&im);
 	if (sig == SIGINT) {
 		/* Ctrl-C says that nothing finished is lost and how to go on. */
 		char *said = cli_read("%s/%s/out1.txt", cli_tmp, name);

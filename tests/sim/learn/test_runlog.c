@@ -65,7 +65,8 @@ TEST(log_has_a_row_per_generation_with_exact_values)
 	free(text);
 }
 
-/* Resuming from generation 2 keeps rows 0 and 1 and drops the rest. */
+/* Resuming from generation 2 keeps rows 0 and 1 and drops the rest; the
+ * new rows' elapsed time adds to theirs. */
 TEST(resume_keeps_rows_before_the_checkpoint)
 {
 	char run[256];
@@ -84,6 +85,9 @@ TEST(resume_keeps_rows_before_the_checkpoint)
 	CHECK_CONTAINS(text, "\n1,");
 	CHECK_CONTAINS(text, "\n2,3,1,3,3,150,");
 	CHECK(strstr(text, "\n3,") == NULL);
+	/* the elapsed column goes on from the last row kept (1.0 s) with
+	 * this process's 1.5 s, instead of starting again */
+	CHECK_CONTAINS(text, "\n2,3,1,3,3,150,0,0.500,2.500\n");
 	free(text);
 }
 
