@@ -34,6 +34,7 @@ local literature = ({ XOR = true, DPV = true, DPNV = true })[(task.ENV or ""):up
 -- How many of a fresh population's networks the final replay compares the
 -- champion with.
 local REPLAY_RANDOM = 20
+local CURVE_EVERY = 10
 
 -- A malformed option stops the run at its line in the task file.
 local options = common.task_options(algo, task, host.task_path, host.task_lines)
@@ -149,8 +150,10 @@ for gen = first, generations - 1 do
 	host.log{ generation = gen, generations = generations, best = fitness[best_i],
 		mean = sum / #fitness, best_ever = pop.best.fitness, species = #pop.species,
 		evaluations = #fitness, solved = n_solved, seconds = seconds }
-	-- the curve so far, so a long run can be watched as it goes
-	host.curve(history.best, history.mean, true)
+	-- the curve so far every CURVE_EVERY generations, so a long run can be
+	-- watched as it goes (a drawing costs about what a literature task's
+	-- generation does; the last one comes after the loop)
+	if (gen + 1) % CURVE_EVERY == 0 then host.curve(history.best, history.mean, true) end
 	local stop
 	if solver then
 		stop = string.format("solved in generation %d", gen)

@@ -357,10 +357,11 @@ static double *number_list(lua_State *L, int idx, int *n)
 }
 
 /* evo.curve(best, mean[, quiet]): draw curve.png; quiet says nothing (the
- * loop redraws it every generation and names it once, at the end). */
+ * loop redraws it as it goes and names it once, at the end). */
 static int l_curve(lua_State *L)
 {
 	learn *l = ctx(L);
+	int quiet = lua_toboolean(L, 3);
 	int nb, nm;
 	double *best = number_list(L, 1, &nb), *mean = number_list(L, 2, &nm);
 	char path[1200], title[200];
@@ -369,7 +370,7 @@ static int l_curve(lua_State *L)
 	if (evo_path_fmt(path, sizeof path, &err, "%s/curve.png", l->run_dir) ||
 	    evo_curve_write(path, title, best, mean, nb < nm ? nb : nm, &err))
 		return raise_msg(L, err.msg);
-	if (!lua_toboolean(L, 3))
+	if (!quiet)
 		printf("learning curve in %s\n", path);
 	return 0;
 }

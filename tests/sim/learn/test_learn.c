@@ -199,14 +199,7 @@ static void stop_and_resume(const char *name, const char *reference, int sig)
 	waitpid(pid, &st, 0);
 	CHECK(WIFSIGNALED(st) && WTERMSIG(st) == sig);
 	CHECK(rows(name) < 6); /* it really was interrupted */
-	/* the learning curve is drawn every generation, not only at the
-	 * end: an interrupted run has one of its finished generations */
-	char curve[512];
-	snprintf(curve, sizeof curve, "%s/%s/run/curve.png", cli_tmp, name);
-	evo_png_image im;
-	evo_err perr = {{0}};
-	CHECK_EQ_INT(evo_png_read(curve, &im, &perr), 0);
-	evo_png_image_free(&im);
+
 	if (sig == SIGINT) {
 		/* Ctrl-C says that nothing finished is lost and how to go on. */
 		char *said = cli_read("%s/%s/out1.txt", cli_tmp, name);
@@ -288,6 +281,36 @@ static void stop_in_a_long_batch(const char *name, int sig)
 	free(ckpt2);
 	free(log);
 	free(log2);
+}
+
+/* The learning curve is redrawn every 10 generations, not only at the
+ * end: a run killed after its 10th has the curve of those 10. */
+TEST(the_curve_is_drawn_as_the_run_goes)
+{
+	make_mind_ticks("cv", "NEAT", 30, 20, "NEAT_POPSIZE:10\\n");
+	char cmd[1024];
+	snprintf(cmd, sizeof cmd,
+		 "exec %s run %s/cv/Avoid/Tasks/Small.simbatch --seed 11 "
+		 "--threads 2 --run %s/cv/run > %s/cv/out1.txt 2>&1",
+		 cli_evo, cli_tmp, cli_tmp, cli_tmp);
+	pid_t pid = fork();
+	if (pid == 0) {
+		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
+		_exit(127);
+	}
+	struct timespec ms = {0, 2000000};
+	for (int i = 0; i < 20000 && rows("cv") < 11; i++)
+		nanosleep(&ms, NULL);
+	kill(pid, SIGKILL);
+	waitpid(pid, NULL, 0);
+	int n = rows("cv");
+	CHECK(n >= 11 && n < 30);
+	char curve[512];
+	snprintf(curve, sizeof curve, "%s/cv/run/curve.png", cli_tmp);
+	evo_png_image im;
+	evo_err perr = {{0}};
+	CHECK_EQ_INT(evo_png_read(curve, &im, &perr), 0);
+	evo_png_image_free(&im);
 }
 
 TEST(sigterm_and_sigint_stop_a_long_batch_within_a_second)
@@ -828,6 +851,7 @@ int main(void)
 	RUN(killed_or_interrupted_and_resumed_run_ends_as_an_uninterrupted_one);
 	RUN(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one);
 	RUN(sigterm_and_sigint_stop_a_long_batch_within_a_second);
+	RUN(the_curve_is_drawn_as_the_run_goes);
 	RUN(too_long_run_folder_is_refused);
 	RUN(resume_refuses_a_damaged_checkpoint_and_keeps_the_log);
 	RUN(a_network_the_evaluator_refuses_stops_the_run_without_a_leak);
