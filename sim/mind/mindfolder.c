@@ -371,8 +371,32 @@ static int check_hardcoded(const evo_ades *a, const char *file, evo_err *err)
 	return 0;
 }
 
+/* The placeholder of a skill being trained that has no usable network: a
+ * layered network with zero weights (every output 0.5). */
+static int zero_net(const evo_ades *a, const char *ades_path,
+		    evo_netdesc *d, evo_err *err)
+{
+	unsigned width = evo_net_layered_width(a->n_in, a->n_out);
+	size_t nw =
+	    evo_net_layered_weight_count(a->n_in, a->n_out, a->layers, width);
+	double *zero = calloc(nw ? nw : 1, sizeof *zero);
+	if (!zero)
+		return evo_fail(err, "out of memory");
+	memset(d, 0, sizeof *d);
+	int rc = evo_net_build_layered(a->n_in, a->n_out, a->layers, width,
+				       EVO_ACT_SIGMOID, EVO_ACT_SIGMOID, zero,
+				       d);
+	free(zero);
+	if (rc != 0)
+		return evo_fail(err,
+				"%s:%u: skill %s is too large for a layered "
+				"network",
+				ades_path, a->kind_line, a->name);
+	return 0;
+}
+
 /* The network of neural skill i: its .net, or for the learning skill a
- * placeholder when it has none yet. */
+ * placeholder when it has none yet or one that no longer fits. */
 static int load_net(evo_mindfolder *l, unsigned i, const char *ades_path,
 		    const evo_mindfolder_opts *o, evo_err *err)
 {
@@ -383,39 +407,38 @@ static int load_net(evo_mindfolder *l, unsigned i, const char *ades_path,
 	if (!d)
 		return evo_fail(err, "out of memory");
 	l->net[i] = d;
+	int learning = o && o->learning_skill &&
+		       strcmp(o->learning_skill, a->name) == 0;
 	if (!evo_file_exists(path)) {
-		int learning = o && o->learning_skill &&
-			       strcmp(o->learning_skill, a->name) == 0;
 		if (!learning)
 			return evo_fail(err,
 					"%s:%u: neural skill %s has no trained "
 					"network: expected %s",
 					ades_path, a->kind_line, a->name, path);
-		unsigned width = evo_net_layered_width(a->n_in, a->n_out);
-		size_t nw = evo_net_layered_weight_count(a->n_in, a->n_out,
-							 a->layers, width);
-		double *zero = calloc(nw ? nw : 1, sizeof *zero);
-		if (!zero)
-			return evo_fail(err, "out of memory");
-		int rc = evo_net_build_layered(a->n_in, a->n_out, a->layers,
-					       width, EVO_ACT_SIGMOID,
-					       EVO_ACT_SIGMOID, zero, d);
-		free(zero);
-		if (rc != 0)
-			return evo_fail(err,
-					"%s:%u: skill %s is too large for a "
-					"layered network",
-					ades_path, a->kind_line, a->name);
-		return 0;
+		return zero_net(a, ades_path, d, err);
 	}
 	if (parse_file(path, err, parse_net_any, d) != 0)
 		return -1;
-	if (d->n_in != a->n_in || d->n_out != a->n_out)
+	if (d->n_in != a->n_in || d->n_out != a->n_out) {
+		/* The skill being trained changed its inputs or outputs since
+		 * its network was saved: training replaces the network, so it
+		 * starts from a placeholder instead of refusing to start. */
+		if (learning) {
+			fprintf(stderr,
+				"warning: %s:1: the network has %u inputs and "
+				"%u outputs, but skill %s now declares %u and "
+				"%u; training starts afresh and will replace "
+				"it\n",
+				path, d->n_in, d->n_out, a->name, a->n_in,
+				a->n_out);
+			return zero_net(a, ades_path, d, err);
+		}
 		return evo_fail(err,
 				"%s:1: the network has %u inputs and %u "
 				"outputs, but skill %s declares %u and %u",
 				path, d->n_in, d->n_out, a->name, a->n_in,
 				a->n_out);
+	}
 	return 0;
 }
 

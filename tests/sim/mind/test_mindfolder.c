@@ -319,6 +319,18 @@ TEST(network_of_the_wrong_shape)
 	CHECK_EQ_STR(load_error("M"),
 		     "Skills/M/M.net:1: the network has 2 inputs and 1 "
 		     "outputs, but skill M declares 1 and 1");
+	/* ...but a skill being trained starts afresh from a placeholder of
+	 * its new shape (its inputs changed since it was saved), with a
+	 * warning, instead of being blocked until the file is deleted */
+	evo_err err = {{0}};
+	evo_mindfolder_opts o = {.master = "M", .learning_skill = "M"};
+	evo_mindfolder *l = evo_mindfolder_load(dir, &o, &err);
+	CHECK(l != NULL);
+	if (l) {
+		int k = evo_mindfolder_skill(l, "M");
+		CHECK(k >= 0 && l->net[k]->n_in == 1 && l->net[k]->n_out == 1);
+		evo_mindfolder_free(l);
+	}
 }
 
 TEST(malformed_network_file)
