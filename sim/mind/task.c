@@ -25,6 +25,15 @@ static const char *const *required_keys(const char *type)
 	return NULL;
 }
 
+/* The line of a key of the task file, 0 when absent. */
+static uint32_t key_line(const evo_simbatch *sb, const char *key)
+{
+	for (unsigned i = 0; i < sb->n_pairs; i++)
+		if (strcmp(sb->pair[i].key, key) == 0)
+			return sb->pair[i].line;
+	return 0;
+}
+
 static int upper_eq(const char *a, const char *b)
 {
 	for (; *a && *b; a++, b++)
@@ -126,14 +135,11 @@ int evo_task_load(const char *path, evo_task *t, evo_err *err)
 	const char *method = evo_simbatch_get(t->sb, "LEARNINGMETHOD");
 	if (method && !upper_eq(method, "NEAT") &&
 	    !upper_eq(method, "GENETIC") && !upper_eq(method, "ANNEALING")) {
-		uint32_t line = 0;
-		for (unsigned i = 0; i < t->sb->n_pairs; i++)
-			if (strcmp(t->sb->pair[i].key, "LEARNINGMETHOD") == 0)
-				line = t->sb->pair[i].line;
 		evo_fail(err,
 			 "%s:%u: LEARNINGMETHOD must be NEAT, GENETIC or "
 			 "ANNEALING, found '%s'",
-			 path, line, method);
+			 path, (unsigned)key_line(t->sb, "LEARNINGMETHOD"),
+			 method);
 		evo_task_free(t);
 		return -1;
 	}
@@ -169,15 +175,11 @@ int evo_task_load(const char *path, evo_task *t, evo_err *err)
 	 * most likely a task copied from another folder. */
 	const char *botname = evo_simbatch_get(t->sb, "BOTNAME");
 	if (botname && strcmp(botname, t->mind->bot_name) != 0) {
-		uint32_t line = 0;
-		for (unsigned i = 0; i < t->sb->n_pairs; i++)
-			if (strcmp(t->sb->pair[i].key, "BOTNAME") == 0)
-				line = t->sb->pair[i].line;
 		fprintf(stderr,
 			"warning: %s:%u: BOTNAME is %s, but the task's mind "
 			"folder is %s (%s); evo runs that folder\n",
-			path, (unsigned)line, botname, t->mind->bot_name,
-			t->mind->root);
+			path, (unsigned)key_line(t->sb, "BOTNAME"), botname,
+			t->mind->bot_name, t->mind->root);
 	}
 	return 0;
 }
