@@ -79,6 +79,34 @@ char *cli_read(const char *fmt, ...)
 	return evo_read_file(path, &data, &len, &err) ? NULL : data;
 }
 
+int cli_write(const char *text, const char *fmt, ...)
+{
+	char path[1024];
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(path, sizeof path, fmt, ap);
+	va_end(ap);
+	FILE *f = fopen(path, "w");
+	if (!f) {
+		perror(path);
+		return -1;
+	}
+	int ok = fputs(text, f) >= 0;
+	return fclose(f) == 0 && ok ? 0 : -1;
+}
+
+int cli_count_lines(const char *text, const char *prefix)
+{
+	int n = 0;
+	size_t len = strlen(prefix);
+	for (const char *l = text; l && *l;) {
+		n += strncmp(l, prefix, len) == 0;
+		l = strchr(l, '\n');
+		l = l ? l + 1 : NULL;
+	}
+	return n;
+}
+
 char *cli_fitness_log(const char *run_dir)
 {
 	char *data = cli_read("%s/log.csv", run_dir);

@@ -23,6 +23,13 @@ int cli_capture(char *out, size_t cap, const char *fmt, ...)
 /* A file's whole text (free it), or NULL. */
 char *cli_read(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
+/* Write text as the file at the printf-style path, whole. 0 or -1. */
+int cli_write(const char *text, const char *fmt, ...)
+	__attribute__((format(printf, 2, 3)));
+
+/* Lines of text that start with prefix (text may be NULL: 0). */
+int cli_count_lines(const char *text, const char *prefix);
+
 /* A learning run's log.csv without its two time columns, so runs can be
  * compared (free it), or NULL. */
 char *cli_fitness_log(const char *run_dir);

@@ -66,15 +66,7 @@ TEST(a_task_path_alone_is_evo_run)
 static void avoid_with_task(const char *name, const char *text)
 {
 	cli_sh("rm -rf %s/Avoid && cp -r minds/Avoid %s/", cli_tmp, cli_tmp);
-	char path[512];
-	snprintf(path, sizeof path, "%s/Avoid/Tasks/%s", cli_tmp, name);
-	FILE *f = fopen(path, "w");
-	if (!f) {
-		perror(path);
-		return;
-	}
-	fputs(text, f);
-	fclose(f);
+	cli_write(text, "%s/Avoid/Tasks/%s", cli_tmp, name);
 }
 
 TEST(check_passes_the_shipped_tasks)
@@ -180,12 +172,7 @@ TEST(a_tasks_threads_key_sets_the_workers)
 			   "POPSIZE:20\nNUMGEN:1\nTHREADS:1\n";
 	char path[512];
 	snprintf(path, sizeof path, "%s/XOR/Tasks/T.simbatch", cli_tmp);
-	FILE *f = fopen(path, "w");
-	CHECK(f != NULL);
-	if (!f)
-		return;
-	fputs(task, f);
-	fclose(f);
+	CHECK_EQ_INT(cli_write(task, "%s", path), 0);
 	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s run %s --run %s/r1",
 				 cli_evo, path, cli_tmp),
 		     0);
@@ -280,16 +267,6 @@ TEST(a_demo_episode_lasts_ticklim_ticks)
 	CHECK_CONTAINS(out1, " over 20 ticks");
 }
 
-/* Lines of text that start with prefix. */
-static int count_lines(const char *text, const char *prefix)
-{
-	int n = 0;
-	size_t len = strlen(prefix);
-	for (const char *l = text; l && *l; l = strchr(l, '\n'), l = l ? l + 1 : l)
-		n += strncmp(l, prefix, len) == 0;
-	return n;
-}
-
 TEST(hidden_sets_the_width_of_genetic_networks)
 {
 	cli_sh("rm -rf %s/XOR && cp -r minds/XOR %s/ && sed -i "
@@ -298,15 +275,12 @@ TEST(hidden_sets_the_width_of_genetic_networks)
 	       cli_tmp, cli_tmp, cli_tmp, cli_tmp);
 	char path[512];
 	snprintf(path, sizeof path, "%s/XOR/Tasks/G.simbatch", cli_tmp);
-	FILE *f = fopen(path, "w");
-	CHECK(f != NULL);
-	if (!f)
-		return;
-	fputs("TYPE:LEARNSIM\nBOTMODEL:none\nMASTERSKILL:XOR\n"
-	      "LEARNINGSKILL:XOR\nENV:XOR\nLEARNINGMETHOD:GENETIC\n"
-	      "GA_POPSIZE:10\nNUMGEN:2\nHIDDEN:3\n",
-	      f);
-	fclose(f);
+	CHECK_EQ_INT(cli_write("TYPE:LEARNSIM\nBOTMODEL:none\nMASTERSKILL:XOR\n"
+			       "LEARNINGSKILL:XOR\nENV:XOR\n"
+			       "LEARNINGMETHOD:GENETIC\nGA_POPSIZE:10\n"
+			       "NUMGEN:2\nHIDDEN:3\n",
+			       "%s", path),
+		     0);
 	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s run %s --run %s/g",
 				 cli_evo, path, cli_tmp),
 		     0);
@@ -314,8 +288,8 @@ TEST(hidden_sets_the_width_of_genetic_networks)
 	 * width would be max(2, 1) = 2) */
 	char *net = cli_read("%s/g/champion.net", cli_tmp);
 	CHECK(net != NULL);
-	CHECK_EQ_INT(count_lines(net, "node:"), 3 + 3 + 1);
-	CHECK_EQ_INT(count_lines(net, "link:"), 3 * 2 + 3 * 3 + 1 * 3);
+	CHECK_EQ_INT(cli_count_lines(net, "node:"), 3 + 3 + 1);
+	CHECK_EQ_INT(cli_count_lines(net, "link:"), 3 * 2 + 3 * 3 + 1 * 3);
 	free(net);
 	/* NEAT grows its own hidden nodes: a warning at HIDDEN's line */
 	cli_sh("sed -i 's/GENETIC/NEAT/; s/GA_POPSIZE/POPSIZE/' %s", path);

@@ -15,19 +15,6 @@
 
 static char out[1 << 16];
 
-/* Lines of text that start with prefix. */
-static int count_lines(const char *text, const char *prefix)
-{
-	int n = 0;
-	size_t len = strlen(prefix);
-	for (const char *l = text; l && *l;) {
-		n += strncmp(l, prefix, len) == 0;
-		l = strchr(l, '\n');
-		l = l ? l + 1 : NULL;
-	}
-	return n;
-}
-
 TEST(t6_neat_trains_as_written)
 {
 	CHECK_EQ_INT(cli_sh("cp -r tests/data/minds/T6-NEAT %s/", cli_tmp), 0);
@@ -54,8 +41,8 @@ TEST(t6_neat_trains_as_written)
 	/* two generations logged, of 150 candidates (NEAT's default) */
 	char *log = cli_read("%s/run/log.csv", cli_tmp);
 	CHECK(log != NULL);
-	CHECK_EQ_INT(count_lines(log, "0,") + count_lines(log, "1,"), 2);
-	CHECK_EQ_INT(count_lines(log, "2,"), 0);
+	CHECK_EQ_INT(cli_count_lines(log, "0,") + cli_count_lines(log, "1,"), 2);
+	CHECK_EQ_INT(cli_count_lines(log, "2,"), 0);
 	free(log);
 	/* the champion is the skill's network now: 15 inputs (ten US_,
 	 * three derivatives, VAR_SIN, DOF), 4 outputs */
@@ -71,20 +58,16 @@ TEST(t6_neat_then_runs_under_demosim)
 	char path[512];
 	snprintf(path, sizeof path, "%s/T6-NEAT/Tasks/T6-DEMO.simbatch",
 		 cli_tmp);
-	FILE *f = fopen(path, "w");
-	CHECK(f != NULL);
-	if (!f)
-		return;
-	fputs("TYPE:DEMOSIM\nBOTMODEL:BotType6\nBOTNAME:T6-NEAT\n"
-	      "MASTERSKILL:Avoid\nENV:EXP_Avoid\nTICKLIM:300\n",
-	      f);
-	fclose(f);
+	CHECK_EQ_INT(cli_write("TYPE:DEMOSIM\nBOTMODEL:BotType6\nBOTNAME:T6-NEAT\n"
+			       "MASTERSKILL:Avoid\nENV:EXP_Avoid\nTICKLIM:300\n",
+			       "%s", path),
+		     0);
 	int rc = cli_capture(out, sizeof out, "%s -nog %s --episodes 2",
 			     cli_evo, path);
 	CHECK_EQ_INT(rc, 0);
 	CHECK_CONTAINS(out, "episode 1: reward ");
 	CHECK_CONTAINS(out, "episode 2: reward ");
-	CHECK_EQ_INT(count_lines(out, "episode "), 2);
+	CHECK_EQ_INT(cli_count_lines(out, "episode "), 2);
 	CHECK(!strstr(out, "warning"));
 	if (rc != 0)
 		printf("  said: %s\n", out);
@@ -97,20 +80,16 @@ TEST(the_tutorials_environment_example_is_built_in)
 	char path[512];
 	snprintf(path, sizeof path, "%s/T6-NEAT/Tasks/GTDZA-DEMO.simbatch",
 		 cli_tmp);
-	FILE *f = fopen(path, "w");
-	CHECK(f != NULL);
-	if (!f)
-		return;
-	fputs("TYPE:DEMOSIM\nBOTMODEL:BotType6\nBOTNAME:T6-NEAT\n"
-	      "MASTERSKILL:GTDZ+Avoid\nENV:EXP_GTDZA\nTICKLIM:500\n",
-	      f);
-	fclose(f);
+	CHECK_EQ_INT(cli_write("TYPE:DEMOSIM\nBOTMODEL:BotType6\nBOTNAME:T6-NEAT\n"
+			       "MASTERSKILL:GTDZ+Avoid\nENV:EXP_GTDZA\nTICKLIM:500\n",
+			       "%s", path),
+		     0);
 	CHECK_EQ_INT(cli_capture(out, sizeof out, "%s check %s", cli_evo, path),
 		     0);
 	int rc = cli_capture(out, sizeof out,
 			     "%s -nog %s --episodes 2 --seed 4", cli_evo, path);
 	CHECK_EQ_INT(rc, 0);
-	CHECK_EQ_INT(count_lines(out, "episode "), 2);
+	CHECK_EQ_INT(cli_count_lines(out, "episode "), 2);
 	CHECK_CONTAINS(out, "over 500 ticks");
 	if (rc != 0)
 		printf("  said: %s\n", out);

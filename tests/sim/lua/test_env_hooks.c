@@ -25,29 +25,16 @@ static int run_env(const char *lua, int episodes)
 {
 	cli_sh("rm -rf %s/Avoid && cp -r minds/Avoid %s/", cli_tmp, cli_tmp);
 	char path[512];
-	snprintf(path, sizeof path, "%s/Avoid/Envs/Test.lua", cli_tmp);
-	FILE *f = fopen(path, "w");
-	if (!f)
+	if (cli_write(lua, "%s/Avoid/Envs/Test.lua", cli_tmp))
 		return -1;
-	fputs(lua, f);
-	fclose(f);
-	if (bot_lua) {
-		cli_sh("mkdir -p %s/Avoid/Bots", cli_tmp);
-		snprintf(path, sizeof path, "%s/Avoid/Bots/Mine.lua", cli_tmp);
-		f = fopen(path, "w");
-		if (!f)
-			return -1;
-		fputs(bot_lua, f);
-		fclose(f);
-	}
+	if (bot_lua && (cli_sh("mkdir -p %s/Avoid/Bots", cli_tmp) ||
+			cli_write(bot_lua, "%s/Avoid/Bots/Mine.lua", cli_tmp)))
+		return -1;
 	snprintf(path, sizeof path, "%s/Avoid/Tasks/T.simbatch", cli_tmp);
-	f = fopen(path, "w");
-	if (!f)
+	if (cli_write("TYPE:DEMOSIM\nBOTMODEL:BotType8\nMASTERSKILL:Avoid\n"
+		      "ENV:Test\nTICKLIM:30\n",
+		      "%s", path))
 		return -1;
-	fputs("TYPE:DEMOSIM\nBOTMODEL:BotType8\nMASTERSKILL:Avoid\n"
-	      "ENV:Test\nTICKLIM:30\n",
-	      f);
-	fclose(f);
 	return cli_capture(out, sizeof out,
 			   "timeout -s KILL 60 %s run %s --headless "
 			   "--episodes %d",
