@@ -4,7 +4,8 @@
 # string is `sh` or `lua`:
 #   - `sh`: run from the repository root with `sh -e`, each `build/evo` the
 #     evo under test ($EVO_BUILD/evo), without a display, within a time
-#     limit; it must exit 0.
+#     limit; it must exit 0. Its mktemp folders are made in the test's own
+#     temporary folder (TMPDIR), removed at the end.
 #   - `lua`: the line before the fence says what the block is,
 #       <!-- example: environment -->  Envs/DocExample.lua in a copy of
 #           minds/Avoid, run headless for two short episodes (so its init,
@@ -22,6 +23,8 @@ passed=0
 failed=0
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+# an example's own temporary folders (mktemp) go into ours, removed with it
+export TMPDIR="$tmp"
 unset DISPLAY WAYLAND_DISPLAY
 
 # One line per example: FILE LINE INFO MARK, MARK being the HTML comment

@@ -26,6 +26,8 @@ static void on_signal(int sig)
 	stop_requested = 1;
 }
 
+#define RUN_MAX_NETS 64
+
 typedef struct run_opts {
 	const char *task;
 	int headless;
@@ -39,6 +41,9 @@ typedef struct run_opts {
 	long generations;	/* LEARNSIM: 0 for NUMGEN */
 	const char *run_dir;	/* LEARNSIM */
 	int resume;
+	evo_net_choice net[RUN_MAX_NETS]; /* --net SKILL=SOURCE */
+	unsigned n_nets;
+	char net_arg[RUN_MAX_NETS][EVO_NAME_MAX]; /* each SKILL */
 } run_opts;
 
 static void run_usage(FILE *f)
@@ -57,12 +62,50 @@ static void run_usage(FILE *f)
 	      "  --screenshot FILE  save a PNG of what the viewer shows after\n"
 	      "                     the first --ticks ticks and quit (drawn\n"
 	      "                     without a window when headless)\n"
+	      "  --net SKILL=NET    run neural skill SKILL with another\n"
+	      "                     network: a .net file (a run folder's\n"
+	      "                     best/gen-NNNN.net or champion.net),\n"
+	      "                     random (from the seed) or zero; Skills/\n"
+	      "                     is left as it is (DEMOSIM; repeatable)\n"
 	      "LEARNSIM (--ticks N bounds each evaluation's episodes too):\n"
 	      "  --generations N    train N generations instead of NUMGEN\n"
 	      "  --threads N        worker threads (default: one per core)\n"
 	      "  --run DIR          run folder (default MIND/Runs/TASK-seedN)\n"
 	      "  --resume           go on from the run folder's checkpoint\n",
 	      f);
+}
+
+/* --net SKILL=SOURCE, kept in o->net. */
+static int parse_net(const char *v, run_opts *o)
+{
+	const char *eq = v ? strchr(v, '=') : NULL;
+	if (!eq || eq == v || !eq[1]) {
+		fprintf(stderr,
+			"evo run: --net expects SKILL=NET (NET a .net file, "
+			"random or zero), found '%s'\n",
+			v ? v : "nothing");
+		return -1;
+	}
+	size_t n = (size_t)(eq - v);
+	if (n >= EVO_NAME_MAX) {
+		fprintf(stderr,
+			"evo run: --net '%s': a skill name has at most %d "
+			"characters\n",
+			v, EVO_NAME_MAX - 1);
+		return -1;
+	}
+	if (o->n_nets == RUN_MAX_NETS) {
+		fprintf(stderr, "evo run: at most %d --net options\n",
+			RUN_MAX_NETS);
+		return -1;
+	}
+	char *name = o->net_arg[o->n_nets];
+	memcpy(name, v, n);
+	name[n] = 0;
+	o->net[o->n_nets].skill = name;
+	o->net[o->n_nets].source = eq + 1;
+	o->n_nets++;
+	return 0;
 }
 
 /* A whole number 0..max: one that the int or long it goes into holds,
@@ -129,6 +172,10 @@ static int parse_args(int argc, char **argv, run_opts *o)
 			i++;
 		} else if (strcmp(a, "--resume") == 0) {
 			o->resume = 1;
+		} else if (strcmp(a, "--net") == 0) {
+			if (parse_net(v, o))
+				return -1;
+			i++;
 		} else if (strcmp(a, "--screenshot") == 0 && v) {
 			o->screenshot = v;
 			i++;
@@ -407,16 +454,25 @@ int evo_run_main(int argc, char **argv)
 		return 2;
 	evo_err err = {{0}};
 	evo_task task;
-	if (evo_task_load(o.task, &task, &err) != 0) {
+	evo_task_opts to = {
+		.seed_set = o.seed_set,
+		.seed = o.seed,
+		.nets = o.net,
+		.n_nets = o.n_nets,
+	};
+	if (evo_task_load_opts(o.task, &to, &task, &err) != 0) {
 		fprintf(stderr, "%s\n", err.msg);
 		return 1;
 	}
-	uint64_t seed = 1;
-	const char *sv = evo_simbatch_get(task.sb, "SEED");
-	if (o.seed_set)
-		seed = o.seed;
-	else if (sv)
-		seed = strtoull(sv, NULL, 10);
+	uint64_t seed = task.seed;
+	if (o.n_nets && strncmp(task.type, "LEARN", 5) == 0) {
+		fprintf(stderr,
+			"%s: --net chooses the networks a DEMOSIM run shows; "
+			"a %s task trains over the networks in Skills/\n",
+			o.task, task.type);
+		evo_task_free(&task);
+		return 2;
+	}
 	if (strcmp(task.type, "LEARNSIM") == 0) {
 		/* --threads, else the task's THREADS, else one per core */
 		const char *tv = evo_simbatch_get(task.sb, "THREADS");

@@ -3,11 +3,13 @@
 #include "mind/mindfolder.h"
 
 #include <dirent.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "base/fileio.h"
+#include "base/rng.h"
 #include "mind/net_build.h"
 
 #define MAX_SKILLS 256
@@ -371,22 +373,29 @@ static int check_hardcoded(const evo_ades *a, const char *file, evo_err *err)
 	return 0;
 }
 
-/* The placeholder of a skill being trained that has no usable network: a
- * layered network with zero weights (every output 0.5). */
-static int zero_net(const evo_ades *a, const char *ades_path,
-		    evo_netdesc *d, evo_err *err)
+/* A layered network for skill a (the shape GENETIC and ANNEALING train):
+ * weights all zero (every output 0.5; the placeholder of a skill being
+ * trained that has no usable network), or, with r, drawn as GENETIC draws
+ * its first generation: normal(0, 1), clamped to [-8, 8]. */
+static int layered_net(const evo_ades *a, const char *ades_path, evo_rng *r,
+		       evo_netdesc *d, evo_err *err)
 {
 	unsigned width = evo_net_layered_width(a->n_in, a->n_out);
 	size_t nw =
 	    evo_net_layered_weight_count(a->n_in, a->n_out, a->layers, width);
-	double *zero = calloc(nw ? nw : 1, sizeof *zero);
-	if (!zero)
+	double *w = calloc(nw ? nw : 1, sizeof *w);
+	if (!w)
 		return evo_fail(err, "out of memory");
+	for (size_t i = 0; r && i < nw; i++) {
+		/* Box-Muller: u1 in (0, 1], so the log is finite */
+		double u1 = 1.0 - evo_rng_unit(r), u2 = evo_rng_unit(r);
+		double x = sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
+		w[i] = x > 8.0 ? 8.0 : x < -8.0 ? -8.0 : x;
+	}
 	memset(d, 0, sizeof *d);
 	int rc = evo_net_build_layered(a->n_in, a->n_out, a->layers, width,
-				       EVO_ACT_SIGMOID, EVO_ACT_SIGMOID, zero,
-				       d);
-	free(zero);
+				       EVO_ACT_SIGMOID, EVO_ACT_SIGMOID, w, d);
+	free(w);
 	if (rc != 0)
 		return evo_fail(err,
 				"%s:%u: skill %s is too large for a layered "
@@ -395,8 +404,47 @@ static int zero_net(const evo_ades *a, const char *ades_path,
 	return 0;
 }
 
-/* The network of neural skill i: its .net, or for the learning skill a
- * placeholder when it has none yet or one that no longer fits. */
+/* The network chosen for skill name, or NULL. */
+static const evo_net_choice *choice_for(const evo_mindfolder_opts *o,
+					const char *name)
+{
+	for (unsigned i = 0; o && i < o->n_nets; i++)
+		if (strcmp(o->nets[i].skill, name) == 0)
+			return &o->nets[i];
+	return NULL;
+}
+
+/* Skill i's network from a chosen source (evo_net_choice). */
+static int chosen_net(evo_mindfolder *l, unsigned i, const char *ades_path,
+		      const evo_net_choice *c, uint64_t seed, evo_err *err)
+{
+	const evo_ades *a = &l->skill[i];
+	evo_netdesc *d = l->net[i];
+	if (strcmp(c->source, "zero") == 0)
+		return layered_net(a, ades_path, NULL, d, err);
+	if (strcmp(c->source, "random") == 0) {
+		evo_rng r = evo_rng_for(seed, 4, i, 0);
+		return layered_net(a, ades_path, &r, d, err);
+	}
+	if (!evo_file_exists(c->source))
+		return evo_fail(err,
+				"%s: no such network file (chosen for skill "
+				"%s; a .net file, random or zero)",
+				c->source, a->name);
+	if (parse_file(c->source, err, parse_net_any, d) != 0)
+		return -1;
+	if (d->n_in != a->n_in || d->n_out != a->n_out)
+		return evo_fail(err,
+				"%s:1: the network has %u inputs and %u "
+				"outputs, but skill %s declares %u and %u (%s)",
+				c->source, d->n_in, d->n_out, a->name, a->n_in,
+				a->n_out, ades_path);
+	return 0;
+}
+
+/* The network of neural skill i: a chosen one, its .net, or for the
+ * learning skill a placeholder when it has none yet or one that no longer
+ * fits. */
 static int load_net(evo_mindfolder *l, unsigned i, const char *ades_path,
 		    const evo_mindfolder_opts *o, evo_err *err)
 {
@@ -407,15 +455,21 @@ static int load_net(evo_mindfolder *l, unsigned i, const char *ades_path,
 	if (!d)
 		return evo_fail(err, "out of memory");
 	l->net[i] = d;
+	const evo_net_choice *c = choice_for(o, a->name);
+	if (c)
+		return chosen_net(l, i, ades_path, c, o->seed, err);
 	int learning = o && o->learning_skill &&
 		       strcmp(o->learning_skill, a->name) == 0;
 	if (!evo_file_exists(path)) {
 		if (!learning)
 			return evo_fail(err,
 					"%s:%u: neural skill %s has no trained "
-					"network: expected %s",
-					ades_path, a->kind_line, a->name, path);
-		return zero_net(a, ades_path, d, err);
+					"network: expected %s (train it with a "
+					"LEARNSIM task, or run it with --net "
+					"%s=random)",
+					ades_path, a->kind_line, a->name, path,
+					a->name);
+		return layered_net(a, ades_path, NULL, d, err);
 	}
 	if (parse_file(path, err, parse_net_any, d) != 0)
 		return -1;
@@ -431,13 +485,54 @@ static int load_net(evo_mindfolder *l, unsigned i, const char *ades_path,
 				"it\n",
 				path, d->n_in, d->n_out, a->name, a->n_in,
 				a->n_out);
-			return zero_net(a, ades_path, d, err);
+			return layered_net(a, ades_path, NULL, d, err);
 		}
 		return evo_fail(err,
 				"%s:1: the network has %u inputs and %u "
 				"outputs, but skill %s declares %u and %u",
 				path, d->n_in, d->n_out, a->name, a->n_in,
 				a->n_out);
+	}
+	return 0;
+}
+
+/* Every chosen network names a neural skill of the hierarchy, once. */
+static int check_choices(const evo_mindfolder *l, const evo_mindfolder_opts *o,
+			 evo_err *err)
+{
+	const char *neural[MAX_SKILLS];
+	unsigned n = 0;
+	char list[512] = "";
+	size_t k = 0;
+	for (unsigned i = 0; i < l->n_skills; i++) {
+		if (l->skill[i].kind != EVO_SKILL_NEURAL)
+			continue;
+		neural[n++] = l->skill[i].name;
+		k += (size_t)snprintf(list + k, sizeof list - k, "%s%s",
+				      n > 1 ? ", " : "", l->skill[i].name);
+		if (k >= sizeof list)
+			k = sizeof list - 1;
+	}
+	for (unsigned c = 0; o && c < o->n_nets; c++) {
+		const char *name = o->nets[c].skill;
+		for (unsigned j = 0; j < c; j++)
+			if (strcmp(o->nets[j].skill, name) == 0)
+				return evo_fail(err,
+						"--net %s: a network is "
+						"chosen twice for skill %s",
+						name, name);
+		int s = evo_mindfolder_skill(l, name);
+		if (s >= 0 && l->skill[s].kind == EVO_SKILL_NEURAL)
+			continue;
+		char hint[128];
+		suggest(hint, sizeof hint, name, neural, n);
+		return evo_fail(err,
+				"--net %s: %s%s (the neural skills under the "
+				"master skill: %s)",
+				name,
+				s >= 0 ? "a hard-coded skill has no network"
+				       : "no such skill in the hierarchy",
+				hint, n ? list : "none");
 	}
 	return 0;
 }
@@ -610,6 +705,10 @@ static int load(evo_mindfolder *l, loader *ld, const evo_mindfolder_opts *o,
 		skill_entry *e = &ld->entry[ld->order[l->n_skills - 1 - i]];
 		l->skill[i] = *e->ades;
 		paths[i] = e->path;
+	}
+	if (check_choices(l, o, err) != 0) {
+		free(paths);
+		return -1;
 	}
 	size_t n_io = 0;
 	for (unsigned i = 0; i < l->n_skills; i++)

@@ -15,6 +15,16 @@
 #include "base/err.h"
 #include "evo/evo.h"
 
+/* A network a neural skill runs instead of its Skills/<S>/<S>.net
+ * (`evo run --net SKILL=SOURCE`, docs/running.md): SOURCE is a .net file
+ * (a run folder's best/gen-NNNN.net or champion.net), "random" (a layered
+ * network of random weights, from the seed) or "zero" (a layered network
+ * of zero weights: every output 0.5). */
+typedef struct evo_net_choice {
+	const char *skill;
+	const char *source;
+} evo_net_choice;
+
 typedef struct evo_mindfolder_opts {
 	/* The master skill; NULL: the one skill of Skills/ that no other
 	 * skill names in an SK output. */
@@ -22,6 +32,11 @@ typedef struct evo_mindfolder_opts {
 	/* A neural skill being trained: it may lack a .net; it then gets a
 	 * layered network with zero weights (every output 0.5). */
 	const char *learning_skill;
+	/* Networks chosen for some neural skills, and the seed of the
+	 * "random" ones. Each must name a neural skill of the hierarchy. */
+	const evo_net_choice *nets;
+	unsigned n_nets;
+	uint64_t seed;
 } evo_mindfolder_opts;
 
 typedef struct evo_mindfolder {

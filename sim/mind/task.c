@@ -91,6 +91,12 @@ static int mind_folder(const char *path, const evo_simbatch *sb, char *out,
 
 int evo_task_load(const char *path, evo_task *t, evo_err *err)
 {
+	return evo_task_load_opts(path, NULL, t, err);
+}
+
+int evo_task_load_opts(const char *path, const evo_task_opts *o, evo_task *t,
+		       evo_err *err)
+{
 	memset(t, 0, sizeof *t);
 	char *data;
 	size_t len;
@@ -148,12 +154,20 @@ int evo_task_load(const char *path, evo_task *t, evo_err *err)
 		evo_task_free(t);
 		return -1;
 	}
+	/* SEED was checked by the parser: a whole number that fits. */
+	const char *sv = evo_simbatch_get(t->sb, "SEED");
+	t->seed = o && o->seed_set ? o->seed
+		  : sv		   ? strtoull(sv, NULL, 10)
+				   : 1;
 	evo_mindfolder_opts opts = {
 		.master = evo_simbatch_get(t->sb, "MASTERSKILL"),
 		.learning_skill = strncmp(t->type, "LEARN", 5) == 0
 					  ? evo_simbatch_get(t->sb,
 							     "LEARNINGSKILL")
 					  : NULL,
+		.nets = o ? o->nets : NULL,
+		.n_nets = o ? o->n_nets : 0,
+		.seed = t->seed,
 	};
 	t->mind = evo_mindfolder_load(root, &opts, err);
 	if (!t->mind) {

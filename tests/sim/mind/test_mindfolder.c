@@ -302,7 +302,8 @@ TEST(neural_skill_without_network)
 	unlink(path);
 	CHECK_EQ_STR(load_error("M"),
 		     "Skills/M/M.ades:6: neural skill M has no trained "
-		     "network: expected Skills/M/M.net");
+		     "network: expected Skills/M/M.net (train it with a "
+		     "LEARNSIM task, or run it with --net M=random)");
 	/* ...unless it is the skill being trained. */
 	evo_err err;
 	evo_mindfolder_opts o = {.master = "M", .learning_skill = "M"};
