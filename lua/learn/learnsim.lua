@@ -34,7 +34,11 @@ local literature = ({ XOR = true, DPV = true, DPNV = true })[(task.ENV or ""):up
 -- How many of a fresh population's networks the final replay compares the
 -- champion with.
 local REPLAY_RANDOM = 20
-local CURVE_EVERY = 10
+-- The curve is redrawn after the first generation and then once at least
+-- CURVE_SECONDS of evaluation have passed since the last drawing: every
+-- generation of a task whose generations take seconds, and no drawing per
+-- generation where a drawing would cost as much as the generation.
+local CURVE_SECONDS = 1.0
 
 -- A malformed option stops the run at its line in the task file.
 local options = common.task_options(algo, task, host.task_path, host.task_lines)
@@ -114,6 +118,7 @@ else
 	history = { best = {}, mean = {} }
 end
 host.open_log(first)
+local since_curve = 0
 
 for gen = first, generations - 1 do
 	local genomes = pop:genomes()
@@ -150,10 +155,13 @@ for gen = first, generations - 1 do
 	host.log{ generation = gen, generations = generations, best = fitness[best_i],
 		mean = sum / #fitness, best_ever = pop.best.fitness, species = #pop.species,
 		evaluations = #fitness, solved = n_solved, seconds = seconds }
-	-- the curve so far every CURVE_EVERY generations, so a long run can be
-	-- watched as it goes (a drawing costs about what a literature task's
-	-- generation does; the last one comes after the loop)
-	if (gen + 1) % CURVE_EVERY == 0 then host.curve(history.best, history.mean, true) end
+	-- the curve so far, so a long run can be watched as it goes (the last
+	-- one comes after the loop)
+	since_curve = since_curve + seconds
+	if gen == first or since_curve >= CURVE_SECONDS then
+		host.curve(history.best, history.mean, true)
+		since_curve = 0
+	end
 	local stop
 	if solver then
 		stop = string.format("solved in generation %d", gen)
