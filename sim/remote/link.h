@@ -1,0 +1,47 @@
+/* evo — one LCM connection (docs/remote.md): raw messages in and out on
+ * named channels, received into a queue of evo's own so that a message is
+ * only looked at when its reader asks for the next one.
+ *
+ * Every channel subscribed gets a deep LCM queue, and evo's default URL a
+ * receive buffer of RECV_BUF bytes, so that lockstep traffic loses nothing
+ * at the rates `make bench` measures. */
+#ifndef EVO_LINK_H
+#define EVO_LINK_H
+
+#include <stddef.h>
+
+#include "base/err.h"
+
+/* LCM's own default URL (this machine only: ttl=0). */
+#define EVO_LINK_DEFAULT_URL "udpm://239.255.76.67:7667?ttl=0"
+
+typedef struct evo_link evo_link;
+
+/* Connect to url (NULL: EVO_LINK_DEFAULT_URL). NULL with err set. */
+evo_link *evo_link_open(const char *url, evo_err *err);
+void evo_link_close(evo_link *l);
+
+/* Receive the messages of channel from now on. 0, or -1 with err. */
+int evo_link_subscribe(evo_link *l, const char *channel, evo_err *err);
+
+/* A message received: its channel and its bytes (not owned). */
+typedef struct evo_link_msg {
+	const char *channel;
+	const void *data;
+	size_t len;
+} evo_link_msg;
+
+/* The next message, waiting at most timeout_ms for one (0: only what has
+ * already come). 1 with *m filled (valid until the next call), 0 when
+ * none came in time, -1 with err set when the connection failed. */
+int evo_link_next(evo_link *l, int timeout_ms, evo_link_msg *m,
+		  evo_err *err);
+
+/* Publish len bytes on channel. 0, or -1 with err set. */
+int evo_link_publish(evo_link *l, const char *channel, const void *data,
+		     size_t len, evo_err *err);
+
+/* The URL in use. */
+const char *evo_link_url(const evo_link *l);
+
+#endif
