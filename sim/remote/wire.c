@@ -14,7 +14,6 @@
 #include <evo_lcm_sensors_t.h>
 #include <evo_lcm_who_t.h>
 
-
 const char *evo_wire_reason_name(evo_wire_reason r)
 {
 	static const char *const names[EVO_WIRE_N_REASONS] = {

@@ -1,9 +1,10 @@
 /* A task's simulation: scene + Lua environment + mind (sim/tasksim/tasksim.h). */
 #include "tasksim/tasksim.h"
 
-#include <inttypes.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "mind/trace.h"
 
 /* "did you mean" over a bot's sensor or actuator names. */
 static const char *closest(const char *word, const evo_bot *b, int sensors)
@@ -163,38 +164,35 @@ int evo_sim_tick(evo_sim *s, evo_err *err)
 	for (unsigned i = 0; i < m->n_actuators; i++)
 		b->actuator[s->actuator_map[i]].command =
 			evo_q16_to_double(s->actuators[i]);
-	if (s->trace) {
-		fprintf(s->trace, "%ld", sc->tick);
-		for (unsigned i = 0; i < m->n_sensors; i++)
-			fprintf(s->trace, " %" PRId32, s->sensors[i]);
-		fputs(" |", s->trace);
-		for (unsigned i = 0; i < m->n_actuators; i++)
-			fprintf(s->trace, " %" PRId32, s->actuators[i]);
-		fputs(" |", s->trace);
-		for (unsigned i = 0; i < m->n_skills; i++)
-			fprintf(s->trace, " %" PRId32, s->state->influence[i]);
-		fputc('\n', s->trace);
-	}
+	if (s->trace)
+		evo_trace_tick(s->trace, sc->tick, m, s->sensors, s->actuators,
+			       s->state);
 	int r = evo_scene_step(sc);
 	if (r < 0)
 		evo_fail(err, "%s", sc->err.msg);
 	return r;
 }
 
+void evo_sim_sense(evo_sim *s, double *values)
+{
+	const evo_bot *b = &s->scene->bot[s->bot];
+	evo_scene_sense(s->scene);
+	for (unsigned i = 0; i < s->mind->mind.n_sensors; i++)
+		values[i] = b->sensor[s->sensor_map[i]].value;
+}
+
+int evo_sim_act(evo_sim *s, const double *commands, evo_err *err)
+{
+	evo_bot *b = &s->scene->bot[s->bot];
+	for (unsigned i = 0; i < s->mind->mind.n_actuators; i++)
+		b->actuator[s->actuator_map[i]].command = commands[i];
+	int r = evo_scene_step(s->scene);
+	if (r < 0)
+		evo_fail(err, "%s", s->scene->err.msg);
+	return r;
+}
+
 void evo_sim_trace_header(evo_sim *s)
 {
-	const evo_mind *m = &s->mind->mind;
-	fprintf(s->trace, "evo-trace 2\n");
-	fprintf(s->trace, "mind %s names %08" PRIx32 "\n", s->mind->bot_name,
-		s->mind->names_hash);
-	fprintf(s->trace, "sensors %u", (unsigned)m->n_sensors);
-	for (unsigned i = 0; i < m->n_sensors; i++)
-		fprintf(s->trace, " %s", evo_mind_sensor_name(m, i));
-	fprintf(s->trace, "\nactuators %u", (unsigned)m->n_actuators);
-	for (unsigned i = 0; i < m->n_actuators; i++)
-		fprintf(s->trace, " %s", evo_mind_actuator_name(m, i));
-	fprintf(s->trace, "\nskills %u", (unsigned)m->n_skills);
-	for (unsigned i = 0; i < m->n_skills; i++)
-		fprintf(s->trace, " %s", evo_mind_skill_name(m, i));
-	fprintf(s->trace, "\n");
+	evo_trace_header(s->trace, s->mind);
 }

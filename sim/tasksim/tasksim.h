@@ -54,6 +54,16 @@ int evo_sim_set_mind(evo_sim *s, const evo_mindfolder *mind, evo_err *err);
  * episode, -1 with err set (a script error). */
 int evo_sim_tick(evo_sim *s, evo_err *err);
 
+/* The two halves of a tick without the mind, for a world served to a
+ * remote mind (`evo serve`, docs/remote.md). evo_sim_sense: the sensors
+ * sample, and values[i] is botdesc sensor i's reading. evo_sim_act:
+ * botdesc actuator i gets commands[i], then the physics steps, rewards add
+ * up and the controls may end the episode; returns as evo_sim_tick does.
+ * Sensing then acting with the values evo_sim_tick's mind would read and
+ * write is evo_sim_tick, to the bit. */
+void evo_sim_sense(evo_sim *s, double *values);
+int evo_sim_act(evo_sim *s, const double *commands, evo_err *err);
+
 /* Traces (docs/running.md, Traces): a header naming the sensors, actuators
  * and skills, then one line per tick with the Q15.16 values the mind read
  * and wrote and each skill's influence. */
