@@ -8,6 +8,7 @@
 #include "base/fileio.h"
 #include "cmd/export_c.h"
 #include "cmd/run.h"
+#include "cmd/serve.h"
 #include "learn/learn.h"
 #include "learn/literature.h"
 #include "mind/mindfolder.h"
@@ -22,7 +23,11 @@ static void usage(FILE *f)
 	      "          [--episodes N] [--ticks N] [--trace FILE]\n"
 	      "      run a task: DEMOSIM in the viewer, or headless;\n"
 	      "      LEARNSIM trains (--threads N, --run DIR, --resume)\n"
-	      "      (evo run with no task lists every option)\n"
+	      "      (evo run with no task lists every option);\n"
+	      "      DEMOREMOTESIM drives a remote simulator over LCM\n"
+	      "  evo serve TASK.simbatch [--name NAME] [--environments N]\n"
+	      "      serve the task's 2D world as a remote simulator over\n"
+	      "      LCM, until stopped (docs/remote.md)\n"
 	      "  evo info MINDFOLDER [--master SKILL]\n"
 	      "      load a mind folder and show its hierarchy in tick order\n"
 	      "  evo check TASK.simbatch\n"
@@ -153,7 +158,7 @@ static int check_task(const char *path, evo_task *task, evo_err *err)
 	if (!evo_run_supports(task->type))
 		return evo_fail(err,
 				"%s: evo run does not run %s tasks yet (it runs "
-				"DEMOSIM and LEARNSIM)",
+				"DEMOSIM, LEARNSIM and DEMOREMOTESIM)",
 				path, task->type);
 	if (strcmp(task->type, "LEARNSIM") == 0 &&
 	    evo_learn_check(path, task, err) != 0)
@@ -162,6 +167,12 @@ static int check_task(const char *path, evo_task *task, evo_err *err)
 	if (strcmp(task->type, "LEARNSIM") == 0 &&
 	    evo_lit_task_named(env ? env : "") != EVO_LIT_NONE)
 		return 0; /* a literature task: no scene */
+	/* a remote task's world is the remote's; one that names a bot model
+	 * and an environment can be served by `evo serve`, so they are
+	 * checked */
+	if (strstr(task->type, "REMOTE") &&
+	    (!env || !evo_simbatch_get(task->sb, "BOTMODEL")))
+		return 0;
 	evo_sim *s = evo_sim_create(task->mind, task->sb, path, err);
 	if (!s)
 		return -1;
@@ -187,6 +198,8 @@ int main(int argc, char **argv)
 	evo_err err = {{0}};
 	if (strcmp(cmd, "run") == 0)
 		return evo_run_main(argc, argv);
+	if (strcmp(cmd, "serve") == 0)
+		return evo_serve_main(argc, argv);
 	/* The tutorial's command line: `evo TASK.simbatch` and
 	 * `evo -nog TASK.simbatch` are `evo run` with the same arguments. */
 	if (strcmp(cmd, "-nog") == 0 || strcmp(cmd, "--headless") == 0 ||

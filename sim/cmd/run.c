@@ -15,6 +15,8 @@
 #include "learn/evaluate.h"
 #include "learn/learn.h"
 #include "mind/task.h"
+#include "mind/trace.h"
+#include "remote/session.h"
 #include "tasksim/tasksim.h"
 #include "viewer/viewer.h"
 
@@ -196,7 +198,8 @@ static int parse_args(int argc, char **argv, run_opts *o)
 
 int evo_run_supports(const char *type)
 {
-	return strcmp(type, "DEMOSIM") == 0 || strcmp(type, "LEARNSIM") == 0;
+	return strcmp(type, "DEMOSIM") == 0 || strcmp(type, "LEARNSIM") == 0 ||
+	       strcmp(type, "DEMOREMOTESIM") == 0;
 }
 
 /* The seeds of episode e: the grid's and the rest's, from (seed, e). */
@@ -290,6 +293,107 @@ static int run_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 		fflush(stdout);
 	}
 	return 0;
+}
+
+/* The remote keys of a task (docs/remote.md): LCMURL, REMOTENAME and
+ * REMOTETIMEOUT (seconds). */
+static int remote_opts(const evo_task *task, const char *path,
+		       evo_remote_kind kind, evo_remote_opts *ro, evo_err *err)
+{
+	memset(ro, 0, sizeof *ro);
+	ro->url = evo_simbatch_get(task->sb, "LCMURL");
+	ro->name = evo_simbatch_get(task->sb, "REMOTENAME");
+	ro->kind = kind;
+	ro->timeout = 2.0;
+	ro->stop = &stop_requested;
+	if (ro->name && !evo_wire_name_ok(ro->name))
+		return evo_fail(err,
+				"%s: REMOTENAME '%s': a remote's name is 1..63 "
+				"letters, digits, '_' or '-'",
+				path, ro->name);
+	const char *t = evo_simbatch_get(task->sb, "REMOTETIMEOUT");
+	if (t) {
+		char *end;
+		double v = strtod(t, &end);
+		if (*end || !(v > 0 && v <= 3600))
+			return evo_fail(err,
+					"%s: REMOTETIMEOUT expects seconds, more "
+					"than 0 and at most 3600, found '%s'",
+					path, t);
+		ro->timeout = v;
+	}
+	return 0;
+}
+
+/* DEMOREMOTESIM: the mind here, the world in a remote simulator driven in
+ * lockstep; the same episodes, seeds and lines as DEMOSIM headless. */
+static int run_remote_sim(const evo_task *task, const run_opts *o,
+			  uint64_t seed, FILE *trace, evo_err *err)
+{
+	evo_remote_opts ro;
+	if (remote_opts(task, o->task, EVO_REMOTE_SIMULATOR, &ro, err))
+		return -1;
+	const evo_mind *m = &task->mind->mind;
+	size_t need = (evo_state_size(m) + 7) & ~(size_t)7;
+	void *mem = aligned_alloc(8, need);
+	evo_state *state = NULL;
+	if (!mem)
+		return evo_fail(err, "out of memory");
+	if (evo_state_init(m, mem, need, &state) != EVO_OK) {
+		free(mem);
+		return evo_fail(err, "mind state: cannot lay it out");
+	}
+	evo_remote *r = evo_remote_connect(task->mind, &ro, err);
+	if (!r) {
+		free(mem);
+		/* a stop while waiting for a remote ends the run, as it would
+		 * end a DEMOSIM */
+		return stop_requested ? 0 : -1;
+	}
+	printf("remote %s: %s, %d environment%s\n", r->hello.name,
+	       r->hello.kind == EVO_REMOTE_SIMULATOR ? "simulator" : "robot",
+	       (int)r->hello.environments,
+	       r->hello.environments == 1 ? "" : "s");
+	if (trace)
+		evo_trace_header(trace, task->mind);
+	int rc = 0;
+	double in[EVO_MAX_SENSORS], out[EVO_MAX_ACTUATORS];
+	evo_q16 qin[EVO_MAX_SENSORS], qout[EVO_MAX_ACTUATORS];
+	for (long e = 1; e <= o->episodes && !stop_requested && rc == 0; e++) {
+		evo_state_reset(m, state);
+		if (evo_remote_reset(r, 0, e, grid_seed(seed, e),
+				     episode_seed(seed, e), err)) {
+			rc = -1;
+			break;
+		}
+		long t = 0;
+		int end = 0;
+		while (!stop_requested && (o->ticks == 0 || t < o->ticks)) {
+			evo_remote_sensors(r, 0, in);
+			for (unsigned i = 0; i < m->n_sensors; i++)
+				qin[i] = evo_q16_from_sensor(in[i]);
+			evo_mind_step(m, state, qin, qout);
+			for (unsigned i = 0; i < m->n_actuators; i++)
+				out[i] = evo_q16_to_double(qout[i]);
+			if (trace)
+				evo_trace_tick(trace, t, m, qin, qout, state);
+			end = evo_remote_step(r, 0, out, err);
+			t++;
+			if (end != 0)
+				break;
+		}
+		if (end < 0) {
+			/* a stop while waiting is a stop, not a failure */
+			rc = stop_requested ? 0 : -1;
+			break;
+		}
+		printf("episode %ld: reward %.6f over %ld ticks\n", e,
+		       evo_remote_reward(r, 0), t);
+		fflush(stdout);
+	}
+	evo_remote_close(r);
+	free(mem);
+	return rc;
 }
 
 static double now(void)
@@ -496,7 +600,7 @@ int evo_run_main(int argc, char **argv)
 	if (!evo_run_supports(task.type)) {
 		fprintf(stderr,
 			"%s: evo run does not run %s tasks yet (it runs "
-			"DEMOSIM and LEARNSIM)\n",
+			"DEMOSIM, LEARNSIM and DEMOREMOTESIM)\n",
 			o.task, task.type);
 		evo_task_free(&task);
 		return 1;
@@ -510,6 +614,22 @@ int evo_run_main(int argc, char **argv)
 	int rc = 1;
 	evo_viewer *v = NULL;
 	trace_file tf;
+	if (strcmp(task.type, "DEMOREMOTESIM") == 0) {
+		const char *tl = evo_simbatch_get(task.sb, "TICKLIM");
+		if (o.ticks == 0 && tl)
+			o.ticks = strtol(tl, NULL, 10);
+		if (o.episodes < 0)
+			o.episodes = 1;
+		if (trace_open(&tf, o.trace, &err) == 0) {
+			int r = run_remote_sim(&task, &o, seed, tf.f, &err);
+			if (trace_close(&tf, r == 0, &err) == 0 && r == 0)
+				rc = 0;
+		}
+		if (rc != 0 && err.msg[0])
+			fprintf(stderr, "%s\n", err.msg);
+		evo_task_free(&task);
+		return rc;
+	}
 	evo_sim *s = evo_sim_create(task.mind, task.sb, o.task, &err);
 	if (!s)
 		goto out;

@@ -16,8 +16,17 @@ static const char *const learn_keys[] = {"MASTERSKILL", "LEARNINGSKILL",
 					 "LEARNINGMETHOD", "BOTMODEL", "ENV",
 					 "NUMGEN", NULL};
 
+/* A remote task's world is the remote's (docs/remote.md): BOTMODEL and
+ * ENV are for `evo serve` of it, not for the mind's side. */
+static const char *const remote_demo_keys[] = {"MASTERSKILL", NULL};
+static const char *const remote_learn_keys[] = {
+    "MASTERSKILL", "LEARNINGSKILL", "LEARNINGMETHOD", "NUMGEN", NULL};
+
 static const char *const *required_keys(const char *type)
 {
+	if (strstr(type, "REMOTE"))
+		return strncmp(type, "LEARN", 5) == 0 ? remote_learn_keys
+						      : remote_demo_keys;
 	if (strncmp(type, "LEARN", 5) == 0)
 		return learn_keys;
 	if (strncmp(type, "DEMO", 4) == 0)

@@ -234,7 +234,7 @@ static evo_wire_reason bad(char *why, size_t cap, const char *fmt,
 }
 
 evo_wire_reason evo_wire_decode_hello(const void *buf, size_t len,
-				      evo_hello *out, char *why, size_t cap)
+				      evo_wire_hello *out, char *why, size_t cap)
 {
 	if (walk(buf, len, __evo_lcm_hello_t_get_hash(), hello_fields,
 		 NF(hello_fields), "hello_t", why, cap))
@@ -277,7 +277,7 @@ evo_wire_reason evo_wire_decode_hello(const void *buf, size_t len,
 	return EVO_WIRE_OK;
 }
 
-evo_wire_reason evo_wire_decode_who(const void *buf, size_t len, evo_who *out,
+evo_wire_reason evo_wire_decode_who(const void *buf, size_t len, evo_wire_who *out,
 				    char *why, size_t cap)
 {
 	if (walk(buf, len, __evo_lcm_who_t_get_hash(), who_fields,
@@ -293,7 +293,7 @@ evo_wire_reason evo_wire_decode_who(const void *buf, size_t len, evo_who *out,
 }
 
 evo_wire_reason evo_wire_decode_control(const void *buf, size_t len,
-					evo_control *out, char *why,
+					evo_wire_control *out, char *why,
 					size_t cap)
 {
 	if (walk(buf, len, __evo_lcm_control_t_get_hash(), control_fields,
@@ -306,7 +306,7 @@ evo_wire_reason evo_wire_decode_control(const void *buf, size_t len,
 	copy_name(out->name, sizeof out->name, m.name);
 	out->session = m.session;
 	out->env = m.env;
-	out->op = (evo_control_op)m.op;
+	out->op = (evo_wire_control_op)m.op;
 	out->episode = m.episode;
 	out->layout_seed = (uint64_t)m.layout_seed;
 	out->seed = (uint64_t)m.seed;
@@ -319,7 +319,7 @@ evo_wire_reason evo_wire_decode_control(const void *buf, size_t len,
 }
 
 evo_wire_reason evo_wire_decode_sensors(const void *buf, size_t len,
-					evo_sensors_msg *out, char *why,
+					evo_wire_sensors *out, char *why,
 					size_t cap)
 {
 	if (walk(buf, len, __evo_lcm_sensors_t_get_hash(), sensors_fields,
@@ -344,7 +344,7 @@ evo_wire_reason evo_wire_decode_sensors(const void *buf, size_t len,
 }
 
 evo_wire_reason evo_wire_decode_command(const void *buf, size_t len,
-					evo_command_msg *out, char *why,
+					evo_wire_command *out, char *why,
 					size_t cap)
 {
 	if (walk(buf, len, __evo_lcm_command_t_get_hash(), command_fields,
@@ -401,7 +401,7 @@ static char *str(const char *s)
 		return type##_encode(buf, 0, size_, m) < 0 ? -1 : size_;     \
 	} while (0)
 
-int evo_wire_encode_hello(const evo_hello *h, void *buf, size_t cap)
+int evo_wire_encode_hello(const evo_wire_hello *h, void *buf, size_t cap)
 {
 	if (h->n_sensors > EVO_MAX_SENSORS ||
 	    h->n_actuators > EVO_MAX_ACTUATORS || !evo_wire_name_ok(h->name))
@@ -426,13 +426,13 @@ int evo_wire_encode_hello(const evo_hello *h, void *buf, size_t cap)
 	ENCODE(evo_lcm_hello_t, &m, buf, cap);
 }
 
-int evo_wire_encode_who(const evo_who *w, void *buf, size_t cap)
+int evo_wire_encode_who(const evo_wire_who *w, void *buf, size_t cap)
 {
 	evo_lcm_who_t m = {.protocol = w->protocol, .from = str(w->from)};
 	ENCODE(evo_lcm_who_t, &m, buf, cap);
 }
 
-int evo_wire_encode_control(const evo_control *c, void *buf, size_t cap)
+int evo_wire_encode_control(const evo_wire_control *c, void *buf, size_t cap)
 {
 	evo_lcm_control_t m = {
 	    .name = str(c->name),
@@ -446,7 +446,7 @@ int evo_wire_encode_control(const evo_control *c, void *buf, size_t cap)
 	ENCODE(evo_lcm_control_t, &m, buf, cap);
 }
 
-int evo_wire_encode_sensors(const evo_sensors_msg *s, void *buf, size_t cap)
+int evo_wire_encode_sensors(const evo_wire_sensors *s, void *buf, size_t cap)
 {
 	if (s->n > EVO_MAX_SENSORS)
 		return -1;
@@ -464,7 +464,7 @@ int evo_wire_encode_sensors(const evo_sensors_msg *s, void *buf, size_t cap)
 	ENCODE(evo_lcm_sensors_t, &m, buf, cap);
 }
 
-int evo_wire_encode_command(const evo_command_msg *c, void *buf, size_t cap)
+int evo_wire_encode_command(const evo_wire_command *c, void *buf, size_t cap)
 {
 	if (c->n > EVO_MAX_ACTUATORS)
 		return -1;

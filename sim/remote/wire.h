@@ -37,7 +37,7 @@ typedef enum evo_remote_kind {
 	EVO_REMOTE_SIMULATOR = 1
 } evo_remote_kind;
 
-typedef struct evo_hello {
+typedef struct evo_wire_hello {
 	int32_t protocol;
 	char name[EVO_REMOTE_NAME_MAX];
 	int64_t session;
@@ -47,28 +47,28 @@ typedef struct evo_hello {
 	unsigned n_sensors, n_actuators;
 	char sensor[EVO_MAX_SENSORS][EVO_NAME_MAX];
 	char actuator[EVO_MAX_ACTUATORS][EVO_NAME_MAX];
-} evo_hello;
+} evo_wire_hello;
 
-typedef struct evo_who {
+typedef struct evo_wire_who {
 	int32_t protocol;
 	char from[EVO_REMOTE_NAME_MAX];
-} evo_who;
+} evo_wire_who;
 
-typedef enum evo_control_op {
+typedef enum evo_wire_control_op {
 	EVO_CONTROL_RESET = 1,
 	EVO_CONTROL_STOP = 2
-} evo_control_op;
+} evo_wire_control_op;
 
-typedef struct evo_control {
+typedef struct evo_wire_control {
 	char name[EVO_REMOTE_NAME_MAX];
 	int64_t session;
 	int32_t env;
-	evo_control_op op;
+	evo_wire_control_op op;
 	int64_t episode;
 	uint64_t layout_seed, seed;
-} evo_control;
+} evo_wire_control;
 
-typedef struct evo_sensors_msg {
+typedef struct evo_wire_sensors {
 	char name[EVO_REMOTE_NAME_MAX];
 	int64_t session;
 	int32_t env;
@@ -77,16 +77,16 @@ typedef struct evo_sensors_msg {
 	double value[EVO_MAX_SENSORS];
 	double reward;
 	int done;
-} evo_sensors_msg;
+} evo_wire_sensors;
 
-typedef struct evo_command_msg {
+typedef struct evo_wire_command {
 	char name[EVO_REMOTE_NAME_MAX];
 	int64_t session;
 	int32_t env;
 	int64_t episode, tick;
 	unsigned n;
 	double value[EVO_MAX_ACTUATORS];
-} evo_command_msg;
+} evo_wire_command;
 
 /* A name a remote may have: 1..63 of [A-Za-z0-9_-]. */
 int evo_wire_name_ok(const char *name);
@@ -95,17 +95,17 @@ int evo_wire_name_ok(const char *name);
  * with why (cap bytes) saying what was wrong. The values are not checked
  * here (evo_wire_check_values). */
 evo_wire_reason evo_wire_decode_hello(const void *buf, size_t len,
-				      evo_hello *out, char *why, size_t cap);
-evo_wire_reason evo_wire_decode_who(const void *buf, size_t len, evo_who *out,
+				      evo_wire_hello *out, char *why, size_t cap);
+evo_wire_reason evo_wire_decode_who(const void *buf, size_t len, evo_wire_who *out,
 				    char *why, size_t cap);
 evo_wire_reason evo_wire_decode_control(const void *buf, size_t len,
-					evo_control *out, char *why,
+					evo_wire_control *out, char *why,
 					size_t cap);
 evo_wire_reason evo_wire_decode_sensors(const void *buf, size_t len,
-					evo_sensors_msg *out, char *why,
+					evo_wire_sensors *out, char *why,
 					size_t cap);
 evo_wire_reason evo_wire_decode_command(const void *buf, size_t len,
-					evo_command_msg *out, char *why,
+					evo_wire_command *out, char *why,
 					size_t cap);
 
 /* Every value in [0, 1] and the reward finite: EVO_WIRE_OK, or
@@ -116,11 +116,11 @@ evo_wire_reason evo_wire_check_values(const double *v, unsigned n,
 
 /* Encode into buf (cap bytes): the length, or -1 when it does not fit or
  * a field is out of the protocol's bounds. */
-int evo_wire_encode_hello(const evo_hello *m, void *buf, size_t cap);
-int evo_wire_encode_who(const evo_who *m, void *buf, size_t cap);
-int evo_wire_encode_control(const evo_control *m, void *buf, size_t cap);
-int evo_wire_encode_sensors(const evo_sensors_msg *m, void *buf, size_t cap);
-int evo_wire_encode_command(const evo_command_msg *m, void *buf, size_t cap);
+int evo_wire_encode_hello(const evo_wire_hello *m, void *buf, size_t cap);
+int evo_wire_encode_who(const evo_wire_who *m, void *buf, size_t cap);
+int evo_wire_encode_control(const evo_wire_control *m, void *buf, size_t cap);
+int evo_wire_encode_sensors(const evo_wire_sensors *m, void *buf, size_t cap);
+int evo_wire_encode_command(const evo_wire_command *m, void *buf, size_t cap);
 
 /* The largest encoded message evo sends or takes. */
 #define EVO_WIRE_MAX_BYTES 16384

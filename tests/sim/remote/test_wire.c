@@ -13,9 +13,9 @@
 static unsigned char buf[EVO_WIRE_MAX_BYTES];
 static char why[256];
 
-static evo_hello sample_hello(void)
+static evo_wire_hello sample_hello(void)
 {
-	evo_hello h;
+	evo_wire_hello h;
 	memset(&h, 0, sizeof h);
 	h.protocol = EVO_WIRE_PROTOCOL;
 	snprintf(h.name, sizeof h.name, "sim-1");
@@ -32,7 +32,7 @@ static evo_hello sample_hello(void)
 
 TEST(hello_round_trips)
 {
-	evo_hello h = sample_hello(), d;
+	evo_wire_hello h = sample_hello(), d;
 	int n = evo_wire_encode_hello(&h, buf, sizeof buf);
 	CHECK(n > 8);
 	CHECK_EQ_INT(evo_wire_decode_hello(buf, (size_t)n, &d, why, sizeof why),
@@ -51,7 +51,7 @@ TEST(hello_round_trips)
  * fingerprint, then each field big-endian. */
 TEST(sensors_encode_as_lcm_lays_them_out)
 {
-	evo_sensors_msg s, d;
+	evo_wire_sensors s, d;
 	memset(&s, 0, sizeof s);
 	snprintf(s.name, sizeof s.name, "ab");
 	s.session = 1;
@@ -82,7 +82,7 @@ TEST(sensors_encode_as_lcm_lays_them_out)
 
 TEST(every_cut_is_refused)
 {
-	evo_hello h = sample_hello(), d;
+	evo_wire_hello h = sample_hello(), d;
 	int n = evo_wire_encode_hello(&h, buf, sizeof buf);
 	int refused = 0;
 	for (int len = 0; len < n; len++)
@@ -100,11 +100,11 @@ TEST(every_cut_is_refused)
 
 TEST(another_types_bytes_are_refused)
 {
-	evo_command_msg c;
+	evo_wire_command c;
 	memset(&c, 0, sizeof c);
 	snprintf(c.name, sizeof c.name, "x");
 	int n = evo_wire_encode_command(&c, buf, sizeof buf);
-	evo_sensors_msg s;
+	evo_wire_sensors s;
 	CHECK_EQ_INT(evo_wire_decode_sensors(buf, (size_t)n, &s, why, sizeof why),
 		     EVO_WIRE_UNDECODABLE);
 	CHECK_CONTAINS(why, "not an evo_lcm.sensors_t");
@@ -113,7 +113,7 @@ TEST(another_types_bytes_are_refused)
 /* A count the remote claims is checked before anything is allocated. */
 TEST(counts_and_lengths_past_the_limits_are_refused)
 {
-	evo_sensors_msg s, d;
+	evo_wire_sensors s, d;
 	memset(&s, 0, sizeof s);
 	snprintf(s.name, sizeof s.name, "ab");
 	s.n = 1;
@@ -146,7 +146,7 @@ TEST(counts_and_lengths_past_the_limits_are_refused)
 
 TEST(bad_hellos_are_refused)
 {
-	evo_hello h = sample_hello(), d;
+	evo_wire_hello h = sample_hello(), d;
 	snprintf(h.name, sizeof h.name, "a b");
 	CHECK_EQ_INT(evo_wire_encode_hello(&h, buf, sizeof buf), -1);
 	/* a robot with several environments, made by hand */
@@ -186,7 +186,7 @@ TEST(values_outside_the_unit_interval_are_named)
 
 TEST(controls_round_trip_with_full_seeds)
 {
-	evo_control c, d;
+	evo_wire_control c, d;
 	memset(&c, 0, sizeof c);
 	snprintf(c.name, sizeof c.name, "sim");
 	c.op = EVO_CONTROL_RESET;

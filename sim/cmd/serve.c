@@ -1,0 +1,363 @@
+/* `evo serve TASK.simbatch`: evo's own 2D world served as a remote
+ * simulator over LCM (docs/remote.md). The task's environment and bot
+ * model run here; the mind runs in the `evo run` that drives it. Each
+ * environment is a world of its own, stepped in lockstep with the commands
+ * that arrive for it. */
+#define _POSIX_C_SOURCE 200809L
+#include "cmd/serve.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "base/rng.h"
+#include "mind/task.h"
+#include "remote/link.h"
+#include "remote/wire.h"
+#include "tasksim/tasksim.h"
+
+static volatile sig_atomic_t stop_requested;
+
+static void on_signal(int sig)
+{
+	(void)sig;
+	stop_requested = 1;
+}
+
+static void serve_usage(FILE *f)
+{
+	fputs("usage: evo serve TASK.simbatch [options]\n"
+	      "  --name NAME         the name evo run finds it by (default\n"
+	      "                      evo-serve-PID)\n"
+	      "  --environments N    episodes run at once (default 1)\n"
+	      "  --url URL           the LCM URL (default: the task's LCMURL,\n"
+	      "                      else LCM's default)\n",
+	      f);
+}
+
+typedef struct served_env {
+	evo_sim *sim;
+	int64_t episode; /* 0: none yet */
+	int64_t tick;	 /* the tick of the last sensors_t sent */
+	int active;
+	unsigned char last[EVO_WIRE_MAX_BYTES]; /* that sensors_t */
+	int last_len;
+} served_env;
+
+typedef struct server {
+	evo_link *link;
+	evo_wire_hello hello;
+	char ch_control[96], ch_command[96], ch_sensors[96];
+	served_env *env;
+	unsigned long dropped[EVO_WIRE_N_REASONS];
+} server;
+
+static void drop(server *sv, evo_wire_reason r, const char *type,
+		 const char *why)
+{
+	if (sv->dropped[r]++ == 0)
+		fprintf(stderr,
+			"evo serve: dropped a %s (%s: %s); later drops are "
+			"counted and reported at the end\n",
+			type, evo_wire_reason_name(r), why);
+}
+
+static int publish_hello(server *sv, evo_err *err)
+{
+	unsigned char buf[EVO_WIRE_MAX_BYTES];
+	int n = evo_wire_encode_hello(&sv->hello, buf, sizeof buf);
+	if (n < 0)
+		return evo_fail(err, "evo serve: cannot encode the hello");
+	return evo_link_publish(sv->link, "EVO_HELLO", buf, (size_t)n, err);
+}
+
+/* Sense env's world and send the sensors_t of its current tick. */
+static int send_sensors(server *sv, served_env *e, int env, double reward,
+			int done, evo_err *err)
+{
+	evo_wire_sensors s = {
+	    .session = sv->hello.session,
+	    .env = env,
+	    .episode = e->episode,
+	    .tick = e->tick,
+	    .n = sv->hello.n_sensors,
+	    .reward = reward,
+	    .done = done,
+	};
+	snprintf(s.name, sizeof s.name, "%s", sv->hello.name);
+	evo_sim_sense(e->sim, s.value);
+	e->last_len = evo_wire_encode_sensors(&s, e->last, sizeof e->last);
+	if (e->last_len < 0)
+		return evo_fail(err, "evo serve: cannot encode a sensors_t");
+	return evo_link_publish(sv->link, sv->ch_sensors, e->last,
+				(size_t)e->last_len, err);
+}
+
+static int resend(server *sv, served_env *e, evo_err *err)
+{
+	return evo_link_publish(sv->link, sv->ch_sensors, e->last,
+				(size_t)e->last_len, err);
+}
+
+/* A message for another remote or session, or an environment not run
+ * here: not for us. */
+static int ours(server *sv, const char *name, int64_t session, int32_t env,
+		const char *type)
+{
+	if (strcmp(name, sv->hello.name) == 0 &&
+	    session == sv->hello.session && env >= 0 &&
+	    env < sv->hello.environments)
+		return 1;
+	char why[160];
+	snprintf(why, sizeof why, "for %s, session %lld, environment %d",
+		 name, (long long)session, (int)env);
+	drop(sv, EVO_WIRE_FOREIGN, type, why);
+	return 0;
+}
+
+static int on_control(server *sv, const evo_link_msg *m, evo_err *err)
+{
+	evo_wire_control c;
+	char why[256];
+	evo_wire_reason r =
+	    evo_wire_decode_control(m->data, m->len, &c, why, sizeof why);
+	if (r) {
+		drop(sv, r, "control_t", why);
+		return 0;
+	}
+	if (!ours(sv, c.name, c.session, c.env, "control_t"))
+		return 0;
+	served_env *e = &sv->env[c.env];
+	if (c.op == EVO_CONTROL_STOP) {
+		e->active = 0;
+		return 0;
+	}
+	/* the same RESET again, not yet answered by a command: its answer
+	 * was lost, so it goes again (docs/remote.md) */
+	if (e->active && c.episode == e->episode && e->tick == 0)
+		return resend(sv, e, err);
+	if (c.episode < 1 || c.episode > INT_MAX) {
+		snprintf(why, sizeof why, "episode %lld", (long long)c.episode);
+		drop(sv, EVO_WIRE_VALUE, "control_t", why);
+		return 0;
+	}
+	if (evo_sim_reset(e->sim, (int)c.episode, c.layout_seed, c.seed, err))
+		return -1;
+	e->episode = c.episode;
+	e->tick = 0;
+	e->active = 1;
+	return send_sensors(sv, e, c.env, 0.0, 0, err);
+}
+
+static int on_command(server *sv, const evo_link_msg *m, evo_err *err)
+{
+	evo_wire_command c;
+	char why[256];
+	evo_wire_reason r =
+	    evo_wire_decode_command(m->data, m->len, &c, why, sizeof why);
+	if (r) {
+		drop(sv, r, "command_t", why);
+		return 0;
+	}
+	if (!ours(sv, c.name, c.session, c.env, "command_t"))
+		return 0;
+	served_env *e = &sv->env[c.env];
+	if (c.n != sv->hello.n_actuators) {
+		snprintf(why, sizeof why, "%u values; the hello says %u", c.n,
+			 sv->hello.n_actuators);
+		drop(sv, EVO_WIRE_COUNTS, "command_t", why);
+		return 0;
+	}
+	/* the command answered last, again: its answer was lost */
+	if (e->active && c.episode == e->episode && c.tick == e->tick - 1)
+		return resend(sv, e, err);
+	if (!e->active || c.episode != e->episode || c.tick != e->tick) {
+		snprintf(why, sizeof why,
+			 "tick %lld of episode %lld; this environment is at "
+			 "tick %lld of episode %lld%s",
+			 (long long)c.tick, (long long)c.episode,
+			 (long long)e->tick, (long long)e->episode,
+			 e->active ? "" : " (ended)");
+		drop(sv,
+		     c.episode > e->episode ||
+			     (c.episode == e->episode && c.tick > e->tick)
+			 ? EVO_WIRE_AHEAD
+			 : EVO_WIRE_STALE,
+		     "command_t", why);
+		return 0;
+	}
+	r = evo_wire_check_values(c.value, c.n, NULL, why, sizeof why);
+	if (r) {
+		drop(sv, r, "command_t", why);
+		return 0;
+	}
+	int done = evo_sim_act(e->sim, c.value, err);
+	if (done < 0)
+		return -1;
+	e->tick++;
+	if (done)
+		e->active = 0;
+	return send_sensors(sv, e, c.env, e->sim->scene->episode_reward, done,
+			    err);
+}
+
+static int serve(server *sv, evo_err *err)
+{
+	if (publish_hello(sv, err))
+		return -1;
+	while (!stop_requested) {
+		evo_link_msg m;
+		int got = evo_link_next(sv->link, 100, &m, err);
+		if (got < 0)
+			return -1;
+		if (!got)
+			continue;
+		int rc = 0;
+		if (strcmp(m.channel, sv->ch_command) == 0)
+			rc = on_command(sv, &m, err);
+		else if (strcmp(m.channel, sv->ch_control) == 0)
+			rc = on_control(sv, &m, err);
+		else if (strcmp(m.channel, "EVO_WHO") == 0)
+			rc = publish_hello(sv, err);
+		if (rc)
+			return -1;
+	}
+	return 0;
+}
+
+/* A session number no earlier run of this name is likely to have had. */
+static int64_t new_session(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_REALTIME, &ts);
+	evo_rng r = evo_rng_for((uint64_t)ts.tv_sec, (uint64_t)ts.tv_nsec,
+				(uint64_t)getpid(), 0);
+	return (int64_t)(evo_rng_next(&r) >> 1);
+}
+
+int evo_serve_main(int argc, char **argv)
+{
+	const char *task_path = NULL, *name = NULL, *url = NULL;
+	long envs = 1;
+	for (int i = 2; i < argc; i++) {
+		const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+		if (strcmp(a, "--name") == 0 && v) {
+			name = v;
+			i++;
+		} else if (strcmp(a, "--url") == 0 && v) {
+			url = v;
+			i++;
+		} else if (strcmp(a, "--environments") == 0 && v) {
+			char *end;
+			errno = 0;
+			envs = strtol(v, &end, 10);
+			if (*end || errno || envs < 1 ||
+			    envs > EVO_REMOTE_SERVE_MAX_ENVS) {
+				fprintf(stderr,
+					"evo serve: --environments expects a "
+					"whole number 1..%d, found '%s'\n",
+					EVO_REMOTE_SERVE_MAX_ENVS, v);
+				return 2;
+			}
+			i++;
+		} else if (a[0] == '-' || task_path) {
+			fprintf(stderr, "evo serve: unexpected argument '%s'\n",
+				a);
+			serve_usage(stderr);
+			return 2;
+		} else {
+			task_path = a;
+		}
+	}
+	if (!task_path) {
+		serve_usage(stderr);
+		return 2;
+	}
+	char own[EVO_REMOTE_NAME_MAX];
+	if (!name) {
+		snprintf(own, sizeof own, "evo-serve-%ld", (long)getpid());
+		name = own;
+	}
+	if (!evo_wire_name_ok(name)) {
+		fprintf(stderr,
+			"evo serve: --name '%s': a remote's name is 1..63 "
+			"letters, digits, '_' or '-'\n",
+			name);
+		return 2;
+	}
+	struct sigaction sa;
+	memset(&sa, 0, sizeof sa);
+	sa.sa_handler = on_signal;
+	sigaction(SIGINT, &sa, NULL);
+	sigaction(SIGTERM, &sa, NULL);
+
+	evo_err err = {{0}};
+	evo_task task;
+	if (evo_task_load(task_path, &task, &err)) {
+		fprintf(stderr, "%s\n", err.msg);
+		return 1;
+	}
+	if (!url)
+		url = evo_simbatch_get(task.sb, "LCMURL");
+	server sv;
+	memset(&sv, 0, sizeof sv);
+	int rc = 1;
+	sv.env = calloc((size_t)envs, sizeof *sv.env);
+	if (!sv.env) {
+		fprintf(stderr, "evo serve: out of memory\n");
+		goto out;
+	}
+	for (long i = 0; i < envs; i++) {
+		sv.env[i].sim = evo_sim_create(task.mind, task.sb, task_path,
+					       &err);
+		if (!sv.env[i].sim)
+			goto out;
+	}
+	const evo_botdesc *bd = task.mind->botdesc;
+	evo_wire_hello *h = &sv.hello;
+	h->protocol = EVO_WIRE_PROTOCOL;
+	snprintf(h->name, sizeof h->name, "%s", name);
+	h->session = new_session();
+	h->kind = EVO_REMOTE_SIMULATOR;
+	h->environments = (int32_t)envs;
+	h->n_sensors = bd->n_sensors;
+	h->n_actuators = bd->n_actuators;
+	for (unsigned i = 0; i < bd->n_sensors; i++)
+		snprintf(h->sensor[i], EVO_NAME_MAX, "%s", bd->sensor[i].name);
+	for (unsigned i = 0; i < bd->n_actuators; i++)
+		snprintf(h->actuator[i], EVO_NAME_MAX, "%s",
+			 bd->actuator[i].name);
+	snprintf(sv.ch_control, sizeof sv.ch_control, "EVO_%s_CONTROL", name);
+	snprintf(sv.ch_command, sizeof sv.ch_command, "EVO_%s_COMMAND", name);
+	snprintf(sv.ch_sensors, sizeof sv.ch_sensors, "EVO_%s_SENSORS", name);
+	sv.link = evo_link_open(url, &err);
+	if (!sv.link || evo_link_subscribe(sv.link, "EVO_WHO", &err) ||
+	    evo_link_subscribe(sv.link, sv.ch_control, &err) ||
+	    evo_link_subscribe(sv.link, sv.ch_command, &err))
+		goto out;
+	printf("evo serve: %s serves %s on %s (%ld environment%s)\n", name,
+	       task_path, evo_link_url(sv.link), envs, envs == 1 ? "" : "s");
+	fflush(stdout);
+	if (serve(&sv, &err) == 0)
+		rc = 0;
+out:
+	if (rc && err.msg[0])
+		fprintf(stderr, "%s\n", err.msg);
+	unsigned long total = 0;
+	for (int i = 1; i < EVO_WIRE_N_REASONS; i++)
+		total += sv.dropped[i];
+	if (total)
+		fprintf(stderr, "evo serve: dropped %lu message%s\n", total,
+			total == 1 ? "" : "s");
+	evo_link_close(sv.link);
+	for (long i = 0; sv.env && i < envs; i++)
+		evo_sim_destroy(sv.env[i].sim);
+	free(sv.env);
+	evo_task_free(&task);
+	return rc;
+}

@@ -1,0 +1,461 @@
+/* evo's side of a remote (sim/remote/session.h, docs/remote.md). */
+#define _POSIX_C_SOURCE 200809L
+#include "remote/session.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#define SLICE_MS 50	 /* the longest wait between two looks at stop */
+#define RESEND_S 0.25	 /* a message unanswered this long is sent again */
+#define WHO_EVERY_S 0.5
+
+static double now(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static int stopped(const evo_remote_opts *o, evo_err *err)
+{
+	if (o->stop && *o->stop)
+		return evo_fail(err, "stopped");
+	return 0;
+}
+
+/* ---- drops ------------------------------------------------------------- */
+
+static void dropped(evo_remote *r, evo_wire_reason why_code, const char *type,
+		    const char *why)
+{
+	if (r->dropped[why_code]++ == 0)
+		fprintf(stderr,
+			"evo: remote %s: dropped a %s (%s: %s); later drops "
+			"are counted and reported at the end\n",
+			r->hello.name, type, evo_wire_reason_name(why_code),
+			why);
+}
+
+static void report_drops(const evo_remote *r)
+{
+	unsigned long total = 0;
+	for (int i = 1; i < EVO_WIRE_N_REASONS; i++)
+		total += r->dropped[i];
+	if (!total)
+		return;
+	fprintf(stderr, "evo: remote %s: dropped %lu message%s (", r->hello.name,
+		total, total == 1 ? "" : "s");
+	const char *sep = "";
+	for (int i = 1; i < EVO_WIRE_N_REASONS; i++)
+		if (r->dropped[i]) {
+			fprintf(stderr, "%s%lu %s", sep, r->dropped[i],
+				evo_wire_reason_name((evo_wire_reason)i));
+			sep = ", ";
+		}
+	fprintf(stderr, ")\n");
+}
+
+/* ---- finding the remote ---------------------------------------------- */
+
+static const char *kind_name(evo_remote_kind k)
+{
+	return k == EVO_REMOTE_SIMULATOR ? "simulator" : "robot";
+}
+
+/* names the botdesc has and the hello lacks (missing), and the other way
+ * round (extra), as one sentence; 0 when they are the same set. */
+static int compare_names(char *out, size_t cap, const char *what,
+			 const char (*mine)[EVO_NAME_MAX], unsigned n_mine,
+			 const char (*theirs)[EVO_NAME_MAX], unsigned n_theirs)
+{
+	size_t k = 0;
+	int bad = 0;
+	out[0] = 0;
+	for (int pass = 0; pass < 2; pass++) {
+		const char(*a)[EVO_NAME_MAX] = pass ? theirs : mine;
+		const char(*b)[EVO_NAME_MAX] = pass ? mine : theirs;
+		unsigned na = pass ? n_theirs : n_mine,
+			 nb = pass ? n_mine : n_theirs;
+		int first = 1;
+		for (unsigned i = 0; i < na; i++) {
+			unsigned j = 0;
+			while (j < nb && strcmp(a[i], b[j]) != 0)
+				j++;
+			if (j < nb)
+				continue;
+			bad = 1;
+			if (k < cap)
+				k += (size_t)snprintf(
+				    out + k, cap - k, "%s%s%s",
+				    first ? (pass ? "; it has the extra "
+						  : "; it lacks the ")
+					  : ", ",
+				    first ? what : "", first ? " " : "");
+			if (k < cap)
+				k += (size_t)snprintf(out + k, cap - k, "%s",
+						      a[i]);
+			first = 0;
+		}
+	}
+	return bad;
+}
+
+/* Check a hello against the mind and fill the maps. */
+static int accept(evo_remote *r, evo_err *err)
+{
+	const evo_botdesc *bd = r->mind->botdesc;
+	const evo_wire_hello *h = &r->hello;
+	if (h->protocol != EVO_WIRE_PROTOCOL)
+		return evo_fail(err,
+				"remote %s speaks protocol %d; this evo speaks "
+				"%d (docs/remote.md)",
+				h->name, (int)h->protocol, EVO_WIRE_PROTOCOL);
+	char mine_s[EVO_MAX_SENSORS][EVO_NAME_MAX];
+	char mine_a[EVO_MAX_ACTUATORS][EVO_NAME_MAX];
+	for (unsigned i = 0; i < bd->n_sensors; i++)
+		snprintf(mine_s[i], EVO_NAME_MAX, "%s", bd->sensor[i].name);
+	for (unsigned i = 0; i < bd->n_actuators; i++)
+		snprintf(mine_a[i], EVO_NAME_MAX, "%s", bd->actuator[i].name);
+	char s[700], a[300];
+	int bs = compare_names(s, sizeof s, "sensors", (const char(*)[EVO_NAME_MAX])mine_s,
+			       bd->n_sensors, h->sensor, h->n_sensors);
+	int ba = compare_names(a, sizeof a, "actuators", (const char(*)[EVO_NAME_MAX])mine_a,
+			       bd->n_actuators, h->actuator, h->n_actuators);
+	if (bs || ba)
+		return evo_fail(err,
+				"remote %s does not fit %s.botdesc%s%s (the "
+				"names must be the same, in any order)",
+				h->name, r->mind->bot_name, s, a);
+	for (unsigned i = 0; i < bd->n_sensors; i++)
+		for (unsigned j = 0; j < h->n_sensors; j++)
+			if (strcmp(mine_s[i], h->sensor[j]) == 0)
+				r->sensor_at[i] = (int)j;
+	for (unsigned j = 0; j < h->n_actuators; j++)
+		for (unsigned i = 0; i < bd->n_actuators; i++)
+			if (strcmp(mine_a[i], h->actuator[j]) == 0)
+				r->actuator_of[j] = (int)i;
+	snprintf(r->ch_sensors, sizeof r->ch_sensors, "EVO_%s_SENSORS",
+		 h->name);
+	snprintf(r->ch_command, sizeof r->ch_command, "EVO_%s_COMMAND",
+		 h->name);
+	snprintf(r->ch_control, sizeof r->ch_control, "EVO_%s_CONTROL",
+		 h->name);
+	return evo_link_subscribe(r->link, r->ch_sensors, err);
+}
+
+static int send_who(evo_remote *r, evo_err *err)
+{
+	evo_wire_who w = {.protocol = EVO_WIRE_PROTOCOL};
+	if (r->opts.self)
+		snprintf(w.from, sizeof w.from, "%s", r->opts.self);
+	else
+		snprintf(w.from, sizeof w.from, "evo-%ld", (long)getpid());
+	unsigned char buf[256];
+	int n = evo_wire_encode_who(&w, buf, sizeof buf);
+	if (n < 0)
+		return evo_fail(err, "evo: cannot encode a who_t");
+	return evo_link_publish(r->link, "EVO_WHO", buf, (size_t)n, err);
+}
+
+/* Wait for a fitting hello. */
+static int find(evo_remote *r, evo_err *err)
+{
+	const evo_remote_opts *o = &r->opts;
+	double start = now(), asked = 0, told = start;
+	for (;;) {
+		if (stopped(o, err))
+			return -1;
+		double t = now();
+		if (t - asked >= WHO_EVERY_S) {
+			if (send_who(r, err))
+				return -1;
+			asked = t;
+		}
+		if (t - told >= o->timeout) {
+			fprintf(stderr,
+				"evo: no %s%s%s has answered on %s for %.0f s; "
+				"waiting (Ctrl-C stops)\n",
+				kind_name(o->kind), o->name ? " named " : "",
+				o->name ? o->name : "", evo_link_url(r->link),
+				t - start);
+			told = t;
+		}
+		evo_link_msg m;
+		int got = evo_link_next(r->link, SLICE_MS, &m, err);
+		if (got < 0)
+			return -1;
+		if (!got || strcmp(m.channel, "EVO_HELLO") != 0)
+			continue;
+		evo_wire_hello h;
+		char why[256];
+		if (evo_wire_decode_hello(m.data, m.len, &h, why, sizeof why)) {
+			if (r->dropped[EVO_WIRE_UNDECODABLE]++ == 0)
+				fprintf(stderr,
+					"evo: dropped a hello_t on EVO_HELLO "
+					"(%s)\n",
+					why);
+			continue;
+		}
+		if (o->name && strcmp(h.name, o->name) != 0)
+			continue;
+		if (h.kind != o->kind) {
+			if (o->name)
+				return evo_fail(err,
+						"remote %s is a %s; this task "
+						"needs a %s",
+						h.name, kind_name(h.kind),
+						kind_name(o->kind));
+			continue;
+		}
+		r->hello = h;
+		r->heard_at = now();
+		return accept(r, err);
+	}
+}
+
+evo_remote *evo_remote_connect(const evo_mindfolder *mind,
+			       const evo_remote_opts *o, evo_err *err)
+{
+	evo_remote *r = calloc(1, sizeof *r);
+	if (!r) {
+		evo_fail(err, "out of memory");
+		return NULL;
+	}
+	r->opts = *o;
+	if (!(r->opts.timeout > 0))
+		r->opts.timeout = 2.0;
+	r->mind = mind;
+	r->link = evo_link_open(o->url, err);
+	if (!r->link || evo_link_subscribe(r->link, "EVO_HELLO", err) ||
+	    find(r, err)) {
+		evo_link_close(r->link);
+		free(r);
+		return NULL;
+	}
+	return r;
+}
+
+/* ---- episodes ---------------------------------------------------------- */
+
+static int send_env(evo_remote *r, evo_remote_env *e, const char *channel,
+		    int len, evo_err *err)
+{
+	if (len < 0)
+		return evo_fail(err, "evo: cannot encode a message for %s",
+				r->hello.name);
+	e->sent_len = len;
+	snprintf(e->sent_channel, sizeof e->sent_channel, "%s", channel);
+	e->sent_at = now();
+	return evo_link_publish(r->link, channel, e->sent, (size_t)len, err);
+}
+
+/* A sensors_t: keep it when it is the one its environment awaits. */
+static int take_sensors(evo_remote *r, const evo_link_msg *m, evo_err *err)
+{
+	evo_wire_sensors s;
+	char why[256];
+	evo_wire_reason rc =
+	    evo_wire_decode_sensors(m->data, m->len, &s, why, sizeof why);
+	if (rc) {
+		dropped(r, rc, "sensors_t", why);
+		return 0;
+	}
+	if (strcmp(s.name, r->hello.name) != 0 ||
+	    s.session != r->hello.session || s.env < 0 ||
+	    s.env >= r->hello.environments || s.env >= EVO_REMOTE_MAX_ENVS) {
+		snprintf(why, sizeof why,
+			 "from %s, session %lld, environment %d",
+			 s.name, (long long)s.session, (int)s.env);
+		dropped(r, EVO_WIRE_FOREIGN, "sensors_t", why);
+		return 0;
+	}
+	if (s.n != r->hello.n_sensors) {
+		snprintf(why, sizeof why, "%u values; its hello says %u", s.n,
+			 r->hello.n_sensors);
+		dropped(r, EVO_WIRE_COUNTS, "sensors_t", why);
+		return 0;
+	}
+	evo_remote_env *e = &r->env[s.env];
+	if (s.episode < e->episode ||
+	    (s.episode == e->episode && (s.tick < e->tick || e->have))) {
+		snprintf(why, sizeof why,
+			 "tick %lld of episode %lld; evo is at tick %lld of "
+			 "episode %lld",
+			 (long long)s.tick, (long long)s.episode,
+			 (long long)e->tick, (long long)e->episode);
+		dropped(r, EVO_WIRE_STALE, "sensors_t", why);
+		return 0;
+	}
+	if (s.episode > e->episode || s.tick > e->tick) {
+		snprintf(why, sizeof why,
+			 "tick %lld of episode %lld; evo waits for tick %lld "
+			 "of episode %lld",
+			 (long long)s.tick, (long long)s.episode,
+			 (long long)e->tick, (long long)e->episode);
+		dropped(r, EVO_WIRE_AHEAD, "sensors_t", why);
+		return 0;
+	}
+	r->heard_at = now();
+	rc = evo_wire_check_values(s.value, s.n, &s.reward, why, sizeof why);
+	if (rc) {
+		/* a simulator that sends a bad value for the awaited tick
+		 * cannot go on: lockstep waits for this very message */
+		r->dropped[rc]++;
+		return evo_fail(err,
+				"remote %s: the sensors_t of tick %lld of "
+				"episode %lld (environment %d): %s",
+				r->hello.name, (long long)s.tick,
+				(long long)s.episode, (int)s.env, why);
+	}
+	e->sensors = s;
+	e->have = 1;
+	return 0;
+}
+
+/* A hello while running: the same session answering a who is fine; a new
+ * session is a remote that restarted and lost its episodes. */
+static int take_hello(evo_remote *r, const evo_link_msg *m, evo_err *err)
+{
+	evo_wire_hello h;
+	char why[256];
+	if (evo_wire_decode_hello(m->data, m->len, &h, why, sizeof why))
+		return 0;
+	if (strcmp(h.name, r->hello.name) == 0 &&
+	    h.session != r->hello.session)
+		return evo_fail(err,
+				"remote %s restarted (a new session): the "
+				"episodes it was running are lost",
+				h.name);
+	return 0;
+}
+
+/* Wait until env holds the message of the tick it awaits. */
+static int await(evo_remote *r, int env, evo_err *err)
+{
+	evo_remote_env *e = &r->env[env];
+	double told = 0;
+	while (!e->have) {
+		if (stopped(&r->opts, err))
+			return -1;
+		double t = now();
+		if (t - e->sent_at >= RESEND_S) {
+			e->sent_at = t;
+			if (evo_link_publish(r->link, e->sent_channel, e->sent,
+					     (size_t)e->sent_len, err))
+				return -1;
+		}
+		if (t - r->heard_at >= r->opts.timeout &&
+		    t - told >= r->opts.timeout) {
+			fprintf(stderr,
+				"evo: remote %s silent for %.1f s (tick %lld "
+				"of episode %lld); waiting (Ctrl-C stops)\n",
+				r->hello.name, t - r->heard_at,
+				(long long)e->tick, (long long)e->episode);
+			told = t;
+		}
+		evo_link_msg m;
+		int got = evo_link_next(r->link, SLICE_MS, &m, err);
+		if (got < 0)
+			return -1;
+		if (!got)
+			continue;
+		if (strcmp(m.channel, r->ch_sensors) == 0) {
+			if (take_sensors(r, &m, err))
+				return -1;
+		} else if (strcmp(m.channel, "EVO_HELLO") == 0) {
+			if (take_hello(r, &m, err))
+				return -1;
+		}
+	}
+	return 0;
+}
+
+int evo_remote_reset(evo_remote *r, int env, int64_t episode,
+		     uint64_t layout_seed, uint64_t seed, evo_err *err)
+{
+	if (env < 0 || env >= r->hello.environments)
+		return evo_fail(err, "remote %s runs %d environments, not %d",
+				r->hello.name, (int)r->hello.environments,
+				env + 1);
+	evo_remote_env *e = &r->env[env];
+	e->episode = episode;
+	e->tick = 0;
+	e->have = 0;
+	evo_wire_control c = {
+	    .session = r->hello.session,
+	    .env = env,
+	    .op = EVO_CONTROL_RESET,
+	    .episode = episode,
+	    .layout_seed = layout_seed,
+	    .seed = seed,
+	};
+	snprintf(c.name, sizeof c.name, "%s", r->hello.name);
+	if (send_env(r, e, r->ch_control,
+		     evo_wire_encode_control(&c, e->sent, sizeof e->sent), err))
+		return -1;
+	return await(r, env, err);
+}
+
+void evo_remote_sensors(const evo_remote *r, int env, double *values)
+{
+	const evo_remote_env *e = &r->env[env];
+	for (unsigned i = 0; i < r->mind->botdesc->n_sensors; i++)
+		values[i] = e->sensors.value[r->sensor_at[i]];
+}
+
+int evo_remote_step(evo_remote *r, int env, const double *commands,
+		    evo_err *err)
+{
+	evo_remote_env *e = &r->env[env];
+	evo_wire_command c = {
+	    .session = r->hello.session,
+	    .env = env,
+	    .episode = e->episode,
+	    .tick = e->tick,
+	    .n = r->hello.n_actuators,
+	};
+	snprintf(c.name, sizeof c.name, "%s", r->hello.name);
+	for (unsigned j = 0; j < c.n; j++)
+		c.value[j] = commands[r->actuator_of[j]];
+	if (send_env(r, e, r->ch_command,
+		     evo_wire_encode_command(&c, e->sent, sizeof e->sent), err))
+		return -1;
+	e->tick++;
+	e->have = 0;
+	if (await(r, env, err))
+		return -1;
+	return e->sensors.done ? 1 : 0;
+}
+
+double evo_remote_reward(const evo_remote *r, int env)
+{
+	return r->env[env].sensors.reward;
+}
+
+void evo_remote_close(evo_remote *r)
+{
+	if (!r)
+		return;
+	evo_err ignored;
+	for (int i = 0; i < r->hello.environments && i < EVO_REMOTE_MAX_ENVS;
+	     i++) {
+		if (!r->env[i].episode)
+			continue;
+		evo_wire_control c = {.session = r->hello.session,
+				 .env = i,
+				 .op = EVO_CONTROL_STOP,
+				 .episode = r->env[i].episode};
+		snprintf(c.name, sizeof c.name, "%s", r->hello.name);
+		unsigned char buf[512];
+		int n = evo_wire_encode_control(&c, buf, sizeof buf);
+		if (n > 0)
+			evo_link_publish(r->link, r->ch_control, buf, (size_t)n,
+					 &ignored);
+	}
+	report_drops(r);
+	evo_link_close(r->link);
+	free(r);
+}

@@ -1,0 +1,399 @@
+/* Remote simulators over LCM (docs/remote.md), end to end on loopback:
+ * `evo run` of a DEMOREMOTESIM task driving `evo serve` writes the very
+ * trace DEMOSIM writes in one process; a remote of the test's own, in
+ * its own process, checks that evo maps sensor and actuator names in any
+ * order, that a remote with other names is refused with the names, and
+ * that bad messages are dropped and counted by reason; no evo waits past
+ * SIGTERM. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "harness.h"
+#include "remote/link.h"
+#include "remote/wire.h"
+#include "support/cli.h"
+
+static char out[1 << 16], out2[1 << 16];
+
+static double mono(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* A task of the Avoid mind that names remote `name`, in the test's copy of
+ * the mind folder. */
+static void remote_task(const char *name, const char *extra)
+{
+	cli_sh("[ -d %s/Avoid ] || (cp -r minds/Avoid %s/ && rm -rf "
+	       "%s/Avoid/Runs)",
+	       cli_tmp, cli_tmp, cli_tmp);
+	char text[512];
+	snprintf(text, sizeof text,
+		 "TYPE:DEMOREMOTESIM\nBOTMODEL:BotType8\nMASTERSKILL:Avoid\n"
+		 "ENV:Roam\nTICKLIM:15000\nREMOTENAME:%s\n%s",
+		 name, extra);
+	cli_write(text, "%s/Avoid/Tasks/%s.simbatch", cli_tmp, name);
+}
+
+/* `evo serve` of task `name` under that name, started and ready. */
+static pid_t start_serve(const char *name)
+{
+	char cmd[1024], log[512];
+	snprintf(log, sizeof log, "%s/%s.serve.log", cli_tmp, name);
+	snprintf(cmd, sizeof cmd,
+		 "exec %s serve %s/Avoid/Tasks/%s.simbatch --name %s >%s 2>&1",
+		 cli_evo, cli_tmp, name, name, log);
+	pid_t pid = fork();
+	if (pid == 0) {
+		signal(SIGINT, SIG_DFL);
+		signal(SIGTERM, SIG_DFL);
+		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
+		_exit(127);
+	}
+	double limit = mono() + 30;
+	for (;;) {
+		char *t = cli_read("%s", log);
+		int ready = t && strstr(t, " serves ");
+		free(t);
+		if (ready || mono() > limit)
+			break;
+		struct timespec ms = {0, 5000000};
+		nanosleep(&ms, NULL);
+	}
+	return pid;
+}
+
+/* SIGTERM; the exit status, and how long it took in *secs. */
+static int stop(pid_t pid, double *secs)
+{
+	double t0 = mono();
+	kill(pid, SIGTERM);
+	int st = 0;
+	while (waitpid(pid, &st, WNOHANG) != pid) {
+		if (mono() - t0 > 10) {
+			kill(pid, SIGKILL);
+			waitpid(pid, &st, 0);
+			break;
+		}
+		struct timespec ms = {0, 2000000};
+		nanosleep(&ms, NULL);
+	}
+	*secs = mono() - t0;
+	return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+/* The episode lines of a run, without what DEMOSIM adds after the ticks
+ * (collision counts), so the two forms compare. */
+static void episode_lines(const char *text, char *lines, size_t cap)
+{
+	size_t k = 0;
+	lines[0] = 0;
+	for (const char *p = strstr(text, "episode "); p;
+	     p = strstr(p + 1, "\nepisode ")) {
+		if (*p == '\n')
+			p++;
+		const char *end = strstr(p, " ticks");
+		if (!end || k + (size_t)(end - p) + 8 >= cap)
+			break;
+		k += (size_t)snprintf(lines + k, cap - k, "%.*s ticks\n",
+				      (int)(end - p), p);
+	}
+}
+
+TEST(a_served_world_runs_as_demosim_does)
+{
+	char name[64];
+	snprintf(name, sizeof name, "world-%ld", (long)getpid());
+	remote_task(name, "");
+	pid_t srv = start_serve(name);
+	int rc = cli_capture(out, sizeof out,
+			     "%s run %s/Avoid/Tasks/%s.simbatch -nog --seed 5 "
+			     "--episodes 2 --ticks 700 --trace %s/remote.trace",
+			     cli_evo, cli_tmp, name, cli_tmp);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out, "episode 2: reward ");
+	int rc2 = cli_capture(out2, sizeof out2,
+			      "%s run minds/Avoid/Tasks/Avoid-DEMO.simbatch "
+			      "-nog --seed 5 --episodes 2 --ticks 700 --trace "
+			      "%s/demo.trace",
+			      cli_evo, cli_tmp);
+	CHECK_EQ_INT(rc2, 0);
+	static char a[4096], b[4096];
+	episode_lines(out, a, sizeof a);
+	episode_lines(out2, b, sizeof b);
+	CHECK(a[0] != 0);
+	CHECK_EQ_STR(a, b);
+	char *ta = cli_read("%s/remote.trace", cli_tmp);
+	char *tb = cli_read("%s/demo.trace", cli_tmp);
+	CHECK(ta && tb && strcmp(ta, tb) == 0);
+	/* 5 header lines and 2 x 700 ticks */
+	CHECK_EQ_INT(cli_count_lines(ta, ""), 5 + 1400);
+	free(ta);
+	free(tb);
+	double secs;
+	CHECK_EQ_INT(stop(srv, &secs), 0);
+	CHECK(secs < 1.0);
+}
+
+/* ---- a remote of the test's own ------------------------------------------ */
+
+enum fake_mode { FAKE_GOOD, FAKE_OTHER_NAMES, FAKE_NOISY };
+
+static void publish(evo_link *l, const char *ch, const void *b, int n)
+{
+	evo_err err;
+	if (n > 0)
+		evo_link_publish(l, ch, b, (size_t)n, &err);
+}
+
+/* Avoid's sensors and actuators, listed in reverse, so that evo must map
+ * them by name. The sensors of tick 0 read S1..S3 0.1 (an obstacle close
+ * ahead and to the right), S9 and S10 1, DOF 0.3 and the rest 0.5; tick 1
+ * ends the episode with reward 7.5. What evo commands at tick 0 goes to
+ * the file `got`. */
+static void fake_remote(const char *name, enum fake_mode mode, const char *got)
+{
+	static const char *sensors[] = {"S1", "S2", "S3", "S4", "S5", "S6",
+					"S7", "S8", "S9", "S10", "DOF"};
+	evo_err err;
+	evo_link *l = evo_link_open(NULL, &err);
+	char ch_control[96], ch_command[96], ch_sensors[96];
+	snprintf(ch_control, sizeof ch_control, "EVO_%s_CONTROL", name);
+	snprintf(ch_command, sizeof ch_command, "EVO_%s_COMMAND", name);
+	snprintf(ch_sensors, sizeof ch_sensors, "EVO_%s_SENSORS", name);
+	if (!l || evo_link_subscribe(l, "EVO_WHO", &err) ||
+	    evo_link_subscribe(l, ch_control, &err) ||
+	    evo_link_subscribe(l, ch_command, &err))
+		_exit(3);
+	evo_wire_hello h = {.protocol = EVO_WIRE_PROTOCOL,
+			    .session = 42,
+			    .kind = EVO_REMOTE_SIMULATOR,
+			    .environments = 1,
+			    .n_sensors = 11,
+			    .n_actuators = 2};
+	snprintf(h.name, sizeof h.name, "%s", name);
+	for (int i = 0; i < 11; i++)
+		snprintf(h.sensor[i], EVO_NAME_MAX, "%s", sensors[10 - i]);
+	if (mode == FAKE_OTHER_NAMES) {
+		snprintf(h.sensor[1], EVO_NAME_MAX, "S11");
+		snprintf(h.actuator[1], EVO_NAME_MAX, "Claw");
+	} else {
+		snprintf(h.actuator[1], EVO_NAME_MAX, "MotL");
+	}
+	snprintf(h.actuator[0], EVO_NAME_MAX, "MotR");
+	static unsigned char buf[EVO_WIRE_MAX_BYTES];
+	publish(l, "EVO_HELLO", buf, evo_wire_encode_hello(&h, buf, sizeof buf));
+	evo_wire_sensors s = {.session = 42, .n = 11};
+	snprintf(s.name, sizeof s.name, "%s", name);
+	for (int i = 0; i < 11; i++) {
+		const char *n = h.sensor[i];
+		s.value[i] = strcmp(n, "S1") == 0 || strcmp(n, "S2") == 0 ||
+				     strcmp(n, "S3") == 0
+				 ? 0.1
+			     : strcmp(n, "S9") == 0 || strcmp(n, "S10") == 0
+				 ? 1.0
+			     : strcmp(n, "DOF") == 0 ? 0.3
+						     : 0.5;
+	}
+	double limit = mono() + 30;
+	while (mono() < limit) {
+		evo_link_msg m;
+		if (evo_link_next(l, 100, &m, &err) <= 0)
+			continue;
+		if (strcmp(m.channel, "EVO_WHO") == 0) {
+			publish(l, "EVO_HELLO", buf,
+				evo_wire_encode_hello(&h, buf, sizeof buf));
+		} else if (strcmp(m.channel, ch_control) == 0) {
+			evo_wire_control c;
+			char why[256];
+			if (evo_wire_decode_control(m.data, m.len, &c, why,
+						    sizeof why))
+				continue;
+			if (c.op == EVO_CONTROL_STOP)
+				break;
+			s.episode = c.episode;
+			s.tick = 0;
+			if (mode == FAKE_NOISY) {
+				/* bytes of no type, another session, a
+				 * wrong count, a tick ahead, then the
+				 * right message */
+				publish(l, ch_sensors, "junk", 4);
+				evo_wire_sensors bad = s;
+				bad.session = 41;
+				publish(l, ch_sensors, buf,
+					evo_wire_encode_sensors(&bad, buf,
+								sizeof buf));
+				bad = s;
+				bad.n = 3;
+				publish(l, ch_sensors, buf,
+					evo_wire_encode_sensors(&bad, buf,
+								sizeof buf));
+				bad = s;
+				bad.tick = 5;
+				publish(l, ch_sensors, buf,
+					evo_wire_encode_sensors(&bad, buf,
+								sizeof buf));
+			}
+			publish(l, ch_sensors, buf,
+				evo_wire_encode_sensors(&s, buf, sizeof buf));
+		} else if (strcmp(m.channel, ch_command) == 0) {
+			evo_wire_command c;
+			char why[256];
+			if (evo_wire_decode_command(m.data, m.len, &c, why,
+						    sizeof why) ||
+			    c.tick != 0)
+				continue;
+			char text[128];
+			snprintf(text, sizeof text, "%u %.6f %.6f\n", c.n,
+				 c.value[0], c.value[1]);
+			cli_write(text, "%s", got);
+			s.tick = 1;
+			s.reward = 7.5;
+			s.done = 1;
+			publish(l, ch_sensors, buf,
+				evo_wire_encode_sensors(&s, buf, sizeof buf));
+		}
+	}
+	evo_link_close(l);
+	_exit(0);
+}
+
+static pid_t start_fake(const char *name, enum fake_mode mode, const char *got)
+{
+	pid_t pid = fork();
+	if (pid == 0)
+		fake_remote(name, mode, got);
+	return pid;
+}
+
+/* The commands of tick 0 are what `evo tick` gives for the same sensor
+ * values (MotL 0, MotR 1), in the remote's order (MotR first). */
+TEST(names_are_mapped_in_any_order)
+{
+	char name[64], got[256];
+	snprintf(name, sizeof name, "fake-%ld", (long)getpid());
+	snprintf(got, sizeof got, "%s/got.txt", cli_tmp);
+	remote_task(name, "");
+	CHECK_EQ_INT(cli_capture(out2, sizeof out2,
+				 "%s tick minds/Avoid --ticks 1 --sensor S1=0.1 "
+				 "--sensor S2=0.1 --sensor S3=0.1 --sensor S9=1 "
+				 "--sensor S10=1 --sensor DOF=0.3",
+				 cli_evo),
+		     0);
+	CHECK_CONTAINS(out2, "   0   0.0000   1.0000");
+	pid_t f = start_fake(name, FAKE_GOOD, got);
+	int rc = cli_capture(out, sizeof out,
+			     "%s run %s/Avoid/Tasks/%s.simbatch -nog", cli_evo,
+			     cli_tmp, name);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out, "episode 1: reward 7.500000 over 1 ticks");
+	char *g = cli_read("%s", got);
+	CHECK(g && strcmp(g, "2 1.000000 0.000000\n") == 0);
+	free(g);
+	int st;
+	waitpid(f, &st, 0);
+}
+
+TEST(a_remote_with_other_names_is_refused_with_them)
+{
+	char name[64], got[256];
+	snprintf(name, sizeof name, "other-%ld", (long)getpid());
+	snprintf(got, sizeof got, "%s/got2.txt", cli_tmp);
+	remote_task(name, "");
+	pid_t f = start_fake(name, FAKE_OTHER_NAMES, got);
+	int rc = cli_capture(out, sizeof out,
+			     "%s run %s/Avoid/Tasks/%s.simbatch -nog", cli_evo,
+			     cli_tmp, name);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "does not fit Avoid.botdesc; it lacks the sensors "
+			    "S10; it has the extra sensors S11; it lacks the "
+			    "actuators MotL; it has the extra actuators Claw");
+	kill(f, SIGKILL);
+	int st;
+	waitpid(f, &st, 0);
+}
+
+TEST(bad_messages_are_dropped_and_counted_by_reason)
+{
+	char name[64], got[256];
+	snprintf(name, sizeof name, "noisy-%ld", (long)getpid());
+	snprintf(got, sizeof got, "%s/got3.txt", cli_tmp);
+	remote_task(name, "");
+	pid_t f = start_fake(name, FAKE_NOISY, got);
+	int rc = cli_capture(out, sizeof out,
+			     "%s run %s/Avoid/Tasks/%s.simbatch -nog", cli_evo,
+			     cli_tmp, name);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out, "episode 1: reward 7.500000 over 1 ticks");
+	CHECK_CONTAINS(out, "dropped a sensors_t (undecodable: not an "
+			    "evo_lcm.sensors_t");
+	CHECK_CONTAINS(out, "dropped 4 messages (1 undecodable, 1 foreign, 1 "
+			    "counts, 1 ahead)");
+	int st;
+	waitpid(f, &st, 0);
+}
+
+/* No remote answers: evo says so after REMOTETIMEOUT, keeps waiting, and
+ * SIGTERM ends the wait at once. */
+TEST(waiting_for_no_remote_says_so_and_stops_on_sigterm)
+{
+	char name[64];
+	snprintf(name, sizeof name, "nobody-%ld", (long)getpid());
+	remote_task(name, "REMOTETIMEOUT:0.2\n");
+	char cmd[1024], log[512];
+	snprintf(log, sizeof log, "%s/nobody.log", cli_tmp);
+	snprintf(cmd, sizeof cmd, "%s run %s/Avoid/Tasks/%s.simbatch -nog >%s 2>&1",
+		 cli_evo, cli_tmp, name, log);
+	int st;
+	double secs;
+	CHECK_EQ_INT(cli_stop(cmd, log, "has answered", 0.3, SIGTERM, &st,
+			      &secs),
+		     0);
+	CHECK(secs < 1.0);
+	char *t = cli_read("%s", log);
+	CHECK(t && strstr(t, "no simulator named nobody-") &&
+	      strstr(t, "waiting (Ctrl-C stops)"));
+	free(t);
+}
+
+TEST(bad_remote_keys_are_refused)
+{
+	char name[64];
+	snprintf(name, sizeof name, "keys-%ld", (long)getpid());
+	remote_task(name, "REMOTETIMEOUT:soon\n");
+	int rc = cli_capture(out, sizeof out,
+			     "%s run %s/Avoid/Tasks/%s.simbatch -nog", cli_evo,
+			     cli_tmp, name);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "REMOTETIMEOUT expects seconds");
+	cli_write("TYPE:DEMOREMOTESIM\nMASTERSKILL:Avoid\nREMOTENAME:a/b\n",
+		  "%s/Avoid/Tasks/badname.simbatch", cli_tmp);
+	rc = cli_capture(out, sizeof out,
+			 "%s run %s/Avoid/Tasks/badname.simbatch -nog", cli_evo,
+			 cli_tmp);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "REMOTENAME 'a/b': a remote's name is");
+}
+
+int main(void)
+{
+	if (cli_setup("remote"))
+		return 1;
+	RUN(a_served_world_runs_as_demosim_does);
+	RUN(names_are_mapped_in_any_order);
+	RUN(a_remote_with_other_names_is_refused_with_them);
+	RUN(bad_messages_are_dropped_and_counted_by_reason);
+	RUN(waiting_for_no_remote_says_so_and_stops_on_sigterm);
+	RUN(bad_remote_keys_are_refused);
+	cli_cleanup();
+	return test_summary();
+}
