@@ -1,7 +1,7 @@
 /* Option tables and handles for the scene scripts' `evo` module
- * (sim/lua/lua_internal.h). Lua holds handles, not pointers: a bot or element
- * handle is a small userdata with its index in the scene, and every
- * method finds the scene through the state's registry. Options come in
+ * (sim/lua/lua_internal.h). Lua holds handles, not pointers: a bot,
+ * element or metric handle is a small userdata with its index in the
+ * scene, and every method finds the scene through the state's registry. Options come in
  * tables; an option the function does not know is an error naming the
  * ones it does, so a typo in a script never goes unnoticed. */
 #include <string.h>
@@ -105,6 +105,14 @@ int evo_lua_check_element(lua_State *L, int idx)
 	int i = *(int *)luaL_checkudata(L, idx, EVO_LUA_ELEMENT_MT);
 	if (i < 0 || i >= evo_lua_ctx(L)->sc->n_elements)
 		luaL_error(L, "stale element handle");
+	return i;
+}
+
+int evo_lua_check_metric(lua_State *L, int idx)
+{
+	int i = *(int *)luaL_checkudata(L, idx, EVO_LUA_METRIC_MT);
+	if (i < 0 || i >= evo_lua_ctx(L)->sc->n_metrics)
+		luaL_error(L, "stale metric handle");
 	return i;
 }
 

@@ -258,6 +258,7 @@ static int setup(lua_State *L)
 	new_class(L, EVO_LUA_BOT_MT, evo_lua_bot_methods);
 	new_class(L, EVO_LUA_ELEMENT_MT, evo_lua_element_methods);
 	new_class(L, EVO_LUA_SCENE_MT, evo_lua_scene_methods);
+	new_class(L, EVO_LUA_METRIC_MT, evo_lua_metric_methods);
 	/* the one scene object */
 	lua_newuserdatauv(L, 1, 0);
 	luaL_setmetatable(L, EVO_LUA_SCENE_MT);
@@ -353,6 +354,7 @@ int evo_lua_init_env(evo_lua *l, const char *env, evo_err *err)
 	l->env_ref = luaL_ref(L, LUA_REGISTRYINDEX);
 	if (evo_lua_call_env(l, "init", 2, 0, err))
 		return -1;
+	l->ready = 1;
 	if (l->sc->n_bots == 0)
 		return evo_fail(err, "%s: init added no bot (call scene:bot{...})",
 				l->env_path);

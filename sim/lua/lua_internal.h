@@ -1,7 +1,7 @@
 /* evo — private to sim/lua/: what the files of the scene scripts' `evo`
  * module share (lua_evo.c sets up a state and loads scripts, lua_args.c
  * reads options and handles, lua_bot.c and lua_scene.c are the methods
- * of bots, elements and the scene, lua_hooks.c calls Lua from the tick).
+ * of bots, elements, metrics and the scene, lua_hooks.c calls Lua from the tick).
  * No other folder may include it. */
 #ifndef EVO_LUA_INTERNAL_H
 #define EVO_LUA_INTERNAL_H
@@ -22,6 +22,7 @@ struct evo_lua {
 	int env_ref; /* the environment's table */
 	int episode; /* the episode being reset (env.obstacles) */
 	int in_reset; /* env.reset is running: no new elements */
+	int ready;    /* env.init has returned: no new metrics */
 	int has_post_step;
 	char env_path[1200];
 	char bot_path[1200];
@@ -55,6 +56,7 @@ extern const char evo_lua_scene_key;
 #define EVO_LUA_BOT_MT "evo.bot"
 #define EVO_LUA_ELEMENT_MT "evo.element"
 #define EVO_LUA_SCENE_MT "evo.scene"
+#define EVO_LUA_METRIC_MT "evo.metric"
 
 /* Angles are degrees in Lua, radians in C. */
 #define EVO_LUA_DEG (M_PI / 180.0)
@@ -78,6 +80,7 @@ void evo_lua_push_handle(lua_State *L, const char *mt, int index);
 /* The index a bot or element handle at idx holds; raises on a stale one. */
 int evo_lua_check_bot(lua_State *L, int idx);
 int evo_lua_check_element(lua_State *L, int idx);
+int evo_lua_check_metric(lua_State *L, int idx);
 /* A target option: an element handle, "nearest_object", or nil
  * (EVO_TARGET_NONE). */
 int evo_lua_opt_target(lua_State *L, int idx, const char *key,
@@ -89,10 +92,11 @@ int evo_lua_bot_sensor_index(lua_State *L, int bot, const char *name,
 /* Turn a scene error (r < 0) into a Lua error at the caller's line. */
 int evo_lua_scene_result(lua_State *L, int r);
 
-/* ---- the methods of the three classes (lua_bot.c, lua_scene.c) ------- */
+/* ---- the methods of the four classes (lua_bot.c, lua_scene.c) -------- */
 
 extern const luaL_Reg evo_lua_bot_methods[];
 extern const luaL_Reg evo_lua_element_methods[];
+extern const luaL_Reg evo_lua_metric_methods[];
 extern const luaL_Reg evo_lua_scene_methods[];
 
 /* ---- lua_evo.c: loading scripts --------------------------------------- */

@@ -1,6 +1,7 @@
-/* Scene and element methods of the scene scripts' `evo` module
- * (docs/lua.md): adding bots, elements, the obstacle grid, rewards and
- * controls; reading and placing elements. */
+/* Scene, element and metric methods of the scene scripts' `evo` module
+ * (docs/lua.md): adding bots, elements, the obstacle grid, rewards,
+ * controls and metrics; reading and placing elements; reporting
+ * metrics. */
 #include <string.h>
 
 #include "lua/lua_internal.h"
@@ -461,6 +462,98 @@ static int scene_episode_reward(lua_State *L)
 	return 1;
 }
 
+/* ---- metrics (docs/lua.md, "Metrics of your own") ---------------------- */
+
+/* scene:metric(name): declares the metric in env.init and returns its
+ * handle; later, the handle of a declared one. The set is fixed once init
+ * returns, so that every episode, every worker and a log.csv header agree
+ * on it. */
+static int scene_metric(lua_State *L)
+{
+	evo_lua *l = evo_lua_ctx(L);
+	const char *name = luaL_checkstring(L, 2);
+	int i = evo_scene_find_metric(l->sc, name);
+	if (i < 0 && l->ready) {
+		const char *names[EVO_SCENE_MAX_METRICS];
+		for (int k = 0; k < l->sc->n_metrics; k++)
+			names[k] = l->sc->metric[k].name;
+		const char *c = evo_closest_name(name, names,
+						 (size_t)l->sc->n_metrics, NULL);
+		luaL_error(L,
+			   "scene:metric: no metric '%s' was declared; "
+			   "metrics are declared in env.init%s%s%s",
+			   name, c ? " (closest: " : "", c ? c : "",
+			   c ? ")" : "");
+	}
+	if (i < 0 && (i = evo_scene_add_metric(l->sc, name)) < 0)
+		luaL_error(L, "scene:metric: %s", l->sc->err.msg);
+	evo_lua_push_handle(L, EVO_LUA_METRIC_MT, i);
+	return 1;
+}
+
+/* Set metric i to v for `how` (set or add): a value that is not finite
+ * is an error at the script's line, with the tick. */
+static void metric_store(lua_State *L, int i, double v, const char *how,
+			 double arg)
+{
+	evo_lua *l = evo_lua_ctx(L);
+	evo_metric *m = &l->sc->metric[i];
+	if (!l->ready)
+		luaL_error(L,
+			   "metric '%s': %s in env.init, before any episode: "
+			   "every episode starts at 0 (report it in reset, "
+			   "post_step or a reward or control function)",
+			   m->name, how);
+	if (!isfinite(arg))
+		luaL_error(L, "metric '%s': %s(%f) at tick %I: not a finite "
+			      "number",
+			   m->name, how, arg, (lua_Integer)l->sc->tick);
+	if (!isfinite(v))
+		luaL_error(L, "metric '%s': %s(%f) at tick %I makes it %f, not "
+			      "a finite number",
+			   m->name, how, arg, (lua_Integer)l->sc->tick, v);
+	evo_lua_scene_result(L, evo_scene_set_metric(l->sc, i, v));
+}
+
+static int metric_set(lua_State *L)
+{
+	int i = evo_lua_check_metric(L, 1);
+	double v = luaL_checknumber(L, 2);
+	metric_store(L, i, v, "set", v);
+	return 0;
+}
+
+/* m:add(x): x defaults to 1, for counting. */
+static int metric_add(lua_State *L)
+{
+	int i = evo_lua_check_metric(L, 1);
+	double x = luaL_optnumber(L, 2, 1);
+	metric_store(L, i, evo_lua_ctx(L)->sc->metric[i].value + x, "add", x);
+	return 0;
+}
+
+static int metric_value(lua_State *L)
+{
+	lua_pushnumber(
+	    L, evo_lua_ctx(L)->sc->metric[evo_lua_check_metric(L, 1)].value);
+	return 1;
+}
+
+static int metric_name(lua_State *L)
+{
+	lua_pushstring(
+	    L, evo_lua_ctx(L)->sc->metric[evo_lua_check_metric(L, 1)].name);
+	return 1;
+}
+
+const luaL_Reg evo_lua_metric_methods[] = {
+	{"set", metric_set},
+	{"add", metric_add},
+	{"value", metric_value},
+	{"name", metric_name},
+	{NULL, NULL},
+};
+
 const luaL_Reg evo_lua_element_methods[] = {
 	{"pos", element_pos},
 	{"place", element_place},
@@ -486,5 +579,6 @@ const luaL_Reg evo_lua_scene_methods[] = {
 	{"tick", scene_tick},
 	{"episode_reward", scene_episode_reward},
 	{"reset_rewards", scene_reset_rewards},
+	{"metric", scene_metric},
 	{NULL, NULL},
 };

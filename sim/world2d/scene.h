@@ -31,6 +31,8 @@
 #define EVO_PROX_MAX_RAYS 32
 #define EVO_REWARD_MAX_SENSORS 16
 #define EVO_DOF_HISTORY 30 /* ticks of positions the movement sensor spreads over */
+#define EVO_SCENE_MAX_METRICS 16 /* an environment's own metrics, at most */
+#define EVO_METRIC_NAME_MAX 32	 /* a metric's name, with its NUL */
 
 /* -std=c11 leaves these out of <math.h>. */
 #ifndef M_PI
@@ -289,6 +291,19 @@ typedef struct evo_control {
 	long counter;
 } evo_control;
 
+/* ---- an environment's own metrics ------------------------------------ */
+
+/* A named figure an environment reports for each episode, beside the
+ * reward (time spent in a zone, objects delivered, distance travelled):
+ * `evo run` prints it on the episode's line and LEARNSIM logs it
+ * (docs/lua.md, "Metrics of your own"). Declared once, before the first
+ * episode; its value is 0 at every reset and whatever the environment
+ * makes it during the episode. */
+typedef struct evo_metric {
+	char name[EVO_METRIC_NAME_MAX];
+	double value; /* this episode's so far; always finite */
+} evo_metric;
+
 /* ---- the scene ------------------------------------------------------- */
 
 typedef struct evo_scene evo_scene;
@@ -325,6 +340,8 @@ struct evo_scene {
 			       obstacle generator draws from it */
 	double step_reward;    /* what the rewards gave in the last step */
 	double episode_reward; /* since the reset */
+	int n_metrics;	       /* declared, in the order they were */
+	evo_metric metric[EVO_SCENE_MAX_METRICS];
 	evo_scene_hooks hooks;
 	evo_err err;
 };
@@ -343,18 +360,29 @@ int evo_scene_add_reward(evo_scene *sc, const evo_reward_def *def);
 int evo_scene_add_control(evo_scene *sc, const evo_control_def *def);
 void evo_scene_set_grid(evo_scene *sc, const evo_grid_def *def);
 
+/* Declare a metric: a name of letters, digits and '_' that does not start
+ * with a digit, at most EVO_METRIC_NAME_MAX - 1 characters; at most
+ * EVO_SCENE_MAX_METRICS of them. Returns its index (the one it already has
+ * when the name is declared), or -1 with sc->err set. */
+int evo_scene_add_metric(evo_scene *sc, const char *name);
+
+/* Set this episode's value of a metric. Returns 0, or -1 with sc->err set
+ * when the value is not finite (the metric keeps its value). */
+int evo_scene_set_metric(evo_scene *sc, int metric, double value);
+
 /* Lookups by name; -1 when absent. */
 int evo_scene_find_element(const evo_scene *sc, const char *name);
 int evo_scene_find_bot(const evo_scene *sc, const char *name);
 int evo_bot_find_sensor(const evo_bot *b, const char *name);
 int evo_bot_find_actuator(const evo_bot *b, const char *name);
+int evo_scene_find_metric(const evo_scene *sc, const char *name);
 
 /* ---- the episode and the tick (step.c) -------------------------------- */
 
 /* Start an episode: bots back at their starts with no speed and neutral
  * commands, claws open, objects back and active, rewards and controls
- * cleared, the grid rebuilt from grid_seed, the rng reseeded from
- * episode_seed. */
+ * cleared, every metric 0, the grid rebuilt from grid_seed, the rng
+ * reseeded from episode_seed. */
 void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed);
 
 /* Step 1 of the tick: every sensor of every bot samples. */

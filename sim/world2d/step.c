@@ -50,6 +50,8 @@ void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
 	sc->rng = evo_rng_seed(episode_seed);
 	sc->tick = 0;
 	sc->step_reward = sc->episode_reward = 0;
+	for (int i = 0; i < sc->n_metrics; i++)
+		sc->metric[i].value = 0;
 }
 
 void evo_scene_sense(evo_scene *sc)
