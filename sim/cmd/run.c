@@ -265,6 +265,15 @@ static int delivers(const evo_scene *sc)
 	return 0;
 }
 
+/* The environment's own metrics at the end of an episode line, in the
+ * order it declared them: ", in_zone 123.000000". Nothing when it has
+ * none, so such a line is as it always was. */
+static void print_metrics(const evo_scene *sc)
+{
+	for (int i = 0; i < sc->n_metrics; i++)
+		printf(", %s %.6f", sc->metric[i].name, sc->metric[i].value);
+}
+
 static int run_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 			evo_err *err)
 {
@@ -289,6 +298,7 @@ static int run_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 		/* deliveries only where a Collect reward can make them */
 		if (delivers(s->scene))
 			printf(", %d delivered", b->delivered);
+		print_metrics(s->scene);
 		printf("\n");
 		fflush(stdout);
 	}
@@ -530,8 +540,10 @@ static int run_viewer(evo_sim *s, evo_viewer *v, const run_opts *o,
 				return -1;
 			t++;
 			if (r > 0 || (o->ticks && t >= o->ticks && !o->screenshot)) {
-				printf("episode %ld: reward %.6f over %ld ticks\n",
+				printf("episode %ld: reward %.6f over %ld ticks",
 				       e, s->scene->episode_reward, t);
+				print_metrics(s->scene);
+				printf("\n");
 				fflush(stdout);
 				e++;
 				t = -1;

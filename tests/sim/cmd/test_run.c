@@ -2,7 +2,9 @@
  * headless with the same rewards on every run of a seed; an environment and
  * a bot written in a test's own mind folder run without recompiling;
  * script errors and unknown sensor names end the run with file:line and a
- * non-zero exit and leave no trace behind; traces hold every tick. */
+ * non-zero exit and leave no trace behind; traces hold every tick; an
+ * environment's own metrics follow each episode's line, headless and in
+ * the viewer. */
 #define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
 #include <signal.h>
@@ -403,6 +405,122 @@ TEST(trace_records_every_tick)
 	CHECK_EQ_INT(bad, 0);
 }
 
+/* Corridor, reporting three metrics of its own: the ticks the front
+ * sensor read under 0.5 (something within half its range), the reward so
+ * far, and the ticks. */
+static const char *metered_env =
+	"local env = {}\n"
+	"function env.init(scene, task)\n"
+	"  scene:box{ x = 20, y = 0, half_width = 1, half_height = 5 }\n"
+	"  env.bot = scene:bot{ x = 0, y = 0 }\n"
+	"  scene:reward(function(s) local x = env.bot:pose() return x end)\n"
+	"  scene:control('NextOnTimeout', { ticks = 300 })\n"
+	"  env.near = scene:metric('near_wall')\n"
+	"  env.paid = scene:metric('paid')\n"
+	"  env.steps = scene:metric('steps')\n"
+	"end\n"
+	"function env.post_step(scene)\n"
+	"  if env.bot:value('Front') < 0.5 then env.near:add() end\n"
+	"  env.paid:set(scene:episode_reward())\n"
+	"  env.steps:add()\n"
+	"end\n"
+	"return env\n";
+
+/* The text after `key` on episode e's line of out, up to `end` (at most
+ * cap - 1 characters); "" when absent. */
+static void episode_field(const char *out, int e, const char *key,
+			  const char *end, char *buf, size_t cap)
+{
+	char head[32];
+	snprintf(head, sizeof head, "episode %d: ", e);
+	buf[0] = 0;
+	const char *line = strstr(out, head);
+	const char *nl = line ? strchr(line, '\n') : NULL;
+	const char *k = line ? strstr(line, key) : NULL;
+	if (!k || (nl && k > nl))
+		return;
+	k += strlen(key);
+	size_t n = strcspn(k, end);
+	if (n >= cap)
+		n = cap - 1;
+	memcpy(buf, k, n);
+	buf[n] = 0;
+}
+
+TEST(an_environments_metrics_follow_its_episode_lines)
+{
+	char root[512], trace[512];
+	snprintf(root, sizeof root, "%s/metered/Mine", cli_tmp);
+	snprintf(trace, sizeof trace, "%s/metered/t.trace", cli_tmp);
+	make_own_mind(root, metered_env, "");
+	int rc = cli_capture(out1, sizeof out1,
+			     "%s run %s/Tasks/Go.simbatch --headless "
+			     "--episodes 2 --trace %s",
+			     cli_evo, root, trace);
+	CHECK_EQ_INT(rc, 0);
+	/* The ticks the front sensor read under 0.5, counted again from the
+	 * trace, where each tick's line holds what the mind read: Front,
+	 * the botdesc's one sensor, is its second field (Q15.16, 32768 =
+	 * 0.5); each episode's ticks start again at 0. */
+	long near[3] = {0, 0, 0};
+	FILE *f = fopen(trace, "r");
+	CHECK(f != NULL);
+	char line[512];
+	int e = 0;
+	while (f && fgets(line, sizeof line, f)) {
+		long tick, front;
+		if (sscanf(line, "%ld %ld |", &tick, &front) != 2)
+			continue;
+		e += tick == 0;
+		if (e >= 1 && e <= 2 && front < 32768)
+			near[e]++;
+	}
+	if (f)
+		fclose(f);
+	CHECK_EQ_INT(e, 2);
+	for (int k = 1; k <= 2; k++) {
+		char want[64], got[160], reward[64], paid[64];
+		snprintf(want, sizeof want, "%ld.000000", near[k]);
+		episode_field(out1, k, ", near_wall ", ",", got, sizeof got);
+		CHECK_EQ_STR(got, want);
+		/* the bot drove up to the wall and stopped short of it */
+		CHECK(near[k] > 0 && near[k] < 301);
+		/* paid holds the episode's reward as it ended: the line's */
+		episode_field(out1, k, ": reward ", " ", reward, sizeof reward);
+		episode_field(out1, k, ", paid ", ",", paid, sizeof paid);
+		CHECK(reward[0] != 0);
+		CHECK_EQ_STR(paid, reward);
+		/* after the other fields, in the order declared */
+		episode_field(out1, k, " over ", "\n", got, sizeof got);
+		CHECK(strncmp(got, "301 ticks, ", 11) == 0);
+		CHECK(strstr(got, " collision ticks, near_wall ") != NULL);
+		CHECK(strstr(got, ", steps 301.000000") &&
+		      strlen(strstr(got, ", steps ")) == 18);
+	}
+	if (rc != 0)
+		printf("%s\n", out1);
+	/* The viewer prints the same metrics on its shorter line: 5-tick
+	 * episodes in real time under a virtual display. */
+	rc = cli_capture(out1, sizeof out1,
+			 "xvfb-run -a sh -c 'timeout -s TERM 20 %s run "
+			 "%s/Tasks/Go.simbatch --ticks 5 --episodes 2'",
+			 cli_evo, root);
+	CHECK_EQ_INT(rc, 0);
+	for (int k = 1; k <= 2; k++) {
+		char got[128], reward[64], paid[64];
+		episode_field(out1, k, " over ", "\n", got, sizeof got);
+		CHECK(strncmp(got, "5 ticks, near_wall 0.000000, paid ", 34) ==
+		      0);
+		CHECK(strstr(got, ", steps 5.000000") &&
+		      strlen(strstr(got, ", steps ")) == 16);
+		episode_field(out1, k, ": reward ", " ", reward, sizeof reward);
+		episode_field(out1, k, ", paid ", ",", paid, sizeof paid);
+		CHECK_EQ_STR(paid, reward);
+	}
+	if (rc != 0)
+		printf("%s\n", out1);
+}
+
 /* An environment without a control function: with --ticks 0 its one
  * episode never ends. */
 static const char *endless_env =
@@ -552,6 +670,7 @@ int main(void)
 	RUN(endless_reward_runs_out_of_budget);
 	RUN(math_random_follows_the_seed);
 	RUN(trace_records_every_tick);
+	RUN(an_environments_metrics_follow_its_episode_lines);
 	RUN(sigterm_and_sigint_stop_a_long_run_and_keep_its_trace);
 	RUN(too_long_trace_path_is_refused);
 	RUN(out_of_range_counts_are_refused);

@@ -6,7 +6,11 @@
  * at scene:reset_rewards; a Lua reward that returns no number is reported
  * at the line where the function was written, with the tick; an
  * environment can make its own obstacles each episode (env.obstacles),
- * makes no elements in reset, and each element takes its own options. */
+ * makes no elements in reset, and each element takes its own options; an
+ * environment's own metrics (scene:metric) are 0 at every episode's start,
+ * follow the episode line in the order they were declared, and a bad
+ * name, one too many, a value that is not finite or a metric not declared
+ * in init is reported at its line. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -293,6 +297,160 @@ TEST(numbers_past_an_int_are_no_index)
 		printf("  said: %s\n", out);
 }
 
+TEST(metrics_follow_the_episode_line)
+{
+	/* The zone is the whole world, so the bot is in it at every tick:
+	 * in_zone counts the 30 ticks; every_third the ticks 3, 6, .., 30;
+	 * the Lua reward adds 0.5 at each of its 30 calls; reset sets
+	 * episode to twice the episode's number, after every metric went
+	 * back to 0; never is never reported. Episode 2 gives the same, not
+	 * twice as much. */
+	int rc = run_env(
+	    "local env = {}\n"
+	    "function env.init(scene, task)\n"
+	    "  env.bot = scene:bot{ x = 0, y = 0 }\n"
+	    "  env.zone = scene:zone{ x = 0, y = 0, size = 1000 }\n"
+	    "  env.bot:target('SENSDZ', env.zone)\n"
+	    "  env.in_zone = scene:metric('in_zone')\n"
+	    "  scene:metric('never')\n"
+	    "  env.third = scene:metric('every_third')\n"
+	    "  env.episode = scene:metric('episode')\n"
+	    "  assert(scene:metric('in_zone'):name() == 'in_zone')\n"
+	    "  scene:metric('paid')\n"
+	    "  scene:reward(function(scene)\n"
+	    "    scene:metric('paid'):add(0.5)\n"
+	    "    return 1\n"
+	    "  end)\n"
+	    "end\n"
+	    "function env.reset(scene, e)\n"
+	    "  assert(env.in_zone:value() == 0 and env.episode:value() == 0)\n"
+	    "  env.episode:set(2 * e)\n"
+	    "end\n"
+	    "function env.post_step(scene)\n"
+	    "  if env.bot:value('SENSDZ') > 0.5 then env.in_zone:add() end\n"
+	    "  if scene:tick() % 3 == 0 then env.third:add(1) end\n"
+	    "end\n"
+	    "return env\n",
+	    2);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out, "episode 1: reward 30.000000 over 30 ticks, ");
+	CHECK_CONTAINS(out, " collision ticks, in_zone 30.000000, never "
+			    "0.000000, every_third 10.000000, episode "
+			    "2.000000, paid 15.000000\nepisode 2: ");
+	CHECK_CONTAINS(out, " collision ticks, in_zone 30.000000, never "
+			    "0.000000, every_third 10.000000, episode "
+			    "4.000000, paid 15.000000\n");
+	if (rc != 0)
+		printf("  said: %s\n", out);
+	/* without metrics the line ends as it always did */
+	rc = run_env("local env = {}\n"
+		     "function env.init(scene, task)\n"
+		     "  env.bot = scene:bot{ x = 0, y = 0 }\n"
+		     "end\n"
+		     "return env\n",
+		     1);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out, "episode 1: reward 0.000000 over 30 ticks, 0 "
+			    "collision ticks\n");
+}
+
+/* Runs an environment whose init declares metric m and whose post_step
+ * is `step`; its exit status, the output in out. */
+static int run_step(const char *step)
+{
+	char lua[2048];
+	snprintf(lua, sizeof lua,
+		 "local env = {}\n"
+		 "function env.init(scene, task)\n"
+		 "  env.bot = scene:bot{ x = 0, y = 0 }\n"
+		 "  env.m = scene:metric('in_zone')\n"
+		 "end\n"
+		 "function env.post_step(scene)\n"
+		 "  %s\n"
+		 "end\n"
+		 "return env\n",
+		 step);
+	return run_env(lua, 1);
+}
+
+TEST(a_bad_metric_is_reported_at_its_line)
+{
+	/* names go into episode lines and log.csv headers */
+	const char *names[] = {"in zone", "9lives", "a,b", ""};
+	for (int i = 0; i < 4; i++) {
+		char lua[512];
+		snprintf(lua, sizeof lua,
+			 "local env = {}\n"
+			 "function env.init(scene, task)\n"
+			 "  env.bot = scene:bot{ x = 0, y = 0 }\n"
+			 "  scene:metric('%s')\n"
+			 "end\n"
+			 "return env\n",
+			 names[i]);
+		CHECK_EQ_INT(run_env(lua, 1), 1);
+		CHECK_CONTAINS(out, "Envs/Test.lua:4: scene:metric: '");
+		CHECK_CONTAINS(out, "' is not a metric name: use letters, "
+				    "digits and '_', not starting with a "
+				    "digit");
+	}
+	CHECK_EQ_INT(run_env("local env = {}\n"
+			     "function env.init(scene, task)\n"
+			     "  env.bot = scene:bot{ x = 0, y = 0 }\n"
+			     "  scene:metric(string.rep('x', 32))\n"
+			     "end\n"
+			     "return env\n",
+			     1),
+		     1);
+	CHECK_CONTAINS(out, "Envs/Test.lua:4: scene:metric: metric name "
+			    "'xxxx");
+	CHECK_CONTAINS(out, "' is longer than 31 characters");
+	/* at most 16 */
+	CHECK_EQ_INT(run_env("local env = {}\n"
+			     "function env.init(scene, task)\n"
+			     "  env.bot = scene:bot{ x = 0, y = 0 }\n"
+			     "  for i = 1, 17 do\n"
+			     "    scene:metric('m' .. i)\n"
+			     "  end\n"
+			     "end\n"
+			     "return env\n",
+			     1),
+		     1);
+	CHECK_CONTAINS(out, "Envs/Test.lua:5: scene:metric: metric 'm17' is "
+			    "one too many: an environment has at most 16");
+	/* a value that is not finite: where, what and when */
+	CHECK_EQ_INT(run_step("if scene:tick() == 7 then env.m:set(0/0) end"),
+		     1);
+	CHECK_CONTAINS(out, "Envs/Test.lua:7: metric 'in_zone': set(");
+	CHECK_CONTAINS(out, "nan) at tick 7: not a finite number");
+	CHECK_EQ_INT(run_step("env.m:add(math.huge)"), 1);
+	CHECK_CONTAINS(out, "Envs/Test.lua:7: metric 'in_zone': add(inf) at "
+			    "tick 1: not a finite number");
+	CHECK_EQ_INT(run_step("env.m:add(1e308)"), 1);
+	CHECK_CONTAINS(out, "Envs/Test.lua:7: metric 'in_zone': add(1e+308) at "
+			    "tick 2 makes it inf, not a finite number");
+	CHECK_EQ_INT(run_step("env.m:set('ten')"), 1);
+	CHECK_CONTAINS(out, "Envs/Test.lua:7: bad argument #1 to 'set' (number "
+			    "expected, got string)");
+	/* declared in init, and only there */
+	CHECK_EQ_INT(run_step("scene:metric('in_zon'):add()"), 1);
+	CHECK_CONTAINS(out, "Envs/Test.lua:7: scene:metric: no metric 'in_zon' "
+			    "was declared; metrics are declared in env.init "
+			    "(closest: in_zone)");
+	/* a value set in init would be 0 again when the first episode starts */
+	CHECK_EQ_INT(run_env("local env = {}\n"
+			     "function env.init(scene, task)\n"
+			     "  env.bot = scene:bot{ x = 0, y = 0 }\n"
+			     "  scene:metric('in_zone'):set(3)\n"
+			     "end\n"
+			     "return env\n",
+			     1),
+		     1);
+	CHECK_CONTAINS(out, "Envs/Test.lua:4: metric 'in_zone': set in "
+			    "env.init, before any episode");
+	/* and none of these printed an episode line */
+	CHECK(!strstr(out, "episode 1:"));
+}
+
 int main(void)
 {
 	if (cli_setup("hooks"))
@@ -305,6 +463,8 @@ int main(void)
 	RUN(each_element_takes_its_own_options);
 	RUN(a_bot_models_mistakes_are_its_own);
 	RUN(numbers_past_an_int_are_no_index);
+	RUN(metrics_follow_the_episode_line);
+	RUN(a_bad_metric_is_reported_at_its_line);
 	cli_cleanup();
 	return test_summary();
 }
