@@ -124,7 +124,7 @@ for gen = first, generations - 1 do
 	local genomes = pop:genomes()
 	local nets = {}
 	for i, g in ipairs(genomes) do nets[i] = algo.to_net(g) end
-	local fitness, seconds, solved = host.evaluate(nets, gen)
+	local fitness, seconds, solved, _, metrics = host.evaluate(nets, gen)
 	local best_i, sum = 1, 0
 	for i, f in ipairs(fitness) do
 		sum = sum + f
@@ -152,9 +152,12 @@ for gen = first, generations - 1 do
 	history.mean[#history.mean + 1] = sum / #fitness
 	host.save(string.format("best/gen-%04d.net", gen), algo.to_net_text(best_net,
 		string.format("generation %d, fitness %.17g", gen, fitness[best_i])))
+	-- the environment's metrics (docs/lua.md) of the generation's best, the
+	-- network of the `best` column
 	host.log{ generation = gen, generations = generations, best = fitness[best_i],
 		mean = sum / #fitness, best_ever = pop.best.fitness, species = #pop.species,
-		evaluations = #fitness, solved = n_solved, seconds = seconds }
+		evaluations = #fitness, solved = n_solved, seconds = seconds,
+		metrics = metrics[best_i] }
 	-- the curve so far, so a long run can be watched as it goes (the last
 	-- one comes after the loop)
 	since_curve = since_curve + seconds
@@ -205,16 +208,26 @@ if not literature then
 		if i > REPLAY_RANDOM then break end
 		nets[#nets + 1] = algo.to_net(g)
 	end
-	local fitness, _, _, collisions = host.evaluate(nets, planned)
-	local f_sum, c_sum = 0, 0
+	local fitness, _, _, collisions, metrics = host.evaluate(nets, planned)
+	local f_sum, c_sum, m_sum = 0, 0, {}
+	for k = 1, #host.metrics do m_sum[k] = 0 end
 	for i = 2, #nets do
 		f_sum, c_sum = f_sum + fitness[i], c_sum + collisions[i]
+		for k = 1, #host.metrics do m_sum[k] = m_sum[k] + metrics[i][k] end
 	end
 	local n = #nets - 1
+	-- the environment's metrics, each a mean over the repetitions, after
+	-- the collisions: ", in_zone 12.5"
+	local function with_metrics(line, values, divisor)
+		for k, name in ipairs(host.metrics) do
+			line = line .. string.format(", %s %.1f", name, values[k] / divisor)
+		end
+		return line
+	end
 	host.print(string.format("replay on unseen episodes (%d x %d ticks each):", host.reps, host.ticks))
-	host.print(string.format("  champion:                 fitness %12.1f, %7d collision ticks",
-		fitness[1], collisions[1]))
-	host.print(string.format("  untrained networks (%2d): fitness %12.1f, %7.0f collision ticks (mean)",
-		n, f_sum / n, c_sum / n))
+	host.print(with_metrics(string.format("  champion:                 fitness %12.1f, %7d collision ticks",
+		fitness[1], collisions[1]), metrics[1], 1))
+	host.print(with_metrics(string.format("  untrained networks (%2d): fitness %12.1f, %7.0f collision ticks (mean)",
+		n, f_sum / n, c_sum / n), m_sum, n))
 end
 return champion_fitness

@@ -33,6 +33,7 @@ struct evo_evaluator {
 	char *task_path;
 	int threads, reps;
 	long ticks;
+	int n_metrics; /* worker 0's scene holds their names */
 	uint64_t seed;
 	unsigned n_in, n_out;
 	worker *w;
@@ -107,7 +108,11 @@ static int evaluate_one(worker *w, int i, evo_eval_result *res, evo_err *err)
 		}
 		res->fitness += w->sim->scene->episode_reward;
 		res->collisions += bot->collisions;
+		for (int k = 0; k < ev->n_metrics; k++)
+			res->metric[k] += w->sim->scene->metric[k].value;
 	}
+	for (int k = 0; k < ev->n_metrics; k++)
+		res->metric[k] /= ev->reps;
 	return 0;
 }
 
@@ -199,6 +204,31 @@ static void *worker_main(void *arg)
 	return NULL;
 }
 
+/* Every worker's environment declared the same metrics as worker 0's, in
+ * the same order: a candidate's metrics must not depend on the worker
+ * that ran it. An init that decides by os.clock() could differ. */
+static int check_metrics(evo_evaluator *ev, evo_err *err)
+{
+	if (ev->w[0].lit)
+		return 0;
+	const evo_scene *first = ev->w[0].sim->scene;
+	for (int k = 1; k < ev->threads; k++) {
+		const evo_scene *sc = ev->w[k].sim->scene;
+		int same = sc->n_metrics == first->n_metrics;
+		for (int i = 0; same && i < sc->n_metrics; i++)
+			same = !strcmp(sc->metric[i].name, first->metric[i].name);
+		if (!same)
+			return evo_fail(err,
+					"%s: the environment declared other "
+					"metrics in worker %d than in worker "
+					"1: its init must declare the same "
+					"ones every time",
+					ev->task_path, k + 1);
+	}
+	ev->n_metrics = first->n_metrics;
+	return 0;
+}
+
 evo_evaluator *evo_evaluator_create(const evo_eval_def *def, evo_err *err)
 {
 	if (!def || !def->task_path) {
@@ -265,6 +295,8 @@ evo_evaluator *evo_evaluator_create(const evo_eval_def *def, evo_err *err)
 	pthread_mutex_unlock(&ev->mu);
 	if (failed)
 		goto fail;
+	if (check_metrics(ev, err))
+		goto fail;
 	const evo_simbatch *sb = ev->w[0].task.sb;
 	ev->reps = ev->w[0].lit ? 1
 		   : def->reps	? def->reps
@@ -327,6 +359,17 @@ unsigned evo_evaluator_n_in(const evo_evaluator *ev)
 unsigned evo_evaluator_n_out(const evo_evaluator *ev)
 {
 	return ev->n_out;
+}
+
+int evo_evaluator_n_metrics(const evo_evaluator *ev)
+{
+	return ev->n_metrics;
+}
+
+const char *evo_evaluator_metric_name(const evo_evaluator *ev, int k)
+{
+	return k >= 0 && k < ev->n_metrics ? ev->w[0].sim->scene->metric[k].name
+					   : NULL;
 }
 
 int evo_evaluator_deferred_success(const evo_evaluator *ev)

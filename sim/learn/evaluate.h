@@ -14,6 +14,12 @@
  * res[i].collisions sums the ticks the learning bot spent touching
  * something.
  *
+ * Metrics: the environment's own (docs/lua.md, "Metrics of your own"),
+ * declared in its init and so the same in every worker. res[i].metric[k]
+ * is metric k's value at the end of an episode, averaged over the
+ * repetitions: where fitness sums, a metric is a mean, comparable with
+ * what `evo run` prints for one episode.
+ *
  * Seeds: repetition r (0-based) of candidate i (its index in the batch)
  * in generation g runs
  *     episode number  r + 1
@@ -39,6 +45,7 @@
 
 #include "base/err.h"
 #include "evo/evo.h"
+#include "world2d/scene.h"
 
 typedef struct evo_evaluator evo_evaluator;
 
@@ -72,6 +79,11 @@ long evo_evaluator_ticks(const evo_evaluator *ev);
 unsigned evo_evaluator_n_in(const evo_evaluator *ev);
 unsigned evo_evaluator_n_out(const evo_evaluator *ev);
 
+/* The environment's metrics: how many (0 for literature tasks), and the
+ * name of metric k, in the order the environment declared them. */
+int evo_evaluator_n_metrics(const evo_evaluator *ev);
+const char *evo_evaluator_metric_name(const evo_evaluator *ev, int k);
+
 /* The seeds of repetition rep of candidate cand in generation gen (see
  * the top of this file), for replaying one evaluation outside the pool. */
 uint64_t evo_eval_grid_seed(uint64_t seed, int gen, int rep);
@@ -84,6 +96,9 @@ typedef struct evo_eval_result {
 			  * summed over the repetitions (0 for literature
 			  * tasks) */
 	int solved;	 /* literature tasks: the success criterion was met */
+	/* each metric's value at an episode's end, the mean over the
+	 * repetitions (evo_evaluator_n_metrics of them) */
+	double metric[EVO_SCENE_MAX_METRICS];
 } evo_eval_result;
 
 /* Evaluate candidates[0 .. n-1] (not owned; read while the call runs) in

@@ -155,7 +155,9 @@ static void to_netdesc(lua_State *L, int idx, int which, evo_netdesc *d)
 
 /* evo.evaluate(nets, generation) -> fitness list, seconds, solved list
  * (booleans: the literature tasks' success criterion), collisions list
- * (ticks the bot spent touching, summed over the repetitions). */
+ * (ticks the bot spent touching, summed over the repetitions), metrics
+ * list (for each network, a list of the environment's metrics in the
+ * order of evo.metrics, each the mean over the repetitions). */
 static int l_evaluate(lua_State *L)
 {
 	learn *l = ctx(L);
@@ -204,7 +206,17 @@ static int l_evaluate(lua_State *L)
 		lua_pushinteger(L, res[i].collisions);
 		lua_rawseti(L, -2, i + 1);
 	}
-	return 4;
+	int nm = evo_evaluator_n_metrics(l->ev);
+	lua_createtable(L, n, 0);
+	for (int i = 0; i < n; i++) {
+		lua_createtable(L, nm, 0);
+		for (int k = 0; k < nm; k++) {
+			lua_pushnumber(L, res[i].metric[k]);
+			lua_rawseti(L, -2, k + 1);
+		}
+		lua_rawseti(L, -2, i + 1);
+	}
+	return 5;
 }
 
 /* evo.success_test(net) -> solved, generalisation: DPNV's success test
@@ -233,20 +245,45 @@ static int l_open_log(lua_State *L)
 	learn *l = ctx(L);
 	evo_err err = {{0}};
 	l->first = (int)luaL_checkinteger(L, 1);
-	if (evo_runlog_open(&l->log, l->run_dir, l->first, &err))
+	const char *names[EVO_SCENE_MAX_METRICS];
+	int nm = evo_evaluator_n_metrics(l->ev);
+	for (int k = 0; k < nm; k++)
+		names[k] = evo_evaluator_metric_name(l->ev, k);
+	if (evo_runlog_open(&l->log, l->run_dir, l->first, names, nm, &err))
 		return raise_msg(L, err.msg);
 	l->log_open = 1;
 	return 0;
 }
 
 /* evo.log{generation, generations, best, mean, best_ever, species,
- * evaluations, seconds}: a row of log.csv and the progress line. */
+ * evaluations, seconds, metrics}: a row of log.csv and the progress line.
+ * metrics is the list of the environment's metrics for the row (the best
+ * candidate's, as evo.evaluate gave them); it may be absent only when
+ * the environment has none. */
 static int l_log(lua_State *L)
 {
 	learn *l = ctx(L);
 	luaL_checktype(L, 1, LUA_TTABLE);
 	if (!l->log_open)
 		return luaL_error(L, "evo.log before evo.open_log");
+	double metrics[EVO_SCENE_MAX_METRICS];
+	int nm = evo_evaluator_n_metrics(l->ev);
+	lua_getfield(L, 1, "metrics");
+	if (nm > 0 && (!lua_istable(L, -1) || luaL_len(L, -1) != nm))
+		return luaL_error(L, "evo.log: metrics must be a list of %d "
+				     "numbers",
+				  nm);
+	for (int k = 0; k < nm; k++) {
+		lua_geti(L, -1, k + 1);
+		int ok;
+		metrics[k] = lua_tonumberx(L, -1, &ok);
+		if (!ok)
+			return luaL_error(L, "evo.log: metric %d is %s, not a "
+					     "number",
+					  k + 1, luaL_typename(L, -1));
+		lua_pop(L, 1);
+	}
+	lua_pop(L, 1);
 	evo_gen_stats s = {
 		.generation = (int)field_int(L, 1, "generation", 0, INT_MAX, -1),
 		.generations =
@@ -261,6 +298,7 @@ static int l_log(lua_State *L)
 		.seconds = field_num(L, 1, "seconds", 0),
 		.elapsed = now() - l->started,
 		.first = l->first,
+		.metrics = nm > 0 ? metrics : NULL,
 	};
 	evo_err err = {{0}};
 	if (evo_runlog_add(&l->log, &s, &err))
@@ -437,6 +475,14 @@ static int open_module(lua_State *L)
 	lua_setfield(L, -2, "reps");
 	lua_pushinteger(L, (lua_Integer)evo_evaluator_ticks(l->ev));
 	lua_setfield(L, -2, "ticks");
+	/* the environment's metrics, in the order of evaluate's lists */
+	int nm = evo_evaluator_n_metrics(l->ev);
+	lua_createtable(L, nm, 0);
+	for (int k = 0; k < nm; k++) {
+		lua_pushstring(L, evo_evaluator_metric_name(l->ev, k));
+		lua_rawseti(L, -2, k + 1);
+	}
+	lua_setfield(L, -2, "metrics");
 	if (l->opts->generations > 0) {
 		lua_pushinteger(L, l->opts->generations);
 		lua_setfield(L, -2, "generations");

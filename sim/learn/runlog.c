@@ -14,10 +14,6 @@
 
 #include "base/fileio.h"
 
-static const char HEADER[] =
-	"generation,best,mean,best_ever,species,evaluations,solved,seconds,"
-	"elapsed\n";
-
 static int make_dirs(const char *path, evo_err *err)
 {
 	char p[1024];
@@ -167,44 +163,145 @@ static int append(evo_runlog *log, const char *s, size_t n, evo_err *err)
 	return 0;
 }
 
+/* The columns every log has, in this order; the metrics follow. */
+static const char HEADER[] =
+	"generation,best,mean,best_ever,species,evaluations,solved,seconds,"
+	"elapsed";
+enum { BASE_COLUMNS = 9, ELAPSED_COLUMN = 8 };
+
+/* The start of field k (0 based) of the line at p, or NULL. */
+static const char *field(const char *p, const char *end, int k)
+{
+	for (; k > 0 && p < end; p++)
+		if (*p == ',')
+			k--;
+	return k == 0 ? p : NULL;
+}
+
+/* Add column name[0 .. n-1] after the others; 0 or -1 with err. */
+static int add_column(evo_runlog *log, const char *name, size_t n,
+		      const char *path, evo_err *err)
+{
+	if (log->n_columns == EVO_RUNLOG_MAX_COLUMNS)
+		return evo_fail(err, "%s: more than %d metric columns", path,
+				EVO_RUNLOG_MAX_COLUMNS);
+	if (n >= EVO_RUNLOG_COLUMN_MAX)
+		return evo_fail(err, "%s: a column name of %zu characters "
+				     "(at most %d): '%.40s...'",
+				path, n, EVO_RUNLOG_COLUMN_MAX - 1, name);
+	char *c = log->column[log->n_columns];
+	memcpy(c, name, n);
+	c[n] = 0;
+	log->column_metric[log->n_columns++] = -1;
+	return 0;
+}
+
+/* The columns after the base ones: the earlier header's (old, of length
+ * n; NULL for a fresh log), then each metric's that is not among them,
+ * and the header line that names them all. A metric new to an earlier
+ * log, or gone from it, gets a warning. *added counts the new columns. */
+static int set_columns(evo_runlog *log, const char *old, size_t n,
+		       const char *const *metrics, int n_metrics, int *added,
+		       const char *path, evo_err *err)
+{
+	log->n_metrics = n_metrics;
+	*added = 0;
+	const char *p = old ? field(old, old + n, BASE_COLUMNS) : NULL;
+	while (p && p < old + n) {
+		const char *e = memchr(p, ',', (size_t)(old + n - p));
+		if (!e)
+			e = old + n;
+		if (add_column(log, p, (size_t)(e - p), path, err))
+			return -1;
+		p = e + 1;
+	}
+	int earlier = log->n_columns;
+	for (int k = 0; k < n_metrics; k++) {
+		char name[EVO_RUNLOG_COLUMN_MAX];
+		int len = snprintf(name, sizeof name, "metric:%s", metrics[k]);
+		int c = 0;
+		while (c < log->n_columns && strcmp(log->column[c], name))
+			c++;
+		if (c == log->n_columns) {
+			if (add_column(log, name, (size_t)len, path, err))
+				return -1;
+			if (old)
+				fprintf(stderr,
+					"%s: warning: the environment now "
+					"reports %s, which the earlier rows "
+					"lack: their cells are left empty\n",
+					path, name);
+			++*added;
+		}
+		log->column_metric[c] = k;
+	}
+	for (int c = 0; c < earlier; c++)
+		if (log->column_metric[c] < 0)
+			fprintf(stderr,
+				"%s: warning: the environment no longer "
+				"reports %s: its cells in the new rows are "
+				"left empty\n",
+				path, log->column[c]);
+	if (append(log, HEADER, strlen(HEADER), err))
+		return -1;
+	for (int c = 0; c < log->n_columns; c++)
+		if (append(log, ",", 1, err) ||
+		    append(log, log->column[c], strlen(log->column[c]), err))
+			return -1;
+	return append(log, "\n", 1, err);
+}
+
 int evo_runlog_open(evo_runlog *log, const char *dir, int from_generation,
-		    evo_err *err)
+		    const char *const *metrics, int n_metrics, evo_err *err)
 {
 	memset(log, 0, sizeof *log);
 	if (snprintf(log->dir, sizeof log->dir, "%s", dir) >=
 	    (int)sizeof log->dir)
 		return evo_fail(err, "%s: path too long", dir);
-	char best[1100];
+	if (n_metrics < 0 || n_metrics > EVO_RUNLOG_MAX_COLUMNS)
+		return evo_fail(err, "%s: %d metrics (at most %d)", dir,
+				n_metrics, EVO_RUNLOG_MAX_COLUMNS);
+	char best[1100], path[1100];
 	snprintf(best, sizeof best, "%s/best", dir);
-	if (make_dirs(best, err) || append(log, HEADER, strlen(HEADER), err))
+	snprintf(path, sizeof path, "%s/log.csv", dir);
+	int added;
+	if (make_dirs(best, err))
 		return -1;
 	if (from_generation <= 0)
-		return 0;
+		return set_columns(log, NULL, 0, metrics, n_metrics, &added,
+				   path, err);
 	/* Resuming: keep the rows before from_generation, drop any later
-	 * one (written after the checkpoint the run resumes from). */
-	char path[1100], *old;
+	 * one (written after the checkpoint the run resumes from). The
+	 * header keeps the earlier run's columns; a metric it lacks is a
+	 * column more, empty in the rows kept. */
+	char *old;
 	size_t len;
-	snprintf(path, sizeof path, "%s/log.csv", dir);
 	if (evo_read_file(path, &old, &len, err))
 		return -1;
 	const char *line = strchr(old, '\n');
+	size_t head = line ? (size_t)(line - old) : len;
+	if (set_columns(log, old, head, metrics, n_metrics, &added, path,
+			err)) {
+		free(old);
+		return -1;
+	}
 	while (line && line[1]) {
 		line++;
 		const char *end = strchr(line, '\n');
 		if (!end)
 			break;
 		if (atoi(line) < from_generation) {
-			if (append(log, line, (size_t)(end - line + 1), err)) {
+			int bad = append(log, line, (size_t)(end - line), err);
+			for (int k = 0; !bad && k < added; k++)
+				bad = append(log, ",", 1, err);
+			if (bad || append(log, "\n", 1, err)) {
 				free(old);
 				return -1;
 			}
-			/* elapsed is the last column */
-			const char *comma = end;
-			while (comma > line && comma[-1] != ',')
-				comma--;
-			double e = strtod(comma, NULL);
-			if (isfinite(e) && e > log->elapsed_before)
-				log->elapsed_before = e;
+			const char *e = field(line, end, ELAPSED_COLUMN);
+			double v = e ? strtod(e, NULL) : 0;
+			if (isfinite(v) && v > log->elapsed_before)
+				log->elapsed_before = v;
 		}
 		line = end;
 	}
@@ -220,14 +317,25 @@ void evo_runlog_close(evo_runlog *log)
 
 int evo_runlog_add(evo_runlog *log, const evo_gen_stats *s, evo_err *err)
 {
+	if (log->n_metrics > 0 && !s->metrics)
+		return evo_fail(err, "a log row without its %d metrics",
+				log->n_metrics);
 	/* %.17g: the log holds the exact doubles, so two runs compare equal
 	 * only when their fitness values are bit for bit the same. The
-	 * times come last and are left out of such comparisons. */
-	char row[512];
-	int n = snprintf(row, sizeof row, "%d,%.17g,%.17g,%.17g,%d,%ld,%d,%.3f,%.3f\n",
+	 * times are the two columns before the metrics, and are left out of
+	 * such comparisons. */
+	char row[512 + EVO_RUNLOG_MAX_COLUMNS * 32];
+	int n = snprintf(row, sizeof row, "%d,%.17g,%.17g,%.17g,%d,%ld,%d,%.3f,%.3f",
 			 s->generation, s->best, s->mean, s->best_ever,
 			 s->species, s->evaluations, s->solved, s->seconds,
 			 log->elapsed_before + s->elapsed);
+	for (int c = 0; c < log->n_columns; c++) {
+		int k = log->column_metric[c];
+		n += k < 0 ? snprintf(row + n, sizeof row - (size_t)n, ",")
+			   : snprintf(row + n, sizeof row - (size_t)n, ",%.17g",
+				      s->metrics[k]);
+	}
+	n += snprintf(row + n, sizeof row - (size_t)n, "\n");
 	if (append(log, row, (size_t)n, err))
 		return -1;
 	return evo_runlog_save(log, "log.csv", log->csv, log->len, err);

@@ -27,7 +27,15 @@ typedef struct evo_gen_stats {
 	int first;	   /* the first generation this process ran (after
 			    * --resume, the one after the checkpoint): the
 			    * ETA extrapolates from the generations since */
+	/* the environment's metrics for this row, one value for each name
+	 * given to evo_runlog_open, in its order; NULL when there are none */
+	const double *metrics;
 } evo_gen_stats;
+
+/* Metric columns a log can hold: the environment's, and on --resume an
+ * earlier run's that it no longer reports. */
+#define EVO_RUNLOG_MAX_COLUMNS 64
+#define EVO_RUNLOG_COLUMN_MAX 64 /* a column's name, with its NUL */
 
 typedef struct evo_runlog {
 	char dir[1024];
@@ -37,13 +45,28 @@ typedef struct evo_runlog {
 	 * of this process add to, so log.csv's elapsed column counts the
 	 * whole run's time, not this process's */
 	double elapsed_before;
+	/* The columns after elapsed, "metric:NAME" each: on --resume the
+	 * earlier rows' first, then the environment's metrics they lack.
+	 * column_metric[c] is the index of column c's metric among the ones
+	 * given to evo_runlog_open, or -1 (a metric no longer reported: its
+	 * cells in new rows are empty). */
+	int n_metrics;
+	int n_columns;
+	char column[EVO_RUNLOG_MAX_COLUMNS][EVO_RUNLOG_COLUMN_MAX];
+	int column_metric[EVO_RUNLOG_MAX_COLUMNS];
 } evo_runlog;
 
 /* Create (or reuse) the run folder dir and its best/ folder; start the log
  * with its header, or, when resuming, keep the rows of generations before
- * `from_generation` of the existing log. Returns 0 or -1 with err. */
+ * `from_generation` of the existing log. The header ends with a column
+ * "metric:NAME" for each of the n_metrics names (the environment's,
+ * evo_evaluator_metric_name). Resuming a log whose columns name other
+ * metrics keeps every earlier column: a metric the earlier rows lack is a
+ * new column, empty in those rows, and one no longer reported stays,
+ * empty in the new rows; a warning on stderr says which. Returns 0 or -1
+ * with err. */
 int evo_runlog_open(evo_runlog *log, const char *dir, int from_generation,
-		    evo_err *err);
+		    const char *const *metrics, int n_metrics, evo_err *err);
 void evo_runlog_close(evo_runlog *log);
 
 /* Claim the run folder dir for this process: create it and lock its

@@ -116,13 +116,20 @@ char *cli_fitness_log(const char *run_dir)
 	for (char *line = data; *line;) {
 		char *end = strchr(line, '\n');
 		size_t n = end ? (size_t)(end - line) : strlen(line);
-		/* keep up to the 7th comma: generation .. solved */
-		size_t keep = 0;
+		/* generation .. solved, up to the 7th comma; then skip seconds
+		 * and elapsed, and keep the environment's metrics after them */
+		size_t keep = 0, skip;
 		int commas = 0;
 		while (keep < n && commas < 7)
 			commas += line[keep++] == ',';
+		for (skip = keep; skip < n && commas < 9; skip++)
+			commas += line[skip] == ',';
 		memmove(w, line, keep);
 		w += keep;
+		if (commas == 9) {
+			memmove(w, line + skip, n - skip);
+			w += n - skip;
+		}
 		*w++ = '\n';
 		line += n + (end ? 1 : 0);
 	}

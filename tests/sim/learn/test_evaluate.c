@@ -88,6 +88,9 @@ TEST(defaults_from_the_task)
 	CHECK_EQ_INT(evo_evaluator_ticks(ev), 2000); /* TICKLIM:2000 */
 	CHECK_EQ_INT(evo_evaluator_n_in(ev), 11);
 	CHECK_EQ_INT(evo_evaluator_n_out(ev), 2);
+	/* EXP_Avoid reports no metrics of its own */
+	CHECK_EQ_INT(evo_evaluator_n_metrics(ev), 0);
+	CHECK(evo_evaluator_metric_name(ev, 0) == NULL);
 	evo_evaluator_destroy(ev);
 }
 

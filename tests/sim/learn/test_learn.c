@@ -5,7 +5,10 @@
  * interrupted; the champion lands in the
  * skill's folder with a learning curve in the run folder. GENETIC and
  * ANNEALING train a copy of Avoid whose skill has `layers:1`, and their
- * champion is a layered network evo loads. */
+ * champion is a layered network evo loads. An environment's own metrics
+ * are logged, the best candidate's, averaged over its repetitions, the
+ * same with any number of threads, and a resumed run keeps every earlier
+ * metric column. */
 #define _POSIX_C_SOURCE 200809L
 #include <signal.h>
 #include <stdio.h>
@@ -152,6 +155,154 @@ TEST(a_new_run_moves_the_earlier_run_aside)
 	free(out);
 	free(moved);
 	free(now);
+}
+
+/* EXP_Avoid reporting three metrics: the ticks (post_step runs once a
+ * tick), the episode's number (set in reset: 1 and 2 over EVALREP 2) and
+ * the episode's reward as it ends (so, averaged over the repetitions,
+ * half the candidate's fitness). */
+static const char metered_env[] =
+    "local env = require 'envs.EXP_Avoid'\n"
+    "local init = env.init\n"
+    "local steps, episode, reward\n"
+    "function env.init(scene, task)\n"
+    "  init(scene, task)\n"
+    "  steps = scene:metric('steps')\n"
+    "  episode = scene:metric('episode')\n"
+    "  reward = scene:metric('reward')\n"
+    "end\n"
+    "function env.reset(scene, e) episode:set(e) end\n"
+    "function env.post_step(scene)\n"
+    "  steps:add()\n"
+    "  reward:set(scene:episode_reward())\n"
+    "end\n"
+    "return env\n";
+
+static void make_metered_mind(const char *name, int numgen)
+{
+	make_mind(name, "NEAT", numgen, NEAT_TASK);
+	CHECK_EQ_INT(cli_write(metered_env, "%s/%s/Avoid/Envs/Metered.lua",
+			       cli_tmp, name),
+		     0);
+	CHECK_EQ_INT(cli_sh("sed -i 's/^ENV:EXP_Avoid$/ENV:Metered/' "
+			    "%s/%s/Avoid/Tasks/Small.simbatch",
+			    cli_tmp, name),
+		     0);
+}
+
+/* Field k (0 based) of the row of log that starts with "gen,", as a
+ * string (in buf), "" when absent. */
+static const char *log_field(const char *log, int gen, int k, char *buf,
+			     size_t cap)
+{
+	char head[32];
+	snprintf(head, sizeof head, "\n%d,", gen);
+	const char *p = strstr(log, head);
+	buf[0] = 0;
+	if (!p)
+		return buf;
+	p++;
+	for (; k > 0 && *p && *p != '\n'; p++)
+		k -= *p == ',';
+	size_t n = strcspn(p, ",\n");
+	if (k > 0 || n >= cap)
+		return buf;
+	memcpy(buf, p, n);
+	buf[n] = 0;
+	return buf;
+}
+
+TEST(the_environments_metrics_are_logged_for_the_best_candidate)
+{
+	make_metered_mind("m1", 3);
+	make_metered_mind("m2", 3);
+	CHECK_EQ_INT(train("m1", "--threads 1"), 0);
+	CHECK_EQ_INT(train("m2", "--threads 2"), 0);
+	char *log = cli_read("%s/m1/run/log.csv", cli_tmp);
+	CHECK(log != NULL);
+	if (!log)
+		return;
+	static const char header[] =
+	    "generation,best,mean,best_ever,species,evaluations,solved,"
+	    "seconds,elapsed,metric:steps,metric:episode,metric:reward\n";
+	CHECK(strncmp(log, header, sizeof header - 1) == 0);
+	char f[64];
+	for (int g = 0; g < 3; g++) {
+		/* 150 ticks in each repetition; episodes 1 and 2: 1.5 */
+		CHECK_EQ_STR(log_field(log, g, 9, f, sizeof f), "150");
+		CHECK_EQ_STR(log_field(log, g, 10, f, sizeof f), "1.5");
+		/* the reward's mean over the two repetitions is half the
+		 * best fitness, exactly: the metric is the best's */
+		double best = strtod(log_field(log, g, 1, f, sizeof f), NULL);
+		double reward = strtod(log_field(log, g, 11, f, sizeof f), NULL);
+		CHECK(2 * reward == best);
+		CHECK(best != 0);
+		CHECK_EQ_STR(log_field(log, g, 12, f, sizeof f), "");
+	}
+	/* the threads do not change them */
+	char *a = log_of("m1"), *b = log_of("m2");
+	CHECK(a && b);
+	if (a && b) {
+		CHECK_CONTAINS(a, ",150,1.5,");
+		CHECK_EQ_STR(a, b);
+	}
+	/* the replay gives the champion's and the untrained networks' */
+	char *out = cli_read("%s/m1/out.txt", cli_tmp);
+	CHECK(out != NULL);
+	if (out) {
+		CHECK_CONTAINS(out, " collision ticks, steps 150.0, episode 1.5, "
+				    "reward ");
+		CHECK_CONTAINS(out, " collision ticks (mean), steps 150.0, "
+				    "episode 1.5, reward ");
+	}
+	free(out);
+	free(a);
+	free(b);
+
+	/* Resumed with a metric renamed (episode is now ep), the log keeps
+	 * every earlier column: ep is a new one, empty in the earlier rows,
+	 * and episode stays, empty in the new ones. */
+	CHECK_EQ_INT(cli_sh("cd %s/m1/Avoid && "
+			    "sed -i \"s/metric('episode')/metric('ep')/\" "
+			    "Envs/Metered.lua && "
+			    "sed -i 's/^NUMGEN:3$/NUMGEN:4/' Tasks/Small.simbatch",
+			    cli_tmp),
+		     0);
+	CHECK_EQ_INT(train("m1", "--threads 2 --resume"), 0);
+	char *again = cli_read("%s/m1/run/log.csv", cli_tmp);
+	out = cli_read("%s/m1/out.txt", cli_tmp);
+	CHECK(again && out);
+	if (again && out) {
+		CHECK_EQ_INT(strcspn(again, "\n"),
+			     strlen("generation,best,mean,best_ever,species,"
+				    "evaluations,solved,seconds,elapsed,"
+				    "metric:steps,metric:episode,metric:reward,"
+				    "metric:ep"));
+		CHECK_CONTAINS(again, ",metric:reward,metric:ep\n");
+		for (int g = 0; g < 3; g++) {
+			/* the earlier rows as they were, and an empty cell */
+			char row[512];
+			const char *p = strstr(log, "\n");
+			for (int k = 0; p && k < g; k++)
+				p = strchr(p + 1, '\n');
+			size_t n = p ? strcspn(p + 1, "\n") : 0;
+			snprintf(row, sizeof row, "\n%.*s,\n", (int)n,
+				 p ? p + 1 : "");
+			CHECK_CONTAINS(again, row);
+		}
+		CHECK_EQ_STR(log_field(again, 3, 9, f, sizeof f), "150");
+		CHECK_EQ_STR(log_field(again, 3, 10, f, sizeof f), "");
+		CHECK_EQ_STR(log_field(again, 3, 12, f, sizeof f), "1.5");
+		CHECK_CONTAINS(out, "log.csv: warning: the environment now "
+				    "reports metric:ep, which the earlier rows "
+				    "lack: their cells are left empty");
+		CHECK_CONTAINS(out, "log.csv: warning: the environment no "
+				    "longer reports metric:episode: its cells in "
+				    "the new rows are left empty");
+	}
+	free(again);
+	free(out);
+	free(log);
 }
 
 /* Rows in the run's log.csv so far (header excluded). */
@@ -848,6 +999,7 @@ int main(void)
 		return 1;
 	RUN(one_thread_and_two_give_the_same_log);
 	RUN(a_new_run_moves_the_earlier_run_aside);
+	RUN(the_environments_metrics_are_logged_for_the_best_candidate);
 	RUN(killed_or_interrupted_and_resumed_run_ends_as_an_uninterrupted_one);
 	RUN(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one);
 	RUN(sigterm_and_sigint_stop_a_long_batch_within_a_second);

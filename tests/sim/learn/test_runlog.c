@@ -45,7 +45,7 @@ TEST(log_has_a_row_per_generation_with_exact_values)
 	snprintf(run, sizeof run, "%s/run", dir);
 	evo_runlog log;
 	evo_err err = {{0}};
-	CHECK_EQ_INT(evo_runlog_open(&log, run, 0, &err), 0);
+	CHECK_EQ_INT(evo_runlog_open(&log, run, 0, NULL, 0, &err), 0);
 	for (int g = 0; g < 4; g++) {
 		evo_gen_stats s = stats(g);
 		s.best = 0.1 * g; /* not exact in binary */
@@ -73,7 +73,7 @@ TEST(resume_keeps_rows_before_the_checkpoint)
 	snprintf(run, sizeof run, "%s/run", dir);
 	evo_runlog log;
 	evo_err err = {{0}};
-	CHECK_EQ_INT(evo_runlog_open(&log, run, 2, &err), 0);
+	CHECK_EQ_INT(evo_runlog_open(&log, run, 2, NULL, 0, &err), 0);
 	evo_gen_stats s = stats(2);
 	CHECK_EQ_INT(evo_runlog_add(&log, &s, &err), 0);
 	evo_runlog_close(&log);
@@ -97,14 +97,14 @@ TEST(files_are_saved_whole)
 	snprintf(run, sizeof run, "%s/run", dir);
 	evo_runlog log;
 	evo_err err = {{0}};
-	CHECK_EQ_INT(evo_runlog_open(&log, run, 0, &err), 0);
+	CHECK_EQ_INT(evo_runlog_open(&log, run, 0, NULL, 0, &err), 0);
 	CHECK_EQ_INT(evo_runlog_save(&log, "best/gen-0000.net", "inputs:1\n", 9,
 				     &err),
 		     0);
 	snprintf(path, sizeof path, "%s/best/gen-0000.net", run);
 	CHECK(evo_file_exists(path));
 	evo_runlog_close(&log);
-	CHECK_EQ_INT(evo_runlog_open(&log, "/proc/no/such/run", 0, &err), -1);
+	CHECK_EQ_INT(evo_runlog_open(&log, "/proc/no/such/run", 0, NULL, 0, &err), -1);
 	CHECK_CONTAINS(err.msg, "cannot create");
 	evo_runlog_close(&log);
 }
@@ -128,7 +128,7 @@ TEST(claim_locks_and_an_earlier_run_moves_aside)
 	CHECK(!evo_file_exists(path));
 	/* an earlier run, and a .1 already taken by another */
 	evo_runlog log;
-	CHECK_EQ_INT(evo_runlog_open(&log, run, 0, &err), 0);
+	CHECK_EQ_INT(evo_runlog_open(&log, run, 0, NULL, 0, &err), 0);
 	evo_gen_stats s = stats(0);
 	CHECK_EQ_INT(evo_runlog_add(&log, &s, &err), 0);
 	CHECK_EQ_INT(evo_runlog_save(&log, "best/gen-0000.net", "inputs:1\n",
@@ -155,6 +155,116 @@ TEST(claim_locks_and_an_earlier_run_moves_aside)
 		close(fd);
 	CHECK_EQ_INT(evo_runlog_claim("/proc/no/such/run", &err), -1);
 	CHECK_CONTAINS(err.msg, "cannot create");
+}
+
+/* A log of the metered run so far, and its header line. */
+static char *read_metered(void)
+{
+	char path[256], *data = NULL;
+	size_t len;
+	evo_err err;
+	snprintf(path, sizeof path, "%s/metered/log.csv", dir);
+	if (evo_read_file(path, &data, &len, &err))
+		return NULL;
+	return data;
+}
+
+TEST(metric_columns_follow_the_others)
+{
+	char run[256];
+	snprintf(run, sizeof run, "%s/metered", dir);
+	const char *names[] = {"in_zone", "delivered"};
+	evo_runlog log;
+	evo_err err = {{0}};
+	CHECK_EQ_INT(evo_runlog_open(&log, run, 0, names, 2, &err), 0);
+	for (int g = 0; g < 3; g++) {
+		evo_gen_stats s = stats(g);
+		double m[2] = {30 + g, 0.1 * g};
+		s.metrics = m;
+		CHECK_EQ_INT(evo_runlog_add(&log, &s, &err), 0);
+	}
+	/* a row without them is refused */
+	evo_gen_stats s = stats(3);
+	CHECK_EQ_INT(evo_runlog_add(&log, &s, &err), -1);
+	CHECK_CONTAINS(err.msg, "a log row without its 2 metrics");
+	evo_runlog_close(&log);
+	char *text = read_metered();
+	CHECK(text != NULL);
+	if (!text)
+		return;
+	CHECK(strncmp(text,
+		      "generation,best,mean,best_ever,species,evaluations,"
+		      "solved,seconds,elapsed,metric:in_zone,metric:delivered\n"
+		      "0,1,0,1,3,150,0,0.500,0.500,30,0\n"
+		      "1,2,0.5,2,3,150,0,0.500,1.000,31,0.10000000000000001\n"
+		      "2,3,1,3,3,150,0,0.500,1.500,32,0.20000000000000001\n",
+		      400) == 0);
+	free(text);
+}
+
+/* Resuming from generation 2 with a metric gone (delivered) and one new
+ * (travelled): every earlier column stays, the new one comes last, empty
+ * in the rows kept; the gone one is empty in the new rows; a warning says
+ * each. elapsed is found among the columns, not taken as the last. */
+TEST(resume_keeps_every_metric_column)
+{
+	char run[256], errs[256];
+	snprintf(run, sizeof run, "%s/metered", dir);
+	snprintf(errs, sizeof errs, "%s/stderr.txt", dir);
+	const char *names[] = {"travelled", "in_zone"};
+	evo_runlog log;
+	evo_err err = {{0}};
+	fflush(stderr);
+	int saved = dup(2);
+	CHECK(freopen(errs, "w", stderr) != NULL);
+	int rc = evo_runlog_open(&log, run, 2, names, 2, &err);
+	fflush(stderr);
+	dup2(saved, 2);
+	close(saved);
+	CHECK_EQ_INT(rc, 0);
+	evo_gen_stats s = stats(2);
+	double m[2] = {7.25, 44};
+	s.metrics = m;
+	CHECK_EQ_INT(evo_runlog_add(&log, &s, &err), 0);
+	evo_runlog_close(&log);
+	char *text = read_metered();
+	CHECK(text != NULL);
+	if (text)
+		CHECK_EQ_STR(text,
+			     "generation,best,mean,best_ever,species,"
+			     "evaluations,solved,seconds,elapsed,"
+			     "metric:in_zone,metric:delivered,"
+			     "metric:travelled\n"
+			     "0,1,0,1,3,150,0,0.500,0.500,30,0,\n"
+			     "1,2,0.5,2,3,150,0,0.500,1.000,31,"
+			     "0.10000000000000001,\n"
+			     "2,3,1,3,3,150,0,0.500,2.500,44,,7.25\n");
+	free(text);
+	char path[256], *said = NULL;
+	size_t len;
+	snprintf(path, sizeof path, "%s", errs);
+	CHECK_EQ_INT(evo_read_file(path, &said, &len, &err), 0);
+	if (said) {
+		CHECK_CONTAINS(said, "metered/log.csv: warning: the environment "
+				     "now reports metric:travelled, which the "
+				     "earlier rows lack: their cells are left "
+				     "empty\n");
+		CHECK_CONTAINS(said, "metered/log.csv: warning: the environment "
+				     "no longer reports metric:delivered: its "
+				     "cells in the new rows are left empty\n");
+	}
+	free(said);
+	/* The same metrics again: nothing to say, the log as it was. */
+	const char *same[] = {"in_zone", "delivered", "travelled"};
+	CHECK_EQ_INT(evo_runlog_open(&log, run, 3, same, 3, &err), 0);
+	evo_runlog_close(&log);
+	/* evo_runlog_open keeps the text in memory; the next add saves it */
+	CHECK_EQ_INT(evo_runlog_open(&log, run, 3, same, 3, &err), 0);
+	CHECK_EQ_INT(log.n_columns, 3);
+	CHECK_EQ_INT(log.column_metric[2], 2);
+	CHECK_CONTAINS(log.csv, "2,3,1,3,3,150,0,0.500,2.500,44,,7.25\n");
+	CHECK(log.elapsed_before == 2.5);
+	evo_runlog_close(&log);
 }
 
 TEST(progress_line_on_a_terminal_and_off)
@@ -192,6 +302,8 @@ int main(void)
 	RUN(resume_keeps_rows_before_the_checkpoint);
 	RUN(files_are_saved_whole);
 	RUN(claim_locks_and_an_earlier_run_moves_aside);
+	RUN(metric_columns_follow_the_others);
+	RUN(resume_keeps_every_metric_column);
 	RUN(progress_line_on_a_terminal_and_off);
 	char cmd[200];
 	snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
