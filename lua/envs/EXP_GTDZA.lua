@@ -6,7 +6,9 @@
 -- inside the zone (SensorOverThreshold on the zone sensor) and
 -- ClosingOnTarget on the zone (k 0.001). The zone moves to a random place
 -- at every reset and, once reached, after the step's rewards (postStepOps).
--- evo adds a border the sensors see, as in EXP_GTOA.
+-- evo adds a border the sensors see, as in EXP_GTOA, and reports how many
+-- zones the bot reached in each episode (the metric zones_reached, on each
+-- episode line of evo run and in a learning run's log.csv; docs/lua.md).
 local arena = require "lib.arena"
 
 local env = {}
@@ -35,6 +37,7 @@ function env.init(scene, task)
 	scene:reward("SensorOverThreshold", { bot = env.bot, sensors = env.in_zone,
 		threshold = 0.5, k = 100 })
 	scene:reward("ClosingOnTarget", { bot = env.bot, target = zone, k = 0.001 })
+	env.reached = scene:metric("zones_reached")
 end
 
 function env.reset(scene, episode)
@@ -46,6 +49,7 @@ end
 function env.post_step(scene)
 	local s = env.in_zone[1]
 	if s and env.bot:value(s) > 0.5 then
+		env.reached:add()
 		place_zone(scene)
 		scene:reset_rewards()
 	end

@@ -521,6 +521,79 @@ TEST(an_environments_metrics_follow_its_episode_lines)
 		printf("%s\n", out1);
 }
 
+/* EXP_GTDZA reports zones_reached: the ticks its post_step found the bot
+ * in the zone (and moved the zone away). Counted again here two ways:
+ * from the trace, the ticks whose SENSDZ (what post_step reads, as the
+ * mind read it) is true; and from the reward, which pays 100 * (0.8 -
+ * 0.5) = 30 for each such tick plus ClosingOnTarget's thousandths. The
+ * Collect example's GTDZ+Avoid skill drives BotType8 to zones: on seed 3
+ * it reaches some. */
+TEST(gtdza_reports_the_zones_reached)
+{
+	char trace[512];
+	snprintf(trace, sizeof trace, "%s/gtdza.trace", cli_tmp);
+	CHECK_EQ_INT(cli_sh("rm -rf %s/gtdza && mkdir -p %s/gtdza && "
+			    "cp -r minds/Collect %s/gtdza/ && printf "
+			    "'TYPE:DEMOSIM\\nBOTMODEL:BotType8\\n"
+			    "MASTERSKILL:GTDZ+Avoid\\nENV:EXP_GTDZA\\n"
+			    "TICKLIM:3000\\n' > "
+			    "%s/gtdza/Collect/Tasks/GTDZA.simbatch",
+			    cli_tmp, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	int rc = cli_capture(out1, sizeof out1,
+			     "%s -nog %s/gtdza/Collect/Tasks/GTDZA.simbatch "
+			     "--seed 3 --episodes 3 --trace %s",
+			     cli_evo, cli_tmp, trace);
+	CHECK_EQ_INT(rc, 0);
+	/* SENSDZ's field in a tick's line: its place among the sensors of
+	 * the trace's header, after the tick */
+	FILE *f = fopen(trace, "r");
+	CHECK(f != NULL);
+	static char line[8192];
+	int col = -1, e = 0;
+	long in_zone[4] = {0, 0, 0, 0};
+	while (f && fgets(line, sizeof line, f)) {
+		if (strncmp(line, "sensors ", 8) == 0) {
+			int k = 0;
+			for (char *t = strtok(line + 8, " \n"); t;
+			     t = strtok(NULL, " \n"), k++)
+				if (strcmp(t, "SENSDZ") == 0)
+					col = k; /* after the count */
+			continue;
+		}
+		if (col < 1 || line[0] < '0' || line[0] > '9')
+			continue;
+		char *p = line;
+		long tick = strtol(p, &p, 10);
+		e += tick == 0;
+		long v = -1;
+		for (int k = 1; k <= col; k++)
+			v = strtol(p, &p, 10);
+		if (e >= 1 && e <= 3 && v > 32768)
+			in_zone[e]++;
+	}
+	if (f)
+		fclose(f);
+	CHECK(col >= 1);
+	CHECK_EQ_INT(e, 3);
+	long total = 0;
+	for (int k = 1; k <= 3; k++) {
+		char got[64], want[64], reward[64];
+		snprintf(want, sizeof want, "%ld.000000", in_zone[k]);
+		episode_field(out1, k, ", zones_reached ", ",\n", got,
+			      sizeof got);
+		CHECK_EQ_STR(got, want);
+		episode_field(out1, k, ": reward ", " ", reward, sizeof reward);
+		double r = atof(reward);
+		CHECK(r > 30.0 * (double)in_zone[k] - 1 &&
+		      r < 30.0 * (double)in_zone[k] + 1);
+		total += in_zone[k];
+	}
+	CHECK(total > 0);
+	if (rc != 0 || total == 0)
+		printf("%s\n", out1);
+}
+
 /* An environment without a control function: with --ticks 0 its one
  * episode never ends. */
 static const char *endless_env =
@@ -671,6 +744,7 @@ int main(void)
 	RUN(math_random_follows_the_seed);
 	RUN(trace_records_every_tick);
 	RUN(an_environments_metrics_follow_its_episode_lines);
+	RUN(gtdza_reports_the_zones_reached);
 	RUN(sigterm_and_sigint_stop_a_long_run_and_keep_its_trace);
 	RUN(too_long_trace_path_is_refused);
 	RUN(out_of_range_counts_are_refused);
