@@ -52,7 +52,7 @@ TEST(a_metric_name_is_an_identifier_of_at_most_31_characters)
 TEST(an_environment_has_at_most_16_metrics)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	char name[8];
+	char name[16];
 	for (int i = 0; i < EVO_SCENE_MAX_METRICS; i++) {
 		snprintf(name, sizeof name, "m%d", i);
 		CHECK_EQ_INT(evo_scene_add_metric(sc, name), i);
