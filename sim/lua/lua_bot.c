@@ -117,13 +117,19 @@ SENSOR_FN(random, EVO_SENSOR_RANDOM)
 SENSOR_FN(constant, EVO_SENSOR_CONSTANT)
 SENSOR_FN(holding, EVO_SENSOR_HOLDING)
 
+/* Each kind's options: a wheel has no reach and a claw no force, so
+ * either one given to the other is an error, as for the sensors. */
+static const char *const wheel_keys[] = {"name", "x", "y", "angle",
+					 "max_force", NULL};
+static const char *const claw_keys[] = {"name", "x", "y", "angle", "reach",
+					NULL};
+
 static int add_actuator(lua_State *L, evo_actuator_kind kind,
 			const char *what)
 {
-	static const char *const keys[] = {"name", "x", "y", "angle",
-					   "max_force", "reach", NULL};
 	int bot = evo_lua_check_bot(L, 1);
-	evo_lua_check_keys(L, 2, what, keys);
+	evo_lua_check_keys(L, 2, what,
+			   kind == EVO_ACTUATOR_CLAW ? claw_keys : wheel_keys);
 	evo_actuator_def d = evo_default_actuator_def(kind);
 	d.name = evo_lua_opt_str(L, 2, "name", NULL, what);
 	if (!d.name)
