@@ -141,7 +141,7 @@ typedef struct evo_sensor_def {
 	uint16_t mask;	 /* what the rays see: obstacles and bots */
 	/* distance, zone, bearing, presence */
 	int target; /* element index or EVO_TARGET_NEAREST_OBJECT */
-	/* distance (100), movement (1): the distance that reads 1 */
+	/* distance (100), movement (1.5): the distance that reads 1 */
 	double scale;
 	/* object detector: reach ahead of (x, y) along angle */
 	double reach;
