@@ -100,22 +100,83 @@ function common.where(path, lines, key)
 	return path .. (line and ":" .. line or "")
 end
 
--- A warning on a task, at the line of `key`, on stderr.
+-- A warning on a task, at the line of `key`, on stderr, in the form the
+-- task reader's own warnings take (sim/mind/task.c): "warning: path:line: msg".
 function common.warning(path, lines, key, msg)
-	io.stderr:write(common.where(path, lines, key), ": warning: ", msg, "\n")
+	io.stderr:write("warning: ", common.where(path, lines, key), ": ", msg, "\n")
+end
+
+-- The prefix of each method's own keys: the .simbatch reader keeps every
+-- key that starts with one (core/src/parse_simbatch.c).
+common.PREFIXES = { NEAT = "NEAT_", GENETIC = "GA_", ANNEALING = "SA_" }
+
+-- Levenshtein distance between two strings.
+local function distance(a, b)
+	local prev = {}
+	for j = 0, #b do prev[j] = j end
+	for i = 1, #a do
+		local cur = { [0] = i }
+		for j = 1, #b do
+			local cost = a:byte(i) == b:byte(j) and 0 or 1
+			cur[j] = math.min(prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + cost)
+		end
+		prev = cur
+	end
+	return prev[#b]
+end
+
+-- The key of `keys` (key -> anything) closest to `key`, the first in
+-- sorted order among equals: the reader's "did you mean".
+local function closest(key, keys)
+	local names = {}
+	for k in pairs(keys) do names[#names + 1] = k end
+	table.sort(names)
+	local best, best_d
+	for _, k in ipairs(names) do
+		local d = distance(key, k)
+		if not best_d or d < best_d then best, best_d = k, d end
+	end
+	return best
 end
 
 -- The options of `algo` (a method's module) from a task, as `evo run` and
 -- `evo check` read them. The methods' messages start with the key; a
--- malformed value raises "path:line: KEY: ...", and an unknown key is a
--- warning at its line.
+-- malformed value raises "path:line: KEY: ...". Every key the method
+-- ignores is a warning at its line, in line order: a key with the
+-- method's prefix that it does not know (with the closest it knows), a
+-- key of another method, and POPSIZE for a method without a population.
 function common.task_options(algo, task, path, lines)
 	local ok, options, unknown = pcall(algo.options_from_task, task)
 	if not ok then
 		local key = tostring(options):match("^([%w_]+): ")
 		error(common.where(path, lines, key) .. ": " .. tostring(options), 0)
 	end
-	for _, k in ipairs(unknown) do common.warning(path, lines, k, "unknown key " .. k .. " (ignored)") end
+	local method = tostring(task.LEARNINGMETHOD or "NEAT"):upper()
+	local warnings = {}
+	for _, k in ipairs(unknown) do
+		warnings[#warnings + 1] = { k, string.format("unknown key '%s' ignored; did you mean %s?", k,
+			closest(k, algo.task_keys)) }
+	end
+	for k in pairs(task) do
+		if type(k) == "string" and not algo.task_keys[k] then
+			for other, prefix in pairs(common.PREFIXES) do
+				if other ~= method and k:sub(1, #prefix) == prefix then
+					warnings[#warnings + 1] = { k, string.format("%s ignored: it is a setting of "
+						.. "%s, and this task trains with %s", k, other, method) }
+				end
+			end
+			if k == "POPSIZE" then
+				warnings[#warnings + 1] = { k, string.format("POPSIZE ignored: %s has no population "
+					.. "(it moves one network at a time)", method) }
+			end
+		end
+	end
+	table.sort(warnings, function(a, b)
+		local la, lb = lines[a[1]] or 0, lines[b[1]] or 0
+		if la ~= lb then return la < lb end
+		return a[1] < b[1]
+	end)
+	for _, w in ipairs(warnings) do common.warning(path, lines, w[1], w[2]) end
 	return options
 end
 

@@ -574,9 +574,10 @@ TEST(resume_warns_when_the_task_asks_for_other_options)
 	CHECK_EQ_INT(rows("rw"), 2);
 	CHECK_EQ_INT(train("rw", "--resume"), 0);
 	text = cli_read("%s/rw/out.txt", cli_tmp);
-	CHECK(text && strstr(text, "Small.simbatch:11: warning: NEAT_C3 is "
-				   "1.5 in the task but 0.4 in the checkpoint; "
-				   "the run goes on with 0.4") &&
+	CHECK(text && strstr(text, "warning: ") &&
+	      strstr(text, "Small.simbatch:11: NEAT_C3 is "
+			   "1.5 in the task but 0.4 in the checkpoint; "
+			   "the run goes on with 0.4") &&
 	      strstr(text, "resuming after generation 1"));
 	free(text);
 	CHECK_EQ_INT(rows("rw"), 3);
@@ -608,7 +609,8 @@ TEST(bad_learning_option_is_refused_at_its_line)
 	CHECK(text && strstr(text, refused) && !strstr(text, ": ok"));
 	free(text);
 	static const char *const warned =
-	    "Small.simbatch:11: warning: unknown key NEAT_SURVIVALL (ignored)";
+	    "Small.simbatch:11: unknown key 'NEAT_SURVIVALL' ignored; did you "
+	    "mean NEAT_SURVIVAL?";
 	make_mind("opt2", "NEAT", 1, NEAT_TASK "NEAT_SURVIVALL:0.2\\n");
 	CHECK_EQ_INT(check_task("opt2"), 0);
 	text = cli_read("%s/opt2/check.txt", cli_tmp);
