@@ -314,7 +314,7 @@ static int remote_opts(const evo_task *task, const char *path,
 	ro->url = evo_simbatch_get(task->sb, "LCMURL");
 	ro->name = evo_simbatch_get(task->sb, "REMOTENAME");
 	ro->kind = kind;
-	ro->timeout = 2.0;
+	ro->timeout = EVO_REMOTE_DEFAULT_TIMEOUT;
 	ro->stop = &stop_requested;
 	if (ro->name && !evo_wire_name_ok(ro->name))
 		return evo_fail(err,

@@ -226,7 +226,7 @@ evo_remote *evo_remote_connect(const evo_mindfolder *mind,
 	}
 	r->opts = *o;
 	if (!(r->opts.timeout > 0))
-		r->opts.timeout = 2.0;
+		r->opts.timeout = EVO_REMOTE_DEFAULT_TIMEOUT;
 	r->mind = mind;
 	r->link = evo_link_open(o->url, err);
 	if (!r->link || evo_link_subscribe(r->link, "EVO_HELLO", err) ||

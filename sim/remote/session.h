@@ -21,6 +21,9 @@
 
 #define EVO_REMOTE_MAX_ENVS 64
 
+/* Seconds of silence before evo says a remote is silent (REMOTETIMEOUT). */
+#define EVO_REMOTE_DEFAULT_TIMEOUT 2.0
+
 typedef struct evo_remote_opts {
 	const char *url;   /* NULL: LCM's default */
 	const char *name;  /* the remote to use; NULL: the first to answer */

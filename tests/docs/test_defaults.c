@@ -42,6 +42,8 @@
 #include "lua/lua_evo.h"
 #include "mind/net_build.h"
 #include "mind/task.h"
+#include "remote/link.h"
+#include "remote/session.h"
 #include "support/cli.h"
 #include "world2d/scene.h"
 
@@ -644,6 +646,14 @@ static int render_task_default(const char *key, int in_learning, char *out,
 		snprintf(out, cap, "%s",
 			 larger ? "the larger of the skill's inputs and outputs"
 				: "another width");
+	} else if (strcmp(key, "LCMURL") == 0) {
+		snprintf(out, cap, "LCM's own, %s",
+			 EVO_LINK_DEFAULT_URL);
+	} else if (strcmp(key, "REMOTENAME") == 0) {
+		/* no name: remote/session.c takes the first of the kind */
+		snprintf(out, cap, "the first remote to answer");
+	} else if (strcmp(key, "REMOTETIMEOUT") == 0) {
+		snprintf(out, cap, "%g", EVO_REMOTE_DEFAULT_TIMEOUT);
 	} else if (strcmp(key, "TARGETFITNESS") == 0) {
 		/* no target: a run goes all its generations */
 		snprintf(out, cap, "none");
