@@ -294,6 +294,20 @@ $(BUILD)/fuzz/%: tests/fuzz/%.c $(CORE_SRCS)
 		-fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
 		-o $@ $< $(CORE_SRCS)
 
+# The remote protocol's decoder, with the C lcm-gen made for it (built
+# without -Wpedantic and -Wmissing-prototypes, as for the host).
+FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all
+FUZZ_LCM_OBJS := $(patsubst $(LCM_GEN)/%.c,$(BUILD)/fuzz/lcm/%.o,$(LCM_GEN_SRCS))
+$(BUILD)/fuzz/lcm/%.o: $(LCM_GEN)/%.c
+	@mkdir -p $(dir $@)
+	$(CLANG) -std=c11 -O1 -g $(filter-out -Wpedantic -Wmissing-prototypes,$(WARN)) \
+		-I$(LCM_GEN) -fsanitize=fuzzer-no-link $(FUZZ_SAN) -c $< -o $@
+$(BUILD)/fuzz/fuzz_wire: tests/fuzz/fuzz_wire.c sim/remote/wire.c sim/remote/wire.h $(FUZZ_LCM_OBJS)
+	@mkdir -p $(dir $@)
+	$(CLANG) -std=c11 -O1 -g $(WARN) -Icore/include -Isim -isystem $(LCM_GEN) \
+		-fsanitize=fuzzer $(FUZZ_SAN) \
+		-o $@ tests/fuzz/fuzz_wire.c sim/remote/wire.c $(FUZZ_LCM_OBJS)
+
 fuzz: deps $(FUZZ_BINS)
 	@for f in $(FUZZ_BINS); do \
 		name=$$(basename $$f); corpus=$(BUILD)/fuzz/corpus-$$name; \
