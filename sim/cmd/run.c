@@ -353,17 +353,17 @@ static int run_remote_sim(const evo_task *task, const run_opts *o,
 		free(mem);
 		return evo_fail(err, "mind state: cannot lay it out");
 	}
-	evo_remote *r = evo_remote_connect(task->mind, &ro, err);
+	evo_remotes *r = evo_remote_connect(task->mind, &ro, err);
 	if (!r) {
 		free(mem);
 		/* a stop while waiting for a remote ends the run, as it would
 		 * end a DEMOSIM */
 		return stop_requested ? 0 : -1;
 	}
-	printf("remote %s: %s, %d environment%s\n", r->hello.name,
-	       r->hello.kind == EVO_REMOTE_SIMULATOR ? "simulator" : "robot",
-	       (int)r->hello.environments,
-	       r->hello.environments == 1 ? "" : "s");
+	const evo_wire_hello *h = &r->r[0]->hello;
+	printf("remote %s: %s, %d environment%s\n", h->name,
+	       h->kind == EVO_REMOTE_SIMULATOR ? "simulator" : "robot",
+	       (int)h->environments, h->environments == 1 ? "" : "s");
 	if (trace)
 		evo_trace_header(trace, task->mind);
 	int rc = 0;
@@ -379,7 +379,7 @@ static int run_remote_sim(const evo_task *task, const run_opts *o,
 		long t = 0;
 		int end = 0;
 		while (!stop_requested && (o->ticks == 0 || t < o->ticks)) {
-			evo_remote_sensors(r, 0, in);
+			evo_remote_sensors(r->r[0], 0, in);
 			for (unsigned i = 0; i < m->n_sensors; i++)
 				qin[i] = evo_q16_from_sensor(in[i]);
 			evo_mind_step(m, state, qin, qout);
@@ -398,10 +398,10 @@ static int run_remote_sim(const evo_task *task, const run_opts *o,
 			break;
 		}
 		printf("episode %ld: reward %.6f over %ld ticks\n", e,
-		       evo_remote_reward(r, 0), t);
+		       evo_remote_reward(r->r[0], 0), t);
 		fflush(stdout);
 	}
-	evo_remote_close(r);
+	evo_remotes_close(r);
 	free(mem);
 	return rc;
 }

@@ -1,4 +1,4 @@
-/* evo's side of a remote (sim/remote/session.h, docs/remote.md). */
+/* evo's side of its remotes (sim/remote/session.h, docs/remote.md). */
 #define _POSIX_C_SOURCE 200809L
 #include "remote/session.h"
 
@@ -104,9 +104,9 @@ static int compare_names(char *out, size_t cap, const char *what,
 }
 
 /* Check a hello against the mind and fill the maps. */
-static int accept(evo_remote *r, evo_err *err)
+static int accept(evo_remotes *s, evo_remote *r, evo_err *err)
 {
-	const evo_botdesc *bd = r->mind->botdesc;
+	const evo_botdesc *bd = s->mind->botdesc;
 	const evo_wire_hello *h = &r->hello;
 	if (h->protocol != EVO_WIRE_PROTOCOL)
 		return evo_fail(err,
@@ -119,16 +119,18 @@ static int accept(evo_remote *r, evo_err *err)
 		snprintf(mine_s[i], EVO_NAME_MAX, "%s", bd->sensor[i].name);
 	for (unsigned i = 0; i < bd->n_actuators; i++)
 		snprintf(mine_a[i], EVO_NAME_MAX, "%s", bd->actuator[i].name);
-	char s[700], a[300];
-	int bs = compare_names(s, sizeof s, "sensors", (const char(*)[EVO_NAME_MAX])mine_s,
+	char ms[700], ma[300];
+	int bs = compare_names(ms, sizeof ms, "sensors",
+			       (const char(*)[EVO_NAME_MAX])mine_s,
 			       bd->n_sensors, h->sensor, h->n_sensors);
-	int ba = compare_names(a, sizeof a, "actuators", (const char(*)[EVO_NAME_MAX])mine_a,
+	int ba = compare_names(ma, sizeof ma, "actuators",
+			       (const char(*)[EVO_NAME_MAX])mine_a,
 			       bd->n_actuators, h->actuator, h->n_actuators);
 	if (bs || ba)
 		return evo_fail(err,
 				"remote %s does not fit %s.botdesc%s%s (the "
 				"names must be the same, in any order)",
-				h->name, r->mind->bot_name, s, a);
+				h->name, s->mind->bot_name, ms, ma);
 	for (unsigned i = 0; i < bd->n_sensors; i++)
 		for (unsigned j = 0; j < h->n_sensors; j++)
 			if (strcmp(mine_s[i], h->sensor[j]) == 0)
@@ -143,48 +145,107 @@ static int accept(evo_remote *r, evo_err *err)
 		 h->name);
 	snprintf(r->ch_control, sizeof r->ch_control, "EVO_%s_CONTROL",
 		 h->name);
-	return evo_link_subscribe(r->link, r->ch_sensors, err);
+	return evo_link_subscribe(s->link, r->ch_sensors, err);
 }
 
-static int send_who(evo_remote *r, evo_err *err)
+static int send_who(evo_remotes *s, evo_err *err)
 {
 	evo_wire_who w = {.protocol = EVO_WIRE_PROTOCOL};
-	if (r->opts.self)
-		snprintf(w.from, sizeof w.from, "%s", r->opts.self);
+	if (s->opts.self)
+		snprintf(w.from, sizeof w.from, "%s", s->opts.self);
 	else
 		snprintf(w.from, sizeof w.from, "evo-%ld", (long)getpid());
 	unsigned char buf[256];
 	int n = evo_wire_encode_who(&w, buf, sizeof buf);
 	if (n < 0)
 		return evo_fail(err, "evo: cannot encode a who_t");
-	return evo_link_publish(r->link, "EVO_WHO", buf, (size_t)n, err);
+	return evo_link_publish(s->link, "EVO_WHO", buf, (size_t)n, err);
 }
 
-/* Wait for a fitting hello. */
-static int find(evo_remote *r, evo_err *err)
+evo_remotes *evo_remotes_open(const evo_mindfolder *mind,
+			      const evo_remote_opts *o, evo_err *err)
 {
-	const evo_remote_opts *o = &r->opts;
-	double start = now(), asked = 0, told = start;
+	evo_remotes *s = calloc(1, sizeof *s);
+	if (!s) {
+		evo_fail(err, "out of memory");
+		return NULL;
+	}
+	s->opts = *o;
+	if (!(s->opts.timeout > 0))
+		s->opts.timeout = EVO_REMOTE_DEFAULT_TIMEOUT;
+	s->mind = mind;
+	s->link = evo_link_open(o->url, err);
+	if (!s->link || evo_link_subscribe(s->link, "EVO_HELLO", err)) {
+		evo_link_close(s->link);
+		free(s);
+		return NULL;
+	}
+	return s;
+}
+
+static evo_remote *by_name(const evo_remotes *s, const char *name)
+{
+	for (int i = 0; i < s->n; i++)
+		if (strcmp(s->r[i]->hello.name, name) == 0)
+			return s->r[i];
+	return NULL;
+}
+
+/* A hello on EVO_HELLO: a new remote taken, or -1 with err set. */
+static int take_new(evo_remotes *s, const evo_wire_hello *h, evo_err *err)
+{
+	const evo_remote_opts *o = &s->opts;
+	if (o->name && strcmp(h->name, o->name) != 0)
+		return 0;
+	if (by_name(s, h->name))
+		return 0;
+	if (h->kind != o->kind) {
+		if (o->name)
+			return evo_fail(err,
+					"remote %s is a %s; this task needs a "
+					"%s",
+					h->name, kind_name(h->kind),
+					kind_name(o->kind));
+		return 0;
+	}
+	if (s->n == EVO_REMOTE_MAX_REMOTES)
+		return 0;
+	evo_remote *r = calloc(1, sizeof *r);
+	if (!r)
+		return evo_fail(err, "out of memory");
+	r->set = s;
+	r->hello = *h;
+	r->heard_at = now();
+	s->r[s->n++] = r;
+	return accept(s, r, err);
+}
+
+int evo_remotes_find(evo_remotes *s, double window, evo_err *err)
+{
+	const evo_remote_opts *o = &s->opts;
+	double start = now(), asked = 0, told = start, until = 0;
 	for (;;) {
 		if (stopped(o, err))
 			return -1;
 		double t = now();
+		if (s->n && t >= until)
+			return 0;
 		if (t - asked >= WHO_EVERY_S) {
-			if (send_who(r, err))
+			if (send_who(s, err))
 				return -1;
 			asked = t;
 		}
-		if (t - told >= o->timeout) {
+		if (!s->n && t - told >= o->timeout) {
 			fprintf(stderr,
 				"evo: no %s%s%s has answered on %s for %.0f s; "
 				"waiting (Ctrl-C stops)\n",
 				kind_name(o->kind), o->name ? " named " : "",
-				o->name ? o->name : "", evo_link_url(r->link),
+				o->name ? o->name : "", evo_link_url(s->link),
 				t - start);
 			told = t;
 		}
 		evo_link_msg m;
-		int got = evo_link_next(r->link, SLICE_MS, &m, err);
+		int got = evo_link_next(s->link, SLICE_MS, &m, err);
 		if (got < 0)
 			return -1;
 		if (!got || strcmp(m.channel, "EVO_HELLO") != 0)
@@ -192,64 +253,35 @@ static int find(evo_remote *r, evo_err *err)
 		evo_wire_hello h;
 		char why[256];
 		if (evo_wire_decode_hello(m.data, m.len, &h, why, sizeof why)) {
-			if (r->dropped[EVO_WIRE_UNDECODABLE]++ == 0)
+			if (s->undecodable_hellos++ == 0)
 				fprintf(stderr,
 					"evo: dropped a hello_t on EVO_HELLO "
 					"(%s)\n",
 					why);
 			continue;
 		}
-		if (o->name && strcmp(h.name, o->name) != 0)
-			continue;
-		if (h.kind != o->kind) {
-			if (o->name)
-				return evo_fail(err,
-						"remote %s is a %s; this task "
-						"needs a %s",
-						h.name, kind_name(h.kind),
-						kind_name(o->kind));
-			continue;
-		}
-		r->hello = h;
-		r->heard_at = now();
-		return accept(r, err);
+		int had = s->n;
+		if (take_new(s, &h, err))
+			return -1;
+		if (!had && s->n)
+			until = window > 0 ? now() + window : 0;
 	}
-}
-
-evo_remote *evo_remote_connect(const evo_mindfolder *mind,
-			       const evo_remote_opts *o, evo_err *err)
-{
-	evo_remote *r = calloc(1, sizeof *r);
-	if (!r) {
-		evo_fail(err, "out of memory");
-		return NULL;
-	}
-	r->opts = *o;
-	if (!(r->opts.timeout > 0))
-		r->opts.timeout = EVO_REMOTE_DEFAULT_TIMEOUT;
-	r->mind = mind;
-	r->link = evo_link_open(o->url, err);
-	if (!r->link || evo_link_subscribe(r->link, "EVO_HELLO", err) ||
-	    find(r, err)) {
-		evo_link_close(r->link);
-		free(r);
-		return NULL;
-	}
-	return r;
 }
 
 /* ---- episodes ---------------------------------------------------------- */
 
-static int send_env(evo_remote *r, evo_remote_env *e, const char *channel,
+static int send_env(evo_remotes *s, evo_remote_env *e, const char *channel,
 		    int len, evo_err *err)
 {
 	if (len < 0)
 		return evo_fail(err, "evo: cannot encode a message for %s",
-				r->hello.name);
+				channel);
 	e->sent_len = len;
 	snprintf(e->sent_channel, sizeof e->sent_channel, "%s", channel);
 	e->sent_at = now();
-	return evo_link_publish(r->link, channel, e->sent, (size_t)len, err);
+	e->waiting = 1;
+	e->have = 0;
+	return evo_link_publish(s->link, channel, e->sent, (size_t)len, err);
 }
 
 /* A sensors_t: keep it when it is the one its environment awaits. */
@@ -279,7 +311,7 @@ static int take_sensors(evo_remote *r, const evo_link_msg *m, evo_err *err)
 		return 0;
 	}
 	evo_remote_env *e = &r->env[s.env];
-	if (s.episode < e->episode ||
+	if (!e->waiting || s.episode < e->episode ||
 	    (s.episode == e->episode && (s.tick < e->tick || e->have))) {
 		snprintf(why, sizeof why,
 			 "tick %lld of episode %lld; evo is at tick %lld of "
@@ -317,65 +349,141 @@ static int take_sensors(evo_remote *r, const evo_link_msg *m, evo_err *err)
 
 /* A hello while running: the same session answering a who is fine; a new
  * session is a remote that restarted and lost its episodes. */
-static int take_hello(evo_remote *r, const evo_link_msg *m, evo_err *err)
+static int take_hello(evo_remotes *s, const evo_link_msg *m, int *lost,
+		      evo_err *err)
 {
 	evo_wire_hello h;
 	char why[256];
 	if (evo_wire_decode_hello(m->data, m->len, &h, why, sizeof why))
 		return 0;
-	if (strcmp(h.name, r->hello.name) == 0 &&
-	    h.session != r->hello.session)
+	evo_remote *r = by_name(s, h.name);
+	if (!r || r->lost || h.session == r->hello.session)
+		return 0;
+	if (!s->opts.lose_silent)
 		return evo_fail(err,
 				"remote %s restarted (a new session): the "
 				"episodes it was running are lost",
 				h.name);
+	fprintf(stderr,
+		"evo: remote %s restarted (a new session); its evaluations go "
+		"to the others\n",
+		h.name);
+	*lost = 1;
 	return 0;
 }
 
-/* Wait until env holds the message of the tick it awaits. */
-static int await(evo_remote *r, int env, evo_err *err)
+static int index_of(const evo_remotes *s, const evo_remote *r)
 {
-	evo_remote_env *e = &r->env[env];
-	double told = 0;
-	while (!e->have) {
-		if (stopped(&r->opts, err))
+	for (int i = 0; i < s->n; i++)
+		if (s->r[i] == r)
+			return i;
+	return -1;
+}
+
+/* Remote r is gone: nothing of it is awaited any more. */
+static void lose(evo_remote *r)
+{
+	r->lost = 1;
+	for (int e = 0; e < EVO_REMOTE_MAX_ENVS; e++)
+		r->env[e].waiting = 0;
+}
+
+int evo_remotes_wait(evo_remotes *s, int *ri, int *env, evo_err *err)
+{
+	for (;;) {
+		/* an answer already in */
+		for (int i = 0; i < s->n; i++) {
+			evo_remote *r = s->r[i];
+			for (int e = 0; !r->lost && e < r->hello.environments;
+			     e++)
+				if (r->env[e].waiting && r->env[e].have) {
+					r->env[e].waiting = 0;
+					*ri = i;
+					*env = e;
+					return 0;
+				}
+		}
+		if (stopped(&s->opts, err))
 			return -1;
 		double t = now();
-		if (t - e->sent_at >= RESEND_S) {
-			e->sent_at = t;
-			if (evo_link_publish(r->link, e->sent_channel, e->sent,
-					     (size_t)e->sent_len, err))
-				return -1;
+		int awaited = 0;
+		for (int i = 0; i < s->n; i++) {
+			evo_remote *r = s->r[i];
+			int waits = 0;
+			for (int e = 0; !r->lost && e < r->hello.environments;
+			     e++) {
+				evo_remote_env *v = &r->env[e];
+				if (!v->waiting)
+					continue;
+				waits = 1;
+				if (t - v->sent_at >= RESEND_S) {
+					v->sent_at = t;
+					if (evo_link_publish(
+						s->link, v->sent_channel,
+						v->sent, (size_t)v->sent_len,
+						err))
+						return -1;
+				}
+			}
+			awaited |= waits;
+			if (!waits || t - r->heard_at < s->opts.timeout)
+				continue;
+			if (s->opts.lose_silent) {
+				fprintf(stderr,
+					"evo: remote %s silent for %.1f s: "
+					"taken as lost; its evaluations go to "
+					"the others\n",
+					r->hello.name, t - r->heard_at);
+				lose(r);
+				*ri = i;
+				return 1;
+			}
+			if (t - r->told_at >= s->opts.timeout) {
+				fprintf(stderr,
+					"evo: remote %s silent for %.1f s; "
+					"waiting (Ctrl-C stops)\n",
+					r->hello.name, t - r->heard_at);
+				r->told_at = t;
+			}
 		}
-		if (t - r->heard_at >= r->opts.timeout &&
-		    t - told >= r->opts.timeout) {
-			fprintf(stderr,
-				"evo: remote %s silent for %.1f s (tick %lld "
-				"of episode %lld); waiting (Ctrl-C stops)\n",
-				r->hello.name, t - r->heard_at,
-				(long long)e->tick, (long long)e->episode);
-			told = t;
-		}
+		if (!awaited)
+			return evo_fail(err, "evo: waiting for no remote");
 		evo_link_msg m;
-		int got = evo_link_next(r->link, SLICE_MS, &m, err);
+		int got = evo_link_next(s->link, SLICE_MS, &m, err);
 		if (got < 0)
 			return -1;
 		if (!got)
 			continue;
-		if (strcmp(m.channel, r->ch_sensors) == 0) {
-			if (take_sensors(r, &m, err))
+		if (strcmp(m.channel, "EVO_HELLO") == 0) {
+			int lost = 0;
+			evo_wire_hello h;
+			char why[256];
+			if (take_hello(s, &m, &lost, err))
 				return -1;
-		} else if (strcmp(m.channel, "EVO_HELLO") == 0) {
-			if (take_hello(r, &m, err))
-				return -1;
+			if (lost &&
+			    evo_wire_decode_hello(m.data, m.len, &h, why,
+						  sizeof why) == EVO_WIRE_OK) {
+				evo_remote *r = by_name(s, h.name);
+				lose(r);
+				*ri = index_of(s, r);
+				return 1;
+			}
+			continue;
 		}
+		for (int i = 0; i < s->n; i++)
+			if (strcmp(m.channel, s->r[i]->ch_sensors) == 0) {
+				if (!s->r[i]->lost &&
+				    take_sensors(s->r[i], &m, err))
+					return -1;
+				break;
+			}
 	}
-	return 0;
 }
 
-int evo_remote_reset(evo_remote *r, int env, int64_t episode,
-		     uint64_t layout_seed, uint64_t seed, evo_err *err)
+int evo_remotes_send_reset(evo_remotes *s, int ri, int env, int64_t episode,
+			   uint64_t layout_seed, uint64_t seed, evo_err *err)
 {
+	evo_remote *r = s->r[ri];
 	if (env < 0 || env >= r->hello.environments)
 		return evo_fail(err, "remote %s runs %d environments, not %d",
 				r->hello.name, (int)r->hello.environments,
@@ -383,7 +491,6 @@ int evo_remote_reset(evo_remote *r, int env, int64_t episode,
 	evo_remote_env *e = &r->env[env];
 	e->episode = episode;
 	e->tick = 0;
-	e->have = 0;
 	evo_wire_control c = {
 	    .session = r->hello.session,
 	    .env = env,
@@ -393,22 +500,15 @@ int evo_remote_reset(evo_remote *r, int env, int64_t episode,
 	    .seed = seed,
 	};
 	snprintf(c.name, sizeof c.name, "%s", r->hello.name);
-	if (send_env(r, e, r->ch_control,
-		     evo_wire_encode_control(&c, e->sent, sizeof e->sent), err))
-		return -1;
-	return await(r, env, err);
+	return send_env(s, e, r->ch_control,
+			evo_wire_encode_control(&c, e->sent, sizeof e->sent),
+			err);
 }
 
-void evo_remote_sensors(const evo_remote *r, int env, double *values)
+int evo_remotes_send_command(evo_remotes *s, int ri, int env,
+			     const double *commands, evo_err *err)
 {
-	const evo_remote_env *e = &r->env[env];
-	for (unsigned i = 0; i < r->mind->botdesc->n_sensors; i++)
-		values[i] = e->sensors.value[r->sensor_at[i]];
-}
-
-int evo_remote_step(evo_remote *r, int env, const double *commands,
-		    evo_err *err)
-{
+	evo_remote *r = s->r[ri];
 	evo_remote_env *e = &r->env[env];
 	evo_wire_command c = {
 	    .session = r->hello.session,
@@ -420,14 +520,17 @@ int evo_remote_step(evo_remote *r, int env, const double *commands,
 	snprintf(c.name, sizeof c.name, "%s", r->hello.name);
 	for (unsigned j = 0; j < c.n; j++)
 		c.value[j] = commands[r->actuator_of[j]];
-	if (send_env(r, e, r->ch_command,
-		     evo_wire_encode_command(&c, e->sent, sizeof e->sent), err))
-		return -1;
 	e->tick++;
-	e->have = 0;
-	if (await(r, env, err))
-		return -1;
-	return e->sensors.done ? 1 : 0;
+	return send_env(s, e, r->ch_command,
+			evo_wire_encode_command(&c, e->sent, sizeof e->sent),
+			err);
+}
+
+void evo_remote_sensors(const evo_remote *r, int env, double *values)
+{
+	const evo_remote_env *e = &r->env[env];
+	for (unsigned i = 0; i < r->set->mind->botdesc->n_sensors; i++)
+		values[i] = e->sensors.value[r->sensor_at[i]];
 }
 
 double evo_remote_reward(const evo_remote *r, int env)
@@ -435,27 +538,76 @@ double evo_remote_reward(const evo_remote *r, int env)
 	return r->env[env].sensors.reward;
 }
 
-void evo_remote_close(evo_remote *r)
+void evo_remotes_close(evo_remotes *s)
 {
-	if (!r)
+	if (!s)
 		return;
 	evo_err ignored;
-	for (int i = 0; i < r->hello.environments && i < EVO_REMOTE_MAX_ENVS;
-	     i++) {
-		if (!r->env[i].episode)
-			continue;
-		evo_wire_control c = {.session = r->hello.session,
-				 .env = i,
-				 .op = EVO_CONTROL_STOP,
-				 .episode = r->env[i].episode};
-		snprintf(c.name, sizeof c.name, "%s", r->hello.name);
-		unsigned char buf[512];
-		int n = evo_wire_encode_control(&c, buf, sizeof buf);
-		if (n > 0)
-			evo_link_publish(r->link, r->ch_control, buf, (size_t)n,
-					 &ignored);
+	for (int k = 0; k < s->n; k++) {
+		evo_remote *r = s->r[k];
+		for (int i = 0;
+		     !r->lost && i < r->hello.environments &&
+		     i < EVO_REMOTE_MAX_ENVS;
+		     i++) {
+			if (!r->env[i].episode)
+				continue;
+			evo_wire_control c = {.session = r->hello.session,
+					      .env = i,
+					      .op = EVO_CONTROL_STOP,
+					      .episode = r->env[i].episode};
+			snprintf(c.name, sizeof c.name, "%s", r->hello.name);
+			unsigned char buf[512];
+			int n = evo_wire_encode_control(&c, buf, sizeof buf);
+			if (n > 0)
+				evo_link_publish(s->link, r->ch_control, buf,
+						 (size_t)n, &ignored);
+		}
+		report_drops(r);
+		free(r);
 	}
-	report_drops(r);
-	evo_link_close(r->link);
-	free(r);
+	evo_link_close(s->link);
+	free(s);
+}
+
+/* ---- one remote, one environment at a time ------------------------------ */
+
+evo_remotes *evo_remote_connect(const evo_mindfolder *mind,
+				const evo_remote_opts *o, evo_err *err)
+{
+	evo_remotes *s = evo_remotes_open(mind, o, err);
+	if (s && evo_remotes_find(s, 0, err)) {
+		evo_remotes_close(s);
+		return NULL;
+	}
+	return s;
+}
+
+/* Wait for env of the first remote. */
+static int await_first(evo_remotes *s, int env, evo_err *err)
+{
+	int ri, e;
+	for (;;) {
+		int rc = evo_remotes_wait(s, &ri, &e, err);
+		if (rc != 0)
+			return -1;
+		if (ri == 0 && e == env)
+			return 0;
+	}
+}
+
+int evo_remote_reset(evo_remotes *s, int env, int64_t episode,
+		     uint64_t layout_seed, uint64_t seed, evo_err *err)
+{
+	if (evo_remotes_send_reset(s, 0, env, episode, layout_seed, seed, err))
+		return -1;
+	return await_first(s, env, err);
+}
+
+int evo_remote_step(evo_remotes *s, int env, const double *commands,
+		    evo_err *err)
+{
+	if (evo_remotes_send_command(s, 0, env, commands, err) ||
+	    await_first(s, env, err))
+		return -1;
+	return s->r[0]->env[env].sensors.done ? 1 : 0;
 }

@@ -24,11 +24,16 @@
 /* Seconds of silence before evo says a remote is silent (REMOTETIMEOUT). */
 #define EVO_REMOTE_DEFAULT_TIMEOUT 2.0
 
+#define EVO_REMOTE_MAX_REMOTES 16
+
 typedef struct evo_remote_opts {
 	const char *url;   /* NULL: LCM's default */
-	const char *name;  /* the remote to use; NULL: the first to answer */
+	const char *name;  /* the remote to use; NULL: any of the kind */
 	evo_remote_kind kind;
 	double timeout;	   /* seconds of silence before saying so */
+	/* 1: a remote silent for `timeout` while evo waits for it is lost
+	 * (evo_remotes_wait says which) instead of waited for */
+	int lose_silent;
 	const char *self;  /* evo's name in who_t */
 	/* set by a signal handler: every wait ends soon after, with
 	 * "stopped" in err */
@@ -39,7 +44,8 @@ typedef struct evo_remote_opts {
 typedef struct evo_remote_env {
 	int64_t episode;
 	int64_t tick;	/* the tick of `sensors` */
-	int have;	/* sensors holds tick's message */
+	int waiting;	/* a message was sent and its answer is awaited */
+	int have;	/* sensors holds the answer */
 	evo_wire_sensors sensors;
 	unsigned char sent[EVO_WIRE_MAX_BYTES]; /* the last message sent */
 	int sent_len;
@@ -48,39 +54,76 @@ typedef struct evo_remote_env {
 } evo_remote_env;
 
 typedef struct evo_remote {
-	evo_link *link;
+	struct evo_remotes *set;
 	evo_wire_hello hello;
-	evo_remote_opts opts;
-	const evo_mindfolder *mind;
 	/* botdesc sensor i is hello sensor sensor_at[i]; hello actuator j is
 	 * botdesc actuator actuator_of[j] */
 	int sensor_at[EVO_MAX_SENSORS];
 	int actuator_of[EVO_MAX_ACTUATORS];
 	char ch_sensors[96], ch_command[96], ch_control[96];
 	unsigned long dropped[EVO_WIRE_N_REASONS];
+	double heard_at, told_at; /* the last message; the last "silent" */
+	int lost;
 	evo_remote_env env[EVO_REMOTE_MAX_ENVS];
-	double heard_at; /* the last message from the remote */
 } evo_remote;
 
-/* Ask who is on the URL until a remote of the kind (and name) answers, then
- * check it: protocol, kind, sensor and actuator names. NULL with err set
- * ("remote sim1: its sensors lack S3; it has the extra sensor S11"). */
-evo_remote *evo_remote_connect(const evo_mindfolder *mind,
-			       const evo_remote_opts *o, evo_err *err);
+/* The remotes evo uses, all on one LCM connection. */
+typedef struct evo_remotes {
+	evo_link *link;
+	evo_remote_opts opts;
+	const evo_mindfolder *mind;
+	int n;
+	evo_remote *r[EVO_REMOTE_MAX_REMOTES];
+	unsigned long undecodable_hellos;
+} evo_remotes;
 
-/* Send STOP to every environment, print the drop counts if any, close. */
-void evo_remote_close(evo_remote *r);
+/* Connect to the URL. NULL with err set. */
+evo_remotes *evo_remotes_open(const evo_mindfolder *mind,
+			      const evo_remote_opts *o, evo_err *err);
 
-/* Start episode `episode` in environment env and wait for its tick 0. */
-int evo_remote_reset(evo_remote *r, int env, int64_t episode,
-		     uint64_t layout_seed, uint64_t seed, evo_err *err);
+/* Send STOP to every environment that ran an episode, print each remote's
+ * drop counts if any, close. */
+void evo_remotes_close(evo_remotes *s);
 
-/* The sensor values of env's current tick, in botdesc order. */
+/* Ask who is on the URL until a remote of the kind (and name) answers,
+ * then go on listening `window` seconds for more (0: the first only), and
+ * check each: protocol, kind, sensor and actuator names. 0, or -1 with
+ * err set ("remote sim1 does not fit Avoid.botdesc; it lacks the sensors
+ * S3; it has the extra sensors S11 ..."). */
+int evo_remotes_find(evo_remotes *s, double window, evo_err *err);
+
+/* Start episode `episode` in environment env of remote ri; its tick 0
+ * is then awaited. */
+int evo_remotes_send_reset(evo_remotes *s, int ri, int env, int64_t episode,
+			   uint64_t layout_seed, uint64_t seed, evo_err *err);
+
+/* Send the commands (botdesc order) of env's current tick; the next tick
+ * is then awaited. */
+int evo_remotes_send_command(evo_remotes *s, int ri, int env,
+			     const double *commands, evo_err *err);
+
+/* Wait until an awaited answer comes: 0 with (*ri, *env) the environment
+ * whose sensors now hold it; 1 when remote *ri was lost (lose_silent; its
+ * environments await nothing any more); -1 with err set. */
+int evo_remotes_wait(evo_remotes *s, int *ri, int *env, evo_err *err);
+
+/* The sensor values of an environment's current tick, in botdesc order. */
 void evo_remote_sensors(const evo_remote *r, int env, double *values);
+
+/* ---- one remote, one environment at a time (DEMOREMOTESIM) ------------ */
+
+/* Open, find one remote, check it. NULL with err set. */
+evo_remotes *evo_remote_connect(const evo_mindfolder *mind,
+				const evo_remote_opts *o, evo_err *err);
+
+/* Start episode `episode` in environment env of the first remote and wait
+ * for its tick 0. */
+int evo_remote_reset(evo_remotes *s, int env, int64_t episode,
+		     uint64_t layout_seed, uint64_t seed, evo_err *err);
 
 /* Send env's commands (botdesc order) for its current tick and wait for
  * the next tick. 0, 1 when the episode ended (done), -1 with err set. */
-int evo_remote_step(evo_remote *r, int env, const double *commands,
+int evo_remote_step(evo_remotes *s, int env, const double *commands,
 		    evo_err *err);
 
 /* The episode's reward so far in env (the last sensors_t's). */
