@@ -327,10 +327,19 @@ static int l_save(lua_State *L)
 	return 0;
 }
 
+/* The __gc of the box l_read reads a file into. */
+static int free_file_box(lua_State *L)
+{
+	char **box = lua_touserdata(L, 1);
+	free(*box);
+	*box = NULL;
+	return 0;
+}
+
 static int l_read(lua_State *L)
 {
 	learn *l = ctx(L);
-	char path[1200], *data;
+	char path[1200];
 	size_t len;
 	evo_err err;
 	if (evo_path_fmt(path, sizeof path, &err, "%s/%s", l->run_dir,
@@ -345,10 +354,21 @@ static int l_read(lua_State *L)
 	 * fresh start that would overwrite the run's log. */
 	if (!S_ISREG(st.st_mode))
 		return raise_msg(L, lua_pushfstring(L, "%s: not a file", path));
-	if (evo_read_file(path, &data, &len, &err))
+	/* The bytes are held by a userdata whose __gc frees them: making
+	 * them a Lua string can fail for want of memory, and that error
+	 * unwinds through here. */
+	char **box = lua_newuserdatauv(L, sizeof *box, 0);
+	*box = NULL;
+	if (luaL_newmetatable(L, "evo.learn.file")) {
+		lua_pushcfunction(L, free_file_box);
+		lua_setfield(L, -2, "__gc");
+	}
+	lua_setmetatable(L, -2);
+	if (evo_read_file(path, box, &len, &err))
 		return raise_msg(L, err.msg);
-	lua_pushlstring(L, data, len);
-	free(data);
+	lua_pushlstring(L, *box, len);
+	free(*box);
+	*box = NULL;
 	return 1;
 }
 

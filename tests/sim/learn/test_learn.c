@@ -721,6 +721,44 @@ TEST(a_network_the_evaluator_refuses_stops_the_run_without_a_leak)
 	free(out);
 }
 
+/* A checkpoint that evo reads but has no memory left to hand to the
+ * learning loop stops the run with "not enough memory", and frees the
+ * file's bytes on the way out. Only AddressSanitizer can show it: its
+ * max_allocation_size_mb makes the Lua string of a checkpoint 10 bytes
+ * short of 4 MiB fail (a 4 MiB read buffer plus Lua's header), while the
+ * buffer the file is read into (exactly 4 MiB) fits; before the fix,
+ * LeakSanitizer reported the buffer (in out.txt). */
+TEST(a_checkpoint_evo_has_no_memory_for_is_refused_without_a_leak)
+{
+#ifdef __SANITIZE_ADDRESS__
+	make_mind("oom", "NEAT", 1, NEAT_TASK);
+	CHECK_EQ_INT(train("oom", ""), 0);
+	char *before = cli_read("%s/oom/run/log.csv", cli_tmp);
+	CHECK_EQ_INT(cli_sh("sed -i 's/^NUMGEN:1$/NUMGEN:2/' "
+			    "%s/oom/Avoid/Tasks/Small.simbatch && "
+			    "{ printf -- '--'; head -c 4194291 /dev/zero | "
+			    "tr '\\0' x; echo; } > %s/oom/run/checkpoint.lua",
+			    cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_sh("ASAN_OPTIONS=max_allocation_size_mb=4:"
+			    "allocator_may_return_null=1 %s run "
+			    "%s/oom/Avoid/Tasks/Small.simbatch --seed 11 "
+			    "--run %s/oom/run --resume > %s/oom/out.txt 2>&1",
+			    cli_evo, cli_tmp, cli_tmp, cli_tmp),
+		     1);
+	char *out = cli_read("%s/oom/out.txt", cli_tmp);
+	CHECK(out && strstr(out, "not enough memory"));
+	CHECK(out && !strstr(out, "LeakSanitizer"));
+	if (out && strstr(out, "LeakSanitizer"))
+		fprintf(stderr, "%s", out);
+	char *after = cli_read("%s/oom/run/log.csv", cli_tmp);
+	CHECK(before && after && strcmp(before, after) == 0);
+	free(after);
+	free(out);
+	free(before);
+#endif
+}
+
 static int count_rows(const char *log)
 {
 	int n = -1; /* the header */
@@ -1009,6 +1047,7 @@ int main(void)
 	RUN(too_long_run_folder_is_refused);
 	RUN(resume_refuses_a_damaged_checkpoint_and_keeps_the_log);
 	RUN(a_network_the_evaluator_refuses_stops_the_run_without_a_leak);
+	RUN(a_checkpoint_evo_has_no_memory_for_is_refused_without_a_leak);
 	RUN(resume_warns_when_the_task_asks_for_other_options);
 	RUN(unknown_method_is_a_clear_error);
 	RUN(environment_error_says_where_it_happened);
