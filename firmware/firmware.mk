@@ -114,8 +114,9 @@ FW_HOST_CFLAGS := -std=c11 $(OPT) $(WARN) -Icore/include -Ifirmware -Itests $(SA
 # (a session over slcan, the trace reader): the test and make bench share it.
 FW_HOST_HDRS := firmware/host/qemu_session.h firmware/host/trace_file.h \
 	firmware/wire.h
+# core/src/hash.c: the CRC-32 a test repairs after patching an image.
 FW_TEST_SRCS := tests/firmware/firmware_test.c firmware/host/qemu_session.c \
-	firmware/host/trace_file.c firmware/wire.c
+	firmware/host/trace_file.c firmware/wire.c core/src/hash.c
 $(FW_BUILD)/firmware_test: $(FW_TEST_SRCS) $(FW_HOST_HDRS) tests/harness.h
 	@mkdir -p $(dir $@)
 	$(CC) $(FW_HOST_CFLAGS) -o $@ $(FW_TEST_SRCS)

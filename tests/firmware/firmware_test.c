@@ -5,8 +5,9 @@
  *     timeout, and the mind goes on as before when frames come back;
  *   - malformed lines are counted by reason and ignored;
  *   - a tick with a sensor frame missing is not stepped;
- *   - a corrupt image, one built for another botdesc, and an empty mind
- *     slot are refused, with the reason and a distinct exit status.
+ *   - a corrupt image, one built for another botdesc, one with a network
+ *     weight out of range, and an empty mind slot are refused, with the
+ *     reason and a distinct exit status.
  * Ends with "N passed, N failed"; exits non-zero on a failure.
  *
  * usage: firmware_test --qemu QEMU --objcopy OBJCOPY --trace TRACE
@@ -21,6 +22,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "evo/image.h"
+#include "evo/net.h"
 #include "harness.h"
 #include "host/qemu_session.h"
 #include "host/trace_file.h"
@@ -28,6 +31,7 @@
 #define SLOT_BYTES 8192 /* the MIND region of firmware/m0.ld and m3.ld */
 #define EXIT_IMAGE_CORRUPT 3
 #define EXIT_IMAGE_MISMATCH 4
+#define EXIT_IMAGE_INVALID 5
 
 static struct {
 	const char *qemu, *objcopy, *trace_path, *image, *other_image, *tmp;
@@ -528,6 +532,47 @@ TEST(image_for_other_botdesc_is_refused)
 		       EXIT_IMAGE_MISMATCH);
 }
 
+/* The mind's first network link with a weight far beyond
+ * EVO_NET_WEIGHT_MAX, behind a repaired CRC: what a buggy tool could
+ * write. Ticking it would overflow the network's sums, so the firmware
+ * must refuse it at start (evo_mind_open, EVO_ERR_IMAGE_RANGE). */
+TEST(image_with_out_of_range_weight_is_refused)
+{
+	size_t len;
+	unsigned char *img = read_all(opt.image, &len);
+	CHECK(img != NULL && len >= sizeof(evo_image_header));
+	if (!img || len < sizeof(evo_image_header))
+		return;
+	evo_image_header h;
+	memcpy(&h, img, sizeof h);
+	CHECK_EQ_INT(h.length, len);
+	if (h.length != len)
+		return;
+	evo_image_net net = {0};
+	unsigned k = 0;
+	for (; k < h.n_nets; k++) {
+		size_t at = h.off_nets + k * sizeof net;
+		if (at + sizeof net > len)
+			break;
+		memcpy(&net, img + at, sizeof net);
+		if (net.n_links > 0)
+			break;
+	}
+	CHECK(k < h.n_nets && net.n_links > 0 &&
+	      net.off_links + sizeof(evo_net_link) <= len);
+	if (k == h.n_nets || net.off_links + sizeof(evo_net_link) > len)
+		return;
+	const evo_q16 w = INT32_MAX; /* about 32768.0 */
+	memcpy(img + net.off_links + offsetof(evo_net_link, weight), &w,
+	       sizeof w);
+	uint32_t crc = evo_crc32(0, img + 16, h.length - 16);
+	memcpy(img + offsetof(evo_image_header, crc), &crc, sizeof crc);
+	expect_refused("range", img, len,
+		       "mind image refused: mind image has a network weight "
+		       "or bias out of range",
+		       EXIT_IMAGE_INVALID);
+}
+
 TEST(empty_slot_is_refused)
 {
 	expect_refused("empty", "", 0,
@@ -612,6 +657,7 @@ int main(int argc, char **argv)
 			RUN(malformed_lines_are_counted_and_ignored);
 			RUN(corrupt_image_is_refused);
 			RUN(image_for_other_botdesc_is_refused);
+			RUN(image_with_out_of_range_weight_is_refused);
 			RUN(empty_slot_is_refused);
 			test_summary();
 			fflush(stdout);
