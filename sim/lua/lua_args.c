@@ -60,9 +60,12 @@ double evo_lua_opt_num(lua_State *L, int idx, const char *key, double dflt,
 	if (!lua_isnil(L, -1)) {
 		int isnum;
 		v = lua_tonumberx(L, -1, &isnum);
-		if (!isnum || !isfinite(v))
+		if (!isnum)
 			luaL_error(L, "%s: option '%s' must be a number, found %s",
 				   what, key, luaL_typename(L, -1));
+		if (!isfinite(v))
+			luaL_error(L, "%s: option '%s' must be a finite number, "
+				   "found %f", what, key, (lua_Number)v);
 	}
 	lua_pop(L, 1);
 	return v;

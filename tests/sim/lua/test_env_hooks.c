@@ -278,6 +278,38 @@ TEST(a_bot_models_mistakes_are_its_own)
 	bot_lua = NULL;
 }
 
+/* A number that is no number (0/0) or an infinity, given to a sensor,
+ * is refused where the bot model gives it (docs/mind.md, "Sensor values":
+ * a value a script or a person writes is refused, not mapped); it once
+ * said "must be a number, found number". */
+TEST(a_sensor_option_that_is_not_finite_is_refused)
+{
+	const char *env = "local env = {}\n"
+			  "function env.init(scene, task)\n"
+			  "  env.bot = scene:bot{ x = 0, y = 0, model = 'Mine' }\n"
+			  "end\n"
+			  "return env\n";
+	const char *given[] = {"0/0", "math.huge", "-math.huge"};
+	const char *said[] = {"nan", "inf", "-inf"};
+	for (int i = 0; i < 3; i++) {
+		char lua[512];
+		snprintf(lua, sizeof lua,
+			 "return {\n"
+			 "  build = function(bot)\n"
+			 "    bot:constant{ name = 'C', value = %s }\n"
+			 "  end,\n"
+			 "}\n",
+			 given[i]);
+		bot_lua = lua;
+		CHECK_EQ_INT(run_env(env, 1), 1);
+		CHECK_CONTAINS(out, "Bots/Mine.lua:3: bot:constant: option "
+				    "'value' must be a finite number, found ");
+		CHECK_CONTAINS(out, said[i]);
+		CHECK(!strstr(out, "episode 1"));
+	}
+	bot_lua = NULL;
+}
+
 TEST(numbers_past_an_int_are_no_index)
 {
 	/* scene:get_bot(4294967297) once wrapped round to bot 1, and
@@ -462,6 +494,7 @@ int main(void)
 	RUN(elements_are_not_made_in_reset);
 	RUN(each_element_takes_its_own_options);
 	RUN(a_bot_models_mistakes_are_its_own);
+	RUN(a_sensor_option_that_is_not_finite_is_refused);
 	RUN(numbers_past_an_int_are_no_index);
 	RUN(metrics_follow_the_episode_line);
 	RUN(a_bad_metric_is_reported_at_its_line);
