@@ -33,11 +33,18 @@ typedef struct shape_set {
 	evo_shape_info local[QUERY_CAP];
 } shape_set;
 
+/* A sample into [0, 1] by the one rule for sensor values (docs/mind.md,
+ * "Sensor values"; core's evo_q16_from_sensor, which world2d does not
+ * see): below 0 reads 0, above 1 reads 1, NaN reads 0.5, the neutral
+ * value. No sensor's geometry gives NaN from the finite definitions the
+ * scene accepts; a world whose bodies' positions overflowed could. */
 static double clamp01(double v)
 {
+	if (v != v)
+		return 0.5;
 	if (v > 1)
 		return 1;
-	return v >= 0 ? v : 0; /* NaN reads 0 */
+	return v >= 0 ? v : 0;
 }
 
 static double boolean(int v)

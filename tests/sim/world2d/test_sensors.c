@@ -626,7 +626,7 @@ TEST(random_in_unit_interval_and_reproducible)
 	CHECK(differ);
 }
 
-TEST(constant_reads_its_value_clamped)
+TEST(constant_reads_its_value_clamped_and_nan_as_one_half)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
 	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_CONSTANT);
@@ -642,6 +642,21 @@ TEST(constant_reads_its_value_clamped)
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
 	CHECK(value(sc, a) == 0.3);
+	CHECK(value(sc, b) == 1.0);
+	CHECK(value(sc, c) == 0.0);
+	/* The scene refuses a NaN value; one that got in regardless (as a
+	 * world blown up by its physics could give any sensor) reads 0.5,
+	 * as docs/mind.md's rule says, not 0: a robot's mind reads the same
+	 * wherever the value comes from. */
+	evo_sensor_def bad = evo_default_sensor_def(EVO_SENSOR_CONSTANT);
+	bad.name = "nan";
+	bad.value = NAN;
+	CHECK(evo_scene_add_sensor(sc, 0, &bad) < 0);
+	sc->bot[0].sensor[a].def.value = NAN;
+	sc->bot[0].sensor[b].def.value = INFINITY;
+	sc->bot[0].sensor[c].def.value = -INFINITY;
+	evo_scene_sense(sc);
+	CHECK(value(sc, a) == 0.5);
 	CHECK(value(sc, b) == 1.0);
 	CHECK(value(sc, c) == 0.0);
 	evo_scene_destroy(sc);
@@ -692,7 +707,7 @@ int main(void)
 	RUN(movement_zero_when_still_positive_when_driving);
 	RUN(movement_is_the_spread_of_the_history);
 	RUN(random_in_unit_interval_and_reproducible);
-	RUN(constant_reads_its_value_clamped);
+	RUN(constant_reads_its_value_clamped_and_nan_as_one_half);
 	RUN(holding_while_the_claw_holds);
 	return test_summary();
 }
