@@ -128,6 +128,11 @@ $(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(SUPPORT_OBJS) $(BUILD)/libevohost.a $
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS_ALL) -o $@ $^ $(LIBS)
 
+# The trace reader of firmware/host/ (the firmware test's and make bench's
+# replay source) is tested on the host, like a module of sim/.
+$(BUILD)/tests/firmware/test_trace_file: $(BUILD)/obj/firmware/host/trace_file.o
+$(BUILD)/obj/tests/firmware/%.o: CFLAGS_ALL += -Ifirmware
+
 # Networks compiled at -O0 and at -O2 must give bit-identical outputs:
 # tests/core/test_net_opt runs these two and compares what they print.
 NET_DUMP_SRCS := tests/support/net_dump_main.c $(CORE_SRCS)

@@ -23,6 +23,20 @@ static int next_line(FILE *f, char **line, size_t *cap, size_t *lineno)
 	return 0;
 }
 
+/* A whole number in [lo, hi] at p, as strtol reads it, ended by a space,
+ * '|' or the line's end; end after it. 0, or -1 when there is none
+ * (end == p), more follows ("1e9") or it is out of range. */
+static int field(const char *p, char **end, long lo, long hi, int32_t *v)
+{
+	errno = 0;
+	long x = strtol(p, end, 10);
+	if (*end == p || !strchr(" |\n", **end) || errno == ERANGE ||
+	    x < lo || x > hi)
+		return -1;
+	*v = (int32_t)x;
+	return 0;
+}
+
 int trace_load(const char *path, trace_file *t, char *err, size_t cap)
 {
 	memset(t, 0, sizeof *t);
@@ -90,33 +104,38 @@ int trace_load(const char *path, trace_file *t, char *err, size_t cap)
 		if (end == p)
 			goto bad;
 		p = end;
+		/* A sensor value is what the tick read, after docs/mind.md's
+		 * rule: Q16 in [0, 1]. Anything else (nan, inf, 1e9, past an
+		 * int32) is a damaged trace, not something to send a robot. */
 		for (unsigned s = 0; s < t->n_sensors; s++, p = end) {
-			t->sensor[i * t->n_sensors + s] =
-				(int32_t)strtol(p, &end, 10);
-			if (end == p)
-				goto bad;
+			if (field(p, &end, 0, 65536,
+				  &t->sensor[i * t->n_sensors + s])) {
+				char what[96];
+				snprintf(what, sizeof what,
+					 "sensor %u: expected a Q16 value in "
+					 "0..65536 ([0, 1])",
+					 s + 1);
+				fail(err, cap, path, lineno, what);
+				goto out;
+			}
 		}
 		while (*p == ' ')
 			p++;
 		if (*p++ != '|')
 			goto bad;
-		for (unsigned a = 0; a < t->n_actuators; a++, p = end) {
-			t->actuator[i * t->n_actuators + a] =
-				(int32_t)strtol(p, &end, 10);
-			if (end == p)
+		for (unsigned a = 0; a < t->n_actuators; a++, p = end)
+			if (field(p, &end, INT32_MIN, INT32_MAX,
+				  &t->actuator[i * t->n_actuators + a]))
 				goto bad;
-		}
 		if (t->n_skills) {
 			while (*p == ' ')
 				p++;
 			if (*p++ != '|')
 				goto bad;
-			for (unsigned k = 0; k < t->n_skills; k++, p = end) {
-				t->influence[i * t->n_skills + k] =
-					(int32_t)strtol(p, &end, 10);
-				if (end == p)
+			for (unsigned k = 0; k < t->n_skills; k++, p = end)
+				if (field(p, &end, INT32_MIN, INT32_MAX,
+					  &t->influence[i * t->n_skills + k]))
 					goto bad;
-			}
 		}
 		if (*p != '\n' && *p != 0)
 			goto bad;
