@@ -759,6 +759,54 @@ TEST(a_checkpoint_evo_has_no_memory_for_is_refused_without_a_leak)
 #endif
 }
 
+/* The learning loop is Lua that a user may replace ($EVO_LUA_DIR,
+ * docs/lua.md); what it hands evo.learn is checked where C turns it into
+ * integers. A network field or log count that is no whole number of its
+ * type (1e30, NaN, -1, 2^63) is refused by name: evo once cast it as it
+ * was, which C leaves undefined (here it read as some other id). */
+TEST(learning_loop_numbers_past_their_integer_type_are_refused)
+{
+	make_mind("cast", "NEAT", 1, NEAT_TASK);
+	CHECK_EQ_INT(cli_sh("cp -r lua %s/cast/lua", cli_tmp), 0);
+	CHECK_EQ_INT(
+	    cli_write(
+		"local host = require 'evo.learn'\n"
+		"local function try(f)\n"
+		"  local ok, e = pcall(f)\n"
+		"  host.print(ok and 'accepted' or tostring(e))\n"
+		"end\n"
+		"local function net(id, inputs, from)\n"
+		"  return { inputs = inputs, outputs = host.outputs,\n"
+		"    nodes = { { id = id, act = 'neat_sigmoid', bias = 0 } },\n"
+		"    outputs_ids = { id }, links = { { from = from, to = id,\n"
+		"    weight = 1 } } }\n"
+		"end\n"
+		"try(function() host.evaluate({ net(1e30, host.inputs, 1) }, 0) end)\n"
+		"try(function() host.evaluate({ net(20, 0/0, 1) }, 0) end)\n"
+		"try(function() host.evaluate({ net(20, host.inputs, -1) }, 0) end)\n"
+		"host.open_log(0)\n"
+		"try(function() host.log{ generation = 2^63 } end)\n",
+		"%s/cast/lua/learn/learnsim.lua", cli_tmp),
+	    0);
+	CHECK_EQ_INT(cli_sh("EVO_LUA_DIR=%s/cast/lua %s run "
+			    "%s/cast/Avoid/Tasks/Small.simbatch --seed 11 --run "
+			    "%s/cast/run > %s/cast/out.txt 2>&1",
+			    cli_tmp, cli_evo, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	char *out = cli_read("%s/cast/out.txt", cli_tmp);
+	CHECK_CONTAINS(out, "network 0: id 1e+30 is not a whole number in "
+			    "0..65535");
+	CHECK_CONTAINS(out, "network 0: inputs ");
+	CHECK(out && (strstr(out, "inputs nan is not a whole number") ||
+		      strstr(out, "inputs -nan is not a whole number")));
+	CHECK_CONTAINS(out, "network 0: from -1.0 is not a whole number in "
+			    "0..65535");
+	CHECK_CONTAINS(out, "evo.log: generation 9.2233720368548e+18 is not "
+			    "a whole number in 0..2147483647");
+	CHECK(out && !strstr(out, "accepted"));
+	free(out);
+}
+
 static int count_rows(const char *log)
 {
 	int n = -1; /* the header */
@@ -1048,6 +1096,7 @@ int main(void)
 	RUN(resume_refuses_a_damaged_checkpoint_and_keeps_the_log);
 	RUN(a_network_the_evaluator_refuses_stops_the_run_without_a_leak);
 	RUN(a_checkpoint_evo_has_no_memory_for_is_refused_without_a_leak);
+	RUN(learning_loop_numbers_past_their_integer_type_are_refused);
 	RUN(resume_warns_when_the_task_asks_for_other_options);
 	RUN(unknown_method_is_a_clear_error);
 	RUN(environment_error_says_where_it_happened);
