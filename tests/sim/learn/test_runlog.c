@@ -8,6 +8,7 @@
 
 #include "base/fileio.h"
 #include "harness.h"
+#include "support/alloc_fail.h"
 #include "learn/runlog.h"
 
 static char dir[128];
@@ -267,6 +268,40 @@ TEST(resume_keeps_every_metric_column)
 	evo_runlog_close(&log);
 }
 
+/* Moving an earlier run aside copies each of its file names; when memory
+ * runs out there, the run is refused with a message and the earlier run
+ * stays where it was, whole. */
+TEST(out_of_memory_while_moving_aside_keeps_the_earlier_run)
+{
+	char run[256], path[400];
+	snprintf(run, sizeof run, "%s/oom", dir);
+	evo_err err = {{0}};
+	int fd = evo_runlog_claim(run, &err);
+	CHECK(fd >= 0);
+	evo_runlog log;
+	CHECK_EQ_INT(evo_runlog_open(&log, run, 0, NULL, 0, &err), 0);
+	evo_gen_stats s = stats(0);
+	CHECK_EQ_INT(evo_runlog_add(&log, &s, &err), 0);
+	CHECK_EQ_INT(evo_runlog_save(&log, "best/gen-0000.net", "inputs:1\n",
+				     9, &err),
+		     0);
+	evo_runlog_close(&log);
+	for (int nth = 1; nth <= 2; nth++) {
+		alloc_fail_strdup(nth);
+		CHECK_EQ_INT(evo_runlog_set_aside(run, &err), -1);
+		alloc_fail_strdup(0);
+		CHECK_EQ_STR(err.msg, "out of memory");
+		snprintf(path, sizeof path, "%s/log.csv", run);
+		CHECK(evo_file_exists(path));
+		snprintf(path, sizeof path, "%s/best/gen-0000.net", run);
+		CHECK(evo_file_exists(path));
+		snprintf(path, sizeof path, "%s.1", run);
+		CHECK(!evo_file_exists(path));
+	}
+	if (fd >= 0)
+		close(fd);
+}
+
 TEST(progress_line_on_a_terminal_and_off)
 {
 	char buf[256];
@@ -304,6 +339,7 @@ int main(void)
 	RUN(claim_locks_and_an_earlier_run_moves_aside);
 	RUN(metric_columns_follow_the_others);
 	RUN(resume_keeps_every_metric_column);
+	RUN(out_of_memory_while_moving_aside_keeps_the_earlier_run);
 	RUN(progress_line_on_a_terminal_and_off);
 	char cmd[200];
 	snprintf(cmd, sizeof cmd, "rm -rf %s", dir);

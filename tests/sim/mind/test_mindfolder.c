@@ -11,6 +11,7 @@
 #include "harness.h"
 #include "mind/mindfolder.h"
 #include "mind/task.h"
+#include "support/alloc_fail.h"
 
 #define TUTORIAL "tests/data/minds/T6-NEAT"
 
@@ -58,6 +59,32 @@ TEST(tutorial_collect_hierarchy_loads_top_down)
 	CHECK_EQ_STR(evo_mind_actuator_name(&l->mind, 2), "EMAG");
 	CHECK_EQ_STR(evo_mind_var_name(&l->mind, 2), "VAR_COUNT");
 	evo_mindfolder_free(l);
+}
+
+/* The loader copies the folder's path and the bot's name with strdup;
+ * when memory runs out there, loading fails with a message (it once went
+ * on with a NULL path and crashed). Every strdup of a load is made to
+ * fail in turn, until one load makes no more calls than that. */
+TEST(out_of_memory_is_a_message_not_a_crash)
+{
+	int nth = 1;
+	for (; nth < 10; nth++) {
+		evo_err err = {{0}};
+		evo_mindfolder_opts o = {.master = "Collect"};
+		alloc_fail_strdup(nth);
+		evo_mindfolder *l = evo_mindfolder_load(TUTORIAL, &o, &err);
+		int calls = alloc_fail_strdup_calls();
+		alloc_fail_strdup(0);
+		if (calls < nth) { /* nothing failed: the load went through */
+			CHECK(l != NULL);
+			evo_mindfolder_free(l);
+			break;
+		}
+		CHECK(l == NULL);
+		CHECK_EQ_STR(err.msg, "out of memory");
+		evo_mindfolder_free(l);
+	}
+	CHECK(nth > 2); /* the folder's path and the bot's name */
 }
 
 /* ---- broken mind folders ------------------------------------------------ */
@@ -451,6 +478,7 @@ int main(void)
 {
 	RUN(tutorial_task_loads);
 	RUN(tutorial_collect_hierarchy_loads_top_down);
+	RUN(out_of_memory_is_a_message_not_a_crash);
 	RUN(fresh_folder_loads);
 	RUN(unknown_sensor);
 	RUN(unknown_sensor_in_derivative);
