@@ -53,7 +53,10 @@ HOST_SRCS := $(filter-out sim/cmd/evo_main.c,$(sort $(wildcard sim/*/*.c)))
 HOST_CXX_SRCS := $(sort $(wildcard sim/*/*.cpp))
 TEST_SUPPORT := $(filter-out tests/support/net_dump_main.c,$(sort $(wildcard tests/support/*.c)))
 TEST_SRCS := $(sort $(wildcard tests/*/test_*.c tests/sim/*/test_*.c))
-TEST_BINS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRCS))
+# C++ tests: the Box2D shim's own, which need C++ to replace operator new.
+TEST_CXX_SRCS := $(sort $(wildcard tests/sim/*/test_*.cpp))
+TEST_BINS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRCS)) \
+	$(patsubst tests/%.cpp,$(BUILD)/tests/%,$(TEST_CXX_SRCS))
 FUZZ_SRCS := $(sort $(wildcard tests/fuzz/fuzz_*.c))
 
 CORE_OBJS := $(patsubst %.c,$(BUILD)/obj/%.o,$(CORE_SRCS))
@@ -112,6 +115,7 @@ $(HOST_OBJS) $(BUILD)/obj/sim/cmd/evo_main.o $(SUPPORT_OBJS) \
 $(BUILD)/obj/%.o: %.cpp
 	@mkdir -p $(dir $@)
 	$(CXX) $(CXXFLAGS_ALL) -MMD -MP -c $< -o $@
+$(BUILD)/obj/tests/%.o: CXXFLAGS_ALL += -Itests
 
 $(BUILD)/libevocore.a: $(CORE_OBJS)
 	@rm -f $@
