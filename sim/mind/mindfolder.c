@@ -125,6 +125,11 @@ ANY_PARSER(parse_vardesc_any, evo_vardesc_parse, evo_vardesc)
 ANY_PARSER(parse_net_any, evo_netdesc_parse, evo_netdesc)
 #undef ANY_PARSER
 
+/* The longest root whose "/Skills/NAME/NAME.ades" fits a 1024-byte path
+ * (skill_entry's) with names of EVO_NAME_MAX - 1 bytes. */
+#define ROOT_MAX                                                               \
+	(1023 - (sizeof "/Skills//.ades" - 1) - 2 * (EVO_NAME_MAX - 1))
+
 static void skill_path(char *out, size_t cap, const char *root,
 		       const char *name, const char *ext)
 {
@@ -763,6 +768,15 @@ evo_mindfolder *evo_mindfolder_load(const char *root,
 	size_t n = strlen(l->root);
 	while (n > 1 && l->root[n - 1] == '/')
 		l->root[--n] = 0;
+	/* Every file's path is the root's and a suffix, the longest
+	 * "/Skills/NAME/NAME.ades" (ROOT_MAX); a longer root would cut them. */
+	if (n > ROOT_MAX) {
+		free(ld);
+		evo_fail(err, "%.80s...: path too long (%zu bytes; at most %zu)",
+			 l->root, n, (size_t)ROOT_MAX);
+		evo_mindfolder_free(l);
+		return NULL;
+	}
 	const char *slash = strrchr(l->root, '/');
 	const char *name = slash ? slash + 1 : l->root;
 	/* "." or ".." (a task run from inside its mind folder): the name is

@@ -56,7 +56,8 @@ static int mind_folder(const char *path, const evo_simbatch *sb, char *out,
 		       size_t cap, evo_err *err)
 {
 	char dir[1024];
-	snprintf(dir, sizeof dir, "%s", path);
+	if (evo_path_fmt(dir, sizeof dir, err, "%s", path))
+		return -1;
 	char *slash = strrchr(dir, '/');
 	if (slash)
 		*slash = 0;
@@ -94,8 +95,7 @@ static int mind_folder(const char *path, const evo_simbatch *sb, char *out,
 				"folder and has no ROOTFOLDER key naming its "
 				"mind folder",
 				path);
-	snprintf(out, cap, "%s", root);
-	return 0;
+	return evo_path_fmt(out, cap, err, "%s", root);
 }
 
 int evo_task_load(const char *path, evo_task *t, evo_err *err)

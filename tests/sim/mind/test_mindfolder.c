@@ -87,6 +87,69 @@ TEST(out_of_memory_is_a_message_not_a_crash)
 	CHECK(nth > 2); /* the folder's path and the bot's name */
 }
 
+/* A copy of minds/Avoid under top whose mind folder's path (ending in
+ * /Avoid) is len bytes, through folders of at most 200 'x'; its task's
+ * path in task. */
+static void long_copy(const char *top, size_t len, char *task, size_t cap)
+{
+	char mind[1400], x[201];
+	memset(x, 'x', 200);
+	x[200] = 0;
+	size_t n = (size_t)snprintf(mind, sizeof mind, "%s", top);
+	const size_t want = len - (sizeof "/Avoid" - 1);
+	while (n < want && n < sizeof mind - 202) {
+		size_t r = want - n, chunk = r <= 201 ? r - 1 : 200;
+		if (r > 201 && r - 201 < 2)
+			chunk = 150;
+		n += (size_t)snprintf(mind + n, sizeof mind - n, "/%.*s",
+				      (int)chunk, x);
+	}
+	char cmd[4400];
+	snprintf(cmd, sizeof cmd, "mkdir -p %s && cp -r minds/Avoid %s/", mind,
+		 mind);
+	CHECK_EQ_INT(system(cmd), 0);
+	snprintf(task, cap, "%s/Avoid/Tasks/Avoid-DEMO.simbatch", mind);
+	CHECK_EQ_INT(strlen(task), len + sizeof "/Tasks/Avoid-DEMO.simbatch" - 1);
+}
+
+/* A mind folder so deep that its files' paths would not fit evo's path
+ * buffers is refused with 'path too long' and the path's start, whether
+ * the task's own path is too long (over 1023 bytes) or only the mind
+ * folder's files would be (a root over 883 bytes: its
+ * Skills/NAME/NAME.ades, with names of 63 bytes, would pass 1023). Both
+ * were cut before, and evo reported a file missing at a cut path, or cut
+ * its message in the middle of the path. */
+TEST(too_deep_a_mind_folder_is_refused_with_its_path)
+{
+	char top[64], task[1500];
+	snprintf(top, sizeof top, "/tmp/evo-test-load-%ld-deep",
+		 (long)getpid());
+	static const size_t lens[] = {900, 1100};
+	for (int k = 0; k < 2; k++) {
+		long_copy(top, lens[k], task, sizeof task);
+		evo_task t;
+		evo_err err = {{0}};
+		CHECK_EQ_INT(evo_task_load(task, &t, &err), -1);
+		CHECK_CONTAINS(err.msg, "...: path too long (");
+		CHECK_CONTAINS(err.msg, k == 0 ? "at most 883)" : "at most 1023)");
+		CHECK(strncmp(err.msg, top, strlen(top)) == 0);
+		CHECK(strlen(err.msg) < 200);
+		char cmd[128];
+		snprintf(cmd, sizeof cmd, "rm -rf %s", top);
+		CHECK_EQ_INT(system(cmd), 0);
+	}
+	/* a mind folder a little shallower loads */
+	long_copy(top, 860, task, sizeof task);
+	evo_task t;
+	evo_err err = {{0}};
+	CHECK_EQ_INT(evo_task_load(task, &t, &err), 0);
+	CHECK_EQ_STR(err.msg, "");
+	evo_task_free(&t);
+	char cmd[128];
+	snprintf(cmd, sizeof cmd, "rm -rf %s", top);
+	CHECK_EQ_INT(system(cmd), 0);
+}
+
 /* ---- broken mind folders ------------------------------------------------ */
 
 static char dir[256];
@@ -479,6 +542,7 @@ int main(void)
 	RUN(tutorial_task_loads);
 	RUN(tutorial_collect_hierarchy_loads_top_down);
 	RUN(out_of_memory_is_a_message_not_a_crash);
+	RUN(too_deep_a_mind_folder_is_refused_with_its_path);
 	RUN(fresh_folder_loads);
 	RUN(unknown_sensor);
 	RUN(unknown_sensor_in_derivative);
