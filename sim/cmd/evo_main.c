@@ -158,9 +158,10 @@ static int check_task(const char *path, evo_task *task, evo_err *err)
 	if (!evo_run_supports(task->type))
 		return evo_fail(err,
 				"%s: evo run does not run %s tasks yet (it runs "
-				"DEMOSIM, LEARNSIM and DEMOREMOTESIM)",
+				"DEMOSIM, LEARNSIM, DEMOREMOTESIM and "
+				"LEARNREMOTESIM)",
 				path, task->type);
-	if (strcmp(task->type, "LEARNSIM") == 0 &&
+	if (strncmp(task->type, "LEARN", 5) == 0 &&
 	    evo_learn_check(path, task, err) != 0)
 		return -1;
 	const char *env = evo_simbatch_get(task->sb, "ENV");

@@ -199,7 +199,8 @@ static int parse_args(int argc, char **argv, run_opts *o)
 int evo_run_supports(const char *type)
 {
 	return strcmp(type, "DEMOSIM") == 0 || strcmp(type, "LEARNSIM") == 0 ||
-	       strcmp(type, "DEMOREMOTESIM") == 0;
+	       strcmp(type, "DEMOREMOTESIM") == 0 ||
+	       strcmp(type, "LEARNREMOTESIM") == 0;
 }
 
 /* The seeds of episode e: the grid's and the rest's, from (seed, e). */
@@ -305,44 +306,16 @@ static int run_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 	return 0;
 }
 
-/* The remote keys of a task (docs/remote.md): LCMURL, REMOTENAME and
- * REMOTETIMEOUT (seconds). */
-static int remote_opts(const evo_task *task, const char *path,
-		       evo_remote_kind kind, evo_remote_opts *ro, evo_err *err)
-{
-	memset(ro, 0, sizeof *ro);
-	ro->url = evo_simbatch_get(task->sb, "LCMURL");
-	ro->name = evo_simbatch_get(task->sb, "REMOTENAME");
-	ro->kind = kind;
-	ro->timeout = EVO_REMOTE_DEFAULT_TIMEOUT;
-	ro->stop = &stop_requested;
-	if (ro->name && !evo_wire_name_ok(ro->name))
-		return evo_fail(err,
-				"%s: REMOTENAME '%s': a remote's name is 1..63 "
-				"letters, digits, '_' or '-'",
-				path, ro->name);
-	const char *t = evo_simbatch_get(task->sb, "REMOTETIMEOUT");
-	if (t) {
-		char *end;
-		double v = strtod(t, &end);
-		if (*end || !(v > 0 && v <= 3600))
-			return evo_fail(err,
-					"%s: REMOTETIMEOUT expects seconds, more "
-					"than 0 and at most 3600, found '%s'",
-					path, t);
-		ro->timeout = v;
-	}
-	return 0;
-}
-
 /* DEMOREMOTESIM: the mind here, the world in a remote simulator driven in
  * lockstep; the same episodes, seeds and lines as DEMOSIM headless. */
 static int run_remote_sim(const evo_task *task, const run_opts *o,
 			  uint64_t seed, FILE *trace, evo_err *err)
 {
 	evo_remote_opts ro;
-	if (remote_opts(task, o->task, EVO_REMOTE_SIMULATOR, &ro, err))
+	if (evo_remote_opts_from_task(task->sb, o->task, EVO_REMOTE_SIMULATOR,
+				      &ro, err))
 		return -1;
+	ro.stop = &stop_requested;
 	const evo_mind *m = &task->mind->mind;
 	size_t need = (evo_state_size(m) + 7) & ~(size_t)7;
 	void *mem = aligned_alloc(8, need);
@@ -589,7 +562,8 @@ int evo_run_main(int argc, char **argv)
 		evo_task_free(&task);
 		return 2;
 	}
-	if (strcmp(task.type, "LEARNSIM") == 0) {
+	if (strcmp(task.type, "LEARNSIM") == 0 ||
+	    strcmp(task.type, "LEARNREMOTESIM") == 0) {
 		/* --threads, else the task's THREADS, else one per core */
 		const char *tv = evo_simbatch_get(task.sb, "THREADS");
 		long threads = o.threads ? o.threads
@@ -612,7 +586,8 @@ int evo_run_main(int argc, char **argv)
 	if (!evo_run_supports(task.type)) {
 		fprintf(stderr,
 			"%s: evo run does not run %s tasks yet (it runs "
-			"DEMOSIM, LEARNSIM and DEMOREMOTESIM)\n",
+			"DEMOSIM, LEARNSIM, DEMOREMOTESIM and "
+			"LEARNREMOTESIM)\n",
 			o.task, task.type);
 		evo_task_free(&task);
 		return 1;

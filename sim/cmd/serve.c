@@ -44,6 +44,7 @@ typedef struct served_env {
 	evo_sim *sim;
 	int64_t episode; /* 0: none yet */
 	int64_t tick;	 /* the tick of the last sensors_t sent */
+	uint64_t layout_seed, seed; /* of the episode's RESET */
 	int active;
 	unsigned char last[EVO_WIRE_MAX_BYTES]; /* that sensors_t */
 	int last_len;
@@ -137,9 +138,11 @@ static int on_control(server *sv, const evo_link_msg *m, evo_err *err)
 		e->active = 0;
 		return 0;
 	}
-	/* the same RESET again, not yet answered by a command: its answer
-	 * was lost, so it goes again (docs/remote.md) */
-	if (e->active && c.episode == e->episode && e->tick == 0)
+	/* the same RESET again (same episode, same seeds), not yet answered
+	 * by a command: its answer was lost, so it goes again
+	 * (docs/remote.md) */
+	if (e->active && c.episode == e->episode && e->tick == 0 &&
+	    c.layout_seed == e->layout_seed && c.seed == e->seed)
 		return resend(sv, e, err);
 	if (c.episode < 1 || c.episode > INT_MAX) {
 		snprintf(why, sizeof why, "episode %lld", (long long)c.episode);
@@ -149,6 +152,8 @@ static int on_control(server *sv, const evo_link_msg *m, evo_err *err)
 	if (evo_sim_reset(e->sim, (int)c.episode, c.layout_seed, c.seed, err))
 		return -1;
 	e->episode = c.episode;
+	e->layout_seed = c.layout_seed;
+	e->seed = c.seed;
 	e->tick = 0;
 	e->active = 1;
 	return send_sensors(sv, e, c.env, 0.0, 0, err);

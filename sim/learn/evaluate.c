@@ -7,8 +7,11 @@
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <unistd.h>
 
+#include "base/fileio.h"
+#include "learn/evaluate_remote.h"
 #include "learn/literature.h"
 #include "mind/task.h"
 #include "tasksim/tasksim.h"
@@ -37,6 +40,7 @@ struct evo_evaluator {
 	uint64_t seed;
 	unsigned n_in, n_out;
 	worker *w;
+	evo_remote_eval *remote; /* LEARNREMOTESIM: no workers */
 
 	/* Everything below is guarded by mu. A batch is announced by
 	 * bumping batch_id; each worker counts itself out in `busy`, and
@@ -229,6 +233,49 @@ static int check_metrics(evo_evaluator *ev, evo_err *err)
 	return 0;
 }
 
+/* 1 when the task at path is a LEARNREMOTESIM task: its TYPE, read
+ * without loading its mind. */
+static int remote_task(const char *path)
+{
+	size_t len;
+	evo_err e;
+	char *text;
+	if (evo_read_file(path, &text, &len, &e))
+		return 0;
+	evo_simbatch *sb = malloc(sizeof *sb);
+	evo_diag d;
+	int remote = sb &&
+		     evo_simbatch_parse(text, len, path, sb, &d) == EVO_OK &&
+		     evo_simbatch_get(sb, "TYPE") &&
+		     strcasecmp(evo_simbatch_get(sb, "TYPE"),
+				"LEARNREMOTESIM") == 0;
+	free(sb);
+	free(text);
+	return remote;
+}
+
+/* Repetitions, ticks and the skill's shape of a remote evaluator. */
+static int remote_settings(evo_evaluator *ev, const evo_eval_def *def,
+			   evo_err *err)
+{
+	evo_task t;
+	if (evo_task_load(def->task_path, &t, err))
+		return -1;
+	ev->reps = def->reps ? def->reps
+			     : (int)simbatch_number(t.sb, "EVALREP", 1);
+	ev->ticks = def->ticks ? def->ticks
+			       : simbatch_number(t.sb, "TICKLIM", 1000);
+	const char *learn = evo_simbatch_get(t.sb, "LEARNINGSKILL");
+	int k = learn ? evo_mindfolder_skill(t.mind, learn) : -1;
+	if (k >= 0) {
+		ev->n_in = t.mind->skill[k].n_in;
+		ev->n_out = t.mind->skill[k].n_out;
+	}
+	evo_task_free(&t);
+	ev->threads = evo_remote_eval_envs(ev->remote);
+	return 0;
+}
+
 evo_evaluator *evo_evaluator_create(const evo_eval_def *def, evo_err *err)
 {
 	if (!def || !def->task_path) {
@@ -248,13 +295,19 @@ evo_evaluator *evo_evaluator_create(const evo_eval_def *def, evo_err *err)
 		evo_fail(err, "out of memory");
 		return NULL;
 	}
+	ev->seed = def->seed;
+	if (remote_task(def->task_path)) {
+		if (!(ev->remote = evo_remote_eval_create(def->task_path, err)) ||
+		    remote_settings(ev, def, err))
+			goto fail_remote;
+		return ev;
+	}
 	int threads = def->threads;
 	if (threads == 0) {
 		long c = sysconf(_SC_NPROCESSORS_ONLN);
 		threads = c < 1 ? 1 : c > MAX_THREADS ? MAX_THREADS : (int)c;
 	}
 	ev->threads = threads;
-	ev->seed = def->seed;
 	ev->task_path = strdup(def->task_path);
 	ev->w = calloc((size_t)threads, sizeof *ev->w);
 	pthread_mutex_init(&ev->mu, NULL);
@@ -310,12 +363,21 @@ evo_evaluator *evo_evaluator_create(const evo_eval_def *def, evo_err *err)
 fail:
 	evo_evaluator_destroy(ev);
 	return NULL;
+fail_remote:
+	evo_remote_eval_destroy(ev->remote);
+	free(ev);
+	return NULL;
 }
 
 void evo_evaluator_destroy(evo_evaluator *ev)
 {
 	if (!ev)
 		return;
+	if (ev->remote) {
+		evo_remote_eval_destroy(ev->remote);
+		free(ev);
+		return;
+	}
 	pthread_mutex_lock(&ev->mu);
 	ev->quit = 1;
 	pthread_cond_broadcast(&ev->start_cv);
@@ -366,6 +428,11 @@ int evo_evaluator_n_metrics(const evo_evaluator *ev)
 	return ev->n_metrics;
 }
 
+int evo_evaluator_remotes(const evo_evaluator *ev)
+{
+	return ev->remote ? evo_remote_eval_sims(ev->remote) : 0;
+}
+
 const char *evo_evaluator_metric_name(const evo_evaluator *ev, int k)
 {
 	return k >= 0 && k < ev->n_metrics ? ev->w[0].sim->scene->metric[k].name
@@ -374,7 +441,7 @@ const char *evo_evaluator_metric_name(const evo_evaluator *ev, int k)
 
 int evo_evaluator_deferred_success(const evo_evaluator *ev)
 {
-	return ev->w[0].lit == EVO_LIT_DPNV;
+	return !ev->remote && ev->w[0].lit == EVO_LIT_DPNV;
 }
 
 int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
@@ -385,7 +452,9 @@ int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
 				     "array");
 	/* Shapes are checked here, before any worker starts, so a wrong
 	 * candidate is named the same way whatever the thread count. */
-	const char *skill = ev->w[0].task.mind->skill[ev->w[0].skill].name;
+	const char *skill =
+	    ev->remote ? "LEARNINGSKILL"
+		       : ev->w[0].task.mind->skill[ev->w[0].skill].name;
 	for (int i = 0; i < n; i++) {
 		const evo_netdesc *c = candidates[i];
 		if (!c)
@@ -401,6 +470,16 @@ int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
 	}
 	if (n == 0)
 		return 0;
+	if (ev->remote) {
+		int rc = evo_remote_eval_run(ev->remote, candidates, n, gen,
+					     ev->seed, ev->reps, ev->ticks, res,
+					     err);
+		if (rc) {
+			evo_err inner = *err;
+			evo_fail(err, "generation %d: %s", gen, inner.msg);
+		}
+		return rc;
+	}
 	pthread_mutex_lock(&ev->mu);
 	ev->cand = candidates;
 	ev->n = n;

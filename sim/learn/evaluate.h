@@ -79,6 +79,10 @@ long evo_evaluator_ticks(const evo_evaluator *ev);
 unsigned evo_evaluator_n_in(const evo_evaluator *ev);
 unsigned evo_evaluator_n_out(const evo_evaluator *ev);
 
+/* LEARNREMOTESIM: the remote simulators in use (their environments are
+ * evo_evaluator_threads); 0 for an evaluator of threads. */
+int evo_evaluator_remotes(const evo_evaluator *ev);
+
 /* The environment's metrics: how many (0 for literature tasks), and the
  * name of metric k, in the order the environment declared them. */
 int evo_evaluator_n_metrics(const evo_evaluator *ev);

@@ -657,10 +657,18 @@ int evo_learn_run(const char *task_path, evo_task *task,
 		return -1;
 	}
 	int threads = evo_evaluator_threads(l.ev);
-	printf("%s: %s of skill %s, seed %llu, %d thread%s, run folder %s\n",
-	       task_path, evo_simbatch_get(task->sb, "LEARNINGMETHOD"),
-	       l.skill, (unsigned long long)o->seed, threads,
-	       threads == 1 ? "" : "s", l.run_dir);
+	int sims = evo_evaluator_remotes(l.ev);
+	char where[96];
+	if (sims)
+		snprintf(where, sizeof where,
+			 "%d environment%s on %d remote simulator%s", threads,
+			 threads == 1 ? "" : "s", sims, sims == 1 ? "" : "s");
+	else
+		snprintf(where, sizeof where, "%d thread%s", threads,
+			 threads == 1 ? "" : "s");
+	printf("%s: %s of skill %s, seed %llu, %s, run folder %s\n", task_path,
+	       evo_simbatch_get(task->sb, "LEARNINGMETHOD"), l.skill,
+	       (unsigned long long)o->seed, where, l.run_dir);
 	fflush(stdout);
 	if (!o->resume && evo_runlog_set_aside(l.run_dir, err)) {
 		close(lock);

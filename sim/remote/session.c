@@ -58,6 +58,36 @@ static void report_drops(const evo_remote *r)
 	fprintf(stderr, ")\n");
 }
 
+/* ---- the task's keys ----------------------------------------------------- */
+
+int evo_remote_opts_from_task(const evo_simbatch *sb, const char *path,
+			      evo_remote_kind kind, evo_remote_opts *o,
+			      evo_err *err)
+{
+	memset(o, 0, sizeof *o);
+	o->url = evo_simbatch_get(sb, "LCMURL");
+	o->name = evo_simbatch_get(sb, "REMOTENAME");
+	o->kind = kind;
+	o->timeout = EVO_REMOTE_DEFAULT_TIMEOUT;
+	if (o->name && !evo_wire_name_ok(o->name))
+		return evo_fail(err,
+				"%s: REMOTENAME '%s': a remote's name is 1..63 "
+				"letters, digits, '_' or '-'",
+				path, o->name);
+	const char *t = evo_simbatch_get(sb, "REMOTETIMEOUT");
+	if (t) {
+		char *end;
+		double v = strtod(t, &end);
+		if (*end || !(v > 0 && v <= 3600))
+			return evo_fail(err,
+					"%s: REMOTETIMEOUT expects seconds, more "
+					"than 0 and at most 3600, found '%s'",
+					path, t);
+		o->timeout = v;
+	}
+	return 0;
+}
+
 /* ---- finding the remote ---------------------------------------------- */
 
 static const char *kind_name(evo_remote_kind k)
@@ -270,12 +300,26 @@ int evo_remotes_find(evo_remotes *s, double window, evo_err *err)
 
 /* ---- episodes ---------------------------------------------------------- */
 
-static int send_env(evo_remotes *s, evo_remote_env *e, const char *channel,
-		    int len, evo_err *err)
+/* 1 when evo awaits an answer from r. */
+static int awaiting(const evo_remote *r)
+{
+	for (int e = 0; e < r->hello.environments && e < EVO_REMOTE_MAX_ENVS;
+	     e++)
+		if (r->env[e].waiting)
+			return 1;
+	return 0;
+}
+
+static int send_env(evo_remotes *s, evo_remote *r, evo_remote_env *e,
+		    const char *channel, int len, evo_err *err)
 {
 	if (len < 0)
 		return evo_fail(err, "evo: cannot encode a message for %s",
 				channel);
+	/* silence counts from when evo starts waiting, not from the last
+	 * answer of a wait long over */
+	if (!awaiting(r))
+		r->heard_at = now();
 	e->sent_len = len;
 	snprintf(e->sent_channel, sizeof e->sent_channel, "%s", channel);
 	e->sent_at = now();
@@ -500,7 +544,7 @@ int evo_remotes_send_reset(evo_remotes *s, int ri, int env, int64_t episode,
 	    .seed = seed,
 	};
 	snprintf(c.name, sizeof c.name, "%s", r->hello.name);
-	return send_env(s, e, r->ch_control,
+	return send_env(s, r, e, r->ch_control,
 			evo_wire_encode_control(&c, e->sent, sizeof e->sent),
 			err);
 }
@@ -521,7 +565,7 @@ int evo_remotes_send_command(evo_remotes *s, int ri, int env,
 	for (unsigned j = 0; j < c.n; j++)
 		c.value[j] = commands[r->actuator_of[j]];
 	e->tick++;
-	return send_env(s, e, r->ch_command,
+	return send_env(s, r, e, r->ch_command,
 			evo_wire_encode_command(&c, e->sent, sizeof e->sent),
 			err);
 }

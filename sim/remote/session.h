@@ -67,6 +67,13 @@ typedef struct evo_remote {
 	evo_remote_env env[EVO_REMOTE_MAX_ENVS];
 } evo_remote;
 
+/* A task's remote keys (docs/remote.md): LCMURL, REMOTENAME and
+ * REMOTETIMEOUT, into o (which keeps pointers into sb). 0, or -1 with err
+ * set ("TASK: REMOTETIMEOUT expects seconds, ..."). */
+int evo_remote_opts_from_task(const evo_simbatch *sb, const char *path,
+			      evo_remote_kind kind, evo_remote_opts *o,
+			      evo_err *err);
+
 /* The remotes evo uses, all on one LCM connection. */
 typedef struct evo_remotes {
 	evo_link *link;
