@@ -447,6 +447,72 @@ static void episode_field(const char *out, int e, const char *key,
 	buf[n] = 0;
 }
 
+/* Roam, the Avoid example's environment, starts each episode facing a
+ * random way over the whole turn: bot:place takes degrees, and was once
+ * given radians, which kept every start within 6.3 degrees of east. Roam
+ * itself runs here, with one line added to its reset that reports the
+ * start heading as a metric. */
+TEST(roam_starts_episodes_facing_every_way)
+{
+	cli_sh("rm -rf %s/roam && mkdir -p %s/roam && cp -r minds/Avoid "
+	       "%s/roam/",
+	       cli_tmp, cli_tmp, cli_tmp);
+	char *roam = cli_read("minds/Avoid/Envs/Roam.lua");
+	CHECK(roam != NULL);
+	if (!roam)
+		return;
+	const char *reset = "\tbot:place(0, 5, scene:random(0, 360))\n";
+	char *at = strstr(roam, reset);
+	CHECK(at != NULL);
+	if (!at) {
+		free(roam);
+		return;
+	}
+	static char spy[1 << 14];
+	const char *init = "function env.init(scene, task)\n";
+	char *in = strstr(roam, init);
+	CHECK(in != NULL && in < at);
+	if (!in) {
+		free(roam);
+		return;
+	}
+	/* declare the metric first thing in init; set it after the place */
+	size_t k = 0;
+	k += (size_t)snprintf(spy + k, sizeof spy - k, "%.*s%s",
+			      (int)(in - roam), roam, init);
+	k += (size_t)snprintf(spy + k, sizeof spy - k,
+			      "\tenv.heading = scene:metric(\"heading\")\n");
+	const char *after_init = in + strlen(init);
+	k += (size_t)snprintf(spy + k, sizeof spy - k, "%.*s%s",
+			      (int)(at - after_init), after_init, reset);
+	k += (size_t)snprintf(spy + k, sizeof spy - k,
+			      "\tlocal _, _, a = bot:pose()\n"
+			      "\tenv.heading:set(a %% 360)\n%s",
+			      at + strlen(reset));
+	free(roam);
+	CHECK_EQ_INT(cli_write(spy, "%s/roam/Avoid/Envs/Roam.lua", cli_tmp), 0);
+	int rc = cli_capture(out1, sizeof out1,
+			     "%s run %s/roam/Avoid/Tasks/Avoid-DEMO.simbatch -nog "
+			     "--episodes 12 --ticks 1",
+			     cli_evo, cli_tmp);
+	CHECK_EQ_INT(rc, 0);
+	double lo = 360, hi = -1;
+	int n = 0;
+	for (const char *p = strstr(out1, "heading "); p;
+	     p = strstr(p + 1, "heading ")) {
+		double a = atof(p + 8);
+		lo = a < lo ? a : lo;
+		hi = a > hi ? a : hi;
+		n++;
+	}
+	CHECK_EQ_INT(n, 12);
+	/* twelve draws over the whole turn: spread over half of it at least
+	 * (all twelve within 180 degrees has a chance of 12 / 2^11) */
+	CHECK(hi - lo > 180);
+	if (!(hi - lo > 180))
+		printf("  headings from %g to %g:\n%s\n", lo, hi, out1);
+}
+
 TEST(an_environments_metrics_follow_its_episode_lines)
 {
 	char root[512], trace[512];
@@ -743,6 +809,7 @@ int main(void)
 	RUN(endless_reward_runs_out_of_budget);
 	RUN(math_random_follows_the_seed);
 	RUN(trace_records_every_tick);
+	RUN(roam_starts_episodes_facing_every_way);
 	RUN(an_environments_metrics_follow_its_episode_lines);
 	RUN(gtdza_reports_the_zones_reached);
 	RUN(sigterm_and_sigint_stop_a_long_run_and_keep_its_trace);
