@@ -36,7 +36,10 @@ static void serve_usage(FILE *f)
 	      "                      evo-serve-PID)\n"
 	      "  --environments N    episodes run at once (default 1)\n"
 	      "  --url URL           the LCM URL (default: the task's LCMURL,\n"
-	      "                      else LCM's default)\n",
+	      "                      else LCM's default)\n"
+	      "  --data-url URL      the LCM URL of its episodes (default: the\n"
+	      "                      URL on a port of its own, from its name;\n"
+	      "                      'same': the URL itself)\n",
 	      f);
 }
 
@@ -51,7 +54,8 @@ typedef struct served_env {
 } served_env;
 
 typedef struct server {
-	evo_link *link;
+	evo_link *link;	 /* the URL: who_t, hello_t */
+	evo_link *data;	 /* its episodes: control_t, command_t, sensors_t */
 	evo_wire_hello hello;
 	char ch_control[96], ch_command[96], ch_sensors[96];
 	served_env *env;
@@ -95,13 +99,13 @@ static int send_sensors(server *sv, served_env *e, int env, double reward,
 	e->last_len = evo_wire_encode_sensors(&s, e->last, sizeof e->last);
 	if (e->last_len < 0)
 		return evo_fail(err, "evo serve: cannot encode a sensors_t");
-	return evo_link_publish(sv->link, sv->ch_sensors, e->last,
+	return evo_link_publish(sv->data, sv->ch_sensors, e->last,
 				(size_t)e->last_len, err);
 }
 
 static int resend(server *sv, served_env *e, evo_err *err)
 {
-	return evo_link_publish(sv->link, sv->ch_sensors, e->last,
+	return evo_link_publish(sv->data, sv->ch_sensors, e->last,
 				(size_t)e->last_len, err);
 }
 
@@ -215,24 +219,54 @@ static int serve(server *sv, evo_err *err)
 {
 	if (publish_hello(sv, err))
 		return -1;
+	evo_link *links[2] = {sv->link, sv->data};
+	int n_links = sv->data == sv->link ? 1 : 2;
 	while (!stop_requested) {
 		evo_link_msg m;
-		int got = evo_link_next(sv->link, 100, &m, err);
+		int which;
+		int got = evo_link_next_any(links, n_links, 100, &which, &m, err);
 		if (got < 0)
 			return -1;
 		if (!got)
 			continue;
 		int rc = 0;
-		if (strcmp(m.channel, sv->ch_command) == 0)
+		int data = links[which] == sv->data;
+		if (data && strcmp(m.channel, sv->ch_command) == 0)
 			rc = on_command(sv, &m, err);
-		else if (strcmp(m.channel, sv->ch_control) == 0)
+		else if (data && strcmp(m.channel, sv->ch_control) == 0)
 			rc = on_control(sv, &m, err);
-		else if (strcmp(m.channel, "EVO_WHO") == 0)
+		else if (which == 0 && strcmp(m.channel, "EVO_WHO") == 0)
 			rc = publish_hello(sv, err);
 		if (rc)
 			return -1;
 	}
 	return 0;
+}
+
+/* The URL of a server's episodes: udpm://GROUP:PORT?OPTS on PORT + 1 +
+ * (a hash of its name) % 2000, so that each server's traffic reaches
+ * only evo and itself, not every other server on the URL (LCM over UDP
+ * multicast hands every message on a port to every process listening on
+ * it). Another kind of URL is used as it is. */
+static void data_url_for(const char *url, const char *name, char *out,
+			 size_t cap)
+{
+	const char *colon = strncmp(url, "udpm://", 7) == 0
+				? strchr(url + 7, ':')
+				: NULL;
+	char *end;
+	long port = colon ? strtol(colon + 1, &end, 10) : -1;
+	if (!colon || end == colon + 1 || port < 1 || port > 65535) {
+		snprintf(out, cap, "%s", url);
+		return;
+	}
+	uint32_t h = 2166136261u;
+	for (const char *p = name; *p; p++)
+		h = (h ^ (unsigned char)*p) * 16777619u;
+	long own = port + 1 + (long)(h % 2000);
+	if (own > 65535)
+		own -= 4000;
+	snprintf(out, cap, "%.*s:%ld%s", (int)(colon - url), url, own, end);
 }
 
 /* A session number no earlier run of this name is likely to have had. */
@@ -247,7 +281,8 @@ static int64_t new_session(void)
 
 int evo_serve_main(int argc, char **argv)
 {
-	const char *task_path = NULL, *name = NULL, *url = NULL;
+	const char *task_path = NULL, *name = NULL, *url = NULL,
+		   *data_url = NULL;
 	long envs = 1;
 	for (int i = 2; i < argc; i++) {
 		const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -256,6 +291,9 @@ int evo_serve_main(int argc, char **argv)
 			i++;
 		} else if (strcmp(a, "--url") == 0 && v) {
 			url = v;
+			i++;
+		} else if (strcmp(a, "--data-url") == 0 && v) {
+			data_url = v;
 			i++;
 		} else if (strcmp(a, "--environments") == 0 && v) {
 			char *end;
@@ -341,12 +379,27 @@ int evo_serve_main(int argc, char **argv)
 	snprintf(sv.ch_command, sizeof sv.ch_command, "EVO_%s_COMMAND", name);
 	snprintf(sv.ch_sensors, sizeof sv.ch_sensors, "EVO_%s_SENSORS", name);
 	sv.link = evo_link_open(url, &err);
-	if (!sv.link || evo_link_subscribe(sv.link, "EVO_WHO", &err) ||
-	    evo_link_subscribe(sv.link, sv.ch_control, &err) ||
-	    evo_link_subscribe(sv.link, sv.ch_command, &err))
+	if (!sv.link || evo_link_subscribe(sv.link, "EVO_WHO", &err))
 		goto out;
-	printf("evo serve: %s serves %s on %s (%ld environment%s)\n", name,
-	       task_path, evo_link_url(sv.link), envs, envs == 1 ? "" : "s");
+	if (!data_url)
+		data_url_for(evo_link_url(sv.link), name, h->url, sizeof h->url);
+	else if (strcmp(data_url, "same") != 0)
+		snprintf(h->url, sizeof h->url, "%s", data_url);
+	if (h->url[0] && strcmp(h->url, evo_link_url(sv.link)) != 0) {
+		sv.data = evo_link_open(h->url, &err);
+		if (!sv.data)
+			goto out;
+	} else {
+		h->url[0] = 0;
+		sv.data = sv.link;
+	}
+	if (evo_link_subscribe(sv.data, sv.ch_control, &err) ||
+	    evo_link_subscribe(sv.data, sv.ch_command, &err))
+		goto out;
+	printf("evo serve: %s serves %s on %s (%ld environment%s; its "
+	       "episodes on %s)\n",
+	       name, task_path, evo_link_url(sv.link), envs,
+	       envs == 1 ? "" : "s", evo_link_url(sv.data));
 	fflush(stdout);
 	if (serve(&sv, &err) == 0)
 		rc = 0;
@@ -359,6 +412,8 @@ out:
 	if (total)
 		fprintf(stderr, "evo serve: dropped %lu message%s\n", total,
 			total == 1 ? "" : "s");
+	if (sv.data != sv.link)
+		evo_link_close(sv.data);
 	evo_link_close(sv.link);
 	for (long i = 0; sv.env && i < envs; i++)
 		evo_sim_destroy(sv.env[i].sim);

@@ -4,6 +4,7 @@
 
 #include <errno.h>
 #include <lcm/lcm.h>
+#include <poll.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -126,6 +127,35 @@ int evo_link_next(evo_link *l, int timeout_ms, evo_link_msg *m, evo_err *err)
 	m->data = l->current.data;
 	m->len = l->current.len;
 	return 1;
+}
+
+#define MAX_ANY 64
+
+int evo_link_next_any(evo_link *const *links, int n, int timeout_ms,
+		      int *which, evo_link_msg *m, evo_err *err)
+{
+	if (n < 1 || n > MAX_ANY)
+		return evo_fail(err, "LCM: %d connections to wait on", n);
+	for (int i = 0; i < n; i++)
+		if (links[i]->n) {
+			*which = i;
+			return evo_link_next(links[i], 0, m, err);
+		}
+	struct pollfd fd[MAX_ANY];
+	for (int i = 0; i < n; i++)
+		fd[i] = (struct pollfd){lcm_get_fileno(links[i]->lcm), POLLIN, 0};
+	int r = poll(fd, (nfds_t)n, timeout_ms);
+	if (r < 0 && errno != EINTR)
+		return evo_fail(err, "LCM: waiting failed: %s", strerror(errno));
+	for (int i = 0; r > 0 && i < n; i++)
+		if (fd[i].revents) {
+			int got = evo_link_next(links[i], 0, m, err);
+			if (got != 0) {
+				*which = i;
+				return got;
+			}
+		}
+	return 0;
 }
 
 int evo_link_publish(evo_link *l, const char *channel, const void *data,

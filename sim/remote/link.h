@@ -37,6 +37,13 @@ typedef struct evo_link_msg {
 int evo_link_next(evo_link *l, int timeout_ms, evo_link_msg *m,
 		  evo_err *err);
 
+/* The next message on any of links[0 .. n-1]: one already queued, else
+ * the first to come within timeout_ms. 1 with *which its link's index and
+ * *m filled (valid until that link's next call), 0 when none came, -1
+ * with err set. */
+int evo_link_next_any(evo_link *const *links, int n, int timeout_ms,
+		      int *which, evo_link_msg *m, evo_err *err);
+
 /* Publish len bytes on channel. 0, or -1 with err set. */
 int evo_link_publish(evo_link *l, const char *channel, const void *data,
 		     size_t len, evo_err *err);

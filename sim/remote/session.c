@@ -175,7 +175,24 @@ static int accept(evo_remotes *s, evo_remote *r, evo_err *err)
 		 h->name);
 	snprintf(r->ch_control, sizeof r->ch_control, "EVO_%s_CONTROL",
 		 h->name);
-	return evo_link_subscribe(s->link, r->ch_sensors, err);
+	r->link = s->link;
+	if (h->url[0] && strcmp(h->url, evo_link_url(s->link)) != 0) {
+		r->link = NULL;
+		for (int i = 1; i < s->n_links && !r->link; i++)
+			if (strcmp(evo_link_url(s->links[i]), h->url) == 0)
+				r->link = s->links[i];
+		if (!r->link) {
+			evo_err inner;
+			r->link = evo_link_open(h->url, &inner);
+			if (!r->link)
+				return evo_fail(err,
+						"remote %s: its episodes' URL: "
+						"%s",
+						h->name, inner.msg);
+			s->links[s->n_links++] = r->link;
+		}
+	}
+	return evo_link_subscribe(r->link, r->ch_sensors, err);
 }
 
 static int send_who(evo_remotes *s, evo_err *err)
@@ -205,6 +222,8 @@ evo_remotes *evo_remotes_open(const evo_mindfolder *mind,
 		s->opts.timeout = EVO_REMOTE_DEFAULT_TIMEOUT;
 	s->mind = mind;
 	s->link = evo_link_open(o->url, err);
+	s->links[0] = s->link;
+	s->n_links = 1;
 	if (!s->link || evo_link_subscribe(s->link, "EVO_HELLO", err)) {
 		evo_link_close(s->link);
 		free(s);
@@ -310,8 +329,8 @@ static int awaiting(const evo_remote *r)
 	return 0;
 }
 
-static int send_env(evo_remotes *s, evo_remote *r, evo_remote_env *e,
-		    const char *channel, int len, evo_err *err)
+static int send_env(evo_remote *r, evo_remote_env *e, const char *channel,
+		    int len, evo_err *err)
 {
 	if (len < 0)
 		return evo_fail(err, "evo: cannot encode a message for %s",
@@ -325,7 +344,7 @@ static int send_env(evo_remotes *s, evo_remote *r, evo_remote_env *e,
 	e->sent_at = now();
 	e->waiting = 1;
 	e->have = 0;
-	return evo_link_publish(s->link, channel, e->sent, (size_t)len, err);
+	return evo_link_publish(r->link, channel, e->sent, (size_t)len, err);
 }
 
 /* A sensors_t: keep it when it is the one its environment awaits. */
@@ -463,7 +482,7 @@ int evo_remotes_wait(evo_remotes *s, int *ri, int *env, evo_err *err)
 				if (t - v->sent_at >= RESEND_S) {
 					v->sent_at = t;
 					if (evo_link_publish(
-						s->link, v->sent_channel,
+						r->link, v->sent_channel,
 						v->sent, (size_t)v->sent_len,
 						err))
 						return -1;
@@ -493,12 +512,14 @@ int evo_remotes_wait(evo_remotes *s, int *ri, int *env, evo_err *err)
 		if (!awaited)
 			return evo_fail(err, "evo: waiting for no remote");
 		evo_link_msg m;
-		int got = evo_link_next(s->link, SLICE_MS, &m, err);
+		int which;
+		int got = evo_link_next_any(s->links, s->n_links, SLICE_MS,
+					    &which, &m, err);
 		if (got < 0)
 			return -1;
 		if (!got)
 			continue;
-		if (strcmp(m.channel, "EVO_HELLO") == 0) {
+		if (which == 0 && strcmp(m.channel, "EVO_HELLO") == 0) {
 			int lost = 0;
 			evo_wire_hello h;
 			char why[256];
@@ -515,7 +536,8 @@ int evo_remotes_wait(evo_remotes *s, int *ri, int *env, evo_err *err)
 			continue;
 		}
 		for (int i = 0; i < s->n; i++)
-			if (strcmp(m.channel, s->r[i]->ch_sensors) == 0) {
+			if (s->links[which] == s->r[i]->link &&
+			    strcmp(m.channel, s->r[i]->ch_sensors) == 0) {
 				if (!s->r[i]->lost &&
 				    take_sensors(s->r[i], &m, err))
 					return -1;
@@ -544,7 +566,7 @@ int evo_remotes_send_reset(evo_remotes *s, int ri, int env, int64_t episode,
 	    .seed = seed,
 	};
 	snprintf(c.name, sizeof c.name, "%s", r->hello.name);
-	return send_env(s, r, e, r->ch_control,
+	return send_env(r, e, r->ch_control,
 			evo_wire_encode_control(&c, e->sent, sizeof e->sent),
 			err);
 }
@@ -565,7 +587,7 @@ int evo_remotes_send_command(evo_remotes *s, int ri, int env,
 	for (unsigned j = 0; j < c.n; j++)
 		c.value[j] = commands[r->actuator_of[j]];
 	e->tick++;
-	return send_env(s, r, e, r->ch_command,
+	return send_env(r, e, r->ch_command,
 			evo_wire_encode_command(&c, e->sent, sizeof e->sent),
 			err);
 }
@@ -603,13 +625,14 @@ void evo_remotes_close(evo_remotes *s)
 			unsigned char buf[512];
 			int n = evo_wire_encode_control(&c, buf, sizeof buf);
 			if (n > 0)
-				evo_link_publish(s->link, r->ch_control, buf,
+				evo_link_publish(r->link, r->ch_control, buf,
 						 (size_t)n, &ignored);
 		}
 		report_drops(r);
 		free(r);
 	}
-	evo_link_close(s->link);
+	for (int i = 0; i < s->n_links; i++)
+		evo_link_close(s->links[i]);
 	free(s);
 }
 

@@ -55,6 +55,7 @@ typedef struct evo_remote_env {
 
 typedef struct evo_remote {
 	struct evo_remotes *set;
+	evo_link *link; /* of its episodes: its hello's url, or the set's */
 	evo_wire_hello hello;
 	/* botdesc sensor i is hello sensor sensor_at[i]; hello actuator j is
 	 * botdesc actuator actuator_of[j] */
@@ -76,7 +77,12 @@ int evo_remote_opts_from_task(const evo_simbatch *sb, const char *path,
 
 /* The remotes evo uses, all on one LCM connection. */
 typedef struct evo_remotes {
-	evo_link *link;
+	evo_link *link; /* the URL's: who_t and hello_t */
+	/* every connection: link first, then each other URL a remote's
+	 * episodes use (a remote on a port of its own keeps its traffic
+	 * from every other process on the URL) */
+	evo_link *links[EVO_REMOTE_MAX_REMOTES + 1];
+	int n_links;
 	evo_remote_opts opts;
 	const evo_mindfolder *mind;
 	int n;

@@ -173,6 +173,7 @@ static const field hello_fields[] = {
     {F_I32, 0, "protocol"},
     {F_STR, EVO_REMOTE_NAME_MAX, "name"},
     {F_I64, 0, "session"},
+    {F_STR, EVO_REMOTE_URL_MAX, "url"},
     {F_I8, 0, "kind"},
     {F_I32, 0, "environments"},
     {F_I32, 0, "tick_us"},
@@ -246,6 +247,7 @@ evo_wire_reason evo_wire_decode_hello(const void *buf, size_t len,
 	out->protocol = m.protocol;
 	copy_name(out->name, sizeof out->name, m.name);
 	out->session = m.session;
+	copy_name(out->url, sizeof out->url, m.url);
 	out->kind = m.kind == EVO_LCM_HELLO_T_SIMULATOR ? EVO_REMOTE_SIMULATOR
 							 : EVO_REMOTE_ROBOT;
 	out->environments = m.environments;
@@ -415,6 +417,7 @@ int evo_wire_encode_hello(const evo_wire_hello *h, void *buf, size_t cap)
 	    .protocol = h->protocol,
 	    .name = str(h->name),
 	    .session = h->session,
+	    .url = str(h->url),
 	    .kind = (int8_t)h->kind,
 	    .environments = h->environments,
 	    .tick_us = h->tick_us,

@@ -17,6 +17,7 @@
 
 #define EVO_WIRE_PROTOCOL 1
 #define EVO_REMOTE_NAME_MAX 64 /* bytes in a remote's name, with its NUL */
+#define EVO_REMOTE_URL_MAX 256 /* bytes in an LCM URL, with its NUL */
 
 typedef enum evo_wire_reason {
 	EVO_WIRE_OK = 0,
@@ -41,6 +42,7 @@ typedef struct evo_wire_hello {
 	int32_t protocol;
 	char name[EVO_REMOTE_NAME_MAX];
 	int64_t session;
+	char url[EVO_REMOTE_URL_MAX]; /* its episodes' URL; "": the hello's */
 	evo_remote_kind kind;
 	int32_t environments;
 	int32_t tick_us;
