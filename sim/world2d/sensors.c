@@ -136,10 +136,12 @@ static void release_set(shape_set *set)
 	set->n = 0;
 }
 
-/* How far from the bot's centre a proximity sensor's rays can reach. */
+/* How far from the bot's centre a proximity sensor's rays can reach: the
+ * size of the query around the bot, so sqrt serves (as for a box's
+ * bounding circle), at a third of hypot's cost, ten times a tick. */
 static double sensor_reach(const evo_sensor_def *d)
 {
-	return hypot(d->x, d->y) + d->range;
+	return sqrt(d->x * d->x + d->y * d->y) + d->range;
 }
 
 /* ---- proximity: rays against circles and boxes ------------------------ */
