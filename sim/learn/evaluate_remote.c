@@ -22,6 +22,7 @@ typedef struct slot {
 	size_t mem_size;
 	evo_state *state;
 	long job; /* the episode it runs, -1 when free */
+	int built_gen, built_cand; /* whose mind it holds, -1: none */
 	long t;	  /* commands sent in that episode */
 	int dead;
 } slot;
@@ -50,6 +51,7 @@ static int slot_load(evo_remote_eval *re, slot *s, evo_err *err)
 		return evo_fail(err, "%s: LEARNINGSKILL %s has no network",
 				re->task_path, learn ? learn : "(none)");
 	s->job = -1;
+	s->built_gen = s->built_cand = -1;
 	return 0;
 }
 
@@ -131,19 +133,28 @@ static int start(evo_remote_eval *re, slot *s, long job,
 		 uint64_t seed, evo_err *err)
 {
 	evo_mindfolder *l = s->task.mind;
-	*l->net[s->skill] = *cand;
-	if (evo_mindfolder_rebuild(l, err))
-		return -1;
-	size_t need = (evo_state_size(&l->mind) + 7) & ~(size_t)7;
-	if (need > s->mem_size) {
-		free(s->mem);
-		s->mem = aligned_alloc(8, need);
-		s->mem_size = s->mem ? need : 0;
-		if (!s->mem)
-			return evo_fail(err, "out of memory");
+	if (s->built_gen != gen || s->built_cand != cand_i) {
+		/* another candidate: its network into the image */
+		s->built_gen = s->built_cand = -1;
+		*l->net[s->skill] = *cand;
+		if (evo_mindfolder_rebuild(l, err))
+			return -1;
+		size_t need = (evo_state_size(&l->mind) + 7) & ~(size_t)7;
+		if (need > s->mem_size) {
+			free(s->mem);
+			s->mem = aligned_alloc(8, need);
+			s->mem_size = s->mem ? need : 0;
+			if (!s->mem)
+				return evo_fail(err, "out of memory");
+		}
+		if (evo_state_init(&l->mind, s->mem, s->mem_size, &s->state) !=
+		    EVO_OK)
+			return evo_fail(err, "mind state: cannot lay it out");
+		s->built_gen = gen;
+		s->built_cand = cand_i;
+	} else {
+		evo_state_reset(&l->mind, s->state);
 	}
-	if (evo_state_init(&l->mind, s->mem, s->mem_size, &s->state) != EVO_OK)
-		return evo_fail(err, "mind state: cannot lay it out");
 	s->job = job;
 	s->t = 0;
 	return evo_remotes_send_reset(re->remotes, s->ri, s->env, rep + 1,

@@ -147,14 +147,21 @@ int evo_link_next_any(evo_link *const *links, int n, int timeout_ms,
 	int r = poll(fd, (nfds_t)n, timeout_ms);
 	if (r < 0 && errno != EINTR)
 		return evo_fail(err, "LCM: waiting failed: %s", strerror(errno));
-	for (int i = 0; r > 0 && i < n; i++)
-		if (fd[i].revents) {
-			int got = evo_link_next(links[i], 0, m, err);
-			if (got != 0) {
-				*which = i;
-				return got;
-			}
+	for (int i = 0; r > 0 && i < n; i++) {
+		if (!fd[i].revents)
+			continue;
+		/* readable: lcm_handle returns at once, without the select
+		 * lcm_handle_timeout would make first */
+		drop(&links[i]->current);
+		if (lcm_handle(links[i]->lcm) != 0)
+			return evo_fail(err, "LCM at %s: receiving failed",
+					links[i]->url);
+		int got = evo_link_next(links[i], 0, m, err);
+		if (got != 0) {
+			*which = i;
+			return got;
 		}
+	}
 	return 0;
 }
 
