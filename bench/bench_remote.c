@@ -231,6 +231,9 @@ static int bench_lockstep(long ticks)
 		best_evo = v > best_evo ? v : best_evo;
 	}
 	double ratio = best_evo / best_plain;
+	unsigned long lost = r->r[0]->resent;
+	for (int k = 1; k < EVO_WIRE_N_REASONS; k++)
+		lost += r->r[0]->dropped[k];
 	printf("Lockstep over LCM on loopback, %zu-byte commands and %zu-byte "
 	       "sensor messages, best of %d runs of %ld ticks:\n",
 	       c_len, s_len, ROUNDS, ticks);
@@ -242,6 +245,8 @@ static int bench_lockstep(long ticks)
 	       best_evo);
 	printf("  ratio %.2f of the plain round trip (bar: at least %.1f): %s\n",
 	       ratio, LOCKSTEP_BAR, ratio >= LOCKSTEP_BAR ? "met" : "NOT MET");
+	printf("  messages lost (sent again) or dropped over %ld ticks: %lu\n",
+	       200 + ROUNDS * ticks, lost);
 	rc = ratio >= LOCKSTEP_BAR ? 0 : 1;
 out:
 	if (lcm) {

@@ -41,6 +41,12 @@ static void dropped(evo_remote *r, evo_wire_reason why_code, const char *type,
 
 static void report_drops(const evo_remote *r)
 {
+	if (r->resent)
+		fprintf(stderr,
+			"evo: remote %s: %lu message%s sent again, unanswered "
+			"after %.2f s\n",
+			r->hello.name, r->resent, r->resent == 1 ? "" : "s",
+			RESEND_S);
 	unsigned long total = 0;
 	for (int i = 1; i < EVO_WIRE_N_REASONS; i++)
 		total += r->dropped[i];
@@ -481,6 +487,7 @@ int evo_remotes_wait(evo_remotes *s, int *ri, int *env, evo_err *err)
 				waits = 1;
 				if (t - v->sent_at >= RESEND_S) {
 					v->sent_at = t;
+					r->resent++;
 					if (evo_link_publish(
 						r->link, v->sent_channel,
 						v->sent, (size_t)v->sent_len,

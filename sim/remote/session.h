@@ -63,6 +63,7 @@ typedef struct evo_remote {
 	int actuator_of[EVO_MAX_ACTUATORS];
 	char ch_sensors[96], ch_command[96], ch_control[96];
 	unsigned long dropped[EVO_WIRE_N_REASONS];
+	unsigned long resent; /* messages sent again, unanswered in time */
 	double heard_at, told_at; /* the last message; the last "silent" */
 	int lost;
 	evo_remote_env env[EVO_REMOTE_MAX_ENVS];
