@@ -146,7 +146,13 @@ TEST(a_served_world_runs_as_demosim_does)
 
 /* ---- a remote of the test's own ------------------------------------------ */
 
-enum fake_mode { FAKE_GOOD, FAKE_OTHER_NAMES, FAKE_NOISY };
+enum fake_mode {
+	FAKE_GOOD,
+	FAKE_OTHER_NAMES,
+	FAKE_NOISY,
+	FAKE_NAN,     /* tick 0 reads NaN */
+	FAKE_RESTART  /* says hello with a new session instead of tick 0 */
+};
 
 static void publish(evo_link *l, const char *ch, const void *b, int n)
 {
@@ -243,8 +249,20 @@ static void fake_remote(const char *name, enum fake_mode mode, const char *got)
 					evo_wire_encode_sensors(&bad, buf,
 								sizeof buf));
 			}
+			if (mode == FAKE_RESTART) {
+				evo_wire_hello again = h;
+				again.session = 43;
+				publish(l, "EVO_HELLO", buf,
+					evo_wire_encode_hello(&again, buf,
+							      sizeof buf));
+				continue;
+			}
+			evo_wire_sensors first = s;
+			if (mode == FAKE_NAN)
+				first.value[3] = NAN;
 			publish(l, ch_sensors, buf,
-				evo_wire_encode_sensors(&s, buf, sizeof buf));
+				evo_wire_encode_sensors(&first, buf,
+							sizeof buf));
 		} else if (strcmp(m.channel, ch_command) == 0) {
 			evo_wire_command c;
 			char why[256];
@@ -342,6 +360,169 @@ TEST(bad_messages_are_dropped_and_counted_by_reason)
 	waitpid(f, &st, 0);
 }
 
+/* A value that is not a number, in the very message lockstep waits for,
+ * ends the run naming the remote, the tick and the value. */
+TEST(a_nan_from_a_simulator_ends_the_run_with_where_it_was)
+{
+	char name[64], got[256];
+	snprintf(name, sizeof name, "nan-%ld", (long)getpid());
+	snprintf(got, sizeof got, "%s/got4.txt", cli_tmp);
+	remote_task(name, "");
+	pid_t f = start_fake(name, FAKE_NAN, got);
+	int rc = cli_capture(out, sizeof out,
+			     "%s run %s/Avoid/Tasks/%s.simbatch -nog", cli_evo,
+			     cli_tmp, name);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "the sensors_t of tick 0 of episode 1 (environment "
+			    "0): value 3 is nan, outside [0, 1]");
+	kill(f, SIGKILL);
+	int st;
+	waitpid(f, &st, 0);
+}
+
+/* A simulator that restarts in the middle of a demo: its episode is lost,
+ * and the run says so. */
+TEST(a_simulator_that_restarts_ends_a_demo_saying_so)
+{
+	char name[64], got[256];
+	snprintf(name, sizeof name, "restart-%ld", (long)getpid());
+	snprintf(got, sizeof got, "%s/got5.txt", cli_tmp);
+	remote_task(name, "");
+	pid_t f = start_fake(name, FAKE_RESTART, got);
+	int rc = cli_capture(out, sizeof out,
+			     "%s run %s/Avoid/Tasks/%s.simbatch -nog", cli_evo,
+			     cli_tmp, name);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "restarted (a new session): the episodes it was "
+			    "running are lost");
+	kill(f, SIGKILL);
+	int st;
+	waitpid(f, &st, 0);
+}
+
+/* The next sensors_t on link within secs, or 0. */
+static int next_sensors(evo_link *l, const char *channel, double secs,
+			evo_wire_sensors *s)
+{
+	evo_err err;
+	char why[256];
+	double limit = mono() + secs;
+	while (mono() < limit) {
+		evo_link_msg m;
+		if (evo_link_next(l, 20, &m, &err) <= 0 ||
+		    strcmp(m.channel, channel) != 0)
+			continue;
+		if (evo_wire_decode_sensors(m.data, m.len, s, why,
+					    sizeof why) == EVO_WIRE_OK)
+			return 1;
+	}
+	return 0;
+}
+
+static void send_command(evo_link *l, const char *channel,
+			 const evo_wire_command *c)
+{
+	static unsigned char buf[EVO_WIRE_MAX_BYTES];
+	evo_err err;
+	int n = evo_wire_encode_command(c, buf, sizeof buf);
+	if (n > 0)
+		evo_link_publish(l, channel, buf, (size_t)n, &err);
+}
+
+/* evo serve, driven by hand: a command with NaN, one ahead of its tick and
+ * one with a wrong count get no answer and are counted; a good one steps
+ * the world; the same command again gets the same answer without a step;
+ * the episodes run on the serve's own port, named in its hello. */
+TEST(serve_drops_bad_commands_and_repeats_answers)
+{
+	char name[64];
+	snprintf(name, sizeof name, "served-%ld", (long)getpid());
+	remote_task(name, "");
+	pid_t srv = start_serve(name);
+	evo_err err;
+	evo_link *main_l = evo_link_open(NULL, &err);
+	CHECK(main_l != NULL);
+	if (!main_l)
+		return;
+	evo_link_subscribe(main_l, "EVO_HELLO", &err);
+	static unsigned char buf[EVO_WIRE_MAX_BYTES];
+	evo_wire_who w = {.protocol = EVO_WIRE_PROTOCOL};
+	snprintf(w.from, sizeof w.from, "test");
+	evo_wire_hello h;
+	int found = 0;
+	char why[256];
+	for (double limit = mono() + 10; !found && mono() < limit;) {
+		int n = evo_wire_encode_who(&w, buf, sizeof buf);
+		evo_link_publish(main_l, "EVO_WHO", buf, (size_t)n, &err);
+		evo_link_msg m;
+		for (double t = mono() + 0.3; !found && mono() < t;)
+			if (evo_link_next(main_l, 20, &m, &err) > 0 &&
+			    evo_wire_decode_hello(m.data, m.len, &h, why,
+						  sizeof why) == EVO_WIRE_OK &&
+			    strcmp(h.name, name) == 0)
+				found = 1;
+	}
+	CHECK(found);
+	/* its own port: the task's (7667) + 1 .. 2000 */
+	CHECK(found && strncmp(h.url, "udpm://239.255.76.67:", 21) == 0 &&
+	      strcmp(h.url, EVO_LINK_DEFAULT_URL) != 0);
+	evo_link *data = found ? evo_link_open(h.url, &err) : NULL;
+	CHECK(data != NULL);
+	char ch_sensors[96], ch_command[96], ch_control[96];
+	snprintf(ch_sensors, sizeof ch_sensors, "EVO_%s_SENSORS", name);
+	snprintf(ch_command, sizeof ch_command, "EVO_%s_COMMAND", name);
+	snprintf(ch_control, sizeof ch_control, "EVO_%s_CONTROL", name);
+	if (data) {
+		evo_link_subscribe(data, ch_sensors, &err);
+		evo_wire_control c = {.session = h.session,
+				      .op = EVO_CONTROL_RESET,
+				      .episode = 1,
+				      .layout_seed = 11,
+				      .seed = 12};
+		snprintf(c.name, sizeof c.name, "%s", name);
+		int n = evo_wire_encode_control(&c, buf, sizeof buf);
+		evo_link_publish(data, ch_control, buf, (size_t)n, &err);
+		evo_wire_sensors s0, s1, s1b, none;
+		CHECK(next_sensors(data, ch_sensors, 10, &s0));
+		CHECK(s0.tick == 0 && s0.episode == 1 && s0.n == 11);
+		evo_wire_command cmd = {.session = h.session,
+					.episode = 1,
+					.tick = 0,
+					.n = 2,
+					.value = {0.9, 0.8}};
+		snprintf(cmd.name, sizeof cmd.name, "%s", name);
+		evo_wire_command bad = cmd;
+		bad.value[0] = NAN;
+		send_command(data, ch_command, &bad);
+		bad = cmd;
+		bad.tick = 5;
+		send_command(data, ch_command, &bad);
+		bad = cmd;
+		bad.n = 1;
+		send_command(data, ch_command, &bad);
+		CHECK(!next_sensors(data, ch_sensors, 0.5, &none));
+		send_command(data, ch_command, &cmd);
+		CHECK(next_sensors(data, ch_sensors, 10, &s1));
+		CHECK(s1.tick == 1);
+		send_command(data, ch_command, &cmd);
+		CHECK(next_sensors(data, ch_sensors, 10, &s1b));
+		CHECK(s1b.tick == 1 && s1b.reward == s1.reward &&
+		      memcmp(s1b.value, s1.value, sizeof s1.value) == 0);
+		cmd.tick = 1;
+		send_command(data, ch_command, &cmd);
+		CHECK(next_sensors(data, ch_sensors, 10, &none) &&
+		      none.tick == 2);
+		evo_link_close(data);
+	}
+	evo_link_close(main_l);
+	double secs;
+	CHECK_EQ_INT(stop(srv, &secs), 0);
+	char *log = cli_read("%s/%s.serve.log", cli_tmp, name);
+	CHECK(log && strstr(log, "dropped a command_t (value: value 0 is nan"));
+	CHECK(log && strstr(log, "dropped 3 messages"));
+	free(log);
+}
+
 /* No remote answers: evo says so after REMOTETIMEOUT, keeps waiting, and
  * SIGTERM ends the wait at once. */
 TEST(waiting_for_no_remote_says_so_and_stops_on_sigterm)
@@ -392,6 +573,9 @@ int main(void)
 	RUN(names_are_mapped_in_any_order);
 	RUN(a_remote_with_other_names_is_refused_with_them);
 	RUN(bad_messages_are_dropped_and_counted_by_reason);
+	RUN(serve_drops_bad_commands_and_repeats_answers);
+	RUN(a_nan_from_a_simulator_ends_the_run_with_where_it_was);
+	RUN(a_simulator_that_restarts_ends_a_demo_saying_so);
 	RUN(waiting_for_no_remote_says_so_and_stops_on_sigterm);
 	RUN(bad_remote_keys_are_refused);
 	cli_cleanup();
