@@ -7,8 +7,8 @@
  * the bytes left, so that lcm-gen's decoder, which trusts them, only ever
  * sees a well-formed message; that decoder then fills the struct. A
  * message that fails gets a reason (evo_wire_reason) and a sentence. */
-#ifndef EVO_WIRE_H
-#define EVO_WIRE_H
+#ifndef EVO_REMOTE_WIRE_H
+#define EVO_REMOTE_WIRE_H
 
 #include <stddef.h>
 #include <stdint.h>
