@@ -41,10 +41,11 @@ FW_CFLAGS := -mthumb -std=c11 -Os -g -ffreestanding -fno-builtin \
 	-I$(FW_BUILD)/mind '-DFW_BOT="bots/$(FW_BOT).h"' $(FW_CFLAGS_EXTRA)
 FW_LDFLAGS := -nostdlib -nostartfiles -Wl,--gc-sections -Lfirmware
 
-# What the firmware carries of core/: the MIND runtime, and status.c for
-# the message that says why an image was refused.
-FW_CORE_NAMES := $(sort $(CORE_RUNTIME) status)
-FW_SRCS := main wire cortex_m mind_slot
+# What the firmware carries of core/: the MIND runtime, status.c for the
+# message that says why an image was refused, and wire.c, the CAN frames
+# and slcan lines it speaks (the host speaks them with the same code).
+FW_CORE_NAMES := $(sort $(CORE_RUNTIME) status wire)
+FW_SRCS := main cortex_m mind_slot
 
 fw_core_objs = $(patsubst %,$(FW_BUILD)/$(1)/core/%.o,$(FW_CORE_NAMES))
 fw_objs = $(patsubst %,$(FW_BUILD)/$(1)/%.o,$(FW_SRCS) board_$(FW_BOARD_$(1)))
@@ -113,10 +114,10 @@ FW_HOST_CFLAGS := -std=c11 $(OPT) $(WARN) -Icore/include -Ifirmware -Itests $(SA
 # firmware/host/ holds what the host uses to drive a firmware under QEMU
 # (a session over slcan, the trace reader): the test and make bench share it.
 FW_HOST_HDRS := firmware/host/qemu_session.h firmware/host/trace_file.h \
-	firmware/wire.h
+	core/include/evo/wire.h
 # core/src/hash.c: the CRC-32 a test repairs after patching an image.
 FW_TEST_SRCS := tests/firmware/firmware_test.c firmware/host/qemu_session.c \
-	firmware/host/trace_file.c firmware/wire.c core/src/hash.c
+	firmware/host/trace_file.c core/src/wire.c core/src/hash.c
 $(FW_BUILD)/firmware_test: $(FW_TEST_SRCS) $(FW_HOST_HDRS) tests/harness.h
 	@mkdir -p $(dir $@)
 	$(CC) $(FW_HOST_CFLAGS) -o $@ $(FW_TEST_SRCS)
@@ -126,19 +127,9 @@ $(FW_BUILD)/insn_count.so: firmware/qemu/insn_count.c firmware/qemu/qemu_plugin_
 	@mkdir -p $(dir $@)
 	$(CC) -std=c11 -O2 $(WARN) -fPIC -shared -Ifirmware/qemu -o $@ $<
 
-$(BUILD)/fuzz/fuzz_slcan: tests/fuzz/fuzz_slcan.c firmware/wire.c firmware/wire.h
-	@mkdir -p $(dir $@)
-	$(CLANG) -std=c11 -O1 -g $(WARN) -Icore/include -Ifirmware -Itests \
-		-fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
-		-o $@ tests/fuzz/fuzz_slcan.c firmware/wire.c
-
 # make bench runs it: instructions per tick on the M3 beside the host's ns.
-FW_HOST_OBJS := $(FW_BUILD)/host/qemu_session.o $(FW_BUILD)/host/trace_file.o \
-	$(FW_BUILD)/host/wire.o
+FW_HOST_OBJS := $(FW_BUILD)/host/qemu_session.o $(FW_BUILD)/host/trace_file.o
 $(FW_BUILD)/host/%.o: firmware/host/%.c $(FW_HOST_HDRS)
-	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_HOST) -Ifirmware -c $< -o $@
-$(FW_BUILD)/host/%.o: firmware/%.c firmware/wire.h
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_HOST) -Ifirmware -c $< -o $@
 $(FW_BUILD)/host/bench_firmware.o: bench/bench_firmware.c $(FW_HOST_HDRS)

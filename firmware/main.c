@@ -11,7 +11,7 @@
 #include "board.h"
 #include "evo/mind.h"
 #include "mind_slot.h"
-#include "wire.h"
+#include "evo/wire.h"
 
 #ifndef FW_BOT
 #error "build with -DFW_BOT=\"bots/NAME.h\" (the robot's names)"

@@ -1,5 +1,5 @@
 /* A firmware running under qemu-system-arm, driven over its serial line
- * as slcan frames (firmware/wire.h): start it, send frames, read the
+ * as slcan frames (evo/wire.h): start it, send frames, read the
  * frames and log lines it sends back, stop it. Used by the firmware test
  * driver and by bench/bench_firmware.c.
  *
@@ -12,7 +12,7 @@
 #include <sys/types.h>
 
 #include "trace_file.h"
-#include "wire.h"
+#include "evo/wire.h"
 
 typedef struct qemu_opts {
 	const char *qemu;    /* qemu-system-arm */

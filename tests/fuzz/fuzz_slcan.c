@@ -1,5 +1,5 @@
 /* libFuzzer target for the slcan decoder and the frame layout
- * (firmware/wire.c), which the firmware runs on every byte it receives.
+ * (core/src/wire.c), which the firmware runs on every byte it receives.
  * Besides crashes and sanitizer reports it checks the decoder's promises:
  * a frame it returns has an 11-bit id and at most 8 bytes, encodes back to
  * a line that decodes to the same frame, and the receive state never
@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "wire.h"
+#include "evo/wire.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

@@ -1,5 +1,5 @@
-/* evo's wire: frame layout and slcan lines (firmware/wire.h). */
-#include "wire.h"
+/* evo's wire: frame layout and slcan lines (evo/wire.h). */
+#include "evo/wire.h"
 
 void evo_wire_pack(uint16_t base, const evo_q16 *values, unsigned n,
 		   unsigned k, evo_can_frame *f)
