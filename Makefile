@@ -317,6 +317,14 @@ $(BUILD)/fuzz/fuzz_wire: tests/fuzz/fuzz_wire.c sim/remote/wire.c sim/remote/wir
 		-fsanitize=fuzzer $(FUZZ_SAN) \
 		-o $@ tests/fuzz/fuzz_wire.c sim/remote/wire.c $(FUZZ_LCM_OBJS)
 
+# The host's CAN formats: cannelloni datagrams and candump log lines.
+$(BUILD)/fuzz/fuzz_cannelloni $(BUILD)/fuzz/fuzz_candump: $(BUILD)/fuzz/fuzz_%: \
+		tests/fuzz/fuzz_%.c sim/remote/can_format.c sim/remote/can.h core/src/wire.c
+	@mkdir -p $(dir $@)
+	$(CLANG) -std=c11 -O1 -g $(WARN) -Icore/include -Isim \
+		-fsanitize=fuzzer $(FUZZ_SAN) \
+		-o $@ $< sim/remote/can_format.c core/src/wire.c
+
 fuzz: deps $(FUZZ_BINS)
 	@for f in $(FUZZ_BINS); do \
 		name=$$(basename $$f); corpus=$(BUILD)/fuzz/corpus-$$name; \

@@ -1,0 +1,630 @@
+/* CAN transports on the host (sim/remote/can.h): SocketCAN, slcan over a
+ * serial device or a pseudo-terminal, cannelloni over UDP, candump logs. */
+#define _DEFAULT_SOURCE /* cfmakeraw, posix_openpt's friends */
+#define _XOPEN_SOURCE 600
+#include "remote/can.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <linux/can.h>
+#include <linux/can/raw.h>
+#include <net/if.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/ioctl.h>
+#include <sys/socket.h>
+#include <sys/time.h>
+#include <termios.h>
+#include <time.h>
+#include <unistd.h>
+
+typedef enum kind {
+	K_SOCKETCAN,
+	K_SLCAN,     /* evo drives an adapter */
+	K_SLCAN_PTY, /* evo is the adapter: a peer drives it */
+	K_CANNELLONI,
+	K_CANDUMP
+} kind;
+
+#define QUEUE 256
+#define LINE_MAX 64
+
+struct evo_can {
+	kind kind;
+	int fd;
+	char url[256];
+	char pty[64];
+	/* slcan: the line being received */
+	char line[LINE_MAX];
+	size_t n_line;
+	int overlong;
+	/* frames received and not yet taken */
+	evo_can_frame q[QUEUE];
+	unsigned head, n;
+	/* cannelloni */
+	struct sockaddr_storage peer;
+	socklen_t peer_len;
+	uint8_t seq;
+	/* candump */
+	FILE *log_in, *log_out;
+	char iface[EVO_CANDUMP_IFACE_MAX];
+	unsigned long bad[EVO_CAN_BAD_COUNT];
+};
+
+static void push(evo_can *c, const evo_can_frame *f)
+{
+	if (c->n == QUEUE) { /* the oldest goes: a bus does not wait */
+		c->head = (c->head + 1) % QUEUE;
+		c->n--;
+	}
+	c->q[(c->head + c->n) % QUEUE] = *f;
+	c->n++;
+}
+
+static int pop(evo_can *c, evo_can_frame *f)
+{
+	if (!c->n)
+		return 0;
+	*f = c->q[c->head];
+	c->head = (c->head + 1) % QUEUE;
+	c->n--;
+	return 1;
+}
+
+static double now_s(void)
+{
+	struct timeval tv;
+	gettimeofday(&tv, NULL);
+	return (double)tv.tv_sec + (double)tv.tv_usec * 1e-6;
+}
+
+/* A "key=value" of url's query, into out; 1 when there. */
+static int query(const char *url, const char *key, char *out, size_t cap)
+{
+	const char *q = strchr(url, '?');
+	size_t kl = strlen(key);
+	while (q) {
+		q++;
+		if (strncmp(q, key, kl) == 0 && q[kl] == '=') {
+			size_t n = strcspn(q + kl + 1, "&");
+			if (n >= cap)
+				n = cap - 1;
+			memcpy(out, q + kl + 1, n);
+			out[n] = 0;
+			return 1;
+		}
+		q = strchr(q, '&');
+	}
+	return 0;
+}
+
+/* The part of url after "scheme:" and before '?'. */
+static void target(const char *url, const char *scheme, char *out,
+		   size_t cap)
+{
+	const char *s = url + strlen(scheme) + 1;
+	size_t n = strcspn(s, "?");
+	if (n >= cap)
+		n = cap - 1;
+	memcpy(out, s, n);
+	out[n] = 0;
+}
+
+/* ---- SocketCAN ------------------------------------------------------------ */
+
+static int open_socketcan(evo_can *c, const char *iface, evo_err *err)
+{
+	c->fd = socket(PF_CAN, SOCK_RAW, CAN_RAW);
+	if (c->fd < 0)
+		return evo_fail(err,
+				"%s: this machine has no SocketCAN: "
+				"socket(AF_CAN): %s",
+				c->url, strerror(errno));
+	struct ifreq ifr;
+	memset(&ifr, 0, sizeof ifr);
+	if (strlen(iface) >= sizeof ifr.ifr_name)
+		return evo_fail(err, "%s: an interface name has at most %zu "
+				     "characters",
+				c->url, sizeof ifr.ifr_name - 1);
+	memcpy(ifr.ifr_name, iface, strlen(iface));
+	if (ioctl(c->fd, SIOCGIFINDEX, &ifr) < 0)
+		return evo_fail(err, "%s: no CAN interface %s: %s", c->url,
+				iface, strerror(errno));
+	struct sockaddr_can a;
+	memset(&a, 0, sizeof a);
+	a.can_family = AF_CAN;
+	a.can_ifindex = ifr.ifr_ifindex;
+	if (bind(c->fd, (struct sockaddr *)&a, sizeof a) < 0)
+		return evo_fail(err, "%s: %s", c->url, strerror(errno));
+	return 0;
+}
+
+/* ---- slcan ---------------------------------------------------------------- */
+
+static int write_all(int fd, const char *s, size_t n)
+{
+	while (n) {
+		ssize_t w = write(fd, s, n);
+		if (w < 0 && errno == EINTR)
+			continue;
+		if (w <= 0)
+			return -1;
+		s += w;
+		n -= (size_t)w;
+	}
+	return 0;
+}
+
+static speed_t baud_of(long b)
+{
+	switch (b) {
+	case 9600: return B9600;
+	case 19200: return B19200;
+	case 38400: return B38400;
+	case 57600: return B57600;
+	case 115200: return B115200;
+	case 230400: return B230400;
+	case 460800: return B460800;
+	case 921600: return B921600;
+	case 1000000: return B1000000;
+	default: return 0;
+	}
+}
+
+static int raw_tty(int fd, speed_t speed)
+{
+	struct termios t;
+	if (tcgetattr(fd, &t) < 0)
+		return -1;
+	cfmakeraw(&t);
+	if (speed && (cfsetispeed(&t, speed) < 0 || cfsetospeed(&t, speed) < 0))
+		return -1;
+	return tcsetattr(fd, TCSANOW, &t);
+}
+
+/* The Lawicel bit-rate code: S0 10k .. S8 1M. */
+static int bitrate_code(long r)
+{
+	static const long rates[] = {10000,  20000,  50000,  100000, 125000,
+				     250000, 500000, 800000, 1000000};
+	for (int i = 0; i < 9; i++)
+		if (rates[i] == r)
+			return i;
+	return -1;
+}
+
+/* One complete slcan line (without its end) received. */
+static void slcan_line(evo_can *c, const char *s, size_t n)
+{
+	if (n == 0)
+		return;
+	switch (s[0]) {
+	case 't': {
+		evo_can_frame f;
+		evo_wire_bad wb;
+		evo_slcan_result r = evo_slcan_decode(s, n, &f, &wb);
+		if (r == EVO_SLCAN_FRAME)
+			push(c, &f);
+		else if (r == EVO_SLCAN_BAD)
+			c->bad[wb == EVO_WIRE_BAD_LENGTH ? EVO_CAN_BAD_LENGTH
+							 : EVO_CAN_BAD_SYNTAX]++;
+		return;
+	}
+	case 'T': case 'r': case 'R': case 'd': case 'D': case 'b': case 'B':
+		c->bad[EVO_CAN_BAD_NOT_OURS]++; /* extended, remote, FD */
+		return;
+	case 'z': case 'Z':
+		if (c->kind == K_SLCAN && n == 1)
+			return; /* an adapter's "sent" acknowledgement */
+		break;
+	default:
+		break;
+	}
+	if (c->kind == K_SLCAN_PTY && strchr("COSsVvNFXLWUM", s[0])) {
+		/* a command to the adapter evo stands for: done */
+		if (s[0] == 'V')
+			write_all(c->fd, "V1013\r", 6);
+		else if (s[0] == 'N')
+			write_all(c->fd, "NEVO0\r", 6);
+		else
+			write_all(c->fd, "\r", 1);
+		return;
+	}
+	c->bad[EVO_CAN_BAD_SYNTAX]++;
+}
+
+/* Bytes read from an slcan device: lines end at CR or LF; a lone BEL is
+ * an adapter's error reply. */
+static void slcan_bytes(evo_can *c, const char *b, size_t n)
+{
+	for (size_t i = 0; i < n; i++) {
+		char ch = b[i];
+		if (ch == '\a') {
+			c->bad[EVO_CAN_BAD_REPLY]++;
+			continue;
+		}
+		if (ch == '\r' || ch == '\n') {
+			if (c->overlong)
+				c->bad[EVO_CAN_BAD_OVERLONG]++;
+			else
+				slcan_line(c, c->line, c->n_line);
+			c->n_line = 0;
+			c->overlong = 0;
+			continue;
+		}
+		if (c->n_line < LINE_MAX)
+			c->line[c->n_line++] = ch;
+		else
+			c->overlong = 1;
+	}
+}
+
+/* Send an adapter command and wait (up to a second) for its reply: CR is
+ * done, BEL refused. */
+static int slcan_command(evo_can *c, const char *cmd, evo_err *err)
+{
+	if (write_all(c->fd, cmd, strlen(cmd)))
+		return evo_fail(err, "%s: cannot write: %s", c->url,
+				strerror(errno));
+	double limit = now_s() + 1.0;
+	while (now_s() < limit) {
+		struct pollfd p = {c->fd, POLLIN, 0};
+		if (poll(&p, 1, 50) <= 0)
+			continue;
+		char ch;
+		if (read(c->fd, &ch, 1) != 1)
+			continue;
+		if (ch == '\r')
+			return 0;
+		if (ch == '\a')
+			return evo_fail(err,
+					"%s: the adapter refused '%.*s' (BEL)",
+					c->url, (int)strcspn(cmd, "\r"), cmd);
+		slcan_bytes(c, &ch, 1);
+	}
+	return evo_fail(err, "%s: the adapter did not answer '%.*s' within a "
+			     "second",
+			c->url, (int)strcspn(cmd, "\r"), cmd);
+}
+
+static int open_slcan(evo_can *c, const char *dev, evo_err *err)
+{
+	char v[32];
+	long bitrate = query(c->url, "bitrate", v, sizeof v) ? atol(v) : 500000;
+	long baud = query(c->url, "baud", v, sizeof v) ? atol(v) : 115200;
+	int code = bitrate_code(bitrate);
+	if (code < 0)
+		return evo_fail(err,
+				"%s: bitrate %ld is none of slcan's (10000, "
+				"20000, 50000, 100000, 125000, 250000, 500000, "
+				"800000, 1000000)",
+				c->url, bitrate);
+	if (!baud_of(baud))
+		return evo_fail(err, "%s: baud %ld is not a serial rate evo "
+				     "sets (9600 .. 1000000)",
+				c->url, baud);
+	c->fd = open(dev, O_RDWR | O_NOCTTY);
+	if (c->fd < 0)
+		return evo_fail(err, "%s: cannot open %s: %s", c->url, dev,
+				strerror(errno));
+	if (raw_tty(c->fd, baud_of(baud)) < 0)
+		return evo_fail(err, "%s: %s is not a serial device: %s",
+				c->url, dev, strerror(errno));
+	char s[8];
+	snprintf(s, sizeof s, "S%d\r", code);
+	/* close first: an adapter left open by an earlier program refuses
+	 * S; its BEL to this C is no error */
+	write_all(c->fd, "C\r", 2);
+	usleep(20000);
+	tcflush(c->fd, TCIFLUSH);
+	if (slcan_command(c, s, err) || slcan_command(c, "O\r", err))
+		return -1;
+	return 0;
+}
+
+static int open_slcan_pty(evo_can *c, evo_err *err)
+{
+	c->fd = posix_openpt(O_RDWR | O_NOCTTY);
+	if (c->fd < 0 || grantpt(c->fd) < 0 || unlockpt(c->fd) < 0)
+		return evo_fail(err, "%s: no pseudo-terminal: %s", c->url,
+				strerror(errno));
+	const char *name = ptsname(c->fd);
+	if (!name)
+		return evo_fail(err, "%s: no pseudo-terminal name", c->url);
+	snprintf(c->pty, sizeof c->pty, "%s", name);
+	/* the peer's side raw too, so no line discipline alters a byte */
+	int slave = open(c->pty, O_RDWR | O_NOCTTY);
+	if (slave >= 0) {
+		raw_tty(slave, 0);
+		close(slave);
+	}
+	return 0;
+}
+
+/* ---- cannelloni over UDP ------------------------------------------------ */
+
+static int open_cannelloni(evo_can *c, const char *hostport, evo_err *err)
+{
+	char host[200];
+	const char *colon = strrchr(hostport, ':');
+	if (!colon || colon == hostport || !colon[1])
+		return evo_fail(err,
+				"%s: expected cannelloni:HOST:PORT[?local=PORT]",
+				c->url);
+	snprintf(host, sizeof host, "%.*s", (int)(colon - hostport), hostport);
+	struct addrinfo hints, *ai = NULL;
+	memset(&hints, 0, sizeof hints);
+	hints.ai_family = AF_INET;
+	hints.ai_socktype = SOCK_DGRAM;
+	int rc = getaddrinfo(host, colon + 1, &hints, &ai);
+	if (rc || !ai)
+		return evo_fail(err, "%s: %s: %s", c->url, host,
+				gai_strerror(rc));
+	memcpy(&c->peer, ai->ai_addr, ai->ai_addrlen);
+	c->peer_len = ai->ai_addrlen;
+	freeaddrinfo(ai);
+	char lp[16];
+	long local = query(c->url, "local", lp, sizeof lp)
+			 ? atol(lp)
+			 : atol(colon + 1);
+	if (local < 1 || local > 65535)
+		return evo_fail(err, "%s: local port %ld is not a port",
+				c->url, local);
+	c->fd = socket(AF_INET, SOCK_DGRAM, 0);
+	if (c->fd < 0)
+		return evo_fail(err, "%s: %s", c->url, strerror(errno));
+	struct sockaddr_in a;
+	memset(&a, 0, sizeof a);
+	a.sin_family = AF_INET;
+	a.sin_port = htons((uint16_t)local);
+	a.sin_addr.s_addr = htonl(INADDR_ANY);
+	if (bind(c->fd, (struct sockaddr *)&a, sizeof a) < 0)
+		return evo_fail(err, "%s: cannot listen on UDP port %ld: %s",
+				c->url, local, strerror(errno));
+	return 0;
+}
+
+/* ---- opening -------------------------------------------------------------- */
+
+evo_can *evo_can_open(const char *url, evo_err *err)
+{
+	evo_can *c = calloc(1, sizeof *c);
+	if (!c) {
+		evo_fail(err, "out of memory");
+		return NULL;
+	}
+	c->fd = -1;
+	snprintf(c->url, sizeof c->url, "%s", url);
+	char t[256];
+	int rc;
+	if (strncmp(url, "socketcan:", 10) == 0) {
+		c->kind = K_SOCKETCAN;
+		target(url, "socketcan", t, sizeof t);
+		rc = open_socketcan(c, t, err);
+	} else if (strncmp(url, "slcan-pty:", 10) == 0) {
+		c->kind = K_SLCAN_PTY;
+		rc = open_slcan_pty(c, err);
+	} else if (strncmp(url, "slcan:", 6) == 0) {
+		c->kind = K_SLCAN;
+		target(url, "slcan", t, sizeof t);
+		rc = open_slcan(c, t, err);
+	} else if (strncmp(url, "cannelloni:", 11) == 0) {
+		c->kind = K_CANNELLONI;
+		target(url, "cannelloni", t, sizeof t);
+		rc = open_cannelloni(c, t, err);
+	} else if (strncmp(url, "candump:", 8) == 0) {
+		c->kind = K_CANDUMP;
+		target(url, "candump", t, sizeof t);
+		c->log_in = fopen(t, "r");
+		rc = c->log_in ? 0
+			       : evo_fail(err, "%s: cannot read %s: %s", url, t,
+					  strerror(errno));
+		snprintf(c->iface, sizeof c->iface, "evo");
+		if (rc == 0) {
+			char out[300];
+			snprintf(out, sizeof out, "%s.sent", t);
+			c->log_out = fopen(out, "a");
+			if (!c->log_out)
+				rc = evo_fail(err, "%s: cannot write %s: %s",
+					      url, out, strerror(errno));
+		}
+	} else {
+		rc = evo_fail(err,
+			      "'%s' is no CAN URL evo knows: socketcan:IFACE, "
+			      "slcan:DEVICE, slcan-pty:, cannelloni:HOST:PORT "
+			      "or candump:FILE (docs/can.md)",
+			      url);
+	}
+	if (rc) {
+		evo_can_close(c);
+		return NULL;
+	}
+	return c;
+}
+
+void evo_can_close(evo_can *c)
+{
+	if (!c)
+		return;
+	if (c->kind == K_SLCAN && c->fd >= 0)
+		write_all(c->fd, "C\r", 2);
+	if (c->fd >= 0)
+		close(c->fd);
+	if (c->log_in)
+		fclose(c->log_in);
+	if (c->log_out)
+		fclose(c->log_out);
+	free(c);
+}
+
+/* ---- frames ---------------------------------------------------------------- */
+
+int evo_can_send(evo_can *c, const evo_can_frame *f, evo_err *err)
+{
+	if (f->id > 0x7FF || f->len > 8)
+		return evo_fail(err, "%s: frame id %#x, %u bytes: not a classic "
+				     "CAN frame with an 11-bit id",
+				c->url, (unsigned)f->id, (unsigned)f->len);
+	switch (c->kind) {
+	case K_SOCKETCAN: {
+		struct can_frame cf;
+		memset(&cf, 0, sizeof cf);
+		cf.can_id = f->id;
+		cf.can_dlc = f->len;
+		memcpy(cf.data, f->data, f->len);
+		if (write(c->fd, &cf, sizeof cf) != (ssize_t)sizeof cf)
+			return evo_fail(err, "%s: cannot send: %s", c->url,
+					strerror(errno));
+		return 0;
+	}
+	case K_SLCAN:
+	case K_SLCAN_PTY: {
+		char line[EVO_SLCAN_LINE_MAX + 1];
+		size_t n = evo_slcan_encode(f, line);
+		if (write_all(c->fd, line, n))
+			return evo_fail(err, "%s: cannot send: %s", c->url,
+					strerror(errno));
+		return 0;
+	}
+	case K_CANNELLONI: {
+		uint8_t d[64];
+		size_t n = evo_cannelloni_encode(f, 1, c->seq++, d, sizeof d);
+		if (sendto(c->fd, d, n, 0, (struct sockaddr *)&c->peer,
+			   c->peer_len) != (ssize_t)n)
+			return evo_fail(err, "%s: cannot send: %s", c->url,
+					strerror(errno));
+		return 0;
+	}
+	case K_CANDUMP: {
+		char line[EVO_CANDUMP_LINE_MAX];
+		size_t n = evo_candump_format(f, now_s(), c->iface, line);
+		if (fwrite(line, 1, n, c->log_out) != n || fflush(c->log_out))
+			return evo_fail(err, "%s: cannot write: %s", c->url,
+					strerror(errno));
+		return 0;
+	}
+	}
+	return evo_fail(err, "%s: cannot send", c->url);
+}
+
+/* Read what fd has into the queue. 0, or -1 with err set. */
+static int take(evo_can *c, evo_err *err)
+{
+	switch (c->kind) {
+	case K_SOCKETCAN: {
+		struct can_frame cf;
+		ssize_t r = read(c->fd, &cf, sizeof cf);
+		if (r < 0)
+			return errno == EINTR ? 0
+					      : evo_fail(err, "%s: %s", c->url,
+							 strerror(errno));
+		if (r != (ssize_t)sizeof cf || cf.can_dlc > 8) {
+			c->bad[EVO_CAN_BAD_LENGTH]++;
+			return 0;
+		}
+		if (cf.can_id & (CAN_EFF_FLAG | CAN_RTR_FLAG | CAN_ERR_FLAG)) {
+			c->bad[EVO_CAN_BAD_NOT_OURS]++;
+			return 0;
+		}
+		evo_can_frame f = {(uint16_t)cf.can_id, cf.can_dlc, {0}};
+		memcpy(f.data, cf.data, cf.can_dlc);
+		push(c, &f);
+		return 0;
+	}
+	case K_SLCAN:
+	case K_SLCAN_PTY: {
+		char b[512];
+		ssize_t r = read(c->fd, b, sizeof b);
+		if (r < 0 && (errno == EINTR || errno == EAGAIN || errno == EIO))
+			return 0; /* a pty with no peer yet reads EIO */
+		if (r < 0)
+			return evo_fail(err, "%s: %s", c->url, strerror(errno));
+		slcan_bytes(c, b, (size_t)r);
+		return 0;
+	}
+	case K_CANNELLONI: {
+		uint8_t d[2048];
+		ssize_t r = recv(c->fd, d, sizeof d, 0);
+		if (r < 0)
+			return errno == EINTR ? 0
+					      : evo_fail(err, "%s: %s", c->url,
+							 strerror(errno));
+		evo_can_frame f[QUEUE];
+		int n;
+		evo_cannelloni_decode(d, (size_t)r, f, QUEUE, &n, c->bad);
+		for (int i = 0; i < n; i++)
+			push(c, &f[i]);
+		return 0;
+	}
+	case K_CANDUMP:
+		break;
+	}
+	return 0;
+}
+
+int evo_can_recv(evo_can *c, int timeout_ms, evo_can_frame *f, evo_err *err)
+{
+	if (pop(c, f))
+		return 1;
+	if (c->kind == K_CANDUMP) {
+		char line[EVO_CANDUMP_LINE_MAX + 2];
+		while (fgets(line, sizeof line, c->log_in)) {
+			size_t n = strcspn(line, "\r\n");
+			if (n == strlen(line) && !feof(c->log_in)) {
+				/* longer than any log line: skip the rest */
+				c->bad[EVO_CAN_BAD_OVERLONG]++;
+				int ch;
+				while ((ch = fgetc(c->log_in)) != EOF &&
+				       ch != '\n')
+					;
+				continue;
+			}
+			if (n == 0)
+				continue;
+			double t;
+			char iface[EVO_CANDUMP_IFACE_MAX];
+			evo_can_bad why;
+			if (evo_candump_parse(line, n, &t, iface, f, &why))
+				return 1;
+			c->bad[why]++;
+		}
+		return 0;
+	}
+	double limit = now_s() + timeout_ms / 1000.0;
+	for (;;) {
+		struct pollfd p = {c->fd, POLLIN, 0};
+		int wait = (int)((limit - now_s()) * 1000);
+		int r = poll(&p, 1, wait > 0 ? wait : 0);
+		if (r < 0 && errno != EINTR)
+			return evo_fail(err, "%s: %s", c->url, strerror(errno));
+		if (r > 0) {
+			if (p.revents & (POLLIN | POLLERR | POLLHUP)) {
+				if (take(c, err))
+					return -1;
+			}
+			if (pop(c, f))
+				return 1;
+			if (p.revents & POLLHUP) {
+				/* a pty whose peer closed: no busy loop */
+				struct timespec ms = {0, 5000000};
+				nanosleep(&ms, NULL);
+			}
+		}
+		if (now_s() >= limit)
+			return 0;
+	}
+}
+
+const unsigned long *evo_can_dropped(const evo_can *c)
+{
+	return c->bad;
+}
+
+const char *evo_can_pty_name(const evo_can *c)
+{
+	return c->kind == K_SLCAN_PTY ? c->pty : NULL;
+}
