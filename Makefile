@@ -317,8 +317,9 @@ $(BUILD)/fuzz/fuzz_wire: tests/fuzz/fuzz_wire.c sim/remote/wire.c sim/remote/wir
 		-fsanitize=fuzzer $(FUZZ_SAN) \
 		-o $@ tests/fuzz/fuzz_wire.c sim/remote/wire.c $(FUZZ_LCM_OBJS)
 
-# The host's CAN formats: cannelloni datagrams and candump log lines.
-$(BUILD)/fuzz/fuzz_cannelloni $(BUILD)/fuzz/fuzz_candump: $(BUILD)/fuzz/fuzz_%: \
+# The host's CAN formats: cannelloni datagrams, candump log lines, slcan
+# as the host reads it.
+$(BUILD)/fuzz/fuzz_cannelloni $(BUILD)/fuzz/fuzz_candump $(BUILD)/fuzz/fuzz_slcan_host: $(BUILD)/fuzz/fuzz_%: \
 		tests/fuzz/fuzz_%.c sim/remote/can_format.c sim/remote/can.h core/src/wire.c
 	@mkdir -p $(dir $@)
 	$(CLANG) -std=c11 -O1 -g $(WARN) -Icore/include -Isim \

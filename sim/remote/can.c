@@ -31,17 +31,13 @@ typedef enum kind {
 } kind;
 
 #define QUEUE 256
-#define LINE_MAX 64
 
 struct evo_can {
 	kind kind;
 	int fd;
 	char url[256];
 	char pty[64];
-	/* slcan: the line being received */
-	char line[LINE_MAX];
-	size_t n_line;
-	int overlong;
+	evo_slcan_reader slcan;
 	/* frames received and not yet taken */
 	evo_can_frame q[QUEUE];
 	unsigned head, n;
@@ -197,70 +193,19 @@ static int bitrate_code(long r)
 	return -1;
 }
 
-/* One complete slcan line (without its end) received. */
-static void slcan_line(evo_can *c, const char *s, size_t n)
-{
-	if (n == 0)
-		return;
-	switch (s[0]) {
-	case 't': {
-		evo_can_frame f;
-		evo_wire_bad wb;
-		evo_slcan_result r = evo_slcan_decode(s, n, &f, &wb);
-		if (r == EVO_SLCAN_FRAME)
-			push(c, &f);
-		else if (r == EVO_SLCAN_BAD)
-			c->bad[wb == EVO_WIRE_BAD_LENGTH ? EVO_CAN_BAD_LENGTH
-							 : EVO_CAN_BAD_SYNTAX]++;
-		return;
-	}
-	case 'T': case 'r': case 'R': case 'd': case 'D': case 'b': case 'B':
-		c->bad[EVO_CAN_BAD_NOT_OURS]++; /* extended, remote, FD */
-		return;
-	case 'z': case 'Z':
-		if (c->kind == K_SLCAN && n == 1)
-			return; /* an adapter's "sent" acknowledgement */
-		break;
-	default:
-		break;
-	}
-	if (c->kind == K_SLCAN_PTY && strchr("COSsVvNFXLWUM", s[0])) {
-		/* a command to the adapter evo stands for: done */
-		if (s[0] == 'V')
-			write_all(c->fd, "V1013\r", 6);
-		else if (s[0] == 'N')
-			write_all(c->fd, "NEVO0\r", 6);
-		else
-			write_all(c->fd, "\r", 1);
-		return;
-	}
-	c->bad[EVO_CAN_BAD_SYNTAX]++;
-}
-
-/* Bytes read from an slcan device: lines end at CR or LF; a lone BEL is
- * an adapter's error reply. */
+/* Bytes read from an slcan device: frames queued, answers written. */
 static void slcan_bytes(evo_can *c, const char *b, size_t n)
 {
-	for (size_t i = 0; i < n; i++) {
-		char ch = b[i];
-		if (ch == '\a') {
-			c->bad[EVO_CAN_BAD_REPLY]++;
-			continue;
-		}
-		if (ch == '\r' || ch == '\n') {
-			if (c->overlong)
-				c->bad[EVO_CAN_BAD_OVERLONG]++;
-			else
-				slcan_line(c, c->line, c->n_line);
-			c->n_line = 0;
-			c->overlong = 0;
-			continue;
-		}
-		if (c->n_line < LINE_MAX)
-			c->line[c->n_line++] = ch;
-		else
-			c->overlong = 1;
-	}
+	evo_can_frame f[QUEUE];
+	char reply[256];
+	size_t reply_len = 0;
+	int got;
+	evo_slcan_read(&c->slcan, b, n, f, QUEUE, &got, c->bad, reply,
+		       sizeof reply, &reply_len);
+	for (int i = 0; i < got; i++)
+		push(c, &f[i]);
+	if (reply_len)
+		write_all(c->fd, reply, reply_len);
 }
 
 /* Send an adapter command and wait (up to a second) for its reply: CR is
@@ -407,6 +352,7 @@ evo_can *evo_can_open(const char *url, evo_err *err)
 		rc = open_socketcan(c, t, err);
 	} else if (strncmp(url, "slcan-pty:", 10) == 0) {
 		c->kind = K_SLCAN_PTY;
+		c->slcan.as_adapter = 1;
 		rc = open_slcan_pty(c, err);
 	} else if (strncmp(url, "slcan:", 6) == 0) {
 		c->kind = K_SLCAN;

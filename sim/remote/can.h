@@ -83,6 +83,28 @@ int evo_candump_parse(const char *line, size_t len, double *t, char *iface,
 size_t evo_candump_format(const evo_can_frame *f, double t, const char *iface,
 			  char *out);
 
+/* slcan as the host reads it: lines of a serial stream, of which 't'
+ * lines are evo's frames (core's evo_slcan_decode), 'T', 'r', 'R', 'd',
+ * 'D', 'b', 'B' lines frames not evo's, a lone BEL an adapter's error
+ * reply, 'z'/'Z' an adapter's acknowledgement of a frame sent. As the
+ * adapter a peer drives (as_adapter), the commands C, O, S.., V, N and
+ * the like are answered: CR, or a version or serial number. */
+#define EVO_SLCAN_HOST_LINE 64
+typedef struct evo_slcan_reader {
+	int as_adapter;
+	char line[EVO_SLCAN_HOST_LINE];
+	size_t n;
+	int overlong;
+} evo_slcan_reader;
+
+/* Feed n bytes: frames to out (at most max, *got of them; more are
+ * counted as overlong input), drops added to bad[], and what evo must
+ * answer (as the adapter) appended to reply (cap bytes, *reply_len in
+ * it; an answer that does not fit is dropped). */
+void evo_slcan_read(evo_slcan_reader *r, const char *b, size_t n,
+		    evo_can_frame *out, int max, int *got, unsigned long *bad,
+		    char *reply, size_t cap, size_t *reply_len);
+
 /* ---- transports --------------------------------------------------------- */
 
 typedef struct evo_can evo_can;

@@ -224,3 +224,87 @@ size_t evo_candump_format(const evo_can_frame *f, double t, const char *iface,
 	out[k] = 0;
 	return k;
 }
+
+/* ---- slcan as the host reads it ---------------------------------------- */
+
+static void answer(const char *a, char *reply, size_t cap, size_t *len)
+{
+	size_t n = strlen(a);
+	if (cap - *len >= n) {
+		memcpy(reply + *len, a, n);
+		*len += n;
+	}
+}
+
+/* One complete line (without its end). */
+static void slcan_line(evo_slcan_reader *r, const char *s, size_t n,
+		       evo_can_frame *out, int max, int *got,
+		       unsigned long *bad, char *reply, size_t cap,
+		       size_t *reply_len)
+{
+	if (n == 0)
+		return;
+	switch (s[0]) {
+	case 't': {
+		evo_can_frame f;
+		evo_wire_bad wb;
+		evo_slcan_result res = evo_slcan_decode(s, n, &f, &wb);
+		if (res == EVO_SLCAN_FRAME) {
+			if (*got < max)
+				out[(*got)++] = f;
+			else
+				bad[EVO_CAN_BAD_OVERLONG]++;
+		} else if (res == EVO_SLCAN_BAD) {
+			bad[wb == EVO_WIRE_BAD_LENGTH ? EVO_CAN_BAD_LENGTH
+						      : EVO_CAN_BAD_SYNTAX]++;
+		}
+		return;
+	}
+	case 'T': case 'r': case 'R': case 'd': case 'D': case 'b': case 'B':
+		bad[EVO_CAN_BAD_NOT_OURS]++; /* extended, remote, FD */
+		return;
+	case 'z': case 'Z':
+		if (!r->as_adapter && n == 1)
+			return; /* an adapter's "sent" acknowledgement */
+		break;
+	default:
+		break;
+	}
+	if (r->as_adapter && strchr("COSsVvNFXLWUM", s[0])) {
+		/* a command to the adapter evo stands for: done */
+		answer(s[0] == 'V'   ? "V1013\r"
+		       : s[0] == 'N' ? "NEVO0\r"
+				     : "\r",
+		       reply, cap, reply_len);
+		return;
+	}
+	bad[EVO_CAN_BAD_SYNTAX]++;
+}
+
+void evo_slcan_read(evo_slcan_reader *r, const char *b, size_t n,
+		    evo_can_frame *out, int max, int *got, unsigned long *bad,
+		    char *reply, size_t cap, size_t *reply_len)
+{
+	*got = 0;
+	for (size_t i = 0; i < n; i++) {
+		char ch = b[i];
+		if (ch == '\a') {
+			bad[EVO_CAN_BAD_REPLY]++;
+			continue;
+		}
+		if (ch == '\r' || ch == '\n') {
+			if (r->overlong)
+				bad[EVO_CAN_BAD_OVERLONG]++;
+			else
+				slcan_line(r, r->line, r->n, out, max, got, bad,
+					   reply, cap, reply_len);
+			r->n = 0;
+			r->overlong = 0;
+			continue;
+		}
+		if (r->n < EVO_SLCAN_HOST_LINE)
+			r->line[r->n++] = ch;
+		else
+			r->overlong = 1;
+	}
+}
