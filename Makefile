@@ -36,6 +36,15 @@ LCM_TYPES := lcmtypes/evo_remote.lcm
 LCM_TYPE_NAMES := hello_t who_t control_t sensors_t command_t
 LCM_GEN_SRCS := $(patsubst %,$(LCM_GEN)/evo_lcm_%.c,$(LCM_TYPE_NAMES))
 LCM_GEN_OBJS := $(patsubst $(LCM_GEN)/%.c,$(BUILD)/obj/gen/lcm/%.o,$(LCM_GEN_SRCS))
+# The same types in Python, for the remote simulators written in Python
+# (remotes/); generated at build time too, never committed.
+PY_GEN := $(BUILD)/gen/python
+# The Python that runs them and their tests' helpers: a virtual environment
+# of Debian's python3 with the `lcm` package from PyPI, made by `make deps`
+# (never installed into the system). One for every BUILD.
+VENV ?= build/venv
+PY_LCM_VERSION := 1.5.3
+VENV_STAMP := $(VENV)/evo-lcm-$(PY_LCM_VERSION).stamp
 CFLAGS_HOST := -std=c11 $(OPT) $(WARN) -Icore/include -Isim $(LUA_CFLAGS) $(SDL_CFLAGS) -isystem $(LCM_GEN) $(SAN) $(CFLAGS)
 CFLAGS_ALL := $(CFLAGS_HOST) -Itests
 LDFLAGS_ALL := $(SAN) $(LDFLAGS)
@@ -70,11 +79,12 @@ SUPPORT_OBJS := $(patsubst %.c,$(BUILD)/obj/%.o,$(TEST_SUPPORT))
 # Keep objects make would otherwise treat as intermediate and delete.
 .SECONDARY:
 
-all: $(BUILD)/evo $(BUILD)/libevocore.a $(BUILD)/libevohost.a
+all: $(BUILD)/evo $(BUILD)/libevocore.a $(BUILD)/libevohost.a $(PY_GEN)/stamp
 
 help:
 	@echo "make            build build/evo and the libraries"
-	@echo "make deps       install the Debian packages evo needs (as root)"
+	@echo "make deps       install the Debian packages evo needs (as root) and"
+	@echo "                the Python of the remote simulators' tests ($(VENV))"
 	@echo "make test       deps, build, run every test plainly, under ASan+UBSan and TSan"
 	@echo "make test-tsan  the threaded tests and headless runs under ThreadSanitizer"
 	@echo "make run        deps, build, run the main job on a shipped example"
@@ -87,6 +97,16 @@ help:
 
 deps:
 	@sh .ci/deps
+	@$(MAKE) --no-print-directory $(VENV_STAMP)
+
+# Debian's python3 (not whatever `python3` is first on PATH), with the lcm
+# wheel pinned; the stamp names the version, so a new pin remakes it.
+$(VENV_STAMP):
+	@rm -rf $(VENV)
+	/usr/bin/python3 -m venv $(VENV)
+	$(VENV)/bin/pip install --quiet --disable-pip-version-check --no-input \
+		--only-binary=:all: lcm==$(PY_LCM_VERSION)
+	@touch $@
 
 $(BUILD)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
@@ -104,6 +124,10 @@ $(LCM_GEN)/stamp: $(LCM_TYPES)
 	lcm-gen -c --c-no-pubsub --c-cpath $(LCM_GEN) --c-hpath $(LCM_GEN) $(LCM_TYPES)
 	@touch $@
 $(LCM_GEN_SRCS): $(LCM_GEN)/stamp
+$(PY_GEN)/stamp: $(LCM_TYPES)
+	@rm -rf $(PY_GEN) && mkdir -p $(PY_GEN)
+	lcm-gen -p --ppath $(PY_GEN) $(LCM_TYPES)
+	@touch $@
 $(BUILD)/obj/gen/lcm/%.o: $(LCM_GEN)/%.c
 	@mkdir -p $(dir $@)
 	$(CC) -std=c11 $(OPT) $(filter-out -Wpedantic -Wmissing-prototypes,$(WARN)) \
@@ -164,13 +188,14 @@ ROUNDS ?= 3
 bench-compare: deps
 	@sh bench/compare.sh $(BASE) $(ROUNDS)
 
-test-bins: $(TEST_BINS) $(BUILD)/evo $(BUILD)/tests/net_dump_O0 $(BUILD)/tests/net_dump_O2
+test-bins: $(TEST_BINS) $(BUILD)/evo $(BUILD)/tests/net_dump_O0 $(BUILD)/tests/net_dump_O2 \
+	$(PY_GEN)/stamp
 
 # Runs every test binary; a failing one fails the target after all have run.
 # tests/run.sh sums their counts into one closing line.
 test-plain: test-bins
-	@EVO_BUILD=$(BUILD) sh tests/run.sh $(TEST_BINS) tests/test_layout.sh \
-		tests/test_docs.sh
+	@EVO_BUILD=$(BUILD) EVO_VENV=$(VENV) sh tests/run.sh $(TEST_BINS) \
+		tests/test_layout.sh tests/test_docs.sh
 
 # X11 and Mesa leak at exit inside SDL's viewer; tests/lsan.supp names only
 # those libraries, so leaks in evo's own code still fail the run.
