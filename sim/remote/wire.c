@@ -185,7 +185,7 @@ static const field hello_fields[] = {
 
 static const field who_fields[] = {
     {F_I32, 0, "protocol"},
-    {F_STR, EVO_REMOTE_NAME_MAX, "from"},
+    {F_STR, EVO_REMOTE_NAME_MAX, "sender"},
 };
 
 static const field control_fields[] = {
@@ -289,7 +289,7 @@ evo_wire_reason evo_wire_decode_who(const void *buf, size_t len, evo_wire_who *o
 	if (evo_lcm_who_t_decode(buf, 0, (int)len, &m) < 0)
 		return bad(why, cap, "%s: refused by its decoder", "who_t");
 	out->protocol = m.protocol;
-	copy_name(out->from, sizeof out->from, m.from);
+	copy_name(out->from, sizeof out->from, m.sender);
 	evo_lcm_who_t_decode_cleanup(&m);
 	return EVO_WIRE_OK;
 }
@@ -431,7 +431,7 @@ int evo_wire_encode_hello(const evo_wire_hello *h, void *buf, size_t cap)
 
 int evo_wire_encode_who(const evo_wire_who *w, void *buf, size_t cap)
 {
-	evo_lcm_who_t m = {.protocol = w->protocol, .from = str(w->from)};
+	evo_lcm_who_t m = {.protocol = w->protocol, .sender = str(w->from)};
 	ENCODE(evo_lcm_who_t, &m, buf, cap);
 }
 

@@ -53,7 +53,7 @@ typedef struct evo_wire_hello {
 
 typedef struct evo_wire_who {
 	int32_t protocol;
-	char from[EVO_REMOTE_NAME_MAX];
+	char from[EVO_REMOTE_NAME_MAX]; /* the message's `sender` */
 } evo_wire_who;
 
 typedef enum evo_wire_control_op {
