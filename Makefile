@@ -35,6 +35,7 @@ LCM_GEN := $(BUILD)/gen/lcm
 LCM_TYPES := lcmtypes/evo_remote.lcm
 LCM_TYPE_NAMES := hello_t who_t control_t sensors_t command_t
 LCM_GEN_SRCS := $(patsubst %,$(LCM_GEN)/evo_lcm_%.c,$(LCM_TYPE_NAMES))
+LCM_GEN_HDRS := $(patsubst %,$(LCM_GEN)/evo_lcm_%.h,$(LCM_TYPE_NAMES))
 LCM_GEN_OBJS := $(patsubst $(LCM_GEN)/%.c,$(BUILD)/obj/gen/lcm/%.o,$(LCM_GEN_SRCS))
 # The same types in Python, for the remote simulators written in Python
 # (remotes/); generated at build time too, never committed.
@@ -123,7 +124,11 @@ $(LCM_GEN)/stamp: $(LCM_TYPES)
 	@rm -rf $(LCM_GEN) && mkdir -p $(LCM_GEN)
 	lcm-gen -c --c-no-pubsub --c-cpath $(LCM_GEN) --c-hpath $(LCM_GEN) $(LCM_TYPES)
 	@touch $@
-$(LCM_GEN_SRCS): $(LCM_GEN)/stamp
+# The empty recipe makes make look at their times again once lcm-gen has
+# run (without one it keeps the times it saw before, and a changed .lcm
+# would leave objects of the old types in evo).
+$(LCM_GEN_SRCS) $(LCM_GEN_HDRS): $(LCM_GEN)/stamp
+	@:
 $(PY_GEN)/stamp: $(LCM_TYPES)
 	@rm -rf $(PY_GEN) && mkdir -p $(PY_GEN)
 	lcm-gen -p --ppath $(PY_GEN) $(LCM_TYPES)
