@@ -1,0 +1,464 @@
+#!/usr/bin/env python3
+"""corridor.py: a remote simulator for evo, written in Python.
+
+A disc robot with two wheels drives down a corridor, around a few posts,
+to a goal at the far end. The world and its physics are this file's own;
+evo runs the mind and drives the world over LCM in lockstep, by the
+protocol of docs/remote.md, with the message classes lcm-gen makes from
+lcmtypes/evo_remote.lcm (`make` writes them into build/gen/python).
+
+    build/venv/bin/python remotes/corridor/corridor.py --name corridor
+
+The robot's sensors, each in [0, 1]:
+    P1..P5  proximity rays at 90 and 45 degrees left, ahead, 45 and 90
+            degrees right: 1.0 nothing within 1 m of the rim, 0.0 touching
+    GB      the goal's bearing: 0.5 straight ahead, above 0.5 to the right
+            (0.75: 90 degrees right), 0 or 1 behind
+    GD      the distance to the goal's centre over the corridor's length
+and its actuators, MotL and MotR: wheel speeds, 0.5 standing, 1.0 full
+ahead, 0.0 full back (evo's convention).
+
+Reward per tick: 10 per metre the robot comes closer to the goal's
+centre (negative when it goes away), -0.1 for each tick it touches a
+wall or a post, and 10 when it reaches the goal, which ends the episode
+(done). The layout (where the posts and the goal are) comes from the
+RESET's layout_seed; the start pose and the wheels' noise from its seed:
+the same seeds give the same episode, tick for tick.
+"""
+
+import argparse
+import math
+import os
+import random
+import select
+import signal
+import struct
+import sys
+
+PROTOCOL = 1
+MAX_ENVIRONMENTS = 64  # evo's EVO_REMOTE_MAX_ENVS
+
+SENSORS = ["P1", "P2", "P3", "P4", "P5", "GB", "GD"]
+ACTUATORS = ["MotL", "MotR"]
+
+# ---- the world ---------------------------------------------------------------
+
+LENGTH = 8.0  # m, along x; the robot starts near x = 0
+WIDTH = 2.0  # m, y from -1 to 1
+ROBOT_R = 0.15  # m, the robot's radius
+AXLE = 0.3  # m, between the wheels
+V_MAX = 0.5  # m/s, a wheel at command 1.0
+DT = 0.1  # s per tick
+RAY_RANGE = 1.0  # m from the rim
+RAY_ANGLES = [90, 45, 0, -45, -90]  # degrees, counterclockwise from ahead
+WHEEL_NOISE = 0.03  # standard deviation, relative to the wheel's speed
+GOAL_R = 0.4
+POST_R = 0.2
+N_POSTS = 3
+PROGRESS_REWARD = 10.0  # per metre closer to the goal
+TOUCH_PENALTY = 0.1  # per tick touching
+GOAL_REWARD = 10.0
+
+
+def unsigned(seed):
+    """The seed as the 64-bit unsigned number evo drew (LCM carries it as
+    int64): random.Random(n) would take -n and n for the same seed."""
+    return seed & 0xFFFFFFFFFFFFFFFF
+
+
+class Corridor:
+    """One world: the corridor, its posts and goal, and the robot."""
+
+    def __init__(self, layout_seed, seed):
+        lay = random.Random(unsigned(layout_seed))
+        # posts spread along the corridor, each leaving at least 0.6 m on
+        # one side
+        self.posts = []
+        for i in range(N_POSTS):
+            x = 2.2 + i * 1.6 + lay.uniform(-0.4, 0.4)
+            y = lay.uniform(-0.6, 0.6)
+            self.posts.append((x, y))
+        self.goal = (LENGTH - 0.7, lay.uniform(-0.5, 0.5))
+        self.rng = random.Random(unsigned(seed))
+        self.x = self.rng.uniform(0.4, 1.0)
+        self.y = self.rng.uniform(-0.5, 0.5)
+        self.heading = math.radians(self.rng.uniform(-60, 60))
+        self.distance = self.goal_distance()
+        self.touching = False
+
+    def goal_distance(self):
+        return math.hypot(self.goal[0] - self.x, self.goal[1] - self.y)
+
+    def ray(self, angle):
+        """Distance from the robot's centre along angle (world frame) to
+        the first wall or post, at most ROBOT_R + RAY_RANGE."""
+        dx, dy = math.cos(angle), math.sin(angle)
+        best = ROBOT_R + RAY_RANGE
+        # the four walls: y = +-WIDTH/2, x = 0, x = LENGTH
+        if dy > 1e-12:
+            best = min(best, (WIDTH / 2 - self.y) / dy)
+        elif dy < -1e-12:
+            best = min(best, (-WIDTH / 2 - self.y) / dy)
+        if dx > 1e-12:
+            best = min(best, (LENGTH - self.x) / dx)
+        elif dx < -1e-12:
+            best = min(best, -self.x / dx)
+        for px, py in self.posts:
+            # |p + t d - c| = R: t^2 - 2 t (d.(c - p)) + |c - p|^2 - R^2 = 0
+            cx, cy = px - self.x, py - self.y
+            b = dx * cx + dy * cy
+            c = cx * cx + cy * cy - POST_R * POST_R
+            disc = b * b - c
+            if disc < 0:
+                continue
+            t = b - math.sqrt(disc)
+            if t >= 0:
+                best = min(best, t)
+        return max(best, 0.0)
+
+    def sense(self):
+        values = []
+        for a in RAY_ANGLES:
+            d = self.ray(self.heading + math.radians(a)) - ROBOT_R
+            values.append(min(max(d / RAY_RANGE, 0.0), 1.0))
+        gx, gy = self.goal[0] - self.x, self.goal[1] - self.y
+        # clockwise from ahead, in (-pi, pi]
+        bearing = -(math.atan2(gy, gx) - self.heading)
+        bearing = math.atan2(math.sin(bearing), math.cos(bearing))
+        values.append(min(max(0.5 + bearing / (2 * math.pi), 0.0), 1.0))
+        values.append(min(self.goal_distance() / LENGTH, 1.0))
+        return values
+
+    def collide(self):
+        """Push the robot out of the walls and posts: True when it
+        touched any."""
+        touched = False
+        for _ in range(3):
+            moved = False
+            lo, hi = -WIDTH / 2 + ROBOT_R, WIDTH / 2 - ROBOT_R
+            if self.y < lo or self.y > hi:
+                self.y = min(max(self.y, lo), hi)
+                moved = True
+            if self.x < ROBOT_R or self.x > LENGTH - ROBOT_R:
+                self.x = min(max(self.x, ROBOT_R), LENGTH - ROBOT_R)
+                moved = True
+            for px, py in self.posts:
+                dx, dy = self.x - px, self.y - py
+                d = math.hypot(dx, dy)
+                if d < ROBOT_R + POST_R:
+                    if d < 1e-9:
+                        dx, dy, d = -1.0, 0.0, 1.0
+                    k = (ROBOT_R + POST_R) / d
+                    self.x, self.y = px + dx * k, py + dy * k
+                    moved = True
+            touched = touched or moved
+            if not moved:
+                break
+        # resting against a wall counts as touching it too
+        eps = 1e-9
+        if (abs(self.y) >= WIDTH / 2 - ROBOT_R - eps or
+                self.x <= ROBOT_R + eps or self.x >= LENGTH - ROBOT_R - eps):
+            touched = True
+        for px, py in self.posts:
+            if math.hypot(self.x - px, self.y - py) <= ROBOT_R + POST_R + eps:
+                touched = True
+        return touched
+
+    def step(self, mot_l, mot_r):
+        """One tick of DT with the wheel commands in [0, 1]: the tick's
+        reward and whether the goal is reached."""
+        vl = (2 * mot_l - 1) * V_MAX * (1 + self.rng.gauss(0, WHEEL_NOISE))
+        vr = (2 * mot_r - 1) * V_MAX * (1 + self.rng.gauss(0, WHEEL_NOISE))
+        v, w = (vl + vr) / 2, (vr - vl) / AXLE
+        mid = self.heading + w * DT / 2
+        self.x += v * math.cos(mid) * DT
+        self.y += v * math.sin(mid) * DT
+        self.heading = math.atan2(math.sin(self.heading + w * DT),
+                                  math.cos(self.heading + w * DT))
+        self.touching = self.collide()
+        d = self.goal_distance()
+        reward = PROGRESS_REWARD * (self.distance - d)
+        self.distance = d
+        if self.touching:
+            reward -= TOUCH_PENALTY
+        reached = d < GOAL_R
+        if reached:
+            reward += GOAL_REWARD
+        return reward, reached
+
+
+# ---- the protocol (docs/remote.md) --------------------------------------------
+
+REASONS = ["undecodable", "foreign", "counts", "value", "stale", "ahead"]
+
+
+class Env:
+    """One environment: its world and where its episode is."""
+
+    def __init__(self):
+        self.world = None
+        self.episode = 0  # 0: none yet
+        self.seeds = (0, 0)
+        self.tick = 0  # the tick of the last sensors_t sent
+        self.active = False
+        self.reward = 0.0
+        self.last = None  # that sensors_t's bytes
+
+
+class Simulator:
+    def __init__(self, lc, types, name, environments, log):
+        self.lc, self.t = lc, types
+        self.name = name
+        self.session = int.from_bytes(os.urandom(8), "big") >> 1
+        self.envs = [Env() for _ in range(environments)]
+        self.log = log
+        self.dropped = dict((r, 0) for r in REASONS)
+        self.ch_control = "EVO_%s_CONTROL" % name
+        self.ch_command = "EVO_%s_COMMAND" % name
+        self.ch_sensors = "EVO_%s_SENSORS" % name
+        h = types.hello_t()
+        h.protocol = PROTOCOL
+        h.name = name
+        h.session = self.session
+        h.kind = types.hello_t.SIMULATOR
+        h.environments = environments
+        h.tick_us = 0
+        h.n_sensors, h.sensors = len(SENSORS), list(SENSORS)
+        h.n_actuators, h.actuators = len(ACTUATORS), list(ACTUATORS)
+        self.hello = h.encode()
+        lc.subscribe("EVO_WHO", self.on_who)
+        lc.subscribe(self.ch_control, self.on_control)
+        lc.subscribe(self.ch_command, self.on_command)
+
+    def drop(self, reason, what, why):
+        if self.dropped[reason] == 0:
+            print("corridor: dropped a %s (%s: %s); later drops are counted "
+                  "and reported at the end" % (what, reason, why),
+                  file=sys.stderr, flush=True)
+        self.dropped[reason] += 1
+
+    def decode(self, cls, data):
+        """The message, or None (dropped as undecodable): lcm-gen's Python
+        raises on bytes of another type or cut short, and this also refuses
+        what it would pass over: bytes after the message."""
+        try:
+            buf = _Reader(data)
+            m = cls.decode(buf)
+            if buf.left():
+                raise ValueError("%d bytes after the message" % buf.left())
+            return m
+        except (ValueError, struct.error, UnicodeDecodeError,
+                MemoryError, OverflowError) as e:
+            self.drop("undecodable", cls.__name__,
+                      "not an evo_lcm.%s (%s)" % (cls.__name__, e))
+            return None
+
+    def ours(self, m, what):
+        if (m.name == self.name and m.session == self.session and
+                0 <= m.env < len(self.envs)):
+            return True
+        self.drop("foreign", what, "for %s, session %d, environment %d" %
+                  (m.name, m.session, m.env))
+        return False
+
+    def publish_hello(self):
+        self.lc.publish("EVO_HELLO", self.hello)
+
+    def send_sensors(self, env, e, done):
+        s = self.t.sensors_t()
+        s.name, s.session, s.env = self.name, self.session, env
+        s.episode, s.tick = e.episode, e.tick
+        s.values = e.world.sense()
+        s.n = len(s.values)
+        s.reward, s.done = e.reward, done
+        e.last = s.encode()
+        self.lc.publish(self.ch_sensors, e.last)
+
+    def end(self, env, e, how):
+        """An episode is over: its line in the log."""
+        e.active = False
+        if self.log:
+            self.log.write("env %d episode %d (layout_seed %d, seed %d): "
+                           "reward %.6f over %d ticks, %s\n" %
+                           (env, e.episode, unsigned(e.seeds[0]),
+                            unsigned(e.seeds[1]), e.reward, e.tick, how))
+            self.log.flush()
+
+    def on_who(self, channel, data):
+        if self.decode(self.t.who_t, data):
+            self.publish_hello()
+
+    def on_control(self, channel, data):
+        c = self.decode(self.t.control_t, data)
+        if not c or not self.ours(c, "control_t"):
+            return
+        e = self.envs[c.env]
+        if c.op == self.t.control_t.STOP:
+            if e.active:
+                self.end(c.env, e, "stopped")
+            return
+        if c.op != self.t.control_t.RESET:
+            self.drop("value", "control_t", "op %d" % c.op)
+            return
+        # the RESET of the episode still at tick 0, again: its answer was
+        # lost, so it goes again, and the world stays as it is
+        if e.active and c.episode == e.episode and e.tick == 0:
+            self.lc.publish(self.ch_sensors, e.last)
+            return
+        if c.episode < 1:
+            self.drop("value", "control_t", "episode %d" % c.episode)
+            return
+        if e.active:
+            self.end(c.env, e, "cut short by a new RESET")
+        e.world = Corridor(c.layout_seed, c.seed)
+        e.episode, e.seeds = c.episode, (c.layout_seed, c.seed)
+        e.tick, e.reward, e.active = 0, 0.0, True
+        self.send_sensors(c.env, e, False)
+
+    def on_command(self, channel, data):
+        c = self.decode(self.t.command_t, data)
+        if not c or not self.ours(c, "command_t"):
+            return
+        e = self.envs[c.env]
+        if c.n != len(ACTUATORS):
+            self.drop("counts", "command_t", "%d values; the hello says %d" %
+                      (c.n, len(ACTUATORS)))
+            return
+        # the command answered last, again (even the one that ended the
+        # episode): its answer was lost, so it goes again, without a step
+        if (e.last is not None and c.episode == e.episode and
+                c.tick == e.tick - 1):
+            self.lc.publish(self.ch_sensors, e.last)
+            return
+        if not e.active or c.episode != e.episode or c.tick != e.tick:
+            ahead = (c.episode > e.episode or
+                     (c.episode == e.episode and c.tick > e.tick))
+            self.drop("ahead" if ahead else "stale", "command_t",
+                      "tick %d of episode %d; this environment is at tick %d "
+                      "of episode %d%s" % (c.tick, c.episode, e.tick,
+                                           e.episode,
+                                           "" if e.active else " (ended)"))
+            return
+        for i, v in enumerate(c.values):
+            if not (0.0 <= v <= 1.0):  # also NaN
+                self.drop("value", "command_t", "%s = %r" % (ACTUATORS[i], v))
+                return
+        reward, reached = e.world.step(c.values[0], c.values[1])
+        e.reward += reward
+        e.tick += 1
+        if reached:
+            self.end(c.env, e, "goal")
+        self.send_sensors(c.env, e, reached)
+
+    def close(self):
+        for i, e in enumerate(self.envs):
+            if e.active:
+                self.end(i, e, "open when the simulator stopped")
+        total = sum(self.dropped.values())
+        if total:
+            print("corridor: dropped %d message%s (%s)" % (
+                total, "" if total == 1 else "s",
+                ", ".join("%d %s" % (self.dropped[r], r) for r in REASONS
+                          if self.dropped[r])), file=sys.stderr)
+
+
+class _Reader:
+    """The bytes of a message, read as lcm-gen's decoders read a file; a
+    read past the end raises instead of returning fewer bytes."""
+
+    def __init__(self, data):
+        self.data, self.pos = data, 0
+
+    def read(self, n):
+        if n < 0 or self.pos + n > len(self.data):
+            raise ValueError("cut short")
+        b = self.data[self.pos:self.pos + n]
+        self.pos += n
+        return b
+
+    def left(self):
+        return len(self.data) - self.pos
+
+
+# ---- the program ---------------------------------------------------------------
+
+def import_types():
+    """lcm (from PyPI: build/venv after `make deps`) and evo_lcm (made by
+    lcm-gen: build/gen/python after `make`), from PYTHONPATH or else this
+    repository's build/."""
+    try:
+        import lcm
+    except ImportError:
+        sys.exit("corridor.py: no `lcm` module: run it with build/venv/bin/"
+                 "python (`make deps` makes it)")
+    try:
+        import evo_lcm
+    except ImportError:
+        root = os.path.dirname(os.path.dirname(os.path.dirname(
+            os.path.abspath(__file__))))
+        sys.path.insert(0, os.path.join(root, "build", "gen", "python"))
+        try:
+            import evo_lcm
+        except ImportError:
+            sys.exit("corridor.py: no `evo_lcm` module: `make` generates it "
+                     "into build/gen/python from lcmtypes/evo_remote.lcm "
+                     "(or set PYTHONPATH to where it is)")
+    return lcm, evo_lcm
+
+
+def name_ok(name):
+    return (0 < len(name) < 64 and
+            all(ch.isascii() and (ch.isalnum() or ch in "_-") for ch in name))
+
+
+def main():
+    p = argparse.ArgumentParser(
+        description="A corridor with a goal, served to evo as a remote "
+        "simulator over LCM (docs/remote.md).")
+    p.add_argument("--name", default="corridor-%d" % os.getpid(),
+                   help="the name evo finds it by (default corridor-PID)")
+    p.add_argument("--environments", type=int, default=1, metavar="N",
+                   help="episodes run at once, each in a world of its own "
+                   "(1..%d, default 1)" % MAX_ENVIRONMENTS)
+    p.add_argument("--url", default="udpm://239.255.76.67:7667?ttl=0",
+                   help="the LCM URL (default LCM's own, this machine only)")
+    p.add_argument("--log", metavar="FILE",
+                   help="append a line per episode that ends: its seeds, "
+                   "reward and ticks")
+    a = p.parse_args()
+    if not name_ok(a.name):
+        p.error("--name '%s': a remote's name is 1..63 letters, digits, '_' "
+                "or '-'" % a.name)
+    if not 1 <= a.environments <= MAX_ENVIRONMENTS:
+        p.error("--environments expects a whole number 1..%d, found %d" %
+                (MAX_ENVIRONMENTS, a.environments))
+    lcm, types = import_types()
+
+    stop = []
+    signal.signal(signal.SIGTERM, lambda sig, frame: stop.append(sig))
+    signal.signal(signal.SIGINT, lambda sig, frame: stop.append(sig))
+    try:
+        lc = lcm.LCM(a.url)
+    except (IOError, RuntimeError) as e:
+        sys.exit("corridor.py: cannot open LCM at %s: %s" % (a.url, e))
+    log = open(a.log, "a") if a.log else None
+    sim = Simulator(lc, types, a.name, a.environments, log)
+    sim.publish_hello()
+    print("corridor: %s serves a corridor on %s (%d environment%s)" % (
+        a.name, a.url, a.environments, "" if a.environments == 1 else "s"),
+        flush=True)
+    fd = lc.fileno()
+    while not stop:
+        # select, not lc.handle_timeout: Python runs the signal handlers
+        # between two selects, so SIGTERM ends the loop at once
+        ready, _, _ = select.select([fd], [], [], 0.1)
+        if ready:
+            lc.handle()
+    sim.close()
+    if log:
+        log.close()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
