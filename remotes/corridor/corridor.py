@@ -206,8 +206,11 @@ class Env:
 
 
 class Simulator:
-    def __init__(self, lc, types, name, environments, log):
-        self.lc, self.t = lc, types
+    """lc: the LCM of the hello's URL (who_t, hello_t); data: that of the
+    episodes' (control_t, sensors_t, command_t), which may be the same."""
+
+    def __init__(self, lc, data, data_url, types, name, environments, log):
+        self.lc, self.data, self.t = lc, data, types
         self.name = name
         self.session = int.from_bytes(os.urandom(8), "big") >> 1
         self.envs = [Env() for _ in range(environments)]
@@ -220,6 +223,7 @@ class Simulator:
         h.protocol = PROTOCOL
         h.name = name
         h.session = self.session
+        h.url = data_url if data is not lc else ""
         h.kind = types.hello_t.SIMULATOR
         h.environments = environments
         h.tick_us = 0
@@ -227,8 +231,8 @@ class Simulator:
         h.n_actuators, h.actuators = len(ACTUATORS), list(ACTUATORS)
         self.hello = h.encode()
         lc.subscribe("EVO_WHO", self.on_who)
-        lc.subscribe(self.ch_control, self.on_control)
-        lc.subscribe(self.ch_command, self.on_command)
+        data.subscribe(self.ch_control, self.on_control)
+        data.subscribe(self.ch_command, self.on_command)
 
     def drop(self, reason, what, why):
         if self.dropped[reason] == 0:
@@ -272,7 +276,7 @@ class Simulator:
         s.n = len(s.values)
         s.reward, s.done = e.reward, done
         e.last = s.encode()
-        self.lc.publish(self.ch_sensors, e.last)
+        self.data.publish(self.ch_sensors, e.last)
 
     def end(self, env, e, how):
         """An episode is over: its line in the log."""
@@ -300,10 +304,12 @@ class Simulator:
         if c.op != self.t.control_t.RESET:
             self.drop("value", "control_t", "op %d" % c.op)
             return
-        # the RESET of the episode still at tick 0, again: its answer was
-        # lost, so it goes again, and the world stays as it is
-        if e.active and c.episode == e.episode and e.tick == 0:
-            self.lc.publish(self.ch_sensors, e.last)
+        # the RESET of the episode still at tick 0, with the same seeds,
+        # again: its answer was lost, so it goes again, and the world stays
+        # as it is
+        if (e.active and c.episode == e.episode and e.tick == 0 and
+                (c.layout_seed, c.seed) == e.seeds):
+            self.data.publish(self.ch_sensors, e.last)
             return
         if c.episode < 1:
             self.drop("value", "control_t", "episode %d" % c.episode)
@@ -328,7 +334,7 @@ class Simulator:
         # episode): its answer was lost, so it goes again, without a step
         if (e.last is not None and c.episode == e.episode and
                 c.tick == e.tick - 1):
-            self.lc.publish(self.ch_sensors, e.last)
+            self.data.publish(self.ch_sensors, e.last)
             return
         if not e.active or c.episode != e.episode or c.tick != e.tick:
             ahead = (c.episode > e.episode or
@@ -406,6 +412,28 @@ def import_types():
     return lcm, evo_lcm
 
 
+def own_data_url(url, name):
+    """The episodes' URL `evo serve` would choose: the hello's, on port
+    + 1 + (FNV-1a of the name) % 2000, so that simulators sharing a URL do
+    not each receive the others' episodes. A URL without a port: itself."""
+    if not url.startswith("udpm://"):
+        return url
+    colon = url.find(":", 7)
+    digits = ""
+    while colon >= 0 and colon + 1 + len(digits) < len(url) and \
+            url[colon + 1 + len(digits)].isdigit():
+        digits += url[colon + 1 + len(digits)]
+    if colon < 0 or not digits or not 1 <= int(digits) <= 65535:
+        return url
+    h = 2166136261
+    for b in name.encode():
+        h = ((h ^ b) * 16777619) & 0xFFFFFFFF
+    own = int(digits) + 1 + h % 2000
+    if own > 65535:
+        own -= 4000
+    return "%s:%d%s" % (url[:colon], own, url[colon + 1 + len(digits):])
+
+
 def name_ok(name):
     return (0 < len(name) < 64 and
             all(ch.isascii() and (ch.isalnum() or ch in "_-") for ch in name))
@@ -422,6 +450,10 @@ def main():
                    "(1..%d, default 1)" % MAX_ENVIRONMENTS)
     p.add_argument("--url", default="udpm://239.255.76.67:7667?ttl=0",
                    help="the LCM URL (default LCM's own, this machine only)")
+    p.add_argument("--data-url", metavar="URL",
+                   help="the LCM URL of its episodes (default: the URL's "
+                   "port + 1 + a hash of the name modulo 2000, as evo serve "
+                   "does; 'same': the URL itself)")
     p.add_argument("--log", metavar="FILE",
                    help="append a line per episode that ends: its seeds, "
                    "reward and ticks")
@@ -437,23 +469,27 @@ def main():
     stop = []
     signal.signal(signal.SIGTERM, lambda sig, frame: stop.append(sig))
     signal.signal(signal.SIGINT, lambda sig, frame: stop.append(sig))
+    data_url = (a.url if a.data_url == "same" else
+                a.data_url or own_data_url(a.url, a.name))
     try:
         lc = lcm.LCM(a.url)
+        data = lcm.LCM(data_url) if data_url != a.url else lc
     except (IOError, RuntimeError) as e:
-        sys.exit("corridor.py: cannot open LCM at %s: %s" % (a.url, e))
+        sys.exit("corridor.py: cannot open LCM: %s" % e)
     log = open(a.log, "a") if a.log else None
-    sim = Simulator(lc, types, a.name, a.environments, log)
+    sim = Simulator(lc, data, data_url, types, a.name, a.environments, log)
     sim.publish_hello()
-    print("corridor: %s serves a corridor on %s (%d environment%s)" % (
-        a.name, a.url, a.environments, "" if a.environments == 1 else "s"),
-        flush=True)
-    fd = lc.fileno()
+    print("corridor: %s serves a corridor on %s (%d environment%s; its "
+          "episodes on %s)" % (a.name, a.url, a.environments,
+                               "" if a.environments == 1 else "s", data_url),
+          flush=True)
+    handle = {lc.fileno(): lc, data.fileno(): data}
     while not stop:
         # select, not lc.handle_timeout: Python runs the signal handlers
         # between two selects, so SIGTERM ends the loop at once
-        ready, _, _ = select.select([fd], [], [], 0.1)
-        if ready:
-            lc.handle()
+        ready, _, _ = select.select(list(handle), [], [], 0.1)
+        for fd in ready:
+            handle[fd].handle()
     sim.close()
     if log:
         log.close()

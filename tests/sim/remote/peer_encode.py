@@ -8,10 +8,10 @@ Run with build/venv/bin/python and PYTHONPATH=build/gen/python."""
 import evo_lcm
 
 
-def hello(kind, session, envs, tick_us, sensors, actuators, name):
+def hello(kind, session, url, envs, tick_us, sensors, actuators, name):
     m = evo_lcm.hello_t()
     m.protocol = evo_lcm.hello_t.PROTOCOL
-    m.name, m.session, m.kind = name, session, kind
+    m.name, m.session, m.url, m.kind = name, session, url, kind
     m.environments, m.tick_us = envs, tick_us
     m.n_sensors, m.sensors = len(sensors), sensors
     m.n_actuators, m.actuators = len(actuators), actuators
@@ -52,10 +52,11 @@ def command(name, session, env, episode, tick, values):
 # The same fields as test_corridor.c's. LCM's int64 is signed: evo's
 # unsigned seeds 2^64 - 1 and 2^63 are -1 and -2^63 here.
 MESSAGES = [
-    ("hello_sim", hello(evo_lcm.hello_t.SIMULATOR, 2**63 - 1, 64, 0,
+    ("hello_sim", hello(evo_lcm.hello_t.SIMULATOR, 2**63 - 1,
+                        "udpm://239.255.76.67:9568?ttl=0", 64, 0,
                         ["P1", "P2", "P3", "P4", "P5", "GB", "GD"],
                         ["MotL", "MotR"], "corridor-test_1")),
-    ("hello_robot", hello(evo_lcm.hello_t.ROBOT, 1, 1, 20000,
+    ("hello_robot", hello(evo_lcm.hello_t.ROBOT, 1, "", 1, 20000,
                           ["S1"], [], "r")),
     ("who", who("evo-4242")),
     ("who_empty", who("")),

@@ -86,8 +86,8 @@ typedef struct sim {
 } sim;
 
 /* corridor.py under `name` with `envs` environments on the test's URL,
- * started and ready (0), or -1. */
-static int sim_start(sim *s, const char *name, int envs)
+ * and options `more`, started and ready (0), or -1. */
+static int sim_start(sim *s, const char *name, int envs, const char *more)
 {
 	snprintf(s->name, sizeof s->name, "%s", name);
 	snprintf(s->out, sizeof s->out, "%s/%s.out", cli_tmp, name);
@@ -95,8 +95,8 @@ static int sim_start(sim *s, const char *name, int envs)
 	char cmd[4096];
 	snprintf(cmd, sizeof cmd,
 		 "PYTHONPATH=%s exec %s remotes/corridor/corridor.py --name %s "
-		 "--environments %d --url '%s' --log %s >%s 2>&1",
-		 py_path, venv_python, name, envs, url, s->log, s->out);
+		 "--environments %d --url '%s' --log %s %s >%s 2>&1",
+		 py_path, venv_python, name, envs, url, s->log, more, s->out);
 	s->pid = fork();
 	if (s->pid < 0)
 		return -1;
@@ -154,16 +154,17 @@ static int sim_stop(sim *s, double *secs)
 /* ---- the same messages as peer_encode.py's ------------------------------- */
 
 static evo_wire_hello hello_of(evo_remote_kind kind, int64_t session,
-			       int32_t envs, int32_t tick_us,
-			       const char *const *sensors, unsigned ns,
-			       const char *const *acts, unsigned na,
-			       const char *name)
+			       const char *data_url, int32_t envs,
+			       int32_t tick_us, const char *const *sensors,
+			       unsigned ns, const char *const *acts,
+			       unsigned na, const char *name)
 {
 	evo_wire_hello h;
 	memset(&h, 0, sizeof h);
 	h.protocol = EVO_WIRE_PROTOCOL;
 	snprintf(h.name, sizeof h.name, "%s", name);
 	h.session = session;
+	snprintf(h.url, sizeof h.url, "%s", data_url);
 	h.kind = kind;
 	h.environments = envs;
 	h.tick_us = tick_us;
@@ -229,7 +230,8 @@ TEST(python_encodes_every_message_as_evo_does)
 	char why[256];
 	int n, k;
 
-	evo_wire_hello h = hello_of(EVO_REMOTE_SIMULATOR, INT64_MAX, 64, 0,
+	evo_wire_hello h = hello_of(EVO_REMOTE_SIMULATOR, INT64_MAX,
+				    "udpm://239.255.76.67:9568?ttl=0", 64, 0,
 				    corridor_sensors, 7, corridor_actuators, 2,
 				    "corridor-test_1"),
 		       hd;
@@ -243,11 +245,12 @@ TEST(python_encodes_every_message_as_evo_does)
 	      hd.kind == EVO_REMOTE_SIMULATOR && hd.n_sensors == 7 &&
 	      hd.n_actuators == 2);
 	CHECK_EQ_STR(hd.name, "corridor-test_1");
+	CHECK_EQ_STR(hd.url, "udpm://239.255.76.67:9568?ttl=0");
 	CHECK_EQ_STR(hd.sensor[6], "GD");
 	CHECK_EQ_STR(hd.actuator[1], "MotR");
 
 	static const char *const s1[] = {"S1"};
-	h = hello_of(EVO_REMOTE_ROBOT, 1, 1, 20000, s1, 1, NULL, 0, "r");
+	h = hello_of(EVO_REMOTE_ROBOT, 1, "", 1, 20000, s1, 1, NULL, 0, "r");
 	n = evo_wire_encode_hello(&h, mine, sizeof mine);
 	CHECK(same_bytes(out, "hello_robot", mine, n));
 	k = peer_bytes(out, "hello_robot", theirs, sizeof theirs);
@@ -377,7 +380,7 @@ TEST(demoremotesim_runs_to_the_goal_with_the_reward_the_simulator_logs)
 	char name[64];
 	snprintf(name, sizeof name, "corridor-demo-%ld", (long)getpid());
 	sim s;
-	if (sim_start(&s, name, 1)) {
+	if (sim_start(&s, name, 1, "--data-url same")) {
 		CHECK(0);
 		return;
 	}
@@ -444,7 +447,8 @@ TEST(demoremotesim_runs_to_the_goal_with_the_reward_the_simulator_logs)
  */
 
 typedef struct driver {
-	evo_link *link;
+	evo_link *hello; /* the test's URL: who_t and hello_t */
+	evo_link *link;	 /* the episodes' URL (the hello's url): the rest */
 	char ch_control[96], ch_command[96], ch_sensors[96];
 	const char *name;
 	int64_t session;
@@ -524,18 +528,17 @@ TEST(the_simulator_repeats_answers_without_stepping_and_ignores_the_rest)
 	snprintf(name, sizeof name, "corridor-lock-%ld", (long)getpid());
 	driver d = {.name = name};
 	evo_err err;
-	d.link = evo_link_open(url, &err);
+	d.hello = evo_link_open(url, &err);
 	snprintf(d.ch_control, sizeof d.ch_control, "EVO_%s_CONTROL", name);
 	snprintf(d.ch_command, sizeof d.ch_command, "EVO_%s_COMMAND", name);
 	snprintf(d.ch_sensors, sizeof d.ch_sensors, "EVO_%s_SENSORS", name);
-	CHECK(d.link && evo_link_subscribe(d.link, "EVO_HELLO", &err) == 0 &&
-	      evo_link_subscribe(d.link, d.ch_sensors, &err) == 0);
-	if (!d.link)
+	CHECK(d.hello && evo_link_subscribe(d.hello, "EVO_HELLO", &err) == 0);
+	if (!d.hello)
 		return;
 	sim s;
-	if (sim_start(&s, name, 2)) {
+	if (sim_start(&s, name, 2, "")) {
 		CHECK(0);
-		evo_link_close(d.link);
+		evo_link_close(d.hello);
 		return;
 	}
 
@@ -543,13 +546,15 @@ TEST(the_simulator_repeats_answers_without_stepping_and_ignores_the_rest)
 	static unsigned char b[EVO_WIRE_MAX_BYTES];
 	evo_wire_who w = {.protocol = EVO_WIRE_PROTOCOL};
 	snprintf(w.from, sizeof w.from, "test-corridor");
-	publish(&d, "EVO_WHO", b, evo_wire_encode_who(&w, b, sizeof b));
+	int nw = evo_wire_encode_who(&w, b, sizeof b);
+	CHECK(nw > 0 &&
+	      evo_link_publish(d.hello, "EVO_WHO", b, (size_t)nw, &err) == 0);
 	evo_wire_hello h;
 	int got_hello = 0;
 	char why[256];
 	for (double limit = mono() + 5; !got_hello && mono() < limit;) {
 		evo_link_msg m;
-		if (evo_link_next(d.link, 100, &m, &err) == 1 &&
+		if (evo_link_next(d.hello, 100, &m, &err) == 1 &&
 		    strcmp(m.channel, "EVO_HELLO") == 0 &&
 		    evo_wire_decode_hello(m.data, m.len, &h, why, sizeof why) ==
 			EVO_WIRE_OK &&
@@ -567,6 +572,13 @@ TEST(the_simulator_repeats_answers_without_stepping_and_ignores_the_rest)
 	CHECK_EQ_STR(h.actuator[0], "MotL");
 	CHECK_EQ_STR(h.actuator[1], "MotR");
 	d.session = h.session;
+	/* its episodes on a port of their own, as evo serve's */
+	CHECK(strncmp(h.url, "udpm://239.255.76.67:", 21) == 0 &&
+	      strcmp(h.url, url) != 0);
+	d.link = evo_link_open(h.url, &err);
+	CHECK(d.link && evo_link_subscribe(d.link, d.ch_sensors, &err) == 0);
+	if (!d.link)
+		goto out;
 
 	/* tick 0 of env 0, and the same RESET again: the same answer */
 	static unsigned char a0[EVO_WIRE_MAX_BYTES], again[EVO_WIRE_MAX_BYTES],
@@ -580,6 +592,13 @@ TEST(the_simulator_repeats_answers_without_stepping_and_ignores_the_rest)
 	CHECK_EQ_INT(
 	    evo_wire_check_values(sa.value, sa.n, &sa.reward, why, sizeof why),
 	    EVO_WIRE_OK);
+	reset(&d, 0, 1, 11, 22, EVO_CONTROL_RESET);
+	CHECK(next_sensors(&d, 2000, &sx, again, &lagain));
+	CHECK(lagain == la0 && memcmp(again, a0, la0) == 0);
+	/* the same episode with another seed is another start; and back */
+	reset(&d, 0, 1, 11, 23, EVO_CONTROL_RESET);
+	CHECK(next_sensors(&d, 2000, &sx, NULL, NULL));
+	CHECK(sx.tick == 0 && memcmp(sx.value, sa.value, sizeof sa.value) != 0);
 	reset(&d, 0, 1, 11, 22, EVO_CONTROL_RESET);
 	CHECK(next_sensors(&d, 2000, &sx, again, &lagain));
 	CHECK(lagain == la0 && memcmp(again, a0, la0) == 0);
@@ -681,6 +700,7 @@ out:;
 	CHECK_CONTAINS(log, ", goal\n");
 	free(log);
 	evo_link_close(d.link);
+	evo_link_close(d.hello);
 }
 
 int main(void)
