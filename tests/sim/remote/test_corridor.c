@@ -6,7 +6,10 @@
  * with the reward the simulator logs, and the same again for the same
  * seed; and the simulator, driven from here as evo would drive it, answers
  * a repeated RESET or command with its answer again, without stepping,
- * ignores what is not for it, and stops at SIGTERM. Nothing here is
+ * ignores what is not for it, and stops at SIGTERM; LEARNREMOTESIM of
+ * Corridor-NEAT against it raises the population's fitness over a few
+ * generations, and its champion beats untrained networks under
+ * DEMOREMOTESIM on the same episodes. Nothing here is
  * skipped: without build/venv every test fails, saying `make deps`.
  *
  * Each test's simulator and evo share an LCM URL of their own (a port
@@ -703,6 +706,133 @@ out:;
 	evo_link_close(d.hello);
 }
 
+/* ---- LEARNREMOTESIM against the simulator ---------------------------------
+ */
+
+/* Column col (0: generation) of each data line of a log.csv, into v; how
+ * many lines. */
+static int log_column(const char *csv, int col, double *v, int cap)
+{
+	int n = 0;
+	const char *l = csv ? strchr(csv, '\n') : NULL; /* past the header */
+	while (l && l[1] && n < cap) {
+		l++;
+		const char *f = l;
+		for (int c = 0; c < col && f; c++) {
+			f = strchr(f, ',');
+			f = f ? f + 1 : NULL;
+		}
+		if (!f)
+			break;
+		v[n++] = atof(f);
+		l = strchr(l, '\n');
+	}
+	return n;
+}
+
+/* The mean of the rewards on the episode lines of evo run's output; their
+ * count in *n. */
+static double mean_reward(const char *text, int *n)
+{
+	double sum = 0;
+	*n = 0;
+	for (const char *p = strstr(text, "episode "); p;
+	     p = strstr(p + 1, "\nepisode ")) {
+		const char *r = strstr(p, ": reward ");
+		if (!r)
+			break;
+		sum += atof(r + 9);
+		++*n;
+	}
+	return *n ? sum / *n : 0;
+}
+
+/* Corridor-NEAT with a population of 24, for 5 generations, on a
+ * simulator of 2 environments: the population's mean fitness rises over
+ * the generations, and the champion, saved into Skills/, then does better
+ * under DEMOREMOTESIM than untrained networks on the same episodes. */
+TEST(learnremotesim_trains_a_champion_better_than_untrained_networks)
+{
+	NEED_PYTHON();
+	corridor_mind();
+	cli_sh("sed 's/^NEAT_POPSIZE:.*/NEAT_POPSIZE:24/' "
+	       "%s/Corridor/Tasks/Corridor-NEAT.simbatch "
+	       ">%s/Corridor/Tasks/Small-NEAT.simbatch",
+	       cli_tmp, cli_tmp);
+	char name[64];
+	snprintf(name, sizeof name, "corridor-learn-%ld", (long)getpid());
+	sim s;
+	if (sim_start(&s, name, 2, "")) {
+		CHECK(0);
+		return;
+	}
+	int rc = cli_capture(out, sizeof out,
+			     "%s run %s/Corridor/Tasks/Small-NEAT.simbatch "
+			     "--seed 3 --generations 5 --run %s/learn",
+			     cli_evo, cli_tmp, cli_tmp);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out, "NEAT of skill Corridor, seed 3, 2 environments "
+			    "on 1 remote simulator");
+	CHECK_CONTAINS(out, "champion saved in ");
+	char *csv = cli_read("%s/learn/log.csv", cli_tmp);
+	double best[8], mean[8];
+	int gens = log_column(csv, 1, best, 8);
+	CHECK_EQ_INT(log_column(csv, 2, mean, 8), gens);
+	CHECK_EQ_INT(gens, 5);
+	free(csv);
+	if (gens == 5) {
+		printf("  mean fitness by generation: %.1f %.1f %.1f %.1f "
+		       "%.1f; best %.1f .. %.1f\n",
+		       mean[0], mean[1], mean[2], mean[3], mean[4], best[0],
+		       best[4]);
+		CHECK(mean[4] > mean[0] + 20);
+	}
+	/* and its own replay on unseen episodes says as much */
+	const char *c = strstr(out, "  champion: ");
+	const char *u = strstr(out, "  untrained networks (20): ");
+	CHECK(c && u);
+	if (c && u) {
+		double fc = atof(strstr(c, "fitness") + 7),
+		       fu = atof(strstr(u, "fitness") + 7);
+		printf("  its replay: champion %.1f, untrained networks %.1f\n",
+		       fc, fu);
+		CHECK(fc > fu + 40);
+	}
+
+	/* the champion and untrained networks, on the same episodes: seeds
+	 * 21..24, two episodes each */
+	double champ = 0, untrained = 0;
+	int episodes = 0;
+	for (int seed = 21; seed <= 24; seed++) {
+		int n1 = 0, n2 = 0;
+		rc = cli_capture(
+		    out, sizeof out,
+		    "%s run %s/Corridor/Tasks/Corridor-DEMO.simbatch "
+		    "-nog --seed %d --episodes 2",
+		    cli_evo, cli_tmp, seed);
+		CHECK_EQ_INT(rc, 0);
+		champ += mean_reward(out, &n1);
+		rc = cli_capture(
+		    out2, sizeof out2,
+		    "%s run %s/Corridor/Tasks/Corridor-DEMO.simbatch "
+		    "-nog --seed %d --episodes 2 --net Corridor=random",
+		    cli_evo, cli_tmp, seed);
+		CHECK_EQ_INT(rc, 0);
+		untrained += mean_reward(out2, &n2);
+		CHECK(n1 == 2 && n2 == 2);
+		episodes += n1;
+	}
+	champ /= 4;
+	untrained /= 4;
+	printf("  DEMOREMOTESIM over %d episodes: champion mean reward %.1f, "
+	       "untrained (random) networks %.1f\n",
+	       episodes, champ, untrained);
+	CHECK(champ > untrained + 20);
+	double secs;
+	CHECK_EQ_INT(sim_stop(&s, &secs), 0);
+	CHECK(secs < 1.0);
+}
+
 int main(void)
 {
 	if (cli_setup("corridor"))
@@ -719,6 +849,7 @@ int main(void)
 	RUN(python_encodes_every_message_as_evo_does);
 	RUN(demoremotesim_runs_to_the_goal_with_the_reward_the_simulator_logs);
 	RUN(the_simulator_repeats_answers_without_stepping_and_ignores_the_rest);
+	RUN(learnremotesim_trains_a_champion_better_than_untrained_networks);
 	cli_cleanup();
 	return test_summary();
 }
