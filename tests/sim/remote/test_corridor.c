@@ -351,12 +351,15 @@ TEST(python_encodes_every_message_as_evo_does)
 
 /* ---- DEMOREMOTESIM against the simulator ------------------------------- */
 
-/* minds/Corridor in the test's folder, its tasks on the test's URL. */
+/* minds/Corridor in the test's folder, its tasks on the test's URL. A
+ * learning run takes its only simulator as lost after REMOTETIMEOUT
+ * seconds of silence, and ends: 10 s, not 2, so that a busy machine
+ * stalling the simulator for a moment does not fail the test. */
 static void corridor_mind(void)
 {
 	cli_sh("[ -d %s/Corridor ] || (cp -r minds/Corridor %s/ && rm -rf "
 	       "%s/Corridor/Runs && for t in %s/Corridor/Tasks/*.simbatch; do "
-	       "printf 'LCMURL:%s\\n' >>$t; done)",
+	       "printf 'LCMURL:%s\\nREMOTETIMEOUT:10\\n' >>$t; done)",
 	       cli_tmp, cli_tmp, cli_tmp, cli_tmp, url);
 }
 
