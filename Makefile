@@ -98,11 +98,12 @@ help:
 
 deps:
 	@sh .ci/deps
-	@$(MAKE) --no-print-directory $(VENV_STAMP)
+	@$(MAKE) --no-print-directory -s $(VENV_STAMP)
 
 # Debian's python3 (not whatever `python3` is first on PATH), with the lcm
 # wheel pinned; the stamp names the version, so a new pin remakes it.
 $(VENV_STAMP):
+	@echo "deps: making $(VENV): $$(/usr/bin/python3 --version) with lcm $(PY_LCM_VERSION) from PyPI"
 	@rm -rf $(VENV)
 	/usr/bin/python3 -m venv $(VENV)
 	$(VENV)/bin/pip install --quiet --disable-pip-version-check --no-input \
