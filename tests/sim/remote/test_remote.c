@@ -532,13 +532,18 @@ TEST(waiting_for_no_remote_says_so_and_stops_on_sigterm)
 	remote_task(name, "REMOTETIMEOUT:0.2\n");
 	char cmd[1024], log[512];
 	snprintf(log, sizeof log, "%s/nobody.log", cli_tmp);
-	snprintf(cmd, sizeof cmd, "%s run %s/Avoid/Tasks/%s.simbatch -nog >%s 2>&1",
+	/* exec: the signal must reach evo, not a shell that would die of it
+	 * and leave evo waiting for ever */
+	snprintf(cmd, sizeof cmd,
+		 "exec %s run %s/Avoid/Tasks/%s.simbatch -nog >%s 2>&1",
 		 cli_evo, cli_tmp, name, log);
 	int st;
 	double secs;
 	CHECK_EQ_INT(cli_stop(cmd, log, "has answered", 0.3, SIGTERM, &st,
 			      &secs),
 		     0);
+	/* a stop while waiting ends the run as a stop ends a DEMOSIM: 0 */
+	CHECK(WIFEXITED(st) && WEXITSTATUS(st) == 0);
 	CHECK(secs < 1.0);
 	char *t = cli_read("%s", log);
 	CHECK(t && strstr(t, "no simulator named nobody-") &&
