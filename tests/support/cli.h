@@ -34,7 +34,8 @@ int cli_count_lines(const char *text, const char *prefix);
  * compared (free it), or NULL. */
 char *cli_fitness_log(const char *run_dir);
 
-/* Start `sh -c "exec CMD"` (SIGINT and SIGTERM at their defaults), wait
+/* Start `sh -c CMD` (SIGINT and SIGTERM at their defaults; CMD begins
+ * with `exec`, or the signal kills the shell and not the program), wait
  * until the file `ready` holds the text `mark` (at most 60 s), then
  * `delay` seconds more, send it signal sig and wait for it to end (at
  * most 10 s; then SIGKILL). Fills *status (as waitpid gives it) and
