@@ -41,11 +41,15 @@ LCM_GEN_OBJS := $(patsubst $(LCM_GEN)/%.c,$(BUILD)/obj/gen/lcm/%.o,$(LCM_GEN_SRC
 # (remotes/); generated at build time too, never committed.
 PY_GEN := $(BUILD)/gen/python
 # The Python that runs them and their tests' helpers: a virtual environment
-# of Debian's python3 with the `lcm` package from PyPI, made by `make deps`
-# (never installed into the system). One for every BUILD.
+# of Debian's python3 with the `lcm` package from PyPI, and python-can (with
+# pyserial, for its slcan interface), the independent CAN peer of
+# tests/sim/remote/test_can_peer.c, made by `make deps` (never installed into
+# the system). One for every BUILD.
 VENV ?= build/venv
 PY_LCM_VERSION := 1.5.3
-VENV_STAMP := $(VENV)/evo-lcm-$(PY_LCM_VERSION).stamp
+PY_CAN_VERSION := 4.6.1
+PY_SERIAL_VERSION := 3.5
+VENV_STAMP := $(VENV)/evo-lcm-$(PY_LCM_VERSION)-can-$(PY_CAN_VERSION).stamp
 CFLAGS_HOST := -std=c11 $(OPT) $(WARN) -Icore/include -Isim $(LUA_CFLAGS) $(SDL_CFLAGS) -isystem $(LCM_GEN) $(SAN) $(CFLAGS)
 CFLAGS_ALL := $(CFLAGS_HOST) -Itests
 LDFLAGS_ALL := $(SAN) $(LDFLAGS)
@@ -103,11 +107,12 @@ deps:
 # Debian's python3 (not whatever `python3` is first on PATH), with the lcm
 # wheel pinned; the stamp names the version, so a new pin remakes it.
 $(VENV_STAMP):
-	@echo "deps: making $(VENV): $$(/usr/bin/python3 --version) with lcm $(PY_LCM_VERSION) from PyPI"
+	@echo "deps: making $(VENV): $$(/usr/bin/python3 --version) with lcm $(PY_LCM_VERSION) and python-can $(PY_CAN_VERSION) from PyPI"
 	@rm -rf $(VENV)
 	/usr/bin/python3 -m venv $(VENV)
 	$(VENV)/bin/pip install --quiet --disable-pip-version-check --no-input \
-		--only-binary=:all: lcm==$(PY_LCM_VERSION)
+		--only-binary=:all: lcm==$(PY_LCM_VERSION) \
+		python-can==$(PY_CAN_VERSION) pyserial==$(PY_SERIAL_VERSION)
 	@touch $@
 
 $(BUILD)/obj/%.o: %.c
