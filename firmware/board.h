@@ -34,6 +34,15 @@ uint32_t board_millis(void);
  * boards have no motors: the commands go out only on the wire. */
 void board_actuate(const evo_q16 *commands, unsigned n);
 
+/* The flash of the mind slots, BOARD_FLASH_PAGE bytes a page, as NOR
+ * flash behaves: erase sets a whole page to 0xFF, programming a word only
+ * clears bits. Erase the page at addr (page-aligned); program the word at
+ * addr (4-byte aligned). Both wait until the flash is done: on a real part
+ * the core stalls meanwhile (docs/firmware.md, "Sending a mind"). */
+#define BOARD_FLASH_PAGE 1024u
+void board_flash_erase(uint32_t addr);
+void board_flash_write(uint32_t addr, uint32_t word);
+
 /* Stop with an exit status (under QEMU, the emulator's exit status). */
 __attribute__((noreturn)) void board_exit(int status);
 

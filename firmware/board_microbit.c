@@ -4,21 +4,21 @@
 
 const char board_name[] = "microbit (Cortex-M0)";
 
-#define CPU_HZ 16000000u
-#define UART 0x40002000u
-#define UART_IRQ 2u
-#define REG(off) (*(volatile uint32_t *)(UART + (off)))
+#define CPU_HZ	      16000000u
+#define UART	      0x40002000u
+#define UART_IRQ      2u
+#define REG(off)      (*(volatile uint32_t *)(UART + (off)))
 #define TASKS_STARTRX REG(0x000u)
 #define TASKS_STARTTX REG(0x008u)
 #define EVENTS_RXDRDY REG(0x108u)
 #define EVENTS_TXDRDY REG(0x11Cu)
 #define UART_INTENSET REG(0x304u)
 #define UART_INTENCLR REG(0x308u)
-#define UART_ENABLE REG(0x500u)
-#define UART_RXD REG(0x518u)
-#define UART_TXD REG(0x51Cu)
+#define UART_ENABLE   REG(0x500u)
+#define UART_RXD      REG(0x518u)
+#define UART_TXD      REG(0x51Cu)
 #define UART_BAUDRATE REG(0x524u)
-#define INT_RXDRDY 4u
+#define INT_RXDRDY    4u
 
 static board_ring rx;
 
@@ -86,6 +86,38 @@ void board_actuate(const evo_q16 *commands, unsigned n)
 {
 	(void)commands;
 	(void)n;
+}
+
+/* The NVMC programs and erases the nRF51's flash: CONFIG says which
+ * (1 write, 2 erase, 0 read only), READY when it is done. */
+#define NVMC	       0x4001E000u
+#define NVMC_READY     (*(volatile uint32_t *)(NVMC + 0x400u))
+#define NVMC_CONFIG    (*(volatile uint32_t *)(NVMC + 0x504u))
+#define NVMC_ERASEPAGE (*(volatile uint32_t *)(NVMC + 0x508u))
+
+static void nvmc_config(uint32_t mode)
+{
+	NVMC_CONFIG = mode;
+	while (!(NVMC_READY & 1u))
+		;
+}
+
+void board_flash_erase(uint32_t addr)
+{
+	nvmc_config(2u);
+	NVMC_ERASEPAGE = addr;
+	while (!(NVMC_READY & 1u))
+		;
+	nvmc_config(0u);
+}
+
+void board_flash_write(uint32_t addr, uint32_t word)
+{
+	nvmc_config(1u);
+	*(volatile uint32_t *)addr = word;
+	while (!(NVMC_READY & 1u))
+		;
+	nvmc_config(0u);
 }
 
 void board_exit(int status)

@@ -4,20 +4,20 @@
 
 const char board_name[] = "mps2-an385 (Cortex-M3)";
 
-#define CPU_HZ 25000000u
-#define UART0 0x40004000u
-#define UART_IRQ 0u
-#define UART_DATA (*(volatile uint32_t *)(UART0 + 0x000u))
-#define UART_STATE (*(volatile uint32_t *)(UART0 + 0x004u))
-#define UART_CTRL (*(volatile uint32_t *)(UART0 + 0x008u))
-#define UART_INTCLEAR (*(volatile uint32_t *)(UART0 + 0x00Cu))
-#define UART_BAUDDIV (*(volatile uint32_t *)(UART0 + 0x010u))
-#define STATE_TXFULL 1u
-#define STATE_RXFULL 2u
-#define CTRL_TX_EN 1u
-#define CTRL_RX_EN 2u
+#define CPU_HZ	       25000000u
+#define UART0	       0x40004000u
+#define UART_IRQ       0u
+#define UART_DATA      (*(volatile uint32_t *)(UART0 + 0x000u))
+#define UART_STATE     (*(volatile uint32_t *)(UART0 + 0x004u))
+#define UART_CTRL      (*(volatile uint32_t *)(UART0 + 0x008u))
+#define UART_INTCLEAR  (*(volatile uint32_t *)(UART0 + 0x00Cu))
+#define UART_BAUDDIV   (*(volatile uint32_t *)(UART0 + 0x010u))
+#define STATE_TXFULL   1u
+#define STATE_RXFULL   2u
+#define CTRL_TX_EN     1u
+#define CTRL_RX_EN     2u
 #define CTRL_RX_INT_EN 8u
-#define INT_RX 2u
+#define INT_RX	       2u
 
 static board_ring rx;
 
@@ -75,6 +75,24 @@ void board_actuate(const evo_q16 *commands, unsigned n)
 {
 	(void)commands;
 	(void)n;
+}
+
+/* QEMU's AN385 has SRAM where the STM32F103 this build stands for has
+ * flash, so a store writes it. The NOR rules are kept (erase to 0xFF,
+ * programming only clears bits) so that the firmware behaves as on the
+ * part, whose flash controller would be unlocked (FLASH_KEYR) and driven
+ * a page (PER) or a half-word (PG) at a time. */
+void board_flash_erase(uint32_t addr)
+{
+	volatile uint32_t *p = (volatile uint32_t *)addr;
+	for (unsigned i = 0; i < BOARD_FLASH_PAGE / 4u; i++)
+		p[i] = 0xFFFFFFFFu;
+}
+
+void board_flash_write(uint32_t addr, uint32_t word)
+{
+	volatile uint32_t *p = (volatile uint32_t *)addr;
+	*p &= word;
 }
 
 void board_exit(int status)

@@ -44,7 +44,7 @@ FW_LDFLAGS := -nostdlib -nostartfiles -Wl,--gc-sections -Lfirmware
 # What the firmware carries of core/: the MIND runtime, status.c for the
 # message that says why an image was refused, and wire.c, the CAN frames
 # and slcan lines it speaks (the host speaks them with the same code).
-FW_CORE_NAMES := $(sort $(CORE_RUNTIME) status wire)
+FW_CORE_NAMES := $(sort $(CORE_RUNTIME) status wire flash)
 FW_SRCS := main cortex_m mind_slot
 
 fw_core_objs = $(patsubst %,$(FW_BUILD)/$(1)/core/%.o,$(FW_CORE_NAMES))

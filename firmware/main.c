@@ -1,17 +1,21 @@
 /* The firmware's main loop: wait for a tick's sensor frames, step the
  * mind, send its actuator frames; when sensor frames stop for longer than
  * the link timeout, set every actuator to neutral until they come back.
+ * Meanwhile a new mind may arrive over the bus (evo flash): it is written
+ * into the mind slot the running mind does not use, and the firmware
+ * switches to it between two ticks once it is checked.
  *
- * The mind image is used in place where it lies in flash (the mind slot,
+ * The mind image is used in place where it lies in flash (a mind slot,
  * mind_slot.c); only its state is in RAM. The wire is docs/wire.md, the
  * exit statuses and log lines docs/firmware.md. */
 #include <stddef.h>
 #include <stdint.h>
 
 #include "board.h"
+#include "evo/flash.h"
 #include "evo/mind.h"
-#include "mind_slot.h"
 #include "evo/wire.h"
+#include "mind_slot.h"
 
 #ifndef FW_BOT
 #error "build with -DFW_BOT=\"bots/NAME.h\" (the robot's names)"
@@ -30,6 +34,23 @@
 #define FW_LINK_TIMEOUT_MS 100
 #endif
 
+/* 1: minds arrive over the bus (evo flash); 0: the firmware runs the mind
+ * it was built with only (make firmware-size builds both, to show what
+ * receiving a mind costs). */
+#ifndef FW_FLASH
+#define FW_FLASH 1
+#endif
+
+/* Milliseconds without a frame of a transfer before it is abandoned. */
+#ifndef FW_FLASH_TIMEOUT_MS
+#define FW_FLASH_TIMEOUT_MS 3000
+#endif
+
+/* Most segments of a transfer in flight that the robot grants. */
+#ifndef FW_FLASH_WINDOW
+#define FW_FLASH_WINDOW 32
+#endif
+
 /* Exit statuses (docs/firmware.md). */
 enum {
 	FW_EXIT_IMAGE_CORRUPT = 3,  /* not an image, truncated, CRC */
@@ -42,9 +63,9 @@ enum {
 static const char *const sensor_names[] = {FW_BOT_SENSORS 0};
 static const char *const actuator_names[] = {FW_BOT_ACTUATORS 0};
 static const char *const var_names[] = {FW_BOT_VARIABLES 0};
-#define N_SENSORS (sizeof sensor_names / sizeof *sensor_names - 1)
-#define N_ACTUATORS (sizeof actuator_names / sizeof *actuator_names - 1)
-#define N_VARS (sizeof var_names / sizeof *var_names - 1)
+#define N_SENSORS	(sizeof sensor_names / sizeof *sensor_names - 1)
+#define N_ACTUATORS	(sizeof actuator_names / sizeof *actuator_names - 1)
+#define N_VARS		(sizeof var_names / sizeof *var_names - 1)
 #define N_SENSOR_FRAMES ((N_SENSORS + 1) / 2)
 /* Every sensor frame of a tick, bit k for frame k. */
 #define ALL_SENSOR_FRAMES                                                      \
@@ -58,6 +79,11 @@ _Static_assert(N_SENSORS > 0 && N_ACTUATORS > 0, "a robot senses and acts");
 
 static _Alignas(8) uint8_t state_mem[FW_STATE_BYTES];
 static evo_q16 sensors[N_SENSORS], actuators[N_ACTUATORS];
+
+/* The running mind, its state, and the slot it lies in. */
+static evo_mind mind;
+static evo_state *state;
+static unsigned running_slot;
 
 /* ---- output --------------------------------------------------------- */
 
@@ -82,7 +108,7 @@ static void put_uint(uint32_t v)
 static void put_hex32(uint32_t v)
 {
 	for (int shift = 28; shift >= 0; shift -= 4)
-		board_putc((uint8_t)"0123456789abcdef"[(v >> shift) & 0xFu]);
+		board_putc((uint8_t) "0123456789abcdef"[(v >> shift) & 0xFu]);
 }
 
 static void send_frame(const evo_can_frame *f)
@@ -129,15 +155,15 @@ static int exit_status(evo_status st)
 	}
 }
 
-__attribute__((noreturn)) static void refuse(evo_status st,
-					     uint32_t names_hash)
+__attribute__((noreturn)) static void refuse(evo_status st, uint32_t names_hash)
 {
 	put_str("# evo firmware: mind image refused: ");
 	put_str(evo_status_str(st));
-	if (st == EVO_ERR_IMAGE_NAMES && fw_mind_slot_size() >= 20) {
-		/* The header's names hash is at byte 16 (docs/mind-image.md). */
+	if (st == EVO_ERR_IMAGE_NAMES) {
+		/* The header's names hash is at byte 16 (docs/mind-image.md).
+		 */
 		put_str(" (image built for names ");
-		put_hex32(evo_wire_get_u32(fw_mind_slot + 16));
+		put_hex32(evo_wire_get_u32(fw_slot[0] + 16));
 		put_str(", this robot's ");
 		put_str(FW_BOT_NAME);
 		put_str(" has ");
@@ -151,11 +177,11 @@ __attribute__((noreturn)) static void refuse(evo_status st,
 /* ---- the loop ------------------------------------------------------- */
 
 typedef struct link_state {
-	uint32_t last_ms;  /* when the last sensor or tick frame came */
+	uint32_t last_ms; /* when the last sensor or tick frame came */
 	uint32_t timeout_ms;
-	int up;		   /* sensor frames are coming */
-	uint64_t got;	   /* sensor frames received this tick, bit k */
-	uint64_t known;	   /* sensor frames received since the link came up */
+	int up;		    /* sensor frames are coming */
+	uint64_t got;	    /* sensor frames received this tick, bit k */
+	uint64_t known;	    /* sensor frames received since the link came up */
 	uint32_t last_tick; /* the last tick number received */
 	uint32_t ticks, incomplete, link_losses;
 	uint32_t bad[EVO_WIRE_BAD_COUNT];
@@ -194,8 +220,62 @@ static void go_neutral(link_state *l)
 	send_actuators(l->last_tick, EVO_WIRE_F_NEUTRAL);
 }
 
-static void on_frame(const evo_mind *m, evo_state *s, link_state *l,
-		     const evo_can_frame *f)
+/* "# mind NAME: image N bytes in flash at ADDR, state N bytes in RAM" */
+static void put_mind(void)
+{
+	put_str("# mind ");
+	put_str(evo_mind_skill_name(&mind, 0));
+	put_str(": image ");
+	put_uint(mind.length);
+	put_str(" bytes in flash at ");
+	put_hex32((uint32_t)(uintptr_t)fw_slot[running_slot]);
+	put_str(", state ");
+	put_uint((uint32_t)evo_state_size(&mind));
+	put_str(" bytes in RAM");
+}
+
+#if FW_FLASH
+static evo_flash_rx flash_rx;
+
+/* The receiver checked the new mind (CRC, image, state size): run it from
+ * the next tick on, with a fresh state, and tell the host. The old slot
+ * no longer boots and takes the next transfer. Between two ticks, so no
+ * tick is computed by half of each. */
+static void switch_mind(const link_state *l)
+{
+	unsigned old = running_slot;
+	mind = flash_rx.mind;
+	/* Cannot fail: the receiver checked the size against state_mem. */
+	evo_state_init(&mind, state_mem, sizeof state_mem, &state);
+	running_slot = 1u - old;
+	fw_slot_retire(old);
+	evo_flash_rx_target(&flash_rx, fw_slot[old], (uint32_t)fw_slot_size());
+	evo_can_frame reply;
+	evo_flash_rx_switched(&flash_rx, l->last_tick, &reply);
+	send_frame(&reply);
+	put_mind();
+	put_str("; from the tick after ");
+	put_uint(l->last_tick);
+	put_str("\r\n");
+}
+
+static void on_flash(const link_state *l, const evo_can_frame *f)
+{
+	evo_can_frame reply;
+	switch (evo_flash_rx_frame(&flash_rx, f, board_millis(), &reply)) {
+	case EVO_FLASH_RX_REPLY:
+		send_frame(&reply);
+		return;
+	case EVO_FLASH_RX_SWITCH:
+		switch_mind(l);
+		return;
+	default:
+		return;
+	}
+}
+#endif
+
+static void on_frame(link_state *l, const evo_can_frame *f)
 {
 	if (f->id >= EVO_WIRE_SENSOR &&
 	    f->id < EVO_WIRE_SENSOR + EVO_WIRE_SENSOR_FRAMES) {
@@ -230,7 +310,7 @@ static void on_frame(const evo_mind *m, evo_state *s, link_state *l,
 			send_actuators(l->last_tick, EVO_WIRE_F_INCOMPLETE);
 			return;
 		}
-		evo_mind_step(m, s, sensors, actuators);
+		evo_mind_step(&mind, state, sensors, actuators);
 		board_actuate(actuators, N_ACTUATORS);
 		l->ticks++;
 		send_actuators(l->last_tick, 0);
@@ -252,6 +332,13 @@ static void on_frame(const evo_mind *m, evo_state *s, link_state *l,
 		if (l->timeout_ms == 0)
 			l->timeout_ms = 1;
 		return;
+#if FW_FLASH
+	case EVO_FLASH_BEGIN:
+	case EVO_FLASH_DATA:
+	case EVO_FLASH_END:
+		on_flash(l, f);
+		return;
+#endif
 	default:
 		count_bad(l, EVO_WIRE_BAD_ID);
 		return;
@@ -267,16 +354,25 @@ int main(void)
 	put_str(FW_BOT_NAME);
 	put_str("\r\n");
 
-	uint32_t names_hash = evo_names_hash(sensor_names, N_SENSORS,
-					     actuator_names, N_ACTUATORS,
-					     var_names, N_VARS);
-	evo_mind m;
+	uint32_t names_hash =
+	    evo_names_hash(sensor_names, N_SENSORS, actuator_names, N_ACTUATORS,
+			   var_names, N_VARS);
+	/* The built-in slot's mind, unless evo flash has put a mind in the
+	 * other slot since, which then retired it (a slot that does not
+	 * open is skipped; both do only if the power failed between a switch
+	 * and the retiring). A refusal names the built-in slot's reason. */
 	evo_status st =
-		evo_mind_open(fw_mind_slot, fw_mind_slot_size(), names_hash,
-			      &m);
+	    evo_mind_open(fw_slot[0], fw_slot_size(), names_hash, &mind);
+#if FW_FLASH
+	if (st != EVO_OK && evo_mind_open(fw_slot[1], fw_slot_size(),
+					  names_hash, &mind) == EVO_OK) {
+		st = EVO_OK;
+		running_slot = 1;
+	}
+#endif
 	if (st != EVO_OK)
 		refuse(st, names_hash);
-	size_t need = evo_state_size(&m);
+	size_t need = evo_state_size(&mind);
 	if (need > sizeof state_mem) {
 		put_str("# evo firmware: the mind state needs ");
 		put_uint((uint32_t)need);
@@ -285,10 +381,17 @@ int main(void)
 		put_str(" (FW_STATE_BYTES)\r\n");
 		board_exit(FW_EXIT_NO_RAM);
 	}
-	evo_state *s;
-	st = evo_state_init(&m, state_mem, sizeof state_mem, &s);
+	st = evo_state_init(&mind, state_mem, sizeof state_mem, &state);
 	if (st != EVO_OK)
 		refuse(st, names_hash);
+#if FW_FLASH
+	evo_flash_rx_def def = {names_hash,	     sizeof state_mem,
+				FW_FLASH_TIMEOUT_MS, FW_FLASH_WINDOW,
+				fw_slot_write,	     &flash_rx};
+	evo_flash_rx_init(&flash_rx, &def);
+	evo_flash_rx_target(&flash_rx, fw_slot[1u - running_slot],
+			    (uint32_t)fw_slot_size());
+#endif
 
 	link_state l = {0};
 	l.timeout_ms = FW_LINK_TIMEOUT_MS;
@@ -296,13 +399,8 @@ int main(void)
 		actuators[a] = EVO_Q16_HALF;
 	board_actuate(actuators, N_ACTUATORS);
 
-	put_str("# mind ");
-	put_str(evo_mind_skill_name(&m, 0));
-	put_str(": image ");
-	put_uint(m.length);
-	put_str(" bytes in flash, state ");
-	put_uint((uint32_t)need);
-	put_str(" bytes in RAM; names ");
+	put_mind();
+	put_str("; names ");
 	put_hex32(names_hash);
 	put_str("; link timeout ");
 	put_uint(l.timeout_ms);
@@ -327,7 +425,7 @@ int main(void)
 			evo_wire_bad why;
 			switch (evo_slcan_rx_byte(&rx, (uint8_t)c, &f, &why)) {
 			case EVO_SLCAN_FRAME:
-				on_frame(&m, s, &l, &f);
+				on_frame(&l, &f);
 				break;
 			case EVO_SLCAN_BAD:
 				count_bad(&l, why);
@@ -336,6 +434,11 @@ int main(void)
 				break;
 			}
 		}
+#if FW_FLASH
+		if (evo_flash_rx_poll(&flash_rx, board_millis(), &f) ==
+		    EVO_FLASH_RX_REPLY)
+			send_frame(&f);
+#endif
 		/* Unsigned difference: right across the clock's wrap. */
 		if (l.up && board_millis() - l.last_ms > l.timeout_ms) {
 			l.up = 0;

@@ -7,6 +7,7 @@
 
 #include "base/fileio.h"
 #include "cmd/export_c.h"
+#include "cmd/flash.h"
 #include "cmd/run.h"
 #include "cmd/serve.h"
 #include "learn/learn.h"
@@ -42,7 +43,12 @@ static void usage(FILE *f)
 	      "             [-o FILE]\n"
 	      "      write the mind image (default MINDFOLDER/mind.bin), or\n"
 	      "      with --format c a C header of it for a firmware\n"
-	      "      (default MINDFOLDER/mind.h)\n",
+	      "      (default MINDFOLDER/mind.h)\n"
+	      "  evo flash MINDFOLDER|IMAGE.bin --can URL [--master SKILL]\n"
+	      "            [--window N] [--wait MS] [--tries N]\n"
+	      "      send the mind image to a robot's running firmware over\n"
+	      "      CAN; it switches to it between two ticks, or refuses it\n"
+	      "      and keeps its mind (docs/firmware.md)\n",
 	      f);
 }
 
@@ -201,6 +207,8 @@ int main(int argc, char **argv)
 		return evo_run_main(argc, argv);
 	if (strcmp(cmd, "serve") == 0)
 		return evo_serve_main(argc, argv);
+	if (strcmp(cmd, "flash") == 0)
+		return evo_flash_main(argc, argv);
 	/* The tutorial's command line: `evo TASK.simbatch` and
 	 * `evo -nog TASK.simbatch` are `evo run` with the same arguments. */
 	if (strcmp(cmd, "-nog") == 0 || strcmp(cmd, "--headless") == 0 ||

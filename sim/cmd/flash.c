@@ -1,0 +1,285 @@
+/* `evo flash`: a mind image to a running robot over CAN (cmd/flash.h). */
+#define _POSIX_C_SOURCE 200809L
+#include "cmd/flash.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+#include "base/fileio.h"
+#include "evo/flash.h"
+#include "evo/mind.h"
+#include "mind/mindfolder.h"
+#include "remote/can.h"
+
+static double now_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static int usage(void)
+{
+	fputs("usage: evo flash MINDFOLDER|IMAGE.bin --can URL [--master "
+	      "SKILL]\n"
+	      "                 [--window N] [--wait MS] [--tries N]\n"
+	      "  send the mind image to the robot's running firmware; URL is\n"
+	      "  socketcan:IFACE, slcan:DEVICE, cannelloni:HOST:PORT, ...\n"
+	      "  (docs/can.md)\n",
+	      stderr);
+	return 2;
+}
+
+static int whole(const char *opt, const char *v, long lo, long hi, long *out)
+{
+	char *end;
+	long n = strtol(v, &end, 10);
+	if (!*v || *end || n < lo || n > hi) {
+		fprintf(stderr,
+			"evo flash: %s expects a whole number from %ld to %ld, "
+			"found '%s'\n",
+			opt, lo, hi, v);
+		return -1;
+	}
+	*out = n;
+	return 0;
+}
+
+/* Why the robot refused, with what the reply's detail says. */
+static void print_refusal(const evo_flash_tx *t, uint32_t image_names)
+{
+	fprintf(stderr, "evo flash: the robot refused the image: %s",
+		evo_flash_reason_str(t->reason));
+	uint32_t d = t->detail;
+	switch (t->reason) {
+	case EVO_FLASH_ERR_VERSION:
+		fprintf(stderr, " (it speaks version %u, evo flash %u)", d,
+			EVO_FLASH_VERSION);
+		break;
+	case EVO_FLASH_ERR_SIZE:
+		fprintf(stderr, " (the image has %u bytes, the slot %u)",
+			t->length, d);
+		break;
+	case EVO_FLASH_ERR_NAMES:
+		fprintf(stderr,
+			" (the image's names hash %08x, the robot's %08x)",
+			image_names, d);
+		break;
+	case EVO_FLASH_ERR_INCOMPLETE:
+		fprintf(stderr, " (%u of %u segments)", d, t->total);
+		break;
+	case EVO_FLASH_ERR_CRC:
+		fprintf(stderr, " (the robot's %08x, the image's %08x)", d,
+			t->crc);
+		break;
+	case EVO_FLASH_ERR_IMAGE:
+		fprintf(stderr, ": %s", evo_status_str((evo_status)d));
+		break;
+	case EVO_FLASH_ERR_STATE:
+		fprintf(stderr, " (%u bytes)", d);
+		break;
+	case EVO_FLASH_ERR_WRITE:
+		fprintf(stderr, " (at byte %u)", d);
+		break;
+	case EVO_FLASH_ERR_TIMEOUT:
+		fprintf(stderr, " (%u ms)", d);
+		break;
+	default:
+		break;
+	}
+	fprintf(stderr, "; it keeps running the mind it had\n");
+}
+
+/* The image to send: a mind folder's, or an image file checked as the
+ * robot will check it (but for the names, which only the robot knows). */
+static int load_image(const char *path, const char *master, uint8_t **image,
+		      size_t *len, char *name, size_t cap)
+{
+	evo_err err = {{0}};
+	struct stat st;
+	if (stat(path, &st) == 0 && S_ISREG(st.st_mode)) {
+		char *data;
+		if (evo_read_file(path, &data, len, &err) != 0) {
+			fprintf(stderr, "%s\n", err.msg);
+			return -1;
+		}
+		/* evo_mind_open needs 4-byte alignment: malloc gives it */
+		uint8_t *img = malloc(*len ? *len : 1);
+		if (!img) {
+			free(data);
+			fprintf(stderr, "evo flash: out of memory\n");
+			return -1;
+		}
+		memcpy(img, data, *len);
+		free(data);
+		evo_mind m;
+		evo_status s =
+		    *len >= 20 ? evo_mind_open(img, *len,
+					       evo_wire_get_u32(img + 16), &m)
+			       : EVO_ERR_IMAGE_LENGTH;
+		if (s != EVO_OK) {
+			fprintf(stderr, "evo flash: %s: not sent: %s\n", path,
+				evo_status_str(s));
+			free(img);
+			return -1;
+		}
+		snprintf(name, cap, "%s", evo_mind_skill_name(&m, 0));
+		*image = img;
+		return 0;
+	}
+	evo_mindfolder_opts opts = {0};
+	opts.master = master;
+	evo_mindfolder *l = evo_mindfolder_load(path, &opts, &err);
+	if (!l) {
+		fprintf(stderr, "%s\n", err.msg);
+		return -1;
+	}
+	*image = malloc(l->image_len);
+	if (!*image) {
+		evo_mindfolder_free(l);
+		fprintf(stderr, "evo flash: out of memory\n");
+		return -1;
+	}
+	memcpy(*image, l->image, l->image_len);
+	*len = l->image_len;
+	snprintf(name, cap, "%s", evo_mind_skill_name(&l->mind, 0));
+	evo_mindfolder_free(l);
+	return 0;
+}
+
+int evo_flash_main(int argc, char **argv)
+{
+	if (argc < 3)
+		return usage();
+	const char *path = argv[2], *url = NULL, *master = NULL;
+	long window = 16, wait_ms = 1000, tries = 5;
+	for (int i = 3; i < argc; i++) {
+		const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+		if (!v) {
+			fprintf(stderr, "evo flash: %s needs a value\n", a);
+			return usage();
+		}
+		i++;
+		if (strcmp(a, "--can") == 0)
+			url = v;
+		else if (strcmp(a, "--master") == 0)
+			master = v;
+		else if (strcmp(a, "--window") == 0) {
+			if (whole(a, v, 1, EVO_FLASH_WINDOW_MAX, &window))
+				return 2;
+		} else if (strcmp(a, "--wait") == 0) {
+			if (whole(a, v, 10, 600000, &wait_ms))
+				return 2;
+		} else if (strcmp(a, "--tries") == 0) {
+			if (whole(a, v, 1, 1000, &tries))
+				return 2;
+		} else {
+			fprintf(stderr, "evo flash: unexpected argument '%s'\n",
+				a);
+			return usage();
+		}
+	}
+	if (!url) {
+		fprintf(stderr, "evo flash: --can URL is required: the bus the "
+				"robot is on (docs/can.md)\n");
+		return usage();
+	}
+	uint8_t *image;
+	size_t len;
+	char name[128];
+	if (load_image(path, master, &image, &len, name, sizeof name) != 0)
+		return 1;
+	if (len > EVO_FLASH_LENGTH_MAX || len % 4) {
+		fprintf(stderr,
+			"evo flash: %s: the image has %zu bytes; a transfer "
+			"carries a multiple of 4 up to %u\n",
+			path, len, EVO_FLASH_LENGTH_MAX);
+		free(image);
+		return 1;
+	}
+	evo_err err = {{0}};
+	evo_can *c = evo_can_open(url, &err);
+	if (!c) {
+		fprintf(stderr, "evo flash: %s\n", err.msg);
+		free(image);
+		return 1;
+	}
+	if (evo_can_pty_name(c))
+		printf("evo flash: the robot's serial line is %s\n",
+		       evo_can_pty_name(c));
+	evo_flash_tx t;
+	evo_flash_tx_init(&t, image, (uint32_t)len, (unsigned)window);
+	uint32_t names = evo_wire_get_u32(image + 16);
+	printf("evo flash: mind %s, image %zu bytes in %u segments, to %s\n",
+	       name, len, t.total, url);
+	fflush(stdout);
+
+	/* Send what the sender has, read replies; a try that brings no
+	 * progress for wait_ms sends again what is not acknowledged, and
+	 * `tries` of them in a row end it. */
+	int rc = 1;
+	double t0 = now_s(), try_start = t0;
+	uint32_t progress = t.progress;
+	long failed = 0;
+	while (t.stage != EVO_FLASH_TX_FINISHED) {
+		evo_can_frame f;
+		while (evo_flash_tx_next(&t, &f))
+			if (evo_can_send(c, &f, &err) != 0) {
+				fprintf(stderr, "evo flash: %s\n", err.msg);
+				goto out;
+			}
+		int r = evo_can_recv(c, 20, &f, &err);
+		if (r < 0) {
+			fprintf(stderr, "evo flash: %s\n", err.msg);
+			goto out;
+		}
+		if (r == 1)
+			evo_flash_tx_reply(&t, &f);
+		double now = now_s();
+		if (t.progress != progress) {
+			progress = t.progress;
+			failed = 0;
+			try_start = now;
+			continue;
+		}
+		if ((now - try_start) * 1000.0 < (double)wait_ms)
+			continue;
+		if (++failed >= tries) {
+			if (t.stage == EVO_FLASH_TX_BEGIN)
+				fprintf(stderr,
+					"evo flash: no answer from the robot "
+					"on %s (%ld tries of %ld ms): is it on "
+					"the bus, and does its firmware take "
+					"minds over it?\n",
+					url, tries, wait_ms);
+			else
+				fprintf(stderr,
+					"evo flash: the robot stopped "
+					"answering after %u of %u segments "
+					"(%ld tries of %ld ms): the transfer "
+					"did not finish; the robot abandons "
+					"it after its own timeout and keeps "
+					"running the mind it had\n",
+					t.acked, t.total, tries, wait_ms);
+			goto out;
+		}
+		evo_flash_tx_timeout(&t);
+		try_start = now;
+	}
+	if (t.kind == EVO_FLASH_DONE) {
+		printf("evo flash: the robot runs mind %s from the tick after "
+		       "%u (%u frames sent, %u segments sent again, %.2f s)\n",
+		       name, t.detail, t.frames, t.resent_segments,
+		       now_s() - t0);
+		rc = 0;
+	} else {
+		print_refusal(&t, names);
+	}
+out:
+	evo_can_close(c);
+	free(image);
+	return rc;
+}
