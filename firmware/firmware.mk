@@ -70,6 +70,26 @@ $(FW_BUILD)/mind/other.bin: $(FW_EVO) $(FW_OTHER_FILES)
 	@mkdir -p $(dir $@)
 	$(FW_EVO) export $(FW_OTHER_MIND) -o $@
 
+# A newly trained mind for the same robot, which the firmware test sends
+# to the running firmware with evo flash: the mind folder copied, and its
+# NEAT task run for two short generations (a few seconds), which saves a
+# champion into the copy. Its own trace is what the firmware must give
+# from the switch on.
+FW_NEW := $(FW_BUILD)/mind/new
+FW_NEW_MIND := $(FW_NEW)/$(notdir $(FW_MIND))
+FW_NEW_TASK ?= $(FW_MIND)/Tasks/Collect-NEAT.simbatch
+FW_NEW_TRACE_TICKS ?= 600
+$(FW_NEW)/stamp: $(FW_EVO) $(FW_MIND_FILES) $(FW_NEW_TASK)
+	rm -rf $(FW_NEW) && mkdir -p $(FW_NEW) && cp -r $(FW_MIND) $(FW_NEW_MIND)
+	sed 's/^NUMGEN:.*/NUMGEN:2 EVALREP:1 TICKLIM:300 POPSIZE:30/' $(FW_NEW_TASK) \
+		> $(FW_NEW_MIND)/Tasks/flash-train.simbatch
+	$(FW_EVO) run $(FW_NEW_MIND)/Tasks/flash-train.simbatch --seed 5 \
+		--run $(FW_NEW)/run > $(FW_NEW)/train.log
+	@touch $@
+$(FW_BUILD)/mind/new.trace: $(FW_NEW)/stamp $(FW_TASK)
+	$(FW_EVO) run $(FW_NEW_MIND)/Tasks/$(notdir $(FW_TASK)) --headless \
+		--ticks $(FW_NEW_TRACE_TICKS) --trace $@
+
 # The trace the firmware must reproduce, byte for byte.
 $(FW_BUILD)/mind/run.trace: $(FW_EVO) $(FW_MIND_FILES) $(FW_TASK)
 	@mkdir -p $(dir $@)
@@ -116,11 +136,15 @@ FW_HOST_CFLAGS := -std=c11 $(OPT) $(WARN) -Icore/include -Ifirmware -Itests $(SA
 FW_HOST_HDRS := firmware/host/qemu_session.h firmware/host/trace_file.h \
 	core/include/evo/wire.h
 # core/src/hash.c: the CRC-32 a test repairs after patching an image.
+# The host's CAN transports (sim/remote/can.c): the test is the slcan
+# adapter evo flash talks to, on a pseudo-terminal.
 FW_TEST_SRCS := tests/firmware/firmware_test.c firmware/host/qemu_session.c \
-	firmware/host/trace_file.c core/src/wire.c core/src/hash.c
-$(FW_BUILD)/firmware_test: $(FW_TEST_SRCS) $(FW_HOST_HDRS) tests/harness.h
+	firmware/host/trace_file.c core/src/wire.c core/src/hash.c \
+	sim/remote/can.c sim/remote/can_format.c sim/base/err.c
+$(FW_BUILD)/firmware_test: $(FW_TEST_SRCS) $(FW_HOST_HDRS) tests/harness.h \
+		core/include/evo/flash.h sim/remote/can.h
 	@mkdir -p $(dir $@)
-	$(CC) $(FW_HOST_CFLAGS) -o $@ $(FW_TEST_SRCS)
+	$(CC) $(FW_HOST_CFLAGS) -Isim -o $@ $(FW_TEST_SRCS)
 
 # Counts the instructions QEMU executes in an address range (TCG plugin).
 $(FW_BUILD)/insn_count.so: firmware/qemu/insn_count.c firmware/qemu/qemu_plugin_api.h
@@ -145,13 +169,20 @@ $(BUILD)/bench/bench_firmware: $(FW_BUILD)/host/bench_firmware.o $(FW_HOST_OBJS)
 # ---- the targets -----------------------------------------------------------
 FW_TEST_INPUTS := $(foreach c,$(FW_CORES),$(FW_BUILD)/evo-$(c).elf) \
 	$(FW_BUILD)/firmware_test $(FW_BUILD)/mind/mind.bin \
-	$(FW_BUILD)/mind/other.bin $(FW_BUILD)/mind/run.trace
+	$(FW_BUILD)/mind/other.bin $(FW_BUILD)/mind/run.trace \
+	$(FW_BUILD)/mind/new.trace
+# Where the flash tests cut and corrupt a transfer: a new seed each run,
+# printed, so that a failure can be run again (FW_TEST_SEED=N).
+FW_TEST_SEED ?= $(shell date +%s)
 
 firmware-test: $(FW_TEST_INPUTS)
 	timeout -k 5 $(FW_TEST_TIMEOUT) $(FW_BUILD)/firmware_test \
 		--qemu $(QEMU_ARM) --objcopy $(ARM_OBJCOPY) \
 		--trace $(FW_BUILD)/mind/run.trace --image $(FW_BUILD)/mind/mind.bin \
 		--other-image $(FW_BUILD)/mind/other.bin --tmp $(FW_BUILD)/test \
+		--evo $(FW_EVO) --new-mind $(FW_NEW_MIND) \
+		--new-trace $(FW_BUILD)/mind/new.trace --other-mind $(FW_OTHER_MIND) \
+		--seed $(FW_TEST_SEED) \
 		$(foreach c,$(FW_CORES),--firmware $(FW_MACHINE_$(c))=$(FW_BUILD)/evo-$(c).elf)
 
 # Per core: the firmware without its mind slot (the slot is flash kept for

@@ -7,14 +7,23 @@
  *   - a tick with a sensor frame missing is not stepped;
  *   - a corrupt image, one built for another botdesc, one with a network
  *     weight out of range, and an empty mind slot are refused, with the
- *     reason and a distinct exit status.
+ *     reason and a distinct exit status;
+ *   - `evo flash` puts a newly trained mind onto the running firmware
+ *     between two ticks: every actuator value equals the old mind's trace
+ *     before the switch and the new mind's after it; a lost frame is sent
+ *     again; a transfer cut at a random frame, a corrupted segment and
+ *     another robot's image leave the old mind ticking, and evo flash
+ *     says why.
  * Ends with "N passed, N failed"; exits non-zero on a failure.
  *
  * usage: firmware_test --qemu QEMU --objcopy OBJCOPY --trace TRACE
  *        --image MIND.bin --other-image OTHER.bin --tmp DIR
- *        --firmware MACHINE=ELF [--firmware MACHINE=ELF ...] */
+ *        --evo EVO --new-mind DIR --new-trace TRACE --other-mind DIR
+ *        --seed N --firmware MACHINE=ELF [--firmware MACHINE=ELF ...] */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
+#include <fcntl.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,24 +31,28 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "evo/flash.h"
 #include "evo/image.h"
 #include "evo/net.h"
 #include "harness.h"
 #include "host/qemu_session.h"
 #include "host/trace_file.h"
+#include "remote/can.h"
 
-#define SLOT_BYTES 8192 /* the MIND region of firmware/m0.ld and m3.ld */
-#define EXIT_IMAGE_CORRUPT 3
+#define SLOT_BYTES	    8192 /* the MIND region of firmware/m0.ld and m3.ld */
+#define EXIT_IMAGE_CORRUPT  3
 #define EXIT_IMAGE_MISMATCH 4
-#define EXIT_IMAGE_INVALID 5
+#define EXIT_IMAGE_INVALID  5
 
 static struct {
 	const char *qemu, *objcopy, *trace_path, *image, *other_image, *tmp;
+	const char *evo, *new_mind, *new_trace, *other_mind;
+	unsigned long seed;
 	const char *machine[4], *elf[4];
 	unsigned n_fw;
 } opt;
 
-static trace_file trace;
+static trace_file trace, new_trace;
 static const char *machine, *elf; /* the firmware under test */
 
 /* ---- helpers ---------------------------------------------------------- */
@@ -80,9 +93,9 @@ static uint32_t wait_hello(qemu_session *q)
 			continue;
 		printf("  waiting for HELLO: got %s%s\n",
 		       r == QS_TIMEOUT ? "nothing within 10 s"
-		       : r == QS_EXIT	? "the guest's exit"
-		       : r == QS_JUNK	? "the line "
-					: "another frame",
+		       : r == QS_EXIT  ? "the guest's exit"
+		       : r == QS_JUNK  ? "the line "
+				       : "another frame",
 		       r == QS_JUNK ? line : "");
 		return 0;
 	}
@@ -122,8 +135,8 @@ static int read_reply(qemu_session *q, double timeout_s, reply *r)
 		if (k != QS_FRAME) {
 			printf("  waiting for actuator frames: %s %s\n",
 			       k == QS_TIMEOUT ? "nothing came"
-			       : k == QS_EXIT	? "the guest stopped"
-						: "junk:",
+			       : k == QS_EXIT  ? "the guest stopped"
+					       : "junk:",
 			       k == QS_JUNK ? line : "");
 			return 0;
 		}
@@ -174,7 +187,8 @@ static long replay(qemu_session *q, size_t from, size_t to, unsigned window)
 			if (r.value[a] != want[a] && differ++ < 5)
 				printf("  tick %u actuator %u: firmware %d, "
 				       "trace %d\n",
-				       trace.tick[done], a, r.value[a], want[a]);
+				       trace.tick[done], a, r.value[a],
+				       want[a]);
 		done++;
 	}
 	return differ;
@@ -362,27 +376,26 @@ TEST(incomplete_tick_is_not_stepped)
 TEST(malformed_lines_are_counted_and_ignored)
 {
 	static const char *const lines[] = {
-		/* overlong: 2 */
-		"t100800000100000001000000000000000000000000000000000\r",
-		"xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx\n",
-		/* syntax: 5 */
-		"t10080000G00000001000\r", /* G is not hex */
-		"T123456780\r",	     /* extended frames: unused */
-		"r1000\r",			/* remote frames: unused */
-		"O\r",				/* adapter commands: not here */
-		"\x01\xff\x80 t1008\r",
-		/* bad length: 6 */
-		"t10080000010000\r",	       /* DLC 8, 4 bytes */
-		"t10090000010000000100\r", /* DLC 9 */
-		"t100400000100\r", /* sensor frame 0 carries 2 values */
-		"t140100\r",	   /* a tick number is 4 bytes */
-		"t1",		   /* too short (ended by the next line) */
-		"\rt1C101\r", /* a status request has no data */
-		/* unknown id: 4 */
-		"t7FF0\r",
-		"t1800\r",	       /* actuator frames go the other way */
-		"t10A80000010000000100\r", /* sensors 20, 21: Collect has 20 */
-		"t8000\r", /* beyond 11 bits */
+	    /* overlong: 2 */
+	    "t100800000100000001000000000000000000000000000000000\r",
+	    "xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx\n",
+	    /* syntax: 5 */
+	    "t10080000G00000001000\r", /* G is not hex */
+	    "T123456780\r",	       /* extended frames: unused */
+	    "r1000\r",		       /* remote frames: unused */
+	    "O\r",		       /* adapter commands: not here */
+	    "\x01\xff\x80 t1008\r",
+	    /* bad length: 6 */
+	    "t10080000010000\r",       /* DLC 8, 4 bytes */
+	    "t10090000010000000100\r", /* DLC 9 */
+	    "t100400000100\r",	       /* sensor frame 0 carries 2 values */
+	    "t140100\r",	       /* a tick number is 4 bytes */
+	    "t1",		       /* too short (ended by the next line) */
+	    "\rt1C101\r",	       /* a status request has no data */
+	    /* unknown id: 4 */
+	    "t7FF0\r", "t1800\r",      /* actuator frames go the other way */
+	    "t10A80000010000000100\r", /* sensors 20, 21: Collect has 20 */
+	    "t8000\r",		       /* beyond 11 bits */
 	};
 	const unsigned want[EVO_WIRE_BAD_COUNT] = {2, 5, 6, 4};
 	qemu_session q;
@@ -435,8 +448,7 @@ TEST(malformed_lines_are_counted_and_ignored)
 	CHECK(total > 100);
 	/* Still ticking as the host does. */
 	CHECK_EQ_INT(replay(&q, 0, 20, 1), 0);
-	printf("  %s: %u garbage lines counted and ignored\n", machine,
-	       total);
+	printf("  %s: %u garbage lines counted and ignored\n", machine, total);
 	qs_stop(&q);
 }
 
@@ -580,14 +592,361 @@ TEST(empty_slot_is_refused)
 		       EXIT_IMAGE_CORRUPT);
 }
 
+/* ---- evo flash -------------------------------------------------------- */
+
+/* One run of `evo flash` against the firmware while the driver ticks it.
+ * The driver is the bus: it is the slcan adapter evo flash opens (a
+ * pseudo-terminal, as a CANable is a serial device), passes evo flash's
+ * frames to the firmware between two ticks (losing, cutting or damaging
+ * one on demand) and the firmware's replies back. The driver plays the
+ * world from the old mind's trace until the firmware says it switched,
+ * then from the new mind's trace, from its first tick: so every tick
+ * checks that the mind the firmware runs is the one it said. */
+typedef struct flash_run {
+	const char *what; /* evo flash's first argument */
+	long cut_at;	  /* frames of the transfer from this one on lost */
+	long drop_at;	  /* this frame of the transfer lost */
+	long corrupt_at;  /* this frame of the transfer: a bit flipped */
+	/* results */
+	int status;	    /* evo flash's exit status */
+	char out[4096];	    /* what it printed */
+	int switched;	    /* the firmware said DONE */
+	uint32_t done_tick; /* the tick it named */
+	size_t old_ticks, new_ticks, frames;
+	double max_gap; /* longest wait for a tick's reply, s */
+} flash_run;
+
+static void flash_run_init(flash_run *fr, const char *what)
+{
+	memset(fr, 0, sizeof *fr);
+	fr->what = what;
+	fr->cut_at = fr->drop_at = fr->corrupt_at = -1;
+}
+
+/* The next reply, passing the firmware's flash replies on to evo flash. */
+static int read_reply_passing(qemu_session *q, evo_can *bus, double timeout_s,
+			      reply *r, flash_run *fr)
+{
+	evo_can_frame f;
+	char line[512];
+	evo_err err;
+	memset(r, 0, sizeof *r);
+	for (;;) {
+		int k = qs_next(q, timeout_s, &f, line, sizeof line);
+		if (k == QS_LOG)
+			continue;
+		if (k != QS_FRAME) {
+			printf("  waiting for actuator frames: %s %s\n",
+			       k == QS_TIMEOUT ? "nothing came"
+			       : k == QS_EXIT  ? "the guest stopped"
+					       : "junk:",
+			       k == QS_JUNK ? line : "");
+			return 0;
+		}
+		if (f.id == EVO_FLASH_REPLY) {
+			if (f.len == 8 && f.data[0] == EVO_FLASH_DONE) {
+				fr->switched = 1;
+				fr->done_tick = evo_wire_get_u32(f.data + 4);
+			}
+			if (evo_can_send(bus, &f, &err) != 0)
+				printf("  to evo flash: %s\n", err.msg);
+			continue;
+		}
+		if (f.id == EVO_WIRE_TICKED && f.len == 5) {
+			r->tick = evo_wire_get_u32(f.data);
+			r->flags = f.data[4];
+			return 1;
+		}
+		int a = evo_wire_unpack(EVO_WIRE_ACTUATOR, &f, r->value,
+					trace.n_actuators);
+		if (a < 0) {
+			printf("  unexpected frame id 0x%03x len %u\n", f.id,
+			       f.len);
+			return 0;
+		}
+		r->got |= 1u << a;
+	}
+}
+
+/* Start evo flash on the pseudo-terminal dev, its output to a file. */
+static pid_t spawn_flash(const flash_run *fr, const char *dev, char *outpath,
+			 size_t cap)
+{
+	char url[300];
+	snprintf(url, sizeof url, "slcan:%s", dev);
+	snprintf(outpath, cap, "%s/%s-flash.out", opt.tmp, machine);
+	fflush(stdout);
+	pid_t pid = fork();
+	if (pid == 0) {
+		int fd = open(outpath, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+		if (fd < 0)
+			_exit(127);
+		dup2(fd, 1);
+		dup2(fd, 2);
+		execl(opt.evo, opt.evo, "flash", fr->what, "--can", url,
+		      (char *)NULL);
+		_exit(127);
+	}
+	return pid;
+}
+
+/* Tick the firmware through one evo flash, and 40 ticks after it ended.
+ * Returns the actuator values that differ from the traces, or -1 when
+ * the run could not go on (printed). */
+static long flash_while_ticking(flash_run *fr)
+{
+	qemu_session q;
+	if (start_ready(&q, 120.0) != 0)
+		return -1;
+	evo_err err;
+	evo_can *bus = evo_can_open("slcan-pty:", &err);
+	if (!bus) {
+		printf("  %s\n", err.msg);
+		qs_stop(&q);
+		return -1;
+	}
+	char outpath[600];
+	pid_t pid =
+	    spawn_flash(fr, evo_can_pty_name(bus), outpath, sizeof outpath);
+	long differ = 0, after = 0;
+	int exited = 0, st = 0;
+	reply r;
+	while (after < 40) {
+		/* What evo flash sent, to the firmware, between two ticks. */
+		evo_can_frame f;
+		int end_sent = 0;
+		while (evo_can_recv(bus, 0, &f, &err) == 1) {
+			if (f.id < EVO_FLASH_BEGIN || f.id > EVO_FLASH_END)
+				continue;
+			long k = (long)fr->frames++;
+			if ((fr->cut_at >= 0 && k >= fr->cut_at) ||
+			    k == fr->drop_at)
+				continue;
+			if (k == fr->corrupt_at && f.len > 1)
+				f.data[f.len - 1] ^= 0x10;
+			qs_queue_frame(&q, &f);
+			end_sent |= f.id == EVO_FLASH_END;
+		}
+		/* The answer to an END before the next tick: the world the
+		 * driver plays must be the one of the mind that runs. */
+		while (end_sent && !fr->switched) {
+			evo_can_frame g;
+			char line[512];
+			int k = qs_next(&q, 5.0, &g, line, sizeof line);
+			if (k == QS_LOG)
+				continue;
+			if (k != QS_FRAME || g.id != EVO_FLASH_REPLY) {
+				printf("  no answer to END\n");
+				differ = -1;
+				goto out;
+			}
+			if (g.data[0] == EVO_FLASH_DONE) {
+				fr->switched = 1;
+				fr->done_tick = evo_wire_get_u32(g.data + 4);
+			}
+			evo_can_send(bus, &g, &err);
+			if (g.data[0] == EVO_FLASH_DONE ||
+			    g.data[0] == EVO_FLASH_REFUSED)
+				break;
+		}
+		if (!exited && waitpid(pid, &st, WNOHANG) == pid)
+			exited = 1;
+		if (exited)
+			after++;
+		const trace_file *t = fr->switched ? &new_trace : &trace;
+		size_t i = fr->switched ? fr->new_ticks : fr->old_ticks;
+		if (i >= t->n_ticks || qs_now() > q.deadline) {
+			printf("  evo flash still running after %zu ticks\n",
+			       fr->old_ticks + fr->new_ticks);
+			differ = -1;
+			goto out;
+		}
+		qs_queue_trace_tick(&q, t, i, i == 0);
+		double t0 = qs_now();
+		if (!read_reply_passing(&q, bus, 5.0, &r, fr)) {
+			differ = -1;
+			goto out;
+		}
+		if (qs_now() - t0 > fr->max_gap)
+			fr->max_gap = qs_now() - t0;
+		if (r.tick != t->tick[i] || r.flags != 0 ||
+		    r.got != all_actuator_frames()) {
+			printf("  tick %u of the %s trace: reply for tick %u, "
+			       "flags %u, frames 0x%x\n",
+			       t->tick[i], fr->switched ? "new" : "old", r.tick,
+			       r.flags, r.got);
+			differ = -1;
+			goto out;
+		}
+		const int32_t *want = t->actuator + i * t->n_actuators;
+		for (unsigned a = 0; a < t->n_actuators; a++)
+			if (r.value[a] != want[a] && differ++ < 5)
+				printf("  %s tick %u actuator %u: firmware %d, "
+				       "trace %d\n",
+				       fr->switched ? "new" : "old", t->tick[i],
+				       a, r.value[a], want[a]);
+		if (fr->switched)
+			fr->new_ticks++;
+		else
+			fr->old_ticks++;
+	}
+	/* Every tick stepped, none incomplete, no link lost, no line
+	 * refused: the transfer took nothing from the ticks. */
+	status sts;
+	memset(&sts, 0xff, sizeof sts);
+	CHECK(read_status(&q, &sts) == 0);
+	CHECK_EQ_INT(sts.ticks, fr->old_ticks + fr->new_ticks);
+	CHECK_EQ_INT(sts.incomplete, 0);
+	CHECK_EQ_INT(sts.losses, 0);
+	for (unsigned b = 0; b < EVO_WIRE_BAD_COUNT; b++)
+		CHECK_EQ_INT(sts.bad[b], 0);
+out:
+	if (!exited) {
+		kill(pid, SIGKILL);
+		waitpid(pid, &st, 0);
+	}
+	fr->status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+	FILE *o = fopen(outpath, "r");
+	size_t n = o ? fread(fr->out, 1, sizeof fr->out - 1, o) : 0;
+	fr->out[n] = 0;
+	if (o)
+		fclose(o);
+	evo_can_close(bus);
+	qs_stop(&q);
+	return differ;
+}
+
+/* A frame of the transfer, chosen from the run's seed: [lo, hi]. */
+static long seeded_frame(unsigned salt, long lo, long hi)
+{
+	uint64_t x = (opt.seed + salt) * 0x9E3779B97F4A7C15u;
+	x ^= x >> 29;
+	return lo + (long)(x % (uint64_t)(hi - lo + 1));
+}
+
+/* Frames of a whole transfer of the new mind (BEGIN, segments, END), as
+ * the first flash test counted them. */
+static long transfer_frames = 100;
+
+/* Acceptance: the new mind from the switch on, the old one before. */
+TEST(flash_switches_between_ticks)
+{
+	flash_run fr;
+	flash_run_init(&fr, opt.new_mind);
+	long differ = flash_while_ticking(&fr);
+	CHECK_EQ_INT(differ, 0);
+	CHECK_EQ_INT(fr.status, 0);
+	CHECK(fr.switched);
+	CHECK(fr.old_ticks > 0 && fr.new_ticks >= 40);
+	CHECK_EQ_INT(fr.done_tick, trace.tick[fr.old_ticks - 1]);
+	char want[128];
+	snprintf(want, sizeof want, "from the tick after %u (", fr.done_tick);
+	CHECK_CONTAINS(fr.out, want);
+	CHECK_CONTAINS(fr.out, "0 segments sent again");
+	if (fr.switched)
+		transfer_frames = (long)fr.frames;
+	printf("  %s: switched after %zu ticks of the old mind; %zu of the new "
+	       "mind's equal its trace; %zu frames of the transfer; longest "
+	       "tick %.0f ms\n",
+	       machine, fr.old_ticks, fr.new_ticks, fr.frames,
+	       fr.max_gap * 1e3);
+	if (differ != 0 || fr.status != 0)
+		printf("  evo flash said:\n%s", fr.out);
+}
+
+TEST(flash_lost_frame_is_sent_again)
+{
+	flash_run fr;
+	flash_run_init(&fr, opt.new_mind);
+	fr.drop_at = seeded_frame(1, 1, transfer_frames - 2);
+	long differ = flash_while_ticking(&fr);
+	CHECK_EQ_INT(differ, 0);
+	CHECK_EQ_INT(fr.status, 0);
+	CHECK(fr.switched && fr.new_ticks >= 40);
+	CHECK(strstr(fr.out, " 0 segments sent again") == NULL);
+	printf("  %s: frame %ld lost: %s", machine, fr.drop_at,
+	       strstr(fr.out, "the robot runs")
+		   ? strstr(fr.out, "the robot runs")
+		   : fr.out);
+}
+
+/* The refusals: the old mind ticks on, and evo flash says why. */
+static void expect_flash_refused(flash_run *fr, const char *why)
+{
+	long differ = flash_while_ticking(fr);
+	CHECK_EQ_INT(differ, 0);
+	CHECK_EQ_INT(fr->status, 1);
+	CHECK(!fr->switched);
+	CHECK_EQ_INT(fr->new_ticks, 0);
+	CHECK_CONTAINS(fr->out, why);
+	CHECK_CONTAINS(fr->out, "keeps running the mind it had");
+	const char *line = strstr(fr->out, "evo flash: the robot");
+	printf("  %s: %ld ticks of the old mind, none missed: %s", machine,
+	       (long)fr->old_ticks, line ? line : fr->out);
+}
+
+TEST(flash_cut_at_random_frame_keeps_old_mind)
+{
+	flash_run fr;
+	flash_run_init(&fr, opt.new_mind);
+	/* BEGIN gets through; anything from the first segment to END may
+	 * be the first frame lost. */
+	fr.cut_at = seeded_frame(2, 1, transfer_frames - 1);
+	printf("  %s: the transfer cut from frame %ld on (seed %lu)\n", machine,
+	       fr.cut_at, opt.seed);
+	expect_flash_refused(&fr, "the transfer stopped: the robot heard "
+				  "nothing of it for its transfer timeout "
+				  "(3000 ms)");
+}
+
+TEST(flash_corrupted_segment_keeps_old_mind)
+{
+	flash_run fr;
+	flash_run_init(&fr, opt.new_mind);
+	fr.corrupt_at = seeded_frame(3, 1, transfer_frames - 2);
+	printf("  %s: a bit flipped in frame %ld (seed %lu)\n", machine,
+	       fr.corrupt_at, opt.seed);
+	expect_flash_refused(&fr, "the image arrived corrupted: the "
+				  "transfer's CRC-32 does not match");
+}
+
+TEST(flash_other_robots_image_keeps_old_mind)
+{
+	flash_run fr;
+	flash_run_init(&fr, opt.other_mind);
+	size_t len;
+	unsigned char *img = read_all(opt.other_image, &len);
+	CHECK(img != NULL && len >= 20);
+	if (!img || len < 20)
+		return;
+	char why[300];
+	snprintf(why, sizeof why,
+		 "the image was built for another robot: other sensors, "
+		 "actuators or variables (the image's names hash %08x, the "
+		 "robot's %08x)",
+		 evo_wire_get_u32(img + 16), trace.names_hash);
+	expect_flash_refused(&fr, why);
+	CHECK_EQ_INT(fr.frames, 1); /* BEGIN only: refused before a segment */
+}
+
 /* ---- main ------------------------------------------------------------- */
+
+/* FW_TEST_ONLY=WORD runs only the tests whose names contain WORD (e.g.
+ * flash), when working on one part. */
+#define RUN_FW(name)                                                           \
+	do {                                                                   \
+		const char *only_ = getenv("FW_TEST_ONLY");                    \
+		if (!only_ || strstr(#name, only_))                            \
+			RUN(name);                                             \
+	} while (0)
 
 static int usage(void)
 {
 	fprintf(stderr,
 		"usage: firmware_test --qemu QEMU --objcopy OBJCOPY --trace "
 		"TRACE --image MIND.bin --other-image OTHER.bin --tmp DIR "
-		"--firmware MACHINE=ELF ...\n");
+		"--evo EVO --new-mind DIR --new-trace TRACE --other-mind DIR "
+		"--seed N --firmware MACHINE=ELF ...\n");
 	return 2;
 }
 
@@ -607,6 +966,16 @@ int main(int argc, char **argv)
 			opt.other_image = v;
 		else if (strcmp(a, "--tmp") == 0)
 			opt.tmp = v;
+		else if (strcmp(a, "--evo") == 0)
+			opt.evo = v;
+		else if (strcmp(a, "--new-mind") == 0)
+			opt.new_mind = v;
+		else if (strcmp(a, "--new-trace") == 0)
+			opt.new_trace = v;
+		else if (strcmp(a, "--other-mind") == 0)
+			opt.other_mind = v;
+		else if (strcmp(a, "--seed") == 0)
+			opt.seed = strtoul(v, NULL, 10);
 		else if (strcmp(a, "--firmware") == 0 && strchr(v, '=') &&
 			 opt.n_fw < 4) {
 			char *eq = strchr(v, '=');
@@ -616,7 +985,8 @@ int main(int argc, char **argv)
 			return usage();
 	}
 	if ((argc - 1) % 2 || !opt.qemu || !opt.objcopy || !opt.trace_path ||
-	    !opt.image || !opt.other_image || !opt.tmp || !opt.n_fw)
+	    !opt.image || !opt.other_image || !opt.tmp || !opt.n_fw ||
+	    !opt.evo || !opt.new_mind || !opt.new_trace || !opt.other_mind)
 		return usage();
 	mkdir(opt.tmp, 0755);
 	char err[512];
@@ -629,6 +999,17 @@ int main(int argc, char **argv)
 	       trace.n_actuators);
 	if (trace.n_ticks < 100) {
 		printf("the trace needs at least 100 ticks\n");
+		return 1;
+	}
+	if (trace_load(opt.new_trace, &new_trace, err, sizeof err) != 0) {
+		printf("%s\n", err);
+		return 1;
+	}
+	printf("new mind %s: trace %s, %zu ticks; flash tests' seed %lu\n",
+	       opt.new_mind, opt.new_trace, new_trace.n_ticks, opt.seed);
+	if (new_trace.names_hash != trace.names_hash ||
+	    new_trace.n_actuators != trace.n_actuators) {
+		printf("the new mind's trace is for another robot\n");
 		return 1;
 	}
 	/* One process per firmware, run side by side: QEMU's emulated UART
@@ -651,14 +1032,19 @@ int main(int argc, char **argv)
 			machine = opt.machine[i];
 			elf = opt.elf[i];
 			printf("== %s: %s\n", machine, elf);
-			RUN(replay_matches_trace);
-			RUN(link_loss_goes_neutral_and_resumes);
-			RUN(incomplete_tick_is_not_stepped);
-			RUN(malformed_lines_are_counted_and_ignored);
-			RUN(corrupt_image_is_refused);
-			RUN(image_for_other_botdesc_is_refused);
-			RUN(image_with_out_of_range_weight_is_refused);
-			RUN(empty_slot_is_refused);
+			RUN_FW(replay_matches_trace);
+			RUN_FW(link_loss_goes_neutral_and_resumes);
+			RUN_FW(incomplete_tick_is_not_stepped);
+			RUN_FW(malformed_lines_are_counted_and_ignored);
+			RUN_FW(corrupt_image_is_refused);
+			RUN_FW(image_for_other_botdesc_is_refused);
+			RUN_FW(image_with_out_of_range_weight_is_refused);
+			RUN_FW(empty_slot_is_refused);
+			RUN_FW(flash_switches_between_ticks);
+			RUN_FW(flash_lost_frame_is_sent_again);
+			RUN_FW(flash_cut_at_random_frame_keeps_old_mind);
+			RUN_FW(flash_corrupted_segment_keeps_old_mind);
+			RUN_FW(flash_other_robots_image_keeps_old_mind);
 			test_summary();
 			fflush(stdout);
 			_exit(0);
@@ -686,5 +1072,6 @@ int main(int argc, char **argv)
 		test_failed_count += (int)f;
 	}
 	trace_free(&trace);
+	trace_free(&new_trace);
 	return test_summary();
 }

@@ -80,8 +80,8 @@ typedef enum evo_flash_kind {
 	  "the transfer ended before every segment had arrived")               \
 	/* detail: the CRC-32 of what the robot received */                    \
 	X(EVO_FLASH_ERR_CRC,                                                   \
-	  "the image arrived corrupted (the transfer's CRC-32 does not "       \
-	  "match)")                                                            \
+	  "the image arrived corrupted: the transfer's CRC-32 does not "       \
+	  "match")                                                             \
 	/* detail: the robot's names hash (the BEGIN carried the image's) */   \
 	X(EVO_FLASH_ERR_NAMES,                                                 \
 	  "the image was built for another robot: other sensors, actuators "   \
