@@ -12,6 +12,13 @@
  * every actuator value that comes back must equal the trace's.
  * The host figure: evo_mind_step over the same sensor values, best of 5.
  *
+ * Then the time `evo flash` takes to send the Collect image over slcan at
+ * 115,200 baud: the transfer (core's evo/flash.h sender, window 16) runs
+ * for real against the M3 firmware under QEMU, its frames and replies
+ * counted as slcan lines; the time on a 115,200-baud line (8N1, 11,520
+ * bytes a second each way) follows from the bytes sent to the robot, which
+ * set the pace, beside the QEMU transfer's own wall time.
+ *
  * usage: bench_firmware [--ticks N]  (from the top of the repo; BUILD from
  *        $EVO_BUILD, default build; qemu-system-arm and arm-none-eabi-nm
  *        from $QEMU_ARM and $ARM_NM or the PATH) */
@@ -21,6 +28,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "evo/flash.h"
 #include "host/qemu_session.h"
 #include "host/trace_file.h"
 #include "mind/mindfolder.h"
@@ -97,23 +105,26 @@ static double host_ns_per_tick(const char *mind_dir, size_t n, int *same)
 static double m3_insns_per_tick(size_t n, unsigned long *marks_out)
 {
 	char elf[512], plugin[2048], out[512], err[256];
-	const char *nm = getenv("ARM_NM") ? getenv("ARM_NM") : "arm-none-eabi-nm";
+	const char *nm =
+	    getenv("ARM_NM") ? getenv("ARM_NM") : "arm-none-eabi-nm";
 	const char *qemu =
-		getenv("QEMU_ARM") ? getenv("QEMU_ARM") : "qemu-system-arm";
+	    getenv("QEMU_ARM") ? getenv("QEMU_ARM") : "qemu-system-arm";
 	snprintf(elf, sizeof elf, "%s/firmware/evo-m3.elf", build);
 	snprintf(out, sizeof out, "%s/firmware/bench-insns.txt", build);
 	unsigned long lo = symbol(nm, elf, "__evo_core_start"),
 		      hi = symbol(nm, elf, "__evo_core_end"),
 		      mark = symbol(nm, elf, "evo_mind_step");
 	if (!lo || !hi || !mark) {
-		fprintf(stderr, "bench_firmware: %s lacks __evo_core_start, "
-				"__evo_core_end or evo_mind_step\n",
+		fprintf(stderr,
+			"bench_firmware: %s lacks __evo_core_start, "
+			"__evo_core_end or evo_mind_step\n",
 			elf);
 		return -1;
 	}
-	snprintf(plugin, sizeof plugin,
-		 "%s/firmware/insn_count.so,lo=0x%lx,hi=0x%lx,mark=0x%lx,out=%s",
-		 build, lo, hi, mark, out);
+	snprintf(
+	    plugin, sizeof plugin,
+	    "%s/firmware/insn_count.so,lo=0x%lx,hi=0x%lx,mark=0x%lx,out=%s",
+	    build, lo, hi, mark, out);
 	remove(out);
 	qemu_opts o = {qemu, "mps2-an385", elf, plugin, NULL, 120.0};
 	qemu_session q;
@@ -132,8 +143,9 @@ static double m3_insns_per_tick(size_t n, unsigned long *marks_out)
 		if (k == QS_LOG || (k == QS_FRAME && f.id == EVO_WIRE_HELLO))
 			continue;
 		if (k != QS_FRAME) {
-			fprintf(stderr, "bench_firmware: the firmware stopped "
-					"answering at tick %zu\n",
+			fprintf(stderr,
+				"bench_firmware: the firmware stopped "
+				"answering at tick %zu\n",
 				done);
 			qs_stop(&q);
 			return -1;
@@ -170,12 +182,100 @@ static double m3_insns_per_tick(size_t n, unsigned long *marks_out)
 	if (in)
 		fclose(in);
 	if (!ok || marks == 0) {
-		fprintf(stderr, "bench_firmware: no count from the plugin (%s)\n",
-			out);
+		fprintf(stderr,
+			"bench_firmware: no count from the plugin (%s)\n", out);
 		return -1;
 	}
 	*marks_out = (unsigned long)marks;
 	return (double)range / (double)marks;
+}
+
+/* Bytes of the slcan line of f: 't', 3 id digits, the DLC, 2 digits a
+ * byte, CR. */
+static size_t slcan_bytes(const evo_can_frame *f)
+{
+	return 6u + 2u * f->len;
+}
+
+/* The image of BUILD/firmware/mind/mind.bin sent to the M3 firmware. 0 and
+ * the figures printed, or -1. */
+static int flash_over_slcan(void)
+{
+	char path[512], err[512];
+	snprintf(path, sizeof path, "%s/firmware/mind/mind.bin", build);
+	FILE *fp = fopen(path, "rb");
+	static _Alignas(8) uint8_t image[EVO_FLASH_LENGTH_MAX];
+	size_t len = fp ? fread(image, 1, sizeof image, fp) : 0;
+	if (fp)
+		fclose(fp);
+	if (len < 20) {
+		fprintf(stderr, "bench_firmware: cannot read %s\n", path);
+		return -1;
+	}
+	const char *qemu =
+	    getenv("QEMU_ARM") ? getenv("QEMU_ARM") : "qemu-system-arm";
+	char elf[512];
+	snprintf(elf, sizeof elf, "%s/firmware/evo-m3.elf", build);
+	qemu_opts o = {qemu, "mps2-an385", elf, NULL, NULL, 60.0};
+	qemu_session q;
+	if (qs_start(&q, &o, err, sizeof err) != 0) {
+		fprintf(stderr, "bench_firmware: %s\n", err);
+		return -1;
+	}
+	evo_can_frame f;
+	char line[512];
+	int k;
+	while ((k = qs_next(&q, 10.0, &f, line, sizeof line)) == QS_LOG)
+		;
+	if (k != QS_FRAME || f.id != EVO_WIRE_HELLO) {
+		fprintf(stderr, "bench_firmware: no HELLO from the M3\n");
+		qs_stop(&q);
+		return -1;
+	}
+	evo_flash_tx t;
+	evo_flash_tx_init(&t, image, (uint32_t)len, 16);
+	size_t out_bytes = 0, in_bytes = 0, replies = 0;
+	double t0 = now(), try_start = t0;
+	uint32_t progress = t.progress;
+	while (t.stage != EVO_FLASH_TX_FINISHED && now() - t0 < 30.0) {
+		while (evo_flash_tx_next(&t, &f)) {
+			out_bytes += slcan_bytes(&f);
+			qs_queue_frame(&q, &f);
+		}
+		k = qs_next(&q, 0.05, &f, line, sizeof line);
+		if (k == QS_FRAME && f.id == EVO_FLASH_REPLY) {
+			in_bytes += slcan_bytes(&f);
+			replies++;
+			evo_flash_tx_reply(&t, &f);
+		} else if (k == QS_EXIT) {
+			break;
+		}
+		if (t.progress != progress) {
+			progress = t.progress;
+			try_start = now();
+		} else if (now() - try_start > 1.0) {
+			evo_flash_tx_timeout(&t);
+			try_start = now();
+		}
+	}
+	double wall = now() - t0;
+	qs_stop(&q);
+	if (t.stage != EVO_FLASH_TX_FINISHED || t.kind != EVO_FLASH_DONE) {
+		fprintf(stderr,
+			"bench_firmware: the transfer did not finish\n");
+		return -1;
+	}
+	const double line_bytes_per_s = 115200.0 / 10.0;
+	printf("  evo flash:      image %zu bytes: %u frames (%u segments, %u "
+	       "sent again), %zu bytes of slcan lines to the robot, %zu "
+	       "replies (%zu bytes) back\n",
+	       len, t.frames, t.total, t.resent_segments, out_bytes, replies,
+	       in_bytes);
+	printf("                  %.3f s at 115,200 baud (%.0f image bytes/s); "
+	       "%.3f s wall time under QEMU (M3, its emulated UART)\n",
+	       (double)out_bytes / line_bytes_per_s,
+	       (double)len / ((double)out_bytes / line_bytes_per_s), wall);
+	return 0;
 }
 
 int main(int argc, char **argv)
@@ -214,6 +314,7 @@ int main(int argc, char **argv)
 		printf("  Cortex-M3:      %8.1f instructions per tick in the "
 		       "MIND runtime (QEMU, %lu ticks counted)\n",
 		       insns, marks);
+	int flashed = flash_over_slcan();
 	trace_free(&trace);
-	return ns > 0 && same && insns > 0 ? 0 : 1;
+	return ns > 0 && same && insns > 0 && flashed == 0 ? 0 : 1;
 }

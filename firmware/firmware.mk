@@ -117,6 +117,19 @@ $(FW_BUILD)/evo-$(1).elf: $(call fw_objs,$(1)) $(FW_BUILD)/$(1)/libevocore.a \
 		-Wl,-Map=$(FW_BUILD)/evo-$(1).map -o $$@ $(call fw_objs,$(1)) \
 		$(FW_BUILD)/$(1)/libevocore.a -lgcc
 
+# The firmware without the flash receiver (FW_FLASH=0), for make
+# firmware-size: the difference is what taking minds over the bus costs.
+$(FW_BUILD)/$(1)/main-noflash.o: firmware/main.c
+	@mkdir -p $$(dir $$@)
+	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) -DFW_FLASH=0 -MMD -MP -c $$< -o $$@
+
+$(FW_BUILD)/noflash-$(1).elf: $(FW_BUILD)/$(1)/main-noflash.o \
+		$(filter-out %/main.o,$(call fw_objs,$(1))) $(FW_BUILD)/$(1)/libevocore.a \
+		firmware/$(1).ld firmware/sections.ld
+	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) $(FW_LDFLAGS) -T firmware/$(1).ld \
+		-o $$@ $(FW_BUILD)/$(1)/main-noflash.o \
+		$(filter-out %/main.o,$(call fw_objs,$(1))) $(FW_BUILD)/$(1)/libevocore.a -lgcc
+
 # The MIND runtime alone: what size_entry.c reaches of the core archive.
 $(FW_BUILD)/runtime-$(1).elf: $(FW_BUILD)/$(1)/size_entry.o $(FW_BUILD)/$(1)/libevocore.a
 	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) -nostdlib -nostartfiles \
@@ -162,7 +175,8 @@ $(FW_BUILD)/host/bench_firmware.o: bench/bench_firmware.c $(FW_HOST_HDRS)
 
 $(BUILD)/bench/bench_firmware: $(FW_BUILD)/host/bench_firmware.o $(FW_HOST_OBJS) \
 		$(BUILD)/libevohost.a $(BUILD)/libevocore.a \
-		$(FW_BUILD)/evo-m3.elf $(FW_BUILD)/insn_count.so $(FW_BUILD)/mind/run.trace
+		$(FW_BUILD)/evo-m3.elf $(FW_BUILD)/insn_count.so $(FW_BUILD)/mind/run.trace \
+		$(FW_BUILD)/mind/mind.bin
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS_ALL) -o $@ $(filter %.o %.a,$^) $(LIBS)
 
@@ -188,7 +202,8 @@ firmware-test: $(FW_TEST_INPUTS)
 # Per core: the firmware without its mind slot (the slot is flash kept for
 # the image, printed apart), and the MIND runtime linked alone.
 fw_sec = $(ARM_SIZE) -A $(1) | awk '$$1=="$(2)"{s+=$$2} END{print s+0}'
-firmware-size: $(foreach c,$(FW_CORES),$(FW_BUILD)/evo-$(c).elf $(FW_BUILD)/runtime-$(c).elf) \
+firmware-size: $(foreach c,$(FW_CORES),$(FW_BUILD)/evo-$(c).elf $(FW_BUILD)/runtime-$(c).elf \
+		$(FW_BUILD)/noflash-$(c).elf) \
 		$(FW_EVO) $(FW_BUILD)/mind/mind.bin
 	@echo "bytes: text = code and constants (flash), data = initialised RAM (flash too), bss = zeroed RAM"
 	@printf '%-5s %-34s %6s %6s %6s\n' core what text data bss
@@ -201,6 +216,11 @@ firmware-size: $(foreach c,$(FW_CORES),$(FW_BUILD)/evo-$(c).elf $(FW_BUILD)/runt
 			$$c "firmware (mind slot apart)" $$text $$data $$bss $$stack $$slot \
 			$$(wc -c < $(FW_BUILD)/mind/mind.bin); \
 		$(ARM_SIZE) $(FW_BUILD)/runtime-$$c.elf | awk -v c=$$c 'NR==2{printf "%-5s %-34s %6s %6s %6s\n", c, "MIND runtime alone", $$1, $$2, $$3}'; \
+		nf=$(FW_BUILD)/noflash-$$c.elf; \
+		printf '%-5s %-34s %6s %6s %6s  (the firmware less one built with FW_FLASH=0); + mind slot %s\n' \
+			$$c "flash receiver (evo flash)" \
+			$$(( text - $$($(call fw_sec,$$nf,.text)) )) $$(( data - $$($(call fw_sec,$$nf,.data)) )) \
+			$$(( bss - $$($(call fw_sec,$$nf,.bss)) )) $$slot; \
 	done
 	@for c in $(FW_CORES); do \
 		m=$$(case $$c in m0) echo $(FW_MACHINE_m0);; m3) echo $(FW_MACHINE_m3);; esac); \

@@ -435,8 +435,11 @@ int main(void)
 			}
 		}
 #if FW_FLASH
-		if (evo_flash_rx_poll(&flash_rx, board_millis(), &f) ==
-		    EVO_FLASH_RX_REPLY)
+		/* Only while a transfer is under way: the loop runs per byte,
+		 * and a call per byte would cost the ticks. */
+		if (flash_rx.active &&
+		    evo_flash_rx_poll(&flash_rx, board_millis(), &f) ==
+			EVO_FLASH_RX_REPLY)
 			send_frame(&f);
 #endif
 		/* Unsigned difference: right across the clock's wrap. */
