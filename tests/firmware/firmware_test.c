@@ -756,8 +756,20 @@ static long flash_while_ticking(flash_run *fr)
 		const trace_file *t = fr->switched ? &new_trace : &trace;
 		size_t i = fr->switched ? fr->new_ticks : fr->old_ticks;
 		if (i >= t->n_ticks || qs_now() > q.deadline) {
-			printf("  evo flash still running after %zu ticks\n",
-			       fr->old_ticks + fr->new_ticks);
+			char wchan[64] = "?", path[64];
+			snprintf(path, sizeof path, "/proc/%d/wchan", (int)pid);
+			FILE *w = fopen(path, "r");
+			if (w) {
+				size_t n = fread(wchan, 1, sizeof wchan - 1, w);
+				wchan[n] = 0;
+				fclose(w);
+			}
+			/* where it waits, to find out why (seen once, under
+			 * load, on the microbit: nothing printed yet) */
+			printf("  evo flash still running after %zu ticks, %zu "
+			       "frames of the transfer; waiting in %s\n",
+			       fr->old_ticks + fr->new_ticks, fr->frames,
+			       wchan);
 			differ = -1;
 			goto out;
 		}
