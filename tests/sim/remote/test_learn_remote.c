@@ -33,11 +33,17 @@ static void make_avoid(const char *dir)
 	cli_sh("rm -rf %s/%s && mkdir -p %s/%s && cp -r minds/Avoid %s/%s/ && "
 	       "rm -rf %s/%s/Avoid/Runs",
 	       cli_tmp, dir, cli_tmp, dir, cli_tmp, dir, cli_tmp, dir);
-	const char *common = "BOTMODEL:BotType8\nMASTERSKILL:Avoid\n"
-			     "LEARNINGSKILL:Avoid\nENV:Roam\n"
-			     "LEARNINGMETHOD:NEAT\nNUMGEN:3\nEVALREP:2\n"
-			     "TICKLIM:120\nNEAT_POPSIZE:16\nREMOTETIMEOUT:1\n";
-	char text[512];
+	/* LCM on a port of this run's own, so no other run's simulators
+	 * answer (the simulators' episodes take ports above it) */
+	char common[512];
+	snprintf(common, sizeof common,
+		 "BOTMODEL:BotType8\nMASTERSKILL:Avoid\n"
+		 "LEARNINGSKILL:Avoid\nENV:Roam\n"
+		 "LEARNINGMETHOD:NEAT\nNUMGEN:3\nEVALREP:2\n"
+		 "TICKLIM:120\nNEAT_POPSIZE:16\nREMOTETIMEOUT:1\n"
+		 "LCMURL:udpm://239.255.76.67:%ld?ttl=0\n",
+		 30000 + (long)getpid() % 20000);
+	char text[640];
 	snprintf(text, sizeof text, "TYPE:LEARNSIM\n%s", common);
 	cli_write(text, "%s/%s/Avoid/Tasks/T.simbatch", cli_tmp, dir);
 	snprintf(text, sizeof text, "TYPE:LEARNREMOTESIM\n%s", common);
