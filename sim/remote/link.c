@@ -16,6 +16,7 @@ typedef struct queued {
 	char *channel;
 	void *data;
 	size_t len;
+	int64_t recv_utime;
 } queued;
 
 struct evo_link {
@@ -38,7 +39,7 @@ static void on_message(const lcm_recv_buf_t *rb, const char *channel,
 		return;
 	}
 	queued m = {strdup(channel), malloc(rb->data_size ? rb->data_size : 1),
-		    rb->data_size};
+		    rb->data_size, rb->recv_utime};
 	if (!m.channel || !m.data) {
 		free(m.channel);
 		free(m.data);
@@ -126,6 +127,7 @@ int evo_link_next(evo_link *l, int timeout_ms, evo_link_msg *m, evo_err *err)
 	m->channel = l->current.channel;
 	m->data = l->current.data;
 	m->len = l->current.len;
+	m->recv_utime = l->current.recv_utime;
 	return 1;
 }
 

@@ -9,6 +9,7 @@
 #define EVO_LINK_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "base/err.h"
 
@@ -24,11 +25,15 @@ void evo_link_close(evo_link *l);
 /* Receive the messages of channel from now on. 0, or -1 with err. */
 int evo_link_subscribe(evo_link *l, const char *channel, evo_err *err);
 
-/* A message received: its channel and its bytes (not owned). */
+/* A message received: its channel and its bytes (not owned), and when it
+ * arrived: LCM's stamp, microseconds of the real-time clock, taken by the
+ * kernel as the packet came in where the system allows, so that a message
+ * read late still says when it came. */
 typedef struct evo_link_msg {
 	const char *channel;
 	const void *data;
 	size_t len;
+	int64_t recv_utime;
 } evo_link_msg;
 
 /* The next message, waiting at most timeout_ms for one (0: only what has
