@@ -1,6 +1,7 @@
 /* evo — evo's side of a remote (docs/remote.md): find it on the LCM URL,
  * check its names against the mind's botdesc, and drive its episodes in
- * lockstep, one environment at a time or several at once.
+ * lockstep, one environment at a time or several at once; or, for a robot,
+ * answer each tick it sends as it runs free (evo_robot_*, at the end).
  *
  * Every message from the remote is checked before use; one that is not
  * for the tick awaited is dropped and counted by its reason, and the first
@@ -142,5 +143,58 @@ int evo_remote_step(evo_remotes *s, int env, const double *commands,
 
 /* The episode's reward so far in env (the last sensors_t's). */
 double evo_remote_reward(const evo_remote *r, int env);
+
+/* ---- a robot: free running (DEMOREMOTE) --------------------------------- */
+
+/* evo's side of a robot's episodes. A robot ticks at its own rate (its
+ * hello's tick_us) and sends the sensors of every tick; evo answers each
+ * with that tick's commands and never makes it wait. Every tick number
+ * from 0 on is counted once: answered in time, late (answered more than a
+ * period after its sensors came or after the next tick's came, or not at
+ * all because a newer tick came first) or missing (never came, or came
+ * unusable). The first late and the first missing tick are reported at
+ * once, and the counts by evo_robot_report. Zero the struct before its
+ * first episode. */
+typedef struct evo_robot {
+	evo_remotes *set; /* its first remote is the robot */
+	double period;	  /* seconds, from the hello's tick_us */
+	int64_t episode;
+	int64_t tick;	  /* the tick whose sensors are held; -1: none yet */
+	int answered;	  /* the held tick's commands were sent */
+	int done;	  /* the robot ended the episode (sensors_t.done) */
+	double reward;	  /* the last sensors_t's */
+	double reset_at;  /* the RESET first sent (monotonic seconds) */
+	double arrived;	  /* the held tick's arrival (real-time seconds) */
+	double answered_at; /* its answer sent (real-time seconds) */
+	int in_time_held;   /* it was counted in time, so far */
+	unsigned long in_time, late, missing;
+	unsigned long unanswered; /* of the late: a newer tick came first */
+} evo_robot;
+
+/* Start episode `episode` on the first remote of s, which must be a robot
+ * (one environment, a tick period): a RESET carrying the seeds (a robot
+ * with a world of its own may use them: `evo serve --robot` does), sent
+ * again every quarter second until a tick of the episode comes. The
+ * counts go on from the episodes before. 0, or -1 with err set. */
+int evo_robot_start(evo_remotes *s, evo_robot *rb, int64_t episode,
+		    uint64_t layout_seed, uint64_t seed, evo_err *err);
+
+/* Wait at most timeout_ms for a tick newer than the one held, and hold the
+ * newest of those that came (evo_remote_sensors(s->r[0], 0, ...) reads
+ * it). 0: a tick to answer is held; 1: the robot ended the episode (its
+ * reward in rb->reward); 2: nothing new came in time; -1 with err set
+ * (stopped, the robot restarted, the link failed). A robot silent for the
+ * timeout is reported, and waited for. */
+int evo_robot_next(evo_robot *rb, int timeout_ms, evo_err *err);
+
+/* Send the commands (botdesc order) of the held tick, once. */
+int evo_robot_answer(evo_robot *rb, const double *commands, evo_err *err);
+
+/* Seconds since the robot was last heard from. */
+double evo_robot_quiet(const evo_robot *rb);
+
+/* One line on stdout: "robot NAME: T ticks: A answered in time, L late
+ * (U unanswered), M missing". */
+void evo_robot_report(const evo_robot *rb);
 
 #endif
