@@ -2,12 +2,18 @@
  * simulator over LCM (docs/remote.md). The task's environment and bot
  * model run here; the mind runs in the `evo run` that drives it. Each
  * environment is a world of its own, stepped in lockstep with the commands
- * that arrive for it. */
+ * that arrive for it.
+ *
+ * With --robot the world stands in for a robot instead: it runs in real
+ * time, one tick a period, whether commands come or not; it holds the last
+ * commands through a tick whose command comes late, and sets every
+ * actuator to neutral when none has come for its timeout. */
 #define _POSIX_C_SOURCE 200809L
 #include "cmd/serve.h"
 
 #include <errno.h>
 #include <limits.h>
+#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -39,7 +45,13 @@ static void serve_usage(FILE *f)
 	      "                      else LCM's default)\n"
 	      "  --data-url URL      the LCM URL of its episodes (default: the\n"
 	      "                      URL on a port of its own, from its name;\n"
-	      "                      'same': the URL itself)\n",
+	      "                      'same': the URL itself)\n"
+	      "  --robot             stand in for a robot: run in real time and\n"
+	      "                      go neutral when evo's commands stop\n"
+	      "  --tick-ms MS        the robot's period (default 33.333: 30\n"
+	      "                      ticks a second)\n"
+	      "  --timeout S         seconds without a command before every\n"
+	      "                      actuator goes neutral (default 0.5)\n",
 	      f);
 }
 
@@ -243,6 +255,294 @@ static int serve(server *sv, evo_err *err)
 	return 0;
 }
 
+/* ---- a robot: free running ---------------------------------------------- */
+
+static double mono_now(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* A stand-in robot's episode, and what it counts. */
+typedef struct robot {
+	double period, timeout; /* seconds */
+	int active;		/* in an episode: ticking and sending */
+	int64_t episode, tick;	/* the tick whose sensors went out last */
+	double started_at;	/* the episode's RESET (monotonic) */
+	double commanded_at;	/* the last command taken, or started_at */
+	int commanded;		/* a command came in this episode */
+	int neutral;		/* every actuator at 0.5 for want of commands */
+	int stepped, ended;	/* this tick: the world stepped; it ended */
+	int restart;		/* a RESET or STOP broke off the period */
+	double cmd[EVO_MAX_ACTUATORS]; /* what the actuators do (botdesc) */
+	unsigned long ticks, in_time, held, neutral_ticks, late, overruns;
+} robot;
+
+static void robot_neutral(server *sv, robot *rb)
+{
+	for (unsigned j = 0; j < sv->hello.n_actuators; j++)
+		rb->cmd[j] = 0.5;
+}
+
+/* The world steps once with the commands in force. */
+static int robot_step(server *sv, robot *rb, evo_err *err)
+{
+	int done = evo_sim_act(sv->env[0].sim, rb->cmd, err);
+	if (done < 0)
+		return -1;
+	rb->stepped = 1;
+	rb->ended = done;
+	return 0;
+}
+
+/* RESET: a new episode, now, from evo's seeds; except a RESET of the
+ * episode running, before any command of it and within a second of its
+ * start, which is evo sending its RESET again (docs/remote.md). STOP:
+ * every actuator neutral, and nothing more until a RESET. */
+static int robot_control(server *sv, robot *rb, const evo_link_msg *m,
+			 evo_err *err)
+{
+	evo_wire_control c;
+	char why[256];
+	evo_wire_reason r =
+	    evo_wire_decode_control(m->data, m->len, &c, why, sizeof why);
+	if (r) {
+		drop(sv, r, "control_t", why);
+		return 0;
+	}
+	if (!ours(sv, c.name, c.session, c.env, "control_t"))
+		return 0;
+	double t = mono_now();
+	if (c.op == EVO_CONTROL_STOP) {
+		if (!rb->active)
+			return 0;
+		rb->active = 0;
+		rb->restart = 1;
+		robot_neutral(sv, rb);
+		printf("evo serve: robot %s: evo stopped episode %lld at tick "
+		       "%lld: every actuator neutral; waiting for a RESET\n",
+		       sv->hello.name, (long long)rb->episode,
+		       (long long)rb->tick);
+		fflush(stdout);
+		return 0;
+	}
+	if (c.episode < 1 || c.episode > INT_MAX) {
+		snprintf(why, sizeof why, "episode %lld", (long long)c.episode);
+		drop(sv, EVO_WIRE_VALUE, "control_t", why);
+		return 0;
+	}
+	if (rb->active && c.episode == rb->episode && !rb->commanded &&
+	    t - rb->started_at < 1.0)
+		return 0;
+	if (evo_sim_reset(sv->env[0].sim, (int)c.episode, c.layout_seed,
+			  c.seed, err))
+		return -1;
+	rb->active = 1;
+	rb->restart = 1;
+	rb->episode = c.episode;
+	rb->tick = 0;
+	rb->started_at = rb->commanded_at = t;
+	rb->commanded = 0;
+	rb->neutral = 0;
+	robot_neutral(sv, rb);
+	printf("evo serve: robot %s: episode %lld starts\n", sv->hello.name,
+	       (long long)c.episode);
+	fflush(stdout);
+	return 0;
+}
+
+/* A command_t: taken and acted on when it is this tick's and comes
+ * within its period; one for an earlier tick came late, and is dropped. */
+static int robot_command(server *sv, robot *rb, const evo_link_msg *m,
+			 evo_err *err)
+{
+	evo_wire_command c;
+	char why[256];
+	evo_wire_reason r =
+	    evo_wire_decode_command(m->data, m->len, &c, why, sizeof why);
+	if (r) {
+		drop(sv, r, "command_t", why);
+		return 0;
+	}
+	if (!ours(sv, c.name, c.session, c.env, "command_t"))
+		return 0;
+	if (c.n != sv->hello.n_actuators) {
+		snprintf(why, sizeof why, "%u values; the hello says %u", c.n,
+			 sv->hello.n_actuators);
+		drop(sv, EVO_WIRE_COUNTS, "command_t", why);
+		return 0;
+	}
+	if (rb->active && c.episode == rb->episode && c.tick < rb->tick) {
+		if (rb->late++ == 0)
+			printf("evo serve: robot %s: the command of tick %lld "
+			       "came during tick %lld, after its period; "
+			       "later ones are counted\n",
+			       sv->hello.name, (long long)c.tick,
+			       (long long)rb->tick);
+		return 0;
+	}
+	if (!rb->active || c.episode != rb->episode || c.tick != rb->tick ||
+	    rb->stepped) {
+		snprintf(why, sizeof why,
+			 "tick %lld of episode %lld; the robot is at tick %lld "
+			 "of episode %lld%s",
+			 (long long)c.tick, (long long)c.episode,
+			 (long long)rb->tick, (long long)rb->episode,
+			 rb->active ? "" : " (stopped)");
+		drop(sv,
+		     rb->active && c.episode == rb->episode && c.tick > rb->tick
+			 ? EVO_WIRE_AHEAD
+			 : EVO_WIRE_STALE,
+		     "command_t", why);
+		return 0;
+	}
+	r = evo_wire_check_values(c.value, c.n, NULL, why, sizeof why);
+	if (r) {
+		drop(sv, r, "command_t", why);
+		return 0;
+	}
+	double t = mono_now();
+	if (rb->neutral)
+		printf("evo serve: robot %s: commands again at tick %lld, "
+		       "after %.2f s\n",
+		       sv->hello.name, (long long)rb->tick,
+		       t - rb->commanded_at);
+	rb->neutral = 0;
+	rb->commanded = 1;
+	rb->commanded_at = t;
+	rb->in_time++;
+	memcpy(rb->cmd, c.value, c.n * sizeof c.value[0]);
+	return robot_step(sv, rb, err);
+}
+
+/* The next message on the URL or the episodes' URL, within ms, acted on:
+ * 0, or -1 with err set. */
+static int robot_message(server *sv, robot *rb, int ms, evo_err *err)
+{
+	evo_link *links[2] = {sv->link, sv->data};
+	int which;
+	evo_link_msg m;
+	int got = evo_link_next_any(links, sv->data == sv->link ? 1 : 2, ms,
+				    &which, &m, err);
+	if (got <= 0)
+		return got;
+	int data = links[which] == sv->data;
+	if (data && strcmp(m.channel, sv->ch_command) == 0)
+		return robot_command(sv, rb, &m, err);
+	if (data && strcmp(m.channel, sv->ch_control) == 0)
+		return robot_control(sv, rb, &m, err);
+	if (which == 0 && strcmp(m.channel, "EVO_WHO") == 0)
+		return publish_hello(sv, err);
+	return 0;
+}
+
+/* No command of this tick within its period: the robot holds the last
+ * commands, or goes neutral once none has come for its timeout. */
+static int robot_no_command(server *sv, robot *rb, evo_err *err)
+{
+	double quiet = mono_now() - rb->commanded_at;
+	if (quiet >= rb->timeout) {
+		if (!rb->neutral) {
+			printf("evo serve: robot %s: no command for %.2f s, "
+			       "at tick %lld: every actuator neutral\n",
+			       sv->hello.name, quiet, (long long)rb->tick);
+			fflush(stdout);
+			robot_neutral(sv, rb);
+			rb->neutral = 1;
+		}
+		rb->neutral_ticks++;
+	} else {
+		if (rb->held++ == 0)
+			printf("evo serve: robot %s: no command for tick "
+			       "%lld within its period: the commands before "
+			       "hold; later ones are counted\n",
+			       sv->hello.name, (long long)rb->tick);
+	}
+	return robot_step(sv, rb, err);
+}
+
+/* One period: the sensors of this tick out at its start, then its command
+ * awaited until its end (the world steps as soon as it comes), the world
+ * stepped with the commands in force if it did not. */
+static int robot_tick(server *sv, robot *rb, double start, evo_err *err)
+{
+	served_env *e = &sv->env[0];
+	e->episode = rb->episode;
+	e->tick = rb->tick;
+	if (send_sensors(sv, e, 0, e->sim->scene->episode_reward, 0, err))
+		return -1;
+	rb->stepped = rb->ended = rb->restart = 0;
+	double deadline = start + rb->period;
+	for (;;) {
+		if (stop_requested || rb->restart)
+			return 0;
+		double left = deadline - mono_now();
+		if (left <= 0)
+			break;
+		int ms = (int)(left * 1e3) + 1;
+		if (robot_message(sv, rb, ms < 100 ? ms : 100, err))
+			return -1;
+	}
+	if (!rb->stepped && robot_no_command(sv, rb, err))
+		return -1;
+	rb->ticks++;
+	rb->tick++;
+	if (rb->ended) {
+		/* the world ended the episode: its last sensors say so */
+		e->tick = rb->tick;
+		if (send_sensors(sv, e, 0, e->sim->scene->episode_reward, 1,
+				 err))
+			return -1;
+		rb->active = 0;
+		robot_neutral(sv, rb);
+		printf("evo serve: robot %s: episode %lld ended at tick %lld: "
+		       "every actuator neutral; waiting for a RESET\n",
+		       sv->hello.name, (long long)rb->episode,
+		       (long long)rb->tick);
+		fflush(stdout);
+	}
+	return 0;
+}
+
+static int serve_robot(server *sv, robot *rb, evo_err *err)
+{
+	if (publish_hello(sv, err))
+		return -1;
+	double next = 0;
+	while (!stop_requested) {
+		if (!rb->active) {
+			rb->restart = 0;
+			if (robot_message(sv, rb, 100, err))
+				return -1;
+			next = mono_now();
+			continue;
+		}
+		/* a period that starts late (the last one overran) starts
+		 * now, and the schedule goes on from there */
+		double t = mono_now();
+		if (t > next + rb->period) {
+			if (rb->tick > 0)
+				rb->overruns++;
+			next = t;
+		}
+		double start = next;
+		if (robot_tick(sv, rb, start, err))
+			return -1;
+		next = rb->restart ? mono_now() : start + rb->period;
+	}
+	return 0;
+}
+
+static void robot_report(const server *sv, const robot *rb)
+{
+	printf("evo serve: robot %s: %lu ticks: %lu commanded in time, %lu "
+	       "held the commands before, %lu neutral; %lu commands came "
+	       "late; %lu periods overran\n",
+	       sv->hello.name, rb->ticks, rb->in_time, rb->held,
+	       rb->neutral_ticks, rb->late, rb->overruns);
+}
+
 /* The URL of a server's episodes: udpm://GROUP:PORT?OPTS on PORT + 1 +
  * (a hash of its name) % 2000, so that each server's traffic reaches
  * only evo and itself, not every other server on the URL (LCM over UDP
@@ -284,9 +584,35 @@ int evo_serve_main(int argc, char **argv)
 	const char *task_path = NULL, *name = NULL, *url = NULL,
 		   *data_url = NULL;
 	long envs = 1;
+	int as_robot = 0, envs_set = 0;
+	double tick_ms = 1000.0 / 30, timeout = 0.5;
+	const char *robot_opt = NULL;
 	for (int i = 2; i < argc; i++) {
 		const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-		if (strcmp(a, "--name") == 0 && v) {
+		if (strcmp(a, "--robot") == 0) {
+			as_robot = 1;
+		} else if ((strcmp(a, "--tick-ms") == 0 ||
+			    strcmp(a, "--timeout") == 0) &&
+			   v) {
+			int is_tick = strcmp(a, "--tick-ms") == 0;
+			double max = is_tick ? 60000 : 3600;
+			char *end;
+			double x = strtod(v, &end);
+			if (*end || !(x > 0 && x <= max)) {
+				fprintf(stderr,
+					"evo serve: %s expects %s, more than 0 "
+					"and at most %g, found '%s'\n",
+					a, is_tick ? "milliseconds" : "seconds",
+					max, v);
+				return 2;
+			}
+			if (is_tick)
+				tick_ms = x;
+			else
+				timeout = x;
+			robot_opt = a;
+			i++;
+		} else if (strcmp(a, "--name") == 0 && v) {
 			name = v;
 			i++;
 		} else if (strcmp(a, "--url") == 0 && v) {
@@ -307,6 +633,7 @@ int evo_serve_main(int argc, char **argv)
 					EVO_REMOTE_SERVE_MAX_ENVS, v);
 				return 2;
 			}
+			envs_set = 1;
 			i++;
 		} else if (a[0] == '-' || task_path) {
 			fprintf(stderr, "evo serve: unexpected argument '%s'\n",
@@ -321,6 +648,21 @@ int evo_serve_main(int argc, char **argv)
 		serve_usage(stderr);
 		return 2;
 	}
+	if (robot_opt && !as_robot) {
+		fprintf(stderr, "evo serve: %s is for a robot (--robot)\n",
+			robot_opt);
+		return 2;
+	}
+	if (as_robot && envs_set && envs != 1) {
+		fprintf(stderr,
+			"evo serve: a robot runs one environment; --robot "
+			"takes no --environments %ld\n",
+			envs);
+		return 2;
+	}
+	long tick_us = lround(tick_ms * 1000);
+	if (as_robot && tick_us < 1)
+		tick_us = 1;
 	char own[EVO_REMOTE_NAME_MAX];
 	if (!name) {
 		snprintf(own, sizeof own, "evo-serve-%ld", (long)getpid());
@@ -333,6 +675,8 @@ int evo_serve_main(int argc, char **argv)
 			name);
 		return 2;
 	}
+	/* a server's lines go to a log as they happen, not when it ends */
+	setvbuf(stdout, NULL, _IOLBF, 0);
 	struct sigaction sa;
 	memset(&sa, 0, sizeof sa);
 	sa.sa_handler = on_signal;
@@ -366,8 +710,9 @@ int evo_serve_main(int argc, char **argv)
 	h->protocol = EVO_WIRE_PROTOCOL;
 	snprintf(h->name, sizeof h->name, "%s", name);
 	h->session = new_session();
-	h->kind = EVO_REMOTE_SIMULATOR;
+	h->kind = as_robot ? EVO_REMOTE_ROBOT : EVO_REMOTE_SIMULATOR;
 	h->environments = (int32_t)envs;
+	h->tick_us = as_robot ? (int32_t)tick_us : 0;
 	h->n_sensors = bd->n_sensors;
 	h->n_actuators = bd->n_actuators;
 	for (unsigned i = 0; i < bd->n_sensors; i++)
@@ -396,13 +741,28 @@ int evo_serve_main(int argc, char **argv)
 	if (evo_link_subscribe(sv.data, sv.ch_control, &err) ||
 	    evo_link_subscribe(sv.data, sv.ch_command, &err))
 		goto out;
-	printf("evo serve: %s serves %s on %s (%ld environment%s; its "
-	       "episodes on %s)\n",
-	       name, task_path, evo_link_url(sv.link), envs,
-	       envs == 1 ? "" : "s", evo_link_url(sv.data));
-	fflush(stdout);
-	if (serve(&sv, &err) == 0)
-		rc = 0;
+	if (as_robot) {
+		printf("evo serve: %s serves %s on %s as a robot (its episodes "
+		       "on %s), a tick every %.3f ms, neutral after %.3g s "
+		       "without a command\n",
+		       name, task_path, evo_link_url(sv.link),
+		       evo_link_url(sv.data), tick_us * 1e-3, timeout);
+		robot rb;
+		memset(&rb, 0, sizeof rb);
+		rb.period = tick_us * 1e-6;
+		rb.timeout = timeout;
+		if (serve_robot(&sv, &rb, &err) == 0)
+			rc = 0;
+		robot_report(&sv, &rb);
+	} else {
+		printf("evo serve: %s serves %s on %s (%ld environment%s; its "
+		       "episodes on %s)\n",
+		       name, task_path, evo_link_url(sv.link), envs,
+		       envs == 1 ? "" : "s", evo_link_url(sv.data));
+		fflush(stdout);
+		if (serve(&sv, &err) == 0)
+			rc = 0;
+	}
 out:
 	if (rc && err.msg[0])
 		fprintf(stderr, "%s\n", err.msg);
