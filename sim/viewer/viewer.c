@@ -1,4 +1,4 @@
-/* The DEMOSIM viewer: see viewer.h.
+/* The DEMOSIM viewer, and DEMOREMOTE's panel: see viewer.h.
  *
  * Why a raster of evo's own and not SDL_Render's primitives: SDL 2 draws
  * no filled circles, no rotated boxes and no text, its software renderer
@@ -465,6 +465,125 @@ void evo_view_render(evo_raster *im, const evo_scene *sc,
 	draw_panel(im, sc, cam, p);
 }
 
+/* ---- a remote robot's frame ------------------------------------------- */
+
+#define NEUTRAL_MARK 0xE8E8E8u
+
+/* One column of named bars from (x, y), w wide, down to y_end: a title,
+ * then a row per value (name, bar, value), rows closer when they would not
+ * fit, and the rest left out with a note of how many. */
+static void draw_bars(evo_raster *im, int x, int y, int w, int y_end,
+		      const char *title, int n, const char *const *names,
+		      const double *values, uint32_t colour, int neutral)
+{
+	char line[64];
+	snprintf(line, sizeof line, "%s (%d)", title, n);
+	text_fit(im, x, y, line, w / EVO_FONT_CELL_W, PANEL_DIM, 1);
+	y += EVO_FONT_CELL_H + 6;
+	int row = 16, bar_h = 9;
+	if (n * row > y_end - y) {
+		row = EVO_FONT_CELL_H + 2;
+		bar_h = EVO_FONT_H;
+	}
+	int name_chars = 8, value_w = 5 * EVO_FONT_CELL_W;
+	int bar_x = x + name_chars * EVO_FONT_CELL_W + 6;
+	int bar_w = x + w - value_w - 4 - bar_x;
+	for (int k = 0; k < n; k++, y += row) {
+		if (y + row > y_end) {
+			snprintf(line, sizeof line, "... %d more", n - k);
+			text_fit(im, x, y, line, w / EVO_FONT_CELL_W, PANEL_DIM,
+				 1);
+			break;
+		}
+		double v = values ? values[k] : 0;
+		v = v > 1 ? 1 : v > 0 ? v : 0; /* NaN: 0 */
+		const char *name = names && names[k] ? names[k] : "?";
+		text_fit(im, x, y, name, name_chars, EVO_VIEW_TEXT, 1);
+		if (bar_w < 4)
+			continue;
+		evo_raster_fill_rect(im, bar_x, y, bar_w, bar_h, BAR_BACK, 255);
+		evo_raster_fill_rect(im, bar_x, y, (int)lround(v * bar_w),
+				     bar_h, colour, 255);
+		if (neutral)
+			evo_raster_fill_rect(im, bar_x + bar_w / 2, y - 1, 1,
+					     bar_h + 2, NEUTRAL_MARK, 255);
+		snprintf(line, sizeof line, "%.3f", v);
+		evo_raster_text(im, x + w - value_w, y, line, PANEL_DIM, 1);
+	}
+}
+
+void evo_view_render_remote(evo_raster *im, const evo_view_remote *p)
+{
+	static const evo_view_remote none = {0};
+	if (!p)
+		p = &none;
+	evo_raster_clear(im, EVO_VIEW_PANEL);
+	int scale = im->w >= 480 ? 2 : 1;
+	int lh = EVO_FONT_CELL_H * scale + 4, x = 12, y = 12;
+	int chars = (im->w - 24) / (EVO_FONT_CELL_W * scale);
+	char line[160];
+	text_fit(im, x, y, p->title ? p->title : "evo", chars, EVO_VIEW_TEXT,
+		 scale);
+	y += lh + 4;
+
+	/* the link: a coloured box with its state, then the robot */
+	uint32_t colour = EVO_VIEW_LINK_IDLE;
+	switch (p->link) {
+	case EVO_VIEW_LINK_LIVE:
+		colour = EVO_VIEW_LINK_OK;
+		snprintf(line, sizeof line, "LIVE");
+		break;
+	case EVO_VIEW_LINK_QUIET:
+		colour = EVO_VIEW_LINK_WARN;
+		snprintf(line, sizeof line, "QUIET %.1f s", p->quiet);
+		break;
+	case EVO_VIEW_LINK_SILENT:
+		colour = EVO_VIEW_LINK_BAD;
+		snprintf(line, sizeof line, "SILENT %.1f s", p->quiet);
+		break;
+	case EVO_VIEW_LINK_ENDED:
+		snprintf(line, sizeof line, "ENDED");
+		break;
+	default:
+		snprintf(line, sizeof line, "WAITING");
+		break;
+	}
+	int bw = evo_raster_text_width(line, scale) + 16;
+	evo_raster_fill_rect(im, x, y - 4, bw, lh + 2, colour, 255);
+	evo_raster_text(im, x + 8, y, line, EVO_VIEW_PANEL, scale);
+	snprintf(line, sizeof line, "robot %s, a tick every %.1f ms",
+		 p->remote ? p->remote : "?", p->period_ms);
+	int rest = (im->w - x - bw - 24) / (EVO_FONT_CELL_W * scale);
+	text_fit(im, x + bw + 12, y, line, rest, EVO_VIEW_TEXT, scale);
+	y += lh + 6;
+	snprintf(line, sizeof line, "episode %d   tick %ld   reward %.6g",
+		 p->episode, p->tick, p->reward);
+	text_fit(im, x, y, line, chars, EVO_VIEW_TEXT, scale);
+	y += lh;
+	snprintf(line, sizeof line, "in time %lu   late %lu   missing %lu",
+		 p->in_time, p->late, p->missing);
+	text_fit(im, x, y, line, chars,
+		 p->late || p->missing ? PAUSED_TEXT : EVO_VIEW_TEXT, scale);
+	y += lh + 10;
+
+	/* three columns, the help at the bottom */
+	int help_h = EVO_FONT_CELL_H + 8, gap = 16;
+	int col_w = (im->w - 24 - 2 * gap) / 3;
+	int y_end = im->h - help_h;
+	if (col_w >= 40) {
+		draw_bars(im, x, y, col_w, y_end, "sensors", p->n_sensors,
+			  p->sensor_name, p->sensor, EVO_VIEW_SENSOR_BAR, 0);
+		draw_bars(im, x + col_w + gap, y, col_w, y_end, "actuators",
+			  p->n_actuators, p->actuator_name, p->actuator,
+			  EVO_VIEW_ACTUATOR_BAR, 1);
+		draw_bars(im, x + 2 * (col_w + gap), y, col_w, y_end,
+			  "skills", p->n_influence, p->influence_name,
+			  p->influence, EVO_VIEW_BAR, 0);
+	}
+	text_fit(im, x, im->h - help_h + 4, "q quit   s screenshot",
+		 (im->w - 24) / EVO_FONT_CELL_W, PANEL_DIM, 1);
+}
+
 /* ---- the window ------------------------------------------------------ */
 
 struct evo_viewer {
@@ -596,6 +715,23 @@ void evo_viewer_draw(evo_viewer *v, const evo_scene *sc, int follow_bot,
 	v->cam = evo_view_camera_for(sc, follow_bot, v->zoom, v->frame.w,
 				     v->frame.h);
 	evo_view_render(&v->frame, sc, &v->cam, p);
+	if (blit(v) == 0) {
+		SDL_RenderPresent(v->renderer);
+		v->drawn = 1;
+	}
+}
+
+void evo_viewer_draw_remote(evo_viewer *v, const evo_view_remote *p)
+{
+	if (fit_frame(v))
+		return;
+	if (p && p->title && strncmp(p->title, v->title, sizeof v->title)) {
+		snprintf(v->title, sizeof v->title, "%s", p->title);
+		char t[160];
+		snprintf(t, sizeof t, "evo - %s", v->title);
+		SDL_SetWindowTitle(v->window, t);
+	}
+	evo_view_render_remote(&v->frame, p);
 	if (blit(v) == 0) {
 		SDL_RenderPresent(v->renderer);
 		v->drawn = 1;

@@ -1,5 +1,6 @@
 /* evo — the DEMOSIM viewer: a window on SDL2 that shows a scene as it
- * runs, with a panel of what the mind is doing.
+ * runs, with a panel of what the mind is doing; for a remote robot
+ * (DEMOREMOTE), with no world to draw, the panel alone.
  *
  * Each frame is drawn by evo's own code into an RGB raster (sim/viewer/raster.h)
  * and blitted with one streaming texture, so it needs no GPU (it runs
@@ -113,6 +114,54 @@ void evo_view_render(evo_raster *im, const evo_scene *sc,
 #define EVO_VIEW_TEXT		 0xE8E8E8u
 #define EVO_VIEW_BAR		 0x4FB0E8u
 
+/* ---- a remote robot, with no world to draw (DEMOREMOTE) -------------- */
+
+/* The link to a robot, as the panel names it. */
+typedef enum evo_view_link {
+	EVO_VIEW_LINK_WAITING = 0, /* no tick of the episode yet */
+	EVO_VIEW_LINK_LIVE,	   /* ticks coming */
+	EVO_VIEW_LINK_QUIET,	   /* nothing for a few periods */
+	EVO_VIEW_LINK_SILENT,	   /* nothing for the timeout: evo said so */
+	EVO_VIEW_LINK_ENDED,	   /* the episode ended */
+} evo_view_link;
+
+/* What the whole frame shows for a robot: the link, the counts of
+ * docs/remote.md, and three columns of bars, the live sensor values, the
+ * actuator commands (a mark at neutral, 0.5) and the skills' influences,
+ * each value in [0, 1] (clamped when drawn). Every pointer may be NULL. */
+typedef struct evo_view_remote {
+	const char *title;  /* the task; also the window's title */
+	const char *remote; /* the robot's name */
+	double period_ms;   /* the robot's tick period */
+	evo_view_link link;
+	double quiet;	    /* seconds since the robot was last heard */
+	int episode;
+	long tick;	    /* the robot's tick last answered */
+	double reward;	    /* the last sensors_t's */
+	unsigned long in_time, late, missing;
+	int n_sensors;
+	const char *const *sensor_name;
+	const double *sensor;
+	int n_actuators;
+	const char *const *actuator_name;
+	const double *actuator;
+	int n_influence;
+	const char *const *influence_name;
+	const double *influence;
+} evo_view_remote;
+
+/* Draw the robot's frame into im (any size; rows that do not fit are left
+ * out). */
+void evo_view_render_remote(evo_raster *im, const evo_view_remote *p);
+
+/* The colours it uses beside the panel's, for tests that look for them. */
+#define EVO_VIEW_SENSOR_BAR   0x9B7FE0u
+#define EVO_VIEW_ACTUATOR_BAR 0xF08C1Eu
+#define EVO_VIEW_LINK_OK      0x3CB44Bu /* live */
+#define EVO_VIEW_LINK_WARN    0xFFC23Du /* quiet */
+#define EVO_VIEW_LINK_BAD     0xE02828u /* silent */
+#define EVO_VIEW_LINK_IDLE    0x6B717Au /* waiting, ended */
+
 /* ---- the window ------------------------------------------------------ */
 
 typedef struct evo_viewer evo_viewer;
@@ -128,6 +177,9 @@ void evo_viewer_close(evo_viewer *v);
  * be NULL. */
 void evo_viewer_draw(evo_viewer *v, const evo_scene *sc, int follow_bot,
 		     const evo_viewer_panel *p);
+
+/* Draw and show the robot's frame (evo_view_render_remote). */
+void evo_viewer_draw_remote(evo_viewer *v, const evo_view_remote *p);
 
 /* The next pending action, EVO_VIEW_NONE when there is none; never
  * waits. Call until NONE once per frame: SDL (2.24 on) ends each round

@@ -293,6 +293,87 @@ TEST(render_draws_the_scene_without_a_window)
 	evo_scene_destroy(sc);
 }
 
+/* ---- a remote robot's frame (DEMOREMOTE) ------------------------------ */
+
+/* Every sensor at s, every actuator at a, every skill at k, drawn into im. */
+static void render_remote(evo_raster *im, double s, double a, double k,
+			  evo_view_link link, int n_sensors)
+{
+	static const char *names[40] = {"S1", "S2", "S3", "S4", "S5", "S6",
+					"S7", "S8", "S9", "S10", "DOF"};
+	double sv[40], av[2] = {a, a}, kv[3] = {k, k, k};
+	for (int i = 0; i < 40; i++)
+		sv[i] = s;
+	evo_view_remote p = {
+	    .title = "Avoid-ROBOT.simbatch",
+	    .remote = "bot-1",
+	    .period_ms = 33.333,
+	    .link = link,
+	    .quiet = 2.5,
+	    .episode = 1,
+	    .tick = 1234,
+	    .reward = 56.5,
+	    .in_time = 1230,
+	    .late = 3,
+	    .missing = 1,
+	    .n_sensors = n_sensors,
+	    .sensor_name = names,
+	    .sensor = sv,
+	    .n_actuators = 2,
+	    .actuator_name = names,
+	    .actuator = av,
+	    .n_influence = 3,
+	    .influence_name = names,
+	    .influence = kv,
+	};
+	evo_view_render_remote(im, &p);
+}
+
+/* With no world to draw, the frame is the panel: the link's state in its
+ * colour, and one bar per sensor, actuator and skill, as long as its
+ * value. */
+TEST(remote_frame_shows_values_and_the_link_without_a_window)
+{
+	evo_raster im;
+	evo_err err;
+	CHECK_EQ_INT(evo_raster_init(&im, 1024, 720, &err), 0);
+	view v = {im.pixels, im.w, im.h};
+	render_remote(&im, 0.25, 0.25, 0.25, EVO_VIEW_LINK_LIVE, 11);
+	int s1 = count(v, 0, 0, im.w, im.h, EVO_VIEW_SENSOR_BAR);
+	int a1 = count(v, 0, 0, im.w, im.h, EVO_VIEW_ACTUATOR_BAR);
+	int k1 = count(v, 0, 0, im.w, im.h, EVO_VIEW_BAR);
+	CHECK(count(v, 0, 0, im.w, im.h, EVO_VIEW_LINK_OK) > 100);
+	CHECK_EQ_INT(count(v, 0, 0, im.w, im.h, EVO_VIEW_LINK_BAD), 0);
+	render_remote(&im, 0.75, 0.75, 0.75, EVO_VIEW_LINK_SILENT, 11);
+	int s3 = count(v, 0, 0, im.w, im.h, EVO_VIEW_SENSOR_BAR);
+	int a3 = count(v, 0, 0, im.w, im.h, EVO_VIEW_ACTUATOR_BAR);
+	int k3 = count(v, 0, 0, im.w, im.h, EVO_VIEW_BAR);
+	CHECK(count(v, 0, 0, im.w, im.h, EVO_VIEW_LINK_BAD) > 100);
+	CHECK_EQ_INT(count(v, 0, 0, im.w, im.h, EVO_VIEW_LINK_OK), 0);
+	/* three times the value, three times the bar (to a pixel a row;
+	 * the actuators' mark at neutral takes one column from each) */
+	CHECK(s1 > 11 * 9 * 10);
+	CHECK(abs(s3 - 3 * s1) <= 11 * 9 * 3);
+	CHECK(a1 > 0 && abs(a3 - 3 * a1) <= 2 * 11 * 3);
+	CHECK(k1 > 0 && abs(k3 - 3 * k1) <= 3 * 9 * 3);
+	/* values out of [0, 1] are clamped: nothing below 0, full at 1 */
+	render_remote(&im, -1, 2, NAN, EVO_VIEW_LINK_QUIET, 11);
+	CHECK_EQ_INT(count(v, 0, 0, im.w, im.h, EVO_VIEW_SENSOR_BAR), 0);
+	CHECK(count(v, 0, 0, im.w, im.h, EVO_VIEW_ACTUATOR_BAR) > a3);
+	CHECK_EQ_INT(count(v, 0, 0, im.w, im.h, EVO_VIEW_BAR), 0);
+	CHECK(count(v, 0, 0, im.w, im.h, EVO_VIEW_LINK_WARN) > 100);
+	/* more sensors than fit: the rows that fit, and a note; a tiny
+	 * frame and no data at all draw without trouble */
+	render_remote(&im, 1, 1, 1, EVO_VIEW_LINK_WAITING, 40);
+	CHECK(count(v, 0, 0, im.w, im.h, EVO_VIEW_SENSOR_BAR) >
+	      count(v, 0, 0, im.w, im.h, EVO_VIEW_ACTUATOR_BAR));
+	evo_view_render_remote(&im, NULL);
+	evo_raster_free(&im);
+	CHECK_EQ_INT(evo_raster_init(&im, 60, 40, &err), 0);
+	render_remote(&im, 1, 1, 1, EVO_VIEW_LINK_ENDED, 11);
+	evo_raster_free(&im);
+}
+
 /* ---- a display ------------------------------------------------------- */
 
 static pid_t xvfb_pid = -1;
@@ -585,6 +666,7 @@ int main(void)
 	 * pick another backend. */
 	setenv("SDL_VIDEODRIVER", "x11", 1);
 	RUN(render_draws_the_scene_without_a_window);
+	RUN(remote_frame_shows_values_and_the_link_without_a_window);
 	RUN(no_display_is_a_clear_error);
 	const char *d = getenv("DISPLAY");
 	if (d && *d)
