@@ -25,10 +25,13 @@ static void usage(FILE *f)
 	      "      run a task: DEMOSIM in the viewer, or headless;\n"
 	      "      LEARNSIM trains (--threads N, --run DIR, --resume)\n"
 	      "      (evo run with no task lists every option);\n"
-	      "      DEMOREMOTESIM drives a remote simulator over LCM\n"
+	      "      DEMOREMOTESIM drives a remote simulator over LCM,\n"
+	      "      DEMOREMOTE a robot\n"
 	      "  evo serve TASK.simbatch [--name NAME] [--environments N]\n"
+	      "          [--robot [--tick-ms MS] [--timeout S]]\n"
 	      "      serve the task's 2D world as a remote simulator over\n"
-	      "      LCM, until stopped (docs/remote.md)\n"
+	      "      LCM, or as a stand-in robot in real time, until\n"
+	      "      stopped (docs/remote.md)\n"
 	      "  evo info MINDFOLDER [--master SKILL]\n"
 	      "      load a mind folder and show its hierarchy in tick order\n"
 	      "  evo check TASK.simbatch\n"
@@ -164,8 +167,8 @@ static int check_task(const char *path, evo_task *task, evo_err *err)
 	if (!evo_run_supports(task->type))
 		return evo_fail(err,
 				"%s: evo run does not run %s tasks yet (it runs "
-				"DEMOSIM, LEARNSIM, DEMOREMOTESIM and "
-				"LEARNREMOTESIM)",
+				"DEMOSIM, LEARNSIM, DEMOREMOTESIM, "
+				"LEARNREMOTESIM and DEMOREMOTE)",
 				path, task->type);
 	if (strncmp(task->type, "LEARN", 5) == 0 &&
 	    evo_learn_check(path, task, err) != 0)

@@ -69,6 +69,8 @@ static void run_usage(FILE *f)
 	      "                     best/gen-NNNN.net or champion.net),\n"
 	      "                     random (from the seed) or zero; Skills/\n"
 	      "                     is left as it is (DEMOSIM; repeatable)\n"
+	      "DEMOREMOTE (a robot): --ticks N ends the episode after N of\n"
+	      "  the robot's ticks; without it, it runs until stopped\n"
 	      "LEARNSIM (--ticks N bounds each evaluation's episodes too):\n"
 	      "  --generations N    train N generations instead of NUMGEN\n"
 	      "  --threads N        worker threads (default: one per core)\n"
@@ -200,7 +202,8 @@ int evo_run_supports(const char *type)
 {
 	return strcmp(type, "DEMOSIM") == 0 || strcmp(type, "LEARNSIM") == 0 ||
 	       strcmp(type, "DEMOREMOTESIM") == 0 ||
-	       strcmp(type, "LEARNREMOTESIM") == 0;
+	       strcmp(type, "LEARNREMOTESIM") == 0 ||
+	       strcmp(type, "DEMOREMOTE") == 0;
 }
 
 /* The seeds of episode e: the grid's and the rest's, from (seed, e). */
@@ -458,6 +461,232 @@ static int screenshot_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 	return rc;
 }
 
+/* ---- DEMOREMOTE: a robot ------------------------------------------------ */
+
+/* What the robot's frame shows (viewer.h, evo_view_remote). */
+typedef struct robot_view {
+	const char *sensor_name[EVO_MAX_SENSORS];
+	const char *actuator_name[EVO_MAX_ACTUATORS];
+	const char *skill_name[256];
+	double sensor[EVO_MAX_SENSORS], actuator[EVO_MAX_ACTUATORS];
+	double influence[256];
+	evo_view_remote p;
+} robot_view;
+
+static void robot_view_init(robot_view *rv, const evo_mind *m,
+			    const evo_remotes *r, const char *title)
+{
+	memset(rv, 0, sizeof *rv);
+	for (unsigned i = 0; i < m->n_sensors; i++)
+		rv->sensor_name[i] = evo_mind_sensor_name(m, i);
+	for (unsigned i = 0; i < m->n_actuators; i++) {
+		rv->actuator_name[i] = evo_mind_actuator_name(m, i);
+		rv->actuator[i] = 0.5;
+	}
+	int n = m->n_skills < 256 ? (int)m->n_skills : 256;
+	for (int i = 0; i < n; i++)
+		rv->skill_name[i] = evo_mind_skill_name(m, (unsigned)i);
+	evo_view_remote *p = &rv->p;
+	p->title = title;
+	p->remote = r->r[0]->hello.name;
+	p->period_ms = r->r[0]->hello.tick_us * 1e-3;
+	p->tick = -1;
+	p->n_sensors = (int)m->n_sensors;
+	p->sensor_name = rv->sensor_name;
+	p->sensor = rv->sensor;
+	p->n_actuators = (int)m->n_actuators;
+	p->actuator_name = rv->actuator_name;
+	p->actuator = rv->actuator;
+	p->n_influence = n;
+	p->influence_name = rv->skill_name;
+	p->influence = rv->influence;
+}
+
+/* The link's state and the counts, as they are now. */
+static void robot_view_update(robot_view *rv, const evo_robot *rb,
+			      double timeout, long e)
+{
+	evo_view_remote *p = &rv->p;
+	double quiet = evo_robot_quiet(rb);
+	p->episode = (int)e;
+	p->quiet = quiet;
+	p->reward = rb->reward;
+	p->in_time = rb->in_time;
+	p->late = rb->late;
+	p->missing = rb->missing;
+	p->link = rb->done		   ? EVO_VIEW_LINK_ENDED
+		  : rb->tick < 0	   ? EVO_VIEW_LINK_WAITING
+		  : quiet >= timeout	   ? EVO_VIEW_LINK_SILENT
+		  : quiet > 3 * rb->period ? EVO_VIEW_LINK_QUIET
+					   : EVO_VIEW_LINK_LIVE;
+}
+
+/* The robot's frame: in the window, or drawn without one into a PNG. */
+static int robot_screenshot(evo_viewer *v, const robot_view *rv,
+			    const char *path, evo_err *err)
+{
+	if (v) {
+		evo_viewer_draw_remote(v, &rv->p);
+		return evo_viewer_screenshot(v, path, err);
+	}
+	evo_raster im;
+	if (evo_raster_init(&im, VIEW_W, VIEW_H, err))
+		return -1;
+	evo_view_render_remote(&im, &rv->p);
+	int rc = evo_raster_save_png(&im, path, err);
+	evo_raster_free(&im);
+	if (rc == 0)
+		printf("saved %s (tick %ld, drawn without a window)\n", path,
+		       rv->p.tick);
+	return rc;
+}
+
+/* The window's keys: 1 to quit. */
+static int robot_keys(evo_viewer *v, const robot_view *rv, evo_err *err)
+{
+	evo_view_action a;
+	while ((a = evo_viewer_poll(v)) != EVO_VIEW_NONE) {
+		if (a == EVO_VIEW_QUIT)
+			return 1;
+		if (a == EVO_VIEW_SCREENSHOT) {
+			char path[64];
+			snprintf(path, sizeof path, "evo-screenshot-%ld.png",
+				 rv->p.tick);
+			if (evo_viewer_screenshot(v, path, err))
+				fprintf(stderr, "%s\n", err->msg);
+			else
+				printf("saved %s\n", path);
+			err->msg[0] = 0;
+		}
+	}
+	return 0;
+}
+
+/* DEMOREMOTE: the mind here, the body a robot that ticks at its own rate
+ * (docs/remote.md, A robot: free running). Each tick's sensors are
+ * answered at once with that tick's commands; an episode runs until
+ * --ticks, the robot's end, a stop or the window's closing; the robot then
+ * gets a STOP and goes neutral. */
+static int run_robot(const evo_task *task, const run_opts *o, uint64_t seed,
+		     FILE *trace, evo_viewer *v, evo_err *err)
+{
+	evo_remote_opts ro;
+	if (evo_remote_opts_from_task(task->sb, o->task, EVO_REMOTE_ROBOT, &ro,
+				      err))
+		return -1;
+	ro.stop = &stop_requested;
+	const evo_mind *m = &task->mind->mind;
+	size_t need = (evo_state_size(m) + 7) & ~(size_t)7;
+	void *mem = aligned_alloc(8, need);
+	evo_state *state = NULL;
+	if (!mem)
+		return evo_fail(err, "out of memory");
+	if (evo_state_init(m, mem, need, &state) != EVO_OK) {
+		free(mem);
+		return evo_fail(err, "mind state: cannot lay it out");
+	}
+	evo_remotes *r = evo_remote_connect(task->mind, &ro, err);
+	if (!r) {
+		free(mem);
+		return stop_requested ? 0 : -1;
+	}
+	const evo_wire_hello *h = &r->r[0]->hello;
+	printf("remote %s: robot, a tick every %.3f ms\n", h->name,
+	       h->tick_us * 1e-3);
+	fflush(stdout);
+	if (trace)
+		evo_trace_header(trace, task->mind);
+	static robot_view rv;
+	robot_view_init(&rv, m, r, o->task);
+	evo_robot rb;
+	memset(&rb, 0, sizeof rb);
+	int rc = 0, quit = 0, shot = 0;
+	double drawn = 0;
+	evo_q16 qin[EVO_MAX_SENSORS], qout[EVO_MAX_ACTUATORS];
+	for (long e = 1; (o->episodes == 0 || e <= o->episodes) && !quit &&
+			 !shot && !stop_requested && rc == 0;
+	     e++) {
+		evo_state_reset(m, state);
+		if (evo_robot_start(r, &rb, e, grid_seed(seed, e),
+				    episode_seed(seed, e), err)) {
+			rc = -1;
+			break;
+		}
+		long ticks = 0; /* the robot's tick count when it ended */
+		int end = 0;
+		while (!quit) {
+			end = evo_robot_next(&rb, v ? 15 : 200, err);
+			if (end < 0 || end == 1)
+				break;
+			if (end == 0 && o->ticks && rb.tick >= o->ticks)
+				break; /* the tick after the last: its reward */
+			if (end == 0) {
+				evo_remote_sensors(r->r[0], 0, rv.sensor);
+				for (unsigned i = 0; i < m->n_sensors; i++)
+					qin[i] = evo_q16_from_sensor(
+					    rv.sensor[i]);
+				evo_mind_step(m, state, qin, qout);
+				for (unsigned i = 0; i < m->n_actuators; i++)
+					rv.actuator[i] =
+					    evo_q16_to_double(qout[i]);
+				if (evo_robot_answer(&rb, rv.actuator, err)) {
+					end = -1;
+					break;
+				}
+				if (trace)
+					evo_trace_tick(trace, (long)rb.tick, m,
+						       qin, qout, state);
+				for (int i = 0; i < rv.p.n_influence; i++)
+					rv.influence[i] = evo_q16_to_double(
+					    state->influence[i]);
+				rv.p.tick = (long)rb.tick;
+				ticks = (long)rb.tick + 1;
+			}
+			robot_view_update(&rv, &rb, ro.timeout, e);
+			if (v) {
+				quit = robot_keys(v, &rv, err);
+				double t = now();
+				if (t - drawn >= 1.0 / 30) {
+					evo_viewer_draw_remote(v, &rv.p);
+					drawn = t;
+				}
+			}
+			if (end == 0 && o->ticks && ticks >= o->ticks) {
+				/* the tick after the last one answered, for
+				 * the reward it carries; not answered */
+				double until = now() + 4 * rb.period + 0.25;
+				while ((end = evo_robot_next(&rb, 20, err)) ==
+					   2 &&
+				       now() < until)
+					;
+				break;
+			}
+		}
+		if (end < 0 && !stop_requested) {
+			rc = -1;
+			break;
+		}
+		if (end == 1 || (end == 0 && rb.tick >= ticks))
+			ticks = (long)rb.tick;
+		robot_view_update(&rv, &rb, ro.timeout, e);
+		printf("episode %ld: reward %.6f over %ld ticks\n", e,
+		       rb.reward, ticks);
+		fflush(stdout);
+		if (o->screenshot) {
+			if (robot_screenshot(v, &rv, o->screenshot, err))
+				rc = -1;
+			shot = 1;
+		}
+		if (end < 0)
+			break; /* stopped */
+	}
+	if (rb.set)
+		evo_robot_report(&rb);
+	evo_remotes_close(r);
+	free(mem);
+	return rc;
+}
+
 /* DEMOSIM in a window: real time (30 ticks a second) times the speed,
  * with pause, single step, speed and reset keys. */
 static int run_viewer(evo_sim *s, evo_viewer *v, const run_opts *o,
@@ -586,8 +815,8 @@ int evo_run_main(int argc, char **argv)
 	if (!evo_run_supports(task.type)) {
 		fprintf(stderr,
 			"%s: evo run does not run %s tasks yet (it runs "
-			"DEMOSIM, LEARNSIM, DEMOREMOTESIM and "
-			"LEARNREMOTESIM)\n",
+			"DEMOSIM, LEARNSIM, DEMOREMOTESIM, LEARNREMOTESIM "
+			"and DEMOREMOTE)\n",
 			o.task, task.type);
 		evo_task_free(&task);
 		return 1;
@@ -617,8 +846,9 @@ int evo_run_main(int argc, char **argv)
 		evo_task_free(&task);
 		return rc;
 	}
-	evo_sim *s = evo_sim_create(task.mind, task.sb, o.task, &err);
-	if (!s)
+	evo_sim *s = NULL;
+	int robot = strcmp(task.type, "DEMOREMOTE") == 0;
+	if (!robot && !(s = evo_sim_create(task.mind, task.sb, o.task, &err)))
 		goto out;
 	if (!o.headless) {
 		const char *d = getenv("DISPLAY");
@@ -631,6 +861,18 @@ int evo_run_main(int argc, char **argv)
 				err.msg[0] ? err.msg : "DISPLAY is not set");
 			err.msg[0] = 0;
 		}
+	}
+	if (robot) {
+		/* A robot's episode runs until it is stopped (or --ticks, or
+		 * the robot ends it): TICKLIM bounds simulated episodes. */
+		if (o.episodes < 0)
+			o.episodes = v ? 0 : 1;
+		if (trace_open(&tf, o.trace, &err))
+			goto out;
+		int r = run_robot(&task, &o, seed, tf.f, v, &err);
+		if (trace_close(&tf, r == 0, &err) == 0 && r == 0)
+			rc = 0;
+		goto out;
 	}
 	/* An episode lasts at most TICKLIM ticks, as in learning, unless
 	 * --ticks says otherwise: a timeout control ends it one check later

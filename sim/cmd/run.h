@@ -7,8 +7,8 @@
 /* argv[1] is "run". Returns the process exit status. */
 int evo_run_main(int argc, char **argv);
 
-/* 1 when `evo run` runs tasks of this TYPE (DEMOSIM, LEARNSIM), which
- * `evo check` also asks. */
+/* 1 when `evo run` runs tasks of this TYPE (DEMOSIM, LEARNSIM,
+ * DEMOREMOTESIM, DEMOREMOTE), which `evo check` also asks. */
 int evo_run_supports(const char *type);
 
 #endif
