@@ -194,8 +194,9 @@ static int on_command(server *sv, const evo_link_msg *m, evo_err *err)
 		drop(sv, EVO_WIRE_COUNTS, "command_t", why);
 		return 0;
 	}
-	/* the command answered last, again: its answer was lost */
-	if (e->active && c.episode == e->episode && c.tick == e->tick - 1)
+	/* the command answered last, again: its answer was lost (also the
+	 * one that ended the episode, whose answer said done) */
+	if (e->last_len > 0 && c.episode == e->episode && c.tick == e->tick - 1)
 		return resend(sv, e, err);
 	if (!e->active || c.episode != e->episode || c.tick != e->tick) {
 		snprintf(why, sizeof why,

@@ -272,7 +272,18 @@ static int take_new(evo_remotes *s, const evo_wire_hello *h, evo_err *err)
 	r->hello = *h;
 	r->heard_at = now();
 	s->r[s->n++] = r;
-	return accept(s, r, err);
+	if (accept(s, r, err) == 0)
+		return 0;
+	if (o->name)
+		return -1;
+	/* any remote would do: one that does not fit is passed over, with
+	 * why, and evo waits for another */
+	if (strcmp(s->passed_over, h->name) != 0)
+		fprintf(stderr, "evo: %s; passed over\n", err->msg);
+	snprintf(s->passed_over, sizeof s->passed_over, "%s", h->name);
+	err->msg[0] = 0;
+	free(s->r[--s->n]);
+	return 0;
 }
 
 int evo_remotes_find(evo_remotes *s, double window, evo_err *err)

@@ -90,6 +90,7 @@ typedef struct evo_remotes {
 	int n;
 	evo_remote *r[EVO_REMOTE_MAX_REMOTES];
 	unsigned long undecodable_hellos;
+	char passed_over[EVO_REMOTE_NAME_MAX]; /* the last that did not fit */
 } evo_remotes;
 
 /* Connect to the URL. NULL with err set. */
