@@ -137,17 +137,37 @@ static int ours(server *sv, const char *name, int64_t session, int32_t env,
 	return 0;
 }
 
-static int on_control(server *sv, const evo_link_msg *m, evo_err *err)
+/* A control_t or command_t decoded and for this server: 1, or 0 when it
+ * was dropped (counted by reason). */
+static int take_control(server *sv, const evo_link_msg *m, evo_wire_control *c)
 {
-	evo_wire_control c;
 	char why[256];
 	evo_wire_reason r =
-	    evo_wire_decode_control(m->data, m->len, &c, why, sizeof why);
+	    evo_wire_decode_control(m->data, m->len, c, why, sizeof why);
 	if (r) {
 		drop(sv, r, "control_t", why);
 		return 0;
 	}
-	if (!ours(sv, c.name, c.session, c.env, "control_t"))
+	return ours(sv, c->name, c->session, c->env, "control_t");
+}
+
+static int take_command(server *sv, const evo_link_msg *m, evo_wire_command *c)
+{
+	char why[256];
+	evo_wire_reason r =
+	    evo_wire_decode_command(m->data, m->len, c, why, sizeof why);
+	if (r) {
+		drop(sv, r, "command_t", why);
+		return 0;
+	}
+	return ours(sv, c->name, c->session, c->env, "command_t");
+}
+
+static int on_control(server *sv, const evo_link_msg *m, evo_err *err)
+{
+	evo_wire_control c;
+	char why[256];
+	if (!take_control(sv, m, &c))
 		return 0;
 	served_env *e = &sv->env[c.env];
 	if (c.op == EVO_CONTROL_STOP) {
@@ -179,13 +199,8 @@ static int on_command(server *sv, const evo_link_msg *m, evo_err *err)
 {
 	evo_wire_command c;
 	char why[256];
-	evo_wire_reason r =
-	    evo_wire_decode_command(m->data, m->len, &c, why, sizeof why);
-	if (r) {
-		drop(sv, r, "command_t", why);
-		return 0;
-	}
-	if (!ours(sv, c.name, c.session, c.env, "command_t"))
+	evo_wire_reason r;
+	if (!take_command(sv, m, &c))
 		return 0;
 	served_env *e = &sv->env[c.env];
 	if (c.n != sv->hello.n_actuators) {
@@ -306,13 +321,7 @@ static int robot_control(server *sv, robot *rb, const evo_link_msg *m,
 {
 	evo_wire_control c;
 	char why[256];
-	evo_wire_reason r =
-	    evo_wire_decode_control(m->data, m->len, &c, why, sizeof why);
-	if (r) {
-		drop(sv, r, "control_t", why);
-		return 0;
-	}
-	if (!ours(sv, c.name, c.session, c.env, "control_t"))
+	if (!take_control(sv, m, &c))
 		return 0;
 	double t = mono_now();
 	if (c.op == EVO_CONTROL_STOP) {
@@ -360,13 +369,8 @@ static int robot_command(server *sv, robot *rb, const evo_link_msg *m,
 {
 	evo_wire_command c;
 	char why[256];
-	evo_wire_reason r =
-	    evo_wire_decode_command(m->data, m->len, &c, why, sizeof why);
-	if (r) {
-		drop(sv, r, "command_t", why);
-		return 0;
-	}
-	if (!ours(sv, c.name, c.session, c.env, "command_t"))
+	evo_wire_reason r;
+	if (!take_command(sv, m, &c))
 		return 0;
 	if (c.n != sv->hello.n_actuators) {
 		snprintf(why, sizeof why, "%u values; the hello says %u", c.n,
