@@ -84,6 +84,33 @@ static void stop_serve(pid_t pid, int sig)
 	waitpid(pid, NULL, 0);
 }
 
+/* Start `evo run` of dir's R into dir/run (its output in dir/run.out) and
+ * return once generation 0 is logged, inside generation 1. */
+static pid_t start_run_past_generation_0(const char *dir)
+{
+	char cmd[2048];
+	snprintf(cmd, sizeof cmd,
+		 "exec %s run %s/%s/Avoid/Tasks/R.simbatch --seed 9 --run "
+		 "%s/%s/run >%s/%s/run.out 2>&1",
+		 cli_evo, cli_tmp, dir, cli_tmp, dir, cli_tmp, dir);
+	pid_t run = fork();
+	if (run == 0) {
+		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
+		_exit(127);
+	}
+	double limit = mono() + 120;
+	for (;;) {
+		char *t = cli_read("%s/%s/run/log.csv", cli_tmp, dir);
+		int rows = cli_count_lines(t, "");
+		free(t);
+		if (rows >= 2 || mono() > limit)
+			break;
+		struct timespec ms = {0, 2000000};
+		nanosleep(&ms, NULL);
+	}
+	return run;
+}
+
 /* The in-process run of dir's T: its fitness log and champion. */
 static void local_run(const char *dir, char **log, char **champion)
 {
@@ -155,33 +182,12 @@ TEST(a_simulator_killed_mid_run_loses_nothing)
 	snprintf(n1, sizeof n1, "kill-a-%ld", (long)getpid());
 	snprintf(n2, sizeof n2, "kill-b-%ld", (long)getpid());
 	pid_t a = start_serve("kill", n1), b = start_serve("kill", n2);
-	char cmd[2048], rlog[256];
-	snprintf(rlog, sizeof rlog, "%s/kill/run.out", cli_tmp);
-	snprintf(cmd, sizeof cmd,
-		 "exec %s run %s/kill/Avoid/Tasks/R.simbatch --seed 9 --run "
-		 "%s/kill/run >%s 2>&1",
-		 cli_evo, cli_tmp, cli_tmp, rlog);
-	pid_t run = fork();
-	if (run == 0) {
-		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
-		_exit(127);
-	}
-	/* once generation 0 is logged, inside generation 1 */
-	double limit = mono() + 120;
-	for (;;) {
-		char *t = cli_read("%s/kill/run/log.csv", cli_tmp);
-		int rows = cli_count_lines(t, "");
-		free(t);
-		if (rows >= 2 || mono() > limit)
-			break;
-		struct timespec ms = {0, 2000000};
-		nanosleep(&ms, NULL);
-	}
+	pid_t run = start_run_past_generation_0("kill");
 	stop_serve(b, SIGKILL);
 	int st = 0;
 	waitpid(run, &st, 0);
 	CHECK(WIFEXITED(st) && WEXITSTATUS(st) == 0);
-	char *said = cli_read("%s", rlog);
+	char *said = cli_read("%s/kill/run.out", cli_tmp);
 	CHECK(said && strstr(said, "taken as lost; its evaluations go to the "
 				   "others"));
 	free(said);
@@ -202,32 +208,12 @@ TEST(with_no_simulator_left_the_run_stops_and_resumes)
 	snprintf(n1, sizeof n1, "none-a-%ld", (long)getpid());
 	snprintf(n2, sizeof n2, "none-b-%ld", (long)getpid());
 	pid_t a = start_serve("none", n1);
-	char cmd[2048], rlog[256];
-	snprintf(rlog, sizeof rlog, "%s/none/run.out", cli_tmp);
-	snprintf(cmd, sizeof cmd,
-		 "exec %s run %s/none/Avoid/Tasks/R.simbatch --seed 9 --run "
-		 "%s/none/run >%s 2>&1",
-		 cli_evo, cli_tmp, cli_tmp, rlog);
-	pid_t run = fork();
-	if (run == 0) {
-		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
-		_exit(127);
-	}
-	double limit = mono() + 120;
-	for (;;) {
-		char *t = cli_read("%s/none/run/log.csv", cli_tmp);
-		int rows = cli_count_lines(t, "");
-		free(t);
-		if (rows >= 2 || mono() > limit)
-			break;
-		struct timespec ms = {0, 2000000};
-		nanosleep(&ms, NULL);
-	}
+	pid_t run = start_run_past_generation_0("none");
 	stop_serve(a, SIGKILL);
 	int st = 0;
 	waitpid(run, &st, 0);
 	CHECK(WIFEXITED(st) && WEXITSTATUS(st) == 1);
-	char *said = cli_read("%s", rlog);
+	char *said = cli_read("%s/none/run.out", cli_tmp);
 	CHECK(said && strstr(said, "every remote simulator is lost"));
 	free(said);
 	pid_t b = start_serve("none", n2);
