@@ -34,9 +34,11 @@ import select
 import signal
 import struct
 import sys
+import time
 
 PROTOCOL = 1
 MAX_ENVIRONMENTS = 64  # evo's EVO_REMOTE_MAX_ENVS
+LATE_RESET_S = 2.0  # the same RESET past tick 0 within it: a late copy
 
 SENSORS = ["P1", "P2", "P3", "P4", "P5", "GB", "GD"]
 ACTUATORS = ["MotL", "MotR"]
@@ -199,6 +201,7 @@ class Env:
         self.world = None
         self.episode = 0  # 0: none yet
         self.seeds = (0, 0)
+        self.reset_at = None  # when the episode's RESET came (monotonic)
         self.tick = 0  # the tick of the last sensors_t sent
         self.active = False
         self.reward = 0.0
@@ -300,6 +303,7 @@ class Simulator:
         if c.op == self.t.control_t.STOP:
             if e.active:
                 self.end(c.env, e, "stopped")
+            e.reset_at = None  # the same RESET after it starts over
             return
         if c.op != self.t.control_t.RESET:
             self.drop("value", "control_t", "op %d" % c.op)
@@ -311,6 +315,17 @@ class Simulator:
                 (c.layout_seed, c.seed) == e.seeds):
             self.data.publish(self.ch_sensors, e.last)
             return
+        # the same RESET past tick 0, soon after it: a copy evo sent again
+        # while the first answer was on its way, come late; starting over
+        # would leave evo's next command ahead of the world
+        now = time.monotonic()
+        if (e.tick > 0 and c.episode == e.episode and
+                (c.layout_seed, c.seed) == e.seeds and
+                e.reset_at is not None and now - e.reset_at < LATE_RESET_S):
+            self.drop("stale", "control_t",
+                      "a late copy of the RESET of episode %d, now at tick %d"
+                      % (c.episode, e.tick))
+            return
         if c.episode < 1:
             self.drop("value", "control_t", "episode %d" % c.episode)
             return
@@ -319,6 +334,7 @@ class Simulator:
         e.world = Corridor(c.layout_seed, c.seed)
         e.episode, e.seeds = c.episode, (c.layout_seed, c.seed)
         e.tick, e.reward, e.active = 0, 0.0, True
+        e.reset_at = now
         self.send_sensors(c.env, e, False)
 
     def on_command(self, channel, data):

@@ -55,11 +55,23 @@ static void serve_usage(FILE *f)
 	      f);
 }
 
+static double mono_now(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* Seconds after a RESET during which the same RESET again, once the
+ * episode is past tick 0, is a late copy of it (docs/remote.md). */
+#define LATE_RESET_S 2.0
+
 typedef struct served_env {
 	evo_sim *sim;
 	int64_t episode; /* 0: none yet */
 	int64_t tick;	 /* the tick of the last sensors_t sent */
 	uint64_t layout_seed, seed; /* of the episode's RESET */
+	double reset_at;	    /* when it came (monotonic seconds) */
 	int active;
 	unsigned char last[EVO_WIRE_MAX_BYTES]; /* that sensors_t */
 	int last_len;
@@ -172,14 +184,28 @@ static int on_control(server *sv, const evo_link_msg *m, evo_err *err)
 	served_env *e = &sv->env[c.env];
 	if (c.op == EVO_CONTROL_STOP) {
 		e->active = 0;
+		e->reset_at = -LATE_RESET_S; /* a RESET after it is new */
 		return 0;
 	}
 	/* the same RESET again (same episode, same seeds), not yet answered
 	 * by a command: its answer was lost, so it goes again
 	 * (docs/remote.md) */
-	if (e->active && c.episode == e->episode && e->tick == 0 &&
-	    c.layout_seed == e->layout_seed && c.seed == e->seed)
+	double t = mono_now();
+	int same = e->episode > 0 && c.episode == e->episode &&
+		   c.layout_seed == e->layout_seed && c.seed == e->seed;
+	if (same && e->active && e->tick == 0)
 		return resend(sv, e, err);
+	/* the same RESET past tick 0, soon after it: a copy evo sent again
+	 * while the first answer was on its way, come late; starting over
+	 * would leave evo's next command ahead of the world */
+	if (same && e->tick > 0 && t - e->reset_at < LATE_RESET_S) {
+		snprintf(why, sizeof why,
+			 "a late copy of the RESET of episode %lld, now at "
+			 "tick %lld",
+			 (long long)c.episode, (long long)e->tick);
+		drop(sv, EVO_WIRE_STALE, "control_t", why);
+		return 0;
+	}
 	if (c.episode < 1 || c.episode > INT_MAX) {
 		snprintf(why, sizeof why, "episode %lld", (long long)c.episode);
 		drop(sv, EVO_WIRE_VALUE, "control_t", why);
@@ -190,6 +216,7 @@ static int on_control(server *sv, const evo_link_msg *m, evo_err *err)
 	e->episode = c.episode;
 	e->layout_seed = c.layout_seed;
 	e->seed = c.seed;
+	e->reset_at = t;
 	e->tick = 0;
 	e->active = 1;
 	return send_sensors(sv, e, c.env, 0.0, 0, err);
@@ -272,13 +299,6 @@ static int serve(server *sv, evo_err *err)
 }
 
 /* ---- a robot: free running ---------------------------------------------- */
-
-static double mono_now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 /* A stand-in robot's episode, and what it counts. */
 typedef struct robot {

@@ -6,6 +6,7 @@
  * with the reward the simulator logs, and the same again for the same
  * seed; and the simulator, driven from here as evo would drive it, answers
  * a repeated RESET or command with its answer again, without stepping,
+ * drops a late copy of an episode's RESET,
  * ignores what is not for it, and stops at SIGTERM; LEARNREMOTESIM of
  * Corridor-NEAT against it raises the population's fitness over a few
  * generations, and its champion beats untrained networks under
@@ -654,6 +655,12 @@ TEST(the_simulator_repeats_answers_without_stepping_and_ignores_the_rest)
 	command(&d, name, d.session, 0, 1, 2, 0.9, 0.7, 2);
 	CHECK(next_sensors(&d, 2000, &sx, NULL, NULL));
 	CHECK(sx.env == 0 && sx.tick == 3);
+	/* env 0's RESET again, late: dropped, the episode goes on */
+	reset(&d, 0, 1, 11, 22, EVO_CONTROL_RESET);
+	CHECK(!next_sensors(&d, 300, &sx, NULL, NULL));
+	command(&d, name, d.session, 0, 1, 3, 0.9, 0.7, 2);
+	CHECK(next_sensors(&d, 2000, &sx, NULL, NULL));
+	CHECK(sx.env == 0 && sx.tick == 4);
 
 	/* env 1 driven to the goal as the shipped network steers; the
 	 * command that ended the episode, again: its answer again */
@@ -680,10 +687,13 @@ TEST(the_simulator_repeats_answers_without_stepping_and_ignores_the_rest)
 	printf("  env 1 reached the goal at tick %lld with reward %.6f\n",
 	       (long long)sb.tick, sb.reward);
 
-	/* STOP ends env 0's episode */
+	/* STOP ends env 0's episode; the same RESET then starts it over */
 	reset(&d, 0, 1, 0, 0, EVO_CONTROL_STOP);
-	command(&d, name, d.session, 0, 1, 3, 0.9, 0.7, 2);
+	command(&d, name, d.session, 0, 1, 4, 0.9, 0.7, 2);
 	CHECK(!next_sensors(&d, 300, &sx, NULL, NULL));
+	reset(&d, 0, 1, 11, 22, EVO_CONTROL_RESET);
+	CHECK(next_sensors(&d, 2000, &sx, again, &lagain));
+	CHECK(lagain == la0 && memcmp(again, a0, la0) == 0);
 
 out:;
 	double secs;
@@ -691,17 +701,17 @@ out:;
 	CHECK(secs < 1.0);
 	char *o = cli_read("%s", s.out);
 	/* junk; session, name, env 2 (command and RESET); the count; the
-	 * tick ahead; ticks 0 and 4 (after the goal) and 3 (after STOP)
-	 * stale; 1.5 and NaN */
+	 * tick ahead; ticks 0 and 4 (after the goal), env 0's late RESET
+	 * and tick 4 (after STOP) stale; 1.5 and NaN */
 	CHECK_CONTAINS(o, "dropped a command_t (undecodable: not an "
 			  "evo_lcm.command_t");
-	CHECK_CONTAINS(o, "corridor: dropped 12 messages (1 undecodable, 4 "
-			  "foreign, 1 counts, 2 value, 3 stale, 1 ahead)");
+	CHECK_CONTAINS(o, "corridor: dropped 13 messages (1 undecodable, 4 "
+			  "foreign, 1 counts, 2 value, 4 stale, 1 ahead)");
 	free(o);
 	char *log = cli_read("%s", s.log);
 	CHECK_CONTAINS(log, "env 0 episode 1 (layout_seed 11, seed 22): "
 			    "reward ");
-	CHECK_CONTAINS(log, " over 3 ticks, stopped\n");
+	CHECK_CONTAINS(log, " over 4 ticks, stopped\n");
 	CHECK_CONTAINS(log, "env 1 episode 1 (layout_seed 11, seed 22): ");
 	CHECK_CONTAINS(log, ", goal\n");
 	free(log);

@@ -432,7 +432,9 @@ static void send_command(evo_link *l, const char *channel,
 /* evo serve, driven by hand: a command with NaN, one ahead of its tick and
  * one with a wrong count get no answer and are counted; a good one steps
  * the world; the same command again gets the same answer without a step;
- * the episodes run on the serve's own port, named in its hello. */
+ * the episode's RESET again past tick 0 is a late copy, dropped, but after
+ * a STOP it starts the episode over; the episodes run on the serve's own
+ * port, named in its hello. */
 TEST(serve_drops_bad_commands_and_repeats_answers)
 {
 	char name[64];
@@ -512,6 +514,23 @@ TEST(serve_drops_bad_commands_and_repeats_answers)
 		send_command(data, ch_command, &cmd);
 		CHECK(next_sensors(data, ch_sensors, 10, &none) &&
 		      none.tick == 2);
+		/* the episode's RESET again, late: the episode goes on */
+		evo_link_publish(data, ch_control, buf, (size_t)n, &err);
+		CHECK(!next_sensors(data, ch_sensors, 0.5, &none));
+		cmd.tick = 2;
+		send_command(data, ch_command, &cmd);
+		CHECK(next_sensors(data, ch_sensors, 10, &none) &&
+		      none.tick == 3);
+		/* after a STOP, the same RESET starts the episode over */
+		evo_wire_control stop_c = c;
+		stop_c.op = EVO_CONTROL_STOP;
+		int n_stop = evo_wire_encode_control(&stop_c, buf, sizeof buf);
+		evo_link_publish(data, ch_control, buf, (size_t)n_stop, &err);
+		n = evo_wire_encode_control(&c, buf, sizeof buf);
+		evo_link_publish(data, ch_control, buf, (size_t)n, &err);
+		CHECK(next_sensors(data, ch_sensors, 10, &none) &&
+		      none.tick == 0 && none.episode == 1 &&
+		      memcmp(none.value, s0.value, sizeof s0.value) == 0);
 		evo_link_close(data);
 	}
 	evo_link_close(main_l);
@@ -519,7 +538,9 @@ TEST(serve_drops_bad_commands_and_repeats_answers)
 	CHECK_EQ_INT(stop(srv, &secs), 0);
 	char *log = cli_read("%s/%s.serve.log", cli_tmp, name);
 	CHECK(log && strstr(log, "dropped a command_t (value: value 0 is nan"));
-	CHECK(log && strstr(log, "dropped 3 messages"));
+	CHECK(log && strstr(log, "dropped a control_t (stale: a late copy of "
+				 "the RESET of episode 1, now at tick 2)"));
+	CHECK(log && strstr(log, "dropped 4 messages"));
 	free(log);
 }
 
