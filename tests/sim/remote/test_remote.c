@@ -166,12 +166,14 @@ static void publish(evo_link *l, const char *ch, const void *b, int n)
  * ahead and to the right), S9 and S10 1, DOF 0.3 and the rest 0.5; tick 1
  * ends the episode with reward 7.5. What evo commands at tick 0 goes to
  * the file `got`. */
+static const char *fake_url; /* NULL: LCM's default URL */
+
 static void fake_remote(const char *name, enum fake_mode mode, const char *got)
 {
 	static const char *sensors[] = {"S1", "S2", "S3", "S4", "S5", "S6",
 					"S7", "S8", "S9", "S10", "DOF"};
 	evo_err err;
-	evo_link *l = evo_link_open(NULL, &err);
+	evo_link *l = evo_link_open(fake_url, &err);
 	char ch_control[96], ch_command[96], ch_sensors[96];
 	snprintf(ch_control, sizeof ch_control, "EVO_%s_CONTROL", name);
 	snprintf(ch_command, sizeof ch_command, "EVO_%s_COMMAND", name);
@@ -338,6 +340,57 @@ TEST(a_remote_with_other_names_is_refused_with_them)
 	kill(f, SIGKILL);
 	int st;
 	waitpid(f, &st, 0);
+}
+
+/* Without REMOTENAME any remote of the kind will do: one whose names do
+ * not fit is passed over, saying why, and evo waits for one that fits. */
+TEST(a_remote_that_does_not_fit_is_passed_over_for_one_that_does)
+{
+	char misfit[64], fit[64], got[256], url[96];
+	snprintf(misfit, sizeof misfit, "misfit-%ld", (long)getpid());
+	snprintf(fit, sizeof fit, "fit-%ld", (long)getpid());
+	snprintf(got, sizeof got, "%s/got-fit.txt", cli_tmp);
+	/* a port of this run's own: no other remote answers here */
+	snprintf(url, sizeof url, "udpm://239.255.76.67:%ld?ttl=0",
+		 30000 + (long)(getpid() % 10000) * 2);
+	remote_task(misfit, "");
+	char text[512];
+	snprintf(text, sizeof text,
+		 "TYPE:DEMOREMOTESIM\nMASTERSKILL:Avoid\nTICKLIM:100\n"
+		 "LCMURL:%s\nREMOTETIMEOUT:10\n",
+		 url);
+	cli_write(text, "%s/Avoid/Tasks/any-remote.simbatch", cli_tmp);
+	fake_url = url;
+	pid_t a = start_fake(misfit, FAKE_OTHER_NAMES, got);
+	pid_t b = fork();
+	if (b == 0) {
+		/* after evo has heard the misfit */
+		nanosleep(&(struct timespec){1, 500000000}, NULL);
+		fake_remote(fit, FAKE_GOOD, got);
+	}
+	fake_url = NULL;
+	int rc = cli_capture(out, sizeof out,
+			     "%s run %s/Avoid/Tasks/any-remote.simbatch -nog",
+			     cli_evo, cli_tmp);
+	CHECK_EQ_INT(rc, 0);
+	char want[256];
+	snprintf(want, sizeof want,
+		 "evo: remote %s does not fit Avoid.botdesc; it lacks the "
+		 "sensors S10; it has the extra sensors S11",
+		 misfit);
+	CHECK_CONTAINS(out, want);
+	CHECK_CONTAINS(out, "; passed over\n");
+	snprintf(want, sizeof want, "remote %s: simulator, 1 environment",
+		 fit);
+	CHECK_CONTAINS(out, want);
+	CHECK_CONTAINS(out, "episode 1: reward 7.500000 over 1 ticks");
+	char *g = cli_read("%s", got);
+	CHECK(g && strcmp(g, "2 1.000000 0.000000\n") == 0);
+	free(g);
+	kill(a, SIGKILL);
+	int st;
+	waitpid(a, &st, 0);
+	waitpid(b, &st, 0);
 }
 
 TEST(bad_messages_are_dropped_and_counted_by_reason)
@@ -598,6 +651,7 @@ int main(void)
 	RUN(a_served_world_runs_as_demosim_does);
 	RUN(names_are_mapped_in_any_order);
 	RUN(a_remote_with_other_names_is_refused_with_them);
+	RUN(a_remote_that_does_not_fit_is_passed_over_for_one_that_does);
 	RUN(bad_messages_are_dropped_and_counted_by_reason);
 	RUN(serve_drops_bad_commands_and_repeats_answers);
 	RUN(a_nan_from_a_simulator_ends_the_run_with_where_it_was);
