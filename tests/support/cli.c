@@ -16,11 +16,24 @@
 char cli_evo[256];
 char cli_tmp[128];
 
+const char *cli_tmp_root(void)
+{
+	const char *t = getenv("TMPDIR");
+	return t && t[0] ? t : "/tmp";
+}
+
 int cli_setup(const char *name)
 {
 	const char *b = getenv("EVO_BUILD");
 	snprintf(cli_evo, sizeof cli_evo, "%s/evo", b && b[0] ? b : "build");
-	snprintf(cli_tmp, sizeof cli_tmp, "/tmp/evo-test-%s-XXXXXX", name);
+	int n = snprintf(cli_tmp, sizeof cli_tmp, "%s/evo-test-%s-XXXXXX",
+			 cli_tmp_root(), name);
+	if (n < 0 || (size_t)n >= sizeof cli_tmp) {
+		printf("TMPDIR %s: too long for the tests' folders\n",
+		       cli_tmp_root());
+		cli_tmp[0] = 0;
+		return -1;
+	}
 	if (!mkdtemp(cli_tmp)) {
 		perror("mkdtemp");
 		return -1;

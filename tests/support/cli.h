@@ -9,7 +9,11 @@
 extern char cli_evo[256]; /* $EVO_BUILD/evo (default build/evo) */
 extern char cli_tmp[128]; /* made by cli_setup, removed by cli_cleanup */
 
-/* Fill cli_evo and make cli_tmp (/tmp/evo-test-<name>-XXXXXX). 0 or -1. */
+/* Where tests make their files: $TMPDIR, else /tmp. */
+const char *cli_tmp_root(void);
+
+/* Fill cli_evo and make cli_tmp (ROOT/evo-test-<name>-XXXXXX, ROOT from
+ * cli_tmp_root). 0 or -1. */
 int cli_setup(const char *name);
 void cli_cleanup(void);
 

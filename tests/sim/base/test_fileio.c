@@ -11,6 +11,7 @@
 
 #include "base/fileio.h"
 #include "harness.h"
+#include "support/cli.h"
 
 static char dir[64];
 
@@ -89,7 +90,7 @@ TEST(an_atomic_write_replaces_whole_and_leaves_nothing_beside)
 
 int main(void)
 {
-	snprintf(dir, sizeof dir, "/tmp/evo-fileio-XXXXXX");
+	snprintf(dir, sizeof dir, "%s/evo-fileio-XXXXXX", cli_tmp_root());
 	if (!mkdtemp(dir))
 		return 1;
 	RUN(fail_formats_and_returns_minus_one);

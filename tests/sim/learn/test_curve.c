@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "harness.h"
+#include "support/cli.h"
 #include "learn/curve.h"
 #include "viewer/png.h"
 
@@ -30,7 +31,8 @@ static int colour_in_column(const evo_png_image *img, int x, uint32_t rgb,
 
 TEST(rising_best_is_drawn_rising)
 {
-	char path[] = "/tmp/evo-curve-XXXXXX";
+	char path[512];
+	snprintf(path, sizeof path, "%s/evo-curve-XXXXXX", cli_tmp_root());
 	int fd = mkstemp(path);
 	CHECK(fd >= 0);
 	close(fd);
@@ -60,7 +62,8 @@ TEST(rising_best_is_drawn_rising)
 
 TEST(empty_and_flat_curves_still_write)
 {
-	char path[] = "/tmp/evo-curve-XXXXXX";
+	char path[512];
+	snprintf(path, sizeof path, "%s/evo-curve-XXXXXX", cli_tmp_root());
 	int fd = mkstemp(path);
 	close(fd);
 	evo_err err = {{0}};

@@ -8,10 +8,11 @@
 
 #include "base/fileio.h"
 #include "harness.h"
+#include "support/cli.h"
 #include "support/alloc_fail.h"
 #include "learn/runlog.h"
 
-static char dir[128];
+static char dir[512];
 
 static evo_gen_stats stats(int g)
 {
@@ -330,7 +331,7 @@ TEST(progress_line_on_a_terminal_and_off)
 
 int main(void)
 {
-	snprintf(dir, sizeof dir, "/tmp/evo-runlog-XXXXXX");
+	snprintf(dir, sizeof dir, "%s/evo-runlog-XXXXXX", cli_tmp_root());
 	if (!mkdtemp(dir))
 		return 1;
 	RUN(log_has_a_row_per_generation_with_exact_values);

@@ -8,6 +8,7 @@
 
 #include "base/fileio.h"
 #include "harness.h"
+#include "support/cli.h"
 #include "mind/mindfolder.h"
 #include "support/rng.h"
 
@@ -58,9 +59,9 @@ TEST(image_round_trips_through_a_file)
 	CHECK(l != NULL);
 	if (!l)
 		return;
-	char path[128];
-	snprintf(path, sizeof path, "/tmp/evo-test-image-%ld.bin",
-		 (long)getpid());
+	char path[600];
+	snprintf(path, sizeof path, "%s/evo-test-image-%ld.bin",
+		 cli_tmp_root(), (long)getpid());
 	evo_err err;
 	CHECK_EQ_INT(evo_write_file_atomic(path, l->image, l->image_len, &err),
 		     0);

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "harness.h"
+#include "support/cli.h"
 #include "mind/mindfolder.h"
 #include "mind/task.h"
 #include "support/alloc_fail.h"
@@ -121,9 +122,9 @@ static void long_copy(const char *top, size_t len, char *task, size_t cap)
  * its message in the middle of the path. */
 TEST(too_deep_a_mind_folder_is_refused_with_its_path)
 {
-	char top[64], task[1500];
-	snprintf(top, sizeof top, "/tmp/evo-test-load-%ld-deep",
-		 (long)getpid());
+	char top[512], task[1500];
+	snprintf(top, sizeof top, "%s/evo-test-load-%ld-deep",
+		 cli_tmp_root(), (long)getpid());
 	static const size_t lens[] = {900, 1100};
 	for (int k = 0; k < 2; k++) {
 		long_copy(top, lens[k], task, sizeof task);
@@ -152,7 +153,7 @@ TEST(too_deep_a_mind_folder_is_refused_with_its_path)
 
 /* ---- broken mind folders ------------------------------------------------ */
 
-static char dir[256];
+static char dir[512];
 
 static void put(const char *rel, const char *text)
 {
@@ -178,8 +179,8 @@ static void put(const char *rel, const char *text)
 static void fresh(void)
 {
 	static int n;
-	snprintf(dir, sizeof dir, "/tmp/evo-test-load-%ld-%d/Bot",
-		 (long)getpid(), n++);
+	snprintf(dir, sizeof dir, "%s/evo-test-load-%ld-%d/Bot",
+		 cli_tmp_root(), (long)getpid(), n++);
 	char parent[256];
 	snprintf(parent, sizeof parent, "%.*s", (int)(strlen(dir) - 4), dir);
 	mkdir(parent, 0755);

@@ -12,6 +12,7 @@
 
 #include "evo/image.h"
 #include "harness.h"
+#include "support/cli.h"
 #include "viewer/png.h"
 #include "viewer/raster.h"
 
@@ -182,9 +183,10 @@ TEST(plain_images_are_compressed)
 
 TEST(a_file_round_trips_and_is_replaced_whole)
 {
-	char dir[] = "/tmp/evo-test-png-XXXXXX";
+	char dir[512];
+	snprintf(dir, sizeof dir, "%s/evo-test-png-XXXXXX", cli_tmp_root());
 	CHECK(mkdtemp(dir) != NULL);
-	char path[64];
+	char path[600];
 	snprintf(path, sizeof path, "%s/img.png", dir);
 	evo_err err;
 	uint8_t *a = pattern(31, 7, 4), *b = pattern(8, 8, 3);
@@ -574,9 +576,10 @@ TEST(text_draws_its_glyphs)
 /* What the raster saves, the reader gives back, byte for byte. */
 TEST(a_drawing_saves_as_png)
 {
-	char dir[] = "/tmp/evo-test-png-XXXXXX";
+	char dir[512];
+	snprintf(dir, sizeof dir, "%s/evo-test-png-XXXXXX", cli_tmp_root());
 	CHECK(mkdtemp(dir) != NULL);
-	char path[64];
+	char path[600];
 	snprintf(path, sizeof path, "%s/curve.png", dir);
 	evo_raster im;
 	evo_err err;

@@ -25,6 +25,7 @@
 #include <SDL.h>
 
 #include "harness.h"
+#include "support/cli.h"
 #include "viewer/png.h"
 #include "viewer/viewer.h"
 
@@ -388,8 +389,8 @@ static int start_xvfb(char *why, size_t n)
 		snprintf(why, n, "pipe: %s", strerror(errno));
 		return -1;
 	}
-	snprintf(xvfb_log, sizeof xvfb_log, "/tmp/evo-test-xvfb-%ld.log",
-		 (long)getpid());
+	snprintf(xvfb_log, sizeof xvfb_log, "%s/evo-test-xvfb-%ld.log",
+		 cli_tmp_root(), (long)getpid());
 	pid_t pid = fork();
 	if (pid < 0) {
 		snprintf(why, n, "fork: %s", strerror(errno));
@@ -509,7 +510,8 @@ TEST(viewer_under_x_draws_robot_obstacles_and_rays)
 		evo_scene_destroy(sc);
 		return;
 	}
-	char dir[] = "/tmp/evo-test-viewer-XXXXXX", path[64];
+	char dir[512], path[600];
+	snprintf(dir, sizeof dir, "%s/evo-test-viewer-XXXXXX", cli_tmp_root());
 	CHECK(mkdtemp(dir) != NULL);
 	snprintf(path, sizeof path, "%s/shot.png", dir);
 	CHECK_EQ_INT(evo_viewer_screenshot(v, path, &err), -1);
