@@ -5,11 +5,12 @@
  * The M3 figure: the firmware (BUILD/firmware/evo-m3.elf) runs under
  * qemu-system-arm -M mps2-an385 with the counting plugin
  * (BUILD/firmware/insn_count.so, firmware/qemu/insn_count.c), which counts
- * the instructions executed in the MIND runtime's code (the core archive
- * and the libgcc helpers it calls, __evo_core_start .. __evo_core_end in
- * the firmware's map) from the first call of evo_mind_step on, and the
- * calls of evo_mind_step. The trace's sensor values go in as slcan frames;
- * every actuator value that comes back must equal the trace's.
+ * the instructions executed in the MIND runtime's code (its archive and
+ * the libgcc helpers, __evo_runtime_start .. __evo_runtime_end in the
+ * firmware's map, firmware/sections.ld) from the first call of
+ * evo_mind_step on, and the calls of evo_mind_step. The trace's sensor
+ * values go in as slcan frames; every actuator value that comes back must
+ * equal the trace's.
  * The host figure: evo_mind_step over the same sensor values, best of 5.
  *
  * Then the time `evo flash` takes to send the Collect image over slcan at
@@ -111,13 +112,13 @@ static double m3_insns_per_tick(size_t n, unsigned long *marks_out)
 	    getenv("QEMU_ARM") ? getenv("QEMU_ARM") : "qemu-system-arm";
 	snprintf(elf, sizeof elf, "%s/firmware/evo-m3.elf", build);
 	snprintf(out, sizeof out, "%s/firmware/bench-insns.txt", build);
-	unsigned long lo = symbol(nm, elf, "__evo_core_start"),
-		      hi = symbol(nm, elf, "__evo_core_end"),
+	unsigned long lo = symbol(nm, elf, "__evo_runtime_start"),
+		      hi = symbol(nm, elf, "__evo_runtime_end"),
 		      mark = symbol(nm, elf, "evo_mind_step");
 	if (!lo || !hi || !mark) {
 		fprintf(stderr,
-			"bench_firmware: %s lacks __evo_core_start, "
-			"__evo_core_end or evo_mind_step\n",
+			"bench_firmware: %s lacks __evo_runtime_start, "
+			"__evo_runtime_end or evo_mind_step\n",
 			elf);
 		return -1;
 	}

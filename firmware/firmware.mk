@@ -7,8 +7,8 @@
 #   make firmware-test   replay a trace through both under QEMU, and more
 #   make firmware-size   text/data/bss of each firmware and of the runtime
 #
-# Outputs go to BUILD/firmware/: per core m0/ and m3/ (objects, the core
-# archive), mind/ (the exported images), the test driver, the plugin.
+# Outputs go to BUILD/firmware/: per core m0/ and m3/ (objects, the two
+# core archives), mind/ (the exported images), the test driver, the plugin.
 
 FW_BUILD := $(BUILD)/firmware
 FW_MIND ?= minds/Collect
@@ -41,13 +41,19 @@ FW_CFLAGS := -mthumb -std=c11 -Os -g -ffreestanding -fno-builtin \
 	-I$(FW_BUILD)/mind '-DFW_BOT="bots/$(FW_BOT).h"' $(FW_CFLAGS_EXTRA)
 FW_LDFLAGS := -nostdlib -nostartfiles -Wl,--gc-sections -Lfirmware
 
-# What the firmware carries of core/: the MIND runtime, status.c for the
-# message that says why an image was refused, and wire.c, the CAN frames
-# and slcan lines it speaks (the host speaks them with the same code).
-FW_CORE_NAMES := $(sort $(CORE_RUNTIME) status wire flash)
+# What the firmware carries of core/, in two archives. libevoruntime.a is
+# the MIND runtime (CORE_RUNTIME) and nothing else: sections.ld keeps its
+# code apart, and make bench counts the instructions a tick runs there.
+# libevolink.a is the rest, what the firmware's link to the host uses:
+# status.c for the message that says why an image was refused, wire.c, the
+# CAN frames and slcan lines it speaks (the host speaks them with the same
+# code), and flash.c, the receiver of evo flash.
+FW_RUNTIME_NAMES := $(sort $(CORE_RUNTIME))
+FW_LINK_NAMES := $(sort status wire flash)
 FW_SRCS := main cortex_m mind_slot
 
-fw_core_objs = $(patsubst %,$(FW_BUILD)/$(1)/core/%.o,$(FW_CORE_NAMES))
+fw_core_objs = $(patsubst %,$(FW_BUILD)/$(1)/core/%.o,$(2))
+fw_libs = $(FW_BUILD)/$(1)/libevoruntime.a $(FW_BUILD)/$(1)/libevolink.a
 fw_objs = $(patsubst %,$(FW_BUILD)/$(1)/%.o,$(FW_SRCS) board_$(FW_BOARD_$(1)))
 
 .PHONY: firmware firmware-test firmware-size
@@ -107,15 +113,19 @@ $(FW_BUILD)/$(1)/%.o: firmware/%.c
 
 $(FW_BUILD)/$(1)/mind_slot.o: $(FW_BUILD)/mind/mind.h
 
-$(FW_BUILD)/$(1)/libevocore.a: $(call fw_core_objs,$(1))
+$(FW_BUILD)/$(1)/libevoruntime.a: $(call fw_core_objs,$(1),$(FW_RUNTIME_NAMES))
 	@rm -f $$@
 	$(ARM_AR) rcs $$@ $$^
 
-$(FW_BUILD)/evo-$(1).elf: $(call fw_objs,$(1)) $(FW_BUILD)/$(1)/libevocore.a \
+$(FW_BUILD)/$(1)/libevolink.a: $(call fw_core_objs,$(1),$(FW_LINK_NAMES))
+	@rm -f $$@
+	$(ARM_AR) rcs $$@ $$^
+
+$(FW_BUILD)/evo-$(1).elf: $(call fw_objs,$(1)) $(call fw_libs,$(1)) \
 		firmware/$(1).ld firmware/sections.ld
 	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) $(FW_LDFLAGS) -T firmware/$(1).ld \
 		-Wl,-Map=$(FW_BUILD)/evo-$(1).map -o $$@ $(call fw_objs,$(1)) \
-		$(FW_BUILD)/$(1)/libevocore.a -lgcc
+		$(call fw_libs,$(1)) -lgcc
 
 # The firmware without the flash receiver (FW_FLASH=0), for make
 # firmware-size: the difference is what taking minds over the bus costs.
@@ -124,14 +134,14 @@ $(FW_BUILD)/$(1)/main-noflash.o: firmware/main.c
 	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) -DFW_FLASH=0 -MMD -MP -c $$< -o $$@
 
 $(FW_BUILD)/noflash-$(1).elf: $(FW_BUILD)/$(1)/main-noflash.o \
-		$(filter-out %/main.o,$(call fw_objs,$(1))) $(FW_BUILD)/$(1)/libevocore.a \
+		$(filter-out %/main.o,$(call fw_objs,$(1))) $(call fw_libs,$(1)) \
 		firmware/$(1).ld firmware/sections.ld
 	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) $(FW_LDFLAGS) -T firmware/$(1).ld \
 		-o $$@ $(FW_BUILD)/$(1)/main-noflash.o \
-		$(filter-out %/main.o,$(call fw_objs,$(1))) $(FW_BUILD)/$(1)/libevocore.a -lgcc
+		$(filter-out %/main.o,$(call fw_objs,$(1))) $(call fw_libs,$(1)) -lgcc
 
-# The MIND runtime alone: what size_entry.c reaches of the core archive.
-$(FW_BUILD)/runtime-$(1).elf: $(FW_BUILD)/$(1)/size_entry.o $(FW_BUILD)/$(1)/libevocore.a
+# The MIND runtime alone: what size_entry.c reaches of its archive.
+$(FW_BUILD)/runtime-$(1).elf: $(FW_BUILD)/$(1)/size_entry.o $(FW_BUILD)/$(1)/libevoruntime.a
 	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) -nostdlib -nostartfiles \
 		-Wl,--gc-sections -Wl,-e,fw_size_entry -o $$@ $$^ -lgcc
 endef
