@@ -17,6 +17,7 @@
 #include <string.h>
 #include <sys/ioctl.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/time.h>
 #include <termios.h>
 #include <time.h>
@@ -37,6 +38,8 @@ struct evo_can {
 	int fd;
 	char url[256];
 	char pty[64];
+	char link[256]; /* slcan-pty:?link=PATH: a symbolic link to pty */
+	unsigned long unsent; /* frames a full line did not take */
 	evo_slcan_reader slcan;
 	/* frames received and not yet taken */
 	evo_can_frame q[QUEUE];
@@ -141,16 +144,31 @@ static int open_socketcan(evo_can *c, const char *iface, evo_err *err)
 
 /* ---- slcan ---------------------------------------------------------------- */
 
-static int write_all(int fd, const char *s, size_t n)
+/* Write n bytes to a non-blocking serial line, waiting for it to take
+ * them at most `wait_s` in all. 0 when written, 1 when the line did not
+ * take them all in that time (a peer that does not read, or none at all:
+ * a pseudo-terminal nobody opened holds 16 KB, then takes no more), -1
+ * with errno on an error. A line cut by the time limit ends up in the
+ * peer's count of malformed lines. */
+static int write_all(int fd, const char *s, size_t n, double wait_s)
 {
-	while (n) {
-		ssize_t w = write(fd, s, n);
+	size_t done = 0;
+	double limit = now_s() + wait_s;
+	while (done < n) {
+		ssize_t w = write(fd, s + done, n - done);
+		if (w > 0) {
+			done += (size_t)w;
+			continue;
+		}
 		if (w < 0 && errno == EINTR)
 			continue;
-		if (w <= 0)
+		if (w < 0 && errno != EAGAIN && errno != EWOULDBLOCK)
 			return -1;
-		s += w;
-		n -= (size_t)w;
+		double left = limit - now_s();
+		if (left <= 0)
+			return 1;
+		struct pollfd p = {fd, POLLOUT, 0};
+		poll(&p, 1, (int)(left * 1000) + 1);
 	}
 	return 0;
 }
@@ -205,14 +223,14 @@ static void slcan_bytes(evo_can *c, const char *b, size_t n)
 	for (int i = 0; i < got; i++)
 		push(c, &f[i]);
 	if (reply_len)
-		write_all(c->fd, reply, reply_len);
+		write_all(c->fd, reply, reply_len, 0.1);
 }
 
 /* Send an adapter command and wait (up to a second) for its reply: CR is
  * done, BEL refused. */
 static int slcan_command(evo_can *c, const char *cmd, evo_err *err)
 {
-	if (write_all(c->fd, cmd, strlen(cmd)))
+	if (write_all(c->fd, cmd, strlen(cmd), 1.0))
 		return evo_fail(err, "%s: cannot write: %s", c->url,
 				strerror(errno));
 	double limit = now_s() + 1.0;
@@ -259,11 +277,14 @@ static int open_slcan(evo_can *c, const char *dev, evo_err *err)
 	if (raw_tty(c->fd, baud_of(baud)) < 0)
 		return evo_fail(err, "%s: %s is not a serial device: %s",
 				c->url, dev, strerror(errno));
+	/* a line that stops taking bytes drops frames (counted), as a bus
+	 * loses them; it never stops evo */
+	fcntl(c->fd, F_SETFL, fcntl(c->fd, F_GETFL) | O_NONBLOCK);
 	char s[8];
 	snprintf(s, sizeof s, "S%d\r", code);
 	/* close first: an adapter left open by an earlier program refuses
 	 * S; its BEL to this C is no error */
-	write_all(c->fd, "C\r", 2);
+	write_all(c->fd, "C\r", 2, 1.0);
 	usleep(20000);
 	tcflush(c->fd, TCIFLUSH);
 	if (slcan_command(c, s, err) || slcan_command(c, "O\r", err))
@@ -287,6 +308,25 @@ static int open_slcan_pty(evo_can *c, evo_err *err)
 		raw_tty(slave, 0);
 		close(slave);
 	}
+	fcntl(c->fd, F_SETFL, fcntl(c->fd, F_GETFL) | O_NONBLOCK);
+	char link[sizeof c->link];
+	if (!query(c->url, "link", link, sizeof link))
+		return 0;
+	if (!link[0])
+		return evo_fail(err, "%s: link= names no path", c->url);
+	/* a link left by a server that was killed is replaced; anything
+	 * else at that path is not evo's to remove */
+	struct stat st;
+	if (lstat(link, &st) == 0 && !S_ISLNK(st.st_mode))
+		return evo_fail(err,
+				"%s: %s exists and is no symbolic link: evo "
+				"does not replace it",
+				c->url, link);
+	unlink(link);
+	if (symlink(c->pty, link) != 0)
+		return evo_fail(err, "%s: cannot link %s to %s: %s", c->url,
+				link, c->pty, strerror(errno));
+	snprintf(c->link, sizeof c->link, "%s", link);
 	return 0;
 }
 
@@ -335,6 +375,26 @@ static int open_cannelloni(evo_can *c, const char *hostport, evo_err *err)
 
 /* ---- opening -------------------------------------------------------------- */
 
+static const char *const schemes[] = {"socketcan:", "slcan-pty:", "slcan:",
+				     "cannelloni:", "candump:", NULL};
+
+static int unknown_url(const char *url, evo_err *err)
+{
+	return evo_fail(err,
+			"'%s' is no CAN URL evo knows: socketcan:IFACE, "
+			"slcan:DEVICE, slcan-pty:, cannelloni:HOST:PORT "
+			"or candump:FILE (docs/can.md)",
+			url);
+}
+
+int evo_can_url_check(const char *url, evo_err *err)
+{
+	for (int i = 0; schemes[i]; i++)
+		if (strncmp(url, schemes[i], strlen(schemes[i])) == 0)
+			return 0;
+	return unknown_url(url, err);
+}
+
 evo_can *evo_can_open(const char *url, evo_err *err)
 {
 	evo_can *c = calloc(1, sizeof *c);
@@ -379,11 +439,7 @@ evo_can *evo_can_open(const char *url, evo_err *err)
 					      url, out, strerror(errno));
 		}
 	} else {
-		rc = evo_fail(err,
-			      "'%s' is no CAN URL evo knows: socketcan:IFACE, "
-			      "slcan:DEVICE, slcan-pty:, cannelloni:HOST:PORT "
-			      "or candump:FILE (docs/can.md)",
-			      url);
+		rc = unknown_url(url, err);
 	}
 	if (rc) {
 		evo_can_close(c);
@@ -397,7 +453,15 @@ void evo_can_close(evo_can *c)
 	if (!c)
 		return;
 	if (c->kind == K_SLCAN && c->fd >= 0)
-		write_all(c->fd, "C\r", 2);
+		write_all(c->fd, "C\r", 2, 0.1);
+	if (c->link[0]) {
+		/* the link goes with the pty, unless another has taken it */
+		char to[sizeof c->pty];
+		ssize_t n = readlink(c->link, to, sizeof to - 1);
+		if (n > 0 && (size_t)n == strlen(c->pty) &&
+		    memcmp(to, c->pty, (size_t)n) == 0)
+			unlink(c->link);
+	}
 	if (c->fd >= 0)
 		close(c->fd);
 	if (c->log_in)
@@ -431,9 +495,11 @@ int evo_can_send(evo_can *c, const evo_can_frame *f, evo_err *err)
 	case K_SLCAN_PTY: {
 		char line[EVO_SLCAN_LINE_MAX + 1];
 		size_t n = evo_slcan_encode(f, line);
-		if (write_all(c->fd, line, n))
+		int rc = write_all(c->fd, line, n, 0.002);
+		if (rc < 0)
 			return evo_fail(err, "%s: cannot send: %s", c->url,
 					strerror(errno));
+		c->unsent += (unsigned long)rc;
 		return 0;
 	}
 	case K_CANNELLONI: {
@@ -573,4 +639,14 @@ const unsigned long *evo_can_dropped(const evo_can *c)
 const char *evo_can_pty_name(const evo_can *c)
 {
 	return c->kind == K_SLCAN_PTY ? c->pty : NULL;
+}
+
+const char *evo_can_pty_link(const evo_can *c)
+{
+	return c->link[0] ? c->link : NULL;
+}
+
+unsigned long evo_can_unsent(const evo_can *c)
+{
+	return c->unsent;
 }

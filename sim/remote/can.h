@@ -8,9 +8,10 @@
  *                            as USB adapters do: closed, set to the bit
  *                            rate (default 500000), opened; its replies
  *                            checked
- *   slcan-pty:               a pseudo-terminal that speaks slcan, for a
+ *   slcan-pty:[?link=PATH]   a pseudo-terminal that speaks slcan, for a
  *                            peer on this machine (evo_can_pty_name says
- *                            which device to give it)
+ *                            which device to give it; PATH, a symbolic
+ *                            link to it, removed on close)
  *   cannelloni:HOST:PORT[?local=LPORT]
  *                            CAN over UDP in cannelloni's version-2
  *                            datagrams, to a cannelloni (or evo) peer
@@ -109,6 +110,10 @@ void evo_slcan_read(evo_slcan_reader *r, const char *b, size_t n,
 
 typedef struct evo_can evo_can;
 
+/* 0 when url names a transport above (its scheme), else -1 with err
+ * set, as evo_can_open would say it; nothing is opened. */
+int evo_can_url_check(const char *url, evo_err *err);
+
 /* Open url (above). NULL with err set, saying what was wrong with the
  * URL or why the device could not be opened. */
 evo_can *evo_can_open(const char *url, evo_err *err);
@@ -123,7 +128,14 @@ int evo_can_recv(evo_can *c, int timeout_ms, evo_can_frame *f, evo_err *err);
 /* Input dropped so far, by reason (EVO_CAN_BAD_COUNT counters). */
 const unsigned long *evo_can_dropped(const evo_can *c);
 
-/* slcan-pty: the device a peer opens (/dev/pts/N); NULL otherwise. */
+/* slcan-pty: the device a peer opens (/dev/pts/N), and the link to it
+ * (link=); NULL otherwise. */
 const char *evo_can_pty_name(const evo_can *c);
+const char *evo_can_pty_link(const evo_can *c);
+
+/* Frames sent to a serial line (slcan, slcan-pty) that did not take them:
+ * a peer that does not read, or none at all. They are dropped, as a bus
+ * loses frames, and counted here; sending never waits for a line. */
+unsigned long evo_can_unsent(const evo_can *c);
 
 #endif
