@@ -10,7 +10,7 @@ const char *const evo_simbatch_keys[] = {
     "TYPE", "BOTMODEL", "BOTNAME", "MASTERSKILL", "LEARNINGSKILL", "ENV",
     "LEARNINGMETHOD", "ROOTFOLDER", "NUMGEN", "EVALREP", "TICKLIM", "POPSIZE",
     "SEED", "THREADS", "HIDDEN", "TARGETFITNESS", "LCMURL", "REMOTENAME",
-    "REMOTETIMEOUT", NULL};
+    "REMOTETIMEOUT", "CANURL", NULL};
 
 /* The prefixes of the learning methods' own keys. */
 static const char *const method_prefixes[] = {"NEAT_", "GA_", "SA_", NULL};

@@ -14,6 +14,7 @@
 #include "learn/literature.h"
 #include "mind/mindfolder.h"
 #include "mind/task.h"
+#include "remote/robot.h"
 #include "tasksim/tasksim.h"
 
 static void usage(FILE *f)
@@ -172,6 +173,8 @@ static int check_task(const char *path, evo_task *task, evo_err *err)
 				path, task->type);
 	if (strncmp(task->type, "LEARN", 5) == 0 &&
 	    evo_learn_check(path, task, err) != 0)
+		return -1;
+	if (evo_robot_task_check(task->sb, task->type, path, err))
 		return -1;
 	const char *env = evo_simbatch_get(task->sb, "ENV");
 	if (strcmp(task->type, "LEARNSIM") == 0 &&

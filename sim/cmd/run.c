@@ -16,6 +16,7 @@
 #include "learn/learn.h"
 #include "mind/task.h"
 #include "mind/trace.h"
+#include "remote/robot.h"
 #include "remote/session.h"
 #include "tasksim/tasksim.h"
 #include "viewer/viewer.h"
@@ -39,6 +40,7 @@ typedef struct run_opts {
 	long ticks; /* per episode; 0: until a control function ends it */
 	const char *trace;
 	const char *screenshot; /* viewer: save a PNG after `ticks` ticks */
+	const char *can;	/* DEMOREMOTE: the robot's CAN URL */
 	long threads;		/* LEARNSIM: 0 for one per core */
 	long generations;	/* LEARNSIM: 0 for NUMGEN */
 	const char *run_dir;	/* LEARNSIM */
@@ -71,6 +73,10 @@ static void run_usage(FILE *f)
 	      "                     is left as it is (DEMOSIM; repeatable)\n"
 	      "DEMOREMOTE (a robot): --ticks N ends the episode after N of\n"
 	      "  the robot's ticks; without it, it runs until stopped\n"
+	      "  --can URL          the robot is a body on this CAN bus\n"
+	      "                     (socketcan:IFACE, slcan:DEVICE,\n"
+	      "                     cannelloni:HOST:PORT, ...; docs/can.md)\n"
+	      "                     instead of the task's CANURL or LCM\n"
 	      "LEARNSIM (--ticks N bounds each evaluation's episodes too):\n"
 	      "  --generations N    train N generations instead of NUMGEN\n"
 	      "  --threads N        worker threads (default: one per core)\n"
@@ -182,6 +188,9 @@ static int parse_args(int argc, char **argv, run_opts *o)
 			i++;
 		} else if (strcmp(a, "--screenshot") == 0 && v) {
 			o->screenshot = v;
+			i++;
+		} else if (strcmp(a, "--can") == 0 && v) {
+			o->can = v;
 			i++;
 		} else if (a[0] == '-' || o->task) {
 			fprintf(stderr, "evo run: unexpected argument '%s'\n", a);
@@ -474,7 +483,7 @@ typedef struct robot_view {
 } robot_view;
 
 static void robot_view_init(robot_view *rv, const evo_mind *m,
-			    const evo_remotes *r, const char *title)
+			    const evo_robot_conn *r, const char *title)
 {
 	memset(rv, 0, sizeof *rv);
 	for (unsigned i = 0; i < m->n_sensors; i++)
@@ -488,8 +497,8 @@ static void robot_view_init(robot_view *rv, const evo_mind *m,
 		rv->skill_name[i] = evo_mind_skill_name(m, (unsigned)i);
 	evo_view_remote *p = &rv->p;
 	p->title = title;
-	p->remote = r->r[0]->hello.name;
-	p->period_ms = r->r[0]->hello.tick_us * 1e-3;
+	p->remote = evo_robot_conn_name(r);
+	p->period_ms = evo_robot_conn_period(r) * 1e3;
 	p->tick = -1;
 	p->n_sensors = (int)m->n_sensors;
 	p->sensor_name = rv->sensor_name;
@@ -503,22 +512,24 @@ static void robot_view_init(robot_view *rv, const evo_mind *m,
 }
 
 /* The link's state and the counts, as they are now. */
-static void robot_view_update(robot_view *rv, const evo_robot *rb,
-			      double timeout, long e)
+static void robot_view_update(robot_view *rv, const evo_robot_conn *r,
+			      long e)
 {
 	evo_view_remote *p = &rv->p;
-	double quiet = evo_robot_quiet(rb);
+	evo_robot_status st;
+	evo_robot_conn_status(r, &st);
+	double period = evo_robot_conn_period(r);
 	p->episode = (int)e;
-	p->quiet = quiet;
-	p->reward = rb->reward;
-	p->in_time = rb->in_time;
-	p->late = rb->late;
-	p->missing = rb->missing;
-	p->link = rb->done		   ? EVO_VIEW_LINK_ENDED
-		  : rb->tick < 0	   ? EVO_VIEW_LINK_WAITING
-		  : quiet >= timeout	   ? EVO_VIEW_LINK_SILENT
-		  : quiet > 3 * rb->period ? EVO_VIEW_LINK_QUIET
-					   : EVO_VIEW_LINK_LIVE;
+	p->quiet = st.quiet;
+	p->reward = st.reward;
+	p->in_time = st.in_time;
+	p->late = st.late;
+	p->missing = st.missing;
+	p->link = st.done		  ? EVO_VIEW_LINK_ENDED
+		  : st.tick < 0		  ? EVO_VIEW_LINK_WAITING
+		  : st.quiet >= evo_robot_conn_timeout(r) ? EVO_VIEW_LINK_SILENT
+		  : st.quiet > 3 * period ? EVO_VIEW_LINK_QUIET
+					  : EVO_VIEW_LINK_LIVE;
 }
 
 /* The robot's frame: in the window, or drawn without one into a PNG. */
@@ -563,18 +574,13 @@ static int robot_keys(evo_viewer *v, const robot_view *rv, evo_err *err)
 }
 
 /* DEMOREMOTE: the mind here, the body a robot that ticks at its own rate
- * (docs/remote.md, A robot: free running). Each tick's sensors are
- * answered at once with that tick's commands; an episode runs until
- * --ticks, the robot's end, a stop or the window's closing; the robot then
- * gets a STOP and goes neutral. */
+ * (docs/remote.md, A robot: free running), over LCM or over CAN
+ * (docs/can.md). Each tick's sensors are answered at once with that
+ * tick's commands; an episode runs until --ticks, the robot's end, a stop
+ * or the window's closing; the robot then gets a STOP and goes neutral. */
 static int run_robot(const evo_task *task, const run_opts *o, uint64_t seed,
 		     FILE *trace, evo_viewer *v, evo_err *err)
 {
-	evo_remote_opts ro;
-	if (evo_remote_opts_from_task(task->sb, o->task, EVO_REMOTE_ROBOT, &ro,
-				      err))
-		return -1;
-	ro.stop = &stop_requested;
 	const evo_mind *m = &task->mind->mind;
 	size_t need = (evo_state_size(m) + 7) & ~(size_t)7;
 	void *mem = aligned_alloc(8, need);
@@ -585,64 +591,70 @@ static int run_robot(const evo_task *task, const run_opts *o, uint64_t seed,
 		free(mem);
 		return evo_fail(err, "mind state: cannot lay it out");
 	}
-	evo_remotes *r = evo_remote_connect(task->mind, &ro, err);
+	evo_robot_conn_def def = {
+	    .mind = task->mind,
+	    .task = task->sb,
+	    .task_path = o->task,
+	    .can_url = o->can,
+	    .stop = &stop_requested,
+	};
+	evo_robot_conn *r = evo_robot_conn_open(&def, err);
 	if (!r) {
 		free(mem);
 		return stop_requested ? 0 : -1;
 	}
-	const evo_wire_hello *h = &r->r[0]->hello;
-	printf("remote %s: robot, a tick every %.3f ms\n", h->name,
-	       h->tick_us * 1e-3);
+	printf("%s\n", evo_robot_conn_about(r));
 	fflush(stdout);
 	if (trace)
 		evo_trace_header(trace, task->mind);
 	static robot_view rv;
 	robot_view_init(&rv, m, r, o->task);
-	evo_robot rb;
-	memset(&rb, 0, sizeof rb);
-	int rc = 0, quit = 0, shot = 0;
+	double period = evo_robot_conn_period(r);
+	evo_robot_status st = {.tick = -1};
+	int rc = 0, quit = 0, shot = 0, started = 0;
 	double drawn = 0;
 	evo_q16 qin[EVO_MAX_SENSORS], qout[EVO_MAX_ACTUATORS];
 	for (long e = 1; (o->episodes == 0 || e <= o->episodes) && !quit &&
 			 !shot && !stop_requested && rc == 0;
 	     e++) {
 		evo_state_reset(m, state);
-		if (evo_robot_start(r, &rb, e, grid_seed(seed, e),
-				    episode_seed(seed, e), err)) {
+		if (evo_robot_conn_start(r, e, grid_seed(seed, e),
+					 episode_seed(seed, e), err)) {
 			rc = -1;
 			break;
 		}
+		started = 1;
 		long ticks = 0; /* the robot's tick count when it ended */
 		int end = 0;
 		while (!quit) {
-			end = evo_robot_next(&rb, v ? 15 : 200, err);
+			end = evo_robot_conn_next(r, v ? 15 : 200, err);
+			evo_robot_conn_status(r, &st);
 			if (end < 0 || end == 1)
 				break;
-			if (end == 0 && o->ticks && rb.tick >= o->ticks)
+			if (end == 0 && o->ticks && st.tick >= o->ticks)
 				break; /* the tick after the last: its reward */
 			if (end == 0) {
-				evo_remote_sensors(r->r[0], 0, rv.sensor);
+				evo_robot_conn_sensors(r, qin);
 				for (unsigned i = 0; i < m->n_sensors; i++)
-					qin[i] = evo_q16_from_sensor(
-					    rv.sensor[i]);
+					rv.sensor[i] = evo_q16_to_double(qin[i]);
 				evo_mind_step(m, state, qin, qout);
 				for (unsigned i = 0; i < m->n_actuators; i++)
 					rv.actuator[i] =
 					    evo_q16_to_double(qout[i]);
-				if (evo_robot_answer(&rb, rv.actuator, err)) {
+				if (evo_robot_conn_answer(r, qout, err)) {
 					end = -1;
 					break;
 				}
 				if (trace)
-					evo_trace_tick(trace, (long)rb.tick, m,
+					evo_trace_tick(trace, (long)st.tick, m,
 						       qin, qout, state);
 				for (int i = 0; i < rv.p.n_influence; i++)
 					rv.influence[i] = evo_q16_to_double(
 					    state->influence[i]);
-				rv.p.tick = (long)rb.tick;
-				ticks = (long)rb.tick + 1;
+				rv.p.tick = (long)st.tick;
+				ticks = (long)st.tick + 1;
 			}
-			robot_view_update(&rv, &rb, ro.timeout, e);
+			robot_view_update(&rv, r, e);
 			if (v) {
 				quit = robot_keys(v, &rv, err);
 				double t = now();
@@ -654,11 +666,12 @@ static int run_robot(const evo_task *task, const run_opts *o, uint64_t seed,
 			if (end == 0 && o->ticks && ticks >= o->ticks) {
 				/* the tick after the last one answered, for
 				 * the reward it carries; not answered */
-				double until = now() + 4 * rb.period + 0.25;
-				while ((end = evo_robot_next(&rb, 20, err)) ==
-					   2 &&
+				double until = now() + 4 * period + 0.25;
+				while ((end = evo_robot_conn_next(r, 20,
+								  err)) == 2 &&
 				       now() < until)
 					;
+				evo_robot_conn_status(r, &st);
 				break;
 			}
 		}
@@ -666,11 +679,11 @@ static int run_robot(const evo_task *task, const run_opts *o, uint64_t seed,
 			rc = -1;
 			break;
 		}
-		if (end == 1 || (end == 0 && rb.tick >= ticks))
-			ticks = (long)rb.tick;
-		robot_view_update(&rv, &rb, ro.timeout, e);
+		if (end == 1 || (end == 0 && st.tick >= ticks))
+			ticks = (long)st.tick;
+		robot_view_update(&rv, r, e);
 		printf("episode %ld: reward %.6f over %ld ticks\n", e,
-		       rb.reward, ticks);
+		       st.reward, ticks);
 		fflush(stdout);
 		if (o->screenshot) {
 			if (robot_screenshot(v, &rv, o->screenshot, err))
@@ -680,9 +693,9 @@ static int run_robot(const evo_task *task, const run_opts *o, uint64_t seed,
 		if (end < 0)
 			break; /* stopped */
 	}
-	if (rb.set)
-		evo_robot_report(&rb);
-	evo_remotes_close(r);
+	if (started)
+		evo_robot_conn_report(r);
+	evo_robot_conn_close(r);
 	free(mem);
 	return rc;
 }
@@ -811,6 +824,19 @@ int evo_run_main(int argc, char **argv)
 			fprintf(stderr, "%s\n", err.msg);
 		evo_task_free(&task);
 		return rc ? 1 : 0;
+	}
+	if (o.can && strcmp(task.type, "DEMOREMOTE") != 0) {
+		fprintf(stderr,
+			"evo run: --can is for DEMOREMOTE tasks (a robot on a "
+			"CAN bus); %s is a %s task\n",
+			o.task, task.type);
+		evo_task_free(&task);
+		return 2;
+	}
+	if (evo_robot_task_check(task.sb, task.type, o.task, &err)) {
+		fprintf(stderr, "%s\n", err.msg);
+		evo_task_free(&task);
+		return 1;
 	}
 	if (!evo_run_supports(task.type)) {
 		fprintf(stderr,

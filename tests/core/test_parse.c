@@ -295,9 +295,9 @@ TEST(simbatch_tables)
 	size_t i, n = 0;
 	for (i = 0; evo_simbatch_keys[i]; i++)
 		n++;
-	/* the tutorial's 12, THREADS, HIDDEN, TARGETFITNESS and the three
-	 * remote keys (LCMURL, REMOTENAME, REMOTETIMEOUT) */
-	CHECK_EQ_INT(n, 19);
+	/* the tutorial's 12, THREADS, HIDDEN, TARGETFITNESS and the four
+	 * remote keys (LCMURL, REMOTENAME, REMOTETIMEOUT, CANURL) */
+	CHECK_EQ_INT(n, 20);
 	CHECK(n <= EVO_MAX_SIMBATCH);
 	n = 0;
 	for (i = 0; evo_task_types[i]; i++)

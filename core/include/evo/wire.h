@@ -53,6 +53,35 @@ typedef struct evo_can_frame {
  * actuators (u8), variables (u8), wire version (u8). */
 #define EVO_WIRE_HELLO 0x1C5u
 
+/* ---- a robot's body and the mind on the host (DEMOREMOTE over CAN) ---
+ * In a DEMOREMOTE task over CAN, evo runs the mind on the host and takes
+ * the firmware's place: the robot's body (its sensor and motor nodes, or
+ * `evo serve --can`) sends the sensor frames and TICKs above and takes
+ * the actuator frames and TICKEDs. These frames carry what a remote
+ * robot's LCM hello and control messages carry (docs/wire.md). The
+ * firmware does not use them. */
+/* body -> mind, DLC 8: the body's names hash (evo_names_hash of its
+ * sensor and actuator names in order, no variables; 0: not given),
+ * sensors (u8), actuators (u8), its tick period in units of 0.1 ms
+ * (u16). Sent at start and in answer to each HELLO. */
+#define EVO_WIRE_BODY 0x1C6u
+/* mind -> body, DLC 8: episode (u32) starts now, from tick 0; then the
+ * CRC-32 of the 16 bytes of the two seed frames sent before it. */
+#define EVO_WIRE_RESET 0x1C7u
+/* mind -> body, DLC 8, before a RESET: the episode's layout seed and
+ * seed (u64 each), as a remote simulator gets them. */
+#define EVO_WIRE_LAYOUT_SEED 0x1C8u
+#define EVO_WIRE_SEED 0x1C9u
+/* mind -> body, DLC 4: episode (u32) is over: every actuator neutral,
+ * no more ticks until a RESET. */
+#define EVO_WIRE_STOP 0x1CAu
+/* body -> mind, DLC 8: the episode's reward so far, as of the next TICK
+ * (an IEEE 754 double); optional. */
+#define EVO_WIRE_REWARD 0x1CBu
+/* body -> mind, DLC 4: the episode ended after this many ticks (u32);
+ * the last REWARD is the episode's. */
+#define EVO_WIRE_DONE 0x1CCu
+
 /* EVO_WIRE_TICKED flags. */
 #define EVO_WIRE_F_NEUTRAL 0x01u    /* link lost: actuators set to 0.5 */
 #define EVO_WIRE_F_INCOMPLETE 0x02u /* sensor frames missing: not stepped,
