@@ -22,6 +22,7 @@
 #include <unistd.h>
 
 #include "base/rng.h"
+#include "cmd/serve_can.h"
 #include "mind/task.h"
 #include "remote/link.h"
 #include "remote/wire.h"
@@ -51,7 +52,11 @@ static void serve_usage(FILE *f)
 	      "  --tick-ms MS        the robot's period (default 33.333: 30\n"
 	      "                      ticks a second)\n"
 	      "  --timeout S         seconds without a command before every\n"
-	      "                      actuator goes neutral (default 0.5)\n",
+	      "                      actuator goes neutral (default 0.5)\n"
+	      "  --can URL           stand in for a robot's body on a CAN bus\n"
+	      "                      instead (--robot's rules; socketcan:IFACE,\n"
+	      "                      slcan-pty:[?link=PATH], cannelloni:HOST:PORT\n"
+	      "                      ...; docs/can.md)\n",
 	      f);
 }
 
@@ -611,11 +616,15 @@ int evo_serve_main(int argc, char **argv)
 	long envs = 1;
 	int as_robot = 0, envs_set = 0;
 	double tick_ms = 1000.0 / 30, timeout = 0.5;
-	const char *robot_opt = NULL;
+	const char *robot_opt = NULL, *can_url = NULL, *lcm_opt = NULL;
 	for (int i = 2; i < argc; i++) {
 		const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
 		if (strcmp(a, "--robot") == 0) {
 			as_robot = 1;
+		} else if (strcmp(a, "--can") == 0 && v) {
+			can_url = v;
+			as_robot = 1;
+			i++;
 		} else if ((strcmp(a, "--tick-ms") == 0 ||
 			    strcmp(a, "--timeout") == 0) &&
 			   v) {
@@ -640,12 +649,15 @@ int evo_serve_main(int argc, char **argv)
 		} else if (strcmp(a, "--name") == 0 && v) {
 			name = v;
 			i++;
+			lcm_opt = a;
 		} else if (strcmp(a, "--url") == 0 && v) {
 			url = v;
 			i++;
+			lcm_opt = a;
 		} else if (strcmp(a, "--data-url") == 0 && v) {
 			data_url = v;
 			i++;
+			lcm_opt = a;
 		} else if (strcmp(a, "--environments") == 0 && v) {
 			char *end;
 			errno = 0;
@@ -659,6 +671,7 @@ int evo_serve_main(int argc, char **argv)
 				return 2;
 			}
 			envs_set = 1;
+			lcm_opt = a;
 			i++;
 		} else if (a[0] == '-' || task_path) {
 			fprintf(stderr, "evo serve: unexpected argument '%s'\n",
@@ -683,6 +696,19 @@ int evo_serve_main(int argc, char **argv)
 			"evo serve: a robot runs one environment; --robot "
 			"takes no --environments %ld\n",
 			envs);
+		return 2;
+	}
+	if (can_url && lcm_opt) {
+		fprintf(stderr,
+			"evo serve: %s is for LCM; over CAN (--can) a robot is "
+			"its bus, with no name, URL or environments of its own\n",
+			lcm_opt);
+		return 2;
+	}
+	if (can_url && tick_ms > 6553.5) {
+		fprintf(stderr,
+			"evo serve: --tick-ms over CAN is at most 6553.5 (a "
+			"BODY frame says the period in 0.1 ms, in 16 bits)\n");
 		return 2;
 	}
 	long tick_us = lround(tick_ms * 1000);
@@ -713,6 +739,19 @@ int evo_serve_main(int argc, char **argv)
 	if (evo_task_load(task_path, &task, &err)) {
 		fprintf(stderr, "%s\n", err.msg);
 		return 1;
+	}
+	if (can_url) {
+		evo_serve_can_def def = {
+		    .task = &task,
+		    .task_path = task_path,
+		    .url = can_url,
+		    .tick_ms = tick_ms,
+		    .timeout = timeout,
+		    .stop = &stop_requested,
+		};
+		int crc = evo_serve_can(&def);
+		evo_task_free(&task);
+		return crc;
 	}
 	if (!url)
 		url = evo_simbatch_get(task.sb, "LCMURL");
