@@ -362,6 +362,14 @@ $(BUILD)/fuzz/fuzz_cannelloni $(BUILD)/fuzz/fuzz_candump $(BUILD)/fuzz/fuzz_slca
 		-fsanitize=fuzzer $(FUZZ_SAN) \
 		-o $@ $< sim/remote/can_format.c core/src/wire.c
 
+# A robot's frames over CAN: evo's receiver and the body's.
+$(BUILD)/fuzz/fuzz_can_robot: tests/fuzz/fuzz_can_robot.c sim/remote/can_robot_frames.c \
+		sim/remote/can_robot.h $(CORE_SRCS)
+	@mkdir -p $(dir $@)
+	$(CLANG) -std=c11 -O1 -g $(WARN) -Icore/include -Isim \
+		-fsanitize=fuzzer $(FUZZ_SAN) \
+		-o $@ $< sim/remote/can_robot_frames.c $(CORE_SRCS) -lm
+
 fuzz: deps $(FUZZ_BINS)
 	@for f in $(FUZZ_BINS); do \
 		name=$$(basename $$f); corpus=$(BUILD)/fuzz/corpus-$$name; \

@@ -393,7 +393,8 @@ static int take_tick(evo_can_robot *r, const evo_can_frame *f, evo_err *err)
 			 "before",
 			 (long long)tick,
 			 (unsigned long long)r->rx.missing_frames);
-		dropped(r, EVO_CAN_ROBOT_BAD_INCOMPLETE, f, what);
+		/* counted as a drop, and said as a missing tick */
+		r->dropped[EVO_CAN_ROBOT_BAD_INCOMPLETE]++;
 		tell_missing(r, r->missing, what);
 		r->missing++;
 		r->answered = 1;
