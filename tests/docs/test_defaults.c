@@ -652,6 +652,9 @@ static int render_task_default(const char *key, int in_learning, char *out,
 	} else if (strcmp(key, "REMOTENAME") == 0) {
 		/* no name: remote/session.c takes the first of the kind */
 		snprintf(out, cap, "the first remote to answer");
+	} else if (strcmp(key, "CANURL") == 0) {
+		/* no CANURL: remote/robot.c reaches the robot over LCM */
+		snprintf(out, cap, "none");
 	} else if (strcmp(key, "REMOTETIMEOUT") == 0) {
 		snprintf(out, cap, "%g", EVO_REMOTE_DEFAULT_TIMEOUT);
 	} else if (strcmp(key, "TARGETFITNESS") == 0) {
