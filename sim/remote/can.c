@@ -40,6 +40,7 @@ struct evo_can {
 	char pty[64];
 	char link[256]; /* slcan-pty:?link=PATH: a symbolic link to pty */
 	unsigned long unsent; /* frames a full line did not take */
+	int line_full;	      /* the last frame was one of them */
 	evo_slcan_reader slcan;
 	/* frames received and not yet taken */
 	evo_can_frame q[QUEUE];
@@ -495,11 +496,14 @@ int evo_can_send(evo_can *c, const evo_can_frame *f, evo_err *err)
 	case K_SLCAN_PTY: {
 		char line[EVO_SLCAN_LINE_MAX + 1];
 		size_t n = evo_slcan_encode(f, line);
-		int rc = write_all(c->fd, line, n, 0.002);
+		/* a line that took the last frame gets 2 ms to take this
+		 * one; a line still full, none */
+		int rc = write_all(c->fd, line, n, c->line_full ? 0 : 0.002);
 		if (rc < 0)
 			return evo_fail(err, "%s: cannot send: %s", c->url,
 					strerror(errno));
 		c->unsent += (unsigned long)rc;
+		c->line_full = rc == 1;
 		return 0;
 	}
 	case K_CANNELLONI: {

@@ -135,7 +135,8 @@ const char *evo_can_pty_link(const evo_can *c);
 
 /* Frames sent to a serial line (slcan, slcan-pty) that did not take them:
  * a peer that does not read, or none at all. They are dropped, as a bus
- * loses frames, and counted here; sending never waits for a line. */
+ * loses frames, and counted here; a send waits at most 2 ms for a line,
+ * and not at all while it stays full. */
 unsigned long evo_can_unsent(const evo_can *c);
 
 #endif

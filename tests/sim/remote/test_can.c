@@ -205,6 +205,46 @@ TEST(slcan_pty_is_an_adapter_a_peer_can_drive)
 	evo_can_close(c);
 }
 
+TEST(slcan_pty_links_its_device_and_never_waits_for_a_reader)
+{
+	char url[300], link[256];
+	snprintf(link, sizeof link, "%s/robot-tty", cli_tmp);
+	snprintf(url, sizeof url, "slcan-pty:?link=%s", link);
+	/* a link an evo killed left behind is replaced */
+	CHECK_EQ_INT(symlink("/dev/pts/nowhere", link), 0);
+	evo_err err = {{0}};
+	evo_can *c = evo_can_open(url, &err);
+	CHECK(c != NULL);
+	if (!c)
+		return;
+	char to[64] = "";
+	CHECK(readlink(link, to, sizeof to - 1) > 0);
+	CHECK_EQ_STR(to, evo_can_pty_name(c));
+	CHECK_EQ_STR(evo_can_pty_link(c), link);
+	/* nobody has the device open: it takes some 16 KB, then nothing,
+	 * and the frames after are counted, not waited for */
+	evo_can_frame f = frame(0x100, 8, "\1\2\3\4\5\6\7\x08");
+	int failed = 0;
+	for (int i = 0; i < 2000; i++)
+		failed += evo_can_send(c, &f, &err) != 0;
+	CHECK_EQ_INT(failed, 0);
+	CHECK(evo_can_unsent(c) > 0);
+	CHECK(evo_can_unsent(c) < 2000);
+	evo_can_close(c);
+	CHECK(access(link, F_OK) != 0 && errno == ENOENT);
+	/* something that is no link is not replaced */
+	cli_write("mine", "%s", link);
+	CHECK(evo_can_open(url, &err) == NULL);
+	CHECK_CONTAINS(err.msg, "exists and is no symbolic link");
+	char *kept = cli_read("%s", link);
+	CHECK_EQ_STR(kept, "mine");
+	free(kept);
+	unlink(link);
+	CHECK(evo_can_url_check("slcan-pty:?link=x", &err) == 0);
+	CHECK(evo_can_url_check("can0", &err) != 0);
+	CHECK_CONTAINS(err.msg, "'can0' is no CAN URL evo knows");
+}
+
 /* A fake adapter on a pty: answers CR (or BEL to S when `refuse`), and
  * writes what it received to `log`; then echoes one frame line. */
 static void fake_adapter(int master, int refuse, const char *log)
@@ -387,6 +427,7 @@ int main(void)
 	RUN(candump_lines_parse_and_format_as_candump_writes_them);
 	RUN(candump_lines_not_evos_or_malformed_are_refused_by_reason);
 	RUN(slcan_pty_is_an_adapter_a_peer_can_drive);
+	RUN(slcan_pty_links_its_device_and_never_waits_for_a_reader);
 	RUN(slcan_drives_an_adapter_with_its_bit_rate_and_reads_its_frames);
 	RUN(cannelloni_endpoints_exchange_frames_over_udp);
 	RUN(a_candump_log_is_a_source_of_frames);
