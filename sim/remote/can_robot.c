@@ -222,6 +222,12 @@ static void report_drops(const evo_can_robot *r)
 			}
 		fprintf(stderr, ")\n");
 	}
+	if (evo_can_unsent(r->can))
+		fprintf(stderr,
+			"evo: robot %s: %lu frame%s not sent: the line took no "
+			"more (no one was reading it)\n",
+			r->url, evo_can_unsent(r->can),
+			evo_can_unsent(r->can) == 1 ? "" : "s");
 	const unsigned long *bus = evo_can_dropped(r->can);
 	total = 0;
 	for (int i = 0; i < EVO_CAN_BAD_COUNT; i++)

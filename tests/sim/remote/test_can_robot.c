@@ -524,6 +524,44 @@ TEST(killing_the_body_is_reported_within_the_timeout)
 	killed_body_is_reported("killed-udp", serve_url, run_url);
 }
 
+/* A body that starts again says BODY, unasked, in the middle of the
+ * episode: its episode is lost, and evo ends the run saying so, as over
+ * LCM a robot that says hello with a new session ends it. */
+TEST(a_body_that_starts_again_ends_the_run)
+{
+	int a, b;
+	udp_ports(&a, &b);
+	char serve_url[200], run_url[200], evlog[512], rlog[512], task[512];
+	snprintf(serve_url, sizeof serve_url,
+		 "cannelloni:127.0.0.1:%d?local=%d", a, b);
+	snprintf(run_url, sizeof run_url, "cannelloni:127.0.0.1:%d?local=%d",
+		 b, a);
+	robot_task("again", "");
+	snprintf(task, sizeof task, "%s/Avoid/Tasks/again.simbatch", cli_tmp);
+	snprintf(evlog, sizeof evlog, "%s/again.evo.log", cli_tmp);
+	snprintf(rlog, sizeof rlog, "%s/again.serve.log", cli_tmp);
+	pid_t body = start_body(task, serve_url, "--tick-ms 20", "again");
+	pid_t ev = spawn("exec %s run %s -nog --can '%s' >%s 2>&1", cli_evo,
+			 task, run_url, evlog);
+	CHECK(wait_mark(rlog, "episode 1 starts", 60));
+	/* well past the answers to evo's HELLOs */
+	pause_ms(1200);
+	kill(body, SIGKILL);
+	reap(body, 10);
+	body = start_body(task, serve_url, "--tick-ms 20", "again");
+	CHECK_EQ_INT(reap(ev, 30), 1);
+	char *t = cli_read("%s", evlog);
+	char want[600];
+	snprintf(want, sizeof want,
+		 "robot %s started again (a BODY frame in the middle of "
+		 "episode 1): the episode is lost",
+		 run_url);
+	CHECK_CONTAINS(t, want);
+	free(t);
+	double secs;
+	CHECK_EQ_INT(stop_with(body, SIGTERM, &secs), 0);
+}
+
 /* evo stopped (SIGSTOP) longer than the body's timeout: the body goes
  * neutral on its own and says so; evo let go on answers the newest tick,
  * and the body follows its commands again; SIGTERM ends evo, whose STOP
@@ -888,6 +926,7 @@ int main(void)
 	    over_socketcan_a_robot_runs_as_demosim_does_where_the_kernel_can);
 	RUN_TIMED(a_body_that_does_not_fit_is_refused_saying_what_differs);
 	RUN_TIMED(killing_the_body_is_reported_within_the_timeout);
+	RUN_TIMED(a_body_that_starts_again_ends_the_run);
 	RUN_TIMED(
 	    the_body_goes_neutral_when_commands_stop_and_follows_them_again);
 	RUN_TIMED(bad_input_from_the_bus_is_counted_and_reported);
