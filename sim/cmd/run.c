@@ -519,6 +519,7 @@ static void robot_view_update(robot_view *rv, const evo_robot_conn *r,
 	evo_robot_status st;
 	evo_robot_conn_status(r, &st);
 	double period = evo_robot_conn_period(r);
+	double timeout = evo_robot_conn_timeout(r);
 	p->episode = (int)e;
 	p->quiet = st.quiet;
 	p->reward = st.reward;
@@ -527,7 +528,7 @@ static void robot_view_update(robot_view *rv, const evo_robot_conn *r,
 	p->missing = st.missing;
 	p->link = st.done		  ? EVO_VIEW_LINK_ENDED
 		  : st.tick < 0		  ? EVO_VIEW_LINK_WAITING
-		  : st.quiet >= evo_robot_conn_timeout(r) ? EVO_VIEW_LINK_SILENT
+		  : st.quiet >= timeout	  ? EVO_VIEW_LINK_SILENT
 		  : st.quiet > 3 * period ? EVO_VIEW_LINK_QUIET
 					  : EVO_VIEW_LINK_LIVE;
 }

@@ -32,15 +32,15 @@ typedef struct body {
 	double period, timeout; /* seconds */
 	int active;		/* in an episode: ticking and sending */
 	uint32_t episode;
-	int64_t tick;	       /* the tick whose sensors went out last */
-	double started_at;     /* the episode's RESET (monotonic) */
-	double commanded_at;   /* the last command taken, or started_at */
-	int commanded;	       /* a command came in this episode */
-	int neutral;	       /* every actuator at 0.5 for want of commands */
-	int stepped, ended;    /* this tick: the world stepped; it ended */
-	int restart;	       /* a RESET or STOP broke off the period */
-	int full_next;	       /* the next tick sends every sensor frame */
-	int told_hello;	       /* a HELLO that does not fit was said */
+	int64_t tick;	     /* the tick whose sensors went out last */
+	double started_at;   /* the episode's RESET (monotonic) */
+	double commanded_at; /* the last command taken, or started_at */
+	int commanded;	     /* a command came in this episode */
+	int neutral;	     /* every actuator at 0.5 for want of commands */
+	int stepped, ended;  /* this tick: the world stepped; it ended */
+	int restart;	     /* a RESET or STOP broke off the period */
+	int full_next;	     /* the next tick sends every sensor frame */
+	int told_hello;	     /* a HELLO that does not fit was said */
 	evo_q16 sent[EVO_CAN_MAX_SENSORS]; /* the values evo was sent */
 	double cmd[EVO_CAN_MAX_ACTUATORS]; /* what the actuators do */
 	unsigned long ticks, in_time, held, neutral_ticks, late, overruns;
@@ -412,8 +412,9 @@ static void report(const body *b)
 	for (int i = 0; i < EVO_CAN_BAD_COUNT; i++)
 		total += bus[i];
 	if (total) {
-		fprintf(stderr, "evo serve: dropped %lu piece%s of input that "
-				"were no frames of evo's (",
+		fprintf(stderr,
+			"evo serve: dropped %lu piece%s of input that "
+			"were no frames of evo's (",
 			total, total == 1 ? "" : "s");
 		sep = "";
 		for (int i = 0; i < EVO_CAN_BAD_COUNT; i++)
@@ -472,13 +473,14 @@ int evo_serve_can(const evo_serve_can_def *def)
 	       "%.1f ms, neutral after %.3g s without a command\n",
 	       def->task_path, def->url, b.period * 1e3, b.timeout);
 	if (evo_can_pty_name(b.can))
-		printf("evo serve: its slcan pseudo-terminal is %s%s%s: evo run "
-		       "TASK --can slcan:%s\n",
-		       evo_can_pty_name(b.can),
-		       evo_can_pty_link(b.can) ? ", linked from " : "",
-		       evo_can_pty_link(b.can) ? evo_can_pty_link(b.can) : "",
-		       evo_can_pty_link(b.can) ? evo_can_pty_link(b.can)
-					       : evo_can_pty_name(b.can));
+		printf(
+		    "evo serve: its slcan pseudo-terminal is %s%s%s: evo run "
+		    "TASK --can slcan:%s\n",
+		    evo_can_pty_name(b.can),
+		    evo_can_pty_link(b.can) ? ", linked from " : "",
+		    evo_can_pty_link(b.can) ? evo_can_pty_link(b.can) : "",
+		    evo_can_pty_link(b.can) ? evo_can_pty_link(b.can)
+					    : evo_can_pty_name(b.can));
 	if (serve_body(&b, &err) == 0)
 		rc = 0;
 	report(&b);

@@ -10,9 +10,9 @@
 typedef struct evo_serve_can_def {
 	const evo_task *task;
 	const char *task_path;
-	const char *url;  /* can.h's */
-	double tick_ms;	  /* the period, rounded to 0.1 ms */
-	double timeout;	  /* seconds without a command before neutral */
+	const char *url; /* can.h's */
+	double tick_ms;	 /* the period, rounded to 0.1 ms */
+	double timeout;	 /* seconds without a command before neutral */
 	volatile sig_atomic_t *stop; /* ends the run */
 } evo_serve_can_def;
 

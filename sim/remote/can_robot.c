@@ -13,8 +13,8 @@
 
 #include "remote/can.h"
 
-#define SLICE_MS 50	/* the longest wait between two looks at stop */
-#define RESEND_S 0.25	/* a RESET unanswered this long is sent again */
+#define SLICE_MS      50   /* the longest wait between two looks at stop */
+#define RESEND_S      0.25 /* a RESET unanswered this long is sent again */
 #define HELLO_EVERY_S 0.5
 /* A BODY later than this after evo's last HELLO is no answer to it: the
  * body started again, and its episode is lost. */
@@ -36,7 +36,7 @@ struct evo_can_robot {
 	int64_t tick; /* held; -1: none yet */
 	int answered, done;
 	double reward;
-	evo_q16 values[EVO_CAN_MAX_SENSORS]; /* the held tick's */
+	evo_q16 values[EVO_CAN_MAX_SENSORS];	 /* the held tick's */
 	evo_q16 commands[EVO_CAN_MAX_ACTUATORS]; /* the last sent */
 	evo_can_frame reset[3];
 	double reset_at, reset_sent_at; /* monotonic */
@@ -234,8 +234,9 @@ static void report_drops(const evo_can_robot *r)
 		total += bus[i];
 	if (!total)
 		return;
-	fprintf(stderr, "evo: robot %s: dropped %lu piece%s of input that "
-			"were no frames of evo's (",
+	fprintf(stderr,
+		"evo: robot %s: dropped %lu piece%s of input that "
+		"were no frames of evo's (",
 		r->url, total, total == 1 ? "" : "s");
 	sep = "";
 	for (int i = 0; i < EVO_CAN_BAD_COUNT; i++)
@@ -288,12 +289,13 @@ static int send_reset(evo_can_robot *r, evo_err *err)
 	return 0;
 }
 
-int evo_can_robot_start(evo_can_robot *r, int64_t episode,
-			uint64_t layout_seed, uint64_t seed, evo_err *err)
+int evo_can_robot_start(evo_can_robot *r, int64_t episode, uint64_t layout_seed,
+			uint64_t seed, evo_err *err)
 {
 	if (episode < 1 || episode > (int64_t)UINT32_MAX)
-		return evo_fail(err, "robot %s: episode %lld does not fit a "
-				     "RESET frame",
+		return evo_fail(err,
+				"robot %s: episode %lld does not fit a "
+				"RESET frame",
 				r->url, (long long)episode);
 	r->started = 1;
 	r->episode = episode;
@@ -360,9 +362,9 @@ static int take_tick(evo_can_robot *r, const evo_can_frame *f, evo_err *err)
 	/* Before the episode's first tick, a tick the robot cannot have
 	 * reached since the RESET went out is of an episode it ran before
 	 * (an evo that ended without a STOP). TICK carries no episode. */
-	int64_t reachable =
-	    r->tick < 0 ? (int64_t)((t - r->reset_at) / r->period) + 1
-			: INT64_MAX;
+	int64_t reachable = r->tick < 0
+				? (int64_t)((t - r->reset_at) / r->period) + 1
+				: INT64_MAX;
 	if (tick <= r->tick || tick > reachable) {
 		char what[160];
 		snprintf(what, sizeof what, "tick %lld; evo holds tick %lld%s",
@@ -532,8 +534,7 @@ int evo_can_robot_answer(evo_can_robot *r, const evo_q16 *commands,
 
 void evo_can_robot_sensors(const evo_can_robot *r, evo_q16 *values)
 {
-	memcpy(values, r->values,
-	       r->mind->botdesc->n_sensors * sizeof *values);
+	memcpy(values, r->values, r->mind->botdesc->n_sensors * sizeof *values);
 }
 
 void evo_can_robot_status(const evo_can_robot *r, evo_robot_status *s)

@@ -29,7 +29,7 @@
 #include "mind/mindfolder.h"
 #include "remote/robot.h"
 
-#define EVO_CAN_MAX_SENSORS (2 * EVO_WIRE_SENSOR_FRAMES)     /* 128 */
+#define EVO_CAN_MAX_SENSORS   (2 * EVO_WIRE_SENSOR_FRAMES)   /* 128 */
 #define EVO_CAN_MAX_ACTUATORS (2 * EVO_WIRE_ACTUATOR_FRAMES) /* 64 */
 
 /* Why a frame was refused. */
@@ -65,8 +65,8 @@ void evo_can_body_encode(const evo_can_body_info *b, evo_can_frame *f);
 
 /* The three frames that start episode `episode` (LAYOUT_SEED, SEED,
  * RESET, to be sent in this order). */
-void evo_can_reset_encode(uint32_t episode, uint64_t layout_seed,
-			  uint64_t seed, evo_can_frame f[3]);
+void evo_can_reset_encode(uint32_t episode, uint64_t layout_seed, uint64_t seed,
+			  evo_can_frame f[3]);
 
 /* What a receiver made of a frame. */
 typedef enum evo_can_event {
@@ -161,8 +161,8 @@ double evo_can_robot_period(const evo_can_robot *r);	/* seconds */
  * robot's over LCM are. An incomplete tick is answered at once with the
  * INCOMPLETE flag and the commands before (as the firmware answers one),
  * and counted missing. */
-int evo_can_robot_start(evo_can_robot *r, int64_t episode,
-			uint64_t layout_seed, uint64_t seed, evo_err *err);
+int evo_can_robot_start(evo_can_robot *r, int64_t episode, uint64_t layout_seed,
+			uint64_t seed, evo_err *err);
 int evo_can_robot_next(evo_can_robot *r, int timeout_ms, evo_err *err);
 int evo_can_robot_answer(evo_can_robot *r, const evo_q16 *commands,
 			 evo_err *err);

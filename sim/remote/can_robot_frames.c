@@ -21,8 +21,8 @@ static void put_u64(uint8_t *p, uint64_t v)
 
 static uint64_t get_u64(const uint8_t *p)
 {
-	return (uint64_t)evo_wire_get_u32(p) |
-	       (uint64_t)evo_wire_get_u32(p + 4) << 32;
+	return (uint64_t)evo_wire_get_u32(p) | (uint64_t)evo_wire_get_u32(p + 4)
+						   << 32;
 }
 
 void evo_can_body_encode(const evo_can_body_info *b, evo_can_frame *f)
@@ -36,8 +36,8 @@ void evo_can_body_encode(const evo_can_body_info *b, evo_can_frame *f)
 	evo_wire_put_u16(f->data + 6, (uint16_t)b->period_100us);
 }
 
-void evo_can_reset_encode(uint32_t episode, uint64_t layout_seed,
-			  uint64_t seed, evo_can_frame f[3])
+void evo_can_reset_encode(uint32_t episode, uint64_t layout_seed, uint64_t seed,
+			  evo_can_frame f[3])
 {
 	memset(f, 0, 3 * sizeof *f);
 	f[0].id = EVO_WIRE_LAYOUT_SEED;
@@ -131,7 +131,8 @@ static evo_can_event mind_frame(evo_can_rx *rx, const evo_can_frame *f)
 		if (f->len != 4 && (f->len != 8 || frames > 32))
 			return refuse(rx, EVO_CAN_ROBOT_BAD_LENGTH);
 		uint64_t all = all_frames(rx->n);
-		uint64_t sent = f->len == 4 ? all : evo_wire_get_u32(f->data + 4);
+		uint64_t sent =
+		    f->len == 4 ? all : evo_wire_get_u32(f->data + 4);
 		rx->tick = evo_wire_get_u32(f->data);
 		take_values(rx, rx->got);
 		rx->known |= rx->got;

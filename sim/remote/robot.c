@@ -27,19 +27,19 @@ int evo_robot_task_check(const evo_simbatch *task, const char *type,
 	if (!url)
 		return 0;
 	if (strcmp(type, "DEMOREMOTE") != 0)
-		return evo_fail(err,
-				"%s: CANURL is for DEMOREMOTE tasks (a robot on "
-				"a CAN bus); a %s task's remote is reached over "
-				"LCM",
-				task_path, type);
+		return evo_fail(
+		    err,
+		    "%s: CANURL is for DEMOREMOTE tasks (a robot on "
+		    "a CAN bus); a %s task's remote is reached over "
+		    "LCM",
+		    task_path, type);
 	evo_err inner;
 	if (evo_can_url_check(url, &inner))
 		return evo_fail(err, "%s: CANURL: %s", task_path, inner.msg);
 	return 0;
 }
 
-evo_robot_conn *evo_robot_conn_open(const evo_robot_conn_def *def,
-				    evo_err *err)
+evo_robot_conn *evo_robot_conn_open(const evo_robot_conn_def *def, evo_err *err)
 {
 	evo_remote_opts ro;
 	if (evo_remote_opts_from_task(def->task, def->task_path,
@@ -119,8 +119,7 @@ int evo_robot_conn_start(evo_robot_conn *c, int64_t episode,
 	if (c->can)
 		return evo_can_robot_start(c->can, episode, layout_seed, seed,
 					   err);
-	return evo_robot_start(c->lcm, &c->rb, episode, layout_seed, seed,
-			       err);
+	return evo_robot_start(c->lcm, &c->rb, episode, layout_seed, seed, err);
 }
 
 int evo_robot_conn_next(evo_robot_conn *c, int timeout_ms, evo_err *err)

@@ -51,9 +51,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		if (body && (ev == EVO_CAN_EV_TICK || ev == EVO_CAN_EV_BODY ||
 			     ev == EVO_CAN_EV_DONE))
 			abort(); /* evo's events on the body's side */
-		if (!body && (ev == EVO_CAN_EV_TICKED ||
-			      ev == EVO_CAN_EV_HELLO ||
-			      ev == EVO_CAN_EV_RESET || ev == EVO_CAN_EV_STOP))
+		if (!body &&
+		    (ev == EVO_CAN_EV_TICKED || ev == EVO_CAN_EV_HELLO ||
+		     ev == EVO_CAN_EV_RESET || ev == EVO_CAN_EV_STOP))
 			abort();
 		for (unsigned i = 0; i < n; i++)
 			if (rx.values[i] < 0 || rx.values[i] > EVO_Q16_ONE)

@@ -164,8 +164,8 @@ static int evo(double limit, const char *fmt, ...)
 	va_start(ap, fmt);
 	vsnprintf(args, sizeof args, fmt, ap);
 	va_end(ap);
-	pid_t pid = spawn("exec %s %s >%s/evo.out 2>&1", cli_evo, args,
-			  cli_tmp);
+	pid_t pid =
+	    spawn("exec %s %s >%s/evo.out 2>&1", cli_evo, args, cli_tmp);
 	int rc = reap(pid, limit);
 	char *t = cli_read("%s/evo.out", cli_tmp);
 	snprintf(out, sizeof out, "%s", t ? t : "");
@@ -200,6 +200,17 @@ static void udp_ports(int *a, int *b)
 			return;
 		}
 	}
+}
+
+/* Two cannelloni URLs on ports of this run's own: the body's, which
+ * `evo serve --can` opens, and evo's, which sends to the body's port and
+ * listens on its own. */
+static void udp_urls(char *serve_url, char *run_url, size_t cap)
+{
+	int a, b;
+	udp_ports(&a, &b);
+	snprintf(serve_url, cap, "cannelloni:127.0.0.1:%d?local=%d", a, b);
+	snprintf(run_url, cap, "cannelloni:127.0.0.1:%d?local=%d", b, a);
 }
 
 /* A DEMOREMOTE task of the Avoid mind named `name` in the test's copy of
@@ -363,13 +374,8 @@ TEST(over_slcan_a_robot_runs_as_demosim_does)
 
 TEST(over_cannelloni_a_robot_runs_as_demosim_does)
 {
-	int a, b;
-	udp_ports(&a, &b);
 	char serve_url[200], run_url[200], extra[300];
-	snprintf(serve_url, sizeof serve_url,
-		 "cannelloni:127.0.0.1:%d?local=%d", a, b);
-	snprintf(run_url, sizeof run_url, "cannelloni:127.0.0.1:%d?local=%d",
-		 b, a);
+	udp_urls(serve_url, run_url, sizeof serve_url);
 	/* the task's CANURL, this time */
 	snprintf(extra, sizeof extra, "CANURL:%s\n", run_url);
 	robot_task("udp", extra);
@@ -385,8 +391,9 @@ TEST(over_socketcan_a_robot_runs_as_demosim_does_where_the_kernel_can)
 		       strerror(errno));
 		/* and evo says so too */
 		robot_task("socketcan", "CANURL:socketcan:vcan0\n");
-		CHECK_EQ_INT(evo(60, "run %s/Avoid/Tasks/socketcan.simbatch "
-				     "-nog --ticks 5",
+		CHECK_EQ_INT(evo(60,
+				 "run %s/Avoid/Tasks/socketcan.simbatch "
+				 "-nog --ticks 5",
 				 cli_tmp),
 			     1);
 		CHECK_CONTAINS(out, "socketcan:vcan0: this machine has no "
@@ -409,13 +416,8 @@ TEST(over_socketcan_a_robot_runs_as_demosim_does_where_the_kernel_can)
 
 TEST(a_body_that_does_not_fit_is_refused_saying_what_differs)
 {
-	int a, b;
-	udp_ports(&a, &b);
 	char serve_url[200], run_url[200], task[512];
-	snprintf(serve_url, sizeof serve_url,
-		 "cannelloni:127.0.0.1:%d?local=%d", a, b);
-	snprintf(run_url, sizeof run_url, "cannelloni:127.0.0.1:%d?local=%d",
-		 b, a);
+	udp_urls(serve_url, run_url, sizeof serve_url);
 	robot_task("fit", "");
 	snprintf(task, sizeof task, "%s/Avoid/Tasks/fit.simbatch", cli_tmp);
 	/* other counts: the Collect robot */
@@ -515,12 +517,7 @@ TEST(killing_the_body_is_reported_within_the_timeout)
 		 cli_tmp);
 	snprintf(run_url, sizeof run_url, "slcan:%s/killed.tty", cli_tmp);
 	killed_body_is_reported("killed-slcan", serve_url, run_url);
-	int a, b;
-	udp_ports(&a, &b);
-	snprintf(serve_url, sizeof serve_url,
-		 "cannelloni:127.0.0.1:%d?local=%d", a, b);
-	snprintf(run_url, sizeof run_url, "cannelloni:127.0.0.1:%d?local=%d",
-		 b, a);
+	udp_urls(serve_url, run_url, sizeof serve_url);
 	killed_body_is_reported("killed-udp", serve_url, run_url);
 }
 
@@ -529,13 +526,8 @@ TEST(killing_the_body_is_reported_within_the_timeout)
  * LCM a robot that says hello with a new session ends it. */
 TEST(a_body_that_starts_again_ends_the_run)
 {
-	int a, b;
-	udp_ports(&a, &b);
 	char serve_url[200], run_url[200], evlog[512], rlog[512], task[512];
-	snprintf(serve_url, sizeof serve_url,
-		 "cannelloni:127.0.0.1:%d?local=%d", a, b);
-	snprintf(run_url, sizeof run_url, "cannelloni:127.0.0.1:%d?local=%d",
-		 b, a);
+	udp_urls(serve_url, run_url, sizeof serve_url);
 	robot_task("again", "");
 	snprintf(task, sizeof task, "%s/Avoid/Tasks/again.simbatch", cli_tmp);
 	snprintf(evlog, sizeof evlog, "%s/again.evo.log", cli_tmp);
@@ -568,13 +560,8 @@ TEST(a_body_that_starts_again_ends_the_run)
  * makes the body neutral. */
 TEST(the_body_goes_neutral_when_commands_stop_and_follows_them_again)
 {
-	int a, b;
-	udp_ports(&a, &b);
 	char serve_url[200], run_url[200], evlog[512], rlog[512], task[512];
-	snprintf(serve_url, sizeof serve_url,
-		 "cannelloni:127.0.0.1:%d?local=%d", a, b);
-	snprintf(run_url, sizeof run_url, "cannelloni:127.0.0.1:%d?local=%d",
-		 b, a);
+	udp_urls(serve_url, run_url, sizeof serve_url);
 	robot_task("quiet", "");
 	snprintf(task, sizeof task, "%s/Avoid/Tasks/quiet.simbatch", cli_tmp);
 	snprintf(evlog, sizeof evlog, "%s/quiet.evo.log", cli_tmp);
@@ -658,8 +645,7 @@ static void fake_send(fake *f, unsigned id, unsigned len, const void *data)
 
 static void fake_raw(fake *f, const void *d, size_t n)
 {
-	(void)!sendto(f->raw, d, n, 0, (struct sockaddr *)&f->to,
-		      sizeof f->to);
+	(void)!sendto(f->raw, d, n, 0, (struct sockaddr *)&f->to, sizeof f->to);
 }
 
 /* Wait (at most 60 s) for an event of evo's; 1 when it came. */
@@ -739,13 +725,13 @@ TEST(bad_input_from_the_bus_is_counted_and_reported)
 	CHECK_EQ_INT(f.rx.episode, 1);
 	/* frames no body sends or with the wrong length */
 	static const uint8_t zero[8] = {0};
-	fake_send(&f, 0x050, 2, zero);		      /* another node's */
-	fake_send(&f, EVO_WIRE_ACTUATOR, 8, zero);    /* the other way */
-	fake_send(&f, EVO_WIRE_SENSOR + 6, 8, zero);  /* past 11 sensors */
-	fake_send(&f, EVO_WIRE_SENSOR + 5, 8, zero);  /* sensor 11: DLC 4 */
-	fake_send(&f, EVO_WIRE_TICK, 3, zero);	      /* TICK of 3 bytes */
+	fake_send(&f, 0x050, 2, zero);		     /* another node's */
+	fake_send(&f, EVO_WIRE_ACTUATOR, 8, zero);   /* the other way */
+	fake_send(&f, EVO_WIRE_SENSOR + 6, 8, zero); /* past 11 sensors */
+	fake_send(&f, EVO_WIRE_SENSOR + 5, 8, zero); /* sensor 11: DLC 4 */
+	fake_send(&f, EVO_WIRE_TICK, 3, zero);	     /* TICK of 3 bytes */
 	double nan = NAN;
-	fake_send(&f, EVO_WIRE_REWARD, 8, &nan);      /* not finite */
+	fake_send(&f, EVO_WIRE_REWARD, 8, &nan); /* not finite */
 	evo_q16 v[11];
 	for (int i = 0; i < 11; i++)
 		v[i] = EVO_Q16_ONE;
@@ -811,23 +797,20 @@ TEST(bad_input_from_the_bus_is_counted_and_reported)
 		 "of evo's (1 length, 1 not evo's, 1 version)",
 		 url);
 	CHECK_CONTAINS(t, want);
-	if (getenv("TEST_CAN_ROBOT_SHOW") || !strstr(t ? t : "", "dropped 10 frames"))
+	if (getenv("TEST_CAN_ROBOT_SHOW") ||
+	    !strstr(t ? t : "", "dropped 10 frames"))
 		printf("---- evo said:\n%s----\n", t ? t : "(nothing)");
 	free(t);
 	fake_close(&f);
 }
 
-/* ---- the panel; options --------------------------------------------------- */
+/* ---- the panel; options ---------------------------------------------------
+ */
 
 TEST(the_robot_panel_over_can_is_drawn_without_a_window)
 {
-	int a, b;
-	udp_ports(&a, &b);
 	char serve_url[200], run_url[200], png[512], task[512];
-	snprintf(serve_url, sizeof serve_url,
-		 "cannelloni:127.0.0.1:%d?local=%d", a, b);
-	snprintf(run_url, sizeof run_url, "cannelloni:127.0.0.1:%d?local=%d",
-		 b, a);
+	udp_urls(serve_url, run_url, sizeof serve_url);
 	robot_task("panel", "");
 	snprintf(task, sizeof task, "%s/Avoid/Tasks/panel.simbatch", cli_tmp);
 	snprintf(png, sizeof png, "%s/panel.png", cli_tmp);
@@ -863,8 +846,7 @@ TEST(options_and_keys_that_do_not_fit_are_refused)
 	CHECK_EQ_INT(evo(30, "serve %s --can slcan-pty: --name x", task), 2);
 	CHECK_CONTAINS(out, "--name is for LCM; over CAN (--can) a robot is "
 			    "its bus");
-	CHECK_EQ_INT(evo(30, "serve %s --can slcan-pty: --data-url same",
-			 task),
+	CHECK_EQ_INT(evo(30, "serve %s --can slcan-pty: --data-url same", task),
 		     2);
 	CHECK_CONTAINS(out, "--data-url is for LCM");
 	CHECK_EQ_INT(evo(30, "serve %s --can slcan-pty: --tick-ms 7000", task),
@@ -889,15 +871,14 @@ TEST(options_and_keys_that_do_not_fit_are_refused)
 		     1);
 	CHECK_CONTAINS(out, "badurl.simbatch: CANURL: 'can:vcan0' is no CAN "
 			    "URL evo knows");
-	CHECK_EQ_INT(evo(30, "run %s/Avoid/Tasks/badurl.simbatch -nog",
-			 cli_tmp),
-		     1);
+	CHECK_EQ_INT(
+	    evo(30, "run %s/Avoid/Tasks/badurl.simbatch -nog", cli_tmp), 1);
 	CHECK_CONTAINS(out, "CANURL: 'can:vcan0' is no CAN URL evo knows");
 	/* a link where something that is no link is */
 	cli_write("x", "%s/file", cli_tmp);
-	CHECK_EQ_INT(evo(30, "serve %s --can 'slcan-pty:?link=%s/file'", task,
-			 cli_tmp),
-		     1);
+	CHECK_EQ_INT(
+	    evo(30, "serve %s --can 'slcan-pty:?link=%s/file'", task, cli_tmp),
+	    1);
 	CHECK_CONTAINS(out, "exists and is no symbolic link: evo does not "
 			    "replace it");
 }

@@ -31,8 +31,7 @@ static void feed_sensors(evo_can_rx *rx, const evo_q16 *v, unsigned n,
 		}
 }
 
-static evo_can_event tick(evo_can_rx *rx, uint32_t t, int masked,
-			  uint32_t mask)
+static evo_can_event tick(evo_can_rx *rx, uint32_t t, int masked, uint32_t mask)
 {
 	uint8_t d[8];
 	evo_wire_put_u32(d, t);
@@ -193,7 +192,8 @@ TEST(the_bodys_receiver_takes_whole_commands_and_resets)
 	d[4] = EVO_WIRE_F_INCOMPLETE;
 	f = frame(EVO_WIRE_TICKED, 5, d);
 	CHECK_EQ_INT(evo_can_rx_frame(&rx, &f), EVO_CAN_EV_TICKED);
-	CHECK(rx.complete && rx.tick == 42 && rx.flags == EVO_WIRE_F_INCOMPLETE);
+	CHECK(rx.complete && rx.tick == 42 &&
+	      rx.flags == EVO_WIRE_F_INCOMPLETE);
 	CHECK(memcmp(rx.values, a, sizeof a) == 0);
 	/* a RESET with its seeds; one whose seed frame was lost; one with
 	 * the seeds of another */
