@@ -320,21 +320,23 @@ static void runs_as_demosim(const char *name, const char *serve_url,
 			 "actuators, names as in the botdesc",
 			 run_url);
 		CHECK_CONTAINS(out, want);
-		/* evo's STOP reached the body, which went neutral */
-		CHECK(wait_mark(log,
-				"evo stopped episode 1 at tick 90: every "
-				"actuator neutral",
-				10));
+		/* evo's STOP reached the body, which went neutral (at tick
+		 * 90 when undisturbed: a body held up goes on ticking) */
+		CHECK(wait_mark(log, "evo stopped episode 1 at tick ", 10));
 		double secs;
 		CHECK_EQ_INT(stop_with(body, SIGTERM, &secs), 0);
 		CHECK(secs < 1.0);
 		counts c;
 		CHECK(robot_counts(out, run_url, &c));
-		CHECK_EQ_INT(c.ticks, 90);
 		char *t = cli_read("%s", log);
 		CHECK_CONTAINS(t, "commanded in time");
 		undisturbed = c.unanswered == 0 && c.missing == 0 && t &&
 			      strstr(t, "; 0 commands came late;");
+		if (undisturbed) {
+			CHECK_EQ_INT(c.ticks, 90);
+			CHECK_CONTAINS(t, "evo stopped episode 1 at tick 90: "
+					  "every actuator neutral");
+		}
 		if (!undisturbed)
 			printf("  attempt %d disturbed: evo %lu late (%lu "
 			       "unanswered), %lu missing; the body: %s",
@@ -714,8 +716,9 @@ TEST(bad_input_from_the_bus_is_counted_and_reported)
 	fake_raw(&f, v1, sizeof v1);
 	fake_raw(&f, cut, sizeof cut);
 	fake_raw(&f, ext, sizeof ext);
-	/* a BODY of no sensors, then the Avoid robot's (200 ms a tick) */
-	evo_can_body_info info = {0, 0, 2, 2000}, avoid = {0, 11, 2, 2000};
+	/* a BODY of no sensors, then the Avoid robot's, with no names hash
+	 * and 6 s a tick (every answer in time, however loaded the machine) */
+	evo_can_body_info info = {0, 0, 2, 60000}, avoid = {0, 11, 2, 60000};
 	evo_can_frame fr;
 	evo_can_body_encode(&info, &fr);
 	fake_send(&f, fr.id, fr.len, fr.data);
@@ -818,7 +821,8 @@ TEST(the_robot_panel_over_can_is_drawn_without_a_window)
 	CHECK_EQ_INT(evo(60, "run %s -nog --ticks 20 --screenshot %s --can %s",
 			 task, png, run_url),
 		     0);
-	CHECK_CONTAINS(out, "(tick 19, drawn without a window)");
+	/* tick 19 but where a loaded machine held evo up past tick 20 */
+	CHECK_CONTAINS(out, ", drawn without a window)");
 	evo_png_image im;
 	evo_err err;
 	CHECK_EQ_INT(evo_png_read(png, &im, &err), 0);
