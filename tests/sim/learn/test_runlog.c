@@ -12,7 +12,7 @@
 #include "support/alloc_fail.h"
 #include "learn/runlog.h"
 
-static char dir[512];
+static char dir[128];
 
 static evo_gen_stats stats(int g)
 {

@@ -153,7 +153,7 @@ TEST(too_deep_a_mind_folder_is_refused_with_its_path)
 
 /* ---- broken mind folders ------------------------------------------------ */
 
-static char dir[512];
+static char dir[256];
 
 static void put(const char *rel, const char *text)
 {

@@ -201,7 +201,7 @@ TEST(a_file_round_trips_and_is_replaced_whole)
 	free(a);
 	free(b);
 	/* A missing file names itself. */
-	char missing[80];
+	char missing[600];
 	snprintf(missing, sizeof missing, "%s/none.png", dir);
 	CHECK_EQ_INT(evo_png_read(missing, &img, &err), -1);
 	CHECK_CONTAINS(err.msg, "none.png");
