@@ -184,6 +184,9 @@ static evo_flash_rx_result end(evo_flash_rx *rx, const evo_can_frame *f,
 		return refuse(rx, EVO_FLASH_ERR_CRC, rx->crc, reply);
 	evo_status st =
 	    evo_mind_open(rx->slot, rx->length, rx->def.names_hash, &rx->mind);
+	/* bytes after the image's own length: not the image evo made */
+	if (st == EVO_OK && rx->mind.length != rx->length)
+		st = EVO_ERR_IMAGE_LENGTH;
 	if (st != EVO_OK)
 		return refuse(rx, EVO_FLASH_ERR_IMAGE, (uint32_t)st, reply);
 	size_t need = evo_state_size(&rx->mind);

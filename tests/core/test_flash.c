@@ -350,6 +350,29 @@ TEST(image_checked_again_at_end)
 	CHECK_EQ_INT(s.switches, 0);
 }
 
+/* An image with bytes after its own length (its header says less than
+ * was sent) is not the image evo made: refused, never switched to. */
+TEST(bytes_after_the_image_are_refused)
+{
+	static _Alignas(4) uint8_t img[16384];
+	bus s;
+	memcpy(img, b.image, b.image_len);
+	memset(img + b.image_len, 0, 64);
+	bus_init(&s, img, (uint32_t)b.image_len + 64,
+		 evo_wire_get_u32(b.image + 16), SLOT);
+	run(&s);
+	CHECK_EQ_INT(s.tx.kind, EVO_FLASH_REFUSED);
+	CHECK_EQ_INT(s.tx.reason, EVO_FLASH_ERR_IMAGE);
+	CHECK_EQ_INT(s.tx.detail, EVO_ERR_IMAGE_LENGTH);
+	CHECK_EQ_INT(s.switches, 0);
+	/* the image alone goes */
+	bus_init(&s, b.image, (uint32_t)b.image_len,
+		 evo_wire_get_u32(b.image + 16), SLOT);
+	run(&s);
+	CHECK_EQ_INT(s.tx.kind, EVO_FLASH_DONE);
+	CHECK_EQ_INT(s.switches, 1);
+}
+
 TEST(refusals_at_begin_and_end)
 {
 	bus s;
@@ -440,6 +463,7 @@ int main(void)
 	RUN(transfer_cut_anywhere_never_switches);
 	RUN(another_robots_image_is_refused_at_begin);
 	RUN(image_checked_again_at_end);
+	RUN(bytes_after_the_image_are_refused);
 	RUN(refusals_at_begin_and_end);
 	RUN(transfers_follow_each_other);
 	return test_summary();
