@@ -223,21 +223,23 @@ TEST(a_robot_runs_as_demosim_does)
 		snprintf(want, sizeof want,
 			 "remote %s: robot, a tick every 60.000 ms", name);
 		CHECK_CONTAINS(out, want);
-		/* evo's STOP reached the robot, which went neutral */
-		CHECK(wait_mark(log,
-				"evo stopped episode 1 at tick 90: every "
-				"actuator neutral",
-				10));
+		/* evo's STOP reached the robot, which went neutral (at tick
+		 * 90 when undisturbed: a robot held up goes on ticking) */
+		CHECK(wait_mark(log, "evo stopped episode 1 at tick ", 10));
 		double secs;
 		CHECK_EQ_INT(stop_with(rob, SIGTERM, &secs), 0);
 		CHECK(secs < 1.0);
 		counts c;
 		CHECK(robot_counts(out, name, &c));
-		CHECK_EQ_INT(c.ticks, 90);
 		char *t = cli_read("%s", log);
 		CHECK_CONTAINS(t, "commanded in time");
 		undisturbed = c.unanswered == 0 && c.missing == 0 && t &&
 			      strstr(t, "; 0 commands came late;");
+		if (undisturbed) {
+			CHECK_EQ_INT(c.ticks, 90);
+			CHECK_CONTAINS(t, "evo stopped episode 1 at tick 90: "
+					  "every actuator neutral");
+		}
 		if (!undisturbed)
 			printf("  attempt %d disturbed: evo %lu late (%lu "
 			       "unanswered), %lu missing; the robot: %s",
@@ -373,7 +375,12 @@ TEST(the_robot_panel_is_drawn_without_a_window)
 			"--screenshot %s",
 			cli_evo, cli_tmp, name, png);
 	CHECK_EQ_INT(rc, 0);
-	CHECK_CONTAINS(out, "(tick 19, drawn without a window)");
+	/* tick 19 but where a loaded machine held evo up past tick 20 */
+	const char *shot = strstr(out, "(tick ");
+	long shot_tick = -1;
+	CHECK(shot && sscanf(shot, "(tick %ld, drawn without a window)",
+			     &shot_tick) == 1);
+	CHECK(shot_tick >= 19);
 	evo_png_image im;
 	evo_err err;
 	CHECK_EQ_INT(evo_png_read(png, &im, &err), 0);
