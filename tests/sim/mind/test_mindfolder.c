@@ -135,7 +135,7 @@ TEST(too_deep_a_mind_folder_is_refused_with_its_path)
 		CHECK_CONTAINS(err.msg, k == 0 ? "at most 883)" : "at most 1023)");
 		CHECK(strncmp(err.msg, top, strlen(top)) == 0);
 		CHECK(strlen(err.msg) < 200);
-		char cmd[128];
+		char cmd[600];
 		snprintf(cmd, sizeof cmd, "rm -rf %s", top);
 		CHECK_EQ_INT(system(cmd), 0);
 	}
@@ -146,7 +146,7 @@ TEST(too_deep_a_mind_folder_is_refused_with_its_path)
 	CHECK_EQ_INT(evo_task_load(task, &t, &err), 0);
 	CHECK_EQ_STR(err.msg, "");
 	evo_task_free(&t);
-	char cmd[128];
+	char cmd[600];
 	snprintf(cmd, sizeof cmd, "rm -rf %s", top);
 	CHECK_EQ_INT(system(cmd), 0);
 }
