@@ -10,7 +10,15 @@ const char *const evo_simbatch_keys[] = {
     "TYPE", "BOTMODEL", "BOTNAME", "MASTERSKILL", "LEARNINGSKILL", "ENV",
     "LEARNINGMETHOD", "ROOTFOLDER", "NUMGEN", "EVALREP", "TICKLIM", "POPSIZE",
     "SEED", "THREADS", "HIDDEN", "TARGETFITNESS", "LCMURL", "REMOTENAME",
-    "REMOTETIMEOUT", "CANURL", NULL};
+    "REMOTETIMEOUT", "CANURL", "TEAM", "LEARNINGTEAM", "TEAMGENOME",
+    "TEAMFITNESS", "ALTERNATE", NULL};
+
+/* A team task lists its teams, one TEAM line each (docs/teams.md): the
+ * one key that may be given more than once. */
+static int repeatable(const char *key)
+{
+	return evo_txt_eq(key, "TEAM");
+}
 
 /* The prefixes of the learning methods' own keys. */
 static const char *const method_prefixes[] = {"NEAT_", "GA_", "SA_", NULL};
@@ -41,7 +49,8 @@ static int whole_min(const char *key)
 {
 	if (evo_txt_eq(key, "NUMGEN") || evo_txt_eq(key, "EVALREP") ||
 	    evo_txt_eq(key, "TICKLIM") || evo_txt_eq(key, "POPSIZE") ||
-	    evo_txt_eq(key, "THREADS") || evo_txt_eq(key, "HIDDEN"))
+	    evo_txt_eq(key, "THREADS") || evo_txt_eq(key, "HIDDEN") ||
+	    evo_txt_eq(key, "ALTERNATE"))
 		return 1;
 	if (evo_txt_eq(key, "SEED"))
 		return 0;
@@ -145,7 +154,7 @@ static evo_status add_pair(evo_simbatch *out, const evo_txt_entry *e,
 		warn(out, e, file);
 		return EVO_OK;
 	}
-	for (i = 0; i < out->n_pairs; i++) {
+	for (i = 0; i < out->n_pairs && !repeatable(known); i++) {
 		if (evo_txt_eq(out->pair[i].key, known)) {
 			evo_txt_diag(err, file, e->line,
 				     "expected each key once, found %s again "

@@ -290,14 +290,45 @@ TEST(simbatch_method_keys_are_kept)
 	CHECK_CONTAINS(sb.warning[0].msg, "m:4: unknown key 'NEAT_'");
 }
 
+/* TEAM is the one key given once per team; the pairs keep every one, in
+ * order, with its line; any other key twice is still an error. */
+TEST(simbatch_team_lines_repeat)
+{
+	static const char text[] = "TYPE:DEMO2DSIMMULTI\n"
+				   "team:Red:Forager:BotType8:4:Forage\n"
+				   "ENV:EXP_Forage TEAM:Blue:Forager:BotType8:2:Forage\n"
+				   "ALTERNATE:3\n";
+	CHECK_OK(evo_simbatch_parse(text, sizeof text - 1, "t", &sb, &err));
+	CHECK_EQ_INT(sb.n_pairs, 5);
+	CHECK_EQ_STR(evo_simbatch_get(&sb, "TEAM"),
+		     "Red:Forager:BotType8:4:Forage");
+	CHECK_EQ_STR(sb.pair[1].key, "TEAM");
+	CHECK_EQ_STR(sb.pair[3].key, "TEAM");
+	CHECK_EQ_STR(sb.pair[3].value, "Blue:Forager:BotType8:2:Forage");
+	CHECK_EQ_INT(sb.pair[3].line, 3);
+	CHECK_EQ_STR(evo_simbatch_get(&sb, "ALTERNATE"), "3");
+	static const char twice[] = "TEAM:a:b:c:1:d\nLEARNINGTEAM:a\n"
+				    "LEARNINGTEAM:b\n";
+	CHECK(evo_simbatch_parse(twice, sizeof twice - 1, "t", &sb, &err) ==
+	      EVO_ERR_NAME);
+	CHECK_CONTAINS(err.msg, "t:3: expected each key once, found "
+				"LEARNINGTEAM again (first on line 2)");
+	static const char zero[] = "ALTERNATE:0\n";
+	CHECK(evo_simbatch_parse(zero, sizeof zero - 1, "t", &sb, &err) ==
+	      EVO_ERR_SYNTAX);
+	CHECK_CONTAINS(err.msg, "for ALTERNATE, found '0'");
+}
+
 TEST(simbatch_tables)
 {
 	size_t i, n = 0;
 	for (i = 0; evo_simbatch_keys[i]; i++)
 		n++;
-	/* the tutorial's 12, THREADS, HIDDEN, TARGETFITNESS and the four
-	 * remote keys (LCMURL, REMOTENAME, REMOTETIMEOUT, CANURL) */
-	CHECK_EQ_INT(n, 20);
+	/* the tutorial's 12, THREADS, HIDDEN, TARGETFITNESS, the four
+	 * remote keys (LCMURL, REMOTENAME, REMOTETIMEOUT, CANURL) and the
+	 * five of teams (TEAM, LEARNINGTEAM, TEAMGENOME, TEAMFITNESS,
+	 * ALTERNATE) */
+	CHECK_EQ_INT(n, 25);
 	CHECK(n <= EVO_MAX_SIMBATCH);
 	n = 0;
 	for (i = 0; evo_task_types[i]; i++)
@@ -440,6 +471,7 @@ int main(void)
 	RUN(simbatch_mixed);
 	RUN(simbatch_many_warnings);
 	RUN(simbatch_method_keys_are_kept);
+	RUN(simbatch_team_lines_repeat);
 	RUN(simbatch_tables);
 	RUN(net_file);
 	RUN(net_numbers_round_exactly);
