@@ -532,6 +532,50 @@ static int task_loads(const char *const *lines, const char *omit, evo_task *t)
 	return 1;
 }
 
+/* What a team task (docs/teams.md) gets without `key`, one of the team
+ * keys: loaded from a task of one team of the copy of minds/Avoid. 0, or
+ * -1 when `key` is not one of them. */
+static int render_team_default(const char *key, char *out, size_t cap)
+{
+	static const char *const demo[] = {"TYPE:DEMO2DSIMMULTI", "ENV:Open",
+					   "TEAM:A:Avoid:BotType8:2:Avoid",
+					   NULL};
+	static const char *const learn[] = {
+	    "TYPE:LEARN2DSIMMULTI", "ENV:Open",
+	    "TEAM:A:Avoid:BotType8:2:Avoid:Avoid", "LEARNINGMETHOD:NEAT",
+	    "NUMGEN:1", NULL};
+	if (strcmp(key, "TEAM") == 0) {
+		int need = !task_loads(demo, "TEAM", NULL) &&
+			   !task_loads(learn, "TEAM", NULL) &&
+			   task_loads(demo, NULL, NULL) &&
+			   task_loads(learn, NULL, NULL);
+		snprintf(out, cap, "%s",
+			 need ? "required of DEMO2DSIMMULTI and LEARN2DSIMMULTI"
+			      : "not required");
+		return 0;
+	}
+	if (strcmp(key, "LEARNINGTEAM") && strcmp(key, "TEAMGENOME") &&
+	    strcmp(key, "TEAMFITNESS") && strcmp(key, "ALTERNATE"))
+		return -1;
+	evo_task t;
+	if (!task_loads(learn, key, &t))
+		return -1;
+	if (strcmp(key, "LEARNINGTEAM") == 0)
+		snprintf(out, cap, "%s",
+			 t.n_learning == 1 && t.learning[0] == 0
+			     ? "the only team, when there is one"
+			     : "another team");
+	else if (strcmp(key, "TEAMGENOME") == 0)
+		snprintf(out, cap, "%s",
+			 t.heterogeneous ? "HETEROGENEOUS" : "HOMOGENEOUS");
+	else if (strcmp(key, "TEAMFITNESS") == 0)
+		snprintf(out, cap, "%s", t.own_fitness ? "OWN" : "TEAM");
+	else
+		snprintf(out, cap, "%d", t.alternate);
+	evo_task_free(&t);
+	return 0;
+}
+
 /* Lua: genetic.width(n_in, n_out) with no HIDDEN, or -1. */
 static int genetic_width(int n_in, int n_out)
 {
@@ -587,6 +631,8 @@ static int render_task_default(const char *key, int in_learning, char *out,
 		snprintf(out, cap, "%s", kept ? "the method's" : "dropped");
 		return 0;
 	}
+	if (render_team_default(key, out, cap) == 0)
+		return 0;
 	int demo = task_loads(DEMO_TASK, key, NULL);
 	int learn = task_loads(LEARN_TASK, key, NULL);
 	if (!demo && !learn) {
@@ -1057,6 +1103,9 @@ static int render_option_default(const char *fn, const char *opt, char *out,
 				 probe_sensor("proximity")
 				     ? "the task's BOTMODEL"
 				     : "another model");
+		else if (strcmp(opt, "team") == 0)
+			snprintf(out, cap, "%s",
+				 b->team < 0 ? "none" : "a team");
 		else
 			return -1;
 		return 0;
@@ -1153,6 +1202,14 @@ static int render_option_default(const char *fn, const char *opt, char *out,
 		if (strcmp(opt, "bot") == 0)
 			snprintf(out, cap, "%s",
 				 bot == 0 ? "the first bot" : "another bot");
+		else if (strcmp(opt, "team") == 0)
+			/* one reward or control, for the first bot, which is of
+			 * no team: paid to that bot */
+			snprintf(out, cap, "%s",
+				 rd->scope == EVO_SCOPE_BOT &&
+					 sc->bot[bot].team < 0
+				     ? "none"
+				     : "a team");
 		else if (strcmp(opt, "target") == 0)
 			render_target(out, cap,
 				      reward ? rd->target : cd->target);
@@ -1539,9 +1596,12 @@ static doc_table simbatch_t = {.file = "docs/formats.md",
 			       .heading = "`.simbatch` — a task"};
 static doc_table lua_t = {.file = "docs/lua.md",
 			  .heading = "Options and their defaults"};
+static doc_table teams_t = {.file = "docs/teams.md",
+			    .heading = "A team task"};
 
 static doc_table *const checked[] = {&neat_t,	   &genetic_t,	&annealing_t,
-				     &task_keys_t, &simbatch_t, &lua_t};
+				     &task_keys_t, &simbatch_t, &lua_t,
+				     &teams_t};
 
 /* Every table header of docs/ with a `default` column is one of
  * `checked`. */
@@ -1625,6 +1685,7 @@ int main(void)
 	learning_run();
 	check_task_table(&task_keys_t, 1, 0);
 	check_task_table(&simbatch_t, 0, 1);
+	check_task_table(&teams_t, 0, 0);
 	probe_all_options();
 	build_defaults_scene();
 	check_lua_options(&lua_t);
