@@ -80,6 +80,7 @@ evo_bot_def evo_default_bot_def(void)
 	d.body.allow_sleep = 0;
 	d.body.category = EVO_CAT_BOT;
 	d.body.mask = EVO_CAT_ALL;
+	d.team = -1;
 	return d;
 }
 

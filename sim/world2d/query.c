@@ -4,6 +4,7 @@
 #include "world2d/query.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 void evo_bot_to_world(const evo_scene *sc, int bot, double bx, double by,
 		      double *wx, double *wy)
@@ -13,9 +14,70 @@ void evo_bot_to_world(const evo_scene *sc, int bot, double bx, double by,
 	*wy = b->y + b->s * bx + b->c * by;
 }
 
+#define NEAR_CAP 64
+
+/* The nearest bot whose body's category meets mask, other than `bot`,
+ * within EVO_TEAM_SEARCH of it: the broad phase is asked for squares
+ * around the bot, 10 m across at first and twice as large each time,
+ * until one holds a bot no farther than the square's half side (none
+ * outside can then be nearer). Never a walk through all the bots. */
+static int nearest_bot(const evo_scene *sc, int bot, uint16_t mask, double *x,
+		       double *y)
+{
+	const evo_bot *b = &sc->bot[bot];
+	evo_shape_info local[NEAR_CAP];
+	for (double r = 5;; r *= 2) {
+		if (r > EVO_TEAM_SEARCH)
+			r = EVO_TEAM_SEARCH;
+		evo_shape_info *s = local;
+		int n = evo_world_query(sc->world, b->x - r, b->y - r, b->x + r,
+					b->y + r, mask, local, NEAR_CAP);
+		if (n > NEAR_CAP) {
+			evo_shape_info *big = malloc((size_t)n * sizeof *big);
+			if (big) {
+				s = big;
+				n = evo_world_query(sc->world, b->x - r,
+						    b->y - r, b->x + r,
+						    b->y + r, mask, big, n);
+			} else {
+				n = NEAR_CAP;
+			}
+		}
+		double best = INFINITY;
+		for (int i = 0; i < n; i++) {
+			if (s[i].body.index == b->body.index ||
+			    evo_scene_bot_of_body(sc, s[i].body.index) < 0)
+				continue;
+			double dx = s[i].x - b->x, dy = s[i].y - b->y;
+			double d = dx * dx + dy * dy;
+			if (d < best) {
+				best = d;
+				*x = s[i].x;
+				*y = s[i].y;
+			}
+		}
+		if (s != local)
+			free(s);
+		if (best <= r * r || (r >= EVO_TEAM_SEARCH && best < INFINITY))
+			return 1;
+		if (r >= EVO_TEAM_SEARCH)
+			return 0;
+	}
+}
+
 int evo_scene_target_pos(const evo_scene *sc, int bot, int target, double *x,
 			 double *y)
 {
+	if ((target == EVO_TARGET_NEAREST_OPPONENT ||
+	     target == EVO_TARGET_NEAREST_TEAMMATE) &&
+	    bot >= 0 && bot < sc->n_bots) {
+		int team = sc->bot[bot].team;
+		uint16_t own = team >= 0 ? EVO_CAT_TEAM(team) : 0;
+		uint16_t mask = target == EVO_TARGET_NEAREST_TEAMMATE
+					? own
+					: (uint16_t)(EVO_CAT_TEAMS & ~own);
+		return mask && nearest_bot(sc, bot, mask, x, y);
+	}
 	if (target >= 0 && target < sc->n_elements) {
 		const evo_element *e = &sc->element[target];
 		if (!e->active)

@@ -28,6 +28,7 @@ static const char *const reward_names[EVO_RW_KIND_COUNT] = {
     [EVO_RW_STEP] = "StepReward",
     [EVO_RW_COLLECT] = "Collect",
     [EVO_RW_FORWARD_SPEED] = "ForwardSpeed",
+    [EVO_RW_GATHER] = "Gather",
     [EVO_RW_LUA] = "Lua",
 };
 
@@ -237,6 +238,42 @@ static double collect(evo_scene *sc, const evo_reward *r, evo_bot *b)
 	return r->def.k * n;
 }
 
+/* Gather (evo's own, for foraging, docs/teams.md): k for each active
+ * object no claw holds that the bot touches, its centre within the bot's
+ * radius + its own + EVO_GATHER_GAP; the object leaves the world until
+ * the next reset (or until the environment places and activates it
+ * again) and counts in bot->gathered. The objects are found through the
+ * broad phase, near the bot. */
+#define EVO_GATHER_GAP 0.1
+#define GATHER_CAP 32
+
+static double gather(evo_scene *sc, const evo_reward *r, evo_bot *b)
+{
+	evo_shape_info found[GATHER_CAP];
+	/* an object of radius up to 2 m is found; a larger one needs a
+	 * larger square */
+	double reach = b->radius + 2 + EVO_GATHER_GAP;
+	int n = evo_world_query(sc->world, b->x - reach, b->y - reach,
+				b->x + reach, b->y + reach, EVO_CAT_OBJECT,
+				found, GATHER_CAP);
+	int got = 0;
+	for (int i = 0; i < n && i < GATHER_CAP; i++) {
+		int k = evo_scene_object_of_body(sc, found[i].body.index);
+		evo_element *e = element_at(sc, k);
+		if (!e || !e->active || e->held_by >= 0)
+			continue;
+		double lim = b->radius + e->size + EVO_GATHER_GAP;
+		double dx = found[i].x - b->x, dy = found[i].y - b->y;
+		if (dx * dx + dy * dy > lim * lim)
+			continue;
+		e->active = 0;
+		evo_body_set_enabled(sc->world, e->body, 0);
+		got++;
+	}
+	b->gathered += got;
+	return r->def.k * got;
+}
+
 /* Lua: the scene's reward hook gives the value; no hook gives 0. */
 static double lua_reward(evo_scene *sc, const evo_reward *r, int *failed)
 {
@@ -291,6 +328,9 @@ double evo_reward_compute(evo_scene *sc, evo_reward *r, int *failed)
 		break;
 	case EVO_RW_COLLECT:
 		v = collect(sc, r, b);
+		break;
+	case EVO_RW_GATHER:
+		v = gather(sc, r, b);
 		break;
 	case EVO_RW_LUA:
 		v = lua_reward(sc, r, failed);

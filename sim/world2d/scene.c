@@ -24,6 +24,7 @@ evo_scene *evo_scene_create(void)
 		return NULL;
 	}
 	sc->rng = evo_rng_seed(1);
+	sc->winner = -1;
 	return sc;
 }
 
@@ -41,6 +42,7 @@ void evo_scene_destroy(evo_scene *sc)
 	free(sc->obstacle);
 	free(sc->reward);
 	free(sc->control);
+	free(sc->body_owner);
 	evo_world_destroy(sc->world);
 	free(sc);
 }
@@ -62,6 +64,40 @@ static int grow(void **items, int *cap, int n, size_t size, evo_err *err)
 #define GROW(sc, arr, n, cap)                                                \
 	grow((void **)&(sc)->arr, &(sc)->cap, (sc)->n, sizeof *(sc)->arr,    \
 	     &(sc)->err)
+
+/* Remember who owns body index `index`: a bot (>= 0) or an object
+ * (-(element + 2)). */
+static int set_owner(evo_scene *sc, int index, int owner)
+{
+	if (index >= sc->cap_body_owner) {
+		int ncap = sc->cap_body_owner ? sc->cap_body_owner : 16;
+		while (ncap <= index)
+			ncap *= 2;
+		int *p = realloc(sc->body_owner, (size_t)ncap * sizeof *p);
+		if (!p)
+			return evo_fail(&sc->err, "out of memory");
+		for (int i = sc->cap_body_owner; i < ncap; i++)
+			p[i] = -1;
+		sc->body_owner = p;
+		sc->cap_body_owner = ncap;
+	}
+	sc->body_owner[index] = owner;
+	return 0;
+}
+
+int evo_scene_bot_of_body(const evo_scene *sc, int index)
+{
+	int o = index >= 0 && index < sc->cap_body_owner ? sc->body_owner[index]
+							 : -1;
+	return o >= 0 ? o : -1;
+}
+
+int evo_scene_object_of_body(const evo_scene *sc, int index)
+{
+	int o = index >= 0 && index < sc->cap_body_owner ? sc->body_owner[index]
+							 : -1;
+	return o <= -2 ? -o - 2 : -1;
+}
 
 static int set_name(char *dst, const char *src, evo_err *err)
 {
@@ -184,6 +220,8 @@ int evo_scene_add_element(evo_scene *sc, const evo_element_def *d)
 		e.body = add_object_body(sc, d);
 		if (e.body.index < 0)
 			return evo_fail(&sc->err, "element: bad object");
+		if (set_owner(sc, e.body.index, -(sc->n_elements + 2)))
+			return -1;
 		sc->object[sc->n_objects++] = sc->n_elements;
 	}
 	sc->element[sc->n_elements] = e;
@@ -197,6 +235,9 @@ int evo_scene_add_bot(evo_scene *sc, const evo_bot_def *d)
 		return evo_fail(&sc->err, "bot: a value is not a number");
 	if (d->name && d->name[0] && evo_scene_find_bot(sc, d->name) >= 0)
 		return evo_fail(&sc->err, "bot '%s' is defined twice", d->name);
+	if (d->team < -1 || d->team >= EVO_SCENE_MAX_TEAMS)
+		return evo_fail(&sc->err, "bot: no team %d (at most %d teams)",
+				d->team, EVO_SCENE_MAX_TEAMS);
 	if (GROW(sc, bot, n_bots, cap_bots))
 		return -1;
 	evo_bot b;
@@ -209,9 +250,16 @@ int evo_scene_add_bot(evo_scene *sc, const evo_bot_def *d)
 	b.def.body.x = d->x;
 	b.def.body.y = d->y;
 	b.def.body.angle = d->angle;
+	b.team = d->team;
+	if (d->team >= 0)
+		b.def.body.category |= EVO_CAT_TEAM(d->team);
 	b.body = evo_world_add_body(sc->world, &b.def.body);
 	if (b.body.index < 0)
 		return evo_fail(&sc->err, "bot: its body needs a positive size");
+	if (set_owner(sc, b.body.index, sc->n_bots))
+		return -1;
+	if (d->team >= sc->n_teams)
+		sc->n_teams = d->team + 1;
 	b.radius = d->body.shape == EVO_SHAPE_CIRCLE
 			   ? d->body.radius
 			   : sqrt(d->body.half_w * d->body.half_w +
@@ -231,7 +279,9 @@ static int check_bot(evo_scene *sc, int bot)
 
 static int check_target(evo_scene *sc, int target, const char *what)
 {
-	if (target == EVO_TARGET_NONE || target == EVO_TARGET_NEAREST_OBJECT)
+	if (target == EVO_TARGET_NONE || target == EVO_TARGET_NEAREST_OBJECT ||
+	    target == EVO_TARGET_NEAREST_OPPONENT ||
+	    target == EVO_TARGET_NEAREST_TEAMMATE)
 		return 0;
 	if (target < 0 || target >= sc->n_elements)
 		return evo_fail(&sc->err, "%s: no element %d", what, target);
@@ -284,6 +334,14 @@ int evo_scene_add_sensor(evo_scene *sc, int bot, const evo_sensor_def *d)
 		return -1;
 	s->def = *d;
 	s->def.name = NULL;
+	/* Teammates and opponents are the bots of the sensor's team and of
+	 * the others; a bot of no team has no teammates. */
+	if (d->sees_teammates && b->team >= 0)
+		s->def.mask |= EVO_CAT_TEAM(b->team);
+	if (d->sees_opponents)
+		s->def.mask |= (uint16_t)(EVO_CAT_TEAMS &
+					  ~(b->team >= 0 ? EVO_CAT_TEAM(b->team)
+							 : 0u));
 	for (int i = 0; i < EVO_PROX_MAX_RAYS; i++)
 		s->ray[i] = 1.0f;
 	if (d->kind == EVO_SENSOR_PROXIMITY) {
@@ -340,6 +398,10 @@ int evo_scene_add_reward(evo_scene *sc, const evo_reward_def *d)
 				(int)d->kind);
 	if (check_bot(sc, d->bot) || check_target(sc, d->target, "reward"))
 		return -1;
+	if ((unsigned)d->scope > EVO_SCOPE_SCENE ||
+	    (d->scope == EVO_SCOPE_TEAM &&
+	     (d->team < 0 || d->team >= EVO_SCENE_MAX_TEAMS)))
+		return evo_fail(&sc->err, "reward: no team %d", d->team);
 	if (d->n_sensors < 0 || d->n_sensors > EVO_REWARD_MAX_SENSORS)
 		return evo_fail(&sc->err, "reward: %d sensors (at most %d)",
 				d->n_sensors, EVO_REWARD_MAX_SENSORS);

@@ -33,6 +33,7 @@
 #define EVO_DOF_HISTORY 30 /* ticks of positions the movement sensor spreads over */
 #define EVO_SCENE_MAX_METRICS 16 /* an environment's own metrics, at most */
 #define EVO_METRIC_NAME_MAX 32	 /* a metric's name, with its NUL */
+#define EVO_SCENE_MAX_TEAMS 12	 /* teams of bots (docs/teams.md) */
 
 /* -std=c11 leaves these out of <math.h>. */
 #ifndef M_PI
@@ -127,6 +128,11 @@ typedef enum evo_sensor_kind {
 /* What a distance, zone, bearing or presence sensor looks at. */
 #define EVO_TARGET_NEAREST_OBJECT (-2) /* the nearest active, free object */
 #define EVO_TARGET_NONE (-1)
+/* The nearest bot of another team, or of the bot's own (docs/teams.md),
+ * within EVO_TEAM_SEARCH metres, found through the broad phase. */
+#define EVO_TARGET_NEAREST_OPPONENT (-3)
+#define EVO_TARGET_NEAREST_TEAMMATE (-4)
+#define EVO_TEAM_SEARCH 160.0
 
 typedef struct evo_sensor_def {
 	evo_sensor_kind kind;
@@ -139,6 +145,9 @@ typedef struct evo_sensor_def {
 	int rays;	 /* 9, spread evenly over [-arc, +arc] */
 	double deadzone; /* 0.005: a reading below it is 0 */
 	uint16_t mask;	 /* what the rays see: obstacles and bots */
+	/* and the bots of the sensor's own team, of the others: made into
+	 * mask bits when the sensor is added to a bot of a team */
+	int sees_teammates, sees_opponents;
 	/* distance, zone, bearing, presence */
 	int target; /* element index or EVO_TARGET_NEAREST_OBJECT */
 	/* distance (100), movement (1.5): the distance that reads 1 */
@@ -201,6 +210,7 @@ typedef struct evo_actuator {
 
 typedef struct evo_bot_def {
 	const char *name;
+	int team; /* -1: none; else 0 .. EVO_SCENE_MAX_TEAMS - 1 */
 	evo_body_def body; /* a dynamic circle: radius 1, density 2, friction
 			      0, damping 5 / 20, never sleeps (BotType8) */
 	double x, y, angle; /* start pose */
@@ -227,6 +237,9 @@ typedef struct evo_bot {
 	int touching;	 /* contacts this tick */
 	int collisions;	 /* ticks spent touching since the reset */
 	int delivered;	 /* objects this bot carried into a zone since the reset */
+	int gathered;	 /* objects it gathered (reward Gather) since the reset */
+	int team;	 /* def.team */
+	double reward;	 /* what was paid to it since the reset (its own) */
 } evo_bot;
 
 /* ---- reward and control functions ----------------------------------- */
@@ -241,12 +254,24 @@ typedef enum evo_reward_kind {
 	EVO_RW_STEP,		      /* k every tick */
 	EVO_RW_COLLECT,		      /* k for each object delivered into the target zone */
 	EVO_RW_FORWARD_SPEED,	      /* k * speed along the heading (< 0 backing) */
+	EVO_RW_GATHER,		      /* k for each object the bot touches, which leaves */
 	EVO_RW_LUA,		      /* a Lua function (sim/lua/lua_hooks.c) */
 	EVO_RW_KIND_COUNT
 } evo_reward_kind;
 
+/* Whom a reward pays (docs/teams.md): its bot (and so the bot's team),
+ * a team as a whole, or only the scene's total. Every reward counts in
+ * the scene's episode_reward. */
+typedef enum evo_scope {
+	EVO_SCOPE_BOT = 0,
+	EVO_SCOPE_TEAM,
+	EVO_SCOPE_SCENE,
+} evo_scope;
+
 typedef struct evo_reward_def {
 	evo_reward_kind kind;
+	evo_scope scope;
+	int team; /* EVO_SCOPE_TEAM: the team paid */
 	int bot;
 	double k, k2;
 	double threshold;
@@ -340,6 +365,16 @@ struct evo_scene {
 			       obstacle generator draws from it */
 	double step_reward;    /* what the rewards gave in the last step */
 	double episode_reward; /* since the reset */
+	/* Teams: one more than the highest team of a bot; what each team
+	 * was paid since the reset (its bots' own and its team rewards);
+	 * the episode's winner (-1: none yet) */
+	int n_teams;
+	double team_reward[EVO_SCENE_MAX_TEAMS];
+	int winner;
+	/* the bot (>= 0) or object element (-(e + 2)) of each body index,
+	 * -1 for none: what the broad phase finds, named */
+	int *body_owner;
+	int cap_body_owner;
 	int n_metrics;	       /* declared, in the order they were */
 	evo_metric metric[EVO_SCENE_MAX_METRICS];
 	evo_scene_hooks hooks;
@@ -369,6 +404,10 @@ int evo_scene_add_metric(evo_scene *sc, const char *name);
 /* Set this episode's value of a metric. Returns 0, or -1 with sc->err set
  * when the value is not finite (the metric keeps its value). */
 int evo_scene_set_metric(evo_scene *sc, int metric, double value);
+
+/* The bot whose body has this index, or -1; the object element, or -1. */
+int evo_scene_bot_of_body(const evo_scene *sc, int body_index);
+int evo_scene_object_of_body(const evo_scene *sc, int body_index);
 
 /* Lookups by name; -1 when absent. */
 int evo_scene_find_element(const evo_scene *sc, const char *name);

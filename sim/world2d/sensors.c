@@ -331,7 +331,9 @@ static double sample(evo_scene *sc, int bot, evo_sensor *se, const frame *f,
 		if (d->target >= 0 && d->target < sc->n_elements)
 			return boolean(sc->element[d->target].active);
 		return boolean(
-		    d->target == EVO_TARGET_NEAREST_OBJECT &&
+		    (d->target == EVO_TARGET_NEAREST_OBJECT ||
+		     d->target == EVO_TARGET_NEAREST_OPPONENT ||
+		     d->target == EVO_TARGET_NEAREST_TEAMMATE) &&
 		    evo_scene_target_pos(sc, bot, d->target, &tx, &ty));
 	case EVO_SENSOR_OBJECT: {
 		to_world(f, d->x, d->y, &px, &py);

@@ -12,6 +12,21 @@
 #include "world2d/scene_internal.h"
 #include "world2d/sensors.h"
 
+/* Pay reward r's value v to whom it is for (scene.h, evo_scope); the
+ * scene's total has it in any case. */
+static void pay(evo_scene *sc, const evo_reward *r, double v)
+{
+	if (r->def.scope == EVO_SCOPE_TEAM) {
+		sc->team_reward[r->def.team] += v;
+	} else if (r->def.scope == EVO_SCOPE_BOT && r->def.bot >= 0 &&
+		   r->def.bot < sc->n_bots) {
+		evo_bot *b = &sc->bot[r->def.bot];
+		b->reward += v;
+		if (b->team >= 0)
+			sc->team_reward[b->team] += v;
+	}
+}
+
 static void reset_bot(evo_scene *sc, int i)
 {
 	evo_bot *b = &sc->bot[i];
@@ -21,7 +36,8 @@ static void reset_bot(evo_scene *sc, int i)
 		b->actuator[k].command = b->actuator[k].previous = 0.5;
 	}
 	b->hist_n = b->hist_i = 0;
-	b->touching = b->collisions = b->delivered = 0;
+	b->touching = b->collisions = b->delivered = b->gathered = 0;
+	b->reward = 0;
 }
 
 void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
@@ -50,6 +66,9 @@ void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
 	sc->rng = evo_rng_seed(episode_seed);
 	sc->tick = 0;
 	sc->step_reward = sc->episode_reward = 0;
+	for (int i = 0; i < EVO_SCENE_MAX_TEAMS; i++)
+		sc->team_reward[i] = 0;
+	sc->winner = -1;
 	for (int i = 0; i < sc->n_metrics; i++)
 		sc->metric[i].value = 0;
 }
@@ -94,9 +113,11 @@ int evo_scene_step(evo_scene *sc)
 	double total = 0;
 	for (int i = 0; i < sc->n_rewards; i++) {
 		int failed = 0;
-		total += evo_reward_compute(sc, &sc->reward[i], &failed);
+		double v = evo_reward_compute(sc, &sc->reward[i], &failed);
 		if (failed)
 			return -1;
+		pay(sc, &sc->reward[i], v);
+		total += v;
 	}
 	sc->step_reward = total;
 	sc->episode_reward += total;

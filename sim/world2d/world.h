@@ -47,6 +47,10 @@ typedef enum evo_shape_type {
 #define EVO_CAT_BOT 0x0001u
 #define EVO_CAT_OBSTACLE 0x0002u
 #define EVO_CAT_OBJECT 0x0004u
+/* A bot of team k (0 .. 11) has EVO_CAT_BOT and EVO_CAT_TEAM(k), so a ray
+ * can see every bot, its teammates or its opponents (docs/teams.md). */
+#define EVO_CAT_TEAM(k) ((uint16_t)(0x0008u << (k)))
+#define EVO_CAT_TEAMS 0x7FF8u
 #define EVO_CAT_ALL 0xFFFFu
 
 typedef struct evo_body_def {
