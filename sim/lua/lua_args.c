@@ -119,23 +119,64 @@ int evo_lua_check_metric(lua_State *L, int idx)
 	return i;
 }
 
-/* A target option: an element handle, "nearest_object", or nil. */
+/* A target option: an element handle, "nearest_object",
+ * "nearest_opponent", "nearest_teammate", or nil. */
 int evo_lua_opt_target(lua_State *L, int idx, const char *key, const char *what)
 {
 	lua_getfield(L, idx, key);
 	int t = EVO_TARGET_NONE;
 	if (lua_type(L, -1) == LUA_TSTRING) {
-		if (strcmp(lua_tostring(L, -1), "nearest_object") != 0)
+		const char *v = lua_tostring(L, -1);
+		if (strcmp(v, "nearest_object") == 0)
+			t = EVO_TARGET_NEAREST_OBJECT;
+		else if (strcmp(v, "nearest_opponent") == 0)
+			t = EVO_TARGET_NEAREST_OPPONENT;
+		else if (strcmp(v, "nearest_teammate") == 0)
+			t = EVO_TARGET_NEAREST_TEAMMATE;
+		else
 			luaL_error(L,
-				   "%s: %s must be an element or "
-				   "\"nearest_object\", found \"%s\"",
-				   what, key, lua_tostring(L, -1));
-		t = EVO_TARGET_NEAREST_OBJECT;
+				   "%s: %s must be an element, "
+				   "\"nearest_object\", \"nearest_opponent\" "
+				   "or \"nearest_teammate\", found \"%s\"",
+				   what, key, v);
 	} else if (!lua_isnil(L, -1)) {
 		if (!luaL_testudata(L, -1, EVO_LUA_ELEMENT_MT))
 			luaL_error(L, "%s: %s must be an element, found %s",
 				   what, key, luaL_typename(L, -1));
 		t = evo_lua_check_element(L, lua_gettop(L));
+	}
+	lua_pop(L, 1);
+	return t;
+}
+
+int evo_lua_check_team(lua_State *L, const char *name, const char *what)
+{
+	evo_lua *l = evo_lua_ctx(L);
+	const char *names[EVO_SCENE_MAX_TEAMS];
+	for (int i = 0; i < l->n_teams; i++) {
+		if (strcmp(l->team[i].name, name) == 0)
+			return i;
+		names[i] = l->team[i].name;
+	}
+	if (l->n_teams == 0)
+		return luaL_error(L, "%s: no team %s: the task has no teams "
+				     "(TEAM lines, docs/teams.md)",
+				  what, name);
+	const char *c =
+	    evo_closest_name(name, names, (size_t)l->n_teams, NULL);
+	return luaL_error(L, "%s: no team %s in the task (did you mean %s?)",
+			  what, name, c ? c : "?");
+}
+
+int evo_lua_opt_team(lua_State *L, int idx, const char *what)
+{
+	lua_getfield(L, idx, "team");
+	int t = -1;
+	if (!lua_isnil(L, -1)) {
+		if (lua_type(L, -1) != LUA_TSTRING)
+			luaL_error(L, "%s: team must be a team's name, found %s",
+				   what, luaL_typename(L, -1));
+		t = evo_lua_check_team(L, lua_tostring(L, -1), what);
 	}
 	lua_pop(L, 1);
 	return t;

@@ -35,37 +35,50 @@ static const char *const *const sensor_keys[EVO_SENSOR_KIND_COUNT] = {
     [EVO_SENSOR_HOLDING] = name_keys,
 };
 
-static uint16_t parse_sees(lua_State *L, int idx, const char *what)
+/* `sees`: what a proximity sensor's rays hit, into d's mask and its
+ * teammates and opponents flags (docs/lua.md, docs/teams.md). */
+static void parse_sees(lua_State *L, int idx, const char *what,
+		       evo_sensor_def *d)
 {
+	static const char *const words[] = {"obstacles", "bots", "objects",
+					    "teammates", "opponents"};
 	lua_getfield(L, idx, "sees");
-	uint16_t mask = EVO_CAT_OBSTACLE | EVO_CAT_BOT;
 	if (!lua_isnil(L, -1)) {
 		luaL_checktype(L, -1, LUA_TTABLE);
-		mask = 0;
+		d->mask = 0;
 		lua_Integer n = luaL_len(L, -1);
-		if (n > 3)
+		if (n > 5)
 			luaL_error(L, "%s: sees lists at most \"obstacles\", "
-				      "\"bots\" and \"objects\"",
+				      "\"bots\", \"objects\", \"teammates\" "
+				      "and \"opponents\"",
 				   what);
 		for (lua_Integer i = 1; i <= n; i++) {
 			lua_geti(L, -1, i);
 			const char *s = lua_tostring(L, -1);
-			if (s && strcmp(s, "obstacles") == 0)
-				mask |= EVO_CAT_OBSTACLE;
-			else if (s && strcmp(s, "bots") == 0)
-				mask |= EVO_CAT_BOT;
-			else if (s && strcmp(s, "objects") == 0)
-				mask |= EVO_CAT_OBJECT;
+			int w = 0;
+			while (w < 5 && !(s && strcmp(s, words[w]) == 0))
+				w++;
+			if (w == 0)
+				d->mask |= EVO_CAT_OBSTACLE;
+			else if (w == 1)
+				d->mask |= EVO_CAT_BOT;
+			else if (w == 2)
+				d->mask |= EVO_CAT_OBJECT;
+			else if (w == 3)
+				d->sees_teammates = 1;
+			else if (w == 4)
+				d->sees_opponents = 1;
 			else
 				luaL_error(L,
 					   "%s: sees lists \"obstacles\", "
-					   "\"bots\" or \"objects\", found %s",
+					   "\"bots\", \"objects\", "
+					   "\"teammates\" or \"opponents\", "
+					   "found %s",
 					   what, s ? s : luaL_typename(L, -1));
 			lua_pop(L, 1);
 		}
 	}
 	lua_pop(L, 1);
-	return mask;
 }
 
 static int add_sensor(lua_State *L, evo_sensor_kind kind, const char *what)
@@ -89,7 +102,7 @@ static int add_sensor(lua_State *L, evo_sensor_kind kind, const char *what)
 			   what, EVO_PROX_MAX_RAYS);
 	d.rays = (int)rays;
 	d.deadzone = evo_lua_opt_num(L, 2, "deadzone", d.deadzone, what);
-	d.mask = parse_sees(L, 2, what);
+	parse_sees(L, 2, what, &d);
 	d.target = evo_lua_opt_target(L, 2, "target", what);
 	d.scale = evo_lua_opt_num(L, 2, "scale", d.scale, what);
 	d.reach = evo_lua_opt_num(L, 2, "reach", d.reach, what);
@@ -244,6 +257,10 @@ static int bot_counts(lua_State *L)
 	lua_setfield(L, -2, "collisions");
 	lua_pushinteger(L, b->delivered);
 	lua_setfield(L, -2, "delivered");
+	lua_pushinteger(L, b->gathered);
+	lua_setfield(L, -2, "gathered");
+	lua_pushnumber(L, b->reward);
+	lua_setfield(L, -2, "reward");
 	lua_pushboolean(L, holding);
 	lua_setfield(L, -2, "holding");
 	return 1;
@@ -306,6 +323,18 @@ static int bot_sensors(lua_State *L)
 	return 1;
 }
 
+/* bot:team(): its team's name, or nil. */
+static int bot_team(lua_State *L)
+{
+	evo_lua *l = evo_lua_ctx(L);
+	int t = l->sc->bot[evo_lua_check_bot(L, 1)].team;
+	if (t >= 0 && t < l->n_teams)
+		lua_pushstring(L, l->team[t].name);
+	else
+		lua_pushnil(L);
+	return 1;
+}
+
 static int bot_name(lua_State *L)
 {
 	lua_pushstring(L,
@@ -334,5 +363,6 @@ const luaL_Reg evo_lua_bot_methods[] = {
 	{"counts", bot_counts},
 	{"sensors", bot_sensors},
 	{"name", bot_name},
+	{"team", bot_team},
 	{NULL, NULL},
 };

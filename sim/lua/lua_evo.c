@@ -68,14 +68,16 @@ const char *evo_lua_dir(void)
 /* ---- loading files ------------------------------------------------------- */
 
 /* Find NAME.lua in mind_dir/<mind_sub> then lua_dir/<lua_sub>. */
-int evo_lua_find_script(const evo_lua *l, const char *mind_sub,
-			const char *lua_sub, const char *name, char *out,
-			size_t cap)
+int evo_lua_find_script(const evo_lua *l, const char *dir,
+			const char *mind_sub, const char *lua_sub,
+			const char *name, char *out, size_t cap)
 {
 	if (!name[0] || strchr(name, '/') || strstr(name, ".."))
 		return -1;
-	if (l->mind_dir[0]) {
-		snprintf(out, cap, "%s/%s/%s.lua", l->mind_dir, mind_sub, name);
+	if (!dir)
+		dir = l->mind_dir;
+	if (dir[0]) {
+		snprintf(out, cap, "%s/%s/%s.lua", dir, mind_sub, name);
 		if (evo_file_exists(out))
 			return 0;
 	}
@@ -94,15 +96,18 @@ void evo_lua_run_file(lua_State *L, const char *path, const char *what)
 			   what, luaL_typename(L, -1));
 }
 
-int evo_lua_load_model(lua_State *L, evo_lua *l, const char *model)
+int evo_lua_load_model(lua_State *L, evo_lua *l, const char *model,
+		       const char *dir)
 {
 	char path[1200];
-	if (evo_lua_find_script(l, "Bots", "bots", model, path, sizeof path))
+	if (!dir)
+		dir = l->mind_dir;
+	if (evo_lua_find_script(l, dir, "Bots", "bots", model, path,
+				sizeof path))
 		luaL_error(L,
 			   "bot model '%s' not found: looked for "
 			   "%s/Bots/%s.lua and %s/bots/%s.lua",
-			   model, l->mind_dir[0] ? l->mind_dir : ".", model,
-			   l->lua_dir, model);
+			   model, dir[0] ? dir : ".", model, l->lua_dir, model);
 	snprintf(l->bot_path, sizeof l->bot_path, "%s", path);
 	evo_lua_run_file(L, path, "a bot model");
 	return 1;
@@ -142,6 +147,10 @@ static int open_evo(lua_State *L)
 	lua_setfield(L, -2, "FALSE");
 	lua_pushstring(L, "nearest_object");
 	lua_setfield(L, -2, "NEAREST_OBJECT");
+	lua_pushstring(L, "nearest_opponent");
+	lua_setfield(L, -2, "NEAREST_OPPONENT");
+	lua_pushstring(L, "nearest_teammate");
+	lua_setfield(L, -2, "NEAREST_TEAMMATE");
 	return 1;
 }
 
@@ -293,6 +302,22 @@ evo_lua *evo_lua_create(const evo_lua_def *def, evo_err *err)
 		 def->lua_dir ? def->lua_dir : evo_lua_dir());
 	snprintf(l->botmodel, sizeof l->botmodel, "%s",
 		 def->botmodel ? def->botmodel : "");
+	if (def->n_teams < 0 || def->n_teams > EVO_SCENE_MAX_TEAMS) {
+		free(l);
+		evo_fail(err, "%d teams (at most %d)", def->n_teams,
+			 EVO_SCENE_MAX_TEAMS);
+		return NULL;
+	}
+	l->n_teams = def->n_teams;
+	for (int i = 0; i < def->n_teams; i++) {
+		snprintf(l->team[i].name, sizeof l->team[i].name, "%s",
+			 def->teams[i].name);
+		snprintf(l->team[i].botmodel, sizeof l->team[i].botmodel, "%s",
+			 def->teams[i].botmodel);
+		snprintf(l->team[i].mind_dir, sizeof l->team[i].mind_dir, "%s",
+			 def->teams[i].mind_dir ? def->teams[i].mind_dir : "");
+		l->team[i].size = def->teams[i].size;
+	}
 	l->L = luaL_newstate();
 	if (!l->L) {
 		free(l);
@@ -335,7 +360,7 @@ static int load_env(lua_State *L)
 
 int evo_lua_init_env(evo_lua *l, const char *env, evo_err *err)
 {
-	if (evo_lua_find_script(l, "Envs", "envs", env, l->env_path,
+	if (evo_lua_find_script(l, NULL, "Envs", "envs", env, l->env_path,
 				sizeof l->env_path))
 		return evo_fail(err,
 				"environment '%s' not found: looked for "

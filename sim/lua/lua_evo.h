@@ -15,12 +15,24 @@
 
 typedef struct evo_lua evo_lua;
 
+/* A team of the task (docs/teams.md), as the environment sees it. */
+typedef struct evo_lua_team {
+	const char *name;
+	const char *botmodel;
+	const char *mind_dir; /* its bot model is looked for here first */
+	int size;
+} evo_lua_team;
+
 typedef struct evo_lua_def {
 	evo_scene *scene;     /* the scene the scripts build (not owned) */
 	const char *mind_dir; /* searched first; may be NULL */
 	const char *lua_dir;  /* evo's lua/ folder; NULL: evo_lua_dir() */
 	const char *botmodel; /* BOTMODEL */
 	const evo_simbatch *task; /* handed to env.init as a table; may be NULL */
+	/* The task's teams (scene:teams(), scene:bot{team = ...}); none in a
+	 * one-agent task. Copied. At most EVO_SCENE_MAX_TEAMS. */
+	const evo_lua_team *teams;
+	int n_teams;
 } evo_lua_def;
 
 /* The lua/ folder evo uses: $EVO_LUA_DIR, else lua/ beside the folder of

@@ -19,6 +19,14 @@ struct evo_lua {
 	char lua_dir[1024];
 	char botmodel[EVO_NAME_MAX];
 	const evo_simbatch *task;
+	int n_teams;
+	struct {
+		char name[32];
+		char botmodel[EVO_NAME_MAX];
+		char mind_dir[1024]; /* its bot model is looked for here first */
+		int size;
+		int made; /* bots of the team so far */
+	} team[EVO_SCENE_MAX_TEAMS];
 	int env_ref; /* the environment's table */
 	int episode; /* the episode being reset (env.obstacles) */
 	int in_reset; /* env.reset is running: no new elements */
@@ -58,6 +66,10 @@ extern const char evo_lua_scene_key;
 #define EVO_LUA_SCENE_MT "evo.scene"
 #define EVO_LUA_METRIC_MT "evo.metric"
 
+/* The most bots one team has (task.h's EVO_TEAM_MAX_SIZE): a team's
+ * reward or control is one per bot. */
+#define EVO_TEAM_BOTS_MAX 4096
+
 /* Angles are degrees in Lua, radians in C. */
 #define EVO_LUA_DEG (M_PI / 180.0)
 
@@ -87,6 +99,10 @@ int evo_lua_opt_target(lua_State *L, int idx, const char *key,
 		       const char *what);
 /* The `bot` option: a bot handle, or the first bot when absent. */
 int evo_lua_opt_bot(lua_State *L, int idx, const char *what);
+/* The `team` option: a team's name; its index, or -1 when absent. */
+int evo_lua_opt_team(lua_State *L, int idx, const char *what);
+/* A team's index by name; raises naming the teams when there is none. */
+int evo_lua_check_team(lua_State *L, const char *name, const char *what);
 int evo_lua_bot_sensor_index(lua_State *L, int bot, const char *name,
 			     const char *what);
 /* Turn a scene error (r < 0) into a Lua error at the caller's line. */
@@ -101,16 +117,19 @@ extern const luaL_Reg evo_lua_scene_methods[];
 
 /* ---- lua_evo.c: loading scripts --------------------------------------- */
 
-/* Find NAME.lua in mind_dir/<mind_sub>, then lua_dir/<lua_sub>; 0 or -1. */
-int evo_lua_find_script(const evo_lua *l, const char *mind_sub,
-			const char *lua_sub, const char *name, char *out,
-			size_t cap);
+/* Find NAME.lua in dir/<mind_sub> (dir NULL: the mind folder), then
+ * lua_dir/<lua_sub>; 0 or -1. */
+int evo_lua_find_script(const evo_lua *l, const char *dir,
+			const char *mind_sub, const char *lua_sub,
+			const char *name, char *out, size_t cap);
 /* Run a script file and leave its single result, a table, on the stack;
  * raises otherwise. */
 void evo_lua_run_file(lua_State *L, const char *path, const char *what);
-/* Build a bot from the bot model file (docs/lua.md, bot models); leaves
- * the model's table on the stack. */
-int evo_lua_load_model(lua_State *L, evo_lua *l, const char *model);
+/* Load the bot model file (docs/lua.md, bot models), looked for in dir's
+ * Bots/ first (NULL: the mind folder's); leaves the model's table on the
+ * stack. */
+int evo_lua_load_model(lua_State *L, evo_lua *l, const char *model,
+		       const char *dir);
 
 /* The reset functions of Lua rewards and controls (scene:reward(fn,
  * {reset = f})), in the registry under these keys' addresses: a list of

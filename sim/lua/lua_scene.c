@@ -215,8 +215,8 @@ static int read_body(lua_State *L)
 
 static int scene_bot(lua_State *L)
 {
-	static const char *const keys[] = {"name", "x", "y", "angle", "model",
-					   NULL};
+	static const char *const keys[] = {"name",  "x",    "y", "angle",
+					   "model", "team", NULL};
 	const char *what = "scene:bot";
 	evo_lua *l = evo_lua_ctx(L);
 	if (lua_isnoneornil(L, 2)) {
@@ -224,14 +224,44 @@ static int scene_bot(lua_State *L)
 		lua_newtable(L);
 	}
 	evo_lua_check_keys(L, 2, what, keys);
-	const char *model = evo_lua_opt_str(L, 2, "model", l->botmodel, what);
-	if (!model[0])
-		luaL_error(L, "%s: the task names no BOTMODEL", what);
+	/* A team's bot is of the team's model and named after the team and
+	 * its member number (docs/teams.md). */
+	int team = evo_lua_opt_team(L, 2, what);
+	const char *model;
+	char auto_name[64];
+	if (team >= 0) {
+		lua_getfield(L, 2, "model");
+		if (!lua_isnil(L, -1))
+			luaL_error(L, "%s: a bot of team %s is of its model, %s; "
+				      "leave model out",
+				   what, l->team[team].name,
+				   l->team[team].botmodel);
+		lua_pop(L, 1);
+		if (l->team[team].made == l->team[team].size)
+			luaL_error(L, "%s: team %s has its %d bots already (its "
+				      "SIZE in the task)",
+				   what, l->team[team].name, l->team[team].size);
+		model = l->team[team].botmodel;
+		snprintf(auto_name, sizeof auto_name, "%s%d",
+			 l->team[team].name, l->team[team].made + 1);
+	} else {
+		model = evo_lua_opt_str(L, 2, "model", l->botmodel, what);
+		if (!model[0] && l->n_teams > 0)
+			luaL_error(L, "%s: in a team task, a bot belongs to a "
+				      "team (scene:bot{team = NAME}) or names "
+				      "its model",
+				   what);
+		if (!model[0])
+			luaL_error(L, "%s: the task names no BOTMODEL", what);
+		snprintf(auto_name, sizeof auto_name, "bot%d",
+			 l->sc->n_bots + 1);
+	}
 	lua_settop(L, 2);
-	evo_lua_load_model(L, l, model); /* pushes the model table at 3 */
+	/* pushes the model table at 3 */
+	evo_lua_load_model(L, l, model,
+			   team >= 0 ? l->team[team].mind_dir : NULL);
 	evo_bot_def d = evo_default_bot_def();
-	char auto_name[32];
-	snprintf(auto_name, sizeof auto_name, "bot%d", l->sc->n_bots + 1);
+	d.team = team;
 	d.name = evo_lua_opt_str(L, 2, "name", auto_name, what);
 	d.x = evo_lua_opt_num(L, 2, "x", 0, what);
 	d.y = evo_lua_opt_num(L, 2, "y", 0, what);
@@ -250,6 +280,8 @@ static int scene_bot(lua_State *L)
 	}
 	lua_pop(L, 1);
 	int i = evo_lua_scene_result(L, evo_scene_add_bot(l->sc, &d));
+	if (team >= 0)
+		l->team[team].made++;
 	lua_getfield(L, 3, "build");
 	if (!lua_isfunction(L, -1))
 		luaL_error(L, "bot model %s: has no build(bot) function", model);
@@ -259,20 +291,80 @@ static int scene_bot(lua_State *L)
 	return 1;
 }
 
-static const char *const reward_keys[] = {"bot",       "k",	  "k2",
-					  "threshold", "target", "sensors",
-					  NULL};
+/* scene:teams(): the task's teams, {name, size, model, index} each. */
+static int scene_teams(lua_State *L)
+{
+	evo_lua *l = evo_lua_ctx(L);
+	lua_createtable(L, l->n_teams, 0);
+	for (int i = 0; i < l->n_teams; i++) {
+		lua_createtable(L, 0, 4);
+		lua_pushstring(L, l->team[i].name);
+		lua_setfield(L, -2, "name");
+		lua_pushinteger(L, l->team[i].size);
+		lua_setfield(L, -2, "size");
+		lua_pushstring(L, l->team[i].botmodel);
+		lua_setfield(L, -2, "model");
+		lua_pushinteger(L, i + 1);
+		lua_setfield(L, -2, "index");
+		lua_rawseti(L, -2, i + 1);
+	}
+	return 1;
+}
 
-/* A Lua function's options, {reset = f}: f goes on the list under
- * resets_key, called with the scene at every episode's reset (and, for a
- * reward, by scene:reset_rewards). */
+/* scene:bots([team]): the bots of a team in member order, or every bot. */
+static int scene_bots(lua_State *L)
+{
+	evo_lua *l = evo_lua_ctx(L);
+	int team = lua_isnoneornil(L, 2)
+		       ? -2
+		       : evo_lua_check_team(L, luaL_checkstring(L, 2),
+					    "scene:bots");
+	lua_newtable(L);
+	int n = 0;
+	for (int i = 0; i < l->sc->n_bots; i++)
+		if (team == -2 || l->sc->bot[i].team == team) {
+			evo_lua_push_handle(L, EVO_LUA_BOT_MT, i);
+			lua_rawseti(L, -2, ++n);
+		}
+	return 1;
+}
+
+/* scene:winner(team) sets the episode's winner (nil: none);
+ * scene:winner() returns its name, or nil. */
+static int scene_winner(lua_State *L)
+{
+	evo_lua *l = evo_lua_ctx(L);
+	if (lua_gettop(L) < 2) {
+		int w = l->sc->winner;
+		if (w >= 0 && w < l->n_teams)
+			lua_pushstring(L, l->team[w].name);
+		else
+			lua_pushnil(L);
+		return 1;
+	}
+	l->sc->winner = lua_isnil(L, 2) ? -1
+					: evo_lua_check_team(
+					      L, luaL_checkstring(L, 2),
+					      "scene:winner");
+	return 0;
+}
+
+static const char *const reward_keys[] = {"bot",	   "team",   "k",
+					  "k2",	   "threshold", "target",
+					  "sensors", NULL};
+
+/* A Lua function's options, {reset = f, bot = b, team = NAME} (bot and
+ * team for a reward only): f goes on the list under resets_key, called
+ * with the scene at every episode's reset (and, for a reward, by
+ * scene:reset_rewards). */
 static void lua_function_options(lua_State *L, const char *what,
-				 const void *resets_key)
+				 const void *resets_key, int reward)
 {
 	static const char *const keys[] = {"reset", NULL};
+	static const char *const rkeys[] = {"reset", "bot", "team", NULL};
 	if (lua_isnoneornil(L, 3))
 		return;
-	evo_lua_check_keys(L, 3, what, keys);
+	evo_lua_check_keys(L, 3, what, reward ? rkeys : keys);
 	if (lua_getfield(L, 3, "reset") == LUA_TNIL) {
 		lua_pop(L, 1);
 		return;
@@ -304,7 +396,8 @@ static int function_or_name(lua_State *L, const char *what, const char *noun,
 		lua_function_options(L, what,
 				     lua_kind == EVO_RW_LUA
 					 ? &evo_lua_reward_resets_key
-					 : &evo_lua_control_resets_key);
+					 : &evo_lua_control_resets_key,
+				     lua_kind == EVO_RW_LUA);
 		lua_pushvalue(L, 2);
 		*ref = luaL_ref(L, LUA_REGISTRYINDEX);
 		return lua_kind;
@@ -323,6 +416,57 @@ static int function_or_name(lua_State *L, const char *what, const char *noun,
 	return kind;
 }
 
+/* The bots a built-in reward or control is for: its `bot`, or with
+ * `team`, each bot of the team (docs/teams.md). Fills bots (cap) and
+ * returns how many. */
+static int scope_bots(lua_State *L, const char *what, int *bots, int cap)
+{
+	evo_lua *l = evo_lua_ctx(L);
+	int team = evo_lua_opt_team(L, 3, what);
+	if (team < 0) {
+		bots[0] = evo_lua_opt_bot(L, 3, what);
+		return 1;
+	}
+	lua_getfield(L, 3, "bot");
+	if (!lua_isnil(L, -1))
+		luaL_error(L, "%s: give bot or team, not both", what);
+	lua_pop(L, 1);
+	int n = 0;
+	for (int i = 0; i < l->sc->n_bots && n < cap; i++)
+		if (l->sc->bot[i].team == team)
+			bots[n++] = i;
+	if (n == 0)
+		luaL_error(L, "%s: team %s has no bots yet: make them "
+			      "(scene:bot{team = ...}) before its rewards and "
+			      "controls",
+			   what, l->team[team].name);
+	return n;
+}
+
+/* The sensors option of a reward, names resolved on bot. */
+static void reward_sensors(lua_State *L, evo_reward_def *d, const char *what)
+{
+	d->n_sensors = 0;
+	lua_getfield(L, 3, "sensors");
+	if (!lua_isnil(L, -1)) {
+		luaL_checktype(L, -1, LUA_TTABLE);
+		lua_Integer n = luaL_len(L, -1);
+		if (n > EVO_REWARD_MAX_SENSORS)
+			luaL_error(L, "%s: at most %d sensors", what,
+				   EVO_REWARD_MAX_SENSORS);
+		for (lua_Integer i = 1; i <= n; i++) {
+			lua_geti(L, -1, i);
+			const char *s = lua_tostring(L, -1);
+			if (!s)
+				luaL_error(L, "%s: sensors are names", what);
+			d->sensor[d->n_sensors++] =
+			    evo_lua_bot_sensor_index(L, d->bot, s, what);
+			lua_pop(L, 1);
+		}
+	}
+	lua_pop(L, 1);
+}
+
 static int scene_reward(lua_State *L)
 {
 	evo_lua *l = evo_lua_ctx(L);
@@ -332,42 +476,49 @@ static int scene_reward(lua_State *L)
 				    EVO_RW_LUA, &ref);
 	evo_reward_def d = evo_default_reward_def((evo_reward_kind)kind);
 	d.lua_ref = ref;
-	if (kind != EVO_RW_LUA) {
-		evo_lua_check_keys(L, 3, what, reward_keys);
-		d.bot = evo_lua_opt_bot(L, 3, what);
-		d.k = evo_lua_opt_num(L, 3, "k", d.k, what);
-		d.k2 = evo_lua_opt_num(L, 3, "k2", d.k2, what);
-		d.threshold =
-		    evo_lua_opt_num(L, 3, "threshold", d.threshold, what);
-		d.target = evo_lua_opt_target(L, 3, "target", what);
-		lua_getfield(L, 3, "sensors");
-		if (!lua_isnil(L, -1)) {
-			luaL_checktype(L, -1, LUA_TTABLE);
-			lua_Integer n = luaL_len(L, -1);
-			if (n > EVO_REWARD_MAX_SENSORS)
-				luaL_error(L, "%s: at most %d sensors", what,
-					   EVO_REWARD_MAX_SENSORS);
-			for (lua_Integer i = 1; i <= n; i++) {
-				lua_geti(L, -1, i);
-				const char *s = lua_tostring(L, -1);
-				if (!s)
-					luaL_error(L, "%s: sensors are names",
-						   what);
-				d.sensor[d.n_sensors++] =
-				    evo_lua_bot_sensor_index(L, d.bot, s, what);
-				lua_pop(L, 1);
+	if (kind == EVO_RW_LUA) {
+		/* a Lua function pays its bot, its team as a whole, or the
+		 * scene */
+		d.scope = EVO_SCOPE_SCENE;
+		if (lua_istable(L, 3)) {
+			int team = evo_lua_opt_team(L, 3, what);
+			lua_getfield(L, 3, "bot");
+			int has_bot = !lua_isnil(L, -1);
+			lua_pop(L, 1);
+			if (has_bot && team >= 0)
+				luaL_error(L, "%s: give bot or team, not both",
+					   what);
+			if (has_bot) {
+				d.bot = evo_lua_opt_bot(L, 3, what);
+				d.scope = EVO_SCOPE_BOT;
+			} else if (team >= 0) {
+				d.team = team;
+				d.scope = EVO_SCOPE_TEAM;
 			}
 		}
-		lua_pop(L, 1);
+		evo_lua_scene_result(L, evo_scene_add_reward(l->sc, &d));
+		return 0;
 	}
-	evo_lua_scene_result(L, evo_scene_add_reward(l->sc, &d));
+	evo_lua_check_keys(L, 3, what, reward_keys);
+	d.k = evo_lua_opt_num(L, 3, "k", d.k, what);
+	d.k2 = evo_lua_opt_num(L, 3, "k2", d.k2, what);
+	d.threshold = evo_lua_opt_num(L, 3, "threshold", d.threshold, what);
+	d.target = evo_lua_opt_target(L, 3, "target", what);
+	int bots[EVO_TEAM_BOTS_MAX];
+	int n = scope_bots(L, what, bots, EVO_TEAM_BOTS_MAX);
+	for (int i = 0; i < n; i++) {
+		d.bot = bots[i];
+		reward_sensors(L, &d, what);
+		evo_lua_scene_result(L, evo_scene_add_reward(l->sc, &d));
+	}
 	return 0;
 }
 
 static int scene_control(lua_State *L)
 {
-	static const char *const keys[] = {"bot",    "ticks",     "target",
-					   "sensor", "threshold", NULL};
+	static const char *const keys[] = {"bot",	 "team",      "ticks",
+					   "target", "sensor",    "threshold",
+					   NULL};
 	evo_lua *l = evo_lua_ctx(L);
 	const char *what = "scene:control";
 	int ref = -1;
@@ -375,23 +526,26 @@ static int scene_control(lua_State *L)
 				    EVO_CF_LUA, &ref);
 	evo_control_def d = evo_default_control_def((evo_control_kind)kind);
 	d.lua_ref = ref;
-	if (kind != EVO_CF_LUA) {
-		evo_lua_check_keys(L, 3, what, keys);
-		d.bot = evo_lua_opt_bot(L, 3, what);
-		double ticks =
-		    evo_lua_opt_num(L, 3, "ticks", (double)d.ticks, what);
-		if (ticks < 0 || ticks != floor(ticks) || ticks > 1e15)
-			luaL_error(L, "%s: ticks must be a whole number >= 0",
-				   what);
-		d.ticks = (long)ticks;
-		d.target = evo_lua_opt_target(L, 3, "target", what);
-		d.threshold =
-		    evo_lua_opt_num(L, 3, "threshold", d.threshold, what);
-		const char *s = evo_lua_opt_str(L, 3, "sensor", NULL, what);
+	if (kind == EVO_CF_LUA) {
+		evo_lua_scene_result(L, evo_scene_add_control(l->sc, &d));
+		return 0;
+	}
+	evo_lua_check_keys(L, 3, what, keys);
+	double ticks = evo_lua_opt_num(L, 3, "ticks", (double)d.ticks, what);
+	if (ticks < 0 || ticks != floor(ticks) || ticks > 1e15)
+		luaL_error(L, "%s: ticks must be a whole number >= 0", what);
+	d.ticks = (long)ticks;
+	d.target = evo_lua_opt_target(L, 3, "target", what);
+	d.threshold = evo_lua_opt_num(L, 3, "threshold", d.threshold, what);
+	const char *s = evo_lua_opt_str(L, 3, "sensor", NULL, what);
+	int bots[EVO_TEAM_BOTS_MAX];
+	int n = scope_bots(L, what, bots, EVO_TEAM_BOTS_MAX);
+	for (int i = 0; i < n; i++) {
+		d.bot = bots[i];
 		if (s)
 			d.sensor = evo_lua_bot_sensor_index(L, d.bot, s, what);
+		evo_lua_scene_result(L, evo_scene_add_control(l->sc, &d));
 	}
-	evo_lua_scene_result(L, evo_scene_add_control(l->sc, &d));
 	return 0;
 }
 
@@ -567,6 +721,9 @@ const luaL_Reg evo_lua_element_methods[] = {
 const luaL_Reg evo_lua_scene_methods[] = {
 	{"bot", scene_bot},
 	{"get_bot", scene_get_bot},
+	{"teams", scene_teams},
+	{"bots", scene_bots},
+	{"winner", scene_winner},
 	{"cylinder", scene_cylinder},
 	{"box", scene_box},
 	{"zone", scene_zone},
