@@ -169,8 +169,8 @@ static int check_task(const char *path, evo_task *task, evo_err *err)
 	if (!evo_run_supports(task->type))
 		return evo_fail(err,
 				"%s: evo run does not run %s tasks yet (it runs "
-				"DEMOSIM, LEARNSIM, DEMOREMOTESIM, "
-				"LEARNREMOTESIM and DEMOREMOTE)",
+				"DEMOSIM, LEARNSIM, DEMO2DSIMMULTI, "
+				"DEMOREMOTESIM, LEARNREMOTESIM and DEMOREMOTE)",
 				path, task->type);
 	if (strncmp(task->type, "LEARN", 5) == 0 &&
 	    evo_learn_check(path, task, err) != 0)
@@ -187,7 +187,7 @@ static int check_task(const char *path, evo_task *task, evo_err *err)
 	if (strstr(task->type, "REMOTE") &&
 	    (!env || !evo_simbatch_get(task->sb, "BOTMODEL")))
 		return 0;
-	evo_sim *s = evo_sim_create(task->mind, task->sb, path, err);
+	evo_sim *s = evo_sim_create_task(task, path, err);
 	if (!s)
 		return -1;
 	evo_sim_destroy(s);
@@ -248,9 +248,22 @@ int main(int argc, char **argv)
 			evo_task_free(&task);
 			return 1;
 		}
-		printf("%s: task %s, mind folder %s, master skill %s: ok\n",
-		       argv[2], task.type, task.mind->root,
-		       evo_mind_skill_name(&task.mind->mind, 0));
+		if (task.n_teams == 0)
+			printf("%s: task %s, mind folder %s, master skill %s: "
+			       "ok\n",
+			       argv[2], task.type, task.mind->root,
+			       evo_mind_skill_name(&task.mind->mind, 0));
+		else
+			printf("%s: task %s, %d team%s: ok\n", argv[2],
+			       task.type, task.n_teams,
+			       task.n_teams == 1 ? "" : "s");
+		for (int i = 0; i < task.n_teams; i++)
+			printf("  team %s: %d bot%s of %s, mind folder %s, "
+			       "master skill %s\n",
+			       task.team[i].name, task.team[i].size,
+			       task.team[i].size == 1 ? "" : "s",
+			       task.team[i].botmodel, task.team[i].mind->root,
+			       task.team[i].master);
 		evo_task_free(&task);
 		return 0;
 	}

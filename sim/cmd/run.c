@@ -210,6 +210,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
 int evo_run_supports(const char *type)
 {
 	return strcmp(type, "DEMOSIM") == 0 || strcmp(type, "LEARNSIM") == 0 ||
+	       strcmp(type, "DEMO2DSIMMULTI") == 0 ||
 	       strcmp(type, "DEMOREMOTESIM") == 0 ||
 	       strcmp(type, "LEARNREMOTESIM") == 0 ||
 	       strcmp(type, "DEMOREMOTE") == 0;
@@ -278,6 +279,32 @@ static int delivers(const evo_scene *sc)
 	return 0;
 }
 
+/* 1 when the scene has a reward of kind k. */
+static int has_reward(const evo_scene *sc, evo_reward_kind k)
+{
+	for (int i = 0; i < sc->n_rewards; i++)
+		if (sc->reward[i].def.kind == k)
+			return 1;
+	return 0;
+}
+
+/* A team task's lines after its episode's (docs/teams.md): each team's
+ * reward, each bot's own, and whether it won. */
+static void print_teams(const evo_sim *s)
+{
+	const evo_scene *sc = s->scene;
+	for (int k = 0; s->has_teams && k < s->n_teams; k++) {
+		const evo_sim_team *tm = &s->team[k];
+		printf("  team %s: reward %.6f (", tm->name,
+		       sc->team_reward[k]);
+		for (int i = 0; i < tm->size; i++) {
+			const evo_bot *b = &sc->bot[s->agent[tm->first + i].bot];
+			printf("%s%s %.6f", i ? ", " : "", b->name, b->reward);
+		}
+		printf(")%s\n", sc->winner == k ? ", won" : "");
+	}
+}
+
 /* The environment's own metrics at the end of an episode line, in the
  * order it declared them: ", in_zone 123.000000". Nothing when it has
  * none, so such a line is as it always was. */
@@ -304,15 +331,25 @@ static int run_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 		}
 		if (r < 0)
 			return -1;
-		const evo_bot *b = &s->scene->bot[s->bot];
+		/* the agents' counts: the one agent's, or every team's */
+		int collisions = 0, delivered = 0, gathered = 0;
+		for (int a = 0; a < s->n_agents; a++) {
+			const evo_bot *b = &s->scene->bot[s->agent[a].bot];
+			collisions += b->collisions;
+			delivered += b->delivered;
+			gathered += b->gathered;
+		}
 		printf("episode %ld: reward %.6f over %ld ticks, %d collision "
 		       "ticks",
-		       e, s->scene->episode_reward, t, b->collisions);
+		       e, s->scene->episode_reward, t, collisions);
 		/* deliveries only where a Collect reward can make them */
 		if (delivers(s->scene))
-			printf(", %d delivered", b->delivered);
+			printf(", %d delivered", delivered);
+		if (has_reward(s->scene, EVO_RW_GATHER))
+			printf(", %d gathered", gathered);
 		print_metrics(s->scene);
 		printf("\n");
+		print_teams(s);
 		fflush(stdout);
 	}
 	return 0;
@@ -842,8 +879,8 @@ int evo_run_main(int argc, char **argv)
 	if (!evo_run_supports(task.type)) {
 		fprintf(stderr,
 			"%s: evo run does not run %s tasks yet (it runs "
-			"DEMOSIM, LEARNSIM, DEMOREMOTESIM, LEARNREMOTESIM "
-			"and DEMOREMOTE)\n",
+			"DEMOSIM, LEARNSIM, DEMO2DSIMMULTI, DEMOREMOTESIM, "
+			"LEARNREMOTESIM and DEMOREMOTE)\n",
 			o.task, task.type);
 		evo_task_free(&task);
 		return 1;
@@ -875,7 +912,7 @@ int evo_run_main(int argc, char **argv)
 	}
 	evo_sim *s = NULL;
 	int robot = strcmp(task.type, "DEMOREMOTE") == 0;
-	if (!robot && !(s = evo_sim_create(task.mind, task.sb, o.task, &err)))
+	if (!robot && !(s = evo_sim_create_task(&task, o.task, &err)))
 		goto out;
 	if (!o.headless) {
 		const char *d = getenv("DISPLAY");

@@ -1,10 +1,14 @@
-/* A task's simulation: scene + Lua environment + mind (sim/tasksim/tasksim.h). */
+/* A task's simulation: scene + Lua environment + the minds of its agents
+ * (sim/tasksim/tasksim.h). */
 #include "tasksim/tasksim.h"
 
 #include <stdlib.h>
 #include <string.h>
 
 #include "mind/trace.h"
+
+_Static_assert(EVO_MAX_TEAMS <= EVO_SCENE_MAX_TEAMS,
+	       "a task's teams fit a scene's");
 
 /* "did you mean" over a bot's sensor or actuator names. */
 static const char *closest(const char *word, const evo_bot *b, int sensors)
@@ -19,17 +23,28 @@ static const char *closest(const char *word, const evo_bot *b, int sensors)
 	return c ? c : "";
 }
 
-/* Sensors nothing reads are not sampled: the mind reads the botdesc's,
+/* Sensors nothing reads are not sampled: the minds read the botdesc's,
  * rewards and controls name theirs, and a script's bot:value wakes the one
- * it asks for. */
+ * it asks for. In a one-agent task only the agent's bot is marked, as it
+ * always was; in a team task, every bot, so a bot no mind drives senses
+ * nothing. */
 static void mark_idle(evo_sim *s)
 {
 	evo_scene *sc = s->scene;
-	evo_bot *b = &sc->bot[s->bot];
-	for (int i = 0; i < b->n_sensors; i++)
-		b->sensor[i].idle = 1;
-	for (unsigned i = 0; i < s->mind->botdesc->n_sensors; i++)
-		b->sensor[s->sensor_map[i]].idle = 0;
+	for (int k = 0; k < sc->n_bots; k++) {
+		if (!s->has_teams && k != s->bot)
+			continue;
+		evo_bot *b = &sc->bot[k];
+		for (int i = 0; i < b->n_sensors; i++)
+			b->sensor[i].idle = 1;
+	}
+	for (int a = 0; a < s->n_agents; a++) {
+		const evo_sim_agent *ag = &s->agent[a];
+		const evo_sim_team *tm = &s->team[ag->team];
+		evo_bot *b = &sc->bot[ag->bot];
+		for (unsigned i = 0; i < tm->mind->botdesc->n_sensors; i++)
+			b->sensor[tm->sensor_map[i]].idle = 0;
+	}
 	for (int i = 0; i < sc->n_rewards; i++) {
 		const evo_reward_def *d = &sc->reward[i].def;
 		for (int k = 0; k < d->n_sensors; k++)
@@ -42,76 +57,200 @@ static void mark_idle(evo_sim *s)
 	}
 }
 
-/* Bind botdesc names to the bot's sensors and actuators. A name the bot
- * model lacks is the botdesc's error, reported at its line. */
-static int bind(evo_sim *s, const evo_mindfolder *mind, evo_err *err)
+/* After a botdesc error, where the team is: " (team Red, T.simbatch:3)". */
+static void team_suffix(const evo_sim *s, const evo_sim_team *tm, char *out,
+			size_t cap)
 {
-	const evo_bot *b = &s->scene->bot[s->bot];
+	if (s->has_teams)
+		snprintf(out, cap, " (team %s, %s:%u)", tm->name, s->task_path,
+			 (unsigned)tm->line);
+	else
+		out[0] = 0;
+}
+
+/* Bind botdesc names to bot's sensors and actuators into the team's maps
+ * (first: fill them; later bots: check they agree). A name the bot model
+ * lacks is the botdesc's error, reported at its line. */
+static int bind(evo_sim *s, evo_sim_team *tm, int bot, int first,
+		evo_err *err)
+{
+	const evo_bot *b = &s->scene->bot[bot];
+	const evo_mindfolder *mind = tm->mind;
 	const evo_botdesc *d = mind->botdesc;
 	const char *model = evo_lua_bot_path(s->lua);
+	char where[1200];
+	team_suffix(s, tm, where, sizeof where);
 	for (unsigned i = 0; i < d->n_sensors; i++) {
 		int k = evo_bot_find_sensor(b, d->sensor[i].name);
 		if (k < 0)
 			return evo_fail(err,
 					"%s/%s.botdesc:%u: sensor '%s' is not "
-					"on the bot (model %s); closest: %s",
+					"on the bot (model %s); closest: %s%s",
 					mind->root, mind->bot_name,
 					d->sensor[i].line, d->sensor[i].name,
-					model, closest(d->sensor[i].name, b, 1));
-		s->sensor_map[i] = k;
+					model, closest(d->sensor[i].name, b, 1),
+					where);
+		if (!first && k != tm->sensor_map[i])
+			return evo_fail(err,
+					"bot %s: its sensor '%s' is not where "
+					"its team's first bot has it: the "
+					"environment changed one bot of the "
+					"team%s",
+					b->name, d->sensor[i].name, where);
+		tm->sensor_map[i] = k;
 	}
 	for (unsigned i = 0; i < d->n_actuators; i++) {
 		int k = evo_bot_find_actuator(b, d->actuator[i].name);
 		if (k < 0)
 			return evo_fail(err,
 					"%s/%s.botdesc:%u: actuator '%s' is not "
-					"on the bot (model %s); closest: %s",
+					"on the bot (model %s); closest: %s%s",
 					mind->root, mind->bot_name,
 					d->actuator[i].line,
 					d->actuator[i].name, model,
-					closest(d->actuator[i].name, b, 0));
-		s->actuator_map[i] = k;
+					closest(d->actuator[i].name, b, 0),
+					where);
+		if (!first && k != tm->actuator_map[i])
+			return evo_fail(err,
+					"bot %s: its actuator '%s' is not where "
+					"its team's first bot has it%s",
+					b->name, d->actuator[i].name, where);
+		tm->actuator_map[i] = k;
 	}
+	return 0;
+}
+
+/* A fresh state for agent a under its mind (the memory grows as needed:
+ * networks of another candidate may need more). */
+static int agent_state(evo_sim_agent *a, evo_err *err)
+{
+	size_t need = (evo_state_size(&a->mind->mind) + 7) & ~(size_t)7;
+	if (need > a->state_cap) {
+		free(a->state_mem);
+		a->state_mem = aligned_alloc(8, need);
+		a->state_cap = a->state_mem ? need : 0;
+	}
+	a->state = NULL;
+	if (!a->state_mem)
+		return evo_fail(err, "out of memory");
+	evo_status st = evo_state_init(&a->mind->mind, a->state_mem,
+				       a->state_cap, &a->state);
+	if (st != EVO_OK)
+		return evo_fail(err, "mind state: %s", evo_status_str(st));
+	return 0;
+}
+
+/* The first agent's view, as a one-agent task has it. */
+static void first_agent_view(evo_sim *s)
+{
+	s->mind = s->team[0].mind;
+	s->bot = s->agent[0].bot;
+	s->state = s->agent[0].state;
+	memcpy(s->sensor_map, s->team[0].sensor_map, sizeof s->sensor_map);
+	memcpy(s->actuator_map, s->team[0].actuator_map,
+	       sizeof s->actuator_map);
+}
+
+int evo_sim_set_team_mind(evo_sim *s, int team, const evo_mindfolder *mind,
+			  evo_err *err)
+{
+	if (team < 0 || team >= s->n_teams)
+		return evo_fail(err, "no team %d", team);
+	evo_sim_team *tm = &s->team[team];
+	tm->mind = mind;
+	for (int k = 0; k < tm->size; k++) {
+		evo_sim_agent *a = &s->agent[tm->first + k];
+		a->mind = mind;
+		if (bind(s, tm, a->bot, k == 0, err) || agent_state(a, err))
+			return -1;
+	}
+	first_agent_view(s);
+	mark_idle(s);
+	return 0;
+}
+
+int evo_sim_set_agent_mind(evo_sim *s, int agent, const evo_mindfolder *mind,
+			   evo_err *err)
+{
+	if (agent < 0 || agent >= s->n_agents)
+		return evo_fail(err, "no agent %d", agent);
+	evo_sim_agent *a = &s->agent[agent];
+	if (mind->names_hash != s->team[a->team].mind->names_hash)
+		return evo_fail(err,
+				"agent %d: a mind of other sensors, actuators "
+				"or variables than its team's",
+				agent);
+	a->mind = mind;
+	if (agent_state(a, err))
+		return -1;
+	first_agent_view(s);
 	return 0;
 }
 
 int evo_sim_set_mind(evo_sim *s, const evo_mindfolder *mind, evo_err *err)
 {
-	size_t need = evo_state_size(&mind->mind);
-	free(s->state_mem);
-	s->state_mem = aligned_alloc(8, (need + 7) & ~(size_t)7);
-	s->state = NULL;
-	if (!s->state_mem)
+	return evo_sim_set_team_mind(s, 0, mind, err);
+}
+
+/* Lay out the teams and their agents: team k's agents are its bots in
+ * the scene's order. A team task's environment must have made each team
+ * its SIZE bots. */
+static int make_agents(evo_sim *s, evo_err *err)
+{
+	evo_scene *sc = s->scene;
+	int n = 0;
+	for (int k = 0; k < s->n_teams; k++)
+		n += s->team[k].size;
+	s->agent = calloc((size_t)n, sizeof *s->agent);
+	if (!s->agent)
 		return evo_fail(err, "out of memory");
-	evo_status st = evo_state_init(&mind->mind, s->state_mem,
-				       (need + 7) & ~(size_t)7, &s->state);
-	if (st != EVO_OK)
-		return evo_fail(err, "mind state: %s", evo_status_str(st));
-	s->mind = mind;
-	if (bind(s, mind, err))
-		return -1;
-	mark_idle(s);
+	s->n_agents = n;
+	if (!s->has_teams) {
+		s->agent[0].bot = 0;
+		s->agent[0].team = 0;
+		return 0;
+	}
+	int next = 0;
+	for (int k = 0; k < s->n_teams; k++) {
+		evo_sim_team *tm = &s->team[k];
+		int made = 0;
+		tm->first = next;
+		for (int b = 0; b < sc->n_bots; b++)
+			if (sc->bot[b].team == k && made < tm->size) {
+				s->agent[next].bot = b;
+				s->agent[next].team = k;
+				next++;
+				made++;
+			}
+		if (made != tm->size)
+			return evo_fail(err,
+					"%s:%u: TEAM %s: the environment made "
+					"%d of its %d bots (%s): each team's "
+					"bots come from scene:bot{team = "
+					"\"%s\"} (docs/teams.md)",
+					s->task_path, (unsigned)tm->line,
+					tm->name, made, tm->size,
+					evo_lua_env_path(s->lua), tm->name);
+	}
 	return 0;
 }
 
-evo_sim *evo_sim_create(const evo_mindfolder *mind, const evo_simbatch *task,
-			const char *task_path, evo_err *err)
+/* The common part of both constructors: the scene, its Lua environment
+ * and the agents of s->team[0 .. n_teams). */
+static evo_sim *build(evo_sim *s, const evo_simbatch *task,
+		      const char *task_path, const char *mind_dir,
+		      const char *model, const evo_lua_team *lt, evo_err *err)
 {
-	evo_sim *s = calloc(1, sizeof *s);
-	if (!s) {
-		evo_fail(err, "out of memory");
-		return NULL;
-	}
 	s->task = task;
+	snprintf(s->task_path, sizeof s->task_path, "%s", task_path);
 	s->scene = evo_scene_create();
 	if (!s->scene) {
 		evo_fail(err, "cannot create a physics world");
-		free(s);
+		evo_sim_destroy(s);
 		return NULL;
 	}
 	const char *env = evo_simbatch_get(task, "ENV");
-	const char *model = evo_simbatch_get(task, "BOTMODEL");
-	if (!env || !model) {
+	if (!env || (!s->has_teams && !model)) {
 		evo_fail(err, "%s: a simulated task needs ENV and BOTMODEL",
 			 task_path);
 		evo_sim_destroy(s);
@@ -119,17 +258,73 @@ evo_sim *evo_sim_create(const evo_mindfolder *mind, const evo_simbatch *task,
 	}
 	evo_lua_def ld = {
 		.scene = s->scene,
-		.mind_dir = mind->root,
+		.mind_dir = mind_dir,
 		.botmodel = model,
 		.task = task,
+		.teams = lt,
+		.n_teams = s->has_teams ? s->n_teams : 0,
 	};
 	s->lua = evo_lua_create(&ld, err);
 	if (!s->lua || evo_lua_init_env(s->lua, env, err) ||
-	    evo_sim_set_mind(s, mind, err)) {
+	    make_agents(s, err)) {
 		evo_sim_destroy(s);
 		return NULL;
 	}
+	for (int k = 0; k < s->n_teams; k++)
+		if (evo_sim_set_team_mind(s, k, s->team[k].mind, err)) {
+			evo_sim_destroy(s);
+			return NULL;
+		}
 	return s;
+}
+
+evo_sim *evo_sim_create(const evo_mindfolder *mind, const evo_simbatch *task,
+			const char *task_path, evo_err *err)
+{
+	evo_sim *s = calloc(1, sizeof *s);
+	if (s)
+		s->team = calloc(1, sizeof *s->team);
+	if (!s || !s->team) {
+		free(s);
+		evo_fail(err, "out of memory");
+		return NULL;
+	}
+	s->n_teams = 1;
+	s->team[0].mind = mind;
+	s->team[0].size = 1;
+	return build(s, task, task_path, mind->root,
+		     evo_simbatch_get(task, "BOTMODEL"), NULL, err);
+}
+
+evo_sim *evo_sim_create_task(const evo_task *t, const char *task_path,
+			     evo_err *err)
+{
+	if (t->n_teams == 0)
+		return evo_sim_create(t->mind, t->sb, task_path, err);
+	evo_sim *s = calloc(1, sizeof *s);
+	if (s)
+		s->team = calloc((size_t)t->n_teams, sizeof *s->team);
+	if (!s || !s->team) {
+		free(s);
+		evo_fail(err, "out of memory");
+		return NULL;
+	}
+	evo_lua_team lt[EVO_MAX_TEAMS];
+	s->has_teams = 1;
+	s->n_teams = t->n_teams;
+	for (int k = 0; k < t->n_teams; k++) {
+		const evo_team *tm = &t->team[k];
+		snprintf(s->team[k].name, sizeof s->team[k].name, "%s",
+			 tm->name);
+		s->team[k].mind = tm->mind;
+		s->team[k].size = tm->size;
+		s->team[k].line = tm->line;
+		lt[k].name = tm->name;
+		lt[k].botmodel = tm->botmodel;
+		lt[k].mind_dir = tm->mind->root;
+		lt[k].size = tm->size;
+	}
+	return build(s, t->sb, task_path, t->mind->root, NULL, lt, err);
 }
 
 void evo_sim_destroy(evo_sim *s)
@@ -138,7 +333,10 @@ void evo_sim_destroy(evo_sim *s)
 		return;
 	evo_lua_destroy(s->lua);
 	evo_scene_destroy(s->scene);
-	free(s->state_mem);
+	for (int a = 0; a < s->n_agents; a++)
+		free(s->agent[a].state_mem);
+	free(s->agent);
+	free(s->team);
 	free(s);
 }
 
@@ -146,27 +344,48 @@ int evo_sim_reset(evo_sim *s, int episode, uint64_t grid_seed,
 		  uint64_t episode_seed, evo_err *err)
 {
 	evo_scene_reset(s->scene, grid_seed, episode_seed);
-	evo_state_reset(&s->mind->mind, s->state);
+	for (int a = 0; a < s->n_agents; a++)
+		evo_state_reset(&s->agent[a].mind->mind, s->agent[a].state);
 	s->episode = episode;
 	return evo_lua_reset(s->lua, episode, err);
+}
+
+int evo_sim_agent_of_bot(const evo_sim *s, int bot)
+{
+	for (int a = 0; a < s->n_agents; a++)
+		if (s->agent[a].bot == bot)
+			return a;
+	return -1;
+}
+
+/* One agent's mind: read its bot's sensors, step, write its actuators. */
+static void step_agent(evo_sim *s, const evo_sim_agent *a, evo_q16 *in,
+		       evo_q16 *out)
+{
+	const evo_sim_team *tm = &s->team[a->team];
+	evo_bot *b = &s->scene->bot[a->bot];
+	const evo_mind *m = &a->mind->mind;
+	for (unsigned i = 0; i < m->n_sensors; i++)
+		in[i] = evo_q16_from_sensor(b->sensor[tm->sensor_map[i]].value);
+	evo_mind_step(m, a->state, in, out);
+	for (unsigned i = 0; i < m->n_actuators; i++)
+		b->actuator[tm->actuator_map[i]].command =
+			evo_q16_to_double(out[i]);
+	if (s->trace && s->has_teams)
+		evo_trace_tick_bot(s->trace, s->scene->tick, b->name, m, in,
+				   out, a->state);
+	else if (s->trace)
+		evo_trace_tick(s->trace, s->scene->tick, m, in, out, a->state);
 }
 
 int evo_sim_tick(evo_sim *s, evo_err *err)
 {
 	evo_scene *sc = s->scene;
-	evo_bot *b = &sc->bot[s->bot];
-	const evo_mind *m = &s->mind->mind;
 	evo_scene_sense(sc);
-	for (unsigned i = 0; i < m->n_sensors; i++)
-		s->sensors[i] =
-			evo_q16_from_sensor(b->sensor[s->sensor_map[i]].value);
-	evo_mind_step(m, s->state, s->sensors, s->actuators);
-	for (unsigned i = 0; i < m->n_actuators; i++)
-		b->actuator[s->actuator_map[i]].command =
-			evo_q16_to_double(s->actuators[i]);
-	if (s->trace)
-		evo_trace_tick(s->trace, sc->tick, m, s->sensors, s->actuators,
-			       s->state);
+	step_agent(s, &s->agent[0], s->sensors, s->actuators);
+	evo_q16 in[EVO_MAX_SENSORS], out[EVO_MAX_ACTUATORS];
+	for (int a = 1; a < s->n_agents; a++)
+		step_agent(s, &s->agent[a], in, out);
 	int r = evo_scene_step(sc);
 	if (r < 0)
 		evo_fail(err, "%s", sc->err.msg);
@@ -194,5 +413,17 @@ int evo_sim_act(evo_sim *s, const double *commands, evo_err *err)
 
 void evo_sim_trace_header(evo_sim *s)
 {
-	evo_trace_header(s->trace, s->mind);
+	if (!s->has_teams) {
+		evo_trace_header(s->trace, s->mind);
+		return;
+	}
+	fprintf(s->trace, "evo-trace 3\n");
+	for (int k = 0; k < s->n_teams; k++) {
+		const evo_sim_team *tm = &s->team[k];
+		const char *bots[EVO_TEAM_MAX_SIZE];
+		for (int i = 0; i < tm->size; i++)
+			bots[i] = s->scene->bot[s->agent[tm->first + i].bot].name;
+		evo_trace_team_header(s->trace, tm->name, tm->mind, bots,
+				      tm->size);
+	}
 }

@@ -1,0 +1,299 @@
+/* `evo run` and `evo check` of team tasks (DEMO2DSIMMULTI, docs/teams.md):
+ * every bot of every team runs its team's mind with a state of its own;
+ * the episode's line is followed by each team's, whose bots' own rewards
+ * add up to the team's; a seed gives one run; traces are version 3, a
+ * line per bot and tick; the Lua side (scene:teams, scene:bot{team},
+ * team rewards, scene:winner) works; and a team the environment does not
+ * make, or whose botdesc its bot model does not fit, stops the run before
+ * its first tick with the file and line. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "harness.h"
+#include "support/cli.h"
+
+static char out[1 << 16], out2[1 << 16];
+
+/* The Minds folder of the test: copies of minds/Forager. */
+static const char *minds(void)
+{
+	static char m[256];
+	snprintf(m, sizeof m, "%s/Minds", cli_tmp);
+	return m;
+}
+
+static int write_task(const char *name, const char *text)
+{
+	return cli_write(text, "%s/Forager/Tasks/%s.simbatch", minds(), name);
+}
+
+static int write_env(const char *name, const char *text)
+{
+	return cli_write(text, "%s/Forager/Envs/%s.lua", minds(), name);
+}
+
+static int run(char *buf, const char *task, const char *args)
+{
+	return cli_capture(buf, sizeof out, "%s run %s/Forager/Tasks/%s.simbatch "
+				       "--headless %s",
+			   cli_evo, minds(), task, args);
+}
+
+/* Sum of the numbers after each bot's name on a team line. */
+static double bots_sum(const char *line)
+{
+	const char *p = strchr(line, '(');
+	double sum = 0;
+	while (p && *p && *p != ')') {
+		const char *sp = strchr(p, ' ');
+		if (!sp)
+			break;
+		sum += strtod(sp + 1, NULL);
+		p = strchr(sp + 1, ',');
+		if (!p)
+			break;
+		p += 2; /* ", " */
+	}
+	return sum;
+}
+
+TEST(every_bot_forages_and_the_team_line_adds_up)
+{
+	int rc = run(out, "Forage-DEMO", "--seed 3 --ticks 400");
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out, "episode 1: reward ");
+	CHECK_CONTAINS(out, "  team Foragers: reward ");
+	CHECK_CONTAINS(out, "Foragers1 ");
+	CHECK_CONTAINS(out, "Foragers4 ");
+	const char *team = strstr(out, "  team Foragers: reward ");
+	if (!team)
+		return;
+	double total = strtod(team + strlen("  team Foragers: reward "), NULL);
+	CHECK(total > 0);
+	CHECK(fabs(total - bots_sum(team)) < 1e-6);
+	/* more than one bot gathered: each runs the mind */
+	int gatherers = 0;
+	for (const char *p = strchr(team, '('); p && *p != ')'; p++)
+		if (p[0] == ' ' && p[1] >= '1' && p[1] <= '9')
+			gatherers++;
+	CHECK(gatherers >= 2);
+	if (rc)
+		printf("%s\n", out);
+}
+
+TEST(a_seed_gives_one_run)
+{
+	CHECK_EQ_INT(run(out, "Forage-DEMO", "--seed 5 --ticks 300 --episodes 2"),
+		     0);
+	CHECK_EQ_INT(run(out2, "Forage-DEMO", "--seed 5 --ticks 300 --episodes 2"),
+		     0);
+	CHECK_EQ_STR(out, out2);
+	CHECK_CONTAINS(out, "episode 2: ");
+	CHECK_EQ_INT(run(out2, "Forage-DEMO", "--seed 6 --ticks 300 --episodes 2"),
+		     0);
+	CHECK(strcmp(out, out2) != 0);
+}
+
+TEST(a_team_trace_has_a_line_per_bot_and_tick)
+{
+	char args[600];
+	snprintf(args, sizeof args, "--seed 3 --ticks 25 --trace %s/t.trace",
+		 cli_tmp);
+	CHECK_EQ_INT(run(out, "Forage-DEMO", args), 0);
+	char *t = cli_read("%s/t.trace", cli_tmp);
+	CHECK(t != NULL);
+	if (!t)
+		return;
+	CHECK(strncmp(t, "evo-trace 3\nteam Foragers mind Forager names ",
+		      44) == 0);
+	CHECK_CONTAINS(t, " bots 4 Foragers1 Foragers2 Foragers3 Foragers4\n"
+			  "sensors 6 S1 S2 S10 ACTOBJ DISTOBJ RADOBJ\n"
+			  "actuators 2 MotL MotR\nskills 1 Forage\n");
+	CHECK_EQ_INT(cli_count_lines(t, "0 Foragers"), 4);
+	CHECK_EQ_INT(cli_count_lines(t, "24 Foragers3 "), 1);
+	CHECK_EQ_INT(cli_count_lines(t, "25 "), 0);
+	/* 5 header lines, 25 ticks of 4 bots */
+	int lines = 0;
+	for (const char *p = t; *p; p++)
+		lines += *p == '\n';
+	CHECK_EQ_INT(lines, 5 + 100);
+	free(t);
+}
+
+/* An environment of the test's own, through the Lua side of teams. */
+static const char ENV[] =
+    "local env = {}\n"
+    "function env.init(scene, task)\n"
+    "  local t = scene:teams()\n"
+    "  assert(#t == 2 and t[1].name == 'Red' and t[1].size == 2)\n"
+    "  assert(t[2].model == 'BotType8' and t[2].index == 2)\n"
+    "  for _, team in ipairs(t) do\n"
+    "    for i = 1, team.size do\n"
+    "      scene:bot{ team = team.name, x = 5 * i, y = 5 * team.index }\n"
+    "    end\n"
+    "  end\n"
+    "  assert(#scene:bots('Red') == 2 and #scene:bots() == 3)\n"
+    "  assert(scene:bots('Blue')[1]:team() == 'Blue')\n"
+    "  assert(scene:bots('Blue')[1]:name() == 'Blue1')\n"
+    "  scene:reward('Step', { team = 'Red', k = 1 })\n"
+    "  scene:reward(function(scene) return 10 end, { team = 'Blue' })\n"
+    "  scene:reward(function(scene) return 100 end)\n"
+    "  scene:control(function(scene)\n"
+    "    if scene:tick() == 5 then scene:winner('Blue') end\n"
+    "    return false\n"
+    "  end)\n"
+    "end\n"
+    "return env\n";
+
+TEST(the_lua_side_of_teams)
+{
+	CHECK_EQ_INT(write_env("Two", ENV), 0);
+	CHECK_EQ_INT(write_task("Two", "TYPE:DEMO2DSIMMULTI\nENV:Two\n"
+				       "TEAM:Red:Forager:BotType8:2:Forage\n"
+				       "TEAM:Blue:Forager:BotType8:1:Forage\n"),
+		     0);
+	int rc = run(out, "Two", "--ticks 10");
+	CHECK_EQ_INT(rc, 0);
+	/* each Red bot 1 a tick; Blue 10 a tick as a team; the scene 100 */
+	CHECK_CONTAINS(out, "episode 1: reward 1120.000000 over 10 ticks");
+	CHECK_CONTAINS(out, "  team Red: reward 20.000000 (Red1 10.000000, "
+			    "Red2 10.000000)\n");
+	CHECK_CONTAINS(out, "  team Blue: reward 100.000000 (Blue1 "
+			    "0.000000), won\n");
+	if (rc)
+		printf("%s\n", out);
+}
+
+TEST(lua_mistakes_with_teams_are_errors_at_their_line)
+{
+	static const struct {
+		const char *body, *want;
+	} cases[] = {
+	    {"scene:bot{ team = 'Redd' }", "Bad.lua:2: scene:bot: no team Redd "
+					   "in the task (did you mean Red?)"},
+	    {"scene:bot{ team = 'Red', model = 'BotType6' }",
+	     "Bad.lua:2: scene:bot: a bot of team Red is of its model"},
+	    {"for i = 1, 3 do scene:bot{ team = 'Red' } end",
+	     "Bad.lua:2: scene:bot: team Red has its 2 bots already"},
+	    {"scene:bot{}", "Bad.lua:2: scene:bot: in a team task, a bot "
+			    "belongs to a team"},
+	    {"scene:bot{ team = 'Red' } scene:reward('Gather', { team = 'Blue' })",
+	     "Bad.lua:2: scene:reward: team Blue has no bots yet"},
+	};
+	CHECK_EQ_INT(write_task("Bad", "TYPE:DEMO2DSIMMULTI\nENV:Bad\n"
+				       "TEAM:Red:Forager:BotType8:2:Forage\n"
+				       "TEAM:Blue:Forager:BotType8:1:Forage\n"),
+		     0);
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		char env[512];
+		snprintf(env, sizeof env,
+			 "local env = {}\nfunction env.init(scene) %s end\n"
+			 "return env\n",
+			 cases[i].body);
+		write_env("Bad", env);
+		CHECK_EQ_INT(run(out, "Bad", "--ticks 5"), 1);
+		CHECK_CONTAINS(out, cases[i].want);
+	}
+}
+
+TEST(a_team_the_environment_does_not_make_stops_the_run)
+{
+	CHECK_EQ_INT(write_env("Short",
+			       "local env = {}\nfunction env.init(scene)\n"
+			       "  scene:bot{ team = 'Red' }\n"
+			       "  scene:bot{ team = 'Blue' }\nend\n"
+			       "return env\n"),
+		     0);
+	CHECK_EQ_INT(write_task("Short", "TYPE:DEMO2DSIMMULTI\nENV:Short\n"
+					 "TEAM:Red:Forager:BotType8:2:Forage\n"
+					 "TEAM:Blue:Forager:BotType8:1:Forage\n"),
+		     0);
+	char trace[600];
+	snprintf(trace, sizeof trace, "--trace %s/short.trace", cli_tmp);
+	CHECK_EQ_INT(run(out, "Short", trace), 1);
+	char want[1200];
+	snprintf(want, sizeof want,
+		 "%s/Forager/Tasks/Short.simbatch:3: TEAM Red: the "
+		 "environment made 1 of its 2 bots (%s/Forager/Envs/Short.lua)",
+		 minds(), minds());
+	CHECK_CONTAINS(out, want);
+	/* nothing ran: no trace */
+	char *t = cli_read("%s/short.trace", cli_tmp);
+	CHECK(t == NULL);
+	free(t);
+	/* evo check says the same */
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s check %s/Forager/Tasks/Short.simbatch",
+				 cli_evo, minds()),
+		     1);
+	CHECK_CONTAINS(out, want);
+}
+
+TEST(a_mind_folder_its_bot_model_does_not_fit_stops_the_run)
+{
+	/* Other's botdesc names a sensor BotType8 does not have */
+	CHECK_EQ_INT(cli_sh("rm -rf %s/Other && cp -r %s/Forager %s/Other && "
+			    "sed 's/^S10:/SX:/' %s/Other/Forager.botdesc > "
+			    "%s/Other/Other.botdesc && rm "
+			    "%s/Other/Forager.botdesc",
+			    minds(), minds(), minds(), minds(), minds(),
+			    minds()),
+		     0);
+	CHECK_EQ_INT(write_task("Misfit",
+				"TYPE:DEMO2DSIMMULTI\nENV:EXP_Forage\n"
+				"TEAM:Red:Forager:BotType8:2:Forage\n"
+				"TEAM:Blue:Other:BotType8:1:Forage\n"),
+		     0);
+	/* the Forage skill reads S10, so Other's must too: edit its ades */
+	CHECK_EQ_INT(cli_sh("sed -i 's/SE:S10/SE:SX/' "
+			    "%s/Other/Skills/Forage/Forage.ades",
+			    minds()),
+		     0);
+	CHECK_EQ_INT(run(out, "Misfit", "--ticks 5"), 1);
+	char want[1200];
+	snprintf(want, sizeof want,
+		 "%s/Other/Other.botdesc:8: sensor 'SX' is not on the bot "
+		 "(model ",
+		 minds());
+	CHECK_CONTAINS(out, want);
+	snprintf(want, sizeof want,
+		 "(team Blue, %s/Forager/Tasks/Misfit.simbatch:4)", minds());
+	CHECK_CONTAINS(out, want);
+	CHECK_EQ_INT(cli_capture(out2, sizeof out2,
+				 "%s check %s/Forager/Tasks/Misfit.simbatch",
+				 cli_evo, minds()),
+		     1);
+	CHECK_CONTAINS(out2, want);
+}
+
+TEST(evo_check_passes_the_shipped_team_tasks)
+{
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s check minds/Forager/Tasks/Forage-DEMO.simbatch",
+				 cli_evo),
+		     0);
+	CHECK_CONTAINS(out, "task DEMO2DSIMMULTI");
+	CHECK_CONTAINS(out, ": ok");
+}
+
+int main(void)
+{
+	if (cli_setup("teams") ||
+	    cli_sh("mkdir -p %s/Minds && cp -r minds/Forager %s/Minds/ && "
+		   "mkdir -p %s/Minds/Forager/Envs",
+		   cli_tmp, cli_tmp, cli_tmp) != 0)
+		return 1;
+	RUN(every_bot_forages_and_the_team_line_adds_up);
+	RUN(a_seed_gives_one_run);
+	RUN(a_team_trace_has_a_line_per_bot_and_tick);
+	RUN(the_lua_side_of_teams);
+	RUN(lua_mistakes_with_teams_are_errors_at_their_line);
+	RUN(a_team_the_environment_does_not_make_stops_the_run);
+	RUN(a_mind_folder_its_bot_model_does_not_fit_stops_the_run);
+	RUN(evo_check_passes_the_shipped_team_tasks);
+	cli_cleanup();
+	return test_summary();
+}
