@@ -449,14 +449,106 @@ static void sleep_until(double t)
 #define VIEW_H 720
 
 /* What the viewer's panel shows: the tick, the episode, the rewards and
- * each skill's live influence. */
+ * each skill's live influence; in a team task, the teams, and the
+ * selected bot's own sensors, actuators and influences. */
 typedef struct panel_data {
 	const char *names[256];
 	double infl[256];
+	const char *team_name[EVO_MAX_TEAMS];
+	const char *sensor_name[EVO_MAX_SENSORS];
+	double sensor[EVO_MAX_SENSORS];
+	const char *actuator_name[EVO_MAX_ACTUATORS];
+	double actuator[EVO_MAX_ACTUATORS];
 } panel_data;
 
+/* What the viewer shows of whom: the bot selected (-1: none) and whether
+ * the camera follows it. A one-agent task follows its bot and selects
+ * none until a click; a team task selects its first bot, camera free. */
+typedef struct view_state {
+	int selected;
+	int follow;
+} view_state;
+
+static view_state view_start(const evo_sim *s)
+{
+	view_state vs = {-1, 1};
+	if (s->has_teams) {
+		vs.selected = s->agent[0].bot;
+		vs.follow = 0;
+	}
+	return vs;
+}
+
+/* The bot the camera follows: the selected one, or the one agent's;
+ * -1 for the free camera. */
+static int view_follow(const evo_sim *s, const view_state *vs)
+{
+	if (!vs->follow)
+		return -1;
+	return vs->selected >= 0 ? vs->selected : s->bot;
+}
+
+/* The selected bot's part of the panel: its names and values. */
+static void panel_bot(panel_data *pd, evo_viewer_panel *p, const evo_sim *s,
+		      int bot)
+{
+	const evo_bot *b = &s->scene->bot[bot];
+	int a = evo_sim_agent_of_bot(s, bot);
+	p->bot_name = b->name;
+	p->bot = bot;
+	p->bot_team = b->team >= 0 && b->team < s->n_teams && s->has_teams
+			  ? s->team[b->team].name
+			  : NULL;
+	p->bot_reward = b->reward;
+	if (a < 0) {
+		/* no mind: every sensor and actuator of the bot */
+		int ns = b->n_sensors < EVO_MAX_SENSORS ? b->n_sensors
+							: EVO_MAX_SENSORS;
+		int na = b->n_actuators < EVO_MAX_ACTUATORS ? b->n_actuators
+							    : EVO_MAX_ACTUATORS;
+		for (int i = 0; i < ns; i++) {
+			pd->sensor_name[i] = b->sensor[i].name;
+			pd->sensor[i] = b->sensor[i].value;
+		}
+		for (int i = 0; i < na; i++) {
+			pd->actuator_name[i] = b->actuator[i].name;
+			pd->actuator[i] = b->actuator[i].command;
+		}
+		p->n_sensors = ns;
+		p->n_actuators = na;
+		p->n_influence = 0;
+	} else {
+		/* what its mind reads and writes, in botdesc order */
+		const evo_sim_agent *ag = &s->agent[a];
+		const evo_sim_team *tm = &s->team[ag->team];
+		const evo_mind *m = &ag->mind->mind;
+		for (unsigned i = 0; i < m->n_sensors; i++) {
+			pd->sensor_name[i] = evo_mind_sensor_name(m, i);
+			pd->sensor[i] = b->sensor[tm->sensor_map[i]].value;
+		}
+		for (unsigned i = 0; i < m->n_actuators; i++) {
+			pd->actuator_name[i] = evo_mind_actuator_name(m, i);
+			pd->actuator[i] =
+			    b->actuator[tm->actuator_map[i]].command;
+		}
+		p->n_sensors = (int)m->n_sensors;
+		p->n_actuators = (int)m->n_actuators;
+		int n = m->n_skills < 256 ? (int)m->n_skills : 256;
+		for (int i = 0; i < n; i++) {
+			pd->names[i] = evo_mind_skill_name(m, (unsigned)i);
+			pd->infl[i] =
+			    evo_q16_to_double(ag->state->influence[i]);
+		}
+		p->n_influence = n;
+	}
+	p->sensor_name = pd->sensor_name;
+	p->sensor = pd->sensor;
+	p->actuator_name = pd->actuator_name;
+	p->actuator = pd->actuator;
+}
+
 static evo_viewer_panel panel_for(panel_data *pd, const evo_sim *s, long e,
-				  const char *title)
+				  const char *title, const view_state *vs)
 {
 	const evo_mind *m = &s->mind->mind;
 	int n = m->n_skills < 256 ? (int)m->n_skills : 256;
@@ -473,7 +565,17 @@ static evo_viewer_panel panel_for(panel_data *pd, const evo_sim *s, long e,
 		.influence_name = pd->names,
 		.influence = pd->infl,
 		.title = title,
+		.following = vs->follow,
 	};
+	if (s->has_teams) {
+		for (int k = 0; k < s->n_teams; k++)
+			pd->team_name[k] = s->team[k].name;
+		p.n_teams = s->n_teams;
+		p.team_name = pd->team_name;
+		p.team_reward = s->scene->team_reward;
+	}
+	if (vs->selected >= 0 && vs->selected < s->scene->n_bots)
+		panel_bot(pd, &p, s, vs->selected);
 	return p;
 }
 
@@ -494,10 +596,11 @@ static int screenshot_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 	evo_raster im;
 	if (evo_raster_init(&im, VIEW_W, VIEW_H, err))
 		return -1;
-	panel_data pd;
-	evo_viewer_panel p = panel_for(&pd, s, 1, o->task);
-	evo_view_camera cam =
-		evo_view_camera_for(s->scene, s->bot, 1.0, VIEW_W, VIEW_H);
+	static panel_data pd;
+	view_state vs = view_start(s);
+	evo_viewer_panel p = panel_for(&pd, s, 1, o->task, &vs);
+	evo_view_camera cam = evo_view_camera_for(
+	    s->scene, view_follow(s, &vs), 1.0, VIEW_W, VIEW_H);
 	evo_view_render(&im, s->scene, &cam, &p);
 	int rc = evo_raster_save_png(&im, o->screenshot, err);
 	evo_raster_free(&im);
@@ -743,7 +846,8 @@ static int run_robot(const evo_task *task, const run_opts *o, uint64_t seed,
 static int run_viewer(evo_sim *s, evo_viewer *v, const run_opts *o,
 		      uint64_t seed, evo_err *err)
 {
-	panel_data pd;
+	static panel_data pd;
+	view_state vs = view_start(s);
 	long e = 1, t = 0;
 	if (evo_sim_reset(s, 1, grid_seed(seed, 1), episode_seed(seed, 1), err))
 		return -1;
@@ -767,6 +871,18 @@ static int run_viewer(evo_sim *s, evo_viewer *v, const run_opts *o,
 				speed /= 2;
 			else if (a == EVO_VIEW_RESET)
 				t = -1;
+			else if (a == EVO_VIEW_SELECT) {
+				double x, y;
+				evo_viewer_clicked(v, &x, &y);
+				vs.selected = evo_view_bot_at(s->scene, x, y);
+			} else if (a == EVO_VIEW_NEXT_BOT &&
+				   s->scene->n_bots > 0)
+				vs.selected =
+				    (vs.selected + 1) % s->scene->n_bots;
+			else if (a == EVO_VIEW_CAMERA)
+				vs.follow = !vs.follow;
+			else if (a == EVO_VIEW_FREE)
+				vs.follow = 0;
 			else if (a == EVO_VIEW_SCREENSHOT) {
 				char path[64];
 				snprintf(path, sizeof path,
@@ -803,10 +919,10 @@ static int run_viewer(evo_sim *s, evo_viewer *v, const run_opts *o,
 				break;
 			}
 		}
-		evo_viewer_panel p = panel_for(&pd, s, e, o->task);
+		evo_viewer_panel p = panel_for(&pd, s, e, o->task, &vs);
 		p.speed = speed;
 		p.paused = paused;
-		evo_viewer_draw(v, s->scene, s->bot, &p);
+		evo_viewer_draw(v, s->scene, view_follow(s, &vs), &p);
 		if (o->screenshot && t >= o->ticks)
 			return evo_viewer_screenshot(v, o->screenshot, err);
 		next += 1.0 / (30.0 * speed);

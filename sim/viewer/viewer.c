@@ -93,6 +93,34 @@ static int pix(double v)
 
 /* ---- the world ------------------------------------------------------- */
 
+/* Twelve colours far from the world's own (obstacles grey, zones green,
+ * objects orange, rays red) and from one another. */
+static const uint32_t team_colours[EVO_SCENE_MAX_TEAMS] = {
+    0x2F6FD0u, 0xD0342Fu, 0x2FA84Fu, 0x8E44C8u, 0x1AA8A8u, 0xC8A21Eu,
+    0x6B4226u, 0xE05FA8u, 0x4A5A8Cu, 0x7FB01Eu, 0x303030u, 0x9C9CE0u};
+
+uint32_t evo_view_team_colour(int k)
+{
+	if (k < 0 || k >= EVO_SCENE_MAX_TEAMS)
+		return EVO_VIEW_BOT;
+	return team_colours[k];
+}
+
+int evo_view_bot_at(const evo_scene *sc, double x, double y)
+{
+	int best = -1;
+	double best_d = INFINITY;
+	for (int b = 0; b < sc->n_bots; b++) {
+		evo_pose p = evo_body_pose(sc->world, sc->bot[b].body);
+		double d = hypot(p.x - x, p.y - y) - sc->bot[b].radius;
+		if (d <= 0.5 && d < best_d) {
+			best_d = d;
+			best = b;
+		}
+	}
+	return best;
+}
+
 #define GRID_LINE     0xE0DED6u
 #define OBSTACLE_EDGE 0x5E5E5Eu
 #define ZONE_EDGE     0x2A8C3Au
@@ -236,7 +264,8 @@ static void draw_bot(evo_raster *im, const evo_view_camera *cam,
 	evo_pose p = evo_body_pose(sc->world, bot->body);
 	double sx, sy, r = bot->radius * cam->scale;
 	evo_view_to_screen(cam, p.x, p.y, &sx, &sy);
-	evo_raster_fill_circle(im, sx, sy, r, EVO_VIEW_BOT, 255);
+	evo_raster_fill_circle(im, sx, sy, r, evo_view_team_colour(bot->team),
+			       255);
 	evo_raster_circle(im, sx, sy, r, r > 8 ? 2 : 1, BOT_EDGE, 255);
 	double hx, hy;
 	evo_view_to_screen(cam, p.x + cos(p.angle) * bot->radius,
@@ -320,6 +349,97 @@ static void text_fit(evo_raster *im, int x, int y, const char *s, int chars,
 	evo_raster_text(im, x, y, buf, rgb, scale);
 }
 
+#define NEUTRAL_MARK 0xE8E8E8u
+
+/* One column of named bars from (x, y), w wide, down to y_end: a title,
+ * then a row per value (name, bar, value), rows closer when they would not
+ * fit, and the rest left out with a note of how many. Returns the y
+ * below the last row. */
+static int draw_bars(evo_raster *im, int x, int y, int w, int y_end,
+		     const char *title, int n, const char *const *names,
+		     const double *values, uint32_t colour, int neutral)
+{
+	char line[64];
+	snprintf(line, sizeof line, "%s (%d)", title, n);
+	text_fit(im, x, y, line, w / EVO_FONT_CELL_W, PANEL_DIM, 1);
+	y += EVO_FONT_CELL_H + 6;
+	int row = 16, bar_h = 9;
+	if (n * row > y_end - y) {
+		row = EVO_FONT_CELL_H + 2;
+		bar_h = EVO_FONT_H;
+	}
+	int name_chars = 8, value_w = 5 * EVO_FONT_CELL_W;
+	int bar_x = x + name_chars * EVO_FONT_CELL_W + 6;
+	int bar_w = x + w - value_w - 4 - bar_x;
+	for (int k = 0; k < n; k++, y += row) {
+		if (y + row > y_end) {
+			snprintf(line, sizeof line, "... %d more", n - k);
+			text_fit(im, x, y, line, w / EVO_FONT_CELL_W, PANEL_DIM,
+				 1);
+			return y + row;
+		}
+		double v = values ? values[k] : 0;
+		v = v > 1 ? 1 : v > 0 ? v : 0; /* NaN: 0 */
+		const char *name = names && names[k] ? names[k] : "?";
+		text_fit(im, x, y, name, name_chars, EVO_VIEW_TEXT, 1);
+		if (bar_w < 4)
+			continue;
+		evo_raster_fill_rect(im, bar_x, y, bar_w, bar_h, BAR_BACK, 255);
+		evo_raster_fill_rect(im, bar_x, y, (int)lround(v * bar_w),
+				     bar_h, colour, 255);
+		if (neutral)
+			evo_raster_fill_rect(im, bar_x + bar_w / 2, y - 1, 1,
+					     bar_h + 2, NEUTRAL_MARK, 255);
+		snprintf(line, sizeof line, "%.3f", v);
+		evo_raster_text(im, x + w - value_w, y, line, PANEL_DIM, 1);
+	}
+	return y;
+}
+
+/* The teams, each a swatch of its colour, its name and its reward. */
+static int draw_teams(evo_raster *im, int x, int y, int w,
+		      const evo_viewer_panel *p)
+{
+	char line[96];
+	text_fit(im, x, y, "teams", w / EVO_FONT_CELL_W, PANEL_DIM, 1);
+	y += EVO_FONT_CELL_H + 4;
+	for (int k = 0; k < p->n_teams; k++) {
+		evo_raster_fill_rect(im, x, y, 9, 9, evo_view_team_colour(k),
+				     255);
+		snprintf(line, sizeof line, "%s %.6g",
+			 p->team_name && p->team_name[k] ? p->team_name[k] : "?",
+			 p->team_reward ? p->team_reward[k] : 0.0);
+		text_fit(im, x + 14, y, line, (w - 14) / EVO_FONT_CELL_W,
+			 EVO_VIEW_TEXT, 1);
+		y += EVO_FONT_CELL_H + 3;
+	}
+	return y + 4;
+}
+
+/* The selected bot: its name and team, reward, then its sensors and
+ * actuators as bars. */
+static int draw_selected(evo_raster *im, int x, int y, int w, int y_end,
+			 const evo_viewer_panel *p)
+{
+	char line[128];
+	snprintf(line, sizeof line, "%s%s%s%s", p->bot_name,
+		 p->bot_team ? " (" : "", p->bot_team ? p->bot_team : "",
+		 p->bot_team ? ")" : "");
+	text_fit(im, x, y, line, w / EVO_FONT_CELL_W, EVO_VIEW_SELECTED, 1);
+	y += EVO_FONT_CELL_H + 3;
+	snprintf(line, sizeof line, "reward %.6g  camera %s", p->bot_reward,
+		 p->following ? "follows" : "free");
+	text_fit(im, x, y, line, w / EVO_FONT_CELL_W, EVO_VIEW_TEXT, 1);
+	y += EVO_FONT_CELL_H + 6;
+	/* sensors get two thirds of the room, actuators the rest */
+	int room = y_end - y;
+	y = draw_bars(im, x, y, w, y + room * 2 / 3, "sensors", p->n_sensors,
+		      p->sensor_name, p->sensor, EVO_VIEW_SENSOR_BAR, 0);
+	y = draw_bars(im, x, y + 4, w, y_end, "actuators", p->n_actuators,
+		      p->actuator_name, p->actuator, EVO_VIEW_ACTUATOR_BAR, 1);
+	return y + 4;
+}
+
 static void draw_panel(evo_raster *im, const evo_scene *sc,
 		       const evo_view_camera *cam, const evo_viewer_panel *p)
 {
@@ -363,10 +483,23 @@ static void draw_panel(evo_raster *im, const evo_scene *sc,
 	}
 
 	/* The key help takes the bottom; skills get what is between. */
-	static const char *const help[] = {"space pause   n step",
-					   "up/down speed r reset",
-					   "+/- zoom      s shot", "q quit"};
-	int help_h = 4 * EVO_FONT_CELL_H + 8;
+	static const char *const help[] = {
+	    "space pause   n step", "up/down speed r reset",
+	    "+/- zoom      s shot", "click/tab bot c camera", "q quit"};
+	int n_help = 5;
+	int help_h = n_help * EVO_FONT_CELL_H + 8;
+	if (p && p->n_teams > 0)
+		y = draw_teams(im, x, y + 6, w - 24, p);
+	if (p && p->bot_name) {
+		/* the skills keep at least a third of what is left */
+		int n_sk = p->influence ? p->n_influence : 0;
+		int skills_h = n_sk * (EVO_FONT_CELL_H + 4) + lh + 10;
+		int left = im->h - help_h - y;
+		if (skills_h > left / 3)
+			skills_h = left / 3;
+		y = draw_selected(im, x, y + 6, w - 24, im->h - help_h - skills_h,
+				  p);
+	}
 	int n = p && p->influence ? p->n_influence : 0;
 	if (n > 0) {
 		y += 10;
@@ -412,9 +545,21 @@ static void draw_panel(evo_raster *im, const evo_scene *sc,
 		}
 	}
 	y = im->h - help_h + 4;
-	for (int k = 0; k < 4; k++, y += EVO_FONT_CELL_H)
+	for (int k = 0; k < n_help; k++, y += EVO_FONT_CELL_H)
 		text_fit(im, x, y, help[k], (w - 24) / EVO_FONT_CELL_W,
 			 PANEL_DIM, 1);
+}
+
+/* A ring around the selected bot. */
+static void draw_selection(evo_raster *im, const evo_view_camera *cam,
+			   const evo_scene *sc, int b)
+{
+	if (b < 0 || b >= sc->n_bots)
+		return;
+	evo_pose p = evo_body_pose(sc->world, sc->bot[b].body);
+	double sx, sy, r = sc->bot[b].radius * cam->scale;
+	evo_view_to_screen(cam, p.x, p.y, &sx, &sy);
+	evo_raster_circle(im, sx, sy, r + 4, 2, EVO_VIEW_SELECTED, 255);
 }
 
 void evo_view_render(evo_raster *im, const evo_scene *sc,
@@ -461,6 +606,8 @@ void evo_view_render(evo_raster *im, const evo_scene *sc,
 			evo_raster_text(im, pix(sx) - tw / 2, pix(sy) + 4,
 					sc->bot[b].name, BOT_EDGE, 1);
 		}
+	if (p && p->bot_name)
+		draw_selection(im, cam, sc, p->bot);
 	draw_scale_bar(im, cam);
 	draw_panel(im, sc, cam, p);
 }
@@ -468,49 +615,6 @@ void evo_view_render(evo_raster *im, const evo_scene *sc,
 /* ---- a remote robot's frame ------------------------------------------- */
 
 #define NEUTRAL_MARK 0xE8E8E8u
-
-/* One column of named bars from (x, y), w wide, down to y_end: a title,
- * then a row per value (name, bar, value), rows closer when they would not
- * fit, and the rest left out with a note of how many. */
-static void draw_bars(evo_raster *im, int x, int y, int w, int y_end,
-		      const char *title, int n, const char *const *names,
-		      const double *values, uint32_t colour, int neutral)
-{
-	char line[64];
-	snprintf(line, sizeof line, "%s (%d)", title, n);
-	text_fit(im, x, y, line, w / EVO_FONT_CELL_W, PANEL_DIM, 1);
-	y += EVO_FONT_CELL_H + 6;
-	int row = 16, bar_h = 9;
-	if (n * row > y_end - y) {
-		row = EVO_FONT_CELL_H + 2;
-		bar_h = EVO_FONT_H;
-	}
-	int name_chars = 8, value_w = 5 * EVO_FONT_CELL_W;
-	int bar_x = x + name_chars * EVO_FONT_CELL_W + 6;
-	int bar_w = x + w - value_w - 4 - bar_x;
-	for (int k = 0; k < n; k++, y += row) {
-		if (y + row > y_end) {
-			snprintf(line, sizeof line, "... %d more", n - k);
-			text_fit(im, x, y, line, w / EVO_FONT_CELL_W, PANEL_DIM,
-				 1);
-			break;
-		}
-		double v = values ? values[k] : 0;
-		v = v > 1 ? 1 : v > 0 ? v : 0; /* NaN: 0 */
-		const char *name = names && names[k] ? names[k] : "?";
-		text_fit(im, x, y, name, name_chars, EVO_VIEW_TEXT, 1);
-		if (bar_w < 4)
-			continue;
-		evo_raster_fill_rect(im, bar_x, y, bar_w, bar_h, BAR_BACK, 255);
-		evo_raster_fill_rect(im, bar_x, y, (int)lround(v * bar_w),
-				     bar_h, colour, 255);
-		if (neutral)
-			evo_raster_fill_rect(im, bar_x + bar_w / 2, y - 1, 1,
-					     bar_h + 2, NEUTRAL_MARK, 255);
-		snprintf(line, sizeof line, "%.3f", v);
-		evo_raster_text(im, x + w - value_w, y, line, PANEL_DIM, 1);
-	}
-}
 
 void evo_view_render_remote(evo_raster *im, const evo_view_remote *p)
 {
@@ -595,6 +699,13 @@ struct evo_viewer {
 	double zoom;
 	int drawn;
 	char title[128];
+	/* the free camera's centre (has_free once set), the last click, and
+	 * a drag under way */
+	int has_free;
+	double free_x, free_y;
+	double click_x, click_y;
+	int pressed, dragged;
+	int press_x, press_y;
 };
 
 evo_viewer *evo_viewer_open(int width, int height, evo_err *err)
@@ -714,6 +825,21 @@ void evo_viewer_draw(evo_viewer *v, const evo_scene *sc, int follow_bot,
 	}
 	v->cam = evo_view_camera_for(sc, follow_bot, v->zoom, v->frame.w,
 				     v->frame.h);
+	/* Following, the free camera waits where the bot is; free, it
+	 * stays where it was put. */
+	if (follow_bot >= 0 && follow_bot < sc->n_bots) {
+		v->free_x = v->cam.x;
+		v->free_y = v->cam.y;
+		v->has_free = 1;
+	} else if (follow_bot == -1) {
+		if (!v->has_free) {
+			v->free_x = v->cam.x;
+			v->free_y = v->cam.y;
+			v->has_free = 1;
+		}
+		v->cam.x = v->free_x;
+		v->cam.y = v->free_y;
+	}
 	evo_view_render(&v->frame, sc, &v->cam, p);
 	if (blit(v) == 0) {
 		SDL_RenderPresent(v->renderer);
@@ -743,6 +869,21 @@ evo_view_camera evo_viewer_camera(const evo_viewer *v)
 	return v->cam;
 }
 
+void evo_viewer_clicked(const evo_viewer *v, double *x, double *y)
+{
+	*x = v->click_x;
+	*y = v->click_y;
+}
+
+void evo_viewer_look_at(evo_viewer *v, double x, double y)
+{
+	if (!isfinite(x) || !isfinite(y))
+		return;
+	v->free_x = x;
+	v->free_y = y;
+	v->has_free = 1;
+}
+
 void evo_viewer_zoom(evo_viewer *v, double factor)
 {
 	if (!(factor > 0))
@@ -768,6 +909,52 @@ evo_view_action evo_viewer_poll(evo_viewer *v)
 					   : ev.wheel.y < 0 ? 0.8
 							    : 1);
 			continue;
+		}
+		/* A click on the world selects; a drag moves the free
+		 * camera (and frees it). */
+		if (ev.type == SDL_MOUSEBUTTONDOWN &&
+		    ev.button.button == SDL_BUTTON_LEFT &&
+		    ev.button.x < v->cam.world_w) {
+			v->pressed = 1;
+			v->dragged = 0;
+			v->press_x = ev.button.x;
+			v->press_y = ev.button.y;
+			continue;
+		}
+		if (ev.type == SDL_MOUSEMOTION && v->pressed &&
+		    v->cam.scale > 0) {
+			int far = abs(ev.motion.x - v->press_x) +
+				      abs(ev.motion.y - v->press_y) >
+				  4;
+			if (!v->dragged && !far)
+				continue;
+			int first = !v->dragged;
+			if (first) {
+				/* the frame's view, from where the drag
+				 * started */
+				v->free_x = v->cam.x;
+				v->free_y = v->cam.y;
+				v->has_free = 1;
+			}
+			v->dragged = 1;
+			v->free_x -= ev.motion.xrel / v->cam.scale;
+			v->free_y -= ev.motion.yrel / v->cam.scale;
+			if (first)
+				return EVO_VIEW_FREE;
+			continue;
+		}
+		if (ev.type == SDL_MOUSEBUTTONUP &&
+		    ev.button.button == SDL_BUTTON_LEFT && v->pressed) {
+			v->pressed = 0;
+			if (v->dragged || v->cam.scale <= 0)
+				continue;
+			v->click_x = v->cam.x +
+				     (ev.button.x + 0.5 - v->cam.cx) /
+					 v->cam.scale;
+			v->click_y = v->cam.y +
+				     (ev.button.y + 0.5 - v->cam.cy) /
+					 v->cam.scale;
+			return EVO_VIEW_SELECT;
 		}
 		if (ev.type != SDL_KEYDOWN)
 			continue;
@@ -801,6 +988,12 @@ evo_view_action evo_viewer_poll(evo_viewer *v)
 		case SDLK_s:
 			if (!rep)
 				return EVO_VIEW_SCREENSHOT;
+			break;
+		case SDLK_TAB:
+			return EVO_VIEW_NEXT_BOT;
+		case SDLK_c:
+			if (!rep)
+				return EVO_VIEW_CAMERA;
 			break;
 		case SDLK_PLUS:
 		case SDLK_EQUALS:

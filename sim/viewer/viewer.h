@@ -46,6 +46,26 @@ typedef struct evo_viewer_panel {
 	const double *influence;
 	double speed; /* simulated time per real time; 0 hides it */
 	int paused;
+	/* Teams (docs/teams.md): their names and rewards, listed with the
+	 * colour their bots are drawn in (evo_view_team_colour). */
+	int n_teams;
+	const char *const *team_name;
+	const double *team_reward;
+	/* The bot selected (a click, Tab): NULL bot_name when none. It is
+	 * ringed in the world, and the panel shows its name, team, reward
+	 * and live sensor values and actuator commands; the influences
+	 * above are then its own. */
+	const char *bot_name;
+	int bot;		/* its index in the scene */
+	const char *bot_team;	/* NULL: no team */
+	double bot_reward;
+	int n_sensors;
+	const char *const *sensor_name;
+	const double *sensor;
+	int n_actuators;
+	const char *const *actuator_name;
+	const double *actuator;
+	int following; /* the camera follows it (else: free) */
 } evo_viewer_panel;
 
 /* What a key (or closing the window) asks of the calling loop. */
@@ -59,6 +79,13 @@ typedef enum evo_view_action {
 	EVO_VIEW_RESET,	     /* r: restart the episode */
 	EVO_VIEW_SCREENSHOT, /* s: the caller picks a path and calls
 				evo_viewer_screenshot */
+	EVO_VIEW_SELECT,     /* a click on the world: evo_viewer_clicked says
+				where */
+	EVO_VIEW_NEXT_BOT,   /* Tab: select the next bot */
+	EVO_VIEW_CAMERA,     /* c: follow the selected bot, or free the
+				camera */
+	EVO_VIEW_FREE,	     /* the mouse dragged the world: the camera is
+				free from now on */
 } evo_view_action;
 
 /* ---- drawing without a window --------------------------------------- */
@@ -99,6 +126,14 @@ void evo_view_to_screen(const evo_view_camera *cam, double x, double y,
 void evo_view_render(evo_raster *im, const evo_scene *sc,
 		     const evo_view_camera *cam, const evo_viewer_panel *p);
 
+/* The bot of sc nearest to world point (x, y) within half a metre of
+ * its body, or -1. */
+int evo_view_bot_at(const evo_scene *sc, double x, double y);
+
+/* The colour of team k's bots (a palette of 12), EVO_VIEW_BOT for a bot
+ * of no team (k < 0). */
+uint32_t evo_view_team_colour(int k);
+
 /* The colours evo_view_render uses, for tests that look for them. */
 #define EVO_VIEW_BACKGROUND	 0xF2F1ECu
 #define EVO_VIEW_OBSTACLE	 0x8C8C8Cu
@@ -113,6 +148,7 @@ void evo_view_render(evo_raster *im, const evo_scene *sc,
 #define EVO_VIEW_PANEL		 0x23262Bu
 #define EVO_VIEW_TEXT		 0xE8E8E8u
 #define EVO_VIEW_BAR		 0x4FB0E8u
+#define EVO_VIEW_SELECTED	 0xFF3CC8u /* the ring around the selected bot */
 
 /* ---- a remote robot, with no world to draw (DEMOREMOTE) -------------- */
 
@@ -173,8 +209,8 @@ evo_viewer *evo_viewer_open(int width, int height, evo_err *err);
 /* Close the window and release SDL's video subsystem; NULL is fine. */
 void evo_viewer_close(evo_viewer *v);
 
-/* Draw one frame and show it. follow_bot as in evo_view_camera_for; p may
- * be NULL. */
+/* Draw one frame and show it. follow_bot as in evo_view_camera_for, but
+ * -1 is the free camera (evo_viewer_look_at); p may be NULL. */
 void evo_viewer_draw(evo_viewer *v, const evo_scene *sc, int follow_bot,
 		     const evo_viewer_panel *p);
 
@@ -189,6 +225,15 @@ evo_view_action evo_viewer_poll(evo_viewer *v);
 
 /* The camera of the last frame drawn (to find a world point on it). */
 evo_view_camera evo_viewer_camera(const evo_viewer *v);
+
+/* Where the last click (EVO_VIEW_SELECT) fell, in world coordinates of the
+ * last frame drawn. */
+void evo_viewer_clicked(const evo_viewer *v, double *x, double *y);
+
+/* A free camera (evo_viewer_draw with follow_bot -1) looks at where the
+ * last followed bot was, or at first at the middle of the scene, and the
+ * mouse drags it; this moves it. */
+void evo_viewer_look_at(evo_viewer *v, double x, double y);
 /* Multiply the zoom (as the keys do); clamped to [1/16, 64]. */
 void evo_viewer_zoom(evo_viewer *v, double factor);
 

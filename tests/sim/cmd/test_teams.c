@@ -14,6 +14,8 @@
 
 #include "harness.h"
 #include "support/cli.h"
+#include "viewer/png.h"
+#include "viewer/viewer.h"
 
 static char out[1 << 16], out2[1 << 16];
 
@@ -269,6 +271,64 @@ TEST(a_mind_folder_its_bot_model_does_not_fit_stops_the_run)
 	CHECK_CONTAINS(out2, want);
 }
 
+/* Pixels of colour rgb in columns [x0, x1) of a PNG. */
+static long count_rgb(const evo_png_image *im, int x0, int x1, uint32_t rgb)
+{
+	long n = 0;
+	for (int y = 0; y < im->h; y++)
+		for (int x = x0; x < x1 && x < im->w; x++) {
+			const uint8_t *px =
+			    im->pixels + ((size_t)y * im->w + x) * im->channels;
+			n += ((uint32_t)px[0] << 16 | (uint32_t)px[1] << 8 |
+			      px[2]) == rgb;
+		}
+	return n;
+}
+
+/* A shipped team task's screenshot, in the viewer under a virtual X
+ * display and drawn without one: each team's bots in its colour, the
+ * first bot selected (ringed, its sensors and actuators in the panel). */
+static void check_screenshot(const char *task, int teams)
+{
+	static const char *const how[] = {
+	    "xvfb-run -a sh -c '%s run %s --ticks 30 --screenshot %s'",
+	    "%s -nog %s --ticks 30 --screenshot %s"};
+	for (int k = 0; k < 2; k++) {
+		char png[512];
+		snprintf(png, sizeof png, "%s/shot%d.png", cli_tmp, k);
+		int rc = cli_capture(out, sizeof out, how[k], cli_evo, task, png);
+		CHECK_EQ_INT(rc, 0);
+		if (rc)
+			printf("  %s\n", out);
+		if (k == 1)
+			CHECK_CONTAINS(out, "drawn without a window");
+		evo_png_image im;
+		evo_err err = {{0}};
+		CHECK_EQ_INT(evo_png_read(png, &im, &err), 0);
+		if (!im.pixels)
+			continue;
+		int world = im.w - EVO_VIEW_PANEL_W;
+		for (int t = 0; t < teams; t++) {
+			long n = count_rgb(&im, 0, world,
+					   evo_view_team_colour(t));
+			if (n <= 50)
+				printf("  %s: team %d: %ld pixels of its "
+				       "colour\n",
+				       task, t, n);
+			CHECK(n > 50);
+		}
+		CHECK(count_rgb(&im, 0, world, EVO_VIEW_SELECTED) > 20);
+		CHECK(count_rgb(&im, world, im.w, EVO_VIEW_SENSOR_BAR) > 100);
+		CHECK(count_rgb(&im, world, im.w, EVO_VIEW_ACTUATOR_BAR) > 20);
+		evo_png_image_free(&im);
+	}
+}
+
+TEST(the_shipped_team_tasks_show_in_the_viewer)
+{
+	check_screenshot("minds/Forager/Tasks/Forage-DEMO.simbatch", 1);
+}
+
 TEST(evo_check_passes_the_shipped_team_tasks)
 {
 	CHECK_EQ_INT(cli_capture(out, sizeof out,
@@ -293,6 +353,7 @@ int main(void)
 	RUN(lua_mistakes_with_teams_are_errors_at_their_line);
 	RUN(a_team_the_environment_does_not_make_stops_the_run);
 	RUN(a_mind_folder_its_bot_model_does_not_fit_stops_the_run);
+	RUN(the_shipped_team_tasks_show_in_the_viewer);
 	RUN(evo_check_passes_the_shipped_team_tasks);
 	cli_cleanup();
 	return test_summary();

@@ -294,6 +294,100 @@ TEST(render_draws_the_scene_without_a_window)
 	evo_scene_destroy(sc);
 }
 
+/* ---- teams (docs/teams.md) ------------------------------------------ */
+
+/* Three bots: team 0 at (0, 0), team 1 at (6, 0), no team at (-6, 0). */
+static evo_scene *team_scene(void)
+{
+	evo_scene *sc = evo_scene_create();
+	static const struct {
+		int team;
+		double x;
+		const char *name;
+	} bots[] = {{0, 0, "Red1"}, {1, 6, "Blue1"}, {-1, -6, "loner"}};
+	for (int i = 0; i < 3; i++) {
+		evo_bot_def b = evo_default_bot_def();
+		b.team = bots[i].team;
+		b.x = bots[i].x;
+		b.name = bots[i].name;
+		if (evo_scene_add_bot(sc, &b) != i) {
+			evo_scene_destroy(sc);
+			return NULL;
+		}
+	}
+	evo_scene_reset(sc, 1, 1);
+	return sc;
+}
+
+TEST(teams_are_coloured_and_the_selected_bot_shown)
+{
+	CHECK(evo_view_team_colour(-1) == EVO_VIEW_BOT);
+	for (int a = 0; a < EVO_SCENE_MAX_TEAMS; a++)
+		for (int b = a + 1; b < EVO_SCENE_MAX_TEAMS; b++)
+			CHECK(evo_view_team_colour(a) !=
+			      evo_view_team_colour(b));
+	evo_scene *sc = team_scene();
+	CHECK(sc != NULL);
+	if (!sc)
+		return;
+	/* a point on a bot or within half a metre of it finds it */
+	CHECK_EQ_INT(evo_view_bot_at(sc, 6.2, 0.3), 1);
+	CHECK_EQ_INT(evo_view_bot_at(sc, 0, 1.4), 0);
+	CHECK_EQ_INT(evo_view_bot_at(sc, 3, 0), -1);
+	evo_raster im;
+	evo_err err;
+	CHECK_EQ_INT(evo_raster_init(&im, 900, 640, &err), 0);
+	static const char *const teams[] = {"Red", "Blue"};
+	static const double rewards[] = {3, 4};
+	static const char *const sn[] = {"S1", "S2"};
+	static const double sv[] = {0.25, 1};
+	static const char *const an[] = {"MotL"};
+	static const double av[] = {0.75};
+	evo_viewer_panel p = make_panel();
+	p.paused = 0;
+	p.n_teams = 2;
+	p.team_name = teams;
+	p.team_reward = rewards;
+	p.bot_name = "Blue1";
+	p.bot = 1;
+	p.bot_team = "Blue";
+	p.n_sensors = 2;
+	p.sensor_name = sn;
+	p.sensor = sv;
+	p.n_actuators = 1;
+	p.actuator_name = an;
+	p.actuator = av;
+	evo_view_camera cam = evo_view_camera_for(sc, -1, 1, im.w, im.h);
+	evo_view_render(&im, sc, &cam, &p);
+	view v = {im.pixels, im.w, im.h};
+	double sx, sy;
+	evo_view_to_screen(&cam, -0.5, 0.3, &sx, &sy);
+	CHECK(at(v, (int)sx, (int)sy) == evo_view_team_colour(0));
+	evo_view_to_screen(&cam, 5.5, 0.3, &sx, &sy);
+	CHECK(at(v, (int)sx, (int)sy) == evo_view_team_colour(1));
+	evo_view_to_screen(&cam, -6.5, 0.3, &sx, &sy);
+	CHECK(at(v, (int)sx, (int)sy) == EVO_VIEW_BOT);
+	/* the selected bot is ringed, in the world only */
+	CHECK(count(v, 0, 0, cam.world_w, im.h, EVO_VIEW_SELECTED) > 20);
+	evo_view_to_screen(&cam, 6, 0, &sx, &sy);
+	CHECK(count(v, (int)sx - 20, (int)sy - 20, (int)sx + 20, (int)sy + 20,
+		    EVO_VIEW_SELECTED) > 20);
+	/* the panel: both swatches, its name, its sensor and actuator bars */
+	int x0 = cam.world_w;
+	CHECK(count(v, x0, 0, im.w, im.h, evo_view_team_colour(0)) >= 81);
+	CHECK(count(v, x0, 0, im.w, im.h, evo_view_team_colour(1)) >= 81);
+	CHECK(count(v, x0, 0, im.w, im.h, EVO_VIEW_SELECTED) > 20);
+	CHECK(count(v, x0, 0, im.w, im.h, EVO_VIEW_SENSOR_BAR) > 100);
+	CHECK(count(v, x0, 0, im.w, im.h, EVO_VIEW_ACTUATOR_BAR) > 50);
+	/* nothing selected: no ring, no bars */
+	p.bot_name = NULL;
+	evo_view_render(&im, sc, &cam, &p);
+	CHECK(count(v, 0, 0, im.w, im.h, EVO_VIEW_SELECTED) == 0);
+	CHECK(count(v, x0, 0, im.w, im.h, EVO_VIEW_SENSOR_BAR) == 0);
+	evo_raster_free(&im);
+	evo_scene_destroy(sc);
+}
+
 /* ---- a remote robot's frame (DEMOREMOTE) ------------------------------ */
 
 /* Every sensor at s, every actuator at a, every skill at k, drawn into im. */
@@ -614,6 +708,8 @@ TEST(keys_become_actions)
 	    {SDLK_LEFTBRACKET, 0, EVO_VIEW_SLOWER},
 	    {SDLK_r, 0, EVO_VIEW_RESET},
 	    {SDLK_s, 0, EVO_VIEW_SCREENSHOT},
+	    {SDLK_TAB, 0, EVO_VIEW_NEXT_BOT},
+	    {SDLK_c, 0, EVO_VIEW_CAMERA},
 	    {SDLK_q, 0, EVO_VIEW_QUIT},
 	    {SDLK_ESCAPE, 0, EVO_VIEW_QUIT},
 	};
@@ -646,6 +742,81 @@ TEST(keys_become_actions)
 	evo_viewer_close(v);
 }
 
+static void push_mouse(Uint32 type, int x, int y, int xrel, int yrel)
+{
+	SDL_Event ev;
+	memset(&ev, 0, sizeof ev);
+	ev.type = type;
+	if (type == SDL_MOUSEMOTION) {
+		ev.motion.x = x;
+		ev.motion.y = y;
+		ev.motion.xrel = xrel;
+		ev.motion.yrel = yrel;
+		ev.motion.state = SDL_BUTTON_LMASK;
+	} else {
+		ev.button.button = SDL_BUTTON_LEFT;
+		ev.button.state =
+		    type == SDL_MOUSEBUTTONDOWN ? SDL_PRESSED : SDL_RELEASED;
+		ev.button.x = x;
+		ev.button.y = y;
+	}
+	SDL_PushEvent(&ev);
+}
+
+/* A click on a bot selects it (where it fell, in the world); a drag frees
+ * the camera and moves it with the mouse. */
+TEST(the_mouse_selects_bots_and_drags_the_free_camera)
+{
+	if (!have_display) {
+		CHECK(have_display);
+		return;
+	}
+	evo_err err;
+	evo_viewer *v = evo_viewer_open(640, 480, &err);
+	CHECK(v != NULL);
+	evo_scene *sc = team_scene();
+	CHECK(sc != NULL);
+	if (!v || !sc) {
+		evo_viewer_close(v);
+		evo_scene_destroy(sc);
+		return;
+	}
+	while (next_action(v) != EVO_VIEW_NONE)
+		;
+	evo_viewer_draw(v, sc, -1, NULL);
+	evo_view_camera cam = evo_viewer_camera(v);
+	double sx, sy;
+	evo_view_to_screen(&cam, 6, 0, &sx, &sy);
+	push_mouse(SDL_MOUSEBUTTONDOWN, (int)sx, (int)sy, 0, 0);
+	push_mouse(SDL_MOUSEBUTTONUP, (int)sx, (int)sy, 0, 0);
+	CHECK_EQ_INT(next_action(v), EVO_VIEW_SELECT);
+	double x, y;
+	evo_viewer_clicked(v, &x, &y);
+	CHECK(fabs(x - 6) < 0.2 && fabs(y) < 0.2);
+	CHECK_EQ_INT(evo_view_bot_at(sc, x, y), 1);
+	/* a drag of 50 pixels to the right moves the view 50 pixels left */
+	push_mouse(SDL_MOUSEBUTTONDOWN, 100, 100, 0, 0);
+	push_mouse(SDL_MOUSEMOTION, 120, 100, 20, 0);
+	push_mouse(SDL_MOUSEMOTION, 150, 100, 30, 0);
+	push_mouse(SDL_MOUSEBUTTONUP, 150, 100, 0, 0);
+	CHECK_EQ_INT(next_action(v), EVO_VIEW_FREE);
+	CHECK_EQ_INT(next_action(v), EVO_VIEW_NONE);
+	evo_viewer_draw(v, sc, -1, NULL);
+	evo_view_camera moved = evo_viewer_camera(v);
+	CHECK(fabs(moved.x - (cam.x - 50 / cam.scale)) < 1e-9);
+	CHECK(fabs(moved.y - cam.y) < 1e-9);
+	/* following a bot, then free again: the camera stays where the bot
+	 * was */
+	evo_viewer_draw(v, sc, 1, NULL);
+	evo_viewer_draw(v, sc, -1, NULL);
+	CHECK(fabs(evo_viewer_camera(v).x - 6) < 1e-6);
+	evo_viewer_look_at(v, -6, 0);
+	evo_viewer_draw(v, sc, -1, NULL);
+	CHECK(fabs(evo_viewer_camera(v).x + 6) < 1e-9);
+	evo_viewer_close(v);
+	evo_scene_destroy(sc);
+}
+
 /* SDL loads libX11 and its kin with dlopen and unloads them when the
  * viewer closes; what they leak is then reported from an "<unknown
  * module>" that no suppression can name. Held here for the life of the
@@ -668,6 +839,7 @@ int main(void)
 	 * pick another backend. */
 	setenv("SDL_VIDEODRIVER", "x11", 1);
 	RUN(render_draws_the_scene_without_a_window);
+	RUN(teams_are_coloured_and_the_selected_bot_shown);
 	RUN(remote_frame_shows_values_and_the_link_without_a_window);
 	RUN(no_display_is_a_clear_error);
 	const char *d = getenv("DISPLAY");
@@ -677,6 +849,7 @@ int main(void)
 		have_display = start_xvfb(display_why, sizeof display_why) == 0;
 	RUN(viewer_under_x_draws_robot_obstacles_and_rays);
 	RUN(keys_become_actions);
+	RUN(the_mouse_selects_bots_and_drags_the_free_camera);
 	stop_xvfb();
 	return test_summary();
 }
