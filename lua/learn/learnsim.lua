@@ -6,6 +6,12 @@
 --
 -- `host` is the loop's C side, the module evo.learn: the task, the run
 -- folder, the evaluator. It is not the scene scripts' evo module.
+--
+-- A team task (LEARN2DSIMMULTI, docs/teams.md) trains its learning
+-- team's skill the same way, with host.teams set: each network is a team
+-- of clones, or (HETEROGENEOUS) one member of a team the loop makes up
+-- each generation; several learning teams take turns, each with a
+-- population of its own.
 local host = require "evo.learn"
 local common = require "learn.common"
 local random = require "learn.rng"
@@ -52,6 +58,72 @@ if hidden and method == "NEAT" then
 	hidden = nil
 end
 
+-- The learners: the learning teams of a team task, else the one skill.
+local teams = host.teams
+local learners = teams and teams.learning
+	or { { inputs = host.inputs, outputs = host.outputs, layers = host.layers, size = 1 } }
+
+-- The learner whose turn generation `gen` is (co-evolution: ALTERNATE
+-- generations each, in LEARNINGTEAM's order).
+local function learner_of(gen)
+	if #learners == 1 then return 1 end
+	return (gen // teams.alternate) % #learners + 1
+end
+
+-- Learner k's first population: the run seed's generator for the first,
+-- another stream for each other one.
+local function new_pop(k, seed)
+	local L = learners[k]
+	return algo.new{ inputs = L.inputs, outputs = L.outputs, layers = L.layers,
+		hidden = hidden, options = options, rng = random.new(seed + 7919 * (k - 1)) }
+end
+
+-- The teams of n networks for learner L in generation gen, as the flat
+-- list of the networks each member runs, team after team: a team of
+-- clones of each network, or (heterogeneous) the networks shuffled from
+-- (seed, generation) and cut into teams, the last one filled from the
+-- start of the shuffled order.
+local function make_groups(n, L, gen)
+	local groups, size = {}, L.size
+	if not teams.heterogeneous then
+		for i = 1, n do
+			for _ = 1, size do groups[#groups + 1] = i end
+		end
+		return groups
+	end
+	local order = {}
+	for i = 1, n do order[i] = i end
+	local r = random.new((host.seed * 1000003 + gen) ~ 0x5EED7EA3)
+	for i = n, 2, -1 do
+		local j = 1 + math.floor(r:unit() * i)
+		order[i], order[j] = order[j], order[i]
+	end
+	for k = 1, ((n + size - 1) // size) * size do
+		groups[k] = order[(k - 1) % n + 1]
+	end
+	return groups
+end
+
+-- Evaluate the networks of learner k in generation gen: what
+-- host.evaluate gives, and the teams' share of episodes won.
+local function evaluate(nets, gen, k)
+	if not teams then return host.evaluate(nets, gen) end
+	local L = learners[k]
+	local groups = make_groups(#nets, L, gen)
+	local fitness, seconds, solved, collisions, metrics, wins, team_fit, group =
+		host.evaluate(nets, gen, groups, L.index)
+	local seen, won, n_teams = {}, 0, #groups // L.size
+	for i = 1, #nets do
+		if not seen[group[i]] then
+			seen[group[i]] = true
+			won = won + wins[i]
+		end
+	end
+	return fitness, seconds, solved, collisions, metrics, {
+		groups = groups, wins = wins, team_fitness = team_fit, group = group,
+		win_rate = won / (n_teams * host.reps) }
+end
+
 -- The checkpoint `text` read back: the population and the checkpoint's
 -- table. It is refused, with its path and what is wrong, unless it is a
 -- learning run's checkpoint for this skill; where the task now sets an
@@ -95,36 +167,56 @@ local function resume(text, path)
 	return p, c
 end
 
-local pop, first, history, solver
+local pops, first, history, solver, best_team
 local saved = host.resume and host.read("checkpoint.lua")
 if host.resume and not saved then
 	host.print("no checkpoint in " .. host.run_dir .. ": starting from generation 0")
 end
 if saved then
-	local c
-	pop, c = resume(saved, host.run_dir .. "/checkpoint.lua")
+	local c, p
+	p, c = resume(saved, host.run_dir .. "/checkpoint.lua")
+	pops = { p }
+	for k = 2, #learners do
+		local ok, q = pcall(algo.load, c.more_pops and c.more_pops[k - 1])
+		if not ok or q.inputs ~= learners[k].inputs or q.outputs ~= learners[k].outputs then
+			error(host.run_dir .. "/checkpoint.lua: no population of team " .. learners[k].name
+				.. " that fits its skill", 0)
+		end
+		pops[k] = q
+	end
 	first = c.generation + 1
 	history = c.history
 	solver = c.solver
+	best_team = c.best_team or {}
 	host.print(string.format("resuming after generation %d", c.generation))
 	if c.stopped then generations = c.generation + 1 end
 else
 	-- layers: the skill's `layers:`, and hidden: the task's HIDDEN, the
 	-- fixed shape of GENETIC and ANNEALING (NEAT grows its own and
 	-- ignores both).
-	pop = algo.new{ inputs = host.inputs, outputs = host.outputs, layers = host.layers,
-		hidden = hidden, options = options, rng = random.new(host.seed) }
+	pops = {}
+	for k = 1, #learners do pops[k] = new_pop(k, host.seed) end
 	first = 0
 	history = { best = {}, mean = {} }
+	best_team = {}
 end
 host.open_log(first)
 local since_curve = 0
 
 for gen = first, generations - 1 do
+	local k = learner_of(gen)
+	local pop = pops[k]
+	-- co-evolution: the other learning teams run the best of their own
+	-- turns so far (at first, the networks in their folders)
+	for j = 1, #learners do
+		if j ~= k and pops[j].best and pops[j].best.genome then
+			host.set_team_net(learners[j].index, algo.to_net(pops[j].best.genome))
+		end
+	end
 	local genomes = pop:genomes()
 	local nets = {}
 	for i, g in ipairs(genomes) do nets[i] = algo.to_net(g) end
-	local fitness, seconds, solved, _, metrics = host.evaluate(nets, gen)
+	local fitness, seconds, solved, _, metrics, t = evaluate(nets, gen, k)
 	local best_i, sum = 1, 0
 	for i, f in ipairs(fitness) do
 		sum = sum + f
@@ -146,6 +238,20 @@ for gen = first, generations - 1 do
 			end
 		end
 	end
+	-- a heterogeneous team's champion is the best team ever seen, its
+	-- members' networks in member order
+	if t and teams.heterogeneous then
+		local size, top = learners[k].size, nil
+		for i = 1, #nets do
+			if not top or t.team_fitness[i] > t.team_fitness[top] then top = i end
+		end
+		if not best_team[k] or t.team_fitness[top] > best_team[k].fitness then
+			local j = t.group[top]
+			local members = {}
+			for m = 1, size do members[m] = nets[t.groups[(j - 1) * size + m]] end
+			best_team[k] = { nets = members, fitness = t.team_fitness[top], generation = gen }
+		end
+	end
 	local best_net = nets[best_i]
 	pop:tell(fitness)
 	history.best[#history.best + 1] = fitness[best_i]
@@ -153,11 +259,18 @@ for gen = first, generations - 1 do
 	host.save(string.format("best/gen-%04d.net", gen), algo.to_net_text(best_net,
 		string.format("generation %d, fitness %.17g", gen, fitness[best_i])))
 	-- the environment's metrics (docs/lua.md) of the generation's best, the
-	-- network of the `best` column
+	-- network of the `best` column; a team task's learning team (its
+	-- number in the task) and the generation's share of episodes won
+	local row = metrics[best_i]
+	if t then
+		row = { table.unpack(row) }
+		row[#row + 1] = learners[k].index
+		row[#row + 1] = t.win_rate
+	end
 	host.log{ generation = gen, generations = generations, best = fitness[best_i],
 		mean = sum / #fitness, best_ever = pop.best.fitness, species = #pop.species,
 		evaluations = #fitness, solved = n_solved, seconds = seconds,
-		metrics = metrics[best_i] }
+		metrics = row }
 	-- the curve so far, so a long run can be watched as it goes (the last
 	-- one comes after the loop)
 	since_curve = since_curve + seconds
@@ -173,14 +286,21 @@ for gen = first, generations - 1 do
 	end
 	-- The checkpoint last: a run killed before it is written resumes from
 	-- the previous generation and redoes this one identically.
-	host.save("checkpoint.lua", serialize.dump{ generation = gen, seed = host.seed, pop = algo.save(pop, true),
-		history = history, solver = solver, stopped = stop ~= nil })
+	local more
+	if #learners > 1 then
+		more = {}
+		for j = 2, #learners do more[j - 1] = algo.save(pops[j], true) end
+	end
+	host.save("checkpoint.lua", serialize.dump{ generation = gen, seed = host.seed, pop = algo.save(pops[1], true),
+		more_pops = more, history = history, solver = solver, stopped = stop ~= nil,
+		best_team = teams and best_team or nil })
 	if stop then
 		host.print(stop)
 		generations = gen + 1
 		break
 	end
 end
+local pop = pops[1]
 
 -- The champion: the best solver when the task has a success criterion and
 -- a candidate met it, else the best network the method has seen.
@@ -190,16 +310,51 @@ if solver then
 else
 	champion, champion_fitness = algo.to_net(pop.best.genome), pop.best.fitness
 end
-host.save_champion(algo.to_net_text(champion, string.format(
-	"trained by evo: %s, seed %d, %d generations, fitness %.17g",
-	method, host.seed, generations, champion_fitness)))
+
+-- A learner's champion team: its members' networks, and its fitness.
+local function champion_team(k)
+	local L = learners[k]
+	if teams.heterogeneous and best_team[k] then
+		return best_team[k].nets, best_team[k].fitness
+	end
+	local net = algo.to_net(pops[k].best.genome)
+	local members = {}
+	for m = 1, L.size do members[m] = net end
+	return members, pops[k].best.fitness
+end
+
+if not teams then
+	host.save_champion(algo.to_net_text(champion, string.format(
+		"trained by evo: %s, seed %d, %d generations, fitness %.17g",
+		method, host.seed, generations, champion_fitness)))
+else
+	for k, L in ipairs(learners) do
+		local members, f = champion_team(k)
+		for m = 1, (teams.heterogeneous and L.size or 1) do
+			host.save_champion(algo.to_net_text(members[m], string.format(
+				"trained by evo: %s, seed %d, %d generations, team %s%s, team fitness %.17g",
+				method, host.seed, generations, L.name,
+				teams.heterogeneous and string.format(" member %d", m) or "", f)),
+				L.index, m, teams.heterogeneous)
+		end
+	end
+end
 host.curve(history.best, history.mean)
+
+-- the environment's metrics, each a mean over the repetitions, after
+-- the collisions: ", in_zone 12.5"
+local function with_metrics(line, values, divisor)
+	for k, name in ipairs(host.metrics) do
+		line = line .. string.format(", %s %.1f", name, values[k] / divisor)
+	end
+	return line
+end
 
 -- In a world, replay the champion beside networks as the method first
 -- drew them, on episodes training never saw (those of generation NUMGEN,
 -- or of --generations),
 -- and print what each scores and how long each spent touching things.
-if not literature then
+if not literature and not teams then
 	local fresh = algo.new{ inputs = host.inputs, outputs = host.outputs, layers = host.layers,
 		hidden = hidden,
 		options = options, rng = random.new(host.seed + 1) }
@@ -216,18 +371,67 @@ if not literature then
 		for k = 1, #host.metrics do m_sum[k] = m_sum[k] + metrics[i][k] end
 	end
 	local n = #nets - 1
-	-- the environment's metrics, each a mean over the repetitions, after
-	-- the collisions: ", in_zone 12.5"
-	local function with_metrics(line, values, divisor)
-		for k, name in ipairs(host.metrics) do
-			line = line .. string.format(", %s %.1f", name, values[k] / divisor)
-		end
-		return line
-	end
 	host.print(string.format("replay on unseen episodes (%d x %d ticks each):", host.reps, host.ticks))
 	host.print(with_metrics(string.format("  champion:                 fitness %12.1f, %7d collision ticks",
 		fitness[1], collisions[1]), metrics[1], 1))
 	host.print(with_metrics(string.format("  untrained networks (%2d): fitness %12.1f, %7.0f collision ticks (mean)",
 		n, f_sum / n, c_sum / n), m_sum, n))
+elseif teams then
+	-- Each learning team: its champion team beside untrained teams (the
+	-- first networks of a fresh population, a team of clones each, or
+	-- SIZE different ones), the other learning teams running their
+	-- champions. Team reward, collisions, metrics and share of episodes
+	-- won, each a mean over the repetitions.
+	for j = 1, #learners do
+		local members = champion_team(j)
+		host.set_team_net(learners[j].index, members[1])
+	end
+	host.print(string.format("replay on unseen episodes (%d x %d ticks each):", host.reps, host.ticks))
+	for k, L in ipairs(learners) do
+		local size = teams.heterogeneous and L.size or 1
+		local members = champion_team(k)
+		local fresh = new_pop(k, host.seed + 1)
+		local nets, groups = {}, {}
+		for m = 1, size do nets[m] = members[m] end
+		local n_fresh = 0
+		for i, g in ipairs(fresh:genomes()) do
+			if n_fresh == REPLAY_RANDOM * size then break end
+			nets[#nets + 1] = algo.to_net(g)
+			n_fresh = n_fresh + 1
+		end
+		-- whole teams only
+		while n_fresh % size ~= 0 do
+			nets[#nets] = nil
+			n_fresh = n_fresh - 1
+		end
+		local n_teams = 1 + n_fresh // size
+		for t = 1, n_teams do
+			for m = 1, L.size do
+				groups[#groups + 1] = teams.heterogeneous and ((t - 1) * size + m) or t
+			end
+		end
+		local _, _, _, collisions, metrics, wins, team_fit, group =
+			host.evaluate(nets, planned, groups, L.index)
+		-- each team's figures from the first network of it
+		local row = {}
+		for i = 1, #nets do
+			if not row[group[i]] then
+				row[group[i]] = { f = team_fit[i], c = collisions[i], m = metrics[i], w = wins[i] }
+			end
+		end
+		local f_sum, c_sum, w_sum, m_sum = 0, 0, 0, {}
+		for m = 1, #host.metrics do m_sum[m] = 0 end
+		for t = 2, n_teams do
+			f_sum, c_sum, w_sum = f_sum + row[t].f, c_sum + row[t].c, w_sum + row[t].w
+			for m = 1, #host.metrics do m_sum[m] = m_sum[m] + row[t].m[m] end
+		end
+		local reps, n = host.reps, n_teams - 1
+		host.print(with_metrics(string.format("  team %s, champion:              reward %10.1f, %7.0f collision ticks",
+			L.name, row[1].f / reps, row[1].c / reps), row[1].m, 1)
+			.. string.format(", won %.1f%%", 100 * row[1].w / reps))
+		host.print(with_metrics(string.format("  team %s, untrained teams (%2d): reward %10.1f, %7.0f collision ticks",
+			L.name, n, f_sum / n / reps, c_sum / n / reps), m_sum, n)
+			.. string.format(", won %.1f%%", 100 * w_sum / n / reps))
+	end
 end
 return champion_fitness

@@ -170,7 +170,8 @@ static int check_task(const char *path, evo_task *task, evo_err *err)
 		return evo_fail(err,
 				"%s: evo run does not run %s tasks yet (it runs "
 				"DEMOSIM, LEARNSIM, DEMO2DSIMMULTI, "
-				"DEMOREMOTESIM, LEARNREMOTESIM and DEMOREMOTE)",
+				"LEARN2DSIMMULTI, DEMOREMOTESIM, "
+				"LEARNREMOTESIM and DEMOREMOTE)",
 				path, task->type);
 	if (strncmp(task->type, "LEARN", 5) == 0 &&
 	    evo_learn_check(path, task, err) != 0)

@@ -211,6 +211,7 @@ int evo_run_supports(const char *type)
 {
 	return strcmp(type, "DEMOSIM") == 0 || strcmp(type, "LEARNSIM") == 0 ||
 	       strcmp(type, "DEMO2DSIMMULTI") == 0 ||
+	       strcmp(type, "LEARN2DSIMMULTI") == 0 ||
 	       strcmp(type, "DEMOREMOTESIM") == 0 ||
 	       strcmp(type, "LEARNREMOTESIM") == 0 ||
 	       strcmp(type, "DEMOREMOTE") == 0;
@@ -959,6 +960,7 @@ int evo_run_main(int argc, char **argv)
 		return 2;
 	}
 	if (strcmp(task.type, "LEARNSIM") == 0 ||
+	    strcmp(task.type, "LEARN2DSIMMULTI") == 0 ||
 	    strcmp(task.type, "LEARNREMOTESIM") == 0) {
 		/* --threads, else the task's THREADS, else one per core */
 		const char *tv = evo_simbatch_get(task.sb, "THREADS");
@@ -995,8 +997,8 @@ int evo_run_main(int argc, char **argv)
 	if (!evo_run_supports(task.type)) {
 		fprintf(stderr,
 			"%s: evo run does not run %s tasks yet (it runs "
-			"DEMOSIM, LEARNSIM, DEMO2DSIMMULTI, DEMOREMOTESIM, "
-			"LEARNREMOTESIM and DEMOREMOTE)\n",
+			"DEMOSIM, LEARNSIM, DEMO2DSIMMULTI, LEARN2DSIMMULTI, "
+			"DEMOREMOTESIM, LEARNREMOTESIM and DEMOREMOTE)\n",
 			o.task, task.type);
 		evo_task_free(&task);
 		return 1;

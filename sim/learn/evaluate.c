@@ -30,7 +30,21 @@ typedef struct worker {
 	evo_sim *sim;	  /* its own world and Lua state */
 	int skill;	  /* the learning skill's index in task.mind */
 	evo_lit_task lit; /* ENV names a literature task: no sim */
+	/* team tasks: each team's learning skill in its mind (-1: none),
+	 * each learning team's members' own minds (heterogeneous), and the
+	 * version of the teams' networks it runs */
+	int team_skill[EVO_MAX_TEAMS];
+	evo_mindfolder **member[EVO_MAX_TEAMS];
+	unsigned long nets_seen;
 } worker;
+
+/* What one evaluation of a team gives, summed over its repetitions. */
+typedef struct unit_result {
+	double team_fitness;
+	long collisions;
+	int wins;
+	double metric[EVO_SCENE_MAX_METRICS];
+} unit_result;
 
 struct evo_evaluator {
 	char *task_path;
@@ -41,6 +55,12 @@ struct evo_evaluator {
 	unsigned n_in, n_out;
 	worker *w;
 	evo_remote_eval *remote; /* LEARNREMOTESIM: no workers */
+	/* team tasks (docs/teams.md): the teams' networks set by
+	 * evo_evaluator_set_team_net (NULL: their own), bumped version */
+	int n_teams;
+	int heterogeneous, own_fitness;
+	evo_netdesc *team_net[EVO_MAX_TEAMS];
+	unsigned long nets_version;
 
 	/* Everything below is guarded by mu. A batch is announced by
 	 * bumping batch_id; each worker counts itself out in `busy`, and
@@ -54,6 +74,12 @@ struct evo_evaluator {
 	const evo_netdesc *const *cand;
 	int n, gen, next;
 	evo_eval_result *res;
+	/* a team batch: the learning team, the groups, what each group and
+	 * each member gave */
+	int team;
+	const int *groups;
+	unit_result *unit;
+	double *own;
 	int failed;
 	evo_err err; /* the first failure */
 };
@@ -120,6 +146,93 @@ static int evaluate_one(worker *w, int i, evo_eval_result *res, evo_err *err)
 	return 0;
 }
 
+/* The teams' networks of evo_evaluator_set_team_net, into worker w's
+ * minds when they changed since its last batch. */
+static int apply_team_nets(worker *w, evo_err *err)
+{
+	evo_evaluator *ev = w->ev;
+	if (w->nets_seen == ev->nets_version)
+		return 0;
+	for (int t = 0; t < ev->n_teams; t++) {
+		if (!ev->team_net[t] || w->team_skill[t] < 0)
+			continue;
+		evo_mindfolder *m = w->task.team[t].mind;
+		*m->net[w->team_skill[t]] = *ev->team_net[t];
+		if (evo_mindfolder_rebuild(m, err) ||
+		    evo_sim_set_team_mind(w->sim, t, m, err))
+			return -1;
+	}
+	w->nets_seen = ev->nets_version;
+	return 0;
+}
+
+/* Evaluation j of a team batch on worker w: the learning team's members
+ * run their candidates, the repetitions run, and what the team and each
+ * member earned is kept in unit[j] and own[j * size ..]. */
+static int evaluate_team_unit(worker *w, int j, evo_err *err)
+{
+	evo_evaluator *ev = w->ev;
+	int t = ev->team;
+	const evo_sim_team *st = &w->sim->team[t];
+	int size = st->size;
+	const int *g = ev->groups + (size_t)j * size;
+	int k = w->team_skill[t];
+	if (!ev->heterogeneous) {
+		evo_mindfolder *m = w->task.team[t].mind;
+		*m->net[k] = *ev->cand[g[0]];
+		if (evo_mindfolder_rebuild(m, err) ||
+		    evo_sim_set_team_mind(w->sim, t, m, err))
+			return -1;
+	} else {
+		for (int i = 0; i < size; i++) {
+			evo_mindfolder *m = w->member[t][i];
+			*m->net[k] = *ev->cand[g[i]];
+			if (evo_mindfolder_rebuild(m, err) ||
+			    evo_sim_set_agent_mind(w->sim, st->first + i, m,
+						   err))
+				return -1;
+		}
+	}
+	unit_result *u = &ev->unit[j];
+	double *own = ev->own + (size_t)j * size;
+	memset(u, 0, sizeof *u);
+	for (int i = 0; i < size; i++)
+		own[i] = 0;
+	const evo_scene *sc = w->sim->scene;
+	for (int r = 0; r < ev->reps; r++) {
+		if (evo_sim_reset(
+			w->sim, r + 1, evo_eval_grid_seed(ev->seed, ev->gen, r),
+			evo_eval_episode_seed(ev->seed, ev->gen, j, r), err)) {
+			evo_err inner = *err;
+			return evo_fail(err, "repetition %d, at its start: %s",
+					r + 1, inner.msg);
+		}
+		for (long tk = 0; tk < ev->ticks; tk++) {
+			int st2 = evo_sim_tick(w->sim, err);
+			if (st2 < 0) {
+				evo_err inner = *err;
+				return evo_fail(err, "repetition %d, tick %ld: %s",
+						r + 1, tk, inner.msg);
+			}
+			if (st2 > 0)
+				break;
+		}
+		u->team_fitness += sc->team_reward[t];
+		u->wins += sc->winner == t;
+		for (int i = 0; i < size; i++) {
+			const evo_bot *b =
+			    &sc->bot[w->sim->agent[st->first + i].bot];
+			own[i] += b->reward;
+			u->collisions += b->collisions;
+		}
+		for (int m = 0; m < ev->n_metrics; m++)
+			u->metric[m] += sc->metric[m].value;
+	}
+	for (int m = 0; m < ev->n_metrics; m++)
+		u->metric[m] /= ev->reps;
+	return 0;
+}
+
 static long simbatch_number(const evo_simbatch *sb, const char *key,
 			    long fallback)
 {
@@ -133,11 +246,49 @@ static long simbatch_number(const evo_simbatch *sb, const char *key,
 	return *end || errno || n <= 0 ? fallback : n;
 }
 
+/* A team task's worker: every team's learning skill, a mind of its own
+ * for each member of a heterogeneous learning team, and the scene of
+ * every team. */
+static int load_teams(evo_evaluator *ev, worker *w, evo_err *err)
+{
+	evo_task *t = &w->task;
+	for (int k = 0; k < t->n_teams; k++) {
+		const evo_team *tm = &t->team[k];
+		w->team_skill[k] =
+		    tm->learning_skill[0]
+			? evo_mindfolder_skill(tm->mind, tm->learning_skill)
+			: -1;
+		if (w->team_skill[k] >= 0 &&
+		    !tm->mind->net[w->team_skill[k]])
+			w->team_skill[k] = -1;
+		if (!tm->learns || !t->heterogeneous)
+			continue;
+		w->member[k] = calloc((size_t)tm->size, sizeof *w->member[k]);
+		if (!w->member[k])
+			return evo_fail(err, "out of memory");
+		evo_mindfolder_opts opts = {
+			.master = tm->master,
+			.learning_skill = tm->learning_skill,
+			.seed = t->seed,
+		};
+		for (int i = 0; i < tm->size; i++)
+			if (!(w->member[k][i] = evo_mindfolder_load(
+				  tm->mind->root, &opts, err)))
+				return -1;
+	}
+	(void)ev;
+	w->skill = w->team_skill[t->learning[0]];
+	w->sim = evo_sim_create_task(t, ev->task_path, err);
+	return w->sim ? 0 : -1;
+}
+
 /* Load worker k's own copy of the task and build its simulation. */
 static int worker_load(evo_evaluator *ev, worker *w, evo_err *err)
 {
 	if (evo_task_load(ev->task_path, &w->task, err))
 		return -1;
+	if (w->task.n_teams > 0 && strncmp(w->task.type, "LEARN", 5) == 0)
+		return load_teams(ev, w, err);
 	const char *learn = evo_simbatch_get(w->task.sb, "LEARNINGSKILL");
 	if (strncmp(w->task.type, "LEARN", 5) != 0 || !learn)
 		return evo_fail(err,
@@ -186,19 +337,35 @@ static void *worker_main(void *arg)
 		if (ev->quit)
 			break;
 		seen = ev->batch_id;
-		/* Take candidates until the batch is empty or has failed. */
+		/* A team task's networks of other teams first. */
+		if (ev->groups && !ev->failed) {
+			pthread_mutex_unlock(&ev->mu);
+			rc = apply_team_nets(w, &e);
+			pthread_mutex_lock(&ev->mu);
+			if (rc && !ev->failed) {
+				ev->failed = 1;
+				evo_fail(&ev->err, "generation %d: %s", ev->gen,
+					 e.msg);
+			}
+		}
+		/* Take candidates (a team batch: evaluations) until the
+		 * batch is empty or has failed. */
 		while (!ev->failed && ev->next < ev->n) {
 			int i = ev->next++;
 			pthread_mutex_unlock(&ev->mu);
 			evo_eval_result r;
-			rc = evaluate_one(w, i, &r, &e);
+			rc = ev->groups ? evaluate_team_unit(w, i, &e)
+					: evaluate_one(w, i, &r, &e);
 			pthread_mutex_lock(&ev->mu);
 			if (rc == 0) {
-				ev->res[i] = r;
+				if (!ev->groups)
+					ev->res[i] = r;
 			} else if (!ev->failed) {
 				ev->failed = 1;
-				evo_fail(&ev->err, "generation %d, candidate %d: %s",
-					 ev->gen, i, e.msg);
+				evo_fail(&ev->err, "generation %d, %s %d: %s",
+					 ev->gen,
+					 ev->groups ? "team" : "candidate", i,
+					 e.msg);
 			}
 		}
 		if (--ev->busy == 0)
@@ -359,6 +526,9 @@ evo_evaluator *evo_evaluator_create(const evo_eval_def *def, evo_err *err)
 	const evo_ades *a = &ev->w[0].task.mind->skill[ev->w[0].skill];
 	ev->n_in = a->n_in;
 	ev->n_out = a->n_out;
+	ev->n_teams = ev->w[0].task.n_teams;
+	ev->heterogeneous = ev->w[0].task.heterogeneous;
+	ev->own_fitness = ev->w[0].task.own_fitness;
 	return ev;
 fail:
 	evo_evaluator_destroy(ev);
@@ -387,12 +557,20 @@ void evo_evaluator_destroy(evo_evaluator *ev)
 		if (w->started)
 			pthread_join(w->thread, NULL);
 		evo_sim_destroy(w->sim);
+		for (int t = 0; t < EVO_MAX_TEAMS; t++) {
+			for (int i = 0; w->member[t] && i < w->task.team[t].size;
+			     i++)
+				evo_mindfolder_free(w->member[t][i]);
+			free(w->member[t]);
+		}
 		if (w->task.sb || w->task.mind)
 			evo_task_free(&w->task);
 	}
 	pthread_cond_destroy(&ev->done_cv);
 	pthread_cond_destroy(&ev->start_cv);
 	pthread_mutex_destroy(&ev->mu);
+	for (int t = 0; t < EVO_MAX_TEAMS; t++)
+		free(ev->team_net[t]);
 	free(ev->w);
 	free(ev->task_path);
 	free(ev);
@@ -470,6 +648,22 @@ int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
 	}
 	if (n == 0)
 		return 0;
+	if (ev->n_teams > 0) {
+		/* a homogeneous evaluation of each candidate by the first
+		 * learning team */
+		int t = ev->w[0].task.learning[0];
+		int size = ev->w[0].task.team[t].size;
+		int *groups = malloc((size_t)n * size * sizeof *groups);
+		if (!groups)
+			return evo_fail(err, "out of memory");
+		for (int i = 0; i < n; i++)
+			for (int m = 0; m < size; m++)
+				groups[(size_t)i * size + m] = i;
+		int rc = evo_evaluate_teams(ev, t, candidates, n, groups, n,
+					    gen, res, err);
+		free(groups);
+		return rc;
+	}
 	if (ev->remote) {
 		int rc = evo_remote_eval_run(ev->remote, candidates, n, gen,
 					     ev->seed, ev->reps, ev->ticks, res,
@@ -499,5 +693,178 @@ int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
 	ev->cand = NULL;
 	ev->res = NULL;
 	pthread_mutex_unlock(&ev->mu);
+	return failed ? -1 : 0;
+}
+
+/* ---- team tasks ----------------------------------------------------------- */
+
+int evo_evaluator_n_teams(const evo_evaluator *ev)
+{
+	return ev->remote ? 0 : ev->n_teams;
+}
+
+int evo_evaluator_team_size(const evo_evaluator *ev, int team)
+{
+	return team >= 0 && team < evo_evaluator_n_teams(ev)
+		   ? ev->w[0].task.team[team].size
+		   : 0;
+}
+
+static const evo_ades *team_skill(const evo_evaluator *ev, int team)
+{
+	if (team < 0 || team >= evo_evaluator_n_teams(ev) ||
+	    ev->w[0].team_skill[team] < 0)
+		return NULL;
+	return &ev->w[0].task.team[team].mind->skill[ev->w[0].team_skill[team]];
+}
+
+unsigned evo_evaluator_team_n_in(const evo_evaluator *ev, int team)
+{
+	const evo_ades *a = team_skill(ev, team);
+	return a ? a->n_in : 0;
+}
+
+unsigned evo_evaluator_team_n_out(const evo_evaluator *ev, int team)
+{
+	const evo_ades *a = team_skill(ev, team);
+	return a ? a->n_out : 0;
+}
+
+int evo_evaluator_set_team_net(evo_evaluator *ev, int team,
+			       const evo_netdesc *net, evo_err *err)
+{
+	const evo_ades *a = team_skill(ev, team);
+	if (!a)
+		return evo_fail(err, "team %d has no learning skill to set",
+				team);
+	if (net->n_in != a->n_in || net->n_out != a->n_out)
+		return evo_fail(err,
+				"team %s: a network of %u inputs and %u "
+				"outputs for skill %s of %u and %u",
+				ev->w[0].task.team[team].name,
+				(unsigned)net->n_in, (unsigned)net->n_out,
+				a->name, (unsigned)a->n_in,
+				(unsigned)a->n_out);
+	if (!ev->team_net[team] &&
+	    !(ev->team_net[team] = malloc(sizeof *ev->team_net[team])))
+		return evo_fail(err, "out of memory");
+	/* workers are idle between batches: no lock is needed for the
+	 * net, and the version is read under the batch's lock */
+	*ev->team_net[team] = *net;
+	pthread_mutex_lock(&ev->mu);
+	ev->nets_version++;
+	pthread_mutex_unlock(&ev->mu);
+	return 0;
+}
+
+int evo_evaluate_teams(evo_evaluator *ev, int team,
+		       const evo_netdesc *const *candidates, int n,
+		       const int *groups, int n_groups, int gen,
+		       evo_eval_result *res, evo_err *err)
+{
+	const evo_ades *a = team_skill(ev, team);
+	if (!a || !ev->w[0].task.team[team].learns)
+		return evo_fail(err, "team %d is not a learning team", team);
+	int size = ev->w[0].task.team[team].size;
+	if (n < 1 || n_groups < 1 || !candidates || !groups || !res)
+		return evo_fail(err, "evaluate: no candidates or no teams");
+	for (int i = 0; i < n; i++) {
+		const evo_netdesc *c = candidates[i];
+		if (!c)
+			return evo_fail(err, "candidate %d: no network", i);
+		if (c->n_in != a->n_in || c->n_out != a->n_out)
+			return evo_fail(err,
+					"candidate %d: the network has %u "
+					"inputs and %u outputs; skill %s has "
+					"%u inputs and %u outputs",
+					i, (unsigned)c->n_in,
+					(unsigned)c->n_out, a->name,
+					(unsigned)a->n_in, (unsigned)a->n_out);
+	}
+	/* each candidate's first evaluation and member, in order */
+	int *first = malloc((size_t)n * sizeof *first);
+	unit_result *unit = calloc((size_t)n_groups, sizeof *unit);
+	double *own = calloc((size_t)n_groups * size, sizeof *own);
+	if (!first || !unit || !own) {
+		free(first);
+		free(unit);
+		free(own);
+		return evo_fail(err, "out of memory");
+	}
+	for (int i = 0; i < n; i++)
+		first[i] = -1;
+	for (long k = 0; k < (long)n_groups * size; k++) {
+		int c = groups[k];
+		if (c < 0 || c >= n) {
+			free(first);
+			free(unit);
+			free(own);
+			return evo_fail(err,
+					"team %ld, member %ld: no candidate %d",
+					k / size, k % size, c);
+		}
+		if (first[c] < 0)
+			first[c] = (int)(k / size);
+	}
+	for (int i = 0; i < n; i++)
+		if (first[i] < 0) {
+			free(first);
+			free(unit);
+			free(own);
+			return evo_fail(err, "candidate %d is in no team", i);
+		}
+	pthread_mutex_lock(&ev->mu);
+	ev->cand = candidates;
+	ev->n = n_groups;
+	ev->gen = gen;
+	ev->next = 0;
+	ev->res = NULL;
+	ev->team = team;
+	ev->groups = groups;
+	ev->unit = unit;
+	ev->own = own;
+	ev->failed = 0;
+	ev->err.msg[0] = 0;
+	ev->busy = ev->threads;
+	ev->batch_id++;
+	pthread_cond_broadcast(&ev->start_cv);
+	while (ev->busy > 0)
+		pthread_cond_wait(&ev->done_cv, &ev->mu);
+	int failed = ev->failed;
+	if (failed)
+		*err = ev->err;
+	ev->cand = NULL;
+	ev->groups = NULL;
+	ev->unit = NULL;
+	ev->own = NULL;
+	pthread_mutex_unlock(&ev->mu);
+	/* Each candidate's result from its first evaluation, worked out
+	 * here, in order: nothing depends on which worker ran what. */
+	for (int i = 0; i < n && !failed; i++) {
+		int j = first[i];
+		const unit_result *u = &unit[j];
+		evo_eval_result *r = &res[i];
+		memset(r, 0, sizeof *r);
+		r->group = j;
+		r->team_fitness = u->team_fitness;
+		r->wins = u->wins;
+		r->collisions = u->collisions;
+		memcpy(r->metric, u->metric, sizeof r->metric);
+		if (!ev->own_fitness) {
+			r->fitness = u->team_fitness;
+		} else {
+			double sum = 0;
+			int members = 0;
+			for (int m = 0; m < size; m++)
+				if (groups[(size_t)j * size + m] == i) {
+					sum += own[(size_t)j * size + m];
+					members++;
+				}
+			r->fitness = sum / members;
+		}
+	}
+	free(first);
+	free(unit);
+	free(own);
 	return failed ? -1 : 0;
 }

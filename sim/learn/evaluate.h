@@ -35,7 +35,11 @@
  * build no simulation and score each candidate once with sim/learn/literature.h
  * (seedless and deterministic; EVALREP and TICKLIM do not apply), and
  * res[i].solved says whether candidate i met the task's success
- * criterion. DPNV's success is decided after the batch, on one candidate
+ * criterion.
+ *
+ * Team tasks (LEARN2DSIMMULTI): every worker builds every team; a batch
+ * trains one team's learning skill (evo_evaluate_teams), the other teams
+ * running their networks. DPNV's success is decided after the batch, on one candidate
  * the caller picks (evo_evaluator_deferred_success): its solved flags
  * stay 0 here. */
 #ifndef EVO_EVALUATE_H
@@ -103,6 +107,12 @@ typedef struct evo_eval_result {
 	/* each metric's value at an episode's end, the mean over the
 	 * repetitions (evo_evaluator_n_metrics of them) */
 	double metric[EVO_SCENE_MAX_METRICS];
+	/* team tasks: the team (group) it was scored in, the first when it
+	 * is in several; that team's reward summed over the repetitions;
+	 * the repetitions the learning team won (scene:winner) */
+	int group;
+	double team_fitness;
+	int wins;
 } evo_eval_result;
 
 /* Evaluate candidates[0 .. n-1] (not owned; read while the call runs) in
@@ -114,6 +124,37 @@ typedef struct evo_eval_result {
  * time per evaluator. */
 int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
 		 int gen, evo_eval_result *res, evo_err *err);
+
+/* ---- team tasks (LEARN2DSIMMULTI, docs/teams.md) ---------------------- */
+
+/* The task's teams: 0 for a one-agent task. */
+int evo_evaluator_n_teams(const evo_evaluator *ev);
+/* Team k's size, and its learning skill's inputs and outputs (0 when it
+ * has no learning skill). */
+int evo_evaluator_team_size(const evo_evaluator *ev, int team);
+unsigned evo_evaluator_team_n_in(const evo_evaluator *ev, int team);
+unsigned evo_evaluator_team_n_out(const evo_evaluator *ev, int team);
+
+/* From the next batch on, team `team` runs net as its learning skill's
+ * network (co-evolution: a team whose turn it is not runs the best its
+ * last turn found). Copied. 0, or -1 with err set (a net that does not
+ * fit the skill). */
+int evo_evaluator_set_team_net(evo_evaluator *ev, int team,
+			       const evo_netdesc *net, evo_err *err);
+
+/* Evaluate candidates[0 .. n-1] as members of team `team`, in n_groups
+ * evaluations: in evaluation j, member m of the team runs candidate
+ * groups[j * size + m] (size: the team's). Evaluation j, repetition r of
+ * generation g is seeded as candidate j would be (the top of this file).
+ * res[c] for each candidate c, from the first evaluation it is in: its
+ * fitness is that team's reward summed over the repetitions, or with
+ * TEAMFITNESS:OWN the reward of c's own bot (the mean over its bots when
+ * it runs several), summed over the repetitions; collisions, metrics and
+ * wins are the team's. A candidate in no evaluation is an error. */
+int evo_evaluate_teams(evo_evaluator *ev, int team,
+		       const evo_netdesc *const *candidates, int n,
+		       const int *groups, int n_groups, int gen,
+		       evo_eval_result *res, evo_err *err);
 
 /* 1 when the task decides success after a generation, on one candidate:
  * DPNV, where the paper gives one network per generation the 100,000-step

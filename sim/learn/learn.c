@@ -153,11 +153,37 @@ static void to_netdesc(lua_State *L, int idx, int which, evo_netdesc *d)
 	lua_pop(L, 1);
 }
 
-/* evo.evaluate(nets, generation) -> fitness list, seconds, solved list
- * (booleans: the literature tasks' success criterion), collisions list
- * (ticks the bot spent touching, summed over the repetitions), metrics
- * list (for each network, a list of the environment's metrics in the
- * order of evo.metrics, each the mean over the repetitions). */
+/* A list of whole numbers 1 .. n at idx as 0-based ints in a userdata
+ * left on the stack. */
+static int *index_list(lua_State *L, int idx, int n, lua_Integer *len)
+{
+	luaL_checktype(L, idx, LUA_TTABLE);
+	*len = luaL_len(L, idx);
+	if (*len < 1 || *len > INT_MAX / (lua_Integer)sizeof(int))
+		luaL_error(L, "evo.evaluate: %I team members", *len);
+	int *v = lua_newuserdatauv(L, (size_t)*len * sizeof *v, 0);
+	for (lua_Integer i = 1; i <= *len; i++) {
+		lua_geti(L, idx, i);
+		lua_Integer c = lua_tointeger(L, -1);
+		if (c < 1 || c > n)
+			luaL_error(L, "evo.evaluate: team member %I is %I, not a "
+				      "network 1..%d",
+				   i, c, n);
+		v[i - 1] = (int)(c - 1);
+		lua_pop(L, 1);
+	}
+	return v;
+}
+
+/* evo.evaluate(nets, generation[, groups, team]) -> fitness list,
+ * seconds, solved list (booleans: the literature tasks' success
+ * criterion), collisions list (ticks the bot spent touching, summed over
+ * the repetitions), metrics list (for each network, a list of the
+ * environment's metrics in the order of evo.metrics, each the mean over
+ * the repetitions), and for team tasks, wins list, team fitness list and
+ * the team (1-based) each network was scored in. groups (team tasks): the
+ * networks each member of team `team` (1-based) runs, team after team
+ * (evo_evaluate_teams); without it, each network is a team of its own. */
 static int l_evaluate(lua_State *L)
 {
 	learn *l = ctx(L);
@@ -168,6 +194,21 @@ static int l_evaluate(lua_State *L)
 		return luaL_error(L, "evo.evaluate: %I networks is too many",
 				  len);
 	int n = (int)len;
+	int team = -1, n_groups = 0;
+	int *groups = NULL;
+	if (!lua_isnoneornil(L, 3)) {
+		team = (int)luaL_checkinteger(L, 4) - 1;
+		int size = evo_evaluator_team_size(l->ev, team);
+		if (size < 1)
+			return luaL_error(L, "evo.evaluate: no team %d", team + 1);
+		lua_Integer g;
+		groups = index_list(L, 3, n, &g);
+		if (g % size)
+			return luaL_error(L, "evo.evaluate: %I members are not "
+					     "teams of %d",
+					  g, size);
+		n_groups = (int)(g / size);
+	}
 	/* Userdata, not malloc: a malformed network (to_netdesc raises)
 	 * or a failed batch unwinds through here, and the collector then
 	 * frees the arrays. */
@@ -186,7 +227,9 @@ static int l_evaluate(lua_State *L)
 	}
 	evo_err err = {{0}};
 	double t0 = now();
-	int rc = evo_evaluate(l->ev, ptr, n, gen, res, &err);
+	int rc = groups ? evo_evaluate_teams(l->ev, team, ptr, n, groups,
+					     n_groups, gen, res, &err)
+			: evo_evaluate(l->ev, ptr, n, gen, res, &err);
 	double dt = now() - t0;
 	if (rc)
 		return raise_msg(L, err.msg);
@@ -216,7 +259,38 @@ static int l_evaluate(lua_State *L)
 		}
 		lua_rawseti(L, -2, i + 1);
 	}
-	return 5;
+	if (evo_evaluator_n_teams(l->ev) == 0)
+		return 5;
+	lua_createtable(L, n, 0);
+	for (int i = 0; i < n; i++) {
+		lua_pushinteger(L, res[i].wins);
+		lua_rawseti(L, -2, i + 1);
+	}
+	lua_createtable(L, n, 0);
+	for (int i = 0; i < n; i++) {
+		lua_pushnumber(L, res[i].team_fitness);
+		lua_rawseti(L, -2, i + 1);
+	}
+	lua_createtable(L, n, 0);
+	for (int i = 0; i < n; i++) {
+		lua_pushinteger(L, res[i].group + 1);
+		lua_rawseti(L, -2, i + 1);
+	}
+	return 8;
+}
+
+/* evo.set_team_net(team, net): team (1-based) runs net as its learning
+ * skill from the next evaluation on (co-evolution). */
+static int l_set_team_net(lua_State *L)
+{
+	learn *l = ctx(L);
+	int team = (int)luaL_checkinteger(L, 1) - 1;
+	evo_netdesc *d = lua_newuserdatauv(L, sizeof *d, 0);
+	to_netdesc(L, 2, 1, d);
+	evo_err err = {{0}};
+	if (evo_evaluator_set_team_net(l->ev, team, d, &err))
+		return raise_msg(L, err.msg);
+	return 0;
 }
 
 /* evo.success_test(net) -> solved, generalisation: DPNV's success test
@@ -245,10 +319,15 @@ static int l_open_log(lua_State *L)
 	learn *l = ctx(L);
 	evo_err err = {{0}};
 	l->first = (int)luaL_checkinteger(L, 1);
-	const char *names[EVO_SCENE_MAX_METRICS];
+	const char *names[EVO_SCENE_MAX_METRICS + 2];
 	int nm = evo_evaluator_n_metrics(l->ev);
 	for (int k = 0; k < nm; k++)
 		names[k] = evo_evaluator_metric_name(l->ev, k);
+	/* a team task's two columns after the environment's metrics */
+	if (evo_evaluator_n_teams(l->ev) > 0) {
+		names[nm++] = "team";
+		names[nm++] = "win_rate";
+	}
 	if (evo_runlog_open(&l->log, l->run_dir, l->first, names, nm, &err))
 		return raise_msg(L, err.msg);
 	l->log_open = 1;
@@ -266,8 +345,9 @@ static int l_log(lua_State *L)
 	luaL_checktype(L, 1, LUA_TTABLE);
 	if (!l->log_open)
 		return luaL_error(L, "evo.log before evo.open_log");
-	double metrics[EVO_SCENE_MAX_METRICS];
-	int nm = evo_evaluator_n_metrics(l->ev);
+	double metrics[EVO_SCENE_MAX_METRICS + 2];
+	int nm = evo_evaluator_n_metrics(l->ev) +
+		 (evo_evaluator_n_teams(l->ev) > 0 ? 2 : 0);
 	lua_getfield(L, 1, "metrics");
 	if (nm > 0 && (!lua_istable(L, -1) || luaL_len(L, -1) != nm))
 		return luaL_error(L, "evo.log: metrics must be a list of %d "
@@ -373,24 +453,62 @@ static int l_read(lua_State *L)
 }
 
 /* The champion goes into the run folder, which keeps each run's own, and
- * then where DEMOSIM and evo export look for it. */
+ * then where DEMOSIM and evo export look for it. evo.save_champion(text[,
+ * team, member, heterogeneous]) in a team task: team (1-based) is the
+ * learning team, member k > 1 of a heterogeneous team gets
+ * champion-K.net and Skills/S/S.K.net (docs/teams.md); a homogeneous
+ * champion removes the members' networks an earlier run left. */
 static int l_save_champion(lua_State *L)
 {
 	learn *l = ctx(L);
 	size_t len;
 	const char *text = luaL_checklstring(L, 1, &len);
-	char kept[1200], path[1400];
+	char kept[1300], path[1400], name[160] = "champion";
+	const char *root = l->task->mind->root, *skill = l->skill;
+	int member = 1, hetero = 0;
 	evo_err err = {{0}};
-	if (evo_path_fmt(kept, sizeof kept, &err, "%s/champion.net",
-			 l->run_dir) ||
+	if (!lua_isnoneornil(L, 2) && l->task->n_teams > 0) {
+		int team = (int)luaL_checkinteger(L, 2) - 1;
+		if (team < 0 || team >= l->task->n_teams)
+			return luaL_error(L, "evo.save_champion: no team %d",
+					  team + 1);
+		const evo_team *tm = &l->task->team[team];
+		root = tm->mind->root;
+		skill = tm->learning_skill;
+		member = (int)luaL_optinteger(L, 3, 1);
+		hetero = lua_toboolean(L, 4);
+		if (l->task->n_learning > 1)
+			snprintf(name, sizeof name, "champion-%s", tm->name);
+		if (member > 1) {
+			size_t n = strlen(name);
+			snprintf(name + n, sizeof name - n, "-%d", member);
+		}
+	}
+	char suffix[24] = "";
+	if (member > 1)
+		snprintf(suffix, sizeof suffix, ".%d", member);
+	if (evo_path_fmt(kept, sizeof kept, &err, "%s/%s.net", l->run_dir,
+			 name) ||
 	    evo_write_file_atomic(kept, text, len, &err))
 		return raise_msg(L, err.msg);
-	if (evo_path_fmt(path, sizeof path, &err, "%s/Skills/%s/%s.net",
-			 l->task->mind->root, l->skill, l->skill) ||
+	if (evo_path_fmt(path, sizeof path, &err, "%s/Skills/%s/%s%s.net",
+			 root, skill, skill, suffix) ||
 	    evo_write_file_atomic(path, text, len, &err))
 		return raise_msg(L, lua_pushfstring(L, "%s; the champion is in %s",
 						    err.msg, kept));
-	if (l->tty)
+	/* member networks of an earlier heterogeneous run would run in
+	 * place of a homogeneous champion */
+	for (int k = 2; member == 1 && !hetero && l->task->n_teams > 0 &&
+			k <= EVO_TEAM_MAX_SIZE;
+	     k++) {
+		char old[1400];
+		if (evo_path_fmt(old, sizeof old, &err, "%s/Skills/%s/%s.%d.net",
+				 root, skill, skill, k))
+			break;
+		if (unlink(old) != 0)
+			break;
+	}
+	if (l->tty && member == 1)
 		printf("\n");
 	printf("champion saved in %s\n", path);
 	return 0;
@@ -442,6 +560,7 @@ static int l_print(lua_State *L)
 
 static const luaL_Reg learn_fns[] = {
 	{"evaluate", l_evaluate},
+	{"set_team_net", l_set_team_net},
 	{"open_log", l_open_log},
 	{"log", l_log},
 	{"save", l_save},
@@ -464,6 +583,46 @@ static void push_task(lua_State *L, const evo_simbatch *sb)
 		lua_pushinteger(L, sb->pair[i].line);
 		lua_setfield(L, -2, sb->pair[i].key);
 	}
+}
+
+/* evo.teams of a team task (docs/teams.md): heterogeneous, own, alternate,
+ * and learning, the learning teams in LEARNINGTEAM's order, each {index
+ * (1-based), name, size, skill, inputs, outputs, layers}. */
+static void push_teams(lua_State *L, const learn *l)
+{
+	const evo_task *t = l->task;
+	lua_createtable(L, 0, 4);
+	lua_pushboolean(L, t->heterogeneous);
+	lua_setfield(L, -2, "heterogeneous");
+	lua_pushboolean(L, t->own_fitness);
+	lua_setfield(L, -2, "own");
+	lua_pushinteger(L, t->alternate);
+	lua_setfield(L, -2, "alternate");
+	lua_createtable(L, t->n_learning, 0);
+	for (int i = 0; i < t->n_learning; i++) {
+		int k = t->learning[i];
+		const evo_team *tm = &t->team[k];
+		int sk = evo_mindfolder_skill(tm->mind, tm->learning_skill);
+		lua_createtable(L, 0, 7);
+		lua_pushinteger(L, k + 1);
+		lua_setfield(L, -2, "index");
+		lua_pushstring(L, tm->name);
+		lua_setfield(L, -2, "name");
+		lua_pushinteger(L, tm->size);
+		lua_setfield(L, -2, "size");
+		lua_pushstring(L, tm->learning_skill);
+		lua_setfield(L, -2, "skill");
+		lua_pushinteger(L, evo_evaluator_team_n_in(l->ev, k));
+		lua_setfield(L, -2, "inputs");
+		lua_pushinteger(L, evo_evaluator_team_n_out(l->ev, k));
+		lua_setfield(L, -2, "outputs");
+		lua_pushinteger(L, sk >= 0 ? (lua_Integer)tm->mind->skill[sk].layers
+					   : 1);
+		lua_setfield(L, -2, "layers");
+		lua_rawseti(L, -2, i + 1);
+	}
+	lua_setfield(L, -2, "learning");
+	lua_setfield(L, -2, "teams");
 }
 
 static int open_module(lua_State *L)
@@ -513,6 +672,8 @@ static int open_module(lua_State *L)
 	lua_pushinteger(L, k >= 0 ? (lua_Integer)l->task->mind->skill[k].layers
 				  : 1);
 	lua_setfield(L, -2, "layers");
+	if (l->task->n_teams > 0)
+		push_teams(L, l);
 	return 1;
 }
 
@@ -628,7 +789,9 @@ int evo_learn_run(const char *task_path, evo_task *task,
 	l.tty = isatty(fileno(stdout));
 	l.started = now();
 	snprintf(l.skill, sizeof l.skill, "%s",
-		 evo_simbatch_get(task->sb, "LEARNINGSKILL"));
+		 task->n_teams > 0
+		     ? task->team[task->learning[0]].learning_skill
+		     : evo_simbatch_get(task->sb, "LEARNINGSKILL"));
 	if (o->run_dir) {
 		if (evo_path_fmt(l.run_dir, sizeof l.run_dir, err, "%s",
 				 o->run_dir))

@@ -323,6 +323,54 @@ static int team_options(evo_task *t, const char *path, evo_err *err)
 	return 0;
 }
 
+/* At most this many skills of a member run networks of its own. */
+#define MEMBER_NETS_MAX 16
+
+/* The networks of a team's members of their own: Skills/S/S.K.net for
+ * member K >= 2 of each neural skill S. A member with any gets a mind of
+ * its own, the team's folder with those networks. */
+static int load_members(evo_task *t, evo_team *tm, const char *dir,
+			const char *path, evo_err *err)
+{
+	const evo_mindfolder *m = tm->mind;
+	for (int k = 2; k <= tm->size; k++) {
+		evo_net_choice choice[MEMBER_NETS_MAX];
+		char files[MEMBER_NETS_MAX][1600];
+		unsigned n = 0;
+		for (unsigned i = 0; i < m->n_skills && n < MEMBER_NETS_MAX; i++) {
+			if (m->skill[i].kind != EVO_SKILL_NEURAL)
+				continue;
+			int len = snprintf(files[n], sizeof files[n],
+					   "%s/Skills/%s/%s.%d.net", dir,
+					   m->skill[i].name, m->skill[i].name, k);
+			if (len < 0 || (size_t)len >= sizeof files[n] ||
+			    !evo_file_exists(files[n]))
+				continue;
+			choice[n].skill = m->skill[i].name;
+			choice[n].source = files[n];
+			n++;
+		}
+		if (n == 0)
+			continue;
+		if (!tm->member &&
+		    !(tm->member = calloc((size_t)tm->size, sizeof *tm->member)))
+			return evo_fail(err, "out of memory");
+		evo_mindfolder_opts opts = {
+			.master = tm->master,
+			.nets = choice,
+			.n_nets = n,
+			.seed = t->seed,
+		};
+		evo_err inner = {{0}};
+		tm->member[k - 1] = evo_mindfolder_load(dir, &opts, &inner);
+		if (!tm->member[k - 1])
+			return evo_fail(err, "%s:%u: TEAM %s, member %d: %s", path,
+					(unsigned)tm->line, tm->name, k,
+					inner.msg);
+	}
+	return 0;
+}
+
 /* Parse the TEAM lines, check them and load each team's mind folder. */
 static int load_teams(evo_task *t, const char *path, const char *root,
 		      evo_err *err)
@@ -397,6 +445,8 @@ static int load_teams(evo_task *t, const char *path, const char *root,
 			return evo_fail(err, "%s:%u: TEAM %s: %s", path,
 					(unsigned)tm->line, tm->name,
 					inner.msg);
+		if (!tm->learns && load_members(t, tm, dir, path, err))
+			return -1;
 		if (tm->learns) {
 			int k = evo_mindfolder_skill(tm->mind,
 						     tm->learning_skill);
@@ -543,8 +593,13 @@ void evo_task_free(evo_task *t)
 {
 	if (t->team) {
 		/* t->mind is one of the teams' */
-		for (int i = 0; i < t->n_teams; i++)
+		for (int i = 0; i < t->n_teams; i++) {
 			evo_mindfolder_free(t->team[i].mind);
+			for (int k = 0; t->team[i].member && k < t->team[i].size;
+			     k++)
+				evo_mindfolder_free(t->team[i].member[k]);
+			free(t->team[i].member);
+		}
 		free(t->team);
 		t->mind = NULL;
 	}

@@ -29,6 +29,11 @@ typedef struct evo_team {
 	uint32_t line;	/* its TEAM line in the task file */
 	int learns;	/* a team of LEARNINGTEAM (LEARN2DSIMMULTI) */
 	evo_mindfolder *mind; /* its own mind folder, loaded */
+	/* Members with networks of their own (a heterogeneous team's
+	 * Skills/S/S.K.net for member K, docs/teams.md): member[k] is member
+	 * k + 1's mind, NULL for one that runs the team's; member is NULL
+	 * when none has any (and for a team that learns). */
+	evo_mindfolder **member;
 } evo_team;
 
 typedef struct evo_task {

@@ -324,7 +324,18 @@ evo_sim *evo_sim_create_task(const evo_task *t, const char *task_path,
 		lt[k].mind_dir = tm->mind->root;
 		lt[k].size = tm->size;
 	}
-	return build(s, t->sb, task_path, t->mind->root, NULL, lt, err);
+	if (!build(s, t->sb, task_path, t->mind->root, NULL, lt, err))
+		return NULL;
+	/* members with networks of their own */
+	for (int k = 0; k < t->n_teams; k++)
+		for (int i = 0; t->team[k].member && i < t->team[k].size; i++)
+			if (t->team[k].member[i] &&
+			    evo_sim_set_agent_mind(s, s->team[k].first + i,
+						   t->team[k].member[i], err)) {
+				evo_sim_destroy(s);
+				return NULL;
+			}
+	return s;
 }
 
 void evo_sim_destroy(evo_sim *s)
