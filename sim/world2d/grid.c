@@ -67,12 +67,14 @@ static void build_grid(evo_scene *sc, uint64_t seed)
 	}
 }
 
-void evo_grid_rebuild(evo_scene *sc, uint64_t seed)
+void evo_grid_rebuild(evo_scene *sc, uint64_t seed, int world_new)
 {
 	/* The elements' obstacles come back first, with the same indices. */
-	if (sc->grid.enabled || sc->n_obstacles != sc->n_fixed_obstacles) {
+	if (world_new || sc->grid.enabled ||
+	    sc->n_obstacles != sc->n_fixed_obstacles) {
 		int n = sc->n_fixed_obstacles;
-		evo_world_clear_obstacles(sc->world);
+		if (!world_new)
+			evo_world_clear_obstacles(sc->world);
 		sc->n_obstacles = 0;
 		for (int i = 0; i < n; i++) {
 			evo_obstacle o = sc->obstacle[i];

@@ -24,7 +24,9 @@ static inline void evo_bot_refresh_pose(evo_scene *sc, evo_bot *b)
 	b->s = sin(p.angle);
 }
 
-/* Put back the elements' obstacles and build the grid from seed. */
-void evo_grid_rebuild(evo_scene *sc, uint64_t seed);
+/* Put back the elements' obstacles and build the grid from seed;
+ * world_new: the world was just made again (evo_world_reset), with no
+ * obstacles. */
+void evo_grid_rebuild(evo_scene *sc, uint64_t seed, int world_new);
 
 #endif

@@ -42,6 +42,19 @@ static void reset_bot(evo_scene *sc, int i)
 
 void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
 {
+	/* A scene of teams: claws open, then a fresh physics world of the
+	 * same bodies, so that an episode does not depend on the ones before
+	 * it, nor on which of a learning run's workers runs it: Box2D's
+	 * contacts and the order of its lists carry over from one episode
+	 * to the next, and with several bots that meet, they change the
+	 * figures. (A scene of one agent keeps its world, as its golden
+	 * traces were recorded.) */
+	int world_new = sc->n_teams > 0;
+	if (world_new) {
+		for (int i = 0; i < sc->n_bots; i++)
+			evo_bot_release(sc, i);
+		evo_world_reset(sc->world);
+	}
 	for (int i = 0; i < sc->n_bots; i++)
 		reset_bot(sc, i);
 	for (int i = 0; i < sc->n_elements; i++) {
@@ -57,7 +70,7 @@ void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
 			e->y = e->def.y;
 		}
 	}
-	evo_grid_rebuild(sc, grid_seed);
+	evo_grid_rebuild(sc, grid_seed, world_new);
 	sc->grid_seed = grid_seed;
 	for (int i = 0; i < sc->n_rewards; i++)
 		evo_reward_reset(&sc->reward[i]);

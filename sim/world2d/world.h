@@ -79,6 +79,12 @@ evo_world_def evo_default_world_def(void) EVO_WORLD_NOEXCEPT;
 evo_world *evo_world_create(const evo_world_def *def) EVO_WORLD_NOEXCEPT;
 void evo_world_destroy(evo_world *w) EVO_WORLD_NOEXCEPT;
 
+/* Make the world again: every body of it, with the same id, where and as
+ * it was added (enabled or not), and no obstacles, joints or contacts, so
+ * that what follows does not depend on what went before (evo_scene_reset
+ * does it before each episode). */
+void evo_world_reset(evo_world *w) EVO_WORLD_NOEXCEPT;
+
 /* One physics step. */
 void evo_world_step(evo_world *w) EVO_WORLD_NOEXCEPT;
 

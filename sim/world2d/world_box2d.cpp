@@ -13,6 +13,8 @@ namespace {
 struct Slot {
 	b2Body *body = nullptr;
 	uint16_t generation = 0;
+	evo_body_def def{}; // as added, to make the body again
+	bool enabled = true; // evo_world_reset's note of it
 };
 
 } // namespace
@@ -62,6 +64,43 @@ static evo_body_id id_of_fixture(const evo_world *w, b2Fixture *f)
 	return evo_body_id{index, w->slots[(size_t)index].generation};
 }
 
+static void fill_fixture(b2FixtureDef *fd, const evo_body_def *d,
+			 uintptr_t tag)
+{
+	fd->density = (float)d->density;
+	fd->friction = (float)d->friction;
+	fd->restitution = (float)d->restitution;
+	fd->filter.categoryBits = d->category;
+	fd->filter.maskBits = d->mask;
+	fd->userData.pointer = tag;
+}
+
+/* A body of the world from its definition, tagged with its slot. */
+static b2Body *make_body(evo_world *w, const evo_body_def *d, int32_t index)
+{
+	b2BodyDef bd;
+	bd.type = d->dynamic ? b2_dynamicBody : b2_staticBody;
+	bd.position.Set((float)d->x, (float)d->y);
+	bd.angle = (float)d->angle;
+	bd.linearDamping = (float)d->linear_damping;
+	bd.angularDamping = (float)d->angular_damping;
+	bd.allowSleep = d->allow_sleep != 0;
+	b2Body *body = w->world.CreateBody(&bd);
+	b2FixtureDef fd;
+	fill_fixture(&fd, d, slot_tag(index));
+	b2CircleShape circle;
+	b2PolygonShape box;
+	if (d->shape == EVO_SHAPE_CIRCLE) {
+		circle.m_radius = (float)d->radius;
+		fd.shape = &circle;
+	} else {
+		box.SetAsBox((float)d->half_w, (float)d->half_h);
+		fd.shape = &box;
+	}
+	body->CreateFixture(&fd);
+	return body;
+}
+
 extern "C" {
 
 evo_body_def evo_default_body_def(void) noexcept
@@ -103,22 +142,40 @@ void evo_world_destroy(evo_world *w) noexcept
 	delete w;
 }
 
+void evo_world_reset(evo_world *w) noexcept
+{
+	// Box2D's state beyond the bodies' poses and speeds (contacts and
+	// their warm-starting impulses, the order of its contact and body
+	// lists, its broad phase's tree) depends on everything the world
+	// went through. A world made again, with the bodies added in the
+	// order of their ids, is the same whatever came before.
+	for (Slot &s : w->slots)
+		if (s.body)
+			s.enabled = s.body->IsEnabled();
+	for (b2Joint *&j : w->joints)
+		j = nullptr;
+	w->world.~b2World();
+	new (&w->world) b2World(b2Vec2(0.0f, 0.0f));
+	b2BodyDef bd;
+	bd.type = b2_staticBody;
+	w->obstacles = w->world.CreateBody(&bd);
+	w->n_obstacles = 0;
+	for (size_t i = 0; i < w->slots.size(); i++) {
+		Slot &s = w->slots[i];
+		if (!s.body)
+			continue;
+		s.body = make_body(w, &s.def, (int32_t)i);
+		if (!s.enabled)
+			s.body->SetEnabled(false);
+	}
+}
+
 void evo_world_step(evo_world *w) noexcept
 {
 	w->world.Step((float)w->def.step, w->def.velocity_iterations,
 		      w->def.position_iterations);
 }
 
-static void fill_fixture(b2FixtureDef *fd, const evo_body_def *d,
-			 uintptr_t tag)
-{
-	fd->density = (float)d->density;
-	fd->friction = (float)d->friction;
-	fd->restitution = (float)d->restitution;
-	fd->filter.categoryBits = d->category;
-	fd->filter.maskBits = d->mask;
-	fd->userData.pointer = tag;
-}
 
 evo_body_id evo_world_add_body(evo_world *w, const evo_body_def *d) noexcept
 {
@@ -141,30 +198,12 @@ evo_body_id evo_world_add_body(evo_world *w, const evo_body_def *d) noexcept
 		}
 		index = (int32_t)w->slots.size() - 1;
 	}
-	b2BodyDef bd;
-	bd.type = d->dynamic ? b2_dynamicBody : b2_staticBody;
-	bd.position.Set((float)d->x, (float)d->y);
-	bd.angle = (float)d->angle;
-	bd.linearDamping = (float)d->linear_damping;
-	bd.angularDamping = (float)d->angular_damping;
-	bd.allowSleep = d->allow_sleep != 0;
-	b2Body *body = w->world.CreateBody(&bd);
-	b2FixtureDef fd;
-	fill_fixture(&fd, d, slot_tag(index));
-	b2CircleShape circle;
-	b2PolygonShape box;
-	if (d->shape == EVO_SHAPE_CIRCLE) {
-		circle.m_radius = (float)d->radius;
-		fd.shape = &circle;
-	} else {
-		box.SetAsBox((float)d->half_w, (float)d->half_h);
-		fd.shape = &box;
-	}
-	body->CreateFixture(&fd);
 	Slot &s = w->slots[(size_t)index];
-	s.body = body;
+	s.def = *d;
+	s.body = make_body(w, d, index);
 	return evo_body_id{index, s.generation};
 }
+
 
 int evo_world_remove_body(evo_world *w, evo_body_id id) noexcept
 {

@@ -162,6 +162,66 @@ TEST(stepping_is_deterministic)
 	CHECK(x[0] == x[1] && y[0] == y[1] && a[0] == a[1]);
 }
 
+/* Three bots pushed into one another and a pillar for 300 steps from
+ * the same poses; their poses at the end, into out. */
+static void crash(evo_world *w, const evo_body_id *b, double *out)
+{
+	evo_world_add_static_circle(w, 2, 1, 1);
+	for (int i = 0; i < 3; i++) {
+		evo_pose p = {3.0 * i, 0.5 * i, 0.3 * i};
+		evo_body_set_pose(w, b[i], p);
+		evo_body_set_velocity(w, b[i], 0, 0, 0);
+	}
+	for (int t = 0; t < 300; t++) {
+		for (int i = 0; i < 3; i++)
+			push(w, b[i], 40 + 10 * i, 60 - 10 * i);
+		evo_world_step(w);
+	}
+	for (int i = 0; i < 3; i++) {
+		evo_pose p = evo_body_pose(w, b[i]);
+		out[3 * i] = p.x;
+		out[3 * i + 1] = p.y;
+		out[3 * i + 2] = p.angle;
+	}
+}
+
+/* A world made again (evo_world_reset) is the same whatever it went
+ * through: the same bodies and ids, no obstacles, and stepping it gives
+ * the poses a fresh world of those bodies gives. */
+TEST(a_reset_world_does_not_remember_its_past)
+{
+	evo_world *fresh = evo_world_create(NULL), *old = evo_world_create(NULL);
+	evo_body_id f[3], o[3];
+	for (int i = 0; i < 3; i++)
+		f[i] = add_bot(fresh, 3.0 * i, 0);
+	/* old: the same three, but the first removed and added again (its
+	 * slot reused), an obstacle, and a past full of contacts */
+	for (int i = 0; i < 3; i++)
+		o[i] = add_bot(old, 3.0 * i, 0);
+	evo_world_remove_body(old, o[0]);
+	o[0] = add_bot(old, 0, 0);
+	CHECK_EQ_INT(o[0].index, f[0].index);
+	double past[9];
+	crash(old, o, past);
+	evo_body_set_enabled(old, o[2], 0);
+	evo_world_reset(fresh);
+	evo_world_reset(old);
+	/* ids still valid; the disabled body stays disabled, no obstacle */
+	for (int i = 0; i < 3; i++)
+		CHECK(evo_body_valid(old, o[i]));
+	CHECK_EQ_INT(evo_world_raycast(old, 2, -5, 2, 5, EVO_CAT_OBSTACLE,
+				       EVO_BODY_NONE) < 0,
+		     1);
+	evo_body_set_enabled(old, o[2], 1);
+	double a[9], b[9];
+	crash(fresh, f, a);
+	crash(old, o, b);
+	for (int i = 0; i < 9; i++)
+		CHECK(a[i] == b[i]);
+	evo_world_destroy(fresh);
+	evo_world_destroy(old);
+}
+
 int main(void)
 {
 	RUN(equal_wheel_forces_drive_straight);
@@ -171,5 +231,6 @@ int main(void)
 	RUN(query_returns_the_shapes_near_a_box);
 	RUN(stale_ids_are_refused);
 	RUN(stepping_is_deterministic);
+	RUN(a_reset_world_does_not_remember_its_past);
 	return test_summary();
 }
