@@ -91,13 +91,26 @@ static int unseen(const evo_scene *sc, const evo_bot *b, evo_body_id id)
 	return 0;
 }
 
-/* One area query for the square of half side `reach` around the bot,
- * keeping what its rays may see. */
-static void gather(const evo_scene *sc, const evo_bot *b, const frame *f,
-		   double reach, uint16_t mask, shape_set *set)
+/* An axis-aligned box in world coordinates. */
+typedef struct box {
+	double x0, y0, x1, y1;
+} box;
+
+static void box_add(box *b, double x, double y)
 {
-	double x0 = f->x - reach, y0 = f->y - reach;
-	double x1 = f->x + reach, y1 = f->y + reach;
+	b->x0 = x < b->x0 ? x : b->x0;
+	b->y0 = y < b->y0 ? y : b->y0;
+	b->x1 = x > b->x1 ? x : b->x1;
+	b->y1 = y > b->y1 ? y : b->y1;
+}
+
+/* One area query for the box `area`, keeping what the bot's rays may
+ * see. */
+static void gather(const evo_scene *sc, const evo_bot *b, const box *area,
+		   uint16_t mask, shape_set *set)
+{
+	double x0 = area->x0, y0 = area->y0;
+	double x1 = area->x1, y1 = area->y1;
 	set->s = set->local;
 	int n = evo_world_query(sc->world, x0, y0, x1, y1, mask, set->local,
 				QUERY_CAP);
@@ -136,12 +149,51 @@ static void release_set(shape_set *set)
 	set->n = 0;
 }
 
-/* How far from the bot's centre a proximity sensor's rays can reach: the
- * size of the query around the bot, so sqrt serves (as for a box's
- * bounding circle), at a third of hypot's cost, ten times a tick. */
-static double sensor_reach(const evo_sensor_def *d)
+/* What a proximity sensor's rays can reach, as a box in world
+ * coordinates added to `area`: the fan from the sensor's point, its two
+ * edge rays' ends and, where the fan spans one, the points straight along
+ * an axis, `range` away (a fan of half a turn or more: the square around
+ * its point). Every ray lies in the fan and so in the box; the
+ * world's broad phase is then asked for this box, not for the square
+ * around the bot that holds every direction (a forward fan of 120
+ * degrees covers a third of it). A little margin keeps a shape that only
+ * touches the box's edge after rounding to Box2D's floats. */
+static void fan_box(const evo_sensor *se, const frame *f, box *area)
 {
-	return sqrt(d->x * d->x + d->y * d->y) + d->range;
+	const evo_sensor_def *d = &se->def;
+	int n = d->rays < 1 ? 1 : d->rays;
+	n = n > EVO_PROX_MAX_RAYS ? EVO_PROX_MAX_RAYS : n;
+	double px, py;
+	to_world(f, d->x, d->y, &px, &py);
+	box_add(area, px, py);
+	double arc = n > 1 ? fabs(d->arc) : 0;
+	double r = d->range;
+	if (arc >= M_PI / 2) {
+		box_add(area, px - r, py - r);
+		box_add(area, px + r, py + r);
+	} else {
+		/* the first and last rays' directions in the world (the
+		 * fan turns anticlockwise from the first, by less than half
+		 * a turn), and each axis direction between them: e is
+		 * between when it is left of the first and right of the
+		 * last */
+		double ux = f->c * se->ray_c[0] - f->s * se->ray_s[0];
+		double uy = f->s * se->ray_c[0] + f->c * se->ray_s[0];
+		double vx = f->c * se->ray_c[n - 1] - f->s * se->ray_s[n - 1];
+		double vy = f->s * se->ray_c[n - 1] + f->c * se->ray_s[n - 1];
+		box_add(area, px + r * ux, py + r * uy);
+		box_add(area, px + r * vx, py + r * vy);
+		static const double ax[4] = {1, 0, -1, 0}, ay[4] = {0, 1, 0, -1};
+		for (int k = 0; k < 4; k++)
+			if (ux * ay[k] - uy * ax[k] > 0 &&
+			    ax[k] * vy - ay[k] * vx > 0)
+				box_add(area, px + r * ax[k], py + r * ay[k]);
+	}
+	const double margin = 1e-3 * (1 + r);
+	area->x0 -= margin;
+	area->y0 -= margin;
+	area->x1 += margin;
+	area->y1 += margin;
 }
 
 /* ---- proximity: rays against circles and boxes ------------------------ */
@@ -366,35 +418,37 @@ double evo_sensor_sample(evo_scene *sc, int bot, int sensor)
 	shape_set set;
 	set.s = set.local;
 	set.n = 0;
-	if (se->def.kind == EVO_SENSOR_PROXIMITY)
-		gather(sc, b, &f, sensor_reach(&se->def), se->def.mask, &set);
+	if (se->def.kind == EVO_SENSOR_PROXIMITY) {
+		box area = {INFINITY, INFINITY, -INFINITY, -INFINITY};
+		fan_box(se, &f, &area);
+		gather(sc, b, &area, se->def.mask, &set);
+	}
 	se->value = sample(sc, bot, se, &f, &set);
 	release_set(&set);
 	return se->value;
 }
 
-/* One query serves every proximity sensor: the square that holds all of
- * their rays, for the union of what they see. */
+/* One query serves every proximity sensor: the box that holds all of
+ * their fans, for the union of what they see. */
 void evo_bot_sense(evo_scene *sc, int bot)
 {
 	assert(bot >= 0 && bot < sc->n_bots);
 	evo_bot *b = &sc->bot[bot];
 	frame f = bot_frame(b);
-	double reach = 0;
+	box area = {INFINITY, INFINITY, -INFINITY, -INFINITY};
 	uint16_t mask = 0;
 	for (int i = 0; i < b->n_sensors; i++) {
-		const evo_sensor_def *d = &b->sensor[i].def;
-		if (d->kind != EVO_SENSOR_PROXIMITY || b->sensor[i].idle)
+		const evo_sensor *se = &b->sensor[i];
+		if (se->def.kind != EVO_SENSOR_PROXIMITY || se->idle)
 			continue;
-		double r = sensor_reach(d);
-		reach = r > reach ? r : reach;
-		mask |= d->mask;
+		fan_box(se, &f, &area);
+		mask |= se->def.mask;
 	}
 	shape_set set;
 	set.s = set.local;
 	set.n = 0;
 	if (mask)
-		gather(sc, b, &f, reach, mask, &set);
+		gather(sc, b, &area, mask, &set);
 	for (int i = 0; i < b->n_sensors; i++)
 		if (!b->sensor[i].idle)
 			b->sensor[i].value =
