@@ -36,6 +36,8 @@ typedef struct worker {
 	int team_skill[EVO_MAX_TEAMS];
 	evo_mindfolder **member[EVO_MAX_TEAMS];
 	unsigned long nets_seen;
+	int last_team; /* the team its last batch trained, -1 at first */
+	evo_netdesc *own_net[EVO_MAX_TEAMS]; /* each team's network as loaded */
 } worker;
 
 /* What one evaluation of a team gives, summed over its repetitions. */
@@ -146,23 +148,28 @@ static int evaluate_one(worker *w, int i, evo_eval_result *res, evo_err *err)
 	return 0;
 }
 
-/* The teams' networks of evo_evaluator_set_team_net, into worker w's
- * minds when they changed since its last batch. */
+/* Before a team batch: every team but the one that learns runs its
+ * network of evo_evaluator_set_team_net, or its own as loaded (a team
+ * that learned in an earlier batch still holds a candidate), whenever
+ * those changed or another team learns than in w's last batch. */
 static int apply_team_nets(worker *w, evo_err *err)
 {
 	evo_evaluator *ev = w->ev;
-	if (w->nets_seen == ev->nets_version)
+	if (w->nets_seen == ev->nets_version && w->last_team == ev->team)
 		return 0;
 	for (int t = 0; t < ev->n_teams; t++) {
-		if (!ev->team_net[t] || w->team_skill[t] < 0)
+		if (t == ev->team || w->team_skill[t] < 0)
 			continue;
+		const evo_netdesc *net =
+		    ev->team_net[t] ? ev->team_net[t] : w->own_net[t];
 		evo_mindfolder *m = w->task.team[t].mind;
-		*m->net[w->team_skill[t]] = *ev->team_net[t];
+		*m->net[w->team_skill[t]] = *net;
 		if (evo_mindfolder_rebuild(m, err) ||
 		    evo_sim_set_team_mind(w->sim, t, m, err))
 			return -1;
 	}
 	w->nets_seen = ev->nets_version;
+	w->last_team = ev->team;
 	return 0;
 }
 
@@ -261,6 +268,12 @@ static int load_teams(evo_evaluator *ev, worker *w, evo_err *err)
 		if (w->team_skill[k] >= 0 &&
 		    !tm->mind->net[w->team_skill[k]])
 			w->team_skill[k] = -1;
+		if (w->team_skill[k] >= 0) {
+			w->own_net[k] = malloc(sizeof *w->own_net[k]);
+			if (!w->own_net[k])
+				return evo_fail(err, "out of memory");
+			*w->own_net[k] = *tm->mind->net[w->team_skill[k]];
+		}
 		if (!tm->learns || !t->heterogeneous)
 			continue;
 		w->member[k] = calloc((size_t)tm->size, sizeof *w->member[k]);
@@ -277,6 +290,7 @@ static int load_teams(evo_evaluator *ev, worker *w, evo_err *err)
 				return -1;
 	}
 	(void)ev;
+	w->last_team = -1;
 	w->skill = w->team_skill[t->learning[0]];
 	w->sim = evo_sim_create_task(t, ev->task_path, err);
 	return w->sim ? 0 : -1;
@@ -562,6 +576,7 @@ void evo_evaluator_destroy(evo_evaluator *ev)
 			     i++)
 				evo_mindfolder_free(w->member[t][i]);
 			free(w->member[t]);
+			free(w->own_net[t]);
 		}
 		if (w->task.sb || w->task.mind)
 			evo_task_free(&w->task);
