@@ -248,6 +248,125 @@ TEST(a_killed_run_resumes_to_the_same_result)
 	kill_and_resume("HETEROGENEOUS");
 }
 
+/* A copy of minds/Pursuer and minds/Evader under <name>/, with its task
+ * `task` shortened to `gens` generations of 60 networks. */
+static int make_pursuit(const char *name, const char *task, int gens)
+{
+	return cli_sh("rm -rf %s/%s && mkdir -p %s/%s && cp -r minds/Pursuer "
+		      "minds/Evader %s/%s/ && sed -i -e 's/^NUMGEN:.*/NUMGEN:%d/' "
+		      "-e 's/^POPSIZE:.*/POPSIZE:60/' "
+		      "%s/%s/Pursuer/Tasks/%s.simbatch",
+		      cli_tmp, name, cli_tmp, name, cli_tmp, name, gens, cli_tmp,
+		      name, task);
+}
+
+static int train_pursuit(const char *name, const char *task,
+			 const char *args)
+{
+	return cli_sh("%s run %s/%s/Pursuer/Tasks/%s.simbatch --seed 3 --run "
+		      "%s/%s/run %s > %s/%s/out.txt 2>&1",
+		      cli_evo, cli_tmp, name, task, cli_tmp, name, args, cli_tmp,
+		      name);
+}
+
+/* Column `col` (0-based) of each row of a log, into v; how many rows. */
+static int column(const char *log, int col, double *v, int cap)
+{
+	int n = 0;
+	const char *p = log ? strchr(log, '\n') : NULL;
+	while (p && p[1] && n < cap) {
+		p++;
+		const char *c = p;
+		for (int k = 0; k < col && c; k++) {
+			c = strchr(c, ',');
+			if (c)
+				c++;
+		}
+		v[n++] = c ? strtod(c, NULL) : -1;
+		p = strchr(p, '\n');
+	}
+	return n;
+}
+
+/* The pursuers learn against the fixed evader: the share of episodes
+ * they win rises over the generations. */
+TEST(the_pursuers_win_rate_rises)
+{
+	CHECK_EQ_INT(make_pursuit("pur", "Pursuit-NEAT", 5), 0);
+	CHECK_EQ_INT(train_pursuit("pur", "Pursuit-NEAT", "--threads 2"), 0);
+	char *log = cli_read("%s/pur/run/log.csv", cli_tmp);
+	CHECK(log && strstr(log, "metric:caught,metric:team,metric:win_rate\n"));
+	double rate[8], team[8];
+	int n = column(log, 11, rate, 8);
+	CHECK_EQ_INT(column(log, 10, team, 8), 5);
+	CHECK_EQ_INT(n, 5);
+	printf("  pursuers' win rate by generation:");
+	for (int g = 0; g < n; g++)
+		printf(" %.3f", rate[g]);
+	printf("\n");
+	if (n == 5) {
+		CHECK(team[0] == 1 && team[4] == 1);
+		CHECK((rate[3] + rate[4]) / 2 > rate[0]);
+	}
+	free(log);
+}
+
+/* Co-evolution: the teams learn in turns of ALTERNATE generations, each
+ * with its population; one thread and two give the same log, and a
+ * killed run resumes to the same one. */
+TEST(co_evolution_takes_turns_and_resumes)
+{
+	CHECK_EQ_INT(make_pursuit("co1", "Pursuit-COEVO", 6), 0);
+	CHECK_EQ_INT(make_pursuit("co2", "Pursuit-COEVO", 6), 0);
+	for (int i = 1; i <= 2; i++)
+		CHECK_EQ_INT(cli_sh("sed -i 's/^ALTERNATE:.*/ALTERNATE:2/' "
+				    "%s/co%d/Pursuer/Tasks/Pursuit-COEVO.simbatch",
+				    cli_tmp, i),
+			     0);
+	CHECK_EQ_INT(train_pursuit("co1", "Pursuit-COEVO", "--threads 1"), 0);
+	CHECK_EQ_INT(train_pursuit("co2", "Pursuit-COEVO", "--threads 2"), 0);
+	same_log("co1", "co2");
+	char *log = cli_read("%s/co1/run/log.csv", cli_tmp);
+	double team[8];
+	CHECK_EQ_INT(column(log, 10, team, 8), 6);
+	CHECK(team[0] == 1 && team[1] == 1 && team[2] == 2 && team[3] == 2 &&
+	      team[4] == 1 && team[5] == 1);
+	free(log);
+	/* each team's champion, in the run folder and in its own mind */
+	char *a = cli_read("%s/co1/run/champion-Pursuers.net", cli_tmp);
+	char *b = cli_read("%s/co1/run/champion-Evaders.net", cli_tmp);
+	char *c = cli_read("%s/co1/Evader/Skills/Flee/Flee.net", cli_tmp);
+	CHECK(a && b && c && strcmp(b, c) == 0);
+	free(a);
+	free(b);
+	free(c);
+	/* stopped at generation 3 (the evaders' turn) and resumed */
+	CHECK_EQ_INT(make_pursuit("co3", "Pursuit-COEVO", 6), 0);
+	CHECK_EQ_INT(cli_sh("sed -i 's/^ALTERNATE:.*/ALTERNATE:2/' "
+			    "%s/co3/Pursuer/Tasks/Pursuit-COEVO.simbatch && "
+			    "sed -i 's/^NUMGEN:.*/NUMGEN:3/' "
+			    "%s/co3/Pursuer/Tasks/Pursuit-COEVO.simbatch",
+			    cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(train_pursuit("co3", "Pursuit-COEVO", "--threads 2"), 0);
+	CHECK_EQ_INT(cli_sh("sed -i 's/^NUMGEN:.*/NUMGEN:6/' "
+			    "%s/co3/Pursuer/Tasks/Pursuit-COEVO.simbatch",
+			    cli_tmp),
+		     0);
+	/* the first part saved its champions into Skills/: put the
+	 * shipped networks back, as the uninterrupted run had them */
+	CHECK_EQ_INT(cli_sh("cp minds/Evader/Skills/Flee/Flee.net "
+			    "%s/co3/Evader/Skills/Flee/ && cp "
+			    "minds/Pursuer/Skills/Chase/Chase.net "
+			    "%s/co3/Pursuer/Skills/Chase/",
+			    cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(train_pursuit("co3", "Pursuit-COEVO",
+				   "--threads 2 --resume"),
+		     0);
+	same_log("co1", "co3");
+}
+
 int main(void)
 {
 	if (cli_setup("learn-teams"))
@@ -256,6 +375,8 @@ int main(void)
 	RUN(a_trained_homogeneous_team_beats_untrained_ones);
 	RUN(a_trained_heterogeneous_team_beats_untrained_ones);
 	RUN(a_killed_run_resumes_to_the_same_result);
+	RUN(the_pursuers_win_rate_rises);
+	RUN(co_evolution_takes_turns_and_resumes);
 	cli_cleanup();
 	return test_summary();
 }
