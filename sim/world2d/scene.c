@@ -43,6 +43,8 @@ void evo_scene_destroy(evo_scene *sc)
 	free(sc->reward);
 	free(sc->control);
 	free(sc->body_owner);
+	free(sc->sense_mem);
+	free(sc->sense_shapes);
 	evo_world_destroy(sc->world);
 	free(sc);
 }

@@ -21,6 +21,7 @@
 #ifndef EVO_SCENE_H
 #define EVO_SCENE_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "base/err.h"
@@ -375,6 +376,12 @@ struct evo_scene {
 	 * -1 for none: what the broad phase finds, named */
 	int *body_owner;
 	int cap_body_owner;
+	/* evo_scene_sense's buffers, kept from one tick to the next
+	 * (sensors.c) */
+	void *sense_mem;
+	size_t sense_cap;
+	void *sense_shapes;
+	size_t sense_shapes_cap;
 	int n_metrics;	       /* declared, in the order they were */
 	evo_metric metric[EVO_SCENE_MAX_METRICS];
 	evo_scene_hooks hooks;

@@ -9,7 +9,13 @@
  * stores it (and a proximity sensor's rays). */
 double evo_sensor_sample(evo_scene *sc, int bot, int sensor);
 /* Sample every sensor of a bot, sharing one area query among its
- * proximity sensors (what evo_scene_sense calls). */
+ * proximity sensors. */
 void evo_bot_sense(evo_scene *sc, int bot);
+
+/* Sample every sensor of every bot, in the bots' order (what
+ * evo_scene_sense calls): the same values as evo_bot_sense of each, with
+ * one area query for the bots of each cell of the world instead of one
+ * per bot. */
+void evo_sense_all(evo_scene *sc);
 
 #endif

@@ -88,8 +88,7 @@ void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
 
 void evo_scene_sense(evo_scene *sc)
 {
-	for (int i = 0; i < sc->n_bots; i++)
-		evo_bot_sense(sc, i);
+	evo_sense_all(sc);
 }
 
 int evo_scene_step(evo_scene *sc)

@@ -6,6 +6,7 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "base/rng.h"
 #include "harness.h"
 #include "world2d/query.h"
 #include "world2d/rewards.h"
@@ -214,6 +215,75 @@ TEST(rays_see_teammates_or_opponents_as_told)
 	CHECK(NEAR(ray_reading(0, 0, 0), 1));
 }
 
+/* A crowd of 300 bots of three teams among pillars and objects, with
+ * proximity sensors of every kind of fan: sensing them all at once (one
+ * query per cell) reads exactly what each bot's own query reads. */
+TEST(a_crowd_senses_as_each_bot_alone)
+{
+	evo_scene *sc = evo_scene_create();
+	evo_rng r = evo_rng_seed(42);
+	for (int i = 0; i < 40; i++) {
+		evo_element_def e = evo_default_element_def(
+		    i % 2 ? EVO_ELEM_CYLINDER : EVO_ELEM_OBJECT);
+		e.x = evo_rng_range(&r, -40, 40);
+		e.y = evo_rng_range(&r, -40, 40);
+		e.size = evo_rng_range(&r, 0.3, 2);
+		evo_scene_add_element(sc, &e);
+	}
+	evo_element_def bx = evo_default_element_def(EVO_ELEM_BOX);
+	bx.half_w = 3;
+	bx.half_h = 0.5;
+	bx.angle = 0.4;
+	evo_scene_add_element(sc, &bx);
+	for (int i = 0; i < 300; i++) {
+		int b = add_bot(sc, i % 3, evo_rng_range(&r, -40, 40),
+				evo_rng_range(&r, -40, 40),
+				evo_rng_range(&r, -M_PI, M_PI));
+		for (int k = 0; k < 3; k++) {
+			evo_sensor_def d =
+			    evo_default_sensor_def(EVO_SENSOR_PROXIMITY);
+			char name[8];
+			snprintf(name, sizeof name, "P%d", k);
+			d.name = name;
+			d.angle = evo_rng_range(&r, -M_PI, M_PI);
+			d.arc = evo_rng_range(&r, 0, 2 * M_PI / (1 + k));
+			d.rays = 1 + (i + k) % 9;
+			d.range = evo_rng_range(&r, 1, 15);
+			d.x = evo_rng_range(&r, -1, 1);
+			d.mask = k == 2 ? (EVO_CAT_OBJECT | EVO_CAT_OBSTACLE)
+					: EVO_CAT_OBSTACLE;
+			d.sees_teammates = k == 0;
+			d.sees_opponents = k == 1;
+			evo_scene_add_sensor(sc, b, &d);
+		}
+	}
+	evo_scene_reset(sc, 1, 1);
+	evo_scene_sense(sc);
+	static double batched[300][3][EVO_PROX_MAX_RAYS + 1];
+	int hits = 0;
+	for (int b = 0; b < 300; b++)
+		for (int k = 0; k < 3; k++) {
+			const evo_sensor *se = &sc->bot[b].sensor[k];
+			batched[b][k][0] = se->value;
+			hits += se->value < 1;
+			for (int i = 0; i < EVO_PROX_MAX_RAYS; i++)
+				batched[b][k][i + 1] = se->ray[i];
+		}
+	CHECK(hits > 100);
+	int same = 1;
+	for (int b = 0; b < 300; b++) {
+		evo_bot_sense(sc, b);
+		for (int k = 0; k < 3; k++) {
+			const evo_sensor *se = &sc->bot[b].sensor[k];
+			same &= batched[b][k][0] == se->value;
+			for (int i = 0; i < EVO_PROX_MAX_RAYS; i++)
+				same &= batched[b][k][i + 1] == se->ray[i];
+		}
+	}
+	CHECK(same);
+	evo_scene_destroy(sc);
+}
+
 int main(void)
 {
 	RUN(bots_of_a_team_are_numbered_and_named_by_body);
@@ -221,5 +291,6 @@ int main(void)
 	RUN(gather_takes_the_objects_a_bot_touches);
 	RUN(trackers_find_the_nearest_opponent_and_teammate);
 	RUN(rays_see_teammates_or_opponents_as_told);
+	RUN(a_crowd_senses_as_each_bot_alone);
 	return test_summary();
 }
