@@ -14,6 +14,20 @@ void evo_bot_to_world(const evo_scene *sc, int bot, double bx, double by,
 	*wy = b->y + b->s * bx + b->c * by;
 }
 
+int evo_scene_bot_of_body(const evo_scene *sc, int index)
+{
+	int o = index >= 0 && index < sc->cap_body_owner ? sc->body_owner[index]
+							 : -1;
+	return o >= 0 ? o : -1;
+}
+
+int evo_scene_object_of_body(const evo_scene *sc, int index)
+{
+	int o = index >= 0 && index < sc->cap_body_owner ? sc->body_owner[index]
+							 : -1;
+	return o <= -2 ? -o - 2 : -1;
+}
+
 #define NEAR_CAP 64
 
 /* The nearest bot whose body's category meets mask, other than `bot`,

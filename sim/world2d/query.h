@@ -21,6 +21,11 @@ int evo_scene_target_pos(const evo_scene *sc, int bot, int target, double *x,
 int evo_scene_object_in_reach(const evo_scene *sc, double px, double py,
 			      double ux, double uy, double reach, double arc);
 
+/* The bot whose body has this index, or -1; the object element, or -1
+ * (scene.c keeps who owns each body). */
+int evo_scene_bot_of_body(const evo_scene *sc, int body_index);
+int evo_scene_object_of_body(const evo_scene *sc, int body_index);
+
 /* 1 when the world point lies inside zone element z. */
 int evo_zone_contains(const evo_element *z, double x, double y);
 

@@ -87,20 +87,6 @@ static int set_owner(evo_scene *sc, int index, int owner)
 	return 0;
 }
 
-int evo_scene_bot_of_body(const evo_scene *sc, int index)
-{
-	int o = index >= 0 && index < sc->cap_body_owner ? sc->body_owner[index]
-							 : -1;
-	return o >= 0 ? o : -1;
-}
-
-int evo_scene_object_of_body(const evo_scene *sc, int index)
-{
-	int o = index >= 0 && index < sc->cap_body_owner ? sc->body_owner[index]
-							 : -1;
-	return o <= -2 ? -o - 2 : -1;
-}
-
 static int set_name(char *dst, const char *src, evo_err *err)
 {
 	dst[0] = 0;

@@ -412,10 +412,6 @@ int evo_scene_add_metric(evo_scene *sc, const char *name);
  * when the value is not finite (the metric keeps its value). */
 int evo_scene_set_metric(evo_scene *sc, int metric, double value);
 
-/* The bot whose body has this index, or -1; the object element, or -1. */
-int evo_scene_bot_of_body(const evo_scene *sc, int body_index);
-int evo_scene_object_of_body(const evo_scene *sc, int body_index);
-
 /* Lookups by name; -1 when absent. */
 int evo_scene_find_element(const evo_scene *sc, const char *name);
 int evo_scene_find_bot(const evo_scene *sc, const char *name);
