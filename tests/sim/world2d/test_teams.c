@@ -242,7 +242,7 @@ TEST(a_crowd_senses_as_each_bot_alone)
 		for (int k = 0; k < 3; k++) {
 			evo_sensor_def d =
 			    evo_default_sensor_def(EVO_SENSOR_PROXIMITY);
-			char name[8];
+			char name[16];
 			snprintf(name, sizeof name, "P%d", k);
 			d.name = name;
 			d.angle = evo_rng_range(&r, -M_PI, M_PI);
