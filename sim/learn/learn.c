@@ -380,6 +380,13 @@ static int l_log(lua_State *L)
 		.first = l->first,
 		.metrics = nm > 0 ? metrics : NULL,
 	};
+	/* a team task's row ends with its learning team and win rate */
+	if (evo_evaluator_n_teams(l->ev) > 0) {
+		int k = (int)metrics[nm - 2] - 1;
+		if (k >= 0 && k < l->task->n_teams)
+			s.team = l->task->team[k].name;
+		s.win_rate = metrics[nm - 1];
+	}
 	evo_err err = {{0}};
 	if (evo_runlog_add(&l->log, &s, &err))
 		return raise_msg(L, err.msg);

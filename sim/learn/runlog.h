@@ -30,6 +30,10 @@ typedef struct evo_gen_stats {
 	/* the environment's metrics for this row, one value for each name
 	 * given to evo_runlog_open, in its order; NULL when there are none */
 	const double *metrics;
+	/* a team task (docs/teams.md): the learning team, and the share of
+	 * the generation's episodes it won; NULL team: not a team task */
+	const char *team;
+	double win_rate;
 } evo_gen_stats;
 
 /* Metric columns a log can hold: the environment's, and on --resume an

@@ -309,6 +309,11 @@ TEST(the_pursuers_win_rate_rises)
 		CHECK((rate[3] + rate[4]) / 2 > rate[0]);
 	}
 	free(log);
+	/* each generation's line says it too */
+	char *said = cli_read("%s/pur/out.txt", cli_tmp);
+	CHECK(said && strstr(said, "gen 4/5  best ") &&
+	      strstr(said, "  Pursuers won "));
+	free(said);
 }
 
 /* Co-evolution: the teams learn in turns of ALTERNATE generations, each
