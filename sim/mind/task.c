@@ -411,7 +411,7 @@ static int load_teams(evo_task *t, const char *path, const char *root,
 		if (evo_simbatch_get(t->sb, ignored[i]))
 			fprintf(stderr,
 				"warning: %s:%u: %s is ignored in a %s task: "
-				"each TEAM line names its own\\n",
+				"each TEAM line names its own\n",
 				path, (unsigned)key_line(t->sb, ignored[i]),
 				ignored[i], t->type);
 	int learn = strncmp(t->type, "LEARN", 5) == 0;

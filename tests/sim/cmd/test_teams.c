@@ -354,6 +354,19 @@ TEST(pursuit_names_a_winner_every_episode)
 
 TEST(evo_check_passes_the_shipped_team_tasks)
 {
+	/* the one-agent keys are the teams' business: a warning each */
+	CHECK_EQ_INT(write_task("Extra", "TYPE:DEMO2DSIMMULTI\nENV:EXP_Forage\n"
+					 "BOTMODEL:BotType8\n"
+					 "TEAM:Red:Forager:BotType8:2:Forage\n"),
+		     0);
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s check %s/Forager/Tasks/Extra.simbatch",
+				 cli_evo, minds()),
+		     0);
+	CHECK_CONTAINS(out, "Extra.simbatch:3: BOTMODEL is ignored in a "
+			    "DEMO2DSIMMULTI task: each TEAM line names its "
+			    "own\n");
+	CHECK_CONTAINS(out, "  team Red: 2 bots of BotType8, mind folder ");
 	static const char *const tasks[] = {
 	    "minds/Forager/Tasks/Forage-DEMO.simbatch",
 	    "minds/Forager/Tasks/Forage-NEAT.simbatch",
