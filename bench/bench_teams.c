@@ -32,7 +32,7 @@
 #include "world2d/scene.h"
 
 #define RATIO_BAR 0.40
-#define COST_BAR 2.0
+#define COST_BAR  2.0
 
 static double now(void)
 {
@@ -59,8 +59,11 @@ static int put(const char *rel, const char *text)
  * task per N. */
 static int make_mind(void)
 {
-	static const char *const sub[] = {"Swarm", "Swarm/Bots", "Swarm/Envs",
-					  "Swarm/Tasks", "Swarm/Skills",
+	static const char *const sub[] = {"Swarm",
+					  "Swarm/Bots",
+					  "Swarm/Envs",
+					  "Swarm/Tasks",
+					  "Swarm/Skills",
 					  "Swarm/Skills/Drive",
 					  "Swarm/Skills/MoveForward",
 					  "Swarm/Skills/TurnLeft"};
@@ -77,7 +80,8 @@ static int make_mind(void)
 		   "return {\n"
 		   "  body = { shape = 'circle', radius = 0.5 },\n"
 		   "  build = function(bot)\n"
-		   "    bot:proximity{ name = 'PROX', x = 0.5, range = 4, arc = "
+		   "    bot:proximity{ name = 'PROX', x = 0.5, range = 4, arc "
+		   "= "
 		   "60, rays = 8, sees = { 'obstacles', 'bots' } }\n"
 		   "    bot:wheel{ name = 'MotL', y = -0.5, max_force = 20 }\n"
 		   "    bot:wheel{ name = 'MotR', y = 0.5, max_force = 20 }\n"
@@ -99,8 +103,10 @@ static int make_mind(void)
 		   "    end\n"
 		   "  end\n"
 		   "  for i = 0, t.size - 1 do\n"
-		   "    scene:bot{ team = t.name, x = -half + 3 + 4 * (i % side),\n"
-		   "      y = -half + 3 + 4 * (i // side), angle = (i * 137) % 360 }\n"
+		   "    scene:bot{ team = t.name, x = -half + 3 + 4 * (i % "
+		   "side),\n"
+		   "      y = -half + 3 + 4 * (i // side), angle = (i * 137) % "
+		   "360 }\n"
 		   "  end\n"
 		   "end\n"
 		   "return env\n") ||

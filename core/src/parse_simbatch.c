@@ -6,12 +6,19 @@
 #include "evo/formats.h"
 #include "text.h"
 
-const char *const evo_simbatch_keys[] = {
-    "TYPE", "BOTMODEL", "BOTNAME", "MASTERSKILL", "LEARNINGSKILL", "ENV",
-    "LEARNINGMETHOD", "ROOTFOLDER", "NUMGEN", "EVALREP", "TICKLIM", "POPSIZE",
-    "SEED", "THREADS", "HIDDEN", "TARGETFITNESS", "LCMURL", "REMOTENAME",
-    "REMOTETIMEOUT", "CANURL", "TEAM", "LEARNINGTEAM", "TEAMGENOME",
-    "TEAMFITNESS", "ALTERNATE", NULL};
+const char *const evo_simbatch_keys[] = {"TYPE",	   "BOTMODEL",
+					 "BOTNAME",	   "MASTERSKILL",
+					 "LEARNINGSKILL",  "ENV",
+					 "LEARNINGMETHOD", "ROOTFOLDER",
+					 "NUMGEN",	   "EVALREP",
+					 "TICKLIM",	   "POPSIZE",
+					 "SEED",	   "THREADS",
+					 "HIDDEN",	   "TARGETFITNESS",
+					 "LCMURL",	   "REMOTENAME",
+					 "REMOTETIMEOUT",  "CANURL",
+					 "TEAM",	   "LEARNINGTEAM",
+					 "TEAMGENOME",	   "TEAMFITNESS",
+					 "ALTERNATE",	   NULL};
 
 /* A team task lists its teams, one TEAM line each (docs/teams.md): the
  * one key that may be given more than once. */

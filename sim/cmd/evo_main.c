@@ -169,12 +169,13 @@ static int cmd_tick(const evo_mindfolder *l, long ticks, double *sensor_values)
 static int check_task(const char *path, evo_task *task, evo_err *err)
 {
 	if (!evo_run_supports(task->type))
-		return evo_fail(err,
-				"%s: evo run does not run %s tasks yet (it runs "
-				"DEMOSIM, LEARNSIM, DEMO2DSIMMULTI, "
-				"LEARN2DSIMMULTI, DEMOREMOTESIM, "
-				"LEARNREMOTESIM and DEMOREMOTE)",
-				path, task->type);
+		return evo_fail(
+		    err,
+		    "%s: evo run does not run %s tasks yet (it runs "
+		    "DEMOSIM, LEARNSIM, DEMO2DSIMMULTI, "
+		    "LEARN2DSIMMULTI, DEMOREMOTESIM, "
+		    "LEARNREMOTESIM and DEMOREMOTE)",
+		    path, task->type);
 	if (strncmp(task->type, "LEARN", 5) == 0 &&
 	    evo_learn_check(path, task, err) != 0)
 		return -1;

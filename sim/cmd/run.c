@@ -299,7 +299,8 @@ static void print_teams(const evo_sim *s)
 		printf("  team %s: reward %.6f (", tm->name,
 		       sc->team_reward[k]);
 		for (int i = 0; i < tm->size; i++) {
-			const evo_bot *b = &sc->bot[s->agent[tm->first + i].bot];
+			const evo_bot *b =
+			    &sc->bot[s->agent[tm->first + i].bot];
 			printf("%s%s %.6f", i ? ", " : "", b->name, b->reward);
 		}
 		printf(")%s\n", sc->winner == k ? ", won" : "");
@@ -558,15 +559,15 @@ static evo_viewer_panel panel_for(panel_data *pd, const evo_sim *s, long e,
 		pd->infl[i] = evo_q16_to_double(s->state->influence[i]);
 	}
 	evo_viewer_panel p = {
-		.tick = s->scene->tick,
-		.episode = (int)e,
-		.step_reward = s->scene->step_reward,
-		.episode_reward = s->scene->episode_reward,
-		.n_influence = n,
-		.influence_name = pd->names,
-		.influence = pd->infl,
-		.title = title,
-		.following = vs->follow,
+	    .tick = s->scene->tick,
+	    .episode = (int)e,
+	    .step_reward = s->scene->step_reward,
+	    .episode_reward = s->scene->episode_reward,
+	    .n_influence = n,
+	    .influence_name = pd->names,
+	    .influence = pd->infl,
+	    .title = title,
+	    .following = vs->follow,
 	};
 	if (s->has_teams) {
 		for (int k = 0; k < s->n_teams; k++)
@@ -600,8 +601,8 @@ static int screenshot_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 	static panel_data pd;
 	view_state vs = view_start(s);
 	evo_viewer_panel p = panel_for(&pd, s, 1, o->task, &vs);
-	evo_view_camera cam = evo_view_camera_for(
-	    s->scene, view_follow(s, &vs), 1.0, VIEW_W, VIEW_H);
+	evo_view_camera cam = evo_view_camera_for(s->scene, view_follow(s, &vs),
+						  1.0, VIEW_W, VIEW_H);
 	evo_view_render(&im, s->scene, &cam, &p);
 	int rc = evo_raster_save_png(&im, o->screenshot, err);
 	evo_raster_free(&im);

@@ -218,7 +218,8 @@ static int evaluate_team_unit(worker *w, int j, evo_err *err)
 			int st2 = evo_sim_tick(w->sim, err);
 			if (st2 < 0) {
 				evo_err inner = *err;
-				return evo_fail(err, "repetition %d, tick %ld: %s",
+				return evo_fail(err,
+						"repetition %d, tick %ld: %s",
 						r + 1, tk, inner.msg);
 			}
 			if (st2 > 0)
@@ -265,8 +266,7 @@ static int load_teams(evo_evaluator *ev, worker *w, evo_err *err)
 		    tm->learning_skill[0]
 			? evo_mindfolder_skill(tm->mind, tm->learning_skill)
 			: -1;
-		if (w->team_skill[k] >= 0 &&
-		    !tm->mind->net[w->team_skill[k]])
+		if (w->team_skill[k] >= 0 && !tm->mind->net[w->team_skill[k]])
 			w->team_skill[k] = -1;
 		if (w->team_skill[k] >= 0) {
 			w->own_net[k] = malloc(sizeof *w->own_net[k]);
@@ -280,9 +280,9 @@ static int load_teams(evo_evaluator *ev, worker *w, evo_err *err)
 		if (!w->member[k])
 			return evo_fail(err, "out of memory");
 		evo_mindfolder_opts opts = {
-			.master = tm->master,
-			.learning_skill = tm->learning_skill,
-			.seed = t->seed,
+		    .master = tm->master,
+		    .learning_skill = tm->learning_skill,
+		    .seed = t->seed,
 		};
 		for (int i = 0; i < tm->size; i++)
 			if (!(w->member[k][i] = evo_mindfolder_load(
@@ -572,8 +572,8 @@ void evo_evaluator_destroy(evo_evaluator *ev)
 			pthread_join(w->thread, NULL);
 		evo_sim_destroy(w->sim);
 		for (int t = 0; t < EVO_MAX_TEAMS; t++) {
-			for (int i = 0; w->member[t] && i < w->task.team[t].size;
-			     i++)
+			for (int i = 0;
+			     w->member[t] && i < w->task.team[t].size; i++)
 				evo_mindfolder_free(w->member[t][i]);
 			free(w->member[t]);
 			free(w->own_net[t]);
@@ -711,7 +711,8 @@ int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
 	return failed ? -1 : 0;
 }
 
-/* ---- team tasks ----------------------------------------------------------- */
+/* ---- team tasks -----------------------------------------------------------
+ */
 
 int evo_evaluator_n_teams(const evo_evaluator *ev)
 {
@@ -758,8 +759,7 @@ int evo_evaluator_set_team_net(evo_evaluator *ev, int team,
 				"outputs for skill %s of %u and %u",
 				ev->w[0].task.team[team].name,
 				(unsigned)net->n_in, (unsigned)net->n_out,
-				a->name, (unsigned)a->n_in,
-				(unsigned)a->n_out);
+				a->name, (unsigned)a->n_in, (unsigned)a->n_out);
 	if (!ev->team_net[team] &&
 	    !(ev->team_net[team] = malloc(sizeof *ev->team_net[team])))
 		return evo_fail(err, "out of memory");

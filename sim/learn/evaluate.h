@@ -39,8 +39,8 @@
  *
  * Team tasks (LEARN2DSIMMULTI): every worker builds every team; a batch
  * trains one team's learning skill (evo_evaluate_teams), the other teams
- * running their networks. DPNV's success is decided after the batch, on one candidate
- * the caller picks (evo_evaluator_deferred_success): its solved flags
+ * running their networks. DPNV's success is decided after the batch, on one
+ * candidate the caller picks (evo_evaluator_deferred_success): its solved flags
  * stay 0 here. */
 #ifndef EVO_EVALUATE_H
 #define EVO_EVALUATE_H

@@ -166,8 +166,9 @@ static int *index_list(lua_State *L, int idx, int n, lua_Integer *len)
 		lua_geti(L, idx, i);
 		lua_Integer c = lua_tointeger(L, -1);
 		if (c < 1 || c > n)
-			luaL_error(L, "evo.evaluate: team member %I is %I, not a "
-				      "network 1..%d",
+			luaL_error(L,
+				   "evo.evaluate: team member %I is %I, not a "
+				   "network 1..%d",
 				   i, c, n);
 		v[i - 1] = (int)(c - 1);
 		lua_pop(L, 1);
@@ -200,12 +201,14 @@ static int l_evaluate(lua_State *L)
 		team = (int)luaL_checkinteger(L, 4) - 1;
 		int size = evo_evaluator_team_size(l->ev, team);
 		if (size < 1)
-			return luaL_error(L, "evo.evaluate: no team %d", team + 1);
+			return luaL_error(L, "evo.evaluate: no team %d",
+					  team + 1);
 		lua_Integer g;
 		groups = index_list(L, 3, n, &g);
 		if (g % size)
-			return luaL_error(L, "evo.evaluate: %I members are not "
-					     "teams of %d",
+			return luaL_error(L,
+					  "evo.evaluate: %I members are not "
+					  "teams of %d",
 					  g, size);
 		n_groups = (int)(g / size);
 	}
@@ -498,8 +501,8 @@ static int l_save_champion(lua_State *L)
 			 name) ||
 	    evo_write_file_atomic(kept, text, len, &err))
 		return raise_msg(L, err.msg);
-	if (evo_path_fmt(path, sizeof path, &err, "%s/Skills/%s/%s%s.net",
-			 root, skill, skill, suffix) ||
+	if (evo_path_fmt(path, sizeof path, &err, "%s/Skills/%s/%s%s.net", root,
+			 skill, skill, suffix) ||
 	    evo_write_file_atomic(path, text, len, &err))
 		return raise_msg(L, lua_pushfstring(L, "%s; the champion is in %s",
 						    err.msg, kept));
@@ -509,8 +512,9 @@ static int l_save_champion(lua_State *L)
 			k <= EVO_TEAM_MAX_SIZE;
 	     k++) {
 		char old[1400];
-		if (evo_path_fmt(old, sizeof old, &err, "%s/Skills/%s/%s.%d.net",
-				 root, skill, skill, k))
+		if (evo_path_fmt(old, sizeof old, &err,
+				 "%s/Skills/%s/%s.%d.net", root, skill, skill,
+				 k))
 			break;
 		if (unlink(old) != 0)
 			break;
@@ -566,16 +570,16 @@ static int l_print(lua_State *L)
 }
 
 static const luaL_Reg learn_fns[] = {
-	{"evaluate", l_evaluate},
-	{"set_team_net", l_set_team_net},
-	{"open_log", l_open_log},
-	{"log", l_log},
-	{"save", l_save},
-	{"read", l_read},
-	{"save_champion", l_save_champion},
-	{"curve", l_curve},
-	{"print", l_print},
-	{NULL, NULL},
+    {"evaluate", l_evaluate},
+    {"set_team_net", l_set_team_net},
+    {"open_log", l_open_log},
+    {"log", l_log},
+    {"save", l_save},
+    {"read", l_read},
+    {"save_champion", l_save_champion},
+    {"curve", l_curve},
+    {"print", l_print},
+    {NULL, NULL},
 };
 
 /* Push two tables of a task: key -> value, and key -> its line in the
@@ -623,8 +627,8 @@ static void push_teams(lua_State *L, const learn *l)
 		lua_setfield(L, -2, "inputs");
 		lua_pushinteger(L, evo_evaluator_team_n_out(l->ev, k));
 		lua_setfield(L, -2, "outputs");
-		lua_pushinteger(L, sk >= 0 ? (lua_Integer)tm->mind->skill[sk].layers
-					   : 1);
+		lua_pushinteger(
+		    L, sk >= 0 ? (lua_Integer)tm->mind->skill[sk].layers : 1);
 		lua_setfield(L, -2, "layers");
 		lua_rawseti(L, -2, i + 1);
 	}

@@ -159,11 +159,11 @@ int evo_lua_check_team(lua_State *L, const char *name, const char *what)
 		names[i] = l->team[i].name;
 	}
 	if (l->n_teams == 0)
-		return luaL_error(L, "%s: no team %s: the task has no teams "
-				     "(TEAM lines, docs/teams.md)",
+		return luaL_error(L,
+				  "%s: no team %s: the task has no teams "
+				  "(TEAM lines, docs/teams.md)",
 				  what, name);
-	const char *c =
-	    evo_closest_name(name, names, (size_t)l->n_teams, NULL);
+	const char *c = evo_closest_name(name, names, (size_t)l->n_teams, NULL);
 	return luaL_error(L, "%s: no team %s in the task (did you mean %s?)",
 			  what, name, c ? c : "?");
 }
@@ -174,7 +174,8 @@ int evo_lua_opt_team(lua_State *L, int idx, const char *what)
 	int t = -1;
 	if (!lua_isnil(L, -1)) {
 		if (lua_type(L, -1) != LUA_TSTRING)
-			luaL_error(L, "%s: team must be a team's name, found %s",
+			luaL_error(L,
+				   "%s: team must be a team's name, found %s",
 				   what, luaL_typename(L, -1));
 		t = evo_lua_check_team(L, lua_tostring(L, -1), what);
 	}

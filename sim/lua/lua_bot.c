@@ -48,9 +48,10 @@ static void parse_sees(lua_State *L, int idx, const char *what,
 		d->mask = 0;
 		lua_Integer n = luaL_len(L, -1);
 		if (n > 5)
-			luaL_error(L, "%s: sees lists at most \"obstacles\", "
-				      "\"bots\", \"objects\", \"teammates\" "
-				      "and \"opponents\"",
+			luaL_error(L,
+				   "%s: sees lists at most \"obstacles\", "
+				   "\"bots\", \"objects\", \"teammates\" "
+				   "and \"opponents\"",
 				   what);
 		for (lua_Integer i = 1; i <= n; i++) {
 			lua_geti(L, -1, i);
@@ -343,26 +344,26 @@ static int bot_name(lua_State *L)
 }
 
 const luaL_Reg evo_lua_bot_methods[] = {
-	{"proximity", sensor_proximity},
-	{"distance", sensor_distance},
-	{"zone", sensor_zone},
-	{"bearing", sensor_bearing},
-	{"presence", sensor_presence},
-	{"object_detector", sensor_object_detector},
-	{"movement", sensor_movement},
-	{"random", sensor_random},
-	{"constant", sensor_constant},
-	{"holding", sensor_holding},
-	{"wheel", wheel},
-	{"claw", claw},
-	{"target", bot_target},
-	{"pose", bot_pose},
-	{"place", bot_place},
-	{"value", bot_value},
-	{"command", bot_command},
-	{"counts", bot_counts},
-	{"sensors", bot_sensors},
-	{"name", bot_name},
-	{"team", bot_team},
-	{NULL, NULL},
+    {"proximity", sensor_proximity},
+    {"distance", sensor_distance},
+    {"zone", sensor_zone},
+    {"bearing", sensor_bearing},
+    {"presence", sensor_presence},
+    {"object_detector", sensor_object_detector},
+    {"movement", sensor_movement},
+    {"random", sensor_random},
+    {"constant", sensor_constant},
+    {"holding", sensor_holding},
+    {"wheel", wheel},
+    {"claw", claw},
+    {"target", bot_target},
+    {"pose", bot_pose},
+    {"place", bot_place},
+    {"value", bot_value},
+    {"command", bot_command},
+    {"counts", bot_counts},
+    {"sensors", bot_sensors},
+    {"name", bot_name},
+    {"team", bot_team},
+    {NULL, NULL},
 };

@@ -68,9 +68,9 @@ const char *evo_lua_dir(void)
 /* ---- loading files ------------------------------------------------------- */
 
 /* Find NAME.lua in mind_dir/<mind_sub> then lua_dir/<lua_sub>. */
-int evo_lua_find_script(const evo_lua *l, const char *dir,
-			const char *mind_sub, const char *lua_sub,
-			const char *name, char *out, size_t cap)
+int evo_lua_find_script(const evo_lua *l, const char *dir, const char *mind_sub,
+			const char *lua_sub, const char *name, char *out,
+			size_t cap)
 {
 	if (!name[0] || strchr(name, '/') || strstr(name, ".."))
 		return -1;

@@ -23,7 +23,8 @@ struct evo_lua {
 	struct {
 		char name[32];
 		char botmodel[EVO_NAME_MAX];
-		char mind_dir[1024]; /* its bot model is looked for here first */
+		char
+		    mind_dir[1024]; /* its bot model is looked for here first */
 		int size;
 		int made; /* bots of the team so far */
 	} team[EVO_SCENE_MAX_TEAMS];
@@ -119,9 +120,9 @@ extern const luaL_Reg evo_lua_scene_methods[];
 
 /* Find NAME.lua in dir/<mind_sub> (dir NULL: the mind folder), then
  * lua_dir/<lua_sub>; 0 or -1. */
-int evo_lua_find_script(const evo_lua *l, const char *dir,
-			const char *mind_sub, const char *lua_sub,
-			const char *name, char *out, size_t cap);
+int evo_lua_find_script(const evo_lua *l, const char *dir, const char *mind_sub,
+			const char *lua_sub, const char *name, char *out,
+			size_t cap);
 /* Run a script file and leave its single result, a table, on the stack;
  * raises otherwise. */
 void evo_lua_run_file(lua_State *L, const char *path, const char *what);

@@ -232,24 +232,28 @@ static int scene_bot(lua_State *L)
 	if (team >= 0) {
 		lua_getfield(L, 2, "model");
 		if (!lua_isnil(L, -1))
-			luaL_error(L, "%s: a bot of team %s is of its model, %s; "
-				      "leave model out",
+			luaL_error(L,
+				   "%s: a bot of team %s is of its model, %s; "
+				   "leave model out",
 				   what, l->team[team].name,
 				   l->team[team].botmodel);
 		lua_pop(L, 1);
 		if (l->team[team].made == l->team[team].size)
-			luaL_error(L, "%s: team %s has its %d bots already (its "
-				      "SIZE in the task)",
-				   what, l->team[team].name, l->team[team].size);
+			luaL_error(L,
+				   "%s: team %s has its %d bots already (its "
+				   "SIZE in the task)",
+				   what, l->team[team].name,
+				   l->team[team].size);
 		model = l->team[team].botmodel;
 		snprintf(auto_name, sizeof auto_name, "%s%d",
 			 l->team[team].name, l->team[team].made + 1);
 	} else {
 		model = evo_lua_opt_str(L, 2, "model", l->botmodel, what);
 		if (!model[0] && l->n_teams > 0)
-			luaL_error(L, "%s: in a team task, a bot belongs to a "
-				      "team (scene:bot{team = NAME}) or names "
-				      "its model",
+			luaL_error(L,
+				   "%s: in a team task, a bot belongs to a "
+				   "team (scene:bot{team = NAME}) or names "
+				   "its model",
 				   what);
 		if (!model[0])
 			luaL_error(L, "%s: the task names no BOTMODEL", what);
@@ -315,10 +319,10 @@ static int scene_teams(lua_State *L)
 static int scene_bots(lua_State *L)
 {
 	evo_lua *l = evo_lua_ctx(L);
-	int team = lua_isnoneornil(L, 2)
-		       ? -2
-		       : evo_lua_check_team(L, luaL_checkstring(L, 2),
-					    "scene:bots");
+	int team =
+	    lua_isnoneornil(L, 2)
+		? -2
+		: evo_lua_check_team(L, luaL_checkstring(L, 2), "scene:bots");
 	lua_newtable(L);
 	int n = 0;
 	for (int i = 0; i < l->sc->n_bots; i++)
@@ -342,16 +346,15 @@ static int scene_winner(lua_State *L)
 			lua_pushnil(L);
 		return 1;
 	}
-	l->sc->winner = lua_isnil(L, 2) ? -1
-					: evo_lua_check_team(
-					      L, luaL_checkstring(L, 2),
-					      "scene:winner");
+	l->sc->winner =
+	    lua_isnil(L, 2)
+		? -1
+		: evo_lua_check_team(L, luaL_checkstring(L, 2), "scene:winner");
 	return 0;
 }
 
-static const char *const reward_keys[] = {"bot",	   "team",   "k",
-					  "k2",	   "threshold", "target",
-					  "sensors", NULL};
+static const char *const reward_keys[] = {
+    "bot", "team", "k", "k2", "threshold", "target", "sensors", NULL};
 
 /* A Lua function's options, {reset = f, bot = b, team = NAME} (bot and
  * team for a reward only): f goes on the list under resets_key, called
@@ -436,9 +439,10 @@ static int scope_bots(lua_State *L, const char *what, int *bots, int cap)
 		if (l->sc->bot[i].team == team)
 			bots[n++] = i;
 	if (n == 0)
-		luaL_error(L, "%s: team %s has no bots yet: make them "
-			      "(scene:bot{team = ...}) before its rewards and "
-			      "controls",
+		luaL_error(L,
+			   "%s: team %s has no bots yet: make them "
+			   "(scene:bot{team = ...}) before its rewards and "
+			   "controls",
 			   what, l->team[team].name);
 	return n;
 }
@@ -516,9 +520,8 @@ static int scene_reward(lua_State *L)
 
 static int scene_control(lua_State *L)
 {
-	static const char *const keys[] = {"bot",	 "team",      "ticks",
-					   "target", "sensor",    "threshold",
-					   NULL};
+	static const char *const keys[] = {
+	    "bot", "team", "ticks", "target", "sensor", "threshold", NULL};
 	evo_lua *l = evo_lua_ctx(L);
 	const char *what = "scene:control";
 	int ref = -1;
@@ -717,25 +720,24 @@ const luaL_Reg evo_lua_element_methods[] = {
 	{NULL, NULL},
 };
 
-
 const luaL_Reg evo_lua_scene_methods[] = {
-	{"bot", scene_bot},
-	{"get_bot", scene_get_bot},
-	{"teams", scene_teams},
-	{"bots", scene_bots},
-	{"winner", scene_winner},
-	{"cylinder", scene_cylinder},
-	{"box", scene_box},
-	{"zone", scene_zone},
-	{"object", scene_object},
-	{"grid", scene_grid},
-	{"reward", scene_reward},
-	{"control", scene_control},
-	{"element", scene_element},
-	{"random", scene_random},
-	{"tick", scene_tick},
-	{"episode_reward", scene_episode_reward},
-	{"reset_rewards", scene_reset_rewards},
-	{"metric", scene_metric},
-	{NULL, NULL},
+    {"bot", scene_bot},
+    {"get_bot", scene_get_bot},
+    {"teams", scene_teams},
+    {"bots", scene_bots},
+    {"winner", scene_winner},
+    {"cylinder", scene_cylinder},
+    {"box", scene_box},
+    {"zone", scene_zone},
+    {"object", scene_object},
+    {"grid", scene_grid},
+    {"reward", scene_reward},
+    {"control", scene_control},
+    {"element", scene_element},
+    {"random", scene_random},
+    {"tick", scene_tick},
+    {"episode_reward", scene_episode_reward},
+    {"reset_rewards", scene_reset_rewards},
+    {"metric", scene_metric},
+    {NULL, NULL},
 };

@@ -112,7 +112,6 @@ static int mind_folder(const char *path, const evo_simbatch *sb, char *out,
 	return evo_path_fmt(out, cap, err, "%s", root);
 }
 
-
 /* ---- teams (docs/teams.md) ---------------------------------------------- */
 
 /* A team's name: letters, digits and '_', not starting with a digit. */
@@ -164,9 +163,9 @@ static int parse_team(const evo_simbatch_pair *p, const char *path,
 	for (int i = 0; i < n && !bad; i++)
 		bad = len[i] == 0;
 	if (bad)
-		return evo_fail(err, "%s:%u: TEAM: expected " TEAM_FORM
-				     ", found '%s'",
-				path, (unsigned)p->line, p->value);
+		return evo_fail(
+		    err, "%s:%u: TEAM: expected " TEAM_FORM ", found '%s'",
+		    path, (unsigned)p->line, p->value);
 	if (copy_field(tm->name, sizeof tm->name, f[0], len[0]) ||
 	    !team_name_ok(tm->name))
 		return evo_fail(err,
@@ -178,10 +177,11 @@ static int parse_team(const evo_simbatch_pair *p, const char *path,
 	if (copy_field(mind, cap, f[1], len[1]) ||
 	    copy_field(tm->botmodel, sizeof tm->botmodel, f[2], len[2]) ||
 	    copy_field(tm->master, sizeof tm->master, f[4], len[4]) ||
-	    (n == 6 && copy_field(tm->learning_skill,
-				  sizeof tm->learning_skill, f[5], len[5])))
-		return evo_fail(err, "%s:%u: TEAM %s: a name is longer than "
-				     "%d characters in '%s'",
+	    (n == 6 && copy_field(tm->learning_skill, sizeof tm->learning_skill,
+				  f[5], len[5])))
+		return evo_fail(err,
+				"%s:%u: TEAM %s: a name is longer than "
+				"%d characters in '%s'",
 				path, (unsigned)p->line, tm->name,
 				EVO_NAME_MAX - 1, p->value);
 	long size = 0;
@@ -191,11 +191,12 @@ static int parse_team(const evo_simbatch_pair *p, const char *path,
 		size = size * 10 + (f[3][i] - '0');
 	}
 	if (!digits || size < 1 || size > EVO_TEAM_MAX_SIZE)
-		return evo_fail(err,
-				"%s:%u: TEAM %s: expected a size of 1..%d bots, "
-				"found '%.*s'",
-				path, (unsigned)p->line, tm->name,
-				EVO_TEAM_MAX_SIZE, (int)len[3], f[3]);
+		return evo_fail(
+		    err,
+		    "%s:%u: TEAM %s: expected a size of 1..%d bots, "
+		    "found '%.*s'",
+		    path, (unsigned)p->line, tm->name, EVO_TEAM_MAX_SIZE,
+		    (int)len[3], f[3]);
 	tm->size = (int)size;
 	return 0;
 }
@@ -207,9 +208,9 @@ static void team_list(const evo_task *t, char *out, size_t cap)
 	out[0] = 0;
 	for (int i = 0; i < t->n_teams && n < cap; i++)
 		n += (size_t)snprintf(out + n, cap - n, "%s%s",
-				      i == 0		      ? ""
+				      i == 0		    ? ""
 				      : i == t->n_teams - 1 ? " and "
-							      : ", ",
+							    : ", ",
 				      t->team[i].name);
 }
 
@@ -278,16 +279,16 @@ static int learning_teams(evo_task *t, const char *path, evo_err *err)
 			const char *c2 = evo_closest_name(
 			    name, list, (size_t)t->n_teams, NULL);
 			team_list(t, names, sizeof names);
-			return evo_fail(err,
-					"%s:%u: LEARNINGTEAM: no team named %s; "
-					"the teams are %s (did you mean %s?)",
-					path, (unsigned)line, name, names,
-					c2 ? c2 : "?");
+			return evo_fail(
+			    err,
+			    "%s:%u: LEARNINGTEAM: no team named %s; "
+			    "the teams are %s (did you mean %s?)",
+			    path, (unsigned)line, name, names, c2 ? c2 : "?");
 		}
 		if (t->team[k].learns)
-			return evo_fail(err,
-					"%s:%u: LEARNINGTEAM: %s is named twice",
-					path, (unsigned)line, name);
+			return evo_fail(
+			    err, "%s:%u: LEARNINGTEAM: %s is named twice", path,
+			    (unsigned)line, name);
 		t->team[k].learns = 1;
 		t->learning[t->n_learning++] = k;
 		if (!c)
@@ -337,12 +338,13 @@ static int load_members(evo_task *t, evo_team *tm, const char *dir,
 		evo_net_choice choice[MEMBER_NETS_MAX];
 		char files[MEMBER_NETS_MAX][1600];
 		unsigned n = 0;
-		for (unsigned i = 0; i < m->n_skills && n < MEMBER_NETS_MAX; i++) {
+		for (unsigned i = 0; i < m->n_skills && n < MEMBER_NETS_MAX;
+		     i++) {
 			if (m->skill[i].kind != EVO_SKILL_NEURAL)
 				continue;
-			int len = snprintf(files[n], sizeof files[n],
-					   "%s/Skills/%s/%s.%d.net", dir,
-					   m->skill[i].name, m->skill[i].name, k);
+			int len = snprintf(
+			    files[n], sizeof files[n], "%s/Skills/%s/%s.%d.net",
+			    dir, m->skill[i].name, m->skill[i].name, k);
 			if (len < 0 || (size_t)len >= sizeof files[n] ||
 			    !evo_file_exists(files[n]))
 				continue;
@@ -352,20 +354,20 @@ static int load_members(evo_task *t, evo_team *tm, const char *dir,
 		}
 		if (n == 0)
 			continue;
-		if (!tm->member &&
-		    !(tm->member = calloc((size_t)tm->size, sizeof *tm->member)))
+		if (!tm->member && !(tm->member = calloc((size_t)tm->size,
+							 sizeof *tm->member)))
 			return evo_fail(err, "out of memory");
 		evo_mindfolder_opts opts = {
-			.master = tm->master,
-			.nets = choice,
-			.n_nets = n,
-			.seed = t->seed,
+		    .master = tm->master,
+		    .nets = choice,
+		    .n_nets = n,
+		    .seed = t->seed,
 		};
 		evo_err inner = {{0}};
 		tm->member[k - 1] = evo_mindfolder_load(dir, &opts, &inner);
 		if (!tm->member[k - 1])
-			return evo_fail(err, "%s:%u: TEAM %s, member %d: %s", path,
-					(unsigned)tm->line, tm->name, k,
+			return evo_fail(err, "%s:%u: TEAM %s, member %d: %s",
+					path, (unsigned)tm->line, tm->name, k,
 					inner.msg);
 	}
 	return 0;
@@ -393,8 +395,8 @@ static int load_teams(evo_task *t, const char *path, const char *root,
 		if (strcmp(p->key, "TEAM") != 0)
 			continue;
 		evo_team *tm = &t->team[t->n_teams];
-		if (parse_team(p, path, tm, dirs[t->n_teams],
-			       sizeof dirs[0], err))
+		if (parse_team(p, path, tm, dirs[t->n_teams], sizeof dirs[0],
+			       err))
 			return -1;
 		int k = find_team(t, tm->name);
 		if (k >= 0)
@@ -435,9 +437,9 @@ static int load_teams(evo_task *t, const char *path, const char *root,
 		if (evo_path_fmt(dir, sizeof dir, err, "%s/%s", minds, dirs[i]))
 			return -1;
 		evo_mindfolder_opts opts = {
-			.master = tm->master,
-			.learning_skill = tm->learns ? tm->learning_skill : NULL,
-			.seed = t->seed,
+		    .master = tm->master,
+		    .learning_skill = tm->learns ? tm->learning_skill : NULL,
+		    .seed = t->seed,
 		};
 		evo_err inner = {{0}};
 		tm->mind = evo_mindfolder_load(dir, &opts, &inner);
@@ -448,9 +450,10 @@ static int load_teams(evo_task *t, const char *path, const char *root,
 		if (!tm->learns && load_members(t, tm, dir, path, err))
 			return -1;
 		if (tm->learns) {
-			int k = evo_mindfolder_skill(tm->mind,
-						     tm->learning_skill);
-			if (k < 0 || tm->mind->skill[k].kind != EVO_SKILL_NEURAL)
+			int k =
+			    evo_mindfolder_skill(tm->mind, tm->learning_skill);
+			if (k < 0 ||
+			    tm->mind->skill[k].kind != EVO_SKILL_NEURAL)
 				return evo_fail(
 				    err,
 				    "%s:%u: TEAM %s: its learning skill %s is "
@@ -595,8 +598,8 @@ void evo_task_free(evo_task *t)
 		/* t->mind is one of the teams' */
 		for (int i = 0; i < t->n_teams; i++) {
 			evo_mindfolder_free(t->team[i].mind);
-			for (int k = 0; t->team[i].member && k < t->team[i].size;
-			     k++)
+			for (int k = 0;
+			     t->team[i].member && k < t->team[i].size; k++)
 				evo_mindfolder_free(t->team[i].member[k]);
 			free(t->team[i].member);
 		}

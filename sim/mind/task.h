@@ -15,7 +15,7 @@
 /* Teams (docs/teams.md): a DEMO2DSIMMULTI or LEARN2DSIMMULTI task lists
  * them, one TEAM:NAME:MIND:BOTMODEL:SIZE:MASTERSKILL[:LEARNINGSKILL] line
  * each. */
-#define EVO_MAX_TEAMS 12
+#define EVO_MAX_TEAMS	  12
 #define EVO_TEAM_MAX_SIZE 4096
 #define EVO_TEAM_NAME_MAX 32 /* with its NUL */
 
@@ -25,9 +25,9 @@ typedef struct evo_team {
 	char master[EVO_NAME_MAX];
 	char learning_skill[EVO_NAME_MAX]; /* the 6th field, else
 					    * LEARNINGSKILL; "" when none */
-	int size;	/* bots, 1..EVO_TEAM_MAX_SIZE */
-	uint32_t line;	/* its TEAM line in the task file */
-	int learns;	/* a team of LEARNINGTEAM (LEARN2DSIMMULTI) */
+	int size;			   /* bots, 1..EVO_TEAM_MAX_SIZE */
+	uint32_t line;			   /* its TEAM line in the task file */
+	int learns;	      /* a team of LEARNINGTEAM (LEARN2DSIMMULTI) */
 	evo_mindfolder *mind; /* its own mind folder, loaded */
 	/* Members with networks of their own (a heterogeneous team's
 	 * Skills/S/S.K.net for member K, docs/teams.md): member[k] is member
@@ -47,11 +47,11 @@ typedef struct evo_task {
 	/* Teams: none (n_teams 0) in a one-agent task. */
 	int n_teams;
 	evo_team *team;
-	int n_learning;			/* LEARNINGTEAM's teams, in order */
-	int learning[EVO_MAX_TEAMS];	/* their indices in team[] */
-	int heterogeneous;		/* TEAMGENOME:HETEROGENEOUS */
-	int own_fitness;		/* TEAMFITNESS:OWN */
-	int alternate;			/* ALTERNATE: generations per turn */
+	int n_learning;		     /* LEARNINGTEAM's teams, in order */
+	int learning[EVO_MAX_TEAMS]; /* their indices in team[] */
+	int heterogeneous;	     /* TEAMGENOME:HETEROGENEOUS */
+	int own_fitness;	     /* TEAMFITNESS:OWN */
+	int alternate;		     /* ALTERNATE: generations per turn */
 } evo_task;
 
 /* 1 for the task types of teams, DEMO2DSIMMULTI and LEARN2DSIMMULTI. */

@@ -27,8 +27,8 @@ void evo_trace_header(FILE *f, const evo_mindfolder *mind)
 }
 
 void evo_trace_team_header(FILE *f, const char *team,
-			   const evo_mindfolder *mind,
-			   const char *const *bots, int n_bots)
+			   const evo_mindfolder *mind, const char *const *bots,
+			   int n_bots)
 {
 	fprintf(f, "team %s mind %s names %08" PRIx32 " bots %d", team,
 		mind->bot_name, mind->names_hash, n_bots);
@@ -52,9 +52,9 @@ static void values(FILE *f, const evo_mind *m, const evo_q16 *sensors,
 	fputc('\n', f);
 }
 
-void evo_trace_tick_bot(FILE *f, long tick, const char *bot,
-			const evo_mind *m, const evo_q16 *sensors,
-			const evo_q16 *actuators, const evo_state *state)
+void evo_trace_tick_bot(FILE *f, long tick, const char *bot, const evo_mind *m,
+			const evo_q16 *sensors, const evo_q16 *actuators,
+			const evo_state *state)
 {
 	fprintf(f, "%ld %s", tick, bot);
 	values(f, m, sensors, actuators, state);

@@ -23,10 +23,10 @@ void evo_trace_tick(FILE *f, long tick, const evo_mind *m,
  * sensors, actuators and skills lines of version 2; then one line per bot
  * and tick, the tick, the bot's name, and the values of version 2. */
 void evo_trace_team_header(FILE *f, const char *team,
-			   const evo_mindfolder *mind,
-			   const char *const *bots, int n_bots);
-void evo_trace_tick_bot(FILE *f, long tick, const char *bot,
-			const evo_mind *m, const evo_q16 *sensors,
-			const evo_q16 *actuators, const evo_state *state);
+			   const evo_mindfolder *mind, const char *const *bots,
+			   int n_bots);
+void evo_trace_tick_bot(FILE *f, long tick, const char *bot, const evo_mind *m,
+			const evo_q16 *sensors, const evo_q16 *actuators,
+			const evo_state *state);
 
 #endif

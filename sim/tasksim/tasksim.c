@@ -71,8 +71,7 @@ static void team_suffix(const evo_sim *s, const evo_sim_team *tm, char *out,
 /* Bind botdesc names to bot's sensors and actuators into the team's maps
  * (first: fill them; later bots: check they agree). A name the bot model
  * lacks is the botdesc's error, reported at its line. */
-static int bind(evo_sim *s, evo_sim_team *tm, int bot, int first,
-		evo_err *err)
+static int bind(evo_sim *s, evo_sim_team *tm, int bot, int first, evo_err *err)
 {
 	const evo_bot *b = &s->scene->bot[bot];
 	const evo_mindfolder *mind = tm->mind;
@@ -102,19 +101,19 @@ static int bind(evo_sim *s, evo_sim_team *tm, int bot, int first,
 	for (unsigned i = 0; i < d->n_actuators; i++) {
 		int k = evo_bot_find_actuator(b, d->actuator[i].name);
 		if (k < 0)
-			return evo_fail(err,
-					"%s/%s.botdesc:%u: actuator '%s' is not "
-					"on the bot (model %s); closest: %s%s",
-					mind->root, mind->bot_name,
-					d->actuator[i].line,
-					d->actuator[i].name, model,
-					closest(d->actuator[i].name, b, 0),
-					where);
+			return evo_fail(
+			    err,
+			    "%s/%s.botdesc:%u: actuator '%s' is not "
+			    "on the bot (model %s); closest: %s%s",
+			    mind->root, mind->bot_name, d->actuator[i].line,
+			    d->actuator[i].name, model,
+			    closest(d->actuator[i].name, b, 0), where);
 		if (!first && k != tm->actuator_map[i])
-			return evo_fail(err,
-					"bot %s: its actuator '%s' is not where "
-					"its team's first bot has it%s",
-					b->name, d->actuator[i].name, where);
+			return evo_fail(
+			    err,
+			    "bot %s: its actuator '%s' is not where "
+			    "its team's first bot has it%s",
+			    b->name, d->actuator[i].name, where);
 		tm->actuator_map[i] = k;
 	}
 	return 0;
@@ -257,12 +256,12 @@ static evo_sim *build(evo_sim *s, const evo_simbatch *task,
 		return NULL;
 	}
 	evo_lua_def ld = {
-		.scene = s->scene,
-		.mind_dir = mind_dir,
-		.botmodel = model,
-		.task = task,
-		.teams = lt,
-		.n_teams = s->has_teams ? s->n_teams : 0,
+	    .scene = s->scene,
+	    .mind_dir = mind_dir,
+	    .botmodel = model,
+	    .task = task,
+	    .teams = lt,
+	    .n_teams = s->has_teams ? s->n_teams : 0,
 	};
 	s->lua = evo_lua_create(&ld, err);
 	if (!s->lua || evo_lua_init_env(s->lua, env, err) ||
@@ -381,7 +380,7 @@ static void step_agent(evo_sim *s, const evo_sim_agent *a, evo_q16 *in,
 	evo_mind_step(m, a->state, in, out);
 	for (unsigned i = 0; i < m->n_actuators; i++)
 		b->actuator[tm->actuator_map[i]].command =
-			evo_q16_to_double(out[i]);
+		    evo_q16_to_double(out[i]);
 	if (s->trace && s->has_teams)
 		evo_trace_tick_bot(s->trace, s->scene->tick, b->name, m, in,
 				   out, a->state);
@@ -433,7 +432,8 @@ void evo_sim_trace_header(evo_sim *s)
 		const evo_sim_team *tm = &s->team[k];
 		const char *bots[EVO_TEAM_MAX_SIZE];
 		for (int i = 0; i < tm->size; i++)
-			bots[i] = s->scene->bot[s->agent[tm->first + i].bot].name;
+			bots[i] =
+			    s->scene->bot[s->agent[tm->first + i].bot].name;
 		evo_trace_team_header(s->trace, tm->name, tm->mind, bots,
 				      tm->size);
 	}

@@ -407,7 +407,8 @@ static int draw_teams(evo_raster *im, int x, int y, int w,
 		evo_raster_fill_rect(im, x, y, 9, 9, evo_view_team_colour(k),
 				     255);
 		snprintf(line, sizeof line, "%s %.6g",
-			 p->team_name && p->team_name[k] ? p->team_name[k] : "?",
+			 p->team_name && p->team_name[k] ? p->team_name[k]
+							 : "?",
 			 p->team_reward ? p->team_reward[k] : 0.0);
 		text_fit(im, x + 14, y, line, (w - 14) / EVO_FONT_CELL_W,
 			 EVO_VIEW_TEXT, 1);
@@ -497,8 +498,8 @@ static void draw_panel(evo_raster *im, const evo_scene *sc,
 		int left = im->h - help_h - y;
 		if (skills_h > left / 3)
 			skills_h = left / 3;
-		y = draw_selected(im, x, y + 6, w - 24, im->h - help_h - skills_h,
-				  p);
+		y = draw_selected(im, x, y + 6, w - 24,
+				  im->h - help_h - skills_h, p);
 	}
 	int n = p && p->influence ? p->n_influence : 0;
 	if (n > 0) {
@@ -948,12 +949,12 @@ evo_view_action evo_viewer_poll(evo_viewer *v)
 			v->pressed = 0;
 			if (v->dragged || v->cam.scale <= 0)
 				continue;
-			v->click_x = v->cam.x +
-				     (ev.button.x + 0.5 - v->cam.cx) /
-					 v->cam.scale;
-			v->click_y = v->cam.y +
-				     (ev.button.y + 0.5 - v->cam.cy) /
-					 v->cam.scale;
+			v->click_x =
+			    v->cam.x +
+			    (ev.button.x + 0.5 - v->cam.cx) / v->cam.scale;
+			v->click_y =
+			    v->cam.y +
+			    (ev.button.y + 0.5 - v->cam.cy) / v->cam.scale;
 			return EVO_VIEW_SELECT;
 		}
 		if (ev.type != SDL_KEYDOWN)

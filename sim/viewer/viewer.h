@@ -56,8 +56,8 @@ typedef struct evo_viewer_panel {
 	 * and live sensor values and actuator commands; the influences
 	 * above are then its own. */
 	const char *bot_name;
-	int bot;		/* its index in the scene */
-	const char *bot_team;	/* NULL: no team */
+	int bot;	      /* its index in the scene */
+	const char *bot_team; /* NULL: no team */
 	double bot_reward;
 	int n_sensors;
 	const char *const *sensor_name;

@@ -88,8 +88,8 @@ int evo_scene_target_pos(const evo_scene *sc, int bot, int target, double *x,
 		int team = sc->bot[bot].team;
 		uint16_t own = team >= 0 ? EVO_CAT_TEAM(team) : 0;
 		uint16_t mask = target == EVO_TARGET_NEAREST_TEAMMATE
-					? own
-					: (uint16_t)(EVO_CAT_TEAMS & ~own);
+				    ? own
+				    : (uint16_t)(EVO_CAT_TEAMS & ~own);
 		return mask && nearest_bot(sc, bot, mask, x, y);
 	}
 	if (target >= 0 && target < sc->n_elements) {

@@ -245,7 +245,7 @@ static double collect(evo_scene *sc, const evo_reward *r, evo_bot *b)
  * again) and counts in bot->gathered. The objects are found through the
  * broad phase, near the bot. */
 #define EVO_GATHER_GAP 0.1
-#define GATHER_CAP 32
+#define GATHER_CAP     32
 
 static double gather(evo_scene *sc, const evo_reward *r, evo_bot *b)
 {
@@ -253,9 +253,9 @@ static double gather(evo_scene *sc, const evo_reward *r, evo_bot *b)
 	/* an object of radius up to 2 m is found; a larger one needs a
 	 * larger square */
 	double reach = b->radius + 2 + EVO_GATHER_GAP;
-	int n = evo_world_query(sc->world, b->x - reach, b->y - reach,
-				b->x + reach, b->y + reach, EVO_CAT_OBJECT,
-				found, GATHER_CAP);
+	int n =
+	    evo_world_query(sc->world, b->x - reach, b->y - reach, b->x + reach,
+			    b->y + reach, EVO_CAT_OBJECT, found, GATHER_CAP);
 	int got = 0;
 	for (int i = 0; i < n && i < GATHER_CAP; i++) {
 		int k = evo_scene_object_of_body(sc, found[i].body.index);

@@ -327,9 +327,9 @@ int evo_scene_add_sensor(evo_scene *sc, int bot, const evo_sensor_def *d)
 	if (d->sees_teammates && b->team >= 0)
 		s->def.mask |= EVO_CAT_TEAM(b->team);
 	if (d->sees_opponents)
-		s->def.mask |= (uint16_t)(EVO_CAT_TEAMS &
-					  ~(b->team >= 0 ? EVO_CAT_TEAM(b->team)
-							 : 0u));
+		s->def.mask |=
+		    (uint16_t)(EVO_CAT_TEAMS &
+			       ~(b->team >= 0 ? EVO_CAT_TEAM(b->team) : 0u));
 	for (int i = 0; i < EVO_PROX_MAX_RAYS; i++)
 		s->ray[i] = 1.0f;
 	if (d->kind == EVO_SENSOR_PROXIMITY) {

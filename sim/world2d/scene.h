@@ -34,7 +34,7 @@
 #define EVO_DOF_HISTORY 30 /* ticks of positions the movement sensor spreads over */
 #define EVO_SCENE_MAX_METRICS 16 /* an environment's own metrics, at most */
 #define EVO_METRIC_NAME_MAX 32	 /* a metric's name, with its NUL */
-#define EVO_SCENE_MAX_TEAMS 12	 /* teams of bots (docs/teams.md) */
+#define EVO_SCENE_MAX_TEAMS   12   /* teams of bots (docs/teams.md) */
 
 /* -std=c11 leaves these out of <math.h>. */
 #ifndef M_PI
@@ -133,7 +133,7 @@ typedef enum evo_sensor_kind {
  * within EVO_TEAM_SEARCH metres, found through the broad phase. */
 #define EVO_TARGET_NEAREST_OPPONENT (-3)
 #define EVO_TARGET_NEAREST_TEAMMATE (-4)
-#define EVO_TEAM_SEARCH 160.0
+#define EVO_TEAM_SEARCH		    160.0
 
 typedef struct evo_sensor_def {
 	evo_sensor_kind kind;
@@ -211,7 +211,7 @@ typedef struct evo_actuator {
 
 typedef struct evo_bot_def {
 	const char *name;
-	int team; /* -1: none; else 0 .. EVO_SCENE_MAX_TEAMS - 1 */
+	int team;	   /* -1: none; else 0 .. EVO_SCENE_MAX_TEAMS - 1 */
 	evo_body_def body; /* a dynamic circle: radius 1, density 2, friction
 			      0, damping 5 / 20, never sleeps (BotType8) */
 	double x, y, angle; /* start pose */
@@ -238,25 +238,26 @@ typedef struct evo_bot {
 	int touching;	 /* contacts this tick */
 	int collisions;	 /* ticks spent touching since the reset */
 	int delivered;	 /* objects this bot carried into a zone since the reset */
-	int gathered;	 /* objects it gathered (reward Gather) since the reset */
-	int team;	 /* def.team */
-	double reward;	 /* what was paid to it since the reset (its own) */
+	int gathered;  /* objects it gathered (reward Gather) since the reset */
+	int team;      /* def.team */
+	double reward; /* what was paid to it since the reset (its own) */
 } evo_bot;
 
 /* ---- reward and control functions ----------------------------------- */
 
 typedef enum evo_reward_kind {
 	EVO_RW_CLOSING_ON_TARGET = 0, /* k * (previous distance - distance) */
-	EVO_RW_SENSOR_OVER,	      /* k * sum(v - threshold) over v > threshold */
-	EVO_RW_SENSOR_UNDER,	      /* k * sum(threshold - v) over v <= threshold */
-	EVO_RW_PUNISH_ON_COLLISION,   /* k every tick the bot touches anything (k < 0) */
-	EVO_RW_FORWARD_MOTION,	      /* k moving forward, k2 moving backward */
-	EVO_RW_SPEED,		      /* k * speed^2 */
-	EVO_RW_STEP,		      /* k every tick */
-	EVO_RW_COLLECT,		      /* k for each object delivered into the target zone */
-	EVO_RW_FORWARD_SPEED,	      /* k * speed along the heading (< 0 backing) */
-	EVO_RW_GATHER,		      /* k for each object the bot touches, which leaves */
-	EVO_RW_LUA,		      /* a Lua function (sim/lua/lua_hooks.c) */
+	EVO_RW_SENSOR_OVER,  /* k * sum(v - threshold) over v > threshold */
+	EVO_RW_SENSOR_UNDER, /* k * sum(threshold - v) over v <= threshold */
+	EVO_RW_PUNISH_ON_COLLISION, /* k every tick the bot touches anything (k
+				       < 0) */
+	EVO_RW_FORWARD_MOTION,	    /* k moving forward, k2 moving backward */
+	EVO_RW_SPEED,		    /* k * speed^2 */
+	EVO_RW_STEP,		    /* k every tick */
+	EVO_RW_COLLECT, /* k for each object delivered into the target zone */
+	EVO_RW_FORWARD_SPEED, /* k * speed along the heading (< 0 backing) */
+	EVO_RW_GATHER, /* k for each object the bot touches, which leaves */
+	EVO_RW_LUA,    /* a Lua function (sim/lua/lua_hooks.c) */
 	EVO_RW_KIND_COUNT
 } evo_reward_kind;
 

@@ -184,7 +184,8 @@ static void fan_box(const evo_sensor *se, const frame *f, box *area)
 		double vy = f->s * se->ray_c[n - 1] + f->c * se->ray_s[n - 1];
 		box_add(area, px + r * ux, py + r * uy);
 		box_add(area, px + r * vx, py + r * vy);
-		static const double ax[4] = {1, 0, -1, 0}, ay[4] = {0, 1, 0, -1};
+		static const double ax[4] = {1, 0, -1, 0},
+				    ay[4] = {0, 1, 0, -1};
 		for (int k = 0; k < 4; k++)
 			if (ux * ay[k] - uy * ax[k] > 0 &&
 			    ax[k] * vy - ay[k] * vx > 0)
@@ -477,7 +478,8 @@ static void sample_all(evo_scene *sc, int bot, const frame *f,
 	evo_bot *b = &sc->bot[bot];
 	for (int i = 0; i < b->n_sensors; i++)
 		if (!b->sensor[i].idle)
-			b->sensor[i].value = sample(sc, bot, &b->sensor[i], f, set);
+			b->sensor[i].value =
+			    sample(sc, bot, &b->sensor[i], f, set);
 }
 
 /* One query serves every proximity sensor: the box that holds all of
@@ -511,8 +513,8 @@ void evo_bot_sense(evo_scene *sc, int bot)
 typedef struct sense_bot {
 	box area;
 	uint16_t mask;
-	int cell;	  /* its cell */
-	int next;	  /* the next bot of its cell, -1 for none */
+	int cell; /* its cell */
+	int next; /* the next bot of its cell, -1 for none */
 } sense_bot;
 
 typedef struct sense_cell {
@@ -720,7 +722,8 @@ void evo_sense_all(evo_scene *sc)
 			evo_shape_info *d = &set.local[set.n++];
 			*d = *sh;
 			if (d->type == EVO_SHAPE_BOX) {
-				double ex = d->vx[0] - d->x, ey = d->vy[0] - d->y;
+				double ex = d->vx[0] - d->x,
+				       ey = d->vy[0] - d->y;
 				d->radius = sqrt(ex * ex + ey * ey);
 			}
 		}

@@ -50,7 +50,7 @@ typedef enum evo_shape_type {
 /* A bot of team k (0 .. 11) has EVO_CAT_BOT and EVO_CAT_TEAM(k), so a ray
  * can see every bot, its teammates or its opponents (docs/teams.md). */
 #define EVO_CAT_TEAM(k) ((uint16_t)(0x0008u << (k)))
-#define EVO_CAT_TEAMS 0x7FF8u
+#define EVO_CAT_TEAMS	0x7FF8u
 #define EVO_CAT_ALL 0xFFFFu
 
 typedef struct evo_body_def {

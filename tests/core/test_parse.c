@@ -294,10 +294,11 @@ TEST(simbatch_method_keys_are_kept)
  * order, with its line; any other key twice is still an error. */
 TEST(simbatch_team_lines_repeat)
 {
-	static const char text[] = "TYPE:DEMO2DSIMMULTI\n"
-				   "team:Red:Forager:BotType8:4:Forage\n"
-				   "ENV:EXP_Forage TEAM:Blue:Forager:BotType8:2:Forage\n"
-				   "ALTERNATE:3\n";
+	static const char text[] =
+	    "TYPE:DEMO2DSIMMULTI\n"
+	    "team:Red:Forager:BotType8:4:Forage\n"
+	    "ENV:EXP_Forage TEAM:Blue:Forager:BotType8:2:Forage\n"
+	    "ALTERNATE:3\n";
 	CHECK_OK(evo_simbatch_parse(text, sizeof text - 1, "t", &sb, &err));
 	CHECK_EQ_INT(sb.n_pairs, 5);
 	CHECK_EQ_STR(evo_simbatch_get(&sb, "TEAM"),

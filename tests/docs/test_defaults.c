@@ -541,9 +541,12 @@ static int render_team_default(const char *key, char *out, size_t cap)
 					   "TEAM:A:Avoid:BotType8:2:Avoid",
 					   NULL};
 	static const char *const learn[] = {
-	    "TYPE:LEARN2DSIMMULTI", "ENV:Open",
-	    "TEAM:A:Avoid:BotType8:2:Avoid:Avoid", "LEARNINGMETHOD:NEAT",
-	    "NUMGEN:1", NULL};
+	    "TYPE:LEARN2DSIMMULTI",
+	    "ENV:Open",
+	    "TEAM:A:Avoid:BotType8:2:Avoid:Avoid",
+	    "LEARNINGMETHOD:NEAT",
+	    "NUMGEN:1",
+	    NULL};
 	if (strcmp(key, "TEAM") == 0) {
 		int need = !task_loads(demo, "TEAM", NULL) &&
 			   !task_loads(learn, "TEAM", NULL) &&
@@ -1596,8 +1599,7 @@ static doc_table simbatch_t = {.file = "docs/formats.md",
 			       .heading = "`.simbatch` — a task"};
 static doc_table lua_t = {.file = "docs/lua.md",
 			  .heading = "Options and their defaults"};
-static doc_table teams_t = {.file = "docs/teams.md",
-			    .heading = "A team task"};
+static doc_table teams_t = {.file = "docs/teams.md", .heading = "A team task"};
 
 static doc_table *const checked[] = {&neat_t,	   &genetic_t,	&annealing_t,
 				     &task_keys_t, &simbatch_t, &lua_t,

@@ -161,9 +161,9 @@ typedef struct evo_simbatch {
  * without regard to case against evo_simbatch_keys; an unknown key is
  * skipped with a warning naming the closest known key. A known key given
  * twice is an error, except TEAM, one line per team (docs/teams.md):
- * evo_simbatch_get gives the first, the pairs hold them all in order. Values of the whole-number keys (NUMGEN, EVALREP,
- * TICKLIM, ...) must be whole numbers > 0, SEED's >= 0; TYPE must be a
- * known task type. */
+ * evo_simbatch_get gives the first, the pairs hold them all in order. Values of
+ * the whole-number keys (NUMGEN, EVALREP, TICKLIM, ...) must be whole numbers >
+ * 0, SEED's >= 0; TYPE must be a known task type. */
 evo_status evo_simbatch_parse(const char *buf, size_t len, const char *file,
 			      evo_simbatch *out, evo_diag *err);
 

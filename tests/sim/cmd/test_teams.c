@@ -39,8 +39,9 @@ static int write_env(const char *name, const char *text)
 
 static int run(char *buf, const char *task, const char *args)
 {
-	return cli_capture(buf, sizeof out, "%s run %s/Forager/Tasks/%s.simbatch "
-				       "--headless %s",
+	return cli_capture(buf, sizeof out,
+			   "%s run %s/Forager/Tasks/%s.simbatch "
+			   "--headless %s",
 			   cli_evo, minds(), task, args);
 }
 
@@ -88,14 +89,14 @@ TEST(every_bot_forages_and_the_team_line_adds_up)
 
 TEST(a_seed_gives_one_run)
 {
-	CHECK_EQ_INT(run(out, "Forage-DEMO", "--seed 5 --ticks 300 --episodes 2"),
-		     0);
-	CHECK_EQ_INT(run(out2, "Forage-DEMO", "--seed 5 --ticks 300 --episodes 2"),
-		     0);
+	CHECK_EQ_INT(
+	    run(out, "Forage-DEMO", "--seed 5 --ticks 300 --episodes 2"), 0);
+	CHECK_EQ_INT(
+	    run(out2, "Forage-DEMO", "--seed 5 --ticks 300 --episodes 2"), 0);
 	CHECK_EQ_STR(out, out2);
 	CHECK_CONTAINS(out, "episode 2: ");
-	CHECK_EQ_INT(run(out2, "Forage-DEMO", "--seed 6 --ticks 300 --episodes 2"),
-		     0);
+	CHECK_EQ_INT(
+	    run(out2, "Forage-DEMO", "--seed 6 --ticks 300 --episodes 2"), 0);
 	CHECK(strcmp(out, out2) != 0);
 }
 
@@ -182,7 +183,8 @@ TEST(lua_mistakes_with_teams_are_errors_at_their_line)
 	     "Bad.lua:2: scene:bot: team Red has its 2 bots already"},
 	    {"scene:bot{}", "Bad.lua:2: scene:bot: in a team task, a bot "
 			    "belongs to a team"},
-	    {"scene:bot{ team = 'Red' } scene:reward('Gather', { team = 'Blue' })",
+	    {"scene:bot{ team = 'Red' } scene:reward('Gather', { team = 'Blue' "
+	     "})",
 	     "Bad.lua:2: scene:reward: team Blue has no bots yet"},
 	};
 	CHECK_EQ_INT(write_task("Bad", "TYPE:DEMO2DSIMMULTI\nENV:Bad\n"
@@ -209,9 +211,10 @@ TEST(a_team_the_environment_does_not_make_stops_the_run)
 			       "  scene:bot{ team = 'Blue' }\nend\n"
 			       "return env\n"),
 		     0);
-	CHECK_EQ_INT(write_task("Short", "TYPE:DEMO2DSIMMULTI\nENV:Short\n"
-					 "TEAM:Red:Forager:BotType8:2:Forage\n"
-					 "TEAM:Blue:Forager:BotType8:1:Forage\n"),
+	CHECK_EQ_INT(write_task("Short",
+				"TYPE:DEMO2DSIMMULTI\nENV:Short\n"
+				"TEAM:Red:Forager:BotType8:2:Forage\n"
+				"TEAM:Blue:Forager:BotType8:1:Forage\n"),
 		     0);
 	char trace[600];
 	snprintf(trace, sizeof trace, "--trace %s/short.trace", cli_tmp);
@@ -296,7 +299,8 @@ static void check_screenshot(const char *task, int teams)
 	for (int k = 0; k < 2; k++) {
 		char png[512];
 		snprintf(png, sizeof png, "%s/shot%d.png", cli_tmp, k);
-		int rc = cli_capture(out, sizeof out, how[k], cli_evo, task, png);
+		int rc =
+		    cli_capture(out, sizeof out, how[k], cli_evo, task, png);
 		CHECK_EQ_INT(rc, 0);
 		if (rc)
 			printf("  %s\n", out);
@@ -309,8 +313,8 @@ static void check_screenshot(const char *task, int teams)
 			continue;
 		int world = im.w - EVO_VIEW_PANEL_W;
 		for (int t = 0; t < teams; t++) {
-			long n = count_rgb(&im, 0, world,
-					   evo_view_team_colour(t));
+			long n =
+			    count_rgb(&im, 0, world, evo_view_team_colour(t));
 			if (n <= 50)
 				printf("  %s: team %d: %ld pixels of its "
 				       "colour\n",
@@ -344,8 +348,9 @@ TEST(pursuit_names_a_winner_every_episode)
 	CHECK_CONTAINS(out, "  team Pursuers: reward ");
 	CHECK_CONTAINS(out, "  team Evaders: reward ");
 	/* it needs two teams */
-	CHECK_EQ_INT(write_task("OneTeam", "TYPE:DEMO2DSIMMULTI\nENV:EXP_Pursuit\n"
-					   "TEAM:Red:Forager:BotType8:2:Forage\n"),
+	CHECK_EQ_INT(write_task("OneTeam",
+				"TYPE:DEMO2DSIMMULTI\nENV:EXP_Pursuit\n"
+				"TEAM:Red:Forager:BotType8:2:Forage\n"),
 		     0);
 	CHECK_EQ_INT(run(out, "OneTeam", "--ticks 5"), 1);
 	CHECK_CONTAINS(out, "EXP_Pursuit needs two teams (TEAM lines), the "
@@ -355,9 +360,10 @@ TEST(pursuit_names_a_winner_every_episode)
 TEST(evo_check_passes_the_shipped_team_tasks)
 {
 	/* the one-agent keys are the teams' business: a warning each */
-	CHECK_EQ_INT(write_task("Extra", "TYPE:DEMO2DSIMMULTI\nENV:EXP_Forage\n"
-					 "BOTMODEL:BotType8\n"
-					 "TEAM:Red:Forager:BotType8:2:Forage\n"),
+	CHECK_EQ_INT(write_task("Extra",
+				"TYPE:DEMO2DSIMMULTI\nENV:EXP_Forage\n"
+				"BOTMODEL:BotType8\n"
+				"TEAM:Red:Forager:BotType8:2:Forage\n"),
 		     0);
 	CHECK_EQ_INT(cli_capture(out, sizeof out,
 				 "%s check %s/Forager/Tasks/Extra.simbatch",

@@ -132,8 +132,8 @@ TEST(a_trained_homogeneous_team_beats_untrained_ones)
 	beats_untrained("homo", "HOMOGENEOUS", 8, "EVALREP:2\nPOPSIZE:40\n");
 	/* a homogeneous champion is one network */
 	char *c = cli_read("%s/homo/Forager/Skills/Forage/Forage.net", cli_tmp);
-	char *m = cli_read("%s/homo/Forager/Skills/Forage/Forage.2.net",
-			   cli_tmp);
+	char *m =
+	    cli_read("%s/homo/Forager/Skills/Forage/Forage.2.net", cli_tmp);
 	CHECK(c && strstr(c, "team Foragers"));
 	CHECK(m == NULL);
 	free(c);
@@ -149,9 +149,10 @@ TEST(a_trained_heterogeneous_team_beats_untrained_ones)
 	 * and in the skill's folder, which DEMO2DSIMMULTI runs member by
 	 * member */
 	for (int k = 1; k <= 4; k++) {
-		char *r = k == 1 ? cli_read("%s/hetero/run/champion.net", cli_tmp)
-				 : cli_read("%s/hetero/run/champion-%d.net",
-					    cli_tmp, k);
+		char *r =
+		    k == 1
+			? cli_read("%s/hetero/run/champion.net", cli_tmp)
+			: cli_read("%s/hetero/run/champion-%d.net", cli_tmp, k);
 		char *s = k == 1 ? cli_read("%s/hetero/Forager/Skills/Forage/"
 					    "Forage.net",
 					    cli_tmp)
@@ -185,8 +186,8 @@ TEST(a_trained_heterogeneous_team_beats_untrained_ones)
 			    "%s/hetero/run2 > /dev/null 2>&1",
 			    cli_evo, cli_tmp, cli_tmp),
 		     0);
-	char *m = cli_read("%s/hetero/Forager/Skills/Forage/Forage.2.net",
-			   cli_tmp);
+	char *m =
+	    cli_read("%s/hetero/Forager/Skills/Forage/Forage.2.net", cli_tmp);
 	CHECK(m == NULL);
 	free(m);
 }
@@ -252,21 +253,21 @@ TEST(a_killed_run_resumes_to_the_same_result)
  * `task` shortened to `gens` generations of 60 networks. */
 static int make_pursuit(const char *name, const char *task, int gens)
 {
-	return cli_sh("rm -rf %s/%s && mkdir -p %s/%s && cp -r minds/Pursuer "
-		      "minds/Evader %s/%s/ && sed -i -e 's/^NUMGEN:.*/NUMGEN:%d/' "
-		      "-e 's/^POPSIZE:.*/POPSIZE:60/' "
-		      "%s/%s/Pursuer/Tasks/%s.simbatch",
-		      cli_tmp, name, cli_tmp, name, cli_tmp, name, gens, cli_tmp,
-		      name, task);
+	return cli_sh(
+	    "rm -rf %s/%s && mkdir -p %s/%s && cp -r minds/Pursuer "
+	    "minds/Evader %s/%s/ && sed -i -e 's/^NUMGEN:.*/NUMGEN:%d/' "
+	    "-e 's/^POPSIZE:.*/POPSIZE:60/' "
+	    "%s/%s/Pursuer/Tasks/%s.simbatch",
+	    cli_tmp, name, cli_tmp, name, cli_tmp, name, gens, cli_tmp, name,
+	    task);
 }
 
-static int train_pursuit(const char *name, const char *task,
-			 const char *args)
+static int train_pursuit(const char *name, const char *task, const char *args)
 {
 	return cli_sh("%s run %s/%s/Pursuer/Tasks/%s.simbatch --seed 3 --run "
 		      "%s/%s/run %s > %s/%s/out.txt 2>&1",
-		      cli_evo, cli_tmp, name, task, cli_tmp, name, args, cli_tmp,
-		      name);
+		      cli_evo, cli_tmp, name, task, cli_tmp, name, args,
+		      cli_tmp, name);
 }
 
 /* Column `col` (0-based) of each row of a log, into v; how many rows. */
@@ -295,7 +296,8 @@ TEST(the_pursuers_win_rate_rises)
 	CHECK_EQ_INT(make_pursuit("pur", "Pursuit-NEAT", 5), 0);
 	CHECK_EQ_INT(train_pursuit("pur", "Pursuit-NEAT", "--threads 2"), 0);
 	char *log = cli_read("%s/pur/run/log.csv", cli_tmp);
-	CHECK(log && strstr(log, "metric:caught,metric:team,metric:win_rate\n"));
+	CHECK(log &&
+	      strstr(log, "metric:caught,metric:team,metric:win_rate\n"));
 	double rate[8], team[8];
 	int n = column(log, 11, rate, 8);
 	CHECK_EQ_INT(column(log, 10, team, 8), 5);
@@ -324,10 +326,11 @@ TEST(co_evolution_takes_turns_and_resumes)
 	CHECK_EQ_INT(make_pursuit("co1", "Pursuit-COEVO", 6), 0);
 	CHECK_EQ_INT(make_pursuit("co2", "Pursuit-COEVO", 6), 0);
 	for (int i = 1; i <= 2; i++)
-		CHECK_EQ_INT(cli_sh("sed -i 's/^ALTERNATE:.*/ALTERNATE:2/' "
-				    "%s/co%d/Pursuer/Tasks/Pursuit-COEVO.simbatch",
-				    cli_tmp, i),
-			     0);
+		CHECK_EQ_INT(
+		    cli_sh("sed -i 's/^ALTERNATE:.*/ALTERNATE:2/' "
+			   "%s/co%d/Pursuer/Tasks/Pursuit-COEVO.simbatch",
+			   cli_tmp, i),
+		    0);
 	CHECK_EQ_INT(train_pursuit("co1", "Pursuit-COEVO", "--threads 1"), 0);
 	CHECK_EQ_INT(train_pursuit("co2", "Pursuit-COEVO", "--threads 2"), 0);
 	same_log("co1", "co2");
@@ -366,9 +369,8 @@ TEST(co_evolution_takes_turns_and_resumes)
 			    "%s/co3/Pursuer/Skills/Chase/",
 			    cli_tmp, cli_tmp),
 		     0);
-	CHECK_EQ_INT(train_pursuit("co3", "Pursuit-COEVO",
-				   "--threads 2 --resume"),
-		     0);
+	CHECK_EQ_INT(
+	    train_pursuit("co3", "Pursuit-COEVO", "--threads 2 --resume"), 0);
 	same_log("co1", "co3");
 }
 

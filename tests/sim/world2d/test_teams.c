@@ -15,8 +15,7 @@
 
 #define NEAR(a, b) (fabs((a) - (b)) <= 1e-9)
 
-static int add_bot(evo_scene *sc, int team, double x, double y,
-		   double angle)
+static int add_bot(evo_scene *sc, int team, double x, double y, double angle)
 {
 	evo_bot_def d = evo_default_bot_def();
 	d.team = team;
@@ -174,10 +173,10 @@ TEST(trackers_find_the_nearest_opponent_and_teammate)
 	add_bot(sc, 0, 0, 0, 0);
 	add_bot(sc, 1, 500, 0, 0);
 	add_bot(sc, -1, 3, 0, 0);
-	CHECK(!evo_scene_target_pos(sc, 0, EVO_TARGET_NEAREST_OPPONENT, &x,
-				    &y));
-	CHECK(!evo_scene_target_pos(sc, 2, EVO_TARGET_NEAREST_TEAMMATE, &x,
-				    &y));
+	CHECK(
+	    !evo_scene_target_pos(sc, 0, EVO_TARGET_NEAREST_OPPONENT, &x, &y));
+	CHECK(
+	    !evo_scene_target_pos(sc, 2, EVO_TARGET_NEAREST_TEAMMATE, &x, &y));
 	/* every bot of a team is an opponent of a bot of none */
 	CHECK(evo_scene_target_pos(sc, 2, EVO_TARGET_NEAREST_OPPONENT, &x, &y));
 	CHECK(NEAR(x, 0));

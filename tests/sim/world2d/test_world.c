@@ -190,7 +190,8 @@ static void crash(evo_world *w, const evo_body_id *b, double *out)
  * the poses a fresh world of those bodies gives. */
 TEST(a_reset_world_does_not_remember_its_past)
 {
-	evo_world *fresh = evo_world_create(NULL), *old = evo_world_create(NULL);
+	evo_world *fresh = evo_world_create(NULL),
+		  *old = evo_world_create(NULL);
 	evo_body_id f[3], o[3];
 	for (int i = 0; i < 3; i++)
 		f[i] = add_bot(fresh, 3.0 * i, 0);
