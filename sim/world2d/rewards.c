@@ -10,6 +10,7 @@
 #include "world2d/rewards.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "world2d/actuators.h"
@@ -249,15 +250,27 @@ static double collect(evo_scene *sc, const evo_reward *r, evo_bot *b)
 
 static double gather(evo_scene *sc, const evo_reward *r, evo_bot *b)
 {
-	evo_shape_info found[GATHER_CAP];
+	evo_shape_info local[GATHER_CAP], *found = local;
 	/* an object of radius up to 2 m is found; a larger one needs a
 	 * larger square */
 	double reach = b->radius + 2 + EVO_GATHER_GAP;
-	int n =
-	    evo_world_query(sc->world, b->x - reach, b->y - reach, b->x + reach,
-			    b->y + reach, EVO_CAT_OBJECT, found, GATHER_CAP);
+	double x0 = b->x - reach, y0 = b->y - reach;
+	double x1 = b->x + reach, y1 = b->y + reach;
+	int n = evo_world_query(sc->world, x0, y0, x1, y1, EVO_CAT_OBJECT,
+				local, GATHER_CAP);
+	if (n > GATHER_CAP) {
+		/* a heap of objects: room for all of them */
+		evo_shape_info *big = malloc((size_t)n * sizeof *big);
+		if (big) {
+			found = big;
+			n = evo_world_query(sc->world, x0, y0, x1, y1,
+					    EVO_CAT_OBJECT, big, n);
+		} else {
+			n = GATHER_CAP;
+		}
+	}
 	int got = 0;
-	for (int i = 0; i < n && i < GATHER_CAP; i++) {
+	for (int i = 0; i < n; i++) {
 		int k = evo_scene_object_of_body(sc, found[i].body.index);
 		evo_element *e = element_at(sc, k);
 		if (!e || !e->active || e->held_by >= 0)
@@ -270,6 +283,8 @@ static double gather(evo_scene *sc, const evo_reward *r, evo_bot *b)
 		evo_body_set_enabled(sc->world, e->body, 0);
 		got++;
 	}
+	if (found != local)
+		free(found);
 	b->gathered += got;
 	return r->def.k * got;
 }

@@ -126,6 +126,23 @@ TEST(gather_takes_the_objects_a_bot_touches)
 	CHECK_EQ_INT(sc->bot[1].gathered, 1);
 	CHECK(NEAR(sc->bot[b].reward, 2));
 	CHECK(NEAR(sc->team_reward[0], 4));
+	/* a heap of 40 small objects around a bot: every one touching it
+	 * is taken */
+	evo_scene *heap = evo_scene_create();
+	add_bot(heap, 0, 0, 0, 0);
+	for (int i = 0; i < 40; i++) {
+		evo_element_def h = evo_default_element_def(EVO_ELEM_OBJECT);
+		h.size = 0.1;
+		h.x = 1.1 * cos(i * 2 * M_PI / 40);
+		h.y = 1.1 * sin(i * 2 * M_PI / 40);
+		evo_scene_add_element(heap, &h);
+	}
+	add_reward(heap, EVO_RW_GATHER, EVO_SCOPE_BOT, 0, 0, 1);
+	evo_scene_reset(heap, 1, 1);
+	evo_scene_sense(heap);
+	evo_scene_step(heap);
+	CHECK_EQ_INT(heap->bot[0].gathered, 40);
+	evo_scene_destroy(heap);
 	/* gathered objects are gone until the next reset */
 	evo_scene_sense(sc);
 	evo_scene_step(sc);
