@@ -637,6 +637,29 @@ int evo_evaluator_deferred_success(const evo_evaluator *ev)
 	return !ev->remote && ev->w[0].lit == EVO_LIT_DPNV;
 }
 
+/* With ev->mu held and the batch's fields set: the workers run it; the
+ * batch's pointers are cleared after. Nonzero when an evaluation failed
+ * (*err says why). */
+static int run_batch(evo_evaluator *ev, evo_err *err)
+{
+	ev->failed = 0;
+	ev->err.msg[0] = 0;
+	ev->busy = ev->threads;
+	ev->batch_id++;
+	pthread_cond_broadcast(&ev->start_cv);
+	while (ev->busy > 0)
+		pthread_cond_wait(&ev->done_cv, &ev->mu);
+	int failed = ev->failed;
+	if (failed)
+		*err = ev->err;
+	ev->cand = NULL;
+	ev->res = NULL;
+	ev->groups = NULL;
+	ev->unit = NULL;
+	ev->own = NULL;
+	return failed;
+}
+
 int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
 		 int gen, evo_eval_result *res, evo_err *err)
 {
@@ -695,18 +718,7 @@ int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
 	ev->gen = gen;
 	ev->next = 0;
 	ev->res = res;
-	ev->failed = 0;
-	ev->err.msg[0] = 0;
-	ev->busy = ev->threads;
-	ev->batch_id++;
-	pthread_cond_broadcast(&ev->start_cv);
-	while (ev->busy > 0)
-		pthread_cond_wait(&ev->done_cv, &ev->mu);
-	int failed = ev->failed;
-	if (failed)
-		*err = ev->err;
-	ev->cand = NULL;
-	ev->res = NULL;
+	int failed = run_batch(ev, err);
 	pthread_mutex_unlock(&ev->mu);
 	return failed ? -1 : 0;
 }
@@ -838,20 +850,7 @@ int evo_evaluate_teams(evo_evaluator *ev, int team,
 	ev->groups = groups;
 	ev->unit = unit;
 	ev->own = own;
-	ev->failed = 0;
-	ev->err.msg[0] = 0;
-	ev->busy = ev->threads;
-	ev->batch_id++;
-	pthread_cond_broadcast(&ev->start_cv);
-	while (ev->busy > 0)
-		pthread_cond_wait(&ev->done_cv, &ev->mu);
-	int failed = ev->failed;
-	if (failed)
-		*err = ev->err;
-	ev->cand = NULL;
-	ev->groups = NULL;
-	ev->unit = NULL;
-	ev->own = NULL;
+	int failed = run_batch(ev, err);
 	pthread_mutex_unlock(&ev->mu);
 	/* Each candidate's result from its first evaluation, worked out
 	 * here, in order: nothing depends on which worker ran what. */
