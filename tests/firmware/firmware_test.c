@@ -764,12 +764,21 @@ static long flash_while_ticking(flash_run *fr)
 				wchan[n] = 0;
 				fclose(w);
 			}
-			/* where it waits, to find out why (seen once, under
-			 * load, on the microbit: nothing printed yet) */
+			/* where it waits, and the kernel's stack of it: the
+			 * emulator once starved the kernel's tty workers, and
+			 * evo flash waited in their flush (qemu_session.c) */
 			printf("  evo flash still running after %zu ticks, %zu "
 			       "frames of the transfer; waiting in %s\n",
 			       fr->old_ticks + fr->new_ticks, fr->frames,
 			       wchan);
+			snprintf(path, sizeof path, "/proc/%d/stack", (int)pid);
+			w = fopen(path, "r");
+			if (w) {
+				char line[256];
+				while (fgets(line, sizeof line, w))
+					printf("    %s", line);
+				fclose(w);
+			}
 			differ = -1;
 			goto out;
 		}
