@@ -370,16 +370,18 @@ $(BUILD)/fuzz/fuzz_can_robot: tests/fuzz/fuzz_can_robot.c sim/remote/can_robot_f
 		-fsanitize=fuzzer $(FUZZ_SAN) \
 		-o $@ $< sim/remote/can_robot_frames.c $(CORE_SRCS) -lm
 
+# Two targets at a time (FUZZ_JOBS): each fuzzer is one busy thread.
+FUZZ_JOBS ?= 2
 fuzz: deps $(FUZZ_BINS)
-	@for f in $(FUZZ_BINS); do \
-		name=$$(basename $$f); corpus=$(BUILD)/fuzz/corpus-$$name; \
+	@printf '%s\n' $(FUZZ_BINS) | xargs -P $(FUZZ_JOBS) -I{} sh -c '\
+		f={}; name=$$(basename $$f); corpus=$(BUILD)/fuzz/corpus-$$name; \
 		mkdir -p $$corpus; \
-		echo "== $$name ($(FUZZ_SECONDS)s)"; \
 		$$f -max_total_time=$(FUZZ_SECONDS) -timeout=5 -rss_limit_mb=1024 \
 			$$corpus tests/data > $(BUILD)/fuzz/$$name.log 2>&1; rc=$$?; \
-		tail -n 3 $(BUILD)/fuzz/$$name.log; \
-		[ $$rc -eq 0 ] || { echo "fuzz: $$name failed, see $(BUILD)/fuzz/$$name.log"; exit 1; }; \
-	done; echo "fuzz: every target ran $(FUZZ_SECONDS)s without a crash, hang or sanitizer report"
+		echo "== $$name ($(FUZZ_SECONDS)s): $$(tail -n 1 $(BUILD)/fuzz/$$name.log)"; \
+		[ $$rc -eq 0 ] || { echo "fuzz: $$name failed, see $(BUILD)/fuzz/$$name.log"; exit 1; }' \
+		|| { echo "fuzz: FAILED (see above)"; exit 1; }
+	@echo "fuzz: every target ran $(FUZZ_SECONDS)s without a crash, hang or sanitizer report"
 
 include firmware/firmware.mk
 

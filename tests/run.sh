@@ -7,9 +7,13 @@ failed=0
 log=$(mktemp)
 for t in "$@"; do
 	echo "== $t"
+	start=$(date +%s.%N)
 	"$t" >"$log" 2>&1
 	rc=$?
 	cat "$log"
+	# each binary's time, so the slow ones are plain in a CI log
+	awk -v s="$start" -v e="$(date +%s.%N)" -v t="$t" \
+		'BEGIN { printf "-- %s: %.1f s\n", t, e - s }'
 	line=$(grep -E '^[0-9]+ passed, [0-9]+ failed$' "$log" | tail -n 1)
 	if [ -n "$line" ]; then
 		p=${line%% passed*}

@@ -250,16 +250,22 @@ TEST(a_killed_run_resumes_to_the_same_result)
 }
 
 /* A copy of minds/Pursuer and minds/Evader under <name>/, with its task
- * `task` shortened to `gens` generations of 60 networks. */
+ * `task` shortened to `gens` generations of 60 networks; for the
+ * co-evolution test, which checks turns and resume rather than learning,
+ * to one episode of 200 ticks per network too. */
 static int make_pursuit(const char *name, const char *task, int gens)
 {
+	int coevo = strstr(task, "COEVO") != NULL;
 	return cli_sh(
 	    "rm -rf %s/%s && mkdir -p %s/%s && cp -r minds/Pursuer "
 	    "minds/Evader %s/%s/ && sed -i -e 's/^NUMGEN:.*/NUMGEN:%d/' "
-	    "-e 's/^POPSIZE:.*/POPSIZE:60/' "
+	    "-e 's/^POPSIZE:.*/POPSIZE:60/' %s "
 	    "%s/%s/Pursuer/Tasks/%s.simbatch",
-	    cli_tmp, name, cli_tmp, name, cli_tmp, name, gens, cli_tmp, name,
-	    task);
+	    cli_tmp, name, cli_tmp, name, cli_tmp, name, gens,
+	    coevo ? "-e 's/^EVALREP:.*/EVALREP:1/' "
+		    "-e 's/^TICKLIM:.*/TICKLIM:200/'"
+		  : "",
+	    cli_tmp, name, task);
 }
 
 static int train_pursuit(const char *name, const char *task, const char *args)
