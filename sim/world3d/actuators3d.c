@@ -1,0 +1,66 @@
+/* The 3D actuators (sim/world3d/scene3d.h): wheels on hinges, driven by a
+ * target rate or a torque, and propellers that push along an axis; and
+ * the forces of the water or air a bot moves in (buoyancy, drag). A
+ * command of 0.5 is neutral everywhere: (2c - 1) times the maximum. */
+#include <math.h>
+
+#include "world3d/scene3d.h"
+#include "world3d/scene3d_internal.h"
+
+static double signed_command(double c)
+{
+	if (!(c >= 0)) /* NaN too */
+		c = 0.5;
+	if (c > 1)
+		c = 1;
+	return 2 * c - 1;
+}
+
+static void act(evo_scene3d *sc, int bot, const evo_actuator3d *a)
+{
+	const evo_bot3d *b = &sc->bot[bot];
+	double u = signed_command(a->command);
+	if (a->def.kind == EVO3D_ACTUATOR_WHEEL) {
+		if (a->hinge < 0)
+			return;
+		if (a->def.torque_mode)
+			evo_world3d_hinge_torque(sc->world, a->hinge,
+						 u * a->def.max_torque);
+		else
+			evo_world3d_hinge_velocity(sc->world, a->hinge,
+						   u * a->def.max_rate,
+						   a->def.max_torque);
+	} else {
+		double f[3];
+		for (int k = 0; k < 3; k++)
+			f[k] = u * a->def.max_thrust * a->def.axis[k];
+		evo_body3d_add_rel_force_at(sc->world, b->body, f, a->def.pos);
+	}
+}
+
+void evo_bot3d_act(evo_scene3d *sc, int bot)
+{
+	evo_bot3d *b = &sc->bot[bot];
+	const evo_bot3d_def *d = &b->def;
+	for (int k = 0; k < b->n_actuators; k++)
+		act(sc, bot, &b->actuator[k]);
+	if (d->buoyancy > 0) {
+		double up[3] = {0, 0,
+				d->buoyancy * d->mass * sc->def.world.gravity};
+		evo_body3d_add_force_at(sc->world, b->body, up, d->cob);
+	}
+	if (d->drag_linear > 0 || d->drag_quadratic > 0 ||
+	    d->drag_angular > 0) {
+		double v[3], w[3], f[3], t[3];
+		static const double centre[3] = {0, 0, 0};
+		evo_body3d_velocity(sc->world, b->body, v, w);
+		double speed = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+		double k = d->drag_linear + d->drag_quadratic * speed;
+		for (int i = 0; i < 3; i++) {
+			f[i] = -k * v[i];
+			t[i] = -d->drag_angular * w[i];
+		}
+		evo_body3d_add_force_at(sc->world, b->body, f, centre);
+		evo_body3d_add_torque(sc->world, b->body, t);
+	}
+}

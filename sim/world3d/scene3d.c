@@ -1,0 +1,653 @@
+/* A 3D scene's storage (sim/world3d/scene3d.h): definitions with their
+ * defaults, the adds and lookups, and making the ODE world from them. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "world3d/scene3d.h"
+#include "world3d/scene3d_internal.h"
+
+/* ---- defaults ------------------------------------------------------- */
+
+evo_element3d_def evo_default_element3d_def(evo_element3d_kind kind)
+{
+	evo_element3d_def d;
+	memset(&d, 0, sizeof d);
+	d.kind = kind;
+	d.half[0] = d.half[1] = d.half[2] = 0.5;
+	d.radius = 0.5;
+	d.half_length = 0.5;
+	d.mass = 1;
+	d.friction = 0.5;
+	d.sphere = 1;
+	return d;
+}
+
+evo_sensor3d_def evo_default_sensor3d_def(evo_sensor3d_kind kind)
+{
+	evo_sensor3d_def d;
+	memset(&d, 0, sizeof d);
+	d.kind = kind;
+	d.range = 3;
+	d.rays = 1;
+	d.mask = EVO_CAT3D_BOT | EVO_CAT3D_OBSTACLE | EVO_CAT3D_OBJECT;
+	d.target = EVO3D_TARGET_NONE;
+	d.scale = 20;
+	return d;
+}
+
+evo_actuator3d_def evo_default_actuator3d_def(evo_actuator3d_kind kind)
+{
+	evo_actuator3d_def d;
+	memset(&d, 0, sizeof d);
+	d.kind = kind;
+	d.axis[0] = 1;
+	d.radius = 0.08;
+	d.half_width = 0.02;
+	d.mass = 0.2;
+	d.friction = 1;
+	d.max_rate = 15;
+	d.max_torque = 2;
+	d.max_thrust = 10;
+	return d;
+}
+
+evo_bot3d_def evo_default_bot3d_def(void)
+{
+	evo_bot3d_def d;
+	memset(&d, 0, sizeof d);
+	d.half[0] = 0.2;
+	d.half[1] = 0.15;
+	d.half[2] = 0.05;
+	d.mass = 2;
+	d.friction = 0.3;
+	return d;
+}
+
+evo_reward3d_def evo_default_reward3d_def(evo_reward3d_kind kind)
+{
+	evo_reward3d_def d;
+	memset(&d, 0, sizeof d);
+	d.kind = kind;
+	d.k = 1;
+	d.target = EVO3D_TARGET_NONE;
+	return d;
+}
+
+evo_control3d_def evo_default_control3d_def(evo_control3d_kind kind)
+{
+	evo_control3d_def d;
+	memset(&d, 0, sizeof d);
+	d.kind = kind;
+	d.ticks = 1000;
+	d.sensor = -1;
+	return d;
+}
+
+evo_scene3d_def evo_default_scene3d_def(void)
+{
+	evo_scene3d_def d;
+	d.world = evo_default_world3d_def();
+	d.substeps = 2;
+	d.fault_penalty = -1000;
+	return d;
+}
+
+/* ---- create, destroy ---------------------------------------------------- */
+
+evo_scene3d *evo_scene3d_create(const evo_scene3d_def *def)
+{
+	if (def->substeps < 1 || def->substeps > 100 ||
+	    !isfinite(def->fault_penalty))
+		return NULL;
+	evo_scene3d *sc = calloc(1, sizeof *sc);
+	if (!sc)
+		return NULL;
+	sc->def = *def;
+	sc->world = evo_world3d_create(&def->world);
+	if (!sc->world) {
+		free(sc);
+		return NULL;
+	}
+	return sc;
+}
+
+void evo_scene3d_destroy(evo_scene3d *sc)
+{
+	if (!sc)
+		return;
+	evo_world3d_destroy(sc->world);
+	for (int i = 0; i < sc->n_bots; i++) {
+		free(sc->bot[i].sensor);
+		free(sc->bot[i].actuator);
+	}
+	free(sc->bot);
+	free(sc->element);
+	free(sc->reward);
+	free(sc->control);
+	free(sc->obstacle);
+	free(sc);
+}
+
+/* ---- adding ------------------------------------------------------------- */
+
+static int grow(evo_scene3d *sc, void **p, int *cap, int need, size_t size)
+{
+	if (need <= *cap)
+		return 0;
+	int n = *cap ? *cap * 2 : 8;
+	while (n < need)
+		n *= 2;
+	void *q = realloc(*p, (size_t)n * size);
+	if (!q)
+		return evo_fail(&sc->err, "out of memory");
+	memset((char *)q + (size_t)*cap * size, 0, (size_t)(n - *cap) * size);
+	*p = q;
+	*cap = n;
+	return 0;
+}
+
+static int finite3(const double v[3])
+{
+	return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+}
+
+static int positive(double v)
+{
+	return isfinite(v) && v > 0;
+}
+
+/* Copy a name (NULL or "": `dflt` and the index) into out. */
+static int set_name(evo_scene3d *sc, char *out, const char *name,
+		    const char *dflt, int index)
+{
+	if (name && strlen(name) >= EVO3D_NAME_MAX)
+		return evo_fail(&sc->err, "name '%.40s...' is longer than %d",
+				name, EVO3D_NAME_MAX - 1);
+	if (name && name[0])
+		snprintf(out, EVO3D_NAME_MAX, "%s", name);
+	else
+		snprintf(out, EVO3D_NAME_MAX, "%s%d", dflt, index + 1);
+	return 0;
+}
+
+/* The static shape of a box, cylinder or sphere element. */
+static evo_shape3d element_shape(const evo_element3d_def *d)
+{
+	evo_shape3d s;
+	memset(&s, 0, sizeof s);
+	memcpy(s.pos, d->pos, sizeof s.pos);
+	s.yaw = d->yaw;
+	memcpy(s.half, d->half, sizeof s.half);
+	s.radius = d->radius;
+	s.half_length = d->half_length;
+	s.axis = 2;
+	s.friction = d->friction;
+	s.category = EVO_CAT3D_OBSTACLE;
+	s.type = d->kind == EVO3D_ELEM_BOX	  ? EVO_SHAPE3D_BOX
+		 : d->kind == EVO3D_ELEM_CYLINDER ? EVO_SHAPE3D_CYLINDER
+						  : EVO_SHAPE3D_SPHERE;
+	return s;
+}
+
+static int add_obstacle(evo_scene3d *sc, const evo_obstacle3d *o)
+{
+	if (grow(sc, (void **)&sc->obstacle, &sc->cap_obstacles,
+		 sc->n_obstacles + 1, sizeof *sc->obstacle))
+		return -1;
+	sc->obstacle[sc->n_obstacles] = *o;
+	if (evo_world3d_add_static(sc->world, o) < 0)
+		return evo_fail(&sc->err,
+				"an obstacle whose size is not positive");
+	return sc->n_obstacles++;
+}
+
+int evo_scene3d_add_element(evo_scene3d *sc, const evo_element3d_def *d)
+{
+	if ((unsigned)d->kind >= EVO3D_ELEM_KIND_COUNT)
+		return evo_fail(&sc->err, "unknown element kind %d", d->kind);
+	if (!finite3(d->pos) || !isfinite(d->yaw))
+		return evo_fail(&sc->err, "an element's position is not a "
+					  "number");
+	int box = d->kind == EVO3D_ELEM_BOX || d->kind == EVO3D_ELEM_ZONE ||
+		  (d->kind == EVO3D_ELEM_OBJECT && !d->sphere);
+	if (box && !(positive(d->half[0]) && positive(d->half[1]) &&
+		     positive(d->half[2])))
+		return evo_fail(&sc->err, "a box's half sides must be > 0");
+	if (!box && !positive(d->radius))
+		return evo_fail(&sc->err, "a radius must be > 0");
+	if (d->kind == EVO3D_ELEM_CYLINDER && !positive(d->half_length))
+		return evo_fail(&sc->err, "a cylinder's height must be > 0");
+	if (d->kind == EVO3D_ELEM_OBJECT && !positive(d->mass))
+		return evo_fail(&sc->err, "an object's mass must be > 0");
+	if (d->name && d->name[0] && evo_scene3d_find_element(sc, d->name) >= 0)
+		return evo_fail(&sc->err, "element '%s' twice", d->name);
+	if (grow(sc, (void **)&sc->element, &sc->cap_elements,
+		 sc->n_elements + 1, sizeof *sc->element))
+		return -1;
+	evo_element3d *e = &sc->element[sc->n_elements];
+	memset(e, 0, sizeof *e);
+	if (set_name(sc, e->name, d->name, "element", sc->n_elements))
+		return -1;
+	e->def = *d;
+	e->def.name = e->name;
+	memcpy(e->pos, d->pos, sizeof e->pos);
+	e->body = -1;
+	if (d->kind <= EVO3D_ELEM_SPHERE) {
+		evo_shape3d s = element_shape(d);
+		/* kept out of the episode's obstacles: before them */
+		if (sc->n_obstacles != sc->n_fixed_obstacles)
+			return evo_fail(&sc->err, "elements are added before "
+						  "the first episode");
+		if (add_obstacle(sc, &s) < 0)
+			return -1;
+		sc->n_fixed_obstacles = sc->n_obstacles;
+	}
+	return sc->n_elements++;
+}
+
+int evo_scene3d_add_bot(evo_scene3d *sc, const evo_bot3d_def *d)
+{
+	int sphere = d->radius > 0;
+	if (!finite3(d->pos) || !isfinite(d->yaw))
+		return evo_fail(&sc->err, "a bot's position is not a number");
+	if (!sphere && !(positive(d->half[0]) && positive(d->half[1]) &&
+			 positive(d->half[2])))
+		return evo_fail(&sc->err, "a bot's half sides must be > 0");
+	if (!positive(d->mass))
+		return evo_fail(&sc->err, "a bot's mass must be > 0");
+	if (!(d->friction >= 0) || !(d->buoyancy >= 0) ||
+	    !(d->drag_linear >= 0) || !(d->drag_quadratic >= 0) ||
+	    !(d->drag_angular >= 0) || !(d->caster_radius >= 0) ||
+	    !finite3(d->cob) || !finite3(d->caster_pos) ||
+	    !isfinite(d->buoyancy + d->drag_linear + d->drag_quadratic +
+		      d->drag_angular + d->friction + d->caster_radius))
+		return evo_fail(&sc->err, "a bot's friction, buoyancy, drag "
+					  "and caster must be finite and >= 0");
+	if (d->name && d->name[0] && evo_scene3d_find_bot(sc, d->name) >= 0)
+		return evo_fail(&sc->err, "bot '%s' twice", d->name);
+	if (grow(sc, (void **)&sc->bot, &sc->cap_bots, sc->n_bots + 1,
+		 sizeof *sc->bot))
+		return -1;
+	evo_bot3d *b = &sc->bot[sc->n_bots];
+	memset(b, 0, sizeof *b);
+	if (set_name(sc, b->name, d->name, "bot", sc->n_bots))
+		return -1;
+	b->def = *d;
+	b->def.name = b->name;
+	b->body = -1;
+	memcpy(b->start, d->pos, sizeof b->start);
+	b->start_yaw = d->yaw;
+	sc->n_bots++;
+	if (evo_scene3d_build_world(sc)) {
+		sc->n_bots--;
+		return -1;
+	}
+	return sc->n_bots - 1;
+}
+
+static evo_bot3d *check_bot(evo_scene3d *sc, int bot)
+{
+	if (bot < 0 || bot >= sc->n_bots) {
+		evo_fail(&sc->err, "no bot %d", bot);
+		return NULL;
+	}
+	return &sc->bot[bot];
+}
+
+int evo_scene3d_add_sensor(evo_scene3d *sc, int bot, const evo_sensor3d_def *d)
+{
+	evo_bot3d *b = check_bot(sc, bot);
+	if (!b)
+		return -1;
+	if ((unsigned)d->kind >= EVO3D_SENSOR_KIND_COUNT)
+		return evo_fail(&sc->err, "unknown sensor kind %d", d->kind);
+	if (!finite3(d->pos) || !isfinite(d->yaw) || !isfinite(d->pitch) ||
+	    !isfinite(d->arc) || !isfinite(d->value))
+		return evo_fail(&sc->err,
+				"sensor '%s': a position or angle "
+				"that is not a number",
+				d->name ? d->name : "?");
+	if (d->kind == EVO3D_SENSOR_PROXIMITY &&
+	    (!positive(d->range) || d->rays < 1 ||
+	     d->rays > EVO3D_PROX_MAX_RAYS || d->arc < 0))
+		return evo_fail(&sc->err,
+				"sensor '%s': range must be > 0, rays 1 to %d, "
+				"arc >= 0",
+				d->name ? d->name : "?", EVO3D_PROX_MAX_RAYS);
+	if (d->kind == EVO3D_SENSOR_DISTANCE && !positive(d->scale))
+		return evo_fail(&sc->err, "sensor '%s': scale must be > 0",
+				d->name ? d->name : "?");
+	if (d->target != EVO3D_TARGET_NONE &&
+	    (d->target < 0 || d->target >= sc->n_elements))
+		return evo_fail(&sc->err, "sensor '%s': no element %d",
+				d->name ? d->name : "?", d->target);
+	if (d->name && d->name[0] && evo_bot3d_find_sensor(b, d->name) >= 0)
+		return evo_fail(&sc->err, "bot %s: sensor '%s' twice", b->name,
+				d->name);
+	evo_sensor3d *s =
+	    realloc(b->sensor, (size_t)(b->n_sensors + 1) * sizeof *s);
+	if (!s)
+		return evo_fail(&sc->err, "out of memory");
+	b->sensor = s;
+	s = &b->sensor[b->n_sensors];
+	memset(s, 0, sizeof *s);
+	if (set_name(sc, s->name, d->name, "sensor", b->n_sensors))
+		return -1;
+	s->def = *d;
+	s->def.name = s->name;
+	s->value = 0.5;
+	for (int r = 0; r < d->rays; r++) {
+		double yaw = d->rays == 1 ? d->yaw
+					  : d->yaw - d->arc +
+						2 * d->arc * r / (d->rays - 1);
+		s->dir[r][0] = cos(d->pitch) * cos(yaw);
+		s->dir[r][1] = cos(d->pitch) * sin(yaw);
+		s->dir[r][2] = sin(d->pitch);
+		s->hit[r] = d->range;
+	}
+	return b->n_sensors++;
+}
+
+int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
+			     const evo_actuator3d_def *d)
+{
+	evo_bot3d *b = check_bot(sc, bot);
+	if (!b)
+		return -1;
+	const char *n = d->name ? d->name : "?";
+	if ((unsigned)d->kind >= EVO3D_ACTUATOR_KIND_COUNT)
+		return evo_fail(&sc->err, "unknown actuator kind %d", d->kind);
+	if (!finite3(d->pos) || !finite3(d->axis))
+		return evo_fail(&sc->err,
+				"actuator '%s': a position or axis "
+				"that is not a number",
+				n);
+	if (d->kind == EVO3D_ACTUATOR_WHEEL &&
+	    (!positive(d->radius) || !positive(d->half_width) ||
+	     !positive(d->mass) || !(d->friction >= 0) ||
+	     !isfinite(d->friction) || !(d->max_rate >= 0) ||
+	     !isfinite(d->max_rate) || !(d->max_torque >= 0) ||
+	     !isfinite(d->max_torque)))
+		return evo_fail(&sc->err,
+				"wheel '%s': radius, width and mass must be > "
+				"0, friction, max_rate and max_torque finite "
+				"and >= 0",
+				n);
+	double len = sqrt(d->axis[0] * d->axis[0] + d->axis[1] * d->axis[1] +
+			  d->axis[2] * d->axis[2]);
+	if (d->kind == EVO3D_ACTUATOR_PROPELLER &&
+	    (!(len > 1e-9) || !isfinite(d->max_thrust) || d->max_thrust < 0))
+		return evo_fail(&sc->err,
+				"propeller '%s': its axis must not be 0 and "
+				"max_thrust finite and >= 0",
+				n);
+	if (d->name && d->name[0] && evo_bot3d_find_actuator(b, d->name) >= 0)
+		return evo_fail(&sc->err, "bot %s: actuator '%s' twice",
+				b->name, d->name);
+	evo_actuator3d *a =
+	    realloc(b->actuator, (size_t)(b->n_actuators + 1) * sizeof *a);
+	if (!a)
+		return evo_fail(&sc->err, "out of memory");
+	b->actuator = a;
+	a = &b->actuator[b->n_actuators];
+	memset(a, 0, sizeof *a);
+	if (set_name(sc, a->name, d->name, "actuator", b->n_actuators))
+		return -1;
+	a->def = *d;
+	a->def.name = a->name;
+	if (d->kind == EVO3D_ACTUATOR_PROPELLER)
+		for (int k = 0; k < 3; k++)
+			a->def.axis[k] = d->axis[k] / len;
+	a->command = 0.5;
+	a->body = a->hinge = -1;
+	b->n_actuators++;
+	if (d->kind == EVO3D_ACTUATOR_WHEEL && evo_scene3d_build_world(sc)) {
+		b->n_actuators--;
+		return -1;
+	}
+	return b->n_actuators - 1;
+}
+
+int evo_scene3d_add_reward(evo_scene3d *sc, const evo_reward3d_def *d)
+{
+	if ((unsigned)d->kind >= EVO3D_RW_KIND_COUNT)
+		return evo_fail(&sc->err, "unknown reward kind %d", d->kind);
+	evo_bot3d *b = check_bot(sc, d->bot);
+	if (!b)
+		return -1;
+	if (!isfinite(d->k) || !isfinite(d->k2) || !isfinite(d->threshold))
+		return evo_fail(&sc->err, "a reward's k, k2 and threshold "
+					  "must be numbers");
+	if (d->n_sensors < 0 || d->n_sensors > EVO3D_REWARD_SENSORS)
+		return evo_fail(&sc->err, "a reward reads at most %d sensors",
+				EVO3D_REWARD_SENSORS);
+	for (int i = 0; i < d->n_sensors; i++)
+		if (d->sensor[i] < 0 || d->sensor[i] >= b->n_sensors)
+			return evo_fail(&sc->err, "bot %s has no sensor %d",
+					b->name, d->sensor[i]);
+	if (d->kind == EVO3D_RW_CLOSING_ON_TARGET &&
+	    (d->target < 0 || d->target >= sc->n_elements))
+		return evo_fail(&sc->err, "ClosingOnTarget needs a target");
+	if (grow(sc, (void **)&sc->reward, &sc->cap_rewards, sc->n_rewards + 1,
+		 sizeof *sc->reward))
+		return -1;
+	evo_reward3d *r = &sc->reward[sc->n_rewards];
+	r->def = *d;
+	r->previous = -1;
+	r->total = 0;
+	return sc->n_rewards++;
+}
+
+int evo_scene3d_add_control(evo_scene3d *sc, const evo_control3d_def *d)
+{
+	if ((unsigned)d->kind >= EVO3D_CF_KIND_COUNT)
+		return evo_fail(&sc->err, "unknown control kind %d", d->kind);
+	evo_bot3d *b = check_bot(sc, d->bot);
+	if (!b)
+		return -1;
+	if (d->ticks < 1)
+		return evo_fail(&sc->err, "a control's ticks must be >= 1");
+	if (d->kind == EVO3D_CF_NEXT_ON_SENSOR_BELOW &&
+	    (d->sensor < 0 || d->sensor >= b->n_sensors))
+		return evo_fail(&sc->err, "NextOnSensorBelow needs a sensor "
+					  "of its bot");
+	if (grow(sc, (void **)&sc->control, &sc->cap_controls,
+		 sc->n_controls + 1, sizeof *sc->control))
+		return -1;
+	sc->control[sc->n_controls].def = *d;
+	return sc->n_controls++;
+}
+
+int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o)
+{
+	evo_obstacle3d s = *o;
+	s.category = EVO_CAT3D_OBSTACLE;
+	if (!finite3(s.pos) || !isfinite(s.yaw))
+		return evo_fail(&sc->err, "an obstacle's position is not a "
+					  "number");
+	if (s.type == EVO_SHAPE3D_CYLINDER)
+		s.axis = 2;
+	return add_obstacle(sc, &s);
+}
+
+/* ---- lookups ------------------------------------------------------------- */
+
+int evo_scene3d_find_element(const evo_scene3d *sc, const char *name)
+{
+	for (int i = 0; i < sc->n_elements; i++)
+		if (strcmp(sc->element[i].name, name) == 0)
+			return i;
+	return -1;
+}
+
+int evo_scene3d_find_bot(const evo_scene3d *sc, const char *name)
+{
+	for (int i = 0; i < sc->n_bots; i++)
+		if (strcmp(sc->bot[i].name, name) == 0)
+			return i;
+	return -1;
+}
+
+int evo_bot3d_find_sensor(const evo_bot3d *b, const char *name)
+{
+	for (int i = 0; i < b->n_sensors; i++)
+		if (strcmp(b->sensor[i].name, name) == 0)
+			return i;
+	return -1;
+}
+
+int evo_bot3d_find_actuator(const evo_bot3d *b, const char *name)
+{
+	for (int i = 0; i < b->n_actuators; i++)
+		if (strcmp(b->actuator[i].name, name) == 0)
+			return i;
+	return -1;
+}
+
+/* ---- frames ----------------------------------------------------------------
+ */
+
+void evo_bot3d_to_world(const evo_bot3d *b, const double v[3], double out[3])
+{
+	for (int i = 0; i < 3; i++)
+		out[i] = b->R[3 * i] * v[0] + b->R[3 * i + 1] * v[1] +
+			 b->R[3 * i + 2] * v[2];
+}
+
+void evo_bot3d_to_body(const evo_bot3d *b, const double v[3], double out[3])
+{
+	for (int i = 0; i < 3; i++)
+		out[i] =
+		    b->R[i] * v[0] + b->R[3 + i] * v[1] + b->R[6 + i] * v[2];
+}
+
+/* ---- the world -------------------------------------------------------------
+ */
+
+/* Bot i's bodies: its hull (with its caster), then a body and a hinge for
+ * each wheel, turning about the bot's y axis. */
+static int build_bot(evo_scene3d *sc, int i)
+{
+	evo_bot3d *b = &sc->bot[i];
+	const evo_bot3d_def *d = &b->def;
+	evo_body3d_def bd;
+	memset(&bd, 0, sizeof bd);
+	memcpy(bd.pos, b->start, sizeof bd.pos);
+	bd.yaw = b->start_yaw;
+	bd.mass = d->mass;
+	bd.group = i;
+	evo_shape3d *hull = &bd.shape[bd.n_shapes++];
+	hull->type = d->radius > 0 ? EVO_SHAPE3D_SPHERE : EVO_SHAPE3D_BOX;
+	memcpy(hull->half, d->half, sizeof hull->half);
+	hull->radius = d->radius;
+	hull->friction = d->friction;
+	hull->category = EVO_CAT3D_BOT;
+	if (d->caster_radius > 0) {
+		evo_shape3d *c = &bd.shape[bd.n_shapes++];
+		c->type = EVO_SHAPE3D_SPHERE;
+		memcpy(c->pos, d->caster_pos, sizeof c->pos);
+		c->radius = d->caster_radius;
+		c->friction = 0;
+		c->category = EVO_CAT3D_BOT;
+	}
+	b->body = evo_world3d_add_body(sc->world, &bd);
+	if (b->body < 0)
+		return evo_fail(&sc->err, "bot %s: cannot make its body",
+				b->name);
+	evo_body3d_pose(sc->world, b->body, b->pos, b->R);
+	for (int k = 0; k < b->n_actuators; k++) {
+		evo_actuator3d *a = &b->actuator[k];
+		if (a->def.kind != EVO3D_ACTUATOR_WHEEL)
+			continue;
+		evo_body3d_def wd;
+		memset(&wd, 0, sizeof wd);
+		evo_bot3d_to_world(b, a->def.pos, wd.pos);
+		for (int j = 0; j < 3; j++)
+			wd.pos[j] += b->pos[j];
+		wd.yaw = b->start_yaw;
+		wd.mass = a->def.mass;
+		wd.group = i;
+		wd.n_shapes = 1;
+		wd.shape[0].type = EVO_SHAPE3D_CYLINDER;
+		wd.shape[0].radius = a->def.radius;
+		wd.shape[0].half_length = a->def.half_width;
+		wd.shape[0].axis = 1;
+		wd.shape[0].friction = a->def.friction;
+		wd.shape[0].category = EVO_CAT3D_BOT;
+		a->body = evo_world3d_add_body(sc->world, &wd);
+		static const double y[3] = {0, 1, 0};
+		double axis[3];
+		evo_bot3d_to_world(b, y, axis);
+		a->hinge = a->body < 0
+			       ? -1
+			       : evo_world3d_add_hinge(sc->world, a->body,
+						       b->body, wd.pos, axis);
+		if (a->hinge < 0)
+			return evo_fail(&sc->err,
+					"bot %s: cannot make wheel %s", b->name,
+					a->name);
+	}
+	return 0;
+}
+
+int evo_scene3d_build_world(evo_scene3d *sc)
+{
+	evo_world3d_destroy(sc->world);
+	sc->world = evo_world3d_create(&sc->def.world);
+	if (!sc->world)
+		return evo_fail(&sc->err, "cannot create an ODE world");
+	for (int i = 0; i < sc->n_obstacles; i++)
+		if (evo_world3d_add_static(sc->world, &sc->obstacle[i]) < 0)
+			return evo_fail(&sc->err, "obstacle %d: bad size", i);
+	for (int i = 0; i < sc->n_bots; i++)
+		sc->bot[i].body = -1;
+	for (int i = 0; i < sc->n_bots; i++)
+		if (build_bot(sc, i))
+			return -1;
+	evo_scene3d_refresh_bots(sc);
+	for (int i = 0; i < sc->n_elements; i++) {
+		evo_element3d *e = &sc->element[i];
+		if (e->def.kind != EVO3D_ELEM_OBJECT)
+			continue;
+		evo_body3d_def od;
+		memset(&od, 0, sizeof od);
+		memcpy(od.pos, e->pos, sizeof od.pos);
+		od.yaw = e->def.yaw;
+		od.mass = e->def.mass;
+		od.group = -1;
+		od.n_shapes = 1;
+		od.shape[0].type =
+		    e->def.sphere ? EVO_SHAPE3D_SPHERE : EVO_SHAPE3D_BOX;
+		od.shape[0].radius = e->def.radius;
+		memcpy(od.shape[0].half, e->def.half, sizeof od.shape[0].half);
+		od.shape[0].friction = e->def.friction;
+		od.shape[0].category = EVO_CAT3D_OBJECT;
+		e->body = evo_world3d_add_body(sc->world, &od);
+		if (e->body < 0)
+			return evo_fail(&sc->err, "object %s: cannot make it",
+					e->name);
+		double v[3];
+		evo_body3d_pose(sc->world, e->body, v, e->R);
+	}
+	return 0;
+}
+
+void evo_scene3d_refresh_bots(evo_scene3d *sc)
+{
+	for (int i = 0; i < sc->n_bots; i++) {
+		evo_bot3d *b = &sc->bot[i];
+		if (b->body < 0)
+			continue;
+		evo_body3d_pose(sc->world, b->body, b->pos, b->R);
+		evo_body3d_velocity(sc->world, b->body, b->v, b->omega);
+	}
+}
+
+double evo_scene3d_distance(const evo_scene3d *sc, int bot, int element)
+{
+	const double *p = sc->bot[bot].pos, *q = sc->element[element].pos;
+	double dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
+	return sqrt(dx * dx + dy * dy + dz * dz);
+}

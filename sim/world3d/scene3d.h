@@ -1,0 +1,327 @@
+/* evo — a 3D scene: one ODE world (world3d.h) with its elements, its bots
+ * with their sensors and actuators, and the reward and control functions
+ * of an episode. The 3D twin of world2d/scene.h, built from Lua in the
+ * same style (sim/lua/lua_scene3d.c, docs/world3d.md).
+ *
+ * Frame: right-handed, z up, the ground at z = 0; a bot's own frame has x
+ * ahead, y to its left, z up. Angles are radians here (degrees in Lua);
+ * yaw turns counter-clockwise seen from above.
+ *
+ * The world is made again from the scene's definitions at every reset, so
+ * an episode depends only on its seeds, never on the episodes before it
+ * nor on the thread that runs it.
+ *
+ * The tick (DESIGN.md): evo_scene3d_sense, then the caller steps each
+ * bot's mind and writes actuator commands, then evo_scene3d_step
+ * (actuators act and the physics steps, `substeps` times; rewards add up;
+ * control functions decide whether the episode goes on). A body that
+ * explodes ends the episode with a message in `fault` and the fault
+ * penalty added to the reward. */
+#ifndef EVO_SCENE3D_H
+#define EVO_SCENE3D_H
+
+#include <stdint.h>
+
+#include "base/err.h"
+#include "base/rng.h"
+#include "world3d/world3d.h"
+
+/* -std=c11 leaves it out of <math.h>. */
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+#define EVO3D_NAME_MAX	     64
+#define EVO3D_PROX_MAX_RAYS  16
+#define EVO3D_REWARD_SENSORS 16
+#define EVO3D_FALSE	     0.2
+#define EVO3D_TRUE	     0.8
+#define EVO3D_TARGET_NONE    (-1)
+
+/* ---- elements ------------------------------------------------------- */
+
+typedef enum evo_element3d_kind {
+	EVO3D_ELEM_BOX = 0,	 /* static box */
+	EVO3D_ELEM_CYLINDER = 1, /* static upright cylinder */
+	EVO3D_ELEM_SPHERE = 2,	 /* static sphere */
+	EVO3D_ELEM_ZONE = 3,	 /* trigger volume: a box, no body */
+	EVO3D_ELEM_TARGET = 4,	 /* a point to reach: a sphere, no body */
+	EVO3D_ELEM_OBJECT = 5,	 /* dynamic box or sphere */
+	EVO3D_ELEM_KIND_COUNT
+} evo_element3d_kind;
+
+typedef struct evo_element3d_def {
+	evo_element3d_kind kind;
+	const char *name; /* may be NULL */
+	double pos[3];	  /* its centre */
+	double yaw;
+	double half[3];	    /* box, zone, box object */
+	double radius;	    /* cylinder, sphere, target, sphere object */
+	double half_length; /* cylinder: half its height */
+	double mass;	    /* object (1 kg) */
+	double friction;    /* 0.5 */
+	int sphere;	    /* object: 1 a sphere, 0 a box */
+} evo_element3d_def;
+
+evo_element3d_def evo_default_element3d_def(evo_element3d_kind kind);
+
+typedef struct evo_element3d {
+	char name[EVO3D_NAME_MAX];
+	evo_element3d_def def;
+	double pos[3]; /* now (objects move; the rest stay where they start) */
+	double R[9];   /* objects: their turn */
+	int body;      /* objects: the world's body, else -1 */
+} evo_element3d;
+
+/* A static obstacle as the viewer and the tests see it: an element's, or
+ * one of the episode's (evo_scene3d_add_episode_obstacle). */
+typedef evo_shape3d evo_obstacle3d;
+
+/* ---- sensors ---------------------------------------------------------- */
+
+typedef enum evo_sensor3d_kind {
+	EVO3D_SENSOR_PROXIMITY = 0, /* nearest hit of its rays / range;
+				       1 = clear */
+	EVO3D_SENSOR_DISTANCE,	    /* distance to target / scale, clamped */
+	EVO3D_SENSOR_AZIMUTH,	    /* 0.5 + azimuth / 2 pi (TargetSensor:1) */
+	EVO3D_SENSOR_ELEVATION,	    /* 0.5 + elevation / pi (TargetSensor:2) */
+	EVO3D_SENSOR_ZONE,	    /* TRUE with the bot's centre in the zone */
+	EVO3D_SENSOR_RANDOM,	    /* uniform in [0, 1) */
+	EVO3D_SENSOR_CONSTANT,	    /* value */
+	EVO3D_SENSOR_KIND_COUNT
+} evo_sensor3d_kind;
+
+typedef struct evo_sensor3d_def {
+	evo_sensor3d_kind kind;
+	const char *name;
+	double pos[3]; /* body frame */
+	double yaw;    /* direction: turn about z, then */
+	double pitch;  /* up from the horizontal (radians) */
+	double range;  /* proximity: 3 m */
+	double arc;    /* proximity: half angle of its fan of rays (0) */
+	int rays;      /* proximity: 1 */
+	unsigned mask; /* proximity: what its rays see (all) */
+	int target;    /* element: distance, azimuth, elevation, zone */
+	double scale;  /* distance: what reads 1 (20 m) */
+	double value;  /* constant */
+} evo_sensor3d_def;
+
+evo_sensor3d_def evo_default_sensor3d_def(evo_sensor3d_kind kind);
+
+typedef struct evo_sensor3d {
+	char name[EVO3D_NAME_MAX];
+	evo_sensor3d_def def;
+	double value; /* the last sample, in [0, 1] */
+	/* proximity: each ray's unit direction in the bot's frame, and its
+	 * last hit distance (range: nothing), for the viewer */
+	double dir[EVO3D_PROX_MAX_RAYS][3];
+	double hit[EVO3D_PROX_MAX_RAYS];
+} evo_sensor3d;
+
+/* ---- actuators -------------------------------------------------------- */
+
+typedef enum evo_actuator3d_kind {
+	EVO3D_ACTUATOR_WHEEL = 0,     /* a wheel on a hinge: (2c - 1) x max */
+	EVO3D_ACTUATOR_PROPELLER = 1, /* thrust (2c - 1) x max_thrust along
+					 axis at pos */
+	EVO3D_ACTUATOR_KIND_COUNT
+} evo_actuator3d_kind;
+
+typedef struct evo_actuator3d_def {
+	evo_actuator3d_kind kind;
+	const char *name;
+	double pos[3];	/* body frame: the wheel's hub, the propeller */
+	double axis[3]; /* propeller: direction of its thrust (unit) */
+	/* wheel */
+	double radius, half_width, mass, friction; /* 0.08, 0.02, 0.2, 1 */
+	int torque_mode;   /* 0: velocity (rate, max_torque); 1: torque */
+	double max_rate;   /* rad/s at c = 1 (15) */
+	double max_torque; /* N m (2) */
+	/* propeller */
+	double max_thrust; /* N (10) */
+} evo_actuator3d_def;
+
+evo_actuator3d_def evo_default_actuator3d_def(evo_actuator3d_kind kind);
+
+typedef struct evo_actuator3d {
+	char name[EVO3D_NAME_MAX];
+	evo_actuator3d_def def;
+	double command; /* [0, 1], 0.5 neutral */
+	int body;	/* wheel: its body in the world */
+	int hinge;	/* wheel: its hinge */
+} evo_actuator3d;
+
+/* ---- bots ------------------------------------------------------------- */
+
+typedef struct evo_bot3d_def {
+	const char *name;
+	double pos[3]; /* start: its centre */
+	double yaw;
+	/* the hull: a box of half sides half[] or, with radius > 0, a
+	 * sphere */
+	double half[3];
+	double radius;
+	double mass;	 /* kg (2) */
+	double friction; /* of the hull (0.3) */
+	/* a frictionless ball under the hull (a caster), when radius > 0 */
+	double caster_pos[3], caster_radius;
+	/* Buoyancy as a fraction of the bot's weight (its hull's; wheels
+	 * weigh on), pushing up at cob (body frame); drag against the
+	 * hull's motion in water or air: -(linear + quadratic |v|) v and
+	 * -angular omega. 0 for a robot on the ground. */
+	double buoyancy, cob[3];
+	double drag_linear, drag_quadratic, drag_angular;
+} evo_bot3d_def;
+
+evo_bot3d_def evo_default_bot3d_def(void);
+
+typedef struct evo_bot3d {
+	char name[EVO3D_NAME_MAX];
+	evo_bot3d_def def;
+	int body;		    /* the hull's in the world */
+	double start[3], start_yaw; /* this episode's start pose */
+	int n_sensors, n_actuators;
+	evo_sensor3d *sensor;	  /* owned */
+	evo_actuator3d *actuator; /* owned */
+	/* after the last step or reset */
+	double pos[3], R[9], v[3], omega[3];
+	int touching;	/* contacts this tick with anything but the ground */
+	int collisions; /* ticks spent touching since the reset */
+} evo_bot3d;
+
+/* ---- rewards and controls (the 2D ones that make sense in 3D) ---------- */
+
+typedef enum evo_reward3d_kind {
+	EVO3D_RW_CLOSING_ON_TARGET = 0, /* k * (previous distance - distance) */
+	EVO3D_RW_SENSOR_OVER,		/* k * sum(v - t) over v > t */
+	EVO3D_RW_SENSOR_UNDER,		/* k * sum(t - v) over v <= t */
+	EVO3D_RW_PUNISH_ON_COLLISION,	/* k every tick the bot touches */
+	EVO3D_RW_FORWARD_MOTION,	/* k moving ahead, k2 backing */
+	EVO3D_RW_FORWARD_SPEED,		/* k * speed along its heading */
+	EVO3D_RW_SPEED,			/* k * speed^2 */
+	EVO3D_RW_STEP,			/* k every tick */
+	EVO3D_RW_KIND_COUNT
+} evo_reward3d_kind;
+
+typedef struct evo_reward3d_def {
+	evo_reward3d_kind kind;
+	int bot;
+	double k, k2, threshold;
+	int target;
+	int n_sensors;
+	int sensor[EVO3D_REWARD_SENSORS];
+} evo_reward3d_def;
+
+evo_reward3d_def evo_default_reward3d_def(evo_reward3d_kind kind);
+
+typedef struct evo_reward3d {
+	evo_reward3d_def def;
+	double previous; /* ClosingOnTarget: -1 for none */
+	double total;
+} evo_reward3d;
+
+typedef enum evo_control3d_kind {
+	EVO3D_CF_NEXT_ON_TIMEOUT = 0,
+	EVO3D_CF_NEXT_ON_COLLISION,
+	EVO3D_CF_NEXT_ON_COLLISION_AND_TIMEOUT,
+	EVO3D_CF_NEXT_ON_SENSOR_BELOW,
+	EVO3D_CF_KIND_COUNT
+} evo_control3d_kind;
+
+typedef struct evo_control3d_def {
+	evo_control3d_kind kind;
+	int bot;
+	long ticks;
+	int sensor;
+	double threshold;
+} evo_control3d_def;
+
+evo_control3d_def evo_default_control3d_def(evo_control3d_kind kind);
+
+typedef struct evo_control3d {
+	evo_control3d_def def;
+} evo_control3d;
+
+/* ---- the scene -------------------------------------------------------- */
+
+typedef struct evo_scene3d_def {
+	evo_world3d_def world; /* its step is substeps' length */
+	int substeps;	      /* physics steps per tick (2: a tick is 1/30 s) */
+	double fault_penalty; /* added when a body explodes (-1000) */
+} evo_scene3d_def;
+
+evo_scene3d_def evo_default_scene3d_def(void);
+
+typedef struct evo_scene3d {
+	evo_scene3d_def def;
+	evo_world3d *world; /* made again at every reset */
+	long tick;
+	evo_rng rng;	    /* the episode's (RANDOM sensors) */
+	uint64_t grid_seed; /* the last reset's: episode obstacles */
+	int n_elements, n_bots, n_rewards, n_controls, n_obstacles;
+	int n_fixed_obstacles; /* the elements'; the episode's follow */
+	int cap_elements, cap_bots, cap_rewards, cap_controls, cap_obstacles;
+	evo_element3d *element;
+	evo_bot3d *bot;
+	evo_reward3d *reward;
+	evo_control3d *control;
+	evo_obstacle3d *obstacle;
+	double step_reward, episode_reward;
+	/* the body that exploded this episode, in words; "" while none did */
+	char fault[256];
+	evo_err err;
+} evo_scene3d;
+
+evo_scene3d *evo_scene3d_create(const evo_scene3d_def *def);
+void evo_scene3d_destroy(evo_scene3d *sc);
+
+/* Each add returns the new index, or -1 with sc->err set (a bad value, an
+ * unknown bot or sensor, a name used twice). */
+int evo_scene3d_add_element(evo_scene3d *sc, const evo_element3d_def *def);
+int evo_scene3d_add_bot(evo_scene3d *sc, const evo_bot3d_def *def);
+int evo_scene3d_add_sensor(evo_scene3d *sc, int bot,
+			   const evo_sensor3d_def *def);
+int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
+			     const evo_actuator3d_def *def);
+int evo_scene3d_add_reward(evo_scene3d *sc, const evo_reward3d_def *def);
+int evo_scene3d_add_control(evo_scene3d *sc, const evo_control3d_def *def);
+
+/* A static obstacle for this episode only (an environment's reset adds
+ * them): the next reset removes it. Its index, or -1 with sc->err set. */
+int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o);
+
+int evo_scene3d_find_element(const evo_scene3d *sc, const char *name);
+int evo_scene3d_find_bot(const evo_scene3d *sc, const char *name);
+int evo_bot3d_find_sensor(const evo_bot3d *b, const char *name);
+int evo_bot3d_find_actuator(const evo_bot3d *b, const char *name);
+
+/* Start an episode: a new world with every element and bot where it
+ * starts, neutral commands, rewards and controls cleared, the episode's
+ * obstacles gone, the rng seeded from episode_seed. Returns 0, or -1 with
+ * sc->err set (out of memory). */
+int evo_scene3d_reset(evo_scene3d *sc, uint64_t grid_seed,
+		      uint64_t episode_seed);
+
+/* Move a bot to a new start pose (an environment's reset): the world's
+ * bodies are made again there. */
+int evo_scene3d_place_bot(evo_scene3d *sc, int bot, const double pos[3],
+			  double yaw);
+/* Move a target or zone (not a body) to pos. */
+void evo_scene3d_place_element(evo_scene3d *sc, int element,
+			       const double pos[3]);
+
+/* Step 1 of the tick: every sensor of every bot samples. */
+void evo_scene3d_sense(evo_scene3d *sc);
+
+/* Steps 3-5. Returns 1 when a control function or a fault ends the
+ * episode, 0 when it goes on. */
+int evo_scene3d_step(evo_scene3d *sc);
+
+/* Sample one sensor now (sensors3d.c). */
+double evo_sensor3d_sample(evo_scene3d *sc, int bot, int sensor);
+
+/* Turn v of the bot's frame into the world's, and back. */
+void evo_bot3d_to_world(const evo_bot3d *b, const double v[3], double out[3]);
+void evo_bot3d_to_body(const evo_bot3d *b, const double v[3], double out[3]);
+
+#endif

@@ -1,0 +1,27 @@
+/* evo — private to sim/world3d/: what the 3D scene's files share. No other
+ * folder includes it. */
+#ifndef EVO_SCENE3D_INTERNAL_H
+#define EVO_SCENE3D_INTERNAL_H
+
+#include "world3d/scene3d.h"
+
+/* scene3d.c: make the world again from the definitions, the bots at their
+ * starts, the episode's obstacles in place. 0, or -1 with sc->err set. */
+int evo_scene3d_build_world(evo_scene3d *sc);
+
+/* Each bot's pose and speeds from its hull's body. */
+void evo_scene3d_refresh_bots(evo_scene3d *sc);
+
+/* actuators3d.c: before each physics step, the bot's actuators and the
+ * forces of the water or air around it (buoyancy, drag). */
+void evo_bot3d_act(evo_scene3d *sc, int bot);
+
+/* rewards3d.c */
+void evo_reward3d_reset(evo_scene3d *sc, evo_reward3d *r);
+double evo_reward3d_compute(evo_scene3d *sc, evo_reward3d *r);
+int evo_control3d_check(evo_scene3d *sc, const evo_control3d *c);
+
+/* The distance from bot b's centre to element e's. */
+double evo_scene3d_distance(const evo_scene3d *sc, int bot, int element);
+
+#endif

@@ -1,0 +1,108 @@
+/* The 3D sensors (sim/world3d/scene3d.h): proximity rays, distance,
+ * the tutorial's target sensor (azimuth and elevation), zones, random and
+ * constant values. Each reads the scene and asks the world's ray cast;
+ * none calls back up. */
+#include <math.h>
+
+#include "world3d/scene3d.h"
+#include "world3d/scene3d_internal.h"
+
+static double clamp01(double v)
+{
+	/* a value that is not a number never reaches a mind */
+	if (!(v >= 0))
+		return 0;
+	return v > 1 ? 1 : v;
+}
+
+/* Where the sensor sits in the world, and the target in the bot's frame
+ * seen from there. */
+static void target_in_body(const evo_scene3d *sc, const evo_bot3d *b,
+			   const evo_sensor3d *s, double out[3])
+{
+	double at[3], d[3];
+	evo_bot3d_to_world(b, s->def.pos, at);
+	const double *t = sc->element[s->def.target].pos;
+	for (int k = 0; k < 3; k++)
+		d[k] = t[k] - (b->pos[k] + at[k]);
+	evo_bot3d_to_body(b, d, out);
+}
+
+/* The nearest hit over the sensor's rays, / range; 1 when clear. */
+static double proximity(evo_scene3d *sc, int bot, evo_sensor3d *s)
+{
+	const evo_bot3d *b = &sc->bot[bot];
+	double from[3], dir[3];
+	evo_bot3d_to_world(b, s->def.pos, from);
+	for (int k = 0; k < 3; k++)
+		from[k] += b->pos[k];
+	double best = s->def.range;
+	for (int r = 0; r < s->def.rays; r++) {
+		evo_bot3d_to_world(b, s->dir[r], dir);
+		double h = evo_world3d_raycast(sc->world, from, dir,
+					       s->def.range, s->def.mask, bot);
+		s->hit[r] = h < 0 ? s->def.range : h;
+		if (s->hit[r] < best)
+			best = s->hit[r];
+	}
+	return best / s->def.range;
+}
+
+/* A zone's trigger volume holds point p: p in the zone's own frame
+ * (turned by its yaw) lies within its half sides. */
+static int zone_holds(const evo_element3d *z, const double p[3])
+{
+	double dx = p[0] - z->pos[0], dy = p[1] - z->pos[1],
+	       dz = p[2] - z->pos[2];
+	double c = cos(z->def.yaw), s = sin(z->def.yaw);
+	double lx = c * dx + s * dy, ly = -s * dx + c * dy;
+	return fabs(lx) <= z->def.half[0] && fabs(ly) <= z->def.half[1] &&
+	       fabs(dz) <= z->def.half[2];
+}
+
+double evo_sensor3d_sample(evo_scene3d *sc, int bot, int k)
+{
+	evo_bot3d *b = &sc->bot[bot];
+	evo_sensor3d *s = &b->sensor[k];
+	int has = s->def.target >= 0 && s->def.target < sc->n_elements;
+	double t[3];
+	switch (s->def.kind) {
+	case EVO3D_SENSOR_PROXIMITY:
+		return clamp01(proximity(sc, bot, s));
+	case EVO3D_SENSOR_DISTANCE:
+		if (!has)
+			return 1;
+		target_in_body(sc, b, s, t);
+		return clamp01(sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]) /
+			       s->def.scale);
+	case EVO3D_SENSOR_AZIMUTH:
+		if (!has)
+			return 0.5;
+		target_in_body(sc, b, s, t);
+		return clamp01(0.5 + atan2(t[1], t[0]) / (2 * M_PI));
+	case EVO3D_SENSOR_ELEVATION:
+		if (!has)
+			return 0.5;
+		target_in_body(sc, b, s, t);
+		return clamp01(0.5 + atan2(t[2], hypot(t[0], t[1])) / M_PI);
+	case EVO3D_SENSOR_ZONE:
+		return has && zone_holds(&sc->element[s->def.target], b->pos)
+			   ? EVO3D_TRUE
+			   : EVO3D_FALSE;
+	case EVO3D_SENSOR_RANDOM:
+		return evo_rng_unit(&sc->rng);
+	case EVO3D_SENSOR_CONSTANT:
+		return clamp01(s->def.value);
+	case EVO3D_SENSOR_KIND_COUNT:
+		break;
+	}
+	return 0.5;
+}
+
+void evo_scene3d_sense(evo_scene3d *sc)
+{
+	for (int i = 0; i < sc->n_bots; i++)
+		for (int k = 0; k < sc->bot[i].n_sensors; k++)
+			sc->bot[i].sensor[k].value =
+			    evo_sensor3d_sample(sc, i, k);
+}

@@ -1,0 +1,125 @@
+/* The 3D scene's episode and tick (sim/world3d/scene3d.h): the reset, the
+ * sensing, and the step (actuators act and the physics steps, substeps
+ * times; rewards; controls). The top of the 3D world: it calls the pieces
+ * below it, none of which calls back. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "world3d/scene3d.h"
+#include "world3d/scene3d_internal.h"
+
+int evo_scene3d_reset(evo_scene3d *sc, uint64_t grid_seed,
+		      uint64_t episode_seed)
+{
+	sc->n_obstacles = sc->n_fixed_obstacles;
+	for (int i = 0; i < sc->n_bots; i++) {
+		evo_bot3d *b = &sc->bot[i];
+		memcpy(b->start, b->def.pos, sizeof b->start);
+		b->start_yaw = b->def.yaw;
+		for (int k = 0; k < b->n_actuators; k++)
+			b->actuator[k].command = 0.5;
+		b->touching = b->collisions = 0;
+	}
+	for (int i = 0; i < sc->n_elements; i++)
+		memcpy(sc->element[i].pos, sc->element[i].def.pos,
+		       sizeof sc->element[i].pos);
+	for (int i = 0; i < sc->n_rewards; i++)
+		evo_reward3d_reset(sc, &sc->reward[i]);
+	sc->rng = evo_rng_seed(episode_seed);
+	sc->grid_seed = grid_seed;
+	sc->tick = 0;
+	sc->step_reward = sc->episode_reward = 0;
+	sc->fault[0] = 0;
+	return evo_scene3d_build_world(sc);
+}
+
+int evo_scene3d_place_bot(evo_scene3d *sc, int bot, const double pos[3],
+			  double yaw)
+{
+	if (bot < 0 || bot >= sc->n_bots)
+		return evo_fail(&sc->err, "no bot %d", bot);
+	if (!isfinite(pos[0]) || !isfinite(pos[1]) || !isfinite(pos[2]) ||
+	    !isfinite(yaw))
+		return evo_fail(&sc->err, "a pose that is not a number");
+	memcpy(sc->bot[bot].start, pos, sizeof sc->bot[bot].start);
+	sc->bot[bot].start_yaw = yaw;
+	return evo_scene3d_build_world(sc);
+}
+
+void evo_scene3d_place_element(evo_scene3d *sc, int element,
+			       const double pos[3])
+{
+	memcpy(sc->element[element].pos, pos, sizeof sc->element[element].pos);
+}
+
+/* Which bot (or object) a body of the world is, for the fault message. */
+static void describe_fault(evo_scene3d *sc, int body, double speed)
+{
+	const char *what = "a body";
+	for (int i = 0; i < sc->n_bots; i++) {
+		if (sc->bot[i].body == body)
+			what = sc->bot[i].name;
+		for (int k = 0; k < sc->bot[i].n_actuators; k++)
+			if (sc->bot[i].actuator[k].body == body)
+				what = sc->bot[i].actuator[k].name;
+	}
+	for (int i = 0; i < sc->n_elements; i++)
+		if (sc->element[i].body == body)
+			what = sc->element[i].name;
+	if (isnan(speed))
+		snprintf(sc->fault, sizeof sc->fault,
+			 "%s exploded at tick %ld: its position or speed is "
+			 "not a number; the episode ends with a penalty of %g",
+			 what, sc->tick, sc->def.fault_penalty);
+	else
+		snprintf(sc->fault, sizeof sc->fault,
+			 "%s exploded at tick %ld: it moved at %.3g (over the "
+			 "limit of %g m/s, %g rad/s); the episode ends with a "
+			 "penalty of %g",
+			 what, sc->tick, speed, sc->def.world.max_speed,
+			 sc->def.world.max_spin, sc->def.fault_penalty);
+}
+
+int evo_scene3d_step(evo_scene3d *sc)
+{
+	if (sc->fault[0])
+		return 1;
+	for (int i = 0; i < sc->n_bots; i++)
+		sc->bot[i].touching = 0;
+	for (int s = 0; s < sc->def.substeps; s++) {
+		for (int i = 0; i < sc->n_bots; i++)
+			evo_bot3d_act(sc, i);
+		int body = -1;
+		double speed = 0;
+		if (evo_world3d_step(sc->world, &body, &speed)) {
+			sc->tick++;
+			describe_fault(sc, body, speed);
+			sc->step_reward = sc->def.fault_penalty;
+			sc->episode_reward += sc->def.fault_penalty;
+			return 1;
+		}
+		for (int i = 0; i < sc->n_bots; i++)
+			sc->bot[i].touching +=
+			    evo_world3d_group_touching(sc->world, i);
+	}
+	sc->tick++;
+	evo_scene3d_refresh_bots(sc);
+	for (int i = 0; i < sc->n_bots; i++)
+		if (sc->bot[i].touching)
+			sc->bot[i].collisions++;
+	for (int i = 0; i < sc->n_elements; i++) {
+		evo_element3d *e = &sc->element[i];
+		if (e->body >= 0)
+			evo_body3d_pose(sc->world, e->body, e->pos, e->R);
+	}
+	double total = 0;
+	for (int i = 0; i < sc->n_rewards; i++)
+		total += evo_reward3d_compute(sc, &sc->reward[i]);
+	sc->step_reward = total;
+	sc->episode_reward += total;
+	int next = 0;
+	for (int i = 0; i < sc->n_controls; i++)
+		next |= evo_control3d_check(sc, &sc->control[i]);
+	return next;
+}
