@@ -26,7 +26,8 @@ static void usage(FILE *f)
 	      "      run a task: DEMOSIM in the viewer, or headless;\n"
 	      "      LEARNSIM trains (--threads N, --run DIR, --resume);\n"
 	      "      DEMO2DSIMMULTI and LEARN2DSIMMULTI do so with teams\n"
-	      "      (docs/teams.md)\n"
+	      "      (docs/teams.md), DEMO3DSIM and LEARN3DSIM in the 3D\n"
+	      "      world on ODE (docs/world3d.md)\n"
 	      "      (evo run with no task lists every option);\n"
 	      "      DEMOREMOTESIM drives a remote simulator over LCM,\n"
 	      "      DEMOREMOTE a robot over LCM or, with --can URL, CAN\n"
@@ -172,8 +173,8 @@ static int check_task(const char *path, evo_task *task, evo_err *err)
 		return evo_fail(
 		    err,
 		    "%s: evo run does not run %s tasks yet (it runs "
-		    "DEMOSIM, LEARNSIM, DEMO2DSIMMULTI, "
-		    "LEARN2DSIMMULTI, DEMOREMOTESIM, "
+		    "DEMOSIM, LEARNSIM, DEMO3DSIM, LEARN3DSIM, "
+		    "DEMO2DSIMMULTI, LEARN2DSIMMULTI, DEMOREMOTESIM, "
 		    "LEARNREMOTESIM and DEMOREMOTE)",
 		    path, task->type);
 	if (strncmp(task->type, "LEARN", 5) == 0 &&

@@ -210,6 +210,8 @@ static int parse_args(int argc, char **argv, run_opts *o)
 int evo_run_supports(const char *type)
 {
 	return strcmp(type, "DEMOSIM") == 0 || strcmp(type, "LEARNSIM") == 0 ||
+	       strcmp(type, "DEMO3DSIM") == 0 ||
+	       strcmp(type, "LEARN3DSIM") == 0 ||
 	       strcmp(type, "DEMO2DSIMMULTI") == 0 ||
 	       strcmp(type, "LEARN2DSIMMULTI") == 0 ||
 	       strcmp(type, "DEMOREMOTESIM") == 0 ||
@@ -333,6 +335,18 @@ static int run_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 		}
 		if (r < 0)
 			return -1;
+		if (s->scene3d) {
+			/* a 3D episode: its reward, its ticks, its collision
+			 * ticks, and what broke it, if anything did */
+			printf("episode %ld: reward %.6f over %ld ticks, %d "
+			       "collision ticks\n",
+			       e, evo_sim_episode_reward(s), t,
+			       evo_sim_collisions(s, 0));
+			if (evo_sim_fault(s)[0])
+				printf("  fault: %s\n", evo_sim_fault(s));
+			fflush(stdout);
+			continue;
+		}
 		/* the agents' counts: the one agent's, or every team's */
 		int collisions = 0, delivered = 0, gathered = 0;
 		for (int a = 0; a < s->n_agents; a++) {
@@ -961,6 +975,7 @@ int evo_run_main(int argc, char **argv)
 		return 2;
 	}
 	if (strcmp(task.type, "LEARNSIM") == 0 ||
+	    strcmp(task.type, "LEARN3DSIM") == 0 ||
 	    strcmp(task.type, "LEARN2DSIMMULTI") == 0 ||
 	    strcmp(task.type, "LEARNREMOTESIM") == 0) {
 		/* --threads, else the task's THREADS, else one per core */
@@ -998,8 +1013,9 @@ int evo_run_main(int argc, char **argv)
 	if (!evo_run_supports(task.type)) {
 		fprintf(stderr,
 			"%s: evo run does not run %s tasks yet (it runs "
-			"DEMOSIM, LEARNSIM, DEMO2DSIMMULTI, LEARN2DSIMMULTI, "
-			"DEMOREMOTESIM, LEARNREMOTESIM and DEMOREMOTE)\n",
+			"DEMOSIM, LEARNSIM, DEMO3DSIM, LEARN3DSIM, "
+			"DEMO2DSIMMULTI, LEARN2DSIMMULTI, DEMOREMOTESIM, "
+			"LEARNREMOTESIM and DEMOREMOTE)\n",
 			o.task, task.type);
 		evo_task_free(&task);
 		return 1;
@@ -1033,6 +1049,10 @@ int evo_run_main(int argc, char **argv)
 	int robot = strcmp(task.type, "DEMOREMOTE") == 0;
 	if (!robot && !(s = evo_sim_create_task(&task, o.task, &err)))
 		goto out;
+	if (s && s->scene3d && !o.headless) {
+		/* the 3D view is not there yet: DEMO3DSIM runs headless */
+		o.headless = 1;
+	}
 	if (!o.headless) {
 		const char *d = getenv("DISPLAY");
 		const char *w = getenv("WAYLAND_DISPLAY");

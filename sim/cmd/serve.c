@@ -271,7 +271,7 @@ static int on_command(server *sv, const evo_link_msg *m, evo_err *err)
 	e->tick++;
 	if (done)
 		e->active = 0;
-	return send_sensors(sv, e, c.env, e->sim->scene->episode_reward, done,
+	return send_sensors(sv, e, c.env, evo_sim_episode_reward(e->sim), done,
 			    err);
 }
 
@@ -500,7 +500,7 @@ static int robot_tick(server *sv, robot *rb, double start, evo_err *err)
 	served_env *e = &sv->env[0];
 	e->episode = rb->episode;
 	e->tick = rb->tick;
-	if (send_sensors(sv, e, 0, e->sim->scene->episode_reward, 0, err))
+	if (send_sensors(sv, e, 0, evo_sim_episode_reward(e->sim), 0, err))
 		return -1;
 	rb->stepped = rb->ended = rb->restart = 0;
 	double deadline = start + rb->period;
@@ -521,7 +521,7 @@ static int robot_tick(server *sv, robot *rb, double start, evo_err *err)
 	if (rb->ended) {
 		/* the world ended the episode: its last sensors say so */
 		e->tick = rb->tick;
-		if (send_sensors(sv, e, 0, e->sim->scene->episode_reward, 1,
+		if (send_sensors(sv, e, 0, evo_sim_episode_reward(e->sim), 1,
 				 err))
 			return -1;
 		rb->active = 0;

@@ -119,7 +119,6 @@ static int evaluate_one(worker *w, int i, evo_eval_result *res, evo_err *err)
 	*l->net[w->skill] = *ev->cand[i];
 	if (evo_mindfolder_rebuild(l, err) || evo_sim_set_mind(w->sim, l, err))
 		return -1;
-	const evo_bot *bot = &w->sim->scene->bot[w->sim->bot];
 	for (int r = 0; r < ev->reps; r++) {
 		if (evo_sim_reset(
 			w->sim, r + 1, evo_eval_grid_seed(ev->seed, ev->gen, r),
@@ -138,10 +137,10 @@ static int evaluate_one(worker *w, int i, evo_eval_result *res, evo_err *err)
 			if (st > 0)
 				break;
 		}
-		res->fitness += w->sim->scene->episode_reward;
-		res->collisions += bot->collisions;
+		res->fitness += evo_sim_episode_reward(w->sim);
+		res->collisions += evo_sim_collisions(w->sim, 0);
 		for (int k = 0; k < ev->n_metrics; k++)
-			res->metric[k] += w->sim->scene->metric[k].value;
+			res->metric[k] += evo_sim_metric(w->sim, k);
 	}
 	for (int k = 0; k < ev->n_metrics; k++)
 		res->metric[k] /= ev->reps;
@@ -396,12 +395,14 @@ static int check_metrics(evo_evaluator *ev, evo_err *err)
 {
 	if (ev->w[0].lit)
 		return 0;
-	const evo_scene *first = ev->w[0].sim->scene;
+	const evo_sim *first = ev->w[0].sim;
+	int n = evo_sim_n_metrics(first);
 	for (int k = 1; k < ev->threads; k++) {
-		const evo_scene *sc = ev->w[k].sim->scene;
-		int same = sc->n_metrics == first->n_metrics;
-		for (int i = 0; same && i < sc->n_metrics; i++)
-			same = !strcmp(sc->metric[i].name, first->metric[i].name);
+		const evo_sim *sk = ev->w[k].sim;
+		int same = evo_sim_n_metrics(sk) == n;
+		for (int i = 0; same && i < n; i++)
+			same = !strcmp(evo_sim_metric_name(sk, i),
+				       evo_sim_metric_name(first, i));
 		if (!same)
 			return evo_fail(err,
 					"%s: the environment declared other "
@@ -410,7 +411,7 @@ static int check_metrics(evo_evaluator *ev, evo_err *err)
 					"ones every time",
 					ev->task_path, k + 1);
 	}
-	ev->n_metrics = first->n_metrics;
+	ev->n_metrics = n;
 	return 0;
 }
 
@@ -628,7 +629,7 @@ int evo_evaluator_remotes(const evo_evaluator *ev)
 
 const char *evo_evaluator_metric_name(const evo_evaluator *ev, int k)
 {
-	return k >= 0 && k < ev->n_metrics ? ev->w[0].sim->scene->metric[k].name
+	return k >= 0 && k < ev->n_metrics ? evo_sim_metric_name(ev->w[0].sim, k)
 					   : NULL;
 }
 

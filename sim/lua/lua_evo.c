@@ -268,9 +268,12 @@ static int setup(lua_State *L)
 	new_class(L, EVO_LUA_ELEMENT_MT, evo_lua_element_methods);
 	new_class(L, EVO_LUA_SCENE_MT, evo_lua_scene_methods);
 	new_class(L, EVO_LUA_METRIC_MT, evo_lua_metric_methods);
-	/* the one scene object */
+	new_class(L, EVO_LUA_SCENE3D_MT, evo_lua_scene3d_methods);
+	new_class(L, EVO_LUA_BOT3D_MT, evo_lua_bot3d_methods);
+	new_class(L, EVO_LUA_ELEMENT3D_MT, evo_lua_element3d_methods);
+	/* the one scene object, of the scene's kind */
 	lua_newuserdatauv(L, 1, 0);
-	luaL_setmetatable(L, EVO_LUA_SCENE_MT);
+	luaL_setmetatable(L, l->sc3 ? EVO_LUA_SCENE3D_MT : EVO_LUA_SCENE_MT);
 	lua_rawsetp(L, LUA_REGISTRYINDEX, &evo_lua_scene_key);
 	luaL_requiref(L, "evo", open_evo, 0);
 	lua_pop(L, 1);
@@ -294,7 +297,13 @@ evo_lua *evo_lua_create(const evo_lua_def *def, evo_err *err)
 		return NULL;
 	}
 	l->sc = def->scene;
+	l->sc3 = def->scene3d;
 	l->task = def->task;
+	if (!l->sc == !l->sc3) {
+		free(l);
+		evo_fail(err, "a Lua state builds one scene, 2D or 3D");
+		return NULL;
+	}
 	l->env_ref = LUA_NOREF;
 	snprintf(l->mind_dir, sizeof l->mind_dir, "%s",
 		 def->mind_dir ? def->mind_dir : "");
@@ -331,9 +340,11 @@ evo_lua *evo_lua_create(const evo_lua_def *def, evo_err *err)
 		evo_lua_destroy(l);
 		return NULL;
 	}
-	l->sc->hooks.ctx = l;
-	l->sc->hooks.reward = evo_lua_hook_reward;
-	l->sc->hooks.control = evo_lua_hook_control;
+	if (l->sc) {
+		l->sc->hooks.ctx = l;
+		l->sc->hooks.reward = evo_lua_hook_reward;
+		l->sc->hooks.control = evo_lua_hook_control;
+	}
 	return l;
 }
 
@@ -358,6 +369,8 @@ static int load_env(lua_State *L)
 	return 1;
 }
 
+static int init_env3d(evo_lua *l, evo_err *err);
+
 int evo_lua_init_env(evo_lua *l, const char *env, evo_err *err)
 {
 	if (evo_lua_find_script(l, NULL, "Envs", "envs", env, l->env_path,
@@ -380,6 +393,8 @@ int evo_lua_init_env(evo_lua *l, const char *env, evo_err *err)
 	if (evo_lua_call_env(l, "init", 2, 0, err))
 		return -1;
 	l->ready = 1;
+	if (l->sc3)
+		return init_env3d(l, err);
 	if (l->sc->n_bots == 0)
 		return evo_fail(err, "%s: init added no bot (call scene:bot{...})",
 				l->env_path);
@@ -465,8 +480,52 @@ static int run_obstacles(lua_State *L)
 	return 0;
 }
 
+/* A 3D environment after its init: a bot, and none of the 2D hooks it
+ * cannot have yet (docs/world3d.md). */
+static int init_env3d(evo_lua *l, evo_err *err)
+{
+	static const char *const not3d[] = {"post_step", "obstacles"};
+	if (l->sc3->n_bots == 0)
+		return evo_fail(err, "%s: init added no bot (call scene:bot{...})",
+				l->env_path);
+	lua_State *L = l->L;
+	lua_rawgeti(L, LUA_REGISTRYINDEX, l->env_ref);
+	for (unsigned i = 0; i < 2; i++) {
+		int has = lua_getfield(L, -1, not3d[i]) != LUA_TNIL;
+		lua_pop(L, 1);
+		if (has) {
+			lua_pop(L, 1);
+			return evo_fail(err,
+					"%s: env.%s is for 2D environments; a "
+					"3D one adds its episode's obstacles "
+					"with scene:obstacle{...} in reset "
+					"(docs/world3d.md)",
+					l->env_path, not3d[i]);
+		}
+	}
+	lua_pop(L, 1);
+	return 0;
+}
+
+/* A 3D environment's reset: math.random and the layout stream seeded, then
+ * its reset(scene, episode). */
+static int reset3d(evo_lua *l, int episode, evo_err *err)
+{
+	evo_rng r = evo_rng_for(l->sc3->rng.s, 0x4c7561 /* "Lua" */, 0, 0);
+	seed_math_random(l->L, evo_rng_next(&r));
+	l->layout_rng =
+	    evo_rng_for(l->sc3->grid_seed, 0x6f6273 /* "obs" */, 0, 0);
+	l->episode = episode;
+	l->in_reset = 1;
+	int rc = evo_lua_call_env(l, "reset", 1, episode, err);
+	l->in_reset = 0;
+	return rc;
+}
+
 int evo_lua_reset(evo_lua *l, int episode, evo_err *err)
 {
+	if (l->sc3)
+		return reset3d(l, episode, err);
 	/* math.random is seeded per episode from the scene's rng, itself just
 	 * seeded from the episode's seed, through a copy: the scene's stream
 	 * (RANDOM sensors, scene:random) stays as it was. */

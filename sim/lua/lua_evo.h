@@ -12,6 +12,7 @@
 #include "base/err.h"
 #include "evo/evo.h"
 #include "world2d/scene.h"
+#include "world3d/scene3d.h"
 
 typedef struct evo_lua evo_lua;
 
@@ -24,7 +25,10 @@ typedef struct evo_lua_team {
 } evo_lua_team;
 
 typedef struct evo_lua_def {
-	evo_scene *scene;     /* the scene the scripts build (not owned) */
+	/* the scene the scripts build (not owned): a 2D scene, or a 3D one
+	 * (DEMO3DSIM, LEARN3DSIM; docs/world3d.md) */
+	evo_scene *scene;
+	evo_scene3d *scene3d;
 	const char *mind_dir; /* searched first; may be NULL */
 	const char *lua_dir;  /* evo's lua/ folder; NULL: evo_lua_dir() */
 	const char *botmodel; /* BOTMODEL */

@@ -10,11 +10,14 @@
 #include <lua.h>
 #include <math.h>
 
+#include "base/rng.h"
 #include "lua/lua_evo.h"
 
 struct evo_lua {
 	lua_State *L;
-	evo_scene *sc;
+	evo_scene *sc;	    /* a 2D scene's scripts: this one, */
+	evo_scene3d *sc3;   /* a 3D scene's: this one (the other NULL) */
+	evo_rng layout_rng; /* 3D: scene:layout_random, from the grid seed */
 	char mind_dir[1024];
 	char lua_dir[1024];
 	char botmodel[EVO_NAME_MAX];
@@ -66,6 +69,9 @@ extern const char evo_lua_scene_key;
 #define EVO_LUA_ELEMENT_MT "evo.element"
 #define EVO_LUA_SCENE_MT "evo.scene"
 #define EVO_LUA_METRIC_MT "evo.metric"
+#define EVO_LUA_SCENE3D_MT "evo.scene3d"
+#define EVO_LUA_BOT3D_MT "evo.bot3d"
+#define EVO_LUA_ELEMENT3D_MT "evo.element3d"
 
 /* The most bots one team has (task.h's EVO_TEAM_MAX_SIZE): a team's
  * reward or control is one per bot. */
@@ -115,6 +121,11 @@ extern const luaL_Reg evo_lua_bot_methods[];
 extern const luaL_Reg evo_lua_element_methods[];
 extern const luaL_Reg evo_lua_metric_methods[];
 extern const luaL_Reg evo_lua_scene_methods[];
+
+/* lua_scene3d.c: the 3D scene's, its bots' and its elements' */
+extern const luaL_Reg evo_lua_scene3d_methods[];
+extern const luaL_Reg evo_lua_bot3d_methods[];
+extern const luaL_Reg evo_lua_element3d_methods[];
 
 /* ---- lua_evo.c: loading scripts --------------------------------------- */
 

@@ -4,6 +4,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "mind/trace.h"
 
@@ -21,6 +22,54 @@ static const char *closest(const char *word, const evo_bot *b, int sensors)
 		names[i] = sensors ? b->sensor[i].name : b->actuator[i].name;
 	const char *c = evo_closest_name(word, names, (size_t)n, NULL);
 	return c ? c : "";
+}
+
+/* The same over a 3D bot's. */
+static const char *closest3d(const char *word, const evo_bot3d *b, int sensors)
+{
+	const char *names[256];
+	int n = sensors ? b->n_sensors : b->n_actuators;
+	if (n > 256)
+		n = 256;
+	for (int i = 0; i < n; i++)
+		names[i] = sensors ? b->sensor[i].name : b->actuator[i].name;
+	const char *c = evo_closest_name(word, names, (size_t)n, NULL);
+	return c ? c : "";
+}
+
+/* Bind a one-agent 3D task's botdesc names to its bot's sensors and
+ * actuators. */
+static int bind3d(evo_sim *s, evo_sim_team *tm, evo_err *err)
+{
+	const evo_bot3d *b = &s->scene3d->bot[0];
+	const evo_mindfolder *mind = tm->mind;
+	const evo_botdesc *d = mind->botdesc;
+	const char *model = evo_lua_bot_path(s->lua);
+	for (unsigned i = 0; i < d->n_sensors; i++) {
+		int k = evo_bot3d_find_sensor(b, d->sensor[i].name);
+		if (k < 0)
+			return evo_fail(err,
+					"%s/%s.botdesc:%u: sensor '%s' is not "
+					"on the bot (model %s); closest: %s",
+					mind->root, mind->bot_name,
+					d->sensor[i].line, d->sensor[i].name,
+					model,
+					closest3d(d->sensor[i].name, b, 1));
+		tm->sensor_map[i] = k;
+	}
+	for (unsigned i = 0; i < d->n_actuators; i++) {
+		int k = evo_bot3d_find_actuator(b, d->actuator[i].name);
+		if (k < 0)
+			return evo_fail(
+			    err,
+			    "%s/%s.botdesc:%u: actuator '%s' is not "
+			    "on the bot (model %s); closest: %s",
+			    mind->root, mind->bot_name, d->actuator[i].line,
+			    d->actuator[i].name, model,
+			    closest3d(d->actuator[i].name, b, 0));
+		tm->actuator_map[i] = k;
+	}
+	return 0;
 }
 
 /* Sensors nothing reads are not sampled: the minds read the botdesc's,
@@ -73,6 +122,8 @@ static void team_suffix(const evo_sim *s, const evo_sim_team *tm, char *out,
  * lacks is the botdesc's error, reported at its line. */
 static int bind(evo_sim *s, evo_sim_team *tm, int bot, int first, evo_err *err)
 {
+	if (s->scene3d)
+		return bind3d(s, tm, err);
 	const evo_bot *b = &s->scene->bot[bot];
 	const evo_mindfolder *mind = tm->mind;
 	const evo_botdesc *d = mind->botdesc;
@@ -164,7 +215,8 @@ int evo_sim_set_team_mind(evo_sim *s, int team, const evo_mindfolder *mind,
 			return -1;
 	}
 	first_agent_view(s);
-	mark_idle(s);
+	if (s->scene)
+		mark_idle(s);
 	return 0;
 }
 
@@ -198,6 +250,9 @@ static int make_agents(evo_sim *s, evo_err *err)
 {
 	evo_scene *sc = s->scene;
 	int n = 0;
+	if (s->scene3d && s->has_teams)
+		return evo_fail(err, "%s: 3D tasks have one agent, no teams",
+				s->task_path);
 	for (int k = 0; k < s->n_teams; k++)
 		n += s->team[k].size;
 	s->agent = calloc((size_t)n, sizeof *s->agent);
@@ -242,8 +297,14 @@ static evo_sim *build(evo_sim *s, const evo_simbatch *task,
 {
 	s->task = task;
 	snprintf(s->task_path, sizeof s->task_path, "%s", task_path);
-	s->scene = evo_scene_create();
-	if (!s->scene) {
+	const char *type = evo_simbatch_get(task, "TYPE");
+	if (type && evo_sim_type_is_3d(type)) {
+		evo_scene3d_def d3 = evo_default_scene3d_def();
+		s->scene3d = evo_scene3d_create(&d3);
+	} else {
+		s->scene = evo_scene_create();
+	}
+	if (!s->scene && !s->scene3d) {
 		evo_fail(err, "cannot create a physics world");
 		evo_sim_destroy(s);
 		return NULL;
@@ -257,6 +318,7 @@ static evo_sim *build(evo_sim *s, const evo_simbatch *task,
 	}
 	evo_lua_def ld = {
 	    .scene = s->scene,
+	    .scene3d = s->scene3d,
 	    .mind_dir = mind_dir,
 	    .botmodel = model,
 	    .task = task,
@@ -343,6 +405,7 @@ void evo_sim_destroy(evo_sim *s)
 		return;
 	evo_lua_destroy(s->lua);
 	evo_scene_destroy(s->scene);
+	evo_scene3d_destroy(s->scene3d);
 	for (int a = 0; a < s->n_agents; a++)
 		free(s->agent[a].state_mem);
 	free(s->agent);
@@ -353,7 +416,12 @@ void evo_sim_destroy(evo_sim *s)
 int evo_sim_reset(evo_sim *s, int episode, uint64_t grid_seed,
 		  uint64_t episode_seed, evo_err *err)
 {
-	evo_scene_reset(s->scene, grid_seed, episode_seed);
+	if (s->scene3d) {
+		if (evo_scene3d_reset(s->scene3d, grid_seed, episode_seed))
+			return evo_fail(err, "%s", s->scene3d->err.msg);
+	} else {
+		evo_scene_reset(s->scene, grid_seed, episode_seed);
+	}
 	for (int a = 0; a < s->n_agents; a++)
 		evo_state_reset(&s->agent[a].mind->mind, s->agent[a].state);
 	s->episode = episode;
@@ -388,8 +456,31 @@ static void step_agent(evo_sim *s, const evo_sim_agent *a, evo_q16 *in,
 		evo_trace_tick(s->trace, s->scene->tick, m, in, out, a->state);
 }
 
+/* The one agent of a 3D task: the same mind step on its 3D bot. */
+static int tick3d(evo_sim *s)
+{
+	evo_scene3d *sc = s->scene3d;
+	evo_bot3d *b = &sc->bot[0];
+	const evo_sim_agent *a = &s->agent[0];
+	const evo_mind *m = &a->mind->mind;
+	evo_scene3d_sense(sc);
+	for (unsigned i = 0; i < m->n_sensors; i++)
+		s->sensors[i] =
+		    evo_q16_from_sensor(b->sensor[s->sensor_map[i]].value);
+	evo_mind_step(m, a->state, s->sensors, s->actuators);
+	for (unsigned i = 0; i < m->n_actuators; i++)
+		b->actuator[s->actuator_map[i]].command =
+		    evo_q16_to_double(s->actuators[i]);
+	if (s->trace)
+		evo_trace_tick(s->trace, sc->tick, m, s->sensors, s->actuators,
+			       a->state);
+	return evo_scene3d_step(sc);
+}
+
 int evo_sim_tick(evo_sim *s, evo_err *err)
 {
+	if (s->scene3d)
+		return tick3d(s);
 	evo_scene *sc = s->scene;
 	evo_scene_sense(sc);
 	step_agent(s, &s->agent[0], s->sensors, s->actuators);
@@ -404,6 +495,13 @@ int evo_sim_tick(evo_sim *s, evo_err *err)
 
 void evo_sim_sense(evo_sim *s, double *values)
 {
+	if (s->scene3d) {
+		const evo_bot3d *b3 = &s->scene3d->bot[0];
+		evo_scene3d_sense(s->scene3d);
+		for (unsigned i = 0; i < s->mind->mind.n_sensors; i++)
+			values[i] = b3->sensor[s->sensor_map[i]].value;
+		return;
+	}
 	const evo_bot *b = &s->scene->bot[s->bot];
 	evo_scene_sense(s->scene);
 	for (unsigned i = 0; i < s->mind->mind.n_sensors; i++)
@@ -412,6 +510,12 @@ void evo_sim_sense(evo_sim *s, double *values)
 
 int evo_sim_act(evo_sim *s, const double *commands, evo_err *err)
 {
+	if (s->scene3d) {
+		evo_bot3d *b3 = &s->scene3d->bot[0];
+		for (unsigned i = 0; i < s->mind->mind.n_actuators; i++)
+			b3->actuator[s->actuator_map[i]].command = commands[i];
+		return evo_scene3d_step(s->scene3d);
+	}
 	evo_bot *b = &s->scene->bot[s->bot];
 	for (unsigned i = 0; i < s->mind->mind.n_actuators; i++)
 		b->actuator[s->actuator_map[i]].command = commands[i];
@@ -437,4 +541,48 @@ void evo_sim_trace_header(evo_sim *s)
 		evo_trace_team_header(s->trace, tm->name, tm->mind, bots,
 				      tm->size);
 	}
+}
+
+int evo_sim_type_is_3d(const char *type)
+{
+	return strcasecmp(type, "DEMO3DSIM") == 0 ||
+	       strcasecmp(type, "LEARN3DSIM") == 0;
+}
+
+double evo_sim_episode_reward(const evo_sim *s)
+{
+	return s->scene3d ? s->scene3d->episode_reward
+			  : s->scene->episode_reward;
+}
+
+long evo_sim_ticks(const evo_sim *s)
+{
+	return s->scene3d ? s->scene3d->tick : s->scene->tick;
+}
+
+int evo_sim_collisions(const evo_sim *s, int agent)
+{
+	int bot = s->agent[agent].bot;
+	return s->scene3d ? s->scene3d->bot[bot].collisions
+			  : s->scene->bot[bot].collisions;
+}
+
+int evo_sim_n_metrics(const evo_sim *s)
+{
+	return s->scene3d ? 0 : s->scene->n_metrics;
+}
+
+const char *evo_sim_metric_name(const evo_sim *s, int k)
+{
+	return s->scene3d ? "" : s->scene->metric[k].name;
+}
+
+double evo_sim_metric(const evo_sim *s, int k)
+{
+	return s->scene3d ? 0 : s->scene->metric[k].value;
+}
+
+const char *evo_sim_fault(const evo_sim *s)
+{
+	return s->scene3d ? s->scene3d->fault : "";
 }

@@ -21,6 +21,7 @@
 #include "mind/mindfolder.h"
 #include "mind/task.h"
 #include "world2d/scene.h"
+#include "world3d/scene3d.h"
 
 typedef struct evo_sim_team {
 	char name[EVO_TEAM_NAME_MAX]; /* "" in a one-agent task */
@@ -44,7 +45,11 @@ typedef struct evo_sim_agent {
 } evo_sim_agent;
 
 typedef struct evo_sim {
+	/* The task's world: a 2D scene, or for DEMO3DSIM and LEARN3DSIM a
+	 * 3D one (docs/world3d.md), the other NULL. The evo_sim_* figures
+	 * below read either. */
 	evo_scene *scene;
+	evo_scene3d *scene3d;
 	evo_lua *lua;
 	const evo_mindfolder *mind; /* the first team's (not owned) */
 	const evo_simbatch *task; /* not owned */
@@ -114,6 +119,21 @@ int evo_sim_tick(evo_sim *s, evo_err *err);
  * evo_sim_tick's mind would read and write is evo_sim_tick, to the bit. */
 void evo_sim_sense(evo_sim *s, double *values);
 int evo_sim_act(evo_sim *s, const double *commands, evo_err *err);
+
+/* 1 for the task types that run in the 3D world: DEMO3DSIM, LEARN3DSIM. */
+int evo_sim_type_is_3d(const char *type);
+
+/* The episode's figures, of either world: its reward so far, its ticks,
+ * the ticks agent a's bot spent touching something, the environment's
+ * metrics (none in 3D), and what broke the episode ("" when nothing did:
+ * a 3D body that exploded). */
+double evo_sim_episode_reward(const evo_sim *s);
+long evo_sim_ticks(const evo_sim *s);
+int evo_sim_collisions(const evo_sim *s, int agent);
+int evo_sim_n_metrics(const evo_sim *s);
+const char *evo_sim_metric_name(const evo_sim *s, int k);
+double evo_sim_metric(const evo_sim *s, int k);
+const char *evo_sim_fault(const evo_sim *s);
 
 /* The agent that drives bot `bot`, or -1. */
 int evo_sim_agent_of_bot(const evo_sim *s, int bot);

@@ -113,6 +113,28 @@ evo_scene3d *evo_scene3d_create(const evo_scene3d_def *def)
 	return sc;
 }
 
+int evo_scene3d_set_def(evo_scene3d *sc, const evo_scene3d_def *def)
+{
+	if (sc->n_bots > 0 || sc->n_elements > 0)
+		return evo_fail(&sc->err, "the physics is set before any bot "
+					  "or element");
+	if (def->substeps < 1 || def->substeps > 100 ||
+	    !isfinite(def->fault_penalty))
+		return evo_fail(&sc->err, "substeps 1 to 100, a finite fault "
+					  "penalty");
+	evo_scene3d_def old = sc->def;
+	sc->def = *def;
+	if (evo_scene3d_build_world(sc)) {
+		/* back to the world it had, with the message kept */
+		evo_err e = sc->err;
+		sc->def = old;
+		evo_scene3d_build_world(sc);
+		sc->err = e;
+		return -1;
+	}
+	return 0;
+}
+
 void evo_scene3d_destroy(evo_scene3d *sc)
 {
 	if (!sc)

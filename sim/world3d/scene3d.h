@@ -273,6 +273,10 @@ typedef struct evo_scene3d {
 } evo_scene3d;
 
 evo_scene3d *evo_scene3d_create(const evo_scene3d_def *def);
+
+/* New settings for an empty scene (no bot or element yet); 0, or -1 with
+ * sc->err set. */
+int evo_scene3d_set_def(evo_scene3d *sc, const evo_scene3d_def *def);
 void evo_scene3d_destroy(evo_scene3d *sc);
 
 /* Each add returns the new index, or -1 with sc->err set (a bad value, an

@@ -2,11 +2,14 @@
  * evo that includes ODE. */
 #include <math.h>
 #include <pthread.h>
+#include <stdarg.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <ode/ode.h>
+#include <ode/threading_impl.h>
 
 #include "world3d/world3d.h"
 
@@ -22,6 +25,10 @@ typedef struct geom_info {
 struct evo_world3d {
 	evo_world3d_def def;
 	dWorldID world;
+	/* The world's own stepping implementation: without one, ODE steps
+	 * every world through one global built-in one, and two workers
+	 * stepping their worlds at once corrupt its job list. */
+	dThreadingImplementationID threading;
 	dSpaceID statics; /* the ground and static shapes */
 	dSpaceID moving;  /* the bodies' shapes */
 	dJointGroupID contacts;
@@ -52,6 +59,16 @@ static void quiet(int num, const char *msg, va_list ap)
 	(void)ap;
 }
 
+/* ODE's own assertion failures cannot be recovered from: say what ODE
+ * said, then abort as its default handler would. */
+static void fatal(int num, const char *msg, va_list ap)
+{
+	fprintf(stderr, "evo: ODE internal error %d: ", num);
+	vfprintf(stderr, msg, ap);
+	fputc('\n', stderr);
+	abort();
+}
+
 static pthread_once_t ode_once = PTHREAD_ONCE_INIT;
 static int ode_ok;
 
@@ -59,6 +76,8 @@ static void init_ode(void)
 {
 	ode_ok = dInitODE2(0) != 0;
 	dSetMessageHandler(quiet);
+	dSetErrorHandler(fatal);
+	dSetDebugHandler(fatal);
 }
 
 /* ODE's manual: dAllocateODEDataForThread in every thread that uses ODE
@@ -136,6 +155,15 @@ evo_world3d *evo_world3d_create(const evo_world3d_def *def)
 		return NULL;
 	w->def = *def;
 	w->world = dWorldCreate();
+	w->threading = dThreadingAllocateSelfThreadedImplementation();
+	if (!w->threading) {
+		dWorldDestroy(w->world);
+		free(w);
+		return NULL;
+	}
+	dWorldSetStepThreadingImplementation(
+	    w->world, dThreadingImplementationGetFunctions(w->threading),
+	    w->threading);
 	w->statics = dHashSpaceCreate(0);
 	w->moving = dSimpleSpaceCreate(0);
 	w->contacts = dJointGroupCreate(0);
@@ -163,6 +191,7 @@ void evo_world3d_destroy(evo_world3d *w)
 	dSpaceDestroy(w->moving);
 	dSpaceDestroy(w->statics);
 	dWorldDestroy(w->world);
+	dThreadingFreeImplementation(w->threading);
 	free(w->geom);
 	free(w->body);
 	free(w->hinge);
