@@ -1,0 +1,269 @@
+/* DEMO3DSIM and LEARN3DSIM end to end through `evo run` (docs/world3d.md):
+ * both built-in 3D tasks run headless and the same seed gives the same
+ * trace; LEARN3DSIM gives the same log and champion with one thread and
+ * with two, a SIGKILLed run resumes to the same result, and the champion
+ * beats untrained networks on unseen episodes; a body that explodes ends
+ * its episode with a message and a penalty; a wrong key in a 3D option
+ * table is an error naming the file, the line and the known keys. */
+#define _POSIX_C_SOURCE 200809L
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "harness.h"
+#include "support/cli.h"
+
+static char out[65536];
+
+/* A copy of mind folder `mind` under `name`, with task Small.simbatch of
+ * the given lines. */
+static void make_task(const char *name, const char *mind, const char *lines)
+{
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/%s && cp -r minds/%s %s/%s/ && "
+			    "printf '%s' > %s/%s/%s/Tasks/Small.simbatch",
+			    cli_tmp, name, mind, cli_tmp, name, lines, cli_tmp,
+			    name, mind),
+		     0);
+}
+
+static int run(const char *name, const char *mind, const char *extra)
+{
+	return cli_capture(out, sizeof out,
+			   "%s run %s/%s/%s/Tasks/Small.simbatch %s 2>&1",
+			   cli_evo, cli_tmp, name, mind, extra);
+}
+
+#define AVOID_DEMO                                                             \
+	"TYPE:DEMO3DSIM\\nBOTMODEL:Wheeled3D\\nMASTERSKILL:Avoid3D\\n"         \
+	"ENV:EXP3D_Avoid\\nTICKLIM:300\\n"
+#define GTT_DEMO                                                               \
+	"TYPE:DEMO3DSIM\\nBOTMODEL:Blimp3D\\nMASTERSKILL:GoToTarget\\n"        \
+	"ENV:EXP3D_GoToTarget\\nTICKLIM:300\\n"
+
+/* Both tasks headless: one line an episode, and a trace that two runs of
+ * one seed give byte for byte and another seed changes. */
+TEST(both_3d_tasks_run_headless_and_one_seed_gives_one_trace)
+{
+	const char *mind[2] = {"Wheeled3D", "Blimp3D"};
+	const char *task[2] = {AVOID_DEMO, GTT_DEMO};
+	for (int i = 0; i < 2; i++) {
+		make_task("demo", mind[i], task[i]);
+		char extra[512];
+		snprintf(extra, sizeof extra,
+			 "--headless --episodes 2 --trace %s/demo/a.trace",
+			 cli_tmp);
+		CHECK_EQ_INT(run("demo", mind[i], extra), 0);
+		CHECK_CONTAINS(out, "episode 1: reward ");
+		CHECK_CONTAINS(out, "episode 2: reward ");
+		CHECK(strstr(out, " over 300 ticks") || strstr(out, "over "));
+		snprintf(extra, sizeof extra,
+			 "--headless --episodes 2 --trace %s/demo/b.trace",
+			 cli_tmp);
+		CHECK_EQ_INT(run("demo", mind[i], extra), 0);
+		snprintf(extra, sizeof extra,
+			 "--headless --episodes 2 --seed 7 --trace "
+			 "%s/demo/c.trace",
+			 cli_tmp);
+		CHECK_EQ_INT(run("demo", mind[i], extra), 0);
+		char *a = cli_read("%s/demo/a.trace", cli_tmp);
+		char *b = cli_read("%s/demo/b.trace", cli_tmp);
+		char *c = cli_read("%s/demo/c.trace", cli_tmp);
+		CHECK(a && b && c);
+		if (a && b && c) {
+			CHECK(cli_count_lines(a, "") > 300);
+			CHECK_EQ_STR(a, b);
+			CHECK(strcmp(a, c) != 0);
+		}
+		free(a);
+		free(b);
+		free(c);
+		CHECK_EQ_INT(cli_sh("rm -rf %s/demo", cli_tmp), 0);
+	}
+}
+
+#define GTT_LEARN                                                              \
+	"TYPE:LEARN3DSIM\\nBOTMODEL:Blimp3D\\nMASTERSKILL:GoToTarget\\n"       \
+	"LEARNINGSKILL:GoToTarget\\nENV:EXP3D_GoToTarget\\n"                   \
+	"LEARNINGMETHOD:NEAT\\nNEAT_POPSIZE:20\\nNUMGEN:%d\\nEVALREP:2\\n"     \
+	"TICKLIM:%d\\n"
+
+static void make_learn(const char *name, int gens, int ticks)
+{
+	char lines[512];
+	snprintf(lines, sizeof lines, GTT_LEARN, gens, ticks);
+	make_task(name, "Blimp3D", lines);
+}
+
+static int train(const char *name, const char *extra)
+{
+	char more[512];
+	snprintf(more, sizeof more, "--seed 5 --run %s/%s/run %s", cli_tmp,
+		 name, extra);
+	return run(name, "Blimp3D", more);
+}
+
+static char *log_of(const char *name)
+{
+	char dir[256];
+	snprintf(dir, sizeof dir, "%s/%s/run", cli_tmp, name);
+	return cli_fitness_log(dir);
+}
+
+static char *champion_of(const char *name)
+{
+	return cli_read("%s/%s/Blimp3D/Skills/GoToTarget/GoToTarget.net",
+			cli_tmp, name);
+}
+
+/* The figure after `label` in the replay report, e.g. "champion:". */
+static double figure(const char *text, const char *label)
+{
+	const char *p = strstr(text, label);
+	if (!p)
+		return -1e300;
+	p = strstr(p, "fitness");
+	return p ? strtod(p + 7, NULL) : -1e300;
+}
+
+/* One thread and two: the same log and champion; the champion, replayed
+ * on episodes it never saw, scores above the untrained networks' mean. */
+TEST(learn3dsim_threads_agree_and_the_champion_beats_untrained_networks)
+{
+	make_learn("t1", 3, 150);
+	make_learn("t2", 3, 150);
+	CHECK_EQ_INT(train("t1", "--threads 1"), 0);
+	CHECK_EQ_INT(train("t2", "--threads 2"), 0);
+	double champ = figure(out, "champion:");
+	double untrained = figure(out, "untrained networks");
+	printf("  replay: champion %.1f, untrained %.1f\n", champ, untrained);
+	CHECK(champ > -1e300 && untrained > -1e300);
+	CHECK(champ > untrained);
+	char *a = log_of("t1"), *b = log_of("t2");
+	CHECK(a && b);
+	if (a && b) {
+		CHECK_CONTAINS(a, "\n2,");
+		CHECK_EQ_STR(a, b);
+	}
+	char *ca = champion_of("t1"), *cb = champion_of("t2");
+	CHECK(ca && cb);
+	if (ca && cb) {
+		CHECK_CONTAINS(ca, "trained by evo: NEAT, seed 5");
+		CHECK_EQ_STR(ca, cb);
+	}
+	free(a);
+	free(b);
+	free(ca);
+	free(cb);
+}
+
+static int rows(const char *name)
+{
+	char *t = cli_read("%s/%s/run/log.csv", cli_tmp, name);
+	int n = -1;
+	for (const char *p = t; p && *p; p++)
+		n += *p == '\n';
+	free(t);
+	return n;
+}
+
+/* Killed with SIGKILL once generation 1 is logged, then resumed: the
+ * same log and champion as the run never interrupted. */
+TEST(a_sigkilled_learn3dsim_run_resumes_to_the_same_result)
+{
+	make_learn("kr", 5, 400);
+	make_learn("k", 5, 400);
+	CHECK_EQ_INT(train("kr", "--threads 2"), 0);
+	char cmd[1024];
+	snprintf(cmd, sizeof cmd,
+		 "exec %s run %s/k/Blimp3D/Tasks/Small.simbatch --seed 5 "
+		 "--threads 2 --run %s/k/run > %s/k/out1.txt 2>&1",
+		 cli_evo, cli_tmp, cli_tmp, cli_tmp);
+	pid_t pid = fork();
+	if (pid == 0) {
+		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
+		_exit(127);
+	}
+	struct timespec ms = {0, 2000000};
+	for (int i = 0; i < 20000 && rows("k") < 2; i++)
+		nanosleep(&ms, NULL);
+	kill(pid, SIGKILL);
+	int st;
+	waitpid(pid, &st, 0);
+	CHECK(WIFSIGNALED(st) && WTERMSIG(st) == SIGKILL);
+	CHECK(rows("k") >= 2 && rows("k") < 5); /* it really was cut short */
+	CHECK_EQ_INT(train("k", "--threads 2 --resume"), 0);
+	CHECK_CONTAINS(out, "resuming after generation");
+	char *a = log_of("kr"), *b = log_of("k");
+	CHECK(a && b);
+	if (a && b)
+		CHECK_EQ_STR(b, a);
+	char *ca = champion_of("kr"), *cb = champion_of("k");
+	CHECK(ca && cb);
+	if (ca && cb)
+		CHECK_EQ_STR(cb, ca);
+	free(a);
+	free(b);
+	free(ca);
+	free(cb);
+}
+
+/* A bot model whose propellers push 1e7 N: the body runs away in the
+ * first tick; the episode ends there, says so, and pays the penalty. */
+TEST(an_exploding_robot_ends_its_episode_with_a_message_and_a_penalty)
+{
+	make_task("boom", "Blimp3D", GTT_DEMO);
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/boom/Blimp3D/Bots && sed "
+			    "'s/max_thrust = 6/max_thrust = 1e7/' "
+			    "lua/bots/Blimp3D.lua > "
+			    "%s/boom/Blimp3D/Bots/Blimp3D.lua",
+			    cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(run("boom", "Blimp3D", "--headless --episodes 2"), 0);
+	CHECK_CONTAINS(out, "episode 1: reward -10");
+	CHECK_CONTAINS(out, "over 1 ticks");
+	CHECK_CONTAINS(out, "fault: bot1 exploded at tick 1: it moved at ");
+	CHECK_CONTAINS(out, "the episode ends with a penalty of -1000");
+	CHECK_EQ_INT(cli_count_lines(out, "  fault: "), 2);
+}
+
+/* A wrong key in an environment's or a bot model's option table. */
+TEST(a_wrong_key_in_a_3d_option_table_names_file_line_and_keys)
+{
+	make_task("keys", "Blimp3D", GTT_DEMO);
+	CHECK_EQ_INT(
+	    cli_sh("mkdir -p %s/keys/Blimp3D/Envs && printf "
+		   "'local e = {}\\nfunction e.init(scene)\\n  "
+		   "scene:bot{ x = 0, hight = 2 }\\nend\\nreturn e\\n' "
+		   "> %s/keys/Blimp3D/Envs/EXP3D_GoToTarget.lua",
+		   cli_tmp, cli_tmp),
+	    0);
+	CHECK_EQ_INT(run("keys", "Blimp3D", "--headless"), 1);
+	CHECK_CONTAINS(out,
+		       "EXP3D_GoToTarget.lua:3: scene:bot: unknown "
+		       "option 'hight' (known: name, x, y, z, yaw, model)");
+	CHECK_EQ_INT(cli_sh("rm -r %s/keys/Blimp3D/Envs && mkdir -p "
+			    "%s/keys/Blimp3D/Bots && sed 's/drag_linear/drag/' "
+			    "lua/bots/Blimp3D.lua > "
+			    "%s/keys/Blimp3D/Bots/Blimp3D.lua",
+			    cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(run("keys", "Blimp3D", "--headless"), 1);
+	CHECK_CONTAINS(out, "Bots/Blimp3D.lua: hull: unknown option 'drag'");
+}
+
+int main(void)
+{
+	if (cli_setup("run3d"))
+		return 1;
+	RUN(both_3d_tasks_run_headless_and_one_seed_gives_one_trace);
+	RUN(learn3dsim_threads_agree_and_the_champion_beats_untrained_networks);
+	RUN(a_sigkilled_learn3dsim_run_resumes_to_the_same_result);
+	RUN(an_exploding_robot_ends_its_episode_with_a_message_and_a_penalty);
+	RUN(a_wrong_key_in_a_3d_option_table_names_file_line_and_keys);
+	cli_cleanup();
+	return test_summary();
+}
