@@ -53,7 +53,7 @@ VENV_STAMP := $(VENV)/evo-lcm-$(PY_LCM_VERSION)-can-$(PY_CAN_VERSION).stamp
 CFLAGS_HOST := -std=c11 $(OPT) $(WARN) -Icore/include -Isim $(LUA_CFLAGS) $(SDL_CFLAGS) -isystem $(LCM_GEN) $(SAN) $(CFLAGS)
 CFLAGS_ALL := $(CFLAGS_HOST) -Itests
 LDFLAGS_ALL := $(SAN) $(LDFLAGS)
-LIBS := -llua5.4 $(shell pkg-config --libs sdl2 2>/dev/null || echo -lSDL2) -lbox2d -lode -llcm -lz -lstdc++ -lm
+LIBS := -llua5.4 $(shell pkg-config --libs sdl2 2>/dev/null || echo -lSDL2) -lbox2d -lode -lGL -llcm -lz -lstdc++ -lm
 CXXFLAGS_ALL := -std=c++17 $(OPT) -Wall -Wextra -Werror -Wshadow -Isim $(SAN) $(CXXFLAGS)
 
 CORE_SRCS := $(sort $(wildcard core/src/*.c))

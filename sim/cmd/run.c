@@ -19,6 +19,7 @@
 #include "remote/robot.h"
 #include "remote/session.h"
 #include "tasksim/tasksim.h"
+#include "viewer/view3d.h"
 #include "viewer/viewer.h"
 
 static volatile sig_atomic_t stop_requested;
@@ -948,6 +949,146 @@ static int run_viewer(evo_sim *s, evo_viewer *v, const run_opts *o,
 	}
 }
 
+/* ---- DEMO3DSIM in the 3D view ------------------------------------------- */
+
+static const char *const help3d[] = {
+    "space pause   n step", "up/down speed r reset",
+    "drag turn  right pan", "wheel/+- zoom s shot", "c follow      q quit"};
+
+/* The panel of a 3D task: the tick, the rewards, each skill's influence,
+ * and the robot's sensors and commands as its mind reads and writes them. */
+static evo_viewer_panel panel3d(panel_data *pd, const evo_sim *s, long e,
+				const char *title, int follow)
+{
+	const evo_scene3d *sc = s->scene3d;
+	const evo_bot3d *b = &sc->bot[0];
+	const evo_mind *m = &s->mind->mind;
+	int n = m->n_skills < 256 ? (int)m->n_skills : 256;
+	for (int i = 0; i < n; i++) {
+		pd->names[i] = evo_mind_skill_name(m, (unsigned)i);
+		pd->infl[i] = evo_q16_to_double(s->state->influence[i]);
+	}
+	for (unsigned i = 0; i < m->n_sensors; i++) {
+		pd->sensor_name[i] = evo_mind_sensor_name(m, i);
+		pd->sensor[i] = b->sensor[s->sensor_map[i]].value;
+	}
+	for (unsigned i = 0; i < m->n_actuators; i++) {
+		pd->actuator_name[i] = evo_mind_actuator_name(m, i);
+		pd->actuator[i] = b->actuator[s->actuator_map[i]].command;
+	}
+	evo_viewer_panel p = {
+	    .title = title,
+	    .tick = sc->tick,
+	    .episode = (int)e,
+	    .step_reward = sc->step_reward,
+	    .episode_reward = sc->episode_reward,
+	    .n_influence = n,
+	    .influence_name = pd->names,
+	    .influence = pd->infl,
+	    .bot_name = b->name,
+	    .bot_reward = sc->episode_reward,
+	    .n_sensors = (int)m->n_sensors,
+	    .sensor_name = pd->sensor_name,
+	    .sensor = pd->sensor,
+	    .n_actuators = (int)m->n_actuators,
+	    .actuator_name = pd->actuator_name,
+	    .actuator = pd->actuator,
+	    .following = follow,
+	    .n_help = 5,
+	    .help = help3d,
+	};
+	return p;
+}
+
+/* DEMO3DSIM in a window: as run_viewer, real time (30 ticks a second)
+ * times the speed; --screenshot saves the frame at --ticks and ends. */
+static int run_viewer3d(evo_sim *s, evo_view3d *v, const run_opts *o,
+			uint64_t seed, evo_err *err)
+{
+	static panel_data pd;
+	long e = 1, t = 0;
+	int follow = 1, paused = 0;
+	if (evo_sim_reset(s, 1, grid_seed(seed, 1), episode_seed(seed, 1), err))
+		return -1;
+	double speed = 1.0, next = now();
+	for (;;) {
+		if (stop_requested)
+			return 0;
+		int steps = paused ? 0 : 1;
+		evo_view_action a;
+		while ((a = evo_view3d_poll(v)) != EVO_VIEW_NONE) {
+			if (a == EVO_VIEW_QUIT)
+				return 0;
+			if (a == EVO_VIEW_PAUSE)
+				paused = !paused;
+			else if (a == EVO_VIEW_STEP)
+				steps = 1, paused = 1;
+			else if (a == EVO_VIEW_FASTER && speed < 64)
+				speed *= 2;
+			else if (a == EVO_VIEW_SLOWER && speed > 1.0 / 16)
+				speed /= 2;
+			else if (a == EVO_VIEW_RESET)
+				t = -1;
+			else if (a == EVO_VIEW_CAMERA)
+				follow = !follow;
+			else if (a == EVO_VIEW_FREE)
+				follow = 0;
+			else if (a == EVO_VIEW_SCREENSHOT) {
+				char path[64];
+				snprintf(path, sizeof path,
+					 "evo-screenshot-%ld.png",
+					 s->scene3d->tick);
+				if (evo_view3d_screenshot(v, path, err))
+					fprintf(stderr, "%s\n", err->msg);
+				else
+					printf("saved %s\n", path);
+				err->msg[0] = 0;
+			}
+		}
+		if (t < 0) {
+			t = 0;
+			if (evo_sim_reset(s, (int)e, grid_seed(seed, e),
+					  episode_seed(seed, e), err))
+				return -1;
+		}
+		for (int k = 0; k < steps; k++) {
+			int r = evo_sim_tick(s, err);
+			if (r < 0)
+				return -1;
+			t++;
+			if (r > 0 ||
+			    (o->ticks && t >= o->ticks && !o->screenshot)) {
+				printf("episode %ld: reward %.6f over %ld "
+				       "ticks\n",
+				       e, evo_sim_episode_reward(s), t);
+				if (evo_sim_fault(s)[0])
+					printf("  fault: %s\n", evo_sim_fault(s));
+				fflush(stdout);
+				if (o->episodes && e >= o->episodes)
+					return 0;
+				e++;
+				t = -1;
+				break;
+			}
+		}
+		evo_viewer_panel p = panel3d(&pd, s, e, o->task, follow);
+		p.speed = speed;
+		p.paused = paused;
+		evo_view3d_draw(v, s->scene3d, follow ? 0 : -1, &p);
+		if (o->screenshot && t >= o->ticks) {
+			if (evo_view3d_screenshot(v, o->screenshot, err))
+				return -1;
+			printf("saved %s (tick %ld)\n", o->screenshot,
+			       s->scene3d->tick);
+			return 0;
+		}
+		next += 1.0 / (30.0 * speed);
+		if (next < now() - 0.5)
+			next = now();
+		sleep_until(next);
+	}
+}
+
 int evo_run_main(int argc, char **argv)
 {
 	run_opts o;
@@ -1028,6 +1169,7 @@ int evo_run_main(int argc, char **argv)
 
 	int rc = 1;
 	evo_viewer *v = NULL;
+	evo_view3d *v3 = NULL;
 	trace_file tf;
 	if (strcmp(task.type, "DEMOREMOTESIM") == 0) {
 		const char *tl = evo_simbatch_get(task.sb, "TICKLIM");
@@ -1049,8 +1191,26 @@ int evo_run_main(int argc, char **argv)
 	int robot = strcmp(task.type, "DEMOREMOTE") == 0;
 	if (!robot && !(s = evo_sim_create_task(&task, o.task, &err)))
 		goto out;
-	if (s && s->scene3d && !o.headless) {
-		/* the 3D view is not there yet: DEMO3DSIM runs headless */
+	if (s && s->scene3d && (!o.headless || o.screenshot)) {
+		/* the 3D view needs a display and OpenGL; a screenshot too */
+		const char *d = getenv("DISPLAY");
+		const char *w = getenv("WAYLAND_DISPLAY");
+		if ((d && d[0]) || (w && w[0]))
+			v3 = evo_view3d_open(VIEW_W, VIEW_H, &err);
+		if (!v3 && o.screenshot) {
+			evo_fail(&err, "%s: a 3D screenshot is drawn by OpenGL "
+				       "in a window and needs a display (%s); "
+				       "run under xvfb-run",
+				 o.task,
+				 err.msg[0] ? err.msg : "DISPLAY is not set");
+			goto out;
+		}
+		if (!v3) {
+			fprintf(stderr,
+				"evo run: no 3D view (%s); running headless\n",
+				err.msg[0] ? err.msg : "DISPLAY is not set");
+			err.msg[0] = 0;
+		}
 		o.headless = 1;
 	}
 	if (!o.headless) {
@@ -1093,7 +1253,8 @@ int evo_run_main(int argc, char **argv)
 	s->trace = tf.f;
 	if (s->trace)
 		evo_sim_trace_header(s);
-	int r = v		? run_viewer(s, v, &o, seed, &err)
+	int r = v3		? run_viewer3d(s, v3, &o, seed, &err)
+		: v		? run_viewer(s, v, &o, seed, &err)
 		: o.screenshot	? screenshot_headless(s, &o, seed, &err)
 				: run_headless(s, &o, seed, &err);
 	s->trace = NULL;
@@ -1104,6 +1265,7 @@ out:
 	if (rc != 0 && err.msg[0])
 		fprintf(stderr, "%s\n", err.msg);
 	evo_viewer_close(v);
+	evo_view3d_close(v3);
 	evo_sim_destroy(s);
 	evo_task_free(&task);
 	return rc;

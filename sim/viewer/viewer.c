@@ -441,10 +441,26 @@ static int draw_selected(evo_raster *im, int x, int y, int w, int y_end,
 	return y + 4;
 }
 
+static void panel_at(evo_raster *im, int x0, const evo_scene *sc,
+		     const evo_viewer_panel *p);
+
 static void draw_panel(evo_raster *im, const evo_scene *sc,
 		       const evo_view_camera *cam, const evo_viewer_panel *p)
 {
-	int x0 = cam->world_w, w = im->w - x0;
+	panel_at(im, cam->world_w, sc, p);
+}
+
+void evo_view_render_panel(evo_raster *im, int x0, const evo_viewer_panel *p)
+{
+	panel_at(im, x0, NULL, p);
+}
+
+/* The panel from column x0; sc gives the figures when p is NULL (one of
+ * the two is not). */
+static void panel_at(evo_raster *im, int x0, const evo_scene *sc,
+		     const evo_viewer_panel *p)
+{
+	int w = im->w - x0;
 	if (w < 40)
 		return;
 	evo_raster_fill_rect(im, x0, 0, w, im->h, EVO_VIEW_PANEL, 255);
@@ -484,10 +500,11 @@ static void draw_panel(evo_raster *im, const evo_scene *sc,
 	}
 
 	/* The key help takes the bottom; skills get what is between. */
-	static const char *const help[] = {
+	static const char *const help2d[] = {
 	    "space pause   n step", "up/down speed r reset",
 	    "+/- zoom      s shot", "click/tab bot c camera", "q quit"};
-	int n_help = 5;
+	const char *const *help = p && p->help ? p->help : help2d;
+	int n_help = p && p->help ? p->n_help : 5;
 	int help_h = n_help * EVO_FONT_CELL_H + 8;
 	if (p && p->n_teams > 0)
 		y = draw_teams(im, x, y + 6, w - 24, p);

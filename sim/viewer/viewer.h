@@ -66,6 +66,9 @@ typedef struct evo_viewer_panel {
 	const char *const *actuator_name;
 	const double *actuator;
 	int following; /* the camera follows it (else: free) */
+	/* The key help at the panel's foot; NULL: the 2D viewer's. */
+	int n_help;
+	const char *const *help;
 } evo_viewer_panel;
 
 /* What a key (or closing the window) asks of the calling loop. */
@@ -125,6 +128,11 @@ void evo_view_to_screen(const evo_view_camera *cam, double x, double y,
  * ringed. */
 void evo_view_render(evo_raster *im, const evo_scene *sc,
 		     const evo_view_camera *cam, const evo_viewer_panel *p);
+
+/* The panel alone, drawn from column x0 to the right edge of im: what
+ * evo_view_render puts beside the world, for a view that draws its world
+ * by other means (the 3D view, sim/viewer/view3d.h). */
+void evo_view_render_panel(evo_raster *im, int x0, const evo_viewer_panel *p);
 
 /* The bot of sc nearest to world point (x, y) within half a metre of
  * its body, or -1. */

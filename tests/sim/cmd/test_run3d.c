@@ -16,6 +16,9 @@
 
 #include "harness.h"
 #include "support/cli.h"
+#include "viewer/png.h"
+#include "viewer/view3d.h"
+#include "viewer/viewer.h"
 
 static char out[65536];
 
@@ -255,11 +258,105 @@ TEST(a_wrong_key_in_a_3d_option_table_names_file_line_and_keys)
 	CHECK_CONTAINS(out, "Bots/Blimp3D.lua: hull: unknown option 'drag'");
 }
 
+/* Pixels of the world area (left of the panel) that `is` accepts. */
+static long count(const evo_png_image *im, int (*is)(int r, int g, int b))
+{
+	long n = 0;
+	for (int y = 0; y < im->h; y++)
+		for (int x = 0; x < im->w - EVO_VIEW_PANEL_W; x++) {
+			const uint8_t *p =
+			    im->pixels + 3 * ((size_t)y * im->w + x);
+			n += is(p[0], p[1], p[2]);
+		}
+	return n;
+}
+
+/* The rays are unshaded: EVO_VIEW_RAY_HIT exactly where they hit. */
+static int ray(int r, int g, int b)
+{
+	return ((uint32_t)r << 16 | (uint32_t)g << 8 | (uint32_t)b) ==
+	       EVO_VIEW_RAY_HIT;
+}
+/* The shaded bodies by their hue: the robot blue, obstacles a mid grey
+ * (the ground is lighter, the wheels darker), the target amber. */
+static int robot(int r, int g, int b)
+{
+	return b > r + 60 && b > g + 30;
+}
+static int obstacle(int r, int g, int b)
+{
+	return abs(r - g) < 8 && abs(g - b) < 8 && r > 60 && r < 170;
+}
+static int target(int r, int g, int b)
+{
+	return r > 150 && g > 90 && g < r - 30 && b < 90;
+}
+
+/* Both tasks in the 3D view under a virtual X display (Mesa's llvmpipe):
+ * the screenshot at tick 45 shows the robot, an obstacle and a ray that
+ * hits it (the wheeled robot's), the robot and its target (the blimp's),
+ * and the panel's sensor bars; without a display the screenshot is a
+ * clear error. */
+TEST(both_3d_tasks_show_in_the_3d_view)
+{
+	static const char *const task[2] = {
+	    "minds/Wheeled3D/Tasks/Avoid3D-DEMO.simbatch",
+	    "minds/Blimp3D/Tasks/GoToTarget-DEMO.simbatch"};
+	for (int k = 0; k < 2; k++) {
+		char png[512];
+		snprintf(png, sizeof png, "%s/view%d.png", cli_tmp, k);
+		int rc = cli_capture(out, sizeof out,
+				     "xvfb-run -a -s '-screen 0 1280x800x24' "
+				     "sh -c '%s run %s --ticks 45 "
+				     "--screenshot %s' 2>&1",
+				     cli_evo, task[k], png);
+		CHECK_EQ_INT(rc, 0);
+		if (rc)
+			printf("  %s\n", out);
+		CHECK_CONTAINS(out, "(tick 45)");
+		evo_png_image im;
+		evo_err err = {{0}};
+		CHECK_EQ_INT(evo_png_read(png, &im, &err), 0);
+		if (!im.pixels)
+			continue;
+		long n_robot = count(&im, robot), n_ray = count(&im, ray);
+		long n_obst = count(&im, obstacle), n_targ = count(&im, target);
+		printf("  %s: robot %ld, ray %ld, obstacle %ld, target %ld "
+		       "pixels\n",
+		       task[k], n_robot, n_ray, n_obst, n_targ);
+		CHECK(n_robot > 300);
+		if (k == 0) {
+			CHECK(n_ray > 20);
+			CHECK(n_obst > 1000);
+		} else {
+			CHECK(n_targ > 20);
+		}
+		long bars = 0;
+		for (int y = 0; y < im.h; y++)
+			for (int x = im.w - EVO_VIEW_PANEL_W; x < im.w; x++) {
+				const uint8_t *p =
+				    im.pixels + 3 * ((size_t)y * im.w + x);
+				bars += ((uint32_t)p[0] << 16 |
+					 (uint32_t)p[1] << 8 | p[2]) ==
+					EVO_VIEW_SENSOR_BAR;
+			}
+		CHECK(bars > 100);
+		evo_png_image_free(&im);
+	}
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "env -u DISPLAY -u WAYLAND_DISPLAY %s run %s "
+				 "--ticks 5 --screenshot %s/x.png 2>&1",
+				 cli_evo, task[0], cli_tmp),
+		     1);
+	CHECK_CONTAINS(out, "needs a display");
+}
+
 int main(void)
 {
 	if (cli_setup("run3d"))
 		return 1;
 	RUN(both_3d_tasks_run_headless_and_one_seed_gives_one_trace);
+	RUN(both_3d_tasks_show_in_the_3d_view);
 	RUN(learn3dsim_threads_agree_and_the_champion_beats_untrained_networks);
 	RUN(a_sigkilled_learn3dsim_run_resumes_to_the_same_result);
 	RUN(an_exploding_robot_ends_its_episode_with_a_message_and_a_penalty);

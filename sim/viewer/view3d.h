@@ -1,0 +1,54 @@
+/* evo — the DEMO3DSIM view: a window on SDL2 with an OpenGL context (Mesa;
+ * llvmpipe under Xvfb) that shows a 3D scene as it runs, shaded, with its
+ * proximity rays, and beside it the 2D viewer's panel (the tick, the
+ * rewards and each skill's live influence), drawn by evo_view_render_panel
+ * and put on screen as pixels.
+ *
+ * Camera: it orbits a point (left drag turns it, the wheel or + and -
+ * bring it nearer or farther), pans (right drag, which frees it) and
+ * follows the robot (c: follow, or stay free where it is). The keys are
+ * the 2D viewer's (viewer.h, evo_view_action); docs/world3d.md lists them.
+ *
+ * The calling loop owns the pace, as with the 2D viewer:
+ *
+ *     evo_view3d *v = evo_view3d_open(1024, 720, &err);
+ *     for (a = evo_view3d_poll(v); a; a = evo_view3d_poll(v)) ...
+ *     evo_view3d_draw(v, sc, follow, &panel);
+ *     evo_view3d_close(v); */
+#ifndef EVO_VIEW3D_H
+#define EVO_VIEW3D_H
+
+#include "base/err.h"
+#include "viewer/viewer.h"
+#include "world3d/scene3d.h"
+
+typedef struct evo_view3d evo_view3d;
+
+/* Open a width x height window with an OpenGL context (0 or less: 1024 x
+ * 720). NULL with err set when there is no display or no OpenGL. */
+evo_view3d *evo_view3d_open(int width, int height, evo_err *err);
+void evo_view3d_close(evo_view3d *v);
+
+/* Draw one frame and show it: the camera on bot `follow` (its centre),
+ * or, with follow -1, where it was left; p may be NULL. */
+void evo_view3d_draw(evo_view3d *v, const evo_scene3d *sc, int follow,
+		     const evo_viewer_panel *p);
+
+/* The next pending action (viewer.h), EVO_VIEW_NONE when there is none;
+ * never waits. Mouse drags and the wheel move the camera inside;
+ * a pan returns EVO_VIEW_FREE. */
+evo_view_action evo_view3d_poll(evo_view3d *v);
+
+/* Save the last frame shown as an RGB PNG: the pixels read back from
+ * OpenGL as it was drawn. 0, or -1 with err set. */
+int evo_view3d_screenshot(evo_view3d *v, const char *png_path, evo_err *err);
+
+/* Colours it draws in, for tests that look for them. The rays are drawn
+ * without shading, in EVO_VIEW_RAY_HIT where they hit something; the
+ * bodies are shaded, so a test looks for their hue. */
+#define EVO_VIEW3D_SKY	    0xCFDCE8u
+#define EVO_VIEW3D_BOT	    0x2F6FD0u
+#define EVO_VIEW3D_OBSTACLE 0x8C8C8Cu
+#define EVO_VIEW3D_TARGET   0xF0B41Eu
+
+#endif
