@@ -952,8 +952,8 @@ static int run_viewer(evo_sim *s, evo_viewer *v, const run_opts *o,
 /* ---- DEMO3DSIM in the 3D view ------------------------------------------- */
 
 static const char *const help3d[] = {
-    "space pause   n step", "up/down speed r reset",
-    "drag turn  right pan", "wheel/+- zoom s shot", "c follow      q quit"};
+    "space pause   n step", "up/down speed r reset", "drag turn  right pan",
+    "wheel/+- zoom s shot", "c follow      q quit"};
 
 /* The panel of a 3D task: the tick, the rewards, each skill's influence,
  * and the robot's sensors and commands as its mind reads and writes them. */
@@ -1062,7 +1062,8 @@ static int run_viewer3d(evo_sim *s, evo_view3d *v, const run_opts *o,
 				       "ticks\n",
 				       e, evo_sim_episode_reward(s), t);
 				if (evo_sim_fault(s)[0])
-					printf("  fault: %s\n", evo_sim_fault(s));
+					printf("  fault: %s\n",
+					       evo_sim_fault(s));
 				fflush(stdout);
 				if (o->episodes && e >= o->episodes)
 					return 0;
@@ -1198,9 +1199,10 @@ int evo_run_main(int argc, char **argv)
 		if ((d && d[0]) || (w && w[0]))
 			v3 = evo_view3d_open(VIEW_W, VIEW_H, &err);
 		if (!v3 && o.screenshot) {
-			evo_fail(&err, "%s: a 3D screenshot is drawn by OpenGL "
-				       "in a window and needs a display (%s); "
-				       "run under xvfb-run",
+			evo_fail(&err,
+				 "%s: a 3D screenshot is drawn by OpenGL "
+				 "in a window and needs a display (%s); "
+				 "run under xvfb-run",
 				 o.task,
 				 err.msg[0] ? err.msg : "DISPLAY is not set");
 			goto out;
@@ -1253,10 +1255,10 @@ int evo_run_main(int argc, char **argv)
 	s->trace = tf.f;
 	if (s->trace)
 		evo_sim_trace_header(s);
-	int r = v3		? run_viewer3d(s, v3, &o, seed, &err)
-		: v		? run_viewer(s, v, &o, seed, &err)
-		: o.screenshot	? screenshot_headless(s, &o, seed, &err)
-				: run_headless(s, &o, seed, &err);
+	int r = v3	       ? run_viewer3d(s, v3, &o, seed, &err)
+		: v	       ? run_viewer(s, v, &o, seed, &err)
+		: o.screenshot ? screenshot_headless(s, &o, seed, &err)
+			       : run_headless(s, &o, seed, &err);
 	s->trace = NULL;
 	/* A failed run drops its trace; trace_close then leaves err alone. */
 	if (trace_close(&tf, r == 0, &err) == 0 && r == 0)

@@ -629,8 +629,9 @@ int evo_evaluator_remotes(const evo_evaluator *ev)
 
 const char *evo_evaluator_metric_name(const evo_evaluator *ev, int k)
 {
-	return k >= 0 && k < ev->n_metrics ? evo_sim_metric_name(ev->w[0].sim, k)
-					   : NULL;
+	return k >= 0 && k < ev->n_metrics
+		   ? evo_sim_metric_name(ev->w[0].sim, k)
+		   : NULL;
 }
 
 int evo_evaluator_deferred_success(const evo_evaluator *ev)

@@ -486,7 +486,8 @@ static int init_env3d(evo_lua *l, evo_err *err)
 {
 	static const char *const not3d[] = {"post_step", "obstacles"};
 	if (l->sc3->n_bots == 0)
-		return evo_fail(err, "%s: init added no bot (call scene:bot{...})",
+		return evo_fail(err,
+				"%s: init added no bot (call scene:bot{...})",
 				l->env_path);
 	lua_State *L = l->L;
 	lua_rawgeti(L, LUA_REGISTRYINDEX, l->env_ref);

@@ -69,8 +69,8 @@ extern const char evo_lua_scene_key;
 #define EVO_LUA_ELEMENT_MT "evo.element"
 #define EVO_LUA_SCENE_MT "evo.scene"
 #define EVO_LUA_METRIC_MT "evo.metric"
-#define EVO_LUA_SCENE3D_MT "evo.scene3d"
-#define EVO_LUA_BOT3D_MT "evo.bot3d"
+#define EVO_LUA_SCENE3D_MT   "evo.scene3d"
+#define EVO_LUA_BOT3D_MT     "evo.bot3d"
 #define EVO_LUA_ELEMENT3D_MT "evo.element3d"
 
 /* The most bots one team has (task.h's EVO_TEAM_MAX_SIZE): a team's
