@@ -273,6 +273,40 @@ TEST(an_exploding_body_ends_the_episode_with_a_penalty)
 	evo_scene3d_destroy(sc);
 }
 
+/* A dynamic sphere dropped from 1 m comes to rest on the ground, its
+ * centre at its radius; a zone (a trigger volume, no body) reads TRUE
+ * only with the bot's centre inside it, whatever passes through it. */
+TEST(objects_fall_and_zones_trigger)
+{
+	int t;
+	evo_scene3d *sc = floating(0, &t);
+	evo_element3d_def o = evo_default_element3d_def(EVO3D_ELEM_OBJECT);
+	o.pos[0] = 3;
+	o.pos[2] = 1;
+	o.radius = 0.2;
+	int obj = evo_scene3d_add_element(sc, &o);
+	evo_element3d_def z = evo_default_element3d_def(EVO3D_ELEM_ZONE);
+	z.pos[2] = 2; /* around the bot at (0, 0, 2): half sides 0.5 */
+	int zone = evo_scene3d_add_element(sc, &z);
+	evo_sensor3d_def zs = evo_default_sensor3d_def(EVO3D_SENSOR_ZONE);
+	zs.name = "INZONE";
+	zs.target = zone;
+	int k = evo_scene3d_add_sensor(sc, 0, &zs);
+	CHECK(obj >= 0 && zone >= 0 && k >= 0);
+	evo_scene3d_reset(sc, 1, 1);
+	for (int i = 0; i < 90; i++)
+		evo_scene3d_step(sc);
+	CHECK(NEAR(sc->element[obj].pos[2], 0.2, 0.01));
+	CHECK(NEAR(sc->element[obj].pos[0], 3, 1e-6));
+	evo_scene3d_sense(sc);
+	CHECK(sc->bot[0].sensor[k].value == EVO3D_TRUE);
+	double away[3] = {0, 0.7, 2};
+	evo_scene3d_place_element(sc, zone, away);
+	evo_scene3d_sense(sc);
+	CHECK(sc->bot[0].sensor[k].value == EVO3D_FALSE);
+	evo_scene3d_destroy(sc);
+}
+
 /* Bad definitions are refused with a message, never built. */
 TEST(bad_definitions_are_refused)
 {
@@ -306,6 +340,7 @@ int main(void)
 	RUN(wheels_drive_ahead_and_turn);
 	RUN(proximity_reads_the_nearest_obstacle);
 	RUN(an_exploding_body_ends_the_episode_with_a_penalty);
+	RUN(objects_fall_and_zones_trigger);
 	RUN(bad_definitions_are_refused);
 	return test_summary();
 }
