@@ -53,9 +53,8 @@ static double run_floor(evo_sim *s, long ticks, uint64_t seed)
 							       w->def.max_rate,
 							   w->def.max_torque);
 			}
-			int body;
-			double speed;
-			if (evo_world3d_step(sc->world, &body, &speed)) {
+			evo_world3d_fault f;
+			if (evo_world3d_step(sc->world, &f)) {
 				fprintf(stderr, "bench_world3d: the floor's "
 						"world exploded\n");
 				exit(1);

@@ -54,8 +54,9 @@ void evo_scene3d_place_element(evo_scene3d *sc, int element,
 }
 
 /* Which bot (or object) a body of the world is, for the fault message. */
-static void describe_fault(evo_scene3d *sc, int body, double speed)
+static void describe_fault(evo_scene3d *sc, const evo_world3d_fault *f)
 {
+	int body = f->body;
 	const char *what = "a body";
 	for (int i = 0; i < sc->n_bots; i++) {
 		if (sc->bot[i].body == body)
@@ -67,18 +68,20 @@ static void describe_fault(evo_scene3d *sc, int body, double speed)
 	for (int i = 0; i < sc->n_elements; i++)
 		if (sc->element[i].body == body)
 			what = sc->element[i].name;
-	if (isnan(speed))
-		snprintf(sc->fault, sizeof sc->fault,
-			 "%s exploded at tick %ld: its position or speed is "
-			 "not a number; the episode ends with a penalty of %g",
-			 what, sc->tick, sc->def.fault_penalty);
+	char how[96];
+	if (f->kind == EVO_FAULT3D_NAN)
+		snprintf(how, sizeof how,
+			 "its position or speed is not a number");
+	else if (f->kind == EVO_FAULT3D_SPEED)
+		snprintf(how, sizeof how, "it moved at %.3g m/s (max_speed %g)",
+			 f->value, sc->def.world.max_speed);
 	else
-		snprintf(sc->fault, sizeof sc->fault,
-			 "%s exploded at tick %ld: it moved at %.3g (over the "
-			 "limit of %g m/s, %g rad/s); the episode ends with a "
-			 "penalty of %g",
-			 what, sc->tick, speed, sc->def.world.max_speed,
-			 sc->def.world.max_spin, sc->def.fault_penalty);
+		snprintf(how, sizeof how, "it spun at %.3g rad/s (max_spin %g)",
+			 f->value, sc->def.world.max_spin);
+	snprintf(sc->fault, sizeof sc->fault,
+		 "%s exploded at tick %ld: %s; the episode ends with a penalty "
+		 "of %g",
+		 what, sc->tick, how, sc->def.fault_penalty);
 }
 
 int evo_scene3d_step(evo_scene3d *sc)
@@ -90,11 +93,10 @@ int evo_scene3d_step(evo_scene3d *sc)
 	for (int s = 0; s < sc->def.substeps; s++) {
 		for (int i = 0; i < sc->n_bots; i++)
 			evo_bot3d_act(sc, i);
-		int body = -1;
-		double speed = 0;
-		if (evo_world3d_step(sc->world, &body, &speed)) {
+		evo_world3d_fault f;
+		if (evo_world3d_step(sc->world, &f)) {
 			sc->tick++;
-			describe_fault(sc, body, speed);
+			describe_fault(sc, &f);
 			sc->step_reward = sc->def.fault_penalty;
 			sc->episode_reward += sc->def.fault_penalty;
 			return 1;

@@ -123,11 +123,23 @@ void evo_body3d_add_rel_force_at(evo_world3d *w, int body, const double f[3],
 				 const double at[3]);
 void evo_body3d_add_torque(evo_world3d *w, int body, const double t[3]);
 
+/* What evo_world3d_step found wrong with a body. */
+typedef enum evo_world3d_fault_kind {
+	EVO_FAULT3D_NAN = 0, /* a position, turn or speed not a number */
+	EVO_FAULT3D_SPEED,   /* faster than max_speed */
+	EVO_FAULT3D_SPIN,    /* spinning faster than max_spin */
+} evo_world3d_fault_kind;
+
+typedef struct evo_world3d_fault {
+	int body; /* the first body that exploded */
+	evo_world3d_fault_kind kind;
+	double value; /* its speed (m/s) or spin (rad/s) */
+} evo_world3d_fault;
+
 /* One physics step. Returns 0, or -1 when a body exploded (see
- * evo_world3d_def): *body is the first such body and *speed what it did
- * (NAN for a value that is not a number). The world is then no longer
- * worth stepping: make it again. */
-int evo_world3d_step(evo_world3d *w, int *body, double *speed);
+ * evo_world3d_def), with *fault saying which and how. The world is then
+ * no longer worth stepping: make it again. */
+int evo_world3d_step(evo_world3d *w, evo_world3d_fault *fault);
 
 /* Contacts in the last step between a shape of group g and a shape of
  * another group that is not the ground. */
