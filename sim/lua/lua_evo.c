@@ -126,6 +126,36 @@ static void new_class(lua_State *L, const char *mt, const luaL_Reg *methods)
 	lua_pop(L, 1);
 }
 
+/* __index of a 3D class: its method, or an error that says the name is
+ * not one of a 3D object's (a 2D environment or bot model in a 3D task),
+ * at the script's line. Upvalues: the methods table, the class's noun. */
+static int index3d(lua_State *L)
+{
+	lua_pushvalue(L, 2);
+	if (lua_rawget(L, lua_upvalueindex(1)) != LUA_TNIL)
+		return 1;
+	return luaL_error(L,
+			  "%s:%s is not a method of a 3D %s (DEMO3DSIM, "
+			  "LEARN3DSIM: docs/world3d.md)",
+			  lua_tostring(L, lua_upvalueindex(2)),
+			  luaL_tolstring(L, 2, NULL),
+			  lua_tostring(L, lua_upvalueindex(2)));
+}
+
+static void new_class3d(lua_State *L, const char *mt, const luaL_Reg *methods,
+			const char *noun)
+{
+	luaL_newmetatable(L, mt);
+	lua_newtable(L);
+	luaL_setfuncs(L, methods, 0);
+	lua_pushstring(L, noun);
+	lua_pushcclosure(L, index3d, 2);
+	lua_setfield(L, -2, "__index");
+	lua_pushstring(L, mt);
+	lua_setfield(L, -2, "__name");
+	lua_pop(L, 1);
+}
+
 void evo_lua_set_path(lua_State *L, const char *mind_dir,
 		      const char *lua_dir)
 {
@@ -268,9 +298,10 @@ static int setup(lua_State *L)
 	new_class(L, EVO_LUA_ELEMENT_MT, evo_lua_element_methods);
 	new_class(L, EVO_LUA_SCENE_MT, evo_lua_scene_methods);
 	new_class(L, EVO_LUA_METRIC_MT, evo_lua_metric_methods);
-	new_class(L, EVO_LUA_SCENE3D_MT, evo_lua_scene3d_methods);
-	new_class(L, EVO_LUA_BOT3D_MT, evo_lua_bot3d_methods);
-	new_class(L, EVO_LUA_ELEMENT3D_MT, evo_lua_element3d_methods);
+	new_class3d(L, EVO_LUA_SCENE3D_MT, evo_lua_scene3d_methods, "scene");
+	new_class3d(L, EVO_LUA_BOT3D_MT, evo_lua_bot3d_methods, "bot");
+	new_class3d(L, EVO_LUA_ELEMENT3D_MT, evo_lua_element3d_methods,
+		    "element");
 	/* the one scene object, of the scene's kind */
 	lua_newuserdatauv(L, 1, 0);
 	luaL_setmetatable(L, l->sc3 ? EVO_LUA_SCENE3D_MT : EVO_LUA_SCENE_MT);

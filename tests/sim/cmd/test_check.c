@@ -121,13 +121,23 @@ TEST(check_fails_on_a_botdesc_sensor_the_bot_lacks)
 
 TEST(check_refuses_a_type_evo_run_cannot_run_yet)
 {
+	avoid_with_task("T.simbatch", "TYPE:OPENENDED\nBOTMODEL:BotType8\n"
+				      "MASTERSKILL:Avoid\nENV:Roam\n");
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s check %s/Avoid/Tasks/"
+						    "T.simbatch",
+				 cli_evo, cli_tmp),
+		     1);
+	CHECK_CONTAINS(out1, "evo run does not run OPENENDED tasks yet");
+	/* a 3D task runs, and a 2D environment in it says what is wrong */
 	avoid_with_task("T.simbatch", "TYPE:DEMO3DSIM\nBOTMODEL:BotType8\n"
 				      "MASTERSKILL:Avoid\nENV:Roam\n");
 	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s check %s/Avoid/Tasks/"
 						    "T.simbatch",
 				 cli_evo, cli_tmp),
 		     1);
-	CHECK_CONTAINS(out1, "evo run does not run DEMO3DSIM tasks yet");
+	CHECK_CONTAINS(out1,
+		       "Roam.lua:20: scene:grid is not a method of a "
+		       "3D scene (DEMO3DSIM, LEARN3DSIM: docs/world3d.md)");
 }
 
 TEST(type_is_read_in_any_case)
