@@ -201,6 +201,23 @@ TEST(wheels_drive_ahead_and_turn)
 	}
 	double yaw = atan2(sc->bot[0].R[3], sc->bot[0].R[0]);
 	CHECK(yaw < -0.3);
+	/* in torque mode, 0.3 N m on each wheel: 7.5 N on 2.4 kg, about
+	 * 3 m/s^2, so about 1.5 m/s after half a second (2 N m would lift
+	 * its nose: more than its weight's moment about the caster) */
+	for (int k = 0; k < 2; k++) {
+		sc->bot[0].actuator[k].def.torque_mode = 1;
+		sc->bot[0].actuator[k].def.max_torque = 0.3;
+	}
+	evo_scene3d_reset(sc, 1, 1);
+	for (int t = 0; t < 15; t++) {
+		sc->bot[0].actuator[0].command = 1;
+		sc->bot[0].actuator[1].command = 1;
+		evo_scene3d_step(sc);
+	}
+	printf("  torque mode, 0.5 s: %.3f m/s\n", sc->bot[0].v[0]);
+	CHECK(sc->bot[0].v[0] > 1.0 && sc->bot[0].v[0] < 1.6);
+	CHECK(fabs(sc->bot[0].pos[1]) < 0.05);
+	CHECK(sc->fault[0] == 0);
 	evo_scene3d_destroy(sc);
 }
 
