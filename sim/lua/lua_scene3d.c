@@ -261,6 +261,11 @@ static int bot_azimuth(lua_State *L)
 {
 	return add_sensor(L, EVO3D_SENSOR_AZIMUTH, "bot:azimuth", target_keys);
 }
+/* bot:bearing: the 2D name of the same reading */
+static int bot_bearing(lua_State *L)
+{
+	return add_sensor(L, EVO3D_SENSOR_AZIMUTH, "bot:bearing", target_keys);
+}
 static int bot_elevation(lua_State *L)
 {
 	return add_sensor(L, EVO3D_SENSOR_ELEVATION, "bot:elevation",
@@ -409,23 +414,15 @@ static int bot_value(lua_State *L)
 }
 
 const luaL_Reg evo_lua_bot3d_methods[] = {
-    {"proximity", bot_proximity},
-    {"distance", bot_distance},
-    {"azimuth", bot_azimuth},
-    {"elevation", bot_elevation},
-    {"target_sensor", bot_target_sensor},
-    {"zone", bot_zone},
-    {"random", bot_random},
-    {"constant", bot_constant},
-    {"wheel", bot_wheel},
-    {"propeller", bot_propeller},
-    {"target", bot_target},
-    {"place", bot_place},
-    {"pos", bot_pos},
-    {"name", bot_name},
-    {"sensors", bot_sensors},
-    {"value", bot_value},
-    {NULL, NULL},
+    {"proximity", bot_proximity}, {"distance", bot_distance},
+    {"azimuth", bot_azimuth},	  {"bearing", bot_bearing},
+    {"elevation", bot_elevation}, {"target_sensor", bot_target_sensor},
+    {"zone", bot_zone},		  {"random", bot_random},
+    {"constant", bot_constant},	  {"wheel", bot_wheel},
+    {"propeller", bot_propeller}, {"target", bot_target},
+    {"place", bot_place},	  {"pos", bot_pos},
+    {"name", bot_name},		  {"sensors", bot_sensors},
+    {"value", bot_value},	  {NULL, NULL},
 };
 
 /* ---- elements ------------------------------------------------------------ */

@@ -1,0 +1,191 @@
+/* The 3D scene's Lua methods (sim/lua/lua_scene3d.c, docs/world3d.md): an
+ * environment and a bot model written here build a 3D scene whose sensors
+ * read what hand-worked placements say; every option table is checked by
+ * key, and misplaced calls are refused with their line. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "harness.h"
+#include "lua/lua_evo.h"
+#include "support/cli.h"
+#include "world3d/scene3d.h"
+
+#define NEAR(a, b, eps) (fabs((a) - (b)) <= (eps))
+
+/* A bot model: a floating sphere with one sensor of each kind. */
+static const char *const model =
+    "return {\n"
+    "  hull = { shape = 'sphere', radius = 0.25, mass = 2, z = 2,\n"
+    "           buoyancy = 1 },\n"
+    "  build = function(bot)\n"
+    "    bot:proximity{ name = 'P', x = 0.25, range = 4 }\n"
+    "    bot:target_sensor{ name = 'AZ', axis = 1 }\n"
+    "    bot:target_sensor{ name = 'EL', axis = 2 }\n"
+    "    bot:bearing{ name = 'BR' }\n"
+    "    bot:distance{ name = 'D', scale = 10 }\n"
+    "    bot:zone{ name = 'Z' }\n"
+    "    bot:constant{ name = 'C', value = 0.3 }\n"
+    "    bot:propeller{ name = 'M', x = -0.25, axis = { 1, 0, 0 } }\n"
+    "  end,\n"
+    "}\n";
+
+/* Scene and Lua state of environment `env` (text) with the model above;
+ * NULL with err filled when it fails. */
+static evo_lua *build(const char *env, evo_scene3d **sc, evo_err *err)
+{
+	cli_write(model, "%s/Bots/Floater.lua", cli_tmp);
+	cli_write(env, "%s/Envs/E.lua", cli_tmp);
+	evo_scene3d_def d = evo_default_scene3d_def();
+	*sc = evo_scene3d_create(&d);
+	evo_lua_def ld = {
+	    .scene3d = *sc, .mind_dir = cli_tmp, .botmodel = "Floater"};
+	evo_lua *l = evo_lua_create(&ld, err);
+	if (l && (evo_lua_init_env(l, "E", err) ||
+		  evo_scene3d_reset(*sc, 1, 1) || evo_lua_reset(l, 1, err))) {
+		evo_lua_destroy(l);
+		l = NULL;
+	}
+	if (!l) {
+		evo_scene3d_destroy(*sc);
+		*sc = NULL;
+	}
+	return l;
+}
+
+static double value(const evo_scene3d *sc, const char *name)
+{
+	const evo_bot3d *b = &sc->bot[0];
+	int k = evo_bot3d_find_sensor(b, name);
+	return k >= 0 ? b->sensor[k].value : -1;
+}
+
+/* A target up 3 and ahead 4, then moved by reset to the left; a box 2.25
+ * ahead (its face 1.75 from the bot's centre, 1.5 from the ray's start);
+ * a zone around the start. */
+TEST(sensors_built_from_lua_read_hand_worked_values)
+{
+	const char *env =
+	    "local e, t = {}\n"
+	    "function e.init(scene)\n"
+	    "  scene:physics{ substeps = 2 }\n"
+	    "  t = scene:target{ name = 'goal', x = 4, y = 0, z = 5 }\n"
+	    "  local z = scene:zone{ x = 0, y = 0, z = 2, hx = 1, hy = 1, "
+	    "hz = 1 }\n"
+	    "  scene:box{ x = 2.25, y = 0, z = 2, hx = 0.5, hy = 0.5, hz = 0.5 "
+	    "}\n"
+	    "  local b = scene:bot{}\n"
+	    "  for _, s in ipairs{ 'AZ', 'EL', 'BR', 'D' } do b:target(s, t) "
+	    "end\n"
+	    "  b:target('Z', z)\n"
+	    "end\n"
+	    "function e.reset(scene, episode)\n"
+	    "  if episode == 2 then t:place{ x = 0, y = 3, z = 2 } end\n"
+	    "  scene:obstacle{ shape = 'sphere', x = -3, y = 0, z = 2, "
+	    "radius = scene:layout_random(0.2, 0.4) }\n"
+	    "end\n"
+	    "return e\n";
+	evo_scene3d *sc;
+	evo_err err = {{0}};
+	evo_lua *l = build(env, &sc, &err);
+	CHECK(l != NULL);
+	if (!l) {
+		printf("  %s\n", err.msg);
+		return;
+	}
+	evo_scene3d_sense(sc);
+	CHECK(NEAR(value(sc, "AZ"), 0.5, 1e-9));
+	CHECK(NEAR(value(sc, "EL"), 0.5 + atan2(3, 4) / M_PI, 1e-9));
+	CHECK(NEAR(value(sc, "BR"), 0.5, 1e-9));
+	CHECK(NEAR(value(sc, "D"), 0.5, 1e-9));
+	CHECK(NEAR(value(sc, "P"), 1.5 / 4, 1e-6));
+	CHECK(value(sc, "Z") == EVO3D_TRUE);
+	CHECK(NEAR(value(sc, "C"), 0.3, 1e-12));
+	CHECK_EQ_INT(sc->n_obstacles, 2); /* the box, and reset's sphere */
+	/* episode 2: the target 3 to the left, level */
+	CHECK_EQ_INT(evo_scene3d_reset(sc, 1, 2), 0);
+	CHECK_EQ_INT(evo_lua_reset(l, 2, &err), 0);
+	evo_scene3d_sense(sc);
+	CHECK(NEAR(value(sc, "AZ"), 0.75, 1e-9));
+	CHECK(NEAR(value(sc, "EL"), 0.5, 1e-9));
+	CHECK(NEAR(value(sc, "D"), 0.3, 1e-9));
+	CHECK_EQ_INT(sc->n_obstacles, 2); /* the last episode's is gone */
+	evo_lua_destroy(l);
+	evo_scene3d_destroy(sc);
+}
+
+/* Each line is an environment's init body that must fail, and what its
+ * message must say. */
+TEST(bad_options_and_misplaced_calls_are_refused_at_their_line)
+{
+	static const char *const bad[][2] = {
+	    {"scene:bot{ x = 0, hieght = 1 }",
+	     "E.lua:2: scene:bot: unknown option 'hieght' (known: name, x, y, "
+	     "z, yaw, model)"},
+	    {"scene:box{ x = 0, size = 1 }",
+	     "E.lua:2: scene:box: unknown option 'size' (known: name, x, y, "
+	     "z, yaw, hx, hy, hz, friction)"},
+	    {"scene:cylinder{ radius = 0 }", "E.lua:2: a radius must be > 0"},
+	    {"scene:obstacle{ shape = 'box' }",
+	     "E.lua:2: scene:obstacle: an episode's obstacles are added in "
+	     "the environment's reset"},
+	    {"scene:bot{} scene:physics{ substeps = 3 }",
+	     "E.lua:2: scene:physics: set the physics first"},
+	    {"scene:physics{ substeps = 0 }",
+	     "E.lua:2: scene:physics: substeps must be a whole number, 1 to "
+	     "100"},
+	    {"local b = scene:bot{} scene:reward('ClosingOnTraget', { bot = b "
+	     "})",
+	     "E.lua:2: scene:reward: no reward 'ClosingOnTraget' in 3D (did "
+	     "you mean "
+	     "ClosingOnTarget?)"},
+	    {"local b = scene:bot{} scene:control('NextOnTimeout', { tick = 5 "
+	     "})",
+	     "E.lua:2: scene:control: unknown option 'tick'"},
+	    {"local b = scene:bot{} b:wheel{ name = 'W', mode = 'fast' }",
+	     "E.lua:2: bot:wheel: mode is \"velocity\" or \"torque\", found "
+	     "\"fast\""},
+	    {"local b = scene:bot{} b:target_sensor{ name = 'T', axis = 3 }",
+	     "E.lua:2: bot:target_sensor: axis is 1 (azimuth) or 2 "
+	     "(elevation)"},
+	    {"local b = scene:bot{} b:proximity{ name = 'Q', rays = 40 }",
+	     "E.lua:2: bot:proximity: rays must be a whole number, 1 to 16"},
+	    {"local b = scene:bot{} b:propeller{ name = 'Q', axis = { 1, 0 } }",
+	     "E.lua:2: bot:propeller: axis must be a list of three numbers"},
+	    {"local b = scene:bot{} b:proximity{ name = 'Q', sees = { 'walls' "
+	     "} }",
+	     "E.lua:2: bot:proximity: sees lists \"ground\", \"bots\", "
+	     "\"obstacles\" or \"objects\", found walls"},
+	    {"scene:grid{}",
+	     "E.lua:2: scene:grid is not a method of a 3D scene"},
+	};
+	for (unsigned i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+		char env[512];
+		snprintf(env, sizeof env,
+			 "local e = {}\nfunction e.init(scene) %s end\n"
+			 "return e\n",
+			 bad[i][0]);
+		evo_scene3d *sc;
+		evo_err err = {{0}};
+		evo_lua *l = build(env, &sc, &err);
+		CHECK(l == NULL);
+		if (!strstr(err.msg, bad[i][1]))
+			printf("  case %u: %s\n", i, err.msg);
+		CHECK_CONTAINS(err.msg, bad[i][1]);
+		evo_lua_destroy(l);
+		evo_scene3d_destroy(sc);
+	}
+}
+
+int main(void)
+{
+	if (cli_setup("lua3d") ||
+	    cli_sh("mkdir -p %s/Bots %s/Envs", cli_tmp, cli_tmp))
+		return 1;
+	RUN(sensors_built_from_lua_read_hand_worked_values);
+	RUN(bad_options_and_misplaced_calls_are_refused_at_their_line);
+	cli_cleanup();
+	return test_summary();
+}
