@@ -1,7 +1,10 @@
--- EXP3D_Avoid: roam a 10 x 10 m walled floor cluttered with boxes and
--- cylinders without touching anything (the 3D EXP_Avoid; docs/world3d.md).
--- Every episode lays out 24 obstacles anew from the layout seed (the same
--- for every candidate of a generation), none within 1 m of the start.
+-- EXP3D_Avoid: roam a 10 x 10 m walled floor, uneven and cluttered with
+-- boxes and cylinders, without touching anything (the 3D EXP_Avoid;
+-- docs/world3d.md). Every episode lays out anew, from the layout seed (the
+-- same for every candidate of a generation), 24 obstacles none within 1 m
+-- of the start, and 10 bumps of the ground 2 to 5 cm high and 0.7 to 1.5 m
+-- across (caps of buried spheres: the robot drives over them, its rays
+-- pass over them, touching them is no collision).
 -- Scored as the Avoid example's Roam:
 --   +1 per m/s of speed along the heading (about +0.04 a tick flat out),
 --   -0.2 every tick the robot touches something,
@@ -38,6 +41,14 @@ function env.reset(scene, episode)
 			scene:obstacle{ shape = "box", x = x, y = y, z = 0.2, hx = h, hy = h, hz = 0.2,
 				yaw = scene:layout_random(0, 90) }
 		end
+	end
+	for _ = 1, 10 do
+		local x, y
+		repeat
+			x, y = scene:layout_random(-HALF + 0.5, HALF - 0.5), scene:layout_random(-HALF + 0.5, HALF - 0.5)
+		until x * x + y * y > 1.5 * 1.5
+		local h, r = scene:layout_random(0.02, 0.05), scene:layout_random(3, 6)
+		scene:obstacle{ shape = "sphere", ground = true, x = x, y = y, z = h - r, radius = r }
 	end
 	-- a start heading of the layout's
 	local bot = scene:get_bot("bot1")

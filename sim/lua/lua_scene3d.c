@@ -469,12 +469,12 @@ const luaL_Reg evo_lua_element3d_methods[] = {
 /* ---- scene: elements --------------------------------------------------------
  */
 
-static const char *const box_keys[] = {"name", "x",  "y",  "z",	       "yaw",
-				       "hx",   "hy", "hz", "friction", NULL};
+static const char *const box_keys[] = {
+    "name", "x", "y", "z", "yaw", "hx", "hy", "hz", "friction", "ground", NULL};
 static const char *const cylinder_keys[] = {
-    "name", "x", "y", "z", "radius", "height", "friction", NULL};
-static const char *const sphere_keys[] = {"name",   "x",	"y", "z",
-					  "radius", "friction", NULL};
+    "name", "x", "y", "z", "radius", "height", "friction", "ground", NULL};
+static const char *const sphere_keys[] = {"name",   "x",	"y",	  "z",
+					  "radius", "friction", "ground", NULL};
 static const char *const zone_keys[] = {"name", "x",  "y",  "z", "yaw",
 					"hx",	"hy", "hz", NULL};
 static const char *const target_el_keys[] = {"name", "x",      "y",
@@ -495,6 +495,12 @@ static void read_element(lua_State *L, evo_element3d_def *d, const char *what)
 	d->half_length = num(L, 2, "height", 2 * d->half_length, what) / 2;
 	d->mass = num(L, 2, "mass", d->mass, what);
 	d->friction = num(L, 2, "friction", d->friction, what);
+	lua_getfield(L, 2, "ground");
+	if (!lua_isnil(L, -1) && !lua_isboolean(L, -1))
+		luaL_error(L, "%s: ground must be true or false, found %s",
+			   what, luaL_typename(L, -1));
+	d->ground = lua_toboolean(L, -1);
+	lua_pop(L, 1);
 }
 
 static int add_element(lua_State *L, evo_element3d_kind kind, const char *what,
@@ -546,8 +552,8 @@ static int scene_object(lua_State *L)
 static int scene_obstacle(lua_State *L)
 {
 	static const char *const keys[] = {
-	    "shape", "x",  "y",	     "z",      "yaw",	   "hx",
-	    "hy",    "hz", "radius", "height", "friction", NULL};
+	    "shape", "x",      "y",	 "z",	     "yaw",    "hx", "hy",
+	    "hz",    "radius", "height", "friction", "ground", NULL};
 	const char *what = "scene:obstacle";
 	if (!evo_lua_ctx(L)->in_reset)
 		luaL_error(L,
@@ -582,6 +588,7 @@ static int scene_obstacle(lua_State *L)
 	o.radius = d.radius;
 	o.half_length = d.half_length;
 	o.friction = d.friction;
+	o.category = d.ground ? EVO_CAT3D_GROUND : EVO_CAT3D_OBSTACLE;
 	result(L, evo_scene3d_add_episode_obstacle(scene3d(L), &o));
 	return 0;
 }

@@ -315,9 +315,13 @@ static void rays(const evo_bot3d *b)
 static void world(const evo_scene3d *sc)
 {
 	ground();
-	colour(EVO_VIEW3D_OBSTACLE, 1);
-	for (int i = 0; i < sc->n_obstacles; i++)
-		shape(&sc->obstacle[i]);
+	for (int i = 0; i < sc->n_obstacles; i++) {
+		const evo_shape3d *o = &sc->obstacle[i];
+		colour(o->category == EVO_CAT3D_GROUND ? EVO_VIEW3D_BUMP
+						       : EVO_VIEW3D_OBSTACLE,
+		       1);
+		shape(o);
+	}
 	for (int i = 0; i < sc->n_elements; i++) {
 		const evo_element3d *e = &sc->element[i];
 		if (e->def.kind == EVO3D_ELEM_TARGET) {

@@ -50,5 +50,6 @@ int evo_view3d_screenshot(evo_view3d *v, const char *png_path, evo_err *err);
 #define EVO_VIEW3D_BOT	    0x2F6FD0u
 #define EVO_VIEW3D_OBSTACLE 0x8C8C8Cu
 #define EVO_VIEW3D_TARGET   0xF0B41Eu
+#define EVO_VIEW3D_BUMP	    0xC9BFA0u /* uneven ground */
 
 #endif

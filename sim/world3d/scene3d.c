@@ -206,7 +206,7 @@ static evo_shape3d element_shape(const evo_element3d_def *d)
 	s.half_length = d->half_length;
 	s.axis = 2;
 	s.friction = d->friction;
-	s.category = EVO_CAT3D_OBSTACLE;
+	s.category = d->ground ? EVO_CAT3D_GROUND : EVO_CAT3D_OBSTACLE;
 	s.type = d->kind == EVO3D_ELEM_BOX	  ? EVO_SHAPE3D_BOX
 		 : d->kind == EVO3D_ELEM_CYLINDER ? EVO_SHAPE3D_CYLINDER
 						  : EVO_SHAPE3D_SPHERE;
@@ -485,7 +485,8 @@ int evo_scene3d_add_control(evo_scene3d *sc, const evo_control3d_def *d)
 int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o)
 {
 	evo_obstacle3d s = *o;
-	s.category = EVO_CAT3D_OBSTACLE;
+	if (s.category != EVO_CAT3D_GROUND)
+		s.category = EVO_CAT3D_OBSTACLE;
 	if (!finite3(s.pos) || !isfinite(s.yaw))
 		return evo_fail(&sc->err, "an obstacle's position is not a "
 					  "number");

@@ -61,6 +61,10 @@ typedef struct evo_element3d_def {
 	double mass;	    /* object (1 kg) */
 	double friction;    /* 0.5 */
 	int sphere;	    /* object: 1 a sphere, 0 a box */
+	/* box, cylinder, sphere: part of the ground (a bump, a ramp):
+	 * touching it is no collision, and rays see it only where they see
+	 * the ground */
+	int ground;
 } evo_element3d_def;
 
 evo_element3d_def evo_default_element3d_def(evo_element3d_kind kind);
@@ -291,7 +295,9 @@ int evo_scene3d_add_reward(evo_scene3d *sc, const evo_reward3d_def *def);
 int evo_scene3d_add_control(evo_scene3d *sc, const evo_control3d_def *def);
 
 /* A static obstacle for this episode only (an environment's reset adds
- * them): the next reset removes it. Its index, or -1 with sc->err set. */
+ * them): the next reset removes it. Its category is EVO_CAT3D_GROUND for a
+ * piece of uneven ground, anything else making it an obstacle. Its index,
+ * or -1 with sc->err set. */
 int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o);
 
 int evo_scene3d_find_element(const evo_scene3d *sc, const char *name);

@@ -126,7 +126,7 @@ TEST(bad_options_and_misplaced_calls_are_refused_at_their_line)
 	     "z, yaw, model)"},
 	    {"scene:box{ x = 0, size = 1 }",
 	     "E.lua:2: scene:box: unknown option 'size' (known: name, x, y, "
-	     "z, yaw, hx, hy, hz, friction)"},
+	     "z, yaw, hx, hy, hz, friction, ground)"},
 	    {"scene:cylinder{ radius = 0 }", "E.lua:2: a radius must be > 0"},
 	    {"scene:obstacle{ shape = 'box' }",
 	     "E.lua:2: scene:obstacle: an episode's obstacles are added in "
@@ -158,6 +158,9 @@ TEST(bad_options_and_misplaced_calls_are_refused_at_their_line)
 	     "} }",
 	     "E.lua:2: bot:proximity: sees lists \"ground\", \"bots\", "
 	     "\"obstacles\" or \"objects\", found walls"},
+	    {"scene:sphere{ ground = 'yes' }",
+	     "E.lua:2: scene:sphere: ground must be true or false, found "
+	     "string"},
 	    {"scene:grid{}",
 	     "E.lua:2: scene:grid is not a method of a 3D scene"},
 	};

@@ -252,6 +252,55 @@ TEST(proximity_reads_the_nearest_obstacle)
 	evo_scene3d_destroy(sc);
 }
 
+/* A bump of the ground (the cap of a buried sphere, 4 cm high, 1.4 m
+ * across) 1 m ahead: the rays pass over it, the robot drives over it in
+ * 2 s, and touching it is no collision; a box the same height is one. */
+TEST(bumps_of_the_ground_are_driven_over)
+{
+	evo_scene3d *sc = wheeled();
+	evo_element3d_def bump = evo_default_element3d_def(EVO3D_ELEM_SPHERE);
+	bump.radius = 6;
+	bump.pos[0] = 1;
+	bump.pos[2] = 0.04 - 6;
+	bump.ground = 1;
+	CHECK(evo_scene3d_add_element(sc, &bump) >= 0);
+	CHECK_EQ_INT((int)sc->obstacle[0].category, (int)EVO_CAT3D_GROUND);
+	evo_scene3d_reset(sc, 1, 1);
+	evo_scene3d_sense(sc);
+	CHECK(sc->bot[0].sensor[0].value == 1.0);
+	int touched = 0;
+	double top = 0;
+	for (int t = 0; t < 60; t++) {
+		sc->bot[0].actuator[0].command = 1;
+		sc->bot[0].actuator[1].command = 1;
+		CHECK_EQ_INT(evo_scene3d_step(sc), 0);
+		touched += sc->bot[0].touching;
+		if (sc->bot[0].pos[2] > top)
+			top = sc->bot[0].pos[2];
+	}
+	CHECK_EQ_INT(touched, 0);
+	CHECK(sc->bot[0].pos[0] > 1.8); /* past it */
+	CHECK(top > 0.08 + 0.02);	/* lifted by it on the way */
+	evo_scene3d_destroy(sc);
+	/* the same height as an obstacle: a box 4 cm high */
+	sc = wheeled();
+	evo_element3d_def box = evo_default_element3d_def(EVO3D_ELEM_BOX);
+	box.pos[0] = 1;
+	box.half[2] = 0.02;
+	box.pos[2] = 0.02;
+	CHECK(evo_scene3d_add_element(sc, &box) >= 0);
+	evo_scene3d_reset(sc, 1, 1);
+	touched = 0;
+	for (int t = 0; t < 60; t++) {
+		sc->bot[0].actuator[0].command = 1;
+		sc->bot[0].actuator[1].command = 1;
+		evo_scene3d_step(sc);
+		touched += sc->bot[0].touching;
+	}
+	CHECK(touched > 0);
+	evo_scene3d_destroy(sc);
+}
+
 /* A propeller pushing 1e7 N on a 2 kg body runs past 100 m/s in a tick:
  * the episode ends there, with a message naming the bot and the penalty
  * added, and the sensors never read what is not a number. */
@@ -356,6 +405,7 @@ int main(void)
 	RUN(wheeled_robot_at_rest_drifts_under_a_millimetre);
 	RUN(wheels_drive_ahead_and_turn);
 	RUN(proximity_reads_the_nearest_obstacle);
+	RUN(bumps_of_the_ground_are_driven_over);
 	RUN(an_exploding_body_ends_the_episode_with_a_penalty);
 	RUN(objects_fall_and_zones_trigger);
 	RUN(bad_definitions_are_refused);
