@@ -286,7 +286,8 @@ static void bot(const evo_scene3d *sc, const evo_bot3d *b)
 }
 
 /* Each proximity ray from its sensor to what it hit (red), or to its
- * range, faint, when clear. Unshaded. */
+ * range, pale, when clear. Unshaded, and opaque: every pixel of a ray is
+ * one of the two colours. */
 static void rays(const evo_bot3d *b)
 {
 	glLineWidth(2);
@@ -302,7 +303,8 @@ static void rays(const evo_bot3d *b)
 		for (int r = 0; r < s->def.rays; r++) {
 			evo_bot3d_to_world(b, s->dir[r], dir);
 			int hit = s->hit[r] < s->def.range;
-			colour(EVO_VIEW_RAY_HIT, hit ? 1 : 0.25);
+			colour(hit ? EVO_VIEW_RAY_HIT : EVO_VIEW3D_RAY_CLEAR,
+			       1);
 			glVertex3dv(from);
 			glVertex3d(from[0] + dir[0] * s->hit[r],
 				   from[1] + dir[1] * s->hit[r],

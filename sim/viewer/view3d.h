@@ -44,12 +44,14 @@ evo_view_action evo_view3d_poll(evo_view3d *v);
 int evo_view3d_screenshot(evo_view3d *v, const char *png_path, evo_err *err);
 
 /* Colours it draws in, for tests that look for them. The rays are drawn
- * without shading, in EVO_VIEW_RAY_HIT where they hit something; the
- * bodies are shaded, so a test looks for their hue. */
-#define EVO_VIEW3D_SKY	    0xCFDCE8u
-#define EVO_VIEW3D_BOT	    0x2F6FD0u
-#define EVO_VIEW3D_OBSTACLE 0x8C8C8Cu
-#define EVO_VIEW3D_TARGET   0xF0B41Eu
-#define EVO_VIEW3D_BUMP	    0xC9BFA0u /* uneven ground */
+ * without shading, in EVO_VIEW_RAY_HIT where they hit something and
+ * EVO_VIEW3D_RAY_CLEAR where they do not; the bodies are shaded, so a
+ * test looks for their hue. */
+#define EVO_VIEW3D_SKY	     0xCFDCE8u
+#define EVO_VIEW3D_BOT	     0x2F6FD0u
+#define EVO_VIEW3D_OBSTACLE  0x8C8C8Cu
+#define EVO_VIEW3D_TARGET    0xF0B41Eu
+#define EVO_VIEW3D_RAY_CLEAR 0xF0B4B4u
+#define EVO_VIEW3D_BUMP	     0xC9BFA0u /* uneven ground */
 
 #endif
