@@ -63,7 +63,7 @@ typedef struct evo_eval_result evo_eval_result;
 typedef struct evo_eval_spread {
 	int (*evaluate)(void *ctx, evo_evaluator *ev,
 			const evo_netdesc *const *candidates, int n, int gen,
-			 evo_eval_result *res, evo_err *err);
+			evo_eval_result *res, evo_err *err);
 	void *ctx;
 } evo_eval_spread;
 
