@@ -78,7 +78,7 @@ static int run(const char *mind, const char *task, int np, int gens,
 	char cmd[2048], dir[160];
 	snprintf(dir, sizeof dir, "%s/run-%s-%d", tmp, task, np);
 	snprintf(cmd, sizeof cmd,
-		 "rm -rf %s && mpirun --oversubscribe -np %d %s run "
+		 "rm -rf %s && mpirun --oversubscribe --bind-to none -np %d %s run "
 		 "%s/%s/Tasks/%s.simbatch --seed 3 --threads 1 "
 		 "--generations %d --run %s > %s.out 2>&1",
 		 dir, np, evo, tmp, mind, task, gens, dir, dir);

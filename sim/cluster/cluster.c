@@ -7,12 +7,14 @@
  * of its own (evo_evaluate_part on rank 0's workers) while rank 0's main
  * thread, the only one that calls MPI, deals and collects.
  *
- * A chunk's size is the rank's threads times a multiple that grows with
- * the batch (an eighth of the batch per thread at most), so a chunk of
- * long evaluations keeps every thread of its rank busy and a big batch of
- * short ones does not cost a message for each. A rank holds two chunks
- * while the batch has work for every rank twice over, so it has its next
- * at hand when it sends one back.
+ * A chunk's size shrinks as the batch goes (guided self-scheduling): the
+ * rank's threads times the candidates left for each thread of the job,
+ * halved, at least one each and at most an eighth of the batch's share of
+ * a thread (so that no rank holds much of the batch at the start). A big batch
+ * of short evaluations thus costs few messages, and its last chunks are one
+ * candidate a thread, so the ranks finish together. A rank holds two chunks
+ * while the batch has a candidate left for every thread, so it has its next at
+ * hand when it sends one back.
  *
  * Messages (MPI_BYTE, in this machine's byte order: a cluster of one
  * architecture, as Open MPI's own homogeneous default):
@@ -92,7 +94,7 @@ typedef struct batch {
 	int next;
 	int failed;
 	evo_err err;
-	int own_chunk; /* rank 0's chunk size */
+	int threads; /* of every rank together */
 } batch;
 
 struct evo_cluster {
@@ -261,15 +263,22 @@ static void fail_batch(batch *b, const evo_err *e)
 	pthread_mutex_unlock(&b->mu);
 }
 
-/* Take up to size candidates from the batch: their count (0 when none is
- * left or the batch failed), the first in *first. */
-static int take(batch *b, int size, int *first)
+/* Take a chunk for a rank of `threads` threads from the batch (the top
+ * of this file): its count (0 when none is left or the batch failed), the
+ * first in *first. */
+static int take(batch *b, int threads, int *first)
 {
 	pthread_mutex_lock(&b->mu);
 	int k = 0;
 	if (!b->failed && b->next < b->n) {
+		int left = b->n - b->next;
+		int each = left / (2 * b->threads);
+		int most = b->n / (8 * b->threads);
+		each = each < most ? each : most;
+		k = threads * (each > 1 ? each : 1);
+		if (k > left)
+			k = left;
 		*first = b->next;
-		k = b->n - b->next < size ? b->n - b->next : size;
 		b->next += k;
 	}
 	pthread_mutex_unlock(&b->mu);
@@ -289,7 +298,8 @@ static void *own_share(void *arg)
 {
 	batch *b = arg;
 	int first, k;
-	while ((k = take(b, b->own_chunk, &first)) > 0) {
+	int threads = evo_evaluator_threads(b->ev);
+	while ((k = take(b, threads, &first)) > 0) {
 		evo_err e = {{0}};
 		if (evo_evaluate_part(b->ev, b->cand + first, first, k, b->gen,
 				      b->res + first, &e))
@@ -357,10 +367,10 @@ static int greet(evo_cluster *c, const evo_evaluator *ev, evo_err *err)
 	return 0;
 }
 
-/* Send rank r a chunk of up to size candidates; 0 when none is left. */
-static int deal(evo_cluster *c, batch *b, int r, int size)
+/* Send rank r a chunk; 0 when none is left. */
+static int deal(evo_cluster *c, batch *b, int r)
 {
-	int first, k = take(b, size, &first);
+	int first, k = take(b, c->peer[r].threads, &first);
 	if (k == 0)
 		return 0;
 	size_t n = 12;
@@ -442,33 +452,29 @@ static int spread_evaluate(void *ctx, evo_evaluator *ev,
 	int total = 0;
 	for (int r = 0; r < c->size; r++)
 		total += c->peer[r].threads;
-	int mult = n / (8 * total);
-	if (mult < 1)
-		mult = 1;
 	batch b = {
 	    .ev = ev,
 	    .cand = cand,
 	    .res = res,
 	    .n = n,
 	    .gen = gen,
-	    .own_chunk = c->peer[0].threads * mult,
+	    .threads = total,
 	};
 	pthread_mutex_init(&b.mu, NULL);
-	int round = total * mult; /* what one chunk to every rank takes */
 	for (int r = 1; r < c->size; r++)
-		deal(c, &b, r, c->peer[r].threads * mult);
+		deal(c, &b, r);
 	pthread_t own;
 	int own_started = pthread_create(&own, NULL, own_share, &b) == 0;
 	if (!own_started)
 		own_share(&b);
-	long pause = 20000;
+	long pause = 20000; /* at most 0.2 ms here: a rank may be waiting */
 	for (;;) {
 		int held = 0;
 		for (int r = 1; r < c->size; r++) {
 			peer *pr = &c->peer[r];
 			if (pr->n_held == 0 ||
-			    (pr->n_held < HELD && left(&b) >= round))
-				deal(c, &b, r, pr->threads * mult);
+			    (pr->n_held < HELD && left(&b) >= total))
+				deal(c, &b, r);
 			held += pr->n_held;
 		}
 		if (held == 0)
@@ -484,7 +490,7 @@ static int spread_evaluate(void *ctx, evo_evaluator *ev,
 		}
 		struct timespec ts = {0, pause};
 		nanosleep(&ts, NULL);
-		pause = pause < 1000000 ? pause * 2 : 1000000;
+		pause = pause < 200000 ? pause * 2 : 200000;
 	}
 	if (own_started)
 		pthread_join(own, NULL);
