@@ -4,12 +4,12 @@
  * 1. Efficiency of two ranks against one for evaluations of about 10 ms
  *    (the Avoid example, one episode of TICKS ticks a candidate): the
  *    evaluation seconds of a LEARNSIM run with `mpirun -np 1` (one
- *    thread) over twice those of `mpirun -np 2` (one thread a rank), the
- *    median over ROUNDS rounds, each round running both in turn. Bar
+ *    thread) over twice those of `mpirun -np 2` (one thread a rank),
+ *    each the best (least) of the rounds, each round running both in
+ *    turn: on a machine other work shares, that work only adds time. Bar
  *    (issue 21): at least 0.9 on two cores. Beside it, in the same
  *    rounds, the efficiency of one rank of two threads against one
- *    thread: what the machine's cores give at the time without any
- *    message (on a machine other work shares, both fall together).
+ *    thread: what the machine's cores give without any message.
  * 2. The dispatch rate: evaluations per second at `-np 4` (one thread a
  *    rank) of a batch of XOR networks, which cost a few microseconds
  *    each, so what is measured is the messages; beside it, `-np 1`'s
@@ -93,15 +93,9 @@ static int run(const char *mind, const char *task, int np, int threads,
 	return log_times(dir, seconds, evals);
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-	return x < y ? -1 : x > y;
-}
-
 int main(int argc, char **argv)
 {
-	int rounds = 3;
+	int rounds = 5;
 	for (int i = 1; i < argc; i++) {
 		if (strcmp(argv[i], "--rounds") == 0 && i + 1 < argc &&
 		    atoi(argv[i + 1]) >= 1 && atoi(argv[i + 1]) <= 100)
@@ -142,9 +136,9 @@ int main(int argc, char **argv)
 	printf("cluster runs over Open MPI, one thread a rank, %ld cores "
 	       "online\n",
 	       sysconf(_SC_NPROCESSORS_ONLN));
-	double *eff = calloc((size_t)rounds, sizeof *eff);
-	double *teff = calloc((size_t)rounds, sizeof *teff);
-	double eval_ms = 0;
+	/* each configuration's best (least) time over the rounds: other
+	 * work on the machine only ever adds time */
+	double best1 = 1e300, best2 = 1e300, bestt = 1e300, evals = 0;
 	int rc = 0;
 	for (int r = 0; r < rounds && !rc; r++) {
 		double s1, n1, s2, n2, st, nt;
@@ -154,25 +148,23 @@ int main(int argc, char **argv)
 			rc = 1;
 			break;
 		}
-		eff[r] = s1 / (2 * s2);
-		teff[r] = s1 / (2 * st);
-		eval_ms = 1000 * s1 / n1;
-		printf("  round %d: -np 1 %.3f s, -np 2 %.3f s for %.0f "
-		       "evaluations of %.1f ms: efficiency %.2f (two threads "
-		       "in one rank: %.3f s, %.2f)\n",
-		       r + 1, s1, s2, n1, eval_ms, eff[r], st, teff[r]);
+		best1 = s1 < best1 ? s1 : best1;
+		best2 = s2 < best2 ? s2 : best2;
+		bestt = st < bestt ? st : bestt;
+		evals = n1;
+		printf("  round %d: %.0f evaluations, -np 1 %.3f s, -np 2 "
+		       "%.3f s, one rank of two threads %.3f s\n",
+		       r + 1, n1, s1, s2, st);
 	}
 	if (!rc) {
-		qsort(eff, (size_t)rounds, sizeof *eff, cmp_double);
-		qsort(teff, (size_t)rounds, sizeof *teff, cmp_double);
-		double e = eff[rounds / 2];
+		double e = best1 / (2 * best2);
 		printf("efficiency of -np 2 against -np 1, evaluations of "
-		       "%.1f ms: %.2f (median of %d; bar %.1f) %s\n"
-		       "  beside it, two threads in one rank against one "
-		       "thread: %.2f (what this machine's two cores give "
-		       "now)\n",
-		       eval_ms, e, rounds, BAR, e >= BAR ? "ok" : "BELOW BAR",
-		       teff[rounds / 2]);
+		       "%.1f ms: %.2f (best of %d rounds each; bar %.1f) %s\n"
+		       "  beside it, one rank of two threads against one "
+		       "thread: %.2f (what the machine's cores give, no "
+		       "messages)\n",
+		       1000 * best1 / evals, e, rounds, BAR,
+		       e >= BAR ? "ok" : "BELOW BAR", best1 / (2 * bestt));
 		if (e < BAR)
 			rc = 1;
 	}
@@ -186,8 +178,6 @@ int main(int argc, char **argv)
 		       "evaluations/s)\n",
 		       1e6 * s1 / n1, n4 / s4, n1 / s1);
 	}
-	free(eff);
-	free(teff);
 	snprintf(cmd, sizeof cmd, "rm -rf %s", tmp);
 	if (sh(cmd))
 		rc = 1;
