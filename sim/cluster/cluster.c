@@ -25,11 +25,12 @@
  * Waiting for a message polls with a pause that grows to a millisecond,
  * so an idle rank does not hold a core that another rank on it could use
  * (mpirun --oversubscribe on a small machine). */
-#define _POSIX_C_SOURCE 200809L
+#define _GNU_SOURCE /* sched_getaffinity */
 #include "cluster/cluster.h"
 
 #include <mpi.h>
 #include <pthread.h>
+#include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -173,6 +174,16 @@ evo_cluster *evo_cluster_join(evo_err *err)
 		return NULL;
 	}
 	return c;
+}
+
+int evo_cluster_cores(void)
+{
+	cpu_set_t set;
+	CPU_ZERO(&set);
+	if (sched_getaffinity(0, sizeof set, &set) != 0)
+		return 1;
+	int n = CPU_COUNT(&set);
+	return n < 1 ? 1 : n > EVO_EVAL_MAX_THREADS ? EVO_EVAL_MAX_THREADS : n;
 }
 
 int evo_cluster_rank(const evo_cluster *c)

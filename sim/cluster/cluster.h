@@ -34,6 +34,11 @@ int evo_cluster_launched(void);
  * start. */
 evo_cluster *evo_cluster_join(evo_err *err);
 
+/* The cores this process may run on: those mpirun bound it to (one core
+ * a rank by default for two ranks or fewer), else all. A rank's worker
+ * threads when --threads does not say. */
+int evo_cluster_cores(void);
+
 /* This process's rank (0 runs the learning loop) and the job's size. */
 int evo_cluster_rank(const evo_cluster *c);
 int evo_cluster_size(const evo_cluster *c);

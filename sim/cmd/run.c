@@ -951,6 +951,10 @@ static int learn_on_cluster(const char *task_path, evo_task *task,
 		return 1;
 	}
 	int rc = 0, rank = evo_cluster_rank(c);
+	/* one thread per core the rank may use, not per core of the machine:
+	 * mpirun may have bound it to one */
+	if (lo->threads == 0)
+		lo->threads = evo_cluster_cores();
 	if (evo_cluster_size(c) > 1 && strcmp(task->type, "LEARNSIM") != 0) {
 		if (rank == 0)
 			fprintf(stderr,
