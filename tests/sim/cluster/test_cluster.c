@@ -3,7 +3,9 @@
  * same log (but for its times), checkpoint and champion as a plain run
  * with threads; a rank killed with SIGKILL in the middle of a generation
  * ends the run within seconds with every finished generation kept, and
- * --resume with another number of ranks ends as the uninterrupted run.
+ * --resume with another number of ranks ends as the uninterrupted run; a
+ * rank started with other settings than rank 0 is named, and a team task
+ * is refused on more than one rank.
  *
  * Runs as root too (the OMPI_ALLOW_RUN_AS_ROOT variables) and on a
  * machine with fewer cores than ranks (--oversubscribe), as
@@ -262,6 +264,26 @@ TEST(a_rank_with_other_settings_is_named)
 	free(out);
 }
 
+/* Only LEARNSIM spreads over ranks: a team task under mpirun with two
+ * ranks is refused with the reason, before anything is written. */
+TEST(a_team_task_is_refused_on_two_ranks)
+{
+	char out[4096];
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 MPIRUN
+				 " -np 2 %s run "
+				 "minds/Forager/Tasks/Forage-NEAT.simbatch "
+				 "--run %s/team --threads 1 2>&1",
+				 cli_evo, cli_tmp) != 0,
+		     1);
+	CHECK_CONTAINS(out, "a LEARN2DSIMMULTI task runs in one process; "
+			    "mpirun with more than one rank spreads LEARNSIM "
+			    "tasks");
+	char *log = cli_read("%s/team/log.csv", cli_tmp);
+	CHECK(log == NULL);
+	free(log);
+}
+
 int main(void)
 {
 	if (cli_setup("cluster"))
@@ -271,6 +293,7 @@ int main(void)
 	RUN(any_number_of_ranks_and_threads_gives_the_plain_runs_result);
 	RUN(a_killed_rank_stops_the_run_and_resume_with_other_ranks_finishes_it);
 	RUN(a_rank_with_other_settings_is_named);
+	RUN(a_team_task_is_refused_on_two_ranks);
 	cli_cleanup();
 	return test_summary();
 }
