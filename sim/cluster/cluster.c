@@ -8,13 +8,13 @@
  * thread, the only one that calls MPI, deals and collects.
  *
  * A chunk's size shrinks as the batch goes (guided self-scheduling): the
- * rank's threads times the candidates left for each thread of the job,
- * halved, at least one each and at most an eighth of the batch's share of
- * a thread (so that no rank holds much of the batch at the start). A big batch
- * of short evaluations thus costs few messages, and its last chunks are one
- * candidate a thread, so the ranks finish together. A rank holds two chunks
- * while the batch has a candidate left for every thread, so it has its next at
- * hand when it sends one back.
+ * rank's threads times half the candidates left for each thread of the
+ * job, at least one each, and at most an eighth of a thread's share of
+ * the batch (so that no rank holds much of it at the start). A big batch
+ * of short evaluations thus costs few messages, and its last chunks are
+ * one candidate a thread, so the ranks finish together. A rank holds two
+ * chunks while the batch has a candidate left for every thread, so it has
+ * its next at hand when it sends one back.
  *
  * Messages (MPI_BYTE, in this machine's byte order: a cluster of one
  * architecture, as Open MPI's own homogeneous default):
