@@ -135,6 +135,15 @@ static void wait_message(int source, int tag, MPI_Status *st)
 	}
 }
 
+/* A message that cannot be received for want of memory would stay at
+ * the head of the queue and be found again and again: the job ends
+ * instead, as when a rank dies (every finished generation is on disk). */
+static void out_of_memory(int rank)
+{
+	fprintf(stderr, "evo: rank %d: out of memory for a message\n", rank);
+	MPI_Abort(MPI_COMM_WORLD, 1);
+}
+
 /* The buffer of c grown to at least n bytes; NULL when memory is out. */
 static unsigned char *room(evo_cluster *c, size_t n)
 {
@@ -412,22 +421,22 @@ static void collect(evo_cluster *c, batch *b, int r, MPI_Status *st)
 	int len;
 	MPI_Get_count(st, MPI_BYTE, &len);
 	unsigned char *buf = room(c, len > 0 ? (size_t)len : 1);
+	if (!buf)
+		out_of_memory(c->rank);
+	MPI_Recv(buf, len, MPI_BYTE, r, TAG_RESULT, MPI_COMM_WORLD,
+		 MPI_STATUS_IGNORE);
 	peer *pr = &c->peer[r];
+	evo_err e = {{0}};
+	if (pr->n_held == 0) {
+		evo_fail(&e, "rank %d: a result it was not asked for", r);
+		fail_batch(b, &e);
+		return;
+	}
 	sent s = pr->held[0];
 	memmove(&pr->held[0], &pr->held[1], sizeof pr->held[0] * (HELD - 1));
 	pr->n_held--;
 	MPI_Wait(&s.req, MPI_STATUS_IGNORE);
 	free(s.buf);
-	evo_err e = {{0}};
-	if (!buf) {
-		MPI_Recv(NULL, 0, MPI_BYTE, r, TAG_RESULT, MPI_COMM_WORLD,
-			 MPI_STATUS_IGNORE);
-		evo_fail(&e, "out of memory");
-		fail_batch(b, &e);
-		return;
-	}
-	MPI_Recv(buf, len, MPI_BYTE, r, TAG_RESULT, MPI_COMM_WORLD,
-		 MPI_STATUS_IGNORE);
 	int32_t head[3];
 	if (len < (int)sizeof head) {
 		evo_fail(&e, "rank %d: a result of %d bytes", r, len);
@@ -547,15 +556,11 @@ static void answer_chunk(evo_cluster *c, evo_evaluator *ev, MPI_Status *st)
 	evo_err e = {{0}};
 	int32_t head[3] = {0, 0, 0};
 	int rc = 0;
-	if (!buf) {
-		MPI_Recv(NULL, 0, MPI_BYTE, 0, TAG_CHUNK, MPI_COMM_WORLD,
-			 MPI_STATUS_IGNORE);
-		rc = evo_fail(&e, "out of memory");
-	} else {
-		MPI_Recv(buf, len, MPI_BYTE, 0, TAG_CHUNK, MPI_COMM_WORLD,
-			 MPI_STATUS_IGNORE);
-	}
-	if (!rc && len < (int)sizeof head)
+	if (!buf)
+		out_of_memory(c->rank);
+	MPI_Recv(buf, len, MPI_BYTE, 0, TAG_CHUNK, MPI_COMM_WORLD,
+		 MPI_STATUS_IGNORE);
+	if (len < (int)sizeof head)
 		rc = evo_fail(&e, "a chunk of %d bytes", len);
 	if (!rc) {
 		memcpy(head, buf, sizeof head);
@@ -625,14 +630,19 @@ int evo_cluster_serve(evo_cluster *c, const evo_eval_def *def, evo_err *err)
 		}
 		if (st.MPI_TAG == TAG_CHUNK) {
 			answer_chunk(c, ev, &st);
-		} else {
-			/* not evo's: take it off the queue */
-			MPI_Recv(NULL, 0, MPI_BYTE, 0, st.MPI_TAG,
+		} else { /* not evo's: take it off the queue */
+			int len;
+			MPI_Get_count(&st, MPI_BYTE, &len);
+			unsigned char *buf = room(c, len > 0 ? (size_t)len : 1);
+			if (!buf)
+				out_of_memory(c->rank);
+			MPI_Recv(buf, len, MPI_BYTE, 0, st.MPI_TAG,
 				 MPI_COMM_WORLD, MPI_STATUS_IGNORE);
 		}
 	}
+	int rc = ev ? 0 : -1;
 	evo_evaluator_destroy(ev);
-	return ev ? 0 : -1;
+	return rc;
 }
 
 void evo_cluster_leave(evo_cluster *c)
