@@ -631,12 +631,12 @@ int evo_cluster_serve(evo_cluster *c, const evo_eval_def *def, evo_err *err)
 		if (st.MPI_TAG == TAG_CHUNK) {
 			answer_chunk(c, ev, &st);
 		} else { /* not evo's: take it off the queue */
-			int len;
-			MPI_Get_count(&st, MPI_BYTE, &len);
-			unsigned char *buf = room(c, len > 0 ? (size_t)len : 1);
+			int n;
+			MPI_Get_count(&st, MPI_BYTE, &n);
+			unsigned char *buf = room(c, n > 0 ? (size_t)n : 1);
 			if (!buf)
 				out_of_memory(c->rank);
-			MPI_Recv(buf, len, MPI_BYTE, 0, st.MPI_TAG,
+			MPI_Recv(buf, n, MPI_BYTE, 0, st.MPI_TAG,
 				 MPI_COMM_WORLD, MPI_STATUS_IGNORE);
 		}
 	}
