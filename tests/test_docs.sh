@@ -122,7 +122,8 @@ while read -r file line info mark block; do
 	esac
 	if [ "$info" = sh ]; then
 		sed "s#\(^\|[ ;(|&]\)build/evo\b#\1$evo#g" "$block" >"$tmp/run.sh"
-		timeout -k 5 120 sh -e "$tmp/run.sh" >"$tmp/out" 2>&1
+		# stdin is not the list of examples (mpirun reads its stdin)
+		timeout -k 5 120 sh -e "$tmp/run.sh" >"$tmp/out" 2>&1 </dev/null
 		result $? "$where" "the example failed"
 	elif [ "$mark" = example:_environment ]; then
 		avoid_copy DocExample

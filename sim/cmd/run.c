@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "base/fileio.h"
+#include "cluster/cluster.h"
 #include "learn/evaluate.h"
 #include "learn/learn.h"
 #include "mind/task.h"
@@ -80,9 +81,12 @@ static void run_usage(FILE *f)
 	      "                     instead of the task's CANURL or LCM\n"
 	      "LEARNSIM (--ticks N bounds each evaluation's episodes too):\n"
 	      "  --generations N    train N generations instead of NUMGEN\n"
-	      "  --threads N        worker threads (default: one per core)\n"
+	      "  --threads N        worker threads (default: one per core;\n"
+	      "                     under mpirun, each rank's own)\n"
 	      "  --run DIR          run folder (default MIND/Runs/TASK-seedN)\n"
-	      "  --resume           go on from the run folder's checkpoint\n",
+	      "  --resume           go on from the run folder's checkpoint\n"
+	      "  under `mpirun -np N evo run ...` rank 0 learns and every\n"
+	      "  rank evaluates (docs/cluster.md)\n",
 	      f);
 }
 
@@ -1090,6 +1094,51 @@ static int run_viewer3d(evo_sim *s, evo_view3d *v, const run_opts *o,
 	}
 }
 
+/* A learning run started by mpirun (docs/cluster.md): rank 0 learns as a
+ * plain run does, with its batches spread over the ranks; the others
+ * evaluate what it sends them. One rank is a plain run. */
+static int learn_on_cluster(const char *task_path, evo_task *task,
+			    evo_learn_opts *lo)
+{
+	evo_err err = {{0}};
+	evo_cluster *c = evo_cluster_join(&err);
+	if (!c) {
+		fprintf(stderr, "%s\n", err.msg);
+		return 1;
+	}
+	int rc = 0, rank = evo_cluster_rank(c);
+	/* one thread per core the rank may use, not per core of the machine:
+	 * mpirun may have bound it to one */
+	if (lo->threads == 0)
+		lo->threads = evo_cluster_cores();
+	if (evo_cluster_size(c) > 1 && strcmp(task->type, "LEARNSIM") != 0) {
+		if (rank == 0)
+			fprintf(stderr,
+				"%s: a %s task runs in one process; mpirun "
+				"with more than one rank spreads LEARNSIM "
+				"tasks (docs/cluster.md)\n",
+				task_path, task->type);
+		rc = 2;
+	} else if (rank == 0) {
+		if (evo_cluster_size(c) > 1)
+			lo->spread = evo_cluster_spread(c, lo->seed);
+		rc = evo_learn_run(task_path, task, lo, &err) ? 1 : 0;
+		if (rc)
+			fprintf(stderr, "%s\n", err.msg);
+	} else {
+		evo_eval_def def = {
+		    .task_path = task_path,
+		    .threads = lo->threads,
+		    .seed = lo->seed,
+		    .ticks = lo->ticks,
+		};
+		/* what goes wrong here, rank 0 says */
+		rc = evo_cluster_serve(c, &def, &err) ? 1 : 0;
+	}
+	evo_cluster_leave(c);
+	return rc;
+}
+
 int evo_run_main(int argc, char **argv)
 {
 	run_opts o;
@@ -1133,6 +1182,11 @@ int evo_run_main(int argc, char **argv)
 			.run_dir = o.run_dir,
 			.resume = o.resume,
 		};
+		if (evo_cluster_launched()) {
+			int rc = learn_on_cluster(o.task, &task, &lo);
+			evo_task_free(&task);
+			return rc;
+		}
 		int rc = evo_learn_run(o.task, &task, &lo, &err);
 		if (rc)
 			fprintf(stderr, "%s\n", err.msg);

@@ -57,6 +57,7 @@ struct evo_evaluator {
 	unsigned n_in, n_out;
 	worker *w;
 	evo_remote_eval *remote; /* LEARNREMOTESIM: no workers */
+	evo_eval_spread spread;	 /* .evaluate NULL: none */
 	/* team tasks (docs/teams.md): the teams' networks set by
 	 * evo_evaluator_set_team_net (NULL: their own), bumped version */
 	int n_teams;
@@ -75,6 +76,7 @@ struct evo_evaluator {
 	int busy;
 	const evo_netdesc *const *cand;
 	int n, gen, next;
+	int first; /* the batch index of cand[0] (evo_evaluate_part) */
 	evo_eval_result *res;
 	/* a team batch: the learning team, the groups, what each group and
 	 * each member gave */
@@ -119,10 +121,11 @@ static int evaluate_one(worker *w, int i, evo_eval_result *res, evo_err *err)
 	*l->net[w->skill] = *ev->cand[i];
 	if (evo_mindfolder_rebuild(l, err) || evo_sim_set_mind(w->sim, l, err))
 		return -1;
+	int c = ev->first + i; /* its index in the whole batch */
 	for (int r = 0; r < ev->reps; r++) {
 		if (evo_sim_reset(
 			w->sim, r + 1, evo_eval_grid_seed(ev->seed, ev->gen, r),
-			evo_eval_episode_seed(ev->seed, ev->gen, i, r), err)) {
+			evo_eval_episode_seed(ev->seed, ev->gen, c, r), err)) {
 			evo_err inner = *err;
 			return evo_fail(err, "repetition %d, at its start: %s",
 					r + 1, inner.msg);
@@ -377,8 +380,8 @@ static void *worker_main(void *arg)
 				ev->failed = 1;
 				evo_fail(&ev->err, "generation %d, %s %d: %s",
 					 ev->gen,
-					 ev->groups ? "team" : "candidate", i,
-					 e.msg);
+					 ev->groups ? "team" : "candidate",
+					 ev->first + i, e.msg);
 			}
 		}
 		if (--ev->busy == 0)
@@ -478,6 +481,8 @@ evo_evaluator *evo_evaluator_create(const evo_eval_def *def, evo_err *err)
 		return NULL;
 	}
 	ev->seed = def->seed;
+	if (def->spread)
+		ev->spread = *def->spread;
 	if (remote_task(def->task_path)) {
 		if (!(ev->remote = evo_remote_eval_create(def->task_path, err)) ||
 		    remote_settings(ev, def, err))
@@ -662,30 +667,68 @@ static int run_batch(evo_evaluator *ev, evo_err *err)
 	return failed;
 }
 
-int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
-		 int gen, evo_eval_result *res, evo_err *err)
+/* The candidates' shapes, checked before any worker starts, so a wrong
+ * candidate is named the same way whatever the thread count; first: the
+ * batch index of candidates[0]. */
+static int check_shapes(const evo_evaluator *ev,
+			const evo_netdesc *const *candidates, int first, int n,
+			evo_err *err)
 {
-	if (n < 0 || (n > 0 && (!candidates || !res)))
-		return evo_fail(err, "evaluate: no candidates or no result "
-				     "array");
-	/* Shapes are checked here, before any worker starts, so a wrong
-	 * candidate is named the same way whatever the thread count. */
 	const char *skill =
 	    ev->remote ? "LEARNINGSKILL"
 		       : ev->w[0].task.mind->skill[ev->w[0].skill].name;
 	for (int i = 0; i < n; i++) {
 		const evo_netdesc *c = candidates[i];
 		if (!c)
-			return evo_fail(err, "candidate %d: no network", i);
+			return evo_fail(err, "candidate %d: no network",
+					first + i);
 		if (c->n_in != ev->n_in || c->n_out != ev->n_out)
 			return evo_fail(err,
 					"candidate %d: the network has %u "
 					"inputs and %u outputs; skill %s has "
 					"%u inputs and %u outputs",
-					i, (unsigned)c->n_in,
+					first + i, (unsigned)c->n_in,
 					(unsigned)c->n_out, skill, ev->n_in,
 					ev->n_out);
 	}
+	return 0;
+}
+
+int evo_evaluate_part(evo_evaluator *ev, const evo_netdesc *const *candidates,
+		      int first, int n, int gen, evo_eval_result *res,
+		      evo_err *err)
+{
+	if (n < 0 || first < 0 || (n > 0 && (!candidates || !res)))
+		return evo_fail(err, "evaluate: no candidates or no result "
+				     "array");
+	if (ev->remote || ev->n_teams > 0)
+		return evo_fail(err, "evaluate: a part of a batch is for a "
+				     "one-agent task in-process");
+	if (check_shapes(ev, candidates, first, n, err))
+		return -1;
+	if (n == 0)
+		return 0;
+	pthread_mutex_lock(&ev->mu);
+	ev->cand = candidates;
+	ev->n = n;
+	ev->gen = gen;
+	ev->next = 0;
+	ev->first = first;
+	ev->res = res;
+	int failed = run_batch(ev, err);
+	ev->first = 0;
+	pthread_mutex_unlock(&ev->mu);
+	return failed ? -1 : 0;
+}
+
+int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
+		 int gen, evo_eval_result *res, evo_err *err)
+{
+	if (n < 0 || (n > 0 && (!candidates || !res)))
+		return evo_fail(err, "evaluate: no candidates or no result "
+				     "array");
+	if (check_shapes(ev, candidates, 0, n, err))
+		return -1;
 	if (n == 0)
 		return 0;
 	if (ev->n_teams > 0) {
@@ -714,15 +757,10 @@ int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
 		}
 		return rc;
 	}
-	pthread_mutex_lock(&ev->mu);
-	ev->cand = candidates;
-	ev->n = n;
-	ev->gen = gen;
-	ev->next = 0;
-	ev->res = res;
-	int failed = run_batch(ev, err);
-	pthread_mutex_unlock(&ev->mu);
-	return failed ? -1 : 0;
+	if (ev->spread.evaluate)
+		return ev->spread.evaluate(ev->spread.ctx, ev, candidates, n,
+					   gen, res, err);
+	return evo_evaluate_part(ev, candidates, 0, n, gen, res, err);
 }
 
 /* ---- team tasks -----------------------------------------------------------

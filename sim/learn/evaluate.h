@@ -52,6 +52,20 @@
 #include "world2d/scene.h"
 
 typedef struct evo_evaluator evo_evaluator;
+typedef struct evo_eval_result evo_eval_result;
+
+/* Where a batch may be spread beyond this process's workers: cluster
+ * runs over MPI (sim/cluster/). evaluate is called by evo_evaluate in
+ * place of the workers, for a one-agent task in-process (not a team task,
+ * not LEARNREMOTESIM), with the same arguments and contract; it runs the
+ * share it keeps with evo_evaluate_part. NULL in evo_eval_def: this
+ * process's workers run every batch. */
+typedef struct evo_eval_spread {
+	int (*evaluate)(void *ctx, evo_evaluator *ev,
+			const evo_netdesc *const *candidates, int n, int gen,
+			evo_eval_result *res, evo_err *err);
+	void *ctx;
+} evo_eval_spread;
 
 /* More workers than this is a typo, not a machine. */
 #define EVO_EVAL_MAX_THREADS 1024
@@ -64,6 +78,7 @@ typedef struct evo_eval_def {
 	int reps;	       /* repetitions; 0: EVALREP, else 1 */
 	long ticks;	       /* ticks per episode at most; 0: TICKLIM,
 				* else 1000 */
+	const evo_eval_spread *spread; /* NULL: none; copied */
 } evo_eval_def;
 
 /* Load the task once per worker and start the workers. Returns NULL with
@@ -98,7 +113,7 @@ uint64_t evo_eval_grid_seed(uint64_t seed, int gen, int rep);
 uint64_t evo_eval_episode_seed(uint64_t seed, int gen, int cand, int rep);
 
 /* What an evaluation gives. */
-typedef struct evo_eval_result {
+struct evo_eval_result {
 	double fitness;	 /* summed over the repetitions */
 	long collisions; /* ticks the learning bot spent touching something,
 			  * summed over the repetitions (0 for literature
@@ -113,7 +128,7 @@ typedef struct evo_eval_result {
 	int group;
 	double team_fitness;
 	int wins;
-} evo_eval_result;
+};
 
 /* Evaluate candidates[0 .. n-1] (not owned; read while the call runs) in
  * generation gen, filling res[0 .. n-1]. Returns when the whole batch is
@@ -124,6 +139,15 @@ typedef struct evo_eval_result {
  * time per evaluator. */
 int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
 		 int gen, evo_eval_result *res, evo_err *err);
+
+/* Evaluate on this process's workers candidates[0 .. n-1] as candidates
+ * first .. first+n-1 of generation gen's batch (their seeds and the
+ * names in messages are those), filling res[0 .. n-1]: a part of a batch
+ * gives what the whole batch gives for those candidates. A one-agent task
+ * in-process only; as evo_evaluate otherwise. */
+int evo_evaluate_part(evo_evaluator *ev, const evo_netdesc *const *candidates,
+		      int first, int n, int gen, evo_eval_result *res,
+		      evo_err *err);
 
 /* ---- team tasks (LEARN2DSIMMULTI, docs/teams.md) ---------------------- */
 

@@ -821,6 +821,7 @@ int evo_learn_run(const char *task_path, evo_task *task,
 		.threads = o->threads,
 		.seed = o->seed,
 		.ticks = o->ticks,
+		.spread = o->spread,
 	};
 	int lock = evo_runlog_claim(l.run_dir, err);
 	if (lock < 0)

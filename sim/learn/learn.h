@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include "base/err.h"
+#include "learn/evaluate.h"
 #include "mind/task.h"
 
 typedef struct evo_learn_opts {
@@ -16,6 +17,9 @@ typedef struct evo_learn_opts {
 	int resume;	     /* go on from the run folder's checkpoint */
 	int generations;     /* 0: NUMGEN */
 	long ticks;	     /* ticks per episode at most; 0: TICKLIM */
+	/* where batches go beyond this process (cluster runs,
+	 * sim/cluster/); NULL: its own worker threads */
+	const evo_eval_spread *spread;
 } evo_learn_opts;
 
 /* Run the learning task; prints one line per generation, writes the run

@@ -144,6 +144,33 @@ out:
 	evo_evaluator_destroy(e2);
 }
 
+/* A part of a batch (evo_evaluate_part, what each MPI rank of a cluster
+ * run evaluates) gives for its candidates the bits the whole batch gives
+ * them, because they keep their index in the batch (their episode seeds).
+ * A wrong candidate is named by its index in the whole batch. */
+TEST(a_part_of_a_batch_gives_what_the_whole_batch_gives)
+{
+	evo_evaluator *ev = make(2, 42, 2, 300);
+	CHECK(ev != NULL);
+	if (!ev)
+		return;
+	const evo_netdesc *const *c = (const evo_netdesc *const *)cand;
+	double whole[N_CAND];
+	CHECK_EQ_INT(run_batch(ev, c, N_CAND, 3, whole), 0);
+	evo_eval_result part[4];
+	evo_err err = {{0}};
+	CHECK_EQ_INT(evo_evaluate_part(ev, c + 3, 3, 4, 3, part, &err), 0);
+	for (int i = 0; i < 4; i++)
+		CHECK(part[i].fitness == whole[3 + i]);
+	const evo_netdesc *bad[2] = {cand[0], zero_net};
+	evo_netdesc wrong = *zero_net;
+	wrong.n_in = 3;
+	bad[1] = &wrong;
+	CHECK_EQ_INT(evo_evaluate_part(ev, bad, 5, 2, 3, part, &err), -1);
+	CHECK_CONTAINS(err.msg, "candidate 6: the network has 3 inputs");
+	evo_evaluator_destroy(ev);
+}
+
 /* Seeds: the grid seed depends on (seed, generation, rep) only, the
  * episode seed also on the candidate's index; the two streams differ. */
 TEST(seed_derivation)
@@ -374,6 +401,7 @@ int main(void)
 	zero_net = random_net(&r, 11, 2, 0);
 	RUN(defaults_from_the_task);
 	RUN(threads_do_not_change_fitness);
+	RUN(a_part_of_a_batch_gives_what_the_whole_batch_gives);
 	RUN(seed_derivation);
 	RUN(same_candidate_two_indices_same_grids);
 	RUN(wrong_shape_is_refused);

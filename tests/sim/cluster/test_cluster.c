@@ -1,0 +1,299 @@
+/* Cluster runs (sim/cluster/, docs/cluster.md) under Open MPI's mpirun:
+ * one, two and three ranks, each with one and with two threads, give the
+ * same log (but for its times), checkpoint and champion as a plain run
+ * with threads; a rank killed with SIGKILL in the middle of a generation
+ * ends the run within seconds with every finished generation kept, and
+ * --resume with another number of ranks ends as the uninterrupted run; a
+ * rank started with other settings than rank 0 is named, and a team task
+ * is refused on more than one rank.
+ *
+ * Runs as root too (the OMPI_ALLOW_RUN_AS_ROOT variables) and on a
+ * machine with fewer cores than ranks (--oversubscribe), as
+ * docs/cluster.md says. */
+#define _POSIX_C_SOURCE 200809L
+#include <dirent.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "harness.h"
+#include "support/cli.h"
+
+/* main sets OMPI_ALLOW_RUN_AS_ROOT and its confirmation */
+#define MPIRUN "mpirun --oversubscribe"
+
+/* A copy of the Avoid example with a small NEAT task: `gens`
+ * generations of `pop` candidates, 2 repetitions of `ticks` ticks. */
+static void make_mind_pop(const char *name, int gens, int ticks, int pop)
+{
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/%s && cp -r minds/Avoid %s/%s/ && "
+			    "printf 'TYPE:LEARNSIM\\nBOTMODEL:BotType8\\n"
+			    "MASTERSKILL:Avoid\\nLEARNINGSKILL:Avoid\\n"
+			    "ENV:EXP_Avoid\\nLEARNINGMETHOD:NEAT\\nNUMGEN:%d\\n"
+			    "EVALREP:2\\nTICKLIM:%d\\nNEAT_POPSIZE:%d\\n' "
+			    "> %s/%s/Avoid/Tasks/Small.simbatch",
+			    cli_tmp, name, cli_tmp, name, gens, ticks, pop,
+			    cli_tmp, name),
+		     0);
+}
+
+static void make_mind(const char *name, int gens, int ticks)
+{
+	make_mind_pop(name, gens, ticks, 24);
+}
+
+/* Train `name` with `launch` before evo ("" or an mpirun line) and
+ * `extra` after it; its output in out.txt. */
+static int train(const char *name, const char *launch, const char *extra)
+{
+	return cli_sh("%s %s run %s/%s/Avoid/Tasks/Small.simbatch --seed 11 "
+		      "--run %s/%s/run %s > %s/%s/out.txt 2>&1",
+		      launch, cli_evo, cli_tmp, name, cli_tmp, name, extra,
+		      cli_tmp, name);
+}
+
+static char *log_of(const char *name)
+{
+	char run[256];
+	snprintf(run, sizeof run, "%s/%s/run", cli_tmp, name);
+	return cli_fitness_log(run);
+}
+
+static char *champion_of(const char *name)
+{
+	return cli_read("%s/%s/Avoid/Skills/Avoid/Avoid.net", cli_tmp, name);
+}
+
+/* name's log, checkpoint and champion are reference's. */
+static void same_run(const char *name, const char *reference)
+{
+	char *a = log_of(reference), *b = log_of(name);
+	CHECK(a && b);
+	if (a && b)
+		CHECK_EQ_STR(b, a);
+	char *ka = cli_read("%s/%s/run/checkpoint.lua", cli_tmp, reference);
+	char *kb = cli_read("%s/%s/run/checkpoint.lua", cli_tmp, name);
+	CHECK(ka && kb);
+	if (ka && kb)
+		CHECK(strcmp(ka, kb) == 0);
+	char *ca = champion_of(reference), *cb = champion_of(name);
+	CHECK(ca && cb);
+	if (ca && cb)
+		CHECK_EQ_STR(cb, ca);
+	free(a);
+	free(b);
+	free(ka);
+	free(kb);
+	free(ca);
+	free(cb);
+}
+
+TEST(any_number_of_ranks_and_threads_gives_the_plain_runs_result)
+{
+	make_mind_pop("plain", 3, 60, 16);
+	CHECK_EQ_INT(train("plain", "", "--threads 2"), 0);
+	/* worked out apart from the cluster: three generations of 24
+	 * evaluations, and a champion that NEAT trained */
+	char *ref = log_of("plain");
+	CHECK(ref && cli_count_lines(ref, "2,") == 1 &&
+	      cli_count_lines(ref, "3,") == 0);
+	CHECK(ref && strstr(ref, ",1,16,0"));
+	char *champ = champion_of("plain");
+	CHECK_CONTAINS(champ, "trained by evo: NEAT, seed 11");
+	free(ref);
+	free(champ);
+	for (int np = 1; np <= 3; np++)
+		for (int th = 1; th <= 2; th++) {
+			char name[32], launch[160], extra[32], want[64];
+			snprintf(name, sizeof name, "np%d-t%d", np, th);
+			snprintf(launch, sizeof launch, MPIRUN " -np %d", np);
+			snprintf(extra, sizeof extra, "--threads %d", th);
+			make_mind_pop(name, 3, 60, 16);
+			CHECK_EQ_INT(train(name, launch, extra), 0);
+			same_run(name, "plain");
+			/* more than one rank says how many work */
+			char *out = cli_read("%s/%s/out.txt", cli_tmp, name);
+			snprintf(want, sizeof want,
+				 "cluster: %d ranks, %d threads in all", np,
+				 np * th);
+			if (np > 1)
+				CHECK_CONTAINS(out, want);
+			else
+				CHECK(out && !strstr(out, "cluster:"));
+			free(out);
+		}
+}
+
+/* The pid of rank `rank` among the children of mpirun `parent`, from its
+ * environment (OMPI_COMM_WORLD_RANK); -1 when there is none. */
+static pid_t rank_pid(pid_t parent, int rank)
+{
+	char want[48];
+	snprintf(want, sizeof want, "OMPI_COMM_WORLD_RANK=%d", rank);
+	DIR *d = opendir("/proc");
+	pid_t found = -1;
+	struct dirent *e;
+	while (d && found < 0 && (e = readdir(d))) {
+		pid_t pid = (pid_t)atoi(e->d_name);
+		if (pid <= 0)
+			continue;
+		char path[64], buf[8192];
+		snprintf(path, sizeof path, "/proc/%d/stat", (int)pid);
+		FILE *f = fopen(path, "r");
+		if (!f)
+			continue;
+		int ppid = -1;
+		size_t n = fread(buf, 1, sizeof buf - 1, f);
+		fclose(f);
+		buf[n] = 0;
+		const char *close_paren = strrchr(buf, ')');
+		if (!close_paren ||
+		    sscanf(close_paren + 1, " %*c %d", &ppid) != 1 ||
+		    ppid != parent)
+			continue;
+		snprintf(path, sizeof path, "/proc/%d/environ", (int)pid);
+		f = fopen(path, "r");
+		if (!f)
+			continue;
+		n = fread(buf, 1, sizeof buf - 1, f);
+		fclose(f);
+		for (size_t i = 0; i < n; i += strlen(buf + i) + 1)
+			if (strcmp(buf + i, want) == 0)
+				found = pid;
+	}
+	if (d)
+		closedir(d);
+	return found;
+}
+
+static int rows(const char *name)
+{
+	char *t = cli_read("%s/%s/run/log.csv", cli_tmp, name);
+	int n = -1;
+	for (const char *p = t; p && *p; p++)
+		n += *p == '\n';
+	free(t);
+	return n;
+}
+
+static double mono(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+TEST(a_killed_rank_stops_the_run_and_resume_with_other_ranks_finishes_it)
+{
+	/* 1,000 ticks a repetition: a generation lasts long enough that
+	 * the kill lands inside one */
+	make_mind("ref", 5, 1000);
+	CHECK_EQ_INT(train("ref", "", "--threads 2"), 0);
+	make_mind("k", 5, 1000);
+	char cmd[1024];
+	snprintf(cmd, sizeof cmd,
+		 "exec " MPIRUN " -np 3 %s run %s/k/Avoid/Tasks/Small.simbatch "
+		 "--seed 11 --threads 1 --run %s/k/run > %s/k/out1.txt 2>&1",
+		 cli_evo, cli_tmp, cli_tmp, cli_tmp);
+	pid_t pid = fork();
+	if (pid == 0) {
+		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
+		_exit(127);
+	}
+	struct timespec ms = {0, 2000000};
+	for (int i = 0; i < 30000 && rows("k") < 3; i++)
+		nanosleep(&ms, NULL);
+	CHECK(rows("k") >= 3);
+	pid_t victim = rank_pid(pid, 1);
+	CHECK(victim > 0);
+	double t0 = mono();
+	if (victim > 0)
+		kill(victim, SIGKILL);
+	int st = 0, ended = 0;
+	/* within seconds: give it ten before calling it a hang */
+	while (mono() - t0 < 10 && !(ended = waitpid(pid, &st, WNOHANG) > 0))
+		nanosleep(&ms, NULL);
+	if (!ended) {
+		kill(pid, SIGKILL);
+		waitpid(pid, &st, 0);
+	}
+	double took = mono() - t0;
+	CHECK(ended);
+	CHECK(took < 5);
+	CHECK(!(WIFEXITED(st) && WEXITSTATUS(st) == 0));
+	int kept = rows("k");
+	CHECK(kept >= 2 && kept < 5); /* it really was stopped */
+	/* rank 0 stopped as on SIGTERM: every finished generation is on
+	 * disk, and it says how to go on */
+	char *said = cli_read("%s/k/out1.txt", cli_tmp);
+	CHECK(said &&
+	      strstr(said, " holds every finished generation; evo run "));
+	free(said);
+	/* the checkpoint is the last logged generation's: resumed with two
+	 * ranks, the run ends as the uninterrupted one */
+	CHECK_EQ_INT(train("k", MPIRUN " -np 2", "--threads 1 --resume"), 0);
+	char *out = cli_read("%s/k/out.txt", cli_tmp);
+	CHECK(out && strstr(out, "resuming after generation"));
+	free(out);
+	same_run("k", "ref");
+}
+
+/* A rank that runs the task with other settings than rank 0 (here its
+ * own --ticks, through mpirun's one-program-per-rank syntax) stops the
+ * run at its first batch with a message that names it, and no rank
+ * hangs. */
+TEST(a_rank_with_other_settings_is_named)
+{
+	make_mind_pop("bad", 2, 60, 16);
+	CHECK_EQ_INT(cli_sh(MPIRUN " -np 1 %s run %s/bad/Avoid/Tasks/"
+				   "Small.simbatch --seed 11 --threads 1 --run "
+				   "%s/bad/run : -np 1 %s run %s/bad/Avoid/"
+				   "Tasks/Small.simbatch --seed 11 --threads 1 "
+				   "--ticks 99 > %s/bad/out.txt 2>&1",
+			    cli_evo, cli_tmp, cli_tmp, cli_evo, cli_tmp,
+			    cli_tmp),
+		     1);
+	char *out = cli_read("%s/bad/out.txt", cli_tmp);
+	CHECK_CONTAINS(out, "rank 1 (on ");
+	CHECK_CONTAINS(out, "2 repetitions of 99 ticks");
+	CHECK_CONTAINS(out, "start every rank with the same command and files");
+	free(out);
+}
+
+/* Only LEARNSIM spreads over ranks: a team task under mpirun with two
+ * ranks is refused with the reason, before anything is written. */
+TEST(a_team_task_is_refused_on_two_ranks)
+{
+	char out[4096];
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 MPIRUN
+				 " -np 2 %s run "
+				 "minds/Forager/Tasks/Forage-NEAT.simbatch "
+				 "--run %s/team --threads 1 2>&1",
+				 cli_evo, cli_tmp) != 0,
+		     1);
+	CHECK_CONTAINS(out, "a LEARN2DSIMMULTI task runs in one process; "
+			    "mpirun with more than one rank spreads LEARNSIM "
+			    "tasks");
+	char *log = cli_read("%s/team/log.csv", cli_tmp);
+	CHECK(log == NULL);
+	free(log);
+}
+
+int main(void)
+{
+	if (cli_setup("cluster"))
+		return 1;
+	setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+	setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+	RUN(any_number_of_ranks_and_threads_gives_the_plain_runs_result);
+	RUN(a_killed_rank_stops_the_run_and_resume_with_other_ranks_finishes_it);
+	RUN(a_rank_with_other_settings_is_named);
+	RUN(a_team_task_is_refused_on_two_ranks);
+	cli_cleanup();
+	return test_summary();
+}
