@@ -128,6 +128,53 @@ TEST(any_number_of_ranks_and_threads_gives_the_plain_runs_result)
 		}
 }
 
+/* A LEARN3DSIM task spreads as a LEARNSIM task does: the blimp's
+ * go-to-target, two generations of 20, on two ranks of one thread, ends
+ * with the plain run's log and champion. */
+TEST(a_3d_task_spreads_over_ranks_as_a_2d_one)
+{
+	const char *task = "Blimp3D/Tasks/GoToTarget-NEAT.simbatch";
+	int rc = 0;
+	for (int k = 0; k < 2; k++) {
+		const char *name = k ? "blimp-np2" : "blimp-plain";
+		rc |= cli_sh("mkdir -p %s/%s && cp -r minds/Blimp3D %s/%s/ && "
+			     "sed -i -e 's/^NUMGEN:.*/NUMGEN:2/' -e "
+			     "'s/^EVALREP:.*/EVALREP:1/' -e "
+			     "'s/^TICKLIM:.*/TICKLIM:150/' %s/%s/%s && echo "
+			     "POPSIZE:20 >> %s/%s/%s",
+			     cli_tmp, name, cli_tmp, name, cli_tmp, name, task,
+			     cli_tmp, name, task);
+		rc |= cli_sh("%s %s run %s/%s/%s --seed 4 %s --run %s/%s/run "
+			     "> %s/%s/out.txt 2>&1",
+			     k ? MPIRUN " -np 2" : "", cli_evo, cli_tmp, name,
+			     task, k ? "--threads 1" : "--threads 2", cli_tmp,
+			     name, cli_tmp, name);
+	}
+	CHECK_EQ_INT(rc, 0);
+	char run[256];
+	snprintf(run, sizeof run, "%s/blimp-plain/run", cli_tmp);
+	char *a = cli_fitness_log(run);
+	snprintf(run, sizeof run, "%s/blimp-np2/run", cli_tmp);
+	char *b = cli_fitness_log(run);
+	/* two generations of 20 evaluations, and the same two */
+	CHECK(a && cli_count_lines(a, "1,") == 1 && strstr(a, ",20,"));
+	CHECK(a && b);
+	if (a && b)
+		CHECK_EQ_STR(b, a);
+	char *out = cli_read("%s/blimp-np2/out.txt", cli_tmp);
+	CHECK_CONTAINS(out, "cluster: 2 ranks, 2 threads in all");
+	char *ca = cli_read("%s/blimp-plain/run/champion.net", cli_tmp);
+	char *cb = cli_read("%s/blimp-np2/run/champion.net", cli_tmp);
+	CHECK(ca && cb);
+	if (ca && cb)
+		CHECK_EQ_STR(cb, ca);
+	free(a);
+	free(b);
+	free(out);
+	free(ca);
+	free(cb);
+}
+
 /* The pid of rank `rank` among the children of mpirun `parent`, from its
  * environment (OMPI_COMM_WORLD_RANK); -1 when there is none. */
 static pid_t rank_pid(pid_t parent, int rank)
@@ -278,7 +325,7 @@ TEST(a_team_task_is_refused_on_two_ranks)
 		     1);
 	CHECK_CONTAINS(out, "a LEARN2DSIMMULTI task runs in one process; "
 			    "mpirun with more than one rank spreads LEARNSIM "
-			    "tasks");
+			    "and LEARN3DSIM tasks");
 	char *log = cli_read("%s/team/log.csv", cli_tmp);
 	CHECK(log == NULL);
 	free(log);
@@ -291,6 +338,7 @@ int main(void)
 	setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
 	RUN(any_number_of_ranks_and_threads_gives_the_plain_runs_result);
+	RUN(a_3d_task_spreads_over_ranks_as_a_2d_one);
 	RUN(a_killed_rank_stops_the_run_and_resume_with_other_ranks_finishes_it);
 	RUN(a_rank_with_other_settings_is_named);
 	RUN(a_team_task_is_refused_on_two_ranks);
