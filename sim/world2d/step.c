@@ -62,6 +62,10 @@ void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
 		e->held_by = -1;
 		if (e->kind == EVO_ELEM_OBJECT) {
 			e->active = 1;
+			/* its starting angle, not the one the last episode
+			 * left: a circle's turn changes Box2D's rounding, and
+			 * an episode would depend on the one before it */
+			e->angle = e->def.angle;
 			evo_body_set_enabled(sc->world, e->body, 1);
 			evo_scene_place_element(sc, i, e->def.x, e->def.y);
 		} else {
