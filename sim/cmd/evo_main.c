@@ -172,7 +172,7 @@ static int check_task(const char *path, evo_task *task, evo_err *err)
 		return evo_fail(
 		    err,
 		    "%s: evo run does not run %s tasks yet (it runs "
-		    "DEMOSIM, LEARNSIM, DEMO2DSIMMULTI, "
+		    "DEMOSIM, LEARNSIM, LEARNSIMCONTINUOUS, DEMO2DSIMMULTI, "
 		    "LEARN2DSIMMULTI, DEMOREMOTESIM, "
 		    "LEARNREMOTESIM and DEMOREMOTE)",
 		    path, task->type);

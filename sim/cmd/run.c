@@ -210,6 +210,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
 int evo_run_supports(const char *type)
 {
 	return strcmp(type, "DEMOSIM") == 0 || strcmp(type, "LEARNSIM") == 0 ||
+	       strcmp(type, "LEARNSIMCONTINUOUS") == 0 ||
 	       strcmp(type, "DEMO2DSIMMULTI") == 0 ||
 	       strcmp(type, "LEARN2DSIMMULTI") == 0 ||
 	       strcmp(type, "DEMOREMOTESIM") == 0 ||
@@ -961,6 +962,7 @@ int evo_run_main(int argc, char **argv)
 		return 2;
 	}
 	if (strcmp(task.type, "LEARNSIM") == 0 ||
+	    strcmp(task.type, "LEARNSIMCONTINUOUS") == 0 ||
 	    strcmp(task.type, "LEARN2DSIMMULTI") == 0 ||
 	    strcmp(task.type, "LEARNREMOTESIM") == 0) {
 		/* --threads, else the task's THREADS, else one per core */
@@ -996,11 +998,13 @@ int evo_run_main(int argc, char **argv)
 		return 1;
 	}
 	if (!evo_run_supports(task.type)) {
-		fprintf(stderr,
-			"%s: evo run does not run %s tasks yet (it runs "
-			"DEMOSIM, LEARNSIM, DEMO2DSIMMULTI, LEARN2DSIMMULTI, "
-			"DEMOREMOTESIM, LEARNREMOTESIM and DEMOREMOTE)\n",
-			o.task, task.type);
+		fprintf(
+		    stderr,
+		    "%s: evo run does not run %s tasks yet (it runs "
+		    "DEMOSIM, LEARNSIM, LEARNSIMCONTINUOUS, DEMO2DSIMMULTI, "
+		    "LEARN2DSIMMULTI, DEMOREMOTESIM, LEARNREMOTESIM and "
+		    "DEMOREMOTE)\n",
+		    o.task, task.type);
 		evo_task_free(&task);
 		return 1;
 	}
