@@ -77,8 +77,10 @@ static void run_usage(FILE *f)
 	      "                     (socketcan:IFACE, slcan:DEVICE,\n"
 	      "                     cannelloni:HOST:PORT, ...; docs/can.md)\n"
 	      "                     instead of the task's CANURL or LCM\n"
-	      "LEARNSIM (--ticks N bounds each evaluation's episodes too):\n"
+	      "LEARNSIM, LEARNSIMCONTINUOUS (--ticks N bounds each\n"
+	      "  evaluation's episodes too):\n"
 	      "  --generations N    train N generations instead of NUMGEN\n"
+	      "                     (LEARNSIMCONTINUOUS: in each turn)\n"
 	      "  --threads N        worker threads (default: one per core)\n"
 	      "  --run DIR          run folder (default MIND/Runs/TASK-seedN)\n"
 	      "  --resume           go on from the run folder's checkpoint\n",
