@@ -68,6 +68,9 @@ void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
 			e->angle = e->def.angle;
 			evo_body_set_enabled(sc->world, e->body, 1);
 			evo_scene_place_element(sc, i, e->def.x, e->def.y);
+			/* awake, as a new body, not asleep as the last
+			 * episode may have left it */
+			evo_body_wake(sc->world, e->body);
 		} else {
 			e->active = 1;
 			e->x = e->def.x;
