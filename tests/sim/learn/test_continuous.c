@@ -37,7 +37,7 @@ static void make_mind(const char *name, const char *extra)
 
 static int train(const char *name, const char *extra)
 {
-	return cli_sh("%s run %s/%s/Collect/Tasks/Small.simbatch --seed 5 "
+	return cli_sh("%s run %s/%s/Collect/Tasks/Small.simbatch --seed 7 "
 		      "--run %s/%s/run %s > %s/%s/out.txt 2>&1",
 		      cli_evo, cli_tmp, name, cli_tmp, name, extra, cli_tmp,
 		      name);
@@ -129,7 +129,7 @@ TEST(two_rounds_replace_only_improving_skills)
 			char mark[128];
 			snprintf(mark, sizeof mark,
 				 "# trained by evo: LEARNSIMCONTINUOUS NEAT, "
-				 "seed 5, round %d,",
+				 "seed 7, round %d,",
 				 last_replaced[k]);
 			CHECK(net && strncmp(net, mark, strlen(mark)) == 0);
 		} else {
@@ -163,7 +163,7 @@ TEST(a_killed_and_resumed_run_ends_as_an_uninterrupted_one)
 	char cmd[1024], out[256];
 	snprintf(out, sizeof out, "%s/k/out1.txt", cli_tmp);
 	snprintf(cmd, sizeof cmd,
-		 "exec %s run %s/k/Collect/Tasks/Small.simbatch --seed 5 "
+		 "exec %s run %s/k/Collect/Tasks/Small.simbatch --seed 7 "
 		 "--threads 2 --run %s/k/run > %s 2>&1",
 		 cli_evo, cli_tmp, cli_tmp, out);
 	int st;
