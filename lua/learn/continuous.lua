@@ -43,6 +43,11 @@ if hidden and method == "NEAT" then
 	hidden = nil
 end
 
+if task.LEARNINGSKILL then
+	common.warning(host.task_path, host.task_lines, "LEARNINGSKILL", "LEARNINGSKILL is ignored: "
+		.. "LEARNSIMCONTINUOUS trains every skill of SKILLORDER, or every neural skill bottom-up")
+end
+
 local order = host.order
 local names = {}
 for i, sk in ipairs(order) do names[i] = sk.name end
