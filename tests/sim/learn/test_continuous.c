@@ -6,7 +6,9 @@
  * and the Skills/ folder agree on which were; a run killed with SIGKILL
  * in the middle of a round and resumed with another number of threads
  * ends as the uninterrupted run; SKILLORDER sets the order, and one that
- * names no neural skill is refused at its line. */
+ * names no neural skill is refused at its line. The validation episodes
+ * an evaluator runs give the same figures in a fresh worker as in one
+ * that has run episodes before (tests/data/collect-worker). */
 #define _POSIX_C_SOURCE 200809L
 #include <signal.h>
 #include <stdio.h>
@@ -14,7 +16,9 @@
 #include <string.h>
 #include <sys/wait.h>
 
+#include "base/fileio.h"
 #include "harness.h"
+#include "learn/evaluate.h"
 #include "support/cli.h"
 
 /* A copy of minds/Collect named `name` with a small continuous task:
@@ -236,6 +240,53 @@ TEST(skillorder_sets_the_turns_and_is_checked)
 	CHECK_CONTAINS(out, "SKILLORDER names TurnLeft");
 }
 
+/* The validation episodes (generation 2147483647) of a Collect hierarchy
+ * that used to score otherwise in a fresh worker than later in the same
+ * worker (tests/data/collect-worker/README.md): one worker, the same four
+ * evaluations three times, the same figures each time. */
+TEST(an_evaluation_does_not_depend_on_the_workers_past)
+{
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/w && cp -r minds/Collect %s/w/ && "
+			    "cp tests/data/collect-worker/Collect.net "
+			    "%s/w/Collect/Skills/Collect/",
+			    cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	char task[256], net[256];
+	snprintf(task, sizeof task,
+		 "%s/w/Collect/Tasks/Collect-CONTINUOUS.simbatch", cli_tmp);
+	snprintf(net, sizeof net,
+		 "%s/w/Collect/Skills/GTDZ+Avoid/GTDZ+Avoid.net", cli_tmp);
+	evo_eval_def def = {.task_path = task,
+			    .threads = 1,
+			    .seed = 1,
+			    .learning_skill = "GTDZ+Avoid"};
+	evo_err err = {{0}};
+	evo_evaluator *ev = evo_evaluator_create(&def, &err);
+	CHECK(ev != NULL);
+	static evo_netdesc d;
+	char *text = NULL;
+	size_t len;
+	evo_diag diag;
+	CHECK_EQ_INT(evo_read_file(net, &text, &len, &err), 0);
+	CHECK(text && evo_netdesc_parse(text, len, net, &d, &diag) == EVO_OK);
+	free(text);
+	if (!ev)
+		return;
+	const evo_netdesc *four[4] = {&d, &d, &d, &d};
+	evo_eval_result first[4], again[4];
+	CHECK_EQ_INT(evo_evaluate(ev, four, 4, 2147483647, first, &err), 0);
+	for (int round = 0; round < 2; round++) {
+		CHECK_EQ_INT(evo_evaluate(ev, four, 4, 2147483647, again, &err),
+			     0);
+		for (int k = 0; k < 4; k++)
+			CHECK(again[k].fitness == first[k].fitness);
+	}
+	/* the evaluations differ from one another (their episodes do), so
+	 * equal figures are not a constant */
+	CHECK(first[0].fitness != first[3].fitness);
+	evo_evaluator_destroy(ev);
+}
+
 int main(void)
 {
 	if (cli_setup("continuous"))
@@ -243,6 +294,7 @@ int main(void)
 	RUN(two_rounds_replace_only_improving_skills);
 	RUN(a_killed_and_resumed_run_ends_as_an_uninterrupted_one);
 	RUN(skillorder_sets_the_turns_and_is_checked);
+	RUN(an_evaluation_does_not_depend_on_the_workers_past);
 	cli_cleanup();
 	return test_summary();
 }
