@@ -6,19 +6,35 @@
 #include "evo/formats.h"
 #include "text.h"
 
-const char *const evo_simbatch_keys[] = {"TYPE",	   "BOTMODEL",
-					 "BOTNAME",	   "MASTERSKILL",
-					 "LEARNINGSKILL",  "ENV",
-					 "LEARNINGMETHOD", "ROOTFOLDER",
-					 "NUMGEN",	   "EVALREP",
-					 "TICKLIM",	   "POPSIZE",
-					 "SEED",	   "THREADS",
-					 "HIDDEN",	   "TARGETFITNESS",
-					 "LCMURL",	   "REMOTENAME",
-					 "REMOTETIMEOUT",  "CANURL",
-					 "TEAM",	   "LEARNINGTEAM",
-					 "TEAMGENOME",	   "TEAMFITNESS",
-					 "ALTERNATE",	   NULL};
+const char *const evo_simbatch_keys[] = {"TYPE",
+					 "BOTMODEL",
+					 "BOTNAME",
+					 "MASTERSKILL",
+					 "LEARNINGSKILL",
+					 "ENV",
+					 "LEARNINGMETHOD",
+					 "ROOTFOLDER",
+					 "NUMGEN",
+					 "EVALREP",
+					 "TICKLIM",
+					 "POPSIZE",
+					 "SEED",
+					 "THREADS",
+					 "HIDDEN",
+					 "TARGETFITNESS",
+					 "LCMURL",
+					 "REMOTENAME",
+					 "REMOTETIMEOUT",
+					 "CANURL",
+					 "TEAM",
+					 "LEARNINGTEAM",
+					 "TEAMGENOME",
+					 "TEAMFITNESS",
+					 "ALTERNATE",
+					 "SKILLORDER",
+					 "ROUNDS",
+					 "VALIDATION",
+					 NULL};
 
 /* A team task lists its teams, one TEAM line each (docs/teams.md): the
  * one key that may be given more than once. */
@@ -57,7 +73,8 @@ static int whole_min(const char *key)
 	if (evo_txt_eq(key, "NUMGEN") || evo_txt_eq(key, "EVALREP") ||
 	    evo_txt_eq(key, "TICKLIM") || evo_txt_eq(key, "POPSIZE") ||
 	    evo_txt_eq(key, "THREADS") || evo_txt_eq(key, "HIDDEN") ||
-	    evo_txt_eq(key, "ALTERNATE"))
+	    evo_txt_eq(key, "ALTERNATE") || evo_txt_eq(key, "ROUNDS") ||
+	    evo_txt_eq(key, "VALIDATION"))
 		return 1;
 	if (evo_txt_eq(key, "SEED"))
 		return 0;

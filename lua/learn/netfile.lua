@@ -33,4 +33,42 @@ function netfile.text(net, comment)
 	return table.concat(out, "\n") .. "\n"
 end
 
+-- The network of a .net text (netfile.text's, or one written by hand), for
+-- host.evaluate; `name` names it in errors. The C side checks the network
+-- itself when it is evaluated; this reads the lines.
+function netfile.parse(text, name)
+	local net = { nodes = {}, outputs_ids = {}, links = {} }
+	local n = 0
+	for line in (text .. "\n"):gmatch("(.-)\r?\n") do
+		n = n + 1
+		local f = {}
+		for part in line:gsub("#.*", ""):gmatch("[^:%s]+") do f[#f + 1] = part end
+		local k = f[1]
+		local bad
+		if k == "inputs" or k == "outputs" then
+			net[k] = math.tointeger(tonumber(f[2]))
+			bad = not net[k]
+		elseif k == "node" then
+			local id, bias = math.tointeger(tonumber(f[2])), tonumber(f[4])
+			bad = not (id and f[3] and bias)
+			net.nodes[#net.nodes + 1] = { id = id, act = f[3], bias = bias }
+		elseif k == "output" then
+			local id = math.tointeger(tonumber(f[2]))
+			bad = not id
+			net.outputs_ids[#net.outputs_ids + 1] = id
+		elseif k == "link" then
+			local from, to, w = math.tointeger(tonumber(f[2])), math.tointeger(tonumber(f[3])), tonumber(f[4])
+			bad = not (from and to and w)
+			net.links[#net.links + 1] = { from = from, to = to, weight = w }
+		elseif k then
+			bad = true
+		end
+		if bad then error(string.format("%s:%d: not a line of a .net: '%s'", name, n, line), 0) end
+	end
+	if not net.inputs or not net.outputs then
+		error(name .. ": a .net needs inputs:N and outputs:M", 0)
+	end
+	return net
+end
+
 return netfile

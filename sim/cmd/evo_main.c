@@ -24,7 +24,8 @@ static void usage(FILE *f)
 	      "  evo run TASK.simbatch [--headless|-nog] [--seed N]\n"
 	      "          [--episodes N] [--ticks N] [--trace FILE]\n"
 	      "      run a task: DEMOSIM in the viewer, or headless;\n"
-	      "      LEARNSIM trains (--threads N, --run DIR, --resume);\n"
+	      "      LEARNSIM trains (--threads N, --run DIR, --resume),\n"
+	      "      LEARNSIMCONTINUOUS every skill of the hierarchy in turn;\n"
 	      "      DEMO2DSIMMULTI and LEARN2DSIMMULTI do so with teams\n"
 	      "      (docs/teams.md), DEMO3DSIM and LEARN3DSIM in the 3D\n"
 	      "      world on ODE (docs/world3d.md); under mpirun -np N,\n"
@@ -174,8 +175,9 @@ static int check_task(const char *path, evo_task *task, evo_err *err)
 		return evo_fail(
 		    err,
 		    "%s: evo run does not run %s tasks yet (it runs "
-		    "DEMOSIM, LEARNSIM, DEMO3DSIM, LEARN3DSIM, "
-		    "DEMO2DSIMMULTI, LEARN2DSIMMULTI, DEMOREMOTESIM, "
+		    "DEMOSIM, LEARNSIM, LEARNSIMCONTINUOUS, DEMO3DSIM, "
+		    "LEARN3DSIM, DEMO2DSIMMULTI, LEARN2DSIMMULTI, "
+		    "DEMOREMOTESIM, "
 		    "LEARNREMOTESIM and DEMOREMOTE)",
 		    path, task->type);
 	if (strncmp(task->type, "LEARN", 5) == 0 &&

@@ -79,8 +79,10 @@ static void run_usage(FILE *f)
 	      "                     (socketcan:IFACE, slcan:DEVICE,\n"
 	      "                     cannelloni:HOST:PORT, ...; docs/can.md)\n"
 	      "                     instead of the task's CANURL or LCM\n"
-	      "LEARNSIM (--ticks N bounds each evaluation's episodes too):\n"
+	      "LEARNSIM, LEARN3DSIM, LEARNSIMCONTINUOUS (--ticks N bounds\n"
+	      "  each evaluation's episodes too):\n"
 	      "  --generations N    train N generations instead of NUMGEN\n"
+	      "                     (LEARNSIMCONTINUOUS: in each turn)\n"
 	      "  --threads N        worker threads (default: one per core;\n"
 	      "                     under mpirun, each rank's own)\n"
 	      "  --run DIR          run folder (default MIND/Runs/TASK-seedN)\n"
@@ -217,6 +219,7 @@ int evo_run_supports(const char *type)
 	return strcmp(type, "DEMOSIM") == 0 || strcmp(type, "LEARNSIM") == 0 ||
 	       strcmp(type, "DEMO3DSIM") == 0 ||
 	       strcmp(type, "LEARN3DSIM") == 0 ||
+	       strcmp(type, "LEARNSIMCONTINUOUS") == 0 ||
 	       strcmp(type, "DEMO2DSIMMULTI") == 0 ||
 	       strcmp(type, "LEARN2DSIMMULTI") == 0 ||
 	       strcmp(type, "DEMOREMOTESIM") == 0 ||
@@ -1168,6 +1171,7 @@ int evo_run_main(int argc, char **argv)
 	}
 	if (strcmp(task.type, "LEARNSIM") == 0 ||
 	    strcmp(task.type, "LEARN3DSIM") == 0 ||
+	    strcmp(task.type, "LEARNSIMCONTINUOUS") == 0 ||
 	    strcmp(task.type, "LEARN2DSIMMULTI") == 0 ||
 	    strcmp(task.type, "LEARNREMOTESIM") == 0) {
 		/* --threads, else the task's THREADS, else one per core */
@@ -1210,9 +1214,9 @@ int evo_run_main(int argc, char **argv)
 	if (!evo_run_supports(task.type)) {
 		fprintf(stderr,
 			"%s: evo run does not run %s tasks yet (it runs "
-			"DEMOSIM, LEARNSIM, DEMO3DSIM, LEARN3DSIM, "
-			"DEMO2DSIMMULTI, LEARN2DSIMMULTI, DEMOREMOTESIM, "
-			"LEARNREMOTESIM and DEMOREMOTE)\n",
+			"DEMOSIM, LEARNSIM, LEARNSIMCONTINUOUS, DEMO3DSIM, "
+			"LEARN3DSIM, DEMO2DSIMMULTI, LEARN2DSIMMULTI, "
+			"DEMOREMOTESIM, LEARNREMOTESIM and DEMOREMOTE)\n",
 			o.task, task.type);
 		evo_task_free(&task);
 		return 1;

@@ -50,6 +50,7 @@ typedef struct unit_result {
 
 struct evo_evaluator {
 	char *task_path;
+	const evo_eval_def *def; /* while evo_evaluator_create runs */
 	int threads, reps;
 	long ticks;
 	int n_metrics; /* worker 0's scene holds their names */
@@ -301,11 +302,14 @@ static int load_teams(evo_evaluator *ev, worker *w, evo_err *err)
 /* Load worker k's own copy of the task and build its simulation. */
 static int worker_load(evo_evaluator *ev, worker *w, evo_err *err)
 {
-	if (evo_task_load(ev->task_path, &w->task, err))
+	evo_task_opts to = {.nets = ev->def->nets, .n_nets = ev->def->n_nets};
+	if (evo_task_load_opts(ev->task_path, &to, &w->task, err))
 		return -1;
 	if (w->task.n_teams > 0 && strncmp(w->task.type, "LEARN", 5) == 0)
 		return load_teams(ev, w, err);
-	const char *learn = evo_simbatch_get(w->task.sb, "LEARNINGSKILL");
+	const char *learn = ev->def->learning_skill
+				? ev->def->learning_skill
+				: evo_simbatch_get(w->task.sb, "LEARNINGSKILL");
 	if (strncmp(w->task.type, "LEARN", 5) != 0 || !learn)
 		return evo_fail(err,
 				"%s: not a learning task (TYPE %s): the "
@@ -495,6 +499,7 @@ evo_evaluator *evo_evaluator_create(const evo_eval_def *def, evo_err *err)
 		threads = c < 1 ? 1 : c > MAX_THREADS ? MAX_THREADS : (int)c;
 	}
 	ev->threads = threads;
+	ev->def = def;
 	ev->task_path = strdup(def->task_path);
 	ev->w = calloc((size_t)threads, sizeof *ev->w);
 	pthread_mutex_init(&ev->mu, NULL);
@@ -533,6 +538,7 @@ evo_evaluator *evo_evaluator_create(const evo_eval_def *def, evo_err *err)
 	if (failed)
 		*err = ev->err;
 	pthread_mutex_unlock(&ev->mu);
+	ev->def = NULL;
 	if (failed)
 		goto fail;
 	if (check_metrics(ev, err))

@@ -49,6 +49,7 @@
 
 #include "base/err.h"
 #include "evo/evo.h"
+#include "mind/mindfolder.h"
 #include "world2d/scene.h"
 
 typedef struct evo_evaluator evo_evaluator;
@@ -79,6 +80,13 @@ typedef struct evo_eval_def {
 	long ticks;	       /* ticks per episode at most; 0: TICKLIM,
 				* else 1000 */
 	const evo_eval_spread *spread; /* NULL: none; copied */
+	/* LEARNSIMCONTINUOUS (docs/learning.md): the skill the candidates
+	 * run as, instead of LEARNINGSKILL (NULL: LEARNINGSKILL), and
+	 * networks the other skills run instead of their Skills/ ones (read
+	 * while evo_evaluator_create runs) */
+	const char *learning_skill;
+	const evo_net_choice *nets;
+	unsigned n_nets;
 } evo_eval_def;
 
 /* Load the task once per worker and start the workers. Returns NULL with

@@ -30,6 +30,9 @@
 #include "lua/lua_evo.h"
 #include "mind/net_build.h"
 
+/* The most skills a LEARNSIMCONTINUOUS hierarchy may train. */
+#define CONT_MAX_SKILLS 64
+
 typedef struct learn {
 	const char *task_path;
 	evo_task *task;
@@ -42,6 +45,17 @@ typedef struct learn {
 	double started;
 	int first; /* the generation this process started with */
 	int tty;
+	int n_extra; /* log columns the loop adds after the metrics */
+	char extra[4][EVO_RUNLOG_COLUMN_MAX];
+	/* LEARNSIMCONTINUOUS: the skills in the order of their turns (their
+	 * indices in task->mind), and the evaluator's definition of the
+	 * current turn with the networks the other skills run */
+	int continuous;
+	int n_order;
+	int order[CONT_MAX_SKILLS];
+	evo_net_choice choice[CONT_MAX_SKILLS];
+	char choice_path[CONT_MAX_SKILLS][1200];
+	evo_eval_def ed;
 } learn;
 
 static const char LEARN_KEY = 'l';
@@ -322,10 +336,29 @@ static int l_open_log(lua_State *L)
 	learn *l = ctx(L);
 	evo_err err = {{0}};
 	l->first = (int)luaL_checkinteger(L, 1);
-	const char *names[EVO_SCENE_MAX_METRICS + 2];
+	const char *names[EVO_SCENE_MAX_METRICS + 6];
 	int nm = evo_evaluator_n_metrics(l->ev);
 	for (int k = 0; k < nm; k++)
 		names[k] = evo_evaluator_metric_name(l->ev, k);
+	/* the loop's own columns after the environment's metrics
+	 * (LEARNSIMCONTINUOUS: round and turn) */
+	l->n_extra = 0;
+	if (lua_istable(L, 2)) {
+		lua_Integer n = luaL_len(L, 2);
+		if (n > 4)
+			return luaL_error(L,
+					  "evo.open_log: %I columns of the "
+					  "loop's own (at most 4)",
+					  n);
+		for (int k = 0; k < (int)n; k++) {
+			lua_geti(L, 2, k + 1);
+			snprintf(l->extra[k], sizeof l->extra[k], "%s",
+				 luaL_checkstring(L, -1));
+			lua_pop(L, 1);
+			names[nm++] = l->extra[k];
+		}
+		l->n_extra = (int)n;
+	}
 	/* a team task's two columns after the environment's metrics */
 	if (evo_evaluator_n_teams(l->ev) > 0) {
 		names[nm++] = "team";
@@ -348,8 +381,8 @@ static int l_log(lua_State *L)
 	luaL_checktype(L, 1, LUA_TTABLE);
 	if (!l->log_open)
 		return luaL_error(L, "evo.log before evo.open_log");
-	double metrics[EVO_SCENE_MAX_METRICS + 2];
-	int nm = evo_evaluator_n_metrics(l->ev) +
+	double metrics[EVO_SCENE_MAX_METRICS + 4];
+	int nm = evo_evaluator_n_metrics(l->ev) + l->n_extra +
 		 (evo_evaluator_n_teams(l->ev) > 0 ? 2 : 0);
 	lua_getfield(L, 1, "metrics");
 	if (nm > 0 && (!lua_istable(L, -1) || luaL_len(L, -1) != nm))
@@ -569,6 +602,96 @@ static int l_print(lua_State *L)
 	return 0;
 }
 
+/* ---- LEARNSIMCONTINUOUS (docs/learning.md) ----------------------------- */
+
+/* evo.begin_turn(skill, nets): from now on the candidates run as skill (a
+ * name of evo.order), and every skill named in nets (skill -> a file of
+ * the run folder) runs that network instead of its Skills/ one. The
+ * evaluator is made anew for the turn, with the same threads, seed,
+ * repetitions and ticks. */
+static int l_begin_turn(lua_State *L)
+{
+	learn *l = ctx(L);
+	const char *skill = luaL_checkstring(L, 1);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	int k = evo_mindfolder_skill(l->task->mind, skill);
+	if (k < 0 || !l->task->mind->net[k])
+		return luaL_error(L,
+				  "evo.begin_turn: %s is no neural skill of "
+				  "the hierarchy",
+				  skill);
+	unsigned n = 0;
+	evo_err err = {{0}};
+	for (int i = 0; i < l->n_order; i++) {
+		const char *name = l->task->mind->skill[l->order[i]].name;
+		lua_getfield(L, 2, name);
+		const char *file = lua_tostring(L, -1);
+		if (file) {
+			if (evo_path_fmt(l->choice_path[n],
+					 sizeof l->choice_path[n], &err,
+					 "%s/%s", l->run_dir, file))
+				return raise_msg(L, err.msg);
+			l->choice[n].skill = name;
+			l->choice[n].source = l->choice_path[n];
+			n++;
+		}
+		lua_pop(L, 1);
+	}
+	snprintf(l->skill, sizeof l->skill, "%s", skill);
+	l->ed.learning_skill = l->skill;
+	l->ed.nets = l->choice;
+	l->ed.n_nets = n;
+	evo_evaluator_destroy(l->ev);
+	l->ev = evo_evaluator_create(&l->ed, &err);
+	if (!l->ev)
+		return raise_msg(L, err.msg);
+	lua_pushinteger(L, (lua_Integer)evo_evaluator_n_in(l->ev));
+	lua_pushinteger(L, (lua_Integer)evo_evaluator_n_out(l->ev));
+	return 2;
+}
+
+/* evo.read_skill_net(skill) -> the text of Skills/<skill>/<skill>.net, or
+ * nil when there is none. */
+static int l_read_skill_net(lua_State *L)
+{
+	learn *l = ctx(L);
+	const char *skill = luaL_checkstring(L, 1);
+	char path[1400];
+	evo_err err;
+	if (evo_path_fmt(path, sizeof path, &err, "%s/Skills/%s/%s.net",
+			 l->task->mind->root, skill, skill))
+		return raise_msg(L, err.msg);
+	struct stat st;
+	if (stat(path, &st) != 0) {
+		lua_pushnil(L);
+		return 1;
+	}
+	char *text;
+	size_t len;
+	if (evo_read_file(path, &text, &len, &err))
+		return raise_msg(L, err.msg);
+	lua_pushlstring(L, text, len);
+	free(text);
+	return 1;
+}
+
+/* evo.save_skill_net(skill, text): the skill's network in its folder,
+ * Skills/<skill>/<skill>.net, where DEMOSIM and evo export find it. */
+static int l_save_skill_net(lua_State *L)
+{
+	learn *l = ctx(L);
+	const char *skill = luaL_checkstring(L, 1);
+	size_t len;
+	const char *text = luaL_checklstring(L, 2, &len);
+	char path[1400];
+	evo_err err;
+	if (evo_path_fmt(path, sizeof path, &err, "%s/Skills/%s/%s.net",
+			 l->task->mind->root, skill, skill) ||
+	    evo_write_file_atomic(path, text, len, &err))
+		return raise_msg(L, err.msg);
+	return 0;
+}
+
 static const luaL_Reg learn_fns[] = {
     {"evaluate", l_evaluate},
     {"set_team_net", l_set_team_net},
@@ -579,6 +702,9 @@ static const luaL_Reg learn_fns[] = {
     {"save_champion", l_save_champion},
     {"curve", l_curve},
     {"print", l_print},
+    {"begin_turn", l_begin_turn},
+    {"read_skill_net", l_read_skill_net},
+    {"save_skill_net", l_save_skill_net},
     {NULL, NULL},
 };
 
@@ -685,6 +811,25 @@ static int open_module(lua_State *L)
 	lua_setfield(L, -2, "layers");
 	if (l->task->n_teams > 0)
 		push_teams(L, l);
+	if (l->continuous) {
+		/* evo.order: the skills of the turns, each {name, inputs,
+		 * outputs, layers} */
+		lua_createtable(L, l->n_order, 0);
+		for (int i = 0; i < l->n_order; i++) {
+			const evo_ades *a = &l->task->mind->skill[l->order[i]];
+			lua_createtable(L, 0, 4);
+			lua_pushstring(L, a->name);
+			lua_setfield(L, -2, "name");
+			lua_pushinteger(L, (lua_Integer)a->n_in);
+			lua_setfield(L, -2, "inputs");
+			lua_pushinteger(L, (lua_Integer)a->n_out);
+			lua_setfield(L, -2, "outputs");
+			lua_pushinteger(L, (lua_Integer)a->layers);
+			lua_setfield(L, -2, "layers");
+			lua_rawseti(L, -2, i + 1);
+		}
+		lua_setfield(L, -2, "order");
+	}
 	return 1;
 }
 
@@ -700,12 +845,93 @@ static int run_script(lua_State *L)
 	evo_lua_set_path(L, l->task->mind->root, dir);
 	char path[1200];
 	evo_err err;
-	if (evo_path_fmt(path, sizeof path, &err, "%s/learn/learnsim.lua", dir))
+	if (evo_path_fmt(path, sizeof path, &err, "%s/learn/%s", dir,
+			 l->continuous ? "continuous.lua" : "learnsim.lua"))
 		return raise_msg(L, err.msg);
 	if (luaL_loadfilex(L, path, "t") != LUA_OK)
 		return lua_error(L);
 	lua_call(L, 0, 0);
 	return 0;
+}
+
+/* LEARNSIMCONTINUOUS's turns: the neural skills SKILLORDER names, in its
+ * order (names joined by ','), else every neural skill of the hierarchy
+ * bottom-up, the reverse of the loader's top-down order, so that each
+ * skill is trained after its sub-skills. 0, or -1 with err at SKILLORDER's
+ * line. */
+static int continuous_order(const char *task_path, const evo_task *t,
+			    int *order, int *n, evo_err *err)
+{
+	const evo_mindfolder *m = t->mind;
+	*n = 0;
+	const char *v = evo_simbatch_get(t->sb, "SKILLORDER");
+	if (!v) {
+		for (int k = (int)m->n_skills - 1; k >= 0; k--)
+			if (m->net[k]) {
+				if (*n == CONT_MAX_SKILLS)
+					return evo_fail(err,
+							"%s: more than %d "
+							"neural skills",
+							task_path,
+							CONT_MAX_SKILLS);
+				order[(*n)++] = k;
+			}
+		if (*n == 0)
+			return evo_fail(err,
+					"%s: the hierarchy under %s has no "
+					"neural skill to train",
+					task_path, m->skill[0].name);
+		return 0;
+	}
+	unsigned line = 0;
+	for (unsigned i = 0; i < t->sb->n_pairs; i++)
+		if (strcmp(t->sb->pair[i].key, "SKILLORDER") == 0)
+			line = t->sb->pair[i].line;
+	char names[1024] = "";
+	for (unsigned k = 0; k < m->n_skills; k++)
+		if (m->net[k]) {
+			size_t u = strlen(names);
+			snprintf(names + u, sizeof names - u, "%s%s",
+				 u ? ", " : "", m->skill[k].name);
+		}
+	const char *p = v;
+	for (;;) {
+		size_t len = strcspn(p, ",");
+		int k = -1;
+		for (unsigned j = 0; j < m->n_skills; j++)
+			if (strlen(m->skill[j].name) == len &&
+			    strncmp(m->skill[j].name, p, len) == 0)
+				k = (int)j;
+		if (len == 0)
+			return evo_fail(err,
+					"%s:%u: SKILLORDER: expected skill "
+					"names joined by ',', found '%s'",
+					task_path, line, v);
+		if (k < 0 || !m->net[k])
+			return evo_fail(err,
+					"%s:%u: SKILLORDER names %.*s, which "
+					"is not a neural skill of the "
+					"hierarchy under %s (its neural "
+					"skills: %s)",
+					task_path, line, (int)len, p,
+					m->skill[0].name, names);
+		for (int i = 0; i < *n; i++)
+			if (order[i] == k)
+				return evo_fail(err,
+						"%s:%u: SKILLORDER names %s "
+						"twice",
+						task_path, line,
+						m->skill[k].name);
+		if (*n == CONT_MAX_SKILLS)
+			return evo_fail(err,
+					"%s:%u: SKILLORDER names more "
+					"than %d skills",
+					task_path, line, CONT_MAX_SKILLS);
+		order[(*n)++] = k;
+		if (!p[len])
+			return 0;
+		p += len + 1;
+	}
 }
 
 /* evo check on a LEARNSIM task: the method's options as evo run reads
@@ -736,6 +962,11 @@ static int check_options(lua_State *L)
 
 int evo_learn_check(const char *task_path, evo_task *task, evo_err *err)
 {
+	if (strcmp(task->type, "LEARNSIMCONTINUOUS") == 0) {
+		int order[CONT_MAX_SKILLS], n;
+		if (continuous_order(task_path, task, order, &n, err))
+			return -1;
+	}
 	lua_State *L = luaL_newstate();
 	if (!L)
 		return evo_fail(err, "cannot create a Lua state");
@@ -799,10 +1030,18 @@ int evo_learn_run(const char *task_path, evo_task *task,
 	l.opts = o;
 	l.tty = isatty(fileno(stdout));
 	l.started = now();
-	snprintf(l.skill, sizeof l.skill, "%s",
-		 task->n_teams > 0
-		     ? task->team[task->learning[0]].learning_skill
-		     : evo_simbatch_get(task->sb, "LEARNINGSKILL"));
+	l.continuous = strcmp(task->type, "LEARNSIMCONTINUOUS") == 0;
+	if (l.continuous) {
+		if (continuous_order(task_path, task, l.order, &l.n_order, err))
+			return -1;
+		snprintf(l.skill, sizeof l.skill, "%s",
+			 task->mind->skill[l.order[0]].name);
+	} else {
+		snprintf(l.skill, sizeof l.skill, "%s",
+			 task->n_teams > 0
+			     ? task->team[task->learning[0]].learning_skill
+			     : evo_simbatch_get(task->sb, "LEARNINGSKILL"));
+	}
 	if (o->run_dir) {
 		if (evo_path_fmt(l.run_dir, sizeof l.run_dir, err, "%s",
 				 o->run_dir))
@@ -816,17 +1055,18 @@ int evo_learn_run(const char *task_path, evo_task *task,
 				 base, (unsigned long long)o->seed))
 			return -1;
 	}
-	evo_eval_def ed = {
+	l.ed = (evo_eval_def){
 		.task_path = task_path,
 		.threads = o->threads,
 		.seed = o->seed,
 		.ticks = o->ticks,
 		.spread = o->spread,
+		.learning_skill = l.continuous ? l.skill : NULL,
 	};
 	int lock = evo_runlog_claim(l.run_dir, err);
 	if (lock < 0)
 		return -1;
-	l.ev = evo_evaluator_create(&ed, err);
+	l.ev = evo_evaluator_create(&l.ed, err);
 	if (!l.ev) {
 		close(lock);
 		return -1;
@@ -841,9 +1081,15 @@ int evo_learn_run(const char *task_path, evo_task *task,
 	else
 		snprintf(where, sizeof where, "%d thread%s", threads,
 			 threads == 1 ? "" : "s");
-	printf("%s: %s of skill %s, seed %llu, %s, run folder %s\n", task_path,
-	       evo_simbatch_get(task->sb, "LEARNINGMETHOD"), l.skill,
-	       (unsigned long long)o->seed, where, l.run_dir);
+	if (l.continuous)
+		printf("%s: %s of skills %s and on in turn, seed %llu, %s, run "
+		       "folder %s\n",
+		       task_path, evo_simbatch_get(task->sb, "LEARNINGMETHOD"),
+		       l.skill, (unsigned long long)o->seed, where, l.run_dir);
+	else
+		printf("%s: %s of skill %s, seed %llu, %s, run folder %s\n",
+		       task_path, evo_simbatch_get(task->sb, "LEARNINGMETHOD"),
+		       l.skill, (unsigned long long)o->seed, where, l.run_dir);
 	fflush(stdout);
 	if (!o->resume && evo_runlog_set_aside(l.run_dir, err)) {
 		close(lock);

@@ -16,6 +16,10 @@ static const char *const learn_keys[] = {"MASTERSKILL", "LEARNINGSKILL",
 					 "LEARNINGMETHOD", "BOTMODEL", "ENV",
 					 "NUMGEN", NULL};
 
+/* LEARNSIMCONTINUOUS trains every neural skill in turn: no LEARNINGSKILL. */
+static const char *const continuous_keys[] = {
+    "MASTERSKILL", "LEARNINGMETHOD", "BOTMODEL", "ENV", "NUMGEN", NULL};
+
 /* A remote task's world is the remote's (docs/remote.md): BOTMODEL and
  * ENV are for `evo serve` of it, not for the mind's side. */
 static const char *const remote_demo_keys[] = {"MASTERSKILL", NULL};
@@ -41,6 +45,8 @@ static const char *const *required_keys(const char *type)
 	if (strstr(type, "REMOTE"))
 		return strncmp(type, "LEARN", 5) == 0 ? remote_learn_keys
 						      : remote_demo_keys;
+	if (strcmp(type, "LEARNSIMCONTINUOUS") == 0)
+		return continuous_keys;
 	if (strncmp(type, "LEARN", 5) == 0)
 		return learn_keys;
 	if (strncmp(type, "DEMO", 4) == 0)

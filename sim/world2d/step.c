@@ -42,17 +42,24 @@ static void reset_bot(evo_scene *sc, int i)
 
 void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
 {
-	/* A scene of teams: claws open, then a fresh physics world of the
-	 * same bodies, so that an episode does not depend on the ones before
-	 * it, nor on which of a learning run's workers runs it: Box2D's
-	 * contacts and the order of its lists carry over from one episode
-	 * to the next, and with several bots that meet, they change the
-	 * figures. (A scene of one agent keeps its world, as its golden
-	 * traces were recorded.) */
-	int world_new = sc->n_teams > 0;
+	/* A scene of teams, or with objects: claws open, then a fresh
+	 * physics world of the same bodies, so that an episode does not
+	 * depend on the ones before it, nor on which of a learning run's
+	 * workers runs it: Box2D's contacts, the order of its lists and its
+	 * broad phase's tree carry over from one episode to the next, and
+	 * with several bots that meet, or objects taken off the world and
+	 * put back (a delivery disables a body, a reset enables it), they
+	 * change the figures. (A scene of one agent without objects keeps
+	 * its world, as its golden traces were recorded.) */
+	int world_new = sc->n_teams > 0 || sc->n_objects > 0;
 	if (world_new) {
 		for (int i = 0; i < sc->n_bots; i++)
 			evo_bot_release(sc, i);
+		/* every object on, so that the new world makes every body
+		 * alike, whichever the last episode took off the world */
+		for (int k = 0; k < sc->n_objects; k++)
+			evo_body_set_enabled(sc->world,
+					     sc->element[sc->object[k]].body, 1);
 		evo_world_reset(sc->world);
 	}
 	for (int i = 0; i < sc->n_bots; i++)
@@ -62,8 +69,15 @@ void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
 		e->held_by = -1;
 		if (e->kind == EVO_ELEM_OBJECT) {
 			e->active = 1;
+			/* its starting angle, not the one the last episode
+			 * left: a circle's turn changes Box2D's rounding, and
+			 * an episode would depend on the one before it */
+			e->angle = e->def.angle;
 			evo_body_set_enabled(sc->world, e->body, 1);
 			evo_scene_place_element(sc, i, e->def.x, e->def.y);
+			/* awake, as a new body, not asleep as the last
+			 * episode may have left it */
+			evo_body_wake(sc->world, e->body);
 		} else {
 			e->active = 1;
 			e->x = e->def.x;

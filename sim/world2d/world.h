@@ -138,6 +138,10 @@ void evo_world_clear_obstacles(evo_world *w) EVO_WORLD_NOEXCEPT;
 void evo_body_set_enabled(evo_world *w, evo_body_id id,
 			  int enabled) EVO_WORLD_NOEXCEPT;
 
+/* Wake a body and restart its time at rest, as a new body starts: a body
+ * left asleep by an episode would otherwise start the next one asleep. */
+void evo_body_wake(evo_world *w, evo_body_id id) EVO_WORLD_NOEXCEPT;
+
 /* Weld b to a where they are now (they then stop colliding with each
  * other): the claw's grip. Returns a joint id >= 0, or -1 (not two
  * bodies of w, or out of memory). Removing a

@@ -357,6 +357,13 @@ void evo_body_set_enabled(evo_world *w, evo_body_id id, int enabled) noexcept
 		b->SetEnabled(enabled != 0);
 }
 
+void evo_body_wake(evo_world *w, evo_body_id id) noexcept
+{
+	b2Body *b = lookup(w, id);
+	if (b)
+		b->SetAwake(true);
+}
+
 int evo_world_weld(evo_world *w, evo_body_id a, evo_body_id b) noexcept
 {
 	b2Body *ba = lookup(w, a), *bb = lookup(w, b);

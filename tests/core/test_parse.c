@@ -328,8 +328,9 @@ TEST(simbatch_tables)
 	/* the tutorial's 12, THREADS, HIDDEN, TARGETFITNESS, the four
 	 * remote keys (LCMURL, REMOTENAME, REMOTETIMEOUT, CANURL) and the
 	 * five of teams (TEAM, LEARNINGTEAM, TEAMGENOME, TEAMFITNESS,
-	 * ALTERNATE) */
-	CHECK_EQ_INT(n, 25);
+	 * ALTERNATE) and the three of LEARNSIMCONTINUOUS (SKILLORDER,
+	 * ROUNDS, VALIDATION) */
+	CHECK_EQ_INT(n, 28);
 	CHECK(n <= EVO_MAX_SIMBATCH);
 	n = 0;
 	for (i = 0; evo_task_types[i]; i++)

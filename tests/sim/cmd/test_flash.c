@@ -109,13 +109,13 @@ TEST(the_robot_runs_the_new_mind)
 	    flash_to_robot("minds/Collect", names, out, sizeof out, &switches);
 	CHECK_EQ_INT(rc, 0);
 	CHECK_EQ_INT(switches, 1);
-	CHECK_CONTAINS(out, "evo flash: mind Collect, image 900 bytes in 129 "
+	CHECK_CONTAINS(out, "evo flash: mind Collect, image 1164 bytes in 167 "
 			    "segments, to slcan:");
 	CHECK_CONTAINS(out, "evo flash: the robot runs mind Collect from the "
-			    "tick after 41 (131 frames sent, 0 segments sent "
+			    "tick after 41 (169 frames sent, 0 segments sent "
 			    "again");
 	char *img = cli_read("%s", path);
-	CHECK(img && memcmp(slot, img, 900) == 0);
+	CHECK(img && memcmp(slot, img, 1164) == 0);
 	free(img);
 	/* an image file, as evo export wrote it */
 	char args[400];
@@ -154,7 +154,7 @@ TEST(corrupt_image_file_is_not_sent)
 	char path[300];
 	snprintf(path, sizeof path, "%s/bad.bin", cli_tmp);
 	FILE *w = fopen(path, "wb");
-	CHECK(w && fwrite(img, 1, 900, w) == 900);
+	CHECK(w && fwrite(img, 1, 1164, w) == 1164);
 	if (w)
 		fclose(w);
 	free(img);
