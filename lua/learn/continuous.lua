@@ -136,8 +136,8 @@ while not rounds or state.round <= rounds do
 		pop = algo.new{ inputs = inputs, outputs = outputs, layers = sk.layers, hidden = hidden,
 			options = options, rng = random.new(host.seed * 1000003 + 7919 * turn_no) }
 		state.first = state.generation + 1
-		host.print(string.format("round %d, skill %s (%d of %d): %d generations", state.round,
-			sk.name, t, #order, per_turn))
+		host.print(string.format("round %d, skill %s (%d of %d): %d generation%s", state.round,
+			sk.name, t, #order, per_turn, per_turn == 1 and "" or "s"))
 	end
 	while state.step < per_turn do
 		local gen = state.generation + 1

@@ -1081,12 +1081,30 @@ int evo_learn_run(const char *task_path, evo_task *task,
 	else
 		snprintf(where, sizeof where, "%d thread%s", threads,
 			 threads == 1 ? "" : "s");
-	if (l.continuous)
-		printf("%s: %s of skills %s and on in turn, seed %llu, %s, run "
-		       "folder %s\n",
+	if (l.continuous) {
+		/* what the run does, defaults included: the order of the
+		 * turns, the rounds, the validation evaluations */
+		char order[512];
+		size_t at = 0;
+		for (int i = 0; i < l.n_order && at < sizeof order; i++)
+			at += (size_t)snprintf(
+			    order + at, sizeof order - at, "%s%s",
+			    i == 0		    ? ""
+			    : i == l.n_order - 1 ? " and "
+						 : ", ",
+			    task->mind->skill[l.order[i]].name);
+		const char *rounds = evo_simbatch_get(task->sb, "ROUNDS");
+		const char *val = evo_simbatch_get(task->sb, "VALIDATION");
+		printf("%s: %s of skills %s in turn, %s%s, %s validation "
+		       "evaluations, seed %llu, %s, run folder %s\n",
 		       task_path, evo_simbatch_get(task->sb, "LEARNINGMETHOD"),
-		       l.skill, (unsigned long long)o->seed, where, l.run_dir);
-	else
+		       order, rounds ? rounds : "rounds until stopped",
+		       !rounds ? ""
+		       : strcmp(rounds, "1") == 0 ? " round"
+						  : " rounds",
+		       val ? val : "4", (unsigned long long)o->seed, where,
+		       l.run_dir);
+	} else
 		printf("%s: %s of skill %s, seed %llu, %s, run folder %s\n",
 		       task_path, evo_simbatch_get(task->sb, "LEARNINGMETHOD"),
 		       l.skill, (unsigned long long)o->seed, where, l.run_dir);

@@ -40,6 +40,7 @@
 
 #include "evo/formats.h"
 #include "lua/lua_evo.h"
+#include "mind/mindfolder.h"
 #include "mind/net_build.h"
 #include "mind/task.h"
 #include "remote/link.h"
@@ -579,6 +580,140 @@ static int render_team_default(const char *key, char *out, size_t cap)
 	return 0;
 }
 
+/* What a LEARNSIMCONTINUOUS run (docs/learning.md) does without
+ * SKILLORDER, ROUNDS and VALIDATION, as it says: a copy of minds/Collect
+ * with a task of one generation of 4 networks, run until its first turn
+ * ends and stopped. The header and that turn's line, or -1. */
+static struct {
+	int ran; /* 1 ran, -1 could not */
+	char header[1024], turn[512];
+	evo_mindfolder *mind;
+} cont;
+
+static int continuous_run(void)
+{
+	if (cont.ran)
+		return cont.ran > 0 ? 0 : -1;
+	cont.ran = -1;
+	if (cli_sh("rm -rf %s/cont && mkdir -p %s/cont && cp -r minds/Collect "
+		   "%s/cont/ && printf 'TYPE:LEARNSIMCONTINUOUS\\nBOTMODEL:"
+		   "BotType8\\nBOTNAME:Collect\\nMASTERSKILL:Collect\\nENV:"
+		   "EXP_Collect\\nLEARNINGMETHOD:NEAT\\nNUMGEN:1\\nEVALREP:1\\n"
+		   "TICKLIM:20\\nPOPSIZE:4\\n' > "
+		   "%s/cont/Collect/Tasks/Probe.simbatch",
+		   cli_tmp, cli_tmp, cli_tmp, cli_tmp))
+		return -1;
+	/* without ROUNDS it runs until stopped: stopped after a turn */
+	cli_sh("o=%s/cont/out.txt; %s run %s/cont/Collect/Tasks/Probe.simbatch "
+	       "--seed 1 --threads 1 --run %s/cont/run > $o 2>&1 & p=$!; "
+	       "i=0; while ! grep -q 'validation evaluations: ' $o && "
+	       "[ $i -lt 600 ]; do sleep 0.1; i=$((i+1)); done; kill $p; "
+	       "wait $p 2>/dev/null",
+	       cli_tmp, cli_evo, cli_tmp, cli_tmp);
+	char *out = cli_read("%s/cont/out.txt", cli_tmp);
+	const char *h = out ? strstr(out, " in turn, ") : NULL;
+	const char *v = out ? strstr(out, " validation evaluations: ") : NULL;
+	if (h && v) {
+		while (h > out && h[-1] != '\n')
+			h--;
+		while (v > out && v[-1] != '\n')
+			v--;
+		snprintf(cont.header, sizeof cont.header, "%.*s",
+			 (int)strcspn(h, "\n"), h);
+		snprintf(cont.turn, sizeof cont.turn, "%.*s",
+			 (int)strcspn(v, "\n"), v);
+		evo_mindfolder_opts opts = {0};
+		evo_err err;
+		char path[512];
+		snprintf(path, sizeof path, "%s/cont/Collect", cli_tmp);
+		opts.master = "Collect";
+		cont.mind = evo_mindfolder_load(path, &opts, &err);
+		if (cont.mind)
+			cont.ran = 1;
+	}
+	free(out);
+	return cont.ran > 0 ? 0 : -1;
+}
+
+/* The skills a continuous run names in its header, "of skills A, B and
+ * C in turn", checked against the hierarchy: "every neural skill,
+ * bottom-up" when they are all its neural skills and each comes after
+ * every neural skill it influences; else what they are. */
+static void continuous_order_default(char *out, size_t cap)
+{
+	const evo_mindfolder *m = cont.mind;
+	const char *p = strstr(cont.header, "of skills ");
+	const char *end = strstr(cont.header, " in turn, ");
+	char list[512];
+	snprintf(list, sizeof list, "%.*s",
+		 p && end > p ? (int)(end - p - 10) : 0, p ? p + 10 : "");
+	/* "A, B and C" into names */
+	char names[64][NAME_LEN];
+	int n = 0;
+	for (char *s = list; *s && n < 64;) {
+		size_t len = strcspn(s, ",");
+		char *and = strstr(s, " and ");
+		if (and && (size_t)(and - s) < len)
+			len = (size_t)(and - s);
+		snprintf(names[n++], NAME_LEN, "%.*s", (int)len, s);
+		s += len;
+		s += strspn(s, ", ");
+		if (strncmp(s, "and ", 4) == 0)
+			s += 4;
+	}
+	int ok = n > 0, neural = 0;
+	for (unsigned k = 0; k < m->n_skills; k++) {
+		if (!m->net[k])
+			continue;
+		neural++;
+		int at = -1;
+		for (int i = 0; i < n; i++)
+			if (strcmp(names[i], m->skill[k].name) == 0)
+				at = i;
+		ok &= at >= 0;
+		/* every neural sub-skill it influences comes before it */
+		const evo_ades *a = &m->skill[k];
+		for (unsigned o = 0; o < a->n_out && at >= 0; o++) {
+			if (a->out[o].type != EVO_OUT_SK)
+				continue;
+			for (int i = at; i < n; i++)
+				ok &= strcmp(names[i], a->out[o].name) != 0;
+		}
+	}
+	ok &= n == neural;
+	if (ok)
+		snprintf(out, cap, "every neural skill, bottom-up");
+	else
+		snprintf(out, cap, "%.200s", cont.header);
+}
+
+/* What a LEARNSIMCONTINUOUS task gets without `key`; 0, or -1 when `key`
+ * is not one of its keys or the run could not tell. */
+static int render_continuous_default(const char *key, char *out, size_t cap)
+{
+	if (strcmp(key, "SKILLORDER") && strcmp(key, "ROUNDS") &&
+	    strcmp(key, "VALIDATION"))
+		return -1;
+	if (continuous_run())
+		return -1;
+	if (strcmp(key, "SKILLORDER") == 0)
+		continuous_order_default(out, cap);
+	else if (strcmp(key, "ROUNDS") == 0)
+		snprintf(out, cap, "%.200s",
+			 strstr(cont.header, " rounds until stopped, ")
+			     ? "none"
+			     : cont.header);
+	else {
+		/* "... on N validation evaluations: kept" */
+		const char *on = strstr(cont.turn, " on ");
+		int v = 0;
+		if (!on || sscanf(on, " on %d validation", &v) != 1)
+			return -1;
+		snprintf(out, cap, "%d", v);
+	}
+	return 0;
+}
+
 /* Lua: genetic.width(n_in, n_out) with no HIDDEN, or -1. */
 static int genetic_width(int n_in, int n_out)
 {
@@ -634,7 +769,8 @@ static int render_task_default(const char *key, int in_learning, char *out,
 		snprintf(out, cap, "%s", kept ? "the method's" : "dropped");
 		return 0;
 	}
-	if (render_team_default(key, out, cap) == 0)
+	if (render_team_default(key, out, cap) == 0 ||
+	    render_continuous_default(key, out, cap) == 0)
 		return 0;
 	int demo = task_loads(DEMO_TASK, key, NULL);
 	int learn = task_loads(LEARN_TASK, key, NULL);
@@ -1600,10 +1736,13 @@ static doc_table simbatch_t = {.file = "docs/formats.md",
 static doc_table lua_t = {.file = "docs/lua.md",
 			  .heading = "Options and their defaults"};
 static doc_table teams_t = {.file = "docs/teams.md", .heading = "A team task"};
+static doc_table continuous_t = {
+    .file = "docs/learning.md",
+    .heading = "Training the whole hierarchy (LEARNSIMCONTINUOUS)"};
 
 static doc_table *const checked[] = {&neat_t,	   &genetic_t,	&annealing_t,
 				     &task_keys_t, &simbatch_t, &lua_t,
-				     &teams_t};
+				     &teams_t,	   &continuous_t};
 
 /* Every table header of docs/ with a `default` column is one of
  * `checked`. */
@@ -1688,12 +1827,14 @@ int main(void)
 	check_task_table(&task_keys_t, 1, 0);
 	check_task_table(&simbatch_t, 0, 1);
 	check_task_table(&teams_t, 0, 0);
+	check_task_table(&continuous_t, 0, 0);
 	probe_all_options();
 	build_defaults_scene();
 	check_lua_options(&lua_t);
 	check_world_mentions("docs/world.md");
 
 	probe_close();
+	evo_mindfolder_free(cont.mind);
 	lua_close(learn_L);
 	cli_cleanup();
 	printf("%d passed, %d failed\n", passed, failed);
