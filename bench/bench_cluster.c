@@ -2,14 +2,14 @@
  * each figure beside its baseline in the same run.
  *
  * 1. Efficiency of two ranks against one for evaluations of about 10 ms
- *    (the Avoid example, two episodes of at most TICKS ticks a candidate): the
- *    evaluation seconds of a LEARNSIM run with `mpirun -np 1` (one
- *    thread) over twice those of `mpirun -np 2` (one thread a rank),
- *    each the best (least) of the rounds, each round running both in
- *    turn: on a machine other work shares, that work only adds time. Bar
- *    (issue 21): at least 0.9 on two cores. Beside it, in the same
- *    rounds, the efficiency of one rank of two threads against one
- *    thread: what the machine's cores give without any message.
+ *    (the Avoid example, two episodes of at most TICKS ticks a candidate,
+ *    POP candidates a generation): the evaluation seconds of a LEARNSIM
+ *    run with `mpirun -np 1` (one thread) over twice those of `mpirun -np
+ *    2` (one thread a rank), both runs of a round back to back, the
+ *    median of the rounds' figures. Bar (issue 21): at least 0.9 on two
+ *    cores. Beside it, in the same rounds, the efficiency of one rank of
+ *    two threads against one thread: what the machine's cores give
+ *    without any message.
  * 2. The dispatch rate: evaluations per second at `-np 4` (one thread a
  *    rank) of a batch of XOR networks, which cost a few microseconds
  *    each, so what is measured is the messages; beside it, `-np 1`'s
@@ -30,12 +30,24 @@
 
 #define BAR	 0.9
 #define TICKS	 1500
-#define POP	 40
+#define POP	 120
 #define GENS	 5
 #define XOR_POP	 10000
 #define XOR_GENS 4
 
 static char evo[256], tmp[64];
+
+/* The median of v[0..n), sorted in place. */
+static double median(double *v, int n)
+{
+	for (int i = 1; i < n; i++)
+		for (int j = i; j > 0 && v[j - 1] > v[j]; j--) {
+			double t = v[j];
+			v[j] = v[j - 1];
+			v[j - 1] = t;
+		}
+	return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
+}
 
 static int sh(const char *cmd)
 {
@@ -95,7 +107,7 @@ static int run(const char *mind, const char *task, int np, int threads,
 
 int main(int argc, char **argv)
 {
-	int rounds = 5;
+	int rounds = 7;
 	for (int i = 1; i < argc; i++) {
 		if (strcmp(argv[i], "--rounds") == 0 && i + 1 < argc &&
 		    atoi(argv[i + 1]) >= 1 && atoi(argv[i + 1]) <= 100)
@@ -136,11 +148,15 @@ int main(int argc, char **argv)
 	printf("cluster runs over Open MPI, one thread a rank, %ld cores "
 	       "online\n",
 	       sysconf(_SC_NPROCESSORS_ONLN));
-	/* each configuration's best (least) time over the rounds: other
-	 * work on the machine only ever adds time */
-	double best1 = 1e300, best2 = 1e300, bestt = 1e300, evals = 0;
-	int rc = 0;
-	for (int r = 0; r < rounds && !rc; r++) {
+	/* Each round runs -np 1, -np 2 and one rank of two threads back to
+	 * back, and gives their efficiencies; the figure is the median of
+	 * the rounds'. On a shared virtual machine a rank's speed moves by
+	 * a third from one minute to the next, so a best time of one
+	 * configuration would be paired with a lucky minute of the other;
+	 * runs close in time see the same machine. */
+	double eff[64], efft[64], evals = 0, ms = 0;
+	int rc = 0, done = 0;
+	for (int r = 0; r < rounds && r < 64 && !rc; r++) {
 		double s1, n1, s2, n2, st, nt;
 		if (run("Avoid", "Ten", 1, 1, GENS, &s1, &n1) ||
 		    run("Avoid", "Ten", 2, 1, GENS, &s2, &n2) ||
@@ -148,23 +164,26 @@ int main(int argc, char **argv)
 			rc = 1;
 			break;
 		}
-		best1 = s1 < best1 ? s1 : best1;
-		best2 = s2 < best2 ? s2 : best2;
-		bestt = st < bestt ? st : bestt;
+		eff[done] = s1 / (2 * s2);
+		efft[done] = s1 / (2 * st);
 		evals = n1;
+		ms += 1000 * s1 / n1;
 		printf("  round %d: %.0f evaluations, -np 1 %.3f s, -np 2 "
-		       "%.3f s, one rank of two threads %.3f s\n",
-		       r + 1, n1, s1, s2, st);
+		       "%.3f s (efficiency %.2f), one rank of two threads "
+		       "%.3f s (%.2f)\n",
+		       r + 1, n1, s1, s2, eff[done], st, efft[done]);
+		done++;
 	}
-	if (!rc) {
-		double e = best1 / (2 * best2);
+	if (!rc && done > 0) {
+		double e = median(eff, done);
 		printf("efficiency of -np 2 against -np 1, evaluations of "
-		       "%.1f ms: %.2f (best of %d rounds each; bar %.1f) %s\n"
+		       "%.1f ms, %.0f a round: %.2f (median of %d rounds; bar "
+		       "%.1f) %s\n"
 		       "  beside it, one rank of two threads against one "
 		       "thread: %.2f (what the machine's cores give, no "
 		       "messages)\n",
-		       1000 * best1 / evals, e, rounds, BAR,
-		       e >= BAR ? "ok" : "BELOW BAR", best1 / (2 * bestt));
+		       ms / done, evals, e, done, BAR,
+		       e >= BAR ? "ok" : "BELOW BAR", median(efft, done));
 		if (e < BAR)
 			rc = 1;
 	}

@@ -487,7 +487,7 @@ static int spread_evaluate(void *ctx, evo_evaluator *ev,
 	int own_started = pthread_create(&own, NULL, own_share, &b) == 0;
 	if (!own_started)
 		own_share(&b);
-	long pause = 20000; /* at most 0.2 ms here: a rank may be waiting */
+	long pause = 20000; /* at most 1 ms: every rank holds a chunk ahead */
 	for (;;) {
 		int held = 0;
 		for (int r = 1; r < c->size; r++) {
@@ -510,7 +510,7 @@ static int spread_evaluate(void *ctx, evo_evaluator *ev,
 		}
 		struct timespec ts = {0, pause};
 		nanosleep(&ts, NULL);
-		pause = pause < 200000 ? pause * 2 : 200000;
+		pause = pause < 1000000 ? pause * 2 : 1000000;
 	}
 	if (own_started)
 		pthread_join(own, NULL);
