@@ -999,11 +999,15 @@ static void catch_interrupt(const learn *l, struct sigaction old[2])
 {
 	int n = snprintf(interrupt_msg, sizeof interrupt_msg,
 			 "\ninterrupted: %s holds every finished generation; "
-			 "evo run %s --seed %llu --resume%s%s goes on\n",
-			 l->run_dir, l->task_path,
+			 "%sevo run %s --seed %llu --resume%s%s goes on%s\n",
+			 l->run_dir, l->opts->spread ? "mpirun -np N " : "",
+			 l->task_path,
 			 (unsigned long long)l->opts->seed,
 			 l->opts->run_dir ? " --run " : "",
-			 l->opts->run_dir ? l->opts->run_dir : "");
+			 l->opts->run_dir ? l->opts->run_dir : "",
+			 l->opts->spread ? ", with any number of ranks N, or "
+					   "without mpirun"
+					 : "");
 	interrupt_len = n < 0 ? 0
 		      : (size_t)n < sizeof interrupt_msg ? (size_t)n
 							 : sizeof interrupt_msg - 1;

@@ -277,8 +277,10 @@ TEST(a_killed_rank_stops_the_run_and_resume_with_other_ranks_finishes_it)
 	/* rank 0 stopped as on SIGTERM: every finished generation is on
 	 * disk, and it says how to go on */
 	char *said = cli_read("%s/k/out1.txt", cli_tmp);
-	CHECK(said &&
-	      strstr(said, " holds every finished generation; evo run "));
+	CHECK(said && strstr(said, " holds every finished generation; "
+				   "mpirun -np N evo run "));
+	CHECK(said && strstr(said, " goes on, with any number of ranks N, "
+				   "or without mpirun\n"));
 	free(said);
 	/* the checkpoint is the last logged generation's: resumed with two
 	 * ranks, the run ends as the uninterrupted one */
