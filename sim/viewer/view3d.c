@@ -573,39 +573,11 @@ evo_view_action evo_view3d_poll(evo_view3d *v)
 		}
 		if (ev.type != SDL_KEYDOWN)
 			continue;
-		int rep = ev.key.repeat;
+		evo_view_action a =
+		    evo_view_key(ev.key.keysym.sym, ev.key.repeat);
+		if (a != EVO_VIEW_NONE)
+			return a;
 		switch (ev.key.keysym.sym) {
-		case SDLK_q:
-		case SDLK_ESCAPE:
-			if (!rep)
-				return EVO_VIEW_QUIT;
-			break;
-		case SDLK_SPACE:
-		case SDLK_p:
-			if (!rep)
-				return EVO_VIEW_PAUSE;
-			break;
-		case SDLK_n:
-		case SDLK_RIGHT:
-			return EVO_VIEW_STEP;
-		case SDLK_UP:
-		case SDLK_RIGHTBRACKET:
-			return EVO_VIEW_FASTER;
-		case SDLK_DOWN:
-		case SDLK_LEFTBRACKET:
-			return EVO_VIEW_SLOWER;
-		case SDLK_r:
-			if (!rep)
-				return EVO_VIEW_RESET;
-			break;
-		case SDLK_s:
-			if (!rep)
-				return EVO_VIEW_SCREENSHOT;
-			break;
-		case SDLK_c:
-			if (!rep)
-				return EVO_VIEW_CAMERA;
-			break;
 		case SDLK_PLUS:
 		case SDLK_EQUALS:
 		case SDLK_KP_PLUS:

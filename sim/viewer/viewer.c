@@ -976,43 +976,13 @@ evo_view_action evo_viewer_poll(evo_viewer *v)
 		}
 		if (ev.type != SDL_KEYDOWN)
 			continue;
-		/* A held key repeats what is meant to repeat (stepping,
-		 * speed, zoom), never a toggle, a reset or quitting. */
-		int rep = ev.key.repeat;
+		evo_view_action a =
+		    evo_view_key(ev.key.keysym.sym, ev.key.repeat);
+		if (a != EVO_VIEW_NONE)
+			return a;
 		switch (ev.key.keysym.sym) {
-		case SDLK_q:
-		case SDLK_ESCAPE:
-			if (!rep)
-				return EVO_VIEW_QUIT;
-			break;
-		case SDLK_SPACE:
-		case SDLK_p:
-			if (!rep)
-				return EVO_VIEW_PAUSE;
-			break;
-		case SDLK_n:
-		case SDLK_RIGHT:
-			return EVO_VIEW_STEP;
-		case SDLK_UP:
-		case SDLK_RIGHTBRACKET:
-			return EVO_VIEW_FASTER;
-		case SDLK_DOWN:
-		case SDLK_LEFTBRACKET:
-			return EVO_VIEW_SLOWER;
-		case SDLK_r:
-			if (!rep)
-				return EVO_VIEW_RESET;
-			break;
-		case SDLK_s:
-			if (!rep)
-				return EVO_VIEW_SCREENSHOT;
-			break;
 		case SDLK_TAB:
 			return EVO_VIEW_NEXT_BOT;
-		case SDLK_c:
-			if (!rep)
-				return EVO_VIEW_CAMERA;
-			break;
 		case SDLK_PLUS:
 		case SDLK_EQUALS:
 		case SDLK_KP_PLUS:
@@ -1031,6 +1001,39 @@ evo_view_action evo_viewer_poll(evo_viewer *v)
 		}
 	}
 	return EVO_VIEW_NONE;
+}
+
+evo_view_action evo_view_key(int sym, int repeat)
+{
+	switch (sym) {
+	case SDLK_n:
+	case SDLK_RIGHT:
+		return EVO_VIEW_STEP;
+	case SDLK_UP:
+	case SDLK_RIGHTBRACKET:
+		return EVO_VIEW_FASTER;
+	case SDLK_DOWN:
+	case SDLK_LEFTBRACKET:
+		return EVO_VIEW_SLOWER;
+	}
+	if (repeat)
+		return EVO_VIEW_NONE;
+	switch (sym) {
+	case SDLK_q:
+	case SDLK_ESCAPE:
+		return EVO_VIEW_QUIT;
+	case SDLK_SPACE:
+	case SDLK_p:
+		return EVO_VIEW_PAUSE;
+	case SDLK_r:
+		return EVO_VIEW_RESET;
+	case SDLK_s:
+		return EVO_VIEW_SCREENSHOT;
+	case SDLK_c:
+		return EVO_VIEW_CAMERA;
+	default:
+		return EVO_VIEW_NONE;
+	}
 }
 
 int evo_viewer_screenshot(evo_viewer *v, const char *png_path, evo_err *err)

@@ -231,6 +231,13 @@ void evo_viewer_draw_remote(evo_viewer *v, const evo_view_remote *p);
  * round comes out in the next frame's round, never lost. */
 evo_view_action evo_viewer_poll(evo_viewer *v);
 
+/* The action of a key the 2D and 3D views share (quit, pause, step,
+ * speed, reset, screenshot, camera), given SDL's key code and whether it
+ * is a repeat of a held key; EVO_VIEW_NONE for any other key. A held key
+ * repeats what is meant to repeat (stepping, speed), never a toggle, a
+ * reset or quitting. */
+evo_view_action evo_view_key(int sym, int repeat);
+
 /* The camera of the last frame drawn (to find a world point on it). */
 evo_view_camera evo_viewer_camera(const evo_viewer *v);
 
