@@ -865,6 +865,27 @@ static int run_robot(const evo_task *task, const run_opts *o, uint64_t seed,
 	return rc;
 }
 
+/* The playback actions both views share: pause, one step, faster,
+ * slower (1/16 to 64 times real time), the episode again (*t = -1).
+ * 1 when a was one of them. */
+static int playback(evo_view_action a, int *paused, int *steps,
+		    double *speed, long *t)
+{
+	if (a == EVO_VIEW_PAUSE)
+		*paused = !*paused;
+	else if (a == EVO_VIEW_STEP)
+		*steps = 1, *paused = 1;
+	else if (a == EVO_VIEW_FASTER)
+		*speed = *speed < 64 ? *speed * 2 : *speed;
+	else if (a == EVO_VIEW_SLOWER)
+		*speed = *speed > 1.0 / 16 ? *speed / 2 : *speed;
+	else if (a == EVO_VIEW_RESET)
+		*t = -1;
+	else
+		return 0;
+	return 1;
+}
+
 /* DEMOSIM in a window: real time (30 ticks a second) times the speed,
  * with pause, single step, speed and reset keys. */
 static int run_viewer(evo_sim *s, evo_viewer *v, const run_opts *o,
@@ -885,17 +906,9 @@ static int run_viewer(evo_sim *s, evo_viewer *v, const run_opts *o,
 		while ((a = evo_viewer_poll(v)) != EVO_VIEW_NONE) {
 			if (a == EVO_VIEW_QUIT)
 				return 0;
-			if (a == EVO_VIEW_PAUSE)
-				paused = !paused;
-			else if (a == EVO_VIEW_STEP)
-				steps = 1, paused = 1;
-			else if (a == EVO_VIEW_FASTER && speed < 64)
-				speed *= 2;
-			else if (a == EVO_VIEW_SLOWER && speed > 1.0 / 16)
-				speed /= 2;
-			else if (a == EVO_VIEW_RESET)
-				t = -1;
-			else if (a == EVO_VIEW_SELECT) {
+			if (playback(a, &paused, &steps, &speed, &t))
+				continue;
+			if (a == EVO_VIEW_SELECT) {
 				double x, y;
 				evo_viewer_clicked(v, &x, &y);
 				vs.selected = evo_view_bot_at(s->scene, x, y);
@@ -1026,17 +1039,9 @@ static int run_viewer3d(evo_sim *s, evo_view3d *v, const run_opts *o,
 		while ((a = evo_view3d_poll(v)) != EVO_VIEW_NONE) {
 			if (a == EVO_VIEW_QUIT)
 				return 0;
-			if (a == EVO_VIEW_PAUSE)
-				paused = !paused;
-			else if (a == EVO_VIEW_STEP)
-				steps = 1, paused = 1;
-			else if (a == EVO_VIEW_FASTER && speed < 64)
-				speed *= 2;
-			else if (a == EVO_VIEW_SLOWER && speed > 1.0 / 16)
-				speed /= 2;
-			else if (a == EVO_VIEW_RESET)
-				t = -1;
-			else if (a == EVO_VIEW_CAMERA)
+			if (playback(a, &paused, &steps, &speed, &t))
+				continue;
+			if (a == EVO_VIEW_CAMERA)
 				follow = !follow;
 			else if (a == EVO_VIEW_FREE)
 				follow = 0;
