@@ -317,13 +317,14 @@ TEST(simbatch_team_lines_repeat)
 	static const char zero[] = "ALTERNATE:0\n";
 	CHECK(evo_simbatch_parse(zero, sizeof zero - 1, "t", &sb, &err) ==
 	      EVO_ERR_SYNTAX);
-	CHECK_CONTAINS(err.msg, "for ALTERNATE, found '0'");
+	CHECK_CONTAINS(err.msg, "ALTERNATE: expected a whole number from 1 to "
+				"1000000, found '0'");
 }
 
 TEST(simbatch_tables)
 {
 	size_t i, n = 0;
-	for (i = 0; evo_simbatch_keys[i]; i++)
+	for (i = 0; evo_simbatch_key_defs[i].name; i++)
 		n++;
 	/* the tutorial's 12, THREADS, HIDDEN, TARGETFITNESS, the four
 	 * remote keys (LCMURL, REMOTENAME, REMOTETIMEOUT, CANURL) and the
