@@ -264,6 +264,12 @@ static int value_ok(const evo_simbatch_key_def *d, evo_txt_slice v)
 	return 1;
 }
 
+int evo_simbatch_key_ok(const evo_simbatch_key_def *d, const char *value)
+{
+	evo_txt_slice v = {value, evo_txt_len(value)};
+	return value_ok(d, v);
+}
+
 /* "FILE:LINE: KEY: expected RANGE, found 'VALUE'", and for a word the
  * closest one. A method's key (no definition) is the method's to check. */
 static evo_status check_value(const evo_simbatch_key_def *d, evo_txt_slice v,

@@ -205,6 +205,10 @@ extern const evo_simbatch_key_def evo_simbatch_key_defs[];
 /* The definition of key (upper case), or NULL when evo does not know it. */
 const evo_simbatch_key_def *evo_simbatch_key_find(const char *key);
 
+/* 1 when value (NUL-terminated) is one d takes, else 0: the check
+ * evo_simbatch_parse makes of every value of a known key. */
+int evo_simbatch_key_ok(const evo_simbatch_key_def *d, const char *value);
+
 /* The values d takes, in words ("a whole number from 1 to 1024"), into
  * buf (cap bytes, NUL-terminated, cut when too small); returns its
  * length. The messages of evo_simbatch_parse and docs/formats.md say it
