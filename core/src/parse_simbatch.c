@@ -16,9 +16,9 @@ static const char *const genomes[] = {"HOMOGENEOUS", "HETEROGENEOUS", NULL};
 static const char *const fitnesses[] = {"TEAM", "OWN", NULL};
 
 #define MILLION 1000000
-#define TEXT(k)	{k, EVO_KEY_TEXT, 0, 0, 0, 0, NULL}
-#define WHOLE(k, lo, hi) {k, EVO_KEY_WHOLE, lo, hi, 0, 0, NULL}
-#define WORD(k, w) {k, EVO_KEY_WORD, 0, 0, 0, 0, w}
+#define TEXT(k)	{k, EVO_KEY_TEXT, 0, 0, 0, 0, NULL, 0}
+#define WHOLE(k, lo, hi) {k, EVO_KEY_WHOLE, lo, hi, 0, 0, NULL, 0}
+#define WORD(k, w) {k, EVO_KEY_WORD, 0, 0, 0, 0, w, 0}
 
 /* Every key evo knows, and the values it takes. The ranges are wide enough
  * that no real task meets them, and narrow enough that no value reaches an
@@ -46,12 +46,12 @@ const evo_simbatch_key_def evo_simbatch_key_defs[] = {
     WHOLE("HIDDEN", 1, EVO_NET_MAX_FANIN),
     /* fitness is a sum of rewards: a million million is out of reach */
     {"TARGETFITNESS", EVO_KEY_DECIMAL, -(int64_t)MILLION * MILLION * MILLION,
-     (int64_t)MILLION * MILLION * MILLION, 0, 0, NULL},
+     (int64_t)MILLION * MILLION * MILLION, 0, 0, NULL, 0},
     TEXT("LCMURL"),
-    {"REMOTENAME", EVO_KEY_NAME, 1, EVO_KEY_NAME_MAX, 0, 0, NULL},
+    {"REMOTENAME", EVO_KEY_NAME, 1, EVO_KEY_NAME_MAX, 0, 0, NULL, 0},
     /* seconds, more than 0 and at most an hour */
     {"REMOTETIMEOUT", EVO_KEY_DECIMAL, 0, (int64_t)3600 * MILLION, 1, 0,
-     NULL},
+     NULL, 0},
     TEXT("CANURL"),
     TEXT("TEAM"),
     TEXT("LEARNINGTEAM"),
@@ -61,7 +61,7 @@ const evo_simbatch_key_def evo_simbatch_key_defs[] = {
     TEXT("SKILLORDER"),
     WHOLE("ROUNDS", 1, MILLION),
     WHOLE("VALIDATION", 1, 1000),
-    {NULL, EVO_KEY_TEXT, 0, 0, 0, 0, NULL},
+    {NULL, EVO_KEY_TEXT, 0, 0, 0, 0, NULL, 0},
 };
 
 const evo_simbatch_key_def *evo_simbatch_key_find(const char *key)
@@ -280,6 +280,12 @@ static evo_status check_value(const evo_simbatch_key_def *d, evo_txt_slice v,
 	if (!d || value_ok(d, v))
 		return EVO_OK;
 	evo_simbatch_key_range(d, range, sizeof range);
+	if (d->secret) {
+		evo_txt_diag(err, file, e->line,
+			     "%s: expected %s, found a value of %u bytes",
+			     d->name, range, (unsigned)v.len);
+		return EVO_ERR_SYNTAX;
+	}
 	if (d->kind == EVO_KEY_WORD) {
 		evo_txt_diag(err, file, e->line,
 			     "%s: expected %s, found '%.*s'; did you mean %s?",
@@ -381,6 +387,14 @@ static evo_status add_pair(evo_simbatch *out, const evo_txt_entry *e,
 		return st;
 	p = &out->pair[out->n_pairs];
 	if (evo_txt_copy(p->value, sizeof p->value, value) != 0) {
+		if (def && def->secret) {
+			evo_txt_diag(err, file, e->line,
+				     "expected a value of at most %u bytes for "
+				     "%s, found %u bytes",
+				     (unsigned)(EVO_VALUE_MAX - 1), known,
+				     (unsigned)value.len);
+			return EVO_ERR_LIMIT;
+		}
 		evo_txt_diag(
 		    err, file, e->line,
 		    "expected a value of at most %u bytes for %s, found "

@@ -190,13 +190,17 @@ typedef enum evo_key_kind {
 /* One known .simbatch key: its kind and range. To add a key, add a row to
  * evo_simbatch_key_defs (core/src/parse_simbatch.c) and a row to
  * docs/formats.md's table of keys, whose range column must read as
- * evo_simbatch_key_range renders it (tests/docs/test_defaults.c). */
+ * evo_simbatch_key_range renders it (tests/docs/test_defaults.c), and
+ * read it with evo_simbatch_get where it is used: its value is then
+ * within its range in `evo check`, `evo run` and `evo serve` alike. */
 typedef struct evo_simbatch_key_def {
 	const char *name;
 	evo_key_kind kind;
 	int64_t lo, hi;		  /* WHOLE, DECIMAL: the range */
 	uint8_t above, below;	  /* DECIMAL: lo, hi excluded */
 	const char *const *words; /* WORD: NULL-terminated */
+	uint8_t secret;		  /* a key (LCMKEY...): messages never show
+				   * its value, only its length */
 } evo_simbatch_key_def;
 
 /* The known .simbatch keys, ended by a row whose name is NULL. */
