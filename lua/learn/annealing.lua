@@ -51,10 +51,10 @@ annealing.task_keys = {
 }
 
 -- The numbers each option takes (common.options_from); alpha = 1 is no
--- cooling at all.
+-- cooling at all. A generation's moves are a batch, at most a population.
 annealing.ranges = {
 	t0 = common.POSITIVE, alpha = { lo = 0, hi = 1, above = true }, step_power = common.POSITIVE,
-	steps_per_generation = common.COUNT, init_power = common.POSITIVE,
+	steps_per_generation = common.POPULATION, init_power = common.POSITIVE,
 	weight_max = common.WEIGHT_MAX,
 }
 

@@ -17,7 +17,7 @@ end
 -- The numbers an option takes: { lo, hi } (either may be nil), with
 -- int = true for a whole number and above = true / below = true when the
 -- bound itself is excluded. Its words, for messages: "a number from 0 to 1".
-local function range_text(r)
+function common.range_text(r)
 	local what = r.int and "a whole number" or "a number"
 	local lo, hi = r.lo and string.format("%.17g", r.lo), r.hi and string.format("%.17g", r.hi)
 	if lo and hi then
@@ -50,7 +50,7 @@ local function parse_value(key, default, value, check, range)
 		local v = tonumber(value)
 		local r = range or {}
 		if not v or not in_range(v, r) then
-			error(key .. ": expected " .. (range and range_text(r) or "a number") .. ", found '"
+			error(key .. ": expected " .. (range and common.range_text(r) or "a number") .. ", found '"
 				.. tostring(value) .. "'", 0)
 		end
 		return v
@@ -140,12 +140,13 @@ local function closest(key, keys)
 end
 
 -- The options of `algo` (a method's module) from a task, as `evo run` and
--- `evo check` read them. The methods' messages start with the key; a
+-- `evo check` read them (quiet: without the warnings, for evo run's check
+-- before it starts). The methods' messages start with the key; a
 -- malformed value raises "path:line: KEY: ...". Every key the method
 -- ignores is a warning at its line, in line order: a key with the
 -- method's prefix that it does not know (with the closest it knows), a
 -- key of another method, and POPSIZE for a method without a population.
-function common.task_options(algo, task, path, lines)
+function common.task_options(algo, task, path, lines, quiet)
 	local ok, options, unknown = pcall(algo.options_from_task, task)
 	if not ok then
 		local key = tostring(options):match("^([%w_]+): ")
@@ -176,14 +177,21 @@ function common.task_options(algo, task, path, lines)
 		if la ~= lb then return la < lb end
 		return a[1] < b[1]
 	end)
-	for _, w in ipairs(warnings) do common.warning(path, lines, w[1], w[2]) end
+	if not quiet then
+		for _, w in ipairs(warnings) do common.warning(path, lines, w[1], w[2]) end
+	end
 	return options
 end
 
--- Ranges every method shares.
+-- Ranges every method shares. A whole number has an upper bound that keeps
+-- memory and time bounded, and that no real task meets: a population of at
+-- most 10,000 networks (the task's POPSIZE takes as many,
+-- core/src/parse_simbatch.c), a count that fits an int.
 common.PROB = { lo = 0, hi = 1 } -- a probability
 common.POSITIVE = { lo = 0 } -- a size of step, a weight of distance
-common.COUNT = { lo = 1, int = true } -- a population, a number of generations
+common.COUNT = { lo = 1, hi = 2147483647, int = true } -- generations, a size
+common.WHOLE = { lo = 0, hi = 2147483647, int = true } -- a count that may be 0
+common.POPULATION = { lo = 1, hi = 10000, int = true } -- networks in a generation
 common.WEIGHT_MAX = { lo = 0, hi = 128, above = true, below = true } -- .net needs |w| < 128
 
 -- A population as a plain table tagged with `format`, its rng's state

@@ -24,7 +24,8 @@ end
 local algo = require(common.MODULES[method])
 local options = common.task_options(algo, task, host.task_path, host.task_lines)
 
--- The parser checked NUMGEN, ROUNDS and VALIDATION are whole numbers >= 1.
+-- The parser checked NUMGEN, ROUNDS and VALIDATION are within their ranges
+-- (core/src/parse_simbatch.c: whole numbers from 1).
 local per_turn = host.generations or tonumber(task.NUMGEN)
 -- ROUNDS: how many rounds; absent, the run goes on until it is stopped.
 local rounds = tonumber(task.ROUNDS or "")

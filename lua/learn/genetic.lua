@@ -68,9 +68,11 @@ genetic.task_keys = {
 
 local CHOICES = { crossover = { uniform = true, one_point = true } }
 
--- The numbers each option takes (common.options_from).
+-- The numbers each option takes (common.options_from): the elite and a
+-- tournament are at most a population.
 genetic.ranges = {
-	pop_size = common.COUNT, elitism = { lo = 0, int = true }, tournament = common.COUNT,
+	pop_size = common.POPULATION, elitism = { lo = 0, hi = 10000, int = true },
+	tournament = common.POPULATION,
 	crossover_rate = common.PROB, mutation_rate = common.PROB, mutation_power = common.POSITIVE,
 	init_power = common.POSITIVE, weight_max = common.WEIGHT_MAX,
 }

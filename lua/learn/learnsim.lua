@@ -50,7 +50,7 @@ local CURVE_SECONDS = 1.0
 local options = common.task_options(algo, task, host.task_path, host.task_lines)
 
 -- HIDDEN: the width of GENETIC's and ANNEALING's hidden layers (the
--- parser checked it is a whole number >= 1). NEAT grows its own.
+-- parser checked its range, evo run that the networks fit). NEAT grows its own.
 local hidden = tonumber(task.HIDDEN or "")
 if hidden and method == "NEAT" then
 	common.warning(host.task_path, host.task_lines, "HIDDEN", "HIDDEN is the width of "

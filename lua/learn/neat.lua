@@ -168,17 +168,17 @@ local ACTIVATIONS = {
 }
 
 -- The numbers each option takes (common.options_from); bias_input takes
--- any finite number.
-local P, W, C = common.PROB, common.POSITIVE, common.COUNT
-local WHOLE = { lo = 0, int = true }
+-- any finite number. add_link_tries is bounded: every add-link mutation
+-- may make that many tries.
+local P, W, C, WHOLE = common.PROB, common.POSITIVE, common.COUNT, common.WHOLE
 neat.ranges = {
-	pop_size = C, c1 = W, c2 = W, c3 = W, threshold = W, normalize_below = WHOLE,
+	pop_size = common.POPULATION, c1 = W, c2 = W, c3 = W, threshold = W, normalize_below = WHOLE,
 	weight_mut_prob = P, severe_prob = P, perturb_prob = P, perturb_power = W,
 	replace_power = W, new_link_power = W, init_power = W, weight_max = common.WEIGHT_MAX,
-	add_node_prob = P, add_link_prob = P, add_link_tries = WHOLE, recur_only_prob = P,
-	mutate_only_prob = P, mate_only_prob = P, mate_avg_prob = P, interspecies_prob = P,
-	disable_prob = P, survival = { lo = 0, hi = 1, above = true }, stagnation = C,
-	stagnation_penalty = P, elitism_offspring = WHOLE, target_species = WHOLE,
+	add_node_prob = P, add_link_prob = P, add_link_tries = { lo = 0, hi = 1000, int = true },
+	recur_only_prob = P, mutate_only_prob = P, mate_only_prob = P, mate_avg_prob = P,
+	interspecies_prob = P, disable_prob = P, survival = { lo = 0, hi = 1, above = true },
+	stagnation = C, stagnation_penalty = P, elitism_offspring = WHOLE, target_species = WHOLE,
 	threshold_step = W, threshold_min = W, pop_stagnation = WHOLE, toggle_prob = P,
 	reenable_prob = P,
 }

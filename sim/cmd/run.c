@@ -171,7 +171,10 @@ static int parse_args(int argc, char **argv, run_opts *o)
 			o->trace = v;
 			i++;
 		} else if (strcmp(a, "--generations") == 0) {
-			if (parse_count(a, v, 1000000000L, &o->generations))
+			/* it stands for NUMGEN: the same range */
+			if (parse_count(a, v,
+					(long)evo_simbatch_key_find("NUMGEN")->hi,
+					&o->generations))
 				return -1;
 			if (o->generations < 1) {
 				fprintf(stderr, "evo run: --generations expects a "

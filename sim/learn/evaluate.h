@@ -69,7 +69,7 @@ typedef struct evo_eval_spread {
 } evo_eval_spread;
 
 /* More workers than this is a typo, not a machine. */
-#define EVO_EVAL_MAX_THREADS 1024
+#define EVO_EVAL_MAX_THREADS EVO_MAX_THREADS /* the task's THREADS' bound */
 
 typedef struct evo_eval_def {
 	const char *task_path; /* a LEARN* .simbatch; copied */

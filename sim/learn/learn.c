@@ -18,6 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -934,18 +935,20 @@ static int continuous_order(const char *task_path, const evo_task *t,
 	}
 }
 
-/* evo check on a LEARNSIM task: the method's options as evo run reads
- * them (common.task_options), warnings included, without training. */
+/* evo check on a LEARNSIM task, and evo run before anything starts: the
+ * method's options as the loop reads them (common.task_options), each
+ * within its range (the module's `ranges`); warnings only when loud. */
 static const char CHECK_OPTIONS[] =
-    "local method, task, path, lines = ...\n"
+    "local method, task, path, lines, quiet = ...\n"
     "local common = require 'learn.common'\n"
     "common.task_options(require(common.MODULES[method]), task, path, "
-    "lines)\n";
+    "lines, quiet)\n";
 
 static int check_options(lua_State *L)
 {
 	const char *task_path = lua_touserdata(L, 1);
 	const evo_task *task = lua_touserdata(L, 2);
+	int quiet = lua_toboolean(L, 3);
 	luaL_openlibs(L);
 	evo_lua_set_path(L, task->mind->root, evo_lua_dir());
 	if (luaL_loadbufferx(L, CHECK_OPTIONS, sizeof CHECK_OPTIONS - 1,
@@ -956,28 +959,122 @@ static int check_options(lua_State *L)
 	push_task(L, task->sb);
 	lua_pushstring(L, task_path);
 	lua_insert(L, -2); /* method, task, path, lines */
-	lua_call(L, 4, 0);
+	lua_pushboolean(L, quiet);
+	lua_call(L, 5, 0);
 	return 0;
 }
 
-int evo_learn_check(const char *task_path, evo_task *task, evo_err *err)
+/* The line of key in the task file, 0 when absent. */
+static unsigned task_line(const evo_task *t, const char *key)
 {
-	if (strcmp(task->type, "LEARNSIMCONTINUOUS") == 0) {
-		int order[CONT_MAX_SKILLS], n;
-		if (continuous_order(task_path, task, order, &n, err))
-			return -1;
+	for (unsigned i = 0; i < t->sb->n_pairs; i++)
+		if (strcmp(t->sb->pair[i].key, key) == 0)
+			return t->sb->pair[i].line;
+	return 0;
+}
+
+/* GENETIC and ANNEALING evolve the whole layered network of skill a (its
+ * `layers:`, HIDDEN wide or evo_net_layered_width): it must fit evo's
+ * networks, or the first population would be as large as it is before
+ * any network is built from it. 0, or -1 with err at HIDDEN's line. */
+static int layered_fits(const char *path, const evo_task *t,
+			const evo_ades *a, evo_err *err)
+{
+	const char *method = evo_simbatch_get(t->sb, "LEARNINGMETHOD");
+	if (!method || strcasecmp(method, "NEAT") == 0)
+		return 0; /* NEAT grows its own, from no hidden node */
+	const char *hv = evo_simbatch_get(t->sb, "HIDDEN");
+	/* the parser checked HIDDEN's range */
+	unsigned width = hv ? (unsigned)strtoul(hv, NULL, 10)
+			    : evo_net_layered_width(a->n_in, a->n_out);
+	size_t n = evo_net_layered_weight_count(a->n_in, a->n_out, a->layers,
+						width);
+	evo_status st = EVO_ERR_LIMIT;
+	if (n <= EVO_NET_MAX_NODES + EVO_NET_MAX_LINKS) {
+		double *w = calloc(n ? n : 1, sizeof *w);
+		evo_netdesc *d = malloc(sizeof *d);
+		st = w && d ? evo_net_build_layered(a->n_in, a->n_out,
+						    a->layers, width, 0, 0, w,
+						    d)
+			    : EVO_ERR_LIMIT;
+		free(w);
+		free(d);
 	}
+	if (st == EVO_OK)
+		return 0;
+	char where[1200];
+	if (hv)
+		snprintf(where, sizeof where, "%s:%u: HIDDEN:%s", path,
+			 task_line(t, "HIDDEN"), hv);
+	else
+		snprintf(where, sizeof where, "%s", path);
+	return evo_fail(err,
+			"%s: %s's network, %u input%s, %u hidden layer%s of %u "
+			"nodes and %u output%s, is larger than a network of "
+			"evo holds (%d nodes, %d links, %d links into a node): "
+			"lower %s",
+			where, a->name, a->n_in, a->n_in == 1 ? "" : "s",
+			a->layers, a->layers == 1 ? "" : "s", width, a->n_out,
+			a->n_out == 1 ? "" : "s", EVO_NET_MAX_NODES,
+			EVO_NET_MAX_LINKS, EVO_NET_MAX_FANIN,
+			hv ? "HIDDEN" : "the skill's layers: or give HIDDEN");
+}
+
+/* Every network the task trains fits (layered_fits). */
+static int networks_fit(const char *path, const evo_task *t,
+			const int *order, int n_order, evo_err *err)
+{
+	if (n_order > 0) {
+		for (int i = 0; i < n_order; i++)
+			if (layered_fits(path, t, &t->mind->skill[order[i]],
+					 err))
+				return -1;
+		return 0;
+	}
+	if (t->n_teams > 0) {
+		for (int i = 0; i < t->n_learning; i++) {
+			const evo_team *tm = &t->team[t->learning[i]];
+			int k = evo_mindfolder_skill(tm->mind,
+						     tm->learning_skill);
+			if (k >= 0 &&
+			    layered_fits(path, t, &tm->mind->skill[k], err))
+				return -1;
+		}
+		return 0;
+	}
+	const char *skill = evo_simbatch_get(t->sb, "LEARNINGSKILL");
+	int k = skill ? evo_mindfolder_skill(t->mind, skill) : -1;
+	return k >= 0 ? layered_fits(path, t, &t->mind->skill[k], err) : 0;
+}
+
+/* evo check's and evo run's check of a learning task: its turns, the
+ * method's options and the size of its networks. */
+static int learn_check(const char *task_path, evo_task *task, int quiet,
+		       evo_err *err)
+{
+	int order[CONT_MAX_SKILLS], n = 0;
+	if (strcmp(task->type, "LEARNSIMCONTINUOUS") == 0 &&
+	    continuous_order(task_path, task, order, &n, err))
+		return -1;
 	lua_State *L = luaL_newstate();
 	if (!L)
 		return evo_fail(err, "cannot create a Lua state");
 	lua_pushcfunction(L, check_options);
 	lua_pushlightuserdata(L, (void *)task_path);
 	lua_pushlightuserdata(L, task);
+	lua_pushboolean(L, quiet);
 	int rc = 0;
-	if (lua_pcall(L, 2, 0, 0) != LUA_OK)
+	if (lua_pcall(L, 3, 0, 0) != LUA_OK)
 		rc = evo_fail(err, "%s", lua_tostring(L, -1));
 	lua_close(L);
+	if (rc == 0 && networks_fit(task_path, task, order, n, err))
+		rc = -1;
 	return rc;
+}
+
+int evo_learn_check(const char *task_path, evo_task *task, evo_err *err)
+{
+	return learn_check(task_path, task, 0, err);
 }
 
 /* Ctrl-C (SIGINT) and a scheduler's SIGTERM stop a run at once, as they
@@ -1035,6 +1132,10 @@ int evo_learn_run(const char *task_path, evo_task *task,
 	l.tty = isatty(fileno(stdout));
 	l.started = now();
 	l.continuous = strcmp(task->type, "LEARNSIMCONTINUOUS") == 0;
+	/* every option within its range before a thread, a folder or a
+	 * population exists; the loop says the warnings */
+	if (learn_check(task_path, task, 1, err))
+		return -1;
 	if (l.continuous) {
 		if (continuous_order(task_path, task, l.order, &l.n_order, err))
 			return -1;

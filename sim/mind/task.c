@@ -304,30 +304,17 @@ static int learning_teams(evo_task *t, const char *path, evo_err *err)
 	return 0;
 }
 
-/* TEAMGENOME, TEAMFITNESS and ALTERNATE; their values are words the
- * simbatch reader does not know. */
-static int team_options(evo_task *t, const char *path, evo_err *err)
+/* TEAMGENOME, TEAMFITNESS and ALTERNATE. */
+static void team_options(evo_task *t)
 {
 	const char *g = evo_simbatch_get(t->sb, "TEAMGENOME");
 	const char *f = evo_simbatch_get(t->sb, "TEAMFITNESS");
 	const char *a = evo_simbatch_get(t->sb, "ALTERNATE");
-	if (g && !upper_eq(g, "HOMOGENEOUS") && !upper_eq(g, "HETEROGENEOUS"))
-		return evo_fail(err,
-				"%s:%u: TEAMGENOME must be HOMOGENEOUS or "
-				"HETEROGENEOUS, found '%s'",
-				path, (unsigned)key_line(t->sb, "TEAMGENOME"),
-				g);
-	if (f && !upper_eq(f, "TEAM") && !upper_eq(f, "OWN"))
-		return evo_fail(err,
-				"%s:%u: TEAMFITNESS must be TEAM or OWN, found "
-				"'%s'",
-				path, (unsigned)key_line(t->sb, "TEAMFITNESS"),
-				f);
+	/* the parser checked both words (evo_simbatch_key_defs) */
 	t->heterogeneous = g && upper_eq(g, "HETEROGENEOUS");
 	t->own_fitness = f && upper_eq(f, "OWN");
-	/* the parser checked a whole number >= 1 */
+	/* the parser checked its range */
 	t->alternate = a ? (int)strtol(a, NULL, 10) : 5;
-	return 0;
 }
 
 /* At most this many skills of a member run networks of its own. */
@@ -423,8 +410,8 @@ static int load_teams(evo_task *t, const char *path, const char *root,
 				path, (unsigned)key_line(t->sb, ignored[i]),
 				ignored[i], t->type);
 	int learn = strncmp(t->type, "LEARN", 5) == 0;
-	if (team_options(t, path, err) ||
-	    (learn && learning_teams(t, path, err)))
+	team_options(t);
+	if (learn && learning_teams(t, path, err))
 		return -1;
 	const char *skill = evo_simbatch_get(t->sb, "LEARNINGSKILL");
 	for (int i = 0; i < t->n_teams; i++) {
@@ -523,17 +510,8 @@ int evo_task_load_opts(const char *path, const evo_task_opts *o, evo_task *t,
 			evo_task_free(t);
 			return -1;
 		}
-	const char *method = evo_simbatch_get(t->sb, "LEARNINGMETHOD");
-	if (method && !upper_eq(method, "NEAT") &&
-	    !upper_eq(method, "GENETIC") && !upper_eq(method, "ANNEALING")) {
-		evo_fail(err,
-			 "%s:%u: LEARNINGMETHOD must be NEAT, GENETIC or "
-			 "ANNEALING, found '%s'",
-			 path, (unsigned)key_line(t->sb, "LEARNINGMETHOD"),
-			 method);
-		evo_task_free(t);
-		return -1;
-	}
+	/* Every value was checked against its key's range by the parser
+	 * (evo_simbatch_key_defs), LEARNINGMETHOD's word included. */
 	char root[1024];
 	if (mind_folder(path, t->sb, root, sizeof root, err) != 0) {
 		evo_task_free(t);

@@ -317,13 +317,14 @@ TEST(simbatch_team_lines_repeat)
 	static const char zero[] = "ALTERNATE:0\n";
 	CHECK(evo_simbatch_parse(zero, sizeof zero - 1, "t", &sb, &err) ==
 	      EVO_ERR_SYNTAX);
-	CHECK_CONTAINS(err.msg, "for ALTERNATE, found '0'");
+	CHECK_CONTAINS(err.msg, "ALTERNATE: expected a whole number from 1 to "
+				"1000000, found '0'");
 }
 
 TEST(simbatch_tables)
 {
 	size_t i, n = 0;
-	for (i = 0; evo_simbatch_keys[i]; i++)
+	for (i = 0; evo_simbatch_key_defs[i].name; i++)
 		n++;
 	/* the tutorial's 12, THREADS, HIDDEN, TARGETFITNESS, the four
 	 * remote keys (LCMURL, REMOTENAME, REMOTETIMEOUT, CANURL) and the
@@ -337,6 +338,123 @@ TEST(simbatch_tables)
 		n++;
 	CHECK_EQ_INT(n, 11);
 	CHECK(evo_simbatch_get(NULL, "TYPE") == NULL);
+}
+
+/* Parses "TYPE:DEMOSIM\nLINE\n": its status, err filled. */
+static evo_status simbatch_line(const char *line)
+{
+	char text[400];
+	int n = snprintf(text, sizeof text, "TYPE:DEMOSIM\n%s\n", line);
+	return evo_simbatch_parse(text, (size_t)n, "t.simbatch", &sb, &err);
+}
+
+/* Every whole-number key takes its bounds and refuses one past them, at
+ * its line, naming itself and its range; the table's names are distinct
+ * upper-case keys that fit a pair. */
+TEST(simbatch_every_whole_key_is_checked_at_its_bounds)
+{
+	int wholes = 0;
+	for (const evo_simbatch_key_def *d = evo_simbatch_key_defs; d->name;
+	     d++) {
+		CHECK(strlen(d->name) < EVO_NAME_MAX);
+		for (const char *c = d->name; *c; c++)
+			CHECK((*c >= 'A' && *c <= 'Z') || *c == '_');
+		for (const evo_simbatch_key_def *e = d + 1; e->name; e++)
+			CHECK(strcmp(d->name, e->name) != 0);
+		CHECK(evo_simbatch_key_find(d->name) == d);
+		if (d->kind != EVO_KEY_WHOLE)
+			continue;
+		wholes++;
+		char line[128], want[300], range[200];
+		evo_simbatch_key_range(d, range, sizeof range);
+		snprintf(line, sizeof line, "%s:%lld", d->name,
+			 (long long)d->lo);
+		CHECK_OK(simbatch_line(line));
+		snprintf(line, sizeof line, "%s:%lld", d->name,
+			 (long long)d->hi);
+		CHECK_OK(simbatch_line(line));
+		snprintf(line, sizeof line, "%s:%lld", d->name,
+			 (long long)d->hi + 1);
+		CHECK(simbatch_line(line) == EVO_ERR_LIMIT);
+		snprintf(want, sizeof want,
+			 "t.simbatch:2: %s: expected %s, found '%lld'", d->name,
+			 range, (long long)d->hi + 1);
+		CHECK_EQ_STR(err.msg, want);
+		if (d->lo > 0) {
+			snprintf(line, sizeof line, "%s:%lld", d->name,
+				 (long long)d->lo - 1);
+			CHECK(simbatch_line(line) == EVO_ERR_SYNTAX);
+			CHECK_CONTAINS(err.msg, "t.simbatch:2: ");
+		}
+	}
+	/* NUMGEN, EVALREP, TICKLIM, POPSIZE, SEED, THREADS, HIDDEN,
+	 * ALTERNATE, ROUNDS, VALIDATION */
+	CHECK_EQ_INT(wholes, 10);
+	CHECK(evo_simbatch_key_find("numgen") != NULL);
+	CHECK(evo_simbatch_key_find("NEAT_C1") == NULL);
+}
+
+#define A10 "aaaaaaaaaa"
+#define A63 A10 A10 A10 A10 A10 A10 "aaa"
+
+/* The issue's values and each kind of key, with the ranges worked out
+ * by hand: a population of 10,000, 1,024 threads, a hidden layer of 256
+ * nodes, a timeout above 0 and at most an hour, a name of 63
+ * characters. */
+TEST(simbatch_ranges_of_each_kind)
+{
+	CHECK(simbatch_line("HIDDEN:2147483647") == EVO_ERR_LIMIT);
+	CHECK_EQ_STR(err.msg, "t.simbatch:2: HIDDEN: expected a whole number "
+			      "from 1 to 256, found '2147483647'");
+	CHECK(simbatch_line("THREADS:2147483647") == EVO_ERR_LIMIT);
+	CHECK_EQ_STR(err.msg, "t.simbatch:2: THREADS: expected a whole number "
+			      "from 1 to 1024, found '2147483647'");
+	CHECK(simbatch_line("POPSIZE:99999999999") == EVO_ERR_LIMIT);
+	CHECK_CONTAINS(err.msg, "POPSIZE: expected a whole number from 1 to "
+				"10000");
+	CHECK_OK(simbatch_line("THREADS:1024"));
+	CHECK_OK(simbatch_line("HIDDEN:256"));
+	CHECK_OK(simbatch_line("POPSIZE:10000"));
+	/* a number */
+	CHECK_OK(simbatch_line("REMOTETIMEOUT:3600"));
+	CHECK_OK(simbatch_line("REMOTETIMEOUT:3600.000000"));
+	CHECK_OK(simbatch_line("REMOTETIMEOUT:0.000001"));
+	CHECK_OK(simbatch_line("REMOTETIMEOUT:.5"));
+	CHECK(simbatch_line("REMOTETIMEOUT:3600.000001") == EVO_ERR_LIMIT);
+	CHECK_EQ_STR(err.msg, "t.simbatch:2: REMOTETIMEOUT: expected a number "
+			      "above 0 and at most 3600, found '3600.000001'");
+	CHECK(simbatch_line("REMOTETIMEOUT:0") == EVO_ERR_LIMIT);
+	CHECK(simbatch_line("REMOTETIMEOUT:-1") == EVO_ERR_LIMIT);
+	CHECK(simbatch_line("REMOTETIMEOUT:soon") == EVO_ERR_SYNTAX);
+	CHECK(simbatch_line("REMOTETIMEOUT:1e3") == EVO_ERR_SYNTAX);
+	CHECK(simbatch_line("REMOTETIMEOUT:0.0000001") == EVO_ERR_SYNTAX);
+	CHECK(simbatch_line("REMOTETIMEOUT:1.") == EVO_OK);
+	CHECK(simbatch_line("REMOTETIMEOUT:.") == EVO_ERR_SYNTAX);
+	CHECK(simbatch_line("REMOTETIMEOUT:99999999999999999999") ==
+	      EVO_ERR_LIMIT);
+	CHECK_OK(simbatch_line("TARGETFITNESS:-15.5"));
+	CHECK_OK(simbatch_line("TARGETFITNESS:1000000000000"));
+	CHECK(simbatch_line("TARGETFITNESS:1000000000000.5") == EVO_ERR_LIMIT);
+	CHECK(simbatch_line("TARGETFITNESS:inf") == EVO_ERR_SYNTAX);
+	/* a name */
+	CHECK_OK(simbatch_line("REMOTENAME:sim-1_A"));
+	/* 63 characters, then 64 */
+	CHECK_OK(simbatch_line("REMOTENAME:" A63));
+	CHECK(simbatch_line("REMOTENAME:" A63 "a") == EVO_ERR_SYNTAX);
+	CHECK(simbatch_line("REMOTENAME:a/b") == EVO_ERR_SYNTAX);
+	CHECK_EQ_STR(err.msg, "t.simbatch:2: REMOTENAME: expected a name of 1 "
+			      "to 63 letters, digits, '_' or '-', found 'a/b'");
+	/* a word, any case */
+	CHECK_OK(simbatch_line("LEARNINGMETHOD:genetic"));
+	CHECK(simbatch_line("LEARNINGMETHOD:NEET") == EVO_ERR_NAME);
+	CHECK_EQ_STR(err.msg, "t.simbatch:2: LEARNINGMETHOD: expected NEAT, "
+			      "GENETIC or ANNEALING, found 'NEET'; did you "
+			      "mean NEAT?");
+	/* a method's key is the method's to check */
+	CHECK_OK(simbatch_line("NEAT_POPSIZE:99999999999"));
+	/* the public check says what the parser does */
+	const evo_simbatch_key_def *t = evo_simbatch_key_find("REMOTETIMEOUT");
+	CHECK(t && evo_simbatch_key_ok(t, "2") && !evo_simbatch_key_ok(t, "0"));
 }
 
 TEST(net_file)
@@ -475,6 +593,8 @@ int main(void)
 	RUN(simbatch_method_keys_are_kept);
 	RUN(simbatch_team_lines_repeat);
 	RUN(simbatch_tables);
+	RUN(simbatch_every_whole_key_is_checked_at_its_bounds);
+	RUN(simbatch_ranges_of_each_kind);
 	RUN(net_file);
 	RUN(net_numbers_round_exactly);
 	RUN(net_any_order_after_header);

@@ -158,17 +158,20 @@ static const error_case cases[] = {
     {SIMBATCH, ":LEARNSIM\n", EVO_ERR_SYNTAX,
      "t.simbatch:1: ", "expected a key before ':', found ':LEARNSIM'"},
     {SIMBATCH, "NUMGEN:abc\n", EVO_ERR_SYNTAX, "t.simbatch:1: ",
-     "expected a whole number 1..2147483647 for NUMGEN, found 'abc'"},
+     "NUMGEN: expected a whole number from 1 to 1000000, found 'abc'"},
     {SIMBATCH, "EVALREP:3 NUMGEN:0\n", EVO_ERR_SYNTAX, "t.simbatch:1: ",
-     "expected a whole number 1..2147483647 for NUMGEN, found '0'"},
+     "NUMGEN: expected a whole number from 1 to 1000000, found '0'"},
     {SIMBATCH, "\nTICKLIM:-5\n", EVO_ERR_SYNTAX, "t.simbatch:2: ",
-     "expected a whole number 1..2147483647 for TICKLIM, found '-5'"},
+     "TICKLIM: expected a whole number from 1 to 10000000, found '-5'"},
     {SIMBATCH, "POPSIZE:3000000000\n", EVO_ERR_LIMIT,
-     "t.simbatch:1: ", "for POPSIZE, found '3000000000'"},
+     "t.simbatch:1: ",
+     "POPSIZE: expected a whole number from 1 to 10000, found '3000000000'"},
     {SIMBATCH, "SEED:-1\n", EVO_ERR_SYNTAX, "t.simbatch:1: ",
-     "expected a whole number 0..2147483647 for SEED, found '-1'"},
+     "SEED: expected a whole number from 0 to 2147483647, found '-1'"},
     {SIMBATCH, "TYPE:LEARNSIMS\n", EVO_ERR_NAME, "t.simbatch:1: ",
-     "expected a task type for TYPE, found 'LEARNSIMS'; did you mean "
+     "TYPE: expected DEMOSIM, LEARNSIM, LEARNSIMCONTINUOUS, DEMO2DSIMMULTI, "
+     "LEARN2DSIMMULTI, DEMO3DSIM, LEARN3DSIM, DEMOREMOTE, DEMOREMOTESIM, "
+     "LEARNREMOTESIM or OPENENDED, found 'LEARNSIMS'; did you mean "
      "LEARNSIM?"},
     {SIMBATCH, "ENV:EXP_Avoid\nNUMGEN:5\n\nnumgen:6\n", EVO_ERR_NAME,
      "t.simbatch:4: ",

@@ -7,8 +7,11 @@
  *   - docs/learning.md, the NEAT, GENETIC and ANNEALING tables: the
  *     method's module (lua/learn/neat.lua, ...) is loaded and its
  *     task_keys and defaults tables read;
+ *   - the same tables' `range` column: each key's range as the method's
+ *     `ranges` table gives it (in common.range_text's words), or as
+ *     core's table of keys does (evo_simbatch_key_range);
  *   - docs/formats.md's .simbatch keys and docs/learning.md's task keys:
- *     the key list is core's evo_simbatch_keys; a key is required when a
+ *     the key list is core's evo_simbatch_key_defs; a key is required when a
  *     task without it does not load (evo_task_load); EVALREP, TICKLIM,
  *     SEED and THREADS are what `evo run` says it uses on a learning task
  *     that leaves them out; each key is also found read in sim/ or lua/
@@ -111,6 +114,7 @@ typedef struct doc_table {
 	const char *heading;
 	int line; /* of its header row */
 	int key_col, default_col;
+	int range_col; /* -1 when the table has no `range` column */
 	int n;
 	doc_row row[MAX_ROWS];
 } doc_table;
@@ -183,9 +187,13 @@ static int read_table(doc_table *t)
 				int n = split_cells(p, cell);
 				t->key_col = 0;
 				t->default_col = -1;
-				for (int i = 0; i < n; i++)
+				t->range_col = -1;
+				for (int i = 0; i < n; i++) {
 					if (strcmp(cell[i], "default") == 0)
 						t->default_col = i;
+					if (strcmp(cell[i], "range") == 0)
+						t->range_col = i;
+				}
 				if (t->default_col > 0) {
 					found = 1;
 					t->line = line;
@@ -265,6 +273,16 @@ static void plain_value(const char *cell, char *out, size_t cap)
 		out[--k] = 0;
 	size_t lead = strspn(out, " ");
 	memmove(out, out + lead, strlen(out + lead) + 1);
+}
+
+/* A cell without its backticks: what a reader sees. */
+static void unticked(const char *cell, char *out, size_t cap)
+{
+	size_t k = 0;
+	for (const char *p = cell; *p && k + 1 < cap; p++)
+		if (*p != '`')
+			out[k++] = *p;
+	out[k] = 0;
 }
 
 /* The default of option i of n in a row's default cell: "a, b, c" gives
@@ -375,6 +393,61 @@ static void render_lua(lua_State *L, int idx, char *out, size_t cap)
 		snprintf(out, cap, "(%s)", luaL_typename(L, idx));
 }
 
+/* The range a method's option takes, as the docs' `range` column must say
+ * it: common.range_text of its range, "a number" for a number without
+ * one, "true or false"; for a word, the cell itself when each `word` it
+ * names is taken and a word it does not name is not. */
+static const char RANGE_OF[] =
+    "local m, key, cell = ...\n"
+    "local common = require 'learn.common'\n"
+    "local option = m.task_keys[key]\n"
+    "local default = m.defaults[option]\n"
+    "if type(default) == 'number' then\n"
+    "  local r = m.ranges[option]\n"
+    "  return r and common.range_text(r) or 'a number'\n"
+    "elseif type(default) == 'boolean' then return 'true or false' end\n"
+    "local n = 0\n"
+    "for w in cell:gmatch('`([^`]+)`') do\n"
+    "  n = n + 1\n"
+    "  if not pcall(m.options_from_task, { [key] = w }) then\n"
+    "    return 'words ' .. key .. ' takes, not ' .. w end\n"
+    "end\n"
+    "if n == 0 then return 'the words ' .. key .. ' takes, each quoted' end\n"
+    "if pcall(m.options_from_task, { [key] = 'no_such_word' }) then\n"
+    "  return 'any word: ' .. key .. ' takes no_such_word' end\n"
+    "return cell\n";
+
+/* Row r's range cell against the range module m (at index mod) gives
+ * key. */
+static void check_method_range(doc_table *t, const doc_row *row, int mod,
+			       const char *key)
+{
+	if (t->range_col < 0)
+		return;
+	const char *cell = row->cell[t->range_col];
+	if (luaL_loadbufferx(learn_L, RANGE_OF, sizeof RANGE_OF - 1,
+			     "=range", "t") != LUA_OK) {
+		result(0, "range chunk: %s", lua_tostring(learn_L, -1));
+		lua_pop(learn_L, 1);
+		return;
+	}
+	lua_pushvalue(learn_L, mod);
+	lua_pushstring(learn_L, key);
+	lua_pushstring(learn_L, cell);
+	if (lua_pcall(learn_L, 3, 1, 0) != LUA_OK) {
+		result(0, "%s:%d: %s: %s", t->file, row->line, key,
+		       lua_tostring(learn_L, -1));
+		lua_pop(learn_L, 1);
+		return;
+	}
+	char code[CELL_MAX];
+	snprintf(code, sizeof code, "%s", lua_tostring(learn_L, -1));
+	lua_pop(learn_L, 1);
+	result(strcmp(code, cell) == 0,
+	       "%s:%d: %s: the range column says '%s', evo's range is '%s'",
+	       t->file, row->line, key, cell, code);
+}
+
 /* A method's table of docs/learning.md against its module: each key is in
  * task_keys, each default is defaults[option], every key of task_keys is
  * documented, and every option of defaults has a key. */
@@ -385,6 +458,8 @@ static void check_method_table(doc_table *t, const char *module)
 		return;
 	}
 	int mod = lua_gettop(learn_L);
+	result(t->range_col > 0, "%s:%d: the table has no range column",
+	       t->file, t->line);
 	lua_getfield(learn_L, mod, "task_keys");
 	lua_getfield(learn_L, mod, "defaults");
 	int keys = mod + 1, defaults = mod + 2;
@@ -412,6 +487,7 @@ static void check_method_table(doc_table *t, const char *module)
 			       t->file, row->line, names[i], module);
 			if (!option[0])
 				continue;
+			check_method_range(t, row, mod, names[i]);
 			if (i == 0)
 				snprintf(first_option, sizeof first_option,
 					 "%s", option);
@@ -851,10 +927,12 @@ static int render_task_default(const char *key, int in_learning, char *out,
 	return 0;
 }
 
-/* A table of .simbatch keys: each is one of core's evo_simbatch_keys (or
- * the methods' prefixes), read somewhere in sim/ or lua/, and its default
- * is what evo does without it; all_keys: every key of evo_simbatch_keys
- * must be in the table (docs/formats.md lists them all). */
+/* A table of .simbatch keys: each is one of core's evo_simbatch_key_defs
+ * (or the methods' prefixes), read somewhere in sim/ or lua/, its default
+ * is what evo does without it, and its range, where the table has a
+ * `range` column, is the one evo_simbatch_key_range says; all_keys: every
+ * key of evo_simbatch_key_defs must be in the table, with a range
+ * (docs/formats.md lists them all). */
 static void check_task_table(doc_table *t, int in_learning, int all_keys)
 {
 	if (read_table(t)) {
@@ -872,13 +950,29 @@ static void check_task_table(doc_table *t, int in_learning, int all_keys)
 			const char *key = names[i];
 			add_name_max(documented, &n_documented, MAX_ROWS, key);
 			int prefix = key[strlen(key) - 1] == '*';
-			int known = prefix;
-			for (int k = 0; evo_simbatch_keys[k]; k++)
-				known |= strcmp(evo_simbatch_keys[k], key) == 0;
-			result(known,
+			const evo_simbatch_key_def *def =
+			    evo_simbatch_key_find(key);
+			result(prefix || def,
 			       "%s:%d: %s is documented, but the .simbatch "
-			       "reader does not know it (evo_simbatch_keys)",
+			       "reader does not know it "
+			       "(evo_simbatch_key_defs)",
 			       t->file, row->line, key);
+			if (t->range_col >= 0) {
+				char doc[CELL_MAX], code[CELL_MAX];
+				unticked(row->cell[t->range_col], doc,
+					 sizeof doc);
+				if (def)
+					evo_simbatch_key_range(def, code,
+							       sizeof code);
+				else
+					snprintf(code, sizeof code,
+						 "the method's: "
+						 "docs/learning.md");
+				result(strcmp(doc, code) == 0,
+				       "%s:%d: %s: the range column says "
+				       "'%s', evo's range is '%s'",
+				       t->file, row->line, key, doc, code);
+			}
 			if (!prefix)
 				result(
 				    cli_sh("grep -rqE "
@@ -902,11 +996,15 @@ static void check_task_table(doc_table *t, int in_learning, int all_keys)
 			       t->file, row->line, key, value, code);
 		}
 	}
-	for (int k = 0; all_keys && evo_simbatch_keys[k]; k++)
-		result(in_list(evo_simbatch_keys[k], documented, n_documented),
+	/* every key has its range documented (docs/formats.md) */
+	result(!all_keys || t->range_col > 0,
+	       "%s:%d: the table has no range column", t->file, t->line);
+	for (int k = 0; all_keys && evo_simbatch_key_defs[k].name; k++)
+		result(in_list(evo_simbatch_key_defs[k].name, documented,
+			       n_documented),
 		       "%s: the .simbatch reader knows %s, which the table "
 		       "under '%s' does not document",
-		       t->file, evo_simbatch_keys[k], t->heading);
+		       t->file, evo_simbatch_key_defs[k].name, t->heading);
 	section_end("%s:%d: %s against the .simbatch reader and evo run",
 		    t->file, t->line, t->heading);
 }

@@ -25,6 +25,32 @@ function T.every_numeric_option_has_a_range()
 	end
 end
 
+-- Every whole number has an upper bound: a count that reaches an
+-- allocation or a loop (a population, the tries of an add-link mutation)
+-- cannot take all memory or time.
+function T.every_whole_number_option_is_bounded()
+	for _, path in pairs(common.MODULES) do
+		local m = require(path)
+		for name, r in pairs(m.ranges) do
+			if r.int then check(r.hi, path .. ": " .. name .. " has an upper bound") end
+		end
+	end
+end
+
+-- A value at the bound is taken.
+function T.values_at_the_bounds_are_taken()
+	for _, c in ipairs {
+		{ "learn.neat", "NEAT_POPSIZE", "10000", "pop_size", 10000 },
+		{ "learn.neat", "NEAT_ADD_LINK_TRIES", "1000", "add_link_tries", 1000 },
+		{ "learn.neat", "NEAT_ADD_LINK_TRIES", "0", "add_link_tries", 0 },
+		{ "learn.genetic", "GA_TOURNAMENT", "10000", "tournament", 10000 },
+		{ "learn.annealing", "SA_STEPS_PER_GENERATION", "10000", "steps_per_generation", 10000 },
+	} do
+		local o = require(c[1]).options_from_task({ [c[2]] = c[3] })
+		check(o[c[4]] == c[5], c[2] .. ":" .. c[3] .. " gives " .. tostring(o[c[4]]))
+	end
+end
+
 -- Out of range, not finite, or not whole where a count is meant: refused
 -- at the key, with what it takes.
 function T.values_out_of_range_are_refused_with_what_the_key_takes()
@@ -34,12 +60,19 @@ function T.values_out_of_range_are_refused_with_what_the_key_takes()
 		{ "learn.neat", "NEAT_ADD_NODE_PROB", "-0.1", "a number from 0 to 1" },
 		{ "learn.neat", "NEAT_C3", "-1", "a number of 0 or more" },
 		{ "learn.neat", "NEAT_WEIGHT_MAX", "128", "a number above 0 and below 128" },
-		{ "learn.neat", "NEAT_TARGET_SPECIES", "2.5", "a whole number of 0 or more" },
-		{ "learn.neat", "NEAT_STAGNATION", "0", "a whole number of 1 or more" },
+		{ "learn.neat", "NEAT_TARGET_SPECIES", "2.5", "a whole number from 0 to 2147483647" },
+		{ "learn.neat", "NEAT_STAGNATION", "0", "a whole number from 1 to 2147483647" },
+		{ "learn.neat", "NEAT_POPSIZE", "99999999999", "a whole number from 1 to 10000" },
+		{ "learn.neat", "POPSIZE", "10001", "a whole number from 1 to 10000" },
+		{ "learn.neat", "NEAT_ADD_LINK_TRIES", "99999999999", "a whole number from 0 to 1000" },
+		{ "learn.neat", "NEAT_ADD_LINK_TRIES", "1001", "a whole number from 0 to 1000" },
+		{ "learn.genetic", "GA_POPSIZE", "10001", "a whole number from 1 to 10000" },
+		{ "learn.genetic", "GA_ELITISM", "10001", "a whole number from 0 to 10000" },
+		{ "learn.annealing", "SA_STEPS_PER_GENERATION", "10001", "a whole number from 1 to 10000" },
 		{ "learn.neat", "NEAT_PERTURB_POWER", "1e999", "a number of 0 or more" },
 		{ "learn.neat", "NEAT_BIAS_INPUT", "inf", "a number" },
 		{ "learn.genetic", "GA_MUTATION_RATE", "10", "a number from 0 to 1" },
-		{ "learn.genetic", "GA_TOURNAMENT", "0", "a whole number of 1 or more" },
+		{ "learn.genetic", "GA_TOURNAMENT", "0", "a whole number from 1 to 10000" },
 		{ "learn.annealing", "SA_ALPHA", "1.5", "a number above 0 and at most 1" },
 		{ "learn.annealing", "SA_T0", "-1", "a number of 0 or more" },
 	} do

@@ -158,20 +158,67 @@ typedef struct evo_simbatch {
 } evo_simbatch;
 
 /* KEY:VALUE entries, any number per line, in any order. Keys are matched
- * without regard to case against evo_simbatch_keys; an unknown key is
+ * without regard to case against evo_simbatch_key_defs; an unknown key is
  * skipped with a warning naming the closest known key. A known key given
  * twice is an error, except TEAM, one line per team (docs/teams.md):
- * evo_simbatch_get gives the first, the pairs hold them all in order. Values of
- * the whole-number keys (NUMGEN, EVALREP, TICKLIM, ...) must be whole numbers >
- * 0, SEED's >= 0; TYPE must be a known task type. */
+ * evo_simbatch_get gives the first, the pairs hold them all in order. Every
+ * value is checked against its key's definition (its kind and range) at its
+ * line, so no command reads a value out of range. A learning method's own
+ * keys (NEAT_*, GA_*, SA_*) are kept as text for the method to check
+ * (docs/learning.md). */
 evo_status evo_simbatch_parse(const char *buf, size_t len, const char *file,
 			      evo_simbatch *out, evo_diag *err);
 
 /* The value of key in a parsed .simbatch, or NULL when absent. */
 const char *evo_simbatch_get(const evo_simbatch *sb, const char *key);
 
-/* The known .simbatch keys, NULL-terminated. */
-extern const char *const evo_simbatch_keys[];
+/* What a .simbatch key's value is. */
+typedef enum evo_key_kind {
+	EVO_KEY_TEXT,	 /* any text up to EVO_VALUE_MAX - 1 bytes (a name, a
+			  * path, a URL): checked where it is used */
+	EVO_KEY_WHOLE,	 /* digits only, lo..hi */
+	EVO_KEY_DECIMAL, /* [-]digits[.digits], at most 6 decimals, no
+			  * exponent; lo..hi in millionths, bounds excluded
+			  * where above/below say so */
+	EVO_KEY_WORD,	 /* one of words, any case */
+	EVO_KEY_NAME,	 /* 1..EVO_KEY_NAME_MAX letters, digits, '_', '-' */
+} evo_key_kind;
+
+#define EVO_KEY_NAME_MAX 63 /* a remote's name (docs/remote.md) */
+#define EVO_MAX_THREADS	 1024 /* THREADS, and --threads */
+
+/* One known .simbatch key: its kind and range. To add a key, add a row to
+ * evo_simbatch_key_defs (core/src/parse_simbatch.c) and a row to
+ * docs/formats.md's table of keys, whose range column must read as
+ * evo_simbatch_key_range renders it (tests/docs/test_defaults.c), and
+ * read it with evo_simbatch_get where it is used: its value is then
+ * within its range in `evo check`, `evo run` and `evo serve` alike. */
+typedef struct evo_simbatch_key_def {
+	const char *name;
+	evo_key_kind kind;
+	int64_t lo, hi;		  /* WHOLE, DECIMAL: the range */
+	uint8_t above, below;	  /* DECIMAL: lo, hi excluded */
+	const char *const *words; /* WORD: NULL-terminated */
+	uint8_t secret;		  /* a key (LCMKEY...): messages never show
+				   * its value, only its length */
+} evo_simbatch_key_def;
+
+/* The known .simbatch keys, ended by a row whose name is NULL. */
+extern const evo_simbatch_key_def evo_simbatch_key_defs[];
+
+/* The definition of key (upper case), or NULL when evo does not know it. */
+const evo_simbatch_key_def *evo_simbatch_key_find(const char *key);
+
+/* 1 when value (NUL-terminated) is one d takes, else 0: the check
+ * evo_simbatch_parse makes of every value of a known key. */
+int evo_simbatch_key_ok(const evo_simbatch_key_def *d, const char *value);
+
+/* The values d takes, in words ("a whole number from 1 to 1024"), into
+ * buf (cap bytes, NUL-terminated, cut when too small); returns its
+ * length. The messages of evo_simbatch_parse and docs/formats.md say it
+ * this way. */
+size_t evo_simbatch_key_range(const evo_simbatch_key_def *d, char *buf,
+			      size_t cap);
 
 /* The known task types (TYPE:...), NULL-terminated. */
 extern const char *const evo_task_types[];

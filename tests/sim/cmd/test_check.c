@@ -315,6 +315,172 @@ TEST(hidden_sets_the_width_of_genetic_networks)
 	CHECK_CONTAINS(out1, "HIDDEN");
 }
 
+/* ---- every key's range, one check for evo check and evo run ---------- */
+
+/* A learning task of minds/XOR (no world: quick) with METHOD and, on its
+ * line 8, LINE. Its path is in path (cap bytes). */
+static void xor_task(char *path, size_t cap, const char *method,
+		     const char *line)
+{
+	cli_sh("rm -rf %s/XOR %s/r && cp -r minds/XOR %s/", cli_tmp, cli_tmp,
+	       cli_tmp);
+	snprintf(path, cap, "%s/XOR/Tasks/K.simbatch", cli_tmp);
+	char text[1024];
+	snprintf(text, sizeof text,
+		 "TYPE:LEARNSIM\nBOTMODEL:none\nMASTERSKILL:XOR\n"
+		 "LEARNINGSKILL:XOR\nENV:XOR\nLEARNINGMETHOD:%s\nNUMGEN:1\n"
+		 "%s\n",
+		 method, line);
+	cli_write(text, "%s", path);
+}
+
+/* evo check accepts LINE in a METHOD task. */
+static int accepted(const char *method, const char *line)
+{
+	char path[512];
+	xor_task(path, sizeof path, method, line);
+	int rc = cli_capture(out1, sizeof out1, "%s check %s", cli_evo, path);
+	if (rc != 0)
+		printf("  %s: %s", line, out1);
+	return rc == 0;
+}
+
+/* evo check and evo run both refuse LINE in a METHOD task, at its line
+ * with what, and evo run does so at once: within seconds, before a run
+ * folder exists (so before a thread, a population or an episode). */
+static int refused(const char *method, const char *line, const char *what)
+{
+	char path[512], want[600];
+	xor_task(path, sizeof path, method, line);
+	snprintf(want, sizeof want, "K.simbatch:8: %s", what);
+	int ok = 1;
+	int rc = cli_capture(out1, sizeof out1, "%s check %s", cli_evo, path);
+	if (rc != 1 || !strstr(out1, want)) {
+		printf("  evo check, %s: exit %d: %s", line, rc, out1);
+		ok = 0;
+	}
+	rc = cli_capture(out2, sizeof out2,
+			 "timeout 20 %s run %s --run %s/r --threads 1",
+			 cli_evo, path, cli_tmp);
+	if (rc != 1 || !strstr(out2, want)) {
+		printf("  evo run, %s: exit %d: %s", line, rc, out2);
+		ok = 0;
+	}
+	char *log = cli_read("%s/r/log.csv", cli_tmp);
+	if (log) {
+		printf("  evo run, %s: a run folder was made\n", line);
+		free(log);
+		ok = 0;
+	}
+	return ok;
+}
+
+/* The issue's values: each stopped evo run only after it had grown to
+ * all the machine's memory (HIDDEN, NEAT_POPSIZE) or hung
+ * (NEAT_ADD_LINK_TRIES), or after the threads had started (THREADS),
+ * naming no line, while evo check passed them. */
+TEST(the_issues_huge_keys_are_refused_at_their_line)
+{
+	CHECK(refused("GENETIC", "HIDDEN:2147483647",
+		      "HIDDEN: expected a whole number from 1 to 256, found "
+		      "'2147483647'"));
+	CHECK(refused("NEAT", "NEAT_POPSIZE:99999999999",
+		      "NEAT_POPSIZE: expected a whole number from 1 to 10000, "
+		      "found '99999999999'"));
+	CHECK(refused("NEAT", "NEAT_ADD_LINK_TRIES:99999999999",
+		      "NEAT_ADD_LINK_TRIES: expected a whole number from 0 to "
+		      "1000, found '99999999999'"));
+	CHECK(refused("NEAT", "THREADS:2147483647",
+		      "THREADS: expected a whole number from 1 to 1024, found "
+		      "'2147483647'"));
+	CHECK(refused("NEAT", "REMOTETIMEOUT:soon",
+		      "REMOTETIMEOUT: expected a number above 0 and at most "
+		      "3600, found 'soon'"));
+	CHECK(refused("NEAT", "REMOTENAME:a/b",
+		      "REMOTENAME: expected a name of 1 to 63 letters, digits, "
+		      "'_' or '-', found 'a/b'"));
+}
+
+/* Each kind of key, a value just inside its range and one just outside. */
+TEST(every_kind_of_key_is_checked_just_inside_and_outside_its_range)
+{
+	/* a whole number of the task: 1..1024 threads, 1..10000 networks */
+	CHECK(accepted("NEAT", "THREADS:1024"));
+	CHECK(refused("NEAT", "THREADS:1025", "THREADS: expected a whole"));
+	CHECK(refused("NEAT", "THREADS:0", "THREADS: expected a whole"));
+	CHECK(accepted("NEAT", "POPSIZE:10000"));
+	CHECK(refused("NEAT", "POPSIZE:10001", "POPSIZE: expected a whole"));
+	CHECK(accepted("NEAT", "EVALREP:1000"));
+	CHECK(refused("NEAT", "EVALREP:1001", "EVALREP: expected a whole"));
+	/* a number of the task: seconds, more than 0, at most an hour */
+	CHECK(accepted("NEAT", "REMOTETIMEOUT:3600"));
+	CHECK(accepted("NEAT", "REMOTETIMEOUT:0.000001"));
+	CHECK(refused("NEAT", "REMOTETIMEOUT:3600.000001",
+		      "REMOTETIMEOUT: expected a number above 0"));
+	CHECK(refused("NEAT", "REMOTETIMEOUT:0", "REMOTETIMEOUT: expected"));
+	CHECK(accepted("NEAT", "TARGETFITNESS:-15.5"));
+	CHECK(refused("NEAT", "TARGETFITNESS:9.x",
+		      "TARGETFITNESS: expected a number from"));
+	/* a name: 63 characters, not 64 */
+	char line[128];
+	snprintf(line, sizeof line, "REMOTENAME:%.63s",
+		 "sim-0123456789abcdefghijklmnopqrstuvwxyz_ABCDEFGHIJKLMNOPQRSTUVW"
+		 "XYZ");
+	CHECK(accepted("NEAT", line));
+	snprintf(line, sizeof line, "REMOTENAME:%.64s",
+		 "sim-0123456789abcdefghijklmnopqrstuvwxyz_ABCDEFGHIJKLMNOPQRSTUVW"
+		 "XYZ");
+	CHECK(refused("NEAT", line, "REMOTENAME: expected a name"));
+	/* a word */
+	CHECK(accepted("NEAT", "TEAMFITNESS:own"));
+	CHECK(refused("NEAT", "TEAMFITNESS:MINE",
+		      "TEAMFITNESS: expected TEAM or OWN, found 'MINE'"));
+	/* a learning method's own keys */
+	CHECK(accepted("NEAT", "NEAT_POPSIZE:10000"));
+	CHECK(refused("NEAT", "NEAT_POPSIZE:10001", "NEAT_POPSIZE: expected"));
+	CHECK(accepted("NEAT", "NEAT_ADD_LINK_TRIES:1000"));
+	CHECK(refused("NEAT", "NEAT_ADD_LINK_TRIES:1001",
+		      "NEAT_ADD_LINK_TRIES: expected"));
+	CHECK(accepted("GENETIC", "GA_TOURNAMENT:10000"));
+	CHECK(refused("GENETIC", "GA_TOURNAMENT:10001",
+		      "GA_TOURNAMENT: expected a whole number from 1 to 10000"));
+	CHECK(accepted("ANNEALING", "SA_STEPS_PER_GENERATION:10000"));
+	CHECK(refused("ANNEALING", "SA_STEPS_PER_GENERATION:10001",
+		      "SA_STEPS_PER_GENERATION: expected a whole number from 1 "
+		      "to 10000"));
+	CHECK(refused("ANNEALING", "SA_ALPHA:1.5",
+		      "SA_ALPHA: expected a number above 0 and at most 1"));
+}
+
+/* HIDDEN within its range can still make a network larger than evo's
+ * networks hold: refused at HIDDEN's line before a population of such
+ * networks is made. XOR with layers:2 has 2 inputs and 1 output: HIDDEN
+ * W gives 2W + W^2 + W links, 4030 for 62 (at most 4096) and 4158 for
+ * 63. */
+TEST(hidden_that_makes_too_large_a_network_is_refused_at_its_line)
+{
+	char path[512];
+	xor_task(path, sizeof path, "GENETIC", "HIDDEN:62");
+	cli_sh("sed -i 's/layers:0/layers:2/' %s/XOR/Skills/XOR/XOR.ades && "
+	       "rm -f %s/XOR/Skills/XOR/XOR.net",
+	       cli_tmp, cli_tmp);
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s check %s", cli_evo,
+				 path),
+		     0);
+	cli_sh("sed -i 's/HIDDEN:62/HIDDEN:63/' %s", path);
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s check %s", cli_evo,
+				 path),
+		     1);
+	CHECK_CONTAINS(out1, "K.simbatch:8: HIDDEN:63: XOR's network, 2 "
+			     "inputs, 2 hidden layers of 63 nodes and 1 "
+			     "output, is larger than a network of evo holds");
+	CHECK_EQ_INT(cli_capture(out2, sizeof out2,
+				 "timeout 20 %s run %s --run %s/r", cli_evo,
+				 path, cli_tmp),
+		     1);
+	CHECK_CONTAINS(out2, "K.simbatch:8: HIDDEN:63: XOR's network");
+}
+
 int main(void)
 {
 	if (cli_setup("check"))
@@ -329,6 +495,9 @@ int main(void)
 	RUN(a_botname_of_another_agent_is_warned_at_its_line);
 	RUN(a_tasks_threads_key_sets_the_workers);
 	RUN(hidden_sets_the_width_of_genetic_networks);
+	RUN(the_issues_huge_keys_are_refused_at_their_line);
+	RUN(every_kind_of_key_is_checked_just_inside_and_outside_its_range);
+	RUN(hidden_that_makes_too_large_a_network_is_refused_at_its_line);
 	RUN(the_viewer_runs_episodes_until_it_is_closed);
 	RUN(a_screenshot_without_a_window_is_drawn_off_screen);
 	RUN(a_demo_episode_lasts_ticklim_ticks);

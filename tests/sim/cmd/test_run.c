@@ -775,6 +775,9 @@ TEST(out_of_range_counts_are_refused)
 	     "--episodes expects a whole number 0..2147483647"},
 	    {"--ticks 1e30", "--ticks expects a whole number 0.."},
 	    {"--ticks 99999999999999999999", "--ticks expects a whole number"},
+	    /* it stands for NUMGEN, 1..1000000 (docs/formats.md) */
+	    {"--generations 1000001",
+	     "--generations expects a whole number 0..1000000"},
 	};
 	for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
 		/* No such task: the arguments are read first (exit 2);

@@ -515,7 +515,7 @@ TEST(unknown_method_is_a_clear_error)
 	CHECK_EQ_INT(train("m", ""), 1);
 	char *text = cli_read("%s/m/out.txt", cli_tmp);
 	CHECK(text &&
-	      strstr(text, "Small.simbatch:6: LEARNINGMETHOD must be NEAT, "
+	      strstr(text, "Small.simbatch:6: LEARNINGMETHOD: expected NEAT, "
 			   "GENETIC or ANNEALING, found 'BOGUS'"));
 	free(text);
 }

@@ -484,7 +484,7 @@ TEST(task_with_unknown_method)
 	evo_task t;
 	evo_err err;
 	CHECK_EQ_INT(evo_task_load(path, &t, &err), -1);
-	CHECK_CONTAINS(err.msg, "T.simbatch:4: LEARNINGMETHOD must be NEAT, "
+	CHECK_CONTAINS(err.msg, "T.simbatch:4: LEARNINGMETHOD: expected NEAT, "
 				"GENETIC or ANNEALING, found 'HILLCLIMB'");
 }
 

@@ -188,13 +188,13 @@ TEST(team_options_take_their_words_only)
 			       "TEAM:Red:Forager:BotType8:4:Forage:Forage\n"
 			       "LEARNINGMETHOD:NEAT NUMGEN:3\n"
 			       "TEAMGENOME:MIXED\n"),
-		       at(5, "TEAMGENOME must be HOMOGENEOUS or "
+		       at(5, "TEAMGENOME: expected HOMOGENEOUS or "
 			     "HETEROGENEOUS, found 'MIXED'"));
 	CHECK_CONTAINS(refused("TYPE:LEARN2DSIMMULTI\nENV:EXP_Forage\n"
 			       "TEAM:Red:Forager:BotType8:4:Forage:Forage\n"
 			       "LEARNINGMETHOD:NEAT NUMGEN:3\n"
 			       "TEAMFITNESS:BOTH\n"),
-		       at(5, "TEAMFITNESS must be TEAM or OWN, found 'BOTH'"));
+		       at(5, "TEAMFITNESS: expected TEAM or OWN, found 'BOTH'"));
 }
 
 TEST(a_team_task_needs_a_team)

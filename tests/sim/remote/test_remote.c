@@ -634,14 +634,16 @@ TEST(bad_remote_keys_are_refused)
 			     "%s run %s/Avoid/Tasks/%s.simbatch -nog", cli_evo,
 			     cli_tmp, name);
 	CHECK_EQ_INT(rc, 1);
-	CHECK_CONTAINS(out, "REMOTETIMEOUT expects seconds");
+	CHECK_CONTAINS(out, "REMOTETIMEOUT: expected a number above 0 and at "
+			    "most 3600, found 'soon'");
 	cli_write("TYPE:DEMOREMOTESIM\nMASTERSKILL:Avoid\nREMOTENAME:a/b\n",
 		  "%s/Avoid/Tasks/badname.simbatch", cli_tmp);
 	rc = cli_capture(out, sizeof out,
 			 "%s run %s/Avoid/Tasks/badname.simbatch -nog", cli_evo,
 			 cli_tmp);
 	CHECK_EQ_INT(rc, 1);
-	CHECK_CONTAINS(out, "REMOTENAME 'a/b': a remote's name is");
+	CHECK_CONTAINS(out, "badname.simbatch:3: REMOTENAME: expected a name of "
+			    "1 to 63 letters, digits, '_' or '-', found 'a/b'");
 }
 
 int main(void)
