@@ -360,8 +360,12 @@ static void corridor_mind(void)
 {
 	cli_sh("[ -d %s/Corridor ] || (cp -r minds/Corridor %s/ && rm -rf "
 	       "%s/Corridor/Runs && for t in %s/Corridor/Tasks/*.simbatch; do "
-	       "printf 'LCMURL:%s\\nREMOTETIMEOUT:10\\n' >>$t; done)",
-	       cli_tmp, cli_tmp, cli_tmp, cli_tmp, url);
+	       "sed -i '/^REMOTENAME:/d' $t && "
+	       "printf 'LCMURL:%s\\nREMOTETIMEOUT:10\\nREMOTENAME:"
+	       "corridor-demo-%ld,corridor-lock-%ld,corridor-learn-%ld\\n' "
+	       ">>$t; done)",
+	       cli_tmp, cli_tmp, cli_tmp, cli_tmp, url, (long)getpid(),
+	       (long)getpid(), (long)getpid());
 }
 
 /* The "reward R over T ticks" of each episode line of evo's output, and

@@ -46,7 +46,9 @@ static void make_avoid(const char *dir)
 	char text[640];
 	snprintf(text, sizeof text, "TYPE:LEARNSIM\n%s", common);
 	cli_write(text, "%s/%s/Avoid/Tasks/T.simbatch", cli_tmp, dir);
-	snprintf(text, sizeof text, "TYPE:LEARNREMOTESIM\n%s", common);
+	snprintf(text, sizeof text,
+		 "TYPE:LEARNREMOTESIM\nREMOTENAME:%s-a-%ld,%s-b-%ld\n%s", dir,
+		 (long)getpid(), dir, (long)getpid(), common);
 	cli_write(text, "%s/%s/Avoid/Tasks/R.simbatch", cli_tmp, dir);
 }
 

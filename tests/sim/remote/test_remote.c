@@ -342,8 +342,9 @@ TEST(a_remote_with_other_names_is_refused_with_them)
 	waitpid(f, &st, 0);
 }
 
-/* Without REMOTENAME any remote of the kind will do: one whose names do
- * not fit is passed over, saying why, and evo waits for one that fits. */
+/* With several names in REMOTENAME any of them will do: one whose names
+ * do not fit is passed over, saying why, and evo waits for one that
+ * fits. */
 TEST(a_remote_that_does_not_fit_is_passed_over_for_one_that_does)
 {
 	char misfit[64], fit[64], got[256], url[96];
@@ -357,8 +358,8 @@ TEST(a_remote_that_does_not_fit_is_passed_over_for_one_that_does)
 	char text[512];
 	snprintf(text, sizeof text,
 		 "TYPE:DEMOREMOTESIM\nMASTERSKILL:Avoid\nTICKLIM:100\n"
-		 "LCMURL:%s\nREMOTETIMEOUT:10\n",
-		 url);
+		 "LCMURL:%s\nREMOTETIMEOUT:10\nREMOTENAME:%s,%s\n",
+		 url, misfit, fit);
 	cli_write(text, "%s/Avoid/Tasks/any-remote.simbatch", cli_tmp);
 	fake_url = url;
 	pid_t a = start_fake(misfit, FAKE_OTHER_NAMES, got);
