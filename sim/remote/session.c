@@ -311,7 +311,7 @@ evo_remotes *evo_remotes_open(const evo_mindfolder *mind,
 	s->link = evo_link_open(o->url, err);
 	s->links[0] = s->link;
 	s->n_links = 1;
-	s->url_ttl = url_ttl(evo_link_url(s->link ? s->link : NULL));
+	s->url_ttl = s->link ? url_ttl(evo_link_url(s->link)) : 0;
 	if (!s->link || evo_link_subscribe(s->link, "EVO_HELLO", err)) {
 		evo_link_close(s->link);
 		memset(&s->opts.key, 0, sizeof s->opts.key);

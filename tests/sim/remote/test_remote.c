@@ -153,10 +153,10 @@ enum fake_mode {
 	FAKE_NAN,     /* tick 0 reads NaN */
 	FAKE_RESTART, /* says hello with a new session instead of tick 0 */
 	FAKE_ENVS_100, /* says it runs 100 environments (evo keeps 64) */
-	FAKE_FILE_URL  /* names file://fake_file?mode=w as its episodes' URL */
+	FAKE_OWN_URL   /* names fake_hello_url as its episodes' URL */
 };
 
-static char fake_file[200]; /* FAKE_FILE_URL's file */
+static char fake_hello_url[240]; /* FAKE_OWN_URL's */
 
 static void publish(evo_link *l, const char *ch, const void *b, int n)
 {
@@ -204,8 +204,8 @@ static void fake_remote(const char *name, enum fake_mode mode, const char *got)
 	snprintf(h.actuator[0], EVO_NAME_MAX, "MotR");
 	if (mode == FAKE_ENVS_100)
 		h.environments = 100;
-	if (mode == FAKE_FILE_URL)
-		snprintf(h.url, sizeof h.url, "file://%s?mode=w", fake_file);
+	if (mode == FAKE_OWN_URL)
+		snprintf(h.url, sizeof h.url, "%s", fake_hello_url);
 	static unsigned char buf[EVO_WIRE_MAX_BYTES];
 	publish(l, "EVO_HELLO", buf, evo_wire_encode_hello(&h, buf, sizeof buf));
 	evo_wire_sensors s = {.session = 42, .n = 11};
@@ -698,14 +698,17 @@ TEST(a_hello_with_100_environments_is_refused_naming_remote_and_field)
 
 /* A hello whose episodes' URL is file://PATH?mode=w: refused, and the
  * file never made (LCM's file provider would have written evo's messages
- * into it). */
+ * into it). A multicast URL that reaches further than the task's (ttl=1
+ * where the task's has 0) is refused too. */
 TEST(a_hello_naming_a_file_url_is_refused_and_writes_nothing)
 {
-	char name[64], want[512];
+	char name[64], want[512], fake_file[200];
 	snprintf(name, sizeof name, "fileurl-%ld", (long)getpid());
 	snprintf(fake_file, sizeof fake_file, "%s/written.lcmlog", cli_tmp);
+	snprintf(fake_hello_url, sizeof fake_hello_url, "file://%s?mode=w",
+		 fake_file);
 	remote_task(name, "");
-	pid_t f = start_fake(name, FAKE_FILE_URL, "/dev/null");
+	pid_t f = start_fake(name, FAKE_OWN_URL, "/dev/null");
 	int rc = cli_capture(out, sizeof out,
 			     "%s run %s/Avoid/Tasks/%s.simbatch -nog", cli_evo,
 			     cli_tmp, name);
@@ -718,6 +721,21 @@ TEST(a_hello_naming_a_file_url_is_refused_and_writes_nothing)
 	CHECK(access(fake_file, F_OK) != 0);
 	kill(f, SIGKILL);
 	int st;
+	waitpid(f, &st, 0);
+	snprintf(fake_hello_url, sizeof fake_hello_url,
+		 "udpm://239.255.76.67:7991?ttl=1");
+	f = start_fake(name, FAKE_OWN_URL, "/dev/null");
+	rc = cli_capture(out, sizeof out,
+			 "%s run %s/Avoid/Tasks/%s.simbatch -nog", cli_evo,
+			 cli_tmp, name);
+	CHECK_EQ_INT(rc, 1);
+	snprintf(want, sizeof want,
+		 "remote %s: its episodes' URL udpm://239.255.76.67:7991?ttl=1 "
+		 "reaches further (ttl=1) than the task's "
+		 "udpm://239.255.76.67:7667?ttl=0",
+		 name);
+	CHECK_CONTAINS(out, want);
+	kill(f, SIGKILL);
 	waitpid(f, &st, 0);
 }
 
