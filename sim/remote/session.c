@@ -84,6 +84,15 @@ int evo_remote_opts_from_task(const evo_simbatch *sb, const char *path,
 	o->task = path;
 	o->url = evo_simbatch_get(sb, "LCMURL");
 	o->name = evo_simbatch_get(sb, "REMOTENAME");
+	/* a task comes in a shared mind folder: its URL, as a hello's, names
+	 * a multicast group and never another LCM provider (file:// would
+	 * have evo write where the task says) */
+	char uwhy[200];
+	int ttl;
+	if (o->url && (!o->url[0] || !evo_wire_url_ok(o->url, &ttl, uwhy,
+						       sizeof uwhy)))
+		return evo_fail(err, "%s: LCMURL: %s", path,
+				o->url[0] ? uwhy : "empty");
 	o->kind = kind;
 	o->timeout = EVO_REMOTE_DEFAULT_TIMEOUT;
 	for (const char *p = o->name; p;) {

@@ -1028,6 +1028,25 @@ TEST(a_task_names_its_remotes_or_has_a_key)
 			 cli_tmp);
 	CHECK_EQ_INT(rc, 1);
 	CHECK_CONTAINS(out, "none.key: No such file or directory");
+	/* a shared task's URL opens no other LCM provider either */
+	char text[512];
+	snprintf(text, sizeof text,
+		 "TYPE:DEMOREMOTESIM\nMASTERSKILL:Avoid\nREMOTENAME:x\n"
+		 "LCMURL:file://%s/task-written?mode=w\n",
+		 cli_tmp);
+	cli_write(text, "%s/Avoid/Tasks/fileurl.simbatch", cli_tmp);
+	rc = cli_capture(out, sizeof out,
+			 "%s run %s/Avoid/Tasks/fileurl.simbatch -nog", cli_evo,
+			 cli_tmp);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "fileurl.simbatch: LCMURL: 'file://");
+	CHECK_CONTAINS(out, "' is not udpm://GROUP:PORT");
+	rc = cli_capture(out, sizeof out,
+			 "%s serve %s/Avoid/Tasks/fileurl.simbatch", cli_evo,
+			 cli_tmp);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "fileurl.simbatch: LCMURL: 'file://");
+	CHECK(cli_sh("test -e %s/task-written", cli_tmp) != 0);
 }
 
 int main(void)
