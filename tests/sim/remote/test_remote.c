@@ -1047,6 +1047,23 @@ TEST(a_task_names_its_remotes_or_has_a_key)
 	CHECK_EQ_INT(rc, 1);
 	CHECK_CONTAINS(out, "fileurl.simbatch: LCMURL: 'file://");
 	CHECK(cli_sh("test -e %s/task-written", cli_tmp) != 0);
+	/* evo serve's own key file, named when it cannot be read */
+	rc = cli_capture(out, sizeof out,
+			 "%s serve %s/Avoid/Tasks/shortkey.simbatch --key-file "
+			 "%s/none.key",
+			 cli_evo, cli_tmp, cli_tmp);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "shortkey.simbatch: LCMKEYFILE: key file ");
+	cli_write("TYPE:DEMOREMOTESIM\nMASTERSKILL:Avoid\nREMOTENAME:x\n",
+		  "%s/Avoid/Tasks/named.simbatch", cli_tmp);
+	rc = cli_capture(out, sizeof out,
+			 "%s serve %s/Avoid/Tasks/named.simbatch --key-file "
+			 "%s/Avoid/Tasks/short.key",
+			 cli_evo, cli_tmp, cli_tmp);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "evo serve: --key-file: key file ");
+	CHECK_CONTAINS(out, "short.key: a key is 16 to 256 bytes");
+	CHECK(strstr(out, "short-secret") == NULL);
 }
 
 int main(void)
