@@ -753,8 +753,11 @@ static double mean_reward(const char *text, int *n)
 {
 	double sum = 0;
 	*n = 0;
-	for (const char *p = strstr(text, "episode "); p;
-	     p = strstr(p + 1, "\nepisode ")) {
+	/* episode lines only: a drop's sentence says "of episode 2" too */
+	for (const char *p = strncmp(text, "episode ", 8) == 0
+				 ? text
+				 : strstr(text, "\nepisode ");
+	     p; p = strstr(p + 1, "\nepisode ")) {
 		const char *r = strstr(p, ": reward ");
 		if (!r)
 			break;
