@@ -97,8 +97,11 @@ static void episode_lines(const char *text, char *lines, size_t cap)
 {
 	size_t k = 0;
 	lines[0] = 0;
-	for (const char *p = strstr(text, "episode "); p;
-	     p = strstr(p + 1, "\nepisode ")) {
+	/* episode lines only: a drop's sentence says "of episode 2" too */
+	for (const char *p = strncmp(text, "episode ", 8) == 0
+				 ? text
+				 : strstr(text, "\nepisode ");
+	     p; p = strstr(p + 1, "\nepisode ")) {
 		if (*p == '\n')
 			p++;
 		const char *end = strstr(p, " ticks");
