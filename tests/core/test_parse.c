@@ -325,12 +325,12 @@ TEST(simbatch_tables)
 	size_t i, n = 0;
 	for (i = 0; evo_simbatch_keys[i]; i++)
 		n++;
-	/* the tutorial's 12, THREADS, HIDDEN, TARGETFITNESS, the four
-	 * remote keys (LCMURL, REMOTENAME, REMOTETIMEOUT, CANURL) and the
-	 * five of teams (TEAM, LEARNINGTEAM, TEAMGENOME, TEAMFITNESS,
-	 * ALTERNATE) and the three of LEARNSIMCONTINUOUS (SKILLORDER,
-	 * ROUNDS, VALIDATION) */
-	CHECK_EQ_INT(n, 28);
+	/* the tutorial's 12, THREADS, HIDDEN, TARGETFITNESS, the five
+	 * remote keys (LCMURL, REMOTENAME, REMOTETIMEOUT, LCMKEYFILE,
+	 * CANURL) and the five of teams (TEAM, LEARNINGTEAM, TEAMGENOME,
+	 * TEAMFITNESS, ALTERNATE) and the three of LEARNSIMCONTINUOUS
+	 * (SKILLORDER, ROUNDS, VALIDATION) */
+	CHECK_EQ_INT(n, 29);
 	CHECK(n <= EVO_MAX_SIMBATCH);
 	n = 0;
 	for (i = 0; evo_task_types[i]; i++)
