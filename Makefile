@@ -351,11 +351,12 @@ $(BUILD)/fuzz/lcm/%.o: $(LCM_GEN)/%.c
 	@mkdir -p $(dir $@)
 	$(CLANG) -std=c11 -O1 -g $(filter-out -Wpedantic -Wmissing-prototypes,$(WARN)) \
 		-I$(LCM_GEN) -fsanitize=fuzzer-no-link $(FUZZ_SAN) -c $< -o $@
-$(BUILD)/fuzz/fuzz_wire: tests/fuzz/fuzz_wire.c sim/remote/wire.c sim/remote/wire.h $(FUZZ_LCM_OBJS)
+$(BUILD)/fuzz/fuzz_wire: tests/fuzz/fuzz_wire.c sim/remote/wire.c sim/remote/wire.h \
+		core/src/mac.c $(FUZZ_LCM_OBJS)
 	@mkdir -p $(dir $@)
 	$(CLANG) -std=c11 -O1 -g $(WARN) -Icore/include -Isim -isystem $(LCM_GEN) \
 		-fsanitize=fuzzer $(FUZZ_SAN) \
-		-o $@ tests/fuzz/fuzz_wire.c sim/remote/wire.c $(FUZZ_LCM_OBJS)
+		-o $@ tests/fuzz/fuzz_wire.c sim/remote/wire.c core/src/mac.c $(FUZZ_LCM_OBJS)
 
 # The host's CAN formats: cannelloni datagrams, candump log lines, slcan
 # as the host reads it.

@@ -326,9 +326,9 @@ static double print_spread(const char *what, const double *v,
 
 static int bench_scaling(long ticks)
 {
-	char n1[64], n2[64];
-	snprintf(n1, sizeof n1, "bench-a-%ld", (long)getpid());
-	snprintf(n2, sizeof n2, "bench-b-%ld", (long)getpid());
+	/* the names the task's REMOTENAME gives (sim1,sim2): a learning
+	 * run takes only the simulators its task names */
+	const char *n1 = "sim1", *n2 = "sim2";
 	evo_eval_def d1 = {.task_path = LEARN_TASK, .seed = 1, .ticks = ticks};
 	evo_eval_def d2 = d1;
 	int rc = 2, reps = 0;

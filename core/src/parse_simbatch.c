@@ -49,6 +49,7 @@ const evo_simbatch_key_def evo_simbatch_key_defs[] = {
      (int64_t)MILLION * MILLION * MILLION, 0, 0, NULL, 0},
     TEXT("LCMURL"),
     {"REMOTENAME", EVO_KEY_NAME, 1, EVO_KEY_NAME_MAX, 0, 0, NULL, 0},
+    TEXT("LCMKEYFILE"),
     /* seconds, more than 0 and at most an hour */
     {"REMOTETIMEOUT", EVO_KEY_DECIMAL, 0, (int64_t)3600 * MILLION, 1, 0,
      NULL, 0},
@@ -188,8 +189,8 @@ size_t evo_simbatch_key_range(const evo_simbatch_key_def *d, char *buf,
 		return n;
 	case EVO_KEY_NAME:
 		return evo_txt_fmt(buf, cap,
-				   "a name of 1 to %u letters, digits, '_' or "
-				   "'-'",
+				   "names of 1 to %u letters, digits, '_' or "
+				   "'-', joined by ','",
 				   (unsigned)d->hi);
 	case EVO_KEY_TEXT:
 		break;
@@ -248,16 +249,26 @@ static int value_ok(const evo_simbatch_key_def *d, evo_txt_slice v)
 			if (evo_txt_slice_ieq(v, d->words[i]))
 				return 1;
 		return 0;
-	case EVO_KEY_NAME:
-		if (v.len < 1 || v.len > (size_t)d->hi)
-			return 0;
-		for (size_t i = 0; i < v.len; i++) {
-			char c = v.s[i];
-			if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
-			      (c >= '0' && c <= '9') || c == '_' || c == '-'))
+	case EVO_KEY_NAME: {
+		/* names joined by ',', none empty, none past hi */
+		size_t run = 0;
+		for (size_t i = 0; i <= v.len; i++) {
+			char c = i < v.len ? v.s[i] : ',';
+			if (c == ',') {
+				if (run < 1 || run > (size_t)d->hi)
+					return 0;
+				run = 0;
+			} else if ((c >= 'a' && c <= 'z') ||
+				   (c >= 'A' && c <= 'Z') ||
+				   (c >= '0' && c <= '9') || c == '_' ||
+				   c == '-') {
+				run++;
+			} else {
 				return 0;
+			}
 		}
 		return 1;
+	}
 	case EVO_KEY_TEXT:
 		break;
 	}

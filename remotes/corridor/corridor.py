@@ -27,6 +27,8 @@ the same seeds give the same episode, tick for tick.
 """
 
 import argparse
+import hashlib
+import hmac
 import math
 import os
 import random
@@ -191,7 +193,35 @@ class Corridor:
 
 # ---- the protocol (docs/remote.md) --------------------------------------------
 
-REASONS = ["undecodable", "foreign", "counts", "value", "stale", "ahead"]
+REASONS = ["undecodable", "foreign", "counts", "value", "stale", "ahead",
+           "forged", "replayed"]
+
+# The seal of docs/remote.md, Keys: after a message's bytes, an 8-byte
+# big-endian stamp (microseconds of the real-time clock, strictly
+# increasing) and HMAC-SHA-256 over the channel, a NUL, the bytes and the
+# stamp.
+SEAL_BYTES = 8 + 32
+FRESH_US = 30000000
+KEY_MIN, KEY_MAX = 16, 256
+
+
+def read_key(path):
+    """The key in a key file: its bytes without a trailing newline."""
+    with open(path, "rb") as f:
+        k = f.read(KEY_MAX + 3)
+    if k.endswith(b"\n"):
+        k = k[:-1]
+    if k.endswith(b"\r"):
+        k = k[:-1]
+    if not KEY_MIN <= len(k) <= KEY_MAX:
+        raise ValueError("key file %s: a key is %d to %d bytes" %
+                         (path, KEY_MIN, KEY_MAX))
+    return k
+
+
+def mac(key, channel, body, stamp8):
+    return hmac.new(key, channel.encode() + b"\0" + body + stamp8,
+                    hashlib.sha256).digest()
 
 
 class Env:
@@ -212,8 +242,12 @@ class Simulator:
     """lc: the LCM of the hello's URL (who_t, hello_t); data: that of the
     episodes' (control_t, sensors_t, command_t), which may be the same."""
 
-    def __init__(self, lc, data, data_url, types, name, environments, log):
+    def __init__(self, lc, data, data_url, types, name, environments, log,
+                 key=None):
         self.lc, self.data, self.t = lc, data, types
+        self.key = key
+        self.last_stamp = 0
+        self.fresh = {}  # channel: the last stamp taken on it
         self.name = name
         self.session = int.from_bytes(os.urandom(8), "big") >> 1
         self.envs = [Env() for _ in range(environments)]
@@ -268,8 +302,45 @@ class Simulator:
                   (m.name, m.session, m.env))
         return False
 
+    def publish(self, lc, channel, body):
+        """Publish body on channel, sealed afresh when there is a key (a
+        message sent again gets a new stamp)."""
+        if self.key:
+            stamp = max(time.time_ns() // 1000, self.last_stamp + 1)
+            self.last_stamp = stamp
+            stamp8 = stamp.to_bytes(8, "big", signed=True)
+            body = body + stamp8 + mac(self.key, channel, body, stamp8)
+        lc.publish(channel, body)
+
+    def unseal(self, channel, data, what, ordered):
+        """The message's bytes without their seal, or None (dropped as
+        forged or replayed). ordered: its stamp must be newer than the
+        last taken on the channel."""
+        if not self.key:
+            return data
+        if len(data) < 8 + SEAL_BYTES:
+            self.drop("forged", what, "%d bytes, too few for a seal" %
+                      len(data))
+            return None
+        body, stamp8, tag = data[:-SEAL_BYTES], data[-SEAL_BYTES:-32], \
+            data[-32:]
+        if not hmac.compare_digest(tag, mac(self.key, channel, body, stamp8)):
+            self.drop("forged", what, "its MAC fails the key")
+            return None
+        stamp = int.from_bytes(stamp8, "big", signed=True)
+        if abs(stamp - time.time_ns() // 1000) > FRESH_US:
+            self.drop("replayed", what, "stamped %.0f s from this clock" %
+                      (abs(stamp - time.time_ns() // 1000) * 1e-6))
+            return None
+        if ordered:
+            if stamp <= self.fresh.get(channel, 0):
+                self.drop("replayed", what, "not newer than the last taken")
+                return None
+            self.fresh[channel] = stamp
+        return body
+
     def publish_hello(self):
-        self.lc.publish("EVO_HELLO", self.hello)
+        self.publish(self.lc, "EVO_HELLO", self.hello)
 
     def send_sensors(self, env, e, done):
         s = self.t.sensors_t()
@@ -279,7 +350,7 @@ class Simulator:
         s.n = len(s.values)
         s.reward, s.done = e.reward, done
         e.last = s.encode()
-        self.data.publish(self.ch_sensors, e.last)
+        self.publish(self.data, self.ch_sensors, e.last)
 
     def end(self, env, e, how):
         """An episode is over: its line in the log."""
@@ -292,11 +363,13 @@ class Simulator:
             self.log.flush()
 
     def on_who(self, channel, data):
-        if self.decode(self.t.who_t, data):
+        data = self.unseal(channel, data, "who_t", False)
+        if data is not None and self.decode(self.t.who_t, data):
             self.publish_hello()
 
     def on_control(self, channel, data):
-        c = self.decode(self.t.control_t, data)
+        data = self.unseal(channel, data, "control_t", True)
+        c = data is not None and self.decode(self.t.control_t, data)
         if not c or not self.ours(c, "control_t"):
             return
         e = self.envs[c.env]
@@ -313,7 +386,7 @@ class Simulator:
         # as it is
         if (e.active and c.episode == e.episode and e.tick == 0 and
                 (c.layout_seed, c.seed) == e.seeds):
-            self.data.publish(self.ch_sensors, e.last)
+            self.publish(self.data, self.ch_sensors, e.last)
             return
         # the same RESET past tick 0, soon after it: a copy evo sent again
         # while the first answer was on its way, come late; starting over
@@ -338,7 +411,8 @@ class Simulator:
         self.send_sensors(c.env, e, False)
 
     def on_command(self, channel, data):
-        c = self.decode(self.t.command_t, data)
+        data = self.unseal(channel, data, "command_t", True)
+        c = data is not None and self.decode(self.t.command_t, data)
         if not c or not self.ours(c, "command_t"):
             return
         e = self.envs[c.env]
@@ -350,7 +424,7 @@ class Simulator:
         # episode): its answer was lost, so it goes again, without a step
         if (e.last is not None and c.episode == e.episode and
                 c.tick == e.tick - 1):
-            self.data.publish(self.ch_sensors, e.last)
+            self.publish(self.data, self.ch_sensors, e.last)
             return
         if not e.active or c.episode != e.episode or c.tick != e.tick:
             ahead = (c.episode > e.episode or
@@ -470,6 +544,9 @@ def main():
                    help="the LCM URL of its episodes (default: the URL's "
                    "port + 1 + a hash of the name modulo 2000, as evo serve "
                    "does; 'same': the URL itself)")
+    p.add_argument("--key-file", metavar="FILE",
+                   help="the key shared with evo (the task's LCMKEYFILE): "
+                   "every message sealed and checked (docs/remote.md, Keys)")
     p.add_argument("--log", metavar="FILE",
                    help="append a line per episode that ends: its seeds, "
                    "reward and ticks")
@@ -480,6 +557,12 @@ def main():
     if not 1 <= a.environments <= MAX_ENVIRONMENTS:
         p.error("--environments expects a whole number 1..%d, found %d" %
                 (MAX_ENVIRONMENTS, a.environments))
+    key = None
+    if a.key_file:
+        try:
+            key = read_key(a.key_file)
+        except (OSError, ValueError) as e:
+            p.error("--key-file: %s" % e)
     lcm, types = import_types()
 
     stop = []
@@ -493,7 +576,8 @@ def main():
     except (IOError, RuntimeError) as e:
         sys.exit("corridor.py: cannot open LCM: %s" % e)
     log = open(a.log, "a") if a.log else None
-    sim = Simulator(lc, data, data_url, types, a.name, a.environments, log)
+    sim = Simulator(lc, data, data_url, types, a.name, a.environments, log,
+                    key)
     sim.publish_hello()
     print("corridor: %s serves a corridor on %s (%d environment%s; its "
           "episodes on %s)" % (a.name, a.url, a.environments,

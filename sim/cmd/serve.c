@@ -25,6 +25,7 @@
 #include "cmd/serve_can.h"
 #include "mind/task.h"
 #include "remote/link.h"
+#include "remote/session.h"
 #include "remote/wire.h"
 #include "tasksim/tasksim.h"
 
@@ -47,6 +48,8 @@ static void serve_usage(FILE *f)
 	      "  --data-url URL      the LCM URL of its episodes (default: the\n"
 	      "                      URL on a port of its own, from its name;\n"
 	      "                      'same': the URL itself)\n"
+	      "  --key-file FILE     the key shared with evo run (default: the\n"
+	      "                      task's LCMKEYFILE; docs/remote.md, Keys)\n"
 	      "  --robot             stand in for a robot: run in real time and\n"
 	      "                      go neutral when evo's commands stop\n"
 	      "  --tick-ms MS        the robot's period (default 33.333: 30\n"
@@ -89,6 +92,8 @@ typedef struct server {
 	char ch_control[96], ch_command[96], ch_sensors[96];
 	served_env *env;
 	unsigned long dropped[EVO_WIRE_N_REASONS];
+	/* with a key: the last stamp taken on each channel from evo */
+	evo_wire_fresh fresh_control, fresh_command;
 } server;
 
 static void drop(server *sv, evo_wire_reason r, const char *type,
@@ -165,7 +170,14 @@ static int take_control(server *sv, const evo_link_msg *m, evo_wire_control *c)
 		drop(sv, r, "control_t", why);
 		return 0;
 	}
-	return ours(sv, c->name, c->session, c->env, "control_t");
+	if (!ours(sv, c->name, c->session, c->env, "control_t"))
+		return 0;
+	r = evo_wire_fresh_take(&sv->fresh_control, m->stamp, why, sizeof why);
+	if (r) {
+		drop(sv, r, "control_t", why);
+		return 0;
+	}
+	return 1;
 }
 
 static int take_command(server *sv, const evo_link_msg *m, evo_wire_command *c)
@@ -177,7 +189,14 @@ static int take_command(server *sv, const evo_link_msg *m, evo_wire_command *c)
 		drop(sv, r, "command_t", why);
 		return 0;
 	}
-	return ours(sv, c->name, c->session, c->env, "command_t");
+	if (!ours(sv, c->name, c->session, c->env, "command_t"))
+		return 0;
+	r = evo_wire_fresh_take(&sv->fresh_command, m->stamp, why, sizeof why);
+	if (r) {
+		drop(sv, r, "command_t", why);
+		return 0;
+	}
+	return 1;
 }
 
 static int on_control(server *sv, const evo_link_msg *m, evo_err *err)
@@ -612,7 +631,7 @@ static int64_t new_session(void)
 int evo_serve_main(int argc, char **argv)
 {
 	const char *task_path = NULL, *name = NULL, *url = NULL,
-		   *data_url = NULL;
+		   *data_url = NULL, *key_file = NULL;
 	long envs = 1;
 	int as_robot = 0, envs_set = 0;
 	double tick_ms = 1000.0 / 30, timeout = 0.5;
@@ -656,6 +675,10 @@ int evo_serve_main(int argc, char **argv)
 			lcm_opt = a;
 		} else if (strcmp(a, "--data-url") == 0 && v) {
 			data_url = v;
+			i++;
+			lcm_opt = a;
+		} else if (strcmp(a, "--key-file") == 0 && v) {
+			key_file = v;
 			i++;
 			lcm_opt = a;
 		} else if (strcmp(a, "--environments") == 0 && v) {
@@ -758,6 +781,20 @@ int evo_serve_main(int argc, char **argv)
 	server sv;
 	memset(&sv, 0, sizeof sv);
 	int rc = 1;
+	/* the task's remote keys, for its LCMKEYFILE (and their checks) */
+	evo_remote_opts ro;
+	if (evo_remote_opts_from_task(task.sb, task_path,
+				      as_robot ? EVO_REMOTE_ROBOT
+					       : EVO_REMOTE_SIMULATOR,
+				      &ro, &err))
+		goto out;
+	if (key_file) {
+		char why[600];
+		if (evo_wire_key_read(key_file, &ro.key, why, sizeof why)) {
+			evo_fail(&err, "evo serve: --key-file: %s", why);
+			goto out;
+		}
+	}
 	sv.env = calloc((size_t)envs, sizeof *sv.env);
 	if (!sv.env) {
 		fprintf(stderr, "evo serve: out of memory\n");
@@ -790,6 +827,8 @@ int evo_serve_main(int argc, char **argv)
 	sv.link = evo_link_open(url, &err);
 	if (!sv.link || evo_link_subscribe(sv.link, "EVO_WHO", &err))
 		goto out;
+	if (ro.key.len)
+		evo_link_set_key(sv.link, &ro.key, "evo serve");
 	if (!data_url)
 		data_url_for(evo_link_url(sv.link), name, h->url, sizeof h->url);
 	else if (strcmp(data_url, "same") != 0)
@@ -798,6 +837,8 @@ int evo_serve_main(int argc, char **argv)
 		sv.data = evo_link_open(h->url, &err);
 		if (!sv.data)
 			goto out;
+		if (ro.key.len)
+			evo_link_set_key(sv.data, &ro.key, "evo serve");
 	} else {
 		h->url[0] = 0;
 		sv.data = sv.link;
@@ -833,12 +874,26 @@ out:
 	unsigned long total = 0;
 	for (int i = 1; i < EVO_WIRE_N_REASONS; i++)
 		total += sv.dropped[i];
-	if (total)
-		fprintf(stderr, "evo serve: dropped %lu message%s\n", total,
+	if (total) {
+		fprintf(stderr, "evo serve: dropped %lu message%s (", total,
 			total == 1 ? "" : "s");
-	if (sv.data != sv.link)
+		const char *sep = "";
+		for (int i = 1; i < EVO_WIRE_N_REASONS; i++)
+			if (sv.dropped[i]) {
+				fprintf(stderr, "%s%lu %s", sep, sv.dropped[i],
+					evo_wire_reason_name((evo_wire_reason)i));
+				sep = ", ";
+			}
+		fprintf(stderr, ")\n");
+	}
+	if (sv.link)
+		evo_link_report(sv.link);
+	if (sv.data && sv.data != sv.link) {
+		evo_link_report(sv.data);
 		evo_link_close(sv.data);
+	}
 	evo_link_close(sv.link);
+	memset(&ro.key, 0, sizeof ro.key);
 	for (long i = 0; sv.env && i < envs; i++)
 		evo_sim_destroy(sv.env[i].sim);
 	free(sv.env);

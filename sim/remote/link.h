@@ -12,6 +12,7 @@
 #include <stdint.h>
 
 #include "base/err.h"
+#include "remote/wire.h"
 
 /* LCM's own default URL (this machine only: ttl=0). */
 #define EVO_LINK_DEFAULT_URL "udpm://239.255.76.67:7667?ttl=0"
@@ -32,8 +33,9 @@ int evo_link_subscribe(evo_link *l, const char *channel, evo_err *err);
 typedef struct evo_link_msg {
 	const char *channel;
 	const void *data;
-	size_t len;
+	size_t len;	  /* without the seal */
 	int64_t recv_utime;
+	int64_t stamp;	  /* the seal's stamp (evo_wire_fresh_take); 0: no key */
 } evo_link_msg;
 
 /* The next message, waiting at most timeout_ms for one (0: only what has
@@ -49,7 +51,23 @@ int evo_link_next(evo_link *l, int timeout_ms, evo_link_msg *m,
 int evo_link_next_any(evo_link *const *links, int n, int timeout_ms,
 		      int *which, evo_link_msg *m, evo_err *err);
 
-/* Publish len bytes on channel. 0, or -1 with err set. */
+/* Seal every message published from now on with key k, and take only
+ * messages whose seal holds (wire.h): the others are dropped and counted
+ * (evo_link_report), the first of each kind said on stderr at once with
+ * `who` ("evo", "evo serve") in front. k is copied. */
+void evo_link_set_key(evo_link *l, const evo_wire_key *k, const char *who);
+
+/* The messages dropped for their seal so far: forged (no seal, or a MAC
+ * that fails the key) and replayed (a stamp too far from this machine's
+ * clock). */
+void evo_link_drops(const evo_link *l, unsigned long *forged,
+		    unsigned long *replayed);
+
+/* One line on stderr with those counts, when there are any. */
+void evo_link_report(const evo_link *l);
+
+/* Publish len bytes on channel (sealed when the link has a key). 0, or
+ * -1 with err set. */
 int evo_link_publish(evo_link *l, const char *channel, const void *data,
 		     size_t len, evo_err *err);
 

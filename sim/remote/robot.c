@@ -24,8 +24,30 @@ int evo_robot_task_check(const evo_simbatch *task, const char *type,
 			 const char *task_path, evo_err *err)
 {
 	const char *url = evo_simbatch_get(task, "CANURL");
-	if (!url)
+	if (!url) {
+		if (!strstr(type, "REMOTE"))
+			return 0;
+		/* over LCM: evo check refuses what evo run would (its URL,
+		 * names and key file, and a task that names no remote and
+		 * has no key) */
+		evo_remote_opts o;
+		if (evo_remote_opts_from_task(task, task_path,
+					      strcmp(type, "DEMOREMOTE") == 0
+						  ? EVO_REMOTE_ROBOT
+						  : EVO_REMOTE_SIMULATOR,
+					      &o, err))
+			return -1;
+		if (!o.name && !o.key.len)
+			return evo_fail(
+			    err,
+			    "%s: a remote task names its remotes "
+			    "(REMOTENAME:sim1 or REMOTENAME:sim1,sim2) or "
+			    "shares a key with them (LCMKEYFILE); without "
+			    "either, any process on %s could pass for its "
+			    "remote (docs/remote.md)",
+			    task_path, o.url ? o.url : EVO_LINK_DEFAULT_URL);
 		return 0;
+	}
 	if (strcmp(type, "DEMOREMOTE") != 0)
 		return evo_fail(
 		    err,

@@ -16,9 +16,10 @@
 
 typedef struct evo_robot_conn evo_robot_conn;
 
-/* A task's CANURL: only a DEMOREMOTE task takes one (a remote simulator
- * is reached over LCM), and it must be a URL of can.h's. 0, or -1 with
- * err set ("TASK: CANURL ..."). */
+/* What `evo check` checks of a remote task's connection: a CANURL only
+ * in a DEMOREMOTE task (a remote simulator is reached over LCM) and a URL
+ * of can.h's; over LCM, the keys evo_remote_opts_from_task reads, and
+ * REMOTENAME or LCMKEYFILE given. 0, or -1 with err set ("TASK: ..."). */
 int evo_robot_task_check(const evo_simbatch *task, const char *type,
 			 const char *task_path, evo_err *err);
 

@@ -11,12 +11,22 @@
 #define SLICE_MS 50	 /* the longest wait between two looks at stop */
 #define RESEND_S 0.25	 /* a message unanswered this long is sent again */
 #define WHO_EVERY_S 0.5
+/* a hello of a new session is a restart once the old session has been
+ * silent this long after it (without a key anyone can send that hello) */
+#define RESTART_GRACE_S 1.0
 
 static double now(void)
 {
 	struct timespec ts;
 	clock_gettime(CLOCK_MONOTONIC, &ts);
 	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static int64_t real_us(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_REALTIME, &ts);
+	return (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000;
 }
 
 static int stopped(const evo_remote_opts *o, evo_err *err)
@@ -71,15 +81,48 @@ int evo_remote_opts_from_task(const evo_simbatch *sb, const char *path,
 			      evo_err *err)
 {
 	memset(o, 0, sizeof *o);
+	o->task = path;
 	o->url = evo_simbatch_get(sb, "LCMURL");
 	o->name = evo_simbatch_get(sb, "REMOTENAME");
+	/* a task comes in a shared mind folder: its URL, as a hello's, names
+	 * a multicast group and never another LCM provider (file:// would
+	 * have evo write where the task says) */
+	char uwhy[200];
+	int ttl;
+	if (o->url && (!o->url[0] || !evo_wire_url_ok(o->url, &ttl, uwhy,
+						       sizeof uwhy)))
+		return evo_fail(err, "%s: LCMURL: %s", path,
+				o->url[0] ? uwhy : "empty");
 	o->kind = kind;
 	o->timeout = EVO_REMOTE_DEFAULT_TIMEOUT;
-	if (o->name && !evo_wire_name_ok(o->name))
-		return evo_fail(err,
-				"%s: REMOTENAME '%s': a remote's name is 1..63 "
-				"letters, digits, '_' or '-'",
-				path, o->name);
+	for (const char *p = o->name; p;) {
+		const char *comma = strchr(p, ',');
+		size_t n = comma ? (size_t)(comma - p) : strlen(p);
+		char one[EVO_REMOTE_NAME_MAX + 1];
+		snprintf(one, sizeof one, "%.*s",
+			 (int)(n < EVO_REMOTE_NAME_MAX ? n : EVO_REMOTE_NAME_MAX),
+			 p);
+		if (n >= EVO_REMOTE_NAME_MAX || !evo_wire_name_ok(one))
+			return evo_fail(err,
+					"%s: REMOTENAME '%s': a remote's name is "
+					"1..63 letters, digits, '_' or '-' (several "
+					"separated by commas)",
+					path, o->name);
+		p = comma ? comma + 1 : NULL;
+	}
+	const char *kf = evo_simbatch_get(sb, "LCMKEYFILE");
+	if (kf) {
+		/* relative to the task's folder, as the task's other files */
+		char file[4096], why[600];
+		const char *slash = strrchr(path, '/');
+		if (kf[0] == '/' || !slash)
+			snprintf(file, sizeof file, "%s", kf);
+		else
+			snprintf(file, sizeof file, "%.*s/%s",
+				 (int)(slash - path), path, kf);
+		if (evo_wire_key_read(file, &o->key, why, sizeof why))
+			return evo_fail(err, "%s: LCMKEYFILE: %s", path, why);
+	}
 	const char *t = evo_simbatch_get(sb, "REMOTETIMEOUT");
 	if (t) {
 		char *end;
@@ -92,6 +135,28 @@ int evo_remote_opts_from_task(const evo_simbatch *sb, const char *path,
 		o->timeout = v;
 	}
 	return 0;
+}
+
+int evo_remote_named(const evo_remote_opts *o, const char *name)
+{
+	if (!o->name)
+		return 1;
+	size_t n = strlen(name);
+	for (const char *p = o->name; p;) {
+		const char *comma = strchr(p, ',');
+		size_t k = comma ? (size_t)(comma - p) : strlen(p);
+		if (k == n && strncmp(p, name, n) == 0)
+			return 1;
+		p = comma ? comma + 1 : NULL;
+	}
+	return 0;
+}
+
+/* The ttl of an LCM URL (LCM's default: 0). */
+static int url_ttl(const char *url)
+{
+	const char *t = url ? strstr(url, "ttl=") : NULL;
+	return t ? atoi(t + 4) : 0;
 }
 
 /* ---- finding the remote ---------------------------------------------- */
@@ -182,6 +247,16 @@ static int accept(evo_remotes *s, evo_remote *r, evo_err *err)
 	snprintf(r->ch_control, sizeof r->ch_control, "EVO_%s_CONTROL",
 		 h->name);
 	r->link = s->link;
+	int ttl = 0;
+	char why[256];
+	if (!evo_wire_url_ok(h->url, &ttl, why, sizeof why))
+		return evo_fail(err, "remote %s: its episodes' URL: %s", h->name,
+				why);
+	if (ttl > s->url_ttl)
+		return evo_fail(err,
+				"remote %s: its episodes' URL %s reaches further "
+				"(ttl=%d) than the task's %s",
+				h->name, h->url, ttl, evo_link_url(s->link));
 	if (h->url[0] && strcmp(h->url, evo_link_url(s->link)) != 0) {
 		r->link = NULL;
 		for (int i = 1; i < s->n_links && !r->link; i++)
@@ -195,6 +270,8 @@ static int accept(evo_remotes *s, evo_remote *r, evo_err *err)
 						"remote %s: its episodes' URL: "
 						"%s",
 						h->name, inner.msg);
+			if (s->opts.key.len)
+				evo_link_set_key(r->link, &s->opts.key, "evo");
 			s->links[s->n_links++] = r->link;
 		}
 	}
@@ -218,6 +295,19 @@ static int send_who(evo_remotes *s, evo_err *err)
 evo_remotes *evo_remotes_open(const evo_mindfolder *mind,
 			      const evo_remote_opts *o, evo_err *err)
 {
+	/* the remotes of a task are the ones it names or that present its
+	 * key: never whatever answers first on a URL the whole machine
+	 * shares */
+	if (!o->name && !o->key.len) {
+		evo_fail(err,
+			 "%s: a remote task names its remotes (REMOTENAME:sim1 "
+			 "or REMOTENAME:sim1,sim2) or shares a key with them "
+			 "(LCMKEYFILE); without either, any process on %s could "
+			 "pass for its remote (docs/remote.md)",
+			 o->task ? o->task : "the task",
+			 o->url ? o->url : EVO_LINK_DEFAULT_URL);
+		return NULL;
+	}
 	evo_remotes *s = calloc(1, sizeof *s);
 	if (!s) {
 		evo_fail(err, "out of memory");
@@ -230,11 +320,15 @@ evo_remotes *evo_remotes_open(const evo_mindfolder *mind,
 	s->link = evo_link_open(o->url, err);
 	s->links[0] = s->link;
 	s->n_links = 1;
+	s->url_ttl = s->link ? url_ttl(evo_link_url(s->link)) : 0;
 	if (!s->link || evo_link_subscribe(s->link, "EVO_HELLO", err)) {
 		evo_link_close(s->link);
+		memset(&s->opts.key, 0, sizeof s->opts.key);
 		free(s);
 		return NULL;
 	}
+	if (o->key.len)
+		evo_link_set_key(s->link, &o->key, "evo");
 	return s;
 }
 
@@ -247,10 +341,11 @@ static evo_remote *by_name(const evo_remotes *s, const char *name)
 }
 
 /* A hello on EVO_HELLO: a new remote taken, or -1 with err set. */
-static int take_new(evo_remotes *s, const evo_wire_hello *h, evo_err *err)
+static int take_new(evo_remotes *s, const evo_wire_hello *h, int64_t stamp,
+		    evo_err *err)
 {
 	const evo_remote_opts *o = &s->opts;
-	if (o->name && strcmp(h->name, o->name) != 0)
+	if (!evo_remote_named(o, h->name))
 		return 0;
 	if (by_name(s, h->name))
 		return 0;
@@ -270,11 +365,12 @@ static int take_new(evo_remotes *s, const evo_wire_hello *h, evo_err *err)
 		return evo_fail(err, "out of memory");
 	r->set = s;
 	r->hello = *h;
+	r->fresh_hello.last = stamp;
 	r->heard_at = now();
 	s->r[s->n++] = r;
 	if (accept(s, r, err) == 0)
 		return 0;
-	if (o->name)
+	if (o->name && !strchr(o->name, ','))
 		return -1;
 	/* any remote would do: one that does not fit is passed over, with
 	 * why, and evo waits for another */
@@ -319,6 +415,14 @@ int evo_remotes_find(evo_remotes *s, double window, evo_err *err)
 		evo_wire_hello h;
 		char why[256];
 		if (evo_wire_decode_hello(m.data, m.len, &h, why, sizeof why)) {
+			/* the remote the task names, refused: no use waiting
+			 * for another */
+			if (o->name && h.name[0] && evo_remote_named(o, h.name))
+				return evo_fail(err,
+						"evo: refused the hello of remote "
+						"%s on %s: %s",
+						h.name, evo_link_url(s->link),
+						why);
 			if (s->undecodable_hellos++ == 0)
 				fprintf(stderr,
 					"evo: dropped a hello_t on EVO_HELLO "
@@ -327,7 +431,7 @@ int evo_remotes_find(evo_remotes *s, double window, evo_err *err)
 			continue;
 		}
 		int had = s->n;
-		if (take_new(s, &h, err))
+		if (take_new(s, &h, m.stamp, err))
 			return -1;
 		if (!had && s->n)
 			until = window > 0 ? now() + window : 0;
@@ -364,6 +468,50 @@ static int send_env(evo_remote *r, evo_remote_env *e, const char *channel,
 	return evo_link_publish(r->link, channel, e->sent, (size_t)len, err);
 }
 
+/* Two sensors_t of one tick: the same values, reward and end. A simulator
+ * repeats its answer byte for byte, and a robot sends each tick once. */
+static int same_sensors(const evo_wire_sensors *a, const evo_wire_sensors *b)
+{
+	if (a->n != b->n || a->done != b->done ||
+	    memcmp(&a->reward, &b->reward, sizeof a->reward) != 0)
+		return 0;
+	return memcmp(a->value, b->value, a->n * sizeof *a->value) == 0;
+}
+
+/* A second, different answer for a tick already taken: two processes
+ * answer under r's name, and evo cannot tell which is the remote. The
+ * run ends rather than go on with values that may be forged. */
+static int conflict(evo_remote *r, const evo_wire_sensors *s, evo_err *err)
+{
+	r->dropped[EVO_WIRE_CONFLICT]++;
+	return evo_fail(err,
+			"remote %s: two different sensors_t for tick %lld of "
+			"episode %lld (environment %d): another process answers "
+			"as %s on %s, and evo cannot tell which is the remote; "
+			"a key (LCMKEYFILE, docs/remote.md) keeps others out",
+			r->hello.name, (long long)s->tick,
+			(long long)s->episode, (int)s->env, r->hello.name,
+			evo_link_url(r->link));
+}
+
+/* A message of r's current session, received after a hello of another
+ * session under its name: that hello was not r's restart. */
+static void answers_on(evo_remote *r, const evo_link_msg *m)
+{
+	if (!r->new_session_at || m->recv_utime <= r->new_session_recv)
+		return;
+	r->new_session_at = 0;
+	r->dropped[EVO_WIRE_FORGED]++;
+	if (r->impostor_hellos++ == 0)
+		fprintf(stderr,
+			"evo: remote %s: a hello under its name with session "
+			"%lld came while its session %lld answers on: not taken "
+			"as a restart (another process says hello as %s; a key, "
+			"LCMKEYFILE, keeps it out); later ones are counted\n",
+			r->hello.name, (long long)r->new_session,
+			(long long)r->hello.session, r->hello.name);
+}
+
 /* A sensors_t: keep it when it is the one its environment awaits. */
 static int take_sensors(evo_remote *r, const evo_link_msg *m, evo_err *err)
 {
@@ -390,7 +538,16 @@ static int take_sensors(evo_remote *r, const evo_link_msg *m, evo_err *err)
 		dropped(r, EVO_WIRE_COUNTS, "sensors_t", why);
 		return 0;
 	}
+	rc = evo_wire_fresh_take(&r->fresh_sensors, m->stamp, why, sizeof why);
+	if (rc) {
+		dropped(r, rc, "sensors_t", why);
+		return 0;
+	}
+	answers_on(r, m);
 	evo_remote_env *e = &r->env[s.env];
+	if (e->taken && s.episode == e->sensors.episode &&
+	    s.tick == e->sensors.tick && !same_sensors(&s, &e->sensors))
+		return conflict(r, &s, err);
 	if (!e->waiting || s.episode < e->episode ||
 	    (s.episode == e->episode && (s.tick < e->tick || e->have))) {
 		snprintf(why, sizeof why,
@@ -424,40 +581,63 @@ static int take_sensors(evo_remote *r, const evo_link_msg *m, evo_err *err)
 	}
 	e->sensors = s;
 	e->have = 1;
+	e->taken = 1;
 	return 0;
 }
 
 /* A hello while running: the same session answering a who is fine; a new
- * session is a remote that restarted and lost its episodes. */
-static int take_hello(evo_remotes *s, const evo_link_msg *m, int *lost,
-		      evo_err *err)
+ * session is a remote that restarted and lost its episodes. With a key
+ * the hello is the remote's own: a restart at once. Without one anyone
+ * can send it, so it is a restart only once the old session has been
+ * silent for RESTART_GRACE_S after it (evo_restarted); a message of the
+ * old session after it shows it was not (answers_on). */
+static void take_hello(evo_remotes *s, const evo_link_msg *m)
 {
 	evo_wire_hello h;
 	char why[256];
 	if (evo_wire_decode_hello(m->data, m->len, &h, why, sizeof why))
-		return 0;
+		return;
 	evo_remote *r = by_name(s, h.name);
 	if (!r || r->lost || h.session == r->hello.session)
-		return 0;
-	if (!s->opts.lose_silent)
-		return evo_fail(err,
-				"remote %s restarted (a new session): the "
-				"episodes it was running are lost",
-				h.name);
-	fprintf(stderr,
-		"evo: remote %s restarted (a new session); its evaluations go "
-		"to the others\n",
-		h.name);
-	*lost = 1;
-	return 0;
+		return;
+	if (evo_wire_fresh_take(&r->fresh_hello, m->stamp, why, sizeof why)) {
+		dropped(r, EVO_WIRE_REPLAYED, "hello_t", why);
+		return;
+	}
+	if (r->new_session_at)
+		return;
+	r->new_session = h.session;
+	r->new_session_at = s->opts.key.len ? now() - RESTART_GRACE_S : now();
+	r->new_session_recv =
+	    m->recv_utime > 0 ? m->recv_utime : real_us();
 }
 
-static int index_of(const evo_remotes *s, const evo_remote *r)
+/* A remote whose restart is now certain: -1 with err set, or (lose_silent)
+ * 1 with *ri the remote, taken as lost. 0: none. */
+static int restarted(evo_remotes *s, int *ri, evo_err *err)
 {
-	for (int i = 0; i < s->n; i++)
-		if (s->r[i] == r)
-			return i;
-	return -1;
+	double t = now();
+	for (int i = 0; i < s->n; i++) {
+		evo_remote *r = s->r[i];
+		if (r->lost || !r->new_session_at ||
+		    t - r->new_session_at < RESTART_GRACE_S)
+			continue;
+		if (!s->opts.lose_silent)
+			return evo_fail(err,
+					"remote %s restarted (a new session): the "
+					"episodes it was running are lost",
+					r->hello.name);
+		fprintf(stderr,
+			"evo: remote %s restarted (a new session); its "
+			"evaluations go to the others\n",
+			r->hello.name);
+		r->lost = 1;
+		for (int e = 0; e < EVO_REMOTE_MAX_ENVS; e++)
+			r->env[e].waiting = 0;
+		*ri = i;
+		return 1;
+	}
+	return 0;
 }
 
 /* Remote r is gone: nothing of it is awaited any more. */
@@ -485,6 +665,9 @@ int evo_remotes_wait(evo_remotes *s, int *ri, int *env, evo_err *err)
 		}
 		if (stopped(&s->opts, err))
 			return -1;
+		int rs = restarted(s, ri, err);
+		if (rs)
+			return rs < 0 ? -1 : 1;
 		double t = now();
 		int awaited = 0;
 		for (int i = 0; i < s->n; i++) {
@@ -538,19 +721,7 @@ int evo_remotes_wait(evo_remotes *s, int *ri, int *env, evo_err *err)
 		if (!got)
 			continue;
 		if (which == 0 && strcmp(m.channel, "EVO_HELLO") == 0) {
-			int lost = 0;
-			evo_wire_hello h;
-			char why[256];
-			if (take_hello(s, &m, &lost, err))
-				return -1;
-			if (lost &&
-			    evo_wire_decode_hello(m.data, m.len, &h, why,
-						  sizeof why) == EVO_WIRE_OK) {
-				evo_remote *r = by_name(s, h.name);
-				lose(r);
-				*ri = index_of(s, r);
-				return 1;
-			}
+			take_hello(s, &m);
 			continue;
 		}
 		for (int i = 0; i < s->n; i++)
@@ -649,8 +820,11 @@ void evo_remotes_close(evo_remotes *s)
 		report_drops(r);
 		free(r);
 	}
-	for (int i = 0; i < s->n_links; i++)
+	for (int i = 0; i < s->n_links; i++) {
+		evo_link_report(s->links[i]);
 		evo_link_close(s->links[i]);
+	}
+	memset(&s->opts.key, 0, sizeof s->opts.key);
 	free(s);
 }
 
@@ -775,14 +949,27 @@ static int take_robot_sensors(evo_robot *rb, const evo_link_msg *m)
 		dropped(r, EVO_WIRE_COUNTS, "sensors_t", why);
 		return 0;
 	}
+	rc = evo_wire_fresh_take(&r->fresh_sensors, m->stamp, why, sizeof why);
+	if (rc) {
+		dropped(r, rc, "sensors_t", why);
+		return 0;
+	}
+	answers_on(r, m);
+	if (rb->tick >= 0 && s.episode == rb->episode && s.tick == rb->tick &&
+	    !same_sensors(&s, &r->env[0].sensors)) {
+		rb->conflict = 1;
+		return 0;
+	}
 	double t = now();
 	r->heard_at = t;
-	/* Before the episode's first tick, a tick the robot cannot have
-	 * reached since the RESET went out is of an episode it ran before
-	 * (a run that ended without a STOP used the same number). */
+	/* A tick the robot cannot have reached since the RESET went out is
+	 * of an episode it ran before (a run that ended without a STOP used
+	 * the same number), or not the robot's: at every tick of the
+	 * episode, not only before its first (a tick far ahead, once held,
+	 * would make every true tick after it stale). The robot's clock
+	 * may run a little fast: 1% and a tick of slack. */
 	int64_t reachable =
-	    rb->tick < 0 ? (int64_t)((t - rb->reset_at) / rb->period) + 1
-			 : INT64_MAX;
+	    (int64_t)((t - rb->reset_at) / rb->period * 1.01) + 2;
 	if (s.episode < rb->episode ||
 	    (s.episode == rb->episode &&
 	     (s.tick <= rb->tick || s.tick > reachable))) {
@@ -866,6 +1053,11 @@ int evo_robot_next(evo_robot *rb, int timeout_ms, evo_err *err)
 	for (;;) {
 		if (stopped(&s->opts, err))
 			return -1;
+		int ri;
+		if (restarted(s, &ri, err))
+			return -1;
+		if (rb->conflict)
+			return conflict(r, &r->env[0].sensors, err);
 		double t = now();
 		evo_remote_env *e = &r->env[0];
 		if (rb->tick < 0 && t - e->sent_at >= RESEND_S) {
@@ -907,9 +1099,7 @@ int evo_robot_next(evo_robot *rb, int timeout_ms, evo_err *err)
 			continue;
 		}
 		if (which == 0 && strcmp(m.channel, "EVO_HELLO") == 0) {
-			int lost = 0;
-			if (take_hello(s, &m, &lost, err))
-				return -1;
+			take_hello(s, &m);
 		} else if (s->links[which] == r->link &&
 			   strcmp(m.channel, r->ch_sensors) == 0 &&
 			   take_robot_sensors(rb, &m)) {

@@ -20,7 +20,7 @@
 #include "remote/link.h"
 #include "remote/wire.h"
 
-#define EVO_REMOTE_MAX_ENVS 64
+#define EVO_REMOTE_MAX_ENVS EVO_WIRE_MAX_ENVS
 
 /* Seconds of silence before evo says a remote is silent (REMOTETIMEOUT). */
 #define EVO_REMOTE_DEFAULT_TIMEOUT 2.0
@@ -28,8 +28,12 @@
 #define EVO_REMOTE_MAX_REMOTES 16
 
 typedef struct evo_remote_opts {
+	const char *task;  /* the task's path, for messages; NULL: none */
 	const char *url;   /* NULL: LCM's default */
-	const char *name;  /* the remote to use; NULL: any of the kind */
+	/* the remotes to use, by name, separated by commas ("sim1,sim2");
+	 * NULL: any of the kind (with a key: any that presents it) */
+	const char *name;
+	evo_wire_key key;  /* the task's LCMKEYFILE; len 0: none */
 	evo_remote_kind kind;
 	double timeout;	   /* seconds of silence before saying so */
 	/* 1: a remote silent for `timeout` while evo waits for it is lost
@@ -47,6 +51,7 @@ typedef struct evo_remote_env {
 	int64_t tick;	/* the tick of `sensors` */
 	int waiting;	/* a message was sent and its answer is awaited */
 	int have;	/* sensors holds the answer */
+	int taken;	/* sensors holds a tick taken (of `sensors.episode`) */
 	evo_wire_sensors sensors;
 	unsigned char sent[EVO_WIRE_MAX_BYTES]; /* the last message sent */
 	int sent_len;
@@ -64,18 +69,30 @@ typedef struct evo_remote {
 	int actuator_of[EVO_MAX_ACTUATORS];
 	char ch_sensors[96], ch_command[96], ch_control[96];
 	unsigned long dropped[EVO_WIRE_N_REASONS];
+	evo_wire_fresh fresh_hello, fresh_sensors; /* with a key */
+	/* a hello of its name with another session came at new_session_at
+	 * (0: none): a restart, unless this session answers on (then the
+	 * hello was not its: another process says hello under its name) */
+	int64_t new_session;
+	double new_session_at;
+	int64_t new_session_recv; /* its arrival, real-time microseconds */
+	unsigned long impostor_hellos;
 	unsigned long resent; /* messages sent again, unanswered in time */
 	double heard_at, told_at; /* the last message; the last "silent" */
 	int lost;
 	evo_remote_env env[EVO_REMOTE_MAX_ENVS];
 } evo_remote;
 
-/* A task's remote keys (docs/remote.md): LCMURL, REMOTENAME and
- * REMOTETIMEOUT, into o (which keeps pointers into sb). 0, or -1 with err
- * set ("TASK: REMOTETIMEOUT expects seconds, ..."). */
+/* A task's remote keys (docs/remote.md): LCMURL, REMOTENAME,
+ * REMOTETIMEOUT and LCMKEYFILE (read here, relative to the task's folder;
+ * the key is never printed), into o (which keeps pointers into sb). 0, or
+ * -1 with err set ("TASK: REMOTETIMEOUT expects seconds, ..."). */
 int evo_remote_opts_from_task(const evo_simbatch *sb, const char *path,
 			      evo_remote_kind kind, evo_remote_opts *o,
 			      evo_err *err);
+
+/* 1 when name is one of o's REMOTENAME list (or the list is empty). */
+int evo_remote_named(const evo_remote_opts *o, const char *name);
 
 /* The remotes evo uses, all on one LCM connection. */
 typedef struct evo_remotes {
@@ -90,10 +107,13 @@ typedef struct evo_remotes {
 	int n;
 	evo_remote *r[EVO_REMOTE_MAX_REMOTES];
 	unsigned long undecodable_hellos;
+	int url_ttl; /* the URL's ttl: a remote's episodes' URL reaches no
+			further */
 	char passed_over[EVO_REMOTE_NAME_MAX]; /* the last that did not fit */
 } evo_remotes;
 
-/* Connect to the URL. NULL with err set. */
+/* Connect to the URL. NULL with err set, also when o names no remote
+ * and has no key (the task's remotes would be whoever answers). */
 evo_remotes *evo_remotes_open(const evo_mindfolder *mind,
 			      const evo_remote_opts *o, evo_err *err);
 
@@ -170,6 +190,7 @@ typedef struct evo_robot {
 	int in_time_held;   /* it was counted in time, so far */
 	unsigned long in_time, late, missing;
 	unsigned long unanswered; /* of the late: a newer tick came first */
+	int conflict; /* a second, different sensors_t of the held tick */
 } evo_robot;
 
 /* Start episode `episode` on the first remote of s, which must be a robot

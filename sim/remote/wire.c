@@ -3,9 +3,16 @@
 #define _POSIX_C_SOURCE 200809L
 #include "remote/wire.h"
 
+#include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "evo/mac.h"
 
 /* lcm-gen's C for lcmtypes/evo_remote.lcm, made at build time */
 #include <evo_lcm_command_t.h>
@@ -17,8 +24,8 @@
 const char *evo_wire_reason_name(evo_wire_reason r)
 {
 	static const char *const names[EVO_WIRE_N_REASONS] = {
-	    "ok", "undecodable", "foreign", "counts", "value", "stale",
-	    "ahead"};
+	    "ok",    "undecodable", "foreign",	"counts",  "value",
+	    "stale", "ahead",	    "forged",	"replayed", "conflict"};
 	return (unsigned)r < EVO_WIRE_N_REASONS ? names[r] : "?";
 }
 
@@ -237,6 +244,7 @@ static evo_wire_reason bad(char *why, size_t cap, const char *fmt,
 evo_wire_reason evo_wire_decode_hello(const void *buf, size_t len,
 				      evo_wire_hello *out, char *why, size_t cap)
 {
+	out->name[0] = 0;
 	if (walk(buf, len, __evo_lcm_hello_t_get_hash(), hello_fields,
 		 NF(hello_fields), "hello_t", why, cap))
 		return EVO_WIRE_UNDECODABLE;
@@ -260,22 +268,63 @@ evo_wire_reason evo_wire_decode_hello(const void *buf, size_t len,
 		copy_name(out->actuator[i], EVO_NAME_MAX, m.actuators[i]);
 	int kind = m.kind;
 	evo_lcm_hello_t_decode_cleanup(&m);
-	if (!evo_wire_name_ok(out->name))
+	if (!evo_wire_name_ok(out->name)) {
+		out->name[0] = 0;
 		return bad(why, cap,
 			   "%s: a remote's name is 1..63 letters, digits, '_' "
 			   "or '-'",
 			   "hello_t");
+	}
+	char from[EVO_REMOTE_NAME_MAX + 16];
+	snprintf(from, sizeof from, "hello_t from %s", out->name);
 	if (kind != EVO_LCM_HELLO_T_ROBOT && kind != EVO_LCM_HELLO_T_SIMULATOR)
 		return bad(why, cap, "%s: kind is neither ROBOT nor SIMULATOR",
-			   "hello_t");
-	if (out->environments < 1 ||
-	    (out->kind == EVO_REMOTE_ROBOT && out->environments != 1))
+			   from);
+	if (out->environments < 1 || out->environments > EVO_WIRE_MAX_ENVS) {
+		snprintf(why, cap, "%s: environments is %ld, outside 1..%d",
+			 from, (long)out->environments, EVO_WIRE_MAX_ENVS);
+		return EVO_WIRE_UNDECODABLE;
+	}
+	if (out->kind == EVO_REMOTE_ROBOT && out->environments != 1)
 		return bad(why, cap,
 			   "%s: environments must be 1 for a robot, at least "
 			   "1 for a simulator",
-			   "hello_t");
-	if (out->tick_us < 0)
-		return bad(why, cap, "%s: tick_us is negative", "hello_t");
+			   from);
+	if (out->tick_us < 0 || out->tick_us > EVO_WIRE_MAX_TICK_US) {
+		snprintf(why, cap, "%s: tick_us is %ld, outside 0..%d", from,
+			 (long)out->tick_us, EVO_WIRE_MAX_TICK_US);
+		return EVO_WIRE_UNDECODABLE;
+	}
+	char uw[200];
+	int ttl;
+	if (!evo_wire_url_ok(out->url, &ttl, uw, sizeof uw)) {
+		snprintf(why, cap, "%s: url: %s", from, uw);
+		return EVO_WIRE_UNDECODABLE;
+	}
+	return EVO_WIRE_OK;
+}
+
+/* env, episode and tick of a message of an episode: within evo's limits,
+ * so that no reader indexes past its environments. */
+static evo_wire_reason check_place(const char *type, const char *name,
+				   int32_t env, int64_t episode,
+				   const int64_t *tick, char *why, size_t cap)
+{
+	if (env < 0 || env >= EVO_WIRE_MAX_ENVS) {
+		snprintf(why, cap, "%s for %s: env is %ld, outside 0..%d", type,
+			 name, (long)env, EVO_WIRE_MAX_ENVS - 1);
+		return EVO_WIRE_UNDECODABLE;
+	}
+	if (episode < 0) {
+		snprintf(why, cap, "%s for %s: episode is %lld, negative",
+			 type, name, (long long)episode);
+		return EVO_WIRE_UNDECODABLE;
+	}
+	if (tick && *tick < 0) {
+		snprintf(why, cap, "%s for %s: tick is %lld, negative", type,
+			 name, (long long)*tick);
+		return EVO_WIRE_UNDECODABLE;
+	}
 	return EVO_WIRE_OK;
 }
 
@@ -317,7 +366,8 @@ evo_wire_reason evo_wire_decode_control(const void *buf, size_t len,
 	if (op != EVO_LCM_CONTROL_T_RESET && op != EVO_LCM_CONTROL_T_STOP)
 		return bad(why, cap, "%s: op is neither RESET nor STOP",
 			   "control_t");
-	return EVO_WIRE_OK;
+	return check_place("control_t", out->name, out->env, out->episode,
+			   NULL, why, cap);
 }
 
 evo_wire_reason evo_wire_decode_sensors(const void *buf, size_t len,
@@ -342,7 +392,8 @@ evo_wire_reason evo_wire_decode_sensors(const void *buf, size_t len,
 	out->reward = m.reward;
 	out->done = m.done != 0;
 	evo_lcm_sensors_t_decode_cleanup(&m);
-	return EVO_WIRE_OK;
+	return check_place("sensors_t", out->name, out->env, out->episode,
+			   &out->tick, why, cap);
 }
 
 evo_wire_reason evo_wire_decode_command(const void *buf, size_t len,
@@ -365,7 +416,8 @@ evo_wire_reason evo_wire_decode_command(const void *buf, size_t len,
 	if (out->n)
 		memcpy(out->value, m.values, out->n * sizeof *out->value);
 	evo_lcm_command_t_decode_cleanup(&m);
-	return EVO_WIRE_OK;
+	return check_place("command_t", out->name, out->env, out->episode,
+			   &out->tick, why, cap);
 }
 
 evo_wire_reason evo_wire_check_values(const double *v, unsigned n,
@@ -481,4 +533,231 @@ int evo_wire_encode_command(const evo_wire_command *c, void *buf, size_t cap)
 	    .values = (double *)(uintptr_t)c->value,
 	};
 	ENCODE(evo_lcm_command_t, &m, buf, cap);
+}
+
+/* ---- URLs ------------------------------------------------------------------ */
+
+/* A decimal number lo..hi at *p, which is moved past it. */
+static int number(const char **p, long lo, long hi, long *v)
+{
+	const char *s = *p;
+	long n = 0;
+	if (*s < '0' || *s > '9')
+		return 0;
+	while (*s >= '0' && *s <= '9') {
+		n = n * 10 + (*s++ - '0');
+		if (n > hi)
+			return 0;
+	}
+	if (n < lo)
+		return 0;
+	*v = n;
+	*p = s;
+	return 1;
+}
+
+int evo_wire_url_ok(const char *url, int *ttl, char *why, size_t cap)
+{
+	*ttl = 0;
+	if (!url[0])
+		return 1;
+	if (strncmp(url, "udpm://", 7) != 0) {
+		snprintf(why, cap,
+			 "'%.80s' is not udpm://GROUP:PORT (evo opens no other "
+			 "LCM provider for a remote)",
+			 url);
+		return 0;
+	}
+	const char *p = url + 7;
+	long octet[4], port, v;
+	for (int i = 0; i < 4; i++)
+		if (!number(&p, 0, 255, &octet[i]) || *p++ != (i < 3 ? '.' : ':'))
+			goto form;
+	if (octet[0] < 224 || octet[0] > 239) {
+		snprintf(why, cap,
+			 "'%.80s': %ld.%ld.%ld.%ld is not a multicast group "
+			 "(224.0.0.0 to 239.255.255.255)",
+			 url, octet[0], octet[1], octet[2], octet[3]);
+		return 0;
+	}
+	if (!number(&p, 1, 65535, &port))
+		goto form;
+	int seen_ttl = 0, seen_buf = 0;
+	char sep = '?';
+	while (*p) {
+		if (*p++ != sep)
+			goto form;
+		sep = '&';
+		if (strncmp(p, "ttl=", 4) == 0 && !seen_ttl) {
+			p += 4;
+			if (!number(&p, 0, 1, &v)) {
+				snprintf(why, cap,
+					 "'%.80s': ttl must be 0 (this machine) "
+					 "or 1 (the local network)",
+					 url);
+				return 0;
+			}
+			*ttl = (int)v;
+			seen_ttl = 1;
+		} else if (strncmp(p, "recv_buf_size=", 14) == 0 && !seen_buf) {
+			p += 14;
+			if (!number(&p, 1, 16L << 20, &v))
+				goto form;
+			seen_buf = 1;
+		} else {
+			snprintf(why, cap,
+				 "'%.80s': an option other than ttl=0|1 and "
+				 "recv_buf_size=N, or one given twice",
+				 url);
+			return 0;
+		}
+	}
+	return 1;
+form:
+	snprintf(why, cap,
+		 "'%.80s' is not udpm://A.B.C.D:PORT[?ttl=0|1][&recv_buf_size=N]",
+		 url);
+	return 0;
+}
+
+/* ---- the shared key ------------------------------------------------------ */
+
+int evo_wire_key_read(const char *path, evo_wire_key *k, char *why, size_t cap)
+{
+	memset(k, 0, sizeof *k);
+	int fd = open(path, O_RDONLY | O_CLOEXEC);
+	if (fd < 0) {
+		snprintf(why, cap, "key file %s: %s", path, strerror(errno));
+		return -1;
+	}
+	unsigned char buf[EVO_WIRE_KEY_MAX + 2];
+	size_t n = 0;
+	for (;;) {
+		ssize_t r = read(fd, buf + n, sizeof buf - n);
+		if (r < 0 && errno == EINTR)
+			continue;
+		if (r < 0) {
+			snprintf(why, cap, "key file %s: %s", path,
+				 strerror(errno));
+			close(fd);
+			return -1;
+		}
+		if (r == 0 || (n += (size_t)r) == sizeof buf)
+			break;
+	}
+	close(fd);
+	if (n && buf[n - 1] == '\n')
+		n--;
+	if (n && buf[n - 1] == '\r')
+		n--;
+	if (n < EVO_WIRE_KEY_MIN || n > EVO_WIRE_KEY_MAX) {
+		memset(buf, 0, sizeof buf);
+		snprintf(why, cap,
+			 "key file %s: a key is %d to %d bytes (one line, "
+			 "e.g. of `head -c 32 /dev/urandom | base64`); this "
+			 "file holds %s",
+			 path, EVO_WIRE_KEY_MIN, EVO_WIRE_KEY_MAX,
+			 n < EVO_WIRE_KEY_MIN ? "fewer" : "more");
+		return -1;
+	}
+	memcpy(k->bytes, buf, n);
+	k->len = n;
+	memset(buf, 0, sizeof buf);
+	return 0;
+}
+
+int64_t evo_wire_stamp(int64_t *last)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_REALTIME, &ts);
+	int64_t t = (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000;
+	if (t <= *last)
+		t = *last + 1;
+	*last = t;
+	return t;
+}
+
+static void put64(unsigned char *p, int64_t v)
+{
+	for (int i = 0; i < 8; i++)
+		p[i] = (unsigned char)((uint64_t)v >> (56 - 8 * i));
+}
+
+static void tag(const evo_wire_key *k, const char *channel,
+		const unsigned char *body, size_t len,
+		const unsigned char stamp[8], uint8_t out[EVO_WIRE_TAG_BYTES])
+{
+	evo_hmac h;
+	evo_hmac_init(&h, k->bytes, k->len);
+	evo_hmac_update(&h, channel, strlen(channel) + 1);
+	evo_hmac_update(&h, body, len);
+	evo_hmac_update(&h, stamp, 8);
+	evo_hmac_final(&h, out);
+}
+
+int evo_wire_seal(const evo_wire_key *k, const char *channel, void *buf,
+		  size_t len, size_t cap, int64_t stamp)
+{
+	if (len > cap || cap - len < EVO_WIRE_SEAL_BYTES)
+		return -1;
+	unsigned char *p = buf;
+	put64(p + len, stamp);
+	tag(k, channel, p, len, p + len, p + len + 8);
+	return (int)(len + EVO_WIRE_SEAL_BYTES);
+}
+
+evo_wire_reason evo_wire_unseal(const evo_wire_key *k, const char *channel,
+				const void *buf, size_t len, int64_t now_us,
+				size_t *body, int64_t *stamp, char *why,
+				size_t cap)
+{
+	const unsigned char *p = buf;
+	if (len < 8 + EVO_WIRE_SEAL_BYTES) {
+		snprintf(why, cap, "%zu bytes on %s, too few to hold a seal",
+			 len, channel);
+		return EVO_WIRE_FORGED;
+	}
+	size_t n = len - EVO_WIRE_SEAL_BYTES;
+	uint8_t want[EVO_WIRE_TAG_BYTES];
+	tag(k, channel, p, n, p + n, want);
+	if (!evo_mac_equal(want, p + n + 8, EVO_WIRE_TAG_BYTES)) {
+		snprintf(why, cap,
+			 "a message on %s whose MAC fails the key (or that "
+			 "has no seal)",
+			 channel);
+		return EVO_WIRE_FORGED;
+	}
+	int64_t t = (int64_t)be64(p + n);
+	/* in unsigned arithmetic: a forged stamp far from now must not
+	 * overflow the difference */
+	uint64_t d = t > now_us ? (uint64_t)t - (uint64_t)now_us
+				: (uint64_t)now_us - (uint64_t)t;
+	if (d > (uint64_t)EVO_WIRE_FRESH_US) {
+		snprintf(why, cap,
+			 "a message on %s stamped %.0f s %s this machine's "
+			 "clock (more than %lld s: recorded earlier, or the "
+			 "clocks differ)",
+			 channel, (double)d * 1e-6,
+			 t > now_us ? "ahead of" : "behind",
+			 EVO_WIRE_FRESH_US / 1000000);
+		return EVO_WIRE_REPLAYED;
+	}
+	*body = n;
+	*stamp = t;
+	return EVO_WIRE_OK;
+}
+
+evo_wire_reason evo_wire_fresh_take(evo_wire_fresh *f, int64_t stamp,
+				    char *why, size_t cap)
+{
+	if (stamp == 0)
+		return EVO_WIRE_OK;
+	if (stamp <= f->last) {
+		snprintf(why, cap,
+			 "stamped %lld us, not after the last taken (%lld us)",
+			 (long long)stamp, (long long)f->last);
+		return EVO_WIRE_REPLAYED;
+	}
+	f->last = stamp;
+	return EVO_WIRE_OK;
 }

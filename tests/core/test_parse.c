@@ -326,12 +326,12 @@ TEST(simbatch_tables)
 	size_t i, n = 0;
 	for (i = 0; evo_simbatch_key_defs[i].name; i++)
 		n++;
-	/* the tutorial's 12, THREADS, HIDDEN, TARGETFITNESS, the four
-	 * remote keys (LCMURL, REMOTENAME, REMOTETIMEOUT, CANURL) and the
-	 * five of teams (TEAM, LEARNINGTEAM, TEAMGENOME, TEAMFITNESS,
-	 * ALTERNATE) and the three of LEARNSIMCONTINUOUS (SKILLORDER,
-	 * ROUNDS, VALIDATION) */
-	CHECK_EQ_INT(n, 28);
+	/* the tutorial's 12, THREADS, HIDDEN, TARGETFITNESS, the five
+	 * remote keys (LCMURL, REMOTENAME, REMOTETIMEOUT, LCMKEYFILE,
+	 * CANURL) and the five of teams (TEAM, LEARNINGTEAM, TEAMGENOME,
+	 * TEAMFITNESS, ALTERNATE) and the three of LEARNSIMCONTINUOUS
+	 * (SKILLORDER, ROUNDS, VALIDATION) */
+	CHECK_EQ_INT(n, 29);
 	CHECK(n <= EVO_MAX_SIMBATCH);
 	n = 0;
 	for (i = 0; evo_task_types[i]; i++)
@@ -442,8 +442,17 @@ TEST(simbatch_ranges_of_each_kind)
 	CHECK_OK(simbatch_line("REMOTENAME:" A63));
 	CHECK(simbatch_line("REMOTENAME:" A63 "a") == EVO_ERR_SYNTAX);
 	CHECK(simbatch_line("REMOTENAME:a/b") == EVO_ERR_SYNTAX);
-	CHECK_EQ_STR(err.msg, "t.simbatch:2: REMOTENAME: expected a name of 1 "
-			      "to 63 letters, digits, '_' or '-', found 'a/b'");
+	CHECK_EQ_STR(err.msg, "t.simbatch:2: REMOTENAME: expected names of 1 "
+			      "to 63 letters, digits, '_' or '-', joined by "
+			      "',', found 'a/b'");
+	/* several names, each in range; none empty */
+	CHECK_OK(simbatch_line("REMOTENAME:sim1,sim2"));
+	CHECK_OK(simbatch_line("REMOTENAME:a," A63));
+	CHECK(simbatch_line("REMOTENAME:a," A63 "a") == EVO_ERR_SYNTAX);
+	CHECK(simbatch_line("REMOTENAME:sim1,") == EVO_ERR_SYNTAX);
+	CHECK(simbatch_line("REMOTENAME:,sim1") == EVO_ERR_SYNTAX);
+	CHECK(simbatch_line("REMOTENAME:sim1,,sim2") == EVO_ERR_SYNTAX);
+	CHECK(simbatch_line("REMOTENAME:sim1, sim2") == EVO_ERR_SYNTAX);
 	/* a word, any case */
 	CHECK_OK(simbatch_line("LEARNINGMETHOD:genetic"));
 	CHECK(simbatch_line("LEARNINGMETHOD:NEET") == EVO_ERR_NAME);

@@ -911,8 +911,12 @@ static int render_task_default(const char *key, int in_learning, char *out,
 		snprintf(out, cap, "LCM's own, %s",
 			 EVO_LINK_DEFAULT_URL);
 	} else if (strcmp(key, "REMOTENAME") == 0) {
-		/* no name: remote/session.c takes the first of the kind */
-		snprintf(out, cap, "the first remote to answer");
+		/* no name: remote/session.c takes the remotes that present
+		 * the task's key, and refuses a task with neither */
+		snprintf(out, cap, "any remote that presents the task's key");
+	} else if (strcmp(key, "LCMKEYFILE") == 0) {
+		/* no key file: remote/link.c seals nothing */
+		snprintf(out, cap, "none");
 	} else if (strcmp(key, "CANURL") == 0) {
 		/* no CANURL: remote/robot.c reaches the robot over LCM */
 		snprintf(out, cap, "none");

@@ -181,7 +181,8 @@ typedef enum evo_key_kind {
 			  * exponent; lo..hi in millionths, bounds excluded
 			  * where above/below say so */
 	EVO_KEY_WORD,	 /* one of words, any case */
-	EVO_KEY_NAME,	 /* 1..EVO_KEY_NAME_MAX letters, digits, '_', '-' */
+	EVO_KEY_NAME,	 /* names of 1..hi letters, digits, '_', '-', joined
+			  * by ',' */
 } evo_key_kind;
 
 #define EVO_KEY_NAME_MAX 63 /* a remote's name (docs/remote.md) */

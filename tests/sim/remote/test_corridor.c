@@ -360,8 +360,12 @@ static void corridor_mind(void)
 {
 	cli_sh("[ -d %s/Corridor ] || (cp -r minds/Corridor %s/ && rm -rf "
 	       "%s/Corridor/Runs && for t in %s/Corridor/Tasks/*.simbatch; do "
-	       "printf 'LCMURL:%s\\nREMOTETIMEOUT:10\\n' >>$t; done)",
-	       cli_tmp, cli_tmp, cli_tmp, cli_tmp, url);
+	       "sed -i '/^REMOTENAME:/d' $t && "
+	       "printf 'LCMURL:%s\\nREMOTETIMEOUT:10\\nREMOTENAME:"
+	       "corridor-demo-%ld,corridor-lock-%ld,corridor-learn-%ld\\n' "
+	       ">>$t; done)",
+	       cli_tmp, cli_tmp, cli_tmp, cli_tmp, url, (long)getpid(),
+	       (long)getpid(), (long)getpid());
 }
 
 /* The "reward R over T ticks" of each episode line of evo's output, and
@@ -749,8 +753,11 @@ static double mean_reward(const char *text, int *n)
 {
 	double sum = 0;
 	*n = 0;
-	for (const char *p = strstr(text, "episode "); p;
-	     p = strstr(p + 1, "\nepisode ")) {
+	/* episode lines only: a drop's sentence says "of episode 2" too */
+	for (const char *p = strncmp(text, "episode ", 8) == 0
+				 ? text
+				 : strstr(text, "\nepisode ");
+	     p; p = strstr(p + 1, "\nepisode ")) {
 		const char *r = strstr(p, ": reward ");
 		if (!r)
 			break;
@@ -846,6 +853,70 @@ TEST(learnremotesim_trains_a_champion_better_than_untrained_networks)
 	CHECK(secs < 1.0);
 }
 
+/* With a shared key (the task's LCMKEYFILE, corridor.py's --key-file)
+ * every message is sealed by one implementation and checked by the
+ * other, in Python's hmac and evo's C: the episodes run as without one,
+ * and neither side drops anything. */
+TEST(a_shared_key_works_between_evo_and_python)
+{
+	NEED_PYTHON();
+	corridor_mind();
+	char name[64], more[300];
+	snprintf(name, sizeof name, "corridor-key-%ld", (long)getpid());
+	cli_write("a-key-shared-with-python\n", "%s/Corridor/Tasks/lcm.key",
+		  cli_tmp);
+	cli_sh("sed '/^REMOTENAME:/d' %s/Corridor/Tasks/Corridor-DEMO.simbatch "
+	       ">%s/Corridor/Tasks/Key.simbatch && printf "
+	       "'REMOTENAME:%s\\nLCMKEYFILE:lcm.key\\n' "
+	       ">>%s/Corridor/Tasks/Key.simbatch",
+	       cli_tmp, cli_tmp, name, cli_tmp);
+	snprintf(more, sizeof more, "--key-file %s/Corridor/Tasks/lcm.key",
+		 cli_tmp);
+	sim s;
+	if (sim_start(&s, name, 1, more)) {
+		CHECK(0);
+		return;
+	}
+	int rc = cli_capture(out, sizeof out,
+			     "%s run %s/Corridor/Tasks/Key.simbatch -nog --seed 7 "
+			     "--episodes 2",
+			     cli_evo, cli_tmp);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out, "episode 2: reward ");
+	CHECK(strstr(out, "dropped") == NULL);
+	CHECK(strstr(out, "a-key-shared") == NULL);
+	char *log = cli_read("%s", s.log);
+	static char a[4096], b[4096];
+	rewards_of(out, a, sizeof a);
+	rewards_of(log, b, sizeof b);
+	CHECK(a[0] != 0);
+	CHECK_EQ_STR(a, b);
+	free(log);
+	/* a keyless evo is not heard: its who_t fails the key */
+	cli_sh("sed '/^LCMKEYFILE:/d' %s/Corridor/Tasks/Key.simbatch "
+	       ">%s/Corridor/Tasks/NoKey.simbatch",
+	       cli_tmp, cli_tmp);
+	char cmd[1024], said_path[300];
+	snprintf(said_path, sizeof said_path, "%s/nokey.out", cli_tmp);
+	snprintf(cmd, sizeof cmd,
+		 "exec %s run %s/Corridor/Tasks/NoKey.simbatch -nog >%s 2>&1",
+		 cli_evo, cli_tmp, said_path);
+	int st;
+	double secs;
+	CHECK_EQ_INT(cli_stop(cmd, s.out, "corridor: dropped a who_t (forged: "
+					  "its MAC fails the key)",
+			      0, SIGTERM, &st, &secs),
+		     0);
+	char *nokey = cli_read("%s", said_path);
+	CHECK(nokey && !strstr(nokey, "remote corridor-key"));
+	free(nokey);
+	CHECK_EQ_INT(sim_stop(&s, &secs), 0);
+	char *said = cli_read("%s", s.out);
+	CHECK(said && strstr(said, "corridor: dropped ") &&
+	      strstr(said, " forged)"));
+	free(said);
+}
+
 int main(void)
 {
 	if (cli_setup("corridor"))
@@ -863,6 +934,7 @@ int main(void)
 	RUN(demoremotesim_runs_to_the_goal_with_the_reward_the_simulator_logs);
 	RUN(the_simulator_repeats_answers_without_stepping_and_ignores_the_rest);
 	RUN(learnremotesim_trains_a_champion_better_than_untrained_networks);
+	RUN(a_shared_key_works_between_evo_and_python);
 	cli_cleanup();
 	return test_summary();
 }

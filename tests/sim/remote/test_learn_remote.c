@@ -46,7 +46,9 @@ static void make_avoid(const char *dir)
 	char text[640];
 	snprintf(text, sizeof text, "TYPE:LEARNSIM\n%s", common);
 	cli_write(text, "%s/%s/Avoid/Tasks/T.simbatch", cli_tmp, dir);
-	snprintf(text, sizeof text, "TYPE:LEARNREMOTESIM\n%s", common);
+	snprintf(text, sizeof text,
+		 "TYPE:LEARNREMOTESIM\nREMOTENAME:%s-a-%ld,%s-b-%ld\n%s", dir,
+		 (long)getpid(), dir, (long)getpid(), common);
 	cli_write(text, "%s/%s/Avoid/Tasks/R.simbatch", cli_tmp, dir);
 }
 
@@ -228,6 +230,72 @@ TEST(with_no_simulator_left_the_run_stops_and_resumes)
 	free(champion);
 }
 
+/* A task's simulators are the ones it names, or, with a key, the ones
+ * that present it: a stranger's simulator answering on the same URL is
+ * not adopted (before, every simulator that answered took a share of the
+ * episodes). */
+TEST(a_strangers_simulator_on_the_url_is_not_adopted)
+{
+	make_avoid("strange");
+	char mine[64], stranger[64], keyed[64];
+	snprintf(mine, sizeof mine, "strange-a-%ld", (long)getpid());
+	snprintf(stranger, sizeof stranger, "stranger-%ld", (long)getpid());
+	snprintf(keyed, sizeof keyed, "strange-k-%ld", (long)getpid());
+	/* the stranger serves the same world, with no key */
+	pid_t x = start_serve("strange", stranger);
+	pid_t a = start_serve("strange", mine);
+	int rc = cli_capture(out, sizeof out,
+			     "%s run %s/strange/Avoid/Tasks/R.simbatch --seed 9 "
+			     "--run %s/strange/named",
+			     cli_evo, cli_tmp, cli_tmp);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out, "1 environment on 1 remote simulator");
+	char want[128];
+	snprintf(want, sizeof want, "remote %s: simulator", stranger);
+	CHECK(strstr(out, want) == NULL);
+	stop_serve(a, SIGTERM);
+	/* with a key and no names: the simulator with the key only */
+	cli_write("the-key-of-strange-runs\n",
+		  "%s/strange/Avoid/Tasks/lcm.key", cli_tmp);
+	cli_sh("sed '/^REMOTENAME:/d' %s/strange/Avoid/Tasks/R.simbatch "
+	       ">%s/strange/Avoid/Tasks/K.simbatch && echo LCMKEYFILE:lcm.key "
+	       ">>%s/strange/Avoid/Tasks/K.simbatch",
+	       cli_tmp, cli_tmp, cli_tmp);
+	char log[512], cmd[1024];
+	snprintf(log, sizeof log, "%s/strange/%s.log", cli_tmp, keyed);
+	snprintf(cmd, sizeof cmd,
+		 "exec %s serve %s/strange/Avoid/Tasks/K.simbatch --name %s "
+		 ">%s 2>&1",
+		 cli_evo, cli_tmp, keyed, log);
+	pid_t k = fork();
+	if (k == 0) {
+		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
+		_exit(127);
+	}
+	double limit = mono() + 30;
+	for (;;) {
+		char *t = cli_read("%s", log);
+		int ready = t && strstr(t, " serves ");
+		free(t);
+		if (ready || mono() > limit)
+			break;
+		struct timespec ms = {0, 5000000};
+		nanosleep(&ms, NULL);
+	}
+	rc = cli_capture(out, sizeof out,
+			 "%s run %s/strange/Avoid/Tasks/K.simbatch --seed 9 "
+			 "--run %s/strange/keyed",
+			 cli_evo, cli_tmp, cli_tmp);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out, "1 environment on 1 remote simulator");
+	CHECK_CONTAINS(out, "dropped a message on EVO_HELLO whose MAC fails "
+			    "the key");
+	CHECK(strstr(out, want) == NULL);
+	CHECK(strstr(out, "the-key-of") == NULL);
+	stop_serve(k, SIGTERM);
+	stop_serve(x, SIGTERM);
+}
+
 int main(void)
 {
 	if (cli_setup("learn-remote"))
@@ -235,6 +303,7 @@ int main(void)
 	RUN(one_and_two_simulators_give_the_log_and_champion_of_one_process);
 	RUN(a_simulator_killed_mid_run_loses_nothing);
 	RUN(with_no_simulator_left_the_run_stops_and_resumes);
+	RUN(a_strangers_simulator_on_the_url_is_not_adopted);
 	cli_cleanup();
 	return test_summary();
 }

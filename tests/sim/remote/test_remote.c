@@ -97,8 +97,11 @@ static void episode_lines(const char *text, char *lines, size_t cap)
 {
 	size_t k = 0;
 	lines[0] = 0;
-	for (const char *p = strstr(text, "episode "); p;
-	     p = strstr(p + 1, "\nepisode ")) {
+	/* episode lines only: a drop's sentence says "of episode 2" too */
+	for (const char *p = strncmp(text, "episode ", 8) == 0
+				 ? text
+				 : strstr(text, "\nepisode ");
+	     p; p = strstr(p + 1, "\nepisode ")) {
 		if (*p == '\n')
 			p++;
 		const char *end = strstr(p, " ticks");
@@ -151,8 +154,12 @@ enum fake_mode {
 	FAKE_OTHER_NAMES,
 	FAKE_NOISY,
 	FAKE_NAN,     /* tick 0 reads NaN */
-	FAKE_RESTART  /* says hello with a new session instead of tick 0 */
+	FAKE_RESTART, /* says hello with a new session instead of tick 0 */
+	FAKE_ENVS_100, /* says it runs 100 environments (evo keeps 64) */
+	FAKE_OWN_URL   /* names fake_hello_url as its episodes' URL */
 };
+
+static char fake_hello_url[240]; /* FAKE_OWN_URL's */
 
 static void publish(evo_link *l, const char *ch, const void *b, int n)
 {
@@ -198,6 +205,10 @@ static void fake_remote(const char *name, enum fake_mode mode, const char *got)
 		snprintf(h.actuator[1], EVO_NAME_MAX, "MotL");
 	}
 	snprintf(h.actuator[0], EVO_NAME_MAX, "MotR");
+	if (mode == FAKE_ENVS_100)
+		h.environments = 100;
+	if (mode == FAKE_OWN_URL)
+		snprintf(h.url, sizeof h.url, "%s", fake_hello_url);
 	static unsigned char buf[EVO_WIRE_MAX_BYTES];
 	publish(l, "EVO_HELLO", buf, evo_wire_encode_hello(&h, buf, sizeof buf));
 	evo_wire_sensors s = {.session = 42, .n = 11};
@@ -242,6 +253,11 @@ static void fake_remote(const char *name, enum fake_mode mode, const char *got)
 								sizeof buf));
 				bad = s;
 				bad.n = 3;
+				publish(l, ch_sensors, buf,
+					evo_wire_encode_sensors(&bad, buf,
+								sizeof buf));
+				bad = s;
+				bad.env = 100;
 				publish(l, ch_sensors, buf,
 					evo_wire_encode_sensors(&bad, buf,
 								sizeof buf));
@@ -342,8 +358,9 @@ TEST(a_remote_with_other_names_is_refused_with_them)
 	waitpid(f, &st, 0);
 }
 
-/* Without REMOTENAME any remote of the kind will do: one whose names do
- * not fit is passed over, saying why, and evo waits for one that fits. */
+/* With several names in REMOTENAME any of them will do: one whose names
+ * do not fit is passed over, saying why, and evo waits for one that
+ * fits. */
 TEST(a_remote_that_does_not_fit_is_passed_over_for_one_that_does)
 {
 	char misfit[64], fit[64], got[256], url[96];
@@ -357,8 +374,8 @@ TEST(a_remote_that_does_not_fit_is_passed_over_for_one_that_does)
 	char text[512];
 	snprintf(text, sizeof text,
 		 "TYPE:DEMOREMOTESIM\nMASTERSKILL:Avoid\nTICKLIM:100\n"
-		 "LCMURL:%s\nREMOTETIMEOUT:10\n",
-		 url);
+		 "LCMURL:%s\nREMOTETIMEOUT:10\nREMOTENAME:%s,%s\n",
+		 url, misfit, fit);
 	cli_write(text, "%s/Avoid/Tasks/any-remote.simbatch", cli_tmp);
 	fake_url = url;
 	pid_t a = start_fake(misfit, FAKE_OTHER_NAMES, got);
@@ -407,7 +424,7 @@ TEST(bad_messages_are_dropped_and_counted_by_reason)
 	CHECK_CONTAINS(out, "episode 1: reward 7.500000 over 1 ticks");
 	CHECK_CONTAINS(out, "dropped a sensors_t (undecodable: not an "
 			    "evo_lcm.sensors_t");
-	CHECK_CONTAINS(out, "dropped 4 messages (1 undecodable, 1 foreign, 1 "
+	CHECK_CONTAINS(out, "dropped 5 messages (2 undecodable, 1 foreign, 1 "
 			    "counts, 1 ahead)");
 	int st;
 	waitpid(f, &st, 0);
@@ -646,6 +663,414 @@ TEST(bad_remote_keys_are_refused)
 			    "1 to 63 letters, digits, '_' or '-', found 'a/b'");
 }
 
+/* ---- hostile peers (docs/remote.md, What LCM protects) ------------------ */
+
+/* A hello that says 100 environments (evo keeps 64 per remote) is refused
+ * by the decoder, naming the remote and the field, in DEMOREMOTESIM and
+ * in LEARNREMOTESIM alike; before, evo read and wrote past its 64. */
+TEST(a_hello_with_100_environments_is_refused_naming_remote_and_field)
+{
+	char name[64], want[256];
+	snprintf(name, sizeof name, "envs-%ld", (long)getpid());
+	remote_task(name, "");
+	pid_t f = start_fake(name, FAKE_ENVS_100, "/dev/null");
+	int rc = cli_capture(out, sizeof out,
+			     "%s run %s/Avoid/Tasks/%s.simbatch -nog", cli_evo,
+			     cli_tmp, name);
+	CHECK_EQ_INT(rc, 1);
+	snprintf(want, sizeof want,
+		 "evo: refused the hello of remote %s on "
+		 "udpm://239.255.76.67:7667?ttl=0: hello_t from %s: "
+		 "environments is 100, outside 1..64",
+		 name, name);
+	CHECK_CONTAINS(out, want);
+	char text[512];
+	snprintf(text, sizeof text,
+		 "TYPE:LEARNREMOTESIM\nMASTERSKILL:Avoid\nLEARNINGSKILL:Avoid\n"
+		 "LEARNINGMETHOD:NEAT\nNUMGEN:1\nNEAT_POPSIZE:4\nTICKLIM:10\n"
+		 "REMOTENAME:%s\n",
+		 name);
+	cli_write(text, "%s/Avoid/Tasks/%s-learn.simbatch", cli_tmp, name);
+	rc = cli_capture(out, sizeof out,
+			 "%s run %s/Avoid/Tasks/%s-learn.simbatch --run %s/envs",
+			 cli_evo, cli_tmp, name, cli_tmp);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, want);
+	kill(f, SIGKILL);
+	int st;
+	waitpid(f, &st, 0);
+}
+
+/* A hello whose episodes' URL is file://PATH?mode=w: refused, and the
+ * file never made (LCM's file provider would have written evo's messages
+ * into it). A multicast URL that reaches further than the task's (ttl=1
+ * where the task's has 0) is refused too. */
+TEST(a_hello_naming_a_file_url_is_refused_and_writes_nothing)
+{
+	char name[64], want[512], fake_file[200];
+	snprintf(name, sizeof name, "fileurl-%ld", (long)getpid());
+	snprintf(fake_file, sizeof fake_file, "%s/written.lcmlog", cli_tmp);
+	snprintf(fake_hello_url, sizeof fake_hello_url, "file://%s?mode=w",
+		 fake_file);
+	remote_task(name, "");
+	pid_t f = start_fake(name, FAKE_OWN_URL, "/dev/null");
+	int rc = cli_capture(out, sizeof out,
+			     "%s run %s/Avoid/Tasks/%s.simbatch -nog", cli_evo,
+			     cli_tmp, name);
+	CHECK_EQ_INT(rc, 1);
+	snprintf(want, sizeof want,
+		 "hello_t from %s: url: 'file://%s?mode=w' is not "
+		 "udpm://GROUP:PORT",
+		 name, fake_file);
+	CHECK_CONTAINS(out, want);
+	CHECK(access(fake_file, F_OK) != 0);
+	kill(f, SIGKILL);
+	int st;
+	waitpid(f, &st, 0);
+	snprintf(fake_hello_url, sizeof fake_hello_url,
+		 "udpm://239.255.76.67:7991?ttl=1");
+	f = start_fake(name, FAKE_OWN_URL, "/dev/null");
+	rc = cli_capture(out, sizeof out,
+			 "%s run %s/Avoid/Tasks/%s.simbatch -nog", cli_evo,
+			 cli_tmp, name);
+	CHECK_EQ_INT(rc, 1);
+	snprintf(want, sizeof want,
+		 "remote %s: its episodes' URL udpm://239.255.76.67:7991?ttl=1 "
+		 "reaches further (ttl=1) than the task's "
+		 "udpm://239.255.76.67:7667?ttl=0",
+		 name);
+	CHECK_CONTAINS(out, want);
+	kill(f, SIGKILL);
+	waitpid(f, &st, 0);
+}
+
+enum forge_mode {
+	FORGE_HELLO,  /* hellos of the remote's name with its session + 1 */
+	FORGE_SENSORS /* an answer of its own to every command, and every
+			 true answer sent again as it was */
+};
+
+/* A process on the URL that attacks remote `name` once evo's run is under
+ * way: it learns the remote's session and episodes' URL from its hello,
+ * waits for evo's RESET, then forges for `secs` seconds. It has no key:
+ * what evo sends under one, it reads past the seal. */
+static void forger(const char *name, enum forge_mode mode, double secs)
+{
+	evo_err err;
+	evo_link *l = evo_link_open(NULL, &err);
+	if (!l || evo_link_subscribe(l, "EVO_HELLO", &err))
+		_exit(3);
+	static unsigned char buf[EVO_WIRE_MAX_BYTES];
+	evo_wire_who w = {.protocol = EVO_WIRE_PROTOCOL};
+	snprintf(w.from, sizeof w.from, "forger");
+	evo_wire_hello h;
+	char why[256];
+	double until = mono() + 30, asked = 0;
+	for (;;) {
+		if (mono() > until)
+			_exit(4);
+		if (mono() - asked > 0.2) {
+			publish(l, "EVO_WHO", buf,
+				evo_wire_encode_who(&w, buf, sizeof buf));
+			asked = mono();
+		}
+		evo_link_msg m;
+		if (evo_link_next(l, 50, &m, &err) <= 0)
+			continue;
+		/* sealed or not: the hello's bytes, without a seal */
+		if ((evo_wire_decode_hello(m.data, m.len, &h, why, sizeof why) ==
+			 0 ||
+		     (m.len > 40 &&
+		      evo_wire_decode_hello(m.data, m.len - 40, &h, why,
+					    sizeof why) == 0)) &&
+		    strcmp(h.name, name) == 0)
+			break;
+	}
+	evo_link *d = h.url[0] ? evo_link_open(h.url, &err) : l;
+	char ch_control[96], ch_command[96], ch_sensors[96];
+	snprintf(ch_control, sizeof ch_control, "EVO_%s_CONTROL", name);
+	snprintf(ch_command, sizeof ch_command, "EVO_%s_COMMAND", name);
+	snprintf(ch_sensors, sizeof ch_sensors, "EVO_%s_SENSORS", name);
+	if (!d || evo_link_subscribe(d, ch_control, &err) ||
+	    evo_link_subscribe(d, ch_command, &err) ||
+	    evo_link_subscribe(d, ch_sensors, &err))
+		_exit(3);
+	double end = 0;
+	evo_wire_hello forged = h;
+	forged.session = h.session + 1;
+	double said = 0;
+	for (;;) {
+		if (end && mono() > end)
+			break;
+		if (mono() > until + 30)
+			_exit(4);
+		if (end && mode == FORGE_HELLO && mono() - said > 0.05) {
+			publish(l, "EVO_HELLO", buf,
+				evo_wire_encode_hello(&forged, buf,
+						      sizeof buf));
+			said = mono();
+		}
+		evo_link_msg m;
+		if (evo_link_next(d, 10, &m, &err) <= 0)
+			continue;
+		if (!end && strcmp(m.channel, ch_control) == 0)
+			end = mono() + secs;
+		if (!end || mode != FORGE_SENSORS)
+			continue;
+		if (strcmp(m.channel, ch_sensors) == 0) {
+			/* a true answer, sent again as it came */
+			unsigned char copy[EVO_WIRE_MAX_BYTES];
+			memcpy(copy, m.data, m.len);
+			publish(d, ch_sensors, copy, (int)m.len);
+			continue;
+		}
+		evo_wire_command c;
+		evo_wire_control k;
+		evo_wire_sensors s = {.session = h.session,
+				      .n = h.n_sensors};
+		snprintf(s.name, sizeof s.name, "%s", name);
+		if (strcmp(m.channel, ch_command) == 0 &&
+		    (evo_wire_decode_command(m.data, m.len, &c, why,
+					     sizeof why) == 0 ||
+		     (m.len > 40 &&
+		      evo_wire_decode_command(m.data, m.len - 40, &c, why,
+					      sizeof why) == 0))) {
+			s.env = c.env;
+			s.episode = c.episode;
+			s.tick = c.tick + 1;
+		} else if (strcmp(m.channel, ch_control) == 0 &&
+			   (evo_wire_decode_control(m.data, m.len, &k, why,
+						    sizeof why) == 0 ||
+			    (m.len > 40 &&
+			     evo_wire_decode_control(m.data, m.len - 40, &k,
+						     why, sizeof why) == 0)) &&
+			   k.op == EVO_CONTROL_RESET) {
+			s.env = k.env;
+			s.episode = k.episode;
+			s.tick = 0;
+		} else {
+			continue;
+		}
+		/* every sensor reads nothing near: a world with no walls */
+		for (unsigned i = 0; i < s.n; i++)
+			s.value[i] = 1.0;
+		publish(d, ch_sensors, buf,
+			evo_wire_encode_sensors(&s, buf, sizeof buf));
+	}
+	if (d != l)
+		evo_link_close(d);
+	evo_link_close(l);
+	_exit(0);
+}
+
+static pid_t start_forger(const char *name, enum forge_mode mode, double secs)
+{
+	pid_t pid = fork();
+	if (pid == 0)
+		forger(name, mode, secs);
+	return pid;
+}
+
+static void reap_forger(pid_t f)
+{
+	int st;
+	kill(f, SIGKILL);
+	waitpid(f, &st, 0);
+}
+
+/* The task's key, in a file beside it. */
+static void key_file(void)
+{
+	cli_write("k3y-of-this-test-0123456789\n", "%s/Avoid/Tasks/lcm.key",
+		  cli_tmp);
+}
+
+/* A task of remote `name`, its serve and a run of `episodes` x 700 ticks
+ * with a trace, while a forger attacks (no forger: mode < 0). The run's
+ * exit status; its output in out. */
+static int attacked_run(const char *name, const char *extra, int mode,
+			const char *trace)
+{
+	remote_task(name, extra);
+	pid_t srv = start_serve(name);
+	pid_t f = mode < 0 ? -1 : start_forger(name, (enum forge_mode)mode, 3);
+	if (f > 0) {
+		/* the forger has heard the hello and listens */
+		struct timespec ms = {0, 300000000};
+		nanosleep(&ms, NULL);
+	}
+	int rc = cli_capture(out, sizeof out,
+			     "%s run %s/Avoid/Tasks/%s.simbatch -nog --seed 5 "
+			     "--episodes 2 --ticks 700 --trace %s",
+			     cli_evo, cli_tmp, name, trace);
+	if (f > 0)
+		reap_forger(f);
+	double secs;
+	stop(srv, &secs);
+	return rc;
+}
+
+/* Without a key anyone on the URL can say hello as the remote: a hello
+ * with the remote's session + 1 while its session answers on is not
+ * taken as a restart, and the run ends as it would have, with its trace
+ * (before, it ended the run and deleted the trace). */
+TEST(a_forged_hello_does_not_end_a_keyless_run)
+{
+	char name[64], trace[300], ref[300];
+	snprintf(name, sizeof name, "hello-%ld", (long)getpid());
+	snprintf(trace, sizeof trace, "%s/forged-hello.trace", cli_tmp);
+	snprintf(ref, sizeof ref, "%s/forged-hello-ref.trace", cli_tmp);
+	CHECK_EQ_INT(attacked_run(name, "", -1, ref), 0);
+	int rc = attacked_run(name, "", FORGE_HELLO, trace);
+	CHECK_EQ_INT(rc, 0);
+	char want[200];
+	snprintf(want, sizeof want,
+		 "evo: remote %s: a hello under its name with session", name);
+	CHECK_CONTAINS(out, want);
+	CHECK_CONTAINS(out, "not taken as a restart");
+	char *a = cli_read("%s", trace), *b = cli_read("%s", ref);
+	CHECK(a && b && strlen(a) > 1000 && strcmp(a, b) == 0);
+	free(a);
+	free(b);
+}
+
+/* With a key a forged hello fails the MAC: dropped, counted and shown at
+ * the end; the run and its trace are as without it. */
+TEST(a_forged_hello_fails_the_key_and_is_counted)
+{
+	char name[64], trace[300], ref[300];
+	snprintf(name, sizeof name, "khello-%ld", (long)getpid());
+	snprintf(trace, sizeof trace, "%s/kforged-hello.trace", cli_tmp);
+	snprintf(ref, sizeof ref, "%s/kforged-hello-ref.trace", cli_tmp);
+	cli_sh("mkdir -p %s/Avoid/Tasks", cli_tmp);
+	remote_task(name, "");
+	key_file();
+	CHECK_EQ_INT(attacked_run(name, "LCMKEYFILE:lcm.key\n", -1, ref), 0);
+	CHECK(strstr(out, "k3y") == NULL);
+	int rc = attacked_run(name, "LCMKEYFILE:lcm.key\n", FORGE_HELLO, trace);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out, "evo: LCM at udpm://239.255.76.67:7667?ttl=0: "
+			    "dropped a message on EVO_HELLO whose MAC fails the "
+			    "key");
+	CHECK_CONTAINS(out, " forged and 0 replayed messages (they failed the "
+			    "key)");
+	CHECK(strstr(out, "dropped 0 forged") == NULL);
+	CHECK(strstr(out, "k3y") == NULL);
+	char *a = cli_read("%s", trace), *b = cli_read("%s", ref);
+	CHECK(a && b && strlen(a) > 1000 && strcmp(a, b) == 0);
+	free(a);
+	free(b);
+}
+
+/* With a key, a process that answers every command with sensors of its
+ * own, and sends every true answer again, never wins: the trace is the
+ * one of a run nobody attacked, and what was dropped is counted. */
+TEST(forged_and_replayed_sensors_never_win_under_a_key)
+{
+	char name[64], trace[300], ref[300];
+	snprintf(name, sizeof name, "ksens-%ld", (long)getpid());
+	snprintf(trace, sizeof trace, "%s/ksens.trace", cli_tmp);
+	snprintf(ref, sizeof ref, "%s/ksens-ref.trace", cli_tmp);
+	remote_task(name, "");
+	key_file();
+	CHECK_EQ_INT(attacked_run(name, "LCMKEYFILE:lcm.key\n", -1, ref), 0);
+	int rc = attacked_run(name, "LCMKEYFILE:lcm.key\n", FORGE_SENSORS,
+			      trace);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out, "whose MAC fails the key");
+	CHECK_CONTAINS(out, "replayed)");
+	char *a = cli_read("%s", trace), *b = cli_read("%s", ref);
+	CHECK(a && b && strlen(a) > 1000 && strcmp(a, b) == 0);
+	free(a);
+	free(b);
+}
+
+/* Without a key the same attack is not silent: the second, different
+ * answer for a tick ends the run, saying another process answers as the
+ * remote. */
+TEST(forged_sensors_end_a_keyless_run_saying_so)
+{
+	char name[64], trace[300];
+	snprintf(name, sizeof name, "sens-%ld", (long)getpid());
+	snprintf(trace, sizeof trace, "%s/sens.trace", cli_tmp);
+	int rc = attacked_run(name, "", FORGE_SENSORS, trace);
+	CHECK_EQ_INT(rc, 1);
+	char want[200];
+	snprintf(want, sizeof want,
+		 "remote %s: two different sensors_t for tick ", name);
+	CHECK_CONTAINS(out, want);
+	snprintf(want, sizeof want, "another process answers as %s on ", name);
+	CHECK_CONTAINS(out, want);
+}
+
+/* A task names its remotes or shares a key with them; a bad key file is
+ * refused naming the file, never showing what it holds. */
+TEST(a_task_names_its_remotes_or_has_a_key)
+{
+	cli_write("TYPE:DEMOREMOTESIM\nMASTERSKILL:Avoid\n",
+		  "%s/Avoid/Tasks/anyone.simbatch", cli_tmp);
+	int rc = cli_capture(out, sizeof out,
+			     "%s run %s/Avoid/Tasks/anyone.simbatch -nog",
+			     cli_evo, cli_tmp);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "anyone.simbatch: a remote task names its remotes "
+			    "(REMOTENAME:sim1 or REMOTENAME:sim1,sim2) or shares "
+			    "a key with them (LCMKEYFILE)");
+	cli_write("short-secret\n", "%s/Avoid/Tasks/short.key", cli_tmp);
+	cli_write("TYPE:DEMOREMOTESIM\nMASTERSKILL:Avoid\nLCMKEYFILE:short.key\n",
+		  "%s/Avoid/Tasks/shortkey.simbatch", cli_tmp);
+	rc = cli_capture(out, sizeof out,
+			 "%s run %s/Avoid/Tasks/shortkey.simbatch -nog",
+			 cli_evo, cli_tmp);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "shortkey.simbatch: LCMKEYFILE: key file ");
+	CHECK_CONTAINS(out, "short.key: a key is 16 to 256 bytes");
+	CHECK(strstr(out, "short-secret") == NULL);
+	cli_write("TYPE:DEMOREMOTESIM\nMASTERSKILL:Avoid\nLCMKEYFILE:none.key\n",
+		  "%s/Avoid/Tasks/nokey.simbatch", cli_tmp);
+	rc = cli_capture(out, sizeof out,
+			 "%s run %s/Avoid/Tasks/nokey.simbatch -nog", cli_evo,
+			 cli_tmp);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "none.key: No such file or directory");
+	/* a shared task's URL opens no other LCM provider either */
+	char text[512];
+	snprintf(text, sizeof text,
+		 "TYPE:DEMOREMOTESIM\nMASTERSKILL:Avoid\nREMOTENAME:x\n"
+		 "LCMURL:file://%s/task-written?mode=w\n",
+		 cli_tmp);
+	cli_write(text, "%s/Avoid/Tasks/fileurl.simbatch", cli_tmp);
+	rc = cli_capture(out, sizeof out,
+			 "%s run %s/Avoid/Tasks/fileurl.simbatch -nog", cli_evo,
+			 cli_tmp);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "fileurl.simbatch: LCMURL: 'file://");
+	CHECK_CONTAINS(out, "' is not udpm://GROUP:PORT");
+	rc = cli_capture(out, sizeof out,
+			 "%s serve %s/Avoid/Tasks/fileurl.simbatch", cli_evo,
+			 cli_tmp);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "fileurl.simbatch: LCMURL: 'file://");
+	CHECK(cli_sh("test -e %s/task-written", cli_tmp) != 0);
+	/* evo serve's own key file, named when it cannot be read */
+	rc = cli_capture(out, sizeof out,
+			 "%s serve %s/Avoid/Tasks/shortkey.simbatch --key-file "
+			 "%s/none.key",
+			 cli_evo, cli_tmp, cli_tmp);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "shortkey.simbatch: LCMKEYFILE: key file ");
+	cli_write("TYPE:DEMOREMOTESIM\nMASTERSKILL:Avoid\nREMOTENAME:x\n",
+		  "%s/Avoid/Tasks/named.simbatch", cli_tmp);
+	rc = cli_capture(out, sizeof out,
+			 "%s serve %s/Avoid/Tasks/named.simbatch --key-file "
+			 "%s/Avoid/Tasks/short.key",
+			 cli_evo, cli_tmp, cli_tmp);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "evo serve: --key-file: key file ");
+	CHECK_CONTAINS(out, "short.key: a key is 16 to 256 bytes");
+	CHECK(strstr(out, "short-secret") == NULL);
+}
+
 int main(void)
 {
 	if (cli_setup("remote"))
@@ -660,6 +1085,13 @@ int main(void)
 	RUN(a_simulator_that_restarts_ends_a_demo_saying_so);
 	RUN(waiting_for_no_remote_says_so_and_stops_on_sigterm);
 	RUN(bad_remote_keys_are_refused);
+	RUN(a_hello_with_100_environments_is_refused_naming_remote_and_field);
+	RUN(a_hello_naming_a_file_url_is_refused_and_writes_nothing);
+	RUN(a_forged_hello_does_not_end_a_keyless_run);
+	RUN(a_forged_hello_fails_the_key_and_is_counted);
+	RUN(forged_and_replayed_sensors_never_win_under_a_key);
+	RUN(forged_sensors_end_a_keyless_run_saying_so);
+	RUN(a_task_names_its_remotes_or_has_a_key);
 	cli_cleanup();
 	return test_summary();
 }

@@ -440,6 +440,7 @@ typedef struct fake {
 	evo_wire_hello h;
 	unsigned char buf[EVO_WIRE_MAX_BYTES];
 	int64_t episode;
+	double reset_at; /* when the RESET came (monotonic seconds) */
 } fake;
 
 static int fake_open(fake *f, const char *url, const char *name,
@@ -509,6 +510,7 @@ static int fake_await_control(fake *f, int op)
 					    sizeof why) == 0 &&
 		    (int)c.op == op) {
 			f->episode = c.episode;
+			f->reset_at = mono();
 			return 1;
 		}
 	}
@@ -529,6 +531,15 @@ static void fake_sensors(fake *f, int64_t episode, int64_t tick, double s1,
 	s.value[0] = s1;
 	fake_publish(f, f->ch_sensors,
 		     evo_wire_encode_sensors(&s, f->buf, sizeof f->buf));
+}
+
+/* A robot sends tick t no sooner than t periods after the RESET: wait
+ * until t - 1 of them have passed (evo allows a tick and 1% of slack). */
+static void pace(const fake *f, int64_t tick)
+{
+	double at = f->reset_at + (double)(tick - 1) * f->h.tick_us * 1e-6;
+	while (mono() < at)
+		pause_ms(5);
 }
 
 /* Wait for the command_t of `tick` (at most 60 s): 1, or 0; the ticks of
@@ -557,7 +568,10 @@ static int fake_await_command(fake *f, int64_t tick, int *others)
  * stopped and read by it two periods later, 8 with a value out of range,
  * 9, 10, 11, and 12 for the reward; evo answers 0 to 11 (--ticks 12). A
  * tick of an earlier run of episode 1, far past what the robot could have
- * reached since evo's RESET, is dropped as stale. */
+ * reached since evo's RESET, is dropped as stale: before the first tick
+ * and after it (tick 900 between 1 and 4; held, it would have made every
+ * true tick after it stale). Each tick is sent no sooner than the robot
+ * could have reached it. */
 TEST(late_and_missing_ticks_are_counted)
 {
 	char name[64], evlog[512];
@@ -581,22 +595,28 @@ TEST(late_and_missing_ticks_are_counted)
 	CHECK(fake_await_command(&f, 0, &others));
 	fake_sensors(&f, e, 1, 0.5, 0);
 	CHECK(fake_await_command(&f, 1, &others));
+	fake_sensors(&f, e, 900, 0.5, 0);
+	pace(&f, 4);
 	fake_sensors(&f, e, 4, 0.5, 0);
 	CHECK(fake_await_command(&f, 4, &others));
 	CHECK(stop_now(ev));
+	pace(&f, 7);
 	fake_sensors(&f, e, 5, 0.5, 0);
 	fake_sensors(&f, e, 6, 0.5, 0);
 	fake_sensors(&f, e, 7, 0.5, 0);
 	pause_ms(400); /* two of the robot's 200 ms periods, or more */
 	kill(ev, SIGCONT);
 	CHECK(fake_await_command(&f, 7, &others));
+	pace(&f, 9);
 	fake_sensors(&f, e, 8, 1.5, 0);
 	fake_sensors(&f, e, 9, 0.5, 0);
 	CHECK(fake_await_command(&f, 9, &others));
 	for (int t = 10; t < 12; t++) {
+		pace(&f, t);
 		fake_sensors(&f, e, t, 0.5, 0);
 		CHECK(fake_await_command(&f, t, &others));
 	}
+	pace(&f, 12);
 	fake_sensors(&f, e, 12, 0.5, 3.25);
 	CHECK(fake_await_control(&f, EVO_CONTROL_STOP));
 	CHECK(others <= 2); /* at most the answers to 5 and 6 */
@@ -614,7 +634,7 @@ TEST(late_and_missing_ticks_are_counted)
 	CHECK(c.late >= 2);
 	CHECK_EQ_INT(c.in_time + c.late, 9);
 	CHECK_CONTAINS(t, "tick 4 came after tick 1: 2 ticks missing");
-	CHECK_CONTAINS(t, "dropped 2 messages (1 value, 1 stale)");
+	CHECK_CONTAINS(t, "dropped 3 messages (1 value, 2 stale)");
 	CHECK_CONTAINS(t, "the robot cannot have reached it since evo's RESET");
 	free(t);
 	evo_link_close(f.l);

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "evo/mac.h"
 #include "harness.h"
 #include "remote/wire.h"
 
@@ -203,6 +204,205 @@ TEST(controls_round_trip_with_full_seeds)
 		     EVO_WIRE_UNDECODABLE);
 }
 
+/* Item 8: every count and index a remote sends is checked against evo's
+ * limits in the decoder, and a refused hello names the remote and the
+ * field. evo keeps 64 environments per remote (EVO_REMOTE_MAX_ENVS). */
+TEST(counts_and_indexes_past_evos_limits_are_refused_naming_the_field)
+{
+	evo_wire_hello h = sample_hello(), d;
+	h.environments = 100;
+	int n = evo_wire_encode_hello(&h, buf, sizeof buf);
+	CHECK_EQ_INT(evo_wire_decode_hello(buf, (size_t)n, &d, why, sizeof why),
+		     EVO_WIRE_UNDECODABLE);
+	CHECK_EQ_STR(why, "hello_t from sim-1: environments is 100, outside "
+			  "1..64");
+	CHECK_EQ_STR(d.name, "sim-1");
+	h.environments = 64;
+	n = evo_wire_encode_hello(&h, buf, sizeof buf);
+	CHECK_EQ_INT(evo_wire_decode_hello(buf, (size_t)n, &d, why, sizeof why),
+		     EVO_WIRE_OK);
+	h.environments = -3;
+	n = evo_wire_encode_hello(&h, buf, sizeof buf);
+	CHECK_EQ_INT(evo_wire_decode_hello(buf, (size_t)n, &d, why, sizeof why),
+		     EVO_WIRE_UNDECODABLE);
+	CHECK_CONTAINS(why, "environments is -3");
+	h = sample_hello();
+	h.tick_us = 60000001; /* a tick over a minute */
+	n = evo_wire_encode_hello(&h, buf, sizeof buf);
+	CHECK_EQ_INT(evo_wire_decode_hello(buf, (size_t)n, &d, why, sizeof why),
+		     EVO_WIRE_UNDECODABLE);
+	CHECK_CONTAINS(why, "hello_t from sim-1: tick_us is 60000001");
+
+	evo_wire_sensors s, sd;
+	memset(&s, 0, sizeof s);
+	snprintf(s.name, sizeof s.name, "sim-1");
+	s.env = 64;
+	n = evo_wire_encode_sensors(&s, buf, sizeof buf);
+	CHECK_EQ_INT(evo_wire_decode_sensors(buf, (size_t)n, &sd, why,
+					     sizeof why),
+		     EVO_WIRE_UNDECODABLE);
+	CHECK_EQ_STR(why, "sensors_t for sim-1: env is 64, outside 0..63");
+	s.env = 0;
+	s.tick = -1;
+	n = evo_wire_encode_sensors(&s, buf, sizeof buf);
+	CHECK_EQ_INT(evo_wire_decode_sensors(buf, (size_t)n, &sd, why,
+					     sizeof why),
+		     EVO_WIRE_UNDECODABLE);
+	CHECK_CONTAINS(why, "tick is -1");
+	s.tick = 0;
+	s.episode = -5;
+	n = evo_wire_encode_sensors(&s, buf, sizeof buf);
+	CHECK_EQ_INT(evo_wire_decode_sensors(buf, (size_t)n, &sd, why,
+					     sizeof why),
+		     EVO_WIRE_UNDECODABLE);
+	CHECK_CONTAINS(why, "episode is -5");
+
+	evo_wire_command c, cd;
+	memset(&c, 0, sizeof c);
+	snprintf(c.name, sizeof c.name, "sim-1");
+	c.env = -1;
+	n = evo_wire_encode_command(&c, buf, sizeof buf);
+	CHECK_EQ_INT(evo_wire_decode_command(buf, (size_t)n, &cd, why,
+					     sizeof why),
+		     EVO_WIRE_UNDECODABLE);
+	CHECK_CONTAINS(why, "command_t for sim-1: env is -1");
+	evo_wire_control k, kd;
+	memset(&k, 0, sizeof k);
+	snprintf(k.name, sizeof k.name, "sim-1");
+	k.op = EVO_CONTROL_RESET;
+	k.env = 100;
+	n = evo_wire_encode_control(&k, buf, sizeof buf);
+	CHECK_EQ_INT(evo_wire_decode_control(buf, (size_t)n, &kd, why,
+					     sizeof why),
+		     EVO_WIRE_UNDECODABLE);
+	CHECK_CONTAINS(why, "control_t for sim-1: env is 100");
+}
+
+/* Item 9: a hello's url names a multicast group and nothing else. */
+TEST(a_hellos_url_is_only_ever_a_multicast_group)
+{
+	int ttl = -1;
+	CHECK(evo_wire_url_ok("", &ttl, why, sizeof why) && ttl == 0);
+	CHECK(evo_wire_url_ok("udpm://239.255.76.67:7667", &ttl, why,
+			      sizeof why));
+	CHECK(evo_wire_url_ok("udpm://239.255.76.67:7667?ttl=1", &ttl, why,
+			      sizeof why) &&
+	      ttl == 1);
+	CHECK(evo_wire_url_ok("udpm://224.0.0.1:1?ttl=0&recv_buf_size=65536",
+			      &ttl, why, sizeof why));
+	static const char *const refused[] = {
+	    "file:///tmp/x?mode=w",
+	    "tcpq://127.0.0.1:7700",
+	    "memq://",
+	    "udpm://10.0.0.1:7667",	      /* not multicast */
+	    "udpm://240.0.0.1:7667",	      /* not multicast */
+	    "udpm://239.255.76.67:0",	      /* no port */
+	    "udpm://239.255.76.67:70000",
+	    "udpm://239.255.76.67:7667?ttl=2", /* past the link */
+	    "udpm://239.255.76.67:7667?ttl=0&ttl=0",
+	    "udpm://239.255.76.67:7667?mode=w",
+	    "udpm://239.255.76.67:7667/x",
+	    "udpm://239.255.76:7667",
+	    "udpm://239.255.76.67.1:7667",
+	};
+	for (size_t i = 0; i < sizeof refused / sizeof *refused; i++) {
+		why[0] = 0;
+		CHECK(!evo_wire_url_ok(refused[i], &ttl, why, sizeof why));
+		CHECK(why[0] != 0);
+	}
+	CHECK(!evo_wire_url_ok("file:///tmp/x?mode=w", &ttl, why, sizeof why));
+	CHECK_CONTAINS(why, "is not udpm://GROUP:PORT");
+	/* in a hello: refused by the decoder, naming the remote */
+	evo_wire_hello h = sample_hello(), d;
+	snprintf(h.url, sizeof h.url, "file:///tmp/x?mode=w");
+	int n = evo_wire_encode_hello(&h, buf, sizeof buf);
+	CHECK_EQ_INT(evo_wire_decode_hello(buf, (size_t)n, &d, why, sizeof why),
+		     EVO_WIRE_UNDECODABLE);
+	CHECK_CONTAINS(why, "hello_t from sim-1: url: 'file:///tmp/x?mode=w'");
+}
+
+static const evo_wire_key key16 = {16, "0123456789abcdef"};
+
+/* Item 10: the seal is HMAC-SHA-256 over the channel, a NUL, the bytes and
+ * the stamp, worked out here from the parts; any change to the bytes, the
+ * channel or the key is forged, an old stamp or one taken before is
+ * replayed. */
+TEST(a_seal_holds_only_for_its_key_channel_bytes_and_time)
+{
+	evo_wire_sensors s;
+	memset(&s, 0, sizeof s);
+	snprintf(s.name, sizeof s.name, "sim-1");
+	s.tick = 3;
+	int n = evo_wire_encode_sensors(&s, buf, sizeof buf);
+	int64_t now = 1700000000000000LL;
+	int m = evo_wire_seal(&key16, "EVO_sim-1_SENSORS", buf, (size_t)n,
+			      sizeof buf, now);
+	CHECK_EQ_INT(m, n + 40);
+	/* the tag, from its parts */
+	unsigned char msg[4096];
+	size_t k = 0;
+	memcpy(msg, "EVO_sim-1_SENSORS", 18); /* with its NUL */
+	k = 18;
+	memcpy(msg + k, buf, (size_t)n + 8);
+	k += (size_t)n + 8;
+	uint8_t want[32];
+	evo_hmac_sha256("0123456789abcdef", 16, msg, k, want);
+	CHECK(memcmp(buf + n + 8, want, 32) == 0);
+	CHECK(buf[n] == 0x00 && buf[n + 1] == 0x06 && buf[n + 7] == 0x00);
+	size_t body = 0;
+	int64_t stamp = 0;
+	CHECK_EQ_INT(evo_wire_unseal(&key16, "EVO_sim-1_SENSORS", buf,
+				     (size_t)m, now + 1000, &body, &stamp, why,
+				     sizeof why),
+		     EVO_WIRE_OK);
+	CHECK(body == (size_t)n && stamp == now);
+	/* another channel, another key, a byte changed, no seal */
+	CHECK_EQ_INT(evo_wire_unseal(&key16, "EVO_sim-2_SENSORS", buf,
+				     (size_t)m, now, &body, &stamp, why,
+				     sizeof why),
+		     EVO_WIRE_FORGED);
+	evo_wire_key other = key16;
+	other.bytes[0] ^= 1;
+	CHECK_EQ_INT(evo_wire_unseal(&other, "EVO_sim-1_SENSORS", buf,
+				     (size_t)m, now, &body, &stamp, why,
+				     sizeof why),
+		     EVO_WIRE_FORGED);
+	buf[n - 12] ^= 0x40; /* in the count n */
+	CHECK_EQ_INT(evo_wire_unseal(&key16, "EVO_sim-1_SENSORS", buf,
+				     (size_t)m, now, &body, &stamp, why,
+				     sizeof why),
+		     EVO_WIRE_FORGED);
+	CHECK_CONTAINS(why, "MAC fails the key");
+	buf[n - 12] ^= 0x40;
+	CHECK_EQ_INT(evo_wire_unseal(&key16, "EVO_sim-1_SENSORS", buf,
+				     (size_t)n, now, &body, &stamp, why,
+				     sizeof why),
+		     EVO_WIRE_FORGED);
+	CHECK_EQ_INT(evo_wire_unseal(&key16, "EVO_sim-1_SENSORS", buf, 20, now,
+				     &body, &stamp, why, sizeof why),
+		     EVO_WIRE_FORGED);
+	/* 31 s later: a recording played back */
+	CHECK_EQ_INT(evo_wire_unseal(&key16, "EVO_sim-1_SENSORS", buf,
+				     (size_t)m, now + 31000000, &body, &stamp,
+				     why, sizeof why),
+		     EVO_WIRE_REPLAYED);
+	CHECK_CONTAINS(why, "stamped 31 s behind");
+	/* a stamp taken once only, and in order */
+	evo_wire_fresh f = {0};
+	CHECK_EQ_INT(evo_wire_fresh_take(&f, now, why, sizeof why), EVO_WIRE_OK);
+	CHECK_EQ_INT(evo_wire_fresh_take(&f, now, why, sizeof why),
+		     EVO_WIRE_REPLAYED);
+	CHECK_EQ_INT(evo_wire_fresh_take(&f, now - 1, why, sizeof why),
+		     EVO_WIRE_REPLAYED);
+	CHECK_EQ_INT(evo_wire_fresh_take(&f, now + 1, why, sizeof why),
+		     EVO_WIRE_OK);
+	/* stamps of one sender only go up, even within one microsecond */
+	int64_t last = INT64_MAX - 10, a = evo_wire_stamp(&last),
+		b = evo_wire_stamp(&last);
+	CHECK(a == INT64_MAX - 9 && b == INT64_MAX - 8);
+	CHECK_EQ_INT(evo_wire_seal(&key16, "X", buf, 10, 49, now), -1);
+}
+
 int main(void)
 {
 	RUN(hello_round_trips);
@@ -213,5 +413,8 @@ int main(void)
 	RUN(bad_hellos_are_refused);
 	RUN(values_outside_the_unit_interval_are_named);
 	RUN(controls_round_trip_with_full_seeds);
+	RUN(counts_and_indexes_past_evos_limits_are_refused_naming_the_field);
+	RUN(a_hellos_url_is_only_ever_a_multicast_group);
+	RUN(a_seal_holds_only_for_its_key_channel_bytes_and_time);
 	return test_summary();
 }
