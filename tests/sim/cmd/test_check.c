@@ -397,8 +397,8 @@ TEST(the_issues_huge_keys_are_refused_at_their_line)
 		      "REMOTETIMEOUT: expected a number above 0 and at most "
 		      "3600, found 'soon'"));
 	CHECK(refused("NEAT", "REMOTENAME:a/b",
-		      "REMOTENAME: expected a name of 1 to 63 letters, digits, "
-		      "'_' or '-', found 'a/b'"));
+		      "REMOTENAME: expected names of 1 to 63 letters, digits, "
+		      "'_' or '-', joined by ',', found 'a/b'"));
 }
 
 /* Each kind of key, a value just inside its range and one just outside. */
@@ -430,7 +430,7 @@ TEST(every_kind_of_key_is_checked_just_inside_and_outside_its_range)
 	snprintf(line, sizeof line, "REMOTENAME:%.64s",
 		 "sim-0123456789abcdefghijklmnopqrstuvwxyz_ABCDEFGHIJKLMNOPQRSTUVW"
 		 "XYZ");
-	CHECK(refused("NEAT", line, "REMOTENAME: expected a name"));
+	CHECK(refused("NEAT", line, "REMOTENAME: expected names"));
 	/* a word */
 	CHECK(accepted("NEAT", "TEAMFITNESS:own"));
 	CHECK(refused("NEAT", "TEAMFITNESS:MINE",
@@ -457,6 +457,40 @@ TEST(every_kind_of_key_is_checked_just_inside_and_outside_its_range)
  * networks is made. XOR with layers:2 has 2 inputs and 1 output: HIDDEN
  * W gives 2W + W^2 + W links, 4030 for 62 (at most 4096) and 4158 for
  * 63. */
+/* A remote task's connection keys: evo check refuses what evo run would
+ * (a URL that is no multicast group, a key file it cannot read, a task
+ * that names no remote and has no key), and passes the shipped one. */
+TEST(check_refuses_a_remote_tasks_url_key_file_and_missing_names)
+{
+	const char *cases[][2] = {
+	    {"REMOTENAME:corridor\nLCMURL:file:///tmp/x?mode=w", "LCMURL: "},
+	    {"REMOTENAME:corridor\nLCMKEYFILE:no-such.key", "LCMKEYFILE: "},
+	    {"", "names its remotes (REMOTENAME"},
+	};
+	char path[512];
+	snprintf(path, sizeof path, "%s/Corridor/Tasks/K.simbatch", cli_tmp);
+	for (unsigned i = 0; i < sizeof cases / sizeof *cases; i++) {
+		cli_sh("rm -rf %s/Corridor && cp -r minds/Corridor %s/", cli_tmp,
+		       cli_tmp);
+		char text[512];
+		snprintf(text, sizeof text,
+			 "TYPE:DEMOREMOTESIM\nMASTERSKILL:Corridor\n%s\n",
+			 cases[i][0]);
+		cli_write(text, "%s", path);
+		int rc = cli_capture(out1, sizeof out1, "%s check %s", cli_evo,
+				     path);
+		CHECK_EQ_INT(rc, 1);
+		CHECK_CONTAINS(out1, cases[i][1]);
+		rc = cli_capture(out2, sizeof out2, "timeout 20 %s run %s", cli_evo,
+				 path);
+		CHECK_EQ_INT(rc, 1);
+		CHECK_CONTAINS(out2, cases[i][1]);
+	}
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s check %s", cli_evo,
+				 "minds/Corridor/Tasks/Corridor-DEMO.simbatch"),
+		     0);
+}
+
 TEST(hidden_that_makes_too_large_a_network_is_refused_at_its_line)
 {
 	char path[512];
@@ -498,6 +532,7 @@ int main(void)
 	RUN(the_issues_huge_keys_are_refused_at_their_line);
 	RUN(every_kind_of_key_is_checked_just_inside_and_outside_its_range);
 	RUN(hidden_that_makes_too_large_a_network_is_refused_at_its_line);
+	RUN(check_refuses_a_remote_tasks_url_key_file_and_missing_names);
 	RUN(the_viewer_runs_episodes_until_it_is_closed);
 	RUN(a_screenshot_without_a_window_is_drawn_off_screen);
 	RUN(a_demo_episode_lasts_ticklim_ticks);
