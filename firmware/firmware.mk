@@ -38,7 +38,8 @@ FW_MACHINE_m3 := mps2-an385
 FW_CFLAGS := -mthumb -std=c11 -Os -g -ffreestanding -fno-builtin \
 	-fno-tree-loop-distribute-patterns -ffunction-sections \
 	-fdata-sections -DEVO_FREESTANDING $(WARN) -Icore/include -Ifirmware \
-	-I$(FW_BUILD)/mind '-DFW_BOT="bots/$(FW_BOT).h"' $(FW_CFLAGS_EXTRA)
+	-I$(FW_BUILD)/mind -I$(FW_BUILD)/key '-DFW_BOT="bots/$(FW_BOT).h"' \
+	$(FW_CFLAGS_EXTRA)
 FW_LDFLAGS := -nostdlib -nostartfiles -Wl,--gc-sections -Lfirmware
 
 # What the firmware carries of core/, in two archives. libevoruntime.a is
@@ -49,7 +50,7 @@ FW_LDFLAGS := -nostdlib -nostartfiles -Wl,--gc-sections -Lfirmware
 # CAN frames and slcan lines it speaks (the host speaks them with the same
 # code), and flash.c, the receiver of evo flash.
 FW_RUNTIME_NAMES := $(sort $(CORE_RUNTIME))
-FW_LINK_NAMES := $(sort status wire flash)
+FW_LINK_NAMES := $(sort status wire flash mac)
 FW_SRCS := main cortex_m mind_slot
 
 fw_core_objs = $(patsubst %,$(FW_BUILD)/$(1)/core/%.o,$(2))
@@ -101,6 +102,28 @@ $(FW_BUILD)/mind/run.trace: $(FW_EVO) $(FW_MIND_FILES) $(FW_TASK)
 	@mkdir -p $(dir $@)
 	$(FW_EVO) run $(FW_TASK) --headless --ticks $(FW_TRACE_TICKS) --trace $@
 
+# ---- the robot's key --------------------------------------------------------
+# make firmware FW_KEY=FILE: the firmware takes only transfers (evo flash
+# --key FILE) and CONFIG frames made with this key (docs/wire.md, Keys).
+# FILE holds 32 to 128 hex digits; the rule reads it without printing it,
+# and rewrites flash_key.h only when the key (or its absence) changed.
+FW_KEY ?=
+FW_KEY_H := $(FW_BUILD)/key/flash_key.h
+.PHONY: fw-key-force
+$(FW_KEY_H): fw-key-force
+	@mkdir -p $(dir $@)
+	@set -e; key='$(FW_KEY)'; tmp=$@.tmp; \
+	if [ -z "$$key" ]; then echo '/* no key: make firmware FW_KEY=FILE */' > $$tmp; \
+	else \
+		[ -r "$$key" ] || { echo "firmware: FW_KEY=$$key: cannot read it" >&2; exit 1; }; \
+		hex=$$(tr -d ' \t\r\n' < "$$key"); \
+		if ! printf '%s' "$$hex" | grep -Eq '^([0-9a-fA-F]{2}){16,64}$$'; then \
+			echo "firmware: FW_KEY=$$key: a key is 32 to 128 hex digits (16 to 64 bytes) on one line, and nothing else" >&2; exit 1; fi; \
+		{ echo '/* the robot key from FW_KEY: do not publish this file */'; \
+		  printf '#define FW_FLASH_KEY '; printf '%s' "$$hex" | sed 's/../0x&,/g'; echo; } > $$tmp; \
+	fi; \
+	if cmp -s $$tmp $@; then rm -f $$tmp; else mv $$tmp $@; fi
+
 # ---- per core ------------------------------------------------------------
 define FW_CORE_RULES
 $(FW_BUILD)/$(1)/core/%.o: core/src/%.c
@@ -112,14 +135,17 @@ $(FW_BUILD)/$(1)/%.o: firmware/%.c
 	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) -MMD -MP -c $$< -o $$@
 
 $(FW_BUILD)/$(1)/mind_slot.o: $(FW_BUILD)/mind/mind.h
+$(FW_BUILD)/$(1)/main.o $(FW_BUILD)/$(1)/main-noflash.o: $(FW_KEY_H)
 
 $(FW_BUILD)/$(1)/libevoruntime.a: $(call fw_core_objs,$(1),$(FW_RUNTIME_NAMES))
 	@rm -f $$@
 	$(ARM_AR) rcs $$@ $$^
 
-$(FW_BUILD)/$(1)/libevolink.a: $(call fw_core_objs,$(1),$(FW_LINK_NAMES))
+# (firmware.mk too: an archive made before a name was added to
+# FW_LINK_NAMES is made again, though its new member's source is older)
+$(FW_BUILD)/$(1)/libevolink.a: $(call fw_core_objs,$(1),$(FW_LINK_NAMES)) firmware/firmware.mk
 	@rm -f $$@
-	$(ARM_AR) rcs $$@ $$^
+	$(ARM_AR) rcs $$@ $$(filter %.o,$$^)
 
 $(FW_BUILD)/evo-$(1).elf: $(call fw_objs,$(1)) $(call fw_libs,$(1)) \
 		firmware/$(1).ld firmware/sections.ld

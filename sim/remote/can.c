@@ -49,8 +49,14 @@ struct evo_can {
 	struct sockaddr_storage peer;
 	socklen_t peer_len;
 	uint8_t seq;
-	/* candump */
+	/* candump: the pace of its time stamps (canplayer's): the first
+	 * frame's stamp and when it was read, and a frame read before its
+	 * time */
 	FILE *log_in, *log_out;
+	int paced, started, held, ended;
+	double log_t0, wall_t0, held_t;
+	evo_can_frame held_f;
+	unsigned long log_frames;
 	char iface[EVO_CANDUMP_IFACE_MAX];
 	unsigned long bad[EVO_CAN_BAD_COUNT];
 };
@@ -430,6 +436,10 @@ evo_can *evo_can_open(const char *url, evo_err *err)
 		rc = c->log_in ? 0
 			       : evo_fail(err, "%s: cannot read %s: %s", url, t,
 					  strerror(errno));
+		/* ?pace=0: as fast as it is read (canplayer -t) */
+		char v[8];
+		c->paced = !(query(url, "pace", v, sizeof v) &&
+			     strcmp(v, "0") == 0);
 		snprintf(c->iface, sizeof c->iface, "evo");
 		if (rc == 0) {
 			char out[300];
@@ -564,11 +574,25 @@ static int take(evo_can *c, evo_err *err)
 	}
 	case K_CANNELLONI: {
 		uint8_t d[2048];
-		ssize_t r = recv(c->fd, d, sizeof d, 0);
+		struct sockaddr_storage from;
+		socklen_t from_len = sizeof from;
+		ssize_t r = recvfrom(c->fd, d, sizeof d, 0,
+				     (struct sockaddr *)&from, &from_len);
 		if (r < 0)
 			return errno == EINTR ? 0
 					      : evo_fail(err, "%s: %s", c->url,
 							 strerror(errno));
+		/* Only the peer the URL names, address and port, as the
+		 * reference cannelloni takes only its remote's: anyone
+		 * else who can reach the port is not on this bus. */
+		const struct sockaddr_in *a = (const struct sockaddr_in *)&from,
+					 *p = (const struct sockaddr_in *)&c->peer;
+		if (from.ss_family != AF_INET ||
+		    a->sin_addr.s_addr != p->sin_addr.s_addr ||
+		    a->sin_port != p->sin_port) {
+			c->bad[EVO_CAN_BAD_SOURCE]++;
+			return 0;
+		}
 		evo_can_frame f[QUEUE];
 		int n;
 		evo_cannelloni_decode(d, (size_t)r, f, QUEUE, &n, c->bad);
@@ -582,34 +606,86 @@ static int take(evo_can *c, evo_err *err)
 	return 0;
 }
 
+/* The next frame of a candump log, with its time stamp; 0 at its end. */
+static int candump_next(evo_can *c, evo_can_frame *f, double *t)
+{
+	char line[EVO_CANDUMP_LINE_MAX + 2];
+	while (fgets(line, sizeof line, c->log_in)) {
+		size_t n = strcspn(line, "\r\n");
+		if (n == strlen(line) && !feof(c->log_in)) {
+			/* longer than any log line: skip the rest */
+			c->bad[EVO_CAN_BAD_OVERLONG]++;
+			int ch;
+			while ((ch = fgetc(c->log_in)) != EOF && ch != '\n')
+				;
+			continue;
+		}
+		if (n == 0)
+			continue;
+		char iface[EVO_CANDUMP_IFACE_MAX];
+		evo_can_bad why;
+		if (evo_candump_parse(line, n, t, iface, f, &why))
+			return 1;
+		c->bad[why]++;
+	}
+	return 0;
+}
+
+/* A log read as the bus it recorded: each frame when its time stamp says,
+ * counted from the first (as canplayer plays a log; a stamp earlier than
+ * the one before is due at once), waiting at most timeout_ms for it. At
+ * the end of the log: -1, saying so, never a wait for more. */
+static int candump_recv(evo_can *c, int timeout_ms, evo_can_frame *f,
+			evo_err *err)
+{
+	if (!c->held) {
+		if (!candump_next(c, &c->held_f, &c->held_t)) {
+			c->ended = 1;
+			return evo_fail(err,
+					"%s: the log ends after %lu frame%s",
+					c->url, c->log_frames,
+					c->log_frames == 1 ? "" : "s");
+		}
+		c->held = 1;
+		if (!c->started) {
+			c->started = 1;
+			c->log_t0 = c->held_t;
+			c->wall_t0 = now_s();
+		}
+	}
+	if (c->paced) {
+		double due = c->wall_t0 + (c->held_t - c->log_t0);
+		double wait = due - now_s();
+		if (wait > timeout_ms / 1000.0) {
+			struct timespec ts = {timeout_ms / 1000,
+					      (long)(timeout_ms % 1000) * 1000000};
+			nanosleep(&ts, NULL);
+			return 0;
+		}
+		if (wait > 0) {
+			struct timespec ts = {(time_t)wait,
+					      (long)((wait - (double)(time_t)wait) *
+						     1e9)};
+			nanosleep(&ts, NULL);
+		}
+	}
+	*f = c->held_f;
+	c->held = 0;
+	c->log_frames++;
+	return 1;
+}
+
+int evo_can_ended(const evo_can *c)
+{
+	return c->ended;
+}
+
 int evo_can_recv(evo_can *c, int timeout_ms, evo_can_frame *f, evo_err *err)
 {
 	if (pop(c, f))
 		return 1;
-	if (c->kind == K_CANDUMP) {
-		char line[EVO_CANDUMP_LINE_MAX + 2];
-		while (fgets(line, sizeof line, c->log_in)) {
-			size_t n = strcspn(line, "\r\n");
-			if (n == strlen(line) && !feof(c->log_in)) {
-				/* longer than any log line: skip the rest */
-				c->bad[EVO_CAN_BAD_OVERLONG]++;
-				int ch;
-				while ((ch = fgetc(c->log_in)) != EOF &&
-				       ch != '\n')
-					;
-				continue;
-			}
-			if (n == 0)
-				continue;
-			double t;
-			char iface[EVO_CANDUMP_IFACE_MAX];
-			evo_can_bad why;
-			if (evo_candump_parse(line, n, &t, iface, f, &why))
-				return 1;
-			c->bad[why]++;
-		}
-		return 0;
-	}
+	if (c->kind == K_CANDUMP)
+		return candump_recv(c, timeout_ms, f, err);
 	double limit = now_s() + timeout_ms / 1000.0;
 	for (;;) {
 		struct pollfd p = {c->fd, POLLIN, 0};

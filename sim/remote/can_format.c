@@ -8,7 +8,8 @@
 const char *evo_can_bad_name(evo_can_bad b)
 {
 	static const char *const names[EVO_CAN_BAD_COUNT] = {
-	    "syntax", "length", "overlong", "not evo's", "version", "reply"};
+	    "syntax", "length", "overlong", "not evo's", "version", "reply",
+	    "not from the peer"};
 	return (unsigned)b < EVO_CAN_BAD_COUNT ? names[b] : "?";
 }
 
@@ -183,6 +184,11 @@ int evo_candump_parse(const char *line, size_t len, double *t, char *iface,
 		return refuse(why, EVO_CAN_BAD_NOT_OURS);
 	if (id > 0x7FF)
 		return refuse(why, EVO_CAN_BAD_SYNTAX);
+	/* python-can's direction flag: " R" received, " T" sent by the
+	 * logging node; either way a frame that was on the bus */
+	if (len - i >= 2 && line[len - 2] == ' ' &&
+	    (line[len - 1] == 'R' || line[len - 1] == 'T'))
+		len -= 2;
 	size_t data = len - i;
 	if (data % 2)
 		return refuse(why, EVO_CAN_BAD_SYNTAX);
