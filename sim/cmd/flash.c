@@ -229,13 +229,18 @@ static int load_image(const char *path, const char *master, uint8_t **image,
 static void report_dropped(const evo_can *c, const evo_flash_tx *t,
 			   const char *url)
 {
-	if (t->replies_dropped || t->tags_bad)
+	if (t->replies_dropped)
 		fprintf(stderr,
-			"evo flash: %s: ignored %u replies that answered "
-			"nothing evo flash sent and %u tags that were not the "
-			"robot's (another node on the bus, or a transfer "
-			"replayed)\n",
-			url, t->replies_dropped, t->tags_bad);
+			"evo flash: %s: ignored %u repl%s that answered "
+			"nothing evo flash sent (another node on the bus, or "
+			"a transfer replayed)\n",
+			url, t->replies_dropped,
+			t->replies_dropped == 1 ? "y" : "ies");
+	if (t->tags_bad)
+		fprintf(stderr,
+			"evo flash: %s: ignored %u tag%s that were not made "
+			"with the key given (another key, or a forger)\n",
+			url, t->tags_bad, t->tags_bad == 1 ? "" : "s");
 	const unsigned long *bad = evo_can_dropped(c);
 	unsigned long total = 0;
 	for (int i = 0; i < EVO_CAN_BAD_COUNT; i++)
