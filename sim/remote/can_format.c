@@ -242,6 +242,24 @@ static void answer(const char *a, char *reply, size_t cap, size_t *len)
 	}
 }
 
+/* Why core refused a 't' line, as the host counts it. Core takes at most
+ * the longest line of 8 bytes; a longer one of hex digits only (a DLC of
+ * 9 and 9 bytes, say) is a length past 8, as docs/can.md says, not a
+ * syntax error. */
+static evo_can_bad slcan_bad(const char *s, size_t n, evo_wire_bad wb)
+{
+	if (wb == EVO_WIRE_BAD_LENGTH)
+		return EVO_CAN_BAD_LENGTH;
+	if (wb != EVO_WIRE_BAD_OVERLONG)
+		return EVO_CAN_BAD_SYNTAX;
+	for (size_t i = 1; i < n; i++)
+		if (!((s[i] >= '0' && s[i] <= '9') ||
+		      (s[i] >= 'a' && s[i] <= 'f') ||
+		      (s[i] >= 'A' && s[i] <= 'F')))
+			return EVO_CAN_BAD_SYNTAX;
+	return EVO_CAN_BAD_LENGTH;
+}
+
 /* One complete line (without its end). */
 static void slcan_line(evo_slcan_reader *r, const char *s, size_t n,
 		       evo_can_frame *out, int max, int *got,
@@ -261,8 +279,7 @@ static void slcan_line(evo_slcan_reader *r, const char *s, size_t n,
 			else
 				bad[EVO_CAN_BAD_OVERLONG]++;
 		} else if (res == EVO_SLCAN_BAD) {
-			bad[wb == EVO_WIRE_BAD_LENGTH ? EVO_CAN_BAD_LENGTH
-						      : EVO_CAN_BAD_SYNTAX]++;
+			bad[slcan_bad(s, n, wb)]++;
 		}
 		return;
 	}
