@@ -607,6 +607,7 @@ typedef struct flash_run {
 	long cut_at;	  /* frames of the transfer from this one on lost */
 	long drop_at;	  /* this frame of the transfer lost */
 	long corrupt_at;  /* this frame of the transfer: a bit flipped */
+	int record;	  /* keep the transfer's frames (recorded[]) */
 	/* results */
 	int status;	    /* evo flash's exit status */
 	char out[4096];	    /* what it printed */
@@ -668,6 +669,11 @@ static int read_reply_passing(qemu_session *q, evo_can *bus, double timeout_s,
 	}
 }
 
+/* The frames of a whole transfer as a recorder on the bus kept them (the
+ * first flash test's), for the test that plays them again. */
+static evo_can_frame recorded[1024];
+static size_t n_recorded;
+
 /* Start evo flash on the pseudo-terminal dev, its output to a file. */
 static pid_t spawn_flash(const flash_run *fr, const char *dev, char *outpath,
 			 size_t cap)
@@ -719,6 +725,8 @@ static long flash_while_ticking(flash_run *fr)
 			if (f.id < EVO_FLASH_BEGIN || f.id > EVO_FLASH_END)
 				continue;
 			long k = (long)fr->frames++;
+			if (fr->record && n_recorded < 1024)
+				recorded[n_recorded++] = f;
 			if ((fr->cut_at >= 0 && k >= fr->cut_at) ||
 			    k == fr->drop_at)
 				continue;
@@ -854,6 +862,8 @@ TEST(flash_switches_between_ticks)
 {
 	flash_run fr;
 	flash_run_init(&fr, opt.new_mind);
+	fr.record = 1;
+	n_recorded = 0;
 	long differ = flash_while_ticking(&fr);
 	CHECK_EQ_INT(differ, 0);
 	CHECK_EQ_INT(fr.status, 0);
@@ -948,6 +958,106 @@ TEST(flash_other_robots_image_keeps_old_mind)
 		 evo_wire_get_u32(img + 16), trace.names_hash);
 	expect_flash_refused(&fr, why);
 	CHECK_EQ_INT(fr.frames, 1); /* BEGIN only: refused before a segment */
+}
+
+/* Issue 27, item 13: the transfer the first flash test sent (counter 1,
+ * to a robot that had none), recorded and played again to a robot whose
+ * slot says its last transfer had counter 5, as a robot has after a reset:
+ * refused as stale, and the mind it runs goes on, equal to its trace. */
+TEST(flash_replayed_transfer_is_refused)
+{
+	CHECK(n_recorded > 2);
+	if (n_recorded <= 2) {
+		printf("  no transfer was recorded (flash_switches_between_ticks "
+		       "must run first)\n");
+		return;
+	}
+	size_t len;
+	unsigned char *img = read_all(opt.image, &len);
+	CHECK(img != NULL && len + 4 <= SLOT_BYTES);
+	if (!img || len + 4 > SLOT_BYTES)
+		return;
+	static unsigned char slot0[SLOT_BYTES];
+	memcpy(slot0, img, len);
+	evo_wire_put_u32(slot0 + len, 5);
+	char variant[512], line[512], banner[1024] = "";
+	if (with_image("counter5", slot0, len + 4, variant, sizeof variant) !=
+	    0) {
+		test_fail_at(__FILE__, __LINE__, "objcopy --update-section");
+		return;
+	}
+	qemu_session q;
+	if (start(&q, variant, 120.0) != 0) {
+		CHECK(0);
+		return;
+	}
+	evo_can_frame f;
+	int k;
+	while ((k = qs_next(&q, 10.0, &f, line, sizeof line)) == QS_LOG)
+		if (strstr(line, "# mind "))
+			snprintf(banner, sizeof banner, "%s", line);
+	CHECK(k == QS_FRAME && f.id == EVO_WIRE_HELLO);
+	CHECK_CONTAINS(banner, "; transfer counter 5");
+	patient_link(&q);
+	for (size_t i = 0; i < n_recorded; i++)
+		qs_queue_frame(&q, &recorded[i]);
+	CHECK(qs_flush(&q) == 0);
+	int ready = 0, done = 0, refused = -1;
+	uint32_t detail = 0, robot = ~0u;
+	while (refused < 0 && !done) {
+		k = qs_next(&q, 20.0, &f, line, sizeof line);
+		if (k == QS_LOG)
+			continue;
+		if (k != QS_FRAME) {
+			printf("  waiting for the refusal: %s\n",
+			       k == QS_TIMEOUT ? "nothing came" : line);
+			break;
+		}
+		if (f.id != EVO_FLASH_REPLY || f.len != 8)
+			continue;
+		if (f.data[0] == EVO_FLASH_READY) {
+			ready++;
+			robot = evo_wire_get_u32(f.data + 4);
+		}
+		done |= f.data[0] == EVO_FLASH_DONE;
+		if (f.data[0] == EVO_FLASH_REFUSED) {
+			refused = f.data[1];
+			detail = evo_wire_get_u32(f.data + 4);
+		}
+	}
+	CHECK_EQ_INT(ready, 1);
+	CHECK_EQ_INT(robot, 5); /* READY says the robot's counter */
+	CHECK_EQ_INT(done, 0);
+	CHECK_EQ_INT(refused, EVO_FLASH_ERR_STALE);
+	CHECK_EQ_INT(detail, 5);
+	/* the mind it had runs on */
+	CHECK_EQ_INT(replay(&q, 0, 40, 1), 0);
+	printf("  %s: %zu frames played again: refused as stale (the "
+	       "robot's counter %u)\n",
+	       machine, n_recorded, detail);
+	qs_stop(&q);
+}
+
+/* Issue 27, item 13: a CONFIG from any node asking for the longest link
+ * timeout (65,535 ms) gets the firmware's bound, 10,000 ms: the actuators
+ * go neutral about 10 s after the ticks stop, not a minute later. */
+TEST(flash_config_cannot_hold_the_link_past_its_bound)
+{
+	qemu_session q;
+	if (start_ready(&q, 120.0) != 0)
+		return;
+	evo_can_frame f = {EVO_WIRE_CONFIG, 2, {0xFF, 0xFF}};
+	qs_queue_frame(&q, &f);
+	CHECK_EQ_INT(replay(&q, 0, 5, 1), 0);
+	double silent_at = qs_now();
+	reply r;
+	CHECK(read_reply(&q, 30.0, &r));
+	double after = qs_now() - silent_at;
+	CHECK_EQ_INT(r.flags, EVO_WIRE_F_NEUTRAL);
+	CHECK(after > 9.0 && after < 20.0);
+	printf("  %s: CONFIG 65535 ms: neutral %.1f s after the last tick\n",
+	       machine, after);
+	qs_stop(&q);
 }
 
 /* ---- main ------------------------------------------------------------- */
@@ -1066,6 +1176,8 @@ int main(int argc, char **argv)
 			RUN_FW(flash_cut_at_random_frame_keeps_old_mind);
 			RUN_FW(flash_corrupted_segment_keeps_old_mind);
 			RUN_FW(flash_other_robots_image_keeps_old_mind);
+			RUN_FW(flash_replayed_transfer_is_refused);
+			RUN_FW(flash_config_cannot_hold_the_link_past_its_bound);
 			test_summary();
 			fflush(stdout);
 			_exit(0);
