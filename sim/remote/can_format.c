@@ -253,9 +253,7 @@ static evo_can_bad slcan_bad(const char *s, size_t n, evo_wire_bad wb)
 	if (wb != EVO_WIRE_BAD_OVERLONG)
 		return EVO_CAN_BAD_SYNTAX;
 	for (size_t i = 1; i < n; i++)
-		if (!((s[i] >= '0' && s[i] <= '9') ||
-		      (s[i] >= 'a' && s[i] <= 'f') ||
-		      (s[i] >= 'A' && s[i] <= 'F')))
+		if (hexval(s[i]) < 0)
 			return EVO_CAN_BAD_SYNTAX;
 	return EVO_CAN_BAD_LENGTH;
 }

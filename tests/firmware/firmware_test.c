@@ -1040,7 +1040,8 @@ TEST(flash_replayed_transfer_is_refused)
 
 /* Issue 27, item 13: a CONFIG from any node asking for the longest link
  * timeout (65,535 ms) gets the firmware's bound, 10,000 ms: the actuators
- * go neutral about 10 s after the ticks stop, not a minute later. */
+ * go neutral 10 s (of the guest's clock) after the ticks stop, not a
+ * minute later. */
 TEST(flash_config_cannot_hold_the_link_past_its_bound)
 {
 	qemu_session q;
@@ -1051,10 +1052,12 @@ TEST(flash_config_cannot_hold_the_link_past_its_bound)
 	CHECK_EQ_INT(replay(&q, 0, 5, 1), 0);
 	double silent_at = qs_now();
 	reply r;
-	CHECK(read_reply(&q, 30.0, &r));
+	CHECK(read_reply(&q, 60.0, &r));
 	double after = qs_now() - silent_at;
 	CHECK_EQ_INT(r.flags, EVO_WIRE_F_NEUTRAL);
-	CHECK(after > 9.0 && after < 20.0);
+	/* the guest's clock runs behind the host's on a busy machine (10 s
+	 * of it took 17 s with both cores busy): well short of 65.5 s */
+	CHECK(after > 9.0 && after < 45.0);
 	printf("  %s: CONFIG 65535 ms: neutral %.1f s after the last tick\n",
 	       machine, after);
 	qs_stop(&q);
