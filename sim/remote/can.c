@@ -124,7 +124,7 @@ static void target(const char *url, const char *scheme, char *out,
 
 static int open_socketcan(evo_can *c, const char *iface, evo_err *err)
 {
-	c->fd = socket(PF_CAN, SOCK_RAW, CAN_RAW);
+	c->fd = socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC, CAN_RAW);
 	if (c->fd < 0)
 		return evo_fail(err,
 				"%s: this machine has no SocketCAN: "
@@ -277,7 +277,7 @@ static int open_slcan(evo_can *c, const char *dev, evo_err *err)
 		return evo_fail(err, "%s: baud %ld is not a serial rate evo "
 				     "sets (9600 .. 1000000)",
 				c->url, baud);
-	c->fd = open(dev, O_RDWR | O_NOCTTY);
+	c->fd = open(dev, O_RDWR | O_NOCTTY | O_CLOEXEC);
 	if (c->fd < 0)
 		return evo_fail(err, "%s: cannot open %s: %s", c->url, dev,
 				strerror(errno));
@@ -302,6 +302,8 @@ static int open_slcan(evo_can *c, const char *dev, evo_err *err)
 static int open_slcan_pty(evo_can *c, evo_err *err)
 {
 	c->fd = posix_openpt(O_RDWR | O_NOCTTY);
+	if (c->fd >= 0)
+		fcntl(c->fd, F_SETFD, FD_CLOEXEC);
 	if (c->fd < 0 || grantpt(c->fd) < 0 || unlockpt(c->fd) < 0)
 		return evo_fail(err, "%s: no pseudo-terminal: %s", c->url,
 				strerror(errno));
@@ -310,7 +312,7 @@ static int open_slcan_pty(evo_can *c, evo_err *err)
 		return evo_fail(err, "%s: no pseudo-terminal name", c->url);
 	snprintf(c->pty, sizeof c->pty, "%s", name);
 	/* the peer's side raw too, so no line discipline alters a byte */
-	int slave = open(c->pty, O_RDWR | O_NOCTTY);
+	int slave = open(c->pty, O_RDWR | O_NOCTTY | O_CLOEXEC);
 	if (slave >= 0) {
 		raw_tty(slave, 0);
 		close(slave);
@@ -366,7 +368,9 @@ static int open_cannelloni(evo_can *c, const char *hostport, evo_err *err)
 	if (local < 1 || local > 65535)
 		return evo_fail(err, "%s: local port %ld is not a port",
 				c->url, local);
-	c->fd = socket(AF_INET, SOCK_DGRAM, 0);
+	/* Not inherited: a program evo starts must not hold the port (nor
+	 * the device, the pseudo-terminal or the log) after evo closes it. */
+	c->fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
 	if (c->fd < 0)
 		return evo_fail(err, "%s: %s", c->url, strerror(errno));
 	struct sockaddr_in a;
@@ -432,7 +436,7 @@ evo_can *evo_can_open(const char *url, evo_err *err)
 	} else if (strncmp(url, "candump:", 8) == 0) {
 		c->kind = K_CANDUMP;
 		target(url, "candump", t, sizeof t);
-		c->log_in = fopen(t, "r");
+		c->log_in = fopen(t, "re");
 		rc = c->log_in ? 0
 			       : evo_fail(err, "%s: cannot read %s: %s", url, t,
 					  strerror(errno));
@@ -444,7 +448,7 @@ evo_can *evo_can_open(const char *url, evo_err *err)
 		if (rc == 0) {
 			char out[300];
 			snprintf(out, sizeof out, "%s.sent", t);
-			c->log_out = fopen(out, "a");
+			c->log_out = fopen(out, "ae");
 			if (!c->log_out)
 				rc = evo_fail(err, "%s: cannot write %s: %s",
 					      url, out, strerror(errno));
