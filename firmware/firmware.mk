@@ -124,6 +124,13 @@ $(FW_KEY_H): fw-key-force
 	fi; \
 	if cmp -s $$tmp $@; then rm -f $$tmp; else mv $$tmp $@; fi
 
+# The firmware test's keyed firmware, with the public test key.
+FW_TEST_KEY := tests/data/flash/test.key
+$(FW_BUILD)/key-test/flash_key.h: $(FW_TEST_KEY)
+	@mkdir -p $(dir $@)
+	@{ echo '/* the public test key of make firmware-test */'; \
+	  printf '#define FW_FLASH_KEY '; tr -d ' \t\r\n' < $< | sed 's/../0x&,/g'; echo; } > $@
+
 # ---- per core ------------------------------------------------------------
 define FW_CORE_RULES
 $(FW_BUILD)/$(1)/core/%.o: core/src/%.c
@@ -166,6 +173,19 @@ $(FW_BUILD)/noflash-$(1).elf: $(FW_BUILD)/$(1)/main-noflash.o \
 		-o $$@ $(FW_BUILD)/$(1)/main-noflash.o \
 		$(filter-out %/main.o,$(call fw_objs,$(1))) $(call fw_libs,$(1)) -lgcc
 
+# The firmware with the test key (make firmware-test): its key header is
+# found before the one of FW_KEY.
+$(FW_BUILD)/$(1)/main-keyed.o: firmware/main.c $(FW_BUILD)/key-test/flash_key.h
+	@mkdir -p $$(dir $$@)
+	$(ARM_CC) $(FW_CPU_$(1)) -I$(FW_BUILD)/key-test $(FW_CFLAGS) -MMD -MP -c $$< -o $$@
+
+$(FW_BUILD)/evo-$(1)-keyed.elf: $(FW_BUILD)/$(1)/main-keyed.o \
+		$(filter-out %/main.o,$(call fw_objs,$(1))) $(call fw_libs,$(1)) \
+		firmware/$(1).ld firmware/sections.ld
+	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) $(FW_LDFLAGS) -T firmware/$(1).ld \
+		-o $$@ $(FW_BUILD)/$(1)/main-keyed.o \
+		$(filter-out %/main.o,$(call fw_objs,$(1))) $(call fw_libs,$(1)) -lgcc
+
 # The MIND runtime alone: what size_entry.c reaches of its archive.
 $(FW_BUILD)/runtime-$(1).elf: $(FW_BUILD)/$(1)/size_entry.o $(FW_BUILD)/$(1)/libevoruntime.a
 	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) -nostdlib -nostartfiles \
@@ -187,8 +207,9 @@ FW_HOST_HDRS := firmware/host/qemu_session.h firmware/host/trace_file.h \
 # core/src/hash.c: the CRC-32 a test repairs after patching an image.
 # The host's CAN transports (sim/remote/can.c): the test is the slcan
 # adapter evo flash talks to, on a pseudo-terminal.
+# All of core: the keyed CONFIG frame is made with evo/flash.h.
 FW_TEST_SRCS := tests/firmware/firmware_test.c firmware/host/qemu_session.c \
-	firmware/host/trace_file.c core/src/wire.c core/src/hash.c \
+	firmware/host/trace_file.c $(CORE_SRCS) \
 	sim/remote/can.c sim/remote/can_format.c sim/base/err.c
 $(FW_BUILD)/firmware_test: $(FW_TEST_SRCS) $(FW_HOST_HDRS) tests/harness.h \
 		core/include/evo/flash.h sim/remote/can.h
@@ -217,7 +238,7 @@ $(BUILD)/bench/bench_firmware: $(FW_BUILD)/host/bench_firmware.o $(FW_HOST_OBJS)
 	$(CC) $(LDFLAGS_ALL) -o $@ $(filter %.o %.a,$^) $(LIBS)
 
 # ---- the targets -----------------------------------------------------------
-FW_TEST_INPUTS := $(foreach c,$(FW_CORES),$(FW_BUILD)/evo-$(c).elf) \
+FW_TEST_INPUTS := $(foreach c,$(FW_CORES),$(FW_BUILD)/evo-$(c).elf $(FW_BUILD)/evo-$(c)-keyed.elf) \
 	$(FW_BUILD)/firmware_test $(FW_BUILD)/mind/mind.bin \
 	$(FW_BUILD)/mind/other.bin $(FW_BUILD)/mind/run.trace \
 	$(FW_BUILD)/mind/new.trace
@@ -232,8 +253,9 @@ firmware-test: $(FW_TEST_INPUTS)
 		--other-image $(FW_BUILD)/mind/other.bin --tmp $(FW_BUILD)/test \
 		--evo $(FW_EVO) --new-mind $(FW_NEW_MIND) \
 		--new-trace $(FW_BUILD)/mind/new.trace --other-mind $(FW_OTHER_MIND) \
-		--seed $(FW_TEST_SEED) \
-		$(foreach c,$(FW_CORES),--firmware $(FW_MACHINE_$(c))=$(FW_BUILD)/evo-$(c).elf)
+		--seed $(FW_TEST_SEED) --key $(FW_TEST_KEY) \
+		$(foreach c,$(FW_CORES),--firmware $(FW_MACHINE_$(c))=$(FW_BUILD)/evo-$(c).elf) \
+		$(foreach c,$(FW_CORES),--keyed $(FW_MACHINE_$(c))=$(FW_BUILD)/evo-$(c)-keyed.elf)
 
 # Per core: the firmware without its mind slot (the slot is flash kept for
 # the image, printed apart), and the MIND runtime linked alone.

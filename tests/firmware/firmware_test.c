@@ -50,7 +50,16 @@ static struct {
 	unsigned long seed;
 	const char *machine[4], *elf[4];
 	unsigned n_fw;
+	const char *key_path; /* --key: the keyed firmware's key file */
+	const char *keyed_machine[4], *keyed_elf[4];
+	unsigned n_keyed;
 } opt;
+
+/* The test key's bytes (--key), for the keyed firmware's CONFIG. */
+static uint8_t test_key[EVO_FLASH_KEY_MAX];
+static size_t test_key_len;
+/* The firmware under test has the key (its CONFIG needs the tag). */
+static int elf_keyed;
 
 static trace_file trace, new_trace;
 static const char *machine, *elf; /* the firmware under test */
@@ -76,6 +85,8 @@ static void patient_link(qemu_session *q)
 {
 	evo_can_frame f = {EVO_WIRE_CONFIG, 2, {0}};
 	evo_wire_put_u16(f.data, 10000);
+	if (elf_keyed) /* a robot that has not had a transfer: counter 0 */
+		evo_flash_config_make(test_key, test_key_len, 0, 10000, &f);
 	qs_queue_frame(q, &f);
 }
 
@@ -608,6 +619,7 @@ typedef struct flash_run {
 	long drop_at;	  /* this frame of the transfer lost */
 	long corrupt_at;  /* this frame of the transfer: a bit flipped */
 	int record;	  /* keep the transfer's frames (recorded[]) */
+	const char *key;  /* evo flash --key */
 	/* results */
 	int status;	    /* evo flash's exit status */
 	char out[4096];	    /* what it printed */
@@ -643,6 +655,11 @@ static int read_reply_passing(qemu_session *q, evo_can *bus, double timeout_s,
 					       : "junk:",
 			       k == QS_JUNK ? line : "");
 			return 0;
+		}
+		if (f.id == EVO_FLASH_TAG) {
+			if (evo_can_send(bus, &f, &err) != 0)
+				printf("  to evo flash: %s\n", err.msg);
+			continue;
 		}
 		if (f.id == EVO_FLASH_REPLY) {
 			if (f.len == 8 && f.data[0] == EVO_FLASH_DONE) {
@@ -689,8 +706,12 @@ static pid_t spawn_flash(const flash_run *fr, const char *dev, char *outpath,
 			_exit(127);
 		dup2(fd, 1);
 		dup2(fd, 2);
-		execl(opt.evo, opt.evo, "flash", fr->what, "--can", url,
-		      (char *)NULL);
+		if (fr->key)
+			execl(opt.evo, opt.evo, "flash", fr->what, "--can",
+			      url, "--key", fr->key, (char *)NULL);
+		else
+			execl(opt.evo, opt.evo, "flash", fr->what, "--can",
+			      url, (char *)NULL);
 		_exit(127);
 	}
 	return pid;
@@ -722,7 +743,8 @@ static long flash_while_ticking(flash_run *fr)
 		evo_can_frame f;
 		int end_sent = 0;
 		while (evo_can_recv(bus, 0, &f, &err) == 1) {
-			if (f.id < EVO_FLASH_BEGIN || f.id > EVO_FLASH_END)
+			if (f.id < EVO_FLASH_BEGIN || f.id > EVO_FLASH_AUTH ||
+			    f.id == EVO_FLASH_REPLY)
 				continue;
 			long k = (long)fr->frames++;
 			if (fr->record && n_recorded < 1024)
@@ -743,6 +765,10 @@ static long flash_while_ticking(flash_run *fr)
 			int k = qs_next(&q, 5.0, &g, line, sizeof line);
 			if (k == QS_LOG)
 				continue;
+			if (k == QS_FRAME && g.id == EVO_FLASH_TAG) {
+				evo_can_send(bus, &g, &err);
+				continue;
+			}
 			if (k != QS_FRAME || g.id != EVO_FLASH_REPLY) {
 				printf("  no answer to END\n");
 				differ = -1;
@@ -1063,6 +1089,47 @@ TEST(flash_config_cannot_hold_the_link_past_its_bound)
 	qs_stop(&q);
 }
 
+/* Issue 27, item 13: a firmware built with a key (make firmware
+ * FW_KEY=FILE; here the public test key) takes a transfer only from evo
+ * flash --key FILE: without it evo flash does not send, and the robot's
+ * mind goes on; with it the new mind runs from the switch on. */
+TEST(flash_keyed_robot_takes_only_its_key)
+{
+	const char *keyed = NULL;
+	for (unsigned i = 0; i < opt.n_keyed; i++)
+		if (strcmp(opt.keyed_machine[i], machine) == 0)
+			keyed = opt.keyed_elf[i];
+	CHECK(keyed != NULL && test_key_len > 0);
+	if (!keyed || !test_key_len)
+		return;
+	const char *plain = elf;
+	elf = keyed;
+	elf_keyed = 1;
+	flash_run fr;
+	flash_run_init(&fr, opt.new_mind);
+	long differ = flash_while_ticking(&fr);
+	CHECK_EQ_INT(differ, 0);
+	CHECK_EQ_INT(fr.status, 1);
+	CHECK(!fr.switched);
+	CHECK_EQ_INT(fr.frames, 1); /* BEGIN only */
+	CHECK_CONTAINS(fr.out, "evo flash: not sent: the robot takes only "
+			       "transfers sent with its key");
+	flash_run_init(&fr, opt.new_mind);
+	fr.key = opt.key_path;
+	differ = flash_while_ticking(&fr);
+	CHECK_EQ_INT(differ, 0);
+	CHECK_EQ_INT(fr.status, 0);
+	CHECK(fr.switched && fr.new_ticks >= 40);
+	CHECK_CONTAINS(fr.out, "the robot runs mind");
+	if (differ != 0 || fr.status != 0)
+		printf("  evo flash said:\n%s", fr.out);
+	printf("  %s: keyed firmware: refused without the key, switched "
+	       "with it after %zu ticks; %zu frames\n",
+	       machine, fr.old_ticks, fr.frames);
+	elf = plain;
+	elf_keyed = 0;
+}
+
 /* ---- main ------------------------------------------------------------- */
 
 /* FW_TEST_ONLY=WORD runs only the tests whose names contain WORD (e.g.
@@ -1080,7 +1147,8 @@ static int usage(void)
 		"usage: firmware_test --qemu QEMU --objcopy OBJCOPY --trace "
 		"TRACE --image MIND.bin --other-image OTHER.bin --tmp DIR "
 		"--evo EVO --new-mind DIR --new-trace TRACE --other-mind DIR "
-		"--seed N --firmware MACHINE=ELF ...\n");
+		"--seed N --firmware MACHINE=ELF ... [--key KEYFILE --keyed "
+		"MACHINE=ELF ...]\n");
 	return 2;
 }
 
@@ -1110,6 +1178,15 @@ int main(int argc, char **argv)
 			opt.other_mind = v;
 		else if (strcmp(a, "--seed") == 0)
 			opt.seed = strtoul(v, NULL, 10);
+		else if (strcmp(a, "--key") == 0)
+			opt.key_path = v;
+		else if (strcmp(a, "--keyed") == 0 && strchr(v, '=') &&
+			 opt.n_keyed < 4) {
+			char *eq = strchr(v, '=');
+			opt.keyed_machine[opt.n_keyed] =
+			    strndup(v, (size_t)(eq - v));
+			opt.keyed_elf[opt.n_keyed++] = eq + 1;
+		}
 		else if (strcmp(a, "--firmware") == 0 && strchr(v, '=') &&
 			 opt.n_fw < 4) {
 			char *eq = strchr(v, '=');
@@ -1124,6 +1201,20 @@ int main(int argc, char **argv)
 		return usage();
 	mkdir(opt.tmp, 0755);
 	char err[512];
+	if (opt.key_path) {
+		/* hex digits, as evo flash reads them */
+		FILE *kf = fopen(opt.key_path, "r");
+		unsigned v;
+		while (kf && test_key_len < sizeof test_key &&
+		       fscanf(kf, "%2x", &v) == 1)
+			test_key[test_key_len++] = (uint8_t)v;
+		if (kf)
+			fclose(kf);
+		if (test_key_len < EVO_FLASH_KEY_MIN) {
+			printf("--key %s: not a key\n", opt.key_path);
+			return 1;
+		}
+	}
 	if (trace_load(opt.trace_path, &trace, err, sizeof err) != 0) {
 		printf("%s\n", err);
 		return 1;
@@ -1181,6 +1272,7 @@ int main(int argc, char **argv)
 			RUN_FW(flash_other_robots_image_keeps_old_mind);
 			RUN_FW(flash_replayed_transfer_is_refused);
 			RUN_FW(flash_config_cannot_hold_the_link_past_its_bound);
+			RUN_FW(flash_keyed_robot_takes_only_its_key);
 			test_summary();
 			fflush(stdout);
 			_exit(0);
