@@ -602,9 +602,14 @@ void evo_flash_tx_reply(evo_flash_tx *t, const evo_can_frame *f)
 		trusted(t, f);
 		return;
 	case EVO_FLASH_ACK:
-		/* Only segments sent since READY can have arrived. */
-		if (t->stage != EVO_FLASH_TX_DATA || n <= t->acked ||
-		    n > t->sent || reason != 0) {
+		/* Only segments sent since READY can have arrived. An ACK
+		 * of no more than was acknowledged is the robot saying
+		 * where it is again (segments sent twice): nothing new. */
+		if (t->stage == EVO_FLASH_TX_DATA && n <= t->acked &&
+		    reason == 0)
+			return;
+		if (t->stage != EVO_FLASH_TX_DATA || n > t->sent ||
+		    reason != 0) {
 			drop(t);
 			return;
 		}

@@ -232,8 +232,9 @@ static void report_dropped(const evo_can *c, const evo_flash_tx *t,
 	if (t->replies_dropped)
 		fprintf(stderr,
 			"evo flash: %s: ignored %u repl%s that answered "
-			"nothing evo flash sent (another node on the bus, or "
-			"a transfer replayed)\n",
+			"nothing evo flash sent (late ones of a transfer begun "
+			"again, another node on the bus, or a transfer "
+			"replayed)\n",
 			url, t->replies_dropped,
 			t->replies_dropped == 1 ? "y" : "ies");
 	if (t->tags_bad)

@@ -618,6 +618,9 @@ typedef struct flash_run {
 	long cut_at;	  /* frames of the transfer from this one on lost */
 	long drop_at;	  /* this frame of the transfer lost */
 	long corrupt_at;  /* this frame of the transfer: a bit flipped */
+	long corrupt_seg; /* this segment, each time it is sent: a bit
+			     flipped (frames sent again do not shift it) */
+	const char *wait; /* evo flash --wait MS */
 	int record;	  /* keep the transfer's frames (recorded[]) */
 	const char *key;  /* evo flash --key */
 	/* results */
@@ -633,7 +636,7 @@ static void flash_run_init(flash_run *fr, const char *what)
 {
 	memset(fr, 0, sizeof *fr);
 	fr->what = what;
-	fr->cut_at = fr->drop_at = fr->corrupt_at = -1;
+	fr->cut_at = fr->drop_at = fr->corrupt_at = fr->corrupt_seg = -1;
 }
 
 /* The next reply, passing the firmware's flash replies on to evo flash. */
@@ -706,12 +709,19 @@ static pid_t spawn_flash(const flash_run *fr, const char *dev, char *outpath,
 			_exit(127);
 		dup2(fd, 1);
 		dup2(fd, 2);
-		if (fr->key)
-			execl(opt.evo, opt.evo, "flash", fr->what, "--can",
-			      url, "--key", fr->key, (char *)NULL);
-		else
-			execl(opt.evo, opt.evo, "flash", fr->what, "--can",
-			      url, (char *)NULL);
+		const char *argv[12] = {opt.evo, "flash", fr->what, "--can",
+					url};
+		int n = 5;
+		if (fr->key) {
+			argv[n++] = "--key";
+			argv[n++] = fr->key;
+		}
+		if (fr->wait) {
+			argv[n++] = "--wait";
+			argv[n++] = fr->wait;
+		}
+		argv[n] = NULL;
+		execv(opt.evo, (char *const *)argv);
 		_exit(127);
 	}
 	return pid;
@@ -753,6 +763,9 @@ static long flash_while_ticking(flash_run *fr)
 			    k == fr->drop_at)
 				continue;
 			if (k == fr->corrupt_at && f.len > 1)
+				f.data[f.len - 1] ^= 0x10;
+			if (fr->corrupt_seg >= 0 && f.id == EVO_FLASH_DATA &&
+			    f.data[0] == (uint8_t)fr->corrupt_seg && f.len > 1)
 				f.data[f.len - 1] ^= 0x10;
 			qs_queue_frame(&q, &f);
 			end_sent |= f.id == EVO_FLASH_END;
@@ -949,6 +962,9 @@ TEST(flash_cut_at_random_frame_keeps_old_mind)
 	/* BEGIN gets through; anything from the first segment to END may
 	 * be the first frame lost. */
 	fr.cut_at = seeded_frame(2, 1, transfer_frames - 1);
+	/* evo flash waits longer than the robot's 3 s: a busy host's guest
+	 * clock runs behind, and the robot's refusal must come first */
+	fr.wait = "3000";
 	printf("  %s: the transfer cut from frame %ld on (seed %lu)\n", machine,
 	       fr.cut_at, opt.seed);
 	expect_flash_refused(&fr, "the transfer stopped: the robot heard "
@@ -960,9 +976,11 @@ TEST(flash_corrupted_segment_keeps_old_mind)
 {
 	flash_run fr;
 	flash_run_init(&fr, opt.new_mind);
-	fr.corrupt_at = seeded_frame(3, 1, transfer_frames - 2);
-	printf("  %s: a bit flipped in frame %ld (seed %lu)\n", machine,
-	       fr.corrupt_at, opt.seed);
+	/* a segment (frame k is segment k - 1), flipped each time it is sent,
+	 * so that segments sent again after a wait do not move it */
+	fr.corrupt_seg = seeded_frame(3, 1, transfer_frames - 2) - 1;
+	printf("  %s: a bit flipped in segment %ld (seed %lu)\n", machine,
+	       fr.corrupt_seg, opt.seed);
 	expect_flash_refused(&fr, "the image arrived corrupted: the "
 				  "transfer's CRC-32 does not match");
 }
