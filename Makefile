@@ -98,7 +98,7 @@ help:
 	@echo "make test-tsan  the threaded tests and headless runs under ThreadSanitizer"
 	@echo "make run        deps, build, run the main job on a shipped example"
 	@echo "make core-check compile core/ for Cortex-M0+ and check what it links"
-	@echo "make fuzz       run each parser's fuzz target for FUZZ_SECONDS"
+	@echo "make fuzz       run each parser's fuzz target for FUZZ_SECONDS (the network's: FUZZ_NET_SECONDS, 60)"
 	@echo "make bench      benchmarks, each beside its baseline in the same run"
 	@echo "make bench-compare BASE=REV  bench_world and bench_evaluate of REV beside this tree's"
 	@echo "make install    install evo and lua/ under PREFIX ($(PREFIX))"
@@ -253,7 +253,8 @@ test-tsan:
 
 test: deps
 	@$(MAKE) --no-print-directory core-check
-	@$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=$(TEST_FUZZ_SECONDS)
+	@$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=$(TEST_FUZZ_SECONDS) \
+		FUZZ_NET_SECONDS=$(TEST_FUZZ_SECONDS)
 	@$(MAKE) --no-print-directory test-plain
 	@$(MAKE) --no-print-directory test-asan
 	@$(MAKE) --no-print-directory test-tsan
@@ -375,18 +376,28 @@ $(BUILD)/fuzz/fuzz_can_robot: tests/fuzz/fuzz_can_robot.c sim/remote/can_robot_f
 		-fsanitize=fuzzer $(FUZZ_SAN) \
 		-o $@ $< sim/remote/can_robot_frames.c $(CORE_SRCS) -lm
 
+# The targets whose input comes from the network or the bus, from anyone
+# on it (the remote protocol over LCM, cannelloni datagrams, candump logs,
+# slcan lines both ways, a robot's frames over CAN, both ends of evo
+# flash with their counters and tags): FUZZ_NET_SECONDS each in make
+# fuzz; make test runs every target for TEST_FUZZ_SECONDS.
+FUZZ_NET := fuzz_wire fuzz_cannelloni fuzz_candump fuzz_slcan fuzz_slcan_host \
+	fuzz_can_robot fuzz_flash_rx fuzz_flash_tx
+FUZZ_NET_SECONDS ?= 60
+
 # Two targets at a time (FUZZ_JOBS): each fuzzer is one busy thread.
 FUZZ_JOBS ?= 2
 fuzz: deps $(FUZZ_BINS)
 	@printf '%s\n' $(FUZZ_BINS) | xargs -P $(FUZZ_JOBS) -I{} sh -c '\
 		f={}; name=$$(basename $$f); corpus=$(BUILD)/fuzz/corpus-$$name; \
+		case " $(FUZZ_NET) " in *" $$name "*) secs=$(FUZZ_NET_SECONDS);; *) secs=$(FUZZ_SECONDS);; esac; \
 		mkdir -p $$corpus; \
-		$$f -max_total_time=$(FUZZ_SECONDS) -timeout=5 -rss_limit_mb=1024 \
+		$$f -max_total_time=$$secs -timeout=5 -rss_limit_mb=1024 \
 			$$corpus tests/data > $(BUILD)/fuzz/$$name.log 2>&1; rc=$$?; \
-		echo "== $$name ($(FUZZ_SECONDS)s): $$(tail -n 1 $(BUILD)/fuzz/$$name.log)"; \
+		echo "== $$name ($${secs}s): $$(tail -n 1 $(BUILD)/fuzz/$$name.log)"; \
 		[ $$rc -eq 0 ] || { echo "fuzz: $$name failed, see $(BUILD)/fuzz/$$name.log"; exit 1; }' \
 		|| { echo "fuzz: FAILED (see above)"; exit 1; }
-	@echo "fuzz: every target ran $(FUZZ_SECONDS)s without a crash, hang or sanitizer report"
+	@echo "fuzz: every target ran without a crash, hang or sanitizer report ($(FUZZ_NET_SECONDS)s each for $(FUZZ_NET); $(FUZZ_SECONDS)s for the others)"
 
 include firmware/firmware.mk
 

@@ -38,7 +38,8 @@ FW_MACHINE_m3 := mps2-an385
 FW_CFLAGS := -mthumb -std=c11 -Os -g -ffreestanding -fno-builtin \
 	-fno-tree-loop-distribute-patterns -ffunction-sections \
 	-fdata-sections -DEVO_FREESTANDING $(WARN) -Icore/include -Ifirmware \
-	-I$(FW_BUILD)/mind '-DFW_BOT="bots/$(FW_BOT).h"' $(FW_CFLAGS_EXTRA)
+	-I$(FW_BUILD)/mind -I$(FW_BUILD)/key '-DFW_BOT="bots/$(FW_BOT).h"' \
+	$(FW_CFLAGS_EXTRA)
 FW_LDFLAGS := -nostdlib -nostartfiles -Wl,--gc-sections -Lfirmware
 
 # What the firmware carries of core/, in two archives. libevoruntime.a is
@@ -49,7 +50,7 @@ FW_LDFLAGS := -nostdlib -nostartfiles -Wl,--gc-sections -Lfirmware
 # CAN frames and slcan lines it speaks (the host speaks them with the same
 # code), and flash.c, the receiver of evo flash.
 FW_RUNTIME_NAMES := $(sort $(CORE_RUNTIME))
-FW_LINK_NAMES := $(sort status wire flash)
+FW_LINK_NAMES := $(sort status wire flash mac)
 FW_SRCS := main cortex_m mind_slot
 
 fw_core_objs = $(patsubst %,$(FW_BUILD)/$(1)/core/%.o,$(2))
@@ -101,6 +102,35 @@ $(FW_BUILD)/mind/run.trace: $(FW_EVO) $(FW_MIND_FILES) $(FW_TASK)
 	@mkdir -p $(dir $@)
 	$(FW_EVO) run $(FW_TASK) --headless --ticks $(FW_TRACE_TICKS) --trace $@
 
+# ---- the robot's key --------------------------------------------------------
+# make firmware FW_KEY=FILE: the firmware takes only transfers (evo flash
+# --key FILE) and CONFIG frames made with this key (docs/wire.md, Keys).
+# FILE holds 32 to 128 hex digits; the rule reads it without printing it,
+# and rewrites flash_key.h only when the key (or its absence) changed.
+FW_KEY ?=
+FW_KEY_H := $(FW_BUILD)/key/flash_key.h
+.PHONY: fw-key-force
+$(FW_KEY_H): fw-key-force
+	@mkdir -p $(dir $@)
+	@set -e; key='$(FW_KEY)'; tmp=$@.tmp; \
+	if [ -z "$$key" ]; then echo '/* no key: make firmware FW_KEY=FILE */' > $$tmp; \
+	else \
+		[ -r "$$key" ] || { echo "firmware: FW_KEY=$$key: cannot read it" >&2; exit 1; }; \
+		hex=$$(tr -d ' \t\r\n' < "$$key"); \
+		if ! printf '%s' "$$hex" | grep -Eq '^([0-9a-fA-F]{2}){16,64}$$'; then \
+			echo "firmware: FW_KEY=$$key: a key is 32 to 128 hex digits (16 to 64 bytes) on one line, and nothing else" >&2; exit 1; fi; \
+		{ echo '/* the robot key from FW_KEY: do not publish this file */'; \
+		  printf '#define FW_FLASH_KEY '; printf '%s' "$$hex" | sed 's/../0x&,/g'; echo; } > $$tmp; \
+	fi; \
+	if cmp -s $$tmp $@; then rm -f $$tmp; else mv $$tmp $@; fi
+
+# The firmware test's keyed firmware, with the public test key.
+FW_TEST_KEY := tests/data/flash/test.key
+$(FW_BUILD)/key-test/flash_key.h: $(FW_TEST_KEY)
+	@mkdir -p $(dir $@)
+	@{ echo '/* the public test key of make firmware-test */'; \
+	  printf '#define FW_FLASH_KEY '; tr -d ' \t\r\n' < $< | sed 's/../0x&,/g'; echo; } > $@
+
 # ---- per core ------------------------------------------------------------
 define FW_CORE_RULES
 $(FW_BUILD)/$(1)/core/%.o: core/src/%.c
@@ -112,14 +142,17 @@ $(FW_BUILD)/$(1)/%.o: firmware/%.c
 	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) -MMD -MP -c $$< -o $$@
 
 $(FW_BUILD)/$(1)/mind_slot.o: $(FW_BUILD)/mind/mind.h
+$(FW_BUILD)/$(1)/main.o $(FW_BUILD)/$(1)/main-noflash.o: $(FW_KEY_H)
 
 $(FW_BUILD)/$(1)/libevoruntime.a: $(call fw_core_objs,$(1),$(FW_RUNTIME_NAMES))
 	@rm -f $$@
 	$(ARM_AR) rcs $$@ $$^
 
-$(FW_BUILD)/$(1)/libevolink.a: $(call fw_core_objs,$(1),$(FW_LINK_NAMES))
+# (firmware.mk too: an archive made before a name was added to
+# FW_LINK_NAMES is made again, though its new member's source is older)
+$(FW_BUILD)/$(1)/libevolink.a: $(call fw_core_objs,$(1),$(FW_LINK_NAMES)) firmware/firmware.mk
 	@rm -f $$@
-	$(ARM_AR) rcs $$@ $$^
+	$(ARM_AR) rcs $$@ $$(filter %.o,$$^)
 
 $(FW_BUILD)/evo-$(1).elf: $(call fw_objs,$(1)) $(call fw_libs,$(1)) \
 		firmware/$(1).ld firmware/sections.ld
@@ -138,6 +171,19 @@ $(FW_BUILD)/noflash-$(1).elf: $(FW_BUILD)/$(1)/main-noflash.o \
 		firmware/$(1).ld firmware/sections.ld
 	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) $(FW_LDFLAGS) -T firmware/$(1).ld \
 		-o $$@ $(FW_BUILD)/$(1)/main-noflash.o \
+		$(filter-out %/main.o,$(call fw_objs,$(1))) $(call fw_libs,$(1)) -lgcc
+
+# The firmware with the test key (make firmware-test): its key header is
+# found before the one of FW_KEY.
+$(FW_BUILD)/$(1)/main-keyed.o: firmware/main.c $(FW_BUILD)/key-test/flash_key.h
+	@mkdir -p $$(dir $$@)
+	$(ARM_CC) $(FW_CPU_$(1)) -I$(FW_BUILD)/key-test $(FW_CFLAGS) -MMD -MP -c $$< -o $$@
+
+$(FW_BUILD)/evo-$(1)-keyed.elf: $(FW_BUILD)/$(1)/main-keyed.o \
+		$(filter-out %/main.o,$(call fw_objs,$(1))) $(call fw_libs,$(1)) \
+		firmware/$(1).ld firmware/sections.ld
+	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) $(FW_LDFLAGS) -T firmware/$(1).ld \
+		-o $$@ $(FW_BUILD)/$(1)/main-keyed.o \
 		$(filter-out %/main.o,$(call fw_objs,$(1))) $(call fw_libs,$(1)) -lgcc
 
 # The MIND runtime alone: what size_entry.c reaches of its archive.
@@ -161,8 +207,9 @@ FW_HOST_HDRS := firmware/host/qemu_session.h firmware/host/trace_file.h \
 # core/src/hash.c: the CRC-32 a test repairs after patching an image.
 # The host's CAN transports (sim/remote/can.c): the test is the slcan
 # adapter evo flash talks to, on a pseudo-terminal.
+# All of core: the keyed CONFIG frame is made with evo/flash.h.
 FW_TEST_SRCS := tests/firmware/firmware_test.c firmware/host/qemu_session.c \
-	firmware/host/trace_file.c core/src/wire.c core/src/hash.c \
+	firmware/host/trace_file.c $(CORE_SRCS) \
 	sim/remote/can.c sim/remote/can_format.c sim/base/err.c
 $(FW_BUILD)/firmware_test: $(FW_TEST_SRCS) $(FW_HOST_HDRS) tests/harness.h \
 		core/include/evo/flash.h sim/remote/can.h
@@ -191,7 +238,7 @@ $(BUILD)/bench/bench_firmware: $(FW_BUILD)/host/bench_firmware.o $(FW_HOST_OBJS)
 	$(CC) $(LDFLAGS_ALL) -o $@ $(filter %.o %.a,$^) $(LIBS)
 
 # ---- the targets -----------------------------------------------------------
-FW_TEST_INPUTS := $(foreach c,$(FW_CORES),$(FW_BUILD)/evo-$(c).elf) \
+FW_TEST_INPUTS := $(foreach c,$(FW_CORES),$(FW_BUILD)/evo-$(c).elf $(FW_BUILD)/evo-$(c)-keyed.elf) \
 	$(FW_BUILD)/firmware_test $(FW_BUILD)/mind/mind.bin \
 	$(FW_BUILD)/mind/other.bin $(FW_BUILD)/mind/run.trace \
 	$(FW_BUILD)/mind/new.trace
@@ -206,8 +253,9 @@ firmware-test: $(FW_TEST_INPUTS)
 		--other-image $(FW_BUILD)/mind/other.bin --tmp $(FW_BUILD)/test \
 		--evo $(FW_EVO) --new-mind $(FW_NEW_MIND) \
 		--new-trace $(FW_BUILD)/mind/new.trace --other-mind $(FW_OTHER_MIND) \
-		--seed $(FW_TEST_SEED) \
-		$(foreach c,$(FW_CORES),--firmware $(FW_MACHINE_$(c))=$(FW_BUILD)/evo-$(c).elf)
+		--seed $(FW_TEST_SEED) --key $(FW_TEST_KEY) \
+		$(foreach c,$(FW_CORES),--firmware $(FW_MACHINE_$(c))=$(FW_BUILD)/evo-$(c).elf) \
+		$(foreach c,$(FW_CORES),--keyed $(FW_MACHINE_$(c))=$(FW_BUILD)/evo-$(c)-keyed.elf)
 
 # Per core: the firmware without its mind slot (the slot is flash kept for
 # the image, printed apart), and the MIND runtime linked alone.

@@ -17,6 +17,10 @@
 #include "evo/wire.h"
 #include "mind_slot.h"
 
+/* The robot's key (make firmware FW_KEY=FILE): FW_FLASH_KEY, its bytes,
+ * when it has one; then transfers and CONFIG frames need it. */
+#include "flash_key.h"
+
 #ifndef FW_BOT
 #error "build with -DFW_BOT=\"bots/NAME.h\" (the robot's names)"
 #endif
@@ -29,10 +33,20 @@
 #endif
 
 /* Milliseconds without a sensor frame before the actuators go neutral;
- * an EVO_WIRE_CONFIG frame changes it at run time. */
+ * an EVO_WIRE_CONFIG frame changes it at run time, up to
+ * FW_LINK_TIMEOUT_MAX_MS: a node on the bus cannot leave the motors
+ * running on stale commands for longer than that. */
 #ifndef FW_LINK_TIMEOUT_MS
 #define FW_LINK_TIMEOUT_MS 100
 #endif
+#ifndef FW_LINK_TIMEOUT_MAX_MS
+#define FW_LINK_TIMEOUT_MAX_MS 10000
+#endif
+_Static_assert(FW_LINK_TIMEOUT_MS >= 1 &&
+		   FW_LINK_TIMEOUT_MS <= FW_LINK_TIMEOUT_MAX_MS &&
+		   FW_LINK_TIMEOUT_MAX_MS <= 65535,
+	       "link timeout: 1 <= FW_LINK_TIMEOUT_MS <= "
+	       "FW_LINK_TIMEOUT_MAX_MS <= 65535");
 
 /* 1: minds arrive over the bus (evo flash); 0: the firmware runs the mind
  * it was built with only (make firmware-size builds both, to show what
@@ -236,6 +250,18 @@ static void put_mind(void)
 
 #if FW_FLASH
 static evo_flash_rx flash_rx;
+#ifdef FW_FLASH_KEY
+static const uint8_t flash_key[] = {FW_FLASH_KEY};
+_Static_assert(sizeof flash_key >= EVO_FLASH_KEY_MIN &&
+		   sizeof flash_key <= EVO_FLASH_KEY_MAX,
+	       "a key is 16 to 64 bytes");
+#endif
+
+static void send_replies(const evo_can_frame *reply)
+{
+	for (unsigned i = 0; i < flash_rx.replies; i++)
+		send_frame(&reply[i]);
+}
 
 /* The receiver checked the new mind (CRC, image, state size): run it from
  * the next tick on, with a fresh state, and tell the host. The old slot
@@ -250,21 +276,23 @@ static void switch_mind(const link_state *l)
 	running_slot = 1u - old;
 	fw_slot_retire(old);
 	evo_flash_rx_target(&flash_rx, fw_slot[old], (uint32_t)fw_slot_size());
-	evo_can_frame reply;
-	evo_flash_rx_switched(&flash_rx, l->last_tick, &reply);
-	send_frame(&reply);
+	evo_can_frame reply[EVO_FLASH_RX_REPLIES];
+	evo_flash_rx_switched(&flash_rx, l->last_tick, reply);
+	send_replies(reply);
 	put_mind();
 	put_str("; from the tick after ");
 	put_uint(l->last_tick);
+	put_str("; transfer counter ");
+	put_uint(flash_rx.counter);
 	put_str("\r\n");
 }
 
 static void on_flash(const link_state *l, const evo_can_frame *f)
 {
-	evo_can_frame reply;
-	switch (evo_flash_rx_frame(&flash_rx, f, board_millis(), &reply)) {
+	evo_can_frame reply[EVO_FLASH_RX_REPLIES];
+	switch (evo_flash_rx_frame(&flash_rx, f, board_millis(), reply)) {
 	case EVO_FLASH_RX_REPLY:
-		send_frame(&reply);
+		send_replies(reply);
 		return;
 	case EVO_FLASH_RX_SWITCH:
 		switch_mind(l);
@@ -323,18 +351,29 @@ static void on_frame(link_state *l, const evo_can_frame *f)
 		}
 		send_status(l);
 		return;
-	case EVO_WIRE_CONFIG:
-		if (f->len != 2) {
+	case EVO_WIRE_CONFIG: {
+		/* With a key, only a CONFIG with its tag (evo/flash.h) */
+		uint32_t ms = 0;
+#if FW_FLASH
+		int ok = evo_flash_config_check(&flash_rx, f, &ms);
+#else
+		int ok = f->len == 2;
+		if (ok)
+			ms = evo_wire_get_u16(f->data);
+#endif
+		if (!ok) {
 			count_bad(l, EVO_WIRE_BAD_LENGTH);
 			return;
 		}
-		l->timeout_ms = evo_wire_get_u16(f->data);
-		if (l->timeout_ms == 0)
-			l->timeout_ms = 1;
+		l->timeout_ms = ms == 0			       ? 1u
+				: ms > FW_LINK_TIMEOUT_MAX_MS ? FW_LINK_TIMEOUT_MAX_MS
+							       : ms;
 		return;
+	}
 #if FW_FLASH
 	case EVO_FLASH_BEGIN:
 	case EVO_FLASH_DATA:
+	case EVO_FLASH_AUTH:
 	case EVO_FLASH_END:
 		on_flash(l, f);
 		return;
@@ -387,10 +426,20 @@ int main(void)
 #if FW_FLASH
 	evo_flash_rx_def def = {names_hash,	     sizeof state_mem,
 				FW_FLASH_TIMEOUT_MS, FW_FLASH_WINDOW,
-				fw_slot_write,	     &flash_rx};
+				fw_slot_write,	     &flash_rx,
+				NULL,		     0};
+#ifdef FW_FLASH_KEY
+	def.key = flash_key;
+	def.key_len = sizeof flash_key;
+#endif
 	evo_flash_rx_init(&flash_rx, &def);
 	evo_flash_rx_target(&flash_rx, fw_slot[1u - running_slot],
 			    (uint32_t)fw_slot_size());
+	/* The running mind's transfer counter, kept in its slot after the
+	 * image: a robot started again refuses what it refused before. */
+	flash_rx.counter =
+	    evo_flash_rx_counter_at(fw_slot[running_slot],
+				    (uint32_t)fw_slot_size(), mind.length);
 #endif
 
 	link_state l = {0};
@@ -404,7 +453,15 @@ int main(void)
 	put_hex32(names_hash);
 	put_str("; link timeout ");
 	put_uint(l.timeout_ms);
-	put_str(" ms\r\n");
+	put_str(" ms");
+#if FW_FLASH
+	put_str("; transfer counter ");
+	put_uint(flash_rx.counter);
+#ifdef FW_FLASH_KEY
+	put_str("; transfers need the key");
+#endif
+#endif
+	put_str("\r\n");
 	evo_can_frame f;
 	f.id = EVO_WIRE_HELLO;
 	f.len = 8;
@@ -440,7 +497,7 @@ int main(void)
 		if (flash_rx.active &&
 		    evo_flash_rx_poll(&flash_rx, board_millis(), &f) ==
 			EVO_FLASH_RX_REPLY)
-			send_frame(&f);
+			send_frame(&f); /* a refusal: one frame, no tag */
 #endif
 		/* Unsigned difference: right across the clock's wrap. */
 		if (l.up && board_millis() - l.last_ms > l.timeout_ms) {

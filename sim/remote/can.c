@@ -49,8 +49,14 @@ struct evo_can {
 	struct sockaddr_storage peer;
 	socklen_t peer_len;
 	uint8_t seq;
-	/* candump */
+	/* candump: the pace of its time stamps (canplayer's): the first
+	 * frame's stamp and when it was read, and a frame read before its
+	 * time */
 	FILE *log_in, *log_out;
+	int paced, started, held, ended;
+	double log_t0, wall_t0, held_t;
+	evo_can_frame held_f;
+	unsigned long log_frames;
 	char iface[EVO_CANDUMP_IFACE_MAX];
 	unsigned long bad[EVO_CAN_BAD_COUNT];
 };
@@ -118,7 +124,7 @@ static void target(const char *url, const char *scheme, char *out,
 
 static int open_socketcan(evo_can *c, const char *iface, evo_err *err)
 {
-	c->fd = socket(PF_CAN, SOCK_RAW, CAN_RAW);
+	c->fd = socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC, CAN_RAW);
 	if (c->fd < 0)
 		return evo_fail(err,
 				"%s: this machine has no SocketCAN: "
@@ -271,7 +277,7 @@ static int open_slcan(evo_can *c, const char *dev, evo_err *err)
 		return evo_fail(err, "%s: baud %ld is not a serial rate evo "
 				     "sets (9600 .. 1000000)",
 				c->url, baud);
-	c->fd = open(dev, O_RDWR | O_NOCTTY);
+	c->fd = open(dev, O_RDWR | O_NOCTTY | O_CLOEXEC);
 	if (c->fd < 0)
 		return evo_fail(err, "%s: cannot open %s: %s", c->url, dev,
 				strerror(errno));
@@ -296,6 +302,8 @@ static int open_slcan(evo_can *c, const char *dev, evo_err *err)
 static int open_slcan_pty(evo_can *c, evo_err *err)
 {
 	c->fd = posix_openpt(O_RDWR | O_NOCTTY);
+	if (c->fd >= 0)
+		fcntl(c->fd, F_SETFD, FD_CLOEXEC);
 	if (c->fd < 0 || grantpt(c->fd) < 0 || unlockpt(c->fd) < 0)
 		return evo_fail(err, "%s: no pseudo-terminal: %s", c->url,
 				strerror(errno));
@@ -304,7 +312,7 @@ static int open_slcan_pty(evo_can *c, evo_err *err)
 		return evo_fail(err, "%s: no pseudo-terminal name", c->url);
 	snprintf(c->pty, sizeof c->pty, "%s", name);
 	/* the peer's side raw too, so no line discipline alters a byte */
-	int slave = open(c->pty, O_RDWR | O_NOCTTY);
+	int slave = open(c->pty, O_RDWR | O_NOCTTY | O_CLOEXEC);
 	if (slave >= 0) {
 		raw_tty(slave, 0);
 		close(slave);
@@ -360,7 +368,9 @@ static int open_cannelloni(evo_can *c, const char *hostport, evo_err *err)
 	if (local < 1 || local > 65535)
 		return evo_fail(err, "%s: local port %ld is not a port",
 				c->url, local);
-	c->fd = socket(AF_INET, SOCK_DGRAM, 0);
+	/* Not inherited: a program evo starts must not hold the port (nor
+	 * the device, the pseudo-terminal or the log) after evo closes it. */
+	c->fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
 	if (c->fd < 0)
 		return evo_fail(err, "%s: %s", c->url, strerror(errno));
 	struct sockaddr_in a;
@@ -426,15 +436,19 @@ evo_can *evo_can_open(const char *url, evo_err *err)
 	} else if (strncmp(url, "candump:", 8) == 0) {
 		c->kind = K_CANDUMP;
 		target(url, "candump", t, sizeof t);
-		c->log_in = fopen(t, "r");
+		c->log_in = fopen(t, "re");
 		rc = c->log_in ? 0
 			       : evo_fail(err, "%s: cannot read %s: %s", url, t,
 					  strerror(errno));
+		/* ?pace=0: as fast as it is read (canplayer -t) */
+		char v[8];
+		c->paced = !(query(url, "pace", v, sizeof v) &&
+			     strcmp(v, "0") == 0);
 		snprintf(c->iface, sizeof c->iface, "evo");
 		if (rc == 0) {
 			char out[300];
 			snprintf(out, sizeof out, "%s.sent", t);
-			c->log_out = fopen(out, "a");
+			c->log_out = fopen(out, "ae");
 			if (!c->log_out)
 				rc = evo_fail(err, "%s: cannot write %s: %s",
 					      url, out, strerror(errno));
@@ -564,11 +578,25 @@ static int take(evo_can *c, evo_err *err)
 	}
 	case K_CANNELLONI: {
 		uint8_t d[2048];
-		ssize_t r = recv(c->fd, d, sizeof d, 0);
+		struct sockaddr_storage from;
+		socklen_t from_len = sizeof from;
+		ssize_t r = recvfrom(c->fd, d, sizeof d, 0,
+				     (struct sockaddr *)&from, &from_len);
 		if (r < 0)
 			return errno == EINTR ? 0
 					      : evo_fail(err, "%s: %s", c->url,
 							 strerror(errno));
+		/* Only the peer the URL names, address and port, as the
+		 * reference cannelloni takes only its remote's: anyone
+		 * else who can reach the port is not on this bus. */
+		const struct sockaddr_in *a = (const struct sockaddr_in *)&from,
+					 *p = (const struct sockaddr_in *)&c->peer;
+		if (from.ss_family != AF_INET ||
+		    a->sin_addr.s_addr != p->sin_addr.s_addr ||
+		    a->sin_port != p->sin_port) {
+			c->bad[EVO_CAN_BAD_SOURCE]++;
+			return 0;
+		}
 		evo_can_frame f[QUEUE];
 		int n;
 		evo_cannelloni_decode(d, (size_t)r, f, QUEUE, &n, c->bad);
@@ -582,34 +610,86 @@ static int take(evo_can *c, evo_err *err)
 	return 0;
 }
 
+/* The next frame of a candump log, with its time stamp; 0 at its end. */
+static int candump_next(evo_can *c, evo_can_frame *f, double *t)
+{
+	char line[EVO_CANDUMP_LINE_MAX + 2];
+	while (fgets(line, sizeof line, c->log_in)) {
+		size_t n = strcspn(line, "\r\n");
+		if (n == strlen(line) && !feof(c->log_in)) {
+			/* longer than any log line: skip the rest */
+			c->bad[EVO_CAN_BAD_OVERLONG]++;
+			int ch;
+			while ((ch = fgetc(c->log_in)) != EOF && ch != '\n')
+				;
+			continue;
+		}
+		if (n == 0)
+			continue;
+		char iface[EVO_CANDUMP_IFACE_MAX];
+		evo_can_bad why;
+		if (evo_candump_parse(line, n, t, iface, f, &why))
+			return 1;
+		c->bad[why]++;
+	}
+	return 0;
+}
+
+/* A log read as the bus it recorded: each frame when its time stamp says,
+ * counted from the first (as canplayer plays a log; a stamp earlier than
+ * the one before is due at once), waiting at most timeout_ms for it. At
+ * the end of the log: -1, saying so, never a wait for more. */
+static int candump_recv(evo_can *c, int timeout_ms, evo_can_frame *f,
+			evo_err *err)
+{
+	if (!c->held) {
+		if (!candump_next(c, &c->held_f, &c->held_t)) {
+			c->ended = 1;
+			return evo_fail(err,
+					"%s: the log ends after %lu frame%s",
+					c->url, c->log_frames,
+					c->log_frames == 1 ? "" : "s");
+		}
+		c->held = 1;
+		if (!c->started) {
+			c->started = 1;
+			c->log_t0 = c->held_t;
+			c->wall_t0 = now_s();
+		}
+	}
+	if (c->paced) {
+		double due = c->wall_t0 + (c->held_t - c->log_t0);
+		double wait = due - now_s();
+		if (wait > timeout_ms / 1000.0) {
+			struct timespec ts = {timeout_ms / 1000,
+					      (long)(timeout_ms % 1000) * 1000000};
+			nanosleep(&ts, NULL);
+			return 0;
+		}
+		if (wait > 0) {
+			struct timespec ts = {(time_t)wait,
+					      (long)((wait - (double)(time_t)wait) *
+						     1e9)};
+			nanosleep(&ts, NULL);
+		}
+	}
+	*f = c->held_f;
+	c->held = 0;
+	c->log_frames++;
+	return 1;
+}
+
+int evo_can_ended(const evo_can *c)
+{
+	return c->ended;
+}
+
 int evo_can_recv(evo_can *c, int timeout_ms, evo_can_frame *f, evo_err *err)
 {
 	if (pop(c, f))
 		return 1;
-	if (c->kind == K_CANDUMP) {
-		char line[EVO_CANDUMP_LINE_MAX + 2];
-		while (fgets(line, sizeof line, c->log_in)) {
-			size_t n = strcspn(line, "\r\n");
-			if (n == strlen(line) && !feof(c->log_in)) {
-				/* longer than any log line: skip the rest */
-				c->bad[EVO_CAN_BAD_OVERLONG]++;
-				int ch;
-				while ((ch = fgetc(c->log_in)) != EOF &&
-				       ch != '\n')
-					;
-				continue;
-			}
-			if (n == 0)
-				continue;
-			double t;
-			char iface[EVO_CANDUMP_IFACE_MAX];
-			evo_can_bad why;
-			if (evo_candump_parse(line, n, &t, iface, f, &why))
-				return 1;
-			c->bad[why]++;
-		}
-		return 0;
-	}
+	if (c->kind == K_CANDUMP)
+		return candump_recv(c, timeout_ms, f, err);
 	double limit = now_s() + timeout_ms / 1000.0;
 	for (;;) {
 		struct pollfd p = {c->fd, POLLIN, 0};

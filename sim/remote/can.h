@@ -16,8 +16,9 @@
  *                            CAN over UDP in cannelloni's version-2
  *                            datagrams, to a cannelloni (or evo) peer
  *   candump:FILE             a candump log (`candump -l`), read as a
- *                            source of frames in its order; sending to it
- *                            appends to FILE.sent
+ *                            source of frames in its order, at the pace
+ *                            of its time stamps (as canplayer plays
+ *                            one); sending to it appends to FILE.sent
  *
  * The frames are evo's (evo/wire.h): 11-bit ids, up to 8 bytes. Anything
  * else a bus carries (extended ids, remote frames, CAN FD) and any
@@ -40,6 +41,8 @@ typedef enum evo_can_bad {
 	EVO_CAN_BAD_VERSION,	/* a cannelloni version or op code evo does
 				   not speak */
 	EVO_CAN_BAD_REPLY,	/* an slcan adapter's error reply (BEL) */
+	EVO_CAN_BAD_SOURCE,	/* a cannelloni datagram not from the peer
+				   the URL names (its address and port) */
 	EVO_CAN_BAD_COUNT
 } evo_can_bad;
 
@@ -69,7 +72,8 @@ size_t evo_cannelloni_encode(const evo_can_frame *f, int n, uint8_t seq,
 /* candump's log format: "(SECONDS.MICROS) IFACE ID#DATA", IFACE of
  * letters, digits, '_', '-' and '.', ID three hex digits (or eight for an
  * extended id, not evo's), DATA two hex digits a byte; "ID#R" is a remote
- * frame, "ID##F..." a CAN FD one (not evo's). */
+ * frame, "ID##F..." a CAN FD one (not evo's). A direction after a space,
+ * " R" (received) or " T" (sent), as python-can writes it, is taken. */
 #define EVO_CANDUMP_LINE_MAX 200
 
 /* Parse one line (without its end). 1 with *f and *t filled, 0 for a
@@ -122,8 +126,13 @@ void evo_can_close(evo_can *c);
 int evo_can_send(evo_can *c, const evo_can_frame *f, evo_err *err);
 
 /* The next frame, waiting at most timeout_ms. 1 with *f filled, 0 when
- * none came (or a candump source has no more), -1 with err set. */
+ * none came, -1 with err set: an error, or the end of a candump source
+ * (evo_can_ended then says so). */
 int evo_can_recv(evo_can *c, int timeout_ms, evo_can_frame *f, evo_err *err);
+
+/* 1 once a candump source has no more frames: evo_can_recv then
+ * returns -1, saying that the log ended. */
+int evo_can_ended(const evo_can *c);
 
 /* Input dropped so far, by reason (EVO_CAN_BAD_COUNT counters). */
 const unsigned long *evo_can_dropped(const evo_can *c);

@@ -8,7 +8,8 @@
 const char *evo_can_bad_name(evo_can_bad b)
 {
 	static const char *const names[EVO_CAN_BAD_COUNT] = {
-	    "syntax", "length", "overlong", "not evo's", "version", "reply"};
+	    "syntax", "length", "overlong", "not evo's", "version", "reply",
+	    "not from the peer"};
 	return (unsigned)b < EVO_CAN_BAD_COUNT ? names[b] : "?";
 }
 
@@ -183,6 +184,11 @@ int evo_candump_parse(const char *line, size_t len, double *t, char *iface,
 		return refuse(why, EVO_CAN_BAD_NOT_OURS);
 	if (id > 0x7FF)
 		return refuse(why, EVO_CAN_BAD_SYNTAX);
+	/* python-can's direction flag: " R" received, " T" sent by the
+	 * logging node; either way a frame that was on the bus */
+	if (len - i >= 2 && line[len - 2] == ' ' &&
+	    (line[len - 1] == 'R' || line[len - 1] == 'T'))
+		len -= 2;
 	size_t data = len - i;
 	if (data % 2)
 		return refuse(why, EVO_CAN_BAD_SYNTAX);
@@ -236,6 +242,22 @@ static void answer(const char *a, char *reply, size_t cap, size_t *len)
 	}
 }
 
+/* Why core refused a 't' line, as the host counts it. Core takes at most
+ * the longest line of 8 bytes; a longer one of hex digits only (a DLC of
+ * 9 and 9 bytes, say) is a length past 8, as docs/can.md says, not a
+ * syntax error. */
+static evo_can_bad slcan_bad(const char *s, size_t n, evo_wire_bad wb)
+{
+	if (wb == EVO_WIRE_BAD_LENGTH)
+		return EVO_CAN_BAD_LENGTH;
+	if (wb != EVO_WIRE_BAD_OVERLONG)
+		return EVO_CAN_BAD_SYNTAX;
+	for (size_t i = 1; i < n; i++)
+		if (hexval(s[i]) < 0)
+			return EVO_CAN_BAD_SYNTAX;
+	return EVO_CAN_BAD_LENGTH;
+}
+
 /* One complete line (without its end). */
 static void slcan_line(evo_slcan_reader *r, const char *s, size_t n,
 		       evo_can_frame *out, int max, int *got,
@@ -255,8 +277,7 @@ static void slcan_line(evo_slcan_reader *r, const char *s, size_t n,
 			else
 				bad[EVO_CAN_BAD_OVERLONG]++;
 		} else if (res == EVO_SLCAN_BAD) {
-			bad[wb == EVO_WIRE_BAD_LENGTH ? EVO_CAN_BAD_LENGTH
-						      : EVO_CAN_BAD_SYNTAX]++;
+			bad[slcan_bad(s, n, wb)]++;
 		}
 		return;
 	}

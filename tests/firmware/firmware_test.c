@@ -50,7 +50,16 @@ static struct {
 	unsigned long seed;
 	const char *machine[4], *elf[4];
 	unsigned n_fw;
+	const char *key_path; /* --key: the keyed firmware's key file */
+	const char *keyed_machine[4], *keyed_elf[4];
+	unsigned n_keyed;
 } opt;
+
+/* The test key's bytes (--key), for the keyed firmware's CONFIG. */
+static uint8_t test_key[EVO_FLASH_KEY_MAX];
+static size_t test_key_len;
+/* The firmware under test has the key (its CONFIG needs the tag). */
+static int elf_keyed;
 
 static trace_file trace, new_trace;
 static const char *machine, *elf; /* the firmware under test */
@@ -76,6 +85,8 @@ static void patient_link(qemu_session *q)
 {
 	evo_can_frame f = {EVO_WIRE_CONFIG, 2, {0}};
 	evo_wire_put_u16(f.data, 10000);
+	if (elf_keyed) /* a robot that has not had a transfer: counter 0 */
+		evo_flash_config_make(test_key, test_key_len, 0, 10000, &f);
 	qs_queue_frame(q, &f);
 }
 
@@ -607,6 +618,11 @@ typedef struct flash_run {
 	long cut_at;	  /* frames of the transfer from this one on lost */
 	long drop_at;	  /* this frame of the transfer lost */
 	long corrupt_at;  /* this frame of the transfer: a bit flipped */
+	long corrupt_seg; /* this segment, each time it is sent: a bit
+			     flipped (frames sent again do not shift it) */
+	const char *wait; /* evo flash --wait MS */
+	int record;	  /* keep the transfer's frames (recorded[]) */
+	const char *key;  /* evo flash --key */
 	/* results */
 	int status;	    /* evo flash's exit status */
 	char out[4096];	    /* what it printed */
@@ -620,7 +636,7 @@ static void flash_run_init(flash_run *fr, const char *what)
 {
 	memset(fr, 0, sizeof *fr);
 	fr->what = what;
-	fr->cut_at = fr->drop_at = fr->corrupt_at = -1;
+	fr->cut_at = fr->drop_at = fr->corrupt_at = fr->corrupt_seg = -1;
 }
 
 /* The next reply, passing the firmware's flash replies on to evo flash. */
@@ -642,6 +658,11 @@ static int read_reply_passing(qemu_session *q, evo_can *bus, double timeout_s,
 					       : "junk:",
 			       k == QS_JUNK ? line : "");
 			return 0;
+		}
+		if (f.id == EVO_FLASH_TAG) {
+			if (evo_can_send(bus, &f, &err) != 0)
+				printf("  to evo flash: %s\n", err.msg);
+			continue;
 		}
 		if (f.id == EVO_FLASH_REPLY) {
 			if (f.len == 8 && f.data[0] == EVO_FLASH_DONE) {
@@ -668,6 +689,11 @@ static int read_reply_passing(qemu_session *q, evo_can *bus, double timeout_s,
 	}
 }
 
+/* The frames of a whole transfer as a recorder on the bus kept them (the
+ * first flash test's), for the test that plays them again. */
+static evo_can_frame recorded[1024];
+static size_t n_recorded;
+
 /* Start evo flash on the pseudo-terminal dev, its output to a file. */
 static pid_t spawn_flash(const flash_run *fr, const char *dev, char *outpath,
 			 size_t cap)
@@ -683,8 +709,19 @@ static pid_t spawn_flash(const flash_run *fr, const char *dev, char *outpath,
 			_exit(127);
 		dup2(fd, 1);
 		dup2(fd, 2);
-		execl(opt.evo, opt.evo, "flash", fr->what, "--can", url,
-		      (char *)NULL);
+		const char *argv[12] = {opt.evo, "flash", fr->what, "--can",
+					url};
+		int n = 5;
+		if (fr->key) {
+			argv[n++] = "--key";
+			argv[n++] = fr->key;
+		}
+		if (fr->wait) {
+			argv[n++] = "--wait";
+			argv[n++] = fr->wait;
+		}
+		argv[n] = NULL;
+		execv(opt.evo, (char *const *)argv);
 		_exit(127);
 	}
 	return pid;
@@ -716,13 +753,19 @@ static long flash_while_ticking(flash_run *fr)
 		evo_can_frame f;
 		int end_sent = 0;
 		while (evo_can_recv(bus, 0, &f, &err) == 1) {
-			if (f.id < EVO_FLASH_BEGIN || f.id > EVO_FLASH_END)
+			if (f.id < EVO_FLASH_BEGIN || f.id > EVO_FLASH_AUTH ||
+			    f.id == EVO_FLASH_REPLY)
 				continue;
 			long k = (long)fr->frames++;
+			if (fr->record && n_recorded < 1024)
+				recorded[n_recorded++] = f;
 			if ((fr->cut_at >= 0 && k >= fr->cut_at) ||
 			    k == fr->drop_at)
 				continue;
 			if (k == fr->corrupt_at && f.len > 1)
+				f.data[f.len - 1] ^= 0x10;
+			if (fr->corrupt_seg >= 0 && f.id == EVO_FLASH_DATA &&
+			    f.data[0] == (uint8_t)fr->corrupt_seg && f.len > 1)
 				f.data[f.len - 1] ^= 0x10;
 			qs_queue_frame(&q, &f);
 			end_sent |= f.id == EVO_FLASH_END;
@@ -735,6 +778,10 @@ static long flash_while_ticking(flash_run *fr)
 			int k = qs_next(&q, 5.0, &g, line, sizeof line);
 			if (k == QS_LOG)
 				continue;
+			if (k == QS_FRAME && g.id == EVO_FLASH_TAG) {
+				evo_can_send(bus, &g, &err);
+				continue;
+			}
 			if (k != QS_FRAME || g.id != EVO_FLASH_REPLY) {
 				printf("  no answer to END\n");
 				differ = -1;
@@ -854,6 +901,8 @@ TEST(flash_switches_between_ticks)
 {
 	flash_run fr;
 	flash_run_init(&fr, opt.new_mind);
+	fr.record = 1;
+	n_recorded = 0;
 	long differ = flash_while_ticking(&fr);
 	CHECK_EQ_INT(differ, 0);
 	CHECK_EQ_INT(fr.status, 0);
@@ -913,6 +962,9 @@ TEST(flash_cut_at_random_frame_keeps_old_mind)
 	/* BEGIN gets through; anything from the first segment to END may
 	 * be the first frame lost. */
 	fr.cut_at = seeded_frame(2, 1, transfer_frames - 1);
+	/* evo flash waits longer than the robot's 3 s: a busy host's guest
+	 * clock runs behind, and the robot's refusal must come first */
+	fr.wait = "3000";
 	printf("  %s: the transfer cut from frame %ld on (seed %lu)\n", machine,
 	       fr.cut_at, opt.seed);
 	expect_flash_refused(&fr, "the transfer stopped: the robot heard "
@@ -924,9 +976,11 @@ TEST(flash_corrupted_segment_keeps_old_mind)
 {
 	flash_run fr;
 	flash_run_init(&fr, opt.new_mind);
-	fr.corrupt_at = seeded_frame(3, 1, transfer_frames - 2);
-	printf("  %s: a bit flipped in frame %ld (seed %lu)\n", machine,
-	       fr.corrupt_at, opt.seed);
+	/* a segment (frame k is segment k - 1), flipped each time it is sent,
+	 * so that segments sent again after a wait do not move it */
+	fr.corrupt_seg = seeded_frame(3, 1, transfer_frames - 2) - 1;
+	printf("  %s: a bit flipped in segment %ld (seed %lu)\n", machine,
+	       fr.corrupt_seg, opt.seed);
 	expect_flash_refused(&fr, "the image arrived corrupted: the "
 				  "transfer's CRC-32 does not match");
 }
@@ -950,6 +1004,150 @@ TEST(flash_other_robots_image_keeps_old_mind)
 	CHECK_EQ_INT(fr.frames, 1); /* BEGIN only: refused before a segment */
 }
 
+/* Issue 27, item 13: the transfer the first flash test sent (counter 1,
+ * to a robot that had none), recorded and played again to a robot whose
+ * slot says its last transfer had counter 5, as a robot has after a reset:
+ * refused as stale, and the mind it runs goes on, equal to its trace. */
+TEST(flash_replayed_transfer_is_refused)
+{
+	CHECK(n_recorded > 2);
+	if (n_recorded <= 2) {
+		printf("  no transfer was recorded (flash_switches_between_ticks "
+		       "must run first)\n");
+		return;
+	}
+	size_t len;
+	unsigned char *img = read_all(opt.image, &len);
+	CHECK(img != NULL && len + 4 <= SLOT_BYTES);
+	if (!img || len + 4 > SLOT_BYTES)
+		return;
+	static unsigned char slot0[SLOT_BYTES];
+	memcpy(slot0, img, len);
+	evo_wire_put_u32(slot0 + len, 5);
+	char variant[512], line[512], banner[1024] = "";
+	if (with_image("counter5", slot0, len + 4, variant, sizeof variant) !=
+	    0) {
+		test_fail_at(__FILE__, __LINE__, "objcopy --update-section");
+		return;
+	}
+	qemu_session q;
+	if (start(&q, variant, 120.0) != 0) {
+		CHECK(0);
+		return;
+	}
+	evo_can_frame f;
+	int k;
+	while ((k = qs_next(&q, 10.0, &f, line, sizeof line)) == QS_LOG)
+		if (strstr(line, "# mind "))
+			snprintf(banner, sizeof banner, "%s", line);
+	CHECK(k == QS_FRAME && f.id == EVO_WIRE_HELLO);
+	CHECK_CONTAINS(banner, "; transfer counter 5");
+	patient_link(&q);
+	for (size_t i = 0; i < n_recorded; i++)
+		qs_queue_frame(&q, &recorded[i]);
+	CHECK(qs_flush(&q) == 0);
+	int ready = 0, done = 0, refused = -1;
+	uint32_t detail = 0, robot = ~0u;
+	while (refused < 0 && !done) {
+		k = qs_next(&q, 20.0, &f, line, sizeof line);
+		if (k == QS_LOG)
+			continue;
+		if (k != QS_FRAME) {
+			printf("  waiting for the refusal: %s\n",
+			       k == QS_TIMEOUT ? "nothing came" : line);
+			break;
+		}
+		if (f.id != EVO_FLASH_REPLY || f.len != 8)
+			continue;
+		if (f.data[0] == EVO_FLASH_READY) {
+			ready++;
+			robot = evo_wire_get_u32(f.data + 4);
+		}
+		done |= f.data[0] == EVO_FLASH_DONE;
+		if (f.data[0] == EVO_FLASH_REFUSED) {
+			refused = f.data[1];
+			detail = evo_wire_get_u32(f.data + 4);
+		}
+	}
+	CHECK_EQ_INT(ready, 1);
+	CHECK_EQ_INT(robot, 5); /* READY says the robot's counter */
+	CHECK_EQ_INT(done, 0);
+	CHECK_EQ_INT(refused, EVO_FLASH_ERR_STALE);
+	CHECK_EQ_INT(detail, 5);
+	/* the mind it had runs on */
+	CHECK_EQ_INT(replay(&q, 0, 40, 1), 0);
+	printf("  %s: %zu frames played again: refused as stale (the "
+	       "robot's counter %u)\n",
+	       machine, n_recorded, detail);
+	qs_stop(&q);
+}
+
+/* Issue 27, item 13: a CONFIG from any node asking for the longest link
+ * timeout (65,535 ms) gets the firmware's bound, 10,000 ms: the actuators
+ * go neutral 10 s (of the guest's clock) after the ticks stop, not a
+ * minute later. */
+TEST(flash_config_cannot_hold_the_link_past_its_bound)
+{
+	qemu_session q;
+	if (start_ready(&q, 120.0) != 0)
+		return;
+	evo_can_frame f = {EVO_WIRE_CONFIG, 2, {0xFF, 0xFF}};
+	qs_queue_frame(&q, &f);
+	CHECK_EQ_INT(replay(&q, 0, 5, 1), 0);
+	double silent_at = qs_now();
+	reply r;
+	CHECK(read_reply(&q, 60.0, &r));
+	double after = qs_now() - silent_at;
+	CHECK_EQ_INT(r.flags, EVO_WIRE_F_NEUTRAL);
+	/* the guest's clock runs behind the host's on a busy machine (10 s
+	 * of it took 17 s with both cores busy): well short of 65.5 s */
+	CHECK(after > 9.0 && after < 45.0);
+	printf("  %s: CONFIG 65535 ms: neutral %.1f s after the last tick\n",
+	       machine, after);
+	qs_stop(&q);
+}
+
+/* Issue 27, item 13: a firmware built with a key (make firmware
+ * FW_KEY=FILE; here the public test key) takes a transfer only from evo
+ * flash --key FILE: without it evo flash does not send, and the robot's
+ * mind goes on; with it the new mind runs from the switch on. */
+TEST(flash_keyed_robot_takes_only_its_key)
+{
+	const char *keyed = NULL;
+	for (unsigned i = 0; i < opt.n_keyed; i++)
+		if (strcmp(opt.keyed_machine[i], machine) == 0)
+			keyed = opt.keyed_elf[i];
+	CHECK(keyed != NULL && test_key_len > 0);
+	if (!keyed || !test_key_len)
+		return;
+	const char *plain = elf;
+	elf = keyed;
+	elf_keyed = 1;
+	flash_run fr;
+	flash_run_init(&fr, opt.new_mind);
+	long differ = flash_while_ticking(&fr);
+	CHECK_EQ_INT(differ, 0);
+	CHECK_EQ_INT(fr.status, 1);
+	CHECK(!fr.switched);
+	CHECK_EQ_INT(fr.frames, 1); /* BEGIN only */
+	CHECK_CONTAINS(fr.out, "evo flash: not sent: the robot takes only "
+			       "transfers sent with its key");
+	flash_run_init(&fr, opt.new_mind);
+	fr.key = opt.key_path;
+	differ = flash_while_ticking(&fr);
+	CHECK_EQ_INT(differ, 0);
+	CHECK_EQ_INT(fr.status, 0);
+	CHECK(fr.switched && fr.new_ticks >= 40);
+	CHECK_CONTAINS(fr.out, "the robot runs mind");
+	if (differ != 0 || fr.status != 0)
+		printf("  evo flash said:\n%s", fr.out);
+	printf("  %s: keyed firmware: refused without the key, switched "
+	       "with it after %zu ticks; %zu frames\n",
+	       machine, fr.old_ticks, fr.frames);
+	elf = plain;
+	elf_keyed = 0;
+}
+
 /* ---- main ------------------------------------------------------------- */
 
 /* FW_TEST_ONLY=WORD runs only the tests whose names contain WORD (e.g.
@@ -967,7 +1165,8 @@ static int usage(void)
 		"usage: firmware_test --qemu QEMU --objcopy OBJCOPY --trace "
 		"TRACE --image MIND.bin --other-image OTHER.bin --tmp DIR "
 		"--evo EVO --new-mind DIR --new-trace TRACE --other-mind DIR "
-		"--seed N --firmware MACHINE=ELF ...\n");
+		"--seed N --firmware MACHINE=ELF ... [--key KEYFILE --keyed "
+		"MACHINE=ELF ...]\n");
 	return 2;
 }
 
@@ -997,6 +1196,15 @@ int main(int argc, char **argv)
 			opt.other_mind = v;
 		else if (strcmp(a, "--seed") == 0)
 			opt.seed = strtoul(v, NULL, 10);
+		else if (strcmp(a, "--key") == 0)
+			opt.key_path = v;
+		else if (strcmp(a, "--keyed") == 0 && strchr(v, '=') &&
+			 opt.n_keyed < 4) {
+			char *eq = strchr(v, '=');
+			opt.keyed_machine[opt.n_keyed] =
+			    strndup(v, (size_t)(eq - v));
+			opt.keyed_elf[opt.n_keyed++] = eq + 1;
+		}
 		else if (strcmp(a, "--firmware") == 0 && strchr(v, '=') &&
 			 opt.n_fw < 4) {
 			char *eq = strchr(v, '=');
@@ -1011,6 +1219,20 @@ int main(int argc, char **argv)
 		return usage();
 	mkdir(opt.tmp, 0755);
 	char err[512];
+	if (opt.key_path) {
+		/* hex digits, as evo flash reads them */
+		FILE *kf = fopen(opt.key_path, "r");
+		unsigned v;
+		while (kf && test_key_len < sizeof test_key &&
+		       fscanf(kf, "%2x", &v) == 1)
+			test_key[test_key_len++] = (uint8_t)v;
+		if (kf)
+			fclose(kf);
+		if (test_key_len < EVO_FLASH_KEY_MIN) {
+			printf("--key %s: not a key\n", opt.key_path);
+			return 1;
+		}
+	}
 	if (trace_load(opt.trace_path, &trace, err, sizeof err) != 0) {
 		printf("%s\n", err);
 		return 1;
@@ -1066,6 +1288,9 @@ int main(int argc, char **argv)
 			RUN_FW(flash_cut_at_random_frame_keeps_old_mind);
 			RUN_FW(flash_corrupted_segment_keeps_old_mind);
 			RUN_FW(flash_other_robots_image_keeps_old_mind);
+			RUN_FW(flash_replayed_transfer_is_refused);
+			RUN_FW(flash_config_cannot_hold_the_link_past_its_bound);
+			RUN_FW(flash_keyed_robot_takes_only_its_key);
 			test_summary();
 			fflush(stdout);
 			_exit(0);

@@ -9,12 +9,17 @@
  * frame to the robot: delivered, lost, a bit flipped, or delivered twice.
  * With the window's top bit set, the schedule and image are instead raw
  * frames (id selector, DLC, 8 bytes) thrown at a receiver mid-transfer.
+ * With bit 6 set, robot and sender share a key (the window is then bits
+ * 0-5): transfers carry their tags, and in the raw mode the receiver
+ * must never switch, since no frame the fuzzer makes carries a tag made
+ * with the key. The first schedule byte is the robot's counter.
  *
  * Besides crashes and sanitizer reports it checks the receiver's promises:
  * it writes only whole words inside its slot; every reply is a well-formed
  * REPLY; it switches only to an image that evo_mind_open takes with a
  * state that fits, and, when at most one frame was damaged, only to the
- * very image sent; the exchange always ends. */
+ * very image sent, with a counter above the robot's, written after it;
+ * the exchange always ends. */
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,34 +46,55 @@ static int slot_write(void *ctx, uint32_t offset, const uint8_t word[4])
 	return 0;
 }
 
-static void check_reply(const evo_can_frame *r)
+static const uint8_t key[32] = "the fuzz target's key, 32 bytes";
+static int keyed;
+
+/* The replies of one call: a REPLY, and with a key its tag after READY
+ * and DONE only. */
+static void check_replies(const evo_can_frame *r)
 {
-	if (r->id != EVO_FLASH_REPLY || r->len != 8 ||
-	    r->data[0] > EVO_FLASH_REFUSED)
+	if (rx.replies < 1 || rx.replies > EVO_FLASH_RX_REPLIES)
 		abort();
-	if (r->data[0] == EVO_FLASH_REFUSED &&
-	    r->data[1] >= EVO_FLASH_REASON_COUNT)
+	if (r[0].id != EVO_FLASH_REPLY || r[0].len != 8 ||
+	    r[0].data[0] > EVO_FLASH_REFUSED)
+		abort();
+	if (r[0].data[0] == EVO_FLASH_REFUSED &&
+	    r[0].data[1] >= EVO_FLASH_REASON_COUNT)
+		abort();
+	int tagged = keyed && (r[0].data[0] == EVO_FLASH_READY ||
+			       r[0].data[0] == EVO_FLASH_DONE);
+	if (rx.replies != 1u + (unsigned)tagged)
+		abort();
+	if (tagged && (r[1].id != EVO_FLASH_TAG || r[1].len != 8))
 		abort();
 }
 
-/* What the receiver answered to one frame, checked; 1 with *r to pass on. */
-static int deliver(const evo_can_frame *f, uint32_t now, evo_can_frame *r)
+/* What the receiver answered to one frame, checked: the frames to pass
+ * on (0 .. EVO_FLASH_RX_REPLIES). */
+static unsigned deliver(const evo_can_frame *f, uint32_t now, evo_can_frame *r)
 {
+	uint32_t before = rx.counter;
 	switch (evo_flash_rx_frame(&rx, f, now, r)) {
 	case EVO_FLASH_RX_NONE:
 		return 0;
 	case EVO_FLASH_RX_REPLY:
-		check_reply(r);
-		return 1;
+		check_replies(r);
+		return rx.replies;
 	case EVO_FLASH_RX_SWITCH: {
 		evo_mind m;
 		if (evo_mind_open(slot, rx.mind.length, names, &m) != EVO_OK ||
 		    evo_state_size(&m) > STATE_MAX || rx.mind.base != slot)
 			abort();
+		/* fresh, and kept after the image */
+		if (rx.counter > EVO_FLASH_COUNTER_MAX ||
+		    (!rx.force && rx.counter <= before) ||
+		    evo_flash_rx_counter_at(slot, SLOT, rx.mind.length) !=
+			rx.counter)
+			abort();
 		switches++;
 		evo_flash_rx_switched(&rx, 7, r);
-		check_reply(r);
-		return 1;
+		check_replies(r);
+		return rx.replies;
 	}
 	default:
 		abort();
@@ -78,18 +104,31 @@ static int deliver(const evo_can_frame *f, uint32_t now, evo_can_frame *r)
 static void raw_frames(const uint8_t *d, size_t n)
 {
 	static const uint16_t ids[] = {EVO_FLASH_BEGIN, EVO_FLASH_DATA,
-				       EVO_FLASH_END, EVO_FLASH_REPLY};
+				       EVO_FLASH_END,	EVO_FLASH_REPLY,
+				       EVO_FLASH_AUTH,	EVO_FLASH_TAG,
+				       EVO_WIRE_CONFIG, EVO_FLASH_DATA};
 	uint32_t now = 0;
-	evo_can_frame f, r;
+	evo_can_frame f, r[EVO_FLASH_RX_REPLIES];
 	for (; n >= 10; d += 10, n -= 10) {
-		f.id = ids[d[0] & 3u];
+		f.id = ids[d[0] & 7u];
 		f.len = (uint8_t)(d[1] % 9u);
 		memcpy(f.data, d + 2, 8);
-		now += d[0] >> 2;
-		deliver(&f, now, &r);
-		if (evo_flash_rx_poll(&rx, now, &r) == EVO_FLASH_RX_REPLY)
-			check_reply(&r);
+		now += d[0] >> 3;
+		if (f.id == EVO_WIRE_CONFIG) {
+			/* with a key, no CONFIG the fuzzer makes is taken */
+			uint32_t ms;
+			if (evo_flash_config_check(&rx, &f, &ms) &&
+			    (keyed || f.len != 2 ||
+			     ms != evo_wire_get_u16(f.data)))
+				abort();
+			continue;
+		}
+		deliver(&f, now, r);
+		if (evo_flash_rx_poll(&rx, now, r) == EVO_FLASH_RX_REPLY)
+			check_replies(r);
 	}
+	if (keyed && switches)
+		abort(); /* a transfer switched without the key */
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
@@ -112,17 +151,23 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	names = len >= 20 ? evo_wire_get_u32(img + 16) : 0;
 	memset(slot, 0xFF, sizeof slot);
 	switches = 0;
-	evo_flash_rx_def def = {names, STATE_MAX, 1000, 32, slot_write, NULL};
+	keyed = (window & 0x40u) != 0;
+	evo_flash_rx_def def = {names,		STATE_MAX, 1000, 32, slot_write,
+				NULL,		keyed ? key : NULL,
+				keyed ? (uint32_t)sizeof key : 0u};
 	evo_flash_rx_init(&rx, &def);
 	evo_flash_rx_target(&rx, slot, SLOT);
+	rx.counter = n_sched ? sched[0] : 0;
 	if (window & 0x80u) {
 		raw_frames(sched, size - 2);
 		return 0;
 	}
-	evo_flash_tx_init(&tx, img, (uint32_t)len, window);
+	evo_flash_tx_init(&tx, img, (uint32_t)len, window & 0x3Fu);
+	if (keyed)
+		evo_flash_tx_key(&tx, key, sizeof key);
 	uint32_t now = 0;
 	unsigned k = 0, damaged = 0, idle = 0;
-	evo_can_frame f, r;
+	evo_can_frame f, r[EVO_FLASH_RX_REPLIES];
 	/* Every frame costs a millisecond and every wait 300: the robot's
 	 * 1000 ms timeout ends any transfer the schedule starves, and the
 	 * sender is bounded by the frames and waits below. */
@@ -132,10 +177,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		if (!evo_flash_tx_next(&tx, &f)) {
 			now += 300;
 			idle++;
-			if (evo_flash_rx_poll(&rx, now, &r) ==
+			if (evo_flash_rx_poll(&rx, now, r) ==
 			    EVO_FLASH_RX_REPLY) {
-				check_reply(&r);
-				evo_flash_tx_reply(&tx, &r);
+				check_replies(r);
+				evo_flash_tx_reply(&tx, &r[0]);
 			}
 			evo_flash_tx_timeout(&tx);
 			continue;
@@ -160,13 +205,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		default:
 			break;
 		}
-		while (times--)
-			if (deliver(&f, now, &r)) {
+		while (times--) {
+			unsigned got = deliver(&f, now, r);
+			for (unsigned i = 0; i < got; i++) {
 				uint32_t p = tx.progress;
-				evo_flash_tx_reply(&tx, &r);
+				evo_flash_tx_reply(&tx, &r[i]);
 				if (tx.progress != p)
 					idle = 0;
 			}
+		}
 	}
 	if (switches > 1)
 		abort();

@@ -16,6 +16,7 @@
 #include <string.h>
 #include <sys/wait.h>
 #include <termios.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "harness.h"
@@ -388,11 +389,12 @@ TEST(a_candump_log_is_a_source_of_frames)
 	if (!c)
 		return;
 	evo_can_frame f;
-	CHECK_EQ_INT(evo_can_recv(c, 0, &f, &err), 1);
+	CHECK_EQ_INT(evo_can_recv(c, 100, &f, &err), 1);
 	CHECK(f.id == 0x100 && f.len == 8 && f.data[4] == 2);
-	CHECK_EQ_INT(evo_can_recv(c, 0, &f, &err), 1);
+	CHECK_EQ_INT(evo_can_recv(c, 100, &f, &err), 1);
 	CHECK(f.id == 0x140 && f.len == 4);
-	CHECK_EQ_INT(evo_can_recv(c, 0, &f, &err), 0);
+	CHECK_EQ_INT(evo_can_recv(c, 100, &f, &err), -1);
+	CHECK(evo_can_ended(c));
 	CHECK_EQ_INT(evo_can_dropped(c)[EVO_CAN_BAD_NOT_OURS], 1);
 	CHECK_EQ_INT(evo_can_dropped(c)[EVO_CAN_BAD_SYNTAX], 1);
 	f = frame(0x180, 2, "\xAA\xBB");
@@ -401,6 +403,200 @@ TEST(a_candump_log_is_a_source_of_frames)
 	char *sent = cli_read("%s/in.log.sent", cli_tmp);
 	CHECK(sent && strstr(sent, ") evo 180#AABB\n"));
 	free(sent);
+}
+
+/* Issue 27, item 14: a log is played at the pace of its time stamps, as
+ * canplayer plays it, waits without spinning, and ends with a message
+ * instead of reading nothing forever. */
+TEST(a_candump_log_is_played_at_its_pace_and_ends)
+{
+	CHECK_EQ_INT(cli_write("(50.000000) can0 100#01\n"
+			       "(50.300000) can0 101#02\n"
+			       "(50.600000) can0 102#03\n"
+			       "(52.600000) can0 103#04\n",
+			       "%s/paced.log", cli_tmp),
+		     0);
+	char url[300];
+	snprintf(url, sizeof url, "candump:%s/paced.log", cli_tmp);
+	evo_err err = {{0}};
+	evo_can *c = evo_can_open(url, &err);
+	CHECK(c != NULL);
+	if (!c)
+		return;
+	evo_can_frame f;
+	struct timespec w0, w1;
+	clock_gettime(CLOCK_MONOTONIC, &w0);
+	clock_t cpu0 = clock();
+	for (unsigned i = 0; i < 3; i++) {
+		CHECK_EQ_INT(evo_can_recv(c, 1000, &f, &err), 1);
+		CHECK_EQ_INT(f.id, 0x100 + i);
+	}
+	clock_gettime(CLOCK_MONOTONIC, &w1);
+	double took = (double)(w1.tv_sec - w0.tv_sec) +
+		      (double)(w1.tv_nsec - w0.tv_nsec) * 1e-9;
+	CHECK(took > 0.55 && took < 1.5);
+	/* the fourth is 2 s later: each wait of 200 ms gives nothing */
+	int none = 0;
+	for (unsigned i = 0; i < 5; i++)
+		none += evo_can_recv(c, 200, &f, &err) == 0;
+	CHECK_EQ_INT(none, 5);
+	CHECK_EQ_INT(evo_can_recv(c, 3000, &f, &err), 1);
+	CHECK_EQ_INT(f.id, 0x103);
+	/* 2.6 s of waiting took little of the processor */
+	double cpu = (double)(clock() - cpu0) / CLOCKS_PER_SEC;
+	CHECK(cpu < 0.3);
+	if (cpu >= 0.3)
+		printf("  %.2f s of CPU while waiting\n", cpu);
+	CHECK_EQ_INT(evo_can_recv(c, 1000, &f, &err), -1);
+	CHECK_CONTAINS(err.msg, "paced.log: the log ends after 4 frames");
+	CHECK_EQ_INT(evo_can_recv(c, 1000, &f, &err), -1);
+	evo_can_close(c);
+	/* ?pace=0: as fast as it reads */
+	snprintf(url, sizeof url, "candump:%s/paced.log?pace=0", cli_tmp);
+	c = evo_can_open(url, &err);
+	CHECK(c != NULL);
+	if (!c)
+		return;
+	clock_gettime(CLOCK_MONOTONIC, &w0);
+	for (unsigned i = 0; i < 4; i++)
+		CHECK_EQ_INT(evo_can_recv(c, 0, &f, &err), 1);
+	clock_gettime(CLOCK_MONOTONIC, &w1);
+	CHECK(w1.tv_sec - w0.tv_sec < 1);
+	CHECK_EQ_INT(evo_can_recv(c, 0, &f, &err), -1);
+	evo_can_close(c);
+}
+
+/* The siblings: evo run and evo serve over a log stop at its end, saying
+ * so, where they waited for more, using a whole processor. */
+TEST(run_and_serve_stop_at_the_end_of_a_log)
+{
+	CHECK_EQ_INT(cli_write("(1.000000) can0 7FF#00\n", "%s/short.log",
+			       cli_tmp),
+		     0);
+	char out[4096];
+	int rc = cli_capture(out, sizeof out,
+			     "timeout 20 %s serve "
+			     "minds/Avoid/Tasks/Avoid-ROBOT.simbatch --can "
+			     "candump:%s/short.log 2>&1",
+			     cli_evo, cli_tmp);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "short.log: the log ends after 1 frame\n");
+	rc = cli_capture(out, sizeof out,
+			 "timeout 20 %s run minds/Avoid/Tasks/Avoid-ROBOT.simbatch "
+			 "-nog --ticks 10 --can candump:%s/short.log 2>&1",
+			 cli_evo, cli_tmp);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "short.log: the log ends after 1 frame\n");
+}
+
+/* Issue 27, item 14: python-can writes a direction after the frame, " R"
+ * received, " T" sent; both are frames that were on the bus. */
+TEST(candump_lines_with_python_cans_direction_are_taken)
+{
+	static const char *const ok[] = {"(1.500000) vcan0 123#010203 R",
+					 "(1.750000) vcan0 140#00000000 T",
+					 "(1.800000) vcan0 7FF# R"};
+	static const unsigned id[] = {0x123, 0x140, 0x7FF}, len[] = {3, 4, 0};
+	for (unsigned i = 0; i < 3; i++) {
+		double t;
+		char iface[EVO_CANDUMP_IFACE_MAX];
+		evo_can_frame f;
+		evo_can_bad why;
+		CHECK_EQ_INT(evo_candump_parse(ok[i], strlen(ok[i]), &t, iface,
+					       &f, &why),
+			     1);
+		CHECK_EQ_INT(f.id, id[i]);
+		CHECK_EQ_INT(f.len, len[i]);
+	}
+	static const struct {
+		const char *line;
+		evo_can_bad why;
+	} bad[] = {
+	    {"(1.5) vcan0 123#0102 X", EVO_CAN_BAD_SYNTAX},
+	    {"(1.5) vcan0 123#0102 RR", EVO_CAN_BAD_SYNTAX},
+	    {"(1.5) vcan0 123#0102R", EVO_CAN_BAD_SYNTAX},
+	    {"(1.5) vcan0 100#R R", EVO_CAN_BAD_NOT_OURS},
+	    {"(1.5) vcan0 00012345#01 R", EVO_CAN_BAD_NOT_OURS},
+	};
+	for (unsigned i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+		double t;
+		char iface[EVO_CANDUMP_IFACE_MAX];
+		evo_can_frame f;
+		evo_can_bad why = EVO_CAN_BAD_COUNT;
+		CHECK_EQ_INT(evo_candump_parse(bad[i].line, strlen(bad[i].line),
+					       &t, iface, &f, &why),
+			     0);
+		CHECK_EQ_STR(evo_can_bad_name(why),
+			     evo_can_bad_name(bad[i].why));
+	}
+}
+
+/* Issue 27, item 14: a DLC of 9 (or 9 bytes) is a length past 8 in every
+ * format, as docs/can.md says, never a syntax error. */
+TEST(a_dlc_of_9_is_a_length_in_every_format)
+{
+	unsigned long bad[EVO_CAN_BAD_COUNT] = {0};
+	evo_slcan_reader r = {0};
+	evo_can_frame out[4];
+	int got;
+	char reply[8];
+	size_t reply_len = 0;
+	/* 8 bytes with DLC 9, then 9 bytes with DLC 9 */
+	const char *lines = "t1239001122334455667788\r"
+			    "t12390011223344556677889\r"
+			    "t123900112233445566778899\r";
+	evo_slcan_read(&r, lines, strlen(lines), out, 4, &got, bad, reply,
+		       sizeof reply, &reply_len);
+	CHECK_EQ_INT(got, 0);
+	CHECK_EQ_INT(bad[EVO_CAN_BAD_LENGTH], 3);
+	CHECK_EQ_INT(bad[EVO_CAN_BAD_SYNTAX], 0);
+	double t;
+	char iface[EVO_CANDUMP_IFACE_MAX];
+	evo_can_frame f;
+	evo_can_bad why = EVO_CAN_BAD_COUNT;
+	const char *l = "(1.0) can0 123#112233445566778899";
+	CHECK_EQ_INT(evo_candump_parse(l, strlen(l), &t, iface, &f, &why), 0);
+	CHECK_EQ_INT(why, EVO_CAN_BAD_LENGTH);
+	static const uint8_t d[] = {2, 0, 0, 0, 1, 0, 0, 1, 0x23, 9,
+				    1, 2, 3, 4, 5, 6, 7, 8, 9};
+	unsigned long cb[EVO_CAN_BAD_COUNT] = {0};
+	int n;
+	CHECK_EQ_INT(evo_cannelloni_decode(d, sizeof d, out, 4, &n, cb), -1);
+	CHECK_EQ_INT(cb[EVO_CAN_BAD_LENGTH], 1);
+}
+
+/* Issue 27, item 12: a cannelloni endpoint takes datagrams only from the
+ * peer its URL names, address and port, as the reference cannelloni
+ * takes only its remote's; the others are counted. */
+TEST(cannelloni_takes_datagrams_only_from_its_peer)
+{
+	int pa = 20000 + (getpid() + 7) % 20000, pb = pa + 1, pc = pa + 2;
+	char ua[128], ub[128], uc[128];
+	snprintf(ua, sizeof ua, "cannelloni:127.0.0.1:%d?local=%d", pb, pa);
+	snprintf(ub, sizeof ub, "cannelloni:127.0.0.1:%d?local=%d", pa, pb);
+	/* another sender, to a's port from a port of its own */
+	snprintf(uc, sizeof uc, "cannelloni:127.0.0.1:%d?local=%d", pa, pc);
+	evo_err err = {{0}};
+	evo_can *a = evo_can_open(ua, &err), *b = evo_can_open(ub, &err),
+		*c = evo_can_open(uc, &err);
+	CHECK(a && b && c);
+	if (a && b && c) {
+		evo_can_frame f = frame(0x1D3, 8, "\x03\x00\xA7\x00\x29\x00\x00\x00"),
+			      in;
+		CHECK_EQ_INT(evo_can_send(c, &f, &err), 0);
+		CHECK_EQ_INT(evo_can_send(c, &f, &err), 0);
+		f = frame(0x140, 4, "\x10\x00\x00\x00");
+		CHECK_EQ_INT(evo_can_send(b, &f, &err), 0);
+		CHECK_EQ_INT(evo_can_recv(a, 2000, &in, &err), 1);
+		CHECK(in.id == 0x140 && in.data[0] == 0x10);
+		CHECK_EQ_INT(evo_can_recv(a, 200, &in, &err), 0);
+		CHECK_EQ_INT(evo_can_dropped(a)[EVO_CAN_BAD_SOURCE], 2);
+		CHECK_EQ_STR(evo_can_bad_name(EVO_CAN_BAD_SOURCE),
+			     "not from the peer");
+	}
+	evo_can_close(a);
+	evo_can_close(b);
+	evo_can_close(c);
 }
 
 TEST(socketcan_opens_or_says_why_not)
@@ -431,6 +627,11 @@ int main(void)
 	RUN(slcan_drives_an_adapter_with_its_bit_rate_and_reads_its_frames);
 	RUN(cannelloni_endpoints_exchange_frames_over_udp);
 	RUN(a_candump_log_is_a_source_of_frames);
+	RUN(a_candump_log_is_played_at_its_pace_and_ends);
+	RUN(candump_lines_with_python_cans_direction_are_taken);
+	RUN(run_and_serve_stop_at_the_end_of_a_log);
+	RUN(a_dlc_of_9_is_a_length_in_every_format);
+	RUN(cannelloni_takes_datagrams_only_from_its_peer);
 	RUN(socketcan_opens_or_says_why_not);
 	cli_cleanup();
 	return test_summary();

@@ -71,6 +71,53 @@ TEST(python_can_and_evo_exchange_frames_over_slcan)
 	evo_can_close(c);
 }
 
+/* Issue 27, item 14: a log python-can wrote (its CanutilsLogWriter, with
+ * the direction after each frame) is a source of frames for evo, at its
+ * pace, and ends with a message. */
+TEST(a_log_python_can_wrote_is_read_as_a_source)
+{
+	if (access(venv_python, X_OK) != 0) {
+		CHECK(0);
+		printf("  %s is missing: run `make deps`\n", venv_python);
+		return;
+	}
+	CHECK_EQ_INT(
+	    cli_sh("%s -c 'import can\n"
+		   "w = can.CanutilsLogWriter(\"%s/py.log\", channel=\"vcan0\")\n"
+		   "w.on_message_received(can.Message(timestamp=10.0, "
+		   "arbitration_id=0x123, data=[1, 2, 3], is_extended_id=False, "
+		   "is_rx=True))\n"
+		   "w.on_message_received(can.Message(timestamp=10.2, "
+		   "arbitration_id=0x140, data=[7, 0, 0, 0], is_extended_id=False, "
+		   "is_rx=False))\n"
+		   "w.on_message_received(can.Message(timestamp=10.3, "
+		   "arbitration_id=0x12345, data=[1], is_extended_id=True))\n"
+		   "w.stop()\n'",
+		   venv_python, cli_tmp),
+	    0);
+	char *log = cli_read("%s/py.log", cli_tmp);
+	CHECK(log && strstr(log, "123#010203 R\n") &&
+	      strstr(log, "140#07000000 T\n"));
+	free(log);
+	char url[300];
+	snprintf(url, sizeof url, "candump:%s/py.log", cli_tmp);
+	evo_err err = {{0}};
+	evo_can *c = evo_can_open(url, &err);
+	CHECK(c != NULL);
+	if (!c)
+		return;
+	evo_can_frame f;
+	CHECK_EQ_INT(evo_can_recv(c, 1000, &f, &err), 1);
+	CHECK(f.id == 0x123 && f.len == 3 && f.data[2] == 3);
+	CHECK_EQ_INT(evo_can_recv(c, 1000, &f, &err), 1);
+	CHECK(f.id == 0x140 && f.len == 4 && f.data[0] == 7);
+	CHECK_EQ_INT(evo_can_recv(c, 1000, &f, &err), -1);
+	CHECK_CONTAINS(err.msg, "py.log: the log ends after 2 frames");
+	CHECK_EQ_INT(evo_can_dropped(c)[EVO_CAN_BAD_NOT_OURS], 1);
+	CHECK_EQ_INT(evo_can_dropped(c)[EVO_CAN_BAD_SYNTAX], 0);
+	evo_can_close(c);
+}
+
 int main(void)
 {
 	if (cli_setup("can-peer"))
@@ -79,6 +126,7 @@ int main(void)
 	snprintf(venv_python, sizeof venv_python, "%s/bin/python",
 		 v && v[0] ? v : "build/venv");
 	RUN(python_can_and_evo_exchange_frames_over_slcan);
+	RUN(a_log_python_can_wrote_is_read_as_a_source);
 	cli_cleanup();
 	return test_summary();
 }

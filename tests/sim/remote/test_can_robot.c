@@ -645,9 +645,42 @@ static void fake_send(fake *f, unsigned id, unsigned len, const void *data)
 	evo_can_send(f->can, &fr, &err);
 }
 
+/* A datagram from another port than the fake's: not from evo's peer. */
 static void fake_raw(fake *f, const void *d, size_t n)
 {
 	(void)!sendto(f->raw, d, n, 0, (struct sockaddr *)&f->to, sizeof f->to);
+}
+
+/* Datagrams from the fake's own port, as the peer evo was told of: its
+ * endpoint closed a moment so that a raw socket can send from the port.
+ * 0, or -1 when the port could not be had again. */
+static int fake_raw_from_peer(fake *f, int mine, int evos,
+			      const uint8_t *const *d, const size_t *n,
+			      int count)
+{
+	evo_can_close(f->can);
+	f->can = NULL;
+	int s = socket(AF_INET, SOCK_DGRAM, 0);
+	struct sockaddr_in a;
+	memset(&a, 0, sizeof a);
+	a.sin_family = AF_INET;
+	a.sin_port = htons((uint16_t)mine);
+	a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+	int ok = s >= 0 && bind(s, (struct sockaddr *)&a, sizeof a) == 0;
+	for (int i = 0; ok && i < count; i++)
+		(void)!sendto(s, d[i], n[i], 0, (struct sockaddr *)&f->to,
+			      sizeof f->to);
+	if (s >= 0)
+		close(s);
+	char url[128];
+	evo_err err;
+	snprintf(url, sizeof url, "cannelloni:127.0.0.1:%d?local=%d", evos,
+		 mine);
+	f->can = evo_can_open(url, &err);
+	if (!ok || !f->can)
+		printf("  the fake's port %d: %s\n", mine,
+		       !ok ? strerror(errno) : err.msg);
+	return ok && f->can ? 0 : -1;
 }
 
 /* Wait (at most 60 s) for an event of evo's; 1 when it came. */
@@ -708,14 +741,21 @@ TEST(bad_input_from_the_bus_is_counted_and_reported)
 	CHECK_EQ_INT(f.rx.hello.sensors, 11);
 	CHECK_EQ_INT(f.rx.hello.actuators, 2);
 	CHECK_EQ_INT(f.rx.hello.version, EVO_WIRE_VERSION);
-	/* datagrams: another version, one cut short, a frame of another
-	 * kind (an extended id) */
+	/* datagrams from the peer: another version, one cut short, a frame
+	 * of another kind (an extended id); and a well-formed one from
+	 * another port, which is not the peer's */
 	static const uint8_t v1[] = {1, 0, 0, 0, 0};
 	static const uint8_t cut[] = {2, 0, 0, 0, 1, 0, 0, 1};
 	static const uint8_t ext[] = {2, 0, 0, 0, 1, 0x80, 0, 0x12, 0x34, 0};
-	fake_raw(&f, v1, sizeof v1);
-	fake_raw(&f, cut, sizeof cut);
-	fake_raw(&f, ext, sizeof ext);
+	static const uint8_t stranger[] = {2,	 0,    0, 0, 1, 0, 0,
+					   0x01, 0xC6, 8, 0, 0, 0, 0,
+					   11,	 2,    0x60, 0xEA};
+	const uint8_t *raw[] = {v1, cut, ext};
+	const size_t raw_len[] = {sizeof v1, sizeof cut, sizeof ext};
+	CHECK_EQ_INT(fake_raw_from_peer(&f, a, b, raw, raw_len, 3), 0);
+	if (!f.can)
+		return;
+	fake_raw(&f, stranger, sizeof stranger);
 	/* a BODY of no sensors, then the Avoid robot's, with no names hash
 	 * and 6 s a tick (every answer in time, however loaded the machine) */
 	evo_can_body_info info = {0, 0, 2, 60000}, avoid = {0, 11, 2, 60000};
@@ -796,8 +836,9 @@ TEST(bad_input_from_the_bus_is_counted_and_reported)
 		 url);
 	CHECK_CONTAINS(t, want);
 	snprintf(want, sizeof want,
-		 "evo: robot %s: dropped 3 pieces of input that were no frames "
-		 "of evo's (1 length, 1 not evo's, 1 version)",
+		 "evo: robot %s: dropped 4 pieces of input that were no frames "
+		 "of evo's (1 length, 1 not evo's, 1 version, 1 not from the "
+		 "peer)",
 		 url);
 	CHECK_CONTAINS(t, want);
 	if (getenv("TEST_CAN_ROBOT_SHOW") ||
