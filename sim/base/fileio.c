@@ -116,15 +116,15 @@ int evo_read_file(const char *path, char **data, size_t *len, evo_err *err)
 	return evo_read_file_max(path, EVO_FILE_MAX, data, len, err);
 }
 
-/* The temporary file beside path, created new: O_EXCL fails on any name
- * that exists, a symbolic link included (which O_NOFOLLOW says again), so
- * a file or link planted under the name, or one a killed run left, is
- * never written through; the next name is tried instead. Returns the
- * descriptor, with the name in tmp, or -1 with err. */
-static int create_beside(const char *path, char *tmp, size_t cap,
-			 evo_err *err)
+/* O_EXCL fails on any name that exists, a symbolic link included (which
+ * O_NOFOLLOW says again), so a file or link planted under the name, or one
+ * a killed run left, is never written through; the next name is tried
+ * instead. */
+int evo_create_beside(const char *path, char *tmp, size_t cap, evo_err *err)
 {
 	long pid = (long)getpid();
+	if (cap < strlen(path) + 48)
+		return evo_fail(err, "%.80s...: path too long", path);
 	for (int k = 0; k < 100; k++) {
 		if (k == 0)
 			snprintf(tmp, cap, "%s.tmp.%ld", path, pid);
@@ -153,7 +153,7 @@ int evo_write_file_atomic(const char *path, const void *data, size_t len,
 	char *tmp = malloc(cap);
 	if (!tmp)
 		return evo_fail(err, "%s: out of memory", path);
-	int fd = create_beside(path, tmp, cap, err);
+	int fd = evo_create_beside(path, tmp, cap, err);
 	if (fd < 0) {
 		free(tmp);
 		return -1;
@@ -187,6 +187,31 @@ int evo_write_file_atomic(const char *path, const void *data, size_t len,
 	}
 	free(tmp);
 	return 0;
+}
+
+int evo_folder_check_links(const char *root, const char *rel, evo_err *err)
+{
+	char p[1400];
+	if (evo_path_fmt(p, sizeof p, err, "%s/%s", root, rel))
+		return -1;
+	size_t base = strlen(p) - strlen(rel);
+	for (size_t i = base;; i++) {
+		char c = p[i];
+		if (c != '/' && c != 0)
+			continue;
+		p[i] = 0;
+		struct stat st;
+		if (i > base && lstat(p, &st) == 0 && S_ISLNK(st.st_mode))
+			return evo_fail(err,
+					"%s is a symbolic link: evo writes "
+					"into a mind folder's own folders, "
+					"never through a link it ships "
+					"(replace it by a folder)",
+					p);
+		p[i] = c;
+		if (!c)
+			return 0;
+	}
 }
 
 int evo_path_fmt(char *buf, size_t cap, evo_err *err, const char *fmt, ...)

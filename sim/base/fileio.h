@@ -43,6 +43,20 @@ int evo_file_exists(const char *path);
 int evo_write_file_atomic(const char *path, const void *data, size_t len,
 			  evo_err *err);
 
+/* Create a new file beside path for writing (mode 0644 less the umask),
+ * to be renamed over path once written: PATH.tmp.PID, or PATH.tmp.PID.N
+ * when that name exists. Nothing that exists, a symbolic link included,
+ * is opened. cap is tmp's size, at least strlen(path) + 48. Returns the
+ * descriptor, with the name in tmp, or -1 with err. */
+int evo_create_beside(const char *path, char *tmp, size_t cap, evo_err *err);
+
+/* 0 when no folder of rel ("Skills/Avoid", "Runs/Avoid-seed1") under root
+ * is a symbolic link, or -1 with err naming the first one that is. A mind
+ * folder comes from anyone: a folder of it evo writes into must be its
+ * own, not a link that sends the files elsewhere. Folders that do not
+ * exist yet are fine; root itself is the user's and not looked at. */
+int evo_folder_check_links(const char *root, const char *rel, evo_err *err);
+
 /* Format a path into buf (cap bytes). Returns 0, or -1 with err set to
  * "PATH...: path too long (N bytes; at most M)" when it does not fit: a
  * cut path would name another file. */

@@ -436,15 +436,37 @@ static int l_log(lua_State *L)
 	return 0;
 }
 
+/* name is a file of the run folder ("log.csv", "best/gen-0001.net"):
+ * relative, with no ".." that would leave the folder. */
+static const char *run_file_name(lua_State *L, int idx, const char *fn)
+{
+	const char *name = luaL_checkstring(L, idx);
+	const char *p = name;
+	int ok = *name && *name != '/';
+	while (ok && *p) {
+		size_t n = strcspn(p, "/");
+		ok = n > 0 && !(n == 2 && p[0] == '.' && p[1] == '.');
+		p += n;
+		p += *p == '/';
+	}
+	if (!ok)
+		luaL_error(L, "%s: '%s' is no file of the run folder", fn, name);
+	return name;
+}
+
 static int l_save(lua_State *L)
 {
 	learn *l = ctx(L);
 	size_t len;
-	const char *name = luaL_checkstring(L, 1);
+	const char *name = run_file_name(L, 1, "evo.save");
 	const char *text = luaL_checklstring(L, 2, &len);
 	evo_err err = {{0}};
 	if (!l->log_open)
 		return luaL_error(L, "evo.save before evo.open_log");
+	/* best/ is made by evo_runlog_open, which saw it is no link; a
+	 * folder the name adds would need the same look */
+	if (evo_folder_check_links(l->run_dir, name, &err))
+		return raise_msg(L, err.msg);
 	if (evo_runlog_save(&l->log, name, text, len, &err))
 		return raise_msg(L, err.msg);
 	return 0;
@@ -466,7 +488,7 @@ static int l_read(lua_State *L)
 	size_t len;
 	evo_err err;
 	if (evo_path_fmt(path, sizeof path, &err, "%s/%s", l->run_dir,
-			 luaL_checkstring(L, 1)))
+			 run_file_name(L, 1, "evo.read")))
 		return raise_msg(L, err.msg);
 	struct stat st;
 	if (stat(path, &st) != 0) {
@@ -487,7 +509,7 @@ static int l_read(lua_State *L)
 		lua_setfield(L, -2, "__gc");
 	}
 	lua_setmetatable(L, -2);
-	if (evo_read_file(path, box, &len, &err))
+	if (evo_read_file_max(path, EVO_RUN_FILE_MAX, box, &len, &err))
 		return raise_msg(L, err.msg);
 	lua_pushlstring(L, *box, len);
 	free(*box);
@@ -534,8 +556,11 @@ static int l_save_champion(lua_State *L)
 			 name) ||
 	    evo_write_file_atomic(kept, text, len, &err))
 		return raise_msg(L, err.msg);
+	char folder[200];
+	snprintf(folder, sizeof folder, "Skills/%s", skill);
 	if (evo_path_fmt(path, sizeof path, &err, "%s/Skills/%s/%s%s.net", root,
 			 skill, skill, suffix) ||
+	    evo_folder_check_links(root, folder, &err) ||
 	    evo_write_file_atomic(path, text, len, &err))
 		return raise_msg(L, lua_pushfstring(L, "%s; the champion is in %s",
 						    err.msg, kept));
@@ -685,8 +710,11 @@ static int l_save_skill_net(lua_State *L)
 	const char *text = luaL_checklstring(L, 2, &len);
 	char path[1400];
 	evo_err err;
+	char folder[200];
+	snprintf(folder, sizeof folder, "Skills/%s", skill);
 	if (evo_path_fmt(path, sizeof path, &err, "%s/Skills/%s/%s.net",
 			 l->task->mind->root, skill, skill) ||
+	    evo_folder_check_links(l->task->mind->root, folder, &err) ||
 	    evo_write_file_atomic(path, text, len, &err))
 		return raise_msg(L, err.msg);
 	return 0;
@@ -1054,9 +1082,15 @@ int evo_learn_run(const char *task_path, evo_task *task,
 		const char *base = strrchr(task_path, '/');
 		base = base ? base + 1 : task_path;
 		int n = (int)strcspn(base, ".");
+		/* the run folder is the mind folder's: no link it ships
+		 * sends the run elsewhere */
+		char rel[1024];
 		if (evo_path_fmt(l.run_dir, sizeof l.run_dir, err,
 				 "%s/Runs/%.*s-seed%llu", task->mind->root, n,
-				 base, (unsigned long long)o->seed))
+				 base, (unsigned long long)o->seed) ||
+		    evo_path_fmt(rel, sizeof rel, err, "Runs/%.*s-seed%llu", n,
+				 base, (unsigned long long)o->seed) ||
+		    evo_folder_check_links(task->mind->root, rel, err))
 			return -1;
 	}
 	l.ed = (evo_eval_def){
