@@ -1101,6 +1101,14 @@ int evo_learn_run(const char *task_path, evo_task *task,
 		.spread = o->spread,
 		.learning_skill = l.continuous ? l.skill : NULL,
 	};
+	/* the skill's folder, where the champion goes, is checked again
+	 * when it is saved; a link there is better said before training */
+	if (task->n_teams == 0) {
+		char folder[200];
+		snprintf(folder, sizeof folder, "Skills/%s", l.skill);
+		if (evo_folder_check_links(task->mind->root, folder, err))
+			return -1;
+	}
 	int lock = evo_runlog_claim(l.run_dir, err);
 	if (lock < 0)
 		return -1;

@@ -495,6 +495,50 @@ TEST(too_long_run_folder_is_refused)
 	CHECK_EQ_INT(cli_sh("test -e %s/lr/deep", cli_tmp), 1);
 }
 
+/* A shared mind folder that ships Runs or Skills/Avoid as a symbolic link
+ * to a folder of the user's: evo run refuses it by name before it trains,
+ * and nothing is written into the user's folder (docs/formats.md). */
+TEST(a_mind_folder_that_ships_a_link_to_write_through_is_refused)
+{
+	make_mind("ln", "NEAT", 1, NEAT_TASK);
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/ln/users && ln -s %s/ln/users "
+			    "%s/ln/Avoid/Runs",
+			    cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_sh("%s run %s/ln/Avoid/Tasks/Small.simbatch > "
+			    "%s/ln/out.txt 2>&1",
+			    cli_evo, cli_tmp, cli_tmp),
+		     1);
+	char *out = cli_read("%s/ln/out.txt", cli_tmp);
+	char want[300];
+	snprintf(want, sizeof want, "%s/ln/Avoid/Runs is a symbolic link",
+		 cli_tmp);
+	CHECK(out && strstr(out, want));
+	if (out && !strstr(out, want))
+		printf("%s", out);
+	free(out);
+	CHECK_EQ_INT(cli_sh("test -z \"$(ls -A %s/ln/users)\"", cli_tmp), 0);
+	/* the skill's folder a link to a copy of the user's */
+	CHECK_EQ_INT(cli_sh("rm %s/ln/Avoid/Runs && mv %s/ln/Avoid/Skills/Avoid "
+			    "%s/ln/users/Avoid && ln -s %s/ln/users/Avoid "
+			    "%s/ln/Avoid/Skills/Avoid && cp "
+			    "%s/ln/users/Avoid/Avoid.net %s/ln/before.net",
+			    cli_tmp, cli_tmp, cli_tmp, cli_tmp, cli_tmp,
+			    cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(train("ln", ""), 1);
+	out = cli_read("%s/ln/out.txt", cli_tmp);
+	snprintf(want, sizeof want,
+		 "%s/ln/Avoid/Skills/Avoid is a symbolic link", cli_tmp);
+	CHECK(out && strstr(out, want));
+	if (out && !strstr(out, want))
+		printf("%s", out);
+	free(out);
+	CHECK_EQ_INT(cli_sh("cmp -s %s/ln/before.net %s/ln/users/Avoid/Avoid.net",
+			    cli_tmp, cli_tmp),
+		     0);
+}
+
 /* The same for GENETIC, whose checkpoint holds its own state. */
 TEST(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one)
 {
@@ -1133,6 +1177,7 @@ int main(void)
 	RUN(sigterm_and_sigint_stop_a_long_batch_within_a_second);
 	RUN(the_curve_is_drawn_as_the_run_goes);
 	RUN(too_long_run_folder_is_refused);
+	RUN(a_mind_folder_that_ships_a_link_to_write_through_is_refused);
 	RUN(resume_refuses_a_damaged_checkpoint_and_keeps_the_log);
 	RUN(a_network_the_evaluator_refuses_stops_the_run_without_a_leak);
 	RUN(a_checkpoint_evo_has_no_memory_for_is_refused_without_a_leak);
