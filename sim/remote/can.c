@@ -434,10 +434,28 @@ evo_can *evo_can_open(const char *url, evo_err *err)
 		if (rc == 0) {
 			char out[300];
 			snprintf(out, sizeof out, "%s.sent", t);
-			c->log_out = fopen(out, "a");
-			if (!c->log_out)
+			/* O_NOFOLLOW: FILE.sent may come with FILE, from
+			 * someone else; a link there would have evo append
+			 * frames to whatever file it names */
+			int fd = open(out,
+				      O_WRONLY | O_APPEND | O_CREAT |
+					  O_NOFOLLOW | O_CLOEXEC,
+				      0644);
+			int e = errno;
+			c->log_out = fd >= 0 ? fdopen(fd, "a") : NULL;
+			if (!c->log_out) {
+				if (fd >= 0) {
+					e = errno;
+					close(fd);
+				}
 				rc = evo_fail(err, "%s: cannot write %s: %s",
-					      url, out, strerror(errno));
+					      url, out,
+					      e == ELOOP
+						  ? "a symbolic link, which "
+						    "evo does not write "
+						    "through"
+						  : strerror(e));
+			}
 		}
 	} else {
 		rc = unknown_url(url, err);
