@@ -33,8 +33,7 @@ static int too_large(const char *path, unsigned long long size, size_t max,
 	char limit[32];
 	size_text(limit, sizeof limit, max);
 	return evo_fail(err,
-			"%s: %llu bytes, larger than evo reads (at most %s): "
-			"is it the file you meant?",
+			"%s: %llu bytes, larger than evo reads (at most %s)",
 			path, size, limit);
 }
 
