@@ -581,7 +581,7 @@ int evo_cluster_serve(evo_cluster *c, const evo_eval_def *def, evo_err *err)
 	char host[MPI_MAX_PROCESSOR_NAME + 1] = "";
 	int len = 0;
 	MPI_Get_processor_name(host, &len);
-	snprintf(h.host, sizeof h.host, "%s", host);
+	snprintf(h.host, sizeof h.host, "%.63s", host);
 	if (ev) {
 		h.ok = 1;
 		h.threads = evo_evaluator_threads(ev);

@@ -463,10 +463,16 @@ static int l_save(lua_State *L)
 	evo_err err = {{0}};
 	if (!l->log_open)
 		return luaL_error(L, "evo.save before evo.open_log");
-	/* best/ is made by evo_runlog_open, which saw it is no link; a
-	 * folder the name adds would need the same look */
-	if (evo_folder_check_links(l->run_dir, name, &err))
-		return raise_msg(L, err.msg);
+	/* the folders of name (best/) must be the run folder's own; the
+	 * file itself is replaced whatever it is (evo_write_file_atomic) */
+	const char *slash = strrchr(name, '/');
+	if (slash) {
+		char folder[1024];
+		snprintf(folder, sizeof folder, "%.*s", (int)(slash - name),
+			 name);
+		if (evo_folder_check_links(l->run_dir, folder, &err))
+			return raise_msg(L, err.msg);
+	}
 	if (evo_runlog_save(&l->log, name, text, len, &err))
 		return raise_msg(L, err.msg);
 	return 0;

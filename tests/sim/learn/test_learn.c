@@ -857,6 +857,64 @@ TEST(learning_loop_numbers_past_their_integer_type_are_refused)
  * test-asan LeakSanitizer reports (in out.txt) what is not freed; before
  * e538b79 both leaked. The loop is a learnsim.lua of the test's own
  * ($EVO_LUA_DIR, docs/lua.md). */
+/* evo.save and evo.read name a file of the run folder: a name that leaves
+ * it ("..", a path from /) is refused, and so is a folder of the name
+ * that is a link out of it; nothing is written outside. */
+TEST(the_learning_loop_reads_and_writes_only_inside_its_run_folder)
+{
+	make_mind("inside", "NEAT", 1, NEAT_TASK);
+	CHECK_EQ_INT(cli_sh("cp -r lua %s/inside/lua && mkdir -p "
+			    "%s/inside/users",
+			    cli_tmp, cli_tmp),
+		     0);
+	char script[2048];
+	snprintf(script, sizeof script,
+		 "local host = require 'evo.learn'\n"
+		 "local function try(f)\n"
+		 "  local ok, e = pcall(f)\n"
+		 "  host.print(ok and 'accepted' or tostring(e))\n"
+		 "end\n"
+		 "host.open_log(0)\n"
+		 "try(function() host.save('../escaped', 'x') end)\n"
+		 "try(function() host.save('best/../../escaped', 'x') end)\n"
+		 "try(function() host.save('%s/inside/users/abs', 'x') end)\n"
+		 "try(function() host.save('', 'x') end)\n"
+		 "try(function() host.read('../out.txt') end)\n"
+		 "try(function() host.save('sub/x.net', 'x') end)\n"
+		 "host.save('best/fine.net', 'fine')\n"
+		 "host.print('saved fine')\n",
+		 cli_tmp);
+	CHECK_EQ_INT(cli_write(script, "%s/inside/lua/learn/learnsim.lua",
+			       cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/inside/run && ln -s %s/inside/users "
+			    "%s/inside/run/sub",
+			    cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_sh("EVO_LUA_DIR=%s/inside/lua %s run "
+			    "%s/inside/Avoid/Tasks/Small.simbatch --seed 11 "
+			    "--run %s/inside/run > %s/inside/out.txt 2>&1",
+			    cli_tmp, cli_evo, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	char *out = cli_read("%s/inside/out.txt", cli_tmp);
+	CHECK_CONTAINS(out, "evo.save: '../escaped' is no file of the run "
+			    "folder");
+	CHECK_CONTAINS(out, "evo.save: 'best/../../escaped' is no file of "
+			    "the run folder");
+	CHECK_CONTAINS(out, "/inside/users/abs' is no file of the run folder");
+	CHECK_CONTAINS(out, "evo.save: '' is no file of the run folder");
+	CHECK_CONTAINS(out, "evo.read: '../out.txt' is no file of the run "
+			    "folder");
+	CHECK_CONTAINS(out, "/inside/run/sub is a symbolic link");
+	CHECK_CONTAINS(out, "saved fine");
+	CHECK(out && !strstr(out, "accepted"));
+	free(out);
+	CHECK_EQ_INT(cli_sh("test -e %s/inside/escaped", cli_tmp), 1);
+	CHECK_EQ_INT(cli_sh("test -z \"$(ls -A %s/inside/users)\"", cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_sh("test -f %s/inside/run/best/fine.net", cli_tmp), 0);
+}
+
 TEST(evo_learn_frees_its_arrays_when_a_call_fails)
 {
 	make_mind("unwind", "NEAT", 1, NEAT_TASK);
@@ -1178,6 +1236,7 @@ int main(void)
 	RUN(the_curve_is_drawn_as_the_run_goes);
 	RUN(too_long_run_folder_is_refused);
 	RUN(a_mind_folder_that_ships_a_link_to_write_through_is_refused);
+	RUN(the_learning_loop_reads_and_writes_only_inside_its_run_folder);
 	RUN(resume_refuses_a_damaged_checkpoint_and_keeps_the_log);
 	RUN(a_network_the_evaluator_refuses_stops_the_run_without_a_leak);
 	RUN(a_checkpoint_evo_has_no_memory_for_is_refused_without_a_leak);
