@@ -1,6 +1,8 @@
-/* The files a CAN transport writes (sim/remote/can.c): a candump source's
- * FILE.sent, which may come with FILE from someone else, is never written
- * through a symbolic link planted at its name. */
+/* What evo_can_open (sim/remote/can.c) takes from a URL, which may come
+ * with a task from someone else: a candump source's FILE.sent is never
+ * written through a symbolic link planted at its name, and a rate or port
+ * with a sign, junk after it or past any range (atol took "500000x" for
+ * 500000) is refused with the text it found. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -51,11 +53,39 @@ TEST(a_candump_logs_sent_file_is_written_through_no_link)
 	free(text);
 }
 
+TEST(a_url_number_with_a_sign_junk_or_overflow_is_refused)
+{
+	static const struct {
+		const char *url, *want;
+	} bad[] = {
+	    {"slcan:/dev/null?bitrate=500000x", "bitrate 500000x is none"},
+	    {"slcan:/dev/null?bitrate=-500000", "bitrate -500000 is none"},
+	    {"slcan:/dev/null?bitrate=+500000", "bitrate +500000 is none"},
+	    {"slcan:/dev/null?bitrate=99999999999999999999",
+	     "bitrate 99999999999999999999 is none"},
+	    {"slcan:/dev/null?baud=115200x", "baud 115200x is not a serial"},
+	    {"slcan:/dev/null?baud=18446744073709666816",
+	     "baud 18446744073709666816 is not a serial"},
+	    {"cannelloni:127.0.0.1:20000?local=20001x",
+	     "local port 20001x is not a port"},
+	    {"cannelloni:127.0.0.1:20000?local=-1", "local port -1 is not"},
+	};
+	for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+		evo_err err = {{0}};
+		evo_can *c = evo_can_open(bad[k].url, &err);
+		CHECK(c == NULL);
+		if (c)
+			evo_can_close(c);
+		CHECK_CONTAINS(err.msg, bad[k].want);
+	}
+}
+
 int main(void)
 {
-	if (cli_setup("can-files"))
+	if (cli_setup("can-open"))
 		return 1;
 	RUN(a_candump_logs_sent_file_is_written_through_no_link);
+	RUN(a_url_number_with_a_sign_junk_or_overflow_is_refused);
 	cli_cleanup();
 	return test_summary();
 }
