@@ -573,6 +573,23 @@ TEST(a_huge_or_fifo_file_is_refused_before_it_is_read)
 	unlink(path);
 }
 
+/* A skill's name is the name of its folder: SK:../Fwd read
+ * Skills/../Fwd/../Fwd.ades (Bot/Fwd.ades, given a folder Bot/Fwd), and a
+ * champion trained for it would be saved beside that, outside Skills/. */
+TEST(a_skill_name_that_is_no_folder_name_is_refused)
+{
+	fresh();
+	put("Fwd/README", "a folder\n");
+	put("Fwd.ades", "../Fwd\ninput:0\noutput:2\nMO:L\nMO:R\n"
+			    "hardCoded\nclass:MoveForward\n");
+	put("Skills/M/M.ades", "M\ninput:1\nSE:A\noutput:1\nSK:../Fwd\n"
+			       "neural\nlayers:0\n");
+	CHECK_EQ_STR(load_error("M"),
+		     "Skills/M/M.ades:5: SK:../Fwd: a skill's name is the name "
+		     "of its folder, which holds no '/' and is not '.' or '..'");
+	CHECK_CONTAINS(load_error(".."), "master skill ..: a skill's name is");
+}
+
 int main(void)
 {
 	RUN(tutorial_task_loads);
@@ -598,6 +615,7 @@ int main(void)
 	RUN(malformed_network_file);
 	RUN(a_huge_or_fifo_file_is_refused_before_it_is_read);
 	RUN(skill_file_for_another_skill);
+	RUN(a_skill_name_that_is_no_folder_name_is_refused);
 	RUN(missing_master);
 	RUN(not_a_mind_folder);
 	RUN(malformed_botdesc);
