@@ -207,7 +207,7 @@ int trace_load(const char *path, trace_file *t, char *err, size_t cap)
 	}
 	while ((r = next_line(f, line, &lineno, path, err, cap)) == 0) {
 		if (t->n_ticks == alloc) {
-			alloc = alloc ? 2 * alloc : 1024;
+			alloc = alloc ? 2 * alloc : 64;
 			t->tick = realloc(t->tick, alloc * sizeof *t->tick);
 			t->sensor = realloc(t->sensor, alloc * t->n_sensors *
 							       sizeof *t->sensor);
