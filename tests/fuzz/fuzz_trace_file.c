@@ -13,15 +13,23 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
+static char path[64];
+
+static void remove_file(void)
+{
+	unlink(path);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
 	/* in memory where the machine has /dev/shm: a file on disk a run
 	 * costs a journal write */
-	static char path[64];
-	if (!path[0])
+	if (!path[0]) {
 		snprintf(path, sizeof path, "%s/evo-fuzz-trace-%ld",
 			 access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp",
 			 (long)getpid());
+		atexit(remove_file);
+	}
 	FILE *f = fopen(path, "wb");
 	if (!f)
 		return 0;
