@@ -875,8 +875,12 @@ static int run_script(lua_State *L)
 	lua_rawsetp(L, LUA_REGISTRYINDEX, &LEARN_KEY);
 	luaL_requiref(L, "evo.learn", open_module, 0);
 	lua_pop(L, 1);
+	/* evo's own learning loop, with the whole standard library: its
+	 * modules come from lua/ alone, never from the mind folder, which
+	 * may be someone else's (a learn/common.lua there ran with io and
+	 * os) */
 	const char *dir = evo_lua_dir();
-	evo_lua_set_path(L, l->task->mind->root, dir);
+	evo_lua_set_path(L, dir, dir);
 	char path[1200];
 	evo_err err;
 	if (evo_path_fmt(path, sizeof path, &err, "%s/learn/%s", dir,
@@ -981,7 +985,8 @@ static int check_options(lua_State *L)
 	const char *task_path = lua_touserdata(L, 1);
 	const evo_task *task = lua_touserdata(L, 2);
 	luaL_openlibs(L);
-	evo_lua_set_path(L, task->mind->root, evo_lua_dir());
+	/* lua/ alone, as for the learning loop (run_script) */
+	evo_lua_set_path(L, evo_lua_dir(), evo_lua_dir());
 	if (luaL_loadbufferx(L, CHECK_OPTIONS, sizeof CHECK_OPTIONS - 1,
 			     "=evo check", "t") != LUA_OK)
 		return lua_error(L);

@@ -915,6 +915,40 @@ TEST(the_learning_loop_reads_and_writes_only_inside_its_run_folder)
 	CHECK_EQ_INT(cli_sh("test -f %s/inside/run/best/fine.net", cli_tmp), 0);
 }
 
+/* The learning loop runs evo's Lua with the whole standard library: its
+ * modules come from lua/ only. A shared mind folder that ships
+ * learn/common.lua (or learn/neat.lua) ran it with io and os, in evo run
+ * and in evo check alike. */
+TEST(a_mind_folder_cannot_replace_the_learning_loops_modules)
+{
+	make_mind("loop", "NEAT", 1, NEAT_TASK);
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/loop/Avoid/learn", cli_tmp), 0);
+	static const char *const names[] = {"common", "neat", "rng",
+					    "serialize", "netfile"};
+	for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
+		char text[300];
+		snprintf(text, sizeof text,
+			 "io.open('%s/loop/ran-%s', 'w'):close()\n"
+			 "error('the mind folder ran')\n",
+			 cli_tmp, names[k]);
+		CHECK_EQ_INT(cli_write(text, "%s/loop/Avoid/learn/%s.lua",
+				       cli_tmp, names[k]),
+			     0);
+	}
+	CHECK_EQ_INT(cli_sh("%s check %s/loop/Avoid/Tasks/Small.simbatch > "
+			    "%s/loop/check.txt 2>&1",
+			    cli_evo, cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(train("loop", ""), 0);
+	char *out = cli_read("%s/loop/out.txt", cli_tmp);
+	CHECK(out && !strstr(out, "the mind folder ran"));
+	free(out);
+	CHECK_EQ_INT(cli_sh("ls %s/loop/ran-* > /dev/null 2>&1", cli_tmp), 2);
+	char *champ = champion_of("loop");
+	CHECK_CONTAINS(champ, "trained by evo: NEAT, seed 11");
+	free(champ);
+}
+
 TEST(evo_learn_frees_its_arrays_when_a_call_fails)
 {
 	make_mind("unwind", "NEAT", 1, NEAT_TASK);
@@ -1237,6 +1271,7 @@ int main(void)
 	RUN(too_long_run_folder_is_refused);
 	RUN(a_mind_folder_that_ships_a_link_to_write_through_is_refused);
 	RUN(the_learning_loop_reads_and_writes_only_inside_its_run_folder);
+	RUN(a_mind_folder_cannot_replace_the_learning_loops_modules);
 	RUN(resume_refuses_a_damaged_checkpoint_and_keeps_the_log);
 	RUN(a_network_the_evaluator_refuses_stops_the_run_without_a_leak);
 	RUN(a_checkpoint_evo_has_no_memory_for_is_refused_without_a_leak);
