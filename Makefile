@@ -377,7 +377,7 @@ $(BUILD)/fuzz/fuzz_can_robot: tests/fuzz/fuzz_can_robot.c sim/remote/can_robot_f
 # Rank 0's checks of a rank's messages (cluster runs); whole numbers as
 # users write them; the trace reader of firmware/host/.
 $(BUILD)/fuzz/fuzz_cluster_messages: tests/fuzz/fuzz_cluster_messages.c \
-		sim/cluster/cluster_messages.c sim/cluster/cluster_internal.h sim/base/err.c
+		sim/cluster/cluster_messages.c sim/cluster/cluster_messages.h sim/base/err.c
 	@mkdir -p $(dir $@)
 	$(CLANG) -std=c11 -O1 -g $(WARN) -Icore/include -Isim \
 		-fsanitize=fuzzer $(FUZZ_SAN) \

@@ -17,13 +17,13 @@
  * its next at hand when it sends one back.
  *
  * The messages, and the checks of what a rank sends, are in
- * cluster_internal.h. Waiting for a message polls with a pause that
+ * cluster_messages.h. Waiting for a message polls with a pause that
  * grows to a millisecond, so an idle rank does not hold a core that
  * another rank on it could use (mpirun --oversubscribe on a small
  * machine). */
 #define _GNU_SOURCE /* sched_getaffinity */
 #include "cluster/cluster.h"
-#include "cluster/cluster_internal.h"
+#include "cluster/cluster_messages.h"
 
 #include <mpi.h>
 #include <pthread.h>

@@ -1,5 +1,5 @@
-/* The checks rank 0 makes of what a rank sends (cluster_internal.h). */
-#include "cluster/cluster_internal.h"
+/* The checks rank 0 makes of what a rank sends (cluster_messages.h). */
+#include "cluster/cluster_messages.h"
 
 #include <stdio.h>
 #include <string.h>

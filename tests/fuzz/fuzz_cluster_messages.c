@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cluster/cluster_internal.h"
+#include "cluster/cluster_messages.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

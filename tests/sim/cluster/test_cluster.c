@@ -24,7 +24,7 @@
 
 #include <mpi.h>
 
-#include "cluster/cluster_internal.h"
+#include "cluster/cluster_messages.h"
 #include "harness.h"
 #include "support/cli.h"
 

@@ -8,7 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "cluster/cluster_internal.h"
+#include "cluster/cluster_messages.h"
 #include "harness.h"
 
 static const evo_cluster_task TASK = {
