@@ -376,6 +376,24 @@ $(BUILD)/fuzz/fuzz_can_robot: tests/fuzz/fuzz_can_robot.c sim/remote/can_robot_f
 		-fsanitize=fuzzer $(FUZZ_SAN) \
 		-o $@ $< sim/remote/can_robot_frames.c $(CORE_SRCS) -lm
 
+# Rank 0's checks of a rank's messages (cluster runs); whole numbers as
+# users write them; the trace reader of firmware/host/.
+$(BUILD)/fuzz/fuzz_cluster_messages: tests/fuzz/fuzz_cluster_messages.c \
+		sim/cluster/cluster_messages.c sim/cluster/cluster_messages.h sim/base/err.c
+	@mkdir -p $(dir $@)
+	$(CLANG) -std=c11 -O1 -g $(WARN) -Icore/include -Isim \
+		-fsanitize=fuzzer $(FUZZ_SAN) \
+		-o $@ $< sim/cluster/cluster_messages.c sim/base/err.c
+$(BUILD)/fuzz/fuzz_number: tests/fuzz/fuzz_number.c sim/base/number.c sim/base/number.h
+	@mkdir -p $(dir $@)
+	$(CLANG) -std=c11 -O1 -g $(WARN) -Isim -fsanitize=fuzzer $(FUZZ_SAN) \
+		-o $@ $< sim/base/number.c
+$(BUILD)/fuzz/fuzz_trace_file: tests/fuzz/fuzz_trace_file.c firmware/host/trace_file.c \
+		firmware/host/trace_file.h
+	@mkdir -p $(dir $@)
+	$(CLANG) -std=c11 -O1 -g $(WARN) -Ifirmware -fsanitize=fuzzer $(FUZZ_SAN) \
+		-o $@ $< firmware/host/trace_file.c
+
 # The targets whose input comes from the network or the bus, from anyone
 # on it (the remote protocol over LCM, cannelloni datagrams, candump logs,
 # slcan lines both ways, a robot's frames over CAN, both ends of evo

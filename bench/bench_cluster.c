@@ -23,10 +23,13 @@
  *
  * usage: bench_cluster [--rounds N] */
 #define _POSIX_C_SOURCE 200809L
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+
+#include "base/number.h"
 
 #define BAR	 0.9
 #define TICKS	 1500
@@ -67,8 +70,10 @@ static int log_times(const char *run, double *seconds, double *evals)
 	*seconds = *evals = 0;
 	int rows = 0;
 	while (fgets(line, sizeof line, f)) {
-		int gen;
-		if (sscanf(line, "%d,", &gen) != 1 || gen < 1)
+		long long gen;
+		const char *end;
+		if (evo_parse_whole(line, &end, 1, INT_MAX, &gen) ||
+		    *end != ',')
 			continue;
 		char *col[10] = {0};
 		int k = 0;
@@ -109,10 +114,12 @@ int main(int argc, char **argv)
 {
 	int rounds = 7;
 	for (int i = 1; i < argc; i++) {
+		long long n;
 		if (strcmp(argv[i], "--rounds") == 0 && i + 1 < argc &&
-		    atoi(argv[i + 1]) >= 1 && atoi(argv[i + 1]) <= 100)
-			rounds = atoi(argv[++i]);
-		else {
+		    evo_parse_whole(argv[i + 1], NULL, 1, 100, &n) == 0) {
+			rounds = (int)n;
+			i++;
+		} else {
 			fprintf(stderr, "usage: bench_cluster [--rounds N "
 					"(1..100)]\n");
 			return 2;

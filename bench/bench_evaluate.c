@@ -18,6 +18,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "base/number.h"
 #include "learn/evaluate.h"
 #include "mind/net_build.h"
 #include "world2d/scene.h"
@@ -51,9 +52,17 @@ int main(int argc, char **argv)
 	const char *task = "minds/Avoid/Tasks/Avoid-EXP-NEAT.simbatch";
 	long ticks = 1000;
 	for (int i = 1; i < argc; i++) {
-		if (strcmp(argv[i], "--ticks") == 0 && i + 1 < argc)
-			ticks = strtol(argv[++i], NULL, 10);
-		else
+		if (strcmp(argv[i], "--ticks") == 0 && i + 1 < argc) {
+			long long n;
+			if (evo_parse_whole(argv[++i], NULL, 1, 1000000000, &n)) {
+				fprintf(stderr, "bench_evaluate: --ticks expects a "
+						"whole number 1..1000000000, "
+						"found '%s'\n",
+					argv[i]);
+				return 2;
+			}
+			ticks = (long)n;
+		} else
 			task = argv[i];
 	}
 	evo_err err = {{0}};

@@ -34,6 +34,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "base/number.h"
 #include "evo/flash.h"
 #include "host/qemu_session.h"
 #include "host/trace_file.h"
@@ -295,7 +296,15 @@ int main(int argc, char **argv)
 	size_t ticks = 2000;
 	for (int i = 1; i < argc; i++) {
 		if (strcmp(argv[i], "--ticks") == 0 && i + 1 < argc) {
-			ticks = strtoul(argv[++i], NULL, 10);
+			long long n;
+			if (evo_parse_whole(argv[++i], NULL, 1, 1000000000, &n)) {
+				fprintf(stderr, "bench_firmware: --ticks expects a "
+						"whole number 1..1000000000, "
+						"found '%s'\n",
+					argv[i]);
+				return 2;
+			}
+			ticks = (size_t)n;
 		} else {
 			fprintf(stderr, "usage: bench_firmware [--ticks N]\n");
 			return 2;

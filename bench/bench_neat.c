@@ -35,6 +35,7 @@
 #include <time.h>
 
 #include "base/fileio.h"
+#include "base/number.h"
 #include "learn/literature.h"
 
 static char evo_bin[256];
@@ -188,9 +189,10 @@ int main(int argc, char **argv)
 	const char *only = NULL;
 	for (int i = 1; i < argc; i++) {
 		if (strcmp(argv[i], "--seeds") == 0 && i + 1 < argc) {
-			char *end;
-			long v = strtol(argv[++i], &end, 10);
-			seeds = *end || v < 1 || v > 100000 ? 0 : (int)v;
+			long long v;
+			seeds = evo_parse_whole(argv[++i], NULL, 1, 100000, &v)
+				    ? 0
+				    : (int)v;
 			seeds_given = 1;
 		} else if (strcmp(argv[i], "--only") == 0 && i + 1 < argc)
 			only = argv[++i];

@@ -27,6 +27,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "base/number.h"
 #include "cmd/serve.h"
 #include "learn/evaluate.h"
 #include "mind/net_build.h"
@@ -390,8 +391,18 @@ int main(int argc, char **argv)
 {
 	long ticks = 3000;
 	for (int i = 1; i < argc; i++)
-		if (strcmp(argv[i], "--ticks") == 0 && i + 1 < argc)
-			ticks = strtol(argv[++i], NULL, 10);
+		if (strcmp(argv[i], "--ticks") == 0 && i + 1 < argc) {
+			long long n;
+			if (evo_parse_whole(argv[++i], NULL, 1, 1000000000,
+					    &n)) {
+				fprintf(stderr, "bench_remote: --ticks expects "
+						"a whole number 1..1000000000, "
+						"found '%s'\n",
+					argv[i]);
+				return 2;
+			}
+			ticks = (long)n;
+		}
 	int a = bench_lockstep(ticks);
 	int b = bench_scaling(ticks / 10 < 100 ? 100 : ticks / 10);
 	return a > b ? a : b;

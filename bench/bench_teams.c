@@ -27,6 +27,7 @@
 #include <unistd.h>
 
 #include "base/fileio.h"
+#include "base/number.h"
 #include "mind/task.h"
 #include "tasksim/tasksim.h"
 #include "world2d/scene.h"
@@ -245,8 +246,15 @@ int main(int argc, char **argv)
 	int rc = 0;
 	/* BENCH_TEAMS_ONLY=N measures N bots alone (for a profiler) */
 	const char *only = getenv("BENCH_TEAMS_ONLY");
+	long long only_n = 0;
+	if (only && evo_parse_whole(only, NULL, 1, 1000, &only_n)) {
+		fprintf(stderr, "bench_teams: BENCH_TEAMS_ONLY expects 10, 100 "
+				"or 1000, found '%s'\n",
+			only);
+		return 2;
+	}
 	for (int k = 0; k < 3 && rc == 0; k++) {
-		if (only && atoi(only) != sizes[k]) {
+		if (only && only_n != sizes[k]) {
 			f[k] = (figures){sizes[k], 1, 1};
 			continue;
 		}

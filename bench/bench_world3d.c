@@ -20,6 +20,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "base/number.h"
 #include "mind/task.h"
 #include "tasksim/tasksim.h"
 #include "world3d/scene3d.h"
@@ -139,9 +140,17 @@ int main(int argc, char **argv)
 	const char *task_path = "minds/Wheeled3D/Tasks/Avoid3D-DEMO.simbatch";
 	long ticks = 6000;
 	for (int i = 1; i < argc; i++) {
-		if (strcmp(argv[i], "--ticks") == 0 && i + 1 < argc)
-			ticks = atol(argv[++i]);
-		else
+		if (strcmp(argv[i], "--ticks") == 0 && i + 1 < argc) {
+			long long n;
+			if (evo_parse_whole(argv[++i], NULL, 1, 1000000000, &n)) {
+				fprintf(stderr, "bench_world3d: --ticks expects a "
+						"whole number 1..1000000000, "
+						"found '%s'\n",
+					argv[i]);
+				return 2;
+			}
+			ticks = (long)n;
+		} else
 			task_path = argv[i];
 	}
 	if (ticks <= 0) {

@@ -19,6 +19,10 @@ typedef struct trace_file {
 	int32_t *influence; /* n_ticks * n_skills; NULL when n_skills is 0 */
 } trace_file;
 
+/* The largest trace read: a million ticks of a large mind. A larger file,
+ * or one that is no regular file, is refused before it is read. */
+#define TRACE_FILE_MAX (1ull << 30)
+
 /* Read a trace. 0, or -1 with "path:line: what" in err. */
 int trace_load(const char *path, trace_file *t, char *err, size_t cap);
 

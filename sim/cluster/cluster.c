@@ -16,17 +16,14 @@
  * chunks while the batch has a candidate left for every thread, so it has
  * its next at hand when it sends one back.
  *
- * Messages (MPI_BYTE, in this machine's byte order: a cluster of one
- * architecture, as Open MPI's own homogeneous default):
- *     HELLO  rank -> 0   the rank's settings, or why it has none
- *     CHUNK  0 -> rank   generation, first index, count, the networks
- *     RESULT rank -> 0   first index, count, status, the results or why
- *     STOP   0 -> rank   the run is over
- * Waiting for a message polls with a pause that grows to a millisecond,
- * so an idle rank does not hold a core that another rank on it could use
- * (mpirun --oversubscribe on a small machine). */
+ * The messages, and the checks of what a rank sends, are in
+ * cluster_messages.h. Waiting for a message polls with a pause that
+ * grows to a millisecond, so an idle rank does not hold a core that
+ * another rank on it could use (mpirun --oversubscribe on a small
+ * machine). */
 #define _GNU_SOURCE /* sched_getaffinity */
 #include "cluster/cluster.h"
+#include "cluster/cluster_messages.h"
 
 #include <mpi.h>
 #include <pthread.h>
@@ -54,21 +51,13 @@
 #define LEAK_CHECK_NOW() ((void)0)
 #endif
 
-enum { TAG_HELLO = 1, TAG_CHUNK, TAG_RESULT, TAG_STOP };
+#define TAG_HELLO  EVO_CLUSTER_TAG_HELLO
+#define TAG_CHUNK  EVO_CLUSTER_TAG_CHUNK
+#define TAG_RESULT EVO_CLUSTER_TAG_RESULT
+#define TAG_STOP   EVO_CLUSTER_TAG_STOP
 
 /* Chunks a rank holds at most. */
 #define HELD 2
-
-/* What a rank tells rank 0 once its evaluator is up, or why not. */
-typedef struct hello {
-	int32_t ok;
-	int32_t threads, reps;
-	int64_t ticks;
-	uint64_t seed;
-	uint32_t n_in, n_out;
-	char host[64];
-	char msg[1024]; /* ok == 0: why */
-} hello;
 
 /* A chunk sent and not yet answered. */
 typedef struct sent {
@@ -338,40 +327,36 @@ static int greet(evo_cluster *c, const evo_evaluator *ev, evo_err *err)
 		return -1;
 	}
 	c->peer[0].threads = evo_evaluator_threads(ev);
+	evo_cluster_task t = {
+	    .seed = c->seed,
+	    .reps = evo_evaluator_reps(ev),
+	    .ticks = evo_evaluator_ticks(ev),
+	    .n_in = evo_evaluator_n_in(ev),
+	    .n_out = evo_evaluator_n_out(ev),
+	};
 	int rc = 0;
 	for (int r = 1; r < c->size; r++) {
-		hello h;
 		MPI_Status st;
 		wait_message(r, TAG_HELLO, &st);
-		MPI_Recv(&h, (int)sizeof h, MPI_BYTE, r, TAG_HELLO,
-			 MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-		h.msg[sizeof h.msg - 1] = 0;
-		h.host[sizeof h.host - 1] = 0;
-		c->peer[r].threads = h.threads;
-		snprintf(c->peer[r].host, sizeof c->peer[r].host, "%s", h.host);
+		/* received whatever its size (a larger one would end the job
+		 * in MPI_Recv), then checked */
+		int len = 0;
+		MPI_Get_count(&st, MPI_BYTE, &len);
+		unsigned char *buf = room(c, len > 0 ? (size_t)len : 1);
+		if (!buf)
+			out_of_memory(c->rank);
+		MPI_Recv(buf, len, MPI_BYTE, r, TAG_HELLO, MPI_COMM_WORLD,
+			 MPI_STATUS_IGNORE);
 		if (rc)
 			continue; /* the first failure is the one told */
-		if (!h.ok)
-			rc = evo_fail(err, "rank %d (on %s): %s", r, h.host,
-				      h.msg);
-		else if (h.seed != c->seed ||
-			 h.reps != evo_evaluator_reps(ev) ||
-			 h.ticks != evo_evaluator_ticks(ev) ||
-			 h.n_in != evo_evaluator_n_in(ev) ||
-			 h.n_out != evo_evaluator_n_out(ev))
-			rc = evo_fail(
-			    err,
-			    "rank %d (on %s) runs the task with seed "
-			    "%llu, %d repetitions of %lld ticks, a "
-			    "skill of %u inputs and %u outputs; rank "
-			    "0 with seed %llu, %d of %ld, %u and %u: "
-			    "start every rank with the same command "
-			    "and files",
-			    r, h.host, (unsigned long long)h.seed, h.reps,
-			    (long long)h.ticks, h.n_in, h.n_out,
-			    (unsigned long long)c->seed, evo_evaluator_reps(ev),
-			    evo_evaluator_ticks(ev), evo_evaluator_n_in(ev),
-			    evo_evaluator_n_out(ev));
+		evo_cluster_hello h;
+		rc = evo_cluster_check_hello(buf, len > 0 ? (size_t)len : 0, r,
+					     &t, &h, err);
+		if (rc == 0) {
+			c->peer[r].threads = h.threads;
+			snprintf(c->peer[r].host, sizeof c->peer[r].host, "%s",
+				 h.host);
+		}
 	}
 	if (rc) {
 		c->greeted = -1;
@@ -437,29 +422,10 @@ static void collect(evo_cluster *c, batch *b, int r, MPI_Status *st)
 	pr->n_held--;
 	MPI_Wait(&s.req, MPI_STATUS_IGNORE);
 	free(s.buf);
-	int32_t head[3];
-	if (len < (int)sizeof head) {
-		evo_fail(&e, "rank %d: a result of %d bytes", r, len);
+	if (evo_cluster_check_result(buf, len > 0 ? (size_t)len : 0, r,
+				     pr->host, s.first, s.count,
+				     b->res + s.first, &e))
 		fail_batch(b, &e);
-		return;
-	}
-	memcpy(head, buf, sizeof head);
-	size_t body = (size_t)len - sizeof head;
-	if (head[2] != 0) {
-		evo_fail(&e, "rank %d (on %s): %.*s", r, pr->host,
-			 (int)(body < 900 ? body : 900),
-			 (const char *)buf + sizeof head);
-		fail_batch(b, &e);
-	} else if (head[0] != s.first || head[1] != s.count ||
-		   body != (size_t)s.count * sizeof(evo_eval_result)) {
-		evo_fail(&e,
-			 "rank %d: results of candidates %d.. (%d) for "
-			 "%d.. (%d)",
-			 r, head[0], head[1], s.first, s.count);
-		fail_batch(b, &e);
-	} else {
-		memcpy(b->res + s.first, buf + sizeof head, body);
-	}
 }
 
 static int spread_evaluate(void *ctx, evo_evaluator *ev,
@@ -564,8 +530,15 @@ static void answer_chunk(evo_cluster *c, evo_evaluator *ev, MPI_Status *st)
 		rc = evo_fail(&e, "a chunk of %d bytes", len);
 	if (!rc) {
 		memcpy(head, buf, sizeof head);
-		if (head[2] < 1 || nets_room(c, head[2]))
-			rc = evo_fail(&e, "a chunk of %d networks", head[2]);
+		/* a network takes 8 bytes at least: a count the chunk cannot
+		 * hold asks for memory it has no use for */
+		if (head[0] < 0 || head[1] < 0 || head[2] < 1 ||
+		    head[2] > (len - (int)sizeof head) / 8 ||
+		    head[1] > INT32_MAX - head[2] || nets_room(c, head[2]))
+			rc = evo_fail(&e,
+				      "a chunk of %d networks from candidate "
+				      "%d of generation %d, in %d bytes",
+				      head[2], head[1], head[0], len);
 	}
 	if (!rc && !ev)
 		rc = evo_fail(&e, "no evaluator");
@@ -602,12 +575,13 @@ static void answer_chunk(evo_cluster *c, evo_evaluator *ev, MPI_Status *st)
 int evo_cluster_serve(evo_cluster *c, const evo_eval_def *def, evo_err *err)
 {
 	evo_evaluator *ev = evo_evaluator_create(def, err);
-	hello h;
+	evo_cluster_hello h;
 	memset(&h, 0, sizeof h);
+	/* the name may be longer than the hello holds */
+	char host[MPI_MAX_PROCESSOR_NAME + 1] = "";
 	int len = 0;
-	MPI_Get_processor_name(h.host, &len);
-	(void)len;
-	h.host[sizeof h.host - 1] = 0;
+	MPI_Get_processor_name(host, &len);
+	snprintf(h.host, sizeof h.host, "%.63s", host);
 	if (ev) {
 		h.ok = 1;
 		h.threads = evo_evaluator_threads(ev);

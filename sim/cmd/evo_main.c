@@ -6,6 +6,7 @@
 #include <strings.h>
 
 #include "base/fileio.h"
+#include "base/number.h"
 #include "cmd/export_c.h"
 #include "cmd/flash.h"
 #include "cmd/run.h"
@@ -298,15 +299,17 @@ int main(int argc, char **argv)
 			opts.master = v;
 			i++;
 		} else if (strcmp(a, "--ticks") == 0 && v) {
-			char *end;
-			ticks = strtol(v, &end, 10);
-			if (*end || ticks < 0) {
+			/* digits only: 99999999999999999999 was LONG_MAX,
+			 * a run that never ends */
+			long long n;
+			if (evo_parse_whole(v, NULL, 0, 1000000000, &n)) {
 				fprintf(stderr,
-					"evo: --ticks expects a whole number, "
-					"found '%s'\n",
+					"evo: --ticks expects a whole number "
+					"0..1000000000, found '%s'\n",
 					v);
 				return 2;
 			}
+			ticks = (long)n;
 			i++;
 		} else if (strcmp(a, "--sensor") == 0 && v &&
 			   n_sensor_args < EVO_MAX_SENSORS) {

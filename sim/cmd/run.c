@@ -243,8 +243,9 @@ static uint64_t episode_seed(uint64_t seed, long e)
 	return evo_rng_next(&r);
 }
 
-/* A trace is written to FILE.tmp.PID and renamed when the run ends well:
- * a failed run leaves nothing behind. */
+/* A trace is written to a new file beside FILE (evo_create_beside, which
+ * writes through no planted link) and renamed when the run ends well: a
+ * failed run leaves nothing behind. */
 typedef struct trace_file {
 	FILE *f;
 	char tmp[1100];
@@ -257,13 +258,16 @@ static int trace_open(trace_file *t, const char *path, evo_err *err)
 	if (!path)
 		return 0;
 	t->path = path;
-	if (evo_path_fmt(t->tmp, sizeof t->tmp, err, "%s.tmp.%ld", path,
-			 (long)getpid()))
+	int fd = evo_create_beside(path, t->tmp, sizeof t->tmp, err);
+	if (fd < 0)
 		return -1;
-	t->f = fopen(t->tmp, "w");
-	if (!t->f)
-		return evo_fail(err, "%s: cannot create: %s", t->tmp,
-				strerror(errno));
+	t->f = fdopen(fd, "w");
+	if (!t->f) {
+		evo_fail(err, "%s: cannot create: %s", t->tmp, strerror(errno));
+		close(fd);
+		unlink(t->tmp);
+		return -1;
+	}
 	return 0;
 }
 

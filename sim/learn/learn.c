@@ -437,15 +437,43 @@ static int l_log(lua_State *L)
 	return 0;
 }
 
+/* name is a file of the run folder ("log.csv", "best/gen-0001.net"):
+ * relative, with no ".." that would leave the folder. */
+static const char *run_file_name(lua_State *L, int idx, const char *fn)
+{
+	const char *name = luaL_checkstring(L, idx);
+	const char *p = name;
+	int ok = *name && *name != '/';
+	while (ok && *p) {
+		size_t n = strcspn(p, "/");
+		ok = n > 0 && !(n == 2 && p[0] == '.' && p[1] == '.');
+		p += n;
+		p += *p == '/';
+	}
+	if (!ok)
+		luaL_error(L, "%s: '%s' is no file of the run folder", fn, name);
+	return name;
+}
+
 static int l_save(lua_State *L)
 {
 	learn *l = ctx(L);
 	size_t len;
-	const char *name = luaL_checkstring(L, 1);
+	const char *name = run_file_name(L, 1, "evo.save");
 	const char *text = luaL_checklstring(L, 2, &len);
 	evo_err err = {{0}};
 	if (!l->log_open)
 		return luaL_error(L, "evo.save before evo.open_log");
+	/* the folders of name (best/) must be the run folder's own; the
+	 * file itself is replaced whatever it is (evo_write_file_atomic) */
+	const char *slash = strrchr(name, '/');
+	if (slash) {
+		char folder[1024];
+		snprintf(folder, sizeof folder, "%.*s", (int)(slash - name),
+			 name);
+		if (evo_folder_check_links(l->run_dir, folder, &err))
+			return raise_msg(L, err.msg);
+	}
 	if (evo_runlog_save(&l->log, name, text, len, &err))
 		return raise_msg(L, err.msg);
 	return 0;
@@ -467,7 +495,7 @@ static int l_read(lua_State *L)
 	size_t len;
 	evo_err err;
 	if (evo_path_fmt(path, sizeof path, &err, "%s/%s", l->run_dir,
-			 luaL_checkstring(L, 1)))
+			 run_file_name(L, 1, "evo.read")))
 		return raise_msg(L, err.msg);
 	struct stat st;
 	if (stat(path, &st) != 0) {
@@ -488,7 +516,7 @@ static int l_read(lua_State *L)
 		lua_setfield(L, -2, "__gc");
 	}
 	lua_setmetatable(L, -2);
-	if (evo_read_file(path, box, &len, &err))
+	if (evo_read_file_max(path, EVO_RUN_FILE_MAX, box, &len, &err))
 		return raise_msg(L, err.msg);
 	lua_pushlstring(L, *box, len);
 	free(*box);
@@ -535,8 +563,11 @@ static int l_save_champion(lua_State *L)
 			 name) ||
 	    evo_write_file_atomic(kept, text, len, &err))
 		return raise_msg(L, err.msg);
+	char folder[200];
+	snprintf(folder, sizeof folder, "Skills/%s", skill);
 	if (evo_path_fmt(path, sizeof path, &err, "%s/Skills/%s/%s%s.net", root,
 			 skill, skill, suffix) ||
+	    evo_folder_check_links(root, folder, &err) ||
 	    evo_write_file_atomic(path, text, len, &err))
 		return raise_msg(L, lua_pushfstring(L, "%s; the champion is in %s",
 						    err.msg, kept));
@@ -686,8 +717,11 @@ static int l_save_skill_net(lua_State *L)
 	const char *text = luaL_checklstring(L, 2, &len);
 	char path[1400];
 	evo_err err;
+	char folder[200];
+	snprintf(folder, sizeof folder, "Skills/%s", skill);
 	if (evo_path_fmt(path, sizeof path, &err, "%s/Skills/%s/%s.net",
 			 l->task->mind->root, skill, skill) ||
+	    evo_folder_check_links(l->task->mind->root, folder, &err) ||
 	    evo_write_file_atomic(path, text, len, &err))
 		return raise_msg(L, err.msg);
 	return 0;
@@ -842,8 +876,12 @@ static int run_script(lua_State *L)
 	lua_rawsetp(L, LUA_REGISTRYINDEX, &LEARN_KEY);
 	luaL_requiref(L, "evo.learn", open_module, 0);
 	lua_pop(L, 1);
+	/* evo's own learning loop, with the whole standard library: its
+	 * modules come from lua/ alone, never from the mind folder, which
+	 * may be someone else's (a learn/common.lua there ran with io and
+	 * os) */
 	const char *dir = evo_lua_dir();
-	evo_lua_set_path(L, l->task->mind->root, dir);
+	evo_lua_set_path(L, dir, dir);
 	char path[1200];
 	evo_err err;
 	if (evo_path_fmt(path, sizeof path, &err, "%s/learn/%s", dir,
@@ -950,7 +988,8 @@ static int check_options(lua_State *L)
 	const evo_task *task = lua_touserdata(L, 2);
 	int quiet = lua_toboolean(L, 3);
 	luaL_openlibs(L);
-	evo_lua_set_path(L, task->mind->root, evo_lua_dir());
+	/* lua/ alone, as for the learning loop (run_script) */
+	evo_lua_set_path(L, evo_lua_dir(), evo_lua_dir());
 	if (luaL_loadbufferx(L, CHECK_OPTIONS, sizeof CHECK_OPTIONS - 1,
 			     "=evo check", "t") != LUA_OK)
 		return lua_error(L);
@@ -1155,9 +1194,15 @@ int evo_learn_run(const char *task_path, evo_task *task,
 		const char *base = strrchr(task_path, '/');
 		base = base ? base + 1 : task_path;
 		int n = (int)strcspn(base, ".");
+		/* the run folder is the mind folder's: no link it ships
+		 * sends the run elsewhere */
+		char rel[1024];
 		if (evo_path_fmt(l.run_dir, sizeof l.run_dir, err,
 				 "%s/Runs/%.*s-seed%llu", task->mind->root, n,
-				 base, (unsigned long long)o->seed))
+				 base, (unsigned long long)o->seed) ||
+		    evo_path_fmt(rel, sizeof rel, err, "Runs/%.*s-seed%llu", n,
+				 base, (unsigned long long)o->seed) ||
+		    evo_folder_check_links(task->mind->root, rel, err))
 			return -1;
 	}
 	l.ed = (evo_eval_def){
@@ -1168,6 +1213,14 @@ int evo_learn_run(const char *task_path, evo_task *task,
 		.spread = o->spread,
 		.learning_skill = l.continuous ? l.skill : NULL,
 	};
+	/* the skill's folder, where the champion goes, is checked again
+	 * when it is saved; a link there is better said before training */
+	if (task->n_teams == 0) {
+		char folder[200];
+		snprintf(folder, sizeof folder, "Skills/%s", l.skill);
+		if (evo_folder_check_links(task->mind->root, folder, err))
+			return -1;
+	}
 	int lock = evo_runlog_claim(l.run_dir, err);
 	if (lock < 0)
 		return -1;

@@ -6,6 +6,7 @@
 #include <math.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,6 +14,7 @@
 #include <unistd.h>
 
 #include "base/fileio.h"
+#include "base/number.h"
 
 static int make_dirs(const char *path, evo_err *err)
 {
@@ -117,7 +119,12 @@ int evo_runlog_claim(const char *dir, evo_err *err)
 		return evo_fail(err, "%s: path too long", dir);
 	if (make_dirs(dir, err))
 		return -1;
-	int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+	/* O_NOFOLLOW: a .lock a mind folder ships as a link would have evo
+	 * create the file it names; the link is removed, and .lock made. */
+	int fd = open(path, O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
+	if (fd < 0 && errno == ELOOP && unlink(path) == 0)
+		fd = open(path, O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC,
+			  0644);
 	if (fd < 0)
 		return evo_fail(err, "%s: cannot create: %s", path,
 				strerror(errno));
@@ -265,7 +272,7 @@ int evo_runlog_open(evo_runlog *log, const char *dir, int from_generation,
 	snprintf(best, sizeof best, "%s/best", dir);
 	snprintf(path, sizeof path, "%s/log.csv", dir);
 	int added;
-	if (make_dirs(best, err))
+	if (evo_folder_check_links(dir, "best", err) || make_dirs(best, err))
 		return -1;
 	if (from_generation <= 0)
 		return set_columns(log, NULL, 0, metrics, n_metrics, &added,
@@ -276,7 +283,7 @@ int evo_runlog_open(evo_runlog *log, const char *dir, int from_generation,
 	 * column more, empty in the rows kept. */
 	char *old;
 	size_t len;
-	if (evo_read_file(path, &old, &len, err))
+	if (evo_read_file_max(path, EVO_RUN_FILE_MAX, &old, &len, err))
 		return -1;
 	const char *line = strchr(old, '\n');
 	size_t head = line ? (size_t)(line - old) : len;
@@ -285,12 +292,29 @@ int evo_runlog_open(evo_runlog *log, const char *dir, int from_generation,
 		free(old);
 		return -1;
 	}
+	unsigned lineno = 1;
 	while (line && line[1]) {
 		line++;
+		lineno++;
 		const char *end = strchr(line, '\n');
 		if (!end)
 			break;
-		if (atoi(line) < from_generation) {
+		/* a row starts with its generation, as evo wrote it: a row
+		 * that does not was not written by evo */
+		long long gen;
+		const char *after;
+		if (evo_parse_whole(line, &after, 0, INT_MAX, &gen) ||
+		    *after != ',') {
+			evo_fail(err,
+				 "%s:%u: expected a row that starts with its "
+				 "generation (a whole number, then ','), found "
+				 "'%.*s'",
+				 path, lineno,
+				 (int)(end - line > 40 ? 40 : end - line), line);
+			free(old);
+			return -1;
+		}
+		if (gen < from_generation) {
 			int bad = append(log, line, (size_t)(end - line), err);
 			for (int k = 0; !bad && k < added; k++)
 				bad = append(log, ",", 1, err);

@@ -147,6 +147,23 @@ static int entry_for(loader *ld, const char *name, const char *where,
 	if (ld->n_entries == MAX_SKILLS)
 		return evo_fail(ld->err, "%s:%u: more than %d skills", where,
 				line, MAX_SKILLS);
+	/* A skill's name is its folder's and its files' (Skills/S/S.ades,
+	 * where its champion is saved as S.net): a '/' or a name of "." or
+	 * ".." would reach outside Skills/. */
+	if (strchr(name, '/') || strcmp(name, ".") == 0 ||
+	    strcmp(name, "..") == 0) {
+		if (where)
+			return evo_fail(ld->err,
+					"%s:%u: SK:%s: a skill's name is the "
+					"name of its folder, which holds no "
+					"'/' and is not '.' or '..'",
+					where, line, name);
+		return evo_fail(ld->err,
+				"master skill %s: a skill's name is the name "
+				"of its folder, which holds no '/' and is not "
+				"'.' or '..'",
+				name);
+	}
 	skill_entry *e = &ld->entry[ld->n_entries];
 	snprintf(e->name, sizeof e->name, "%s", name);
 	skill_path(e->path, sizeof e->path, ld->root, name, "ades");

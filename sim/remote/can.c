@@ -108,6 +108,22 @@ static int query(const char *url, const char *key, char *out, size_t cap)
 	return 0;
 }
 
+/* A whole number of a URL (a query's value, a port): digits only, so
+ * that "115200x" is no rate and 99999999999999999999 no wrapped one; -1
+ * when it is none. */
+static long url_number(const char *s)
+{
+	long v = 0;
+	if (!*s || strlen(s) > 9)
+		return -1;
+	for (; *s; s++) {
+		if (*s < '0' || *s > '9')
+			return -1;
+		v = v * 10 + (*s - '0');
+	}
+	return v;
+}
+
 /* The part of url after "scheme:" and before '?'. */
 static void target(const char *url, const char *scheme, char *out,
 		   size_t cap)
@@ -263,20 +279,21 @@ static int slcan_command(evo_can *c, const char *cmd, evo_err *err)
 
 static int open_slcan(evo_can *c, const char *dev, evo_err *err)
 {
-	char v[32];
-	long bitrate = query(c->url, "bitrate", v, sizeof v) ? atol(v) : 500000;
-	long baud = query(c->url, "baud", v, sizeof v) ? atol(v) : 115200;
+	char bv[32] = "500000", dv[32] = "115200";
+	query(c->url, "bitrate", bv, sizeof bv);
+	query(c->url, "baud", dv, sizeof dv);
+	long bitrate = url_number(bv), baud = url_number(dv);
 	int code = bitrate_code(bitrate);
 	if (code < 0)
 		return evo_fail(err,
-				"%s: bitrate %ld is none of slcan's (10000, "
+				"%s: bitrate %s is none of slcan's (10000, "
 				"20000, 50000, 100000, 125000, 250000, 500000, "
 				"800000, 1000000)",
-				c->url, bitrate);
+				c->url, bv);
 	if (!baud_of(baud))
-		return evo_fail(err, "%s: baud %ld is not a serial rate evo "
+		return evo_fail(err, "%s: baud %s is not a serial rate evo "
 				     "sets (9600 .. 1000000)",
-				c->url, baud);
+				c->url, dv);
 	c->fd = open(dev, O_RDWR | O_NOCTTY | O_CLOEXEC);
 	if (c->fd < 0)
 		return evo_fail(err, "%s: cannot open %s: %s", c->url, dev,
@@ -362,12 +379,12 @@ static int open_cannelloni(evo_can *c, const char *hostport, evo_err *err)
 	c->peer_len = ai->ai_addrlen;
 	freeaddrinfo(ai);
 	char lp[16];
-	long local = query(c->url, "local", lp, sizeof lp)
-			 ? atol(lp)
-			 : atol(colon + 1);
+	if (!query(c->url, "local", lp, sizeof lp))
+		snprintf(lp, sizeof lp, "%.15s", colon + 1);
+	long local = url_number(lp);
 	if (local < 1 || local > 65535)
-		return evo_fail(err, "%s: local port %ld is not a port",
-				c->url, local);
+		return evo_fail(err, "%s: local port %s is not a port", c->url,
+				lp);
 	/* Not inherited: a program evo starts must not hold the port (nor
 	 * the device, the pseudo-terminal or the log) after evo closes it. */
 	c->fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
@@ -448,10 +465,28 @@ evo_can *evo_can_open(const char *url, evo_err *err)
 		if (rc == 0) {
 			char out[300];
 			snprintf(out, sizeof out, "%s.sent", t);
-			c->log_out = fopen(out, "ae");
-			if (!c->log_out)
+			/* O_NOFOLLOW: FILE.sent may come with FILE, from
+			 * someone else; a link there would have evo append
+			 * frames to whatever file it names */
+			int fd = open(out,
+				      O_WRONLY | O_APPEND | O_CREAT |
+					  O_NOFOLLOW | O_CLOEXEC,
+				      0644);
+			int e = errno;
+			c->log_out = fd >= 0 ? fdopen(fd, "a") : NULL;
+			if (!c->log_out) {
+				if (fd >= 0) {
+					e = errno;
+					close(fd);
+				}
 				rc = evo_fail(err, "%s: cannot write %s: %s",
-					      url, out, strerror(errno));
+					      url, out,
+					      e == ELOOP
+						  ? "a symbolic link, which "
+						    "evo does not write "
+						    "through"
+						  : strerror(e));
+			}
 		}
 	} else {
 		rc = unknown_url(url, err);

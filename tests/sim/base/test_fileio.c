@@ -1,12 +1,19 @@
 /* Errors and files (sim/base/err.c, sim/base/fileio.c): evo_fail formats
  * and tolerates a NULL message; a file reads back byte for byte, NUL
  * included; a missing file's message names it and why; an atomic write
- * replaces a file whole and leaves no temporary file beside it. */
+ * replaces a file whole and leaves no temporary file beside it, and
+ * writes through no symbolic link a mind folder plants, at the temporary
+ * name or the final one; a file larger than the limit is refused with its
+ * name and the limit before it costs memory, and a FIFO or a device before
+ * it is read. */
 #define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "base/fileio.h"
@@ -88,6 +95,139 @@ TEST(an_atomic_write_replaces_whole_and_leaves_nothing_beside)
 	CHECK_CONTAINS(err.msg, "no/such/folder");
 }
 
+/* The text of the file at path, or "" (static). */
+static const char *text_of(const char *path)
+{
+	static char buf[256];
+	buf[0] = 0;
+	FILE *f = fopen(path, "r");
+	if (f) {
+		size_t n = fread(buf, 1, sizeof buf - 1, f);
+		buf[n] = 0;
+		fclose(f);
+	}
+	return buf;
+}
+
+static int is_regular(const char *path)
+{
+	struct stat st;
+	return lstat(path, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+/* A shared mind folder ships Skills/Avoid/Avoid.net.tmp.<pid> as a
+ * symbolic link to a file of the user's, and Avoid.net itself as a link
+ * to another: saving the champion must change neither, and leave
+ * Avoid.net a file of its own with the champion in it. */
+TEST(an_atomic_write_goes_through_no_planted_link)
+{
+	char skill[128], victim[160], victim2[160], absent[160];
+	snprintf(skill, sizeof skill, "%s/Skills", dir);
+	mkdir(skill, 0755);
+	snprintf(skill, sizeof skill, "%s/Skills/Avoid", dir);
+	CHECK_EQ_INT(mkdir(skill, 0755), 0);
+	snprintf(victim, sizeof victim, "%s/bashrc", dir);
+	snprintf(victim2, sizeof victim2, "%s/profile", dir);
+	snprintf(absent, sizeof absent, "%s/made-by-evo", dir);
+	CHECK_EQ_INT(cli_write("precious\n", "%s", victim), 0);
+	CHECK_EQ_INT(cli_write("also precious\n", "%s", victim2), 0);
+	char net[200], tmp[240], tmp1[240];
+	snprintf(net, sizeof net, "%s/Avoid.net", skill);
+	snprintf(tmp, sizeof tmp, "%s.tmp.%ld", net, (long)getpid());
+	snprintf(tmp1, sizeof tmp1, "%s.tmp.%ld.1", net, (long)getpid());
+	CHECK_EQ_INT(symlink(victim, tmp), 0);
+	/* a dangling link, which O_CREAT alone would create a file for */
+	CHECK_EQ_INT(symlink(absent, tmp1), 0);
+	CHECK_EQ_INT(symlink(victim2, net), 0);
+	evo_err err = {{0}};
+	CHECK_EQ_INT(evo_write_file_atomic(net, "champion\n", 9, &err), 0);
+	CHECK_EQ_STR(err.msg, "");
+	CHECK_EQ_STR(text_of(victim), "precious\n");
+	CHECK_EQ_STR(text_of(victim2), "also precious\n");
+	CHECK(access(absent, F_OK) != 0);
+	CHECK(is_regular(net));
+	CHECK_EQ_STR(text_of(net), "champion\n");
+	/* and again, with the links still planted: the same */
+	CHECK_EQ_INT(evo_write_file_atomic(net, "second\n", 7, &err), 0);
+	CHECK_EQ_STR(text_of(victim), "precious\n");
+	CHECK_EQ_STR(text_of(net), "second\n");
+	CHECK(access(absent, F_OK) != 0);
+}
+
+/* Resident memory now, in kilobytes (the high-water mark). */
+static long max_rss_kb(void)
+{
+	struct rusage ru;
+	getrusage(RUSAGE_SELF, &ru);
+	return ru.ru_maxrss;
+}
+
+/* A sparse file one byte past the limit costs no disk, and would cost
+ * 16 MiB of memory read whole: it is refused by its size, naming the file
+ * and the limit, and memory stays as it was. */
+TEST(a_file_past_the_limit_is_refused_by_name_before_it_is_read)
+{
+	char path[128];
+	snprintf(path, sizeof path, "%s/huge.net", dir);
+	int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+	CHECK(fd >= 0);
+	CHECK_EQ_INT(ftruncate(fd, (off_t)(16 << 20) + 1), 0);
+	close(fd);
+	long before = max_rss_kb();
+	evo_err err = {{0}};
+	char *back = NULL;
+	size_t len = 0;
+	CHECK_EQ_INT(evo_read_file(path, &back, &len, &err), -1);
+	CHECK(back == NULL);
+	CHECK_CONTAINS(err.msg, path);
+	CHECK_CONTAINS(err.msg, "16777217 bytes");
+	CHECK_CONTAINS(err.msg, "at most 16 MiB");
+	CHECK(max_rss_kb() - before < 4096);
+	/* 1.5 GB, as a hostile mind folder would ship it, for a run
+	 * folder's limit of 1 GiB */
+	fd = open(path, O_WRONLY | O_TRUNC);
+	CHECK(fd >= 0);
+	CHECK_EQ_INT(ftruncate(fd, (off_t)1500000000), 0);
+	close(fd);
+	CHECK_EQ_INT(evo_read_file_max(path, (size_t)1 << 30, &back, &len,
+				       &err),
+		     -1);
+	CHECK_CONTAINS(err.msg, "1500000000 bytes");
+	CHECK_CONTAINS(err.msg, "at most 1 GiB");
+	CHECK(max_rss_kb() - before < 4096);
+	unlink(path);
+	/* at the limit it reads; one byte more it does not */
+	snprintf(path, sizeof path, "%s/small.txt", dir);
+	CHECK_EQ_INT(cli_write("0123456789", "%s", path), 0);
+	CHECK_EQ_INT(evo_read_file_max(path, 10, &back, &len, &err), 0);
+	CHECK_EQ_INT((long long)len, 10);
+	free(back);
+	back = NULL;
+	CHECK_EQ_INT(evo_read_file_max(path, 9, &back, &len, &err), -1);
+	CHECK_CONTAINS(err.msg, "10 bytes");
+	CHECK_CONTAINS(err.msg, "at most 9 bytes");
+	unlink(path);
+}
+
+/* A FIFO a mind folder ships as a .net would wait for a writer forever;
+ * /dev/zero never ends. Neither is read. */
+TEST(a_fifo_or_a_device_is_no_file_to_read)
+{
+	char path[128];
+	snprintf(path, sizeof path, "%s/fifo.net", dir);
+	CHECK_EQ_INT(mkfifo(path, 0644), 0);
+	evo_err err = {{0}};
+	char *back = NULL;
+	size_t len = 0;
+	CHECK_EQ_INT(evo_read_file(path, &back, &len, &err), -1);
+	CHECK_CONTAINS(err.msg, path);
+	CHECK_CONTAINS(err.msg, "not a regular file");
+	unlink(path);
+	CHECK_EQ_INT(evo_read_file("/dev/zero", &back, &len, &err), -1);
+	CHECK_CONTAINS(err.msg, "/dev/zero: not a regular file");
+	CHECK(back == NULL);
+}
+
 int main(void)
 {
 	snprintf(dir, sizeof dir, "%s/evo-fileio-XXXXXX", cli_tmp_root());
@@ -97,6 +237,9 @@ int main(void)
 	RUN(write_then_read_back_byte_for_byte);
 	RUN(a_missing_file_is_named_with_the_reason);
 	RUN(an_atomic_write_replaces_whole_and_leaves_nothing_beside);
+	RUN(an_atomic_write_goes_through_no_planted_link);
+	RUN(a_file_past_the_limit_is_refused_by_name_before_it_is_read);
+	RUN(a_fifo_or_a_device_is_no_file_to_read);
 	char cmd[128];
 	snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
 	if (system(cmd) != 0)

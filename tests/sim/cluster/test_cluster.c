@@ -4,8 +4,10 @@
  * with threads; a rank killed with SIGKILL in the middle of a generation
  * ends the run within seconds with every finished generation kept, and
  * --resume with another number of ranks ends as the uninterrupted run; a
- * rank started with other settings than rank 0 is named, and a team task
- * is refused on more than one rank.
+ * rank started with other settings than rank 0 is named, a rank whose
+ * hello is not evo's (-1 threads, a huge count, the wrong size) stops the
+ * run with the rank named instead of rank 0 dividing by zero, and a team
+ * task is refused on more than one rank.
  *
  * Runs as root too (the OMPI_ALLOW_RUN_AS_ROOT variables) and on a
  * machine with fewer cores than ranks (--oversubscribe), as
@@ -20,6 +22,9 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <mpi.h>
+
+#include "cluster/cluster_messages.h"
 #include "harness.h"
 #include "support/cli.h"
 
@@ -333,8 +338,91 @@ TEST(a_team_task_is_refused_on_two_ranks)
 	free(log);
 }
 
-int main(void)
+/* The test binary run as a rank under mpirun (--fake-rank WHAT): a hello
+ * as a damaged or foreign rank sends it (WHAT: threads=N, or short for
+ * one of 8 bytes) with the settings of make_mind_pop's task otherwise,
+ * then the wait for rank 0's STOP, 30 s at most. */
+static int fake_rank(const char *what)
 {
+	MPI_Init(NULL, NULL);
+	evo_cluster_hello h;
+	memset(&h, 0, sizeof h);
+	h.ok = 1;
+	h.threads = 1;
+	h.reps = 2;
+	h.ticks = 60;
+	h.seed = 11;
+	/* the Avoid skill's, so that rank 0 finds nothing else amiss */
+	h.n_in = 11;
+	h.n_out = 2;
+	snprintf(h.host, sizeof h.host, "fakehost");
+	if (strncmp(what, "threads=", 8) == 0)
+		h.threads = (int32_t)strtol(what + 8, NULL, 10);
+	int len = strcmp(what, "short") == 0 ? 8 : (int)sizeof h;
+	MPI_Send(&h, len, MPI_BYTE, 0, EVO_CLUSTER_TAG_HELLO, MPI_COMM_WORLD);
+	for (int k = 0; k < 3000; k++) {
+		int flag = 0;
+		MPI_Status st;
+		MPI_Iprobe(0, EVO_CLUSTER_TAG_STOP, MPI_COMM_WORLD, &flag, &st);
+		if (flag) {
+			MPI_Recv(NULL, 0, MPI_BYTE, 0, EVO_CLUSTER_TAG_STOP,
+				 MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+			break;
+		}
+		struct timespec ts = {0, 10000000};
+		nanosleep(&ts, NULL);
+	}
+	MPI_Finalize();
+	return 0;
+}
+
+static char self[512];
+
+/* A rank whose hello says -1 threads divided by zero in rank 0 (SIGFPE,
+ * or UBSan's report); a hello with a count no rank has, or of another
+ * size, is no better. Each stops the run at once with the rank named and
+ * no rank waiting. */
+TEST(a_rank_whose_hello_is_not_evos_is_named)
+{
+	static const struct {
+		const char *what, *want;
+	} bad[] = {
+	    {"threads=-1", "rank 1 (on fakehost): a hello with -1 threads "
+			   "(a rank has 1 to 1024)"},
+	    {"threads=0", "rank 1 (on fakehost): a hello with 0 threads"},
+	    {"threads=2147483647",
+	     "rank 1 (on fakehost): a hello with 2147483647 threads"},
+	    {"short", "rank 1: a hello of 8 bytes, where evo's has"},
+	};
+	make_mind_pop("fake", 2, 60, 16);
+	for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+		time_t t0 = time(NULL);
+		int rc = cli_sh("timeout 60 " MPIRUN
+				" -np 1 %s run %s/fake/Avoid/Tasks/"
+				"Small.simbatch --seed 11 --threads 1 --run "
+				"%s/fake/run : -np 1 %s --fake-rank %s > "
+				"%s/fake/out.txt 2>&1",
+				cli_evo, cli_tmp, cli_tmp, self, bad[k].what,
+				cli_tmp);
+		CHECK_EQ_INT(rc, 1);
+		CHECK(time(NULL) - t0 < 30);
+		char *out = cli_read("%s/fake/out.txt", cli_tmp);
+		CHECK_CONTAINS(out, bad[k].want);
+		if (out && !strstr(out, bad[k].want))
+			printf("%s", out);
+		CHECK(out && !strstr(out, "runtime error") &&
+		      !strstr(out, "Floating point"));
+		free(out);
+	}
+}
+
+int main(int argc, char **argv)
+{
+	if (argc == 3 && strcmp(argv[1], "--fake-rank") == 0)
+		return fake_rank(argv[2]);
+	/* the fake rank is this binary, named as it was started (mpirun
+	 * starts it in this directory) */
+	snprintf(self, sizeof self, "%s", argv[0]);
 	if (cli_setup("cluster"))
 		return 1;
 	setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
@@ -343,6 +431,7 @@ int main(void)
 	RUN(a_3d_task_spreads_over_ranks_as_a_2d_one);
 	RUN(a_killed_rank_stops_the_run_and_resume_with_other_ranks_finishes_it);
 	RUN(a_rank_with_other_settings_is_named);
+	RUN(a_rank_whose_hello_is_not_evos_is_named);
 	RUN(a_team_task_is_refused_on_two_ranks);
 	cli_cleanup();
 	return test_summary();

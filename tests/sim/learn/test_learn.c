@@ -495,6 +495,50 @@ TEST(too_long_run_folder_is_refused)
 	CHECK_EQ_INT(cli_sh("test -e %s/lr/deep", cli_tmp), 1);
 }
 
+/* A shared mind folder that ships Runs or Skills/Avoid as a symbolic link
+ * to a folder of the user's: evo run refuses it by name before it trains,
+ * and nothing is written into the user's folder (docs/formats.md). */
+TEST(a_mind_folder_that_ships_a_link_to_write_through_is_refused)
+{
+	make_mind("ln", "NEAT", 1, NEAT_TASK);
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/ln/users && ln -s %s/ln/users "
+			    "%s/ln/Avoid/Runs",
+			    cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_sh("%s run %s/ln/Avoid/Tasks/Small.simbatch > "
+			    "%s/ln/out.txt 2>&1",
+			    cli_evo, cli_tmp, cli_tmp),
+		     1);
+	char *out = cli_read("%s/ln/out.txt", cli_tmp);
+	char want[300];
+	snprintf(want, sizeof want, "%s/ln/Avoid/Runs is a symbolic link",
+		 cli_tmp);
+	CHECK(out && strstr(out, want));
+	if (out && !strstr(out, want))
+		printf("%s", out);
+	free(out);
+	CHECK_EQ_INT(cli_sh("test -z \"$(ls -A %s/ln/users)\"", cli_tmp), 0);
+	/* the skill's folder a link to a copy of the user's */
+	CHECK_EQ_INT(cli_sh("rm %s/ln/Avoid/Runs && mv %s/ln/Avoid/Skills/Avoid "
+			    "%s/ln/users/Avoid && ln -s %s/ln/users/Avoid "
+			    "%s/ln/Avoid/Skills/Avoid && cp "
+			    "%s/ln/users/Avoid/Avoid.net %s/ln/before.net",
+			    cli_tmp, cli_tmp, cli_tmp, cli_tmp, cli_tmp,
+			    cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(train("ln", ""), 1);
+	out = cli_read("%s/ln/out.txt", cli_tmp);
+	snprintf(want, sizeof want,
+		 "%s/ln/Avoid/Skills/Avoid is a symbolic link", cli_tmp);
+	CHECK(out && strstr(out, want));
+	if (out && !strstr(out, want))
+		printf("%s", out);
+	free(out);
+	CHECK_EQ_INT(cli_sh("cmp -s %s/ln/before.net %s/ln/users/Avoid/Avoid.net",
+			    cli_tmp, cli_tmp),
+		     0);
+}
+
 /* The same for GENETIC, whose checkpoint holds its own state. */
 TEST(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one)
 {
@@ -813,6 +857,98 @@ TEST(learning_loop_numbers_past_their_integer_type_are_refused)
  * test-asan LeakSanitizer reports (in out.txt) what is not freed; before
  * e538b79 both leaked. The loop is a learnsim.lua of the test's own
  * ($EVO_LUA_DIR, docs/lua.md). */
+/* evo.save and evo.read name a file of the run folder: a name that leaves
+ * it ("..", a path from /) is refused, and so is a folder of the name
+ * that is a link out of it; nothing is written outside. */
+TEST(the_learning_loop_reads_and_writes_only_inside_its_run_folder)
+{
+	make_mind("inside", "NEAT", 1, NEAT_TASK);
+	CHECK_EQ_INT(cli_sh("cp -r lua %s/inside/lua && mkdir -p "
+			    "%s/inside/users",
+			    cli_tmp, cli_tmp),
+		     0);
+	char script[2048];
+	snprintf(script, sizeof script,
+		 "local host = require 'evo.learn'\n"
+		 "local function try(f)\n"
+		 "  local ok, e = pcall(f)\n"
+		 "  host.print(ok and 'accepted' or tostring(e))\n"
+		 "end\n"
+		 "host.open_log(0)\n"
+		 "try(function() host.save('../escaped', 'x') end)\n"
+		 "try(function() host.save('best/../../escaped', 'x') end)\n"
+		 "try(function() host.save('%s/inside/users/abs', 'x') end)\n"
+		 "try(function() host.save('', 'x') end)\n"
+		 "try(function() host.read('../out.txt') end)\n"
+		 "try(function() host.save('sub/x.net', 'x') end)\n"
+		 "host.save('best/fine.net', 'fine')\n"
+		 "host.print('saved fine')\n",
+		 cli_tmp);
+	CHECK_EQ_INT(cli_write(script, "%s/inside/lua/learn/learnsim.lua",
+			       cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/inside/run && ln -s %s/inside/users "
+			    "%s/inside/run/sub",
+			    cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_sh("EVO_LUA_DIR=%s/inside/lua %s run "
+			    "%s/inside/Avoid/Tasks/Small.simbatch --seed 11 "
+			    "--run %s/inside/run > %s/inside/out.txt 2>&1",
+			    cli_tmp, cli_evo, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	char *out = cli_read("%s/inside/out.txt", cli_tmp);
+	CHECK_CONTAINS(out, "evo.save: '../escaped' is no file of the run "
+			    "folder");
+	CHECK_CONTAINS(out, "evo.save: 'best/../../escaped' is no file of "
+			    "the run folder");
+	CHECK_CONTAINS(out, "/inside/users/abs' is no file of the run folder");
+	CHECK_CONTAINS(out, "evo.save: '' is no file of the run folder");
+	CHECK_CONTAINS(out, "evo.read: '../out.txt' is no file of the run "
+			    "folder");
+	CHECK_CONTAINS(out, "/inside/run/sub is a symbolic link");
+	CHECK_CONTAINS(out, "saved fine");
+	CHECK(out && !strstr(out, "accepted"));
+	free(out);
+	CHECK_EQ_INT(cli_sh("test -e %s/inside/escaped", cli_tmp), 1);
+	CHECK_EQ_INT(cli_sh("test -z \"$(ls -A %s/inside/users)\"", cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_sh("test -f %s/inside/run/best/fine.net", cli_tmp), 0);
+}
+
+/* The learning loop runs evo's Lua with the whole standard library: its
+ * modules come from lua/ only. A shared mind folder that ships
+ * learn/common.lua (or learn/neat.lua) ran it with io and os, in evo run
+ * and in evo check alike. */
+TEST(a_mind_folder_cannot_replace_the_learning_loops_modules)
+{
+	make_mind("loop", "NEAT", 1, NEAT_TASK);
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/loop/Avoid/learn", cli_tmp), 0);
+	static const char *const names[] = {"common", "neat", "rng",
+					    "serialize", "netfile"};
+	for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
+		char text[300];
+		snprintf(text, sizeof text,
+			 "io.open('%s/loop/ran-%s', 'w'):close()\n"
+			 "error('the mind folder ran')\n",
+			 cli_tmp, names[k]);
+		CHECK_EQ_INT(cli_write(text, "%s/loop/Avoid/learn/%s.lua",
+				       cli_tmp, names[k]),
+			     0);
+	}
+	CHECK_EQ_INT(cli_sh("%s check %s/loop/Avoid/Tasks/Small.simbatch > "
+			    "%s/loop/check.txt 2>&1",
+			    cli_evo, cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(train("loop", ""), 0);
+	char *out = cli_read("%s/loop/out.txt", cli_tmp);
+	CHECK(out && !strstr(out, "the mind folder ran"));
+	free(out);
+	CHECK_EQ_INT(cli_sh("ls %s/loop/ran-* > /dev/null 2>&1", cli_tmp), 2);
+	char *champ = champion_of("loop");
+	CHECK_CONTAINS(champ, "trained by evo: NEAT, seed 11");
+	free(champ);
+}
+
 TEST(evo_learn_frees_its_arrays_when_a_call_fails)
 {
 	make_mind("unwind", "NEAT", 1, NEAT_TASK);
@@ -1133,6 +1269,9 @@ int main(void)
 	RUN(sigterm_and_sigint_stop_a_long_batch_within_a_second);
 	RUN(the_curve_is_drawn_as_the_run_goes);
 	RUN(too_long_run_folder_is_refused);
+	RUN(a_mind_folder_that_ships_a_link_to_write_through_is_refused);
+	RUN(the_learning_loop_reads_and_writes_only_inside_its_run_folder);
+	RUN(a_mind_folder_cannot_replace_the_learning_loops_modules);
 	RUN(resume_refuses_a_damaged_checkpoint_and_keeps_the_log);
 	RUN(a_network_the_evaluator_refuses_stops_the_run_without_a_leak);
 	RUN(a_checkpoint_evo_has_no_memory_for_is_refused_without_a_leak);

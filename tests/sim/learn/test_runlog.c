@@ -1,4 +1,7 @@
-/* A learning run's folder, log and progress line (sim/learn/runlog.c). */
+/* A learning run's folder, log and progress line (sim/learn/runlog.c); a
+ * run folder that came with a shared mind folder writes through no link
+ * it ships, and a log row that does not start with its generation is
+ * refused at its line. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -329,6 +332,77 @@ TEST(progress_line_on_a_terminal_and_off)
 			  "ETA -");
 }
 
+/* A mind folder's Runs/X ships .lock as a link to a file of the user's
+ * that does not exist yet, and best as a link to a folder of the user's:
+ * the claim makes .lock itself and creates nothing through the link; the
+ * log is refused with best named, and nothing lands in the user's folder. */
+TEST(a_run_folder_writes_through_no_link_it_ships)
+{
+	char run[256], path[400], victim[300], their[300];
+	snprintf(run, sizeof run, "%s/shipped", dir);
+	snprintf(victim, sizeof victim, "%s/made-through-lock", dir);
+	snprintf(their, sizeof their, "%s/users-folder", dir);
+	CHECK_EQ_INT(mkdir(run, 0755), 0);
+	CHECK_EQ_INT(mkdir(their, 0755), 0);
+	snprintf(path, sizeof path, "%s/.lock", run);
+	CHECK_EQ_INT(symlink(victim, path), 0);
+	evo_err err = {{0}};
+	int fd = evo_runlog_claim(run, &err);
+	CHECK(fd >= 0);
+	CHECK_EQ_STR(err.msg, "");
+	CHECK(access(victim, F_OK) != 0);
+	struct stat st;
+	CHECK(lstat(path, &st) == 0 && S_ISREG(st.st_mode));
+	if (fd >= 0)
+		close(fd);
+	snprintf(path, sizeof path, "%s/best", run);
+	CHECK_EQ_INT(symlink(their, path), 0);
+	evo_runlog log;
+	CHECK_EQ_INT(evo_runlog_open(&log, run, 0, NULL, 0, &err), -1);
+	CHECK_CONTAINS(err.msg, path);
+	CHECK_CONTAINS(err.msg, "is a symbolic link");
+	evo_runlog_close(&log);
+	snprintf(path, sizeof path, "%s/gen-0000.net", their);
+	CHECK(access(path, F_OK) != 0);
+}
+
+/* --resume keeps the rows before the checkpoint by their generation: a
+ * row that does not start with one ("x", "-1", 2^64, "1e3", "7abc") is
+ * no row of evo's, and is refused at its line, not taken for
+ * generation 0 or a wrapped-round one. */
+TEST(a_log_row_without_its_generation_is_refused_at_its_line)
+{
+	static const char *const bad[] = {
+	    "x,1,1,1,0,1,0,0.1,0.1",
+	    "-1,1,1,1,0,1,0,0.1,0.1",
+	    "18446744073709551617,1,1,1,0,1,0,0.1,0.1",
+	    "1e3,1,1,1,0,1,0,0.1,0.1",
+	    "7abc,1,1,1,0,1,0,0.1,0.1",
+	    " 1,1,1,1,0,1,0,0.1,0.1",
+	};
+	char run[256], path[300];
+	snprintf(run, sizeof run, "%s/damaged", dir);
+	mkdir(run, 0755);
+	snprintf(path, sizeof path, "%s/log.csv", run);
+	for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+		char text[400];
+		snprintf(text, sizeof text,
+			 "generation,best,mean,best_ever,species,evaluations,"
+			 "solved,seconds,elapsed\n"
+			 "0,1,1,1,0,1,0,0.1,0.1\n%s\n",
+			 bad[k]);
+		CHECK_EQ_INT(cli_write(text, "%s", path), 0);
+		evo_runlog log;
+		evo_err err = {{0}};
+		CHECK_EQ_INT(evo_runlog_open(&log, run, 5, NULL, 0, &err), -1);
+		char where[320];
+		snprintf(where, sizeof where, "%s:3: expected a row", path);
+		CHECK_CONTAINS(err.msg, where);
+		CHECK_CONTAINS(err.msg, bad[k]);
+		evo_runlog_close(&log);
+	}
+}
+
 int main(void)
 {
 	snprintf(dir, sizeof dir, "%s/evo-runlog-XXXXXX", cli_tmp_root());
@@ -342,6 +416,8 @@ int main(void)
 	RUN(resume_keeps_every_metric_column);
 	RUN(out_of_memory_while_moving_aside_keeps_the_earlier_run);
 	RUN(progress_line_on_a_terminal_and_off);
+	RUN(a_run_folder_writes_through_no_link_it_ships);
+	RUN(a_log_row_without_its_generation_is_refused_at_its_line);
 	char cmd[200];
 	snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
 	if (system(cmd) != 0)

@@ -1,10 +1,13 @@
 /* The mind loader (sim/mind/mindfolder.c): the tutorial's files load; every
  * way a mind folder can be wrong is refused with file:line and a message
- * that says what is wrong. */
+ * that says what is wrong; a file past the size limit, or a FIFO, is
+ * refused by name before it is read. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
+#include <sys/resource.h>
 #include <string.h>
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -538,6 +541,55 @@ TEST(task_run_from_inside_its_mind_folder)
 	CHECK_EQ_INT(chdir(here), 0);
 }
 
+static long max_rss_kb(void)
+{
+	struct rusage ru;
+	getrusage(RUSAGE_SELF, &ru);
+	return ru.ru_maxrss;
+}
+
+/* A shared mind folder's 1.5 GB sparse .net cost 1.58 GB of memory before
+ * "not a text file": it is refused by name, at once, and memory stays as
+ * it was. An .ades that is a FIFO is no file of the skill. */
+TEST(a_huge_or_fifo_file_is_refused_before_it_is_read)
+{
+	fresh();
+	char path[600];
+	snprintf(path, sizeof path, "%s/Skills/M/M.net", dir);
+	int fd = open(path, O_WRONLY | O_TRUNC);
+	CHECK(fd >= 0);
+	CHECK_EQ_INT(ftruncate(fd, (off_t)1500000000), 0);
+	close(fd);
+	long before = max_rss_kb();
+	CHECK_EQ_STR(load_error("M"), "Skills/M/M.net: 1500000000 bytes, "
+				      "larger than evo reads (at most 16 MiB)");
+	CHECK(max_rss_kb() - before < 4096);
+	unlink(path);
+	fresh();
+	snprintf(path, sizeof path, "%s/Skills/Fwd/Fwd.ades", dir);
+	unlink(path);
+	CHECK_EQ_INT(mkfifo(path, 0644), 0);
+	CHECK_CONTAINS(load_error("M"), "no file Skills/Fwd/Fwd.ades");
+	unlink(path);
+}
+
+/* A skill's name is the name of its folder: SK:../Fwd read
+ * Skills/../Fwd/../Fwd.ades (Bot/Fwd.ades, given a folder Bot/Fwd), and a
+ * champion trained for it would be saved beside that, outside Skills/. */
+TEST(a_skill_name_that_is_no_folder_name_is_refused)
+{
+	fresh();
+	put("Fwd/README", "a folder\n");
+	put("Fwd.ades", "../Fwd\ninput:0\noutput:2\nMO:L\nMO:R\n"
+			    "hardCoded\nclass:MoveForward\n");
+	put("Skills/M/M.ades", "M\ninput:1\nSE:A\noutput:1\nSK:../Fwd\n"
+			       "neural\nlayers:0\n");
+	CHECK_EQ_STR(load_error("M"),
+		     "Skills/M/M.ades:5: SK:../Fwd: a skill's name is the name "
+		     "of its folder, which holds no '/' and is not '.' or '..'");
+	CHECK_CONTAINS(load_error(".."), "master skill ..: a skill's name is");
+}
+
 int main(void)
 {
 	RUN(tutorial_task_loads);
@@ -561,7 +613,9 @@ int main(void)
 	RUN(neural_skill_without_network);
 	RUN(network_of_the_wrong_shape);
 	RUN(malformed_network_file);
+	RUN(a_huge_or_fifo_file_is_refused_before_it_is_read);
 	RUN(skill_file_for_another_skill);
+	RUN(a_skill_name_that_is_no_folder_name_is_refused);
 	RUN(missing_master);
 	RUN(not_a_mind_folder);
 	RUN(malformed_botdesc);
