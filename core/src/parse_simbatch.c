@@ -34,6 +34,8 @@ const char *const evo_simbatch_keys[] = {"TYPE",
 					 "SKILLORDER",
 					 "ROUNDS",
 					 "VALIDATION",
+					 "LUABUDGET",
+					 "LUAMEMORY",
 					 NULL};
 
 /* A team task lists its teams, one TEAM line each (docs/teams.md): the

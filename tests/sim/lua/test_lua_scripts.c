@@ -16,6 +16,8 @@
 #include <lua.h>
 #include <lualib.h>
 
+#include "lua/lua_evo.h"
+
 #define MAX_FILES 64
 #define MAX_TESTS 256
 #define NAME_MAX_LEN 128
@@ -54,6 +56,7 @@ static lua_State *new_state(const char *lua_dir)
 	lua_pushfstring(L, "%s/?.lua;%s/?/init.lua", lua_dir, lua_dir);
 	lua_setfield(L, -2, "path");
 	lua_pop(L, 1);
+	evo_lua_open_data(L); /* serialize.load reads with it */
 	return L;
 }
 
