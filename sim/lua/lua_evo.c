@@ -112,8 +112,14 @@ static void load_text_file(lua_State *L, const char *path)
 	lua_pushfstring(L, "@%s", path);
 	int r = luaL_loadbufferx(L, text, len, lua_tostring(L, -1), "t");
 	free(text);
-	if (r != LUA_OK)
+	if (r != LUA_OK) {
+		/* a syntax error names the file; "attempt to load a binary
+		 * chunk" does not */
+		const char *msg = evo_lua_errstr(L, -1);
+		if (strncmp(msg, path, strlen(path)) != 0)
+			lua_pushfstring(L, "%s: %s", path, msg);
 		lua_error(L);
+	}
 	lua_remove(L, -2);
 }
 
@@ -532,6 +538,19 @@ static int setup(lua_State *L)
 	return 0;
 }
 
+/* The first refused allocation: the script's line, for the message. The
+ * state is in the middle of an allocation, so this only reads it. */
+static void memory_hit(void *ctx)
+{
+	evo_lua *l = ctx;
+	lua_Debug ar;
+	for (int lv = 0; lua_getstack(l->L, lv, &ar); lv++)
+		if (lua_getinfo(l->L, "l", &ar) && ar.currentline > 0) {
+			evo_lua_note_where(l, l->L, lv);
+			return;
+		}
+}
+
 evo_lua *evo_lua_create(const evo_lua_def *def, evo_err *err)
 {
 	evo_lua *l = calloc(1, sizeof *l);
@@ -584,6 +603,8 @@ evo_lua *evo_lua_create(const evo_lua_def *def, evo_err *err)
 		return NULL;
 	}
 	l->watch = evo_lua_watch_add();
+	l->mem->on_hit = memory_hit;
+	l->mem->ctx = l;
 	lua_pushcfunction(l->L, setup);
 	lua_pushlightuserdata(l->L, l);
 	if (lua_pcall(l->L, 1, 0, 0) != LUA_OK) {

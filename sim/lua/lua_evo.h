@@ -61,6 +61,10 @@ typedef struct evo_lua_mem {
 	size_t used, limit;
 	int enforce;
 	int hit;
+	/* called at the first refusal, inside the allocation (it may only
+	 * read the state) */
+	void (*on_hit)(void *ctx);
+	void *ctx;
 } evo_lua_mem;
 struct lua_State *evo_lua_state_new(size_t memory, evo_lua_mem **mem);
 void evo_lua_state_close(struct lua_State *L, evo_lua_mem *mem);

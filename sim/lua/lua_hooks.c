@@ -70,7 +70,8 @@ static void check_limits(evo_lua *l, int in_hook)
 			 "the script's Lua state reached its memory limit of "
 			 "%s in %s (LUAMEMORY raises it, docs/lua.md)",
 			 mb(l->mem->limit, m, sizeof m), l->call_what);
-	else if (evo_lua_now() - l->started > l->time_limit)
+	else if (evo_lua_now() - l->started > l->time_limit &&
+		 evo_lua_cpu_now() - l->cpu_started > l->time_limit)
 		set_over(l,
 			 "the script ran past its time limit of %g s in %s "
 			 "(LUABUDGET raises it, docs/lua.md)",
@@ -86,7 +87,9 @@ static void count_hook(lua_State *L, lua_Debug *ar)
 	(void)ar;
 	evo_lua *l = evo_lua_ctx(L);
 	if (!l->over) {
-		evo_lua_note_where(l, L, 0);
+		/* after a refusal, where the memory ran out (on_memory_hit) */
+		if (!l->mem->hit)
+			evo_lua_note_where(l, L, 0);
 		l->used += HOOK_EVERY;
 		check_limits(l, 1);
 		if (!l->over)
@@ -154,7 +157,7 @@ int evo_lua_pcall(evo_lua *l, int nargs, int nresults, long budget,
 	l->time_limit = time_limit * l->limits.budget_scale;
 	l->used = 0;
 	l->call_what = what;
-	evo_lua_watch_call(l->watch, what, l->time_limit);
+	l->cpu_started = evo_lua_watch_call(l->watch, what, l->time_limit);
 	/* until the hook or a pattern sees a line: where the function was
 	 * written */
 	lua_Debug ar;

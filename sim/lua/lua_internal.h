@@ -47,7 +47,7 @@ struct evo_lua {
 	evo_lua_mem *mem;
 	long budget;
 	long used;
-	double started, time_limit;
+	double started, cpu_started, time_limit;
 	int in_call;
 	int over;
 	const char *call_what;
@@ -62,9 +62,13 @@ struct evo_lua {
  * count hook, and by the string functions that match patterns). */
 struct evo_lua_watch *evo_lua_watch_add(void);
 void evo_lua_watch_remove(struct evo_lua_watch *w);
-/* A call begins (deadline = now + limit + grace) or ends (limit < 0). */
-void evo_lua_watch_call(struct evo_lua_watch *w, const char *what,
-			double limit);
+/* A call begins (deadline: limit + grace seconds of the calling thread's
+ * CPU time) or ends (limit < 0). Returns the thread's CPU time at the
+ * start (evo_lua_cpu_now). */
+double evo_lua_watch_call(struct evo_lua_watch *w, const char *what,
+			  double limit);
+/* The calling thread's CPU time, in seconds. */
+double evo_lua_cpu_now(void);
 /* The script's file:line now; "" when none. */
 void evo_lua_watch_where(struct evo_lua_watch *w, const char *where);
 void evo_lua_watch_get_where(struct evo_lua_watch *w, char *out, size_t cap);
@@ -85,7 +89,9 @@ double evo_lua_now(void);
  * pattern that backtracks, a sort) can take seconds in one instruction,
  * which no instruction count sees. A call that ends past its limit fails;
  * one that does not end is stopped by the watchdog EVO_LUA_GRACE seconds
- * after its limit, which ends the process (docs/lua.md). */
+ * after its limit, which ends the process (docs/lua.md). The time is the
+ * thread's own (its CPU time; a script cannot wait on anything): on a
+ * busy machine, time the thread was not given is not the script's. */
 #define EVO_LUA_TIME_INIT  10.0
 #define EVO_LUA_TIME_RESET 2.0
 #define EVO_LUA_TIME_TICK  0.5

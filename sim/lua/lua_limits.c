@@ -23,6 +23,19 @@ double evo_lua_now(void)
 	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
+static double clock_seconds(clockid_t c)
+{
+	struct timespec ts;
+	if (clock_gettime(c, &ts) != 0)
+		return 0;
+	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+double evo_lua_cpu_now(void)
+{
+	return clock_seconds(CLOCK_THREAD_CPUTIME_ID);
+}
+
 /* ---- memory ----------------------------------------------------------- */
 
 /* Lua's allocator contract (lua_Alloc): with ptr NULL, osize is the kind
@@ -38,6 +51,8 @@ static void *limited_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
 		return NULL;
 	}
 	if (m->enforce && nsize > old && m->used - old + nsize > m->limit) {
+		if (!m->hit && m->on_hit)
+			m->on_hit(m->ctx);
 		m->hit = 1;
 		return NULL;
 	}
@@ -174,6 +189,11 @@ struct evo_lua_watch {
 	pthread_mutex_t mu;
 	double deadline; /* 0: no call under way */
 	double limit;
+	/* the calling thread's CPU clock, and its reading at the call's
+	 * start: a call is late when its thread has run past the deadline,
+	 * not when a busy machine gave it no time */
+	clockid_t cpu;
+	double cpu_start;
 	char what[64];
 	char where[300];
 };
@@ -230,7 +250,9 @@ static void *watchdog(void *arg)
 		pthread_mutex_lock(&watch_mu);
 		for (struct evo_lua_watch *w = watch_list; w; w = w->next) {
 			pthread_mutex_lock(&w->mu);
-			int late = w->deadline > 0 && now > w->deadline;
+			int late = w->deadline > 0 && now > w->deadline &&
+				   clock_seconds(w->cpu) - w->cpu_start >
+				       w->limit + EVO_LUA_GRACE;
 			int stopped = sig && w->deadline > 0 &&
 				      now > stop_seen + 0.5;
 			if (late || stopped) {
@@ -307,21 +329,26 @@ void evo_lua_watch_remove(struct evo_lua_watch *w)
 	free(w);
 }
 
-void evo_lua_watch_call(struct evo_lua_watch *w, const char *what,
-			double limit)
+double evo_lua_watch_call(struct evo_lua_watch *w, const char *what,
+			  double limit)
 {
+	double cpu = limit < 0 ? 0 : evo_lua_cpu_now();
 	if (!w)
-		return;
+		return cpu;
 	pthread_mutex_lock(&w->mu);
 	if (limit < 0) {
 		w->deadline = 0;
 	} else {
+		if (pthread_getcpuclockid(pthread_self(), &w->cpu) != 0)
+			w->cpu = CLOCK_MONOTONIC;
+		w->cpu_start = w->cpu == CLOCK_MONOTONIC ? evo_lua_now() : cpu;
 		w->deadline = evo_lua_now() + limit + EVO_LUA_GRACE;
 		w->limit = limit;
 		snprintf(w->what, sizeof w->what, "%s", what);
 		w->where[0] = 0;
 	}
 	pthread_mutex_unlock(&w->mu);
+	return cpu;
 }
 
 void evo_lua_watch_where(struct evo_lua_watch *w, const char *where)
