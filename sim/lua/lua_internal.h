@@ -76,8 +76,8 @@ void evo_lua_watch_get_where(struct evo_lua_watch *w, char *out, size_t cap);
 int evo_lua_stop_signal(void);
 double evo_lua_now(void);
 
-/* Instruction budgets of a call into Lua from C (docs/lua.md, "The
- * instruction budget"): loading a script and init run once and may build
+/* Instruction budgets of a call into Lua from C (docs/lua.md,
+ * "Limits"): loading a script and init run once and may build
  * large scenes; reset runs once an episode; post_step and Lua reward and
  * control functions run every tick. An endless loop in any of them ends
  * the run within about a second. */
