@@ -91,11 +91,13 @@ int evo_lua_find_script(const evo_lua *l, const char *dir, const char *mind_sub,
 		dir = l->mind_dir;
 	if (dir[0]) {
 		snprintf(out, cap, "%s/%s/%s.lua", dir, mind_sub, name);
-		if (evo_file_exists(out) && inside(dir, out))
-			return 0;
+		if (evo_file_exists(out))
+			return inside(dir, out) ? 0 : -2;
 	}
 	snprintf(out, cap, "%s/%s/%s.lua", l->lua_dir, lua_sub, name);
-	return evo_file_exists(out) && inside(l->lua_dir, out) ? 0 : -1;
+	if (!evo_file_exists(out))
+		return -1;
+	return inside(l->lua_dir, out) ? 0 : -2;
 }
 
 /* Load the text of a script file as a chunk named @path; raises. Text
@@ -139,8 +141,15 @@ int evo_lua_load_model(lua_State *L, evo_lua *l, const char *model,
 	char path[1200];
 	if (!dir)
 		dir = l->mind_dir;
-	if (evo_lua_find_script(l, dir, "Bots", "bots", model, path,
-				sizeof path))
+	int found = evo_lua_find_script(l, dir, "Bots", "bots", model, path,
+					sizeof path);
+	if (found == -2)
+		luaL_error(L,
+			   "bot model '%s': %s leads out of its folder (a "
+			   "link?); scripts are loaded from the mind folder "
+			   "and lua/ only",
+			   model, path);
+	if (found)
 		luaL_error(L,
 			   "bot model '%s' not found: looked for "
 			   "%s/Bots/%s.lua and %s/bots/%s.lua",
@@ -371,7 +380,7 @@ static int sandbox_handler(lua_State *L)
 
 static int sandbox_xpcall(lua_State *L)
 {
-	luaL_checkany(L, 2);
+	luaL_checktype(L, 2, LUA_TFUNCTION);
 	lua_pushvalue(L, 2);
 	lua_pushcclosure(L, sandbox_handler, 1);
 	lua_replace(L, 2);
@@ -673,8 +682,15 @@ static int env_fields(lua_State *L)
 
 int evo_lua_init_env(evo_lua *l, const char *env, evo_err *err)
 {
-	if (evo_lua_find_script(l, NULL, "Envs", "envs", env, l->env_path,
-				sizeof l->env_path))
+	int found = evo_lua_find_script(l, NULL, "Envs", "envs", env,
+					l->env_path, sizeof l->env_path);
+	if (found == -2)
+		return evo_fail(err,
+				"environment '%s': %s leads out of its folder "
+				"(a link?); scripts are loaded from the mind "
+				"folder and lua/ only",
+				env, l->env_path);
+	if (found)
 		return evo_fail(err,
 				"environment '%s' not found: looked for "
 				"%s/Envs/%s.lua and %s/envs/%s.lua",

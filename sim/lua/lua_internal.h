@@ -168,7 +168,8 @@ extern const luaL_Reg evo_lua_element3d_methods[];
 /* ---- lua_evo.c: loading scripts --------------------------------------- */
 
 /* Find NAME.lua in dir/<mind_sub> (dir NULL: the mind folder), then
- * lua_dir/<lua_sub>; 0 or -1. */
+ * lua_dir/<lua_sub>; 0, -1 when there is none, or -2 when the one found
+ * (in out) is a link to a file outside its folder. */
 int evo_lua_find_script(const evo_lua *l, const char *dir, const char *mind_sub,
 			const char *lua_sub, const char *name, char *out,
 			size_t cap);

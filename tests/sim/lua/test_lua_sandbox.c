@@ -206,7 +206,8 @@ TEST(require_stays_in_the_mind_folder_and_lua)
 			    cli_tmp, root),
 		     0);
 	CHECK_EQ_INT(run(root, 10, 60, NULL), 1);
-	CHECK_CONTAINS(out, "environment 'Corridor' not found");
+	CHECK_CONTAINS(out, "environment 'Corridor': ");
+	CHECK_CONTAINS(out, "Envs/Corridor.lua leads out of its folder");
 	CHECK(strstr(out, "SECRET") == NULL);
 	/* and a module of the mind folder, required by its dotted name,
 	 * still loads */
