@@ -354,7 +354,7 @@ static int push_module(const char *module)
 	lua_pushstring(learn_L, module);
 	if (lua_pcall(learn_L, 1, 1, 0) != LUA_OK) {
 		result(0, "require '%s': %s", module,
-		       lua_tostring(learn_L, -1));
+		       evo_lua_errstr(learn_L, -1));
 		lua_pop(learn_L, 1);
 		return -1;
 	}

@@ -64,7 +64,7 @@ static lua_State *new_state(const char *lua_dir)
 static int load_tests(lua_State *L, const char *path)
 {
 	if (luaL_loadfile(L, path) != LUA_OK || lua_pcall(L, 0, 1, 0) != LUA_OK) {
-		printf("FAIL %s\n  %s\n", path, lua_tostring(L, -1));
+		printf("FAIL %s\n  %s\n", path, evo_lua_errstr(L, -1));
 		return 0;
 	}
 	if (!lua_istable(L, -1)) {
@@ -122,7 +122,7 @@ static void run_file(const char *lua_dir, const char *path)
 			printf("ok   %s %s (%.2f s)\n", path, names[i], now_seconds() - t0);
 		} else {
 			failed_count++;
-			printf("FAIL %s %s\n  %s\n", path, names[i], lua_tostring(L, -1));
+			printf("FAIL %s %s\n  %s\n", path, names[i], evo_lua_errstr(L, -1));
 		}
 		lua_close(L);
 	}
