@@ -56,6 +56,7 @@ typedef struct learn {
 	evo_net_choice choice[CONT_MAX_SKILLS];
 	char choice_path[CONT_MAX_SKILLS][1200];
 	evo_eval_def ed;
+	evo_lua_mem *mem; /* the loop's state's memory (LUAMEMORY) */
 } learn;
 
 static const char LEARN_KEY = 'l';
@@ -489,6 +490,14 @@ static int l_read(lua_State *L)
 	lua_setmetatable(L, -2);
 	if (evo_read_file(path, box, &len, &err))
 		return raise_msg(L, err.msg);
+	if (l->mem && l->mem->used + len + 4096 > l->mem->limit)
+		return raise_msg(
+		    L, lua_pushfstring(L,
+				       "%s: reading it (%d MB) would pass the "
+				       "learning loop's memory limit of %d MB "
+				       "(LUAMEMORY raises it, docs/lua.md)",
+				       path, (int)(len >> 20),
+				       (int)(l->mem->limit >> 20)));
 	lua_pushlstring(L, *box, len);
 	free(*box);
 	*box = NULL;
@@ -1141,6 +1150,7 @@ int evo_learn_run(const char *task_path, evo_task *task,
 	 * (evo.data). Its memory is bounded (LUAMEMORY, docs/lua.md). */
 	evo_lua_mem *mem;
 	lua_State *L = evo_lua_state_new(lim.memory, &mem);
+	l.mem = L ? mem : NULL;
 	int rc = 0;
 	if (!L) {
 		rc = evo_fail(err, "cannot create a Lua state");

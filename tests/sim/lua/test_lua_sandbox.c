@@ -465,6 +465,40 @@ TEST(a_hostile_checkpoint_is_refused_at_once)
 	CHECK(now() - t0 < 10);
 	CHECK_CONTAINS(out, "Runs/XOR-NEAT-seed1/checkpoint.lua:1: not plain "
 			    "data as evo writes it");
+	/* item 5: reading a checkpoint is bounded in memory too: 18 MB of
+	 * text under LUAMEMORY:16, and 12 MB of it in 14 MB of tables and
+	 * strings under LUAMEMORY:20 */
+	CHECK_EQ_INT(cli_sh("awk 'BEGIN { s = sprintf(\"%%1000s\", \"\"); "
+			    "gsub(/ /, \"x\", s); printf \"return {\"; "
+			    "for (i = 0; i < 18000; i++) printf \"\\\"%%s\\\",\", "
+			    "s; print \"}\" }' > %s/Runs/XOR-NEAT-seed1/"
+			    "checkpoint.lua && echo LUAMEMORY:16 >> "
+			    "%s/Tasks/XOR-NEAT.simbatch",
+			    root, root),
+		     0);
+	rc = cli_capture(out, sizeof out,
+			 "timeout -s KILL 60 %s run %s/Tasks/XOR-NEAT.simbatch "
+			 "--seed 1 --resume --threads 1",
+			 cli_evo, root);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "Runs/XOR-NEAT-seed1/checkpoint.lua: reading it "
+			    "(17 MB) would pass the learning loop's memory "
+			    "limit of 16 MB (LUAMEMORY raises it");
+	CHECK_EQ_INT(cli_sh("sed -i 's/LUAMEMORY:16/LUAMEMORY:22/' "
+			    "%s/Tasks/XOR-NEAT.simbatch && awk 'BEGIN { "
+			    "printf \"return {\"; for (i = 0; i < 1200000; "
+			    "i++) printf \"{},\"; print \"}\" }' > "
+			    "%s/Runs/XOR-NEAT-seed1/checkpoint.lua",
+			    root, root),
+		     0);
+	rc = cli_capture(out, sizeof out,
+			 "timeout -s KILL 60 %s run %s/Tasks/XOR-NEAT.simbatch "
+			 "--seed 1 --resume --threads 1",
+			 cli_evo, root);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "Runs/XOR-NEAT-seed1/checkpoint.lua: reading it "
+			    "reached the Lua state's memory limit (LUAMEMORY "
+			    "raises it");
 }
 
 int main(void)
