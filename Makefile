@@ -374,6 +374,13 @@ $(BUILD)/fuzz/fuzz_can_robot: tests/fuzz/fuzz_can_robot.c sim/remote/can_robot_f
 		-fsanitize=fuzzer $(FUZZ_SAN) \
 		-o $@ $< sim/remote/can_robot_frames.c $(CORE_SRCS) -lm
 
+# The checkpoint reader (sim/lua/lua_data.c), in a Lua state of its own.
+$(BUILD)/fuzz/fuzz_lua_data: tests/fuzz/fuzz_lua_data.c sim/lua/lua_data.c sim/lua/lua_evo.h
+	@mkdir -p $(dir $@)
+	$(CLANG) -std=c11 -O1 -g $(WARN) -Icore/include -Isim $(LUA_CFLAGS) \
+		-fsanitize=fuzzer $(FUZZ_SAN) \
+		-o $@ $< sim/lua/lua_data.c -llua5.4 -lm
+
 # Two targets at a time (FUZZ_JOBS): each fuzzer is one busy thread.
 FUZZ_JOBS ?= 2
 fuzz: deps $(FUZZ_BINS)
