@@ -502,6 +502,34 @@ TEST(a_hostile_checkpoint_is_refused_at_once)
 			    "raises it");
 }
 
+/* A sibling of items 1 and 3: the learning loop's state has every
+ * library (io, os, package.loadlib), and its `require` looked in the mind
+ * folder first, so a mind folder that shipped learn/common.lua ran its
+ * code there. The loop's modules come from lua/ only. */
+TEST(the_learning_loop_loads_evos_modules_only)
+{
+	char root[512];
+	snprintf(root, sizeof root, "%s/learnmods/XOR", cli_tmp);
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/learnmods && cp -r minds/XOR "
+			    "%s/learnmods/ && mkdir -p %s/learn",
+			    cli_tmp, cli_tmp, root),
+		     0);
+	CHECK_EQ_INT(cli_write("io.open(os.getenv('EVO_MARK'), 'w'):close()\n"
+			       "error('the mind folder\\'s module ran')\n",
+			       "%s/learn/common.lua", root),
+		     0);
+	int rc = cli_capture(out, sizeof out,
+			     "EVO_MARK=%s/ran timeout -s KILL 120 %s run "
+			     "%s/Tasks/XOR-NEAT.simbatch --generations 1 "
+			     "--threads 1",
+			     root, cli_evo, root);
+	CHECK_EQ_INT(rc, 0);
+	CHECK(strstr(out, "module ran") == NULL);
+	char *ran = cli_read("%s/ran", root);
+	CHECK(ran == NULL);
+	free(ran);
+}
+
 int main(void)
 {
 	if (cli_setup("lua-sandbox"))
@@ -517,6 +545,7 @@ int main(void)
 	RUN(memory_is_limited);
 	RUN(any_error_value_gets_a_message);
 	RUN(a_hostile_checkpoint_is_refused_at_once);
+	RUN(the_learning_loop_loads_evos_modules_only);
 	cli_cleanup();
 	return test_summary();
 }
