@@ -41,8 +41,8 @@ static int fail(reader *r, const char *what)
 		snprintf(found, sizeof found, "the end of the text");
 	else {
 		found[n++] = '\'';
-		for (const char *q = r->p;
-		     q < r->end && n < 12 && *q != '\n'; q++)
+		for (const char *q = r->p; q < r->end && n < 12 && *q != '\n';
+		     q++)
 			found[n++] = (*q >= 32 && *q < 127) ? *q : '?';
 		found[n++] = '\'';
 		found[n] = 0;
@@ -55,9 +55,8 @@ static int fail(reader *r, const char *what)
 
 static void skip_space(reader *r)
 {
-	while (r->p < r->end &&
-	       (*r->p == ' ' || *r->p == '\t' || *r->p == '\n' ||
-		*r->p == '\r')) {
+	while (r->p < r->end && (*r->p == ' ' || *r->p == '\t' ||
+				 *r->p == '\n' || *r->p == '\r')) {
 		if (*r->p == '\n')
 			r->line++;
 		r->p++;

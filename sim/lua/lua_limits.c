@@ -163,8 +163,8 @@ int evo_lua_limits_read(const evo_simbatch *sb, const char *task_path,
 		for (unsigned k = 0; k < 2; k++) {
 			if (strcmp(sb->pair[i].key, keys[k].key) != 0)
 				continue;
-			long n = whole(sb->pair[i].value, keys[k].lo,
-				       keys[k].hi);
+			long n =
+			    whole(sb->pair[i].value, keys[k].lo, keys[k].hi);
 			if (n < 0)
 				return evo_fail(err,
 						"%s:%u: %s must be %s; found "
@@ -253,8 +253,8 @@ static void *watchdog(void *arg)
 			int late = w->deadline > 0 && now > w->deadline &&
 				   clock_seconds(w->cpu) - w->cpu_start >
 				       w->limit + EVO_LUA_GRACE;
-			int stopped = sig && w->deadline > 0 &&
-				      now > stop_seen + 0.5;
+			int stopped =
+			    sig && w->deadline > 0 && now > stop_seen + 0.5;
 			if (late || stopped) {
 				char msg[600];
 				const char *at = w->where[0] ? w->where : "";

@@ -48,9 +48,10 @@ static void make_mind(const char *sub, const char *env_body,
 		  "output:1\noutput:2\nlink:0:1:12\nlink:0:2:12\n",
 		  "%s/Skills/Go/Go.net", root);
 	char task[1024];
-	snprintf(task, sizeof task,
-		 "TYPE:DEMOSIM\nBOTMODEL:Tiny\nMASTERSKILL:Go\nENV:Corridor\n%s",
-		 task_extra);
+	snprintf(
+	    task, sizeof task,
+	    "TYPE:DEMOSIM\nBOTMODEL:Tiny\nMASTERSKILL:Go\nENV:Corridor\n%s",
+	    task_extra);
 	cli_write(task, "%s/Tasks/Go.simbatch", root);
 	cli_write("return {\n"
 		  "  body = { radius = 0.5 },\n"
@@ -116,9 +117,8 @@ TEST(native_code_is_never_loaded)
 		 "{ FILE *f = fopen(\"%s/ran\", \"w\"); if (f) fclose(f); }\n",
 		 root);
 	CHECK_EQ_INT(cli_write(src, "%s/evil.c", root), 0);
-	CHECK_EQ_INT(cli_sh("cc -shared -fPIC -o %s/evil.so %s/evil.c", root,
-			    root),
-		     0);
+	CHECK_EQ_INT(
+	    cli_sh("cc -shared -fPIC -o %s/evil.so %s/evil.c", root, root), 0);
 	CHECK_EQ_INT(run(root, 10, 60, NULL), 1);
 	CHECK_CONTAINS(out, "Envs/Corridor.lua:4: package.cpath cannot be set "
 			    "in scene scripts");
@@ -189,9 +189,8 @@ TEST(require_stays_in_the_mind_folder_and_lua)
 	/* Mine/leak.lua -> a secret outside the mind folder */
 	env_with(env, sizeof env, "  require 'leak'", "");
 	make_mind("link", env, "", root, sizeof root);
-	CHECK_EQ_INT(cli_write("SECRET text, not Lua\n", "%s/link/secret",
-			       cli_tmp),
-		     0);
+	CHECK_EQ_INT(
+	    cli_write("SECRET text, not Lua\n", "%s/link/secret", cli_tmp), 0);
 	CHECK_EQ_INT(cli_sh("ln -s %s/link/secret %s/leak.lua", cli_tmp, root),
 		     0);
 	CHECK_EQ_INT(run(root, 10, 60, NULL), 1);
@@ -199,9 +198,8 @@ TEST(require_stays_in_the_mind_folder_and_lua)
 	CHECK(strstr(out, "SECRET") == NULL);
 	/* an environment that is a link out of the mind folder is not
 	 * found there either */
-	CHECK_EQ_INT(cli_write("SECRET text, not Lua\n", "%s/link/secret2",
-			       cli_tmp),
-		     0);
+	CHECK_EQ_INT(
+	    cli_write("SECRET text, not Lua\n", "%s/link/secret2", cli_tmp), 0);
 	CHECK_EQ_INT(cli_sh("ln -sf %s/link/secret2 %s/Envs/Corridor.lua",
 			    cli_tmp, root),
 		     0);
@@ -405,8 +403,9 @@ TEST(memory_is_limited)
 	CHECK_CONTAINS(out, "Tasks/Go.simbatch:5: LUAMEMORY must be a whole "
 			    "number 16..65536");
 	make_mind("memory4", env, "LUABUDGET:1001\n", root, sizeof root);
-	CHECK_EQ_INT(cli_capture(out, sizeof out, "%s check %s/Tasks/Go.simbatch",
-				 cli_evo, root),
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s check %s/Tasks/Go.simbatch", cli_evo,
+				 root),
 		     1);
 	CHECK_CONTAINS(out, "Tasks/Go.simbatch:5: LUABUDGET must be a whole "
 			    "number 1..1000");
@@ -419,7 +418,8 @@ TEST(any_error_value_gets_a_message)
 	static const struct {
 		const char *raise, *want;
 	} cases[] = {
-	    {"error({})", "Envs/Corridor.lua:6: (an error value of type table)"},
+	    {"error({})",
+	     "Envs/Corridor.lua:6: (an error value of type table)"},
 	    {"error(nil)", "Envs/Corridor.lua:6: (an error value of type nil)"},
 	    {"error(setmetatable({}, {__tostring = function() return "
 	     "'custom' end}))",
@@ -433,8 +433,8 @@ TEST(any_error_value_gets_a_message)
 	for (unsigned i = 0; i < sizeof cases / sizeof cases[0]; i++) {
 		char root[512], env[2048], sub[32];
 		char body[300];
-		snprintf(body, sizeof body,
-			 "    if s:tick() > 3 then %s end", cases[i].raise);
+		snprintf(body, sizeof body, "    if s:tick() > 3 then %s end",
+			 cases[i].raise);
 		env_with(env, sizeof env, "", body);
 		snprintf(sub, sizeof sub, "errval%u", i);
 		make_mind(sub, env, "", root, sizeof root);
@@ -458,10 +458,11 @@ TEST(a_hostile_checkpoint_is_refused_at_once)
 			       "%s/Runs/XOR-NEAT-seed1/checkpoint.lua", root),
 		     0);
 	double t0 = now();
-	int rc = cli_capture(out, sizeof out,
-			     "timeout -s KILL 60 %s run %s/Tasks/XOR-NEAT.simbatch "
-			     "--seed 1 --resume --threads 1",
-			     cli_evo, root);
+	int rc =
+	    cli_capture(out, sizeof out,
+			"timeout -s KILL 60 %s run %s/Tasks/XOR-NEAT.simbatch "
+			"--seed 1 --resume --threads 1",
+			cli_evo, root);
 	CHECK_EQ_INT(rc, 1);
 	CHECK(now() - t0 < 10);
 	CHECK_CONTAINS(out, "Runs/XOR-NEAT-seed1/checkpoint.lua:1: not plain "
@@ -469,14 +470,15 @@ TEST(a_hostile_checkpoint_is_refused_at_once)
 	/* item 5: reading a checkpoint is bounded in memory too: 18 MB of
 	 * text under LUAMEMORY:16, and 12 MB of it in 14 MB of tables and
 	 * strings under LUAMEMORY:20 */
-	CHECK_EQ_INT(cli_sh("awk 'BEGIN { s = sprintf(\"%%1000s\", \"\"); "
-			    "gsub(/ /, \"x\", s); printf \"return {\"; "
-			    "for (i = 0; i < 18000; i++) printf \"\\\"%%s\\\",\", "
-			    "s; print \"}\" }' > %s/Runs/XOR-NEAT-seed1/"
-			    "checkpoint.lua && echo LUAMEMORY:16 >> "
-			    "%s/Tasks/XOR-NEAT.simbatch",
-			    root, root),
-		     0);
+	CHECK_EQ_INT(
+	    cli_sh("awk 'BEGIN { s = sprintf(\"%%1000s\", \"\"); "
+		   "gsub(/ /, \"x\", s); printf \"return {\"; "
+		   "for (i = 0; i < 18000; i++) printf \"\\\"%%s\\\",\", "
+		   "s; print \"}\" }' > %s/Runs/XOR-NEAT-seed1/"
+		   "checkpoint.lua && echo LUAMEMORY:16 >> "
+		   "%s/Tasks/XOR-NEAT.simbatch",
+		   root, root),
+	    0);
 	rc = cli_capture(out, sizeof out,
 			 "timeout -s KILL 60 %s run %s/Tasks/XOR-NEAT.simbatch "
 			 "--seed 1 --resume --threads 1",
