@@ -402,6 +402,12 @@ $(BUILD)/fuzz/fuzz_trace_file: tests/fuzz/fuzz_trace_file.c firmware/host/trace_
 FUZZ_NET := fuzz_wire fuzz_cannelloni fuzz_candump fuzz_slcan fuzz_slcan_host \
 	fuzz_can_robot fuzz_flash_rx fuzz_flash_tx
 FUZZ_NET_SECONDS ?= 60
+# The checkpoint reader (sim/lua/lua_data.c), in a Lua state of its own.
+$(BUILD)/fuzz/fuzz_lua_data: tests/fuzz/fuzz_lua_data.c sim/lua/lua_data.c sim/lua/lua_evo.h
+	@mkdir -p $(dir $@)
+	$(CLANG) -std=c11 -O1 -g $(WARN) -Icore/include -Isim $(LUA_CFLAGS) \
+		-fsanitize=fuzzer $(FUZZ_SAN) \
+		-o $@ $< sim/lua/lua_data.c -llua5.4 -lm
 
 # Two targets at a time (FUZZ_JOBS): each fuzzer is one busy thread.
 FUZZ_JOBS ?= 2

@@ -62,6 +62,8 @@ const evo_simbatch_key_def evo_simbatch_key_defs[] = {
     TEXT("SKILLORDER"),
     WHOLE("ROUNDS", 1, MILLION),
     WHOLE("VALIDATION", 1, 1000),
+    WHOLE("LUABUDGET", 1, 1000),
+    WHOLE("LUAMEMORY", 16, 65536),
     {NULL, EVO_KEY_TEXT, 0, 0, 0, 0, NULL, 0},
 };
 

@@ -99,42 +99,15 @@ function serialize.dump(v)
 	return table.concat(out)
 end
 
--- Refuses what dump cannot have written: anything but numbers, strings,
--- booleans and tables, and a table met twice (a cycle or a shared part).
-local function check_plain(v, name, seen)
-	local t = type(v)
-	if t == "table" then
-		if seen[v] then error(name .. ": not plain data: a table appears twice", 0) end
-		seen[v] = true
-		for k, x in pairs(v) do
-			check_plain(k, name, seen)
-			check_plain(x, name, seen)
-		end
-	elseif t ~= "number" and t ~= "string" and t ~= "boolean" then
-		error(name .. ": not plain data: it holds a " .. t, 0)
-	end
-end
-
 -- Read text made by dump; errors name the text `name` (a file's path).
--- The text runs with no globals at all, and may execute only as many VM
--- instructions as plain data of its length needs (fewer than one per
--- character), so a damaged or hand-edited file cannot hang the run.
+-- The text is read as data by evo's reader (evo.data, sim/lua/lua_data.c),
+-- never run: it takes exactly what dump writes, in time linear in its
+-- length, so a damaged or hostile file is refused at its line and cannot
+-- hang the run or reach any library.
+local data = require "evo.data"
+
 function serialize.load(text, name)
-	name = name or "checkpoint"
-	local chunk, err = load(text, "=" .. name, "t", {})
-	if not chunk then error(err, 0) end
-	local budget, used = #text + 1000, 0
-	local hook, mask, count = debug.gethook()
-	debug.sethook(function()
-		used = used + 1000
-		if used > budget then error(name .. ": not plain data: it runs code", 0) end
-	end, "", 1000)
-	local ok, v = pcall(chunk)
-	debug.sethook(hook, mask, count)
-	if not ok then error(type(v) == "string" and v or name .. ": does not load", 0) end
-	if v == nil then error(name .. ": holds no data", 0) end
-	check_plain(v, name, {})
-	return v
+	return data.read(text, name or "checkpoint")
 end
 
 return serialize

@@ -15,6 +15,7 @@
 #include "cluster/cluster.h"
 #include "learn/evaluate.h"
 #include "learn/learn.h"
+#include "lua/lua_evo.h"
 #include "mind/task.h"
 #include "mind/trace.h"
 #include "remote/robot.h"
@@ -27,8 +28,7 @@ static volatile sig_atomic_t stop_requested;
 
 static void on_signal(int sig)
 {
-	(void)sig;
-	stop_requested = 1;
+	stop_requested = sig; /* a scene script stops too (lua_evo.h) */
 }
 
 #define RUN_MAX_NETS 64
@@ -348,8 +348,9 @@ static int run_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 			if (r != 0)
 				break;
 		}
+		/* a script stopped by the signal fails its tick */
 		if (r < 0)
-			return -1;
+			return stop_requested ? 0 : -1;
 		if (s->scene3d) {
 			/* a 3D episode: its reward, its ticks, its collision
 			 * ticks, and what broke it, if anything did */
@@ -1238,6 +1239,7 @@ int evo_run_main(int argc, char **argv)
 	sa.sa_handler = on_signal;
 	sigaction(SIGINT, &sa, NULL);
 	sigaction(SIGTERM, &sa, NULL);
+	evo_lua_watch_stop(&stop_requested);
 
 	int rc = 1;
 	evo_viewer *v = NULL;

@@ -23,6 +23,7 @@
 
 #include "base/rng.h"
 #include "cmd/serve_can.h"
+#include "lua/lua_evo.h"
 #include "mind/task.h"
 #include "remote/link.h"
 #include "remote/session.h"
@@ -33,8 +34,7 @@ static volatile sig_atomic_t stop_requested;
 
 static void on_signal(int sig)
 {
-	(void)sig;
-	stop_requested = 1;
+	stop_requested = sig; /* a scene script stops too (lua_evo.h) */
 }
 
 static void serve_usage(FILE *f)
@@ -756,6 +756,7 @@ int evo_serve_main(int argc, char **argv)
 	sa.sa_handler = on_signal;
 	sigaction(SIGINT, &sa, NULL);
 	sigaction(SIGTERM, &sa, NULL);
+	evo_lua_watch_stop(&stop_requested);
 
 	evo_err err = {{0}};
 	evo_task task;

@@ -57,6 +57,7 @@ typedef struct learn {
 	evo_net_choice choice[CONT_MAX_SKILLS];
 	char choice_path[CONT_MAX_SKILLS][1200];
 	evo_eval_def ed;
+	evo_lua_mem *mem; /* the loop's state's memory (LUAMEMORY) */
 } learn;
 
 static const char LEARN_KEY = 'l';
@@ -518,6 +519,14 @@ static int l_read(lua_State *L)
 	lua_setmetatable(L, -2);
 	if (evo_read_file_max(path, EVO_RUN_FILE_MAX, box, &len, &err))
 		return raise_msg(L, err.msg);
+	if (l->mem && l->mem->used + len + 4096 > l->mem->limit)
+		return raise_msg(
+		    L, lua_pushfstring(L,
+				       "%s: reading it (%d MB) would pass the "
+				       "learning loop's memory limit of %d MB "
+				       "(LUAMEMORY raises it, docs/lua.md)",
+				       path, (int)(len >> 20),
+				       (int)(l->mem->limit >> 20)));
 	lua_pushlstring(L, *box, len);
 	free(*box);
 	*box = NULL;
@@ -876,12 +885,11 @@ static int run_script(lua_State *L)
 	lua_rawsetp(L, LUA_REGISTRYINDEX, &LEARN_KEY);
 	luaL_requiref(L, "evo.learn", open_module, 0);
 	lua_pop(L, 1);
-	/* evo's own learning loop, with the whole standard library: its
-	 * modules come from lua/ alone, never from the mind folder, which
-	 * may be someone else's (a learn/common.lua there ran with io and
-	 * os) */
+	/* the loop's modules are evo's, from lua/ only: a mind folder is
+	 * not trusted with the full libraries this state has */
 	const char *dir = evo_lua_dir();
-	evo_lua_set_path(L, dir, dir);
+	evo_lua_set_path(L, dir);
+	evo_lua_open_data(L);
 	char path[1200];
 	evo_err err;
 	if (evo_path_fmt(path, sizeof path, &err, "%s/learn/%s", dir,
@@ -988,8 +996,7 @@ static int check_options(lua_State *L)
 	const evo_task *task = lua_touserdata(L, 2);
 	int quiet = lua_toboolean(L, 3);
 	luaL_openlibs(L);
-	/* lua/ alone, as for the learning loop (run_script) */
-	evo_lua_set_path(L, evo_lua_dir(), evo_lua_dir());
+	evo_lua_set_path(L, evo_lua_dir());
 	if (luaL_loadbufferx(L, CHECK_OPTIONS, sizeof CHECK_OPTIONS - 1,
 			     "=evo check", "t") != LUA_OK)
 		return lua_error(L);
@@ -1095,7 +1102,11 @@ static int learn_check(const char *task_path, evo_task *task, int quiet,
 	if (strcmp(task->type, "LEARNSIMCONTINUOUS") == 0 &&
 	    continuous_order(task_path, task, order, &n, err))
 		return -1;
-	lua_State *L = luaL_newstate();
+	evo_lua_limits lim;
+	if (evo_lua_limits_read(task->sb, task_path, &lim, err))
+		return -1;
+	evo_lua_mem *mem;
+	lua_State *L = evo_lua_state_new(lim.memory, &mem);
 	if (!L)
 		return evo_fail(err, "cannot create a Lua state");
 	lua_pushcfunction(L, check_options);
@@ -1103,9 +1114,10 @@ static int learn_check(const char *task_path, evo_task *task, int quiet,
 	lua_pushlightuserdata(L, task);
 	lua_pushboolean(L, quiet);
 	int rc = 0;
+	mem->enforce = 1;
 	if (lua_pcall(L, 3, 0, 0) != LUA_OK)
-		rc = evo_fail(err, "%s", lua_tostring(L, -1));
-	lua_close(L);
+		rc = evo_fail(err, "%s", evo_lua_errstr(L, -1));
+	evo_lua_state_close(L, mem);
 	if (rc == 0 && networks_fit(task_path, task, order, n, err))
 		rc = -1;
 	return rc;
@@ -1272,21 +1284,45 @@ int evo_learn_run(const char *task_path, evo_task *task,
 		evo_evaluator_destroy(l.ev);
 		return -1;
 	}
+	evo_lua_limits lim;
+	if (evo_lua_limits_read(task->sb, task_path, &lim, err)) {
+		close(lock);
+		evo_evaluator_destroy(l.ev);
+		return -1;
+	}
 	struct sigaction old_sig[2];
 	catch_interrupt(&l, old_sig);
-	lua_State *L = luaL_newstate();
+	/* The loop is evo's own code, one call that lasts the whole run and
+	 * waits in evo.evaluate most of it, so it has no instruction budget
+	 * or time limit: SIGINT and SIGTERM end it at once (catch_interrupt),
+	 * and what it reads from files, a checkpoint, is read as data
+	 * (evo.data). Its memory is bounded (LUAMEMORY, docs/lua.md). */
+	evo_lua_mem *mem;
+	lua_State *L = evo_lua_state_new(lim.memory, &mem);
+	l.mem = L ? mem : NULL;
 	int rc = 0;
 	if (!L) {
 		rc = evo_fail(err, "cannot create a Lua state");
 	} else {
 		lua_pushcfunction(L, run_script);
 		lua_pushlightuserdata(L, &l);
-		if (lua_pcall(L, 1, 0, 0) != LUA_OK) {
+		mem->enforce = 1;
+		int r = lua_pcall(L, 1, 0, 0);
+		mem->enforce = 0;
+		if (r != LUA_OK) {
 			if (l.tty)
 				printf("\n");
-			rc = evo_fail(err, "%s", lua_tostring(L, -1));
+			if (r == LUA_ERRMEM && mem->hit)
+				rc = evo_fail(err,
+					      "%s: the learning loop's Lua "
+					      "state reached its memory limit "
+					      "of %zu MB (LUAMEMORY raises it, "
+					      "docs/lua.md)",
+					      task_path, lim.memory >> 20);
+			else
+				rc = evo_fail(err, "%s", evo_lua_errstr(L, -1));
 		}
-		lua_close(L);
+		evo_lua_state_close(L, mem);
 	}
 	if (l.log_open)
 		evo_runlog_close(&l.log);

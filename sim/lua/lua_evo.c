@@ -9,6 +9,7 @@
 #include <lauxlib.h>
 #include <lua.h>
 #include <lualib.h>
+#include <limits.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -67,6 +68,18 @@ const char *evo_lua_dir(void)
 
 /* ---- loading files ------------------------------------------------------- */
 
+/* 1 when path, with every symbolic link followed, is a file inside
+ * dir: a script or module found under the mind folder or lua/ may not be
+ * a link to a file elsewhere (docs/lua.md, "What a script may use"). */
+static int inside(const char *dir, const char *path)
+{
+	char rd[PATH_MAX], rp[PATH_MAX];
+	if (!realpath(dir, rd) || !realpath(path, rp))
+		return 0;
+	size_t n = strlen(rd);
+	return strncmp(rd, rp, n) == 0 && (rp[n] == '/' || n == 1);
+}
+
 /* Find NAME.lua in mind_dir/<mind_sub> then lua_dir/<lua_sub>. */
 int evo_lua_find_script(const evo_lua *l, const char *dir, const char *mind_sub,
 			const char *lua_sub, const char *name, char *out,
@@ -79,17 +92,43 @@ int evo_lua_find_script(const evo_lua *l, const char *dir, const char *mind_sub,
 	if (dir[0]) {
 		snprintf(out, cap, "%s/%s/%s.lua", dir, mind_sub, name);
 		if (evo_file_exists(out))
-			return 0;
+			return inside(dir, out) ? 0 : -2;
 	}
 	snprintf(out, cap, "%s/%s/%s.lua", l->lua_dir, lua_sub, name);
-	return evo_file_exists(out) ? 0 : -1;
+	if (!evo_file_exists(out))
+		return -1;
+	return inside(l->lua_dir, out) ? 0 : -2;
+}
+
+/* Load the text of a script file as a chunk named @path; raises. Text
+ * only: a binary chunk can crash the Lua VM. */
+static void load_text_file(lua_State *L, const char *path)
+{
+	char *text;
+	size_t len;
+	evo_err err;
+	if (evo_read_file(path, &text, &len, &err)) {
+		lua_pushstring(L, err.msg);
+		lua_error(L);
+	}
+	lua_pushfstring(L, "@%s", path);
+	int r = luaL_loadbufferx(L, text, len, lua_tostring(L, -1), "t");
+	free(text);
+	if (r != LUA_OK) {
+		/* a syntax error names the file; "attempt to load a binary
+		 * chunk" does not */
+		const char *msg = evo_lua_errstr(L, -1);
+		if (strncmp(msg, path, strlen(path)) != 0)
+			lua_pushfstring(L, "%s: %s", path, msg);
+		lua_error(L);
+	}
+	lua_remove(L, -2);
 }
 
 /* Run a script file and leave its single result on the stack; raises. */
 void evo_lua_run_file(lua_State *L, const char *path, const char *what)
 {
-	if (luaL_loadfilex(L, path, "t") != LUA_OK)
-		lua_error(L);
+	load_text_file(L, path);
 	lua_call(L, 0, 1);
 	if (!lua_istable(L, -1))
 		luaL_error(L, "%s: %s must return a table, returned %s", path,
@@ -102,8 +141,15 @@ int evo_lua_load_model(lua_State *L, evo_lua *l, const char *model,
 	char path[1200];
 	if (!dir)
 		dir = l->mind_dir;
-	if (evo_lua_find_script(l, dir, "Bots", "bots", model, path,
-				sizeof path))
+	int found = evo_lua_find_script(l, dir, "Bots", "bots", model, path,
+					sizeof path);
+	if (found == -2)
+		luaL_error(L,
+			   "bot model '%s': %s leads out of its folder (a "
+			   "link?); scripts are loaded from the mind folder "
+			   "and lua/ only",
+			   model, path);
+	if (found)
 		luaL_error(L,
 			   "bot model '%s' not found: looked for "
 			   "%s/Bots/%s.lua and %s/bots/%s.lua",
@@ -156,12 +202,10 @@ static void new_class3d(lua_State *L, const char *mt, const luaL_Reg *methods,
 	lua_pop(L, 1);
 }
 
-void evo_lua_set_path(lua_State *L, const char *mind_dir,
-		      const char *lua_dir)
+void evo_lua_set_path(lua_State *L, const char *lua_dir)
 {
 	lua_getglobal(L, "package");
-	lua_pushfstring(L, "%s/?.lua;%s/?.lua", mind_dir[0] ? mind_dir : ".",
-			lua_dir);
+	lua_pushfstring(L, "%s/?.lua", lua_dir);
 	lua_setfield(L, -2, "path");
 	lua_pushstring(L, "");
 	lua_setfield(L, -2, "cpath");
@@ -186,18 +230,179 @@ static int open_evo(lua_State *L)
 
 /* ---- the sandbox (docs/lua.md, "What a script may use") -------------- */
 
+/* Call the function in upvalue 1 with the arguments, and return what
+ * it returns. A stand-in's callee sees the stand-in, a C function, as
+ * its caller: an error of its own is given the script's line here. */
+static int call_upvalue(lua_State *L)
+{
+	lua_pushvalue(L, lua_upvalueindex(1));
+	lua_insert(L, 1);
+	if (lua_pcall(L, lua_gettop(L) - 1, LUA_MULTRET, 0) == LUA_OK)
+		return lua_gettop(L);
+	if (lua_type(L, -1) == LUA_TSTRING) {
+		luaL_where(L, 1);
+		const char *w = lua_tostring(L, -1), *colon = strchr(w, ':');
+		/* an error from the script's own code has a line already */
+		if (colon &&
+		    strncmp(lua_tostring(L, -2), w, (size_t)(colon - w + 1)))
+			lua_insert(L, -2), lua_concat(L, 2);
+		else
+			lua_pop(L, 1);
+	}
+	return lua_error(L);
+}
+
 /* `load` of text chunks only: a binary chunk can crash the Lua VM. */
 static int load_text(lua_State *L)
 {
-	int n = lua_gettop(L);
-	if (n < 3)
-		lua_settop(L, n = 3);
+	if (lua_gettop(L) < 3)
+		lua_settop(L, 3);
 	lua_pushliteral(L, "t");
 	lua_replace(L, 3);
+	return call_upvalue(L);
+}
+
+/* require(name), evo's own loader: NAME.lua, with dots as folders, in
+ * the mind folder, then in lua/; text only; where modules are looked for
+ * is evo's, not the script's (package.path does not exist, and the
+ * `package` the script sees is read-only). A name is letters, digits,
+ * '_' and '-' between dots, so that it cannot climb out of those
+ * folders, and a module that is a link to a file elsewhere is not
+ * found. */
+static int sandbox_require(lua_State *L)
+{
+	evo_lua *l = evo_lua_ctx(L);
+	const char *name = luaL_checkstring(L, 1);
+	lua_settop(L, 1);
+	luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE); /* 2 */
+	lua_pushvalue(L, 1);
+	if (lua_rawget(L, 2) != LUA_TNIL)
+		return 1;
+	lua_pop(L, 1);
+	char rel[256];
+	size_t n = strlen(name), seg = 0;
+	int ok = n > 0 && n < sizeof rel;
+	for (size_t i = 0; ok && i <= n; i++) {
+		char c = name[i];
+		if (c == '.' || c == 0) {
+			ok = seg > 0;
+			seg = 0;
+			rel[i] = c ? '/' : 0;
+		} else {
+			ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+			     (c >= '0' && c <= '9') || c == '_' || c == '-';
+			seg++;
+			rel[i] = c;
+		}
+	}
+	if (!ok)
+		return luaL_error(L,
+				  "require '%s': a module's name is names of "
+				  "letters, digits, '_' and '-' joined by '.' "
+				  "(docs/lua.md, \"What a script may use\")",
+				  name);
+	const char *dirs[2] = {l->mind_dir, l->lua_dir};
+	char path[2][1400];
+	for (int k = 0; k < 2; k++) {
+		snprintf(path[k], sizeof path[k], "%s/%s.lua",
+			 dirs[k][0] ? dirs[k] : ".", rel);
+		if (!dirs[k][0] || !evo_file_exists(path[k]))
+			continue;
+		if (!inside(dirs[k], path[k]))
+			return luaL_error(L,
+					  "require '%s': %s leads out of %s "
+					  "(a link?); scene scripts load "
+					  "modules from the mind folder and "
+					  "lua/ only",
+					  name, path[k], dirs[k]);
+		load_text_file(L, path[k]);
+		lua_pushvalue(L, 1);
+		lua_pushstring(L, path[k]);
+		lua_call(L, 2, 1);
+		if (lua_isnil(L, -1)) {
+			lua_pop(L, 1);
+			lua_pushboolean(L, 1);
+		}
+		lua_pushvalue(L, 1);
+		lua_pushvalue(L, -2);
+		lua_rawset(L, 2);
+		return 1;
+	}
+	return luaL_error(L, "module '%s' not found: looked for %s and %s",
+			  name, l->mind_dir[0] ? path[0] : "(no mind folder)",
+			  path[1]);
+}
+
+/* __newindex of the read-only `package`. */
+static int package_read_only(lua_State *L)
+{
+	return luaL_error(L,
+			  "package.%s cannot be set in scene scripts: require "
+			  "finds modules in the mind folder and lua/ only "
+			  "(docs/lua.md, \"What a script may use\")",
+			  luaL_optstring(L, 2, "?"));
+}
+
+/* setmetatable, without __gc: a finalizer runs with the hooks off, when
+ * the collector decides and again at lua_close, where no limit can stop
+ * it (docs/lua.md). */
+static int sandbox_setmetatable(lua_State *L)
+{
+	if (lua_type(L, 2) == LUA_TTABLE) {
+		lua_pushliteral(L, "__gc");
+		if (lua_rawget(L, 2) != LUA_TNIL)
+			return luaL_error(L,
+					  "setmetatable: __gc is not "
+					  "available in scene scripts: evo "
+					  "cannot bound the time a finalizer "
+					  "takes (docs/lua.md)");
+		lua_pop(L, 1);
+	}
+	return call_upvalue(L);
+}
+
+/* The message handler xpcall is given, around the script's: once a limit
+ * is reached the script's handler is not called (it would run with the
+ * hooks off, after the hook's error) and the limit's message is the
+ * result. */
+static int sandbox_handler(lua_State *L)
+{
+	evo_lua *l = evo_lua_ctx(L);
+	if (l->over) {
+		lua_pushstring(L, l->over_msg);
+		return 1;
+	}
 	lua_pushvalue(L, lua_upvalueindex(1));
 	lua_insert(L, 1);
-	lua_call(L, n, LUA_MULTRET);
-	return lua_gettop(L);
+	lua_call(L, lua_gettop(L) - 1, 1);
+	return 1;
+}
+
+static int sandbox_xpcall(lua_State *L)
+{
+	luaL_checktype(L, 2, LUA_TFUNCTION);
+	lua_pushvalue(L, 2);
+	lua_pushcclosure(L, sandbox_handler, 1);
+	lua_replace(L, 2);
+	return call_upvalue(L);
+}
+
+/* string.find, match, gmatch and gsub: a pattern that backtracks can
+ * take seconds in one call, where no hook runs; the line that made the
+ * call is noted first, for the watchdog's message. */
+static int sandbox_pattern(lua_State *L)
+{
+	evo_lua_note_where(evo_lua_ctx(L), L, 1);
+	return call_upvalue(L);
+}
+
+/* Replace t[name] (t at idx) by a C closure of fn over the old value. */
+static void wrap(lua_State *L, int idx, const char *name, lua_CFunction fn)
+{
+	idx = lua_absindex(L, idx);
+	lua_getfield(L, idx, name);
+	lua_pushcclosure(L, fn, 1);
+	lua_setfield(L, idx, name);
 }
 
 /* __index of the stand-ins for io and os: any name but the ones they
@@ -238,16 +443,17 @@ static void stand_in(lua_State *L, const char *lib)
 }
 
 /* The libraries a scene script gets: the base library without dofile and
- * loadfile, load of text only; package (require, which evo_lua_set_path
- * points at the mind folder and lua/), coroutine, string, table, math,
- * utf8; io and os as stand-ins that say what is missing, os keeping
- * os.clock. No debug. The learning loop's state (sim/learn/learn.c) is
- * evo's own code and keeps every library. */
+ * loadfile, load of text only, setmetatable without __gc, xpcall whose
+ * handler does not run past a limit; evo's require (sandbox_require),
+ * with a read-only `package` that has `loaded` only; coroutine, string
+ * (its pattern functions note their caller's line), table, math, utf8;
+ * io and os as stand-ins that say what is missing, os keeping os.clock.
+ * No debug. The learning loop's state (sim/learn/learn.c) is evo's own
+ * code and keeps every library. */
 static void open_sandbox(lua_State *L)
 {
 	static const luaL_Reg libs[] = {
 	    {LUA_GNAME, luaopen_base},
-	    {LUA_LOADLIBNAME, luaopen_package},
 	    {LUA_COLIBNAME, luaopen_coroutine},
 	    {LUA_TABLIBNAME, luaopen_table},
 	    {LUA_STRLIBNAME, luaopen_string},
@@ -258,17 +464,40 @@ static void open_sandbox(lua_State *L)
 		luaL_requiref(L, libs[i].name, libs[i].func, 1);
 		lua_pop(L, 1);
 	}
+	lua_pushglobaltable(L);
+	int g = lua_gettop(L);
 	lua_pushnil(L);
-	lua_setglobal(L, "dofile");
+	lua_setfield(L, g, "dofile");
 	lua_pushnil(L);
-	lua_setglobal(L, "loadfile");
-	lua_getglobal(L, "load");
-	lua_pushcclosure(L, load_text, 1);
-	lua_setglobal(L, "load");
-	lua_getglobal(L, LUA_LOADLIBNAME);
-	lua_pushnil(L);
-	lua_setfield(L, -2, "loadlib");
+	lua_setfield(L, g, "loadfile");
+	wrap(L, g, "load", load_text);
+	wrap(L, g, "setmetatable", sandbox_setmetatable);
+	wrap(L, g, "xpcall", sandbox_xpcall);
+	lua_pushcfunction(L, sandbox_require);
+	lua_setfield(L, g, "require");
+	/* package: an empty table whose __index shows `loaded` */
+	lua_newtable(L);
+	lua_newtable(L);
+	lua_newtable(L);
+	luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
+	lua_setfield(L, -2, "loaded");
+	lua_setfield(L, -2, "__index");
+	lua_pushcfunction(L, package_read_only);
+	lua_setfield(L, -2, "__newindex");
+	lua_pushboolean(L, 0);
+	lua_setfield(L, -2, "__metatable");
+	lua_setmetatable(L, -2);
+	luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
+	lua_pushvalue(L, -2);
+	lua_setfield(L, -2, LUA_LOADLIBNAME);
 	lua_pop(L, 1);
+	lua_setfield(L, g, LUA_LOADLIBNAME);
+	lua_getfield(L, g, LUA_STRLIBNAME);
+	static const char *const patterns[] = {"find", "match", "gmatch",
+					       "gsub"};
+	for (unsigned i = 0; i < 4; i++)
+		wrap(L, -1, patterns[i], sandbox_pattern);
+	lua_pop(L, 2);
 	stand_in(L, LUA_IOLIBNAME);
 	stand_in(L, LUA_OSLIBNAME);
 }
@@ -308,8 +537,6 @@ static int setup(lua_State *L)
 	lua_rawsetp(L, LUA_REGISTRYINDEX, &evo_lua_scene_key);
 	luaL_requiref(L, "evo", open_evo, 0);
 	lua_pop(L, 1);
-	/* require finds modules beside the scripts: the mind folder first */
-	evo_lua_set_path(L, l->mind_dir, l->lua_dir);
 	/* the same numbers in init on every run; each episode's reset seeds
 	 * them from the episode's seed (evo_lua_reset) */
 	lua_getglobal(L, LUA_MATHLIBNAME);
@@ -318,6 +545,19 @@ static int setup(lua_State *L)
 	lua_pop(L, 1);
 	seed_math_random(L, 0);
 	return 0;
+}
+
+/* The first refused allocation: the script's line, for the message. The
+ * state is in the middle of an allocation, so this only reads it. */
+static void memory_hit(void *ctx)
+{
+	evo_lua *l = ctx;
+	lua_Debug ar;
+	for (int lv = 0; lua_getstack(l->L, lv, &ar); lv++)
+		if (lua_getinfo(l->L, "l", &ar) && ar.currentline > 0) {
+			evo_lua_note_where(l, l->L, lv);
+			return;
+		}
 }
 
 evo_lua *evo_lua_create(const evo_lua_def *def, evo_err *err)
@@ -358,16 +598,26 @@ evo_lua *evo_lua_create(const evo_lua_def *def, evo_err *err)
 			 def->teams[i].mind_dir ? def->teams[i].mind_dir : "");
 		l->team[i].size = def->teams[i].size;
 	}
-	l->L = luaL_newstate();
+	if (def->limits)
+		l->limits = *def->limits;
+	else if (evo_lua_limits_read(def->task, def->task_path, &l->limits,
+				     err)) {
+		free(l);
+		return NULL;
+	}
+	l->L = evo_lua_state_new(l->limits.memory, &l->mem);
 	if (!l->L) {
 		free(l);
 		evo_fail(err, "cannot create a Lua state");
 		return NULL;
 	}
+	l->watch = evo_lua_watch_add();
+	l->mem->on_hit = memory_hit;
+	l->mem->ctx = l;
 	lua_pushcfunction(l->L, setup);
 	lua_pushlightuserdata(l->L, l);
 	if (lua_pcall(l->L, 1, 0, 0) != LUA_OK) {
-		evo_fail(err, "Lua setup: %s", lua_tostring(l->L, -1));
+		evo_fail(err, "Lua setup: %s", evo_lua_errstr(l->L, -1));
 		evo_lua_destroy(l);
 		return NULL;
 	}
@@ -385,7 +635,8 @@ void evo_lua_destroy(evo_lua *l)
 		return;
 	if (l->sc && l->sc->hooks.ctx == l)
 		memset(&l->sc->hooks, 0, sizeof l->sc->hooks);
-	lua_close(l->L);
+	evo_lua_state_close(l->L, l->mem);
+	evo_lua_watch_remove(l->watch);
 	free(l);
 }
 
@@ -400,12 +651,46 @@ static int load_env(lua_State *L)
 	return 1;
 }
 
-static int init_env3d(evo_lua *l, evo_err *err);
+static int init_env3d(evo_lua *l, const char *not3d, evo_err *err);
+
+/* What the environment's table has after init: post_step and obstacles
+ * functions, and the first of the 2D hooks a 3D environment may not
+ * have. Read in a call of its own: an __index of the table is the
+ * script's code. */
+static int env_fields(lua_State *L)
+{
+	static const char *const not3d[] = {"post_step", "obstacles"};
+	evo_lua *l = lua_touserdata(L, 1);
+	lua_rawgeti(L, LUA_REGISTRYINDEX, l->env_ref);
+	int env = lua_gettop(L);
+	lua_pushboolean(L, lua_getfield(L, env, "post_step") == LUA_TFUNCTION);
+	lua_replace(L, -2);
+	lua_pushboolean(L, lua_getfield(L, env, "obstacles") == LUA_TFUNCTION);
+	lua_replace(L, -2);
+	lua_pushnil(L);
+	for (unsigned i = 0; i < 2; i++) {
+		int has = lua_getfield(L, env, not3d[i]) != LUA_TNIL;
+		lua_pop(L, 1);
+		if (has) {
+			lua_pushstring(L, not3d[i]);
+			lua_replace(L, -2);
+			break;
+		}
+	}
+	return 3;
+}
 
 int evo_lua_init_env(evo_lua *l, const char *env, evo_err *err)
 {
-	if (evo_lua_find_script(l, NULL, "Envs", "envs", env, l->env_path,
-				sizeof l->env_path))
+	int found = evo_lua_find_script(l, NULL, "Envs", "envs", env,
+					l->env_path, sizeof l->env_path);
+	if (found == -2)
+		return evo_fail(err,
+				"environment '%s': %s leads out of its folder "
+				"(a link?); scripts are loaded from the mind "
+				"folder and lua/ only",
+				env, l->env_path);
+	if (found)
 		return evo_fail(err,
 				"environment '%s' not found: looked for "
 				"%s/Envs/%s.lua and %s/envs/%s.lua",
@@ -414,9 +699,9 @@ int evo_lua_init_env(evo_lua *l, const char *env, evo_err *err)
 	lua_State *L = l->L;
 	lua_pushcfunction(L, load_env);
 	lua_pushlightuserdata(L, l);
-	if (evo_lua_pcall(l, 1, 1, EVO_LUA_BUDGET_INIT,
+	if (evo_lua_pcall(l, 1, 1, EVO_LUA_BUDGET_INIT, EVO_LUA_TIME_INIT,
 			  "loading the environment") != LUA_OK) {
-		evo_fail(err, "%s", lua_tostring(L, -1));
+		evo_fail(err, "%s", evo_lua_errstr(L, -1));
 		lua_pop(L, 1);
 		return -1;
 	}
@@ -424,17 +709,28 @@ int evo_lua_init_env(evo_lua *l, const char *env, evo_err *err)
 	if (evo_lua_call_env(l, "init", 2, 0, err))
 		return -1;
 	l->ready = 1;
+	lua_pushcfunction(L, env_fields);
+	lua_pushlightuserdata(L, l);
+	if (evo_lua_pcall(l, 1, 3, EVO_LUA_BUDGET_INIT, EVO_LUA_TIME_INIT,
+			  "init") != LUA_OK) {
+		evo_fail(err, "%s", evo_lua_errstr(L, -1));
+		lua_pop(L, 1);
+		return -1;
+	}
+	int has_obstacles = lua_toboolean(L, -2);
+	l->has_post_step = lua_toboolean(L, -3);
+	char not3d[16] = "";
+	if (lua_isstring(L, -1))
+		snprintf(not3d, sizeof not3d, "%s", lua_tostring(L, -1));
+	lua_pop(L, 3);
 	if (l->sc3)
-		return init_env3d(l, err);
+		return init_env3d(l, not3d, err);
 	if (l->sc->n_bots == 0)
 		return evo_fail(err, "%s: init added no bot (call scene:bot{...})",
 				l->env_path);
-	lua_rawgeti(L, LUA_REGISTRYINDEX, l->env_ref);
-	l->has_post_step = lua_getfield(L, -1, "post_step") == LUA_TFUNCTION;
 	/* an obstacle generator of its own replaces the grid */
-	if (lua_getfield(L, -2, "obstacles") == LUA_TFUNCTION)
+	if (has_obstacles)
 		l->sc->grid.enabled = 0;
-	lua_pop(L, 3);
 	if (l->has_post_step)
 		l->sc->hooks.post_step = evo_lua_hook_post_step;
 	return 0;
@@ -512,30 +808,20 @@ static int run_obstacles(lua_State *L)
 }
 
 /* A 3D environment after its init: a bot, and none of the 2D hooks it
- * cannot have yet (docs/world3d.md). */
-static int init_env3d(evo_lua *l, evo_err *err)
+ * cannot have yet (docs/world3d.md); not3d names the first it has. */
+static int init_env3d(evo_lua *l, const char *not3d, evo_err *err)
 {
-	static const char *const not3d[] = {"post_step", "obstacles"};
 	if (l->sc3->n_bots == 0)
 		return evo_fail(err,
 				"%s: init added no bot (call scene:bot{...})",
 				l->env_path);
-	lua_State *L = l->L;
-	lua_rawgeti(L, LUA_REGISTRYINDEX, l->env_ref);
-	for (unsigned i = 0; i < 2; i++) {
-		int has = lua_getfield(L, -1, not3d[i]) != LUA_TNIL;
-		lua_pop(L, 1);
-		if (has) {
-			lua_pop(L, 1);
-			return evo_fail(err,
-					"%s: env.%s is for 2D environments; a "
-					"3D one adds its episode's obstacles "
-					"with scene:obstacle{...} in reset "
-					"(docs/world3d.md)",
-					l->env_path, not3d[i]);
-		}
-	}
-	lua_pop(L, 1);
+	if (not3d[0])
+		return evo_fail(err,
+				"%s: env.%s is for 2D environments; a "
+				"3D one adds its episode's obstacles "
+				"with scene:obstacle{...} in reset "
+				"(docs/world3d.md)",
+				l->env_path, not3d);
 	return 0;
 }
 
@@ -573,9 +859,9 @@ int evo_lua_reset(evo_lua *l, int episode, evo_err *err)
 	l->episode = episode;
 	lua_pushcfunction(L, run_obstacles);
 	lua_pushlightuserdata(L, l);
-	if (evo_lua_pcall(l, 1, 0, EVO_LUA_BUDGET_RESET, "obstacles") !=
-	    LUA_OK) {
-		evo_fail(err, "%s", lua_tostring(L, -1));
+	if (evo_lua_pcall(l, 1, 0, EVO_LUA_BUDGET_RESET, EVO_LUA_TIME_RESET,
+			  "obstacles") != LUA_OK) {
+		evo_fail(err, "%s", evo_lua_errstr(L, -1));
 		lua_pop(L, 1);
 		return -1;
 	}

@@ -9,6 +9,9 @@
 #ifndef EVO_LUA_EVO_H
 #define EVO_LUA_EVO_H
 
+#include <signal.h>
+#include <stddef.h>
+
 #include "base/err.h"
 #include "evo/evo.h"
 #include "world2d/scene.h"
@@ -24,6 +27,58 @@ typedef struct evo_lua_team {
 	int size;
 } evo_lua_team;
 
+/* The limits of a run's Lua states (docs/lua.md, "Limits"): every
+ * instruction budget and time limit of a call into a scene script is
+ * multiplied by budget_scale (the task's LUABUDGET, 1..1000), and a state
+ * may hold at most memory bytes (LUAMEMORY, in MB). */
+typedef struct evo_lua_limits {
+	double budget_scale;
+	size_t memory;
+} evo_lua_limits;
+
+#define EVO_LUA_MEMORY_MB 512 /* LUAMEMORY's default */
+
+/* The defaults: scale 1, EVO_LUA_MEMORY_MB. */
+evo_lua_limits evo_lua_default_limits(void);
+
+/* A task's LUABUDGET and LUAMEMORY, each checked at its line of
+ * task_path; absent keys keep the defaults. 0, or -1 with err set. */
+int evo_lua_limits_read(const evo_simbatch *sb, const char *task_path,
+			evo_lua_limits *out, evo_err *err);
+
+/* The flag SIGINT and SIGTERM set (a handler's `*flag = sig`): a call
+ * into a scene script under way stops at its next instruction count, and
+ * one inside a library call that does not return ends the process about
+ * half a second later, with exit status 128 + sig. Process-wide; NULL
+ * stops watching. */
+void evo_lua_watch_stop(volatile sig_atomic_t *flag);
+
+/* A Lua state whose allocator refuses to grow it past `memory` bytes
+ * while its record's `enforce` is non-zero; `hit` is set when it refused.
+ * Closed with evo_lua_state_close. NULL when out of memory. The learning
+ * loop's state (sim/learn/learn.c) is one. */
+typedef struct evo_lua_mem {
+	size_t used, limit;
+	int enforce;
+	int hit;
+	/* called at the first refusal, inside the allocation (it may only
+	 * read the state) */
+	void (*on_hit)(void *ctx);
+	void *ctx;
+} evo_lua_mem;
+struct lua_State *evo_lua_state_new(size_t memory, evo_lua_mem **mem);
+void evo_lua_state_close(struct lua_State *L, evo_lua_mem *mem);
+
+/* The error value at idx as a message: a string or number as it is,
+ * anything else "(an error value of type T)". Never NULL. */
+const char *evo_lua_errstr(struct lua_State *L, int idx);
+
+/* Register the module `evo.data` in L: evo.data.read(text, name) reads
+ * the plain data serialize.dump writes (lua/learn/serialize.lua: numbers,
+ * strings, booleans and tables after "return ") without running it, and
+ * raises "NAME:LINE: ..." on anything else. A checkpoint is data. */
+void evo_lua_open_data(struct lua_State *L);
+
 typedef struct evo_lua_def {
 	/* the scene the scripts build (not owned): a 2D scene, or a 3D one
 	 * (DEMO3DSIM, LEARN3DSIM; docs/world3d.md) */
@@ -37,17 +92,22 @@ typedef struct evo_lua_def {
 	 * one-agent task. Copied. At most EVO_SCENE_MAX_TEAMS. */
 	const evo_lua_team *teams;
 	int n_teams;
+	/* the task's file, for messages about its LUABUDGET and LUAMEMORY */
+	const char *task_path;
+	/* NULL: read from the task (evo_lua_limits_read), defaults without
+	 * one */
+	const evo_lua_limits *limits;
 } evo_lua_def;
 
 /* The lua/ folder evo uses: $EVO_LUA_DIR, else lua/ beside the folder of
  * the evo program (a build tree), else share/evo/lua under its prefix. */
 const char *evo_lua_dir(void);
 
-/* Point a Lua state's `require` at mind_dir (the mind folder, or "." when
- * empty) first, then at lua_dir, and at no C modules. */
+/* Point the standard `require` of a state of evo's own (the learning
+ * loop's) at lua_dir only, and at no C modules. Scene scripts have a
+ * loader of their own (docs/lua.md). */
 struct lua_State;
-void evo_lua_set_path(struct lua_State *L, const char *mind_dir,
-		      const char *lua_dir);
+void evo_lua_set_path(struct lua_State *L, const char *lua_dir);
 
 /* A Lua state with the evo module, ready to load an environment. Sets
  * the scene's hooks. NULL with err set on failure. */

@@ -38,26 +38,64 @@ struct evo_lua {
 	int has_post_step;
 	char env_path[1200];
 	char bot_path[1200];
-	/* the instruction budget of the call into Lua under way
-	 * (evo_lua_pcall): its size, what was used, whether it ran out and
-	 * then the message, which stays the error however the script
-	 * catches it */
+	/* the limits of every call into Lua (evo_lua_pcall): the
+	 * instruction budget and time limit of the call under way, what was
+	 * used, when it started, and, once a limit is reached, `over` and
+	 * its message, which stay: every later hook and call fails with it,
+	 * however the script catches the error */
+	evo_lua_limits limits;
+	evo_lua_mem *mem;
 	long budget;
 	long used;
+	double started, cpu_started, time_limit;
 	int in_call;
 	int over;
 	const char *call_what;
 	char over_msg[1400];
+	struct evo_lua_watch *watch;
 };
 
-/* Instruction budgets of a call into Lua from C (docs/lua.md, "The
- * instruction budget"): loading a script and init run once and may build
+/* ---- lua_limits.c: the watchdog beside the count hook ----------------- */
+
+/* A state's entry in the watchdog's list: while a call runs, its
+ * deadline, what it is, and the script's file:line last seen (by the
+ * count hook, and by the string functions that match patterns). */
+struct evo_lua_watch *evo_lua_watch_add(void);
+void evo_lua_watch_remove(struct evo_lua_watch *w);
+/* A call begins (deadline: limit + grace seconds of the calling thread's
+ * CPU time) or ends (limit < 0). Returns the thread's CPU time at the
+ * start (evo_lua_cpu_now). */
+double evo_lua_watch_call(struct evo_lua_watch *w, const char *what,
+			  double limit);
+/* The calling thread's CPU time, in seconds. */
+double evo_lua_cpu_now(void);
+/* The script's file:line now; "" when none. */
+void evo_lua_watch_where(struct evo_lua_watch *w, const char *where);
+void evo_lua_watch_get_where(struct evo_lua_watch *w, char *out, size_t cap);
+/* The signal that stops the run, or 0. */
+int evo_lua_stop_signal(void);
+double evo_lua_now(void);
+
+/* Instruction budgets of a call into Lua from C (docs/lua.md,
+ * "Limits"): loading a script and init run once and may build
  * large scenes; reset runs once an episode; post_step and Lua reward and
  * control functions run every tick. An endless loop in any of them ends
  * the run within about a second. */
 #define EVO_LUA_BUDGET_INIT  100000000L
 #define EVO_LUA_BUDGET_RESET 10000000L
 #define EVO_LUA_BUDGET_TICK  1000000L
+
+/* Time limits of the same calls, in seconds: a C library call (a string
+ * pattern that backtracks, a sort) can take seconds in one instruction,
+ * which no instruction count sees. A call that ends past its limit fails;
+ * one that does not end is stopped by the watchdog EVO_LUA_GRACE seconds
+ * after its limit, which ends the process (docs/lua.md). The time is the
+ * thread's own (its CPU time; a script cannot wait on anything): on a
+ * busy machine, time the thread was not given is not the script's. */
+#define EVO_LUA_TIME_INIT  10.0
+#define EVO_LUA_TIME_RESET 2.0
+#define EVO_LUA_TIME_TICK  0.5
+#define EVO_LUA_GRACE	   1.0
 
 /* Registry keys, by their addresses: the evo_lua of a state, and the one
  * scene object that hooks pass to Lua functions. */
@@ -130,7 +168,8 @@ extern const luaL_Reg evo_lua_element3d_methods[];
 /* ---- lua_evo.c: loading scripts --------------------------------------- */
 
 /* Find NAME.lua in dir/<mind_sub> (dir NULL: the mind folder), then
- * lua_dir/<lua_sub>; 0 or -1. */
+ * lua_dir/<lua_sub>; 0, -1 when there is none, or -2 when the one found
+ * (in out) is a link to a file outside its folder. */
 int evo_lua_find_script(const evo_lua *l, const char *dir, const char *mind_sub,
 			const char *lua_sub, const char *name, char *out,
 			size_t cap);
@@ -156,14 +195,20 @@ int evo_lua_call_resets(evo_lua *l, const void *key, evo_err *err);
 
 /* ---- lua_hooks.c: Lua called from the tick ---------------------------- */
 
-/* lua_pcall under an instruction budget: what the call is ("init",
- * "post_step", "a reward function") names it in the message when the
- * script runs past it, "FILE:LINE: the script ran past its budget of N
- * instructions in WHAT; an endless loop?", which is then the error on the
- * stack. A call from within a call shares the outer one's budget. Returns
+/* lua_pcall under the limits (docs/lua.md, "Limits"): an instruction
+ * budget and a time limit (both times LUABUDGET), the state's memory
+ * limit, and the stop flag. What the call is ("init", "post_step", "a
+ * reward function") names it in the message when the script reaches one,
+ * "FILE:LINE: the script ran past its budget of N instructions in WHAT;
+ * ...", which is then the error on the stack, and stays the error of
+ * every later call. Any error value becomes a message with the script's
+ * line. A call from within a call shares the outer one's limits. Returns
  * lua_pcall's status. */
 int evo_lua_pcall(evo_lua *l, int nargs, int nresults, long budget,
-		  const char *what);
+		  double time_limit, const char *what);
+/* Note the script's file:line at level for the watchdog (0 in a hook, 1
+ * in a C function called from the script). */
+void evo_lua_note_where(evo_lua *l, lua_State *L, int level);
 
 int evo_lua_hook_reward(void *c, evo_scene *sc, const evo_reward *r,
 			double *out);

@@ -278,7 +278,7 @@ static int scene_bot(lua_State *L)
 		lua_pushlightuserdata(L, &d.body);
 		if (lua_pcall(L, 2, 0, 0) != LUA_OK) {
 			lua_pushfstring(L, "%s: %s", l->bot_path,
-					lua_tostring(L, -1));
+					evo_lua_errstr(L, -1));
 			return lua_error(L);
 		}
 	}

@@ -670,7 +670,8 @@ static int scene_bot(lua_State *L)
 	lua_insert(L, -2);
 	lua_pushlightuserdata(L, &d);
 	if (lua_pcall(L, 2, 0, 0) != LUA_OK) {
-		lua_pushfstring(L, "%s: %s", l->bot_path, lua_tostring(L, -1));
+		lua_pushfstring(L, "%s: %s", l->bot_path,
+				evo_lua_errstr(L, -1));
 		return lua_error(L);
 	}
 	opt_xyz(L, 2, d.pos, what);

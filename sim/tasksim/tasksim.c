@@ -324,6 +324,7 @@ static evo_sim *build(evo_sim *s, const evo_simbatch *task,
 	    .task = task,
 	    .teams = lt,
 	    .n_teams = s->has_teams ? s->n_teams : 0,
+	    .task_path = task_path,
 	};
 	s->lua = evo_lua_create(&ld, err);
 	if (!s->lua || evo_lua_init_env(s->lua, env, err) ||

@@ -330,8 +330,9 @@ TEST(simbatch_tables)
 	 * remote keys (LCMURL, REMOTENAME, REMOTETIMEOUT, LCMKEYFILE,
 	 * CANURL) and the five of teams (TEAM, LEARNINGTEAM, TEAMGENOME,
 	 * TEAMFITNESS, ALTERNATE) and the three of LEARNSIMCONTINUOUS
-	 * (SKILLORDER, ROUNDS, VALIDATION) */
-	CHECK_EQ_INT(n, 29);
+	 * (SKILLORDER, ROUNDS, VALIDATION), and the Lua limits (LUABUDGET,
+	 * LUAMEMORY) */
+	CHECK_EQ_INT(n, 31);
 	CHECK(n <= EVO_MAX_SIMBATCH);
 	n = 0;
 	for (i = 0; evo_task_types[i]; i++)
@@ -388,8 +389,8 @@ TEST(simbatch_every_whole_key_is_checked_at_its_bounds)
 		}
 	}
 	/* NUMGEN, EVALREP, TICKLIM, POPSIZE, SEED, THREADS, HIDDEN,
-	 * ALTERNATE, ROUNDS, VALIDATION */
-	CHECK_EQ_INT(wholes, 10);
+	 * ALTERNATE, ROUNDS, VALIDATION, LUABUDGET, LUAMEMORY */
+	CHECK_EQ_INT(wholes, 12);
 	CHECK(evo_simbatch_key_find("numgen") != NULL);
 	CHECK(evo_simbatch_key_find("NEAT_C1") == NULL);
 }

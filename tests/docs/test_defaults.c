@@ -372,7 +372,7 @@ static int push_module(const char *module)
 	lua_pushstring(learn_L, module);
 	if (lua_pcall(learn_L, 1, 1, 0) != LUA_OK) {
 		result(0, "require '%s': %s", module,
-		       lua_tostring(learn_L, -1));
+		       evo_lua_errstr(learn_L, -1));
 		lua_pop(learn_L, 1);
 		return -1;
 	}
@@ -922,6 +922,10 @@ static int render_task_default(const char *key, int in_learning, char *out,
 		snprintf(out, cap, "none");
 	} else if (strcmp(key, "REMOTETIMEOUT") == 0) {
 		snprintf(out, cap, "%g", EVO_REMOTE_DEFAULT_TIMEOUT);
+	} else if (strcmp(key, "LUABUDGET") == 0) {
+		snprintf(out, cap, "%g", evo_lua_default_limits().budget_scale);
+	} else if (strcmp(key, "LUAMEMORY") == 0) {
+		snprintf(out, cap, "%zu", evo_lua_default_limits().memory >> 20);
 	} else if (strcmp(key, "TARGETFITNESS") == 0) {
 		/* no target: a run goes all its generations */
 		snprintf(out, cap, "none");

@@ -698,9 +698,13 @@ TEST(resume_refuses_a_damaged_checkpoint_and_keeps_the_log)
 	char *before = cli_read("%s/dmg/run/log.csv", cli_tmp);
 	CHECK(before != NULL);
 	static const char *const bad[][2] = {
-	    {"return {", "checkpoint.lua:1: unexpected symbol near <eof>"},
-	    {"while true do end", "checkpoint.lua: not plain data: it runs code"},
+	    {"return {", "checkpoint.lua:1: not plain data as evo writes it: "
+			 "expected a value"},
+	    {"while true do end", "checkpoint.lua:1: not plain data as evo "
+				  "writes it: expected 'return' and a value"},
 	    {"return {generation = 1}",
+	     "checkpoint.lua:1: not plain data as evo writes it"},
+	    {"return {[\"generation\"]=1,}",
 	     "checkpoint.lua: not a learning run's checkpoint"},
 	};
 	for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {

@@ -16,6 +16,8 @@
 #include <lua.h>
 #include <lualib.h>
 
+#include "lua/lua_evo.h"
+
 #define MAX_FILES 64
 #define MAX_TESTS 256
 #define NAME_MAX_LEN 128
@@ -54,6 +56,7 @@ static lua_State *new_state(const char *lua_dir)
 	lua_pushfstring(L, "%s/?.lua;%s/?/init.lua", lua_dir, lua_dir);
 	lua_setfield(L, -2, "path");
 	lua_pop(L, 1);
+	evo_lua_open_data(L); /* serialize.load reads with it */
 	return L;
 }
 
@@ -61,7 +64,7 @@ static lua_State *new_state(const char *lua_dir)
 static int load_tests(lua_State *L, const char *path)
 {
 	if (luaL_loadfile(L, path) != LUA_OK || lua_pcall(L, 0, 1, 0) != LUA_OK) {
-		printf("FAIL %s\n  %s\n", path, lua_tostring(L, -1));
+		printf("FAIL %s\n  %s\n", path, evo_lua_errstr(L, -1));
 		return 0;
 	}
 	if (!lua_istable(L, -1)) {
@@ -119,7 +122,7 @@ static void run_file(const char *lua_dir, const char *path)
 			printf("ok   %s %s (%.2f s)\n", path, names[i], now_seconds() - t0);
 		} else {
 			failed_count++;
-			printf("FAIL %s %s\n  %s\n", path, names[i], lua_tostring(L, -1));
+			printf("FAIL %s %s\n  %s\n", path, names[i], evo_lua_errstr(L, -1));
 		}
 		lua_close(L);
 	}
