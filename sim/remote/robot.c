@@ -37,7 +37,10 @@ int evo_robot_task_check(const evo_simbatch *task, const char *type,
 						  : EVO_REMOTE_SIMULATOR,
 					      &o, err))
 			return -1;
-		if (!o.name && !o.key.len)
+		/* a DEMOREMOTE task may reach its robot over CAN by evo run
+		 * --can, with neither: evo_remotes_open asks for them when it
+		 * goes over LCM */
+		if (!o.name && !o.key.len && strcmp(type, "DEMOREMOTE") != 0)
 			return evo_fail(
 			    err,
 			    "%s: a remote task names its remotes "

@@ -19,7 +19,8 @@ typedef struct evo_robot_conn evo_robot_conn;
 /* What `evo check` checks of a remote task's connection: a CANURL only
  * in a DEMOREMOTE task (a remote simulator is reached over LCM) and a URL
  * of can.h's; over LCM, the keys evo_remote_opts_from_task reads, and
- * REMOTENAME or LCMKEYFILE given. 0, or -1 with err set ("TASK: ..."). */
+ * for a remote simulator REMOTENAME or LCMKEYFILE given (a DEMOREMOTE
+ * task may reach its robot by `evo run --can` instead). 0, or -1 with err set ("TASK: ..."). */
 int evo_robot_task_check(const evo_simbatch *task, const char *type,
 			 const char *task_path, evo_err *err);
 

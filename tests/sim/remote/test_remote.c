@@ -659,8 +659,9 @@ TEST(bad_remote_keys_are_refused)
 			 "%s run %s/Avoid/Tasks/badname.simbatch -nog", cli_evo,
 			 cli_tmp);
 	CHECK_EQ_INT(rc, 1);
-	CHECK_CONTAINS(out, "badname.simbatch:3: REMOTENAME: expected a name of "
-			    "1 to 63 letters, digits, '_' or '-', found 'a/b'");
+	CHECK_CONTAINS(out, "badname.simbatch:3: REMOTENAME: expected names of "
+			    "1 to 63 letters, digits, '_' or '-', joined by ',', "
+			    "found 'a/b'");
 }
 
 /* ---- hostile peers (docs/remote.md, What LCM protects) ------------------ */
