@@ -29,6 +29,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "evo/flash.h"
@@ -315,6 +316,53 @@ TEST(link_loss_goes_neutral_and_resumes)
 	CHECK_EQ_INT(st.losses, 1);
 	CHECK_EQ_INT(st.ticks, 100);
 	CHECK_EQ_INT(st.incomplete, 0);
+	qs_stop(&q);
+}
+
+/* The robot's clock keeps the wall clock's time while the emulator is off
+ * the CPU, as a busy host keeps it for tens of milliseconds at a time: the
+ * emulator is stopped (SIGSTOP) for 3 s, 100 ms into a 1.5 s link timeout;
+ * when it runs again its clock says 3.1 s have passed, and the neutral
+ * frames come at once. A clock that counted its millisecond interrupts
+ * lost those of the stop: it went neutral 1.4 s after the emulator ran
+ * again, and under load every timeout of the robot (the link's, a
+ * transfer's) lasted up to three times its length. */
+TEST(clock_keeps_time_while_emulator_is_stopped)
+{
+	const unsigned timeout_ms = 1500;
+	qemu_session q;
+	if (start(&q, elf, 30.0) != 0) {
+		CHECK(0);
+		return;
+	}
+	CHECK(wait_hello(&q) == trace.names_hash);
+	evo_can_frame f = {EVO_WIRE_CONFIG, 2, {0}};
+	evo_wire_put_u16(f.data, timeout_ms);
+	qs_queue_frame(&q, &f);
+	CHECK_EQ_INT(replay(&q, 0, 10, 1), 0);
+	double silent_at = qs_now();
+	struct timespec ms100 = {0, 100000000}, s3 = {3, 0};
+	nanosleep(&ms100, NULL);
+	CHECK(kill(q.pid, SIGSTOP) == 0);
+	nanosleep(&s3, NULL);
+	CHECK(kill(q.pid, SIGCONT) == 0);
+	double resumed = qs_now();
+	reply r;
+	CHECK(read_reply(&q, 5.0, &r));
+	double after = qs_now() - silent_at, since = qs_now() - resumed;
+	CHECK_EQ_INT(r.flags, EVO_WIRE_F_NEUTRAL);
+	CHECK_EQ_INT(r.tick, trace.tick[9]);
+	/* 0.7 s: twice the longest tick seen on a loaded two-core host;
+	 * a lost stop is 1.4 s. */
+	CHECK(since <= 0.7);
+	printf("  %s: stopped 3 s, 100 ms into a %u ms link timeout: neutral "
+	       "%.0f ms after it ran again (%.0f ms after the last sensor "
+	       "frame)\n",
+	       machine, timeout_ms, since * 1e3, after * 1e3);
+	status st;
+	memset(&st, 0, sizeof st);
+	CHECK(read_status(&q, &st) == 0);
+	CHECK_EQ_INT(st.losses, 1);
 	qs_stop(&q);
 }
 
@@ -1055,6 +1103,7 @@ int main(int argc, char **argv)
 			printf("== %s: %s\n", machine, elf);
 			RUN_FW(replay_matches_trace);
 			RUN_FW(link_loss_goes_neutral_and_resumes);
+			RUN_FW(clock_keeps_time_while_emulator_is_stopped);
 			RUN_FW(incomplete_tick_is_not_stepped);
 			RUN_FW(malformed_lines_are_counted_and_ignored);
 			RUN_FW(corrupt_image_is_refused);
