@@ -276,15 +276,16 @@ TEST(link_loss_goes_neutral_and_resumes)
 {
 	const unsigned timeout_ms = 200;
 	qemu_session q;
-	if (start(&q, elf, 30.0) != 0) {
-		CHECK(0);
+	/* The short timeout only for the silence: on a busy host a tick
+	 * can take longer than 200 ms, and the robot's clock keeps the
+	 * wall clock's time, so the replays around it have the patient
+	 * link of the other tests. */
+	if (start_ready(&q, 30.0) != 0)
 		return;
-	}
-	CHECK(wait_hello(&q) == trace.names_hash);
+	CHECK_EQ_INT(replay(&q, 0, 50, 1), 0);
 	evo_can_frame f = {EVO_WIRE_CONFIG, 2, {0}};
 	evo_wire_put_u16(f.data, timeout_ms);
 	qs_queue_frame(&q, &f);
-	CHECK_EQ_INT(replay(&q, 0, 50, 1), 0);
 
 	/* Half a tick, then silence: the half tick must not count later. */
 	evo_wire_pack(EVO_WIRE_SENSOR, trace.sensor + 50 * trace.n_sensors,
@@ -309,6 +310,7 @@ TEST(link_loss_goes_neutral_and_resumes)
 	       machine, after * 1e3, timeout_ms);
 
 	/* Frames again: the mind goes on exactly as in the trace. */
+	patient_link(&q);
 	CHECK_EQ_INT(replay(&q, 50, 100, 1), 0);
 	status st;
 	memset(&st, 0, sizeof st);
@@ -331,15 +333,13 @@ TEST(clock_keeps_time_while_emulator_is_stopped)
 {
 	const unsigned timeout_ms = 1500;
 	qemu_session q;
-	if (start(&q, elf, 30.0) != 0) {
-		CHECK(0);
+	if (start_ready(&q, 30.0) != 0)
 		return;
-	}
-	CHECK(wait_hello(&q) == trace.names_hash);
+	CHECK_EQ_INT(replay(&q, 0, 10, 1), 0);
 	evo_can_frame f = {EVO_WIRE_CONFIG, 2, {0}};
 	evo_wire_put_u16(f.data, timeout_ms);
 	qs_queue_frame(&q, &f);
-	CHECK_EQ_INT(replay(&q, 0, 10, 1), 0);
+	CHECK(qs_flush(&q) == 0);
 	double silent_at = qs_now();
 	struct timespec ms100 = {0, 100000000}, s3 = {3, 0};
 	nanosleep(&ms100, NULL);
