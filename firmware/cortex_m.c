@@ -17,7 +17,6 @@ void Default_Handler(void);
 extern uint32_t __data_load[], __data_start[], __data_end[];
 extern uint32_t __bss_start[], __bss_end[], __stack_top[];
 
-
 void IRQ_Handler(void);
 #define IRQ8                                                                   \
 	IRQ_Handler, IRQ_Handler, IRQ_Handler, IRQ_Handler, IRQ_Handler,       \

@@ -21,14 +21,14 @@
  *        --evo EVO --new-mind DIR --new-trace TRACE --other-mind DIR
  *        --seed N --firmware MACHINE=ELF [--firmware MACHINE=ELF ...] */
 #define _POSIX_C_SOURCE 200809L
+#include <arpa/inet.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <netinet/in.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <arpa/inet.h>
-#include <netinet/in.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -784,8 +784,8 @@ static long flash_while_ticking(flash_run *fr)
 		 mine);
 	snprintf(its_url, sizeof its_url, "cannelloni:127.0.0.1:%u?local=%u",
 		 mine, its);
-	evo_can *bus = mine && its && mine != its ? evo_can_open(url, &err)
-						  : NULL;
+	evo_can *bus =
+	    mine && its && mine != its ? evo_can_open(url, &err) : NULL;
 	if (!bus) {
 		printf("  %s\n", mine && its && mine != its
 				     ? err.msg
