@@ -27,7 +27,8 @@ void board_idle(void);
 /* Send a byte on the serial line; waits while the transmitter is busy. */
 void board_putc(uint8_t c);
 
-/* Milliseconds since board_init; wraps after 49 days. */
+/* Milliseconds since board_init, from a hardware counter (not counted
+ * interrupts, which a busy emulator host loses); wraps after 49 days. */
 uint32_t board_millis(void);
 
 /* Drive the actuators: n commands, Q16 in [0, 1], 0.5 neutral. The QEMU
@@ -48,8 +49,13 @@ __attribute__((noreturn)) void board_exit(int status);
 
 /* ---- shared by the Cortex-M boards (cortex_m.c) ---------------------- */
 
-/* Start SysTick at 1 kHz from a core clock of cpu_hz. */
+/* Start SysTick at 1 kHz from a core clock of cpu_hz: it wakes
+ * board_idle every millisecond. */
 void cortex_m_start_clock(uint32_t cpu_hz);
+
+/* board_millis from a board's free-running counter: count is its value
+ * now (counting up, wrapping at 2^32), per_ms its counts a millisecond. */
+uint32_t cortex_m_millis(uint32_t count, uint32_t per_ms);
 
 /* The boards' receive ring: bytes the UART interrupt took, not yet read. */
 #define BOARD_RX_RING 256u /* a power of two */

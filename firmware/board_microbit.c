@@ -20,6 +20,17 @@ const char board_name[] = "microbit (Cortex-M0)";
 #define UART_BAUDRATE REG(0x524u)
 #define INT_RXDRDY    4u
 
+/* TIMER0, a 32-bit counter at 1 MHz (16 MHz / 2^4): the millisecond
+ * clock. CAPTURE[0] copies the count into CC[0]. */
+#define TIMER0		0x40008000u
+#define TREG(off)	(*(volatile uint32_t *)(TIMER0 + (off)))
+#define TIMER_START	TREG(0x000u)
+#define TIMER_CAPTURE0	TREG(0x040u)
+#define TIMER_MODE	TREG(0x504u)
+#define TIMER_BITMODE	TREG(0x508u)
+#define TIMER_PRESCALER TREG(0x510u)
+#define TIMER_CC0	TREG(0x540u)
+
 static board_ring rx;
 
 void board_init(void)
@@ -30,7 +41,17 @@ void board_init(void)
 	TASKS_STARTRX = 1u;
 	UART_INTENSET = INT_RXDRDY;
 	cortex_m_enable_irq(UART_IRQ);
+	TIMER_MODE = 0u;      /* timer, not counter */
+	TIMER_BITMODE = 3u;   /* 32 bits */
+	TIMER_PRESCALER = 4u; /* 1 MHz */
+	TIMER_START = 1u;
 	cortex_m_start_clock(CPU_HZ);
+}
+
+uint32_t board_millis(void)
+{
+	TIMER_CAPTURE0 = 1u;
+	return cortex_m_millis(TIMER_CC0, 1000u);
 }
 
 /* Move what the UART's FIFO holds into the ring while there is room.

@@ -1,5 +1,6 @@
 /* Board layer for QEMU's mps2-an385: a Cortex-M3 at 25 MHz, UART0 a CMSDK
- * APB UART (QEMU's first serial port), its receive interrupt IRQ 0. */
+ * APB UART (QEMU's first serial port), its receive interrupt IRQ 0, TIMER0
+ * the millisecond clock. */
 #include "board.h"
 
 const char board_name[] = "mps2-an385 (Cortex-M3)";
@@ -19,6 +20,14 @@ const char board_name[] = "mps2-an385 (Cortex-M3)";
 #define CTRL_RX_INT_EN 8u
 #define INT_RX	       2u
 
+/* TIMER0, a CMSDK APB timer: a 32-bit down counter at the 25 MHz system
+ * clock, the millisecond clock. */
+#define TIMER0	     0x40000000u
+#define TIMER_CTRL   (*(volatile uint32_t *)(TIMER0 + 0x000u))
+#define TIMER_VALUE  (*(volatile uint32_t *)(TIMER0 + 0x004u))
+#define TIMER_RELOAD (*(volatile uint32_t *)(TIMER0 + 0x008u))
+#define TIMER_ENABLE 1u
+
 static board_ring rx;
 
 void board_init(void)
@@ -26,7 +35,16 @@ void board_init(void)
 	UART_BAUDDIV = CPU_HZ / 115200u; /* QEMU needs it >= 16 to send */
 	UART_CTRL = CTRL_TX_EN | CTRL_RX_EN | CTRL_RX_INT_EN;
 	cortex_m_enable_irq(UART_IRQ);
+	TIMER_RELOAD = 0xFFFFFFFFu;
+	TIMER_VALUE = 0xFFFFFFFFu;
+	TIMER_CTRL = TIMER_ENABLE;
 	cortex_m_start_clock(CPU_HZ);
+}
+
+uint32_t board_millis(void)
+{
+	/* counting down: its complement counts up */
+	return cortex_m_millis(~TIMER_VALUE, CPU_HZ / 1000u);
 }
 
 /* Move what the UART holds into the ring while there is room. A byte left
