@@ -777,11 +777,16 @@ static unsigned free_udp_port(void)
 static pid_t spawn_flash(const flash_run *fr, const char *url, char *outpath,
 			 size_t cap)
 {
-	snprintf(outpath, cap, "%s/%s-flash.out", opt.tmp, machine);
+	/* a new file for every run (small; make clean removes them):
+	 * truncating the last one's waits for its pages' writeback, which a
+	 * busy disk held back past the whole test, evo flash not started */
+	static unsigned runs;
+	snprintf(outpath, cap, "%s/%s-flash-%ld-%u.out", opt.tmp, machine,
+		 (long)getpid(), runs++);
 	fflush(stdout);
 	pid_t pid = fork();
 	if (pid == 0) {
-		int fd = open(outpath, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+		int fd = open(outpath, O_WRONLY | O_CREAT | O_EXCL, 0644);
 		if (fd < 0)
 			_exit(127);
 		dup2(fd, 1);
