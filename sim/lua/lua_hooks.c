@@ -19,13 +19,18 @@
 #define HOOK_EVERY 1000
 
 /* Note the file:line of the Lua function at level (0 in a hook: the one
- * it interrupted; 1 in a C function: its caller) for the watchdog. */
+ * it interrupted; 1 in a C function: its caller), or of the first Lua
+ * function above it (a string function called through pcall has pcall
+ * for its caller), for the watchdog. */
 void evo_lua_note_where(evo_lua *l, lua_State *L, int level)
 {
 	lua_Debug ar;
-	if (!lua_getstack(L, level, &ar) || !lua_getinfo(L, "Sl", &ar) ||
-	    ar.currentline <= 0)
-		return;
+	for (;; level++) {
+		if (!lua_getstack(L, level, &ar) || !lua_getinfo(L, "Sl", &ar))
+			return;
+		if (ar.currentline > 0)
+			break;
+	}
 	char w[300];
 	snprintf(w, sizeof w, "%s:%d: ", ar.short_src, ar.currentline);
 	evo_lua_watch_where(l->watch, w);

@@ -307,6 +307,20 @@ TEST(a_library_call_that_does_not_return_is_stopped)
 	CHECK_CONTAINS(out, "Envs/Corridor.lua:5: the script ran past its "
 			    "time limit of 0.5 s in post_step");
 	CHECK(secs < 10);
+	/* called through pcall, whose frame has no line: the line that
+	 * called pcall */
+	static const char *const via_pcall =
+	    "local env = {}\n"
+	    "function env.init(scene, task) scene:bot{} end\n"
+	    "function env.post_step(scene)\n"
+	    "  local s = ('a'):rep(400)\n"
+	    "  pcall(s.find, s, '.-.-.-.-b')\n"
+	    "end\n"
+	    "return env\n";
+	make_mind("pattern-pcall", via_pcall, "", root, sizeof root);
+	CHECK_EQ_INT(run(root, 20, 60, &secs), 1);
+	CHECK_CONTAINS(out, "Envs/Corridor.lua:5: the script ran past its "
+			    "time limit of 0.5 s in post_step");
 	/* a call that ends, but past its limit, fails too; LUABUDGET:4
 	 * makes the limit 2 s, which a 100-character subject keeps */
 	static const char *const slow =
