@@ -18,7 +18,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "base/number.h"
+#include "bench_args.h"
 #include "learn/evaluate.h"
 #include "mind/net_build.h"
 #include "world2d/scene.h"
@@ -54,13 +54,8 @@ int main(int argc, char **argv)
 	for (int i = 1; i < argc; i++) {
 		if (strcmp(argv[i], "--ticks") == 0 && i + 1 < argc) {
 			long long n;
-			if (evo_parse_whole(argv[++i], NULL, 1, 1000000000, &n)) {
-				fprintf(stderr, "bench_evaluate: --ticks expects a "
-						"whole number 1..1000000000, "
-						"found '%s'\n",
-					argv[i]);
+			if (bench_ticks_arg("bench_evaluate", argv[++i], &n))
 				return 2;
-			}
 			ticks = (long)n;
 		} else
 			task = argv[i];

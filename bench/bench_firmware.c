@@ -34,7 +34,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "base/number.h"
+#include "bench_args.h"
 #include "evo/flash.h"
 #include "host/qemu_session.h"
 #include "host/trace_file.h"
@@ -297,13 +297,8 @@ int main(int argc, char **argv)
 	for (int i = 1; i < argc; i++) {
 		if (strcmp(argv[i], "--ticks") == 0 && i + 1 < argc) {
 			long long n;
-			if (evo_parse_whole(argv[++i], NULL, 1, 1000000000, &n)) {
-				fprintf(stderr, "bench_firmware: --ticks expects a "
-						"whole number 1..1000000000, "
-						"found '%s'\n",
-					argv[i]);
+			if (bench_ticks_arg("bench_firmware", argv[++i], &n))
 				return 2;
-			}
 			ticks = (size_t)n;
 		} else {
 			fprintf(stderr, "usage: bench_firmware [--ticks N]\n");

@@ -27,7 +27,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "base/number.h"
+#include "bench_args.h"
 #include "cmd/serve.h"
 #include "learn/evaluate.h"
 #include "mind/net_build.h"
@@ -393,14 +393,8 @@ int main(int argc, char **argv)
 	for (int i = 1; i < argc; i++)
 		if (strcmp(argv[i], "--ticks") == 0 && i + 1 < argc) {
 			long long n;
-			if (evo_parse_whole(argv[++i], NULL, 1, 1000000000,
-					    &n)) {
-				fprintf(stderr, "bench_remote: --ticks expects "
-						"a whole number 1..1000000000, "
-						"found '%s'\n",
-					argv[i]);
+			if (bench_ticks_arg("bench_remote", argv[++i], &n))
 				return 2;
-			}
 			ticks = (long)n;
 		}
 	int a = bench_lockstep(ticks);

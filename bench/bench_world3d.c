@@ -20,7 +20,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "base/number.h"
+#include "bench_args.h"
 #include "mind/task.h"
 #include "tasksim/tasksim.h"
 #include "world3d/scene3d.h"
@@ -142,20 +142,11 @@ int main(int argc, char **argv)
 	for (int i = 1; i < argc; i++) {
 		if (strcmp(argv[i], "--ticks") == 0 && i + 1 < argc) {
 			long long n;
-			if (evo_parse_whole(argv[++i], NULL, 1, 1000000000, &n)) {
-				fprintf(stderr, "bench_world3d: --ticks expects a "
-						"whole number 1..1000000000, "
-						"found '%s'\n",
-					argv[i]);
+			if (bench_ticks_arg("bench_world3d", argv[++i], &n))
 				return 2;
-			}
 			ticks = (long)n;
 		} else
 			task_path = argv[i];
-	}
-	if (ticks <= 0) {
-		fprintf(stderr, "bench_world3d: --ticks must be positive\n");
-		return 2;
 	}
 	evo_err err = {{0}};
 	evo_task task;
