@@ -40,15 +40,9 @@ int evo_robot_task_check(const evo_simbatch *task, const char *type,
 		/* a DEMOREMOTE task may reach its robot over CAN by evo run
 		 * --can, with neither: evo_remotes_open asks for them when it
 		 * goes over LCM */
-		if (!o.name && !o.key.len && strcmp(type, "DEMOREMOTE") != 0)
-			return evo_fail(
-			    err,
-			    "%s: a remote task names its remotes "
-			    "(REMOTENAME:sim1 or REMOTENAME:sim1,sim2) or "
-			    "shares a key with them (LCMKEYFILE); without "
-			    "either, any process on %s could pass for its "
-			    "remote (docs/remote.md)",
-			    task_path, o.url ? o.url : EVO_LINK_DEFAULT_URL);
+		if (strcmp(type, "DEMOREMOTE") != 0 &&
+		    evo_remote_opts_chosen(&o, err))
+			return -1;
 		return 0;
 	}
 	if (strcmp(type, "DEMOREMOTE") != 0)

@@ -137,6 +137,19 @@ int evo_remote_opts_from_task(const evo_simbatch *sb, const char *path,
 	return 0;
 }
 
+int evo_remote_opts_chosen(const evo_remote_opts *o, evo_err *err)
+{
+	if (o->name || o->key.len)
+		return 0;
+	return evo_fail(err,
+			"%s: a remote task names its remotes (REMOTENAME:sim1 "
+			"or REMOTENAME:sim1,sim2) or shares a key with them "
+			"(LCMKEYFILE); without either, any process on %s could "
+			"pass for its remote (docs/remote.md)",
+			o->task ? o->task : "the task",
+			o->url ? o->url : EVO_LINK_DEFAULT_URL);
+}
+
 int evo_remote_named(const evo_remote_opts *o, const char *name)
 {
 	if (!o->name)
@@ -298,16 +311,8 @@ evo_remotes *evo_remotes_open(const evo_mindfolder *mind,
 	/* the remotes of a task are the ones it names or that present its
 	 * key: never whatever answers first on a URL the whole machine
 	 * shares */
-	if (!o->name && !o->key.len) {
-		evo_fail(err,
-			 "%s: a remote task names its remotes (REMOTENAME:sim1 "
-			 "or REMOTENAME:sim1,sim2) or shares a key with them "
-			 "(LCMKEYFILE); without either, any process on %s could "
-			 "pass for its remote (docs/remote.md)",
-			 o->task ? o->task : "the task",
-			 o->url ? o->url : EVO_LINK_DEFAULT_URL);
+	if (evo_remote_opts_chosen(o, err))
 		return NULL;
-	}
 	evo_remotes *s = calloc(1, sizeof *s);
 	if (!s) {
 		evo_fail(err, "out of memory");

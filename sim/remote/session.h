@@ -91,6 +91,10 @@ int evo_remote_opts_from_task(const evo_simbatch *sb, const char *path,
 			      evo_remote_kind kind, evo_remote_opts *o,
 			      evo_err *err);
 
+/* 0 when o names its remotes or has a key; else -1 with err set: the
+ * task's remotes would be whatever process answered first on its URL. */
+int evo_remote_opts_chosen(const evo_remote_opts *o, evo_err *err);
+
 /* 1 when name is one of o's REMOTENAME list (or the list is empty). */
 int evo_remote_named(const evo_remote_opts *o, const char *name);
 
