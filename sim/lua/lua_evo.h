@@ -41,8 +41,8 @@ typedef struct evo_lua_limits {
 /* The defaults: scale 1, EVO_LUA_MEMORY_MB. */
 evo_lua_limits evo_lua_default_limits(void);
 
-/* A task's LUABUDGET and LUAMEMORY, each checked at its line of
- * task_path; absent keys keep the defaults. 0, or -1 with err set. */
+/* A task's LUABUDGET and LUAMEMORY (in range: the key table checks them at
+ * their line); absent keys keep the defaults. 0, or -1 with err set. */
 int evo_lua_limits_read(const evo_simbatch *sb, const char *task_path,
 			evo_lua_limits *out, evo_err *err);
 

@@ -129,56 +129,21 @@ evo_lua_limits evo_lua_default_limits(void)
 	};
 }
 
-/* A whole number of digits only in lo..hi, or -1. */
-static long whole(const char *v, long lo, long hi)
-{
-	long n = 0;
-	if (!v[0])
-		return -1;
-	for (const char *p = v; *p; p++) {
-		if (*p < '0' || *p > '9' || n > hi)
-			return -1;
-		n = n * 10 + (*p - '0');
-	}
-	return n >= lo && n <= hi ? n : -1;
-}
-
+/* The key table has checked both values at their line (evo_simbatch_parse:
+ * LUABUDGET 1..1000, LUAMEMORY 16..65536), so they are read, not checked
+ * again; task_path and err stay for callers that may one day check more. */
 int evo_lua_limits_read(const evo_simbatch *sb, const char *task_path,
 			evo_lua_limits *out, evo_err *err)
 {
-	static const struct {
-		const char *key;
-		long lo, hi;
-		const char *what;
-	} keys[] = {
-	    {"LUABUDGET", 1, 1000,
-	     "a whole number 1..1000: multiplies every Lua call's "
-	     "instruction budget and time limit"},
-	    {"LUAMEMORY", 16, 65536,
-	     "a whole number 16..65536: the megabytes each Lua state may "
-	     "hold"},
-	};
+	(void)task_path;
+	(void)err;
 	*out = evo_lua_default_limits();
-	for (unsigned i = 0; sb && i < sb->n_pairs; i++)
-		for (unsigned k = 0; k < 2; k++) {
-			if (strcmp(sb->pair[i].key, keys[k].key) != 0)
-				continue;
-			long n =
-			    whole(sb->pair[i].value, keys[k].lo, keys[k].hi);
-			if (n < 0)
-				return evo_fail(err,
-						"%s:%u: %s must be %s; found "
-						"'%s' (docs/lua.md, "
-						"\"Limits\")",
-						task_path ? task_path : "task",
-						(unsigned)sb->pair[i].line,
-						keys[k].key, keys[k].what,
-						sb->pair[i].value);
-			if (k == 0)
-				out->budget_scale = (double)n;
-			else
-				out->memory = (size_t)n << 20;
-		}
+	const char *budget = sb ? evo_simbatch_get(sb, "LUABUDGET") : NULL;
+	const char *memory = sb ? evo_simbatch_get(sb, "LUAMEMORY") : NULL;
+	if (budget)
+		out->budget_scale = (double)strtol(budget, NULL, 10);
+	if (memory)
+		out->memory = (size_t)strtol(memory, NULL, 10) << 20;
 	return 0;
 }
 
