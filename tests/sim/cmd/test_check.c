@@ -486,6 +486,13 @@ TEST(check_refuses_a_remote_tasks_url_key_file_and_missing_names)
 		CHECK_EQ_INT(rc, 1);
 		CHECK_CONTAINS(out2, cases[i][1]);
 	}
+	/* the last case's message, word for word as docs/remote.md shows it */
+	CHECK_CONTAINS(out1,
+		       "K.simbatch: a remote task names its remotes "
+		       "(REMOTENAME:sim1 or REMOTENAME:sim1,sim2) or shares a "
+		       "key with them (LCMKEYFILE); without either, any process "
+		       "on udpm://239.255.76.67:7667?ttl=0 could pass for its "
+		       "remote (docs/remote.md)");
 	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s check %s", cli_evo,
 				 "minds/Corridor/Tasks/Corridor-DEMO.simbatch"),
 		     0);
