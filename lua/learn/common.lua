@@ -91,7 +91,8 @@ end
 -- The learning methods and their modules; every module has the same
 -- interface: options_from_task, new, genomes/tell, best, species,
 -- save/load, to_net, to_net_text.
-common.MODULES = { NEAT = "learn.neat", GENETIC = "learn.genetic", ANNEALING = "learn.annealing" }
+common.MODULES = { NEAT = "learn.neat", GENETIC = "learn.genetic", ANNEALING = "learn.annealing",
+	CMAES = "learn.cmaes" }
 
 -- Where key `key` of a task is, for messages: "path:line", or "path" when
 -- the key is not in the file. `lines` maps each key of the task to its line.
@@ -108,7 +109,7 @@ end
 
 -- The prefix of each method's own keys: the .simbatch reader keeps every
 -- key that starts with one (core/src/parse_simbatch.c).
-common.PREFIXES = { NEAT = "NEAT_", GENETIC = "GA_", ANNEALING = "SA_" }
+common.PREFIXES = { NEAT = "NEAT_", GENETIC = "GA_", ANNEALING = "SA_", CMAES = "CMAES_" }
 
 -- Levenshtein distance between two strings.
 local function distance(a, b)

@@ -19,7 +19,7 @@ local netfile = require "learn.netfile"
 local task = host.task
 local method = (task.LEARNINGMETHOD or "NEAT"):upper()
 if not common.MODULES[method] then
-	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC or ANNEALING", 0)
+	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC, ANNEALING or CMAES", 0)
 end
 local algo = require(common.MODULES[method])
 local options = common.task_options(algo, task, host.task_path, host.task_lines)

@@ -21,7 +21,7 @@ local task = host.task
 local method = (task.LEARNINGMETHOD or "NEAT"):upper()
 local MODULES = common.MODULES
 if not MODULES[method] then
-	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC or ANNEALING", 0)
+	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC, ANNEALING or CMAES", 0)
 end
 local algo = require(MODULES[method])
 

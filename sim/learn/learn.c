@@ -27,6 +27,7 @@
 #include "learn/curve.h"
 #include "learn/evaluate.h"
 #include "learn/literature.h"
+#include "learn/lua_linalg.h"
 #include "learn/runlog.h"
 #include "lua/lua_evo.h"
 #include "mind/net_build.h"
@@ -885,6 +886,7 @@ static int run_script(lua_State *L)
 	lua_rawsetp(L, LUA_REGISTRYINDEX, &LEARN_KEY);
 	luaL_requiref(L, "evo.learn", open_module, 0);
 	lua_pop(L, 1);
+	evo_lua_open_linalg(L); /* evo.linalg: CMA-ES's eigendecomposition */
 	/* the loop's modules are evo's, from lua/ only: a mind folder is
 	 * not trusted with the full libraries this state has */
 	const char *dir = evo_lua_dir();

@@ -560,7 +560,7 @@ TEST(unknown_method_is_a_clear_error)
 	char *text = cli_read("%s/m/out.txt", cli_tmp);
 	CHECK(text &&
 	      strstr(text, "Small.simbatch:6: LEARNINGMETHOD: expected NEAT, "
-			   "GENETIC or ANNEALING, found 'BOGUS'"));
+			   "GENETIC, ANNEALING or CMAES, found 'BOGUS'"));
 	free(text);
 }
 

@@ -1,0 +1,144 @@
+/* evo — evo.linalg: the symmetric eigendecomposition CMA-ES needs
+ * (lua/learn/cmaes.lua), in C so a method written in Lua does not pay
+ * the interpreter for an O(n^3) kernel.
+ *
+ *	local linalg = require "evo.linalg"
+ *	local values, vectors, sweeps = linalg.eigh(n, a)
+ *
+ * a is a flat row-major list of n * n numbers (symmetric; the upper
+ * triangle is read); values a list of n eigenvalues, vectors a flat
+ * row-major n * n list whose column j is the unit eigenvector of
+ * values[j]. Cyclic Jacobi (Golub & Van Loan, "Matrix Computations",
+ * 8.5): slow beside QR for large n, but simple, accurate for the small
+ * eigenvalues a covariance matrix ends with, and the same bits on every
+ * machine that rounds IEEE doubles the same way. */
+#include <lauxlib.h>
+#include <lua.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "learn/lua_linalg.h"
+
+/* The largest matrix evo.linalg takes: CMA-ES switches to its diagonal
+ * variant long before (docs/learning.md). */
+#define MAX_N 4096
+
+/* Sum of squares of the off-diagonal upper triangle. */
+static double off_norm(int n, const double *a)
+{
+	double s = 0;
+	for (int p = 0; p < n; p++)
+		for (int q = p + 1; q < n; q++)
+			s += a[p * n + q] * a[p * n + q];
+	return s;
+}
+
+static double diag_norm(int n, const double *a)
+{
+	double s = 0;
+	for (int p = 0; p < n; p++)
+		s += a[p * n + p] * a[p * n + p];
+	return s;
+}
+
+/* One rotation zeroing a[p][q] of the symmetric a (both triangles kept),
+ * accumulated into v. */
+static void rotate(int n, double *a, double *v, int p, int q)
+{
+	double apq = a[p * n + q];
+	if (apq == 0)
+		return;
+	double theta = (a[q * n + q] - a[p * n + p]) / (2 * apq);
+	double t = (theta >= 0 ? 1.0 : -1.0) /
+		   (fabs(theta) + sqrt(theta * theta + 1));
+	double c = 1 / sqrt(t * t + 1), s = t * c;
+	for (int k = 0; k < n; k++) {
+		double akp = a[k * n + p], akq = a[k * n + q];
+		a[k * n + p] = c * akp - s * akq;
+		a[k * n + q] = s * akp + c * akq;
+	}
+	for (int k = 0; k < n; k++) {
+		double apk = a[p * n + k], aqk = a[q * n + k];
+		a[p * n + k] = c * apk - s * aqk;
+		a[q * n + k] = s * apk + c * aqk;
+	}
+	a[p * n + q] = a[q * n + p] = 0;
+	for (int k = 0; k < n; k++) {
+		double vkp = v[k * n + p], vkq = v[k * n + q];
+		v[k * n + p] = c * vkp - s * vkq;
+		v[k * n + q] = s * vkp + c * vkq;
+	}
+}
+
+int evo_linalg_eigh(int n, double *a, double *values, double *vectors)
+{
+	for (int i = 0; i < n; i++)
+		for (int j = 0; j < i; j++)
+			a[i * n + j] = a[j * n + i];
+	for (int i = 0; i < n * n; i++)
+		vectors[i] = 0;
+	for (int i = 0; i < n; i++)
+		vectors[i * n + i] = 1;
+	int sweeps = 0;
+	while (off_norm(n, a) > 1e-30 * diag_norm(n, a)) {
+		if (++sweeps > 100)
+			return -1;
+		for (int p = 0; p < n; p++)
+			for (int q = p + 1; q < n; q++)
+				rotate(n, a, vectors, p, q);
+	}
+	for (int i = 0; i < n; i++)
+		values[i] = a[i * n + i];
+	return sweeps;
+}
+
+/* values, vectors, sweeps = eigh(n, a) */
+static int l_eigh(lua_State *L)
+{
+	lua_Integer n = luaL_checkinteger(L, 1);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_argcheck(L, n >= 1 && n <= MAX_N, 1, "n must be from 1 to 4096");
+	luaL_argcheck(L, luaL_len(L, 2) == n * n, 2, "a must hold n * n numbers");
+	size_t nn = (size_t)(n * n);
+	double *a = lua_newuserdatauv(L, (2 * nn + (size_t)n) * sizeof *a, 0);
+	double *vec = a + nn, *val = vec + nn;
+	for (size_t i = 0; i < nn; i++) {
+		lua_geti(L, 2, (lua_Integer)i + 1);
+		int ok;
+		a[i] = lua_tonumberx(L, -1, &ok);
+		if (!ok || !isfinite(a[i]))
+			return luaL_error(L, "eigh: a[%d] is not a finite number",
+					  (int)i + 1);
+		lua_pop(L, 1);
+	}
+	int sweeps = evo_linalg_eigh((int)n, a, val, vec);
+	if (sweeps < 0)
+		return luaL_error(L, "eigh: no convergence in 100 sweeps");
+	lua_createtable(L, (int)n, 0);
+	for (lua_Integer i = 0; i < n; i++) {
+		lua_pushnumber(L, val[i]);
+		lua_rawseti(L, -2, i + 1);
+	}
+	lua_createtable(L, (int)nn, 0);
+	for (size_t i = 0; i < nn; i++) {
+		lua_pushnumber(L, vec[i]);
+		lua_rawseti(L, -2, (lua_Integer)i + 1);
+	}
+	lua_pushinteger(L, sweeps);
+	return 3;
+}
+
+static const luaL_Reg linalg_fns[] = {{"eigh", l_eigh}, {NULL, NULL}};
+
+static int open_linalg(lua_State *L)
+{
+	luaL_newlib(L, linalg_fns);
+	return 1;
+}
+
+void evo_lua_open_linalg(lua_State *L)
+{
+	luaL_requiref(L, "evo.linalg", open_linalg, 0);
+	lua_pop(L, 1);
+}
