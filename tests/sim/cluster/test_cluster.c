@@ -133,6 +133,35 @@ TEST(any_number_of_ranks_and_threads_gives_the_plain_runs_result)
 		}
 }
 
+/* CMAES (layers:1, 19 networks a generation) on two ranks of one
+ * thread ends with the log, checkpoint and champion of a plain run. */
+TEST(a_cmaes_run_on_two_ranks_is_the_plain_runs)
+{
+	const char *names[] = {"cm-plain", "cm-np2"};
+	for (int i = 0; i < 2; i++) {
+		CHECK_EQ_INT(cli_sh("mkdir -p %s/%s && cp -r minds/Avoid %s/%s/ && "
+				    "sed -i 's/^layers:0$/layers:1/' "
+				    "%s/%s/Avoid/Skills/Avoid/Avoid.ades && "
+				    "printf 'TYPE:LEARNSIM\\nBOTMODEL:BotType8\\n"
+				    "MASTERSKILL:Avoid\\nLEARNINGSKILL:Avoid\\n"
+				    "ENV:EXP_Avoid\\nLEARNINGMETHOD:CMAES\\n"
+				    "NUMGEN:3\\nEVALREP:2\\nTICKLIM:60\\n' "
+				    "> %s/%s/Avoid/Tasks/Small.simbatch",
+				    cli_tmp, names[i], cli_tmp, names[i], cli_tmp,
+				    names[i], cli_tmp, names[i]),
+			     0);
+	}
+	CHECK_EQ_INT(train("cm-plain", "", "--threads 1"), 0);
+	CHECK_EQ_INT(train("cm-np2", MPIRUN " -np 2", "--threads 1"), 0);
+	char *ref = log_of("cm-plain");
+	CHECK(ref && strstr(ref, ",0,19,0"));
+	free(ref);
+	char *champ = champion_of("cm-plain");
+	CHECK_CONTAINS(champ, "trained by evo: CMAES, seed 11");
+	free(champ);
+	same_run("cm-np2", "cm-plain");
+}
+
 /* A LEARN3DSIM task spreads as a LEARNSIM task does: the blimp's
  * go-to-target, two generations of 20, on two ranks of one thread, ends
  * with the plain run's log and champion. */
@@ -428,6 +457,7 @@ int main(int argc, char **argv)
 	setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
 	RUN(any_number_of_ranks_and_threads_gives_the_plain_runs_result);
+	RUN(a_cmaes_run_on_two_ranks_is_the_plain_runs);
 	RUN(a_3d_task_spreads_over_ranks_as_a_2d_one);
 	RUN(a_killed_rank_stops_the_run_and_resume_with_other_ranks_finishes_it);
 	RUN(a_rank_with_other_settings_is_named);

@@ -548,6 +548,16 @@ TEST(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one)
 	stop_and_resume("gk", "gr", SIGKILL);
 }
 
+/* The same for CMAES, whose checkpoint holds the whole CMA state (mean,
+ * covariance, paths, step size) and the random stream. */
+TEST(killed_and_resumed_cmaes_run_ends_as_an_uninterrupted_one)
+{
+	make_mind_ticks("cr", "CMAES", 6, KILL_TICKS, "");
+	make_mind_ticks("ck", "CMAES", 6, KILL_TICKS, "");
+	CHECK_EQ_INT(train("cr", "--threads 2"), 0);
+	stop_and_resume("ck", "cr", SIGKILL);
+}
+
 TEST(unknown_method_is_a_clear_error)
 {
 	make_mind("m", "NEAT", 6, NEAT_TASK);
@@ -1044,6 +1054,35 @@ TEST(genetic_trains_and_threads_do_not_change_the_log)
 	check_layered_champion("g1", "GENETIC");
 }
 
+/* CMAES on Avoid with layers:1: 11 inputs, 11 hidden, 2 outputs, biases:
+ * n = 11 * 12 + 2 * 12 = 156 weights, so 4 + floor(3 ln 156) = 19
+ * networks a generation; one thread or two give the same log. Its
+ * champion has tanh hidden units and sigmoid outputs. */
+TEST(cmaes_trains_and_threads_do_not_change_the_log)
+{
+	make_mind("c1", "CMAES", 3, "");
+	make_mind("c2", "CMAES", 3, "");
+	CHECK_EQ_INT(train("c1", "--threads 1"), 0);
+	CHECK_EQ_INT(train("c2", "--threads 2"), 0);
+	char *a = log_of("c1"), *b = log_of("c2");
+	CHECK(a && b);
+	if (a && b) {
+		CHECK_EQ_INT(count_rows(a), 3);
+		CHECK_CONTAINS(a, ",0,19,0,\n");
+		CHECK_EQ_STR(a, b);
+	}
+	free(a);
+	free(b);
+	char *net = champion_of("c1");
+	CHECK(net != NULL);
+	if (net) {
+		CHECK_CONTAINS(net, "trained by evo: CMAES, seed 11");
+		CHECK_CONTAINS(net, "node:23:tanh:");
+		CHECK_CONTAINS(net, "node:12:sigmoid:");
+	}
+	free(net);
+}
+
 TEST(annealing_trains)
 {
 	make_mind("a", "ANNEALING", 12, "SA_T0:5\\n");
@@ -1270,6 +1309,7 @@ int main(void)
 	RUN(the_environments_metrics_are_logged_for_the_best_candidate);
 	RUN(killed_or_interrupted_and_resumed_run_ends_as_an_uninterrupted_one);
 	RUN(killed_and_resumed_genetic_run_ends_as_an_uninterrupted_one);
+	RUN(killed_and_resumed_cmaes_run_ends_as_an_uninterrupted_one);
 	RUN(sigterm_and_sigint_stop_a_long_batch_within_a_second);
 	RUN(the_curve_is_drawn_as_the_run_goes);
 	RUN(too_long_run_folder_is_refused);
@@ -1286,6 +1326,7 @@ int main(void)
 	RUN(environment_error_says_where_it_happened);
 	RUN(bad_learning_option_is_refused_at_its_line);
 	RUN(genetic_trains_and_threads_do_not_change_the_log);
+	RUN(cmaes_trains_and_threads_do_not_change_the_log);
 	RUN(annealing_trains);
 	RUN(xor_stops_when_solved_and_keeps_the_solver);
 	RUN(dpnv_tests_one_network_a_generation_and_keeps_the_solver);
