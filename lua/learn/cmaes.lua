@@ -72,7 +72,7 @@ local random = require "learn.rng"
 local cmaes = {}
 
 cmaes.defaults = {
-	pop_size = 0, -- lambda; 0: 4 + floor(3 ln n)
+	pop_size = 0, -- lambda; 0 (the default, not a value a task can give): 4 + floor(3 ln n)
 	sigma = 0.5, -- the initial step size
 	sigma_min = 0.0, -- a lower bound on sigma; 0: none
 	restarts = 9, -- at most this many restarts
@@ -108,7 +108,7 @@ local CHOICES = {
 }
 
 cmaes.ranges = {
-	pop_size = { lo = 0, hi = 10000, int = true }, sigma = { lo = 0, above = true },
+	pop_size = common.POPULATION, sigma = { lo = 0, above = true },
 	sigma_min = common.POSITIVE, restarts = { lo = 0, hi = 1000, int = true },
 	separable_above = { lo = 0, hi = 2147483647, int = true },
 	tolfun = common.POSITIVE, tolx = common.POSITIVE,
@@ -128,8 +128,8 @@ function cmaes.options_from_task(task)
 		end, cmaes.ranges)
 	local sigma = o.sigma or cmaes.defaults.sigma
 	if o.sigma_min and o.sigma_min > sigma then
-		error(string.format("CMAES_SIGMA_MIN: %.17g is more than the initial step size "
-			.. "CMAES_SIGMA (%.17g)", o.sigma_min, sigma), 0)
+		error(string.format("CMAES_SIGMA_MIN: %s is more than the initial step size "
+			.. "CMAES_SIGMA (%s)", tostring(o.sigma_min), tostring(sigma)), 0)
 	end
 	return o, unknown
 end

@@ -4,7 +4,7 @@
  * itself, at run time, both ways: each key or option the table documents
  * is one evo reads, each one evo reads is documented, and each documented
  * default is the value evo uses when the key is left out.
- *   - docs/learning.md, the NEAT, GENETIC and ANNEALING tables: the
+ *   - docs/learning.md, the NEAT, GENETIC, ANNEALING and CMA-ES tables: the
  *     method's module (lua/learn/neat.lua, ...) is loaded and its
  *     task_keys and defaults tables read;
  *   - the same tables' `range` column: each key's range as the method's
@@ -809,9 +809,9 @@ static int genetic_width(int n_in, int n_out)
 static int a_method_reads(const char *key)
 {
 	static const char *const modules[] = {"learn.neat", "learn.genetic",
-					      "learn.annealing"};
+					      "learn.annealing", "learn.cmaes"};
 	int found = 0;
-	for (int i = 0; i < 3; i++) {
+	for (int i = 0; i < 4; i++) {
 		if (push_module(modules[i]))
 			continue;
 		lua_getfield(learn_L, -1, "task_keys");
@@ -830,7 +830,7 @@ static int render_task_default(const char *key, int in_learning, char *out,
 			       size_t cap)
 {
 	if (strcmp(key, "NEAT_*") == 0 || strcmp(key, "GA_*") == 0 ||
-	    strcmp(key, "SA_*") == 0) {
+	    strcmp(key, "SA_*") == 0 || strcmp(key, "CMAES_*") == 0) {
 		/* the reader keeps every key with the prefix, for the method */
 		char text[64];
 		evo_simbatch sb;
@@ -1835,6 +1835,8 @@ static doc_table genetic_t = {.file = "docs/learning.md",
 			      .heading = "GENETIC's parameters"};
 static doc_table annealing_t = {.file = "docs/learning.md",
 				.heading = "ANNEALING's parameters"};
+static doc_table cmaes_t = {.file = "docs/learning.md",
+			    .heading = "CMA-ES's parameters"};
 static doc_table task_keys_t = {.file = "docs/learning.md",
 				.heading = "The task's keys"};
 static doc_table simbatch_t = {.file = "docs/formats.md",
@@ -1846,9 +1848,10 @@ static doc_table continuous_t = {
     .file = "docs/learning.md",
     .heading = "Training the whole hierarchy (LEARNSIMCONTINUOUS)"};
 
-static doc_table *const checked[] = {&neat_t,	   &genetic_t,	&annealing_t,
-				     &task_keys_t, &simbatch_t, &lua_t,
-				     &teams_t,	   &continuous_t};
+static doc_table *const checked[] = {
+    &neat_t,	 &genetic_t, &annealing_t, &cmaes_t,
+    &task_keys_t, &simbatch_t, &lua_t,	   &teams_t,
+    &continuous_t};
 
 /* Every table header of docs/ with a `default` column is one of
  * `checked`. */
@@ -1929,6 +1932,7 @@ int main(void)
 	check_method_table(&neat_t, "learn.neat");
 	check_method_table(&genetic_t, "learn.genetic");
 	check_method_table(&annealing_t, "learn.annealing");
+	check_method_table(&cmaes_t, "learn.cmaes");
 	learning_run();
 	check_task_table(&task_keys_t, 1, 0);
 	check_task_table(&simbatch_t, 0, 1);

@@ -450,6 +450,22 @@ TEST(every_kind_of_key_is_checked_just_inside_and_outside_its_range)
 		      "to 10000"));
 	CHECK(refused("ANNEALING", "SA_ALPHA:1.5",
 		      "SA_ALPHA: expected a number above 0 and at most 1"));
+	CHECK(accepted("CMAES", "CMAES_POPSIZE:10000"));
+	CHECK(refused("CMAES", "CMAES_POPSIZE:10001",
+		      "CMAES_POPSIZE: expected a whole number from 1 to 10000"));
+	CHECK(accepted("CMAES", "CMAES_SIGMA:0.000001"));
+	CHECK(refused("CMAES", "CMAES_SIGMA:0",
+		      "CMAES_SIGMA: expected a number above 0, found '0'"));
+	CHECK(refused("CMAES", "CMAES_SIGMA_MIN:0.6",
+		      "CMAES_SIGMA_MIN: 0.6 is more than the initial step "
+		      "size CMAES_SIGMA (0.5)"));
+	CHECK(refused("CMAES", "CMAES_HIDDEN_ACT:relu",
+		      "CMAES_HIDDEN_ACT: expected sigmoid, tanh, found 'relu'"));
+	CHECK(refused("CMAES", "CMAES_SEPARABLE:maybe",
+		      "CMAES_SEPARABLE: expected auto, false, true, found "
+		      "'maybe'"));
+	CHECK(refused("CMAES", "CMAES_RESTARTS:1001",
+		      "CMAES_RESTARTS: expected a whole number from 0 to 1000"));
 }
 
 /* HIDDEN within its range can still make a network larger than evo's
