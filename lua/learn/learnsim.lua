@@ -49,12 +49,12 @@ local CURVE_SECONDS = 1.0
 -- A malformed option stops the run at its line in the task file.
 local options = common.task_options(algo, task, host.task_path, host.task_lines)
 
--- HIDDEN: the width of GENETIC's and ANNEALING's hidden layers (the
+-- HIDDEN: the width of the hidden layers of GENETIC, ANNEALING and CMAES (the
 -- parser checked its range, evo run that the networks fit). NEAT grows its own.
 local hidden = tonumber(task.HIDDEN or "")
 if hidden and method == "NEAT" then
 	common.warning(host.task_path, host.task_lines, "HIDDEN", "HIDDEN is the width of "
-		.. "GENETIC's and ANNEALING's hidden layers; NEAT grows its own and ignores it")
+		.. "the hidden layers of GENETIC, ANNEALING and CMAES; NEAT grows its own and ignores it")
 	hidden = nil
 end
 

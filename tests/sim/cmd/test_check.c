@@ -306,8 +306,8 @@ TEST(hidden_sets_the_width_of_genetic_networks)
 	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s run %s --run %s/n",
 				 cli_evo, path, cli_tmp),
 		     0);
-	CHECK_CONTAINS(out1, "G.simbatch:9: HIDDEN is the width of "
-			     "GENETIC's and ANNEALING's hidden layers");
+	CHECK_CONTAINS(out1, "G.simbatch:9: HIDDEN is the width of the "
+			     "hidden layers of GENETIC, ANNEALING and CMAES");
 	/* and 0 is no width */
 	cli_sh("sed -i 's/HIDDEN:3/HIDDEN:0/' %s", path);
 	CHECK(cli_capture(out1, sizeof out1, "%s check %s", cli_evo, path) !=
