@@ -327,9 +327,16 @@ static int bench_row(const row *r, int n)
 	for (int s = 1; s <= n; s++) {
 		long evals;
 		int solved, general;
+		double t1 = now();
 		if (run_once(r, (evo_lit_protocol)pr, s, &evals, &solved,
 			     &general))
 			return -1;
+		/* progress, off the table: a long row shows where it is */
+		fprintf(stderr,
+			"bench_poles: %s seed %d: %ld evaluations, %s, "
+			"generalisation %d, %.1f s\n",
+			r->only, s, evals, solved ? "solved" : "FAILED",
+			general, now() - t1);
 		if (solved) {
 			solved_runs++;
 			sum += evals;
