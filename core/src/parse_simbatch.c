@@ -15,6 +15,7 @@ static const char *const methods[] = {"NEAT", "GENETIC", "ANNEALING", "CMAES",
 				      NULL};
 static const char *const genomes[] = {"HOMOGENEOUS", "HETEROGENEOUS", NULL};
 static const char *const fitnesses[] = {"TEAM", "OWN", NULL};
+static const char *const pole_protocols[] = {"NEAT", "GOMEZ", NULL};
 
 #define MILLION 1000000
 #define TEXT(k)	{k, EVO_KEY_TEXT, 0, 0, 0, 0, NULL, 0}
@@ -65,6 +66,7 @@ const evo_simbatch_key_def evo_simbatch_key_defs[] = {
     WHOLE("VALIDATION", 1, 1000),
     WHOLE("LUABUDGET", 1, 1000),
     WHOLE("LUAMEMORY", 16, 65536),
+    WORD("POLEPROTOCOL", pole_protocols),
     {NULL, EVO_KEY_TEXT, 0, 0, 0, 0, NULL, 0},
 };
 

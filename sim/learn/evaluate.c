@@ -30,6 +30,7 @@ typedef struct worker {
 	evo_sim *sim;	  /* its own world and Lua state */
 	int skill;	  /* the learning skill's index in task.mind */
 	evo_lit_task lit; /* ENV names a literature task: no sim */
+	evo_lit_protocol proto; /* the double pole's POLEPROTOCOL */
 	/* team tasks: each team's learning skill in its mind (-1: none),
 	 * each learning team's members' own minds (heterogeneous), and the
 	 * version of the teams' networks it runs */
@@ -112,7 +113,7 @@ static int evaluate_one(worker *w, int i, evo_eval_result *res, evo_err *err)
 	if (w->lit) {
 		/* Deterministic and seedless: one run, whatever EVALREP. */
 		evo_lit_result r;
-		if (evo_lit_evaluate(w->lit, ev->cand[i], &r, err))
+		if (evo_lit_evaluate(w->lit, w->proto, ev->cand[i], &r, err))
 			return -1;
 		res->fitness = r.fitness;
 		res->solved = r.solved;
@@ -320,6 +321,16 @@ static int worker_load(evo_evaluator *ev, worker *w, evo_err *err)
 		return evo_fail(err, "%s: LEARNINGSKILL %s has no network",
 				ev->task_path, learn);
 	w->lit = evo_lit_task_named(evo_simbatch_get(w->task.sb, "ENV"));
+	const char *proto = evo_simbatch_get(w->task.sb, "POLEPROTOCOL");
+	if (proto && w->lit != EVO_LIT_DPV && w->lit != EVO_LIT_DPNV)
+		return evo_fail(err,
+				"%s: POLEPROTOCOL is a setting of the "
+				"double-pole tasks (ENV DPV or DPNV); this "
+				"task's ENV is %s",
+				ev->task_path,
+				evo_simbatch_get(w->task.sb, "ENV"));
+	/* the key table let through NEAT and GOMEZ only */
+	w->proto = (evo_lit_protocol)evo_lit_protocol_named(proto);
 	if (w->lit) {
 		const evo_ades *a = &w->task.mind->skill[w->skill];
 		if (a->n_in != evo_lit_n_in(w->lit) || a->n_out != 1)

@@ -314,9 +314,10 @@ static int l_set_team_net(lua_State *L)
 }
 
 /* evo.success_test(net) -> solved, generalisation: DPNV's success test
- * (100,000 steps from the start state, then Gruau's 625 starts) for the
- * one network of a generation the loop picked. generalisation is nil when
- * the network did not last the 100,000 steps. Present only on DPNV. */
+ * (100,000 steps from the start state, then Gruau's 625 starts, on the
+ * task's POLEPROTOCOL) for the one network of a generation the loop
+ * picked. generalisation is nil when the network did not last the 100,000
+ * steps. Present only on DPNV. */
 static int l_success_test(lua_State *L)
 {
 	/* A userdata, so an error in the network frees it too. */
@@ -324,7 +325,12 @@ static int l_success_test(lua_State *L)
 	to_netdesc(L, 1, 1, d);
 	evo_lit_result r;
 	evo_err err = {{0}};
-	if (evo_lit_dpnv_check(d, &r, &err))
+	learn *l = ctx(L);
+	int pr = evo_lit_protocol_named(
+	    evo_simbatch_get(l->task->sb, "POLEPROTOCOL"));
+	if (pr < 0)
+		return raise_msg(L, "POLEPROTOCOL: not NEAT or GOMEZ");
+	if (evo_lit_dpnv_check_for((evo_lit_protocol)pr, d, &r, &err))
 		return raise_msg(L, err.msg);
 	lua_pushboolean(L, r.solved);
 	if (r.generalisation >= 0)

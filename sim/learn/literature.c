@@ -19,6 +19,7 @@
 #define LENGTH_1    0.5 /* half-lengths, m */
 #define LENGTH_2    0.05
 #define MUP	    0.000002 /* pole hinge friction */
+#define MUC_GOMEZ   0.0005   /* cart-track friction, GOMEZ protocol */
 #define TRACK_HALF  2.4
 #define PI	    3.14159265358979323846
 #define FAIL_ANGLE  (36.0 * PI / 180.0)
@@ -73,6 +74,39 @@ static double net_eval(lit_net *n, const double *in)
 	return evo_q16_to_double(qout[0]);
 }
 
+/* What a protocol sets: the long pole's start angle and the cart's
+ * friction. */
+static const struct {
+	const char *name;
+	double start_th1; /* rad */
+	double muc;
+} protocols[] = {
+    [EVO_LIT_PROTO_NEAT] = {"NEAT", PI / 180.0, 0},
+    [EVO_LIT_PROTO_GOMEZ] = {"GOMEZ", 4.0 * PI / 180.0, MUC_GOMEZ},
+};
+
+static int same_word(const char *a, const char *upper)
+{
+	while (*a && toupper((unsigned char)*a) == *upper)
+		a++, upper++;
+	return !*a && !*upper;
+}
+
+int evo_lit_protocol_named(const char *value)
+{
+	if (!value)
+		return EVO_LIT_PROTO_NEAT;
+	for (int k = 0; k < (int)(sizeof protocols / sizeof protocols[0]); k++)
+		if (same_word(value, protocols[k].name))
+			return k;
+	return -1;
+}
+
+const char *evo_lit_protocol_name(evo_lit_protocol pr)
+{
+	return protocols[pr].name;
+}
+
 evo_lit_task evo_lit_task_named(const char *env)
 {
 	static const struct {
@@ -82,13 +116,9 @@ evo_lit_task evo_lit_task_named(const char *env)
 	    {"XOR", EVO_LIT_XOR}, {"DPV", EVO_LIT_DPV}, {"DPNV", EVO_LIT_DPNV}};
 	if (!env)
 		return EVO_LIT_NONE;
-	for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
-		const char *a = env, *b = names[k].name;
-		while (*a && toupper((unsigned char)*a) == *b)
-			a++, b++;
-		if (!*a && !*b)
+	for (size_t k = 0; k < sizeof names / sizeof names[0]; k++)
+		if (same_word(env, names[k].name))
 			return names[k].t;
-	}
 	return EVO_LIT_NONE;
 }
 
@@ -120,14 +150,22 @@ int evo_lit_xor(const evo_netdesc *d, evo_lit_result *r, evo_err *err)
 	return 0;
 }
 
-evo_lit_pole_state evo_lit_pole_start(void)
+evo_lit_pole_state evo_lit_pole_start_for(evo_lit_protocol pr)
 {
-	return (evo_lit_pole_state){{0, 0, PI / 180.0, 0, 0, 0}};
+	return (evo_lit_pole_state){{0, 0, protocols[pr].start_th1, 0, 0, 0}};
 }
 
-/* ds/dt at s (CartPole::step of the NEAT code). */
-static void derivs(const double *s, double force, double *ds)
+evo_lit_pole_state evo_lit_pole_start(void)
 {
+	return evo_lit_pole_start_for(EVO_LIT_PROTO_NEAT);
+}
+
+/* ds/dt at s (CartPole::step of the NEAT code), with Wieland's cart
+ * friction -muc sgn(xdot) when muc is not 0; a cart at rest feels none. */
+static void derivs(const double *s, double force, double muc, double *ds)
+{
+	if (muc != 0 && s[1] != 0)
+		force -= s[1] > 0 ? muc : -muc;
 	double c1 = cos(s[2]), s1 = sin(s[2]);
 	double c2 = cos(s[4]), s2 = sin(s[4]);
 	double ml1 = LENGTH_1 * MASSPOLE_1, ml2 = LENGTH_2 * MASSPOLE_2;
@@ -147,22 +185,28 @@ static void derivs(const double *s, double force, double *ds)
 	ds[5] = -0.75 * (xacc * c2 + GRAVITY * s2 + t2) / LENGTH_2;
 }
 
-void evo_lit_pole_rk4(evo_lit_pole_state *p, double force, double dt)
+void evo_lit_pole_rk4_for(evo_lit_protocol pr, evo_lit_pole_state *p,
+			  double force, double dt)
 {
 	double k1[6], k2[6], k3[6], k4[6], y[6];
-	double *s = p->s;
-	derivs(s, force, k1);
+	double *s = p->s, muc = protocols[pr].muc;
+	derivs(s, force, muc, k1);
 	for (int i = 0; i < 6; i++)
 		y[i] = s[i] + 0.5 * dt * k1[i];
-	derivs(y, force, k2);
+	derivs(y, force, muc, k2);
 	for (int i = 0; i < 6; i++)
 		y[i] = s[i] + 0.5 * dt * k2[i];
-	derivs(y, force, k3);
+	derivs(y, force, muc, k3);
 	for (int i = 0; i < 6; i++)
 		y[i] = s[i] + dt * k3[i];
-	derivs(y, force, k4);
+	derivs(y, force, muc, k4);
 	for (int i = 0; i < 6; i++)
 		s[i] += dt / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+}
+
+void evo_lit_pole_rk4(evo_lit_pole_state *p, double force, double dt)
+{
+	evo_lit_pole_rk4_for(EVO_LIT_PROTO_NEAT, p, force, dt);
 }
 
 int evo_lit_pole_failed(const evo_lit_pole_state *p)
@@ -173,10 +217,11 @@ int evo_lit_pole_failed(const evo_lit_pole_state *p)
 }
 
 /* Balance on an open network; the run behind evo_lit_pole. */
-static void balance(lit_net *n, int velocities, const evo_lit_pole_state *start,
-		    long max_steps, evo_lit_result *r)
+static void balance(evo_lit_protocol pr, lit_net *n, int velocities,
+		    const evo_lit_pole_state *start, long max_steps,
+		    evo_lit_result *r)
 {
-	evo_lit_pole_state p = start ? *start : evo_lit_pole_start();
+	evo_lit_pole_state p = start ? *start : evo_lit_pole_start_for(pr);
 	/* Gruau's damping term: the last 100 steps' sums, as a ring. */
 	double jiggle[100] = {0};
 	long t = 0;
@@ -201,7 +246,7 @@ static void balance(lit_net *n, int velocities, const evo_lit_pole_state *start,
 			: force < -FORCE_MAG ? -FORCE_MAG
 					     : force;
 		for (int k = 0; k < RK4_PER_ACT; k++)
-			evo_lit_pole_rk4(&p, force, TAU);
+			evo_lit_pole_rk4_for(pr, &p, force, TAU);
 		if (evo_lit_pole_failed(&p))
 			break;
 		jiggle[t % 100] =
@@ -225,19 +270,27 @@ static void balance(lit_net *n, int velocities, const evo_lit_pole_state *start,
 	}
 }
 
-int evo_lit_pole(const evo_netdesc *d, int velocities,
-		 const evo_lit_pole_state *start, long max_steps,
-		 evo_lit_result *r, evo_err *err)
+int evo_lit_pole_for(evo_lit_protocol pr, const evo_netdesc *d,
+		     int velocities, const evo_lit_pole_state *start,
+		     long max_steps, evo_lit_result *r, evo_err *err)
 {
 	lit_net *n = net_open(d, velocities ? 6 : 3, err);
 	if (!n)
 		return -1;
-	balance(n, velocities, start, max_steps, r);
+	balance(pr, n, velocities, start, max_steps, r);
 	free(n);
 	return 0;
 }
 
-static int generalise(lit_net *n, int velocities)
+int evo_lit_pole(const evo_netdesc *d, int velocities,
+		 const evo_lit_pole_state *start, long max_steps,
+		 evo_lit_result *r, evo_err *err)
+{
+	return evo_lit_pole_for(EVO_LIT_PROTO_NEAT, d, velocities, start,
+				max_steps, r, err);
+}
+
+static int generalise(evo_lit_protocol pr, lit_net *n, int velocities)
 {
 	static const double frac[5] = {0.05, 0.25, 0.5, 0.75, 0.95};
 	int count = 0;
@@ -254,7 +307,7 @@ static int generalise(lit_net *n, int velocities)
 					    0,
 					}};
 					evo_lit_result r;
-					balance(n, velocities, &p,
+					balance(pr, n, velocities, &p,
 						EVO_LIT_GENERAL_STEPS, &r);
 					count +=
 					    r.steps >= EVO_LIT_GENERAL_STEPS;
@@ -262,39 +315,54 @@ static int generalise(lit_net *n, int velocities)
 	return count;
 }
 
-int evo_lit_generalisation(const evo_netdesc *d, int velocities, evo_err *err)
+int evo_lit_generalisation_for(evo_lit_protocol pr, const evo_netdesc *d,
+			       int velocities, evo_err *err)
 {
 	lit_net *n = net_open(d, velocities ? 6 : 3, err);
 	if (!n)
 		return -1;
-	int count = generalise(n, velocities);
+	int count = generalise(pr, n, velocities);
 	free(n);
 	return count;
 }
 
-int evo_lit_dpnv_check(const evo_netdesc *d, evo_lit_result *r, evo_err *err)
+int evo_lit_generalisation(const evo_netdesc *d, int velocities, evo_err *err)
+{
+	return evo_lit_generalisation_for(EVO_LIT_PROTO_NEAT, d, velocities,
+					  err);
+}
+
+int evo_lit_dpnv_check_for(evo_lit_protocol pr, const evo_netdesc *d,
+			   evo_lit_result *r, evo_err *err)
 {
 	lit_net *n = net_open(d, 3, err);
 	if (!n)
 		return -1;
 	evo_lit_result run;
-	balance(n, 0, NULL, EVO_LIT_POLE_SUCCESS, &run);
-	r->generalisation = run.solved ? generalise(n, 0) : -1;
+	balance(pr, n, 0, NULL, EVO_LIT_POLE_SUCCESS, &run);
+	r->generalisation = run.solved ? generalise(pr, n, 0) : -1;
 	r->solved = run.solved && r->generalisation >= EVO_LIT_GENERAL_NEEDED;
 	free(n);
 	return 0;
 }
 
-int evo_lit_evaluate(evo_lit_task t, const evo_netdesc *d, evo_lit_result *r,
-		     evo_err *err)
+int evo_lit_dpnv_check(const evo_netdesc *d, evo_lit_result *r, evo_err *err)
+{
+	return evo_lit_dpnv_check_for(EVO_LIT_PROTO_NEAT, d, r, err);
+}
+
+int evo_lit_evaluate(evo_lit_task t, evo_lit_protocol pr,
+		     const evo_netdesc *d, evo_lit_result *r, evo_err *err)
 {
 	switch (t) {
 	case EVO_LIT_XOR:
 		return evo_lit_xor(d, r, err);
 	case EVO_LIT_DPV:
-		return evo_lit_pole(d, 1, NULL, EVO_LIT_POLE_SUCCESS, r, err);
+		return evo_lit_pole_for(pr, d, 1, NULL, EVO_LIT_POLE_SUCCESS,
+					r, err);
 	case EVO_LIT_DPNV:
-		if (evo_lit_pole(d, 0, NULL, EVO_LIT_DAMPING_STEPS, r, err))
+		if (evo_lit_pole_for(pr, d, 0, NULL, EVO_LIT_DAMPING_STEPS, r,
+				     err))
 			return -1;
 		r->solved = 0;
 		return 0;

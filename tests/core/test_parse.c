@@ -331,8 +331,8 @@ TEST(simbatch_tables)
 	 * CANURL) and the five of teams (TEAM, LEARNINGTEAM, TEAMGENOME,
 	 * TEAMFITNESS, ALTERNATE) and the three of LEARNSIMCONTINUOUS
 	 * (SKILLORDER, ROUNDS, VALIDATION), and the Lua limits (LUABUDGET,
-	 * LUAMEMORY) */
-	CHECK_EQ_INT(n, 31);
+	 * LUAMEMORY), and the double pole's POLEPROTOCOL */
+	CHECK_EQ_INT(n, 32);
 	CHECK(n <= EVO_MAX_SIMBATCH);
 	n = 0;
 	for (i = 0; evo_task_types[i]; i++)

@@ -42,6 +42,7 @@
 #include <unistd.h>
 
 #include "evo/formats.h"
+#include "learn/literature.h"
 #include "lua/lua_evo.h"
 #include "mind/mindfolder.h"
 #include "mind/net_build.h"
@@ -926,6 +927,11 @@ static int render_task_default(const char *key, int in_learning, char *out,
 		snprintf(out, cap, "%g", evo_lua_default_limits().budget_scale);
 	} else if (strcmp(key, "LUAMEMORY") == 0) {
 		snprintf(out, cap, "%zu", evo_lua_default_limits().memory >> 20);
+	} else if (strcmp(key, "POLEPROTOCOL") == 0) {
+		/* no key: the protocol literature.c takes for NULL */
+		int pr = evo_lit_protocol_named(NULL);
+		snprintf(out, cap, "%s",
+			 pr < 0 ? "none" : evo_lit_protocol_name(pr));
 	} else if (strcmp(key, "TARGETFITNESS") == 0) {
 		/* no target: a run goes all its generations */
 		snprintf(out, cap, "none");

@@ -4,7 +4,10 @@
  * way, agrees with a ten times finer RK4, and a zero-force network fails
  * after the number of steps this implementation gives (pinned so a change
  * to the physics is noticed); a zero network generalises only to the five
- * starts at rest; and
+ * starts at rest; Gomez et al. 2008's protocol starts at 4 degrees, slows
+ * a rolling cart by its friction as worked out by hand, steps as Wieland's
+ * equations written out apart here, and applies its success criteria; its
+ * key is checked in a task; and
  * a short LEARNSIM run on a copy of minds/XOR goes through the evaluator
  * and writes its log. */
 #define _POSIX_C_SOURCE 200809L
@@ -173,6 +176,212 @@ TEST(task_names)
 	CHECK(evo_lit_task_named(NULL) == EVO_LIT_NONE);
 }
 
+/* ---- Gomez et al. 2008's protocol (POLEPROTOCOL:GOMEZ) ---- */
+
+#define PI_ 3.14159265358979323846
+
+TEST(protocol_names_and_starts)
+{
+	CHECK_EQ_INT(evo_lit_protocol_named(NULL), EVO_LIT_PROTO_NEAT);
+	CHECK_EQ_INT(evo_lit_protocol_named("neat"), EVO_LIT_PROTO_NEAT);
+	CHECK_EQ_INT(evo_lit_protocol_named("Gomez"), EVO_LIT_PROTO_GOMEZ);
+	CHECK_EQ_INT(evo_lit_protocol_named("ESP"), -1);
+	evo_lit_pole_state g = evo_lit_pole_start_for(EVO_LIT_PROTO_GOMEZ);
+	evo_lit_pole_state n = evo_lit_pole_start_for(EVO_LIT_PROTO_NEAT);
+	/* 4 degrees = 0.0698132 rad; 1 degree for the NEAT paper */
+	CHECK(fabs(g.s[2] - 0.069813170079773) < 1e-12);
+	CHECK(fabs(n.s[2] - 0.017453292519943) < 1e-12);
+	for (int i = 0; i < 6; i++)
+		if (i != 2)
+			CHECK(g.s[i] == 0 && n.s[i] == 0);
+}
+
+/* A cart rolling at 1 m/s under upright poles at rest, no force. Without
+ * cart friction nothing accelerates: xdot stays 1 exactly. With it the
+ * cart slows by a = mu_c / (M + m1/4 + m2/4) = 5e-4 / 1.0275 m/s^2
+ * (upright, each pole's effective mass is m (1 - 3/4)), and each pole,
+ * linearised, tips forward as thdd = w^2 th + 3 a / (4 l) with
+ * w^2 = 3 g / (4 l), so after h seconds thd = 3 a / (4 l) sinh(w h) / w:
+ * by hand, to 0.1% (what the linearisation leaves out is smaller). */
+TEST(gomez_cart_friction_by_hand)
+{
+	evo_lit_pole_state n = {{0, 1, 0, 0, 0, 0}}, g = n;
+	evo_lit_pole_rk4_for(EVO_LIT_PROTO_NEAT, &n, 0, 0.01);
+	evo_lit_pole_rk4_for(EVO_LIT_PROTO_GOMEZ, &g, 0, 0.01);
+	CHECK(n.s[1] == 1 && n.s[3] == 0 && n.s[5] == 0);
+	double a = 5e-4 / 1.0275; /* 4.8662e-4 m/s^2 */
+	CHECK(fabs((1 - g.s[1]) - a * 0.01) < 1e-3 * a * 0.01);
+	CHECK(fabs((0.01 - g.s[0]) - a * 1e-4 / 2) < 1e-3 * a * 1e-4 / 2);
+	double w1 = sqrt(0.75 * 9.8 / 0.5), w2 = sqrt(0.75 * 9.8 / 0.05);
+	double th1dot = 0.75 * a / 0.5 * sinh(w1 * 0.01) / w1; /* 7.3011e-6 */
+	double th2dot = 0.75 * a / 0.05 * sinh(w2 * 0.01) / w2; /* 7.3172e-5 */
+	CHECK(fabs(g.s[3] - th1dot) < 1e-3 * th1dot);
+	CHECK(fabs(g.s[5] - th2dot) < 1e-3 * th2dot);
+	/* a cart at rest feels no friction: nothing moves */
+	evo_lit_pole_state rest = {{1, 0, 0, 0, 0, 0}};
+	evo_lit_pole_rk4_for(EVO_LIT_PROTO_GOMEZ, &rest, 0, 0.01);
+	for (int i = 0; i < 6; i++)
+		CHECK(rest.s[i] == (i == 0 ? 1 : 0));
+}
+
+/* Wieland's equations as the JMLR paper writes them, g = +9.8, written
+ * here apart from literature.c: xdd = (F - mu_c sgn(xd) + sum Fi) /
+ * (M + sum mi~), Fi = m_i l_i thd_i^2 sin th_i + 3/4 m_i cos th_i
+ * (mu_p thd_i / (m_i l_i) - g sin th_i), mi~ = m_i (1 - 3/4 cos^2 th_i),
+ * thdd_i = 3 / (4 l_i) (g sin th_i - xdd cos th_i - mu_p thd_i /
+ * (m_i l_i)). */
+static void wieland(const double *y, double f, double *dy)
+{
+	const double m[2] = {0.1, 0.01}, l[2] = {0.5, 0.05};
+	const double g = 9.8, mup = 2e-6, muc = 5e-4;
+	double num = f - (y[1] > 0 ? muc : y[1] < 0 ? -muc : 0), den = 1.0;
+	for (int i = 0; i < 2; i++) {
+		double th = y[2 + 2 * i], thd = y[3 + 2 * i];
+		num += m[i] * l[i] * thd * thd * sin(th) +
+		       0.75 * m[i] * cos(th) *
+			   (mup * thd / (m[i] * l[i]) - g * sin(th));
+		den += m[i] * (1 - 0.75 * cos(th) * cos(th));
+	}
+	double xdd = num / den;
+	dy[0] = y[1];
+	dy[1] = xdd;
+	for (int i = 0; i < 2; i++) {
+		double th = y[2 + 2 * i], thd = y[3 + 2 * i];
+		dy[2 + 2 * i] = thd;
+		dy[3 + 2 * i] = 0.75 / l[i] *
+				(g * sin(th) - xdd * cos(th) -
+				 mup * thd / (m[i] * l[i]));
+	}
+}
+
+TEST(gomez_rk4_step_from_4_degrees)
+{
+	evo_lit_pole_state p = evo_lit_pole_start_for(EVO_LIT_PROTO_GOMEZ);
+	double y[6], k[4][6], t[6], h = 0.01, f = 3.0;
+	memcpy(y, p.s, sizeof y);
+	const double c[4] = {0, 0.5, 0.5, 1};
+	for (int j = 0; j < 4; j++) {
+		for (int i = 0; i < 6; i++)
+			t[i] = y[i] + (j ? c[j] * h * k[j - 1][i] : 0);
+		wieland(t, f, k[j]);
+	}
+	for (int i = 0; i < 6; i++)
+		y[i] += h / 6 * (k[0][i] + 2 * k[1][i] + 2 * k[2][i] + k[3][i]);
+	evo_lit_pole_rk4_for(EVO_LIT_PROTO_GOMEZ, &p, f, h);
+	for (int i = 0; i < 6; i++)
+		CHECK(fabs(p.s[i] - y[i]) <= 1e-12 * (fabs(y[i]) + 1e-9));
+	/* By hand from rest at 4 degrees with no force: sin 4deg = 0.069756,
+	 * cos 4deg = 0.997564; F1 = -3/4 0.1 cos sin 9.8 = -0.051147,
+	 * den = 1 + 0.1 (1 - 3/4 cos^2) + 0.0025 = 1.027865, so
+	 * xdd = -0.049760, thdd1 = 1.5 (9.8 sin + 0.049760 cos) = 1.09987,
+	 * thdd2 = 15 * 0.049760 = 0.74640: after 0.01 s those times 0.01. */
+	evo_lit_pole_state q = evo_lit_pole_start_for(EVO_LIT_PROTO_GOMEZ);
+	evo_lit_pole_rk4_for(EVO_LIT_PROTO_GOMEZ, &q, 0, 0.01);
+	CHECK(fabs(q.s[1] - -0.00049760) < 0.01 * 0.00049760);
+	CHECK(fabs(q.s[3] - 0.0109987) < 0.01 * 0.0109987);
+	CHECK(fabs(q.s[5] - 0.0074640) < 0.01 * 0.0074640);
+}
+
+/* From 4 degrees a pole with no force falls sooner than from 1 (pinned so
+ * a change to the physics is noticed); still nothing at rest moves, so
+ * the zero network keeps the five rest starts of the 625. */
+#define GOMEZ_ZERO_FORCE_STEPS 22
+
+TEST(gomez_zero_force_and_generalisation)
+{
+	evo_lit_result r;
+	evo_err err = {{0}};
+	CHECK_EQ_INT(evo_lit_pole_for(EVO_LIT_PROTO_GOMEZ, zero_pole_net(6), 1,
+				      NULL, EVO_LIT_POLE_SUCCESS, &r, &err),
+		     0);
+	printf("  zero force from 4 degrees: %ld steps\n", r.steps);
+	CHECK_EQ_INT(r.steps, GOMEZ_ZERO_FORCE_STEPS);
+	CHECK(r.steps < ZERO_FORCE_STEPS);
+	CHECK_EQ_INT(evo_lit_generalisation_for(EVO_LIT_PROTO_GOMEZ,
+						zero_pole_net(3), 0, &err),
+		     5);
+	r = (evo_lit_result){0};
+	CHECK_EQ_INT(evo_lit_dpnv_check_for(EVO_LIT_PROTO_GOMEZ,
+					    zero_pole_net(3), &r, &err),
+		     0);
+	CHECK_EQ_INT(r.solved, 0);
+	CHECK_EQ_INT(r.generalisation, -1);
+}
+
+/* Networks NEAT found on this protocol (bench_poles, seed 1): the DPV one
+ * balances the 100,000 steps that are success, and not from a start it
+ * was not trained for; the DPNV one passes both parts of the test. */
+static const char gomez_dpv_net[] =
+    "inputs:6\noutputs:1\n"
+    "node:6:neat_sigmoid:0\nnode:7:neat_sigmoid:-2.1316\noutput:6\n"
+    "link:0:6:-1.565742\nlink:1:6:-1.229856\nlink:2:6:-5.517022\n"
+    "link:3:6:-6.533654\nlink:4:6:4.655898\nlink:5:6:1.351381\n"
+    "link:7:6:4.558494\nlink:5:7:2.057264\n";
+static const char gomez_dpnv_net[] =
+    "inputs:3\noutputs:1\nnode:3:neat_sigmoid:0.591487\noutput:3\n"
+    "link:0:3:-1.609317\nlink:1:3:-3.827806\nlink:2:3:3.105852\n"
+    "link:3:3:-1.117493\n";
+
+TEST(gomez_success_criteria)
+{
+	evo_lit_result r;
+	evo_err err = {{0}};
+	CHECK_EQ_INT(evo_lit_evaluate(EVO_LIT_DPV, EVO_LIT_PROTO_GOMEZ,
+				      parse_net(gomez_dpv_net), &r, &err),
+		     0);
+	CHECK_EQ_INT(r.steps, 100000);
+	CHECK(r.fitness == 100000.0);
+	CHECK_EQ_INT(r.solved, 1);
+	CHECK_EQ_INT(evo_lit_pole_for(EVO_LIT_PROTO_GOMEZ,
+				      parse_net(gomez_dpv_net), 1, NULL,
+				      EVO_LIT_POLE_SUCCESS - 1, &r, &err),
+		     0);
+	CHECK_EQ_INT(r.solved, 0); /* 99,999 steps are not success */
+	/* DPNV: the learning run's fitness is the damping one over 1,000
+	 * steps and never "solved"; the success test decides. */
+	CHECK_EQ_INT(evo_lit_evaluate(EVO_LIT_DPNV, EVO_LIT_PROTO_GOMEZ,
+				      parse_net(gomez_dpnv_net), &r, &err),
+		     0);
+	CHECK_EQ_INT(r.steps, 1000);
+	CHECK_EQ_INT(r.solved, 0);
+	CHECK(r.fitness > 0.1 && r.fitness < 0.2);
+	r = (evo_lit_result){0};
+	CHECK_EQ_INT(evo_lit_dpnv_check_for(EVO_LIT_PROTO_GOMEZ,
+					    parse_net(gomez_dpnv_net), &r,
+					    &err),
+		     0);
+	printf("  DPNV champion's generalisation on GOMEZ: %d\n",
+	       r.generalisation);
+	CHECK(r.generalisation >= EVO_LIT_GENERAL_NEEDED);
+	CHECK_EQ_INT(r.solved, 1);
+}
+
+/* The key: a bad value is refused at its line; on a task that is not a
+ * double pole it is an error that says so. */
+TEST(poleprotocol_key_in_a_task)
+{
+	CHECK(cli_sh("cp -r minds/XOR %s/ && printf 'POLEPROTOCOL:ESP\\n' >> "
+		     "%s/XOR/Tasks/XOR-NEAT.simbatch && %s check "
+		     "%s/XOR/Tasks/XOR-NEAT.simbatch > %s/out.txt 2>&1",
+		     cli_tmp, cli_tmp, cli_evo, cli_tmp, cli_tmp) != 0);
+	char *out = cli_read("%s/out.txt", cli_tmp);
+	CHECK(out != NULL);
+	CHECK_CONTAINS(out, "POLEPROTOCOL: expected");
+	CHECK_CONTAINS(out, "NEAT");
+	free(out);
+	CHECK(cli_sh("sed -i 's/^POLEPROTOCOL:.*/POLEPROTOCOL:GOMEZ/; "
+		     "s/^NUMGEN:.*/NUMGEN:1/' %s/XOR/Tasks/XOR-NEAT.simbatch "
+		     "&& %s run %s/XOR/Tasks/XOR-NEAT.simbatch --run %s/run2 "
+		     "> %s/out.txt 2>&1",
+		     cli_tmp, cli_evo, cli_tmp, cli_tmp, cli_tmp) != 0);
+	out = cli_read("%s/out.txt", cli_tmp);
+	CHECK(out != NULL);
+	CHECK_CONTAINS(out, "POLEPROTOCOL is a setting of the double-pole "
+			    "tasks");
+	free(out);
+	CHECK_EQ_INT(cli_sh("rm -rf %s/XOR %s/run2", cli_tmp, cli_tmp), 0);
+}
+
 /* On a copy of minds/XOR, so the champion never lands in minds/. */
 TEST(short_learnsim_xor_run_writes_a_log)
 {
@@ -208,6 +417,12 @@ int main(void)
 	RUN(zero_network_generalises_only_to_rest);
 	RUN(task_names);
 	RUN(short_learnsim_xor_run_writes_a_log);
+	RUN(protocol_names_and_starts);
+	RUN(gomez_cart_friction_by_hand);
+	RUN(gomez_rk4_step_from_4_degrees);
+	RUN(gomez_zero_force_and_generalisation);
+	RUN(gomez_success_criteria);
+	RUN(poleprotocol_key_in_a_task);
 	cli_cleanup();
 	return test_summary();
 }
