@@ -150,6 +150,7 @@ while not rounds or state.round <= rounds do
 			sum = sum + f
 			if f > fitness[best_i] then best_i = i end
 		end
+		local species = #pop.species -- the evaluated generation's (tell() speciates the next)
 		pop:tell(fitness)
 		local h = state.history
 		h.best[#h.best + 1] = fitness[best_i]
@@ -162,7 +163,7 @@ while not rounds or state.round <= rounds do
 		row[#row + 1] = t
 		host.log{ generation = gen, generations = rounds and rounds * #order * per_turn or 0,
 			best = fitness[best_i], mean = sum / #fitness, best_ever = pop.best.fitness,
-			species = #pop.species, evaluations = #fitness, solved = 0, seconds = seconds,
+			species = species, evaluations = #fitness, solved = 0, seconds = seconds,
 			metrics = row }
 		since_curve = since_curve + seconds
 		if state.step == 0 or since_curve >= CURVE_SECONDS then

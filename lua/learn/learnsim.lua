@@ -253,6 +253,8 @@ for gen = first, generations - 1 do
 		end
 	end
 	local best_net = nets[best_i]
+	-- the species of the generation just evaluated (tell() speciates the next)
+	local species = #pop.species
 	pop:tell(fitness)
 	history.best[#history.best + 1] = fitness[best_i]
 	history.mean[#history.mean + 1] = sum / #fitness
@@ -268,7 +270,7 @@ for gen = first, generations - 1 do
 		row[#row + 1] = t.win_rate
 	end
 	host.log{ generation = gen, generations = generations, best = fitness[best_i],
-		mean = sum / #fitness, best_ever = pop.best.fitness, species = #pop.species,
+		mean = sum / #fitness, best_ever = pop.best.fitness, species = species,
 		evaluations = #fitness, solved = n_solved, seconds = seconds,
 		metrics = row }
 	-- the curve so far, so a long run can be watched as it goes (the last

@@ -45,8 +45,11 @@ neat.defaults = {
 	c1 = 1.0, -- distance weight of excess genes (paper: 1.0)
 	c2 = 1.0, -- distance weight of disjoint genes (paper: 1.0)
 	c3 = 0.4, -- distance weight of the mean weight difference (paper: 0.4)
-	threshold = 3.0, -- compatibility threshold delta_t (paper: 3.0)
-	normalize_below = 20, -- N = 1 when both genomes have fewer genes than this (paper: 20)
+	threshold = 3.0, -- compatibility threshold delta_t (paper: 3.0); with target_species, where
+	-- the threshold starts
+	normalize_below = 20, -- N = 1 when both genomes have fewer genes than this (paper: 20); 0:
+	-- always the larger genome's gene count. The rule has a cliff: E and D count 20 times less
+	-- against a genome of 20 genes than against one of 19
 	weight_mut_prob = 0.9, -- chance a genome's weights are mutated (NEAT's original code: 0.9; paper: 0.8)
 	weight_mutation = "code", -- "code": NEAT's original code's scheme (see mutate_weights);
 	-- "paper": each weight perturbed with perturb_prob, else replaced
@@ -88,8 +91,10 @@ neat.defaults = {
 	-- (NEAT's original code); false: against a random member
 	pop_champion = true, -- the generation's best genome is always copied unchanged into the next,
 	-- whatever the size of its species (its species gets at least one offspring)
-	target_species = 0, -- 0: the threshold stays delta_t; else it moves by threshold_step each
-	-- generation towards this many species (NEAT 1.2's compat_adjust)
+	target_species = 10, -- the threshold moves by threshold_step each generation towards this many
+	-- species (NEAT 1.2's compat_adjust; SharpNEAT's default count: 10); 0: it stays delta_t, as
+	-- in the paper (XOR's task sets 0). Genomes of 20 genes or more are compared divided by N,
+	-- and a fixed 3.0 hardly ever splits them: Avoid's 24-gene genomes stayed one species
 	threshold_step = 0.3, -- the threshold's step when target_species is set (NEAT 1.2: 0.3)
 	threshold_min = 0.3, -- the threshold never goes below this (NEAT 1.2: 0.3)
 	pop_stagnation = 0, -- generations without a new best before only the top two species reproduce;

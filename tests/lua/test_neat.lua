@@ -24,6 +24,14 @@ local function genome(n, outputs, hidden, links)
 	return g
 end
 
+-- NEAT's defaults with some changed.
+local function options(t)
+	local o = {}
+	for k, v in pairs(neat.defaults) do o[k] = v end
+	for k, v in pairs(t) do o[k] = v end
+	return o
+end
+
 local function innovs(g)
 	local t = {}
 	for i, l in ipairs(g.links) do t[i] = l.innov end
@@ -376,7 +384,9 @@ function T.recur_only_prob_decides_cycles()
 end
 
 function T.distance_and_speciation_by_threshold()
-	local o = neat.defaults
+	-- The paper's settings: a fixed threshold, N = 1 below 20 genes.
+	local paper = { pop_size = 2, normalize_below = 20, target_species = 0 }
+	local o = options(paper)
 	local rep = genome(2, { 3 }, {}, { { 1, 0, 3, 0 }, { 2, 1, 3, 0 }, { 3, 2, 3, 0 } })
 	-- Only weights differ: delta = c3 * mean |dw| = 0.4 * 7.45 = 2.98.
 	local below = genome(2, { 3 }, {}, { { 1, 0, 3, 7.45 }, { 2, 1, 3, 7.45 }, { 3, 2, 3, 7.45 } })
@@ -386,7 +396,7 @@ function T.distance_and_speciation_by_threshold()
 	-- Structure: 1 disjoint + 2 excess, N = 1 under 20 genes.
 	local s = genome(2, { 3 }, { 4 }, { { 1, 0, 3, 0 }, { 3, 2, 3, 0 }, { 4, 0, 4, 0 }, { 5, 4, 3, 0 } })
 	check(near(neat.distance(rep, s, o), 1 * 2 + 1 * 1), "c1 E + c2 D")
-	local pop = neat.new { inputs = 2, outputs = 1, rng = random.new(6), options = { pop_size = 2 } }
+	local pop = neat.new { inputs = 2, outputs = 1, rng = random.new(6), options = paper }
 	pop.species = { { id = 1, rep = rep, members = {}, best_fitness = 0, last_improved = 0 } }
 	pop.next_species = 1
 	pop.population = { below, above, neat.copy_genome(rep) }
@@ -394,6 +404,68 @@ function T.distance_and_speciation_by_threshold()
 	check(below.species == 1 and pop.population[3].species == 1, "within the threshold: the species")
 	check(above.species == 2, "beyond the threshold: a new species")
 	check(#pop.species == 2, "two species")
+end
+
+-- A genome of links with the given innovation numbers and one weight.
+local function genes(innov_list, w)
+	local links = {}
+	for i, inn in ipairs(innov_list) do links[i] = { inn, 0, 99, w } end
+	return genome(1, { 99 }, {}, links)
+end
+local function range(a, b, extra)
+	local t = {}
+	for i = a, b do t[#t + 1] = i end
+	for _, i in ipairs(extra or {}) do t[#t + 1] = i end
+	return t
+end
+
+function T.distance_normalises_from_twenty_genes()
+	-- g: genes 1..8 of weight 0.5 and gene 30. Against a representative
+	-- with genes 1..K of weight 0: 8 matching (mean |dw| 0.5), K - 8
+	-- disjoint (9..K, below g's 30), 1 excess (30), N = K.
+	local g = genes(range(1, 8, { 30 }), 0.5)
+	local r19, r20 = genes(range(1, 19), 0), genes(range(1, 20), 0)
+	-- The paper's rule (the default): N = 1 below 20 genes.
+	-- K = 19: 1 + 11 + 0.4 * 0.5 = 12.2; K = 20: (1 + 12) / 20 + 0.2 = 0.85.
+	-- A species whose representative reaches 20 genes thus takes in genomes
+	-- that were 12 apart: XOR, seed 30, generation 54 put 148 of 150 in one
+	-- (17 species, then 2, then 12).
+	local o = options {}
+	check(near(neat.distance(r19, g, o), 12.2), "19 genes: 12 + 0.2")
+	check(near(neat.distance(r20, g, o), 0.85), "20 genes: 13/20 + 0.2")
+	-- NEAT_NORMALIZE_BELOW:0 always divides: 12/19 + 0.2 = 0.8316 at 19 genes.
+	local always = options { normalize_below = 0 }
+	check(near(neat.distance(r19, g, always), 12 / 19 + 0.2), "always divided: 12/19 + 0.2")
+	check(near(neat.distance(r20, g, always), 0.85), "always divided: 0.85")
+	-- Divided by N, structure adds at most c1 + c2 = 2 (E + D <= 2N):
+	-- genomes of 24 genes with none in common are 2.0 apart, under 3.0.
+	check(near(neat.distance(genes(range(1, 24), 1), genes(range(25, 48), -1), o), 2.0), "disjoint: 2")
+end
+
+function T.avoid_sized_genomes_split_only_when_the_threshold_moves()
+	-- Avoid's start: 11 inputs and the bias linked to 2 outputs, 24 genes
+	-- in every genome. Two groups whose every weight differs by 2: delta =
+	-- c3 * 2 = 0.8, whatever N is.
+	local pop = neat.new { inputs = 11, outputs = 2, rng = random.new(21), options = { pop_size = 4 } }
+	for i, g in ipairs(pop.population) do
+		check(#g.links == 24, "24 genes")
+		for _, l in ipairs(g.links) do l.weight = i <= 2 and 1 or -1 end
+	end
+	check(near(neat.distance(pop.population[1], pop.population[3], pop.options), 0.8), "delta 0.4 * 2")
+	pop.species, pop.threshold = {}, 3.0
+	neat.speciate(pop)
+	check(#pop.species == 1, "the paper's fixed 3.0: one species")
+	-- The default target (10 species) moves the threshold 0.3 a generation
+	-- while there are fewer: 3.0 - 8 * 0.3 = 0.6 < 0.8 after 8 generations.
+	check(neat.defaults.target_species == 10 and neat.defaults.threshold_step == 0.3, "default target 10, step 0.3")
+	pop.species, pop.threshold = {}, 3.0 - 8 * 0.3
+	neat.speciate(pop)
+	check(#pop.species == 2, "at 0.6: two species, " .. #pop.species)
+	-- One tell with one species: the threshold steps down by itself.
+	local one = neat.new { inputs = 11, outputs = 2, rng = random.new(22), options = { pop_size = 10 } }
+	check(#one.species == 1, "one species at the start")
+	one:tell { 1, 2, 3, 4, 5, 6, 7, 8, 9, 10 }
+	check(near(one.threshold, 2.7), "the default threshold moved to 2.7")
 end
 
 function T.fitness_sharing_divides_by_species_size()
@@ -540,7 +612,7 @@ function T.target_species_moves_the_threshold()
 	end
 	-- One species at the start: under a target of 10 the threshold drops one
 	-- step; with target_species 0 it stays the option's.
-	check(run(0).threshold == nil, "off by default")
+	check(run(0).threshold == nil, "off with a target of 0")
 	check(run(10).threshold == 2.5, "below the target: one step down")
 	local pop = run(10)
 	for _ = 1, 20 do
