@@ -19,6 +19,10 @@ ARM_NM ?= arm-none-eabi-nm
 PREFIX ?= /usr/local
 FUZZ_SECONDS ?= 20
 TEST_FUZZ_SECONDS ?= 5
+# `make test` runs TEST_JOBS test binaries at a time (tests/run.sh) and,
+# unless make was given -j, builds with as many jobs.
+TEST_JOBS ?= 2
+TEST_J = $(if $(filter -j%,$(MAKEFLAGS)),,-j$(TEST_JOBS))
 SAN ?=
 
 WARN := -Wall -Wextra -Werror -Wpedantic -Wshadow -Wstrict-prototypes \
@@ -209,7 +213,7 @@ test-bins: $(TEST_BINS) $(BUILD)/evo $(BUILD)/tests/net_dump_O0 $(BUILD)/tests/n
 # Runs every test binary; a failing one fails the target after all have run.
 # tests/run.sh sums their counts into one closing line.
 test-plain: test-bins
-	@EVO_BUILD=$(BUILD) EVO_VENV=$(VENV) sh tests/run.sh $(TEST_BINS) \
+	@TEST_JOBS=$(TEST_JOBS) EVO_BUILD=$(BUILD) EVO_VENV=$(VENV) sh tests/run.sh $(TEST_BINS) \
 		tests/test_layout.sh tests/test_docs.sh
 
 # X11 and Mesa leak at exit inside SDL's viewer; tests/lsan.supp names only
@@ -243,7 +247,7 @@ test-tsan:
 		build/tsan/evo $(TSAN_BINS)
 	@rm -rf $(TSAN_REPORTS) && mkdir -p $(TSAN_REPORTS)
 	@TSAN_OPTIONS="$(TSAN_OPTIONS_ALL)" EVO_BUILD=build/tsan \
-		sh tests/run.sh $(TSAN_BINS); rc=$$?; \
+		TEST_JOBS=$(TEST_JOBS) sh tests/run.sh $(TSAN_BINS); rc=$$?; \
 	for f in $(TSAN_REPORTS)/tsan.*; do \
 		[ -e "$$f" ] || continue; rc=1; \
 		echo "== ThreadSanitizer report $$f"; cat "$$f"; \
@@ -252,13 +256,13 @@ test-tsan:
 	exit $$rc
 
 test: deps
-	@$(MAKE) --no-print-directory core-check
-	@$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=$(TEST_FUZZ_SECONDS) \
+	@$(MAKE) --no-print-directory $(TEST_J) core-check
+	@$(MAKE) --no-print-directory $(TEST_J) fuzz FUZZ_SECONDS=$(TEST_FUZZ_SECONDS) \
 		FUZZ_NET_SECONDS=$(TEST_FUZZ_SECONDS)
-	@$(MAKE) --no-print-directory test-plain
-	@$(MAKE) --no-print-directory test-asan
-	@$(MAKE) --no-print-directory test-tsan
-	@$(MAKE) --no-print-directory firmware-test
+	@$(MAKE) --no-print-directory $(TEST_J) test-plain
+	@$(MAKE) --no-print-directory $(TEST_J) test-asan
+	@$(MAKE) --no-print-directory $(TEST_J) test-tsan
+	@$(MAKE) --no-print-directory $(TEST_J) firmware-test
 
 # The main job: train the Avoid example with NEAT on a copy of its folder
 # (so minds/ keeps its shipped network), then replay the champion headless.
