@@ -38,6 +38,10 @@ local random = require "learn.rng"
 
 local neat = {}
 
+-- evo.neat: the same kernels in C (sim/learn/lua_neat.c), in the states
+-- evo gives it to (the learning loop's); elsewhere the Lua below runs.
+local fast = package.loaded["evo.neat"]
+
 -- Every parameter, with the paper's value where the paper gives one.
 -- neat.task_keys says which .simbatch key sets each.
 neat.defaults = {
@@ -219,8 +223,10 @@ end
 
 local function clamp(w, m) return w > m and m or (w < -m and -m or w) end
 
--- Compatibility distance delta = c1*E/N + c2*D/N + c3*W.
-function neat.distance(a, b, o)
+-- Compatibility distance delta = c1*E/N + c2*D/N + c3*W. neat.distance is
+-- evo.neat's C when the state has it (the same arithmetic in the same
+-- order: the same number to the last bit), else this.
+function neat.distance_lua(a, b, o)
 	local la, lb = a.links, b.links
 	local i, j, na, nb = 1, 1, #la, #lb
 	local matching, wdiff, disjoint = 0, 0.0, 0
@@ -242,6 +248,7 @@ function neat.distance(a, b, o)
 	local w = matching > 0 and wdiff / matching or 0
 	return o.c1 * excess / n + o.c2 * disjoint / n + o.c3 * w
 end
+neat.distance = fast and fast.distance or neat.distance_lua
 
 -- Innovation registry: within one generation the same structural mutation
 -- gets the same numbers. Links by (from, to); node splits by the innovation
@@ -908,6 +915,11 @@ function neat.to_net(g)
 	end
 	return { inputs = n, outputs = m, nodes = nodes, outputs_ids = outputs_ids, links = links }
 end
+
+-- neat.pack_net(g): the network neat.to_net(g) gives, packed for
+-- evo.evaluate (a userdata; only evaluate, success_test and set_team_net
+-- read it). Present only where evo.neat is.
+neat.pack_net = fast and fast.pack_net
 
 -- The network as .net text (learn.netfile), as every method writes it.
 neat.to_net_text = netfile.text
