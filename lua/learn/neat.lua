@@ -284,7 +284,7 @@ end
 -- kept with 0.1; otherwise every weight is perturbed, except that in a
 -- genome of 10 links or more the newest fifth (the links past 80% in
 -- innovation order) is perturbed with 0.5, replaced with 0.2, kept with 0.3.
-local function mutate_weights(g, o, rng)
+local function mutate_weights_lua(g, o, rng)
 	local perturb, replace = o.perturb_prob, 1.0
 	-- "code", not severe: the links past this index are the newest fifth
 	local newest_after = math.huge
@@ -304,7 +304,9 @@ local function mutate_weights(g, o, rng)
 		end
 	end
 end
-neat.mutate_weights = mutate_weights
+-- evo.neat's C where the state has it: the same draws, the same weights.
+local mutate_weights = fast and fast.mutate_weights or mutate_weights_lua
+neat.mutate_weights, neat.mutate_weights_lua = mutate_weights, mutate_weights_lua
 
 -- Does a path from `from` reach `to` over the genome's links (enabled or
 -- not: a disabled link may come back through crossover)?
@@ -463,7 +465,7 @@ end
 -- there. On equal fitness, with tie_smaller (NEAT's original code) the
 -- parent with fewer links counts as the fitter; without it (the paper)
 -- the disjoint and excess genes of both are inherited at random.
-function neat.crossover(a, fa, b, fb, o, rng)
+function neat.crossover_lua(a, fa, b, fb, o, rng)
 	if fb > fa then a, fa, b, fb = b, fb, a, fa end
 	local equal = fa == fb
 	if equal and o.tie_smaller then
@@ -520,6 +522,17 @@ function neat.crossover(a, fa, b, fb, o, rng)
 	end
 	sort_genome(child)
 	return child
+end
+
+-- neat.crossover is evo.neat's C where the state has it (the same draws,
+-- the same child), except for parents of equal fitness without
+-- tie_smaller, which stay with the Lua above.
+if fast then
+	function neat.crossover(a, fa, b, fb, o, rng)
+		return fast.crossover(a, fa, b, fb, o, rng) or neat.crossover_lua(a, fa, b, fb, o, rng)
+	end
+else
+	neat.crossover = neat.crossover_lua
 end
 
 ---------------------------------------------------------------------------
@@ -769,11 +782,15 @@ function Pop:tell(fitness)
 		-- fixed order would make the same few genomes parents every time.
 		local idx, key = {}, {}
 		for k = 1, #members do idx[k], key[k] = k, rng:unit() end
-		table.sort(idx, function(x, y)
-			if members[x].fitness ~= members[y].fitness then return members[x].fitness > members[y].fitness end
-			if key[x] ~= key[y] then return key[x] < key[y] end
-			return x < y
-		end)
+		if fast then
+			idx = fast.rank(members, key) -- the same order, sorted in C
+		else
+			table.sort(idx, function(x, y)
+				if members[x].fitness ~= members[y].fitness then return members[x].fitness > members[y].fitness end
+				if key[x] ~= key[y] then return key[x] < key[y] end
+				return x < y
+			end)
+		end
 		local sorted = {}
 		for k, x in ipairs(idx) do sorted[k] = members[x] end
 		if o.rep_champion then s.rep = copy_genome(sorted[1]) end

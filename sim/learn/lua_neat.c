@@ -11,6 +11,12 @@
  *                      of its table, in one step)
  *   dump(v)            plain Lua data as text (serialize.dump_lua's
  *                      text, byte for byte), for the checkpoints
+ *   rng_next(r), rng_unit(r)  learn.rng's Rng:next and Rng:unit, on the
+ *                      generator's own four words (r.s)
+ *   mutate_weights(g, o, rng), crossover(a, fa, b, fb, o, rng)
+ *                      neat.lua's, with the same random draws in the
+ *                      same order
+ *   rank(members, keys) the order tell sorts a species' members into
  *
  * A genome is { nodes = { {id, kind, act, value}, ... }, links = { {innov,
  * from, to, weight, enabled}, ... } }, links sorted by innovation. */
@@ -19,6 +25,7 @@
 #include <ctype.h>
 #include <lauxlib.h>
 #include <lua.h>
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -360,6 +367,23 @@ static void puts_(lua_State *L, buffer *b, const char *s)
 	put(L, b, s, strlen(s));
 }
 
+/* The decimal digits of x (not LUA_MININTEGER) into s; their count. */
+static size_t int_text(char *s, lua_Integer x)
+{
+	char tmp[24];
+	size_t n = 0, k = 0;
+	uint64_t u = x < 0 ? (uint64_t)0 - (uint64_t)x : (uint64_t)x;
+	do {
+		tmp[n++] = (char)('0' + u % 10);
+		u /= 10;
+	} while (u);
+	if (x < 0)
+		s[k++] = '-';
+	while (n)
+		s[k++] = tmp[--n];
+	return k;
+}
+
 /* As serialize.lua's number(): integers as they are (the smallest as an
  * expression), floats with 17 digits and a ".0" when they would read as
  * an integer, inf and nan as expressions. */
@@ -370,14 +394,19 @@ static void put_number(lua_State *L, buffer *b, int idx)
 		lua_Integer x = lua_tointeger(L, idx);
 		if (x == LUA_MININTEGER)
 			puts_(L, b, "(-9223372036854775807-1)");
-		else {
-			snprintf(s, sizeof s, LUA_INTEGER_FMT, x);
-			puts_(L, b, s);
-		}
+		else
+			put(L, b, s, int_text(s, x));
 		return;
 	}
 	double x = lua_tonumber(L, idx);
-	if (x != x) {
+	if (x > -0x1p53 && x < 0x1p53 && x == (double)(int64_t)x &&
+	    (x != 0 || !signbit(x))) {
+		/* a whole float: "%.17g" gives its digits (it has fewer
+		 * than 17), and ".0" follows */
+		size_t n = int_text(s, (lua_Integer)x);
+		memcpy(s + n, ".0", 2);
+		put(L, b, s, n + 2);
+	} else if (x != x) {
 		puts_(L, b, "(0/0)");
 	} else if (x > 1.7976931348623157e308) {
 		puts_(L, b, "(1/0)");
@@ -438,12 +467,21 @@ static lua_Integer list_length(lua_State *L, int idx)
 	return n;
 }
 
-/* serialize.lua's key order: by type name, then by value (Lua's <). */
+/* serialize.lua's key order: by type name, then by value (Lua's <).
+ * Strings compare byte by byte, a prefix first: what Lua's < does in the
+ * C locale, which evo never leaves. */
 static int key_less(lua_State *L, int a, int b)
 {
 	int ta = lua_type(L, a), tb = lua_type(L, b);
 	if (ta != tb)
 		return strcmp(lua_typename(L, ta), lua_typename(L, tb)) < 0;
+	if (ta == LUA_TSTRING) {
+		size_t la, lb;
+		const char *sa = lua_tolstring(L, a, &la);
+		const char *sb = lua_tolstring(L, b, &lb);
+		int c = memcmp(sa, sb, la < lb ? la : lb);
+		return c < 0 || (c == 0 && la < lb);
+	}
 	return lua_compare(L, a, b, LUA_OPLT);
 }
 
@@ -481,8 +519,11 @@ static void put_record(lua_State *L, buffer *b, int idx, int depth)
 		lua_pushvalue(L, -1); /* the key stays, a copy iterates */
 		n++;
 	}
-	/* the keys are at base .. base+n-1 */
-	int *ix = lua_newuserdatauv(L, 2 * (size_t)(n ? n : 1) * sizeof *ix, 0);
+	/* the keys are at base .. base+n-1; a record's few are sorted in
+	 * an array here, a big map's in a userdata */
+	int small[2 * 64];
+	int *ix = n <= 64 ? small
+			  : lua_newuserdatauv(L, 2 * (size_t)n * sizeof *ix, 0);
 	for (int k = 0; k < n; k++)
 		ix[k] = k;
 	sort_keys(L, base, n, ix, ix + n);
@@ -555,8 +596,404 @@ static int l_dump(lua_State *L)
 }
 
 /* ------------------------------------------------------------------ */
+/* learn.rng's generator: xoshiro256** on the object's four words */
+
+/* The next 64-bit word of the generator `self` (learn.rng: self.s holds
+ * the four words of state as Lua integers), its state moved on in place,
+ * as Rng:next does it in Lua. */
+static uint64_t rng_next(lua_State *L, int self)
+{
+	if (lua_getfield(L, self, "s") != LUA_TTABLE)
+		luaL_error(L, "rng: no state (self.s)");
+	uint64_t s[4];
+	for (int k = 0; k < 4; k++) {
+		lua_rawgeti(L, -1, k + 1);
+		s[k] = (uint64_t)lua_tointeger(L, -1);
+		lua_pop(L, 1);
+	}
+	uint64_t x = s[1] * 5;
+	uint64_t result = ((x << 7) | (x >> 57)) * 9;
+	uint64_t t = s[1] << 17;
+	s[2] ^= s[0];
+	s[3] ^= s[1];
+	s[1] ^= s[2];
+	s[0] ^= s[3];
+	s[2] ^= t;
+	s[3] = (s[3] << 45) | (s[3] >> 19);
+	for (int k = 0; k < 4; k++) {
+		lua_pushinteger(L, (lua_Integer)s[k]);
+		lua_rawseti(L, -2, k + 1);
+	}
+	lua_pop(L, 1);
+	return result;
+}
+
+/* rng_next(self) -> the next word, a Lua integer (Rng:next). */
+static int l_rng_next(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	lua_pushinteger(L, (lua_Integer)rng_next(L, 1));
+	return 1;
+}
+
+/* rng_unit(self) -> uniform in [0, 1) from the top 53 bits (Rng:unit). */
+static int l_rng_unit(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	lua_pushnumber(L, (double)(rng_next(L, 1) >> 11) *
+			      (1.0 / 9007199254740992.0));
+	return 1;
+}
+
+/* rng:unit() of the generator at stack slot `rng`: in C when its unit is
+ * rng_unit, else by calling its method (a test's own generator). */
+static double draw(lua_State *L, int rng)
+{
+	lua_getfield(L, rng, "unit");
+	if (lua_tocfunction(L, -1) == l_rng_unit) {
+		lua_pop(L, 1);
+		return (double)(rng_next(L, rng) >> 11) *
+		       (1.0 / 9007199254740992.0);
+	}
+	lua_pushvalue(L, rng);
+	lua_call(L, 1, 1);
+	double u = lua_tonumber(L, -1);
+	lua_pop(L, 1);
+	return u;
+}
+
+/* ------------------------------------------------------------------ */
+/* Weight mutation and crossover (lua/learn/neat.lua's, draw for draw) */
+
+/* clamp(w, m) as neat.lua's: m itself above it, -m below -m (an integer
+ * m stays one), else w; pushed. */
+static void push_clamped(lua_State *L, double w, int opts)
+{
+	lua_getfield(L, opts, "weight_max");
+	double m = lua_tonumber(L, -1);
+	if (w > m)
+		return; /* the value of weight_max, as it is */
+	if (w < -m) {
+		if (lua_isinteger(L, -1)) {
+			lua_Integer mi = lua_tointeger(L, -1);
+			lua_pop(L, 1);
+			lua_pushinteger(L, (lua_Integer)(0u - (lua_Unsigned)mi));
+		} else {
+			lua_pop(L, 1);
+			lua_pushnumber(L, -m);
+		}
+		return;
+	}
+	lua_pop(L, 1);
+	lua_pushnumber(L, w);
+}
+
+/* mutate_weights(g, o, rng): neat.lua's mutate_weights ("code" and
+ * "paper"), the same draws in the same order. */
+static int l_mutate_weights(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	lua_settop(L, 3);
+	lua_getfield(L, 1, "links");
+	luaL_checktype(L, 4, LUA_TTABLE);
+	lua_Integer n = (lua_Integer)lua_rawlen(L, 4);
+	double perturb = num_field(L, 2, "perturb_prob"), replace = 1.0;
+	double newest_after = HUGE_VAL;
+	lua_getfield(L, 2, "weight_mutation");
+	const char *scheme = lua_tostring(L, -1);
+	int code = scheme && strcmp(scheme, "code") == 0;
+	lua_pop(L, 1);
+	if (code) {
+		int severe = draw(L, 3) < num_field(L, 2, "severe_prob");
+		perturb = severe ? 0.7 : 1.0;
+		replace = severe ? 0.9 : 1.0;
+		if (!severe && n >= 10)
+			newest_after = (double)n * 0.8;
+	}
+	double pp = num_field(L, 2, "perturb_power");
+	double rp = num_field(L, 2, "replace_power");
+	for (lua_Integer k = 1; k <= n; k++) {
+		if (lua_rawgeti(L, 4, k) == LUA_TNIL)
+			break; /* ipairs stops there */
+		double p = perturb, r = replace;
+		if ((double)(k - 1) > newest_after) {
+			p = 0.5;
+			r = 0.7;
+		}
+		double u = draw(L, 3);
+		if (u < p) {
+			double w = num_field(L, -1, "weight");
+			push_clamped(L, w + (draw(L, 3) * 2 - 1) * pp, 2);
+			lua_setfield(L, -2, "weight");
+		} else if (u < r) {
+			push_clamped(L, (draw(L, 3) * 2 - 1) * rp, 2);
+			lua_setfield(L, -2, "weight");
+		}
+		lua_pop(L, 1);
+	}
+	return 0;
+}
+
+/* A number field of the table at idx as a key to sort by. */
+typedef struct keyed {
+	double key;
+	int slot; /* the table's index in the list being sorted */
+} keyed;
+
+static int by_key(const void *a, const void *b)
+{
+	double x = ((const keyed *)a)->key, y = ((const keyed *)b)->key;
+	return (x > y) - (x < y);
+}
+
+/* Sorts the list at `list` by each element's field `field` (distinct
+ * values: innovations, node ids), as table.sort does with a < on them. */
+static void sort_list(lua_State *L, int list, const char *field)
+{
+	lua_Integer n = (lua_Integer)lua_rawlen(L, list);
+	if (n < 2)
+		return;
+	keyed *k = lua_newuserdatauv(L, (size_t)n * sizeof *k, 0);
+	int sorted = 1;
+	for (lua_Integer i = 0; i < n; i++) {
+		lua_rawgeti(L, list, i + 1);
+		k[i].key = num_field(L, -1, field);
+		k[i].slot = (int)i + 1;
+		lua_pop(L, 1);
+		if (i > 0 && k[i].key < k[i - 1].key)
+			sorted = 0;
+	}
+	if (!sorted) {
+		qsort(k, (size_t)n, sizeof *k, by_key);
+		int base = lua_gettop(L);
+		luaL_checkstack(L, (int)n, "sort: too long a list");
+		for (lua_Integer i = 0; i < n; i++)
+			lua_rawgeti(L, list, k[i].slot);
+		for (lua_Integer i = n; i >= 1; i--)
+			lua_rawseti(L, list, i);
+		lua_settop(L, base);
+	}
+	lua_pop(L, 1);
+}
+
+/* A copy of the gene at the top of the stack, pushed. */
+static void push_gene_copy(lua_State *L)
+{
+	int src = lua_gettop(L);
+	lua_createtable(L, 0, 5);
+	static const char *const F[] = {"innov", "from", "to", "weight",
+					 "enabled"};
+	for (int f = 0; f < 5; f++) {
+		lua_getfield(L, src, F[f]);
+		lua_setfield(L, -2, F[f]);
+	}
+}
+
+static void push_node_copy(lua_State *L)
+{
+	int src = lua_gettop(L);
+	lua_createtable(L, 0, 4);
+	static const char *const F[] = {"id", "kind", "act", "value"};
+	for (int f = 0; f < 4; f++) {
+		lua_getfield(L, src, F[f]);
+		lua_setfield(L, -2, F[f]);
+	}
+}
+
+/* Does any gene of the list at `links` start or end at node `id`? */
+static int links_touch(lua_State *L, int links, double id)
+{
+	lua_Integer n = (lua_Integer)lua_rawlen(L, links);
+	for (lua_Integer i = 1; i <= n; i++) {
+		lua_rawgeti(L, links, i);
+		int hit = num_field(L, -1, "from") == id ||
+			  num_field(L, -1, "to") == id;
+		lua_pop(L, 1);
+		if (hit)
+			return 1;
+	}
+	return 0;
+}
+
+/* A member's place: fitness, then its random key, then its index. */
+typedef struct ranked {
+	double fitness, key;
+	lua_Integer index;
+} ranked;
+
+static int by_rank(const void *pa, const void *pb)
+{
+	const ranked *a = pa, *b = pb;
+	if (a->fitness != b->fitness)
+		return a->fitness > b->fitness ? -1 : 1;
+	if (a->key != b->key)
+		return a->key < b->key ? -1 : 1;
+	return (a->index > b->index) - (a->index < b->index);
+}
+
+/* rank(members, keys) -> the indices 1 .. #members, fittest first, equal
+ * fitness by smaller key, then by smaller index: the order tell's
+ * table.sort gives (a strict total order has one sorted order). */
+static int l_rank(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	lua_Integer n = (lua_Integer)lua_rawlen(L, 1);
+	ranked *r = lua_newuserdatauv(L, (size_t)(n ? n : 1) * sizeof *r, 0);
+	for (lua_Integer i = 0; i < n; i++) {
+		lua_rawgeti(L, 1, i + 1);
+		r[i].fitness = num_field(L, -1, "fitness");
+		lua_pop(L, 1);
+		lua_rawgeti(L, 2, i + 1);
+		r[i].key = lua_tonumber(L, -1);
+		lua_pop(L, 1);
+		r[i].index = i + 1;
+	}
+	qsort(r, (size_t)n, sizeof *r, by_rank);
+	lua_createtable(L, (int)n, 0);
+	for (lua_Integer i = 0; i < n; i++) {
+		lua_pushinteger(L, r[i].index);
+		lua_rawseti(L, -2, i + 1);
+	}
+	return 1;
+}
+
+/* crossover(a, fa, b, fb, o, rng) -> child, as neat.crossover makes it,
+ * or nothing when the parents are of equal fitness and o.tie_smaller is
+ * off (the paper's way, which neat.crossover keeps in Lua). */
+static int l_crossover(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	luaL_checktype(L, 5, LUA_TTABLE);
+	luaL_checktype(L, 6, LUA_TTABLE);
+	lua_settop(L, 6);
+	int a = 1, b = 3;
+	if (lua_compare(L, 2, 4, LUA_OPLT)) { /* fb > fa */
+		a = 3;
+		b = 1;
+	}
+	int equal = lua_compare(L, 2, 4, LUA_OPEQ);
+	lua_getfield(L, 5, "tie_smaller");
+	int tie_smaller = lua_toboolean(L, -1);
+	lua_pop(L, 1);
+	if (equal && !tie_smaller)
+		return 0;
+	lua_getfield(L, a, "links"); /* 7 */
+	lua_getfield(L, b, "links"); /* 8 */
+	luaL_checktype(L, 7, LUA_TTABLE);
+	luaL_checktype(L, 8, LUA_TTABLE);
+	if (equal && lua_rawlen(L, 8) < lua_rawlen(L, 7)) {
+		int t = a;
+		a = b;
+		b = t;
+		lua_rotate(L, 7, 1); /* swap 7 and 8 */
+	}
+	int al = 7, bl = 8;
+	double average = draw(L, 6) < num_field(L, 5, "mate_avg_prob");
+	double disable = num_field(L, 5, "disable_prob");
+	/* b's genes by innovation: 9 */
+	lua_Integer nb = (lua_Integer)lua_rawlen(L, bl);
+	lua_createtable(L, 0, (int)nb);
+	for (lua_Integer i = 1; i <= nb; i++) {
+		lua_rawgeti(L, bl, i);
+		lua_getfield(L, -1, "innov");
+		lua_pushvalue(L, -2);
+		lua_rawset(L, 9);
+		lua_pop(L, 1);
+	}
+	/* the child: 10, its links: 11 */
+	lua_createtable(L, 0, 2);
+	lua_Integer na = (lua_Integer)lua_rawlen(L, al);
+	lua_createtable(L, (int)na, 0);
+	lua_pushvalue(L, -1);
+	lua_setfield(L, 10, "links");
+	int n = 0;
+	for (lua_Integer i = 1; i <= na; i++) {
+		lua_rawgeti(L, al, i); /* l: 12 */
+		lua_getfield(L, 12, "innov");
+		lua_rawget(L, 9); /* m: 13 */
+		if (!lua_isnil(L, 13)) {
+			int pick = draw(L, 6) < 0.5 ? 12 : 13;
+			lua_getfield(L, 12, "enabled");
+			lua_getfield(L, 13, "enabled");
+			int somewhere = !lua_toboolean(L, -2) ||
+					!lua_toboolean(L, -1);
+			lua_pop(L, 2);
+			lua_pushvalue(L, pick);
+			push_gene_copy(L);
+			if (somewhere) {
+				lua_pushboolean(L, draw(L, 6) >= disable);
+				lua_setfield(L, -2, "enabled");
+			}
+			if (average) {
+				double wl = num_field(L, 12, "weight");
+				double wm = num_field(L, 13, "weight");
+				lua_pushnumber(L, (wl + wm) / 2);
+				lua_setfield(L, -2, "weight");
+			}
+			lua_rawseti(L, 11, ++n);
+			lua_pop(L, 1); /* the picked gene */
+		} else {
+			lua_pushvalue(L, 12);
+			push_gene_copy(L);
+			lua_rawseti(L, 11, ++n);
+			lua_pop(L, 1);
+		}
+		lua_pop(L, 2);
+	}
+	/* nodes: all of a's, then b's that the child's genes need */
+	lua_getfield(L, a, "nodes"); /* 12 */
+	lua_getfield(L, b, "nodes"); /* 13 */
+	luaL_checktype(L, 12, LUA_TTABLE);
+	luaL_checktype(L, 13, LUA_TTABLE);
+	lua_Integer ma = (lua_Integer)lua_rawlen(L, 12);
+	lua_createtable(L, (int)ma + 1, 0); /* 14 */
+	lua_pushvalue(L, -1);
+	lua_setfield(L, 10, "nodes");
+	lua_createtable(L, 0, (int)ma); /* have: 15 */
+	int k = 0;
+	for (lua_Integer i = 1; i <= ma; i++) {
+		lua_rawgeti(L, 12, i);
+		lua_getfield(L, -1, "id");
+		lua_pushboolean(L, 1);
+		lua_rawset(L, 15);
+		push_node_copy(L);
+		lua_rawseti(L, 14, ++k);
+		lua_pop(L, 1);
+	}
+	lua_Integer mb = (lua_Integer)lua_rawlen(L, 13);
+	for (lua_Integer i = 1; i <= mb; i++) {
+		lua_rawgeti(L, 13, i);
+		lua_getfield(L, -1, "id");
+		double id = lua_tonumber(L, -1);
+		int have = lua_rawget(L, 15) != LUA_TNIL;
+		lua_pop(L, 1);
+		if (!have && links_touch(L, 11, id)) {
+			lua_getfield(L, -1, "id");
+			lua_pushboolean(L, 1);
+			lua_rawset(L, 15);
+			push_node_copy(L);
+			lua_rawseti(L, 14, ++k);
+		}
+		lua_pop(L, 1);
+	}
+	sort_list(L, 11, "innov");
+	sort_list(L, 14, "id");
+	lua_pushvalue(L, 10);
+	return 1;
+}
+
+/* ------------------------------------------------------------------ */
 
 static const luaL_Reg FUNCS[] = {
+    {"rng_next", l_rng_next},
+    {"rng_unit", l_rng_unit},
+    {"mutate_weights", l_mutate_weights},
+    {"crossover", l_crossover},
+    {"rank", l_rank},
     {"distance", l_distance},
     {"pack_net", l_pack_net},
     {"dump", l_dump},
