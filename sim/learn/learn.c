@@ -1152,9 +1152,10 @@ int evo_learn_check(const char *task_path, evo_task *task, evo_err *err)
 }
 
 /* Ctrl-C (SIGINT) and a scheduler's SIGTERM stop a run at once, as they
- * always did; the handler first says that nothing finished is lost and
- * how to go on. Every generation's log row and checkpoint are already on
- * disk, written atomically. */
+ * always did; the handler first says how to go on. Every generation's log
+ * row is already on disk, and a checkpoint at most a second of the loop's
+ * CPU time old (lua/learn/learnsim.lua), written atomically; --resume
+ * goes on from it and does the generations after it again, identically. */
 static char interrupt_msg[1400];
 static size_t interrupt_len;
 
@@ -1169,7 +1170,8 @@ static void on_interrupt(int sig)
 static void catch_interrupt(const learn *l, struct sigaction old[2])
 {
 	int n = snprintf(interrupt_msg, sizeof interrupt_msg,
-			 "\ninterrupted: %s holds every finished generation; "
+			 "\ninterrupted: %s holds the run as of its last "
+			 "checkpoint, at most a second of work back; "
 			 "%sevo run %s --seed %llu --resume%s%s goes on%s\n",
 			 l->run_dir, l->opts->spread ? "mpirun -np N " : "",
 			 l->task_path,
