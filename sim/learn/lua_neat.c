@@ -645,16 +645,24 @@ static int l_rng_unit(lua_State *L)
 	return 1;
 }
 
-/* rng:unit() of the generator at stack slot `rng`: in C when its unit is
- * rng_unit, else by calling its method (a test's own generator). */
-static double draw(lua_State *L, int rng)
+/* Is the generator at stack slot `rng` learn.rng's, with rng_unit as its
+ * unit? A kernel asks once, and draws through draw(). */
+static int rng_is_ours(lua_State *L, int rng)
 {
 	lua_getfield(L, rng, "unit");
-	if (lua_tocfunction(L, -1) == l_rng_unit) {
-		lua_pop(L, 1);
+	int ours = lua_tocfunction(L, -1) == l_rng_unit;
+	lua_pop(L, 1);
+	return ours;
+}
+
+/* rng:unit() of the generator at stack slot `rng`: in C when `ours`
+ * (rng_is_ours), else by calling its method (a test's own generator). */
+static double draw(lua_State *L, int rng, int ours)
+{
+	if (ours)
 		return (double)(rng_next(L, rng) >> 11) *
 		       (1.0 / 9007199254740992.0);
-	}
+	lua_getfield(L, rng, "unit");
 	lua_pushvalue(L, rng);
 	lua_call(L, 1, 1);
 	double u = lua_tonumber(L, -1);
@@ -701,12 +709,13 @@ static int l_mutate_weights(lua_State *L)
 	lua_Integer n = (lua_Integer)lua_rawlen(L, 4);
 	double perturb = num_field(L, 2, "perturb_prob"), replace = 1.0;
 	double newest_after = HUGE_VAL;
+	int ours = rng_is_ours(L, 3);
 	lua_getfield(L, 2, "weight_mutation");
 	const char *scheme = lua_tostring(L, -1);
 	int code = scheme && strcmp(scheme, "code") == 0;
 	lua_pop(L, 1);
 	if (code) {
-		int severe = draw(L, 3) < num_field(L, 2, "severe_prob");
+		int severe = draw(L, 3, ours) < num_field(L, 2, "severe_prob");
 		perturb = severe ? 0.7 : 1.0;
 		replace = severe ? 0.9 : 1.0;
 		if (!severe && n >= 10)
@@ -722,13 +731,13 @@ static int l_mutate_weights(lua_State *L)
 			p = 0.5;
 			r = 0.7;
 		}
-		double u = draw(L, 3);
+		double u = draw(L, 3, ours);
 		if (u < p) {
 			double w = num_field(L, -1, "weight");
-			push_clamped(L, w + (draw(L, 3) * 2 - 1) * pp, 2);
+			push_clamped(L, w + (draw(L, 3, ours) * 2 - 1) * pp, 2);
 			lua_setfield(L, -2, "weight");
 		} else if (u < r) {
-			push_clamped(L, (draw(L, 3) * 2 - 1) * rp, 2);
+			push_clamped(L, (draw(L, 3, ours) * 2 - 1) * rp, 2);
 			lua_setfield(L, -2, "weight");
 		}
 		lua_pop(L, 1);
@@ -892,7 +901,8 @@ static int l_crossover(lua_State *L)
 		lua_rotate(L, 7, 1); /* swap 7 and 8 */
 	}
 	int al = 7, bl = 8;
-	double average = draw(L, 6) < num_field(L, 5, "mate_avg_prob");
+	int ours = rng_is_ours(L, 6);
+	double average = draw(L, 6, ours) < num_field(L, 5, "mate_avg_prob");
 	double disable = num_field(L, 5, "disable_prob");
 	/* b's genes by innovation: 9 */
 	lua_Integer nb = (lua_Integer)lua_rawlen(L, bl);
@@ -916,7 +926,7 @@ static int l_crossover(lua_State *L)
 		lua_getfield(L, 12, "innov");
 		lua_rawget(L, 9); /* m: 13 */
 		if (!lua_isnil(L, 13)) {
-			int pick = draw(L, 6) < 0.5 ? 12 : 13;
+			int pick = draw(L, 6, ours) < 0.5 ? 12 : 13;
 			lua_getfield(L, 12, "enabled");
 			lua_getfield(L, 13, "enabled");
 			int somewhere = !lua_toboolean(L, -2) ||
@@ -925,7 +935,7 @@ static int l_crossover(lua_State *L)
 			lua_pushvalue(L, pick);
 			push_gene_copy(L);
 			if (somewhere) {
-				lua_pushboolean(L, draw(L, 6) >= disable);
+				lua_pushboolean(L, draw(L, 6, ours) >= disable);
 				lua_setfield(L, -2, "enabled");
 			}
 			if (average) {
