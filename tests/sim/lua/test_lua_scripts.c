@@ -16,6 +16,7 @@
 #include <lua.h>
 #include <lualib.h>
 
+#include "learn/lua_neat.h"
 #include "lua/lua_evo.h"
 
 #define MAX_FILES 64
@@ -57,6 +58,7 @@ static lua_State *new_state(const char *lua_dir)
 	lua_setfield(L, -2, "path");
 	lua_pop(L, 1);
 	evo_lua_open_data(L); /* serialize.load reads with it */
+	evo_lua_open_neat(L); /* the learning loop's kernels, as it has them */
 	return L;
 }
 
