@@ -51,13 +51,15 @@ PY_GEN := $(BUILD)/gen/python
 # The Python that runs them and their tests' helpers: a virtual environment
 # of Debian's python3 with the `lcm` package from PyPI, and python-can (with
 # pyserial, for its slcan interface), the independent CAN peer of
-# tests/sim/remote/test_can_peer.c, made by `make deps` (never installed into
-# the system). One for every BUILD.
+# tests/sim/remote/test_can_peer.c, and neat-python, which bench_neat runs
+# beside evo's NEAT on XOR, made by `make deps` (never installed into the
+# system). One for every BUILD.
 VENV ?= build/venv
 PY_LCM_VERSION := 1.5.3
 PY_CAN_VERSION := 4.6.1
 PY_SERIAL_VERSION := 3.5
-VENV_STAMP := $(VENV)/evo-lcm-$(PY_LCM_VERSION)-can-$(PY_CAN_VERSION).stamp
+PY_NEAT_VERSION := 2.0.0
+VENV_STAMP := $(VENV)/evo-lcm-$(PY_LCM_VERSION)-can-$(PY_CAN_VERSION)-neat-$(PY_NEAT_VERSION).stamp
 CFLAGS_HOST := -std=c11 $(OPT) $(WARN) -Icore/include -Isim $(LUA_CFLAGS) $(SDL_CFLAGS) $(MPI_CFLAGS) -isystem $(LCM_GEN) $(SAN) $(CFLAGS)
 CFLAGS_ALL := $(CFLAGS_HOST) -Itests
 LDFLAGS_ALL := $(SAN) $(LDFLAGS)
@@ -115,12 +117,13 @@ deps:
 # Debian's python3 (not whatever `python3` is first on PATH), with the lcm
 # wheel pinned; the stamp names the version, so a new pin remakes it.
 $(VENV_STAMP):
-	@echo "deps: making $(VENV): $$(/usr/bin/python3 --version) with lcm $(PY_LCM_VERSION) and python-can $(PY_CAN_VERSION) from PyPI"
+	@echo "deps: making $(VENV): $$(/usr/bin/python3 --version) with lcm $(PY_LCM_VERSION), python-can $(PY_CAN_VERSION) and neat-python $(PY_NEAT_VERSION) from PyPI"
 	@rm -rf $(VENV)
 	/usr/bin/python3 -m venv $(VENV)
 	$(VENV)/bin/pip install --quiet --disable-pip-version-check --no-input \
 		--only-binary=:all: lcm==$(PY_LCM_VERSION) \
-		python-can==$(PY_CAN_VERSION) pyserial==$(PY_SERIAL_VERSION)
+		python-can==$(PY_CAN_VERSION) pyserial==$(PY_SERIAL_VERSION) \
+		neat-python==$(PY_NEAT_VERSION)
 	@touch $@
 
 $(BUILD)/obj/%.o: %.c

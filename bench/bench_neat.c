@@ -19,6 +19,14 @@
  * Bar (issue 4): at least as good as the paper on all three (means no
  * higher, no XOR failure, generalisation no lower); exit 1 otherwise.
  *
+ * Speed (issue 28): XOR's runs are timed in CPU seconds of the processes
+ * (getrusage of the children: evo from its start to its end, one thread,
+ * --threads 1), and neat-python 2.0.0 (the build's venv, make deps) runs
+ * its own XOR example (bench/neat_python_xor.py and .cfg: population 150,
+ * solved at fitness 3.9) on the same seeds in the same run, timed the same
+ * way. Both rates are evaluations per CPU second; the bar is evo at
+ * 50,000 or more and at least 4 times neat-python's, else exit 1.
+ *
  * The mean generalisation is printed with its standard error (the
  * standard deviation over the runs / sqrt(runs)): one run's figure varies
  * by about 50 starts, so a 20-run mean is only good to about ±11.
@@ -31,6 +39,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <time.h>
 
@@ -39,7 +48,22 @@
 #include "learn/literature.h"
 
 static char evo_bin[256];
+static char venv[256];
 static char tmpdir[128];
+
+/* The speed bar: evaluations per CPU second of evo's XOR, and evo's over
+ * neat-python's. */
+#define SPEED_BAR 50000.0
+#define SPEED_RATIO 4.0
+
+/* CPU seconds (user and system) of the finished children so far. */
+static double children_cpu(void)
+{
+	struct rusage ru;
+	getrusage(RUSAGE_CHILDREN, &ru);
+	return (double)ru.ru_utime.tv_sec + (double)ru.ru_utime.tv_usec * 1e-6 +
+	       (double)ru.ru_stime.tv_sec + (double)ru.ru_stime.tv_usec * 1e-6;
+}
 
 static double now(void)
 {
@@ -63,28 +87,43 @@ typedef struct task {
 	double paper_evals; /* the paper's mean evaluations */
 	int paper_general;  /* DPNV: the paper's mean generalisation */
 	int max_seeds;	    /* the paper's number of runs */
+	int threads;	    /* evo's --threads, 0: its default */
 } task;
 
 static const task tasks[] = {
-    {"XOR", "xor", "XOR", "XOR", "XOR-NEAT", 4755, 0, 100},
+    {"XOR", "xor", "XOR", "XOR", "XOR-NEAT", 4755, 0, 100, 1},
     {"DPV (velocities)", "dpv", "DoublePole", "Balance", "DPV-NEAT", 3600, 0,
-     100},
+     100, 0},
     {"DPNV (no velocities)", "dpnv", "DoublePoleNV", "Balance", "DPNV-NEAT",
-     33184, 286, 20},
+     33184, 286, 20, 0},
 };
 
-/* One run: 0 and *evals, *solved, or -1 when evo itself failed. */
+/* One run: 0 and *evals, *solved, *cpu (CPU seconds of the evo run), or
+ * -1 when evo itself failed. */
 static int run_once(const task *t, int seed, long *evals, int *solved,
-		    int *general)
+		    int *general, double *cpu)
 {
-	char cmd[2048];
+	char cmd[2048], threads[32] = "";
 	snprintf(cmd, sizeof cmd,
-		 "rm -rf %s/m %s/run && mkdir -p %s/m && cp -r minds/%s "
-		 "%s/m/ && %s run %s/m/%s/Tasks/%s.simbatch --seed %d --run "
-		 "%s/run > %s/out.txt 2>&1",
-		 tmpdir, tmpdir, tmpdir, t->mind, tmpdir, evo_bin, tmpdir,
-		 t->mind, t->file, seed, tmpdir, tmpdir);
+		 "rm -rf %s/m %s/run && mkdir -p %s/m && cp -r minds/%s %s/m/",
+		 tmpdir, tmpdir, tmpdir, t->mind, tmpdir);
 	if (sh(cmd) != 0) {
+		fprintf(stderr, "bench_neat: could not copy minds/%s to %s\n",
+			t->mind, tmpdir);
+		return -1;
+	}
+	if (t->threads > 0)
+		snprintf(threads, sizeof threads, " --threads %d", t->threads);
+	/* exec: the time counted is evo's, from its start */
+	snprintf(cmd, sizeof cmd,
+		 "exec %s run %s/m/%s/Tasks/%s.simbatch --seed %d%s --run "
+		 "%s/run > %s/out.txt 2>&1",
+		 evo_bin, tmpdir, t->mind, t->file, seed, threads, tmpdir,
+		 tmpdir);
+	double c0 = children_cpu();
+	int rc = sh(cmd);
+	*cpu = children_cpu() - c0;
+	if (rc != 0) {
 		fprintf(stderr,
 			"bench_neat: %s seed %d: evo run failed; see "
 			"%s/out.txt\n",
@@ -136,19 +175,31 @@ static int run_once(const task *t, int seed, long *evals, int *solved,
 	return 0;
 }
 
+/* What a task's runs added up to: evaluations of all runs, solved or
+ * not, and their CPU seconds. */
+typedef struct totals {
+	long evals;
+	double cpu;
+} totals;
+
 /* Run a task over seeds 1 .. n and print its line; returns 1 when it
  * meets the paper's bar, 0 when not, -1 on an error. */
-static int bench_task(const task *t, int n)
+static int bench_task(const task *t, int n, totals *all)
 {
 	long sum = 0;
 	int solved_runs = 0, failures = 0;
 	double general_sum = 0, general_sq = 0;
 	double t0 = now();
+	all->evals = 0;
+	all->cpu = 0;
 	for (int s = 1; s <= n; s++) {
 		long evals;
 		int solved, general;
-		if (run_once(t, s, &evals, &solved, &general))
+		double cpu;
+		if (run_once(t, s, &evals, &solved, &general, &cpu))
 			return -1;
+		all->evals += evals;
+		all->cpu += cpu;
 		if (solved) {
 			solved_runs++;
 			sum += evals;
@@ -183,6 +234,76 @@ static int bench_task(const task *t, int n)
 	return ok;
 }
 
+/* neat-python's XOR example on seeds 1 .. n: its evaluations, solved runs
+ * and CPU seconds; 0, or -1 when it could not run. */
+static int neat_python(int n, totals *all, int *solved_runs)
+{
+	all->evals = 0;
+	all->cpu = 0;
+	*solved_runs = 0;
+	for (int s = 1; s <= n; s++) {
+		char cmd[1024], path[512], *data;
+		size_t len;
+		evo_err err;
+		snprintf(cmd, sizeof cmd,
+			 "exec %s/bin/python bench/neat_python_xor.py "
+			 "bench/neat_python_xor.cfg %d > %s/py.txt 2>&1",
+			 venv, s, tmpdir);
+		double c0 = children_cpu();
+		int rc = sh(cmd);
+		all->cpu += children_cpu() - c0;
+		snprintf(path, sizeof path, "%s/py.txt", tmpdir);
+		if (rc != 0 || evo_read_file(path, &data, &len, &err)) {
+			fprintf(stderr,
+				"bench_neat: neat-python seed %d failed (make "
+				"deps installs it in %s); see %s\n",
+				s, venv, path);
+			return -1;
+		}
+		long evals;
+		int solved;
+		int got = sscanf(data, "evaluations %ld solved %d", &evals,
+				 &solved);
+		free(data);
+		if (got != 2) {
+			fprintf(stderr, "bench_neat: neat-python seed %d: no "
+					"result line in %s\n",
+				s, path);
+			return -1;
+		}
+		all->evals += evals;
+		*solved_runs += solved;
+	}
+	return 0;
+}
+
+/* The speed lines: evo's XOR beside neat-python's on the same seeds;
+ * returns 1 when evo meets the bar, 0 when not, -1 on an error. */
+static int bench_speed(const totals *evo, int n)
+{
+	totals py;
+	int py_solved;
+	if (neat_python(n, &py, &py_solved))
+		return -1;
+	double r_evo = evo->cpu > 0 ? (double)evo->evals / evo->cpu : 0;
+	double r_py = py.cpu > 0 ? (double)py.evals / py.cpu : 0;
+	printf("XOR speed, %d runs, evaluations per CPU second of the "
+	       "processes:\n",
+	       n);
+	printf("  evo (1 thread)        %9ld evaluations %7.2f s  %8.0f /s\n",
+	       evo->evals, evo->cpu, r_evo);
+	printf("  neat-python 2.0.0     %9ld evaluations %7.2f s  %8.0f /s  "
+	       "(%d of %d solved)\n",
+	       py.evals, py.cpu, r_py, py_solved, n);
+	int ok = r_evo >= SPEED_BAR && r_evo >= SPEED_RATIO * r_py;
+	printf("  evo / neat-python %.1f; bar: evo at least %.0f /s and "
+	       "%.0f x neat-python  %s\n",
+	       r_py > 0 ? r_evo / r_py : 0, SPEED_BAR, SPEED_RATIO,
+	       ok ? "ok" : "BELOW THE BAR");
+	fflush(stdout);
+	return ok;
+}
+
 int main(int argc, char **argv)
 {
 	int seeds = 0, seeds_given = 0; /* not given: each task's paper count */
@@ -209,6 +330,8 @@ int main(int argc, char **argv)
 	}
 	const char *b = getenv("EVO_BUILD");
 	snprintf(evo_bin, sizeof evo_bin, "%s/evo", b && b[0] ? b : "build");
+	const char *v = getenv("EVO_VENV");
+	snprintf(venv, sizeof venv, "%s", v && v[0] ? v : "build/venv");
 	snprintf(tmpdir, sizeof tmpdir, "/tmp/evo-bench-neat-XXXXXX");
 	if (!mkdtemp(tmpdir)) {
 		perror("bench_neat: mkdtemp");
@@ -222,8 +345,12 @@ int main(int argc, char **argv)
 		if (only && strcmp(only, t->only) != 0)
 			continue;
 		int n = seeds_given ? seeds : t->max_seeds;
-		int ok = bench_task(t, n);
+		totals all;
+		int ok = bench_task(t, n, &all);
 		if (ok != 1)
+			rc = 1;
+		if (ok >= 0 && strcmp(t->only, "xor") == 0 &&
+		    bench_speed(&all, n) != 1)
 			rc = 1;
 	}
 	char cmd[200];

@@ -45,6 +45,14 @@ local REPLAY_RANDOM = 20
 -- generation of a task whose generations take seconds, and no drawing per
 -- generation where a drawing would cost as much as the generation.
 local CURVE_SECONDS = 1.0
+-- The checkpoint is written after the first generation of a process,
+-- after the last one, and after any generation that ends CHECKPOINT_SECONDS
+-- (of the process's CPU time) or more after the last checkpoint: every
+-- generation of a task whose generations take a second, and not 25 times
+-- in a run of XOR that lasts a tenth of a second. A run killed between two
+-- checkpoints goes on from the last one and does the generations after it
+-- again, identically (their rows of log.csv are dropped and written anew).
+local CHECKPOINT_SECONDS = 1.0
 
 -- A malformed option stops the run at its line in the task file.
 local options = common.task_options(algo, task, host.task_path, host.task_lines)
@@ -202,6 +210,7 @@ else
 end
 host.open_log(first)
 local since_curve = 0
+local last_checkpoint = os.clock()
 
 for gen = first, generations - 1 do
 	local k = learner_of(gen)
@@ -214,8 +223,13 @@ for gen = first, generations - 1 do
 		end
 	end
 	local genomes = pop:genomes()
+	-- evaluate takes the networks packed where the method packs them
+	-- (NEAT, in C: no Lua table per network); the few kept after the
+	-- generation are made as tables (net_of)
+	local pack = not teams and algo.pack_net
 	local nets = {}
-	for i, g in ipairs(genomes) do nets[i] = algo.to_net(g) end
+	for i, g in ipairs(genomes) do nets[i] = pack and pack(g) or algo.to_net(g) end
+	local function net_of(i) return pack and algo.to_net(genomes[i]) or nets[i] end
 	local fitness, seconds, solved, _, metrics, t = evaluate(nets, gen, k)
 	local best_i, sum = 1, 0
 	for i, f in ipairs(fitness) do
@@ -234,7 +248,7 @@ for gen = first, generations - 1 do
 		if solved[i] then
 			n_solved = n_solved + 1
 			if not solver or f > solver.fitness then
-				solver = { net = nets[i], fitness = f, generation = gen }
+				solver = { net = net_of(i), fitness = f, generation = gen }
 			end
 		end
 	end
@@ -252,7 +266,7 @@ for gen = first, generations - 1 do
 			best_team[k] = { nets = members, fitness = t.team_fitness[top], generation = gen }
 		end
 	end
-	local best_net = nets[best_i]
+	local best_net = net_of(best_i)
 	-- the species of the generation just evaluated (tell() speciates the next)
 	local species = #pop.species
 	pop:tell(fitness)
@@ -287,15 +301,19 @@ for gen = first, generations - 1 do
 		stop = string.format("target fitness %.17g reached in generation %d", target, gen)
 	end
 	-- The checkpoint last: a run killed before it is written resumes from
-	-- the previous generation and redoes this one identically.
-	local more
-	if #learners > 1 then
-		more = {}
-		for j = 2, #learners do more[j - 1] = algo.save(pops[j], true) end
+	-- the previous checkpoint and redoes the generations since identically.
+	if gen == first or stop or gen == generations - 1
+		or os.clock() - last_checkpoint >= CHECKPOINT_SECONDS then
+		local more
+		if #learners > 1 then
+			more = {}
+			for j = 2, #learners do more[j - 1] = algo.save(pops[j], true) end
+		end
+		host.save("checkpoint.lua", serialize.dump{ generation = gen, seed = host.seed,
+			pop = algo.save(pops[1], true), more_pops = more, history = history, solver = solver,
+			stopped = stop ~= nil, best_team = teams and best_team or nil })
+		last_checkpoint = os.clock()
 	end
-	host.save("checkpoint.lua", serialize.dump{ generation = gen, seed = host.seed, pop = algo.save(pops[1], true),
-		more_pops = more, history = history, solver = solver, stopped = stop ~= nil,
-		best_team = teams and best_team or nil })
 	if stop then
 		host.print(stop)
 		generations = gen + 1

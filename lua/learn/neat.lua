@@ -38,6 +38,10 @@ local random = require "learn.rng"
 
 local neat = {}
 
+-- evo.neat: the same kernels in C (sim/learn/lua_neat.c), in the states
+-- evo gives it to (the learning loop's); elsewhere the Lua below runs.
+local fast = package.loaded["evo.neat"]
+
 -- Every parameter, with the paper's value where the paper gives one.
 -- neat.task_keys says which .simbatch key sets each.
 neat.defaults = {
@@ -224,8 +228,10 @@ end
 
 local function clamp(w, m) return w > m and m or (w < -m and -m or w) end
 
--- Compatibility distance delta = c1*E/N + c2*D/N + c3*W.
-function neat.distance(a, b, o)
+-- Compatibility distance delta = c1*E/N + c2*D/N + c3*W. neat.distance is
+-- evo.neat's C when the state has it (the same arithmetic in the same
+-- order: the same number to the last bit), else this.
+function neat.distance_lua(a, b, o)
 	local la, lb = a.links, b.links
 	local i, j, na, nb = 1, 1, #la, #lb
 	local matching, wdiff, disjoint = 0, 0.0, 0
@@ -247,6 +253,7 @@ function neat.distance(a, b, o)
 	local w = matching > 0 and wdiff / matching or 0
 	return o.c1 * excess / n + o.c2 * disjoint / n + o.c3 * w
 end
+neat.distance = fast and fast.distance or neat.distance_lua
 
 -- Innovation registry: within one generation the same structural mutation
 -- gets the same numbers. Links by (from, to); node splits by the innovation
@@ -282,7 +289,7 @@ end
 -- kept with 0.1; otherwise every weight is perturbed, except that in a
 -- genome of 10 links or more the newest fifth (the links past 80% in
 -- innovation order) is perturbed with 0.5, replaced with 0.2, kept with 0.3.
-local function mutate_weights(g, o, rng)
+local function mutate_weights_lua(g, o, rng)
 	local perturb, replace = o.perturb_prob, 1.0
 	-- "code", not severe: the links past this index are the newest fifth
 	local newest_after = math.huge
@@ -302,7 +309,9 @@ local function mutate_weights(g, o, rng)
 		end
 	end
 end
-neat.mutate_weights = mutate_weights
+-- evo.neat's C where the state has it: the same draws, the same weights.
+local mutate_weights = fast and fast.mutate_weights or mutate_weights_lua
+neat.mutate_weights, neat.mutate_weights_lua = mutate_weights, mutate_weights_lua
 
 -- Does a path from `from` reach `to` over the genome's links (enabled or
 -- not: a disabled link may come back through crossover)?
@@ -461,7 +470,7 @@ end
 -- there. On equal fitness, with tie_smaller (NEAT's original code) the
 -- parent with fewer links counts as the fitter; without it (the paper)
 -- the disjoint and excess genes of both are inherited at random.
-function neat.crossover(a, fa, b, fb, o, rng)
+function neat.crossover_lua(a, fa, b, fb, o, rng)
 	if fb > fa then a, fa, b, fb = b, fb, a, fa end
 	local equal = fa == fb
 	if equal and o.tie_smaller then
@@ -518,6 +527,17 @@ function neat.crossover(a, fa, b, fb, o, rng)
 	end
 	sort_genome(child)
 	return child
+end
+
+-- neat.crossover is evo.neat's C where the state has it (the same draws,
+-- the same child), except for parents of equal fitness without
+-- tie_smaller, which stay with the Lua above.
+if fast then
+	function neat.crossover(a, fa, b, fb, o, rng)
+		return fast.crossover(a, fa, b, fb, o, rng) or neat.crossover_lua(a, fa, b, fb, o, rng)
+	end
+else
+	neat.crossover = neat.crossover_lua
 end
 
 ---------------------------------------------------------------------------
@@ -767,11 +787,15 @@ function Pop:tell(fitness)
 		-- fixed order would make the same few genomes parents every time.
 		local idx, key = {}, {}
 		for k = 1, #members do idx[k], key[k] = k, rng:unit() end
-		table.sort(idx, function(x, y)
-			if members[x].fitness ~= members[y].fitness then return members[x].fitness > members[y].fitness end
-			if key[x] ~= key[y] then return key[x] < key[y] end
-			return x < y
-		end)
+		if fast then
+			idx = fast.rank(members, key) -- the same order, sorted in C
+		else
+			table.sort(idx, function(x, y)
+				if members[x].fitness ~= members[y].fitness then return members[x].fitness > members[y].fitness end
+				if key[x] ~= key[y] then return key[x] < key[y] end
+				return x < y
+			end)
+		end
 		local sorted = {}
 		for k, x in ipairs(idx) do sorted[k] = members[x] end
 		if o.rep_champion then s.rep = copy_genome(sorted[1]) end
@@ -913,6 +937,11 @@ function neat.to_net(g)
 	end
 	return { inputs = n, outputs = m, nodes = nodes, outputs_ids = outputs_ids, links = links }
 end
+
+-- neat.pack_net(g): the network neat.to_net(g) gives, packed for
+-- evo.evaluate (a userdata; only evaluate, success_test and set_team_net
+-- read it). Present only where evo.neat is.
+neat.pack_net = fast and fast.pack_net
 
 -- The network as .net text (learn.netfile), as every method writes it.
 neat.to_net_text = netfile.text

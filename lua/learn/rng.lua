@@ -33,6 +33,14 @@ end
 -- Uniform in [0, 1) with 53 random bits.
 function Rng:unit() return (self:next() >> 11) * (1.0 / 9007199254740992.0) end
 
+-- evo.neat has both in C (sim/learn/lua_neat.c), on the same four words:
+-- where the state has it (the learning loop's), they are the ones used.
+local fast = package.loaded["evo.neat"]
+Rng.next_lua, Rng.unit_lua = Rng.next, Rng.unit -- the reference, for tests
+if fast then
+	Rng.next, Rng.unit = fast.rng_next, fast.rng_unit
+end
+
 -- Standard normal by Box-Muller; no cached second value, so the state is
 -- only the four words.
 function Rng:normal()

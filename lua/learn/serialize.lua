@@ -92,12 +92,18 @@ local function write(v, out, n)
 	return n
 end
 
-function serialize.dump(v)
+function serialize.dump_lua(v)
 	local out = { "return " }
 	local n = write(v, out, 1) + 1
 	out[n] = "\n"
 	return table.concat(out)
 end
+
+-- The same text from C (evo.neat's dump, sim/learn/lua_neat.c) in the
+-- states that have it, the learning loop's: a checkpoint of XOR's
+-- population took longer to write in Lua than the generation to run.
+local fast = package.loaded["evo.neat"]
+serialize.dump = fast and fast.dump or serialize.dump_lua
 
 -- Read text made by dump; errors name the text `name` (a file's path).
 -- The text is read as data by evo's reader (evo.data, sim/lua/lua_data.c),

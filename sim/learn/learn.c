@@ -15,6 +15,7 @@
 #include <limits.h>
 #include <math.h>
 #include <signal.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,6 +29,7 @@
 #include "learn/evaluate.h"
 #include "learn/literature.h"
 #include "learn/lua_linalg.h"
+#include "learn/lua_neat.h"
 #include "learn/runlog.h"
 #include "lua/lua_evo.h"
 #include "mind/net_build.h"
@@ -59,6 +61,11 @@ typedef struct learn {
 	char choice_path[CONT_MAX_SKILLS][1200];
 	evo_eval_def ed;
 	evo_lua_mem *mem; /* the loop's state's memory (LUAMEMORY) */
+	/* evo.evaluate's networks, kept from batch to batch (a batch of
+	 * 150 is 8 MB: allocated and cleared anew, it cost more than
+	 * evaluating XOR's networks) */
+	evo_netdesc *descs;
+	int n_descs;
 } learn;
 
 static const char LEARN_KEY = 'l';
@@ -113,10 +120,14 @@ static lua_Integer field_int(lua_State *L, int idx, const char *key,
 }
 
 /* A network table of learn.neat (inputs, outputs, nodes {id, act, bias},
- * outputs_ids, links {from, to, weight}) as evo's network description. */
+ * outputs_ids, links {from, to, weight}), or a network evo.neat.pack_net
+ * packed, as evo's network description (only the nodes and links it has
+ * are written). */
 static void to_netdesc(lua_State *L, int idx, int which, evo_netdesc *d)
 {
-	memset(d, 0, sizeof *d);
+	if (evo_lua_net_unpack(L, idx, d))
+		return;
+	memset(d, 0, offsetof(evo_netdesc, node));
 	luaL_checktype(L, idx, LUA_TTABLE);
 	d->n_in = (uint16_t)field_int(L, idx, "inputs", 0, UINT16_MAX, which);
 	d->n_out = (uint16_t)field_int(L, idx, "outputs", 0, UINT16_MAX, which);
@@ -133,6 +144,7 @@ static void to_netdesc(lua_State *L, int idx, int which, evo_netdesc *d)
 		evo_netdesc_node *nd = &d->node[d->n_nodes++];
 		nd->id = (uint16_t)field_int(L, t, "id", 0, UINT16_MAX, which);
 		nd->bias = evo_net_weight_q16(field_num(L, t, "bias", 0));
+		nd->line = 0;
 		lua_getfield(L, t, "act");
 		const char *act = lua_tostring(L, -1);
 		unsigned a = 0;
@@ -165,6 +177,7 @@ static void to_netdesc(lua_State *L, int idx, int which, evo_netdesc *d)
 		    (uint16_t)field_int(L, t, "from", 0, UINT16_MAX, which);
 		lk->to = (uint16_t)field_int(L, t, "to", 0, UINT16_MAX, which);
 		lk->weight = evo_net_weight_q16(field_num(L, t, "weight", 0));
+		lk->line = 0;
 		lua_pop(L, 1);
 	}
 	lua_pop(L, 1);
@@ -229,11 +242,20 @@ static int l_evaluate(lua_State *L)
 					  g, size);
 		n_groups = (int)(g / size);
 	}
-	/* Userdata, not malloc: a malformed network (to_netdesc raises)
-	 * or a failed batch unwinds through here, and the collector then
-	 * frees the arrays. */
-	evo_netdesc *nets = lua_newuserdatauv(L, (size_t)(n ? n : 1) *
-						     sizeof *nets, 0);
+	/* The networks go to l->descs, which lasts the run (freed by
+	 * evo_learn_run); the other arrays are userdata, so a malformed
+	 * network (to_netdesc raises) or a failed batch unwinds through
+	 * here and the collector frees them. */
+	if (n > l->n_descs) {
+		evo_netdesc *grown = realloc(l->descs, (size_t)n * sizeof *grown);
+		if (!grown)
+			return luaL_error(L, "evo.evaluate: no memory for %d "
+					     "networks",
+					  n);
+		l->descs = grown;
+		l->n_descs = n;
+	}
+	evo_netdesc *nets = l->descs;
 	const evo_netdesc **ptr =
 	    lua_newuserdatauv(L, (size_t)(n ? n : 1) * sizeof *ptr, 0);
 	evo_eval_result *res =
@@ -893,6 +915,7 @@ static int run_script(lua_State *L)
 	luaL_requiref(L, "evo.learn", open_module, 0);
 	lua_pop(L, 1);
 	evo_lua_open_linalg(L); /* evo.linalg: CMA-ES's eigendecomposition */
+	evo_lua_open_neat(L);
 	/* the loop's modules are evo's, from lua/ only: a mind folder is
 	 * not trusted with the full libraries this state has */
 	const char *dir = evo_lua_dir();
@@ -1137,9 +1160,10 @@ int evo_learn_check(const char *task_path, evo_task *task, evo_err *err)
 }
 
 /* Ctrl-C (SIGINT) and a scheduler's SIGTERM stop a run at once, as they
- * always did; the handler first says that nothing finished is lost and
- * how to go on. Every generation's log row and checkpoint are already on
- * disk, written atomically. */
+ * always did; the handler first says how to go on. Every generation's log
+ * row is already on disk, and a checkpoint at most a second of the loop's
+ * CPU time old (lua/learn/learnsim.lua), written atomically; --resume
+ * goes on from it and does the generations after it again, identically. */
 static char interrupt_msg[1400];
 static size_t interrupt_len;
 
@@ -1154,7 +1178,8 @@ static void on_interrupt(int sig)
 static void catch_interrupt(const learn *l, struct sigaction old[2])
 {
 	int n = snprintf(interrupt_msg, sizeof interrupt_msg,
-			 "\ninterrupted: %s holds every finished generation; "
+			 "\ninterrupted: %s holds the run as of its last "
+			 "checkpoint, at most a second of work back; "
 			 "%sevo run %s --seed %llu --resume%s%s goes on%s\n",
 			 l->run_dir, l->opts->spread ? "mpirun -np N " : "",
 			 l->task_path,
@@ -1337,6 +1362,7 @@ int evo_learn_run(const char *task_path, evo_task *task,
 	sigaction(SIGINT, &old_sig[0], NULL);
 	sigaction(SIGTERM, &old_sig[1], NULL);
 	evo_evaluator_destroy(l.ev);
+	free(l.descs);
 	close(lock);
 	return rc;
 }

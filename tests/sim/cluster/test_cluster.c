@@ -308,16 +308,18 @@ TEST(a_killed_rank_stops_the_run_and_resume_with_other_ranks_finishes_it)
 	CHECK(!(WIFEXITED(st) && WEXITSTATUS(st) == 0));
 	int kept = rows("k");
 	CHECK(kept >= 2 && kept < 5); /* it really was stopped */
-	/* rank 0 stopped as on SIGTERM: every finished generation is on
-	 * disk, and it says how to go on */
+	/* rank 0 stopped as on SIGTERM: every finished generation's row
+	 * and a checkpoint at most a second old are on disk, and it says
+	 * how to go on */
 	char *said = cli_read("%s/k/out1.txt", cli_tmp);
-	CHECK(said && strstr(said, " holds every finished generation; "
-				   "mpirun -np N evo run "));
+	CHECK(said && strstr(said, " as of its last checkpoint, at most a "
+				   "second of work back; mpirun -np N evo "
+				   "run "));
 	CHECK(said && strstr(said, " goes on, with any number of ranks N, "
 				   "or without mpirun\n"));
 	free(said);
-	/* the checkpoint is the last logged generation's: resumed with two
-	 * ranks, the run ends as the uninterrupted one */
+	/* resumed from the checkpoint with two ranks, the run does the
+	 * generations after it again and ends as the uninterrupted one */
 	CHECK_EQ_INT(train("k", MPIRUN " -np 2", "--threads 1 --resume"), 0);
 	char *out = cli_read("%s/k/out.txt", cli_tmp);
 	CHECK(out && strstr(out, "resuming after generation"));

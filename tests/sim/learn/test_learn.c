@@ -352,10 +352,11 @@ static void stop_and_resume(const char *name, const char *reference, int sig)
 	CHECK(rows(name) < 6); /* it really was interrupted */
 
 	if (sig == SIGINT) {
-		/* Ctrl-C says that nothing finished is lost and how to go on. */
+		/* Ctrl-C says what is kept and how to go on. */
 		char *said = cli_read("%s/%s/out1.txt", cli_tmp, name);
 		CHECK(said && strstr(said, "interrupted: ") &&
-		      strstr(said, " holds every finished generation; evo run ") &&
+		      strstr(said, " as of its last checkpoint, at most a "
+				   "second of work back; evo run ") &&
 		      strstr(said, "--seed 11 --resume --run "));
 		free(said);
 	}

@@ -17,6 +17,7 @@
 #include <lualib.h>
 
 #include "learn/lua_linalg.h"
+#include "learn/lua_neat.h"
 #include "lua/lua_evo.h"
 
 #define MAX_FILES 64
@@ -59,6 +60,7 @@ static lua_State *new_state(const char *lua_dir)
 	lua_pop(L, 1);
 	evo_lua_open_data(L); /* serialize.load reads with it */
 	evo_lua_open_linalg(L); /* learn.cmaes's eigendecomposition */
+	evo_lua_open_neat(L); /* the learning loop's kernels, as it has them */
 	return L;
 }
 

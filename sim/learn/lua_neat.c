@@ -1,0 +1,1030 @@
+/* evo.neat: the learning loop's hot kernels in C, for the loop's Lua state
+ * (sim/learn/learn.c) and the Lua tests' (tests/sim/lua/test_lua_scripts.c).
+ * The loop stays in Lua; what it did in the interpreter on every genome of
+ * every generation is done here, with the same arithmetic in the same
+ * order, so a run gives the same numbers bit for bit:
+ *
+ *   distance(a, b, o)  NEAT's compatibility distance of two genomes
+ *                      (lua/learn/neat.lua's neat.distance_lua)
+ *   pack_net(g)        a genome as the network evo.evaluate runs, packed
+ *                      in a userdata (neat.to_net and learn.c's reading
+ *                      of its table, in one step)
+ *   dump(v)            plain Lua data as text (serialize.dump_lua's
+ *                      text, byte for byte), for the checkpoints
+ *   rng_next(r), rng_unit(r)  learn.rng's Rng:next and Rng:unit, on the
+ *                      generator's own four words (r.s)
+ *   mutate_weights(g, o, rng), crossover(a, fa, b, fb, o, rng)
+ *                      neat.lua's, with the same random draws in the
+ *                      same order
+ *   rank(members, keys) the order tell sorts a species' members into
+ *
+ * A genome is { nodes = { {id, kind, act, value}, ... }, links = { {innov,
+ * from, to, weight, enabled}, ... } }, links sorted by innovation. */
+#include "learn/lua_neat.h"
+
+#include <ctype.h>
+#include <lauxlib.h>
+#include <lua.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "evo/fixed.h"
+#include "mind/net_build.h"
+
+#define NET_TYPE "evo.neat.net"
+#define BUF_TYPE "evo.neat.buffer"
+/* How deep dump follows tables into tables (a checkpoint is 6 deep). */
+#define DUMP_MAX_DEPTH 100
+
+/* ------------------------------------------------------------------ */
+/* Compatibility distance */
+
+/* Field `key` of the table at idx as a number; 0 when it is none. */
+static double num_field(lua_State *L, int idx, const char *key)
+{
+	lua_getfield(L, idx, key);
+	double v = lua_tonumber(L, -1);
+	lua_pop(L, 1);
+	return v;
+}
+
+/* Innovation and weight of gene i of the link list at `list`. */
+static void gene_at(lua_State *L, int list, lua_Integer i, double *innov,
+		    double *weight)
+{
+	lua_rawgeti(L, list, i);
+	*innov = num_field(L, -1, "innov");
+	*weight = num_field(L, -1, "weight");
+	lua_pop(L, 1);
+}
+
+/* distance(a, b, o) = c1*E/N + c2*D/N + c3*W: E excess and D disjoint
+ * genes, W the mean weight difference of the matching ones, N the larger
+ * genome's gene count (1 when both have fewer than o.normalize_below). */
+static int l_distance(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	lua_getfield(L, 1, "links");
+	lua_getfield(L, 2, "links");
+	luaL_checktype(L, 4, LUA_TTABLE);
+	luaL_checktype(L, 5, LUA_TTABLE);
+	lua_Integer na = (lua_Integer)lua_rawlen(L, 4);
+	lua_Integer nb = (lua_Integer)lua_rawlen(L, 5);
+	lua_Integer i = 1, j = 1, matching = 0, disjoint = 0;
+	double wdiff = 0.0, xi = 0, xw = 0, yi = 0, yw = 0;
+	if (na >= 1)
+		gene_at(L, 4, 1, &xi, &xw);
+	if (nb >= 1)
+		gene_at(L, 5, 1, &yi, &yw);
+	while (i <= na && j <= nb) {
+		int step_a = 0, step_b = 0;
+		if (xi == yi) {
+			matching++;
+			double d = xw - yw;
+			wdiff += d < 0 ? -d : d;
+			step_a = step_b = 1;
+		} else if (xi < yi) {
+			disjoint++;
+			step_a = 1;
+		} else {
+			disjoint++;
+			step_b = 1;
+		}
+		if (step_a && ++i <= na)
+			gene_at(L, 4, i, &xi, &xw);
+		if (step_b && ++j <= nb)
+			gene_at(L, 5, j, &yi, &yw);
+	}
+	lua_Integer excess = (na - i + 1) + (nb - j + 1);
+	lua_Integer n = na > nb ? na : nb;
+	if ((double)n < num_field(L, 3, "normalize_below"))
+		n = 1;
+	double w = matching > 0 ? wdiff / (double)matching : 0.0;
+	double c1 = num_field(L, 3, "c1"), c2 = num_field(L, 3, "c2"),
+	       c3 = num_field(L, 3, "c3");
+	lua_pushnumber(L, c1 * (double)excess / (double)n +
+			      c2 * (double)disjoint / (double)n + c3 * w);
+	return 1;
+}
+
+/* ------------------------------------------------------------------ */
+/* Networks from genomes */
+
+/* A network as evo.evaluate takes it: evo_netdesc's header, then n_nodes
+ * nodes and n_links links (only as many as the network has). */
+typedef struct packed_net {
+	uint16_t n_in, n_out, n_nodes, n_links;
+	uint16_t out_id[EVO_MAX_SKILL_IO];
+	evo_netdesc_node node[];
+} packed_net;
+
+static evo_netdesc_link *packed_links(packed_net *p)
+{
+	return (evo_netdesc_link *)(void *)(p->node + p->n_nodes);
+}
+
+/* A genome node's id and the id it gets in the network. */
+typedef struct id_map {
+	lua_Integer id;
+	uint16_t to;
+} id_map;
+
+static int by_id(const void *a, const void *b)
+{
+	lua_Integer x = ((const id_map *)a)->id, y = ((const id_map *)b)->id;
+	return (x > y) - (x < y);
+}
+
+/* The network id of genome node `id`, or -1 when the genome has none. */
+static int map_id(const id_map *map, int n, lua_Integer id)
+{
+	id_map key = {id, 0};
+	const id_map *m = bsearch(&key, map, (size_t)n, sizeof *map, by_id);
+	return m ? m->to : -1;
+}
+
+static unsigned act_of(lua_State *L, const char *act)
+{
+	unsigned a = 0;
+	while (act && evo_act_name(a) && strcmp(evo_act_name(a), act))
+		a++;
+	if (!act || !evo_act_name(a))
+		luaL_error(L, "pack_net: unknown activation '%s'",
+			   act ? act : "nil");
+	return a;
+}
+
+/* The genome's nodes read once: kinds, ids, activations. */
+typedef struct genome_nodes {
+	int n;			/* nodes */
+	int n_in, n_out, n_hidden; /* inputs, outputs, hidden nodes */
+	int has_bias;
+	lua_Integer bias_id;
+	double bias_value;
+	char kind[EVO_NET_MAX_NODES + EVO_MAX_SKILL_IO + 2]; /* i o h b */
+	lua_Integer id[EVO_NET_MAX_NODES + EVO_MAX_SKILL_IO + 2];
+	uint8_t act[EVO_NET_MAX_NODES + EVO_MAX_SKILL_IO + 2];
+} genome_nodes;
+
+#define GENOME_MAX_NODES (EVO_NET_MAX_NODES + EVO_MAX_SKILL_IO + 2)
+
+static void read_nodes(lua_State *L, int list, genome_nodes *g)
+{
+	lua_Integer n = (lua_Integer)lua_rawlen(L, list);
+	if (n > GENOME_MAX_NODES)
+		luaL_error(L, "pack_net: a genome of %I nodes (a network "
+			      "has at most %d)",
+			   n, EVO_NET_MAX_NODES);
+	memset(g, 0, offsetof(genome_nodes, kind));
+	g->n = (int)n;
+	for (int k = 0; k < g->n; k++) {
+		lua_rawgeti(L, list, k + 1);
+		int t = lua_gettop(L);
+		lua_getfield(L, t, "kind");
+		const char *kind = lua_tostring(L, -1);
+		lua_getfield(L, t, "id");
+		g->id[k] = lua_tointeger(L, -1);
+		char c = !kind			     ? '?'
+			 : strcmp(kind, "input") == 0  ? 'i'
+			 : strcmp(kind, "output") == 0 ? 'o'
+			 : strcmp(kind, "bias") == 0   ? 'b'
+			 : strcmp(kind, "hidden") == 0 ? 'h'
+						       : '?';
+		g->kind[k] = c;
+		if (c == 'i') {
+			g->n_in++;
+		} else if (c == 'o' || c == 'h') {
+			lua_getfield(L, t, "act");
+			g->act[k] = (uint8_t)act_of(L, lua_tostring(L, -1));
+			lua_pop(L, 1);
+			g->n_out += c == 'o';
+			g->n_hidden += c == 'h';
+		} else if (c == 'b') {
+			/* the last bias node counts, as in neat.to_net */
+			lua_getfield(L, t, "value");
+			g->has_bias = 1;
+			g->bias_id = g->id[k];
+			g->bias_value =
+			    lua_isnil(L, -1) ? 1.0 : lua_tonumber(L, -1);
+			lua_pop(L, 1);
+		}
+		lua_pop(L, 3);
+	}
+}
+
+/* pack_net(genome) -> the network neat.to_net would give, as a userdata
+ * evo.evaluate reads directly: inputs keep their ids, outputs then hidden
+ * nodes (in the genome's node order) take the next ids, enabled links
+ * from the bias node become their target's bias (weight times the bias
+ * node's value, summed in link order), the other enabled links stay in
+ * link order. */
+static int l_pack_net(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	lua_getfield(L, 1, "nodes");
+	lua_getfield(L, 1, "links");
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	static _Thread_local genome_nodes g;
+	read_nodes(L, 2, &g);
+	if (g.n_out > EVO_MAX_SKILL_IO)
+		luaL_error(L, "pack_net: %d outputs", g.n_out);
+	lua_Integer n_links = (lua_Integer)lua_rawlen(L, 3);
+	if (n_links > EVO_NET_MAX_LINKS * 2)
+		luaL_error(L, "pack_net: a genome of %I links", n_links);
+	int n_nodes = g.n_out + g.n_hidden;
+	size_t size = sizeof(packed_net) +
+		      (size_t)n_nodes * sizeof(evo_netdesc_node) +
+		      (size_t)n_links * sizeof(evo_netdesc_link);
+	packed_net *p = lua_newuserdatauv(L, size, 0);
+	luaL_setmetatable(L, NET_TYPE);
+	memset(p, 0, sizeof *p);
+	p->n_in = (uint16_t)g.n_in;
+	p->n_out = (uint16_t)g.n_out;
+	p->n_nodes = (uint16_t)n_nodes;
+	id_map map[GENOME_MAX_NODES];
+	double bias[GENOME_MAX_NODES];
+	int n_map = 0, next = g.n_in, n_out = 0;
+	for (int pass = 0; pass < 3; pass++)
+		for (int k = 0; k < g.n; k++) {
+			char want = pass == 0 ? 'i' : pass == 1 ? 'o' : 'h';
+			if (g.kind[k] != want)
+				continue;
+			if (pass == 0) {
+				map[n_map++] = (id_map){g.id[k],
+							(uint16_t)g.id[k]};
+				continue;
+			}
+			evo_netdesc_node *nd = &p->node[next - g.n_in];
+			nd->id = (uint16_t)next;
+			nd->act = g.act[k];
+			nd->line = 0;
+			bias[next - g.n_in] = 0.0;
+			if (pass == 1)
+				p->out_id[n_out++] = (uint16_t)next;
+			map[n_map++] = (id_map){g.id[k], (uint16_t)next};
+			next++;
+		}
+	qsort(map, (size_t)n_map, sizeof *map, by_id);
+	evo_netdesc_link *lk = packed_links(p);
+	int n = 0;
+	for (lua_Integer i = 1; i <= n_links; i++) {
+		lua_rawgeti(L, 3, i);
+		lua_getfield(L, -1, "enabled");
+		int enabled = lua_toboolean(L, -1);
+		lua_pop(L, 1);
+		if (enabled) {
+			lua_Integer from = (lua_Integer)num_field(L, -1, "from");
+			lua_Integer to = (lua_Integer)num_field(L, -1, "to");
+			double w = num_field(L, -1, "weight");
+			int t = map_id(map, n_map, to);
+			if (t < g.n_in)
+				luaL_error(L, "pack_net: link %I ends at node "
+					      "%I, which is no output or "
+					      "hidden node of the genome",
+					   i, to);
+			if (g.has_bias && from == g.bias_id) {
+				bias[t - g.n_in] += w * g.bias_value;
+			} else {
+				int f = map_id(map, n_map, from);
+				if (f < 0)
+					luaL_error(L, "pack_net: link %I starts "
+						      "at node %I, which the "
+						      "genome does not have",
+						   i, from);
+				if (n == EVO_NET_MAX_LINKS)
+					luaL_error(L, "pack_net: more than %d "
+						      "links",
+						   EVO_NET_MAX_LINKS);
+				lk[n++] = (evo_netdesc_link){
+				    (uint16_t)f, (uint16_t)t,
+				    evo_net_weight_q16(w), 0};
+			}
+		}
+		lua_pop(L, 1);
+	}
+	p->n_links = (uint16_t)n;
+	for (int k = 0; k < n_nodes; k++)
+		p->node[k].bias = evo_net_weight_q16(bias[k]);
+	return 1;
+}
+
+int evo_lua_net_unpack(lua_State *L, int idx, evo_netdesc *d)
+{
+	packed_net *p = luaL_testudata(L, idx, NET_TYPE);
+	if (!p)
+		return 0;
+	d->n_in = p->n_in;
+	d->n_out = p->n_out;
+	d->n_nodes = p->n_nodes;
+	d->n_links = p->n_links;
+	memcpy(d->out_id, p->out_id, sizeof d->out_id);
+	memcpy(d->node, p->node, (size_t)p->n_nodes * sizeof *d->node);
+	memcpy(d->link, packed_links(p), (size_t)p->n_links * sizeof *d->link);
+	return 1;
+}
+
+/* ------------------------------------------------------------------ */
+/* Plain data as text */
+
+typedef struct buffer {
+	char *b;
+	size_t len, cap;
+} buffer;
+
+static int free_buffer(lua_State *L)
+{
+	buffer *b = luaL_checkudata(L, 1, BUF_TYPE);
+	free(b->b);
+	b->b = NULL;
+	return 0;
+}
+
+static void put(lua_State *L, buffer *b, const char *s, size_t n)
+{
+	if (b->cap - b->len < n) {
+		size_t cap = b->cap ? b->cap : 4096;
+		while (cap - b->len < n)
+			cap *= 2;
+		char *nb = realloc(b->b, cap);
+		if (!nb)
+			luaL_error(L, "serialize: out of memory");
+		b->b = nb;
+		b->cap = cap;
+	}
+	memcpy(b->b + b->len, s, n);
+	b->len += n;
+}
+
+static void puts_(lua_State *L, buffer *b, const char *s)
+{
+	put(L, b, s, strlen(s));
+}
+
+/* The decimal digits of x (not LUA_MININTEGER) into s; their count. */
+static size_t int_text(char *s, lua_Integer x)
+{
+	char tmp[24];
+	size_t n = 0, k = 0;
+	uint64_t u = x < 0 ? (uint64_t)0 - (uint64_t)x : (uint64_t)x;
+	do {
+		tmp[n++] = (char)('0' + u % 10);
+		u /= 10;
+	} while (u);
+	if (x < 0)
+		s[k++] = '-';
+	while (n)
+		s[k++] = tmp[--n];
+	return k;
+}
+
+/* As serialize.lua's number(): integers as they are (the smallest as an
+ * expression), floats with 17 digits and a ".0" when they would read as
+ * an integer, inf and nan as expressions. */
+static void put_number(lua_State *L, buffer *b, int idx)
+{
+	char s[64];
+	if (lua_isinteger(L, idx)) {
+		lua_Integer x = lua_tointeger(L, idx);
+		if (x == LUA_MININTEGER)
+			puts_(L, b, "(-9223372036854775807-1)");
+		else
+			put(L, b, s, int_text(s, x));
+		return;
+	}
+	double x = lua_tonumber(L, idx);
+	if (x > -0x1p53 && x < 0x1p53 && x == (double)(int64_t)x &&
+	    (x != 0 || !signbit(x))) {
+		/* a whole float: "%.17g" gives its digits (it has fewer
+		 * than 17), and ".0" follows */
+		size_t n = int_text(s, (lua_Integer)x);
+		memcpy(s + n, ".0", 2);
+		put(L, b, s, n + 2);
+	} else if (x != x) {
+		puts_(L, b, "(0/0)");
+	} else if (x > 1.7976931348623157e308) {
+		puts_(L, b, "(1/0)");
+	} else if (x < -1.7976931348623157e308) {
+		puts_(L, b, "(-1/0)");
+	} else {
+		snprintf(s, sizeof s, "%.17g", x);
+		if (!strpbrk(s, ".eEn"))
+			strcat(s, ".0");
+		puts_(L, b, s);
+	}
+}
+
+/* As string.format("%q", s). */
+static void put_string(lua_State *L, buffer *b, int idx)
+{
+	size_t len;
+	const char *s = lua_tolstring(L, idx, &len);
+	put(L, b, "\"", 1);
+	for (size_t i = 0; i < len; i++) {
+		unsigned char c = (unsigned char)s[i];
+		if (c == '"' || c == '\\' || c == '\n') {
+			char e[2] = {'\\', (char)c};
+			put(L, b, e, 2);
+		} else if (iscntrl(c)) {
+			char e[8];
+			/* s[len] is the string's terminating zero */
+			unsigned char next = (unsigned char)s[i + 1];
+			snprintf(e, sizeof e, isdigit(next) ? "\\%03d" : "\\%d",
+				 (int)c);
+			puts_(L, b, e);
+		} else {
+			put(L, b, (const char *)&s[i], 1);
+		}
+	}
+	put(L, b, "\"", 1);
+}
+
+/* n when the table at idx has exactly the keys 1 .. n (n = #t), else -1. */
+static lua_Integer list_length(lua_State *L, int idx)
+{
+	lua_Integer n = (lua_Integer)lua_rawlen(L, idx);
+	for (lua_Integer i = 1; i <= n; i++) {
+		int nil = lua_rawgeti(L, idx, i) == LUA_TNIL;
+		lua_pop(L, 1);
+		if (nil)
+			return -1;
+	}
+	lua_Integer count = 0;
+	lua_pushnil(L);
+	while (lua_next(L, idx)) {
+		lua_pop(L, 1);
+		if (++count > n) {
+			lua_pop(L, 1);
+			return -1;
+		}
+	}
+	return n;
+}
+
+/* serialize.lua's key order: by type name, then by value (Lua's <).
+ * Strings compare byte by byte, a prefix first: what Lua's < does in the
+ * C locale, which evo never leaves. */
+static int key_less(lua_State *L, int a, int b)
+{
+	int ta = lua_type(L, a), tb = lua_type(L, b);
+	if (ta != tb)
+		return strcmp(lua_typename(L, ta), lua_typename(L, tb)) < 0;
+	if (ta == LUA_TSTRING) {
+		size_t la, lb;
+		const char *sa = lua_tolstring(L, a, &la);
+		const char *sb = lua_tolstring(L, b, &lb);
+		int c = memcmp(sa, sb, la < lb ? la : lb);
+		return c < 0 || (c == 0 && la < lb);
+	}
+	return lua_compare(L, a, b, LUA_OPLT);
+}
+
+/* Sorts the n keys at stack slots base .. base+n-1 (insertion into a
+ * merge of runs: the keys are distinct, so any sort gives one order). */
+static void sort_keys(lua_State *L, int base, int n, int *ix, int *tmp)
+{
+	for (int w = 1; w < n; w *= 2) {
+		for (int lo = 0; lo < n; lo += 2 * w) {
+			int mid = lo + w < n ? lo + w : n;
+			int hi = lo + 2 * w < n ? lo + 2 * w : n;
+			int a = lo, c = mid, k = lo;
+			while (a < mid && c < hi)
+				tmp[k++] = key_less(L, base + ix[c], base + ix[a])
+					       ? ix[c++]
+					       : ix[a++];
+			while (a < mid)
+				tmp[k++] = ix[a++];
+			while (c < hi)
+				tmp[k++] = ix[c++];
+		}
+		memcpy(ix, tmp, (size_t)n * sizeof *ix);
+	}
+}
+
+static void put_value(lua_State *L, buffer *b, int idx, int depth);
+
+static void put_record(lua_State *L, buffer *b, int idx, int depth)
+{
+	int base = lua_gettop(L) + 1, n = 0;
+	lua_pushnil(L);
+	while (lua_next(L, idx)) {
+		lua_pop(L, 1);
+		luaL_checkstack(L, 3, "serialize: a table of too many keys");
+		lua_pushvalue(L, -1); /* the key stays, a copy iterates */
+		n++;
+	}
+	/* the keys are at base .. base+n-1; a record's few are sorted in
+	 * an array here, a big map's in a userdata */
+	int small[2 * 64];
+	int *ix = n <= 64 ? small
+			  : lua_newuserdatauv(L, 2 * (size_t)n * sizeof *ix, 0);
+	for (int k = 0; k < n; k++)
+		ix[k] = k;
+	sort_keys(L, base, n, ix, ix + n);
+	for (int k = 0; k < n; k++) {
+		int key = base + ix[k];
+		put(L, b, "[", 1);
+		put_value(L, b, key, depth);
+		put(L, b, "]=", 2);
+		lua_pushvalue(L, key);
+		lua_rawget(L, idx);
+		put_value(L, b, lua_gettop(L), depth);
+		lua_pop(L, 1);
+		put(L, b, ",", 1);
+	}
+	lua_settop(L, base - 1);
+}
+
+static void put_value(lua_State *L, buffer *b, int idx, int depth)
+{
+	switch (lua_type(L, idx)) {
+	case LUA_TNUMBER:
+		put_number(L, b, idx);
+		return;
+	case LUA_TSTRING:
+		put_string(L, b, idx);
+		return;
+	case LUA_TBOOLEAN:
+		puts_(L, b, lua_toboolean(L, idx) ? "true" : "false");
+		return;
+	case LUA_TTABLE:
+		break;
+	default:
+		luaL_error(L, "serialize: cannot save a %s",
+			   luaL_typename(L, idx));
+	}
+	if (depth >= DUMP_MAX_DEPTH)
+		luaL_error(L, "serialize: tables nested more than %d deep",
+			   DUMP_MAX_DEPTH);
+	luaL_checkstack(L, 8, "serialize: tables nested too deep");
+	put(L, b, "{", 1);
+	lua_Integer len = list_length(L, idx);
+	if (len >= 0) {
+		for (lua_Integer i = 1; i <= len; i++) {
+			lua_rawgeti(L, idx, i);
+			put_value(L, b, lua_gettop(L), depth + 1);
+			lua_pop(L, 1);
+			put(L, b, ",", 1);
+		}
+	} else {
+		put_record(L, b, idx, depth + 1);
+	}
+	put(L, b, "}", 1);
+}
+
+/* dump(v) -> "return " .. v's text .. "\n", as serialize.dump_lua. */
+static int l_dump(lua_State *L)
+{
+	luaL_checkany(L, 1);
+	lua_settop(L, 1);
+	buffer *b = lua_newuserdatauv(L, sizeof *b, 0);
+	memset(b, 0, sizeof *b);
+	luaL_setmetatable(L, BUF_TYPE);
+	puts_(L, b, "return ");
+	put_value(L, b, 1, 0);
+	put(L, b, "\n", 1);
+	lua_pushlstring(L, b->b, b->len);
+	free(b->b);
+	b->b = NULL;
+	return 1;
+}
+
+/* ------------------------------------------------------------------ */
+/* learn.rng's generator: xoshiro256** on the object's four words */
+
+/* The next 64-bit word of the generator `self` (learn.rng: self.s holds
+ * the four words of state as Lua integers), its state moved on in place,
+ * as Rng:next does it in Lua. */
+static uint64_t rng_next(lua_State *L, int self)
+{
+	if (lua_getfield(L, self, "s") != LUA_TTABLE)
+		luaL_error(L, "rng: no state (self.s)");
+	uint64_t s[4];
+	for (int k = 0; k < 4; k++) {
+		lua_rawgeti(L, -1, k + 1);
+		s[k] = (uint64_t)lua_tointeger(L, -1);
+		lua_pop(L, 1);
+	}
+	uint64_t x = s[1] * 5;
+	uint64_t result = ((x << 7) | (x >> 57)) * 9;
+	uint64_t t = s[1] << 17;
+	s[2] ^= s[0];
+	s[3] ^= s[1];
+	s[1] ^= s[2];
+	s[0] ^= s[3];
+	s[2] ^= t;
+	s[3] = (s[3] << 45) | (s[3] >> 19);
+	for (int k = 0; k < 4; k++) {
+		lua_pushinteger(L, (lua_Integer)s[k]);
+		lua_rawseti(L, -2, k + 1);
+	}
+	lua_pop(L, 1);
+	return result;
+}
+
+/* rng_next(self) -> the next word, a Lua integer (Rng:next). */
+static int l_rng_next(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	lua_pushinteger(L, (lua_Integer)rng_next(L, 1));
+	return 1;
+}
+
+/* rng_unit(self) -> uniform in [0, 1) from the top 53 bits (Rng:unit). */
+static int l_rng_unit(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	lua_pushnumber(L, (double)(rng_next(L, 1) >> 11) *
+			      (1.0 / 9007199254740992.0));
+	return 1;
+}
+
+/* Is the generator at stack slot `rng` learn.rng's, with rng_unit as its
+ * unit? A kernel asks once, and draws through draw(). */
+static int rng_is_ours(lua_State *L, int rng)
+{
+	lua_getfield(L, rng, "unit");
+	int ours = lua_tocfunction(L, -1) == l_rng_unit;
+	lua_pop(L, 1);
+	return ours;
+}
+
+/* rng:unit() of the generator at stack slot `rng`: in C when `ours`
+ * (rng_is_ours), else by calling its method (a test's own generator). */
+static double draw(lua_State *L, int rng, int ours)
+{
+	if (ours)
+		return (double)(rng_next(L, rng) >> 11) *
+		       (1.0 / 9007199254740992.0);
+	lua_getfield(L, rng, "unit");
+	lua_pushvalue(L, rng);
+	lua_call(L, 1, 1);
+	double u = lua_tonumber(L, -1);
+	lua_pop(L, 1);
+	return u;
+}
+
+/* ------------------------------------------------------------------ */
+/* Weight mutation and crossover (lua/learn/neat.lua's, draw for draw) */
+
+/* clamp(w, m) as neat.lua's: m itself above it, -m below -m (an integer
+ * m stays one), else w; pushed. */
+static void push_clamped(lua_State *L, double w, int opts)
+{
+	lua_getfield(L, opts, "weight_max");
+	double m = lua_tonumber(L, -1);
+	if (w > m)
+		return; /* the value of weight_max, as it is */
+	if (w < -m) {
+		if (lua_isinteger(L, -1)) {
+			lua_Integer mi = lua_tointeger(L, -1);
+			lua_pop(L, 1);
+			lua_pushinteger(L, (lua_Integer)(0u - (lua_Unsigned)mi));
+		} else {
+			lua_pop(L, 1);
+			lua_pushnumber(L, -m);
+		}
+		return;
+	}
+	lua_pop(L, 1);
+	lua_pushnumber(L, w);
+}
+
+/* mutate_weights(g, o, rng): neat.lua's mutate_weights ("code" and
+ * "paper"), the same draws in the same order. */
+static int l_mutate_weights(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	lua_settop(L, 3);
+	lua_getfield(L, 1, "links");
+	luaL_checktype(L, 4, LUA_TTABLE);
+	lua_Integer n = (lua_Integer)lua_rawlen(L, 4);
+	double perturb = num_field(L, 2, "perturb_prob"), replace = 1.0;
+	double newest_after = HUGE_VAL;
+	int ours = rng_is_ours(L, 3);
+	lua_getfield(L, 2, "weight_mutation");
+	const char *scheme = lua_tostring(L, -1);
+	int code = scheme && strcmp(scheme, "code") == 0;
+	lua_pop(L, 1);
+	if (code) {
+		int severe = draw(L, 3, ours) < num_field(L, 2, "severe_prob");
+		perturb = severe ? 0.7 : 1.0;
+		replace = severe ? 0.9 : 1.0;
+		if (!severe && n >= 10)
+			newest_after = (double)n * 0.8;
+	}
+	double pp = num_field(L, 2, "perturb_power");
+	double rp = num_field(L, 2, "replace_power");
+	for (lua_Integer k = 1; k <= n; k++) {
+		if (lua_rawgeti(L, 4, k) == LUA_TNIL)
+			break; /* ipairs stops there */
+		double p = perturb, r = replace;
+		if ((double)(k - 1) > newest_after) {
+			p = 0.5;
+			r = 0.7;
+		}
+		double u = draw(L, 3, ours);
+		if (u < p) {
+			double w = num_field(L, -1, "weight");
+			push_clamped(L, w + (draw(L, 3, ours) * 2 - 1) * pp, 2);
+			lua_setfield(L, -2, "weight");
+		} else if (u < r) {
+			push_clamped(L, (draw(L, 3, ours) * 2 - 1) * rp, 2);
+			lua_setfield(L, -2, "weight");
+		}
+		lua_pop(L, 1);
+	}
+	return 0;
+}
+
+/* A number field of the table at idx as a key to sort by. */
+typedef struct keyed {
+	double key;
+	int slot; /* the table's index in the list being sorted */
+} keyed;
+
+static int by_key(const void *a, const void *b)
+{
+	double x = ((const keyed *)a)->key, y = ((const keyed *)b)->key;
+	return (x > y) - (x < y);
+}
+
+/* Sorts the list at `list` by each element's field `field` (distinct
+ * values: innovations, node ids), as table.sort does with a < on them. */
+static void sort_list(lua_State *L, int list, const char *field)
+{
+	lua_Integer n = (lua_Integer)lua_rawlen(L, list);
+	if (n < 2)
+		return;
+	keyed *k = lua_newuserdatauv(L, (size_t)n * sizeof *k, 0);
+	int sorted = 1;
+	for (lua_Integer i = 0; i < n; i++) {
+		lua_rawgeti(L, list, i + 1);
+		k[i].key = num_field(L, -1, field);
+		k[i].slot = (int)i + 1;
+		lua_pop(L, 1);
+		if (i > 0 && k[i].key < k[i - 1].key)
+			sorted = 0;
+	}
+	if (!sorted) {
+		qsort(k, (size_t)n, sizeof *k, by_key);
+		int base = lua_gettop(L);
+		luaL_checkstack(L, (int)n, "sort: too long a list");
+		for (lua_Integer i = 0; i < n; i++)
+			lua_rawgeti(L, list, k[i].slot);
+		for (lua_Integer i = n; i >= 1; i--)
+			lua_rawseti(L, list, i);
+		lua_settop(L, base);
+	}
+	lua_pop(L, 1);
+}
+
+/* A copy of the gene at the top of the stack, pushed. */
+static void push_gene_copy(lua_State *L)
+{
+	int src = lua_gettop(L);
+	lua_createtable(L, 0, 5);
+	static const char *const F[] = {"innov", "from", "to", "weight",
+					 "enabled"};
+	for (int f = 0; f < 5; f++) {
+		lua_getfield(L, src, F[f]);
+		lua_setfield(L, -2, F[f]);
+	}
+}
+
+static void push_node_copy(lua_State *L)
+{
+	int src = lua_gettop(L);
+	lua_createtable(L, 0, 4);
+	static const char *const F[] = {"id", "kind", "act", "value"};
+	for (int f = 0; f < 4; f++) {
+		lua_getfield(L, src, F[f]);
+		lua_setfield(L, -2, F[f]);
+	}
+}
+
+/* Does any gene of the list at `links` start or end at node `id`? */
+static int links_touch(lua_State *L, int links, double id)
+{
+	lua_Integer n = (lua_Integer)lua_rawlen(L, links);
+	for (lua_Integer i = 1; i <= n; i++) {
+		lua_rawgeti(L, links, i);
+		int hit = num_field(L, -1, "from") == id ||
+			  num_field(L, -1, "to") == id;
+		lua_pop(L, 1);
+		if (hit)
+			return 1;
+	}
+	return 0;
+}
+
+/* A member's place: fitness, then its random key, then its index. */
+typedef struct ranked {
+	double fitness, key;
+	lua_Integer index;
+} ranked;
+
+static int by_rank(const void *pa, const void *pb)
+{
+	const ranked *a = pa, *b = pb;
+	if (a->fitness != b->fitness)
+		return a->fitness > b->fitness ? -1 : 1;
+	if (a->key != b->key)
+		return a->key < b->key ? -1 : 1;
+	return (a->index > b->index) - (a->index < b->index);
+}
+
+/* rank(members, keys) -> the indices 1 .. #members, fittest first, equal
+ * fitness by smaller key, then by smaller index: the order tell's
+ * table.sort gives (a strict total order has one sorted order). */
+static int l_rank(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	lua_Integer n = (lua_Integer)lua_rawlen(L, 1);
+	ranked *r = lua_newuserdatauv(L, (size_t)(n ? n : 1) * sizeof *r, 0);
+	for (lua_Integer i = 0; i < n; i++) {
+		lua_rawgeti(L, 1, i + 1);
+		r[i].fitness = num_field(L, -1, "fitness");
+		lua_pop(L, 1);
+		lua_rawgeti(L, 2, i + 1);
+		r[i].key = lua_tonumber(L, -1);
+		lua_pop(L, 1);
+		r[i].index = i + 1;
+	}
+	qsort(r, (size_t)n, sizeof *r, by_rank);
+	lua_createtable(L, (int)n, 0);
+	for (lua_Integer i = 0; i < n; i++) {
+		lua_pushinteger(L, r[i].index);
+		lua_rawseti(L, -2, i + 1);
+	}
+	return 1;
+}
+
+/* crossover(a, fa, b, fb, o, rng) -> child, as neat.crossover makes it,
+ * or nothing when the parents are of equal fitness and o.tie_smaller is
+ * off (the paper's way, which neat.crossover keeps in Lua). */
+static int l_crossover(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	luaL_checktype(L, 5, LUA_TTABLE);
+	luaL_checktype(L, 6, LUA_TTABLE);
+	lua_settop(L, 6);
+	int a = 1, b = 3;
+	if (lua_compare(L, 2, 4, LUA_OPLT)) { /* fb > fa */
+		a = 3;
+		b = 1;
+	}
+	int equal = lua_compare(L, 2, 4, LUA_OPEQ);
+	lua_getfield(L, 5, "tie_smaller");
+	int tie_smaller = lua_toboolean(L, -1);
+	lua_pop(L, 1);
+	if (equal && !tie_smaller)
+		return 0;
+	lua_getfield(L, a, "links"); /* 7 */
+	lua_getfield(L, b, "links"); /* 8 */
+	luaL_checktype(L, 7, LUA_TTABLE);
+	luaL_checktype(L, 8, LUA_TTABLE);
+	if (equal && lua_rawlen(L, 8) < lua_rawlen(L, 7)) {
+		int t = a;
+		a = b;
+		b = t;
+		lua_rotate(L, 7, 1); /* swap 7 and 8 */
+	}
+	int al = 7, bl = 8;
+	int ours = rng_is_ours(L, 6);
+	double average = draw(L, 6, ours) < num_field(L, 5, "mate_avg_prob");
+	double disable = num_field(L, 5, "disable_prob");
+	/* b's genes by innovation: 9 */
+	lua_Integer nb = (lua_Integer)lua_rawlen(L, bl);
+	lua_createtable(L, 0, (int)nb);
+	for (lua_Integer i = 1; i <= nb; i++) {
+		lua_rawgeti(L, bl, i);
+		lua_getfield(L, -1, "innov");
+		lua_pushvalue(L, -2);
+		lua_rawset(L, 9);
+		lua_pop(L, 1);
+	}
+	/* the child: 10, its links: 11 */
+	lua_createtable(L, 0, 2);
+	lua_Integer na = (lua_Integer)lua_rawlen(L, al);
+	lua_createtable(L, (int)na, 0);
+	lua_pushvalue(L, -1);
+	lua_setfield(L, 10, "links");
+	int n = 0;
+	for (lua_Integer i = 1; i <= na; i++) {
+		lua_rawgeti(L, al, i); /* l: 12 */
+		lua_getfield(L, 12, "innov");
+		lua_rawget(L, 9); /* m: 13 */
+		if (!lua_isnil(L, 13)) {
+			int pick = draw(L, 6, ours) < 0.5 ? 12 : 13;
+			lua_getfield(L, 12, "enabled");
+			lua_getfield(L, 13, "enabled");
+			int somewhere = !lua_toboolean(L, -2) ||
+					!lua_toboolean(L, -1);
+			lua_pop(L, 2);
+			lua_pushvalue(L, pick);
+			push_gene_copy(L);
+			if (somewhere) {
+				lua_pushboolean(L, draw(L, 6, ours) >= disable);
+				lua_setfield(L, -2, "enabled");
+			}
+			if (average) {
+				double wl = num_field(L, 12, "weight");
+				double wm = num_field(L, 13, "weight");
+				lua_pushnumber(L, (wl + wm) / 2);
+				lua_setfield(L, -2, "weight");
+			}
+			lua_rawseti(L, 11, ++n);
+			lua_pop(L, 1); /* the picked gene */
+		} else {
+			lua_pushvalue(L, 12);
+			push_gene_copy(L);
+			lua_rawseti(L, 11, ++n);
+			lua_pop(L, 1);
+		}
+		lua_pop(L, 2);
+	}
+	/* nodes: all of a's, then b's that the child's genes need */
+	lua_getfield(L, a, "nodes"); /* 12 */
+	lua_getfield(L, b, "nodes"); /* 13 */
+	luaL_checktype(L, 12, LUA_TTABLE);
+	luaL_checktype(L, 13, LUA_TTABLE);
+	lua_Integer ma = (lua_Integer)lua_rawlen(L, 12);
+	lua_createtable(L, (int)ma + 1, 0); /* 14 */
+	lua_pushvalue(L, -1);
+	lua_setfield(L, 10, "nodes");
+	lua_createtable(L, 0, (int)ma); /* have: 15 */
+	int k = 0;
+	for (lua_Integer i = 1; i <= ma; i++) {
+		lua_rawgeti(L, 12, i);
+		lua_getfield(L, -1, "id");
+		lua_pushboolean(L, 1);
+		lua_rawset(L, 15);
+		push_node_copy(L);
+		lua_rawseti(L, 14, ++k);
+		lua_pop(L, 1);
+	}
+	lua_Integer mb = (lua_Integer)lua_rawlen(L, 13);
+	for (lua_Integer i = 1; i <= mb; i++) {
+		lua_rawgeti(L, 13, i);
+		lua_getfield(L, -1, "id");
+		double id = lua_tonumber(L, -1);
+		int have = lua_rawget(L, 15) != LUA_TNIL;
+		lua_pop(L, 1);
+		if (!have && links_touch(L, 11, id)) {
+			lua_getfield(L, -1, "id");
+			lua_pushboolean(L, 1);
+			lua_rawset(L, 15);
+			push_node_copy(L);
+			lua_rawseti(L, 14, ++k);
+		}
+		lua_pop(L, 1);
+	}
+	sort_list(L, 11, "innov");
+	sort_list(L, 14, "id");
+	lua_pushvalue(L, 10);
+	return 1;
+}
+
+/* ------------------------------------------------------------------ */
+
+static const luaL_Reg FUNCS[] = {
+    {"rng_next", l_rng_next},
+    {"rng_unit", l_rng_unit},
+    {"mutate_weights", l_mutate_weights},
+    {"crossover", l_crossover},
+    {"rank", l_rank},
+    {"distance", l_distance},
+    {"pack_net", l_pack_net},
+    {"dump", l_dump},
+    {NULL, NULL},
+};
+
+static int open_neat(lua_State *L)
+{
+	if (luaL_newmetatable(L, BUF_TYPE)) {
+		lua_pushcfunction(L, free_buffer);
+		lua_setfield(L, -2, "__gc");
+	}
+	lua_pop(L, 1);
+	luaL_newmetatable(L, NET_TYPE);
+	lua_pop(L, 1);
+	luaL_newlib(L, FUNCS);
+	return 1;
+}
+
+void evo_lua_open_neat(lua_State *L)
+{
+	luaL_requiref(L, "evo.neat", open_neat, 0);
+	lua_pop(L, 1);
+}

@@ -1,0 +1,169 @@
+-- Unit tests of evo.neat (sim/learn/lua_neat.c), the learning loop's
+-- kernels in C, run by tests/sim/lua/test_lua_scripts.c (whose states have
+-- evo.neat, as the loop's does): each against values worked out by hand
+-- and against the Lua it replaces (neat.*_lua, serialize.dump_lua,
+-- Rng.unit_lua), which must give the same numbers to the last bit.
+local fast = package.loaded["evo.neat"]
+local neat = require "learn.neat"
+local random = require "learn.rng"
+local serialize = require "learn.serialize"
+
+local function check(cond, msg)
+	if not cond then error(msg or "check failed", 2) end
+end
+
+local function genome(links)
+	local g = { nodes = {}, links = {} }
+	for _, l in ipairs(links) do
+		g.links[#g.links + 1] = { innov = l[1], from = 0, to = 3, weight = l[2], enabled = true }
+	end
+	return g
+end
+
+local T = {}
+
+function T.the_loop_state_has_the_kernels_and_the_methods_use_them()
+	check(fast, "evo.neat is loaded")
+	check(neat.distance == fast.distance, "neat.distance is C")
+	check(neat.mutate_weights == fast.mutate_weights, "mutate_weights is C")
+	check(serialize.dump == fast.dump, "serialize.dump is C")
+	check(random.new(1).unit == fast.rng_unit, "rng:unit is C")
+end
+
+-- a: innovations 1, 2, 4; b: 1, 3, 4, 6, 7. Matching 1 (|0.5 - 1.5| = 1)
+-- and 4 (|2 - 1| = 1): W = 1. Disjoint: 2 (a) and 3 (b). Excess: 6, 7.
+-- Both below 20 genes: N = 1, so delta = 1*2 + 1*2 + 0.4*1 = 4.4; with
+-- normalize_below 0, N = 5: 2/5 + 2/5 + 0.4 = 1.2.
+function T.distance_of_hand_made_genomes()
+	local a = genome{ { 1, 0.5 }, { 2, -1.0 }, { 4, 2.0 } }
+	local b = genome{ { 1, 1.5 }, { 3, 0.0 }, { 4, 1.0 }, { 6, 0.25 }, { 7, 0.0 } }
+	local o = { c1 = 1.0, c2 = 1.0, c3 = 0.4, normalize_below = 20 }
+	check(math.abs(fast.distance(a, b, o) - 4.4) < 1e-12, "delta " .. fast.distance(a, b, o))
+	check(fast.distance(a, b, o) == fast.distance(b, a, o), "symmetric")
+	check(fast.distance(a, a, o) == 0, "a genome is at 0 from itself")
+	o.normalize_below = 0
+	check(math.abs(fast.distance(a, b, o) - 1.2) < 1e-12, "normalised " .. fast.distance(a, b, o))
+	-- no matching gene: W is 0, not 0/0
+	local c = genome{ { 9, 3.0 } }
+	o.normalize_below = 20
+	check(fast.distance(a, c, o) == 4, "3 disjoint + 1 excess " .. fast.distance(a, c, o))
+	check(fast.distance(genome{}, genome{}, o) == 0, "two empty genomes")
+	for _, x in ipairs{ a, b, c } do
+		for _, y in ipairs{ a, b, c } do
+			check(fast.distance(x, y, o) == neat.distance_lua(x, y, o), "C and Lua agree")
+		end
+	end
+end
+
+-- xoshiro256** seeded by splitmix64 from 42, as tests/lua/test_rng.lua
+-- checks it word by word: the C and the Lua give the same stream.
+function T.random_draws_are_the_lua_generators()
+	local a, b = random.new(42), random.new(42)
+	for _ = 1, 1000 do
+		check(fast.rng_next(a) == b:next_lua(), "next")
+		check(fast.rng_unit(a) == b:unit_lua(), "unit")
+	end
+	check(serialize.dump_lua(a:save()) == serialize.dump_lua(b:save()), "same state after")
+	-- unit is the top 53 bits of next over 2^53
+	local c, d = random.new(7), random.new(7)
+	check(fast.rng_unit(c) == (d:next_lua() >> 11) / 2 ^ 53, "unit from next")
+end
+
+-- A population's genomes after a few generations (hidden nodes, disabled
+-- links), and a copy of the generator state: the C and the Lua kernel
+-- each run from the same state must make the same genome and leave the
+-- generator in the same state.
+local function grown_population()
+	local pop = neat.new{ inputs = 3, outputs = 2, rng = random.new(5),
+		options = { pop_size = 40, add_node_prob = 0.3, add_link_prob = 0.3 } }
+	for _ = 1, 6 do
+		local fit = {}
+		for i, g in ipairs(pop:genomes()) do fit[i] = #g.links + (i % 3) end
+		pop:tell(fit)
+	end
+	return pop
+end
+
+function T.crossover_and_weight_mutation_are_the_luas_draw_for_draw()
+	local pop = grown_population()
+	local gs, o = pop:genomes(), pop.options
+	local r = random.new(99)
+	for k = 1, #gs - 1 do
+		local a, b = gs[k], gs[k + 1]
+		for _, fits in ipairs{ { 3, 1 }, { 1, 3 }, { 2, 2 } } do
+			for _, avg in ipairs{ 0, 1 } do
+				o.mate_avg_prob = avg
+				local r1, r2 = random.load(r:save()), random.load(r:save())
+				local c1 = fast.crossover(a, fits[1], b, fits[2], o, r1)
+				local c2 = neat.crossover_lua(a, fits[1], b, fits[2], o, r2)
+				check(serialize.dump_lua(c1) == serialize.dump_lua(c2), "same child")
+				check(serialize.dump_lua(r1:save()) == serialize.dump_lua(r2:save()), "same draws")
+				r:unit()
+			end
+		end
+		for _, scheme in ipairs{ "code", "paper" } do
+			o.weight_mutation = scheme
+			local g1, g2 = neat.copy_genome(a), neat.copy_genome(a)
+			local r1, r2 = random.load(r:save()), random.load(r:save())
+			fast.mutate_weights(g1, o, r1)
+			neat.mutate_weights_lua(g2, o, r2)
+			check(serialize.dump_lua(g1) == serialize.dump_lua(g2), "same weights " .. scheme)
+			check(serialize.dump_lua(r1:save()) == serialize.dump_lua(r2:save()), "same draws")
+		end
+	end
+	-- equal fitness without tie_smaller: the paper's crossover, left to Lua
+	o.tie_smaller = false
+	check(fast.crossover(gs[1], 1, gs[2], 1, o, random.new(1)) == nil, "left to Lua")
+end
+
+-- By hand: parent a (fitter) has genes 1, 2 (off), 4; b has 1, 3, 4.
+-- Matching 1 and 4 come from either parent; 2 is a's disjoint gene, kept;
+-- b's 3 is not inherited. A generator whose every draw is 0.25 picks a's
+-- gene (0.25 < 0.5), averages (0.25 < mate_avg_prob 0.4), and keeps a
+-- gene disabled in a parent enabled only if the draw >= disable_prob.
+function T.crossover_by_hand_with_a_fixed_generator()
+	local quarter = { unit = function() return 0.25 end }
+	local a = { nodes = { { id = 0, kind = "input" }, { id = 1, kind = "output", act = "identity" } }, links = {
+		{ innov = 1, from = 0, to = 1, weight = 1.0, enabled = true },
+		{ innov = 2, from = 0, to = 1, weight = 2.0, enabled = false },
+		{ innov = 4, from = 0, to = 1, weight = 4.0, enabled = true } } }
+	local b = { nodes = { { id = 0, kind = "input" }, { id = 1, kind = "output", act = "identity" },
+		{ id = 5, kind = "hidden", act = "identity" } }, links = {
+		{ innov = 1, from = 0, to = 1, weight = 3.0, enabled = false },
+		{ innov = 3, from = 0, to = 5, weight = 9.0, enabled = true },
+		{ innov = 4, from = 0, to = 1, weight = 0.0, enabled = true } } }
+	local o = { mate_avg_prob = 0.4, disable_prob = 0.75, tie_smaller = true }
+	local c = fast.crossover(a, 2, b, 1, o, quarter)
+	check(#c.links == 3 and c.links[1].innov == 1 and c.links[2].innov == 2 and c.links[3].innov == 4,
+		"genes 1, 2, 4")
+	check(c.links[1].weight == 2.0 and c.links[3].weight == 2.0, "matching weights averaged")
+	check(c.links[1].enabled == false, "1 disabled in b: 0.25 < 0.75 keeps it off")
+	check(c.links[2].weight == 2.0 and c.links[2].enabled == false, "a's disjoint gene as it is")
+	check(#c.nodes == 2, "b's hidden node 5 is not needed")
+	check(c.links[1] ~= a.links[1], "genes are copies")
+	-- b fitter: its genes 1, 3, 4, and the node 5 gene 3 needs
+	c = fast.crossover(a, 1, b, 2, o, quarter)
+	check(#c.links == 3 and c.links[2].innov == 3 and #c.nodes == 3 and c.nodes[3].id == 5, "b's genes and node 5")
+end
+
+-- The checkpoint text: the same bytes as the Lua writer on what a
+-- checkpoint holds and on the corners of the format.
+function T.dump_is_the_lua_writers_text()
+	check(fast.dump{ 1, 2.0, "a\n" } == 'return {1,2.0,"a\\\n",}\n', "by hand")
+	check(fast.dump{ b = true, a = -0.0 } == "return {[\"a\"]=-0.0,[\"b\"]=true,}\n", "keys in order, -0.0")
+	local corner = {
+		1, 2.5, -0.0, 1 / 0, -1 / 0, 0 / 0, math.mininteger, math.maxinteger, 2 ^ 53, -(2 ^ 53) + 1,
+		1e300, 5e-324, 3.0, "quote \" back \\ nl \n cr \r nul \0 one\0001 tab\t del\127", {},
+		{ [1] = "a", [3] = "c" }, { [true] = 1, [2] = "n", x = "s", [1.5] = "f" },
+		{ { { { deep = { 1, { 2 } } } } } },
+	}
+	check(fast.dump(corner) == serialize.dump_lua(corner), "corners")
+	local pop = grown_population()
+	local saved = neat.save(pop, true)
+	check(fast.dump(saved) == serialize.dump_lua(saved), "a population")
+	check(serialize.load(fast.dump(saved), "t").next_innov == pop.next_innov, "reads back")
+	local ok, err = pcall(fast.dump, { f = print })
+	check(not ok and tostring(err):find("cannot save a function"), "refuses a function")
+end
+
+return T
