@@ -401,7 +401,7 @@ end
 -- The restart criteria after a generation (see the header); the name of
 -- the one that holds, or nil.
 function Pop:should_restart(fitness)
-	local p, n = self.params, self.n
+	local n = self.n
 	local window = 10 + math.ceil(30 * n / self.lambda)
 	local bests, g = self.bests, #self.bests
 	if g > window then
@@ -431,7 +431,6 @@ function Pop:should_restart(fitness)
 	local dmax, dmin = 0, math.huge
 	for i = 1, n do dmax, dmin = math.max(dmax, self.D[i]), math.min(dmin, self.D[i]) end
 	if (dmax / dmin) ^ 2 > 1e14 then return "ConditionCov" end
-	local _ = p
 	return nil
 end
 

@@ -50,8 +50,8 @@ static void rotate(int n, double *a, double *v, int p, int q)
 	if (apq == 0)
 		return;
 	double theta = (a[q * n + q] - a[p * n + p]) / (2 * apq);
-	double t = (theta >= 0 ? 1.0 : -1.0) /
-		   (fabs(theta) + sqrt(theta * theta + 1));
+	double t =
+	    (theta >= 0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1));
 	double c = 1 / sqrt(t * t + 1), s = t * c;
 	for (int k = 0; k < n; k++) {
 		double akp = a[k * n + p], akq = a[k * n + q];
@@ -99,7 +99,8 @@ static int l_eigh(lua_State *L)
 	lua_Integer n = luaL_checkinteger(L, 1);
 	luaL_checktype(L, 2, LUA_TTABLE);
 	luaL_argcheck(L, n >= 1 && n <= MAX_N, 1, "n must be from 1 to 4096");
-	luaL_argcheck(L, luaL_len(L, 2) == n * n, 2, "a must hold n * n numbers");
+	luaL_argcheck(L, luaL_len(L, 2) == n * n, 2,
+		      "a must hold n * n numbers");
 	size_t nn = (size_t)(n * n);
 	double *a = lua_newuserdatauv(L, (2 * nn + (size_t)n) * sizeof *a, 0);
 	double *vec = a + nn, *val = vec + nn;
@@ -108,7 +109,8 @@ static int l_eigh(lua_State *L)
 		int ok;
 		a[i] = lua_tonumberx(L, -1, &ok);
 		if (!ok || !isfinite(a[i]))
-			return luaL_error(L, "eigh: a[%d] is not a finite number",
+			return luaL_error(L,
+					  "eigh: a[%d] is not a finite number",
 					  (int)i + 1);
 		lua_pop(L, 1);
 	}

@@ -159,9 +159,16 @@ end
 function T.separable_by_size_and_by_key()
 	local small = cmaes.new{ inputs = 5, outputs = 1, layers = 1, options = {}, rng = random.new(1) }
 	check(not small.separable and small.B, "36 weights: full covariance")
-	local big = cmaes.new{ inputs = 5, outputs = 1, layers = 1,
-		options = { separable_above = 20 }, rng = random.new(1) }
-	check(big.separable and not big.B, "above 20: diagonal")
+	local said = {}
+	local stderr = io.stderr
+	io.stderr = { write = function(_, ...) for _, x in ipairs{ ... } do said[#said + 1] = x end end }
+	local ok, big = pcall(cmaes.new, { inputs = 5, outputs = 1, layers = 1,
+		options = { separable_above = 20 }, rng = random.new(1) })
+	io.stderr = stderr
+	check(ok and big.separable and not big.B, "above 20: diagonal")
+	check(table.concat(said) == "CMAES: 36 weights, more than 20: the separable (diagonal) CMA-ES; "
+		.. "CMAES_SEPARABLE:false keeps the full covariance matrix, CMAES_SEPARABLE_ABOVE moves "
+		.. "the limit\n", "the message: " .. table.concat(said))
 	local forced = cmaes.new{ inputs = 5, outputs = 1, layers = 1,
 		options = { separable = "false", separable_above = 20 }, rng = random.new(1) }
 	check(not forced.separable, "CMAES_SEPARABLE:false keeps the full matrix")

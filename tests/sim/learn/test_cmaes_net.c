@@ -22,7 +22,10 @@ enum { N_IN = 3, N_H = 3, N_OUT = 1 };
 /* Genome weights in cmaes.lua's order for layers:1, no bias, recurrent:
  * each hidden unit: 3 from the inputs, 3 from the hidden units; then the
  * output: 3 from the hidden units. */
-static double genome_w(int k) { return 0.9 * sin(1.7 * k + 0.3); }
+static double genome_w(int k)
+{
+	return 0.9 * sin(1.7 * k + 0.3);
+}
 
 /* The .net text of that genome, from learn.cmaes; malloc'd, NULL on error. */
 static char *net_text(int recurrent)
@@ -33,14 +36,15 @@ static char *net_text(int recurrent)
 	evo_lua_open_linalg(L);
 	char code[2048];
 	int n = N_H * (N_IN + (recurrent ? N_H : 0)) + N_OUT * N_H;
-	snprintf(code, sizeof code,
-		 "local cmaes = require 'learn.cmaes'\n"
-		 "local w = {}\n"
-		 "for k = 1, %d do w[k] = 0.9 * math.sin(1.7 * (k - 1) + 0.3) end\n"
-		 "local g = { inputs = %d, outputs = %d, layers = 1, width = %d, "
-		 "bias = false, recurrent = %s, hidden_act = 'tanh', weights = w }\n"
-		 "return cmaes.to_net_text(cmaes.to_net(g))\n",
-		 n, N_IN, N_OUT, N_H, recurrent ? "true" : "false");
+	snprintf(
+	    code, sizeof code,
+	    "local cmaes = require 'learn.cmaes'\n"
+	    "local w = {}\n"
+	    "for k = 1, %d do w[k] = 0.9 * math.sin(1.7 * (k - 1) + 0.3) end\n"
+	    "local g = { inputs = %d, outputs = %d, layers = 1, width = %d, "
+	    "bias = false, recurrent = %s, hidden_act = 'tanh', weights = w }\n"
+	    "return cmaes.to_net_text(cmaes.to_net(g))\n",
+	    n, N_IN, N_OUT, N_H, recurrent ? "true" : "false");
 	char *text = NULL;
 	if (luaL_dostring(L, code) == LUA_OK)
 		text = strdup(lua_tostring(L, -1));
@@ -50,7 +54,10 @@ static char *net_text(int recurrent)
 	return text;
 }
 
-static double sigmoid(double x) { return 1 / (1 + exp(-x)); }
+static double sigmoid(double x)
+{
+	return 1 / (1 + exp(-x));
+}
 
 /* The largest difference over 50 steps between evo's compiled network
  * and the Elman recurrence in doubles. */
@@ -134,7 +141,8 @@ TEST(a_bias_free_feed_forward_network_is_a_valid_net)
 	CHECK(text != NULL);
 	if (!text)
 		return;
-	CHECK(strstr(text, "node:4:tanh:0\n") && strstr(text, "node:3:sigmoid:0\n"));
+	CHECK(strstr(text, "node:4:tanh:0\n") &&
+	      strstr(text, "node:3:sigmoid:0\n"));
 	static evo_netdesc d;
 	evo_diag err;
 	CHECK_EQ_INT(evo_netdesc_parse(text, strlen(text), "n.net", &d, &err),
