@@ -345,15 +345,21 @@ core-check: deps $(ARM_OBJS) $(BUILD)/arm/runtime.elf $(BUILD)/evo \
 
 # ---- fuzzing --------------------------------------------------------------
 FUZZ_BINS := $(patsubst tests/fuzz/%.c,$(BUILD)/fuzz/%,$(FUZZ_SRCS))
-$(BUILD)/fuzz/%: tests/fuzz/%.c $(CORE_SRCS)
+FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all
+# core/, compiled once for every target that links it, instrumented as
+# -fsanitize=fuzzer instruments (libFuzzer itself is linked per target).
+FUZZ_CORE_OBJS := $(patsubst core/src/%.c,$(BUILD)/fuzz/core/%.o,$(CORE_SRCS))
+$(BUILD)/fuzz/core/%.o: core/src/%.c
+	@mkdir -p $(dir $@)
+	$(CLANG) -std=c11 -O1 -g $(WARN) -Icore/include \
+		-fsanitize=fuzzer-no-link $(FUZZ_SAN) -MMD -MP -c $< -o $@
+$(BUILD)/fuzz/%: tests/fuzz/%.c $(FUZZ_CORE_OBJS)
 	@mkdir -p $(dir $@)
 	$(CLANG) -std=c11 -O1 -g $(WARN) -Icore/include -Itests \
-		-fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
-		-o $@ $< $(CORE_SRCS)
+		-fsanitize=fuzzer $(FUZZ_SAN) -o $@ $< $(FUZZ_CORE_OBJS)
 
 # The remote protocol's decoder, with the C lcm-gen made for it (built
 # without -Wpedantic and -Wmissing-prototypes, as for the host).
-FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all
 FUZZ_LCM_OBJS := $(patsubst $(LCM_GEN)/%.c,$(BUILD)/fuzz/lcm/%.o,$(LCM_GEN_SRCS))
 $(BUILD)/fuzz/lcm/%.o: $(LCM_GEN)/%.c
 	@mkdir -p $(dir $@)
@@ -377,11 +383,11 @@ $(BUILD)/fuzz/fuzz_cannelloni $(BUILD)/fuzz/fuzz_candump $(BUILD)/fuzz/fuzz_slca
 
 # A robot's frames over CAN: evo's receiver and the body's.
 $(BUILD)/fuzz/fuzz_can_robot: tests/fuzz/fuzz_can_robot.c sim/remote/can_robot_frames.c \
-		sim/remote/can_robot.h $(CORE_SRCS)
+		sim/remote/can_robot.h $(FUZZ_CORE_OBJS)
 	@mkdir -p $(dir $@)
 	$(CLANG) -std=c11 -O1 -g $(WARN) -Icore/include -Isim \
 		-fsanitize=fuzzer $(FUZZ_SAN) \
-		-o $@ $< sim/remote/can_robot_frames.c $(CORE_SRCS) -lm
+		-o $@ $< sim/remote/can_robot_frames.c $(FUZZ_CORE_OBJS) -lm
 
 # Rank 0's checks of a rank's messages (cluster runs); whole numbers as
 # users write them; the trace reader of firmware/host/.
@@ -438,4 +444,4 @@ format:
 clean:
 	rm -rf build
 
--include $(shell find $(BUILD)/obj $(BUILD)/arm -name '*.d' 2>/dev/null)
+-include $(shell find $(BUILD)/obj $(BUILD)/arm $(BUILD)/fuzz/core -name '*.d' 2>/dev/null)

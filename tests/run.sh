@@ -71,7 +71,7 @@ for t in "$@"; do
 	grep -qxF "$t" "$dir/order" || echo "$t"
 done >>"$dir/order"
 
-xargs -n 1 -P "${TEST_JOBS:-2}" sh "$0" --one "$dir" <"$dir/order"
+xargs -r -n 1 -P "${TEST_JOBS:-2}" sh "$0" --one "$dir" <"$dir/order"
 
 passed=0
 failed=0
