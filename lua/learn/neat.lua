@@ -219,6 +219,9 @@ local function copy_genome(g)
 	end
 	return { nodes = nodes, links = links }
 end
+neat.copy_genome_lua = copy_genome
+-- evo.neat's C where the state has it: the same copy.
+if fast then copy_genome = fast.copy_genome end
 neat.copy_genome = copy_genome
 
 local function sort_genome(g)
@@ -564,10 +567,23 @@ local function speciate(pop)
 	local o = pop.options
 	local threshold = pop.threshold or o.threshold
 	for _, s in ipairs(pop.species) do s.members = {} end
+	-- evo.neat's C where the state has it: each genome's species number
+	-- (a new one past the last for a genome that opens a species), found
+	-- with the same distances in the same order
+	local homes
+	if fast and neat.distance == fast.distance then
+		local reps = {}
+		for k, s in ipairs(pop.species) do reps[k] = s.rep end
+		homes = fast.speciate(pop.population, reps, o, threshold)
+	end
 	for gi, g in ipairs(pop.population) do
 		local home
-		for _, s in ipairs(pop.species) do
-			if neat.distance(g, s.rep, o) < threshold then home = s break end
+		if homes then
+			home = pop.species[homes[gi]]
+		else
+			for _, s in ipairs(pop.species) do
+				if neat.distance(g, s.rep, o) < threshold then home = s break end
+			end
 		end
 		if not home then
 			pop.next_species = pop.next_species + 1

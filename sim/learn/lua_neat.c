@@ -98,64 +98,196 @@ static double num_field(lua_State *L, int idx, enum key key)
 	return v;
 }
 
-/* Innovation and weight of gene i of the link list at `list`. */
-static void gene_at(lua_State *L, int list, lua_Integer i, double *innov,
-		    double *weight)
+/* A genome's genes as the distance reads them: innovations and weights
+ * in list order. */
+typedef struct genes {
+	const double *innov, *weight;
+	lua_Integer n;
+} genes;
+
+/* The options the distance reads. */
+typedef struct dist_opts {
+	double c1, c2, c3, normalize_below;
+} dist_opts;
+
+static dist_opts dist_opts_of(lua_State *L, int o)
 {
-	lua_rawgeti(L, list, i);
-	*innov = num_field(L, -1, K_INNOV);
-	*weight = num_field(L, -1, K_WEIGHT);
-	lua_pop(L, 1);
+	dist_opts d = {num_field(L, o, K_C1), num_field(L, o, K_C2),
+		       num_field(L, o, K_C3),
+		       num_field(L, o, K_NORMALIZE_BELOW)};
+	return d;
 }
 
-/* distance(a, b, o) = c1*E/N + c2*D/N + c3*W: E excess and D disjoint
- * genes, W the mean weight difference of the matching ones, N the larger
- * genome's gene count (1 when both have fewer than o.normalize_below). */
+/* c1*E/N + c2*D/N + c3*W: E excess and D disjoint genes, W the mean
+ * weight difference of the matching ones, N the larger genome's gene
+ * count (1 when both have fewer than normalize_below); neat.distance_lua's
+ * arithmetic in its order. */
+static double distance_of(const genes *a, const genes *b, const dist_opts *o)
+{
+	lua_Integer na = a->n, nb = b->n, i = 0, j = 0, matching = 0,
+		    disjoint = 0;
+	double wdiff = 0.0;
+	while (i < na && j < nb) {
+		double xi = a->innov[i], yi = b->innov[j];
+		if (xi == yi) {
+			matching++;
+			double d = a->weight[i] - b->weight[j];
+			wdiff += d < 0 ? -d : d;
+			i++;
+			j++;
+		} else if (xi < yi) {
+			disjoint++;
+			i++;
+		} else {
+			disjoint++;
+			j++;
+		}
+	}
+	lua_Integer excess = (na - i) + (nb - j);
+	lua_Integer n = na > nb ? na : nb;
+	if ((double)n < o->normalize_below)
+		n = 1;
+	double w = matching > 0 ? wdiff / (double)matching : 0.0;
+	return o->c1 * (double)excess / (double)n +
+	       o->c2 * (double)disjoint / (double)n + o->c3 * w;
+}
+
+/* The number of genes of genome `g` (a stack slot). */
+static lua_Integer gene_count(lua_State *L, int g)
+{
+	rget(L, g, K_LINKS);
+	luaL_checktype(L, -1, LUA_TTABLE);
+	lua_Integer n = (lua_Integer)lua_rawlen(L, -1);
+	lua_pop(L, 1);
+	return n;
+}
+
+/* Genome g's genes into innov[] and weight[] (room for gene_count). */
+static void read_genes(lua_State *L, int g, double *innov, double *weight,
+		       genes *out)
+{
+	rget(L, g, K_LINKS);
+	int list = lua_gettop(L);
+	lua_Integer n = (lua_Integer)lua_rawlen(L, list);
+	for (lua_Integer i = 0; i < n; i++) {
+		lua_rawgeti(L, list, i + 1);
+		innov[i] = num_field(L, -1, K_INNOV);
+		weight[i] = num_field(L, -1, K_WEIGHT);
+		lua_pop(L, 1);
+	}
+	lua_pop(L, 1);
+	out->innov = innov;
+	out->weight = weight;
+	out->n = n;
+}
+
+static void *scratch(lua_State *L, size_t bytes);
+
+/* distance(a, b, o): NEAT's compatibility distance (distance_of). */
 static int l_distance(lua_State *L)
 {
 	luaL_checktype(L, 1, LUA_TTABLE);
 	luaL_checktype(L, 2, LUA_TTABLE);
 	luaL_checktype(L, 3, LUA_TTABLE);
-	rget(L, 1, K_LINKS);
-	rget(L, 2, K_LINKS);
-	luaL_checktype(L, 4, LUA_TTABLE);
-	luaL_checktype(L, 5, LUA_TTABLE);
-	lua_Integer na = (lua_Integer)lua_rawlen(L, 4);
-	lua_Integer nb = (lua_Integer)lua_rawlen(L, 5);
-	lua_Integer i = 1, j = 1, matching = 0, disjoint = 0;
-	double wdiff = 0.0, xi = 0, xw = 0, yi = 0, yw = 0;
-	if (na >= 1)
-		gene_at(L, 4, 1, &xi, &xw);
-	if (nb >= 1)
-		gene_at(L, 5, 1, &yi, &yw);
-	while (i <= na && j <= nb) {
-		int step_a = 0, step_b = 0;
-		if (xi == yi) {
-			matching++;
-			double d = xw - yw;
-			wdiff += d < 0 ? -d : d;
-			step_a = step_b = 1;
-		} else if (xi < yi) {
-			disjoint++;
-			step_a = 1;
-		} else {
-			disjoint++;
-			step_b = 1;
-		}
-		if (step_a && ++i <= na)
-			gene_at(L, 4, i, &xi, &xw);
-		if (step_b && ++j <= nb)
-			gene_at(L, 5, j, &yi, &yw);
+	lua_Integer na = gene_count(L, 1), nb = gene_count(L, 2);
+	double *buf = scratch(L, 2 * (size_t)(na + nb) * sizeof *buf);
+	genes a, b;
+	read_genes(L, 1, buf, buf + na, &a);
+	read_genes(L, 2, buf + 2 * na, buf + 2 * na + nb, &b);
+	dist_opts o = dist_opts_of(L, 3);
+	lua_pushnumber(L, distance_of(&a, &b, &o));
+	return 1;
+}
+
+/* speciate(genomes, reps, o, threshold) -> home: home[i] is the species
+ * of genome i, as neat.lua's speciate assigns them: the first species
+ * whose representative (reps[k], k in order) is within distance
+ * `threshold` (distance(genome, rep) < threshold), else a new species
+ * numbered #reps + 1, #reps + 2, ... in the order they are opened, whose
+ * representative is that genome. */
+static int l_speciate(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	double threshold = luaL_checknumber(L, 4);
+	dist_opts o = dist_opts_of(L, 3);
+	int ng = (int)lua_rawlen(L, 1), nr = (int)lua_rawlen(L, 2);
+	size_t total = 0;
+	for (int k = 1; k <= nr; k++) {
+		lua_rawgeti(L, 2, k);
+		total += (size_t)gene_count(L, lua_gettop(L));
+		lua_pop(L, 1);
 	}
-	lua_Integer excess = (na - i + 1) + (nb - j + 1);
-	lua_Integer n = na > nb ? na : nb;
-	if ((double)n < num_field(L, 3, K_NORMALIZE_BELOW))
-		n = 1;
-	double w = matching > 0 ? wdiff / (double)matching : 0.0;
-	double c1 = num_field(L, 3, K_C1), c2 = num_field(L, 3, K_C2),
-	       c3 = num_field(L, 3, K_C3);
-	lua_pushnumber(L, c1 * (double)excess / (double)n +
-			      c2 * (double)disjoint / (double)n + c3 * w);
+	for (int k = 1; k <= ng; k++) {
+		lua_rawgeti(L, 1, k);
+		total += (size_t)gene_count(L, lua_gettop(L));
+		lua_pop(L, 1);
+	}
+	/* genes of every rep and genome, then each one's genes, then the
+	 * reps' indices into them (the old ones and the new) */
+	size_t bytes = 2 * total * sizeof(double) +
+		       (size_t)(nr + ng) * sizeof(genes) +
+		       (size_t)(nr + ng) * sizeof(int);
+	double *buf = scratch(L, bytes);
+	genes *all = (genes *)(void *)(buf + 2 * total);
+	int *rep = (int *)(void *)(all + nr + ng);
+	size_t at = 0;
+	for (int k = 0; k < nr + ng; k++) {
+		lua_rawgeti(L, k < nr ? 2 : 1, k < nr ? k + 1 : k - nr + 1);
+		int g = lua_gettop(L);
+		lua_Integer n = gene_count(L, g);
+		read_genes(L, g, buf + at, buf + at + (size_t)n, &all[k]);
+		at += 2 * (size_t)n;
+		lua_pop(L, 1);
+	}
+	int n_rep = nr;
+	for (int k = 0; k < nr; k++)
+		rep[k] = k;
+	lua_createtable(L, ng, 0);
+	for (int i = 0; i < ng; i++) {
+		const genes *g = &all[nr + i];
+		int home = 0;
+		while (home < n_rep && !(distance_of(g, &all[rep[home]], &o) <
+					 threshold))
+			home++;
+		if (home == n_rep)
+			rep[n_rep++] = nr + i;
+		lua_pushinteger(L, home + 1);
+		lua_rawseti(L, -2, i + 1);
+	}
+	return 1;
+}
+
+/* copy_genome(g) -> a copy of g's nodes and genes (neat.copy_genome). */
+static void push_gene_copy(lua_State *L);
+static void push_node_copy(lua_State *L);
+
+static void copy_list(lua_State *L, int g, int copy, enum key list,
+		      void (*push_copy)(lua_State *L))
+{
+	rget(L, g, list);
+	int src = lua_gettop(L);
+	luaL_checktype(L, src, LUA_TTABLE);
+	lua_createtable(L, (int)lua_rawlen(L, src), 0);
+	int dst = src + 1;
+	for (lua_Integer i = 1; lua_rawgeti(L, src, i) != LUA_TNIL; i++) {
+		push_copy(L);
+		lua_rawseti(L, dst, i);
+		lua_pop(L, 1);
+	}
+	lua_pop(L, 1);
+	rset(L, copy, list);
+	lua_pop(L, 1);
+}
+
+static int l_copy_genome(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	lua_settop(L, 1);
+	lua_createtable(L, 0, 2);
+	copy_list(L, 1, 2, K_NODES, push_node_copy);
+	copy_list(L, 1, 2, K_LINKS, push_gene_copy);
 	return 1;
 }
 
@@ -1164,6 +1296,8 @@ static const luaL_Reg FUNCS[] = {
     {"crossover", l_crossover},
     {"rank", l_rank},
     {"distance", l_distance},
+    {"speciate", l_speciate},
+    {"copy_genome", l_copy_genome},
     {"pack_net", l_pack_net},
     {"dump", l_dump},
     {NULL, NULL},
