@@ -13,6 +13,11 @@
 -- each generation; several learning teams take turns, each with a
 -- population of its own.
 local host = require "evo.learn"
+-- The collector starts a cycle when the heap has grown to 4 times what the
+-- last one kept (Lua's default: 2): a generation makes as many tables as
+-- the population holds, and at the default a good part of the loop's time
+-- went to marking the live genomes again and again.
+collectgarbage("incremental", 400)
 local common = require "learn.common"
 local random = require "learn.rng"
 local serialize = require "learn.serialize"

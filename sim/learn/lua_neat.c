@@ -261,7 +261,14 @@ static int l_speciate(lua_State *L)
 
 /* copy_genome(g) -> a copy of g's nodes and genes (neat.copy_genome). */
 static void push_gene_copy(lua_State *L);
-static void push_node_copy(lua_State *L);
+
+/* Gene lists are copied gene by gene (genes change: weights, enabled);
+ * node lists hold the same node tables (a node never changes once made:
+ * mutations add nodes to a genome's own list). */
+static void share_node(lua_State *L)
+{
+	lua_pushvalue(L, -1);
+}
 
 static void copy_list(lua_State *L, int g, int copy, enum key list,
 		      void (*push_copy)(lua_State *L))
@@ -286,7 +293,7 @@ static int l_copy_genome(lua_State *L)
 	luaL_checktype(L, 1, LUA_TTABLE);
 	lua_settop(L, 1);
 	lua_createtable(L, 0, 2);
-	copy_list(L, 1, 2, K_NODES, push_node_copy);
+	copy_list(L, 1, 2, K_NODES, share_node);
 	copy_list(L, 1, 2, K_LINKS, push_gene_copy);
 	return 1;
 }
@@ -1033,18 +1040,6 @@ static void push_gene_copy(lua_State *L)
 	}
 }
 
-static void push_node_copy(lua_State *L)
-{
-	int src = lua_gettop(L);
-	lua_createtable(L, 0, 4);
-	for (int f = K_ID; f <= K_VALUE; f++) {
-		if (rget(L, src, (enum key)f) == LUA_TNIL)
-			lua_pop(L, 1); /* as setfield of nil: no key */
-		else
-			rset(L, -2, (enum key)f);
-	}
-}
-
 /* Scratch memory for a kernel: one block per thread, grown as needed
  * and kept (still reachable, so never a leak), so a kernel that raises an
  * error leaks nothing. */
@@ -1259,9 +1254,7 @@ static int l_crossover(lua_State *L)
 		rget(L, -1, K_ID);
 		have[k] = eq_number(L, -1);
 		lua_pop(L, 1);
-		push_node_copy(L);
-		lua_rawseti(L, nodes, ++k);
-		lua_pop(L, 1);
+		lua_rawseti(L, nodes, ++k); /* shared: nodes never change */
 	}
 	for (int i = 1; i <= mb; i++) {
 		lua_rawgeti(L, bn, i);
@@ -1275,10 +1268,10 @@ static int l_crossover(lua_State *L)
 			needed = ends[e] == id;
 		if (needed) {
 			have[k] = id;
-			push_node_copy(L);
 			lua_rawseti(L, nodes, ++k);
+		} else {
+			lua_pop(L, 1);
 		}
-		lua_pop(L, 1);
 	}
 	sort_list(L, links, K_INNOV);
 	sort_list(L, nodes, K_ID);
