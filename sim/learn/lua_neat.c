@@ -625,7 +625,15 @@ static void put_string(lua_State *L, buffer *b, int idx)
 	put(L, b, "\"", 1);
 	for (size_t i = 0; i < len; i++) {
 		unsigned char c = (unsigned char)s[i];
-		if (c == '"' || c == '\\' || c == '\n') {
+		size_t run = 0; /* characters written as they are, from i */
+		while (i + run < len && s[i + run] != '"' &&
+		       s[i + run] != '\\' && s[i + run] != '\n' &&
+		       !iscntrl((unsigned char)s[i + run]))
+			run++;
+		if (run) {
+			put(L, b, s + i, run);
+			i += run - 1;
+		} else if (c == '"' || c == '\\' || c == '\n') {
 			char e[2] = {'\\', (char)c};
 			put(L, b, e, 2);
 		} else if (iscntrl(c)) {
@@ -635,8 +643,6 @@ static void put_string(lua_State *L, buffer *b, int idx)
 			snprintf(e, sizeof e, isdigit(next) ? "\\%03d" : "\\%d",
 				 (int)c);
 			puts_(L, b, e);
-		} else {
-			put(L, b, (const char *)&s[i], 1);
 		}
 	}
 	put(L, b, "\"", 1);
