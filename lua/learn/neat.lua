@@ -17,6 +17,8 @@
 -- always 1, as in the paper), n+1..n+m the outputs, then hidden nodes in the
 -- order the innovation registry created them. A link gene is
 -- { innov, from, to, weight, enabled }; links are kept sorted by innovation.
+-- A node table never changes once made (mutations add nodes to a genome's
+-- own list), so copies and children may share it; genes do change.
 --
 -- Bias. The paper feeds a constant-1 bias input; evo's .net has no such
 -- input but a bias per node. neat.to_net therefore drops the bias node and

@@ -6,6 +6,9 @@
  *
  *   distance(a, b, o)  NEAT's compatibility distance of two genomes
  *                      (lua/learn/neat.lua's neat.distance_lua)
+ *   speciate(genomes, reps, o, threshold)  each genome's species, as
+ *                      neat.lua's speciate finds them with distance
+ *   copy_genome(g)     neat.copy_genome_lua's copy, the node tables shared
  *   pack_net(g)        a genome as the network evo.evaluate runs, packed
  *                      in a userdata (neat.to_net and learn.c's reading
  *                      of its table, in one step)
@@ -19,7 +22,11 @@
  *   rank(members, keys) the order tell sorts a species' members into
  *
  * A genome is { nodes = { {id, kind, act, value}, ... }, links = { {innov,
- * from, to, weight, enabled}, ... } }, links sorted by innovation. */
+ * from, to, weight, enabled}, ... } }, links sorted by innovation. Genes
+ * change in place (weights, enabled); nodes never do once made, so
+ * copies and children share them. Field names are looked up through the
+ * module's upvalues (enum key): lua_getfield would intern its C string on
+ * every call, which cost as much as the kernels' own work. */
 #include "learn/lua_neat.h"
 
 #include <ctype.h>
