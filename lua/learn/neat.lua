@@ -456,7 +456,7 @@ end
 
 -- One mutation step as NEAT's original code does it: a structural mutation,
 -- else (maybe) the weights.
-function neat.mutate(pop, g, rng)
+function neat.mutate_lua(pop, g, rng)
 	local o = pop.options
 	if rng:unit() < o.add_node_prob then
 		neat.mutate_add_node(pop, g, rng)
@@ -467,6 +467,24 @@ function neat.mutate(pop, g, rng)
 		if o.toggle_prob > 0 and rng:unit() < o.toggle_prob then neat.mutate_toggle(g, rng) end
 		if o.reenable_prob > 0 and rng:unit() < o.reenable_prob then neat.mutate_reenable(g) end
 	end
+end
+-- evo.neat's C makes the first draws and the weight mutation (the same
+-- draws, the same weights); the structural mutations stay Lua's.
+if fast then
+	function neat.mutate(pop, g, rng)
+		local o = pop.options
+		local what = fast.mutate(g, o, rng)
+		if what == 1 then
+			neat.mutate_add_node(pop, g, rng)
+		elseif what == 2 then
+			neat.mutate_add_link(pop, g, rng)
+		else
+			if o.toggle_prob > 0 and rng:unit() < o.toggle_prob then neat.mutate_toggle(g, rng) end
+			if o.reenable_prob > 0 and rng:unit() < o.reenable_prob then neat.mutate_reenable(g) end
+		end
+	end
+else
+	neat.mutate = neat.mutate_lua
 end
 
 -- Crossover: genes aligned by innovation; matching genes from either parent
@@ -803,11 +821,14 @@ function Pop:tell(fitness)
 		-- outputs saturate to exact values, so ties are common (XOR's
 		-- networks that get three cases right score exactly 9), and a
 		-- fixed order would make the same few genomes parents every time.
-		local idx, key = {}, {}
-		for k = 1, #members do idx[k], key[k] = k, rng:unit() end
+		local idx, key
 		if fast then
-			idx = fast.rank(members, key) -- the same order, sorted in C
+			-- the same draws and the same order, in C
+			key = fast.draws(rng, #members)
+			idx = fast.rank(members, key)
 		else
+			idx, key = {}, {}
+			for k = 1, #members do idx[k], key[k] = k, rng:unit() end
 			table.sort(idx, function(x, y)
 				if members[x].fitness ~= members[y].fitness then return members[x].fitness > members[y].fitness end
 				if key[x] ~= key[y] then return key[x] < key[y] end

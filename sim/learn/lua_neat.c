@@ -56,7 +56,7 @@ enum key {
 	K_C2, K_C3, K_WEIGHT_MAX, K_PERTURB_PROB, K_WEIGHT_MUTATION,
 	K_SEVERE_PROB, K_PERTURB_POWER, K_REPLACE_POWER, K_TIE_SMALLER,
 	K_MATE_AVG_PROB, K_DISABLE_PROB, K_INPUT, K_OUTPUT, K_BIAS, K_HIDDEN,
-	K_CODE, K_COUNT
+	K_CODE, K_ADD_NODE_PROB, K_ADD_LINK_PROB, K_WEIGHT_MUT_PROB, K_COUNT
 };
 
 static const char *const KEY_NAMES[K_COUNT] = {
@@ -68,6 +68,7 @@ static const char *const KEY_NAMES[K_COUNT] = {
     "weight_mutation", "severe_prob", "perturb_power", "replace_power",
     "tie_smaller",  "mate_avg_prob", "disable_prob",  "input",
     "output",	    "bias",	     "hidden",	      "code",
+    "add_node_prob", "add_link_prob", "weight_mut_prob",
 };
 
 /* Pushes t[key] (t a plain table: no metamethods) and returns its type. */
@@ -947,57 +948,110 @@ static void push_clamped(lua_State *L, double w, int max)
 	}
 }
 
-/* mutate_weights(g, o, rng): neat.lua's mutate_weights ("code" and
- * "paper"), the same draws in the same order. */
+/* neat.lua's mutate_weights ("code" and "paper") on genome g with options
+ * o (stack slots), drawing from r: the same draws in the same order. */
+static void mutate_weights_with(lua_State *L, int g, int o, rng_src *r)
+{
+	int top = lua_gettop(L);
+	rget(L, g, K_LINKS);
+	int links = top + 1;
+	luaL_checktype(L, links, LUA_TTABLE);
+	rget(L, o, K_WEIGHT_MAX);
+	int max = top + 2;
+	lua_Integer n = (lua_Integer)lua_rawlen(L, links);
+	double perturb = num_field(L, o, K_PERTURB_PROB), replace = 1.0;
+	double newest_after = HUGE_VAL;
+	rget(L, o, K_WEIGHT_MUTATION);
+	int code = is_key(L, -1, K_CODE);
+	lua_pop(L, 1);
+	if (code) {
+		int severe = draw(L, r) < num_field(L, o, K_SEVERE_PROB);
+		perturb = severe ? 0.7 : 1.0;
+		replace = severe ? 0.9 : 1.0;
+		if (!severe && n >= 10)
+			newest_after = (double)n * 0.8;
+	}
+	double pp = num_field(L, o, K_PERTURB_POWER);
+	double rp = num_field(L, o, K_REPLACE_POWER);
+	for (lua_Integer k = 1; k <= n; k++) {
+		if (lua_rawgeti(L, links, k) == LUA_TNIL)
+			break; /* ipairs stops there */
+		double p = perturb, rr = replace;
+		if ((double)(k - 1) > newest_after) {
+			p = 0.5;
+			rr = 0.7;
+		}
+		double u = draw(L, r);
+		if (u < p) {
+			double w = num_field(L, -1, K_WEIGHT);
+			push_clamped(L, w + (draw(L, r) * 2 - 1) * pp, max);
+			rset(L, -2, K_WEIGHT);
+		} else if (u < rr) {
+			push_clamped(L, (draw(L, r) * 2 - 1) * rp, max);
+			rset(L, -2, K_WEIGHT);
+		}
+		lua_pop(L, 1);
+	}
+	lua_settop(L, top);
+}
+
+/* mutate_weights(g, o, rng): neat.lua's mutate_weights. */
 static int l_mutate_weights(lua_State *L)
 {
 	luaL_checktype(L, 1, LUA_TTABLE);
 	luaL_checktype(L, 2, LUA_TTABLE);
 	luaL_checktype(L, 3, LUA_TTABLE);
 	lua_settop(L, 3);
-	rget(L, 1, K_LINKS);
-	luaL_checktype(L, 4, LUA_TTABLE);
-	rget(L, 2, K_WEIGHT_MAX); /* 5 */
-	lua_Integer n = (lua_Integer)lua_rawlen(L, 4);
-	double perturb = num_field(L, 2, K_PERTURB_PROB), replace = 1.0;
-	double newest_after = HUGE_VAL;
-	rget(L, 2, K_WEIGHT_MUTATION);
-	int code = is_key(L, -1, K_CODE);
-	lua_pop(L, 1);
 	rng_src r;
 	rng_begin(L, 3, &r);
-	if (code) {
-		int severe = draw(L, &r) < num_field(L, 2, K_SEVERE_PROB);
-		perturb = severe ? 0.7 : 1.0;
-		replace = severe ? 0.9 : 1.0;
-		if (!severe && n >= 10)
-			newest_after = (double)n * 0.8;
-	}
-	double pp = num_field(L, 2, K_PERTURB_POWER);
-	double rp = num_field(L, 2, K_REPLACE_POWER);
-	for (lua_Integer k = 1; k <= n; k++) {
-		if (lua_rawgeti(L, 4, k) == LUA_TNIL) {
-			lua_pop(L, 1);
-			break; /* ipairs stops there */
-		}
-		double p = perturb, rr = replace;
-		if ((double)(k - 1) > newest_after) {
-			p = 0.5;
-			rr = 0.7;
-		}
-		double u = draw(L, &r);
-		if (u < p) {
-			double w = num_field(L, -1, K_WEIGHT);
-			push_clamped(L, w + (draw(L, &r) * 2 - 1) * pp, 5);
-			rset(L, -2, K_WEIGHT);
-		} else if (u < rr) {
-			push_clamped(L, (draw(L, &r) * 2 - 1) * rp, 5);
-			rset(L, -2, K_WEIGHT);
-		}
-		lua_pop(L, 1);
-	}
+	mutate_weights_with(L, 1, 2, &r);
 	rng_done(L, &r);
 	return 0;
+}
+
+/* mutate(g, o, rng) -> what neat.mutate does next: its first draws, as
+ * neat.lua makes them, in C. 1: an add-node mutation (left to Lua), 2: an
+ * add-link one (left to Lua), 0: neither, and the weights were mutated
+ * (with chance weight_mut_prob) here; the toggle and re-enable draws
+ * that may follow are Lua's. */
+static int l_mutate(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	lua_settop(L, 3);
+	rng_src r;
+	rng_begin(L, 3, &r);
+	int what = 0;
+	if (draw(L, &r) < num_field(L, 2, K_ADD_NODE_PROB))
+		what = 1;
+	else if (draw(L, &r) < num_field(L, 2, K_ADD_LINK_PROB))
+		what = 2;
+	else if (draw(L, &r) < num_field(L, 2, K_WEIGHT_MUT_PROB))
+		mutate_weights_with(L, 1, 2, &r);
+	rng_done(L, &r);
+	lua_pushinteger(L, what);
+	return 1;
+}
+
+/* draws(rng, n) -> { rng:unit(), ... }: n draws, in order. */
+static int l_draws(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	lua_Integer n = luaL_checkinteger(L, 2);
+	lua_settop(L, 1);
+	rng_src r;
+	rng_begin(L, 1, &r);
+	lua_createtable(L, n > 0 && n < INT32_MAX ? (int)n : 0, 0);
+	int t = lua_gettop(L);
+	for (lua_Integer k = 1; k <= n; k++) {
+		lua_pushnumber(L, draw(L, &r));
+		lua_rawseti(L, t, k);
+	}
+	lua_pushvalue(L, t);
+	lua_remove(L, t);
+	rng_done(L, &r);
+	return 1;
 }
 
 /* A number field of the table at idx as a key to sort by. */
@@ -1299,6 +1353,8 @@ static const luaL_Reg FUNCS[] = {
     {"rng_next", l_rng_next},
     {"rng_unit", l_rng_unit},
     {"mutate_weights", l_mutate_weights},
+    {"mutate", l_mutate},
+    {"draws", l_draws},
     {"crossover", l_crossover},
     {"rank", l_rank},
     {"distance", l_distance},

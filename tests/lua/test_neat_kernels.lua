@@ -217,4 +217,38 @@ function T.copy_genome_is_the_luas_with_shared_nodes()
 	check(neat.copy_genome == fast.copy_genome, "neat.copy_genome is C")
 end
 
+-- fast.mutate's first draws and weights are neat.mutate_lua's (1: add a
+-- node, 2: add a link, 0: the weights, with chance weight_mut_prob);
+-- fast.draws(rng, n) is n calls of rng:unit().
+function T.mutation_draws_and_key_draws_are_the_luas()
+	local pop = grown_population()
+	local o = {}
+	for k, v in pairs(pop.options) do o[k] = v end
+	local r = random.new(7)
+	local seen = {}
+	for _, probs in ipairs{ { 0.5, 0.5, 0.9 }, { 0, 0, 1 }, { 0, 0, 0.5 }, { 1, 0, 1 } } do
+		o.add_node_prob, o.add_link_prob, o.weight_mut_prob = probs[1], probs[2], probs[3]
+		for _, g in ipairs(pop:genomes()) do
+			local g1, g2 = neat.copy_genome(g), neat.copy_genome(g)
+			local r1, r2 = random.load(r:save()), random.load(r:save())
+			local what = fast.mutate(g1, o, r1)
+			local want = 0
+			if r2:unit_lua() < o.add_node_prob then want = 1
+			elseif r2:unit_lua() < o.add_link_prob then want = 2
+			elseif r2:unit_lua() < o.weight_mut_prob then neat.mutate_weights_lua(g2, o, r2) end
+			check(what == want, "what " .. what .. " " .. want)
+			seen[what] = true
+			check(serialize.dump_lua(g1) == serialize.dump_lua(g2), "same weights")
+			check(serialize.dump_lua(r1:save()) == serialize.dump_lua(r2:save()), "same draws")
+			r:unit()
+		end
+	end
+	check(seen[0] and seen[1] and seen[2], "every branch taken")
+	local r1, r2 = random.new(3), random.new(3)
+	local d = fast.draws(r1, 5)
+	check(#d == 5, "five draws")
+	for k = 1, 5 do check(d[k] == r2:unit_lua(), "draw " .. k) end
+	check(#fast.draws(r1, 0) == 0 and r1:unit_lua() == r2:unit_lua(), "none drawn")
+end
+
 return T
