@@ -13,6 +13,11 @@
 -- each generation; several learning teams take turns, each with a
 -- population of its own.
 local host = require "evo.learn"
+-- The collector starts a cycle when the heap has grown to 4 times what the
+-- last one kept (Lua's default: 2): a generation makes as many tables as
+-- the population holds, and at the default a good part of the loop's time
+-- went to marking the live genomes again and again.
+collectgarbage("incremental", 400)
 local common = require "learn.common"
 local random = require "learn.rng"
 local serialize = require "learn.serialize"
@@ -40,10 +45,12 @@ local literature = ({ XOR = true, DPV = true, DPNV = true })[(task.ENV or ""):up
 -- How many of a fresh population's networks the final replay compares the
 -- champion with.
 local REPLAY_RANDOM = 20
--- The curve is redrawn after the first generation and then once at least
--- CURVE_SECONDS of evaluation have passed since the last drawing: every
--- generation of a task whose generations take seconds, and no drawing per
--- generation where a drawing would cost as much as the generation.
+-- The curve is drawn as the run goes once at least CURVE_SECONDS of
+-- evaluation have passed since the process started or since the last
+-- drawing, and once at the end: every generation of a task whose
+-- generations take seconds, no drawing per generation where a drawing
+-- would cost as much as the generation, and one drawing in all for a run
+-- shorter than that (XOR's, a tenth of a second).
 local CURVE_SECONDS = 1.0
 -- The checkpoint is written after the first generation of a process,
 -- after the last one, and after any generation that ends CHECKPOINT_SECONDS
@@ -290,7 +297,7 @@ for gen = first, generations - 1 do
 	-- the curve so far, so a long run can be watched as it goes (the last
 	-- one comes after the loop)
 	since_curve = since_curve + seconds
-	if gen == first or since_curve >= CURVE_SECONDS then
+	if since_curve >= CURVE_SECONDS then
 		host.curve(history.best, history.mean, true)
 		since_curve = 0
 	end

@@ -17,6 +17,8 @@
 -- always 1, as in the paper), n+1..n+m the outputs, then hidden nodes in the
 -- order the innovation registry created them. A link gene is
 -- { innov, from, to, weight, enabled }; links are kept sorted by innovation.
+-- A node table never changes once made (mutations add nodes to a genome's
+-- own list), so copies and children may share it; genes do change.
 --
 -- Bias. The paper feeds a constant-1 bias input; evo's .net has no such
 -- input but a bias per node. neat.to_net therefore drops the bias node and
@@ -219,6 +221,9 @@ local function copy_genome(g)
 	end
 	return { nodes = nodes, links = links }
 end
+neat.copy_genome_lua = copy_genome
+-- evo.neat's C where the state has it: the same copy.
+if fast then copy_genome = fast.copy_genome end
 neat.copy_genome = copy_genome
 
 local function sort_genome(g)
@@ -451,7 +456,7 @@ end
 
 -- One mutation step as NEAT's original code does it: a structural mutation,
 -- else (maybe) the weights.
-function neat.mutate(pop, g, rng)
+function neat.mutate_lua(pop, g, rng)
 	local o = pop.options
 	if rng:unit() < o.add_node_prob then
 		neat.mutate_add_node(pop, g, rng)
@@ -462,6 +467,24 @@ function neat.mutate(pop, g, rng)
 		if o.toggle_prob > 0 and rng:unit() < o.toggle_prob then neat.mutate_toggle(g, rng) end
 		if o.reenable_prob > 0 and rng:unit() < o.reenable_prob then neat.mutate_reenable(g) end
 	end
+end
+-- evo.neat's C makes the first draws and the weight mutation (the same
+-- draws, the same weights); the structural mutations stay Lua's.
+if fast then
+	function neat.mutate(pop, g, rng)
+		local o = pop.options
+		local what = fast.mutate(g, o, rng)
+		if what == 1 then
+			neat.mutate_add_node(pop, g, rng)
+		elseif what == 2 then
+			neat.mutate_add_link(pop, g, rng)
+		else
+			if o.toggle_prob > 0 and rng:unit() < o.toggle_prob then neat.mutate_toggle(g, rng) end
+			if o.reenable_prob > 0 and rng:unit() < o.reenable_prob then neat.mutate_reenable(g) end
+		end
+	end
+else
+	neat.mutate = neat.mutate_lua
 end
 
 -- Crossover: genes aligned by innovation; matching genes from either parent
@@ -564,10 +587,23 @@ local function speciate(pop)
 	local o = pop.options
 	local threshold = pop.threshold or o.threshold
 	for _, s in ipairs(pop.species) do s.members = {} end
+	-- evo.neat's C where the state has it: each genome's species number
+	-- (a new one past the last for a genome that opens a species), found
+	-- with the same distances in the same order
+	local homes
+	if fast and neat.distance == fast.distance then
+		local reps = {}
+		for k, s in ipairs(pop.species) do reps[k] = s.rep end
+		homes = fast.speciate(pop.population, reps, o, threshold)
+	end
 	for gi, g in ipairs(pop.population) do
 		local home
-		for _, s in ipairs(pop.species) do
-			if neat.distance(g, s.rep, o) < threshold then home = s break end
+		if homes then
+			home = pop.species[homes[gi]]
+		else
+			for _, s in ipairs(pop.species) do
+				if neat.distance(g, s.rep, o) < threshold then home = s break end
+			end
 		end
 		if not home then
 			pop.next_species = pop.next_species + 1
@@ -785,11 +821,14 @@ function Pop:tell(fitness)
 		-- outputs saturate to exact values, so ties are common (XOR's
 		-- networks that get three cases right score exactly 9), and a
 		-- fixed order would make the same few genomes parents every time.
-		local idx, key = {}, {}
-		for k = 1, #members do idx[k], key[k] = k, rng:unit() end
+		local idx, key
 		if fast then
-			idx = fast.rank(members, key) -- the same order, sorted in C
+			-- the same draws and the same order, in C
+			key = fast.draws(rng, #members)
+			idx = fast.rank(members, key)
 		else
+			idx, key = {}, {}
+			for k = 1, #members do idx[k], key[k] = k, rng:unit() end
 			table.sort(idx, function(x, y)
 				if members[x].fitness ~= members[y].fitness then return members[x].fitness > members[y].fitness end
 				if key[x] ~= key[y] then return key[x] < key[y] end

@@ -6,6 +6,9 @@
  *
  *   distance(a, b, o)  NEAT's compatibility distance of two genomes
  *                      (lua/learn/neat.lua's neat.distance_lua)
+ *   speciate(genomes, reps, o, threshold)  each genome's species, as
+ *                      neat.lua's speciate finds them with distance
+ *   copy_genome(g)     neat.copy_genome_lua's copy, the node tables shared
  *   pack_net(g)        a genome as the network evo.evaluate runs, packed
  *                      in a userdata (neat.to_net and learn.c's reading
  *                      of its table, in one step)
@@ -19,7 +22,11 @@
  *   rank(members, keys) the order tell sorts a species' members into
  *
  * A genome is { nodes = { {id, kind, act, value}, ... }, links = { {innov,
- * from, to, weight, enabled}, ... } }, links sorted by innovation. */
+ * from, to, weight, enabled}, ... } }, links sorted by innovation. Genes
+ * change in place (weights, enabled); nodes never do once made, so
+ * copies and children share them. Field names are looked up through the
+ * module's upvalues (enum key): lua_getfield would intern its C string on
+ * every call, which cost as much as the kernels' own work. */
 #include "learn/lua_neat.h"
 
 #include <ctype.h>
@@ -40,76 +47,262 @@
 /* How deep dump follows tables into tables (a checkpoint is 6 deep). */
 #define DUMP_MAX_DEPTH 100
 
+/* The field names and strings the kernels look up, held as upvalues of
+ * every function of the module: a raw get with an interned string is a
+ * hash probe, where lua_getfield would intern its C string each time. */
+enum key {
+	K_INNOV = 1, K_FROM, K_TO, K_WEIGHT, K_ENABLED, K_ID, K_KIND, K_ACT,
+	K_VALUE, K_S, K_LINKS, K_NODES, K_FITNESS, K_NORMALIZE_BELOW, K_C1,
+	K_C2, K_C3, K_WEIGHT_MAX, K_PERTURB_PROB, K_WEIGHT_MUTATION,
+	K_SEVERE_PROB, K_PERTURB_POWER, K_REPLACE_POWER, K_TIE_SMALLER,
+	K_MATE_AVG_PROB, K_DISABLE_PROB, K_INPUT, K_OUTPUT, K_BIAS, K_HIDDEN,
+	K_CODE, K_ADD_NODE_PROB, K_ADD_LINK_PROB, K_WEIGHT_MUT_PROB, K_COUNT
+};
+
+static const char *const KEY_NAMES[K_COUNT] = {
+    NULL,	    "innov",	     "from",	      "to",
+    "weight",	    "enabled",	     "id",	      "kind",
+    "act",	    "value",	     "s",	      "links",
+    "nodes",	    "fitness",	     "normalize_below", "c1",
+    "c2",	    "c3",	     "weight_max",    "perturb_prob",
+    "weight_mutation", "severe_prob", "perturb_power", "replace_power",
+    "tie_smaller",  "mate_avg_prob", "disable_prob",  "input",
+    "output",	    "bias",	     "hidden",	      "code",
+    "add_node_prob", "add_link_prob", "weight_mut_prob",
+};
+
+/* Pushes t[key] (t a plain table: no metamethods) and returns its type. */
+static int rget(lua_State *L, int t, enum key key)
+{
+	t = lua_absindex(L, t);
+	lua_pushvalue(L, lua_upvalueindex(key));
+	return lua_rawget(L, t);
+}
+
+/* t[key] = the value on top of the stack, popped. */
+static void rset(lua_State *L, int t, enum key key)
+{
+	t = lua_absindex(L, t);
+	lua_pushvalue(L, lua_upvalueindex(key));
+	lua_insert(L, -2);
+	lua_rawset(L, t);
+}
+
+/* Is the value at idx the string `key`? */
+static int is_key(lua_State *L, int idx, enum key key)
+{
+	return lua_rawequal(L, idx, lua_upvalueindex(key));
+}
+
 /* ------------------------------------------------------------------ */
 /* Compatibility distance */
 
 /* Field `key` of the table at idx as a number; 0 when it is none. */
-static double num_field(lua_State *L, int idx, const char *key)
+static double num_field(lua_State *L, int idx, enum key key)
 {
-	lua_getfield(L, idx, key);
+	rget(L, idx, key);
 	double v = lua_tonumber(L, -1);
 	lua_pop(L, 1);
 	return v;
 }
 
-/* Innovation and weight of gene i of the link list at `list`. */
-static void gene_at(lua_State *L, int list, lua_Integer i, double *innov,
-		    double *weight)
+/* A genome's genes as the distance reads them: innovations and weights
+ * in list order. */
+typedef struct genes {
+	const double *innov, *weight;
+	lua_Integer n;
+} genes;
+
+/* The options the distance reads. */
+typedef struct dist_opts {
+	double c1, c2, c3, normalize_below;
+} dist_opts;
+
+static dist_opts dist_opts_of(lua_State *L, int o)
 {
-	lua_rawgeti(L, list, i);
-	*innov = num_field(L, -1, "innov");
-	*weight = num_field(L, -1, "weight");
-	lua_pop(L, 1);
+	dist_opts d = {num_field(L, o, K_C1), num_field(L, o, K_C2),
+		       num_field(L, o, K_C3),
+		       num_field(L, o, K_NORMALIZE_BELOW)};
+	return d;
 }
 
-/* distance(a, b, o) = c1*E/N + c2*D/N + c3*W: E excess and D disjoint
- * genes, W the mean weight difference of the matching ones, N the larger
- * genome's gene count (1 when both have fewer than o.normalize_below). */
+/* c1*E/N + c2*D/N + c3*W: E excess and D disjoint genes, W the mean
+ * weight difference of the matching ones, N the larger genome's gene
+ * count (1 when both have fewer than normalize_below); neat.distance_lua's
+ * arithmetic in its order. */
+static double distance_of(const genes *a, const genes *b, const dist_opts *o)
+{
+	lua_Integer na = a->n, nb = b->n, i = 0, j = 0, matching = 0,
+		    disjoint = 0;
+	double wdiff = 0.0;
+	while (i < na && j < nb) {
+		double xi = a->innov[i], yi = b->innov[j];
+		if (xi == yi) {
+			matching++;
+			double d = a->weight[i] - b->weight[j];
+			wdiff += d < 0 ? -d : d;
+			i++;
+			j++;
+		} else if (xi < yi) {
+			disjoint++;
+			i++;
+		} else {
+			disjoint++;
+			j++;
+		}
+	}
+	lua_Integer excess = (na - i) + (nb - j);
+	lua_Integer n = na > nb ? na : nb;
+	if ((double)n < o->normalize_below)
+		n = 1;
+	double w = matching > 0 ? wdiff / (double)matching : 0.0;
+	return o->c1 * (double)excess / (double)n +
+	       o->c2 * (double)disjoint / (double)n + o->c3 * w;
+}
+
+/* The number of genes of genome `g` (a stack slot). */
+static lua_Integer gene_count(lua_State *L, int g)
+{
+	rget(L, g, K_LINKS);
+	luaL_checktype(L, -1, LUA_TTABLE);
+	lua_Integer n = (lua_Integer)lua_rawlen(L, -1);
+	lua_pop(L, 1);
+	return n;
+}
+
+/* Genome g's genes into innov[] and weight[] (room for gene_count). */
+static void read_genes(lua_State *L, int g, double *innov, double *weight,
+		       genes *out)
+{
+	rget(L, g, K_LINKS);
+	int list = lua_gettop(L);
+	lua_Integer n = (lua_Integer)lua_rawlen(L, list);
+	for (lua_Integer i = 0; i < n; i++) {
+		lua_rawgeti(L, list, i + 1);
+		innov[i] = num_field(L, -1, K_INNOV);
+		weight[i] = num_field(L, -1, K_WEIGHT);
+		lua_pop(L, 1);
+	}
+	lua_pop(L, 1);
+	out->innov = innov;
+	out->weight = weight;
+	out->n = n;
+}
+
+static void *scratch(lua_State *L, size_t bytes);
+
+/* distance(a, b, o): NEAT's compatibility distance (distance_of). */
 static int l_distance(lua_State *L)
 {
 	luaL_checktype(L, 1, LUA_TTABLE);
 	luaL_checktype(L, 2, LUA_TTABLE);
 	luaL_checktype(L, 3, LUA_TTABLE);
-	lua_getfield(L, 1, "links");
-	lua_getfield(L, 2, "links");
-	luaL_checktype(L, 4, LUA_TTABLE);
-	luaL_checktype(L, 5, LUA_TTABLE);
-	lua_Integer na = (lua_Integer)lua_rawlen(L, 4);
-	lua_Integer nb = (lua_Integer)lua_rawlen(L, 5);
-	lua_Integer i = 1, j = 1, matching = 0, disjoint = 0;
-	double wdiff = 0.0, xi = 0, xw = 0, yi = 0, yw = 0;
-	if (na >= 1)
-		gene_at(L, 4, 1, &xi, &xw);
-	if (nb >= 1)
-		gene_at(L, 5, 1, &yi, &yw);
-	while (i <= na && j <= nb) {
-		int step_a = 0, step_b = 0;
-		if (xi == yi) {
-			matching++;
-			double d = xw - yw;
-			wdiff += d < 0 ? -d : d;
-			step_a = step_b = 1;
-		} else if (xi < yi) {
-			disjoint++;
-			step_a = 1;
-		} else {
-			disjoint++;
-			step_b = 1;
-		}
-		if (step_a && ++i <= na)
-			gene_at(L, 4, i, &xi, &xw);
-		if (step_b && ++j <= nb)
-			gene_at(L, 5, j, &yi, &yw);
+	lua_Integer na = gene_count(L, 1), nb = gene_count(L, 2);
+	double *buf = scratch(L, 2 * (size_t)(na + nb) * sizeof *buf);
+	genes a, b;
+	read_genes(L, 1, buf, buf + na, &a);
+	read_genes(L, 2, buf + 2 * na, buf + 2 * na + nb, &b);
+	dist_opts o = dist_opts_of(L, 3);
+	lua_pushnumber(L, distance_of(&a, &b, &o));
+	return 1;
+}
+
+/* speciate(genomes, reps, o, threshold) -> home: home[i] is the species
+ * of genome i, as neat.lua's speciate assigns them: the first species
+ * whose representative (reps[k], k in order) is within distance
+ * `threshold` (distance(genome, rep) < threshold), else a new species
+ * numbered #reps + 1, #reps + 2, ... in the order they are opened, whose
+ * representative is that genome. */
+static int l_speciate(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	double threshold = luaL_checknumber(L, 4);
+	dist_opts o = dist_opts_of(L, 3);
+	int ng = (int)lua_rawlen(L, 1), nr = (int)lua_rawlen(L, 2);
+	size_t total = 0;
+	for (int k = 1; k <= nr; k++) {
+		lua_rawgeti(L, 2, k);
+		total += (size_t)gene_count(L, lua_gettop(L));
+		lua_pop(L, 1);
 	}
-	lua_Integer excess = (na - i + 1) + (nb - j + 1);
-	lua_Integer n = na > nb ? na : nb;
-	if ((double)n < num_field(L, 3, "normalize_below"))
-		n = 1;
-	double w = matching > 0 ? wdiff / (double)matching : 0.0;
-	double c1 = num_field(L, 3, "c1"), c2 = num_field(L, 3, "c2"),
-	       c3 = num_field(L, 3, "c3");
-	lua_pushnumber(L, c1 * (double)excess / (double)n +
-			      c2 * (double)disjoint / (double)n + c3 * w);
+	for (int k = 1; k <= ng; k++) {
+		lua_rawgeti(L, 1, k);
+		total += (size_t)gene_count(L, lua_gettop(L));
+		lua_pop(L, 1);
+	}
+	/* genes of every rep and genome, then each one's genes, then the
+	 * reps' indices into them (the old ones and the new) */
+	size_t bytes = 2 * total * sizeof(double) +
+		       (size_t)(nr + ng) * sizeof(genes) +
+		       (size_t)(nr + ng) * sizeof(int);
+	double *buf = scratch(L, bytes);
+	genes *all = (genes *)(void *)(buf + 2 * total);
+	int *rep = (int *)(void *)(all + nr + ng);
+	size_t at = 0;
+	for (int k = 0; k < nr + ng; k++) {
+		lua_rawgeti(L, k < nr ? 2 : 1, k < nr ? k + 1 : k - nr + 1);
+		int g = lua_gettop(L);
+		lua_Integer n = gene_count(L, g);
+		read_genes(L, g, buf + at, buf + at + (size_t)n, &all[k]);
+		at += 2 * (size_t)n;
+		lua_pop(L, 1);
+	}
+	int n_rep = nr;
+	for (int k = 0; k < nr; k++)
+		rep[k] = k;
+	lua_createtable(L, ng, 0);
+	for (int i = 0; i < ng; i++) {
+		const genes *g = &all[nr + i];
+		int home = 0;
+		while (home < n_rep && !(distance_of(g, &all[rep[home]], &o) <
+					 threshold))
+			home++;
+		if (home == n_rep)
+			rep[n_rep++] = nr + i;
+		lua_pushinteger(L, home + 1);
+		lua_rawseti(L, -2, i + 1);
+	}
+	return 1;
+}
+
+/* copy_genome(g) -> a copy of g's nodes and genes (neat.copy_genome). */
+static void push_gene_copy(lua_State *L);
+
+/* Gene lists are copied gene by gene (genes change: weights, enabled);
+ * node lists hold the same node tables (a node never changes once made:
+ * mutations add nodes to a genome's own list). */
+static void share_node(lua_State *L)
+{
+	lua_pushvalue(L, -1);
+}
+
+static void copy_list(lua_State *L, int g, int copy, enum key list,
+		      void (*push_copy)(lua_State *L))
+{
+	rget(L, g, list);
+	int src = lua_gettop(L);
+	luaL_checktype(L, src, LUA_TTABLE);
+	lua_createtable(L, (int)lua_rawlen(L, src), 0);
+	int dst = src + 1;
+	for (lua_Integer i = 1; lua_rawgeti(L, src, i) != LUA_TNIL; i++) {
+		push_copy(L);
+		lua_rawseti(L, dst, i);
+		lua_pop(L, 1);
+	}
+	lua_pop(L, 1);
+	rset(L, copy, list);
+	lua_pop(L, 1);
+}
+
+static int l_copy_genome(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	lua_settop(L, 1);
+	lua_createtable(L, 0, 2);
+	copy_list(L, 1, 2, K_NODES, share_node);
+	copy_list(L, 1, 2, K_LINKS, push_gene_copy);
 	return 1;
 }
 
@@ -149,14 +342,26 @@ static int map_id(const id_map *map, int n, lua_Integer id)
 	return m ? m->to : -1;
 }
 
-static unsigned act_of(lua_State *L, const char *act)
+/* The last activation name looked up, and its number: a genome's nodes
+ * share a few interned strings, alive while the genome is read, and the
+ * same pointer is the same name. */
+typedef struct act_cache {
+	const char *last;
+	unsigned last_a;
+} act_cache;
+
+static unsigned act_of(lua_State *L, const char *act, act_cache *c)
 {
+	if (act && act == c->last)
+		return c->last_a;
 	unsigned a = 0;
 	while (act && evo_act_name(a) && strcmp(evo_act_name(a), act))
 		a++;
 	if (!act || !evo_act_name(a))
 		luaL_error(L, "pack_net: unknown activation '%s'",
 			   act ? act : "nil");
+	c->last = act;
+	c->last_a = a;
 	return a;
 }
 
@@ -183,31 +388,31 @@ static void read_nodes(lua_State *L, int list, genome_nodes *g)
 			   n, EVO_NET_MAX_NODES);
 	memset(g, 0, offsetof(genome_nodes, kind));
 	g->n = (int)n;
+	act_cache cache = {NULL, 0};
 	for (int k = 0; k < g->n; k++) {
 		lua_rawgeti(L, list, k + 1);
 		int t = lua_gettop(L);
-		lua_getfield(L, t, "kind");
-		const char *kind = lua_tostring(L, -1);
-		lua_getfield(L, t, "id");
+		rget(L, t, K_KIND);
+		int kind = lua_gettop(L);
+		rget(L, t, K_ID);
 		g->id[k] = lua_tointeger(L, -1);
-		char c = !kind			     ? '?'
-			 : strcmp(kind, "input") == 0  ? 'i'
-			 : strcmp(kind, "output") == 0 ? 'o'
-			 : strcmp(kind, "bias") == 0   ? 'b'
-			 : strcmp(kind, "hidden") == 0 ? 'h'
-						       : '?';
+		char c = is_key(L, kind, K_INPUT)    ? 'i'
+			 : is_key(L, kind, K_OUTPUT) ? 'o'
+			 : is_key(L, kind, K_BIAS)   ? 'b'
+			 : is_key(L, kind, K_HIDDEN) ? 'h'
+						     : '?';
 		g->kind[k] = c;
 		if (c == 'i') {
 			g->n_in++;
 		} else if (c == 'o' || c == 'h') {
-			lua_getfield(L, t, "act");
-			g->act[k] = (uint8_t)act_of(L, lua_tostring(L, -1));
+			rget(L, t, K_ACT);
+			g->act[k] = (uint8_t)act_of(L, lua_tostring(L, -1), &cache);
 			lua_pop(L, 1);
 			g->n_out += c == 'o';
 			g->n_hidden += c == 'h';
 		} else if (c == 'b') {
 			/* the last bias node counts, as in neat.to_net */
-			lua_getfield(L, t, "value");
+			rget(L, t, K_VALUE);
 			g->has_bias = 1;
 			g->bias_id = g->id[k];
 			g->bias_value =
@@ -227,8 +432,8 @@ static void read_nodes(lua_State *L, int list, genome_nodes *g)
 static int l_pack_net(lua_State *L)
 {
 	luaL_checktype(L, 1, LUA_TTABLE);
-	lua_getfield(L, 1, "nodes");
-	lua_getfield(L, 1, "links");
+	rget(L, 1, K_NODES);
+	rget(L, 1, K_LINKS);
 	luaL_checktype(L, 2, LUA_TTABLE);
 	luaL_checktype(L, 3, LUA_TTABLE);
 	static _Thread_local genome_nodes g;
@@ -276,13 +481,13 @@ static int l_pack_net(lua_State *L)
 	int n = 0;
 	for (lua_Integer i = 1; i <= n_links; i++) {
 		lua_rawgeti(L, 3, i);
-		lua_getfield(L, -1, "enabled");
+		rget(L, -1, K_ENABLED);
 		int enabled = lua_toboolean(L, -1);
 		lua_pop(L, 1);
 		if (enabled) {
-			lua_Integer from = (lua_Integer)num_field(L, -1, "from");
-			lua_Integer to = (lua_Integer)num_field(L, -1, "to");
-			double w = num_field(L, -1, "weight");
+			lua_Integer from = (lua_Integer)num_field(L, -1, K_FROM);
+			lua_Integer to = (lua_Integer)num_field(L, -1, K_TO);
+			double w = num_field(L, -1, K_WEIGHT);
 			int t = map_id(map, n_map, to);
 			if (t < g.n_in)
 				luaL_error(L, "pack_net: link %I ends at node "
@@ -428,7 +633,15 @@ static void put_string(lua_State *L, buffer *b, int idx)
 	put(L, b, "\"", 1);
 	for (size_t i = 0; i < len; i++) {
 		unsigned char c = (unsigned char)s[i];
-		if (c == '"' || c == '\\' || c == '\n') {
+		size_t run = 0; /* characters written as they are, from i */
+		while (i + run < len && s[i + run] != '"' &&
+		       s[i + run] != '\\' && s[i + run] != '\n' &&
+		       !iscntrl((unsigned char)s[i + run]))
+			run++;
+		if (run) {
+			put(L, b, s + i, run);
+			i += run - 1;
+		} else if (c == '"' || c == '\\' || c == '\n') {
 			char e[2] = {'\\', (char)c};
 			put(L, b, e, 2);
 		} else if (iscntrl(c)) {
@@ -438,8 +651,6 @@ static void put_string(lua_State *L, buffer *b, int idx)
 			snprintf(e, sizeof e, isdigit(next) ? "\\%03d" : "\\%d",
 				 (int)c);
 			puts_(L, b, e);
-		} else {
-			put(L, b, (const char *)&s[i], 1);
 		}
 	}
 	put(L, b, "\"", 1);
@@ -598,19 +809,9 @@ static int l_dump(lua_State *L)
 /* ------------------------------------------------------------------ */
 /* learn.rng's generator: xoshiro256** on the object's four words */
 
-/* The next 64-bit word of the generator `self` (learn.rng: self.s holds
- * the four words of state as Lua integers), its state moved on in place,
- * as Rng:next does it in Lua. */
-static uint64_t rng_next(lua_State *L, int self)
+/* xoshiro256**'s step on the four words s: the next word. */
+static uint64_t xoshiro_next(uint64_t s[4])
 {
-	if (lua_getfield(L, self, "s") != LUA_TTABLE)
-		luaL_error(L, "rng: no state (self.s)");
-	uint64_t s[4];
-	for (int k = 0; k < 4; k++) {
-		lua_rawgeti(L, -1, k + 1);
-		s[k] = (uint64_t)lua_tointeger(L, -1);
-		lua_pop(L, 1);
-	}
 	uint64_t x = s[1] * 5;
 	uint64_t result = ((x << 7) | (x >> 57)) * 9;
 	uint64_t t = s[1] << 17;
@@ -620,11 +821,41 @@ static uint64_t rng_next(lua_State *L, int self)
 	s[0] ^= s[3];
 	s[2] ^= t;
 	s[3] = (s[3] << 45) | (s[3] >> 19);
+	return result;
+}
+
+/* The four words of generator `self` (learn.rng: self.s holds them as
+ * Lua integers) into s; leaves self.s on the stack. */
+static void rng_read(lua_State *L, int self, uint64_t s[4])
+{
+	if (rget(L, self, K_S) != LUA_TTABLE)
+		luaL_error(L, "rng: no state (self.s)");
+	for (int k = 0; k < 4; k++) {
+		lua_rawgeti(L, -1, k + 1);
+		s[k] = (uint64_t)lua_tointeger(L, -1);
+		lua_pop(L, 1);
+	}
+}
+
+/* The four words back into the table self.s at the top of the stack,
+ * popped. */
+static void rng_write(lua_State *L, const uint64_t s[4])
+{
 	for (int k = 0; k < 4; k++) {
 		lua_pushinteger(L, (lua_Integer)s[k]);
 		lua_rawseti(L, -2, k + 1);
 	}
 	lua_pop(L, 1);
+}
+
+/* The next 64-bit word of the generator `self`, its state moved on in
+ * place, as Rng:next does it in Lua. */
+static uint64_t rng_next(lua_State *L, int self)
+{
+	uint64_t s[4];
+	rng_read(L, self, s);
+	uint64_t result = xoshiro_next(s);
+	rng_write(L, s);
 	return result;
 }
 
@@ -636,34 +867,59 @@ static int l_rng_next(lua_State *L)
 	return 1;
 }
 
+static double unit_of(uint64_t word)
+{
+	return (double)(word >> 11) * (1.0 / 9007199254740992.0);
+}
+
 /* rng_unit(self) -> uniform in [0, 1) from the top 53 bits (Rng:unit). */
 static int l_rng_unit(lua_State *L)
 {
 	luaL_checktype(L, 1, LUA_TTABLE);
-	lua_pushnumber(L, (double)(rng_next(L, 1) >> 11) *
-			      (1.0 / 9007199254740992.0));
+	lua_pushnumber(L, unit_of(rng_next(L, 1)));
 	return 1;
 }
 
-/* Is the generator at stack slot `rng` learn.rng's, with rng_unit as its
- * unit? A kernel asks once, and draws through draw(). */
-static int rng_is_ours(lua_State *L, int rng)
+/* A kernel's generator: learn.rng's (`ours`: its words are read once into
+ * s, drawn from in C and written back by rng_done), or a test's own,
+ * whose unit method is called for each draw. */
+typedef struct rng_src {
+	int rng;  /* its stack slot */
+	int ours; /* learn.rng's, with rng_unit as its unit */
+	int state; /* ours: the stack slot of rng.s */
+	uint64_t s[4];
+} rng_src;
+
+/* Starts drawing from the generator at stack slot `rng` (it may push a
+ * value: call it where the stack's top does not matter). */
+static void rng_begin(lua_State *L, int rng, rng_src *r)
 {
-	lua_getfield(L, rng, "unit");
-	int ours = lua_tocfunction(L, -1) == l_rng_unit;
+	r->rng = lua_absindex(L, rng);
+	lua_getfield(L, r->rng, "unit");
+	r->ours = lua_tocfunction(L, -1) == l_rng_unit;
 	lua_pop(L, 1);
-	return ours;
+	if (r->ours) {
+		rng_read(L, r->rng, r->s);
+		r->state = lua_gettop(L);
+	}
 }
 
-/* rng:unit() of the generator at stack slot `rng`: in C when `ours`
- * (rng_is_ours), else by calling its method (a test's own generator). */
-static double draw(lua_State *L, int rng, int ours)
+/* The words drawn from, back in the generator. */
+static void rng_done(lua_State *L, rng_src *r)
 {
-	if (ours)
-		return (double)(rng_next(L, rng) >> 11) *
-		       (1.0 / 9007199254740992.0);
-	lua_getfield(L, rng, "unit");
-	lua_pushvalue(L, rng);
+	if (!r->ours)
+		return;
+	lua_pushvalue(L, r->state);
+	rng_write(L, r->s);
+}
+
+/* rng:unit() of the kernel's generator. */
+static double draw(lua_State *L, rng_src *r)
+{
+	if (r->ours)
+		return unit_of(xoshiro_next(r->s));
+	lua_getfield(L, r->rng, "unit");
+	lua_pushvalue(L, r->rng);
 	lua_call(L, 1, 1);
 	double u = lua_tonumber(L, -1);
 	lua_pop(L, 1);
@@ -673,76 +929,129 @@ static double draw(lua_State *L, int rng, int ours)
 /* ------------------------------------------------------------------ */
 /* Weight mutation and crossover (lua/learn/neat.lua's, draw for draw) */
 
-/* clamp(w, m) as neat.lua's: m itself above it, -m below -m (an integer
- * m stays one), else w; pushed. */
-static void push_clamped(lua_State *L, double w, int opts)
+/* clamp(w, m) as neat.lua's, m the value at stack slot `max` (the
+ * option weight_max): m itself above it, -m below -m (an integer m stays
+ * one), else w; pushed. */
+static void push_clamped(lua_State *L, double w, int max)
 {
-	lua_getfield(L, opts, "weight_max");
-	double m = lua_tonumber(L, -1);
-	if (w > m)
-		return; /* the value of weight_max, as it is */
-	if (w < -m) {
-		if (lua_isinteger(L, -1)) {
-			lua_Integer mi = lua_tointeger(L, -1);
-			lua_pop(L, 1);
-			lua_pushinteger(L, (lua_Integer)(0u - (lua_Unsigned)mi));
-		} else {
-			lua_pop(L, 1);
+	double m = lua_tonumber(L, max);
+	if (w > m) {
+		lua_pushvalue(L, max); /* the value of weight_max, as it is */
+	} else if (w < -m) {
+		if (lua_isinteger(L, max))
+			lua_pushinteger(L, (lua_Integer)(0u - (lua_Unsigned)
+							     lua_tointeger(L, max)));
+		else
 			lua_pushnumber(L, -m);
-		}
-		return;
+	} else {
+		lua_pushnumber(L, w);
 	}
-	lua_pop(L, 1);
-	lua_pushnumber(L, w);
 }
 
-/* mutate_weights(g, o, rng): neat.lua's mutate_weights ("code" and
- * "paper"), the same draws in the same order. */
+/* neat.lua's mutate_weights ("code" and "paper") on genome g with options
+ * o (stack slots), drawing from r: the same draws in the same order. */
+static void mutate_weights_with(lua_State *L, int g, int o, rng_src *r)
+{
+	int top = lua_gettop(L);
+	rget(L, g, K_LINKS);
+	int links = top + 1;
+	luaL_checktype(L, links, LUA_TTABLE);
+	rget(L, o, K_WEIGHT_MAX);
+	int max = top + 2;
+	lua_Integer n = (lua_Integer)lua_rawlen(L, links);
+	double perturb = num_field(L, o, K_PERTURB_PROB), replace = 1.0;
+	double newest_after = HUGE_VAL;
+	rget(L, o, K_WEIGHT_MUTATION);
+	int code = is_key(L, -1, K_CODE);
+	lua_pop(L, 1);
+	if (code) {
+		int severe = draw(L, r) < num_field(L, o, K_SEVERE_PROB);
+		perturb = severe ? 0.7 : 1.0;
+		replace = severe ? 0.9 : 1.0;
+		if (!severe && n >= 10)
+			newest_after = (double)n * 0.8;
+	}
+	double pp = num_field(L, o, K_PERTURB_POWER);
+	double rp = num_field(L, o, K_REPLACE_POWER);
+	for (lua_Integer k = 1; k <= n; k++) {
+		if (lua_rawgeti(L, links, k) == LUA_TNIL)
+			break; /* ipairs stops there */
+		double p = perturb, rr = replace;
+		if ((double)(k - 1) > newest_after) {
+			p = 0.5;
+			rr = 0.7;
+		}
+		double u = draw(L, r);
+		if (u < p) {
+			double w = num_field(L, -1, K_WEIGHT);
+			push_clamped(L, w + (draw(L, r) * 2 - 1) * pp, max);
+			rset(L, -2, K_WEIGHT);
+		} else if (u < rr) {
+			push_clamped(L, (draw(L, r) * 2 - 1) * rp, max);
+			rset(L, -2, K_WEIGHT);
+		}
+		lua_pop(L, 1);
+	}
+	lua_settop(L, top);
+}
+
+/* mutate_weights(g, o, rng): neat.lua's mutate_weights. */
 static int l_mutate_weights(lua_State *L)
 {
 	luaL_checktype(L, 1, LUA_TTABLE);
 	luaL_checktype(L, 2, LUA_TTABLE);
 	luaL_checktype(L, 3, LUA_TTABLE);
 	lua_settop(L, 3);
-	lua_getfield(L, 1, "links");
-	luaL_checktype(L, 4, LUA_TTABLE);
-	lua_Integer n = (lua_Integer)lua_rawlen(L, 4);
-	double perturb = num_field(L, 2, "perturb_prob"), replace = 1.0;
-	double newest_after = HUGE_VAL;
-	int ours = rng_is_ours(L, 3);
-	lua_getfield(L, 2, "weight_mutation");
-	const char *scheme = lua_tostring(L, -1);
-	int code = scheme && strcmp(scheme, "code") == 0;
-	lua_pop(L, 1);
-	if (code) {
-		int severe = draw(L, 3, ours) < num_field(L, 2, "severe_prob");
-		perturb = severe ? 0.7 : 1.0;
-		replace = severe ? 0.9 : 1.0;
-		if (!severe && n >= 10)
-			newest_after = (double)n * 0.8;
-	}
-	double pp = num_field(L, 2, "perturb_power");
-	double rp = num_field(L, 2, "replace_power");
-	for (lua_Integer k = 1; k <= n; k++) {
-		if (lua_rawgeti(L, 4, k) == LUA_TNIL)
-			break; /* ipairs stops there */
-		double p = perturb, r = replace;
-		if ((double)(k - 1) > newest_after) {
-			p = 0.5;
-			r = 0.7;
-		}
-		double u = draw(L, 3, ours);
-		if (u < p) {
-			double w = num_field(L, -1, "weight");
-			push_clamped(L, w + (draw(L, 3, ours) * 2 - 1) * pp, 2);
-			lua_setfield(L, -2, "weight");
-		} else if (u < r) {
-			push_clamped(L, (draw(L, 3, ours) * 2 - 1) * rp, 2);
-			lua_setfield(L, -2, "weight");
-		}
-		lua_pop(L, 1);
-	}
+	rng_src r;
+	rng_begin(L, 3, &r);
+	mutate_weights_with(L, 1, 2, &r);
+	rng_done(L, &r);
 	return 0;
+}
+
+/* mutate(g, o, rng) -> what neat.mutate does next: its first draws, as
+ * neat.lua makes them, in C. 1: an add-node mutation (left to Lua), 2: an
+ * add-link one (left to Lua), 0: neither, and the weights were mutated
+ * (with chance weight_mut_prob) here; the toggle and re-enable draws
+ * that may follow are Lua's. */
+static int l_mutate(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	lua_settop(L, 3);
+	rng_src r;
+	rng_begin(L, 3, &r);
+	int what = 0;
+	if (draw(L, &r) < num_field(L, 2, K_ADD_NODE_PROB))
+		what = 1;
+	else if (draw(L, &r) < num_field(L, 2, K_ADD_LINK_PROB))
+		what = 2;
+	else if (draw(L, &r) < num_field(L, 2, K_WEIGHT_MUT_PROB))
+		mutate_weights_with(L, 1, 2, &r);
+	rng_done(L, &r);
+	lua_pushinteger(L, what);
+	return 1;
+}
+
+/* draws(rng, n) -> { rng:unit(), ... }: n draws, in order. */
+static int l_draws(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	lua_Integer n = luaL_checkinteger(L, 2);
+	lua_settop(L, 1);
+	rng_src r;
+	rng_begin(L, 1, &r);
+	lua_createtable(L, n > 0 && n < INT32_MAX ? (int)n : 0, 0);
+	int t = lua_gettop(L);
+	for (lua_Integer k = 1; k <= n; k++) {
+		lua_pushnumber(L, draw(L, &r));
+		lua_rawseti(L, t, k);
+	}
+	lua_pushvalue(L, t);
+	lua_remove(L, t);
+	rng_done(L, &r);
+	return 1;
 }
 
 /* A number field of the table at idx as a key to sort by. */
@@ -759,7 +1068,7 @@ static int by_key(const void *a, const void *b)
 
 /* Sorts the list at `list` by each element's field `field` (distinct
  * values: innovations, node ids), as table.sort does with a < on them. */
-static void sort_list(lua_State *L, int list, const char *field)
+static void sort_list(lua_State *L, int list, enum key field)
 {
 	lua_Integer n = (lua_Integer)lua_rawlen(L, list);
 	if (n < 2)
@@ -792,38 +1101,63 @@ static void push_gene_copy(lua_State *L)
 {
 	int src = lua_gettop(L);
 	lua_createtable(L, 0, 5);
-	static const char *const F[] = {"innov", "from", "to", "weight",
-					 "enabled"};
-	for (int f = 0; f < 5; f++) {
-		lua_getfield(L, src, F[f]);
-		lua_setfield(L, -2, F[f]);
+	for (int f = K_INNOV; f <= K_ENABLED; f++) {
+		rget(L, src, (enum key)f);
+		rset(L, -2, (enum key)f);
 	}
 }
 
-static void push_node_copy(lua_State *L)
+/* Scratch memory for a kernel: one block per thread, grown as needed
+ * and kept (still reachable, so never a leak), so a kernel that raises an
+ * error leaks nothing. */
+static void *scratch(lua_State *L, size_t bytes)
 {
-	int src = lua_gettop(L);
-	lua_createtable(L, 0, 4);
-	static const char *const F[] = {"id", "kind", "act", "value"};
-	for (int f = 0; f < 4; f++) {
-		lua_getfield(L, src, F[f]);
-		lua_setfield(L, -2, F[f]);
+	static _Thread_local void *block;
+	static _Thread_local size_t size;
+	if (bytes > size) {
+		size_t n = size ? size : 4096;
+		while (n < bytes)
+			n *= 2;
+		void *b = realloc(block, n);
+		if (!b)
+			luaL_error(L, "evo.neat: out of memory");
+		block = b;
+		size = n;
 	}
+	return block;
 }
 
-/* Does any gene of the list at `links` start or end at node `id`? */
-static int links_touch(lua_State *L, int links, double id)
+/* A number as Lua's == sees it: a number's value, NaN (equal to
+ * nothing) for any other value. */
+static double eq_number(lua_State *L, int idx)
 {
-	lua_Integer n = (lua_Integer)lua_rawlen(L, links);
-	for (lua_Integer i = 1; i <= n; i++) {
-		lua_rawgeti(L, links, i);
-		int hit = num_field(L, -1, "from") == id ||
-			  num_field(L, -1, "to") == id;
-		lua_pop(L, 1);
-		if (hit)
-			return 1;
+	int isnum;
+	double v = lua_tonumberx(L, idx, &isnum);
+	return isnum ? v : NAN;
+}
+
+/* The slot (1-based) of the last gene of b with innovation x, 0 when b has
+ * none (what a map from innovation to gene, filled in b's order, gives).
+ * `by` holds b's genes sorted by innovation, then slot. */
+static int gene_with(const keyed *by, int n, double x)
+{
+	int lo = 0, hi = n; /* the first entry whose innovation is above x */
+	while (lo < hi) {
+		int mid = (lo + hi) / 2;
+		if (by[mid].key <= x)
+			lo = mid + 1;
+		else
+			hi = mid;
 	}
-	return 0;
+	return lo > 0 && by[lo - 1].key == x ? by[lo - 1].slot : 0;
+}
+
+static int by_key_slot(const void *a, const void *b)
+{
+	const keyed *x = a, *y = b;
+	if (x->key != y->key)
+		return x->key < y->key ? -1 : 1;
+	return (x->slot > y->slot) - (x->slot < y->slot);
 }
 
 /* A member's place: fitness, then its random key, then its index. */
@@ -853,7 +1187,7 @@ static int l_rank(lua_State *L)
 	ranked *r = lua_newuserdatauv(L, (size_t)(n ? n : 1) * sizeof *r, 0);
 	for (lua_Integer i = 0; i < n; i++) {
 		lua_rawgeti(L, 1, i + 1);
-		r[i].fitness = num_field(L, -1, "fitness");
+		r[i].fitness = num_field(L, -1, K_FITNESS);
 		lua_pop(L, 1);
 		lua_rawgeti(L, 2, i + 1);
 		r[i].key = lua_tonumber(L, -1);
@@ -885,13 +1219,13 @@ static int l_crossover(lua_State *L)
 		b = 1;
 	}
 	int equal = lua_compare(L, 2, 4, LUA_OPEQ);
-	lua_getfield(L, 5, "tie_smaller");
+	rget(L, 5, K_TIE_SMALLER);
 	int tie_smaller = lua_toboolean(L, -1);
 	lua_pop(L, 1);
 	if (equal && !tie_smaller)
 		return 0;
-	lua_getfield(L, a, "links"); /* 7 */
-	lua_getfield(L, b, "links"); /* 8 */
+	rget(L, a, K_LINKS); /* 7 */
+	rget(L, b, K_LINKS); /* 8 */
 	luaL_checktype(L, 7, LUA_TTABLE);
 	luaL_checktype(L, 8, LUA_TTABLE);
 	if (equal && lua_rawlen(L, 8) < lua_rawlen(L, 7)) {
@@ -900,99 +1234,116 @@ static int l_crossover(lua_State *L)
 		b = t;
 		lua_rotate(L, 7, 1); /* swap 7 and 8 */
 	}
-	int al = 7, bl = 8;
-	int ours = rng_is_ours(L, 6);
-	double average = draw(L, 6, ours) < num_field(L, 5, "mate_avg_prob");
-	double disable = num_field(L, 5, "disable_prob");
-	/* b's genes by innovation: 9 */
-	lua_Integer nb = (lua_Integer)lua_rawlen(L, bl);
-	lua_createtable(L, 0, (int)nb);
-	for (lua_Integer i = 1; i <= nb; i++) {
-		lua_rawgeti(L, bl, i);
-		lua_getfield(L, -1, "innov");
-		lua_pushvalue(L, -2);
-		lua_rawset(L, 9);
+	const int al = 7, bl = 8;
+	rng_src r;
+	rng_begin(L, 6, &r); /* may push rng.s: 9 */
+	double average = draw(L, &r) < num_field(L, 5, K_MATE_AVG_PROB);
+	double disable = num_field(L, 5, K_DISABLE_PROB);
+	int na = (int)lua_rawlen(L, al), nb = (int)lua_rawlen(L, bl);
+	rget(L, a, K_NODES);
+	int an = lua_gettop(L);
+	rget(L, b, K_NODES);
+	int bn = lua_gettop(L);
+	luaL_checktype(L, an, LUA_TTABLE);
+	luaL_checktype(L, bn, LUA_TTABLE);
+	int ma = (int)lua_rawlen(L, an), mb = (int)lua_rawlen(L, bn);
+	/* scratch: b's genes by innovation; the child's genes' ends; the
+	 * ids of the child's nodes */
+	keyed *by = scratch(L, (size_t)nb * sizeof *by +
+				   (size_t)2 * (size_t)na * sizeof(double) +
+				   (size_t)(ma + mb) * sizeof(double));
+	double *ends = (double *)(void *)(by + nb);
+	double *have = ends + 2 * (size_t)na;
+	int sorted = 1;
+	for (int i = 0; i < nb; i++) {
+		lua_rawgeti(L, bl, i + 1);
+		by[i].key = num_field(L, -1, K_INNOV);
+		by[i].slot = i + 1;
 		lua_pop(L, 1);
+		if (i > 0 && !(by[i].key > by[i - 1].key))
+			sorted = 0;
 	}
-	/* the child: 10, its links: 11 */
+	if (!sorted)
+		qsort(by, (size_t)nb, sizeof *by, by_key_slot);
+	/* the child and its links */
 	lua_createtable(L, 0, 2);
-	lua_Integer na = (lua_Integer)lua_rawlen(L, al);
-	lua_createtable(L, (int)na, 0);
-	lua_pushvalue(L, -1);
-	lua_setfield(L, 10, "links");
+	int child = lua_gettop(L);
+	lua_createtable(L, na, 0);
+	int links = lua_gettop(L);
+	lua_pushvalue(L, links);
+	rset(L, child, K_LINKS);
 	int n = 0;
-	for (lua_Integer i = 1; i <= na; i++) {
-		lua_rawgeti(L, al, i); /* l: 12 */
-		lua_getfield(L, 12, "innov");
-		lua_rawget(L, 9); /* m: 13 */
-		if (!lua_isnil(L, 13)) {
-			int pick = draw(L, 6, ours) < 0.5 ? 12 : 13;
-			lua_getfield(L, 12, "enabled");
-			lua_getfield(L, 13, "enabled");
-			int somewhere = !lua_toboolean(L, -2) ||
-					!lua_toboolean(L, -1);
+	for (int i = 1; i <= na; i++) {
+		lua_rawgeti(L, al, i);
+		int l = lua_gettop(L);
+		int slot = gene_with(by, nb, num_field(L, l, K_INNOV));
+		if (slot) {
+			lua_rawgeti(L, bl, slot);
+			int m = l + 1;
+			int pick = draw(L, &r) < 0.5 ? l : m;
+			rget(L, l, K_ENABLED);
+			rget(L, m, K_ENABLED);
+			int somewhere =
+			    !lua_toboolean(L, -2) || !lua_toboolean(L, -1);
 			lua_pop(L, 2);
 			lua_pushvalue(L, pick);
 			push_gene_copy(L);
 			if (somewhere) {
-				lua_pushboolean(L, draw(L, 6, ours) >= disable);
-				lua_setfield(L, -2, "enabled");
+				lua_pushboolean(L, draw(L, &r) >= disable);
+				rset(L, -2, K_ENABLED);
 			}
 			if (average) {
-				double wl = num_field(L, 12, "weight");
-				double wm = num_field(L, 13, "weight");
+				double wl = num_field(L, l, K_WEIGHT);
+				double wm = num_field(L, m, K_WEIGHT);
 				lua_pushnumber(L, (wl + wm) / 2);
-				lua_setfield(L, -2, "weight");
+				rset(L, -2, K_WEIGHT);
 			}
-			lua_rawseti(L, 11, ++n);
-			lua_pop(L, 1); /* the picked gene */
 		} else {
-			lua_pushvalue(L, 12);
+			lua_pushvalue(L, l);
 			push_gene_copy(L);
-			lua_rawseti(L, 11, ++n);
-			lua_pop(L, 1);
 		}
+		rget(L, -1, K_FROM);
+		ends[2 * n] = eq_number(L, -1);
+		rget(L, -2, K_TO);
+		ends[2 * n + 1] = eq_number(L, -1);
 		lua_pop(L, 2);
+		lua_rawseti(L, links, ++n);
+		lua_settop(L, links);
 	}
 	/* nodes: all of a's, then b's that the child's genes need */
-	lua_getfield(L, a, "nodes"); /* 12 */
-	lua_getfield(L, b, "nodes"); /* 13 */
-	luaL_checktype(L, 12, LUA_TTABLE);
-	luaL_checktype(L, 13, LUA_TTABLE);
-	lua_Integer ma = (lua_Integer)lua_rawlen(L, 12);
-	lua_createtable(L, (int)ma + 1, 0); /* 14 */
-	lua_pushvalue(L, -1);
-	lua_setfield(L, 10, "nodes");
-	lua_createtable(L, 0, (int)ma); /* have: 15 */
+	lua_createtable(L, ma + 1, 0);
+	int nodes = lua_gettop(L);
+	lua_pushvalue(L, nodes);
+	rset(L, child, K_NODES);
 	int k = 0;
-	for (lua_Integer i = 1; i <= ma; i++) {
-		lua_rawgeti(L, 12, i);
-		lua_getfield(L, -1, "id");
-		lua_pushboolean(L, 1);
-		lua_rawset(L, 15);
-		push_node_copy(L);
-		lua_rawseti(L, 14, ++k);
+	for (int i = 1; i <= ma; i++) {
+		lua_rawgeti(L, an, i);
+		rget(L, -1, K_ID);
+		have[k] = eq_number(L, -1);
 		lua_pop(L, 1);
+		lua_rawseti(L, nodes, ++k); /* shared: nodes never change */
 	}
-	lua_Integer mb = (lua_Integer)lua_rawlen(L, 13);
-	for (lua_Integer i = 1; i <= mb; i++) {
-		lua_rawgeti(L, 13, i);
-		lua_getfield(L, -1, "id");
-		double id = lua_tonumber(L, -1);
-		int have = lua_rawget(L, 15) != LUA_TNIL;
+	for (int i = 1; i <= mb; i++) {
+		lua_rawgeti(L, bn, i);
+		rget(L, -1, K_ID);
+		double id = eq_number(L, -1);
 		lua_pop(L, 1);
-		if (!have && links_touch(L, 11, id)) {
-			lua_getfield(L, -1, "id");
-			lua_pushboolean(L, 1);
-			lua_rawset(L, 15);
-			push_node_copy(L);
-			lua_rawseti(L, 14, ++k);
+		int seen = 0, needed = 0;
+		for (int h = 0; h < k && !seen; h++)
+			seen = have[h] == id;
+		for (int e = 0; e < 2 * n && !seen && !needed; e++)
+			needed = ends[e] == id;
+		if (needed) {
+			have[k] = id;
+			lua_rawseti(L, nodes, ++k);
+		} else {
+			lua_pop(L, 1);
 		}
-		lua_pop(L, 1);
 	}
-	sort_list(L, 11, "innov");
-	sort_list(L, 14, "id");
-	lua_pushvalue(L, 10);
+	sort_list(L, links, K_INNOV);
+	sort_list(L, nodes, K_ID);
+	rng_done(L, &r);
+	lua_pushvalue(L, child);
 	return 1;
 }
 
@@ -1002,9 +1353,13 @@ static const luaL_Reg FUNCS[] = {
     {"rng_next", l_rng_next},
     {"rng_unit", l_rng_unit},
     {"mutate_weights", l_mutate_weights},
+    {"mutate", l_mutate},
+    {"draws", l_draws},
     {"crossover", l_crossover},
     {"rank", l_rank},
     {"distance", l_distance},
+    {"speciate", l_speciate},
+    {"copy_genome", l_copy_genome},
     {"pack_net", l_pack_net},
     {"dump", l_dump},
     {NULL, NULL},
@@ -1019,7 +1374,10 @@ static int open_neat(lua_State *L)
 	lua_pop(L, 1);
 	luaL_newmetatable(L, NET_TYPE);
 	lua_pop(L, 1);
-	luaL_newlib(L, FUNCS);
+	luaL_newlibtable(L, FUNCS);
+	for (int k = 1; k < K_COUNT; k++)
+		lua_pushstring(L, KEY_NAMES[k]);
+	luaL_setfuncs(L, FUNCS, K_COUNT - 1);
 	return 1;
 }
 

@@ -166,4 +166,89 @@ function T.dump_is_the_lua_writers_text()
 	check(not ok and tostring(err):find("cannot save a function"), "refuses a function")
 end
 
+-- Species by hand, threshold 3, c1 = c2 = 1, c3 = 0.4, N = 1 (fewer than
+-- 20 genes). The one old species' representative has genes 1, 2. g1 (1, 2,
+-- weights 1 off): 0.4 -> species 1. g2 (3, 4, 5): 2 disjoint + 3 excess =
+-- 5 -> opens species 2. g3 (g2 with one weight 0.5 off): 5 from the first,
+-- 0.4 * 0.5 / 3 from g2 -> species 2. g4 (1, 9): 1 disjoint + 1 excess = 2
+-- -> species 1. g5 (7): 3 from the first (not below 3), 4 from g2 ->
+-- opens species 3.
+function T.speciate_by_hand_and_as_the_lua_loop()
+	local o = { c1 = 1.0, c2 = 1.0, c3 = 0.4, normalize_below = 20 }
+	local rep = genome{ { 1, 0.0 }, { 2, 0.0 } }
+	local gs = { genome{ { 1, 1.0 }, { 2, 1.0 } }, genome{ { 3, 0.0 }, { 4, 0.0 }, { 5, 0.0 } },
+		genome{ { 3, 0.5 }, { 4, 0.0 }, { 5, 0.0 } }, genome{ { 1, 0.0 }, { 9, 0.0 } }, genome{ { 7, 0.0 } } }
+	local home = fast.speciate(gs, { rep }, o, 3.0)
+	check(#home == 5 and home[1] == 1 and home[2] == 2 and home[3] == 2 and home[4] == 1
+		and home[5] == 3, "species 1 2 2 1 3")
+	check(#fast.speciate({}, { rep }, o, 3.0) == 0, "no genome, no species")
+	-- a grown population, against the Lua loop with neat.distance_lua
+	local pop = grown_population()
+	for _, t in ipairs{ 0.5, 1.0, 3.0 } do
+		local reps = {}
+		for k, sp in ipairs(pop.species) do reps[k] = sp.rep end
+		local got = fast.speciate(pop:genomes(), reps, pop.options, t)
+		for i, g in ipairs(pop:genomes()) do
+			local want
+			for k, r in ipairs(reps) do
+				if neat.distance_lua(g, r, pop.options) < t then want = k break end
+			end
+			if not want then
+				reps[#reps + 1] = g
+				want = #reps
+			end
+			check(got[i] == want, "genome " .. i .. " at threshold " .. t)
+		end
+	end
+end
+
+-- A copy is the Lua copy's text; its genes are its own tables (a mutation
+-- of the copy leaves the original alone), its nodes the original's, in a
+-- list of its own.
+function T.copy_genome_is_the_luas_with_shared_nodes()
+	local g = grown_population():genomes()[1]
+	local c = fast.copy_genome(g)
+	check(serialize.dump_lua(c) == serialize.dump_lua(neat.copy_genome_lua(g)), "same text")
+	check(c.links ~= g.links and c.links[1] ~= g.links[1], "genes copied")
+	local w = g.links[1].weight
+	c.links[1].weight = w + 1
+	check(g.links[1].weight == w, "the original's weight stays")
+	check(c.nodes ~= g.nodes and c.nodes[1] == g.nodes[1] and #c.nodes == #g.nodes, "nodes shared")
+	check(neat.copy_genome == fast.copy_genome, "neat.copy_genome is C")
+end
+
+-- fast.mutate's first draws and weights are neat.mutate_lua's (1: add a
+-- node, 2: add a link, 0: the weights, with chance weight_mut_prob);
+-- fast.draws(rng, n) is n calls of rng:unit().
+function T.mutation_draws_and_key_draws_are_the_luas()
+	local pop = grown_population()
+	local o = {}
+	for k, v in pairs(pop.options) do o[k] = v end
+	local r = random.new(7)
+	local seen = {}
+	for _, probs in ipairs{ { 0.5, 0.5, 0.9 }, { 0, 0, 1 }, { 0, 0, 0.5 }, { 1, 0, 1 } } do
+		o.add_node_prob, o.add_link_prob, o.weight_mut_prob = probs[1], probs[2], probs[3]
+		for _, g in ipairs(pop:genomes()) do
+			local g1, g2 = neat.copy_genome(g), neat.copy_genome(g)
+			local r1, r2 = random.load(r:save()), random.load(r:save())
+			local what = fast.mutate(g1, o, r1)
+			local want = 0
+			if r2:unit_lua() < o.add_node_prob then want = 1
+			elseif r2:unit_lua() < o.add_link_prob then want = 2
+			elseif r2:unit_lua() < o.weight_mut_prob then neat.mutate_weights_lua(g2, o, r2) end
+			check(what == want, "what " .. what .. " " .. want)
+			seen[what] = true
+			check(serialize.dump_lua(g1) == serialize.dump_lua(g2), "same weights")
+			check(serialize.dump_lua(r1:save()) == serialize.dump_lua(r2:save()), "same draws")
+			r:unit()
+		end
+	end
+	check(seen[0] and seen[1] and seen[2], "every branch taken")
+	local r1, r2 = random.new(3), random.new(3)
+	local d = fast.draws(r1, 5)
+	check(#d == 5, "five draws")
+	for k = 1, 5 do check(d[k] == r2:unit_lua(), "draw " .. k) end
+	check(#fast.draws(r1, 0) == 0 and r1:unit_lua() == r2:unit_lua(), "none drawn")
+end
+
 return T
