@@ -7,10 +7,12 @@
  *   NEAT    Tasks/Avoid-NEAT.simbatch   40 generations of 150 networks
  *   CMA-ES  Tasks/Avoid-CMAES.simbatch  460 generations of 13 networks
  *
- * (both about 6,000 evaluations of 2 episodes of 3,000 ticks in
- * Envs/Roam.lua), by `evo run TASK --seed s --run DIR`, exactly what a
- * user gets. The champion, saved into the copy's Skills/Avoid/Avoid.net,
- * is then replayed by
+ * (NEAT 6,000 evaluations of 2 episodes of 3,000 ticks in Envs/Roam.lua;
+ * CMA-ES 460 x 13 = 5,980 without a restart, but each IPOP restart
+ * doubles its population, so its runs take more: the table prints each
+ * run's evaluations, the sum of log.csv's column), by `evo run TASK
+ * --seed s --run DIR`, exactly what a user gets. The champion, saved
+ * into the copy's Skills/Avoid/Avoid.net, is then replayed by
  *
  *   evo run Tasks/Avoid-DEMO.simbatch --headless --episodes 10
  *           --seed 1000 --ticks 3000
@@ -19,14 +21,15 @@
  * (1000, episode), not from a training run's (seed, generation,
  * repetition)), the same 10 for every champion. The bench sums the
  * episode lines' collision ticks and rewards, and prints them for each
- * seed and method with the time of the training run, then the means.
+ * seed and method with the training run's evaluations and time, then
+ * the means.
  *
  * Bar: CMA-ES collides less than NEAT on the same unseen episodes (mean
  * collision ticks over the seeds); exit 1 when not met.
  *
- * Time: a training run takes about 3 CPU minutes on one core (5 minutes
- * wall on the shared two-core machine), so a seed costs about 10
- * minutes for both methods; the default is 3 seeds.
+ * Time: a training run takes minutes (on a shared two-core machine, NEAT
+ * 1 to 3, CMA-ES 4 to 13, more after restarts), so the default is 3
+ * seeds, which took 29 minutes there.
  *
  * usage: bench_avoid [--seeds N]
  *   --seeds N  seeds 1 .. N (default 3) */
@@ -40,10 +43,10 @@
 #include "base/fileio.h"
 #include "base/number.h"
 
-#define DEFAULT_SEEDS 3
+#define DEFAULT_SEEDS	3
 #define REPLAY_EPISODES 10
-#define REPLAY_SEED 1000
-#define REPLAY_TICKS 3000
+#define REPLAY_SEED	1000
+#define REPLAY_TICKS	3000
 
 typedef struct method {
 	const char *name; /* as printed */
@@ -61,6 +64,7 @@ typedef struct result {
 	long collisions; /* collision ticks over the replay's episodes */
 	double reward;	 /* reward over the replay's episodes */
 	double secs;	 /* wall seconds of the training run */
+	long evals;	 /* evaluations of the training run (log.csv) */
 } result;
 
 static char evo_bin[256];
@@ -119,6 +123,42 @@ static int read_replay(const char *path, result *r)
 	return 0;
 }
 
+/* The sum of the training run's log.csv `evaluations` column (the sixth:
+ * generation,best,mean,best_ever,species,evaluations,...): 0, or -1. */
+static int read_evals(result *r)
+{
+	char path[512], *data;
+	size_t len;
+	evo_err err;
+	snprintf(path, sizeof path, "%s/run/log.csv", tmpdir);
+	if (evo_read_file(path, &data, &len, &err)) {
+		fprintf(stderr, "bench_avoid: %s\n", err.msg);
+		return -1;
+	}
+	if (strncmp(data, "generation,best,mean,best_ever,species,evaluations,",
+		    51) != 0) {
+		fprintf(stderr, "bench_avoid: %s: not the columns expected\n",
+			path);
+		free(data);
+		return -1;
+	}
+	r->evals = 0;
+	for (char *line = strchr(data, '\n'); line && line[1];
+	     line = strchr(line, '\n')) {
+		line++;
+		const char *f = line;
+		for (int k = 0; k < 5 && f; k++) {
+			f = strchr(f, ',');
+			if (f)
+				f++;
+		}
+		if (f)
+			r->evals += strtol(f, NULL, 10);
+	}
+	free(data);
+	return 0;
+}
+
 /* Trains a fresh copy of minds/Avoid with m's task and seed, then replays
  * its champion: 0 with *r, or -1 after a message. */
 static int run_once(const method *m, int seed, result *r)
@@ -129,8 +169,9 @@ static int run_once(const method *m, int seed, result *r)
 		 "%s/m/",
 		 tmpdir, tmpdir, tmpdir, tmpdir);
 	if (sh(cmd) != 0) {
-		fprintf(stderr, "bench_avoid: could not copy minds/Avoid to "
-				"%s/m\n",
+		fprintf(stderr,
+			"bench_avoid: could not copy minds/Avoid to "
+			"%s/m\n",
 			tmpdir);
 		return -1;
 	}
@@ -148,6 +189,8 @@ static int run_once(const method *m, int seed, result *r)
 			m->name, seed, tmpdir);
 		return -1;
 	}
+	if (read_evals(r))
+		return -1;
 	snprintf(out, sizeof out, "%s/replay.txt", tmpdir);
 	snprintf(cmd, sizeof cmd,
 		 "%s run %s/m/Avoid/Tasks/Avoid-DEMO.simbatch --headless "
@@ -165,8 +208,8 @@ static int run_once(const method *m, int seed, result *r)
 	/* progress, off the table: a seed takes minutes */
 	fprintf(stderr,
 		"bench_avoid: %s seed %d: %ld collision ticks, reward %.0f, "
-		"trained in %.0f s\n",
-		m->name, seed, r->collisions, r->reward, r->secs);
+		"trained in %.0f s, %ld evaluations\n",
+		m->name, seed, r->collisions, r->reward, r->secs, r->evals);
 	return 0;
 }
 
@@ -180,18 +223,19 @@ static void print_header(void)
 	       REPLAY_EPISODES, REPLAY_SEED, REPLAY_TICKS);
 	printf("%-6s", "seed");
 	for (size_t k = 0; k < N_METHODS; k++)
-		printf("  %-6s %10s %9s %7s", methods[k].name, "collisions",
-		       "reward", "time");
+		printf("  %-6s %10s %9s %6s %7s", methods[k].name, "collisions",
+		       "reward", "evals", "time");
 	printf("\n");
 }
 
 static void print_row(const char *label, const double *coll,
-		      const double *reward, const double *secs)
+		      const double *reward, const double *evals,
+		      const double *secs)
 {
 	printf("%-6s", label);
 	for (size_t k = 0; k < N_METHODS; k++)
-		printf("  %-6s %10.1f %9.0f %6.0fs", "", coll[k], reward[k],
-		       secs[k]);
+		printf("  %-6s %10.1f %9.0f %6.0f %6.0fs", "", coll[k],
+		       reward[k], evals[k], secs[k]);
 	printf("\n");
 	fflush(stdout);
 }
@@ -201,31 +245,34 @@ static void print_row(const char *label, const double *coll,
 static int bench(int n)
 {
 	double sum_c[N_METHODS] = {0}, sum_r[N_METHODS] = {0},
-	       sum_t[N_METHODS] = {0};
+	       sum_e[N_METHODS] = {0}, sum_t[N_METHODS] = {0};
 	print_header();
 	for (int s = 1; s <= n; s++) {
-		double c[N_METHODS], rw[N_METHODS], t[N_METHODS];
+		double c[N_METHODS], rw[N_METHODS], e[N_METHODS], t[N_METHODS];
 		for (size_t k = 0; k < N_METHODS; k++) {
 			result r;
 			if (run_once(&methods[k], s, &r))
 				return -1;
 			c[k] = (double)r.collisions;
 			rw[k] = r.reward;
+			e[k] = (double)r.evals;
 			t[k] = r.secs;
 			sum_c[k] += c[k];
 			sum_r[k] += rw[k];
+			sum_e[k] += e[k];
 			sum_t[k] += t[k];
 		}
 		char label[16];
 		snprintf(label, sizeof label, "%d", s);
-		print_row(label, c, rw, t);
+		print_row(label, c, rw, e, t);
 	}
 	for (size_t k = 0; k < N_METHODS; k++) {
 		sum_c[k] /= n;
 		sum_r[k] /= n;
+		sum_e[k] /= n;
 		sum_t[k] /= n;
 	}
-	print_row("mean", sum_c, sum_r, sum_t);
+	print_row("mean", sum_c, sum_r, sum_e, sum_t);
 	/* methods[0] is NEAT, methods[1] CMA-ES */
 	int ok = sum_c[1] < sum_c[0];
 	printf("bar: CMA-ES collides less than NEAT on the same unseen "
