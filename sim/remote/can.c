@@ -170,7 +170,8 @@ static int open_socketcan(evo_can *c, const char *iface, evo_err *err)
 /* Write n bytes to a non-blocking serial line, waiting for it to take
  * them at most `wait_s` in all. 0 when written, 1 when the line did not
  * take them all in that time (a peer that does not read, or none at all:
- * a pseudo-terminal nobody opened holds 16 KB, then takes no more), -1
+ * a pseudo-terminal nobody opened holds 16 KB, then takes no more; one
+ * whose other side closed takes nothing), -1
  * with errno on an error. A line cut by the time limit ends up in the
  * peer's count of malformed lines. */
 static int write_all(int fd, const char *s, size_t n, double wait_s)
@@ -185,6 +186,11 @@ static int write_all(int fd, const char *s, size_t n, double wait_s)
 		}
 		if (w < 0 && errno == EINTR)
 			continue;
+		/* a pseudo-terminal whose other side has closed answers
+		 * EIO, as its reads do: a peer gone takes nothing, and the
+		 * link's timeout says it is silent */
+		if (w < 0 && errno == EIO)
+			return 1;
 		if (w < 0 && errno != EAGAIN && errno != EWOULDBLOCK)
 			return -1;
 		double left = limit - now_s();

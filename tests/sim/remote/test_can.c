@@ -336,6 +336,23 @@ TEST(slcan_drives_an_adapter_with_its_bit_rate_and_reads_its_frames)
 	CHECK_CONTAINS(err.msg, "the adapter refused 'S6' (BEL)");
 	kill(a, SIGKILL);
 	waitpid(a, &st, 0);
+	/* an adapter whose process dies (its pseudo-terminal's other side
+	 * closes): a frame sent then is lost, as on a line nobody reads,
+	 * not an error that ends the run; the link's timeout reports the
+	 * silence (test_can_robot's killed body) */
+	snprintf(log, sizeof log, "%s/dying.log", cli_tmp);
+	a = start_adapter(0, log, name, sizeof name);
+	snprintf(url, sizeof url, "slcan:%s", name);
+	c = evo_can_open(url, &err);
+	CHECK(c != NULL);
+	kill(a, SIGKILL);
+	waitpid(a, &st, 0);
+	if (c) {
+		evo_can_frame f = frame(0x100, 1, "\x07"), in;
+		CHECK_EQ_INT(evo_can_send(c, &f, &err), 0);
+		CHECK_EQ_INT(evo_can_recv(c, 100, &in, &err), 0);
+		evo_can_close(c);
+	}
 	/* URL mistakes */
 	CHECK(evo_can_open("slcan:/dev/null?bitrate=300000", &err) == NULL);
 	CHECK_CONTAINS(err.msg, "bitrate 300000 is none of slcan's");
