@@ -247,7 +247,8 @@ TEST(slcan_pty_links_its_device_and_never_waits_for_a_reader)
 }
 
 /* A fake adapter on a pty: answers CR (or BEL to S when `refuse`), and
- * writes what it received to `log`; then echoes one frame line. */
+ * writes what it received to `log`; then echoes one frame line. It waits
+ * up to about 4 s for evo to open the pty, and ends when evo closes it. */
 static void fake_adapter(int master, int refuse, const char *log)
 {
 	char got[512];
@@ -259,6 +260,17 @@ static void fake_adapter(int master, int refuse, const char *log)
 			continue;
 		char b[128];
 		ssize_t r = read(master, b, sizeof b);
+		if (r <= 0) {
+			/* no side open (EIO, POLLHUP): once evo has spoken it
+			 * has closed, and the adapter is done; before, evo has
+			 * not opened it yet, so wait for it rather than spin
+			 * through the rounds and take the pty away with us */
+			if (n > 0)
+				break;
+			struct timespec ts = {0, 10 * 1000 * 1000};
+			nanosleep(&ts, NULL);
+			continue;
+		}
 		for (ssize_t i = 0; i < r && n + 1 < sizeof got; i++) {
 			got[n++] = b[i];
 			if (b[i] != '\r')
