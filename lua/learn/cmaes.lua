@@ -439,13 +439,7 @@ function Pop:tell(fitness)
 	local popl, ys, n = self.population, self.ys, self.n
 	assert(#fitness == #popl, "tell: one fitness per genome")
 	self.evaluations = self.evaluations + #fitness
-	local order = {}
-	for i = 1, #popl do order[i] = i end
-	table.sort(order, function(a, b)
-		if better(fitness[a], fitness[b]) then return true end
-		if better(fitness[b], fitness[a]) then return false end
-		return a < b
-	end)
+	local order = genetic.rank(fitness)
 	local top = order[1]
 	if not self.best or better(fitness[top], self.best.fitness) then
 		self.best = { genome = common.deep_copy(popl[top]), fitness = fitness[top] }

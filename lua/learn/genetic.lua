@@ -214,6 +214,18 @@ local function better(a, b)
 end
 genetic.better = better
 
+-- The indices 1..#fitness, best first (better's order, ties by index).
+function genetic.rank(fitness)
+	local order = {}
+	for i = 1, #fitness do order[i] = i end
+	table.sort(order, function(a, b)
+		if better(fitness[a], fitness[b]) then return true end
+		if better(fitness[b], fitness[a]) then return false end
+		return a < b
+	end)
+	return order
+end
+
 -- Index of the fittest of k draws (with replacement) from 1..#fitness;
 -- ties go to the earlier draw.
 function genetic.tournament(fitness, k, rng)
@@ -263,13 +275,7 @@ function Pop:tell(fitness)
 	local o, rng, popl = self.options, self.rng, self.population
 	assert(#fitness == #popl, "tell: one fitness per genome")
 	self.evaluations = self.evaluations + #fitness
-	local order = {}
-	for i = 1, #popl do order[i] = i end
-	table.sort(order, function(a, b)
-		if better(fitness[a], fitness[b]) then return true end
-		if better(fitness[b], fitness[a]) then return false end
-		return a < b
-	end)
+	local order = genetic.rank(fitness)
 	local top = order[1]
 	if not self.best or better(fitness[top], self.best.fitness) then
 		self.best = { genome = genetic.copy(popl[top]), fitness = fitness[top] }
