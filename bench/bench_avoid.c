@@ -40,6 +40,7 @@
 #include <sys/wait.h>
 #include <time.h>
 
+#include "bench_proc.h"
 #include "base/fileio.h"
 #include "base/number.h"
 
@@ -69,19 +70,6 @@ typedef struct result {
 
 static char evo_bin[256];
 static char tmpdir[128];
-
-static double now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
-static int sh(const char *cmd)
-{
-	int st = system(cmd);
-	return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
 
 /* Sums the `episode N: reward R over T ticks, C collision ticks` lines of
  * the replay's output: 0, or -1 when it has not REPLAY_EPISODES of them. */
@@ -168,7 +156,7 @@ static int run_once(const method *m, int seed, result *r)
 		 "rm -rf %s/m %s/run && mkdir -p %s/m && cp -r minds/Avoid "
 		 "%s/m/",
 		 tmpdir, tmpdir, tmpdir, tmpdir);
-	if (sh(cmd) != 0) {
+	if (bench_sh(cmd) != 0) {
 		fprintf(stderr,
 			"bench_avoid: could not copy minds/Avoid to "
 			"%s/m\n",
@@ -179,9 +167,9 @@ static int run_once(const method *m, int seed, result *r)
 		 "%s run %s/m/Avoid/Tasks/%s.simbatch --seed %d --run %s/run "
 		 "> %s/train.txt 2>&1",
 		 evo_bin, tmpdir, m->task, seed, tmpdir, tmpdir);
-	double t0 = now();
-	int rc = sh(cmd);
-	r->secs = now() - t0;
+	double t0 = bench_now();
+	int rc = bench_sh(cmd);
+	r->secs = bench_now() - t0;
 	if (rc != 0) {
 		fprintf(stderr,
 			"bench_avoid: %s seed %d: evo run failed; see "
@@ -197,7 +185,7 @@ static int run_once(const method *m, int seed, result *r)
 		 "--episodes %d --seed %d --ticks %d > %s 2>&1",
 		 evo_bin, tmpdir, REPLAY_EPISODES, REPLAY_SEED, REPLAY_TICKS,
 		 out);
-	if (sh(cmd) != 0) {
+	if (bench_sh(cmd) != 0) {
 		fprintf(stderr,
 			"bench_avoid: %s seed %d: the replay failed; see %s\n",
 			m->name, seed, out);
@@ -312,7 +300,7 @@ int main(int argc, char **argv)
 	int ok = bench(seeds);
 	char cmd[200];
 	snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
-	if (sh(cmd) != 0)
+	if (bench_sh(cmd) != 0)
 		fprintf(stderr, "bench_avoid: could not remove %s\n", tmpdir);
 	return ok == 1 ? 0 : 1;
 }

@@ -15,19 +15,13 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench_proc.h"
 #include "evo/wire.h"
 #include "remote/can.h"
 
 #define FRAMES 200000
 #define ROUNDS 5
 #define BUS_FRAMES 9009.0 /* 8-byte frames a second on a 1 Mbit/s bus */
-
-static double now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 static evo_can_frame frames[FRAMES];
 static size_t len[FRAMES];	   /* each datagram's bytes */
@@ -74,11 +68,11 @@ int main(void)
 		evo_can_frame f;
 		evo_wire_bad bad;
 		got = 0;
-		double t0 = now();
+		double t0 = bench_now();
 		for (size_t i = 0; i < n; i++)
 			got += evo_slcan_rx_byte(&rx, (uint8_t)stream[i], &f,
 						 &bad) == EVO_SLCAN_FRAME;
-		double rate = FRAMES / (now() - t0);
+		double rate = FRAMES / (bench_now() - t0);
 		best = rate > best ? rate : best;
 	}
 	if (got != FRAMES) {
@@ -110,14 +104,14 @@ int main(void)
 			int k;
 			got = 0;
 			size_t off = 0;
-			double t0 = now();
+			double t0 = bench_now();
 			for (int d = 0; d < nd; d++) {
 				evo_cannelloni_decode(dgrams + off, len[d], out,
 						      32, &k, bad);
 				got += k;
 				off += len[d];
 			}
-			double rate = FRAMES / (now() - t0);
+			double rate = FRAMES / (bench_now() - t0);
 			best = rate > best ? rate : best;
 		}
 		if (got != FRAMES) {
@@ -143,7 +137,7 @@ int main(void)
 	best = 0;
 	for (int r = 0; r < ROUNDS; r++) {
 		got = 0;
-		double t0 = now();
+		double t0 = bench_now();
 		for (int i = 0; i < FRAMES; i++) {
 			double t;
 			char iface[EVO_CANDUMP_IFACE_MAX];
@@ -153,7 +147,7 @@ int main(void)
 						 starts[i + 1] - starts[i] - 1,
 						 &t, iface, &f, &why);
 		}
-		double rate = FRAMES / (now() - t0);
+		double rate = FRAMES / (bench_now() - t0);
 		best = rate > best ? rate : best;
 	}
 	if (got != FRAMES) {

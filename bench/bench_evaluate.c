@@ -18,6 +18,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench_proc.h"
 #include "bench_args.h"
 #include "learn/evaluate.h"
 #include "mind/net_build.h"
@@ -27,24 +28,17 @@
 #define ROUNDS 5
 #define BAR    1.8
 
-static double now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
 /* Seconds for one batch, or a negative value on failure. */
 static double time_batch(evo_evaluator *ev, const evo_netdesc *const *c,
 			 evo_eval_result *res)
 {
 	evo_err err = {{0}};
-	double t0 = now();
+	double t0 = bench_now();
 	if (evo_evaluate(ev, c, N_CAND, 0, res, &err)) {
 		fprintf(stderr, "bench_evaluate: %s\n", err.msg);
 		return -1;
 	}
-	return now() - t0;
+	return bench_now() - t0;
 }
 
 int main(int argc, char **argv)

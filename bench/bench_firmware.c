@@ -34,6 +34,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench_proc.h"
 #include "bench_args.h"
 #include "evo/flash.h"
 #include "host/qemu_session.h"
@@ -42,13 +43,6 @@
 
 static const char *build = "build";
 static trace_file trace;
-
-static double now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 /* The address of a symbol of elf, or 0. */
 static unsigned long symbol(const char *nm, const char *elf, const char *name)
@@ -90,7 +84,7 @@ static double host_ns_per_tick(const char *mind_dir, size_t n, int *same)
 			evo_mindfolder_free(l);
 			return -1;
 		}
-		double t0 = now();
+		double t0 = bench_now();
 		for (size_t i = 0; i < n; i++) {
 			evo_mind_step(&l->mind, s,
 				      trace.sensor + i * trace.n_sensors, act);
@@ -99,7 +93,7 @@ static double host_ns_per_tick(const char *mind_dir, size_t n, int *same)
 				   trace.n_actuators * sizeof *act) != 0)
 				*same = 0;
 		}
-		double dt = now() - t0;
+		double dt = bench_now() - t0;
 		if (dt < best)
 			best = dt;
 	}
@@ -248,9 +242,9 @@ static int flash_over_slcan(void)
 	evo_flash_tx t;
 	evo_flash_tx_init(&t, image, (uint32_t)len, 16);
 	size_t out_bytes = 0, in_bytes = 0, replies = 0;
-	double t0 = now(), try_start = t0;
+	double t0 = bench_now(), try_start = t0;
 	uint32_t progress = t.progress;
-	while (t.stage != EVO_FLASH_TX_FINISHED && now() - t0 < 30.0) {
+	while (t.stage != EVO_FLASH_TX_FINISHED && bench_now() - t0 < 30.0) {
 		while (evo_flash_tx_next(&t, &f)) {
 			out_bytes += slcan_bytes(&f);
 			qs_queue_frame(&q, &f);
@@ -265,13 +259,13 @@ static int flash_over_slcan(void)
 		}
 		if (t.progress != progress) {
 			progress = t.progress;
-			try_start = now();
-		} else if (now() - try_start > 1.0) {
+			try_start = bench_now();
+		} else if (bench_now() - try_start > 1.0) {
 			evo_flash_tx_timeout(&t);
-			try_start = now();
+			try_start = bench_now();
 		}
 	}
-	double wall = now() - t0;
+	double wall = bench_now() - t0;
 	qs_stop(&q);
 	if (t.stage != EVO_FLASH_TX_FINISHED || t.kind != EVO_FLASH_DONE) {
 		fprintf(stderr,

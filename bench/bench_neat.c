@@ -43,6 +43,7 @@
 #include <sys/wait.h>
 #include <time.h>
 
+#include "bench_proc.h"
 #include "base/fileio.h"
 #include "base/number.h"
 #include "learn/literature.h"
@@ -63,19 +64,6 @@ static double children_cpu(void)
 	getrusage(RUSAGE_CHILDREN, &ru);
 	return (double)ru.ru_utime.tv_sec + (double)ru.ru_utime.tv_usec * 1e-6 +
 	       (double)ru.ru_stime.tv_sec + (double)ru.ru_stime.tv_usec * 1e-6;
-}
-
-static double now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
-static int sh(const char *cmd)
-{
-	int st = system(cmd);
-	return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
 typedef struct task {
@@ -107,7 +95,7 @@ static int run_once(const task *t, int seed, long *evals, int *solved,
 	snprintf(cmd, sizeof cmd,
 		 "rm -rf %s/m %s/run && mkdir -p %s/m && cp -r minds/%s %s/m/",
 		 tmpdir, tmpdir, tmpdir, t->mind, tmpdir);
-	if (sh(cmd) != 0) {
+	if (bench_sh(cmd) != 0) {
 		fprintf(stderr, "bench_neat: could not copy minds/%s to %s\n",
 			t->mind, tmpdir);
 		return -1;
@@ -121,7 +109,7 @@ static int run_once(const task *t, int seed, long *evals, int *solved,
 		 evo_bin, tmpdir, t->mind, t->file, seed, threads, tmpdir,
 		 tmpdir);
 	double c0 = children_cpu();
-	int rc = sh(cmd);
+	int rc = bench_sh(cmd);
 	*cpu = children_cpu() - c0;
 	if (rc != 0) {
 		fprintf(stderr,
@@ -189,7 +177,7 @@ static int bench_task(const task *t, int n, totals *all)
 	long sum = 0;
 	int solved_runs = 0, failures = 0;
 	double general_sum = 0, general_sq = 0;
-	double t0 = now();
+	double t0 = bench_now();
 	all->evals = 0;
 	all->cpu = 0;
 	for (int s = 1; s <= n; s++) {
@@ -211,7 +199,7 @@ static int bench_task(const task *t, int n, totals *all)
 			failures++;
 		}
 	}
-	double secs = now() - t0;
+	double secs = bench_now() - t0;
 	double mean = solved_runs ? (double)sum / solved_runs : 0;
 	printf("%-22s %3d runs  mean evaluations %9.0f (paper %6.0f)  "
 	       "failures %3d",
@@ -250,7 +238,7 @@ static int neat_python(int n, totals *all, int *solved_runs)
 			 "bench/neat_python_xor.cfg %d > %s/py.txt 2>&1",
 			 venv, s, tmpdir);
 		double c0 = children_cpu();
-		int rc = sh(cmd);
+		int rc = bench_sh(cmd);
 		all->cpu += children_cpu() - c0;
 		snprintf(path, sizeof path, "%s/py.txt", tmpdir);
 		if (rc != 0 || evo_read_file(path, &data, &len, &err)) {
@@ -355,7 +343,7 @@ int main(int argc, char **argv)
 	}
 	char cmd[200];
 	snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
-	if (sh(cmd) != 0)
+	if (bench_sh(cmd) != 0)
 		fprintf(stderr, "bench_neat: could not remove %s\n", tmpdir);
 	return rc;
 }

@@ -42,6 +42,7 @@
 #include <sys/wait.h>
 #include <time.h>
 
+#include "bench_proc.h"
 #include "base/fileio.h"
 #include "base/number.h"
 #include "learn/literature.h"
@@ -132,19 +133,6 @@ static const row rows[] = {
 
 static char evo_bin[256];
 static char tmpdir[128];
-
-static double now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
-static int sh(const char *cmd)
-{
-	int st = system(cmd);
-	return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
 
 /* The protocol the task file names with POLEPROTOCOL (NEAT without it),
  * or -1 with a message when the file cannot be read or names none. */
@@ -277,7 +265,7 @@ static int run_once(const row *r, evo_lit_protocol pr, int seed, long *evals,
 		 "%s/run > %s/out.txt 2>&1",
 		 tmpdir, tmpdir, tmpdir, r->mind, tmpdir, evo_bin, tmpdir,
 		 r->mind, r->file, seed, tmpdir, tmpdir);
-	if (sh(cmd) != 0) {
+	if (bench_sh(cmd) != 0) {
 		fprintf(stderr,
 			"bench_poles: %s seed %d: evo run failed; see "
 			"%s/out.txt\n",
@@ -323,11 +311,11 @@ static int bench_row(const row *r, int n)
 		return -1;
 	long sum = 0;
 	int solved_runs = 0, failures = 0, gen_runs = 0, gen_min = 625;
-	double gsum = 0, gsq = 0, t0 = now();
+	double gsum = 0, gsq = 0, t0 = bench_now();
 	for (int s = 1; s <= n; s++) {
 		long evals;
 		int solved, general;
-		double t1 = now();
+		double t1 = bench_now();
 		if (run_once(r, (evo_lit_protocol)pr, s, &evals, &solved,
 			     &general))
 			return -1;
@@ -336,7 +324,7 @@ static int bench_row(const row *r, int n)
 			"bench_poles: %s seed %d: %ld evaluations, %s, "
 			"generalisation %d, %.1f s\n",
 			r->only, s, evals, solved ? "solved" : "FAILED",
-			general, now() - t1);
+			general, bench_now() - t1);
 		if (solved) {
 			solved_runs++;
 			sum += evals;
@@ -350,7 +338,7 @@ static int bench_row(const row *r, int n)
 			gen_min = general < gen_min ? general : gen_min;
 		}
 	}
-	double secs = now() - t0;
+	double secs = bench_now() - t0;
 	double mean = solved_runs ? (double)sum / solved_runs : 0;
 	printf("%-5s %-8s %-6s %5d %10.0f %8d", r->task,
 	       evo_lit_protocol_name((evo_lit_protocol)pr), r->method, n, mean,
@@ -441,7 +429,7 @@ int main(int argc, char **argv)
 	}
 	char cmd[200];
 	snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
-	if (sh(cmd) != 0)
+	if (bench_sh(cmd) != 0)
 		fprintf(stderr, "bench_poles: could not remove %s\n", tmpdir);
 	return rc;
 }

@@ -27,6 +27,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "bench_proc.h"
 #include "bench_args.h"
 #include "cmd/serve.h"
 #include "learn/evaluate.h"
@@ -49,13 +50,6 @@
  * apart at most, so a burst of other work on the machine moves both,
  * where the best of each alone would pair one lucky run with another. */
 #define SCALE_ROUNDS 7
-
-static double now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 /* ---- the plain round trip ------------------------------------------------ */
 
@@ -96,8 +90,8 @@ static pid_t start_echo(size_t reply)
 	lcm_subscription_t *s =
 	    lcm_subscribe(e.lcm, "EVO_BENCH_PING", on_ping, &e);
 	lcm_subscription_set_queue_capacity(s, 10000);
-	double limit = now() + 120;
-	while (e.got >= 0 && now() < limit)
+	double limit = bench_now() + 120;
+	while (e.got >= 0 && bench_now() < limit)
 		lcm_handle_timeout(e.lcm, 100);
 	lcm_destroy(e.lcm);
 	_exit(0);
@@ -107,17 +101,17 @@ static pid_t start_echo(size_t reply)
 static double plain_rate(lcm_t *lcm, echo *e, size_t send, long n)
 {
 	static unsigned char buf[EVO_WIRE_MAX_BYTES];
-	double t0 = now();
+	double t0 = bench_now();
 	for (long i = 0; i < n; i++) {
 		e->got = 0;
 		lcm_publish(lcm, "EVO_BENCH_PING", buf, (unsigned)send);
-		double limit = now() + 5;
-		while (!e->got && now() < limit)
+		double limit = bench_now() + 5;
+		while (!e->got && bench_now() < limit)
 			lcm_handle_timeout(lcm, 100);
 		if (!e->got)
 			return -1;
 	}
-	return (double)n / (now() - t0);
+	return (double)n / (bench_now() - t0);
 }
 
 /* ---- evo serve in a child --------------------------------------------- */
@@ -161,7 +155,7 @@ static double lockstep_rate(evo_remotes *r, const evo_task *task, long ticks,
 	evo_q16 qin[EVO_MAX_SENSORS], qout[EVO_MAX_ACTUATORS];
 	double rate = -1;
 	if (evo_remote_reset(r, 0, round + 1, 11, 12, &err) == 0) {
-		double t0 = now();
+		double t0 = bench_now();
 		long t;
 		for (t = 0; t < ticks; t++) {
 			evo_remote_sensors(r->r[0], 0, in);
@@ -173,7 +167,7 @@ static double lockstep_rate(evo_remotes *r, const evo_task *task, long ticks,
 			if (evo_remote_step(r, 0, out, &err) != 0)
 				break;
 		}
-		rate = (double)t / (now() - t0);
+		rate = (double)t / (bench_now() - t0);
 		if (t < ticks)
 			fprintf(stderr, "bench_remote: episode ended at tick "
 					"%ld: %s\n",
@@ -275,12 +269,12 @@ static double eval_rate(evo_evaluator *ev, const evo_netdesc *const *c,
 			evo_eval_result *res)
 {
 	evo_err err = {{0}};
-	double t0 = now();
+	double t0 = bench_now();
 	if (evo_evaluate(ev, c, N_CAND, 0, res, &err)) {
 		fprintf(stderr, "bench_remote: %s\n", err.msg);
 		return -1;
 	}
-	return N_CAND / (now() - t0);
+	return N_CAND / (bench_now() - t0);
 }
 
 /* An evaluator that finds `want` servers, one batch timed, destroyed: two

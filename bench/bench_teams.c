@@ -26,6 +26,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "bench_proc.h"
 #include "base/fileio.h"
 #include "base/number.h"
 #include "mind/task.h"
@@ -34,13 +35,6 @@
 
 #define RATIO_BAR 0.40
 #define COST_BAR  2.0
-
-static double now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 static char dir[256];
 
@@ -152,7 +146,7 @@ static double run_floor(const evo_scene *sc, long ticks)
 	evo_body_id *bots = malloc((size_t)sc->n_bots * sizeof *bots);
 	evo_world *w = floor_world(sc, bots);
 	const double fl = (2 * 0.9 - 1) * 20, fr = (2 * 0.8 - 1) * 20;
-	double t0 = now();
+	double t0 = bench_now();
 	for (long t = 0; t < ticks; t++) {
 		for (int b = 0; b < sc->n_bots; b++) {
 			evo_pose p = evo_body_pose(w, bots[b]);
@@ -165,7 +159,7 @@ static double run_floor(const evo_scene *sc, long ticks)
 		}
 		evo_world_step(w);
 	}
-	double dt = now() - t0;
+	double dt = bench_now() - t0;
 	evo_world_destroy(w);
 	free(bots);
 	return (double)ticks / dt;
@@ -174,13 +168,13 @@ static double run_floor(const evo_scene *sc, long ticks)
 static double run_full(evo_sim *s, long ticks)
 {
 	evo_err err;
-	double t0 = now();
+	double t0 = bench_now();
 	for (long t = 0; t < ticks; t++)
 		if (evo_sim_tick(s, &err) < 0) {
 			fprintf(stderr, "%s\n", err.msg);
 			exit(1);
 		}
-	return (double)ticks / (now() - t0);
+	return (double)ticks / (bench_now() - t0);
 }
 
 typedef struct figures {

@@ -17,6 +17,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench_proc.h"
 #include "bench_args.h"
 #include "mind/task.h"
 #include "tasksim/tasksim.h"
@@ -25,13 +26,6 @@
 
 #define ROUNDS 15
 #define BAR 0.40
-
-static double now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 /* The same world in plain Box2D: obstacles and the bot's body only. */
 static evo_world *floor_world(const evo_scene *sc, evo_body_id *bot)
@@ -57,7 +51,7 @@ static double run_floor(const evo_scene *sc, long ticks)
 	evo_body_id bot;
 	evo_world *w = floor_world(sc, &bot);
 	const double fl = (2 * 0.9 - 1) * 80, fr = (2 * 0.85 - 1) * 80;
-	double t0 = now();
+	double t0 = bench_now();
 	for (long t = 0; t < ticks; t++) {
 		evo_pose p = evo_body_pose(w, bot);
 		double c = cos(p.angle), s = sin(p.angle);
@@ -66,7 +60,7 @@ static double run_floor(const evo_scene *sc, long ticks)
 		evo_body_apply_force(w, bot, c * fr, s * fr, p.x - s, p.y + c);
 		evo_world_step(w);
 	}
-	double dt = now() - t0;
+	double dt = bench_now() - t0;
 	evo_world_destroy(w);
 	return (double)ticks / dt;
 }
@@ -74,7 +68,7 @@ static double run_floor(const evo_scene *sc, long ticks)
 static double run_full(evo_sim *s, long ticks, uint64_t *episode)
 {
 	evo_err err;
-	double t0 = now();
+	double t0 = bench_now();
 	for (long t = 0; t < ticks; t++) {
 		int r = evo_sim_tick(s, &err);
 		if (r < 0) {
@@ -86,7 +80,7 @@ static double run_full(evo_sim *s, long ticks, uint64_t *episode)
 			evo_sim_reset(s, (int)*episode, *episode, *episode, &err);
 		}
 	}
-	return (double)ticks / (now() - t0);
+	return (double)ticks / (bench_now() - t0);
 }
 
 /* What sensing would cost casting BotType8's 90 rays through Box2D one
@@ -100,7 +94,7 @@ static double raycast_sensing_us(evo_sim *s, long ticks)
 		if (evo_sim_tick(s, &err) != 0)
 			evo_sim_reset(s, 1, 1, 1, &err);
 		const evo_bot *b = &sc->bot[0];
-		double t0 = now();
+		double t0 = bench_now();
 		for (int k = 0; k < b->n_sensors; k++) {
 			const evo_sensor_def *d = &b->sensor[k].def;
 			if (d->kind != EVO_SENSOR_PROXIMITY)
@@ -120,7 +114,7 @@ static double raycast_sensing_us(evo_sim *s, long ticks)
 					b->body);
 			}
 		}
-		total += now() - t0;
+		total += bench_now() - t0;
 	}
 	if (sink == 12345.678)
 		printf(" ");

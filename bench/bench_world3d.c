@@ -20,6 +20,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench_proc.h"
 #include "bench_args.h"
 #include "mind/task.h"
 #include "tasksim/tasksim.h"
@@ -28,13 +29,6 @@
 
 #define ROUNDS 9
 #define BAR    0.50
-
-static double now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 /* Where the robot's hull is now, from the world itself. */
 static void hull_position(const evo_scene3d *sc, double pos[3])
@@ -68,22 +62,22 @@ static double run_full(evo_sim *s, long ticks, uint64_t *episode, replay *rp)
 	rp->first_episode = *episode;
 	reset(s, *episode);
 	const evo_bot3d *b = &s->scene3d->bot[0];
-	double t0 = now(), paused = 0;
+	double t0 = bench_now(), paused = 0;
 	for (long t = 0; t < ticks; t++) {
 		int r = evo_sim_tick(s, &err);
 		if (r < 0) {
 			fprintf(stderr, "%s\n", err.msg);
 			exit(1);
 		}
-		double p0 = now();
+		double p0 = bench_now();
 		rp->cmd[t][0] = b->actuator[0].command;
 		rp->cmd[t][1] = b->actuator[1].command;
 		rp->reset_after[t] = r > 0;
-		paused += now() - p0;
+		paused += bench_now() - p0;
 		if (r > 0)
 			reset(s, ++*episode);
 	}
-	double rate = (double)ticks / (now() - t0 - paused);
+	double rate = (double)ticks / (bench_now() - t0 - paused);
 	hull_position(s->scene3d, rp->end);
 	return rate;
 }
@@ -97,7 +91,7 @@ static double run_floor(evo_sim *s, long ticks, const replay *rp)
 	reset(s, episode);
 	evo_scene3d *sc = s->scene3d;
 	double total = 0;
-	double t0 = now();
+	double t0 = bench_now();
 	for (long t = 0; t < ticks; t++) {
 		const evo_bot3d *b = &sc->bot[0];
 		for (int k = 0; k < sc->def.substeps; k++) {
@@ -116,12 +110,12 @@ static double run_floor(evo_sim *s, long ticks, const replay *rp)
 			}
 		}
 		if (rp->reset_after[t]) {
-			total += now() - t0;
+			total += bench_now() - t0;
 			reset(s, ++episode);
-			t0 = now();
+			t0 = bench_now();
 		}
 	}
-	total += now() - t0;
+	total += bench_now() - t0;
 	/* the same path, or the floor measured something else */
 	double end[3];
 	hull_position(sc, end);
