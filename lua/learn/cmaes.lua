@@ -328,21 +328,23 @@ function cmaes.new(args)
 	return pop
 end
 
--- y = B D z (B: n x n row-major; separable: D z).
-local function transform(self, z)
-	local n, D, B, y = self.n, self.D, self.B, {}
-	if not B then
-		for i = 1, n do y[i] = D[i] * z[i] end
-		return y
-	end
-	local dz = {}
-	for j = 1, n do dz[j] = D[j] * z[j] end
+-- B v, B an n x n matrix stored row-major.
+local function times_B(B, n, v)
+	local r = {}
 	for i = 1, n do
 		local s, row = 0.0, (i - 1) * n
-		for j = 1, n do s = s + B[row + j] * dz[j] end
-		y[i] = s
+		for j = 1, n do s = s + B[row + j] * v[j] end
+		r[i] = s
 	end
-	return y
+	return r
+end
+
+-- y = B D z (separable: D z).
+local function transform(self, z)
+	local n, D, B = self.n, self.D, self.B
+	local dz = {}
+	for j = 1, n do dz[j] = D[j] * z[j] end
+	return B and times_B(B, n, dz) or dz
 end
 
 -- Draws the generation: ys (the steps y_k) and the genomes.
@@ -381,12 +383,7 @@ local function inv_sqrt_times(self, y)
 		for i = 1, n do s = s + B[(i - 1) * n + j] * y[i] end
 		t[j] = s / D[j]
 	end
-	for i = 1, n do
-		local s, row = 0.0, (i - 1) * n
-		for j = 1, n do s = s + B[row + j] * t[j] end
-		r[i] = s
-	end
-	return r
+	return times_B(B, n, t)
 end
 
 -- B and D from C (evo.linalg); D is the square roots of C's eigenvalues.
