@@ -92,7 +92,7 @@ end
 -- interface: options_from_task, new, genomes/tell, best, species,
 -- save/load, to_net, to_net_text.
 common.MODULES = { NEAT = "learn.neat", GENETIC = "learn.genetic", ANNEALING = "learn.annealing",
-	CMAES = "learn.cmaes" }
+	CMAES = "learn.cmaes", MAPELITES = "learn.mapelites" }
 
 -- Where key `key` of a task is, for messages: "path:line", or "path" when
 -- the key is not in the file. `lines` maps each key of the task to its line.
@@ -109,7 +109,8 @@ end
 
 -- The prefix of each method's own keys: the .simbatch reader keeps every
 -- key that starts with one (core/src/parse_simbatch.c).
-common.PREFIXES = { NEAT = "NEAT_", GENETIC = "GA_", ANNEALING = "SA_", CMAES = "CMAES_" }
+common.PREFIXES = { NEAT = "NEAT_", GENETIC = "GA_", ANNEALING = "SA_", CMAES = "CMAES_",
+	MAPELITES = "MAPELITES_" }
 
 -- Levenshtein distance between two strings.
 local function distance(a, b)

@@ -26,7 +26,7 @@ local task = host.task
 local method = (task.LEARNINGMETHOD or "NEAT"):upper()
 local MODULES = common.MODULES
 if not MODULES[method] then
-	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC, ANNEALING or CMAES", 0)
+	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC, ANNEALING, CMAES or MAPELITES", 0)
 end
 local algo = require(MODULES[method])
 
@@ -215,7 +215,8 @@ else
 	history = { best = {}, mean = {} }
 	best_team = {}
 end
-host.open_log(first)
+-- a method's own columns of log.csv (MAPELITES: coverage, qd_score)
+host.open_log(first, algo.log_columns)
 local since_curve = 0
 local last_checkpoint = os.clock()
 
@@ -238,6 +239,8 @@ for gen = first, generations - 1 do
 	for i, g in ipairs(genomes) do nets[i] = pack and pack(g) or algo.to_net(g) end
 	local function net_of(i) return pack and algo.to_net(genomes[i]) or nets[i] end
 	local fitness, seconds, solved, _, metrics, t = evaluate(nets, gen, k)
+	-- what each candidate did (MAPELITES keeps an archive of behaviours)
+	local descriptors = algo.log_columns and host.descriptors and host.descriptors()
 	local best_i, sum = 1, 0
 	for i, f in ipairs(fitness) do
 		sum = sum + f
@@ -276,7 +279,7 @@ for gen = first, generations - 1 do
 	local best_net = net_of(best_i)
 	-- the species of the generation just evaluated (tell() speciates the next)
 	local species = #pop.species
-	pop:tell(fitness)
+	pop:tell(fitness, descriptors)
 	history.best[#history.best + 1] = fitness[best_i]
 	history.mean[#history.mean + 1] = sum / #fitness
 	host.save(string.format("best/gen-%04d.net", gen), algo.to_net_text(best_net,
@@ -285,6 +288,10 @@ for gen = first, generations - 1 do
 	-- network of the `best` column; a team task's learning team (its
 	-- number in the task) and the generation's share of episodes won
 	local row = metrics[best_i]
+	if pop.log_values then
+		row = { table.unpack(row) }
+		for _, v in ipairs(pop:log_values()) do row[#row + 1] = v end
+	end
 	if t then
 		row = { table.unpack(row) }
 		row[#row + 1] = learners[k].index
@@ -299,6 +306,7 @@ for gen = first, generations - 1 do
 	since_curve = since_curve + seconds
 	if since_curve >= CURVE_SECONDS then
 		host.curve(history.best, history.mean, true)
+		if algo.write_archive then algo.write_archive(pop, host, true) end
 		since_curve = 0
 	end
 	local stop
@@ -367,6 +375,8 @@ else
 	end
 end
 host.curve(history.best, history.mean)
+-- MAPELITES: the archive (archive.csv, each elite's .net, the heatmap)
+if algo.write_archive then algo.write_archive(pop, host, false) end
 
 -- the environment's metrics, each a mean over the repetitions, after
 -- the collisions: ", in_zone 12.5"

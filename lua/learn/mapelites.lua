@@ -489,6 +489,26 @@ function Pop:grid_fitness()
 	return nx, ny, v
 end
 
+-- The archive into the run folder (learnsim.lua, through its host): the
+-- heatmap (archive.png, a 1- or 2-D grid) as the run goes (`during`), and
+-- at the end archive.csv and each elite's network, elites/elite-CELL.net.
+function mapelites.write_archive(pop, host, during)
+	local nx, ny, v = pop:grid_fitness()
+	if nx then host.heatmap(nx, ny, v, during) end
+	if during then return end
+	local text, cells = pop:archive_csv()
+	host.save("archive.csv", text)
+	local names, texts = {}, {}
+	for i, c in ipairs(cells) do
+		names[i] = string.format("elites/elite-%d.net", c)
+		texts[i] = pop:elite_net_text(c)
+	end
+	host.save_many(names, texts)
+	host.print(string.format("archive: %d elites in %d cells (coverage %.2f%%, QD-score %.6g) "
+		.. "in %s/archive.csv, their networks in %s/elites/", #cells, pop.n_cells or 0,
+		100 * pop:coverage(), pop:qd_score(), host.run_dir, host.run_dir))
+end
+
 mapelites.to_net = cmaes.to_net
 mapelites.to_net_text = cmaes.to_net_text
 

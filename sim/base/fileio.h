@@ -43,6 +43,16 @@ int evo_file_exists(const char *path);
 int evo_write_file_atomic(const char *path, const void *data, size_t len,
 			  evo_err *err);
 
+/* The same without the fsync before the rename: a kill still leaves the
+ * old file or the new one, and the caller makes many such files durable
+ * at once (sync) instead of paying a disk flush for each (MAP-Elites
+ * writes thousands of elites). */
+int evo_write_file_unsynced(const char *path, const void *data, size_t len,
+			    evo_err *err);
+
+/* Flush every file written so far to disk (sync). */
+void evo_sync_all(void);
+
 /* Create a new file beside path for writing (mode 0644 less the umask),
  * to be renamed over path once written: PATH.tmp.PID, or PATH.tmp.PID.N
  * when that name exists. Nothing that exists, a symbolic link included,

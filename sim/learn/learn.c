@@ -27,6 +27,7 @@
 #include "base/fileio.h"
 #include "learn/curve.h"
 #include "learn/evaluate.h"
+#include "learn/heatmap.h"
 #include "learn/literature.h"
 #include "learn/lua_linalg.h"
 #include "learn/lua_neat.h"
@@ -665,6 +666,82 @@ static int l_curve(lua_State *L)
 	return 0;
 }
 
+/* evo.heatmap(nx, ny, values[, quiet]): draw archive.png, the nx x ny
+ * grid of values (x + nx * y + 1; NaN where a cell is empty), as
+ * evo.curve draws curve.png. */
+static int l_heatmap(lua_State *L)
+{
+	learn *l = ctx(L);
+	lua_Integer nx = luaL_checkinteger(L, 1), ny = luaL_checkinteger(L, 2);
+	int quiet = lua_toboolean(L, 4);
+	int n;
+	if (nx < 1 || ny < 1 || nx > 1000 || ny > 1000)
+		return luaL_error(L, "evo.heatmap: %I x %I cells", nx, ny);
+	double *v = number_list(L, 3, &n);
+	if (n != nx * ny)
+		return luaL_error(L, "evo.heatmap: %d values for %I x %I cells",
+				  n, nx, ny);
+	char path[1200], title[200];
+	snprintf(title, sizeof title, "%s: the archive", l->skill);
+	evo_err err = {{0}};
+	if (evo_path_fmt(path, sizeof path, &err, "%s/archive.png",
+			 l->run_dir) ||
+	    evo_heatmap_write(path, title, (int)nx, (int)ny, v, &err))
+		return raise_msg(L, err.msg);
+	if (!quiet)
+		printf("archive heatmap in %s\n", path);
+	return 0;
+}
+
+/* evo.save_many(names, texts): files of the run folder, as evo.save
+ * writes them but made durable together (one sync for all, not a disk
+ * flush each: MAP-Elites' thousands of elites). */
+static int l_save_many(lua_State *L)
+{
+	learn *l = ctx(L);
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	if (!l->log_open)
+		return luaL_error(L, "evo.save_many before evo.open_log");
+	lua_Integer n = luaL_len(L, 1);
+	if (luaL_len(L, 2) != n)
+		return luaL_error(L, "evo.save_many: %I names, %I texts", n,
+				  luaL_len(L, 2));
+	char checked[1024] = "";
+	evo_err err = {{0}};
+	for (lua_Integer i = 1; i <= n; i++) {
+		lua_geti(L, 1, i);
+		lua_geti(L, 2, i);
+		const char *name = run_file_name(L, -2, "evo.save_many");
+		size_t len;
+		const char *text = luaL_checklstring(L, -1, &len);
+		const char *slash = strrchr(name, '/');
+		char folder[1024] = "";
+		if (slash)
+			snprintf(folder, sizeof folder, "%.*s",
+				 (int)(slash - name), name);
+		/* a folder's links are checked once */
+		if (slash && strcmp(folder, checked) != 0) {
+			char path[1200];
+			if (evo_folder_check_links(l->run_dir, folder, &err))
+				return raise_msg(L, err.msg);
+			if (evo_path_fmt(path, sizeof path, &err, "%s/%s",
+					 l->run_dir, folder))
+				return raise_msg(L, err.msg);
+			mkdir(path, 0755);
+			snprintf(checked, sizeof checked, "%s", folder);
+		}
+		char path[1200];
+		if (evo_path_fmt(path, sizeof path, &err, "%s/%s", l->run_dir,
+				 name) ||
+		    evo_write_file_unsynced(path, text, len, &err))
+			return raise_msg(L, err.msg);
+		lua_pop(L, 2);
+	}
+	evo_sync_all();
+	return 0;
+}
+
 static int l_print(lua_State *L)
 {
 	printf("%s\n", luaL_checkstring(L, 1));
@@ -774,6 +851,8 @@ static const luaL_Reg learn_fns[] = {
     {"read", l_read},
     {"save_champion", l_save_champion},
     {"curve", l_curve},
+    {"heatmap", l_heatmap},
+    {"save_many", l_save_many},
     {"print", l_print},
     {"begin_turn", l_begin_turn},
     {"read_skill_net", l_read_skill_net},
