@@ -239,8 +239,6 @@ for gen = first, generations - 1 do
 	for i, g in ipairs(genomes) do nets[i] = pack and pack(g) or algo.to_net(g) end
 	local function net_of(i) return pack and algo.to_net(genomes[i]) or nets[i] end
 	local fitness, seconds, solved, _, metrics, t = evaluate(nets, gen, k)
-	-- what each candidate did (MAPELITES keeps an archive of behaviours)
-	local descriptors = algo.log_columns and host.descriptors and host.descriptors()
 	local best_i, sum = 1, 0
 	for i, f in ipairs(fitness) do
 		sum = sum + f
@@ -279,7 +277,9 @@ for gen = first, generations - 1 do
 	local best_net = net_of(best_i)
 	-- the species of the generation just evaluated (tell() speciates the next)
 	local species = #pop.species
-	pop:tell(fitness, descriptors)
+	-- what each network's episodes did (evo.descriptors: nil for
+	-- literature and team tasks), for the methods that search behaviours
+	pop:tell(fitness, host.descriptors())
 	history.best[#history.best + 1] = fitness[best_i]
 	history.mean[#history.mean + 1] = sum / #fitness
 	host.save(string.format("best/gen-%04d.net", gen), algo.to_net_text(best_net,
