@@ -115,7 +115,6 @@ mapelites.ranges = {
 	cvt_samples = { lo = 1, hi = 10000000, int = true },
 	sigma_iso = common.POSITIVE, sigma_line = common.POSITIVE,
 	init_power = common.POSITIVE,
-	qd_offset = { lo = -1e300, hi = 1e300 },
 }
 
 function mapelites.options_from_task(task)
