@@ -114,7 +114,7 @@ mapelites.ranges = {
 	cvt_cells = { lo = 1, hi = 100000, int = true },
 	cvt_samples = { lo = 1, hi = 10000000, int = true },
 	sigma_iso = common.POSITIVE, sigma_line = common.POSITIVE,
-	init_power = common.POSITIVE,
+	init_power = common.POSITIVE, qd_offset = { lo = -1e9, hi = 1e9 },
 }
 
 function mapelites.options_from_task(task)
