@@ -405,7 +405,9 @@ static void nearest_point(const evo_shape_info *s, double px, double py,
 
 /* A bumper: true when the nearest point of some shape it sees lies
  * within reach of the bot's centre, in a direction within arc of the
- * bumper's angle (ends included). */
+ * bumper's angle; of the two ends of that arc, the one nearer straight
+ * ahead counts and the other does not (Kheperax's rule: its bumpers cover
+ * (-90, 0] and [0, 90) degrees). */
 static double sample_bumper(const evo_sensor *se, const frame *f,
 			    const shape_set *set)
 {
@@ -421,7 +423,9 @@ static double sample_bumper(const evo_sensor *se, const frame *f,
 		if (dx * dx + dy * dy >= d->reach * d->reach)
 			continue;
 		double delta = wrap_angle(atan2(dy, dx) - heading);
-		if (fabs(wrap_angle(delta - d->angle)) <= d->arc)
+		double off = fabs(wrap_angle(delta - d->angle));
+		if (off < d->arc ||
+		    (off == d->arc && fabs(delta) < fabs(d->angle)))
 			return EVO_TRUE;
 	}
 	return EVO_FALSE;
