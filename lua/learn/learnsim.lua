@@ -310,10 +310,13 @@ for gen = first, generations - 1 do
 		since_curve = 0
 	end
 	local stop
-	if solver then
+	if solver and not algo.whole_budget then
 		stop = string.format("solved in generation %d", gen)
 	elseif target and pop.best.fitness >= target then
 		stop = string.format("target fitness %.17g reached in generation %d", target, gen)
+	elseif pop.stop_reason then
+		-- the method's own criterion (MAPELITES: its target coverage)
+		stop = pop:stop_reason(gen)
 	end
 	-- The checkpoint last: a run killed before it is written resumes from
 	-- the previous checkpoint and redoes the generations since identically.
@@ -339,8 +342,10 @@ local pop = pops[1]
 
 -- The champion: the best solver when the task has a success criterion and
 -- a candidate met it, else the best network the method has seen.
+-- A method that searches its whole budget (MAPELITES: an archive, not a
+-- solver) neither stops at the first solver nor makes it the champion.
 local champion, champion_fitness
-if solver then
+if solver and not algo.whole_budget then
 	champion, champion_fitness = solver.net, solver.fitness
 else
 	champion, champion_fitness = algo.to_net(pop.best.genome), pop.best.fitness

@@ -77,6 +77,7 @@ mapelites.defaults = {
 	hidden_act = "tanh", -- "tanh", "sigmoid" or "relu"
 	bias = true, -- every node has a bias
 	qd_offset = 0.0, -- QD-score sums fitness - qd_offset
+	target_coverage = 0.0, -- stop once the coverage reaches this; 0: never
 }
 
 mapelites.task_keys = {
@@ -94,6 +95,7 @@ mapelites.task_keys = {
 	MAPELITES_HIDDEN_ACT = "hidden_act",
 	MAPELITES_BIAS = "bias",
 	MAPELITES_QD_OFFSET = "qd_offset",
+	MAPELITES_TARGET_COVERAGE = "target_coverage",
 }
 
 local CHOICES = {
@@ -115,6 +117,7 @@ mapelites.ranges = {
 	cvt_samples = { lo = 1, hi = 10000000, int = true },
 	sigma_iso = common.POSITIVE, sigma_line = common.POSITIVE,
 	init_power = common.POSITIVE, qd_offset = { lo = -1e9, hi = 1e9 },
+	target_coverage = common.PROB,
 }
 
 function mapelites.options_from_task(task)
@@ -428,6 +431,21 @@ function Pop:coverage()
 end
 
 function Pop:qd_score() return self.qd_sum end
+
+-- A run of MAP-Elites fills its archive for its whole budget: a network
+-- that solves the task (env.solved) neither stops it nor becomes the
+-- champion by that (learnsim.lua).
+mapelites.whole_budget = true
+
+-- Why the run stops after generation gen, or nil: target_coverage reached.
+function Pop:stop_reason(gen)
+	local t = self.options.target_coverage
+	if t > 0 and self:coverage() >= t then
+		return string.format("target coverage %.4g%% reached in generation %d (%d evaluations)",
+			100 * t, gen, self.evaluations)
+	end
+	return nil
+end
 
 -- Two more columns of log.csv (learnsim.lua), and their values.
 mapelites.log_columns = { "coverage", "qd_score" }
