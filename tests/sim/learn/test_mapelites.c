@@ -20,6 +20,7 @@
 #include "learn/heatmap.h"
 #include "support/cli.h"
 #include "viewer/png.h"
+#include "viewer/viewer.h"
 
 /* A copy of Avoid whose skill has one hidden layer, and a MAPELITES task:
  * `ticks` a repetition, a 20 x 20 grid over the final position, batches
@@ -231,6 +232,73 @@ TEST(a_killed_run_resumes_to_the_same_archive)
 	same_run("k", "kr");
 }
 
+/* Acceptance 5: a chosen elite of a Kheperax archive runs in the viewer
+ * with --net and --trail; its episode ends where the archive says (the
+ * maze is deterministic), and the screenshot shows its path. */
+TEST(the_viewer_shows_a_chosen_elite_and_its_path)
+{
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/kh && cp -r minds/Kheperax %s/kh/ && "
+			    "cd %s/kh/Kheperax/Tasks && sed -e "
+			    "'s/^NUMGEN:.*/NUMGEN:3/' -e "
+			    "'s/^POPSIZE:.*/POPSIZE:60/' -e "
+			    "'s/^MAPELITES_CELLS:.*/MAPELITES_CELLS:10/' "
+			    "Kheperax-MAPELITES.simbatch > Small.simbatch",
+			    cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_sh("%s run %s/kh/Kheperax/Tasks/Small.simbatch --seed 5 "
+			    "--run %s/kh/run > %s/kh/out.txt 2>&1",
+			    cli_evo, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	/* the elite that ended farthest from the start (0.15, 0.15) */
+	char *csv = cli_read("%s/kh/run/archive.csv", cli_tmp);
+	int cell = 0;
+	double far = -1, ex = 0, ey = 0;
+	for (char *p = csv ? strchr(csv, '\n') : NULL; p && p[1];
+	     p = strchr(p + 1, '\n')) {
+		int c;
+		double x, y;
+		if (sscanf(p + 1, "%d,%lf,%lf", &c, &x, &y) != 3)
+			break;
+		double d = (x - 0.15) * (x - 0.15) + (y - 0.15) * (y - 0.15);
+		if (d > far) {
+			far = d;
+			cell = c;
+			ex = x;
+			ey = y;
+		}
+	}
+	free(csv);
+	CHECK(far > 0.01);
+	char shot[256], out[4096];
+	snprintf(shot, sizeof shot, "%s/kh/elite.png", cli_tmp);
+	int rc = cli_capture(out, sizeof out,
+			     "%s run %s/kh/Kheperax/Tasks/Kheperax-DEMO.simbatch "
+			     "-nog --net Kheperax=%s/kh/run/elites/elite-%d.net "
+			     "--trail --ticks 250 --screenshot %s",
+			     cli_evo, cli_tmp, cli_tmp, cell, shot);
+	CHECK_EQ_INT(rc, 0);
+	rc = cli_capture(out, sizeof out,
+			 "%s run %s/kh/Kheperax/Tasks/Kheperax-DEMO.simbatch "
+			 "--headless --net Kheperax=%s/kh/run/elites/elite-%d.net",
+			 cli_evo, cli_tmp, cli_tmp, cell);
+	CHECK_EQ_INT(rc, 0);
+	char want[100];
+	snprintf(want, sizeof want, "behaviour (%.6f, %.6f)", ex, ey);
+	CHECK_CONTAINS(out, want);
+	evo_png_image im;
+	evo_err err = {{0}};
+	CHECK_EQ_INT(evo_png_read(shot, &im, &err), 0);
+	long trail = 0;
+	for (long i = 0; im.pixels && i < (long)im.w * im.h; i++) {
+		const uint8_t *px = im.pixels + i * im.channels;
+		trail += ((uint32_t)px[0] << 16 | (uint32_t)px[1] << 8 | px[2]) ==
+			 EVO_VIEW_TRAIL;
+	}
+	/* a path of at least a tenth of the arena, 2 px wide or more */
+	CHECK(trail > 100);
+	evo_png_image_free(&im);
+}
+
 /* A 3 x 2 grid: its cells are drawn where they belong, the lowest fitness
  * dark, the highest yellow, an empty cell grey. */
 TEST(heatmap_cells_have_the_colours_of_their_fitness)
@@ -276,6 +344,7 @@ int main(void)
 	RUN(one_thread_two_threads_and_two_ranks_give_the_same_archive);
 	RUN(a_killed_run_resumes_to_the_same_archive);
 	RUN(heatmap_cells_have_the_colours_of_their_fitness);
+	RUN(the_viewer_shows_a_chosen_elite_and_its_path);
 	cli_cleanup();
 	return test_summary();
 }
