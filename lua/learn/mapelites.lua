@@ -59,6 +59,7 @@
 -- holds the whole state.
 local cmaes = require "learn.cmaes"
 local common = require "learn.common"
+local netfile = require "learn.netfile"
 local random = require "learn.rng"
 
 local mapelites = {}
@@ -487,7 +488,7 @@ function Pop:elite_net_text(cell)
 	if not e then return nil end
 	local d = {}
 	for k = 1, #e.descriptor do d[k] = string.format("%.6g", e.descriptor[k]) end
-	return cmaes.to_net_text(cmaes.to_net(self:genome(e.weights)), string.format(
+	return mapelites.to_net_text(cmaes.to_net(self:genome(e.weights)), string.format(
 		"MAP-Elites elite of cell %d, descriptor (%s), fitness %.17g, generation %d",
 		cell, table.concat(d, ", "), e.fitness, e.generation))
 end
@@ -527,7 +528,9 @@ function mapelites.write_archive(pop, host, during)
 end
 
 mapelites.to_net = cmaes.to_net
-mapelites.to_net_text = cmaes.to_net_text
+-- .net text with each weight exactly as it was scored (netfile's exact
+-- Q16): an elite replayed from its file ends in its own cell.
+function mapelites.to_net_text(net, comment) return netfile.text(net, comment, true) end
 
 ---------------------------------------------------------------------------
 -- Checkpoints

@@ -171,6 +171,20 @@ function T.cvt_archive_and_checkpoint_go_on_identically()
 		"the resumed population is the same")
 end
 
+-- An elite's .net holds each weight as the Q16.16 value it was scored
+-- with, exactly: x * 65536 rounded to nearest, ties away from zero.
+function T.elite_weights_are_written_as_their_q16_values()
+	local q = require("learn.netfile").exact_q16
+	check(q(0.5) == "0.5", "0.5")
+	check(q(1.5 / 65536) == "0.000030517578125", "a tie rounds up: 2 / 65536")
+	check(q(-1.5 / 65536) == "-0.000030517578125", "and away from zero below 0")
+	check(q(1.4999 / 65536) == "0.0000152587890625", "1 / 65536")
+	check(q(1e-9) == "0" and q(-1e-9) == "0", "no -0")
+	check(q(200) == "127.9999847412109375", "clamped inside the .net limit")
+	local text = small{}:elite_net_text(1)
+	check(text == nil, "no elite in an empty cell")
+end
+
 function T.options_are_checked()
 	local ok, err = pcall(mapelites.options_from_task, { MAPELITES_ARCHIVE = "hex" })
 	check(not ok and err:match("^MAPELITES_ARCHIVE: expected auto, cvt, grid, found 'hex'"), err)
