@@ -59,7 +59,12 @@ local CURVE_SECONDS = 1.0
 -- in a run of XOR that lasts a tenth of a second. A run killed between two
 -- checkpoints goes on from the last one and does the generations after it
 -- again, identically (their rows of log.csv are dropped and written anew).
+-- A checkpoint that took more than CHECKPOINT_SECONDS / CHECKPOINT_SHARE to
+-- write (a MAP-Elites archive of ten thousand networks takes a second) is
+-- written again only after CHECKPOINT_SHARE times that, so writing
+-- checkpoints never costs more than a tenth of the run.
 local CHECKPOINT_SECONDS = 1.0
+local CHECKPOINT_SHARE = 10
 
 -- A malformed option stops the run at its line in the task file.
 local options = common.task_options(algo, task, host.task_path, host.task_lines)
@@ -219,6 +224,7 @@ end
 host.open_log(first, algo.log_columns)
 local since_curve = 0
 local last_checkpoint = os.clock()
+local checkpoint_cost = 0.0 -- CPU seconds the last checkpoint took to write
 
 for gen = first, generations - 1 do
 	local k = learner_of(gen)
@@ -321,7 +327,9 @@ for gen = first, generations - 1 do
 	-- The checkpoint last: a run killed before it is written resumes from
 	-- the previous checkpoint and redoes the generations since identically.
 	if gen == first or stop or gen == generations - 1
-		or os.clock() - last_checkpoint >= CHECKPOINT_SECONDS then
+		or os.clock() - last_checkpoint
+			>= math.max(CHECKPOINT_SECONDS, CHECKPOINT_SHARE * checkpoint_cost) then
+		local t0 = os.clock()
 		local more
 		if #learners > 1 then
 			more = {}
@@ -331,6 +339,7 @@ for gen = first, generations - 1 do
 			pop = algo.save(pops[1], true), more_pops = more, history = history, solver = solver,
 			stopped = stop ~= nil, best_team = teams and best_team or nil })
 		last_checkpoint = os.clock()
+		checkpoint_cost = last_checkpoint - t0
 	end
 	if stop then
 		host.print(stop)
