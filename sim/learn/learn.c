@@ -5,7 +5,7 @@
  * states. It reaches C through the `evo.learn` module set up here (the
  * scene scripts have their own `evo` module, sim/lua/lua_evo.c): evaluate a
  * batch of networks, log a generation, save files into the run folder,
- * save the champion, draw the curve. */
+ * save the champion, draw the curve (and MAP-Elites' heatmap). */
 #define _POSIX_C_SOURCE 200809L
 #include "learn/learn.h"
 
