@@ -479,8 +479,15 @@ static int run_remote_sim(const evo_task *task, const run_opts *o,
 			rc = stop_requested ? 0 : -1;
 			break;
 		}
-		printf("episode %ld: reward %.6f over %ld ticks\n", e,
+		printf("episode %ld: reward %.6f over %ld ticks", e,
 		       evo_remote_reward(r->r[0], 0), t);
+		/* what the simulator says the episode did, when it says */
+		const evo_wire_sensors *last = &r->r[0]->env[0].sensors;
+		for (unsigned k = 0; k < last->n_behaviour; k++)
+			printf("%s%.6f%s", k ? ", " : ", behaviour (",
+			       last->behaviour[k],
+			       k + 1 == last->n_behaviour ? ")" : "");
+		printf("\n");
 		fflush(stdout);
 	}
 	evo_remotes_close(r);
