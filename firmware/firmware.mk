@@ -61,19 +61,34 @@ fw_objs = $(patsubst %,$(FW_BUILD)/$(1)/%.o,$(FW_SRCS) board_$(FW_BOARD_$(1)))
 
 firmware: $(foreach c,$(FW_CORES),$(FW_BUILD)/evo-$(c).elf $(FW_BUILD)/evo-$(c).bin)
 
+# ---- what the build is made for ----------------------------------------
+# The firmware is built for one mind and one robot: config.stamp holds
+# FW_MIND, FW_BOT, FW_TASK and FW_OTHER_MIND, and is rewritten only when
+# one of them changed; everything built from them depends on it, so `make
+# firmware FW_MIND=... FW_BOT=...` builds the images, the trace and the
+# objects again instead of leaving a firmware of the earlier mind (or
+# half of each).
+FW_CONFIG := $(FW_BUILD)/config.stamp
+.PHONY: fw-config-force
+$(FW_CONFIG): fw-config-force
+	@mkdir -p $(dir $@)
+	@printf 'FW_MIND=%s\nFW_BOT=%s\nFW_TASK=%s\nFW_OTHER_MIND=%s\n' \
+		'$(FW_MIND)' '$(FW_BOT)' '$(FW_TASK)' '$(FW_OTHER_MIND)' > $@.tmp
+	@if cmp -s $@.tmp $@; then rm -f $@.tmp; else mv $@.tmp $@; fi
+
 # ---- the images the firmware carries or is tested with -----------------
 FW_MIND_FILES := $(shell find $(FW_MIND) -name '*.botdesc' -o -name '*.vardesc' -o -name '*.ades' -o -name '*.net' 2>/dev/null)
 FW_OTHER_FILES := $(shell find $(FW_OTHER_MIND) -name '*.botdesc' -o -name '*.vardesc' -o -name '*.ades' -o -name '*.net' 2>/dev/null)
 
-$(FW_BUILD)/mind/mind.h: $(FW_EVO) $(FW_MIND_FILES)
+$(FW_BUILD)/mind/mind.h: $(FW_EVO) $(FW_MIND_FILES) $(FW_CONFIG)
 	@mkdir -p $(dir $@)
 	$(FW_EVO) export $(FW_MIND) --format c -o $@
 
-$(FW_BUILD)/mind/mind.bin: $(FW_EVO) $(FW_MIND_FILES)
+$(FW_BUILD)/mind/mind.bin: $(FW_EVO) $(FW_MIND_FILES) $(FW_CONFIG)
 	@mkdir -p $(dir $@)
 	$(FW_EVO) export $(FW_MIND) -o $@
 
-$(FW_BUILD)/mind/other.bin: $(FW_EVO) $(FW_OTHER_FILES)
+$(FW_BUILD)/mind/other.bin: $(FW_EVO) $(FW_OTHER_FILES) $(FW_CONFIG)
 	@mkdir -p $(dir $@)
 	$(FW_EVO) export $(FW_OTHER_MIND) -o $@
 
@@ -86,7 +101,7 @@ FW_NEW := $(FW_BUILD)/mind/new
 FW_NEW_MIND := $(FW_NEW)/$(notdir $(FW_MIND))
 FW_NEW_TASK ?= $(FW_MIND)/Tasks/Collect-NEAT.simbatch
 FW_NEW_TRACE_TICKS ?= 600
-$(FW_NEW)/stamp: $(FW_EVO) $(FW_MIND_FILES) $(FW_NEW_TASK)
+$(FW_NEW)/stamp: $(FW_EVO) $(FW_MIND_FILES) $(FW_NEW_TASK) $(FW_CONFIG)
 	rm -rf $(FW_NEW) && mkdir -p $(FW_NEW) && cp -r $(FW_MIND) $(FW_NEW_MIND)
 	sed 's/^NUMGEN:.*/NUMGEN:2 EVALREP:1 TICKLIM:300 POPSIZE:30/' $(FW_NEW_TASK) \
 		> $(FW_NEW_MIND)/Tasks/flash-train.simbatch
@@ -98,7 +113,7 @@ $(FW_BUILD)/mind/new.trace: $(FW_NEW)/stamp $(FW_TASK)
 		--ticks $(FW_NEW_TRACE_TICKS) --trace $@
 
 # The trace the firmware must reproduce, byte for byte.
-$(FW_BUILD)/mind/run.trace: $(FW_EVO) $(FW_MIND_FILES) $(FW_TASK)
+$(FW_BUILD)/mind/run.trace: $(FW_EVO) $(FW_MIND_FILES) $(FW_TASK) $(FW_CONFIG)
 	@mkdir -p $(dir $@)
 	$(FW_EVO) run $(FW_TASK) --headless --ticks $(FW_TRACE_TICKS) --trace $@
 
@@ -137,7 +152,7 @@ $(FW_BUILD)/$(1)/core/%.o: core/src/%.c
 	@mkdir -p $$(dir $$@)
 	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) -MMD -MP -c $$< -o $$@
 
-$(FW_BUILD)/$(1)/%.o: firmware/%.c
+$(FW_BUILD)/$(1)/%.o: firmware/%.c $(FW_CONFIG)
 	@mkdir -p $$(dir $$@)
 	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) -MMD -MP -c $$< -o $$@
 
@@ -162,7 +177,7 @@ $(FW_BUILD)/evo-$(1).elf: $(call fw_objs,$(1)) $(call fw_libs,$(1)) \
 
 # The firmware without the flash receiver (FW_FLASH=0), for make
 # firmware-size: the difference is what taking minds over the bus costs.
-$(FW_BUILD)/$(1)/main-noflash.o: firmware/main.c
+$(FW_BUILD)/$(1)/main-noflash.o: firmware/main.c $(FW_CONFIG)
 	@mkdir -p $$(dir $$@)
 	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) -DFW_FLASH=0 -MMD -MP -c $$< -o $$@
 
@@ -175,7 +190,7 @@ $(FW_BUILD)/noflash-$(1).elf: $(FW_BUILD)/$(1)/main-noflash.o \
 
 # The firmware with the test key (make firmware-test): its key header is
 # found before the one of FW_KEY.
-$(FW_BUILD)/$(1)/main-keyed.o: firmware/main.c $(FW_BUILD)/key-test/flash_key.h
+$(FW_BUILD)/$(1)/main-keyed.o: firmware/main.c $(FW_BUILD)/key-test/flash_key.h $(FW_CONFIG)
 	@mkdir -p $$(dir $$@)
 	$(ARM_CC) $(FW_CPU_$(1)) -I$(FW_BUILD)/key-test $(FW_CFLAGS) -MMD -MP -c $$< -o $$@
 
