@@ -6,6 +6,8 @@
 #   make firmware        BUILD/firmware/evo-m0.elf, evo-m3.elf (+ .bin)
 #   make firmware-test   replay a trace through both under QEMU, and more
 #   make firmware-size   text/data/bss of each firmware and of the runtime
+#   make firmware-run    the M3 firmware under QEMU on two slcan ptys, for
+#                        evo flash and evo serve --robot to reach it
 #
 # Outputs go to BUILD/firmware/: per core m0/ and m3/ (objects, the two
 # core archives), mind/ (the exported images), the test driver, the plugin.
@@ -252,11 +254,36 @@ $(BUILD)/bench/bench_firmware: $(FW_BUILD)/host/bench_firmware.o $(FW_HOST_OBJS)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS_ALL) -o $@ $(filter %.o %.a,$^) $(LIBS)
 
+# ---- a firmware to try: make firmware-run ---------------------------------
+# The firmware under QEMU with its UART as a CAN bus on two slcan
+# pseudo-terminals, FW_RUN_DIR/bus and FW_RUN_DIR/bus2 (evo is the adapter
+# on each), until Ctrl-C: `evo flash MIND --can slcan:FW_RUN_DIR/bus`
+# sends it a mind, `evo serve TASK --robot --can slcan:FW_RUN_DIR/bus2`
+# is a body it drives (docs/firmware.md, "Trying it under QEMU").
+FW_RUN_CORE ?= m3
+FW_RUN_DIR ?= $(FW_BUILD)/run
+FW_RUN_SEED ?= 1
+FW_RUN_SRCS := firmware/host/fw_run.c firmware/host/qemu_session.c \
+	firmware/host/trace_file.c $(CORE_SRCS) sim/remote/can.c \
+	sim/remote/can_format.c sim/remote/can_robot_frames.c sim/base/err.c
+$(FW_BUILD)/fw_run: $(FW_RUN_SRCS) $(FW_HOST_HDRS) sim/remote/can.h \
+		sim/remote/can_robot.h
+	@mkdir -p $(dir $@)
+	$(CC) $(FW_HOST_CFLAGS) -Isim -o $@ $(FW_RUN_SRCS)
+
+.PHONY: firmware-run
+firmware-run: $(FW_BUILD)/fw_run $(FW_BUILD)/evo-$(FW_RUN_CORE).elf
+	@mkdir -p $(FW_RUN_DIR)
+	$(FW_BUILD)/fw_run --qemu $(QEMU_ARM) --machine $(FW_MACHINE_$(FW_RUN_CORE)) \
+		--kernel $(FW_BUILD)/evo-$(FW_RUN_CORE).elf \
+		--can 'slcan-pty:?link=$(FW_RUN_DIR)/bus' \
+		--can 'slcan-pty:?link=$(FW_RUN_DIR)/bus2' --episode-seed $(FW_RUN_SEED)
+
 # ---- the targets -----------------------------------------------------------
 FW_TEST_INPUTS := $(foreach c,$(FW_CORES),$(FW_BUILD)/evo-$(c).elf $(FW_BUILD)/evo-$(c)-keyed.elf) \
 	$(FW_BUILD)/firmware_test $(FW_BUILD)/mind/mind.bin \
 	$(FW_BUILD)/mind/other.bin $(FW_BUILD)/mind/run.trace \
-	$(FW_BUILD)/mind/new.trace
+	$(FW_BUILD)/mind/new.trace $(FW_BUILD)/fw_run
 # Where the flash tests cut and corrupt a transfer: a new seed each run,
 # printed, so that a failure can be run again (FW_TEST_SEED=N).
 FW_TEST_SEED ?= $(shell date +%s)
@@ -271,6 +298,7 @@ firmware-test: $(FW_TEST_INPUTS)
 		--seed $(FW_TEST_SEED) --key $(FW_TEST_KEY) \
 		$(foreach c,$(FW_CORES),--firmware $(FW_MACHINE_$(c))=$(FW_BUILD)/evo-$(c).elf) \
 		$(foreach c,$(FW_CORES),--keyed $(FW_MACHINE_$(c))=$(FW_BUILD)/evo-$(c)-keyed.elf)
+	timeout -k 5 300 sh tests/firmware/test_firmware_run.sh
 
 # Per core: the firmware without its mind slot (the slot is flash kept for
 # the image, printed apart), and the MIND runtime linked alone.
