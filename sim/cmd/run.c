@@ -1208,6 +1208,17 @@ int evo_run_main(int argc, char **argv)
 	    strcmp(task.type, "LEARNSIMCONTINUOUS") == 0 ||
 	    strcmp(task.type, "LEARN2DSIMMULTI") == 0 ||
 	    strcmp(task.type, "LEARNREMOTESIM") == 0) {
+		if (o.episodes >= 0) {
+			/* it would be ignored: say so rather than run a task
+			 * other than the one asked for */
+			fprintf(stderr,
+				"evo run: --episodes is for DEMO tasks; %s is a "
+				"%s task, whose networks each play EVALREP "
+				"episodes (docs/learning.md)\n",
+				o.task, task.type);
+			evo_task_free(&task);
+			return 2;
+		}
 		/* --threads, else the task's THREADS, else one per core */
 		const char *tv = evo_simbatch_get(task.sb, "THREADS");
 		long threads = o.threads ? o.threads

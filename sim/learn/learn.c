@@ -1370,6 +1370,19 @@ int evo_learn_run(const char *task_path, evo_task *task,
 		       task_path, evo_simbatch_get(task->sb, "LEARNINGMETHOD"),
 		       l.skill, (unsigned long long)o->seed, where, l.run_dir);
 	fflush(stdout);
+	evo_run_record was = {0};
+	if (o->resume && evo_run_record_read(l.run_dir, &was, err) == 0 &&
+	    was.found && was.generations != o->generations) {
+		if (was.generations)
+			printf("the run was started with --generations %d; "
+			       "it now runs %d generations\n",
+			       was.generations, o->generations);
+		else
+			printf("the run was started without --generations "
+			       "(the task's NUMGEN); it now runs %d "
+			       "generations\n",
+			       o->generations);
+	}
 	if ((!o->resume && evo_runlog_set_aside(l.run_dir, err)) ||
 	    evo_run_record_write(l.run_dir, o, err)) {
 		close(lock);

@@ -137,11 +137,11 @@ int evo_run_record_restore(const char *dir, evo_learn_opts *o, int seed_given,
 	if (o->ticks && o->ticks != r.ticks)
 		return conflict(dir, "--ticks", o->ticks, r.ticks,
 				"the task's TICKLIM", err);
-	if (o->generations && o->generations != r.generations)
-		return conflict(dir, "--generations", o->generations,
-				r.generations, "the task's NUMGEN", err);
+	/* --generations may change: the generations to come are scored as
+	 * they would be, the run just ends elsewhere (as with NUMGEN) */
 	o->ticks = r.ticks;
-	o->generations = r.generations;
+	if (!o->generations)
+		o->generations = r.generations;
 	o->no_save = o->no_save || r.no_save;
 	return 0;
 }

@@ -3,7 +3,8 @@
  *
  * A fresh run writes RUN/options.txt: its seed, --ticks and --generations
  * (0: the task's TICKLIM and NUMGEN) and --no-save. --resume restores
- * each one not given again and refuses one given otherwise. --threads and
+ * each one not given again, and refuses a --seed or --ticks given
+ * otherwise. --threads and
  * the number of MPI ranks are not kept: they do not change a run's
  * results (docs/learning.md, "Stopping and resuming"). */
 #ifndef EVO_RUNOPTS_H
@@ -40,8 +41,10 @@ int evo_run_record_write(const char *dir, const evo_learn_opts *o,
 
 /* --resume: restore into o each option of DIR's record that was not
  * given on the command line (o->ticks, o->generations 0; seed_given 0),
- * and refuse one given with another value than the run was started with.
- * No record: o as it is. 0 or -1 with err. */
+ * and refuse a --seed or --ticks given with another value than the run
+ * was started with: the generations to come would be scored otherwise.
+ * --generations may change (the run ends at another generation, as when
+ * NUMGEN is raised). No record: o as it is. 0 or -1 with err. */
 int evo_run_record_restore(const char *dir, evo_learn_opts *o, int seed_given,
 			   evo_err *err);
 

@@ -3,8 +3,9 @@
  * the run folder, named, and says so; --no-save leaves Skills/ as it is;
  * a team run of the same skill keeps it too. The run folder remembers the
  * options that shape the run: --resume restores --ticks and --generations
- * (the run goes on as it was started, not with TICKLIM and NUMGEN), and
- * refuses one given otherwise; the interrupt's hint names evo as it was
+ * (the run goes on as it was started, not with TICKLIM and NUMGEN),
+ * refuses a --ticks or --seed given otherwise and takes another
+ * --generations; the interrupt's hint names evo as it was
  * run and those options. */
 #define _POSIX_C_SOURCE 200809L
 #include <signal.h>
@@ -165,12 +166,29 @@ TEST(resume_goes_on_with_the_options_the_run_was_started_with)
 	CHECK(train("r", "--resume --ticks 150", out, sizeof out) != 0);
 	CHECK_CONTAINS(out, "--ticks 150 conflicts with the run in ");
 	CHECK_CONTAINS(out, "started with --ticks 60");
-	CHECK(train("r", "--resume --generations 9", out, sizeof out) != 0);
-	CHECK_CONTAINS(out, "--generations 9 conflicts");
 	/* the same values again are no conflict */
 	CHECK_EQ_INT(train("r", "--resume --ticks 60", out, sizeof out), 0);
+	/* --generations may change: the run goes on to 3, of 60 ticks */
+	CHECK_EQ_INT(train("r", "--resume --generations 3", out, sizeof out),
+		     0);
+	CHECK_CONTAINS(out, "the run was started with --generations 2; it now "
+			    "runs 3 generations");
+	CHECK_CONTAINS(out, "x 60 ticks each");
+	char *log3 = cli_fitness_log(run);
+	CHECK_EQ_INT(cli_count_lines(log3, "2,"), 1);
+	free(log3);
 	free(log1);
 	free(log2);
+}
+
+/* --episodes does not shape a learning run: refused, not ignored. */
+TEST(episodes_is_refused_for_a_learning_task)
+{
+	char out[4096];
+	make_mind("e");
+	CHECK_EQ_INT(train("e", "--episodes 3", out, sizeof out), 2);
+	CHECK_CONTAINS(out, "--episodes is for DEMO tasks; ");
+	CHECK_CONTAINS(out, "whose networks each play EVALREP episodes");
 }
 
 /* --run DIR --resume without --seed: the seed the run was started with,
@@ -232,6 +250,7 @@ int main(void)
 	RUN(a_team_run_keeps_the_network_it_replaces);
 	RUN(resume_goes_on_with_the_options_the_run_was_started_with);
 	RUN(resume_with_a_run_folder_takes_its_seed);
+	RUN(episodes_is_refused_for_a_learning_task);
 	RUN(the_interrupt_hint_names_the_binary_and_the_options);
 	cli_cleanup();
 	return test_summary();
