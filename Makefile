@@ -285,7 +285,8 @@ run: deps all
 
 # evo, and under PREFIX/share/evo the Lua it runs, the example minds to
 # copy and the docs; a mind folder's Runs/ and exported images stay here.
-install: all install-files
+install: all
+	@$(MAKE) --no-print-directory install-files
 .PHONY: install-files
 install-files:
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/evo
