@@ -46,7 +46,7 @@ static void usage(FILE *f)
 	      "      load a mind folder (or an exported image) and show its\n"
 	      "      hierarchy in tick order, and which skills have no\n"
 	      "      network yet, in the order to train them\n"
-	      "  evo check TASK.simbatch\n"
+	      "  evo check TASK.simbatch [--net SKILL=NET ...]\n"
 	      "      check a task file, the mind folder it names, its bot\n"
 	      "      model and environment, and, for LEARNSIM, the learning\n"
 	      "      method's options\n"
@@ -294,12 +294,31 @@ int main(int argc, char **argv)
 		return rc;
 	}
 	if (strcmp(cmd, "check") == 0) {
-		if (argc != 3) {
+		/* --net SKILL=NET ..., as evo run takes them */
+		evo_net_choice nets[16];
+		char skills[16][EVO_NAME_MAX];
+		unsigned n_nets = 0;
+		for (int i = 3; i < argc; i += 2) {
+			const char *v = i + 1 < argc ? argv[i + 1] : "";
+			const char *eq = strchr(v, '=');
+			if (strcmp(argv[i], "--net") != 0 || !eq || eq == v ||
+			    !eq[1] || (size_t)(eq - v) >= EVO_NAME_MAX ||
+			    n_nets == 16) {
+				usage(stderr);
+				return 2;
+			}
+			snprintf(skills[n_nets], EVO_NAME_MAX, "%.*s",
+				 (int)(eq - v), v);
+			nets[n_nets] = (evo_net_choice){skills[n_nets], eq + 1};
+			n_nets++;
+		}
+		if (argc < 3) {
 			usage(stderr);
 			return 2;
 		}
 		evo_task task;
-		evo_task_opts to = {.untrained_ok = 1};
+		evo_task_opts to = {
+		    .untrained_ok = 1, .nets = nets, .n_nets = n_nets};
 		if (evo_task_load_opts(argv[2], &to, &task, &err) != 0) {
 			fprintf(stderr, "%s\n", err.msg);
 			return 1;

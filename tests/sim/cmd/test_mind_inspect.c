@@ -76,6 +76,13 @@ TEST(check_of_a_task_whose_sub_skills_are_untrained_says_what_to_train)
 	CHECK_CONTAINS(out, "GTDZ+Avoid       neural");
 	CHECK_CONTAINS(out, "not trained yet (no Skills/S/S.net): GTO+Avoid, "
 			    "ClawControl\n");
+	/* --net gives the untrained skills networks, as evo run --net */
+	rc = cli_capture(out, sizeof out,
+			 "%s check %s/c/Collect/Tasks/Collect-DEMO.simbatch "
+			 "--net GTO+Avoid=random --net ClawControl=zero 2>&1",
+			 cli_evo, cli_tmp);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out, "Collect-DEMO.simbatch: task DEMOSIM, mind folder ");
 	/* the task that trains a sub-skill itself is fine */
 	rc = cli_capture(out, sizeof out,
 			 "%s check %s/c/Collect/Tasks/GTO+Avoid-NEAT.simbatch "
