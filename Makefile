@@ -107,7 +107,8 @@ help:
 	@echo "make fuzz       run each parser's fuzz target for FUZZ_SECONDS (the network's: FUZZ_NET_SECONDS, 60)"
 	@echo "make bench      benchmarks, each beside its baseline in the same run"
 	@echo "make bench-compare BASE=REV  bench_world and bench_evaluate of REV beside this tree's"
-	@echo "make install    install evo and lua/ under PREFIX ($(PREFIX))"
+	@echo "make install    install evo, and lua/, minds/ and docs/ under"
+	@echo "                PREFIX/share/evo ($(PREFIX))"
 	@echo "make format     apply .clang-format to the C sources"
 
 deps:
@@ -282,10 +283,20 @@ run: deps all
 		--seed 2 --episodes 3 --ticks 3000
 	@echo "run folder: $(RUN_DIR)/avoid-neat (log.csv, champion.net, curve.png); trained mind: $(RUN_DIR)/Avoid"
 
+# evo, and under PREFIX/share/evo the Lua it runs, the example minds to
+# copy and the docs; a mind folder's Runs/ and exported images stay here.
 install: all
+	@$(MAKE) --no-print-directory install-files
+.PHONY: install-files
+install-files:
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/evo
 	install -m 755 $(BUILD)/evo $(DESTDIR)$(PREFIX)/bin/evo
 	[ ! -d lua ] || cp -r lua $(DESTDIR)$(PREFIX)/share/evo/
+	rm -rf $(DESTDIR)$(PREFIX)/share/evo/minds $(DESTDIR)$(PREFIX)/share/evo/docs
+	cp -r minds docs $(DESTDIR)$(PREFIX)/share/evo/
+	rm -rf $(DESTDIR)$(PREFIX)/share/evo/minds/*/Runs \
+		$(DESTDIR)$(PREFIX)/share/evo/minds/*/mind.bin \
+		$(DESTDIR)$(PREFIX)/share/evo/minds/*/mind.h
 
 # ---- core on a Cortex-M0+ ------------------------------------------------
 ARM_FLAGS := -mcpu=cortex-m0plus -mthumb -std=c11 -Os -ffreestanding \
