@@ -4,6 +4,7 @@
 #     prints (generation lines up to their species count, the replay's
 #     lines whole): the same training (minds/Seek, --seed 1, any number of
 #     threads) must print each of them;
+#   - docs/learning.md quotes the same replay lines;
 #   - docs/img/curve.png is that run's learning curve, byte for byte;
 #   - docs/img/viewer.png is what README's --screenshot command saves.
 # A figure or picture that no longer matches fails with the command that
@@ -45,6 +46,12 @@ while IFS= read -r line; do
 	[ $rc = 0 ] || { echo "    README.md quotes: $line"; echo "    make run prints:"; grep -E '^(gen |replay|  )' "$tmp/out" | sed 's/^/      /' | tail -n 5; }
 	check $rc "README.md's figure is what make run prints: $line"
 done <"$tmp/quoted"
+
+# docs/learning.md quotes the same replay
+grep '^replay\|^  ' "$tmp/quoted" | while IFS= read -r line; do
+	grep -qxF "$line" docs/learning.md || { echo "    docs/learning.md lacks: $line"; exit 1; }
+done
+check $? "docs/learning.md quotes make run's replay as README.md does"
 
 cmp -s "$tmp/run/curve.png" docs/img/curve.png
 rc=$?
