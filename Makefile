@@ -271,6 +271,7 @@ test: deps
 	@$(MAKE) --no-print-directory $(TEST_J) test-tsan
 	@$(MAKE) --no-print-directory $(TEST_J) firmware-test
 	@$(MAKE) --no-print-directory $(TEST_J) test-readme
+	@sh tests/docs/test_firmware_figures.sh
 
 # README.md's figures and pictures against what make run and the viewer make
 # (tests/docs/test_readme_run.sh): a training of a minute, so once, plainly.
