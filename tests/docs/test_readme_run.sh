@@ -4,7 +4,7 @@
 #     prints (generation lines up to their species count, the replay's
 #     lines whole): the same training (minds/Seek, --seed 1, any number of
 #     threads) must print each of them;
-#   - docs/learning.md quotes the same replay lines;
+#   - docs/learning.md quotes the same replay lines, and one generation line;
 #   - docs/img/curve.png is that run's learning curve, byte for byte;
 #   - docs/img/viewer.png is what README's --screenshot command saves.
 # A figure or picture that no longer matches fails with the command that
@@ -52,6 +52,13 @@ grep '^replay\|^  ' "$tmp/quoted" | while IFS= read -r line; do
 	grep -qxF "$line" docs/learning.md || { echo "    docs/learning.md lacks: $line"; exit 1; }
 done
 check $? "docs/learning.md quotes make run's replay as README.md does"
+
+# and one of its generation lines, up to the species count
+want=$(grep '^gen [0-9]*/25 ' docs/learning.md | awk '{ print $1, $2, $3, $4, $5, $6, $7, $8 }')
+[ -n "$want" ] && awk '{ print $1, $2, $3, $4, $5, $6, $7, $8 }' "$tmp/out" | grep -qxF "$want"
+rc=$?
+[ $rc = 0 ] || echo "    docs/learning.md quotes: $want"
+check $rc "docs/learning.md's generation line is one make run prints"
 
 cmp -s "$tmp/run/curve.png" docs/img/curve.png
 rc=$?
