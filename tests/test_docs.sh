@@ -18,8 +18,8 @@
 #   <!-- not run: REASON -->
 # A block of output (no info string) marked
 #   <!-- printed by the block above -->
-# holds lines the file's last `sh` example printed: each of its lines must
-# be one line of that example's output, exactly.
+# holds lines the file's last `sh` example (or environment example, run as
+# above) printed: each of its lines must be one line of that output, exactly.
 # DOC_FILES="FILE ..." checks those files only (default README.md docs/*.md).
 # Ends with "N passed, N failed" and exits non-zero on a failure.
 cd "$(dirname "$0")/.." || exit 2
@@ -157,7 +157,10 @@ while read -r file line info mark block; do
 		cp "$block" "$tmp/Avoid/Envs/DocExample.lua"
 		timeout -k 5 120 "$evo" run "$tmp/Avoid/Tasks/T.simbatch" --headless \
 			--episodes 2 --ticks 300 >"$tmp/out" 2>&1
-		result $? "$where" "the environment example failed"
+		rc=$?
+		cp "$tmp/out" "$tmp/last.out"
+		last_file=$file
+		result $rc "$where" "the environment example failed"
 	elif [ "$mark" = example:_bot_model ]; then
 		doc_mind "$block"
 		timeout -k 5 120 "$evo" check "$tmp/Doc/Tasks/T.simbatch" >"$tmp/out" 2>&1
