@@ -9,6 +9,10 @@
  * fewer marked examples than formats.md's own (so the marks cannot all go
  * missing unnoticed).
  *
+ * formats.md's examples of error messages are checked the other way: each
+ * is what core's parser says of an input this test holds, exactly, and
+ * every line of that block is one of them.
+ *
  * Run from the repository root (make test does). Ends with "N passed, N
  * failed" and exits non-zero on a failure. */
 #define _POSIX_C_SOURCE 200809L
@@ -107,6 +111,65 @@ static void check_file(const char *path)
 	fclose(fp);
 }
 
+/* The inputs behind formats.md's error messages ("for example"), in the
+ * block's order. */
+static const struct {
+	const char *kind, *file, *text;
+} error_inputs[] = {
+    {"ades", "Avoid.ades",
+     "Avoid\ninput:16\nSE:S1\nSE:S2\nSE:S3\nSE:S4\nSE:S5\nSE:S6\nSE:S7\nSE:S8\n"
+     "SE:S9\nSE:S10\nSE:S11\nSE:S12\nSE:S13\nSE:S14\nSE:S15\noutput:4\n"},
+    {"botdesc", "b.botdesc", "SENSORS\nS1:proxSensor\nS2:proxSensor\nS1:proxSensor\n"},
+    {"vardesc", "v.vardesc", "A:VariableModule\nB:VariableModule\nC:Countervariable\n"},
+    {"net", "x.net", "inputs:2\noutputs:1\nnode:2:tanh:0\noutput:2\nlink:0:2:-200.5\n"},
+};
+
+/* The lines of formats.md's block after "for example" under Error messages. */
+static int read_error_block(char lines[][512], int max)
+{
+	FILE *fp = fopen("docs/formats.md", "r");
+	char line[4096];
+	int n = 0, state = 0; /* 0 looking, 1 after "for example", 2 in the block */
+	if (!fp)
+		return 0;
+	while (fgets(line, sizeof line, fp)) {
+		line[strcspn(line, "\n")] = 0;
+		if (state == 0 && strcmp(line, "for example") == 0)
+			state = 1;
+		else if (state == 1 && strcmp(line, "```") == 0)
+			state = 2;
+		else if (state == 2 && strcmp(line, "```") == 0)
+			break;
+		else if (state == 2 && n < max) {
+			size_t k = strlen(line) < 511 ? strlen(line) : 511;
+			memcpy(lines[n], line, k);
+			lines[n++][k] = 0;
+		}
+	}
+	fclose(fp);
+	return n;
+}
+
+static void check_error_examples(void)
+{
+	static char lines[16][512];
+	int n = read_error_block(lines, 16);
+	test_current_name = "formats.md's error messages are what the parsers say";
+	test_current_failed = 0;
+	CHECK_EQ_INT(n, (int)(sizeof error_inputs / sizeof error_inputs[0]));
+	for (int i = 0; i < n && i < (int)(sizeof error_inputs / sizeof error_inputs[0]); i++) {
+		evo_diag err;
+		const char *t = error_inputs[i].text;
+		int ok = parse_as(error_inputs[i].kind, t, strlen(t), error_inputs[i].file, &err);
+		CHECK_EQ_INT(ok, 0);
+		CHECK_EQ_STR(err.msg, lines[i]);
+	}
+	if (test_current_failed)
+		test_failed_count++;
+	else
+		test_passed_count++;
+}
+
 int main(void)
 {
 	DIR *d = opendir("docs");
@@ -125,6 +188,7 @@ int main(void)
 	}
 	closedir(d);
 	check_file("README.md");
+	check_error_examples();
 	/* formats.md's own: a botdesc, a vardesc, two .ades, a .simbatch, a .net */
 	test_current_name = "the docs mark their example files";
 	test_current_failed = 0;
