@@ -362,7 +362,10 @@ int evo_runlog_add(evo_runlog *log, const evo_gen_stats *s, evo_err *err)
 	n += snprintf(row + n, sizeof row - (size_t)n, "\n");
 	if (append(log, row, (size_t)n, err))
 		return -1;
-	return evo_runlog_save(log, "log.csv", log->csv, log->len, err);
+	char path[1200];
+	if (evo_path_fmt(path, sizeof path, err, "%s/log.csv", log->dir))
+		return -1;
+	return evo_write_file_replace(path, log->csv, log->len, err);
 }
 
 int evo_runlog_save(const evo_runlog *log, const char *name, const char *text,
@@ -370,6 +373,14 @@ int evo_runlog_save(const evo_runlog *log, const char *name, const char *text,
 {
 	char path[1200];
 	if (evo_path_fmt(path, sizeof path, err, "%s/%s", log->dir, name))
+		return -1;
+	/* a sync costs more than a generation of a fast task (XOR): the
+	 * generation's files wait for the checkpoint's */
+	if (strncmp(name, "best/", 5) == 0)
+		return evo_write_file_replace(path, text, len, err);
+	char csv[1200];
+	if (evo_path_fmt(csv, sizeof csv, err, "%s/log.csv", log->dir) ||
+	    (evo_file_exists(csv) && evo_file_sync(csv, err)))
 		return -1;
 	return evo_write_file_atomic(path, text, len, err);
 }

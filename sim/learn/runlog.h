@@ -85,10 +85,15 @@ int evo_runlog_claim(const char *dir, evo_err *err);
  * first free dir.N and say so on stdout. Returns 0 or -1 with err. */
 int evo_runlog_set_aside(const char *dir, evo_err *err);
 
-/* Add a generation's row and save log.csv atomically. */
+/* Add a generation's row and save log.csv atomically (a killed run leaves
+ * the old log or the new one whole; it is synced to disk with the next
+ * checkpoint, see evo_runlog_save). */
 int evo_runlog_add(evo_runlog *log, const evo_gen_stats *s, evo_err *err);
 
-/* Save text as <dir>/<name> atomically (a network, a checkpoint). */
+/* Save text as <dir>/<name> atomically (a network, a checkpoint). A file
+ * under best/ (one a generation) is not synced to disk on its own; any
+ * other (the checkpoint) is, and log.csv with it first, so that after a
+ * power cut the checkpoint on disk never has a log behind it. */
 int evo_runlog_save(const evo_runlog *log, const char *name, const char *text,
 		    size_t len, evo_err *err);
 
