@@ -74,7 +74,8 @@ static const char *const KEY_NAMES[K_COUNT] = {
 /* Pushes t[key] (t a plain table: no metamethods) and returns its type. */
 static int rget(lua_State *L, int t, enum key key)
 {
-	t = lua_absindex(L, t);
+	if (t < 0)
+		t = lua_gettop(L) + t + 1;
 	lua_pushvalue(L, lua_upvalueindex(key));
 	return lua_rawget(L, t);
 }
@@ -82,7 +83,8 @@ static int rget(lua_State *L, int t, enum key key)
 /* t[key] = the value on top of the stack, popped. */
 static void rset(lua_State *L, int t, enum key key)
 {
-	t = lua_absindex(L, t);
+	if (t < 0)
+		t = lua_gettop(L) + t + 1;
 	lua_pushvalue(L, lua_upvalueindex(key));
 	lua_insert(L, -2);
 	lua_rawset(L, t);
@@ -1120,11 +1122,15 @@ static void sort_list(lua_State *L, int list, enum key field)
 /* A copy of the gene at the top of the stack, pushed. */
 static void push_gene_copy(lua_State *L)
 {
-	int src = lua_gettop(L);
+	int src = lua_gettop(L), dst = src + 1;
 	lua_createtable(L, 0, 5);
+	/* the fields in rget/rset's order, four calls each instead of their
+	 * eight: a copy is made for every gene of every child */
 	for (int f = K_INNOV; f <= K_ENABLED; f++) {
-		rget(L, src, (enum key)f);
-		rset(L, -2, (enum key)f);
+		lua_pushvalue(L, lua_upvalueindex(f));
+		lua_pushvalue(L, -1);
+		lua_rawget(L, src);
+		lua_rawset(L, dst);
 	}
 }
 
