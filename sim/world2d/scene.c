@@ -180,6 +180,7 @@ int evo_scene_add_wall(evo_scene *sc, double x1, double y1, double x2,
 				"than 5 mm",
 				x1, y1, x2, y2);
 	sc->n_fixed_obstacles = sc->n_obstacles;
+	sc->n_walls++;
 	return idx;
 }
 

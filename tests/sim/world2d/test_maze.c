@@ -404,6 +404,37 @@ TEST(a_neat_task_on_kheperax_runs)
 	cli_cleanup();
 }
 
+/* The hard maze's NEAT run gives the same log with one worker thread and
+ * with two: which worker ran which episode, and what that worker's world
+ * ran before, changes nothing (the world is made again at each reset in
+ * a scene with walls). */
+TEST(a_maze_run_is_the_same_on_one_thread_and_two)
+{
+	if (cli_setup("maze-threads"))
+		return;
+	CHECK_EQ_INT(cli_sh("cp -r minds/Maze %s/ && sed -i "
+			    "'s/NUMGEN:100/NUMGEN:3/; s/POPSIZE:250/POPSIZE:60/' "
+			    "%s/Maze/Tasks/HardMaze-NEAT.simbatch",
+			    cli_tmp, cli_tmp),
+		     0);
+	char *log[2] = {NULL, NULL};
+	for (int t = 1; t <= 2; t++) {
+		CHECK_EQ_INT(cli_sh("%s run %s/Maze/Tasks/HardMaze-NEAT.simbatch "
+				    "--seed 3 --threads %d --run %s/run%d > "
+				    "%s/out%d 2>&1",
+				    cli_evo, cli_tmp, t, cli_tmp, t, cli_tmp, t),
+			     0);
+		char dir[256];
+		snprintf(dir, sizeof dir, "%s/run%d", cli_tmp, t);
+		log[t - 1] = cli_fitness_log(dir);
+	}
+	CHECK(log[0] && log[1] && strcmp(log[0], log[1]) == 0);
+	CHECK(log[0] && cli_count_lines(log[0], "") == 4);
+	free(log[0]);
+	free(log[1]);
+	cli_cleanup();
+}
+
 /* Kheperax's target task started on the target: every episode ends
  * within 0.05 of it after one step (a step moves at most 0.025), so every
  * network solves it, log.csv counts them all, and the run stops at its
@@ -473,5 +504,6 @@ int main(void)
 	RUN(hard_maze_sensors_at_the_start_read_the_published_geometry);
 	RUN(a_neat_task_on_kheperax_runs);
 	RUN(a_solved_episode_is_counted);
+	RUN(a_maze_run_is_the_same_on_one_thread_and_two);
 	return test_summary();
 }
