@@ -13,6 +13,8 @@
 #include "lua/lua_evo.h"
 #include "support/cli.h"
 #include "support/scenes.h"
+#include "viewer/png.h"
+#include "viewer/viewer.h"
 #include "world2d/scene.h"
 #include "world2d/sensors.h"
 
@@ -490,6 +492,51 @@ TEST(a_solved_episode_is_counted)
 	cli_cleanup();
 }
 
+/* Pixels of colour rgb in a screenshot, or -1 when it cannot be read. */
+static long count_colour(const char *path, uint32_t rgb)
+{
+	evo_png_image img;
+	evo_err err;
+	if (evo_png_read(path, &img, &err)) {
+		printf("  %s\n", err.msg);
+		return -1;
+	}
+	long n = 0;
+	for (long i = 0; i < (long)img.w * img.h; i++) {
+		const uint8_t *p = img.pixels + i * img.channels;
+		n += ((uint32_t)p[0] << 16 | (uint32_t)p[1] << 8 | p[2]) == rgb;
+	}
+	evo_png_image_free(&img);
+	return n;
+}
+
+/* The shipped Maze skill in the medium maze, screenshot after 400 steps:
+ * with --trail its path is drawn (a long line of the trail's colour, from
+ * the start, 30 m off, to near the goal), without it none; the walls are
+ * drawn either way. */
+TEST(a_screenshot_shows_the_path_with_trail)
+{
+	if (cli_setup("maze-trail"))
+		return;
+	for (int trail = 0; trail <= 1; trail++) {
+		CHECK_EQ_INT(cli_sh("%s run minds/Maze/Tasks/MediumMaze-DEMO."
+				    "simbatch --ticks 400 %s --screenshot "
+				    "%s/shot%d.png > /dev/null 2>&1",
+				    cli_evo, trail ? "--trail" : "", cli_tmp,
+				    trail),
+			     0);
+		char path[256];
+		snprintf(path, sizeof path, "%s/shot%d.png", cli_tmp, trail);
+		long n = count_colour(path, EVO_VIEW_TRAIL);
+		if (trail)
+			CHECK(n > 600);
+		else
+			CHECK(n == 0);
+		CHECK(count_colour(path, EVO_VIEW_WALL) > 1000);
+	}
+	cli_cleanup();
+}
+
 int main(void)
 {
 	RUN(a_ray_reads_a_wall_and_misses_past_its_end);
@@ -505,5 +552,6 @@ int main(void)
 	RUN(a_neat_task_on_kheperax_runs);
 	RUN(a_solved_episode_is_counted);
 	RUN(a_maze_run_is_the_same_on_one_thread_and_two);
+	RUN(a_screenshot_shows_the_path_with_trail);
 	return test_summary();
 }
