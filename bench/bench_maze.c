@@ -27,7 +27,7 @@
 
 #define N_CAND 256
 #define ROUNDS 3
-#define BAR 1700.0
+#define BAR    1700.0
 
 /* The processor time of the whole process, in seconds. */
 static double cpu_now(void)
@@ -102,8 +102,10 @@ int main(void)
 		const char *name, *task;
 		long ticks;
 	} mazes[] = {
-	    {"Kheperax standard maze", "minds/Kheperax/Tasks/Kheperax-NEAT.simbatch", 250},
-	    {"novelty-search hard maze", "minds/Maze/Tasks/HardMaze-NEAT.simbatch", 400},
+	    {"Kheperax standard maze",
+	     "minds/Kheperax/Tasks/Kheperax-NEAT.simbatch", 250},
+	    {"novelty-search hard maze",
+	     "minds/Maze/Tasks/HardMaze-NEAT.simbatch", 400},
 	};
 	double kheperax = 0;
 	for (int m = 0; m < 2; m++) {

@@ -414,18 +414,20 @@ TEST(a_maze_run_is_the_same_on_one_thread_and_two)
 {
 	if (cli_setup("maze-threads"))
 		return;
-	CHECK_EQ_INT(cli_sh("cp -r minds/Maze %s/ && sed -i "
-			    "'s/NUMGEN:100/NUMGEN:3/; s/POPSIZE:250/POPSIZE:60/' "
-			    "%s/Maze/Tasks/HardMaze-NEAT.simbatch",
-			    cli_tmp, cli_tmp),
-		     0);
+	CHECK_EQ_INT(
+	    cli_sh("cp -r minds/Maze %s/ && sed -i "
+		   "'s/NUMGEN:100/NUMGEN:3/; s/POPSIZE:250/POPSIZE:60/' "
+		   "%s/Maze/Tasks/HardMaze-NEAT.simbatch",
+		   cli_tmp, cli_tmp),
+	    0);
 	char *log[2] = {NULL, NULL};
 	for (int t = 1; t <= 2; t++) {
-		CHECK_EQ_INT(cli_sh("%s run %s/Maze/Tasks/HardMaze-NEAT.simbatch "
-				    "--seed 3 --threads %d --run %s/run%d > "
-				    "%s/out%d 2>&1",
-				    cli_evo, cli_tmp, t, cli_tmp, t, cli_tmp, t),
-			     0);
+		CHECK_EQ_INT(
+		    cli_sh("%s run %s/Maze/Tasks/HardMaze-NEAT.simbatch "
+			   "--seed 3 --threads %d --run %s/run%d > "
+			   "%s/out%d 2>&1",
+			   cli_evo, cli_tmp, t, cli_tmp, t, cli_tmp, t),
+		    0);
 		char dir[256];
 		snprintf(dir, sizeof dir, "%s/run%d", cli_tmp, t);
 		log[t - 1] = cli_fitness_log(dir);
@@ -446,15 +448,16 @@ TEST(a_solved_episode_is_counted)
 {
 	if (cli_setup("maze-solved"))
 		return;
-	const char *env =
-	    "local maze = require \"lib.maze\"\n"
-	    "local m = {}\n"
-	    "for k, v in pairs(maze.kheperax) do m[k] = v end\n"
-	    "m.start = { 0.15, 0.9 }\n"
-	    "return maze.env(m, { ticks = 250, reach = 0.05, stop_at_goal = true,\n"
-	    "\trewards = function(scene, bot, goal)\n"
-	    "\t\tscene:reward(\"Distance\", { bot = bot, target = goal, k = -0.015 })\n"
-	    "\tend })\n";
+	const char *env = "local maze = require \"lib.maze\"\n"
+			  "local m = {}\n"
+			  "for k, v in pairs(maze.kheperax) do m[k] = v end\n"
+			  "m.start = { 0.15, 0.9 }\n"
+			  "return maze.env(m, { ticks = 250, reach = 0.05, "
+			  "stop_at_goal = true,\n"
+			  "\trewards = function(scene, bot, goal)\n"
+			  "\t\tscene:reward(\"Distance\", { bot = bot, target "
+			  "= goal, k = -0.015 })\n"
+			  "\tend })\n";
 	CHECK_EQ_INT(cli_sh("cp -r minds/Kheperax %s/ && mkdir -p "
 			    "%s/Kheperax/Envs",
 			    cli_tmp, cli_tmp),
