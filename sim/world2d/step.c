@@ -34,6 +34,7 @@ static void reset_bot(evo_scene *sc, int i)
 	evo_scene_place_bot(sc, i, b->def.x, b->def.y, b->def.angle);
 	for (int k = 0; k < b->n_actuators; k++) {
 		b->actuator[k].command = b->actuator[k].previous = 0.5;
+		b->actuator[k].speed = 0;
 	}
 	b->hist_n = b->hist_i = 0;
 	b->touching = b->collisions = b->delivered = b->gathered = 0;
@@ -49,9 +50,11 @@ void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
 	 * broad phase's tree carry over from one episode to the next, and
 	 * with several bots that meet, or objects taken off the world and
 	 * put back (a delivery disables a body, a reset enables it), they
-	 * change the figures. (A scene of one agent without objects keeps
-	 * its world, as its golden traces were recorded.) */
-	int world_new = sc->n_teams > 0 || sc->n_objects > 0;
+	 * change the figures; so they may in a maze, where a robot ends
+	 * episodes pressed into corners of walls, the order of whose contacts
+	 * the tree's history decides. (A scene of one agent without objects
+	 * or walls keeps its world, as its golden traces were recorded.) */
+	int world_new = sc->n_teams > 0 || sc->n_objects > 0 || sc->n_walls > 0;
 	if (world_new) {
 		for (int i = 0; i < sc->n_bots; i++)
 			evo_bot_release(sc, i);
@@ -107,9 +110,11 @@ void evo_scene_sense(evo_scene *sc)
 
 int evo_scene_step(evo_scene *sc)
 {
-	for (int i = 0; i < sc->n_bots; i++)
+	for (int i = 0; i < sc->n_bots; i++) {
 		for (int k = 0; k < sc->bot[i].n_actuators; k++)
 			evo_actuator_act(sc, i, k);
+		evo_bot_drive(sc, i);
+	}
 	evo_world_step(sc->world);
 	sc->tick++;
 	for (int i = 0; i < sc->n_bots; i++) {

@@ -227,10 +227,11 @@ int evo_body_valid(const evo_world *w, evo_body_id id) noexcept
 	return lookup(w, id) != nullptr;
 }
 
-static int add_obstacle(evo_world *w, b2Shape *shape)
+static int add_obstacle(evo_world *w, b2Shape *shape, double friction = 0)
 {
 	b2FixtureDef fd;
 	evo_body_def d = evo_default_body_def();
+	d.friction = friction;
 	fill_fixture(&fd, &d, obstacle_tag(w->n_obstacles));
 	fd.shape = shape;
 	w->obstacles->CreateFixture(&fd);
@@ -257,6 +258,21 @@ int evo_world_add_static_box(evo_world *w, double x, double y, double half_w,
 	p.SetAsBox((float)half_w, (float)half_h, b2Vec2((float)x, (float)y),
 		   (float)angle);
 	return add_obstacle(w, &p);
+}
+
+int evo_world_add_static_segment(evo_world *w, double x1, double y1,
+				 double x2, double y2) noexcept
+{
+	b2Vec2 a((float)x1, (float)y1), b((float)x2, (float)y2);
+	if (!(b2DistanceSquared(a, b) > b2_linearSlop * b2_linearSlop))
+		return -1;
+	b2EdgeShape e;
+	e.SetTwoSided(a, b);
+	/* Friction 1: a bot with friction of its own (the mazes' robots)
+	 * that drives into a wall stops there instead of sliding along it,
+	 * as the papers' robots stop; Box2D mixes the two as sqrt(f1 f2), so
+	 * a bot without friction slides as along any obstacle. */
+	return add_obstacle(w, &e, 1.0);
 }
 
 evo_pose evo_body_pose(const evo_world *w, evo_body_id id) noexcept
@@ -435,6 +451,18 @@ struct Collect : b2QueryCallback {
 				s.x = p.x;
 				s.y = p.y;
 				s.radius = c->m_radius;
+			} else if (f->GetType() == b2Shape::e_edge) {
+				const b2EdgeShape *e =
+					(const b2EdgeShape *)f->GetShape();
+				b2Vec2 a = b2Mul(xf, e->m_vertex1);
+				b2Vec2 b = b2Mul(xf, e->m_vertex2);
+				s.type = EVO_SHAPE_SEGMENT;
+				s.x = 0.5 * ((double)a.x + b.x);
+				s.y = 0.5 * ((double)a.y + b.y);
+				s.vx[0] = a.x;
+				s.vy[0] = a.y;
+				s.vx[1] = b.x;
+				s.vy[1] = b.y;
 			} else {
 				const b2PolygonShape *p =
 					(const b2PolygonShape *)f->GetShape();
