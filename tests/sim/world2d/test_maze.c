@@ -439,6 +439,40 @@ TEST(a_maze_run_is_the_same_on_one_thread_and_two)
 	cli_cleanup();
 }
 
+/* A champion read back from its .net scores in the viewer what it scored
+ * in training, to the printed digit: the file holds the Q16 weights evo
+ * ran (lua/learn/netfile.lua). On the medium maze, seed 1, 10
+ * generations, six decimals gave 226.035969 where training had
+ * 226.038522. The maze has no randomness, so one DEMOSIM episode is the
+ * training episode. */
+TEST(a_champion_read_back_scores_what_it_scored_in_training)
+{
+	if (cli_setup("maze-replay"))
+		return;
+	CHECK_EQ_INT(cli_sh("cp -r minds/Maze %s/ && %s run "
+			    "%s/Maze/Tasks/MediumMaze-NEAT.simbatch --seed 1 "
+			    "--generations 10 --no-save --run %s/run > "
+			    "%s/train 2>&1",
+			    cli_tmp, cli_evo, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	char *log = cli_read("%s/run/log.csv", cli_tmp);
+	const char *last = log ? strstr(log, "\n9,") : NULL;
+	double best = 0;
+	/* generation,best,mean,best_ever,... */
+	CHECK(last && sscanf(last + 1, "9,%*[^,],%*[^,],%lf", &best) == 1);
+	char out[4096], want[64];
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run %s/Maze/Tasks/MediumMaze-DEMO.simbatch "
+				 "--headless --episodes 1 --net "
+				 "Maze=%s/run/champion.net",
+				 cli_evo, cli_tmp, cli_tmp),
+		     0);
+	snprintf(want, sizeof want, "episode 1: reward %.6f over", best);
+	CHECK_CONTAINS(out, want);
+	free(log);
+	cli_cleanup();
+}
+
 /* Kheperax's target task started on the target: every episode ends
  * within 0.05 of it after one step (a step moves at most 0.025), so every
  * network solves it, log.csv counts them all, and the run stops at its
@@ -556,5 +590,6 @@ int main(void)
 	RUN(a_solved_episode_is_counted);
 	RUN(a_maze_run_is_the_same_on_one_thread_and_two);
 	RUN(a_screenshot_shows_the_path_with_trail);
+	RUN(a_champion_read_back_scores_what_it_scored_in_training);
 	return test_summary();
 }
