@@ -63,7 +63,10 @@ VENV_STAMP := $(VENV)/evo-lcm-$(PY_LCM_VERSION)-can-$(PY_CAN_VERSION)-neat-$(PY_
 CFLAGS_HOST := -std=c11 $(OPT) $(WARN) -Icore/include -Isim $(LUA_CFLAGS) $(SDL_CFLAGS) $(MPI_CFLAGS) -isystem $(LCM_GEN) $(SAN) $(CFLAGS)
 CFLAGS_ALL := $(CFLAGS_HOST) -Itests
 LDFLAGS_ALL := $(SAN) $(LDFLAGS)
-LIBS := -llua5.4 $(shell pkg-config --libs sdl2 2>/dev/null || echo -lSDL2) -lbox2d -lode -lGL -llcm -lz $(MPI_LIBS) -lstdc++ -lm
+# SDL2 and OpenGL are not linked: sim/viewer/sdl_load.c loads them when a
+# window opens, so a headless run does not load the fifty libraries SDL2
+# needs.
+LIBS := -llua5.4 -lbox2d -lode -llcm -lz $(MPI_LIBS) -lstdc++ -lm -ldl
 CXXFLAGS_ALL := -std=c++17 $(OPT) -Wall -Wextra -Werror -Wshadow -Isim $(SAN) $(CXXFLAGS)
 
 CORE_SRCS := $(sort $(wildcard core/src/*.c))

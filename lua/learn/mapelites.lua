@@ -528,9 +528,9 @@ function mapelites.write_archive(pop, host, during)
 end
 
 mapelites.to_net = cmaes.to_net
--- .net text with each weight exactly as it was scored (netfile's exact
--- Q16): an elite replayed from its file ends in its own cell.
-function mapelites.to_net_text(net, comment) return netfile.text(net, comment, true) end
+-- .net text with each weight the Q16 value it was scored with (netfile):
+-- an elite replayed from its file ends in its own cell.
+mapelites.to_net_text = netfile.text
 
 ---------------------------------------------------------------------------
 -- Checkpoints

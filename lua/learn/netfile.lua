@@ -7,40 +7,25 @@
 -- written.
 local netfile = {}
 
--- A decimal the .net reader accepts: no exponent, no leading '+'.
+-- A decimal the .net reader accepts: no exponent, no leading '+'. It is the
+-- Q16 value evo ran (evo_q16_from_double: x * 65536 rounded half away from
+-- zero) written exactly, q / 65536 having at most 16 decimals, so a network
+-- read back from its file scores what it scored in training, to the bit
+-- (six decimals were not enough: one in thirty weights came back one Q16
+-- step off, enough to change a maze robot's path).
 local function decimal(x)
-	local s = string.format("%.6f", x):gsub("0+$", ""):gsub("%.$", "")
+	local v = x * 65536
+	if v == v and v > -2 ^ 31 and v < 2 ^ 31 then
+		x = (v < 0 and math.ceil(v - 0.5) or math.floor(v + 0.5)) / 65536
+	end
+	local s = string.format("%.16f", x):gsub("0+$", ""):gsub("%.$", "")
 	if s == "-0" then s = "0" end
 	return s
 end
 
--- x as the Q16.16 value evo runs (evo_net_weight_q16: x * 65536 rounded
--- to nearest, ties away from zero, within +-(128 - 2^-16)), written
--- exactly: every multiple of 2^-16 has at most 16 decimal places, so the
--- .net reader gets the very weight the network was scored with (%.6f
--- would move a weight near a rounding boundary by one step of 2^-16).
-local LIM = 128 * 65536 - 1
-local function exact_q16(x)
-	local s = x * 65536.0
-	local q
-	if s ~= s then
-		q = 0
-	else
-		local t = s < 0 and s - 0.5 or s + 0.5
-		q = t < 0 and math.ceil(t) or math.floor(t)
-		q = q > LIM and LIM or (q < -LIM and -LIM or q)
-	end
-	local str = string.format("%.16f", q / 65536.0):gsub("0+$", ""):gsub("%.$", "")
-	if str == "-0" then str = "0" end
-	return str
-end
-netfile.exact_q16 = exact_q16
-
 -- The .net text of `net`, with each line of `comment` (if any) first as a
--- "# " line; with `exact`, every bias and weight the Q16.16 value it runs
--- as (exact_q16), else to 6 decimal places.
-function netfile.text(net, comment, exact)
-	local decimal = exact and exact_q16 or decimal
+-- "# " line.
+function netfile.text(net, comment)
 	local out = {}
 	if comment then
 		for line in (comment .. "\n"):gmatch("(.-)\n") do out[#out + 1] = "# " .. line end

@@ -839,7 +839,7 @@ static int l_save_many(lua_State *L)
 		char path[1200];
 		if (evo_path_fmt(path, sizeof path, &err, "%s/%s", l->run_dir,
 				 name) ||
-		    evo_write_file_unsynced(path, text, len, &err))
+		    evo_write_file_replace(path, text, len, &err))
 			return raise_msg(L, err.msg);
 		lua_pop(L, 2);
 	}

@@ -174,15 +174,17 @@ end
 -- An elite's .net holds each weight as the Q16.16 value it was scored
 -- with, exactly: x * 65536 rounded to nearest, ties away from zero.
 function T.elite_weights_are_written_as_their_q16_values()
-	local q = require("learn.netfile").exact_q16
-	check(q(0.5) == "0.5", "0.5")
-	check(q(1.5 / 65536) == "0.000030517578125", "a tie rounds up: 2 / 65536")
-	check(q(-1.5 / 65536) == "-0.000030517578125", "and away from zero below 0")
-	check(q(1.4999 / 65536) == "0.0000152587890625", "1 / 65536")
-	check(q(1e-9) == "0" and q(-1e-9) == "0", "no -0")
-	check(q(200) == "127.9999847412109375", "clamped inside the .net limit")
-	local text = small{}:elite_net_text(1)
-	check(text == nil, "no elite in an empty cell")
+	local net = { inputs = 1, outputs = 1, outputs_ids = { 1 },
+		nodes = { { id = 1, act = "sigmoid", bias = 0.5 } },
+		links = { { from = 0, to = 1, weight = 1.5 / 65536 },
+			{ from = 0, to = 1, weight = -1.5 / 65536 },
+			{ from = 0, to = 1, weight = 1.4999 / 65536 } } }
+	local text = mapelites.to_net_text(net)
+	check(text:find("node:1:sigmoid:0.5\n", 1, true), "0.5")
+	check(text:find("link:0:1:0.000030517578125\n", 1, true), "a tie rounds up: 2 / 65536")
+	check(text:find("link:0:1:-0.000030517578125\n", 1, true), "and away from zero below 0")
+	check(text:find("link:0:1:0.0000152587890625\n", 1, true), "1 / 65536")
+	check(small{}:elite_net_text(1) == nil, "no elite in an empty cell")
 end
 
 function T.options_are_checked()

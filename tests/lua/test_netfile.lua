@@ -9,8 +9,8 @@ end
 
 local T = {}
 
--- Comment lines first; numbers with at most 6 decimals, no exponent, no
--- trailing zeros, and no "-0".
+-- Comment lines first; numbers as the Q16 value evo runs, written exactly,
+-- no exponent, no trailing zeros, and no "-0".
 function T.text_is_pinned()
 	local net = { inputs = 1, outputs = 1, outputs_ids = { 1 },
 		nodes = { { id = 1, act = "sigmoid", bias = -0.0000001 } },
@@ -22,22 +22,25 @@ function T.text_is_pinned()
 	check(netfile.text(net):sub(1, 9) == "inputs:1\n", "no comment, no # line")
 end
 
--- The methods' to_net_text is this writer; MAPELITES's writes each weight
--- as its exact Q16 value (an elite replayed from its file must end in its
--- own cell).
+-- A weight is written as the Q16 value evo ran, so the file gives it back:
+-- 0.001533508 is 100.49998 Q16 steps, run as 100 (100/65536 =
+-- 0.00152587890625), where six decimals (0.001534, 100.53 steps) would
+-- read back as 101; 0.53 is 34734.08 steps, run as 34734 (34734/65536 =
+-- 0.529998779296875); -0.53 as -34734.
+function T.a_weight_is_the_q16_value_evo_ran()
+	local net = { inputs = 1, outputs = 1, outputs_ids = { 1 },
+		nodes = { { id = 1, act = "sigmoid", bias = 0.53 } },
+		links = { { from = 0, to = 1, weight = 0.001533508 }, { from = 0, to = 1, weight = -0.53 } } }
+	local text = netfile.text(net)
+	check(text == "inputs:1\noutputs:1\nnode:1:sigmoid:0.529998779296875\noutput:1\n"
+		.. "link:0:1:0.00152587890625\nlink:0:1:-0.529998779296875\n", text)
+end
+
+-- The methods' to_net_text is this writer.
 function T.every_method_writes_with_it()
 	local common = require "learn.common"
-	local net = { inputs = 1, outputs = 1, outputs_ids = { 1 },
-		nodes = { { id = 1, act = "sigmoid", bias = 0.1 } },
-		links = { { from = 0, to = 1, weight = 1.5 / 65536 } } }
-	for method, path in pairs(common.MODULES) do
-		local write = require(path).to_net_text
-		if method == "MAPELITES" then
-			check(write(net, "c") == netfile.text(net, "c", true), path)
-			check(write(net):find("link:0:1:0.000030517578125\n", 1, true), path)
-		else
-			check(write == netfile.text, path)
-		end
+	for _, path in pairs(common.MODULES) do
+		check(require(path).to_net_text == netfile.text, path)
 	end
 end
 
