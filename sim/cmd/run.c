@@ -52,7 +52,7 @@ typedef struct run_opts {
 	char net_arg[RUN_MAX_NETS][EVO_NAME_MAX]; /* each SKILL */
 } run_opts;
 
-static void run_usage(FILE *f)
+void evo_run_usage(FILE *f)
 {
 	fputs("usage: evo run TASK.simbatch [options]\n"
 	      "  --headless, -nog   no window; run as fast as possible and\n"
@@ -166,6 +166,16 @@ static int parse_args(int argc, char **argv, run_opts *o)
 		} else if (strcmp(a, "--ticks") == 0) {
 			if (parse_count(a, v, LONG_MAX, &o->ticks))
 				return -1;
+			/* 0 meant TICKLIM, unlike every other count */
+			if (o->ticks < 1) {
+				fprintf(stderr,
+					"evo run: --ticks expects a whole "
+					"number from 1, found '%s' (without "
+					"--ticks an episode lasts the task's "
+					"TICKLIM)\n",
+					v);
+				return -1;
+			}
 			i++;
 		} else if (strcmp(a, "--trace") == 0 && v) {
 			o->trace = v;
@@ -204,14 +214,14 @@ static int parse_args(int argc, char **argv, run_opts *o)
 			i++;
 		} else if (a[0] == '-' || o->task) {
 			fprintf(stderr, "evo run: unexpected argument '%s'\n", a);
-			run_usage(stderr);
+			evo_run_usage(stderr);
 			return -1;
 		} else {
 			o->task = a;
 		}
 	}
 	if (!o->task) {
-		run_usage(stderr);
+		evo_run_usage(stderr);
 		return -1;
 	}
 	return 0;

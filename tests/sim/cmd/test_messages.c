@@ -1,0 +1,86 @@
+/* What evo says to a newcomer (issue 31, "Messages and options"): every
+ * command answers --help with its own page on stdout and exit 0, before
+ * looking at its other arguments; evo --version and evo version name
+ * evo's and Lua's versions; `evo run --ticks 0` is refused with the way
+ * to get TICKLIM instead of silently meaning it. */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <string.h>
+
+#include "harness.h"
+#include "support/cli.h"
+
+static char out[1 << 15];
+
+/* `evo CMD --help` (and with other arguments before it) prints a page
+ * that starts with usage and names the command. */
+static void help_of(const char *cmd, const char *args)
+{
+	char want[64];
+	int rc = cli_capture(out, sizeof out, "%s %s %s --help 2>/dev/null",
+			     cli_evo, cmd, args);
+	CHECK_EQ_INT(rc, 0);
+	CHECK(strncmp(out, "usage", 5) == 0);
+	snprintf(want, sizeof want, "evo %s", cmd);
+	CHECK_CONTAINS(out, want);
+	if (rc != 0 || strncmp(out, "usage", 5) != 0)
+		fprintf(stderr, "    evo %s %s --help: %s\n", cmd, args, out);
+}
+
+TEST(every_command_has_help)
+{
+	const char *cmds[] = {"run",   "serve", "info",  "check",
+			      "tick",  "export", "flash"};
+	for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++) {
+		help_of(cmds[i], "");
+		help_of(cmds[i], "minds/Avoid");
+		help_of(cmds[i], "no/such/thing.simbatch");
+	}
+	/* the page is the command's, not evo's whole list */
+	cli_capture(out, sizeof out, "%s info --help", cli_evo);
+	CHECK(strstr(out, "evo serve") == NULL);
+	CHECK_CONTAINS(out, "--master SKILL");
+	cli_capture(out, sizeof out, "%s help tick", cli_evo);
+	CHECK_CONTAINS(out, "--sensor NAME=VALUE");
+	/* the tutorial's form is evo run's */
+	CHECK_EQ_INT(cli_capture(out, sizeof out, "%s -nog --help", cli_evo),
+		     0);
+	CHECK_CONTAINS(out, "usage: evo run");
+	CHECK_EQ_INT(cli_capture(out, sizeof out, "%s help nope", cli_evo), 2);
+	CHECK_CONTAINS(out, "unknown command 'nope'");
+}
+
+TEST(version_is_printed)
+{
+	CHECK_EQ_INT(cli_capture(out, sizeof out, "%s --version", cli_evo), 0);
+	CHECK(strncmp(out, "evo 0.", 6) == 0);
+	CHECK_CONTAINS(out, "Lua 5.4");
+	char again[256];
+	snprintf(again, sizeof again, "%.200s", out);
+	CHECK_EQ_INT(cli_capture(out, sizeof out, "%s version", cli_evo), 0);
+	CHECK_EQ_STR(out, again);
+}
+
+TEST(ticks_zero_is_refused)
+{
+	int rc = cli_capture(out, sizeof out,
+			     "%s run minds/Avoid/Tasks/Avoid-NEAT.simbatch "
+			     "--headless --ticks 0",
+			     cli_evo);
+	CHECK_EQ_INT(rc, 2);
+	CHECK_CONTAINS(out, "--ticks expects a whole number from 1, found "
+			    "'0' (without --ticks an episode lasts the "
+			    "task's TICKLIM)");
+	CHECK(strstr(out, "reward") == NULL); /* no episode ran */
+}
+
+int main(void)
+{
+	if (cli_setup("messages"))
+		return 1;
+	RUN(every_command_has_help);
+	RUN(version_is_printed);
+	RUN(ticks_zero_is_refused);
+	cli_cleanup();
+	return test_summary();
+}
