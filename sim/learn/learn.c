@@ -25,6 +25,7 @@
 #include <unistd.h>
 
 #include "base/fileio.h"
+#include "base/terminal.h"
 #include "learn/curve.h"
 #include "learn/evaluate.h"
 #include "learn/literature.h"
@@ -1213,7 +1214,7 @@ int evo_learn_run(const char *task_path, evo_task *task,
 	l.task_path = task_path;
 	l.task = task;
 	l.opts = o;
-	l.tty = isatty(fileno(stdout));
+	l.tty = evo_terminal_output(fileno(stdout));
 	l.started = now();
 	l.continuous = strcmp(task->type, "LEARNSIMCONTINUOUS") == 0;
 	/* every option within its range before a thread, a folder or a

@@ -2,9 +2,15 @@
  * command answers --help with its own page on stdout and exit 0, before
  * looking at its other arguments; evo --version and evo version name
  * evo's and Lua's versions; `evo run --ticks 0` is refused with the way
- * to get TICKLIM instead of silently meaning it. */
+ * to get TICKLIM instead of silently meaning it. A learning run's
+ * progress line is rewritten in place ('\r') only when the output ends
+ * at a terminal, by the same rule with and without mpirun: `mpirun ...
+ * > file` writes plain lines as `evo run > file` does (a rank's own
+ * stdout is a terminal mpirun made), and both rewrite under a terminal
+ * (script(1) gives them one). */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "harness.h"
@@ -74,6 +80,60 @@ TEST(ticks_zero_is_refused)
 	CHECK(strstr(out, "reward") == NULL); /* no episode ran */
 }
 
+/* A copy of Avoid with a 3-generation NEAT task of 8 candidates. */
+static void small_mind(void)
+{
+	CHECK_EQ_INT(cli_sh("cp -r minds/Avoid %s/ && printf 'TYPE:LEARNSIM\\n"
+			    "BOTMODEL:BotType8\\nMASTERSKILL:Avoid\\n"
+			    "LEARNINGSKILL:Avoid\\nENV:EXP_Avoid\\n"
+			    "LEARNINGMETHOD:NEAT\\nNUMGEN:3\\nEVALREP:1\\n"
+			    "TICKLIM:50\\nNEAT_POPSIZE:8\\n' > "
+			    "%s/Avoid/Tasks/Small.simbatch",
+			    cli_tmp, cli_tmp),
+		     0);
+}
+
+/* Train the small task with `launch` before evo, through `wrap` ("%s"
+ * or a script(1) line around it), its output in FILE; 1 when the file
+ * holds a '\r' or an escape code. */
+static int rewrites(const char *launch, int terminal, const char *file)
+{
+	char cmd[1024];
+	snprintf(cmd, sizeof cmd,
+		 "%s %s run %s/Avoid/Tasks/Small.simbatch --seed 3 "
+		 "--threads 1 --run %s/run-%s",
+		 launch, cli_evo, cli_tmp, cli_tmp, file);
+	int rc = terminal ? cli_sh("script -qec '%s' /dev/null > %s/%s 2>&1",
+				   cmd, cli_tmp, file)
+			  : cli_sh("%s > %s/%s 2>&1", cmd, cli_tmp, file);
+	CHECK_EQ_INT(rc, 0);
+	char *t = cli_read("%s/%s", cli_tmp, file);
+	CHECK(t != NULL);
+	if (!t)
+		return -1;
+	CHECK_CONTAINS(t, "champion saved in");
+	int r = strchr(t, '\r') != NULL || strchr(t, '\033') != NULL;
+	/* script(1) turns each newline into \r\n: only a \r before
+	 * something else is a rewrite */
+	if (terminal) {
+		r = 0;
+		for (const char *p = t; (p = strchr(p, '\r')); p++)
+			r |= p[1] != '\n';
+	}
+	free(t);
+	return r;
+}
+
+TEST(progress_rewrites_only_at_a_terminal)
+{
+	small_mind();
+	CHECK_EQ_INT(rewrites("", 0, "plain.txt"), 0);
+	CHECK_EQ_INT(rewrites("mpirun --oversubscribe -np 1", 0, "mpi.txt"), 0);
+	CHECK_EQ_INT(rewrites("", 1, "plain-tty.txt"), 1);
+	CHECK_EQ_INT(rewrites("mpirun --oversubscribe -np 1", 1, "mpi-tty.txt"),
+		     1);
+}
+
 int main(void)
 {
 	if (cli_setup("messages"))
@@ -81,6 +141,9 @@ int main(void)
 	RUN(every_command_has_help);
 	RUN(version_is_printed);
 	RUN(ticks_zero_is_refused);
+	setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+	setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+	RUN(progress_rewrites_only_at_a_terminal);
 	cli_cleanup();
 	return test_summary();
 }
