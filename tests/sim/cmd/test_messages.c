@@ -7,7 +7,8 @@
  * at a terminal, by the same rule with and without mpirun: `mpirun ...
  * > file` writes plain lines as `evo run > file` does (a rank's own
  * stdout is a terminal mpirun made), and both rewrite under a terminal
- * (script(1) gives them one). */
+ * (script(1) gives them one). The run's curve.png is titled with the
+ * skill, task, method and seed. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,6 +16,9 @@
 
 #include "harness.h"
 #include "support/cli.h"
+#include "learn/curve.h"
+#include "viewer/png.h"
+#include "viewer/raster.h"
 
 static char out[1 << 15];
 
@@ -124,10 +128,46 @@ static int rewrites(const char *launch, int terminal, const char *file)
 	return r;
 }
 
+/* The pixels at the curve's title are those of `title` drawn alone. */
+static int curve_titled(const char *png, const char *title)
+{
+	evo_png_image img;
+	evo_raster t;
+	evo_err err = {{0}};
+	int w = evo_raster_text_width(title, EVO_CURVE_TITLE_SCALE);
+	int h = EVO_FONT_CELL_H * EVO_CURVE_TITLE_SCALE;
+	if (evo_png_read(png, &img, &err))
+		return 0;
+	if (evo_raster_init(&t, w, h, &err)) {
+		evo_png_image_free(&img);
+		return 0;
+	}
+	evo_raster_clear(&t, EVO_CURVE_BACKGROUND);
+	evo_raster_text(&t, 0, 0, title, EVO_CURVE_TEXT, EVO_CURVE_TITLE_SCALE);
+	int same = 1;
+	for (int y = 0; y < h - 2 * EVO_CURVE_TITLE_SCALE; y++)
+		for (int x = 0; x < w; x++) {
+			const uint8_t *p =
+			    img.pixels + ((size_t)(EVO_CURVE_TITLE_Y + y) *
+					      (size_t)img.w +
+					  (size_t)(EVO_CURVE_TITLE_X + x)) *
+					     (size_t)img.channels;
+			uint32_t c = (uint32_t)p[0] << 16 |
+				     (uint32_t)p[1] << 8 | p[2];
+			same &= c == evo_raster_get(&t, x, y);
+		}
+	evo_raster_free(&t);
+	evo_png_image_free(&img);
+	return same;
+}
+
 TEST(progress_rewrites_only_at_a_terminal)
 {
 	small_mind();
 	CHECK_EQ_INT(rewrites("", 0, "plain.txt"), 0);
+	char png[256];
+	snprintf(png, sizeof png, "%s/run-plain.txt/curve.png", cli_tmp);
+	CHECK(curve_titled(png, "Avoid: Small (NEAT, seed 3)"));
 	CHECK_EQ_INT(rewrites("mpirun --oversubscribe -np 1", 0, "mpi.txt"), 0);
 	CHECK_EQ_INT(rewrites("", 1, "plain-tty.txt"), 1);
 	CHECK_EQ_INT(rewrites("mpirun --oversubscribe -np 1", 1, "mpi-tty.txt"),
