@@ -9,6 +9,7 @@
 #include "base/number.h"
 #include "cmd/export_c.h"
 #include "cmd/flash.h"
+#include "cmd/info_dot.h"
 #include "cmd/run.h"
 #include "cmd/serve.h"
 #include "learn/learn.h"
@@ -153,6 +154,39 @@ static int cmd_info(const evo_mindfolder *l)
 	printf("mind image: %zu bytes; mind state: %zu bytes\n", l->image_len,
 	       evo_state_size(m));
 	return 0;
+}
+
+/* evo info --dot [SKILL] [-o FILE]: the hierarchy or SKILL's network as
+ * DOT, on stdout or in FILE (rendered when FILE is not .dot). */
+static int cmd_dot(const evo_mindfolder *l, const char *skill,
+		   const char *out)
+{
+	int k = -1;
+	evo_err err = {{0}};
+	if (skill && (k = evo_mindfolder_skill(l, skill)) < 0) {
+		fprintf(stderr, "evo info --dot %s: %s has no skill '%s' (its "
+				"skills:",
+			skill, l->root, skill);
+		for (unsigned i = 0; i < l->n_skills; i++)
+			fprintf(stderr, " %s", l->skill[i].name);
+		fprintf(stderr, ")\n");
+		return 1;
+	}
+	int rc = 0;
+	if (out) {
+		rc = evo_dot_write(out, l, k, &err);
+		if (rc == 0)
+			printf("%s: %s of %s\n", out,
+			       k < 0 ? "the hierarchy" : "the network",
+			       k < 0 ? l->root : skill);
+	} else if (k < 0) {
+		evo_dot_hierarchy(stdout, l);
+	} else {
+		rc = evo_dot_net(stdout, l, (unsigned)k, &err);
+	}
+	if (rc)
+		fprintf(stderr, "%s\n", err.msg);
+	return rc ? 1 : 0;
 }
 
 static int set_sensor(const evo_mindfolder *l, const char *arg, double *values)
@@ -355,6 +389,8 @@ int main(int argc, char **argv)
 	long ticks = 10;
 	const char *out = NULL;
 	int format_c = 0;
+	int dot = 0;		  /* evo info --dot */
+	const char *dot_skill = NULL; /* its SKILL, if one is named */
 	const char *sensor_args[EVO_MAX_SENSORS];
 	unsigned n_sensor_args = 0;
 	for (int i = 3; i < argc; i++) {
@@ -380,7 +416,14 @@ int main(int argc, char **argv)
 			   n_sensor_args < EVO_MAX_SENSORS) {
 			sensor_args[n_sensor_args++] = v;
 			i++;
-		} else if (strcmp(a, "-o") == 0 && v) {
+		} else if (strcmp(a, "--dot") == 0 && strcmp(cmd, "info") == 0) {
+			dot = 1;
+			if (v && v[0] != '-') {
+				dot_skill = v;
+				i++;
+			}
+		} else if (strcmp(a, "-o") == 0 && v &&
+			   strcmp(cmd, "tick") != 0) {
 			out = v;
 			i++;
 		} else if (strcmp(a, "--format") == 0 && v &&
@@ -407,7 +450,12 @@ int main(int argc, char **argv)
 		return 1;
 	}
 	int rc = 0;
-	if (strcmp(cmd, "info") == 0) {
+	if (strcmp(cmd, "info") == 0 && out && !dot) {
+		fprintf(stderr, "evo info: -o FILE is for --dot\n");
+		rc = 2;
+	} else if (strcmp(cmd, "info") == 0 && dot) {
+		rc = cmd_dot(l, dot_skill, out);
+	} else if (strcmp(cmd, "info") == 0) {
 		rc = cmd_info(l);
 	} else if (strcmp(cmd, "tick") == 0) {
 		double values[EVO_MAX_SENSORS];

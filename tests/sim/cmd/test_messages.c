@@ -8,7 +8,9 @@
  * > file` writes plain lines as `evo run > file` does (a rank's own
  * stdout is a terminal mpirun made), and both rewrite under a terminal
  * (script(1) gives them one). The run's curve.png is titled with the
- * skill, task, method and seed. */
+ * skill, task, method and seed. `evo info MIND --dot` draws the hierarchy
+ * and `--dot SKILL` a network as Graphviz DOT, which -o FILE.png and
+ * FILE.svg render with Graphviz's dot (make deps installs graphviz). */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -174,6 +176,84 @@ TEST(progress_rewrites_only_at_a_terminal)
 		     1);
 }
 
+TEST(info_draws_the_hierarchy_as_dot)
+{
+	CHECK_EQ_INT(cli_capture(out, sizeof out, "%s info minds/Collect --dot",
+				 cli_evo),
+		     0);
+	CHECK(strncmp(out, "digraph \"Collect\" {", 19) == 0);
+	/* the master influences its three sub-skills */
+	CHECK_CONTAINS(out, "\"skill:Collect\" -> \"skill:GTO+Avoid\"");
+	CHECK_CONTAINS(out, "\"skill:Collect\" -> \"skill:GTDZ+Avoid\"");
+	CHECK_CONTAINS(out, "\"skill:Collect\" -> \"skill:ClawControl\"");
+	CHECK_CONTAINS(out, "\"skill:MoveForward\" [label=\"MoveForward\" + "
+			    "\"\\nhardCoded MoveForward\"");
+	CHECK_CONTAINS(out, "\"skill:ClawControl\" -> \"variable:HOLD\"");
+	CHECK_CONTAINS(out, "\"skill:ClawControl\" -> \"actuator:EMAG\"");
+	CHECK_CONTAINS(out, "\"sensor:RADOBJ\" -> \"skill:GTO+Avoid\"");
+	/* sensors no skill reads are left out */
+	CHECK(strstr(out, "\"sensor:S3\"") == NULL);
+	CHECK(out[strlen(out) - 2] == '}');
+}
+
+TEST(info_draws_a_network_as_dot)
+{
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s info minds/Collect --dot GTO+Avoid",
+				 cli_evo),
+		     0);
+	CHECK_CONTAINS(out, "GTO+Avoid: 4 inputs, 1 hidden, 3 outputs, 16 "
+			    "links");
+	/* node defaults, the hidden node 7 and the 16 links */
+	CHECK_EQ_INT(cli_count_lines(out, "  n"), 1 + 1 + 16);
+	CHECK_CONTAINS(out, "n0 [label=\"SE:S1\"");
+	CHECK_CONTAINS(out, "n3 [label=\"SE:RADOBJ\"");
+	CHECK_CONTAINS(out, "n5 [label=\"SK:TurnLeft\\nneat_sigmoid "
+			    "-0.245\"");
+	/* link:0:5:7.085906 and link:3:7:-5.49065 of the .net file */
+	CHECK_CONTAINS(out, "n0 -> n5 [label=\"7.09\", color=\"#2F6FD0\"");
+	CHECK_CONTAINS(out, "n3 -> n7 [label=\"-5.49\", color=\"#D03030\"");
+	/* a hard-coded skill has no network; an unknown one is named */
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s info minds/Collect --dot TurnLeft",
+				 cli_evo),
+		     1);
+	CHECK_CONTAINS(out, "TurnLeft is a hard-coded skill (class "
+			    "TurnLeft); it has no network to draw");
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s info minds/Collect --dot GTO", cli_evo),
+		     1);
+	CHECK_CONTAINS(out, "minds/Collect has no skill 'GTO' (its skills: "
+			    "Collect");
+}
+
+TEST(info_renders_png_and_svg_with_graphviz)
+{
+	CHECK_EQ_INT(cli_sh("command -v dot > /dev/null"), 0);
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s info minds/Collect --dot -o %s/h.png",
+				 cli_evo, cli_tmp),
+		     0);
+	CHECK_CONTAINS(out, "h.png: the hierarchy of minds/Collect");
+	char *png = cli_read("%s/h.png", cli_tmp);
+	CHECK(png && memcmp(png, "\x89PNG\r\n", 6) == 0);
+	free(png);
+	CHECK_EQ_INT(cli_sh("%s info minds/Collect --dot GTO+Avoid -o "
+			    "%s/n.svg > /dev/null",
+			    cli_evo, cli_tmp),
+		     0);
+	char *svg = cli_read("%s/n.svg", cli_tmp);
+	CHECK(svg != NULL);
+	CHECK_CONTAINS(svg, "<svg");
+	CHECK_CONTAINS(svg, "SK:TurnLeft");
+	free(svg);
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s info minds/Collect --dot -o %s/h.jpeg",
+				 cli_evo, cli_tmp),
+		     1);
+	CHECK_CONTAINS(out, "ends in .dot (DOT text) or .png, .svg or .pdf");
+}
+
 int main(void)
 {
 	if (cli_setup("messages"))
@@ -181,6 +261,9 @@ int main(void)
 	RUN(every_command_has_help);
 	RUN(version_is_printed);
 	RUN(ticks_zero_is_refused);
+	RUN(info_draws_the_hierarchy_as_dot);
+	RUN(info_draws_a_network_as_dot);
+	RUN(info_renders_png_and_svg_with_graphviz);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
 	RUN(progress_rewrites_only_at_a_terminal);
