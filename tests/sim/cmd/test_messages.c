@@ -10,7 +10,10 @@
  * (script(1) gives them one). The run's curve.png is titled with the
  * skill, task, method and seed. `evo info MIND --dot` draws the hierarchy
  * and `--dot SKILL` a network as Graphviz DOT, which -o FILE.png and
- * FILE.svg render with Graphviz's dot (make deps installs graphviz). */
+ * FILE.svg render with Graphviz's dot (make deps installs graphviz).
+ * `evo run --record` saves a run's frames without a window, as PNG files
+ * (the last one the --screenshot of the same tick) or as a video made by
+ * ffmpeg, with --camera and --zoom. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -254,6 +257,88 @@ TEST(info_renders_png_and_svg_with_graphviz)
 	CHECK_CONTAINS(out, "ends in .dot (DOT text) or .png, .svg or .pdf");
 }
 
+#define DEMO "minds/Avoid/Tasks/Avoid-DEMO.simbatch"
+
+TEST(record_saves_frames_and_video)
+{
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run " DEMO " --ticks 60 --record %s/f "
+				 "--record-every 10 --zoom 2",
+				 cli_evo, cli_tmp),
+		     0);
+	/* ticks 0, 10, ..., 60 */
+	CHECK_CONTAINS(out, "recorded 7 frames in");
+	CHECK_EQ_INT(cli_sh("test $(ls %s/f | wc -l) = 7 && test -f "
+			    "%s/f/frame-000007.png",
+			    cli_tmp, cli_tmp),
+		     0);
+	/* the last frame is the screenshot of tick 60 */
+	CHECK_EQ_INT(cli_sh("%s run " DEMO " -nog --ticks 60 --zoom 2 "
+			    "--screenshot %s/s60.png > /dev/null && cmp -s "
+			    "%s/s60.png %s/f/frame-000007.png",
+			    cli_evo, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_sh("%s run " DEMO " -nog --ticks 60 --screenshot "
+			    "%s/z1.png > /dev/null && ! cmp -s %s/z1.png "
+			    "%s/s60.png",
+			    cli_evo, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	/* a camera far from everything sees only the floor */
+	CHECK_EQ_INT(cli_sh("%s run " DEMO " -nog --ticks 1 --camera "
+			    "5000,5000 --screenshot %s/far.png > /dev/null",
+			    cli_evo, cli_tmp),
+		     0);
+	char path[256];
+	snprintf(path, sizeof path, "%s/far.png", cli_tmp);
+	evo_png_image img;
+	evo_err err = {{0}};
+	CHECK_EQ_INT(evo_png_read(path, &img, &err), 0);
+	/* the world area holds two colours: the floor and its grid */
+	uint32_t seen[8];
+	int colours = 0;
+	for (int y = 0; y < 600 && img.pixels; y++)
+		for (int x = 100; x < 700; x++) {
+			const uint8_t *p =
+			    img.pixels + ((size_t)y * (size_t)img.w + (size_t)x) *
+					     (size_t)img.channels;
+			uint32_t c = (uint32_t)p[0] << 16 |
+				     (uint32_t)p[1] << 8 | p[2];
+			int k = 0;
+			while (k < colours && seen[k] != c)
+				k++;
+			if (k == colours && colours < 8)
+				seen[colours++] = c;
+		}
+	evo_png_image_free(&img);
+	CHECK(colours == 2);
+	/* a video through ffmpeg: 91 frames for 90 ticks */
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run " DEMO " --ticks 90 --record %s/a.mp4 "
+				 "--camera scene",
+				 cli_evo, cli_tmp),
+		     0);
+	CHECK_CONTAINS(out, "recorded 91 frames in");
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "ffprobe -v error -count_frames "
+				 "-select_streams v:0 -show_entries "
+				 "stream=nb_read_frames,width,height -of "
+				 "csv=p=0 %s/a.mp4",
+				 cli_tmp),
+		     0);
+	CHECK_CONTAINS(out, "1024,720,91");
+	/* the options are for frames drawn off screen */
+	CHECK_EQ_INT(cli_capture(out, sizeof out, "%s run " DEMO " -nog --zoom 2",
+				 cli_evo),
+		     1);
+	CHECK_CONTAINS(out, "--camera and --zoom set the frames of "
+			    "--screenshot and --record");
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run " DEMO " --camera 1 --record %s/x",
+				 cli_evo, cli_tmp),
+		     2);
+	CHECK_CONTAINS(out, "--camera expects X,Y (metres), scene or bot");
+}
+
 int main(void)
 {
 	if (cli_setup("messages"))
@@ -264,6 +349,7 @@ int main(void)
 	RUN(info_draws_the_hierarchy_as_dot);
 	RUN(info_draws_a_network_as_dot);
 	RUN(info_renders_png_and_svg_with_graphviz);
+	RUN(record_saves_frames_and_video);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
 	RUN(progress_rewrites_only_at_a_terminal);
