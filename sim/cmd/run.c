@@ -870,7 +870,10 @@ static int robot_screenshot(evo_viewer *v, const robot_view *rv,
 {
 	if (v) {
 		evo_viewer_draw_remote(v, &rv->p);
-		return evo_viewer_screenshot(v, path, err);
+		if (evo_viewer_screenshot(v, path, err))
+			return -1;
+		printf("saved %s (tick %ld)\n", path, rv->p.tick);
+		return 0;
 	}
 	evo_raster im;
 	if (evo_raster_init(&im, VIEW_W, VIEW_H, err))
@@ -1127,8 +1130,13 @@ static int run_viewer(evo_sim *s, evo_viewer *v, const run_opts *o,
 		p.speed = speed;
 		p.paused = paused;
 		evo_viewer_draw(v, s->scene, view_follow(s, &vs), &p);
-		if (o->screenshot && t >= o->ticks)
-			return evo_viewer_screenshot(v, o->screenshot, err);
+		if (o->screenshot && t >= o->ticks) {
+			if (evo_viewer_screenshot(v, o->screenshot, err))
+				return -1;
+			printf("saved %s (tick %ld)\n", o->screenshot,
+			       s->scene->tick);
+			return 0;
+		}
 		next += 1.0 / (30.0 * speed);
 		if (next < now() - 0.5)
 			next = now();

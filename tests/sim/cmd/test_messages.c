@@ -13,7 +13,9 @@
  * FILE.svg render with Graphviz's dot (make deps installs graphviz).
  * `evo run --record` saves a run's frames without a window, as PNG files
  * (the last one the --screenshot of the same tick) or as a video made by
- * ffmpeg, with --camera and --zoom. */
+ * ffmpeg, with --camera and --zoom. A --screenshot taken in the viewer's
+ * window (under xvfb-run) names the file it wrote, as a headless one
+ * does. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -339,6 +341,18 @@ TEST(record_saves_frames_and_video)
 	CHECK_CONTAINS(out, "--camera expects X,Y (metres), scene or bot");
 }
 
+TEST(windowed_screenshot_says_where)
+{
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "timeout 60 xvfb-run -a %s run " DEMO
+				 " --ticks 5 --screenshot %s/w.png",
+				 cli_evo, cli_tmp),
+		     0);
+	CHECK_CONTAINS(out, "/w.png (tick 5)");
+	CHECK(strstr(out, "without a window") == NULL);
+	CHECK_EQ_INT(cli_sh("test -s %s/w.png", cli_tmp), 0);
+}
+
 int main(void)
 {
 	if (cli_setup("messages"))
@@ -350,6 +364,7 @@ int main(void)
 	RUN(info_draws_a_network_as_dot);
 	RUN(info_renders_png_and_svg_with_graphviz);
 	RUN(record_saves_frames_and_video);
+	RUN(windowed_screenshot_says_where);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
 	RUN(progress_rewrites_only_at_a_terminal);
