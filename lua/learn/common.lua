@@ -146,7 +146,8 @@ end
 -- malformed value raises "path:line: KEY: ...". Every key the method
 -- ignores is a warning at its line, in line order: a key with the
 -- method's prefix that it does not know (with the closest it knows), a
--- key of another method, and POPSIZE for a method without a population.
+-- key of another method, POPSIZE for a method without a population and
+-- HIDDEN for NEAT, which grows its own hidden nodes.
 function common.task_options(algo, task, path, lines, quiet)
 	local ok, options, unknown = pcall(algo.options_from_task, task)
 	if not ok then
@@ -166,6 +167,10 @@ function common.task_options(algo, task, path, lines, quiet)
 					warnings[#warnings + 1] = { k, string.format("%s ignored: it is a setting of "
 						.. "%s, and this task trains with %s", k, other, method) }
 				end
+			end
+			if k == "HIDDEN" and method == "NEAT" then
+				warnings[#warnings + 1] = { k, "HIDDEN is the width of the hidden layers of "
+					.. "GENETIC, ANNEALING and CMAES; NEAT grows its own and ignores it" }
 			end
 			if k == "POPSIZE" then
 				warnings[#warnings + 1] = { k, string.format("POPSIZE ignored: %s has no population "

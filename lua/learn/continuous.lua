@@ -39,9 +39,7 @@ local CURVE_SECONDS = 1.0
 
 local hidden = tonumber(task.HIDDEN or "")
 if hidden and method == "NEAT" then
-	common.warning(host.task_path, host.task_lines, "HIDDEN", "HIDDEN is the width of "
-		.. "the hidden layers of GENETIC, ANNEALING and CMAES; NEAT grows its own and ignores it")
-	hidden = nil
+	hidden = nil -- common.task_options warned
 end
 
 if task.LEARNINGSKILL then

@@ -15,7 +15,9 @@
  * (the last one the --screenshot of the same tick) or as a video made by
  * ffmpeg, with --camera and --zoom. A --screenshot taken in the viewer's
  * window (under xvfb-run) names the file it wrote, as a headless one
- * does. */
+ * does. evo check warns of HIDDEN on a NEAT task, at its line, as evo
+ * run does, and evo run says it once. A Lua reward that returns a string
+ * that reads as a number ("1.5") ends the run at the function's line. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -353,6 +355,61 @@ TEST(windowed_screenshot_says_where)
 	CHECK_EQ_INT(cli_sh("test -s %s/w.png", cli_tmp), 0);
 }
 
+TEST(check_warns_of_hidden_on_neat)
+{
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/h && cp -r minds/Avoid %s/h/ && printf "
+			    "'TYPE:LEARNSIM\\nBOTMODEL:BotType8\\n"
+			    "MASTERSKILL:Avoid\\nLEARNINGSKILL:Avoid\\n"
+			    "ENV:EXP_Avoid\\nLEARNINGMETHOD:NEAT\\nNUMGEN:1\\n"
+			    "EVALREP:1\\nTICKLIM:20\\nNEAT_POPSIZE:4\\n"
+			    "HIDDEN:5\\n' > %s/h/Avoid/Tasks/H.simbatch",
+			    cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	const char *want = "H.simbatch:11: HIDDEN is the width of the hidden "
+			   "layers of GENETIC, ANNEALING and CMAES; NEAT grows "
+			   "its own and ignores it";
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s check %s/h/Avoid/Tasks/H.simbatch",
+				 cli_evo, cli_tmp),
+		     0);
+	CHECK_CONTAINS(out, want);
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run %s/h/Avoid/Tasks/H.simbatch --run "
+				 "%s/h/run",
+				 cli_evo, cli_tmp, cli_tmp),
+		     0);
+	CHECK_CONTAINS(out, want);
+	CHECK(strstr(strstr(out, want) + 1, want) == NULL); /* once */
+}
+
+TEST(reward_as_a_string_is_refused)
+{
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/r && cp -r minds/Avoid %s/r/ && printf "
+			    "'TYPE:DEMOSIM\\nBOTMODEL:BotType8\\n"
+			    "MASTERSKILL:Avoid\\nENV:Str\\n' > "
+			    "%s/r/Avoid/Tasks/S.simbatch",
+			    cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_write("local env = {}\n"
+			       "function env.init(scene, task)\n"
+			       "  scene:bot{ x = 0, y = 0 }\n"
+			       "  scene:reward(function(scene)\n"
+			       "    return \"1.5\"\n"
+			       "  end)\n"
+			       "end\n"
+			       "return env\n",
+			       "%s/r/Avoid/Envs/Str.lua", cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run %s/r/Avoid/Tasks/S.simbatch -nog "
+				 "--ticks 5",
+				 cli_evo, cli_tmp),
+		     1);
+	CHECK_CONTAINS(out, "Str.lua:4: the reward function written here "
+			    "returned the string \"1.5\" at tick");
+	CHECK_CONTAINS(out, "not a finite number");
+}
+
 int main(void)
 {
 	if (cli_setup("messages"))
@@ -365,6 +422,8 @@ int main(void)
 	RUN(info_renders_png_and_svg_with_graphviz);
 	RUN(record_saves_frames_and_video);
 	RUN(windowed_screenshot_says_where);
+	RUN(check_warns_of_hidden_on_neat);
+	RUN(reward_as_a_string_is_refused);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
 	RUN(progress_rewrites_only_at_a_terminal);
