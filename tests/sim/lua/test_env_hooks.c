@@ -119,10 +119,10 @@ TEST(lua_rewards_and_controls_are_reset)
 
 TEST(a_reward_that_returns_no_number_is_reported_where_written)
 {
-	const char *gave[] = {"nil", "'ten'", "0/0"};
-	const char *said[] = {"returned nil", "returned string",
-			      "returned -nan"};
-	for (int i = 0; i < 3; i++) {
+	const char *gave[] = {"nil", "'ten'", "0/0", "'1.5'"};
+	const char *said[] = {"returned nil", "returned the string \"ten\"",
+			      "returned -nan", "returned the string \"1.5\""};
+	for (int i = 0; i < 4; i++) {
 		char lua[1024];
 		snprintf(lua, sizeof lua,
 			 "local env = {}\n"
