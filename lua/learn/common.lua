@@ -189,6 +189,17 @@ function common.task_options(algo, task, path, lines, quiet)
 	return options
 end
 
+-- Two scores as text to print side by side: one decimal when that tells
+-- them apart (or they are equal), else as many more as it takes, so that
+-- "champion 1.2, current 1.2 ... replaced" cannot happen.
+function common.two_scores(a, b)
+	for d = 1, 15 do
+		local sa, sb = string.format("%." .. d .. "f", a), string.format("%." .. d .. "f", b)
+		if sa ~= sb or a == b then return sa, sb end
+	end
+	return string.format("%.17g", a), string.format("%.17g", b)
+end
+
 -- Ranges every method shares. A whole number has an upper bound that keeps
 -- memory and time bounded, and that no real task meets: a population of at
 -- most 10,000 networks (the task's POPSIZE takes as many,
