@@ -17,7 +17,9 @@
  * window (under xvfb-run) names the file it wrote, as a headless one
  * does. evo check warns of HIDDEN on a NEAT task, at its line, as evo
  * run does, and evo run says it once. A Lua reward that returns a string
- * that reads as a number ("1.5") ends the run at the function's line. */
+ * that reads as a number ("1.5") ends the run at the function's line.
+ * A misspelt ENV, BOTMODEL or MASTERSKILL (in the wrong case too) is
+ * reported at the task's line, with the name meant. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -410,6 +412,44 @@ TEST(reward_as_a_string_is_refused)
 	CHECK_CONTAINS(out, "not a finite number");
 }
 
+/* evo check of a copy of Avoid's DEMO task with `line` in place of its
+ * line `key`: exit 1 and the message in out. */
+static void check_with(const char *key, const char *value)
+{
+	CHECK_EQ_INT(cli_sh("rm -rf %s/n && mkdir -p %s/n && cp -r minds/Avoid "
+			    "%s/n/ && printf 'TYPE:DEMOSIM\\nBOTMODEL:%s\\n"
+			    "MASTERSKILL:%s\\nENV:%s\\n' > "
+			    "%s/n/Avoid/Tasks/N.simbatch",
+			    cli_tmp, cli_tmp, cli_tmp,
+			    strcmp(key, "BOTMODEL") ? "BotType8" : value,
+			    strcmp(key, "MASTERSKILL") ? "Avoid" : value,
+			    strcmp(key, "ENV") ? "EXP_Avoid" : value, cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s check %s/n/Avoid/Tasks/N.simbatch",
+				 cli_evo, cli_tmp),
+		     1);
+}
+
+TEST(misspelt_names_are_reported_at_the_task_line)
+{
+	check_with("ENV", "EXP_Avoi");
+	CHECK_CONTAINS(out, "N.simbatch:4: ENV: environment 'EXP_Avoi' not "
+			    "found: looked for ");
+	CHECK_CONTAINS(out, "; did you mean EXP_Avoid?");
+	check_with("ENV", "Roma");
+	CHECK_CONTAINS(out, "; did you mean Roam?"); /* the mind's own Envs */
+	check_with("BOTMODEL", "BotType9");
+	CHECK_CONTAINS(out, "N.simbatch:2: BOTMODEL: bot model 'BotType9' not "
+			    "found: looked for ");
+	CHECK_CONTAINS(out, "; did you mean BotType8?");
+	check_with("MASTERSKILL", "avoid");
+	CHECK_CONTAINS(out, "N.simbatch:3: MASTERSKILL: no skill 'avoid' in ");
+	CHECK_CONTAINS(out, "; did you mean Avoid?");
+	check_with("ENV", "Nothing_like_it");
+	CHECK(strstr(out, "did you mean") == NULL);
+}
+
 int main(void)
 {
 	if (cli_setup("messages"))
@@ -424,6 +464,7 @@ int main(void)
 	RUN(windowed_screenshot_says_where);
 	RUN(check_warns_of_hidden_on_neat);
 	RUN(reward_as_a_string_is_refused);
+	RUN(misspelt_names_are_reported_at_the_task_line);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
 	RUN(progress_rewrites_only_at_a_terminal);
