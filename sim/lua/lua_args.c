@@ -199,14 +199,31 @@ int evo_lua_opt_bot(lua_State *L, int idx, const char *what)
 	return b;
 }
 
+/* Names looked at for "did you mean". */
+#define NAMES_MAX 256
+
 int evo_lua_bot_sensor_index(lua_State *L, int bot, const char *name,
 			     const char *what)
 {
 	const evo_bot *b = &evo_lua_ctx(L)->sc->bot[bot];
 	int s = evo_bot_find_sensor(b, name);
-	if (s < 0)
-		luaL_error(L, "%s: bot '%s' has no sensor '%s'", what, b->name,
-			   name);
+	if (s < 0) {
+		/* the closest of its sensors' names */
+		const char *names[NAMES_MAX];
+		int n = 0;
+		for (int i = 0; i < b->n_sensors && n < NAMES_MAX;
+		     i++)
+			names[n++] = b->sensor[i].name;
+		const char *near =
+		    n ? evo_closest_name(name, names, (size_t)n, NULL) : NULL;
+		if (near)
+			luaL_error(L,
+				   "%s: bot '%s' has no sensor '%s'; did you "
+				   "mean %s?",
+				   what, b->name, name, near);
+		luaL_error(L, "%s: bot '%s' has no sensor '%s' (it has none)",
+			   what, b->name, name);
+	}
 	return s;
 }
 

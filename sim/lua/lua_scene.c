@@ -390,7 +390,8 @@ static void lua_function_options(lua_State *L, const char *what,
  * (returns lua_kind, with *ref set) or the name of a built-in one (its
  * kind); an empty options table is pushed at 3 when none was given. */
 static int function_or_name(lua_State *L, const char *what, const char *noun,
-			    int (*by_name)(const char *), int lua_kind,
+			    int (*by_name)(const char *),
+			    const char *(*name_of)(int), int lua_kind,
 			    int *ref)
 {
 	if (lua_isfunction(L, 2)) {
@@ -407,11 +408,19 @@ static int function_or_name(lua_State *L, const char *what, const char *noun,
 	}
 	const char *name = luaL_checkstring(L, 2);
 	int kind = by_name(name);
-	if (kind < 0 || kind == lua_kind)
+	if (kind < 0 || kind == lua_kind) {
+		/* the closest of the built-in names */
+		const char *names[64];
+		size_t n = 0;
+		for (int k = 0; n < 64 && name_of(k); k++)
+			if (k != lua_kind)
+				names[n++] = name_of(k);
 		luaL_error(L,
-			   "%s: unknown %s function '%s' (pass a Lua function "
-			   "for your own)",
-			   what, noun, name);
+			   "%s: unknown %s function '%s'; did you mean %s? "
+			   "(or pass a Lua function for your own)",
+			   what, noun, name,
+			   evo_closest_name(name, names, n, NULL));
+	}
 	if (lua_isnoneornil(L, 3)) {
 		lua_settop(L, 2);
 		lua_newtable(L);
@@ -477,7 +486,7 @@ static int scene_reward(lua_State *L)
 	const char *what = "scene:reward";
 	int ref = -1;
 	int kind = function_or_name(L, what, "reward", evo_reward_kind_by_name,
-				    EVO_RW_LUA, &ref);
+				    evo_reward_kind_name, EVO_RW_LUA, &ref);
 	evo_reward_def d = evo_default_reward_def((evo_reward_kind)kind);
 	d.lua_ref = ref;
 	if (kind == EVO_RW_LUA) {
@@ -526,7 +535,7 @@ static int scene_control(lua_State *L)
 	const char *what = "scene:control";
 	int ref = -1;
 	int kind = function_or_name(L, what, "control", evo_control_kind_by_name,
-				    EVO_CF_LUA, &ref);
+				    evo_control_kind_name, EVO_CF_LUA, &ref);
 	evo_control_def d = evo_default_control_def((evo_control_kind)kind);
 	d.lua_ref = ref;
 	if (kind == EVO_CF_LUA) {

@@ -19,7 +19,9 @@
  * run does, and evo run says it once. A Lua reward that returns a string
  * that reads as a number ("1.5") ends the run at the function's line.
  * A misspelt ENV, BOTMODEL or MASTERSKILL (in the wrong case too) is
- * reported at the task's line, with the name meant. */
+ * reported at the task's line, with the name meant; so are a misspelt
+ * scene:control or scene:reward name and a sensor bot:target names, at
+ * the environment's line. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -450,6 +452,46 @@ TEST(misspelt_names_are_reported_at_the_task_line)
 	CHECK(strstr(out, "did you mean") == NULL);
 }
 
+/* evo check of Avoid with environment `body` (the lines of env.init,
+ * after a bot `b` is made): exit 1 and the message in out. */
+static void env_check(const char *body)
+{
+	char lua[1024];
+	snprintf(lua, sizeof lua,
+		 "local env = {}\n"
+		 "function env.init(scene, task)\n"
+		 "  local b = scene:bot{ x = 0, y = 0 }\n"
+		 "%s\n"
+		 "end\n"
+		 "return env\n",
+		 body);
+	CHECK_EQ_INT(cli_sh("rm -rf %s/e && mkdir -p %s/e && cp -r minds/Avoid "
+			    "%s/e/ && printf 'TYPE:DEMOSIM\\nBOTMODEL:BotType8"
+			    "\\nMASTERSKILL:Avoid\\nENV:Mine\\n' > "
+			    "%s/e/Avoid/Tasks/M.simbatch",
+			    cli_tmp, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_write(lua, "%s/e/Avoid/Envs/Mine.lua", cli_tmp), 0);
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s check %s/e/Avoid/Tasks/M.simbatch",
+				 cli_evo, cli_tmp),
+		     1);
+}
+
+TEST(misspelt_names_in_an_environment_get_a_hint)
+{
+	env_check("  scene:control('NextOnTimout', { ticks = 10 })");
+	CHECK_CONTAINS(out, "Mine.lua:4: scene:control: unknown control "
+			    "function 'NextOnTimout'; did you mean "
+			    "NextOnTimeout?");
+	env_check("  scene:reward('ForwardSped', { bot = b })");
+	CHECK_CONTAINS(out, "Mine.lua:4: scene:reward: unknown reward function "
+			    "'ForwardSped'; did you mean ForwardSpeed?");
+	env_check("  b:target('DISTZ', nil)");
+	CHECK_CONTAINS(out, "Mine.lua:4: bot:target: bot 'bot1' has no sensor "
+			    "'DISTZ'; did you mean DISTDZ?");
+}
+
 int main(void)
 {
 	if (cli_setup("messages"))
@@ -465,6 +507,7 @@ int main(void)
 	RUN(check_warns_of_hidden_on_neat);
 	RUN(reward_as_a_string_is_refused);
 	RUN(misspelt_names_are_reported_at_the_task_line);
+	RUN(misspelt_names_in_an_environment_get_a_hint);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
 	RUN(progress_rewrites_only_at_a_terminal);
