@@ -21,6 +21,15 @@ evo_lua *evo_lua_ctx(lua_State *L)
 
 /* ---- option tables ----------------------------------------------------- */
 
+const char *evo_lua_near(const char *word, const char *const *list,
+			 size_t n)
+{
+	unsigned best;
+	const char *pick = evo_closest_name(word, list, n, &best);
+	size_t wl = strlen(word);
+	return pick && best <= (wl < 4 ? 1u : wl / 3 + 1) ? pick : NULL;
+}
+
 /* Raise an error for any key of the table at idx not in `known`. */
 void evo_lua_check_keys(lua_State *L, int idx, const char *what,
 			const char *const *known)
@@ -45,6 +54,15 @@ void evo_lua_check_keys(lua_State *L, int idx, const char *what,
 				luaL_addstring(&b, known[i]);
 			}
 			luaL_pushresult(&b);
+			size_t n = 0;
+			while (known[n])
+				n++;
+			const char *near = evo_lua_near(k, known, n);
+			if (near)
+				luaL_error(L,
+					   "%s: unknown option '%s'; did you "
+					   "mean %s? (known: %s)",
+					   what, k, near, lua_tostring(L, -1));
 			luaL_error(L, "%s: unknown option '%s' (known: %s)",
 				   what, k, lua_tostring(L, -1));
 			return;
@@ -214,15 +232,14 @@ int evo_lua_bot_sensor_index(lua_State *L, int bot, const char *name,
 		for (int i = 0; i < b->n_sensors && n < NAMES_MAX;
 		     i++)
 			names[n++] = b->sensor[i].name;
-		const char *near =
-		    n ? evo_closest_name(name, names, (size_t)n, NULL) : NULL;
+		const char *near = evo_lua_near(name, names, (size_t)n);
 		if (near)
 			luaL_error(L,
 				   "%s: bot '%s' has no sensor '%s'; did you "
 				   "mean %s?",
 				   what, b->name, name, near);
-		luaL_error(L, "%s: bot '%s' has no sensor '%s' (it has none)",
-			   what, b->name, name);
+		luaL_error(L, "%s: bot '%s' has no sensor '%s'", what, b->name,
+			   name);
 	}
 	return s;
 }

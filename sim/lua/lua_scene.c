@@ -176,6 +176,32 @@ static int scene_grid(lua_State *L)
 	return 0;
 }
 
+/* The line of a bot model's file where its body table starts (the first
+ * "body =" outside a comment), 0 when none is found: a table has no line
+ * of its own, and a mistake in it is reported there. */
+static unsigned body_line(const char *path)
+{
+	FILE *f = fopen(path, "r");
+	char line[512];
+	unsigned n = 0, at = 0;
+	while (f && !at && fgets(line, sizeof line, f)) {
+		n++;
+		const char *p = line;
+		while (*p == ' ' || *p == '\t')
+			p++;
+		if (strncmp(p, "body", 4) != 0)
+			continue;
+		p += 4;
+		while (*p == ' ' || *p == '\t')
+			p++;
+		if (*p == '=' && p[1] != '=')
+			at = n;
+	}
+	if (f)
+		fclose(f);
+	return at;
+}
+
 /* The body table of a bot model (at 1) into the evo_body_def at 2.
  * Called through lua_pcall, so that its errors carry no script line:
  * scene:bot puts the bot model's file before them. */
@@ -277,8 +303,13 @@ static int scene_bot(lua_State *L)
 		lua_pushvalue(L, -2);
 		lua_pushlightuserdata(L, &d.body);
 		if (lua_pcall(L, 2, 0, 0) != LUA_OK) {
-			lua_pushfstring(L, "%s: %s", l->bot_path,
-					evo_lua_errstr(L, -1));
+			unsigned at = body_line(l->bot_path);
+			if (at)
+				lua_pushfstring(L, "%s:%d: %s", l->bot_path,
+						(int)at, evo_lua_errstr(L, -1));
+			else
+				lua_pushfstring(L, "%s: %s", l->bot_path,
+						evo_lua_errstr(L, -1));
 			return lua_error(L);
 		}
 	}
@@ -415,11 +446,16 @@ static int function_or_name(lua_State *L, const char *what, const char *noun,
 		for (int k = 0; n < 64 && name_of(k); k++)
 			if (k != lua_kind)
 				names[n++] = name_of(k);
+		const char *near = evo_lua_near(name, names, n);
+		if (near)
+			luaL_error(L,
+				   "%s: unknown %s function '%s'; did you mean "
+				   "%s? (or pass a Lua function for your own)",
+				   what, noun, name, near);
 		luaL_error(L,
-			   "%s: unknown %s function '%s'; did you mean %s? "
-			   "(or pass a Lua function for your own)",
-			   what, noun, name,
-			   evo_closest_name(name, names, n, NULL));
+			   "%s: unknown %s function '%s' (pass a Lua function "
+			   "for your own)",
+			   what, noun, name);
 	}
 	if (lua_isnoneornil(L, 3)) {
 		lua_settop(L, 2);

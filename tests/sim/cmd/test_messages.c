@@ -21,7 +21,9 @@
  * A misspelt ENV, BOTMODEL or MASTERSKILL (in the wrong case too) is
  * reported at the task's line, with the name meant; so are a misspelt
  * scene:control or scene:reward name and a sensor bot:target names, at
- * the environment's line. */
+ * the environment's line; an unknown option of a bot model's body table
+ * is reported at the body's line in the model's file, with the option
+ * meant. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -465,10 +467,10 @@ static void env_check(const char *body)
 		 "end\n"
 		 "return env\n",
 		 body);
-	CHECK_EQ_INT(cli_sh("rm -rf %s/e && mkdir -p %s/e && cp -r minds/Avoid "
-			    "%s/e/ && printf 'TYPE:DEMOSIM\\nBOTMODEL:BotType8"
-			    "\\nMASTERSKILL:Avoid\\nENV:Mine\\n' > "
-			    "%s/e/Avoid/Tasks/M.simbatch",
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/e && (test -d %s/e/Avoid || cp -r "
+			    "minds/Avoid %s/e/) && printf 'TYPE:DEMOSIM\\n"
+			    "BOTMODEL:BotType8\\nMASTERSKILL:Avoid\\nENV:Mine"
+			    "\\n' > %s/e/Avoid/Tasks/M.simbatch",
 			    cli_tmp, cli_tmp, cli_tmp, cli_tmp),
 		     0);
 	CHECK_EQ_INT(cli_write(lua, "%s/e/Avoid/Envs/Mine.lua", cli_tmp), 0);
@@ -487,9 +489,27 @@ TEST(misspelt_names_in_an_environment_get_a_hint)
 	env_check("  scene:reward('ForwardSped', { bot = b })");
 	CHECK_CONTAINS(out, "Mine.lua:4: scene:reward: unknown reward function "
 			    "'ForwardSped'; did you mean ForwardSpeed?");
+	env_check("  scene:reward('Nothing_like_any', { bot = b })");
+	CHECK(strstr(out, "did you mean") == NULL);
+	CHECK_CONTAINS(out, "unknown reward function 'Nothing_like_any'");
 	env_check("  b:target('DISTZ', nil)");
 	CHECK_CONTAINS(out, "Mine.lua:4: bot:target: bot 'bot1' has no sensor "
 			    "'DISTZ'; did you mean DISTDZ?");
+}
+
+TEST(a_body_option_is_reported_at_its_line)
+{
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/e/Avoid/Bots", cli_tmp), 0);
+	CHECK_EQ_INT(cli_write("-- a round bot\n"
+			       "return {\n"
+			       "  body = { radus = 0.5, density = 1 },\n"
+			       "  build = function(bot) end,\n"
+			       "}\n",
+			       "%s/e/Avoid/Bots/Round.lua", cli_tmp),
+		     0);
+	env_check("  scene:bot{ x = 2, y = 2, model = 'Round' }");
+	CHECK_CONTAINS(out, "Bots/Round.lua:3: body: unknown option 'radus'; "
+			    "did you mean radius? (known: shape, radius,");
 }
 
 int main(void)
@@ -508,6 +528,7 @@ int main(void)
 	RUN(reward_as_a_string_is_refused);
 	RUN(misspelt_names_are_reported_at_the_task_line);
 	RUN(misspelt_names_in_an_environment_get_a_hint);
+	RUN(a_body_option_is_reported_at_its_line);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
 	RUN(progress_rewrites_only_at_a_terminal);
