@@ -258,13 +258,15 @@ TEST(a_bot_models_mistakes_are_its_own)
 			  "  env.bot = scene:bot{ x = 0, y = 0, model = 'Mine' }\n"
 			  "end\n"
 			  "return env\n";
-	/* a body typo: the bot model's file, not the environment's line */
+	/* a body typo: the bot model's file at its body's line, not the
+	 * environment's line */
 	bot_lua = "return {\n"
 		  "  body = { shape = 'circle', radius = 1, dnsity = 2 },\n"
 		  "  build = function(bot) end,\n"
 		  "}\n";
 	CHECK_EQ_INT(run_env(env, 1), 1);
-	CHECK_CONTAINS(out, "Bots/Mine.lua: body: unknown option 'dnsity'");
+	CHECK_CONTAINS(out, "Bots/Mine.lua:2: body: unknown option 'dnsity'; "
+			    "did you mean density?");
 	CHECK(!strstr(out, "Test.lua:3"));
 	/* a sensor's options are its kind's, and the message says which */
 	bot_lua = "return {\n"
