@@ -362,6 +362,7 @@ static int take_new(evo_remotes *s, const evo_wire_hello *h, int64_t stamp,
 	if (strcmp(s->passed_over, h->name) != 0)
 		fprintf(stderr, "evo: %s; passed over\n", err->msg);
 	snprintf(s->passed_over, sizeof s->passed_over, "%s", h->name);
+	snprintf(s->passed_why, sizeof s->passed_why, "%.1000s", err->msg);
 	err->msg[0] = 0;
 	free(s->r[--s->n]);
 	return 0;
@@ -382,7 +383,20 @@ int evo_remotes_find(evo_remotes *s, double window, evo_err *err)
 				return -1;
 			asked = t;
 		}
-		if (!s->n && t - told >= o->timeout) {
+		if (!s->n && t - told >= o->timeout && s->passed_over[0]) {
+			/* one answered: say which, and why it would not do */
+			fprintf(stderr,
+				"evo: no %s%s%s that fits has answered on %s "
+				"for %.0f s; %s answered and was passed over "
+				"(%s); waiting (Ctrl-C stops)\n",
+				kind_name(o->kind), o->name ? " named " : "",
+				o->name ? o->name : "", evo_link_url(s->link),
+				t - start, s->passed_over,
+				strncmp(s->passed_why, "evo: ", 5) == 0
+				    ? s->passed_why + 5
+				    : s->passed_why);
+			told = t;
+		} else if (!s->n && t - told >= o->timeout) {
 			fprintf(stderr,
 				"evo: no %s%s%s has answered on %s for %.0f s; "
 				"waiting (Ctrl-C stops)\n",
