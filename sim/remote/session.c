@@ -512,6 +512,21 @@ static void answers_on(evo_remote *r, const evo_link_msg *m)
 }
 
 /* A sensors_t: keep it when it is the one its environment awaits. */
+/* A value outside [0, 1] named by the sensor the remote's hello gives
+ * it ("sensor S4 (value 3) is nan"), where evo_wire_check_values could
+ * only number it. */
+static void name_bad_value(const evo_wire_hello *h, const evo_wire_sensors *s,
+			   char *why, size_t cap)
+{
+	for (unsigned i = 0; i < s->n && i < h->n_sensors; i++)
+		if (!(s->value[i] >= 0.0 && s->value[i] <= 1.0)) {
+			snprintf(why, cap,
+				 "sensor %s (value %u) is %g, outside [0, 1]",
+				 h->sensor[i], i, s->value[i]);
+			return;
+		}
+}
+
 static int take_sensors(evo_remote *r, const evo_link_msg *m, evo_err *err)
 {
 	evo_wire_sensors s;
@@ -569,6 +584,7 @@ static int take_sensors(evo_remote *r, const evo_link_msg *m, evo_err *err)
 	r->heard_at = now();
 	rc = evo_wire_check_values(s.value, s.n, &s.reward, why, sizeof why);
 	if (rc) {
+		name_bad_value(&r->hello, &s, why, sizeof why);
 		/* a simulator that sends a bad value for the awaited tick
 		 * cannot go on: lockstep waits for this very message */
 		r->dropped[rc]++;
@@ -995,6 +1011,7 @@ static int take_robot_sensors(evo_robot *rb, const evo_link_msg *m)
 	 * commands, and the next tick comes anyway. */
 	rc = evo_wire_check_values(s.value, s.n, &s.reward, why, sizeof why);
 	if (rc) {
+		name_bad_value(&r->hello, &s, why, sizeof why);
 		char w2[300];
 		snprintf(w2, sizeof w2, "tick %lld: %s", (long long)s.tick, why);
 		dropped(r, rc, "sensors_t", w2);

@@ -468,7 +468,7 @@ TEST(bad_messages_are_dropped_and_counted_by_reason)
 }
 
 /* A value that is not a number, in the very message lockstep waits for,
- * ends the run naming the remote, the tick and the value. */
+ * ends the run naming the remote, the tick and the sensor. */
 TEST(a_nan_from_a_simulator_ends_the_run_with_where_it_was)
 {
 	char name[64], got[256];
@@ -480,8 +480,10 @@ TEST(a_nan_from_a_simulator_ends_the_run_with_where_it_was)
 			     "%s run %s/Avoid/Tasks/%s.simbatch -nog", cli_evo,
 			     cli_tmp, name);
 	CHECK_EQ_INT(rc, 1);
+	/* named by the sensor the remote's hello puts 4th (its order is
+	 * not the botdesc's) */
 	CHECK_CONTAINS(out, "the sensors_t of tick 0 of episode 1 (environment "
-			    "0): value 3 is nan, outside [0, 1]");
+			    "0): sensor S8 (value 3) is nan, outside [0, 1]");
 	kill(f, SIGKILL);
 	int st;
 	waitpid(f, &st, 0);
