@@ -147,7 +147,8 @@ end
 -- malformed value raises "path:line: KEY: ...". Every key the method
 -- ignores is a warning at its line, in line order: a key with the
 -- method's prefix that it does not know (with the closest it knows), a
--- key of another method, and POPSIZE for a method without a population.
+-- key of another method, POPSIZE for a method without a population and
+-- HIDDEN for NEAT, which grows its own hidden nodes.
 function common.task_options(algo, task, path, lines, quiet)
 	local ok, options, unknown = pcall(algo.options_from_task, task)
 	if not ok then
@@ -168,6 +169,10 @@ function common.task_options(algo, task, path, lines, quiet)
 						.. "%s, and this task trains with %s", k, other, method) }
 				end
 			end
+			if k == "HIDDEN" and method == "NEAT" then
+				warnings[#warnings + 1] = { k, "HIDDEN is the width of the hidden layers of "
+					.. "GENETIC, ANNEALING and CMAES; NEAT grows its own and ignores it" }
+			end
 			if k == "POPSIZE" then
 				warnings[#warnings + 1] = { k, string.format("POPSIZE ignored: %s has no population "
 					.. "(it moves one network at a time)", method) }
@@ -183,6 +188,17 @@ function common.task_options(algo, task, path, lines, quiet)
 		for _, w in ipairs(warnings) do common.warning(path, lines, w[1], w[2]) end
 	end
 	return options
+end
+
+-- Two scores as text to print side by side: one decimal when that tells
+-- them apart (or they are equal), else as many more as it takes, so that
+-- "champion 1.2, current 1.2 ... replaced" cannot happen.
+function common.two_scores(a, b)
+	for d = 1, 15 do
+		local sa, sb = string.format("%." .. d .. "f", a), string.format("%." .. d .. "f", b)
+		if sa ~= sb or a == b then return sa, sb end
+	end
+	return string.format("%.17g", a), string.format("%.17g", b)
 end
 
 -- Ranges every method shares. A whole number has an upper bound that keeps

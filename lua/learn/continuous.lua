@@ -43,9 +43,7 @@ local CURVE_SECONDS = 1.0
 
 local hidden = tonumber(task.HIDDEN or "")
 if hidden and method == "NEAT" then
-	common.warning(host.task_path, host.task_lines, "HIDDEN", "HIDDEN is the width of "
-		.. "the hidden layers of GENETIC, ANNEALING and CMAES; NEAT grows its own and ignores it")
-	hidden = nil
+	hidden = nil -- common.task_options warned
 end
 
 if task.LEARNINGSKILL then
@@ -193,8 +191,9 @@ while not rounds or state.round <= rounds do
 		host.save(file_of(sk.name), text)
 	end
 	host.save("summary.csv", state.summary)
-	host.print(string.format("round %d, skill %s: champion %.1f, current %.1f on %d validation "
-		.. "evaluations: %s", state.round, sk.name, champion, current, validation,
+	local shown_champion, shown_current = common.two_scores(champion, current)
+	host.print(string.format("round %d, skill %s: champion %s, current %s on %d validation "
+		.. "evaluations: %s", state.round, sk.name, shown_champion, shown_current, validation,
 		replaced and "replaced" or "kept"))
 	state.step, state.first = 0, nil
 	state.turn = t + 1

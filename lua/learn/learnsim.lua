@@ -73,9 +73,7 @@ local options = common.task_options(algo, task, host.task_path, host.task_lines)
 -- parser checked its range, evo run that the networks fit). NEAT grows its own.
 local hidden = tonumber(task.HIDDEN or "")
 if hidden and method == "NEAT" then
-	common.warning(host.task_path, host.task_lines, "HIDDEN", "HIDDEN is the width of "
-		.. "the hidden layers of GENETIC, ANNEALING and CMAES; NEAT grows its own and ignores it")
-	hidden = nil
+	hidden = nil -- common.task_options warned
 end
 
 -- The learners: the learning teams of a team task, else the one skill.

@@ -10,6 +10,7 @@
 #include "cmd/export_c.h"
 #include "cmd/flash.h"
 #include "cmd/mindinfo.h"
+#include "cmd/info_dot.h"
 #include "cmd/run.h"
 #include "cmd/serve.h"
 #include "learn/learn.h"
@@ -19,52 +20,108 @@
 #include "remote/robot.h"
 #include "tasksim/tasksim.h"
 
-static void usage(FILE *f)
-{
-	fputs("usage:\n"
-	      "  evo [-nog] TASK.simbatch   the tutorial's form of evo run\n"
-	      "  evo run TASK.simbatch [--headless|-nog] [--seed N]\n"
-	      "          [--episodes N] [--ticks N] [--trace FILE]\n"
-	      "      run a task: DEMOSIM in the viewer, or headless;\n"
-	      "      LEARNSIM trains (--threads N, --run DIR, --resume),\n"
-	      "      LEARNSIMCONTINUOUS every skill of the hierarchy in turn;\n"
-	      "      DEMO2DSIMMULTI and LEARN2DSIMMULTI do so with teams\n"
-	      "      (docs/teams.md), DEMO3DSIM and LEARN3DSIM in the 3D\n"
-	      "      world on ODE (docs/world3d.md); under mpirun -np N,\n"
-	      "      LEARNSIM spreads over N processes (docs/cluster.md)\n"
-	      "      (evo run with no task lists every option);\n"
-	      "      DEMOREMOTESIM drives a remote simulator over LCM,\n"
-	      "      DEMOREMOTE a robot over LCM or, with --can URL, CAN\n"
-	      "  evo serve TASK.simbatch [--name NAME] [--environments N]\n"
+#include <lua.h>
+
+/* evo's version: the part of the project it was built at. */
+#define EVO_VERSION "0.16"
+
+/* Each command's lines of `evo help`, and what `evo CMD --help` prints
+ * for the commands that have no page of their own. */
+static const struct {
+	const char *cmd, *text;
+} command_help[] = {
+    {"", "  evo [-nog] TASK.simbatch   the tutorial's form of evo run\n"},
+    {"run", "  evo run TASK.simbatch [--headless|-nog] [--seed N]\n"
+	    "          [--episodes N] [--ticks N] [--trace FILE]\n"
+	    "      run a task: DEMOSIM in the viewer, or headless;\n"
+	    "      LEARNSIM trains (--threads N, --run DIR, --resume),\n"
+	    "      LEARNSIMCONTINUOUS every skill of the hierarchy in turn;\n"
+	    "      DEMO2DSIMMULTI and LEARN2DSIMMULTI do so with teams\n"
+	    "      (docs/teams.md), DEMO3DSIM and LEARN3DSIM in the 3D\n"
+	    "      world on ODE (docs/world3d.md); under mpirun -np N,\n"
+	    "      LEARNSIM spreads over N processes (docs/cluster.md)\n"
+	    "      (evo run --help lists every option);\n"
+	    "      DEMOREMOTESIM drives a remote simulator over LCM,\n"
+	    "      DEMOREMOTE a robot over LCM or, with --can URL, CAN\n"},
+    {"serve", "  evo serve TASK.simbatch [--name NAME] [--environments N]\n"
 	      "          [--robot [--tick-ms MS] [--timeout S]] [--can URL]\n"
 	      "      serve the task's 2D world as a remote simulator over\n"
 	      "      LCM, or as a stand-in robot in real time, over LCM or\n"
 	      "      as a body on a CAN bus, until stopped (docs/remote.md,\n"
-	      "      docs/can.md)\n"
-	      "  evo info MINDFOLDER|IMAGE.bin [--master SKILL]\n"
-	      "           [--net SKILL=NET ...]\n"
-	      "      load a mind folder (or an exported image) and show its\n"
-	      "      hierarchy in tick order, and which skills have no\n"
-	      "      network yet, in the order to train them\n"
-	      "  evo check TASK.simbatch [--net SKILL=NET ...]\n"
+	      "      docs/can.md)\n"},
+    {"info", "  evo info MINDFOLDER|IMAGE.bin [--master SKILL]\n"
+	     "           [--net SKILL=NET ...] [--dot [SKILL]]\n"
+	     "           [-o FILE.dot|FILE.png|FILE.svg]\n"
+	     "      load a mind folder (or an exported image) and show its\n"
+	     "      hierarchy in tick order, and which skills have no\n"
+	     "      network yet, in the order to train them; --dot draws\n"
+	     "      the hierarchy, or with SKILL that skill's network, as\n"
+	     "      Graphviz DOT (on stdout, or in FILE; .png and .svg are\n"
+	     "      rendered by Graphviz's dot; docs/running.md)\n"},
+    {"check", "  evo check TASK.simbatch [--net SKILL=NET ...]\n"
 	      "      check a task file, the mind folder it names, its bot\n"
 	      "      model and environment, and, for LEARNSIM, the learning\n"
-	      "      method's options\n"
-	      "  evo tick MINDFOLDER|IMAGE.bin [--master SKILL] [--ticks N]\n"
-	      "           [--sensor NAME=VALUE ...] [--net SKILL=NET ...]\n"
-	      "      run the mind for N ticks (default 10) on fixed sensor\n"
-	      "      values (default 0.5) and print actuators and influences\n"
-	      "  evo export MINDFOLDER [--master SKILL] [--format bin|c]\n"
-	      "             [-o FILE]\n"
-	      "      write the mind image (default MINDFOLDER/mind.bin), or\n"
-	      "      with --format c a C header of it for a firmware\n"
-	      "      (default MINDFOLDER/mind.h)\n"
-	      "  evo flash MINDFOLDER|IMAGE.bin --can URL [--master SKILL]\n"
+	      "      method's options\n"},
+    {"tick", "  evo tick MINDFOLDER|IMAGE.bin [--master SKILL] [--ticks N]\n"
+	     "           [--sensor NAME=VALUE ...] [--net SKILL=NET ...]\n"
+	     "      run the mind for N ticks (default 10) on fixed sensor\n"
+	     "      values (default 0.5) and print actuators and influences\n"},
+    {"export", "  evo export MINDFOLDER [--master SKILL] [--format bin|c]\n"
+	       "             [-o FILE]\n"
+	       "      write the mind image (default MINDFOLDER/mind.bin), or\n"
+	       "      with --format c a C header of it for a firmware\n"
+	       "      (default MINDFOLDER/mind.h)\n"},
+    {"flash", "  evo flash MINDFOLDER|IMAGE.bin --can URL [--master SKILL]\n"
 	      "            [--window N] [--wait MS] [--tries N]\n"
 	      "      send the mind image to a robot's running firmware over\n"
 	      "      CAN; it switches to it between two ticks, or refuses it\n"
-	      "      and keeps its mind (docs/firmware.md)\n",
-	      f);
+	      "      and keeps its mind (docs/firmware.md)\n"},
+    {"version", "  evo version, evo --version\n"
+		"      print evo's version and the Lua it runs\n"},
+    {"help", "  evo help [COMMAND], evo COMMAND --help\n"
+	     "      this text, or one command's\n"},
+};
+
+#define N_COMMANDS (sizeof command_help / sizeof command_help[0])
+
+static void usage(FILE *f)
+{
+	fputs("usage:\n", f);
+	for (size_t i = 0; i < N_COMMANDS; i++)
+		fputs(command_help[i].text, f);
+}
+
+/* `evo CMD --help` and `evo help CMD`: the command's own page on stdout;
+ * 0, or 2 for a command evo does not have. */
+static int command_usage(const char *cmd)
+{
+	if (strcmp(cmd, "run") == 0)
+		evo_run_usage(stdout);
+	else if (strcmp(cmd, "serve") == 0)
+		evo_serve_usage(stdout);
+	else if (strcmp(cmd, "flash") == 0)
+		evo_flash_usage(stdout);
+	for (size_t i = 1; i < N_COMMANDS; i++)
+		if (strcmp(cmd, command_help[i].cmd) == 0) {
+			if (strcmp(cmd, "run") && strcmp(cmd, "serve") &&
+			    strcmp(cmd, "flash"))
+				printf("usage:\n%s", command_help[i].text);
+			return 0;
+		}
+	fprintf(stderr, "evo: unknown command '%s'\n", cmd);
+	usage(stderr);
+	return 2;
+}
+
+static int is_help(const char *a)
+{
+	return strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0;
+}
+
+static int version(void)
+{
+	printf("evo %s\n%s\n", EVO_VERSION, LUA_RELEASE);
+	return 0;
 }
 
 static const char *kind_name(const evo_ades *a)
@@ -108,6 +165,39 @@ static int cmd_info(const evo_mindfolder *l)
 		printf("mind image: %zu bytes; mind state: %zu bytes\n",
 		       l->image_len, evo_state_size(m));
 	return 0;
+}
+
+/* evo info --dot [SKILL] [-o FILE]: the hierarchy or SKILL's network as
+ * DOT, on stdout or in FILE (rendered when FILE is not .dot). */
+static int cmd_dot(const evo_mindfolder *l, const char *skill,
+		   const char *out)
+{
+	int k = -1;
+	evo_err err = {{0}};
+	if (skill && (k = evo_mindfolder_skill(l, skill)) < 0) {
+		fprintf(stderr, "evo info --dot %s: %s has no skill '%s' (its "
+				"skills:",
+			skill, l->root, skill);
+		for (unsigned i = 0; i < l->n_skills; i++)
+			fprintf(stderr, " %s", l->skill[i].name);
+		fprintf(stderr, ")\n");
+		return 1;
+	}
+	int rc = 0;
+	if (out) {
+		rc = evo_dot_write(out, l, k, &err);
+		if (rc == 0)
+			printf("%s: %s of %s\n", out,
+			       k < 0 ? "the hierarchy" : "the network",
+			       k < 0 ? l->root : skill);
+	} else if (k < 0) {
+		evo_dot_hierarchy(stdout, l);
+	} else {
+		rc = evo_dot_net(stdout, l, (unsigned)k, &err);
+	}
+	if (rc)
+		fprintf(stderr, "%s\n", err.msg);
+	return rc ? 1 : 0;
 }
 
 /* --sensor NAME=VALUE into values; where names the sensors' source
@@ -263,12 +353,22 @@ static int is_task_path(const char *a)
 
 int main(int argc, char **argv)
 {
-	if (argc < 2 || strcmp(argv[1], "help") == 0 ||
-	    strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+	if (argc < 2 || strcmp(argv[1], "help") == 0 || is_help(argv[1])) {
+		if (argc == 3 && strcmp(argv[1], "help") == 0)
+			return command_usage(argv[2]);
 		usage(argc < 2 ? stderr : stdout);
 		return argc < 2 ? 2 : 0;
 	}
 	const char *cmd = argv[1];
+	if (strcmp(cmd, "version") == 0 || strcmp(cmd, "--version") == 0)
+		return version();
+	/* `evo CMD ... --help` anywhere: the command's page, not an error
+	 * about its other arguments ("not a mind folder") */
+	int tutorial = strcmp(cmd, "-nog") == 0 ||
+		       strcmp(cmd, "--headless") == 0 || is_task_path(cmd);
+	for (int i = 2; i < argc; i++)
+		if (is_help(argv[i]))
+			return command_usage(tutorial ? "run" : cmd);
 	evo_err err = {{0}};
 	if (strcmp(cmd, "run") == 0)
 		return evo_run_main(argc, argv);
@@ -278,8 +378,7 @@ int main(int argc, char **argv)
 		return evo_flash_main(argc, argv);
 	/* The tutorial's command line: `evo TASK.simbatch` and
 	 * `evo -nog TASK.simbatch` are `evo run` with the same arguments. */
-	if (strcmp(cmd, "-nog") == 0 || strcmp(cmd, "--headless") == 0 ||
-	    is_task_path(cmd)) {
+	if (tutorial) {
 		char **run_argv = calloc((size_t)argc + 2, sizeof *run_argv);
 		if (!run_argv) {
 			fprintf(stderr, "evo: out of memory\n");
@@ -369,6 +468,8 @@ int main(int argc, char **argv)
 	long ticks = 10;
 	const char *out = NULL;
 	int format_c = 0;
+	int dot = 0;		  /* evo info --dot */
+	const char *dot_skill = NULL; /* its SKILL, if one is named */
 	const char *sensor_args[EVO_MAX_SENSORS];
 	unsigned n_sensor_args = 0;
 	evo_net_choice nets[16];
@@ -415,7 +516,14 @@ int main(int argc, char **argv)
 			nets[n_nets].skill = net_skill[n_nets];
 			nets[n_nets++].source = eq + 1;
 			i++;
-		} else if (strcmp(a, "-o") == 0 && v) {
+		} else if (strcmp(a, "--dot") == 0 && strcmp(cmd, "info") == 0) {
+			dot = 1;
+			if (v && v[0] != '-') {
+				dot_skill = v;
+				i++;
+			}
+		} else if (strcmp(a, "-o") == 0 && v &&
+			   strcmp(cmd, "tick") != 0) {
 			out = v;
 			i++;
 		} else if (strcmp(a, "--format") == 0 && v &&
@@ -436,6 +544,13 @@ int main(int argc, char **argv)
 			return 2;
 		}
 	}
+	if (dot && evo_is_image_path(argv[2])) {
+		fprintf(stderr,
+			"evo info --dot: %s is an exported image; --dot draws "
+			"a mind folder\n",
+			argv[2]);
+		return 2;
+	}
 	if (strcmp(cmd, "export") != 0 && evo_is_image_path(argv[2]))
 		return image_cmd(cmd, argv[2], ticks, sensor_args,
 				 n_sensor_args, opts.master || n_nets);
@@ -449,7 +564,12 @@ int main(int argc, char **argv)
 		return 1;
 	}
 	int rc = 0;
-	if (strcmp(cmd, "info") == 0) {
+	if (strcmp(cmd, "info") == 0 && out && !dot) {
+		fprintf(stderr, "evo info: -o FILE is for --dot\n");
+		rc = 2;
+	} else if (strcmp(cmd, "info") == 0 && dot) {
+		rc = cmd_dot(l, dot_skill, out);
+	} else if (strcmp(cmd, "info") == 0) {
 		rc = cmd_info(l);
 	} else if (strcmp(cmd, "tick") == 0) {
 		double values[EVO_MAX_SENSORS];

@@ -23,7 +23,7 @@ static double now_s(void)
 	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
-static int usage(void)
+void evo_flash_usage(FILE *f)
 {
 	fputs("usage: evo flash MINDFOLDER|IMAGE.bin --can URL [--master "
 	      "SKILL]\n"
@@ -32,7 +32,12 @@ static int usage(void)
 	      "  send the mind image to the robot's running firmware; URL is\n"
 	      "  socketcan:IFACE, slcan:DEVICE, cannelloni:HOST:PORT, ...\n"
 	      "  (docs/can.md); --key: the robot's key (docs/wire.md, Keys)\n",
-	      stderr);
+	      f);
+}
+
+static int usage(void)
+{
+	evo_flash_usage(stderr);
 	return 2;
 }
 

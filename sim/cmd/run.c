@@ -4,6 +4,7 @@
 
 #include <errno.h>
 #include <limits.h>
+#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,6 +13,7 @@
 #include <unistd.h>
 
 #include "base/fileio.h"
+#include "cmd/record.h"
 #include "cluster/cluster.h"
 #include "learn/evaluate.h"
 #include "learn/learn.h"
@@ -44,6 +46,11 @@ typedef struct run_opts {
 	const char *trace;
 	const char *screenshot; /* viewer: save a PNG after `ticks` ticks */
 	int trail;		/* viewer: draw the bot's path (--trail) */
+	const char *record;	/* frames of the run: a folder or a video */
+	long record_every;	/* a frame every N ticks (0: not given) */
+	int camera;		/* 0 the viewer's, 1 the whole scene, 2 a point */
+	double camera_x, camera_y;
+	double zoom; /* 0: not given (1) */
 	const char *can;	/* DEMOREMOTE: the robot's CAN URL */
 	long threads;		/* LEARNSIM: 0 for one per core */
 	long generations;	/* LEARNSIM: 0 for NUMGEN */
@@ -55,7 +62,7 @@ typedef struct run_opts {
 	char net_arg[RUN_MAX_NETS][EVO_NAME_MAX]; /* each SKILL */
 } run_opts;
 
-static void run_usage(FILE *f)
+void evo_run_usage(FILE *f)
 {
 	fputs("usage: evo run TASK.simbatch [options]\n"
 	      "  --headless, -nog   no window; run as fast as possible and\n"
@@ -73,6 +80,18 @@ static void run_usage(FILE *f)
 	      "                     without a window when headless)\n"
 	      "  --trail            the viewer draws the path the bot took\n"
 	      "                     this episode\n"
+	      "  --record PATH      record the run without a window: a frame\n"
+	      "                     every --record-every N ticks (default 1)\n"
+	      "                     as PNG files in folder PATH, or a video\n"
+	      "                     made by ffmpeg when PATH ends in .mp4,\n"
+	      "                     .webm, .mkv, .avi or .gif (30 frames a\n"
+	      "                     second)\n"
+	      "  --camera X,Y|scene|bot  centre --screenshot's and --record's\n"
+	      "                     frames on the point (X, Y) in metres, on\n"
+	      "                     the middle of the scene, or (default) on\n"
+	      "                     the bot, as the viewer does\n"
+	      "  --zoom Z           their zoom, 1/16 to 64 (default 1: 60 m\n"
+	      "                     across; 2 shows half as much)\n"
 	      "  --net SKILL=NET    run neural skill SKILL with another\n"
 	      "                     network: a .net file (a run folder's\n"
 	      "                     best/gen-NNNN.net or champion.net),\n"
@@ -154,6 +173,34 @@ static int parse_count(const char *flag, const char *v, long max, long *out)
 	return 0;
 }
 
+/* --camera X,Y, scene or bot. */
+static int parse_camera(const char *v, run_opts *o)
+{
+	char *end;
+	if (v && strcmp(v, "bot") == 0) {
+		o->camera = 0;
+		return 0;
+	}
+	if (v && strcmp(v, "scene") == 0) {
+		o->camera = 1;
+		return 0;
+	}
+	o->camera = 2;
+	o->camera_x = v ? strtod(v, &end) : 0;
+	if (v && end != v && *end == ',') {
+		const char *y = end + 1;
+		o->camera_y = strtod(y, &end);
+		if (end != y && !*end && isfinite(o->camera_x) &&
+		    isfinite(o->camera_y))
+			return 0;
+	}
+	fprintf(stderr,
+		"evo run: --camera expects X,Y (metres), scene or bot, found "
+		"'%s'\n",
+		v ? v : "nothing");
+	return -1;
+}
+
 static int parse_args(int argc, char **argv, run_opts *o)
 {
 	memset(o, 0, sizeof *o);
@@ -177,6 +224,16 @@ static int parse_args(int argc, char **argv, run_opts *o)
 		} else if (strcmp(a, "--ticks") == 0) {
 			if (parse_count(a, v, LONG_MAX, &o->ticks))
 				return -1;
+			/* 0 meant TICKLIM, unlike every other count */
+			if (o->ticks < 1) {
+				fprintf(stderr,
+					"evo run: --ticks expects a whole "
+					"number from 1, found '%s' (without "
+					"--ticks an episode lasts the task's "
+					"TICKLIM)\n",
+					v);
+				return -1;
+			}
 			i++;
 		} else if (strcmp(a, "--trace") == 0 && v) {
 			o->trace = v;
@@ -217,16 +274,45 @@ static int parse_args(int argc, char **argv, run_opts *o)
 		} else if (strcmp(a, "--can") == 0 && v) {
 			o->can = v;
 			i++;
+		} else if (strcmp(a, "--record") == 0 && v) {
+			o->record = v;
+			i++;
+		} else if (strcmp(a, "--record-every") == 0) {
+			if (parse_count(a, v, INT_MAX, &o->record_every))
+				return -1;
+			if (o->record_every < 1) {
+				fprintf(stderr, "evo run: --record-every "
+						"expects a whole number from "
+						"1, found '0'\n");
+				return -1;
+			}
+			i++;
+		} else if (strcmp(a, "--camera") == 0) {
+			if (parse_camera(v, o))
+				return -1;
+			i++;
+		} else if (strcmp(a, "--zoom") == 0) {
+			char *end;
+			o->zoom = v ? strtod(v, &end) : 0;
+			if (!v || end == v || *end ||
+			    !(o->zoom >= 1.0 / 16 && o->zoom <= 64)) {
+				fprintf(stderr,
+					"evo run: --zoom expects a number from "
+					"0.0625 to 64, found '%s'\n",
+					v ? v : "nothing");
+				return -1;
+			}
+			i++;
 		} else if (a[0] == '-' || o->task) {
 			fprintf(stderr, "evo run: unexpected argument '%s'\n", a);
-			run_usage(stderr);
+			evo_run_usage(stderr);
 			return -1;
 		} else {
 			o->task = a;
 		}
 	}
 	if (!o->task) {
-		run_usage(stderr);
+		evo_run_usage(stderr);
 		return -1;
 	}
 	return 0;
@@ -710,6 +796,91 @@ static void trail_free(trail *tr)
 	*tr = (trail){0};
 }
 
+/* The camera of a frame drawn off screen: --camera and --zoom over the
+ * viewer's own choice. */
+static evo_view_camera frame_camera(const evo_sim *s, const run_opts *o,
+				    const view_state *vs)
+{
+	double zoom = o->zoom > 0 ? o->zoom : 1.0;
+	int follow = o->camera == 0 ? view_follow(s, vs) : -1;
+	evo_view_camera cam =
+	    evo_view_camera_for(s->scene, follow, zoom, VIEW_W, VIEW_H);
+	if (o->camera == 2) {
+		cam.x = o->camera_x;
+		cam.y = o->camera_y;
+	}
+	return cam;
+}
+
+/* Draw the frame the viewer would show into im, with the bot's path
+ * (--trail). */
+static void draw_frame(evo_raster *im, evo_sim *s, const run_opts *o,
+		       long e, const trail *tr)
+{
+	static panel_data pd;
+	view_state vs = view_start(s);
+	evo_viewer_panel p = panel_for(&pd, s, e, o->task, &vs);
+	trail_show(tr, &p);
+	evo_view_camera cam = frame_camera(s, o, &vs);
+	evo_view_render(im, s->scene, &cam, &p);
+}
+
+/* --record: the run's episodes drawn off screen, a frame at each
+ * episode's start and every --record-every ticks, into a folder of PNG
+ * files or a video. */
+static int record_run(evo_sim *s, const run_opts *o, uint64_t seed,
+		      evo_err *err)
+{
+	long every = o->record_every > 0 ? o->record_every : 1;
+	evo_raster im;
+	if (evo_raster_init(&im, VIEW_W, VIEW_H, err))
+		return -1;
+	evo_recorder *rec = evo_record_open(o->record, VIEW_W, VIEW_H, 30, err);
+	int rc = rec ? 0 : -1;
+	trail tr = {0};
+	for (long e = 1; rc == 0 && e <= o->episodes && !stop_requested; e++) {
+		if (evo_sim_reset(s, (int)e, grid_seed(seed, e),
+				  episode_seed(seed, e), err)) {
+			rc = -1;
+			break;
+		}
+		trail_restart(&tr, o, s);
+		draw_frame(&im, s, o, e, &tr);
+		rc = evo_record_frame(rec, &im, err);
+		long t = 0;
+		while (rc == 0 && !stop_requested &&
+		       (o->ticks == 0 || t < o->ticks)) {
+			int r = evo_sim_tick(s, err);
+			if (r < 0)
+				rc = -1;
+			t++;
+			if (o->trail)
+				trail_add(&tr, s);
+			if (rc == 0 && (t % every == 0 || r > 0)) {
+				draw_frame(&im, s, o, e, &tr);
+				rc = evo_record_frame(rec, &im, err);
+			}
+			if (r > 0)
+				break;
+		}
+		if (rc == 0)
+			printf("episode %ld: reward %.6f over %ld ticks\n", e,
+			       s->scene->episode_reward, t);
+	}
+	long frames = 0;
+	evo_err cerr = {{0}};
+	if (evo_record_close(rec, &frames, &cerr) && rc == 0) {
+		*err = cerr;
+		rc = -1;
+	}
+	if (rc == 0)
+		printf("recorded %ld frame%s in %s\n", frames,
+		       frames == 1 ? "" : "s", o->record);
+	evo_raster_free(&im);
+	trail_free(&tr);
+	return rc;
+}
+
 /* --screenshot without a window: episode 1 for --ticks ticks, then the
  * frame the viewer would show at its default size, drawn off screen. */
 static int screenshot_headless(evo_sim *s, const run_opts *o, uint64_t seed,
@@ -735,13 +906,7 @@ static int screenshot_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 		trail_free(&tr);
 		return -1;
 	}
-	static panel_data pd;
-	view_state vs = view_start(s);
-	evo_viewer_panel p = panel_for(&pd, s, 1, o->task, &vs);
-	trail_show(&tr, &p);
-	evo_view_camera cam = evo_view_camera_for(s->scene, view_follow(s, &vs),
-						  1.0, VIEW_W, VIEW_H);
-	evo_view_render(&im, s->scene, &cam, &p);
+	draw_frame(&im, s, o, 1, &tr);
 	int rc = evo_raster_save_png(&im, o->screenshot, err);
 	evo_raster_free(&im);
 	trail_free(&tr);
@@ -820,7 +985,10 @@ static int robot_screenshot(evo_viewer *v, const robot_view *rv,
 {
 	if (v) {
 		evo_viewer_draw_remote(v, &rv->p);
-		return evo_viewer_screenshot(v, path, err);
+		if (evo_viewer_screenshot(v, path, err))
+			return -1;
+		printf("saved %s (tick %ld)\n", path, rv->p.tick);
+		return 0;
 	}
 	evo_raster im;
 	if (evo_raster_init(&im, VIEW_W, VIEW_H, err))
@@ -1094,8 +1262,13 @@ static int run_viewer_trail(evo_sim *s, evo_viewer *v, const run_opts *o,
 		p.paused = paused;
 		trail_show(tr, &p);
 		evo_viewer_draw(v, s->scene, view_follow(s, &vs), &p);
-		if (o->screenshot && t >= o->ticks)
-			return evo_viewer_screenshot(v, o->screenshot, err);
+		if (o->screenshot && t >= o->ticks) {
+			if (evo_viewer_screenshot(v, o->screenshot, err))
+				return -1;
+			printf("saved %s (tick %ld)\n", o->screenshot,
+			       s->scene->tick);
+			return 0;
+		}
 		next += 1.0 / (30.0 * speed);
 		if (next < now() - 0.5)
 			next = now();
@@ -1422,8 +1595,23 @@ int evo_run_main(int argc, char **argv)
 	}
 	evo_sim *s = NULL;
 	int robot = strcmp(task.type, "DEMOREMOTE") == 0;
+	if ((o.camera || o.zoom > 0) && !o.record && !o.screenshot) {
+		evo_fail(&err, "evo run: --camera and --zoom set the frames of "
+			       "--screenshot and --record (in the viewer, the "
+			       "mouse and the keys move the camera)");
+		goto out;
+	}
 	if (!robot && !(s = evo_sim_create_task(&task, o.task, &err)))
 		goto out;
+	if (o.record && (robot || s->scene3d)) {
+		evo_fail(&err,
+			 "%s: --record draws the 2D world; a %s task has none "
+			 "to draw",
+			 o.task, task.type);
+		goto out;
+	}
+	if (o.record)
+		o.headless = 1; /* drawn off screen */
 	if (s && s->scene3d && (!o.headless || o.screenshot)) {
 		/* the 3D view needs a display and OpenGL; a screenshot too */
 		const char *d = getenv("DISPLAY");
@@ -1487,7 +1675,8 @@ int evo_run_main(int argc, char **argv)
 	s->trace = tf.f;
 	if (s->trace)
 		evo_sim_trace_header(s);
-	int r = v3	       ? run_viewer3d(s, v3, &o, seed, &err)
+	int r = o.record       ? record_run(s, &o, seed, &err)
+		: v3	       ? run_viewer3d(s, v3, &o, seed, &err)
 		: v	       ? run_viewer(s, v, &o, seed, &err)
 		: o.screenshot ? screenshot_headless(s, &o, seed, &err)
 			       : run_headless(s, &o, seed, &err);

@@ -4,8 +4,13 @@
 #ifndef EVO_RUN_H
 #define EVO_RUN_H
 
+#include <stdio.h>
+
 /* argv[1] is "run". Returns the process exit status. */
 int evo_run_main(int argc, char **argv);
+
+/* What `evo run --help` prints. */
+void evo_run_usage(FILE *f);
 
 /* 1 when `evo run` runs tasks of this TYPE (DEMOSIM, LEARNSIM,
  * DEMOREMOTESIM, DEMOREMOTE), which `evo check` also asks. */

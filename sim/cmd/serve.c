@@ -37,7 +37,7 @@ static void on_signal(int sig)
 	stop_requested = sig; /* a scene script stops too (lua_evo.h) */
 }
 
-static void serve_usage(FILE *f)
+void evo_serve_usage(FILE *f)
 {
 	fputs("usage: evo serve TASK.simbatch [options]\n"
 	      "  --name NAME         the name evo run finds it by (default\n"
@@ -707,14 +707,14 @@ int evo_serve_main(int argc, char **argv)
 		} else if (a[0] == '-' || task_path) {
 			fprintf(stderr, "evo serve: unexpected argument '%s'\n",
 				a);
-			serve_usage(stderr);
+			evo_serve_usage(stderr);
 			return 2;
 		} else {
 			task_path = a;
 		}
 	}
 	if (!task_path) {
-		serve_usage(stderr);
+		evo_serve_usage(stderr);
 		return 2;
 	}
 	if (robot_opt && !as_robot) {

@@ -4,10 +4,15 @@
 #ifndef EVO_SERVE_H
 #define EVO_SERVE_H
 
+#include <stdio.h>
+
 /* Environments one `evo serve` runs at most. */
 #define EVO_REMOTE_SERVE_MAX_ENVS 64
 
 /* argv[1] is "serve". Returns the process exit status. */
 int evo_serve_main(int argc, char **argv);
+
+/* What `evo serve --help` prints. */
+void evo_serve_usage(FILE *f);
 
 #endif

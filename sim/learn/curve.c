@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 
 #include "viewer/raster.h"
 
@@ -12,7 +13,7 @@
 #define RIGHT 20
 #define TOP 40
 #define BOTTOM 50
-#define AXIS 0x303030u
+#define AXIS EVO_CURVE_TEXT
 #define GRID 0xE4E4E4u
 
 static void range_of(const double *v, int n, double *lo, double *hi)
@@ -63,6 +64,57 @@ static void plot(evo_raster *im, const double *v, int n, double lo,
 		x0 = x;
 		y0 = y;
 		have = 1;
+	}
+}
+
+/* Text turned a quarter left (read bottom to top), its left end at
+ * (x, y_bottom): the fitness axis's label. */
+static void text_up(evo_raster *im, int x, int y_bottom, const char *s)
+{
+	int w = evo_raster_text_width(s, 1), h = EVO_FONT_CELL_H;
+	evo_raster t;
+	evo_err err = {{0}};
+	if (w < 1 || evo_raster_init(&t, w, h, &err))
+		return;
+	evo_raster_clear(&t, EVO_CURVE_BACKGROUND);
+	evo_raster_text(&t, 0, 0, s, AXIS, 1);
+	for (int j = 0; j < h; j++)
+		for (int i = 0; i < w; i++) {
+			uint32_t c = evo_raster_get(&t, i, j);
+			if (c != EVO_CURVE_BACKGROUND)
+				evo_raster_pixel(im, x + j, y_bottom - i, c,
+						 255);
+		}
+	evo_raster_free(&t);
+}
+
+/* The running maximum of best[] (NaN until the first finite value), in a
+ * new array, or NULL. */
+static double *best_ever_of(const double *best, int n)
+{
+	double *v = best && n > 0 ? malloc((size_t)n * sizeof *v) : NULL;
+	double m = NAN;
+	for (int i = 0; v && i < n; i++) {
+		if (isfinite(best[i]) && !(best[i] <= m))
+			m = best[i];
+		v[i] = m;
+	}
+	return v;
+}
+
+static void legend(evo_raster *im)
+{
+	static const struct {
+		const char *name;
+		uint32_t rgb;
+	} keys[3] = {{"best", EVO_CURVE_BEST},
+		     {"best ever", EVO_CURVE_BEST_EVER},
+		     {"mean", EVO_CURVE_MEAN}};
+	int x = W - RIGHT;
+	for (int k = 2; k >= 0; k--) {
+		x -= evo_raster_text_width(keys[k].name, 1) + 30;
+		evo_raster_fill_rect(im, x, TOP - 10, 14, 4, keys[k].rgb, 255);
+		evo_raster_text(im, x + 18, TOP - 13, keys[k].name, AXIS, 1);
 	}
 }
 
@@ -117,15 +169,17 @@ int evo_curve_write(const char *path, const char *title, const double *best,
 	evo_raster_line(&im, LEFT, TOP, LEFT, H - BOTTOM, AXIS, 255);
 	evo_raster_line(&im, LEFT, H - BOTTOM, W - RIGHT, H - BOTTOM, AXIS,
 			255);
-	evo_raster_text(&im, (LEFT + W - RIGHT) / 2 - 40, H - BOTTOM + 24,
+	evo_raster_text(&im, (LEFT + W - RIGHT) / 2 - 30, H - BOTTOM + 24,
 			"generation", AXIS, 1);
-	evo_raster_text(&im, LEFT, 12, title ? title : "", AXIS, 2);
-	evo_raster_fill_rect(&im, W - 200, 14, 14, 4, EVO_CURVE_BEST, 255);
-	evo_raster_text(&im, W - 180, 11, "best", AXIS, 1);
-	evo_raster_fill_rect(&im, W - 120, 14, 14, 4, EVO_CURVE_MEAN, 255);
-	evo_raster_text(&im, W - 100, 11, "mean", AXIS, 1);
+	text_up(&im, 8, (TOP + H - BOTTOM) / 2 + 20, "fitness");
+	evo_raster_text(&im, EVO_CURVE_TITLE_X, EVO_CURVE_TITLE_Y,
+			title ? title : "", AXIS, EVO_CURVE_TITLE_SCALE);
+	legend(&im);
+	double *ever = best_ever_of(best, n);
 	plot(&im, mean, n, lo, hi, EVO_CURVE_MEAN);
+	plot(&im, ever, n, lo, hi, EVO_CURVE_BEST_EVER);
 	plot(&im, best, n, lo, hi, EVO_CURVE_BEST);
+	free(ever);
 	int rc = evo_raster_save_png(&im, path, err);
 	evo_raster_free(&im);
 	return rc;

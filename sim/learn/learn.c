@@ -25,6 +25,7 @@
 #include <unistd.h>
 
 #include "base/fileio.h"
+#include "base/terminal.h"
 #include "learn/curve.h"
 #include "learn/evaluate.h"
 #include "learn/heatmap.h"
@@ -761,7 +762,15 @@ static int l_curve(lua_State *L)
 	int nb, nm;
 	double *best = number_list(L, 1, &nb), *mean = number_list(L, 2, &nm);
 	char path[1200], title[200];
-	snprintf(title, sizeof title, "%s", l->skill);
+	/* what the picture is of: skill, task, method and seed */
+	const char *base = strrchr(l->task_path, '/');
+	base = base ? base + 1 : l->task_path;
+	const char *dot = strrchr(base, '.');
+	int n = dot && dot > base ? (int)(dot - base) : (int)strlen(base);
+	const char *method = evo_simbatch_get(l->task->sb, "LEARNINGMETHOD");
+	snprintf(title, sizeof title, "%s: %.*s (%s, seed %llu)", l->skill, n,
+		 base, method ? method : "?",
+		 (unsigned long long)l->opts->seed);
 	evo_err err = {{0}};
 	if (evo_path_fmt(path, sizeof path, &err, "%s/curve.png", l->run_dir) ||
 	    evo_curve_write(path, title, best, mean, nb < nm ? nb : nm, &err))
@@ -1407,7 +1416,7 @@ int evo_learn_run(const char *task_path, evo_task *task,
 	l.task_path = task_path;
 	l.task = task;
 	l.opts = o;
-	l.tty = isatty(fileno(stdout));
+	l.tty = evo_terminal_output(fileno(stdout));
 	l.started = now();
 	l.n_behaviour = -1;
 	l.continuous = strcmp(task->type, "LEARNSIMCONTINUOUS") == 0;

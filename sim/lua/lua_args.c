@@ -21,6 +21,15 @@ evo_lua *evo_lua_ctx(lua_State *L)
 
 /* ---- option tables ----------------------------------------------------- */
 
+const char *evo_lua_near(const char *word, const char *const *list,
+			 size_t n)
+{
+	unsigned best;
+	const char *pick = evo_closest_name(word, list, n, &best);
+	size_t wl = strlen(word);
+	return pick && best <= (wl < 4 ? 1u : wl / 3 + 1) ? pick : NULL;
+}
+
 /* Raise an error for any key of the table at idx not in `known`. */
 void evo_lua_check_keys(lua_State *L, int idx, const char *what,
 			const char *const *known)
@@ -45,6 +54,15 @@ void evo_lua_check_keys(lua_State *L, int idx, const char *what,
 				luaL_addstring(&b, known[i]);
 			}
 			luaL_pushresult(&b);
+			size_t n = 0;
+			while (known[n])
+				n++;
+			const char *near = evo_lua_near(k, known, n);
+			if (near)
+				luaL_error(L,
+					   "%s: unknown option '%s'; did you "
+					   "mean %s? (known: %s)",
+					   what, k, near, lua_tostring(L, -1));
 			luaL_error(L, "%s: unknown option '%s' (known: %s)",
 				   what, k, lua_tostring(L, -1));
 			return;
@@ -199,14 +217,30 @@ int evo_lua_opt_bot(lua_State *L, int idx, const char *what)
 	return b;
 }
 
+/* Names looked at for "did you mean". */
+#define NAMES_MAX 256
+
 int evo_lua_bot_sensor_index(lua_State *L, int bot, const char *name,
 			     const char *what)
 {
 	const evo_bot *b = &evo_lua_ctx(L)->sc->bot[bot];
 	int s = evo_bot_find_sensor(b, name);
-	if (s < 0)
+	if (s < 0) {
+		/* the closest of its sensors' names */
+		const char *names[NAMES_MAX];
+		int n = 0;
+		for (int i = 0; i < b->n_sensors && n < NAMES_MAX;
+		     i++)
+			names[n++] = b->sensor[i].name;
+		const char *near = evo_lua_near(name, names, (size_t)n);
+		if (near)
+			luaL_error(L,
+				   "%s: bot '%s' has no sensor '%s'; did you "
+				   "mean %s?",
+				   what, b->name, name, near);
 		luaL_error(L, "%s: bot '%s' has no sensor '%s'", what, b->name,
 			   name);
+	}
 	return s;
 }
 

@@ -226,14 +226,20 @@ int evo_lua_hook_reward(void *c, evo_scene *sc, const evo_reward *r,
 	if (call_ref(l, r->def.lua_ref, "a reward function"))
 		return -1;
 	int isnum;
+	/* a number, not a string that reads as one ("1.5" is a mistake
+	 * Lua would otherwise forgive) */
+	int number = lua_type(l->L, -1) == LUA_TNUMBER;
 	*out = lua_tonumberx(l->L, -1, &isnum);
-	int ok = isnum && isfinite(*out);
+	int ok = number && isnum && isfinite(*out);
 	if (!ok) {
 		/* where the function was written, what it gave, and when */
 		lua_State *L = l->L;
-		char got[64];
-		if (isnum)
+		char got[96];
+		if (number)
 			snprintf(got, sizeof got, "%g", *out);
+		else if (lua_type(L, -1) == LUA_TSTRING)
+			snprintf(got, sizeof got, "the string \"%.40s\"",
+				 lua_tostring(L, -1));
 		else
 			snprintf(got, sizeof got, "%s", luaL_typename(L, -1));
 		lua_Debug ar;

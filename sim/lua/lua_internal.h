@@ -124,6 +124,12 @@ evo_lua *evo_lua_ctx(lua_State *L);
 /* ---- lua_args.c: option tables and handles (each raises a Lua error
  * naming `what` on a bad value) ----------------------------------------- */
 
+/* The name of list closest to word, ignoring case, when it is near
+ * enough to be the one meant (a third of word's letters off at most);
+ * else NULL. For "did you mean". */
+const char *evo_lua_near(const char *word, const char *const *list,
+			 size_t n);
+
 /* Raise an error for any key of the table at idx not in `known` (NULL
  * ended), naming the known ones. */
 void evo_lua_check_keys(lua_State *L, int idx, const char *what,

@@ -195,6 +195,32 @@ static int scene_grid(lua_State *L)
 	return 0;
 }
 
+/* The line of a bot model's file where its body table starts (the first
+ * "body =" outside a comment), 0 when none is found: a table has no line
+ * of its own, and a mistake in it is reported there. */
+static unsigned body_line(const char *path)
+{
+	FILE *f = fopen(path, "r");
+	char line[512];
+	unsigned n = 0, at = 0;
+	while (f && !at && fgets(line, sizeof line, f)) {
+		n++;
+		const char *p = line;
+		while (*p == ' ' || *p == '\t')
+			p++;
+		if (strncmp(p, "body", 4) != 0)
+			continue;
+		p += 4;
+		while (*p == ' ' || *p == '\t')
+			p++;
+		if (*p == '=' && p[1] != '=')
+			at = n;
+	}
+	if (f)
+		fclose(f);
+	return at;
+}
+
 /* The body table of a bot model (at 1) into the evo_body_def at 2.
  * Called through lua_pcall, so that its errors carry no script line:
  * scene:bot puts the bot model's file before them. */
@@ -296,8 +322,13 @@ static int scene_bot(lua_State *L)
 		lua_pushvalue(L, -2);
 		lua_pushlightuserdata(L, &d.body);
 		if (lua_pcall(L, 2, 0, 0) != LUA_OK) {
-			lua_pushfstring(L, "%s: %s", l->bot_path,
-					evo_lua_errstr(L, -1));
+			unsigned at = body_line(l->bot_path);
+			if (at)
+				lua_pushfstring(L, "%s:%d: %s", l->bot_path,
+						(int)at, evo_lua_errstr(L, -1));
+			else
+				lua_pushfstring(L, "%s: %s", l->bot_path,
+						evo_lua_errstr(L, -1));
 			return lua_error(L);
 		}
 	}
@@ -409,7 +440,8 @@ static void lua_function_options(lua_State *L, const char *what,
  * (returns lua_kind, with *ref set) or the name of a built-in one (its
  * kind); an empty options table is pushed at 3 when none was given. */
 static int function_or_name(lua_State *L, const char *what, const char *noun,
-			    int (*by_name)(const char *), int lua_kind,
+			    int (*by_name)(const char *),
+			    const char *(*name_of)(int), int lua_kind,
 			    int *ref)
 {
 	if (lua_isfunction(L, 2)) {
@@ -426,11 +458,24 @@ static int function_or_name(lua_State *L, const char *what, const char *noun,
 	}
 	const char *name = luaL_checkstring(L, 2);
 	int kind = by_name(name);
-	if (kind < 0 || kind == lua_kind)
+	if (kind < 0 || kind == lua_kind) {
+		/* the closest of the built-in names */
+		const char *names[64];
+		size_t n = 0;
+		for (int k = 0; n < 64 && name_of(k); k++)
+			if (k != lua_kind)
+				names[n++] = name_of(k);
+		const char *near = evo_lua_near(name, names, n);
+		if (near)
+			luaL_error(L,
+				   "%s: unknown %s function '%s'; did you mean "
+				   "%s? (or pass a Lua function for your own)",
+				   what, noun, name, near);
 		luaL_error(L,
 			   "%s: unknown %s function '%s' (pass a Lua function "
 			   "for your own)",
 			   what, noun, name);
+	}
 	if (lua_isnoneornil(L, 3)) {
 		lua_settop(L, 2);
 		lua_newtable(L);
@@ -496,7 +541,7 @@ static int scene_reward(lua_State *L)
 	const char *what = "scene:reward";
 	int ref = -1;
 	int kind = function_or_name(L, what, "reward", evo_reward_kind_by_name,
-				    EVO_RW_LUA, &ref);
+				    evo_reward_kind_name, EVO_RW_LUA, &ref);
 	evo_reward_def d = evo_default_reward_def((evo_reward_kind)kind);
 	d.lua_ref = ref;
 	if (kind == EVO_RW_LUA) {
@@ -545,7 +590,7 @@ static int scene_control(lua_State *L)
 	const char *what = "scene:control";
 	int ref = -1;
 	int kind = function_or_name(L, what, "control", evo_control_kind_by_name,
-				    EVO_CF_LUA, &ref);
+				    evo_control_kind_name, EVO_CF_LUA, &ref);
 	evo_control_def d = evo_default_control_def((evo_control_kind)kind);
 	d.lua_ref = ref;
 	if (kind == EVO_CF_LUA) {

@@ -8,6 +8,7 @@
 #include <strings.h>
 
 #include "base/fileio.h"
+#include "mind/names.h"
 
 /* Keys a task type cannot run without. */
 static const char *const demo_keys[] = {"MASTERSKILL", "BOTMODEL", "ENV",
@@ -548,6 +549,11 @@ int evo_task_load_opts(const char *path, const evo_task_opts *o, evo_task *t,
 		.seed = t->seed,
 		.untrained_ok = o ? o->untrained_ok : 0,
 	};
+	/* a misspelt MASTERSKILL at its line, with the skill meant */
+	if (evo_task_check_master(t->sb, path, root, err)) {
+		evo_task_free(t);
+		return -1;
+	}
 	t->mind = evo_mindfolder_load(root, &opts, err);
 	if (!t->mind) {
 		evo_task_free(t);

@@ -362,6 +362,7 @@ static int take_new(evo_remotes *s, const evo_wire_hello *h, int64_t stamp,
 	if (strcmp(s->passed_over, h->name) != 0)
 		fprintf(stderr, "evo: %s; passed over\n", err->msg);
 	snprintf(s->passed_over, sizeof s->passed_over, "%s", h->name);
+	snprintf(s->passed_why, sizeof s->passed_why, "%.1000s", err->msg);
 	err->msg[0] = 0;
 	free(s->r[--s->n]);
 	return 0;
@@ -382,7 +383,20 @@ int evo_remotes_find(evo_remotes *s, double window, evo_err *err)
 				return -1;
 			asked = t;
 		}
-		if (!s->n && t - told >= o->timeout) {
+		if (!s->n && t - told >= o->timeout && s->passed_over[0]) {
+			/* one answered: say which, and why it would not do */
+			fprintf(stderr,
+				"evo: no %s%s%s that fits has answered on %s "
+				"for %.0f s; %s answered and was passed over "
+				"(%s); waiting (Ctrl-C stops)\n",
+				kind_name(o->kind), o->name ? " named " : "",
+				o->name ? o->name : "", evo_link_url(s->link),
+				t - start, s->passed_over,
+				strncmp(s->passed_why, "evo: ", 5) == 0
+				    ? s->passed_why + 5
+				    : s->passed_why);
+			told = t;
+		} else if (!s->n && t - told >= o->timeout) {
 			fprintf(stderr,
 				"evo: no %s%s%s has answered on %s for %.0f s; "
 				"waiting (Ctrl-C stops)\n",
@@ -498,6 +512,21 @@ static void answers_on(evo_remote *r, const evo_link_msg *m)
 }
 
 /* A sensors_t: keep it when it is the one its environment awaits. */
+/* A value outside [0, 1] named by the sensor the remote's hello gives
+ * it ("sensor S4 (value 3) is nan"), where evo_wire_check_values could
+ * only number it. */
+static void name_bad_value(const evo_wire_hello *h, const evo_wire_sensors *s,
+			   char *why, size_t cap)
+{
+	for (unsigned i = 0; i < s->n && i < h->n_sensors; i++)
+		if (!(s->value[i] >= 0.0 && s->value[i] <= 1.0)) {
+			snprintf(why, cap,
+				 "sensor %s (value %u) is %g, outside [0, 1]",
+				 h->sensor[i], i, s->value[i]);
+			return;
+		}
+}
+
 static int take_sensors(evo_remote *r, const evo_link_msg *m, evo_err *err)
 {
 	evo_wire_sensors s;
@@ -557,6 +586,7 @@ static int take_sensors(evo_remote *r, const evo_link_msg *m, evo_err *err)
 	if (!rc)
 		rc = evo_wire_check_behaviour(&s, why, sizeof why);
 	if (rc) {
+		name_bad_value(&r->hello, &s, why, sizeof why);
 		/* a simulator that sends a bad value for the awaited tick
 		 * cannot go on: lockstep waits for this very message */
 		r->dropped[rc]++;
@@ -983,6 +1013,7 @@ static int take_robot_sensors(evo_robot *rb, const evo_link_msg *m)
 	 * commands, and the next tick comes anyway. */
 	rc = evo_wire_check_values(s.value, s.n, &s.reward, why, sizeof why);
 	if (rc) {
+		name_bad_value(&r->hello, &s, why, sizeof why);
 		char w2[300];
 		snprintf(w2, sizeof w2, "tick %lld: %s", (long long)s.tick, why);
 		dropped(r, rc, "sensors_t", w2);

@@ -114,6 +114,7 @@ typedef struct evo_remotes {
 	int url_ttl; /* the URL's ttl: a remote's episodes' URL reaches no
 			further */
 	char passed_over[EVO_REMOTE_NAME_MAX]; /* the last that did not fit */
+	char passed_why[1024];		       /* and why */
 } evo_remotes;
 
 /* Connect to the URL. NULL with err set, also when o names no remote

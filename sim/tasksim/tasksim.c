@@ -7,6 +7,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "mind/names.h"
 #include "mind/trace.h"
 
 _Static_assert(EVO_MAX_TEAMS <= EVO_SCENE_MAX_TEAMS,
@@ -314,6 +315,19 @@ static evo_sim *build(evo_sim *s, const evo_simbatch *task,
 	if (!env || (!s->has_teams && !model)) {
 		evo_fail(err, "%s: a simulated task needs ENV and BOTMODEL",
 			 task_path);
+		evo_sim_destroy(s);
+		return NULL;
+	}
+	/* a misspelt ENV or BOTMODEL at the task's line, with the name
+	 * meant, before the environment runs (it was reported at the line
+	 * of the environment that made the bot) */
+	if (evo_task_check_script(task, task_path, "ENV", "environment",
+				  mind_dir, "Envs", evo_lua_dir(), "envs",
+				  err) ||
+	    (s->scene && !s->has_teams &&
+	     evo_task_check_script(task, task_path, "BOTMODEL", "bot model",
+				   mind_dir, "Bots", evo_lua_dir(), "bots",
+				   err))) {
 		evo_sim_destroy(s);
 		return NULL;
 	}

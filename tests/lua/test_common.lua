@@ -13,6 +13,22 @@ local ANY_FINITE = { ["learn.neat"] = { bias_input = true } }
 
 local T = {}
 
+-- Scores printed side by side differ when the scores do.
+function T.two_scores_show_the_difference()
+	local a, b = common.two_scores(1.21, 1.34)
+	check(a == "1.2" and b == "1.3", "one decimal: " .. a .. ", " .. b)
+	a, b = common.two_scores(1.2345, 1.2)
+	check(a == "1.23" and b == "1.20", "two decimals: " .. a .. ", " .. b)
+	a, b = common.two_scores(1.26, 1.24)
+	check(a == "1.3" and b == "1.2", "rounded apart: " .. a .. ", " .. b)
+	a, b = common.two_scores(1.2345, 1.2301)
+	check(a == "1.234" and b == "1.230", "three decimals: " .. a .. ", " .. b)
+	a, b = common.two_scores(5, 5)
+	check(a == "5.0" and b == "5.0", "equal: " .. a .. ", " .. b)
+	a, b = common.two_scores(1.0, 1.0 + 2^-52)
+	check(a ~= b, "one ulp apart: " .. a .. ", " .. b)
+end
+
 function T.every_numeric_option_has_a_range()
 	for _, path in pairs(common.MODULES) do
 		local m = require(path)

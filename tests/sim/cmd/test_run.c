@@ -661,8 +661,8 @@ TEST(gtdza_reports_the_zones_reached)
 		printf("%s\n", out1);
 }
 
-/* An environment without a control function: with --ticks 0 its one
- * episode never ends. */
+/* An environment without a control function, in a task without TICKLIM:
+ * its one episode never ends. */
 static const char *endless_env =
 	"local env = {}\n"
 	"function env.init(scene, task)\n"
@@ -683,7 +683,7 @@ static void stop_a_long_run(int sig)
 	snprintf(path, sizeof path, "%s/long-%d.trace", cli_tmp, sig);
 	snprintf(out, sizeof out, "%s/long-%d.out", cli_tmp, sig);
 	snprintf(cmd, sizeof cmd,
-		 "exec %s run %s/Tasks/Go.simbatch --headless --ticks 0 "
+		 "exec %s run %s/Tasks/Go.simbatch --headless "
 		 "--trace %s > %s 2>&1",
 		 cli_evo, root, path, out);
 	int st;

@@ -119,10 +119,10 @@ TEST(lua_rewards_and_controls_are_reset)
 
 TEST(a_reward_that_returns_no_number_is_reported_where_written)
 {
-	const char *gave[] = {"nil", "'ten'", "0/0"};
-	const char *said[] = {"returned nil", "returned string",
-			      "returned -nan"};
-	for (int i = 0; i < 3; i++) {
+	const char *gave[] = {"nil", "'ten'", "0/0", "'1.5'"};
+	const char *said[] = {"returned nil", "returned the string \"ten\"",
+			      "returned -nan", "returned the string \"1.5\""};
+	for (int i = 0; i < 4; i++) {
 		char lua[1024];
 		snprintf(lua, sizeof lua,
 			 "local env = {}\n"
@@ -258,13 +258,15 @@ TEST(a_bot_models_mistakes_are_its_own)
 			  "  env.bot = scene:bot{ x = 0, y = 0, model = 'Mine' }\n"
 			  "end\n"
 			  "return env\n";
-	/* a body typo: the bot model's file, not the environment's line */
+	/* a body typo: the bot model's file at its body's line, not the
+	 * environment's line */
 	bot_lua = "return {\n"
 		  "  body = { shape = 'circle', radius = 1, dnsity = 2 },\n"
 		  "  build = function(bot) end,\n"
 		  "}\n";
 	CHECK_EQ_INT(run_env(env, 1), 1);
-	CHECK_CONTAINS(out, "Bots/Mine.lua: body: unknown option 'dnsity'");
+	CHECK_CONTAINS(out, "Bots/Mine.lua:2: body: unknown option 'dnsity'; "
+			    "did you mean density?");
 	CHECK(!strstr(out, "Test.lua:3"));
 	/* a sensor's options are its kind's, and the message says which */
 	bot_lua = "return {\n"

@@ -365,6 +365,43 @@ TEST(a_remote_with_other_names_is_refused_with_them)
 	waitpid(f, &st, 0);
 }
 
+/* With only a misfit answering, evo's "no simulator has answered" names
+ * it and why it was passed over, instead of saying none answered. */
+TEST(waiting_names_the_remote_passed_over)
+{
+	char misfit[64], got[256], url[96];
+	snprintf(misfit, sizeof misfit, "lone-misfit-%ld", (long)getpid());
+	snprintf(got, sizeof got, "%s/got-lone.txt", cli_tmp);
+	snprintf(url, sizeof url, "udpm://239.255.76.67:%ld?ttl=0",
+		 30001 + (long)(getpid() % 10000) * 2);
+	remote_task(misfit, "");
+	char text[512];
+	snprintf(text, sizeof text,
+		 "TYPE:DEMOREMOTESIM\nMASTERSKILL:Avoid\nTICKLIM:100\n"
+		 "LCMURL:%s\nREMOTETIMEOUT:1\nREMOTENAME:%s,other\n",
+		 url, misfit);
+	cli_write(text, "%s/Avoid/Tasks/lone-remote.simbatch", cli_tmp);
+	fake_url = url;
+	pid_t a = start_fake(misfit, FAKE_OTHER_NAMES, got);
+	fake_url = NULL;
+	cli_capture(out, sizeof out,
+		    "timeout -s INT 4 %s run %s/Avoid/Tasks/lone-remote.simbatch "
+		    "-nog",
+		    cli_evo, cli_tmp);
+	char want[256];
+	snprintf(want, sizeof want,
+		 "that fits has answered on %s for ", url);
+	CHECK_CONTAINS(out, want);
+	snprintf(want, sizeof want,
+		 "s; %s answered and was passed over (remote %s does not fit "
+		 "Avoid.botdesc; it lacks the sensors S10",
+		 misfit, misfit);
+	CHECK_CONTAINS(out, want);
+	kill(a, SIGKILL);
+	int st;
+	waitpid(a, &st, 0);
+}
+
 /* With several names in REMOTENAME any of them will do: one whose names
  * do not fit is passed over, saying why, and evo waits for one that
  * fits. */
@@ -438,7 +475,7 @@ TEST(bad_messages_are_dropped_and_counted_by_reason)
 }
 
 /* A value that is not a number, in the very message lockstep waits for,
- * ends the run naming the remote, the tick and the value. */
+ * ends the run naming the remote, the tick and the sensor. */
 TEST(a_nan_from_a_simulator_ends_the_run_with_where_it_was)
 {
 	char name[64], got[256];
@@ -450,8 +487,10 @@ TEST(a_nan_from_a_simulator_ends_the_run_with_where_it_was)
 			     "%s run %s/Avoid/Tasks/%s.simbatch -nog", cli_evo,
 			     cli_tmp, name);
 	CHECK_EQ_INT(rc, 1);
+	/* named by the sensor the remote's hello puts 4th (its order is
+	 * not the botdesc's) */
 	CHECK_CONTAINS(out, "the sensors_t of tick 0 of episode 1 (environment "
-			    "0): value 3 is nan, outside [0, 1]");
+			    "0): sensor S8 (value 3) is nan, outside [0, 1]");
 	kill(f, SIGKILL);
 	int st;
 	waitpid(f, &st, 0);
@@ -1087,6 +1126,7 @@ int main(void)
 	RUN(names_are_mapped_in_any_order);
 	RUN(a_remote_with_other_names_is_refused_with_them);
 	RUN(a_remote_that_does_not_fit_is_passed_over_for_one_that_does);
+	RUN(waiting_names_the_remote_passed_over);
 	RUN(bad_messages_are_dropped_and_counted_by_reason);
 	RUN(serve_drops_bad_commands_and_repeats_answers);
 	RUN(a_nan_from_a_simulator_ends_the_run_with_where_it_was);
