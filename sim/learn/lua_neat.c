@@ -56,7 +56,10 @@ enum key {
 	K_C2, K_C3, K_WEIGHT_MAX, K_PERTURB_PROB, K_WEIGHT_MUTATION,
 	K_SEVERE_PROB, K_PERTURB_POWER, K_REPLACE_POWER, K_TIE_SMALLER,
 	K_MATE_AVG_PROB, K_DISABLE_PROB, K_INPUT, K_OUTPUT, K_BIAS, K_HIDDEN,
-	K_CODE, K_ADD_NODE_PROB, K_ADD_LINK_PROB, K_WEIGHT_MUT_PROB, K_COUNT
+	K_CODE, K_ADD_NODE_PROB, K_ADD_LINK_PROB, K_WEIGHT_MUT_PROB, K_COUNT,
+	/* not a key: the genes' metatable, the last upvalue */
+	UP_GENES_MT = K_COUNT,
+	N_UPVALUES = K_COUNT
 };
 
 static const char *const KEY_NAMES[K_COUNT] = {
@@ -126,13 +129,21 @@ static genes *new_genes(lua_State *L, int n)
 							      sizeof(gene),
 				      0);
 	gs->n = n;
-	luaL_setmetatable(L, GENES_TYPE);
+	lua_pushvalue(L, lua_upvalueindex(UP_GENES_MT));
+	lua_setmetatable(L, -2);
 	return gs;
 }
 
+/* The genes at idx, NULL when it holds none (the metatable compared
+ * with the one held as an upvalue: luaL_testudata would look it up by
+ * name on every call). */
 static genes *to_genes(lua_State *L, int idx)
 {
-	return luaL_testudata(L, idx, GENES_TYPE);
+	if (lua_type(L, idx) != LUA_TUSERDATA || !lua_getmetatable(L, idx))
+		return NULL;
+	int is = lua_rawequal(L, -1, lua_upvalueindex(UP_GENES_MT));
+	lua_pop(L, 1);
+	return is ? lua_touserdata(L, idx) : NULL;
 }
 
 /* Pushes gene field `key` of gs->g[i] as Lua has it. */
@@ -331,9 +342,8 @@ static int genes_index(lua_State *L)
 {
 	genes *gs = luaL_checkudata(L, 1, GENES_TYPE);
 	if (lua_type(L, 2) == LUA_TSTRING) {
-		luaL_getmetatable(L, GENES_TYPE);
 		lua_pushvalue(L, 2);
-		lua_rawget(L, -2);
+		lua_rawget(L, lua_upvalueindex(UP_GENES_MT));
 		return 1;
 	}
 	lua_Integer i = luaL_checkinteger(L, 2);
@@ -837,20 +847,72 @@ int evo_lua_net_unpack(lua_State *L, int idx, evo_netdesc *d)
 /* ------------------------------------------------------------------ */
 /* Plain data as text */
 
+/* A table already written: where its text is in the buffer. */
+typedef struct written {
+	const void *table; /* NULL: a free slot */
+	size_t at, len;
+} written;
+
+/* The text being made, and the tables written into it: a table met
+ * again (genomes share their node tables) is the same text, copied. */
 typedef struct buffer {
 	char *b;
 	size_t len, cap;
+	written *seen; /* open addressing on the table's address */
+	size_t n_seen, seen_cap;
 } buffer;
+
+static void free_buffer_of(buffer *b)
+{
+	free(b->b);
+	b->b = NULL;
+	free(b->seen);
+	b->seen = NULL;
+}
 
 static int free_buffer(lua_State *L)
 {
-	buffer *b = luaL_checkudata(L, 1, BUF_TYPE);
-	free(b->b);
-	b->b = NULL;
+	free_buffer_of(luaL_checkudata(L, 1, BUF_TYPE));
 	return 0;
 }
 
-static void put(lua_State *L, buffer *b, const char *s, size_t n)
+/* The slot of `table` in b->seen: its entry, or the free slot it would
+ * take. */
+static written *seen_slot(const buffer *b, const void *table)
+{
+	size_t h = ((uintptr_t)table >> 4) * 0x9E3779B97F4A7C15u;
+	for (size_t i = h & (b->seen_cap - 1);; i = (i + 1) & (b->seen_cap - 1))
+		if (b->seen[i].table == table || !b->seen[i].table)
+			return &b->seen[i];
+}
+
+/* Notes that `table`'s text is b->b[at .. b->len). */
+static void note_written(lua_State *L, buffer *b, const void *table,
+			 size_t at)
+{
+	if (2 * (b->n_seen + 1) > b->seen_cap) {
+		size_t cap = b->seen_cap ? 2 * b->seen_cap : 256;
+		written *old = b->seen;
+		size_t old_cap = b->seen_cap;
+		b->seen = calloc(cap, sizeof *b->seen);
+		if (!b->seen) {
+			b->seen = old;
+			luaL_error(L, "serialize: out of memory");
+		}
+		b->seen_cap = cap;
+		for (size_t i = 0; i < old_cap; i++)
+			if (old[i].table)
+				*seen_slot(b, old[i].table) = old[i];
+		free(old);
+	}
+	written *w = seen_slot(b, table);
+	if (!w->table)
+		b->n_seen++;
+	*w = (written){table, at, b->len - at};
+}
+
+/* Room for n more bytes in b. */
+static void reserve(lua_State *L, buffer *b, size_t n)
 {
 	if (b->cap - b->len < n) {
 		size_t cap = b->cap ? b->cap : 4096;
@@ -862,6 +924,11 @@ static void put(lua_State *L, buffer *b, const char *s, size_t n)
 		b->b = nb;
 		b->cap = cap;
 	}
+}
+
+static void put(lua_State *L, buffer *b, const char *s, size_t n)
+{
+	reserve(L, b, n);
 	memcpy(b->b + b->len, s, n);
 	b->len += n;
 }
@@ -1125,9 +1192,19 @@ static void put_value(lua_State *L, buffer *b, int idx, int depth)
 		luaL_error(L, "serialize: cannot save a %s",
 			   luaL_typename(L, idx));
 	}
+	const void *table = lua_topointer(L, idx);
+	const written *w = b->seen_cap ? seen_slot(b, table) : NULL;
+	if (w && w->table) {
+		size_t at = w->at, n = w->len;
+		reserve(L, b, n); /* (w may move no more: no lookup follows) */
+		memcpy(b->b + b->len, b->b + at, n);
+		b->len += n;
+		return;
+	}
 	if (depth >= DUMP_MAX_DEPTH)
 		luaL_error(L, "serialize: tables nested more than %d deep",
 			   DUMP_MAX_DEPTH);
+	size_t at = b->len;
 	luaL_checkstack(L, 8, "serialize: tables nested too deep");
 	put(L, b, "{", 1);
 	lua_Integer len = list_length(L, idx);
@@ -1142,6 +1219,7 @@ static void put_value(lua_State *L, buffer *b, int idx, int depth)
 		put_record(L, b, idx, depth + 1);
 	}
 	put(L, b, "}", 1);
+	note_written(L, b, table, at);
 }
 
 /* dump(v) -> "return " .. v's text .. "\n", as serialize.dump_lua. */
@@ -1156,8 +1234,7 @@ static int l_dump(lua_State *L)
 	put_value(L, b, 1, 0);
 	put(L, b, "\n", 1);
 	lua_pushlstring(L, b->b, b->len);
-	free(b->b);
-	b->b = NULL;
+	free_buffer_of(b);
 	return 1;
 }
 
@@ -1654,8 +1731,20 @@ static int l_crossover(lua_State *L)
 			lua_pop(L, 1);
 		}
 	}
-	qsort(cg->g, (size_t)n, sizeof *cg->g, by_innov);
-	sort_list(L, nodes, K_ID);
+	/* a's genes are in innovation order, and so are the child's, but
+	 * for a parent made out of order (by hand) */
+	int in_order = 1;
+	for (int i = 1; i < n && in_order; i++)
+		in_order = cg->g[i - 1].innov < cg->g[i].innov;
+	if (!in_order)
+		qsort(cg->g, (size_t)n, sizeof *cg->g, by_innov);
+	/* the nodes are in id order unless b gave some (have[] holds
+	 * their ids in list order) */
+	in_order = 1;
+	for (int i = 1; i < k && in_order; i++)
+		in_order = have[i - 1] < have[i];
+	if (!in_order)
+		sort_list(L, nodes, K_ID);
 	rng_done(L, &r);
 	lua_pushvalue(L, child);
 	return 1;
@@ -1683,6 +1772,14 @@ static const luaL_Reg FUNCS[] = {
     {NULL, NULL},
 };
 
+/* The kernels' upvalues: the keys, then the genes' metatable (at mt). */
+static void push_upvalues(lua_State *L, int mt)
+{
+	for (int k = 1; k < K_COUNT; k++)
+		lua_pushstring(L, KEY_NAMES[k]);
+	lua_pushvalue(L, mt);
+}
+
 static int open_neat(lua_State *L)
 {
 	if (luaL_newmetatable(L, BUF_TYPE)) {
@@ -1692,20 +1789,24 @@ static int open_neat(lua_State *L)
 	lua_pop(L, 1);
 	luaL_newmetatable(L, NET_TYPE);
 	lua_pop(L, 1);
-	/* the genes' and a gene's metatables, with the keys as upvalues */
-	const luaL_Reg *methods[2] = {GENES_METHODS, GENE_METHODS};
-	const char *names[2] = {GENES_TYPE, GENE_TYPE};
+	/* the genes' and a gene's metatables and the module's functions,
+	 * each with the keys and the genes' metatable as upvalues */
+	luaL_newmetatable(L, GENE_TYPE);
+	lua_pop(L, 1);
+	luaL_newmetatable(L, GENES_TYPE);
+	int genes_mt = lua_gettop(L);
+	const char *types[2] = {GENE_TYPE, GENES_TYPE};
+	const luaL_Reg *regs[2] = {GENE_METHODS, GENES_METHODS};
 	for (int m = 0; m < 2; m++) {
-		luaL_newmetatable(L, names[m]);
-		for (int k = 1; k < K_COUNT; k++)
-			lua_pushstring(L, KEY_NAMES[k]);
-		luaL_setfuncs(L, methods[m], K_COUNT - 1);
+		luaL_getmetatable(L, types[m]);
+		push_upvalues(L, genes_mt);
+		luaL_setfuncs(L, regs[m], N_UPVALUES);
 		lua_pop(L, 1);
 	}
 	luaL_newlibtable(L, FUNCS);
-	for (int k = 1; k < K_COUNT; k++)
-		lua_pushstring(L, KEY_NAMES[k]);
-	luaL_setfuncs(L, FUNCS, K_COUNT - 1);
+	push_upvalues(L, genes_mt);
+	luaL_setfuncs(L, FUNCS, N_UPVALUES);
+	lua_remove(L, genes_mt);
 	return 1;
 }
 
