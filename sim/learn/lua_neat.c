@@ -20,9 +20,19 @@
  *                      neat.lua's, with the same random draws in the
  *                      same order
  *   rank(members, keys) the order tell sorts a species' members into
+ *   genes(list), add_gene(g, gene), sort_genes(g), reaches(g, from, to)
+ *                      a genome's genes as flat arrays (below), for
+ *                      neat.lua's structural mutations
  *
- * A genome is { nodes = { {id, kind, act, value}, ... }, links = { {innov,
- * from, to, weight, enabled}, ... } }, links sorted by innovation. Genes
+ * A genome is { nodes = { {id, kind, act, value}, ... }, links = genes },
+ * genes one userdata (evo.neat.genes) holding the link genes { innov,
+ * from, to, weight, enabled } in an array, sorted by innovation: the
+ * kernels work on the array, with no Lua table per gene. Lua reads and
+ * writes a gene as before (#links, links[i].weight = w, ipairs) through
+ * a small reference to it; dump writes genes as the list of gene tables
+ * they stand for, so checkpoints keep their text, and neat.load turns
+ * those tables back into genes. The kernels also take a genome whose
+ * links are a list of gene tables (the tests make them by hand). Genes
  * change in place (weights, enabled); nodes never do once made, so
  * copies and children share them. Field names are looked up through the
  * module's upvalues (enum key): lua_getfield would intern its C string on
