@@ -5,6 +5,9 @@ local common = {}
 
 -- A copy of plain data (numbers, strings, booleans, tables).
 function common.deep_copy(v)
+	-- a userdata that stands for plain data (evo.neat's genes) gives it
+	local mt = type(v) == "userdata" and getmetatable(v)
+	if mt and mt.__plain then return mt.__plain(v) end
 	if type(v) ~= "table" then
 		assert(type(v) ~= "function" and type(v) ~= "userdata", "save: not plain data")
 		return v

@@ -226,10 +226,35 @@ neat.copy_genome_lua = copy_genome
 if fast then copy_genome = fast.copy_genome end
 neat.copy_genome = copy_genome
 
+-- With evo.neat, a genome's links are one userdata of flat arrays (its
+-- genes: #links, links[i].weight and the other fields read and write the
+-- gene in place, ipairs walks them); a genome made in Lua (the tests')
+-- may hold a list of gene tables, which the kernels take as well.
 local function sort_genome(g)
-	table.sort(g.links, function(a, b) return a.innov < b.innov end)
+	if type(g.links) == "table" then
+		table.sort(g.links, function(a, b) return a.innov < b.innov end)
+	else
+		fast.sort_genes(g)
+	end
 	table.sort(g.nodes, function(a, b) return a.id < b.id end)
 end
+
+-- Appends gene table `l` to g's links.
+local function add_gene(g, l)
+	if type(g.links) == "table" then
+		g.links[#g.links + 1] = l
+	else
+		fast.add_gene(g, l)
+	end
+end
+
+-- A genome's links as genes where evo.neat is (a list of gene tables
+-- becomes genes), as they are elsewhere.
+local function own_genes(g)
+	if fast and type(g.links) == "table" then g.links = fast.genes(g.links) end
+	return g
+end
+neat.own_genes = own_genes
 
 local function clamp(w, m) return w > m and m or (w < -m and -m or w) end
 
@@ -321,6 +346,7 @@ neat.mutate_weights, neat.mutate_weights_lua = mutate_weights, mutate_weights_lu
 -- Does a path from `from` reach `to` over the genome's links (enabled or
 -- not: a disabled link may come back through crossover)?
 local function reaches(g, from, to)
+	if type(g.links) ~= "table" then return fast.reaches(g, from, to) end
 	if from == to then return true end
 	local seen, stack = { [from] = true }, { from }
 	while #stack > 0 do
@@ -373,7 +399,7 @@ function neat.mutate_add_link(pop, g, rng)
 			if not exists and ok then
 				local l = { innov = link_innovation(pop, a.id, b.id), from = a.id, to = b.id,
 					weight = clamp((rng:unit() * 2 - 1) * o.new_link_power, o.weight_max), enabled = true }
-				g.links[#g.links + 1] = l
+				add_gene(g, l)
 				sort_genome(g)
 				return l
 			end
@@ -418,8 +444,8 @@ function neat.mutate_add_node(pop, g, rng, link)
 	end
 	link.enabled = false
 	g.nodes[#g.nodes + 1] = { id = s.node, kind = "hidden", act = pop.options.activation }
-	g.links[#g.links + 1] = { innov = s.inn_in, from = link.from, to = s.node, weight = 1.0, enabled = true }
-	g.links[#g.links + 1] = { innov = s.inn_out, from = s.node, to = link.to, weight = link.weight, enabled = true }
+	add_gene(g, { innov = s.inn_in, from = link.from, to = s.node, weight = 1.0, enabled = true })
+	add_gene(g, { innov = s.inn_out, from = s.node, to = link.to, weight = link.weight, enabled = true })
 	sort_genome(g)
 	return s.node
 end
@@ -557,7 +583,7 @@ end
 -- tie_smaller, which stay with the Lua above.
 if fast then
 	function neat.crossover(a, fa, b, fb, o, rng)
-		return fast.crossover(a, fa, b, fb, o, rng) or neat.crossover_lua(a, fa, b, fb, o, rng)
+		return fast.crossover(a, fa, b, fb, o, rng) or own_genes(neat.crossover_lua(a, fa, b, fb, o, rng))
 	end
 else
 	neat.crossover = neat.crossover_lua
@@ -655,7 +681,7 @@ function neat.new(args)
 					weight = clamp((rng:unit() * 2 - 1) * o.init_power, o.weight_max), enabled = true }
 			end
 		end
-		pop.population[i] = g
+		pop.population[i] = own_genes(g)
 	end
 	pop.next_innov = (n + 1) * m
 	speciate(pop)
@@ -923,7 +949,13 @@ end
 -- state is then the caller's business); by default learn.rng's
 -- load(t.rng).
 function neat.load(t, rng)
-	return common.load(t, "evo-neat-2", Pop, rng, random.load)
+	local pop = common.load(t, "evo-neat-2", Pop, rng, random.load)
+	for _, g in ipairs(pop.population) do own_genes(g) end
+	for _, s in ipairs(pop.species) do
+		if s.rep then own_genes(s.rep) end
+	end
+	if pop.best then own_genes(pop.best.genome) end
+	return pop
 end
 
 ---------------------------------------------------------------------------

@@ -86,6 +86,9 @@ local function write(v, out, n)
 		end
 		n = n + 1
 		out[n] = "}"
+	elseif t == "userdata" and getmetatable(v) and getmetatable(v).__plain then
+		-- a userdata that stands for plain data (evo.neat's genes)
+		n = write(getmetatable(v).__plain(v), out, n)
 	else
 		error("serialize: cannot save a " .. t, 3)
 	end

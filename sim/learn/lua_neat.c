@@ -20,9 +20,19 @@
  *                      neat.lua's, with the same random draws in the
  *                      same order
  *   rank(members, keys) the order tell sorts a species' members into
+ *   genes(list), add_gene(g, gene), sort_genes(g), reaches(g, from, to)
+ *                      a genome's genes as flat arrays (below), for
+ *                      neat.lua's structural mutations
  *
- * A genome is { nodes = { {id, kind, act, value}, ... }, links = { {innov,
- * from, to, weight, enabled}, ... } }, links sorted by innovation. Genes
+ * A genome is { nodes = { {id, kind, act, value}, ... }, links = genes },
+ * genes one userdata (evo.neat.genes) holding the link genes { innov,
+ * from, to, weight, enabled } in an array, sorted by innovation: the
+ * kernels work on the array, with no Lua table per gene. Lua reads and
+ * writes a gene as before (#links, links[i].weight = w, ipairs) through
+ * a small reference to it; dump writes genes as the list of gene tables
+ * they stand for, so checkpoints keep their text, and neat.load turns
+ * those tables back into genes. The kernels also take a genome whose
+ * links are a list of gene tables (the tests make them by hand). Genes
  * change in place (weights, enabled); nodes never do once made, so
  * copies and children share them. Field names are looked up through the
  * module's upvalues (enum key): lua_getfield would intern its C string on
@@ -56,7 +66,10 @@ enum key {
 	K_C2, K_C3, K_WEIGHT_MAX, K_PERTURB_PROB, K_WEIGHT_MUTATION,
 	K_SEVERE_PROB, K_PERTURB_POWER, K_REPLACE_POWER, K_TIE_SMALLER,
 	K_MATE_AVG_PROB, K_DISABLE_PROB, K_INPUT, K_OUTPUT, K_BIAS, K_HIDDEN,
-	K_CODE, K_ADD_NODE_PROB, K_ADD_LINK_PROB, K_WEIGHT_MUT_PROB, K_COUNT
+	K_CODE, K_ADD_NODE_PROB, K_ADD_LINK_PROB, K_WEIGHT_MUT_PROB, K_COUNT,
+	/* not a key: the genes' metatable, the last upvalue */
+	UP_GENES_MT = K_COUNT,
+	N_UPVALUES = K_COUNT
 };
 
 static const char *const KEY_NAMES[K_COUNT] = {
@@ -96,6 +109,386 @@ static int is_key(lua_State *L, int idx, enum key key)
 	return lua_rawequal(L, idx, lua_upvalueindex(key));
 }
 
+
+/* ------------------------------------------------------------------ */
+/* A genome's genes: one userdata of flat arrays */
+
+#define GENES_TYPE "evo.neat.genes"
+#define GENE_TYPE "evo.neat.gene"
+
+/* A link gene. The weight keeps its Lua type: a weight clamped to an
+ * integer weight_max is that integer, and the checkpoint writes it so. */
+typedef struct gene {
+	lua_Integer innov, from, to;
+	double weight;
+	uint8_t weight_int; /* the weight is a Lua integer */
+	uint8_t enabled;
+} gene;
+
+/* The genes of one genome, sorted by innovation, in a block of its own:
+ * a genome that gains genes gets a new block (structural mutations are
+ * rare; copies and children are made at their size). */
+typedef struct genes {
+	int n;
+	gene g[];
+} genes;
+
+static genes *new_genes(lua_State *L, int n)
+{
+	genes *gs = lua_newuserdatauv(L, sizeof(genes) + (size_t)(n ? n : 1) *
+							      sizeof(gene),
+				      0);
+	gs->n = n;
+	lua_pushvalue(L, lua_upvalueindex(UP_GENES_MT));
+	lua_setmetatable(L, -2);
+	return gs;
+}
+
+/* The genes at idx, NULL when it holds none (the metatable compared
+ * with the one held as an upvalue: luaL_testudata would look it up by
+ * name on every call). */
+static genes *to_genes(lua_State *L, int idx)
+{
+	if (lua_type(L, idx) != LUA_TUSERDATA || !lua_getmetatable(L, idx))
+		return NULL;
+	int is = lua_rawequal(L, -1, lua_upvalueindex(UP_GENES_MT));
+	lua_pop(L, 1);
+	return is ? lua_touserdata(L, idx) : NULL;
+}
+
+/* Pushes gene field `key` of gs->g[i] as Lua has it. */
+static void push_gene_field(lua_State *L, const gene *x, enum key key)
+{
+	switch (key) {
+	case K_INNOV:
+		lua_pushinteger(L, x->innov);
+		break;
+	case K_FROM:
+		lua_pushinteger(L, x->from);
+		break;
+	case K_TO:
+		lua_pushinteger(L, x->to);
+		break;
+	case K_WEIGHT:
+		if (x->weight_int)
+			lua_pushinteger(L, (lua_Integer)x->weight);
+		else
+			lua_pushnumber(L, x->weight);
+		break;
+	case K_ENABLED:
+		lua_pushboolean(L, x->enabled);
+		break;
+	default:
+		lua_pushnil(L);
+	}
+}
+
+/* The value at idx as a gene's integer field (innovation, node id). */
+static lua_Integer gene_int(lua_State *L, int idx, const char *what)
+{
+	int ok;
+	lua_Integer v = lua_tointegerx(L, idx, &ok);
+	if (!ok)
+		luaL_error(L, "evo.neat: a gene's %s is %s, not a whole number",
+			   what, luaL_typename(L, idx));
+	return v;
+}
+
+/* Sets gene field `key` from the value at idx. */
+static void set_gene_field(lua_State *L, gene *x, enum key key, int idx)
+{
+	switch (key) {
+	case K_INNOV:
+		x->innov = gene_int(L, idx, "innov");
+		break;
+	case K_FROM:
+		x->from = gene_int(L, idx, "from");
+		break;
+	case K_TO:
+		x->to = gene_int(L, idx, "to");
+		break;
+	case K_WEIGHT:
+		if (lua_type(L, idx) != LUA_TNUMBER)
+			luaL_error(L, "evo.neat: a gene's weight is %s",
+				   luaL_typename(L, idx));
+		x->weight_int = (uint8_t)lua_isinteger(L, idx);
+		x->weight = lua_tonumber(L, idx);
+		break;
+	case K_ENABLED:
+		x->enabled = (uint8_t)lua_toboolean(L, idx);
+		break;
+	default:
+		luaL_error(L, "evo.neat: a gene has no field '%s'",
+			   lua_tostring(L, idx - 1));
+	}
+}
+
+/* Which gene field the string at idx names; 0 for none. */
+static enum key gene_key(lua_State *L, int idx)
+{
+	for (int k = K_INNOV; k <= K_ENABLED; k++)
+		if (is_key(L, idx, (enum key)k))
+			return (enum key)k;
+	return (enum key)0;
+}
+
+/* A gene table { innov, from, to, weight, enabled } at idx into *x. */
+static void gene_from_table(lua_State *L, int idx, gene *x)
+{
+	idx = lua_absindex(L, idx);
+	for (int k = K_INNOV; k <= K_ENABLED; k++) {
+		rget(L, idx, (enum key)k);
+		set_gene_field(L, x, (enum key)k, lua_gettop(L));
+		lua_pop(L, 1);
+	}
+}
+
+/* Pushes gene x as a table, as the Lua genomes hold genes. */
+static void push_gene_table(lua_State *L, const gene *x)
+{
+	lua_createtable(L, 0, 5);
+	for (int k = K_INNOV; k <= K_ENABLED; k++) {
+		push_gene_field(L, x, (enum key)k);
+		rset(L, -2, (enum key)k);
+	}
+}
+
+/* Pushes the genes of list `list` (a table of gene tables, or genes). */
+static genes *push_genes_of(lua_State *L, int list)
+{
+	list = lua_absindex(L, list);
+	genes *gs = to_genes(L, list);
+	if (gs) {
+		lua_pushvalue(L, list);
+		return gs;
+	}
+	luaL_checktype(L, list, LUA_TTABLE);
+	int n = (int)lua_rawlen(L, list);
+	gs = new_genes(L, n);
+	for (int i = 0; i < n; i++) {
+		lua_rawgeti(L, list, i + 1);
+		gene_from_table(L, -1, &gs->g[i]);
+		lua_pop(L, 1);
+	}
+	return gs;
+}
+
+/* The genes of genome g (a stack slot), pushed; a genome whose links are
+ * still a table of gene tables (tests make them) gets them as genes,
+ * stored back in g.links when `store`. */
+static genes *genome_genes(lua_State *L, int g, int store)
+{
+	g = lua_absindex(L, g);
+	luaL_checktype(L, g, LUA_TTABLE);
+	rget(L, g, K_LINKS);
+	genes *gs = to_genes(L, -1);
+	if (gs)
+		return gs;
+	if (!lua_istable(L, -1))
+		luaL_error(L, "evo.neat: a genome without links");
+	gs = push_genes_of(L, -1);
+	lua_remove(L, -2);
+	if (store) {
+		lua_pushvalue(L, -1);
+		rset(L, g, K_LINKS);
+	}
+	return gs;
+}
+
+/* A gene of a genome's genes as Lua code sees it: a small userdata
+ * naming the genes (its user value) and the index, whose fields read and
+ * write the gene in place. */
+typedef struct gene_ref {
+	int i;
+} gene_ref;
+
+static gene *ref_gene(lua_State *L, int idx)
+{
+	gene_ref *r = luaL_checkudata(L, idx, GENE_TYPE);
+	lua_getiuservalue(L, idx, 1);
+	genes *gs = to_genes(L, -1);
+	lua_pop(L, 1); /* the reference keeps the genes alive */
+	if (!gs || r->i >= gs->n)
+		luaL_error(L, "evo.neat: a gene past its genome's end");
+	return &gs->g[r->i];
+}
+
+static int gene_index(lua_State *L)
+{
+	gene *x = ref_gene(L, 1);
+	push_gene_field(L, x, gene_key(L, 2));
+	return 1;
+}
+
+static int gene_newindex(lua_State *L)
+{
+	gene *x = ref_gene(L, 1);
+	enum key k = gene_key(L, 2);
+	if (!k)
+		luaL_error(L, "evo.neat: a gene has no field '%s'",
+			   luaL_tolstring(L, 2, NULL));
+	set_gene_field(L, x, k, 3);
+	return 0;
+}
+
+/* Two references to the same gene are equal (==). */
+static int gene_eq(lua_State *L)
+{
+	gene_ref *a = luaL_testudata(L, 1, GENE_TYPE);
+	gene_ref *b = luaL_testudata(L, 2, GENE_TYPE);
+	if (!a || !b || a->i != b->i) {
+		lua_pushboolean(L, 0);
+		return 1;
+	}
+	lua_getiuservalue(L, 1, 1);
+	lua_getiuservalue(L, 2, 1);
+	lua_pushboolean(L, lua_rawequal(L, -1, -2));
+	return 1;
+}
+
+/* genes[i]: a reference to gene i (1-based), nil past the end; a
+ * method's name: the method. */
+static int genes_index(lua_State *L)
+{
+	genes *gs = luaL_checkudata(L, 1, GENES_TYPE);
+	if (lua_type(L, 2) == LUA_TSTRING) {
+		lua_pushvalue(L, 2);
+		lua_rawget(L, lua_upvalueindex(UP_GENES_MT));
+		return 1;
+	}
+	lua_Integer i = luaL_checkinteger(L, 2);
+	if (i < 1 || i > gs->n)
+		return 0;
+	gene_ref *r = lua_newuserdatauv(L, sizeof *r, 1);
+	r->i = (int)i - 1;
+	luaL_setmetatable(L, GENE_TYPE);
+	lua_pushvalue(L, 1);
+	lua_setiuservalue(L, -2, 1);
+	return 1;
+}
+
+static int genes_len(lua_State *L)
+{
+	genes *gs = luaL_checkudata(L, 1, GENES_TYPE);
+	lua_pushinteger(L, gs->n);
+	return 1;
+}
+
+/* genes:plain() -> the genes as a list of gene tables (the Lua form:
+ * checkpoints' text, copies of saved data). */
+static int genes_plain(lua_State *L)
+{
+	genes *gs = luaL_checkudata(L, 1, GENES_TYPE);
+	lua_createtable(L, gs->n, 0);
+	for (int i = 0; i < gs->n; i++) {
+		push_gene_table(L, &gs->g[i]);
+		lua_rawseti(L, -2, i + 1);
+	}
+	return 1;
+}
+
+static int by_innov(const void *a, const void *b)
+{
+	lua_Integer x = ((const gene *)a)->innov, y = ((const gene *)b)->innov;
+	return (x > y) - (x < y);
+}
+
+/* genes(list) -> genes holding a list of gene tables (or a copy of
+ * genes), in the list's order. */
+static int l_genes(lua_State *L)
+{
+	if (to_genes(L, 1)) {
+		genes *src = to_genes(L, 1);
+		genes *gs = new_genes(L, src->n);
+		memcpy(gs->g, src->g, (size_t)src->n * sizeof *gs->g);
+		return 1;
+	}
+	push_genes_of(L, 1);
+	return 1;
+}
+
+/* add_gene(g, gene) -> g's genes with `gene` (a gene table) added and
+ * sorted by innovation, as g.links (a new block; the old one is left
+ * as it was). */
+static int l_add_gene(lua_State *L)
+{
+	luaL_checktype(L, 2, LUA_TTABLE);
+	lua_settop(L, 2);
+	genes *old = genome_genes(L, 1, 0);
+	genes *gs = new_genes(L, old->n + 1);
+	memcpy(gs->g, old->g, (size_t)old->n * sizeof *gs->g);
+	gene_from_table(L, 2, &gs->g[old->n]);
+	lua_pushvalue(L, -1);
+	rset(L, 1, K_LINKS);
+	return 1;
+}
+
+/* sort_genes(g): g's genes sorted by innovation (distinct ones). */
+static int l_sort_genes(lua_State *L)
+{
+	genes *gs = genome_genes(L, 1, 1);
+	int sorted = 1;
+	for (int i = 1; i < gs->n && sorted; i++)
+		sorted = gs->g[i - 1].innov < gs->g[i].innov;
+	if (!sorted)
+		qsort(gs->g, (size_t)gs->n, sizeof *gs->g, by_innov);
+	return 0;
+}
+
+/* reaches(g, from, to): does a path from node `from` reach node `to`
+ * over g's genes, enabled or not (neat.lua's reaches). */
+static int l_reaches(lua_State *L)
+{
+	lua_Integer from = luaL_checkinteger(L, 2), to = luaL_checkinteger(L, 3);
+	genes *gs = genome_genes(L, 1, 0);
+	if (from == to) {
+		lua_pushboolean(L, 1);
+		return 1;
+	}
+	/* the nodes seen, as a stack of those still to walk from */
+	lua_Integer *seen = lua_newuserdatauv(L, 2 * ((size_t)gs->n + 1) *
+							 sizeof *seen, 0);
+	lua_Integer *stack = seen + gs->n + 1;
+	int n_seen = 1, top = 1;
+	seen[0] = stack[0] = from;
+	while (top > 0) {
+		lua_Integer n = stack[--top];
+		for (int i = 0; i < gs->n; i++) {
+			if (gs->g[i].from != n)
+				continue;
+			lua_Integer t = gs->g[i].to;
+			int was = 0;
+			for (int k = 0; k < n_seen && !was; k++)
+				was = seen[k] == t;
+			if (was)
+				continue;
+			if (t == to) {
+				lua_pushboolean(L, 1);
+				return 1;
+			}
+			seen[n_seen++] = t;
+			stack[top++] = t;
+		}
+	}
+	lua_pushboolean(L, 0);
+	return 1;
+}
+
+static const luaL_Reg GENES_METHODS[] = {
+    {"__index", genes_index},
+    {"__len", genes_len},
+    {"plain", genes_plain},
+    {"__plain", genes_plain},
+    {NULL, NULL},
+};
+
+static const luaL_Reg GENE_METHODS[] = {
+    {"__index", gene_index},
+    {"__newindex", gene_newindex},
+    {"__eq", gene_eq},
+    {NULL, NULL},
+};
+
 /* ------------------------------------------------------------------ */
 /* Compatibility distance */
 
@@ -107,13 +500,6 @@ static double num_field(lua_State *L, int idx, enum key key)
 	lua_pop(L, 1);
 	return v;
 }
-
-/* A genome's genes as the distance reads them: innovations and weights
- * in list order. */
-typedef struct genes {
-	const double *innov, *weight;
-	lua_Integer n;
-} genes;
 
 /* The options the distance reads. */
 typedef struct dist_opts {
@@ -138,10 +524,10 @@ static double distance_of(const genes *a, const genes *b, const dist_opts *o)
 		    disjoint = 0;
 	double wdiff = 0.0;
 	while (i < na && j < nb) {
-		double xi = a->innov[i], yi = b->innov[j];
+		lua_Integer xi = a->g[i].innov, yi = b->g[j].innov;
 		if (xi == yi) {
 			matching++;
-			double d = a->weight[i] - b->weight[j];
+			double d = a->g[i].weight - b->g[j].weight;
 			wdiff += d < 0 ? -d : d;
 			i++;
 			j++;
@@ -162,50 +548,16 @@ static double distance_of(const genes *a, const genes *b, const dist_opts *o)
 	       o->c2 * (double)disjoint / (double)n + o->c3 * w;
 }
 
-/* The number of genes of genome `g` (a stack slot). */
-static lua_Integer gene_count(lua_State *L, int g)
-{
-	rget(L, g, K_LINKS);
-	luaL_checktype(L, -1, LUA_TTABLE);
-	lua_Integer n = (lua_Integer)lua_rawlen(L, -1);
-	lua_pop(L, 1);
-	return n;
-}
-
-/* Genome g's genes into innov[] and weight[] (room for gene_count). */
-static void read_genes(lua_State *L, int g, double *innov, double *weight,
-		       genes *out)
-{
-	rget(L, g, K_LINKS);
-	int list = lua_gettop(L);
-	lua_Integer n = (lua_Integer)lua_rawlen(L, list);
-	for (lua_Integer i = 0; i < n; i++) {
-		lua_rawgeti(L, list, i + 1);
-		innov[i] = num_field(L, -1, K_INNOV);
-		weight[i] = num_field(L, -1, K_WEIGHT);
-		lua_pop(L, 1);
-	}
-	lua_pop(L, 1);
-	out->innov = innov;
-	out->weight = weight;
-	out->n = n;
-}
-
 static void *scratch(lua_State *L, size_t bytes);
 
 /* distance(a, b, o): NEAT's compatibility distance (distance_of). */
 static int l_distance(lua_State *L)
 {
-	luaL_checktype(L, 1, LUA_TTABLE);
-	luaL_checktype(L, 2, LUA_TTABLE);
 	luaL_checktype(L, 3, LUA_TTABLE);
-	lua_Integer na = gene_count(L, 1), nb = gene_count(L, 2);
-	double *buf = scratch(L, 2 * (size_t)(na + nb) * sizeof *buf);
-	genes a, b;
-	read_genes(L, 1, buf, buf + na, &a);
-	read_genes(L, 2, buf + 2 * na, buf + 2 * na + nb, &b);
+	const genes *a = genome_genes(L, 1, 0);
+	const genes *b = genome_genes(L, 2, 0);
 	dist_opts o = dist_opts_of(L, 3);
-	lua_pushnumber(L, distance_of(&a, &b, &o));
+	lua_pushnumber(L, distance_of(a, b, &o));
 	return 1;
 }
 
@@ -223,42 +575,25 @@ static int l_speciate(lua_State *L)
 	double threshold = luaL_checknumber(L, 4);
 	dist_opts o = dist_opts_of(L, 3);
 	int ng = (int)lua_rawlen(L, 1), nr = (int)lua_rawlen(L, 2);
-	size_t total = 0;
-	for (int k = 1; k <= nr; k++) {
-		lua_rawgeti(L, 2, k);
-		total += (size_t)gene_count(L, lua_gettop(L));
-		lua_pop(L, 1);
-	}
-	for (int k = 1; k <= ng; k++) {
-		lua_rawgeti(L, 1, k);
-		total += (size_t)gene_count(L, lua_gettop(L));
-		lua_pop(L, 1);
-	}
-	/* genes of every rep and genome, then each one's genes, then the
-	 * reps' indices into them (the old ones and the new) */
-	size_t bytes = 2 * total * sizeof(double) +
-		       (size_t)(nr + ng) * sizeof(genes) +
-		       (size_t)(nr + ng) * sizeof(int);
-	double *buf = scratch(L, bytes);
-	genes *all = (genes *)(void *)(buf + 2 * total);
+	/* every rep's and genome's genes (kept on the stack while read),
+	 * then the reps' indices into them (the old ones and the new) */
+	luaL_checkstack(L, nr + ng + 8, "speciate: too many genomes");
+	const genes **all = scratch(L, (size_t)(nr + ng) * (sizeof *all +
+								sizeof(int)));
 	int *rep = (int *)(void *)(all + nr + ng);
-	size_t at = 0;
 	for (int k = 0; k < nr + ng; k++) {
 		lua_rawgeti(L, k < nr ? 2 : 1, k < nr ? k + 1 : k - nr + 1);
-		int g = lua_gettop(L);
-		lua_Integer n = gene_count(L, g);
-		read_genes(L, g, buf + at, buf + at + (size_t)n, &all[k]);
-		at += 2 * (size_t)n;
-		lua_pop(L, 1);
+		all[k] = genome_genes(L, -1, 0);
+		lua_remove(L, -2);
 	}
 	int n_rep = nr;
 	for (int k = 0; k < nr; k++)
 		rep[k] = k;
 	lua_createtable(L, ng, 0);
 	for (int i = 0; i < ng; i++) {
-		const genes *g = &all[nr + i];
+		const genes *g = all[nr + i];
 		int home = 0;
-		while (home < n_rep && !(distance_of(g, &all[rep[home]], &o) <
+		while (home < n_rep && !(distance_of(g, all[rep[home]], &o) <
 					 threshold))
 			home++;
 		if (home == n_rep)
@@ -269,42 +604,29 @@ static int l_speciate(lua_State *L)
 	return 1;
 }
 
-/* copy_genome(g) -> a copy of g's nodes and genes (neat.copy_genome). */
-static void push_gene_copy(lua_State *L);
-
-/* Gene lists are copied gene by gene (genes change: weights, enabled);
- * node lists hold the same node tables (a node never changes once made:
+/* copy_genome(g) -> a copy of g's nodes and genes (neat.copy_genome):
+ * the genes copied (they change: weights, enabled), the node list a new
+ * list of the same node tables (a node never changes once made:
  * mutations add nodes to a genome's own list). */
-static void share_node(lua_State *L)
-{
-	lua_pushvalue(L, -1);
-}
-
-static void copy_list(lua_State *L, int g, int copy, enum key list,
-		      void (*push_copy)(lua_State *L))
-{
-	rget(L, g, list);
-	int src = lua_gettop(L);
-	luaL_checktype(L, src, LUA_TTABLE);
-	lua_createtable(L, (int)lua_rawlen(L, src), 0);
-	int dst = src + 1;
-	for (lua_Integer i = 1; lua_rawgeti(L, src, i) != LUA_TNIL; i++) {
-		push_copy(L);
-		lua_rawseti(L, dst, i);
-		lua_pop(L, 1);
-	}
-	lua_pop(L, 1);
-	rset(L, copy, list);
-	lua_pop(L, 1);
-}
-
 static int l_copy_genome(lua_State *L)
 {
 	luaL_checktype(L, 1, LUA_TTABLE);
 	lua_settop(L, 1);
 	lua_createtable(L, 0, 2);
-	copy_list(L, 1, 2, K_NODES, share_node);
-	copy_list(L, 1, 2, K_LINKS, push_gene_copy);
+	rget(L, 1, K_NODES);
+	int src = 3;
+	luaL_checktype(L, src, LUA_TTABLE);
+	lua_createtable(L, (int)lua_rawlen(L, src), 0);
+	for (lua_Integer i = 1; lua_rawgeti(L, src, i) != LUA_TNIL; i++)
+		lua_rawseti(L, 4, i);
+	lua_pop(L, 1);
+	rset(L, 2, K_NODES);
+	lua_pop(L, 1);
+	const genes *g = genome_genes(L, 1, 0);
+	genes *c = new_genes(L, g->n);
+	memcpy(c->g, g->g, (size_t)g->n * sizeof *c->g);
+	rset(L, 2, K_LINKS);
+	lua_settop(L, 2);
 	return 1;
 }
 
@@ -434,15 +756,15 @@ static void read_nodes(lua_State *L, int list, genome_nodes *g)
 static int l_pack_net(lua_State *L)
 {
 	luaL_checktype(L, 1, LUA_TTABLE);
+	lua_settop(L, 1);
 	rget(L, 1, K_NODES);
-	rget(L, 1, K_LINKS);
 	luaL_checktype(L, 2, LUA_TTABLE);
-	luaL_checktype(L, 3, LUA_TTABLE);
+	const genes *gs = genome_genes(L, 1, 0); /* 3 */
 	static _Thread_local genome_nodes g;
 	read_nodes(L, 2, &g);
 	if (g.n_out > EVO_MAX_SKILL_IO)
 		luaL_error(L, "pack_net: %d outputs", g.n_out);
-	lua_Integer n_links = (lua_Integer)lua_rawlen(L, 3);
+	lua_Integer n_links = gs->n;
 	if (n_links > EVO_NET_MAX_LINKS * 2)
 		luaL_error(L, "pack_net: a genome of %I links", n_links);
 	int n_nodes = g.n_out + g.n_hidden;
@@ -482,14 +804,10 @@ static int l_pack_net(lua_State *L)
 	evo_netdesc_link *lk = packed_links(p);
 	int n = 0;
 	for (lua_Integer i = 1; i <= n_links; i++) {
-		lua_rawgeti(L, 3, i);
-		rget(L, -1, K_ENABLED);
-		int enabled = lua_toboolean(L, -1);
-		lua_pop(L, 1);
-		if (enabled) {
-			lua_Integer from = (lua_Integer)num_field(L, -1, K_FROM);
-			lua_Integer to = (lua_Integer)num_field(L, -1, K_TO);
-			double w = num_field(L, -1, K_WEIGHT);
+		const gene *x = &gs->g[i - 1];
+		if (x->enabled) {
+			lua_Integer from = x->from, to = x->to;
+			double w = x->weight;
 			int t = map_id(map, n_map, to);
 			if (t < g.n_in)
 				luaL_error(L, "pack_net: link %I ends at node "
@@ -514,7 +832,6 @@ static int l_pack_net(lua_State *L)
 				    evo_net_weight_q16(w), 0};
 			}
 		}
-		lua_pop(L, 1);
 	}
 	p->n_links = (uint16_t)n;
 	for (int k = 0; k < n_nodes; k++)
@@ -540,20 +857,72 @@ int evo_lua_net_unpack(lua_State *L, int idx, evo_netdesc *d)
 /* ------------------------------------------------------------------ */
 /* Plain data as text */
 
+/* A table already written: where its text is in the buffer. */
+typedef struct written {
+	const void *table; /* NULL: a free slot */
+	size_t at, len;
+} written;
+
+/* The text being made, and the tables written into it: a table met
+ * again (genomes share their node tables) is the same text, copied. */
 typedef struct buffer {
 	char *b;
 	size_t len, cap;
+	written *seen; /* open addressing on the table's address */
+	size_t n_seen, seen_cap;
 } buffer;
+
+static void free_buffer_of(buffer *b)
+{
+	free(b->b);
+	b->b = NULL;
+	free(b->seen);
+	b->seen = NULL;
+}
 
 static int free_buffer(lua_State *L)
 {
-	buffer *b = luaL_checkudata(L, 1, BUF_TYPE);
-	free(b->b);
-	b->b = NULL;
+	free_buffer_of(luaL_checkudata(L, 1, BUF_TYPE));
 	return 0;
 }
 
-static void put(lua_State *L, buffer *b, const char *s, size_t n)
+/* The slot of `table` in b->seen: its entry, or the free slot it would
+ * take. */
+static written *seen_slot(const buffer *b, const void *table)
+{
+	size_t h = ((uintptr_t)table >> 4) * 0x9E3779B97F4A7C15u;
+	for (size_t i = h & (b->seen_cap - 1);; i = (i + 1) & (b->seen_cap - 1))
+		if (b->seen[i].table == table || !b->seen[i].table)
+			return &b->seen[i];
+}
+
+/* Notes that `table`'s text is b->b[at .. b->len). */
+static void note_written(lua_State *L, buffer *b, const void *table,
+			 size_t at)
+{
+	if (2 * (b->n_seen + 1) > b->seen_cap) {
+		size_t cap = b->seen_cap ? 2 * b->seen_cap : 256;
+		written *old = b->seen;
+		size_t old_cap = b->seen_cap;
+		b->seen = calloc(cap, sizeof *b->seen);
+		if (!b->seen) {
+			b->seen = old;
+			luaL_error(L, "serialize: out of memory");
+		}
+		b->seen_cap = cap;
+		for (size_t i = 0; i < old_cap; i++)
+			if (old[i].table)
+				*seen_slot(b, old[i].table) = old[i];
+		free(old);
+	}
+	written *w = seen_slot(b, table);
+	if (!w->table)
+		b->n_seen++;
+	*w = (written){table, at, b->len - at};
+}
+
+/* Room for n more bytes in b. */
+static void reserve(lua_State *L, buffer *b, size_t n)
 {
 	if (b->cap - b->len < n) {
 		size_t cap = b->cap ? b->cap : 4096;
@@ -565,6 +934,11 @@ static void put(lua_State *L, buffer *b, const char *s, size_t n)
 		b->b = nb;
 		b->cap = cap;
 	}
+}
+
+static void put(lua_State *L, buffer *b, const char *s, size_t n)
+{
+	reserve(L, b, n);
 	memcpy(b->b + b->len, s, n);
 	b->len += n;
 }
@@ -739,6 +1113,35 @@ static void merge_keys(lua_State *L, rkey *k, rkey *tmp, int n)
 
 static void put_value(lua_State *L, buffer *b, int idx, int depth);
 
+/* Genes as the list of gene tables they stand for (genes:plain()'s
+ * text): each gene's fields in key order. */
+static void put_genes(lua_State *L, buffer *b, const genes *gs)
+{
+	static const char *const name[] = {
+	    NULL, "[\"innov\"]=", "[\"from\"]=", "[\"to\"]=",
+	    "[\"weight\"]=", "[\"enabled\"]="};
+	static const enum key order[] = {K_ENABLED, K_FROM, K_INNOV, K_TO,
+					 K_WEIGHT};
+	luaL_checkstack(L, 2, "serialize: genes");
+	put(L, b, "{", 1);
+	for (int i = 0; i < gs->n; i++) {
+		put(L, b, "{", 1);
+		for (int k = 0; k < 5; k++) {
+			puts_(L, b, name[order[k]]);
+			push_gene_field(L, &gs->g[i], order[k]);
+			if (order[k] == K_ENABLED)
+				puts_(L, b, lua_toboolean(L, -1) ? "true"
+								 : "false");
+			else
+				put_number(L, b, lua_gettop(L));
+			lua_pop(L, 1);
+			put(L, b, ",", 1);
+		}
+		put(L, b, "},", 2);
+	}
+	put(L, b, "}", 1);
+}
+
 static void put_record(lua_State *L, buffer *b, int idx, int depth)
 {
 	/* every key and its value onto the stack, in pairs from base */
@@ -789,13 +1192,29 @@ static void put_value(lua_State *L, buffer *b, int idx, int depth)
 		return;
 	case LUA_TTABLE:
 		break;
+	case LUA_TUSERDATA:
+		if (to_genes(L, idx)) {
+			put_genes(L, b, to_genes(L, idx));
+			return;
+		}
+		/* fall through */
 	default:
 		luaL_error(L, "serialize: cannot save a %s",
 			   luaL_typename(L, idx));
 	}
+	const void *table = lua_topointer(L, idx);
+	const written *w = b->seen_cap ? seen_slot(b, table) : NULL;
+	if (w && w->table) {
+		size_t at = w->at, n = w->len;
+		reserve(L, b, n); /* (w may move no more: no lookup follows) */
+		memcpy(b->b + b->len, b->b + at, n);
+		b->len += n;
+		return;
+	}
 	if (depth >= DUMP_MAX_DEPTH)
 		luaL_error(L, "serialize: tables nested more than %d deep",
 			   DUMP_MAX_DEPTH);
+	size_t at = b->len;
 	luaL_checkstack(L, 8, "serialize: tables nested too deep");
 	put(L, b, "{", 1);
 	lua_Integer len = list_length(L, idx);
@@ -810,6 +1229,7 @@ static void put_value(lua_State *L, buffer *b, int idx, int depth)
 		put_record(L, b, idx, depth + 1);
 	}
 	put(L, b, "}", 1);
+	note_written(L, b, table, at);
 }
 
 /* dump(v) -> "return " .. v's text .. "\n", as serialize.dump_lua. */
@@ -824,8 +1244,7 @@ static int l_dump(lua_State *L)
 	put_value(L, b, 1, 0);
 	put(L, b, "\n", 1);
 	lua_pushlstring(L, b->b, b->len);
-	free(b->b);
-	b->b = NULL;
+	free_buffer_of(b);
 	return 1;
 }
 
@@ -952,22 +1371,20 @@ static double draw(lua_State *L, rng_src *r)
 /* ------------------------------------------------------------------ */
 /* Weight mutation and crossover (lua/learn/neat.lua's, draw for draw) */
 
-/* clamp(w, m) as neat.lua's, m the value at stack slot `max` (the
- * option weight_max): m itself above it, -m below -m (an integer m stays
- * one), else w; pushed. */
-static void push_clamped(lua_State *L, double w, int max)
+/* x's weight = clamp(w, m) as neat.lua's, m the option weight_max
+ * (`max_int`: an integer): m itself above it, -m below -m (an integer m
+ * stays one), else w. */
+static void set_clamped(gene *x, double w, double m, int max_int)
 {
-	double m = lua_tonumber(L, max);
 	if (w > m) {
-		lua_pushvalue(L, max); /* the value of weight_max, as it is */
+		x->weight = m;
+		x->weight_int = (uint8_t)max_int;
 	} else if (w < -m) {
-		if (lua_isinteger(L, max))
-			lua_pushinteger(L, (lua_Integer)(0u - (lua_Unsigned)
-							     lua_tointeger(L, max)));
-		else
-			lua_pushnumber(L, -m);
+		x->weight = -m;
+		x->weight_int = (uint8_t)max_int;
 	} else {
-		lua_pushnumber(L, w);
+		x->weight = w;
+		x->weight_int = 0;
 	}
 }
 
@@ -976,12 +1393,11 @@ static void push_clamped(lua_State *L, double w, int max)
 static void mutate_weights_with(lua_State *L, int g, int o, rng_src *r)
 {
 	int top = lua_gettop(L);
-	rget(L, g, K_LINKS);
-	int links = top + 1;
-	luaL_checktype(L, links, LUA_TTABLE);
+	genes *gs = genome_genes(L, g, 1);
 	rget(L, o, K_WEIGHT_MAX);
-	int max = top + 2;
-	lua_Integer n = (lua_Integer)lua_rawlen(L, links);
+	double m = lua_tonumber(L, -1);
+	int max_int = lua_isinteger(L, -1);
+	lua_Integer n = gs->n;
 	double perturb = num_field(L, o, K_PERTURB_PROB), replace = 1.0;
 	double newest_after = HUGE_VAL;
 	rget(L, o, K_WEIGHT_MUTATION);
@@ -997,23 +1413,18 @@ static void mutate_weights_with(lua_State *L, int g, int o, rng_src *r)
 	double pp = num_field(L, o, K_PERTURB_POWER);
 	double rp = num_field(L, o, K_REPLACE_POWER);
 	for (lua_Integer k = 1; k <= n; k++) {
-		if (lua_rawgeti(L, links, k) == LUA_TNIL)
-			break; /* ipairs stops there */
+		gene *x = &gs->g[k - 1];
 		double p = perturb, rr = replace;
 		if ((double)(k - 1) > newest_after) {
 			p = 0.5;
 			rr = 0.7;
 		}
 		double u = draw(L, r);
-		if (u < p) {
-			double w = num_field(L, -1, K_WEIGHT);
-			push_clamped(L, w + (draw(L, r) * 2 - 1) * pp, max);
-			rset(L, -2, K_WEIGHT);
-		} else if (u < rr) {
-			push_clamped(L, (draw(L, r) * 2 - 1) * rp, max);
-			rset(L, -2, K_WEIGHT);
-		}
-		lua_pop(L, 1);
+		if (u < p)
+			set_clamped(x, x->weight + (draw(L, r) * 2 - 1) * pp, m,
+				    max_int);
+		else if (u < rr)
+			set_clamped(x, (draw(L, r) * 2 - 1) * rp, m, max_int);
 	}
 	lua_settop(L, top);
 }
@@ -1117,21 +1528,6 @@ static void sort_list(lua_State *L, int list, enum key field)
 		lua_settop(L, base);
 	}
 	lua_pop(L, 1);
-}
-
-/* A copy of the gene at the top of the stack, pushed. */
-static void push_gene_copy(lua_State *L)
-{
-	int src = lua_gettop(L), dst = src + 1;
-	lua_createtable(L, 0, 5);
-	/* the fields in rget/rset's order, four calls each instead of their
-	 * eight: a copy is made for every gene of every child */
-	for (int f = K_INNOV; f <= K_ENABLED; f++) {
-		lua_pushvalue(L, lua_upvalueindex(f));
-		lua_pushvalue(L, -1);
-		lua_rawget(L, src);
-		lua_rawset(L, dst);
-	}
 }
 
 /* Scratch memory for a kernel: one block per thread, grown as needed
@@ -1251,22 +1647,21 @@ static int l_crossover(lua_State *L)
 	lua_pop(L, 1);
 	if (equal && !tie_smaller)
 		return 0;
-	rget(L, a, K_LINKS); /* 7 */
-	rget(L, b, K_LINKS); /* 8 */
-	luaL_checktype(L, 7, LUA_TTABLE);
-	luaL_checktype(L, 8, LUA_TTABLE);
-	if (equal && lua_rawlen(L, 8) < lua_rawlen(L, 7)) {
-		int t = a;
+	const genes *ag = genome_genes(L, a, 0); /* 7 */
+	const genes *bg = genome_genes(L, b, 0); /* 8 */
+	if (equal && bg->n < ag->n) {
+		const genes *t = ag;
+		ag = bg;
+		bg = t;
+		int ti = a;
 		a = b;
-		b = t;
-		lua_rotate(L, 7, 1); /* swap 7 and 8 */
+		b = ti;
 	}
-	const int al = 7, bl = 8;
 	rng_src r;
-	rng_begin(L, 6, &r); /* may push rng.s: 9 */
+	rng_begin(L, 6, &r); /* may push rng.s */
 	double average = draw(L, &r) < num_field(L, 5, K_MATE_AVG_PROB);
 	double disable = num_field(L, 5, K_DISABLE_PROB);
-	int na = (int)lua_rawlen(L, al), nb = (int)lua_rawlen(L, bl);
+	int na = ag->n, nb = bg->n;
 	rget(L, a, K_NODES);
 	int an = lua_gettop(L);
 	rget(L, b, K_NODES);
@@ -1283,59 +1678,38 @@ static int l_crossover(lua_State *L)
 	double *have = ends + 2 * (size_t)na;
 	int sorted = 1;
 	for (int i = 0; i < nb; i++) {
-		lua_rawgeti(L, bl, i + 1);
-		by[i].key = num_field(L, -1, K_INNOV);
+		by[i].key = (double)bg->g[i].innov;
 		by[i].slot = i + 1;
-		lua_pop(L, 1);
 		if (i > 0 && !(by[i].key > by[i - 1].key))
 			sorted = 0;
 	}
 	if (!sorted)
 		qsort(by, (size_t)nb, sizeof *by, by_key_slot);
-	/* the child and its links */
+	/* the child and its genes */
 	lua_createtable(L, 0, 2);
 	int child = lua_gettop(L);
-	lua_createtable(L, na, 0);
-	int links = lua_gettop(L);
-	lua_pushvalue(L, links);
+	genes *cg = new_genes(L, na);
 	rset(L, child, K_LINKS);
 	int n = 0;
-	for (int i = 1; i <= na; i++) {
-		lua_rawgeti(L, al, i);
-		int l = lua_gettop(L);
-		int slot = gene_with(by, nb, num_field(L, l, K_INNOV));
+	for (int i = 0; i < na; i++) {
+		const gene *l = &ag->g[i];
+		gene *c = &cg->g[n];
+		int slot = gene_with(by, nb, (double)l->innov);
 		if (slot) {
-			lua_rawgeti(L, bl, slot);
-			int m = l + 1;
-			int pick = draw(L, &r) < 0.5 ? l : m;
-			rget(L, l, K_ENABLED);
-			rget(L, m, K_ENABLED);
-			int somewhere =
-			    !lua_toboolean(L, -2) || !lua_toboolean(L, -1);
-			lua_pop(L, 2);
-			lua_pushvalue(L, pick);
-			push_gene_copy(L);
-			if (somewhere) {
-				lua_pushboolean(L, draw(L, &r) >= disable);
-				rset(L, -2, K_ENABLED);
-			}
+			const gene *m = &bg->g[slot - 1];
+			*c = draw(L, &r) < 0.5 ? *l : *m;
+			if (!l->enabled || !m->enabled)
+				c->enabled = draw(L, &r) >= disable;
 			if (average) {
-				double wl = num_field(L, l, K_WEIGHT);
-				double wm = num_field(L, m, K_WEIGHT);
-				lua_pushnumber(L, (wl + wm) / 2);
-				rset(L, -2, K_WEIGHT);
+				c->weight = (l->weight + m->weight) / 2;
+				c->weight_int = 0;
 			}
 		} else {
-			lua_pushvalue(L, l);
-			push_gene_copy(L);
+			*c = *l;
 		}
-		rget(L, -1, K_FROM);
-		ends[2 * n] = eq_number(L, -1);
-		rget(L, -2, K_TO);
-		ends[2 * n + 1] = eq_number(L, -1);
-		lua_pop(L, 2);
-		lua_rawseti(L, links, ++n);
-		lua_settop(L, links);
+		ends[2 * n] = (double)c->from;
+		ends[2 * n + 1] = (double)c->to;
+		n++;
 	}
 	/* nodes: all of a's, then b's that the child's genes need */
 	lua_createtable(L, ma + 1, 0);
@@ -1367,8 +1741,20 @@ static int l_crossover(lua_State *L)
 			lua_pop(L, 1);
 		}
 	}
-	sort_list(L, links, K_INNOV);
-	sort_list(L, nodes, K_ID);
+	/* a's genes are in innovation order, and so are the child's, but
+	 * for a parent made out of order (by hand) */
+	int in_order = 1;
+	for (int i = 1; i < n && in_order; i++)
+		in_order = cg->g[i - 1].innov < cg->g[i].innov;
+	if (!in_order)
+		qsort(cg->g, (size_t)n, sizeof *cg->g, by_innov);
+	/* the nodes are in id order unless b gave some (have[] holds
+	 * their ids in list order) */
+	in_order = 1;
+	for (int i = 1; i < k && in_order; i++)
+		in_order = have[i - 1] < have[i];
+	if (!in_order)
+		sort_list(L, nodes, K_ID);
 	rng_done(L, &r);
 	lua_pushvalue(L, child);
 	return 1;
@@ -1388,9 +1774,21 @@ static const luaL_Reg FUNCS[] = {
     {"speciate", l_speciate},
     {"copy_genome", l_copy_genome},
     {"pack_net", l_pack_net},
+    {"genes", l_genes},
+    {"add_gene", l_add_gene},
+    {"sort_genes", l_sort_genes},
+    {"reaches", l_reaches},
     {"dump", l_dump},
     {NULL, NULL},
 };
+
+/* The kernels' upvalues: the keys, then the genes' metatable (at mt). */
+static void push_upvalues(lua_State *L, int mt)
+{
+	for (int k = 1; k < K_COUNT; k++)
+		lua_pushstring(L, KEY_NAMES[k]);
+	lua_pushvalue(L, mt);
+}
 
 static int open_neat(lua_State *L)
 {
@@ -1401,10 +1799,24 @@ static int open_neat(lua_State *L)
 	lua_pop(L, 1);
 	luaL_newmetatable(L, NET_TYPE);
 	lua_pop(L, 1);
+	/* the genes' and a gene's metatables and the module's functions,
+	 * each with the keys and the genes' metatable as upvalues */
+	luaL_newmetatable(L, GENE_TYPE);
+	lua_pop(L, 1);
+	luaL_newmetatable(L, GENES_TYPE);
+	int genes_mt = lua_gettop(L);
+	const char *types[2] = {GENE_TYPE, GENES_TYPE};
+	const luaL_Reg *regs[2] = {GENE_METHODS, GENES_METHODS};
+	for (int m = 0; m < 2; m++) {
+		luaL_getmetatable(L, types[m]);
+		push_upvalues(L, genes_mt);
+		luaL_setfuncs(L, regs[m], N_UPVALUES);
+		lua_pop(L, 1);
+	}
 	luaL_newlibtable(L, FUNCS);
-	for (int k = 1; k < K_COUNT; k++)
-		lua_pushstring(L, KEY_NAMES[k]);
-	luaL_setfuncs(L, FUNCS, K_COUNT - 1);
+	push_upvalues(L, genes_mt);
+	luaL_setfuncs(L, FUNCS, N_UPVALUES);
+	lua_remove(L, genes_mt);
 	return 1;
 }
 

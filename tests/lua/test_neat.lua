@@ -38,7 +38,16 @@ local function innovs(g)
 	return table.concat(t, ",")
 end
 
+-- Genes as plain data: evo.neat keeps a genome's genes in a userdata,
+-- compared and written out as the list of gene tables it stands for.
+local function plain(v)
+	local mt = type(v) == "userdata" and getmetatable(v)
+	if mt and mt.__plain then return mt.__plain(v) end
+	return v
+end
+
 local function deep_equal(a, b)
+	a, b = plain(a), plain(b)
 	if type(a) ~= type(b) then return false end
 	if type(a) ~= "table" then return a == b or (a ~= a and b ~= b) end
 	for k, v in pairs(a) do
@@ -229,7 +238,7 @@ function T.weight_mutation_as_neat_code_does_it()
 		local head, tail, trials = 0, 0, 2000
 		for _ = 1, trials do
 			local g = { links = {} }
-			for k = 1, 20 do g.links[k] = { innov = k, weight = 0.5 } end
+			for k = 1, 20 do g.links[k] = { innov = k, from = 0, to = 1, weight = 0.5, enabled = true } end
 			neat.mutate_weights(g, o, rng)
 			for k, l in ipairs(g.links) do
 				if l.weight == 0.5 then
@@ -247,7 +256,7 @@ function T.weight_mutation_as_neat_code_does_it()
 		"a severe one keeps 10% everywhere: " .. head .. ", " .. tail)
 	-- "paper": perturbed or replaced, never kept.
 	local g = { links = {} }
-	for k = 1, 20 do g.links[k] = { innov = k, weight = 0.5 } end
+	for k = 1, 20 do g.links[k] = { innov = k, from = 0, to = 1, weight = 0.5, enabled = true } end
 	neat.mutate_weights(g, { weight_mutation = "paper", perturb_prob = 0.9, perturb_power = 1,
 		replace_power = 1, weight_max = 8 }, random.new(22))
 	for _, l in ipairs(g.links) do check(l.weight ~= 0.5, "paper: every weight changes") end
@@ -635,6 +644,7 @@ end
 
 -- The checkpoint must be plain data: write it as Lua source and read it back.
 local function serialise(v)
+	v = plain(v)
 	local t = type(v)
 	if t == "number" then
 		if math.type(v) == "integer" then return string.format("%d", v) end

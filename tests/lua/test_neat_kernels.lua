@@ -255,4 +255,53 @@ function T.mutation_draws_and_key_draws_are_the_luas()
 	check(#fast.draws(r1, 0) == 0 and r1:unit_lua() == r2:unit_lua(), "none drawn")
 end
 
+-- A genome's genes are one userdata of flat arrays: links[i] reads and
+-- writes gene i in place, a weight keeps its Lua type (an integer
+-- weight_max clamps to that integer, and the checkpoint writes it so),
+-- added genes are sorted by innovation, and the text is the gene tables'.
+function T.genes_are_flat_arrays_read_and_written_in_place()
+	-- inputs 0, 1, bias 2, output 3: genes 1, 2, 3 from 0, 1, 2 to 3
+	local g = neat.new{ inputs = 2, outputs = 1, rng = random.new(1), options = { pop_size = 1 } }:genomes()[1]
+	check(type(g.links) == "userdata" and #g.links == 3, "three genes in a userdata")
+	for k = 1, 3 do
+		local l = g.links[k]
+		check(l.innov == k and l.from == k - 1 and l.to == 3 and l.enabled == true, "gene " .. k)
+		check(math.type(l.innov) == "integer" and math.abs(l.weight) <= 1, "gene " .. k .. "'s numbers")
+	end
+	check(g.links[4] == nil, "nothing past the end")
+	check(g.links[1] == g.links[1] and g.links[1] ~= g.links[2], "a gene is itself, not another")
+	g.links[2].weight, g.links[2].enabled = 8, false
+	check(math.type(g.links[2].weight) == "integer" and g.links[2].enabled == false, "written in place")
+	local one = fast.genes{ { innov = 1, from = 0, to = 3, weight = 0.5, enabled = true } }
+	check(fast.dump(one) == 'return {{["enabled"]=true,["from"]=0,["innov"]=1,["to"]=3,["weight"]=0.5,},}\n',
+		"the text of one gene " .. fast.dump(one))
+	check(fast.dump(g) == serialize.dump_lua(g), "the Lua writer's text")
+	check(fast.dump(g):find('["weight"]=8,', 1, true), "an integer weight written as one")
+	fast.add_gene(g, { innov = 10, from = 1, to = 3, weight = 0.25, enabled = true })
+	fast.add_gene(g, { innov = 7, from = 0, to = 3, weight = -0.25, enabled = false })
+	fast.sort_genes(g)
+	local innov = {}
+	for i, l in ipairs(g.links) do innov[i] = l.innov end
+	check(table.concat(innov, " ") == "1 2 3 7 10", "sorted by innovation: " .. table.concat(innov, " "))
+	-- paths: 0 -> 4 -> 3 and 1 -> 3, walked over disabled genes too
+	local h = { nodes = {}, links = fast.genes{
+		{ innov = 1, from = 0, to = 4, weight = 1, enabled = false },
+		{ innov = 2, from = 4, to = 3, weight = 1, enabled = true },
+		{ innov = 3, from = 1, to = 3, weight = 1, enabled = true } } }
+	check(fast.reaches(h, 0, 3) and fast.reaches(h, 2, 2) and fast.reaches(h, 0, 4), "paths found")
+	check(not fast.reaches(h, 3, 0) and not fast.reaches(h, 1, 4) and not fast.reaches(h, 4, 0), "no path")
+	-- a checkpoint's text reads back into genes that write the same text
+	local pop = grown_population()
+	local text = fast.dump(neat.save(pop, true))
+	local back = neat.load(serialize.load(text, "t"))
+	check(type(back:genomes()[1].links) == "userdata" and type(back.species[1].rep.links) == "userdata"
+		and type(back.best.genome.links) == "userdata", "loaded genomes hold genes")
+	check(fast.dump(neat.save(back, true)) == text, "the same text again")
+	check(fast.dump(neat.save(pop)) == text, "a saved copy (plain tables) writes the same text")
+	-- a table met twice is written twice, the same
+	local shared = { id = 1, kind = "input" }
+	local twice = { shared, { shared, n = shared }, shared }
+	check(fast.dump(twice) == serialize.dump_lua(twice), "a shared table")
+end
+
 return T
