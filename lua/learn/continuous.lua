@@ -19,7 +19,7 @@ local netfile = require "learn.netfile"
 local task = host.task
 local method = (task.LEARNINGMETHOD or "NEAT"):upper()
 if not common.MODULES[method] then
-	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC, ANNEALING or CMAES", 0)
+	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC, ANNEALING, CMAES or NOVELTY", 0)
 end
 local algo = require(common.MODULES[method])
 local options = common.task_options(algo, task, host.task_path, host.task_lines)
@@ -38,7 +38,7 @@ local VALIDATION_GEN = 2147483647
 local CURVE_SECONDS = 1.0
 
 local hidden = tonumber(task.HIDDEN or "")
-if hidden and method == "NEAT" then
+if hidden and (method == "NEAT" or method == "NOVELTY") then
 	common.warning(host.task_path, host.task_lines, "HIDDEN", "HIDDEN is the width of "
 		.. "the hidden layers of GENETIC, ANNEALING and CMAES; NEAT grows its own and ignores it")
 	hidden = nil

@@ -26,7 +26,7 @@ local task = host.task
 local method = (task.LEARNINGMETHOD or "NEAT"):upper()
 local MODULES = common.MODULES
 if not MODULES[method] then
-	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC, ANNEALING or CMAES", 0)
+	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC, ANNEALING, CMAES or NOVELTY", 0)
 end
 local algo = require(MODULES[method])
 
@@ -67,7 +67,7 @@ local options = common.task_options(algo, task, host.task_path, host.task_lines)
 -- HIDDEN: the width of the hidden layers of GENETIC, ANNEALING and CMAES (the
 -- parser checked its range, evo run that the networks fit). NEAT grows its own.
 local hidden = tonumber(task.HIDDEN or "")
-if hidden and method == "NEAT" then
+if hidden and (method == "NEAT" or method == "NOVELTY") then
 	common.warning(host.task_path, host.task_lines, "HIDDEN", "HIDDEN is the width of "
 		.. "the hidden layers of GENETIC, ANNEALING and CMAES; NEAT grows its own and ignores it")
 	hidden = nil

@@ -579,7 +579,8 @@ TEST(unknown_method_is_a_clear_error)
 	char *text = cli_read("%s/m/out.txt", cli_tmp);
 	CHECK(text &&
 	      strstr(text, "Small.simbatch:6: LEARNINGMETHOD: expected NEAT, "
-			   "GENETIC, ANNEALING or CMAES, found 'BOGUS'"));
+			   "GENETIC, ANNEALING, CMAES or NOVELTY, found "
+			   "'BOGUS'"));
 	free(text);
 }
 
