@@ -276,7 +276,9 @@ for gen = first, generations - 1 do
 	local best_net = net_of(best_i)
 	-- the species of the generation just evaluated (tell() speciates the next)
 	local species = #pop.species
-	pop:tell(fitness)
+	-- what each network's episodes did (evo.descriptors: nil for
+	-- literature and team tasks), for the methods that search behaviours
+	pop:tell(fitness, host.descriptors())
 	history.best[#history.best + 1] = fitness[best_i]
 	history.mean[#history.mean + 1] = sum / #fitness
 	host.save(string.format("best/gen-%04d.net", gen), algo.to_net_text(best_net,

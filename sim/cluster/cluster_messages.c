@@ -59,6 +59,18 @@ int evo_cluster_check_hello(const void *msg, size_t len, int rank,
 	return 0;
 }
 
+/* -1 when r's behaviour is none an evaluation gives: more values than
+ * evo keeps, or one not in [0, 1] (a NaN included). */
+static int behaviour_check(const evo_eval_result *r)
+{
+	if (r->n_behaviour < 0 || r->n_behaviour > EVO_SIM_MAX_BEHAVIOUR)
+		return -1;
+	for (int k = 0; k < r->n_behaviour; k++)
+		if (!(r->behaviour[k] >= 0 && r->behaviour[k] <= 1))
+			return -1;
+	return 0;
+}
+
 int evo_cluster_check_result(const void *msg, size_t len, int rank,
 			     const char *host, int first, int count,
 			     evo_eval_result *res, evo_err *err)
@@ -106,6 +118,12 @@ int evo_cluster_check_result(const void *msg, size_t len, int rank,
 					"%d)",
 					rank, host, first + i, r.solved,
 					r.collisions, r.group, r.wins);
+		if (behaviour_check(&r))
+			return evo_fail(err,
+					"rank %d (on %s): candidate %d: a "
+					"behaviour of %d values, or one not in "
+					"[0, 1]",
+					rank, host, first + i, r.n_behaviour);
 		res[i] = r;
 	}
 	return 0;

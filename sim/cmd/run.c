@@ -333,6 +333,29 @@ static void print_metrics(const evo_scene *sc)
 		printf(", %s %.6f", sc->metric[i].name, sc->metric[i].value);
 }
 
+/* What the episode did, when the environment says it (docs/lua.md, "What
+ * an episode did"): ", behaviour (0.2, 0.25)" for env.behaviour and
+ * ", solved" or ", not solved" for env.solved, for a one-agent task.
+ * Nothing when it has neither, so such a line is as it always was. */
+static int print_outcome(evo_sim *s, evo_err *err)
+{
+	double b[EVO_SIM_MAX_BEHAVIOUR];
+	int solved;
+	if (s->has_teams)
+		return 0;
+	int n = evo_lua_behaviour(s->lua, s->bot, b, EVO_SIM_MAX_BEHAVIOUR,
+				  err);
+	if (n < 0)
+		return -1;
+	for (int k = 0; k < n; k++)
+		printf("%s%.6f%s", k ? ", " : ", behaviour (", b[k],
+		       k == n - 1 ? ")" : "");
+	int rc = evo_lua_solved(s->lua, s->bot, &solved, err);
+	if (rc > 0)
+		printf(solved ? ", solved" : ", not solved");
+	return rc < 0 ? -1 : 0;
+}
+
 static int run_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 			evo_err *err)
 {
@@ -355,9 +378,12 @@ static int run_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 			/* a 3D episode: its reward, its ticks, its collision
 			 * ticks, and what broke it, if anything did */
 			printf("episode %ld: reward %.6f over %ld ticks, %d "
-			       "collision ticks\n",
+			       "collision ticks",
 			       e, evo_sim_episode_reward(s), t,
 			       evo_sim_collisions(s, 0));
+			if (print_outcome(s, err))
+				return -1;
+			printf("\n");
 			if (evo_sim_fault(s)[0])
 				printf("  fault: %s\n", evo_sim_fault(s));
 			fflush(stdout);
@@ -380,6 +406,8 @@ static int run_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 		if (has_reward(s->scene, EVO_RW_GATHER))
 			printf(", %d gathered", gathered);
 		print_metrics(s->scene);
+		if (print_outcome(s, err))
+			return -1;
 		printf("\n");
 		print_teams(s);
 		fflush(stdout);

@@ -105,6 +105,40 @@ uint64_t evo_eval_episode_seed(uint64_t seed, int gen, int cand, int rep)
 	return evo_rng_next(&r);
 }
 
+/* At the end of repetition r: add what the episode did to res's
+ * behaviour, and fold whether it solved the task into *all_solved (1
+ * while every repetition so far did, 0 once one did not, -1 when the
+ * environment has no solved function). Every episode's behaviour has as
+ * many values as the first one's. */
+static int episode_outcome(worker *w, evo_eval_result *res, int *all_solved,
+			   int r, evo_err *err)
+{
+	double b[EVO_SIM_MAX_BEHAVIOUR];
+	int solved;
+	int n = evo_sim_behaviour(w->sim, b, err);
+	if (n < 0 || evo_sim_solved(w->sim, &solved, err)) {
+		evo_err inner = *err;
+		return evo_fail(err, "repetition %d, at its end: %s", r + 1,
+				inner.msg);
+	}
+	if (r > 0 && n != res->n_behaviour)
+		return evo_fail(err,
+				"repetition %d, at its end: %s: env.behaviour "
+				"returned %d values, where repetition 1's "
+				"returned %d: a behaviour has the same size "
+				"every episode",
+				r + 1, evo_lua_env_path(w->sim->lua), n,
+				res->n_behaviour);
+	res->n_behaviour = n;
+	for (int k = 0; k < n; k++)
+		res->behaviour[k] += b[k];
+	if (solved < 0)
+		*all_solved = -1;
+	else if (*all_solved >= 0)
+		*all_solved = *all_solved && solved;
+	return 0;
+}
+
 /* Candidate i on worker w: bind it, run the reps, sum the rewards. */
 static int evaluate_one(worker *w, int i, evo_eval_result *res, evo_err *err)
 {
@@ -124,6 +158,7 @@ static int evaluate_one(worker *w, int i, evo_eval_result *res, evo_err *err)
 	if (evo_mindfolder_rebuild(l, err) || evo_sim_set_mind(w->sim, l, err))
 		return -1;
 	int c = ev->first + i; /* its index in the whole batch */
+	int all_solved = 1;
 	for (int r = 0; r < ev->reps; r++) {
 		if (evo_sim_reset(
 			w->sim, r + 1, evo_eval_grid_seed(ev->seed, ev->gen, r),
@@ -146,9 +181,14 @@ static int evaluate_one(worker *w, int i, evo_eval_result *res, evo_err *err)
 		res->collisions += evo_sim_collisions(w->sim, 0);
 		for (int k = 0; k < ev->n_metrics; k++)
 			res->metric[k] += evo_sim_metric(w->sim, k);
+		if (episode_outcome(w, res, &all_solved, r, err))
+			return -1;
 	}
 	for (int k = 0; k < ev->n_metrics; k++)
 		res->metric[k] /= ev->reps;
+	for (int k = 0; k < res->n_behaviour; k++)
+		res->behaviour[k] /= ev->reps;
+	res->solved = all_solved > 0;
 	return 0;
 }
 

@@ -50,6 +50,7 @@
 #include "base/err.h"
 #include "evo/evo.h"
 #include "mind/mindfolder.h"
+#include "tasksim/tasksim.h"
 #include "world2d/scene.h"
 
 typedef struct evo_evaluator evo_evaluator;
@@ -126,7 +127,15 @@ struct evo_eval_result {
 	long collisions; /* ticks the learning bot spent touching something,
 			  * summed over the repetitions (0 for literature
 			  * tasks) */
-	int solved;	 /* literature tasks: the success criterion was met */
+	int solved;	 /* literature tasks: the success criterion was met;
+			  * other one-agent tasks: the environment's
+			  * solved(scene, bot) held at the end of every
+			  * repetition */
+	/* what the episodes did (evo_sim_behaviour), each value the mean
+	 * over the repetitions; n_behaviour of them, 0 for literature and
+	 * team tasks */
+	int n_behaviour;
+	double behaviour[EVO_SIM_MAX_BEHAVIOUR];
 	/* each metric's value at an episode's end, the mean over the
 	 * repetitions (evo_evaluator_n_metrics of them) */
 	double metric[EVO_SCENE_MAX_METRICS];

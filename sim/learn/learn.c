@@ -67,9 +67,11 @@ typedef struct learn {
 	 * evaluating XOR's networks) */
 	evo_netdesc *descs;
 	int n_descs;
+	int n_behaviour; /* the size of every behaviour so far; -1 before */
 } learn;
 
 static const char LEARN_KEY = 'l';
+static const char BEHAVIOUR_KEY = 'b'; /* the last batch's behaviours */
 
 static learn *ctx(lua_State *L)
 {
@@ -207,6 +209,51 @@ static int *index_list(lua_State *L, int idx, int n, lua_Integer *len)
 	return v;
 }
 
+/* Keep the batch's behaviours for evo.descriptors: a list, one list of
+ * numbers per network; none for a batch without (literature and team
+ * tasks). Every behaviour of a run has the same size. */
+static void keep_behaviours(lua_State *L, learn *l, const evo_eval_result *res,
+			    int n)
+{
+	for (int i = 0; i < n; i++) {
+		int d = res[i].n_behaviour;
+		if (l->n_behaviour < 0)
+			l->n_behaviour = d;
+		if (d != l->n_behaviour)
+			luaL_error(L,
+				   "evo.evaluate: network %d's behaviour has "
+				   "%d values, where the run's had %d: "
+				   "env.behaviour must return as many every "
+				   "episode",
+				   i + 1, d, l->n_behaviour);
+	}
+	if (n == 0 || l->n_behaviour <= 0) {
+		lua_pushnil(L);
+		lua_rawsetp(L, LUA_REGISTRYINDEX, &BEHAVIOUR_KEY);
+		return;
+	}
+	lua_createtable(L, n, 0);
+	for (int i = 0; i < n; i++) {
+		lua_createtable(L, res[i].n_behaviour, 0);
+		for (int k = 0; k < res[i].n_behaviour; k++) {
+			lua_pushnumber(L, res[i].behaviour[k]);
+			lua_rawseti(L, -2, k + 1);
+		}
+		lua_rawseti(L, -2, i + 1);
+	}
+	lua_rawsetp(L, LUA_REGISTRYINDEX, &BEHAVIOUR_KEY);
+}
+
+/* evo.descriptors() -> the last evo.evaluate's behaviours (what each
+ * network's episodes did, docs/lua.md): a list with one list of numbers in
+ * [0, 1] per network, in the batch's order, each the mean over the
+ * repetitions; nil when the batch had none (literature and team tasks). */
+static int l_descriptors(lua_State *L)
+{
+	lua_rawgetp(L, LUA_REGISTRYINDEX, &BEHAVIOUR_KEY);
+	return 1;
+}
+
 /* evo.evaluate(nets, generation[, groups, team]) -> fitness list,
  * seconds, solved list (booleans: the literature tasks' success
  * criterion), collisions list (ticks the bot spent touching, summed over
@@ -276,6 +323,7 @@ static int l_evaluate(lua_State *L)
 	double dt = now() - t0;
 	if (rc)
 		return raise_msg(L, err.msg);
+	keep_behaviours(L, l, res, n);
 	lua_createtable(L, n, 0);
 	for (int i = 0; i < n; i++) {
 		lua_pushnumber(L, res[i].fitness);
@@ -768,6 +816,7 @@ static int l_save_skill_net(lua_State *L)
 
 static const luaL_Reg learn_fns[] = {
     {"evaluate", l_evaluate},
+    {"descriptors", l_descriptors},
     {"set_team_net", l_set_team_net},
     {"open_log", l_open_log},
     {"log", l_log},
@@ -1217,6 +1266,7 @@ int evo_learn_run(const char *task_path, evo_task *task,
 	l.opts = o;
 	l.tty = isatty(fileno(stdout));
 	l.started = now();
+	l.n_behaviour = -1;
 	l.continuous = strcmp(task->type, "LEARNSIMCONTINUOUS") == 0;
 	/* every option within its range before a thread, a folder or a
 	 * population exists; the loop says the warnings */

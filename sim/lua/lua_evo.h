@@ -123,6 +123,21 @@ int evo_lua_init_env(evo_lua *l, const char *env, evo_err *err);
  * has one. */
 int evo_lua_reset(evo_lua *l, int episode, evo_err *err);
 
+/* At an episode's end: the environment's behaviour(scene, bot), for the
+ * learning agent's bot (docs/lua.md, "What an episode did"). Writes its
+ * values, each a number in [0, 1], to out[0 .. max-1] and returns how
+ * many (1 .. max); 0 when the environment has no behaviour function; -1
+ * with err set ("Envs/Maze.lua:40: env.behaviour returned ...") when it
+ * fails or returns anything else. */
+int evo_lua_behaviour(evo_lua *l, int bot, double *out, int max,
+		      evo_err *err);
+
+/* At an episode's end: the environment's solved(scene, bot), a boolean.
+ * Returns 1 and sets *solved, 0 when the environment has no solved
+ * function, -1 with err set when it fails or returns anything but a
+ * boolean. */
+int evo_lua_solved(evo_lua *l, int bot, int *solved, evo_err *err);
+
 /* The file the environment and the bot model were loaded from. */
 const char *evo_lua_env_path(const evo_lua *l);
 const char *evo_lua_bot_path(const evo_lua *l);

@@ -322,6 +322,142 @@ int evo_lua_hook_post_step(void *c, evo_scene *sc)
 	return evo_lua_call_env(l, "post_step", 0, 0, &l->sc->err);
 }
 
+/* ---- an episode's outcome: env.behaviour and env.solved ---------------- */
+
+/* env[name](scene, bot) -> whether the environment has it, what it
+ * returned; arguments: the evo_lua, name, the bot's index. A call of its
+ * own, as env_call. */
+static int outcome_call(lua_State *L)
+{
+	evo_lua *l = lua_touserdata(L, 1);
+	const char *name = lua_tostring(L, 2);
+	int bot = (int)lua_tointeger(L, 3);
+	lua_rawgeti(L, LUA_REGISTRYINDEX, l->env_ref);
+	if (lua_getfield(L, -1, name) == LUA_TNIL) {
+		lua_pushboolean(L, 0);
+		lua_pushnil(L);
+		return 2;
+	}
+	lua_pushboolean(L, 1);
+	lua_insert(L, -2);
+	lua_rawgetp(L, LUA_REGISTRYINDEX, &evo_lua_scene_key);
+	evo_lua_push_handle(L, l->sc3 ? EVO_LUA_BOT3D_MT : EVO_LUA_BOT_MT, bot);
+	lua_call(L, 2, 1);
+	return 2;
+}
+
+/* Run env[name] for bot; 1 with its result on the stack, 0 when the
+ * environment has none, -1 with err set. */
+static int call_outcome(evo_lua *l, const char *name, int bot, evo_err *err)
+{
+	lua_State *L = l->L;
+	lua_pushcfunction(L, outcome_call);
+	lua_pushlightuserdata(L, l);
+	lua_pushstring(L, name);
+	lua_pushinteger(L, bot);
+	if (evo_lua_pcall(l, 3, 2, EVO_LUA_BUDGET_RESET, EVO_LUA_TIME_RESET,
+			  name) != LUA_OK) {
+		evo_fail(err, "%s", evo_lua_errstr(L, -1));
+		lua_pop(L, 1);
+		return -1;
+	}
+	if (!lua_toboolean(L, -2)) {
+		lua_pop(L, 2);
+		return 0;
+	}
+	lua_remove(L, -2);
+	return 1;
+}
+
+/* "Envs/Maze.lua:40" for env[name], as messages start. */
+static void env_fn_where(evo_lua *l, const char *name, char *out, size_t cap)
+{
+	lua_State *L = l->L;
+	lua_Debug ar;
+	lua_rawgeti(L, LUA_REGISTRYINDEX, l->env_ref);
+	lua_getfield(L, -1, name);
+	if (lua_isfunction(L, -1)) {
+		lua_getinfo(L, ">S", &ar);
+		snprintf(out, cap, "%s:%d", ar.short_src, ar.linedefined);
+	} else {
+		lua_pop(L, 1);
+		snprintf(out, cap, "%s", l->env_path);
+	}
+	lua_pop(L, 1);
+}
+
+int evo_lua_behaviour(evo_lua *l, int bot, double *out, int max,
+		      evo_err *err)
+{
+	int rc = call_outcome(l, "behaviour", bot, err);
+	if (rc <= 0)
+		return rc;
+	lua_State *L = l->L;
+	char where[1300];
+	size_t n = lua_type(L, -1) == LUA_TTABLE ? lua_rawlen(L, -1) : 0;
+	if (n < 1 || n > (size_t)max) {
+		env_fn_where(l, "behaviour", where, sizeof where);
+		if (lua_type(L, -1) == LUA_TTABLE)
+			evo_fail(err,
+				 "%s: env.behaviour returned %zu values; a "
+				 "behaviour is 1 to %d numbers in [0, 1]",
+				 where, n, max);
+		else
+			evo_fail(err,
+				 "%s: env.behaviour returned a %s, not a list "
+				 "of 1 to %d numbers in [0, 1]",
+				 where, luaL_typename(L, -1), max);
+		lua_pop(L, 1);
+		return -1;
+	}
+	for (size_t i = 0; i < n; i++) {
+		int t = lua_rawgeti(L, -1, (lua_Integer)i + 1);
+		double v = lua_tonumber(L, -1);
+		lua_pop(L, 1);
+		if (t == LUA_TNUMBER && isfinite(v) && v >= 0 && v <= 1) {
+			out[i] = v;
+			continue;
+		}
+		env_fn_where(l, "behaviour", where, sizeof where);
+		if (t == LUA_TNUMBER)
+			evo_fail(err,
+				 "%s: env.behaviour's value %zu is %.17g, not "
+				 "in [0, 1] (scale it, for example by the "
+				 "arena's size)",
+				 where, i + 1, v);
+		else
+			evo_fail(err,
+				 "%s: env.behaviour's value %zu is a %s, not a "
+				 "number in [0, 1]",
+				 where, i + 1, lua_typename(L, t));
+		lua_pop(L, 1);
+		return -1;
+	}
+	lua_pop(L, 1);
+	return (int)n;
+}
+
+int evo_lua_solved(evo_lua *l, int bot, int *solved, evo_err *err)
+{
+	int rc = call_outcome(l, "solved", bot, err);
+	if (rc <= 0)
+		return rc;
+	lua_State *L = l->L;
+	if (!lua_isboolean(L, -1)) {
+		char where[1300];
+		env_fn_where(l, "solved", where, sizeof where);
+		evo_fail(err,
+			 "%s: env.solved returned a %s, not a boolean (true "
+			 "when the episode solved the task)",
+			 where, luaL_typename(L, -1));
+		lua_pop(L, 1);
+		return -1;
+	}
+	*solved = lua_toboolean(L, -1);
+	lua_pop(L, 1);
+	return 1;
+}
+
 const char evo_lua_reward_resets_key = 'r';
 const char evo_lua_control_resets_key = 'c';
 

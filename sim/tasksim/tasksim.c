@@ -2,6 +2,7 @@
  * (sim/tasksim/tasksim.h). */
 #include "tasksim/tasksim.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -581,6 +582,96 @@ const char *evo_sim_metric_name(const evo_sim *s, int k)
 double evo_sim_metric(const evo_sim *s, int k)
 {
 	return s->scene3d ? 0 : s->scene->metric[k].value;
+}
+
+/* Widen b (x0, y0, x1, y1) to hold the box of half sizes hx, hy at x, y. */
+static void widen(double *b, double x, double y, double hx, double hy)
+{
+	b[0] = fmin(b[0], x - hx);
+	b[1] = fmin(b[1], y - hy);
+	b[2] = fmax(b[2], x + hx);
+	b[3] = fmax(b[3], y + hy);
+}
+
+/* The arena's bounds on the ground plane (evo_sim_behaviour's); 0, or -1
+ * when the environment built no static obstacle. */
+static int arena_bounds(const evo_sim *s, double *b)
+{
+	b[0] = b[1] = INFINITY;
+	b[2] = b[3] = -INFINITY;
+	if (s->scene3d) {
+		const evo_scene3d *sc = s->scene3d;
+		for (int i = 0; i < sc->n_elements; i++) {
+			const evo_element3d_def *d = &sc->element[i].def;
+			if (d->kind > EVO3D_ELEM_SPHERE || d->ground)
+				continue;
+			double c = fabs(cos(d->yaw)), sn = fabs(sin(d->yaw));
+			if (d->kind == EVO3D_ELEM_BOX)
+				widen(b, d->pos[0], d->pos[1],
+				      c * d->half[0] + sn * d->half[1],
+				      sn * d->half[0] + c * d->half[1]);
+			else
+				widen(b, d->pos[0], d->pos[1], d->radius,
+				      d->radius);
+		}
+	} else {
+		const evo_scene *sc = s->scene;
+		for (int i = 0; i < sc->n_fixed_obstacles; i++) {
+			const evo_obstacle *o = &sc->obstacle[i];
+			double c = fabs(cos(o->angle)), sn = fabs(sin(o->angle));
+			if (o->shape == EVO_SHAPE_CIRCLE)
+				widen(b, o->x, o->y, o->radius, o->radius);
+			else
+				widen(b, o->x, o->y,
+				      c * o->half_w + sn * o->half_h,
+				      sn * o->half_w + c * o->half_h);
+		}
+		if (sc->grid.enabled) {
+			const evo_grid_def *g = &sc->grid;
+			widen(b, (g->x0 + g->x1) / 2, (g->y0 + g->y1) / 2,
+			      fabs(g->x1 - g->x0) / 2, fabs(g->y1 - g->y0) / 2);
+		}
+	}
+	return b[2] > b[0] && b[3] > b[1] ? 0 : -1;
+}
+
+static double unit(double v)
+{
+	return v < 0 ? 0 : v > 1 ? 1 : v;
+}
+
+int evo_sim_behaviour(evo_sim *s, double *out, evo_err *err)
+{
+	int n = evo_lua_behaviour(s->lua, s->bot, out, EVO_SIM_MAX_BEHAVIOUR,
+				  err);
+	if (n)
+		return n;
+	double x, y, x0, y0;
+	if (s->scene3d) {
+		const evo_bot3d *b = &s->scene3d->bot[s->bot];
+		x = b->pos[0], y = b->pos[1];
+		x0 = b->start[0], y0 = b->start[1];
+	} else {
+		const evo_bot *b = &s->scene->bot[s->bot];
+		x = b->x, y = b->y;
+		x0 = b->def.x, y0 = b->def.y;
+	}
+	double box[4];
+	if (arena_bounds(s, box)) {
+		box[0] = x0 - 5, box[1] = y0 - 5;
+		box[2] = x0 + 5, box[3] = y0 + 5;
+	}
+	out[0] = unit((x - box[0]) / (box[2] - box[0]));
+	out[1] = unit((y - box[1]) / (box[3] - box[1]));
+	return 2;
+}
+
+int evo_sim_solved(evo_sim *s, int *solved, evo_err *err)
+{
+	int rc = evo_lua_solved(s->lua, s->bot, solved, err);
+	if (rc == 0)
+		*solved = -1;
+	return rc < 0 ? -1 : 0;
 }
 
 const char *evo_sim_fault(const evo_sim *s)

@@ -135,6 +135,27 @@ const char *evo_sim_metric_name(const evo_sim *s, int k);
 double evo_sim_metric(const evo_sim *s, int k);
 const char *evo_sim_fault(const evo_sim *s);
 
+/* The most numbers a behaviour descriptor has. */
+#define EVO_SIM_MAX_BEHAVIOUR 16
+
+/* At an episode's end, what it did, for novelty search and MAP-Elites
+ * (docs/lua.md, "What an episode did"): the environment's
+ * behaviour(scene, bot) for the first agent's bot, or when it has none,
+ * the bot's position on the ground plane scaled into the arena's bounds:
+ * the box around the static obstacles the environment built (2D: walls,
+ * boxes, cylinders and the obstacle grid's area; 3D: boxes, cylinders and
+ * spheres that are not ground), or without any, a 10 m square centred on
+ * where the bot started; each value clamped to [0, 1]. Writes
+ * out[0 .. EVO_SIM_MAX_BEHAVIOUR-1] and returns how many values, or -1
+ * with err set (a script error, a value outside [0, 1]). */
+int evo_sim_behaviour(evo_sim *s, double *out, evo_err *err);
+
+/* At an episode's end: the environment's solved(scene, bot) for the first
+ * agent's bot. Returns 0 and sets *solved to 1 or 0, or to -1 when the
+ * environment has no solved function; -1 with err set on a script error
+ * or a value that is not a boolean. */
+int evo_sim_solved(evo_sim *s, int *solved, evo_err *err);
+
 /* The agent that drives bot `bot`, or -1. */
 int evo_sim_agent_of_bot(const evo_sim *s, int bot);
 
