@@ -215,7 +215,9 @@ else
 	history = { best = {}, mean = {} }
 	best_team = {}
 end
-host.open_log(first)
+-- the method's own columns after the environment's metrics (NOVELTY:
+-- archive, threshold, best_novelty)
+host.open_log(first, algo.log_columns)
 local since_curve = 0
 local last_checkpoint = os.clock()
 
@@ -287,6 +289,10 @@ for gen = first, generations - 1 do
 	-- network of the `best` column; a team task's learning team (its
 	-- number in the task) and the generation's share of episodes won
 	local row = metrics[best_i]
+	if algo.log_columns then
+		row = { table.unpack(row) }
+		for _, v in ipairs(pop:log_row()) do row[#row + 1] = v end
+	end
 	if t then
 		row = { table.unpack(row) }
 		row[#row + 1] = learners[k].index
