@@ -4,9 +4,9 @@
  * itself, at run time, both ways: each key or option the table documents
  * is one evo reads, each one evo reads is documented, and each documented
  * default is the value evo uses when the key is left out.
- *   - docs/learning.md, the NEAT, GENETIC, ANNEALING and CMA-ES tables: the
- *     method's module (lua/learn/neat.lua, ...) is loaded and its
- *     task_keys and defaults tables read;
+ *   - docs/learning.md, the NEAT, GENETIC, ANNEALING, CMA-ES and NOVELTY
+ *     tables: the method's module (lua/learn/neat.lua, ...) is loaded and
+ *     its task_keys and defaults tables read;
  *   - the same tables' `range` column: each key's range as the method's
  *     `ranges` table gives it (in common.range_text's words), or as
  *     core's table of keys does (evo_simbatch_key_range);
@@ -810,9 +810,10 @@ static int genetic_width(int n_in, int n_out)
 static int a_method_reads(const char *key)
 {
 	static const char *const modules[] = {"learn.neat", "learn.genetic",
-					      "learn.annealing", "learn.cmaes"};
+					      "learn.annealing", "learn.cmaes",
+					      "learn.novelty"};
 	int found = 0;
-	for (int i = 0; i < 4; i++) {
+	for (int i = 0; i < 5; i++) {
 		if (push_module(modules[i]))
 			continue;
 		lua_getfield(learn_L, -1, "task_keys");
@@ -831,7 +832,8 @@ static int render_task_default(const char *key, int in_learning, char *out,
 			       size_t cap)
 {
 	if (strcmp(key, "NEAT_*") == 0 || strcmp(key, "GA_*") == 0 ||
-	    strcmp(key, "SA_*") == 0 || strcmp(key, "CMAES_*") == 0) {
+	    strcmp(key, "SA_*") == 0 || strcmp(key, "CMAES_*") == 0 ||
+	    strcmp(key, "NOVELTY_*") == 0) {
 		/* the reader keeps every key with the prefix, for the method */
 		char text[64];
 		evo_simbatch sb;
@@ -1843,6 +1845,8 @@ static doc_table annealing_t = {.file = "docs/learning.md",
 				.heading = "ANNEALING's parameters"};
 static doc_table cmaes_t = {.file = "docs/learning.md",
 			    .heading = "CMA-ES's parameters"};
+static doc_table novelty_t = {.file = "docs/learning.md",
+			      .heading = "NOVELTY's parameters"};
 static doc_table task_keys_t = {.file = "docs/learning.md",
 				.heading = "The task's keys"};
 static doc_table simbatch_t = {.file = "docs/formats.md",
@@ -1855,7 +1859,7 @@ static doc_table continuous_t = {
     .heading = "Training the whole hierarchy (LEARNSIMCONTINUOUS)"};
 
 static doc_table *const checked[] = {
-    &neat_t,	 &genetic_t, &annealing_t, &cmaes_t,
+    &neat_t,	 &genetic_t, &annealing_t, &cmaes_t, &novelty_t,
     &task_keys_t, &simbatch_t, &lua_t,	   &teams_t,
     &continuous_t};
 
@@ -1939,6 +1943,7 @@ int main(void)
 	check_method_table(&genetic_t, "learn.genetic");
 	check_method_table(&annealing_t, "learn.annealing");
 	check_method_table(&cmaes_t, "learn.cmaes");
+	check_method_table(&novelty_t, "learn.novelty");
 	learning_run();
 	check_task_table(&task_keys_t, 1, 0);
 	check_task_table(&simbatch_t, 0, 1);
