@@ -21,6 +21,10 @@ static const char *const detector_keys[] = {"name",  "x",     "y",
 static const char *const movement_keys[] = {"name", "scale", NULL};
 static const char *const name_keys[] = {"name", NULL};
 static const char *const constant_keys[] = {"name", "value", NULL};
+static const char *const radar_keys[] = {"name", "target", "angle", "arc",
+					 NULL};
+static const char *const bumper_keys[] = {"name", "angle", "arc", "reach",
+					  "sees", NULL};
 
 static const char *const *const sensor_keys[EVO_SENSOR_KIND_COUNT] = {
     [EVO_SENSOR_PROXIMITY] = proximity_keys,
@@ -33,6 +37,8 @@ static const char *const *const sensor_keys[EVO_SENSOR_KIND_COUNT] = {
     [EVO_SENSOR_RANDOM] = name_keys,
     [EVO_SENSOR_CONSTANT] = constant_keys,
     [EVO_SENSOR_HOLDING] = name_keys,
+    [EVO_SENSOR_RADAR] = radar_keys,
+    [EVO_SENSOR_BUMPER] = bumper_keys,
 };
 
 /* `sees`: what a proximity sensor's rays hit, into d's mask and its
@@ -130,6 +136,8 @@ SENSOR_FN(movement, EVO_SENSOR_MOVEMENT)
 SENSOR_FN(random, EVO_SENSOR_RANDOM)
 SENSOR_FN(constant, EVO_SENSOR_CONSTANT)
 SENSOR_FN(holding, EVO_SENSOR_HOLDING)
+SENSOR_FN(radar, EVO_SENSOR_RADAR)
+SENSOR_FN(bumper, EVO_SENSOR_BUMPER)
 
 /* Each kind's options: a wheel has no reach and a claw no force, so
  * either one given to the other is an error, as for the sensors. */
@@ -137,13 +145,22 @@ static const char *const wheel_keys[] = {"name", "x", "y", "angle",
 					 "max_force", NULL};
 static const char *const claw_keys[] = {"name", "x", "y", "angle", "reach",
 					NULL};
+static const char *const speed_wheel_keys[] = {"name", "x", "y", "max_speed",
+					       NULL};
+static const char *const drive_keys[] = {"name", "turn", "max_speed", "accel",
+					 NULL};
+static const char *const *const actuator_keys[EVO_ACTUATOR_KIND_COUNT] = {
+    [EVO_ACTUATOR_WHEEL] = wheel_keys,
+    [EVO_ACTUATOR_CLAW] = claw_keys,
+    [EVO_ACTUATOR_SPEED_WHEEL] = speed_wheel_keys,
+    [EVO_ACTUATOR_DRIVE] = drive_keys,
+};
 
 static int add_actuator(lua_State *L, evo_actuator_kind kind,
 			const char *what)
 {
 	int bot = evo_lua_check_bot(L, 1);
-	evo_lua_check_keys(L, 2, what,
-			   kind == EVO_ACTUATOR_CLAW ? claw_keys : wheel_keys);
+	evo_lua_check_keys(L, 2, what, actuator_keys[kind]);
 	evo_actuator_def d = evo_default_actuator_def(kind);
 	d.name = evo_lua_opt_str(L, 2, "name", NULL, what);
 	if (!d.name)
@@ -154,6 +171,14 @@ static int add_actuator(lua_State *L, evo_actuator_kind kind,
 		  EVO_LUA_DEG;
 	d.max_force = evo_lua_opt_num(L, 2, "max_force", d.max_force, what);
 	d.reach = evo_lua_opt_num(L, 2, "reach", d.reach, what);
+	/* a drive's turn rate is given in degrees, as every angle in Lua */
+	lua_getfield(L, 2, "turn");
+	d.turn = lua_toboolean(L, -1);
+	lua_pop(L, 1);
+	double unit = d.turn ? EVO_LUA_DEG : 1;
+	d.max_speed =
+	    evo_lua_opt_num(L, 2, "max_speed", d.max_speed / unit, what) * unit;
+	d.accel = evo_lua_opt_num(L, 2, "accel", d.accel / unit, what) * unit;
 	lua_pushinteger(
 	    L, evo_lua_scene_result(
 		   L, evo_scene_add_actuator(evo_lua_ctx(L)->sc, bot, &d)) +
@@ -169,6 +194,16 @@ static int wheel(lua_State *L)
 static int claw(lua_State *L)
 {
 	return add_actuator(L, EVO_ACTUATOR_CLAW, "bot:claw");
+}
+
+static int speed_wheel(lua_State *L)
+{
+	return add_actuator(L, EVO_ACTUATOR_SPEED_WHEEL, "bot:speed_wheel");
+}
+
+static int drive(lua_State *L)
+{
+	return add_actuator(L, EVO_ACTUATOR_DRIVE, "bot:drive");
 }
 
 /* bot:target(sensor name, element or "nearest_object"): what a tracker
@@ -280,6 +315,8 @@ static const char *const sensor_kind_names[EVO_SENSOR_KIND_COUNT] = {
     [EVO_SENSOR_RANDOM] = "random",
     [EVO_SENSOR_CONSTANT] = "constant",
     [EVO_SENSOR_HOLDING] = "holding",
+    [EVO_SENSOR_RADAR] = "radar",
+    [EVO_SENSOR_BUMPER] = "bumper",
 };
 
 /* bot:sensors(kind[, "untargeted"]): the names of the bot's sensors of a
@@ -354,8 +391,12 @@ const luaL_Reg evo_lua_bot_methods[] = {
     {"random", sensor_random},
     {"constant", sensor_constant},
     {"holding", sensor_holding},
+    {"radar", sensor_radar},
+    {"bumper", sensor_bumper},
     {"wheel", wheel},
     {"claw", claw},
+    {"speed_wheel", speed_wheel},
+    {"drive", drive},
     {"target", bot_target},
     {"pose", bot_pose},
     {"place", bot_place},

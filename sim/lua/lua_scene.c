@@ -123,6 +123,25 @@ static int scene_box(lua_State *L)
 	return add_element(L, EVO_ELEM_BOX, "scene:box");
 }
 
+/* scene:wall{x1, y1, x2, y2}: a wall of no thickness (docs/lua.md). */
+static int scene_wall(lua_State *L)
+{
+	static const char *const keys[] = {"x1", "y1", "x2", "y2", NULL};
+	const char *what = "scene:wall";
+	evo_lua_check_keys(L, 2, what, keys);
+	double v[4];
+	for (int i = 0; i < 4; i++) {
+		lua_getfield(L, 2, keys[i]);
+		if (!lua_isnumber(L, -1))
+			luaL_error(L, "%s: %s must be a number", what, keys[i]);
+		v[i] = lua_tonumber(L, -1);
+		lua_pop(L, 1);
+	}
+	evo_lua_scene_result(L, evo_scene_add_wall(evo_lua_ctx(L)->sc, v[0],
+						    v[1], v[2], v[3]));
+	return 0;
+}
+
 static int scene_zone(lua_State *L)
 {
 	return add_element(L, EVO_ELEM_ZONE, "scene:zone");
@@ -728,6 +747,7 @@ const luaL_Reg evo_lua_scene_methods[] = {
     {"winner", scene_winner},
     {"cylinder", scene_cylinder},
     {"box", scene_box},
+    {"wall", scene_wall},
     {"zone", scene_zone},
     {"object", scene_object},
     {"grid", scene_grid},

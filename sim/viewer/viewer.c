@@ -123,6 +123,7 @@ int evo_view_bot_at(const evo_scene *sc, double x, double y)
 
 #define GRID_LINE     0xE0DED6u
 #define OBSTACLE_EDGE 0x5E5E5Eu
+#define WALL_WIDTH 3.0 /* pixels: a maze's walls have no thickness */
 #define ZONE_EDGE     0x2A8C3Au
 #define ZONE_OFF      0xA8A8A8u
 #define OBJECT_EDGE   0xA0560Au
@@ -178,6 +179,14 @@ static void draw_obstacle(evo_raster *im, const evo_view_camera *cam,
 		evo_view_to_screen(cam, o->x, o->y, &sx, &sy);
 		evo_raster_fill_circle(im, sx, sy, r, EVO_VIEW_OBSTACLE, 255);
 		evo_raster_circle(im, sx, sy, r, 1, OBSTACLE_EDGE, 255);
+		return;
+	}
+	if (o->shape == EVO_SHAPE_SEGMENT) {
+		double ax, ay, bx, by;
+		evo_view_to_screen(cam, o->x, o->y, &ax, &ay);
+		evo_view_to_screen(cam, o->x2, o->y2, &bx, &by);
+		evo_raster_thick_line(im, ax, ay, bx, by, WALL_WIDTH,
+				      OBSTACLE_EDGE, 255);
 		return;
 	}
 	double bx[4], by[4];

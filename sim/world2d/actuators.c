@@ -29,6 +29,62 @@ static void wheel(evo_scene *sc, const evo_bot *b, const evo_actuator *a)
 	evo_body_apply_force(sc->world, b->body, f * ux, f * uy, wx, wy);
 }
 
+/* A command into [0, 1]; not a number is neutral. */
+static double command01(double c)
+{
+	return isnan(c) ? 0.5 : c < 0 ? 0 : c > 1 ? 1 : c;
+}
+
+/* A speed wheel's or drive's speed for this step (a->speed). */
+static void set_speed(evo_actuator *a)
+{
+	double u = 2 * command01(a->command) - 1;
+	const evo_actuator_def *d = &a->def;
+	if (d->kind == EVO_ACTUATOR_SPEED_WHEEL || d->accel <= 0) {
+		a->speed = u * d->max_speed;
+		return;
+	}
+	double v = a->speed + u * d->accel;
+	a->speed = v > d->max_speed ? d->max_speed
+		   : v < -d->max_speed ? -d->max_speed
+				       : v;
+}
+
+void evo_bot_drive(evo_scene *sc, int bot)
+{
+	assert(bot >= 0 && bot < sc->n_bots);
+	evo_bot *b = &sc->bot[bot];
+	/* Forward speed v and turn rate w: the drives' own, plus what fits
+	 * the speed wheels best (least squares of v - w y = speed over the
+	 * wheels at their sides y; for two at -h and +h, v is their mean
+	 * and w = (left - right) / 2h). */
+	double v = 0, w = 0, sum_s = 0, sum_ys = 0, sum_yy = 0;
+	int wheels = 0, driven = 0;
+	for (int i = 0; i < b->n_actuators; i++) {
+		const evo_actuator *a = &b->actuator[i];
+		if (a->def.kind == EVO_ACTUATOR_DRIVE) {
+			driven = 1;
+			if (a->def.turn)
+				w += a->speed;
+			else
+				v += a->speed;
+		} else if (a->def.kind == EVO_ACTUATOR_SPEED_WHEEL) {
+			wheels++;
+			sum_s += a->speed;
+			sum_ys += a->def.y * a->speed;
+			sum_yy += a->def.y * a->def.y;
+		}
+	}
+	if (!driven && !wheels)
+		return;
+	if (wheels) {
+		v += sum_s / wheels;
+		if (sum_yy > 0)
+			w -= sum_ys / sum_yy;
+	}
+	evo_body_set_velocity(sc->world, b->body, v * b->c, v * b->s, w);
+}
+
 static void claw_grab(evo_scene *sc, int bot, evo_actuator *a)
 {
 	evo_bot *b = &sc->bot[bot];
@@ -78,6 +134,10 @@ void evo_actuator_act(evo_scene *sc, int bot, int actuator)
 			claw_grab(sc, bot, a);
 		else if (a->previous >= 0.5 && a->command < 0.5)
 			claw_open(sc, a);
+		break;
+	case EVO_ACTUATOR_SPEED_WHEEL:
+	case EVO_ACTUATOR_DRIVE:
+		set_speed(a); /* evo_bot_drive sets the velocity */
 		break;
 	case EVO_ACTUATOR_KIND_COUNT:
 		break;

@@ -8,6 +8,10 @@
 /* Act on the actuator's command for one step (before the
  * physics steps). */
 void evo_actuator_act(evo_scene *sc, int bot, int actuator);
+/* Set a bot's velocity from its speed wheels and drives, after each of
+ * them acted (nothing for a bot with none): their forward speed along the
+ * heading and their turn rate (docs/world.md). */
+void evo_bot_drive(evo_scene *sc, int bot);
 /* Open every claw of a bot (reset, delivery). */
 void evo_bot_release(evo_scene *sc, int bot);
 

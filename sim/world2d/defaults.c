@@ -45,10 +45,13 @@ evo_sensor_def evo_default_sensor_def(evo_sensor_kind kind)
 	d.target = EVO_TARGET_NONE;
 	d.scale = kind == EVO_SENSOR_MOVEMENT ? 1.5 : 100.0;
 	d.reach = 1.5;
-	if (kind == EVO_SENSOR_OBJECT) {
-		d.x = 1.0;
+	if (kind == EVO_SENSOR_OBJECT || kind == EVO_SENSOR_RADAR ||
+	    kind == EVO_SENSOR_BUMPER) {
+		d.x = kind == EVO_SENSOR_OBJECT ? 1.0 : 0.0;
 		d.arc = 45.0 * M_PI / 180.0;
 	}
+	if (kind == EVO_SENSOR_BUMPER)
+		d.reach = 1.05;
 	d.value = 0.5;
 	return d;
 }
@@ -60,6 +63,7 @@ evo_actuator_def evo_default_actuator_def(evo_actuator_kind kind)
 	d.kind = kind;
 	d.max_force = 80.0;
 	d.reach = 1.5;
+	d.max_speed = 1.0;
 	if (kind == EVO_ACTUATOR_CLAW)
 		d.x = 1.0;
 	return d;

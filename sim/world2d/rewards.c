@@ -31,6 +31,9 @@ static const char *const reward_names[EVO_RW_KIND_COUNT] = {
     [EVO_RW_FORWARD_SPEED] = "ForwardSpeed",
     [EVO_RW_GATHER] = "Gather",
     [EVO_RW_LUA] = "Lua",
+    [EVO_RW_DISTANCE] = "Distance",
+    [EVO_RW_FINAL_DISTANCE] = "FinalDistance",
+    [EVO_RW_EFFORT] = "Effort",
 };
 
 static const char *const control_names[EVO_CF_KIND_COUNT] = {
@@ -40,6 +43,7 @@ static const char *const control_names[EVO_CF_KIND_COUNT] = {
     [EVO_CF_NEXT_ON_COLLISION_WITH_TARGET] = "NextOnCollisionWithTarget",
     [EVO_CF_NEXT_ON_SENSOR_BELOW] = "NextOnSensorBelowThreshold",
     [EVO_CF_LUA] = "Lua",
+    [EVO_CF_NEXT_ON_TARGET_REACHED] = "NextOnTargetReached",
 };
 
 /* Shorter spellings also accepted (evo's own enum names). */
@@ -141,6 +145,51 @@ static double closing_on_target(evo_scene *sc, evo_reward *r, evo_bot *b)
 	double v = r->previous >= 0 ? r->def.k * (r->previous - d) : 0;
 	r->previous = d;
 	return v;
+}
+
+/* Distance: k * the distance from the bot's centre to the target's, each
+ * step (Kheperax's target task pays -distance). Nothing without a
+ * target. */
+static double distance(evo_scene *sc, const evo_reward *r, const evo_bot *b)
+{
+	double tx, ty;
+	if (!evo_scene_target_pos(sc, r->def.bot, r->def.target, &tx, &ty))
+		return 0;
+	return r->def.k * hypot(tx - b->x, ty - b->y);
+}
+
+/* FinalDistance: the novelty-search maze's fitness, b - distance at the
+ * end, paid as the episode goes so that it needs no end: k2 + k * d on
+ * the first step, then k * (d - the previous d), which sum to k2 + k *
+ * the distance after the last step, wherever the episode stops. */
+static double final_distance(evo_scene *sc, evo_reward *r, const evo_bot *b)
+{
+	double tx, ty;
+	if (!evo_scene_target_pos(sc, r->def.bot, r->def.target, &tx, &ty))
+		return 0;
+	double d = hypot(tx - b->x, ty - b->y);
+	double v = r->previous >= 0 ? r->def.k * (d - r->previous)
+				    : r->def.k2 + r->def.k * d;
+	r->previous = d;
+	return v;
+}
+
+/* Effort: k * sum of (2c - 1)^2 over the bot's wheels of either kind, the
+ * commands of this step (Kheperax's fitness, with k = -0.025^2, sums the
+ * squares of the commanded wheel moves). */
+static double effort(const evo_bot *b, const evo_reward *r)
+{
+	double sum = 0;
+	for (int i = 0; i < b->n_actuators; i++) {
+		const evo_actuator *a = &b->actuator[i];
+		if (a->def.kind != EVO_ACTUATOR_WHEEL &&
+		    a->def.kind != EVO_ACTUATOR_SPEED_WHEEL)
+			continue;
+		double c = a->command;
+		c = isnan(c) ? 0.5 : c < 0 ? 0 : c > 1 ? 1 : c;
+		sum += (2 * c - 1) * (2 * c - 1);
+	}
+	return r->def.k * sum;
 }
 
 /* SensorOverThreshold: k * sum(v - threshold) over the listed sensors whose
@@ -350,6 +399,15 @@ double evo_reward_compute(evo_scene *sc, evo_reward *r, int *failed)
 	case EVO_RW_LUA:
 		v = lua_reward(sc, r, failed);
 		break;
+	case EVO_RW_DISTANCE:
+		v = distance(sc, r, b);
+		break;
+	case EVO_RW_FINAL_DISTANCE:
+		v = final_distance(sc, r, b);
+		break;
+	case EVO_RW_EFFORT:
+		v = effort(b, r);
+		break;
 	default:
 		v = 0;
 		break;
@@ -422,6 +480,15 @@ int evo_control_check(evo_scene *sc, evo_control *c)
 	case EVO_CF_NEXT_ON_SENSOR_BELOW: {
 		const evo_sensor *s = b ? sensor_at(b, c->def.sensor) : NULL;
 		return s && s->value < c->def.threshold;
+	}
+	/* NextOnTargetReached: the bot's centre within threshold of the
+	 * target's (the mazes' goal). */
+	case EVO_CF_NEXT_ON_TARGET_REACHED: {
+		double tx, ty;
+		return b &&
+		       evo_scene_target_pos(sc, c->def.bot, c->def.target, &tx,
+					    &ty) &&
+		       hypot(tx - b->x, ty - b->y) < c->def.threshold;
 	}
 	/* Lua: the scene's control hook decides; no hook goes on. */
 	case EVO_CF_LUA: {

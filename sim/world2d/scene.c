@@ -111,12 +111,16 @@ int evo_scene_add_obstacle(evo_scene *sc, const evo_obstacle *o)
 {
 	if (GROW(sc, obstacle, n_obstacles, cap_obstacles))
 		return -1;
-	int idx = o->shape == EVO_SHAPE_CIRCLE
-			  ? evo_world_add_static_circle(sc->world, o->x, o->y,
-							o->radius)
-			  : evo_world_add_static_box(sc->world, o->x, o->y,
-						     o->half_w, o->half_h,
-						     o->angle);
+	int idx;
+	if (o->shape == EVO_SHAPE_CIRCLE)
+		idx = evo_world_add_static_circle(sc->world, o->x, o->y,
+						  o->radius);
+	else if (o->shape == EVO_SHAPE_SEGMENT)
+		idx = evo_world_add_static_segment(sc->world, o->x, o->y,
+						   o->x2, o->y2);
+	else
+		idx = evo_world_add_static_box(sc->world, o->x, o->y,
+					       o->half_w, o->half_h, o->angle);
 	if (idx < 0)
 		return evo_fail(&sc->err, "an obstacle needs a positive size");
 	sc->obstacle[sc->n_obstacles] = *o;
@@ -149,6 +153,34 @@ int evo_scene_add_episode_obstacle(evo_scene *sc, const evo_obstacle *o)
 	    !isfinite(o->half_h))
 		return evo_fail(&sc->err, "obstacle: a value is not a number");
 	return evo_scene_add_obstacle(sc, o);
+}
+
+int evo_scene_add_wall(evo_scene *sc, double x1, double y1, double x2,
+		       double y2)
+{
+	double v[] = {x1, y1, x2, y2};
+	if (!finite_all(v, 4))
+		return evo_fail(&sc->err, "wall: a value is not a number");
+	if (sc->n_obstacles > sc->n_fixed_obstacles)
+		return evo_fail(&sc->err,
+				"walls must be added before the first reset");
+	evo_obstacle o;
+	memset(&o, 0, sizeof o);
+	o.shape = EVO_SHAPE_SEGMENT;
+	o.x = x1;
+	o.y = y1;
+	o.x2 = x2;
+	o.y2 = y2;
+	o.angle = atan2(y2 - y1, x2 - x1);
+	o.half_w = 0.5 * hypot(x2 - x1, y2 - y1);
+	int idx = evo_scene_add_obstacle(sc, &o);
+	if (idx < 0)
+		return evo_fail(&sc->err,
+				"wall (%g, %g) -> (%g, %g): its ends are closer "
+				"than 5 mm",
+				x1, y1, x2, y2);
+	sc->n_fixed_obstacles = sc->n_obstacles;
+	return idx;
 }
 
 int evo_scene_add_element(evo_scene *sc, const evo_element_def *d)
@@ -301,6 +333,13 @@ int evo_scene_add_sensor(evo_scene *sc, int bot, const evo_sensor_def *d)
 	    !(d->scale > 0))
 		return evo_fail(&sc->err, "sensor '%s': scale must be positive",
 				name);
+	if (d->kind == EVO_SENSOR_BUMPER && !(d->reach > 0))
+		return evo_fail(&sc->err, "sensor '%s': reach must be positive",
+				name);
+	if ((d->kind == EVO_SENSOR_BUMPER || d->kind == EVO_SENSOR_RADAR) &&
+	    !(d->arc >= 0))
+		return evo_fail(&sc->err, "sensor '%s': arc must be 0 or more",
+				name);
 	if (check_target(sc, d->target, name))
 		return -1;
 	if (d->kind == EVO_SENSOR_ZONE && d->target != EVO_TARGET_NONE &&
@@ -349,10 +388,18 @@ int evo_scene_add_actuator(evo_scene *sc, int bot, const evo_actuator_def *d)
 		return -1;
 	evo_bot *b = &sc->bot[bot];
 	const char *name = d->name ? d->name : "";
-	double v[] = {d->x, d->y, d->angle, d->max_force, d->reach};
-	if (!finite_all(v, 5))
+	double v[] = {d->x,	    d->y,	  d->angle, d->max_force,
+		      d->reach, d->max_speed, d->accel};
+	if (!finite_all(v, 7))
 		return evo_fail(&sc->err,
 				"actuator '%s': a value is not a number", name);
+	if ((d->kind == EVO_ACTUATOR_SPEED_WHEEL ||
+	     d->kind == EVO_ACTUATOR_DRIVE) &&
+	    (!(d->max_speed > 0) || d->accel < 0))
+		return evo_fail(&sc->err,
+				"actuator '%s': max_speed must be positive "
+				"and accel 0 or more",
+				name);
 	if ((unsigned)d->kind >= EVO_ACTUATOR_KIND_COUNT)
 		return evo_fail(&sc->err, "actuator '%s': unknown kind %d",
 				name, (int)d->kind);
@@ -401,6 +448,11 @@ int evo_scene_add_reward(evo_scene *sc, const evo_reward_def *d)
 	if (d->kind == EVO_RW_COLLECT &&
 	    (d->target < 0 || sc->element[d->target].kind != EVO_ELEM_ZONE))
 		return evo_fail(&sc->err, "reward Collect needs a zone");
+	if ((d->kind == EVO_RW_DISTANCE || d->kind == EVO_RW_FINAL_DISTANCE) &&
+	    d->target == EVO_TARGET_NONE)
+		return evo_fail(&sc->err, "reward %s needs a target",
+				d->kind == EVO_RW_DISTANCE ? "Distance"
+							   : "FinalDistance");
 	if (d->kind == EVO_RW_CLOSING_ON_TARGET && d->target == EVO_TARGET_NONE)
 		return evo_fail(&sc->err,
 				"reward ClosingOnTarget needs a target");
@@ -429,6 +481,10 @@ int evo_scene_add_control(evo_scene *sc, const evo_control_def *d)
 	    (d->target < 0 || sc->element[d->target].kind == EVO_ELEM_ZONE))
 		return evo_fail(&sc->err, "control NextOnCollisionWithTarget "
 					  "needs a solid element");
+	if (d->kind == EVO_CF_NEXT_ON_TARGET_REACHED &&
+	    (d->target == EVO_TARGET_NONE || !(d->threshold >= 0)))
+		return evo_fail(&sc->err, "control NextOnTargetReached needs a "
+					  "target and a threshold of 0 or more");
 	if (GROW(sc, control, n_controls, cap_controls))
 		return -1;
 	evo_control *c = &sc->control[sc->n_controls];

@@ -91,6 +91,7 @@ typedef struct evo_obstacle {
 	double x, y, angle;
 	double radius;	       /* circle */
 	double half_w, half_h; /* box */
+	double x2, y2;	       /* segment: from (x, y) to (x2, y2) */
 } evo_obstacle;
 
 /* The tutorial's obstacle grid: one obstacle per cell of a square grid
@@ -123,6 +124,8 @@ typedef enum evo_sensor_kind {
 	EVO_SENSOR_RANDOM,	  /* uniform in [0, 1) from the scene's rng */
 	EVO_SENSOR_CONSTANT,	  /* value */
 	EVO_SENSOR_HOLDING,	  /* TRUE when the bot's claw holds an object */
+	EVO_SENSOR_RADAR,  /* TRUE when the target's bearing is within arc of angle */
+	EVO_SENSOR_BUMPER, /* TRUE when an obstacle within reach lies within arc of angle */
 	EVO_SENSOR_KIND_COUNT
 } evo_sensor_kind;
 
@@ -153,7 +156,8 @@ typedef struct evo_sensor_def {
 	int target; /* element index or EVO_TARGET_NEAREST_OBJECT */
 	/* distance (100), movement (1.5): the distance that reads 1 */
 	double scale;
-	/* object detector: reach ahead of (x, y) along angle */
+	/* object detector: reach ahead of (x, y) along angle; bumper: how
+	 * near the bot's centre a shape must come (1.05) */
 	double reach;
 	/* constant */
 	double value;
@@ -184,6 +188,10 @@ typedef enum evo_actuator_kind {
 	    0, /* force (2c - 1) * max_force along angle at (x, y) */
 	EVO_ACTUATOR_CLAW = 1, /* grabs on a rising crossing of 0.5, releases on
 				  a falling one */
+	/* Speed wheels and drives set the bot's velocity instead of pushing
+	 * it (the mazes' robots, docs/world.md): */
+	EVO_ACTUATOR_SPEED_WHEEL = 2, /* ground speed (2c - 1) * max_speed at (x, y) */
+	EVO_ACTUATOR_DRIVE = 3, /* forward speed or turn rate, set or accelerated */
 	EVO_ACTUATOR_KIND_COUNT
 } evo_actuator_kind;
 
@@ -193,6 +201,13 @@ typedef struct evo_actuator_def {
 	double x, y, angle; /* body frame */
 	double max_force;   /* wheel: 80 */
 	double reach;	    /* claw: 1.5, from (x, y) */
+	/* speed wheel, drive: the top speed, m/s (a turning drive: rad/s), 1 */
+	double max_speed;
+	/* drive: 0, the command sets the speed to (2c - 1) * max_speed;
+	 * above 0, it changes the speed by (2c - 1) * accel each step,
+	 * within +-max_speed */
+	double accel;
+	int turn; /* drive: 1 turns (+ clockwise on screen), 0 drives ahead */
 } evo_actuator_def;
 
 evo_actuator_def evo_default_actuator_def(evo_actuator_kind kind);
@@ -204,6 +219,7 @@ typedef struct evo_actuator {
 	double previous; /* the command of the previous step (claw edges) */
 	int held;	 /* claw: element index held, or -1 */
 	int joint;	 /* claw: the weld's id in the world, or -1 */
+	double speed;	 /* speed wheel, drive: the speed it set last step */
 	double dir_c, dir_s; /* cos and sin of def.angle */
 } evo_actuator;
 
@@ -258,6 +274,9 @@ typedef enum evo_reward_kind {
 	EVO_RW_FORWARD_SPEED, /* k * speed along the heading (< 0 backing) */
 	EVO_RW_GATHER, /* k for each object the bot touches, which leaves */
 	EVO_RW_LUA,    /* a Lua function (sim/lua/lua_hooks.c) */
+	EVO_RW_DISTANCE, /* k * distance to the target */
+	EVO_RW_FINAL_DISTANCE, /* sums to k2 + k * the distance at the end */
+	EVO_RW_EFFORT,	 /* k * sum of (2c - 1)^2 over the bot's wheels */
 	EVO_RW_KIND_COUNT
 } evo_reward_kind;
 
@@ -298,6 +317,7 @@ typedef enum evo_control_kind {
 	EVO_CF_NEXT_ON_COLLISION_WITH_TARGET, /* when the bot touches the target element */
 	EVO_CF_NEXT_ON_SENSOR_BELOW,	     /* when sensor's value < threshold */
 	EVO_CF_LUA,
+	EVO_CF_NEXT_ON_TARGET_REACHED, /* the bot's centre within threshold of the target's */
 	EVO_CF_KIND_COUNT
 } evo_control_kind;
 
@@ -402,6 +422,13 @@ int evo_scene_add_actuator(evo_scene *sc, int bot,
 int evo_scene_add_reward(evo_scene *sc, const evo_reward_def *def);
 int evo_scene_add_control(evo_scene *sc, const evo_control_def *def);
 void evo_scene_set_grid(evo_scene *sc, const evo_grid_def *def);
+
+/* A wall of no thickness from (x1, y1) to (x2, y2), for the whole run (the
+ * mazes' segments): a static obstacle that bots bump into and rays see.
+ * Added before the first reset. Its obstacle index, or -1 with sc->err
+ * set (a value that is not a number, two ends closer than 5 mm). */
+int evo_scene_add_wall(evo_scene *sc, double x1, double y1, double x2,
+		       double y2);
 
 /* Declare a metric: a name of letters, digits and '_' that does not start
  * with a digit, at most EVO_METRIC_NAME_MAX - 1 characters; at most

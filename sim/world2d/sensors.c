@@ -133,7 +133,7 @@ static void gather(const evo_scene *sc, const evo_bot *b, const box *area,
 		/* The bounding circle only culls (sample_proximity): sqrt
 		 * serves, without hypot's guard against overflow, a third of
 		 * the cost at world sizes. */
-		if (s->type == EVO_SHAPE_BOX) {
+		if (s->type != EVO_SHAPE_CIRCLE) {
 			double ex = s->vx[0] - s->x, ey = s->vy[0] - s->y;
 			s->radius = sqrt(ex * ex + ey * ey);
 		}
@@ -251,6 +251,42 @@ static double ray_box(const evo_shape_info *s, double px, double py, double dx,
 	return entered ? lower : max;
 }
 
+/* The segment p -> p + d against a wall (a segment a -> b, both of its
+ * sides), as b2EdgeShape::RayCast does: where the ray's line meets the
+ * wall's line, if that lies within [0, max] of the ray and within the wall,
+ * ends included. */
+static double ray_segment(const evo_shape_info *s, double px, double py,
+			  double dx, double dy, double max)
+{
+	double ex = s->vx[1] - s->vx[0], ey = s->vy[1] - s->vy[0];
+	/* the wall's normal, not normalised: t is a ratio */
+	double nx = ey, ny = -ex;
+	double num = nx * (s->vx[0] - px) + ny * (s->vy[0] - py);
+	double den = nx * dx + ny * dy;
+	if (den == 0)
+		return max; /* parallel */
+	double t = num / den;
+	if (t < 0 || t > max)
+		return max;
+	double qx = px + t * dx - s->vx[0], qy = py + t * dy - s->vy[0];
+	double u = (qx * ex + qy * ey) / (ex * ex + ey * ey);
+	return u >= 0 && u <= 1 ? t : max;
+}
+
+static double ray_shape(const evo_shape_info *s, double px, double py,
+			double dx, double dy, double max)
+{
+	switch (s->type) {
+	case EVO_SHAPE_CIRCLE:
+		return ray_circle(s, px, py, dx, dy, max);
+	case EVO_SHAPE_SEGMENT:
+		return ray_segment(s, px, py, dx, dy, max);
+	case EVO_SHAPE_BOX:
+		break;
+	}
+	return ray_box(s, px, py, dx, dy, max);
+}
+
 /* A proximity sensor against the shapes of set. */
 static double sample_proximity(evo_sensor *se, const frame *f,
 			       const shape_set *set)
@@ -297,12 +333,8 @@ static double sample_proximity(evo_sensor *se, const frame *f,
 			if (ox * fy - oy * fx > rr || oy * lx - ox * ly > rr)
 				continue;
 		}
-		for (int i = 0; i < n; i++) {
-			best[i] =
-			    s->type == EVO_SHAPE_CIRCLE
-				? ray_circle(s, px, py, dx[i], dy[i], best[i])
-				: ray_box(s, px, py, dx[i], dy[i], best[i]);
-		}
+		for (int i = 0; i < n; i++)
+			best[i] = ray_shape(s, px, py, dx[i], dy[i], best[i]);
 	}
 
 	/* Rays past n keep the 1 evo_scene_add_sensor gave them. */
@@ -312,6 +344,106 @@ static double sample_proximity(evo_sensor *se, const frame *f,
 		nearest = best[i] < nearest ? best[i] : nearest;
 	}
 	return nearest < d->deadzone ? 0 : clamp01(nearest);
+}
+
+/* ---- bumper and radar -------------------------------------------------- */
+
+/* An angle into (-pi, pi]. */
+static double wrap_angle(double a)
+{
+	a = fmod(a, 2 * M_PI);
+	if (a > M_PI)
+		a -= 2 * M_PI;
+	else if (a <= -M_PI)
+		a += 2 * M_PI;
+	return a;
+}
+
+/* The nearest point of the segment a -> b to p, the parameter clamped to
+ * [0, 1] (Kheperax's bumper rule, docs/world.md). */
+static void nearest_on_segment(double ax, double ay, double bx, double by,
+			       double px, double py, double *qx, double *qy)
+{
+	double ex = bx - ax, ey = by - ay;
+	double ee = ex * ex + ey * ey;
+	double t = ee > 0 ? ((px - ax) * ex + (py - ay) * ey) / ee : 0;
+	t = t < 0 ? 0 : t > 1 ? 1 : t;
+	*qx = ax + t * ex;
+	*qy = ay + t * ey;
+}
+
+/* The point of shape s nearest to (px, py): on a circle's rim, on a
+ * wall, or on a box's outline. */
+static void nearest_point(const evo_shape_info *s, double px, double py,
+			  double *qx, double *qy)
+{
+	if (s->type == EVO_SHAPE_CIRCLE) {
+		double dx = px - s->x, dy = py - s->y;
+		double d = sqrt(dx * dx + dy * dy);
+		double k = d > 0 ? s->radius / d : 0;
+		*qx = s->x + dx * k;
+		*qy = s->y + dy * k;
+		return;
+	}
+	int corners = s->type == EVO_SHAPE_SEGMENT ? 1 : 4;
+	double best = INFINITY;
+	*qx = s->vx[0];
+	*qy = s->vy[0];
+	for (int i = 0; i < corners; i++) {
+		int j = s->type == EVO_SHAPE_SEGMENT ? 1 : (i + 1) & 3;
+		double x, y;
+		nearest_on_segment(s->vx[i], s->vy[i], s->vx[j], s->vy[j], px,
+				   py, &x, &y);
+		double d = (x - px) * (x - px) + (y - py) * (y - py);
+		if (d < best) {
+			best = d;
+			*qx = x;
+			*qy = y;
+		}
+	}
+}
+
+/* A bumper: true when the nearest point of some shape it sees lies
+ * within reach of the bot's centre, in a direction within arc of the
+ * bumper's angle; of the two ends of that arc, the one nearer straight
+ * ahead counts and the other does not (Kheperax's rule: its bumpers cover
+ * (-90, 0] and [0, 90) degrees). */
+static double sample_bumper(const evo_sensor *se, const frame *f,
+			    const shape_set *set)
+{
+	const evo_sensor_def *d = &se->def;
+	double heading = atan2(f->s, f->c);
+	for (int k = 0; k < set->n; k++) {
+		const evo_shape_info *s = &set->s[k];
+		if (!(s->category & d->mask))
+			continue;
+		double qx, qy;
+		nearest_point(s, f->x, f->y, &qx, &qy);
+		double dx = qx - f->x, dy = qy - f->y;
+		if (dx * dx + dy * dy >= d->reach * d->reach)
+			continue;
+		double delta = wrap_angle(atan2(dy, dx) - heading);
+		double off = fabs(wrap_angle(delta - d->angle));
+		if (off < d->arc ||
+		    (off == d->arc && fabs(delta) < fabs(d->angle)))
+			return EVO_TRUE;
+	}
+	return EVO_FALSE;
+}
+
+/* A radar: true when the target's bearing from the bot's centre, from
+ * its heading, lies in [angle - arc, angle + arc) (one slice of the
+ * novelty-search robot's pie). */
+static double sample_radar(const evo_scene *sc, int bot,
+			   const evo_sensor_def *d, const frame *f)
+{
+	double tx, ty;
+	if (!evo_scene_target_pos(sc, bot, d->target, &tx, &ty))
+		return EVO_FALSE;
+	double ox = tx - f->x, oy = ty - f->y;
+	double a = atan2(-f->s * ox + f->c * oy, f->c * ox + f->s * oy);
+	double delta = wrap_angle(a - d->angle);
+	return boolean(delta >= -d->arc && delta < d->arc);
 }
 
 /* ---- the others ------------------------------------------------------- */
@@ -404,6 +536,10 @@ static double sample(evo_scene *sc, int bot, evo_sensor *se, const frame *f,
 		return clamp01(d->value);
 	case EVO_SENSOR_HOLDING:
 		return boolean(holding(b));
+	case EVO_SENSOR_RADAR:
+		return sample_radar(sc, bot, d, f);
+	case EVO_SENSOR_BUMPER:
+		return sample_bumper(se, f, set);
 	case EVO_SENSOR_KIND_COUNT:
 		break;
 	}
@@ -423,6 +559,10 @@ double evo_sensor_sample(evo_scene *sc, int bot, int sensor)
 	if (se->def.kind == EVO_SENSOR_PROXIMITY) {
 		box area = {INFINITY, INFINITY, -INFINITY, -INFINITY};
 		fan_box(se, &f, &area);
+		gather(sc, b, &area, se->def.mask, &set);
+	} else if (se->def.kind == EVO_SENSOR_BUMPER) {
+		double r = se->def.reach;
+		box area = {f.x - r, f.y - r, f.x + r, f.y + r};
 		gather(sc, b, &area, se->def.mask, &set);
 	}
 	se->value = sample(sc, bot, se, &f, &set);
@@ -445,9 +585,13 @@ static uint16_t bot_area(const evo_bot *b, const frame *f, box *area)
 {
 	uint16_t mask = 0;
 	int n = 0;
-	double reach = 0;
+	double reach = 0, bump = 0;
 	for (int i = 0; i < b->n_sensors; i++) {
 		const evo_sensor *se = &b->sensor[i];
+		if (se->def.kind == EVO_SENSOR_BUMPER && !se->idle) {
+			bump = se->def.reach > bump ? se->def.reach : bump;
+			mask |= se->def.mask;
+		}
 		if (se->def.kind != EVO_SENSOR_PROXIMITY || se->idle)
 			continue;
 		double r = sensor_reach(&se->def);
@@ -456,6 +600,7 @@ static uint16_t bot_area(const evo_bot *b, const frame *f, box *area)
 		n++;
 	}
 	if (n > 2) {
+		reach = reach > bump ? reach : bump;
 		area->x0 = f->x - reach;
 		area->y0 = f->y - reach;
 		area->x1 = f->x + reach;
@@ -468,6 +613,11 @@ static uint16_t bot_area(const evo_bot *b, const frame *f, box *area)
 		const evo_sensor *se = &b->sensor[i];
 		if (se->def.kind == EVO_SENSOR_PROXIMITY && !se->idle)
 			fan_box(se, f, area);
+	}
+	if (bump > 0) {
+		/* bumpers: the square around the bot they reach */
+		box_add(area, f->x - bump, f->y - bump);
+		box_add(area, f->x + bump, f->y + bump);
 	}
 	return mask;
 }
@@ -544,7 +694,8 @@ static shape_bounds bounds_of(const evo_shape_info *s)
 	} else {
 		x0 = x1 = s->vx[0];
 		y0 = y1 = s->vy[0];
-		for (int k = 1; k < 4; k++) {
+		int corners = s->type == EVO_SHAPE_SEGMENT ? 2 : 4;
+		for (int k = 1; k < corners; k++) {
 			x0 = s->vx[k] < x0 ? s->vx[k] : x0;
 			x1 = s->vx[k] > x1 ? s->vx[k] : x1;
 			y0 = s->vy[k] < y0 ? s->vy[k] : y0;
@@ -721,7 +872,7 @@ void evo_sense_all(evo_scene *sc)
 			}
 			evo_shape_info *d = &set.local[set.n++];
 			*d = *sh;
-			if (d->type == EVO_SHAPE_BOX) {
+			if (d->type != EVO_SHAPE_CIRCLE) {
 				double ex = d->vx[0] - d->x,
 				       ey = d->vy[0] - d->y;
 				d->radius = sqrt(ex * ex + ey * ey);

@@ -34,6 +34,7 @@ static void reset_bot(evo_scene *sc, int i)
 	evo_scene_place_bot(sc, i, b->def.x, b->def.y, b->def.angle);
 	for (int k = 0; k < b->n_actuators; k++) {
 		b->actuator[k].command = b->actuator[k].previous = 0.5;
+		b->actuator[k].speed = 0;
 	}
 	b->hist_n = b->hist_i = 0;
 	b->touching = b->collisions = b->delivered = b->gathered = 0;
@@ -107,9 +108,11 @@ void evo_scene_sense(evo_scene *sc)
 
 int evo_scene_step(evo_scene *sc)
 {
-	for (int i = 0; i < sc->n_bots; i++)
+	for (int i = 0; i < sc->n_bots; i++) {
 		for (int k = 0; k < sc->bot[i].n_actuators; k++)
 			evo_actuator_act(sc, i, k);
+		evo_bot_drive(sc, i);
+	}
 	evo_world_step(sc->world);
 	sc->tick++;
 	for (int i = 0; i < sc->n_bots; i++) {

@@ -40,6 +40,7 @@ typedef struct evo_body_id {
 typedef enum evo_shape_type {
 	EVO_SHAPE_CIRCLE = 0,
 	EVO_SHAPE_BOX = 1,
+	EVO_SHAPE_SEGMENT = 2, /* a static wall of no thickness (mazes) */
 } evo_shape_type;
 
 /* Collision categories: a body collides with another when each one's
@@ -110,6 +111,12 @@ typedef struct evo_pose {
 	double x, y, angle;
 } evo_pose;
 
+/* A wall of no thickness from (x1, y1) to (x2, y2): the segments of the
+ * mazes (docs/world.md). Returns the obstacle's index, or -1 when the two
+ * ends are closer than Box2D can tell apart (about 5 mm). */
+int evo_world_add_static_segment(evo_world *w, double x1, double y1,
+				 double x2, double y2) EVO_WORLD_NOEXCEPT;
+
 evo_pose evo_body_pose(const evo_world *w, evo_body_id id) EVO_WORLD_NOEXCEPT;
 void evo_body_set_pose(evo_world *w, evo_body_id id,
 		       evo_pose p) EVO_WORLD_NOEXCEPT;
@@ -161,9 +168,10 @@ double evo_world_raycast(const evo_world *w, double x1, double y1, double x2,
 typedef struct evo_shape_info {
 	evo_shape_type type;
 	uint16_t category;
-	double x, y;	  /* centre */
+	double x, y;	  /* centre (a segment's middle) */
 	double radius;	  /* circle */
-	double vx[4], vy[4]; /* box corners, counter-clockwise */
+	double vx[4], vy[4]; /* box corners, counter-clockwise; a segment's
+				two ends in vx[0..1], vy[0..1] */
 	evo_body_id body; /* EVO_BODY_NONE for static obstacles */
 	int obstacle;	  /* the obstacle's index, -1 for a body */
 } evo_shape_info;

@@ -259,6 +259,17 @@ int evo_world_add_static_box(evo_world *w, double x, double y, double half_w,
 	return add_obstacle(w, &p);
 }
 
+int evo_world_add_static_segment(evo_world *w, double x1, double y1,
+				 double x2, double y2) noexcept
+{
+	b2Vec2 a((float)x1, (float)y1), b((float)x2, (float)y2);
+	if (!(b2DistanceSquared(a, b) > b2_linearSlop * b2_linearSlop))
+		return -1;
+	b2EdgeShape e;
+	e.SetTwoSided(a, b);
+	return add_obstacle(w, &e);
+}
+
 evo_pose evo_body_pose(const evo_world *w, evo_body_id id) noexcept
 {
 	const b2Body *b = lookup(w, id);
@@ -435,6 +446,18 @@ struct Collect : b2QueryCallback {
 				s.x = p.x;
 				s.y = p.y;
 				s.radius = c->m_radius;
+			} else if (f->GetType() == b2Shape::e_edge) {
+				const b2EdgeShape *e =
+					(const b2EdgeShape *)f->GetShape();
+				b2Vec2 a = b2Mul(xf, e->m_vertex1);
+				b2Vec2 b = b2Mul(xf, e->m_vertex2);
+				s.type = EVO_SHAPE_SEGMENT;
+				s.x = 0.5 * ((double)a.x + b.x);
+				s.y = 0.5 * ((double)a.y + b.y);
+				s.vx[0] = a.x;
+				s.vy[0] = a.y;
+				s.vx[1] = b.x;
+				s.vy[1] = b.y;
 			} else {
 				const b2PolygonShape *p =
 					(const b2PolygonShape *)f->GetShape();

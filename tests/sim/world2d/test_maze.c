@@ -1,0 +1,421 @@
+/* The mazes' pieces (docs/world.md, "The mazes"): walls of no thickness,
+ * radars, bumpers, speed wheels and drives, the rewards Distance,
+ * FinalDistance and Effort, the control NextOnTargetReached, each against
+ * values worked out by hand; then the built-in maze environments, whose
+ * sensors at the start read what the published geometry gives; and a NEAT
+ * task on a maze that runs. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "harness.h"
+#include "lua/lua_evo.h"
+#include "support/cli.h"
+#include "support/scenes.h"
+#include "world2d/scene.h"
+#include "world2d/sensors.h"
+
+#define NEAR(a, b, tol) (fabs((a) - (b)) <= (tol))
+#define DEG		(M_PI / 180.0)
+
+static double value(evo_scene *sc, int sensor)
+{
+	return sc->bot[0].sensor[sensor].value;
+}
+
+/* A rangefinder: one ray from the bot's centre, range 10. */
+static int add_finder(evo_scene *sc, double angle)
+{
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_PROXIMITY);
+	d.angle = angle;
+	d.range = 10;
+	d.arc = 0;
+	d.rays = 1;
+	d.deadzone = 0;
+	return evo_scene_add_sensor(sc, 0, &d);
+}
+
+/* A bot of radius 1 at the origin facing +x with no damping, so that
+ * speed wheels and drives move it by exactly what they set. */
+static evo_scene *scene_with_free_bot(void)
+{
+	evo_scene *sc = evo_scene_create();
+	evo_bot_def b = evo_default_bot_def();
+	b.name = "bot";
+	b.body.linear_damping = b.body.angular_damping = 0;
+	evo_scene_add_bot(sc, &b);
+	return sc;
+}
+
+static int add_speed_wheel(evo_scene *sc, const char *name, double y)
+{
+	evo_actuator_def d = evo_default_actuator_def(EVO_ACTUATOR_SPEED_WHEEL);
+	d.name = name;
+	d.y = y;
+	d.max_speed = 3;
+	return evo_scene_add_actuator(sc, 0, &d);
+}
+
+/* ---- walls ------------------------------------------------------------ */
+
+TEST(a_ray_reads_a_wall_and_misses_past_its_end)
+{
+	/* The wall x = 5, y in [-3, 3]. Ahead: 5 of 10. At 30 degrees the ray
+	 * meets x = 5 at y = 5 tan 30 = 2.887, on the wall, 5 / cos 30 =
+	 * 5.7735 away. At 45 degrees it would meet it at y = 5, past its
+	 * end. */
+	evo_scene *sc = scene_with_bot(0, 0, 0);
+	CHECK(evo_scene_add_wall(sc, 5, -3, 5, 3) >= 0);
+	int ahead = add_finder(sc, 0);
+	int at30 = add_finder(sc, 30 * DEG);
+	int at45 = add_finder(sc, 45 * DEG);
+	evo_scene_reset(sc, 1, 1);
+	evo_scene_sense(sc);
+	CHECK(NEAR(value(sc, ahead), 0.5, 1e-6));
+	CHECK(NEAR(value(sc, at30), 0.57735, 1e-5));
+	CHECK(value(sc, at45) == 1.0);
+	CHECK_EQ_INT(sc->obstacle[0].shape, EVO_SHAPE_SEGMENT);
+	evo_scene_destroy(sc);
+}
+
+TEST(a_wall_stops_a_bot)
+{
+	/* Driving at 3 m/s for 3 s towards the wall x = 5 from 0: a body of
+	 * radius 1 stops with its centre about 4 from the origin (Box2D's
+	 * contact skin: within a centimetre), never through. */
+	evo_scene *sc = scene_with_free_bot();
+	evo_scene_add_wall(sc, 5, -3, 5, 3);
+	int l = add_speed_wheel(sc, "L", -1), r = add_speed_wheel(sc, "R", 1);
+	evo_scene_reset(sc, 1, 1);
+	for (int t = 0; t < 90; t++) {
+		sc->bot[0].actuator[l].command = 1;
+		sc->bot[0].actuator[r].command = 1;
+		evo_scene_step(sc);
+	}
+	CHECK(NEAR(sc->bot[0].x, 4.0, 0.02));
+	CHECK(sc->bot[0].touching > 0);
+	CHECK(evo_scene_add_wall(sc, 1, 1, 1, 1) < 0); /* too late, and empty */
+	evo_scene_destroy(sc);
+}
+
+TEST(a_wall_of_no_length_is_refused)
+{
+	evo_scene *sc = scene_with_bot(0, 0, 0);
+	CHECK(evo_scene_add_wall(sc, 1, 1, 1.001, 1) < 0);
+	CHECK(strstr(sc->err.msg, "closer than 5 mm") != NULL);
+	CHECK(evo_scene_add_wall(sc, NAN, 1, 2, 1) < 0);
+	evo_scene_destroy(sc);
+}
+
+/* ---- radar ------------------------------------------------------------ */
+
+static int add_radar(evo_scene *sc, double angle, int target)
+{
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_RADAR);
+	d.angle = angle;
+	d.arc = 45 * DEG;
+	d.target = target;
+	return evo_scene_add_sensor(sc, 0, &d);
+}
+
+TEST(radars_cut_the_bearing_into_four_slices)
+{
+	/* Slices [-45, 45), [45, 135), [135, 225), [-135, -45) of the
+	 * bearing, + to the bot's right (+y). */
+	evo_scene *sc = scene_with_bot(0, 0, 0);
+	int goal = scene_add_element(sc, EVO_ELEM_ZONE, 3, 0, 0.5);
+	int s[4];
+	for (int k = 0; k < 4; k++)
+		s[k] = add_radar(sc, (k == 3 ? -90 : 90 * k) * DEG, goal);
+	evo_scene_reset(sc, 1, 1);
+	const struct {
+		double x, y;
+		int slice;
+	} cases[] = {
+	    {3, 0, 0},	/* ahead */
+	    {0, 3, 1},	/* 90: right */
+	    {3, 3, 1},	/* 45: the right slice's first edge, not the front's */
+	    {-3, 0, 2}, /* behind */
+	    {3, -3, 0}, /* -45: the front slice's first edge */
+	    {0, -3, 3}, /* -90: left */
+	};
+	for (size_t c = 0; c < sizeof cases / sizeof *cases; c++) {
+		evo_scene_place_element(sc, goal, cases[c].x, cases[c].y);
+		evo_scene_sense(sc);
+		for (int k = 0; k < 4; k++)
+			CHECK(value(sc, s[k]) ==
+			      (k == cases[c].slice ? EVO_TRUE : EVO_FALSE));
+	}
+	evo_scene_destroy(sc);
+}
+
+/* ---- bumper ----------------------------------------------------------- */
+
+static int add_bumper(evo_scene *sc, double angle)
+{
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_BUMPER);
+	d.angle = angle;
+	d.arc = M_PI / 4;
+	return evo_scene_add_sensor(sc, 0, &d);
+}
+
+TEST(bumpers_cover_the_front_quarters)
+{
+	/* Kheperax's bumpers: left over (-90, 0], right over [0, 90) degrees
+	 * from the heading, within reach (1.05) of the centre. */
+	const struct {
+		double x1, y1, x2, y2;
+		double left, right;
+	} cases[] = {
+	    /* straight ahead, 1.02 away: both */
+	    {1.02, -2, 1.02, 2, EVO_TRUE, EVO_TRUE},
+	    /* a wall at 45 degrees right, nearest point 1.03 away */
+	    {1.03 * M_SQRT2, 0, 0, 1.03 * M_SQRT2, EVO_FALSE, EVO_TRUE},
+	    /* at -45: left only */
+	    {1.03 * M_SQRT2, 0, 0, -1.03 * M_SQRT2, EVO_TRUE, EVO_FALSE},
+	    /* exactly at +90 (beside the bot): neither, as in Kheperax */
+	    {-2, 1.02, 2, 1.02, EVO_FALSE, EVO_FALSE},
+	    /* ahead but 1.2 away: out of reach */
+	    {1.2, -2, 1.2, 2, EVO_FALSE, EVO_FALSE},
+	};
+	for (size_t c = 0; c < sizeof cases / sizeof *cases; c++) {
+		evo_scene *sc = scene_with_bot(0, 0, 0);
+		evo_scene_add_wall(sc, cases[c].x1, cases[c].y1, cases[c].x2,
+				   cases[c].y2);
+		int left = add_bumper(sc, -M_PI / 4);
+		int right = add_bumper(sc, M_PI / 4);
+		evo_scene_reset(sc, 1, 1);
+		evo_scene_sense(sc);
+		CHECK(value(sc, left) == cases[c].left);
+		CHECK(value(sc, right) == cases[c].right);
+		/* one sensor on its own reads the same */
+		CHECK(evo_sensor_sample(sc, 0, right) == cases[c].right);
+		evo_scene_destroy(sc);
+	}
+}
+
+/* ---- speed wheels and drives ------------------------------------------ */
+
+TEST(speed_wheels_set_speed_and_turn)
+{
+	/* Both at full: 3 m/s ahead, 3 m in 30 steps of 1/30 s. Left full,
+	 * right full back: no speed, turn (3 - -3) / 2 = 3 rad/s to the
+	 * right, 1 rad in 10 steps. */
+	evo_scene *sc = scene_with_free_bot();
+	int l = add_speed_wheel(sc, "L", -1), r = add_speed_wheel(sc, "R", 1);
+	evo_scene_reset(sc, 1, 1);
+	for (int t = 0; t < 30; t++) {
+		sc->bot[0].actuator[l].command = 1;
+		sc->bot[0].actuator[r].command = 1;
+		evo_scene_step(sc);
+	}
+	CHECK(NEAR(sc->bot[0].x, 3.0, 1e-4));
+	CHECK(NEAR(sc->bot[0].y, 0.0, 1e-6));
+	evo_scene_reset(sc, 1, 1);
+	for (int t = 0; t < 10; t++) {
+		sc->bot[0].actuator[l].command = 1;
+		sc->bot[0].actuator[r].command = 0;
+		evo_scene_step(sc);
+	}
+	CHECK(NEAR(sc->bot[0].angle, 1.0, 1e-4));
+	CHECK(NEAR(sc->bot[0].x, 0.0, 1e-5));
+	evo_scene_destroy(sc);
+}
+
+TEST(an_accelerating_drive_adds_up_to_its_top_speed)
+{
+	/* accel 0.5 at full command: speeds 0.5, 1, ..., 3 (the top) over six
+	 * steps, 10.5 / 30 = 0.35 m; then 3 m/s: 0.1 m a step. */
+	evo_scene *sc = scene_with_free_bot();
+	evo_actuator_def d = evo_default_actuator_def(EVO_ACTUATOR_DRIVE);
+	d.name = "SPEED";
+	d.max_speed = 3;
+	d.accel = 0.5;
+	int a = evo_scene_add_actuator(sc, 0, &d);
+	evo_scene_reset(sc, 1, 1);
+	for (int t = 0; t < 6; t++) {
+		sc->bot[0].actuator[a].command = 1;
+		evo_scene_step(sc);
+	}
+	CHECK(NEAR(sc->bot[0].x, 0.35, 1e-4));
+	sc->bot[0].actuator[a].command = 1;
+	evo_scene_step(sc);
+	CHECK(NEAR(sc->bot[0].x, 0.45, 1e-4));
+	/* a reset stops it */
+	evo_scene_reset(sc, 1, 1);
+	CHECK(sc->bot[0].actuator[a].speed == 0);
+	d.max_speed = -1;
+	d.name = "BAD";
+	CHECK(evo_scene_add_actuator(sc, 0, &d) < 0);
+	CHECK(strstr(sc->err.msg, "max_speed must be positive") != NULL);
+	evo_scene_destroy(sc);
+}
+
+/* ---- rewards and control ---------------------------------------------- */
+
+static int add_reward(evo_scene *sc, evo_reward_kind kind, double k, double k2,
+		      int target)
+{
+	evo_reward_def d = evo_default_reward_def(kind);
+	d.k = k;
+	d.k2 = k2;
+	d.target = target;
+	return evo_scene_add_reward(sc, &d);
+}
+
+TEST(maze_rewards_pay_what_the_papers_do)
+{
+	/* The goal at (10, 0); the bot drives at 3 m/s (0.1 a step) with
+	 * commands 1 and 0.75, (2c - 1)^2 = 1 + 0.25. */
+	evo_scene *sc = scene_with_free_bot();
+	int goal = scene_add_element(sc, EVO_ELEM_ZONE, 10, 0, 0.5);
+	int l = add_speed_wheel(sc, "L", -1), r = add_speed_wheel(sc, "R", 1);
+	int dist = add_reward(sc, EVO_RW_DISTANCE, -1, 0, goal);
+	int fin = add_reward(sc, EVO_RW_FINAL_DISTANCE, -1, 300, goal);
+	int eff = add_reward(sc, EVO_RW_EFFORT, -0.025 * 0.025, 0, -1);
+	evo_control_def c =
+	    evo_default_control_def(EVO_CF_NEXT_ON_TARGET_REACHED);
+	c.target = goal;
+	c.threshold = 0.55;
+	evo_scene_add_control(sc, &c);
+	evo_scene_reset(sc, 1, 1);
+	sc->bot[0].actuator[l].command = 1;
+	sc->bot[0].actuator[r].command = 0.75;
+	CHECK_EQ_INT(evo_scene_step(sc), 0);
+	double x = sc->bot[0].x;
+	CHECK(NEAR(sc->reward[dist].total, -hypot(10 - x, sc->bot[0].y), 1e-9));
+	CHECK(NEAR(sc->reward[eff].total, -0.000625 * 1.25, 1e-12));
+	/* straight on: the episode ends when the centre is within 0.55 of
+	 * the goal, at 9.5 after 95 steps */
+	evo_scene_reset(sc, 1, 1);
+	int steps = 0, next = 0;
+	while (!next && steps < 200) {
+		sc->bot[0].actuator[l].command = 1;
+		sc->bot[0].actuator[r].command = 1;
+		next = evo_scene_step(sc);
+		steps++;
+	}
+	CHECK_EQ_INT(steps, 95);
+	double d = hypot(10 - sc->bot[0].x, sc->bot[0].y);
+	CHECK(NEAR(d, 0.5, 1e-4));
+	/* FinalDistance summed to 300 - the distance at the end */
+	CHECK(NEAR(sc->reward[fin].total, 300 - d, 1e-9));
+	CHECK(NEAR(sc->reward[eff].total, -0.000625 * 2 * 95, 1e-12));
+	evo_scene_destroy(sc);
+}
+
+/* ---- the built-in environments ------------------------------------------ */
+
+/* Environment env of lua/envs with bot model `model`, reset and sensed. */
+static evo_lua *load_env(const char *env, const char *model, evo_scene **sc)
+{
+	evo_err err = {{0}};
+	*sc = evo_scene_create();
+	evo_lua_def ld = {.scene = *sc, .lua_dir = "lua", .botmodel = model};
+	evo_lua *l = evo_lua_create(&ld, &err);
+	if (l && (evo_lua_init_env(l, env, &err) ||
+		  (evo_scene_reset(*sc, 1, 1), evo_lua_reset(l, 1, &err)))) {
+		evo_lua_destroy(l);
+		l = NULL;
+	}
+	if (!l) {
+		printf("  %s: %s\n", env, err.msg);
+		evo_scene_destroy(*sc);
+		*sc = NULL;
+		return NULL;
+	}
+	evo_scene_sense(*sc);
+	return l;
+}
+
+static double named(evo_scene *sc, const char *name)
+{
+	int k = evo_bot_find_sensor(&sc->bot[0], name);
+	return k >= 0 ? sc->bot[0].sensor[k].value : -1;
+}
+
+TEST(kheperax_lasers_at_the_start_read_the_published_values)
+{
+	/* Kheperax's anchors: [0.14142, 0.2, 0.2] of range 0.2; evo reads
+	 * distance / range. 13 walls; bumpers off. */
+	evo_scene *sc;
+	evo_lua *l = load_env("EXP_Kheperax", "KheperaxBot", &sc);
+	CHECK(l != NULL);
+	if (!l)
+		return;
+	CHECK_EQ_INT(sc->n_obstacles, 13);
+	CHECK(NEAR(named(sc, "LASER_LEFT"), 0.14142 / 0.2, 1e-4));
+	CHECK(named(sc, "LASER_FRONT") == 1.0);
+	CHECK(named(sc, "LASER_RIGHT") == 1.0);
+	CHECK(named(sc, "BUMP_LEFT") == EVO_FALSE);
+	CHECK(named(sc, "BUMP_RIGHT") == EVO_FALSE);
+	CHECK(NEAR(sc->bot[0].x, 10.0, 1e-5) && NEAR(sc->bot[0].y, 10.0, 1e-5));
+	evo_lua_destroy(l);
+	evo_scene_destroy(sc);
+}
+
+TEST(hard_maze_sensors_at_the_start_read_the_published_geometry)
+{
+	/* From (36, 184) facing +x: ahead, the wall (77, 201)-(108, 164) at
+	 * y = 184 is at x = 77 + 31 * 17/37 = 91.243, 55.243 away; behind, the
+	 * wall (4, 49)-(7, 202) at x = 4 + 3 * 135/153 = 6.647, 29.353 away
+	 * (range 100). The goal (31, 20) lies at -91.7 degrees: the left
+	 * radar. */
+	evo_scene *sc;
+	evo_lua *l = load_env("EXP_HardMaze", "MazeBot", &sc);
+	CHECK(l != NULL);
+	if (!l)
+		return;
+	CHECK_EQ_INT(sc->n_obstacles, 13);
+	CHECK(NEAR(named(sc, "RF_FRONT"), 0.55243, 1e-4));
+	CHECK(NEAR(named(sc, "RF_BACK"), 0.29353, 1e-4));
+	CHECK(named(sc, "RAD_LEFT") == EVO_TRUE);
+	CHECK(named(sc, "RAD_FRONT") == EVO_FALSE);
+	CHECK(named(sc, "RAD_RIGHT") == EVO_FALSE);
+	CHECK(named(sc, "RAD_BACK") == EVO_FALSE);
+	evo_lua_destroy(l);
+	evo_scene_destroy(sc);
+}
+
+/* ---- a NEAT task on a maze ---------------------------------------------- */
+
+TEST(a_neat_task_on_kheperax_runs)
+{
+	if (cli_setup("maze"))
+		return;
+	CHECK_EQ_INT(cli_sh("cp -r minds/Kheperax %s/ && sed -i "
+			    "'s/NUMGEN:50/NUMGEN:2/' "
+			    "%s/Kheperax/Tasks/Kheperax-NEAT.simbatch",
+			    cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_sh("%s run %s/Kheperax/Tasks/Kheperax-NEAT.simbatch "
+			    "--seed 1 --threads 2 --run %s/run > %s/out 2>&1",
+			    cli_evo, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	char *log = cli_read("%s/run/log.csv", cli_tmp);
+	CHECK(log != NULL);
+	if (log) {
+		/* a header and two generations of 150 */
+		CHECK_EQ_INT(cli_count_lines(log, ""), 3);
+		CHECK(strstr(log, ",150,") != NULL);
+	}
+	free(log);
+	cli_cleanup();
+}
+
+int main(void)
+{
+	RUN(a_ray_reads_a_wall_and_misses_past_its_end);
+	RUN(a_wall_stops_a_bot);
+	RUN(a_wall_of_no_length_is_refused);
+	RUN(radars_cut_the_bearing_into_four_slices);
+	RUN(bumpers_cover_the_front_quarters);
+	RUN(speed_wheels_set_speed_and_turn);
+	RUN(an_accelerating_drive_adds_up_to_its_top_speed);
+	RUN(maze_rewards_pay_what_the_papers_do);
+	RUN(kheperax_lasers_at_the_start_read_the_published_values);
+	RUN(hard_maze_sensors_at_the_start_read_the_published_geometry);
+	RUN(a_neat_task_on_kheperax_runs);
+	return test_summary();
+}
