@@ -171,7 +171,7 @@ local function resume(text, path)
 	for k in pairs(task) do keys[#keys + 1] = k end
 	table.sort(keys)
 	for _, k in ipairs(keys) do
-		local name = algo.task_keys[k]
+		local name = algo.task_keys[k] or (algo.other_keys and algo.other_keys[k])
 		local was = name and p.options and p.options[name]
 		if was ~= nil and options[name] ~= nil and was ~= options[name] then
 			common.warning(host.task_path, host.task_lines, k, string.format("%s is %s in the task "
