@@ -6,13 +6,14 @@
 --   true when a wall comes within the robot's radius (plus 5 % for Box2D's
 --   contact skin);
 -- - two wheels 2 radii apart, each moving (2c - 1) * 0.025 a step (50 m/s).
--- Box2D moves it, not Kheperax's kinematics: it slides along a wall where
--- Kheperax's robot freezes.
+-- Box2D moves it, not Kheperax's kinematics: with friction 1 against the
+-- walls it stops while it drives into one, where Kheperax's robot freezes
+-- for good.
 local S = 1 / 0.015
 local PER_STEP = 30
 
 return {
-	body = { shape = "circle", radius = 1, density = 1, friction = 0,
+	body = { shape = "circle", radius = 1, density = 1, friction = 1,
 		linear_damping = 0, angular_damping = 0, sleep = false },
 	build = function(bot)
 		for _, l in ipairs({ { "LASER_LEFT", -45 }, { "LASER_FRONT", 0 },

@@ -38,7 +38,7 @@ import struct
 import sys
 import time
 
-PROTOCOL = 1
+PROTOCOL = 2
 MAX_ENVIRONMENTS = 64  # evo's EVO_REMOTE_MAX_ENVS
 LATE_RESET_S = 2.0  # the same RESET past tick 0 within it: a late copy
 
@@ -349,6 +349,12 @@ class Simulator:
         s.values = e.world.sense()
         s.n = len(s.values)
         s.reward, s.done = e.reward, done
+        # what the episode did so far, for novelty search and MAP-Elites:
+        # where the robot is, scaled into the corridor, each in [0, 1]
+        w = e.world
+        s.behaviour = [min(1.0, max(0.0, w.x / LENGTH)),
+                       min(1.0, max(0.0, (w.y + WIDTH / 2) / WIDTH))]
+        s.n_behaviour = len(s.behaviour)
         e.last = s.encode()
         self.publish(self.data, self.ch_sensors, e.last)
 

@@ -42,6 +42,7 @@ typedef struct run_opts {
 	long ticks; /* per episode; 0: until a control function ends it */
 	const char *trace;
 	const char *screenshot; /* viewer: save a PNG after `ticks` ticks */
+	int trail;		/* viewer: draw the bot's path (--trail) */
 	const char *can;	/* DEMOREMOTE: the robot's CAN URL */
 	long threads;		/* LEARNSIM: 0 for one per core */
 	long generations;	/* LEARNSIM: 0 for NUMGEN */
@@ -68,6 +69,8 @@ static void run_usage(FILE *f)
 	      "  --screenshot FILE  save a PNG of what the viewer shows after\n"
 	      "                     the first --ticks ticks and quit (drawn\n"
 	      "                     without a window when headless)\n"
+	      "  --trail            the viewer draws the path the bot took\n"
+	      "                     this episode\n"
 	      "  --net SKILL=NET    run neural skill SKILL with another\n"
 	      "                     network: a .net file (a run folder's\n"
 	      "                     best/gen-NNNN.net or champion.net),\n"
@@ -196,6 +199,8 @@ static int parse_args(int argc, char **argv, run_opts *o)
 			if (parse_net(v, o))
 				return -1;
 			i++;
+		} else if (strcmp(a, "--trail") == 0) {
+			o->trail = 1;
 		} else if (strcmp(a, "--screenshot") == 0 && v) {
 			o->screenshot = v;
 			i++;
@@ -479,8 +484,15 @@ static int run_remote_sim(const evo_task *task, const run_opts *o,
 			rc = stop_requested ? 0 : -1;
 			break;
 		}
-		printf("episode %ld: reward %.6f over %ld ticks\n", e,
+		printf("episode %ld: reward %.6f over %ld ticks", e,
 		       evo_remote_reward(r->r[0], 0), t);
+		/* what the simulator says the episode did, when it says */
+		const evo_wire_sensors *last = &r->r[0]->env[0].sensors;
+		for (unsigned k = 0; k < last->n_behaviour; k++)
+			printf("%s%.6f%s", k ? ", " : ", behaviour (",
+			       last->behaviour[k],
+			       k + 1 == last->n_behaviour ? ")" : "");
+		printf("\n");
 		fflush(stdout);
 	}
 	evo_remotes_close(r);
@@ -639,6 +651,55 @@ static evo_viewer_panel panel_for(panel_data *pd, const evo_sim *s, long e,
 	return p;
 }
 
+/* --trail: the path of the task's bot this episode, for the viewer to
+ * draw. A trail that cannot grow (out of memory) stops growing. */
+typedef struct trail {
+	double *x, *y;
+	int n, cap;
+} trail;
+
+static void trail_add(trail *tr, const evo_sim *s)
+{
+	if (s->bot < 0 || s->bot >= s->scene->n_bots)
+		return;
+	if (tr->n == tr->cap) {
+		int cap = tr->cap ? 2 * tr->cap : 1024;
+		double *x = realloc(tr->x, (size_t)cap * sizeof *x);
+		if (x)
+			tr->x = x;
+		double *y = x ? realloc(tr->y, (size_t)cap * sizeof *y) : NULL;
+		if (!y)
+			return;
+		tr->y = y;
+		tr->cap = cap;
+	}
+	tr->x[tr->n] = s->scene->bot[s->bot].x;
+	tr->y[tr->n] = s->scene->bot[s->bot].y;
+	tr->n++;
+}
+
+/* A new episode's trail: where the bot starts. */
+static void trail_restart(trail *tr, const run_opts *o, const evo_sim *s)
+{
+	tr->n = 0;
+	if (o->trail)
+		trail_add(tr, s);
+}
+
+static void trail_show(const trail *tr, evo_viewer_panel *p)
+{
+	p->n_trail = tr->n;
+	p->trail_x = tr->x;
+	p->trail_y = tr->y;
+}
+
+static void trail_free(trail *tr)
+{
+	free(tr->x);
+	free(tr->y);
+	*tr = (trail){0};
+}
+
 /* --screenshot without a window: episode 1 for --ticks ticks, then the
  * frame the viewer would show at its default size, drawn off screen. */
 static int screenshot_headless(evo_sim *s, const run_opts *o, uint64_t seed,
@@ -646,24 +707,34 @@ static int screenshot_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 {
 	if (evo_sim_reset(s, 1, grid_seed(seed, 1), episode_seed(seed, 1), err))
 		return -1;
+	trail tr = {0};
+	trail_restart(&tr, o, s);
 	for (long t = 0; t < o->ticks && !stop_requested; t++) {
 		int r = evo_sim_tick(s, err);
-		if (r < 0)
+		if (r < 0) {
+			trail_free(&tr);
 			return -1;
+		}
+		if (o->trail)
+			trail_add(&tr, s);
 		if (r > 0)
 			break;
 	}
 	evo_raster im;
-	if (evo_raster_init(&im, VIEW_W, VIEW_H, err))
+	if (evo_raster_init(&im, VIEW_W, VIEW_H, err)) {
+		trail_free(&tr);
 		return -1;
+	}
 	static panel_data pd;
 	view_state vs = view_start(s);
 	evo_viewer_panel p = panel_for(&pd, s, 1, o->task, &vs);
+	trail_show(&tr, &p);
 	evo_view_camera cam = evo_view_camera_for(s->scene, view_follow(s, &vs),
 						  1.0, VIEW_W, VIEW_H);
 	evo_view_render(&im, s->scene, &cam, &p);
 	int rc = evo_raster_save_png(&im, o->screenshot, err);
 	evo_raster_free(&im);
+	trail_free(&tr);
 	if (rc == 0)
 		printf("saved %s (tick %ld, drawn without a window)\n",
 		       o->screenshot, s->scene->tick);
@@ -922,16 +993,29 @@ static int playback(evo_view_action a, int *paused, int *steps,
 	return 1;
 }
 
+static int run_viewer_trail(evo_sim *s, evo_viewer *v, const run_opts *o,
+			    uint64_t seed, trail *tr, evo_err *err);
+
 /* DEMOSIM in a window: real time (30 ticks a second) times the speed,
  * with pause, single step, speed and reset keys. */
 static int run_viewer(evo_sim *s, evo_viewer *v, const run_opts *o,
 		      uint64_t seed, evo_err *err)
+{
+	trail tr = {0};
+	int rc = run_viewer_trail(s, v, o, seed, &tr, err);
+	trail_free(&tr);
+	return rc;
+}
+
+static int run_viewer_trail(evo_sim *s, evo_viewer *v, const run_opts *o,
+			    uint64_t seed, trail *tr, evo_err *err)
 {
 	static panel_data pd;
 	view_state vs = view_start(s);
 	long e = 1, t = 0;
 	if (evo_sim_reset(s, 1, grid_seed(seed, 1), episode_seed(seed, 1), err))
 		return -1;
+	trail_restart(tr, o, s);
 	double speed = 1.0, next = now();
 	int paused = 0;
 	for (;;) {
@@ -975,11 +1059,14 @@ static int run_viewer(evo_sim *s, evo_viewer *v, const run_opts *o,
 			if (evo_sim_reset(s, (int)e, grid_seed(seed, e),
 					  episode_seed(seed, e), err))
 				return -1;
+			trail_restart(tr, o, s);
 		}
 		for (int k = 0; k < steps; k++) {
 			int r = evo_sim_tick(s, err);
 			if (r < 0)
 				return -1;
+			if (o->trail)
+				trail_add(tr, s);
 			t++;
 			if (r > 0 || (o->ticks && t >= o->ticks && !o->screenshot)) {
 				printf("episode %ld: reward %.6f over %ld ticks",
@@ -995,6 +1082,7 @@ static int run_viewer(evo_sim *s, evo_viewer *v, const run_opts *o,
 		evo_viewer_panel p = panel_for(&pd, s, e, o->task, &vs);
 		p.speed = speed;
 		p.paused = paused;
+		trail_show(tr, &p);
 		evo_viewer_draw(v, s->scene, view_follow(s, &vs), &p);
 		if (o->screenshot && t >= o->ticks)
 			return evo_viewer_screenshot(v, o->screenshot, err);

@@ -130,6 +130,14 @@ static int send_sensors(server *sv, served_env *e, int env, double reward,
 	};
 	snprintf(s.name, sizeof s.name, "%s", sv->hello.name);
 	evo_sim_sense(e->sim, s.value);
+	/* a simulator's episode so far, for novelty search and MAP-Elites
+	 * (docs/remote.md): evo takes the episode's last */
+	if (sv->hello.kind == EVO_REMOTE_SIMULATOR) {
+		int nb = evo_sim_behaviour(e->sim, s.behaviour, err);
+		if (nb < 0)
+			return -1;
+		s.n_behaviour = (unsigned)nb;
+	}
 	e->last_len = evo_wire_encode_sensors(&s, e->last, sizeof e->last);
 	if (e->last_len < 0)
 		return evo_fail(err, "evo serve: cannot encode a sensors_t");

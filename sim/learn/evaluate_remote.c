@@ -38,6 +38,10 @@ struct evo_remote_eval {
 	long *queue;
 	long n_queue;
 	double *reward;
+	/* each job's behaviour, from the episode's last sensors_t: job j's
+	 * n_behav[j] values at behaviour[j * EVO_WIRE_MAX_BEHAVIOUR] */
+	double *behaviour;
+	int *n_behav;
 	long n_jobs;
 };
 
@@ -113,6 +117,8 @@ void evo_remote_eval_destroy(evo_remote_eval *re)
 		evo_task_free(&re->task);
 	free(re->queue);
 	free(re->reward);
+	free(re->behaviour);
+	free(re->n_behav);
 	free(re->task_path);
 	free(re);
 }
@@ -189,6 +195,37 @@ static slot *slot_of(evo_remote_eval *re, int ri, int env)
 	return NULL;
 }
 
+/* Candidate i's behaviour: the mean of its repetitions', which a
+ * simulator sent with each episode's last sensors_t, as many values each
+ * time (none: no behaviour). */
+_Static_assert(EVO_WIRE_MAX_BEHAVIOUR == EVO_SIM_MAX_BEHAVIOUR,
+	       "a behaviour over the wire is one evo keeps");
+
+static int behaviour_of(const evo_remote_eval *re, int i, int reps,
+			evo_eval_result *res, evo_err *err)
+{
+	long j0 = (long)i * reps;
+	int d = re->n_behav[j0];
+	for (int r = 1; r < reps; r++)
+		if (re->n_behav[j0 + r] != d)
+			return evo_fail(err,
+					"candidate %d: the simulators sent a "
+					"behaviour of %d values in repetition "
+					"1 and %d in repetition %d: a "
+					"behaviour has the same size every "
+					"episode",
+					i, d, re->n_behav[j0 + r], r + 1);
+	res->n_behaviour = d;
+	for (int r = 0; r < reps; r++)
+		for (int k = 0; k < d; k++)
+			res->behaviour[k] +=
+			    re->behaviour[(j0 + r) * EVO_WIRE_MAX_BEHAVIOUR +
+					  k];
+	for (int k = 0; k < d; k++)
+		res->behaviour[k] /= reps;
+	return 0;
+}
+
 int evo_remote_eval_run(evo_remote_eval *re, const evo_netdesc *const *cand,
 			int n, int gen, uint64_t seed, int reps, long ticks,
 			evo_eval_result *res, evo_err *err)
@@ -197,9 +234,17 @@ int evo_remote_eval_run(evo_remote_eval *re, const evo_netdesc *const *cand,
 	if (jobs > re->n_jobs) {
 		free(re->queue);
 		free(re->reward);
+		free(re->behaviour);
+		free(re->n_behav);
 		re->queue = malloc((size_t)jobs * sizeof *re->queue);
 		re->reward = malloc((size_t)jobs * sizeof *re->reward);
-		re->n_jobs = re->queue && re->reward ? jobs : 0;
+		re->behaviour = malloc((size_t)jobs * EVO_WIRE_MAX_BEHAVIOUR *
+				       sizeof *re->behaviour);
+		re->n_behav = malloc((size_t)jobs * sizeof *re->n_behav);
+		re->n_jobs = re->queue && re->reward && re->behaviour &&
+				     re->n_behav
+				 ? jobs
+				 : 0;
 		if (!re->n_jobs)
 			return evo_fail(err, "out of memory");
 	}
@@ -257,6 +302,10 @@ int evo_remote_eval_run(evo_remote_eval *re, const evo_netdesc *const *cand,
 		const evo_wire_sensors *m = &re->remotes->r[ri]->env[env].sensors;
 		if (s->t > 0 && (m->done || s->t >= ticks)) {
 			re->reward[s->job] = m->reward;
+			re->n_behav[s->job] = (int)m->n_behaviour;
+			memcpy(re->behaviour + s->job * EVO_WIRE_MAX_BEHAVIOUR,
+			       m->behaviour,
+			       m->n_behaviour * sizeof *m->behaviour);
 			s->job = -1;
 			done++;
 			continue;
@@ -269,6 +318,8 @@ int evo_remote_eval_run(evo_remote_eval *re, const evo_netdesc *const *cand,
 		memset(&res[i], 0, sizeof res[i]);
 		for (int r = 0; r < reps; r++)
 			res[i].fitness += re->reward[(long)i * reps + r];
+		if (behaviour_of(re, i, reps, &res[i], err))
+			return -1;
 	}
 	return 0;
 }

@@ -554,6 +554,8 @@ static int take_sensors(evo_remote *r, const evo_link_msg *m, evo_err *err)
 	}
 	r->heard_at = now();
 	rc = evo_wire_check_values(s.value, s.n, &s.reward, why, sizeof why);
+	if (!rc)
+		rc = evo_wire_check_behaviour(&s, why, sizeof why);
 	if (rc) {
 		/* a simulator that sends a bad value for the awaited tick
 		 * cannot go on: lockstep waits for this very message */

@@ -215,6 +215,8 @@ static const field sensors_fields[] = {
     {F_F64S, 0, "values"},
     {F_F64, 0, "reward"},
     {F_I8, 0, "done"},
+    {F_COUNT, EVO_WIRE_MAX_BEHAVIOUR, "n_behaviour"},
+    {F_F64S, 0, "behaviour"},
 };
 
 static const field command_fields[] = {
@@ -391,6 +393,10 @@ evo_wire_reason evo_wire_decode_sensors(const void *buf, size_t len,
 		memcpy(out->value, m.values, out->n * sizeof *out->value);
 	out->reward = m.reward;
 	out->done = m.done != 0;
+	out->n_behaviour = (unsigned)m.n_behaviour;
+	if (out->n_behaviour)
+		memcpy(out->behaviour, m.behaviour,
+		       out->n_behaviour * sizeof *out->behaviour);
 	evo_lcm_sensors_t_decode_cleanup(&m);
 	return check_place("sensors_t", out->name, out->env, out->episode,
 			   &out->tick, why, cap);
@@ -434,6 +440,19 @@ evo_wire_reason evo_wire_check_values(const double *v, unsigned n,
 		snprintf(why, cap, "the reward is %g", *reward);
 		return EVO_WIRE_VALUE;
 	}
+	return EVO_WIRE_OK;
+}
+
+evo_wire_reason evo_wire_check_behaviour(const evo_wire_sensors *s, char *why,
+					 size_t cap)
+{
+	for (unsigned i = 0; i < s->n_behaviour; i++)
+		if (!(s->behaviour[i] >= 0.0 && s->behaviour[i] <= 1.0)) {
+			snprintf(why, cap,
+				 "behaviour value %u is %g, outside [0, 1]", i,
+				 s->behaviour[i]);
+			return EVO_WIRE_VALUE;
+		}
 	return EVO_WIRE_OK;
 }
 
@@ -503,7 +522,7 @@ int evo_wire_encode_control(const evo_wire_control *c, void *buf, size_t cap)
 
 int evo_wire_encode_sensors(const evo_wire_sensors *s, void *buf, size_t cap)
 {
-	if (s->n > EVO_MAX_SENSORS)
+	if (s->n > EVO_MAX_SENSORS || s->n_behaviour > EVO_WIRE_MAX_BEHAVIOUR)
 		return -1;
 	evo_lcm_sensors_t m = {
 	    .name = str(s->name),
@@ -515,6 +534,8 @@ int evo_wire_encode_sensors(const evo_wire_sensors *s, void *buf, size_t cap)
 	    .values = (double *)(uintptr_t)s->value,
 	    .reward = s->reward,
 	    .done = (int8_t)(s->done != 0),
+	    .n_behaviour = (int32_t)s->n_behaviour,
+	    .behaviour = (double *)(uintptr_t)s->behaviour,
 	};
 	ENCODE(evo_lcm_sensors_t, &m, buf, cap);
 }

@@ -15,7 +15,9 @@
 
 #include "evo/formats.h"
 
-#define EVO_WIRE_PROTOCOL 1
+#define EVO_WIRE_PROTOCOL 2
+/* The most values a behaviour has (tasksim.h's EVO_SIM_MAX_BEHAVIOUR). */
+#define EVO_WIRE_MAX_BEHAVIOUR 16
 #define EVO_REMOTE_NAME_MAX 64 /* bytes in a remote's name, with its NUL */
 #define EVO_REMOTE_URL_MAX 256 /* bytes in an LCM URL, with its NUL */
 #define EVO_WIRE_MAX_ENVS 64	/* environments of one remote */
@@ -84,6 +86,10 @@ typedef struct evo_wire_sensors {
 	double value[EVO_MAX_SENSORS];
 	double reward;
 	int done;
+	/* a simulator's behaviour of the episode so far (docs/remote.md):
+	 * n_behaviour values, 0 when it sends none */
+	unsigned n_behaviour;
+	double behaviour[EVO_WIRE_MAX_BEHAVIOUR];
 } evo_wire_sensors;
 
 typedef struct evo_wire_command {
@@ -125,6 +131,11 @@ evo_wire_reason evo_wire_decode_command(const void *buf, size_t len,
 evo_wire_reason evo_wire_check_values(const double *v, unsigned n,
 				      const double *reward, char *why,
 				      size_t cap);
+
+/* A simulator's behaviour values each in [0, 1]: EVO_WIRE_OK, or
+ * EVO_WIRE_VALUE with why naming the first bad one. */
+evo_wire_reason evo_wire_check_behaviour(const evo_wire_sensors *s, char *why,
+					 size_t cap);
 
 /* Encode into buf (cap bytes): the length, or -1 when it does not fit or
  * a field is out of the protocol's bounds. */

@@ -619,9 +619,13 @@ static int arena_bounds(const evo_sim *s, double *b)
 		for (int i = 0; i < sc->n_fixed_obstacles; i++) {
 			const evo_obstacle *o = &sc->obstacle[i];
 			double c = fabs(cos(o->angle)), sn = fabs(sin(o->angle));
-			if (o->shape == EVO_SHAPE_CIRCLE)
+			if (o->shape == EVO_SHAPE_CIRCLE) {
 				widen(b, o->x, o->y, o->radius, o->radius);
-			else
+			} else if (o->shape == EVO_SHAPE_SEGMENT) {
+				/* a wall: (x, y) is one end, not its middle */
+				widen(b, o->x, o->y, 0, 0);
+				widen(b, o->x2, o->y2, 0, 0);
+			} else
 				widen(b, o->x, o->y,
 				      c * o->half_w + sn * o->half_h,
 				      sn * o->half_w + c * o->half_h);

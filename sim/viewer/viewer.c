@@ -186,7 +186,7 @@ static void draw_obstacle(evo_raster *im, const evo_view_camera *cam,
 		evo_view_to_screen(cam, o->x, o->y, &ax, &ay);
 		evo_view_to_screen(cam, o->x2, o->y2, &bx, &by);
 		evo_raster_thick_line(im, ax, ay, bx, by, WALL_WIDTH,
-				      OBSTACLE_EDGE, 255);
+				      EVO_VIEW_WALL, 255);
 		return;
 	}
 	double bx[4], by[4];
@@ -589,6 +589,24 @@ static void draw_selection(evo_raster *im, const evo_view_camera *cam,
 	evo_raster_circle(im, sx, sy, r + 4, 2, EVO_VIEW_SELECTED, 255);
 }
 
+/* The path of the episode so far, a line 2 pixels wide. */
+static void draw_trail(evo_raster *im, const evo_view_camera *cam,
+		       const evo_viewer_panel *p)
+{
+	if (!p || p->n_trail < 2 || !p->trail_x || !p->trail_y)
+		return;
+	double ax, ay;
+	evo_view_to_screen(cam, p->trail_x[0], p->trail_y[0], &ax, &ay);
+	for (int i = 1; i < p->n_trail; i++) {
+		double bx, by;
+		evo_view_to_screen(cam, p->trail_x[i], p->trail_y[i], &bx, &by);
+		evo_raster_thick_line(im, ax, ay, bx, by, 2, EVO_VIEW_TRAIL,
+				      255);
+		ax = bx;
+		ay = by;
+	}
+}
+
 void evo_view_render(evo_raster *im, const evo_scene *sc,
 		     const evo_view_camera *cam, const evo_viewer_panel *p)
 {
@@ -603,6 +621,7 @@ void evo_view_render(evo_raster *im, const evo_scene *sc,
 		if (sc->element[e].kind == EVO_ELEM_OBJECT &&
 		    sc->element[e].held_by < 0)
 			draw_object(im, cam, sc, &sc->element[e]);
+	draw_trail(im, cam, p);
 	for (int b = 0; b < sc->n_bots; b++)
 		draw_bot(im, cam, sc, b);
 	/* Rays over the bots: a sensor placed inside the body still shows

@@ -66,6 +66,10 @@ typedef struct evo_viewer_panel {
 	const char *const *actuator_name;
 	const double *actuator;
 	int following; /* the camera follows it (else: free) */
+	/* The path a bot took this episode (`evo run --trail`), n_trail world
+	 * points, oldest first, drawn as a line under the bots; none when 0. */
+	int n_trail;
+	const double *trail_x, *trail_y;
 	/* The key help at the panel's foot; NULL: the 2D viewer's. */
 	int n_help;
 	const char *const *help;
@@ -157,6 +161,8 @@ uint32_t evo_view_team_colour(int k);
 #define EVO_VIEW_TEXT		 0xE8E8E8u
 #define EVO_VIEW_BAR		 0x4FB0E8u
 #define EVO_VIEW_SELECTED	 0xFF3CC8u /* the ring around the selected bot */
+#define EVO_VIEW_TRAIL		 0xD2287Eu /* the bot's path (--trail) */
+#define EVO_VIEW_WALL		 0x5E5E5Eu /* a wall of no thickness (mazes) */
 
 /* ---- a remote robot, with no world to draw (DEMOREMOTE) -------------- */
 

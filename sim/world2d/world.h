@@ -112,8 +112,9 @@ typedef struct evo_pose {
 } evo_pose;
 
 /* A wall of no thickness from (x1, y1) to (x2, y2): the segments of the
- * mazes (docs/world.md). Returns the obstacle's index, or -1 when the two
- * ends are closer than Box2D can tell apart (about 5 mm). */
+ * mazes (docs/world.md), with friction 1 (a bot of no friction slides
+ * along it). Returns the obstacle's index, or -1 when the two ends are
+ * closer than Box2D can tell apart (about 5 mm). */
 int evo_world_add_static_segment(evo_world *w, double x1, double y1,
 				 double x2, double y2) EVO_WORLD_NOEXCEPT;
 

@@ -227,10 +227,11 @@ int evo_body_valid(const evo_world *w, evo_body_id id) noexcept
 	return lookup(w, id) != nullptr;
 }
 
-static int add_obstacle(evo_world *w, b2Shape *shape)
+static int add_obstacle(evo_world *w, b2Shape *shape, double friction = 0)
 {
 	b2FixtureDef fd;
 	evo_body_def d = evo_default_body_def();
+	d.friction = friction;
 	fill_fixture(&fd, &d, obstacle_tag(w->n_obstacles));
 	fd.shape = shape;
 	w->obstacles->CreateFixture(&fd);
@@ -267,7 +268,11 @@ int evo_world_add_static_segment(evo_world *w, double x1, double y1,
 		return -1;
 	b2EdgeShape e;
 	e.SetTwoSided(a, b);
-	return add_obstacle(w, &e);
+	/* Friction 1: a bot with friction of its own (the mazes' robots)
+	 * that drives into a wall stops there instead of sliding along it,
+	 * as the papers' robots stop; Box2D mixes the two as sqrt(f1 f2), so
+	 * a bot without friction slides as along any obstacle. */
+	return add_obstacle(w, &e, 1.0);
 }
 
 evo_pose evo_body_pose(const evo_world *w, evo_body_id id) noexcept

@@ -1252,7 +1252,8 @@ static void probe_all_options(void)
 static const char *const BOT_PARTS[] = {
     "proximity",       "distance", "zone",   "bearing",	 "presence",
     "object_detector", "movement", "random", "constant", "holding",
-    "wheel",	       "claw",	   NULL};
+    "radar",	       "bumper",   "wheel",  "claw",	 "speed_wheel",
+    "drive",	       NULL};
 
 static int write_bot_models(void)
 {
@@ -1284,7 +1285,8 @@ static void render_target(char *out, size_t cap, int target)
 /* The scene built with every option left out (the defaults scene), and
  * whether `bot:KIND{}` without a name fails for each part. */
 static int defaults_built;
-static int name_required[16];
+static int name_required[24];
+static int wall_ends_required; /* scene:wall{} fails */
 
 static const evo_sensor *probe_sensor(const char *name)
 {
@@ -1313,6 +1315,8 @@ static void build_defaults_scene(void)
 		name_required[i] = probe_env(call, &err) != 0 &&
 				   strstr(err.msg, "needs a name") != NULL;
 	}
+	wall_ends_required = probe_env("\tscene:wall{}", &err) != 0 &&
+			     strstr(err.msg, "must be a number") != NULL;
 	defaults_built =
 	    probe_env(
 		"\tscene:bot{}\n"
@@ -1419,6 +1423,11 @@ static int render_option_default(const char *fn, const char *opt, char *out,
 		if (isnan(v))
 			return -1;
 		fmt_num(out, cap, v);
+		return 0;
+	}
+	if (strcmp(fn, "scene:wall") == 0) {
+		snprintf(out, cap, "%s",
+			 wall_ends_required ? "required" : "optional");
 		return 0;
 	}
 	if (strcmp(fn, "scene:grid") == 0) {
@@ -1542,8 +1551,14 @@ static int render_option_default(const char *fn, const char *opt, char *out,
 	}
 	const evo_actuator *a = probe_actuator(part);
 	if (a) {
+		if (strcmp(opt, "turn") == 0) {
+			snprintf(out, cap, "%s", a->def.turn ? "true" : "false");
+			return 0;
+		}
 		const double v =
-		    strcmp(opt, "x") == 0	    ? a->def.x
+		    strcmp(opt, "max_speed") == 0 ? a->def.max_speed
+		    : strcmp(opt, "accel") == 0	  ? a->def.accel
+		    : strcmp(opt, "x") == 0	    ? a->def.x
 		    : strcmp(opt, "y") == 0	    ? a->def.y
 		    : strcmp(opt, "angle") == 0	    ? a->def.angle / deg
 		    : strcmp(opt, "max_force") == 0 ? a->def.max_force

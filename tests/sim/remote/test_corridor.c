@@ -420,6 +420,19 @@ TEST(demoremotesim_runs_to_the_goal_with_the_reward_the_simulator_logs)
 	for (const char *p = strstr(out, " over "); p;
 	     p = strstr(p + 1, " over "))
 		CHECK(atol(p + 6) > 0 && atol(p + 6) < 400);
+	/* the simulator's behaviour of each episode (docs/remote.md): where
+	 * the robot ended, along the 8 m corridor and across it; at the goal
+	 * (7.3 m along, within 0.55 m) the first is 0.84 to 0.98 */
+	int behaviours = 0;
+	for (const char *p = strstr(out, ", behaviour ("); p;
+	     p = strstr(p + 1, ", behaviour (")) {
+		double x = -1, y = -1;
+		CHECK(sscanf(p, ", behaviour (%lf, %lf)", &x, &y) == 2);
+		CHECK(x >= 0.84 && x <= 0.98);
+		CHECK(y >= 0 && y <= 1);
+		behaviours++;
+	}
+	CHECK_EQ_INT(behaviours, 3);
 	free(log);
 
 	/* the same seed: the same episodes, and the same log again */
@@ -575,7 +588,7 @@ TEST(the_simulator_repeats_answers_without_stepping_and_ignores_the_rest)
 	CHECK(got_hello);
 	if (!got_hello)
 		goto out;
-	CHECK(h.protocol == 1 && h.kind == EVO_REMOTE_SIMULATOR &&
+	CHECK(h.protocol == EVO_WIRE_PROTOCOL && h.kind == EVO_REMOTE_SIMULATOR &&
 	      h.environments == 2 && h.tick_us == 0 && h.n_sensors == 7 &&
 	      h.n_actuators == 2);
 	for (unsigned i = 0; i < 7; i++)

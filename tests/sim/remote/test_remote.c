@@ -135,6 +135,13 @@ TEST(a_served_world_runs_as_demosim_does)
 	episode_lines(out2, b, sizeof b);
 	CHECK(a[0] != 0);
 	CHECK_EQ_STR(a, b);
+	/* evo serve sends the episode's behaviour (docs/remote.md): without
+	 * env.behaviour, the bot's position in the arena, two values */
+	double bx = -1, by = -1;
+	const char *beh = strstr(out, "episode 2: ");
+	beh = beh ? strstr(beh, ", behaviour (") : NULL;
+	CHECK(beh && sscanf(beh, ", behaviour (%lf, %lf)", &bx, &by) == 2);
+	CHECK(bx >= 0 && bx <= 1 && by >= 0 && by <= 1);
 	char *ta = cli_read("%s/remote.trace", cli_tmp);
 	char *tb = cli_read("%s/demo.trace", cli_tmp);
 	CHECK(ta && tb && strcmp(ta, tb) == 0);

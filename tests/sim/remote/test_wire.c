@@ -63,9 +63,12 @@ TEST(sensors_encode_as_lcm_lays_them_out)
 	s.value[0] = 0.5;
 	s.reward = -2.0;
 	s.done = 1;
+	s.n_behaviour = 1;
+	s.behaviour[0] = 0.75;
 	int n = evo_wire_encode_sensors(&s, buf, sizeof buf);
-	/* 8 + (4 + 3) + 8 + 4 + 8 + 8 + 4 + 8 + 8 + 1 */
-	CHECK_EQ_INT(n, 64);
+	/* 8 + (4 + 3) + 8 + 4 + 8 + 8 + 4 + 8 + 8 + 1, then the behaviour:
+	 * 4 + 8 */
+	CHECK_EQ_INT(n, 76);
 	static const unsigned char name[] = {0, 0, 0, 3, 'a', 'b', 0};
 	CHECK(memcmp(buf + 8, name, sizeof name) == 0);
 	CHECK_EQ_INT(buf[8 + 7 + 7], 1);	   /* session, low byte */
@@ -75,9 +78,19 @@ TEST(sensors_encode_as_lcm_lays_them_out)
 	CHECK_EQ_INT(buf[8 + 7 + 8 + 4 + 8 + 8 + 4], 0x3F);
 	CHECK_EQ_INT(buf[8 + 7 + 8 + 4 + 8 + 8 + 4 + 1], 0xE0);
 	CHECK_EQ_INT(buf[63], 1); /* done */
+	CHECK_EQ_INT(buf[67], 1); /* n_behaviour */
+	/* 0.75 is 0x3FE8000000000000 */
+	CHECK_EQ_INT(buf[68], 0x3F);
+	CHECK_EQ_INT(buf[69], 0xE8);
 	CHECK_EQ_INT(evo_wire_decode_sensors(buf, (size_t)n, &d, why, sizeof why),
 		     EVO_WIRE_OK);
 	CHECK(d.value[0] == 0.5 && d.reward == -2.0 && d.done == 1);
+	CHECK(d.n_behaviour == 1 && d.behaviour[0] == 0.75);
+	/* 17 values: past evo's 16, refused naming the field */
+	buf[67] = 17;
+	CHECK_EQ_INT(evo_wire_decode_sensors(buf, (size_t)n, &d, why, sizeof why),
+		     EVO_WIRE_UNDECODABLE);
+	CHECK_CONTAINS(why, "sensors_t.n_behaviour is 17, outside 0..16");
 	CHECK(d.tick == 4 && d.episode == 3 && d.env == 2);
 }
 
@@ -183,6 +196,16 @@ TEST(values_outside_the_unit_interval_are_named)
 	CHECK_EQ_INT(evo_wire_check_values(v, 3, &r, why, sizeof why),
 		     EVO_WIRE_VALUE);
 	CHECK_CONTAINS(why, "the reward is inf");
+	evo_wire_sensors s;
+	memset(&s, 0, sizeof s);
+	s.n_behaviour = 2;
+	s.behaviour[0] = 1;
+	CHECK_EQ_INT(evo_wire_check_behaviour(&s, why, sizeof why),
+		     EVO_WIRE_OK);
+	s.behaviour[1] = -0.5;
+	CHECK_EQ_INT(evo_wire_check_behaviour(&s, why, sizeof why),
+		     EVO_WIRE_VALUE);
+	CHECK_CONTAINS(why, "behaviour value 1 is -0.5, outside [0, 1]");
 }
 
 TEST(controls_round_trip_with_full_seeds)

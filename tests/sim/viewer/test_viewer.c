@@ -294,6 +294,42 @@ TEST(render_draws_the_scene_without_a_window)
 	evo_scene_destroy(sc);
 }
 
+/* ---- the mazes: walls and the bot's trail ----------------------------- */
+
+TEST(walls_and_the_trail_are_drawn)
+{
+	/* A wall from (BX + 4, BY - 6) to (BX + 4, BY + 6); a trail from the
+	 * bot's start 5 m up, then 3 m left. */
+	evo_scene *sc = evo_scene_create();
+	evo_bot_def b = evo_default_bot_def();
+	b.x = BX;
+	b.y = BY;
+	evo_scene_add_bot(sc, &b);
+	CHECK(evo_scene_add_wall(sc, BX + 4, BY - 6, BX + 4, BY + 6) >= 0);
+	evo_scene_reset(sc, 1, 1);
+	evo_raster im;
+	evo_err err;
+	CHECK_EQ_INT(evo_raster_init(&im, 900, 640, &err), 0);
+	evo_view_camera cam = evo_view_camera_for(sc, 0, 1.5, im.w, im.h);
+	view v = {im.pixels, im.w, im.h};
+	evo_viewer_panel p = make_panel();
+	evo_view_render(&im, sc, &cam, &p);
+	CHECK(world_is(v, &cam, 4, 3.3, EVO_VIEW_WALL, "wall"));
+	CHECK(world_is(v, &cam, 4.5, 3.3, EVO_VIEW_BACKGROUND, "beside it"));
+	CHECK(world_is(v, &cam, 4, 6.5, EVO_VIEW_BACKGROUND, "past its end"));
+	CHECK(count(v, 0, 0, cam.world_w, im.h, EVO_VIEW_TRAIL) == 0);
+	const double tx[] = {BX, BX, BX - 3}, ty[] = {BY, BY - 5, BY - 5};
+	p.n_trail = 3;
+	p.trail_x = tx;
+	p.trail_y = ty;
+	evo_view_render(&im, sc, &cam, &p);
+	CHECK(world_is(v, &cam, 0, -3.3, EVO_VIEW_TRAIL, "trail going up"));
+	CHECK(world_is(v, &cam, -1.7, -5, EVO_VIEW_TRAIL, "trail going left"));
+	CHECK(world_is(v, &cam, -1.7, -3.3, EVO_VIEW_BACKGROUND, "off it"));
+	evo_raster_free(&im);
+	evo_scene_destroy(sc);
+}
+
 /* ---- teams (docs/teams.md) ------------------------------------------ */
 
 /* Three bots: team 0 at (0, 0), team 1 at (6, 0), no team at (-6, 0). */
@@ -839,6 +875,7 @@ int main(void)
 	 * pick another backend. */
 	setenv("SDL_VIDEODRIVER", "x11", 1);
 	RUN(render_draws_the_scene_without_a_window);
+	RUN(walls_and_the_trail_are_drawn);
 	RUN(teams_are_coloured_and_the_selected_bot_shown);
 	RUN(remote_frame_shows_values_and_the_link_without_a_window);
 	RUN(no_display_is_a_clear_error);

@@ -404,6 +404,61 @@ TEST(a_neat_task_on_kheperax_runs)
 	cli_cleanup();
 }
 
+/* Kheperax's target task started on the target: every episode ends
+ * within 0.05 of it after one step (a step moves at most 0.025), so every
+ * network solves it, log.csv counts them all, and the run stops at its
+ * first generation. From the standard start, the untrained (neutral)
+ * network stays 0.75 away: not solved. */
+TEST(a_solved_episode_is_counted)
+{
+	if (cli_setup("maze-solved"))
+		return;
+	const char *env =
+	    "local maze = require \"lib.maze\"\n"
+	    "local m = {}\n"
+	    "for k, v in pairs(maze.kheperax) do m[k] = v end\n"
+	    "m.start = { 0.15, 0.9 }\n"
+	    "return maze.env(m, { ticks = 250, reach = 0.05, stop_at_goal = true,\n"
+	    "\trewards = function(scene, bot, goal)\n"
+	    "\t\tscene:reward(\"Distance\", { bot = bot, target = goal, k = -0.015 })\n"
+	    "\tend })\n";
+	CHECK_EQ_INT(cli_sh("cp -r minds/Kheperax %s/ && mkdir -p "
+			    "%s/Kheperax/Envs",
+			    cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_write(env, "%s/Kheperax/Envs/Near.lua", cli_tmp), 0);
+	CHECK_EQ_INT(cli_write("TYPE:LEARNSIM\nBOTMODEL:KheperaxBot\n"
+			       "MASTERSKILL:Kheperax\nLEARNINGSKILL:Kheperax\n"
+			       "ENV:Near\nLEARNINGMETHOD:NEAT\nPOPSIZE:20\n"
+			       "NUMGEN:5\nEVALREP:1\nTICKLIM:250\n",
+			       "%s/Kheperax/Tasks/Near.simbatch", cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_sh("%s run %s/Kheperax/Tasks/Near.simbatch --seed 1 "
+			    "--threads 1 --run %s/run > %s/out 2>&1",
+			    cli_evo, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	char *log = cli_read("%s/run/log.csv", cli_tmp);
+	CHECK(log != NULL);
+	if (log) {
+		/* the header and generation 0, whose 20 networks all solved */
+		CHECK_EQ_INT(cli_count_lines(log, ""), 2);
+		CHECK_EQ_INT(cli_count_lines(log, "0,"), 1);
+		CHECK(strstr(log, ",20,20,") != NULL);
+	}
+	free(log);
+	char out[4096];
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run minds/Kheperax/Tasks/"
+				 "KheperaxTarget-DEMO.simbatch --headless "
+				 "--net Kheperax=zero",
+				 cli_evo),
+		     0);
+	CHECK(strstr(out, "reward -187.500000 over 250 ticks") != NULL);
+	CHECK(strstr(out, "behaviour (0.150000, 0.150000), not solved") !=
+	      NULL);
+	cli_cleanup();
+}
+
 int main(void)
 {
 	RUN(a_ray_reads_a_wall_and_misses_past_its_end);
@@ -417,5 +472,6 @@ int main(void)
 	RUN(kheperax_lasers_at_the_start_read_the_published_values);
 	RUN(hard_maze_sensors_at_the_start_read_the_published_geometry);
 	RUN(a_neat_task_on_kheperax_runs);
+	RUN(a_solved_episode_is_counted);
 	return test_summary();
 }
