@@ -63,7 +63,10 @@ VENV_STAMP := $(VENV)/evo-lcm-$(PY_LCM_VERSION)-can-$(PY_CAN_VERSION)-neat-$(PY_
 CFLAGS_HOST := -std=c11 $(OPT) $(WARN) -Icore/include -Isim $(LUA_CFLAGS) $(SDL_CFLAGS) $(MPI_CFLAGS) -isystem $(LCM_GEN) $(SAN) $(CFLAGS)
 CFLAGS_ALL := $(CFLAGS_HOST) -Itests
 LDFLAGS_ALL := $(SAN) $(LDFLAGS)
-LIBS := -llua5.4 $(shell pkg-config --libs sdl2 2>/dev/null || echo -lSDL2) -lbox2d -lode -lGL -llcm -lz $(MPI_LIBS) -lstdc++ -lm
+# SDL2 and OpenGL are not linked: sim/viewer/sdl_load.c loads them when a
+# window opens, so a headless run does not load the fifty libraries SDL2
+# needs.
+LIBS := -llua5.4 -lbox2d -lode -llcm -lz $(MPI_LIBS) -lstdc++ -lm -ldl
 CXXFLAGS_ALL := -std=c++17 $(OPT) -Wall -Wextra -Werror -Wshadow -Isim $(SAN) $(CXXFLAGS)
 
 CORE_SRCS := $(sort $(wildcard core/src/*.c))
@@ -102,12 +105,14 @@ help:
 	@echo "                the Python of the remote simulators' tests ($(VENV))"
 	@echo "make test       deps, build, run every test plainly, under ASan+UBSan and TSan"
 	@echo "make test-tsan  the threaded tests and headless runs under ThreadSanitizer"
-	@echo "make run        deps, build, run the main job on a shipped example"
+	@echo "make run        deps, build, train the Seek example and show what it learned"
+	@echo "make test-readme  README.md's figures and pictures against a run (part of make test)"
 	@echo "make core-check compile core/ for Cortex-M0+ and check what it links"
 	@echo "make fuzz       run each parser's fuzz target for FUZZ_SECONDS (the network's: FUZZ_NET_SECONDS, 60)"
 	@echo "make bench      benchmarks, each beside its baseline in the same run"
 	@echo "make bench-compare BASE=REV  bench_world and bench_evaluate of REV beside this tree's"
-	@echo "make install    install evo and lua/ under PREFIX ($(PREFIX))"
+	@echo "make install    install evo, and lua/, minds/ and docs/ under"
+	@echo "                PREFIX/share/evo ($(PREFIX))"
 	@echo "make format     apply .clang-format to the C sources"
 
 deps:
@@ -270,22 +275,45 @@ test: deps
 	@$(MAKE) --no-print-directory $(TEST_J) test-asan
 	@$(MAKE) --no-print-directory $(TEST_J) test-tsan
 	@$(MAKE) --no-print-directory $(TEST_J) firmware-test
+	@$(MAKE) --no-print-directory $(TEST_J) test-readme
+	@sh tests/docs/test_firmware_figures.sh
 
-# The main job: train the Avoid example with NEAT on a copy of its folder
-# (so minds/ keeps its shipped network), then replay the champion headless.
+# README.md's figures and pictures against what make run and the viewer make
+# (tests/docs/test_readme_run.sh): a training of a minute, so once, plainly.
+.PHONY: test-readme
+test-readme: $(BUILD)/evo
+	@EVO_BUILD=$(BUILD) sh tests/docs/test_readme_run.sh
+
+# The main job: train the Seek example with NEAT on a copy of its folder
+# (so minds/ keeps its shipped network): a bot that learns to drive to
+# objects, which untrained networks do not reach; then run the trained
+# mind headless and save a picture of it (README.md quotes what this prints;
+# tests/docs/test_readme_run.sh checks the figures against a run).
 RUN_DIR := $(BUILD)/run
 run: deps all
-	rm -rf $(RUN_DIR) && mkdir -p $(RUN_DIR) && cp -r minds/Avoid $(RUN_DIR)/
-	$(BUILD)/evo run $(RUN_DIR)/Avoid/Tasks/Avoid-NEAT.simbatch --seed 1 \
-		--run $(RUN_DIR)/avoid-neat
-	$(BUILD)/evo run $(RUN_DIR)/Avoid/Tasks/Avoid-DEMO.simbatch --headless \
-		--seed 2 --episodes 3 --ticks 3000
-	@echo "run folder: $(RUN_DIR)/avoid-neat (log.csv, champion.net, curve.png); trained mind: $(RUN_DIR)/Avoid"
+	rm -rf $(RUN_DIR) && mkdir -p $(RUN_DIR) && cp -r minds/Seek $(RUN_DIR)/
+	$(BUILD)/evo run $(RUN_DIR)/Seek/Tasks/Seek-NEAT.simbatch --seed 1 \
+		--run $(RUN_DIR)/seek-neat
+	$(BUILD)/evo run $(RUN_DIR)/Seek/Tasks/Seek-DEMO.simbatch --headless \
+		--seed 2 --episodes 3
+	$(BUILD)/evo run $(RUN_DIR)/Seek/Tasks/Seek-DEMO.simbatch --headless \
+		--seed 2 --ticks 600 --screenshot $(RUN_DIR)/seek.png
+	@echo "run folder: $(RUN_DIR)/seek-neat (log.csv, champion.net, curve.png); trained mind: $(RUN_DIR)/Seek; picture: $(RUN_DIR)/seek.png"
 
+# evo, and under PREFIX/share/evo the Lua it runs, the example minds to
+# copy and the docs; a mind folder's Runs/ and exported images stay here.
 install: all
+	@$(MAKE) --no-print-directory install-files
+.PHONY: install-files
+install-files:
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/evo
 	install -m 755 $(BUILD)/evo $(DESTDIR)$(PREFIX)/bin/evo
 	[ ! -d lua ] || cp -r lua $(DESTDIR)$(PREFIX)/share/evo/
+	rm -rf $(DESTDIR)$(PREFIX)/share/evo/minds $(DESTDIR)$(PREFIX)/share/evo/docs
+	cp -r minds docs $(DESTDIR)$(PREFIX)/share/evo/
+	rm -rf $(DESTDIR)$(PREFIX)/share/evo/minds/*/Runs \
+		$(DESTDIR)$(PREFIX)/share/evo/minds/*/mind.bin \
+		$(DESTDIR)$(PREFIX)/share/evo/minds/*/mind.h
 
 # ---- core on a Cortex-M0+ ------------------------------------------------
 ARM_FLAGS := -mcpu=cortex-m0plus -mthumb -std=c11 -Os -ffreestanding \

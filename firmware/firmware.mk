@@ -6,6 +6,8 @@
 #   make firmware        BUILD/firmware/evo-m0.elf, evo-m3.elf (+ .bin)
 #   make firmware-test   replay a trace through both under QEMU, and more
 #   make firmware-size   text/data/bss of each firmware and of the runtime
+#   make firmware-run    the M3 firmware under QEMU on two slcan ptys, for
+#                        evo flash and evo serve --robot to reach it
 #
 # Outputs go to BUILD/firmware/: per core m0/ and m3/ (objects, the two
 # core archives), mind/ (the exported images), the test driver, the plugin.
@@ -61,19 +63,34 @@ fw_objs = $(patsubst %,$(FW_BUILD)/$(1)/%.o,$(FW_SRCS) board_$(FW_BOARD_$(1)))
 
 firmware: $(foreach c,$(FW_CORES),$(FW_BUILD)/evo-$(c).elf $(FW_BUILD)/evo-$(c).bin)
 
+# ---- what the build is made for ----------------------------------------
+# The firmware is built for one mind and one robot: config.stamp holds
+# FW_MIND, FW_BOT, FW_TASK and FW_OTHER_MIND, and is rewritten only when
+# one of them changed; everything built from them depends on it, so `make
+# firmware FW_MIND=... FW_BOT=...` builds the images, the trace and the
+# objects again instead of leaving a firmware of the earlier mind (or
+# half of each).
+FW_CONFIG := $(FW_BUILD)/config.stamp
+.PHONY: fw-config-force
+$(FW_CONFIG): fw-config-force
+	@mkdir -p $(dir $@)
+	@printf 'FW_MIND=%s\nFW_BOT=%s\nFW_TASK=%s\nFW_OTHER_MIND=%s\n' \
+		'$(FW_MIND)' '$(FW_BOT)' '$(FW_TASK)' '$(FW_OTHER_MIND)' > $@.tmp
+	@if cmp -s $@.tmp $@; then rm -f $@.tmp; else mv $@.tmp $@; fi
+
 # ---- the images the firmware carries or is tested with -----------------
 FW_MIND_FILES := $(shell find $(FW_MIND) -name '*.botdesc' -o -name '*.vardesc' -o -name '*.ades' -o -name '*.net' 2>/dev/null)
 FW_OTHER_FILES := $(shell find $(FW_OTHER_MIND) -name '*.botdesc' -o -name '*.vardesc' -o -name '*.ades' -o -name '*.net' 2>/dev/null)
 
-$(FW_BUILD)/mind/mind.h: $(FW_EVO) $(FW_MIND_FILES)
+$(FW_BUILD)/mind/mind.h: $(FW_EVO) $(FW_MIND_FILES) $(FW_CONFIG)
 	@mkdir -p $(dir $@)
 	$(FW_EVO) export $(FW_MIND) --format c -o $@
 
-$(FW_BUILD)/mind/mind.bin: $(FW_EVO) $(FW_MIND_FILES)
+$(FW_BUILD)/mind/mind.bin: $(FW_EVO) $(FW_MIND_FILES) $(FW_CONFIG)
 	@mkdir -p $(dir $@)
 	$(FW_EVO) export $(FW_MIND) -o $@
 
-$(FW_BUILD)/mind/other.bin: $(FW_EVO) $(FW_OTHER_FILES)
+$(FW_BUILD)/mind/other.bin: $(FW_EVO) $(FW_OTHER_FILES) $(FW_CONFIG)
 	@mkdir -p $(dir $@)
 	$(FW_EVO) export $(FW_OTHER_MIND) -o $@
 
@@ -86,7 +103,7 @@ FW_NEW := $(FW_BUILD)/mind/new
 FW_NEW_MIND := $(FW_NEW)/$(notdir $(FW_MIND))
 FW_NEW_TASK ?= $(FW_MIND)/Tasks/Collect-NEAT.simbatch
 FW_NEW_TRACE_TICKS ?= 600
-$(FW_NEW)/stamp: $(FW_EVO) $(FW_MIND_FILES) $(FW_NEW_TASK)
+$(FW_NEW)/stamp: $(FW_EVO) $(FW_MIND_FILES) $(FW_NEW_TASK) $(FW_CONFIG)
 	rm -rf $(FW_NEW) && mkdir -p $(FW_NEW) && cp -r $(FW_MIND) $(FW_NEW_MIND)
 	sed 's/^NUMGEN:.*/NUMGEN:2 EVALREP:1 TICKLIM:300 POPSIZE:30/' $(FW_NEW_TASK) \
 		> $(FW_NEW_MIND)/Tasks/flash-train.simbatch
@@ -98,7 +115,7 @@ $(FW_BUILD)/mind/new.trace: $(FW_NEW)/stamp $(FW_TASK)
 		--ticks $(FW_NEW_TRACE_TICKS) --trace $@
 
 # The trace the firmware must reproduce, byte for byte.
-$(FW_BUILD)/mind/run.trace: $(FW_EVO) $(FW_MIND_FILES) $(FW_TASK)
+$(FW_BUILD)/mind/run.trace: $(FW_EVO) $(FW_MIND_FILES) $(FW_TASK) $(FW_CONFIG)
 	@mkdir -p $(dir $@)
 	$(FW_EVO) run $(FW_TASK) --headless --ticks $(FW_TRACE_TICKS) --trace $@
 
@@ -137,7 +154,7 @@ $(FW_BUILD)/$(1)/core/%.o: core/src/%.c
 	@mkdir -p $$(dir $$@)
 	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) -MMD -MP -c $$< -o $$@
 
-$(FW_BUILD)/$(1)/%.o: firmware/%.c
+$(FW_BUILD)/$(1)/%.o: firmware/%.c $(FW_CONFIG)
 	@mkdir -p $$(dir $$@)
 	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) -MMD -MP -c $$< -o $$@
 
@@ -162,7 +179,7 @@ $(FW_BUILD)/evo-$(1).elf: $(call fw_objs,$(1)) $(call fw_libs,$(1)) \
 
 # The firmware without the flash receiver (FW_FLASH=0), for make
 # firmware-size: the difference is what taking minds over the bus costs.
-$(FW_BUILD)/$(1)/main-noflash.o: firmware/main.c
+$(FW_BUILD)/$(1)/main-noflash.o: firmware/main.c $(FW_CONFIG)
 	@mkdir -p $$(dir $$@)
 	$(ARM_CC) $(FW_CPU_$(1)) $(FW_CFLAGS) -DFW_FLASH=0 -MMD -MP -c $$< -o $$@
 
@@ -175,7 +192,7 @@ $(FW_BUILD)/noflash-$(1).elf: $(FW_BUILD)/$(1)/main-noflash.o \
 
 # The firmware with the test key (make firmware-test): its key header is
 # found before the one of FW_KEY.
-$(FW_BUILD)/$(1)/main-keyed.o: firmware/main.c $(FW_BUILD)/key-test/flash_key.h
+$(FW_BUILD)/$(1)/main-keyed.o: firmware/main.c $(FW_BUILD)/key-test/flash_key.h $(FW_CONFIG)
 	@mkdir -p $$(dir $$@)
 	$(ARM_CC) $(FW_CPU_$(1)) -I$(FW_BUILD)/key-test $(FW_CFLAGS) -MMD -MP -c $$< -o $$@
 
@@ -237,11 +254,36 @@ $(BUILD)/bench/bench_firmware: $(FW_BUILD)/host/bench_firmware.o $(FW_HOST_OBJS)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS_ALL) -o $@ $(filter %.o %.a,$^) $(LIBS)
 
+# ---- a firmware to try: make firmware-run ---------------------------------
+# The firmware under QEMU with its UART as a CAN bus on two slcan
+# pseudo-terminals, FW_RUN_DIR/bus and FW_RUN_DIR/bus2 (evo is the adapter
+# on each), until Ctrl-C: `evo flash MIND --can slcan:FW_RUN_DIR/bus`
+# sends it a mind, `evo serve TASK --robot --can slcan:FW_RUN_DIR/bus2`
+# is a body it drives (docs/firmware.md, "Trying it under QEMU").
+FW_RUN_CORE ?= m3
+FW_RUN_DIR ?= $(FW_BUILD)/run
+FW_RUN_SEED ?= 1
+FW_RUN_SRCS := firmware/host/fw_run.c firmware/host/qemu_session.c \
+	firmware/host/trace_file.c $(CORE_SRCS) sim/remote/can.c \
+	sim/remote/can_format.c sim/remote/can_robot_frames.c sim/base/err.c
+$(FW_BUILD)/fw_run: $(FW_RUN_SRCS) $(FW_HOST_HDRS) sim/remote/can.h \
+		sim/remote/can_robot.h
+	@mkdir -p $(dir $@)
+	$(CC) $(FW_HOST_CFLAGS) -Isim -o $@ $(FW_RUN_SRCS)
+
+.PHONY: firmware-run
+firmware-run: $(FW_BUILD)/fw_run $(FW_BUILD)/evo-$(FW_RUN_CORE).elf
+	@mkdir -p $(FW_RUN_DIR)
+	$(FW_BUILD)/fw_run --qemu $(QEMU_ARM) --machine $(FW_MACHINE_$(FW_RUN_CORE)) \
+		--kernel $(FW_BUILD)/evo-$(FW_RUN_CORE).elf \
+		--can 'slcan-pty:?link=$(FW_RUN_DIR)/bus' \
+		--can 'slcan-pty:?link=$(FW_RUN_DIR)/bus2' --episode-seed $(FW_RUN_SEED)
+
 # ---- the targets -----------------------------------------------------------
 FW_TEST_INPUTS := $(foreach c,$(FW_CORES),$(FW_BUILD)/evo-$(c).elf $(FW_BUILD)/evo-$(c)-keyed.elf) \
 	$(FW_BUILD)/firmware_test $(FW_BUILD)/mind/mind.bin \
 	$(FW_BUILD)/mind/other.bin $(FW_BUILD)/mind/run.trace \
-	$(FW_BUILD)/mind/new.trace
+	$(FW_BUILD)/mind/new.trace $(FW_BUILD)/fw_run
 # Where the flash tests cut and corrupt a transfer: a new seed each run,
 # printed, so that a failure can be run again (FW_TEST_SEED=N).
 FW_TEST_SEED ?= $(shell date +%s)
@@ -256,6 +298,7 @@ firmware-test: $(FW_TEST_INPUTS)
 		--seed $(FW_TEST_SEED) --key $(FW_TEST_KEY) \
 		$(foreach c,$(FW_CORES),--firmware $(FW_MACHINE_$(c))=$(FW_BUILD)/evo-$(c).elf) \
 		$(foreach c,$(FW_CORES),--keyed $(FW_MACHINE_$(c))=$(FW_BUILD)/evo-$(c)-keyed.elf)
+	timeout -k 5 300 sh tests/firmware/test_firmware_run.sh
 
 # Per core: the firmware without its mind slot (the slot is flash kept for
 # the image, printed apart), and the MIND runtime linked alone.

@@ -16,6 +16,11 @@
 #     a `lua` block without one of these is a failure.
 # A block that must not run says why on the line before its fence:
 #   <!-- not run: REASON -->
+# A block of output (no info string) marked
+#   <!-- printed by the block above -->
+# holds lines the file's last `sh` example (or environment example, run as
+# above) printed: each of its lines must be one line of that output, exactly.
+# DOC_FILES="FILE ..." checks those files only (default README.md docs/*.md).
 # Ends with "N passed, N failed" and exits non-zero on a failure.
 cd "$(dirname "$0")/.." || exit 2
 evo=${EVO_BUILD:-build}/evo
@@ -31,13 +36,14 @@ unset DISPLAY WAYLAND_DISPLAY
 # on the line before the fence ("-" when there is none); the block's text
 # in $tmp/blocks/N.
 mkdir -p "$tmp/blocks"
-for f in README.md docs/*.md; do
+for f in ${DOC_FILES:-README.md docs/*.md}; do
 	awk -v f="$f" -v dir="$tmp/blocks" '
 		/^```/ && !inb {
 			inb = 1; info = substr($0, 4); start = FNR
 			mark = prev ~ /^<!-- .* -->$/ ? prev : "-"
 			gsub(/^<!-- | -->$/, "", mark); gsub(/ /, "_", mark)
-			if (info == "sh" || info == "lua") {
+			if (info == "" && mark == "printed_by_the_block_above") info = "printed"
+			if (info == "sh" || info == "lua" || info == "printed") {
 				n = ++count[0]; out = dir "/" f ":" start
 				gsub(/\//, "_", out); out = dir "/" n "-" substr(out, length(dir) + 2)
 				print f, start, info, mark, out
@@ -109,6 +115,24 @@ EOF
 
 while read -r file line info mark block; do
 	where="$file:$line ($info)"
+	if [ "$info" = printed ]; then
+		# the output of this file's last sh example, kept in $tmp/last.out
+		rm -f "$tmp/out"
+		if [ "$last_file" != "$file" ] || [ ! -f "$tmp/last.out" ]; then
+			result 1 "$where" "no sh example of this file ran before it"
+			continue
+		fi
+		missing=$(while IFS= read -r l; do
+			[ -z "$l" ] || grep -qxF -- "$l" "$tmp/last.out" || echo "$l"
+		done <"$block")
+		if [ -n "$missing" ]; then
+			{ echo "not printed:"; echo "$missing"; echo "printed:"; cat "$tmp/last.out"; } >"$tmp/out"
+			result 1 "$where" "lines the example above did not print"
+		else
+			result 0 "$where"
+		fi
+		continue
+	fi
 	rm -f "$tmp/out"
 	case $mark in
 	not_run:_?*)
@@ -124,13 +148,19 @@ while read -r file line info mark block; do
 		sed "s#\(^\|[ ;(|&]\)build/evo\b#\1$evo#g" "$block" >"$tmp/run.sh"
 		# stdin is not the list of examples (mpirun reads its stdin)
 		timeout -k 5 120 sh -e "$tmp/run.sh" >"$tmp/out" 2>&1 </dev/null
-		result $? "$where" "the example failed"
+		rc=$?
+		cp "$tmp/out" "$tmp/last.out"
+		last_file=$file
+		result $rc "$where" "the example failed"
 	elif [ "$mark" = example:_environment ]; then
 		avoid_copy DocExample
 		cp "$block" "$tmp/Avoid/Envs/DocExample.lua"
 		timeout -k 5 120 "$evo" run "$tmp/Avoid/Tasks/T.simbatch" --headless \
 			--episodes 2 --ticks 300 >"$tmp/out" 2>&1
-		result $? "$where" "the environment example failed"
+		rc=$?
+		cp "$tmp/out" "$tmp/last.out"
+		last_file=$file
+		result $rc "$where" "the environment example failed"
 	elif [ "$mark" = example:_bot_model ]; then
 		doc_mind "$block"
 		timeout -k 5 120 "$evo" check "$tmp/Doc/Tasks/T.simbatch" >"$tmp/out" 2>&1

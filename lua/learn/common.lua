@@ -92,7 +92,7 @@ end
 -- interface: options_from_task, new, genomes/tell, best, species,
 -- save/load, to_net, to_net_text.
 common.MODULES = { NEAT = "learn.neat", GENETIC = "learn.genetic", ANNEALING = "learn.annealing",
-	CMAES = "learn.cmaes", NOVELTY = "learn.novelty" }
+	CMAES = "learn.cmaes", NOVELTY = "learn.novelty", MAPELITES = "learn.mapelites" }
 
 -- Where key `key` of a task is, for messages: "path:line", or "path" when
 -- the key is not in the file. `lines` maps each key of the task to its line.
@@ -110,7 +110,7 @@ end
 -- The prefix of each method's own keys: the .simbatch reader keeps every
 -- key that starts with one (core/src/parse_simbatch.c).
 common.PREFIXES = { NEAT = "NEAT_", GENETIC = "GA_", ANNEALING = "SA_", CMAES = "CMAES_",
-	NOVELTY = "NOVELTY_" }
+	NOVELTY = "NOVELTY_", MAPELITES = "MAPELITES_" }
 
 -- Does `algo` read task key `key`: its own keys, and those of the other
 -- method it builds on (NOVELTY reads NEAT's: algo.other_keys)?

@@ -19,7 +19,11 @@ local netfile = require "learn.netfile"
 local task = host.task
 local method = (task.LEARNINGMETHOD or "NEAT"):upper()
 if not common.MODULES[method] then
-	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC, ANNEALING, CMAES or NOVELTY", 0)
+	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC, ANNEALING, CMAES, NOVELTY or MAPELITES", 0)
+end
+if method == "MAPELITES" then
+	error("LEARNINGMETHOD MAPELITES keeps an archive of one skill's behaviours: it trains a "
+		.. "LEARNSIM task, not LEARNSIMCONTINUOUS's turns", 0)
 end
 local algo = require(common.MODULES[method])
 local options = common.task_options(algo, task, host.task_path, host.task_lines)

@@ -26,7 +26,7 @@ local task = host.task
 local method = (task.LEARNINGMETHOD or "NEAT"):upper()
 local MODULES = common.MODULES
 if not MODULES[method] then
-	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC, ANNEALING, CMAES or NOVELTY", 0)
+	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC, ANNEALING, CMAES, NOVELTY or MAPELITES", 0)
 end
 local algo = require(MODULES[method])
 
@@ -59,7 +59,12 @@ local CURVE_SECONDS = 1.0
 -- in a run of XOR that lasts a tenth of a second. A run killed between two
 -- checkpoints goes on from the last one and does the generations after it
 -- again, identically (their rows of log.csv are dropped and written anew).
+-- A checkpoint that took more than CHECKPOINT_SECONDS / CHECKPOINT_SHARE to
+-- write (a MAP-Elites archive of ten thousand networks takes a second) is
+-- written again only after CHECKPOINT_SHARE times that, so writing
+-- checkpoints never costs more than a tenth of the run.
 local CHECKPOINT_SECONDS = 1.0
+local CHECKPOINT_SHARE = 10
 
 -- A malformed option stops the run at its line in the task file.
 local options = common.task_options(algo, task, host.task_path, host.task_lines)
@@ -215,11 +220,12 @@ else
 	history = { best = {}, mean = {} }
 	best_team = {}
 end
--- the method's own columns after the environment's metrics (NOVELTY:
--- archive, threshold, best_novelty)
+-- a method's own columns of log.csv (NOVELTY: archive, threshold,
+-- best_novelty; MAPELITES: coverage, qd_score)
 host.open_log(first, algo.log_columns)
 local since_curve = 0
 local last_checkpoint = os.clock()
+local checkpoint_cost = 0.0 -- CPU seconds the last checkpoint took to write
 
 for gen = first, generations - 1 do
 	local k = learner_of(gen)
@@ -289,9 +295,9 @@ for gen = first, generations - 1 do
 	-- network of the `best` column; a team task's learning team (its
 	-- number in the task) and the generation's share of episodes won
 	local row = metrics[best_i]
-	if algo.log_columns then
+	if pop.log_values then
 		row = { table.unpack(row) }
-		for _, v in ipairs(pop:log_row()) do row[#row + 1] = v end
+		for _, v in ipairs(pop:log_values()) do row[#row + 1] = v end
 	end
 	if t then
 		row = { table.unpack(row) }
@@ -307,18 +313,24 @@ for gen = first, generations - 1 do
 	since_curve = since_curve + seconds
 	if since_curve >= CURVE_SECONDS then
 		host.curve(history.best, history.mean, true)
+		if algo.write_archive then algo.write_archive(pop, host, true) end
 		since_curve = 0
 	end
 	local stop
-	if solver then
+	if solver and not algo.whole_budget then
 		stop = string.format("solved in generation %d", gen)
 	elseif target and pop.best.fitness >= target then
 		stop = string.format("target fitness %.17g reached in generation %d", target, gen)
+	elseif pop.stop_reason then
+		-- the method's own criterion (MAPELITES: its target coverage)
+		stop = pop:stop_reason(gen)
 	end
 	-- The checkpoint last: a run killed before it is written resumes from
 	-- the previous checkpoint and redoes the generations since identically.
 	if gen == first or stop or gen == generations - 1
-		or os.clock() - last_checkpoint >= CHECKPOINT_SECONDS then
+		or os.clock() - last_checkpoint
+			>= math.max(CHECKPOINT_SECONDS, CHECKPOINT_SHARE * checkpoint_cost) then
+		local t0 = os.clock()
 		local more
 		if #learners > 1 then
 			more = {}
@@ -328,6 +340,7 @@ for gen = first, generations - 1 do
 			pop = algo.save(pops[1], true), more_pops = more, history = history, solver = solver,
 			stopped = stop ~= nil, best_team = teams and best_team or nil })
 		last_checkpoint = os.clock()
+		checkpoint_cost = last_checkpoint - t0
 	end
 	if stop then
 		host.print(stop)
@@ -339,8 +352,10 @@ local pop = pops[1]
 
 -- The champion: the best solver when the task has a success criterion and
 -- a candidate met it, else the best network the method has seen.
+-- A method that searches its whole budget (MAPELITES: an archive, not a
+-- solver) neither stops at the first solver nor makes it the champion.
 local champion, champion_fitness
-if solver then
+if solver and not algo.whole_budget then
 	champion, champion_fitness = solver.net, solver.fitness
 else
 	champion, champion_fitness = algo.to_net(pop.best.genome), pop.best.fitness
@@ -375,6 +390,8 @@ else
 	end
 end
 host.curve(history.best, history.mean)
+-- MAPELITES: the archive (archive.csv, each elite's .net, the heatmap)
+if algo.write_archive then algo.write_archive(pop, host, false) end
 
 -- the environment's metrics, each a mean over the repetitions, after
 -- the collisions: ", in_zone 12.5"

@@ -7,9 +7,18 @@
 -- written.
 local netfile = {}
 
--- A decimal the .net reader accepts: no exponent, no leading '+'.
+-- A decimal the .net reader accepts: no exponent, no leading '+'. It is the
+-- Q16 value evo ran (evo_q16_from_double: x * 65536 rounded half away from
+-- zero) written exactly, q / 65536 having at most 16 decimals, so a network
+-- read back from its file scores what it scored in training, to the bit
+-- (six decimals were not enough: one in thirty weights came back one Q16
+-- step off, enough to change a maze robot's path).
 local function decimal(x)
-	local s = string.format("%.6f", x):gsub("0+$", ""):gsub("%.$", "")
+	local v = x * 65536
+	if v == v and v > -2 ^ 31 and v < 2 ^ 31 then
+		x = (v < 0 and math.ceil(v - 0.5) or math.floor(v + 0.5)) / 65536
+	end
+	local s = string.format("%.16f", x):gsub("0+$", ""):gsub("%.$", "")
 	if s == "-0" then s = "0" end
 	return s
 end

@@ -314,7 +314,7 @@ end
 
 -- The loop's own columns of log.csv, and this generation's values.
 novelty.log_columns = { "archive", "threshold", "best_novelty" }
-function Pop:log_row()
+function Pop:log_values()
 	return { #self.archive // (self.dims or 1), self.rho_min, self.last.best_novelty }
 end
 

@@ -90,8 +90,10 @@ end
 
 -- An environment for maze m: its walls, bot and goal; the episode of
 -- `ticks` steps (TICKLIM overrides it), ended early when the bot's centre
--- comes within `reach` of the goal (maze units; nil: never); `rewards(scene,
--- bot, goal)` adds the fitness; solved when the bot ends within `reach`.
+-- comes within `reach` of the goal (maze units) when `stop_at_goal`;
+-- `rewards(scene, bot, goal)` adds the fitness; solved when the bot ends
+-- within `reach`, unless `no_solved` (a task whose aim is not the goal:
+-- a learning run stops at its first solver).
 function maze.env(m, opts)
 	local env = {}
 	local bot, goal
@@ -108,7 +110,9 @@ function maze.env(m, opts)
 		end
 	end
 	function env.behaviour(scene, b) return maze.behaviour(m, b) end
-	function env.solved(scene, b) return maze.distance(m, b) < opts.reach end
+	if not opts.no_solved then
+		function env.solved(scene, b) return maze.distance(m, b) < opts.reach end
+	end
 	return env
 end
 

@@ -1,4 +1,5 @@
 #define _POSIX_C_SOURCE 200809L
+#define _DEFAULT_SOURCE /* sync() */
 #include "base/fileio.h"
 
 #include <errno.h>
@@ -145,8 +146,10 @@ int evo_create_beside(const char *path, char *tmp, size_t cap, evo_err *err)
 			path, path, pid);
 }
 
-int evo_write_file_atomic(const char *path, const void *data, size_t len,
-			  evo_err *err)
+/* evo_write_file_atomic and evo_write_file_replace: the same, with or
+ * without the fsync before the rename. */
+static int write_beside(const char *path, const void *data, size_t len,
+			int sync, evo_err *err)
 {
 	size_t cap = strlen(path) + 48;
 	char *tmp = malloc(cap);
@@ -176,7 +179,7 @@ int evo_write_file_atomic(const char *path, const void *data, size_t len,
 	}
 	/* rename replaces path's directory entry: a symbolic link planted
 	 * at path is replaced by the file, never followed. */
-	int bad = fsync(fd) != 0;
+	int bad = sync && fsync(fd) != 0;
 	bad |= close(fd) != 0;
 	if (bad || rename(tmp, path) != 0) {
 		evo_fail(err, "%s: cannot save: %s", path, strerror(errno));
@@ -187,6 +190,35 @@ int evo_write_file_atomic(const char *path, const void *data, size_t len,
 	free(tmp);
 	return 0;
 }
+
+int evo_write_file_atomic(const char *path, const void *data, size_t len,
+			  evo_err *err)
+{
+	return write_beside(path, data, len, 1, err);
+}
+
+int evo_write_file_replace(const char *path, const void *data, size_t len,
+			   evo_err *err)
+{
+	return write_beside(path, data, len, 0, err);
+}
+
+int evo_file_sync(const char *path, evo_err *err)
+{
+	int fd = open(path, O_RDONLY | O_NOFOLLOW);
+	if (fd < 0)
+		return evo_fail(err, "%s: cannot open it to sync it: %s", path,
+				strerror(errno));
+	int bad = fsync(fd) != 0;
+	int e = errno;
+	close(fd);
+	if (bad)
+		return evo_fail(err, "%s: cannot sync it: %s", path,
+				strerror(e));
+	return 0;
+}
+
+void evo_sync_all(void) { sync(); }
 
 int evo_folder_check_links(const char *root, const char *rel, evo_err *err)
 {

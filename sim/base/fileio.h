@@ -43,6 +43,24 @@ int evo_file_exists(const char *path);
 int evo_write_file_atomic(const char *path, const void *data, size_t len,
 			  evo_err *err);
 
+/* evo_write_file_atomic without its fsync: a killed process still leaves
+ * the old file or the new one whole, but after a power cut the disk may
+ * hold the old one. For files rewritten every generation of a learning
+ * run (log.csv, best/): a sync each would cost more than a generation of
+ * a fast task, and the checkpoint that follows syncs them
+ * (evo_file_sync). */
+int evo_write_file_replace(const char *path, const void *data, size_t len,
+			   evo_err *err);
+
+/* fsync the file at path (a regular file, not through a symbolic link).
+ * 0, or -1 with err. */
+int evo_file_sync(const char *path, evo_err *err);
+
+/* Flush every file written so far to disk (sync): one flush for many
+ * files written with evo_write_file_replace (MAP-Elites' thousands of
+ * elites), where an fsync each would cost seconds. */
+void evo_sync_all(void);
+
 /* Create a new file beside path for writing (mode 0644 less the umask),
  * to be renamed over path once written: PATH.tmp.PID, or PATH.tmp.PID.N
  * when that name exists. Nothing that exists, a symbolic link included,

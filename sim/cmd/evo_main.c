@@ -9,6 +9,7 @@
 #include "base/number.h"
 #include "cmd/export_c.h"
 #include "cmd/flash.h"
+#include "cmd/mindinfo.h"
 #include "cmd/run.h"
 #include "cmd/serve.h"
 #include "learn/learn.h"
@@ -40,14 +41,17 @@ static void usage(FILE *f)
 	      "      LCM, or as a stand-in robot in real time, over LCM or\n"
 	      "      as a body on a CAN bus, until stopped (docs/remote.md,\n"
 	      "      docs/can.md)\n"
-	      "  evo info MINDFOLDER [--master SKILL]\n"
-	      "      load a mind folder and show its hierarchy in tick order\n"
-	      "  evo check TASK.simbatch\n"
+	      "  evo info MINDFOLDER|IMAGE.bin [--master SKILL]\n"
+	      "           [--net SKILL=NET ...]\n"
+	      "      load a mind folder (or an exported image) and show its\n"
+	      "      hierarchy in tick order, and which skills have no\n"
+	      "      network yet, in the order to train them\n"
+	      "  evo check TASK.simbatch [--net SKILL=NET ...]\n"
 	      "      check a task file, the mind folder it names, its bot\n"
 	      "      model and environment, and, for LEARNSIM, the learning\n"
 	      "      method's options\n"
-	      "  evo tick MINDFOLDER [--master SKILL] [--ticks N]\n"
-	      "           [--sensor NAME=VALUE ...]\n"
+	      "  evo tick MINDFOLDER|IMAGE.bin [--master SKILL] [--ticks N]\n"
+	      "           [--sensor NAME=VALUE ...] [--net SKILL=NET ...]\n"
 	      "      run the mind for N ticks (default 10) on fixed sensor\n"
 	      "      values (default 0.5) and print actuators and influences\n"
 	      "  evo export MINDFOLDER [--master SKILL] [--format bin|c]\n"
@@ -81,6 +85,8 @@ static int cmd_info(const evo_mindfolder *l)
 		       kind_name(a), a->n_in, a->n_out);
 		if (a->kind == EVO_SKILL_HARDCODED)
 			printf(" class:%s", a->hc_class);
+		else if (l->untrained && l->untrained[i])
+			printf(" network: none yet");
 		else
 			printf(" network: %u nodes, %u links",
 			       (unsigned)(l->net[i]->n_in + l->net[i]->n_nodes),
@@ -94,12 +100,20 @@ static int cmd_info(const evo_mindfolder *l)
 			}
 		printf("\n");
 	}
-	printf("mind image: %zu bytes; mind state: %zu bytes\n", l->image_len,
-	       evo_state_size(m));
+	if (evo_untrained_report(l, stdout))
+		printf("mind image (untrained skills with zero weights): %zu "
+		       "bytes; mind state: %zu bytes\n",
+		       l->image_len, evo_state_size(m));
+	else
+		printf("mind image: %zu bytes; mind state: %zu bytes\n",
+		       l->image_len, evo_state_size(m));
 	return 0;
 }
 
-static int set_sensor(const evo_mindfolder *l, const char *arg, double *values)
+/* --sensor NAME=VALUE into values; where names the sensors' source
+ * ("Avoid.botdesc", or the image file) in a message. */
+static int set_sensor(const evo_mind *m, const char *where, const char *arg,
+		      double *values)
 {
 	const char *eq = strchr(arg, '=');
 	char *end;
@@ -117,21 +131,20 @@ static int set_sensor(const evo_mindfolder *l, const char *arg, double *values)
 			       "must be a number in [0, 1]\n",
 			       arg, (int)(eq - arg), arg),
 		       -1;
-	for (unsigned i = 0; i < l->botdesc->n_sensors; i++)
-		if (strlen(l->botdesc->sensor[i].name) == (size_t)(eq - arg) &&
-		    strncmp(l->botdesc->sensor[i].name, arg,
+	for (unsigned i = 0; i < m->n_sensors; i++)
+		if (strlen(evo_mind_sensor_name(m, i)) == (size_t)(eq - arg) &&
+		    strncmp(evo_mind_sensor_name(m, i), arg,
 			    (size_t)(eq - arg)) == 0) {
 			values[i] = v;
 			return 0;
 		}
-	fprintf(stderr, "evo: --sensor %s: %s.botdesc has no sensor '%.*s'\n",
-		arg, l->bot_name, (int)(eq - arg), arg);
+	fprintf(stderr, "evo: --sensor %s: %s has no sensor '%.*s'\n", arg,
+		where, (int)(eq - arg), arg);
 	return -1;
 }
 
-static int cmd_tick(const evo_mindfolder *l, long ticks, double *sensor_values)
+static int cmd_tick(const evo_mind *m, long ticks, double *sensor_values)
 {
-	const evo_mind *m = &l->mind;
 	size_t size = evo_state_size(m);
 	void *mem = aligned_alloc(8, (size + 7) & ~(size_t)7);
 	evo_q16 sensors[EVO_MAX_SENSORS], actuators[EVO_MAX_ACTUATORS];
@@ -203,6 +216,44 @@ static int check_task(const char *path, evo_task *task, evo_err *err)
 	return 0;
 }
 
+/* evo info and evo tick of an exported mind image (.bin): its own names
+ * say what it holds. --master and --net need the mind folder. */
+static int image_cmd(const char *cmd, const char *path, long ticks,
+		     const char *const *sensor_args, unsigned n_sensor_args,
+		     int folder_opts)
+{
+	if (folder_opts) {
+		fprintf(stderr,
+			"evo %s: %s is a mind image, made for one master "
+			"with its networks: --master and --net need the mind "
+			"folder\n",
+			cmd, path);
+		return 2;
+	}
+	evo_err err = {{0}};
+	evo_mind m;
+	void *buf;
+	if (evo_image_load(path, &buf, &m, &err)) {
+		fprintf(stderr, "%s\n", err.msg);
+		return 1;
+	}
+	int rc = 0;
+	if (strcmp(cmd, "info") == 0) {
+		evo_image_info(path, &m);
+	} else {
+		double values[EVO_MAX_SENSORS];
+		for (unsigned i = 0; i < EVO_MAX_SENSORS; i++)
+			values[i] = 0.5;
+		for (unsigned i = 0; i < n_sensor_args && rc == 0; i++)
+			rc = set_sensor(&m, path, sensor_args[i], values) ? 2
+									  : 0;
+		if (rc == 0)
+			rc = cmd_tick(&m, ticks, values);
+	}
+	free(buf);
+	return rc;
+}
+
 /* A path ending in .simbatch (any case). */
 static int is_task_path(const char *a)
 {
@@ -243,17 +294,45 @@ int main(int argc, char **argv)
 		return rc;
 	}
 	if (strcmp(cmd, "check") == 0) {
-		if (argc != 3) {
+		/* --net SKILL=NET ..., as evo run takes them */
+		evo_net_choice nets[16];
+		char skills[16][EVO_NAME_MAX];
+		unsigned n_nets = 0;
+		for (int i = 3; i < argc; i += 2) {
+			const char *v = i + 1 < argc ? argv[i + 1] : "";
+			const char *eq = strchr(v, '=');
+			if (strcmp(argv[i], "--net") != 0 || !eq || eq == v ||
+			    !eq[1] || (size_t)(eq - v) >= EVO_NAME_MAX ||
+			    n_nets == 16) {
+				usage(stderr);
+				return 2;
+			}
+			snprintf(skills[n_nets], EVO_NAME_MAX, "%.*s",
+				 (int)(eq - v), v);
+			nets[n_nets] = (evo_net_choice){skills[n_nets], eq + 1};
+			n_nets++;
+		}
+		if (argc < 3) {
 			usage(stderr);
 			return 2;
 		}
 		evo_task task;
-		if (evo_task_load(argv[2], &task, &err) != 0) {
+		evo_task_opts to = {
+		    .untrained_ok = 1, .nets = nets, .n_nets = n_nets};
+		if (evo_task_load_opts(argv[2], &to, &task, &err) != 0) {
 			fprintf(stderr, "%s\n", err.msg);
 			return 1;
 		}
 		if (check_task(argv[2], &task, &err) != 0) {
 			fprintf(stderr, "%s\n", err.msg);
+			evo_task_free(&task);
+			return 1;
+		}
+		if (task.n_teams == 0 && evo_untrained_count(task.mind)) {
+			printf("%s: task %s, mind folder %s: not ready to run "
+			       "until the skills below are trained\n",
+			       argv[2], task.type, task.mind->root);
+			cmd_info(task.mind);
 			evo_task_free(&task);
 			return 1;
 		}
@@ -292,6 +371,9 @@ int main(int argc, char **argv)
 	int format_c = 0;
 	const char *sensor_args[EVO_MAX_SENSORS];
 	unsigned n_sensor_args = 0;
+	evo_net_choice nets[16];
+	char net_skill[16][EVO_NAME_MAX];
+	unsigned n_nets = 0;
 	for (int i = 3; i < argc; i++) {
 		const char *a = argv[i];
 		const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -315,6 +397,24 @@ int main(int argc, char **argv)
 			   n_sensor_args < EVO_MAX_SENSORS) {
 			sensor_args[n_sensor_args++] = v;
 			i++;
+		} else if (strcmp(a, "--net") == 0 && v &&
+			   strcmp(cmd, "export") != 0 && n_nets < 16) {
+			/* SKILL=FILE|random|zero, as evo run --net */
+			const char *eq = strchr(v, '=');
+			if (!eq || eq == v || !eq[1] ||
+			    (size_t)(eq - v) >= EVO_NAME_MAX) {
+				fprintf(stderr,
+					"evo %s: --net expects SKILL=FILE, "
+					"SKILL=random or SKILL=zero, found "
+					"'%s'\n",
+					cmd, v);
+				return 2;
+			}
+			snprintf(net_skill[n_nets], EVO_NAME_MAX, "%.*s",
+				 (int)(eq - v), v);
+			nets[n_nets].skill = net_skill[n_nets];
+			nets[n_nets++].source = eq + 1;
+			i++;
 		} else if (strcmp(a, "-o") == 0 && v) {
 			out = v;
 			i++;
@@ -336,6 +436,13 @@ int main(int argc, char **argv)
 			return 2;
 		}
 	}
+	if (strcmp(cmd, "export") != 0 && evo_is_image_path(argv[2]))
+		return image_cmd(cmd, argv[2], ticks, sensor_args,
+				 n_sensor_args, opts.master || n_nets);
+	opts.nets = nets;
+	opts.n_nets = n_nets;
+	/* a hierarchy can be looked at before its sub-skills are trained */
+	opts.untrained_ok = strcmp(cmd, "info") == 0;
 	evo_mindfolder *l = evo_mindfolder_load(argv[2], &opts, &err);
 	if (!l) {
 		fprintf(stderr, "%s\n", err.msg);
@@ -346,12 +453,16 @@ int main(int argc, char **argv)
 		rc = cmd_info(l);
 	} else if (strcmp(cmd, "tick") == 0) {
 		double values[EVO_MAX_SENSORS];
+		char where[300];
+		snprintf(where, sizeof where, "%s.botdesc", l->bot_name);
 		for (unsigned i = 0; i < EVO_MAX_SENSORS; i++)
 			values[i] = 0.5;
 		for (unsigned i = 0; i < n_sensor_args && rc == 0; i++)
-			rc = set_sensor(l, sensor_args[i], values) ? 2 : 0;
+			rc = set_sensor(&l->mind, where, sensor_args[i], values)
+				 ? 2
+				 : 0;
 		if (rc == 0)
-			rc = cmd_tick(l, ticks, values);
+			rc = cmd_tick(&l->mind, ticks, values);
 	} else {
 		char path[1200];
 		if (!out) {

@@ -15,6 +15,7 @@
 #include "cluster/cluster.h"
 #include "learn/evaluate.h"
 #include "learn/learn.h"
+#include "learn/runopts.h"
 #include "lua/lua_evo.h"
 #include "mind/task.h"
 #include "mind/trace.h"
@@ -48,6 +49,7 @@ typedef struct run_opts {
 	long generations;	/* LEARNSIM: 0 for NUMGEN */
 	const char *run_dir;	/* LEARNSIM */
 	int resume;
+	int no_save; /* LEARNSIM: the champion stays in the run folder */
 	evo_net_choice net[RUN_MAX_NETS]; /* --net SKILL=SOURCE */
 	unsigned n_nets;
 	char net_arg[RUN_MAX_NETS][EVO_NAME_MAX]; /* each SKILL */
@@ -89,7 +91,13 @@ static void run_usage(FILE *f)
 	      "  --threads N        worker threads (default: one per core;\n"
 	      "                     under mpirun, each rank's own)\n"
 	      "  --run DIR          run folder (default MIND/Runs/TASK-seedN)\n"
-	      "  --resume           go on from the run folder's checkpoint\n"
+	      "  --resume           go on from the run folder's checkpoint,\n"
+	      "                     with the --seed, --ticks, --generations\n"
+	      "                     and --no-save the run was started with\n"
+	      "  --no-save          leave Skills/ as it is: the champion\n"
+	      "                     stays in the run folder (without it, a\n"
+	      "                     network it replaces is kept there as\n"
+	      "                     replaced-SKILL.net)\n"
 	      "  under `mpirun -np N evo run ...` rank 0 learns and every\n"
 	      "  rank evaluates (docs/cluster.md)\n",
 	      f);
@@ -195,6 +203,8 @@ static int parse_args(int argc, char **argv, run_opts *o)
 			i++;
 		} else if (strcmp(a, "--resume") == 0) {
 			o->resume = 1;
+		} else if (strcmp(a, "--no-save") == 0) {
+			o->no_save = 1;
 		} else if (strcmp(a, "--net") == 0) {
 			if (parse_net(v, o))
 				return -1;
@@ -1278,6 +1288,17 @@ int evo_run_main(int argc, char **argv)
 	if (parse_args(argc, argv, &o))
 		return 2;
 	evo_err err = {{0}};
+	/* --resume --run DIR: the seed the run was started with, before the
+	 * task is loaded with it (the default folder's name holds it) */
+	if (o.resume && o.run_dir && !o.seed_set) {
+		evo_run_record r;
+		if (evo_run_record_read(o.run_dir, &r, &err)) {
+			fprintf(stderr, "%s\n", err.msg);
+			return 1;
+		}
+		o.seed = r.seed;
+		o.seed_set = r.found;
+	}
 	evo_task task;
 	evo_task_opts to = {
 		.seed_set = o.seed_set,
@@ -1303,6 +1324,17 @@ int evo_run_main(int argc, char **argv)
 	    strcmp(task.type, "LEARNSIMCONTINUOUS") == 0 ||
 	    strcmp(task.type, "LEARN2DSIMMULTI") == 0 ||
 	    strcmp(task.type, "LEARNREMOTESIM") == 0) {
+		if (o.episodes >= 0) {
+			/* it would be ignored: say so rather than run a task
+			 * other than the one asked for */
+			fprintf(stderr,
+				"evo run: --episodes is for DEMO tasks; %s is a "
+				"%s task, whose networks each play EVALREP "
+				"episodes (docs/learning.md)\n",
+				o.task, task.type);
+			evo_task_free(&task);
+			return 2;
+		}
 		/* --threads, else the task's THREADS, else one per core */
 		const char *tv = evo_simbatch_get(task.sb, "THREADS");
 		long threads = o.threads ? o.threads
@@ -1315,7 +1347,18 @@ int evo_run_main(int argc, char **argv)
 			.ticks = o.ticks,
 			.run_dir = o.run_dir,
 			.resume = o.resume,
+			.no_save = o.no_save,
+			.argv0 = argv[0],
 		};
+		char dir[1024];
+		if (o.resume &&
+		    (evo_learn_run_dir(o.task, &task, &lo, dir, sizeof dir,
+				       &err) ||
+		     evo_run_record_restore(dir, &lo, o.seed_set, &err))) {
+			fprintf(stderr, "%s\n", err.msg);
+			evo_task_free(&task);
+			return 2;
+		}
 		if (evo_cluster_launched()) {
 			int rc = learn_on_cluster(o.task, &task, &lo);
 			evo_task_free(&task);

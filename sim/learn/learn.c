@@ -5,7 +5,7 @@
  * states. It reaches C through the `evo.learn` module set up here (the
  * scene scripts have their own `evo` module, sim/lua/lua_evo.c): evaluate a
  * batch of networks, log a generation, save files into the run folder,
- * save the champion, draw the curve. */
+ * save the champion, draw the curve (and MAP-Elites' heatmap). */
 #define _POSIX_C_SOURCE 200809L
 #include "learn/learn.h"
 
@@ -27,11 +27,13 @@
 #include "base/fileio.h"
 #include "learn/curve.h"
 #include "learn/evaluate.h"
+#include "learn/heatmap.h"
 #include "learn/literature.h"
 #include "learn/lua_linalg.h"
 #include "learn/lua_neat.h"
 #include "learn/lua_novelty.h"
 #include "learn/runlog.h"
+#include "learn/runopts.h"
 #include "lua/lua_evo.h"
 #include "mind/net_build.h"
 
@@ -611,8 +613,39 @@ static int l_read(lua_State *L)
 	return 1;
 }
 
+/* Before a run writes Skills/S/S.net (or a member's S.K.net) over a
+ * network it did not make, a shipped one, one trained by hand or by
+ * another run, that network is copied into the run folder as
+ * replaced-NAME.net: the first one the run replaces, so a resumed run or a
+ * later round keeps the network from before the run. *kept is the copy's
+ * path, or "" when nothing was kept (no file, or the same text). */
+static int keep_replaced(const learn *l, const char *path, const char *text,
+			 size_t len, const char *name, char *kept, size_t cap,
+			 evo_err *err)
+{
+	kept[0] = 0;
+	if (!evo_file_exists(path))
+		return 0;
+	char copy[1300];
+	if (evo_path_fmt(copy, sizeof copy, err, "%s/replaced-%s.net",
+			 l->run_dir, name))
+		return -1;
+	if (evo_file_exists(copy))
+		return 0;
+	char *old;
+	size_t n;
+	if (evo_read_file(path, &old, &n, err))
+		return -1;
+	int same = n == len && memcmp(old, text, len) == 0;
+	int rc = same ? 0 : evo_write_file_atomic(copy, old, n, err);
+	free(old);
+	if (rc == 0 && !same)
+		snprintf(kept, cap, "%s", copy);
+	return rc;
+}
+
 /* The champion goes into the run folder, which keeps each run's own, and
- * then where DEMOSIM and evo export look for it. evo.save_champion(text[,
+ * then where DEMOSIM and evo export look for it (not with --no-save). evo.save_champion(text[,
  * team, member, heterogeneous]) in a team task: team (1-based) is the
  * learning team, member k > 1 of a heterogeneous team gets
  * champion-K.net and Skills/S/S.K.net (docs/teams.md); a homogeneous
@@ -625,6 +658,7 @@ static int l_save_champion(lua_State *L)
 	char kept[1300], path[1400], name[160] = "champion";
 	const char *root = l->task->mind->root, *skill = l->skill;
 	int member = 1, hetero = 0;
+	const char *team_name = NULL; /* of a task with two learning teams */
 	evo_err err = {{0}};
 	if (!lua_isnoneornil(L, 2) && l->task->n_teams > 0) {
 		int team = (int)luaL_checkinteger(L, 2) - 1;
@@ -636,8 +670,10 @@ static int l_save_champion(lua_State *L)
 		skill = tm->learning_skill;
 		member = (int)luaL_optinteger(L, 3, 1);
 		hetero = lua_toboolean(L, 4);
-		if (l->task->n_learning > 1)
+		if (l->task->n_learning > 1) {
 			snprintf(name, sizeof name, "champion-%s", tm->name);
+			team_name = tm->name;
+		}
 		if (member > 1) {
 			size_t n = strlen(name);
 			snprintf(name + n, sizeof name - n, "-%d", member);
@@ -650,30 +686,52 @@ static int l_save_champion(lua_State *L)
 			 name) ||
 	    evo_write_file_atomic(kept, text, len, &err))
 		return raise_msg(L, err.msg);
-	char folder[200];
+	char folder[200], replaced[1300], what[200];
 	snprintf(folder, sizeof folder, "Skills/%s", skill);
+	snprintf(what, sizeof what, "%s%s%s%s", team_name ? team_name : "",
+		 team_name ? "-" : "", skill, suffix);
 	if (evo_path_fmt(path, sizeof path, &err, "%s/Skills/%s/%s%s.net", root,
-			 skill, skill, suffix) ||
-	    evo_folder_check_links(root, folder, &err) ||
+			 skill, skill, suffix))
+		return raise_msg(L, err.msg);
+	if (l->opts->no_save) {
+		if (l->tty && member == 1)
+			printf("\n");
+		printf("champion in %s; %s left as it was (--no-save)\n", kept,
+		       path);
+		return 0;
+	}
+	if (evo_folder_check_links(root, folder, &err) ||
+	    keep_replaced(l, path, text, len, what, replaced, sizeof replaced,
+			  &err) ||
 	    evo_write_file_atomic(path, text, len, &err))
 		return raise_msg(L, lua_pushfstring(L, "%s; the champion is in %s",
 						    err.msg, kept));
 	/* member networks of an earlier heterogeneous run would run in
-	 * place of a homogeneous champion */
+	 * place of a homogeneous champion: kept in the run folder, then
+	 * removed */
 	for (int k = 2; member == 1 && !hetero && l->task->n_teams > 0 &&
 			k <= EVO_TEAM_MAX_SIZE;
 	     k++) {
-		char old[1400];
+		char old[1400], gone[1300], oname[220];
+		snprintf(oname, sizeof oname, "%s.%d", what, k);
 		if (evo_path_fmt(old, sizeof old, &err,
 				 "%s/Skills/%s/%s.%d.net", root, skill, skill,
-				 k))
+				 k) ||
+		    !evo_file_exists(old) ||
+		    keep_replaced(l, old, "", 0, oname, gone, sizeof gone,
+				  &err) ||
+		    unlink(old) != 0)
 			break;
-		if (unlink(old) != 0)
-			break;
+		if (gone[0])
+			printf("%s: removed (a homogeneous champion runs in "
+			       "every member); kept in %s\n",
+			       old, gone);
 	}
 	if (l->tty && member == 1)
 		printf("\n");
 	printf("champion saved in %s\n", path);
+	if (replaced[0])
+		printf("the network it replaced is kept in %s\n", replaced);
 	return 0;
 }
 
@@ -711,6 +769,82 @@ static int l_curve(lua_State *L)
 		return raise_msg(L, err.msg);
 	if (!quiet)
 		printf("learning curve in %s\n", path);
+	return 0;
+}
+
+/* evo.heatmap(nx, ny, values[, quiet]): draw archive.png, the nx x ny
+ * grid of values (x + nx * y + 1; NaN where a cell is empty), as
+ * evo.curve draws curve.png. */
+static int l_heatmap(lua_State *L)
+{
+	learn *l = ctx(L);
+	lua_Integer nx = luaL_checkinteger(L, 1), ny = luaL_checkinteger(L, 2);
+	int quiet = lua_toboolean(L, 4);
+	int n;
+	if (nx < 1 || ny < 1 || nx > 1000 || ny > 1000)
+		return luaL_error(L, "evo.heatmap: %I x %I cells", nx, ny);
+	double *v = number_list(L, 3, &n);
+	if (n != nx * ny)
+		return luaL_error(L, "evo.heatmap: %d values for %I x %I cells",
+				  n, nx, ny);
+	char path[1200], title[200];
+	snprintf(title, sizeof title, "%s: the archive", l->skill);
+	evo_err err = {{0}};
+	if (evo_path_fmt(path, sizeof path, &err, "%s/archive.png",
+			 l->run_dir) ||
+	    evo_heatmap_write(path, title, (int)nx, (int)ny, v, &err))
+		return raise_msg(L, err.msg);
+	if (!quiet)
+		printf("archive heatmap in %s\n", path);
+	return 0;
+}
+
+/* evo.save_many(names, texts): files of the run folder, as evo.save
+ * writes them but made durable together (one sync for all, not a disk
+ * flush each: MAP-Elites' thousands of elites). */
+static int l_save_many(lua_State *L)
+{
+	learn *l = ctx(L);
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	if (!l->log_open)
+		return luaL_error(L, "evo.save_many before evo.open_log");
+	lua_Integer n = luaL_len(L, 1);
+	if (luaL_len(L, 2) != n)
+		return luaL_error(L, "evo.save_many: %I names, %I texts", n,
+				  luaL_len(L, 2));
+	char checked[1024] = "";
+	evo_err err = {{0}};
+	for (lua_Integer i = 1; i <= n; i++) {
+		lua_geti(L, 1, i);
+		lua_geti(L, 2, i);
+		const char *name = run_file_name(L, -2, "evo.save_many");
+		size_t len;
+		const char *text = luaL_checklstring(L, -1, &len);
+		const char *slash = strrchr(name, '/');
+		char folder[1024] = "";
+		if (slash)
+			snprintf(folder, sizeof folder, "%.*s",
+				 (int)(slash - name), name);
+		/* a folder's links are checked once */
+		if (slash && strcmp(folder, checked) != 0) {
+			char path[1200];
+			if (evo_folder_check_links(l->run_dir, folder, &err))
+				return raise_msg(L, err.msg);
+			if (evo_path_fmt(path, sizeof path, &err, "%s/%s",
+					 l->run_dir, folder))
+				return raise_msg(L, err.msg);
+			mkdir(path, 0755);
+			snprintf(checked, sizeof checked, "%s", folder);
+		}
+		char path[1200];
+		if (evo_path_fmt(path, sizeof path, &err, "%s/%s", l->run_dir,
+				 name) ||
+		    evo_write_file_replace(path, text, len, &err))
+			return raise_msg(L, err.msg);
+		lua_pop(L, 2);
+	}
+	evo_sync_all();
 	return 0;
 }
 
@@ -804,13 +938,20 @@ static int l_save_skill_net(lua_State *L)
 	const char *text = luaL_checklstring(L, 2, &len);
 	char path[1400];
 	evo_err err;
-	char folder[200];
+	char folder[200], replaced[1300];
+	if (l->opts->no_save)
+		return 0;
 	snprintf(folder, sizeof folder, "Skills/%s", skill);
 	if (evo_path_fmt(path, sizeof path, &err, "%s/Skills/%s/%s.net",
 			 l->task->mind->root, skill, skill) ||
 	    evo_folder_check_links(l->task->mind->root, folder, &err) ||
+	    keep_replaced(l, path, text, len, skill, replaced, sizeof replaced,
+			  &err) ||
 	    evo_write_file_atomic(path, text, len, &err))
 		return raise_msg(L, err.msg);
+	if (replaced[0])
+		printf("%s: the network it replaced is kept in %s\n", path,
+		       replaced);
 	return 0;
 }
 
@@ -824,6 +965,8 @@ static const luaL_Reg learn_fns[] = {
     {"read", l_read},
     {"save_champion", l_save_champion},
     {"curve", l_curve},
+    {"heatmap", l_heatmap},
+    {"save_many", l_save_many},
     {"print", l_print},
     {"begin_turn", l_begin_turn},
     {"read_skill_net", l_read_skill_net},
@@ -1228,13 +1371,15 @@ static void on_interrupt(int sig)
 
 static void catch_interrupt(const learn *l, struct sigaction old[2])
 {
+	char args[200];
+	evo_run_record_args(l->opts, args, sizeof args);
 	int n = snprintf(interrupt_msg, sizeof interrupt_msg,
 			 "\ninterrupted: %s holds the run as of its last "
 			 "checkpoint, at most a second of work back; "
-			 "%sevo run %s --seed %llu --resume%s%s goes on%s\n",
+			 "%s%s run %s%s --resume%s%s goes on%s\n",
 			 l->run_dir, l->opts->spread ? "mpirun -np N " : "",
-			 l->task_path,
-			 (unsigned long long)l->opts->seed,
+			 l->opts->argv0 ? l->opts->argv0 : "evo",
+			 l->task_path, args,
 			 l->opts->run_dir ? " --run " : "",
 			 l->opts->run_dir ? l->opts->run_dir : "",
 			 l->opts->spread ? ", with any number of ranks N, or "
@@ -1283,23 +1428,15 @@ int evo_learn_run(const char *task_path, evo_task *task,
 			     ? task->team[task->learning[0]].learning_skill
 			     : evo_simbatch_get(task->sb, "LEARNINGSKILL"));
 	}
-	if (o->run_dir) {
-		if (evo_path_fmt(l.run_dir, sizeof l.run_dir, err, "%s",
-				 o->run_dir))
-			return -1;
-	} else {
-		const char *base = strrchr(task_path, '/');
-		base = base ? base + 1 : task_path;
-		int n = (int)strcspn(base, ".");
+	if (evo_learn_run_dir(task_path, task, o, l.run_dir, sizeof l.run_dir,
+			      err))
+		return -1;
+	if (!o->run_dir) {
 		/* the run folder is the mind folder's: no link it ships
 		 * sends the run elsewhere */
-		char rel[1024];
-		if (evo_path_fmt(l.run_dir, sizeof l.run_dir, err,
-				 "%s/Runs/%.*s-seed%llu", task->mind->root, n,
-				 base, (unsigned long long)o->seed) ||
-		    evo_path_fmt(rel, sizeof rel, err, "Runs/%.*s-seed%llu", n,
-				 base, (unsigned long long)o->seed) ||
-		    evo_folder_check_links(task->mind->root, rel, err))
+		if (evo_folder_check_links(
+			task->mind->root,
+			l.run_dir + strlen(task->mind->root) + 1, err))
 			return -1;
 	}
 	l.ed = (evo_eval_def){
@@ -1364,10 +1501,30 @@ int evo_learn_run(const char *task_path, evo_task *task,
 		       task_path, evo_simbatch_get(task->sb, "LEARNINGMETHOD"),
 		       l.skill, (unsigned long long)o->seed, where, l.run_dir);
 	fflush(stdout);
-	if (!o->resume && evo_runlog_set_aside(l.run_dir, err)) {
+	evo_run_record was = {0};
+	if (o->resume && evo_run_record_read(l.run_dir, &was, err) == 0 &&
+	    was.found && was.generations != o->generations) {
+		if (was.generations)
+			printf("the run was started with --generations %d; "
+			       "it now runs %d generations\n",
+			       was.generations, o->generations);
+		else
+			printf("the run was started without --generations "
+			       "(the task's NUMGEN); it now runs %d "
+			       "generations\n",
+			       o->generations);
+	}
+	if ((!o->resume && evo_runlog_set_aside(l.run_dir, err)) ||
+	    evo_run_record_write(l.run_dir, o, err)) {
 		close(lock);
 		evo_evaluator_destroy(l.ev);
 		return -1;
+	}
+	if (o->resume) {
+		char args[200];
+		evo_run_record_args(o, args, sizeof args);
+		printf("resuming %s with the options it was started with:%s\n",
+		       l.run_dir, args);
 	}
 	evo_lua_limits lim;
 	if (evo_lua_limits_read(task->sb, task_path, &lim, err)) {

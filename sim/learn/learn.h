@@ -17,14 +17,19 @@ typedef struct evo_learn_opts {
 	int resume;	     /* go on from the run folder's checkpoint */
 	int generations;     /* 0: NUMGEN */
 	long ticks;	     /* ticks per episode at most; 0: TICKLIM */
+	int no_save;	     /* the champion stays in the run folder:
+			      * Skills/ is left as it is (--no-save) */
+	const char *argv0;   /* evo as it was run, for the resume hint;
+			      * NULL: "evo" */
 	/* where batches go beyond this process (cluster runs,
 	 * sim/cluster/); NULL: its own worker threads */
 	const evo_eval_spread *spread;
 } evo_learn_opts;
 
 /* Run the learning task; prints one line per generation, writes the run
- * folder, saves the champion into the skill's folder. Returns 0 or -1
- * with err set. */
+ * folder, saves the champion into the skill's folder (a network there it
+ * replaces is kept in the run folder as replaced-SKILL.net), unless
+ * no_save. Returns 0 or -1 with err set. */
 int evo_learn_run(const char *task_path, evo_task *task,
 		  const evo_learn_opts *o, evo_err *err);
 

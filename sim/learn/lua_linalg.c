@@ -1,10 +1,18 @@
 /* evo — evo.linalg: the symmetric eigendecomposition CMA-ES needs
- * (lua/learn/cmaes.lua), in C so a method written in Lua does not pay
- * the interpreter for an O(n^3) kernel.
+ * (lua/learn/cmaes.lua) and the nearest-centroid search of MAP-Elites'
+ * CVT archive (lua/learn/mapelites.lua), in C so a method written in Lua
+ * does not pay the interpreter for an O(n^3) or O(points * centroids)
+ * kernel.
  *
  *	local linalg = require "evo.linalg"
  *	local values, vectors, sweeps = linalg.eigh(n, a)
+ *	local cell = linalg.nearest(d, centroids, points)
  *
+ * nearest: centroids and points are flat lists of d-vectors; cell[i] is
+ * the 1-based index of the centroid nearest to point i (squared Euclidean
+ * distance, summed over the coordinates in order; the first of equals).
+ *
+ * eigh: *
  * a is a flat row-major list of n * n numbers (symmetric; the upper
  * triangle is read); values a list of n eigenvalues, vectors a flat
  * row-major n * n list whose column j is the unit eigenvector of
@@ -131,7 +139,64 @@ static int l_eigh(lua_State *L)
 	return 3;
 }
 
-static const luaL_Reg linalg_fns[] = {{"eigh", l_eigh}, {NULL, NULL}};
+/* A flat list of finite numbers at idx, in a userdata left on the stack;
+ * its length a multiple of d. */
+static double *vector_list(lua_State *L, int idx, lua_Integer d,
+			   lua_Integer *count, const char *what)
+{
+	luaL_checktype(L, idx, LUA_TTABLE);
+	lua_Integer len = luaL_len(L, idx);
+	if (len % d || len > (lua_Integer)1 << 28)
+		luaL_error(L, "nearest: %s holds %I numbers, not a whole number "
+			      "of %I-vectors",
+			   what, len, d);
+	double *v = lua_newuserdatauv(L, (size_t)(len ? len : 1) * sizeof *v, 0);
+	for (lua_Integer i = 0; i < len; i++) {
+		lua_geti(L, idx, i + 1);
+		int ok;
+		v[i] = lua_tonumberx(L, -1, &ok);
+		if (!ok || !isfinite(v[i]))
+			luaL_error(L, "nearest: %s[%I] is not a finite number",
+				   what, i + 1);
+		lua_pop(L, 1);
+	}
+	*count = len / d;
+	return v;
+}
+
+/* cell = nearest(d, centroids, points) */
+static int l_nearest(lua_State *L)
+{
+	lua_Integer d = luaL_checkinteger(L, 1);
+	luaL_argcheck(L, d >= 1 && d <= 1024, 1, "d must be from 1 to 1024");
+	lua_Integer nc, np;
+	const double *c = vector_list(L, 2, d, &nc, "centroids");
+	const double *p = vector_list(L, 3, d, &np, "points");
+	if (nc < 1 && np > 0)
+		return luaL_error(L, "nearest: no centroids");
+	lua_createtable(L, (int)np, 0);
+	for (lua_Integer i = 0; i < np; i++) {
+		const double *x = p + i * d;
+		lua_Integer best = 0;
+		double best_d = INFINITY;
+		for (lua_Integer k = 0; k < nc; k++) {
+			const double *y = c + k * d;
+			double s = 0;
+			for (lua_Integer j = 0; j < d && s < best_d; j++)
+				s += (x[j] - y[j]) * (x[j] - y[j]);
+			if (s < best_d) {
+				best_d = s;
+				best = k;
+			}
+		}
+		lua_pushinteger(L, best + 1);
+		lua_rawseti(L, -2, i + 1);
+	}
+	return 1;
+}
+
+static const luaL_Reg linalg_fns[] = {
+    {"eigh", l_eigh}, {"nearest", l_nearest}, {NULL, NULL}};
 
 static int open_linalg(lua_State *L)
 {

@@ -74,7 +74,8 @@ static const char *const KEY_NAMES[K_COUNT] = {
 /* Pushes t[key] (t a plain table: no metamethods) and returns its type. */
 static int rget(lua_State *L, int t, enum key key)
 {
-	t = lua_absindex(L, t);
+	if (t < 0)
+		t = lua_gettop(L) + t + 1;
 	lua_pushvalue(L, lua_upvalueindex(key));
 	return lua_rawget(L, t);
 }
@@ -82,7 +83,8 @@ static int rget(lua_State *L, int t, enum key key)
 /* t[key] = the value on top of the stack, popped. */
 static void rset(lua_State *L, int t, enum key key)
 {
-	t = lua_absindex(L, t);
+	if (t < 0)
+		t = lua_gettop(L) + t + 1;
 	lua_pushvalue(L, lua_upvalueindex(key));
 	lua_insert(L, -2);
 	lua_rawset(L, t);
@@ -678,43 +680,60 @@ static lua_Integer list_length(lua_State *L, int idx)
 	return n;
 }
 
+/* A record's key as the sort compares it: its stack slot, its type, and
+ * a string key's bytes (read once, not at every comparison). */
+typedef struct rkey {
+	int slot, type;
+	const char *s;
+	size_t len;
+} rkey;
+
 /* serialize.lua's key order: by type name, then by value (Lua's <).
  * Strings compare byte by byte, a prefix first: what Lua's < does in the
  * C locale, which evo never leaves. */
-static int key_less(lua_State *L, int a, int b)
+static int key_less(lua_State *L, const rkey *a, const rkey *b)
 {
-	int ta = lua_type(L, a), tb = lua_type(L, b);
-	if (ta != tb)
-		return strcmp(lua_typename(L, ta), lua_typename(L, tb)) < 0;
-	if (ta == LUA_TSTRING) {
-		size_t la, lb;
-		const char *sa = lua_tolstring(L, a, &la);
-		const char *sb = lua_tolstring(L, b, &lb);
-		int c = memcmp(sa, sb, la < lb ? la : lb);
-		return c < 0 || (c == 0 && la < lb);
+	if (a->type != b->type)
+		return strcmp(lua_typename(L, a->type),
+			      lua_typename(L, b->type)) < 0;
+	if (a->type == LUA_TSTRING) {
+		int c = memcmp(a->s, b->s, a->len < b->len ? a->len : b->len);
+		return c < 0 || (c == 0 && a->len < b->len);
 	}
-	return lua_compare(L, a, b, LUA_OPLT);
+	return lua_compare(L, a->slot, b->slot, LUA_OPLT);
 }
 
-/* Sorts the n keys at stack slots base .. base+n-1 (insertion into a
- * merge of runs: the keys are distinct, so any sort gives one order). */
-static void sort_keys(lua_State *L, int base, int n, int *ix, int *tmp)
+/* Sorts the n keys k[0 .. n-1] (insertion of each into the sorted ones
+ * before it: a record has a few; the keys are distinct, so any sort
+ * gives one order). */
+static void sort_keys(lua_State *L, rkey *k, int n)
+{
+	for (int i = 1; i < n; i++) {
+		rkey x = k[i];
+		int j = i;
+		for (; j > 0 && key_less(L, &x, &k[j - 1]); j--)
+			k[j] = k[j - 1];
+		k[j] = x;
+	}
+}
+
+/* Merge sort of the n keys k[0 .. n-1], tmp as room: for big maps. */
+static void merge_keys(lua_State *L, rkey *k, rkey *tmp, int n)
 {
 	for (int w = 1; w < n; w *= 2) {
 		for (int lo = 0; lo < n; lo += 2 * w) {
 			int mid = lo + w < n ? lo + w : n;
 			int hi = lo + 2 * w < n ? lo + 2 * w : n;
-			int a = lo, c = mid, k = lo;
+			int a = lo, c = mid, o = lo;
 			while (a < mid && c < hi)
-				tmp[k++] = key_less(L, base + ix[c], base + ix[a])
-					       ? ix[c++]
-					       : ix[a++];
+				tmp[o++] = key_less(L, &k[c], &k[a]) ? k[c++]
+								      : k[a++];
 			while (a < mid)
-				tmp[k++] = ix[a++];
+				tmp[o++] = k[a++];
 			while (c < hi)
-				tmp[k++] = ix[c++];
+				tmp[o++] = k[c++];
 		}
-		memcpy(ix, tmp, (size_t)n * sizeof *ix);
+		memcpy(k, tmp, (size_t)n * sizeof *k);
 	}
 }
 
@@ -722,31 +741,35 @@ static void put_value(lua_State *L, buffer *b, int idx, int depth);
 
 static void put_record(lua_State *L, buffer *b, int idx, int depth)
 {
+	/* every key and its value onto the stack, in pairs from base */
 	int base = lua_gettop(L) + 1, n = 0;
 	lua_pushnil(L);
 	while (lua_next(L, idx)) {
-		lua_pop(L, 1);
 		luaL_checkstack(L, 3, "serialize: a table of too many keys");
-		lua_pushvalue(L, -1); /* the key stays, a copy iterates */
+		lua_pushvalue(L, -2); /* the pair stays, a copy iterates */
 		n++;
 	}
-	/* the keys are at base .. base+n-1; a record's few are sorted in
-	 * an array here, a big map's in a userdata */
-	int small[2 * 64];
-	int *ix = n <= 64 ? small
-			  : lua_newuserdatauv(L, 2 * (size_t)n * sizeof *ix, 0);
-	for (int k = 0; k < n; k++)
-		ix[k] = k;
-	sort_keys(L, base, n, ix, ix + n);
-	for (int k = 0; k < n; k++) {
-		int key = base + ix[k];
+	/* a record's few keys are sorted in an array here, a big map's in
+	 * a userdata */
+	rkey small[16];
+	rkey *k = n <= 16 ? small
+			  : lua_newuserdatauv(L, 2 * (size_t)n * sizeof *k, 0);
+	for (int i = 0; i < n; i++) {
+		k[i].slot = base + 2 * i;
+		k[i].type = lua_type(L, k[i].slot);
+		k[i].s = k[i].type == LUA_TSTRING
+			     ? lua_tolstring(L, k[i].slot, &k[i].len)
+			     : NULL;
+	}
+	if (n <= 16)
+		sort_keys(L, k, n);
+	else
+		merge_keys(L, k, k + n, n);
+	for (int i = 0; i < n; i++) {
 		put(L, b, "[", 1);
-		put_value(L, b, key, depth);
+		put_value(L, b, k[i].slot, depth);
 		put(L, b, "]=", 2);
-		lua_pushvalue(L, key);
-		lua_rawget(L, idx);
-		put_value(L, b, lua_gettop(L), depth);
-		lua_pop(L, 1);
+		put_value(L, b, k[i].slot + 1, depth);
 		put(L, b, ",", 1);
 	}
 	lua_settop(L, base - 1);
@@ -1099,11 +1122,15 @@ static void sort_list(lua_State *L, int list, enum key field)
 /* A copy of the gene at the top of the stack, pushed. */
 static void push_gene_copy(lua_State *L)
 {
-	int src = lua_gettop(L);
+	int src = lua_gettop(L), dst = src + 1;
 	lua_createtable(L, 0, 5);
+	/* the fields in rget/rset's order, four calls each instead of their
+	 * eight: a copy is made for every gene of every child */
 	for (int f = K_INNOV; f <= K_ENABLED; f++) {
-		rget(L, src, (enum key)f);
-		rset(L, -2, (enum key)f);
+		lua_pushvalue(L, lua_upvalueindex(f));
+		lua_pushvalue(L, -1);
+		lua_rawget(L, src);
+		lua_rawset(L, dst);
 	}
 }
 

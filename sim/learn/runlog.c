@@ -339,6 +339,26 @@ void evo_runlog_close(evo_runlog *log)
 	memset(log, 0, sizeof *log);
 }
 
+/* Append n bytes to the file at path (no symbolic link) in one write. */
+static int append_row(const char *path, const char *row, size_t n,
+		      evo_err *err)
+{
+	int fd = open(path, O_WRONLY | O_APPEND | O_NOFOLLOW);
+	if (fd < 0)
+		return evo_fail(err, "%s: cannot open it to add a row: %s",
+				path, strerror(errno));
+	ssize_t w;
+	do
+		w = write(fd, row, n);
+	while (w < 0 && errno == EINTR);
+	int e = errno;
+	close(fd);
+	if (w != (ssize_t)n)
+		return evo_fail(err, "%s: cannot add a row: %s", path,
+				w < 0 ? strerror(e) : "short write");
+	return 0;
+}
+
 int evo_runlog_add(evo_runlog *log, const evo_gen_stats *s, evo_err *err)
 {
 	if (log->n_metrics > 0 && !s->metrics)
@@ -362,7 +382,18 @@ int evo_runlog_add(evo_runlog *log, const evo_gen_stats *s, evo_err *err)
 	n += snprintf(row + n, sizeof row - (size_t)n, "\n");
 	if (append(log, row, (size_t)n, err))
 		return -1;
-	return evo_runlog_save(log, "log.csv", log->csv, log->len, err);
+	char path[1200];
+	if (evo_path_fmt(path, sizeof path, err, "%s/log.csv", log->dir))
+		return -1;
+	if (log->saved == 0) {
+		if (evo_write_file_replace(path, log->csv, log->len, err))
+			return -1;
+	} else if (append_row(path, log->csv + log->saved,
+			      log->len - log->saved, err)) {
+		return -1;
+	}
+	log->saved = log->len;
+	return 0;
 }
 
 int evo_runlog_save(const evo_runlog *log, const char *name, const char *text,
@@ -370,6 +401,14 @@ int evo_runlog_save(const evo_runlog *log, const char *name, const char *text,
 {
 	char path[1200];
 	if (evo_path_fmt(path, sizeof path, err, "%s/%s", log->dir, name))
+		return -1;
+	/* a sync costs more than a generation of a fast task (XOR): the
+	 * generation's files wait for the checkpoint's */
+	if (strncmp(name, "best/", 5) == 0)
+		return evo_write_file_replace(path, text, len, err);
+	char csv[1200];
+	if (evo_path_fmt(csv, sizeof csv, err, "%s/log.csv", log->dir) ||
+	    (evo_file_exists(csv) && evo_file_sync(csv, err)))
 		return -1;
 	return evo_write_file_atomic(path, text, len, err);
 }

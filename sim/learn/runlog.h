@@ -43,8 +43,11 @@ typedef struct evo_gen_stats {
 
 typedef struct evo_runlog {
 	char dir[1024];
-	char *csv; /* the whole log, rewritten each generation */
+	char *csv; /* the whole log */
 	size_t len, cap;
+	/* the bytes of csv that log.csv holds: after the first row, each
+	 * row is appended to the file (0: the next row rewrites it whole) */
+	size_t saved;
 	/* resumed: the elapsed time of the last row kept, which the rows
 	 * of this process add to, so log.csv's elapsed column counts the
 	 * whole run's time, not this process's */
@@ -85,10 +88,19 @@ int evo_runlog_claim(const char *dir, evo_err *err);
  * first free dir.N and say so on stdout. Returns 0 or -1 with err. */
 int evo_runlog_set_aside(const char *dir, evo_err *err);
 
-/* Add a generation's row and save log.csv atomically. */
+/* Add a generation's row to log.csv. The first row of a process rewrites
+ * the file whole and atomically (the header, and on --resume the rows
+ * kept); each later row is appended with one write, so the file is never
+ * recreated per generation (on some file systems creating a file cost
+ * more than a generation of XOR). A killed run leaves whole rows, or at
+ * worst a last row without its newline, which --resume drops; log.csv is
+ * synced to disk with the next checkpoint (evo_runlog_save). */
 int evo_runlog_add(evo_runlog *log, const evo_gen_stats *s, evo_err *err);
 
-/* Save text as <dir>/<name> atomically (a network, a checkpoint). */
+/* Save text as <dir>/<name> atomically (a network, a checkpoint). A file
+ * under best/ (one a generation) is not synced to disk on its own; any
+ * other (the checkpoint) is, and log.csv with it first, so that after a
+ * power cut the checkpoint on disk never has a log behind it. */
 int evo_runlog_save(const evo_runlog *log, const char *name, const char *text,
 		    size_t len, evo_err *err);
 

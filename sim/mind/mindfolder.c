@@ -483,6 +483,10 @@ static int load_net(evo_mindfolder *l, unsigned i, const char *ades_path,
 	int learning = o && o->learning_skill &&
 		       strcmp(o->learning_skill, a->name) == 0;
 	if (!evo_file_exists(path)) {
+		if (o && o->untrained_ok && !learning) {
+			l->untrained[i] = 1;
+			return layered_net(a, ades_path, NULL, d, err);
+		}
 		if (!learning)
 			return evo_fail(err,
 					"%s:%u: neural skill %s has no trained "
@@ -671,6 +675,7 @@ void evo_mindfolder_free(evo_mindfolder *l)
 	for (unsigned i = 0; i < l->n_skills; i++)
 		free(l->net ? l->net[i] : NULL);
 	free(l->net);
+	free(l->untrained);
 	free(l->skill);
 	free(l->botdesc);
 	free(l->vardesc);
@@ -681,17 +686,63 @@ void evo_mindfolder_free(evo_mindfolder *l)
 	free(l);
 }
 
+/* A mind folder copied under another name keeps its NAME.botdesc and
+ * NAME.vardesc: when the folder holds no botdesc named after it, its one
+ * .botdesc names the bot (l->bot_name becomes NAME, the stem of both
+ * files). Two or more are ambiguous, none is no mind folder. */
+static int find_botdesc(evo_mindfolder *l, evo_err *err)
+{
+	char path[1200];
+	snprintf(path, sizeof path, "%s/%s.botdesc", l->root, l->bot_name);
+	if (evo_file_exists(path))
+		return 0;
+	DIR *d = opendir(l->root);
+	char found[2][EVO_NAME_MAX];
+	int n = 0;
+	struct dirent *e;
+	while (d && (e = readdir(d)) != NULL) {
+		size_t len = strlen(e->d_name);
+		if (len <= 8 || len - 8 >= EVO_NAME_MAX ||
+		    strcmp(e->d_name + len - 8, ".botdesc") != 0)
+			continue;
+		if (n < 2)
+			snprintf(found[n], sizeof found[n], "%.*s",
+				 (int)(len - 8), e->d_name);
+		n++;
+	}
+	if (d)
+		closedir(d);
+	if (n == 1) {
+		char *name = strdup(found[0]);
+		if (!name)
+			return evo_fail(err, "out of memory");
+		free(l->bot_name);
+		l->bot_name = name;
+		return 0;
+	}
+	if (n > 1)
+		return evo_fail(err,
+				"%s: no %s.botdesc, and %d .botdesc files "
+				"(%s.botdesc, %s.botdesc%s): evo cannot tell "
+				"which describes this mind's bot; name it "
+				"%s.botdesc (and its .vardesc %s.vardesc), or "
+				"remove the others",
+				l->root, l->bot_name, n, found[0], found[1],
+				n > 2 ? ", ..." : "", l->bot_name, l->bot_name);
+	return evo_fail(err,
+			"%s: not a mind folder: no %s.botdesc (a mind "
+			"folder holds <Name>.botdesc, named after the "
+			"folder)",
+			l->root, l->bot_name);
+}
+
 static int load(evo_mindfolder *l, loader *ld, const evo_mindfolder_opts *o,
 		evo_err *err)
 {
 	char path[1200];
+	if (find_botdesc(l, err))
+		return -1;
 	snprintf(path, sizeof path, "%s/%s.botdesc", l->root, l->bot_name);
-	if (!evo_file_exists(path))
-		return evo_fail(err,
-				"%s: not a mind folder: no %s.botdesc (a mind "
-				"folder holds <Name>.botdesc, named after the "
-				"folder)",
-				l->root, l->bot_name);
 	l->botdesc = calloc(1, sizeof *l->botdesc);
 	l->vardesc = calloc(1, sizeof *l->vardesc);
 	if (!l->botdesc || !l->vardesc)
@@ -718,8 +769,9 @@ static int load(evo_mindfolder *l, loader *ld, const evo_mindfolder_opts *o,
 	l->n_skills = ld->n_order;
 	l->skill = calloc(l->n_skills, sizeof *l->skill);
 	l->net = calloc(l->n_skills, sizeof *l->net);
+	l->untrained = calloc(l->n_skills, sizeof *l->untrained);
 	const char **paths = calloc(l->n_skills, sizeof *paths);
-	if (!l->skill || !l->net || !paths) {
+	if (!l->skill || !l->net || !l->untrained || !paths) {
 		free(paths);
 		return evo_fail(err, "out of memory");
 	}

@@ -37,6 +37,10 @@ typedef struct evo_mindfolder_opts {
 	const evo_net_choice *nets;
 	unsigned n_nets;
 	uint64_t seed;
+	/* evo info and evo check: a neural skill without a .net (not trained
+	 * yet) gets the zero-weight placeholder and is marked in untrained[]
+	 * instead of failing the load */
+	int untrained_ok;
 } evo_mindfolder_opts;
 
 typedef struct evo_mindfolder {
@@ -47,6 +51,8 @@ typedef struct evo_mindfolder {
 	unsigned n_skills; /* top-down order, master first */
 	evo_ades *skill;
 	evo_netdesc **net; /* per skill; NULL for hard-coded */
+	unsigned char *untrained; /* per skill: 1 for a neural skill with no
+				   * .net yet (only with untrained_ok) */
 	uint32_t names_hash;
 	void *image; /* the mind image (the model) */
 	size_t image_len;

@@ -546,6 +546,7 @@ int evo_task_load_opts(const char *path, const evo_task_opts *o, evo_task *t,
 		.nets = o ? o->nets : NULL,
 		.n_nets = o ? o->n_nets : 0,
 		.seed = t->seed,
+		.untrained_ok = o ? o->untrained_ok : 0,
 	};
 	t->mind = evo_mindfolder_load(root, &opts, err);
 	if (!t->mind) {

@@ -65,6 +65,9 @@ typedef struct evo_task_opts {
 	 * (mind/mindfolder.h, evo_net_choice) */
 	const evo_net_choice *nets;
 	unsigned n_nets;
+	/* evo check: neural skills not trained yet load with zero weights
+	 * (evo_mindfolder_opts.untrained_ok) */
+	int untrained_ok;
 } evo_task_opts;
 
 /* Parse path, check the keys its TYPE needs, load its mind folder.

@@ -1,11 +1,10 @@
 /* The DEMO3DSIM view (sim/viewer/view3d.h): SDL2 for the window and its
  * events, OpenGL 1.x (fixed functions, as Mesa's llvmpipe gives under
- * Xvfb) for the world, the 2D viewer's panel beside it as pixels. */
+ * Xvfb) for the world, the 2D viewer's panel beside it as pixels. Both
+ * libraries are loaded when the view opens (viewer/sdl_load.h). */
 #define _GNU_SOURCE /* dl_iterate_phdr, RTLD_NODELETE */
 #include "viewer/view3d.h"
 
-#include <SDL.h>
-#include <SDL_opengl.h>
 #include <dlfcn.h>
 #include <link.h>
 #include <math.h>
@@ -14,6 +13,7 @@
 
 #include "viewer/png.h"
 #include "viewer/raster.h"
+#include "viewer/sdl_load.h"
 
 struct evo_view3d {
 	SDL_Window *window;
@@ -57,6 +57,8 @@ evo_view3d *evo_view3d_open(int width, int height, evo_err *err)
 		width = 1024;
 		height = 720;
 	}
+	if (evo_sdl_load(1, "the 3D view", err))
+		return NULL;
 	if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0) {
 		evo_fail(err,
 			 "cannot open the 3D view: %s (no display? set "

@@ -13,9 +13,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <SDL.h>
 
 #include "viewer/png.h"
+#include "viewer/sdl_load.h"
 #include "world2d/query.h"
 
 /* ---- camera ---------------------------------------------------------- */
@@ -760,6 +760,8 @@ evo_viewer *evo_viewer_open(int width, int height, evo_err *err)
 		width = 1024;
 		height = 720;
 	}
+	if (evo_sdl_load(0, "the viewer", err))
+		return NULL;
 	/* Left alone, SDL backs the window of a software renderer with a
 	 * GL texture, loading Mesa (llvmpipe under Xvfb) for each window
 	 * only to copy a bitmap. Plain X11 (XShm) images are enough; at

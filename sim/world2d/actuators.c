@@ -45,7 +45,7 @@ static void set_speed(evo_actuator *a)
 		return;
 	}
 	double v = a->speed + u * d->accel;
-	a->speed = v > d->max_speed ? d->max_speed
+	a->speed = v > d->max_speed    ? d->max_speed
 		   : v < -d->max_speed ? -d->max_speed
 				       : v;
 }

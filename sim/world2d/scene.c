@@ -116,11 +116,11 @@ int evo_scene_add_obstacle(evo_scene *sc, const evo_obstacle *o)
 		idx = evo_world_add_static_circle(sc->world, o->x, o->y,
 						  o->radius);
 	else if (o->shape == EVO_SHAPE_SEGMENT)
-		idx = evo_world_add_static_segment(sc->world, o->x, o->y,
-						   o->x2, o->y2);
+		idx = evo_world_add_static_segment(sc->world, o->x, o->y, o->x2,
+						   o->y2);
 	else
-		idx = evo_world_add_static_box(sc->world, o->x, o->y,
-					       o->half_w, o->half_h, o->angle);
+		idx = evo_world_add_static_box(sc->world, o->x, o->y, o->half_w,
+					       o->half_h, o->angle);
 	if (idx < 0)
 		return evo_fail(&sc->err, "an obstacle needs a positive size");
 	sc->obstacle[sc->n_obstacles] = *o;
@@ -175,11 +175,12 @@ int evo_scene_add_wall(evo_scene *sc, double x1, double y1, double x2,
 	o.half_w = 0.5 * hypot(x2 - x1, y2 - y1);
 	int idx = evo_scene_add_obstacle(sc, &o);
 	if (idx < 0)
-		return evo_fail(&sc->err,
-				"wall (%g, %g) -> (%g, %g): its ends are closer "
-				"than 5 mm",
-				x1, y1, x2, y2);
+		return evo_fail(
+		    &sc->err,
+		    "wall (%g, %g) -> (%g, %g): its ends are closer than 5 mm",
+		    x1, y1, x2, y2);
 	sc->n_fixed_obstacles = sc->n_obstacles;
+	sc->n_walls++;
 	return idx;
 }
 
@@ -388,7 +389,7 @@ int evo_scene_add_actuator(evo_scene *sc, int bot, const evo_actuator_def *d)
 		return -1;
 	evo_bot *b = &sc->bot[bot];
 	const char *name = d->name ? d->name : "";
-	double v[] = {d->x,	    d->y,	  d->angle, d->max_force,
+	double v[] = {d->x,	d->y,	      d->angle, d->max_force,
 		      d->reach, d->max_speed, d->accel};
 	if (!finite_all(v, 7))
 		return evo_fail(&sc->err,
@@ -483,8 +484,9 @@ int evo_scene_add_control(evo_scene *sc, const evo_control_def *d)
 					  "needs a solid element");
 	if (d->kind == EVO_CF_NEXT_ON_TARGET_REACHED &&
 	    (d->target == EVO_TARGET_NONE || !(d->threshold >= 0)))
-		return evo_fail(&sc->err, "control NextOnTargetReached needs a "
-					  "target and a threshold of 0 or more");
+		return evo_fail(&sc->err,
+				"control NextOnTargetReached needs a "
+				"target and a threshold of 0 or more");
 	if (GROW(sc, control, n_controls, cap_controls))
 		return -1;
 	evo_control *c = &sc->control[sc->n_controls];

@@ -380,6 +380,7 @@ struct evo_scene {
 	int *object; /* the element indices of the objects, in order */
 	evo_obstacle *obstacle; /* every static obstacle: elements', grid's */
 	int n_fixed_obstacles;	/* the first ones, from elements; the grid follows */
+	int n_walls;		/* of them, walls (evo_scene_add_wall) */
 	evo_reward *reward;
 	evo_control *control;
 	evo_grid_def grid;

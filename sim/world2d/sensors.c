@@ -412,7 +412,6 @@ static double sample_bumper(const evo_sensor *se, const frame *f,
 			    const shape_set *set)
 {
 	const evo_sensor_def *d = &se->def;
-	double heading = atan2(f->s, f->c);
 	for (int k = 0; k < set->n; k++) {
 		const evo_shape_info *s = &set->s[k];
 		if (!(s->category & d->mask))
@@ -422,7 +421,9 @@ static double sample_bumper(const evo_sensor *se, const frame *f,
 		double dx = qx - f->x, dy = qy - f->y;
 		if (dx * dx + dy * dy >= d->reach * d->reach)
 			continue;
-		double delta = wrap_angle(atan2(dy, dx) - heading);
+		/* the direction in the bot's frame: + to its right */
+		double delta =
+		    atan2(-f->s * dx + f->c * dy, f->c * dx + f->s * dy);
 		double off = fabs(wrap_angle(delta - d->angle));
 		if (off < d->arc ||
 		    (off == d->arc && fabs(delta) < fabs(d->angle)))

@@ -50,9 +50,11 @@ void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
 	 * broad phase's tree carry over from one episode to the next, and
 	 * with several bots that meet, or objects taken off the world and
 	 * put back (a delivery disables a body, a reset enables it), they
-	 * change the figures. (A scene of one agent without objects keeps
-	 * its world, as its golden traces were recorded.) */
-	int world_new = sc->n_teams > 0 || sc->n_objects > 0;
+	 * change the figures; so they may in a maze, where a robot ends
+	 * episodes pressed into corners of walls, the order of whose contacts
+	 * the tree's history decides. (A scene of one agent without objects
+	 * or walls keeps its world, as its golden traces were recorded.) */
+	int world_new = sc->n_teams > 0 || sc->n_objects > 0 || sc->n_walls > 0;
 	if (world_new) {
 		for (int i = 0; i < sc->n_bots; i++)
 			evo_bot_release(sc, i);

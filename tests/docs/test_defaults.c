@@ -811,9 +811,9 @@ static int a_method_reads(const char *key)
 {
 	static const char *const modules[] = {"learn.neat", "learn.genetic",
 					      "learn.annealing", "learn.cmaes",
-					      "learn.novelty"};
+					      "learn.novelty", "learn.mapelites"};
 	int found = 0;
-	for (int i = 0; i < 5; i++) {
+	for (unsigned i = 0; i < sizeof modules / sizeof modules[0]; i++) {
 		if (push_module(modules[i]))
 			continue;
 		lua_getfield(learn_L, -1, "task_keys");
@@ -833,7 +833,7 @@ static int render_task_default(const char *key, int in_learning, char *out,
 {
 	if (strcmp(key, "NEAT_*") == 0 || strcmp(key, "GA_*") == 0 ||
 	    strcmp(key, "SA_*") == 0 || strcmp(key, "CMAES_*") == 0 ||
-	    strcmp(key, "NOVELTY_*") == 0) {
+	    strcmp(key, "NOVELTY_*") == 0 || strcmp(key, "MAPELITES_*") == 0) {
 		/* the reader keeps every key with the prefix, for the method */
 		char text[64];
 		evo_simbatch sb;
@@ -1862,6 +1862,8 @@ static doc_table cmaes_t = {.file = "docs/learning.md",
 			    .heading = "CMA-ES's parameters"};
 static doc_table novelty_t = {.file = "docs/learning.md",
 			      .heading = "NOVELTY's parameters"};
+static doc_table mapelites_t = {.file = "docs/learning.md",
+				.heading = "MAP-Elites's parameters"};
 static doc_table task_keys_t = {.file = "docs/learning.md",
 				.heading = "The task's keys"};
 static doc_table simbatch_t = {.file = "docs/formats.md",
@@ -1874,8 +1876,8 @@ static doc_table continuous_t = {
     .heading = "Training the whole hierarchy (LEARNSIMCONTINUOUS)"};
 
 static doc_table *const checked[] = {
-    &neat_t,	 &genetic_t, &annealing_t, &cmaes_t, &novelty_t,
-    &task_keys_t, &simbatch_t, &lua_t,	   &teams_t,
+    &neat_t,	  &genetic_t, &annealing_t, &cmaes_t,	&novelty_t,
+    &mapelites_t, &task_keys_t, &simbatch_t, &lua_t,	&teams_t,
     &continuous_t};
 
 /* Every table header of docs/ with a `default` column is one of
@@ -1959,6 +1961,7 @@ int main(void)
 	check_method_table(&annealing_t, "learn.annealing");
 	check_method_table(&cmaes_t, "learn.cmaes");
 	check_method_table(&novelty_t, "learn.novelty");
+	check_method_table(&mapelites_t, "learn.mapelites");
 	learning_run();
 	check_task_table(&task_keys_t, 1, 0);
 	check_task_table(&simbatch_t, 0, 1);

@@ -158,6 +158,10 @@ function T.dump_is_the_lua_writers_text()
 		{ { { { deep = { 1, { 2 } } } } } },
 	}
 	check(fast.dump(corner) == serialize.dump_lua(corner), "corners")
+	-- a map of more keys than a record has (sorted another way in C)
+	local big = { [true] = 0, [0.5] = "h", [-3] = "m" }
+	for i = 1, 40 do big["k" .. i], big[i * 7 % 41 + 0.25] = i, -i end
+	check(fast.dump(big) == serialize.dump_lua(big), "a big map")
 	local pop = grown_population()
 	local saved = neat.save(pop, true)
 	check(fast.dump(saved) == serialize.dump_lua(saved), "a population")

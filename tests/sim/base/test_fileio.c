@@ -1,7 +1,8 @@
 /* Errors and files (sim/base/err.c, sim/base/fileio.c): evo_fail formats
  * and tolerates a NULL message; a file reads back byte for byte, NUL
  * included; a missing file's message names it and why; an atomic write
- * replaces a file whole and leaves no temporary file beside it, and
+ * replaces a file whole and leaves no temporary file beside it (with
+ * its fsync or, for a run's per-generation files, without), and
  * writes through no symbolic link a mind folder plants, at the temporary
  * name or the final one; a file larger than the limit is refused with its
  * name and the limit before it costs memory, and a FIFO or a device before
@@ -93,6 +94,42 @@ TEST(an_atomic_write_replaces_whole_and_leaves_nothing_beside)
 	snprintf(bad, sizeof bad, "%s/no/such/folder/x", dir);
 	CHECK_EQ_INT(evo_write_file_atomic(bad, "x", 1, &err), -1);
 	CHECK_CONTAINS(err.msg, "no/such/folder");
+}
+
+/* log.csv and best/ are replaced each generation without a sync of
+ * their own: the same whole-file replacement, nothing left beside it;
+ * the sync the checkpoint does first names a file that is not there. */
+TEST(a_replace_write_is_atomic_and_a_sync_names_a_missing_file)
+{
+	char path[200], sub[100];
+	snprintf(sub, sizeof sub, "%s/run", dir);
+	CHECK_EQ_INT(mkdir(sub, 0755), 0);
+	snprintf(path, sizeof path, "%s/log.csv", sub);
+	evo_err err = {{0}};
+	CHECK_EQ_INT(evo_write_file_replace(path, "generation,best\n", 16, &err),
+		     0);
+	CHECK_EQ_INT(evo_write_file_replace(path, "0,9\n", 4, &err), 0);
+	char *back = NULL;
+	size_t len = 0;
+	CHECK_EQ_INT(evo_read_file(path, &back, &len, &err), 0);
+	CHECK_EQ_STR(back, "0,9\n");
+	free(back);
+	int n = 0;
+	DIR *d = opendir(sub);
+	struct dirent *e;
+	while (d && (e = readdir(d)))
+		n += e->d_name[0] != '.';
+	if (d)
+		closedir(d);
+	CHECK_EQ_INT(n, 1); /* log.csv, no temporary file */
+	CHECK_EQ_INT(evo_file_sync(path, &err), 0);
+	char gone[200];
+	snprintf(gone, sizeof gone, "%s/checkpoint.lua", sub);
+	CHECK_EQ_INT(evo_file_sync(gone, &err), -1);
+	CHECK_CONTAINS(err.msg, gone);
+	CHECK_CONTAINS(err.msg, "No such file");
+	unlink(path);
+	rmdir(sub);
 }
 
 /* The text of the file at path, or "" (static). */
@@ -238,6 +275,7 @@ int main(void)
 	RUN(a_missing_file_is_named_with_the_reason);
 	RUN(an_atomic_write_replaces_whole_and_leaves_nothing_beside);
 	RUN(an_atomic_write_goes_through_no_planted_link);
+	RUN(a_replace_write_is_atomic_and_a_sync_names_a_missing_file);
 	RUN(a_file_past_the_limit_is_refused_by_name_before_it_is_read);
 	RUN(a_fifo_or_a_device_is_no_file_to_read);
 	char cmd[128];

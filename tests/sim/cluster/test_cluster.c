@@ -343,9 +343,11 @@ TEST(a_killed_rank_stops_the_run_and_resume_with_other_ranks_finishes_it)
 	 * and a checkpoint at most a second old are on disk, and it says
 	 * how to go on */
 	char *said = cli_read("%s/k/out1.txt", cli_tmp);
-	CHECK(said && strstr(said, " as of its last checkpoint, at most a "
-				   "second of work back; mpirun -np N evo "
-				   "run "));
+	char how[300]; /* evo as mpirun ran it */
+	snprintf(how, sizeof how, "second of work back; mpirun -np N %s run ",
+		 cli_evo);
+	CHECK(said && strstr(said, " as of its last checkpoint, at most a ") &&
+	      strstr(said, how));
 	CHECK(said && strstr(said, " goes on, with any number of ranks N, "
 				   "or without mpirun\n"));
 	free(said);

@@ -356,9 +356,13 @@ static void stop_and_resume(const char *name, const char *reference, int sig)
 	if (sig == SIGINT) {
 		/* Ctrl-C says what is kept and how to go on. */
 		char *said = cli_read("%s/%s/out1.txt", cli_tmp, name);
+		/* evo as it was run: the path the test ran */
+		char how[300];
+		snprintf(how, sizeof how, "second of work back; %s run ",
+			 cli_evo);
 		CHECK(said && strstr(said, "interrupted: ") &&
-		      strstr(said, " as of its last checkpoint, at most a "
-				   "second of work back; evo run ") &&
+		      strstr(said, " as of its last checkpoint, at most a ") &&
+		      strstr(said, how) &&
 		      strstr(said, "--seed 11 --resume --run "));
 		free(said);
 	}
@@ -581,8 +585,8 @@ TEST(unknown_method_is_a_clear_error)
 	char *text = cli_read("%s/m/out.txt", cli_tmp);
 	CHECK(text &&
 	      strstr(text, "Small.simbatch:6: LEARNINGMETHOD: expected NEAT, "
-			   "GENETIC, ANNEALING, CMAES or NOVELTY, found "
-			   "'BOGUS'"));
+			   "GENETIC, ANNEALING, CMAES, NOVELTY or MAPELITES, "
+			   "found 'BOGUS'"));
 	free(text);
 }
 
@@ -630,13 +634,25 @@ TEST(resume_warns_when_the_task_asks_for_other_options)
 			    "%s/rw/Avoid/Tasks/Small.simbatch",
 			    cli_tmp, cli_tmp),
 		     0);
-	/* the checkpoint of seed 11 does not go on with another seed */
-	CHECK_EQ_INT(train("rw", "--resume --seed 12"), 1);
+	/* the run of seed 11 does not go on with another seed: its folder
+	 * says so (options.txt), and without it the checkpoint */
+	CHECK_EQ_INT(train("rw", "--resume --seed 12"), 2);
 	char *text = cli_read("%s/rw/out.txt", cli_tmp);
+	CHECK(text && strstr(text, "--seed 12 conflicts with the run in ") &&
+	      strstr(text, "/rw/run, which was started with --seed 11"));
+	free(text);
+	CHECK_EQ_INT(cli_sh("mv %s/rw/run/options.txt %s/rw/options.txt",
+			    cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(train("rw", "--resume --seed 12"), 1);
+	text = cli_read("%s/rw/out.txt", cli_tmp);
 	CHECK(text && strstr(text, "/rw/run/checkpoint.lua: the checkpoint is "
 				   "of a run with seed 11, not 12: resume it "
 				   "with --seed 11"));
 	free(text);
+	CHECK_EQ_INT(cli_sh("mv %s/rw/options.txt %s/rw/run/options.txt",
+			    cli_tmp, cli_tmp),
+		     0);
 	CHECK_EQ_INT(rows("rw"), 2);
 	CHECK_EQ_INT(train("rw", "--resume"), 0);
 	text = cli_read("%s/rw/out.txt", cli_tmp);

@@ -96,6 +96,44 @@ TEST(resume_keeps_rows_before_the_checkpoint)
 	free(text);
 }
 
+/* After its first row a process appends each row to log.csv instead of
+ * recreating the file (the same file from row to row); a row a killed
+ * run left half written, without its newline, is dropped on --resume. */
+TEST(rows_are_appended_and_a_half_row_is_dropped_on_resume)
+{
+	char run[256], path[300];
+	snprintf(run, sizeof run, "%s/run", dir);
+	snprintf(path, sizeof path, "%s/log.csv", run);
+	FILE *f = fopen(path, "a");
+	CHECK(f != NULL);
+	if (!f)
+		return;
+	fputs("3,4,1.5,4,3,15", f); /* killed in the middle of row 3 */
+	fclose(f);
+	evo_runlog log;
+	evo_err err = {{0}};
+	CHECK_EQ_INT(evo_runlog_open(&log, run, 3, NULL, 0, &err), 0);
+	struct stat st[3];
+	for (int g = 3; g < 6; g++) {
+		evo_gen_stats s = stats(g);
+		CHECK_EQ_INT(evo_runlog_add(&log, &s, &err), 0);
+		CHECK_EQ_INT(stat(path, &st[g - 3]), 0);
+	}
+	evo_runlog_close(&log);
+	CHECK(st[1].st_ino == st[0].st_ino && st[2].st_ino == st[0].st_ino);
+	char *text = read_log();
+	CHECK(text != NULL);
+	if (!text)
+		return;
+	int rows = 0;
+	for (const char *p = text; *p; p++)
+		rows += *p == '\n';
+	CHECK_EQ_INT(rows, 7); /* the header and generations 0 to 5 */
+	CHECK_CONTAINS(text, "\n2,3,1,3,3,150,0,0.500,2.500\n3,4,1.5,4,3,150,");
+	CHECK_CONTAINS(text, "\n5,6,2.5,6,3,150,");
+	free(text);
+}
+
 TEST(files_are_saved_whole)
 {
 	char run[256], path[300];
@@ -410,6 +448,7 @@ int main(void)
 		return 1;
 	RUN(log_has_a_row_per_generation_with_exact_values);
 	RUN(resume_keeps_rows_before_the_checkpoint);
+	RUN(rows_are_appended_and_a_half_row_is_dropped_on_resume);
 	RUN(files_are_saved_whole);
 	RUN(claim_locks_and_an_earlier_run_moves_aside);
 	RUN(metric_columns_follow_the_others);

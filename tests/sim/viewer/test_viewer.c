@@ -22,11 +22,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <SDL.h>
-
 #include "harness.h"
 #include "support/cli.h"
 #include "viewer/png.h"
+#include "viewer/sdl_load.h"
 #include "viewer/viewer.h"
 
 #define PI 3.14159265358979323846
@@ -853,6 +852,24 @@ TEST(the_mouse_selects_bots_and_drags_the_free_camera)
 	evo_scene_destroy(sc);
 }
 
+/* A headless run never loads SDL2 (some fifty libraries, the larger part
+ * of the start of a short `evo run`): the drawing without a window did
+ * not load it; opening a window loads it, once. */
+TEST(sdl_is_loaded_only_when_a_window_opens)
+{
+	CHECK(dlopen(EVO_SDL_LIB, RTLD_LAZY | RTLD_NOLOAD) == NULL);
+	CHECK(dlopen(EVO_GL_LIB, RTLD_LAZY | RTLD_NOLOAD) == NULL);
+	evo_err err = {{0}};
+	CHECK_EQ_INT(evo_sdl_load(0, "the viewer", &err), 0);
+	void *h = dlopen(EVO_SDL_LIB, RTLD_LAZY | RTLD_NOLOAD);
+	CHECK(h != NULL);
+	if (h)
+		dlclose(h);
+	/* OpenGL only for the 3D view */
+	CHECK(dlopen(EVO_GL_LIB, RTLD_LAZY | RTLD_NOLOAD) == NULL);
+	CHECK_EQ_INT(evo_sdl_load(0, "the viewer", &err), 0);
+}
+
 /* SDL loads libX11 and its kin with dlopen and unloads them when the
  * viewer closes; what they leak is then reported from an "<unknown
  * module>" that no suppression can name. Held here for the life of the
@@ -878,6 +895,7 @@ int main(void)
 	RUN(walls_and_the_trail_are_drawn);
 	RUN(teams_are_coloured_and_the_selected_bot_shown);
 	RUN(remote_frame_shows_values_and_the_link_without_a_window);
+	RUN(sdl_is_loaded_only_when_a_window_opens);
 	RUN(no_display_is_a_clear_error);
 	const char *d = getenv("DISPLAY");
 	if (d && *d)

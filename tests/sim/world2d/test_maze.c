@@ -13,6 +13,8 @@
 #include "lua/lua_evo.h"
 #include "support/cli.h"
 #include "support/scenes.h"
+#include "viewer/png.h"
+#include "viewer/viewer.h"
 #include "world2d/scene.h"
 #include "world2d/sensors.h"
 
@@ -404,6 +406,73 @@ TEST(a_neat_task_on_kheperax_runs)
 	cli_cleanup();
 }
 
+/* The hard maze's NEAT run gives the same log with one worker thread and
+ * with two: which worker ran which episode, and what that worker's world
+ * ran before, changes nothing (the world is made again at each reset in
+ * a scene with walls). */
+TEST(a_maze_run_is_the_same_on_one_thread_and_two)
+{
+	if (cli_setup("maze-threads"))
+		return;
+	CHECK_EQ_INT(
+	    cli_sh("cp -r minds/Maze %s/ && sed -i "
+		   "'s/NUMGEN:100/NUMGEN:3/; s/POPSIZE:250/POPSIZE:60/' "
+		   "%s/Maze/Tasks/HardMaze-NEAT.simbatch",
+		   cli_tmp, cli_tmp),
+	    0);
+	char *log[2] = {NULL, NULL};
+	for (int t = 1; t <= 2; t++) {
+		CHECK_EQ_INT(
+		    cli_sh("%s run %s/Maze/Tasks/HardMaze-NEAT.simbatch "
+			   "--seed 3 --threads %d --run %s/run%d > "
+			   "%s/out%d 2>&1",
+			   cli_evo, cli_tmp, t, cli_tmp, t, cli_tmp, t),
+		    0);
+		char dir[256];
+		snprintf(dir, sizeof dir, "%s/run%d", cli_tmp, t);
+		log[t - 1] = cli_fitness_log(dir);
+	}
+	CHECK(log[0] && log[1] && strcmp(log[0], log[1]) == 0);
+	CHECK(log[0] && cli_count_lines(log[0], "") == 4);
+	free(log[0]);
+	free(log[1]);
+	cli_cleanup();
+}
+
+/* A champion read back from its .net scores in the viewer what it scored
+ * in training, to the printed digit: the file holds the Q16 weights evo
+ * ran (lua/learn/netfile.lua). On the medium maze, seed 1, 10
+ * generations, six decimals gave 226.035969 where training had
+ * 226.038522. The maze has no randomness, so one DEMOSIM episode is the
+ * training episode. */
+TEST(a_champion_read_back_scores_what_it_scored_in_training)
+{
+	if (cli_setup("maze-replay"))
+		return;
+	CHECK_EQ_INT(cli_sh("cp -r minds/Maze %s/ && %s run "
+			    "%s/Maze/Tasks/MediumMaze-NEAT.simbatch --seed 1 "
+			    "--generations 10 --no-save --run %s/run > "
+			    "%s/train 2>&1",
+			    cli_tmp, cli_evo, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	char *log = cli_read("%s/run/log.csv", cli_tmp);
+	const char *last = log ? strstr(log, "\n9,") : NULL;
+	double best = 0;
+	/* generation,best,mean,best_ever,... */
+	CHECK(last && sscanf(last + 1, "9,%*[^,],%*[^,],%lf", &best) == 1);
+	char out[4096], want[64];
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run %s/Maze/Tasks/MediumMaze-DEMO.simbatch "
+				 "--headless --episodes 1 --net "
+				 "Maze=%s/run/champion.net",
+				 cli_evo, cli_tmp, cli_tmp),
+		     0);
+	snprintf(want, sizeof want, "episode 1: reward %.6f over", best);
+	CHECK_CONTAINS(out, want);
+	free(log);
+	cli_cleanup();
+}
+
 /* Kheperax's target task started on the target: every episode ends
  * within 0.05 of it after one step (a step moves at most 0.025), so every
  * network solves it, log.csv counts them all, and the run stops at its
@@ -413,15 +482,16 @@ TEST(a_solved_episode_is_counted)
 {
 	if (cli_setup("maze-solved"))
 		return;
-	const char *env =
-	    "local maze = require \"lib.maze\"\n"
-	    "local m = {}\n"
-	    "for k, v in pairs(maze.kheperax) do m[k] = v end\n"
-	    "m.start = { 0.15, 0.9 }\n"
-	    "return maze.env(m, { ticks = 250, reach = 0.05, stop_at_goal = true,\n"
-	    "\trewards = function(scene, bot, goal)\n"
-	    "\t\tscene:reward(\"Distance\", { bot = bot, target = goal, k = -0.015 })\n"
-	    "\tend })\n";
+	const char *env = "local maze = require \"lib.maze\"\n"
+			  "local m = {}\n"
+			  "for k, v in pairs(maze.kheperax) do m[k] = v end\n"
+			  "m.start = { 0.15, 0.9 }\n"
+			  "return maze.env(m, { ticks = 250, reach = 0.05, "
+			  "stop_at_goal = true,\n"
+			  "\trewards = function(scene, bot, goal)\n"
+			  "\t\tscene:reward(\"Distance\", { bot = bot, target "
+			  "= goal, k = -0.015 })\n"
+			  "\tend })\n";
 	CHECK_EQ_INT(cli_sh("cp -r minds/Kheperax %s/ && mkdir -p "
 			    "%s/Kheperax/Envs",
 			    cli_tmp, cli_tmp),
@@ -459,6 +529,51 @@ TEST(a_solved_episode_is_counted)
 	cli_cleanup();
 }
 
+/* Pixels of colour rgb in a screenshot, or -1 when it cannot be read. */
+static long count_colour(const char *path, uint32_t rgb)
+{
+	evo_png_image img;
+	evo_err err;
+	if (evo_png_read(path, &img, &err)) {
+		printf("  %s\n", err.msg);
+		return -1;
+	}
+	long n = 0;
+	for (long i = 0; i < (long)img.w * img.h; i++) {
+		const uint8_t *p = img.pixels + i * img.channels;
+		n += ((uint32_t)p[0] << 16 | (uint32_t)p[1] << 8 | p[2]) == rgb;
+	}
+	evo_png_image_free(&img);
+	return n;
+}
+
+/* The shipped Maze skill in the medium maze, screenshot after 400 steps:
+ * with --trail its path is drawn (a long line of the trail's colour, from
+ * the start, 30 m off, to near the goal), without it none; the walls are
+ * drawn either way. */
+TEST(a_screenshot_shows_the_path_with_trail)
+{
+	if (cli_setup("maze-trail"))
+		return;
+	for (int trail = 0; trail <= 1; trail++) {
+		CHECK_EQ_INT(cli_sh("%s run minds/Maze/Tasks/MediumMaze-DEMO."
+				    "simbatch --ticks 400 %s --screenshot "
+				    "%s/shot%d.png > /dev/null 2>&1",
+				    cli_evo, trail ? "--trail" : "", cli_tmp,
+				    trail),
+			     0);
+		char path[256];
+		snprintf(path, sizeof path, "%s/shot%d.png", cli_tmp, trail);
+		long n = count_colour(path, EVO_VIEW_TRAIL);
+		if (trail)
+			CHECK(n > 600);
+		else
+			CHECK(n == 0);
+		CHECK(count_colour(path, EVO_VIEW_WALL) > 1000);
+	}
+	cli_cleanup();
+}
+
 int main(void)
 {
 	RUN(a_ray_reads_a_wall_and_misses_past_its_end);
@@ -473,5 +588,8 @@ int main(void)
 	RUN(hard_maze_sensors_at_the_start_read_the_published_geometry);
 	RUN(a_neat_task_on_kheperax_runs);
 	RUN(a_solved_episode_is_counted);
+	RUN(a_maze_run_is_the_same_on_one_thread_and_two);
+	RUN(a_screenshot_shows_the_path_with_trail);
+	RUN(a_champion_read_back_scores_what_it_scored_in_training);
 	return test_summary();
 }

@@ -1,0 +1,77 @@
+#!/bin/sh
+# README.md's figures and pictures are what evo makes:
+#   - the block after `<!-- figures: make run -->` holds lines `make run`
+#     prints (generation lines up to their species count, the replay's
+#     lines whole): the same training (minds/Seek, --seed 1, any number of
+#     threads) must print each of them;
+#   - docs/learning.md quotes the same replay lines, and one generation line;
+#   - docs/img/curve.png is that run's learning curve, byte for byte;
+#   - docs/img/viewer.png is what README's --screenshot command saves.
+# A figure or picture that no longer matches fails with the command that
+# makes it again. Ends with "N passed, N failed"; exits non-zero on a failure.
+cd "$(dirname "$0")/../.." || exit 2
+evo=${EVO_BUILD:-build}/evo
+passed=0
+failed=0
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+unset DISPLAY WAYLAND_DISPLAY
+
+check() { # ok? what
+	if [ "$1" = 0 ]; then passed=$((passed + 1)); echo "ok   $2"
+	else failed=$((failed + 1)); echo "FAIL $2"; fi
+}
+
+# The quoted lines, from the README.
+awk '/^<!-- figures: make run -->$/ { f = 1; next }
+	f && /^```$/ { if (++fence == 2) exit; next }
+	f && fence == 1 { print }' README.md >"$tmp/quoted"
+[ -s "$tmp/quoted" ]
+check $? "README.md has a figures block for make run"
+
+# make run's training, as the Makefile runs it.
+cp -r minds/Seek "$tmp/"
+"$evo" run "$tmp/Seek/Tasks/Seek-NEAT.simbatch" --seed 1 --run "$tmp/run" >"$tmp/out" 2>&1
+check $? "the Seek example trains ($evo run Seek-NEAT.simbatch --seed 1)"
+
+while IFS= read -r line; do
+	case $line in
+	gen\ *)
+		# up to the species count: the speed and times vary
+		want=$(echo "$line" | awk '{ print $1, $2, $3, $4, $5, $6, $7, $8 }')
+		awk '{ print $1, $2, $3, $4, $5, $6, $7, $8 }' "$tmp/out" | grep -qxF "$want" ;;
+	*) grep -qxF "$line" "$tmp/out" ;;
+	esac
+	rc=$?
+	[ $rc = 0 ] || { echo "    README.md quotes: $line"; echo "    make run prints:"; grep -E '^(gen |replay|  )' "$tmp/out" | sed 's/^/      /' | tail -n 5; }
+	check $rc "README.md's figure is what make run prints: $line"
+done <"$tmp/quoted"
+
+# docs/learning.md quotes the same replay
+grep '^replay\|^  ' "$tmp/quoted" | while IFS= read -r line; do
+	grep -qxF "$line" docs/learning.md || { echo "    docs/learning.md lacks: $line"; exit 1; }
+done
+check $? "docs/learning.md quotes make run's replay as README.md does"
+
+# and one of its generation lines, up to the species count
+want=$(grep '^gen [0-9]*/25 ' docs/learning.md | awk '{ print $1, $2, $3, $4, $5, $6, $7, $8 }')
+[ -n "$want" ] && awk '{ print $1, $2, $3, $4, $5, $6, $7, $8 }' "$tmp/out" | grep -qxF "$want"
+rc=$?
+[ $rc = 0 ] || echo "    docs/learning.md quotes: $want"
+check $rc "docs/learning.md's generation line is one make run prints"
+
+cmp -s "$tmp/run/curve.png" docs/img/curve.png
+rc=$?
+[ $rc = 0 ] || echo "    make it again: make run && cp build/run/seek-neat/curve.png docs/img/curve.png"
+check $rc "docs/img/curve.png is make run's learning curve"
+
+"$evo" run minds/Collect/Tasks/Collect-DEMO.simbatch --seed 1 --ticks 200 \
+	--screenshot "$tmp/viewer.png" >/dev/null 2>&1 && cmp -s "$tmp/viewer.png" docs/img/viewer.png
+rc=$?
+[ $rc = 0 ] || echo "    make it again: build/evo run minds/Collect/Tasks/Collect-DEMO.simbatch --seed 1 --ticks 200 --screenshot docs/img/viewer.png"
+check $rc "docs/img/viewer.png is what README's --screenshot command saves"
+grep -q 'Collect-DEMO.simbatch --seed 1 --ticks 200 --screenshot' README.md
+check $? "README.md gives the command that makes docs/img/viewer.png"
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
