@@ -95,7 +95,7 @@ end
 -- interface: options_from_task, new, genomes/tell, best, species,
 -- save/load, to_net, to_net_text.
 common.MODULES = { NEAT = "learn.neat", GENETIC = "learn.genetic", ANNEALING = "learn.annealing",
-	CMAES = "learn.cmaes", MAPELITES = "learn.mapelites" }
+	CMAES = "learn.cmaes", NOVELTY = "learn.novelty", MAPELITES = "learn.mapelites" }
 
 -- Where key `key` of a task is, for messages: "path:line", or "path" when
 -- the key is not in the file. `lines` maps each key of the task to its line.
@@ -113,7 +113,13 @@ end
 -- The prefix of each method's own keys: the .simbatch reader keeps every
 -- key that starts with one (core/src/parse_simbatch.c).
 common.PREFIXES = { NEAT = "NEAT_", GENETIC = "GA_", ANNEALING = "SA_", CMAES = "CMAES_",
-	MAPELITES = "MAPELITES_" }
+	NOVELTY = "NOVELTY_", MAPELITES = "MAPELITES_" }
+
+-- Does `algo` read task key `key`: its own keys, and those of the other
+-- method it builds on (NOVELTY reads NEAT's: algo.other_keys)?
+function common.reads(algo, key)
+	return algo.task_keys[key] ~= nil or (algo.other_keys ~= nil and algo.other_keys[key] ~= nil)
+end
 
 -- Levenshtein distance between two strings.
 local function distance(a, b)
@@ -160,19 +166,24 @@ function common.task_options(algo, task, path, lines, quiet)
 	end
 	local method = tostring(task.LEARNINGMETHOD or "NEAT"):upper()
 	local warnings = {}
+	local known = {}
+	for name in pairs(algo.task_keys) do known[name] = true end
+	for name in pairs(algo.other_keys or {}) do known[name] = true end
 	for _, k in ipairs(unknown) do
 		warnings[#warnings + 1] = { k, string.format("unknown key '%s' ignored; did you mean %s?", k,
-			closest(k, algo.task_keys)) }
+			closest(k, known)) }
 	end
+	local unread = {}
+	for _, k in ipairs(unknown) do unread[k] = true end
 	for k in pairs(task) do
-		if type(k) == "string" and not algo.task_keys[k] then
+		if type(k) == "string" and not common.reads(algo, k) and not unread[k] then
 			for other, prefix in pairs(common.PREFIXES) do
 				if other ~= method and k:sub(1, #prefix) == prefix then
 					warnings[#warnings + 1] = { k, string.format("%s ignored: it is a setting of "
 						.. "%s, and this task trains with %s", k, other, method) }
 				end
 			end
-			if k == "HIDDEN" and method == "NEAT" then
+			if k == "HIDDEN" and (method == "NEAT" or method == "NOVELTY") then
 				warnings[#warnings + 1] = { k, "HIDDEN is the width of the hidden layers of "
 					.. "GENETIC, ANNEALING and CMAES; NEAT grows its own and ignores it" }
 			end

@@ -19,7 +19,7 @@ local netfile = require "learn.netfile"
 local task = host.task
 local method = (task.LEARNINGMETHOD or "NEAT"):upper()
 if not common.MODULES[method] then
-	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC, ANNEALING or CMAES", 0)
+	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC, ANNEALING, CMAES, NOVELTY or MAPELITES", 0)
 end
 if method == "MAPELITES" then
 	error("LEARNINGMETHOD MAPELITES keeps an archive of one skill's behaviours: it trains a "
@@ -42,7 +42,7 @@ local VALIDATION_GEN = 2147483647
 local CURVE_SECONDS = 1.0
 
 local hidden = tonumber(task.HIDDEN or "")
-if hidden and method == "NEAT" then
+if hidden and (method == "NEAT" or method == "NOVELTY") then
 	hidden = nil -- common.task_options warned
 end
 

@@ -26,7 +26,7 @@ local task = host.task
 local method = (task.LEARNINGMETHOD or "NEAT"):upper()
 local MODULES = common.MODULES
 if not MODULES[method] then
-	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC, ANNEALING, CMAES or MAPELITES", 0)
+	error("LEARNINGMETHOD " .. method .. " is not available: evo trains with NEAT, GENETIC, ANNEALING, CMAES, NOVELTY or MAPELITES", 0)
 end
 local algo = require(MODULES[method])
 
@@ -72,7 +72,7 @@ local options = common.task_options(algo, task, host.task_path, host.task_lines)
 -- HIDDEN: the width of the hidden layers of GENETIC, ANNEALING and CMAES (the
 -- parser checked its range, evo run that the networks fit). NEAT grows its own.
 local hidden = tonumber(task.HIDDEN or "")
-if hidden and method == "NEAT" then
+if hidden and (method == "NEAT" or method == "NOVELTY") then
 	hidden = nil -- common.task_options warned
 end
 
@@ -174,7 +174,7 @@ local function resume(text, path)
 	for k in pairs(task) do keys[#keys + 1] = k end
 	table.sort(keys)
 	for _, k in ipairs(keys) do
-		local name = algo.task_keys[k]
+		local name = algo.task_keys[k] or (algo.other_keys and algo.other_keys[k])
 		local was = name and p.options and p.options[name]
 		if was ~= nil and options[name] ~= nil and was ~= options[name] then
 			common.warning(host.task_path, host.task_lines, k, string.format("%s is %s in the task "
@@ -218,7 +218,8 @@ else
 	history = { best = {}, mean = {} }
 	best_team = {}
 end
--- a method's own columns of log.csv (MAPELITES: coverage, qd_score)
+-- a method's own columns of log.csv (NOVELTY: archive, threshold,
+-- best_novelty; MAPELITES: coverage, qd_score)
 host.open_log(first, algo.log_columns)
 local since_curve = 0
 local last_checkpoint = os.clock()

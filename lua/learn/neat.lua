@@ -749,18 +749,37 @@ end
 
 -- Advance one generation given the fitness of each genome of genomes().
 function Pop:tell(fitness)
-	local o, rng, popl = self.options, self.rng, self.population
+	self:note_best(fitness)
+	self:reproduce(fitness)
+end
+
+-- Keep self.best, the best genome ever seen by `fitness` (one number per
+-- genome of genomes()).
+function Pop:note_best(fitness)
+	local popl = self.population
 	assert(#fitness == #popl, "tell: one fitness per genome")
-	self.evaluations = self.evaluations + #popl
-	local minf = math.huge
 	for i, g in ipairs(popl) do
 		local f = fitness[i]
 		assert(type(f) == "number" and f == f, "tell: fitness must be a number")
-		g.fitness = f
-		if f < minf then minf = f end
 		if not self.best or f > self.best.fitness then
 			self.best = { genome = copy_genome(g), fitness = f, generation = self.generation }
 		end
+	end
+end
+
+-- The next generation, bred by `score` (one number per genome of
+-- genomes(), higher is better): NEAT's selection, speciation and
+-- reproduction. tell breeds by fitness; learn.novelty by novelty.
+function Pop:reproduce(score)
+	local o, rng, popl = self.options, self.rng, self.population
+	assert(#score == #popl, "tell: one fitness per genome")
+	self.evaluations = self.evaluations + #popl
+	local minf = math.huge
+	for i, g in ipairs(popl) do
+		local f = score[i]
+		assert(type(f) == "number" and f == f, "tell: fitness must be a number")
+		g.fitness = f
+		if f < minf then minf = f end
 	end
 	local shift = minf < 0 and -minf or 0
 	local nspecies = #self.species
@@ -1071,4 +1090,6 @@ function neat.eval_float(net, inputs, act)
 end
 
 neat.activations = ACTIVATIONS
+-- The population's methods, for a method built on NEAT's (learn.novelty).
+neat.Pop = Pop
 return neat

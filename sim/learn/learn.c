@@ -32,6 +32,7 @@
 #include "learn/literature.h"
 #include "learn/lua_linalg.h"
 #include "learn/lua_neat.h"
+#include "learn/lua_novelty.h"
 #include "learn/runlog.h"
 #include "learn/runopts.h"
 #include "lua/lua_evo.h"
@@ -1117,6 +1118,7 @@ static int run_script(lua_State *L)
 	lua_pop(L, 1);
 	evo_lua_open_linalg(L); /* evo.linalg: CMA-ES's eigendecomposition */
 	evo_lua_open_neat(L);
+	evo_lua_open_novelty(L); /* evo.novelty: novelty search's kNN */
 	/* the loop's modules are evo's, from lua/ only: a mind folder is
 	 * not trusted with the full libraries this state has */
 	const char *dir = evo_lua_dir();

@@ -458,7 +458,8 @@ TEST(simbatch_ranges_of_each_kind)
 	CHECK_OK(simbatch_line("LEARNINGMETHOD:genetic"));
 	CHECK(simbatch_line("LEARNINGMETHOD:NEET") == EVO_ERR_NAME);
 	CHECK_EQ_STR(err.msg, "t.simbatch:2: LEARNINGMETHOD: expected NEAT, "
-			      "GENETIC, ANNEALING, CMAES or MAPELITES, found 'NEET'; did you "
+			      "GENETIC, ANNEALING, CMAES, NOVELTY or MAPELITES, "
+			      "found 'NEET'; did you "
 			      "mean NEAT?");
 	/* a method's key is the method's to check */
 	CHECK_OK(simbatch_line("NEAT_POPSIZE:99999999999"));

@@ -4,9 +4,9 @@
  * itself, at run time, both ways: each key or option the table documents
  * is one evo reads, each one evo reads is documented, and each documented
  * default is the value evo uses when the key is left out.
- *   - docs/learning.md, the NEAT, GENETIC, ANNEALING and CMA-ES tables: the
- *     method's module (lua/learn/neat.lua, ...) is loaded and its
- *     task_keys and defaults tables read;
+ *   - docs/learning.md, the NEAT, GENETIC, ANNEALING, CMA-ES and NOVELTY
+ *     tables: the method's module (lua/learn/neat.lua, ...) is loaded and
+ *     its task_keys and defaults tables read;
  *   - the same tables' `range` column: each key's range as the method's
  *     `ranges` table gives it (in common.range_text's words), or as
  *     core's table of keys does (evo_simbatch_key_range);
@@ -811,7 +811,7 @@ static int a_method_reads(const char *key)
 {
 	static const char *const modules[] = {"learn.neat", "learn.genetic",
 					      "learn.annealing", "learn.cmaes",
-					      "learn.mapelites"};
+					      "learn.novelty", "learn.mapelites"};
 	int found = 0;
 	for (unsigned i = 0; i < sizeof modules / sizeof modules[0]; i++) {
 		if (push_module(modules[i]))
@@ -833,7 +833,7 @@ static int render_task_default(const char *key, int in_learning, char *out,
 {
 	if (strcmp(key, "NEAT_*") == 0 || strcmp(key, "GA_*") == 0 ||
 	    strcmp(key, "SA_*") == 0 || strcmp(key, "CMAES_*") == 0 ||
-	    strcmp(key, "MAPELITES_*") == 0) {
+	    strcmp(key, "NOVELTY_*") == 0 || strcmp(key, "MAPELITES_*") == 0) {
 		/* the reader keeps every key with the prefix, for the method */
 		char text[64];
 		evo_simbatch sb;
@@ -1860,6 +1860,8 @@ static doc_table annealing_t = {.file = "docs/learning.md",
 				.heading = "ANNEALING's parameters"};
 static doc_table cmaes_t = {.file = "docs/learning.md",
 			    .heading = "CMA-ES's parameters"};
+static doc_table novelty_t = {.file = "docs/learning.md",
+			      .heading = "NOVELTY's parameters"};
 static doc_table mapelites_t = {.file = "docs/learning.md",
 				.heading = "MAP-Elites's parameters"};
 static doc_table task_keys_t = {.file = "docs/learning.md",
@@ -1874,8 +1876,9 @@ static doc_table continuous_t = {
     .heading = "Training the whole hierarchy (LEARNSIMCONTINUOUS)"};
 
 static doc_table *const checked[] = {
-    &neat_t,	  &genetic_t, &annealing_t, &cmaes_t,	&mapelites_t,
-    &task_keys_t, &simbatch_t, &lua_t,	     &teams_t, &continuous_t};
+    &neat_t,	  &genetic_t, &annealing_t, &cmaes_t,	&novelty_t,
+    &mapelites_t, &task_keys_t, &simbatch_t, &lua_t,	&teams_t,
+    &continuous_t};
 
 /* Every table header of docs/ with a `default` column is one of
  * `checked`. */
@@ -1957,6 +1960,7 @@ int main(void)
 	check_method_table(&genetic_t, "learn.genetic");
 	check_method_table(&annealing_t, "learn.annealing");
 	check_method_table(&cmaes_t, "learn.cmaes");
+	check_method_table(&novelty_t, "learn.novelty");
 	check_method_table(&mapelites_t, "learn.mapelites");
 	learning_run();
 	check_task_table(&task_keys_t, 1, 0);

@@ -164,8 +164,8 @@ typedef struct evo_simbatch {
  * evo_simbatch_get gives the first, the pairs hold them all in order. Every
  * value is checked against its key's definition (its kind and range) at its
  * line, so no command reads a value out of range. A learning method's own
- * keys (NEAT_*, GA_*, SA_*, CMAES_*) are kept as text for the method to check
- * (docs/learning.md). */
+ * keys (NEAT_*, GA_*, SA_*, CMAES_*, NOVELTY_*) are kept as text for the
+ * method to check (docs/learning.md). */
 evo_status evo_simbatch_parse(const char *buf, size_t len, const char *file,
 			      evo_simbatch *out, evo_diag *err);
 

@@ -162,6 +162,37 @@ TEST(a_cmaes_run_on_two_ranks_is_the_plain_runs)
 	same_run("cm-np2", "cm-plain");
 }
 
+/* NOVELTY (16 networks, the bot's final position as behaviour) on two
+ * ranks of one thread ends with the plain run's log, checkpoint (the
+ * archive in it) and champion: the descriptors come back from the ranks
+ * in candidate order, as the fitnesses do. */
+TEST(a_novelty_run_on_two_ranks_is_the_plain_runs)
+{
+	const char *names[] = {"nv-plain", "nv-np2"};
+	for (int i = 0; i < 2; i++) {
+		make_mind_pop(names[i], 4, 60, 16);
+		CHECK_EQ_INT(cli_sh("sed -i 's/LEARNINGMETHOD:NEAT/"
+				    "LEARNINGMETHOD:NOVELTY/' "
+				    "%s/%s/Avoid/Tasks/Small.simbatch",
+				    cli_tmp, names[i]),
+			     0);
+	}
+	CHECK_EQ_INT(train("nv-plain", "", "--threads 1"), 0);
+	CHECK_EQ_INT(train("nv-np2", MPIRUN " -np 2", "--threads 1"), 0);
+	char *ref = log_of("nv-plain");
+	CHECK_CONTAINS(ref, ",metric:archive,metric:threshold,"
+			    "metric:best_novelty\n");
+	free(ref);
+	char *ckpt = cli_read("%s/nv-plain/run/checkpoint.lua", cli_tmp);
+	CHECK_CONTAINS(ckpt, "[\"archive_meta\"]={");
+	CHECK(ckpt && !strstr(ckpt, "[\"archive_meta\"]={}"));
+	free(ckpt);
+	char *champ = champion_of("nv-plain");
+	CHECK_CONTAINS(champ, "trained by evo: NOVELTY, seed 11");
+	free(champ);
+	same_run("nv-np2", "nv-plain");
+}
+
 /* A LEARN3DSIM task spreads as a LEARNSIM task does: the blimp's
  * go-to-target, two generations of 20, on two ranks of one thread, ends
  * with the plain run's log and champion. */
@@ -462,6 +493,7 @@ int main(int argc, char **argv)
 	setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
 	RUN(any_number_of_ranks_and_threads_gives_the_plain_runs_result);
 	RUN(a_cmaes_run_on_two_ranks_is_the_plain_runs);
+	RUN(a_novelty_run_on_two_ranks_is_the_plain_runs);
 	RUN(a_3d_task_spreads_over_ranks_as_a_2d_one);
 	RUN(a_killed_rank_stops_the_run_and_resume_with_other_ranks_finishes_it);
 	RUN(a_rank_with_other_settings_is_named);

@@ -10,6 +10,7 @@
  * same with any number of threads, and a resumed run keeps every earlier
  * metric column. */
 #define _POSIX_C_SOURCE 200809L
+#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -27,7 +28,8 @@
 
 /* A copy of the Avoid example with a small LEARNSIM task for `method`,
  * so training never touches minds/ and runs in seconds; `extra` is more
- * simbatch lines. A layered method gets the skill `layers:1`. */
+ * simbatch lines. A layered method gets the skill `layers:1` (NEAT and
+ * NOVELTY grow their own). */
 static void make_mind_ticks(const char *name, const char *method, int numgen,
 			    int ticks, const char *extra)
 {
@@ -40,7 +42,7 @@ static void make_mind_ticks(const char *name, const char *method, int numgen,
 			    cli_tmp, name, cli_tmp, name, method, numgen, ticks,
 			    extra, cli_tmp, name),
 		     0);
-	if (strcmp(method, "NEAT") != 0)
+	if (strcmp(method, "NEAT") != 0 && strcmp(method, "NOVELTY") != 0)
 		CHECK_EQ_INT(cli_sh("sed -i 's/^layers:0$/layers:1/' "
 				    "%s/%s/Avoid/Skills/Avoid/Avoid.ades",
 				    cli_tmp, name),
@@ -583,7 +585,8 @@ TEST(unknown_method_is_a_clear_error)
 	char *text = cli_read("%s/m/out.txt", cli_tmp);
 	CHECK(text &&
 	      strstr(text, "Small.simbatch:6: LEARNINGMETHOD: expected NEAT, "
-			   "GENETIC, ANNEALING, CMAES or MAPELITES, found 'BOGUS'"));
+			   "GENETIC, ANNEALING, CMAES, NOVELTY or MAPELITES, "
+			   "found 'BOGUS'"));
 	free(text);
 }
 
@@ -1108,6 +1111,86 @@ TEST(cmaes_trains_and_threads_do_not_change_the_log)
 	free(net);
 }
 
+/* Field k (0 based) of a log row, as a number. */
+static double field_of(const char *row, int k)
+{
+	for (int c = 0; c < k && row; c++) {
+		row = strchr(row, ',');
+		row = row ? row + 1 : NULL;
+	}
+	return row ? strtod(row, NULL) : NAN;
+}
+
+/* NOVELTY (NEAT's genomes bred by novelty, the bot's final position as
+ * its behaviour) on Avoid: one thread or two give the same log and
+ * champion. The log's archive, threshold and best_novelty columns follow
+ * the archive's rule, worked out here from the archive's sizes alone:
+ * rho_min starts at 0.03, is multiplied by 1.2 after a generation that
+ * added more than 4 and by 0.95 after 10 that added none. The champion
+ * is the best by fitness (best_ever), not the most novel. */
+TEST(novelty_trains_and_threads_do_not_change_the_log)
+{
+	make_mind("n1", "NOVELTY", 6, NEAT_TASK);
+	make_mind("n2", "NOVELTY", 6, NEAT_TASK);
+	CHECK_EQ_INT(train("n1", "--threads 1"), 0);
+	CHECK_EQ_INT(train("n2", "--threads 2"), 0);
+	char *a = log_of("n1"), *b = log_of("n2");
+	CHECK(a && b);
+	if (a && b) {
+		CHECK_EQ_INT(count_rows(a), 6);
+		CHECK_EQ_STR(a, b);
+		CHECK_CONTAINS(a, ",solved,metric:archive,metric:threshold,"
+				  "metric:best_novelty\n");
+	}
+	double rho = 0.03, archive = 0, best_ever = NAN;
+	int stalled = 0, rows_seen = 0;
+	for (const char *row = a ? strchr(a, '\n') : NULL; row && row[1];
+	     row = strchr(row + 1, '\n')) {
+		double size = field_of(row + 1, 7);
+		int added = (int)(size - archive);
+		CHECK(added >= 0 && added <= 24);
+		stalled = added == 0 ? stalled + 1 : 0;
+		if (stalled >= 10) {
+			rho = fmax(0.00125, rho * 0.95);
+			stalled = 0;
+		}
+		if (added > 4)
+			rho *= 1.2;
+		CHECK(field_of(row + 1, 8) == rho);
+		CHECK(field_of(row + 1, 9) > 0);
+		archive = size;
+		best_ever = field_of(row + 1, 3);
+		rows_seen++;
+	}
+	CHECK_EQ_INT(rows_seen, 6);
+	CHECK(archive > 0);
+	char *ca = champion_of("n1"), *cb = champion_of("n2");
+	CHECK(ca && cb);
+	if (ca && cb) {
+		CHECK_EQ_STR(ca, cb);
+		char want[128];
+		snprintf(want, sizeof want,
+			 "trained by evo: NOVELTY, seed 11, 6 generations, "
+			 "fitness %.17g",
+			 best_ever);
+		CHECK_CONTAINS(ca, want);
+	}
+	free(a);
+	free(b);
+	free(ca);
+	free(cb);
+}
+
+/* The same for NOVELTY, whose checkpoint holds the archive, its threshold
+ * and the random stream beside NEAT's population. */
+TEST(killed_and_resumed_novelty_run_ends_as_an_uninterrupted_one)
+{
+	make_mind_ticks("nr", "NOVELTY", 6, KILL_TICKS, NEAT_TASK);
+	make_mind_ticks("nk", "NOVELTY", 6, KILL_TICKS, NEAT_TASK);
+	CHECK_EQ_INT(train("nr", "--threads 2"), 0);
+	stop_and_resume("nk", "nr", SIGKILL);
+}
+
 TEST(annealing_trains)
 {
 	make_mind("a", "ANNEALING", 12, "SA_T0:5\\n");
@@ -1352,6 +1435,8 @@ int main(void)
 	RUN(bad_learning_option_is_refused_at_its_line);
 	RUN(genetic_trains_and_threads_do_not_change_the_log);
 	RUN(cmaes_trains_and_threads_do_not_change_the_log);
+	RUN(novelty_trains_and_threads_do_not_change_the_log);
+	RUN(killed_and_resumed_novelty_run_ends_as_an_uninterrupted_one);
 	RUN(annealing_trains);
 	RUN(xor_stops_when_solved_and_keeps_the_solver);
 	RUN(dpnv_tests_one_network_a_generation_and_keeps_the_solver);

@@ -18,6 +18,7 @@
 
 #include "learn/lua_linalg.h"
 #include "learn/lua_neat.h"
+#include "learn/lua_novelty.h"
 #include "lua/lua_evo.h"
 
 #define MAX_FILES 64
@@ -61,6 +62,7 @@ static lua_State *new_state(const char *lua_dir)
 	evo_lua_open_data(L); /* serialize.load reads with it */
 	evo_lua_open_linalg(L); /* learn.cmaes's eigendecomposition */
 	evo_lua_open_neat(L); /* the learning loop's kernels, as it has them */
+	evo_lua_open_novelty(L); /* novelty search's kNN, the same */
 	return L;
 }
 

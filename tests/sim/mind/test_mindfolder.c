@@ -488,7 +488,8 @@ TEST(task_with_unknown_method)
 	evo_err err;
 	CHECK_EQ_INT(evo_task_load(path, &t, &err), -1);
 	CHECK_CONTAINS(err.msg, "T.simbatch:4: LEARNINGMETHOD: expected NEAT, "
-				"GENETIC, ANNEALING, CMAES or MAPELITES, found 'HILLCLIMB'");
+				"GENETIC, ANNEALING, CMAES, NOVELTY or MAPELITES, "
+				"found 'HILLCLIMB'");
 }
 
 TEST(task_missing_a_key)
