@@ -27,7 +27,10 @@ const char *evo_lua_near(const char *word, const char *const *list,
 	unsigned best;
 	const char *pick = evo_closest_name(word, list, n, &best);
 	size_t wl = strlen(word);
-	return pick && best <= (wl < 4 ? 1u : wl / 3 + 1) ? pick : NULL;
+	/* near enough, and not a name that shares nothing with the word (a
+	 * one-letter word is one edit from every one-letter name) */
+	return pick && best <= (wl < 4 ? 1u : wl / 3 + 1) && best < wl ? pick
+								       : NULL;
 }
 
 /* Raise an error for any key of the table at idx not in `known`. */
