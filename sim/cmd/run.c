@@ -802,7 +802,7 @@ static evo_view_camera frame_camera(const evo_sim *s, const run_opts *o,
 				    const view_state *vs)
 {
 	double zoom = o->zoom > 0 ? o->zoom : 1.0;
-	int follow = o->camera == 0 ? view_follow(s, vs) : -1;
+	int follow = o->camera == 0 ? view_follow(s, vs) : EVO_VIEW_SCENE_START;
 	evo_view_camera cam =
 	    evo_view_camera_for(s->scene, follow, zoom, VIEW_W, VIEW_H);
 	if (o->camera == 2) {

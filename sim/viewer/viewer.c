@@ -27,7 +27,8 @@ static int panel_width(int w)
 
 /* The middle of the bounding box of everything placed in the scene: what
  * to look at when no bot is followed. */
-static void scene_middle(const evo_scene *sc, double *x, double *y)
+static void scene_middle(const evo_scene *sc, int at_start, double *x,
+			 double *y)
 {
 	double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
 #define GROW(px, py)                                                           \
@@ -39,7 +40,10 @@ static void scene_middle(const evo_scene *sc, double *x, double *y)
 	} while (0)
 	for (int b = 0; b < sc->n_bots; b++) {
 		evo_pose p = evo_body_pose(sc->world, sc->bot[b].body);
-		GROW(p.x, p.y);
+		if (at_start)
+			GROW(sc->bot[b].def.x, sc->bot[b].def.y);
+		else
+			GROW(p.x, p.y);
 	}
 	for (int e = 0; e < sc->n_elements; e++)
 		GROW(sc->element[e].x, sc->element[e].y);
@@ -68,7 +72,8 @@ evo_view_camera evo_view_camera_for(const evo_scene *sc, int follow_bot,
 		c.x = p.x;
 		c.y = p.y;
 	} else {
-		scene_middle(sc, &c.x, &c.y);
+		scene_middle(sc, follow_bot == EVO_VIEW_SCENE_START, &c.x,
+			     &c.y);
 	}
 	return c;
 }

@@ -112,8 +112,14 @@ typedef struct evo_view_camera {
 	int world_w;   /* width of the world area; the panel follows */
 } evo_view_camera;
 
-/* The camera for a w x h frame: centred on bot follow_bot, or when that
- * is not a bot index, on the middle of everything in the scene; zoom 1
+/* follow_bot for a camera that stays on the middle of the scene as it
+ * started: its elements and where its bots started (--camera scene). */
+#define EVO_VIEW_SCENE_START (-2)
+
+/* The camera for a w x h frame: centred on bot follow_bot; for
+ * EVO_VIEW_SCENE_START, on the middle of the scene as it started; for any
+ * other index that is not a bot's, on the middle of everything in the
+ * scene, bots where they are now; zoom 1
  * shows +-EVO_VIEW_HALF_SPAN metres across the smaller side of the world
  * area, zoom 2 half as much. */
 evo_view_camera evo_view_camera_for(const evo_scene *sc, int follow_bot,

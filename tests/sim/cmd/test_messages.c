@@ -267,7 +267,64 @@ TEST(info_renders_png_and_svg_with_graphviz)
 	CHECK_CONTAINS(out, "ends in .dot (DOT text) or .png, .svg or .pdf");
 }
 
+
 #define DEMO "minds/Avoid/Tasks/Avoid-DEMO.simbatch"
+#define DEMO_TASK DEMO
+
+/* Pixels of the world area (left of the panel) that differ between two
+ * frames of the same size; -1 when one cannot be read. */
+static long frames_differ(const char *a, const char *b)
+{
+	evo_png_image ia, ib;
+	evo_err err = {{0}};
+	if (evo_png_read(a, &ia, &err))
+		return -1;
+	if (evo_png_read(b, &ib, &err)) {
+		evo_png_image_free(&ia);
+		return -1;
+	}
+	long n = -1;
+	if (ia.w == ib.w && ia.h == ib.h && ia.channels == ib.channels) {
+		n = 0;
+		for (int y = 0; y < ia.h; y++)
+			for (int x = 0; x < 700 && x < ia.w; x++) {
+				size_t k = ((size_t)y * (size_t)ia.w + (size_t)x) *
+					   (size_t)ia.channels;
+				n += memcmp(ia.pixels + k, ib.pixels + k, 3) != 0;
+			}
+	}
+	evo_png_image_free(&ia);
+	evo_png_image_free(&ib);
+	return n;
+}
+
+/* --camera scene stays on the middle of the scene as it started: Avoid's
+ * bot drives 300 ticks, and frames 1 and 300 differ where it was and is
+ * (as much as with a camera fixed on a point), not everywhere, as with
+ * the camera that follows the bot. It used to follow the bots' middle. */
+TEST(camera_scene_holds_still_while_the_bot_drives)
+{
+	const char *cams[3] = {"scene", "0,0", "bot"};
+	long diff[3];
+	for (int c = 0; c < 3; c++) {
+		for (int t = 1; t <= 300; t += 299)
+			CHECK_EQ_INT(cli_sh("%s run " DEMO_TASK " -nog --ticks %d "
+					    "--camera %s --screenshot "
+					    "%s/cam%d-%d.png > /dev/null",
+					    cli_evo, t, cams[c], cli_tmp, c, t),
+				     0);
+		char a[256], b[256];
+		snprintf(a, sizeof a, "%s/cam%d-1.png", cli_tmp, c);
+		snprintf(b, sizeof b, "%s/cam%d-300.png", cli_tmp, c);
+		diff[c] = frames_differ(a, b);
+	}
+	printf("  pixels changed, tick 1 to 300: scene %ld, a fixed point "
+	       "%ld, following the bot %ld\n",
+	       diff[0], diff[1], diff[2]);
+	CHECK(diff[0] >= 0 && diff[1] >= 0 && diff[2] >= 0);
+	CHECK(diff[0] <= 2 * diff[1]);
+	CHECK(5 * diff[0] < diff[2]);
+}
 
 TEST(record_saves_frames_and_video)
 {
@@ -523,6 +580,7 @@ int main(void)
 	RUN(info_draws_a_network_as_dot);
 	RUN(info_renders_png_and_svg_with_graphviz);
 	RUN(record_saves_frames_and_video);
+	RUN(camera_scene_holds_still_while_the_bot_drives);
 	RUN(windowed_screenshot_says_where);
 	RUN(check_warns_of_hidden_on_neat);
 	RUN(reward_as_a_string_is_refused);
