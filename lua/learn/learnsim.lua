@@ -293,9 +293,17 @@ for gen = first, generations - 1 do
 	-- network of the `best` column; a team task's learning team (its
 	-- number in the task) and the generation's share of episodes won
 	local row = metrics[best_i]
+	-- the method's own figures (MAP-Elites's coverage, novelty's archive)
+	-- go to log.csv and on the progress line
+	local note
 	if pop.log_values then
 		row = { table.unpack(row) }
-		for _, v in ipairs(pop:log_values()) do row[#row + 1] = v end
+		local parts = {}
+		for i, v in ipairs(pop:log_values()) do
+			row[#row + 1] = v
+			parts[i] = string.format("%s %.4g", algo.log_columns[i], v)
+		end
+		note = table.concat(parts, "  ")
 	end
 	if t then
 		row = { table.unpack(row) }
@@ -305,7 +313,7 @@ for gen = first, generations - 1 do
 	host.log{ generation = gen, generations = generations, best = fitness[best_i],
 		mean = sum / #fitness, best_ever = pop.best.fitness, species = species,
 		evaluations = #fitness, solved = n_solved, seconds = seconds,
-		metrics = row }
+		metrics = row, note = note }
 	-- the curve so far, so a long run can be watched as it goes (the last
 	-- one comes after the loop)
 	since_curve = since_curve + seconds

@@ -499,6 +499,12 @@ static int l_log(lua_State *L)
 		.first = l->first,
 		.metrics = nm > 0 ? metrics : NULL,
 	};
+	char note[128] = "";
+	if (lua_getfield(L, 1, "note") == LUA_TSTRING) {
+		snprintf(note, sizeof note, "%s", lua_tostring(L, -1));
+		s.note = note;
+	}
+	lua_pop(L, 1);
 	/* a team task's row ends with its learning team and win rate */
 	if (evo_evaluator_n_teams(l->ev) > 0) {
 		int k = (int)metrics[nm - 2] - 1;
@@ -509,7 +515,7 @@ static int l_log(lua_State *L)
 	evo_err err = {{0}};
 	if (evo_runlog_add(&l->log, &s, &err))
 		return raise_msg(L, err.msg);
-	char line[256];
+	char line[512];
 	evo_progress_format(line, sizeof line, &s, l->tty);
 	if (l->tty)
 		printf("\r%s\033[K", line);

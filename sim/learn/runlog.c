@@ -444,7 +444,7 @@ void evo_progress_format(char *buf, size_t cap, const evo_gen_stats *s,
 		bar[22] = ' ';
 		bar[23] = 0;
 	}
-	char species[128] = "";
+	char species[256] = "";
 	if (s->species > 0)
 		snprintf(species, sizeof species, "  species %d", s->species);
 	if (s->solved > 0)
@@ -455,6 +455,9 @@ void evo_progress_format(char *buf, size_t cap, const evo_gen_stats *s,
 		snprintf(species + strlen(species),
 			 sizeof species - strlen(species), "  %s won %.1f%%",
 			 s->team, 100 * s->win_rate);
+	if (s->note && s->note[0])
+		snprintf(species + strlen(species),
+			 sizeof species - strlen(species), "  %s", s->note);
 	char total[32] = "";
 	if (s->generations > 0)
 		snprintf(total, sizeof total, "/%d", s->generations);

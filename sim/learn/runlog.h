@@ -34,6 +34,9 @@ typedef struct evo_gen_stats {
 	 * the generation's episodes it won; NULL team: not a team task */
 	const char *team;
 	double win_rate;
+	/* the method's own figures for the progress line ("coverage 0.5234
+	 * qd_score 257.1"), or NULL */
+	const char *note;
 } evo_gen_stats;
 
 /* Metric columns a log can hold: the environment's, and on --resume an

@@ -363,6 +363,12 @@ TEST(progress_line_on_a_terminal_and_off)
 	evo_progress_format(buf, sizeof buf, &s, 0);
 	CHECK_CONTAINS(buf, "species 3  solved 2  300 eval/s");
 	s.solved = 0;
+	/* The method's own figures (MAP-Elites's coverage) follow. */
+	s.note = "coverage 0.0523  qd_score 257.1";
+	evo_progress_format(buf, sizeof buf, &s, 0);
+	CHECK_CONTAINS(buf, "species 3  coverage 0.0523  qd_score 257.1  300 "
+			    "eval/s");
+	s.note = NULL;
 	s.generations = 0;
 	s.species = 0;
 	evo_progress_format(buf, sizeof buf, &s, 1);
