@@ -184,6 +184,11 @@ static int cmd_dot(const evo_mindfolder *l, const char *skill,
 		return 1;
 	}
 	int rc = 0;
+	if (k >= 0 && l->untrained && l->untrained[k])
+		fprintf(stderr,
+			"evo info --dot %s: %s has no network yet; this is its "
+			"shape, every weight 0\n",
+			skill, skill);
 	if (out) {
 		rc = evo_dot_write(out, l, k, &err);
 		if (rc == 0)

@@ -268,6 +268,27 @@ TEST(info_renders_png_and_svg_with_graphviz)
 }
 
 
+/* A skill not trained yet is drawn as its shape, every weight 0, and
+ * evo says so (a newcomer took the drawing for a network). */
+TEST(dot_of_an_untrained_skill_says_it_is_a_shape)
+{
+	CHECK_EQ_INT(cli_sh("cp -r minds/Collect %s/ && rm "
+			    "%s/Collect/Skills/ClawControl/ClawControl.net",
+			    cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s info %s/Collect --dot ClawControl",
+				 cli_evo, cli_tmp),
+		     0);
+	CHECK_CONTAINS(out, "ClawControl has no network yet; this is its "
+			    "shape, every weight 0");
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s info minds/Collect --dot ClawControl",
+				 cli_evo),
+		     0);
+	CHECK(strstr(out, "no network yet") == NULL);
+}
+
 #define DEMO "minds/Avoid/Tasks/Avoid-DEMO.simbatch"
 #define MAZE_DEMO "minds/Maze/Tasks/MediumMaze-DEMO.simbatch"
 
@@ -581,6 +602,7 @@ int main(void)
 	RUN(info_draws_the_hierarchy_as_dot);
 	RUN(info_draws_a_network_as_dot);
 	RUN(info_renders_png_and_svg_with_graphviz);
+	RUN(dot_of_an_untrained_skill_says_it_is_a_shape);
 	RUN(record_saves_frames_and_video);
 	RUN(camera_scene_holds_still_while_the_bot_drives);
 	RUN(windowed_screenshot_says_where);
