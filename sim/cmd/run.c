@@ -62,6 +62,31 @@ typedef struct run_opts {
 	char net_arg[RUN_MAX_NETS][EVO_NAME_MAX]; /* each SKILL */
 } run_opts;
 
+/* An argument evo run does not take: with the option it is nearest to,
+ * when one is ("--tick": did you mean --ticks?), else the usage. */
+static void unexpected(const char *a)
+{
+	static const char *const opts[] = {
+	    "--headless", "-nog",	"--seed",	   "--episodes",
+	    "--ticks",	  "--trace",	"--screenshot",	   "--trail",
+	    "--record",	  "--record-every", "--camera",	   "--zoom",
+	    "--net",	  "--can",	"--threads",	   "--generations",
+	    "--run",	  "--resume",	"--no-save",	   "--help"};
+	unsigned dist;
+	const char *near = evo_closest_name(
+	    a, opts, sizeof opts / sizeof opts[0], &dist);
+	size_t n = strlen(a);
+	if (a[0] == '-' && near && dist > 0 && dist <= (n < 8 ? 1u : 2u)) {
+		fprintf(stderr,
+			"evo run: unexpected argument '%s'; did you mean %s? "
+			"(evo run --help lists the options)\n",
+			a, near);
+		return;
+	}
+	fprintf(stderr, "evo run: unexpected argument '%s'\n", a);
+	evo_run_usage(stderr);
+}
+
 void evo_run_usage(FILE *f)
 {
 	fputs("usage: evo run TASK.simbatch [options]\n"
@@ -304,8 +329,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
 			}
 			i++;
 		} else if (a[0] == '-' || o->task) {
-			fprintf(stderr, "evo run: unexpected argument '%s'\n", a);
-			evo_run_usage(stderr);
+			unexpected(a);
 			return -1;
 		} else {
 			o->task = a;

@@ -289,6 +289,26 @@ TEST(dot_of_an_untrained_skill_says_it_is_a_shape)
 	CHECK(strstr(out, "no network yet") == NULL);
 }
 
+/* A misspelt option of evo run names the one meant, not fifty lines of
+ * usage; an option like none still gets the usage. */
+TEST(a_misspelt_run_option_gets_a_did_you_mean)
+{
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run minds/Avoid/Tasks/Avoid-DEMO.simbatch "
+				 "--tick 10",
+				 cli_evo),
+		     2);
+	CHECK_CONTAINS(out, "unexpected argument '--tick'; did you mean "
+			    "--ticks?");
+	CHECK(strstr(out, "usage:") == NULL);
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run minds/Avoid/Tasks/Avoid-DEMO.simbatch "
+				 "--frobnicate",
+				 cli_evo),
+		     2);
+	CHECK_CONTAINS(out, "usage: evo run");
+}
+
 #define DEMO "minds/Avoid/Tasks/Avoid-DEMO.simbatch"
 #define MAZE_DEMO "minds/Maze/Tasks/MediumMaze-DEMO.simbatch"
 
@@ -603,6 +623,7 @@ int main(void)
 	RUN(info_draws_a_network_as_dot);
 	RUN(info_renders_png_and_svg_with_graphviz);
 	RUN(dot_of_an_untrained_skill_says_it_is_a_shape);
+	RUN(a_misspelt_run_option_gets_a_did_you_mean);
 	RUN(record_saves_frames_and_video);
 	RUN(camera_scene_holds_still_while_the_bot_drives);
 	RUN(windowed_screenshot_says_where);
