@@ -384,9 +384,13 @@ TEST(waiting_names_the_remote_passed_over)
 	fake_url = url;
 	pid_t a = start_fake(misfit, FAKE_OTHER_NAMES, got);
 	fake_url = NULL;
+	/* -k 20: a run that has not ended 20 s after its SIGINT is killed.
+	 * Once, under ASan on a loaded machine, evo's exit hung in
+	 * LeakSanitizer's check (its tracer attached, the process spinning)
+	 * for ten minutes and held make test up. */
 	cli_capture(out, sizeof out,
-		    "timeout -s INT 4 %s run %s/Avoid/Tasks/lone-remote.simbatch "
-		    "-nog",
+		    "timeout -s INT -k 20 4 %s run "
+		    "%s/Avoid/Tasks/lone-remote.simbatch -nog",
 		    cli_evo, cli_tmp);
 	char want[256];
 	snprintf(want, sizeof want,
