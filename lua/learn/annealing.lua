@@ -93,7 +93,7 @@ Pop.__index = Pop
 -- args: inputs, outputs, layers (hidden layers, default 1), hidden (their
 -- width, default max(inputs, outputs): the task's HIDDEN), options, rng.
 function annealing.new(args)
-	local o = genetic.merged_options(annealing.defaults, args.options, "annealing.new")
+	local o = common.merged(annealing.defaults, args.options, "annealing.new")
 	local rng = args.rng or error("annealing.new: an rng is required (learn.rng: random.new(seed))")
 	local k = o.steps_per_generation
 	assert(k >= 1 and k == math.floor(k), "SA_STEPS_PER_GENERATION must be a whole number >= 1")

@@ -263,16 +263,6 @@ Pop.__index = Pop
 -- Module-level: the separable-by-size message is said once per size.
 local said = {}
 
-local function merged(defaults, user)
-	local o = {}
-	for k, v in pairs(defaults) do o[k] = v end
-	for k, v in pairs(user or {}) do
-		if defaults[k] == nil then error("cmaes.new: unknown option " .. tostring(k), 0) end
-		o[k] = v
-	end
-	return o
-end
-
 -- A fresh strategy state (a start or a restart) with population lambda.
 function Pop:start(lambda)
 	local n = self.n
@@ -300,7 +290,7 @@ end
 
 -- args: inputs, outputs, layers (default 1), hidden (HIDDEN), options, rng.
 function cmaes.new(args)
-	local o = merged(cmaes.defaults, args.options)
+	local o = common.merged(cmaes.defaults, args.options, "cmaes.new")
 	local rng = args.rng or error("cmaes.new: an rng is required (learn.rng: random.new(seed))")
 	local layers = args.layers or 1
 	if o.recurrent and layers < 1 then

@@ -20,6 +20,18 @@ end
 -- The numbers an option takes: { lo, hi } (either may be nil), with
 -- int = true for a whole number and above = true / below = true when the
 -- bound itself is excluded. Its words, for messages: "a number from 0 to 1".
+-- A method's options: its defaults, with the caller's options over them;
+-- a name the defaults lack is an error naming `who` ("cmaes.new").
+function common.merged(defaults, user, who)
+	local o = {}
+	for k, v in pairs(defaults) do o[k] = v end
+	for k, v in pairs(user or {}) do
+		if defaults[k] == nil then error(who .. ": unknown option " .. tostring(k), 0) end
+		o[k] = v
+	end
+	return o
+end
+
 function common.range_text(r)
 	local what = r.int and "a whole number" or "a number"
 	local lo, hi = r.lo and string.format("%.17g", r.lo), r.hi and string.format("%.17g", r.hi)

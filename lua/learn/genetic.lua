@@ -93,16 +93,6 @@ function genetic.options_from_task(task)
 	return o, unknown
 end
 
-local function merged(defaults, user, who)
-	local o = {}
-	for k, v in pairs(defaults) do o[k] = v end
-	for k, v in pairs(user or {}) do
-		if defaults[k] == nil then error(who .. ": unknown option " .. tostring(k), 0) end
-		o[k] = v
-	end
-	return o
-end
-genetic.merged_options = merged
 
 ---------------------------------------------------------------------------
 -- The layered shape (sim/mind/net_build.h)
@@ -247,7 +237,7 @@ Pop.__index = Pop
 -- args: inputs, outputs, layers (hidden layers, default 1), hidden (their
 -- width, default max(inputs, outputs): the task's HIDDEN), options, rng.
 function genetic.new(args)
-	local o = merged(genetic.defaults, args.options, "genetic.new")
+	local o = common.merged(genetic.defaults, args.options, "genetic.new")
 	local rng = args.rng or error("genetic.new: an rng is required (learn.rng: random.new(seed))")
 	local layers = args.layers or 1
 	assert(o.pop_size >= 1 and o.pop_size == math.floor(o.pop_size), "GA_POPSIZE must be a whole number >= 1")

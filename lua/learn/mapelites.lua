@@ -213,16 +213,6 @@ end
 local Pop = {}
 Pop.__index = Pop
 
-local function merged(defaults, user)
-	local o = {}
-	for k, v in pairs(defaults) do o[k] = v end
-	for k, v in pairs(user or {}) do
-		if defaults[k] == nil then error("mapelites.new: unknown option " .. tostring(k), 0) end
-		o[k] = v
-	end
-	return o
-end
-
 -- A genome (learn.cmaes's shape) of the population's network.
 function Pop:genome(weights)
 	return { inputs = self.inputs, outputs = self.outputs, layers = self.layers,
@@ -270,7 +260,7 @@ end
 
 -- args: inputs, outputs, layers (default 1), hidden (HIDDEN), options, rng.
 function mapelites.new(args)
-	local o = merged(mapelites.defaults, args.options)
+	local o = common.merged(mapelites.defaults, args.options, "mapelites.new")
 	local rng = args.rng or error("mapelites.new: an rng is required (learn.rng: random.new(seed))")
 	local layers = args.layers or 1
 	local pop = setmetatable({
