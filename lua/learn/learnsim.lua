@@ -385,6 +385,13 @@ if not teams then
 		method, host.seed, generations, champion_fitness)))
 else
 	for k, L in ipairs(learners) do
+		if not pops[k].best then
+			-- co-evolution stopped before this team's first turn
+			host.print(string.format("team %s had no turn in %d generations "
+				.. "(ALTERNATE %d): nothing trained, its network left as it was",
+				L.name, generations, teams.alternate))
+			goto next_team
+		end
 		local members, f = champion_team(k)
 		for m = 1, (teams.heterogeneous and L.size or 1) do
 			host.save_champion(algo.to_net_text(members[m], string.format(
@@ -393,6 +400,7 @@ else
 				teams.heterogeneous and string.format(" member %d", m) or "", f)),
 				L.index, m, teams.heterogeneous)
 		end
+		::next_team::
 	end
 end
 host.curve(history.best, history.mean)
@@ -440,12 +448,15 @@ elseif teams then
 	-- SIZE different ones), the other learning teams running their
 	-- champions. Team reward, collisions, metrics and share of episodes
 	-- won, each a mean over the repetitions.
+	-- (a team that had no turn keeps the network it started with)
 	for j = 1, #learners do
-		local members = champion_team(j)
-		host.set_team_net(learners[j].index, members[1])
+		if pops[j].best then
+			host.set_team_net(learners[j].index, champion_team(j)[1])
+		end
 	end
 	host.print(string.format("replay on unseen episodes (%d x %d ticks each):", host.reps, host.ticks))
 	for k, L in ipairs(learners) do
+		if not pops[k].best then goto next_replay end
 		local size = teams.heterogeneous and L.size or 1
 		local members = champion_team(k)
 		local fresh = new_pop(k, host.seed + 1)
@@ -490,6 +501,7 @@ elseif teams then
 		host.print(with_metrics(string.format("  team %s, untrained teams (%2d): reward %10.1f, %7.0f collision ticks",
 			L.name, n, f_sum / n / reps, c_sum / n / reps), m_sum, n)
 			.. string.format(", won %.1f%%", 100 * w_sum / n / reps))
+		::next_replay::
 	end
 end
 return champion_fitness

@@ -380,6 +380,33 @@ TEST(co_evolution_takes_turns_and_resumes)
 	same_log("co1", "co3");
 }
 
+/* A co-evolution run shorter than the first team's turn: the second team
+ * never learns, so the run ends normally, says so, leaves its network as
+ * it was and writes no champion for it. */
+TEST(a_team_without_a_turn_keeps_its_network)
+{
+	CHECK_EQ_INT(make_pursuit("co4", "Pursuit-COEVO", 2), 0);
+	CHECK_EQ_INT(cli_sh("sed -i 's/^ALTERNATE:.*/ALTERNATE:3/' "
+			    "%s/co4/Pursuer/Tasks/Pursuit-COEVO.simbatch",
+			    cli_tmp),
+		     0);
+	CHECK_EQ_INT(train_pursuit("co4", "Pursuit-COEVO", "--threads 2"), 0);
+	char *said = cli_read("%s/co4/out.txt", cli_tmp);
+	CHECK(said && strstr(said, "team Evaders had no turn in 2 generations "
+				   "(ALTERNATE 3)"));
+	CHECK(said && strstr(said, "team Pursuers, champion:"));
+	CHECK(said && !strstr(said, "team Evaders, champion:"));
+	free(said);
+	char *shipped = cli_read("minds/Evader/Skills/Flee/Flee.net");
+	char *kept = cli_read("%s/co4/Evader/Skills/Flee/Flee.net", cli_tmp);
+	CHECK(shipped && kept && strcmp(shipped, kept) == 0);
+	free(shipped);
+	free(kept);
+	char *none = cli_read("%s/co4/run/champion-Evaders.net", cli_tmp);
+	CHECK(none == NULL);
+	free(none);
+}
+
 int main(void)
 {
 	if (cli_setup("learn-teams"))
@@ -390,6 +417,7 @@ int main(void)
 	RUN(a_killed_run_resumes_to_the_same_result);
 	RUN(the_pursuers_win_rate_rises);
 	RUN(co_evolution_takes_turns_and_resumes);
+	RUN(a_team_without_a_turn_keeps_its_network);
 	cli_cleanup();
 	return test_summary();
 }
