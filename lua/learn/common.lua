@@ -118,8 +118,15 @@ end
 
 -- A warning on a task, at the line of `key`, on stderr, in the form the
 -- task reader's own warnings take (sim/mind/task.c): "warning: path:line: msg".
+-- Under evo, the host prints it and counts it (evo check ends with the count).
 function common.warning(path, lines, key, msg)
-	io.stderr:write("warning: ", common.where(path, lines, key), ": ", msg, "\n")
+	local text = common.where(path, lines, key) .. ": " .. msg
+	local host = package.loaded["evo.learn"]
+	if host and host.warning then
+		host.warning(text)
+	else
+		io.stderr:write("warning: ", text, "\n")
+	end
 end
 
 -- The prefix of each method's own keys: the .simbatch reader keeps every

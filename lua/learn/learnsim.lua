@@ -379,7 +379,19 @@ local function champion_team(k)
 	return members, pops[k].best.fitness
 end
 
-if not teams then
+if not teams and algo.whole_budget then
+	-- MAPELITES: the result is the archive, a network for each kind of
+	-- behaviour; its best fitness may be the least of them (Kheperax's
+	-- is the least effort: a bot that stands still). The best elite is
+	-- champion.net in the run folder; the skill keeps its network.
+	host.save("champion.net", algo.to_net_text(champion, string.format(
+		"trained by evo: %s, seed %d, %d generations, fitness %.17g (the archive's best "
+		.. "fitness)", method, host.seed, generations, champion_fitness)))
+	host.print(string.format("MAP-Elites keeps an archive, not one network: Skills/%s/%s.net is left "
+		.. "as it was; the elite of best fitness is %s/champion.net, every elite in %s/elites/ "
+		.. "(run one with --net %s=FILE, or copy it to Skills/%s/%s.net)", host.skill, host.skill,
+		host.run_dir, host.run_dir, host.skill, host.skill, host.skill))
+elseif not teams then
 	host.save_champion(algo.to_net_text(champion, string.format(
 		"trained by evo: %s, seed %d, %d generations, fitness %.17g",
 		method, host.seed, generations, champion_fitness)))

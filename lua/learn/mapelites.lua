@@ -499,7 +499,8 @@ end
 
 -- The archive into the run folder (learnsim.lua, through its host): the
 -- heatmap (archive.png, a 1- or 2-D grid) as the run goes (`during`), and
--- at the end archive.csv and each elite's network, elites/elite-CELL.net.
+-- at the end archive.csv and each elite's network, elites/elite-CELL.net
+-- (CELL zero-padded to the width of the largest cell number).
 function mapelites.write_archive(pop, host, during)
 	local nx, ny, v = pop:grid_fitness()
 	if nx then host.heatmap(nx, ny, v, during) end
@@ -507,8 +508,11 @@ function mapelites.write_archive(pop, host, during)
 	local text, cells = pop:archive_csv()
 	host.save("archive.csv", text)
 	local names, texts = {}, {}
+	-- zero-padded to the width of the largest cell, so that they sort
+	-- in cell order: elite-007.net before elite-042.net
+	local width = #tostring(pop.n_cells or 1)
 	for i, c in ipairs(cells) do
-		names[i] = string.format("elites/elite-%d.net", c)
+		names[i] = string.format("elites/elite-%0" .. width .. "d.net", c)
 		texts[i] = pop:elite_net_text(c)
 	end
 	host.save_many(names, texts)

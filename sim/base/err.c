@@ -13,3 +13,21 @@ int evo_fail(evo_err *err, const char *fmt, ...)
 	}
 	return -1;
 }
+
+static unsigned n_warnings;
+
+void evo_warning(const char *fmt, ...)
+{
+	va_list ap;
+	va_start(ap, fmt);
+	fputs("warning: ", stderr);
+	vfprintf(stderr, fmt, ap);
+	fputc('\n', stderr);
+	va_end(ap);
+	n_warnings++;
+}
+
+unsigned evo_warning_count(void)
+{
+	return n_warnings;
+}

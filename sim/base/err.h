@@ -14,4 +14,12 @@ typedef struct evo_err {
 int evo_fail(evo_err *err, const char *fmt, ...)
 	__attribute__((format(printf, 2, 3)));
 
+/* A warning for the user, "warning: " and the printf-style message on
+ * stderr, counted: evo check ends with how many there were (a misspelt
+ * key is a warning, and almost always a mistake). */
+void evo_warning(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/* How many evo_warning has printed in this process. */
+unsigned evo_warning_count(void);
+
 #endif

@@ -5,6 +5,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "base/err.h"
 #include "base/fileio.h"
 #include "base/number.h"
 #include "cmd/export_c.h"
@@ -142,6 +143,8 @@ static int cmd_info(const evo_mindfolder *l)
 		       kind_name(a), a->n_in, a->n_out);
 		if (a->kind == EVO_SKILL_HARDCODED)
 			printf(" class:%s", a->hc_class);
+		else if (l->untrained && l->untrained[i] == 2)
+			printf(" network: none yet, this task trains it");
 		else if (l->untrained && l->untrained[i])
 			printf(" network: none yet");
 		else
@@ -440,15 +443,27 @@ int main(int argc, char **argv)
 			evo_task_free(&task);
 			return 1;
 		}
+		/* a warning is most often a misspelt key, which evo run
+		 * would ignore: evo check, which is asked to find such
+		 * things, ends with the count and fails */
+		unsigned warned = evo_warning_count();
+		char verdict[160] = "ok";
+		if (warned)
+			snprintf(verdict, sizeof verdict,
+				 "not ok, %u warning%s above (evo run would "
+				 "run it without what %s)",
+				 warned, warned == 1 ? "" : "s",
+				 warned == 1 ? "it names" : "they name");
 		if (task.n_teams == 0)
 			printf("%s: task %s, mind folder %s, master skill %s: "
-			       "ok\n",
+			       "%s\n",
 			       argv[2], task.type, task.mind->root,
-			       evo_mind_skill_name(&task.mind->mind, 0));
+			       evo_mind_skill_name(&task.mind->mind, 0),
+			       verdict);
 		else
-			printf("%s: task %s, %d team%s: ok\n", argv[2],
+			printf("%s: task %s, %d team%s: %s\n", argv[2],
 			       task.type, task.n_teams,
-			       task.n_teams == 1 ? "" : "s");
+			       task.n_teams == 1 ? "" : "s", verdict);
 		for (int i = 0; i < task.n_teams; i++)
 			printf("  team %s: %d bot%s of %s, mind folder %s, "
 			       "master skill %s\n",
@@ -457,7 +472,7 @@ int main(int argc, char **argv)
 			       task.team[i].botmodel, task.team[i].mind->root,
 			       task.team[i].master);
 		evo_task_free(&task);
-		return 0;
+		return warned ? 1 : 0;
 	}
 	if (strcmp(cmd, "info") != 0 && strcmp(cmd, "tick") != 0 &&
 	    strcmp(cmd, "export") != 0) {

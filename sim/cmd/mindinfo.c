@@ -125,7 +125,7 @@ int evo_untrained_count(const evo_mindfolder *l)
 {
 	int n = 0;
 	for (unsigned i = 0; i < l->n_skills; i++)
-		n += l->untrained && l->untrained[i];
+		n += l->untrained && l->untrained[i] == 1;
 	return n;
 }
 
@@ -136,7 +136,7 @@ int evo_untrained_report(const evo_mindfolder *l, FILE *f)
 		return 0;
 	fprintf(f, "not trained yet (no Skills/S/S.net): ");
 	for (unsigned i = 0, k = 0; i < l->n_skills; i++)
-		if (l->untrained[i])
+		if (l->untrained[i] == 1)
 			fprintf(f, "%s%s", k++ ? ", " : "", l->skill[i].name);
 	fprintf(f, "\ntrain the hierarchy bottom-up, sub-skills before the "
 		   "skills that call them:\n");
@@ -148,11 +148,14 @@ int evo_untrained_report(const evo_mindfolder *l, FILE *f)
 			continue;
 		char task[300];
 		fprintf(f, "  %u. %-16s %s", step++, a->name,
-			l->untrained[i] ? "no network yet" : "has its network");
-		if (l->untrained[i] && task_for(l->root, a->name, task,
+			l->untrained[i] == 2   ? "no network yet: this task "
+						 "trains it"
+			: l->untrained[i] ? "no network yet"
+					  : "has its network");
+		if (l->untrained[i] == 1 && task_for(l->root, a->name, task,
 						 sizeof task))
 			fprintf(f, ": evo run %s/%s", l->root, task);
-		else if (l->untrained[i])
+		else if (l->untrained[i] == 1)
 			fprintf(f, ": a LEARNSIM task with LEARNINGSKILL:%s "
 				   "(docs/learning.md)",
 				a->name);

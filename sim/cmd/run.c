@@ -12,6 +12,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "base/err.h"
 #include "base/fileio.h"
 #include "cmd/record.h"
 #include "cluster/cluster.h"
@@ -1479,7 +1480,7 @@ static int learn_on_cluster(const char *task_path, evo_task *task,
 	return rc;
 }
 
-int evo_run_main(int argc, char **argv)
+static int run_main(int argc, char **argv)
 {
 	run_opts o;
 	if (parse_args(argc, argv, &o))
@@ -1715,5 +1716,21 @@ out:
 	evo_view3d_close(v3);
 	evo_sim_destroy(s);
 	evo_task_free(&task);
+	return rc;
+}
+
+/* The run, and then the count of the task's warnings, which the run's own
+ * output may have pushed out of sight (evo check fails on them). */
+int evo_run_main(int argc, char **argv)
+{
+	int rc = run_main(argc, argv);
+	unsigned warned = evo_warning_count();
+	if (warned && !evo_cluster_launched())
+		fprintf(stderr,
+			"evo run: %u warning%s at the start (above): the run "
+			"went on without what %s; evo check fails on %s\n",
+			warned, warned == 1 ? "" : "s",
+			warned == 1 ? "it names" : "they name",
+			warned == 1 ? "it" : "them");
 	return rc;
 }

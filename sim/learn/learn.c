@@ -24,6 +24,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "base/err.h"
 #include "base/fileio.h"
 #include "base/terminal.h"
 #include "learn/curve.h"
@@ -970,7 +971,16 @@ static int l_save_skill_net(lua_State *L)
 	return 0;
 }
 
+/* evo.learn.warning(text): a method's warning on the task, counted with
+ * the task reader's (evo check ends with how many there were). */
+static int l_warning(lua_State *L)
+{
+	evo_warning("%s", luaL_checkstring(L, 1));
+	return 0;
+}
+
 static const luaL_Reg learn_fns[] = {
+    {"warning", l_warning},
     {"evaluate", l_evaluate},
     {"descriptors", l_descriptors},
     {"set_team_net", l_set_team_net},
@@ -1068,6 +1078,8 @@ static int open_module(lua_State *L)
 	lua_setfield(L, -2, "resume");
 	lua_pushstring(L, l->run_dir);
 	lua_setfield(L, -2, "run_dir");
+	lua_pushstring(L, l->skill); /* the learning skill (nil: none) */
+	lua_setfield(L, -2, "skill");
 	lua_pushinteger(L, evo_evaluator_reps(l->ev));
 	lua_setfield(L, -2, "reps");
 	lua_pushinteger(L, (lua_Integer)evo_evaluator_ticks(l->ev));
@@ -1237,6 +1249,13 @@ static int check_options(lua_State *L)
 	int quiet = lua_toboolean(L, 3);
 	luaL_openlibs(L);
 	evo_lua_set_path(L, evo_lua_dir());
+	/* the methods' warnings are counted as under evo run */
+	luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
+	lua_newtable(L);
+	lua_pushcfunction(L, l_warning);
+	lua_setfield(L, -2, "warning");
+	lua_setfield(L, -2, "evo.learn");
+	lua_pop(L, 1);
 	if (luaL_loadbufferx(L, CHECK_OPTIONS, sizeof CHECK_OPTIONS - 1,
 			     "=evo check", "t") != LUA_OK)
 		return lua_error(L);

@@ -495,6 +495,7 @@ static int load_net(evo_mindfolder *l, unsigned i, const char *ades_path,
 					"%s=random)",
 					ades_path, a->kind_line, a->name, path,
 					a->name);
+		l->untrained[i] = 2;
 		return layered_net(a, ades_path, NULL, d, err);
 	}
 	if (parse_file(path, err, parse_net_any, d) != 0)

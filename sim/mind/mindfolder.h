@@ -52,7 +52,9 @@ typedef struct evo_mindfolder {
 	evo_ades *skill;
 	evo_netdesc **net; /* per skill; NULL for hard-coded */
 	unsigned char *untrained; /* per skill: 1 for a neural skill with no
-				   * .net yet (only with untrained_ok) */
+				   * .net yet (only with untrained_ok), 2
+				   * for the learning skill with none: the
+				   * task trains it, nothing else must */
 	uint32_t names_hash;
 	void *image; /* the mind image (the model) */
 	size_t image_len;

@@ -7,6 +7,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "base/err.h"
 #include "base/fileio.h"
 #include "mind/names.h"
 
@@ -405,9 +406,8 @@ static int load_teams(evo_task *t, const char *path, const char *root,
 					      "MASTERSKILL", NULL};
 	for (int i = 0; ignored[i]; i++)
 		if (evo_simbatch_get(t->sb, ignored[i]))
-			fprintf(stderr,
-				"warning: %s:%u: %s is ignored in a %s task: "
-				"each TEAM line names its own\n",
+			evo_warning("%s:%u: %s is ignored in a %s task: "
+				    "each TEAM line names its own",
 				path, (unsigned)key_line(t->sb, ignored[i]),
 				ignored[i], t->type);
 	int learn = strncmp(t->type, "LEARN", 5) == 0;
@@ -489,7 +489,7 @@ int evo_task_load_opts(const char *path, const evo_task_opts *o, evo_task *t,
 	}
 	for (unsigned i = 0; i < t->sb->n_warnings && i < EVO_MAX_WARNINGS;
 	     i++)
-		fprintf(stderr, "warning: %s\n", t->sb->warning[i].msg);
+		evo_warning("%s", t->sb->warning[i].msg);
 	t->type = evo_simbatch_get(t->sb, "TYPE");
 	if (!t->type) {
 		evo_task_free(t);
@@ -574,9 +574,8 @@ int evo_task_load_opts(const char *path, const evo_task_opts *o, evo_task *t,
 	 * most likely a task copied from another folder. */
 	const char *botname = evo_simbatch_get(t->sb, "BOTNAME");
 	if (botname && strcmp(botname, t->mind->bot_name) != 0) {
-		fprintf(stderr,
-			"warning: %s:%u: BOTNAME is %s, but the task's mind "
-			"folder is %s (%s); evo runs that folder\n",
+		evo_warning("%s:%u: BOTNAME is %s, but the task's mind "
+			    "folder is %s (%s); evo runs that folder",
 			path, (unsigned)key_line(t->sb, "BOTNAME"), botname,
 			t->mind->bot_name, t->mind->root);
 	}

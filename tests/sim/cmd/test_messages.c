@@ -477,7 +477,7 @@ TEST(check_warns_of_hidden_on_neat)
 	CHECK_EQ_INT(cli_capture(out, sizeof out,
 				 "%s check %s/h/Avoid/Tasks/H.simbatch",
 				 cli_evo, cli_tmp),
-		     0);
+		     1);
 	CHECK_CONTAINS(out, want);
 	CHECK_EQ_INT(cli_capture(out, sizeof out,
 				 "%s run %s/h/Avoid/Tasks/H.simbatch --run "
@@ -612,6 +612,63 @@ TEST(a_body_option_is_reported_at_its_line)
 			    "did you mean radius? (known: shape, radius,");
 }
 
+/* evo check of a task whose own skill has no network yet says the task
+ * trains it, not that it "has its network"; a task over sub-skills that
+ * all have theirs is ok. */
+TEST(check_says_the_task_trains_its_skill)
+{
+	CHECK_EQ_INT(cli_sh("rm -rf %s/u && mkdir -p %s/u && cp -r "
+			    "minds/Collect %s/u/ && rm %s/u/Collect/Skills/*/*.net",
+			    cli_tmp, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s check %s/u/Collect/Tasks/Collect-NEAT.simbatch",
+				 cli_evo, cli_tmp),
+		     1);
+	CHECK_CONTAINS(out, "Collect          no network yet: this task trains "
+			    "it");
+	CHECK_CONTAINS(out, "network: none yet, this task trains it");
+	CHECK(strstr(out, "has its network") == NULL);
+	/* the skills to train first, the task's own not among them */
+	CHECK_CONTAINS(out, "not trained yet (no Skills/S/S.net): GTO+Avoid, "
+			    "GTDZ+Avoid, ClawControl\n");
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s check %s/u/Collect/Tasks/GTO+Avoid-NEAT.simbatch",
+				 cli_evo, cli_tmp),
+		     0);
+	CHECK_CONTAINS(out, "master skill GTO+Avoid: ok\n");
+}
+
+/* A misspelt key is a warning that evo run goes on without: evo check,
+ * asked to find such things, ends with their count and exits 1, and evo
+ * run repeats the count after its own output. */
+TEST(check_fails_on_a_misspelt_key)
+{
+	CHECK_EQ_INT(cli_sh("rm -rf %s/k && mkdir -p %s/k && cp -r minds/Avoid "
+			    "%s/k/ && printf 'TYPE:DEMOSIM\\nBOTMODEL:BotType8\\n"
+			    "MASTERSKILL:Avoid\\nENV:EXP_Avoid\\nTICKLIN:20\\n' > "
+			    "%s/k/Avoid/Tasks/K.simbatch",
+			    cli_tmp, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s check %s/k/Avoid/Tasks/K.simbatch",
+				 cli_evo, cli_tmp),
+		     1);
+	CHECK_CONTAINS(out, "K.simbatch:5: unknown key 'TICKLIN' ignored; did "
+			    "you mean TICKLIM?");
+	CHECK_CONTAINS(out, "master skill Avoid: not ok, 1 warning above (evo "
+			    "run would run it without what it names)\n");
+	CHECK(strstr(out, ": ok") == NULL);
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run %s/k/Avoid/Tasks/K.simbatch -nog "
+				 "--ticks 5",
+				 cli_evo, cli_tmp),
+		     0);
+	CHECK_CONTAINS(out, "evo run: 1 warning at the start (above): the run "
+			    "went on without what it names; evo check fails "
+			    "on it\n");
+}
+
 int main(void)
 {
 	if (cli_setup("messages"))
@@ -632,6 +689,8 @@ int main(void)
 	RUN(misspelt_names_are_reported_at_the_task_line);
 	RUN(misspelt_names_in_an_environment_get_a_hint);
 	RUN(a_body_option_is_reported_at_its_line);
+	RUN(check_says_the_task_trains_its_skill);
+	RUN(check_fails_on_a_misspelt_key);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
 	RUN(progress_rewrites_only_at_a_terminal);

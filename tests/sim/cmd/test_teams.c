@@ -368,7 +368,8 @@ TEST(evo_check_passes_the_shipped_team_tasks)
 	CHECK_EQ_INT(cli_capture(out, sizeof out,
 				 "%s check %s/Forager/Tasks/Extra.simbatch",
 				 cli_evo, minds()),
-		     0);
+		     1);
+	CHECK_CONTAINS(out, "1 team: not ok, 1 warning above");
 	CHECK_CONTAINS(out, "Extra.simbatch:3: BOTMODEL is ignored in a "
 			    "DEMO2DSIMMULTI task: each TEAM line names its "
 			    "own\n");

@@ -64,7 +64,7 @@ static void same_run(const char *name, const char *reference)
 {
 	static const char *const files[] = {"run/archive.csv",
 					    "run/checkpoint.lua",
-					    "Avoid/Skills/Avoid/Avoid.net"};
+					    "run/champion.net"};
 	char *a = log_of(reference), *b = log_of(name);
 	CHECK(a && b);
 	if (a && b)
@@ -153,9 +153,16 @@ TEST(the_run_folder_keeps_the_archive_and_log_measures_it)
 	CHECK_EQ_INT(cli_sh("test $(ls %s/t1/run/elites | wc -l) -eq %d",
 			    cli_tmp, rows),
 		     0);
-	char *elite = cli_read("%s/t1/run/elites/elite-%d.net", cli_tmp,
+	/* elites/elite-CELL.net, CELL padded to the width of cell 400, so
+	 * that ls lists them in cell order */
+	CHECK_EQ_INT(cli_sh("cd %s/t1/run/elites && ls | grep -vxE "
+			    "'elite-[0-9]{3}[.]net' | wc -l | grep -qx 0 && "
+			    "ls | sort -c",
+			    cli_tmp),
+		     0);
+	char *elite = cli_read("%s/t1/run/elites/elite-%03d.net", cli_tmp,
 			       best_cell);
-	char *champ = cli_read("%s/t1/Avoid/Skills/Avoid/Avoid.net", cli_tmp);
+	char *champ = cli_read("%s/t1/run/champion.net", cli_tmp);
 	CHECK(elite && champ);
 	if (elite && champ) {
 		CHECK_CONTAINS(elite, "# MAP-Elites elite of cell ");
@@ -165,8 +172,19 @@ TEST(the_run_folder_keeps_the_archive_and_log_measures_it)
 	}
 	free(elite);
 	free(champ);
+	/* the skill keeps its network: the result is the archive */
+	CHECK_EQ_INT(cli_sh("cmp -s minds/Avoid/Skills/Avoid/Avoid.net "
+			    "%s/t1/Avoid/Skills/Avoid/Avoid.net",
+			    cli_tmp),
+		     0);
+	out = cli_read("%s/t1/out.txt", cli_tmp);
+	CHECK_CONTAINS(out, "MAP-Elites keeps an archive, not one network: "
+			    "Skills/Avoid/Avoid.net is left as it was; the "
+			    "elite of best fitness is ");
+	CHECK(out && strstr(out, "champion saved in") == NULL);
+	free(out);
 	/* an elite runs in its task's environment through --net */
-	snprintf(want, sizeof want, "%s/t1/run/elites/elite-%d.net", cli_tmp,
+	snprintf(want, sizeof want, "%s/t1/run/elites/elite-%03d.net", cli_tmp,
 		 best_cell);
 	CHECK_EQ_INT(cli_sh("cp %s/t1/Avoid/Tasks/Small.simbatch "
 			    "%s/t1/Avoid/Tasks/Demo.simbatch && sed -i "
@@ -249,6 +267,12 @@ TEST(the_viewer_shows_a_chosen_elite_and_its_path)
 			    "--run %s/kh/run > %s/kh/out.txt 2>&1",
 			    cli_evo, cli_tmp, cli_tmp, cli_tmp),
 		     0);
+	/* Kheperax's best fitness is the least effort, a bot that stands
+	 * still: the skill's network is not replaced by it */
+	CHECK_EQ_INT(cli_sh("cmp -s minds/Kheperax/Skills/Kheperax/Kheperax.net "
+			    "%s/kh/Kheperax/Skills/Kheperax/Kheperax.net",
+			    cli_tmp),
+		     0);
 	/* the elite that ended farthest from the start (0.15, 0.15) */
 	char *csv = cli_read("%s/kh/run/archive.csv", cli_tmp);
 	int cell = 0;
@@ -273,13 +297,13 @@ TEST(the_viewer_shows_a_chosen_elite_and_its_path)
 	snprintf(shot, sizeof shot, "%s/kh/elite.png", cli_tmp);
 	int rc = cli_capture(out, sizeof out,
 			     "%s run %s/kh/Kheperax/Tasks/Kheperax-DEMO.simbatch "
-			     "-nog --net Kheperax=%s/kh/run/elites/elite-%d.net "
+			     "-nog --net Kheperax=%s/kh/run/elites/elite-%03d.net "
 			     "--trail --ticks 250 --screenshot %s",
 			     cli_evo, cli_tmp, cli_tmp, cell, shot);
 	CHECK_EQ_INT(rc, 0);
 	rc = cli_capture(out, sizeof out,
 			 "%s run %s/kh/Kheperax/Tasks/Kheperax-DEMO.simbatch "
-			 "--headless --net Kheperax=%s/kh/run/elites/elite-%d.net",
+			 "--headless --net Kheperax=%s/kh/run/elites/elite-%03d.net",
 			 cli_evo, cli_tmp, cli_tmp, cell);
 	CHECK_EQ_INT(rc, 0);
 	char want[100];
