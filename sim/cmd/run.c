@@ -14,6 +14,7 @@
 
 #include "base/err.h"
 #include "base/fileio.h"
+#include "base/number.h"
 #include "cmd/record.h"
 #include "cluster/cluster.h"
 #include "learn/evaluate.h"
@@ -455,8 +456,10 @@ static void print_teams(const evo_sim *s)
  * none, so such a line is as it always was. */
 static void print_metrics(const evo_scene *sc)
 {
+	char v[64];
 	for (int i = 0; i < sc->n_metrics; i++)
-		printf(", %s %.6f", sc->metric[i].name, sc->metric[i].value);
+		printf(", %s %s", sc->metric[i].name,
+		       evo_number_text(v, sizeof v, sc->metric[i].value, 1));
 }
 
 /* What the episode did, when the environment says it (docs/lua.md, "What
@@ -466,6 +469,7 @@ static void print_metrics(const evo_scene *sc)
 static int print_outcome(evo_sim *s, evo_err *err)
 {
 	double b[EVO_SIM_MAX_BEHAVIOUR];
+	char text[64];
 	int solved;
 	if (s->has_teams)
 		return 0;
@@ -474,12 +478,57 @@ static int print_outcome(evo_sim *s, evo_err *err)
 	if (n < 0)
 		return -1;
 	for (int k = 0; k < n; k++)
-		printf("%s%.6f%s", k ? ", " : ", behaviour (", b[k],
+		printf("%s%s%s", k ? ", " : ", behaviour (",
+		       evo_number_text(text, sizeof text, b[k], 0),
 		       k == n - 1 ? ")" : "");
 	int rc = evo_lua_solved(s->lua, s->bot, &solved, err);
 	if (rc > 0)
 		printf(solved ? ", solved" : ", not solved");
 	return rc < 0 ? -1 : 0;
+}
+
+/* The line that ends episode e after t ticks, the same headless, in the
+ * viewer and under --record: its reward, collision ticks, deliveries,
+ * metrics and what it did; a 3D episode's fault, if anything broke;
+ * every team's counts. */
+static int print_episode(evo_sim *s, long e, long t, evo_err *err)
+{
+	if (s->scene3d) {
+		printf("episode %ld: reward %.6f over %ld ticks, %d "
+		       "collision ticks",
+		       e, evo_sim_episode_reward(s), t,
+		       evo_sim_collisions(s, 0));
+		if (print_outcome(s, err))
+			return -1;
+		printf("\n");
+		if (evo_sim_fault(s)[0])
+			printf("  fault: %s\n", evo_sim_fault(s));
+		fflush(stdout);
+		return 0;
+	}
+	/* the agents' counts: the one agent's, or every team's */
+	int collisions = 0, delivered = 0, gathered = 0;
+	for (int a = 0; a < s->n_agents; a++) {
+		const evo_bot *b = &s->scene->bot[s->agent[a].bot];
+		collisions += b->collisions;
+		delivered += b->delivered;
+		gathered += b->gathered;
+	}
+	printf("episode %ld: reward %.6f over %ld ticks, %d collision "
+	       "ticks",
+	       e, s->scene->episode_reward, t, collisions);
+	/* deliveries only where a Collect reward can make them */
+	if (delivers(s->scene))
+		printf(", %d delivered", delivered);
+	if (has_reward(s->scene, EVO_RW_GATHER))
+		printf(", %d gathered", gathered);
+	print_metrics(s->scene);
+	if (print_outcome(s, err))
+		return -1;
+	printf("\n");
+	print_teams(s);
+	fflush(stdout);
+	return 0;
 }
 
 static int run_headless(evo_sim *s, const run_opts *o, uint64_t seed,
@@ -500,43 +549,8 @@ static int run_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 		/* a script stopped by the signal fails its tick */
 		if (r < 0)
 			return stop_requested ? 0 : -1;
-		if (s->scene3d) {
-			/* a 3D episode: its reward, its ticks, its collision
-			 * ticks, and what broke it, if anything did */
-			printf("episode %ld: reward %.6f over %ld ticks, %d "
-			       "collision ticks",
-			       e, evo_sim_episode_reward(s), t,
-			       evo_sim_collisions(s, 0));
-			if (print_outcome(s, err))
-				return -1;
-			printf("\n");
-			if (evo_sim_fault(s)[0])
-				printf("  fault: %s\n", evo_sim_fault(s));
-			fflush(stdout);
-			continue;
-		}
-		/* the agents' counts: the one agent's, or every team's */
-		int collisions = 0, delivered = 0, gathered = 0;
-		for (int a = 0; a < s->n_agents; a++) {
-			const evo_bot *b = &s->scene->bot[s->agent[a].bot];
-			collisions += b->collisions;
-			delivered += b->delivered;
-			gathered += b->gathered;
-		}
-		printf("episode %ld: reward %.6f over %ld ticks, %d collision "
-		       "ticks",
-		       e, s->scene->episode_reward, t, collisions);
-		/* deliveries only where a Collect reward can make them */
-		if (delivers(s->scene))
-			printf(", %d delivered", delivered);
-		if (has_reward(s->scene, EVO_RW_GATHER))
-			printf(", %d gathered", gathered);
-		print_metrics(s->scene);
-		if (print_outcome(s, err))
+		if (print_episode(s, e, t, err))
 			return -1;
-		printf("\n");
-		print_teams(s);
-		fflush(stdout);
 	}
 	return 0;
 }
@@ -888,9 +902,8 @@ static int record_run(evo_sim *s, const run_opts *o, uint64_t seed,
 			if (r > 0)
 				break;
 		}
-		if (rc == 0)
-			printf("episode %ld: reward %.6f over %ld ticks\n", e,
-			       s->scene->episode_reward, t);
+		if (rc == 0 && print_episode(s, e, t, err))
+			rc = -1;
 	}
 	long frames = 0;
 	evo_err cerr = {{0}};
@@ -1272,11 +1285,8 @@ static int run_viewer_trail(evo_sim *s, evo_viewer *v, const run_opts *o,
 				trail_add(tr, s);
 			t++;
 			if (r > 0 || (o->ticks && t >= o->ticks && !o->screenshot)) {
-				printf("episode %ld: reward %.6f over %ld ticks",
-				       e, s->scene->episode_reward, t);
-				print_metrics(s->scene);
-				printf("\n");
-				fflush(stdout);
+				if (print_episode(s, e, t, err))
+					return -1;
 				e++;
 				t = -1;
 				break;
@@ -1402,13 +1412,8 @@ static int run_viewer3d(evo_sim *s, evo_view3d *v, const run_opts *o,
 			t++;
 			if (r > 0 ||
 			    (o->ticks && t >= o->ticks && !o->screenshot)) {
-				printf("episode %ld: reward %.6f over %ld "
-				       "ticks\n",
-				       e, evo_sim_episode_reward(s), t);
-				if (evo_sim_fault(s)[0])
-					printf("  fault: %s\n",
-					       evo_sim_fault(s));
-				fflush(stdout);
+				if (print_episode(s, e, t, err))
+					return -1;
 				if (o->episodes && e >= o->episodes)
 					return 0;
 				e++;

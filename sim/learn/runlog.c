@@ -423,6 +423,13 @@ static void clock_text(char *buf, size_t cap, double seconds)
 		snprintf(buf, cap, "%ld:%02ld", s / 60, s % 60);
 }
 
+/* A NaN (a generation whose every fitness is one) prints as "nan", not
+ * printf's "-nan" of a NaN with its sign bit set. */
+static double unsigned_nan(double v)
+{
+	return isnan(v) ? fabs(v) : v;
+}
+
 void evo_progress_format(char *buf, size_t cap, const evo_gen_stats *s,
 			 int tty)
 {
@@ -464,6 +471,7 @@ void evo_progress_format(char *buf, size_t cap, const evo_gen_stats *s,
 	snprintf(buf, cap,
 		 "%sgen %d%s  best %.6g  mean %.6g%s  %.0f eval/s  "
 		 "elapsed %s  ETA %s",
-		 bar, s->generation, total, s->best, s->mean, species, rate,
+		 bar, s->generation, total, unsigned_nan(s->best),
+		 unsigned_nan(s->mean), species, rate,
 		 elapsed, s->generations > 0 ? eta : "-");
 }

@@ -669,6 +669,55 @@ TEST(check_fails_on_a_misspelt_key)
 			    "on it\n");
 }
 
+/* A GIF of 51 frames is a file a user would mail, not ffmpeg's default
+ * 14 MB (a palette of the run's colours, each frame only what changed),
+ * and still holds every frame at full size. */
+TEST(a_recorded_gif_is_small)
+{
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run " DEMO " --ticks 50 --record %s/g.gif",
+				 cli_evo, cli_tmp),
+		     0);
+	CHECK_CONTAINS(out, "recorded 51 frames in");
+	CHECK_EQ_INT(cli_capture(out, sizeof out, "stat -c %%s %s/g.gif",
+				 cli_tmp),
+		     0);
+	long bytes = atol(out);
+	printf("  a GIF of 51 frames (Avoid-DEMO --ticks 50): %.1f MB\n",
+	       bytes / 1e6);
+	CHECK(bytes > 0 && bytes < 2000000);
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "ffprobe -v error -count_frames "
+				 "-select_streams v:0 -show_entries "
+				 "stream=nb_read_frames,width,height -of "
+				 "csv=p=0 %s/g.gif",
+				 cli_tmp),
+		     0);
+	CHECK_CONTAINS(out, "1024,720,51");
+}
+
+/* --record ends each episode with the line a headless run prints: its
+ * collision ticks and what it did (Kheperax's env.behaviour). */
+TEST(record_prints_the_headless_episode_line)
+{
+	static char headless[4096];
+	CHECK_EQ_INT(cli_capture(headless, sizeof headless,
+				 "%s run minds/Kheperax/Tasks/"
+				 "Kheperax-DEMO.simbatch --headless --ticks 20",
+				 cli_evo),
+		     0);
+	CHECK_CONTAINS(headless, "episode 1: reward ");
+	CHECK_CONTAINS(headless, " collision ticks, behaviour (");
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run minds/Kheperax/Tasks/"
+				 "Kheperax-DEMO.simbatch --ticks 20 --record "
+				 "%s/kh-frames --record-every 10",
+				 cli_evo, cli_tmp),
+		     0);
+	CHECK(strncmp(out, headless, strlen(headless)) == 0);
+	CHECK_CONTAINS(out, "recorded 3 frames in");
+}
+
 int main(void)
 {
 	if (cli_setup("messages"))
@@ -691,6 +740,8 @@ int main(void)
 	RUN(a_body_option_is_reported_at_its_line);
 	RUN(check_says_the_task_trains_its_skill);
 	RUN(check_fails_on_a_misspelt_key);
+	RUN(a_recorded_gif_is_small);
+	RUN(record_prints_the_headless_episode_line);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
 	RUN(progress_rewrites_only_at_a_terminal);

@@ -3,6 +3,7 @@
  * it ships, and a log row that does not start with its generation is
  * refused at its line. */
 #define _POSIX_C_SOURCE 200809L
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -369,6 +370,11 @@ TEST(progress_line_on_a_terminal_and_off)
 	CHECK_CONTAINS(buf, "species 3  coverage 0.0523  qd_score 257.1  300 "
 			    "eval/s");
 	s.note = NULL;
+	/* a NaN is "nan", whatever its sign bit */
+	s.mean = -NAN;
+	evo_progress_format(buf, sizeof buf, &s, 0);
+	CHECK_CONTAINS(buf, "best 5  mean nan  species");
+	s.mean = 2;
 	s.generations = 0;
 	s.species = 0;
 	evo_progress_format(buf, sizeof buf, &s, 1);
