@@ -67,7 +67,7 @@ static evo_recorder *open_video(evo_recorder *r, int fps, evo_err *err)
 	/* yuv420p, which every player reads (the frames' sides are even);
 	 * a GIF gets one palette made for the run's colours, and each frame
 	 * stores only the rectangle that changed (the world mostly holds
-	 * still): 51 frames of 1024 x 720 take 0.7 MB, not ffmpeg's
+	 * still): 51 frames of 1024 x 720 take 0.5 MB, not ffmpeg's
 	 * default 14 MB */
 	snprintf(cmd, sizeof cmd,
 		 "ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgb24 "

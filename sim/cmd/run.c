@@ -50,7 +50,8 @@ typedef struct run_opts {
 	int trail;		/* viewer: draw the bot's path (--trail) */
 	const char *record;	/* frames of the run: a folder or a video */
 	long record_every;	/* a frame every N ticks (0: not given) */
-	int camera;		/* 0 the viewer's, 1 the whole scene, 2 a point */
+	int camera; /* 0 not given (the scene), 1 the scene, 2 a point, 3
+		     * the bot, as the viewer follows it */
 	double camera_x, camera_y;
 	double zoom; /* 0: not given (1) */
 	const char *can;	/* DEMOREMOTE: the robot's CAN URL */
@@ -115,8 +116,9 @@ void evo_run_usage(FILE *f)
 	      "                     second)\n"
 	      "  --camera X,Y|scene|bot  centre --screenshot's and --record's\n"
 	      "                     frames on the point (X, Y) in metres, on\n"
-	      "                     the middle of the scene, or (default) on\n"
-	      "                     the bot, as the viewer does\n"
+	      "                     the middle of the scene as it starts\n"
+	      "                     (default), or on the bot, as the viewer\n"
+	      "                     follows it\n"
 	      "  --zoom Z           their zoom, 1/16 to 64 (default 1: 60 m\n"
 	      "                     across; 2 shows half as much)\n"
 	      "  --net SKILL=NET    run neural skill SKILL with another\n"
@@ -205,7 +207,7 @@ static int parse_camera(const char *v, run_opts *o)
 {
 	char *end;
 	if (v && strcmp(v, "bot") == 0) {
-		o->camera = 0;
+		o->camera = 3;
 		return 0;
 	}
 	if (v && strcmp(v, "scene") == 0) {
@@ -841,7 +843,9 @@ static evo_view_camera frame_camera(const evo_sim *s, const run_opts *o,
 				    const view_state *vs)
 {
 	double zoom = o->zoom > 0 ? o->zoom : 1.0;
-	int follow = o->camera == 0 ? view_follow(s, vs) : EVO_VIEW_SCENE_START;
+	/* the scene as it starts, unless --camera bot: a picture of the
+	 * world, not of the bot's surroundings */
+	int follow = o->camera == 3 ? view_follow(s, vs) : EVO_VIEW_SCENE_START;
 	evo_view_camera cam =
 	    evo_view_camera_for(s->scene, follow, zoom, VIEW_W, VIEW_H);
 	if (o->camera == 2) {

@@ -161,11 +161,42 @@ int evo_lua_load_model(lua_State *L, evo_lua *l, const char *model,
 
 /* ---- the module ---------------------------------------------------------- */
 
-static void new_class(lua_State *L, const char *mt, const luaL_Reg *methods)
+/* __index of a 2D class: its method; for a name near one of them
+ * (scene:zonee), an error at the script's line naming the one meant, as
+ * the names scene:control and bot:target take get; else nil, so Lua
+ * says what it always said. Upvalues: the methods table, the noun. */
+static int index2d(lua_State *L)
+{
+	lua_pushvalue(L, 2);
+	if (lua_rawget(L, lua_upvalueindex(1)) != LUA_TNIL ||
+	    lua_type(L, 2) != LUA_TSTRING)
+		return 1;
+	const char *names[64];
+	size_t n = 0;
+	lua_pushnil(L);
+	while (lua_next(L, lua_upvalueindex(1)) != 0) {
+		if (n < 64 && lua_type(L, -2) == LUA_TSTRING)
+			names[n++] = lua_tostring(L, -2);
+		lua_pop(L, 1);
+	}
+	const char *word = lua_tostring(L, 2);
+	const char *near = evo_lua_near(word, names, n);
+	if (!near)
+		return 1;
+	const char *noun = lua_tostring(L, lua_upvalueindex(2));
+	return luaL_error(L, "%s:%s: a %s has no method '%s'; did you mean "
+			     "%s:%s?",
+			  noun, word, noun, word, noun, near);
+}
+
+static void new_class(lua_State *L, const char *mt, const luaL_Reg *methods,
+		      const char *noun)
 {
 	luaL_newmetatable(L, mt);
 	lua_newtable(L);
 	luaL_setfuncs(L, methods, 0);
+	lua_pushstring(L, noun);
+	lua_pushcclosure(L, index2d, 2);
 	lua_setfield(L, -2, "__index");
 	lua_pushstring(L, mt);
 	lua_setfield(L, -2, "__name");
@@ -523,10 +554,10 @@ static int setup(lua_State *L)
 	open_sandbox(L);
 	lua_pushlightuserdata(L, l);
 	lua_rawsetp(L, LUA_REGISTRYINDEX, &evo_lua_ctx_key);
-	new_class(L, EVO_LUA_BOT_MT, evo_lua_bot_methods);
-	new_class(L, EVO_LUA_ELEMENT_MT, evo_lua_element_methods);
-	new_class(L, EVO_LUA_SCENE_MT, evo_lua_scene_methods);
-	new_class(L, EVO_LUA_METRIC_MT, evo_lua_metric_methods);
+	new_class(L, EVO_LUA_BOT_MT, evo_lua_bot_methods, "bot");
+	new_class(L, EVO_LUA_ELEMENT_MT, evo_lua_element_methods, "element");
+	new_class(L, EVO_LUA_SCENE_MT, evo_lua_scene_methods, "scene");
+	new_class(L, EVO_LUA_METRIC_MT, evo_lua_metric_methods, "metric");
 	new_class3d(L, EVO_LUA_SCENE3D_MT, evo_lua_scene3d_methods, "scene");
 	new_class3d(L, EVO_LUA_BOT3D_MT, evo_lua_bot3d_methods, "bot");
 	new_class3d(L, EVO_LUA_ELEMENT3D_MT, evo_lua_element3d_methods,

@@ -363,6 +363,34 @@ static void text_fit(evo_raster *im, int x, int y, const char *s, int chars,
 	evo_raster_text(im, x, y, buf, rgb, scale);
 }
 
+/* The panel's title, the task's path, in `chars` characters: whole when
+ * it fits, else its file name (the part that tells tasks apart), else
+ * that name's end after a '~'. Cutting the path's end, as text_fit does,
+ * left "minds/Avoid/Tasks/A~" of every Avoid task. */
+static void title_fit(evo_raster *im, int x, int y, const char *title,
+		      int chars, int scale)
+{
+	char name[128];
+	const char *s = title ? title : "evo";
+	const char *slash = strrchr(s, '/');
+	if ((int)strlen(s) > chars && slash && slash[1])
+		s = slash + 1;
+	snprintf(name, sizeof name, "%s", s);
+	char *dot = strrchr(name, '.');
+	if ((int)strlen(name) > chars && dot && dot != name)
+		*dot = 0; /* MediumMaze-DEMO, without .simbatch */
+	int n = (int)strlen(name);
+	if (n > chars && chars > 1) {
+		char buf[128];
+		if (chars > (int)sizeof buf - 1)
+			chars = (int)sizeof buf - 1;
+		snprintf(buf, sizeof buf, "~%s", name + n - (chars - 1));
+		evo_raster_text(im, x, y, buf, EVO_VIEW_TEXT, scale);
+		return;
+	}
+	text_fit(im, x, y, name, chars, EVO_VIEW_TEXT, scale);
+}
+
 #define NEUTRAL_MARK 0xE8E8E8u
 
 /* One column of named bars from (x, y), w wide, down to y_end: a title,
@@ -483,8 +511,7 @@ static void panel_at(evo_raster *im, int x0, const evo_scene *sc,
 	int x = x0 + 12, y = 12, chars = (w - 24) / cw;
 	char line[128];
 
-	text_fit(im, x, y, p && p->title ? p->title : "evo", chars,
-		 EVO_VIEW_TEXT, scale);
+	title_fit(im, x, y, p ? p->title : NULL, chars, scale);
 	y += lh + 6;
 	long tick = p ? p->tick : sc->tick;
 	snprintf(line, sizeof line, "tick    %ld", tick);
@@ -677,8 +704,7 @@ void evo_view_render_remote(evo_raster *im, const evo_view_remote *p)
 	int lh = EVO_FONT_CELL_H * scale + 4, x = 12, y = 12;
 	int chars = (im->w - 24) / (EVO_FONT_CELL_W * scale);
 	char line[160];
-	text_fit(im, x, y, p->title ? p->title : "evo", chars, EVO_VIEW_TEXT,
-		 scale);
+	title_fit(im, x, y, p->title, chars, scale);
 	y += lh + 4;
 
 	/* the link: a coloured box with its state, then the robot */

@@ -592,6 +592,15 @@ TEST(misspelt_names_in_an_environment_get_a_hint)
 	env_check("  scene:reward('Nothing_like_any', { bot = b })");
 	CHECK(strstr(out, "did you mean") == NULL);
 	CHECK_CONTAINS(out, "unknown reward function 'Nothing_like_any'");
+	/* a misspelt method, not Lua's "attempt to call a nil value" */
+	env_check("  scene:zonee{ x = 1, y = 1, radius = 2 }");
+	CHECK_CONTAINS(out, "Mine.lua:4: scene:zonee: a scene has no method "
+			    "'zonee'; did you mean scene:zone?");
+	env_check("  local x = b:poze()");
+	CHECK_CONTAINS(out, "Mine.lua:4: bot:poze: a bot has no method "
+			    "'poze'; did you mean bot:pose?");
+	env_check("  scene:frobnicate_everything()");
+	CHECK(strstr(out, "did you mean") == NULL);
 	env_check("  b:target('DISTZ', nil)");
 	CHECK_CONTAINS(out, "Mine.lua:4: bot:target: bot 'bot1' has no sensor "
 			    "'DISTZ'; did you mean DISTDZ?");
@@ -718,6 +727,29 @@ TEST(record_prints_the_headless_episode_line)
 	CHECK_CONTAINS(out, "recorded 3 frames in");
 }
 
+/* A --screenshot shows the scene as it starts unless --camera says
+ * otherwise, and its panel's title names the task whole: the same
+ * picture whether the task is given as a long path or from its folder
+ * (the title was "minds/Avoid/Tasks/A~", the file name cut off). */
+TEST(screenshot_frames_the_scene_and_names_the_task)
+{
+	CHECK_EQ_INT(cli_sh("%s run " DEMO " -nog --ticks 30 --screenshot "
+			    "%s/d.png > /dev/null && %s run " DEMO " -nog "
+			    "--ticks 30 --camera scene --screenshot %s/sc.png "
+			    "> /dev/null && cmp -s %s/d.png %s/sc.png",
+			    cli_evo, cli_tmp, cli_evo, cli_tmp, cli_tmp,
+			    cli_tmp),
+		     0);
+	char evo[512];
+	snprintf(evo, sizeof evo, "%s", cli_evo);
+	CHECK_EQ_INT(cli_sh("EVO=$(realpath %s) && T=$(realpath %s) && cd "
+			    "minds/Avoid/Tasks && $EVO run Avoid-DEMO.simbatch "
+			    "-nog --ticks 30 --screenshot $T/short.png > "
+			    "/dev/null && cmp -s $T/d.png $T/short.png",
+			    evo, cli_tmp),
+		     0);
+}
+
 int main(void)
 {
 	if (cli_setup("messages"))
@@ -742,6 +774,7 @@ int main(void)
 	RUN(check_fails_on_a_misspelt_key);
 	RUN(a_recorded_gif_is_small);
 	RUN(record_prints_the_headless_episode_line);
+	RUN(screenshot_frames_the_scene_and_names_the_task);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
 	RUN(progress_rewrites_only_at_a_terminal);
