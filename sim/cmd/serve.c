@@ -345,6 +345,7 @@ typedef struct robot {
 	int restart;		/* a RESET or STOP broke off the period */
 	double cmd[EVO_MAX_ACTUATORS]; /* what the actuators do (botdesc) */
 	unsigned long ticks, in_time, held, neutral_ticks, late, overruns;
+	long long limit; /* TICKLIM: the episode's ticks at most, 0 none */
 } robot;
 
 static void robot_neutral(server *sv, robot *rb)
@@ -545,6 +546,10 @@ static int robot_tick(server *sv, robot *rb, double start, evo_err *err)
 		return -1;
 	rb->ticks++;
 	rb->tick++;
+	/* a simulated episode lasts TICKLIM ticks, as DEMOSIM's: the
+	 * scene's timeout control ends it one check later */
+	if (rb->limit > 0 && rb->tick >= rb->limit)
+		rb->ended = 1;
 	if (rb->ended) {
 		/* the world ended the episode: its last sensors say so */
 		e->tick = rb->tick;
@@ -865,6 +870,8 @@ int evo_serve_main(int argc, char **argv)
 		memset(&rb, 0, sizeof rb);
 		rb.period = tick_us * 1e-6;
 		rb.timeout = timeout;
+		const char *tl = evo_simbatch_get(task.sb, "TICKLIM");
+		rb.limit = tl ? strtoll(tl, NULL, 10) : 0;
 		if (serve_robot(&sv, &rb, &err) == 0)
 			rc = 0;
 		robot_report(&sv, &rb);

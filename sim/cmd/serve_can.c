@@ -45,6 +45,7 @@ typedef struct body {
 	double cmd[EVO_CAN_MAX_ACTUATORS]; /* what the actuators do */
 	unsigned long ticks, in_time, held, neutral_ticks, late, overruns;
 	unsigned long dropped[EVO_CAN_ROBOT_BAD_COUNT];
+	long long limit; /* TICKLIM: the episode's ticks at most, 0 none */
 } body;
 
 static double mono_now(void)
@@ -330,6 +331,10 @@ static int one_tick(body *b, double start, evo_err *err)
 		return -1;
 	b->ticks++;
 	b->tick++;
+	/* a simulated episode lasts TICKLIM ticks, as DEMOSIM's and over
+	 * LCM: the scene's timeout control ends it one check later */
+	if (b->limit > 0 && b->tick >= b->limit)
+		b->ended = 1;
 	if (b->ended) {
 		/* the world ended the episode: its reward, then DONE */
 		evo_can_frame f = {EVO_WIRE_REWARD, 8, {0}};
@@ -459,6 +464,8 @@ int evo_serve_can(const evo_serve_can_def *def)
 	b.info.period_100us = (unsigned)(p < 1 ? 1 : p);
 	b.period = b.info.period_100us * 1e-4;
 	b.timeout = def->timeout;
+	const char *tl = evo_simbatch_get(def->task->sb, "TICKLIM");
+	b.limit = tl ? strtoll(tl, NULL, 10) : 0;
 	go_neutral(&b);
 	evo_can_rx_init(&b.rx, 1, b.na);
 	int rc = 1;

@@ -928,6 +928,53 @@ TEST(options_and_keys_that_do_not_fit_are_refused)
 			    "replace it");
 }
 
+/* An episode the body ends lasts TICKLIM ticks, as DEMOSIM's: with
+ * TICKLIM 60 and no --ticks both sides said 61 ticks (the scene's
+ * timeout control ends an episode one check after TICKLIM, which DEMOSIM
+ * and learning bound). Undisturbed, the reward is DEMOSIM's too. */
+TEST(the_body_ends_an_episode_at_ticklim_as_demosim_does)
+{
+	char serve_url[200], run_url[200], task[512], log[512], want[300];
+	robot_task("lim", ""); /* the mind folder's copy */
+	cli_write("TYPE:DEMOSIM\nBOTMODEL:BotType8\nMASTERSKILL:Avoid\n"
+		  "ENV:Roam\nTICKLIM:60\n",
+		  "%s/Avoid/Tasks/Sim60.simbatch", cli_tmp);
+	udp_urls(serve_url, run_url, sizeof serve_url);
+	snprintf(want, sizeof want,
+		 "TYPE:DEMOREMOTE\nBOTMODEL:BotType8\nMASTERSKILL:Avoid\n"
+		 "ENV:Roam\nTICKLIM:60\nCANURL:%s\n",
+		 run_url);
+	cli_write(want, "%s/Avoid/Tasks/Can60.simbatch", cli_tmp);
+	CHECK_EQ_INT(evo(60, "run %s/Avoid/Tasks/Sim60.simbatch -nog --seed 5",
+			 cli_tmp),
+		     0);
+	char sim_line[200] = "";
+	const char *l = strstr(out, "episode 1: reward ");
+	const char *end = l ? strstr(l, " ticks") : NULL;
+	CHECK(end != NULL);
+	if (end)
+		snprintf(sim_line, sizeof sim_line, "%.*s ticks\n",
+			 (int)(end - l), l);
+	CHECK_CONTAINS(sim_line, " over 60 ticks\n");
+	snprintf(task, sizeof task, "%s/Avoid/Tasks/Can60.simbatch", cli_tmp);
+	snprintf(log, sizeof log, "%s/lim.serve.log", cli_tmp);
+	int undisturbed = 0;
+	for (int a = 1; a <= ATTEMPTS && !undisturbed; a++) {
+		pid_t body = start_body(task, serve_url, "--tick-ms 30", "lim");
+		CHECK_EQ_INT(evo(60, "run %s -nog --seed 5", task), 0);
+		CHECK_CONTAINS(out, " over 60 ticks\n");
+		CHECK(wait_mark(log, "episode 1 ended at tick 60: ", 10));
+		double secs;
+		CHECK_EQ_INT(stop_with(body, SIGTERM, &secs), 0);
+		counts c;
+		CHECK(robot_counts(out, run_url, &c));
+		CHECK_EQ_INT(c.ticks, 60);
+		undisturbed = c.unanswered == 0 && c.missing == 0 && c.late == 0;
+	}
+	if (undisturbed)
+		CHECK_CONTAINS(out, sim_line);
+}
+
 /* TEST_CAN_ROBOT_SHOW=1 in the environment: how long each test took. */
 #define RUN_TIMED(t)                                                           \
 	do {                                                                   \
@@ -948,6 +995,7 @@ int main(void)
 	next_port = port_base;
 	RUN_TIMED(over_slcan_a_robot_runs_as_demosim_does);
 	RUN_TIMED(over_cannelloni_a_robot_runs_as_demosim_does);
+	RUN_TIMED(the_body_ends_an_episode_at_ticklim_as_demosim_does);
 	RUN_TIMED(
 	    over_socketcan_a_robot_runs_as_demosim_does_where_the_kernel_can);
 	RUN_TIMED(a_body_that_does_not_fit_is_refused_saying_what_differs);

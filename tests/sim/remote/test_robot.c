@@ -260,6 +260,57 @@ TEST(a_robot_runs_as_demosim_does)
 	free(tb);
 }
 
+/* An episode the robot ends lasts TICKLIM ticks, as DEMOSIM's (and over
+ * CAN, tests/sim/remote/test_can_robot.c): with TICKLIM 60 and no --ticks
+ * both sides said 61 ticks. Undisturbed, the reward is DEMOSIM's too. */
+TEST(the_robot_ends_an_episode_at_ticklim_as_demosim_does)
+{
+	char name[64], log[512], text[512];
+	snprintf(name, sizeof name, "lim-%ld", (long)getpid());
+	snprintf(log, sizeof log, "%s/%s.serve.log", cli_tmp, name);
+	robot_task(name, ""); /* the mind folder's copy */
+	snprintf(text, sizeof text,
+		 "TYPE:DEMOREMOTE\nBOTMODEL:BotType8\nMASTERSKILL:Avoid\n"
+		 "ENV:Roam\nTICKLIM:60\nREMOTENAME:%s\nLCMURL:%s\n",
+		 name, test_url);
+	cli_write(text, "%s/Avoid/Tasks/%s.simbatch", cli_tmp, name);
+	cli_write("TYPE:DEMOSIM\nBOTMODEL:BotType8\nMASTERSKILL:Avoid\n"
+		  "ENV:Roam\nTICKLIM:60\n",
+		  "%s/Avoid/Tasks/Sim60.simbatch", cli_tmp);
+	CHECK_EQ_INT(cli_capture(out2, sizeof out2,
+				 "%s run %s/Avoid/Tasks/Sim60.simbatch -nog "
+				 "--seed 5",
+				 cli_evo, cli_tmp),
+		     0);
+	char sim_line[200] = "";
+	const char *l = strstr(out2, "episode 1: reward ");
+	const char *end = l ? strstr(l, " ticks") : NULL;
+	CHECK(end != NULL);
+	if (end)
+		snprintf(sim_line, sizeof sim_line, "%.*s ticks\n",
+			 (int)(end - l), l);
+	CHECK_CONTAINS(sim_line, " over 60 ticks\n");
+	int undisturbed = 0;
+	for (int a = 1; a <= ATTEMPTS && !undisturbed; a++) {
+		pid_t rob = start_robot(name, "--tick-ms 30");
+		CHECK_EQ_INT(cli_capture(out, sizeof out,
+					 "%s run %s/Avoid/Tasks/%s.simbatch "
+					 "-nog --seed 5",
+					 cli_evo, cli_tmp, name),
+			     0);
+		CHECK_CONTAINS(out, " over 60 ticks\n");
+		CHECK(wait_mark(log, "episode 1 ended at tick 60: ", 10));
+		double secs;
+		CHECK_EQ_INT(stop_with(rob, SIGTERM, &secs), 0);
+		counts c;
+		CHECK(robot_counts(out, name, &c));
+		CHECK_EQ_INT(c.ticks, 60);
+		undisturbed = c.unanswered == 0 && c.missing == 0 && c.late == 0;
+	}
+	if (undisturbed)
+		CHECK_CONTAINS(out, sim_line);
+}
+
 TEST(killing_the_robot_is_reported_within_the_timeout)
 {
 	char name[64], evlog[512], rlog[512];
@@ -871,6 +922,7 @@ int main(void)
 	snprintf(test_url2, sizeof test_url2, "udpm://239.255.76.67:%d?ttl=0",
 		 port + 1);
 	RUN_TIMED(a_robot_runs_as_demosim_does);
+	RUN_TIMED(the_robot_ends_an_episode_at_ticklim_as_demosim_does);
 	RUN_TIMED(killing_the_robot_is_reported_within_the_timeout);
 	RUN_TIMED(
 	    the_robot_goes_neutral_when_commands_stop_and_follows_them_again);
