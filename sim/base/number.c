@@ -40,7 +40,7 @@ int evo_parse_whole(const char *s, const char **end, long long lo,
 	return 0;
 }
 
-const char *evo_number_text(char *buf, unsigned long cap, double v,
+const char *evo_number_text(char *buf, size_t cap, double v,
 			    int whole)
 {
 	if (isnan(v))

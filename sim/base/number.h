@@ -6,6 +6,8 @@
 #ifndef EVO_NUMBER_H
 #define EVO_NUMBER_H
 
+#include <stddef.h>
+
 /* Read a whole number in [lo, hi] at s into *v. end NULL: the number must
  * be all of s; else *end is set after its digits, for the caller to look
  * at what follows. Returns 0, or -1 (*v unchanged) when s does not start
@@ -17,7 +19,7 @@ int evo_parse_whole(const char *s, const char **end, long long lo,
  * "inf" and "-inf" for those (printf may write "-nan"), and with whole
  * set, a whole number (a count a metric holds) without decimals: "486",
  * not "486.000000". */
-const char *evo_number_text(char *buf, unsigned long cap, double v,
+const char *evo_number_text(char *buf, size_t cap, double v,
 			    int whole);
 
 #endif
