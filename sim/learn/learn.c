@@ -31,6 +31,7 @@
 #include "learn/heatmap.h"
 #include "learn/literature.h"
 #include "learn/lua_linalg.h"
+#include "learn/lua_modcache.h"
 #include "learn/lua_neat.h"
 #include "learn/lua_novelty.h"
 #include "learn/runlog.h"
@@ -1129,6 +1130,7 @@ static int run_script(lua_State *L)
 	 * not trusted with the full libraries this state has */
 	const char *dir = evo_lua_dir();
 	evo_lua_set_path(L, dir);
+	evo_lua_modcache_install(L); /* compiled by the options' check */
 	evo_lua_open_data(L);
 	char path[1200];
 	evo_err err;
@@ -1237,6 +1239,7 @@ static int check_options(lua_State *L)
 	int quiet = lua_toboolean(L, 3);
 	luaL_openlibs(L);
 	evo_lua_set_path(L, evo_lua_dir());
+	evo_lua_modcache_install(L); /* the loop's state reuses them */
 	if (luaL_loadbufferx(L, CHECK_OPTIONS, sizeof CHECK_OPTIONS - 1,
 			     "=evo check", "t") != LUA_OK)
 		return lua_error(L);
