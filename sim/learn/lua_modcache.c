@@ -13,8 +13,8 @@
 #define MAX_CHUNKS 32
 
 typedef struct chunk {
-	char *path;	/* the file package.searchpath found */
-	char *code;	/* its bytecode */
+	char *path; /* the file package.searchpath found */
+	char *code; /* its bytecode */
 	size_t len;
 } chunk;
 
@@ -102,7 +102,8 @@ static int cached_searcher(lua_State *L)
 	lua_getfield(L, -1, "searchpath");
 	lua_pushvalue(L, 1);
 	lua_getfield(L, -3, "path");
-	if (lua_type(L, -1) == LUA_TSTRING && lua_type(L, -3) == LUA_TFUNCTION) {
+	if (lua_type(L, -1) == LUA_TSTRING &&
+	    lua_type(L, -3) == LUA_TFUNCTION) {
 		lua_call(L, 2, 1);
 		if (lua_type(L, -1) == LUA_TSTRING) {
 			const char *file = lua_tostring(L, -1);
@@ -117,7 +118,8 @@ static int cached_searcher(lua_State *L)
 	lua_pushvalue(L, lua_upvalueindex(1));
 	lua_pushvalue(L, 1);
 	lua_call(L, 1, 2);
-	if (lua_type(L, -2) == LUA_TFUNCTION && lua_type(L, -1) == LUA_TSTRING) {
+	if (lua_type(L, -2) == LUA_TFUNCTION &&
+	    lua_type(L, -1) == LUA_TSTRING) {
 		const char *file = lua_tostring(L, -1);
 		lua_pushvalue(L, -2);
 		keep(L, file);

@@ -91,8 +91,8 @@ static int deflate_rle(uint8_t *z, uLongf *zlen, const uint8_t *raw,
 {
 	z_stream st;
 	memset(&st, 0, sizeof st);
-	int rc = deflateInit2(&st, Z_DEFAULT_COMPRESSION, Z_DEFLATED, 15, 8,
-			      Z_RLE);
+	int rc =
+	    deflateInit2(&st, Z_DEFAULT_COMPRESSION, Z_DEFLATED, 15, 8, Z_RLE);
 	if (rc != Z_OK)
 		return rc;
 	st.next_in = (Bytef *)(uintptr_t)raw;
@@ -110,12 +110,12 @@ static int deflate_rle(uint8_t *z, uLongf *zlen, const uint8_t *raw,
  * `ctype`, PLTE of `ncolours` entries when there is a palette, IDAT,
  * IEND. */
 static int encode_rows(const uint8_t *raw, size_t rawlen, int w, int h,
-		       int depth, int ctype, const uint8_t *plte,
-		       int ncolours, uint8_t **png, size_t *len, evo_err *err)
+		       int depth, int ctype, const uint8_t *plte, int ncolours,
+		       uint8_t **png, size_t *len, evo_err *err)
 {
 	uLong zcap = compressBound((uLong)rawlen);
-	size_t total = sizeof signature + (12 + 13) + (12 + 3 * 256) +
-		       (12 + zcap) + 12;
+	size_t total =
+	    sizeof signature + (12 + 13) + (12 + 3 * 256) + (12 + zcap) + 12;
 	uint8_t *out = malloc(total);
 	if (!out)
 		return evo_fail(err, "PNG of %d x %d pixels: out of memory", w,
@@ -184,8 +184,8 @@ int evo_png_encode(const uint8_t *pixels, int w, int h, int channels,
 		r[0] = 0; /* filter None */
 		memcpy(r + 1, pixels + (size_t)y * row, row);
 	}
-	int rc = encode_rows(raw, rawlen, w, h, 8, channels == 4 ? 6 : 2,
-			     NULL, 0, png, len, err);
+	int rc = encode_rows(raw, rawlen, w, h, 8, channels == 4 ? 6 : 2, NULL,
+			     0, png, len, err);
 	free(raw);
 	return rc;
 }
@@ -230,8 +230,7 @@ static uint64_t load64(const uint8_t *p)
  * in *pal; -1 when the image has more than 256 colours. A run of one
  * colour is found 8 bytes at a time: pixels i+1.. repeat pixel i as long
  * as each byte equals the one 3 before it. */
-static int index_pixels(const uint8_t *px, size_t n, palette *pal,
-			uint8_t *idx)
+static int index_pixels(const uint8_t *px, size_t n, palette *pal, uint8_t *idx)
 {
 	memset(pal, 0, sizeof *pal);
 	size_t end = 3 * n;
@@ -289,8 +288,8 @@ static int depth_for(int n)
 	return n <= 2 ? 1 : n <= 4 ? 2 : n <= 16 ? 4 : 8;
 }
 
-int evo_png_encode_indexed(const uint8_t *pixels, int w, int h,
-			   uint8_t **png, size_t *len, evo_err *err)
+int evo_png_encode_indexed(const uint8_t *pixels, int w, int h, uint8_t **png,
+			   size_t *len, evo_err *err)
 {
 	*png = NULL;
 	*len = 0;
@@ -311,7 +310,8 @@ int evo_png_encode_indexed(const uint8_t *pixels, int w, int h,
 		return evo_png_encode(pixels, w, h, 3, png, len, err);
 	}
 	int depth = depth_for(pal->n);
-	size_t row = ((size_t)w * depth + 7) / 8, rawlen = (size_t)h * (row + 1);
+	size_t row = ((size_t)w * depth + 7) / 8,
+	       rawlen = (size_t)h * (row + 1);
 	uint8_t *raw = malloc(rawlen);
 	int rc = -1;
 	if (!raw) {
@@ -354,8 +354,8 @@ int evo_png_write(const char *path, const uint8_t *pixels, int w, int h,
 	return rc;
 }
 
-int evo_png_write_indexed(const char *path, const uint8_t *pixels, int w,
-			  int h, evo_err *err)
+int evo_png_write_indexed(const char *path, const uint8_t *pixels, int w, int h,
+			  evo_err *err)
 {
 	uint8_t *png;
 	size_t len;
@@ -403,9 +403,8 @@ static int inflate_rows(const uint8_t *z, size_t zlen, uint8_t *raw,
 					"implies %zu",
 					out, rawlen);
 		if (left)
-			return evo_fail(err,
-					"zlib stream: %zu bytes after its end",
-					left);
+			return evo_fail(
+			    err, "zlib stream: %zu bytes after its end", left);
 		return 0;
 	}
 	/* Stuck with input left: no room for more rows; with none left:
@@ -425,8 +424,8 @@ static int inflate_rows(const uint8_t *z, size_t zlen, uint8_t *raw,
 
 /* A palette image's row of w indices, `depth` bits each (leftmost in the
  * high bits), as RGB pixels into `to`; -1 on an index past the palette. */
-static int unpack_row(const uint8_t *r, int w, int depth,
-		      const uint8_t *plte, int ncolours, uint8_t *to)
+static int unpack_row(const uint8_t *r, int w, int depth, const uint8_t *plte,
+		      int ncolours, uint8_t *to)
 {
 	int per = 8 / depth, mask = (1 << depth) - 1;
 	for (int x = 0; x < w; x += per, r++)
@@ -558,8 +557,9 @@ static int decode(const uint8_t *png, size_t len, evo_png_image *img,
 				evo_fail(err,
 					 "PLTE of %u bytes: want 3 a colour, "
 					 "1 to %d colours",
-					 n, ctype == 3 && depth < 8 ? 1 << depth
-								    : 256);
+					 n,
+					 ctype == 3 && depth < 8 ? 1 << depth
+								 : 256);
 				goto out;
 			}
 			/* An RGB image's PLTE only suggests colours. */

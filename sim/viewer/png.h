@@ -35,11 +35,11 @@ int evo_png_write(const char *path, const uint8_t *pixels, int w, int h,
  * a pixel PNG allows (1, 2, 4 or 8), else as RGB. A learning curve's
  * 6 colours take 4 bits a pixel instead of 24: a sixth of the bytes to
  * deflate. Decoded, the pixels are the same. */
-int evo_png_encode_indexed(const uint8_t *pixels, int w, int h,
-			   uint8_t **png, size_t *len, evo_err *err);
+int evo_png_encode_indexed(const uint8_t *pixels, int w, int h, uint8_t **png,
+			   size_t *len, evo_err *err);
 /* Encode as evo_png_encode_indexed and write as evo_png_write. */
-int evo_png_write_indexed(const char *path, const uint8_t *pixels, int w,
-			  int h, evo_err *err);
+int evo_png_write_indexed(const char *path, const uint8_t *pixels, int w, int h,
+			  evo_err *err);
 
 /* A decoded image: pixels as evo_png_encode takes them, malloc'd. */
 typedef struct evo_png_image {

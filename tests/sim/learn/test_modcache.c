@@ -71,9 +71,9 @@ TEST(a_second_state_gets_the_first_states_code)
 	call(b, "fail", got, sizeof got);
 	CHECK_CONTAINS(got, "mc_probe.lua:4: boom");
 	/* the second value require gives is the file's name, as Lua's */
-	CHECK(luaL_dostring(b, "package.loaded.mc_probe = nil\n"
-			       "return select(2, require('mc_probe'))") ==
-	      LUA_OK);
+	CHECK(luaL_dostring(b,
+			    "package.loaded.mc_probe = nil\n"
+			    "return select(2, require('mc_probe'))") == LUA_OK);
 	CHECK_CONTAINS(lua_tostring(b, -1), "/mc_probe.lua");
 	lua_close(a);
 	lua_close(b);

@@ -291,15 +291,14 @@ TEST(a_hand_made_palette_file_decodes)
 	uint8_t f[200], *p = f;
 	memcpy(p, "\x89PNG\r\n\x1a\n", 8);
 	p += 8;
-	static const uint8_t ihdr[] = {0, 0, 0, 13, 'I', 'H', 'D', 'R', 0,
-				       0, 0, 3,	 0,   0,   0,	2,   2, 3,
-				       0, 0, 0};
+	static const uint8_t ihdr[] = {0, 0, 0, 13, 'I', 'H', 'D', 'R', 0, 0, 0,
+				       3, 0, 0, 0,  2,	 2,   3,   0,	0, 0};
 	memcpy(p, ihdr, sizeof ihdr);
 	p += sizeof ihdr + 4;
 	fix_crc(f, 8);
 	size_t plte_at = (size_t)(p - f);
-	static const uint8_t plte[] = {0,   0, 0, 9, 'P', 'L', 'T', 'E', 255,
-				       0,   0, 0, 255, 0, 0,   0, 255};
+	static const uint8_t plte[] = {0, 0, 0, 9,   'P', 'L', 'T', 'E', 255,
+				       0, 0, 0, 255, 0,	  0,   0,   255};
 	memcpy(p, plte, sizeof plte);
 	p += sizeof plte + 4;
 	fix_crc(f, plte_at);
@@ -315,8 +314,8 @@ TEST(a_hand_made_palette_file_decodes)
 	evo_png_image img;
 	evo_err err;
 	CHECK_EQ_INT(evo_png_decode(f, (size_t)(p - f), &img, &err), 0);
-	static const uint8_t want[] = {255, 0, 0, 0, 255, 0, 0, 0, 255,
-				       0, 0, 255, 0, 0, 255, 255, 0, 0};
+	static const uint8_t want[] = {255, 0, 0,   0, 255, 0,	 0,   0, 255,
+				       0,   0, 255, 0, 0,   255, 255, 0, 0};
 	CHECK_EQ_INT(img.channels, 3);
 	CHECK(img.pixels && memcmp(img.pixels, want, sizeof want) == 0);
 	evo_png_image_free(&img);
@@ -449,8 +448,9 @@ TEST(damage_is_named)
 	free(z);
 	z = deflated(raw, 38, &zlen);
 	d = with_idat(png, len, z, zlen, &dn);
-	CHECK(decode_fails_with(d, dn, "image data has 38 bytes, its header "
-				      "implies 39"));
+	CHECK(decode_fails_with(d, dn,
+				"image data has 38 bytes, its header "
+				"implies 39"));
 	free(d);
 	/* Cut off inside the stream, and bytes after its end. */
 	free(z);
