@@ -49,6 +49,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/g17.h"
 #include "evo/fixed.h"
 #include "mind/net_build.h"
 
@@ -994,7 +995,7 @@ static void put_number(lua_State *L, buffer *b, int idx)
 	} else if (x < -1.7976931348623157e308) {
 		puts_(L, b, "(-1/0)");
 	} else {
-		snprintf(s, sizeof s, "%.17g", x);
+		evo_g17(x, s, sizeof s); /* "%.17g" */
 		if (!strpbrk(s, ".eEn"))
 			strcat(s, ".0");
 		puts_(L, b, s);
