@@ -364,7 +364,7 @@ int evo_png_write_indexed(const char *path, const uint8_t *pixels, int w, int h,
 		snprintf(why, sizeof why, "%s", err ? err->msg : "");
 		return evo_fail(err, "%s: %s", path, why);
 	}
-	int rc = evo_write_file_atomic(path, png, len, err);
+	int rc = evo_write_file_replace(path, png, len, err);
 	free(png);
 	return rc;
 }

@@ -37,7 +37,9 @@ int evo_png_write(const char *path, const uint8_t *pixels, int w, int h,
  * deflate. Decoded, the pixels are the same. */
 int evo_png_encode_indexed(const uint8_t *pixels, int w, int h, uint8_t **png,
 			   size_t *len, evo_err *err);
-/* Encode as evo_png_encode_indexed and write as evo_png_write. */
+/* Encode as evo_png_encode_indexed and write as evo_png_write, without
+ * its fsync (evo_write_file_replace): for a picture drawn again by any
+ * later run, such as the learning curve a run redraws as it goes. */
 int evo_png_write_indexed(const char *path, const uint8_t *pixels, int w, int h,
 			  evo_err *err);
 
