@@ -76,6 +76,9 @@ struct evo_evaluator {
 	unsigned long batch_id;
 	int quit;
 	int busy;
+	/* one thread: the only worker runs on the caller's thread, with no
+	 * hand-off to another thread and back for each batch */
+	int inline_worker;
 	const evo_netdesc *const *cand;
 	int n, gen, next;
 	int first; /* the batch index of cand[0] (evo_evaluate_part) */
@@ -388,6 +391,48 @@ static int worker_load(evo_evaluator *ev, worker *w, evo_err *err)
 	return w->sim ? 0 : -1;
 }
 
+/* Worker w's share of the batch: a team task's networks of other teams
+ * first, then candidates (a team batch: evaluations) taken one by one
+ * until the batch is empty or has failed. With `locked`, ev->mu is held
+ * on entry and exit and let go around each evaluation; without, w is the
+ * only worker and runs on the caller's thread (evaluator_inline). */
+static void work_batch(worker *w, int locked)
+{
+	evo_evaluator *ev = w->ev;
+	evo_err e = {{0}};
+	int rc;
+	if (ev->groups && !ev->failed) {
+		if (locked)
+			pthread_mutex_unlock(&ev->mu);
+		rc = apply_team_nets(w, &e);
+		if (locked)
+			pthread_mutex_lock(&ev->mu);
+		if (rc && !ev->failed) {
+			ev->failed = 1;
+			evo_fail(&ev->err, "generation %d: %s", ev->gen, e.msg);
+		}
+	}
+	while (!ev->failed && ev->next < ev->n) {
+		int i = ev->next++;
+		if (locked)
+			pthread_mutex_unlock(&ev->mu);
+		evo_eval_result r;
+		rc = ev->groups ? evaluate_team_unit(w, i, &e)
+				: evaluate_one(w, i, &r, &e);
+		if (locked)
+			pthread_mutex_lock(&ev->mu);
+		if (rc == 0) {
+			if (!ev->groups)
+				ev->res[i] = r;
+		} else if (!ev->failed) {
+			ev->failed = 1;
+			evo_fail(&ev->err, "generation %d, %s %d: %s", ev->gen,
+				 ev->groups ? "team" : "candidate",
+				 ev->first + i, e.msg);
+		}
+	}
+}
+
 static void *worker_main(void *arg)
 {
 	worker *w = arg;
@@ -408,37 +453,7 @@ static void *worker_main(void *arg)
 		if (ev->quit)
 			break;
 		seen = ev->batch_id;
-		/* A team task's networks of other teams first. */
-		if (ev->groups && !ev->failed) {
-			pthread_mutex_unlock(&ev->mu);
-			rc = apply_team_nets(w, &e);
-			pthread_mutex_lock(&ev->mu);
-			if (rc && !ev->failed) {
-				ev->failed = 1;
-				evo_fail(&ev->err, "generation %d: %s", ev->gen,
-					 e.msg);
-			}
-		}
-		/* Take candidates (a team batch: evaluations) until the
-		 * batch is empty or has failed. */
-		while (!ev->failed && ev->next < ev->n) {
-			int i = ev->next++;
-			pthread_mutex_unlock(&ev->mu);
-			evo_eval_result r;
-			rc = ev->groups ? evaluate_team_unit(w, i, &e)
-					: evaluate_one(w, i, &r, &e);
-			pthread_mutex_lock(&ev->mu);
-			if (rc == 0) {
-				if (!ev->groups)
-					ev->res[i] = r;
-			} else if (!ev->failed) {
-				ev->failed = 1;
-				evo_fail(&ev->err, "generation %d, %s %d: %s",
-					 ev->gen,
-					 ev->groups ? "team" : "candidate",
-					 ev->first + i, e.msg);
-			}
-		}
+		work_batch(w, 1);
 		if (--ev->busy == 0)
 			pthread_cond_signal(&ev->done_cv);
 	}
@@ -562,9 +577,16 @@ evo_evaluator *evo_evaluator_create(const evo_eval_def *def, evo_err *err)
 	}
 	/* Each worker loads its task on its own thread: glibc then takes
 	 * its world, Lua state and mind from that thread's malloc arena, so
-	 * two workers' objects never share a cache line. */
-	ev->busy = threads;
-	for (int k = 0; k < threads; k++) {
+	 * two workers' objects never share a cache line. One worker runs on
+	 * the caller's thread. */
+	ev->inline_worker = threads == 1;
+	if (ev->inline_worker) {
+		ev->w[0].ev = ev;
+		if (worker_load(ev, &ev->w[0], &ev->err))
+			ev->failed = 1;
+	}
+	ev->busy = ev->inline_worker ? 0 : threads;
+	for (int k = 0; !ev->inline_worker && k < threads; k++) {
 		ev->w[k].ev = ev;
 		int rc = pthread_create(&ev->w[k].thread, NULL, worker_main,
 					&ev->w[k]);
@@ -708,11 +730,15 @@ static int run_batch(evo_evaluator *ev, evo_err *err)
 {
 	ev->failed = 0;
 	ev->err.msg[0] = 0;
-	ev->busy = ev->threads;
-	ev->batch_id++;
-	pthread_cond_broadcast(&ev->start_cv);
-	while (ev->busy > 0)
-		pthread_cond_wait(&ev->done_cv, &ev->mu);
+	if (ev->inline_worker) {
+		work_batch(&ev->w[0], 0);
+	} else {
+		ev->busy = ev->threads;
+		ev->batch_id++;
+		pthread_cond_broadcast(&ev->start_cv);
+		while (ev->busy > 0)
+			pthread_cond_wait(&ev->done_cv, &ev->mu);
+	}
 	int failed = ev->failed;
 	if (failed)
 		*err = ev->err;

@@ -32,6 +32,7 @@
 #include "learn/heatmap.h"
 #include "learn/literature.h"
 #include "learn/lua_linalg.h"
+#include "learn/lua_modcache.h"
 #include "learn/lua_neat.h"
 #include "learn/lua_novelty.h"
 #include "learn/runlog.h"
@@ -1141,6 +1142,7 @@ static int run_script(lua_State *L)
 	 * not trusted with the full libraries this state has */
 	const char *dir = evo_lua_dir();
 	evo_lua_set_path(L, dir);
+	evo_lua_modcache_install(L); /* compiled by the options' check */
 	evo_lua_open_data(L);
 	char path[1200];
 	evo_err err;
@@ -1256,6 +1258,7 @@ static int check_options(lua_State *L)
 	lua_setfield(L, -2, "warning");
 	lua_setfield(L, -2, "evo.learn");
 	lua_pop(L, 1);
+	evo_lua_modcache_install(L); /* the loop's state reuses them */
 	if (luaL_loadbufferx(L, CHECK_OPTIONS, sizeof CHECK_OPTIONS - 1,
 			     "=evo check", "t") != LUA_OK)
 		return lua_error(L);

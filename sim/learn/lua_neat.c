@@ -49,6 +49,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/g17.h"
 #include "evo/fixed.h"
 #include "mind/net_build.h"
 
@@ -994,7 +995,7 @@ static void put_number(lua_State *L, buffer *b, int idx)
 	} else if (x < -1.7976931348623157e308) {
 		puts_(L, b, "(-1/0)");
 	} else {
-		snprintf(s, sizeof s, "%.17g", x);
+		evo_g17(x, s, sizeof s); /* "%.17g" */
 		if (!strpbrk(s, ".eEn"))
 			strcat(s, ".0");
 		puts_(L, b, s);
@@ -1272,11 +1273,11 @@ static void rng_read(lua_State *L, int self, uint64_t s[4])
 {
 	if (rget(L, self, K_S) != LUA_TTABLE)
 		luaL_error(L, "rng: no state (self.s)");
-	for (int k = 0; k < 4; k++) {
-		lua_rawgeti(L, -1, k + 1);
-		s[k] = (uint64_t)lua_tointeger(L, -1);
-		lua_pop(L, 1);
-	}
+	for (int k = 0; k < 4; k++)
+		lua_rawgeti(L, -1 - k, k + 1);
+	for (int k = 0; k < 4; k++)
+		s[k] = (uint64_t)lua_tointeger(L, k - 4);
+	lua_pop(L, 4);
 }
 
 /* The four words back into the table self.s at the top of the stack,

@@ -1,6 +1,7 @@
 /* PNG through zlib: see png.h.
  *
- * A file is the signature, IHDR, one IDAT holding the zlib stream, IEND.
+ * A file is the signature, IHDR, a PLTE for a palette image, one IDAT
+ * holding the zlib stream, IEND.
  * The stream holds the rows, each after its filter byte 0 (None): a
  * learning curve or a screenshot is mostly runs of one colour, which
  * deflate packs well without a row filter. */
@@ -90,8 +91,8 @@ static int deflate_rle(uint8_t *z, uLongf *zlen, const uint8_t *raw,
 {
 	z_stream st;
 	memset(&st, 0, sizeof st);
-	int rc = deflateInit2(&st, Z_DEFAULT_COMPRESSION, Z_DEFLATED, 15, 8,
-			      Z_RLE);
+	int rc =
+	    deflateInit2(&st, Z_DEFAULT_COMPRESSION, Z_DEFLATED, 15, 8, Z_RLE);
 	if (rc != Z_OK)
 		return rc;
 	st.next_in = (Bytef *)(uintptr_t)raw;
@@ -104,30 +105,21 @@ static int deflate_rle(uint8_t *z, uLongf *zlen, const uint8_t *raw,
 	return rc == Z_STREAM_END ? Z_OK : rc == Z_OK ? Z_BUF_ERROR : rc;
 }
 
-int evo_png_encode(const uint8_t *pixels, int w, int h, int channels,
-		   uint8_t **png, size_t *len, evo_err *err)
+/* The file around rows already laid out with their filter bytes (raw,
+ * rawlen bytes): IHDR with `depth` bits per sample and colour type
+ * `ctype`, PLTE of `ncolours` entries when there is a palette, IDAT,
+ * IEND. */
+static int encode_rows(const uint8_t *raw, size_t rawlen, int w, int h,
+		       int depth, int ctype, const uint8_t *plte, int ncolours,
+		       uint8_t **png, size_t *len, evo_err *err)
 {
-	*png = NULL;
-	*len = 0;
-	if (check_shape(w, h, channels, err))
-		return -1;
-	/* Sides of at most 2^14 keep every size below 2^32. */
-	size_t row = (size_t)w * channels, rawlen = (size_t)h * (row + 1);
 	uLong zcap = compressBound((uLong)rawlen);
-	size_t total = sizeof signature + (12 + 13) + (12 + zcap) + 12;
-	uint8_t *raw = malloc(rawlen), *out = malloc(total);
-	if (!raw || !out) {
-		free(raw);
-		free(out);
+	size_t total =
+	    sizeof signature + (12 + 13) + (12 + 3 * 256) + (12 + zcap) + 12;
+	uint8_t *out = malloc(total);
+	if (!out)
 		return evo_fail(err, "PNG of %d x %d pixels: out of memory", w,
 				h);
-	}
-	for (int y = 0; y < h; y++) {
-		uint8_t *r = raw + (size_t)y * (row + 1);
-		r[0] = 0; /* filter None */
-		memcpy(r + 1, pixels + (size_t)y * row, row);
-	}
-
 	uint8_t *p = out, *chunk;
 	memcpy(p, signature, sizeof signature);
 	p += sizeof signature;
@@ -136,12 +128,20 @@ int evo_png_encode(const uint8_t *pixels, int w, int h, int channels,
 	p = put32(p, 0);
 	memcpy(p, "IHDR", 4);
 	p = put32(put32(p + 4, (uint32_t)w), (uint32_t)h);
-	*p++ = 8;		      /* bits per sample */
-	*p++ = channels == 4 ? 6 : 2; /* colour type: RGBA or RGB */
-	*p++ = 0;		      /* compression: deflate */
-	*p++ = 0;		      /* filter method 0 */
-	*p++ = 0;		      /* no interlace */
+	*p++ = (uint8_t)depth; /* bits per sample */
+	*p++ = (uint8_t)ctype; /* colour type */
+	*p++ = 0;	       /* compression: deflate */
+	*p++ = 0;	       /* filter method 0 */
+	*p++ = 0;	       /* no interlace */
 	p = end_chunk(chunk, p);
+
+	if (ncolours > 0) {
+		chunk = p;
+		p = put32(p, 0);
+		memcpy(p, "PLTE", 4);
+		memcpy(p + 4, plte, (size_t)ncolours * 3);
+		p = end_chunk(chunk, p + 4 + (size_t)ncolours * 3);
+	}
 
 	chunk = p;
 	p = put32(p, 0);
@@ -149,7 +149,6 @@ int evo_png_encode(const uint8_t *pixels, int w, int h, int channels,
 	p += 4;
 	uLongf zlen = zcap;
 	int zrc = deflate_rle(p, &zlen, raw, (uLong)rawlen);
-	free(raw);
 	if (zrc != Z_OK) {
 		free(out);
 		return evo_fail(err, "PNG of %d x %d pixels: zlib: %s", w, h,
@@ -167,6 +166,179 @@ int evo_png_encode(const uint8_t *pixels, int w, int h, int channels,
 	return 0;
 }
 
+int evo_png_encode(const uint8_t *pixels, int w, int h, int channels,
+		   uint8_t **png, size_t *len, evo_err *err)
+{
+	*png = NULL;
+	*len = 0;
+	if (check_shape(w, h, channels, err))
+		return -1;
+	/* Sides of at most 2^14 keep every size below 2^32. */
+	size_t row = (size_t)w * channels, rawlen = (size_t)h * (row + 1);
+	uint8_t *raw = malloc(rawlen);
+	if (!raw)
+		return evo_fail(err, "PNG of %d x %d pixels: out of memory", w,
+				h);
+	for (int y = 0; y < h; y++) {
+		uint8_t *r = raw + (size_t)y * (row + 1);
+		r[0] = 0; /* filter None */
+		memcpy(r + 1, pixels + (size_t)y * row, row);
+	}
+	int rc = encode_rows(raw, rawlen, w, h, 8, channels == 4 ? 6 : 2, NULL,
+			     0, png, len, err);
+	free(raw);
+	return rc;
+}
+
+/* ---- palette images ------------------------------------------------- */
+
+/* Colours seen so far, 0xRRGGBB + 1 (0: free slot) in an open-addressed
+ * table of 1024 slots (at most 257 used), beside their palette index. */
+typedef struct palette {
+	uint32_t key[1024];
+	uint8_t index[1024];
+	uint8_t rgb[3 * 256];
+	int n;
+} palette;
+
+/* The palette index of colour rgb, added if new; -1 past 256 colours. */
+static int palette_index(palette *pal, uint32_t rgb)
+{
+	uint32_t key = rgb + 1, at = (key * 2654435761u) >> 22;
+	while (pal->key[at] && pal->key[at] != key)
+		at = (at + 1) & 1023;
+	if (pal->key[at])
+		return pal->index[at];
+	if (pal->n == 256)
+		return -1;
+	pal->key[at] = key;
+	pal->index[at] = (uint8_t)pal->n;
+	pal->rgb[3 * pal->n] = (uint8_t)(rgb >> 16);
+	pal->rgb[3 * pal->n + 1] = (uint8_t)(rgb >> 8);
+	pal->rgb[3 * pal->n + 2] = (uint8_t)rgb;
+	return pal->n++;
+}
+
+static uint64_t load64(const uint8_t *p)
+{
+	uint64_t v;
+	memcpy(&v, p, sizeof v);
+	return v;
+}
+
+/* Each RGB pixel's palette index into idx (one byte each), the palette
+ * in *pal; -1 when the image has more than 256 colours. A run of one
+ * colour is found 8 bytes at a time: pixels i+1.. repeat pixel i as long
+ * as each byte equals the one 3 before it. */
+static int index_pixels(const uint8_t *px, size_t n, palette *pal, uint8_t *idx)
+{
+	memset(pal, 0, sizeof *pal);
+	size_t end = 3 * n;
+	for (size_t i = 0; i < n;) {
+		const uint8_t *p = px + 3 * i;
+		int k = palette_index(pal, (uint32_t)p[0] << 16 |
+					       (uint32_t)p[1] << 8 | p[2]);
+		if (k < 0)
+			return -1;
+		size_t b = 3 * i + 3;
+		while (b + 8 <= end && load64(px + b) == load64(px + b - 3))
+			b += 8;
+		while (b < end && px[b] == px[b - 3])
+			b++;
+		size_t next = b / 3; /* the first pixel with another byte */
+		memset(idx + i, k, next - i);
+		i = next;
+	}
+	return 0;
+}
+
+/* A row of w indices packed `depth` bits each (1 or 2) into r, the
+ * leftmost in the high bits of its byte, the last byte's unused low
+ * bits 0. */
+static void pack_row(uint8_t *r, const uint8_t *in, int w, int depth)
+{
+	unsigned acc = 0;
+	int bits = 0;
+	for (int x = 0; x < w; x++) {
+		acc = acc << depth | in[x];
+		bits += depth;
+		if (bits == 8) {
+			*r++ = (uint8_t)acc;
+			acc = 0;
+			bits = 0;
+		}
+	}
+	if (bits)
+		*r = (uint8_t)(acc << (8 - bits));
+}
+
+/* The same for 4 bits: two pixels a byte. */
+static void pack_row4(uint8_t *r, const uint8_t *in, int w)
+{
+	int x = 0;
+	for (; x + 1 < w; x += 2)
+		*r++ = (uint8_t)(in[x] << 4 | in[x + 1]);
+	if (x < w)
+		*r = (uint8_t)(in[x] << 4);
+}
+
+/* The fewest bits a palette index of n colours needs that PNG allows. */
+static int depth_for(int n)
+{
+	return n <= 2 ? 1 : n <= 4 ? 2 : n <= 16 ? 4 : 8;
+}
+
+int evo_png_encode_indexed(const uint8_t *pixels, int w, int h, uint8_t **png,
+			   size_t *len, evo_err *err)
+{
+	*png = NULL;
+	*len = 0;
+	if (check_shape(w, h, 3, err))
+		return -1;
+	size_t n = (size_t)w * (size_t)h;
+	palette *pal = malloc(sizeof *pal);
+	uint8_t *idx = malloc(n);
+	if (!pal || !idx) {
+		free(pal);
+		free(idx);
+		return evo_fail(err, "PNG of %d x %d pixels: out of memory", w,
+				h);
+	}
+	if (index_pixels(pixels, n, pal, idx)) {
+		free(pal);
+		free(idx);
+		return evo_png_encode(pixels, w, h, 3, png, len, err);
+	}
+	int depth = depth_for(pal->n);
+	size_t row = ((size_t)w * depth + 7) / 8,
+	       rawlen = (size_t)h * (row + 1);
+	uint8_t *raw = malloc(rawlen);
+	int rc = -1;
+	if (!raw) {
+		evo_fail(err, "PNG of %d x %d pixels: out of memory", w, h);
+		goto out;
+	}
+	/* Each row: its filter byte 0 (None), then the indices. */
+	for (int y = 0; y < h; y++) {
+		uint8_t *r = raw + (size_t)y * (row + 1);
+		const uint8_t *in = idx + (size_t)y * w;
+		*r++ = 0;
+		if (depth == 8)
+			memcpy(r, in, (size_t)w);
+		else if (depth == 4)
+			pack_row4(r, in, w);
+		else
+			pack_row(r, in, w, depth);
+	}
+	rc = encode_rows(raw, rawlen, w, h, depth, 3, pal->rgb, pal->n, png,
+			 len, err);
+out:
+	free(raw);
+	free(pal);
+	free(idx);
+	return rc;
+}
+
 int evo_png_write(const char *path, const uint8_t *pixels, int w, int h,
 		  int channels, evo_err *err)
 {
@@ -178,6 +350,21 @@ int evo_png_write(const char *path, const uint8_t *pixels, int w, int h,
 		return evo_fail(err, "%s: %s", path, why);
 	}
 	int rc = evo_write_file_atomic(path, png, len, err);
+	free(png);
+	return rc;
+}
+
+int evo_png_write_indexed(const char *path, const uint8_t *pixels, int w, int h,
+			  evo_err *err)
+{
+	uint8_t *png;
+	size_t len;
+	if (evo_png_encode_indexed(pixels, w, h, &png, &len, err)) {
+		char why[sizeof err->msg];
+		snprintf(why, sizeof why, "%s", err ? err->msg : "");
+		return evo_fail(err, "%s: %s", path, why);
+	}
+	int rc = evo_write_file_replace(path, png, len, err);
 	free(png);
 	return rc;
 }
@@ -216,9 +403,8 @@ static int inflate_rows(const uint8_t *z, size_t zlen, uint8_t *raw,
 					"implies %zu",
 					out, rawlen);
 		if (left)
-			return evo_fail(err,
-					"zlib stream: %zu bytes after its end",
-					left);
+			return evo_fail(
+			    err, "zlib stream: %zu bytes after its end", left);
 		return 0;
 	}
 	/* Stuck with input left: no room for more rows; with none left:
@@ -236,6 +422,22 @@ static int inflate_rows(const uint8_t *z, size_t zlen, uint8_t *raw,
 	return evo_fail(err, "image data is damaged: zlib: %s", why);
 }
 
+/* A palette image's row of w indices, `depth` bits each (leftmost in the
+ * high bits), as RGB pixels into `to`; -1 on an index past the palette. */
+static int unpack_row(const uint8_t *r, int w, int depth, const uint8_t *plte,
+		      int ncolours, uint8_t *to)
+{
+	int per = 8 / depth, mask = (1 << depth) - 1;
+	for (int x = 0; x < w; x += per, r++)
+		for (int k = 0; k < per && x + k < w; k++, to += 3) {
+			int i = *r >> (8 - depth * (k + 1)) & mask;
+			if (i >= ncolours)
+				return -1;
+			memcpy(to, plte + 3 * i, 3);
+		}
+	return 0;
+}
+
 static int decode(const uint8_t *png, size_t len, evo_png_image *img,
 		  evo_err *err)
 {
@@ -243,6 +445,8 @@ static int decode(const uint8_t *png, size_t len, evo_png_image *img,
 		return evo_fail(err, "not a PNG file (no PNG signature)");
 	size_t at = sizeof signature;
 	int w = 0, h = 0, channels = 0, seen_idat = 0, idat_done = 0;
+	int depth = 8, ctype = 2, ncolours = 0;
+	uint8_t plte[3 * 256];
 	uint8_t *z = NULL;
 	size_t zlen = 0;
 	int rc = -1;
@@ -305,19 +509,25 @@ static int decode(const uint8_t *png, size_t len, evo_png_image *img,
 			}
 			w = (int)uw;
 			h = (int)uh;
-			if (data[8] != 8) {
-				evo_fail(err, "%d bits per sample: evo reads 8",
-					 data[8]);
-				goto out;
-			}
-			if (data[9] != 2 && data[9] != 6) {
+			depth = data[8];
+			ctype = data[9];
+			if (ctype != 2 && ctype != 3 && ctype != 6) {
 				evo_fail(err,
-					 "colour type %d: evo reads 2 (RGB) "
-					 "and 6 (RGBA)",
-					 data[9]);
+					 "colour type %d: evo reads 2 (RGB), "
+					 "3 (palette) and 6 (RGBA)",
+					 ctype);
 				goto out;
 			}
-			channels = data[9] == 6 ? 4 : 3;
+			if (ctype == 3 ? depth != 1 && depth != 2 &&
+					     depth != 4 && depth != 8
+				       : depth != 8) {
+				evo_fail(err,
+					 "%d bits per sample: evo reads 8, or "
+					 "1, 2, 4 or 8 in a palette image",
+					 depth);
+				goto out;
+			}
+			channels = ctype == 6 ? 4 : 3;
 			if (data[10] != 0 || data[11] != 0) {
 				evo_fail(err,
 					 "compression method %d, filter "
@@ -334,7 +544,36 @@ static int decode(const uint8_t *png, size_t len, evo_png_image *img,
 			}
 			continue;
 		}
+		if (!memcmp(type, "PLTE", 4)) {
+			if (seen_idat || ncolours) {
+				evo_fail(err,
+					 "PLTE (chunk %d) after the image data "
+					 "or a second one",
+					 index);
+				goto out;
+			}
+			if (n == 0 || n % 3 || n / 3 > 256 ||
+			    (ctype == 3 && n / 3 > (1u << depth))) {
+				evo_fail(err,
+					 "PLTE of %u bytes: want 3 a colour, "
+					 "1 to %d colours",
+					 n,
+					 ctype == 3 && depth < 8 ? 1 << depth
+								 : 256);
+				goto out;
+			}
+			/* An RGB image's PLTE only suggests colours. */
+			ncolours = (int)(n / 3);
+			memcpy(plte, data, n);
+			continue;
+		}
 		if (!memcmp(type, "IDAT", 4)) {
+			if (ctype == 3 && !ncolours) {
+				evo_fail(err,
+					 "palette image without a PLTE chunk "
+					 "before its data");
+				goto out;
+			}
 			/* PNG requires the IDAT chunks to be consecutive. */
 			if (idat_done) {
 				evo_fail(err,
@@ -370,7 +609,7 @@ static int decode(const uint8_t *png, size_t len, evo_png_image *img,
 		if (!(type[0] & 0x20)) {
 			evo_fail(err,
 				 "critical chunk %s (chunk %d): evo reads "
-				 "only IHDR, IDAT and IEND",
+				 "only IHDR, PLTE, IDAT and IEND",
 				 name, index);
 			goto out;
 		}
@@ -379,7 +618,8 @@ static int decode(const uint8_t *png, size_t len, evo_png_image *img,
 		evo_fail(err, "no IDAT chunk: the file holds no image data");
 		goto out;
 	}
-	size_t row = (size_t)w * channels, rawlen = (size_t)h * (row + 1);
+	size_t row = ((size_t)w * (ctype == 3 ? 1 : channels) * depth + 7) / 8,
+	       rawlen = (size_t)h * (row + 1);
 	/* Deflate writes at most 258 bytes for a length code and a distance
 	 * code of at least 1 bit each, so it packs at most 1032 bytes into
 	 * one: a header whose sizes the stream cannot fill is refused before
@@ -392,7 +632,7 @@ static int decode(const uint8_t *png, size_t len, evo_png_image *img,
 		goto out;
 	}
 	uint8_t *raw = malloc(rawlen);
-	img->pixels = malloc(row * (size_t)h);
+	img->pixels = malloc((size_t)w * channels * (size_t)h);
 	if (!raw || !img->pixels) {
 		free(raw);
 		evo_fail(err, "image of %d x %d pixels: out of memory", w, h);
@@ -412,7 +652,17 @@ static int decode(const uint8_t *png, size_t len, evo_png_image *img,
 			free(raw);
 			goto out;
 		}
-		memcpy(img->pixels + (size_t)y * row, r + 1, row);
+		uint8_t *to = img->pixels + (size_t)y * w * channels;
+		if (ctype != 3)
+			memcpy(to, r + 1, row);
+		else if (unpack_row(r + 1, w, depth, plte, ncolours, to)) {
+			evo_fail(err,
+				 "row %d has a palette index past the "
+				 "palette's %d colours",
+				 y, ncolours);
+			free(raw);
+			goto out;
+		}
 	}
 	free(raw);
 	img->w = w;

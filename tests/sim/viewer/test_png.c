@@ -184,6 +184,153 @@ TEST(plain_images_are_compressed)
 	free(px);
 }
 
+/* An image of n colours (colour c is red c % 256, green c / 256, blue
+ * 0x80, so all differ) in a pattern where neighbours differ. */
+static uint8_t *coloured(int w, int h, int n)
+{
+	uint8_t *p = malloc((size_t)w * h * 3);
+	for (int i = 0; i < w * h; i++) {
+		int c = (i * 7 + i / 13) % n;
+		p[3 * i] = (uint8_t)(c % 256);
+		p[3 * i + 1] = (uint8_t)(c / 256);
+		p[3 * i + 2] = 0x80;
+	}
+	return p;
+}
+
+/* Encoded with the palette writer: the header's bit depth and colour
+ * type, and the pixels decoded back unchanged. */
+static void palette_round_trip(int w, int h, int n, int depth, int ctype)
+{
+	uint8_t *px = coloured(w, h, n), *png;
+	size_t len;
+	evo_err err;
+	evo_png_image img;
+	CHECK_EQ_INT(evo_png_encode_indexed(px, w, h, &png, &len, &err), 0);
+	CHECK_EQ_INT(png[24], depth);
+	CHECK_EQ_INT(png[25], ctype);
+	if (ctype == 3) {
+		CHECK(memcmp(png + IDAT_AT + 4, "PLTE", 4) == 0);
+		CHECK_EQ_INT(be32(png + IDAT_AT), 3 * n);
+		/* colours in the order they first appear */
+		CHECK(memcmp(png + IDAT_AT + 8, px, 6) == 0);
+	}
+	CHECK_EQ_INT(evo_png_decode(png, len, &img, &err), 0);
+	CHECK_EQ_INT(img.w, w);
+	CHECK_EQ_INT(img.h, h);
+	CHECK_EQ_INT(img.channels, 3);
+	CHECK(img.pixels && memcmp(img.pixels, px, (size_t)w * h * 3) == 0);
+	evo_png_image_free(&img);
+	free(png);
+	free(px);
+}
+
+/* A few colours take the fewest bits PNG allows a palette index (1, 2, 4
+ * or 8); past 256 colours the image stays RGB. Widths that leave part of
+ * a row's last byte unused come back whole. */
+TEST(few_colours_are_written_as_a_palette)
+{
+	palette_round_trip(13, 3, 2, 1, 3);
+	palette_round_trip(9, 4, 3, 2, 3);
+	palette_round_trip(4, 4, 4, 2, 3);
+	palette_round_trip(7, 5, 5, 4, 3);
+	palette_round_trip(31, 9, 17, 8, 3);
+	palette_round_trip(128, 16, 256, 8, 3);
+	palette_round_trip(128, 16, 257, 8, 2);
+	/* runs of every length from 1 to 11 pixels, so a colour changes at
+	 * every offset into the 8 bytes the writer compares at a time */
+	int rw = 61, rh = 7;
+	uint8_t *runs = malloc((size_t)rw * rh * 3);
+	for (int i = 0, c = 0, left = 1, len = 1; i < rw * rh; i++) {
+		runs[3 * i] = (uint8_t)(c * 40);
+		runs[3 * i + 1] = (uint8_t)(255 - c * 40);
+		runs[3 * i + 2] = (uint8_t)c;
+		if (--left == 0) {
+			c = (c + 1) % 5;
+			len = len % 11 + 1;
+			left = len;
+		}
+	}
+	uint8_t *rpng;
+	size_t rlen;
+	evo_err rerr;
+	evo_png_image rimg;
+	CHECK_EQ_INT(evo_png_encode_indexed(runs, rw, rh, &rpng, &rlen, &rerr),
+		     0);
+	CHECK_EQ_INT(rpng[24], 4);
+	CHECK_EQ_INT(evo_png_decode(rpng, rlen, &rimg, &rerr), 0);
+	CHECK(rimg.pixels &&
+	      memcmp(rimg.pixels, runs, (size_t)rw * rh * 3) == 0);
+	evo_png_image_free(&rimg);
+	free(rpng);
+	free(runs);
+	/* one colour: 1 bit a pixel, a one-entry palette */
+	uint8_t px[5 * 3], *png;
+	memset(px, 0x7F, sizeof px);
+	size_t len;
+	evo_err err;
+	CHECK_EQ_INT(evo_png_encode_indexed(px, 5, 1, &png, &len, &err), 0);
+	CHECK_EQ_INT(png[24], 1);
+	CHECK_EQ_INT(be32(png + IDAT_AT), 3);
+	evo_png_image img;
+	CHECK_EQ_INT(evo_png_decode(png, len, &img, &err), 0);
+	CHECK(img.pixels && memcmp(img.pixels, px, sizeof px) == 0);
+	evo_png_image_free(&img);
+	free(png);
+}
+
+/* A palette file put together byte by byte here (not by evo's writer):
+ * 3 x 2 pixels, 2 bits each, palette red, green, blue; row 0 holds
+ * indices 0 1 2 (bits 00 01 10 00 = 0x18), row 1 indices 2 2 0 (10 10 00
+ * 00 = 0xA0). An index past the palette is refused. */
+TEST(a_hand_made_palette_file_decodes)
+{
+	uint8_t raw[] = {0, 0x18, 0, 0xA0};
+	size_t zlen;
+	uint8_t *z = deflated(raw, sizeof raw, &zlen);
+	uint8_t f[200], *p = f;
+	memcpy(p, "\x89PNG\r\n\x1a\n", 8);
+	p += 8;
+	static const uint8_t ihdr[] = {0, 0, 0, 13, 'I', 'H', 'D', 'R', 0, 0, 0,
+				       3, 0, 0, 0,  2,	 2,   3,   0,	0, 0};
+	memcpy(p, ihdr, sizeof ihdr);
+	p += sizeof ihdr + 4;
+	fix_crc(f, 8);
+	size_t plte_at = (size_t)(p - f);
+	static const uint8_t plte[] = {0, 0, 0, 9,   'P', 'L', 'T', 'E', 255,
+				       0, 0, 0, 255, 0,	  0,   0,   255};
+	memcpy(p, plte, sizeof plte);
+	p += sizeof plte + 4;
+	fix_crc(f, plte_at);
+	size_t idat_at = (size_t)(p - f);
+	p[0] = p[1] = p[2] = 0;
+	p[3] = (uint8_t)zlen;
+	memcpy(p + 4, "IDAT", 4);
+	memcpy(p + 8, z, zlen);
+	p += 12 + zlen;
+	fix_crc(f, idat_at);
+	memcpy(p, "\0\0\0\0IEND\xae\x42\x60\x82", 12);
+	p += 12;
+	evo_png_image img;
+	evo_err err;
+	CHECK_EQ_INT(evo_png_decode(f, (size_t)(p - f), &img, &err), 0);
+	static const uint8_t want[] = {255, 0, 0,   0, 255, 0,	 0,   0, 255,
+				       0,   0, 255, 0, 0,   255, 255, 0, 0};
+	CHECK_EQ_INT(img.channels, 3);
+	CHECK(img.pixels && memcmp(img.pixels, want, sizeof want) == 0);
+	evo_png_image_free(&img);
+	/* index 3 of a 3-colour palette */
+	raw[1] = 0x1C;
+	free(z);
+	z = deflated(raw, sizeof raw, &zlen);
+	memcpy(f + idat_at + 8, z, zlen);
+	fix_crc(f, idat_at);
+	CHECK(decode_fails_with(f, (size_t)(p - f),
+				"row 0 has a palette index past the palette's "
+				"3 colours"));
+	free(z);
+}
+
 TEST(a_file_round_trips_and_is_replaced_whole)
 {
 	char dir[512];
@@ -301,8 +448,9 @@ TEST(damage_is_named)
 	free(z);
 	z = deflated(raw, 38, &zlen);
 	d = with_idat(png, len, z, zlen, &dn);
-	CHECK(decode_fails_with(d, dn, "image data has 38 bytes, its header "
-				      "implies 39"));
+	CHECK(decode_fails_with(d, dn,
+				"image data has 38 bytes, its header "
+				"implies 39"));
 	free(d);
 	/* Cut off inside the stream, and bytes after its end. */
 	free(z);
@@ -335,7 +483,11 @@ TEST(damage_is_named)
 	memcpy(c, png, len);
 	c[25] = 3;
 	fix_crc(c, 8);
-	CHECK(decode_fails_with(c, len, "colour type 3"));
+	CHECK(decode_fails_with(c, len, "palette image without a PLTE"));
+	memcpy(c, png, len);
+	c[25] = 4; /* grey with alpha */
+	fix_crc(c, 8);
+	CHECK(decode_fails_with(c, len, "colour type 4"));
 	memcpy(c, png, len);
 	c[28] = 1;
 	fix_crc(c, 8);
@@ -612,6 +764,8 @@ int main(void)
 	RUN(encoded_header_is_a_standard_png);
 	RUN(images_round_trip_in_memory);
 	RUN(plain_images_are_compressed);
+	RUN(few_colours_are_written_as_a_palette);
+	RUN(a_hand_made_palette_file_decodes);
 	RUN(a_file_round_trips_and_is_replaced_whole);
 	RUN(bad_shapes_are_refused_by_the_writer);
 	RUN(every_damaged_copy_is_refused);
