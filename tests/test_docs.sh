@@ -20,12 +20,34 @@
 #   <!-- printed by the block above -->
 # holds lines the file's last `sh` example (or environment example, run as
 # above) printed: each of its lines must be one line of that output, exactly.
+# Every other fenced block (output, a table, a synopsis, a file) says on
+# the line before its fence what checks it; a block that says nothing is a
+# failure, so no example goes unchecked:
+#   <!-- checked by FILE -->  FILE (a test of tests/) compares the block
+#       with what evo does; FILE must exist and name the doc file (its path
+#       from the root, e.g. docs/remote.md), and either read the block by
+#       its mark (FILE holds "checked by FILE") or hold its text: each line
+#       of the block, cut at its numbers, must be made of text FILE holds
+#       (its C string literals joined); so the mark cannot lie silently;
+#   <!-- format: KIND -->     an example file, parsed by
+#       tests/docs/test_doc_formats.c;
+#   <!-- printed by: build/bench/NAME [ARGS] -->  a benchmark's figures
+#       (benchmarks do not run here): bench/NAME.c must exist, and each line
+#       of the block, cut at its numbers, must be made of text that
+#       bench/NAME.c holds, so a row is in the form the benchmark prints;
+#   <!-- synopsis of: evo CMD ... -->  every option the block shows is
+#       one `evo CMD --help` shows;
+#   <!-- not an example: WHAT -->  notation, not a line a user types or
+#       sees (a grammar, a folder layout);
+#   <!-- not yet checked: WHY -->  a known gap, said at the end as a "todo"
+#       (counted, not a failure), until a test reads the block.
 # DOC_FILES="FILE ..." checks those files only (default README.md docs/*.md).
 # Ends with "N passed, N failed" and exits non-zero on a failure.
 cd "$(dirname "$0")/.." || exit 2
 evo=${EVO_BUILD:-build}/evo
 passed=0
 failed=0
+todo=0
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 # an example's own temporary folders (mktemp) go into ours, removed with it
@@ -43,11 +65,11 @@ for f in ${DOC_FILES:-README.md docs/*.md}; do
 			mark = prev ~ /^<!-- .* -->$/ ? prev : "-"
 			gsub(/^<!-- | -->$/, "", mark); gsub(/ /, "_", mark)
 			if (info == "" && mark == "printed_by_the_block_above") info = "printed"
-			if (info == "sh" || info == "lua" || info == "printed") {
-				n = ++count[0]; out = dir "/" f ":" start
-				gsub(/\//, "_", out); out = dir "/" n "-" substr(out, length(dir) + 2)
-				print f, start, info, mark, out
-			} else out = ""
+			if (info == "") info = "other"
+			n = ++count[0]; out = dir "/" f ":" start
+			gsub(/\//, "_", out); out = dir "/" n "-" substr(out, length(dir) + 2)
+			print f, start, info, mark, out
+			printf "" > out
 			next
 		}
 		/^```/ && inb { inb = 0; next }
@@ -113,6 +135,91 @@ EOF
 		>"$tmp/Doc/Tasks/T.simbatch"
 }
 
+# The text of printed lines: their pieces between numbers and runs of
+# spaces that hold words, each of which the program or test printing or
+# checking them must hold (a table's row, a message's words).
+bench_pieces() {
+	sed -E 's/[-+]?[0-9][0-9,]*(\.[0-9]+)?(e[-+]?[0-9]+)?%?/\n/g' "$1" |
+		sed -E 's/^[[:space:]]+|[[:space:]]+$//g; s/[[:space:]]{2,}/\n/g' |
+		sed -E 's/^[[:space:]]+|[[:space:]]+$//g' | grep -E '[A-Za-z]{2}' | sort -u
+}
+
+# A block that is not run: its mark must say what checks it.
+other_block() { # file where mark block
+	case $3 in
+	checked_by_?*)
+		what=${3#checked_by_}
+		if [ ! -f "$what" ]; then
+			result 1 "$2" "checked by $what, which is no file"
+		elif ! grep -qF -- "$1" "$what"; then
+			result 1 "$2" "checked by $what, which does not name $1"
+		elif grep -qF -- "checked by $what" "$what"; then
+			# it reads the block itself, by its mark
+			result 0 "$2 checked by $what"
+		else
+			# C's adjacent string literals joined, as the test's text
+			perl -0pe 's/"\s*\n\s*"//g' "$what" >"$tmp/checker"
+			missing=$(bench_pieces "$4" | while IFS= read -r piece; do
+				grep -qF -- "$piece" "$tmp/checker" || echo "$piece"
+			done)
+			if [ -n "$missing" ]; then
+				{ echo "text $what does not hold:"; echo "$missing"; } >"$tmp/out"
+				result 1 "$2" "lines $what does not check"
+			else
+				result 0 "$2 checked by $what"
+			fi
+		fi
+		;;
+	format:_?*)
+		result 0 "$2 checked by tests/docs/test_doc_formats.c"
+		;;
+	printed_by:_build/bench/?*)
+		cmd=$(echo "${3#printed_by:_}" | tr _ ' ')
+		name=${3#printed_by:_build/bench/}
+		name=${name%%_-*} # its arguments start with a -
+		src=bench/$name.c
+		if [ ! -f "$src" ]; then
+			result 1 "$2" "printed by $cmd, but there is no $src"
+			return
+		fi
+		missing=$(bench_pieces "$4" | while IFS= read -r piece; do
+			grep -qF -- "$piece" "$src" || echo "$piece"
+		done)
+		if [ -n "$missing" ]; then
+			{ echo "text $src does not print:"; echo "$missing"; } >"$tmp/out"
+			result 1 "$2" "lines not in the form $cmd prints"
+		else
+			result 0 "$2 in the form $cmd prints"
+		fi
+		;;
+	synopsis_of:_evo_?*)
+		# every option it shows is one the commands' --help shows
+		cmds=$(echo "${3#synopsis_of:_}" | tr _ ' ' | sed 's/\bevo\b//g')
+		for c in $cmds; do "$evo" "$c" --help; done >"$tmp/help" 2>&1
+		missing=$(grep -oE -- '(^|[[ ])--?[a-z][-a-z]*' "$4" | sed 's/^[[ ]//' | sort -u |
+			while IFS= read -r o; do
+				grep -qE -- "(^|[^-a-z])$o([^-a-z]|\$)" "$tmp/help" || echo "$o"
+			done)
+		if [ -n "$missing" ]; then
+			{ echo "options --help does not show:"; echo "$missing"; } >"$tmp/out"
+			result 1 "$2" "a synopsis with options evo$(echo " $cmds" | sed 's/ / /g') --help does not show"
+		else
+			result 0 "$2 options as evo$cmds --help shows them"
+		fi
+		;;
+	not_yet_checked:_?*)
+		todo=$((todo + 1))
+		echo "todo $2: not yet checked: $(echo "${3#not_yet_checked:_}" | tr _ ' ')"
+		;;
+	not_an_example:_?*)
+		echo "skip $2: not an example: $(echo "${3#not_an_example:_}" | tr _ ' ')"
+		;;
+	*)
+		result 1 "$2" "a block no test checks: run it (sh), or mark it (see the header of tests/test_docs.sh)"
+		;;
+	esac
+}
+
 while read -r file line info mark block; do
 	where="$file:$line ($info)"
 	if [ "$info" = printed ]; then
@@ -134,6 +241,10 @@ while read -r file line info mark block; do
 		continue
 	fi
 	rm -f "$tmp/out"
+	if [ "$info" != sh ] && [ "$info" != lua ]; then
+		other_block "$file" "$where" "$mark" "$block"
+		continue
+	fi
 	case $mark in
 	not_run:_?*)
 		echo "skip $where: $(echo "${mark#not_run:_}" | tr _ ' ')"
@@ -171,5 +282,6 @@ while read -r file line info mark block; do
 done <"$tmp/examples"
 
 [ -s "$tmp/examples" ] || { failed=$((failed + 1)); echo "FAIL: no example found"; }
+[ "$todo" -eq 0 ] || echo "$todo blocks not yet checked (todo above)"
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
