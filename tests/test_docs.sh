@@ -19,7 +19,9 @@
 # A block of output (no info string) marked
 #   <!-- printed by the block above -->
 # holds lines the file's last `sh` example (or environment example, run as
-# above) printed: each of its lines must be one line of that output, exactly.
+# above) printed: each of its lines must be one line of that output, exactly,
+# but for a "..." in it, which stands for any text (a temporary folder, a
+# time), so what varies is masked where the reader sees it.
 # Every other fenced block (output, a table, a synopsis, a file) says on
 # the line before its fence what checks it; a block that says nothing is a
 # failure, so no example goes unchecked:
@@ -33,8 +35,8 @@
 #       tests/docs/test_doc_formats.c;
 #   <!-- printed by: build/bench/NAME [ARGS] -->  a benchmark's figures
 #       (benchmarks do not run here): bench/NAME.c must exist, and each line
-#       of the block, cut at its numbers, must be made of text that
-#       bench/NAME.c holds, so a row is in the form the benchmark prints;
+#       of the block must be in the form one of its printf formats prints
+#       (tests/docs/printed_form.pl), so a row cannot drift from the bench;
 #   <!-- synopsis of: evo CMD ... -->  every option the block shows is
 #       one `evo CMD --help` shows;
 #   <!-- not an example: WHAT -->  notation, not a line a user types or
@@ -182,11 +184,9 @@ other_block() { # file where mark block
 			result 1 "$2" "printed by $cmd, but there is no $src"
 			return
 		fi
-		missing=$(bench_pieces "$4" | while IFS= read -r piece; do
-			grep -qF -- "$piece" "$src" || echo "$piece"
-		done)
+		missing=$(perl tests/docs/printed_form.pl "$src" "$4")
 		if [ -n "$missing" ]; then
-			{ echo "text $src does not print:"; echo "$missing"; } >"$tmp/out"
+			{ echo "no format of $src prints:"; echo "$missing"; } >"$tmp/out"
 			result 1 "$2" "lines not in the form $cmd prints"
 		else
 			result 0 "$2 in the form $cmd prints"
@@ -230,7 +230,13 @@ while read -r file line info mark block; do
 			continue
 		fi
 		missing=$(while IFS= read -r l; do
-			[ -z "$l" ] || grep -qxF -- "$l" "$tmp/last.out" || echo "$l"
+			case $l in
+			'') ;;
+			*...*) # "..." stands for what varies (a folder, a time)
+				re=$(printf '%s\n' "$l" | sed 's/[][\\.*^$+?(){}|]/\\&/g; s/\\\.\\\.\\\./.*/g')
+				grep -qxE -- "$re" "$tmp/last.out" || echo "$l" ;;
+			*) grep -qxF -- "$l" "$tmp/last.out" || echo "$l" ;;
+			esac
 		done <"$block")
 		if [ -n "$missing" ]; then
 			{ echo "not printed:"; echo "$missing"; echo "printed:"; cat "$tmp/last.out"; } >"$tmp/out"
