@@ -76,7 +76,7 @@ TEST(docs_cluster_md_quotes_the_message_evo_gives)
 	CHECK_EQ_INT(evo_cluster_check_hello(&h, sizeof h, 1, &TASK, &out, &err), -1);
 	char doc[2048], want[2048];
 	CHECK_EQ_INT(doc_block("docs/cluster.md",
-			       "tests/sim/cluster/test_cluster_messages.c", doc,
+			       "tests/sim/cluster/test_cluster_messages.c", 0, doc,
 			       sizeof doc),
 		     0);
 	snprintf(want, sizeof want, "%s\n", err.msg);
