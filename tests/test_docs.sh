@@ -13,7 +13,10 @@
 #       <!-- example: bot model -->    Bots/DocBot.lua, with a mind folder
 #           whose botdesc names the model's sensors and actuators, checked
 #           by `evo check` (which builds the scene);
-#     a `lua` block without one of these is a failure.
+#     a `lua` block without one of these is a failure;
+#   - `c`: <!-- example: C, in a function of (PARAMS) with HEADER --> before
+#     it: compiled (cc -fsyntax-only, warnings as errors) as the body of a
+#     function of PARAMS, after #include "HEADER" (from core/include).
 # A block that must not run says why on the line before its fence:
 #   <!-- not run: REASON -->
 # A block of output (no info string) marked
@@ -146,6 +149,26 @@ bench_pieces() {
 		sed -E 's/^[[:space:]]+|[[:space:]]+$//g' | grep -E '[A-Za-z]{2}' | sort -u
 }
 
+# A C example, compiled (not run) as the body of a function of the
+# parameters its mark names, with the header it names, as a user's code
+# would be: the calls must exist and take what the block gives them.
+c_example() { # file line where block
+	raw=$(head -n $(($2 - 1)) "$1" | grep -v '^$' | tail -n 1)
+	params=$(echo "$raw" | sed -n 's/.*in a function of (\(.*\)) with .*/\1/p')
+	header=$(echo "$raw" | sed -n 's/.*) with \([^ ]*\) -->$/\1/p')
+	{
+		echo "#include \"$header\""
+		echo "void doc_example($params);"
+		echo "void doc_example($params)"
+		echo "{"
+		cat "$4"
+		echo "}"
+	} >"$tmp/example.c"
+	${CC:-cc} -std=c11 -Wall -Wextra -Werror -Wpedantic -fsyntax-only \
+		-Icore/include "$tmp/example.c" >"$tmp/out" 2>&1
+	result $? "$3" "the C example does not compile"
+}
+
 # A block that is not run: its mark must say what checks it.
 other_block() { # file where mark block
 	case $3 in
@@ -247,6 +270,10 @@ while read -r file line info mark block; do
 		continue
 	fi
 	rm -f "$tmp/out"
+	if [ "$info" = c ] && [ "${mark#example:_C,_in_a_function_of_}" != "$mark" ]; then
+		c_example "$file" "$line" "$where" "$block"
+		continue
+	fi
 	if [ "$info" != sh ] && [ "$info" != lua ]; then
 		other_block "$file" "$where" "$mark" "$block"
 		continue

@@ -45,7 +45,8 @@ static inline int doc_block(const char *doc, const char *test, int nth, char *ou
 
 /* Whether `line` (up to its '\n') is a whole line of `out`; with
  * any_number, a run of digits in it stands for any run of digits (what
- * varies from run to run: sessions, counts, ports). */
+ * varies from run to run: sessions, counts, ports) and a run of spaces for
+ * any run of spaces (a column's padding). */
 static inline int doc_line_printed(const char *line, const char *out, int any_number)
 {
 	for (const char *o = out; *o; o = strchr(o, '\n') ? strchr(o, '\n') + 1 : "") {
@@ -56,6 +57,12 @@ static inline int doc_line_printed(const char *line, const char *out, int any_nu
 				while (isdigit((unsigned char)*a))
 					a++;
 				while (isdigit((unsigned char)*b))
+					b++;
+			} else if (any_number && *a == ' ' && *b == ' ') {
+				/* numbers of other widths, padded to a column */
+				while (*a == ' ')
+					a++;
+				while (*b == ' ')
 					b++;
 			} else if (*a == *b) {
 				a++;
