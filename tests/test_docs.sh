@@ -30,10 +30,10 @@
 # failure, so no example goes unchecked:
 #   <!-- checked by FILE -->  FILE (a test of tests/) compares the block
 #       with what evo does; FILE must exist and name the doc file (its path
-#       from the root, e.g. docs/remote.md), and either read the block by
-#       its mark (FILE holds "checked by FILE") or hold its text: each line
-#       of the block, cut at its numbers, must be made of text FILE holds
-#       (its C string literals joined); so the mark cannot lie silently;
+#       from the root, e.g. docs/remote.md), and read the block by its
+#       mark: FILE holds "checked by FILE", or calls doc_block("DOC" of
+#       tests/support/doc_block.h once for each block of DOC so marked; so
+#       the mark cannot lie silently;
 #   <!-- format: KIND -->     an example file, parsed by
 #       tests/docs/test_doc_formats.c;
 #   <!-- printed by: build/bench/NAME [ARGS] -->  a benchmark's figures
@@ -140,15 +140,6 @@ EOF
 		>"$tmp/Doc/Tasks/T.simbatch"
 }
 
-# The text of printed lines: their pieces between numbers and runs of
-# spaces that hold words, each of which the program or test printing or
-# checking them must hold (a table's row, a message's words).
-bench_pieces() {
-	sed -E 's/[-+]?[0-9][0-9,]*(\.[0-9]+)?(e[-+]?[0-9]+)?%?/\n/g' "$1" |
-		sed -E 's/^[[:space:]]+|[[:space:]]+$//g; s/[[:space:]]{2,}/\n/g' |
-		sed -E 's/^[[:space:]]+|[[:space:]]+$//g' | grep -E '[A-Za-z]{2}' | sort -u
-}
-
 # A C example, compiled (not run) as the body of a function of the
 # parameters its mark names, with the header it names, as a user's code
 # would be: the calls must exist and take what the block gives them.
@@ -181,18 +172,12 @@ other_block() { # file where mark block
 		elif grep -qF -- "checked by $what" "$what"; then
 			# it reads the block itself, by its mark
 			result 0 "$2 checked by $what"
+		elif [ "$(grep -cF -- "doc_block(\"$1\"" "$what")" -ge \
+			"$(grep -cxF -- "<!-- checked by $what -->" "$1")" ]; then
+			# it reads each such block with doc_block()
+			result 0 "$2 checked by $what"
 		else
-			# C's adjacent string literals joined, as the test's text
-			perl -0pe 's/"\s*\n\s*"//g' "$what" >"$tmp/checker"
-			missing=$(bench_pieces "$4" | while IFS= read -r piece; do
-				grep -qF -- "$piece" "$tmp/checker" || echo "$piece"
-			done)
-			if [ -n "$missing" ]; then
-				{ echo "text $what does not hold:"; echo "$missing"; } >"$tmp/out"
-				result 1 "$2" "lines $what does not check"
-			else
-				result 0 "$2 checked by $what"
-			fi
+			result 1 "$2" "checked by $what, which does not read the block by its mark"
 		fi
 		;;
 	format:_?*)
@@ -289,7 +274,7 @@ while read -r file line info mark block; do
 		;;
 	esac
 	if [ "$info" = sh ]; then
-		sed "s#\(^\|[ ;(|&]\)build/evo\b#\1$evo#g" "$block" >"$tmp/run.sh"
+		sed "s#\(^\|[ ;(|&=]\)build/evo\b#\1$evo#g" "$block" >"$tmp/run.sh"
 		# stdin is not the list of examples (mpirun reads its stdin)
 		timeout -k 5 120 sh -e "$tmp/run.sh" >"$tmp/out" 2>&1 </dev/null
 		rc=$?

@@ -43,36 +43,50 @@ static inline int doc_block(const char *doc, const char *test, int nth, char *ou
 	return state == 3 ? 0 : -1;
 }
 
-/* Whether `line` (up to its '\n') is a whole line of `out`; with
- * any_number, a run of digits in it stands for any run of digits (what
- * varies from run to run: sessions, counts, ports) and a run of spaces for
- * any run of spaces (a column's padding). */
+/* Whether the docs line a (up to its '\n') matches the printed line b (up
+ * to its '\n'): "..." in a stands for any text (what the docs leave
+ * out); with any_number, a run of digits in a for any run of digits (what
+ * varies from run to run: sessions, counts, ports) and a run of spaces
+ * for any run of spaces (a column's padding). */
+static inline int doc_line_matches(const char *a, const char *b, int any_number)
+{
+	while (*a && *a != '\n') {
+		if (strncmp(a, "...", 3) == 0) {
+			for (const char *k = b;; k++) {
+				if (doc_line_matches(a + 3, k, any_number))
+					return 1;
+				if (!*k || *k == '\n')
+					return 0;
+			}
+		}
+		if (!*b || *b == '\n')
+			return 0;
+		if (any_number && isdigit((unsigned char)*a) &&
+		    isdigit((unsigned char)*b)) {
+			while (isdigit((unsigned char)*a))
+				a++;
+			while (isdigit((unsigned char)*b))
+				b++;
+		} else if (any_number && *a == ' ' && *b == ' ') {
+			while (*a == ' ')
+				a++;
+			while (*b == ' ')
+				b++;
+		} else if (*a == *b) {
+			a++;
+			b++;
+		} else
+			return 0;
+	}
+	return !*b || *b == '\n';
+}
+
+/* Whether `line` matches a whole line of `out` (doc_line_matches). */
 static inline int doc_line_printed(const char *line, const char *out, int any_number)
 {
-	for (const char *o = out; *o; o = strchr(o, '\n') ? strchr(o, '\n') + 1 : "") {
-		const char *a = line, *b = o;
-		while (*a && *a != '\n' && *b && *b != '\n') {
-			if (any_number && isdigit((unsigned char)*a) &&
-			    isdigit((unsigned char)*b)) {
-				while (isdigit((unsigned char)*a))
-					a++;
-				while (isdigit((unsigned char)*b))
-					b++;
-			} else if (any_number && *a == ' ' && *b == ' ') {
-				/* numbers of other widths, padded to a column */
-				while (*a == ' ')
-					a++;
-				while (*b == ' ')
-					b++;
-			} else if (*a == *b) {
-				a++;
-				b++;
-			} else
-				break;
-		}
-		if ((!*a || *a == '\n') && (!*b || *b == '\n'))
+	for (const char *o = out; *o; o = strchr(o, '\n') ? strchr(o, '\n') + 1 : "")
+		if (doc_line_matches(line, o, any_number))
 			return 1;
-	}
 	return 0;
 }
 
