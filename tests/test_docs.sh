@@ -43,16 +43,13 @@
 #   <!-- synopsis of: evo CMD ... -->  every option the block shows is
 #       one `evo CMD --help` shows;
 #   <!-- not an example: WHAT -->  notation, not a line a user types or
-#       sees (a grammar, a folder layout);
-#   <!-- not yet checked: WHY -->  a known gap, said at the end as a "todo"
-#       (counted, not a failure), until a test reads the block.
+#       sees (a grammar, a folder layout).
 # DOC_FILES="FILE ..." checks those files only (default README.md docs/*.md).
 # Ends with "N passed, N failed" and exits non-zero on a failure.
 cd "$(dirname "$0")/.." || exit 2
 evo=${EVO_BUILD:-build}/evo
 passed=0
 failed=0
-todo=0
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 # an example's own temporary folders (mktemp) go into ours, removed with it
@@ -202,7 +199,7 @@ other_block() { # file where mark block
 		;;
 	synopsis_of:_evo_?*)
 		# every option it shows is one the commands' --help shows
-		cmds=$(echo "${3#synopsis_of:_}" | tr _ ' ' | sed 's/\bevo\b//g')
+		cmds=$(echo "${3#synopsis_of:_}" | tr _ ' ' | sed 's/\bevo\b//g; s/  */ /g')
 		for c in $cmds; do "$evo" "$c" --help; done >"$tmp/help" 2>&1
 		missing=$(grep -oE -- '(^|[[ ])--?[a-z][-a-z]*' "$4" | sed 's/^[[ ]//' | sort -u |
 			while IFS= read -r o; do
@@ -210,14 +207,10 @@ other_block() { # file where mark block
 			done)
 		if [ -n "$missing" ]; then
 			{ echo "options --help does not show:"; echo "$missing"; } >"$tmp/out"
-			result 1 "$2" "a synopsis with options evo$(echo " $cmds" | sed 's/ / /g') --help does not show"
+			result 1 "$2" "a synopsis with options evo$cmds --help does not show"
 		else
 			result 0 "$2 options as evo$cmds --help shows them"
 		fi
-		;;
-	not_yet_checked:_?*)
-		todo=$((todo + 1))
-		echo "todo $2: not yet checked: $(echo "${3#not_yet_checked:_}" | tr _ ' ')"
 		;;
 	not_an_example:_?*)
 		echo "skip $2: not an example: $(echo "${3#not_an_example:_}" | tr _ ' ')"
@@ -300,6 +293,5 @@ while read -r file line info mark block; do
 done <"$tmp/examples"
 
 [ -s "$tmp/examples" ] || { failed=$((failed + 1)); echo "FAIL: no example found"; }
-[ "$todo" -eq 0 ] || echo "$todo blocks not yet checked (todo above)"
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
