@@ -124,17 +124,19 @@ static const struct {
     {"net", "x.net", "inputs:2\noutputs:1\nnode:2:tanh:0\noutput:2\nlink:0:2:-200.5\n"},
 };
 
-/* The lines of formats.md's block after "for example" under Error messages. */
+/* The lines of formats.md's block of error messages, the one after
+ * `<!-- checked by tests/docs/test_doc_formats.c -->`. */
 static int read_error_block(char lines[][512], int max)
 {
 	FILE *fp = fopen("docs/formats.md", "r");
 	char line[4096];
-	int n = 0, state = 0; /* 0 looking, 1 after "for example", 2 in the block */
+	int n = 0, state = 0; /* 0 looking, 1 after the mark, 2 in the block */
 	if (!fp)
 		return 0;
 	while (fgets(line, sizeof line, fp)) {
 		line[strcspn(line, "\n")] = 0;
-		if (state == 0 && strcmp(line, "for example") == 0)
+		if (state == 0 &&
+		    strcmp(line, "<!-- checked by tests/docs/test_doc_formats.c -->") == 0)
 			state = 1;
 		else if (state == 1 && strcmp(line, "```") == 0)
 			state = 2;

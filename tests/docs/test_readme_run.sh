@@ -1,10 +1,12 @@
 #!/bin/sh
 # README.md's figures and pictures are what evo makes:
-#   - the block after `<!-- figures: make run -->` holds lines `make run`
+#   - the block after `<!-- checked by tests/docs/test_readme_run.sh -->`
+#     in README.md holds lines `make run`
 #     prints (generation lines up to their species count, the replay's
 #     lines whole): the same training (minds/Seek, --seed 1, any number of
 #     threads) must print each of them;
-#   - docs/learning.md quotes the same replay lines, and one generation line;
+#   - docs/learning.md's blocks after the same mark quote the same replay
+#     lines, and one generation line;
 #   - docs/img/curve.png is that run's learning curve, byte for byte;
 #   - docs/img/viewer.png is what README's --screenshot command saves.
 # A figure or picture that no longer matches fails with the command that
@@ -22,10 +24,15 @@ check() { # ok? what
 	else failed=$((failed + 1)); echo "FAIL $2"; fi
 }
 
+# The lines of FILE's fenced blocks marked as checked here.
+marked() {
+	awk '/^<!-- checked by tests\/docs\/test_readme_run.sh -->$/ { f = 1; next }
+	f && /^```/ { if (++fence == 2) { f = 0; fence = 0 }; next }
+	f && fence == 1 { print }' "$1"
+}
+
 # The quoted lines, from the README.
-awk '/^<!-- figures: make run -->$/ { f = 1; next }
-	f && /^```$/ { if (++fence == 2) exit; next }
-	f && fence == 1 { print }' README.md >"$tmp/quoted"
+marked README.md >"$tmp/quoted"
 [ -s "$tmp/quoted" ]
 check $? "README.md has a figures block for make run"
 
@@ -48,13 +55,14 @@ while IFS= read -r line; do
 done <"$tmp/quoted"
 
 # docs/learning.md quotes the same replay
+marked docs/learning.md >"$tmp/learning"
 grep '^replay\|^  ' "$tmp/quoted" | while IFS= read -r line; do
-	grep -qxF "$line" docs/learning.md || { echo "    docs/learning.md lacks: $line"; exit 1; }
+	grep -qxF "$line" "$tmp/learning" || { echo "    docs/learning.md lacks: $line"; exit 1; }
 done
 check $? "docs/learning.md quotes make run's replay as README.md does"
 
 # and one of its generation lines, up to the species count
-want=$(grep '^gen [0-9]*/25 ' docs/learning.md | awk '{ print $1, $2, $3, $4, $5, $6, $7, $8 }')
+want=$(grep '^gen [0-9]*/25 ' "$tmp/learning" | awk '{ print $1, $2, $3, $4, $5, $6, $7, $8 }')
 [ -n "$want" ] && awk '{ print $1, $2, $3, $4, $5, $6, $7, $8 }' "$tmp/out" | grep -qxF "$want"
 rc=$?
 [ $rc = 0 ] || echo "    docs/learning.md quotes: $want"

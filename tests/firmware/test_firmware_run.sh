@@ -3,7 +3,9 @@
 # QEMU"), run as written from the repository root after make firmware-test
 # has built the firmware and fw_run: the firmware under QEMU on an slcan
 # pseudo-terminal takes a mind from `evo flash`, and drives the body `evo
-# serve --robot` runs on the other port. Ends with "N passed, N failed".
+# serve --robot` runs on the other port; and the two evo flash lines the
+# docs quote are the walk's (but for its folder and the transfer's time).
+# Ends with "N passed, N failed".
 cd "$(dirname "$0")/../.." || exit 2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -40,6 +42,23 @@ else
 		'^fw_run: slcan-pty:?link=.*/bus2: a body; episode 1 started with seed 1'
 	check "the firmware's commands drive the body" \
 		'bus2: [0-9]* ticks: [1-9][0-9]* commanded in time'
+	# the evo flash lines docs/firmware.md quotes from this walk: the
+	# same but for the temporary folder and the transfer's time
+	mask='s#/tmp/[^ ]*/bus#DIR/bus#; s#again, [0-9.]* s;#again, T s;#'
+	grep '^    evo flash: .*Collect.*\(segments, to\|from the tick after\)' \
+		docs/firmware.md | sed "s/^    //; $mask" >"$tmp/quoted"
+	sed "$mask" "$tmp/out" >"$tmp/masked"
+	missing=$(while IFS= read -r l; do
+		grep -qxF -- "$l" "$tmp/masked" || echo "$l"
+	done <"$tmp/quoted")
+	if [ "$(wc -l <"$tmp/quoted")" = 2 ] && [ -z "$missing" ]; then
+		passed=$((passed + 1))
+		echo "ok   docs/firmware.md's evo flash lines are what the walk printed"
+	else
+		failed=$((failed + 1))
+		echo "FAIL docs/firmware.md's evo flash lines are what the walk printed:"
+		cat "$tmp/quoted"
+	fi
 	[ $failed = 0 ] || sed 's/^/    /' "$tmp/out" | tail -n 30
 fi
 echo "$passed passed, $failed failed"

@@ -10,6 +10,7 @@
 
 #include "cluster/cluster_messages.h"
 #include "harness.h"
+#include "support/doc_block.h"
 
 static const evo_cluster_task TASK = {
     .seed = 11, .reps = 2, .ticks = 60, .n_in = 10, .n_out = 2};
@@ -64,6 +65,22 @@ TEST(a_hello_with_threads_no_rank_has_is_refused_naming_the_rank)
 			 (int)bad[k]);
 		CHECK_CONTAINS(err.msg, want);
 	}
+}
+
+/* docs/cluster.md quotes the message of rank 1 on node7 saying -1 threads */
+TEST(docs_cluster_md_quotes_the_message_evo_gives)
+{
+	evo_cluster_hello h = good_hello(), out;
+	h.threads = -1;
+	evo_err err = {{0}};
+	CHECK_EQ_INT(evo_cluster_check_hello(&h, sizeof h, 1, &TASK, &out, &err), -1);
+	char doc[2048], want[2048];
+	CHECK_EQ_INT(doc_block("docs/cluster.md",
+			       "tests/sim/cluster/test_cluster_messages.c", 0, doc,
+			       sizeof doc),
+		     0);
+	snprintf(want, sizeof want, "%s\n", err.msg);
+	CHECK_EQ_STR(doc, want);
 }
 
 TEST(a_hello_not_evos_is_refused_naming_the_rank)
@@ -212,6 +229,7 @@ int main(void)
 {
 	RUN(a_hello_as_evo_sends_it_is_taken);
 	RUN(a_hello_with_threads_no_rank_has_is_refused_naming_the_rank);
+	RUN(docs_cluster_md_quotes_the_message_evo_gives);
 	RUN(a_hello_not_evos_is_refused_naming_the_rank);
 	RUN(a_result_as_evo_sends_it_is_taken);
 	RUN(a_result_not_evos_is_refused_naming_the_rank);

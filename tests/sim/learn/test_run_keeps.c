@@ -16,6 +16,7 @@
 
 #include "base/fileio.h"
 #include "harness.h"
+#include "support/doc_block.h"
 #include "support/cli.h"
 
 /* A copy of Avoid with a small NEAT task: 4 generations of 16 networks,
@@ -65,6 +66,17 @@ TEST(the_network_a_champion_replaces_is_kept_in_the_run_folder)
 	}
 	CHECK_CONTAINS(out, "the network it replaced is kept in ");
 	CHECK_CONTAINS(out, "/k/run/replaced-Avoid.net");
+	/* docs/learning.md quotes these lines for minds/Avoid's own run
+	 * folder */
+	char doc[1024], mind[400], run[400];
+	snprintf(mind, sizeof mind, "%s/k/Avoid/", cli_tmp);
+	snprintf(run, sizeof run, "%s/k/run/", cli_tmp);
+	const char *sub[] = {"minds/Avoid/Runs/Avoid-NEAT-seed1/", run,
+			     "minds/Avoid/", mind, NULL};
+	CHECK_EQ_INT(doc_block("docs/learning.md", "tests/sim/learn/test_run_keeps.c",
+			       0, doc, sizeof doc),
+		     0);
+	CHECK_EQ_INT(doc_lines_missing(doc, out, sub, 0), 0);
 	/* a second run into a new folder keeps the first run's champion */
 	CHECK_EQ_INT(cli_capture(out, sizeof out,
 				 "%s run %s/k/Avoid/Tasks/Small.simbatch "
@@ -238,6 +250,23 @@ TEST(the_interrupt_hint_names_the_binary_and_the_options)
 		 "2000 --generations 1000 --resume --run %s/i/run goes on",
 		 cli_evo, cli_tmp, cli_tmp);
 	CHECK_CONTAINS(said, want);
+	/* docs/learning.md quotes it for minds/Avoid's Avoid-NEAT task run
+	 * with --seed 2 --ticks 500 into its default run folder: its line is
+	 * this run's but for those numbers, the paths, and the options this
+	 * run adds */
+	char doc[2048], task[400], run[400], tail[600];
+	snprintf(task, sizeof task, "%s/i/Avoid/Tasks/Small.simbatch", cli_tmp);
+	snprintf(run, sizeof run, "%s/i/run", cli_tmp);
+	snprintf(tail, sizeof tail, " --generations 1000 --resume --run %s goes on", run);
+	const char *sub[] = {"minds/Avoid/Runs/Avoid-NEAT-seed2", run,
+			     "minds/Avoid/Tasks/Avoid-NEAT.simbatch", task,
+			     "build/evo", cli_evo,
+			     " --resume goes on", tail,
+			     NULL};
+	CHECK_EQ_INT(doc_block("docs/learning.md", "tests/sim/learn/test_run_keeps.c",
+			       1, doc, sizeof doc),
+		     0);
+	CHECK_EQ_INT(doc_lines_missing(doc, said ? said : "", sub, 1), 0);
 	free(said);
 }
 

@@ -30,6 +30,7 @@
 #include <unistd.h>
 
 #include "harness.h"
+#include "support/doc_block.h"
 #include "remote/can.h"
 #include "remote/can_robot.h"
 #include "support/cli.h"
@@ -37,6 +38,13 @@
 #include "viewer/viewer.h"
 
 static char out[1 << 16];
+/* the docs blocks marked as checked here (docs/can.md's, in order, and
+ * docs/wire.md's) */
+#define THIS_TEST "tests/sim/remote/test_can_robot.c"
+static char doc[4096];
+/* what docs/can.md and docs/wire.md call the robot's URLs */
+#define DOC_SLCAN "slcan:/tmp/avoid-bot"
+#define DOC_UDP "cannelloni:127.0.0.1:7001?local=7000"
 static int port_base; /* this run's UDP ports: port_base .. + 63 */
 static int next_port;
 
@@ -298,8 +306,8 @@ static int demosim(void)
  * `run_opts` (--can URL, or nothing for the task's CANURL) where evo
  * names it `run_url`: the same trace and episode line as DEMOSIM, in an
  * undisturbed run. */
-static void runs_as_demosim(const char *name, const char *serve_url,
-			    const char *run_url, const char *run_opts)
+static int runs_as_demosim(const char *name, const char *serve_url,
+			   const char *run_url, const char *run_opts)
 {
 	CHECK(demosim());
 	char task[512], log[512], want[600];
@@ -347,7 +355,7 @@ static void runs_as_demosim(const char *name, const char *serve_url,
 	}
 	CHECK(undisturbed);
 	if (!undisturbed)
-		return;
+		return 0;
 	CHECK_CONTAINS(out, demo_episode);
 	char *ta = cli_read("%s/robot.trace", cli_tmp);
 	char *tb = cli_read("%s/demo.trace", cli_tmp);
@@ -357,6 +365,36 @@ static void runs_as_demosim(const char *name, const char *serve_url,
 	free(tb);
 	/* the frames were all evo's, both ways */
 	CHECK(!strstr(out, "dropped"));
+	return 1;
+}
+
+/* docs/can.md quotes an undisturbed slcan pair as its sh block runs it
+ * (Avoid-ROBOT, --seed 3 --ticks 150, 33.3 ms, linked from /tmp/avoid-bot):
+ * its lines are this pair's but for the numbers, which differ with the
+ * period, the ticks and the pseudo-terminal; and its episode line is
+ * DEMOSIM's for that seed and ticks, which an undisturbed body's is. */
+static void doc_quotes_the_slcan_pair(const char *serve_url, const char *run_url)
+{
+	char link[300], task[300], episode[200];
+	snprintf(link, sizeof link, "%s", strchr(serve_url, '=') + 1);
+	snprintf(task, sizeof task, "%s/Avoid/Tasks/slcan.simbatch", cli_tmp);
+	const char *sub[] = {DOC_SLCAN, run_url, NULL};
+	CHECK_EQ_INT(doc_block("docs/can.md", THIS_TEST, 0, doc, sizeof doc), 0);
+	CHECK_EQ_INT(doc_lines_missing(doc, out, sub, 1), 0);
+	const char *ep = strstr(doc, "episode 1: reward ");
+	CHECK(ep != NULL);
+	snprintf(episode, sizeof episode, "%.*s, 0 collision ticks\n",
+		 ep ? (int)strcspn(ep, "\n") : 0, ep ? ep : "");
+	CHECK_EQ_INT(evo(120, "run minds/Avoid/Tasks/Avoid-DEMO.simbatch -nog "
+			      "--seed 3 --ticks 150"),
+		     0);
+	CHECK_CONTAINS(out, episode);
+	char *t = cli_read("%s/slcan.serve.log", cli_tmp);
+	const char *serve_sub[] = {"minds/Avoid/Tasks/Avoid-ROBOT.simbatch", task,
+				   "/tmp/avoid-bot", link, NULL};
+	CHECK_EQ_INT(doc_block("docs/can.md", THIS_TEST, 2, doc, sizeof doc), 0);
+	CHECK_EQ_INT(doc_lines_missing(doc, t ? t : "", serve_sub, 1), 0);
+	free(t);
 }
 
 /* ---- DEMOREMOTE against evo serve --can ------------------------------- */
@@ -369,7 +407,8 @@ TEST(over_slcan_a_robot_runs_as_demosim_does)
 		 cli_tmp);
 	snprintf(run_url, sizeof run_url, "slcan:%s/slcan.tty", cli_tmp);
 	snprintf(opts, sizeof opts, "--can %s", run_url);
-	runs_as_demosim("slcan", serve_url, run_url, opts);
+	if (runs_as_demosim("slcan", serve_url, run_url, opts))
+		doc_quotes_the_slcan_pair(serve_url, run_url);
 	/* the body's link went with it */
 	CHECK(access(run_url + 6, F_OK) != 0);
 }
@@ -432,6 +471,8 @@ TEST(a_body_that_does_not_fit_is_refused_saying_what_differs)
 		 "3 actuators, Avoid.botdesc 11 and 2",
 		 run_url);
 	CHECK_CONTAINS(out, want);
+	static char first[1 << 16]; /* docs/wire.md quotes both refusals */
+	snprintf(first, sizeof first, "%s", out);
 	double secs;
 	CHECK_EQ_INT(stop_with(body, SIGTERM, &secs), 0);
 	char *t = cli_read("%s/collect.serve.log", cli_tmp);
@@ -463,6 +504,11 @@ TEST(a_body_that_does_not_fit_is_refused_saying_what_differs)
 			    "18340638)");
 	CHECK_CONTAINS(out, "over CAN a value is known by its place in the "
 			    "botdesc");
+	size_t n = strlen(out);
+	snprintf(out + n, sizeof out - n, "%s", first);
+	const char *sub[] = {DOC_UDP, run_url, NULL};
+	CHECK_EQ_INT(doc_block("docs/wire.md", THIS_TEST, 0, doc, sizeof doc), 0);
+	CHECK_EQ_INT(doc_lines_missing(doc, out, sub, 0), 0);
 	CHECK_EQ_INT(stop_with(body, SIGTERM, &secs), 0);
 }
 
@@ -841,6 +887,10 @@ TEST(bad_input_from_the_bus_is_counted_and_reported)
 		 "peer)",
 		 url);
 	CHECK_CONTAINS(t, want);
+	/* docs/can.md quotes both lines */
+	const char *sub[] = {DOC_UDP, url, NULL};
+	CHECK_EQ_INT(doc_block("docs/can.md", THIS_TEST, 1, doc, sizeof doc), 0);
+	CHECK_EQ_INT(doc_lines_missing(doc, t ? t : "", sub, 0), 0);
 	if (getenv("TEST_CAN_ROBOT_SHOW") ||
 	    !strstr(t ? t : "", "dropped 10 frames"))
 		printf("---- evo said:\n%s----\n", t ? t : "(nothing)");

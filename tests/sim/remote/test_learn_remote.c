@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "harness.h"
+#include "support/doc_block.h"
 #include "support/cli.h"
 
 static char out[1 << 16];
@@ -166,6 +167,15 @@ TEST(one_and_two_simulators_give_the_log_and_champion_of_one_process)
 			 cli_evo, cli_tmp, cli_tmp);
 	CHECK_EQ_INT(rc, 0);
 	CHECK_CONTAINS(out, "2 environments on 2 remote simulators");
+	/* docs/remote.md quotes this line for its own task and seed */
+	static char doc[1024];
+	char task[512];
+	snprintf(task, sizeof task, "%s/eq/Avoid/Tasks/R.simbatch", cli_tmp);
+	const char *sub[] = {"minds/Avoid/Tasks/Avoid-REMOTE-NEAT.simbatch", task, NULL};
+	CHECK_EQ_INT(doc_block("docs/remote.md", "tests/sim/remote/test_learn_remote.c",
+			       0, doc, sizeof doc),
+		     0);
+	CHECK_EQ_INT(doc_lines_missing(doc, out, sub, 1), 0);
 	same_as_local("eq", "two", log, champion);
 	stop_serve(a, SIGTERM);
 	stop_serve(b, SIGTERM);

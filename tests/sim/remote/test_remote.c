@@ -16,11 +16,16 @@
 #include <unistd.h>
 
 #include "harness.h"
+#include "support/doc_block.h"
 #include "remote/link.h"
 #include "remote/wire.h"
 #include "support/cli.h"
 
 static char out[1 << 16], out2[1 << 16];
+/* docs/remote.md's blocks marked as checked here, in order, and what the
+ * forged hello's keyed run printed (the drops block quotes two runs) */
+#define THIS_TEST "tests/sim/remote/test_remote.c"
+static char doc[4096], forged_hello_out[1 << 16];
 
 static double mono(void)
 {
@@ -735,6 +740,12 @@ TEST(a_hello_with_100_environments_is_refused_naming_remote_and_field)
 		 "environments is 100, outside 1..64",
 		 name, name);
 	CHECK_CONTAINS(out, want);
+	/* docs/remote.md quotes it for a remote named sim1 */
+	CHECK_EQ_INT(doc_block("docs/remote.md", THIS_TEST, 0, doc, sizeof doc), 0);
+	{
+		const char *sub[] = {"sim1", name, NULL};
+		CHECK_EQ_INT(doc_lines_missing(doc, out, sub, 0), 0);
+	}
 	char text[512];
 	snprintf(text, sizeof text,
 		 "TYPE:LEARNREMOTESIM\nMASTERSKILL:Avoid\nLEARNINGSKILL:Avoid\n"
@@ -979,6 +990,12 @@ TEST(a_forged_hello_does_not_end_a_keyless_run)
 		 "evo: remote %s: a hello under its name with session", name);
 	CHECK_CONTAINS(out, want);
 	CHECK_CONTAINS(out, "not taken as a restart");
+	/* docs/remote.md quotes it for sim1; the sessions vary */
+	CHECK_EQ_INT(doc_block("docs/remote.md", THIS_TEST, 1, doc, sizeof doc), 0);
+	{
+		const char *sub[] = {"sim1", name, NULL};
+		CHECK_EQ_INT(doc_lines_missing(doc, out, sub, 1), 0);
+	}
 	char *a = cli_read("%s", trace), *b = cli_read("%s", ref);
 	CHECK(a && b && strlen(a) > 1000 && strcmp(a, b) == 0);
 	free(a);
@@ -1007,6 +1024,7 @@ TEST(a_forged_hello_fails_the_key_and_is_counted)
 			    "key)");
 	CHECK(strstr(out, "dropped 0 forged") == NULL);
 	CHECK(strstr(out, "k3y") == NULL);
+	snprintf(forged_hello_out, sizeof forged_hello_out, "%s", out);
 	char *a = cli_read("%s", trace), *b = cli_read("%s", ref);
 	CHECK(a && b && strlen(a) > 1000 && strcmp(a, b) == 0);
 	free(a);
@@ -1030,6 +1048,16 @@ TEST(forged_and_replayed_sensors_never_win_under_a_key)
 	CHECK_EQ_INT(rc, 0);
 	CHECK_CONTAINS(out, "whose MAC fails the key");
 	CHECK_CONTAINS(out, "replayed)");
+	/* docs/remote.md's drops: lines of this run's output or of the forged
+	 * hello's before it, for sim1; the counts vary with timing */
+	size_t n = strlen(out);
+	snprintf(out + n, sizeof out - n, "%s", forged_hello_out);
+	CHECK_EQ_INT(doc_block("docs/remote.md", THIS_TEST, 2, doc, sizeof doc), 0);
+	{
+		const char *sub[] = {"sim1", name, NULL};
+		CHECK_EQ_INT(doc_lines_missing(doc, out, sub, 1), 0);
+	}
+	out[n] = 0;
 	char *a = cli_read("%s", trace), *b = cli_read("%s", ref);
 	CHECK(a && b && strlen(a) > 1000 && strcmp(a, b) == 0);
 	free(a);

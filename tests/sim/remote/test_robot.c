@@ -25,6 +25,7 @@
 #include <unistd.h>
 
 #include "harness.h"
+#include "support/doc_block.h"
 #include "remote/link.h"
 #include "remote/wire.h"
 #include "support/cli.h"
@@ -183,6 +184,42 @@ static int robot_counts(const char *text, const char *name, counts *c)
  * runs make up to this many, and fail when none ran undisturbed. */
 #define ATTEMPTS 3
 
+/* docs/remote.md quotes an undisturbed pair run as its sh block runs it
+ * (Avoid-ROBOT, --seed 3 --ticks 300, 33.333 ms): its lines are this
+ * pair's (robot `name`, evo serve's log `log`) but for the numbers, which
+ * differ with the period and the ticks; and its episode line is
+ * DEMOSIM's for that seed and ticks, which an undisturbed robot's is. */
+static void doc_quotes_the_pair(const char *name, const char *log)
+{
+	static char doc[2048], demo[4096];
+	const char *me = "tests/sim/remote/test_robot.c";
+	CHECK_EQ_INT(doc_block("docs/remote.md", me, 0, doc, sizeof doc), 0);
+	{
+		const char *sub[] = {"avoid-bot", name, NULL};
+		CHECK_EQ_INT(doc_lines_missing(doc, out, sub, 1), 0);
+	}
+	CHECK_EQ_INT(cli_capture(demo, sizeof demo,
+				 "%s run minds/Avoid/Tasks/Avoid-DEMO.simbatch "
+				 "-nog --seed 3 --ticks 300",
+				 cli_evo),
+		     0);
+	const char *ep = strstr(doc, "episode 1: reward ");
+	CHECK(ep != NULL);
+	if (ep) {
+		char line[160];
+		snprintf(line, sizeof line, "%.*s, 0 collision ticks\n",
+			 (int)strcspn(ep, "\n"), ep);
+		CHECK_CONTAINS(demo, line);
+	}
+	char *t = cli_read("%s", log);
+	CHECK_EQ_INT(doc_block("docs/remote.md", me, 1, doc, sizeof doc), 0);
+	{
+		const char *sub[] = {"avoid-bot", name, NULL};
+		CHECK_EQ_INT(doc_lines_missing(doc, t ? t : "", sub, 1), 0);
+	}
+	free(t);
+}
+
 /* The robot applies each tick's command before it steps and starts its
  * world from evo's seeds: with every command in its period, the mind sees
  * what it sees in DEMOSIM, tick for tick. */
@@ -252,6 +289,7 @@ TEST(a_robot_runs_as_demosim_does)
 	if (!undisturbed)
 		return;
 	CHECK_CONTAINS(out, episode);
+	doc_quotes_the_pair(name, log);
 	char *ta = cli_read("%s/robot.trace", cli_tmp);
 	char *tb = cli_read("%s/demo.trace", cli_tmp);
 	CHECK(ta && tb && strcmp(ta, tb) == 0);
