@@ -352,7 +352,8 @@ int evo_run_supports(const char *type)
 	       strcmp(type, "LEARN2DSIMMULTI") == 0 ||
 	       strcmp(type, "DEMOREMOTESIM") == 0 ||
 	       strcmp(type, "LEARNREMOTESIM") == 0 ||
-	       strcmp(type, "DEMOREMOTE") == 0;
+	       strcmp(type, "DEMOREMOTE") == 0 ||
+	       strcmp(type, "OPENENDED") == 0;
 }
 
 /* The seeds of episode e: the grid's and the rest's, from (seed, e). */
@@ -1520,7 +1521,8 @@ int evo_run_main(int argc, char **argv)
 	    strcmp(task.type, "LEARN3DSIM") == 0 ||
 	    strcmp(task.type, "LEARNSIMCONTINUOUS") == 0 ||
 	    strcmp(task.type, "LEARN2DSIMMULTI") == 0 ||
-	    strcmp(task.type, "LEARNREMOTESIM") == 0) {
+	    strcmp(task.type, "LEARNREMOTESIM") == 0 ||
+	    strcmp(task.type, "OPENENDED") == 0) {
 		if (o.episodes >= 0) {
 			/* it would be ignored: say so rather than run a task
 			 * other than the one asked for */

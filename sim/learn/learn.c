@@ -59,6 +59,7 @@ typedef struct learn {
 	 * indices in task->mind), and the evaluator's definition of the
 	 * current turn with the networks the other skills run */
 	int continuous;
+	int openended; /* TYPE:OPENENDED: lua/learn/openended.lua */
 	int n_order;
 	int order[CONT_MAX_SKILLS];
 	evo_net_choice choice[CONT_MAX_SKILLS];
@@ -383,6 +384,17 @@ static int l_set_team_net(lua_State *L)
 	to_netdesc(L, 2, 1, d);
 	evo_err err = {{0}};
 	if (evo_evaluator_set_team_net(l->ev, team, d, &err))
+		return raise_msg(L, err.msg);
+	return 0;
+}
+
+/* evo.set_genome(text or nil): the environment genome every episode of
+ * the next evo.evaluate runs with (scene:genome(), OPENENDED). */
+static int l_set_genome(lua_State *L)
+{
+	const char *g = luaL_optstring(L, 1, NULL);
+	evo_err err = {{0}};
+	if (evo_evaluator_set_genome(ctx(L)->ev, g, &err))
 		return raise_msg(L, err.msg);
 	return 0;
 }
@@ -974,6 +986,7 @@ static const luaL_Reg learn_fns[] = {
     {"evaluate", l_evaluate},
     {"descriptors", l_descriptors},
     {"set_team_net", l_set_team_net},
+    {"set_genome", l_set_genome},
     {"open_log", l_open_log},
     {"log", l_log},
     {"save", l_save},
@@ -1070,6 +1083,12 @@ static int open_module(lua_State *L)
 	lua_setfield(L, -2, "run_dir");
 	lua_pushinteger(L, evo_evaluator_reps(l->ev));
 	lua_setfield(L, -2, "reps");
+	/* the environment script's path (OPENENDED loads its generator) */
+	const char *env_path = evo_evaluator_env_path(l->ev);
+	if (env_path) {
+		lua_pushstring(L, env_path);
+		lua_setfield(L, -2, "env_path");
+	}
 	lua_pushinteger(L, (lua_Integer)evo_evaluator_ticks(l->ev));
 	lua_setfield(L, -2, "ticks");
 	/* the environment's metrics, in the order of evaluate's lists */
@@ -1133,7 +1152,9 @@ static int run_script(lua_State *L)
 	char path[1200];
 	evo_err err;
 	if (evo_path_fmt(path, sizeof path, &err, "%s/learn/%s", dir,
-			 l->continuous ? "continuous.lua" : "learnsim.lua"))
+			 l->continuous	   ? "continuous.lua"
+			 : l->openended ? "openended.lua"
+					: "learnsim.lua"))
 		return raise_msg(L, err.msg);
 	if (luaL_loadfilex(L, path, "t") != LUA_OK)
 		return lua_error(L);
@@ -1428,6 +1449,7 @@ int evo_learn_run(const char *task_path, evo_task *task,
 	l.started = now();
 	l.n_behaviour = -1;
 	l.continuous = strcmp(task->type, "LEARNSIMCONTINUOUS") == 0;
+	l.openended = strcmp(task->type, "OPENENDED") == 0;
 	/* every option within its range before a thread, a folder or a
 	 * population exists; the loop says the warnings */
 	if (learn_check(task_path, task, 1, err))
