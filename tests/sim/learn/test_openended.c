@@ -1,0 +1,196 @@
+/* OPENENDED end to end (lua/learn/openended.lua over sim/learn/learn.c,
+ * the generator lua/envs/GEN_Maze.lua), on a copy of minds/OpenMaze with
+ * a budget of 8 batches: ANNECS never falls and ends above 0; the seed
+ * maze's solution path is 3 cells (by hand: two steps along x, one along
+ * y in a 3 x 2 grid); the largest admitted maze is solved by the agent
+ * that solved it when admitted (replayed by evo run); one thread and two
+ * give the same log; a run killed with SIGKILL and resumed gives the same
+ * log; a generator's error is reported at its file:line. */
+#define _POSIX_C_SOURCE 200809L
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+
+#include "harness.h"
+#include "support/cli.h"
+
+static void make_mind(const char *name)
+{
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/%s && cp -r minds/OpenMaze %s/%s/ && "
+			    "rm -rf %s/%s/OpenMaze/Runs",
+			    cli_tmp, name, cli_tmp, name, cli_tmp, name),
+		     0);
+}
+
+static int run(const char *name, const char *task, const char *extra)
+{
+	return cli_sh("%s run %s/%s/OpenMaze/Tasks/%s.simbatch --seed 3 "
+		      "--generations 8 --no-save --run %s/%s/run %s > "
+		      "%s/%s/out.txt 2>&1",
+		      cli_evo, cli_tmp, name, task, cli_tmp, name, extra,
+		      cli_tmp, name);
+}
+
+/* Column `col` (0-based) of each row of log.csv after its header. */
+static int column(const char *log, int col, double *v, int cap)
+{
+	const char *p = strchr(log, '\n');
+	int n = 0;
+	while (p && p[1] && n < cap) {
+		p++;
+		const char *f = p;
+		for (int k = 0; k < col && f; k++) {
+			f = strchr(f, ',');
+			f = f ? f + 1 : NULL;
+		}
+		if (!f)
+			return -1;
+		v[n++] = strtod(f, NULL);
+		p = strchr(p, '\n');
+	}
+	return n;
+}
+
+TEST(annecs_rises_and_the_seed_maze_is_three_cells)
+{
+	make_mind("a");
+	CHECK_EQ_INT(run("a", "OpenMaze", "--threads 2"), 0);
+	char *log = cli_read("%s/a/run/log.csv", cli_tmp);
+	CHECK(log && strstr(log, ",metric:annecs,metric:largest,"));
+	double annecs[16], largest[16];
+	CHECK_EQ_INT(column(log ? log : "", 9, annecs, 16), 8);
+	CHECK_EQ_INT(column(log ? log : "", 10, largest, 16), 8);
+	CHECK(annecs[0] == 1 && largest[0] == 3);
+	for (int i = 1; i < 8; i++)
+		CHECK(annecs[i] >= annecs[i - 1] && largest[i] >= largest[i - 1]);
+	CHECK(annecs[7] > annecs[0]);
+	free(log);
+	char *envs = cli_read("%s/a/run/envs.csv", cli_tmp);
+	CHECK(envs && strstr(envs, "1,0,3,\"{h=2,w=3,walls={},}\""));
+	free(envs);
+}
+
+/* The champion is the agent that solved the largest admitted maze when it
+ * was admitted: replayed alone on that maze (a DEMOSIM task whose
+ * environment is GEN_Maze with that maze as its seed), it solves it. */
+TEST(the_largest_maze_is_solved_by_its_solver)
+{
+	char genome[4096] = "";
+	CHECK_EQ_INT(cli_capture(genome, sizeof genome,
+				 "sort -t, -k3,3g -s %s/a/run/envs.csv | "
+				 "awk -F'\"' 'END { print $2 }'",
+				 cli_tmp),
+		     0);
+	genome[strcspn(genome, "\n")] = 0;
+	CHECK(genome[0] == '{');
+	char env[8192];
+	snprintf(env, sizeof env,
+		 "local openended = require 'lib.openended'\n"
+		 "local gen = {}\n"
+		 "for k, v in pairs(require('envs.GEN_Maze').generator) do "
+		 "gen[k] = v end\n"
+		 "gen.seed = function() return openended.decode('%s') end\n"
+		 "return openended.env(gen)\n",
+		 genome);
+	CHECK_EQ_INT(cli_write(env, "%s/a/OpenMaze/Envs/Fixed.lua", cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_write("TYPE:DEMOSIM\nBOTMODEL:MazeBot\nBOTNAME:Maze\n"
+			       "MASTERSKILL:Maze\nENV:Fixed\n",
+			       "%s/a/OpenMaze/Tasks/Fixed.simbatch", cli_tmp),
+		     0);
+	char out[4096] = "";
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run %s/a/OpenMaze/Tasks/Fixed.simbatch "
+				 "--headless --net Maze=%s/a/run/champion.net 2>&1",
+				 cli_evo, cli_tmp, cli_tmp),
+		     0);
+	CHECK_CONTAINS(out, "solved");
+}
+
+TEST(one_thread_and_two_give_the_same_log)
+{
+	make_mind("b");
+	CHECK_EQ_INT(run("b", "OpenMaze", "--threads 1"), 0);
+	char a[1024], b[1024];
+	snprintf(a, sizeof a, "%s/a/run", cli_tmp);
+	snprintf(b, sizeof b, "%s/b/run", cli_tmp);
+	char *la = cli_fitness_log(a), *lb = cli_fitness_log(b);
+	CHECK(la && lb && strcmp(la, lb) == 0);
+	free(la);
+	free(lb);
+}
+
+TEST(a_killed_and_resumed_run_gives_the_same_log)
+{
+	make_mind("k");
+	char cmd[2048], out[1024];
+	snprintf(out, sizeof out, "%s/k/out.txt", cli_tmp);
+	snprintf(cmd, sizeof cmd,
+		 "exec %s run %s/k/OpenMaze/Tasks/OpenMaze.simbatch --seed 3 "
+		 "--generations 8 --no-save --threads 2 --run %s/k/run > %s "
+		 "2>&1",
+		 cli_evo, cli_tmp, cli_tmp, out);
+	int st;
+	double s;
+	CHECK_EQ_INT(cli_stop(cmd, out, "gen 3/8", 0.0, SIGKILL, &st, &s), 0);
+	CHECK(WIFSIGNALED(st) && WTERMSIG(st) == SIGKILL);
+	CHECK_EQ_INT(run("k", "OpenMaze", "--threads 1 --resume"), 0);
+	char *o = cli_read("%s/k/out.txt", cli_tmp);
+	CHECK(o && strstr(o, "resuming after batch"));
+	free(o);
+	char a[1024], k[1024];
+	snprintf(a, sizeof a, "%s/a/run", cli_tmp);
+	snprintf(k, sizeof k, "%s/k/run", cli_tmp);
+	char *la = cli_fitness_log(a), *lk = cli_fitness_log(k);
+	CHECK(la && lk && strcmp(la, lk) == 0);
+	free(la);
+	free(lk);
+}
+
+/* A generator of the user's own in Envs/, whose mutate raises: the run
+ * stops with the generator's file:line. */
+TEST(a_generator_error_is_reported_at_its_line)
+{
+	make_mind("e");
+	CHECK_EQ_INT(cli_sh("sed 's/^function gen.mutate(g, rng)$/&\\n"
+			    "\\terror(\"broken mutate\")/' "
+			    "lua/envs/GEN_Maze.lua > %s/e/OpenMaze/Envs/Bad.lua",
+			    cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_sh("sed 's/^ENV:GEN_Maze$/ENV:Bad/' "
+			    "%s/e/OpenMaze/Tasks/OpenMaze.simbatch > "
+			    "%s/e/OpenMaze/Tasks/Bad.simbatch",
+			    cli_tmp, cli_tmp),
+		     0);
+	char line[64] = "";
+	CHECK_EQ_INT(cli_capture(line, sizeof line,
+				 "grep -n 'broken mutate' %s/e/OpenMaze/Envs/Bad.lua "
+				 "| cut -d: -f1",
+				 cli_tmp),
+		     0);
+	line[strcspn(line, "\n")] = 0;
+	CHECK(atoi(line) > 1);
+	CHECK(run("e", "Bad", "--threads 1") != 0);
+	char *o = cli_read("%s/e/out.txt", cli_tmp);
+	char want[128];
+	snprintf(want, sizeof want, "Envs/Bad.lua:%s: broken mutate", line);
+	CHECK(o && strstr(o, want));
+	if (o && !strstr(o, want))
+		fputs(o, stdout);
+	free(o);
+}
+
+int main(void)
+{
+	if (cli_setup("openended"))
+		return 1;
+	RUN(annecs_rises_and_the_seed_maze_is_three_cells);
+	RUN(the_largest_maze_is_solved_by_its_solver);
+	RUN(one_thread_and_two_give_the_same_log);
+	RUN(a_killed_and_resumed_run_gives_the_same_log);
+	RUN(a_generator_error_is_reported_at_its_line);
+	cli_cleanup();
+	return test_summary();
+}
