@@ -29,35 +29,9 @@ local openended = require "lib.openended"
 local task = host.task
 local function where(key) return common.where(host.task_path, host.task_lines, key) end
 
--- The method's own keys, with their defaults and ranges.
-local KEYS = {
-	OPEN_ENVS = { 20, 1, 10000 }, OPEN_AGENTS = { 20, 1, 10000 },
-	OPEN_ENV_BATCH = { 4, 1, 1000 }, OPEN_AGENT_BATCH = { 8, 1, 1000 },
-	OPEN_RESOURCE = { 5, 1, 1000000 }, OPEN_BOOTSTRAP = { 20, 1, 10000 },
-}
-for k in pairs(task) do
-	if type(k) == "string" and k:sub(1, 5) == "OPEN_" and not KEYS[k] then
-		local names = {}
-		for name in pairs(KEYS) do names[#names + 1] = name end
-		table.sort(names)
-		error(string.format("%s: unknown key %s (OPENENDED takes %s)", where(k), k,
-			table.concat(names, ", ")), 0)
-	end
-end
-local function option(key)
-	local d = KEYS[key]
-	local v = task[key]
-	if v == nil then return d[1] end
-	local n = math.tointeger(tonumber(v))
-	if not n or n < d[2] or n > d[3] then
-		error(string.format("%s: %s must be a whole number from %d to %d, found '%s'",
-			where(key), key, d[2], d[3], tostring(v)), 0)
-	end
-	return n
-end
-local ENVS, AGENTS = option("OPEN_ENVS"), option("OPEN_AGENTS")
-local ENV_BATCH, AGENT_BATCH = option("OPEN_ENV_BATCH"), option("OPEN_AGENT_BATCH")
-local RESOURCE, BOOTSTRAP = option("OPEN_RESOURCE"), option("OPEN_BOOTSTRAP")
+local O = require("learn.openended_options")(task, host.task_path, host.task_lines)
+local ENVS, AGENTS, ENV_BATCH = O.OPEN_ENVS, O.OPEN_AGENTS, O.OPEN_ENV_BATCH
+local AGENT_BATCH, RESOURCE, BOOTSTRAP = O.OPEN_AGENT_BATCH, O.OPEN_RESOURCE, O.OPEN_BOOTSTRAP
 local batches = host.generations or tonumber(task.NUMGEN or "50")
 local options = common.task_options(neat, task, host.task_path, host.task_lines)
 

@@ -1246,8 +1246,10 @@ static int continuous_order(const char *task_path, const evo_task *t,
  * method's options as the loop reads them (common.task_options), each
  * within its range (the module's `ranges`); warnings only when loud. */
 static const char CHECK_OPTIONS[] =
-    "local method, task, path, lines, quiet = ...\n"
+    "local method, task, path, lines, quiet, openended = ...\n"
     "local common = require 'learn.common'\n"
+    "if openended then require('learn.openended_options')(task, path, "
+    "lines) end\n"
     "common.task_options(require(common.MODULES[method]), task, path, "
     "lines, quiet)\n";
 
@@ -1267,7 +1269,8 @@ static int check_options(lua_State *L)
 	lua_pushstring(L, task_path);
 	lua_insert(L, -2); /* method, task, path, lines */
 	lua_pushboolean(L, quiet);
-	lua_call(L, 5, 0);
+	lua_pushboolean(L, strcmp(task->type, "OPENENDED") == 0);
+	lua_call(L, 6, 0);
 	return 0;
 }
 
@@ -1535,7 +1538,9 @@ int evo_learn_run(const char *task_path, evo_task *task,
 		       l.run_dir);
 	} else
 		printf("%s: %s of skill %s, seed %llu, %s, run folder %s\n",
-		       task_path, evo_simbatch_get(task->sb, "LEARNINGMETHOD"),
+		       task_path,
+		       l.openended ? "OPENENDED (NEAT agents)"
+				   : evo_simbatch_get(task->sb, "LEARNINGMETHOD"),
 		       l.skill, (unsigned long long)o->seed, where, l.run_dir);
 	fflush(stdout);
 	evo_run_record was = {0};
