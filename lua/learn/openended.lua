@@ -29,9 +29,9 @@ local openended = require "lib.openended"
 local task = host.task
 local function where(key) return common.where(host.task_path, host.task_lines, key) end
 
-local O = require("learn.openended_options")(task, host.task_path, host.task_lines)
-local ENVS, AGENTS, ENV_BATCH = O.OPEN_ENVS, O.OPEN_AGENTS, O.OPEN_ENV_BATCH
-local AGENT_BATCH, RESOURCE, BOOTSTRAP = O.OPEN_AGENT_BATCH, O.OPEN_RESOURCE, O.OPEN_BOOTSTRAP
+local O = require("learn.openended_options").check(task, host.task_path, host.task_lines)
+local ENVS, AGENTS, ENV_BATCH = O.envs, O.agents, O.env_batch
+local AGENT_BATCH, RESOURCE, BOOTSTRAP = O.agent_batch, O.resource, O.bootstrap
 local batches = host.generations or tonumber(task.NUMGEN or "50")
 local options = common.task_options(neat, task, host.task_path, host.task_lines)
 

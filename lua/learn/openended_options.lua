@@ -1,48 +1,65 @@
--- OPENENDED's own keys (docs/openended.md): their defaults and ranges, and
--- their check, which `evo check` and the loop (lua/learn/openended.lua)
--- both run: an unknown OPEN_ key, a value out of range or a LEARNINGMETHOD
--- other than NEAT stops at its line in the task file.
+-- OPENENDED's own keys (docs/openended.md, "OPENENDED's parameters"):
+-- their options, defaults and ranges in the shape of a learning method's
+-- (task_keys, defaults, ranges, options_from_task), so docs and code are
+-- checked against each other as the methods' are; and check, which `evo
+-- check` and the loop (lua/learn/openended.lua) both run: an unknown
+-- OPEN_ key, a value out of range or a LEARNINGMETHOD other than NEAT
+-- stops at its line in the task file.
 local common = require "learn.common"
 
-local KEYS = {
-	OPEN_ENVS = { 20, 1, 10000 }, OPEN_AGENTS = { 20, 1, 10000 },
-	OPEN_ENV_BATCH = { 4, 1, 1000 }, OPEN_AGENT_BATCH = { 8, 1, 1000 },
-	OPEN_RESOURCE = { 5, 1, 1000000 }, OPEN_BOOTSTRAP = { 20, 1, 10000 },
+local M = {}
+
+M.defaults = {
+	envs = 20,        -- environments kept
+	agents = 20,      -- agents kept
+	env_batch = 4,    -- new environments tried per batch
+	agent_batch = 8,  -- new agents tried per batch
+	resource = 5,     -- agents an environment may admit
+	bootstrap = 20,   -- rounds of the bootstrap at most
 }
 
--- The task's OPEN_ options, each its value or its default, by key.
-return function(task, path, lines)
-	local function where(key) return common.where(path, lines, key) end
-	local keys = {}
-	for k in pairs(task) do
-		if type(k) == "string" then keys[#keys + 1] = k end
+M.task_keys = {
+	OPEN_ENVS = "envs", OPEN_AGENTS = "agents", OPEN_ENV_BATCH = "env_batch",
+	OPEN_AGENT_BATCH = "agent_batch", OPEN_RESOURCE = "resource",
+	OPEN_BOOTSTRAP = "bootstrap",
+}
+
+local SOME = { lo = 1, hi = 10000, int = true }
+M.ranges = {
+	envs = SOME, agents = SOME, bootstrap = SOME,
+	env_batch = { lo = 1, hi = 1000, int = true },
+	agent_batch = { lo = 1, hi = 1000, int = true },
+	resource = common.COUNT,
+}
+
+function M.options_from_task(task)
+	return common.options_from(task, "OPEN_", M.task_keys, M.defaults, nil, M.ranges)
+end
+
+-- The task's options (by option name, defaults filled in), or an error at
+-- the line of the key at fault.
+function M.check(task, path, lines)
+	local ok, o, unknown = pcall(M.options_from_task, task)
+	if not ok then
+		local key = tostring(o):match("^([%w_]+): ")
+		error(common.where(path, lines, key) .. ": " .. tostring(o), 0)
 	end
-	table.sort(keys)
-	for _, k in ipairs(keys) do
-		if k:sub(1, 5) == "OPEN_" and not KEYS[k] then
-			local names = {}
-			for name in pairs(KEYS) do names[#names + 1] = name end
-			table.sort(names)
-			error(string.format("%s: unknown key %s (OPENENDED takes %s)", where(k), k,
-				table.concat(names, ", ")), 0)
-		end
+	if unknown[1] then
+		local names = {}
+		for name in pairs(M.task_keys) do names[#names + 1] = name end
+		table.sort(names)
+		error(string.format("%s: unknown key %s (OPENENDED takes %s)",
+			common.where(path, lines, unknown[1]), unknown[1], table.concat(names, ", ")), 0)
 	end
 	if task.LEARNINGMETHOD and task.LEARNINGMETHOD:upper() ~= "NEAT" then
 		error(string.format("%s: OPENENDED's agents are NEAT genomes: LEARNINGMETHOD must be "
-			.. "NEAT or left out, found %s", where("LEARNINGMETHOD"), task.LEARNINGMETHOD), 0)
+			.. "NEAT or left out, found %s", common.where(path, lines, "LEARNINGMETHOD"),
+			task.LEARNINGMETHOD), 0)
 	end
-	local o, names = {}, {}
-	for key in pairs(KEYS) do names[#names + 1] = key end
-	table.sort(names)
-	for _, key in ipairs(names) do
-		local d = KEYS[key]
-		local v = task[key]
-		local n = v == nil and d[1] or math.tointeger(tonumber(v))
-		if not n or n < d[2] or n > d[3] then
-			error(string.format("%s: %s must be a whole number from %d to %d, found '%s'",
-				where(key), key, d[2], d[3], tostring(v)), 0)
-		end
-		o[key] = n
-	end
-	return o
+	local all = {}
+	for k, v in pairs(M.defaults) do all[k] = v end
+	for k, v in pairs(o) do all[k] = v end
+	return all
 end
+
+return M

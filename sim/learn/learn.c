@@ -1248,8 +1248,8 @@ static int continuous_order(const char *task_path, const evo_task *t,
 static const char CHECK_OPTIONS[] =
     "local method, task, path, lines, quiet, openended = ...\n"
     "local common = require 'learn.common'\n"
-    "if openended then require('learn.openended_options')(task, path, "
-    "lines) end\n"
+    "if openended then require('learn.openended_options').check(task, "
+    "path, lines) end\n"
     "common.task_options(require(common.MODULES[method]), task, path, "
     "lines, quiet)\n";
 
