@@ -32,6 +32,7 @@ local function where(key) return common.where(host.task_path, host.task_lines, k
 local O = require("learn.openended_options").check(task, host.task_path, host.task_lines)
 local ENVS, AGENTS, ENV_BATCH = O.envs, O.agents, O.env_batch
 local AGENT_BATCH, RESOURCE, BOOTSTRAP = O.agent_batch, O.resource, O.bootstrap
+local RETENTION = O.retention
 local batches = host.generations or tonumber(task.NUMGEN or "50")
 local options = common.task_options(neat, task, host.task_path, host.task_lines)
 
@@ -110,6 +111,9 @@ local function admit_env(genome, text, b, solver_genome)
 	-- every admitted environment, with the agent that solved it then
 	S.admitted[#S.admitted + 1] = { id = S.next_id, batch = b, size = size, text = text,
 		solver = neat.copy_genome(solver_genome) }
+	host.save(string.format("solvers/env-%04d.net", S.next_id), neat.to_net_text(
+		neat.to_net(solver_genome), string.format("solved environment %d (size %.17g) when "
+			.. "batch %d admitted it", S.next_id, size, b)))
 	while #S.envs > ENVS do table.remove(S.envs, 1) end
 end
 
@@ -213,6 +217,33 @@ local function envs_csv()
 	return table.concat(out)
 end
 
+-- Retention: is every environment admitted so far still solved by some
+-- agent kept? Each is tried on all of them; the environments none solves
+-- are lost, and said so, never hidden (retention.csv and a line of the
+-- run's output).
+local function retention(b)
+	local genomes, lost = agent_genomes(), {}
+	for _, a in ipairs(S.admitted) do
+		local solved = solvers(a.text, genomes, b)
+		local kept = false
+		for i = 1, #genomes do kept = kept or solved[i] end
+		if not kept then lost[#lost + 1] = a.id end
+	end
+	S.retention = S.retention or {}
+	S.retention[#S.retention + 1] = { batch = b, admitted = #S.admitted, lost = lost }
+	local out = { "batch,admitted,retained,lost\n" }
+	for _, r in ipairs(S.retention) do
+		out[#out + 1] = string.format("%d,%d,%d,%s\n", r.batch, r.admitted,
+			r.admitted - #r.lost, table.concat(r.lost, " "))
+	end
+	host.save("retention.csv", table.concat(out))
+	if #lost > 0 then
+		host.print(string.format("retention after batch %d: %d of the %d environments admitted "
+			.. "are no longer solved by any agent kept (%s; retention.csv)", b, #lost,
+			#S.admitted, table.concat(lost, ", ")))
+	end
+end
+
 host.open_log(S.batch + 1, { "annecs", "largest", "envs", "agents" })
 for b = S.batch + 1, batches - 1 do
 	local seconds, evaluations, new_envs
@@ -230,6 +261,7 @@ for b = S.batch + 1, batches - 1 do
 		seconds = seconds, metrics = { S.annecs, S.largest, #S.envs, #S.agents },
 		note = string.format("ANNECS %d  largest %g  envs %d  agents %d", S.annecs, S.largest,
 			#S.envs, #S.agents) }
+	if (RETENTION > 0 and (b + 1) % RETENTION == 0) or b == batches - 1 then retention(b) end
 	S.pop = neat.save(pop, true)
 	host.save("envs.csv", envs_csv())
 	host.save("checkpoint.lua", serialize.dump(S))

@@ -16,12 +16,13 @@ M.defaults = {
 	agent_batch = 8,  -- new agents tried per batch
 	resource = 5,     -- agents an environment may admit
 	bootstrap = 20,   -- rounds of the bootstrap at most
+	retention = 10,   -- batches between retention checks (0: at the end only)
 }
 
 M.task_keys = {
 	OPEN_ENVS = "envs", OPEN_AGENTS = "agents", OPEN_ENV_BATCH = "env_batch",
 	OPEN_AGENT_BATCH = "agent_batch", OPEN_RESOURCE = "resource",
-	OPEN_BOOTSTRAP = "bootstrap",
+	OPEN_BOOTSTRAP = "bootstrap", OPEN_RETENTION = "retention",
 }
 
 local SOME = { lo = 1, hi = 10000, int = true }
@@ -30,6 +31,7 @@ M.ranges = {
 	env_batch = { lo = 1, hi = 1000, int = true },
 	agent_batch = { lo = 1, hi = 1000, int = true },
 	resource = common.COUNT,
+	retention = { lo = 0, hi = 1000000, int = true },
 }
 
 function M.options_from_task(task)

@@ -573,6 +573,12 @@ static int l_save(lua_State *L)
 			 name);
 		if (evo_folder_check_links(l->run_dir, folder, &err))
 			return raise_msg(L, err.msg);
+		/* a folder of its own (OPENENDED's solvers/), made once */
+		char path[1200];
+		if (evo_path_fmt(path, sizeof path, &err, "%s/%s", l->run_dir,
+				 folder))
+			return raise_msg(L, err.msg);
+		mkdir(path, 0755);
 	}
 	if (evo_runlog_save(&l->log, name, text, len, &err))
 		return raise_msg(L, err.msg);
