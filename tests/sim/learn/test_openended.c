@@ -4,7 +4,7 @@
  * maze's solution path is 3 cells (by hand: two steps along x, one along
  * y in a 3 x 2 grid); every admitted maze is solved by the agent that
  * solved it when admitted (replayed by evo run), and retention.csv counts
- * them all; one thread and two
+ * them all, and `evo run --env N` shows one with its solver; one thread and two
  * give the same log; a run killed with SIGKILL and resumed gives the same
  * log; a generator's error is reported at its file:line. */
 #define _POSIX_C_SOURCE 200809L
@@ -153,6 +153,36 @@ TEST(every_admitted_maze_is_solved_by_its_solver)
 	free(ret);
 }
 
+/* evo run TASK --env N shows admitted environment N with its solver: the
+ * largest one is solved there as in the replay above; a number the run
+ * did not admit is refused with envs.csv's path. */
+TEST(evo_run_env_shows_an_admitted_maze_with_its_solver)
+{
+	char id[32] = "";
+	CHECK_EQ_INT(cli_capture(id, sizeof id,
+				 "sort -t, -k3,3g -s %s/a/run/envs.csv | "
+				 "tail -1 | cut -d, -f1",
+				 cli_tmp),
+		     0);
+	id[strcspn(id, "\n")] = 0;
+	char out[4096] = "";
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run %s/a/OpenMaze/Tasks/OpenMaze.simbatch "
+				 "--run %s/a/run --env %s --headless 2>&1",
+				 cli_evo, cli_tmp, cli_tmp, id),
+		     0);
+	char want[64];
+	snprintf(want, sizeof want, "with solvers/env-%04d.net", atoi(id));
+	CHECK_CONTAINS(out, want);
+	CHECK_CONTAINS(out, ", solved");
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run %s/a/OpenMaze/Tasks/OpenMaze.simbatch "
+				 "--run %s/a/run --env 9999 --headless 2>&1",
+				 cli_evo, cli_tmp, cli_tmp),
+		     1);
+	CHECK_CONTAINS(out, "envs.csv: no environment 9999");
+}
+
 TEST(one_thread_and_two_give_the_same_log)
 {
 	make_mind("b");
@@ -232,6 +262,7 @@ int main(void)
 		return 1;
 	RUN(annecs_rises_and_the_seed_maze_is_three_cells);
 	RUN(every_admitted_maze_is_solved_by_its_solver);
+	RUN(evo_run_env_shows_an_admitted_maze_with_its_solver);
 	RUN(one_thread_and_two_give_the_same_log);
 	RUN(a_killed_and_resumed_run_gives_the_same_log);
 	RUN(a_generator_error_is_reported_at_its_line);
