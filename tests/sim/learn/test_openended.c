@@ -20,8 +20,10 @@
 static void make_mind(const char *name)
 {
 	CHECK_EQ_INT(cli_sh("mkdir -p %s/%s && cp -r minds/OpenMaze %s/%s/ && "
-			    "rm -rf %s/%s/OpenMaze/Runs",
-			    cli_tmp, name, cli_tmp, name, cli_tmp, name),
+			    "rm -rf %s/%s/OpenMaze/Runs && "
+			    "mkdir -p %s/%s/OpenMaze/Envs",
+			    cli_tmp, name, cli_tmp, name, cli_tmp, name, cli_tmp,
+			    name),
 		     0);
 }
 
