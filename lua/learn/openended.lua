@@ -37,10 +37,60 @@ local batches = host.generations or tonumber(task.NUMGEN or "50")
 local options = common.task_options(neat, task, host.task_path, host.task_lines)
 
 -- The generator, loaded as the workers load it (its errors name its
--- file:line); it must return lib.openended's env(gen).
+-- file:line); it must return lib.openended's env(gen). A generator may
+-- come from a mind folder someone sent, and this state has Lua's whole
+-- library: it runs in a sandbox of the scene scripts' kind (docs/lua.md,
+-- "What a script may use"), with the base library's safe part, string,
+-- table, math without its generator, utf8, os.clock, load of text, and a
+-- require that finds modules in the mind folder, then in lua/, in the
+-- same sandbox.
+local function sandbox()
+	local env, loaded = {}, {}
+	for _, k in ipairs{ "assert", "error", "ipairs", "next", "pairs", "pcall", "print", "rawequal",
+		"rawget", "rawlen", "rawset", "select", "tonumber", "tostring", "type", "xpcall",
+		"getmetatable", "setmetatable" } do
+		env[k] = _G[k]
+	end
+	for _, lib in ipairs{ "string", "table", "math", "utf8", "coroutine" } do
+		local t = {}
+		for k, v in pairs(_G[lib]) do t[k] = v end
+		env[lib] = t
+	end
+	env.math.random, env.math.randomseed = nil, nil -- the loop's draws are learn.rng's
+	env.string.dump = nil
+	env.os = { clock = os.clock }
+	env._G = env
+	env.package = { loaded = loaded }
+	function env.load(chunk, name, _, e)
+		if type(chunk) ~= "string" then error("load takes source text only", 2) end
+		return load(chunk, name, "t", e or env)
+	end
+	function env.require(name)
+		if loaded[name] ~= nil then return loaded[name] end
+		if type(name) ~= "string" or not name:match("^[%w_%-]+$") and not name:match("^[%w_%-][%w_%-%.]*[%w_%-]$")
+			or name:find("..", 1, true) then
+			error("require '" .. tostring(name) .. "': not a module name", 2)
+		end
+		local file = name:gsub("%.", "/") .. ".lua"
+		for _, dir in ipairs{ host.mind_dir, host.lua_dir } do
+			local f = io.open(dir .. "/" .. file, "r")
+			if f then
+				f:close()
+				local chunk, err = loadfile(dir .. "/" .. file, "t", env)
+				if not chunk then error(err, 0) end
+				local v = chunk(name)
+				loaded[name] = v == nil and true or v
+				return loaded[name]
+			end
+		end
+		error(string.format("require '%s': no %s in %s or %s", name, file, host.mind_dir,
+			host.lua_dir), 2)
+	end
+	return env
+end
 local env_path = host.env_path or error(host.task_path .. ": OPENENDED needs ENV, "
 	.. "an environment generator (docs/openended.md)", 0)
-local chunk, load_err = loadfile(env_path, "t")
+local chunk, load_err = loadfile(env_path, "t", sandbox())
 if not chunk then error(load_err, 0) end
 local ok, env = pcall(chunk)
 if not ok then error(tostring(env), 0) end

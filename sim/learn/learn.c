@@ -1089,12 +1089,17 @@ static int open_module(lua_State *L)
 	lua_setfield(L, -2, "run_dir");
 	lua_pushinteger(L, evo_evaluator_reps(l->ev));
 	lua_setfield(L, -2, "reps");
-	/* the environment script's path (OPENENDED loads its generator) */
+	/* the environment script's path, and where its require looks
+	 * (OPENENDED loads its generator, in a sandbox of its own) */
 	const char *env_path = evo_evaluator_env_path(l->ev);
 	if (env_path) {
 		lua_pushstring(L, env_path);
 		lua_setfield(L, -2, "env_path");
 	}
+	lua_pushstring(L, l->task->mind->root);
+	lua_setfield(L, -2, "mind_dir");
+	lua_pushstring(L, evo_lua_dir());
+	lua_setfield(L, -2, "lua_dir");
 	lua_pushinteger(L, (lua_Integer)evo_evaluator_ticks(l->ev));
 	lua_setfield(L, -2, "ticks");
 	/* the environment's metrics, in the order of evaluate's lists */

@@ -6,7 +6,8 @@
  * solved it when admitted (replayed by evo run), and retention.csv counts
  * them all, and `evo run --env N` shows one with its solver; one thread and two
  * give the same log; a run killed with SIGKILL and resumed gives the same
- * log; a generator's error is reported at its file:line. */
+ * log; a generator's error is reported at its file:line, and in the
+ * loop it runs in a sandbox. */
 #define _POSIX_C_SOURCE 200809L
 #include <signal.h>
 #include <stdio.h>
@@ -258,6 +259,38 @@ TEST(a_generator_error_is_reported_at_its_line)
 	free(o);
 }
 
+/* The loop runs a generator in a sandbox, as the workers do: a mutate
+ * that opens a file stops at its line, io being absent there. */
+TEST(a_generator_cannot_reach_files_from_the_loop)
+{
+	make_mind("s");
+	CHECK_EQ_INT(cli_sh("sed 's/^function gen.mutate(g, rng)$/&\\n"
+			    "\\tio.open(\"\\/etc\\/hostname\")/' "
+			    "lua/envs/GEN_Maze.lua > %s/s/OpenMaze/Envs/Leak.lua && "
+			    "sed 's/^ENV:GEN_Maze$/ENV:Leak/' "
+			    "%s/s/OpenMaze/Tasks/OpenMaze.simbatch > "
+			    "%s/s/OpenMaze/Tasks/Leak.simbatch",
+			    cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	char line[64] = "";
+	CHECK_EQ_INT(cli_capture(line, sizeof line,
+				 "grep -n 'io.open' %s/s/OpenMaze/Envs/Leak.lua "
+				 "| cut -d: -f1",
+				 cli_tmp),
+		     0);
+	line[strcspn(line, "\n")] = 0;
+	CHECK(atoi(line) > 1);
+	CHECK(run("s", "Leak", "--threads 1") != 0);
+	char *o = cli_read("%s/s/out.txt", cli_tmp);
+	char want[128];
+	snprintf(want, sizeof want, "Envs/Leak.lua:%s: attempt to index a nil "
+		 "value (global 'io')", line);
+	CHECK(o && strstr(o, want));
+	if (o && !strstr(o, want))
+		fputs(o, stdout);
+	free(o);
+}
+
 int main(void)
 {
 	if (cli_setup("openended"))
@@ -268,6 +301,7 @@ int main(void)
 	RUN(one_thread_and_two_give_the_same_log);
 	RUN(a_killed_and_resumed_run_gives_the_same_log);
 	RUN(a_generator_error_is_reported_at_its_line);
+	RUN(a_generator_cannot_reach_files_from_the_loop);
 	cli_cleanup();
 	return test_summary();
 }
