@@ -1,7 +1,7 @@
 /* .simbatch: a task (tutorial chapter 4). KEY:VALUE pairs in any order;
  * keys evo does not know are skipped with a warning, as the tutorial asks
  * superfluous parameters to be ignored. Keys of a learning method
- * (NEAT_*, GA_*, SA_*, CMAES_*, NOVELTY_*, MAPELITES_*) are all kept: the
+ * (NEAT_*, GA_*, SA_*, CMAES_*, NOVELTY_*, MAPELITES_*, OPEN_*) are all kept: the
  * method itself knows its settings and warns about the ones it does not
  * (docs/learning.md). */
 #include "evo/formats.h"
@@ -105,7 +105,7 @@ static int repeatable(const char *key)
 
 /* The prefixes of the learning methods' own keys. */
 static const char *const method_prefixes[] = {
-    "NEAT_", "GA_", "SA_", "CMAES_", "NOVELTY_", "MAPELITES_", NULL};
+    "NEAT_", "GA_", "SA_", "CMAES_", "NOVELTY_", "MAPELITES_", "OPEN_", NULL};
 
 /* 1 when key starts with a method's prefix and has a name after it. */
 static int method_key(evo_txt_slice key)

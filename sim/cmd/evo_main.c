@@ -292,7 +292,8 @@ static int check_task(const char *path, evo_task *task, evo_err *err)
 		    "DEMOREMOTESIM, "
 		    "LEARNREMOTESIM and DEMOREMOTE)",
 		    path, task->type);
-	if (strncmp(task->type, "LEARN", 5) == 0 &&
+	if ((strncmp(task->type, "LEARN", 5) == 0 ||
+	     strcmp(task->type, "OPENENDED") == 0) &&
 	    evo_learn_check(path, task, err) != 0)
 		return -1;
 	if (evo_robot_task_check(task->sb, task->type, path, err))

@@ -48,6 +48,9 @@ typedef struct run_opts {
 	const char *trace;
 	const char *screenshot; /* viewer: save a PNG after `ticks` ticks */
 	int trail;		/* viewer: draw the bot's path (--trail) */
+	long env;		/* OPENENDED: show admitted environment N
+				 * (--env N), 0: none */
+	char env_net[1200];	/* its solver's .net (a --net SOURCE) */
 	const char *record;	/* frames of the run: a folder or a video */
 	long record_every;	/* a frame every N ticks (0: not given) */
 	int camera; /* 0 not given (the scene), 1 the scene, 2 a point, 3
@@ -74,7 +77,8 @@ static void unexpected(const char *a)
 	    "--ticks",	  "--trace",	"--screenshot",	   "--trail",
 	    "--record",	  "--record-every", "--camera",	   "--zoom",
 	    "--net",	  "--can",	"--threads",	   "--generations",
-	    "--run",	  "--resume",	"--no-save",	   "--help"};
+	    "--run",	  "--resume",	"--no-save",	   "--env",
+	    "--help"};
 	unsigned dist;
 	const char *near = evo_closest_name(
 	    a, opts, sizeof opts / sizeof opts[0], &dist);
@@ -147,7 +151,11 @@ void evo_run_usage(FILE *f)
 	      "                     network it replaces is kept there as\n"
 	      "                     replaced-SKILL.net)\n"
 	      "  under `mpirun -np N evo run ...` rank 0 learns and every\n"
-	      "  rank evaluates (docs/cluster.md)\n",
+	      "  rank evaluates (docs/cluster.md)\n"
+	      "OPENENDED (docs/openended.md):\n"
+	      "  --env N            show admitted environment N of the run\n"
+	      "                     folder (--run DIR, or the default one)\n"
+	      "                     with the agent that solved it then\n",
 	      f);
 }
 
@@ -291,6 +299,10 @@ static int parse_args(int argc, char **argv, run_opts *o)
 			o->resume = 1;
 		} else if (strcmp(a, "--no-save") == 0) {
 			o->no_save = 1;
+		} else if (strcmp(a, "--env") == 0) {
+			if (parse_count(a, v, LONG_MAX, &o->env))
+				return -1;
+			i++;
 		} else if (strcmp(a, "--net") == 0) {
 			if (parse_net(v, o))
 				return -1;
@@ -356,7 +368,8 @@ int evo_run_supports(const char *type)
 	       strcmp(type, "LEARN2DSIMMULTI") == 0 ||
 	       strcmp(type, "DEMOREMOTESIM") == 0 ||
 	       strcmp(type, "LEARNREMOTESIM") == 0 ||
-	       strcmp(type, "DEMOREMOTE") == 0;
+	       strcmp(type, "DEMOREMOTE") == 0 ||
+	       strcmp(type, "OPENENDED") == 0;
 }
 
 /* The seeds of episode e: the grid's and the rest's, from (seed, e). */
@@ -1489,6 +1502,63 @@ static int learn_on_cluster(const char *task_path, evo_task *task,
 	return rc;
 }
 
+/* --env N of an OPENENDED task: environment N of the run folder's
+ * envs.csv, its genome into genome (the text scene:genome() gives), and
+ * the agent that solved it when it was admitted (solvers/env-NNNN.net) as
+ * a --net choice for LEARNINGSKILL. 0, or -1 with err. */
+static int env_choice(const char *task_path, const evo_task *task,
+		      run_opts *o, char *genome, size_t cap, evo_err *err)
+{
+	evo_learn_opts lo = {.seed = task->seed, .run_dir = o->run_dir};
+	char dir[1024], path[1200];
+	if (evo_learn_run_dir(task_path, task, &lo, dir, sizeof dir, err) ||
+	    evo_path_fmt(path, sizeof path, err, "%s/envs.csv", dir))
+		return -1;
+	char *text;
+	size_t len;
+	if (evo_read_file(path, &text, &len, err))
+		return -1;
+	char head[32];
+	int hn = snprintf(head, sizeof head, "\n%ld,", o->env);
+	const char *row = strstr(text, head);
+	const char *q = row ? strchr(row + hn, '"') : NULL;
+	const char *nl = q ? strchr(q, '\n') : NULL;
+	const char *end = q ? (nl ? nl : text + len) : NULL;
+	while (end && end > q && end[-1] != '"')
+		end--;
+	if (!row || !q || end <= q + 1) {
+		free(text);
+		return evo_fail(err,
+				"%s: no environment %ld (envs.csv lists the "
+				"environments the run admitted)",
+				path, o->env);
+	}
+	size_t n = 0;
+	for (const char *c = q + 1; c < end - 1 && n + 1 < cap; c++) {
+		genome[n++] = *c;
+		if (c[0] == '"' && c[1] == '"')
+			c++; /* a quote doubled in CSV */
+	}
+	genome[n] = 0;
+	printf("environment %ld of %s, with solvers/env-%04ld.net\n", o->env,
+	       dir, o->env);
+	free(text);
+	const char *skill = evo_simbatch_get(task->sb, "LEARNINGSKILL");
+	if (!skill || o->n_nets == RUN_MAX_NETS)
+		return evo_fail(err, "%s: --env N needs LEARNINGSKILL and a "
+				     "--net of its own",
+				task_path);
+	if (evo_path_fmt(o->env_net, sizeof o->env_net, err,
+			 "%s/solvers/env-%04ld.net", dir, o->env))
+		return -1;
+	snprintf(o->net_arg[o->n_nets], sizeof o->net_arg[o->n_nets], "%s",
+		 skill);
+	o->net[o->n_nets].skill = o->net_arg[o->n_nets];
+	o->net[o->n_nets].source = o->env_net;
+	o->n_nets++;
+	return 0;
+}
+
 static int run_main(int argc, char **argv)
 {
 	run_opts o;
@@ -1518,7 +1588,30 @@ static int run_main(int argc, char **argv)
 		return 1;
 	}
 	uint64_t seed = task.seed;
-	if (o.n_nets && strncmp(task.type, "LEARN", 5) == 0) {
+	/* OPENENDED --env N: the task shown as a demo, on that environment,
+	 * with its solver: the task loaded again with the solver's net */
+	static char genome[65536];
+	genome[0] = 0;
+	if (o.env && strcmp(task.type, "OPENENDED") != 0) {
+		fprintf(stderr, "%s: --env N shows an environment an OPENENDED "
+				"run admitted; this is a %s task\n",
+			o.task, task.type);
+		evo_task_free(&task);
+		return 2;
+	}
+	if (o.env) {
+		int r = env_choice(o.task, &task, &o, genome, sizeof genome,
+				   &err);
+		evo_task_free(&task);
+		to.nets = o.net;
+		to.n_nets = o.n_nets;
+		if (r || evo_task_load_opts(o.task, &to, &task, &err)) {
+			fprintf(stderr, "%s\n", err.msg);
+			return 1;
+		}
+	}
+	if (o.n_nets && !o.env && (strncmp(task.type, "LEARN", 5) == 0 ||
+				   strcmp(task.type, "OPENENDED") == 0)) {
 		fprintf(stderr,
 			"%s: --net chooses the networks a DEMOSIM run shows; "
 			"a %s task trains over the networks in Skills/\n",
@@ -1530,7 +1623,8 @@ static int run_main(int argc, char **argv)
 	    strcmp(task.type, "LEARN3DSIM") == 0 ||
 	    strcmp(task.type, "LEARNSIMCONTINUOUS") == 0 ||
 	    strcmp(task.type, "LEARN2DSIMMULTI") == 0 ||
-	    strcmp(task.type, "LEARNREMOTESIM") == 0) {
+	    strcmp(task.type, "LEARNREMOTESIM") == 0 ||
+	    (strcmp(task.type, "OPENENDED") == 0 && !o.env)) {
 		if (o.episodes >= 0) {
 			/* it would be ignored: say so rather than run a task
 			 * other than the one asked for */
@@ -1637,6 +1731,8 @@ static int run_main(int argc, char **argv)
 	}
 	if (!robot && !(s = evo_sim_create_task(&task, o.task, &err)))
 		goto out;
+	if (s && genome[0])
+		evo_lua_set_genome(s->lua, genome);
 	if (o.record && (robot || s->scene3d)) {
 		evo_fail(&err,
 			 "%s: --record draws the 2D world; a %s task has none "

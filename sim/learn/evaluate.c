@@ -66,6 +66,7 @@ struct evo_evaluator {
 	int heterogeneous, own_fitness;
 	evo_netdesc *team_net[EVO_MAX_TEAMS];
 	unsigned long nets_version;
+	char *genome; /* evo_evaluator_set_genome's, NULL: none */
 
 	/* Everything below is guarded by mu. A batch is announced by
 	 * bumping batch_id; each worker counts itself out in `busy`, and
@@ -160,6 +161,8 @@ static int evaluate_one(worker *w, int i, evo_eval_result *res, evo_err *err)
 	*l->net[w->skill] = *ev->cand[i];
 	if (evo_mindfolder_rebuild(l, err) || evo_sim_set_mind(w->sim, l, err))
 		return -1;
+	if (w->sim->lua)
+		evo_lua_set_genome(w->sim->lua, ev->genome);
 	int c = ev->first + i; /* its index in the whole batch */
 	int all_solved = 1;
 	for (int r = 0; r < ev->reps; r++) {
@@ -354,7 +357,9 @@ static int worker_load(evo_evaluator *ev, worker *w, evo_err *err)
 	const char *learn = ev->def->learning_skill
 				? ev->def->learning_skill
 				: evo_simbatch_get(w->task.sb, "LEARNINGSKILL");
-	if (strncmp(w->task.type, "LEARN", 5) != 0 || !learn)
+	int learns = strncmp(w->task.type, "LEARN", 5) == 0 ||
+		     strcmp(w->task.type, "OPENENDED") == 0;
+	if (!learns || !learn)
 		return evo_fail(err,
 				"%s: not a learning task (TYPE %s): the "
 				"evaluator needs LEARNINGSKILL",
@@ -673,7 +678,33 @@ void evo_evaluator_destroy(evo_evaluator *ev)
 		free(ev->team_net[t]);
 	free(ev->w);
 	free(ev->task_path);
+	free(ev->genome);
 	free(ev);
+}
+
+const char *evo_evaluator_env_path(const evo_evaluator *ev)
+{
+	if (!ev->w || ev->threads < 1 || !ev->w[0].sim || !ev->w[0].sim->lua)
+		return NULL;
+	return evo_lua_env_path(ev->w[0].sim->lua);
+}
+
+int evo_evaluator_set_genome(evo_evaluator *ev, const char *genome,
+			     evo_err *err)
+{
+	char *copy = NULL;
+	if (genome) {
+		size_t n = strlen(genome) + 1;
+		copy = malloc(n);
+		if (!copy)
+			return evo_fail(err, "no memory for a genome of %zu "
+					     "bytes",
+					n);
+		memcpy(copy, genome, n);
+	}
+	free(ev->genome);
+	ev->genome = copy;
+	return 0;
 }
 
 int evo_evaluator_threads(const evo_evaluator *ev)

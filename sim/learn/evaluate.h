@@ -166,6 +166,17 @@ int evo_evaluate_part(evo_evaluator *ev, const evo_netdesc *const *candidates,
 		      int first, int n, int gen, evo_eval_result *res,
 		      evo_err *err);
 
+/* OPENENDED (docs/openended.md): every episode of the batches to come
+ * runs with genome (copied; NULL: none) as its environment genome, which
+ * the environment reads with scene:genome(). Between batches only.
+ * 0, or -1 with err set (out of memory). */
+int evo_evaluator_set_genome(evo_evaluator *ev, const char *genome,
+			     evo_err *err);
+
+/* The path of the environment script worker 0 loaded, or NULL (a
+ * literature task, remote simulators). */
+const char *evo_evaluator_env_path(const evo_evaluator *ev);
+
 /* ---- team tasks (LEARN2DSIMMULTI, docs/teams.md) ---------------------- */
 
 /* The task's teams: 0 for a one-agent task. */

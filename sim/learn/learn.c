@@ -61,6 +61,7 @@ typedef struct learn {
 	 * indices in task->mind), and the evaluator's definition of the
 	 * current turn with the networks the other skills run */
 	int continuous;
+	int openended; /* TYPE:OPENENDED: lua/learn/openended.lua */
 	int n_order;
 	int order[CONT_MAX_SKILLS];
 	evo_net_choice choice[CONT_MAX_SKILLS];
@@ -389,6 +390,17 @@ static int l_set_team_net(lua_State *L)
 	return 0;
 }
 
+/* evo.set_genome(text or nil): the environment genome every episode of
+ * the next evo.evaluate runs with (scene:genome(), OPENENDED). */
+static int l_set_genome(lua_State *L)
+{
+	const char *g = luaL_optstring(L, 1, NULL);
+	evo_err err = {{0}};
+	if (evo_evaluator_set_genome(ctx(L)->ev, g, &err))
+		return raise_msg(L, err.msg);
+	return 0;
+}
+
 /* evo.success_test(net) -> solved, generalisation: DPNV's success test
  * (100,000 steps from the start state, then Gruau's 625 starts, on the
  * task's POLEPROTOCOL) for the one network of a generation the loop
@@ -563,6 +575,12 @@ static int l_save(lua_State *L)
 			 name);
 		if (evo_folder_check_links(l->run_dir, folder, &err))
 			return raise_msg(L, err.msg);
+		/* a folder of its own (OPENENDED's solvers/), made once */
+		char path[1200];
+		if (evo_path_fmt(path, sizeof path, &err, "%s/%s", l->run_dir,
+				 folder))
+			return raise_msg(L, err.msg);
+		mkdir(path, 0755);
 	}
 	if (evo_runlog_save(&l->log, name, text, len, &err))
 		return raise_msg(L, err.msg);
@@ -985,6 +1003,7 @@ static const luaL_Reg learn_fns[] = {
     {"evaluate", l_evaluate},
     {"descriptors", l_descriptors},
     {"set_team_net", l_set_team_net},
+    {"set_genome", l_set_genome},
     {"open_log", l_open_log},
     {"log", l_log},
     {"save", l_save},
@@ -1083,6 +1102,17 @@ static int open_module(lua_State *L)
 	lua_setfield(L, -2, "skill");
 	lua_pushinteger(L, evo_evaluator_reps(l->ev));
 	lua_setfield(L, -2, "reps");
+	/* the environment script's path, and where its require looks
+	 * (OPENENDED loads its generator, in a sandbox of its own) */
+	const char *env_path = evo_evaluator_env_path(l->ev);
+	if (env_path) {
+		lua_pushstring(L, env_path);
+		lua_setfield(L, -2, "env_path");
+	}
+	lua_pushstring(L, l->task->mind->root);
+	lua_setfield(L, -2, "mind_dir");
+	lua_pushstring(L, evo_lua_dir());
+	lua_setfield(L, -2, "lua_dir");
 	lua_pushinteger(L, (lua_Integer)evo_evaluator_ticks(l->ev));
 	lua_setfield(L, -2, "ticks");
 	/* the environment's metrics, in the order of evaluate's lists */
@@ -1147,7 +1177,9 @@ static int run_script(lua_State *L)
 	char path[1200];
 	evo_err err;
 	if (evo_path_fmt(path, sizeof path, &err, "%s/learn/%s", dir,
-			 l->continuous ? "continuous.lua" : "learnsim.lua"))
+			 l->continuous	   ? "continuous.lua"
+			 : l->openended ? "openended.lua"
+					: "learnsim.lua"))
 		return raise_msg(L, err.msg);
 	if (luaL_loadfilex(L, path, "t") != LUA_OK)
 		return lua_error(L);
@@ -1239,8 +1271,10 @@ static int continuous_order(const char *task_path, const evo_task *t,
  * method's options as the loop reads them (common.task_options), each
  * within its range (the module's `ranges`); warnings only when loud. */
 static const char CHECK_OPTIONS[] =
-    "local method, task, path, lines, quiet = ...\n"
+    "local method, task, path, lines, quiet, openended = ...\n"
     "local common = require 'learn.common'\n"
+    "if openended then require('learn.openended_options').check(task, "
+    "path, lines) end\n"
     "common.task_options(require(common.MODULES[method]), task, path, "
     "lines, quiet)\n";
 
@@ -1268,7 +1302,8 @@ static int check_options(lua_State *L)
 	lua_pushstring(L, task_path);
 	lua_insert(L, -2); /* method, task, path, lines */
 	lua_pushboolean(L, quiet);
-	lua_call(L, 5, 0);
+	lua_pushboolean(L, strcmp(task->type, "OPENENDED") == 0);
+	lua_call(L, 6, 0);
 	return 0;
 }
 
@@ -1450,6 +1485,7 @@ int evo_learn_run(const char *task_path, evo_task *task,
 	l.started = now();
 	l.n_behaviour = -1;
 	l.continuous = strcmp(task->type, "LEARNSIMCONTINUOUS") == 0;
+	l.openended = strcmp(task->type, "OPENENDED") == 0;
 	/* every option within its range before a thread, a folder or a
 	 * population exists; the loop says the warnings */
 	if (learn_check(task_path, task, 1, err))
@@ -1535,7 +1571,9 @@ int evo_learn_run(const char *task_path, evo_task *task,
 		       l.run_dir);
 	} else
 		printf("%s: %s of skill %s, seed %llu, %s, run folder %s\n",
-		       task_path, evo_simbatch_get(task->sb, "LEARNINGMETHOD"),
+		       task_path,
+		       l.openended ? "OPENENDED (NEAT agents)"
+				   : evo_simbatch_get(task->sb, "LEARNINGMETHOD"),
 		       l.skill, (unsigned long long)o->seed, where, l.run_dir);
 	fflush(stdout);
 	evo_run_record was = {0};

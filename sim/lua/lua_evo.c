@@ -902,6 +902,11 @@ int evo_lua_reset(evo_lua *l, int episode, evo_err *err)
 	return rc;
 }
 
+void evo_lua_set_genome(evo_lua *l, const char *genome)
+{
+	l->genome = genome;
+}
+
 const char *evo_lua_env_path(const evo_lua *l)
 {
 	return l->env_path;

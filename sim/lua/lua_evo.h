@@ -142,4 +142,9 @@ int evo_lua_solved(evo_lua *l, int bot, int *solved, evo_err *err);
 const char *evo_lua_env_path(const evo_lua *l);
 const char *evo_lua_bot_path(const evo_lua *l);
 
+/* The text scene:genome() returns from the next episode on (an OPENENDED
+ * run's environment genome, docs/openended.md); not copied: it must
+ * outlive the episodes. NULL: scene:genome() returns nil. */
+void evo_lua_set_genome(evo_lua *l, const char *genome);
+
 #endif

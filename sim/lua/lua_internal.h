@@ -36,6 +36,9 @@ struct evo_lua {
 	int in_reset; /* env.reset is running: no new elements */
 	int ready;    /* env.init has returned: no new metrics */
 	int has_post_step;
+	/* an OPENENDED run's environment genome for the episodes to come
+	 * (scene:genome(), docs/openended.md); not owned, NULL: none */
+	const char *genome;
 	char env_path[1200];
 	char bot_path[1200];
 	/* the limits of every call into Lua (evo_lua_pcall): the

@@ -663,6 +663,18 @@ static int scene_tick(lua_State *L)
 	return 1;
 }
 
+/* scene:genome() -> the environment genome an OPENENDED run evaluates
+ * this episode on, as text (docs/openended.md), or nil outside one. */
+static int scene_genome(lua_State *L)
+{
+	const char *g = evo_lua_ctx(L)->genome;
+	if (g)
+		lua_pushstring(L, g);
+	else
+		lua_pushnil(L);
+	return 1;
+}
+
 /* Forget what the reward functions remember (ClosingOnTarget's last
  * distance), e.g. after moving a target: EvoAgents' r.reset(). */
 static int scene_reset_rewards(lua_State *L)
@@ -804,5 +816,6 @@ const luaL_Reg evo_lua_scene_methods[] = {
     {"episode_reward", scene_episode_reward},
     {"reset_rewards", scene_reset_rewards},
     {"metric", scene_metric},
+    {"genome", scene_genome},
     {NULL, NULL},
 };

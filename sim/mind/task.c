@@ -22,6 +22,11 @@ static const char *const learn_keys[] = {"MASTERSKILL", "LEARNINGSKILL",
 static const char *const continuous_keys[] = {
     "MASTERSKILL", "LEARNINGMETHOD", "BOTMODEL", "ENV", "NUMGEN", NULL};
 
+/* OPENENDED's agents are NEAT genomes of LEARNINGSKILL; its ENV is an
+ * environment generator (docs/openended.md). */
+static const char *const openended_keys[] = {
+    "MASTERSKILL", "LEARNINGSKILL", "BOTMODEL", "ENV", "NUMGEN", NULL};
+
 /* A remote task's world is the remote's (docs/remote.md): BOTMODEL and
  * ENV are for `evo serve` of it, not for the mind's side. */
 static const char *const remote_demo_keys[] = {"MASTERSKILL", NULL};
@@ -49,6 +54,8 @@ static const char *const *required_keys(const char *type)
 						      : remote_demo_keys;
 	if (strcmp(type, "LEARNSIMCONTINUOUS") == 0)
 		return continuous_keys;
+	if (strcmp(type, "OPENENDED") == 0)
+		return openended_keys;
 	if (strncmp(type, "LEARN", 5) == 0)
 		return learn_keys;
 	if (strncmp(type, "DEMO", 4) == 0)

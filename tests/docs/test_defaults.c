@@ -833,7 +833,8 @@ static int render_task_default(const char *key, int in_learning, char *out,
 {
 	if (strcmp(key, "NEAT_*") == 0 || strcmp(key, "GA_*") == 0 ||
 	    strcmp(key, "SA_*") == 0 || strcmp(key, "CMAES_*") == 0 ||
-	    strcmp(key, "NOVELTY_*") == 0 || strcmp(key, "MAPELITES_*") == 0) {
+	    strcmp(key, "NOVELTY_*") == 0 || strcmp(key, "MAPELITES_*") == 0 ||
+	    strcmp(key, "OPEN_*") == 0) {
 		/* the reader keeps every key with the prefix, for the method */
 		char text[64];
 		evo_simbatch sb;
@@ -1864,6 +1865,8 @@ static doc_table novelty_t = {.file = "docs/learning.md",
 			      .heading = "NOVELTY's parameters"};
 static doc_table mapelites_t = {.file = "docs/learning.md",
 				.heading = "MAP-Elites's parameters"};
+static doc_table openended_t = {.file = "docs/openended.md",
+				.heading = "OPENENDED's parameters"};
 static doc_table task_keys_t = {.file = "docs/learning.md",
 				.heading = "The task's keys"};
 static doc_table simbatch_t = {.file = "docs/formats.md",
@@ -1877,7 +1880,7 @@ static doc_table continuous_t = {
 
 static doc_table *const checked[] = {
     &neat_t,	  &genetic_t, &annealing_t, &cmaes_t,	&novelty_t,
-    &mapelites_t, &task_keys_t, &simbatch_t, &lua_t,	&teams_t,
+    &mapelites_t, &openended_t, &task_keys_t, &simbatch_t, &lua_t,	&teams_t,
     &continuous_t};
 
 /* Every table header of docs/ with a `default` column is one of
@@ -1962,6 +1965,7 @@ int main(void)
 	check_method_table(&cmaes_t, "learn.cmaes");
 	check_method_table(&novelty_t, "learn.novelty");
 	check_method_table(&mapelites_t, "learn.mapelites");
+	check_method_table(&openended_t, "learn.openended_options");
 	learning_run();
 	check_task_table(&task_keys_t, 1, 0);
 	check_task_table(&simbatch_t, 0, 1);

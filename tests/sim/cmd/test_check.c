@@ -119,15 +119,25 @@ TEST(check_fails_on_a_botdesc_sensor_the_bot_lacks)
 	CHECK_CONTAINS(out1, "S11");
 }
 
-TEST(check_refuses_a_type_evo_run_cannot_run_yet)
+TEST(check_knows_openended_and_3d_tasks)
 {
+	/* OPENENDED (docs/openended.md): LEARNINGSKILL required, its OPEN_
+	 * keys checked at their lines */
 	avoid_with_task("T.simbatch", "TYPE:OPENENDED\nBOTMODEL:BotType8\n"
 				      "MASTERSKILL:Avoid\nENV:Roam\n");
 	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s check %s/Avoid/Tasks/"
 						    "T.simbatch",
 				 cli_evo, cli_tmp),
 		     1);
-	CHECK_CONTAINS(out1, "evo run does not run OPENENDED tasks yet");
+	CHECK_CONTAINS(out1, "OPENENDED task needs the key LEARNINGSKILL");
+	avoid_with_task("T.simbatch", "TYPE:OPENENDED\nBOTMODEL:BotType8\n"
+				      "MASTERSKILL:Avoid\nLEARNINGSKILL:Avoid\n"
+				      "NUMGEN:3\nENV:Roam\nOPEN_ENVZ:3\n");
+	CHECK_EQ_INT(cli_capture(out1, sizeof out1, "%s check %s/Avoid/Tasks/"
+						    "T.simbatch",
+				 cli_evo, cli_tmp),
+		     1);
+	CHECK_CONTAINS(out1, "T.simbatch:7: unknown key OPEN_ENVZ");
 	/* a 3D task runs, and a 2D environment in it says what is wrong */
 	avoid_with_task("T.simbatch", "TYPE:DEMO3DSIM\nBOTMODEL:BotType8\n"
 				      "MASTERSKILL:Avoid\nENV:Roam\n");
@@ -549,7 +559,7 @@ int main(void)
 	RUN(check_passes_the_shipped_tasks);
 	RUN(check_fails_on_a_misspelled_bot_model_or_environment);
 	RUN(check_fails_on_a_botdesc_sensor_the_bot_lacks);
-	RUN(check_refuses_a_type_evo_run_cannot_run_yet);
+	RUN(check_knows_openended_and_3d_tasks);
 	RUN(type_is_read_in_any_case);
 	RUN(a_botname_of_another_agent_is_warned_at_its_line);
 	RUN(a_tasks_threads_key_sets_the_workers);

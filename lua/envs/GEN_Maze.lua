@@ -1,0 +1,143 @@
+-- GEN_Maze: OPENENDED's generator of mazes for MazeBot (docs/openended.md).
+-- A maze is a grid of w x h cells of CELL metres inside a border; the bot
+-- starts in cell (1, 1) facing +x, the goal is cell (w, h). Its genes are
+-- its walls: {x, y, dir, len, gap}, a wall of `len` cells from cell (x, y)
+-- along +x (dir 0) or +y (dir 1), with a passage at its cell number `gap`
+-- (0-based). Mutations add a wall, move a wall's passage or enlarge the
+-- maze by a row or a column; a mutant whose goal cannot be reached is
+-- drawn again. A maze's size is its solution path: the fewest cell steps
+-- from start to goal (a breadth-first search over the free cells), and
+-- its episode lasts TICKS_BASE + TICKS_PER_CELL ticks per step of it.
+local openended = require "lib.openended"
+
+local CELL = 4            -- metres: MazeBot's radius is 1
+local TICKS_BASE = 100
+local TICKS_PER_CELL = 60 -- 2 s a cell at 30 ticks a second
+local MAX_SIDE = 24
+local TRIES = 20          -- draws of a mutant before the parent is kept
+
+local gen = {}
+
+-- The first maze: 3 x 2 cells, no wall (path 3).
+function gen.seed() return { w = 3, h = 2, walls = {} } end
+
+local function copy(g)
+	local walls = {}
+	for i, w in ipairs(g.walls) do walls[i] = { w[1], w[2], w[3], w[4], w[5] } end
+	return { w = g.w, h = g.h, walls = walls }
+end
+
+-- The blocked cells: blocked[(y - 1) * w + x] for the walls' cells but
+-- their passages, the start and the goal.
+local function blocked_cells(g)
+	local b = {}
+	for _, wall in ipairs(g.walls) do
+		local x, y, dir, len, gap = wall[1], wall[2], wall[3], wall[4], wall[5]
+		for k = 0, len - 1 do
+			local cx, cy = x + (dir == 0 and k or 0), y + (dir == 1 and k or 0)
+			if k ~= gap and cx >= 1 and cx <= g.w and cy >= 1 and cy <= g.h then
+				b[(cy - 1) * g.w + cx] = true
+			end
+		end
+	end
+	b[1] = nil
+	b[g.w * g.h] = nil
+	return b
+end
+
+-- The solution path's length in cell steps, nil when the goal cannot be
+-- reached (breadth-first search, four neighbours).
+function gen.path_length(g)
+	local b, w, h = blocked_cells(g), g.w, g.h
+	local dist, queue, head = { [1] = 0 }, { 1 }, 1
+	while queue[head] do
+		local c = queue[head]; head = head + 1
+		if c == w * h then return dist[c] end
+		local x, y = (c - 1) % w + 1, (c - 1) // w + 1
+		for _, d in ipairs{ { 1, 0 }, { -1, 0 }, { 0, 1 }, { 0, -1 } } do
+			local nx, ny = x + d[1], y + d[2]
+			local n = (ny - 1) * w + nx
+			if nx >= 1 and nx <= w and ny >= 1 and ny <= h and not b[n] and not dist[n] then
+				dist[n] = dist[c] + 1
+				queue[#queue + 1] = n
+			end
+		end
+	end
+	return nil
+end
+
+gen.size = gen.path_length
+
+function gen.valid(g) return gen.path_length(g) ~= nil end
+
+function gen.ticks(g) return TICKS_BASE + TICKS_PER_CELL * (gen.path_length(g) or 0) end
+
+-- rng: learn.rng's generator (rng:unit() in [0, 1)).
+local function draw(rng, lo, hi) return lo + math.floor(rng:unit() * (hi - lo + 1)) end
+
+local function mutant(g, rng)
+	local m = copy(g)
+	local r = rng:unit()
+	if r < 0.5 or #m.walls == 0 then
+		local dir = draw(rng, 0, 1)
+		local len = draw(rng, 2, math.max(2, dir == 0 and m.w or m.h))
+		m.walls[#m.walls + 1] = { draw(rng, 1, m.w), draw(rng, 1, m.h), dir, len, draw(rng, 0, len - 1) }
+	elseif r < 0.8 then
+		local wall = m.walls[draw(rng, 1, #m.walls)]
+		wall[5] = draw(rng, 0, wall[4] - 1)
+	elseif rng:unit() < 0.5 then
+		m.w = math.min(MAX_SIDE, m.w + 1)
+	else
+		m.h = math.min(MAX_SIDE, m.h + 1)
+	end
+	return m
+end
+
+-- A mutant of g whose goal can be reached; g's copy after TRIES draws.
+function gen.mutate(g, rng)
+	for _ = 1, TRIES do
+		local m = mutant(g, rng)
+		if gen.valid(m) then return m end
+	end
+	return copy(g)
+end
+
+local function centre(cx, cy) return (cx - 0.5) * CELL, (cy - 0.5) * CELL end
+
+function gen.init(scene, task)
+	gen.bot = scene:bot{ x = CELL / 2, y = CELL / 2 }
+	gen.goal = scene:zone{ name = "goal", x = 0, y = 0, size = CELL / 4 }
+	for _, name in ipairs(gen.bot:sensors("radar", "untargeted")) do
+		gen.bot:target(name, gen.goal)
+	end
+	scene:reward("FinalDistance", { bot = gen.bot, target = gen.goal, k = -1, k2 = 100 })
+	scene:control("NextOnTargetReached", { bot = gen.bot, target = gen.goal, threshold = CELL / 2 })
+end
+
+-- The episode's obstacles: a box for each blocked cell and each cell of
+-- the border; the bot at the start, the goal in its cell.
+function gen.build(scene, g)
+	local list, b = {}, blocked_cells(g)
+	local function box(cx, cy)
+		local x, y = centre(cx, cy)
+		list[#list + 1] = { x = x, y = y, size = CELL / 2, shape = "box" }
+	end
+	for cy = 0, g.h + 1 do
+		for cx = 0, g.w + 1 do
+			if cx == 0 or cy == 0 or cx == g.w + 1 or cy == g.h + 1 or b[(cy - 1) * g.w + cx] then
+				box(cx, cy)
+			end
+		end
+	end
+	gen.bot:place(CELL / 2, CELL / 2, 0)
+	gen.goal:place(centre(g.w, g.h))
+	return list
+end
+
+function gen.solved(scene, bot, g)
+	local x, y = bot:pose()
+	local gx, gy = centre(g.w, g.h)
+	return (x - gx) ^ 2 + (y - gy) ^ 2 < (CELL / 2) ^ 2
+end
+
+return openended.env(gen)

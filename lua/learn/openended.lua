@@ -1,0 +1,331 @@
+-- OPENENDED: minimal-criterion coevolution of environments and agents
+-- (Brant & Stanley 2017; with resource limitation, 2020; docs/openended.md).
+-- The environments come from the generator the task's ENV names (a file
+-- that returns lib.openended's env(gen)); the agents are NEAT genomes of
+-- the task's LEARNINGSKILL. Each batch:
+--   - OPEN_ENV_BATCH environments, each a mutant of the next one in the
+--     environments' queue, are tried on every admitted agent: a new one
+--     (its genome never admitted before) is admitted when some agent
+--     solves it, and counts in ANNECS;
+--   - OPEN_AGENT_BATCH agents, each a NEAT mutant of the next one in the
+--     agents' queue, are tried on the admitted environments, oldest first:
+--     one is admitted by the first it solves whose uses are below
+--     OPEN_RESOURCE (resource limitation), which then counts one use more;
+--   - each queue keeps its OPEN_ENVS (OPEN_AGENTS) newest members.
+-- The first agents and environment come from a bootstrap: POPSIZE fresh
+-- NEAT genomes, mutated for at most OPEN_BOOTSTRAP rounds until some solve
+-- the generator's seed environment.
+--
+-- The machinery is learning's (host, the module evo.learn): the same
+-- evaluator and threads (host.set_genome picks the environment of the
+-- next host.evaluate), log.csv and progress line, checkpoint and --resume.
+local host = require "evo.learn"
+local common = require "learn.common"
+local random = require "learn.rng"
+local serialize = require "learn.serialize"
+local neat = require "learn.neat"
+local openended = require "lib.openended"
+
+local task = host.task
+local function where(key) return common.where(host.task_path, host.task_lines, key) end
+
+local O = require("learn.openended_options").check(task, host.task_path, host.task_lines)
+local ENVS, AGENTS, ENV_BATCH = O.envs, O.agents, O.env_batch
+local AGENT_BATCH, RESOURCE, BOOTSTRAP = O.agent_batch, O.resource, O.bootstrap
+local RETENTION = O.retention
+local batches = host.generations or tonumber(task.NUMGEN or "50")
+local options = common.task_options(neat, task, host.task_path, host.task_lines)
+
+-- The generator, loaded as the workers load it (its errors name its
+-- file:line); it must return lib.openended's env(gen). A generator may
+-- come from a mind folder someone sent, and this state has Lua's whole
+-- library: it runs in a sandbox of the scene scripts' kind (docs/lua.md,
+-- "What a script may use"), with the base library's safe part, string,
+-- table, math without its generator, utf8, os.clock, load of text, and a
+-- require that finds modules in the mind folder, then in lua/, in the
+-- same sandbox.
+local function sandbox()
+	local env, loaded = {}, {}
+	for _, k in ipairs{ "assert", "error", "ipairs", "next", "pairs", "pcall", "print", "rawequal",
+		"rawget", "rawlen", "rawset", "select", "tonumber", "tostring", "type", "xpcall",
+		"getmetatable", "setmetatable" } do
+		env[k] = _G[k]
+	end
+	for _, lib in ipairs{ "string", "table", "math", "utf8", "coroutine" } do
+		local t = {}
+		for k, v in pairs(_G[lib]) do t[k] = v end
+		env[lib] = t
+	end
+	env.math.random, env.math.randomseed = nil, nil -- the loop's draws are learn.rng's
+	env.string.dump = nil
+	env.os = { clock = os.clock }
+	env._G = env
+	env.package = { loaded = loaded }
+	function env.load(chunk, name, _, e)
+		if type(chunk) ~= "string" then error("load takes source text only", 2) end
+		return load(chunk, name, "t", e or env)
+	end
+	function env.require(name)
+		if loaded[name] ~= nil then return loaded[name] end
+		if type(name) ~= "string" or not name:match("^[%w_%-]+$") and not name:match("^[%w_%-][%w_%-%.]*[%w_%-]$")
+			or name:find("..", 1, true) then
+			error("require '" .. tostring(name) .. "': not a module name", 2)
+		end
+		local file = name:gsub("%.", "/") .. ".lua"
+		for _, dir in ipairs{ host.mind_dir, host.lua_dir } do
+			local f = io.open(dir .. "/" .. file, "r")
+			if f then
+				f:close()
+				local chunk, err = loadfile(dir .. "/" .. file, "t", env)
+				if not chunk then error(err, 0) end
+				local v = chunk(name)
+				loaded[name] = v == nil and true or v
+				return loaded[name]
+			end
+		end
+		error(string.format("require '%s': no %s in %s or %s", name, file, host.mind_dir,
+			host.lua_dir), 2)
+	end
+	return env
+end
+local env_path = host.env_path or error(host.task_path .. ": OPENENDED needs ENV, "
+	.. "an environment generator (docs/openended.md)", 0)
+local chunk, load_err = loadfile(env_path, "t", sandbox())
+if not chunk then error(load_err, 0) end
+local ok, env = pcall(chunk)
+if not ok then error(tostring(env), 0) end
+local gen = type(env) == "table" and env.generator
+for _, f in ipairs{ "seed", "mutate", "size", "valid" } do
+	if not gen or type(gen[f]) ~= "function" then
+		error(string.format("%s: not an environment generator: it must return "
+			.. "require('lib.openended').env(gen), gen having %s (docs/openended.md)",
+			env_path, "seed, mutate, size, valid, ticks, init, build and solved"), 0)
+	end
+end
+-- gen[f](...), an error raised at the generator's file:line as it is
+local function call(f, ...)
+	local r = table.pack(pcall(gen[f], ...))
+	if not r[1] then error(tostring(r[2]), 0) end
+	return table.unpack(r, 2, r.n)
+end
+
+-- The run's state: the checkpoint holds all of it.
+local S
+local saved = host.resume and host.read("checkpoint.lua")
+if host.resume and not saved then
+	host.print("no checkpoint in " .. host.run_dir .. ": starting from batch 0")
+end
+local pop, rng
+if saved then
+	local path = host.run_dir .. "/checkpoint.lua"
+	S = serialize.load(saved, path)
+	if type(S) ~= "table" or S.format ~= "evo-openended-1" then
+		error(path .. ": not an OPENENDED run's checkpoint", 0)
+	end
+	if S.seed ~= host.seed then
+		error(string.format("%s: the checkpoint is of a run with seed %s, not %s: resume it "
+			.. "with --seed %s", path, tostring(S.seed), tostring(host.seed), tostring(S.seed)), 0)
+	end
+	pop = neat.load(S.pop)
+	rng = pop.rng
+	for _, a in ipairs(S.agents) do neat.own_genes(a.genome) end
+	host.print(string.format("resuming after batch %d", S.batch))
+else
+	rng = random.new(host.seed)
+	pop = neat.new{ inputs = host.inputs, outputs = host.outputs, options = options, rng = rng }
+	S = { format = "evo-openended-1", seed = host.seed, batch = -1, envs = {}, agents = {},
+		annecs = 0, largest = 0, env_next = 0, agent_next = 0, next_id = 0, seen = {},
+		admitted = {} }
+end
+local net_of = neat.pack_net or neat.to_net
+
+-- Which of `genomes` solve environment `text` in batch b; and the
+-- evaluation's seconds.
+local function solvers(text, genomes, b)
+	if #genomes == 0 then return {}, 0 end
+	host.set_genome(text)
+	local nets = {}
+	for i, g in ipairs(genomes) do nets[i] = net_of(g) end
+	local _, seconds, solved = host.evaluate(nets, b)
+	return solved, seconds
+end
+
+local function admit_env(genome, text, b, solver_genome)
+	S.next_id = S.next_id + 1
+	local size = call("size", genome)
+	S.envs[#S.envs + 1] = { id = S.next_id, genome = genome, text = text, size = size,
+		batch = b, uses = 0 }
+	S.seen[text] = true
+	S.annecs = S.annecs + 1
+	if size > S.largest then S.largest = size end
+	-- every admitted environment, with the agent that solved it then
+	S.admitted[#S.admitted + 1] = { id = S.next_id, batch = b, size = size, text = text,
+		solver = neat.copy_genome(solver_genome) }
+	host.save(string.format("solvers/env-%04d.net", S.next_id), neat.to_net_text(
+		neat.to_net(solver_genome), string.format("solved environment %d (size %.17g) when "
+			.. "batch %d admitted it", S.next_id, size, b)))
+	while #S.envs > ENVS do table.remove(S.envs, 1) end
+end
+
+local function admit_agent(genome, b)
+	S.agents[#S.agents + 1] = { genome = genome, batch = b }
+	while #S.agents > AGENTS do table.remove(S.agents, 1) end
+end
+
+-- The bootstrap: fresh genomes, mutated until some solve the seed.
+local function bootstrap(b)
+	local seed = call("seed")
+	local text = openended.encode(seed)
+	local genomes, seconds, evaluations = {}, 0, 0
+	for i, g in ipairs(pop.population) do genomes[i] = neat.copy_genome(g) end
+	for round = 1, BOOTSTRAP do
+		local solved, s = solvers(text, genomes, b)
+		seconds, evaluations = seconds + s, evaluations + #genomes
+		local first
+		for i, g in ipairs(genomes) do
+			if solved[i] then
+				first = first or g
+				admit_agent(g, b)
+			end
+		end
+		if first then
+			admit_env(seed, text, b, first)
+			host.print(string.format("bootstrap: %d of %d agents solve the seed environment "
+				.. "after %d round(s)", #S.agents, #genomes, round))
+			return seconds, evaluations
+		end
+		for _, g in ipairs(genomes) do neat.mutate(pop, g, rng) end
+	end
+	error(string.format("%s: no agent solved the generator's seed environment in "
+		.. "OPEN_BOOTSTRAP %d rounds of %d genomes", where("OPEN_BOOTSTRAP"), BOOTSTRAP,
+		#genomes), 0)
+end
+
+local function agent_genomes()
+	local list = {}
+	for i, a in ipairs(S.agents) do list[i] = a.genome end
+	return list
+end
+
+-- One batch: new environments, then new agents.
+local function batch(b)
+	local seconds, evaluations, new_envs, new_agents = 0, 0, 0, 0
+	for _ = 1, ENV_BATCH do
+		S.env_next = S.env_next % #S.envs + 1
+		local child = call("mutate", S.envs[S.env_next].genome, rng)
+		local text = openended.encode(child)
+		if call("valid", child) and not S.seen[text] then
+			local genomes = agent_genomes()
+			local solved, s = solvers(text, genomes, b)
+			seconds, evaluations = seconds + s, evaluations + #genomes
+			for i, g in ipairs(genomes) do
+				if solved[i] then
+					admit_env(child, text, b, g)
+					new_envs = new_envs + 1
+					break
+				end
+			end
+		end
+	end
+	local children = {}
+	for k = 1, AGENT_BATCH do
+		S.agent_next = S.agent_next % #S.agents + 1
+		local child = neat.copy_genome(S.agents[S.agent_next].genome)
+		neat.mutate(pop, child, rng)
+		children[k] = child
+	end
+	local pending = children
+	for _, e in ipairs(S.envs) do
+		if #pending == 0 then break end
+		if e.uses < RESOURCE then
+			local solved, s = solvers(e.text, pending, b)
+			seconds, evaluations = seconds + s, evaluations + #pending
+			local left = {}
+			for i, g in ipairs(pending) do
+				if solved[i] and e.uses < RESOURCE then
+					e.uses = e.uses + 1
+					admit_agent(g, b)
+					new_agents = new_agents + 1
+				else
+					left[#left + 1] = g
+				end
+			end
+			pending = left
+		end
+	end
+	return seconds, evaluations, new_envs, new_agents
+end
+
+-- envs.csv: every admitted environment, in order: its number, the batch
+-- that admitted it, its size and its genome.
+local function envs_csv()
+	local out = { "env,batch,size,genome\n" }
+	for _, a in ipairs(S.admitted) do
+		out[#out + 1] = string.format("%d,%d,%.17g,\"%s\"\n", a.id, a.batch, a.size,
+			(a.text:gsub('"', '""')))
+	end
+	return table.concat(out)
+end
+
+-- Retention: is every environment admitted so far still solved by some
+-- agent kept? Each is tried on all of them; the environments none solves
+-- are lost, and said so, never hidden (retention.csv and a line of the
+-- run's output).
+local function retention(b)
+	local genomes, lost = agent_genomes(), {}
+	for _, a in ipairs(S.admitted) do
+		local solved = solvers(a.text, genomes, b)
+		local kept = false
+		for i = 1, #genomes do kept = kept or solved[i] end
+		if not kept then lost[#lost + 1] = a.id end
+	end
+	S.retention = S.retention or {}
+	S.retention[#S.retention + 1] = { batch = b, admitted = #S.admitted, lost = lost }
+	local out = { "batch,admitted,retained,lost\n" }
+	for _, r in ipairs(S.retention) do
+		out[#out + 1] = string.format("%d,%d,%d,%s\n", r.batch, r.admitted,
+			r.admitted - #r.lost, table.concat(r.lost, " "))
+	end
+	host.save("retention.csv", table.concat(out))
+	if #lost > 0 then
+		host.print(string.format("retention after batch %d: %d of the %d environments admitted "
+			.. "are no longer solved by any agent kept (%s; retention.csv)", b, #lost,
+			#S.admitted, table.concat(lost, ", ")))
+	end
+end
+
+host.open_log(S.batch + 1, { "annecs", "largest", "envs", "agents" })
+for b = S.batch + 1, batches - 1 do
+	local seconds, evaluations, new_envs
+	if b == 0 then
+		seconds, evaluations = bootstrap(b)
+		new_envs = 1
+	else
+		seconds, evaluations, new_envs = batch(b)
+	end
+	local sum = 0
+	for _, e in ipairs(S.envs) do sum = sum + e.size end
+	S.batch = b
+	host.log{ generation = b, generations = batches, best = S.largest, mean = sum / #S.envs,
+		best_ever = S.annecs, species = 0, evaluations = evaluations, solved = new_envs,
+		seconds = seconds, metrics = { S.annecs, S.largest, #S.envs, #S.agents },
+		note = string.format("ANNECS %d  largest %g  envs %d  agents %d", S.annecs, S.largest,
+			#S.envs, #S.agents) }
+	if (RETENTION > 0 and (b + 1) % RETENTION == 0) or b == batches - 1 then retention(b) end
+	S.pop = neat.save(pop, true)
+	host.save("envs.csv", envs_csv())
+	host.save("checkpoint.lua", serialize.dump(S))
+	S.pop = nil
+end
+
+-- The champion: the agent that solved the largest admitted environment
+-- (the first of equals).
+local best
+for _, a in ipairs(S.admitted) do
+	if not best or a.size > best.size then best = a end
+end
+if best then
+	host.save_champion(neat.to_net_text(neat.to_net(best.solver), string.format(
+		"trained by evo: OPENENDED, seed %d, %d batches, solved environment %d of size %.17g",
+		host.seed, batches, best.id, best.size)))
+end

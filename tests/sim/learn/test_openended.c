@@ -1,0 +1,307 @@
+/* OPENENDED end to end (lua/learn/openended.lua over sim/learn/learn.c,
+ * the generator lua/envs/GEN_Maze.lua), on a copy of minds/OpenMaze with
+ * a budget of 8 batches: ANNECS never falls and ends above 0; the seed
+ * maze's solution path is 3 cells (by hand: two steps along x, one along
+ * y in a 3 x 2 grid); every admitted maze is solved by the agent that
+ * solved it when admitted (replayed by evo run), and retention.csv counts
+ * them all, and `evo run --env N` shows one with its solver; one thread and two
+ * give the same log; a run killed with SIGKILL and resumed gives the same
+ * log; a generator's error is reported at its file:line, and in the
+ * loop it runs in a sandbox. */
+#define _POSIX_C_SOURCE 200809L
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+
+#include "harness.h"
+#include "support/cli.h"
+
+static void make_mind(const char *name)
+{
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/%s && cp -r minds/OpenMaze %s/%s/ && "
+			    "rm -rf %s/%s/OpenMaze/Runs && "
+			    "mkdir -p %s/%s/OpenMaze/Envs",
+			    cli_tmp, name, cli_tmp, name, cli_tmp, name, cli_tmp,
+			    name),
+		     0);
+}
+
+static int run(const char *name, const char *task, const char *extra)
+{
+	return cli_sh("%s run %s/%s/OpenMaze/Tasks/%s.simbatch --seed 3 "
+		      "--generations 8 --no-save --run %s/%s/run %s > "
+		      "%s/%s/out.txt 2>&1",
+		      cli_evo, cli_tmp, name, task, cli_tmp, name, extra,
+		      cli_tmp, name);
+}
+
+/* Column `col` (0-based) of each row of log.csv after its header. */
+static int column(const char *log, int col, double *v, int cap)
+{
+	const char *p = strchr(log, '\n');
+	int n = 0;
+	while (p && p[1] && n < cap) {
+		p++;
+		const char *f = p;
+		for (int k = 0; k < col && f; k++) {
+			f = strchr(f, ',');
+			f = f ? f + 1 : NULL;
+		}
+		if (!f)
+			return -1;
+		v[n++] = strtod(f, NULL);
+		p = strchr(p, '\n');
+	}
+	return n;
+}
+
+TEST(annecs_rises_and_the_seed_maze_is_three_cells)
+{
+	make_mind("a");
+	CHECK_EQ_INT(run("a", "OpenMaze", "--threads 2"), 0);
+	char *log = cli_read("%s/a/run/log.csv", cli_tmp);
+	CHECK(log && strstr(log, ",metric:annecs,metric:largest,"));
+	double annecs[16], largest[16];
+	CHECK_EQ_INT(column(log ? log : "", 9, annecs, 16), 8);
+	CHECK_EQ_INT(column(log ? log : "", 10, largest, 16), 8);
+	CHECK(annecs[0] == 1 && largest[0] == 3);
+	for (int i = 1; i < 8; i++)
+		CHECK(annecs[i] >= annecs[i - 1] && largest[i] >= largest[i - 1]);
+	CHECK(annecs[7] > annecs[0]);
+	free(log);
+	char *envs = cli_read("%s/a/run/envs.csv", cli_tmp);
+	CHECK(envs && strstr(envs, "1,0,3,\"{h=2,w=3,walls={},}\""));
+	free(envs);
+}
+
+/* Environment `genome` (text) as a DEMOSIM task's: GEN_Maze with that
+ * maze as its seed, in Envs/Fixed.lua and Tasks/Fixed.simbatch of a. */
+static void fixed_env(const char *genome)
+{
+	char env[8192];
+	snprintf(env, sizeof env,
+		 "local openended = require 'lib.openended'\n"
+		 "local gen = {}\n"
+		 "for k, v in pairs(require('envs.GEN_Maze').generator) do "
+		 "gen[k] = v end\n"
+		 "gen.seed = function() return openended.decode('%s') end\n"
+		 "return openended.env(gen)\n",
+		 genome);
+	CHECK_EQ_INT(cli_write(env, "%s/a/OpenMaze/Envs/Fixed.lua", cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_write("TYPE:DEMOSIM\nBOTMODEL:MazeBot\nBOTNAME:Maze\n"
+			       "MASTERSKILL:Maze\nENV:Fixed\n",
+			       "%s/a/OpenMaze/Tasks/Fixed.simbatch", cli_tmp),
+		     0);
+}
+
+/* Every admitted maze, replayed alone with the agent that solved it when
+ * it was admitted (solvers/env-NNNN.net), is solved; and the champion is
+ * the solver of the largest. */
+TEST(every_admitted_maze_is_solved_by_its_solver)
+{
+	char *envs = cli_read("%s/a/run/envs.csv", cli_tmp);
+	CHECK(envs != NULL);
+	const char *p = envs ? strchr(envs, '\n') : NULL;
+	int n = 0, solved = 0, best_id = 0;
+	double best_size = -1;
+	while (p && p[1]) {
+		p++;
+		int id = atoi(p);
+		const char *size = strchr(p, ',');
+		size = size ? strchr(size + 1, ',') : NULL;
+		const char *q = strchr(p, '"');
+		const char *end = q ? strchr(q + 1, '"') : NULL;
+		if (!size || !q || !end)
+			break;
+		double sz = strtod(size + 1, NULL);
+		if (sz > best_size) {
+			best_size = sz;
+			best_id = id;
+		}
+		char genome[4096];
+		snprintf(genome, sizeof genome, "%.*s", (int)(end - q - 1),
+			 q + 1);
+		fixed_env(genome);
+		char out[4096] = "";
+		cli_capture(out, sizeof out,
+			    "%s run %s/a/OpenMaze/Tasks/Fixed.simbatch --headless "
+			    "--net Maze=%s/a/run/solvers/env-%04d.net 2>&1",
+			    cli_evo, cli_tmp, cli_tmp, id);
+		n++;
+		if (strstr(out, "solved"))
+			solved++;
+		else
+			printf("  environment %d (%s): %s", id, genome, out);
+		p = strchr(end, '\n');
+	}
+	CHECK(n >= 5);
+	CHECK_EQ_INT(solved, n);
+	free(envs);
+	char *champion = cli_read("%s/a/run/champion.net", cli_tmp);
+	char *solver = cli_read("%s/a/run/solvers/env-%04d.net", cli_tmp, best_id);
+	/* the same network, with another comment line */
+	CHECK(champion && solver &&
+	      strcmp(strchr(champion, '\n'), strchr(solver, '\n')) == 0);
+	free(champion);
+	free(solver);
+	/* retention, checked at the end: every admitted maze still solved */
+	char *ret = cli_read("%s/a/run/retention.csv", cli_tmp);
+	char want[64];
+	snprintf(want, sizeof want, "\n7,%d,", n);
+	CHECK(ret && strstr(ret, "batch,admitted,retained,lost\n") == ret &&
+	      strstr(ret, want));
+	free(ret);
+}
+
+/* evo run TASK --env N shows admitted environment N with its solver: the
+ * largest one is solved there as in the replay above; a number the run
+ * did not admit is refused with envs.csv's path. */
+TEST(evo_run_env_shows_an_admitted_maze_with_its_solver)
+{
+	char id[32] = "";
+	CHECK_EQ_INT(cli_capture(id, sizeof id,
+				 "sort -t, -k3,3g -s %s/a/run/envs.csv | "
+				 "tail -1 | cut -d, -f1",
+				 cli_tmp),
+		     0);
+	id[strcspn(id, "\n")] = 0;
+	char out[4096] = "";
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run %s/a/OpenMaze/Tasks/OpenMaze.simbatch "
+				 "--run %s/a/run --env %s --headless 2>&1",
+				 cli_evo, cli_tmp, cli_tmp, id),
+		     0);
+	char want[64];
+	snprintf(want, sizeof want, "with solvers/env-%04d.net", atoi(id));
+	CHECK_CONTAINS(out, want);
+	CHECK_CONTAINS(out, ", solved");
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run %s/a/OpenMaze/Tasks/OpenMaze.simbatch "
+				 "--run %s/a/run --env 9999 --headless 2>&1",
+				 cli_evo, cli_tmp, cli_tmp),
+		     1);
+	CHECK_CONTAINS(out, "envs.csv: no environment 9999");
+}
+
+TEST(one_thread_and_two_give_the_same_log)
+{
+	make_mind("b");
+	CHECK_EQ_INT(run("b", "OpenMaze", "--threads 1"), 0);
+	char a[1024], b[1024];
+	snprintf(a, sizeof a, "%s/a/run", cli_tmp);
+	snprintf(b, sizeof b, "%s/b/run", cli_tmp);
+	char *la = cli_fitness_log(a), *lb = cli_fitness_log(b);
+	CHECK(la && lb && strcmp(la, lb) == 0);
+	free(la);
+	free(lb);
+}
+
+TEST(a_killed_and_resumed_run_gives_the_same_log)
+{
+	make_mind("k");
+	char cmd[2048], out[1024];
+	snprintf(out, sizeof out, "%s/k/out.txt", cli_tmp);
+	snprintf(cmd, sizeof cmd,
+		 "exec %s run %s/k/OpenMaze/Tasks/OpenMaze.simbatch --seed 3 "
+		 "--generations 8 --no-save --threads 2 --run %s/k/run > %s "
+		 "2>&1",
+		 cli_evo, cli_tmp, cli_tmp, out);
+	int st;
+	double s;
+	CHECK_EQ_INT(cli_stop(cmd, out, "gen 3/8", 0.0, SIGKILL, &st, &s), 0);
+	CHECK(WIFSIGNALED(st) && WTERMSIG(st) == SIGKILL);
+	CHECK_EQ_INT(run("k", "OpenMaze", "--threads 1 --resume"), 0);
+	char *o = cli_read("%s/k/out.txt", cli_tmp);
+	CHECK(o && strstr(o, "resuming after batch"));
+	free(o);
+	char a[1024], k[1024];
+	snprintf(a, sizeof a, "%s/a/run", cli_tmp);
+	snprintf(k, sizeof k, "%s/k/run", cli_tmp);
+	char *la = cli_fitness_log(a), *lk = cli_fitness_log(k);
+	CHECK(la && lk && strcmp(la, lk) == 0);
+	free(la);
+	free(lk);
+}
+
+/* A generator of the user's own in Envs/, whose mutate raises: the run
+ * stops with the generator's file:line. */
+TEST(a_generator_error_is_reported_at_its_line)
+{
+	make_mind("e");
+	CHECK_EQ_INT(cli_sh("sed 's/^function gen.mutate(g, rng)$/&\\n"
+			    "\\terror(\"broken mutate\")/' "
+			    "lua/envs/GEN_Maze.lua > %s/e/OpenMaze/Envs/Bad.lua",
+			    cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_sh("sed 's/^ENV:GEN_Maze$/ENV:Bad/' "
+			    "%s/e/OpenMaze/Tasks/OpenMaze.simbatch > "
+			    "%s/e/OpenMaze/Tasks/Bad.simbatch",
+			    cli_tmp, cli_tmp),
+		     0);
+	char line[64] = "";
+	CHECK_EQ_INT(cli_capture(line, sizeof line,
+				 "grep -n 'broken mutate' %s/e/OpenMaze/Envs/Bad.lua "
+				 "| cut -d: -f1",
+				 cli_tmp),
+		     0);
+	line[strcspn(line, "\n")] = 0;
+	CHECK(atoi(line) > 1);
+	CHECK(run("e", "Bad", "--threads 1") != 0);
+	char *o = cli_read("%s/e/out.txt", cli_tmp);
+	char want[128];
+	snprintf(want, sizeof want, "Envs/Bad.lua:%s: broken mutate", line);
+	CHECK(o && strstr(o, want));
+	if (o && !strstr(o, want))
+		fputs(o, stdout);
+	free(o);
+}
+
+/* The loop runs a generator in a sandbox, as the workers do: a mutate
+ * that opens a file stops at its line, io being absent there. */
+TEST(a_generator_cannot_reach_files_from_the_loop)
+{
+	make_mind("s");
+	CHECK_EQ_INT(cli_sh("sed 's/^function gen.mutate(g, rng)$/&\\n"
+			    "\\tio.open(\"\\/etc\\/hostname\")/' "
+			    "lua/envs/GEN_Maze.lua > %s/s/OpenMaze/Envs/Leak.lua && "
+			    "sed 's/^ENV:GEN_Maze$/ENV:Leak/' "
+			    "%s/s/OpenMaze/Tasks/OpenMaze.simbatch > "
+			    "%s/s/OpenMaze/Tasks/Leak.simbatch",
+			    cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	char line[64] = "";
+	CHECK_EQ_INT(cli_capture(line, sizeof line,
+				 "grep -n 'io.open' %s/s/OpenMaze/Envs/Leak.lua "
+				 "| cut -d: -f1",
+				 cli_tmp),
+		     0);
+	line[strcspn(line, "\n")] = 0;
+	CHECK(atoi(line) > 1);
+	CHECK(run("s", "Leak", "--threads 1") != 0);
+	char *o = cli_read("%s/s/out.txt", cli_tmp);
+	char want[128];
+	snprintf(want, sizeof want, "Envs/Leak.lua:%s: attempt to index a nil "
+		 "value (global 'io')", line);
+	CHECK(o && strstr(o, want));
+	if (o && !strstr(o, want))
+		fputs(o, stdout);
+	free(o);
+}
+
+int main(void)
+{
+	if (cli_setup("openended"))
+		return 1;
+	RUN(annecs_rises_and_the_seed_maze_is_three_cells);
+	RUN(every_admitted_maze_is_solved_by_its_solver);
+	RUN(evo_run_env_shows_an_admitted_maze_with_its_solver);
+	RUN(one_thread_and_two_give_the_same_log);
+	RUN(a_killed_and_resumed_run_gives_the_same_log);
+	RUN(a_generator_error_is_reported_at_its_line);
+	RUN(a_generator_cannot_reach_files_from_the_loop);
+	cli_cleanup();
+	return test_summary();
+}
