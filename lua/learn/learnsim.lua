@@ -220,7 +220,10 @@ else
 end
 -- a method's own columns of log.csv (NOVELTY: archive, threshold,
 -- best_novelty; MAPELITES: coverage, qd_score)
-host.open_log(first, algo.log_columns)
+-- the method's columns of log.csv (a population may add its own: NOVELTY's
+-- result grid)
+local log_columns = pops[1].log_names and pops[1]:log_names() or algo.log_columns
+host.open_log(first, log_columns)
 local since_curve = 0
 local last_checkpoint = os.clock()
 local checkpoint_cost = 0.0 -- CPU seconds the last checkpoint took to write
@@ -301,7 +304,7 @@ for gen = first, generations - 1 do
 		local parts = {}
 		for i, v in ipairs(pop:log_values()) do
 			row[#row + 1] = v
-			parts[i] = string.format("%s %.4g", algo.log_columns[i], v)
+			parts[i] = string.format("%s %.4g", log_columns[i], v)
 		end
 		note = table.concat(parts, "  ")
 	end
@@ -337,6 +340,8 @@ for gen = first, generations - 1 do
 		or os.clock() - last_checkpoint
 			>= math.max(CHECKPOINT_SECONDS, CHECKPOINT_SHARE * checkpoint_cost) then
 		local t0 = os.clock()
+		-- the method's files that go with the checkpoint (NOVELTY's archive.csv)
+		if algo.checkpoint_files then algo.checkpoint_files(pops[1], host) end
 		local more
 		if #learners > 1 then
 			more = {}
@@ -404,7 +409,8 @@ else
 	end
 end
 host.curve(history.best, history.mean)
--- MAPELITES: the archive (archive.csv, each elite's .net, the heatmap)
+-- MAPELITES: the archive (archive.csv, each elite's .net, the heatmap);
+-- NOVELTY: its archive.csv
 if algo.write_archive then algo.write_archive(pop, host, false) end
 
 -- the environment's metrics, each a mean over the repetitions, after
