@@ -3,7 +3,8 @@
 -- (docs/learning.md), with the isotropic + line variation of Vassiliades &
 -- Mouret 2018 ("Discovering the elite hypervolume by leveraging interspecies
 -- correlation") and, for descriptors of more than two numbers, the CVT
--- archive of Vassiliades, Chatzilygeroudis & Mouret 2018.
+-- archive of Vassiliades, Chatzilygeroudis & Mouret 2018, and draws the
+-- archive (archive.png: a grid's cells or a CVT's regions).
 --
 --	local mapelites = require "learn.mapelites"
 --	local random = require "learn.rng"
@@ -497,15 +498,90 @@ function Pop:grid_fitness()
 	return nx, ny, v
 end
 
+-- A CVT archive's picture is CVT_PIXELS x CVT_PIXELS points of the
+-- descriptor square (one point of its first dimension for d = 1).
+local CVT_PIXELS = 250
+
+-- Each point's centroid, by point: worked out once a run (the centroids
+-- never move) and kept beside the population, not in it (the checkpoint
+-- holds the population).
+local cvt_owner = setmetatable({}, { __mode = "k" })
+
+-- The centroid (1-based) each point of the picture lies nearest to, in
+-- the first two descriptor dimensions (the first alone for d = 1): the
+-- points are the centres of a CVT_PIXELS grid over [0, 1]^2.
+local function cvt_owners(self)
+	if cvt_owner[self] then return cvt_owner[self] end
+	local d, c = self.dims, self.centroids
+	local dd = d >= 2 and 2 or 1
+	local proj = {}
+	for j = 0, #c // d - 1 do
+		for m = 1, dd do proj[#proj + 1] = c[j * d + m] end
+	end
+	local nx, ny = CVT_PIXELS, dd == 2 and CVT_PIXELS or 1
+	local points = {}
+	for y = 0, ny - 1 do
+		for x = 0, nx - 1 do
+			points[#points + 1] = (x + 0.5) / nx
+			if dd == 2 then points[#points + 1] = (y + 0.5) / ny end
+		end
+	end
+	local owner = require("evo.linalg").nearest(dd, proj, points)
+	cvt_owner[self] = owner
+	return owner
+end
+
+-- For the heatmap of a CVT archive: the picture's points across and up,
+-- each point's value the fitness of its centroid's elite (NaN where
+-- empty), and what the picture shows.
+function Pop:cvt_fitness()
+	if self.kind ~= "cvt" then return nil end
+	local owner = cvt_owners(self)
+	local fit = {}
+	for c = 1, self.n_cells do
+		local e = self.elites[c]
+		fit[c] = e and e.fitness or 0 / 0
+	end
+	local v = {}
+	for i = 1, #owner do v[i] = fit[owner[i]] end
+	local note
+	if self.dims > 2 then
+		note = string.format("(CVT; numbers 1, 2 of %d)", self.dims)
+	else
+		note = string.format("(CVT, %d cells)", self.n_cells)
+	end
+	return CVT_PIXELS, self.dims >= 2 and CVT_PIXELS or 1, v, note
+end
+
+-- centroids.csv: a CVT archive's cells, one row each: `cell`, and its
+-- centroid c1 .. cN.
+function Pop:centroids_csv()
+	local d, c = self.dims, self.centroids
+	local head = { "cell" }
+	for k = 1, d do head[#head + 1] = "c" .. k end
+	local out = { table.concat(head, ",") }
+	for j = 0, #c // d - 1 do
+		local row = { tostring(j + 1) }
+		for k = 1, d do row[#row + 1] = num(c[j * d + k]) end
+		out[#out + 1] = table.concat(row, ",")
+	end
+	return table.concat(out, "\n") .. "\n"
+end
+
 -- The archive into the run folder (learnsim.lua, through its host): the
--- heatmap (archive.png, a 1- or 2-D grid) as the run goes (`during`), and
--- at the end archive.csv and each elite's network, elites/elite-CELL.net.
+-- heatmap (archive.png: a 1- or 2-D grid's cells, a CVT's regions) as the
+-- run goes (`during`), and at the end archive.csv, each elite's network,
+-- elites/elite-CELL.net, and a CVT's centroids.csv.
 function mapelites.write_archive(pop, host, during)
 	local nx, ny, v = pop:grid_fitness()
 	if nx then host.heatmap(nx, ny, v, during) end
+	local note
+	nx, ny, v, note = pop:cvt_fitness()
+	if nx then host.heatmap(nx, ny, v, during, note) end
 	if during then return end
 	local text, cells = pop:archive_csv()
 	host.save("archive.csv", text)
+	if pop.kind == "cvt" then host.save("centroids.csv", pop:centroids_csv()) end
 	local names, texts = {}, {}
 	for i, c in ipairs(cells) do
 		names[i] = string.format("elites/elite-%d.net", c)

@@ -4,7 +4,8 @@
  * and QD-score columns that agree with archive.csv, and the same seed gives
  * the same log, archive and champion with one thread, two threads and two
  * MPI ranks, and after a SIGKILL and --resume. The heatmap's cells have the
- * colours of their fitness (sim/learn/heatmap.c). */
+ * colours of their fitness (sim/learn/heatmap.c), and a CVT archive's
+ * picture colours each centroid's region by its elite's fitness. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <signal.h>
@@ -334,6 +335,82 @@ TEST(heatmap_cells_have_the_colours_of_their_fitness)
 	evo_png_image_free(&png);
 }
 
+/* The colour of archive.png of run `name` at descriptor (x, y): the plot
+ * is 500 px square at (60, 40), y up. */
+static uint32_t colour_at(const evo_png_image *png, double x, double y)
+{
+	int px = 60 + (int)(x * 500), py = 40 + 499 - (int)(y * 500);
+	px = px > 559 ? 559 : px;
+	py = py < 40 ? 40 : py;
+	const uint8_t *p = png->pixels + png->channels * ((size_t)py * png->w + px);
+	return (uint32_t)p[0] << 16 | (uint32_t)p[1] << 8 | p[2];
+}
+
+/* A CVT archive of 2-D descriptors (the final position) with 24 cells:
+ * archive.png colours each centroid's region by its elite's fitness, on
+ * the scale from the archive's lowest fitness to its highest, and an
+ * empty region grey; the pixel at each centroid (centroids.csv) shows
+ * it. */
+TEST(a_cvt_archive_picture_colours_each_region_by_its_elite)
+{
+	make_mind("cvt", 3, 200);
+	CHECK_EQ_INT(cli_sh("printf 'MAPELITES_ARCHIVE:cvt\nMAPELITES_CVT_CELLS:24\n"
+			    "MAPELITES_CVT_SAMPLES:3000\n' >> "
+			    "%s/cvt/Avoid/Tasks/Small.simbatch",
+			    cli_tmp),
+		     0);
+	CHECK_EQ_INT(train("cvt", "", "--threads 2"), 0);
+	double fit[25];
+	for (int c = 0; c < 25; c++)
+		fit[c] = NAN;
+	double lo = INFINITY, hi = -INFINITY;
+	char *csv = cli_read("%s/cvt/run/archive.csv", cli_tmp);
+	CHECK(csv != NULL);
+	for (char *p = csv ? strchr(csv, '\n') : NULL; p && p[1];
+	     p = strchr(p + 1, '\n')) {
+		int cell;
+		double x, y, f;
+		if (sscanf(p + 1, "%d,%lf,%lf,%lf", &cell, &x, &y, &f) != 4 ||
+		    cell < 1 || cell > 24)
+			break;
+		fit[cell] = f;
+		lo = f < lo ? f : lo;
+		hi = f > hi ? f : hi;
+	}
+	free(csv);
+	CHECK(lo < hi);
+	char *cen = cli_read("%s/cvt/run/centroids.csv", cli_tmp);
+	CHECK(cen && strncmp(cen, "cell,c1,c2\n", 11) == 0);
+	char png_path[256];
+	snprintf(png_path, sizeof png_path, "%s/cvt/run/archive.png", cli_tmp);
+	evo_png_image png;
+	evo_err err = {{0}};
+	CHECK_EQ_INT(evo_png_read(png_path, &png, &err), 0);
+	int seen = 0, filled = 0, empty = 0;
+	for (char *p = cen ? strchr(cen, '\n') : NULL; p && p[1];
+	     p = strchr(p + 1, '\n')) {
+		int cell;
+		double x, y;
+		if (sscanf(p + 1, "%d,%lf,%lf", &cell, &x, &y) != 3 || cell < 1 ||
+		    cell > 24)
+			break;
+		seen++;
+		uint32_t want = isnan(fit[cell])
+				    ? EVO_HEATMAP_EMPTY
+				    : evo_heatmap_colour((fit[cell] - lo) / (hi - lo));
+		filled += !isnan(fit[cell]);
+		empty += isnan(fit[cell]) != 0;
+		if (colour_at(&png, x, y) != want)
+			printf("  cell %d at (%g, %g): %06x, expected %06x\n",
+			       cell, x, y, colour_at(&png, x, y), want);
+		CHECK_EQ_INT((int)colour_at(&png, x, y), (int)want);
+	}
+	CHECK_EQ_INT(seen, 24);
+	CHECK(filled > 1 && empty > 0);
+	evo_png_image_free(&png);
+	free(cen);
+}
+
 int main(void)
 {
 	if (cli_setup("mapelites"))
@@ -344,6 +421,7 @@ int main(void)
 	RUN(one_thread_two_threads_and_two_ranks_give_the_same_archive);
 	RUN(a_killed_run_resumes_to_the_same_archive);
 	RUN(heatmap_cells_have_the_colours_of_their_fitness);
+	RUN(a_cvt_archive_picture_colours_each_region_by_its_elite);
 	RUN(the_viewer_shows_a_chosen_elite_and_its_path);
 	cli_cleanup();
 	return test_summary();
