@@ -19,6 +19,9 @@
  *            89 % and the QD-score there (offset -0.5, QDax's), beside
  *            QDax's 1,001,472 evaluations, 313 s and QD-score 975.5 (at
  *            89.0 %). Bar: fewer evaluations and less time than QDax.
+ *   CMA-ME   the same reference task with MAPELITES_EMITTER:cmame, 16
+ *            emitters of 128 (2,048 a batch, as the reference), sigma0
+ *            0.2, printed beside it (no bar on it).
  *   NOVELTY  Tasks/Kheperax-NOVELTY.simbatch, for comparison in the
  *            100x100 table (no bar on it): novelty search over NEAT
  *            networks, 375,000 evaluations, its coverage that of the
@@ -223,6 +226,23 @@ static int bench_50(int n)
 		       found ? "" : "  (89 % not reached)");
 		fflush(stdout);
 		ok &= found && r.evals < QDAX_EVALS && r.elapsed < QDAX_SECONDS;
+	}
+	printf("the same with CMA-ME's improvement emitters (16 x 128, sigma0 "
+	       "0.2), for comparison:\n");
+	for (int s = 1; s <= n; s++) {
+		row r;
+		int found;
+		if (train("Kheperax-MAPELITES-Ref",
+			  "MAPELITES_TARGET_COVERAGE:0.89\\nMAPELITES_EMITTER:"
+			  "cmame\\nMAPELITES_EMITTERS:16\\nMAPELITES_EMITTER_"
+			  "BATCH:128\\nMAPELITES_EMITTER_SIGMA:0.2",
+			  s) ||
+		    read_log(0, TARGET, &r, &found))
+			return -1;
+		printf("%-6d %12ld %8.2f%% %8.1fs %10.1fs %9.1f%s\n", s,
+		       r.evals, 100 * r.coverage, r.elapsed, r.eval_secs, r.qd,
+		       found ? "" : "  (89 % not reached)");
+		fflush(stdout);
 	}
 	printf("QDax MAP-Elites: 89.0 %% at %ld evaluations in %.0f s, "
 	       "QD-score %.1f\n",

@@ -203,34 +203,91 @@ static int rows_of(const char *name)
 	return n;
 }
 
-TEST(a_killed_run_resumes_to_the_same_archive)
+/* Runs `name` (8 generations), SIGKILLs it after its third row, resumes
+ * it, and checks it ends as `reference`. */
+static void kill_and_resume(const char *name, const char *reference)
 {
-	make_mind("kr", 8, 1500);
-	make_mind("k", 8, 1500);
-	CHECK_EQ_INT(train("kr", "", "--threads 2"), 0);
 	char cmd[1024];
 	snprintf(cmd, sizeof cmd,
-		 "exec %s run %s/k/Avoid/Tasks/Small.simbatch --seed 11 "
-		 "--threads 2 --run %s/k/run > %s/k/out1.txt 2>&1",
-		 cli_evo, cli_tmp, cli_tmp, cli_tmp);
+		 "exec %s run %s/%s/Avoid/Tasks/Small.simbatch --seed 11 "
+		 "--threads 2 --run %s/%s/run > %s/%s/out1.txt 2>&1",
+		 cli_evo, cli_tmp, name, cli_tmp, name, cli_tmp, name);
 	pid_t pid = fork();
 	if (pid == 0) {
 		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
 		_exit(127);
 	}
 	struct timespec ms = {0, 2000000};
-	for (int i = 0; i < 20000 && rows_of("k") < 3; i++)
+	for (int i = 0; i < 20000 && rows_of(name) < 3; i++)
 		nanosleep(&ms, NULL);
 	kill(pid, SIGKILL);
 	int st;
 	waitpid(pid, &st, 0);
 	CHECK(WIFSIGNALED(st) && WTERMSIG(st) == SIGKILL);
-	CHECK(rows_of("k") >= 3 && rows_of("k") < 8);
-	CHECK_EQ_INT(train("k", "", "--threads 2 --resume"), 0);
-	char *out = cli_read("%s/k/out.txt", cli_tmp);
+	CHECK(rows_of(name) >= 3 && rows_of(name) < 8);
+	CHECK_EQ_INT(train(name, "", "--threads 2 --resume"), 0);
+	char *out = cli_read("%s/%s/out.txt", cli_tmp, name);
 	CHECK_CONTAINS(out, "resuming after generation");
 	free(out);
-	same_run("k", "kr");
+	same_run(name, reference);
+}
+
+TEST(a_killed_run_resumes_to_the_same_archive)
+{
+	make_mind("kr", 8, 1500);
+	make_mind("k", 8, 1500);
+	CHECK_EQ_INT(train("kr", "", "--threads 2"), 0);
+	kill_and_resume("k", "kr");
+}
+
+/* The coverage column of each row of `name`'s log.csv (its second last). */
+static int coverages(const char *name, double *out, int max)
+{
+	char *text = cli_read("%s/%s/run/log.csv", cli_tmp, name);
+	int n = 0;
+	for (char *row = text ? strchr(text, '\n') : NULL; row && row[1] && n < max;
+	     row = strchr(row + 1, '\n')) {
+		char *end = strchr(row + 1, '\n');
+		char *p = end ? end : row + strlen(row);
+		int commas = 0;
+		while (p > row && commas < 2)
+			commas += *--p == ',';
+		out[n++] = atof(p + 1);
+	}
+	free(text);
+	return n;
+}
+
+/* CMA-ME's improvement emitters (MAPELITES_EMITTER:cmame, 3 emitters of
+ * 8): batches of 24 after the first 30, the coverage grows, and the same
+ * seed gives the same log, archive and champion with one thread, two
+ * threads, two MPI ranks and after a SIGKILL and --resume. */
+TEST(cmame_emitters_fill_the_archive_the_same_on_threads_ranks_and_resume)
+{
+	static const char *const names[] = {"c1", "c2", "cnp", "ck"};
+	for (int k = 0; k < 4; k++) {
+		make_mind(names[k], 8, 1500);
+		CHECK_EQ_INT(cli_sh("printf 'MAPELITES_EMITTER:cmame\\n"
+				    "MAPELITES_EMITTERS:3\\nMAPELITES_EMITTER_"
+				    "BATCH:8\\nMAPELITES_EMITTER_SIGMA:1\\n' >> "
+				    "%s/%s/Avoid/Tasks/Small.simbatch",
+				    cli_tmp, names[k]),
+			     0);
+	}
+	CHECK_EQ_INT(train("c1", "", "--threads 1"), 0);
+	char *log = cli_read("%s/c1/run/log.csv", cli_tmp);
+	CHECK(log && strstr(log, "\n0,") && strstr(log, ",30,0,"));
+	CHECK(log && strstr(log, "\n7,") && strstr(strstr(log, "\n7,"), ",24,0,"));
+	free(log);
+	double cov[8];
+	CHECK_EQ_INT(coverages("c1", cov, 8), 8);
+	CHECK(cov[7] > cov[0]);
+	CHECK_EQ_INT(train("c2", "", "--threads 2"), 0);
+	same_run("c2", "c1");
+	CHECK_EQ_INT(train("cnp", "mpirun --oversubscribe -np 2", "--threads 1"),
+		     0);
+	same_run("cnp", "c1");
+	kill_and_resume("ck", "c1");
 }
 
 /* Acceptance 5: a chosen elite of a Kheperax archive runs in the viewer
@@ -420,6 +477,7 @@ int main(void)
 	RUN(the_run_folder_keeps_the_archive_and_log_measures_it);
 	RUN(one_thread_two_threads_and_two_ranks_give_the_same_archive);
 	RUN(a_killed_run_resumes_to_the_same_archive);
+	RUN(cmame_emitters_fill_the_archive_the_same_on_threads_ranks_and_resume);
 	RUN(heatmap_cells_have_the_colours_of_their_fitness);
 	RUN(a_cvt_archive_picture_colours_each_region_by_its_elite);
 	RUN(the_viewer_shows_a_chosen_elite_and_its_path);
