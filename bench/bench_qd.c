@@ -32,6 +32,9 @@
  * that reaches the figure (start-up included, the final files not),
  * on whatever else the machine runs: run it on an idle machine. Beside
  * it, `evaluating` is the `seconds` column summed: the episodes alone.
+ * `CPU/1k` is the CPU time (user + system, every thread) of the whole
+ * evo run per 1,000 of its evaluations: what an evaluation costs, less
+ * moved by the machine's other jobs than the times.
  * Exit 1 when a bar is not met (or a run does not reach 89 %).
  *
  * usage: bench_qd [--seeds N] [--only 100|50]
@@ -40,6 +43,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 
 #include "bench_proc.h"
 #include "base/fileio.h"
@@ -53,6 +57,18 @@
 #define QDAX_QD_SCORE	975.5
 
 static char evo_bin[256];
+/* CPU seconds of the last train(): its children's user + system time */
+static double train_cpu;
+
+/* The CPU seconds every finished child has used so far. */
+static double children_cpu(void)
+{
+	struct rusage ru;
+	if (getrusage(RUSAGE_CHILDREN, &ru) != 0)
+		return 0;
+	return (double)ru.ru_utime.tv_sec + ru.ru_utime.tv_usec / 1e6 +
+	       (double)ru.ru_stime.tv_sec + ru.ru_stime.tv_usec / 1e6;
+}
 static char tmpdir[128];
 
 /* One row of log.csv, the columns the bench reads. */
@@ -151,6 +167,7 @@ static int train(const char *task, const char *extra, int seed)
 		if (bench_sh(cmd) != 0)
 			return -1;
 	}
+	double cpu0 = children_cpu();
 	snprintf(cmd, sizeof cmd,
 		 "%s run %s/m/Kheperax/Tasks/%s.simbatch --seed %d --threads 2 "
 		 "--run %s/run > %s/train.txt 2>&1",
@@ -161,7 +178,20 @@ static int train(const char *task, const char *extra, int seed)
 			task, seed, tmpdir);
 		return -1;
 	}
+	train_cpu = children_cpu() - cpu0;
 	return 0;
+}
+
+/* The last run's CPU seconds per 1,000 of its `evals` evaluations (the
+ * whole run's CPU, whatever row the figures are read at: read from
+ * log.csv's last row). */
+static double cpu_per_1k(void)
+{
+	row r;
+	int found;
+	if (read_log(0, 0, &r, &found) || r.evals <= 0)
+		return 0;
+	return 1000.0 * train_cpu / (double)r.evals;
 }
 
 /* Seed s of task `task` to 375,000 evaluations, its row printed under
@@ -172,8 +202,8 @@ static int run_100(const char *method, const char *task, int s)
 	int found;
 	if (train(task, NULL, s) || read_log(BUDGET_100, 0, &r, &found))
 		return -1;
-	printf("%-10s %-5d %12ld %8.2f%% %8.1fs %10.1fs\n", method, s,
-	       r.evals, 100 * r.coverage, r.elapsed, r.eval_secs);
+	printf("%-10s %-5d %12ld %8.2f%% %8.1fs %10.1fs %7.3fs\n", method, s,
+	       r.evals, 100 * r.coverage, r.elapsed, r.eval_secs, cpu_per_1k());
 	fflush(stdout);
 	return found && r.coverage >= TARGET && r.elapsed < PYRIBS_SECONDS;
 }
@@ -185,8 +215,8 @@ static int bench_100(int n)
 	printf("Kheperax standard maze, 100 x 100 grid, 375,000 evaluations "
 	       "(Tasks/Kheperax-MAPELITES.simbatch and, for comparison, "
 	       "Tasks/Kheperax-NOVELTY.simbatch; 2 threads)\n");
-	printf("%-10s %-5s %12s %9s %9s %11s\n", "method", "seed",
-	       "evaluations", "coverage", "time", "evaluating");
+	printf("%-10s %-5s %12s %9s %9s %11s %8s\n", "method", "seed",
+	       "evaluations", "coverage", "time", "evaluating", "CPU/1k");
 	int ok = 1;
 	for (int s = 1; s <= n; s++) {
 		int rc = run_100("MAPELITES", "Kheperax-MAPELITES", s);
@@ -211,8 +241,8 @@ static int bench_50(int n)
 	printf("Kheperax reference configuration, 50 x 50 grid, MAPELITES to "
 	       "89 %% coverage (Tasks/Kheperax-MAPELITES-Ref.simbatch, 2 "
 	       "threads)\n");
-	printf("%-6s %12s %9s %9s %11s %9s\n", "seed", "evaluations",
-	       "coverage", "time", "evaluating", "QD-score");
+	printf("%-6s %12s %9s %9s %11s %9s %8s\n", "seed", "evaluations",
+	       "coverage", "time", "evaluating", "QD-score", "CPU/1k");
 	int ok = 1;
 	for (int s = 1; s <= n; s++) {
 		row r;
@@ -221,9 +251,9 @@ static int bench_50(int n)
 			  "MAPELITES_TARGET_COVERAGE:0.89", s) ||
 		    read_log(0, TARGET, &r, &found))
 			return -1;
-		printf("%-6d %12ld %8.2f%% %8.1fs %10.1fs %9.1f%s\n", s,
+		printf("%-6d %12ld %8.2f%% %8.1fs %10.1fs %9.1f %7.3fs%s\n", s,
 		       r.evals, 100 * r.coverage, r.elapsed, r.eval_secs, r.qd,
-		       found ? "" : "  (89 % not reached)");
+		       cpu_per_1k(), found ? "" : "  (89 % not reached)");
 		fflush(stdout);
 		ok &= found && r.evals < QDAX_EVALS && r.elapsed < QDAX_SECONDS;
 	}
@@ -239,9 +269,9 @@ static int bench_50(int n)
 			  s) ||
 		    read_log(0, TARGET, &r, &found))
 			return -1;
-		printf("%-6d %12ld %8.2f%% %8.1fs %10.1fs %9.1f%s\n", s,
+		printf("%-6d %12ld %8.2f%% %8.1fs %10.1fs %9.1f %7.3fs%s\n", s,
 		       r.evals, 100 * r.coverage, r.elapsed, r.eval_secs, r.qd,
-		       found ? "" : "  (89 % not reached)");
+		       cpu_per_1k(), found ? "" : "  (89 % not reached)");
 		fflush(stdout);
 	}
 	printf("QDax MAP-Elites: 89.0 %% at %ld evaluations in %.0f s, "

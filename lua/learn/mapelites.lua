@@ -374,13 +374,21 @@ end
 
 -- The isotropic + line variation of parents xi and xj: a new weight list
 -- xi + iso N(0, I) + line N(0, 1) (xj - xi), the line's normal drawn first.
-function mapelites.isoline(xi, xj, iso, line, rng)
+function mapelites.isoline_lua(xi, xj, iso, line, rng)
 	local t = line * rng:normal()
 	local w = {}
 	for k = 1, #xi do
 		w[k] = xi[k] + iso * rng:normal() + t * (xj[k] - xi[k])
 	end
 	return w
+end
+-- evo.neat's C (the learning loop's state has it) draws the same numbers
+-- from learn.rng's words and adds them in the same order, bit for bit;
+-- a generator of another kind (a test's) goes through isoline_lua.
+local fast = package.loaded["evo.neat"]
+function mapelites.isoline(xi, xj, iso, line, rng)
+	if fast and getmetatable(rng) == random.Rng then return fast.isoline(xi, xj, iso, line, rng) end
+	return mapelites.isoline_lua(xi, xj, iso, line, rng)
 end
 
 -- One offspring of the archive (see the header).

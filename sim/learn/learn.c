@@ -818,6 +818,14 @@ static int l_heatmap(lua_State *L)
 	return 0;
 }
 
+/* evo.clock() -> seconds on a monotonic wall clock (the loop times its
+ * checkpoints by it: os.clock counts every thread's CPU). */
+static int l_clock(lua_State *L)
+{
+	lua_pushnumber(L, now());
+	return 1;
+}
+
 /* evo.save_many(names, texts): files of the run folder, as evo.save
  * writes them but made durable together (one sync for all, not a disk
  * flush each: MAP-Elites' thousands of elites). */
@@ -985,6 +993,7 @@ static const luaL_Reg learn_fns[] = {
     {"save_champion", l_save_champion},
     {"curve", l_curve},
     {"heatmap", l_heatmap},
+    {"clock", l_clock},
     {"save_many", l_save_many},
     {"print", l_print},
     {"begin_turn", l_begin_turn},

@@ -171,6 +171,31 @@ function T.cvt_archive_and_checkpoint_go_on_identically()
 		"the resumed population is the same")
 end
 
+-- The variation in C (evo.neat's isoline and rng_normal, what the loop
+-- runs) draws and adds exactly as the Lua: the same weights to the bit
+-- from two generators of one seed, which end in the same state.
+function T.isoline_and_normal_in_c_are_the_lua_ones()
+	local fast = package.loaded["evo.neat"]
+	check(fast and fast.isoline and fast.rng_normal, "the loop's state has the kernels")
+	local a, b = random.new(99), random.new(99)
+	for _ = 1, 1000 do
+		local x, y = a:normal(), a.normal_lua(b)
+		check(x == y, string.format("normal: %.17g, Lua %.17g", x, y))
+	end
+	local xi, xj = {}, {}
+	for k = 1, 66 do xi[k], xj[k] = a:normal(), a:normal() end
+	b = random.load(a:save())
+	for _ = 1, 50 do
+		local w1 = mapelites.isoline(xi, xj, 0.02, 0.3, a)
+		local w2 = mapelites.isoline_lua(xi, xj, 0.02, 0.3, b)
+		check(#w1 == 66 and #w2 == 66, "66 weights")
+		for k = 1, 66 do check(w1[k] == w2[k], "weight " .. k) end
+		xi = w1
+	end
+	local sa, sb = a:save(), b:save()
+	for k = 1, 4 do check(sa[k] == sb[k], "the same state after") end
+end
+
 -- CMA-ME's ranking by hand: two new cells (fitness 3 and 5), two better
 -- elites (gains 0.5 and 2), two not entered (gains -1 and -0.25): the new
 -- cells first, the higher fitness first (5: offspring 4, then 3:
