@@ -3,8 +3,10 @@
 -- (docs/learning.md), with the isotropic + line variation of Vassiliades &
 -- Mouret 2018 ("Discovering the elite hypervolume by leveraging interspecies
 -- correlation") and, for descriptors of more than two numbers, the CVT
--- archive of Vassiliades, Chatzilygeroudis & Mouret 2018, and draws the
--- archive (archive.png: a grid's cells or a CVT's regions).
+-- archive of Vassiliades, Chatzilygeroudis & Mouret 2018, optionally
+-- CMA-ME's improvement emitters (Fontaine et al. 2020) on learn.cmaes in
+-- place of the variation, and draws the archive (archive.png: a grid's
+-- cells or a CVT's regions).
 --
 --	local mapelites = require "learn.mapelites"
 --	local random = require "learn.rng"
