@@ -19,14 +19,23 @@
  *            89 % and the QD-score there (offset -0.5, QDax's), beside
  *            QDax's 1,001,472 evaluations, 313 s and QD-score 975.5 (at
  *            89.0 %). Bar: fewer evaluations and less time than QDax.
+ *   CMA-ME   the same reference task with MAPELITES_EMITTER:cmame, 16
+ *            emitters of 128 (2,048 a batch, as the reference), sigma0
+ *            0.2, printed beside it (no bar on it).
+ *   NOVELTY  Tasks/Kheperax-NOVELTY.simbatch, for comparison in the
+ *            100x100 table (no bar on it): novelty search over NEAT
+ *            networks, 375,000 evaluations, its coverage that of the
+ *            passive 100 x 100 result grid every evaluated robot marks
+ *            (NOVELTY_COVERAGE_GRID:100), as pyribs' tutorial measures it.
  *
  * Wall time is the run's own `elapsed` column of log.csv at the row
  * that reaches the figure (start-up included, the final files not),
  * on whatever else the machine runs: run it on an idle machine. Beside
  * it, `evaluating` is the `seconds` column summed: the episodes alone.
+ * `CPU/1k` is the CPU time (user + system, every thread) of the whole
+ * evo run per 1,000 of its evaluations: what an evaluation costs, less
+ * moved by the machine's other jobs than the times.
  * Exit 1 when a bar is not met (or a run does not reach 89 %).
- *
- * NOVELTY, for comparison, is not in this tree yet.
  *
  * usage: bench_qd [--seeds N] [--only 100|50]
  *   --seeds N  seeds 1 .. N (default 1) */
@@ -34,6 +43,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 
 #include "bench_proc.h"
 #include "base/fileio.h"
@@ -47,6 +57,18 @@
 #define QDAX_QD_SCORE	975.5
 
 static char evo_bin[256];
+/* CPU seconds of the last train(): its children's user + system time */
+static double train_cpu;
+
+/* The CPU seconds every finished child has used so far. */
+static double children_cpu(void)
+{
+	struct rusage ru;
+	if (getrusage(RUSAGE_CHILDREN, &ru) != 0)
+		return 0;
+	return (double)ru.ru_utime.tv_sec + ru.ru_utime.tv_usec / 1e6 +
+	       (double)ru.ru_stime.tv_sec + ru.ru_stime.tv_usec / 1e6;
+}
 static char tmpdir[128];
 
 /* One row of log.csv, the columns the bench reads. */
@@ -99,8 +121,10 @@ static int read_log(long evals, double coverage, row *r, int *found)
 	    cs = column(data, "seconds"),
 	    cc = column(data, "metric:coverage"),
 	    cq = column(data, "metric:qd_score");
-	if (ce < 0 || ct < 0 || cs < 0 || cc < 0 || cq < 0) {
-		fprintf(stderr, "bench_qd: %s: not a MAPELITES log\n", path);
+	if (ce < 0 || ct < 0 || cs < 0 || cc < 0) {
+		fprintf(stderr, "bench_qd: %s: no coverage column (a MAPELITES "
+				"log, or NOVELTY's with NOVELTY_COVERAGE_GRID)\n",
+			path);
 		free(data);
 		return -1;
 	}
@@ -115,7 +139,7 @@ static int read_log(long evals, double coverage, row *r, int *found)
 		r->eval_secs += field(line, cs);
 		r->elapsed = field(line, ct);
 		r->coverage = field(line, cc);
-		r->qd = field(line, cq);
+		r->qd = cq < 0 ? 0 : field(line, cq);
 		*found = (evals > 0 && sum >= evals) ||
 			 (coverage > 0 && r->coverage >= coverage);
 	}
@@ -143,6 +167,7 @@ static int train(const char *task, const char *extra, int seed)
 		if (bench_sh(cmd) != 0)
 			return -1;
 	}
+	double cpu0 = children_cpu();
 	snprintf(cmd, sizeof cmd,
 		 "%s run %s/m/Kheperax/Tasks/%s.simbatch --seed %d --threads 2 "
 		 "--run %s/run > %s/train.txt 2>&1",
@@ -153,33 +178,59 @@ static int train(const char *task, const char *extra, int seed)
 			task, seed, tmpdir);
 		return -1;
 	}
+	train_cpu = children_cpu() - cpu0;
 	return 0;
 }
 
-/* Seeds 1 .. n of the 100 x 100 task: 1 when the bar is met on every
- * seed, 0 when not, -1 on an error. */
+/* The last run's CPU seconds per 1,000 of its `evals` evaluations (the
+ * whole run's CPU, whatever row the figures are read at: read from
+ * log.csv's last row). */
+static double cpu_per_1k(void)
+{
+	row r;
+	int found;
+	if (read_log(0, 0, &r, &found) || r.evals <= 0)
+		return 0;
+	return 1000.0 * train_cpu / (double)r.evals;
+}
+
+/* Seed s of task `task` to 375,000 evaluations, its row printed under
+ * `method`: 1 when it met the bar, 0 when not, -1 on an error. */
+static int run_100(const char *method, const char *task, int s)
+{
+	row r;
+	int found;
+	if (train(task, NULL, s) || read_log(BUDGET_100, 0, &r, &found))
+		return -1;
+	printf("%-10s %-5d %12ld %8.2f%% %8.1fs %10.1fs %7.3fs\n", method, s,
+	       r.evals, 100 * r.coverage, r.elapsed, r.eval_secs, cpu_per_1k());
+	fflush(stdout);
+	return found && r.coverage >= TARGET && r.elapsed < PYRIBS_SECONDS;
+}
+
+/* Seeds 1 .. n of the 100 x 100 task, MAPELITES then NOVELTY: 1 when
+ * MAPELITES meets the bar on every seed, 0 when not, -1 on an error. */
 static int bench_100(int n)
 {
-	printf("Kheperax standard maze, 100 x 100 grid, MAPELITES "
-	       "(Tasks/Kheperax-MAPELITES.simbatch, 2 threads)\n");
-	printf("%-6s %12s %9s %9s %11s\n", "seed", "evaluations", "coverage",
-	       "time", "evaluating");
+	printf("Kheperax standard maze, 100 x 100 grid, 375,000 evaluations "
+	       "(Tasks/Kheperax-MAPELITES.simbatch and, for comparison, "
+	       "Tasks/Kheperax-NOVELTY.simbatch; 2 threads)\n");
+	printf("%-10s %-5s %12s %9s %9s %11s %8s\n", "method", "seed",
+	       "evaluations", "coverage", "time", "evaluating", "CPU/1k");
 	int ok = 1;
 	for (int s = 1; s <= n; s++) {
-		row r;
-		int found;
-		if (train("Kheperax-MAPELITES", NULL, s) ||
-		    read_log(BUDGET_100, 0, &r, &found))
+		int rc = run_100("MAPELITES", "Kheperax-MAPELITES", s);
+		if (rc < 0)
 			return -1;
-		printf("%-6d %12ld %8.2f%% %8.1fs %10.1fs\n", s, r.evals,
-		       100 * r.coverage, r.elapsed, r.eval_secs);
-		fflush(stdout);
-		ok &= found && r.coverage >= TARGET &&
-		      r.elapsed < PYRIBS_SECONDS;
+		ok &= rc;
 	}
+	for (int s = 1; s <= n; s++)
+		if (run_100("NOVELTY", "Kheperax-NOVELTY", s) < 0)
+			return -1;
 	printf("pyribs' novelty-search tutorial at 375,000 evaluations: "
 	       "46.0, 79.5, 86.0, 86.1 %% in 226-246 s (published 88.93 %%)\n");
-	printf("bar: >= 89 %% within 375,000 evaluations in < 226 s: %s\n",
+	printf("bar (MAPELITES): >= 89 %% within 375,000 evaluations in < "
+	       "226 s: %s\n",
 	       ok ? "met" : "NOT MET");
 	return ok;
 }
@@ -190,8 +241,8 @@ static int bench_50(int n)
 	printf("Kheperax reference configuration, 50 x 50 grid, MAPELITES to "
 	       "89 %% coverage (Tasks/Kheperax-MAPELITES-Ref.simbatch, 2 "
 	       "threads)\n");
-	printf("%-6s %12s %9s %9s %11s %9s\n", "seed", "evaluations",
-	       "coverage", "time", "evaluating", "QD-score");
+	printf("%-6s %12s %9s %9s %11s %9s %8s\n", "seed", "evaluations",
+	       "coverage", "time", "evaluating", "QD-score", "CPU/1k");
 	int ok = 1;
 	for (int s = 1; s <= n; s++) {
 		row r;
@@ -200,11 +251,28 @@ static int bench_50(int n)
 			  "MAPELITES_TARGET_COVERAGE:0.89", s) ||
 		    read_log(0, TARGET, &r, &found))
 			return -1;
-		printf("%-6d %12ld %8.2f%% %8.1fs %10.1fs %9.1f%s\n", s,
+		printf("%-6d %12ld %8.2f%% %8.1fs %10.1fs %9.1f %7.3fs%s\n", s,
 		       r.evals, 100 * r.coverage, r.elapsed, r.eval_secs, r.qd,
-		       found ? "" : "  (89 % not reached)");
+		       cpu_per_1k(), found ? "" : "  (89 % not reached)");
 		fflush(stdout);
 		ok &= found && r.evals < QDAX_EVALS && r.elapsed < QDAX_SECONDS;
+	}
+	printf("the same with CMA-ME's improvement emitters (16 x 128, sigma0 "
+	       "0.2), for comparison:\n");
+	for (int s = 1; s <= n; s++) {
+		row r;
+		int found;
+		if (train("Kheperax-MAPELITES-Ref",
+			  "MAPELITES_TARGET_COVERAGE:0.89\\nMAPELITES_EMITTER:"
+			  "cmame\\nMAPELITES_EMITTERS:16\\nMAPELITES_EMITTER_"
+			  "BATCH:128\\nMAPELITES_EMITTER_SIGMA:0.2",
+			  s) ||
+		    read_log(0, TARGET, &r, &found))
+			return -1;
+		printf("%-6d %12ld %8.2f%% %8.1fs %10.1fs %9.1f %7.3fs%s\n", s,
+		       r.evals, 100 * r.coverage, r.elapsed, r.eval_secs, r.qd,
+		       cpu_per_1k(), found ? "" : "  (89 % not reached)");
+		fflush(stdout);
 	}
 	printf("QDax MAP-Elites: 89.0 %% at %ld evaluations in %.0f s, "
 	       "QD-score %.1f\n",

@@ -522,4 +522,7 @@ function cmaes.load(t, rng)
 	return common.load(t, "evo-cmaes-1", Pop, rng, random.load)
 end
 
+-- The population's class (MAP-Elites' CMA-ME emitters are CMA-ES states).
+cmaes.Pop = Pop
+
 return cmaes

@@ -54,7 +54,9 @@ local REPLAY_RANDOM = 20
 local CURVE_SECONDS = 1.0
 -- The checkpoint is written after the first generation of a process,
 -- after the last one, and after any generation that ends CHECKPOINT_SECONDS
--- (of the process's CPU time) or more after the last checkpoint: every
+-- (of wall time, host.clock: os.clock would count every evaluating
+-- thread's CPU, two seconds a second on two threads) or more after the
+-- last checkpoint: every
 -- generation of a task whose generations take a second, and not 25 times
 -- in a run of XOR that lasts a tenth of a second. A run killed between two
 -- checkpoints goes on from the last one and does the generations after it
@@ -220,10 +222,13 @@ else
 end
 -- a method's own columns of log.csv (NOVELTY: archive, threshold,
 -- best_novelty; MAPELITES: coverage, qd_score)
-host.open_log(first, algo.log_columns)
+-- the method's columns of log.csv (a population may add its own: NOVELTY's
+-- result grid)
+local log_columns = pops[1].log_names and pops[1]:log_names() or algo.log_columns
+host.open_log(first, log_columns)
 local since_curve = 0
-local last_checkpoint = os.clock()
-local checkpoint_cost = 0.0 -- CPU seconds the last checkpoint took to write
+local last_checkpoint = host.clock()
+local checkpoint_cost = 0.0 -- seconds the last checkpoint took to write
 
 for gen = first, generations - 1 do
 	local k = learner_of(gen)
@@ -301,7 +306,7 @@ for gen = first, generations - 1 do
 		local parts = {}
 		for i, v in ipairs(pop:log_values()) do
 			row[#row + 1] = v
-			parts[i] = string.format("%s %.4g", algo.log_columns[i], v)
+			parts[i] = string.format("%s %.4g", log_columns[i], v)
 		end
 		note = table.concat(parts, "  ")
 	end
@@ -334,9 +339,11 @@ for gen = first, generations - 1 do
 	-- The checkpoint last: a run killed before it is written resumes from
 	-- the previous checkpoint and redoes the generations since identically.
 	if gen == first or stop or gen == generations - 1
-		or os.clock() - last_checkpoint
+		or host.clock() - last_checkpoint
 			>= math.max(CHECKPOINT_SECONDS, CHECKPOINT_SHARE * checkpoint_cost) then
-		local t0 = os.clock()
+		local t0 = host.clock()
+		-- the method's files that go with the checkpoint (NOVELTY's archive.csv)
+		if algo.checkpoint_files then algo.checkpoint_files(pops[1], host) end
 		local more
 		if #learners > 1 then
 			more = {}
@@ -345,7 +352,7 @@ for gen = first, generations - 1 do
 		host.save("checkpoint.lua", serialize.dump{ generation = gen, seed = host.seed,
 			pop = algo.save(pops[1], true), more_pops = more, history = history, solver = solver,
 			stopped = stop ~= nil, best_team = teams and best_team or nil })
-		last_checkpoint = os.clock()
+		last_checkpoint = host.clock()
 		checkpoint_cost = last_checkpoint - t0
 	end
 	if stop then
@@ -416,7 +423,8 @@ else
 	end
 end
 host.curve(history.best, history.mean)
--- MAPELITES: the archive (archive.csv, each elite's .net, the heatmap)
+-- MAPELITES: the archive (archive.csv, each elite's .net, the heatmap);
+-- NOVELTY: its archive.csv
 if algo.write_archive then algo.write_archive(pop, host, false) end
 
 -- the environment's metrics, each a mean over the repetitions, after

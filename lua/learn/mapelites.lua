@@ -3,7 +3,10 @@
 -- (docs/learning.md), with the isotropic + line variation of Vassiliades &
 -- Mouret 2018 ("Discovering the elite hypervolume by leveraging interspecies
 -- correlation") and, for descriptors of more than two numbers, the CVT
--- archive of Vassiliades, Chatzilygeroudis & Mouret 2018.
+-- archive of Vassiliades, Chatzilygeroudis & Mouret 2018, optionally
+-- CMA-ME's improvement emitters (Fontaine et al. 2020) on learn.cmaes in
+-- place of the variation, and draws the archive (archive.png: a grid's
+-- cells or a CVT's regions).
 --
 --	local mapelites = require "learn.mapelites"
 --	local random = require "learn.rng"
@@ -79,6 +82,10 @@ mapelites.defaults = {
 	bias = true, -- every node has a bias
 	qd_offset = 0.0, -- QD-score sums fitness - qd_offset
 	target_coverage = 0.0, -- stop once the coverage reaches this; 0: never
+	emitter = "isoline", -- offspring: "isoline" (iso + line variation) or "cmame"
+	emitters = 5, -- cmame: improvement emitters
+	emitter_sigma = 0.5, -- cmame: each emitter's CMA-ES starting step size
+	emitter_batch = 36, -- cmame: offspring of each emitter a generation
 }
 
 mapelites.task_keys = {
@@ -97,12 +104,17 @@ mapelites.task_keys = {
 	MAPELITES_BIAS = "bias",
 	MAPELITES_QD_OFFSET = "qd_offset",
 	MAPELITES_TARGET_COVERAGE = "target_coverage",
+	MAPELITES_EMITTER = "emitter",
+	MAPELITES_EMITTERS = "emitters",
+	MAPELITES_EMITTER_SIGMA = "emitter_sigma",
+	MAPELITES_EMITTER_BATCH = "emitter_batch",
 }
 
 local CHOICES = {
 	archive = { auto = true, grid = true, cvt = true },
 	init = { lecun = true, normal = true },
 	hidden_act = { tanh = true, sigmoid = true, relu = true },
+	emitter = { isoline = true, cmame = true },
 }
 
 -- A grid holds at most MAX_CELLS cells (cells ^ d).
@@ -119,6 +131,9 @@ mapelites.ranges = {
 	sigma_iso = common.POSITIVE, sigma_line = common.POSITIVE,
 	init_power = common.POSITIVE, qd_offset = { lo = -1e9, hi = 1e9 },
 	target_coverage = common.PROB,
+	emitters = { lo = 1, hi = 1000, int = true },
+	emitter_sigma = { lo = 0, above = true },
+	emitter_batch = { lo = 2, hi = 10000, int = true },
 }
 
 function mapelites.options_from_task(task)
@@ -361,13 +376,21 @@ end
 
 -- The isotropic + line variation of parents xi and xj: a new weight list
 -- xi + iso N(0, I) + line N(0, 1) (xj - xi), the line's normal drawn first.
-function mapelites.isoline(xi, xj, iso, line, rng)
+function mapelites.isoline_lua(xi, xj, iso, line, rng)
 	local t = line * rng:normal()
 	local w = {}
 	for k = 1, #xi do
 		w[k] = xi[k] + iso * rng:normal() + t * (xj[k] - xi[k])
 	end
 	return w
+end
+-- evo.neat's C (the learning loop's state has it) draws the same numbers
+-- from learn.rng's words and adds them in the same order, bit for bit;
+-- a generator of another kind (a test's) goes through isoline_lua.
+local fast = package.loaded["evo.neat"]
+function mapelites.isoline(xi, xj, iso, line, rng)
+	if fast and getmetatable(rng) == random.Rng then return fast.isoline(xi, xj, iso, line, rng) end
+	return mapelites.isoline_lua(xi, xj, iso, line, rng)
 end
 
 -- One offspring of the archive (see the header).
@@ -396,14 +419,25 @@ function Pop:tell(fitness, descriptors)
 	self.evaluations = self.evaluations + #fitness
 	local cells = self:cells_of(descriptors)
 	self.added = 0
+	local status, gain = {}, {}
 	for i, g in ipairs(popl) do
 		local f = fitness[i]
-		if self:offer(cells[i], g.weights, f, descriptors[i]) then self.added = self.added + 1 end
+		local old = cells[i] and self.elites[cells[i]]
+		if self:offer(cells[i], g.weights, f, descriptors[i]) then
+			self.added = self.added + 1
+			status[i], gain[i] = old and 1 or 2, old and f - old.fitness or f
+		else
+			status[i], gain[i] = 0, (old and f == f) and f - old.fitness or -math.huge
+		end
 		if f == f and (not self.best or f > self.best.fitness) then
 			self.best = { genome = common.deep_copy(g), fitness = f }
 		end
 	end
 	self.generation = self.generation + 1
+	if self.options.emitter == "cmame" and #self.filled > 0 then
+		self:tell_emitters(status, gain)
+		return
+	end
 	local nextp = {}
 	if #self.filled == 0 then
 		-- nothing entered (every fitness NaN): start again at random
@@ -413,6 +447,101 @@ function Pop:tell(fitness, descriptors)
 	end
 	self.population = nextp
 	if not self.best then self.best = { genome = common.deep_copy(popl[1]), fitness = fitness[1] } end
+end
+
+---------------------------------------------------------------------------
+-- CMA-ME's improvement emitters (Fontaine, Togelius, Nikolaidis & Hoover
+-- 2020, "Covariance Matrix Adaptation for the Rapid Illumination of
+-- Behavior Space")
+--
+-- With emitter "cmame", every batch after the first is `emitters` times
+-- `emitter_batch` offspring, emitter by emitter: each emitter is a CMA-ES
+-- (learn.cmaes, no restarts of its own, lambda emitter_batch) whose mean
+-- starts at an elite drawn uniformly from the archive and whose sigma
+-- starts at emitter_sigma. After the batch has entered the archive (in
+-- order, emitter 1's offspring first), each emitter ranks its own
+-- offspring by improvement: those that filled an empty cell first, by
+-- fitness; then those that beat a cell's elite, by how much; then the
+-- rest, by fitness minus their cell's elite's (ties by order). CMA-ES
+-- updates on that ranking (its mu best). An emitter none of whose
+-- offspring entered the archive restarts: a fresh CMA-ES at another
+-- elite. The emitters draw from the population's rng.
+
+-- The order of a batch's offspring by improvement: status 2 (a new cell)
+-- before 1 (a better elite) before 0 (not entered), and within a status
+-- the higher gain first (the fitness for a new cell, the fitness minus the
+-- elite's otherwise); ties keep the batch's order.
+function mapelites.improvement_order(status, gain)
+	local order = {}
+	for i = 1, #status do order[i] = i end
+	table.sort(order, function(a, b)
+		if status[a] ~= status[b] then return status[a] > status[b] end
+		if gain[a] ~= gain[b] then return gain[a] > gain[b] end
+		return a < b
+	end)
+	return order
+end
+
+-- A fresh emitter: CMA-ES at an elite drawn from the archive. Emitters
+-- hold no rng (the checkpoint holds the population's once): it is lent to
+-- them for each call.
+function Pop:new_emitter()
+	local o, rng = self.options, self.rng
+	local x0 = self.elites[self.filled[1 + math.floor(rng:unit() * #self.filled)]].weights
+	local e = cmaes.new{ inputs = self.inputs, outputs = self.outputs, layers = self.layers,
+		hidden = self.width, rng = rng, options = { pop_size = o.emitter_batch,
+		sigma = o.emitter_sigma, restarts = 0, ipop = false, bias = o.bias,
+		hidden_act = o.hidden_act } }
+	for k = 1, self.n do e.mean[k] = x0[k] end
+	e:sample()
+	e.rng = nil
+	return e
+end
+
+-- The next batch: every emitter's offspring, in emitter order.
+function Pop:emitter_batch()
+	local popl = {}
+	for _, e in ipairs(self.emitters) do
+		for _, g in ipairs(e.population) do popl[#popl + 1] = g end
+	end
+	self.population = popl
+end
+
+-- After a batch (its status and gain, see improvement_order): each
+-- emitter updates on its offspring's ranking, or restarts when none of
+-- them entered the archive; then the next batch.
+function Pop:tell_emitters(status, gain)
+	local o = self.options
+	if not self.emitters then
+		-- the first batch was random: the emitters start now
+		self.emitters, self.emitter_restarts = {}, 0
+		for k = 1, o.emitters do self.emitters[k] = self:new_emitter() end
+		self:emitter_batch()
+		return
+	end
+	local lambda = o.emitter_batch
+	for k, e in ipairs(self.emitters) do
+		local st, ga, entered = {}, {}, 0
+		for j = 1, lambda do
+			local i = (k - 1) * lambda + j
+			st[j], ga[j] = status[i], gain[i]
+			if st[j] > 0 then entered = entered + 1 end
+		end
+		if entered == 0 then
+			self.emitters[k] = self:new_emitter()
+			self.emitter_restarts = self.emitter_restarts + 1
+		else
+			-- CMA-ES ranks by "fitness": lambda for the first, down to 1
+			local rank = {}
+			for r, j in ipairs(mapelites.improvement_order(st, ga)) do rank[j] = lambda - r + 1 end
+			-- (a checkpoint's copy has lost its class)
+			setmetatable(e, cmaes.Pop)
+			e.rng = self.rng
+			e:tell(rank)
+			e.rng = nil
+		end
+	end
+	self:emitter_batch()
 end
 
 -- The share of cells that hold an elite, and the QD-score.
@@ -497,16 +626,91 @@ function Pop:grid_fitness()
 	return nx, ny, v
 end
 
+-- A CVT archive's picture is CVT_PIXELS x CVT_PIXELS points of the
+-- descriptor square (one point of its first dimension for d = 1).
+local CVT_PIXELS = 250
+
+-- Each point's centroid, by point: worked out once a run (the centroids
+-- never move) and kept beside the population, not in it (the checkpoint
+-- holds the population).
+local cvt_owner = setmetatable({}, { __mode = "k" })
+
+-- The centroid (1-based) each point of the picture lies nearest to, in
+-- the first two descriptor dimensions (the first alone for d = 1): the
+-- points are the centres of a CVT_PIXELS grid over [0, 1]^2.
+local function cvt_owners(self)
+	if cvt_owner[self] then return cvt_owner[self] end
+	local d, c = self.dims, self.centroids
+	local dd = d >= 2 and 2 or 1
+	local proj = {}
+	for j = 0, #c // d - 1 do
+		for m = 1, dd do proj[#proj + 1] = c[j * d + m] end
+	end
+	local nx, ny = CVT_PIXELS, dd == 2 and CVT_PIXELS or 1
+	local points = {}
+	for y = 0, ny - 1 do
+		for x = 0, nx - 1 do
+			points[#points + 1] = (x + 0.5) / nx
+			if dd == 2 then points[#points + 1] = (y + 0.5) / ny end
+		end
+	end
+	local owner = require("evo.linalg").nearest(dd, proj, points)
+	cvt_owner[self] = owner
+	return owner
+end
+
+-- For the heatmap of a CVT archive: the picture's points across and up,
+-- each point's value the fitness of its centroid's elite (NaN where
+-- empty), and what the picture shows.
+function Pop:cvt_fitness()
+	if self.kind ~= "cvt" then return nil end
+	local owner = cvt_owners(self)
+	local fit = {}
+	for c = 1, self.n_cells do
+		local e = self.elites[c]
+		fit[c] = e and e.fitness or 0 / 0
+	end
+	local v = {}
+	for i = 1, #owner do v[i] = fit[owner[i]] end
+	local note
+	if self.dims > 2 then
+		note = string.format("(CVT; numbers 1, 2 of %d)", self.dims)
+	else
+		note = string.format("(CVT, %d cells)", self.n_cells)
+	end
+	return CVT_PIXELS, self.dims >= 2 and CVT_PIXELS or 1, v, note
+end
+
+-- centroids.csv: a CVT archive's cells, one row each: `cell`, and its
+-- centroid c1 .. cN.
+function Pop:centroids_csv()
+	local d, c = self.dims, self.centroids
+	local head = { "cell" }
+	for k = 1, d do head[#head + 1] = "c" .. k end
+	local out = { table.concat(head, ",") }
+	for j = 0, #c // d - 1 do
+		local row = { tostring(j + 1) }
+		for k = 1, d do row[#row + 1] = num(c[j * d + k]) end
+		out[#out + 1] = table.concat(row, ",")
+	end
+	return table.concat(out, "\n") .. "\n"
+end
+
 -- The archive into the run folder (learnsim.lua, through its host): the
--- heatmap (archive.png, a 1- or 2-D grid) as the run goes (`during`), and
--- at the end archive.csv and each elite's network, elites/elite-CELL.net
--- (CELL zero-padded to the width of the largest cell number).
+-- heatmap (archive.png: a 1- or 2-D grid's cells, a CVT's regions) as the
+-- run goes (`during`), and at the end archive.csv, each elite's network,
+-- elites/elite-CELL.net (CELL zero-padded to the width of the largest cell
+-- number), and a CVT's centroids.csv.
 function mapelites.write_archive(pop, host, during)
 	local nx, ny, v = pop:grid_fitness()
 	if nx then host.heatmap(nx, ny, v, during) end
+	local note
+	nx, ny, v, note = pop:cvt_fitness()
+	if nx then host.heatmap(nx, ny, v, during, note) end
 	if during then return end
 	local text, cells = pop:archive_csv()
 	host.save("archive.csv", text)
+	if pop.kind == "cvt" then host.save("centroids.csv", pop:centroids_csv()) end
 	local names, texts = {}, {}
 	-- zero-padded to the width of the largest cell, so that they sort
 	-- in cell order: elite-007.net before elite-042.net

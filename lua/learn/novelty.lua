@@ -62,6 +62,8 @@ novelty.defaults = {
 	-- plus w times fitness, each scaled to [0, 1] over the generation
 	min_fitness = "off", -- minimal criterion: a candidate whose fitness is below this number
 	-- scores 0 and never enters the archive; off: none
+	coverage_grid = 0, -- cells a dimension of a passive result grid every evaluated descriptor
+	-- is marked in, its coverage logged (pyribs' measure); 0: none
 }
 
 -- .simbatch key -> option name.
@@ -77,6 +79,7 @@ novelty.task_keys = {
 	NOVELTY_RANDOM_ADD = "random_add",
 	NOVELTY_FITNESS_WEIGHT = "fitness_weight",
 	NOVELTY_MIN_FITNESS = "min_fitness",
+	NOVELTY_COVERAGE_GRID = "coverage_grid",
 }
 
 -- The keys of another method's table this one reads too: every NEAT key.
@@ -93,6 +96,7 @@ novelty.ranges = {
 	archive_limit = common.WHOLE,
 	random_add = common.PROB,
 	fitness_weight = common.PROB,
+	coverage_grid = { lo = 0, hi = 10000, int = true },
 }
 
 for name in pairs(novelty.defaults) do
@@ -309,19 +313,105 @@ function Pop:tell(fitness, descriptors)
 	end
 	local added = novelty.update_archive(self, flat, fitness, nov, pass)
 	self.last = { added = added, best_novelty = best }
+	if o.coverage_grid > 0 then novelty.mark_grid(self, flat) end
 	self:reproduce(novelty.scores(nov, fitness, pass, o))
 end
 
--- The loop's own columns of log.csv, and this generation's values.
+---------------------------------------------------------------------------
+-- The result grid: how much of the descriptor space the run has visited
+
+-- The grid holds at most MAX_GRID cells (coverage_grid ^ d).
+local MAX_GRID = 10000000
+
+-- Marks the cell of every descriptor of the generation (flat, dims
+-- numbers each) in the passive result grid of coverage_grid cells a
+-- dimension (learn.mapelites' grid cells: the last part closed at 1).
+-- The grid only counts: it never changes the search.
+function novelty.mark_grid(self, flat)
+	local cells, d = self.options.coverage_grid, self.dims
+	if not self.grid then
+		if cells ^ d > MAX_GRID then
+			error(string.format("NOVELTY_COVERAGE_GRID: %d cells a dimension in %d dimensions "
+				.. "is more than %d cells", cells, d, MAX_GRID), 0)
+		end
+		self.grid, self.grid_filled = {}, 0
+	end
+	local grid_cell = require("learn.mapelites").grid_cell
+	local b = {}
+	for i = 0, #flat // d - 1 do
+		for q = 1, d do b[q] = flat[i * d + q] end
+		local c = grid_cell(b, cells)
+		if not self.grid[c] then
+			self.grid[c] = true
+			self.grid_filled = self.grid_filled + 1
+		end
+	end
+end
+
+-- The share of the result grid's cells some evaluated descriptor fell in.
+function Pop:coverage()
+	if not self.grid then return 0.0 end
+	return self.grid_filled / self.options.coverage_grid ^ self.dims
+end
+
+-- The loop's own columns of log.csv, and this generation's values; with
+-- NOVELTY_COVERAGE_GRID, the result grid's coverage too.
 novelty.log_columns = { "archive", "threshold", "best_novelty" }
+function Pop:log_names()
+	if self.options.coverage_grid == 0 then return novelty.log_columns end
+	return { "archive", "threshold", "best_novelty", "coverage" }
+end
 function Pop:log_values()
-	return { #self.archive // (self.dims or 1), self.rho_min, self.last.best_novelty }
+	local v = { #self.archive // (self.dims or 1), self.rho_min, self.last.best_novelty }
+	if self.options.coverage_grid > 0 then v[4] = self:coverage() end
+	return v
 end
 
 function Pop:stats()
 	local s = neat.Pop.stats(self)
 	s.archive, s.threshold = #self.archive // (self.dims or 1), self.rho_min
 	return s
+end
+
+---------------------------------------------------------------------------
+-- The archive as a file of the run folder
+
+local function num(x) return string.format("%.17g", x) end
+
+-- archive.csv: a header, then one row per archived behaviour, oldest
+-- first: `generation` it joined in, its descriptor d1 .. dN, its
+-- `fitness` and its `novelty` when it joined.
+function Pop:archive_csv()
+	local d = self.dims or 0
+	local head = { "generation" }
+	for q = 1, d do head[#head + 1] = "d" .. q end
+	head[#head + 1] = "fitness"
+	head[#head + 1] = "novelty"
+	local out = { table.concat(head, ",") }
+	local a, meta = self.archive, self.archive_meta
+	for i = 0, (d > 0 and #a // d or 0) - 1 do
+		local row = { tostring(math.tointeger(meta[3 * i + 1]) or meta[3 * i + 1]) }
+		for q = 1, d do row[#row + 1] = num(a[i * d + q]) end
+		row[#row + 1] = num(meta[3 * i + 2])
+		row[#row + 1] = num(meta[3 * i + 3])
+		out[#out + 1] = table.concat(row, ",")
+	end
+	return table.concat(out, "\n") .. "\n"
+end
+
+-- archive.csv into the run folder with each checkpoint (learnsim.lua),
+-- just before it: the file always holds the archive of the checkpoint
+-- written after it, or of a generation a resumed run redoes identically.
+function novelty.checkpoint_files(pop, host)
+	host.save("archive.csv", pop:archive_csv())
+end
+
+-- At the end of the run (learnsim.lua): says where the archive is.
+function novelty.write_archive(pop, host, during)
+	if during then return end
+	host.save("archive.csv", pop:archive_csv())
+	host.print(string.format("novelty archive: %d behaviours in %s/archive.csv",
+		#pop.archive // (pop.dims or 1), host.run_dir))
 end
 
 ---------------------------------------------------------------------------

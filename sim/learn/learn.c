@@ -807,11 +807,14 @@ static int l_curve(lua_State *L)
 	return 0;
 }
 
-/* evo.heatmap(nx, ny, values[, quiet]): draw archive.png, the nx x ny
- * grid of values (x + nx * y + 1; NaN where a cell is empty), as
- * evo.curve draws curve.png. */
+/* evo.heatmap(nx, ny, values[, quiet[, note]]): draw archive.png, the
+ * nx x ny grid of values (x + nx * y + 1; NaN where a cell is empty), as
+ * evo.curve draws curve.png; note, when given, follows the title (what a
+ * CVT archive's picture shows). */
 static int l_heatmap(lua_State *L)
 {
+	/* before ctx, which leaves its box on the stack */
+	const char *note = luaL_optstring(L, 5, NULL);
 	learn *l = ctx(L);
 	lua_Integer nx = luaL_checkinteger(L, 1), ny = luaL_checkinteger(L, 2);
 	int quiet = lua_toboolean(L, 4);
@@ -823,7 +826,8 @@ static int l_heatmap(lua_State *L)
 		return luaL_error(L, "evo.heatmap: %d values for %I x %I cells",
 				  n, nx, ny);
 	char path[1200], title[200];
-	snprintf(title, sizeof title, "%s: the archive", l->skill);
+	snprintf(title, sizeof title, "%s: the archive%s%s", l->skill,
+		 note ? " " : "", note ? note : "");
 	evo_err err = {{0}};
 	if (evo_path_fmt(path, sizeof path, &err, "%s/archive.png",
 			 l->run_dir) ||
@@ -832,6 +836,14 @@ static int l_heatmap(lua_State *L)
 	if (!quiet)
 		printf("archive heatmap in %s\n", path);
 	return 0;
+}
+
+/* evo.clock() -> seconds on a monotonic wall clock (the loop times its
+ * checkpoints by it: os.clock counts every thread's CPU). */
+static int l_clock(lua_State *L)
+{
+	lua_pushnumber(L, now());
+	return 1;
 }
 
 /* evo.save_many(names, texts): files of the run folder, as evo.save
@@ -1011,6 +1023,7 @@ static const luaL_Reg learn_fns[] = {
     {"save_champion", l_save_champion},
     {"curve", l_curve},
     {"heatmap", l_heatmap},
+    {"clock", l_clock},
     {"save_many", l_save_many},
     {"print", l_print},
     {"begin_turn", l_begin_turn},

@@ -14,8 +14,11 @@
  *                      of its table, in one step)
  *   dump(v)            plain Lua data as text (serialize.dump_lua's
  *                      text, byte for byte), for the checkpoints
- *   rng_next(r), rng_unit(r)  learn.rng's Rng:next and Rng:unit, on the
- *                      generator's own four words (r.s)
+ *   rng_next(r), rng_unit(r), rng_normal(r)  learn.rng's Rng:next,
+ *                      Rng:unit and Rng:normal, on the generator's own
+ *                      four words (r.s)
+ *   isoline(xi, xj, iso, line, r)  learn.mapelites' isoline variation
+ *                      (mapelites.isoline_lua), the same draws
  *   mutate_weights(g, o, rng), crossover(a, fa, b, fb, o, rng)
  *                      neat.lua's, with the same random draws in the
  *                      same order
@@ -41,6 +44,7 @@
 
 #include <ctype.h>
 #include <lauxlib.h>
+#include <limits.h>
 #include <lua.h>
 #include <math.h>
 #include <stddef.h>
@@ -1323,6 +1327,58 @@ static int l_rng_unit(lua_State *L)
 	return 1;
 }
 
+/* Rng:normal's Box-Muller on the words s: 1 - unit, then unit, the same
+ * libm calls in the same order as the Lua (math.log, math.cos, math.sqrt;
+ * math.pi is lmathlib.c's PI, this literal). */
+#define LUA_PI 3.141592653589793238462643383279502884
+static double normal_of(uint64_t s[4])
+{
+	double u1 = 1.0 - unit_of(xoshiro_next(s));
+	double u2 = unit_of(xoshiro_next(s));
+	return sqrt(-2.0 * log(u1)) * cos(2.0 * LUA_PI * u2);
+}
+
+/* rng_normal(self) -> a standard normal draw (Rng:normal). */
+static int l_rng_normal(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	uint64_t s[4];
+	rng_read(L, 1, s);
+	double z = normal_of(s);
+	rng_write(L, s);
+	lua_pushnumber(L, z);
+	return 1;
+}
+
+/* isoline(xi, xj, iso, line, rng) -> a new list w, w[k] = xi[k] + iso
+ * N(0, 1) + t (xj[k] - xi[k]) with t = line N(0, 1) drawn first
+ * (mapelites.isoline_lua); rng is learn.rng's, its words read once. */
+static int l_isoline(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	double iso = luaL_checknumber(L, 3), line = luaL_checknumber(L, 4);
+	luaL_checktype(L, 5, LUA_TTABLE);
+	lua_Integer n = luaL_len(L, 1);
+	uint64_t s[4];
+	rng_read(L, 5, s); /* leaves rng.s at the top */
+	int state = lua_gettop(L);
+	double t = line * normal_of(s);
+	lua_createtable(L, n > 0 && n < INT_MAX ? (int)n : 0, 0);
+	for (lua_Integer k = 1; k <= n; k++) {
+		lua_rawgeti(L, 1, k);
+		lua_rawgeti(L, 2, k);
+		double a = lua_tonumber(L, -2), b = lua_tonumber(L, -1);
+		lua_pop(L, 2);
+		double w = a + iso * normal_of(s) + t * (b - a);
+		lua_pushnumber(L, w);
+		lua_rawseti(L, -2, k);
+	}
+	lua_pushvalue(L, state);
+	rng_write(L, s);
+	return 1;
+}
+
 /* A kernel's generator: learn.rng's (`ours`: its words are read once into
  * s, drawn from in C and written back by rng_done), or a test's own,
  * whose unit method is called for each draw. */
@@ -1766,6 +1822,8 @@ static int l_crossover(lua_State *L)
 static const luaL_Reg FUNCS[] = {
     {"rng_next", l_rng_next},
     {"rng_unit", l_rng_unit},
+    {"rng_normal", l_rng_normal},
+    {"isoline", l_isoline},
     {"mutate_weights", l_mutate_weights},
     {"mutate", l_mutate},
     {"draws", l_draws},

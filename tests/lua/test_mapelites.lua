@@ -171,6 +171,81 @@ function T.cvt_archive_and_checkpoint_go_on_identically()
 		"the resumed population is the same")
 end
 
+-- The variation in C (evo.neat's isoline and rng_normal, what the loop
+-- runs) draws and adds exactly as the Lua: the same weights to the bit
+-- from two generators of one seed, which end in the same state.
+function T.isoline_and_normal_in_c_are_the_lua_ones()
+	local fast = package.loaded["evo.neat"]
+	check(fast and fast.isoline and fast.rng_normal, "the loop's state has the kernels")
+	local a, b = random.new(99), random.new(99)
+	for _ = 1, 1000 do
+		local x, y = a:normal(), a.normal_lua(b)
+		check(x == y, string.format("normal: %.17g, Lua %.17g", x, y))
+	end
+	local xi, xj = {}, {}
+	for k = 1, 66 do xi[k], xj[k] = a:normal(), a:normal() end
+	b = random.load(a:save())
+	for _ = 1, 50 do
+		local w1 = mapelites.isoline(xi, xj, 0.02, 0.3, a)
+		local w2 = mapelites.isoline_lua(xi, xj, 0.02, 0.3, b)
+		check(#w1 == 66 and #w2 == 66, "66 weights")
+		for k = 1, 66 do check(w1[k] == w2[k], "weight " .. k) end
+		xi = w1
+	end
+	local sa, sb = a:save(), b:save()
+	for k = 1, 4 do check(sa[k] == sb[k], "the same state after") end
+end
+
+-- CMA-ME's ranking by hand: two new cells (fitness 3 and 5), two better
+-- elites (gains 0.5 and 2), two not entered (gains -1 and -0.25): the new
+-- cells first, the higher fitness first (5: offspring 4, then 3:
+-- offspring 1), then the gains 2 (offspring 6) and 0.5 (offspring 2),
+-- then -0.25 (offspring 5) and -1 (offspring 3). Equal keys keep order.
+function T.cmame_ranks_by_improvement_by_hand()
+	local order = mapelites.improvement_order({ 2, 1, 0, 2, 0, 1 }, { 3, 0.5, -1, 5, -0.25, 2 })
+	check(table.concat(order, " ") == "4 1 6 2 5 3", table.concat(order, " "))
+	check(table.concat(mapelites.improvement_order({ 1, 1, 1 }, { 0, 0, 0 }), " ") == "1 2 3",
+		"ties in order")
+end
+
+-- CMA-ME on a made-up task: the descriptor is the first two weights
+-- squashed into (0, 1), the fitness minus the squared norm. Every batch
+-- is emitters x emitter_batch; the coverage grows from the random first
+-- batch; a checkpoint taken mid-run goes on identically (the emitters'
+-- CMA-ES states, without an rng of their own, and the population's rng).
+function T.cmame_fills_the_archive_and_resumes_identically()
+	local pop = small{ cells = 20, batch_size = 10, emitter = "cmame", emitters = 3,
+		emitter_batch = 8, emitter_sigma = 0.5 }
+	local function step(p)
+		local f, d = {}, {}
+		for i, x in ipairs(p:genomes()) do
+			local w = x.weights
+			local s = 0.0
+			for k = 1, #w do s = s + w[k] * w[k] end
+			f[i] = -s
+			d[i] = { 1 / (1 + math.exp(-2 * w[1])), 1 / (1 + math.exp(-2 * w[2])) }
+		end
+		p:tell(f, d)
+	end
+	check(#pop:genomes() == 10, "a random first batch of batch_size")
+	step(pop)
+	local first = pop:coverage()
+	check(#pop.emitters == 3 and #pop:genomes() == 24, "then 3 emitters of 8")
+	for _ = 1, 5 do step(pop) end
+	local saved = serialize.dump(mapelites.save(pop))
+	local again = mapelites.load(serialize.load(saved, "checkpoint"))
+	for _ = 1, 30 do
+		step(pop)
+		step(again)
+	end
+	check(pop:coverage() > 2 * first, string.format("coverage grows: %g after the first batch, "
+		.. "%g after 36", first, pop:coverage()))
+	check(pop.evaluations == 10 + 35 * 24, "evaluations: " .. pop.evaluations)
+	check(serialize.dump(mapelites.save(pop)) == serialize.dump(mapelites.save(again)),
+		"the resumed population is the same")
+	check(pop.emitter_restarts >= 0 and pop.emitters[1].rng == nil, "emitters hold no rng")
+end
+
 -- An elite's .net holds each weight as the Q16.16 value it was scored
 -- with, exactly: x * 65536 rounded to nearest, ties away from zero.
 function T.elite_weights_are_written_as_their_q16_values()

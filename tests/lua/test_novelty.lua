@@ -283,4 +283,34 @@ function T.options_from_a_task()
 	check(#pop.archive == 2 and pop.archive[1] == 0.5 and pop.archive[2] == 1.0, "only those archived")
 end
 
+-- The result grid (NOVELTY_COVERAGE_GRID): every evaluated descriptor
+-- marks its cell, whether or not it enters the archive. A 4 x 4 grid and
+-- four candidates at (0, 0), (0.1, 0.2), (0.3, 0.3) and (1, 1): cells of
+-- 0.25, the first two in cell (0, 0), the third in (1, 1), the last in
+-- (3, 3) (1 is in the last part): 3 of 16 cells, 0.1875. A second batch
+-- at the same places marks nothing new; one at (0.5, 0.99) marks (2, 3).
+function T.the_result_grid_counts_every_evaluated_descriptor()
+	local pop = novelty.new{ inputs = 1, outputs = 1, rng = random.new(1),
+		options = novelty.options_from_task{ NOVELTY_COVERAGE_GRID = "4", POPSIZE = "4",
+			NOVELTY_THRESHOLD = "100" } }
+	check(pop:coverage() == 0, "nothing evaluated yet")
+	check(pop:log_names()[4] == "coverage", "a coverage column")
+	local desc = { { 0, 0 }, { 0.1, 0.2 }, { 0.3, 0.3 }, { 1, 1 } }
+	pop:tell({ 0, 0, 0, 0 }, desc)
+	check(#pop.archive == 0, "none passes a threshold of 100")
+	check(pop:coverage() == 3 / 16, "3 of 16 cells: " .. pop:coverage())
+	check(pop:log_values()[4] == 3 / 16, "logged")
+	pop:tell({ 0, 0, 0, 0 }, desc)
+	check(pop:coverage() == 3 / 16, "the same cells again")
+	pop:tell({ 0, 0, 0, 0 }, { { 0.5, 0.99 }, { 0, 0 }, { 0, 0 }, { 0, 0 } })
+	check(pop:coverage() == 4 / 16, "one more cell: " .. pop:coverage())
+	local back = novelty.load(serialize.load(serialize.dump(novelty.save(pop, true)), "c"))
+	check(back:coverage() == 4 / 16, "the checkpoint holds the grid")
+	local plain = novelty.new{ inputs = 1, outputs = 1, rng = random.new(1),
+		options = { pop_size = 4 } }
+	check(#plain:log_names() == 3, "no grid, no column")
+	local ok, msg = pcall(novelty.options_from_task, { NOVELTY_COVERAGE_GRID = "-1" })
+	check(not ok and msg:find("NOVELTY_COVERAGE_GRID: expected", 1, true), msg)
+end
+
 return T

@@ -1165,6 +1165,20 @@ TEST(novelty_trains_and_threads_do_not_change_the_log)
 	}
 	CHECK_EQ_INT(rows_seen, 6);
 	CHECK(archive > 0);
+	/* archive.csv: one row per archived behaviour, as many as the last
+	 * row's archive column, the same with one thread or two */
+	char *xa = cli_read("%s/n1/run/archive.csv", cli_tmp),
+	     *xb = cli_read("%s/n2/run/archive.csv", cli_tmp);
+	CHECK(xa && xb);
+	if (xa && xb) {
+		CHECK_EQ_STR(xa, xb);
+		CHECK(strncmp(xa, "generation,d1,d2,fitness,novelty\n", 33) ==
+		      0);
+		CHECK_EQ_INT(count_rows(xa), (int)archive);
+		CHECK(strncmp(strchr(xa, '\n') + 1, "0,", 2) == 0);
+	}
+	free(xa);
+	free(xb);
 	char *ca = champion_of("n1"), *cb = champion_of("n2");
 	CHECK(ca && cb);
 	if (ca && cb) {
@@ -1190,6 +1204,14 @@ TEST(killed_and_resumed_novelty_run_ends_as_an_uninterrupted_one)
 	make_mind_ticks("nk", "NOVELTY", 6, KILL_TICKS, NEAT_TASK);
 	CHECK_EQ_INT(train("nr", "--threads 2"), 0);
 	stop_and_resume("nk", "nr", SIGKILL);
+	/* its archive.csv too */
+	char *xa = cli_read("%s/nr/run/archive.csv", cli_tmp),
+	     *xb = cli_read("%s/nk/run/archive.csv", cli_tmp);
+	CHECK(xa && xb && count_rows(xa) > 0);
+	if (xa && xb)
+		CHECK_EQ_STR(xb, xa);
+	free(xa);
+	free(xb);
 }
 
 TEST(annealing_trains)

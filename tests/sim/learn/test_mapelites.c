@@ -4,7 +4,8 @@
  * and QD-score columns that agree with archive.csv, and the same seed gives
  * the same log, archive and champion with one thread, two threads and two
  * MPI ranks, and after a SIGKILL and --resume. The heatmap's cells have the
- * colours of their fitness (sim/learn/heatmap.c). */
+ * colours of their fitness (sim/learn/heatmap.c), and a CVT archive's
+ * picture colours each centroid's region by its elite's fitness. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <signal.h>
@@ -220,34 +221,91 @@ static int rows_of(const char *name)
 	return n;
 }
 
-TEST(a_killed_run_resumes_to_the_same_archive)
+/* Runs `name` (8 generations), SIGKILLs it after its third row, resumes
+ * it, and checks it ends as `reference`. */
+static void kill_and_resume(const char *name, const char *reference)
 {
-	make_mind("kr", 8, 1500);
-	make_mind("k", 8, 1500);
-	CHECK_EQ_INT(train("kr", "", "--threads 2"), 0);
 	char cmd[1024];
 	snprintf(cmd, sizeof cmd,
-		 "exec %s run %s/k/Avoid/Tasks/Small.simbatch --seed 11 "
-		 "--threads 2 --run %s/k/run > %s/k/out1.txt 2>&1",
-		 cli_evo, cli_tmp, cli_tmp, cli_tmp);
+		 "exec %s run %s/%s/Avoid/Tasks/Small.simbatch --seed 11 "
+		 "--threads 2 --run %s/%s/run > %s/%s/out1.txt 2>&1",
+		 cli_evo, cli_tmp, name, cli_tmp, name, cli_tmp, name);
 	pid_t pid = fork();
 	if (pid == 0) {
 		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
 		_exit(127);
 	}
 	struct timespec ms = {0, 2000000};
-	for (int i = 0; i < 20000 && rows_of("k") < 3; i++)
+	for (int i = 0; i < 20000 && rows_of(name) < 3; i++)
 		nanosleep(&ms, NULL);
 	kill(pid, SIGKILL);
 	int st;
 	waitpid(pid, &st, 0);
 	CHECK(WIFSIGNALED(st) && WTERMSIG(st) == SIGKILL);
-	CHECK(rows_of("k") >= 3 && rows_of("k") < 8);
-	CHECK_EQ_INT(train("k", "", "--threads 2 --resume"), 0);
-	char *out = cli_read("%s/k/out.txt", cli_tmp);
+	CHECK(rows_of(name) >= 3 && rows_of(name) < 8);
+	CHECK_EQ_INT(train(name, "", "--threads 2 --resume"), 0);
+	char *out = cli_read("%s/%s/out.txt", cli_tmp, name);
 	CHECK_CONTAINS(out, "resuming after generation");
 	free(out);
-	same_run("k", "kr");
+	same_run(name, reference);
+}
+
+TEST(a_killed_run_resumes_to_the_same_archive)
+{
+	make_mind("kr", 8, 1500);
+	make_mind("k", 8, 1500);
+	CHECK_EQ_INT(train("kr", "", "--threads 2"), 0);
+	kill_and_resume("k", "kr");
+}
+
+/* The coverage column of each row of `name`'s log.csv (its second last). */
+static int coverages(const char *name, double *out, int max)
+{
+	char *text = cli_read("%s/%s/run/log.csv", cli_tmp, name);
+	int n = 0;
+	for (char *row = text ? strchr(text, '\n') : NULL; row && row[1] && n < max;
+	     row = strchr(row + 1, '\n')) {
+		char *end = strchr(row + 1, '\n');
+		char *p = end ? end : row + strlen(row);
+		int commas = 0;
+		while (p > row && commas < 2)
+			commas += *--p == ',';
+		out[n++] = atof(p + 1);
+	}
+	free(text);
+	return n;
+}
+
+/* CMA-ME's improvement emitters (MAPELITES_EMITTER:cmame, 3 emitters of
+ * 8): batches of 24 after the first 30, the coverage grows, and the same
+ * seed gives the same log, archive and champion with one thread, two
+ * threads, two MPI ranks and after a SIGKILL and --resume. */
+TEST(cmame_emitters_fill_the_archive_the_same_on_threads_ranks_and_resume)
+{
+	static const char *const names[] = {"c1", "c2", "cnp", "ck"};
+	for (int k = 0; k < 4; k++) {
+		make_mind(names[k], 8, 1500);
+		CHECK_EQ_INT(cli_sh("printf 'MAPELITES_EMITTER:cmame\\n"
+				    "MAPELITES_EMITTERS:3\\nMAPELITES_EMITTER_"
+				    "BATCH:8\\nMAPELITES_EMITTER_SIGMA:1\\n' >> "
+				    "%s/%s/Avoid/Tasks/Small.simbatch",
+				    cli_tmp, names[k]),
+			     0);
+	}
+	CHECK_EQ_INT(train("c1", "", "--threads 1"), 0);
+	char *log = cli_read("%s/c1/run/log.csv", cli_tmp);
+	CHECK(log && strstr(log, "\n0,") && strstr(log, ",30,0,"));
+	CHECK(log && strstr(log, "\n7,") && strstr(strstr(log, "\n7,"), ",24,0,"));
+	free(log);
+	double cov[8];
+	CHECK_EQ_INT(coverages("c1", cov, 8), 8);
+	CHECK(cov[7] > cov[0]);
+	CHECK_EQ_INT(train("c2", "", "--threads 2"), 0);
+	same_run("c2", "c1");
+	CHECK_EQ_INT(train("cnp", "mpirun --oversubscribe -np 2", "--threads 1"),
+		     0);
+	same_run("cnp", "c1");
+	kill_and_resume("ck", "c1");
 }
 
 /* Acceptance 5: a chosen elite of a Kheperax archive runs in the viewer
@@ -358,6 +416,82 @@ TEST(heatmap_cells_have_the_colours_of_their_fitness)
 	evo_png_image_free(&png);
 }
 
+/* The colour of archive.png of run `name` at descriptor (x, y): the plot
+ * is 500 px square at (60, 40), y up. */
+static uint32_t colour_at(const evo_png_image *png, double x, double y)
+{
+	int px = 60 + (int)(x * 500), py = 40 + 499 - (int)(y * 500);
+	px = px > 559 ? 559 : px;
+	py = py < 40 ? 40 : py;
+	const uint8_t *p = png->pixels + png->channels * ((size_t)py * png->w + px);
+	return (uint32_t)p[0] << 16 | (uint32_t)p[1] << 8 | p[2];
+}
+
+/* A CVT archive of 2-D descriptors (the final position) with 24 cells:
+ * archive.png colours each centroid's region by its elite's fitness, on
+ * the scale from the archive's lowest fitness to its highest, and an
+ * empty region grey; the pixel at each centroid (centroids.csv) shows
+ * it. */
+TEST(a_cvt_archive_picture_colours_each_region_by_its_elite)
+{
+	make_mind("cvt", 3, 200);
+	CHECK_EQ_INT(cli_sh("printf 'MAPELITES_ARCHIVE:cvt\nMAPELITES_CVT_CELLS:24\n"
+			    "MAPELITES_CVT_SAMPLES:3000\n' >> "
+			    "%s/cvt/Avoid/Tasks/Small.simbatch",
+			    cli_tmp),
+		     0);
+	CHECK_EQ_INT(train("cvt", "", "--threads 2"), 0);
+	double fit[25];
+	for (int c = 0; c < 25; c++)
+		fit[c] = NAN;
+	double lo = INFINITY, hi = -INFINITY;
+	char *csv = cli_read("%s/cvt/run/archive.csv", cli_tmp);
+	CHECK(csv != NULL);
+	for (char *p = csv ? strchr(csv, '\n') : NULL; p && p[1];
+	     p = strchr(p + 1, '\n')) {
+		int cell;
+		double x, y, f;
+		if (sscanf(p + 1, "%d,%lf,%lf,%lf", &cell, &x, &y, &f) != 4 ||
+		    cell < 1 || cell > 24)
+			break;
+		fit[cell] = f;
+		lo = f < lo ? f : lo;
+		hi = f > hi ? f : hi;
+	}
+	free(csv);
+	CHECK(lo < hi);
+	char *cen = cli_read("%s/cvt/run/centroids.csv", cli_tmp);
+	CHECK(cen && strncmp(cen, "cell,c1,c2\n", 11) == 0);
+	char png_path[256];
+	snprintf(png_path, sizeof png_path, "%s/cvt/run/archive.png", cli_tmp);
+	evo_png_image png;
+	evo_err err = {{0}};
+	CHECK_EQ_INT(evo_png_read(png_path, &png, &err), 0);
+	int seen = 0, filled = 0, empty = 0;
+	for (char *p = cen ? strchr(cen, '\n') : NULL; p && p[1];
+	     p = strchr(p + 1, '\n')) {
+		int cell;
+		double x, y;
+		if (sscanf(p + 1, "%d,%lf,%lf", &cell, &x, &y) != 3 || cell < 1 ||
+		    cell > 24)
+			break;
+		seen++;
+		uint32_t want = isnan(fit[cell])
+				    ? EVO_HEATMAP_EMPTY
+				    : evo_heatmap_colour((fit[cell] - lo) / (hi - lo));
+		filled += !isnan(fit[cell]);
+		empty += isnan(fit[cell]) != 0;
+		if (colour_at(&png, x, y) != want)
+			printf("  cell %d at (%g, %g): %06x, expected %06x\n",
+			       cell, x, y, colour_at(&png, x, y), want);
+		CHECK_EQ_INT((int)colour_at(&png, x, y), (int)want);
+	}
+	CHECK_EQ_INT(seen, 24);
+	CHECK(filled > 1 && empty > 0);
+	evo_png_image_free(&png);
+	free(cen);
+}
+
 int main(void)
 {
 	if (cli_setup("mapelites"))
@@ -367,7 +501,9 @@ int main(void)
 	RUN(the_run_folder_keeps_the_archive_and_log_measures_it);
 	RUN(one_thread_two_threads_and_two_ranks_give_the_same_archive);
 	RUN(a_killed_run_resumes_to_the_same_archive);
+	RUN(cmame_emitters_fill_the_archive_the_same_on_threads_ranks_and_resume);
 	RUN(heatmap_cells_have_the_colours_of_their_fitness);
+	RUN(a_cvt_archive_picture_colours_each_region_by_its_elite);
 	RUN(the_viewer_shows_a_chosen_elite_and_its_path);
 	cli_cleanup();
 	return test_summary();
