@@ -10,15 +10,17 @@
 --   and the speed by (2c - 1) * 0.5 degree (unit) per step each step, within
 --   3 degrees (units) a step. At 30 steps a second: 15 degrees/s and 1.875 m/s
 --   per step, at most 90 degrees/s and 11.25 m/s.
--- Its friction of 1 against the walls' 1 stops it while it drives into a
--- wall, as the paper's robot stops, instead of sliding along (objective
--- NEAT then finds the hard maze's trap, as in the paper).
+-- It collides as Lehman's maze simulator's robot: a step that would bring
+-- its centre within its radius of a wall is undone (it stays where it was,
+-- turned as commanded), so it neither slides along a wall nor is pushed
+-- off one (body collision "undo", docs/world.md, "The mazes").
 local RANGE = 100 / 8
 local PER_STEP = 30 -- evo's world steps 30 times a simulated second
 
 return {
-	body = { shape = "circle", radius = 1, density = 1, friction = 1,
-		linear_damping = 0, angular_damping = 0, sleep = false },
+	body = { shape = "circle", radius = 1, density = 1, friction = 0,
+		linear_damping = 0, angular_damping = 0, sleep = false,
+		collision = "undo" },
 	build = function(bot)
 		local finders = { { "RF_LEFT", -90 }, { "RF_FRONT_LEFT", -45 },
 			{ "RF_FRONT", 0 }, { "RF_FRONT_RIGHT", 45 }, { "RF_RIGHT", 90 },

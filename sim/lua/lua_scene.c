@@ -230,7 +230,7 @@ static int read_body(lua_State *L)
 	static const char *const bkeys[] = {
 	    "shape",	       "radius",   "half_width",  "half_height",
 	    "density",	       "friction", "restitution", "linear_damping",
-	    "angular_damping", "sleep",	   NULL};
+	    "angular_damping", "sleep",	   "collision",	  NULL};
 	int b = 1;
 	const char *bw = "body";
 	evo_lua_check_keys(L, b, bw, bkeys);
@@ -255,6 +255,16 @@ static int read_body(lua_State *L)
 	lua_getfield(L, b, "sleep");
 	body->allow_sleep = lua_toboolean(L, -1);
 	lua_pop(L, 1);
+	/* "undo": a kinematic body whose steps into a wall are undone
+	 * (Lehman's maze simulator; docs/world.md, "The mazes") */
+	const char *collision = evo_lua_opt_str(L, b, "collision", "physics", bw);
+	if (strcmp(collision, "physics") == 0)
+		body->kinematic = 0;
+	else if (strcmp(collision, "undo") == 0)
+		body->kinematic = 1;
+	else
+		luaL_error(L, "%s: collision is \"physics\" or \"undo\", not \"%s\"",
+			   bw, collision);
 	return 0;
 }
 

@@ -103,6 +103,23 @@ void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
 		sc->metric[i].value = 0;
 }
 
+/* The bot's pose after the physics step. A bot whose collision is
+ * "undo" (kinematic) and that now lies closer than its radius to a wall
+ * goes back to where it was, turned as it turned: Lehman's maze
+ * simulator drops a move that would make the robot hit a wall, and keeps
+ * the new heading. Returns 1 when the step was undone. */
+static int undo_blocked_step(evo_scene *sc, evo_bot *b)
+{
+	double x = b->x, y = b->y;
+	evo_bot_refresh_pose(sc, b);
+	if (!b->def.body.kinematic || !evo_world_body_blocked(sc->world, b->body))
+		return 0;
+	evo_pose back = {x, y, b->angle};
+	evo_body_set_pose(sc->world, b->body, back);
+	evo_bot_refresh_pose(sc, b);
+	return 1;
+}
+
 void evo_scene_sense(evo_scene *sc)
 {
 	evo_sense_all(sc);
@@ -119,13 +136,13 @@ int evo_scene_step(evo_scene *sc)
 	sc->tick++;
 	for (int i = 0; i < sc->n_bots; i++) {
 		evo_bot *b = &sc->bot[i];
-		evo_bot_refresh_pose(sc, b);
+		int undone = undo_blocked_step(sc, b);
 		b->hist_x[b->hist_i] = b->x;
 		b->hist_y[b->hist_i] = b->y;
 		b->hist_i = (b->hist_i + 1) % EVO_DOF_HISTORY;
 		if (b->hist_n < EVO_DOF_HISTORY)
 			b->hist_n++;
-		b->touching = evo_body_touching(sc->world, b->body);
+		b->touching = undone || evo_body_touching(sc->world, b->body);
 		/* A held object is welded and does not collide with its
 		 * bot, so it never counts. */
 		if (b->touching)

@@ -56,6 +56,10 @@ typedef enum evo_shape_type {
 
 typedef struct evo_body_def {
 	int dynamic; /* 0: static, never moves */
+	/* with dynamic: a kinematic body, moved by its velocity alone and
+	 * never pushed back by what it meets (the mazes' robots, whose
+	 * colliding steps evo_world_body_blocked finds and the scene undoes) */
+	int kinematic;
 	double x, y, angle;
 	evo_shape_type shape;
 	double radius;	       /* circle */
@@ -129,6 +133,15 @@ void evo_body_set_velocity(evo_world *w, evo_body_id id, double vx, double vy,
 /* Apply a force (newtons, world frame) at a world point. */
 void evo_body_apply_force(evo_world *w, evo_body_id id, double fx, double fy,
 			  double px, double py) EVO_WORLD_NOEXCEPT;
+
+/* 1 when body id, where it is now, lies closer than its radius to a
+ * static obstacle or another body whose category its mask takes: for a
+ * circle, its centre closer than its radius to the other shape (Box2D's
+ * distance between the centre and the shape, without its skin), as
+ * Lehman's maze simulator tests a move; for a box, the two shapes
+ * overlap. 0 for an invalid id. */
+int evo_world_body_blocked(const evo_world *w,
+			   evo_body_id id) EVO_WORLD_NOEXCEPT;
 
 /* Number of bodies or obstacles a body is touching now. */
 int evo_body_touching(const evo_world *w, evo_body_id id) EVO_WORLD_NOEXCEPT;

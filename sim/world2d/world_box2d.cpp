@@ -2,6 +2,7 @@
 #include "world2d/world.h"
 
 #include <box2d/box2d.h>
+#include <box2d/b2_distance.h>
 
 #include <cmath>
 #include <new>
@@ -79,7 +80,9 @@ static void fill_fixture(b2FixtureDef *fd, const evo_body_def *d,
 static b2Body *make_body(evo_world *w, const evo_body_def *d, int32_t index)
 {
 	b2BodyDef bd;
-	bd.type = d->dynamic ? b2_dynamicBody : b2_staticBody;
+	bd.type = !d->dynamic	 ? b2_staticBody
+		  : d->kinematic ? b2_kinematicBody
+				 : b2_dynamicBody;
 	bd.position.Set((float)d->x, (float)d->y);
 	bd.angle = (float)d->angle;
 	bd.linearDamping = (float)d->linear_damping;
@@ -427,6 +430,54 @@ struct NearestHit : b2RayCastCallback {
 	}
 };
 
+// evo_world_body_blocked's test of each shape near the body: a circle is
+// blocked by a shape closer to its centre than its radius (Box2D's
+// distance between the centre and the shape's core, its skin left out,
+// as Lehman's maze simulator measures a wall's distance to the robot); a
+// box by any overlap.
+struct Blocked : b2QueryCallback {
+	b2Fixture *self = nullptr;
+	b2Transform xf;
+	int hit = 0;
+	bool ReportFixture(b2Fixture *f) override
+	{
+		if (f->GetBody() == self->GetBody() || f->IsSensor())
+			return true;
+		const b2Filter &a = self->GetFilterData();
+		const b2Filter &b = f->GetFilterData();
+		if (!(a.maskBits & b.categoryBits) ||
+		    !(b.maskBits & a.categoryBits))
+			return true;
+		const b2Shape *mine = self->GetShape();
+		const b2Transform &other = f->GetBody()->GetTransform();
+		for (int32 k = 0; k < f->GetShape()->GetChildCount(); k++) {
+			if (mine->GetType() != b2Shape::e_circle) {
+				if (b2TestOverlap(mine, 0, f->GetShape(), k, xf,
+						  other))
+					hit = 1;
+				continue;
+			}
+			b2DistanceInput in;
+			in.proxyA.Set(mine, 0);
+			in.proxyB.Set(f->GetShape(), k);
+			in.transformA = xf;
+			in.transformB = other;
+			in.useRadii = false;
+			b2SimplexCache cache;
+			cache.count = 0;
+			b2DistanceOutput out;
+			b2Distance(&out, &cache, &in);
+			const b2Shape *s = f->GetShape();
+			float reach = mine->m_radius;
+			if (s->GetType() == b2Shape::e_circle)
+				reach += s->m_radius; // a circle's core is its centre
+			if (out.distance < reach)
+				hit = 1;
+		}
+		return hit == 0; // the first blocking shape ends the query
+	}
+};
+
 struct Collect : b2QueryCallback {
 	const evo_world *w;
 	uint16_t mask;
@@ -496,6 +547,20 @@ double evo_world_raycast(const evo_world *w, double x1, double y1, double x2,
 		return -1;
 	w->world.RayCast(&cb, a, b);
 	return cb.fraction;
+}
+
+int evo_world_body_blocked(const evo_world *w, evo_body_id id) noexcept
+{
+	b2Body *body = lookup(w, id);
+	if (!body || !body->GetFixtureList())
+		return 0;
+	Blocked cb;
+	cb.self = body->GetFixtureList();
+	cb.xf = body->GetTransform();
+	b2AABB box;
+	cb.self->GetShape()->ComputeAABB(&box, cb.xf, 0);
+	w->world.QueryAABB(&cb, box);
+	return cb.hit;
 }
 
 int evo_world_query(const evo_world *w, double x0, double y0, double x1,

@@ -1377,6 +1377,9 @@ static int render_option_default(const char *fn, const char *opt, char *out,
 		else if (strcmp(opt, "sleep") == 0)
 			snprintf(out, cap, "%s",
 				 d->allow_sleep ? "true" : "false");
+		else if (strcmp(opt, "collision") == 0)
+			snprintf(out, cap, "%s",
+				 d->kinematic ? "\"undo\"" : "\"physics\"");
 		else {
 			const double v =
 			    strcmp(opt, "radius") == 0	      ? d->radius

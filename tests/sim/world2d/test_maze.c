@@ -101,6 +101,101 @@ TEST(a_wall_stops_a_bot)
 	evo_scene_destroy(sc);
 }
 
+/* A bot whose collision is "undo" (MazeBot's), at (x, y) facing `angle`,
+ * with a SPEED drive of 3 m/s at full command (0.1 m a step) and a TURN
+ * drive of 0.3 rad/s at full command (0.01 rad a step). */
+static evo_scene *scene_with_undo_bot(double x, double y, double angle,
+				      int *speed, int *turn)
+{
+	evo_scene *sc = evo_scene_create();
+	evo_bot_def b = evo_default_bot_def();
+	b.name = "bot";
+	b.x = x;
+	b.y = y;
+	b.angle = angle;
+	b.body.kinematic = 1;
+	evo_scene_add_bot(sc, &b);
+	evo_actuator_def d = evo_default_actuator_def(EVO_ACTUATOR_DRIVE);
+	d.name = "SPEED";
+	d.max_speed = 3;
+	*speed = evo_scene_add_actuator(sc, 0, &d);
+	d.name = "TURN";
+	d.turn = 1;
+	d.max_speed = 0.3;
+	*turn = evo_scene_add_actuator(sc, 0, &d);
+	return sc;
+}
+
+/* Full speed ahead for `steps` steps, turning (turn command 1) or not
+ * (0.5, neutral). */
+static void drive_undo_bot(evo_scene *sc, int speed, int turn, double c,
+			   int steps)
+{
+	for (int t = 0; t < steps; t++) {
+		sc->bot[0].actuator[speed].command = 1;
+		sc->bot[0].actuator[turn].command = c;
+		evo_scene_step(sc);
+	}
+}
+
+TEST(an_undo_bot_driven_into_a_wall_stays_where_it_was_and_turns)
+{
+	/* From x = 0.05 towards the wall x = 5 at 0.1 a step: centres 0.05,
+	 * 0.15, ..., 3.95; the next, 4.05, would be 0.95 from the wall, less
+	 * than the radius 1, so the bot stays at 3.95 (Lehman's simulator
+	 * drops the move). Then turning at 0.3 rad/s (0.01 a step) while it
+	 * pushes: a step along heading h moves it to 3.95 + 0.1 cos h, closer
+	 * than 1 to the wall while cos h > 0.5; headings 0, 0.01, ..., 1.04
+	 * (cos 1.04 = 0.5062) are refused, so after 105 steps it is still at
+	 * 3.95, turned to 1.05; the 106th step, along 1.05 (cos = 0.4976),
+	 * is taken: (3.95 + 0.04976, 0.1 sin 1.05 = 0.08674). */
+	int speed, turn;
+	evo_scene *sc = scene_with_undo_bot(0.05, 0, 0, &speed, &turn);
+	CHECK(evo_scene_add_wall(sc, 5, -3, 5, 3) >= 0);
+	evo_scene_reset(sc, 1, 1);
+	drive_undo_bot(sc, speed, turn, 0.5, 60);
+	CHECK(NEAR(sc->bot[0].x, 3.95, 1e-4));
+	CHECK(NEAR(sc->bot[0].y, 0.0, 1e-6));
+	CHECK(sc->bot[0].touching > 0);
+	CHECK_EQ_INT(sc->bot[0].collisions, 60 - 39);
+	evo_scene_destroy(sc);
+
+	sc = scene_with_undo_bot(3.95, 0, 0, &speed, &turn);
+	CHECK(evo_scene_add_wall(sc, 5, -3, 5, 3) >= 0);
+	evo_scene_reset(sc, 1, 1);
+	drive_undo_bot(sc, speed, turn, 1, 105);
+	CHECK(NEAR(sc->bot[0].x, 3.95, 1e-4));
+	CHECK(NEAR(sc->bot[0].y, 0.0, 1e-6));
+	CHECK(NEAR(sc->bot[0].angle, 1.05, 1e-4));
+	drive_undo_bot(sc, speed, turn, 1, 1);
+	CHECK(NEAR(sc->bot[0].x, 3.95 + 0.1 * cos(1.05), 1e-4));
+	CHECK(NEAR(sc->bot[0].y, 0.1 * sin(1.05), 1e-4));
+	CHECK_EQ_INT(sc->bot[0].touching, 0);
+	evo_scene_destroy(sc);
+}
+
+TEST(an_undo_bot_does_not_slide_along_a_wall)
+{
+	/* From (0, 0.02) at 30 degrees towards the wall y = 2: each step
+	 * moves (0.1 cos 30, 0.1 sin 30) = (0.0866, 0.05); after 19 steps
+	 * the centre is at (1.6454, 0.97), and the next would be 0.98 from
+	 * the wall. It stays there however long it pushes: no sliding along
+	 * the wall, as a frictionless bot would, nor sticking short of it. */
+	int speed, turn;
+	evo_scene *sc = scene_with_undo_bot(0, 0.02, 30 * DEG, &speed, &turn);
+	CHECK(evo_scene_add_wall(sc, -10, 2, 10, 2) >= 0);
+	evo_scene_reset(sc, 1, 1);
+	drive_undo_bot(sc, speed, turn, 0.5, 19);
+	CHECK(NEAR(sc->bot[0].x, 19 * 0.1 * cos(30 * DEG), 1e-4));
+	CHECK(NEAR(sc->bot[0].y, 0.97, 1e-4));
+	CHECK_EQ_INT(sc->bot[0].touching, 0);
+	drive_undo_bot(sc, speed, turn, 0.5, 60);
+	CHECK(NEAR(sc->bot[0].x, 19 * 0.1 * cos(30 * DEG), 1e-4));
+	CHECK(NEAR(sc->bot[0].y, 0.97, 1e-4));
+	CHECK(sc->bot[0].touching > 0);
+	evo_scene_destroy(sc);
+}
+
 TEST(a_wall_of_no_length_is_refused)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
@@ -370,6 +465,7 @@ TEST(hard_maze_sensors_at_the_start_read_the_published_geometry)
 	if (!l)
 		return;
 	CHECK_EQ_INT(sc->n_obstacles, 13);
+	CHECK_EQ_INT(sc->bot[0].def.body.kinematic, 1); /* collision "undo" */
 	CHECK(NEAR(named(sc, "RF_FRONT"), 0.55243, 1e-4));
 	CHECK(NEAR(named(sc, "RF_BACK"), 0.29353, 1e-4));
 	CHECK(named(sc, "RAD_LEFT") == EVO_TRUE);
@@ -578,6 +674,8 @@ int main(void)
 {
 	RUN(a_ray_reads_a_wall_and_misses_past_its_end);
 	RUN(a_wall_stops_a_bot);
+	RUN(an_undo_bot_driven_into_a_wall_stays_where_it_was_and_turns);
+	RUN(an_undo_bot_does_not_slide_along_a_wall);
 	RUN(a_wall_of_no_length_is_refused);
 	RUN(radars_cut_the_bearing_into_four_slices);
 	RUN(bumpers_cover_the_front_quarters);
