@@ -195,6 +195,8 @@ static void new_class(lua_State *L, const char *mt, const luaL_Reg *methods,
 	luaL_newmetatable(L, mt);
 	lua_newtable(L);
 	luaL_setfuncs(L, methods, 0);
+	lua_pushvalue(L, -1);
+	lua_setfield(L, -3, "__methods"); /* the table, for tests/docs */
 	lua_pushstring(L, noun);
 	lua_pushcclosure(L, index2d, 2);
 	lua_setfield(L, -2, "__index");

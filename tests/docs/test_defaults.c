@@ -1198,16 +1198,17 @@ static int probe_options(const char *fn, const char *call)
 }
 
 /* Every method of the scene and of a bot that takes options: the names
- * of their methods from the metatables, each then called with an option
- * it cannot know. */
+ * of their methods from the metatables (__methods: __index is a function
+ * that suggests a name for a misspelt one), each then called with an
+ * option it cannot know. */
 static void probe_all_options(void)
 {
 	evo_err err = {{0}};
 	probe_env(
 	    "\tlocal t = {}\n"
-	    "\tfor k in pairs(getmetatable(scene).__index) do t[#t + 1] = "
+	    "\tfor k in pairs(getmetatable(scene).__methods) do t[#t + 1] = "
 	    "'scene:' .. k end\n"
-	    "\tfor k in pairs(getmetatable(bot).__index) do t[#t + 1] = "
+	    "\tfor k in pairs(getmetatable(bot).__methods) do t[#t + 1] = "
 	    "'bot:' .. k end\n"
 	    "\terror('METHODS ' .. table.concat(t, ' ') .. ' END', 0)",
 	    &err);
