@@ -76,7 +76,7 @@ local env_path = host.env_path or error(host.task_path .. ": OPENENDED needs ENV
 	.. "an environment generator (docs/openended.md)", 0)
 local chunk, load_err = loadfile(env_path, "t", sandbox())
 if not chunk then error(load_err, 0) end
-local ok, env = pcall(guard.call, "loading " .. env_path, "load", chunk)
+local ok, env = pcall(guard.call, "loading the environment", "load", chunk)
 if not ok then error(tostring(env), 0) end
 local gen = type(env) == "table" and env.generator
 for _, f in ipairs{ "seed", "mutate", "size", "valid" } do

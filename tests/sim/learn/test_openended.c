@@ -7,7 +7,9 @@
  * them all, and `evo run --env N` shows one with its solver; one thread and two
  * give the same log; a run killed with SIGKILL and resumed gives the same
  * log; a generator's error is reported at its file:line, and in the
- * loop it runs in a sandbox. */
+ * loop it runs in a sandbox with a scene script's limits and require: an
+ * endless mutate, one that allocates without end and a require of a
+ * module linked out of the mind folder each end the run at its line. */
 #define _POSIX_C_SOURCE 200809L
 #include <signal.h>
 #include <stdio.h>
