@@ -62,6 +62,7 @@ local function sandbox()
 	end
 	env.math.random, env.math.randomseed = nil, nil -- the loop's draws are learn.rng's
 	env.string.dump = nil
+	guard.patterns(env.string)
 	env.os = { clock = os.clock }
 	env._G = env
 	env.package = { loaded = loaded }

@@ -446,6 +446,15 @@ static void wrap(lua_State *L, int idx, const char *name, lua_CFunction fn)
 	lua_setfield(L, idx, name);
 }
 
+/* The pattern functions of the string table at idx, by sandbox_pattern. */
+static void wrap_patterns(lua_State *L, int idx)
+{
+	static const char *const patterns[] = {"find", "match", "gmatch",
+					       "gsub"};
+	for (unsigned i = 0; i < 4; i++)
+		wrap(L, idx, patterns[i], sandbox_pattern);
+}
+
 /* __index of the stand-ins for io and os: any name but the ones they
  * keep is an error at the script's line. */
 static int not_available(lua_State *L)
@@ -534,10 +543,7 @@ static void open_sandbox(lua_State *L)
 	lua_pop(L, 1);
 	lua_setfield(L, g, LUA_LOADLIBNAME);
 	lua_getfield(L, g, LUA_STRLIBNAME);
-	static const char *const patterns[] = {"find", "match", "gmatch",
-					       "gsub"};
-	for (unsigned i = 0; i < 4; i++)
-		wrap(L, -1, patterns[i], sandbox_pattern);
+	wrap_patterns(L, -1);
 	lua_pop(L, 2);
 	stand_in(L, LUA_IOLIBNAME);
 	stand_in(L, LUA_OSLIBNAME);
@@ -977,6 +983,16 @@ static int guard_require(lua_State *L)
 	return 1;
 }
 
+/* guard.patterns(t): a scene script's string.find, match, gmatch and
+ * gsub in the string table t, which note their caller's line for the
+ * watchdog. */
+static int guard_patterns(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	wrap_patterns(L, 1);
+	return 0;
+}
+
 void evo_lua_open_guard(lua_State *L, evo_lua_mem *mem,
 			const evo_lua_limits *limits, const char *mind_dir)
 {
@@ -999,4 +1015,6 @@ void evo_lua_open_guard(lua_State *L, evo_lua_mem *mem,
 	lua_setfield(L, -2, "call");
 	lua_pushcfunction(L, guard_require);
 	lua_setfield(L, -2, "require");
+	lua_pushcfunction(L, guard_patterns);
+	lua_setfield(L, -2, "patterns");
 }

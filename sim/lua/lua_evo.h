@@ -78,8 +78,10 @@ const char *evo_lua_errstr(struct lua_State *L, int idx);
  * OPENENDED generator, lua/learn/openended.lua): a table with
  * call(what, kind, fn, ...), fn(...) under a scene script's limits of
  * loading ("load") or of reset (any other kind), and require(loaded,
- * env), a scene script's require whose modules have env for globals
- * (docs/lua.md, "Limits" and "What a script may use"). */
+ * env), a scene script's require whose modules have env for globals,
+ * and patterns(t), which gives the string table t a scene script's
+ * pattern functions (they note the line for the watchdog; docs/lua.md,
+ * "Limits" and "What a script may use"). */
 void evo_lua_open_guard(struct lua_State *L, evo_lua_mem *mem,
 			const evo_lua_limits *limits, const char *mind_dir);
 

@@ -356,6 +356,18 @@ TEST(a_generator_that_loops_forever_stops_at_its_line)
 		 "mutate; an endless loop?");
 }
 
+/* A mutate stuck in one string call that backtracks, where no count
+ * hook runs, is ended by the watchdog past env.reset's 2 s. */
+TEST(a_generator_stuck_in_a_pattern_stops_at_its_line)
+{
+	int at = bad_generator("p", "Slow",
+			       "string.find((\"a\"):rep(400), \".-.-.-.-b\")",
+			       "");
+	stops_at("p", "Slow", at,
+		 "the script ran past its time limit of 2 s in mutate, in a "
+		 "call that did not return");
+}
+
 /* A mutate that allocates without end is stopped by LUAMEMORY. */
 TEST(a_generator_that_allocates_without_end_stops_at_its_line)
 {
@@ -395,6 +407,7 @@ int main(void)
 	RUN(a_generator_error_is_reported_at_its_line);
 	RUN(a_generator_cannot_reach_files_from_the_loop);
 	RUN(a_generator_that_loops_forever_stops_at_its_line);
+	RUN(a_generator_stuck_in_a_pattern_stops_at_its_line);
 	RUN(a_generator_that_allocates_without_end_stops_at_its_line);
 	RUN(a_generator_cannot_require_a_module_linked_out_of_its_folder);
 	cli_cleanup();
