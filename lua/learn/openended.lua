@@ -41,9 +41,13 @@ local options = common.task_options(neat, task, host.task_path, host.task_lines)
 -- come from a mind folder someone sent, and this state has Lua's whole
 -- library: it runs in a sandbox of the scene scripts' kind (docs/lua.md,
 -- "What a script may use"), with the base library's safe part, string,
--- table, math without its generator, utf8, os.clock, load of text, and a
--- require that finds modules in the mind folder, then in lua/, in the
--- same sandbox.
+-- table, math without its generator, utf8, os.clock, load of text, and
+-- the scene scripts' require (host.guard.require: modules from the mind
+-- folder, then lua/, none that links out of them), in the same sandbox.
+-- Every call into it has a scene script's limits (host.guard.call,
+-- docs/lua.md "Limits"): loading it those of loading a script, each
+-- call of its functions those of env.reset; one reached ends the run.
+local guard = host.guard or error("OPENENDED: no guard for the generator", 0)
 local function sandbox()
 	local env, loaded = {}, {}
 	for _, k in ipairs{ "assert", "error", "ipairs", "next", "pairs", "pcall", "print", "rawequal",
@@ -58,6 +62,7 @@ local function sandbox()
 	end
 	env.math.random, env.math.randomseed = nil, nil -- the loop's draws are learn.rng's
 	env.string.dump = nil
+	guard.patterns(env.string)
 	env.os = { clock = os.clock }
 	env._G = env
 	env.package = { loaded = loaded }
@@ -65,34 +70,14 @@ local function sandbox()
 		if type(chunk) ~= "string" then error("load takes source text only", 2) end
 		return load(chunk, name, "t", e or env)
 	end
-	function env.require(name)
-		if loaded[name] ~= nil then return loaded[name] end
-		if type(name) ~= "string" or not name:match("^[%w_%-]+$") and not name:match("^[%w_%-][%w_%-%.]*[%w_%-]$")
-			or name:find("..", 1, true) then
-			error("require '" .. tostring(name) .. "': not a module name", 2)
-		end
-		local file = name:gsub("%.", "/") .. ".lua"
-		for _, dir in ipairs{ host.mind_dir, host.lua_dir } do
-			local f = io.open(dir .. "/" .. file, "r")
-			if f then
-				f:close()
-				local chunk, err = loadfile(dir .. "/" .. file, "t", env)
-				if not chunk then error(err, 0) end
-				local v = chunk(name)
-				loaded[name] = v == nil and true or v
-				return loaded[name]
-			end
-		end
-		error(string.format("require '%s': no %s in %s or %s", name, file, host.mind_dir,
-			host.lua_dir), 2)
-	end
+	env.require = guard.require(loaded, env)
 	return env
 end
 local env_path = host.env_path or error(host.task_path .. ": OPENENDED needs ENV, "
 	.. "an environment generator (docs/openended.md)", 0)
 local chunk, load_err = loadfile(env_path, "t", sandbox())
 if not chunk then error(load_err, 0) end
-local ok, env = pcall(chunk)
+local ok, env = pcall(guard.call, "loading the environment", "load", chunk)
 if not ok then error(tostring(env), 0) end
 local gen = type(env) == "table" and env.generator
 for _, f in ipairs{ "seed", "mutate", "size", "valid" } do
@@ -102,9 +87,10 @@ for _, f in ipairs{ "seed", "mutate", "size", "valid" } do
 			env_path, "seed, mutate, size, valid, ticks, init, build and solved"), 0)
 	end
 end
--- gen[f](...), an error raised at the generator's file:line as it is
+-- gen[f](...) under the limits, an error raised at the generator's
+-- file:line as it is
 local function call(f, ...)
-	local r = table.pack(pcall(gen[f], ...))
+	local r = table.pack(pcall(guard.call, f, "call", gen[f], ...))
 	if not r[1] then error(tostring(r[2]), 0) end
 	return table.unpack(r, 2, r.n)
 end

@@ -1126,6 +1126,14 @@ static int open_module(lua_State *L)
 	lua_setfield(L, -2, "mind_dir");
 	lua_pushstring(L, evo_lua_dir());
 	lua_setfield(L, -2, "lua_dir");
+	/* a scene script's limits and require for the generator */
+	evo_lua_limits lim;
+	evo_err lerr;
+	if (l->mem && !evo_lua_limits_read(l->task->sb, l->task_path, &lim,
+					   &lerr)) {
+		evo_lua_open_guard(L, l->mem, &lim, l->task->mind->root);
+		lua_setfield(L, -2, "guard");
+	}
 	lua_pushinteger(L, (lua_Integer)evo_evaluator_ticks(l->ev));
 	lua_setfield(L, -2, "ticks");
 	/* the environment's metrics, in the order of evaluate's lists */

@@ -306,8 +306,14 @@ static int sandbox_require(lua_State *L)
 {
 	evo_lua *l = evo_lua_ctx(L);
 	const char *name = luaL_checkstring(L, 1);
+	/* a sandbox inside a state of evo's own (evo_lua_open_guard) has
+	 * its loaded table and globals as upvalues 1 and 2 */
+	int own_env = lua_istable(L, lua_upvalueindex(2));
 	lua_settop(L, 1);
-	luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE); /* 2 */
+	if (own_env)
+		lua_pushvalue(L, lua_upvalueindex(1)); /* 2 */
+	else
+		luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
 	lua_pushvalue(L, 1);
 	if (lua_rawget(L, 2) != LUA_TNIL)
 		return 1;
@@ -349,6 +355,10 @@ static int sandbox_require(lua_State *L)
 					  "lua/ only",
 					  name, path[k], dirs[k]);
 		load_text_file(L, path[k]);
+		if (own_env) {
+			lua_pushvalue(L, lua_upvalueindex(2));
+			lua_setupvalue(L, -2, 1); /* its _ENV */
+		}
 		lua_pushvalue(L, 1);
 		lua_pushstring(L, path[k]);
 		lua_call(L, 2, 1);
@@ -436,6 +446,15 @@ static void wrap(lua_State *L, int idx, const char *name, lua_CFunction fn)
 	lua_getfield(L, idx, name);
 	lua_pushcclosure(L, fn, 1);
 	lua_setfield(L, idx, name);
+}
+
+/* The pattern functions of the string table at idx, by sandbox_pattern. */
+static void wrap_patterns(lua_State *L, int idx)
+{
+	static const char *const patterns[] = {"find", "match", "gmatch",
+					       "gsub"};
+	for (unsigned i = 0; i < 4; i++)
+		wrap(L, idx, patterns[i], sandbox_pattern);
 }
 
 /* __index of the stand-ins for io and os: any name but the ones they
@@ -526,10 +545,7 @@ static void open_sandbox(lua_State *L)
 	lua_pop(L, 1);
 	lua_setfield(L, g, LUA_LOADLIBNAME);
 	lua_getfield(L, g, LUA_STRLIBNAME);
-	static const char *const patterns[] = {"find", "match", "gmatch",
-					       "gsub"};
-	for (unsigned i = 0; i < 4; i++)
-		wrap(L, -1, patterns[i], sandbox_pattern);
+	wrap_patterns(L, -1);
 	lua_pop(L, 2);
 	stand_in(L, LUA_IOLIBNAME);
 	stand_in(L, LUA_OSLIBNAME);
@@ -917,4 +933,90 @@ const char *evo_lua_env_path(const evo_lua *l)
 const char *evo_lua_bot_path(const evo_lua *l)
 {
 	return l->bot_path;
+}
+
+/* ---- a mind folder's script in a state of evo's own ------------------- */
+
+static int guard_gc(lua_State *L)
+{
+	evo_lua *l = lua_touserdata(L, 1);
+	evo_lua_watch_remove(l->watch);
+	l->watch = NULL;
+	return 0;
+}
+
+/* guard.call(what, kind, fn, ...): fn(...) under the limits of a scene
+ * script's call of that kind ("load": loading and init, else reset's);
+ * returns what fn returns, or raises its error, at its file:line. */
+static int guard_call(lua_State *L)
+{
+	evo_lua *l = evo_lua_ctx(L);
+	const char *what = luaL_checkstring(L, 1);
+	int load = strcmp(luaL_checkstring(L, 2), "load") == 0;
+	luaL_checktype(L, 3, LUA_TFUNCTION);
+	lua_State *outer = l->L;
+	void (*on_hit)(void *) = l->mem->on_hit;
+	void *hit_ctx = l->mem->ctx;
+	int enforce = l->mem->enforce;
+	l->L = L;
+	l->mem->on_hit = memory_hit;
+	l->mem->ctx = l;
+	int r = evo_lua_pcall(l, lua_gettop(L) - 3, LUA_MULTRET,
+			      load ? EVO_LUA_BUDGET_INIT : EVO_LUA_BUDGET_RESET,
+			      load ? EVO_LUA_TIME_INIT : EVO_LUA_TIME_RESET,
+			      what);
+	l->L = outer;
+	l->mem->on_hit = on_hit;
+	l->mem->ctx = hit_ctx;
+	l->mem->enforce = enforce;
+	if (r != LUA_OK)
+		return lua_error(L);
+	return lua_gettop(L) - 2;
+}
+
+/* guard.require(loaded, env): a scene script's require, that loads
+ * modules into loaded, their globals being env. */
+static int guard_require(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	lua_settop(L, 2);
+	lua_pushcclosure(L, sandbox_require, 2);
+	return 1;
+}
+
+/* guard.patterns(t): a scene script's string.find, match, gmatch and
+ * gsub in the string table t, which note their caller's line for the
+ * watchdog. */
+static int guard_patterns(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	wrap_patterns(L, 1);
+	return 0;
+}
+
+void evo_lua_open_guard(lua_State *L, evo_lua_mem *mem,
+			const evo_lua_limits *limits, const char *mind_dir)
+{
+	evo_lua *l = lua_newuserdatauv(L, sizeof *l, 0);
+	memset(l, 0, sizeof *l);
+	l->L = L;
+	l->mem = mem;
+	l->limits = *limits;
+	l->env_ref = LUA_NOREF;
+	snprintf(l->mind_dir, sizeof l->mind_dir, "%s", mind_dir);
+	snprintf(l->lua_dir, sizeof l->lua_dir, "%s", evo_lua_dir());
+	l->watch = evo_lua_watch_add();
+	lua_newtable(L);
+	lua_pushcfunction(L, guard_gc);
+	lua_setfield(L, -2, "__gc");
+	lua_setmetatable(L, -2);
+	lua_rawsetp(L, LUA_REGISTRYINDEX, &evo_lua_ctx_key);
+	lua_newtable(L);
+	lua_pushcfunction(L, guard_call);
+	lua_setfield(L, -2, "call");
+	lua_pushcfunction(L, guard_require);
+	lua_setfield(L, -2, "require");
+	lua_pushcfunction(L, guard_patterns);
+	lua_setfield(L, -2, "patterns");
 }

@@ -73,6 +73,18 @@ void evo_lua_state_close(struct lua_State *L, evo_lua_mem *mem);
  * anything else "(an error value of type T)". Never NULL. */
 const char *evo_lua_errstr(struct lua_State *L, int idx);
 
+/* In L, a state of evo's own whose memory is mem (the learning loop's),
+ * push a guard for a script of a mind folder it runs in a sandbox (an
+ * OPENENDED generator, lua/learn/openended.lua): a table with
+ * call(what, kind, fn, ...), fn(...) under a scene script's limits of
+ * loading ("load") or of reset (any other kind), and require(loaded,
+ * env), a scene script's require whose modules have env for globals,
+ * and patterns(t), which gives the string table t a scene script's
+ * pattern functions (they note the line for the watchdog; docs/lua.md,
+ * "Limits" and "What a script may use"). */
+void evo_lua_open_guard(struct lua_State *L, evo_lua_mem *mem,
+			const evo_lua_limits *limits, const char *mind_dir);
+
 /* Register the module `evo.data` in L: evo.data.read(text, name) reads
  * the plain data serialize.dump writes (lua/learn/serialize.lua: numbers,
  * strings, booleans and tables after "return ") without running it, and

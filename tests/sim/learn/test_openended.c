@@ -7,7 +7,9 @@
  * them all, and `evo run --env N` shows one with its solver; one thread and two
  * give the same log; a run killed with SIGKILL and resumed gives the same
  * log; a generator's error is reported at its file:line, and in the
- * loop it runs in a sandbox. */
+ * loop it runs in a sandbox with a scene script's limits and require: an
+ * endless mutate, one that allocates without end and a require of a
+ * module linked out of the mind folder each end the run at its line. */
 #define _POSIX_C_SOURCE 200809L
 #include <signal.h>
 #include <stdio.h>
@@ -30,7 +32,7 @@ static void make_mind(const char *name)
 
 static int run(const char *name, const char *task, const char *extra)
 {
-	return cli_sh("%s run %s/%s/OpenMaze/Tasks/%s.simbatch --seed 3 "
+	return cli_sh("timeout 120 %s run %s/%s/OpenMaze/Tasks/%s.simbatch --seed 3 "
 		      "--generations 8 --no-save --run %s/%s/run %s > "
 		      "%s/%s/out.txt 2>&1",
 		      cli_evo, cli_tmp, name, task, cli_tmp, name, extra,
@@ -291,6 +293,108 @@ TEST(a_generator_cannot_reach_files_from_the_loop)
 	free(o);
 }
 
+/* Envs/NAME.lua: GEN_Maze with `code` as the first line of its mutate,
+ * and Tasks/NAME.simbatch naming it (plus `keys`); the line of `code`. */
+static int bad_generator(const char *dir, const char *name, const char *code,
+			 const char *keys)
+{
+	make_mind(dir);
+	FILE *f = fopen("lua/envs/GEN_Maze.lua", "r");
+	char path[512];
+	snprintf(path, sizeof path, "%s/%s/OpenMaze/Envs/%s.lua", cli_tmp, dir,
+		 name);
+	FILE *g = fopen(path, "w");
+	CHECK(f && g);
+	if (!f || !g)
+		return 0;
+	char buf[1024];
+	int n = 0, at = 0;
+	while (fgets(buf, sizeof buf, f)) {
+		fputs(buf, g);
+		n++;
+		if (strcmp(buf, "function gen.mutate(g, rng)\n") == 0) {
+			fprintf(g, "\t%s\n", code);
+			at = ++n;
+		}
+	}
+	fclose(f);
+	fclose(g);
+	CHECK(at > 1);
+	CHECK_EQ_INT(cli_sh("(sed 's/^ENV:GEN_Maze$/ENV:%s/' "
+			    "%s/%s/OpenMaze/Tasks/OpenMaze.simbatch; printf '%s') > "
+			    "%s/%s/OpenMaze/Tasks/%s.simbatch",
+			    name, cli_tmp, dir, keys, cli_tmp, dir, name),
+		     0);
+	return at;
+}
+
+/* The run (under `timeout 120`: a generator that hangs the loop fails
+ * the test) ends non-zero, its output holding "Envs/NAME.lua:LINE: "
+ * then `what`. */
+static void stops_at(const char *dir, const char *name, int line,
+		     const char *what)
+{
+	int rc = run(dir, name, "--threads 1");
+	CHECK(rc != 0);
+	char *o = cli_read("%s/%s/out.txt", cli_tmp, dir);
+	char want[300];
+	snprintf(want, sizeof want, "Envs/%s.lua:%d: %s", name, line, what);
+	CHECK(o && strstr(o, want));
+	if (o && !strstr(o, want))
+		printf("want \"%s\" in:\n%s\n", want, o);
+	free(o);
+}
+
+/* The loop runs the generator under a scene script's limits
+ * (docs/lua.md, "Limits"): a mutate that never returns ends the run at
+ * its line with the budget of env.reset, 10,000,000 instructions. */
+TEST(a_generator_that_loops_forever_stops_at_its_line)
+{
+	int at = bad_generator("l", "Loop", "while true do end", "");
+	stops_at("l", "Loop", at,
+		 "the script ran past its budget of 10000000 instructions in "
+		 "mutate; an endless loop?");
+}
+
+/* A mutate stuck in one string call that backtracks, where no count
+ * hook runs, is ended by the watchdog past env.reset's 2 s. */
+TEST(a_generator_stuck_in_a_pattern_stops_at_its_line)
+{
+	int at = bad_generator("p", "Slow",
+			       "string.find((\"a\"):rep(400), \".-.-.-.-b\")",
+			       "");
+	stops_at("p", "Slow", at,
+		 "the script ran past its time limit of 2 s in mutate, in a "
+		 "call that did not return");
+}
+
+/* A mutate that allocates without end is stopped by LUAMEMORY. */
+TEST(a_generator_that_allocates_without_end_stops_at_its_line)
+{
+	int at = bad_generator("m", "Hog",
+			       "local t = {} while true do "
+			       "t[#t + 1] = (\"x\"):rep(1000) .. #t end",
+			       "LUAMEMORY:64\\n");
+	stops_at("m", "Hog", at,
+		 "the script's Lua state reached its memory limit of 64 MB "
+		 "in mutate");
+}
+
+/* A module that is a link to a file out of the mind folder is refused,
+ * as a scene script's is. */
+TEST(a_generator_cannot_require_a_module_linked_out_of_its_folder)
+{
+	int at = bad_generator("ln", "Link", "require \"outside\"", "");
+	CHECK_EQ_INT(cli_sh("printf 'return {}\\n' > %s/ln/outside.lua && "
+			    "ln -s %s/ln/outside.lua %s/ln/OpenMaze/outside.lua",
+			    cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	stops_at("ln", "Link", at, "require 'outside': ");
+	char *o = cli_read("%s/ln/out.txt", cli_tmp);
+	CHECK(o && strstr(o, "leads out of"));
+	free(o);
+}
+
 int main(void)
 {
 	if (cli_setup("openended"))
@@ -302,6 +406,10 @@ int main(void)
 	RUN(a_killed_and_resumed_run_gives_the_same_log);
 	RUN(a_generator_error_is_reported_at_its_line);
 	RUN(a_generator_cannot_reach_files_from_the_loop);
+	RUN(a_generator_that_loops_forever_stops_at_its_line);
+	RUN(a_generator_stuck_in_a_pattern_stops_at_its_line);
+	RUN(a_generator_that_allocates_without_end_stops_at_its_line);
+	RUN(a_generator_cannot_require_a_module_linked_out_of_its_folder);
 	cli_cleanup();
 	return test_summary();
 }
