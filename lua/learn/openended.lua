@@ -80,11 +80,16 @@ if not chunk then error(load_err, 0) end
 local ok, env = pcall(guard.call, "loading the environment", "load", chunk)
 if not ok then error(tostring(env), 0) end
 local gen = type(env) == "table" and env.generator
-for _, f in ipairs{ "seed", "mutate", "size", "valid" } do
-	if not gen or type(gen[f]) ~= "function" then
-		error(string.format("%s: not an environment generator: it must return "
-			.. "require('lib.openended').env(gen), gen having %s (docs/openended.md)",
-			env_path, "seed, mutate, size, valid, ticks, init, build and solved"), 0)
+local FUNCTIONS = { "seed", "mutate", "size", "valid", "ticks", "init", "build", "solved" }
+if not gen then
+	error(string.format("%s: not an environment generator: it must return "
+		.. "require('lib.openended').env(gen), gen having %s (docs/openended.md)",
+		env_path, table.concat(FUNCTIONS, ", ")), 0)
+end
+for _, f in ipairs(FUNCTIONS) do
+	if type(gen[f]) ~= "function" then
+		error(string.format("%s: the generator has no function %s (it needs %s: docs/openended.md)",
+			env_path, f, table.concat(FUNCTIONS, ", ")), 0)
 	end
 end
 -- gen[f](...) under the limits, an error raised at the generator's
@@ -139,6 +144,10 @@ end
 local function admit_env(genome, text, b, solver_genome)
 	S.next_id = S.next_id + 1
 	local size = call("size", genome)
+	if type(size) ~= "number" or size ~= size then
+		error(string.format("%s: the generator's size returned %s, not a number",
+			env_path, size == size and type(size) or "nan"), 0)
+	end
 	S.envs[#S.envs + 1] = { id = S.next_id, genome = genome, text = text, size = size,
 		batch = b, uses = 0 }
 	S.seen[text] = true

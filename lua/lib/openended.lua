@@ -61,7 +61,19 @@ end
 -- ticks at most (TICKLIM caps it) and is solved when gen.solved(scene,
 -- bot). Outside an OPENENDED run (evo run of a DEMOSIM task) the genome
 -- is gen.seed()'s. env.generator is gen.
+openended.FUNCTIONS = { "seed", "mutate", "size", "valid", "ticks", "init", "build", "solved" }
+
 function openended.env(gen)
+	if type(gen) ~= "table" then
+		error("openended.env(gen): gen is a table of the generator's functions (docs/openended.md), "
+			.. "not a " .. type(gen), 2)
+	end
+	for _, f in ipairs(openended.FUNCTIONS) do
+		if type(gen[f]) ~= "function" then
+			error(string.format("openended.env(gen): the generator has no function %s "
+				.. "(it needs %s: docs/openended.md)", f, table.concat(openended.FUNCTIONS, ", ")), 2)
+		end
+	end
 	local env = { generator = gen }
 	local genome, ticks, limit
 	function env.init(scene, task)
@@ -73,6 +85,10 @@ function openended.env(gen)
 		local text = scene:genome()
 		genome = text and openended.decode(text, "scene:genome()") or gen.seed()
 		ticks = gen.ticks(genome)
+		if math.type(ticks) ~= "integer" or ticks < 1 then
+			error(string.format("the generator's ticks returned %s, not a whole number of ticks above 0",
+				tostring(ticks)), 0)
+		end
 		if limit and limit < ticks then ticks = limit end
 		return gen.build(scene, genome)
 	end

@@ -1516,6 +1516,14 @@ static int env_choice(const char *task_path, const evo_task *task,
 		return -1;
 	char *text;
 	size_t len;
+	if (!evo_file_exists(path))
+		return evo_fail(err,
+				"%s: no OPENENDED run here (--env N shows an "
+				"environment a run admitted: give its folder "
+				"with --run DIR%s)",
+				path,
+				o->run_dir ? "" : ", or run the task first: "
+						  "this is its default folder");
 	if (evo_read_file(path, &text, &len, err))
 		return -1;
 	char head[32];

@@ -129,7 +129,15 @@ static void load_text_file(lua_State *L, const char *path)
 void evo_lua_run_file(lua_State *L, const char *path, const char *what)
 {
 	load_text_file(L, path);
-	lua_call(L, 0, 1);
+	/* an error the script raised without a place (error(msg, 0), or
+	 * from a function it tail-called, as a generator's
+	 * `return require('lib.openended').env(gen)`) is said at its file */
+	int rc = lua_pcall(L, 0, 1, 0);
+	if (rc == LUA_ERRRUN && lua_type(L, -1) == LUA_TSTRING &&
+	    !strstr(lua_tostring(L, -1), ".lua:"))
+		luaL_error(L, "%s: %s", path, lua_tostring(L, -1));
+	if (rc != LUA_OK)
+		lua_error(L);
 	if (!lua_istable(L, -1))
 		luaL_error(L, "%s: %s must return a table, returned %s", path,
 			   what, luaL_typename(L, -1));
@@ -184,9 +192,10 @@ static int index2d(lua_State *L)
 	if (!near)
 		return 1;
 	const char *noun = lua_tostring(L, lua_upvalueindex(2));
-	return luaL_error(L, "%s:%s: a %s has no method '%s'; did you mean "
+	int an = strchr("aeiou", noun[0]) != NULL;
+	return luaL_error(L, "%s:%s: %s %s has no method '%s'; did you mean "
 			     "%s:%s?",
-			  noun, word, noun, word, noun, near);
+			  noun, word, an ? "an" : "a", noun, word, noun, near);
 }
 
 static void new_class(lua_State *L, const char *mt, const luaL_Reg *methods,

@@ -186,6 +186,14 @@ TEST(evo_run_env_shows_an_admitted_maze_with_its_solver)
 				 cli_evo, cli_tmp, cli_tmp),
 		     1);
 	CHECK_CONTAINS(out, "envs.csv: no environment 9999");
+	/* no run in the task's default folder: say to give one */
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run %s/a/OpenMaze/Tasks/OpenMaze.simbatch "
+				 "--env 1 --headless 2>&1",
+				 cli_evo, cli_tmp),
+		     1);
+	CHECK_CONTAINS(out, "no OPENENDED run here");
+	CHECK_CONTAINS(out, "--run DIR");
 }
 
 TEST(one_thread_and_two_give_the_same_log)
@@ -257,6 +265,44 @@ TEST(a_generator_error_is_reported_at_its_line)
 	snprintf(want, sizeof want, "Envs/Bad.lua:%s: broken mutate", line);
 	CHECK(o && strstr(o, want));
 	if (o && !strstr(o, want))
+		fputs(o, stdout);
+	free(o);
+}
+
+/* A generator without one of its functions is refused by evo check,
+ * naming it, before any run; one whose size is not a number ends the run
+ * with the generator named, not at a line of evo's own library. */
+TEST(a_generator_missing_a_function_or_giving_a_bad_size_is_named)
+{
+	make_mind("m");
+	CHECK_EQ_INT(cli_sh("sed 's/^function gen.solved(/function gen.solvd(/' "
+			    "lua/envs/GEN_Maze.lua > %s/m/OpenMaze/Envs/NoSolved.lua && "
+			    "sed 's/^ENV:GEN_Maze$/ENV:NoSolved/' "
+			    "%s/m/OpenMaze/Tasks/OpenMaze.simbatch > "
+			    "%s/m/OpenMaze/Tasks/NoSolved.simbatch",
+			    cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	char out[4096] = "";
+	int rc = cli_capture(out, sizeof out, "%s check %s/m/OpenMaze/Tasks/NoSolved.simbatch 2>&1",
+			     cli_evo, cli_tmp);
+	CHECK(rc != 0);
+	CHECK(strstr(out, "Envs/NoSolved.lua:") &&
+	      strstr(out, "the generator has no function solved"));
+	if (!strstr(out, "no function solved"))
+		fputs(out, stdout);
+	CHECK_EQ_INT(cli_sh("sed 's/^gen.size = gen.path_length$/"
+			    "gen.size = function() return \"big\" end/' "
+			    "lua/envs/GEN_Maze.lua > %s/m/OpenMaze/Envs/BadSize.lua && "
+			    "sed 's/^ENV:GEN_Maze$/ENV:BadSize/' "
+			    "%s/m/OpenMaze/Tasks/OpenMaze.simbatch > "
+			    "%s/m/OpenMaze/Tasks/BadSize.simbatch",
+			    cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	CHECK(run("m", "BadSize", "--threads 1") != 0);
+	char *o = cli_read("%s/m/out.txt", cli_tmp);
+	CHECK(o && strstr(o, "Envs/BadSize.lua: the generator's size returned "
+			     "string, not a number"));
+	if (o && !strstr(o, "size returned"))
 		fputs(o, stdout);
 	free(o);
 }
@@ -405,6 +451,7 @@ int main(void)
 	RUN(one_thread_and_two_give_the_same_log);
 	RUN(a_killed_and_resumed_run_gives_the_same_log);
 	RUN(a_generator_error_is_reported_at_its_line);
+	RUN(a_generator_missing_a_function_or_giving_a_bad_size_is_named);
 	RUN(a_generator_cannot_reach_files_from_the_loop);
 	RUN(a_generator_that_loops_forever_stops_at_its_line);
 	RUN(a_generator_stuck_in_a_pattern_stops_at_its_line);
