@@ -936,8 +936,10 @@ static int record_run(evo_sim *s, const run_opts *o, uint64_t seed,
 	return rc;
 }
 
-/* --screenshot without a window: episode 1 for --ticks ticks, then the
- * frame the viewer would show at its default size, drawn off screen. */
+/* --screenshot without a window: episode 1 for --ticks ticks (without
+ * them and TICKLIM, until the episode ends, as a headless run), then the
+ * frame the viewer would show at its default size, drawn off screen, and
+ * the episode's line. */
 static int screenshot_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 			       evo_err *err)
 {
@@ -945,12 +947,14 @@ static int screenshot_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 		return -1;
 	trail tr = {0};
 	trail_restart(&tr, o, s);
-	for (long t = 0; t < o->ticks && !stop_requested; t++) {
+	long t = 0;
+	while ((o->ticks == 0 || t < o->ticks) && !stop_requested) {
 		int r = evo_sim_tick(s, err);
 		if (r < 0) {
 			trail_free(&tr);
 			return -1;
 		}
+		t++;
 		if (o->trail)
 			trail_add(&tr, s);
 		if (r > 0)
@@ -968,6 +972,8 @@ static int screenshot_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 	if (rc == 0)
 		printf("saved %s (tick %ld, drawn without a window)\n",
 		       o->screenshot, s->scene->tick);
+	if (rc == 0 && print_episode(s, 1, t, err))
+		return -1;
 	return rc;
 }
 

@@ -180,6 +180,17 @@ TEST(evo_run_env_shows_an_admitted_maze_with_its_solver)
 	snprintf(want, sizeof want, "with solvers/env-%04d.net", atoi(id));
 	CHECK_CONTAINS(out, want);
 	CHECK_CONTAINS(out, ", solved");
+	/* a screenshot of it, with no TICKLIM: at the episode's end, with
+	 * the episode's line, not of tick 0 */
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run %s/a/OpenMaze/Tasks/OpenMaze.simbatch "
+				 "--run %s/a/run --env %s --headless --trail "
+				 "--screenshot %s/a/env.png 2>&1",
+				 cli_evo, cli_tmp, cli_tmp, id, cli_tmp),
+		     0);
+	CHECK(!strstr(out, "(tick 0,"));
+	CHECK_CONTAINS(out, "drawn without a window");
+	CHECK_CONTAINS(out, ", solved");
 	CHECK_EQ_INT(cli_capture(out, sizeof out,
 				 "%s run %s/a/OpenMaze/Tasks/OpenMaze.simbatch "
 				 "--run %s/a/run --env 9999 --headless 2>&1",
