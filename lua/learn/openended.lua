@@ -207,7 +207,14 @@ local function batch(b)
 	local seconds, evaluations, new_envs, new_agents = 0, 0, 0, 0
 	for _ = 1, ENV_BATCH do
 		S.env_next = S.env_next % #S.envs + 1
-		local child = call("mutate", S.envs[S.env_next].genome, rng)
+		local parent = S.envs[S.env_next]
+		local child = call("mutate", parent.genome, rng)
+		if openended.encode(parent.genome) ~= parent.text then
+			-- the admitted environment would no longer be what was solved
+			error(string.format("%s: the generator's mutate changed the genome it was "
+				.. "given (environment %d); it must return a changed copy "
+				.. "(docs/openended.md)", env_path, parent.id), 0)
+		end
 		local text = openended.encode(child)
 		if call("valid", child) and not S.seen[text] then
 			local genomes = agent_genomes()

@@ -413,6 +413,21 @@ TEST(a_generator_that_loops_forever_stops_at_its_line)
 		 "mutate; an endless loop?");
 }
 
+/* A mutate that changes the genome it is given (an admitted maze would
+ * no longer be the one solved) ends the run, naming the generator. */
+TEST(a_generator_whose_mutate_changes_its_parent_is_stopped)
+{
+	int at = bad_generator("p", "InPlace", "g.w = g.w + 1", "");
+	CHECK(at > 1);
+	CHECK(run("p", "InPlace", "--threads 1") != 0);
+	char *o = cli_read("%s/p/out.txt", cli_tmp);
+	CHECK(o && strstr(o, "Envs/InPlace.lua: the generator's mutate changed "
+			     "the genome it was given"));
+	if (o && !strstr(o, "mutate changed"))
+		fputs(o, stdout);
+	free(o);
+}
+
 /* A mutate stuck in one string call that backtracks, where no count
  * hook runs, is ended by the watchdog past env.reset's 2 s. */
 TEST(a_generator_stuck_in_a_pattern_stops_at_its_line)
@@ -465,6 +480,7 @@ int main(void)
 	RUN(a_generator_missing_a_function_or_giving_a_bad_size_is_named);
 	RUN(a_generator_cannot_reach_files_from_the_loop);
 	RUN(a_generator_that_loops_forever_stops_at_its_line);
+	RUN(a_generator_whose_mutate_changes_its_parent_is_stopped);
 	RUN(a_generator_stuck_in_a_pattern_stops_at_its_line);
 	RUN(a_generator_that_allocates_without_end_stops_at_its_line);
 	RUN(a_generator_cannot_require_a_module_linked_out_of_its_folder);
