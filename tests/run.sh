@@ -28,8 +28,13 @@ if [ "$1" = --one ]; then
 	id=$(printf '%s' "$t" | tr '/' '_')
 	log=$dir/$id.log
 	start=$(date +%s.%N)
-	"$t" >"$log" 2>&1
+	# a binary that hangs (a deadlock, a sanitizer stuck at exit) fails
+	# after TEST_TIMEOUT seconds (600: six times the slowest), instead of
+	# stalling the whole run
+	timeout -k 30 "${TEST_TIMEOUT:-600}" "$t" >"$log" 2>&1
 	rc=$?
+	[ $rc -ne 124 ] && [ $rc -ne 137 ] ||
+		echo "(stopped after ${TEST_TIMEOUT:-600} s: it hung)" >>"$log"
 	# each binary's time, so the slow ones are plain in a CI log
 	took=$(awk -v s="$start" -v e="$(date +%s.%N)" \
 		'BEGIN { printf "%.1f", e - s }')

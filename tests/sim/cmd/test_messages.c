@@ -452,7 +452,7 @@ TEST(record_saves_frames_and_video)
 TEST(windowed_screenshot_says_where)
 {
 	CHECK_EQ_INT(cli_capture(out, sizeof out,
-				 "timeout 60 xvfb-run -a %s run " DEMO
+				 "timeout -k 30 60 xvfb-run -a %s run " DEMO
 				 " --ticks 5 --screenshot %s/w.png",
 				 cli_evo, cli_tmp),
 		     0);

@@ -568,7 +568,7 @@ TEST(an_environments_metrics_follow_its_episode_lines)
 	/* The viewer prints the same line: 5-tick episodes in real time
 	 * under a virtual display. */
 	rc = cli_capture(out1, sizeof out1,
-			 "xvfb-run -a sh -c 'timeout -s TERM 20 %s run "
+			 "xvfb-run -a sh -c 'timeout -k 30 -s TERM 20 %s run "
 			 "%s/Tasks/Go.simbatch --ticks 5 --episodes 2'",
 			 cli_evo, root);
 	CHECK_EQ_INT(rc, 0);
