@@ -855,10 +855,13 @@ static void trail_free(trail *tr)
 static evo_view_camera frame_camera(const evo_sim *s, const run_opts *o,
 				    const view_state *vs)
 {
-	double zoom = o->zoom > 0 ? o->zoom : 1.0;
 	/* the scene as it starts, unless --camera bot: a picture of the
-	 * world, not of the bot's surroundings */
+	 * world, not of the bot's surroundings, all of it when no --zoom
+	 * says otherwise (a maze wider than zoom 1's 60 m) */
 	int follow = o->camera == 3 ? view_follow(s, vs) : EVO_VIEW_SCENE_START;
+	double zoom = o->zoom > 0 ? o->zoom : 1.0;
+	if (!(o->zoom > 0) && (o->camera == 0 || o->camera == 1))
+		zoom = evo_view_fit_zoom(s->scene, VIEW_W, VIEW_H);
 	evo_view_camera cam =
 	    evo_view_camera_for(s->scene, follow, zoom, VIEW_W, VIEW_H);
 	if (o->camera == 2) {

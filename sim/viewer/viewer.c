@@ -25,35 +25,76 @@ static int panel_width(int w)
 	return w < 3 * EVO_VIEW_PANEL_W ? w / 3 : EVO_VIEW_PANEL_W;
 }
 
-/* The middle of the bounding box of everything placed in the scene: what
- * to look at when no bot is followed. */
-static void scene_middle(const evo_scene *sc, int at_start, double *x,
-			 double *y)
+/* The bounding box of everything placed in the scene: its elements
+ * (with their sizes), its bots (where they started, or are now) and, for
+ * the scene as it started, its fixed obstacles and walls (not the grid's,
+ * drawn afresh each episode). 0 when the scene is empty. */
+static int scene_box(const evo_scene *sc, int at_start, double box[4])
 {
 	double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
-#define GROW(px, py)                                                           \
+#define GROW(px, py, r)                                                        \
 	do {                                                                   \
-		x0 = fmin(x0, (px));                                           \
-		x1 = fmax(x1, (px));                                           \
-		y0 = fmin(y0, (py));                                           \
-		y1 = fmax(y1, (py));                                           \
+		x0 = fmin(x0, (px) - (r));                                     \
+		x1 = fmax(x1, (px) + (r));                                     \
+		y0 = fmin(y0, (py) - (r));                                     \
+		y1 = fmax(y1, (py) + (r));                                     \
 	} while (0)
 	for (int b = 0; b < sc->n_bots; b++) {
 		evo_pose p = evo_body_pose(sc->world, sc->bot[b].body);
 		if (at_start)
-			GROW(sc->bot[b].def.x, sc->bot[b].def.y);
+			GROW(sc->bot[b].def.x, sc->bot[b].def.y, 0);
 		else
-			GROW(p.x, p.y);
+			GROW(p.x, p.y, 0);
 	}
-	for (int e = 0; e < sc->n_elements; e++)
-		GROW(sc->element[e].x, sc->element[e].y);
+	for (int e = 0; e < sc->n_elements; e++) {
+		const evo_element *el = &sc->element[e];
+		double r = fmax(el->size, hypot(el->half_w, el->half_h));
+		GROW(el->x, el->y, at_start && isfinite(r) ? r : 0);
+	}
+	for (int o = 0; at_start && o < sc->n_fixed_obstacles; o++) {
+		const evo_obstacle *ob = &sc->obstacle[o];
+		if (ob->shape == EVO_SHAPE_SEGMENT) {
+			GROW(ob->x, ob->y, 0);
+			GROW(ob->x2, ob->y2, 0);
+		} else {
+			GROW(ob->x, ob->y,
+			     fmax(ob->radius, hypot(ob->half_w, ob->half_h)));
+		}
+	}
 #undef GROW
-	if (x0 > x1) {
+	if (!(x0 <= x1 && y0 <= y1))
+		return 0;
+	box[0] = x0, box[1] = y0, box[2] = x1, box[3] = y1;
+	return 1;
+}
+
+/* The middle of scene_box: what to look at when no bot is followed. */
+static void scene_middle(const evo_scene *sc, int at_start, double *x,
+			 double *y)
+{
+	double box[4];
+	if (!scene_box(sc, at_start, box)) {
 		*x = *y = 0;
 		return;
 	}
-	*x = (x0 + x1) / 2;
-	*y = (y0 + y1) / 2;
+	*x = (box[0] + box[2]) / 2;
+	*y = (box[1] + box[3]) / 2;
+}
+
+double evo_view_fit_zoom(const evo_scene *sc, int w, int h)
+{
+	double box[4];
+	if (!scene_box(sc, 1, box))
+		return 1;
+	double world_w = w - panel_width(w);
+	double side = world_w < h ? world_w : h;
+	if (!(side > 0))
+		return 1;
+	/* pixels per metre that show the box with 4% to spare each side */
+	double fit = fmin(world_w / ((box[2] - box[0]) * 1.08),
+			  h / ((box[3] - box[1]) * 1.08));
+	double zoom = fit * (2 * EVO_VIEW_HALF_SPAN) / side;
+	return isfinite(zoom) && zoom > 0 && zoom < 1 ? zoom : 1;
 }
 
 evo_view_camera evo_view_camera_for(const evo_scene *sc, int follow_bot,

@@ -125,6 +125,11 @@ typedef struct evo_view_camera {
 evo_view_camera evo_view_camera_for(const evo_scene *sc, int follow_bot,
 				    double zoom, int w, int h);
 
+/* The zoom at which the scene as it starts (its elements, bots' starts,
+ * fixed obstacles and walls) fits in the world area of a w x h frame
+ * with a small margin: 1 if it fits at zoom 1 already, less otherwise. */
+double evo_view_fit_zoom(const evo_scene *sc, int w, int h);
+
 /* Where world point (x, y) falls in a frame drawn with cam, in pixels
  * (pixel (i, j) covers [i, i + 1) x [j, j + 1)). */
 void evo_view_to_screen(const evo_view_camera *cam, double x, double y,

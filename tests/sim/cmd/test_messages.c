@@ -750,6 +750,77 @@ TEST(screenshot_frames_the_scene_and_names_the_task)
 		     0);
 }
 
+/* Whether pixel (x, y) has the walls' colour (the viewer's obstacle
+ * edge, 0x5E5E5E; the scale bar's 0x555555 is not). */
+static int wall_pixel(const evo_png_image *im, int x, int y)
+{
+	const uint8_t *p =
+	    im->pixels + ((size_t)y * (size_t)im->w + (size_t)x) *
+			     (size_t)im->channels;
+	return p[0] == 0x5E && p[1] == 0x5E && p[2] == 0x5E;
+}
+
+/* Wall pixels of row y (dx 1) or column x (dx 0) between a and b. */
+static int wall_run(const evo_png_image *im, int fixed, int a, int b, int dx)
+{
+	int n = 0;
+	for (int i = a; i <= b; i++)
+		n += dx ? wall_pixel(im, i, fixed) : wall_pixel(im, fixed, i);
+	return n;
+}
+
+/* Kheperax's maze is 67 m wide, more than zoom 1's 60 m: a screenshot
+ * with the default camera shows all of it, its four outer walls inside
+ * the world area (1024 - 264 = 760 pixels wide, left of the panel) with
+ * room to spare, none cut by the frame's edge or under the panel. The
+ * camera used to show 60 m, centred on the scene's elements, not on its
+ * walls, and a robot near a corner was out of the picture. */
+TEST(screenshot_frames_a_maze_wider_than_zoom_one)
+{
+	char png[600];
+	snprintf(png, sizeof png, "%s/kheperax.png", cli_tmp);
+	CHECK_EQ_INT(cli_sh("%s run minds/Kheperax/Tasks/Kheperax-DEMO.simbatch"
+			    " -nog --ticks 1 --screenshot %s > /dev/null",
+			    cli_evo, png),
+		     0);
+	evo_png_image im;
+	evo_err err = {{0}};
+	CHECK_EQ_INT(evo_png_read(png, &im, &err), 0);
+	if (!im.pixels)
+		return;
+	const int world_w = 760;
+	CHECK_EQ_INT(im.w, 1024);
+	/* the box of the wall pixels in the world area */
+	int x0 = im.w, y0 = im.h, x1 = -1, y1 = -1;
+	for (int y = 0; y < im.h; y++)
+		for (int x = 0; x < world_w && x < im.w; x++)
+			if (wall_pixel(&im, x, y)) {
+				x0 = x < x0 ? x : x0;
+				x1 = x > x1 ? x : x1;
+				y0 = y < y0 ? y : y0;
+				y1 = y > y1 ? y : y1;
+			}
+	/* a margin on every side: nothing cut by the frame or the panel */
+	CHECK(x0 >= 8 && y0 >= 8);
+	CHECK(x1 <= world_w - 9 && y1 <= im.h - 9);
+	/* the maze fills most of the smaller side (720 px): not a speck */
+	CHECK(x1 - x0 >= 600 && y1 - y0 >= 600);
+	/* centred in the world area, not in the whole frame */
+	CHECK(abs((x0 + x1) / 2 - world_w / 2) <= 8);
+	/* the four outer walls: full rows and columns of wall pixels at
+	 * the box's edges (each a 3-pixel line: the box's edge or next) */
+	int w = x1 - x0 + 1, h = y1 - y0 + 1;
+	int top = 0, bottom = 0, left = 0, right = 0;
+	for (int k = 0; k < 3; k++) {
+		top |= wall_run(&im, y0 + k, x0, x1, 1) >= w * 9 / 10;
+		bottom |= wall_run(&im, y1 - k, x0, x1, 1) >= w * 9 / 10;
+		left |= wall_run(&im, x0 + k, y0, y1, 0) >= h * 9 / 10;
+		right |= wall_run(&im, x1 - k, y0, y1, 0) >= h * 9 / 10;
+	}
+	CHECK(top && bottom && left && right);
+	evo_png_image_free(&im);
+}
+
 int main(void)
 {
 	if (cli_setup("messages"))
@@ -775,6 +846,7 @@ int main(void)
 	RUN(a_recorded_gif_is_small);
 	RUN(record_prints_the_headless_episode_line);
 	RUN(screenshot_frames_the_scene_and_names_the_task);
+	RUN(screenshot_frames_a_maze_wider_than_zoom_one);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
 	setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
 	RUN(progress_rewrites_only_at_a_terminal);
