@@ -83,6 +83,17 @@ TEST(check_of_a_task_whose_sub_skills_are_untrained_says_what_to_train)
 			 cli_evo, cli_tmp);
 	CHECK_EQ_INT(rc, 0);
 	CHECK_CONTAINS(out, "Collect-DEMO.simbatch: task DEMOSIM, mind folder ");
+	/* evo run of the demo names every skill with no network, and the
+	 * order to train them in, not only the first */
+	rc = cli_capture(out, sizeof out,
+			 "%s run %s/c/Collect/Tasks/Collect-DEMO.simbatch "
+			 "--headless --ticks 5 2>&1",
+			 cli_evo, cli_tmp);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "neural skill GTO+Avoid has no trained network");
+	CHECK_CONTAINS(out, "not trained yet (no Skills/S/S.net): GTO+Avoid, "
+			    "ClawControl\n");
+	CHECK_CONTAINS(out, "train the hierarchy bottom-up");
 	/* the task that trains a sub-skill itself is fine */
 	rc = cli_capture(out, sizeof out,
 			 "%s check %s/c/Collect/Tasks/GTO+Avoid-NEAT.simbatch "
