@@ -157,7 +157,7 @@ end
 
 -- The key of `keys` (key -> anything) closest to `key`, the first in
 -- sorted order among equals: the reader's "did you mean".
-local function closest(key, keys)
+function common.closest(key, keys)
 	local names = {}
 	for k in pairs(keys) do names[#names + 1] = k end
 	table.sort(names)
@@ -190,7 +190,7 @@ function common.task_options(algo, task, path, lines, quiet)
 	for name in pairs(algo.other_keys or {}) do known[name] = true end
 	for _, k in ipairs(unknown) do
 		warnings[#warnings + 1] = { k, string.format("unknown key '%s' ignored; did you mean %s?", k,
-			closest(k, known)) }
+			common.closest(k, known)) }
 	end
 	local unread = {}
 	for _, k in ipairs(unknown) do unread[k] = true end

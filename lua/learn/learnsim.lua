@@ -208,8 +208,21 @@ if saved then
 	history = c.history
 	solver = c.solver
 	best_team = c.best_team or {}
+	-- a finished run (its champion saved: a run killed between its last
+	-- checkpoint and the champion does the last steps again): nothing to
+	-- replay, the skill's network stays
+	local saved_champion = host.read("champion.net")
+		or (teams and host.read("champion-" .. learners[1].name .. ".net"))
+	if (c.stopped or first >= generations) and saved_champion then
+		host.print(string.format("the run in %s is complete: its last generation, %d, was %s; "
+			.. "nothing to do%s", host.run_dir, c.generation,
+			c.stopped and "where it stopped (its criterion was met)"
+				or string.format("the last of its %d (%s)", generations, host.generations
+					and host.run_dir .. "/options.txt" or "the task's NUMGEN"),
+			c.stopped and "" or string.format(" (--generations N, N > %d, goes on)", generations)))
+		return
+	end
 	host.print(string.format("resuming after generation %d", c.generation))
-	if c.stopped then generations = c.generation + 1 end
 else
 	-- layers: the skill's `layers:`, and hidden: the task's HIDDEN, the
 	-- fixed shape of GENETIC and ANNEALING (NEAT grows its own and

@@ -50,8 +50,9 @@ function M.check(task, path, lines)
 		local names = {}
 		for name in pairs(M.task_keys) do names[#names + 1] = name end
 		table.sort(names)
-		error(string.format("%s: unknown key %s (OPENENDED takes %s)",
-			common.where(path, lines, unknown[1]), unknown[1], table.concat(names, ", ")), 0)
+		error(string.format("%s: unknown key %s; did you mean %s? (OPENENDED takes %s)",
+			common.where(path, lines, unknown[1]), unknown[1],
+			common.closest(unknown[1], M.task_keys), table.concat(names, ", ")), 0)
 	end
 	if task.LEARNINGMETHOD and task.LEARNINGMETHOD:upper() ~= "NEAT" then
 		error(string.format("%s: OPENENDED's agents are NEAT genomes: LEARNINGMETHOD must be "

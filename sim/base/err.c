@@ -14,10 +14,15 @@ int evo_fail(evo_err *err, const char *fmt, ...)
 	return -1;
 }
 
-static unsigned n_warnings;
+static unsigned n_warnings, n_quiet;
+static int quiet;
 
 void evo_warning(const char *fmt, ...)
 {
+	if (quiet) {
+		n_quiet++;
+		return;
+	}
 	va_list ap;
 	va_start(ap, fmt);
 	fputs("warning: ", stderr);
@@ -30,4 +35,12 @@ void evo_warning(const char *fmt, ...)
 unsigned evo_warning_count(void)
 {
 	return n_warnings;
+}
+
+unsigned evo_warning_quiet(int on)
+{
+	unsigned n = n_quiet;
+	quiet = on;
+	n_quiet = 0;
+	return n;
 }

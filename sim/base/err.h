@@ -22,4 +22,8 @@ void evo_warning(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* How many evo_warning has printed in this process. */
 unsigned evo_warning_count(void);
 
+/* on: evo_warning neither prints nor counts until called with 0, which
+ * returns how many warnings it swallowed (a task tried quietly). */
+unsigned evo_warning_quiet(int on);
+
 #endif

@@ -277,44 +277,6 @@ static int cmd_tick(const evo_mind *m, long ticks, double *sensor_values)
 	return 0;
 }
 
-/* What `evo check` adds to loading the task: a type `evo run` runs; for
- * LEARNSIM the learning options; and, where the task runs in the 2D
- * world, the scene built as `evo run` builds it, so that a misspelled
- * BOTMODEL, ENV or botdesc sensor name fails here. 0 or -1 with err. */
-static int check_task(const char *path, evo_task *task, evo_err *err)
-{
-	if (!evo_run_supports(task->type))
-		return evo_fail(
-		    err,
-		    "%s: evo run does not run %s tasks yet (it runs "
-		    "DEMOSIM, LEARNSIM, LEARNSIMCONTINUOUS, DEMO3DSIM, "
-		    "LEARN3DSIM, DEMO2DSIMMULTI, LEARN2DSIMMULTI, "
-		    "DEMOREMOTESIM, "
-		    "LEARNREMOTESIM and DEMOREMOTE)",
-		    path, task->type);
-	if ((strncmp(task->type, "LEARN", 5) == 0 ||
-	     strcmp(task->type, "OPENENDED") == 0) &&
-	    evo_learn_check(path, task, err) != 0)
-		return -1;
-	if (evo_robot_task_check(task->sb, task->type, path, err))
-		return -1;
-	const char *env = evo_simbatch_get(task->sb, "ENV");
-	if (strcmp(task->type, "LEARNSIM") == 0 &&
-	    evo_lit_task_named(env ? env : "") != EVO_LIT_NONE)
-		return 0; /* a literature task: no scene */
-	/* a remote task's world is the remote's; one that names a bot model
-	 * and an environment can be served by `evo serve`, so they are
-	 * checked */
-	if (strstr(task->type, "REMOTE") &&
-	    (!env || !evo_simbatch_get(task->sb, "BOTMODEL")))
-		return 0;
-	evo_sim *s = evo_sim_create_task(task, path, err);
-	if (!s)
-		return -1;
-	evo_sim_destroy(s);
-	return 0;
-}
-
 /* evo info and evo tick of an exported mind image (.bin): its own names
  * say what it holds. --master and --net need the mind folder. */
 static int image_cmd(const char *cmd, const char *path, long ticks,
@@ -431,7 +393,7 @@ int main(int argc, char **argv)
 			fprintf(stderr, "%s\n", err.msg);
 			return 1;
 		}
-		if (check_task(argv[2], &task, &err) != 0) {
+		if (evo_task_check(argv[2], &task, &err) != 0) {
 			fprintf(stderr, "%s\n", err.msg);
 			evo_task_free(&task);
 			return 1;

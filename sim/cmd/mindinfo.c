@@ -1,5 +1,6 @@
-/* evo info and evo tick of a mind image, and the report of a hierarchy's
- * untrained skills (sim/cmd/mindinfo.h). */
+/* evo info and evo tick of a mind image, the check evo check adds to
+ * loading a task, and the report of a hierarchy's untrained skills with
+ * a task that trains each (sim/cmd/mindinfo.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "cmd/mindinfo.h"
 
@@ -9,8 +10,13 @@
 #include <strings.h>
 
 #include "base/fileio.h"
+#include "cmd/run.h"
 #include "evo/image.h"
 #include "evo/status.h"
+#include "learn/learn.h"
+#include "learn/literature.h"
+#include "remote/robot.h"
+#include "tasksim/tasksim.h"
 
 int evo_is_image_path(const char *path)
 {
@@ -84,40 +90,122 @@ void evo_image_info(const char *path, const evo_mind *m)
 	       evo_state_size(m));
 }
 
-/* A task of root/Tasks that trains skill (a LEARNINGSKILL:skill line),
- * its file name into out; 0 when there is none. */
-static int task_for(const char *root, const char *skill, char *out, size_t cap)
+int evo_task_check(const char *path, evo_task *task, evo_err *err)
 {
-	char dir[1200], want[EVO_NAME_MAX + 20];
-	snprintf(dir, sizeof dir, "%s/Tasks", root);
+	if (!evo_run_supports(task->type))
+		return evo_fail(
+		    err,
+		    "%s: evo run does not run %s tasks yet (it runs "
+		    "DEMOSIM, LEARNSIM, LEARNSIMCONTINUOUS, DEMO3DSIM, "
+		    "LEARN3DSIM, DEMO2DSIMMULTI, LEARN2DSIMMULTI, "
+		    "DEMOREMOTESIM, "
+		    "LEARNREMOTESIM and DEMOREMOTE)",
+		    path, task->type);
+	if ((strncmp(task->type, "LEARN", 5) == 0 ||
+	     strcmp(task->type, "OPENENDED") == 0) &&
+	    evo_learn_check(path, task, err) != 0)
+		return -1;
+	if (evo_robot_task_check(task->sb, task->type, path, err))
+		return -1;
+	const char *env = evo_simbatch_get(task->sb, "ENV");
+	if (strcmp(task->type, "LEARNSIM") == 0 &&
+	    evo_lit_task_named(env ? env : "") != EVO_LIT_NONE)
+		return 0; /* a literature task: no scene */
+	/* a remote task's world is the remote's; one that names a bot model
+	 * and an environment can be served by `evo serve`, so they are
+	 * checked */
+	if (strstr(task->type, "REMOTE") &&
+	    (!env || !evo_simbatch_get(task->sb, "BOTMODEL")))
+		return 0;
+	evo_sim *s = evo_sim_create_task(task, path, err);
+	if (!s)
+		return -1;
+	evo_sim_destroy(s);
+	return 0;
+}
+
+/* Whether the task file text has the line LEARNINGSKILL:skill. */
+static int trains(const char *text, const char *skill)
+{
+	char want[EVO_NAME_MAX + 20];
 	snprintf(want, sizeof want, "LEARNINGSKILL:%s", skill);
-	DIR *d = opendir(dir);
-	if (!d)
+	for (const char *p = strstr(text, want); p; p = strstr(p + 1, want)) {
+		char after = p[strlen(want)];
+		if ((p == text || p[-1] == '\n') &&
+		    (after == '\n' || after == '\r' || after == 0 ||
+		     after == ' '))
+			return 1;
+	}
+	return 0;
+}
+
+/* The problems evo check finds in the task at path, tried quietly: its
+ * warnings, or -1 when it fails to load or check (why into err). */
+static long task_problems(const char *path, evo_err *err)
+{
+	evo_task t;
+	evo_task_opts to = {.untrained_ok = 1};
+	evo_warning_quiet(1);
+	int rc = evo_task_load_opts(path, &to, &t, err);
+	if (rc == 0) {
+		rc = evo_task_check(path, &t, err);
+		evo_task_free(&t);
+	}
+	unsigned warned = evo_warning_quiet(0);
+	return rc ? -1 : (long)warned;
+}
+
+/* The task of root/Tasks to train skill with (a LEARNINGSKILL:skill line)
+ * into out: of those that pass evo check, SKILL-NEAT.simbatch, else the
+ * one with the fewest warnings, the first by name among equals. 1 when
+ * there is one; 0 when there is none, or -1 when none passes (the first
+ * one's error into err). */
+static int task_for(const char *root, const char *skill, char *out, size_t cap,
+		    evo_err *err)
+{
+	char dir[1200], neat[EVO_NAME_MAX + 20];
+	snprintf(dir, sizeof dir, "%s/Tasks", root);
+	snprintf(neat, sizeof neat, "%s-NEAT.simbatch", skill);
+	struct dirent **names;
+	int n = scandir(dir, &names, NULL, alphasort);
+	if (n < 0)
 		return 0;
 	int found = 0;
-	struct dirent *e;
-	while (!found && (e = readdir(d)) != NULL) {
-		size_t n = strlen(e->d_name);
-		if (n < 10 || strcasecmp(e->d_name + n - 9, ".simbatch") != 0)
-			continue;
+	long best = -1;
+	for (int k = 0; k < n; k++) {
+		const char *name = names[k]->d_name;
+		size_t len = strlen(name);
 		char path[1500], *text;
-		size_t len;
-		snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-		if (evo_read_file(path, &text, &len, NULL))
+		size_t tlen;
+		snprintf(path, sizeof path, "%s/%s", dir, name);
+		if (len < 10 || strcasecmp(name + len - 9, ".simbatch") != 0 ||
+		    evo_read_file(path, &text, &tlen, NULL))
 			continue;
-		for (char *p = strstr(text, want); p && !found;
-		     p = strstr(p + 1, want)) {
-			char after = p[strlen(want)];
-			found = (p == text || p[-1] == '\n') &&
-				(after == '\n' || after == '\r' || after == 0 ||
-				 after == ' ');
-		}
+		int yes = trains(text, skill);
 		free(text);
-		if (found && (size_t)snprintf(out, cap, "Tasks/%s",
-					       e->d_name) >= cap)
-			found = 0;
+		if (!yes)
+			continue;
+		evo_err why = {{0}};
+		long p = task_problems(path, &why);
+		if (p < 0) {
+			if (!found)
+				snprintf(err->msg, sizeof err->msg, "%s",
+					 why.msg);
+			found = found ? found : -1;
+			continue;
+		}
+		/* SKILL-NEAT counts as having no warnings when it has none */
+		long rank = 2 * p + (strcmp(name, neat) != 0);
+		if (found == 1 && rank >= best)
+			continue;
+		if ((size_t)snprintf(out, cap, "Tasks/%s", name) >= cap)
+			continue;
+		found = 1;
+		best = rank;
 	}
-	closedir(d);
+	for (int k = 0; k < n; k++)
+		free(names[k]);
+	free(names);
 	return found;
 }
 
@@ -147,14 +235,22 @@ int evo_untrained_report(const evo_mindfolder *l, FILE *f)
 		if (a->kind != EVO_SKILL_NEURAL)
 			continue;
 		char task[300];
+		evo_err why = {{0}};
+		int has = l->untrained[i] == 1
+				  ? task_for(l->root, a->name, task,
+					     sizeof task, &why)
+				  : 0;
 		fprintf(f, "  %u. %-16s %s", step++, a->name,
 			l->untrained[i] == 2   ? "no network yet: this task "
 						 "trains it"
 			: l->untrained[i] ? "no network yet"
 					  : "has its network");
-		if (l->untrained[i] == 1 && task_for(l->root, a->name, task,
-						 sizeof task))
+		if (has == 1)
 			fprintf(f, ": evo run %s/%s", l->root, task);
+		else if (has < 0)
+			fprintf(f, ": no task of %s/Tasks that trains it passes "
+				   "evo check (%s)",
+				l->root, why.msg);
 		else if (l->untrained[i] == 1)
 			fprintf(f, ": a LEARNSIM task with LEARNINGSKILL:%s "
 				   "(docs/learning.md)",

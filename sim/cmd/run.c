@@ -15,6 +15,7 @@
 #include "base/err.h"
 #include "base/fileio.h"
 #include "base/number.h"
+#include "cmd/mindinfo.h"
 #include "cmd/record.h"
 #include "cluster/cluster.h"
 #include "learn/evaluate.h"
@@ -1576,6 +1577,22 @@ static int env_choice(const char *task_path, const evo_task *task,
 	return 0;
 }
 
+/* A task that stopped at a neural skill with no trained network: loaded
+ * again as evo check loads it, every such skill is named with the
+ * bottom-up order to train them in, as evo check says it. */
+static void untrained_report(const char *path, const evo_task_opts *to)
+{
+	evo_task_opts again = *to;
+	again.untrained_ok = 1;
+	evo_task t;
+	evo_err e2;
+	if (evo_task_load_opts(path, &again, &t, &e2) != 0)
+		return;
+	if (t.n_teams == 0)
+		evo_untrained_report(t.mind, stderr);
+	evo_task_free(&t);
+}
+
 static int run_main(int argc, char **argv)
 {
 	run_opts o;
@@ -1602,6 +1619,8 @@ static int run_main(int argc, char **argv)
 	};
 	if (evo_task_load_opts(o.task, &to, &task, &err) != 0) {
 		fprintf(stderr, "%s\n", err.msg);
+		if (strstr(err.msg, "has no trained network"))
+			untrained_report(o.task, &to);
 		return 1;
 	}
 	uint64_t seed = task.seed;

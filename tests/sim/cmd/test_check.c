@@ -137,7 +137,8 @@ TEST(check_knows_openended_and_3d_tasks)
 						    "T.simbatch",
 				 cli_evo, cli_tmp),
 		     1);
-	CHECK_CONTAINS(out1, "T.simbatch:7: unknown key OPEN_ENVZ");
+	CHECK_CONTAINS(out1, "T.simbatch:7: unknown key OPEN_ENVZ; did you "
+			     "mean OPEN_ENVS? (OPENENDED takes ");
 	/* a 3D task runs, and a 2D environment in it says what is wrong */
 	avoid_with_task("T.simbatch", "TYPE:DEMO3DSIM\nBOTMODEL:BotType8\n"
 				      "MASTERSKILL:Avoid\nENV:Roam\n");

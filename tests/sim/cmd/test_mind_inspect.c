@@ -83,6 +83,17 @@ TEST(check_of_a_task_whose_sub_skills_are_untrained_says_what_to_train)
 			 cli_evo, cli_tmp);
 	CHECK_EQ_INT(rc, 0);
 	CHECK_CONTAINS(out, "Collect-DEMO.simbatch: task DEMOSIM, mind folder ");
+	/* evo run of the demo names every skill with no network, and the
+	 * order to train them in, not only the first */
+	rc = cli_capture(out, sizeof out,
+			 "%s run %s/c/Collect/Tasks/Collect-DEMO.simbatch "
+			 "--headless --ticks 5 2>&1",
+			 cli_evo, cli_tmp);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "neural skill GTO+Avoid has no trained network");
+	CHECK_CONTAINS(out, "not trained yet (no Skills/S/S.net): GTO+Avoid, "
+			    "ClawControl\n");
+	CHECK_CONTAINS(out, "train the hierarchy bottom-up");
 	/* the task that trains a sub-skill itself is fine */
 	rc = cli_capture(out, sizeof out,
 			 "%s check %s/c/Collect/Tasks/GTO+Avoid-NEAT.simbatch "
@@ -163,12 +174,50 @@ TEST(a_mind_folder_copied_under_a_new_name_loads)
 	CHECK_CONTAINS(out, "Other.botdesc");
 }
 
+/* Broken copies of a task in Tasks/ (ENV misspelt) are passed over for
+ * the hint: the task named is one that passes evo check, SKILL-NEAT
+ * before another good one; with none good, the hint says so and why. */
+TEST(the_task_a_hint_names_passes_evo_check)
+{
+	make_untrained("t");
+	char tasks[600];
+	snprintf(tasks, sizeof tasks, "%s/t/Collect/Tasks", cli_tmp);
+	CHECK_EQ_INT(cli_sh("cd %s && for n in A Typo Steer Z; do sed "
+			    "'s/^ENV:GoToObject$/ENV:GoToObjecx/' "
+			    "GTO+Avoid-NEAT.simbatch > $n.simbatch; done && "
+			    "cp GTO+Avoid-NEAT.simbatch Good.simbatch",
+			    tasks),
+		     0);
+	int rc = cli_capture(out, sizeof out, "%s info %s/t/Collect 2>&1",
+			     cli_evo, cli_tmp);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out, ". GTO+Avoid        no network yet: evo run ");
+	CHECK_CONTAINS(out, "Collect/Tasks/GTO+Avoid-NEAT.simbatch\n");
+	/* trying the tasks prints none of their messages */
+	CHECK(strstr(out, "GoToObjecx") == NULL);
+	CHECK_EQ_INT(cli_sh("rm %s/GTO+Avoid-NEAT.simbatch", tasks), 0);
+	rc = cli_capture(out, sizeof out, "%s info %s/t/Collect 2>&1", cli_evo,
+			 cli_tmp);
+	CHECK_EQ_INT(rc, 0);
+	CHECK_CONTAINS(out, "Collect/Tasks/Good.simbatch\n");
+	CHECK_EQ_INT(cli_sh("rm %s/Good.simbatch", tasks), 0);
+	rc = cli_capture(out, sizeof out,
+			 "%s check %s/Collect-NEAT.simbatch 2>&1", cli_evo,
+			 tasks);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, ". GTO+Avoid        no network yet: no task of ");
+	CHECK_CONTAINS(out, "Collect/Tasks that trains it passes evo check (");
+	CHECK_CONTAINS(out, "Tasks/A.simbatch:6: ENV: environment "
+			    "'GoToObjecx' not found");
+}
+
 int main(void)
 {
 	if (cli_setup("mind-inspect"))
 		return 1;
 	RUN(info_of_a_hierarchy_with_untrained_sub_skills_shows_it);
 	RUN(check_of_a_task_whose_sub_skills_are_untrained_says_what_to_train);
+	RUN(the_task_a_hint_names_passes_evo_check);
 	RUN(info_and_tick_take_an_exported_image);
 	RUN(a_mind_folder_copied_under_a_new_name_loads);
 	cli_cleanup();
