@@ -116,16 +116,7 @@ cmaes.ranges = {
 
 function cmaes.options_from_task(task)
 	local o, unknown = common.options_from(task, "CMAES_", cmaes.task_keys, cmaes.defaults,
-		function(key, s, value)
-			local name = cmaes.task_keys[key]
-			if CHOICES[name] and not CHOICES[name][s] then
-				local list = {}
-				for k in pairs(CHOICES[name]) do list[#list + 1] = k end
-				table.sort(list)
-				error(key .. ": expected " .. table.concat(list, ", ") .. ", found '"
-					.. tostring(value) .. "'", 0)
-			end
-		end, cmaes.ranges)
+		common.choices(cmaes.task_keys, CHOICES), cmaes.ranges)
 	local sigma = o.sigma or cmaes.defaults.sigma
 	if o.sigma_min and o.sigma_min > sigma then
 		error(string.format("CMAES_SIGMA_MIN: %s is more than the initial step size "

@@ -103,6 +103,22 @@ function common.options_from(task, prefix, keys, defaults, check, ranges)
 	return opts, unknown
 end
 
+-- A check for options_from: a key whose option (keys[key]) has a list
+-- of words in `choices` (option name -> set of words) takes one of them;
+-- else "KEY: expected a, b, found 'x'".
+function common.choices(keys, choices)
+	return function(key, s, value)
+		local allowed = choices[keys[key]]
+		if allowed and not allowed[s] then
+			local list = {}
+			for k in pairs(allowed) do list[#list + 1] = k end
+			table.sort(list)
+			error(key .. ": expected " .. table.concat(list, ", ") .. ", found '"
+				.. tostring(value) .. "'", 0)
+		end
+	end
+end
+
 -- The learning methods and their modules; every module has the same
 -- interface: options_from_task, new, genomes/tell, best, species,
 -- save/load, to_net, to_net_text.

@@ -138,17 +138,7 @@ mapelites.ranges = {
 
 function mapelites.options_from_task(task)
 	local o, unknown = common.options_from(task, "MAPELITES_", mapelites.task_keys,
-		mapelites.defaults,
-		function(key, s, value)
-			local name = mapelites.task_keys[key]
-			if CHOICES[name] and not CHOICES[name][s] then
-				local list = {}
-				for k in pairs(CHOICES[name]) do list[#list + 1] = k end
-				table.sort(list)
-				error(key .. ": expected " .. table.concat(list, ", ") .. ", found '"
-					.. tostring(value) .. "'", 0)
-			end
-		end, mapelites.ranges)
+		mapelites.defaults, common.choices(mapelites.task_keys, CHOICES), mapelites.ranges)
 	local cells = o.cvt_cells or mapelites.defaults.cvt_cells
 	local samples = o.cvt_samples or mapelites.defaults.cvt_samples
 	if samples < cells then
