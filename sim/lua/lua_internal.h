@@ -1,5 +1,6 @@
 /* evo — private to sim/lua/: what the files of the scene scripts' `evo`
- * module share (lua_evo.c sets up a state and loads scripts, lua_args.c
+ * module share (lua_evo.c sets up a state, lua_sandbox.c loads scripts
+ * and holds what they may use, lua_args.c
  * reads options and handles, lua_bot.c and lua_scene.c are the methods
  * of bots, elements, metrics and the scene, lua_hooks.c calls Lua from the tick).
  * No other folder may include it. */
@@ -174,7 +175,14 @@ extern const luaL_Reg evo_lua_scene3d_methods[];
 extern const luaL_Reg evo_lua_bot3d_methods[];
 extern const luaL_Reg evo_lua_element3d_methods[];
 
-/* ---- lua_evo.c: loading scripts --------------------------------------- */
+/* ---- lua_sandbox.c: loading scripts, and what they may use ---------- */
+
+/* The sandbox of a scene state (docs/lua.md, "What a script may use"). */
+void evo_lua_open_sandbox(lua_State *L);
+/* lua_evo.c: the first refused allocation (ctx an evo_lua): the script's
+ * line noted for the message. */
+void evo_lua_memory_hit(void *ctx);
+
 
 /* Find NAME.lua in dir/<mind_sub> (dir NULL: the mind folder), then
  * lua_dir/<lua_sub>; 0, -1 when there is none, or -2 when the one found
