@@ -25,12 +25,6 @@
 #include "mind/task.h"
 #include "remote/session.h"
 
-static void on_signal(int sig)
-{
-	evo_serve_stop_requested =
-	    sig; /* a scene script stops too (lua_evo.h) */
-}
-
 void evo_serve_usage(FILE *f)
 {
 	fputs(
@@ -218,12 +212,7 @@ int evo_serve_main(int argc, char **argv)
 	}
 	/* a server's lines go to a log as they happen, not when it ends */
 	setvbuf(stdout, NULL, _IOLBF, 0);
-	struct sigaction sa;
-	memset(&sa, 0, sizeof sa);
-	sa.sa_handler = on_signal;
-	sigaction(SIGINT, &sa, NULL);
-	sigaction(SIGTERM, &sa, NULL);
-	evo_lua_watch_stop(&evo_serve_stop_requested);
+	evo_cmd_catch_stop();
 
 	evo_err err = {{0}};
 	evo_task task;
@@ -238,7 +227,7 @@ int evo_serve_main(int argc, char **argv)
 		    .url = can_url,
 		    .tick_ms = tick_ms,
 		    .timeout = timeout,
-		    .stop = &evo_serve_stop_requested,
+		    .stop = &evo_cmd_stop_requested,
 		};
 		int crc = evo_serve_can(&def);
 		evo_task_free(&task);

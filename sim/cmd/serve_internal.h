@@ -10,12 +10,10 @@
 #include <stdint.h>
 
 #include "base/err.h"
+#include "cmd/stop.h"
 #include "remote/link.h"
 #include "remote/wire.h"
 #include "tasksim/tasksim.h"
-
-/* Set by SIGINT and SIGTERM: every loop ends soon after. */
-extern volatile sig_atomic_t evo_serve_stop_requested;
 
 typedef struct served_env {
 	evo_sim *sim;

@@ -10,8 +10,6 @@
 #include <string.h>
 #include <time.h>
 
-volatile sig_atomic_t evo_serve_stop_requested;
-
 double evo_serve_now(void)
 {
 	struct timespec ts;

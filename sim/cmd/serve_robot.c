@@ -203,7 +203,7 @@ static int robot_tick(server *sv, robot *rb, double start, evo_err *err)
 	rb->stepped = rb->ended = rb->restart = 0;
 	double deadline = start + rb->period;
 	for (;;) {
-		if (evo_serve_stop_requested || rb->restart)
+		if (evo_cmd_stop_requested || rb->restart)
 			return 0;
 		double left = deadline - evo_serve_now();
 		if (left <= 0)
@@ -242,7 +242,7 @@ static int serve_robot(server *sv, robot *rb, evo_err *err)
 	if (evo_serve_publish_hello(sv, err))
 		return -1;
 	double next = 0;
-	while (!evo_serve_stop_requested) {
+	while (!evo_cmd_stop_requested) {
 		if (!rb->active) {
 			rb->restart = 0;
 			if (robot_message(sv, rb, 100, err))

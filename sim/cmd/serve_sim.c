@@ -107,7 +107,7 @@ int evo_serve_lockstep(server *sv, evo_err *err)
 {
 	if (evo_serve_publish_hello(sv, err))
 		return -1;
-	while (!evo_serve_stop_requested) {
+	while (!evo_cmd_stop_requested) {
 		evo_link_msg m;
 		int rc = 0;
 		switch (evo_serve_next(sv, 100, &m, err)) {
