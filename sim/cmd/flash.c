@@ -10,18 +10,12 @@
 #include <sys/stat.h>
 #include <time.h>
 
+#include "base/clock.h"
 #include "base/fileio.h"
 #include "evo/flash.h"
 #include "evo/mind.h"
 #include "mind/mindfolder.h"
 #include "remote/can.h"
-
-static double now_s(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 void evo_flash_usage(FILE *f)
 {
@@ -367,7 +361,7 @@ int evo_flash_main(int argc, char **argv)
 	 * progress for wait_ms sends again what is not acknowledged, and
 	 * `tries` of them in a row end it. */
 	int rc = 1;
-	double t0 = now_s(), try_start = t0;
+	double t0 = evo_clock_now(), try_start = t0;
 	uint32_t progress = t.progress;
 	long failed = 0;
 	while (t.stage != EVO_FLASH_TX_FINISHED) {
@@ -384,7 +378,7 @@ int evo_flash_main(int argc, char **argv)
 		}
 		if (r == 1)
 			evo_flash_tx_reply(&t, &f);
-		double now = now_s();
+		double now = evo_clock_now();
 		if (t.progress != progress) {
 			progress = t.progress;
 			failed = 0;
@@ -420,7 +414,7 @@ int evo_flash_main(int argc, char **argv)
 		       "%u (%u frames sent, %u segments sent again, %.2f s; "
 		       "transfer counter %u)\n",
 		       name, t.detail, t.frames, t.resent_segments,
-		       now_s() - t0, t.counter);
+		       evo_clock_now() - t0, t.counter);
 		rc = 0;
 	} else {
 		print_refusal(&t, names);

@@ -11,6 +11,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "base/clock.h"
 #include "base/err.h"
 #include "cmd/stop.h"
 #include "mind/task.h"
@@ -86,9 +87,9 @@ void *evo_run_mind_state(const evo_mind *m, evo_state **state, evo_err *err);
 int evo_run_remote_sim(const evo_task *task, const run_opts *o, uint64_t seed,
 		       FILE *trace, evo_err *err);
 
-/* Monotonic seconds, and a sleep until such a time. */
-double evo_run_now(void);
-void evo_run_sleep_until(double t);
+/* A window's frame pacing: *next one frame on (30 a second times speed;
+ * after a stall of half a second, from now), and a sleep until then. */
+void evo_run_pace(double *next, double speed);
 
 /* The viewer's window, and a screenshot drawn without one. */
 #define VIEW_W 1024

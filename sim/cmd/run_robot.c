@@ -197,7 +197,7 @@ int evo_run_robot(const evo_task *task, const run_opts *o, uint64_t seed,
 			robot_view_update(&rv, r, e);
 			if (v) {
 				quit = robot_keys(v, &rv, err);
-				double t = evo_run_now();
+				double t = evo_clock_now();
 				if (t - drawn >= 1.0 / 30) {
 					evo_viewer_draw_remote(v, &rv.p);
 					drawn = t;
@@ -207,10 +207,10 @@ int evo_run_robot(const evo_task *task, const run_opts *o, uint64_t seed,
 				/* the tick after the last one answered, for
 				 * the reward it carries; not answered */
 				double until =
-				    evo_run_now() + 4 * period + 0.25;
+				    evo_clock_now() + 4 * period + 0.25;
 				while ((end = evo_robot_conn_next(r, 20,
 								  err)) == 2 &&
-				       evo_run_now() < until)
+				       evo_clock_now() < until)
 					;
 				evo_robot_conn_status(r, &st);
 				break;

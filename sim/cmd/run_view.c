@@ -10,22 +10,24 @@
 #include <string.h>
 #include <time.h>
 
+#include "base/clock.h"
 #include "cmd/record.h"
 
-double evo_run_now(void)
+static void sleep_until(double t)
 {
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
-void evo_run_sleep_until(double t)
-{
-	double d = t - evo_run_now();
+	double d = t - evo_clock_now();
 	if (d <= 0)
 		return;
 	struct timespec ts = {(time_t)d, (long)((d - (double)(time_t)d) * 1e9)};
 	nanosleep(&ts, NULL);
+}
+
+void evo_run_pace(double *next, double speed)
+{
+	*next += 1.0 / (30.0 * speed);
+	if (*next < evo_clock_now() - 0.5)
+		*next = evo_clock_now();
+	sleep_until(*next);
 }
 
 /* What the viewer shows of whom: the bot selected (-1: none) and whether
@@ -372,7 +374,7 @@ static int run_viewer_trail(evo_sim *s, evo_viewer *v, const run_opts *o,
 			  evo_run_episode_seed(seed, 1), err))
 		return -1;
 	trail_restart(tr, o, s);
-	double speed = 1.0, next = evo_run_now();
+	double speed = 1.0, next = evo_clock_now();
 	int paused = 0;
 	for (;;) {
 		if (evo_cmd_stop_requested)
@@ -445,9 +447,6 @@ static int run_viewer_trail(evo_sim *s, evo_viewer *v, const run_opts *o,
 			       s->scene->tick);
 			return 0;
 		}
-		next += 1.0 / (30.0 * speed);
-		if (next < evo_run_now() - 0.5)
-			next = evo_run_now();
-		evo_run_sleep_until(next);
+		evo_run_pace(&next, speed);
 	}
 }

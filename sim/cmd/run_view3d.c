@@ -69,7 +69,7 @@ int evo_run_viewer3d(evo_sim *s, evo_view3d *v, const run_opts *o,
 	if (evo_sim_reset(s, 1, evo_run_grid_seed(seed, 1),
 			  evo_run_episode_seed(seed, 1), err))
 		return -1;
-	double speed = 1.0, next = evo_run_now();
+	double speed = 1.0, next = evo_clock_now();
 	for (;;) {
 		if (evo_cmd_stop_requested)
 			return 0;
@@ -129,9 +129,6 @@ int evo_run_viewer3d(evo_sim *s, evo_view3d *v, const run_opts *o,
 			       s->scene3d->tick);
 			return 0;
 		}
-		next += 1.0 / (30.0 * speed);
-		if (next < evo_run_now() - 0.5)
-			next = evo_run_now();
-		evo_run_sleep_until(next);
+		evo_run_pace(&next, speed);
 	}
 }

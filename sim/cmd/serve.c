@@ -18,6 +18,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "base/counts.h"
 #include "base/rng.h"
 #include "cmd/serve_can.h"
 #include "cmd/serve_internal.h"
@@ -86,6 +87,11 @@ static int64_t new_session(void)
 	evo_rng r = evo_rng_for((uint64_t)ts.tv_sec, (uint64_t)ts.tv_nsec,
 				(uint64_t)getpid(), 0);
 	return (int64_t)(evo_rng_next(&r) >> 1);
+}
+
+static const char *reason_name(int i)
+{
+	return evo_wire_reason_name((evo_wire_reason)i);
 }
 
 int evo_serve_main(int argc, char **argv)
@@ -325,22 +331,8 @@ int evo_serve_main(int argc, char **argv)
 out:
 	if (rc && err.msg[0])
 		fprintf(stderr, "%s\n", err.msg);
-	unsigned long total = 0;
-	for (int i = 1; i < EVO_WIRE_N_REASONS; i++)
-		total += sv.dropped[i];
-	if (total) {
-		fprintf(stderr, "evo serve: dropped %lu message%s (", total,
-			total == 1 ? "" : "s");
-		const char *sep = "";
-		for (int i = 1; i < EVO_WIRE_N_REASONS; i++)
-			if (sv.dropped[i]) {
-				fprintf(
-				    stderr, "%s%lu %s", sep, sv.dropped[i],
-				    evo_wire_reason_name((evo_wire_reason)i));
-				sep = ", ";
-			}
-		fprintf(stderr, ")\n");
-	}
+	evo_report_drops("evo serve", "message", "", sv.dropped, 1,
+			 EVO_WIRE_N_REASONS, reason_name);
 	if (sv.link)
 		evo_link_report(sv.link);
 	if (sv.data && sv.data != sv.link) {

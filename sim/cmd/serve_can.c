@@ -1,10 +1,10 @@
 /* `evo serve TASK --can URL` (cmd/serve_can.h, docs/can.md): the task's
  * 2D world stands in for a robot's body on a CAN bus, in the frames of
  * docs/wire.md. Its rules are those of `evo serve --robot` over LCM
- * (cmd/standin.h keeps them for both): real time, one tick a period whether commands come or not;
- * each period the sensor frames and a TICK go out at its start, and the
- * world steps as soon as that tick's command (actuator frames and a
- * TICKED) comes, or at the period's end with the commands before, or,
+ * (cmd/standin.h keeps them for both): real time, one tick a period whether
+ * commands come or not; each period the sensor frames and a TICK go out at its
+ * start, and the world steps as soon as that tick's command (actuator frames
+ * and a TICKED) comes, or at the period's end with the commands before, or,
  * once none has come for the timeout, with every actuator neutral. A RESET
  * starts an episode from its seeds, so that a DEMOREMOTE run against it
  * gives the trace DEMOSIM gives. */
@@ -17,6 +17,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "base/counts.h"
 #include "cmd/standin.h"
 #include "remote/can.h"
 #include "remote/can_robot.h"
@@ -51,6 +52,18 @@ static void drop(body *b, evo_can_robot_bad why, const evo_can_frame *f,
 static int put_frame(body *b, const evo_can_frame *f, evo_err *err)
 {
 	return evo_can_send(b->can, f, err);
+}
+
+/* The episode's reward so far, a REWARD frame. */
+static int put_reward(body *b, evo_err *err)
+{
+	evo_can_frame f = {EVO_WIRE_REWARD, 8, {0}};
+	double reward = b->sim->scene->episode_reward;
+	uint64_t bits;
+	memcpy(&bits, &reward, sizeof bits);
+	evo_wire_put_u32(f.data, (uint32_t)bits);
+	evo_wire_put_u32(f.data + 4, (uint32_t)(bits >> 32));
+	return put_frame(b, &f, err);
 }
 
 static int send_body(void *ctx, evo_err *err)
@@ -189,14 +202,10 @@ static int send_tick(void *ctx, evo_err *err)
 	int full = b->full_next || frames > 32;
 	b->full_next = 1; /* until this tick's command comes in time */
 	uint32_t mask = 0;
-	evo_can_frame f = {EVO_WIRE_REWARD, 8, {0}};
-	double reward = b->sim->scene->episode_reward;
-	uint64_t bits;
-	memcpy(&bits, &reward, sizeof bits);
-	evo_wire_put_u32(f.data, (uint32_t)bits);
-	evo_wire_put_u32(f.data + 4, (uint32_t)(bits >> 32));
-	if (put_frame(b, &f, err))
+	if (put_reward(b, err))
 		return -1;
+	evo_can_frame f;
+	memset(&f, 0, sizeof f);
 	for (unsigned k = 0; k < frames; k++) {
 		unsigned i = 2 * k;
 		int changed = q[i] != b->sent[i] ||
@@ -222,14 +231,9 @@ static int send_tick(void *ctx, evo_err *err)
 static int send_end(void *ctx, evo_err *err)
 {
 	body *b = ctx;
-	evo_can_frame f = {EVO_WIRE_REWARD, 8, {0}};
-	double reward = b->sim->scene->episode_reward;
-	uint64_t bits;
-	memcpy(&bits, &reward, sizeof bits);
-	evo_wire_put_u32(f.data, (uint32_t)bits);
-	evo_wire_put_u32(f.data + 4, (uint32_t)(bits >> 32));
-	if (put_frame(b, &f, err))
+	if (put_reward(b, err))
 		return -1;
+	evo_can_frame f;
 	memset(&f, 0, sizeof f);
 	f.id = EVO_WIRE_DONE;
 	f.len = 4;
@@ -237,43 +241,24 @@ static int send_end(void *ctx, evo_err *err)
 	return put_frame(b, &f, err);
 }
 
+static const char *bad_frame_name(int i)
+{
+	return evo_can_robot_bad_name((evo_can_robot_bad)i);
+}
+
+static const char *bad_input_name(int i)
+{
+	return evo_can_bad_name((evo_can_bad)i);
+}
+
 static void report(const body *b)
 {
 	evo_standin_report(&b->s);
-	unsigned long total = 0;
-	for (int i = 0; i < EVO_CAN_ROBOT_BAD_COUNT; i++)
-		total += b->dropped[i];
-	const char *sep = "";
-	if (total) {
-		fprintf(stderr, "evo serve: dropped %lu frame%s (", total,
-			total == 1 ? "" : "s");
-		for (int i = 0; i < EVO_CAN_ROBOT_BAD_COUNT; i++)
-			if (b->dropped[i]) {
-				fprintf(stderr, "%s%lu %s", sep, b->dropped[i],
-					evo_can_robot_bad_name(
-					    (evo_can_robot_bad)i));
-				sep = ", ";
-			}
-		fprintf(stderr, ")\n");
-	}
-	const unsigned long *bus = evo_can_dropped(b->can);
-	total = 0;
-	for (int i = 0; i < EVO_CAN_BAD_COUNT; i++)
-		total += bus[i];
-	if (total) {
-		fprintf(stderr,
-			"evo serve: dropped %lu piece%s of input that "
-			"were no frames of evo's (",
-			total, total == 1 ? "" : "s");
-		sep = "";
-		for (int i = 0; i < EVO_CAN_BAD_COUNT; i++)
-			if (bus[i]) {
-				fprintf(stderr, "%s%lu %s", sep, bus[i],
-					evo_can_bad_name((evo_can_bad)i));
-				sep = ", ";
-			}
-		fprintf(stderr, ")\n");
-	}
+	evo_report_drops("evo serve", "frame", "", b->dropped, 0,
+			 EVO_CAN_ROBOT_BAD_COUNT, bad_frame_name);
+	evo_report_drops(
+	    "evo serve", "piece", " of input that were no frames of evo's",
+	    evo_can_dropped(b->can), 0, EVO_CAN_BAD_COUNT, bad_input_name);
 	if (evo_can_unsent(b->can))
 		fprintf(stderr,
 			"evo serve: %lu frame%s not sent: the line took no "

@@ -9,6 +9,7 @@
 #include <signal.h>
 #include <stdint.h>
 
+#include "base/clock.h"
 #include "base/err.h"
 #include "cmd/stop.h"
 #include "remote/link.h"
@@ -36,9 +37,6 @@ typedef struct server {
 	/* with a key: the last stamp taken on each channel from evo */
 	evo_wire_fresh fresh_control, fresh_command;
 } server;
-
-/* Monotonic seconds. */
-double evo_serve_now(void);
 
 /* Count a message dropped for r; the first of each reason is said. */
 void evo_serve_drop(server *sv, evo_wire_reason r, const char *type,

@@ -10,12 +10,7 @@
 #include <string.h>
 #include <time.h>
 
-double evo_serve_now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
+#include "base/clock.h"
 
 void evo_serve_drop(server *sv, evo_wire_reason r, const char *type,
 		    const char *why)

@@ -28,7 +28,7 @@ static int on_control(server *sv, const evo_link_msg *m, evo_err *err)
 	/* the same RESET again (same episode, same seeds), not yet answered
 	 * by a command: its answer was lost, so it goes again
 	 * (docs/remote.md) */
-	double t = evo_serve_now();
+	double t = evo_clock_now();
 	int same = e->episode > 0 && c.episode == e->episode &&
 		   c.layout_seed == e->layout_seed && c.seed == e->seed;
 	if (same && e->active && e->tick == 0)

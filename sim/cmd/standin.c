@@ -8,12 +8,7 @@
 #include <string.h>
 #include <time.h>
 
-double evo_standin_now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
+#include "base/clock.h"
 
 static int stopping(const evo_standin *s)
 {
@@ -40,7 +35,7 @@ static int step(evo_standin *s, evo_err *err)
 int evo_standin_reset(evo_standin *s, int64_t e, uint64_t layout_seed,
 		      uint64_t seed, evo_err *err)
 {
-	double t = evo_standin_now();
+	double t = evo_clock_now();
 	if (s->active && e == s->episode && !s->commanded &&
 	    t - s->started_at < 1.0)
 		return 1;
@@ -60,15 +55,22 @@ int evo_standin_reset(evo_standin *s, int64_t e, uint64_t layout_seed,
 	return 0;
 }
 
-void evo_standin_stop(evo_standin *s)
+/* The episode is over: every actuator neutral until a RESET, said as
+ * "evo serve: robot NAME: <how> episode E <at> tick T: ...". */
+static void halt(evo_standin *s, const char *how, const char *at)
 {
 	s->active = 0;
-	s->restart = 1;
 	evo_standin_neutral(s);
-	printf("evo serve: robot %s: evo stopped episode %lld at tick %lld: "
-	       "every actuator neutral; waiting for a RESET\n",
-	       s->name, (long long)s->episode, (long long)s->tick);
+	printf("evo serve: robot %s: %sepisode %lld %s tick %lld: every "
+	       "actuator neutral; waiting for a RESET\n",
+	       s->name, how, (long long)s->episode, at, (long long)s->tick);
 	fflush(stdout);
+}
+
+void evo_standin_stop(evo_standin *s)
+{
+	s->restart = 1;
+	halt(s, "evo stopped ", "at");
 }
 
 void evo_standin_late(evo_standin *s, int64_t tick)
@@ -82,7 +84,7 @@ void evo_standin_late(evo_standin *s, int64_t tick)
 
 int evo_standin_command(evo_standin *s, const double *cmd, evo_err *err)
 {
-	double t = evo_standin_now();
+	double t = evo_clock_now();
 	if (s->neutral)
 		printf("evo serve: robot %s: commands again at tick %lld, "
 		       "after %.2f s\n",
@@ -99,7 +101,7 @@ int evo_standin_command(evo_standin *s, const double *cmd, evo_err *err)
  * or every actuator goes neutral once none has come for the timeout. */
 static int no_command(evo_standin *s, evo_err *err)
 {
-	double quiet = evo_standin_now() - s->commanded_at;
+	double quiet = evo_clock_now() - s->commanded_at;
 	if (quiet >= s->timeout) {
 		if (!s->neutral) {
 			printf("evo serve: robot %s: no command for %.2f s, "
@@ -131,7 +133,7 @@ static int one_tick(evo_standin *s, double start, evo_err *err)
 	for (;;) {
 		if (stopping(s) || s->restart)
 			return 0;
-		double left = deadline - evo_standin_now();
+		double left = deadline - evo_clock_now();
 		if (left <= 0)
 			break;
 		int ms = (int)(left * 1e3) + 1;
@@ -150,12 +152,7 @@ static int one_tick(evo_standin *s, double start, evo_err *err)
 		/* the world ended the episode: its last sensors say so */
 		if (s->io.send_end(s->io.ctx, err))
 			return -1;
-		s->active = 0;
-		evo_standin_neutral(s);
-		printf("evo serve: robot %s: episode %lld ended at tick %lld: "
-		       "every actuator neutral; waiting for a RESET\n",
-		       s->name, (long long)s->episode, (long long)s->tick);
-		fflush(stdout);
+		halt(s, "", "ended at");
 	}
 	return 0;
 }
@@ -170,12 +167,12 @@ int evo_standin_run(evo_standin *s, evo_err *err)
 			s->restart = 0;
 			if (s->io.message(s->io.ctx, 100, err))
 				return -1;
-			next = evo_standin_now();
+			next = evo_clock_now();
 			continue;
 		}
 		/* a period that starts late (the last one overran) starts
 		 * now, and the schedule goes on from there */
-		double t = evo_standin_now();
+		double t = evo_clock_now();
 		if (t > next + s->period) {
 			if (s->tick > 0)
 				s->overruns++;
@@ -184,7 +181,7 @@ int evo_standin_run(evo_standin *s, evo_err *err)
 		double start = next;
 		if (one_tick(s, start, err))
 			return -1;
-		next = s->restart ? evo_standin_now() : start + s->period;
+		next = s->restart ? evo_clock_now() : start + s->period;
 	}
 	return 0;
 }

@@ -45,9 +45,6 @@ typedef struct evo_standin {
 	unsigned long ticks, in_time, held, neutral_ticks, late, overruns;
 } evo_standin;
 
-/* Monotonic seconds. */
-double evo_standin_now(void);
-
 /* Every actuator neutral. */
 void evo_standin_neutral(evo_standin *s);
 

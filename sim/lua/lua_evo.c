@@ -258,6 +258,25 @@ void evo_lua_destroy(evo_lua *l)
 	free(l);
 }
 
+/* fn(l) under the limits of loading and init (init 1) or of reset's,
+ * leaving nresults on the stack. 0, or -1 with err set. */
+static int call_l(evo_lua *l, lua_CFunction fn, int nresults, int init,
+		  const char *what, evo_err *err)
+{
+	lua_State *L = l->L;
+	lua_pushcfunction(L, fn);
+	lua_pushlightuserdata(L, l);
+	if (evo_lua_pcall(l, 1, nresults,
+			  init ? EVO_LUA_BUDGET_INIT : EVO_LUA_BUDGET_RESET,
+			  init ? EVO_LUA_TIME_INIT : EVO_LUA_TIME_RESET,
+			  what) != LUA_OK) {
+		evo_fail(err, "%s", evo_lua_errstr(L, -1));
+		lua_pop(L, 1);
+		return -1;
+	}
+	return 0;
+}
+
 static int load_env(lua_State *L)
 {
 	evo_lua *l = lua_touserdata(L, 1);
@@ -315,26 +334,14 @@ int evo_lua_init_env(evo_lua *l, const char *env, evo_err *err)
 				env, l->mind_dir[0] ? l->mind_dir : ".", env,
 				l->lua_dir, env);
 	lua_State *L = l->L;
-	lua_pushcfunction(L, load_env);
-	lua_pushlightuserdata(L, l);
-	if (evo_lua_pcall(l, 1, 1, EVO_LUA_BUDGET_INIT, EVO_LUA_TIME_INIT,
-			  "loading the environment") != LUA_OK) {
-		evo_fail(err, "%s", evo_lua_errstr(L, -1));
-		lua_pop(L, 1);
+	if (call_l(l, load_env, 1, 1, "loading the environment", err))
 		return -1;
-	}
 	l->env_ref = luaL_ref(L, LUA_REGISTRYINDEX);
 	if (evo_lua_call_env(l, "init", 2, 0, err))
 		return -1;
 	l->ready = 1;
-	lua_pushcfunction(L, env_fields);
-	lua_pushlightuserdata(L, l);
-	if (evo_lua_pcall(l, 1, 3, EVO_LUA_BUDGET_INIT, EVO_LUA_TIME_INIT,
-			  "init") != LUA_OK) {
-		evo_fail(err, "%s", evo_lua_errstr(L, -1));
-		lua_pop(L, 1);
+	if (call_l(l, env_fields, 3, 1, "init", err))
 		return -1;
-	}
 	int has_obstacles = lua_toboolean(L, -2);
 	l->has_post_step = lua_toboolean(L, -3);
 	char not3d[16] = "";
@@ -477,16 +484,9 @@ int evo_lua_reset(evo_lua *l, int episode, evo_err *err)
 	if (evo_lua_call_resets(l, &evo_lua_reward_resets_key, err) ||
 	    evo_lua_call_resets(l, &evo_lua_control_resets_key, err))
 		return -1;
-	lua_State *L = l->L;
 	l->episode = episode;
-	lua_pushcfunction(L, run_obstacles);
-	lua_pushlightuserdata(L, l);
-	if (evo_lua_pcall(l, 1, 0, EVO_LUA_BUDGET_RESET, EVO_LUA_TIME_RESET,
-			  "obstacles") != LUA_OK) {
-		evo_fail(err, "%s", evo_lua_errstr(L, -1));
-		lua_pop(L, 1);
+	if (call_l(l, run_obstacles, 0, 0, "obstacles", err))
 		return -1;
-	}
 	l->in_reset = 1;
 	int rc = evo_lua_call_env(l, "reset", 1, episode, err);
 	l->in_reset = 0;

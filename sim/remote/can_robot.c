@@ -11,6 +11,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "base/clock.h"
+#include "base/counts.h"
 #include "remote/can.h"
 
 #define SLICE_MS      50   /* the longest wait between two looks at stop */
@@ -45,13 +47,6 @@ struct evo_can_robot {
 	double heard_at, told_at, hello_at;
 	unsigned long dropped[EVO_CAN_ROBOT_BAD_COUNT];
 };
-
-static double now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 static int stopped(const evo_can_robot *r, evo_err *err)
 {
@@ -103,7 +98,7 @@ static int send_hello(evo_can_robot *r, evo_err *err)
 	f.data[5] = (uint8_t)m->n_actuators;
 	f.data[6] = (uint8_t)m->n_vars;
 	f.data[7] = EVO_WIRE_VERSION;
-	r->hello_at = now();
+	r->hello_at = evo_clock_now();
 	return send_frame(r, &f, err);
 }
 
@@ -165,13 +160,13 @@ evo_can_robot *evo_can_robot_open(const evo_can_robot_def *def, evo_err *err)
 		free(r);
 		return NULL;
 	}
-	double start = now(), told = start;
+	double start = evo_clock_now(), told = start;
 	for (;;) {
 		if (stopped(r, err)) {
 			err->msg[0] = 0;
 			break;
 		}
-		double t = now();
+		double t = evo_clock_now();
 		if (t - r->hello_at >= HELLO_EVERY_S && send_hello(r, err))
 			break;
 		if (t - told >= r->timeout) {
@@ -195,7 +190,7 @@ evo_can_robot *evo_can_robot_open(const evo_can_robot_def *def, evo_err *err)
 		if (ev != EVO_CAN_EV_BODY)
 			continue; /* ticks of an episode before this evo */
 		r->body = r->rx.body;
-		r->heard_at = now();
+		r->heard_at = evo_clock_now();
 		if (check_fit(r, err))
 			break;
 		return r;
@@ -204,48 +199,31 @@ evo_can_robot *evo_can_robot_open(const evo_can_robot_def *def, evo_err *err)
 	return NULL;
 }
 
+static const char *bad_frame_name(int i)
+{
+	return evo_can_robot_bad_name((evo_can_robot_bad)i);
+}
+
+static const char *bad_input_name(int i)
+{
+	return evo_can_bad_name((evo_can_bad)i);
+}
+
 static void report_drops(const evo_can_robot *r)
 {
-	unsigned long total = 0;
-	for (int i = 0; i < EVO_CAN_ROBOT_BAD_COUNT; i++)
-		total += r->dropped[i];
-	const char *sep = "";
-	if (total) {
-		fprintf(stderr, "evo: robot %s: dropped %lu frame%s (", r->url,
-			total, total == 1 ? "" : "s");
-		for (int i = 0; i < EVO_CAN_ROBOT_BAD_COUNT; i++)
-			if (r->dropped[i]) {
-				fprintf(stderr, "%s%lu %s", sep, r->dropped[i],
-					evo_can_robot_bad_name(
-					    (evo_can_robot_bad)i));
-				sep = ", ";
-			}
-		fprintf(stderr, ")\n");
-	}
+	char who[sizeof r->url + 16];
+	snprintf(who, sizeof who, "evo: robot %s", r->url);
+	evo_report_drops(who, "frame", "", r->dropped, 0,
+			 EVO_CAN_ROBOT_BAD_COUNT, bad_frame_name);
 	if (evo_can_unsent(r->can))
 		fprintf(stderr,
 			"evo: robot %s: %lu frame%s not sent: the line took no "
 			"more (no one was reading it)\n",
 			r->url, evo_can_unsent(r->can),
 			evo_can_unsent(r->can) == 1 ? "" : "s");
-	const unsigned long *bus = evo_can_dropped(r->can);
-	total = 0;
-	for (int i = 0; i < EVO_CAN_BAD_COUNT; i++)
-		total += bus[i];
-	if (!total)
-		return;
-	fprintf(stderr,
-		"evo: robot %s: dropped %lu piece%s of input that "
-		"were no frames of evo's (",
-		r->url, total, total == 1 ? "" : "s");
-	sep = "";
-	for (int i = 0; i < EVO_CAN_BAD_COUNT; i++)
-		if (bus[i]) {
-			fprintf(stderr, "%s%lu %s", sep, bus[i],
-				evo_can_bad_name((evo_can_bad)i));
-			sep = ", ";
-		}
-	fprintf(stderr, ")\n");
+	evo_report_drops(who, "piece", " of input that were no frames of evo's",
+			 evo_can_dropped(r->can), 0, EVO_CAN_BAD_COUNT,
+			 bad_input_name);
 }
 
 void evo_can_robot_close(evo_can_robot *r)
@@ -282,7 +260,7 @@ double evo_can_robot_period(const evo_can_robot *r)
 
 static int send_reset(evo_can_robot *r, evo_err *err)
 {
-	r->reset_sent_at = now();
+	r->reset_sent_at = evo_clock_now();
 	for (int i = 0; i < 3; i++)
 		if (send_frame(r, &r->reset[i], err))
 			return -1;
@@ -358,7 +336,7 @@ static int send_commands(evo_can_robot *r, uint32_t tick, uint8_t flags,
 static int take_tick(evo_can_robot *r, const evo_can_frame *f, evo_err *err)
 {
 	int64_t tick = r->rx.tick;
-	double t = now();
+	double t = evo_clock_now();
 	/* Before the episode's first tick, a tick the robot cannot have
 	 * reached since the RESET went out is of an episode it ran before
 	 * (an evo that ended without a STOP). TICK carries no episode. */
@@ -421,12 +399,13 @@ int evo_can_robot_next(evo_can_robot *r, int timeout_ms, evo_err *err)
 {
 	if (r->done)
 		return 1;
-	double until = now() + (timeout_ms > 0 ? timeout_ms : 0) * 1e-3;
+	double until =
+	    evo_clock_now() + (timeout_ms > 0 ? timeout_ms : 0) * 1e-3;
 	int held = 0;
 	for (;;) {
 		if (stopped(r, err))
 			return -1;
-		double t = now();
+		double t = evo_clock_now();
 		if (r->tick < 0 && t - r->reset_sent_at >= RESEND_S &&
 		    send_reset(r, err))
 			return -1;
@@ -439,17 +418,9 @@ int evo_can_robot_next(evo_can_robot *r, int timeout_ms, evo_err *err)
 				r->url, t - r->heard_at);
 			r->told_at = t;
 		}
-		/* once a tick is held, only what has already come: the
-		 * newest of it */
-		int wait_ms = 0;
-		if (!held) {
-			double left = until - t;
-			if (left <= 0)
-				return 2;
-			wait_ms = (int)(left * 1e3) + 1;
-			if (wait_ms > SLICE_MS)
-				wait_ms = SLICE_MS;
-		}
+		int wait_ms = evo_robot_wait_ms(held, until, t, SLICE_MS);
+		if (wait_ms < 0)
+			return 2;
 		evo_can_frame f;
 		int got = evo_can_recv(r->can, wait_ms, &f, err);
 		if (got < 0)
@@ -464,7 +435,7 @@ int evo_can_robot_next(evo_can_robot *r, int timeout_ms, evo_err *err)
 			dropped(r, r->rx.bad, &f, why_refused(&r->rx));
 			continue;
 		}
-		r->heard_at = now();
+		r->heard_at = evo_clock_now();
 		if (ev == EVO_CAN_EV_BODY && r->tick >= 0 &&
 		    r->heard_at - r->hello_at > BODY_ANSWER_S)
 			return evo_fail(err,
@@ -514,7 +485,7 @@ int evo_can_robot_answer(evo_can_robot *r, const evo_q16 *commands,
 	if (r->tick < 0 || r->answered)
 		return 0;
 	r->answered = 1;
-	r->answered_at = now();
+	r->answered_at = evo_clock_now();
 	double delay = r->answered_at - r->arrived;
 	if (delay > r->period) {
 		r->late++;
@@ -546,7 +517,7 @@ void evo_can_robot_status(const evo_can_robot *r, evo_robot_status *s)
 	s->late = r->late;
 	s->unanswered = r->unanswered;
 	s->missing = r->missing;
-	s->quiet = now() - r->heard_at;
+	s->quiet = evo_clock_now() - r->heard_at;
 }
 
 void evo_can_robot_report(const evo_can_robot *r)

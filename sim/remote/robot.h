@@ -76,4 +76,10 @@ void evo_robot_conn_status(const evo_robot_conn *c, evo_robot_status *s);
 /* The closing line of counts on stdout ("robot NAME: T ticks: ..."). */
 void evo_robot_conn_report(const evo_robot_conn *c);
 
+/* How long a wait for a robot's next tick may block at time t: once a
+ * tick is held, 0 (only what has already come: the newest of it); else
+ * what is left until `until`, in ms, at most slice_ms; -1 when nothing is
+ * held and the time is up. */
+int evo_robot_wait_ms(int held, double until, double t, int slice_ms);
+
 #endif

@@ -12,12 +12,8 @@
 #include <string.h>
 #include <time.h>
 
-double evo_session_now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
+#include "base/clock.h"
+#include "base/counts.h"
 
 static int64_t real_us(void)
 {
@@ -46,6 +42,11 @@ void evo_session_dropped(evo_remote *r, evo_wire_reason why_code,
 			why);
 }
 
+static const char *reason_name(int i)
+{
+	return evo_wire_reason_name((evo_wire_reason)i);
+}
+
 static void report_drops(const evo_remote *r)
 {
 	if (r->resent)
@@ -54,21 +55,10 @@ static void report_drops(const evo_remote *r)
 			"after %.2f s\n",
 			r->hello.name, r->resent, r->resent == 1 ? "" : "s",
 			RESEND_S);
-	unsigned long total = 0;
-	for (int i = 1; i < EVO_WIRE_N_REASONS; i++)
-		total += r->dropped[i];
-	if (!total)
-		return;
-	fprintf(stderr, "evo: remote %s: dropped %lu message%s (",
-		r->hello.name, total, total == 1 ? "" : "s");
-	const char *sep = "";
-	for (int i = 1; i < EVO_WIRE_N_REASONS; i++)
-		if (r->dropped[i]) {
-			fprintf(stderr, "%s%lu %s", sep, r->dropped[i],
-				evo_wire_reason_name((evo_wire_reason)i));
-			sep = ", ";
-		}
-	fprintf(stderr, ")\n");
+	char who[EVO_REMOTE_NAME_MAX + 32];
+	snprintf(who, sizeof who, "evo: remote %s", r->hello.name);
+	evo_report_drops(who, "message", "", r->dropped, 1, EVO_WIRE_N_REASONS,
+			 reason_name);
 }
 
 const char *evo_session_kind_name(evo_remote_kind k)
@@ -105,10 +95,10 @@ static int send_env(evo_remote *r, evo_remote_env *e, const char *channel,
 	/* silence counts from when evo starts waiting, not from the last
 	 * answer of a wait long over */
 	if (!awaiting(r))
-		r->heard_at = evo_session_now();
+		r->heard_at = evo_clock_now();
 	e->sent_len = len;
 	snprintf(e->sent_channel, sizeof e->sent_channel, "%s", channel);
-	e->sent_at = evo_session_now();
+	e->sent_at = evo_clock_now();
 	e->waiting = 1;
 	e->have = 0;
 	return evo_link_publish(r->link, channel, e->sent, (size_t)len, err);
@@ -224,26 +214,20 @@ static int take_sensors(evo_remote *r, const evo_link_msg *m, evo_err *err)
 	    s.tick == e->sensors.tick &&
 	    !evo_session_same_sensors(&s, &e->sensors))
 		return evo_session_conflict(r, &s, err);
-	if (!e->waiting || s.episode < e->episode ||
-	    (s.episode == e->episode && (s.tick < e->tick || e->have))) {
+	int stale = !e->waiting || s.episode < e->episode ||
+		    (s.episode == e->episode && (s.tick < e->tick || e->have));
+	if (stale || s.episode > e->episode || s.tick > e->tick) {
 		snprintf(why, sizeof why,
-			 "tick %lld of episode %lld; evo is at tick %lld of "
+			 "tick %lld of episode %lld; evo %s tick %lld of "
 			 "episode %lld",
 			 (long long)s.tick, (long long)s.episode,
-			 (long long)e->tick, (long long)e->episode);
-		evo_session_dropped(r, EVO_WIRE_STALE, "sensors_t", why);
+			 stale ? "is at" : "waits for", (long long)e->tick,
+			 (long long)e->episode);
+		evo_session_dropped(r, stale ? EVO_WIRE_STALE : EVO_WIRE_AHEAD,
+				    "sensors_t", why);
 		return 0;
 	}
-	if (s.episode > e->episode || s.tick > e->tick) {
-		snprintf(why, sizeof why,
-			 "tick %lld of episode %lld; evo waits for tick %lld "
-			 "of episode %lld",
-			 (long long)s.tick, (long long)s.episode,
-			 (long long)e->tick, (long long)e->episode);
-		evo_session_dropped(r, EVO_WIRE_AHEAD, "sensors_t", why);
-		return 0;
-	}
-	r->heard_at = evo_session_now();
+	r->heard_at = evo_clock_now();
 	evo_wire_reason rc =
 	    evo_wire_check_values(s.value, s.n, &s.reward, why, sizeof why);
 	if (!rc)
@@ -287,9 +271,8 @@ void evo_session_take_hello(evo_remotes *s, const evo_link_msg *m)
 	if (r->new_session_at)
 		return;
 	r->new_session = h.session;
-	r->new_session_at = s->opts.key.len
-				? evo_session_now() - RESTART_GRACE_S
-				: evo_session_now();
+	r->new_session_at = s->opts.key.len ? evo_clock_now() - RESTART_GRACE_S
+					    : evo_clock_now();
 	r->new_session_recv = m->recv_utime > 0 ? m->recv_utime : real_us();
 }
 
@@ -297,7 +280,7 @@ void evo_session_take_hello(evo_remotes *s, const evo_link_msg *m)
  * 1 with *ri the remote, taken as lost. 0: none. */
 int evo_session_restarted(evo_remotes *s, int *ri, evo_err *err)
 {
-	double t = evo_session_now();
+	double t = evo_clock_now();
 	for (int i = 0; i < s->n; i++) {
 		evo_remote *r = s->r[i];
 		if (r->lost || !r->new_session_at ||
@@ -375,7 +358,7 @@ int evo_remotes_wait(evo_remotes *s, int *ri, int *env, evo_err *err)
 		int rs = evo_session_restarted(s, ri, err);
 		if (rs)
 			return rs < 0 ? -1 : 1;
-		double t = evo_session_now();
+		double t = evo_clock_now();
 		int awaited = 0;
 		for (int i = 0; i < s->n; i++) {
 			evo_remote *r = s->r[i];

@@ -278,7 +278,7 @@ static int take_new(evo_remotes *s, const evo_wire_hello *h, int64_t stamp,
 	r->set = s;
 	r->hello = *h;
 	r->fresh_hello.last = stamp;
-	r->heard_at = evo_session_now();
+	r->heard_at = evo_clock_now();
 	s->r[s->n++] = r;
 	if (accept(s, r, err) == 0)
 		return 0;
@@ -298,11 +298,11 @@ static int take_new(evo_remotes *s, const evo_wire_hello *h, int64_t stamp,
 int evo_remotes_find(evo_remotes *s, double window, evo_err *err)
 {
 	const evo_remote_opts *o = &s->opts;
-	double start = evo_session_now(), asked = 0, told = start, until = 0;
+	double start = evo_clock_now(), asked = 0, told = start, until = 0;
 	for (;;) {
 		if (evo_session_stopped(o, err))
 			return -1;
-		double t = evo_session_now();
+		double t = evo_clock_now();
 		if (s->n && t >= until)
 			return 0;
 		if (t - asked >= WHO_EVERY_S) {
@@ -362,6 +362,6 @@ int evo_remotes_find(evo_remotes *s, double window, evo_err *err)
 		if (take_new(s, &h, m.stamp, err))
 			return -1;
 		if (!had && s->n)
-			until = window > 0 ? evo_session_now() + window : 0;
+			until = window > 0 ? evo_clock_now() + window : 0;
 	}
 }

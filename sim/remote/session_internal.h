@@ -9,6 +9,7 @@
 
 #include <stdint.h>
 
+#include "base/clock.h"
 #include "remote/session.h"
 
 #define SLICE_MS 50   /* the longest wait between two looks at stop */
@@ -16,9 +17,6 @@
 /* a hello of a new session is a restart once the old session has been
  * silent this long after it (without a key anyone can send that hello) */
 #define RESTART_GRACE_S 1.0
-
-/* Monotonic seconds. */
-double evo_session_now(void);
 
 /* "stopped" in err, -1, when o's stop flag is set; else 0. */
 int evo_session_stopped(const evo_remote_opts *o, evo_err *err);

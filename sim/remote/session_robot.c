@@ -3,19 +3,13 @@
  * each with that tick's commands and never makes it wait, and counts each
  * tick answered in time, late or missing. */
 #define _POSIX_C_SOURCE 200809L
+#include "remote/robot.h"
 #include "remote/session_internal.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-static double real_now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_REALTIME, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 int evo_robot_start(evo_remotes *s, evo_robot *rb, int64_t episode,
 		    uint64_t layout_seed, uint64_t seed, evo_err *err)
@@ -73,7 +67,7 @@ static int take_robot_sensors(evo_robot *rb, const evo_link_msg *m)
 		rb->conflict = 1;
 		return 0;
 	}
-	double t = evo_session_now();
+	double t = evo_clock_now();
 	r->heard_at = t;
 	/* A tick the robot cannot have reached since the RESET went out is
 	 * of an episode it ran before (a run that ended without a STOP used
@@ -118,7 +112,7 @@ static int take_robot_sensors(evo_robot *rb, const evo_link_msg *m)
 		return 0;
 	}
 	double arrived =
-	    m->recv_utime > 0 ? (double)m->recv_utime * 1e-6 : real_now();
+	    m->recv_utime > 0 ? (double)m->recv_utime * 1e-6 : evo_clock_real();
 	if (!rb->answered) {
 		rb->late++;
 		rb->unanswered++;
@@ -165,7 +159,7 @@ int evo_robot_next(evo_robot *rb, int timeout_ms, evo_err *err)
 	if (rb->done)
 		return 1;
 	double until =
-	    evo_session_now() + (timeout_ms > 0 ? timeout_ms : 0) * 1e-3;
+	    evo_clock_now() + (timeout_ms > 0 ? timeout_ms : 0) * 1e-3;
 	int held = 0;
 	for (;;) {
 		if (evo_session_stopped(&s->opts, err))
@@ -175,7 +169,7 @@ int evo_robot_next(evo_robot *rb, int timeout_ms, evo_err *err)
 			return -1;
 		if (rb->conflict)
 			return evo_session_conflict(r, &r->env[0].sensors, err);
-		double t = evo_session_now();
+		double t = evo_clock_now();
 		evo_remote_env *e = &r->env[0];
 		if (rb->tick < 0 && evo_session_resend(r, e, t, err))
 			return -1;
@@ -188,17 +182,9 @@ int evo_robot_next(evo_robot *rb, int timeout_ms, evo_err *err)
 				r->hello.name, t - r->heard_at);
 			r->told_at = t;
 		}
-		/* once a tick is held, only what has already come: the
-		 * newest of it */
-		int wait_ms = 0;
-		if (!held) {
-			double left = until - t;
-			if (left <= 0)
-				return 2;
-			wait_ms = (int)(left * 1e3) + 1;
-			if (wait_ms > SLICE_MS)
-				wait_ms = SLICE_MS;
-		}
+		int wait_ms = evo_robot_wait_ms(held, until, t, SLICE_MS);
+		if (wait_ms < 0)
+			return 2;
 		evo_link_msg m;
 		int which;
 		int got = evo_link_next_any(s->links, s->n_links, wait_ms,
@@ -228,7 +214,7 @@ int evo_robot_answer(evo_robot *rb, const double *commands, evo_err *err)
 	if (rb->tick < 0 || rb->answered)
 		return 0;
 	rb->answered = 1;
-	rb->answered_at = real_now();
+	rb->answered_at = evo_clock_real();
 	double delay = rb->answered_at - rb->arrived;
 	if (delay > rb->period) {
 		rb->late++;
@@ -253,7 +239,7 @@ int evo_robot_answer(evo_robot *rb, const double *commands, evo_err *err)
 
 double evo_robot_quiet(const evo_robot *rb)
 {
-	return evo_session_now() - rb->set->r[0]->heard_at;
+	return evo_clock_now() - rb->set->r[0]->heard_at;
 }
 
 void evo_robot_report(const evo_robot *rb)
