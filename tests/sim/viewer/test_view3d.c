@@ -11,7 +11,8 @@
  * view's one light. The frame at tick 60 differs (the blimp closed on its
  * target); `--screenshot` at a tick is `--record`'s frame of that tick;
  * the same frame drawn in a window (Xvfb) is the same, byte for byte; a
- * run that draws nothing in 3D never loads EGL. */
+ * run that draws nothing in 3D never loads EGL, and a missing library is
+ * named with its Debian package. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -222,6 +223,39 @@ TEST(a_3d_run_that_draws_nothing_never_loads_egl)
 	CHECK_CONTAINS(out, "file=libOpenGL.so.0");
 }
 
+/* Where a library is missing (here an empty file stands for it) or Mesa's
+ * EGL is not installed (GLVND finds no vendor), the message names it and
+ * the Debian packages to install, and no PNG is written. */
+TEST(a_missing_library_is_named_with_its_debian_package)
+{
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/nolib %s/nogl && "
+			    ": > %s/nolib/libEGL.so.1 && "
+			    ": > %s/nogl/libOpenGL.so.0",
+			    cli_tmp, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	static const char *const env[3] = {
+	    "LD_LIBRARY_PATH=%s/nolib", "LD_LIBRARY_PATH=%s/nogl",
+	    "__EGL_VENDOR_LIBRARY_FILENAMES=%s/none.json"};
+	static const char *const says[3][2] = {
+	    {"cannot draw 3D without a window: libEGL.so.1 cannot be loaded",
+	     "install Debian's libegl1 libegl-mesa0 libgl1-mesa-dri"},
+	    {"libOpenGL.so.0 cannot be loaded", "install Debian's libopengl0"},
+	    {"libEGL.so.1 has no surfaceless platform",
+	     "install Debian's libegl1 libegl-mesa0 libgl1-mesa-dri"}};
+	for (int i = 0; i < 3; i++) {
+		char e[512];
+		snprintf(e, sizeof e, env[i], cli_tmp);
+		CHECK_EQ_INT(cli_capture(out, sizeof out,
+					 NOX "%s %s run " TASK " --ticks 5 "
+					     "--screenshot %s/lib%d.png 2>&1",
+					 e, cli_evo, cli_tmp, cli_tmp, i),
+			     1);
+		CHECK_CONTAINS(out, says[i][0]);
+		CHECK_CONTAINS(out, says[i][1]);
+		CHECK_EQ_INT(cli_sh("test -e %s/lib%d.png", cli_tmp, i), 1);
+	}
+}
+
 /* --camera, --zoom and --trail place 2D frames: a 3D task refuses them
  * with the reason. */
 TEST(a_3d_frame_refuses_the_2d_camera_options)
@@ -243,6 +277,7 @@ int main(void)
 	RUN(a_3d_recording_without_a_display_shows_the_scene_where_worked_out);
 	RUN(a_3d_screenshot_without_a_display_is_the_windows_frame);
 	RUN(a_3d_run_that_draws_nothing_never_loads_egl);
+	RUN(a_missing_library_is_named_with_its_debian_package);
 	RUN(a_3d_frame_refuses_the_2d_camera_options);
 	cli_cleanup();
 	return test_summary();
