@@ -144,13 +144,8 @@ void evo_view3d_close(evo_view3d *v)
 {
 	if (!v)
 		return;
-	if (v->egl) {
-		evo_egl_close(v->egl);
-		evo_raster_free(&v->panel);
-		free(v->shot);
-		free(v);
-		return;
-	}
+	int sdl = !v->egl; /* SDL's video was started for a window */
+	evo_egl_close(v->egl);
 	if (v->gl)
 		SDL_GL_DeleteContext(v->gl);
 	if (v->window)
@@ -158,6 +153,8 @@ void evo_view3d_close(evo_view3d *v)
 	evo_raster_free(&v->panel);
 	free(v->shot);
 	free(v);
+	if (!sdl)
+		return;
 	SDL_QuitSubSystem(SDL_INIT_VIDEO);
 	if (SDL_WasInit(SDL_INIT_EVERYTHING) == 0)
 		SDL_Quit();
