@@ -362,7 +362,7 @@ static int run_main(int argc, char **argv)
 		goto out;
 	if (s && genome[0])
 		evo_lua_set_genome(s->lua, genome);
-	if (o.record && (robot || s->scene3d)) {
+	if (o.record && robot) {
 		evo_fail(&err,
 			 "%s: --record draws the 2D world; a %s task has none "
 			 "to draw",
@@ -371,20 +371,30 @@ static int run_main(int argc, char **argv)
 	}
 	if (o.record)
 		o.headless = 1; /* drawn off screen */
-	if (s && s->scene3d && (!o.headless || o.screenshot)) {
-		/* the 3D view needs a display and OpenGL; a screenshot too */
+	int window3d = 0;
+	if (s && s->scene3d &&
+	    (o.camera || o.zoom > 0 ||
+	     (o.trail && (o.screenshot || o.record)))) {
+		evo_fail(&err,
+			 "%s: --camera, --zoom and --trail are for 2D frames; "
+			 "a 3D frame's camera follows the robot as the 3D "
+			 "view's does",
+			 o.task);
+		goto out;
+	}
+	if (s && s->scene3d && (!o.headless || o.screenshot || o.record)) {
+		/* a window where there is a display; frames without one
+		 * (--screenshot, --record) drawn off screen by Mesa's EGL */
 		const char *d = getenv("DISPLAY");
 		const char *w = getenv("WAYLAND_DISPLAY");
-		if ((d && d[0]) || (w && w[0]))
+		if (!o.headless && ((d && d[0]) || (w && w[0])))
 			v3 = evo_view3d_open(VIEW_W, VIEW_H, &err);
-		if (!v3 && o.screenshot) {
-			evo_fail(&err,
-				 "%s: a 3D screenshot is drawn by OpenGL "
-				 "in a window and needs a display (%s); "
-				 "run under xvfb-run",
-				 o.task,
-				 err.msg[0] ? err.msg : "DISPLAY is not set");
-			goto out;
+		window3d = v3 != NULL;
+		if (!v3 && (o.screenshot || o.record)) {
+			err.msg[0] = 0;
+			v3 = evo_view3d_open_offscreen(VIEW_W, VIEW_H, &err);
+			if (!v3)
+				goto out;
 		}
 		if (!v3) {
 			fprintf(stderr,
@@ -434,11 +444,12 @@ static int run_main(int argc, char **argv)
 	s->trace = tf.f;
 	if (s->trace)
 		evo_sim_trace_header(s);
-	int r = o.record       ? evo_run_record_frames(s, &o, seed, &err)
-		: v3	       ? evo_run_viewer3d(s, v3, &o, seed, &err)
-		: v	       ? evo_run_viewer(s, v, &o, seed, &err)
-		: o.screenshot ? evo_run_screenshot_headless(s, &o, seed, &err)
-			       : evo_run_headless(s, &o, seed, &err);
+	int r = o.record   ? evo_run_record_frames(s, &o, seed, v3, &err)
+		: window3d ? evo_run_viewer3d(s, v3, &o, seed, &err)
+		: v	   ? evo_run_viewer(s, v, &o, seed, &err)
+		: o.screenshot
+		    ? evo_run_screenshot_headless(s, &o, seed, v3, &err)
+		    : evo_run_headless(s, &o, seed, &err);
 	s->trace = NULL;
 	/* A failed run drops its trace; trace_close then leaves err alone. */
 	if (evo_run_trace_close(&tf, r == 0, &err) == 0 && r == 0)

@@ -119,14 +119,19 @@ int evo_run_playback(evo_view_action a, int *paused, int *steps, double *speed,
 int evo_run_viewer(evo_sim *s, evo_viewer *v, const run_opts *o, uint64_t seed,
 		   evo_err *err);
 
-/* --record: the run's frames drawn off screen, into a folder or a video. */
+/* --record: the run's frames drawn off screen, into a folder or a video
+ * (a 3D task's by v3, the 3D view off screen). */
 int evo_run_record_frames(evo_sim *s, const run_opts *o, uint64_t seed,
-			  evo_err *err);
+			  evo_view3d *v3, evo_err *err);
 
-/* --screenshot without a window: the 2D frame at --ticks, drawn off
- * screen. */
+/* --screenshot without a window: the frame at --ticks, drawn off screen
+ * (a 3D task's by v3). */
 int evo_run_screenshot_headless(evo_sim *s, const run_opts *o, uint64_t seed,
-				evo_err *err);
+				evo_view3d *v3, evo_err *err);
+
+/* The panel of a 3D task, in its window and in its frames off screen. */
+evo_viewer_panel evo_run_panel3d(panel_data *pd, const evo_sim *s, long e,
+				 const char *title, int follow);
 
 /* DEMO3DSIM in the 3D view. */
 int evo_run_viewer3d(evo_sim *s, evo_view3d *v, const run_opts *o,

@@ -157,7 +157,7 @@ typedef struct trail {
 
 static void trail_add(trail *tr, const evo_sim *s)
 {
-	if (s->bot < 0 || s->bot >= s->scene->n_bots)
+	if (s->scene3d || s->bot < 0 || s->bot >= s->scene->n_bots)
 		return;
 	if (tr->n == tr->cap) {
 		int cap = tr->cap ? 2 * tr->cap : 1024;
@@ -219,11 +219,19 @@ static evo_view_camera frame_camera(const evo_sim *s, const run_opts *o,
 }
 
 /* Draw the frame the viewer would show into im, with the bot's path
- * (--trail). */
+ * (--trail); a 3D task's in v3, the 3D view off screen, as its window
+ * shows it (the camera following the robot). */
 static void draw_frame(evo_raster *im, evo_sim *s, const run_opts *o, long e,
-		       const trail *tr)
+		       const trail *tr, evo_view3d *v3)
 {
 	static panel_data pd;
+	if (s->scene3d) {
+		evo_viewer_panel p = evo_run_panel3d(&pd, s, e, o->task, 1);
+		p.speed = 1.0;
+		evo_view3d_draw(v3, s->scene3d, 0, &p);
+		evo_view3d_frame(v3, im);
+		return;
+	}
 	view_state vs = view_start(s);
 	evo_viewer_panel p = panel_for(&pd, s, e, o->task, &vs);
 	trail_show(tr, &p);
@@ -235,7 +243,7 @@ static void draw_frame(evo_raster *im, evo_sim *s, const run_opts *o, long e,
  * episode's start and every --record-every ticks, into a folder of PNG
  * files or a video. */
 int evo_run_record_frames(evo_sim *s, const run_opts *o, uint64_t seed,
-			  evo_err *err)
+			  evo_view3d *v3, evo_err *err)
 {
 	long every = o->record_every > 0 ? o->record_every : 1;
 	evo_raster im;
@@ -252,7 +260,7 @@ int evo_run_record_frames(evo_sim *s, const run_opts *o, uint64_t seed,
 			break;
 		}
 		trail_restart(&tr, o, s);
-		draw_frame(&im, s, o, e, &tr);
+		draw_frame(&im, s, o, e, &tr, v3);
 		rc = evo_record_frame(rec, &im, err);
 		long t = 0;
 		while (rc == 0 && !evo_cmd_stop_requested &&
@@ -264,7 +272,7 @@ int evo_run_record_frames(evo_sim *s, const run_opts *o, uint64_t seed,
 			if (o->trail)
 				trail_add(&tr, s);
 			if (rc == 0 && (t % every == 0 || r > 0)) {
-				draw_frame(&im, s, o, e, &tr);
+				draw_frame(&im, s, o, e, &tr, v3);
 				rc = evo_record_frame(rec, &im, err);
 			}
 			if (r > 0)
@@ -292,11 +300,13 @@ int evo_run_record_frames(evo_sim *s, const run_opts *o, uint64_t seed,
  * frame the viewer would show at its default size, drawn off screen, and
  * the episode's line. */
 int evo_run_screenshot_headless(evo_sim *s, const run_opts *o, uint64_t seed,
-				evo_err *err)
+				evo_view3d *v3, evo_err *err)
 {
 	if (evo_sim_reset(s, 1, evo_run_grid_seed(seed, 1),
 			  evo_run_episode_seed(seed, 1), err))
 		return -1;
+	if (v3)
+		evo_view3d_aim(v3, s->scene3d);
 	trail tr = {0};
 	trail_restart(&tr, o, s);
 	long t = 0;
@@ -317,13 +327,14 @@ int evo_run_screenshot_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 		trail_free(&tr);
 		return -1;
 	}
-	draw_frame(&im, s, o, 1, &tr);
+	draw_frame(&im, s, o, 1, &tr, v3);
 	int rc = evo_raster_save_png(&im, o->screenshot, err);
 	evo_raster_free(&im);
 	trail_free(&tr);
 	if (rc == 0)
 		printf("saved %s (tick %ld, drawn without a window)\n",
-		       o->screenshot, s->scene->tick);
+		       o->screenshot,
+		       s->scene3d ? s->scene3d->tick : s->scene->tick);
 	if (rc == 0 && evo_run_print_episode(s, 1, t, err))
 		return -1;
 	return rc;

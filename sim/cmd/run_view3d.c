@@ -15,8 +15,8 @@ static const char *const help3d[] = {
 
 /* The panel of a 3D task: the tick, the rewards, each skill's influence,
  * and the robot's sensors and commands as its mind reads and writes them. */
-static evo_viewer_panel panel3d(panel_data *pd, const evo_sim *s, long e,
-				const char *title, int follow)
+evo_viewer_panel evo_run_panel3d(panel_data *pd, const evo_sim *s, long e,
+				 const char *title, int follow)
 {
 	const evo_scene3d *sc = s->scene3d;
 	const evo_bot3d *b = &sc->bot[0];
@@ -69,6 +69,7 @@ int evo_run_viewer3d(evo_sim *s, evo_view3d *v, const run_opts *o,
 	if (evo_sim_reset(s, 1, evo_run_grid_seed(seed, 1),
 			  evo_run_episode_seed(seed, 1), err))
 		return -1;
+	evo_view3d_aim(v, s->scene3d);
 	double speed = 1.0, next = evo_clock_now();
 	for (;;) {
 		if (evo_cmd_stop_requested)
@@ -118,7 +119,8 @@ int evo_run_viewer3d(evo_sim *s, evo_view3d *v, const run_opts *o,
 				break;
 			}
 		}
-		evo_viewer_panel p = panel3d(&pd, s, e, o->task, follow);
+		evo_viewer_panel p =
+		    evo_run_panel3d(&pd, s, e, o->task, follow);
 		p.speed = speed;
 		p.paused = paused;
 		evo_view3d_draw(v, s->scene3d, follow ? 0 : -1, &p);
