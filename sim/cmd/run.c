@@ -811,7 +811,7 @@ typedef struct trail {
 
 static void trail_add(trail *tr, const evo_sim *s)
 {
-	if (s->bot < 0 || s->bot >= s->scene->n_bots)
+	if (s->scene3d || s->bot < 0 || s->bot >= s->scene->n_bots)
 		return;
 	if (tr->n == tr->cap) {
 		int cap = tr->cap ? 2 * tr->cap : 1024;
@@ -872,12 +872,23 @@ static evo_view_camera frame_camera(const evo_sim *s, const run_opts *o,
 	return cam;
 }
 
+static evo_viewer_panel panel3d(panel_data *pd, const evo_sim *s, long e,
+				const char *title, int follow);
+
 /* Draw the frame the viewer would show into im, with the bot's path
- * (--trail). */
+ * (--trail); a 3D task's in v3, the 3D view off screen, as its window
+ * shows it (the camera following the robot). */
 static void draw_frame(evo_raster *im, evo_sim *s, const run_opts *o,
-		       long e, const trail *tr)
+		       long e, const trail *tr, evo_view3d *v3)
 {
 	static panel_data pd;
+	if (s->scene3d) {
+		evo_viewer_panel p = panel3d(&pd, s, e, o->task, 1);
+		p.speed = 1.0;
+		evo_view3d_draw(v3, s->scene3d, 0, &p);
+		evo_view3d_frame(v3, im);
+		return;
+	}
 	view_state vs = view_start(s);
 	evo_viewer_panel p = panel_for(&pd, s, e, o->task, &vs);
 	trail_show(tr, &p);
@@ -889,7 +900,7 @@ static void draw_frame(evo_raster *im, evo_sim *s, const run_opts *o,
  * episode's start and every --record-every ticks, into a folder of PNG
  * files or a video. */
 static int record_run(evo_sim *s, const run_opts *o, uint64_t seed,
-		      evo_err *err)
+		      evo_view3d *v3, evo_err *err)
 {
 	long every = o->record_every > 0 ? o->record_every : 1;
 	evo_raster im;
@@ -905,7 +916,7 @@ static int record_run(evo_sim *s, const run_opts *o, uint64_t seed,
 			break;
 		}
 		trail_restart(&tr, o, s);
-		draw_frame(&im, s, o, e, &tr);
+		draw_frame(&im, s, o, e, &tr, v3);
 		rc = evo_record_frame(rec, &im, err);
 		long t = 0;
 		while (rc == 0 && !stop_requested &&
@@ -917,7 +928,7 @@ static int record_run(evo_sim *s, const run_opts *o, uint64_t seed,
 			if (o->trail)
 				trail_add(&tr, s);
 			if (rc == 0 && (t % every == 0 || r > 0)) {
-				draw_frame(&im, s, o, e, &tr);
+				draw_frame(&im, s, o, e, &tr, v3);
 				rc = evo_record_frame(rec, &im, err);
 			}
 			if (r > 0)
@@ -945,10 +956,12 @@ static int record_run(evo_sim *s, const run_opts *o, uint64_t seed,
  * frame the viewer would show at its default size, drawn off screen, and
  * the episode's line. */
 static int screenshot_headless(evo_sim *s, const run_opts *o, uint64_t seed,
-			       evo_err *err)
+			       evo_view3d *v3, evo_err *err)
 {
 	if (evo_sim_reset(s, 1, grid_seed(seed, 1), episode_seed(seed, 1), err))
 		return -1;
+	if (v3)
+		evo_view3d_aim(v3, s->scene3d);
 	trail tr = {0};
 	trail_restart(&tr, o, s);
 	long t = 0;
@@ -969,13 +982,14 @@ static int screenshot_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 		trail_free(&tr);
 		return -1;
 	}
-	draw_frame(&im, s, o, 1, &tr);
+	draw_frame(&im, s, o, 1, &tr, v3);
 	int rc = evo_raster_save_png(&im, o->screenshot, err);
 	evo_raster_free(&im);
 	trail_free(&tr);
 	if (rc == 0)
 		printf("saved %s (tick %ld, drawn without a window)\n",
-		       o->screenshot, s->scene->tick);
+		       o->screenshot,
+		       s->scene3d ? s->scene3d->tick : s->scene->tick);
 	if (rc == 0 && print_episode(s, 1, t, err))
 		return -1;
 	return rc;
@@ -1399,6 +1413,7 @@ static int run_viewer3d(evo_sim *s, evo_view3d *v, const run_opts *o,
 	int follow = 1, paused = 0;
 	if (evo_sim_reset(s, 1, grid_seed(seed, 1), episode_seed(seed, 1), err))
 		return -1;
+	evo_view3d_aim(v, s->scene3d);
 	double speed = 1.0, next = now();
 	for (;;) {
 		if (stop_requested)
@@ -1769,7 +1784,7 @@ static int run_main(int argc, char **argv)
 		goto out;
 	if (s && genome[0])
 		evo_lua_set_genome(s->lua, genome);
-	if (o.record && (robot || s->scene3d)) {
+	if (o.record && robot) {
 		evo_fail(&err,
 			 "%s: --record draws the 2D world; a %s task has none "
 			 "to draw",
@@ -1778,20 +1793,29 @@ static int run_main(int argc, char **argv)
 	}
 	if (o.record)
 		o.headless = 1; /* drawn off screen */
-	if (s && s->scene3d && (!o.headless || o.screenshot)) {
-		/* the 3D view needs a display and OpenGL; a screenshot too */
+	int window3d = 0;
+	if (s && s->scene3d &&
+	    (o.camera || o.zoom > 0 || (o.trail && (o.screenshot || o.record)))) {
+		evo_fail(&err,
+			 "%s: --camera, --zoom and --trail are for 2D frames; "
+			 "a 3D frame's camera follows the robot as the 3D "
+			 "view's does",
+			 o.task);
+		goto out;
+	}
+	if (s && s->scene3d && (!o.headless || o.screenshot || o.record)) {
+		/* a window where there is a display; frames without one
+		 * (--screenshot, --record) drawn off screen by Mesa's EGL */
 		const char *d = getenv("DISPLAY");
 		const char *w = getenv("WAYLAND_DISPLAY");
-		if ((d && d[0]) || (w && w[0]))
+		if (!o.headless && ((d && d[0]) || (w && w[0])))
 			v3 = evo_view3d_open(VIEW_W, VIEW_H, &err);
-		if (!v3 && o.screenshot) {
-			evo_fail(&err,
-				 "%s: a 3D screenshot is drawn by OpenGL "
-				 "in a window and needs a display (%s); "
-				 "run under xvfb-run",
-				 o.task,
-				 err.msg[0] ? err.msg : "DISPLAY is not set");
-			goto out;
+		window3d = v3 != NULL;
+		if (!v3 && (o.screenshot || o.record)) {
+			err.msg[0] = 0;
+			v3 = evo_view3d_open_offscreen(VIEW_W, VIEW_H, &err);
+			if (!v3)
+				goto out;
 		}
 		if (!v3) {
 			fprintf(stderr,
@@ -1841,10 +1865,10 @@ static int run_main(int argc, char **argv)
 	s->trace = tf.f;
 	if (s->trace)
 		evo_sim_trace_header(s);
-	int r = o.record       ? record_run(s, &o, seed, &err)
-		: v3	       ? run_viewer3d(s, v3, &o, seed, &err)
+	int r = o.record       ? record_run(s, &o, seed, v3, &err)
+		: window3d     ? run_viewer3d(s, v3, &o, seed, &err)
 		: v	       ? run_viewer(s, v, &o, seed, &err)
-		: o.screenshot ? screenshot_headless(s, &o, seed, &err)
+		: o.screenshot ? screenshot_headless(s, &o, seed, v3, &err)
 			       : run_headless(s, &o, seed, &err);
 	s->trace = NULL;
 	/* A failed run drops its trace; trace_close then leaves err alone. */

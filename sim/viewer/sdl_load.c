@@ -1,6 +1,7 @@
 /* SDL2 and OpenGL loaded on demand (sim/viewer/sdl_load.h): dlopen of
- * the two libraries the first time a window opens, dlsym of each function
- * the viewers call. They stay loaded to the end of the process. */
+ * the two libraries the first time a window opens (OpenGL alone for a
+ * context without a window), dlsym of each function the viewers call.
+ * They stay loaded to the end of the process. */
 #define EVO_SDL_LOAD_NO_NAMES
 #include "viewer/sdl_load.h"
 
@@ -36,6 +37,31 @@ static void *open_library(const char *lib, const char *what, evo_err *err)
 	return h;
 }
 
+/* The GL functions from lib (h), once. */
+static int load_gl(void *h, const char *lib, const char *what, evo_err *err)
+{
+#define EVO_GL_LOAD(f)                                                         \
+	if (load_symbol(h, lib, #f, &evo_sdl.f, what, err))                    \
+		return -1;
+	EVO_GL_FUNCTIONS(EVO_GL_LOAD)
+#undef EVO_GL_LOAD
+	gl_loaded = 1;
+	return 0;
+}
+
+int evo_gl_load_offscreen(const char *what, evo_err *err)
+{
+	if (gl_loaded)
+		return 0;
+	void *h = dlopen(EVO_OPENGL_LIB, RTLD_NOW | RTLD_GLOBAL);
+	if (!h)
+		return evo_fail(err,
+				"cannot open %s: %s cannot be loaded (%s); "
+				"install Debian's libopengl0",
+				what, EVO_OPENGL_LIB, dlerror());
+	return load_gl(h, EVO_OPENGL_LIB, what, err);
+}
+
 int evo_sdl_load(int gl, const char *what, evo_err *err)
 {
 	if (!sdl_loaded) {
@@ -51,14 +77,8 @@ int evo_sdl_load(int gl, const char *what, evo_err *err)
 	}
 	if (gl && !gl_loaded) {
 		void *h = open_library(EVO_GL_LIB, what, err);
-		if (!h)
+		if (!h || load_gl(h, EVO_GL_LIB, what, err))
 			return -1;
-#define EVO_GL_LOAD(f)                                                         \
-	if (load_symbol(h, EVO_GL_LIB, #f, &evo_sdl.f, what, err))             \
-		return -1;
-		EVO_GL_FUNCTIONS(EVO_GL_LOAD)
-#undef EVO_GL_LOAD
-		gl_loaded = 1;
 	}
 	return 0;
 }

@@ -15,6 +15,9 @@
 /* The library files, as a message names them when they cannot load. */
 #define EVO_SDL_LIB "libSDL2-2.0.so.0"
 #define EVO_GL_LIB "libGL.so.1"
+/* GLVND's OpenGL without GLX (no X11 under it), for a context made by
+ * EGL without a window (viewer/egl_offscreen.h). */
+#define EVO_OPENGL_LIB "libOpenGL.so.0"
 
 /* Every SDL function the viewers (and their test) call. */
 #define EVO_SDL_FUNCTIONS(X)                                                   \
@@ -95,6 +98,11 @@ extern evo_sdl_api evo_sdl;
  * 0, or -1 with err naming the library or function that is missing
  * (what: "the viewer", "the 3D view", for the message). */
 int evo_sdl_load(int gl, const char *what, evo_err *err);
+
+/* Load the OpenGL functions alone, from EVO_OPENGL_LIB, once (after
+ * evo_sdl_load with gl, at once: the same functions). 0, or -1 with err
+ * naming the library and its Debian package. */
+int evo_gl_load_offscreen(const char *what, evo_err *err);
 
 /* From here on, SDL_CreateWindow(...) is evo_sdl.SDL_CreateWindow(...). */
 #ifndef EVO_SDL_LOAD_NO_NAMES

@@ -1,7 +1,9 @@
 /* The DEMO3DSIM view (sim/viewer/view3d.h): SDL2 for the window and its
  * events, OpenGL 1.x (fixed functions, as Mesa's llvmpipe gives under
  * Xvfb) for the world, the 2D viewer's panel beside it as pixels. Both
- * libraries are loaded when the view opens (viewer/sdl_load.h). */
+ * libraries are loaded when the view opens (viewer/sdl_load.h). Without
+ * a window, the same drawing goes to Mesa's EGL off screen
+ * (viewer/egl_offscreen.h): only the context differs. */
 #define _GNU_SOURCE /* dl_iterate_phdr, RTLD_NODELETE */
 #include "viewer/view3d.h"
 
@@ -11,13 +13,16 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "viewer/egl_offscreen.h"
 #include "viewer/png.h"
 #include "viewer/raster.h"
 #include "viewer/sdl_load.h"
 
 struct evo_view3d {
-	SDL_Window *window;
+	SDL_Window *window; /* NULL off screen */
 	SDL_GLContext gl;
+	evo_egl_context *egl; /* off screen: the context, of size ow x oh */
+	int ow, oh;
 	int w, h;      /* the last frame's */
 	uint8_t *shot; /* the last frame's pixels, rows bottom first */
 	size_t shot_cap;
@@ -26,7 +31,8 @@ struct evo_view3d {
 	double target[3];
 	double yaw, pitch, dist; /* radians; metres */
 	int has_target;
-	int drag; /* 1: orbit (left), 2: pan (right) */
+	int aimed; /* first_view done */
+	int drag;  /* 1: orbit (left), 2: pan (right) */
 	char title[128];
 };
 
@@ -51,6 +57,26 @@ static int pin(struct dl_phdr_info *info, size_t size, void *data)
 	return 0;
 }
 
+/* The camera as a new view has it (view3d.h). */
+static void camera_start(evo_view3d *v)
+{
+	v->yaw = -2.4;
+	v->pitch = 0.45;
+	v->dist = 4;
+}
+
+/* Keep the GL driver loaded to the end of the process. */
+static void pin_drivers(void)
+{
+	/* The GL driver Mesa loads for the context (llvmpipe, LLVM) would be
+	 * unloaded with it, and the one-time allocations it never frees then
+	 * show in LeakSanitizer's report under frames it cannot name, which
+	 * tests/lsan.supp's library patterns cannot match. Kept loaded to the
+	 * end of the process (as it is until then in any case), they keep
+	 * their names. */
+	dl_iterate_phdr(pin, NULL);
+}
+
 evo_view3d *evo_view3d_open(int width, int height, evo_err *err)
 {
 	if (width <= 0 || height <= 0) {
@@ -72,9 +98,7 @@ evo_view3d *evo_view3d_open(int width, int height, evo_err *err)
 		evo_fail(err, "cannot open the 3D view: out of memory");
 		return NULL;
 	}
-	v->yaw = -2.4;
-	v->pitch = 0.45;
-	v->dist = 4;
+	camera_start(v);
 	SDL_GL_SetAttribute(SDL_GL_DEPTH_SIZE, 24);
 	SDL_GL_SetAttribute(SDL_GL_DOUBLEBUFFER, 1);
 	v->window = SDL_CreateWindow("evo", SDL_WINDOWPOS_CENTERED,
@@ -89,13 +113,30 @@ evo_view3d *evo_view3d_open(int width, int height, evo_err *err)
 		return NULL;
 	}
 	SDL_GL_SetSwapInterval(0);
-	/* The GL driver Mesa loads for the context (llvmpipe, LLVM) would be
-	 * unloaded with it, and the one-time allocations it never frees then
-	 * show in LeakSanitizer's report under frames it cannot name, which
-	 * tests/lsan.supp's library patterns cannot match. Kept loaded to the
-	 * end of the process (as it is until then in any case), they keep
-	 * their names. */
-	dl_iterate_phdr(pin, NULL);
+	pin_drivers();
+	return v;
+}
+
+evo_view3d *evo_view3d_open_offscreen(int width, int height, evo_err *err)
+{
+	if (width <= 0 || height <= 0) {
+		width = 1024;
+		height = 720;
+	}
+	evo_view3d *v = calloc(1, sizeof *v);
+	if (!v) {
+		evo_fail(err, "cannot open the 3D view: out of memory");
+		return NULL;
+	}
+	camera_start(v);
+	v->ow = width;
+	v->oh = height;
+	v->egl = evo_egl_open(width, height, err);
+	if (!v->egl) {
+		free(v);
+		return NULL;
+	}
+	pin_drivers();
 	return v;
 }
 
@@ -103,6 +144,8 @@ void evo_view3d_close(evo_view3d *v)
 {
 	if (!v)
 		return;
+	int sdl = !v->egl; /* SDL's video was started for a window */
+	evo_egl_close(v->egl);
 	if (v->gl)
 		SDL_GL_DeleteContext(v->gl);
 	if (v->window)
@@ -110,6 +153,8 @@ void evo_view3d_close(evo_view3d *v)
 	evo_raster_free(&v->panel);
 	free(v->shot);
 	free(v);
+	if (!sdl)
+		return;
 	SDL_QuitSubSystem(SDL_INIT_VIDEO);
 	if (SDL_WasInit(SDL_INIT_EVERYTHING) == 0)
 		SDL_Quit();
@@ -438,18 +483,19 @@ static void first_view(evo_view3d *v, const evo_scene3d *sc)
 void evo_view3d_draw(evo_view3d *v, const evo_scene3d *sc, int follow,
 		     const evo_viewer_panel *p)
 {
-	int w, h;
-	SDL_GL_GetDrawableSize(v->window, &w, &h);
+	int w = v->ow, h = v->oh;
+	if (v->window)
+		SDL_GL_GetDrawableSize(v->window, &w, &h);
 	if (w < 2 || h < 2)
 		return;
-	if (p && p->title && strncmp(p->title, v->title, sizeof v->title)) {
+	if (v->window && p && p->title &&
+	    strncmp(p->title, v->title, sizeof v->title)) {
 		snprintf(v->title, sizeof v->title, "%s", p->title);
 		char t[160];
 		snprintf(t, sizeof t, "evo - %s", v->title);
 		SDL_SetWindowTitle(v->window, t);
 	}
-	if (!v->has_target && sc->n_bots > 0)
-		first_view(v, sc);
+	evo_view3d_aim(v, sc);
 	if (follow >= 0 && follow < sc->n_bots) {
 		memcpy(v->target, sc->bot[follow].pos, sizeof v->target);
 		v->has_target = 1;
@@ -508,7 +554,26 @@ void evo_view3d_draw(evo_view3d *v, const evo_scene3d *sc, int follow,
 		v->w = w;
 		v->h = h;
 	}
-	SDL_GL_SwapWindow(v->window);
+	if (v->window)
+		SDL_GL_SwapWindow(v->window);
+}
+
+void evo_view3d_aim(evo_view3d *v, const evo_scene3d *sc)
+{
+	if (!v->aimed && sc->n_bots > 0)
+		first_view(v, sc);
+	v->aimed = 1;
+}
+
+int evo_view3d_frame(const evo_view3d *v, evo_raster *im)
+{
+	if (!v->shot || v->w != im->w || v->h != im->h)
+		return -1;
+	size_t row = (size_t)v->w * 3;
+	for (int y = 0; y < v->h; y++) /* OpenGL's rows are bottom first */
+		memcpy(im->pixels + row * y, v->shot + row * (v->h - 1 - y),
+		       row);
+	return 0;
 }
 
 int evo_view3d_screenshot(evo_view3d *v, const char *png_path, evo_err *err)
@@ -531,6 +596,8 @@ int evo_view3d_screenshot(evo_view3d *v, const char *png_path, evo_err *err)
 evo_view_action evo_view3d_poll(evo_view3d *v)
 {
 	SDL_Event ev;
+	if (!v->window)
+		return EVO_VIEW_NONE;
 	while (SDL_PollEvent(&ev)) {
 		if (ev.type == SDL_QUIT ||
 		    (ev.type == SDL_WINDOWEVENT &&

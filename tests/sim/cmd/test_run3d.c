@@ -296,8 +296,8 @@ static int target(int r, int g, int b)
 /* Both tasks in the 3D view under a virtual X display (Mesa's llvmpipe):
  * the screenshot at tick 45 shows the robot, its rays and obstacles (the
  * wheeled robot's), the robot, its rays and its target (the blimp's), and
- * the panel's sensor bars; without a display the screenshot is a clear
- * error. */
+ * the panel's sensor bars; without a display the screenshot is drawn off
+ * screen (tests/sim/viewer/test_view3d.c looks at it). */
 TEST(both_3d_tasks_show_in_the_3d_view)
 {
 	static const char *const task[2] = {
@@ -348,8 +348,8 @@ TEST(both_3d_tasks_show_in_the_3d_view)
 				 "env -u DISPLAY -u WAYLAND_DISPLAY %s run %s "
 				 "--ticks 5 --screenshot %s/x.png 2>&1",
 				 cli_evo, task[0], cli_tmp),
-		     1);
-	CHECK_CONTAINS(out, "needs a display");
+		     0);
+	CHECK_CONTAINS(out, "(tick 5, drawn without a window)");
 }
 
 int main(void)
