@@ -8,6 +8,11 @@
 #   - core/ includes nothing of sim/, and nothing includes a header by a
 #     relative path ("../");
 #   - bench/ includes no test code (tests/);
+#   - sim/tasksim/tasksim.c reaches its scene only through
+#     tasksim/simscene.h: it makes and frees a 2D or 3D scene and calls
+#     nothing else of them, nor reads their bots (docs/architecture.md);
+#   - the reward and control kinds are named in sim/scene/kinds.c alone,
+#     where each says the worlds it exists in;
 #   - every file docs/architecture.md names exists (a bare name such as
 #     `step.c` must name exactly one file of the tree).
 # Run from the repository root (make test does). Ends with
@@ -121,6 +126,19 @@ if [ -f "$lib" ]; then
 else
 	fail "no $lib: build first (make test-bins)"
 fi
+
+# tasksim.c never asks its scene's dimension: it makes and frees the scene
+# and calls nothing else of world2d/ or world3d/ (simscene.c does).
+calls=$(grep -o 'evo_\(scene\|scene3d\|bot\|bot3d\)_[a-z0-9_]*(\|->bot\[' \
+	sim/tasksim/tasksim.c | grep -v '_create($\|_destroy($' | sort -u)
+if [ -z "$calls" ]; then pass; else
+	fail "sim/tasksim/tasksim.c reaches its scene around simscene.h: $(echo $calls)"; fi
+
+# The kinds' names are sim/scene/kinds.c's alone (2D and 3D read them).
+names=$(grep -rl --include='*.c' '"ClosingOnTarget"\|"NextOnTimeout"' sim |
+	grep -v '^sim/scene/kinds.c$')
+if [ -z "$names" ]; then pass; else
+	fail "reward or control names outside sim/scene/kinds.c: $(echo $names)"; fi
 
 # Every file docs/architecture.md names exists.
 if [ -f docs/architecture.md ]; then

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "lua/lua_internal.h"
+#include "scene/kinds.h"
 
 /* ---- handles ------------------------------------------------------------ */
 
@@ -690,39 +691,26 @@ static int scene_bot(lua_State *L)
 /* ---- scene: rewards and controls --------------------------------------------
  */
 
-static const char *const reward_names[EVO3D_RW_KIND_COUNT] = {
-    [EVO3D_RW_CLOSING_ON_TARGET] = "ClosingOnTarget",
-    [EVO3D_RW_SENSOR_OVER] = "SensorOverThreshold",
-    [EVO3D_RW_SENSOR_UNDER] = "SensorUnderThreshold",
-    [EVO3D_RW_PUNISH_ON_COLLISION] = "PunishOnCollision",
-    [EVO3D_RW_FORWARD_MOTION] = "ForwardMotion",
-    [EVO3D_RW_FORWARD_SPEED] = "ForwardSpeed",
-    [EVO3D_RW_SPEED] = "Speed",
-    [EVO3D_RW_STEP] = "Step",
-};
-
-static const char *const control_names[EVO3D_CF_KIND_COUNT] = {
-    [EVO3D_CF_NEXT_ON_TIMEOUT] = "NextOnTimeout",
-    [EVO3D_CF_NEXT_ON_COLLISION] = "NextOnCollision",
-    [EVO3D_CF_NEXT_ON_COLLISION_AND_TIMEOUT] = "NextOnCollisionAndTimeout",
-    [EVO3D_CF_NEXT_ON_SENSOR_BELOW] = "NextOnSensorBelow",
-};
-
-/* The kind named at idx (the tutorial's RW_ and CF_ prefixes allowed). */
-static int kind_by_name(lua_State *L, int idx, const char *const *names, int n,
-			const char *prefix, const char *what)
+/* The reward (reward 1) or control (0) named at idx, by the scene model's
+ * names (scene/kinds.h: the tutorial's RW_ and CF_ prefixes allowed);
+ * one that is not in 3D is an error that says so. */
+static int kind_by_name(lua_State *L, int idx, int reward, const char *what)
 {
 	const char *s = luaL_checkstring(L, idx);
-	size_t pl = strlen(prefix);
-	if (strncmp(s, prefix, pl) == 0)
-		s += pl;
-	for (int i = 0; i < n; i++)
-		if (strcmp(s, names[i]) == 0)
-			return i;
-	const char *c = evo_closest_name(s, names, (size_t)n, NULL);
+	const char *noun = reward ? "reward" : "control";
+	int k =
+	    reward ? evo_reward_kind_by_name(s) : evo_control_kind_by_name(s);
+	unsigned dims =
+	    reward ? evo_reward_kind_dims(k) : evo_control_kind_dims(k);
+	if (k >= 0 && (dims & EVO_DIM_3D))
+		return k;
+	if (k >= 0)
+		return luaL_error(L, "%s: %s '%s' is 2D only (docs/world3d.md)",
+				  what, noun, s);
+	const char *c = reward ? evo_reward_kind_closest(s, EVO_DIM_3D)
+			       : evo_control_kind_closest(s, EVO_DIM_3D);
 	return luaL_error(L, "%s: no %s '%s' in 3D (did you mean %s?)", what,
-			  prefix[0] == 'R' ? "reward" : "control", s,
-			  c ? c : "?");
+			  noun, s, c ? c : "?");
 }
 
 static int scene_reward(lua_State *L)
@@ -731,10 +719,9 @@ static int scene_reward(lua_State *L)
 	    "bot", "k", "k2", "threshold", "target", "sensors", NULL};
 	const char *what = "scene:reward";
 	no_new_pieces(L, what);
-	int kind =
-	    kind_by_name(L, 2, reward_names, EVO3D_RW_KIND_COUNT, "RW_", what);
+	int kind = kind_by_name(L, 2, 1, what);
 	options(L, 3, what, keys);
-	evo_reward3d_def d = evo_default_reward3d_def((evo_reward3d_kind)kind);
+	evo_reward3d_def d = evo_default_reward3d_def((evo_reward_kind)kind);
 	d.bot = opt_bot(L, 3, what);
 	d.k = num(L, 3, "k", d.k, what);
 	d.k2 = num(L, 3, "k2", d.k2, what);
@@ -767,11 +754,9 @@ static int scene_control(lua_State *L)
 					   "threshold", NULL};
 	const char *what = "scene:control";
 	no_new_pieces(L, what);
-	int kind =
-	    kind_by_name(L, 2, control_names, EVO3D_CF_KIND_COUNT, "CF_", what);
+	int kind = kind_by_name(L, 2, 0, what);
 	options(L, 3, what, keys);
-	evo_control3d_def d =
-	    evo_default_control3d_def((evo_control3d_kind)kind);
+	evo_control3d_def d = evo_default_control3d_def((evo_control_kind)kind);
 	d.bot = opt_bot(L, 3, what);
 	double ticks = num(L, 3, "ticks", (double)d.ticks, what);
 	if (ticks < 1 || ticks != floor(ticks) || ticks > 1e15)

@@ -14,64 +14,17 @@ _Static_assert(EVO_MAX_TEAMS <= EVO_SCENE_MAX_TEAMS,
 	       "a task's teams fit a scene's");
 
 /* "did you mean" over a bot's sensor or actuator names. */
-static const char *closest(const char *word, const evo_bot *b, int sensors)
+static const char *closest(const evo_sim *s, const char *word, int bot,
+			   int sensors)
 {
 	const char *names[256];
-	int n = sensors ? b->n_sensors : b->n_actuators;
+	int n = s->world->n_parts(s->sc, bot, sensors);
 	if (n > 256)
 		n = 256;
 	for (int i = 0; i < n; i++)
-		names[i] = sensors ? b->sensor[i].name : b->actuator[i].name;
+		names[i] = s->world->part_name(s->sc, bot, sensors, i);
 	const char *c = evo_closest_name(word, names, (size_t)n, NULL);
 	return c ? c : "";
-}
-
-/* The same over a 3D bot's. */
-static const char *closest3d(const char *word, const evo_bot3d *b, int sensors)
-{
-	const char *names[256];
-	int n = sensors ? b->n_sensors : b->n_actuators;
-	if (n > 256)
-		n = 256;
-	for (int i = 0; i < n; i++)
-		names[i] = sensors ? b->sensor[i].name : b->actuator[i].name;
-	const char *c = evo_closest_name(word, names, (size_t)n, NULL);
-	return c ? c : "";
-}
-
-/* Bind a one-agent 3D task's botdesc names to its bot's sensors and
- * actuators. */
-static int bind3d(evo_sim *s, evo_sim_team *tm, evo_err *err)
-{
-	const evo_bot3d *b = &s->scene3d->bot[0];
-	const evo_mindfolder *mind = tm->mind;
-	const evo_botdesc *d = mind->botdesc;
-	const char *model = evo_lua_bot_path(s->lua);
-	for (unsigned i = 0; i < d->n_sensors; i++) {
-		int k = evo_bot3d_find_sensor(b, d->sensor[i].name);
-		if (k < 0)
-			return evo_fail(err,
-					"%s/%s.botdesc:%u: sensor '%s' is not "
-					"on the bot (model %s); closest: %s",
-					mind->root, mind->bot_name,
-					d->sensor[i].line, d->sensor[i].name,
-					model,
-					closest3d(d->sensor[i].name, b, 1));
-		tm->sensor_map[i] = k;
-	}
-	for (unsigned i = 0; i < d->n_actuators; i++) {
-		int k = evo_bot3d_find_actuator(b, d->actuator[i].name);
-		if (k < 0)
-			return evo_fail(
-			    err,
-			    "%s/%s.botdesc:%u: actuator '%s' is not "
-			    "on the bot (model %s); closest: %s",
-			    mind->root, mind->bot_name, d->actuator[i].line,
-			    d->actuator[i].name, model,
-			    closest3d(d->actuator[i].name, b, 0));
-		tm->actuator_map[i] = k;
-	}
-	return 0;
 }
 
 /* Sensors nothing reads are not sampled: the minds read the botdesc's,
@@ -81,31 +34,20 @@ static int bind3d(evo_sim *s, evo_sim_team *tm, evo_err *err)
  * nothing. */
 static void mark_idle(evo_sim *s)
 {
-	evo_scene *sc = s->scene;
-	for (int k = 0; k < sc->n_bots; k++) {
+	const evo_simscene *w = s->world;
+	for (int k = 0; k < w->n_bots(s->sc); k++) {
 		if (!s->has_teams && k != s->bot)
 			continue;
-		evo_bot *b = &sc->bot[k];
-		for (int i = 0; i < b->n_sensors; i++)
-			b->sensor[i].idle = 1;
+		for (int i = 0; i < w->n_parts(s->sc, k, 1); i++)
+			w->set_idle(s->sc, k, i, 1);
 	}
 	for (int a = 0; a < s->n_agents; a++) {
 		const evo_sim_agent *ag = &s->agent[a];
 		const evo_sim_team *tm = &s->team[ag->team];
-		evo_bot *b = &sc->bot[ag->bot];
 		for (unsigned i = 0; i < tm->mind->botdesc->n_sensors; i++)
-			b->sensor[tm->sensor_map[i]].idle = 0;
+			w->set_idle(s->sc, ag->bot, tm->sensor_map[i], 0);
 	}
-	for (int i = 0; i < sc->n_rewards; i++) {
-		const evo_reward_def *d = &sc->reward[i].def;
-		for (int k = 0; k < d->n_sensors; k++)
-			sc->bot[d->bot].sensor[d->sensor[k]].idle = 0;
-	}
-	for (int i = 0; i < sc->n_controls; i++) {
-		const evo_control_def *d = &sc->control[i].def;
-		if (d->sensor >= 0)
-			sc->bot[d->bot].sensor[d->sensor].idle = 0;
-	}
+	w->wake_scored(s->sc);
 }
 
 /* After a botdesc error, where the team is: " (team Red, T.simbatch:3)". */
@@ -124,23 +66,23 @@ static void team_suffix(const evo_sim *s, const evo_sim_team *tm, char *out,
  * lacks is the botdesc's error, reported at its line. */
 static int bind(evo_sim *s, evo_sim_team *tm, int bot, int first, evo_err *err)
 {
-	if (s->scene3d)
-		return bind3d(s, tm, err);
-	const evo_bot *b = &s->scene->bot[bot];
+	const evo_simscene *w = s->world;
+	const char *bot_name = w->bot_name(s->sc, bot);
 	const evo_mindfolder *mind = tm->mind;
 	const evo_botdesc *d = mind->botdesc;
 	const char *model = evo_lua_bot_path(s->lua);
 	char where[1200];
 	team_suffix(s, tm, where, sizeof where);
 	for (unsigned i = 0; i < d->n_sensors; i++) {
-		int k = evo_bot_find_sensor(b, d->sensor[i].name);
+		int k = w->find_part(s->sc, bot, 1, d->sensor[i].name);
 		if (k < 0)
 			return evo_fail(err,
 					"%s/%s.botdesc:%u: sensor '%s' is not "
 					"on the bot (model %s); closest: %s%s",
 					mind->root, mind->bot_name,
 					d->sensor[i].line, d->sensor[i].name,
-					model, closest(d->sensor[i].name, b, 1),
+					model,
+					closest(s, d->sensor[i].name, bot, 1),
 					where);
 		if (!first && k != tm->sensor_map[i])
 			return evo_fail(err,
@@ -148,11 +90,11 @@ static int bind(evo_sim *s, evo_sim_team *tm, int bot, int first, evo_err *err)
 					"its team's first bot has it: the "
 					"environment changed one bot of the "
 					"team%s",
-					b->name, d->sensor[i].name, where);
+					bot_name, d->sensor[i].name, where);
 		tm->sensor_map[i] = k;
 	}
 	for (unsigned i = 0; i < d->n_actuators; i++) {
-		int k = evo_bot_find_actuator(b, d->actuator[i].name);
+		int k = w->find_part(s->sc, bot, 0, d->actuator[i].name);
 		if (k < 0)
 			return evo_fail(
 			    err,
@@ -160,13 +102,13 @@ static int bind(evo_sim *s, evo_sim_team *tm, int bot, int first, evo_err *err)
 			    "on the bot (model %s); closest: %s%s",
 			    mind->root, mind->bot_name, d->actuator[i].line,
 			    d->actuator[i].name, model,
-			    closest(d->actuator[i].name, b, 0), where);
+			    closest(s, d->actuator[i].name, bot, 0), where);
 		if (!first && k != tm->actuator_map[i])
 			return evo_fail(
 			    err,
 			    "bot %s: its actuator '%s' is not where "
 			    "its team's first bot has it%s",
-			    b->name, d->actuator[i].name, where);
+			    bot_name, d->actuator[i].name, where);
 		tm->actuator_map[i] = k;
 	}
 	return 0;
@@ -217,8 +159,7 @@ int evo_sim_set_team_mind(evo_sim *s, int team, const evo_mindfolder *mind,
 			return -1;
 	}
 	first_agent_view(s);
-	if (s->scene)
-		mark_idle(s);
+	mark_idle(s);
 	return 0;
 }
 
@@ -250,11 +191,11 @@ int evo_sim_set_mind(evo_sim *s, const evo_mindfolder *mind, evo_err *err)
  * its SIZE bots. */
 static int make_agents(evo_sim *s, evo_err *err)
 {
-	evo_scene *sc = s->scene;
+	const evo_simscene *w = s->world;
 	int n = 0;
-	if (s->scene3d && s->has_teams)
-		return evo_fail(err, "%s: 3D tasks have one agent, no teams",
-				s->task_path);
+	if (s->has_teams && !w->teams)
+		return evo_fail(err, "%s: %s tasks have one agent, no teams",
+				s->task_path, w->name);
 	for (int k = 0; k < s->n_teams; k++)
 		n += s->team[k].size;
 	s->agent = calloc((size_t)n, sizeof *s->agent);
@@ -271,8 +212,8 @@ static int make_agents(evo_sim *s, evo_err *err)
 		evo_sim_team *tm = &s->team[k];
 		int made = 0;
 		tm->first = next;
-		for (int b = 0; b < sc->n_bots; b++)
-			if (sc->bot[b].team == k && made < tm->size) {
+		for (int b = 0; b < w->n_bots(s->sc); b++)
+			if (w->bot_team(s->sc, b) == k && made < tm->size) {
 				s->agent[next].bot = b;
 				s->agent[next].team = k;
 				next++;
@@ -303,10 +244,14 @@ static evo_sim *build(evo_sim *s, const evo_simbatch *task,
 	if (type && evo_sim_type_is_3d(type)) {
 		evo_scene3d_def d3 = evo_default_scene3d_def();
 		s->scene3d = evo_scene3d_create(&d3);
+		s->world = &evo_simscene_3d;
+		s->sc = s->scene3d;
 	} else {
 		s->scene = evo_scene_create();
+		s->world = &evo_simscene_2d;
+		s->sc = s->scene;
 	}
-	if (!s->scene && !s->scene3d) {
+	if (!s->sc) {
 		evo_fail(err, "cannot create a physics world");
 		evo_sim_destroy(s);
 		return NULL;
@@ -324,7 +269,7 @@ static evo_sim *build(evo_sim *s, const evo_simbatch *task,
 	if (evo_task_check_script(task, task_path, "ENV", "environment",
 				  mind_dir, "Envs", evo_lua_dir(), "envs",
 				  err) ||
-	    (s->scene && !s->has_teams &&
+	    (!s->has_teams &&
 	     evo_task_check_script(task, task_path, "BOTMODEL", "bot model",
 				   mind_dir, "Bots", evo_lua_dir(), "bots",
 				   err))) {
@@ -432,12 +377,8 @@ void evo_sim_destroy(evo_sim *s)
 int evo_sim_reset(evo_sim *s, int episode, uint64_t grid_seed,
 		  uint64_t episode_seed, evo_err *err)
 {
-	if (s->scene3d) {
-		if (evo_scene3d_reset(s->scene3d, grid_seed, episode_seed))
-			return evo_fail(err, "%s", s->scene3d->err.msg);
-	} else {
-		evo_scene_reset(s->scene, grid_seed, episode_seed);
-	}
+	if (s->world->reset(s->sc, grid_seed, episode_seed, err))
+		return -1;
 	for (int a = 0; a < s->n_agents; a++)
 		evo_state_reset(&s->agent[a].mind->mind, s->agent[a].state);
 	s->episode = episode;
@@ -456,89 +397,48 @@ int evo_sim_agent_of_bot(const evo_sim *s, int bot)
 static void step_agent(evo_sim *s, const evo_sim_agent *a, evo_q16 *in,
 		       evo_q16 *out)
 {
+	const evo_simscene *w = s->world;
 	const evo_sim_team *tm = &s->team[a->team];
-	evo_bot *b = &s->scene->bot[a->bot];
 	const evo_mind *m = &a->mind->mind;
+	double v[EVO_MAX_SENSORS + EVO_MAX_ACTUATORS];
+	w->read(s->sc, a->bot, tm->sensor_map, m->n_sensors, v);
 	for (unsigned i = 0; i < m->n_sensors; i++)
-		in[i] = evo_q16_from_sensor(b->sensor[tm->sensor_map[i]].value);
+		in[i] = evo_q16_from_sensor(v[i]);
 	evo_mind_step(m, a->state, in, out);
 	for (unsigned i = 0; i < m->n_actuators; i++)
-		b->actuator[tm->actuator_map[i]].command =
-		    evo_q16_to_double(out[i]);
+		v[i] = evo_q16_to_double(out[i]);
+	w->write(s->sc, a->bot, tm->actuator_map, m->n_actuators, v);
 	if (s->trace && s->has_teams)
-		evo_trace_tick_bot(s->trace, s->scene->tick, b->name, m, in,
-				   out, a->state);
+		evo_trace_tick_bot(s->trace, w->ticks(s->sc),
+				   w->bot_name(s->sc, a->bot), m, in, out,
+				   a->state);
 	else if (s->trace)
-		evo_trace_tick(s->trace, s->scene->tick, m, in, out, a->state);
-}
-
-/* The one agent of a 3D task: the same mind step on its 3D bot. */
-static int tick3d(evo_sim *s)
-{
-	evo_scene3d *sc = s->scene3d;
-	evo_bot3d *b = &sc->bot[0];
-	const evo_sim_agent *a = &s->agent[0];
-	const evo_mind *m = &a->mind->mind;
-	evo_scene3d_sense(sc);
-	for (unsigned i = 0; i < m->n_sensors; i++)
-		s->sensors[i] =
-		    evo_q16_from_sensor(b->sensor[s->sensor_map[i]].value);
-	evo_mind_step(m, a->state, s->sensors, s->actuators);
-	for (unsigned i = 0; i < m->n_actuators; i++)
-		b->actuator[s->actuator_map[i]].command =
-		    evo_q16_to_double(s->actuators[i]);
-	if (s->trace)
-		evo_trace_tick(s->trace, sc->tick, m, s->sensors, s->actuators,
+		evo_trace_tick(s->trace, w->ticks(s->sc), m, in, out,
 			       a->state);
-	return evo_scene3d_step(sc);
 }
 
 int evo_sim_tick(evo_sim *s, evo_err *err)
 {
-	if (s->scene3d)
-		return tick3d(s);
-	evo_scene *sc = s->scene;
-	evo_scene_sense(sc);
+	s->world->sense(s->sc);
 	step_agent(s, &s->agent[0], s->sensors, s->actuators);
 	evo_q16 in[EVO_MAX_SENSORS], out[EVO_MAX_ACTUATORS];
 	for (int a = 1; a < s->n_agents; a++)
 		step_agent(s, &s->agent[a], in, out);
-	int r = evo_scene_step(sc);
-	if (r < 0)
-		evo_fail(err, "%s", sc->err.msg);
-	return r;
+	return s->world->step(s->sc, err);
 }
 
 void evo_sim_sense(evo_sim *s, double *values)
 {
-	if (s->scene3d) {
-		const evo_bot3d *b3 = &s->scene3d->bot[0];
-		evo_scene3d_sense(s->scene3d);
-		for (unsigned i = 0; i < s->mind->mind.n_sensors; i++)
-			values[i] = b3->sensor[s->sensor_map[i]].value;
-		return;
-	}
-	const evo_bot *b = &s->scene->bot[s->bot];
-	evo_scene_sense(s->scene);
-	for (unsigned i = 0; i < s->mind->mind.n_sensors; i++)
-		values[i] = b->sensor[s->sensor_map[i]].value;
+	s->world->sense(s->sc);
+	s->world->read(s->sc, s->bot, s->sensor_map, s->mind->mind.n_sensors,
+		       values);
 }
 
 int evo_sim_act(evo_sim *s, const double *commands, evo_err *err)
 {
-	if (s->scene3d) {
-		evo_bot3d *b3 = &s->scene3d->bot[0];
-		for (unsigned i = 0; i < s->mind->mind.n_actuators; i++)
-			b3->actuator[s->actuator_map[i]].command = commands[i];
-		return evo_scene3d_step(s->scene3d);
-	}
-	evo_bot *b = &s->scene->bot[s->bot];
-	for (unsigned i = 0; i < s->mind->mind.n_actuators; i++)
-		b->actuator[s->actuator_map[i]].command = commands[i];
-	int r = evo_scene_step(s->scene);
-	if (r < 0)
-		evo_fail(err, "%s", s->scene->err.msg);
-	return r;
+	s->world->write(s->sc, s->bot, s->actuator_map,
+			s->mind->mind.n_actuators, commands);
+	return s->world->step(s->sc, err);
 }
 
 void evo_sim_trace_header(evo_sim *s)
@@ -552,8 +452,8 @@ void evo_sim_trace_header(evo_sim *s)
 		const evo_sim_team *tm = &s->team[k];
 		const char *bots[EVO_TEAM_MAX_SIZE];
 		for (int i = 0; i < tm->size; i++)
-			bots[i] =
-			    s->scene->bot[s->agent[tm->first + i].bot].name;
+			bots[i] = s->world->bot_name(
+			    s->sc, s->agent[tm->first + i].bot);
 		evo_trace_team_header(s->trace, tm->name, tm->mind, bots,
 				      tm->size);
 	}
@@ -567,90 +467,32 @@ int evo_sim_type_is_3d(const char *type)
 
 double evo_sim_episode_reward(const evo_sim *s)
 {
-	return s->scene3d ? s->scene3d->episode_reward
-			  : s->scene->episode_reward;
+	return s->world->episode_reward(s->sc);
 }
 
 long evo_sim_ticks(const evo_sim *s)
 {
-	return s->scene3d ? s->scene3d->tick : s->scene->tick;
+	return s->world->ticks(s->sc);
 }
 
 int evo_sim_collisions(const evo_sim *s, int agent)
 {
-	int bot = s->agent[agent].bot;
-	return s->scene3d ? s->scene3d->bot[bot].collisions
-			  : s->scene->bot[bot].collisions;
+	return s->world->collisions(s->sc, s->agent[agent].bot);
 }
 
 int evo_sim_n_metrics(const evo_sim *s)
 {
-	return s->scene3d ? 0 : s->scene->n_metrics;
+	return s->world->n_metrics(s->sc);
 }
 
 const char *evo_sim_metric_name(const evo_sim *s, int k)
 {
-	return s->scene3d ? "" : s->scene->metric[k].name;
+	return s->world->metric_name(s->sc, k);
 }
 
 double evo_sim_metric(const evo_sim *s, int k)
 {
-	return s->scene3d ? 0 : s->scene->metric[k].value;
-}
-
-/* Widen b (x0, y0, x1, y1) to hold the box of half sizes hx, hy at x, y. */
-static void widen(double *b, double x, double y, double hx, double hy)
-{
-	b[0] = fmin(b[0], x - hx);
-	b[1] = fmin(b[1], y - hy);
-	b[2] = fmax(b[2], x + hx);
-	b[3] = fmax(b[3], y + hy);
-}
-
-/* The arena's bounds on the ground plane (evo_sim_behaviour's); 0, or -1
- * when the environment built no static obstacle. */
-static int arena_bounds(const evo_sim *s, double *b)
-{
-	b[0] = b[1] = INFINITY;
-	b[2] = b[3] = -INFINITY;
-	if (s->scene3d) {
-		const evo_scene3d *sc = s->scene3d;
-		for (int i = 0; i < sc->n_elements; i++) {
-			const evo_element3d_def *d = &sc->element[i].def;
-			if (d->kind > EVO3D_ELEM_SPHERE || d->ground)
-				continue;
-			double c = fabs(cos(d->yaw)), sn = fabs(sin(d->yaw));
-			if (d->kind == EVO3D_ELEM_BOX)
-				widen(b, d->pos[0], d->pos[1],
-				      c * d->half[0] + sn * d->half[1],
-				      sn * d->half[0] + c * d->half[1]);
-			else
-				widen(b, d->pos[0], d->pos[1], d->radius,
-				      d->radius);
-		}
-	} else {
-		const evo_scene *sc = s->scene;
-		for (int i = 0; i < sc->n_fixed_obstacles; i++) {
-			const evo_obstacle *o = &sc->obstacle[i];
-			double c = fabs(cos(o->angle)), sn = fabs(sin(o->angle));
-			if (o->shape == EVO_SHAPE_CIRCLE) {
-				widen(b, o->x, o->y, o->radius, o->radius);
-			} else if (o->shape == EVO_SHAPE_SEGMENT) {
-				/* a wall: (x, y) is one end, not its middle */
-				widen(b, o->x, o->y, 0, 0);
-				widen(b, o->x2, o->y2, 0, 0);
-			} else
-				widen(b, o->x, o->y,
-				      c * o->half_w + sn * o->half_h,
-				      sn * o->half_w + c * o->half_h);
-		}
-		if (sc->grid.enabled) {
-			const evo_grid_def *g = &sc->grid;
-			widen(b, (g->x0 + g->x1) / 2, (g->y0 + g->y1) / 2,
-			      fabs(g->x1 - g->x0) / 2, fabs(g->y1 - g->y0) / 2);
-		}
-	}
-	return b[2] > b[0] && b[3] > b[1] ? 0 : -1;
+	return s->world->metric(s->sc, k);
 }
 
 static double unit(double v)
@@ -664,18 +506,14 @@ int evo_sim_behaviour(evo_sim *s, double *out, evo_err *err)
 				  err);
 	if (n)
 		return n;
-	double x, y, x0, y0;
-	if (s->scene3d) {
-		const evo_bot3d *b = &s->scene3d->bot[s->bot];
-		x = b->pos[0], y = b->pos[1];
-		x0 = b->start[0], y0 = b->start[1];
-	} else {
-		const evo_bot *b = &s->scene->bot[s->bot];
-		x = b->x, y = b->y;
-		x0 = b->def.x, y0 = b->def.y;
-	}
-	double box[4];
-	if (arena_bounds(s, box)) {
+	double now[2], start[2];
+	s->world->ground_pos(s->sc, s->bot, now, start);
+	double x = now[0], y = now[1], x0 = start[0], y0 = start[1];
+	/* the arena's bounds on the ground plane, if the environment built
+	 * a static obstacle */
+	double box[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
+	s->world->arena(s->sc, box);
+	if (!(box[2] > box[0] && box[3] > box[1])) {
 		box[0] = x0 - 5, box[1] = y0 - 5;
 		box[2] = x0 + 5, box[3] = y0 + 5;
 	}
@@ -694,5 +532,5 @@ int evo_sim_solved(evo_sim *s, int *solved, evo_err *err)
 
 const char *evo_sim_fault(const evo_sim *s)
 {
-	return s->scene3d ? s->scene3d->fault : "";
+	return s->world->fault(s->sc);
 }

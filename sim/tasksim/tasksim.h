@@ -20,6 +20,7 @@
 #include "lua/lua_evo.h"
 #include "mind/mindfolder.h"
 #include "mind/task.h"
+#include "tasksim/simscene.h"
 #include "world2d/scene.h"
 #include "world3d/scene3d.h"
 
@@ -46,10 +47,13 @@ typedef struct evo_sim_agent {
 
 typedef struct evo_sim {
 	/* The task's world: a 2D scene, or for DEMO3DSIM and LEARN3DSIM a
-	 * 3D one (docs/world3d.md), the other NULL. The evo_sim_* figures
-	 * below read either. */
+	 * 3D one (docs/world3d.md), the other NULL. Everything here reaches
+	 * it through `world` (simscene.h) on `sc`, whichever it is; only
+	 * the viewer and the Lua state, made for one world, read the two. */
 	evo_scene *scene;
 	evo_scene3d *scene3d;
+	const evo_simscene *world;
+	void *sc; /* scene or scene3d */
 	evo_lua *lua;
 	const evo_mindfolder *mind; /* the first team's (not owned) */
 	const evo_simbatch *task; /* not owned */

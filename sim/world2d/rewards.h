@@ -14,11 +14,7 @@ int evo_control_check(evo_scene *sc, evo_control *c);
 void evo_reward_reset(evo_reward *r);
 void evo_control_reset(evo_control *c);
 
-/* The names users write (RW_ClosingOnTarget or ClosingOnTarget, ...);
- * -1 when unknown. */
-int evo_reward_kind_by_name(const char *name);
-int evo_control_kind_by_name(const char *name);
-const char *evo_reward_kind_name(int kind);
-const char *evo_control_kind_name(int kind);
+/* The names users write are scene/kinds.h's (evo_reward_kind_by_name,
+ * evo_control_kind_by_name, ...). */
 
 #endif

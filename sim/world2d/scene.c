@@ -432,6 +432,9 @@ int evo_scene_add_reward(evo_scene *sc, const evo_reward_def *d)
 	if ((unsigned)d->kind >= EVO_RW_KIND_COUNT)
 		return evo_fail(&sc->err, "reward: unknown kind %d",
 				(int)d->kind);
+	if (!(evo_reward_kind_dims(d->kind) & EVO_DIM_2D))
+		return evo_fail(&sc->err, "reward %s is 3D only",
+				evo_reward_kind_name(d->kind));
 	if (check_bot(sc, d->bot) || check_target(sc, d->target, "reward"))
 		return -1;
 	if ((unsigned)d->scope > EVO_SCOPE_SCENE ||
@@ -473,6 +476,9 @@ int evo_scene_add_control(evo_scene *sc, const evo_control_def *d)
 	if ((unsigned)d->kind >= EVO_CF_KIND_COUNT)
 		return evo_fail(&sc->err, "control: unknown kind %d",
 				(int)d->kind);
+	if (!(evo_control_kind_dims(d->kind) & EVO_DIM_2D))
+		return evo_fail(&sc->err, "control %s is 3D only",
+				evo_control_kind_name(d->kind));
 	if (check_bot(sc, d->bot) || check_target(sc, d->target, "control"))
 		return -1;
 	if (d->kind == EVO_CF_NEXT_ON_SENSOR_BELOW &&

@@ -26,6 +26,7 @@
 
 #include "base/err.h"
 #include "base/rng.h"
+#include "scene/kinds.h"
 #include "world2d/world.h"
 
 #define EVO_SCENE_NAME_MAX 64
@@ -261,24 +262,8 @@ typedef struct evo_bot {
 
 /* ---- reward and control functions ----------------------------------- */
 
-typedef enum evo_reward_kind {
-	EVO_RW_CLOSING_ON_TARGET = 0, /* k * (previous distance - distance) */
-	EVO_RW_SENSOR_OVER,  /* k * sum(v - threshold) over v > threshold */
-	EVO_RW_SENSOR_UNDER, /* k * sum(threshold - v) over v <= threshold */
-	EVO_RW_PUNISH_ON_COLLISION, /* k every tick the bot touches anything (k
-				       < 0) */
-	EVO_RW_FORWARD_MOTION,	    /* k moving forward, k2 moving backward */
-	EVO_RW_SPEED,		    /* k * speed^2 */
-	EVO_RW_STEP,		    /* k every tick */
-	EVO_RW_COLLECT, /* k for each object delivered into the target zone */
-	EVO_RW_FORWARD_SPEED, /* k * speed along the heading (< 0 backing) */
-	EVO_RW_GATHER, /* k for each object the bot touches, which leaves */
-	EVO_RW_LUA,    /* a Lua function (sim/lua/lua_hooks.c) */
-	EVO_RW_DISTANCE, /* k * distance to the target */
-	EVO_RW_FINAL_DISTANCE, /* sums to k2 + k * the distance at the end */
-	EVO_RW_EFFORT,	 /* k * sum of (2c - 1)^2 over the bot's wheels */
-	EVO_RW_KIND_COUNT
-} evo_reward_kind;
+/* The kinds (evo_reward_kind, evo_control_kind) and their names are the
+ * scene model's: scene/kinds.h. */
 
 /* Whom a reward pays (docs/teams.md): its bot (and so the bot's team),
  * a team as a whole, or only the scene's total. Every reward counts in
@@ -310,16 +295,6 @@ typedef struct evo_reward {
 	double total;	 /* this episode */
 } evo_reward;
 
-typedef enum evo_control_kind {
-	EVO_CF_NEXT_ON_TIMEOUT = 0,	     /* after `ticks` ticks */
-	EVO_CF_NEXT_ON_COLLISION,	     /* when the bot touches anything */
-	EVO_CF_NEXT_ON_COLLISION_AND_TIMEOUT, /* either */
-	EVO_CF_NEXT_ON_COLLISION_WITH_TARGET, /* when the bot touches the target element */
-	EVO_CF_NEXT_ON_SENSOR_BELOW,	     /* when sensor's value < threshold */
-	EVO_CF_LUA,
-	EVO_CF_NEXT_ON_TARGET_REACHED, /* the bot's centre within threshold of the target's */
-	EVO_CF_KIND_COUNT
-} evo_control_kind;
 
 typedef struct evo_control_def {
 	evo_control_kind kind;

@@ -24,46 +24,46 @@ double evo_reward3d_compute(evo_scene3d *sc, evo_reward3d *r)
 	const evo_bot3d *b = &sc->bot[d->bot];
 	double v = 0;
 	switch (d->kind) {
-	case EVO3D_RW_CLOSING_ON_TARGET: {
+	case EVO_RW_CLOSING_ON_TARGET: {
 		double dist = evo_scene3d_distance(sc, d->bot, d->target);
 		if (r->previous >= 0)
 			v = d->k * (r->previous - dist);
 		r->previous = dist;
 		break;
 	}
-	case EVO3D_RW_SENSOR_OVER:
+	case EVO_RW_SENSOR_OVER:
 		for (int i = 0; i < d->n_sensors; i++) {
 			double s = b->sensor[d->sensor[i]].value;
 			if (s > d->threshold)
 				v += d->k * (s - d->threshold);
 		}
 		break;
-	case EVO3D_RW_SENSOR_UNDER:
+	case EVO_RW_SENSOR_UNDER:
 		for (int i = 0; i < d->n_sensors; i++) {
 			double s = b->sensor[d->sensor[i]].value;
 			if (s <= d->threshold)
 				v += d->k * (d->threshold - s);
 		}
 		break;
-	case EVO3D_RW_PUNISH_ON_COLLISION:
+	case EVO_RW_PUNISH_ON_COLLISION:
 		v = b->touching ? d->k : 0;
 		break;
-	case EVO3D_RW_FORWARD_MOTION: {
+	case EVO_RW_FORWARD_MOTION: {
 		double f = forward_speed(b);
 		v = f > 0.01 ? d->k : f < -0.01 ? d->k2 : 0;
 		break;
 	}
-	case EVO3D_RW_FORWARD_SPEED:
+	case EVO_RW_FORWARD_SPEED:
 		v = d->k * forward_speed(b);
 		break;
-	case EVO3D_RW_SPEED:
+	case EVO_RW_SPEED:
 		v = d->k *
 		    (b->v[0] * b->v[0] + b->v[1] * b->v[1] + b->v[2] * b->v[2]);
 		break;
-	case EVO3D_RW_STEP:
+	case EVO_RW_STEP:
 		v = d->k;
 		break;
-	case EVO3D_RW_KIND_COUNT:
+	default: /* 2D only: refused when added */
 		break;
 	}
 	if (!isfinite(v))
@@ -76,15 +76,15 @@ int evo_control3d_check(evo_scene3d *sc, const evo_control3d *c)
 {
 	const evo_bot3d *b = &sc->bot[c->def.bot];
 	switch (c->def.kind) {
-	case EVO3D_CF_NEXT_ON_TIMEOUT:
+	case EVO_CF_NEXT_ON_TIMEOUT:
 		return sc->tick >= c->def.ticks;
-	case EVO3D_CF_NEXT_ON_COLLISION:
+	case EVO_CF_NEXT_ON_COLLISION:
 		return b->touching > 0;
-	case EVO3D_CF_NEXT_ON_COLLISION_AND_TIMEOUT:
+	case EVO_CF_NEXT_ON_COLLISION_AND_TIMEOUT:
 		return b->touching > 0 || sc->tick >= c->def.ticks;
-	case EVO3D_CF_NEXT_ON_SENSOR_BELOW:
+	case EVO_CF_NEXT_ON_SENSOR_BELOW:
 		return b->sensor[c->def.sensor].value < c->def.threshold;
-	case EVO3D_CF_KIND_COUNT:
+	default: /* 2D only: refused when added */
 		break;
 	}
 	return 0;

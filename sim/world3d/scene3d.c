@@ -65,7 +65,7 @@ evo_bot3d_def evo_default_bot3d_def(void)
 	return d;
 }
 
-evo_reward3d_def evo_default_reward3d_def(evo_reward3d_kind kind)
+evo_reward3d_def evo_default_reward3d_def(evo_reward_kind kind)
 {
 	evo_reward3d_def d;
 	memset(&d, 0, sizeof d);
@@ -75,7 +75,7 @@ evo_reward3d_def evo_default_reward3d_def(evo_reward3d_kind kind)
 	return d;
 }
 
-evo_control3d_def evo_default_control3d_def(evo_control3d_kind kind)
+evo_control3d_def evo_default_control3d_def(evo_control_kind kind)
 {
 	evo_control3d_def d;
 	memset(&d, 0, sizeof d);
@@ -434,8 +434,11 @@ int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
 
 int evo_scene3d_add_reward(evo_scene3d *sc, const evo_reward3d_def *d)
 {
-	if ((unsigned)d->kind >= EVO3D_RW_KIND_COUNT)
+	if ((unsigned)d->kind >= EVO_RW_KIND_COUNT)
 		return evo_fail(&sc->err, "unknown reward kind %d", d->kind);
+	if (!(evo_reward_kind_dims(d->kind) & EVO_DIM_3D))
+		return evo_fail(&sc->err, "reward %s is 2D only",
+				evo_reward_kind_name(d->kind));
 	evo_bot3d *b = check_bot(sc, d->bot);
 	if (!b)
 		return -1;
@@ -449,7 +452,7 @@ int evo_scene3d_add_reward(evo_scene3d *sc, const evo_reward3d_def *d)
 		if (d->sensor[i] < 0 || d->sensor[i] >= b->n_sensors)
 			return evo_fail(&sc->err, "bot %s has no sensor %d",
 					b->name, d->sensor[i]);
-	if (d->kind == EVO3D_RW_CLOSING_ON_TARGET &&
+	if (d->kind == EVO_RW_CLOSING_ON_TARGET &&
 	    (d->target < 0 || d->target >= sc->n_elements))
 		return evo_fail(&sc->err, "ClosingOnTarget needs a target");
 	if (grow(sc, (void **)&sc->reward, &sc->cap_rewards, sc->n_rewards + 1,
@@ -464,14 +467,17 @@ int evo_scene3d_add_reward(evo_scene3d *sc, const evo_reward3d_def *d)
 
 int evo_scene3d_add_control(evo_scene3d *sc, const evo_control3d_def *d)
 {
-	if ((unsigned)d->kind >= EVO3D_CF_KIND_COUNT)
+	if ((unsigned)d->kind >= EVO_CF_KIND_COUNT)
 		return evo_fail(&sc->err, "unknown control kind %d", d->kind);
+	if (!(evo_control_kind_dims(d->kind) & EVO_DIM_3D))
+		return evo_fail(&sc->err, "control %s is 2D only",
+				evo_control_kind_name(d->kind));
 	evo_bot3d *b = check_bot(sc, d->bot);
 	if (!b)
 		return -1;
 	if (d->ticks < 1)
 		return evo_fail(&sc->err, "a control's ticks must be >= 1");
-	if (d->kind == EVO3D_CF_NEXT_ON_SENSOR_BELOW &&
+	if (d->kind == EVO_CF_NEXT_ON_SENSOR_BELOW &&
 	    (d->sensor < 0 || d->sensor >= b->n_sensors))
 		return evo_fail(&sc->err, "NextOnSensorBelow needs a sensor "
 					  "of its bot");

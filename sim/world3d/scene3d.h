@@ -24,6 +24,7 @@
 
 #include "base/err.h"
 #include "base/rng.h"
+#include "scene/kinds.h"
 #include "world3d/world3d.h"
 
 /* -std=c11 leaves it out of <math.h>. */
@@ -195,20 +196,12 @@ typedef struct evo_bot3d {
 
 /* ---- rewards and controls (the 2D ones that make sense in 3D) ---------- */
 
-typedef enum evo_reward3d_kind {
-	EVO3D_RW_CLOSING_ON_TARGET = 0, /* k * (previous distance - distance) */
-	EVO3D_RW_SENSOR_OVER,		/* k * sum(v - t) over v > t */
-	EVO3D_RW_SENSOR_UNDER,		/* k * sum(t - v) over v <= t */
-	EVO3D_RW_PUNISH_ON_COLLISION,	/* k every tick the bot touches */
-	EVO3D_RW_FORWARD_MOTION,	/* k moving ahead, k2 backing */
-	EVO3D_RW_FORWARD_SPEED,		/* k * speed along its heading */
-	EVO3D_RW_SPEED,			/* k * speed^2 */
-	EVO3D_RW_STEP,			/* k every tick */
-	EVO3D_RW_KIND_COUNT
-} evo_reward3d_kind;
+
+/* Kinds are the scene model's (scene/kinds.h), with the 2D world's names;
+ * a kind whose row there lacks EVO_DIM_3D is refused. */
 
 typedef struct evo_reward3d_def {
-	evo_reward3d_kind kind;
+	evo_reward_kind kind;
 	int bot;
 	double k, k2, threshold;
 	int target;
@@ -216,7 +209,7 @@ typedef struct evo_reward3d_def {
 	int sensor[EVO3D_REWARD_SENSORS];
 } evo_reward3d_def;
 
-evo_reward3d_def evo_default_reward3d_def(evo_reward3d_kind kind);
+evo_reward3d_def evo_default_reward3d_def(evo_reward_kind kind);
 
 typedef struct evo_reward3d {
 	evo_reward3d_def def;
@@ -224,23 +217,16 @@ typedef struct evo_reward3d {
 	double total;
 } evo_reward3d;
 
-typedef enum evo_control3d_kind {
-	EVO3D_CF_NEXT_ON_TIMEOUT = 0,
-	EVO3D_CF_NEXT_ON_COLLISION,
-	EVO3D_CF_NEXT_ON_COLLISION_AND_TIMEOUT,
-	EVO3D_CF_NEXT_ON_SENSOR_BELOW,
-	EVO3D_CF_KIND_COUNT
-} evo_control3d_kind;
 
 typedef struct evo_control3d_def {
-	evo_control3d_kind kind;
+	evo_control_kind kind;
 	int bot;
 	long ticks;
 	int sensor;
 	double threshold;
 } evo_control3d_def;
 
-evo_control3d_def evo_default_control3d_def(evo_control3d_kind kind);
+evo_control3d_def evo_default_control3d_def(evo_control_kind kind);
 
 typedef struct evo_control3d {
 	evo_control3d_def def;

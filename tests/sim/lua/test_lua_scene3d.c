@@ -141,6 +141,13 @@ TEST(bad_options_and_misplaced_calls_are_refused_at_their_line)
 	     "E.lua:2: scene:reward: no reward 'ClosingOnTraget' in 3D (did "
 	     "you mean "
 	     "ClosingOnTarget?)"},
+	    {"local b = scene:bot{} scene:reward('Collect', { bot = b })",
+	     "E.lua:2: scene:reward: reward 'Collect' is 2D only "
+	     "(docs/world3d.md)"},
+	    {"local b = scene:bot{} scene:control('CF_NextOnTargetReached', "
+	     "{ bot = b })",
+	     "E.lua:2: scene:control: control 'CF_NextOnTargetReached' is 2D "
+	     "only (docs/world3d.md)"},
 	    {"local b = scene:bot{} scene:control('NextOnTimeout', { tick = 5 "
 	     "})",
 	     "E.lua:2: scene:control: unknown option 'tick'"},
