@@ -606,9 +606,19 @@ end
 
 -- The champion: the agent that solved the largest admitted environment
 -- (the first of equals).
+-- With skills added, its network has their outputs, which the task's
+-- mind folder has not: it goes to the run folder only (and Mind/).
 local best = champion()
 if best then
-	host.save_champion(neat.to_net_text(neat.to_net(best.solver), string.format(
+	local text = neat.to_net_text(neat.to_net(best.solver), string.format(
 		"trained by evo: OPENENDED, seed %d, %d batches, solved environment %d of size %.17g",
-		host.seed, batches, best.id, best.size)))
+		host.seed, batches, best.id, best.size))
+	if #S.skills > 0 then
+		host.save("champion.net", text)
+		host.print(string.format("champion in %s/champion.net, with the %d skill(s) added: the "
+			.. "grown hierarchy is %s/Mind (Skills/%s/%s.net left as it was)", host.run_dir,
+			#S.skills, host.run_dir, LS, LS))
+	else
+		host.save_champion(text)
+	end
 end
