@@ -451,18 +451,18 @@ end
 -- Focused training of skill `name` (the evaluator's candidates are its
 -- networks) on `envs`, OPEN_FOCUS generations of NEAT: fitness the
 -- episodes' summed, plus BONUS per frontier environment solved. Returns
--- the best genome's network and the evaluations.
+-- the best genome's network, the evaluations and their seconds.
 local function focus(name, envs, n_frontier, n_in, n_out, b)
 	local fpop = neat.new{ inputs = n_in, outputs = n_out, options = options, rng = rng }
-	local evaluations = 0
+	local evaluations, seconds = 0, 0
 	for _ = 1, FOCUS do
 		local genomes = fpop:genomes()
 		local nets, fit = {}, {}
 		for i, g in ipairs(genomes) do nets[i], fit[i] = net_of(g), 0 end
 		for k, e in ipairs(envs) do
 			host.set_genome(e.text)
-			local f, _, solved = host.evaluate(nets, b)
-			evaluations = evaluations + #nets
+			local f, s, solved = host.evaluate(nets, b)
+			evaluations, seconds = evaluations + #nets, seconds + s
 			for i = 1, #nets do
 				fit[i] = fit[i] + f[i] + ((k <= n_frontier and solved[i]) and BONUS or 0)
 			end
@@ -471,7 +471,7 @@ local function focus(name, envs, n_frontier, n_in, n_out, b)
 	end
 	return neat.to_net_text(neat.to_net(fpop.best.genome), string.format(
 		"trained by evo in focus: OPENENDED, seed %d, skill %s added after batch %d, "
-		.. "fitness %.17g", host.seed, name, b, fpop.best.fitness)), evaluations
+		.. "fitness %.17g", host.seed, name, b, fpop.best.fitness)), evaluations, seconds
 end
 
 -- The workers evaluate the agents with the grown hierarchy.
@@ -483,7 +483,8 @@ local function grow_agents()
 	end
 end
 
--- Add skill <Template><k> after batch b. Returns the evaluations.
+-- Add skill <Template><k> after batch b. Returns the focus's evaluations
+-- and their seconds.
 local function develop(b)
 	local k = #S.skills + 1
 	local name = TEMPLATE.name .. k
@@ -518,7 +519,7 @@ local function develop(b)
 	-- focus: the learning skill runs the champion (Mind/'s network)
 	local n_in, n_out = host.grow(GROWN_TASK, name,
 		{ [LS] = "Mind/Skills/" .. LS .. "/" .. LS .. ".net" })
-	local net, evaluations = focus(name, envs, n_frontier, n_in, n_out, b)
+	local net, evaluations, seconds = focus(name, envs, n_frontier, n_in, n_out, b)
 	S.skills[k].net = net
 	write_mind()
 	grow_agents()
@@ -529,7 +530,7 @@ local function develop(b)
 		.. "of the frontier before, %d after", name, b, reason, FOCUS, n_frontier,
 		#envs - n_frontier, before, S.skills[k].after))
 	S.idle, S.frontier = 0, {}
-	return evaluations
+	return evaluations, seconds
 end
 
 -- envs.csv: every admitted environment, in order: its number, the batch
@@ -586,7 +587,8 @@ for b = S.batch + 1, batches - 1 do
 	end
 	S.idle = new_envs > 0 and 0 or S.idle + 1
 	if TEMPLATE and S.idle >= DEVELOP and #S.skills < MAXSKILLS and b < batches - 1 then
-		evaluations = evaluations + develop(b)
+		local e, s = develop(b)
+		evaluations, seconds = evaluations + e, seconds + s
 	end
 	local sum = 0
 	for _, e in ipairs(S.envs) do sum = sum + e.size end
