@@ -15,6 +15,10 @@
 -- The first agents and environment come from a bootstrap: POPSIZE fresh
 -- NEAT genomes, mutated for at most OPEN_BOOTSTRAP rounds until some solve
 -- the generator's seed environment.
+-- With OPEN_SKILL, the hierarchy develops: after OPEN_DEVELOP batches that
+-- admitted no environment, a skill from the template is added under the
+-- learning skill, trained in focus on the frontier and frozen (develop,
+-- below); the run folder's Mind/ is the grown hierarchy's mind folder.
 --
 -- The machinery is learning's (host, the module evo.learn): the same
 -- evaluator and threads (host.set_genome picks the environment of the
