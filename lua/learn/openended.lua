@@ -15,6 +15,10 @@
 -- The first agents and environment come from a bootstrap: POPSIZE fresh
 -- NEAT genomes, mutated for at most OPEN_BOOTSTRAP rounds until some solve
 -- the generator's seed environment.
+-- With OPEN_SKILL, the hierarchy develops: after OPEN_DEVELOP batches that
+-- admitted no environment, a skill from the template is added under the
+-- learning skill, trained in focus on the frontier and frozen (develop,
+-- below); the run folder's Mind/ is the grown hierarchy's mind folder.
 --
 -- The machinery is learning's (host, the module evo.learn): the same
 -- evaluator and threads (host.set_genome picks the environment of the
@@ -33,6 +37,8 @@ local O = require("learn.openended_options").check(task, host.task_path, host.ta
 local ENVS, AGENTS, ENV_BATCH = O.envs, O.agents, O.env_batch
 local AGENT_BATCH, RESOURCE, BOOTSTRAP = O.agent_batch, O.resource, O.bootstrap
 local RETENTION = O.retention
+local DEVELOP, FOCUS, MAXSKILLS, TEMPLATE = O.develop, O.focus, O.max_skills, O.template
+if DEVELOP == 0 or MAXSKILLS == 0 then TEMPLATE = nil end
 local batches = host.generations or tonumber(task.NUMGEN or "50")
 local options = common.task_options(neat, task, host.task_path, host.task_lines)
 
@@ -126,7 +132,7 @@ else
 	pop = neat.new{ inputs = host.inputs, outputs = host.outputs, options = options, rng = rng }
 	S = { format = "evo-openended-1", seed = host.seed, batch = -1, envs = {}, agents = {},
 		annecs = 0, largest = 0, env_next = 0, agent_next = 0, next_id = 0, seen = {},
-		admitted = {} }
+		admitted = {}, idle = 0, frontier = {}, skills = {} }
 end
 local net_of = neat.pack_net or neat.to_net
 
@@ -202,6 +208,8 @@ local function agent_genomes()
 	return list
 end
 
+local keep_frontier -- development's, below
+
 -- One batch: new environments, then new agents.
 local function batch(b)
 	local seconds, evaluations, new_envs, new_agents = 0, 0, 0, 0
@@ -220,13 +228,16 @@ local function batch(b)
 			local genomes = agent_genomes()
 			local solved, s = solvers(text, genomes, b)
 			seconds, evaluations = seconds + s, evaluations + #genomes
+			local admitted = false
 			for i, g in ipairs(genomes) do
 				if solved[i] then
 					admit_env(child, text, b, g)
 					new_envs = new_envs + 1
+					admitted = true
 					break
 				end
 			end
+			if not admitted then keep_frontier(child, text) end
 		end
 	end
 	local children = {}
@@ -256,6 +267,274 @@ local function batch(b)
 		end
 	end
 	return seconds, evaluations, new_envs, new_agents
+end
+
+---------------------------------------------------------------------------
+-- Development (docs/openended.md, "Development"): when OPEN_DEVELOP
+-- batches in a row admitted no environment, a skill made from the
+-- template OPEN_SKILL names is added under the learning skill (the master
+-- in minds/OpenMaze): the learning skill gets one more output, SK:<new>,
+-- in every agent kept; the new skill is trained by NEAT in focus for
+-- OPEN_FOCUS generations on the frontier, every other skill frozen, the
+-- learning skill running the run's champion; its champion is frozen, and
+-- the run goes on with the grown hierarchy. The grown hierarchy is an
+-- ordinary mind folder in the run folder, Mind/, rewritten at each
+-- checkpoint; the workers evaluate with it (host.grow).
+local FRONTIER = 8     -- unsolved mutants kept for the frontier, newest
+local RECENT = 3       -- newest admitted environments added to a focus
+local BONUS = 100      -- a focus's fitness per frontier environment solved
+-- the new output's link from the bias node: neat_sigmoid(4.9 w) = 0.25,
+-- an influence of 0.25 (docs/openended.md says why)
+local INFLUENCE = 0.25
+local BIAS_WEIGHT = -math.log(1 / INFLUENCE - 1) / 4.9
+local LS = task.LEARNINGSKILL
+local TASK_FILE = host.task_path:match("([^/]+)$")
+local GROWN_TASK = "Mind/Tasks/" .. TASK_FILE
+
+-- A valid mutant no agent solved, kept for the frontier (newest last).
+function keep_frontier(genome, text)
+	if not TEMPLATE then return end
+	S.frontier[#S.frontier + 1] = { genome = genome, text = text }
+	while #S.frontier > FRONTIER do table.remove(S.frontier, 1) end
+end
+
+-- A file of the task's mind folder, or nil.
+local function mind_file(rel)
+	local f = io.open(host.mind_dir .. "/" .. rel, "r")
+	if not f then return nil end
+	local text = f:read("a")
+	f:close()
+	return text
+end
+
+-- The task's mind folder as the grown one starts from, read once (the
+-- checkpoint keeps it): the bot's files, the skills under MASTERSKILL
+-- (their SK: outputs followed), the generator when it is the folder's,
+-- the template, the task and a DEMOSIM task of the generator.
+local function base_mind()
+	if S.mind then return S.mind end
+	local m = { files = {}, skills = {} }
+	local function file(name, text) if text then m.files[#m.files + 1] = { name = name, text = text } end end
+	local bot = task.BOTNAME or ""
+	file(bot .. ".botdesc", mind_file(bot .. ".botdesc"))
+	file(bot .. ".vardesc", mind_file(bot .. ".vardesc"))
+	local seen, queue = {}, { task.MASTERSKILL or LS }
+	while #queue > 0 do
+		local name = table.remove(queue, 1)
+		if not seen[name] then
+			seen[name] = true
+			local ades = mind_file("Skills/" .. name .. "/" .. name .. ".ades")
+			if ades then
+				m.skills[#m.skills + 1] = { name = name, ades = ades,
+					net = mind_file("Skills/" .. name .. "/" .. name .. ".net") }
+				for child in ades:gsub("#[^\n]*", ""):gmatch("SK:(%S+)") do
+					queue[#queue + 1] = child
+				end
+			end
+		end
+	end
+	local envs = host.mind_dir .. "/Envs/"
+	if host.env_path and host.env_path:sub(1, #envs) == envs then
+		local rel = host.env_path:sub(#host.mind_dir + 2)
+		file(rel, mind_file(rel))
+	end
+	file(task.OPEN_SKILL, TEMPLATE.text)
+	local f = io.open(host.task_path, "r")
+	file("Tasks/" .. TASK_FILE, f and f:read("a"))
+	if f then f:close() end
+	local demo = { "# The grown hierarchy of an OPENENDED run, on its generator's seed",
+		"# environment (written by evo run; docs/openended.md)", "TYPE:DEMOSIM" }
+	for _, k in ipairs{ "BOTMODEL", "BOTNAME", "MASTERSKILL", "ENV", "TICKLIM" } do
+		if task[k] then demo[#demo + 1] = k .. ":" .. task[k] end
+	end
+	file("Tasks/Demo.simbatch", table.concat(demo, "\n") .. "\n")
+	S.mind = m
+	return m
+end
+
+-- .ades text with one output more, `SK:name`, after its last output.
+local function add_output(text, name)
+	local out, need, done = {}, nil, false
+	for line in (text:sub(-1) == "\n" and text or text .. "\n"):gmatch("([^\n]*)\n") do
+		local n = not done and not need and tonumber(line:match("^%s*output:(%d+)%s*$"))
+		if n then
+			out[#out + 1] = "output:" .. (n + 1)
+			need = n
+		else
+			out[#out + 1] = line
+			if need then
+				for _ in line:gsub("#.*", ""):gmatch("%S+") do need = need - 1 end
+			end
+		end
+		if need and need <= 0 then
+			out[#out + 1] = "SK:" .. name
+			need, done = nil, true
+		end
+	end
+	if not done then
+		error(string.format("%s: Skills/%s/%s.ades has no output:N with its N outputs",
+			host.mind_dir, LS, LS), 0)
+	end
+	return table.concat(out, "\n") .. "\n"
+end
+
+-- The champion: the agent that solved the largest admitted environment
+-- (the first of equals).
+local function champion()
+	local best
+	for _, a in ipairs(S.admitted) do
+		if not best or a.size > best.size then best = a end
+	end
+	return best
+end
+
+-- Mind/ in the run folder: the grown hierarchy as a mind folder, the
+-- learning skill's network the champion.
+local function write_mind()
+	if not TEMPLATE then return end
+	local m = base_mind()
+	local function put(name, text) host.save("Mind/" .. name, text) end
+	for _, f in ipairs(m.files) do put(f.name, f.text) end
+	local best = champion()
+	for _, sk in ipairs(m.skills) do
+		local ades, net = sk.ades, sk.net
+		if sk.name == LS then
+			for _, k in ipairs(S.skills) do ades = add_output(ades, k.name) end
+			net = best and neat.to_net_text(neat.to_net(best.solver), string.format(
+				"the champion of an OPENENDED run: it solved environment %d (size %.17g)",
+				best.id, best.size)) or net
+		end
+		put("Skills/" .. sk.name .. "/" .. sk.name .. ".ades", ades)
+		if net then put("Skills/" .. sk.name .. "/" .. sk.name .. ".net", net) end
+	end
+	for _, k in ipairs(S.skills) do
+		put("Skills/" .. k.name .. "/" .. k.name .. ".ades", k.ades)
+		if k.net then put("Skills/" .. k.name .. "/" .. k.name .. ".net", k.net) end
+	end
+end
+
+-- Genome g with one output more: node `id`, linked from the bias node by
+-- gene `innov` (so its output is INFLUENCE before any other link).
+local function add_output_gene(g, id, innov)
+	local bias, act
+	for _, nd in ipairs(g.nodes) do
+		if nd.kind == "bias" then bias = nd.id end
+		if nd.kind == "output" then act = act or nd.act end
+	end
+	g.nodes[#g.nodes + 1] = { id = id, kind = "output", act = act }
+	local links = {}
+	for i, l in ipairs(g.links) do
+		links[i] = { innov = l.innov, from = l.from, to = l.to, weight = l.weight,
+			enabled = l.enabled }
+	end
+	links[#links + 1] = { innov = innov, from = bias, to = id, weight = BIAS_WEIGHT,
+		enabled = true }
+	g.links = links
+	neat.own_genes(g)
+end
+
+-- How many of the environments `envs` ({text}) genome solves.
+local function count_solved(genome, envs, b)
+	local n = 0
+	for _, e in ipairs(envs) do
+		if solvers(e.text, { genome }, b)[1] then n = n + 1 end
+	end
+	return n
+end
+
+-- skills.csv: every skill added.
+local function skills_csv()
+	local out = { "skill,batch,reason,focus,frontier,solved_before,solved_after\n" }
+	for _, k in ipairs(S.skills) do
+		out[#out + 1] = string.format("%s,%d,\"%s\",%d,%d,%d,%d\n", k.name, k.batch, k.reason,
+			k.focus, k.frontier, k.before, k.after)
+	end
+	return table.concat(out)
+end
+
+-- Focused training of skill `name` (the evaluator's candidates are its
+-- networks) on `envs`, OPEN_FOCUS generations of NEAT: fitness the
+-- episodes' summed, plus BONUS per frontier environment solved. Returns
+-- the best genome's network, the evaluations and their seconds.
+local function focus(name, envs, n_frontier, n_in, n_out, b)
+	local fpop = neat.new{ inputs = n_in, outputs = n_out, options = options, rng = rng }
+	local evaluations, seconds = 0, 0
+	for _ = 1, FOCUS do
+		local genomes = fpop:genomes()
+		local nets, fit = {}, {}
+		for i, g in ipairs(genomes) do nets[i], fit[i] = net_of(g), 0 end
+		for k, e in ipairs(envs) do
+			host.set_genome(e.text)
+			local f, s, solved = host.evaluate(nets, b)
+			evaluations, seconds = evaluations + #nets, seconds + s
+			for i = 1, #nets do
+				fit[i] = fit[i] + f[i] + ((k <= n_frontier and solved[i]) and BONUS or 0)
+			end
+		end
+		fpop:tell(fit)
+	end
+	return neat.to_net_text(neat.to_net(fpop.best.genome), string.format(
+		"trained by evo in focus: OPENENDED, seed %d, skill %s added after batch %d, "
+		.. "fitness %.17g", host.seed, name, b, fpop.best.fitness)), evaluations, seconds
+end
+
+-- The workers evaluate the agents with the grown hierarchy.
+local function grow_agents()
+	local n_in, n_out = host.grow(GROWN_TASK, LS, {})
+	if n_in ~= pop.inputs or n_out ~= pop.outputs then
+		error(string.format("%s: the grown skill %s has %d inputs and %d outputs, "
+			.. "its agents %d and %d", GROWN_TASK, LS, n_in, n_out, pop.inputs, pop.outputs), 0)
+	end
+end
+
+-- Add skill <Template><k> after batch b. Returns the focus's evaluations
+-- and their seconds.
+local function develop(b)
+	local k = #S.skills + 1
+	local name = TEMPLATE.name .. k
+	local reason = string.format("no environment admitted in batches %d-%d", b - S.idle + 1, b)
+	local best = champion()
+	local envs = {}
+	for _, e in ipairs(S.frontier) do envs[#envs + 1] = e end
+	local n_frontier = #envs
+	for i = math.max(1, #S.envs - RECENT + 1), #S.envs do envs[#envs + 1] = S.envs[i] end
+	local before = count_solved(best.solver, S.frontier, b)
+	-- the learning skill's new output, in every genome of the run
+	pop.next_node, pop.next_innov = pop.next_node + 1, pop.next_innov + 1
+	pop.outputs = pop.outputs + 1
+	for _, a in ipairs(S.agents) do add_output_gene(a.genome, pop.next_node, pop.next_innov) end
+	for _, a in ipairs(S.admitted) do add_output_gene(a.solver, pop.next_node, pop.next_innov) end
+	-- the template's text, its first word (the skill's name) the new name
+	local t = TEMPLATE.text:gsub("^(%s*)([^\n]*)", function(space, line)
+		return space .. name .. (line:match("^[^%s#]+(.*)$") or "")
+	end, 1)
+	-- its network until the focus ends: no link, every output 0.5 (the
+	-- mind folder's loader wants one; the focus's candidates replace it)
+	local blank = { inputs = TEMPLATE.inputs, outputs = TEMPLATE.outputs, nodes = {},
+		outputs_ids = {}, links = {} }
+	for i = 1, TEMPLATE.outputs do
+		blank.nodes[i] = { id = TEMPLATE.inputs + i - 1, act = "neat_sigmoid", bias = 0 }
+		blank.outputs_ids[i] = TEMPLATE.inputs + i - 1
+	end
+	S.skills[k] = { name = name, batch = b, reason = reason, focus = FOCUS,
+		frontier = n_frontier, before = before, ades = t,
+		net = neat.to_net_text(blank, "in focused training") }
+	write_mind()
+	-- focus: the learning skill runs the champion (Mind/'s network)
+	local n_in, n_out = host.grow(GROWN_TASK, name,
+		{ [LS] = "Mind/Skills/" .. LS .. "/" .. LS .. ".net" })
+	local net, evaluations, seconds = focus(name, envs, n_frontier, n_in, n_out, b)
+	S.skills[k].net = net
+	write_mind()
+	grow_agents()
+	S.skills[k].after = count_solved(best.solver, S.frontier, b)
+	host.save("skills.csv", skills_csv())
+	host.print(string.format("skill %s added after batch %d (%s): focused training of %d "
+		.. "generations on %d frontier and %d admitted environments; the champion solves %d "
+		.. "of the frontier before, %d after", name, b, reason, FOCUS, n_frontier,
+		#envs - n_frontier, before, S.skills[k].after))
+	S.idle, S.frontier = 0, {}
+	return evaluations, seconds
 end
 
 -- envs.csv: every admitted environment, in order: its number, the batch
@@ -296,7 +575,12 @@ local function retention(b)
 	end
 end
 
-host.open_log(S.batch + 1, { "annecs", "largest", "envs", "agents" })
+host.open_log(S.batch + 1, { "annecs", "largest", "envs", "agents", "skills" })
+S.idle, S.frontier, S.skills = S.idle or 0, S.frontier or {}, S.skills or {}
+if #S.skills > 0 then
+	write_mind()
+	grow_agents()
+end
 for b = S.batch + 1, batches - 1 do
 	local seconds, evaluations, new_envs
 	if b == 0 then
@@ -305,29 +589,42 @@ for b = S.batch + 1, batches - 1 do
 	else
 		seconds, evaluations, new_envs = batch(b)
 	end
+	S.idle = new_envs > 0 and 0 or S.idle + 1
+	if TEMPLATE and S.idle >= DEVELOP and #S.skills < MAXSKILLS and b < batches - 1 then
+		local e, s = develop(b)
+		evaluations, seconds = evaluations + e, seconds + s
+	end
 	local sum = 0
 	for _, e in ipairs(S.envs) do sum = sum + e.size end
 	S.batch = b
 	host.log{ generation = b, generations = batches, best = S.largest, mean = sum / #S.envs,
 		best_ever = S.annecs, species = 0, evaluations = evaluations, solved = new_envs,
-		seconds = seconds, metrics = { S.annecs, S.largest, #S.envs, #S.agents },
-		note = string.format("ANNECS %d  largest %g  envs %d  agents %d", S.annecs, S.largest,
-			#S.envs, #S.agents) }
+		seconds = seconds, metrics = { S.annecs, S.largest, #S.envs, #S.agents, #S.skills },
+		note = string.format("ANNECS %d  largest %g  envs %d  agents %d  skills %d", S.annecs,
+			S.largest, #S.envs, #S.agents, #S.skills) }
 	if (RETENTION > 0 and (b + 1) % RETENTION == 0) or b == batches - 1 then retention(b) end
 	S.pop = neat.save(pop, true)
 	host.save("envs.csv", envs_csv())
+	write_mind()
 	host.save("checkpoint.lua", serialize.dump(S))
 	S.pop = nil
 end
 
 -- The champion: the agent that solved the largest admitted environment
 -- (the first of equals).
-local best
-for _, a in ipairs(S.admitted) do
-	if not best or a.size > best.size then best = a end
-end
+-- With skills added, its network has their outputs, which the task's
+-- mind folder has not: it goes to the run folder only (and Mind/).
+local best = champion()
 if best then
-	host.save_champion(neat.to_net_text(neat.to_net(best.solver), string.format(
+	local text = neat.to_net_text(neat.to_net(best.solver), string.format(
 		"trained by evo: OPENENDED, seed %d, %d batches, solved environment %d of size %.17g",
-		host.seed, batches, best.id, best.size)))
+		host.seed, batches, best.id, best.size))
+	if #S.skills > 0 then
+		host.save("champion.net", text)
+		host.print(string.format("champion in %s/champion.net, with the %d skill(s) added: the "
+			.. "grown hierarchy is %s/Mind (Skills/%s/%s.net left as it was)", host.run_dir,
+			#S.skills, host.run_dir, LS, LS))
+	else
+		host.save_champion(text)
+	end
 end

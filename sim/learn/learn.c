@@ -56,7 +56,7 @@ typedef struct learn {
 	int first; /* the generation this process started with */
 	int tty;
 	int n_extra; /* log columns the loop adds after the metrics */
-	char extra[4][EVO_RUNLOG_COLUMN_MAX];
+	char extra[6][EVO_RUNLOG_COLUMN_MAX];
 	/* LEARNSIMCONTINUOUS: the skills in the order of their turns (their
 	 * indices in task->mind), and the evaluator's definition of the
 	 * current turn with the networks the other skills run */
@@ -67,6 +67,10 @@ typedef struct learn {
 	evo_net_choice choice[CONT_MAX_SKILLS];
 	char choice_path[CONT_MAX_SKILLS][1200];
 	evo_eval_def ed;
+	/* OPENENDED's development (evo.grow): the grown mind folder's task,
+	 * and the names of the skills whose networks are chosen */
+	char grown_task[1200];
+	char choice_skill[CONT_MAX_SKILLS][EVO_NAME_MAX];
 	evo_lua_mem *mem; /* the loop's state's memory (LUAMEMORY) */
 	/* evo.evaluate's networks, kept from batch to batch (a batch of
 	 * 150 is 8 MB: allocated and cleared anew, it cost more than
@@ -433,7 +437,7 @@ static int l_open_log(lua_State *L)
 	learn *l = ctx(L);
 	evo_err err = {{0}};
 	l->first = (int)luaL_checkinteger(L, 1);
-	const char *names[EVO_SCENE_MAX_METRICS + 6];
+	const char *names[EVO_SCENE_MAX_METRICS + 8];
 	int nm = evo_evaluator_n_metrics(l->ev);
 	for (int k = 0; k < nm; k++)
 		names[k] = evo_evaluator_metric_name(l->ev, k);
@@ -442,10 +446,10 @@ static int l_open_log(lua_State *L)
 	l->n_extra = 0;
 	if (lua_istable(L, 2)) {
 		lua_Integer n = luaL_len(L, 2);
-		if (n > 4)
+		if (n > 6)
 			return luaL_error(L,
 					  "evo.open_log: %I columns of the "
-					  "loop's own (at most 4)",
+					  "loop's own (at most 6)",
 					  n);
 		for (int k = 0; k < (int)n; k++) {
 			lua_geti(L, 2, k + 1);
@@ -478,7 +482,7 @@ static int l_log(lua_State *L)
 	luaL_checktype(L, 1, LUA_TTABLE);
 	if (!l->log_open)
 		return luaL_error(L, "evo.log before evo.open_log");
-	double metrics[EVO_SCENE_MAX_METRICS + 4];
+	double metrics[EVO_SCENE_MAX_METRICS + 8];
 	int nm = evo_evaluator_n_metrics(l->ev) + l->n_extra +
 		 (evo_evaluator_n_teams(l->ev) > 0 ? 2 : 0);
 	lua_getfield(L, 1, "metrics");
@@ -575,12 +579,22 @@ static int l_save(lua_State *L)
 			 name);
 		if (evo_folder_check_links(l->run_dir, folder, &err))
 			return raise_msg(L, err.msg);
-		/* a folder of its own (OPENENDED's solvers/), made once */
+		/* folders of its own (OPENENDED's solvers/ and Mind/Skills/X),
+		 * each level made once */
 		char path[1200];
-		if (evo_path_fmt(path, sizeof path, &err, "%s/%s", l->run_dir,
-				 folder))
-			return raise_msg(L, err.msg);
-		mkdir(path, 0755);
+		for (char *c = folder;; c++) {
+			if (*c != '/' && *c)
+				continue;
+			char end = *c;
+			*c = 0;
+			if (evo_path_fmt(path, sizeof path, &err, "%s/%s",
+					 l->run_dir, folder))
+				return raise_msg(L, err.msg);
+			mkdir(path, 0755);
+			*c = end;
+			if (!end)
+				break;
+		}
 	}
 	if (evo_runlog_save(&l->log, name, text, len, &err))
 		return raise_msg(L, err.msg);
@@ -950,6 +964,55 @@ static int l_begin_turn(lua_State *L)
 	return 2;
 }
 
+/* evo.grow(task, skill, nets): OPENENDED's development (docs/openended.md):
+ * the evaluator is made anew from task, a .simbatch in the run folder (the
+ * grown mind folder's), the candidates running as skill, and every skill
+ * named in nets (skill -> a file of the run folder) running that network
+ * instead of its Skills/ one; with the same threads, seed, repetitions and
+ * ticks. Returns the candidates' inputs and outputs. */
+static int l_grow(lua_State *L)
+{
+	learn *l = ctx(L);
+	const char *task = luaL_checkstring(L, 1);
+	const char *skill = luaL_checkstring(L, 2);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	evo_err err = {{0}};
+	if (evo_path_fmt(l->grown_task, sizeof l->grown_task, &err, "%s/%s",
+			 l->run_dir, task))
+		return raise_msg(L, err.msg);
+	unsigned n = 0;
+	lua_pushnil(L);
+	while (lua_next(L, 3)) {
+		const char *name = lua_tostring(L, -2);
+		const char *file = lua_tostring(L, -1);
+		if (!name || !file || n == CONT_MAX_SKILLS)
+			return luaL_error(L, "evo.grow: nets must map at most "
+					     "%d skills to files",
+					  CONT_MAX_SKILLS);
+		snprintf(l->choice_skill[n], sizeof l->choice_skill[n], "%s",
+			 name);
+		if (evo_path_fmt(l->choice_path[n], sizeof l->choice_path[n],
+				 &err, "%s/%s", l->run_dir, file))
+			return raise_msg(L, err.msg);
+		l->choice[n].skill = l->choice_skill[n];
+		l->choice[n].source = l->choice_path[n];
+		n++;
+		lua_pop(L, 1);
+	}
+	snprintf(l->skill, sizeof l->skill, "%s", skill);
+	l->ed.task_path = l->grown_task;
+	l->ed.learning_skill = l->skill;
+	l->ed.nets = l->choice;
+	l->ed.n_nets = n;
+	evo_evaluator_destroy(l->ev);
+	l->ev = evo_evaluator_create(&l->ed, &err);
+	if (!l->ev)
+		return raise_msg(L, err.msg);
+	lua_pushinteger(L, (lua_Integer)evo_evaluator_n_in(l->ev));
+	lua_pushinteger(L, (lua_Integer)evo_evaluator_n_out(l->ev));
+	return 2;
+}
+
 /* evo.read_skill_net(skill) -> the text of Skills/<skill>/<skill>.net, or
  * nil when there is none. */
 static int l_read_skill_net(lua_State *L)
@@ -1027,6 +1090,7 @@ static const luaL_Reg learn_fns[] = {
     {"save_many", l_save_many},
     {"print", l_print},
     {"begin_turn", l_begin_turn},
+    {"grow", l_grow},
     {"read_skill_net", l_read_skill_net},
     {"save_skill_net", l_save_skill_net},
     {NULL, NULL},

@@ -467,6 +467,219 @@ TEST(a_generator_cannot_require_a_module_linked_out_of_its_folder)
 	free(o);
 }
 
+/* ---- development (docs/openended.md, "Development") ------------------ */
+
+/* A copy of minds/OpenMaze whose task grows a skill after every batch
+ * that admits no maze (OPEN_DEVELOP 1), one maze tried a batch, 3
+ * generations of focus. */
+static void make_dev_mind(const char *name)
+{
+	make_mind(name);
+	CHECK_EQ_INT(cli_sh("sed -i 's/^OPEN_DEVELOP:.*/OPEN_DEVELOP:1/; "
+			    "s/^OPEN_FOCUS:.*/OPEN_FOCUS:3/; "
+			    "s/^OPEN_ENV_BATCH:.*/OPEN_ENV_BATCH:1/' "
+			    "%s/%s/OpenMaze/Tasks/OpenMaze.simbatch",
+			    cli_tmp, name),
+		     0);
+}
+
+static int run_dev(const char *name, int gens, const char *extra)
+{
+	return cli_sh("timeout 300 %s run %s/%s/OpenMaze/Tasks/OpenMaze.simbatch "
+		      "--seed 3 --generations %d --no-save --run %s/%s/run %s > "
+		      "%s/%s/out.txt 2>&1",
+		      cli_evo, cli_tmp, name, gens, cli_tmp, name, extra,
+		      cli_tmp, name);
+}
+
+/* With OPEN_DEVELOP 1, a skill is added after each batch that admitted
+ * no maze (log.csv's solved 0), at most OPEN_MAXSKILLS (3): the log's
+ * skills column counts them, worked out here from its solved column;
+ * skills.csv and the run's output name each with its batch and reason;
+ * the grown mind folder's Maze.ades has one output SK:ExploreK more per
+ * skill, and each skill its focus-trained network. */
+TEST(development_adds_a_skill_after_batches_with_no_maze_admitted)
+{
+	make_dev_mind("d");
+	CHECK_EQ_INT(run_dev("d", 10, "--threads 2"), 0);
+	char *log = cli_read("%s/d/run/log.csv", cli_tmp);
+	CHECK(log && strstr(log, ",metric:agents,metric:skills\n"));
+	double solved[16], skills[16];
+	CHECK_EQ_INT(column(log ? log : "", 6, solved, 16), 10);
+	CHECK_EQ_INT(column(log ? log : "", 13, skills, 16), 10);
+	int want = 0, first = -1;
+	for (int b = 0; b < 10; b++) {
+		/* not after the last batch: nothing would run with it */
+		if (solved[b] == 0 && want < 3 && b < 9) {
+			want++;
+			if (first < 0)
+				first = b;
+		}
+		CHECK(skills[b] == want);
+	}
+	CHECK(first > 0);
+	free(log);
+	char line[256];
+	snprintf(line, sizeof line,
+		 "Explore1,%d,\"no environment admitted in batches %d-%d\",3,",
+		 first, first, first);
+	char *csv = cli_read("%s/d/run/skills.csv", cli_tmp);
+	CHECK(csv && strstr(csv, "skill,batch,reason,focus,frontier,"
+				 "solved_before,solved_after\n"));
+	CHECK(csv && strstr(csv, line));
+	free(csv);
+	snprintf(line, sizeof line,
+		 "skill Explore1 added after batch %d (no environment admitted "
+		 "in batches %d-%d): focused training of 3 generations",
+		 first, first, first);
+	char *out = cli_read("%s/d/out.txt", cli_tmp);
+	CHECK(out && strstr(out, line));
+	free(out);
+	char *ades = cli_read("%s/d/run/Mind/Skills/Maze/Maze.ades", cli_tmp);
+	CHECK(ades && strstr(ades, "output:3\nMO:TURN\nMO:SPEED\nSK:Explore1\n"));
+	free(ades);
+	char *net = cli_read("%s/d/run/Mind/Skills/Explore1/Explore1.net",
+			     cli_tmp);
+	CHECK(net && strstr(net, "# trained by evo in focus: OPENENDED, seed 3, "
+				 "skill Explore1 added after batch"));
+	CHECK(net && strstr(net, "\ninputs:10\noutputs:2\n"));
+	free(net);
+	/* the master's network is the champion, with the new output */
+	net = cli_read("%s/d/run/Mind/Skills/Maze/Maze.net", cli_tmp);
+	CHECK(net && strstr(net, "\ninputs:10\noutputs:3\n"));
+	free(net);
+}
+
+/* The grown mind folder is an ordinary one: DEMOSIM runs it headless (the
+ * seed maze, solved) and evo export makes its image. */
+TEST(the_grown_mind_folder_runs_under_demosim_and_exports)
+{
+	char out[8192];
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "timeout 60 %s run %s/d/run/Mind/Tasks/Demo.simbatch "
+				 "--headless 2>&1",
+				 cli_evo, cli_tmp),
+		     0);
+	CHECK_CONTAINS(out, "episode 1: reward");
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s export %s/d/run/Mind -o %s/d/mind.bin 2>&1",
+				 cli_evo, cli_tmp, cli_tmp),
+		     0);
+	CHECK_CONTAINS(out, "mind image of Maze");
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s check %s/d/run/Mind/Tasks/OpenMaze.simbatch 2>&1",
+				 cli_evo, cli_tmp),
+		     0);
+	CHECK_CONTAINS(out, ": ok");
+}
+
+/* Development is part of the run's determinism: one thread gives the
+ * same log and skills as two, and a run killed after its first skill was
+ * added resumes with the grown hierarchy to the same log and skills. */
+TEST(development_gives_the_same_log_with_threads_and_resume)
+{
+	make_dev_mind("d1");
+	CHECK_EQ_INT(run_dev("d1", 10, "--threads 1"), 0);
+	make_dev_mind("dk");
+	char cmd[2048], out[1024];
+	snprintf(out, sizeof out, "%s/dk/out.txt", cli_tmp);
+	snprintf(cmd, sizeof cmd,
+		 "exec %s run %s/dk/OpenMaze/Tasks/OpenMaze.simbatch --seed 3 "
+		 "--generations 10 --no-save --threads 2 --run %s/dk/run > %s "
+		 "2>&1",
+		 cli_evo, cli_tmp, cli_tmp, out);
+	int st;
+	double s;
+	CHECK_EQ_INT(cli_stop(cmd, out, "skills 1 ", 0.3, SIGKILL, &st, &s), 0);
+	CHECK(WIFSIGNALED(st) && WTERMSIG(st) == SIGKILL);
+	char *o = cli_read("%s/dk/run/checkpoint.lua", cli_tmp);
+	CHECK(o && strstr(o, "Explore1"));
+	free(o);
+	CHECK_EQ_INT(run_dev("dk", 10, "--threads 1 --resume"), 0);
+	o = cli_read("%s/dk/out.txt", cli_tmp);
+	CHECK(o && strstr(o, "resuming after batch"));
+	free(o);
+	const char *names[] = {"d1", "dk"};
+	char *sd = cli_read("%s/d/run/skills.csv", cli_tmp);
+	char dir[1024];
+	snprintf(dir, sizeof dir, "%s/d/run", cli_tmp);
+	char *ld = cli_fitness_log(dir);
+	for (int i = 0; i < 2; i++) {
+		snprintf(dir, sizeof dir, "%s/%s/run", cli_tmp, names[i]);
+		char *l = cli_fitness_log(dir);
+		char *sk = cli_read("%s/%s/run/skills.csv", cli_tmp, names[i]);
+		CHECK(ld && l && strcmp(ld, l) == 0);
+		CHECK(sd && sk && strcmp(sd, sk) == 0);
+		free(l);
+		free(sk);
+	}
+	free(ld);
+	free(sd);
+}
+
+/* The line of the task file that starts with `key`, 1-based; 0: none. */
+static int line_of(const char *name, const char *key)
+{
+	char *t = cli_read("%s/%s/OpenMaze/Tasks/OpenMaze.simbatch", cli_tmp, name);
+	int line = 1, at = 0;
+	for (const char *p = t; p && *p; p++) {
+		if ((p == t || p[-1] == '\n') && !strncmp(p, key, strlen(key))) {
+			at = line;
+			break;
+		}
+		if (*p == '\n')
+			line++;
+	}
+	free(t);
+	return at;
+}
+
+/* An OPEN_SKILL that is no file, or no skill template, stops the run at
+ * the task's OPEN_SKILL line. */
+TEST(a_bad_open_skill_is_reported_at_the_tasks_line)
+{
+	make_mind("bs");
+	CHECK_EQ_INT(cli_sh("sed -i 's|^OPEN_SKILL:.*|OPEN_SKILL:Templates/Nope.ades|' "
+			    "%s/bs/OpenMaze/Tasks/OpenMaze.simbatch",
+			    cli_tmp),
+		     0);
+	int at = line_of("bs", "OPEN_SKILL:");
+	CHECK(at > 0);
+	char want[512];
+	CHECK(run("bs", "OpenMaze", "") != 0);
+	char *o = cli_read("%s/bs/out.txt", cli_tmp);
+	snprintf(want, sizeof want,
+		 "OpenMaze.simbatch:%d: OPEN_SKILL Templates/Nope.ades: no such "
+		 "file in the mind folder",
+		 at);
+	CHECK(o && strstr(o, want));
+	free(o);
+	CHECK_EQ_INT(cli_sh("printf 'Nope\\ninput:2\\nSE:RF_LEFT\\noutput:1\\n"
+			    "MO:TURN\\nneural\\n' > %s/bs/OpenMaze/Templates/Nope.ades",
+			    cli_tmp),
+		     0);
+	CHECK(run("bs", "OpenMaze", "") != 0);
+	o = cli_read("%s/bs/out.txt", cli_tmp);
+	snprintf(want, sizeof want,
+		 "OpenMaze.simbatch:%d: OPEN_SKILL Templates/Nope.ades is not a "
+		 "skill template: input 2 of 2 is output:1",
+		 at);
+	CHECK(o && strstr(o, want));
+	free(o);
+	CHECK_EQ_INT(cli_sh("sed -i 's/^OPEN_SKILL:.*/OPEN_SKILL:Explore.txt/' "
+			    "%s/bs/OpenMaze/Tasks/OpenMaze.simbatch",
+			    cli_tmp),
+		     0);
+	CHECK(run("bs", "OpenMaze", "") != 0);
+	o = cli_read("%s/bs/out.txt", cli_tmp);
+	snprintf(want, sizeof want,
+		 "OpenMaze.simbatch:%d: OPEN_SKILL: expected a file name ending "
+		 "in .ades",
+		 at);
+	CHECK(o && strstr(o, want));
+	free(o);
+}
+
 int main(void)
 {
 	if (cli_setup("openended"))
@@ -484,6 +697,10 @@ int main(void)
 	RUN(a_generator_stuck_in_a_pattern_stops_at_its_line);
 	RUN(a_generator_that_allocates_without_end_stops_at_its_line);
 	RUN(a_generator_cannot_require_a_module_linked_out_of_its_folder);
+	RUN(development_adds_a_skill_after_batches_with_no_maze_admitted);
+	RUN(the_grown_mind_folder_runs_under_demosim_and_exports);
+	RUN(development_gives_the_same_log_with_threads_and_resume);
+	RUN(a_bad_open_skill_is_reported_at_the_tasks_line);
 	cli_cleanup();
 	return test_summary();
 }
