@@ -162,9 +162,28 @@ local function admit_env(genome, text, b, solver_genome)
 	while #S.envs > ENVS do table.remove(S.envs, 1) end
 end
 
+-- Retention's bookkeeping (retention() below): each admitted
+-- environment's `known`, the numbers of the kept agents known to solve
+-- it, and `tried`, the highest agent number that was tried on it.
+local function note_solver(env_id, agent_id)
+	local a = S.admitted[env_id]
+	a.known = a.known or {}
+	a.known[#a.known + 1] = agent_id
+end
+
+local function forget_agent(agent_id)
+	for _, a in ipairs(S.admitted) do
+		for i = #(a.known or {}), 1, -1 do
+			if a.known[i] == agent_id then table.remove(a.known, i) end
+		end
+	end
+end
+
 local function admit_agent(genome, b)
-	S.agents[#S.agents + 1] = { genome = genome, batch = b }
-	while #S.agents > AGENTS do table.remove(S.agents, 1) end
+	S.agent_id = (S.agent_id or 0) + 1
+	S.agents[#S.agents + 1] = { genome = genome, batch = b, id = S.agent_id }
+	while #S.agents > AGENTS do forget_agent(table.remove(S.agents, 1).id) end
+	return S.agent_id
 end
 
 -- The bootstrap: fresh genomes, mutated until some solve the seed.
@@ -185,6 +204,8 @@ local function bootstrap(b)
 		end
 		if first then
 			admit_env(seed, text, b, first)
+			for _, a in ipairs(S.agents) do note_solver(S.next_id, a.id) end
+			S.admitted[S.next_id].tried = S.agent_id
 			host.print(string.format("bootstrap: %d of %d agents solve the seed environment "
 				.. "after %d round(s)", #S.agents, #genomes, round))
 			return seconds, evaluations
@@ -224,6 +245,10 @@ local function batch(b)
 				if solved[i] then
 					admit_env(child, text, b, g)
 					new_envs = new_envs + 1
+					for k = i, #genomes do
+						if solved[k] then note_solver(S.next_id, S.agents[k].id) end
+					end
+					S.admitted[S.next_id].tried = S.agents[#S.agents].id
 					break
 				end
 			end
@@ -246,7 +271,7 @@ local function batch(b)
 			for i, g in ipairs(pending) do
 				if solved[i] and e.uses < RESOURCE then
 					e.uses = e.uses + 1
-					admit_agent(g, b)
+					note_solver(e.id, admit_agent(g, b))
 					new_agents = new_agents + 1
 				else
 					left[#left + 1] = g
@@ -269,30 +294,60 @@ local function envs_csv()
 	return table.concat(out)
 end
 
--- Retention: is every environment admitted so far still solved by some
--- agent kept? Each is tried on all of them; the environments none solves
--- are lost, and said so, never hidden (retention.csv and a line of the
--- run's output).
+-- Retention, after every batch: is every environment admitted so far
+-- still solved by some agent kept? An episode of GEN_Maze is the same in
+-- every batch (no noise, a fixed start), so an agent that solved an
+-- environment once solves it whenever tried, and one that failed fails
+-- again. `known` (note_solver) holds the kept agents that solved it, from
+-- the batches' own evaluations; an agent leaving the queue leaves it
+-- (forget_agent). Only an environment with no known solver is tried, on
+-- the kept agents numbered above its `tried` (those not tried on it
+-- before); one none of them solves is lost, and said so, never hidden
+-- (retention.csv, and a line of the run's output when the lost ones
+-- change), and tried again on each agent admitted later. Every
+-- OPEN_RETENTION batches (0: never) a full check tries every admitted
+-- environment on every agent kept, afresh.
 local function retention(b)
-	local genomes, lost = agent_genomes(), {}
+	local full = RETENTION > 0 and (b + 1) % RETENTION == 0
+	local lost, evaluations = {}, 0
 	for _, a in ipairs(S.admitted) do
-		local solved = solvers(a.text, genomes, b)
-		local kept = false
-		for i = 1, #genomes do kept = kept or solved[i] end
-		if not kept then lost[#lost + 1] = a.id end
+		if full then a.known, a.tried = {}, nil end
+		if a.known == nil or #a.known == 0 then
+			local agents, genomes = {}, {}
+			for _, k in ipairs(S.agents) do
+				if k.id > (a.tried or 0) then
+					agents[#agents + 1] = k
+					genomes[#genomes + 1] = k.genome
+				end
+			end
+			local solved = solvers(a.text, genomes, b)
+			evaluations = evaluations + #genomes
+			a.known = {}
+			for i, k in ipairs(agents) do
+				if solved[i] then a.known[#a.known + 1] = k.id end
+			end
+			a.tried = S.agent_id
+		end
+		if #a.known == 0 then lost[#lost + 1] = a.id end
 	end
 	S.retention = S.retention or {}
-	S.retention[#S.retention + 1] = { batch = b, admitted = #S.admitted, lost = lost }
-	local out = { "batch,admitted,retained,lost\n" }
+	local last = S.retention[#S.retention]
+	S.retention[#S.retention + 1] = { batch = b, admitted = #S.admitted, lost = lost,
+		evaluations = evaluations, full = full }
+	local out = { "batch,admitted,retained,lost,evaluations,full\n" }
 	for _, r in ipairs(S.retention) do
-		out[#out + 1] = string.format("%d,%d,%d,%s\n", r.batch, r.admitted,
-			r.admitted - #r.lost, table.concat(r.lost, " "))
+		out[#out + 1] = string.format("%d,%d,%d,%s,%d,%d\n", r.batch, r.admitted,
+			r.admitted - #r.lost, table.concat(r.lost, " "), r.evaluations, r.full and 1 or 0)
 	end
 	host.save("retention.csv", table.concat(out))
+	if table.concat(lost, " ") == table.concat(last and last.lost or {}, " ") then return end
 	if #lost > 0 then
 		host.print(string.format("retention after batch %d: %d of the %d environments admitted "
 			.. "are no longer solved by any agent kept (%s; retention.csv)", b, #lost,
 			#S.admitted, table.concat(lost, ", ")))
+	else
+		host.print(string.format("retention after batch %d: all %d environments admitted are "
+			.. "solved by agents kept again (retention.csv)", b, #S.admitted))
 	end
 end
 
@@ -313,7 +368,7 @@ for b = S.batch + 1, batches - 1 do
 		seconds = seconds, metrics = { S.annecs, S.largest, #S.envs, #S.agents },
 		note = string.format("ANNECS %d  largest %g  envs %d  agents %d", S.annecs, S.largest,
 			#S.envs, #S.agents) }
-	if (RETENTION > 0 and (b + 1) % RETENTION == 0) or b == batches - 1 then retention(b) end
+	retention(b)
 	S.pop = neat.save(pop, true)
 	host.save("envs.csv", envs_csv())
 	host.save("checkpoint.lua", serialize.dump(S))

@@ -16,7 +16,7 @@ M.defaults = {
 	agent_batch = 8,  -- new agents tried per batch
 	resource = 5,     -- agents an environment may admit
 	bootstrap = 20,   -- rounds of the bootstrap at most
-	retention = 10,   -- batches between retention checks (0: at the end only)
+	retention = 0,    -- batches between full retention checks (0: none)
 }
 
 M.task_keys = {
