@@ -351,6 +351,34 @@ local function retention(b)
 	end
 end
 
+-- gallery.png: up to GALLERY admitted environments, at evenly spaced
+-- ranks of envs.csv and the largest, each drawn at its episode's start
+-- with its number, batch and size under it (sim/learn/gallery.c); after
+-- the last batch, and after a batch when GALLERY_SECONDS have passed
+-- since the last one was drawn.
+local GALLERY, GALLERY_SECONDS = 24, 60
+local gallery_at = host.clock()
+local function gallery(b)
+	local n, picked, best = #S.admitted, {}, 1
+	for i, a in ipairs(S.admitted) do
+		if a.size > S.admitted[best].size then best = i end
+	end
+	local slots = n <= GALLERY and n or GALLERY - 1
+	for k = 1, slots do picked[1 + (k - 1) * (n - 1) // math.max(1, slots - 1)] = true end
+	picked[best] = true
+	local items = {}
+	for i, a in ipairs(S.admitted) do
+		if picked[i] then
+			items[#items + 1] = { a.text, string.format("env %d  batch %d  size %g", a.id,
+				a.batch, a.size) }
+		end
+	end
+	host.gallery(string.format("%s, seed %d: %d of the %d environments admitted by batch %d",
+		host.task_path:match("([^/]+)%.simbatch$") or host.task_path, host.seed, #items, n, b),
+		items)
+	gallery_at = host.clock()
+end
+
 host.open_log(S.batch + 1, { "annecs", "largest", "envs", "agents" })
 for b = S.batch + 1, batches - 1 do
 	local seconds, evaluations, new_envs
@@ -369,6 +397,9 @@ for b = S.batch + 1, batches - 1 do
 		note = string.format("ANNECS %d  largest %g  envs %d  agents %d", S.annecs, S.largest,
 			#S.envs, #S.agents) }
 	retention(b)
+	if host.gallery and (b == batches - 1 or host.clock() - gallery_at >= GALLERY_SECONDS) then
+		gallery(b)
+	end
 	S.pop = neat.save(pop, true)
 	host.save("envs.csv", envs_csv())
 	host.save("checkpoint.lua", serialize.dump(S))

@@ -4,9 +4,11 @@
  * maze's solution path is 3 cells (by hand: two steps along x, one along
  * y in a 3 x 2 grid); every admitted maze is solved by the agent that
  * solved it when admitted (replayed by evo run), and retention.csv counts
- * them all, and `evo run --env N` shows one with its solver; one thread and two
- * give the same log; a run killed with SIGKILL and resumed gives the same
- * log; a generator's error is reported at its file:line, and in the
+ * them all, and `evo run --env N` shows one with its solver; gallery.png
+ * draws a thumbnail of each (up to 24); retention after every batch by
+ * each maze's known solvers finds what full checks find; one thread and
+ * two give the same log, retention.csv and envs.csv; a run killed with
+ * SIGKILL and resumed gives the same ones; a generator's error is reported at its file:line, and in the
  * loop it runs in a sandbox with a scene script's limits and require: an
  * endless mutate, one that allocates without end and a require of a
  * module linked out of the mind folder each end the run at its line. */
@@ -18,7 +20,10 @@
 #include <sys/wait.h>
 
 #include "harness.h"
+#include "learn/gallery.h"
 #include "support/cli.h"
+#include "viewer/png.h"
+#include "viewer/viewer.h"
 
 static void make_mind(const char *name)
 {
@@ -159,6 +164,59 @@ TEST(every_admitted_maze_is_solved_by_its_solver)
 		      ret &&
 	      strstr(ret, want));
 	free(ret);
+}
+
+/* Pixels of colour rgb in the size x size square at (x0, y0) of img. */
+static int count_colour(const evo_png_image *img, int x0, int y0, int size,
+			uint32_t rgb)
+{
+	int n = 0;
+	for (int y = y0; y < y0 + size && y < img->h; y++)
+		for (int x = x0; x < x0 + size && x < img->w; x++) {
+			const uint8_t *p =
+			    img->pixels + ((size_t)y * img->w + x) * img->channels;
+			n += ((uint32_t)p[0] << 16 | (uint32_t)p[1] << 8 | p[2]) ==
+			     rgb;
+		}
+	return n;
+}
+
+/* gallery.png after the run: a thumbnail per admitted maze up to 24, six
+ * to a row (8 pixels around 180 x 180 thumbnails, a 14-pixel caption
+ * under each, a 22-pixel title), each with the maze's border drawn in the
+ * viewer's obstacle grey and its caption under it. */
+TEST(the_gallery_shows_the_admitted_mazes)
+{
+	char *envs = cli_read("%s/a/run/envs.csv", cli_tmp);
+	int n = -1;
+	for (const char *p = envs; p && *p; p++)
+		n += *p == '\n';
+	free(envs);
+	int k = n < 24 ? n : 24, cols = k < 6 ? k : 6, rows = (k + 5) / 6;
+	CHECK(k >= 5);
+	char path[1200];
+	snprintf(path, sizeof path, "%s/a/run/gallery.png", cli_tmp);
+	evo_png_image img;
+	evo_err err = {{0}};
+	CHECK_EQ_INT(evo_png_read(path, &img, &err), 0);
+	if (err.msg[0]) {
+		printf("  %s\n", err.msg);
+		return;
+	}
+	CHECK_EQ_INT(img.w, 8 + cols * (EVO_GALLERY_THUMB + 8));
+	CHECK_EQ_INT(img.h, 22 + rows * (EVO_GALLERY_THUMB + 14 + 8));
+	int drawn = 0, captioned = 0;
+	for (int i = 0; i < k; i++) {
+		int x = 8 + (i % 6) * (EVO_GALLERY_THUMB + 8);
+		int y = 22 + (i / 6) * (EVO_GALLERY_THUMB + 14 + 8);
+		drawn += count_colour(&img, x, y, EVO_GALLERY_THUMB,
+				      EVO_VIEW_OBSTACLE) > 100;
+		captioned += count_colour(&img, x, y + EVO_GALLERY_THUMB, 14,
+					  0xD8DCE2u) > 10;
+	}
+	CHECK_EQ_INT(drawn, k);
+	CHECK_EQ_INT(captioned, k);
+	free(img.pixels);
 }
 
 /* evo run TASK --env N shows admitted environment N with its solver: the
@@ -569,6 +627,7 @@ int main(void)
 	RUN(annecs_rises_and_the_seed_maze_is_three_cells);
 	RUN(every_admitted_maze_is_solved_by_its_solver);
 	RUN(evo_run_env_shows_an_admitted_maze_with_its_solver);
+	RUN(the_gallery_shows_the_admitted_mazes);
 	RUN(retention_after_every_batch_is_the_full_checks);
 	RUN(one_thread_and_two_give_the_same_log);
 	RUN(a_killed_and_resumed_run_gives_the_same_log);
