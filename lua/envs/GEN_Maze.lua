@@ -107,16 +107,32 @@ local function span_rows(m, dir)
 	return list
 end
 
--- The kinds of mutation, with their shares of the draws.
-local ADD_WALL, ADD_SPAN, MOVE_GAP, FAR_GAP = 0.25, 0.55, 0.7, 0.8
+-- A wall's passage one cell along it, either way (a spanning wall's
+-- "far border" becomes the cell it is at now, then moves).
+local function shift_gap(m, wall, step)
+	local len = wall[4] == 0 and (wall[3] == 0 and m.w or m.h) or wall[4]
+	local gap = wall[5] < 0 and len - 1 or wall[5]
+	wall[5] = math.max(0, math.min(len - 1, gap + step))
+end
+
+-- The kinds of mutation, by where a draw in [0, 1) falls: below ADD_WALL
+-- a short wall, then a wall dropped, a spanning wall, a passage anywhere
+-- on its wall, a passage one cell along, a passage to the far end, and
+-- from FAR_GAP on a row or a column more.
+local ADD_WALL, DROP_WALL, ADD_SPAN, MOVE_GAP, SHIFT_GAP, FAR_GAP =
+	0.15, 0.25, 0.45, 0.55, 0.7, 0.8
 
 local function mutant(g, rng)
 	local m = copy(g)
 	local r = rng:unit()
-	if r < ADD_WALL or (r >= ADD_SPAN and r < FAR_GAP and #m.walls == 0) then
+	local of_a_wall = (r >= ADD_WALL and r < DROP_WALL) or (r >= ADD_SPAN and r < FAR_GAP)
+	if of_a_wall and #m.walls == 0 then r = 0 end -- no wall to change: one added
+	if r < ADD_WALL then
 		local dir = draw(rng, 0, 1)
 		local len = draw(rng, 2, math.max(2, dir == 0 and m.w or m.h))
 		m.walls[#m.walls + 1] = { draw(rng, 1, m.w), draw(rng, 1, m.h), dir, len, draw(rng, 0, len - 1) }
+	elseif r < DROP_WALL then
+		table.remove(m.walls, draw(rng, 1, #m.walls))
 	elseif r < ADD_SPAN then
 		local dir = draw(rng, 0, 1)
 		local free = span_rows(m, dir)
@@ -128,6 +144,8 @@ local function mutant(g, rng)
 		local wall = m.walls[draw(rng, 1, #m.walls)]
 		local len = wall[4] == 0 and (wall[3] == 0 and m.w or m.h) or wall[4]
 		wall[5] = draw(rng, 0, len - 1)
+	elseif r < SHIFT_GAP then
+		shift_gap(m, m.walls[draw(rng, 1, #m.walls)], draw(rng, 0, 1) == 0 and -1 or 1)
 	elseif r < FAR_GAP then
 		local wall = m.walls[draw(rng, 1, #m.walls)]
 		wall[5] = far_end(wall)
