@@ -301,33 +301,48 @@ end
 -- again. `known` (note_solver) holds the kept agents that solved it, from
 -- the batches' own evaluations; an agent leaving the queue leaves it
 -- (forget_agent). Only an environment with no known solver is tried, on
--- the kept agents numbered above its `tried` (those not tried on it
--- before); one none of them solves is lost, and said so, never hidden
+-- the kept agents not tried on it before (try_kept); one none of them
+-- solves is lost, and said so, never hidden
 -- (retention.csv, and a line of the run's output when the lost ones
 -- change), and tried again on each agent admitted later. Every
 -- OPEN_RETENTION batches (0: never) a full check tries every admitted
 -- environment on every agent kept, afresh.
+-- Try admitted environment a, which has no known solver, on the kept
+-- agents numbered above its `tried`, the newest first, RETENTION_CHUNK at
+-- a time, until some solve it: they are its known solvers. The agents
+-- left untried are older than them and leave the queue before them, so
+-- when the last known solver leaves, every kept agent not tried on a is
+-- again numbered above `tried`. Returns the evaluations.
+local RETENTION_CHUNK = 4
+local function try_kept(a, b)
+	local untried = {}
+	for i = #S.agents, 1, -1 do
+		if S.agents[i].id > (a.tried or 0) then untried[#untried + 1] = S.agents[i] end
+	end
+	a.known, a.tried = {}, S.agent_id
+	local evaluations = 0
+	for first = 1, #untried, RETENTION_CHUNK do
+		local chunk, genomes = {}, {}
+		for i = first, math.min(#untried, first + RETENTION_CHUNK - 1) do
+			chunk[#chunk + 1] = untried[i]
+			genomes[#genomes + 1] = untried[i].genome
+		end
+		local solved = solvers(a.text, genomes, b)
+		evaluations = evaluations + #genomes
+		for i, k in ipairs(chunk) do
+			if solved[i] then a.known[#a.known + 1] = k.id end
+		end
+		if #a.known > 0 then break end
+	end
+	return evaluations
+end
+
 local function retention(b)
 	local full = RETENTION > 0 and (b + 1) % RETENTION == 0
 	local lost, evaluations = {}, 0
 	for _, a in ipairs(S.admitted) do
 		if full then a.known, a.tried = {}, nil end
-		if a.known == nil or #a.known == 0 then
-			local agents, genomes = {}, {}
-			for _, k in ipairs(S.agents) do
-				if k.id > (a.tried or 0) then
-					agents[#agents + 1] = k
-					genomes[#genomes + 1] = k.genome
-				end
-			end
-			local solved = solvers(a.text, genomes, b)
-			evaluations = evaluations + #genomes
-			a.known = {}
-			for i, k in ipairs(agents) do
-				if solved[i] then a.known[#a.known + 1] = k.id end
-			end
-			a.tried = S.agent_id
-		end
+		if a.known == nil or #a.known == 0 then evaluations = evaluations + try_kept(a, b) end
 		if #a.known == 0 then lost[#lost + 1] = a.id end
 	end
 	S.retention = S.retention or {}
@@ -363,9 +378,15 @@ local function gallery(b)
 	for i, a in ipairs(S.admitted) do
 		if a.size > S.admitted[best].size then best = i end
 	end
-	local slots = n <= GALLERY and n or GALLERY - 1
-	for k = 1, slots do picked[1 + (k - 1) * (n - 1) // math.max(1, slots - 1)] = true end
-	picked[best] = true
+	local function spread(slots)
+		picked = {}
+		for k = 1, slots do picked[1 + (k - 1) * (n - 1) // math.max(1, slots - 1)] = true end
+	end
+	spread(math.min(n, GALLERY))
+	if not picked[best] then
+		spread(GALLERY - 1)
+		picked[best] = true
+	end
 	local items = {}
 	for i, a in ipairs(S.admitted) do
 		if picked[i] then
