@@ -313,7 +313,7 @@ end
 -- left untried are older than them and leave the queue before them, so
 -- when the last known solver leaves, every kept agent not tried on a is
 -- again numbered above `tried`. Returns the evaluations.
-local RETENTION_CHUNK = 4
+local RETENTION_CHUNK = 2
 local function try_kept(a, b)
 	local untried = {}
 	for i = #S.agents, 1, -1 do
@@ -358,8 +358,8 @@ local function retention(b)
 	if table.concat(lost, " ") == table.concat(last and last.lost or {}, " ") then return end
 	if #lost > 0 then
 		host.print(string.format("retention after batch %d: %d of the %d environments admitted "
-			.. "are no longer solved by any agent kept (%s; retention.csv)", b, #lost,
-			#S.admitted, table.concat(lost, ", ")))
+			.. "%s no longer solved by any agent kept (%s; retention.csv)", b, #lost,
+			#S.admitted, #lost == 1 and "is" or "are", table.concat(lost, ", ")))
 	else
 		host.print(string.format("retention after batch %d: all %d environments admitted are "
 			.. "solved by agents kept again (retention.csv)", b, #S.admitted))
