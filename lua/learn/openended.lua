@@ -294,19 +294,6 @@ local function envs_csv()
 	return table.concat(out)
 end
 
--- Retention, after every batch: is every environment admitted so far
--- still solved by some agent kept? An episode of GEN_Maze is the same in
--- every batch (no noise, a fixed start), so an agent that solved an
--- environment once solves it whenever tried, and one that failed fails
--- again. `known` (note_solver) holds the kept agents that solved it, from
--- the batches' own evaluations; an agent leaving the queue leaves it
--- (forget_agent). Only an environment with no known solver is tried, on
--- the kept agents not tried on it before (try_kept); one none of them
--- solves is lost, and said so, never hidden
--- (retention.csv, and a line of the run's output when the lost ones
--- change), and tried again on each agent admitted later. Every
--- OPEN_RETENTION batches (0: never) a full check tries every admitted
--- environment on every agent kept, afresh.
 -- Try admitted environment a, which has no known solver, on the kept
 -- agents numbered above its `tried`, the newest first, RETENTION_CHUNK at
 -- a time, until some solve it: they are its known solvers. The agents
@@ -337,6 +324,19 @@ local function try_kept(a, b)
 	return evaluations
 end
 
+-- Retention, after every batch: is every environment admitted so far
+-- still solved by some agent kept? An episode of GEN_Maze is the same in
+-- every batch (no noise, a fixed start), so an agent that solved an
+-- environment once solves it whenever tried, and one that failed fails
+-- again. `known` (note_solver) holds the kept agents that solved it, from
+-- the batches' own evaluations; an agent leaving the queue leaves it
+-- (forget_agent). Only an environment with no known solver is tried, on
+-- the kept agents not tried on it before (try_kept); one none of them
+-- solves is lost, and said so, never hidden (retention.csv, and a line
+-- of the run's output when the lost ones change), and tried again on
+-- each agent admitted later. Every OPEN_RETENTION batches (0: never) a
+-- full check tries every admitted environment on every agent kept,
+-- afresh (for a generator whose episodes depend on their seed).
 local function retention(b)
 	local full = RETENTION > 0 and (b + 1) % RETENTION == 0
 	local lost, evaluations = {}, 0
