@@ -6,9 +6,10 @@
 -- (0-based). A wall of len 0 spans the whole maze from the border: the
 -- row y (dir 0) or the column x (dir 1), however wide or tall the maze
 -- grows, its passage at cell `gap` counted from the border, or at the far
--- border when gap is -1. Mutations add a short wall, add a spanning wall
--- with its passage at one end, move a wall's passage, move it to the far
--- end of its wall, or enlarge the maze by a row or a column; a mutant
+-- border when gap is -1. Mutations add a short wall, drop a wall, add a
+-- spanning wall with its passage at one end, move a wall's passage
+-- anywhere, one cell along or to the far end of its wall, or enlarge the
+-- maze by a row or a column (their shares: ADD_WALL ... below); a mutant
 -- whose goal cannot be reached is drawn again. Spanning walls whose
 -- passages lie at alternate ends make the bot turn back: detours. A
 -- maze's size is its solution path: the fewest cell steps from start to
