@@ -3,11 +3,18 @@
 -- starts in cell (1, 1) facing +x, the goal is cell (w, h). Its genes are
 -- its walls: {x, y, dir, len, gap}, a wall of `len` cells from cell (x, y)
 -- along +x (dir 0) or +y (dir 1), with a passage at its cell number `gap`
--- (0-based). Mutations add a wall, move a wall's passage or enlarge the
--- maze by a row or a column; a mutant whose goal cannot be reached is
--- drawn again. A maze's size is its solution path: the fewest cell steps
--- from start to goal (a breadth-first search over the free cells), and
--- its episode lasts TICKS_BASE + TICKS_PER_CELL ticks per step of it.
+-- (0-based). A wall of len 0 spans the whole maze from the border: the
+-- row y (dir 0) or the column x (dir 1), however wide or tall the maze
+-- grows, its passage at cell `gap` counted from the border, or at the far
+-- border when gap is -1. Mutations add a short wall, drop a wall, add a
+-- spanning wall with its passage at one end, move a wall's passage
+-- anywhere, one cell along or to the far end of its wall, or enlarge the
+-- maze by a row or a column (their shares: ADD_WALL ... below); a mutant
+-- whose goal cannot be reached is drawn again. Spanning walls whose
+-- passages lie at alternate ends make the bot turn back: detours. A
+-- maze's size is its solution path: the fewest cell steps from start to
+-- goal (a breadth-first search over the free cells), and its episode
+-- lasts TICKS_BASE + TICKS_PER_CELL ticks per step of it.
 local openended = require "lib.openended"
 
 local CELL = 4            -- metres: MazeBot's radius is 1
@@ -33,6 +40,11 @@ local function blocked_cells(g)
 	local b = {}
 	for _, wall in ipairs(g.walls) do
 		local x, y, dir, len, gap = wall[1], wall[2], wall[3], wall[4], wall[5]
+		if len == 0 then -- spanning: from the border to the border
+			len = dir == 0 and g.w or g.h
+			if dir == 0 then x = 1 else y = 1 end
+			if gap < 0 then gap = len - 1 end
+		end
 		for k = 0, len - 1 do
 			local cx, cy = x + (dir == 0 and k or 0), y + (dir == 1 and k or 0)
 			if k ~= gap and cx >= 1 and cx <= g.w and cy >= 1 and cy <= g.h then
@@ -75,16 +87,69 @@ function gen.ticks(g) return TICKS_BASE + TICKS_PER_CELL * (gen.path_length(g) o
 -- rng: learn.rng's generator (rng:unit() in [0, 1)).
 local function draw(rng, lo, hi) return lo + math.floor(rng:unit() * (hi - lo + 1)) end
 
+-- The far end of a wall from its passage: the passage at the end
+-- farther from where it is (a spanning wall's at -1, the far border, or 0).
+local function far_end(wall)
+	if wall[4] == 0 then return wall[5] == 0 and -1 or 0 end
+	return wall[5] < wall[4] / 2 and wall[4] - 1 or 0
+end
+
+-- Where a spanning wall along dir may go: the inner rows (dir 0) or
+-- columns (dir 1), not the first nor the last, with no spanning wall of
+-- that dir on them or beside them (a corridor is left between two).
+local function span_rows(m, dir)
+	local taken, list = {}, {}
+	for _, w in ipairs(m.walls) do
+		if w[4] == 0 and w[3] == dir then taken[dir == 0 and w[2] or w[1]] = true end
+	end
+	for at = 2, (dir == 0 and m.h or m.w) - 1 do
+		if not (taken[at - 1] or taken[at] or taken[at + 1]) then list[#list + 1] = at end
+	end
+	return list
+end
+
+-- A wall's passage one cell along it, either way (a spanning wall's
+-- "far border" becomes the cell it is at now, then moves).
+local function shift_gap(m, wall, step)
+	local len = wall[4] == 0 and (wall[3] == 0 and m.w or m.h) or wall[4]
+	local gap = wall[5] < 0 and len - 1 or wall[5]
+	wall[5] = math.max(0, math.min(len - 1, gap + step))
+end
+
+-- The kinds of mutation, by where a draw in [0, 1) falls: below ADD_WALL
+-- a short wall, then a wall dropped, a spanning wall, a passage anywhere
+-- on its wall, a passage one cell along, a passage to the far end, and
+-- from FAR_GAP on a row or a column more.
+local ADD_WALL, DROP_WALL, ADD_SPAN, MOVE_GAP, SHIFT_GAP, FAR_GAP =
+	0.15, 0.25, 0.45, 0.55, 0.7, 0.8
+
 local function mutant(g, rng)
 	local m = copy(g)
 	local r = rng:unit()
-	if r < 0.5 or #m.walls == 0 then
+	local of_a_wall = (r >= ADD_WALL and r < DROP_WALL) or (r >= ADD_SPAN and r < FAR_GAP)
+	if of_a_wall and #m.walls == 0 then r = 0 end -- no wall to change: one added
+	if r < ADD_WALL then
 		local dir = draw(rng, 0, 1)
 		local len = draw(rng, 2, math.max(2, dir == 0 and m.w or m.h))
 		m.walls[#m.walls + 1] = { draw(rng, 1, m.w), draw(rng, 1, m.h), dir, len, draw(rng, 0, len - 1) }
-	elseif r < 0.8 then
+	elseif r < DROP_WALL then
+		table.remove(m.walls, draw(rng, 1, #m.walls))
+	elseif r < ADD_SPAN then
+		local dir = draw(rng, 0, 1)
+		local free = span_rows(m, dir)
+		if #free == 0 then return nil end -- no room: drawn again
+		local at = free[draw(rng, 1, #free)]
+		m.walls[#m.walls + 1] = { dir == 1 and at or 1, dir == 0 and at or 1, dir, 0,
+			draw(rng, 0, 1) == 0 and 0 or -1 }
+	elseif r < MOVE_GAP then
 		local wall = m.walls[draw(rng, 1, #m.walls)]
-		wall[5] = draw(rng, 0, wall[4] - 1)
+		local len = wall[4] == 0 and (wall[3] == 0 and m.w or m.h) or wall[4]
+		wall[5] = draw(rng, 0, len - 1)
+	elseif r < SHIFT_GAP then
+		shift_gap(m, m.walls[draw(rng, 1, #m.walls)], draw(rng, 0, 1) == 0 and -1 or 1)
+	elseif r < FAR_GAP then
+		local wall = m.walls[draw(rng, 1, #m.walls)]
+		wall[5] = far_end(wall)
 	elseif rng:unit() < 0.5 then
 		m.w = math.min(MAX_SIDE, m.w + 1)
 	else
@@ -97,7 +162,7 @@ end
 function gen.mutate(g, rng)
 	for _ = 1, TRIES do
 		local m = mutant(g, rng)
-		if gen.valid(m) then return m end
+		if m and gen.valid(m) then return m end
 	end
 	return copy(g)
 end

@@ -168,9 +168,28 @@ local function admit_env(genome, text, b, solver_genome)
 	while #S.envs > ENVS do table.remove(S.envs, 1) end
 end
 
+-- Retention's bookkeeping (retention() below): each admitted
+-- environment's `known`, the numbers of the kept agents known to solve
+-- it, and `tried`, the highest agent number that was tried on it.
+local function note_solver(env_id, agent_id)
+	local a = S.admitted[env_id]
+	a.known = a.known or {}
+	a.known[#a.known + 1] = agent_id
+end
+
+local function forget_agent(agent_id)
+	for _, a in ipairs(S.admitted) do
+		for i = #(a.known or {}), 1, -1 do
+			if a.known[i] == agent_id then table.remove(a.known, i) end
+		end
+	end
+end
+
 local function admit_agent(genome, b)
-	S.agents[#S.agents + 1] = { genome = genome, batch = b }
-	while #S.agents > AGENTS do table.remove(S.agents, 1) end
+	S.agent_id = (S.agent_id or 0) + 1
+	S.agents[#S.agents + 1] = { genome = genome, batch = b, id = S.agent_id }
+	while #S.agents > AGENTS do forget_agent(table.remove(S.agents, 1).id) end
+	return S.agent_id
 end
 
 -- The bootstrap: fresh genomes, mutated until some solve the seed.
@@ -191,6 +210,8 @@ local function bootstrap(b)
 		end
 		if first then
 			admit_env(seed, text, b, first)
+			for _, a in ipairs(S.agents) do note_solver(S.next_id, a.id) end
+			S.admitted[S.next_id].tried = S.agent_id
 			host.print(string.format("bootstrap: %d of %d agents solve the seed environment "
 				.. "after %d round(s)", #S.agents, #genomes, round))
 			return seconds, evaluations
@@ -234,6 +255,10 @@ local function batch(b)
 					admit_env(child, text, b, g)
 					new_envs = new_envs + 1
 					admitted = true
+					for k = i, #genomes do
+						if solved[k] then note_solver(S.next_id, S.agents[k].id) end
+					end
+					S.admitted[S.next_id].tried = S.agents[#S.agents].id
 					break
 				end
 			end
@@ -257,7 +282,7 @@ local function batch(b)
 			for i, g in ipairs(pending) do
 				if solved[i] and e.uses < RESOURCE then
 					e.uses = e.uses + 1
-					admit_agent(g, b)
+					note_solver(e.id, admit_agent(g, b))
 					new_agents = new_agents + 1
 				else
 					left[#left + 1] = g
@@ -548,31 +573,110 @@ local function envs_csv()
 	return table.concat(out)
 end
 
--- Retention: is every environment admitted so far still solved by some
--- agent kept? Each is tried on all of them; the environments none solves
--- are lost, and said so, never hidden (retention.csv and a line of the
--- run's output).
-local function retention(b)
-	local genomes, lost = agent_genomes(), {}
-	for _, a in ipairs(S.admitted) do
+-- Try admitted environment a, which has no known solver, on the kept
+-- agents numbered above its `tried`, the newest first, RETENTION_CHUNK at
+-- a time, until some solve it: they are its known solvers. The agents
+-- left untried are older than them and leave the queue before them, so
+-- when the last known solver leaves, every kept agent not tried on a is
+-- again numbered above `tried`. Returns the evaluations.
+local RETENTION_CHUNK = 2
+local function try_kept(a, b)
+	local untried = {}
+	for i = #S.agents, 1, -1 do
+		if S.agents[i].id > (a.tried or 0) then untried[#untried + 1] = S.agents[i] end
+	end
+	a.known, a.tried = {}, S.agent_id
+	local evaluations = 0
+	for first = 1, #untried, RETENTION_CHUNK do
+		local chunk, genomes = {}, {}
+		for i = first, math.min(#untried, first + RETENTION_CHUNK - 1) do
+			chunk[#chunk + 1] = untried[i]
+			genomes[#genomes + 1] = untried[i].genome
+		end
 		local solved = solvers(a.text, genomes, b)
-		local kept = false
-		for i = 1, #genomes do kept = kept or solved[i] end
-		if not kept then lost[#lost + 1] = a.id end
+		evaluations = evaluations + #genomes
+		for i, k in ipairs(chunk) do
+			if solved[i] then a.known[#a.known + 1] = k.id end
+		end
+		if #a.known > 0 then break end
+	end
+	return evaluations
+end
+
+-- Retention, after every batch: is every environment admitted so far
+-- still solved by some agent kept? An episode of GEN_Maze is the same in
+-- every batch (no noise, a fixed start), so an agent that solved an
+-- environment once solves it whenever tried, and one that failed fails
+-- again. `known` (note_solver) holds the kept agents that solved it, from
+-- the batches' own evaluations; an agent leaving the queue leaves it
+-- (forget_agent). Only an environment with no known solver is tried, on
+-- the kept agents not tried on it before (try_kept); one none of them
+-- solves is lost, and said so, never hidden (retention.csv, and a line
+-- of the run's output when the lost ones change), and tried again on
+-- each agent admitted later. Every OPEN_RETENTION batches (0: never) a
+-- full check tries every admitted environment on every agent kept,
+-- afresh (for a generator whose episodes depend on their seed).
+local function retention(b)
+	local full = RETENTION > 0 and (b + 1) % RETENTION == 0
+	local lost, evaluations = {}, 0
+	for _, a in ipairs(S.admitted) do
+		if full then a.known, a.tried = {}, nil end
+		if a.known == nil or #a.known == 0 then evaluations = evaluations + try_kept(a, b) end
+		if #a.known == 0 then lost[#lost + 1] = a.id end
 	end
 	S.retention = S.retention or {}
-	S.retention[#S.retention + 1] = { batch = b, admitted = #S.admitted, lost = lost }
-	local out = { "batch,admitted,retained,lost\n" }
+	local last = S.retention[#S.retention]
+	S.retention[#S.retention + 1] = { batch = b, admitted = #S.admitted, lost = lost,
+		evaluations = evaluations, full = full }
+	local out = { "batch,admitted,retained,lost,evaluations,full\n" }
 	for _, r in ipairs(S.retention) do
-		out[#out + 1] = string.format("%d,%d,%d,%s\n", r.batch, r.admitted,
-			r.admitted - #r.lost, table.concat(r.lost, " "))
+		out[#out + 1] = string.format("%d,%d,%d,%s,%d,%d\n", r.batch, r.admitted,
+			r.admitted - #r.lost, table.concat(r.lost, " "), r.evaluations, r.full and 1 or 0)
 	end
 	host.save("retention.csv", table.concat(out))
+	if table.concat(lost, " ") == table.concat(last and last.lost or {}, " ") then return end
 	if #lost > 0 then
 		host.print(string.format("retention after batch %d: %d of the %d environments admitted "
-			.. "are no longer solved by any agent kept (%s; retention.csv)", b, #lost,
-			#S.admitted, table.concat(lost, ", ")))
+			.. "%s no longer solved by any agent kept (%s; retention.csv)", b, #lost,
+			#S.admitted, #lost == 1 and "is" or "are", table.concat(lost, ", ")))
+	else
+		host.print(string.format("retention after batch %d: all %d environments admitted are "
+			.. "solved by agents kept again (retention.csv)", b, #S.admitted))
 	end
+end
+
+-- gallery.png: up to GALLERY admitted environments, at evenly spaced
+-- ranks of envs.csv and the largest, each drawn at its episode's start
+-- with its number, batch and size under it (sim/learn/gallery.c); after
+-- the last batch, and after a batch when GALLERY_SECONDS have passed
+-- since the last one was drawn.
+local GALLERY, GALLERY_SECONDS = 24, 60
+local gallery_at = host.clock()
+local function gallery(b)
+	local n, picked, best = #S.admitted, {}, 1
+	for i, a in ipairs(S.admitted) do
+		if a.size > S.admitted[best].size then best = i end
+	end
+	local function spread(slots)
+		picked = {}
+		for k = 1, slots do picked[1 + (k - 1) * (n - 1) // math.max(1, slots - 1)] = true end
+	end
+	spread(math.min(n, GALLERY))
+	if not picked[best] then
+		spread(GALLERY - 1)
+		picked[best] = true
+	end
+	local items = {}
+	for i, a in ipairs(S.admitted) do
+		if picked[i] then
+			items[#items + 1] = { a.text, string.format("env %d  batch %d  size %g", a.id,
+				a.batch, a.size) }
+		end
+	end
+	host.gallery(string.format("%s, seed %d: %d of the %d environments admitted by batch %d",
+		host.task_path:match("([^/]+)%.simbatch$") or host.task_path, host.seed, #items, n, b),
+		items)
+	gallery_at = host.clock()
 end
 
 host.open_log(S.batch + 1, { "annecs", "largest", "envs", "agents", "skills" })
@@ -602,7 +706,10 @@ for b = S.batch + 1, batches - 1 do
 		seconds = seconds, metrics = { S.annecs, S.largest, #S.envs, #S.agents, #S.skills },
 		note = string.format("ANNECS %d  largest %g  envs %d  agents %d  skills %d", S.annecs,
 			S.largest, #S.envs, #S.agents, #S.skills) }
-	if (RETENTION > 0 and (b + 1) % RETENTION == 0) or b == batches - 1 then retention(b) end
+	retention(b)
+	if host.gallery and (b == batches - 1 or host.clock() - gallery_at >= GALLERY_SECONDS) then
+		gallery(b)
+	end
 	S.pop = neat.save(pop, true)
 	host.save("envs.csv", envs_csv())
 	write_mind()

@@ -16,11 +16,11 @@ M.defaults = {
 	agent_batch = 8,  -- new agents tried per batch
 	resource = 5,     -- agents an environment may admit
 	bootstrap = 20,   -- rounds of the bootstrap at most
-	retention = 10,   -- batches between retention checks (0: at the end only)
 	develop = 15,     -- batches with no environment admitted before a skill is added (0: never)
 	skill = "none",   -- the template of the skills added: a .ades of the mind folder
 	focus = 10,       -- generations of a new skill's focused training
 	max_skills = 3,   -- skills added at most
+	retention = 0,    -- batches between full retention checks (0: none)
 }
 
 M.task_keys = {

@@ -29,6 +29,7 @@
 #include "base/terminal.h"
 #include "learn/curve.h"
 #include "learn/evaluate.h"
+#include "learn/gallery.h"
 #include "learn/heatmap.h"
 #include "learn/literature.h"
 #include "learn/lua_linalg.h"
@@ -852,6 +853,37 @@ static int l_heatmap(lua_State *L)
 	return 0;
 }
 
+/* evo.gallery(title, items): gallery.png of the run folder, a thumbnail
+ * of each item, {genome text, caption} (learn/gallery.h; OPENENDED). */
+static int l_gallery(lua_State *L)
+{
+	const char *title = luaL_checkstring(L, 1);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	evo_gallery_item items[EVO_GALLERY_MAX];
+	int n = (int)luaL_len(L, 2);
+	if (n < 1 || n > EVO_GALLERY_MAX)
+		return luaL_error(L, "evo.gallery: %d items (1 to %d)", n,
+				  EVO_GALLERY_MAX);
+	luaL_checkstack(L, 2 * n + 4, "evo.gallery");
+	for (int k = 0; k < n; k++) {
+		lua_geti(L, 2, k + 1);
+		luaL_checktype(L, -1, LUA_TTABLE);
+		lua_geti(L, -1, 1);
+		lua_geti(L, -2, 2);
+		items[k].genome = luaL_checkstring(L, -2);
+		items[k].caption = luaL_checkstring(L, -1);
+		lua_remove(L, -3); /* the strings stay on the stack */
+	}
+	learn *l = ctx(L);
+	char path[1200];
+	evo_err err = {{0}};
+	evo_task_opts to = {.seed_set = 1, .seed = l->task->seed};
+	if (evo_path_fmt(path, sizeof path, &err, "%s/gallery.png", l->run_dir) ||
+	    evo_gallery_write(l->task_path, &to, title, items, n, path, &err))
+		return raise_msg(L, err.msg);
+	return 0;
+}
+
 /* evo.clock() -> seconds on a monotonic wall clock (the loop times its
  * checkpoints by it: os.clock counts every thread's CPU). */
 static int l_clock(lua_State *L)
@@ -1086,6 +1118,7 @@ static const luaL_Reg learn_fns[] = {
     {"save_champion", l_save_champion},
     {"curve", l_curve},
     {"heatmap", l_heatmap},
+    {"gallery", l_gallery},
     {"clock", l_clock},
     {"save_many", l_save_many},
     {"print", l_print},

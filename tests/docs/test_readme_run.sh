@@ -8,7 +8,9 @@
 #   - docs/learning.md's blocks after the same mark quote the same replay
 #     lines, and one generation line;
 #   - docs/img/curve.png is that run's learning curve, byte for byte;
-#   - docs/img/viewer.png is what README's --screenshot command saves.
+#   - docs/img/viewer.png is what README's --screenshot command saves;
+#   - docs/img/openmaze-gallery.png is the gallery of docs/openended.md's
+#     OPENENDED run.
 # A figure or picture that no longer matches fails with the command that
 # makes it again. Ends with "N passed, N failed"; exits non-zero on a failure.
 cd "$(dirname "$0")/../.." || exit 2
@@ -80,6 +82,15 @@ rc=$?
 check $rc "docs/img/viewer.png is what README's --screenshot command saves"
 grep -q 'Collect-DEMO.simbatch --seed 1 --ticks 200 --screenshot' README.md
 check $? "README.md gives the command that makes docs/img/viewer.png"
+
+GALLERY="minds/OpenMaze/Tasks/OpenMaze.simbatch --seed 1 --generations 30 --no-save --run /tmp/oe-gallery"
+"$evo" run ${GALLERY%/tmp/oe-gallery} "$tmp/oe-gallery" >/dev/null 2>&1 &&
+	cmp -s "$tmp/oe-gallery/gallery.png" docs/img/openmaze-gallery.png
+rc=$?
+[ $rc = 0 ] || echo "    make it again: rm -rf /tmp/oe-gallery && build/evo run $GALLERY && cp /tmp/oe-gallery/gallery.png docs/img/openmaze-gallery.png"
+check $rc "docs/img/openmaze-gallery.png is the gallery of docs/openended.md's run"
+grep -qF "$GALLERY" docs/openended.md
+check $? "docs/openended.md gives the command that makes docs/img/openmaze-gallery.png"
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

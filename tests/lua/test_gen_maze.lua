@@ -27,12 +27,38 @@ function T.solution_paths_are_the_fewest_steps()
 	check(gen.path_length(shut) == nil and not gen.valid(shut), "no way through")
 end
 
+-- Walls of len 0 span the maze from border to border, however it grows;
+-- passages at alternate ends make a detour, worked out by hand.
+function T.spanning_walls_make_detours()
+	-- 4 x 5, row 2 spanned with its passage at the far border (x = 4),
+	-- row 4 with its passage at x = 1: along row 1 to x = 4 (3 steps), down
+	-- to row 3 (2), back to x = 1 (3), down to row 5 (2), on to x = 4 (3):
+	-- 13 steps where w + h - 2 = 7, a detour of 6 = 2 (w - 1), one
+	-- crossing of the maze there and back
+	local snake = { w = 4, h = 5, walls = { { 1, 2, 0, 0, -1 }, { 1, 4, 0, 0, 0 } } }
+	check(gen.path_length(snake) == 13, "the spanned serpentine: " .. tostring(gen.path_length(snake)))
+	-- one column wider, the walls still span it and the far passage
+	-- follows the border: 4 + 2 + 4 + 2 + 4 = 16, a detour of 2 (5 - 1) = 8
+	snake.w = 5
+	check(gen.path_length(snake) == 16, "wider: " .. tostring(gen.path_length(snake)))
+	-- a column spanned in 3 x 3 with its passage at y = 1 (gap 0): the
+	-- bot goes along row 1 and down, 4 steps as in the empty grid
+	check(gen.path_length{ w = 3, h = 3, walls = { { 2, 1, 1, 0, 0 } } } == 4, "column, near")
+	-- 5 x 3, column 2 open at its far end (y = 3), column 4 at y = 1:
+	-- down to (1,3) 2, across to (3,3) 2, up to (3,1) 2, across to (5,1) 2,
+	-- down to (5,3) 2: 10 steps where w + h - 2 = 6, a detour of 2 (h - 1)
+	local cols = { w = 5, h = 3, walls = { { 2, 1, 1, 0, -1 }, { 4, 1, 1, 0, 0 } } }
+	check(gen.path_length(cols) == 10, "columns: " .. tostring(gen.path_length(cols)))
+	-- a spanning wall's passage out of the maze shuts it
+	check(not gen.valid{ w = 3, h = 3, walls = { { 1, 2, 0, 0, 5 } } }, "no way through")
+end
+
 -- Mutants are valid, leave their parent as it was, and in many draws add
 -- walls, move passages and enlarge the maze, from one seed the same ones.
 function T.mutations_are_valid_and_seeded()
 	local function run(seed)
 		local rng, g, texts = random.new(seed), gen.seed(), {}
-		local grew, walls, moved = false, 0, false
+		local grew, walls, moved, spans, detour = false, 0, false, 0, 0
 		for i = 1, 120 do
 			local before = openended.encode(g)
 			local m = gen.mutate(g, rng)
@@ -43,9 +69,14 @@ function T.mutations_are_valid_and_seeded()
 			if #m.walls == #g.walls and #g.walls > 0 and m.w == g.w and m.h == g.h
 				and openended.encode(m) ~= before then moved = true end
 			texts[i] = openended.encode(m)
+			local n = 0
+			for _, w in ipairs(m.walls) do if w[4] == 0 then n = n + 1 end end
+			spans = math.max(spans, n)
+			detour = math.max(detour, gen.path_length(m) - (m.w + m.h - 2))
 			g = m
 		end
-		check(grew and walls > 3 and moved, "every kind of mutation happened")
+		check(grew and walls > 3 and moved and spans >= 2, "every kind of mutation happened")
+		check(detour >= 4, "a mutant makes a detour of " .. detour .. " steps")
 		return table.concat(texts, "\n")
 	end
 	check(run(5) == run(5), "one seed, one sequence")

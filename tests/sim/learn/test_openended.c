@@ -4,9 +4,11 @@
  * maze's solution path is 3 cells (by hand: two steps along x, one along
  * y in a 3 x 2 grid); every admitted maze is solved by the agent that
  * solved it when admitted (replayed by evo run), and retention.csv counts
- * them all, and `evo run --env N` shows one with its solver; one thread and two
- * give the same log; a run killed with SIGKILL and resumed gives the same
- * log; a generator's error is reported at its file:line, and in the
+ * them all, and `evo run --env N` shows one with its solver; gallery.png
+ * draws a thumbnail of each (up to 24); retention after every batch by
+ * each maze's known solvers finds what full checks find; one thread and
+ * two give the same log, retention.csv and envs.csv; a run killed with
+ * SIGKILL and resumed gives the same ones; a generator's error is reported at its file:line, and in the
  * loop it runs in a sandbox with a scene script's limits and require: an
  * endless mutate, one that allocates without end and a require of a
  * module linked out of the mind folder each end the run at its line. */
@@ -18,7 +20,10 @@
 #include <sys/wait.h>
 
 #include "harness.h"
+#include "learn/gallery.h"
 #include "support/cli.h"
+#include "viewer/png.h"
+#include "viewer/viewer.h"
 
 static void make_mind(const char *name)
 {
@@ -149,13 +154,69 @@ TEST(every_admitted_maze_is_solved_by_its_solver)
 	      strcmp(strchr(champion, '\n'), strchr(solver, '\n')) == 0);
 	free(champion);
 	free(solver);
-	/* retention, checked at the end: every admitted maze still solved */
+	/* retention, checked after every batch: the last row counts every
+	 * admitted maze */
 	char *ret = cli_read("%s/a/run/retention.csv", cli_tmp);
 	char want[64];
 	snprintf(want, sizeof want, "\n7,%d,", n);
-	CHECK(ret && strstr(ret, "batch,admitted,retained,lost\n") == ret &&
+	CHECK(ret &&
+	      strstr(ret, "batch,admitted,retained,lost,evaluations,full\n") ==
+		      ret &&
 	      strstr(ret, want));
 	free(ret);
+}
+
+/* Pixels of colour rgb in the size x size square at (x0, y0) of img. */
+static int count_colour(const evo_png_image *img, int x0, int y0, int size,
+			uint32_t rgb)
+{
+	int n = 0;
+	for (int y = y0; y < y0 + size && y < img->h; y++)
+		for (int x = x0; x < x0 + size && x < img->w; x++) {
+			const uint8_t *p =
+			    img->pixels + ((size_t)y * img->w + x) * img->channels;
+			n += ((uint32_t)p[0] << 16 | (uint32_t)p[1] << 8 | p[2]) ==
+			     rgb;
+		}
+	return n;
+}
+
+/* gallery.png after the run: a thumbnail per admitted maze up to 24, six
+ * to a row (8 pixels around 180 x 180 thumbnails, a 14-pixel caption
+ * under each, a 22-pixel title), each with the maze's border drawn in the
+ * viewer's obstacle grey and its caption under it. */
+TEST(the_gallery_shows_the_admitted_mazes)
+{
+	char *envs = cli_read("%s/a/run/envs.csv", cli_tmp);
+	int n = -1;
+	for (const char *p = envs; p && *p; p++)
+		n += *p == '\n';
+	free(envs);
+	int k = n < 24 ? n : 24, cols = k < 6 ? k : 6, rows = (k + 5) / 6;
+	CHECK(k >= 5);
+	char path[1200];
+	snprintf(path, sizeof path, "%s/a/run/gallery.png", cli_tmp);
+	evo_png_image img;
+	evo_err err = {{0}};
+	CHECK_EQ_INT(evo_png_read(path, &img, &err), 0);
+	if (err.msg[0]) {
+		printf("  %s\n", err.msg);
+		return;
+	}
+	CHECK_EQ_INT(img.w, 8 + cols * (EVO_GALLERY_THUMB + 8));
+	CHECK_EQ_INT(img.h, 22 + rows * (EVO_GALLERY_THUMB + 14 + 8));
+	int drawn = 0, captioned = 0;
+	for (int i = 0; i < k; i++) {
+		int x = 8 + (i % 6) * (EVO_GALLERY_THUMB + 8);
+		int y = 22 + (i / 6) * (EVO_GALLERY_THUMB + 14 + 8);
+		drawn += count_colour(&img, x, y, EVO_GALLERY_THUMB,
+				      EVO_VIEW_OBSTACLE) > 100;
+		captioned += count_colour(&img, x, y + EVO_GALLERY_THUMB, 14,
+					  0xD8DCE2u) > 10;
+	}
+	CHECK_EQ_INT(drawn, k);
+	CHECK_EQ_INT(captioned, k);
+	free(img.pixels);
 }
 
 /* evo run TASK --env N shows admitted environment N with its solver: the
@@ -207,6 +268,94 @@ TEST(evo_run_env_shows_an_admitted_maze_with_its_solver)
 	CHECK_CONTAINS(out, "--run DIR");
 }
 
+/* File `name` of run folders a and b: the same bytes. */
+static void same_file(const char *a, const char *b, const char *name)
+{
+	char *fa = cli_read("%s/%s/run/%s", cli_tmp, a, name);
+	char *fb = cli_read("%s/%s/run/%s", cli_tmp, b, name);
+	CHECK(fa && fb && strcmp(fa, fb) == 0);
+	if (fa && fb && strcmp(fa, fb) != 0)
+		printf("  %s differs between runs %s and %s\n", name, a, b);
+	free(fa);
+	free(fb);
+}
+
+/* Retention.csv's first four columns (batch, admitted, retained, lost). */
+static void retention_columns(const char *csv, char *out, size_t cap)
+{
+	size_t n = 0;
+	int comma = 0;
+	for (const char *p = csv; *p && n + 1 < cap; p++) {
+		if (*p == '\n')
+			comma = 0;
+		else if (*p == ',')
+			comma++;
+		if (comma < 4 || *p == '\n')
+			out[n++] = *p;
+	}
+	out[n] = 0;
+}
+
+/* Retention.csv's rows after its header: counted into *rows, those with
+ * a maze lost into *losses, their evaluations (the fifth column) summed
+ * into *evaluations. */
+static void retention_rows(const char *csv, int *rows, int *losses,
+			   long *evaluations)
+{
+	for (const char *p = strchr(csv, '\n'); p && p[1];
+	     p = strchr(p + 1, '\n')) {
+		int batch, admitted, retained;
+		if (sscanf(p + 1, "%d,%d,%d,", &batch, &admitted, &retained) != 3)
+			continue;
+		(*rows)++;
+		*losses += retained < admitted;
+		const char *f = p + 1;
+		for (int k = 0; k < 4 && f; k++) {
+			f = strchr(f, ',');
+			f = f ? f + 1 : NULL;
+		}
+		*evaluations += f ? strtol(f, NULL, 10) : 0;
+	}
+}
+
+/* The bookkeeping retention (each maze's known solvers, a maze tried
+ * only when its last one left) finds what a full check of every admitted
+ * maze on every kept agent after every batch (OPEN_RETENTION:1) finds,
+ * row for row, at a fraction of its evaluations; the run's own losses
+ * included. */
+TEST(retention_after_every_batch_is_the_full_checks)
+{
+	make_mind("f");
+	CHECK_EQ_INT(cli_sh("echo OPEN_RETENTION:1 >> "
+			    "%s/f/OpenMaze/Tasks/OpenMaze.simbatch",
+			    cli_tmp),
+		     0);
+	CHECK_EQ_INT(run("f", "OpenMaze", "--threads 1"), 0);
+	char *ra = cli_read("%s/a/run/retention.csv", cli_tmp);
+	char *rf = cli_read("%s/f/run/retention.csv", cli_tmp);
+	CHECK(ra && rf);
+	if (!ra || !rf)
+		return;
+	static char ca[1 << 16], cf[1 << 16];
+	retention_columns(ra, ca, sizeof ca);
+	retention_columns(rf, cf, sizeof cf);
+	CHECK_EQ_STR(ca, cf);
+	/* 8 rows, one per batch; some maze lost on the way, so the two
+	 * agree on a loss, not only on nothing lost */
+	int rows = 0, losses = 0;
+	long ea = 0, ef = 0;
+	retention_rows(ra, &rows, &losses, &ea);
+	retention_rows(rf, &rows, &losses, &ef);
+	rows /= 2;
+	CHECK_EQ_INT(rows, 8);
+	CHECK(losses > 0);
+	CHECK(ea > 0 && ea * 4 < ef);
+	printf("  retention evaluations: %ld by bookkeeping, %ld by full checks\n",
+	       ea, ef);
+	free(ra);
+	free(rf);
+}
+
 TEST(one_thread_and_two_give_the_same_log)
 {
 	make_mind("b");
@@ -218,6 +367,8 @@ TEST(one_thread_and_two_give_the_same_log)
 	CHECK(la && lb && strcmp(la, lb) == 0);
 	free(la);
 	free(lb);
+	same_file("a", "b", "retention.csv");
+	same_file("a", "b", "envs.csv");
 }
 
 TEST(a_killed_and_resumed_run_gives_the_same_log)
@@ -245,6 +396,8 @@ TEST(a_killed_and_resumed_run_gives_the_same_log)
 	CHECK(la && lk && strcmp(la, lk) == 0);
 	free(la);
 	free(lk);
+	same_file("a", "k", "retention.csv");
+	same_file("a", "k", "envs.csv");
 }
 
 /* A generator of the user's own in Envs/, whose mutate raises: the run
@@ -687,6 +840,8 @@ int main(void)
 	RUN(annecs_rises_and_the_seed_maze_is_three_cells);
 	RUN(every_admitted_maze_is_solved_by_its_solver);
 	RUN(evo_run_env_shows_an_admitted_maze_with_its_solver);
+	RUN(the_gallery_shows_the_admitted_mazes);
+	RUN(retention_after_every_batch_is_the_full_checks);
 	RUN(one_thread_and_two_give_the_same_log);
 	RUN(a_killed_and_resumed_run_gives_the_same_log);
 	RUN(a_generator_error_is_reported_at_its_line);
