@@ -38,6 +38,7 @@ local ENVS, AGENTS, ENV_BATCH = O.envs, O.agents, O.env_batch
 local AGENT_BATCH, RESOURCE, BOOTSTRAP = O.agent_batch, O.resource, O.bootstrap
 local RETENTION = O.retention
 local DEVELOP, FOCUS, MAXSKILLS, TEMPLATE = O.develop, O.focus, O.max_skills, O.template
+local PROGRESS = O.progress
 if DEVELOP == 0 or MAXSKILLS == 0 then TEMPLATE = nil end
 local batches = host.generations or tonumber(task.NUMGEN or "50")
 local options = common.task_options(neat, task, host.task_path, host.task_lines)
@@ -126,13 +127,15 @@ if saved then
 	pop = neat.load(S.pop)
 	rng = pop.rng
 	for _, a in ipairs(S.agents) do neat.own_genes(a.genome) end
+	for _, a in ipairs(S.archive) do neat.own_genes(a.genome) end
+	if S.best then neat.own_genes(S.best.solver) end
 	host.print(string.format("resuming after batch %d", S.batch))
 else
 	rng = random.new(host.seed)
 	pop = neat.new{ inputs = host.inputs, outputs = host.outputs, options = options, rng = rng }
 	S = { format = "evo-openended-1", seed = host.seed, batch = -1, envs = {}, agents = {},
 		annecs = 0, largest = 0, env_next = 0, agent_next = 0, next_id = 0, seen = {},
-		admitted = {}, idle = 0, frontier = {}, skills = {} }
+		admitted = {}, idle = 0, frontier = {}, skills = {}, archive = {} }
 end
 local net_of = neat.pack_net or neat.to_net
 
@@ -159,9 +162,15 @@ local function admit_env(genome, text, b, solver_genome)
 	S.seen[text] = true
 	S.annecs = S.annecs + 1
 	if size > S.largest then S.largest = size end
-	-- every admitted environment, with the agent that solved it then
-	S.admitted[#S.admitted + 1] = { id = S.next_id, batch = b, size = size, text = text,
-		solver = neat.copy_genome(solver_genome) }
+	-- every admitted environment; the agent that solved it then is
+	-- solvers/env-NNNN.net, and the checkpoint keeps only the champion's
+	-- genome (the one that solved the largest, the first of equals): a
+	-- genome for each of ten thousand environments would make every
+	-- checkpoint tens of megabytes
+	S.admitted[#S.admitted + 1] = { id = S.next_id, batch = b, size = size, text = text }
+	if not S.best or size > S.best.size then
+		S.best = { id = S.next_id, size = size, solver = neat.copy_genome(solver_genome) }
+	end
 	host.save(string.format("solvers/env-%04d.net", S.next_id), neat.to_net_text(
 		neat.to_net(solver_genome), string.format("solved environment %d (size %.17g) when "
 			.. "batch %d admitted it", S.next_id, size, b)))
@@ -185,10 +194,30 @@ local function forget_agent(agent_id)
 	end
 end
 
+-- Whether agent `id` is the only known solver of some admitted
+-- environment.
+local function sole_solver(id)
+	for _, a in ipairs(S.admitted) do
+		if a.known and #a.known == 1 and a.known[1] == id then return true end
+	end
+	return false
+end
+
+-- An agent leaving the queue that is the only known solver of some
+-- admitted environment goes to the archive: it breeds no more and tries
+-- no new environment, but it is kept in the run, so what the run solved
+-- stays solved (retention). Any other leaves the run.
 local function admit_agent(genome, b)
 	S.agent_id = (S.agent_id or 0) + 1
 	S.agents[#S.agents + 1] = { genome = genome, batch = b, id = S.agent_id }
-	while #S.agents > AGENTS do forget_agent(table.remove(S.agents, 1).id) end
+	while #S.agents > AGENTS do
+		local old = table.remove(S.agents, 1)
+		if sole_solver(old.id) then
+			S.archive[#S.archive + 1] = old
+		else
+			forget_agent(old.id)
+		end
+	end
 	return S.agent_id
 end
 
@@ -405,13 +434,7 @@ end
 
 -- The champion: the agent that solved the largest admitted environment
 -- (the first of equals).
-local function champion()
-	local best
-	for _, a in ipairs(S.admitted) do
-		if not best or a.size > best.size then best = a end
-	end
-	return best
-end
+local function champion() return S.best end
 
 -- Mind/ in the run folder: the grown hierarchy as a mind folder, the
 -- learning skill's network the champion.
@@ -517,7 +540,9 @@ end
 local function develop(b)
 	local k = #S.skills + 1
 	local name = TEMPLATE.name .. k
-	local reason = string.format("no environment admitted in batches %d-%d", b - S.idle + 1, b)
+	local reason = PROGRESS == "largest" and string.format("no environment larger than %g "
+		.. "admitted in batches %d-%d", S.largest, b - S.idle + 1, b)
+		or string.format("no environment admitted in batches %d-%d", b - S.idle + 1, b)
 	local best = champion()
 	local envs = {}
 	for _, e in ipairs(S.frontier) do envs[#envs + 1] = e end
@@ -528,7 +553,8 @@ local function develop(b)
 	pop.next_node, pop.next_innov = pop.next_node + 1, pop.next_innov + 1
 	pop.outputs = pop.outputs + 1
 	for _, a in ipairs(S.agents) do add_output_gene(a.genome, pop.next_node, pop.next_innov) end
-	for _, a in ipairs(S.admitted) do add_output_gene(a.solver, pop.next_node, pop.next_innov) end
+	for _, a in ipairs(S.archive) do add_output_gene(a.genome, pop.next_node, pop.next_innov) end
+	add_output_gene(best.solver, pop.next_node, pop.next_innov)
 	-- the template's text, its first word (the skill's name) the new name
 	local t = TEMPLATE.text:gsub("^(%s*)([^\n]*)", function(space, line)
 		return space .. name .. (line:match("^[^%s#]+(.*)$") or "")
@@ -585,6 +611,9 @@ local function try_kept(a, b)
 	for i = #S.agents, 1, -1 do
 		if S.agents[i].id > (a.tried or 0) then untried[#untried + 1] = S.agents[i] end
 	end
+	for i = #S.archive, 1, -1 do
+		if S.archive[i].id > (a.tried or 0) then untried[#untried + 1] = S.archive[i] end
+	end
 	a.known, a.tried = {}, S.agent_id
 	local evaluations = 0
 	for first = 1, #untried, RETENTION_CHUNK do
@@ -628,12 +657,6 @@ local function retention(b)
 	local last = S.retention[#S.retention]
 	S.retention[#S.retention + 1] = { batch = b, admitted = #S.admitted, lost = lost,
 		evaluations = evaluations, full = full }
-	local out = { "batch,admitted,retained,lost,evaluations,full\n" }
-	for _, r in ipairs(S.retention) do
-		out[#out + 1] = string.format("%d,%d,%d,%s,%d,%d\n", r.batch, r.admitted,
-			r.admitted - #r.lost, table.concat(r.lost, " "), r.evaluations, r.full and 1 or 0)
-	end
-	host.save("retention.csv", table.concat(out))
 	if table.concat(lost, " ") == table.concat(last and last.lost or {}, " ") then return end
 	if #lost > 0 then
 		host.print(string.format("retention after batch %d: %d of the %d environments admitted "
@@ -643,6 +666,45 @@ local function retention(b)
 		host.print(string.format("retention after batch %d: all %d environments admitted are "
 			.. "solved by agents kept again (retention.csv)", b, #S.admitted))
 	end
+end
+
+-- retention.csv: a row per batch.
+local function retention_csv()
+	local out = { "batch,admitted,retained,lost,evaluations,full\n" }
+	for _, r in ipairs(S.retention or {}) do
+		out[#out + 1] = string.format("%d,%d,%d,%s,%d,%d\n", r.batch, r.admitted,
+			r.admitted - #r.lost, table.concat(r.lost, " "), r.evaluations, r.full and 1 or 0)
+	end
+	return table.concat(out)
+end
+
+-- The checkpoint and the files that go with it (envs.csv, retention.csv,
+-- Mind/) are written after the first batch of a process, after the last,
+-- and after any batch that ends CHECKPOINT_SECONDS of wall time or more
+-- after the last checkpoint, as learning's are (lua/learn/learnsim.lua):
+-- a run of thousands of batches a few tenths of a second each does not
+-- write its whole state thousands of times. A checkpoint that took long
+-- to write waits CHECKPOINT_SHARE times as long. A run killed between two
+-- checkpoints goes on from the last one and does the batches after it
+-- again, identically. A batch after which a skill was added (a focused
+-- training costs many batches) is always followed by a checkpoint.
+local CHECKPOINT_SECONDS, CHECKPOINT_SHARE = 1.0, 10
+local last_checkpoint, checkpoint_cost = host.clock(), 0
+local first_batch = S.batch + 1
+local function checkpoint(b, developed)
+	if not (developed or b == first_batch or b == batches - 1 or host.clock() - last_checkpoint
+		>= math.max(CHECKPOINT_SECONDS, CHECKPOINT_SHARE * checkpoint_cost)) then
+		return
+	end
+	local t0 = host.clock()
+	S.pop = neat.save(pop, true)
+	host.save("envs.csv", envs_csv())
+	host.save("retention.csv", retention_csv())
+	write_mind()
+	host.save("checkpoint.lua", serialize.dump(S))
+	S.pop = nil
+	last_checkpoint = host.clock()
+	checkpoint_cost = last_checkpoint - t0
 end
 
 -- gallery.png: up to GALLERY admitted environments, at evenly spaced
@@ -693,8 +755,19 @@ for b = S.batch + 1, batches - 1 do
 	else
 		seconds, evaluations, new_envs = batch(b)
 	end
-	S.idle = new_envs > 0 and 0 or S.idle + 1
-	if TEMPLATE and S.idle >= DEVELOP and #S.skills < MAXSKILLS and b < batches - 1 then
+	-- progress, for development: an environment admitted (OPEN_PROGRESS
+	-- admitted), or one larger than any before (largest)
+	local progressed
+	if PROGRESS == "largest" then
+		progressed = S.largest > (S.progress_size or 0)
+		S.progress_size = S.largest
+	else
+		progressed = new_envs > 0
+	end
+	S.idle = progressed and 0 or S.idle + 1
+	local developed = TEMPLATE and S.idle >= DEVELOP and #S.skills < MAXSKILLS
+		and b < batches - 1
+	if developed then
 		local e, s = develop(b)
 		evaluations, seconds = evaluations + e, seconds + s
 	end
@@ -710,18 +783,14 @@ for b = S.batch + 1, batches - 1 do
 	if host.gallery and (b == batches - 1 or host.clock() - gallery_at >= GALLERY_SECONDS) then
 		gallery(b)
 	end
-	S.pop = neat.save(pop, true)
-	host.save("envs.csv", envs_csv())
-	write_mind()
-	host.save("checkpoint.lua", serialize.dump(S))
-	S.pop = nil
+	checkpoint(b, developed)
 end
 
 -- The champion: the agent that solved the largest admitted environment
 -- (the first of equals).
 -- With skills added, its network has their outputs, which the task's
 -- mind folder has not: it goes to the run folder only (and Mind/).
-local best = champion()
+local best = S.best
 if best then
 	local text = neat.to_net_text(neat.to_net(best.solver), string.format(
 		"trained by evo: OPENENDED, seed %d, %d batches, solved environment %d of size %.17g",

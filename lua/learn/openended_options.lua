@@ -20,6 +20,7 @@ M.defaults = {
 	skill = "none",   -- the template of the skills added: a .ades of the mind folder
 	focus = 10,       -- generations of a new skill's focused training
 	max_skills = 3,   -- skills added at most
+	progress = "admitted", -- what OPEN_DEVELOP waits for: any environment admitted, or a larger one
 	retention = 0,    -- batches between full retention checks (0: none)
 }
 
@@ -28,7 +29,7 @@ M.task_keys = {
 	OPEN_AGENT_BATCH = "agent_batch", OPEN_RESOURCE = "resource",
 	OPEN_BOOTSTRAP = "bootstrap", OPEN_RETENTION = "retention",
 	OPEN_DEVELOP = "develop", OPEN_SKILL = "skill", OPEN_FOCUS = "focus",
-	OPEN_MAXSKILLS = "max_skills",
+	OPEN_MAXSKILLS = "max_skills", OPEN_PROGRESS = "progress",
 }
 
 local SOME = { lo = 1, hi = 10000, int = true }
@@ -45,10 +46,12 @@ M.ranges = {
 
 -- OPEN_SKILL names a file: it ends in .ades (lib/openended.lua reads it,
 -- M.template, where the mind folder is known)
-local function check_word(key, s)
+local progress_word = common.choices(M.task_keys, { progress = { admitted = true, largest = true } })
+local function check_word(key, s, value)
 	if key == "OPEN_SKILL" and not s:match("%.ades$") then
 		error(key .. ": expected a file name ending in .ades, found '" .. s .. "'", 0)
 	end
+	progress_word(key, s, value)
 end
 
 function M.options_from_task(task)
