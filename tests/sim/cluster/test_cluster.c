@@ -395,8 +395,8 @@ TEST(a_team_task_is_refused_on_two_ranks)
 				 cli_evo, cli_tmp) != 0,
 		     1);
 	CHECK_CONTAINS(out, "a LEARN2DSIMMULTI task runs in one process; "
-			    "mpirun with more than one rank spreads LEARNSIM "
-			    "and LEARN3DSIM tasks");
+			    "mpirun with more than one rank spreads LEARNSIM, "
+			    "LEARN3DSIM and OPENENDED tasks");
 	char *log = cli_read("%s/team/log.csv", cli_tmp);
 	CHECK(log == NULL);
 	free(log);
