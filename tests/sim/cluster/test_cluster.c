@@ -9,7 +9,8 @@
  * run with the rank named instead of rank 0 dividing by zero, and a team
  * task is refused on more than one rank; an OPENENDED run on two ranks
  * is the plain one's with one and two threads, and resumes to it when
- * mpirun and its ranks are killed with SIGKILL.
+ * mpirun and its ranks are killed with SIGKILL, and an environment genome
+ * of 300,000 bytes gets to the other rank whole.
  *
  * Runs as root too (the OMPI_ALLOW_RUN_AS_ROOT variables) and on a
  * machine with fewer cores than ranks (--oversubscribe), as
@@ -436,6 +437,54 @@ TEST(an_openended_run_on_two_ranks_is_the_plain_runs)
 	same_open_run("op-np2", "op-t1");
 }
 
+/* An environment genome of 300,000 bytes and more (GEN_Maze's mazes
+ * carrying a padding, in a generator of the mind folder's Envs/) reaches
+ * the other rank whole: the two-rank run is the plain one's. */
+TEST(a_large_environment_genome_reaches_every_rank)
+{
+	make_open("op-big1");
+	make_open("op-big2");
+	static const char gen[] =
+	    "local openended = require 'lib.openended'\n"
+	    "local gen = {}\n"
+	    "for k, v in pairs(require('envs.GEN_Maze').generator) do "
+	    "gen[k] = v end\n"
+	    "local seed, mutate = gen.seed, gen.mutate\n"
+	    "local PAD = string.rep('x', 300000)\n"
+	    "gen.seed = function() local g = seed(); g.pad = PAD; return g "
+	    "end\n"
+	    "gen.mutate = function(g, rng) local m = mutate(g, rng); "
+	    "m.pad = g.pad; return m end\n"
+	    "return openended.env(gen)\n";
+	const char *names[] = {"op-big1", "op-big2"};
+	for (int k = 0; k < 2; k++) {
+		CHECK_EQ_INT(cli_sh("mkdir -p %s/%s/OpenMaze/Envs", cli_tmp,
+				    names[k]),
+			     0);
+		CHECK_EQ_INT(cli_write(gen, "%s/%s/OpenMaze/Envs/Big.lua",
+				       cli_tmp, names[k]),
+			     0);
+		CHECK_EQ_INT(
+		    cli_sh("sed 's/^ENV:GEN_Maze/ENV:Big/' "
+			   "%s/%s/OpenMaze/Tasks/OpenMaze.simbatch > "
+			   "%s/%s/OpenMaze/Tasks/Big.simbatch",
+			   cli_tmp, names[k], cli_tmp, names[k]),
+		    0);
+		CHECK_EQ_INT(
+		    cli_sh("%s %s run %s/%s/OpenMaze/Tasks/Big.simbatch "
+			   "--seed 3 --generations 3 --no-save --threads 1 "
+			   "--run %s/%s/run > %s/%s/out.txt 2>&1",
+			   k ? MPIRUN " -np 2" : "", cli_evo, cli_tmp,
+			   names[k], cli_tmp, names[k], cli_tmp, names[k]),
+		    0);
+	}
+	/* the padding is in the genomes the run admitted */
+	char *envs = cli_read("%s/op-big1/run/envs.csv", cli_tmp);
+	CHECK(envs && strlen(envs) > 300000);
+	free(envs);
+	same_open_run("op-big2", "op-big1");
+}
+
 /* A two-rank OPENENDED run whose mpirun and ranks are all killed with
  * SIGKILL in the middle (a machine lost) resumes on two ranks to the
  * uninterrupted run's result. */
@@ -616,6 +665,7 @@ int main(int argc, char **argv)
 	RUN(a_3d_task_spreads_over_ranks_as_a_2d_one);
 	RUN(a_killed_rank_stops_the_run_and_resume_with_other_ranks_finishes_it);
 	RUN(an_openended_run_on_two_ranks_is_the_plain_runs);
+	RUN(a_large_environment_genome_reaches_every_rank);
 	RUN(a_killed_openended_cluster_run_resumes_to_the_same_result);
 	RUN(a_rank_with_other_settings_is_named);
 	RUN(a_rank_whose_hello_is_not_evos_is_named);
