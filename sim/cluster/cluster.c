@@ -26,6 +26,7 @@
 #include "cluster/cluster_messages.h"
 
 #include <mpi.h>
+#include <limits.h>
 #include <pthread.h>
 #include <sched.h>
 #include <stdio.h>
@@ -55,6 +56,7 @@
 #define TAG_CHUNK  EVO_CLUSTER_TAG_CHUNK
 #define TAG_RESULT EVO_CLUSTER_TAG_RESULT
 #define TAG_STOP   EVO_CLUSTER_TAG_STOP
+#define TAG_GENOME EVO_CLUSTER_TAG_GENOME
 
 /* Chunks a rank holds at most. */
 #define HELD 2
@@ -100,6 +102,12 @@ struct evo_cluster {
 	const evo_netdesc **ptr;
 	evo_eval_result *res;
 	int n_nets;
+	/* rank 0: the environment genome the other ranks hold (NULL: none,
+	 * as they start); the others: why the last one they were sent
+	 * could not be set, which their next chunk answers */
+	char *genome;
+	int genome_failed;
+	evo_err genome_err;
 };
 
 int evo_cluster_launched(void)
@@ -428,12 +436,52 @@ static void collect(evo_cluster *c, batch *b, int r, MPI_Status *st)
 		fail_batch(b, &e);
 }
 
+/* 1 when a and b are the same text, or both none. */
+static int same_text(const char *a, const char *b)
+{
+	return a == b || (a && b && strcmp(a, b) == 0);
+}
+
+/* Send every other rank the environment genome of ev when it is not the
+ * one they hold (OPENENDED): before the batch's chunks, which it thus
+ * reaches ahead of. Any size a message can hold; a larger one fails the
+ * batch with its size said. */
+static int share_genome(evo_cluster *c, const evo_evaluator *ev,
+			evo_err *err)
+{
+	const char *g = evo_evaluator_genome(ev);
+	if (same_text(g, c->genome))
+		return 0;
+	size_t n = g ? strlen(g) + 1 : 0;
+	if (n > (size_t)INT_MAX)
+		return evo_fail(err,
+				"cluster: an environment genome of %zu bytes, "
+				"where a message between ranks holds at most "
+				"%d",
+				n - 1, INT_MAX - 1);
+	char *copy = NULL;
+	if (g) {
+		copy = malloc(n);
+		if (!copy)
+			return evo_fail(err,
+					"cluster: no memory for an environment "
+					"genome of %zu bytes",
+					n - 1);
+		memcpy(copy, g, n);
+	}
+	for (int r = 1; r < c->size; r++)
+		MPI_Send(g, (int)n, MPI_BYTE, r, TAG_GENOME, MPI_COMM_WORLD);
+	free(c->genome);
+	c->genome = copy;
+	return 0;
+}
+
 static int spread_evaluate(void *ctx, evo_evaluator *ev,
 			   const evo_netdesc *const *cand, int n, int gen,
 			   evo_eval_result *res, evo_err *err)
 {
 	evo_cluster *c = ctx;
-	if (greet(c, ev, err))
+	if (greet(c, ev, err) || share_genome(c, ev, err))
 		return -1;
 	int total = 0;
 	for (int r = 0; r < c->size; r++)
@@ -542,6 +590,10 @@ static void answer_chunk(evo_cluster *c, evo_evaluator *ev, MPI_Status *st)
 	}
 	if (!rc && !ev)
 		rc = evo_fail(&e, "no evaluator");
+	if (!rc && c->genome_failed) {
+		e = c->genome_err;
+		rc = -1;
+	}
 	const unsigned char *p = buf + sizeof head, *end = buf + len;
 	for (int i = 0; !rc && i < head[2]; i++) {
 		if (unpack_net(&p, end, &c->nets[i]))
@@ -570,6 +622,30 @@ static void answer_chunk(evo_cluster *c, evo_evaluator *ev, MPI_Status *st)
 	MPI_Send(msg, (int)(sizeof out + body), MPI_BYTE, 0, TAG_RESULT,
 		 MPI_COMM_WORLD);
 	free(msg);
+}
+
+/* A GENOME of st's length: the environment genome of the chunks to
+ * come. One that cannot be set fails them, with the reason. */
+static void take_genome(evo_cluster *c, evo_evaluator *ev, MPI_Status *st)
+{
+	int len;
+	MPI_Get_count(st, MPI_BYTE, &len);
+	unsigned char *buf = room(c, len > 0 ? (size_t)len : 1);
+	if (!buf)
+		out_of_memory(c->rank);
+	MPI_Recv(buf, len, MPI_BYTE, 0, TAG_GENOME, MPI_COMM_WORLD,
+		 MPI_STATUS_IGNORE);
+	c->genome_failed = 0;
+	if (len > 0 && buf[len - 1] != 0)
+		c->genome_failed = evo_fail(&c->genome_err,
+					    "an environment genome of %d "
+					    "bytes with no end",
+					    len) != 0;
+	else if (ev && evo_evaluator_set_genome(ev,
+						len > 0 ? (const char *)buf
+							: NULL,
+						&c->genome_err))
+		c->genome_failed = 1;
 }
 
 int evo_cluster_serve(evo_cluster *c, const evo_eval_def *def, evo_err *err)
@@ -604,6 +680,8 @@ int evo_cluster_serve(evo_cluster *c, const evo_eval_def *def, evo_err *err)
 		}
 		if (st.MPI_TAG == TAG_CHUNK) {
 			answer_chunk(c, ev, &st);
+		} else if (st.MPI_TAG == TAG_GENOME) {
+			take_genome(c, ev, &st);
 		} else { /* not evo's: take it off the queue */
 			int n;
 			MPI_Get_count(&st, MPI_BYTE, &n);
@@ -632,6 +710,7 @@ void evo_cluster_leave(evo_cluster *c)
 	free(c->nets);
 	free(c->ptr);
 	free(c->res);
+	free(c->genome);
 	free(c);
 	LEAK_CHECK_NOW();
 	MPI_Finalize();

@@ -6,7 +6,8 @@
  * candidates out in chunks to every rank, rank 0 included, each of which
  * evaluates its chunks on its own worker threads (evo_evaluate_part) and
  * sends back what they gave. Messages carry genomes (the candidates'
- * networks) and their results only.
+ * networks, and an OPENENDED batch's environment genome) and their
+ * results only.
  *
  * A candidate's evaluation depends on its network and its seeds, which
  * follow from (run seed, generation, index in the batch) and not from

@@ -11,6 +11,12 @@
  *     RESULT rank -> 0   int32 first index, count, status (0 or 1); the
  *                        count results, or (status 1) why not as text
  *     STOP   0 -> rank   the run is over
+ *     GENOME 0 -> rank   the environment genome of the batches to come
+ *                        (OPENENDED, evo_evaluator_set_genome): its text
+ *                        and a 0 byte, or no byte for none; sent before
+ *                        a batch's first chunk when it changed, so it
+ *                        reaches the rank ahead of them (MPI keeps the
+ *                        order of one sender's messages)
  * A rank is another evo process, but what it sends is checked as any
  * input is (a damaged build, another version, a stray program under the
  * same mpirun): every field is in range before rank 0 uses it, and a
@@ -28,7 +34,8 @@ enum {
 	EVO_CLUSTER_TAG_HELLO = 1,
 	EVO_CLUSTER_TAG_CHUNK,
 	EVO_CLUSTER_TAG_RESULT,
-	EVO_CLUSTER_TAG_STOP
+	EVO_CLUSTER_TAG_STOP,
+	EVO_CLUSTER_TAG_GENOME
 };
 
 /* What a rank tells rank 0 once its evaluator is up, or why not. */

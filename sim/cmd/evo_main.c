@@ -40,7 +40,8 @@ static const struct {
 	    "      DEMO2DSIMMULTI and LEARN2DSIMMULTI do so with teams\n"
 	    "      (docs/teams.md), DEMO3DSIM and LEARN3DSIM in the 3D\n"
 	    "      world on ODE (docs/world3d.md); under mpirun -np N,\n"
-	    "      LEARNSIM spreads over N processes (docs/cluster.md)\n"
+	    "      LEARNSIM and OPENENDED spread over N processes\n"
+	    "      (docs/cluster.md)\n"
 	    "      (evo run --help lists every option);\n"
 	    "      DEMOREMOTESIM drives a remote simulator over LCM,\n"
 	    "      DEMOREMOTE a robot over LCM or, with --can URL, CAN\n"},

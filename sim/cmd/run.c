@@ -68,12 +68,14 @@ static int learn_on_cluster(const char *task_path, evo_task *task,
 	if (lo->threads == 0)
 		lo->threads = evo_cluster_cores();
 	if (evo_cluster_size(c) > 1 && strcmp(task->type, "LEARNSIM") != 0 &&
-	    strcmp(task->type, "LEARN3DSIM") != 0) {
+	    strcmp(task->type, "LEARN3DSIM") != 0 &&
+	    strcmp(task->type, "OPENENDED") != 0) {
 		if (rank == 0)
 			fprintf(stderr,
 				"%s: a %s task runs in one process; mpirun "
-				"with more than one rank spreads LEARNSIM "
-				"and LEARN3DSIM tasks (docs/cluster.md)\n",
+				"with more than one rank spreads LEARNSIM, "
+				"LEARN3DSIM and OPENENDED tasks "
+				"(docs/cluster.md)\n",
 				task_path, task->type);
 		rc = 2;
 	} else if (rank == 0) {

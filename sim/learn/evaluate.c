@@ -707,6 +707,11 @@ int evo_evaluator_set_genome(evo_evaluator *ev, const char *genome,
 	return 0;
 }
 
+const char *evo_evaluator_genome(const evo_evaluator *ev)
+{
+	return ev->genome;
+}
+
 int evo_evaluator_threads(const evo_evaluator *ev)
 {
 	return ev->threads;

@@ -173,6 +173,11 @@ int evo_evaluate_part(evo_evaluator *ev, const evo_netdesc *const *candidates,
 int evo_evaluator_set_genome(evo_evaluator *ev, const char *genome,
 			     evo_err *err);
 
+/* The environment genome the next batch runs with (NULL: none); valid
+ * until the next evo_evaluator_set_genome. A cluster's rank 0 sends it
+ * to the other ranks (sim/cluster/). */
+const char *evo_evaluator_genome(const evo_evaluator *ev);
+
 /* The path of the environment script worker 0 loaded, or NULL (a
  * literature task, remote simulators). */
 const char *evo_evaluator_env_path(const evo_evaluator *ev);

@@ -7,7 +7,10 @@
  * rank started with other settings than rank 0 is named, a rank whose
  * hello is not evo's (-1 threads, a huge count, the wrong size) stops the
  * run with the rank named instead of rank 0 dividing by zero, and a team
- * task is refused on more than one rank.
+ * task is refused on more than one rank; an OPENENDED run on two ranks
+ * is the plain one's with one and two threads, and resumes to it when
+ * mpirun and its ranks are killed with SIGKILL, and an environment genome
+ * of 300,000 bytes gets to the other rank whole.
  *
  * Runs as root too (the OMPI_ALLOW_RUN_AS_ROOT variables) and on a
  * machine with fewer cores than ranks (--oversubscribe), as
@@ -360,6 +363,197 @@ TEST(a_killed_rank_stops_the_run_and_resume_with_other_ranks_finishes_it)
 	same_run("k", "ref");
 }
 
+/* ---- OPENENDED ----------------------------------------------------------- */
+
+static int open_run(const char *name, const char *launch, const char *extra);
+
+/* A copy of minds/OpenMaze (docs/openended.md) with no run in it, and
+ * no development (refused on ranks: a_developing_task_is_refused_on_ranks). */
+static void make_open(const char *name)
+{
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/%s && cp -r minds/OpenMaze %s/%s/ && "
+			    "rm -rf %s/%s/OpenMaze/Runs && "
+			    "sed -i 's/^OPEN_DEVELOP:.*/OPEN_DEVELOP:0/' "
+			    "%s/%s/OpenMaze/Tasks/OpenMaze.simbatch",
+			    cli_tmp, name, cli_tmp, name, cli_tmp, name, cli_tmp,
+			    name),
+		     0);
+}
+
+/* OpenMaze's own task grows its hierarchy, which the other ranks would
+ * not follow: on two ranks it stops at once, at its OPEN_SKILL line,
+ * with the way out, and evaluates nothing. */
+TEST(a_developing_task_is_refused_on_ranks)
+{
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/op-dev && cp -r minds/OpenMaze %s/op-dev/ "
+			    "&& rm -rf %s/op-dev/OpenMaze/Runs",
+			    cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	CHECK(open_run("op-dev", MPIRUN " -np 2", "--threads 1") != 0);
+	char *out = cli_read("%s/op-dev/out.txt", cli_tmp);
+	CHECK(out && strstr(out, "OpenMaze.simbatch:22: OPEN_SKILL: development does "
+				 "not run on MPI ranks yet"));
+	CHECK(out && strstr(out, "set OPEN_DEVELOP:0"));
+	CHECK(out && !strstr(out, "gen 0/"));
+	if (out && !strstr(out, "development does not run"))
+		printf("%s", out);
+	free(out);
+}
+
+/* name's OPENENDED task for 6 batches, seed 3, with `launch` before evo
+ * and `extra` after it; its output in out.txt. */
+static int open_run(const char *name, const char *launch, const char *extra)
+{
+	return cli_sh("%s %s run %s/%s/OpenMaze/Tasks/OpenMaze.simbatch "
+		      "--seed 3 --generations 6 --no-save --run %s/%s/run %s "
+		      "> %s/%s/out.txt 2>&1",
+		      launch, cli_evo, cli_tmp, name, cli_tmp, name, extra,
+		      cli_tmp, name);
+}
+
+/* name's log (but for its times), envs.csv, retention.csv and checkpoint
+ * are reference's. */
+static void same_open_run(const char *name, const char *reference)
+{
+	char *a = log_of(reference), *b = log_of(name);
+	CHECK(a && b);
+	if (a && b)
+		CHECK_EQ_STR(b, a);
+	free(a);
+	free(b);
+	static const char *files[] = {"envs.csv", "retention.csv",
+				      "checkpoint.lua"};
+	for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) {
+		char *fa = cli_read("%s/%s/run/%s", cli_tmp, reference,
+				    files[k]);
+		char *fb = cli_read("%s/%s/run/%s", cli_tmp, name, files[k]);
+		CHECK(fa && fb);
+		if (fa && fb && strcmp(fa, fb) != 0)
+			printf("  %s of %s differs from %s's\n", files[k], name,
+			       reference);
+		CHECK(fa && fb && strcmp(fa, fb) == 0);
+		free(fa);
+		free(fb);
+	}
+}
+
+/* An OPENENDED batch on two ranks: every rank's workers build the maze
+ * rank 0 chose (its genome sent with the batch), so the run is the plain
+ * one's with one thread and with two. */
+TEST(an_openended_run_on_two_ranks_is_the_plain_runs)
+{
+	make_open("op-t1");
+	CHECK_EQ_INT(open_run("op-t1", "", "--threads 1"), 0);
+	/* worked out apart from the cluster: batch 0 admits the seed maze
+	 * of 3 x 2 cells and no wall, whose path is 3 (docs/openended.md),
+	 * and the run logs its 6 batches */
+	char *ref = log_of("op-t1");
+	CHECK(ref && cli_count_lines(ref, "5,") == 1 &&
+	      cli_count_lines(ref, "6,") == 0);
+	CHECK(ref && strstr(ref, "\n0,") && strstr(strstr(ref, "\n0,"), ",1,3,"));
+	free(ref);
+	make_open("op-t2");
+	CHECK_EQ_INT(open_run("op-t2", "", "--threads 2"), 0);
+	same_open_run("op-t2", "op-t1");
+	make_open("op-np2");
+	CHECK_EQ_INT(open_run("op-np2", MPIRUN " -np 2", "--threads 1"), 0);
+	char *out = cli_read("%s/op-np2/out.txt", cli_tmp);
+	CHECK_CONTAINS(out, "cluster: 2 ranks, 2 threads in all");
+	free(out);
+	same_open_run("op-np2", "op-t1");
+}
+
+/* An environment genome of 300,000 bytes and more (GEN_Maze's mazes
+ * carrying a padding, in a generator of the mind folder's Envs/) reaches
+ * the other rank whole: the two-rank run is the plain one's. */
+TEST(a_large_environment_genome_reaches_every_rank)
+{
+	make_open("op-big1");
+	make_open("op-big2");
+	static const char gen[] =
+	    "local openended = require 'lib.openended'\n"
+	    "local gen = {}\n"
+	    "for k, v in pairs(require('envs.GEN_Maze').generator) do "
+	    "gen[k] = v end\n"
+	    "local seed, mutate = gen.seed, gen.mutate\n"
+	    "local PAD = string.rep('x', 300000)\n"
+	    "gen.seed = function() local g = seed(); g.pad = PAD; return g "
+	    "end\n"
+	    "gen.mutate = function(g, rng) local m = mutate(g, rng); "
+	    "m.pad = g.pad; return m end\n"
+	    "return openended.env(gen)\n";
+	const char *names[] = {"op-big1", "op-big2"};
+	for (int k = 0; k < 2; k++) {
+		CHECK_EQ_INT(cli_sh("mkdir -p %s/%s/OpenMaze/Envs", cli_tmp,
+				    names[k]),
+			     0);
+		CHECK_EQ_INT(cli_write(gen, "%s/%s/OpenMaze/Envs/Big.lua",
+				       cli_tmp, names[k]),
+			     0);
+		CHECK_EQ_INT(
+		    cli_sh("sed 's/^ENV:GEN_Maze/ENV:Big/' "
+			   "%s/%s/OpenMaze/Tasks/OpenMaze.simbatch > "
+			   "%s/%s/OpenMaze/Tasks/Big.simbatch",
+			   cli_tmp, names[k], cli_tmp, names[k]),
+		    0);
+		CHECK_EQ_INT(
+		    cli_sh("%s %s run %s/%s/OpenMaze/Tasks/Big.simbatch "
+			   "--seed 3 --generations 3 --no-save --threads 1 "
+			   "--run %s/%s/run > %s/%s/out.txt 2>&1",
+			   k ? MPIRUN " -np 2" : "", cli_evo, cli_tmp,
+			   names[k], cli_tmp, names[k], cli_tmp, names[k]),
+		    0);
+	}
+	/* the padding is in the genomes the run admitted */
+	char *envs = cli_read("%s/op-big1/run/envs.csv", cli_tmp);
+	CHECK(envs && strlen(envs) > 300000);
+	free(envs);
+	same_open_run("op-big2", "op-big1");
+}
+
+/* A two-rank OPENENDED run whose mpirun and ranks are all killed with
+ * SIGKILL in the middle (a machine lost) resumes on two ranks to the
+ * uninterrupted run's result. */
+TEST(a_killed_openended_cluster_run_resumes_to_the_same_result)
+{
+	make_open("op-ref");
+	CHECK_EQ_INT(open_run("op-ref", "", "--threads 1"), 0);
+	make_open("op-k");
+	char cmd[1024];
+	snprintf(cmd, sizeof cmd,
+		 "exec " MPIRUN " -np 2 %s run %s/op-k/OpenMaze/Tasks/"
+		 "OpenMaze.simbatch --seed 3 --generations 6 --no-save "
+		 "--threads 1 --run %s/op-k/run > %s/op-k/out1.txt 2>&1",
+		 cli_evo, cli_tmp, cli_tmp, cli_tmp);
+	pid_t pid = fork();
+	if (pid == 0) {
+		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
+		_exit(127);
+	}
+	struct timespec ms = {0, 1000000};
+	for (int i = 0; i < 60000 && rows("op-k") < 2; i++)
+		nanosleep(&ms, NULL);
+	/* mpirun's ranks outlive it when it alone is killed: kill them all */
+	pid_t r0 = rank_pid(pid, 0), r1 = rank_pid(pid, 1);
+	CHECK(r0 > 0 && r1 > 0);
+	if (r0 > 0)
+		kill(r0, SIGKILL);
+	if (r1 > 0)
+		kill(r1, SIGKILL);
+	kill(pid, SIGKILL);
+	int st = 0;
+	waitpid(pid, &st, 0);
+	CHECK(WIFSIGNALED(st) && WTERMSIG(st) == SIGKILL);
+	int kept = rows("op-k");
+	CHECK(kept >= 2 && kept < 6); /* it really was stopped */
+	CHECK_EQ_INT(open_run("op-k", MPIRUN " -np 2", "--threads 1 --resume"),
+		     0);
+	char *out = cli_read("%s/op-k/out.txt", cli_tmp);
+	CHECK(out && strstr(out, "resuming after batch"));
+	free(out);
+	same_open_run("op-k", "op-ref");
+}
+
 /* A rank that runs the task with other settings than rank 0 (here its
  * own --ticks, through mpirun's one-program-per-rank syntax) stops the
  * run at its first batch with a message that names it, and no rank
@@ -395,8 +589,8 @@ TEST(a_team_task_is_refused_on_two_ranks)
 				 cli_evo, cli_tmp) != 0,
 		     1);
 	CHECK_CONTAINS(out, "a LEARN2DSIMMULTI task runs in one process; "
-			    "mpirun with more than one rank spreads LEARNSIM "
-			    "and LEARN3DSIM tasks");
+			    "mpirun with more than one rank spreads LEARNSIM, "
+			    "LEARN3DSIM and OPENENDED tasks");
 	char *log = cli_read("%s/team/log.csv", cli_tmp);
 	CHECK(log == NULL);
 	free(log);
@@ -496,9 +690,13 @@ int main(int argc, char **argv)
 	RUN(a_novelty_run_on_two_ranks_is_the_plain_runs);
 	RUN(a_3d_task_spreads_over_ranks_as_a_2d_one);
 	RUN(a_killed_rank_stops_the_run_and_resume_with_other_ranks_finishes_it);
+	RUN(an_openended_run_on_two_ranks_is_the_plain_runs);
+	RUN(a_large_environment_genome_reaches_every_rank);
+	RUN(a_killed_openended_cluster_run_resumes_to_the_same_result);
 	RUN(a_rank_with_other_settings_is_named);
 	RUN(a_rank_whose_hello_is_not_evos_is_named);
 	RUN(a_team_task_is_refused_on_two_ranks);
+	RUN(a_developing_task_is_refused_on_ranks);
 	cli_cleanup();
 	return test_summary();
 }
