@@ -74,6 +74,9 @@ typedef struct learn {
 	evo_netdesc *descs;
 	int n_descs;
 	int n_behaviour; /* the size of every behaviour so far; -1 before */
+	/* evo.save's last folder (best/), checked for links and made: a
+	 * generation's file then costs its write and rename only */
+	char saved_folder[256];
 } learn;
 
 static const char LEARN_KEY = 'l';
@@ -573,14 +576,21 @@ static int l_save(lua_State *L)
 		char folder[1024];
 		snprintf(folder, sizeof folder, "%.*s", (int)(slash - name),
 			 name);
-		if (evo_folder_check_links(l->run_dir, folder, &err))
-			return raise_msg(L, err.msg);
-		/* a folder of its own (OPENENDED's solvers/), made once */
-		char path[1200];
-		if (evo_path_fmt(path, sizeof path, &err, "%s/%s", l->run_dir,
-				 folder))
-			return raise_msg(L, err.msg);
-		mkdir(path, 0755);
+		if (strcmp(folder, l->saved_folder) != 0) {
+			if (evo_folder_check_links(l->run_dir, folder, &err))
+				return raise_msg(L, err.msg);
+			/* a folder of its own (OPENENDED's solvers/) */
+			char path[1200];
+			if (evo_path_fmt(path, sizeof path, &err, "%s/%s",
+					 l->run_dir, folder))
+				return raise_msg(L, err.msg);
+			mkdir(path, 0755);
+			size_t n = strlen(folder);
+			if (n >= sizeof l->saved_folder)
+				n = 0; /* too long to keep: checked each time */
+			memcpy(l->saved_folder, folder, n);
+			l->saved_folder[n] = 0;
+		}
 	}
 	if (evo_runlog_save(&l->log, name, text, len, &err))
 		return raise_msg(L, err.msg);
