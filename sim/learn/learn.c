@@ -79,6 +79,9 @@ typedef struct learn {
 	evo_netdesc *descs;
 	int n_descs;
 	int n_behaviour; /* the size of every behaviour so far; -1 before */
+	/* evo.save's last folder (best/), checked for links and made: a
+	 * generation's file then costs its write and rename only */
+	char saved_folder[256];
 } learn;
 
 static const char LEARN_KEY = 'l';
@@ -578,23 +581,30 @@ static int l_save(lua_State *L)
 		char folder[1024];
 		snprintf(folder, sizeof folder, "%.*s", (int)(slash - name),
 			 name);
-		if (evo_folder_check_links(l->run_dir, folder, &err))
-			return raise_msg(L, err.msg);
-		/* folders of its own (OPENENDED's solvers/ and Mind/Skills/X),
-		 * each level made once */
-		char path[1200];
-		for (char *c = folder;; c++) {
-			if (*c != '/' && *c)
-				continue;
-			char end = *c;
-			*c = 0;
-			if (evo_path_fmt(path, sizeof path, &err, "%s/%s",
-					 l->run_dir, folder))
+		if (strcmp(folder, l->saved_folder) != 0) {
+			if (evo_folder_check_links(l->run_dir, folder, &err))
 				return raise_msg(L, err.msg);
-			mkdir(path, 0755);
-			*c = end;
-			if (!end)
-				break;
+			/* folders of its own (OPENENDED's solvers/ and
+			 * Mind/Skills/X), each level made once */
+			char path[1200];
+			for (char *c = folder;; c++) {
+				if (*c != '/' && *c)
+					continue;
+				char end = *c;
+				*c = 0;
+				if (evo_path_fmt(path, sizeof path, &err, "%s/%s",
+						 l->run_dir, folder))
+					return raise_msg(L, err.msg);
+				mkdir(path, 0755);
+				*c = end;
+				if (!end)
+					break;
+			}
+			size_t n = strlen(folder);
+			if (n >= sizeof l->saved_folder)
+				n = 0; /* too long to keep: checked each time */
+			memcpy(l->saved_folder, folder, n);
+			l->saved_folder[n] = 0;
 		}
 	}
 	if (evo_runlog_save(&l->log, name, text, len, &err))
