@@ -434,6 +434,72 @@ TEST(a_generator_error_is_reported_at_its_line)
 	free(o);
 }
 
+/* A generator whose episodes depend on their seed (Flaky: GEN_Maze's
+ * solved, but only when the episode's math.random draws below 0.5) loses
+ * mazes: the full check after every batch (OPEN_RETENTION:1) tries every
+ * admitted maze afresh and finds some that no agent kept solves that
+ * batch. retention.csv's row names them, and the run's line says the same
+ * numbers: a loss is reported, never hidden. */
+TEST(a_lost_maze_is_reported)
+{
+	make_mind("lo");
+	CHECK_EQ_INT(cli_sh("sed 's/^return openended.env(gen)$/local solved0 = "
+			    "gen.solved\\nfunction gen.solved(s, b, g) return "
+			    "solved0(s, b, g) and math.random() < 0.5 end\\n&/' "
+			    "lua/envs/GEN_Maze.lua > %s/lo/OpenMaze/Envs/Flaky.lua && "
+			    "sed 's/^ENV:GEN_Maze$/ENV:Flaky/' "
+			    "%s/lo/OpenMaze/Tasks/OpenMaze.simbatch > "
+			    "%s/lo/OpenMaze/Tasks/Flaky.simbatch && "
+			    "echo OPEN_RETENTION:1 >> %s/lo/OpenMaze/Tasks/Flaky.simbatch",
+			    cli_tmp, cli_tmp, cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(run("lo", "Flaky", "--threads 2"), 0);
+	char *ret = cli_read("%s/lo/run/retention.csv", cli_tmp);
+	char *out = cli_read("%s/lo/out.txt", cli_tmp);
+	CHECK(ret && out);
+	if (!ret || !out) {
+		free(ret);
+		free(out);
+		return;
+	}
+	/* the first row with a loss, and the line printed after its batch */
+	int found = 0;
+	for (const char *p = strchr(ret, '\n'); p && p[1] && !found;
+	     p = strchr(p + 1, '\n')) {
+		int batch, admitted, retained;
+		char lost[256] = "";
+		if (sscanf(p + 1, "%d,%d,%d,%255[0-9 ]", &batch, &admitted,
+			   &retained, lost) < 3 ||
+		    retained == admitted)
+			continue;
+		found = 1;
+		char want[512];
+		int n = admitted - retained;
+		for (char *c = lost; *c; c++)
+			if (*c == ' ')
+				*c = ',';
+		char listed[300] = "";
+		for (const char *c = lost; *c; c++) {
+			size_t k = strlen(listed);
+			if (*c == ',')
+				snprintf(listed + k, sizeof listed - k, ", ");
+			else
+				snprintf(listed + k, sizeof listed - k, "%c", *c);
+		}
+		snprintf(want, sizeof want,
+			 "retention after batch %d: %d of the %d environments "
+			 "admitted %s no longer solved by any agent kept (%s; "
+			 "retention.csv)",
+			 batch, n, admitted, n == 1 ? "is" : "are", listed);
+		CHECK(strstr(out, want));
+		if (!strstr(out, want))
+			printf("  want: %s\n%s", want, out);
+	}
+	CHECK(found);
+	free(ret);
+	free(out);
+}
+
 /* A generator without one of its functions is refused by evo check,
  * naming it, before any run; one whose size is not a number ends the run
  * with the generator named, not at a line of evo's own library. */
@@ -907,6 +973,7 @@ int main(void)
 	RUN(a_generator_cannot_require_a_module_linked_out_of_its_folder);
 	RUN(development_adds_a_skill_after_batches_with_no_maze_admitted);
 	RUN(development_by_the_largest_maze);
+	RUN(a_lost_maze_is_reported);
 	RUN(the_grown_mind_folder_runs_under_demosim_and_exports);
 	RUN(development_gives_the_same_log_with_threads_and_resume);
 	RUN(a_bad_open_skill_is_reported_at_the_tasks_line);
