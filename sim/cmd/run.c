@@ -139,7 +139,14 @@ static int env_choice(const char *task_path, const evo_task *task, run_opts *o,
 				path, o->env);
 	}
 	size_t n = 0;
-	for (const char *c = q + 1; c < end - 1 && n + 1 < cap; c++) {
+	for (const char *c = q + 1; c < end - 1; c++) {
+		if (n + 1 >= cap) {
+			free(text);
+			return evo_fail(err,
+					"%s: environment %ld's genome is longer "
+					"than the %zu bytes --env shows",
+					path, o->env, cap - 1);
+		}
 		genome[n++] = *c;
 		if (c[0] == '"' && c[1] == '"')
 			c++; /* a quote doubled in CSV */

@@ -266,6 +266,19 @@ TEST(evo_run_env_shows_an_admitted_maze_with_its_solver)
 		     1);
 	CHECK_CONTAINS(out, "no OPENENDED run here");
 	CHECK_CONTAINS(out, "--run DIR");
+	/* a genome longer than --env's buffer is refused, not cut short */
+	CHECK_EQ_INT(cli_sh("mkdir -p %s/long && { echo env,batch,size,genome; "
+			    "printf '1,0,3,\"'; head -c 70000 /dev/zero | tr '\\0' x; "
+			    "echo '\"'; } > %s/long/envs.csv",
+			    cli_tmp, cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run %s/a/OpenMaze/Tasks/OpenMaze.simbatch "
+				 "--run %s/long --env 1 --headless 2>&1",
+				 cli_evo, cli_tmp, cli_tmp),
+		     1);
+	CHECK_CONTAINS(out, "envs.csv: environment 1's genome is longer than the "
+			    "65535 bytes --env shows");
 }
 
 /* File `name` of run folders a and b: the same bytes. */
