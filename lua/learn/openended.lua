@@ -174,7 +174,8 @@ local function admit_env(genome, text, b, solver_genome)
 	-- genome (the one that solved the largest, the first of equals): a
 	-- genome for each of ten thousand environments would make every
 	-- checkpoint tens of megabytes
-	S.admitted[#S.admitted + 1] = { id = S.next_id, batch = b, size = size, text = text }
+	S.admitted[#S.admitted + 1] = { id = S.next_id, batch = b, size = size, text = text,
+		skills = S.skills and #S.skills or 0 }
 	if not S.best or size > S.best.size then
 		S.best = { id = S.next_id, size = size, solver = neat.copy_genome(solver_genome) }
 	end
@@ -445,10 +446,10 @@ local function champion() return S.best end
 
 -- Mind/ in the run folder: the grown hierarchy as a mind folder, the
 -- learning skill's network the champion.
-local function write_mind()
+local function write_mind(folder)
 	if not TEMPLATE then return end
 	local m = base_mind()
-	local function put(name, text) host.save("Mind/" .. name, text) end
+	local function put(name, text) host.save((folder or "Mind") .. "/" .. name, text) end
 	for _, f in ipairs(m.files) do put(f.name, f.text) end
 	local best = champion()
 	for _, sk in ipairs(m.skills) do
@@ -584,6 +585,10 @@ local function develop(b)
 	local net, evaluations, seconds = focus(name, envs, n_frontier, n_in, n_out, b)
 	S.skills[k].net = net
 	write_mind()
+	-- the hierarchy as it is now, kept: the agents admitted from now on
+	-- until the next skill have its outputs (evo run --env N runs their
+	-- solvers in it; envs.csv's skills column says which)
+	write_mind("Mind-" .. k)
 	grow_agents()
 	S.skills[k].after = count_solved(best.solver, S.frontier, b)
 	host.save("skills.csv", skills_csv())
@@ -598,9 +603,10 @@ end
 -- envs.csv: every admitted environment, in order: its number, the batch
 -- that admitted it, its size and its genome.
 local function envs_csv()
-	local out = { "env,batch,size,genome\n" }
+	local out = { "env,batch,size,skills,genome\n" }
 	for _, a in ipairs(S.admitted) do
-		out[#out + 1] = string.format("%d,%d,%.17g,\"%s\"\n", a.id, a.batch, a.size,
+		out[#out + 1] = string.format("%d,%d,%.17g,%d,\"%s\"\n", a.id, a.batch, a.size,
+			a.skills or 0,
 			(a.text:gsub('"', '""')))
 	end
 	return table.concat(out)

@@ -138,6 +138,32 @@ static int env_choice(const char *task_path, const evo_task *task, run_opts *o,
 				"environments the run admitted)",
 				path, o->env);
 	}
+	/* the skills the run had added when it admitted N (the column
+	 * before the genome): its solver's hierarchy is Mind-K's */
+	long skills = 0;
+	const char *f = row + hn;
+	for (int k = 0; k < 2 && f && f < q; k++) {
+		f = strchr(f, ',');
+		f = f ? f + 1 : NULL;
+	}
+	if (f && f < q)
+		skills = strtol(f, NULL, 10);
+	if (skills > 0) {
+		const char *base = strrchr(task_path, '/');
+		if (evo_path_fmt(o->env_task, sizeof o->env_task, err,
+				 "%s/Mind-%ld/Tasks/%s", dir, skills,
+				 base ? base + 1 : task_path)) {
+			free(text);
+			return -1;
+		}
+		if (!evo_file_exists(o->env_task)) {
+			free(text);
+			return evo_fail(err,
+					"%s: environment %ld was admitted with "
+					"%ld skill(s) added, and %s is missing",
+					path, o->env, skills, o->env_task);
+		}
+	}
 	size_t n = 0;
 	for (const char *c = q + 1; c < end - 1; c++) {
 		if (n + 1 >= cap) {
@@ -285,6 +311,11 @@ static int run_main(int argc, char **argv)
 		evo_task_free(&task);
 		to.nets = o.net;
 		to.n_nets = o.n_nets;
+		if (!r && o.env_task[0]) {
+			printf("the hierarchy it was solved with: %s\n",
+			       o.env_task);
+			o.task = o.env_task;
+		}
 		if (r || evo_task_load_opts(o.task, &to, &task, &err)) {
 			fprintf(stderr, "%s\n", err.msg);
 			return 1;

@@ -35,6 +35,7 @@ typedef struct run_opts {
 	long env;		/* OPENENDED: show admitted environment N
 				 * (--env N), 0: none */
 	char env_net[1200];	/* its solver's .net (a --net SOURCE) */
+	char env_task[1300];	/* its hierarchy's task when skills were added */
 	const char *record;	/* frames of the run: a folder or a video */
 	long record_every;	/* a frame every N ticks (0: not given) */
 	int camera; /* 0 not given (the scene), 1 the scene, 2 a point, 3

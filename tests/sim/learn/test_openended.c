@@ -79,7 +79,7 @@ TEST(annecs_rises_and_the_seed_maze_is_three_cells)
 	CHECK(annecs[7] > annecs[0]);
 	free(log);
 	char *envs = cli_read("%s/a/run/envs.csv", cli_tmp);
-	CHECK(envs && strstr(envs, "1,0,3,\"{h=2,w=3,walls={},}\""));
+	CHECK(envs && strstr(envs, "1,0,3,0,\"{h=2,w=3,walls={},}\""));
 	free(envs);
 }
 
@@ -781,6 +781,34 @@ TEST(development_adds_a_skill_after_batches_with_no_maze_admitted)
 				 "skill Explore1 added after batch"));
 	CHECK(net && strstr(net, "\ninputs:10\noutputs:2\n"));
 	free(net);
+	/* evo run --env N shows a maze admitted after a skill was added with
+	 * its solver, in the hierarchy of that time (Mind-K, K from envs.csv's
+	 * skills column), and says so; the episode solves it */
+	char id[32] = "", k[32] = "", shown[4096] = "";
+	CHECK_EQ_INT(cli_capture(id, sizeof id,
+				 "awk -F, 'NR > 1 && $4 > 0 { print $1; exit }' "
+				 "%s/d/run/envs.csv",
+				 cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_capture(k, sizeof k,
+				 "awk -F, 'NR > 1 && $4 > 0 { print $4; exit }' "
+				 "%s/d/run/envs.csv",
+				 cli_tmp),
+		     0);
+	id[strcspn(id, "\n")] = 0;
+	k[strcspn(k, "\n")] = 0;
+	CHECK(atoi(id) > 1 && atoi(k) >= 1);
+	CHECK_EQ_INT(cli_capture(shown, sizeof shown,
+				 "%s run %s/d/OpenMaze/Tasks/OpenMaze.simbatch "
+				 "--run %s/d/run --env %s --headless 2>&1",
+				 cli_evo, cli_tmp, cli_tmp, id),
+		     0);
+	snprintf(line, sizeof line,
+		 "the hierarchy it was solved with: %s/d/run/Mind-%s/Tasks/"
+		 "OpenMaze.simbatch",
+		 cli_tmp, k);
+	CHECK_CONTAINS(shown, line);
+	CHECK_CONTAINS(shown, ", solved");
 	/* the master's network is the champion, with the new output */
 	net = cli_read("%s/d/run/Mind/Skills/Maze/Maze.net", cli_tmp);
 	snprintf(line, sizeof line, "\ninputs:10\noutputs:%d\n", 2 + want);
