@@ -1,6 +1,8 @@
-/* `evo serve TASK.simbatch`: evo's own 2D world served as a remote
- * simulator over LCM (docs/remote.md). The task's environment and bot
- * model run here; the mind runs in the `evo run` that drives it. This
+/* `evo serve TASK.simbatch`: evo's own world served as a remote
+ * simulator over LCM (docs/remote.md): the 3D world of a DEMO3DSIM or
+ * LEARN3DSIM task, the 2D world of any other. The task's environment and
+ * bot model run here, reached through tasksim's evo_sim whichever world
+ * it is; the mind runs in the `evo run` that drives it. This
  * file reads the options, loads the task, builds the hello, opens the
  * links and reports the drops at the end; serve_sim.c serves the
  * environments in lockstep, serve_robot.c stands in for a robot
@@ -92,6 +94,22 @@ static int64_t new_session(void)
 static const char *reason_name(int i)
 {
 	return evo_wire_reason_name((evo_wire_reason)i);
+}
+
+/* A remote task whose world failed to build: say after err's message
+ * that its world was built 2D, as a 3D environment fails in the 2D world
+ * with a message of its own (a 3D option unknown) that does not say so. */
+static void say_which_world(const evo_task *task, const char *task_path,
+			    evo_err *err)
+{
+	if (!strstr(task->type, "REMOTE"))
+		return;
+	size_t n = strlen(err->msg);
+	snprintf(err->msg + n, sizeof err->msg - n,
+		 "\nevo serve: %s is a %s task, served in the 2D world; a 3D "
+		 "world is served from its DEMO3DSIM or LEARN3DSIM task, with "
+		 "its ENV and BOTMODEL (docs/remote.md)",
+		 task_path, task->type);
 }
 
 int evo_serve_main(int argc, char **argv)
@@ -265,8 +283,10 @@ int evo_serve_main(int argc, char **argv)
 	for (long i = 0; i < envs; i++) {
 		sv.env[i].sim =
 		    evo_sim_create(task.mind, task.sb, task_path, &err);
-		if (!sv.env[i].sim)
+		if (!sv.env[i].sim) {
+			say_which_world(&task, task_path, &err);
 			goto out;
+		}
 	}
 	const evo_botdesc *bd = task.mind->botdesc;
 	evo_wire_hello *h = &sv.hello;

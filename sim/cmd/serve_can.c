@@ -1,5 +1,5 @@
 /* `evo serve TASK --can URL` (cmd/serve_can.h, docs/can.md): the task's
- * 2D world stands in for a robot's body on a CAN bus, in the frames of
+ * world, 2D or 3D, stands in for a robot's body on a CAN bus, in the frames of
  * docs/wire.md. Its rules are those of `evo serve --robot` over LCM
  * (cmd/standin.h keeps them for both): real time, one tick a period whether
  * commands come or not; each period the sensor frames and a TICK go out at its
@@ -58,7 +58,7 @@ static int put_frame(body *b, const evo_can_frame *f, evo_err *err)
 static int put_reward(body *b, evo_err *err)
 {
 	evo_can_frame f = {EVO_WIRE_REWARD, 8, {0}};
-	double reward = b->sim->scene->episode_reward;
+	double reward = evo_sim_episode_reward(b->sim);
 	uint64_t bits;
 	memcpy(&bits, &reward, sizeof bits);
 	evo_wire_put_u32(f.data, (uint32_t)bits);
