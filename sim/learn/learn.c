@@ -1221,9 +1221,6 @@ static int open_module(lua_State *L)
 	lua_setfield(L, -2, "outputs");
 	lua_pushboolean(L, l->opts->resume);
 	lua_setfield(L, -2, "resume");
-	/* whether the batches are spread over MPI ranks (mpirun -np N) */
-	lua_pushboolean(L, l->opts->spread != NULL);
-	lua_setfield(L, -2, "spread");
 	lua_pushstring(L, l->run_dir);
 	lua_setfield(L, -2, "run_dir");
 	lua_pushstring(L, l->skill); /* the learning skill (nil: none) */

@@ -10,7 +10,9 @@
  * task is refused on more than one rank; an OPENENDED run on two ranks
  * is the plain one's with one and two threads, and resumes to it when
  * mpirun and its ranks are killed with SIGKILL, and an environment genome
- * of 300,000 bytes gets to the other rank whole.
+ * of 300,000 bytes gets to the other rank whole; with development too
+ * (the skills added reach the other rank), killed after its first skill,
+ * and with a rank that cannot read the grown hierarchy named.
  *
  * Runs as root too (the OMPI_ALLOW_RUN_AS_ROOT variables) and on a
  * machine with fewer cores than ranks (--oversubscribe), as
