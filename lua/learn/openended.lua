@@ -40,13 +40,6 @@ local RETENTION = O.retention
 local DEVELOP, FOCUS, MAXSKILLS, TEMPLATE = O.develop, O.focus, O.max_skills, O.template
 local PROGRESS = O.progress
 if DEVELOP == 0 or MAXSKILLS == 0 then TEMPLATE = nil end
--- A skill added reloads the hierarchy in this process's evaluator only:
--- the other ranks would go on with the old one.
-if TEMPLATE and host.spread then
-	error(string.format("%s: OPEN_SKILL: development does not run on MPI ranks yet (the "
-		.. "other ranks would not evaluate with the grown hierarchy); run it without mpirun, "
-		.. "or set OPEN_DEVELOP:0 (docs/openended.md)", where("OPEN_SKILL")), 0)
-end
 local batches = host.generations or tonumber(task.NUMGEN or "50")
 local options = common.task_options(neat, task, host.task_path, host.task_lines)
 

@@ -57,6 +57,7 @@
 #define TAG_RESULT EVO_CLUSTER_TAG_RESULT
 #define TAG_STOP   EVO_CLUSTER_TAG_STOP
 #define TAG_GENOME EVO_CLUSTER_TAG_GENOME
+#define TAG_GROW   EVO_CLUSTER_TAG_GROW
 
 /* Chunks a rank holds at most. */
 #define HELD 2
@@ -94,6 +95,7 @@ struct evo_cluster {
 	uint64_t seed;
 	evo_eval_spread spread;
 	int greeted; /* 1: every rank said hello; -1: one failed (greet_err) */
+	int told;    /* the ranks and threads were printed */
 	evo_err greet_err;
 	peer *peer; /* [size], peer[0] unused but for its threads */
 	unsigned char *buf;
@@ -325,6 +327,21 @@ static void *own_share(void *arg)
 	return NULL;
 }
 
+/* Rank r's next hello, received whatever its size (a larger one would
+ * end the job in MPI_Recv) into c->buf; its length. */
+static int recv_hello(evo_cluster *c, int r)
+{
+	MPI_Status st;
+	wait_message(r, TAG_HELLO, &st);
+	int len = 0;
+	MPI_Get_count(&st, MPI_BYTE, &len);
+	if (!room(c, len > 0 ? (size_t)len : 1))
+		out_of_memory(c->rank);
+	MPI_Recv(c->buf, len, MPI_BYTE, r, TAG_HELLO, MPI_COMM_WORLD,
+		 MPI_STATUS_IGNORE);
+	return len > 0 ? len : 0;
+}
+
 /* Wait for every rank's hello and check it runs the task as rank 0 does. */
 static int greet(evo_cluster *c, const evo_evaluator *ev, evo_err *err)
 {
@@ -344,22 +361,12 @@ static int greet(evo_cluster *c, const evo_evaluator *ev, evo_err *err)
 	};
 	int rc = 0;
 	for (int r = 1; r < c->size; r++) {
-		MPI_Status st;
-		wait_message(r, TAG_HELLO, &st);
-		/* received whatever its size (a larger one would end the job
-		 * in MPI_Recv), then checked */
-		int len = 0;
-		MPI_Get_count(&st, MPI_BYTE, &len);
-		unsigned char *buf = room(c, len > 0 ? (size_t)len : 1);
-		if (!buf)
-			out_of_memory(c->rank);
-		MPI_Recv(buf, len, MPI_BYTE, r, TAG_HELLO, MPI_COMM_WORLD,
-			 MPI_STATUS_IGNORE);
+		int len = recv_hello(c, r);
 		if (rc)
 			continue; /* the first failure is the one told */
 		evo_cluster_hello h;
-		rc = evo_cluster_check_hello(buf, len > 0 ? (size_t)len : 0, r,
-					     &t, &h, err);
+		rc = evo_cluster_check_hello(c->buf, (size_t)len, r, &t, &h,
+					     err);
 		if (rc == 0) {
 			c->peer[r].threads = h.threads;
 			snprintf(c->peer[r].host, sizeof c->peer[r].host, "%s",
@@ -375,8 +382,11 @@ static int greet(evo_cluster *c, const evo_evaluator *ev, evo_err *err)
 	int total = 0;
 	for (int r = 0; r < c->size; r++)
 		total += c->peer[r].threads;
-	printf("cluster: %d ranks, %d threads in all\n", c->size, total);
-	fflush(stdout);
+	if (!c->told++) {
+		printf("cluster: %d ranks, %d threads in all\n", c->size,
+		       total);
+		fflush(stdout);
+	}
 	return 0;
 }
 
@@ -536,10 +546,73 @@ static int spread_evaluate(void *ctx, evo_evaluator *ev,
 	return 0;
 }
 
+/* def as GROW's text (cluster_messages.h) in *out (malloc'd, *len
+ * bytes); 0, or -1 with err set. */
+static int grow_text(const evo_eval_def *def, char **out, size_t *len,
+		     evo_err *err)
+{
+	const char *skill = def->learning_skill ? def->learning_skill : "";
+	size_t n = strlen(def->task_path) + strlen(skill) + 2;
+	for (unsigned k = 0; k < def->n_nets; k++)
+		n += strlen(def->nets[k].skill) + strlen(def->nets[k].source) +
+		     2;
+	if (n > (size_t)INT_MAX)
+		return evo_fail(err,
+				"cluster: a grown task of %zu bytes to send, "
+				"where a message between ranks holds at most "
+				"%d",
+				n, INT_MAX);
+	char *t = malloc(n), *p = t;
+	if (!t)
+		return evo_fail(err, "cluster: out of memory");
+	p = stpcpy(p, def->task_path) + 1;
+	p = stpcpy(p, skill) + 1;
+	for (unsigned k = 0; k < def->n_nets; k++) {
+		p = stpcpy(p, def->nets[k].skill) + 1;
+		p = stpcpy(p, def->nets[k].source) + 1;
+	}
+	*out = t;
+	*len = n;
+	return 0;
+}
+
+/* Rank 0's evaluator was made anew as def says (evo.grow): every other
+ * rank makes its own anew so (GROW) and says hello again, checked as its
+ * first was, against ev, before this returns: a rank that cannot load
+ * the grown task stops the run here, with its reason. Their new
+ * evaluators, as ev, hold no environment genome. */
+static int spread_remake(void *ctx, evo_evaluator *ev, const evo_eval_def *def,
+			 evo_err *err)
+{
+	evo_cluster *c = ctx;
+	if (c->greeted < 0) {
+		*err = c->greet_err;
+		return -1;
+	}
+	char *text = NULL;
+	size_t n = 0;
+	if (grow_text(def, &text, &n, err))
+		return -1;
+	for (int r = 1; r < c->size; r++)
+		MPI_Send(text, (int)n, MPI_BYTE, r, TAG_GROW, MPI_COMM_WORLD);
+	free(text);
+	/* before the first batch (a run resumed with its skills), the
+	 * hellos of the ranks' first evaluators are still to be read: the
+	 * grown ones' come after them */
+	if (c->greeted == 0)
+		for (int r = 1; r < c->size; r++)
+			recv_hello(c, r);
+	c->greeted = 0;
+	free(c->genome);
+	c->genome = NULL;
+	return greet(c, ev, err);
+}
+
 const evo_eval_spread *evo_cluster_spread(evo_cluster *c, uint64_t seed)
 {
 	c->seed = seed;
 	c->spread.evaluate = spread_evaluate;
+	c->spread.remake = spread_remake;
 	c->spread.ctx = c;
 	return &c->spread;
 }
@@ -648,9 +721,11 @@ static void take_genome(evo_cluster *c, evo_evaluator *ev, MPI_Status *st)
 		c->genome_failed = 1;
 }
 
-int evo_cluster_serve(evo_cluster *c, const evo_eval_def *def, evo_err *err)
+/* Tell rank 0 the settings of ev, made as def says, or (ev NULL) why
+ * there is none: err. */
+static void say_hello(const evo_evaluator *ev, const evo_eval_def *def,
+		      const evo_err *err)
 {
-	evo_evaluator *ev = evo_evaluator_create(def, err);
 	evo_cluster_hello h;
 	memset(&h, 0, sizeof h);
 	/* the name may be longer than the hello holds */
@@ -670,6 +745,80 @@ int evo_cluster_serve(evo_cluster *c, const evo_eval_def *def, evo_err *err)
 		snprintf(h.msg, sizeof h.msg, "%s", err->msg);
 	}
 	MPI_Send(&h, (int)sizeof h, MPI_BYTE, 0, TAG_HELLO, MPI_COMM_WORLD);
+}
+
+/* The texts ended by a 0 byte in msg[0 .. len-1], which must end with
+ * one: their number (0 when msg does not end so). */
+static size_t count_texts(const unsigned char *msg, int len)
+{
+	if (len < 1 || msg[len - 1] != 0)
+		return 0;
+	size_t n = 0;
+	for (int i = 0; i < len; i++)
+		n += msg[i] == 0;
+	return n;
+}
+
+/* A GROW of st's length: ev (destroyed) made anew as it says, with def's
+ * threads, seed and ticks; hello again. The new evaluator, or NULL with
+ * err set when it could not be made (the hello said why). */
+static evo_evaluator *take_grow(evo_cluster *c, evo_evaluator *ev,
+				const evo_eval_def *def, MPI_Status *st,
+				evo_err *err)
+{
+	int len;
+	MPI_Get_count(st, MPI_BYTE, &len);
+	if (!room(c, len > 0 ? (size_t)len : 1))
+		out_of_memory(c->rank);
+	MPI_Recv(c->buf, len, MPI_BYTE, 0, TAG_GROW, MPI_COMM_WORLD,
+		 MPI_STATUS_IGNORE);
+	evo_evaluator_destroy(ev);
+	ev = NULL;
+	c->genome_failed = 0;
+	evo_err e = {{0}};
+	size_t n = count_texts(c->buf, len);
+	evo_net_choice *nets =
+	    n >= 2 && n % 2 == 0 ? malloc((n / 2) * sizeof *nets) : NULL;
+	if (n < 2 || n % 2) {
+		evo_fail(&e, "a grown task of %d bytes that is not evo's", len);
+	} else if (!nets) {
+		evo_fail(&e, "out of memory");
+	} else {
+		evo_eval_def g = *def;
+		const char *p = (const char *)c->buf;
+		g.task_path = p;
+		p += strlen(p) + 1;
+		g.learning_skill = *p ? p : NULL;
+		p += strlen(p) + 1;
+		g.n_nets = (unsigned)(n / 2 - 1);
+		for (unsigned k = 0; k < g.n_nets; k++) {
+			nets[k].skill = p;
+			p += strlen(p) + 1;
+			nets[k].source = p;
+			p += strlen(p) + 1;
+		}
+		g.nets = nets;
+		evo_err why = {{0}};
+		ev = evo_evaluator_create(&g, &why);
+		if (!ev)
+			evo_fail(&e,
+				 "the hierarchy rank 0 grew does not load "
+				 "here (%s); every rank reads it where rank 0 "
+				 "wrote it, in the run folder: give --run a "
+				 "folder all the machines share",
+				 why.msg);
+	}
+	free(nets);
+	say_hello(ev, def, &e);
+	if (!ev)
+		*err = e;
+	return ev;
+}
+
+int evo_cluster_serve(evo_cluster *c, const evo_eval_def *def, evo_err *err)
+{
+	evo_evaluator *ev = evo_evaluator_create(def, err);
+	say_hello(ev, def, err);
 	for (;;) {
 		MPI_Status st;
 		wait_message(0, MPI_ANY_TAG, &st);
@@ -682,6 +831,8 @@ int evo_cluster_serve(evo_cluster *c, const evo_eval_def *def, evo_err *err)
 			answer_chunk(c, ev, &st);
 		} else if (st.MPI_TAG == TAG_GENOME) {
 			take_genome(c, ev, &st);
+		} else if (st.MPI_TAG == TAG_GROW) {
+			ev = take_grow(c, ev, def, &st, err);
 		} else { /* not evo's: take it off the queue */
 			int n;
 			MPI_Get_count(&st, MPI_BYTE, &n);

@@ -7,7 +7,9 @@
  * evaluates its chunks on its own worker threads (evo_evaluate_part) and
  * sends back what they gave. Messages carry genomes (the candidates'
  * networks, and an OPENENDED batch's environment genome) and their
- * results only.
+ * results, and where to load the task anew when OPENENDED's development
+ * grew rank 0's hierarchy (the grown mind folder, which rank 0 wrote in
+ * the run folder: every rank reads it there).
  *
  * A candidate's evaluation depends on its network and its seeds, which
  * follow from (run seed, generation, index in the batch) and not from
@@ -52,7 +54,8 @@ const evo_eval_spread *evo_cluster_spread(evo_cluster *c, uint64_t seed);
 
 /* Ranks above 0: load the task as def says (on this rank's own threads),
  * tell rank 0 the settings, then evaluate the chunks rank 0 sends until
- * it says the run is over. Returns 0, or -1 with err set (rank 0 has been
+ * it says the run is over; load the task anew, and tell again, when rank
+ * 0 made its evaluator anew (OPENENDED's development, evo.grow). Returns 0, or -1 with err set (rank 0 has been
  * told, and the run has stopped with the message). */
 int evo_cluster_serve(evo_cluster *c, const evo_eval_def *def, evo_err *err);
 

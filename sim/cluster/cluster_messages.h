@@ -17,6 +17,12 @@
  *                        a batch's first chunk when it changed, so it
  *                        reaches the rank ahead of them (MPI keeps the
  *                        order of one sender's messages)
+ *     GROW   0 -> rank   rank 0 made its evaluator anew (OPENENDED's
+ *                        development, evo.grow): the task, the skill the
+ *                        candidates run as ("" for LEARNINGSKILL), then
+ *                        each chosen network's skill and file, every
+ *                        one a text ended by a 0 byte; the rank makes
+ *                        its evaluator anew so and says HELLO again
  * A rank is another evo process, but what it sends is checked as any
  * input is (a damaged build, another version, a stray program under the
  * same mpirun): every field is in range before rank 0 uses it, and a
@@ -35,7 +41,8 @@ enum {
 	EVO_CLUSTER_TAG_CHUNK,
 	EVO_CLUSTER_TAG_RESULT,
 	EVO_CLUSTER_TAG_STOP,
-	EVO_CLUSTER_TAG_GENOME
+	EVO_CLUSTER_TAG_GENOME,
+	EVO_CLUSTER_TAG_GROW
 };
 
 /* What a rank tells rank 0 once its evaluator is up, or why not. */

@@ -55,6 +55,7 @@
 
 typedef struct evo_evaluator evo_evaluator;
 typedef struct evo_eval_result evo_eval_result;
+typedef struct evo_eval_def evo_eval_def;
 
 /* Where a batch may be spread beyond this process's workers: cluster
  * runs over MPI (sim/cluster/). evaluate is called by evo_evaluate in
@@ -66,13 +67,19 @@ typedef struct evo_eval_spread {
 	int (*evaluate)(void *ctx, evo_evaluator *ev,
 			const evo_netdesc *const *candidates, int n, int gen,
 			evo_eval_result *res, evo_err *err);
+	/* The caller made its evaluator anew as def says (OPENENDED's
+	 * development, evo.grow): the others must follow before the next
+	 * batch. ev is the new one. NULL: nothing to do. 0, or -1 with err
+	 * set. */
+	int (*remake)(void *ctx, evo_evaluator *ev, const evo_eval_def *def,
+		      evo_err *err);
 	void *ctx;
 } evo_eval_spread;
 
 /* More workers than this is a typo, not a machine. */
 #define EVO_EVAL_MAX_THREADS EVO_MAX_THREADS /* the task's THREADS' bound */
 
-typedef struct evo_eval_def {
+struct evo_eval_def {
 	const char *task_path; /* a LEARN* .simbatch; copied */
 	int threads;	       /* workers, 0..EVO_EVAL_MAX_THREADS; 0: the
 				* number of online cores (at most the max) */
@@ -88,7 +95,7 @@ typedef struct evo_eval_def {
 	const char *learning_skill;
 	const evo_net_choice *nets;
 	unsigned n_nets;
-} evo_eval_def;
+};
 
 /* Load the task once per worker and start the workers. Returns NULL with
  * err set (the task's own file:line message) when the task does not load,

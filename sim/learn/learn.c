@@ -1011,7 +1011,8 @@ static int l_begin_turn(lua_State *L)
  * grown mind folder's), the candidates running as skill, and every skill
  * named in nets (skill -> a file of the run folder) running that network
  * instead of its Skills/ one; with the same threads, seed, repetitions and
- * ticks. Returns the candidates' inputs and outputs. */
+ * ticks, in this process and on every MPI rank. Returns the candidates'
+ * inputs and outputs. */
 static int l_grow(lua_State *L)
 {
 	learn *l = ctx(L);
@@ -1049,6 +1050,10 @@ static int l_grow(lua_State *L)
 	evo_evaluator_destroy(l->ev);
 	l->ev = evo_evaluator_create(&l->ed, &err);
 	if (!l->ev)
+		return raise_msg(L, err.msg);
+	/* MPI ranks (sim/cluster/) make theirs anew the same way */
+	const evo_eval_spread *sp = l->ed.spread;
+	if (sp && sp->remake && sp->remake(sp->ctx, l->ev, &l->ed, &err))
 		return raise_msg(L, err.msg);
 	lua_pushinteger(L, (lua_Integer)evo_evaluator_n_in(l->ev));
 	lua_pushinteger(L, (lua_Integer)evo_evaluator_n_out(l->ev));
@@ -1216,9 +1221,6 @@ static int open_module(lua_State *L)
 	lua_setfield(L, -2, "outputs");
 	lua_pushboolean(L, l->opts->resume);
 	lua_setfield(L, -2, "resume");
-	/* whether the batches are spread over MPI ranks (mpirun -np N) */
-	lua_pushboolean(L, l->opts->spread != NULL);
-	lua_setfield(L, -2, "spread");
 	lua_pushstring(L, l->run_dir);
 	lua_setfield(L, -2, "run_dir");
 	lua_pushstring(L, l->skill); /* the learning skill (nil: none) */

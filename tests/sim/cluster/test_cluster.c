@@ -10,7 +10,9 @@
  * task is refused on more than one rank; an OPENENDED run on two ranks
  * is the plain one's with one and two threads, and resumes to it when
  * mpirun and its ranks are killed with SIGKILL, and an environment genome
- * of 300,000 bytes gets to the other rank whole.
+ * of 300,000 bytes gets to the other rank whole; with development too
+ * (the skills added reach the other rank), killed after its first skill,
+ * and with a rank that cannot read the grown hierarchy named.
  *
  * Runs as root too (the OMPI_ALLOW_RUN_AS_ROOT variables) and on a
  * machine with fewer cores than ranks (--oversubscribe), as
@@ -365,10 +367,8 @@ TEST(a_killed_rank_stops_the_run_and_resume_with_other_ranks_finishes_it)
 
 /* ---- OPENENDED ----------------------------------------------------------- */
 
-static int open_run(const char *name, const char *launch, const char *extra);
-
 /* A copy of minds/OpenMaze (docs/openended.md) with no run in it, and
- * no development (refused on ranks: a_developing_task_is_refused_on_ranks). */
+ * no development (the tests of development are further on). */
 static void make_open(const char *name)
 {
 	CHECK_EQ_INT(cli_sh("mkdir -p %s/%s && cp -r minds/OpenMaze %s/%s/ && "
@@ -378,26 +378,6 @@ static void make_open(const char *name)
 			    cli_tmp, name, cli_tmp, name, cli_tmp, name, cli_tmp,
 			    name),
 		     0);
-}
-
-/* OpenMaze's own task grows its hierarchy, which the other ranks would
- * not follow: on two ranks it stops at once, at its OPEN_SKILL line,
- * with the way out, and evaluates nothing. */
-TEST(a_developing_task_is_refused_on_ranks)
-{
-	CHECK_EQ_INT(cli_sh("mkdir -p %s/op-dev && cp -r minds/OpenMaze %s/op-dev/ "
-			    "&& rm -rf %s/op-dev/OpenMaze/Runs",
-			    cli_tmp, cli_tmp, cli_tmp),
-		     0);
-	CHECK(open_run("op-dev", MPIRUN " -np 2", "--threads 1") != 0);
-	char *out = cli_read("%s/op-dev/out.txt", cli_tmp);
-	CHECK(out && strstr(out, "OpenMaze.simbatch:22: OPEN_SKILL: development does "
-				 "not run on MPI ranks yet"));
-	CHECK(out && strstr(out, "set OPEN_DEVELOP:0"));
-	CHECK(out && !strstr(out, "gen 0/"));
-	if (out && !strstr(out, "development does not run"))
-		printf("%s", out);
-	free(out);
 }
 
 /* name's OPENENDED task for 6 batches, seed 3, with `launch` before evo
@@ -554,6 +534,203 @@ TEST(a_killed_openended_cluster_run_resumes_to_the_same_result)
 	same_open_run("op-k", "op-ref");
 }
 
+/* ---- OPENENDED's development --------------------------------------------- */
+
+/* A copy of minds/OpenMaze whose task grows a skill after every batch
+ * that admits no maze (OPEN_DEVELOP 1), one maze tried a batch, 3
+ * generations of focus (as tests/sim/learn/test_openended.c's). */
+static void make_dev(const char *name)
+{
+	make_open(name);
+	CHECK_EQ_INT(cli_sh("sed -i 's/^OPEN_DEVELOP:.*/OPEN_DEVELOP:1/; "
+			    "s/^OPEN_FOCUS:.*/OPEN_FOCUS:3/; "
+			    "s/^OPEN_ENV_BATCH:.*/OPEN_ENV_BATCH:1/; "
+			    "s/^OPEN_PROGRESS:.*/OPEN_PROGRESS:admitted/' "
+			    "%s/%s/OpenMaze/Tasks/OpenMaze.simbatch",
+			    cli_tmp, name),
+		     0);
+}
+
+/* name's developing task for 10 batches, seed 3, as open_run. */
+static int dev_run(const char *name, const char *launch, const char *extra)
+{
+	return cli_sh("timeout 300 %s %s run %s/%s/OpenMaze/Tasks/"
+		      "OpenMaze.simbatch --seed 3 --generations 10 --no-save "
+		      "--run %s/%s/run %s > %s/%s/out.txt 2>&1",
+		      launch, cli_evo, cli_tmp, name, cli_tmp, name, extra,
+		      cli_tmp, name);
+}
+
+/* name's run is reference's (same_open_run), and so are its skills.csv
+ * and its grown mind folder's master skill and first skill added. */
+static void same_dev_run(const char *name, const char *reference)
+{
+	same_open_run(name, reference);
+	static const char *files[] = {"skills.csv",
+				      "Mind/Skills/Maze/Maze.ades",
+				      "Mind/Skills/Maze/Maze.net",
+				      "Mind/Skills/Explore1/Explore1.net"};
+	for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) {
+		char *fa = cli_read("%s/%s/run/%s", cli_tmp, reference,
+				    files[k]);
+		char *fb = cli_read("%s/%s/run/%s", cli_tmp, name, files[k]);
+		CHECK(fa && fb);
+		if (fa && fb && strcmp(fa, fb) != 0)
+			printf("  %s of %s differs from %s's\n", files[k], name,
+			       reference);
+		CHECK(fa && fb && strcmp(fa, fb) == 0);
+		free(fa);
+		free(fb);
+	}
+}
+
+/* Field k (0-based) of row `row` of a log as cli_fitness_log gives it
+ * (generation, best, mean, best_ever, species, evaluations, solved, then
+ * the metrics); -1 when there is none. */
+static double log_field(const char *log, int row, int k)
+{
+	const char *p = log ? strchr(log, '\n') : NULL;
+	for (int r = 0; p && r < row; r++)
+		p = strchr(p + 1, '\n');
+	if (!p || !p[1])
+		return -1;
+	p++;
+	for (int i = 0; i < k; i++) {
+		p = strpbrk(p, ",\n");
+		if (!p || *p == '\n')
+			return -1;
+		p++;
+	}
+	return strtod(p, NULL);
+}
+
+/* A task that grows its hierarchy on two ranks: each skill added reaches
+ * the other rank's workers (its evaluator made anew from the grown mind
+ * folder, for the focus and for the agents), so the run is the plain one's
+ * with one thread and with two: log, envs.csv, retention.csv, checkpoint,
+ * skills.csv and Mind/. */
+TEST(a_developing_openended_run_on_two_ranks_is_the_plain_runs)
+{
+	make_dev("dv-t1");
+	CHECK_EQ_INT(dev_run("dv-t1", "", "--threads 1"), 0);
+	/* worked out from the log apart from the cluster: a skill after
+	 * each batch that admitted no maze (solved 0), at most 3, never
+	 * after the last; the master skill has an SK: output per skill */
+	char dir[512];
+	snprintf(dir, sizeof dir, "%s/dv-t1/run", cli_tmp);
+	char *log = cli_fitness_log(dir);
+	int want = 0;
+	for (int b = 0; b < 10; b++) {
+		if (log_field(log, b, 6) == 0 && want < 3 && b < 9)
+			want++;
+		CHECK(log_field(log, b, 11) == want);
+	}
+	CHECK(want >= 1);
+	CHECK(log_field(log, 10, 0) < 0);
+	free(log);
+	char *ades = cli_read("%s/dv-t1/run/Mind/Skills/Maze/Maze.ades", cli_tmp);
+	char line[128];
+	snprintf(line, sizeof line, "output:%d\nMO:TURN\nMO:SPEED\nSK:Explore1\n",
+		 2 + want);
+	CHECK_CONTAINS(ades, line);
+	free(ades);
+	make_dev("dv-t2");
+	CHECK_EQ_INT(dev_run("dv-t2", "", "--threads 2"), 0);
+	same_dev_run("dv-t2", "dv-t1");
+	make_dev("dv-np2");
+	CHECK_EQ_INT(dev_run("dv-np2", MPIRUN " -np 2", "--threads 1"), 0);
+	char *out = cli_read("%s/dv-np2/out.txt", cli_tmp);
+	CHECK_CONTAINS(out, "skill Explore1 added after batch");
+	/* said once, not again at each skill */
+	CHECK(out && cli_count_lines(out, "cluster: 2 ranks, 2 threads in "
+					  "all\n") == 1);
+	free(out);
+	same_dev_run("dv-np2", "dv-t1");
+}
+
+/* A developing run on two ranks whose mpirun and ranks are all killed
+ * with SIGKILL after its first skill resumes on two ranks with the grown
+ * hierarchy (the ranks make theirs anew before the first batch) to the
+ * uninterrupted run's result. */
+TEST(a_killed_developing_cluster_run_resumes_with_its_skills)
+{
+	make_dev("dk-ref");
+	CHECK_EQ_INT(dev_run("dk-ref", "", "--threads 1"), 0);
+	make_dev("dk");
+	char cmd[1024];
+	snprintf(cmd, sizeof cmd,
+		 "exec " MPIRUN " -np 2 %s run %s/dk/OpenMaze/Tasks/"
+		 "OpenMaze.simbatch --seed 3 --generations 10 --no-save "
+		 "--threads 1 --run %s/dk/run > %s/dk/out1.txt 2>&1",
+		 cli_evo, cli_tmp, cli_tmp, cli_tmp);
+	pid_t pid = fork();
+	if (pid == 0) {
+		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
+		_exit(127);
+	}
+	struct timespec ms = {0, 1000000};
+	char *ck = NULL;
+	for (int i = 0; i < 120000; i++) {
+		ck = cli_read("%s/dk/run/checkpoint.lua", cli_tmp);
+		if (ck && strstr(ck, "Explore1"))
+			break;
+		free(ck);
+		ck = NULL;
+		nanosleep(&ms, NULL);
+	}
+	CHECK(ck != NULL);
+	free(ck);
+	pid_t r0 = rank_pid(pid, 0), r1 = rank_pid(pid, 1);
+	CHECK(r0 > 0 && r1 > 0);
+	if (r0 > 0)
+		kill(r0, SIGKILL);
+	if (r1 > 0)
+		kill(r1, SIGKILL);
+	kill(pid, SIGKILL);
+	int st = 0;
+	waitpid(pid, &st, 0);
+	CHECK(WIFSIGNALED(st) && WTERMSIG(st) == SIGKILL);
+	int kept = rows("dk");
+	CHECK(kept >= 2 && kept < 10); /* it really was stopped */
+	CHECK_EQ_INT(dev_run("dk", MPIRUN " -np 2", "--threads 1 --resume"), 0);
+	char *out = cli_read("%s/dk/out.txt", cli_tmp);
+	CHECK_CONTAINS(out, "resuming after batch");
+	CHECK_CONTAINS(out, "cluster: 2 ranks, 2 threads in all");
+	free(out);
+	same_dev_run("dk", "dv-t1");
+	same_dev_run("dk", "dk-ref");
+}
+
+/* Every rank loads the grown hierarchy from the run folder rank 0 wrote
+ * it in: a rank that cannot (here it starts in another folder, as a
+ * machine that does not share the run folder) stops the run at the first
+ * skill, named, with the path it tried and the way out; no rank hangs. */
+TEST(a_rank_that_cannot_read_the_grown_hierarchy_is_named)
+{
+	make_dev("far/a");
+	make_dev("far/b");
+	char out[16384] = "";
+	int rc = cli_capture(out, sizeof out,
+			     "e=$(realpath %s) && timeout 120 " MPIRUN " -np 1 "
+			     "--wdir %s/far/a $e run "
+			     "OpenMaze/Tasks/OpenMaze.simbatch --seed 3 "
+			     "--generations 10 --no-save --threads 1 --run run : "
+			     "-np 1 --wdir %s/far/b $e run OpenMaze/Tasks/"
+			     "OpenMaze.simbatch --seed 3 --generations 10 "
+			     "--no-save --threads 1 --run run",
+			     cli_evo, cli_tmp, cli_tmp);
+	CHECK(rc != 0 && rc != 124);
+	CHECK_CONTAINS(out, "rank 1 (on ");
+	CHECK_CONTAINS(out, "the hierarchy rank 0 grew does not load here "
+			    "(run/Mind/Tasks/OpenMaze.simbatch: cannot open");
+	CHECK_CONTAINS(out, "give --run a folder all the machines share");
+	/* it stopped at the first skill: the batch that added it is the
+	 * last logged */
+	char *log = cli_read("%s/far/a/run/log.csv", cli_tmp);
+	CHECK(log && !strstr(log, ",1\n"));
+	free(log);
+}
+
 /* A rank that runs the task with other settings than rank 0 (here its
  * own --ticks, through mpirun's one-program-per-rank syntax) stops the
  * run at its first batch with a message that names it, and no rank
@@ -696,7 +873,9 @@ int main(int argc, char **argv)
 	RUN(a_rank_with_other_settings_is_named);
 	RUN(a_rank_whose_hello_is_not_evos_is_named);
 	RUN(a_team_task_is_refused_on_two_ranks);
-	RUN(a_developing_task_is_refused_on_ranks);
+	RUN(a_developing_openended_run_on_two_ranks_is_the_plain_runs);
+	RUN(a_killed_developing_cluster_run_resumes_with_its_skills);
+	RUN(a_rank_that_cannot_read_the_grown_hierarchy_is_named);
 	cli_cleanup();
 	return test_summary();
 }
