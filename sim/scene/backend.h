@@ -3,9 +3,9 @@
  * layout is going", step 2).
  *
  * Two fill it: Box2D (sim/world2d/world_box2d.cpp, evo_backend_box2d) for
- * a 2D scene and, later, ODE (sim/world3d/world_ode.c) for a 3D one. A
- * function that does not apply to a backend is NULL in its struct and
- * says so below ("2D only", "3D only"): the scene of the other dimension
+ * a 2D scene and ODE (sim/world3d/world_ode.c, evo_backend_ode) for a 3D
+ * one. A function that does not apply to a backend is NULL in its struct
+ * and says so below ("2D only", "3D only"): the scene of the other dimension
  * never calls it.
  *
  * Frame and units: metres, kilograms, seconds, radians. Positions have
@@ -50,6 +50,9 @@ typedef struct evo_bshape {
 	double half_length; /* cylinder */
 	int axis;	    /* cylinder: its axis, 0 x, 1 y, 2 z */
 	double friction, restitution;
+	/* a static's category (Box2D's statics are all EVO_CAT_OBSTACLE);
+	 * a body's shapes take the body's */
+	uint16_t category;
 } evo_bshape;
 
 #define EVO_BODY_MAX_SHAPES 4

@@ -33,8 +33,8 @@ extern "C" {
 typedef struct evo_world evo_world;
 
 /* The same world behind the backend interface (sim/scene/backend.h): a
- * 2D scene calls it through this struct, which passes its evo_bworld to
- * the functions below. evo_body_id, evo_shape_type and evo_shape_info
+ * 2D scene calls it through this struct (sim/world2d/backend_box2d.c),
+ * which passes its evo_bworld to the functions below. evo_body_id, evo_shape_type and evo_shape_info
  * are the interface's. */
 extern const evo_backend evo_backend_box2d;
 
@@ -128,6 +128,10 @@ void evo_body_set_velocity(evo_world *w, evo_body_id id, double vx, double vy,
 /* Apply a force (newtons, world frame) at a world point. */
 void evo_body_apply_force(evo_world *w, evo_body_id id, double fx, double fy,
 			  double px, double py) EVO_WORLD_NOEXCEPT;
+
+/* Apply a torque (newton metres) about the body's centre. */
+void evo_body_apply_torque(evo_world *w, evo_body_id id,
+			   double torque) EVO_WORLD_NOEXCEPT;
 
 /* 1 when body id, where it is now, lies closer than its radius to a
  * static obstacle or another body whose category its mask takes: for a
