@@ -200,6 +200,8 @@ static double b_raycast(evo_bworld *w, const double from[3],
  * evo_world3d_group_touching); 0 for a body of a group of its own. */
 static int b_touching(const evo_bworld *w, evo_body_id id)
 {
+	if (!body_ok(w, id))
+		return 0;
 	return evo_world3d_group_touching(CW(w),
 					  evo_body3d_group(CW(w), id.index));
 }
