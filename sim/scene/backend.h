@@ -32,9 +32,9 @@ typedef struct evo_body_id {
 #define EVO_BODY_NONE ((evo_body_id){-1, 0})
 
 typedef enum evo_shape_type {
-	EVO_SHAPE_CIRCLE = 0,  /* a sphere in 3D */
+	EVO_SHAPE_CIRCLE = 0, /* a sphere in 3D */
 	EVO_SHAPE_BOX = 1,
-	EVO_SHAPE_SEGMENT = 2, /* 2D only: a static wall of no thickness */
+	EVO_SHAPE_SEGMENT = 2,	/* 2D only: a static wall of no thickness */
 	EVO_SHAPE_CYLINDER = 3, /* 3D only */
 } evo_shape_type;
 
@@ -87,13 +87,13 @@ typedef struct evo_bpose {
 
 /* The world's settings; each backend's world_def gives its defaults. */
 typedef struct evo_bworld_def {
-	double step;			 /* seconds per physics step */
-	int velocity_iterations;	 /* 2D */
-	int position_iterations;	 /* 2D */
-	double gravity;			 /* 3D: m/s^2 along -z */
-	double erp, cfm;		 /* 3D: ODE's constraint settings */
-	double ground_friction;		 /* 3D */
-	double max_speed, max_spin;	 /* 3D: beyond, a body exploded */
+	double step;		    /* seconds per physics step */
+	int velocity_iterations;    /* 2D */
+	int position_iterations;    /* 2D */
+	double gravity;		    /* 3D: m/s^2 along -z */
+	double erp, cfm;	    /* 3D: ODE's constraint settings */
+	double ground_friction;	    /* 3D */
+	double max_speed, max_spin; /* 3D: beyond, a body exploded */
 } evo_bworld_def;
 
 /* What step found wrong with a body (3D). */
@@ -162,9 +162,8 @@ typedef struct evo_backend {
 	/* A force (newtons) at a point, for the next step; frames: the
 	 * EVO_BFORCE_BODY / EVO_BPOINT_BODY bits, 0 for both in the world
 	 * (2D: 0 only). */
-	void (*apply_force_at)(evo_bworld *w, evo_body_id id,
-			       const double f[3], const double at[3],
-			       unsigned frames);
+	void (*apply_force_at)(evo_bworld *w, evo_body_id id, const double f[3],
+			       const double at[3], unsigned frames);
 	void (*add_torque)(evo_bworld *w, evo_body_id id, const double t[3]);
 
 	/* 2D only: weld b to a where they are now (the claw's grip); a
@@ -192,8 +191,8 @@ typedef struct evo_backend {
 	 * (x and y), in the engine's order; writes at most cap and returns
 	 * how many there are. */
 	int (*query_box)(const evo_bworld *w, const double lo[3],
-			 const double hi[3], uint16_t mask,
-			 evo_shape_info *out, int cap);
+			 const double hi[3], uint16_t mask, evo_shape_info *out,
+			 int cap);
 
 	/* What a body touches now: how many bodies or statics; 1 when it
 	 * touches body other, or static `obstacle` (2D). */

@@ -27,8 +27,9 @@ static void wheel(evo_scene *sc, const evo_bot *b, const evo_actuator *a)
 	/* the heading turned by the wheel's angle */
 	double ux = b->c * a->dir_c - b->s * a->dir_s;
 	double uy = b->s * a->dir_c + b->c * a->dir_s;
-	sc->be->apply_force_at(sc->bw, b->body, (const double[3]){f * ux, f * uy, 0},
-			   (const double[3]){wx, wy, 0}, 0);
+	sc->be->apply_force_at(sc->bw, b->body,
+			       (const double[3]){f * ux, f * uy, 0},
+			       (const double[3]){wx, wy, 0}, 0);
 }
 
 /* A command into [0, 1]; not a number is neutral. */
@@ -84,8 +85,9 @@ void evo_bot_drive(evo_scene *sc, int bot)
 		if (sum_yy > 0)
 			w -= sum_ys / sum_yy;
 	}
-	sc->be->set_velocity(sc->bw, b->body, (const double[3]){v * b->c, v * b->s, 0},
-			 (const double[3]){0, 0, w});
+	sc->be->set_velocity(sc->bw, b->body,
+			     (const double[3]){v * b->c, v * b->s, 0},
+			     (const double[3]){0, 0, w});
 }
 
 static void claw_grab(evo_scene *sc, int bot, evo_actuator *a)

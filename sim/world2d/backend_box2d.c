@@ -7,7 +7,6 @@
 
 #include "world2d/world.h"
 
-
 static evo_world *W(evo_bworld *w)
 {
 	return (evo_world *)w;
@@ -120,7 +119,8 @@ static evo_bpose b_pose(const evo_bworld *w, evo_body_id id)
 {
 	evo_pose p = evo_body_pose(CW(w), id);
 	double c = cos(p.angle), s = sin(p.angle);
-	return (evo_bpose){{p.x, p.y, 0}, p.angle, {c, -s, 0, s, c, 0, 0, 0, 1}};
+	return (evo_bpose){
+	    {p.x, p.y, 0}, p.angle, {c, -s, 0, s, c, 0, 0, 0, 1}};
 }
 
 static void b_set_pose(evo_bworld *w, evo_body_id id, const double pos[3],
@@ -169,9 +169,9 @@ static double b_raycast(evo_bworld *w, const double from[3],
 			evo_body_id ignore, int ignore_group)
 {
 	(void)ignore_group;
-	double f = evo_world_raycast(CW(w), from[0], from[1],
-				     from[0] + dir[0] * len,
-				     from[1] + dir[1] * len, mask, ignore);
+	double f =
+	    evo_world_raycast(CW(w), from[0], from[1], from[0] + dir[0] * len,
+			      from[1] + dir[1] * len, mask, ignore);
 	return f < 0 ? -1 : f * len;
 }
 

@@ -52,9 +52,9 @@ static int nearest_bot(const evo_scene *sc, int bot, uint16_t mask, double *x,
 			evo_shape_info *big = malloc((size_t)n * sizeof *big);
 			if (big) {
 				s = big;
-				n = evo_scene_query(sc, b->x - r,
-						    b->y - r, b->x + r,
-						    b->y + r, mask, big, n);
+				n = evo_scene_query(sc, b->x - r, b->y - r,
+						    b->x + r, b->y + r, mask,
+						    big, n);
 			} else {
 				n = NEAR_CAP;
 			}

@@ -213,15 +213,15 @@ static double gather(evo_scene *sc, const evo_reward *r, evo_bot *b)
 	double reach = b->radius + 2 + EVO_GATHER_GAP;
 	double x0 = b->x - reach, y0 = b->y - reach;
 	double x1 = b->x + reach, y1 = b->y + reach;
-	int n = evo_scene_query(sc, x0, y0, x1, y1, EVO_CAT_OBJECT,
-				local, GATHER_CAP);
+	int n = evo_scene_query(sc, x0, y0, x1, y1, EVO_CAT_OBJECT, local,
+				GATHER_CAP);
 	if (n > GATHER_CAP) {
 		/* a heap of objects: room for all of them */
 		evo_shape_info *big = malloc((size_t)n * sizeof *big);
 		if (big) {
 			found = big;
-			n = evo_scene_query(sc, x0, y0, x1, y1,
-					    EVO_CAT_OBJECT, big, n);
+			n = evo_scene_query(sc, x0, y0, x1, y1, EVO_CAT_OBJECT,
+					    big, n);
 		} else {
 			n = GATHER_CAP;
 		}
@@ -357,8 +357,7 @@ static int touching_target(evo_scene *sc, const evo_control *c,
 		       sc->be->touching_body(sc->bw, b->body, e->body);
 	case EVO_ELEM_CYLINDER:
 	case EVO_ELEM_BOX:
-		return sc->be->touching_obstacle(sc->bw, b->body,
-						  e->obstacle);
+		return sc->be->touching_obstacle(sc->bw, b->body, e->obstacle);
 	default:
 		return 0;
 	}

@@ -283,9 +283,9 @@ int evo_scene_add_bot(evo_scene *sc, const evo_bot_def *d)
 		sc->n_teams = d->team + 1;
 	const evo_bshape *shape = &d->body.shape[0];
 	b.radius = shape->type == EVO_SHAPE_CIRCLE
-			   ? shape->radius
-			   : sqrt(shape->half[0] * shape->half[0] +
-				  shape->half[1] * shape->half[1]);
+		       ? shape->radius
+		       : sqrt(shape->half[0] * shape->half[0] +
+			      shape->half[1] * shape->half[1]);
 	sc->bot[sc->n_bots] = b;
 	evo_bot_refresh_pose(sc, &sc->bot[sc->n_bots]);
 	return sc->n_bots++;

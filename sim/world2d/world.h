@@ -34,8 +34,8 @@ typedef struct evo_world evo_world;
 
 /* The same world behind the backend interface (sim/scene/backend.h): a
  * 2D scene calls it through this struct (sim/world2d/backend_box2d.c),
- * which passes its evo_bworld to the functions below. evo_body_id, evo_shape_type and evo_shape_info
- * are the interface's. */
+ * which passes its evo_bworld to the functions below. evo_body_id,
+ * evo_shape_type and evo_shape_info are the interface's. */
 extern const evo_backend evo_backend_box2d;
 
 /* Collision categories: a body collides with another when each one's

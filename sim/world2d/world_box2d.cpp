@@ -323,8 +323,7 @@ void evo_body_apply_force(evo_world *w, evo_body_id id, double fx, double fy,
 			      b2Vec2((float)px, (float)py), true);
 }
 
-void evo_body_apply_torque(evo_world *w, evo_body_id id,
-			   double torque) noexcept
+void evo_body_apply_torque(evo_world *w, evo_body_id id, double torque) noexcept
 {
 	b2Body *b = lookup(w, id);
 	if (b)

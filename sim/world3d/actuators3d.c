@@ -25,16 +25,17 @@ static void act(evo_scene3d *sc, int bot, const evo_actuator3d *a)
 			return;
 		if (a->def.torque_mode)
 			sc->be->hinge_torque(sc->bw, a->hinge,
-						 u * a->def.max_torque);
+					     u * a->def.max_torque);
 		else
 			sc->be->hinge_velocity(sc->bw, a->hinge,
-						   u * a->def.max_rate,
-						   a->def.max_torque);
+					       u * a->def.max_rate,
+					       a->def.max_torque);
 	} else {
 		double f[3];
 		for (int k = 0; k < 3; k++)
 			f[k] = u * a->def.max_thrust * a->def.axis[k];
-		sc->be->apply_force_at(sc->bw, evo_body3d_id(b->body), f, a->def.pos,
+		sc->be->apply_force_at(sc->bw, evo_scene3d_body(b->body), f,
+				       a->def.pos,
 				       EVO_BFORCE_BODY | EVO_BPOINT_BODY);
 	}
 }
@@ -48,22 +49,22 @@ void evo_bot3d_act(evo_scene3d *sc, int bot)
 	if (d->buoyancy > 0) {
 		double up[3] = {0, 0,
 				d->buoyancy * d->mass * sc->def.world.gravity};
-		sc->be->apply_force_at(sc->bw, evo_body3d_id(b->body), up, d->cob,
-				       EVO_BPOINT_BODY);
+		sc->be->apply_force_at(sc->bw, evo_scene3d_body(b->body), up,
+				       d->cob, EVO_BPOINT_BODY);
 	}
 	if (d->drag_linear > 0 || d->drag_quadratic > 0 ||
 	    d->drag_angular > 0) {
 		double v[3], w[3], f[3], t[3];
 		static const double centre[3] = {0, 0, 0};
-		sc->be->velocity(sc->bw, evo_body3d_id(b->body), v, w);
+		sc->be->velocity(sc->bw, evo_scene3d_body(b->body), v, w);
 		double speed = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 		double k = d->drag_linear + d->drag_quadratic * speed;
 		for (int i = 0; i < 3; i++) {
 			f[i] = -k * v[i];
 			t[i] = -d->drag_angular * w[i];
 		}
-		sc->be->apply_force_at(sc->bw, evo_body3d_id(b->body), f,
+		sc->be->apply_force_at(sc->bw, evo_scene3d_body(b->body), f,
 				       centre, EVO_BPOINT_BODY);
-		sc->be->add_torque(sc->bw, evo_body3d_id(b->body), t);
+		sc->be->add_torque(sc->bw, evo_scene3d_body(b->body), t);
 	}
 }

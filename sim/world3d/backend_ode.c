@@ -55,8 +55,7 @@ static void b_destroy(evo_bworld *w)
 }
 
 /* A shape of the interface as ODE's; -1 for one ODE has not (a segment). */
-static int shape3d_of(const evo_bshape *s, unsigned category,
-		      evo_shape3d *out)
+static int shape3d_of(const evo_bshape *s, unsigned category, evo_shape3d *out)
 {
 	memset(out, 0, sizeof *out);
 	switch (s->type) {
@@ -177,8 +176,7 @@ static void b_hinge_torque(evo_bworld *w, int hinge, double torque)
 	evo_world3d_hinge_torque(W(w), hinge, torque);
 }
 
-static void b_hinge_velocity(evo_bworld *w, int hinge, double rate,
-			     double fmax)
+static void b_hinge_velocity(evo_bworld *w, int hinge, double rate, double fmax)
 {
 	evo_world3d_hinge_velocity(W(w), hinge, rate, fmax);
 }

@@ -640,9 +640,9 @@ static int build_bot(evo_scene3d *sc, int i)
 		evo_bot3d_to_world(b, y, axis);
 		a->hinge = a->body < 0
 			       ? -1
-			       : sc->be->hinge(sc->bw, evo_body3d_id(a->body),
-					       evo_body3d_id(b->body), wd.pos,
-					       axis);
+			       : sc->be->hinge(
+				     sc->bw, evo_scene3d_body(a->body),
+				     evo_scene3d_body(b->body), wd.pos, axis);
 		if (a->hinge < 0)
 			return evo_fail(&sc->err,
 					"bot %s: cannot make wheel %s", b->name,
@@ -679,7 +679,8 @@ int evo_scene3d_build_world(evo_scene3d *sc)
 		od.group = -1;
 		od.category = EVO_CAT3D_OBJECT;
 		od.n_shapes = 1;
-		od.shape[0].type = e->def.sphere ? EVO_SHAPE_CIRCLE : EVO_SHAPE_BOX;
+		od.shape[0].type =
+		    e->def.sphere ? EVO_SHAPE_CIRCLE : EVO_SHAPE_BOX;
 		od.shape[0].radius = e->def.radius;
 		memcpy(od.shape[0].half, e->def.half, sizeof od.shape[0].half);
 		od.shape[0].friction = e->def.friction;
@@ -700,7 +701,8 @@ void evo_scene3d_refresh_bots(evo_scene3d *sc)
 		if (b->body < 0)
 			continue;
 		evo_scene3d_pose(sc, b->body, b->pos, b->R);
-		sc->be->velocity(sc->bw, evo_body3d_id(b->body), b->v, b->omega);
+		sc->be->velocity(sc->bw, evo_scene3d_body(b->body), b->v,
+				 b->omega);
 	}
 }
 

@@ -103,7 +103,7 @@ int evo_scene3d_step(evo_scene3d *sc)
 		}
 		for (int i = 0; i < sc->n_bots; i++)
 			sc->bot[i].touching += sc->be->touching(
-			    sc->bw, evo_body3d_id(sc->bot[i].body));
+			    sc->bw, evo_scene3d_body(sc->bot[i].body));
 	}
 	sc->tick++;
 	evo_scene3d_refresh_bots(sc);

@@ -439,8 +439,7 @@ void evo_body3d_add_rel_force_at_pos(evo_world3d *w, int i, const double f[3],
 			      at[2]);
 }
 
-void evo_body3d_set_pose(evo_world3d *w, int i, const double pos[3],
-			 double yaw)
+void evo_body3d_set_pose(evo_world3d *w, int i, const double pos[3], double yaw)
 {
 	dMatrix3 R;
 	dRFromAxisAndAngle(R, 0, 0, 1, yaw);

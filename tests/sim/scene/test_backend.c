@@ -64,11 +64,10 @@ static void check_ray(const evo_backend *be)
 	double z = be->dims == 3 ? 1 : 0; /* on ODE's ground */
 	CHECK(add_cube(be, w, z) >= 0);
 	double from[3] = {0, 0, z}, dir[3] = {1, 0, 0};
-	double h = be->raycast(w, from, dir, 10, EVO_CAT_ALL, EVO_BODY_NONE,
-			       -1);
+	double h =
+	    be->raycast(w, from, dir, 10, EVO_CAT_ALL, EVO_BODY_NONE, -1);
 	CHECK(NEAR(h, 4, 1e-5));
-	CHECK(be->raycast(w, from, dir, 3, EVO_CAT_ALL, EVO_BODY_NONE, -1) <
-	      0);
+	CHECK(be->raycast(w, from, dir, 3, EVO_CAT_ALL, EVO_BODY_NONE, -1) < 0);
 	be->destroy(w);
 }
 
