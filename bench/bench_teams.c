@@ -130,11 +130,11 @@ static evo_world *floor_world(const evo_scene *sc, evo_body_id *bots)
 		evo_world_add_static_circle(w, o->x, o->y, o->radius);
 	}
 	for (int b = 0; b < sc->n_bots; b++) {
-		evo_body_def d = sc->bot[b].def.body;
-		d.x = sc->bot[b].def.x;
-		d.y = sc->bot[b].def.y;
-		d.angle = sc->bot[b].def.angle;
-		bots[b] = evo_world_add_body(w, &d);
+		evo_bbody_def d = sc->bot[b].def.body;
+		d.pos[0] = sc->bot[b].def.x;
+		d.pos[1] = sc->bot[b].def.y;
+		d.yaw = sc->bot[b].def.angle;
+		bots[b] = evo_backend_box2d.add_body((evo_bworld *)w, &d);
 	}
 	return w;
 }

@@ -39,8 +39,9 @@ static evo_world *floor_world(const evo_scene *sc, evo_body_id *bot)
 			evo_world_add_static_box(w, o->x, o->y, o->half_w,
 						 o->half_h, o->angle);
 	}
-	evo_body_def d = sc->bot[0].def.body;
-	*bot = evo_world_add_body(w, &d);
+	/* the bot's body as the scene defines it, through the backend */
+	*bot =
+	    evo_backend_box2d.add_body((evo_bworld *)w, &sc->bot[0].def.body);
 	return w;
 }
 

@@ -11,6 +11,8 @@
 #   - sim/tasksim/tasksim.c reaches its scene only through
 #     tasksim/simscene.h: it makes and frees a 2D or 3D scene and calls
 #     nothing else of them, nor reads their bots (docs/architecture.md);
+#   - world2d/'s and world3d/'s scenes call their physics engine only
+#     through sim/scene/backend.h (the shims and fillings excepted);
 #   - the reward and control kinds are named in sim/scene/kinds.c alone,
 #     where each says the worlds it exists in;
 #   - every file docs/architecture.md names exists (a bare name such as
@@ -133,6 +135,17 @@ calls=$(grep -o 'evo_\(scene\|scene3d\|bot\|bot3d\)_[a-z0-9_]*(\|->bot\[' \
 	sim/tasksim/tasksim.c | grep -v '_create($\|_destroy($' | sort -u)
 if [ -z "$calls" ]; then pass; else
 	fail "sim/tasksim/tasksim.c reaches its scene around simscene.h: $(echo $calls)"; fi
+
+# The scenes reach their physics only through the backend interface
+# (sim/scene/backend.h): no file of world2d/ but its Box2D shim and filling
+# calls world.h's functions, none of world3d/ but its ODE shim and filling
+# calls world3d.h's.
+direct=$(grep -l 'evo_\(world\|body\)_[a-z_]*(' sim/world2d/*.c |
+	grep -v '^sim/world2d/backend_box2d.c$')
+direct="$direct $(grep -l 'evo_\(world3d\|body3d\)_[a-z_]*(' sim/world3d/*.c |
+	grep -v '^sim/world3d/world_ode.c$\|^sim/world3d/backend_ode.c$')"
+if [ -z "$(echo $direct)" ]; then pass; else
+	fail "scene files calling their engine around sim/scene/backend.h: $(echo $direct)"; fi
 
 # The kinds' names are sim/scene/kinds.c's alone (2D and 3D read them).
 names=$(grep -rl --include='*.c' '"ClosingOnTarget"\|"NextOnTimeout"' sim |

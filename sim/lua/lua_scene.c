@@ -221,12 +221,13 @@ static unsigned body_line(const char *path)
 	return at;
 }
 
-/* The body table of a bot model (at 1) into the evo_body_def at 2.
+/* The body table of a bot model (at 1) into the evo_bbody_def at 2.
  * Called through lua_pcall, so that its errors carry no script line:
  * scene:bot puts the bot model's file before them. */
 static int read_body(lua_State *L)
 {
-	evo_body_def *body = lua_touserdata(L, 2);
+	evo_bbody_def *body = lua_touserdata(L, 2);
+	evo_bshape *sh = &body->shape[0];
 	static const char *const bkeys[] = {
 	    "shape",	       "radius",   "half_width",  "half_height",
 	    "density",	       "friction", "restitution", "linear_damping",
@@ -236,18 +237,18 @@ static int read_body(lua_State *L)
 	evo_lua_check_keys(L, b, bw, bkeys);
 	const char *shape = evo_lua_opt_str(L, b, "shape", "circle", bw);
 	if (strcmp(shape, "circle") == 0)
-		body->shape = EVO_SHAPE_CIRCLE;
+		sh->type = EVO_SHAPE_CIRCLE;
 	else if (strcmp(shape, "box") == 0)
-		body->shape = EVO_SHAPE_BOX;
+		sh->type = EVO_SHAPE_BOX;
 	else
 		luaL_error(L, "%s: shape is \"circle\" or \"box\"", bw);
-	body->radius = evo_lua_opt_num(L, b, "radius", body->radius, bw);
-	body->half_w = evo_lua_opt_num(L, b, "half_width", body->half_w, bw);
-	body->half_h = evo_lua_opt_num(L, b, "half_height", body->half_h, bw);
+	sh->radius = evo_lua_opt_num(L, b, "radius", sh->radius, bw);
+	sh->half[0] = evo_lua_opt_num(L, b, "half_width", sh->half[0], bw);
+	sh->half[1] = evo_lua_opt_num(L, b, "half_height", sh->half[1], bw);
 	body->density = evo_lua_opt_num(L, b, "density", body->density, bw);
-	body->friction = evo_lua_opt_num(L, b, "friction", body->friction, bw);
-	body->restitution =
-	    evo_lua_opt_num(L, b, "restitution", body->restitution, bw);
+	sh->friction = evo_lua_opt_num(L, b, "friction", sh->friction, bw);
+	sh->restitution =
+	    evo_lua_opt_num(L, b, "restitution", sh->restitution, bw);
 	body->linear_damping =
 	    evo_lua_opt_num(L, b, "linear_damping", body->linear_damping, bw);
 	body->angular_damping =

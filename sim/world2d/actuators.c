@@ -7,6 +7,7 @@
 #include <math.h>
 
 #include "world2d/query.h"
+#include "world2d/scene_internal.h"
 
 /* The claw takes what lies within ±45 degrees of its direction. */
 #define CLAW_ARC (M_PI / 4)
@@ -26,7 +27,9 @@ static void wheel(evo_scene *sc, const evo_bot *b, const evo_actuator *a)
 	/* the heading turned by the wheel's angle */
 	double ux = b->c * a->dir_c - b->s * a->dir_s;
 	double uy = b->s * a->dir_c + b->c * a->dir_s;
-	evo_body_apply_force(sc->world, b->body, f * ux, f * uy, wx, wy);
+	sc->be->apply_force_at(sc->bw, b->body,
+			       (const double[3]){f * ux, f * uy, 0},
+			       (const double[3]){wx, wy, 0}, 0);
 }
 
 /* A command into [0, 1]; not a number is neutral. */
@@ -82,7 +85,9 @@ void evo_bot_drive(evo_scene *sc, int bot)
 		if (sum_yy > 0)
 			w -= sum_ys / sum_yy;
 	}
-	evo_body_set_velocity(sc->world, b->body, v * b->c, v * b->s, w);
+	sc->be->set_velocity(sc->bw, b->body,
+			     (const double[3]){v * b->c, v * b->s, 0},
+			     (const double[3]){0, 0, w});
 }
 
 static void claw_grab(evo_scene *sc, int bot, evo_actuator *a)
@@ -97,7 +102,7 @@ static void claw_grab(evo_scene *sc, int bot, evo_actuator *a)
 	if (k < 0)
 		return;
 	evo_element *e = &sc->element[k];
-	int joint = evo_world_weld(sc->world, b->body, e->body);
+	int joint = sc->be->weld(sc->bw, b->body, e->body);
 	if (joint < 0)
 		return;
 	a->held = k;
@@ -109,7 +114,7 @@ static void claw_open(evo_scene *sc, evo_actuator *a)
 {
 	if (a->held < 0)
 		return;
-	evo_world_unweld(sc->world, a->joint);
+	sc->be->unweld(sc->bw, a->joint);
 	if (a->held < sc->n_elements)
 		sc->element[a->held].held_by = -1;
 	a->held = -1;

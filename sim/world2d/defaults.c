@@ -73,17 +73,19 @@ evo_bot_def evo_default_bot_def(void)
 {
 	evo_bot_def d;
 	memset(&d, 0, sizeof d);
-	d.body = evo_default_body_def();
 	d.body.dynamic = 1;
-	d.body.shape = EVO_SHAPE_CIRCLE;
-	d.body.radius = 1.0;
+	d.body.n_shapes = 1;
+	d.body.shape[0].type = EVO_SHAPE_CIRCLE;
+	d.body.shape[0].radius = 1.0;
+	d.body.shape[0].half[0] = d.body.shape[0].half[1] = 1.0;
+	d.body.shape[0].friction = 0.0;
 	d.body.density = 2.0;
-	d.body.friction = 0.0;
 	d.body.linear_damping = 5.0;
 	d.body.angular_damping = 20.0;
 	d.body.allow_sleep = 0;
 	d.body.category = EVO_CAT_BOT;
 	d.body.mask = EVO_CAT_ALL;
+	d.body.group = -1;
 	d.team = -1;
 	return d;
 }

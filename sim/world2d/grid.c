@@ -74,7 +74,7 @@ void evo_grid_rebuild(evo_scene *sc, uint64_t seed, int world_new)
 	    sc->n_obstacles != sc->n_fixed_obstacles) {
 		int n = sc->n_fixed_obstacles;
 		if (!world_new)
-			evo_world_clear_obstacles(sc->world);
+			sc->be->clear_statics(sc->bw);
 		sc->n_obstacles = 0;
 		for (int i = 0; i < n; i++) {
 			evo_obstacle o = sc->obstacle[i];

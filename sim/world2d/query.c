@@ -6,6 +6,8 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "world2d/scene_internal.h"
+
 void evo_bot_to_world(const evo_scene *sc, int bot, double bx, double by,
 		      double *wx, double *wy)
 {
@@ -44,15 +46,15 @@ static int nearest_bot(const evo_scene *sc, int bot, uint16_t mask, double *x,
 		if (r > EVO_TEAM_SEARCH)
 			r = EVO_TEAM_SEARCH;
 		evo_shape_info *s = local;
-		int n = evo_world_query(sc->world, b->x - r, b->y - r, b->x + r,
+		int n = evo_scene_query(sc, b->x - r, b->y - r, b->x + r,
 					b->y + r, mask, local, NEAR_CAP);
 		if (n > NEAR_CAP) {
 			evo_shape_info *big = malloc((size_t)n * sizeof *big);
 			if (big) {
 				s = big;
-				n = evo_world_query(sc->world, b->x - r,
-						    b->y - r, b->x + r,
-						    b->y + r, mask, big, n);
+				n = evo_scene_query(sc, b->x - r, b->y - r,
+						    b->x + r, b->y + r, mask,
+						    big, n);
 			} else {
 				n = NEAR_CAP;
 			}

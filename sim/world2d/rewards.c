@@ -15,6 +15,7 @@
 
 #include "world2d/actuators.h"
 #include "world2d/query.h"
+#include "world2d/scene_internal.h"
 
 /* ---- helpers ------------------------------------------------------------ */
 
@@ -123,8 +124,9 @@ static double sensor_threshold(const evo_reward *r, const evo_bot *b, int over)
 static double forward_motion(evo_scene *sc, const evo_reward *r,
 			     const evo_bot *b)
 {
-	double vx, vy, w;
-	evo_body_velocity(sc->world, b->body, &vx, &vy, &w);
+	double v[3], w[3];
+	sc->be->velocity(sc->bw, b->body, v, w);
+	double vx = v[0], vy = v[1];
 	double vf = vx * b->c + vy * b->s;
 	if (vf > 1e-3)
 		return r->def.k;
@@ -138,16 +140,18 @@ static double forward_motion(evo_scene *sc, const evo_reward *r,
 static double forward_speed(evo_scene *sc, const evo_reward *r,
 			    const evo_bot *b)
 {
-	double vx, vy, w;
-	evo_body_velocity(sc->world, b->body, &vx, &vy, &w);
+	double v[3], w[3];
+	sc->be->velocity(sc->bw, b->body, v, w);
+	double vx = v[0], vy = v[1];
 	return r->def.k * (vx * b->c + vy * b->s);
 }
 
 /* Speed: k * |v|^2, v the bot's linear velocity. */
 static double speed(evo_scene *sc, const evo_reward *r, const evo_bot *b)
 {
-	double vx, vy, w;
-	evo_body_velocity(sc->world, b->body, &vx, &vy, &w);
+	double v[3], w[3];
+	sc->be->velocity(sc->bw, b->body, v, w);
+	double vx = v[0], vy = v[1];
 	return r->def.k * (vx * vx + vy * vy);
 }
 
@@ -174,8 +178,8 @@ static double collect(evo_scene *sc, const evo_reward *r, evo_bot *b)
 		if (e->kind != EVO_ELEM_OBJECT || !e->active ||
 		    e->held_by != r->def.bot)
 			continue;
-		evo_pose p = evo_body_pose(sc->world, e->body);
-		if (!evo_zone_contains(z, p.x, p.y))
+		evo_bpose p = sc->be->pose(sc->bw, e->body);
+		if (!evo_zone_contains(z, p.pos[0], p.pos[1]))
 			continue;
 		e->active = 0;
 		n++;
@@ -186,7 +190,7 @@ static double collect(evo_scene *sc, const evo_reward *r, evo_bot *b)
 	for (int i = 0; i < sc->n_elements; i++) {
 		evo_element *e = &sc->element[i];
 		if (e->kind == EVO_ELEM_OBJECT && !e->active)
-			evo_body_set_enabled(sc->world, e->body, 0);
+			sc->be->set_enabled(sc->bw, e->body, 0);
 	}
 	b->delivered += n;
 	return r->def.k * n;
@@ -209,15 +213,15 @@ static double gather(evo_scene *sc, const evo_reward *r, evo_bot *b)
 	double reach = b->radius + 2 + EVO_GATHER_GAP;
 	double x0 = b->x - reach, y0 = b->y - reach;
 	double x1 = b->x + reach, y1 = b->y + reach;
-	int n = evo_world_query(sc->world, x0, y0, x1, y1, EVO_CAT_OBJECT,
-				local, GATHER_CAP);
+	int n = evo_scene_query(sc, x0, y0, x1, y1, EVO_CAT_OBJECT, local,
+				GATHER_CAP);
 	if (n > GATHER_CAP) {
 		/* a heap of objects: room for all of them */
 		evo_shape_info *big = malloc((size_t)n * sizeof *big);
 		if (big) {
 			found = big;
-			n = evo_world_query(sc->world, x0, y0, x1, y1,
-					    EVO_CAT_OBJECT, big, n);
+			n = evo_scene_query(sc, x0, y0, x1, y1, EVO_CAT_OBJECT,
+					    big, n);
 		} else {
 			n = GATHER_CAP;
 		}
@@ -233,7 +237,7 @@ static double gather(evo_scene *sc, const evo_reward *r, evo_bot *b)
 		if (dx * dx + dy * dy > lim * lim)
 			continue;
 		e->active = 0;
-		evo_body_set_enabled(sc->world, e->body, 0);
+		sc->be->set_enabled(sc->bw, e->body, 0);
 		got++;
 	}
 	if (found != local)
@@ -350,11 +354,10 @@ static int touching_target(evo_scene *sc, const evo_control *c,
 	switch (e->kind) {
 	case EVO_ELEM_OBJECT:
 		return e->active &&
-		       evo_body_touching_body(sc->world, b->body, e->body);
+		       sc->be->touching_body(sc->bw, b->body, e->body);
 	case EVO_ELEM_CYLINDER:
 	case EVO_ELEM_BOX:
-		return evo_body_touching_obstacle(sc->world, b->body,
-						  e->obstacle);
+		return sc->be->touching_obstacle(sc->bw, b->body, e->obstacle);
 	default:
 		return 0;
 	}

@@ -17,9 +17,11 @@ evo_scene *evo_scene_create(void)
 	evo_scene *sc = calloc(1, sizeof *sc);
 	if (!sc)
 		return NULL;
-	evo_world_def wd = evo_default_world_def();
-	sc->world = evo_world_create(&wd);
-	if (!sc->world) {
+	sc->be = &evo_backend_box2d;
+	evo_bworld_def wd = sc->be->world_def();
+	sc->bw = sc->be->create(&wd);
+	sc->world = (evo_world *)sc->bw;
+	if (!sc->bw) {
 		free(sc);
 		return NULL;
 	}
@@ -45,7 +47,7 @@ void evo_scene_destroy(evo_scene *sc)
 	free(sc->body_owner);
 	free(sc->sense_mem);
 	free(sc->sense_shapes);
-	evo_world_destroy(sc->world);
+	sc->be->destroy(sc->bw);
 	free(sc);
 }
 
@@ -111,16 +113,13 @@ int evo_scene_add_obstacle(evo_scene *sc, const evo_obstacle *o)
 {
 	if (GROW(sc, obstacle, n_obstacles, cap_obstacles))
 		return -1;
-	int idx;
-	if (o->shape == EVO_SHAPE_CIRCLE)
-		idx = evo_world_add_static_circle(sc->world, o->x, o->y,
-						  o->radius);
-	else if (o->shape == EVO_SHAPE_SEGMENT)
-		idx = evo_world_add_static_segment(sc->world, o->x, o->y, o->x2,
-						   o->y2);
-	else
-		idx = evo_world_add_static_box(sc->world, o->x, o->y, o->half_w,
-					       o->half_h, o->angle);
+	evo_bshape s = {.type = o->shape,
+			.pos = {o->x, o->y, 0},
+			.end = {o->x2, o->y2, 0},
+			.yaw = o->angle,
+			.radius = o->radius,
+			.half = {o->half_w, o->half_h, 0}};
+	int idx = sc->be->add_static(sc->bw, &s);
 	if (idx < 0)
 		return evo_fail(&sc->err, "an obstacle needs a positive size");
 	sc->obstacle[sc->n_obstacles] = *o;
@@ -129,21 +128,21 @@ int evo_scene_add_obstacle(evo_scene *sc, const evo_obstacle *o)
 
 static evo_body_id add_object_body(evo_scene *sc, const evo_element_def *d)
 {
-	evo_body_def bd = evo_default_body_def();
-	bd.dynamic = 1;
-	bd.x = d->x;
-	bd.y = d->y;
-	bd.angle = d->angle;
-	bd.radius = d->size;
-	bd.density = d->density;
-	bd.friction = d->friction;
-	bd.restitution = d->restitution;
-	bd.linear_damping = d->linear_damping;
-	bd.angular_damping = d->angular_damping;
-	bd.allow_sleep = 0;
-	bd.category = EVO_CAT_OBJECT;
-	bd.mask = EVO_CAT_ALL;
-	return evo_world_add_body(sc->world, &bd);
+	evo_bbody_def bd = {.dynamic = 1,
+			    .pos = {d->x, d->y, 0},
+			    .yaw = d->angle,
+			    .density = d->density,
+			    .linear_damping = d->linear_damping,
+			    .angular_damping = d->angular_damping,
+			    .n_shapes = 1,
+			    .category = EVO_CAT_OBJECT,
+			    .mask = EVO_CAT_ALL,
+			    .group = -1};
+	bd.shape[0] = (evo_bshape){.type = EVO_SHAPE_CIRCLE,
+				   .radius = d->size,
+				   .friction = d->friction,
+				   .restitution = d->restitution};
+	return sc->be->add_body(sc->bw, &bd);
 }
 
 int evo_scene_add_episode_obstacle(evo_scene *sc, const evo_obstacle *o)
@@ -268,23 +267,25 @@ int evo_scene_add_bot(evo_scene *sc, const evo_bot_def *d)
 	b.def = *d;
 	b.def.name = NULL;
 	b.def.body.dynamic = 1;
-	b.def.body.x = d->x;
-	b.def.body.y = d->y;
-	b.def.body.angle = d->angle;
+	b.def.body.pos[0] = d->x;
+	b.def.body.pos[1] = d->y;
+	b.def.body.pos[2] = 0;
+	b.def.body.yaw = d->angle;
 	b.team = d->team;
 	if (d->team >= 0)
 		b.def.body.category |= EVO_CAT_TEAM(d->team);
-	b.body = evo_world_add_body(sc->world, &b.def.body);
+	b.body = sc->be->add_body(sc->bw, &b.def.body);
 	if (b.body.index < 0)
 		return evo_fail(&sc->err, "bot: its body needs a positive size");
 	if (set_owner(sc, b.body.index, sc->n_bots))
 		return -1;
 	if (d->team >= sc->n_teams)
 		sc->n_teams = d->team + 1;
-	b.radius = d->body.shape == EVO_SHAPE_CIRCLE
-			   ? d->body.radius
-			   : sqrt(d->body.half_w * d->body.half_w +
-				  d->body.half_h * d->body.half_h);
+	const evo_bshape *shape = &d->body.shape[0];
+	b.radius = shape->type == EVO_SHAPE_CIRCLE
+		       ? shape->radius
+		       : sqrt(shape->half[0] * shape->half[0] +
+			      shape->half[1] * shape->half[1]);
 	sc->bot[sc->n_bots] = b;
 	evo_bot_refresh_pose(sc, &sc->bot[sc->n_bots]);
 	return sc->n_bots++;
@@ -604,9 +605,9 @@ void evo_scene_place_bot(evo_scene *sc, int bot, double x, double y,
 	if (bot < 0 || bot >= sc->n_bots)
 		return;
 	evo_body_id id = sc->bot[bot].body;
-	evo_pose p = {x, y, angle};
-	evo_body_set_pose(sc->world, id, p);
-	evo_body_set_velocity(sc->world, id, 0, 0, 0);
+	static const double zero[3] = {0, 0, 0};
+	sc->be->set_pose(sc->bw, id, (const double[3]){x, y, 0}, angle);
+	sc->be->set_velocity(sc->bw, id, zero, zero);
 	evo_bot_refresh_pose(sc, &sc->bot[bot]);
 }
 
@@ -618,8 +619,9 @@ void evo_scene_place_element(evo_scene *sc, int element, double x, double y)
 	e->x = x;
 	e->y = y;
 	if (e->kind == EVO_ELEM_OBJECT) {
-		evo_pose p = {x, y, e->angle};
-		evo_body_set_pose(sc->world, e->body, p);
-		evo_body_set_velocity(sc->world, e->body, 0, 0, 0);
+		static const double zero[3] = {0, 0, 0};
+		sc->be->set_pose(sc->bw, e->body, (const double[3]){x, y, 0},
+				 e->angle);
+		sc->be->set_velocity(sc->bw, e->body, zero, zero);
 	}
 }

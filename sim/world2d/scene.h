@@ -229,8 +229,9 @@ typedef struct evo_actuator {
 typedef struct evo_bot_def {
 	const char *name;
 	int team;	   /* -1: none; else 0 .. EVO_SCENE_MAX_TEAMS - 1 */
-	evo_body_def body; /* a dynamic circle: radius 1, density 2, friction
-			      0, damping 5 / 20, never sleeps (BotType8) */
+	evo_bbody_def body; /* a dynamic circle: radius 1, density 2,
+			       friction 0, damping 5 / 20, never sleeps
+			       (BotType8) */
 	double x, y, angle; /* start pose */
 } evo_bot_def;
 
@@ -344,6 +345,12 @@ typedef struct evo_scene_hooks {
 } evo_scene_hooks;
 
 struct evo_scene {
+	/* The physics, through the backend interface (sim/scene/backend.h):
+	 * be is evo_backend_box2d and bw its world. world is the same world
+	 * as Box2D's own API sees it, for what is 2D only outside world2d/
+	 * (the viewer, the Lua bot binding, the tests). */
+	const evo_backend *be;
+	evo_bworld *bw;
 	evo_world *world;
 	long tick; /* ticks since the reset */
 	evo_rng rng; /* the episode's randomness (RANDOM sensors, placements) */

@@ -1,5 +1,5 @@
-/* evo — private to world2d/: what scene.c, grid.c and step.c share and no
- * other folder may use. */
+/* evo — private to world2d/: what its files share and no other folder
+ * may use. */
 #ifndef EVO_SCENE_INTERNAL_H
 #define EVO_SCENE_INTERNAL_H
 
@@ -16,12 +16,22 @@ int evo_scene_add_obstacle(evo_scene *sc, const evo_obstacle *o);
  * Inline: the step does it for every bot every tick. */
 static inline void evo_bot_refresh_pose(evo_scene *sc, evo_bot *b)
 {
-	evo_pose p = evo_body_pose(sc->world, b->body);
-	b->x = p.x;
-	b->y = p.y;
-	b->angle = p.angle;
-	b->c = cos(p.angle);
-	b->s = sin(p.angle);
+	evo_bpose p = sc->be->pose(sc->bw, b->body);
+	b->x = p.pos[0];
+	b->y = p.pos[1];
+	b->angle = p.yaw;
+	b->c = p.R[0]; /* cos(yaw) */
+	b->s = p.R[3]; /* sin(yaw) */
+}
+
+/* The shapes of the world in the box [x0, x1] x [y0, y1] (the backend's
+ * query_box): writes at most cap, returns how many there are. */
+static inline int evo_scene_query(const evo_scene *sc, double x0, double y0,
+				  double x1, double y1, uint16_t mask,
+				  evo_shape_info *out, int cap)
+{
+	return sc->be->query_box(sc->bw, (const double[3]){x0, y0, 0},
+				 (const double[3]){x1, y1, 0}, mask, out, cap);
 }
 
 /* Put back the elements' obstacles and build the grid from seed;

@@ -16,6 +16,7 @@
 #include <stdlib.h>
 
 #include "world2d/query.h"
+#include "world2d/scene_internal.h"
 
 /* Shapes kept on the stack for one query; a crowd larger than this goes
  * to the heap. */
@@ -113,14 +114,13 @@ static void gather(const evo_scene *sc, const evo_bot *b, const box *area,
 	double x0 = area->x0, y0 = area->y0;
 	double x1 = area->x1, y1 = area->y1;
 	set->s = set->local;
-	int n = evo_world_query(sc->world, x0, y0, x1, y1, mask, set->local,
-				QUERY_CAP);
+	int n =
+	    evo_scene_query(sc, x0, y0, x1, y1, mask, set->local, QUERY_CAP);
 	if (n > QUERY_CAP) {
 		evo_shape_info *big = malloc((size_t)n * sizeof *big);
 		if (big) {
 			set->s = big;
-			n = evo_world_query(sc->world, x0, y0, x1, y1, mask,
-					    big, n);
+			n = evo_scene_query(sc, x0, y0, x1, y1, mask, big, n);
 		} else {
 			n = QUERY_CAP; /* out of memory: see what fits */
 		}
@@ -282,6 +282,7 @@ static double ray_shape(const evo_shape_info *s, double px, double py,
 	case EVO_SHAPE_SEGMENT:
 		return ray_segment(s, px, py, dx, dy, max);
 	case EVO_SHAPE_BOX:
+	case EVO_SHAPE_CYLINDER: /* 3D only: never in a 2D world */
 		break;
 	}
 	return ray_box(s, px, py, dx, dy, max);
@@ -821,9 +822,9 @@ void evo_sense_all(evo_scene *sc)
 			box_add(&area, sb[i].area.x1, sb[i].area.y1);
 			mask |= sb[i].mask;
 		}
-		int got = evo_world_query(sc->world, area.x0, area.y0, area.x1,
-					  area.y1, mask, shapes + used,
-					  (int)(cap - used));
+		int got =
+		    evo_scene_query(sc, area.x0, area.y0, area.x1, area.y1,
+				    mask, shapes + used, (int)(cap - used));
 		if ((size_t)got > cap - used) {
 			/* grow and ask again: the bounds are worked out only
 			 * after every query, so moving them costs nothing */
@@ -831,9 +832,9 @@ void evo_sense_all(evo_scene *sc)
 			shapes = shape_room(sc, cap, &bounds);
 			if (!shapes)
 				break;
-			got = evo_world_query(sc->world, area.x0, area.y0,
-					      area.x1, area.y1, mask,
-					      shapes + used, (int)(cap - used));
+			got = evo_scene_query(sc, area.x0, area.y0, area.x1,
+					      area.y1, mask, shapes + used,
+					      (int)(cap - used));
 		}
 		cells[c].first = (int)used;
 		cells[c].count = got;

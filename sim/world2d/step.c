@@ -61,9 +61,9 @@ void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
 		/* every object on, so that the new world makes every body
 		 * alike, whichever the last episode took off the world */
 		for (int k = 0; k < sc->n_objects; k++)
-			evo_body_set_enabled(sc->world,
-					     sc->element[sc->object[k]].body, 1);
-		evo_world_reset(sc->world);
+			sc->be->set_enabled(sc->bw,
+					    sc->element[sc->object[k]].body, 1);
+		sc->be->reset(sc->bw);
 	}
 	for (int i = 0; i < sc->n_bots; i++)
 		reset_bot(sc, i);
@@ -76,11 +76,11 @@ void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
 			 * left: a circle's turn changes Box2D's rounding, and
 			 * an episode would depend on the one before it */
 			e->angle = e->def.angle;
-			evo_body_set_enabled(sc->world, e->body, 1);
+			sc->be->set_enabled(sc->bw, e->body, 1);
 			evo_scene_place_element(sc, i, e->def.x, e->def.y);
 			/* awake, as a new body, not asleep as the last
 			 * episode may have left it */
-			evo_body_wake(sc->world, e->body);
+			sc->be->wake(sc->bw, e->body);
 		} else {
 			e->active = 1;
 			e->x = e->def.x;
@@ -112,10 +112,9 @@ static int undo_blocked_step(evo_scene *sc, evo_bot *b)
 {
 	double x = b->x, y = b->y;
 	evo_bot_refresh_pose(sc, b);
-	if (!b->def.body.kinematic || !evo_world_body_blocked(sc->world, b->body))
+	if (!b->def.body.kinematic || !sc->be->blocked(sc->bw, b->body))
 		return 0;
-	evo_pose back = {x, y, b->angle};
-	evo_body_set_pose(sc->world, b->body, back);
+	sc->be->set_pose(sc->bw, b->body, (const double[3]){x, y, 0}, b->angle);
 	evo_bot_refresh_pose(sc, b);
 	return 1;
 }
@@ -132,7 +131,7 @@ int evo_scene_step(evo_scene *sc)
 			evo_actuator_act(sc, i, k);
 		evo_bot_drive(sc, i);
 	}
-	evo_world_step(sc->world);
+	sc->be->step(sc->bw, NULL);
 	sc->tick++;
 	for (int i = 0; i < sc->n_bots; i++) {
 		evo_bot *b = &sc->bot[i];
@@ -142,7 +141,7 @@ int evo_scene_step(evo_scene *sc)
 		b->hist_i = (b->hist_i + 1) % EVO_DOF_HISTORY;
 		if (b->hist_n < EVO_DOF_HISTORY)
 			b->hist_n++;
-		b->touching = undone || evo_body_touching(sc->world, b->body);
+		b->touching = undone || sc->be->touching(sc->bw, b->body);
 		/* A held object is welded and does not collide with its
 		 * bot, so it never counts. */
 		if (b->touching)
@@ -152,10 +151,10 @@ int evo_scene_step(evo_scene *sc)
 	for (int k = 0; k < sc->n_objects; k++) {
 		evo_element *e = &sc->element[sc->object[k]];
 		if (e->active) {
-			evo_pose p = evo_body_pose(sc->world, e->body);
-			e->x = p.x;
-			e->y = p.y;
-			e->angle = p.angle;
+			evo_bpose p = sc->be->pose(sc->bw, e->body);
+			e->x = p.pos[0];
+			e->y = p.pos[1];
+			e->angle = p.yaw;
 		}
 	}
 	double total = 0;

@@ -14,6 +14,8 @@
 
 #include <stdint.h>
 
+#include "scene/backend.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -30,18 +32,11 @@ extern "C" {
 
 typedef struct evo_world evo_world;
 
-typedef struct evo_body_id {
-	int32_t index; /* 0 based; -1 for none */
-	uint16_t generation;
-} evo_body_id;
-
-#define EVO_BODY_NONE ((evo_body_id){-1, 0})
-
-typedef enum evo_shape_type {
-	EVO_SHAPE_CIRCLE = 0,
-	EVO_SHAPE_BOX = 1,
-	EVO_SHAPE_SEGMENT = 2, /* a static wall of no thickness (mazes) */
-} evo_shape_type;
+/* The same world behind the backend interface (sim/scene/backend.h): a
+ * 2D scene calls it through this struct (sim/world2d/backend_box2d.c),
+ * which passes its evo_bworld to the functions below. evo_body_id,
+ * evo_shape_type and evo_shape_info are the interface's. */
+extern const evo_backend evo_backend_box2d;
 
 /* Collision categories: a body collides with another when each one's
  * category is in the other's mask. */
@@ -134,6 +129,10 @@ void evo_body_set_velocity(evo_world *w, evo_body_id id, double vx, double vy,
 void evo_body_apply_force(evo_world *w, evo_body_id id, double fx, double fy,
 			  double px, double py) EVO_WORLD_NOEXCEPT;
 
+/* Apply a torque (newton metres) about the body's centre. */
+void evo_body_apply_torque(evo_world *w, evo_body_id id,
+			   double torque) EVO_WORLD_NOEXCEPT;
+
 /* 1 when body id, where it is now, lies closer than its radius to a
  * static obstacle or another body whose category its mask takes: for a
  * circle, its centre closer than its radius to the other shape (Box2D's
@@ -177,18 +176,6 @@ void evo_world_unweld(evo_world *w, int joint) EVO_WORLD_NOEXCEPT;
 double evo_world_raycast(const evo_world *w, double x1, double y1, double x2,
 			 double y2, uint16_t mask,
 			 evo_body_id ignore) EVO_WORLD_NOEXCEPT;
-
-/* A shape found by evo_world_query, in world coordinates. */
-typedef struct evo_shape_info {
-	evo_shape_type type;
-	uint16_t category;
-	double x, y;	  /* centre (a segment's middle) */
-	double radius;	  /* circle */
-	double vx[4], vy[4]; /* box corners, counter-clockwise; a segment's
-				two ends in vx[0..1], vy[0..1] */
-	evo_body_id body; /* EVO_BODY_NONE for static obstacles */
-	int obstacle;	  /* the obstacle's index, -1 for a body */
-} evo_shape_info;
 
 /* The shapes whose bounding boxes overlap the box [x0, x1] x [y0, y1],
  * in Box2D's order; writes at most cap and returns how many there are. */

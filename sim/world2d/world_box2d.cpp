@@ -323,6 +323,13 @@ void evo_body_apply_force(evo_world *w, evo_body_id id, double fx, double fy,
 			      b2Vec2((float)px, (float)py), true);
 }
 
+void evo_body_apply_torque(evo_world *w, evo_body_id id, double torque) noexcept
+{
+	b2Body *b = lookup(w, id);
+	if (b)
+		b->ApplyTorque((float)torque, true);
+}
+
 int evo_body_touching(const evo_world *w, evo_body_id id) noexcept
 {
 	const b2Body *b = lookup(w, id);

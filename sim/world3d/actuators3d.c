@@ -24,17 +24,19 @@ static void act(evo_scene3d *sc, int bot, const evo_actuator3d *a)
 		if (a->hinge < 0)
 			return;
 		if (a->def.torque_mode)
-			evo_world3d_hinge_torque(sc->world, a->hinge,
-						 u * a->def.max_torque);
+			sc->be->hinge_torque(sc->bw, a->hinge,
+					     u * a->def.max_torque);
 		else
-			evo_world3d_hinge_velocity(sc->world, a->hinge,
-						   u * a->def.max_rate,
-						   a->def.max_torque);
+			sc->be->hinge_velocity(sc->bw, a->hinge,
+					       u * a->def.max_rate,
+					       a->def.max_torque);
 	} else {
 		double f[3];
 		for (int k = 0; k < 3; k++)
 			f[k] = u * a->def.max_thrust * a->def.axis[k];
-		evo_body3d_add_rel_force_at(sc->world, b->body, f, a->def.pos);
+		sc->be->apply_force_at(sc->bw, evo_scene3d_body(b->body), f,
+				       a->def.pos,
+				       EVO_BFORCE_BODY | EVO_BPOINT_BODY);
 	}
 }
 
@@ -47,20 +49,22 @@ void evo_bot3d_act(evo_scene3d *sc, int bot)
 	if (d->buoyancy > 0) {
 		double up[3] = {0, 0,
 				d->buoyancy * d->mass * sc->def.world.gravity};
-		evo_body3d_add_force_at(sc->world, b->body, up, d->cob);
+		sc->be->apply_force_at(sc->bw, evo_scene3d_body(b->body), up,
+				       d->cob, EVO_BPOINT_BODY);
 	}
 	if (d->drag_linear > 0 || d->drag_quadratic > 0 ||
 	    d->drag_angular > 0) {
 		double v[3], w[3], f[3], t[3];
 		static const double centre[3] = {0, 0, 0};
-		evo_body3d_velocity(sc->world, b->body, v, w);
+		sc->be->velocity(sc->bw, evo_scene3d_body(b->body), v, w);
 		double speed = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 		double k = d->drag_linear + d->drag_quadratic * speed;
 		for (int i = 0; i < 3; i++) {
 			f[i] = -k * v[i];
 			t[i] = -d->drag_angular * w[i];
 		}
-		evo_body3d_add_force_at(sc->world, b->body, f, centre);
-		evo_body3d_add_torque(sc->world, b->body, t);
+		sc->be->apply_force_at(sc->bw, evo_scene3d_body(b->body), f,
+				       centre, EVO_BPOINT_BODY);
+		sc->be->add_torque(sc->bw, evo_scene3d_body(b->body), t);
 	}
 }

@@ -88,13 +88,40 @@ evo_control3d_def evo_default_control3d_def(evo_control_kind kind)
 evo_scene3d_def evo_default_scene3d_def(void)
 {
 	evo_scene3d_def d;
-	d.world = evo_default_world3d_def();
+	d.world = evo_backend_ode.world_def();
 	d.substeps = 2;
 	d.fault_penalty = -1000;
 	return d;
 }
 
 /* ---- create, destroy ---------------------------------------------------- */
+
+/* A new world from sc->def (the old one is gone); 0, or -1. */
+static int new_world(evo_scene3d *sc)
+{
+	sc->bw = sc->be->create(&sc->def.world);
+	sc->world = (evo_world3d *)sc->bw;
+	return sc->bw ? 0 : -1;
+}
+
+/* An obstacle into the world, as the backend's shape; its index or -1. */
+static int add_static(evo_scene3d *sc, const evo_obstacle3d *o)
+{
+	evo_bshape s;
+	memset(&s, 0, sizeof s);
+	s.type = o->type == EVO_SHAPE3D_BOX	   ? EVO_SHAPE_BOX
+		 : o->type == EVO_SHAPE3D_CYLINDER ? EVO_SHAPE_CYLINDER
+						   : EVO_SHAPE_CIRCLE;
+	memcpy(s.pos, o->pos, sizeof s.pos);
+	s.yaw = o->yaw;
+	memcpy(s.half, o->half, sizeof s.half);
+	s.radius = o->radius;
+	s.half_length = o->half_length;
+	s.axis = o->axis;
+	s.friction = o->friction;
+	s.category = (uint16_t)o->category;
+	return sc->be->add_static(sc->bw, &s);
+}
 
 evo_scene3d *evo_scene3d_create(const evo_scene3d_def *def)
 {
@@ -105,8 +132,8 @@ evo_scene3d *evo_scene3d_create(const evo_scene3d_def *def)
 	if (!sc)
 		return NULL;
 	sc->def = *def;
-	sc->world = evo_world3d_create(&def->world);
-	if (!sc->world) {
+	sc->be = &evo_backend_ode;
+	if (new_world(sc)) {
 		free(sc);
 		return NULL;
 	}
@@ -139,7 +166,8 @@ void evo_scene3d_destroy(evo_scene3d *sc)
 {
 	if (!sc)
 		return;
-	evo_world3d_destroy(sc->world);
+	if (sc->bw)
+		sc->be->destroy(sc->bw);
 	for (int i = 0; i < sc->n_bots; i++) {
 		free(sc->bot[i].sensor);
 		free(sc->bot[i].actuator);
@@ -219,7 +247,7 @@ static int add_obstacle(evo_scene3d *sc, const evo_obstacle3d *o)
 		 sc->n_obstacles + 1, sizeof *sc->obstacle))
 		return -1;
 	sc->obstacle[sc->n_obstacles] = *o;
-	if (evo_world3d_add_static(sc->world, o) < 0)
+	if (add_static(sc, o) < 0)
 		return evo_fail(&sc->err,
 				"an obstacle whose size is not positive");
 	return sc->n_obstacles++;
@@ -561,58 +589,60 @@ static int build_bot(evo_scene3d *sc, int i)
 {
 	evo_bot3d *b = &sc->bot[i];
 	const evo_bot3d_def *d = &b->def;
-	evo_body3d_def bd;
+	evo_bbody_def bd;
 	memset(&bd, 0, sizeof bd);
+	bd.dynamic = 1;
 	memcpy(bd.pos, b->start, sizeof bd.pos);
 	bd.yaw = b->start_yaw;
 	bd.mass = d->mass;
 	bd.group = i;
-	evo_shape3d *hull = &bd.shape[bd.n_shapes++];
-	hull->type = d->radius > 0 ? EVO_SHAPE3D_SPHERE : EVO_SHAPE3D_BOX;
+	bd.category = EVO_CAT3D_BOT;
+	evo_bshape *hull = &bd.shape[bd.n_shapes++];
+	hull->type = d->radius > 0 ? EVO_SHAPE_CIRCLE : EVO_SHAPE_BOX;
 	memcpy(hull->half, d->half, sizeof hull->half);
 	hull->radius = d->radius;
 	hull->friction = d->friction;
-	hull->category = EVO_CAT3D_BOT;
 	if (d->caster_radius > 0) {
-		evo_shape3d *c = &bd.shape[bd.n_shapes++];
-		c->type = EVO_SHAPE3D_SPHERE;
+		evo_bshape *c = &bd.shape[bd.n_shapes++];
+		c->type = EVO_SHAPE_CIRCLE;
 		memcpy(c->pos, d->caster_pos, sizeof c->pos);
 		c->radius = d->caster_radius;
 		c->friction = 0;
-		c->category = EVO_CAT3D_BOT;
 	}
-	b->body = evo_world3d_add_body(sc->world, &bd);
+	b->body = sc->be->add_body(sc->bw, &bd).index;
 	if (b->body < 0)
 		return evo_fail(&sc->err, "bot %s: cannot make its body",
 				b->name);
-	evo_body3d_pose(sc->world, b->body, b->pos, b->R);
+	evo_scene3d_pose(sc, b->body, b->pos, b->R);
 	for (int k = 0; k < b->n_actuators; k++) {
 		evo_actuator3d *a = &b->actuator[k];
 		if (a->def.kind != EVO3D_ACTUATOR_WHEEL)
 			continue;
-		evo_body3d_def wd;
+		evo_bbody_def wd;
 		memset(&wd, 0, sizeof wd);
+		wd.dynamic = 1;
 		evo_bot3d_to_world(b, a->def.pos, wd.pos);
 		for (int j = 0; j < 3; j++)
 			wd.pos[j] += b->pos[j];
 		wd.yaw = b->start_yaw;
 		wd.mass = a->def.mass;
 		wd.group = i;
+		wd.category = EVO_CAT3D_BOT;
 		wd.n_shapes = 1;
-		wd.shape[0].type = EVO_SHAPE3D_CYLINDER;
+		wd.shape[0].type = EVO_SHAPE_CYLINDER;
 		wd.shape[0].radius = a->def.radius;
 		wd.shape[0].half_length = a->def.half_width;
 		wd.shape[0].axis = 1;
 		wd.shape[0].friction = a->def.friction;
-		wd.shape[0].category = EVO_CAT3D_BOT;
-		a->body = evo_world3d_add_body(sc->world, &wd);
+		a->body = sc->be->add_body(sc->bw, &wd).index;
 		static const double y[3] = {0, 1, 0};
 		double axis[3];
 		evo_bot3d_to_world(b, y, axis);
 		a->hinge = a->body < 0
 			       ? -1
-			       : evo_world3d_add_hinge(sc->world, a->body,
-						       b->body, wd.pos, axis);
+			       : sc->be->hinge(
+				     sc->bw, evo_scene3d_body(a->body),
+				     evo_scene3d_body(b->body), wd.pos, axis);
 		if (a->hinge < 0)
 			return evo_fail(&sc->err,
 					"bot %s: cannot make wheel %s", b->name,
@@ -623,12 +653,12 @@ static int build_bot(evo_scene3d *sc, int i)
 
 int evo_scene3d_build_world(evo_scene3d *sc)
 {
-	evo_world3d_destroy(sc->world);
-	sc->world = evo_world3d_create(&sc->def.world);
-	if (!sc->world)
+	if (sc->bw)
+		sc->be->destroy(sc->bw);
+	if (new_world(sc))
 		return evo_fail(&sc->err, "cannot create an ODE world");
 	for (int i = 0; i < sc->n_obstacles; i++)
-		if (evo_world3d_add_static(sc->world, &sc->obstacle[i]) < 0)
+		if (add_static(sc, &sc->obstacle[i]) < 0)
 			return evo_fail(&sc->err, "obstacle %d: bad size", i);
 	for (int i = 0; i < sc->n_bots; i++)
 		sc->bot[i].body = -1;
@@ -640,25 +670,26 @@ int evo_scene3d_build_world(evo_scene3d *sc)
 		evo_element3d *e = &sc->element[i];
 		if (e->def.kind != EVO3D_ELEM_OBJECT)
 			continue;
-		evo_body3d_def od;
+		evo_bbody_def od;
 		memset(&od, 0, sizeof od);
+		od.dynamic = 1;
 		memcpy(od.pos, e->pos, sizeof od.pos);
 		od.yaw = e->def.yaw;
 		od.mass = e->def.mass;
 		od.group = -1;
+		od.category = EVO_CAT3D_OBJECT;
 		od.n_shapes = 1;
 		od.shape[0].type =
-		    e->def.sphere ? EVO_SHAPE3D_SPHERE : EVO_SHAPE3D_BOX;
+		    e->def.sphere ? EVO_SHAPE_CIRCLE : EVO_SHAPE_BOX;
 		od.shape[0].radius = e->def.radius;
 		memcpy(od.shape[0].half, e->def.half, sizeof od.shape[0].half);
 		od.shape[0].friction = e->def.friction;
-		od.shape[0].category = EVO_CAT3D_OBJECT;
-		e->body = evo_world3d_add_body(sc->world, &od);
+		e->body = sc->be->add_body(sc->bw, &od).index;
 		if (e->body < 0)
 			return evo_fail(&sc->err, "object %s: cannot make it",
 					e->name);
 		double v[3];
-		evo_body3d_pose(sc->world, e->body, v, e->R);
+		evo_scene3d_pose(sc, e->body, v, e->R);
 	}
 	return 0;
 }
@@ -669,8 +700,9 @@ void evo_scene3d_refresh_bots(evo_scene3d *sc)
 		evo_bot3d *b = &sc->bot[i];
 		if (b->body < 0)
 			continue;
-		evo_body3d_pose(sc->world, b->body, b->pos, b->R);
-		evo_body3d_velocity(sc->world, b->body, b->v, b->omega);
+		evo_scene3d_pose(sc, b->body, b->pos, b->R);
+		sc->be->velocity(sc->bw, evo_scene3d_body(b->body), b->v,
+				 b->omega);
 	}
 }
 

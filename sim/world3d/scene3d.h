@@ -235,7 +235,7 @@ typedef struct evo_control3d {
 /* ---- the scene -------------------------------------------------------- */
 
 typedef struct evo_scene3d_def {
-	evo_world3d_def world; /* its step is substeps' length */
+	evo_bworld_def world; /* ODE's; its step is substeps' length */
 	int substeps;	      /* physics steps per tick (2: a tick is 1/30 s) */
 	double fault_penalty; /* added when a body explodes (-1000) */
 } evo_scene3d_def;
@@ -244,7 +244,13 @@ evo_scene3d_def evo_default_scene3d_def(void);
 
 typedef struct evo_scene3d {
 	evo_scene3d_def def;
-	evo_world3d *world; /* made again at every reset */
+	/* The physics, through the backend interface (sim/scene/backend.h):
+	 * be is evo_backend_ode and bw its world, made again at every reset.
+	 * world is the same world as ODE's own API sees it, for the 3D
+	 * view and the tests. */
+	const evo_backend *be;
+	evo_bworld *bw;
+	evo_world3d *world;
 	long tick;
 	evo_rng rng;	    /* the episode's (RANDOM sensors) */
 	uint64_t grid_seed; /* the last reset's: episode obstacles */

@@ -9,6 +9,23 @@
  * starts, the episode's obstacles in place. 0, or -1 with sc->err set. */
 int evo_scene3d_build_world(evo_scene3d *sc);
 
+/* A body of the 3D world as the backend names it. */
+static inline evo_body_id evo_scene3d_body(int body)
+{
+	return (evo_body_id){body, 0};
+}
+
+/* A body's centre and turn (R, world = R body). */
+static inline void evo_scene3d_pose(const evo_scene3d *sc, int body,
+				    double pos[3], double R[9])
+{
+	evo_bpose p = sc->be->pose(sc->bw, evo_scene3d_body(body));
+	for (int k = 0; k < 3; k++)
+		pos[k] = p.pos[k];
+	for (int k = 0; k < 9; k++)
+		R[k] = p.R[k];
+}
+
 /* Each bot's pose and speeds from its hull's body. */
 void evo_scene3d_refresh_bots(evo_scene3d *sc);
 

@@ -39,8 +39,9 @@ static double proximity(evo_scene3d *sc, int bot, evo_sensor3d *s)
 	double best = s->def.range;
 	for (int r = 0; r < s->def.rays; r++) {
 		evo_bot3d_to_world(b, s->dir[r], dir);
-		double h = evo_world3d_raycast(sc->world, from, dir,
-					       s->def.range, s->def.mask, bot);
+		double h =
+		    sc->be->raycast(sc->bw, from, dir, s->def.range,
+				    (uint16_t)s->def.mask, EVO_BODY_NONE, bot);
 		s->hit[r] = h < 0 ? s->def.range : h;
 		if (s->hit[r] < best)
 			best = s->hit[r];

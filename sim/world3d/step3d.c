@@ -54,9 +54,9 @@ void evo_scene3d_place_element(evo_scene3d *sc, int element,
 }
 
 /* Which bot (or object) a body of the world is, for the fault message. */
-static void describe_fault(evo_scene3d *sc, const evo_world3d_fault *f)
+static void describe_fault(evo_scene3d *sc, const evo_bfault *f)
 {
-	int body = f->body;
+	int body = f->body.index;
 	const char *what = "a body";
 	for (int i = 0; i < sc->n_bots; i++) {
 		if (sc->bot[i].body == body)
@@ -69,10 +69,10 @@ static void describe_fault(evo_scene3d *sc, const evo_world3d_fault *f)
 		if (sc->element[i].body == body)
 			what = sc->element[i].name;
 	char how[96];
-	if (f->kind == EVO_FAULT3D_NAN)
+	if (f->kind == EVO_BFAULT_NAN)
 		snprintf(how, sizeof how,
 			 "its position or speed is not a number");
-	else if (f->kind == EVO_FAULT3D_SPEED)
+	else if (f->kind == EVO_BFAULT_SPEED)
 		snprintf(how, sizeof how, "it moved at %.3g m/s (max_speed %g)",
 			 f->value, sc->def.world.max_speed);
 	else
@@ -93,8 +93,8 @@ int evo_scene3d_step(evo_scene3d *sc)
 	for (int s = 0; s < sc->def.substeps; s++) {
 		for (int i = 0; i < sc->n_bots; i++)
 			evo_bot3d_act(sc, i);
-		evo_world3d_fault f;
-		if (evo_world3d_step(sc->world, &f)) {
+		evo_bfault f;
+		if (sc->be->step(sc->bw, &f)) {
 			sc->tick++;
 			describe_fault(sc, &f);
 			sc->step_reward = sc->def.fault_penalty;
@@ -102,8 +102,8 @@ int evo_scene3d_step(evo_scene3d *sc)
 			return 1;
 		}
 		for (int i = 0; i < sc->n_bots; i++)
-			sc->bot[i].touching +=
-			    evo_world3d_group_touching(sc->world, i);
+			sc->bot[i].touching += sc->be->touching(
+			    sc->bw, evo_scene3d_body(sc->bot[i].body));
 	}
 	sc->tick++;
 	evo_scene3d_refresh_bots(sc);
@@ -113,7 +113,7 @@ int evo_scene3d_step(evo_scene3d *sc)
 	for (int i = 0; i < sc->n_elements; i++) {
 		evo_element3d *e = &sc->element[i];
 		if (e->body >= 0)
-			evo_body3d_pose(sc->world, e->body, e->pos, e->R);
+			evo_scene3d_pose(sc, e->body, e->pos, e->R);
 	}
 	double total = 0;
 	for (int i = 0; i < sc->n_rewards; i++)

@@ -21,7 +21,15 @@
 #ifndef EVO_WORLD3D_H
 #define EVO_WORLD3D_H
 
+#include "scene/backend.h"
+
 typedef struct evo_world3d evo_world3d;
+
+/* The same world behind the backend interface (sim/scene/backend.h): a
+ * 3D scene calls it through this struct (sim/world3d/backend_ode.c),
+ * which passes its evo_bworld to the functions below, a body id's index
+ * being the body's. */
+extern const evo_backend evo_backend_ode;
 
 typedef enum evo_shape3d_type {
 	EVO_SHAPE3D_BOX = 0,
@@ -122,6 +130,19 @@ void evo_body3d_add_force_at(evo_world3d *w, int body, const double f[3],
 void evo_body3d_add_rel_force_at(evo_world3d *w, int body, const double f[3],
 				 const double at[3]);
 void evo_body3d_add_torque(evo_world3d *w, int body, const double t[3]);
+/* The same with the point in the world's frame: a force of the world's
+ * frame, or of the body's. */
+void evo_body3d_add_force_at_pos(evo_world3d *w, int body, const double f[3],
+				 const double at[3]);
+void evo_body3d_add_rel_force_at_pos(evo_world3d *w, int body,
+				     const double f[3], const double at[3]);
+
+/* Put a body at pos, turned by yaw about z (upright). */
+void evo_body3d_set_pose(evo_world3d *w, int body, const double pos[3],
+			 double yaw);
+
+/* The group of a body's shapes (evo_body3d_def), -1 for one of its own. */
+int evo_body3d_group(const evo_world3d *w, int body);
 
 /* What evo_world3d_step found wrong with a body. */
 typedef enum evo_world3d_fault_kind {

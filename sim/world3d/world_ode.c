@@ -426,6 +426,34 @@ void evo_body3d_add_torque(evo_world3d *w, int i, const double t[3])
 	dBodyAddTorque(w->body[i], t[0], t[1], t[2]);
 }
 
+void evo_body3d_add_force_at_pos(evo_world3d *w, int i, const double f[3],
+				 const double at[3])
+{
+	dBodyAddForceAtPos(w->body[i], f[0], f[1], f[2], at[0], at[1], at[2]);
+}
+
+void evo_body3d_add_rel_force_at_pos(evo_world3d *w, int i, const double f[3],
+				     const double at[3])
+{
+	dBodyAddRelForceAtPos(w->body[i], f[0], f[1], f[2], at[0], at[1],
+			      at[2]);
+}
+
+void evo_body3d_set_pose(evo_world3d *w, int i, const double pos[3], double yaw)
+{
+	dMatrix3 R;
+	dRFromAxisAndAngle(R, 0, 0, 1, yaw);
+	dBodySetPosition(w->body[i], pos[0], pos[1], pos[2]);
+	dBodySetRotation(w->body[i], R);
+}
+
+int evo_body3d_group(const evo_world3d *w, int i)
+{
+	dGeomID g = dBodyGetFirstGeom(w->body[i]);
+	const geom_info *info = g ? info_of(w, g) : NULL;
+	return info ? info->group : -1;
+}
+
 int evo_world3d_n_bodies(const evo_world3d *w)
 {
 	return w->n_bodies;

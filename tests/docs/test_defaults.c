@@ -1370,11 +1370,12 @@ static int render_option_default(const char *fn, const char *opt, char *out,
 		return 0;
 	}
 	if (strcmp(fn, "body") == 0) {
-		const evo_body_def *d = &sc->bot[0].def.body;
+		const evo_bbody_def *d = &sc->bot[0].def.body;
+		const evo_bshape *s = &d->shape[0];
 		if (strcmp(opt, "shape") == 0)
 			snprintf(out, cap, "%s",
-				 d->shape == EVO_SHAPE_CIRCLE ? "\"circle\""
-							      : "\"box\"");
+				 s->type == EVO_SHAPE_CIRCLE ? "\"circle\""
+							     : "\"box\"");
 		else if (strcmp(opt, "sleep") == 0)
 			snprintf(out, cap, "%s",
 				 d->allow_sleep ? "true" : "false");
@@ -1383,12 +1384,12 @@ static int render_option_default(const char *fn, const char *opt, char *out,
 				 d->kinematic ? "\"undo\"" : "\"physics\"");
 		else {
 			const double v =
-			    strcmp(opt, "radius") == 0	      ? d->radius
-			    : strcmp(opt, "half_width") == 0  ? d->half_w
-			    : strcmp(opt, "half_height") == 0 ? d->half_h
+			    strcmp(opt, "radius") == 0	      ? s->radius
+			    : strcmp(opt, "half_width") == 0  ? s->half[0]
+			    : strcmp(opt, "half_height") == 0 ? s->half[1]
 			    : strcmp(opt, "density") == 0     ? d->density
-			    : strcmp(opt, "friction") == 0    ? d->friction
-			    : strcmp(opt, "restitution") == 0 ? d->restitution
+			    : strcmp(opt, "friction") == 0    ? s->friction
+			    : strcmp(opt, "restitution") == 0 ? s->restitution
 			    : strcmp(opt, "linear_damping") == 0
 				? d->linear_damping
 			    : strcmp(opt, "angular_damping") == 0
