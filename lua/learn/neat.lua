@@ -494,20 +494,26 @@ function neat.mutate_lua(pop, g, rng)
 		if o.reenable_prob > 0 and rng:unit() < o.reenable_prob then neat.mutate_reenable(g) end
 	end
 end
+-- What a mutation does after its first draws, `what` as fast.mutate and
+-- fast.breed say it: 1 an add-node mutation, 2 an add-link one, 0 (the
+-- weights done) the toggle and re-enable draws.
+local function mutate_rest(pop, g, rng, what)
+	local o = pop.options
+	if what == 1 then
+		neat.mutate_add_node(pop, g, rng)
+	elseif what == 2 then
+		neat.mutate_add_link(pop, g, rng)
+	else
+		if o.toggle_prob > 0 and rng:unit() < o.toggle_prob then neat.mutate_toggle(g, rng) end
+		if o.reenable_prob > 0 and rng:unit() < o.reenable_prob then neat.mutate_reenable(g) end
+	end
+end
+
 -- evo.neat's C makes the first draws and the weight mutation (the same
 -- draws, the same weights); the structural mutations stay Lua's.
 if fast then
 	function neat.mutate(pop, g, rng)
-		local o = pop.options
-		local what = fast.mutate(g, o, rng)
-		if what == 1 then
-			neat.mutate_add_node(pop, g, rng)
-		elseif what == 2 then
-			neat.mutate_add_link(pop, g, rng)
-		else
-			if o.toggle_prob > 0 and rng:unit() < o.toggle_prob then neat.mutate_toggle(g, rng) end
-			if o.reenable_prob > 0 and rng:unit() < o.reenable_prob then neat.mutate_reenable(g) end
-		end
+		mutate_rest(pop, g, rng, fast.mutate(g, pop.options, rng))
 	end
 else
 	neat.mutate = neat.mutate_lua
@@ -591,6 +597,52 @@ end
 
 ---------------------------------------------------------------------------
 -- Population
+
+-- n children of one species appended to `children`: each of a parent
+-- drawn among the `parents` first of `sorted` (the species' members,
+-- fittest first), a mutated copy or a crossover with a mate, the mate
+-- from another species of `alive` (genomes of `popl`) once in a while.
+function neat.breed_lua(pop, children, sorted, n, parents, alive, popl)
+	local o, rng = pop.options, pop.rng
+	for _ = 1, n do
+		local p1 = sorted[1 + math.floor(rng:unit() * parents)]
+		local child
+		-- A lone parent can only mate with itself: mutate it instead.
+		if parents == 1 or rng:unit() < o.mutate_only_prob then
+			child = copy_genome(p1)
+			neat.mutate(pop, child, rng)
+		else
+			local p2
+			if rng:unit() < o.interspecies_prob and #alive > 1 then
+				local other = alive[1 + math.floor(rng:unit() * #alive)]
+				p2 = popl[other.members[1 + math.floor(rng:unit() * #other.members)]]
+			else
+				p2 = sorted[1 + math.floor(rng:unit() * parents)]
+			end
+			child = neat.crossover(p1, p1.fitness, p2, p2.fitness, o, rng)
+			-- A child of one genome with itself (or a twin) is a copy:
+			-- it is always mutated, as in NEAT's original code.
+			if rng:unit() >= o.mate_only_prob or p1 == p2 or neat.distance(p1, p2, o) == 0 then
+				neat.mutate(pop, child, rng)
+			end
+		end
+		children[#children + 1] = child
+	end
+end
+-- evo.neat's C where the state has it: the same draws in the same order,
+-- the same children (the structural mutations still Lua's); the paper's
+-- crossover of equals (tie_smaller off) stays with breed_lua.
+if fast then
+	function neat.breed(pop, children, sorted, n, parents, alive, popl)
+		if pop.options.tie_smaller then
+			fast.breed(pop, children, sorted, n, parents, alive, popl, mutate_rest)
+		else
+			neat.breed_lua(pop, children, sorted, n, parents, alive, popl)
+		end
+	end
+else
+	neat.breed = neat.breed_lua
+end
 
 local Pop = {}
 Pop.__index = Pop
@@ -905,30 +957,7 @@ function Pop:reproduce(score)
 		-- The parents: the top survival fraction, floor(survival * n) + 1 as
 		-- NEAT's original code counts them (so a species of 5 has 2).
 		local parents = math.min(#sorted, math.floor(#sorted * o.survival) + 1)
-		for _ = 1, n do
-			local p1 = sorted[1 + math.floor(rng:unit() * parents)]
-			local child
-			-- A lone parent can only mate with itself: mutate it instead.
-			if parents == 1 or rng:unit() < o.mutate_only_prob then
-				child = copy_genome(p1)
-				neat.mutate(self, child, rng)
-			else
-				local p2
-				if rng:unit() < o.interspecies_prob and #alive > 1 then
-					local other = alive[1 + math.floor(rng:unit() * #alive)]
-					p2 = popl[other.members[1 + math.floor(rng:unit() * #other.members)]]
-				else
-					p2 = sorted[1 + math.floor(rng:unit() * parents)]
-				end
-				child = neat.crossover(p1, p1.fitness, p2, p2.fitness, o, rng)
-				-- A child of one genome with itself (or a twin) is a copy:
-				-- it is always mutated, as in NEAT's original code.
-				if rng:unit() >= o.mate_only_prob or p1 == p2 or neat.distance(p1, p2, o) == 0 then
-					neat.mutate(self, child, rng)
-				end
-			end
-			children[#children + 1] = child
-		end
+		if n > 0 then neat.breed(self, children, sorted, n, parents, alive, popl) end
 	end
 	self.species = alive
 	self.population = children

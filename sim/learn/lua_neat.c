@@ -71,7 +71,9 @@ enum key {
 	K_C2, K_C3, K_WEIGHT_MAX, K_PERTURB_PROB, K_WEIGHT_MUTATION,
 	K_SEVERE_PROB, K_PERTURB_POWER, K_REPLACE_POWER, K_TIE_SMALLER,
 	K_MATE_AVG_PROB, K_DISABLE_PROB, K_INPUT, K_OUTPUT, K_BIAS, K_HIDDEN,
-	K_CODE, K_ADD_NODE_PROB, K_ADD_LINK_PROB, K_WEIGHT_MUT_PROB, K_COUNT,
+	K_CODE, K_ADD_NODE_PROB, K_ADD_LINK_PROB, K_WEIGHT_MUT_PROB,
+	K_MUTATE_ONLY_PROB, K_INTERSPECIES_PROB, K_MATE_ONLY_PROB,
+	K_TOGGLE_PROB, K_REENABLE_PROB, K_MEMBERS, K_OPTIONS, K_RNG, K_COUNT,
 	/* not a key: the genes' metatable, the last upvalue */
 	UP_GENES_MT = K_COUNT,
 	N_UPVALUES = K_COUNT
@@ -87,6 +89,9 @@ static const char *const KEY_NAMES[K_COUNT] = {
     "tie_smaller",  "mate_avg_prob", "disable_prob",  "input",
     "output",	    "bias",	     "hidden",	      "code",
     "add_node_prob", "add_link_prob", "weight_mut_prob",
+    "mutate_only_prob", "interspecies_prob", "mate_only_prob",
+    "toggle_prob",  "reenable_prob", "members",	      "options",
+    "rng",
 };
 
 /* Pushes t[key] (t a plain table: no metamethods) and returns its type. */
@@ -609,6 +614,33 @@ static int l_speciate(lua_State *L)
 	return 1;
 }
 
+/* Room in a genome table for its nodes and links and for the fields the
+ * loop sets on it (fitness, adjusted, species): no table grows twice
+ * every generation. */
+#define GENOME_FIELDS 5
+
+/* Pushes a copy of the genome at g (l_copy_genome's). */
+static void push_copy(lua_State *L, int g)
+{
+	g = lua_absindex(L, g);
+	lua_createtable(L, 0, GENOME_FIELDS);
+	int copy = lua_gettop(L);
+	rget(L, g, K_NODES);
+	int src = copy + 1;
+	luaL_checktype(L, src, LUA_TTABLE);
+	lua_createtable(L, (int)lua_rawlen(L, src), 0);
+	for (lua_Integer i = 1; lua_rawgeti(L, src, i) != LUA_TNIL; i++)
+		lua_rawseti(L, src + 1, i);
+	lua_pop(L, 1);
+	rset(L, copy, K_NODES);
+	lua_pop(L, 1);
+	const genes *gs = genome_genes(L, g, 0);
+	genes *c = new_genes(L, gs->n);
+	memcpy(c->g, gs->g, (size_t)gs->n * sizeof *c->g);
+	rset(L, copy, K_LINKS);
+	lua_settop(L, copy);
+}
+
 /* copy_genome(g) -> a copy of g's nodes and genes (neat.copy_genome):
  * the genes copied (they change: weights, enabled), the node list a new
  * list of the same node tables (a node never changes once made:
@@ -617,21 +649,7 @@ static int l_copy_genome(lua_State *L)
 {
 	luaL_checktype(L, 1, LUA_TTABLE);
 	lua_settop(L, 1);
-	lua_createtable(L, 0, 2);
-	rget(L, 1, K_NODES);
-	int src = 3;
-	luaL_checktype(L, src, LUA_TTABLE);
-	lua_createtable(L, (int)lua_rawlen(L, src), 0);
-	for (lua_Integer i = 1; lua_rawgeti(L, src, i) != LUA_TNIL; i++)
-		lua_rawseti(L, 4, i);
-	lua_pop(L, 1);
-	rset(L, 2, K_NODES);
-	lua_pop(L, 1);
-	const genes *g = genome_genes(L, 1, 0);
-	genes *c = new_genes(L, g->n);
-	memcpy(c->g, g->g, (size_t)g->n * sizeof *c->g);
-	rset(L, 2, K_LINKS);
-	lua_settop(L, 2);
+	push_copy(L, 1);
 	return 1;
 }
 
@@ -1445,30 +1463,46 @@ static void set_clamped(gene *x, double w, double m, int max_int)
 	}
 }
 
-/* neat.lua's mutate_weights ("code" and "paper") on genome g with options
- * o (stack slots), drawing from r: the same draws in the same order. */
-static void mutate_weights_with(lua_State *L, int g, int o, rng_src *r)
+/* The options a weight mutation reads. */
+typedef struct wm_opts {
+	double max; /* weight_max */
+	int max_int; /* weight_max is a Lua integer */
+	int code; /* weight_mutation is "code" */
+	double perturb_prob, severe_prob, perturb_power, replace_power;
+} wm_opts;
+
+static wm_opts wm_opts_of(lua_State *L, int o)
 {
-	int top = lua_gettop(L);
-	genes *gs = genome_genes(L, g, 1);
+	wm_opts w;
 	rget(L, o, K_WEIGHT_MAX);
-	double m = lua_tonumber(L, -1);
-	int max_int = lua_isinteger(L, -1);
-	lua_Integer n = gs->n;
-	double perturb = num_field(L, o, K_PERTURB_PROB), replace = 1.0;
-	double newest_after = HUGE_VAL;
-	rget(L, o, K_WEIGHT_MUTATION);
-	int code = is_key(L, -1, K_CODE);
+	w.max = lua_tonumber(L, -1);
+	w.max_int = lua_isinteger(L, -1);
 	lua_pop(L, 1);
-	if (code) {
-		int severe = draw(L, r) < num_field(L, o, K_SEVERE_PROB);
+	rget(L, o, K_WEIGHT_MUTATION);
+	w.code = is_key(L, -1, K_CODE);
+	lua_pop(L, 1);
+	w.perturb_prob = num_field(L, o, K_PERTURB_PROB);
+	w.severe_prob = num_field(L, o, K_SEVERE_PROB);
+	w.perturb_power = num_field(L, o, K_PERTURB_POWER);
+	w.replace_power = num_field(L, o, K_REPLACE_POWER);
+	return w;
+}
+
+/* neat.lua's mutate_weights ("code" and "paper") on genes gs with options
+ * w, drawing from r: the same draws in the same order. */
+static void mutate_genes(lua_State *L, genes *gs, const wm_opts *w,
+			 rng_src *r)
+{
+	lua_Integer n = gs->n;
+	double perturb = w->perturb_prob, replace = 1.0;
+	double newest_after = HUGE_VAL;
+	if (w->code) {
+		int severe = draw(L, r) < w->severe_prob;
 		perturb = severe ? 0.7 : 1.0;
 		replace = severe ? 0.9 : 1.0;
 		if (!severe && n >= 10)
 			newest_after = (double)n * 0.8;
 	}
-	double pp = num_field(L, o, K_PERTURB_POWER);
-	double rp = num_field(L, o, K_REPLACE_POWER);
 	for (lua_Integer k = 1; k <= n; k++) {
 		gene *x = &gs->g[k - 1];
 		double p = perturb, rr = replace;
@@ -1478,11 +1512,23 @@ static void mutate_weights_with(lua_State *L, int g, int o, rng_src *r)
 		}
 		double u = draw(L, r);
 		if (u < p)
-			set_clamped(x, x->weight + (draw(L, r) * 2 - 1) * pp, m,
-				    max_int);
+			set_clamped(x,
+				    x->weight +
+					(draw(L, r) * 2 - 1) * w->perturb_power,
+				    w->max, w->max_int);
 		else if (u < rr)
-			set_clamped(x, (draw(L, r) * 2 - 1) * rp, m, max_int);
+			set_clamped(x, (draw(L, r) * 2 - 1) * w->replace_power,
+				    w->max, w->max_int);
 	}
+}
+
+/* mutate_genes on genome g with the options at o (stack slots). */
+static void mutate_weights_with(lua_State *L, int g, int o, rng_src *r)
+{
+	int top = lua_gettop(L);
+	genes *gs = genome_genes(L, g, 1);
+	wm_opts w = wm_opts_of(L, o);
+	mutate_genes(L, gs, &w, r);
 	lua_settop(L, top);
 }
 
@@ -1683,29 +1729,42 @@ static int l_rank(lua_State *L)
 	return 1;
 }
 
-/* crossover(a, fa, b, fb, o, rng) -> child, as neat.crossover makes it,
- * or nothing when the parents are of equal fitness and o.tie_smaller is
- * off (the paper's way, which neat.crossover keeps in Lua). */
-static int l_crossover(lua_State *L)
+/* The options crossover reads. */
+typedef struct cross_opts {
+	int tie_smaller;
+	double mate_avg_prob, disable_prob;
+} cross_opts;
+
+static cross_opts cross_opts_of(lua_State *L, int o)
 {
-	luaL_checktype(L, 1, LUA_TTABLE);
-	luaL_checktype(L, 3, LUA_TTABLE);
-	luaL_checktype(L, 5, LUA_TTABLE);
-	luaL_checktype(L, 6, LUA_TTABLE);
-	lua_settop(L, 6);
-	int a = 1, b = 3;
-	if (lua_compare(L, 2, 4, LUA_OPLT)) { /* fb > fa */
-		a = 3;
-		b = 1;
-	}
-	int equal = lua_compare(L, 2, 4, LUA_OPEQ);
-	rget(L, 5, K_TIE_SMALLER);
-	int tie_smaller = lua_toboolean(L, -1);
+	cross_opts c;
+	rget(L, o, K_TIE_SMALLER);
+	c.tie_smaller = lua_toboolean(L, -1);
 	lua_pop(L, 1);
-	if (equal && !tie_smaller)
+	c.mate_avg_prob = num_field(L, o, K_MATE_AVG_PROB);
+	c.disable_prob = num_field(L, o, K_DISABLE_PROB);
+	return c;
+}
+
+/* Pushes the child of genomes a and b of fitness fa and fb (stack slots;
+ * the fitnesses compared as Lua compares them), as neat.crossover makes
+ * it, drawing from r, and returns 1; returns 0 and pushes nothing when
+ * the parents are of equal fitness and tie_smaller is off (the paper's
+ * way, which neat.crossover keeps in Lua). */
+static int push_child(lua_State *L, int a, int fa, int b, int fb,
+		      const cross_opts *co, rng_src *r)
+{
+	int top = lua_gettop(L);
+	if (lua_compare(L, fa, fb, LUA_OPLT)) { /* fb > fa */
+		int t = a;
+		a = b;
+		b = t;
+	}
+	int equal = lua_compare(L, fa, fb, LUA_OPEQ);
+	if (equal && !co->tie_smaller)
 		return 0;
-	const genes *ag = genome_genes(L, a, 0); /* 7 */
-	const genes *bg = genome_genes(L, b, 0); /* 8 */
+	const genes *ag = genome_genes(L, a, 0);
+	const genes *bg = genome_genes(L, b, 0);
 	if (equal && bg->n < ag->n) {
 		const genes *t = ag;
 		ag = bg;
@@ -1714,10 +1773,8 @@ static int l_crossover(lua_State *L)
 		a = b;
 		b = ti;
 	}
-	rng_src r;
-	rng_begin(L, 6, &r); /* may push rng.s */
-	double average = draw(L, &r) < num_field(L, 5, K_MATE_AVG_PROB);
-	double disable = num_field(L, 5, K_DISABLE_PROB);
+	double average = draw(L, r) < co->mate_avg_prob;
+	double disable = co->disable_prob;
 	int na = ag->n, nb = bg->n;
 	rget(L, a, K_NODES);
 	int an = lua_gettop(L);
@@ -1743,7 +1800,7 @@ static int l_crossover(lua_State *L)
 	if (!sorted)
 		qsort(by, (size_t)nb, sizeof *by, by_key_slot);
 	/* the child and its genes */
-	lua_createtable(L, 0, 2);
+	lua_createtable(L, 0, GENOME_FIELDS);
 	int child = lua_gettop(L);
 	genes *cg = new_genes(L, na);
 	rset(L, child, K_LINKS);
@@ -1754,9 +1811,9 @@ static int l_crossover(lua_State *L)
 		int slot = gene_with(by, nb, (double)l->innov);
 		if (slot) {
 			const gene *m = &bg->g[slot - 1];
-			*c = draw(L, &r) < 0.5 ? *l : *m;
+			*c = draw(L, r) < 0.5 ? *l : *m;
 			if (!l->enabled || !m->enabled)
-				c->enabled = draw(L, &r) >= disable;
+				c->enabled = draw(L, r) >= disable;
 			if (average) {
 				c->weight = (l->weight + m->weight) / 2;
 				c->weight_int = 0;
@@ -1812,9 +1869,201 @@ static int l_crossover(lua_State *L)
 		in_order = have[i - 1] < have[i];
 	if (!in_order)
 		sort_list(L, nodes, K_ID);
-	rng_done(L, &r);
 	lua_pushvalue(L, child);
+	lua_replace(L, top + 1);
+	lua_settop(L, top + 1);
 	return 1;
+}
+
+/* crossover(a, fa, b, fb, o, rng) -> child, as neat.crossover makes it,
+ * or nothing when the parents are of equal fitness and o.tie_smaller is
+ * off (push_child). */
+static int l_crossover(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	luaL_checktype(L, 5, LUA_TTABLE);
+	luaL_checktype(L, 6, LUA_TTABLE);
+	lua_settop(L, 6);
+	cross_opts co = cross_opts_of(L, 5);
+	rng_src r;
+	rng_begin(L, 6, &r); /* may push rng.s */
+	if (!push_child(L, 1, 2, 3, 4, &co, &r))
+		return 0;
+	rng_done(L, &r);
+	return 1;
+}
+
+/* ------------------------------------------------------------------ */
+/* A species' offspring (neat.lua's breed_lua, draw for draw) */
+
+/* What breed reads of the options, once for all its children. */
+typedef struct breed_opts {
+	double mutate_only, interspecies, mate_only;
+	double add_node, add_link, weight_mut, toggle, reenable;
+	wm_opts wm;
+	cross_opts co;
+	dist_opts dist;
+} breed_opts;
+
+static breed_opts breed_opts_of(lua_State *L, int o)
+{
+	breed_opts b;
+	b.mutate_only = num_field(L, o, K_MUTATE_ONLY_PROB);
+	b.interspecies = num_field(L, o, K_INTERSPECIES_PROB);
+	b.mate_only = num_field(L, o, K_MATE_ONLY_PROB);
+	b.add_node = num_field(L, o, K_ADD_NODE_PROB);
+	b.add_link = num_field(L, o, K_ADD_LINK_PROB);
+	b.weight_mut = num_field(L, o, K_WEIGHT_MUT_PROB);
+	b.toggle = num_field(L, o, K_TOGGLE_PROB);
+	b.reenable = num_field(L, o, K_REENABLE_PROB);
+	b.wm = wm_opts_of(L, o);
+	b.co = cross_opts_of(L, o);
+	b.dist = dist_opts_of(L, o);
+	return b;
+}
+
+/* The generator's words read again from rng.s (after Lua drew from it). */
+static void rng_reread(lua_State *L, rng_src *r)
+{
+	if (!r->ours)
+		return;
+	for (int k = 0; k < 4; k++) {
+		lua_rawgeti(L, r->state, k + 1);
+		r->s[k] = (uint64_t)lua_tointeger(L, -1);
+		lua_pop(L, 1);
+	}
+}
+
+/* neat.mutate on the genome at g: its first draws and the weights here
+ * (l_mutate's), the rest, when there is any, by more(pop, g, rng, what) in Lua
+ * (neat.lua's mutate_rest), with the generator's words handed over and
+ * taken back. */
+static void breed_mutate(lua_State *L, int g, const breed_opts *b,
+			 rng_src *r, int pop, int more)
+{
+	int what = 0;
+	if (draw(L, r) < b->add_node) {
+		what = 1;
+	} else if (draw(L, r) < b->add_link) {
+		what = 2;
+	} else if (draw(L, r) < b->weight_mut) {
+		int top = lua_gettop(L);
+		mutate_genes(L, genome_genes(L, g, 1), &b->wm, r);
+		lua_settop(L, top);
+	}
+	if (what == 0 && !(b->toggle > 0) && !(b->reenable > 0))
+		return;
+	rng_done(L, r);
+	lua_pushvalue(L, more);
+	lua_pushvalue(L, pop);
+	lua_pushvalue(L, g);
+	lua_pushvalue(L, r->rng);
+	lua_pushinteger(L, what);
+	lua_call(L, 4, 0);
+	rng_reread(L, r);
+}
+
+/* 1 + floor(u * n): a place in a list of n drawn as neat.lua draws it. */
+static lua_Integer pick(double u, lua_Integer n)
+{
+	return 1 + (lua_Integer)floor(u * (double)n);
+}
+
+/* Pushes the second parent of a crossover: from another species with
+ * chance interspecies (alive[k].members[j] of popl), else one of the
+ * `parents` first of sorted. */
+static void push_mate(lua_State *L, const breed_opts *b, rng_src *r,
+		      int sorted, lua_Integer parents, int alive, int popl)
+{
+	lua_Integer n_alive = (lua_Integer)lua_rawlen(L, alive);
+	if (draw(L, r) < b->interspecies && n_alive > 1) {
+		lua_rawgeti(L, alive, pick(draw(L, r), n_alive));
+		luaL_checktype(L, -1, LUA_TTABLE);
+		rget(L, -1, K_MEMBERS);
+		luaL_checktype(L, -1, LUA_TTABLE);
+		lua_Integer m = (lua_Integer)lua_rawlen(L, -1);
+		lua_rawgeti(L, -1, pick(draw(L, r), m));
+		lua_Integer gi = lua_tointeger(L, -1);
+		lua_pop(L, 3);
+		lua_rawgeti(L, popl, gi);
+	} else {
+		lua_rawgeti(L, sorted, pick(draw(L, r), parents));
+	}
+	luaL_checktype(L, -1, LUA_TTABLE);
+}
+
+/* breed(pop, children, sorted, n, parents, alive, popl, more): n children
+ * of one species appended to children, as neat.lua's breed_lua makes
+ * them with the C kernels: each of a parent drawn among the `parents`
+ * first of sorted, copied and mutated (a lone parent, or with chance
+ * mutate_only_prob), else crossed with a mate (push_mate) and mutated
+ * unless a draw under mate_only_prob leaves a child of two different
+ * genomes as it is. The draws are pop.rng's, in breed_lua's order; the
+ * structural mutations are more(pop, g, rng, what)'s, in Lua. Only for
+ * options with tie_smaller (breed_lua crosses equals the paper's way). */
+static int l_breed(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	lua_Integer n = luaL_checkinteger(L, 4);
+	lua_Integer parents = luaL_checkinteger(L, 5);
+	luaL_checktype(L, 6, LUA_TTABLE);
+	luaL_checktype(L, 7, LUA_TTABLE);
+	luaL_checktype(L, 8, LUA_TFUNCTION);
+	lua_settop(L, 8);
+	if (parents < 1 || parents > (lua_Integer)lua_rawlen(L, 3))
+		luaL_error(L, "breed: %I parents of a species of %I", parents,
+			   (lua_Integer)lua_rawlen(L, 3));
+	luaL_checkstack(L, 40, "breed");
+	rget(L, 1, K_OPTIONS); /* 9 */
+	luaL_checktype(L, 9, LUA_TTABLE);
+	breed_opts b = breed_opts_of(L, 9);
+	if (!b.co.tie_smaller)
+		luaL_error(L, "breed: only with tie_smaller (else breed_lua)");
+	rget(L, 1, K_RNG); /* 10 */
+	luaL_checktype(L, 10, LUA_TTABLE);
+	rng_src r;
+	rng_begin(L, 10, &r); /* may push rng.s */
+	int base = lua_gettop(L);
+	lua_Integer next = (lua_Integer)lua_rawlen(L, 2);
+	for (lua_Integer k = 0; k < n; k++) {
+		lua_settop(L, base);
+		lua_rawgeti(L, 3, pick(draw(L, &r), parents));
+		int p1 = base + 1;
+		luaL_checktype(L, p1, LUA_TTABLE);
+		int child;
+		if (parents == 1 || draw(L, &r) < b.mutate_only) {
+			push_copy(L, p1);
+			child = lua_gettop(L);
+			breed_mutate(L, child, &b, &r, 1, 8);
+		} else {
+			push_mate(L, &b, &r, 3, parents, 6, 7);
+			int p2 = base + 2;
+			rget(L, p1, K_FITNESS);
+			rget(L, p2, K_FITNESS);
+			push_child(L, p1, base + 3, p2, base + 4, &b.co, &r);
+			child = lua_gettop(L);
+			/* a child of one genome with itself (or a twin) is
+			 * a copy: always mutated */
+			int mutate = draw(L, &r) >= b.mate_only ||
+				     lua_rawequal(L, p1, p2);
+			if (!mutate) {
+				const genes *ga = genome_genes(L, p1, 0);
+				const genes *gb = genome_genes(L, p2, 0);
+				mutate = distance_of(ga, gb, &b.dist) == 0;
+				lua_settop(L, child);
+			}
+			if (mutate)
+				breed_mutate(L, child, &b, &r, 1, 8);
+		}
+		lua_pushvalue(L, child);
+		lua_rawseti(L, 2, ++next);
+	}
+	lua_settop(L, base);
+	rng_done(L, &r);
+	return 0;
 }
 
 /* ------------------------------------------------------------------ */
@@ -1828,6 +2077,7 @@ static const luaL_Reg FUNCS[] = {
     {"mutate", l_mutate},
     {"draws", l_draws},
     {"crossover", l_crossover},
+    {"breed", l_breed},
     {"rank", l_rank},
     {"distance", l_distance},
     {"speciate", l_speciate},
@@ -1844,6 +2094,7 @@ static const luaL_Reg FUNCS[] = {
 /* The kernels' upvalues: the keys, then the genes' metatable (at mt). */
 static void push_upvalues(lua_State *L, int mt)
 {
+	luaL_checkstack(L, N_UPVALUES, "evo.neat's upvalues");
 	for (int k = 1; k < K_COUNT; k++)
 		lua_pushstring(L, KEY_NAMES[k]);
 	lua_pushvalue(L, mt);

@@ -116,6 +116,76 @@ function T.crossover_and_weight_mutation_are_the_luas_draw_for_draw()
 	check(fast.crossover(gs[1], 1, gs[2], 1, o, random.new(1)) == nil, "left to Lua")
 end
 
+-- neat.breed (fast.breed, in C) and neat.breed_lua, each on its own copy
+-- of the same population, make the same children with the same draws and
+-- the same new innovations, whichever branch the options favour: copies,
+-- crossovers, mates from other species, structural mutations (Lua's,
+-- called back from C), toggles and re-enables.
+function T.breeding_is_the_luas_draw_for_draw()
+	local text = fast.dump(neat.save(grown_population(), true))
+	local variants = {
+		{},
+		{ mutate_only_prob = 1 },
+		{ mutate_only_prob = 0, mate_only_prob = 0 },
+		{ mutate_only_prob = 0, mate_only_prob = 1 },
+		{ interspecies_prob = 0.5, add_node_prob = 0.4, add_link_prob = 0.5 },
+		{ toggle_prob = 0.5, reenable_prob = 0.5, weight_mutation = "paper" },
+	}
+	for vi, options in ipairs(variants) do
+		local runs = {}
+		for which, breed in ipairs{ neat.breed, neat.breed_lua } do
+			local pop = neat.load(serialize.load(text, "t"))
+			for k, v in pairs(options) do pop.options[k] = v end
+			pop.gen_links, pop.gen_splits = {}, {}
+			for i, g in ipairs(pop.population) do g.fitness = #g.links + (i % 3) end
+			local children = { "before" }
+			for si, s in ipairs(pop.species) do
+				local sorted = {}
+				for k, gi in ipairs(s.members) do sorted[k] = pop.population[gi] end
+				breed(pop, children, sorted, 5 + si, math.min(#sorted, 1 + si % 3), pop.species,
+					pop.population)
+			end
+			check(children[1] == "before", "children appended")
+			table.remove(children, 1)
+			runs[which] = fast.dump{ children = children, rng = pop.rng:save(), innov = pop.next_innov,
+				node = pop.next_node, links = pop.gen_links, splits = pop.gen_splits }
+		end
+		check(runs[1] == runs[2], "variant " .. vi .. ": the same children, draws and innovations")
+	end
+	check(#neat.load(serialize.load(text, "t")).species > 2, "several species to mate across")
+end
+
+-- By hand, with a generator whose every draw is 0.25: the parent is
+-- sorted[1 + floor(0.25 * 2)] = sorted[1]; 0.25 is not under
+-- mutate_only_prob 0.2, so it mates, with sorted[1] again (no other
+-- species: 0.25 >= 0.001); the child of a genome with itself is its copy,
+-- always mutated. The weights (weight_mut_prob 1, "code"): 0.25 <
+-- severe_prob makes it severe, and 0.25 < 0.7 perturbs each weight by
+-- (0.25 * 2 - 1) * perturb_power = -1.5. With mutate_only_prob 0.5 the
+-- copy is made directly, mutated the same.
+function T.breeding_by_hand_with_a_fixed_generator()
+	local a = { fitness = 2, nodes = { { id = 0, kind = "input" }, { id = 1, kind = "output", act = "identity" } },
+		links = { { innov = 1, from = 0, to = 1, weight = 1.0, enabled = true },
+			{ innov = 2, from = 0, to = 1, weight = -7.0, enabled = true } } }
+	local b = { fitness = 1, nodes = a.nodes, links = { { innov = 1, from = 0, to = 1, weight = 5.0, enabled = true } } }
+	local o = {}
+	for k, v in pairs(neat.defaults) do o[k] = v end
+	o.add_node_prob, o.add_link_prob, o.weight_mut_prob, o.mutate_only_prob = 0, 0, 1, 0.2
+	for _, only in ipairs{ 0.2, 0.5 } do
+		o.mutate_only_prob = only
+		local pop = { options = o, rng = { unit = function() return 0.25 end } }
+		local children = {}
+		fast.breed(pop, children, { a, b }, 3, 2, { { members = { 1, 2 } } }, { a, b },
+			function() error("no structural mutation") end)
+		check(#children == 3, "three children")
+		for _, c in ipairs(children) do
+			check(c ~= a and #c.links == 2, "a's copy")
+			check(c.links[1].weight == -0.5 and c.links[2].weight == -8.0, "weights 1.5 lower, clamped at -8")
+		end
+		check(a.links[1].weight == 1.0, "the parent unchanged")
+	end
+end
+
 -- By hand: parent a (fitter) has genes 1, 2 (off), 4; b has 1, 3, 4.
 -- Matching 1 and 4 come from either parent; 2 is a's disjoint gene, kept;
 -- b's 3 is not inherited. A generator whose every draw is 0.25 picks a's
