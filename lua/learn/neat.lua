@@ -450,6 +450,17 @@ function neat.mutate_add_node(pop, g, rng, link)
 	return s.node
 end
 
+-- evo.neat's C where the state has it: the same draws, the same genes
+-- and nodes, the same innovations (add-node with a link given stays Lua's).
+neat.mutate_add_link_lua, neat.mutate_add_node_lua = neat.mutate_add_link, neat.mutate_add_node
+if fast then
+	neat.mutate_add_link = fast.add_link
+	function neat.mutate_add_node(pop, g, rng, link)
+		if link then return neat.mutate_add_node_lua(pop, g, rng, link) end
+		return fast.add_node(pop, g, rng)
+	end
+end
+
 -- NEAT's original code's toggle: a random link is switched on if it is
 -- off, and off if it is on and its source feeds another enabled link (so
 -- no node is cut off from the outputs by it).

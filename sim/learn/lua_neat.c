@@ -73,7 +73,10 @@ enum key {
 	K_MATE_AVG_PROB, K_DISABLE_PROB, K_INPUT, K_OUTPUT, K_BIAS, K_HIDDEN,
 	K_CODE, K_ADD_NODE_PROB, K_ADD_LINK_PROB, K_WEIGHT_MUT_PROB,
 	K_MUTATE_ONLY_PROB, K_INTERSPECIES_PROB, K_MATE_ONLY_PROB,
-	K_TOGGLE_PROB, K_REENABLE_PROB, K_MEMBERS, K_OPTIONS, K_RNG, K_COUNT,
+	K_TOGGLE_PROB, K_REENABLE_PROB, K_MEMBERS, K_OPTIONS, K_RNG,
+	K_RECURRENT, K_RECUR_ONLY_PROB, K_ADD_LINK_TRIES, K_NEW_LINK_POWER,
+	K_SPLIT_BIAS, K_SPLIT_OLDER, K_ACTIVATION, K_GEN_LINKS, K_GEN_SPLITS,
+	K_NEXT_INNOV, K_NEXT_NODE, K_NODE, K_INN_IN, K_INN_OUT, K_COUNT,
 	/* not a key: the genes' metatable, the last upvalue */
 	UP_GENES_MT = K_COUNT,
 	N_UPVALUES = K_COUNT
@@ -91,7 +94,10 @@ static const char *const KEY_NAMES[K_COUNT] = {
     "add_node_prob", "add_link_prob", "weight_mut_prob",
     "mutate_only_prob", "interspecies_prob", "mate_only_prob",
     "toggle_prob",  "reenable_prob", "members",	      "options",
-    "rng",
+    "rng",	    "recurrent",     "recur_only_prob", "add_link_tries",
+    "new_link_power", "split_bias",  "split_older",   "activation",
+    "gen_links",    "gen_splits",    "next_innov",    "next_node",
+    "node",	    "inn_in",	     "inn_out",
 };
 
 /* Pushes t[key] (t a plain table: no metamethods) and returns its type. */
@@ -445,16 +451,13 @@ static int l_sort_genes(lua_State *L)
 	return 0;
 }
 
-/* reaches(g, from, to): does a path from node `from` reach node `to`
- * over g's genes, enabled or not (neat.lua's reaches). */
-static int l_reaches(lua_State *L)
+/* Does a path from node `from` reach node `to` over genes gs, enabled or
+ * not (neat.lua's reaches)? Its room is a userdata, left on the stack. */
+static int genes_reach(lua_State *L, const genes *gs, lua_Integer from,
+		       lua_Integer to)
 {
-	lua_Integer from = luaL_checkinteger(L, 2), to = luaL_checkinteger(L, 3);
-	genes *gs = genome_genes(L, 1, 0);
-	if (from == to) {
-		lua_pushboolean(L, 1);
+	if (from == to)
 		return 1;
-	}
 	/* the nodes seen, as a stack of those still to walk from */
 	lua_Integer *seen = lua_newuserdatauv(L, 2 * ((size_t)gs->n + 1) *
 							 sizeof *seen, 0);
@@ -472,15 +475,22 @@ static int l_reaches(lua_State *L)
 				was = seen[k] == t;
 			if (was)
 				continue;
-			if (t == to) {
-				lua_pushboolean(L, 1);
+			if (t == to)
 				return 1;
-			}
 			seen[n_seen++] = t;
 			stack[top++] = t;
 		}
 	}
-	lua_pushboolean(L, 0);
+	return 0;
+}
+
+/* reaches(g, from, to): does a path from node `from` reach node `to`
+ * over g's genes, enabled or not (neat.lua's reaches). */
+static int l_reaches(lua_State *L)
+{
+	lua_Integer from = luaL_checkinteger(L, 2), to = luaL_checkinteger(L, 3);
+	genes *gs = genome_genes(L, 1, 0);
+	lua_pushboolean(L, genes_reach(L, gs, from, to));
 	return 1;
 }
 
@@ -1895,6 +1905,346 @@ static int l_crossover(lua_State *L)
 }
 
 /* ------------------------------------------------------------------ */
+/* Structural mutations (neat.lua's mutate_add_link and mutate_add_node,
+ * draw for draw, with the population's innovation registry) */
+
+/* What the structural mutations read of the options, once. */
+typedef struct struct_opts {
+	int recurrent, split_bias, split_older;
+	double recur_only_prob, new_link_power;
+	lua_Integer add_link_tries;
+	double max; /* weight_max */
+	int max_int;
+} struct_opts;
+
+static struct_opts struct_opts_of(lua_State *L, int o)
+{
+	struct_opts t;
+	rget(L, o, K_RECURRENT);
+	t.recurrent = lua_toboolean(L, -1);
+	rget(L, o, K_SPLIT_BIAS);
+	t.split_bias = lua_toboolean(L, -1);
+	rget(L, o, K_SPLIT_OLDER);
+	t.split_older = lua_toboolean(L, -1);
+	rget(L, o, K_ADD_LINK_TRIES);
+	t.add_link_tries = lua_tointeger(L, -1);
+	rget(L, o, K_WEIGHT_MAX);
+	t.max = lua_tonumber(L, -1);
+	t.max_int = lua_isinteger(L, -1);
+	lua_pop(L, 5);
+	t.recur_only_prob = num_field(L, o, K_RECUR_ONLY_PROB);
+	t.new_link_power = num_field(L, o, K_NEW_LINK_POWER);
+	return t;
+}
+
+/* pop[key], a whole number (the registry's counters). */
+static lua_Integer int_field(lua_State *L, int pop, enum key key)
+{
+	rget(L, pop, key);
+	int ok;
+	lua_Integer v = lua_tointegerx(L, -1, &ok);
+	if (!ok)
+		luaL_error(L, "neat: the population's %s is %s, not a whole "
+			      "number",
+			   KEY_NAMES[key], luaL_typename(L, -1));
+	lua_pop(L, 1);
+	return v;
+}
+
+static void set_int_field(lua_State *L, int pop, enum key key, lua_Integer v)
+{
+	lua_pushinteger(L, v);
+	rset(L, pop, key);
+}
+
+/* The registry table pop[key] (gen_links, gen_splits), pushed. */
+static void push_registry(lua_State *L, int pop, enum key key)
+{
+	if (rget(L, pop, key) != LUA_TTABLE)
+		luaL_error(L, "neat: the population has no %s table",
+			   KEY_NAMES[key]);
+}
+
+/* neat.lua's link_innovation: the innovation of a link from -> to, the
+ * same for every genome that gains it this generation. */
+static lua_Integer link_innovation(lua_State *L, int pop, lua_Integer from,
+				   lua_Integer to)
+{
+	push_registry(L, pop, K_GEN_LINKS);
+	lua_pushfstring(L, "%I>%I", (LUAI_UACINT)from, (LUAI_UACINT)to);
+	lua_pushvalue(L, -1);
+	int ok;
+	lua_rawget(L, -3);
+	lua_Integer inn = lua_tointegerx(L, -1, &ok);
+	lua_pop(L, 1);
+	if (!ok) {
+		inn = int_field(L, pop, K_NEXT_INNOV) + 1;
+		set_int_field(L, pop, K_NEXT_INNOV, inn);
+		lua_pushinteger(L, inn);
+		lua_rawset(L, -3);
+	} else {
+		lua_pop(L, 1);
+	}
+	lua_pop(L, 1);
+	return inn;
+}
+
+/* neat.lua's split_innovation: the node and the two innovations of a
+ * split of the link of innovation `innov`, the same for every genome that
+ * splits it this generation. */
+static void split_innovation(lua_State *L, int pop, lua_Integer innov,
+			     lua_Integer out[3])
+{
+	push_registry(L, pop, K_GEN_SPLITS);
+	lua_pushfstring(L, "%I", (LUAI_UACINT)innov);
+	lua_pushvalue(L, -1);
+	if (lua_rawget(L, -3) == LUA_TTABLE) {
+		int t = lua_gettop(L);
+		out[0] = int_field(L, t, K_NODE);
+		out[1] = int_field(L, t, K_INN_IN);
+		out[2] = int_field(L, t, K_INN_OUT);
+		lua_pop(L, 3);
+		return;
+	}
+	lua_pop(L, 1);
+	lua_Integer inn = int_field(L, pop, K_NEXT_INNOV);
+	out[0] = int_field(L, pop, K_NEXT_NODE) + 1;
+	out[1] = inn + 1;
+	out[2] = inn + 2;
+	set_int_field(L, pop, K_NEXT_NODE, out[0]);
+	set_int_field(L, pop, K_NEXT_INNOV, inn + 2);
+	lua_createtable(L, 0, 3);
+	enum key keys[3] = {K_NODE, K_INN_IN, K_INN_OUT};
+	for (int k = 0; k < 3; k++) {
+		lua_pushinteger(L, out[k]);
+		rset(L, -2, keys[k]);
+	}
+	lua_rawset(L, -3);
+	lua_pop(L, 1);
+}
+
+/* A genome's nodes read: ids and kinds ('i' input, 'b' bias, 'o'
+ * output, 'h' hidden, '?' other), in a userdata left on the stack. */
+typedef struct node_list {
+	int n;
+	lua_Integer *id;
+	char *kind;
+} node_list;
+
+static node_list read_node_list(lua_State *L, int nodes)
+{
+	node_list nl;
+	nl.n = (int)lua_rawlen(L, nodes);
+	nl.id = lua_newuserdatauv(L, (size_t)(nl.n + 1) * (sizeof *nl.id + 1),
+				  0);
+	nl.kind = (char *)(nl.id + nl.n + 1);
+	for (int k = 0; k < nl.n; k++) {
+		lua_rawgeti(L, nodes, k + 1);
+		luaL_checktype(L, -1, LUA_TTABLE);
+		rget(L, -1, K_ID);
+		nl.id[k] = gene_int(L, -1, "node id");
+		rget(L, -2, K_KIND);
+		nl.kind[k] = is_key(L, -1, K_INPUT)    ? 'i'
+			     : is_key(L, -1, K_BIAS)   ? 'b'
+			     : is_key(L, -1, K_OUTPUT) ? 'o'
+			     : is_key(L, -1, K_HIDDEN) ? 'h'
+						       : '?';
+		lua_pop(L, 3);
+	}
+	return nl;
+}
+
+/* Genome g's genes with `extra` more genes (given) added, sorted by
+ * innovation, as g.links: a new block, as add_gene and sort_genes make it. */
+static genes *add_genes(lua_State *L, int g, const gene *extra, int extra_n)
+{
+	int top = lua_gettop(L);
+	genes *old = genome_genes(L, g, 1);
+	genes *gs = new_genes(L, old->n + extra_n);
+	memcpy(gs->g, old->g, (size_t)old->n * sizeof *gs->g);
+	memcpy(gs->g + old->n, extra, (size_t)extra_n * sizeof *extra);
+	int sorted = 1;
+	for (int i = 1; i < gs->n && sorted; i++)
+		sorted = gs->g[i - 1].innov < gs->g[i].innov;
+	if (!sorted)
+		qsort(gs->g, (size_t)gs->n, sizeof *gs->g, by_innov);
+	rset(L, g, K_LINKS);
+	lua_settop(L, top);
+	return gs;
+}
+
+static lua_Integer pick(double u, lua_Integer n);
+
+/* neat.lua's mutate_add_link on genome g of population pop (stack slots):
+ * a link between two unlinked nodes, one that keeps the genome acyclic
+ * unless `recurrent`; with recurrent and recur_only_prob, one that closes
+ * a cycle with that chance and one that does not otherwise. Pushes the new
+ * gene as a gene table, or nil when add_link_tries pairs gave none. */
+static void add_link(lua_State *L, int pop, int g, const struct_opts *t,
+		     rng_src *r)
+{
+	int top = lua_gettop(L);
+	rget(L, g, K_NODES);
+	luaL_checktype(L, -1, LUA_TTABLE);
+	int nodes = lua_gettop(L);
+	node_list nl = read_node_list(L, nodes);
+	int graded = t->recurrent && t->recur_only_prob > 0;
+	int recur = graded && draw(L, r) < t->recur_only_prob;
+	/* the nodes a self-loop may go round, needed only then */
+	int *targets = NULL, nt = 0;
+	if (recur) {
+		targets = lua_newuserdatauv(L, (size_t)(nl.n + 1) * sizeof *targets, 0);
+		for (int k = 0; k < nl.n; k++)
+			if (nl.kind[k] != 'i' && nl.kind[k] != 'b')
+				targets[nt++] = k;
+	}
+	int base = lua_gettop(L);
+	for (lua_Integer tr = 0; tr < t->add_link_tries; tr++) {
+		lua_settop(L, base);
+		int a, b;
+		if (recur && draw(L, r) < 0.5) {
+			if (nt == 0)
+				luaL_error(L, "neat: a self-loop with no node "
+					      "to go round");
+			a = targets[pick(draw(L, r), nt) - 1];
+			b = a;
+		} else {
+			a = (int)pick(draw(L, r), nl.n) - 1;
+			b = (int)pick(draw(L, r), nl.n) - 1;
+		}
+		if (nl.kind[b] == 'i' || nl.kind[b] == 'b')
+			continue;
+		const genes *gs = genome_genes(L, g, 1);
+		lua_Integer from = nl.id[a], to = nl.id[b];
+		int exists = 0;
+		for (int i = 0; i < gs->n && !exists; i++)
+			exists = gs->g[i].from == from && gs->g[i].to == to;
+		int ok = 1;
+		if (!t->recurrent)
+			ok = !genes_reach(L, gs, to, from);
+		else if (graded)
+			ok = genes_reach(L, gs, to, from) == recur;
+		if (exists || !ok)
+			continue;
+		gene x = {link_innovation(L, pop, from, to), from, to, 0, 0, 1};
+		set_clamped(&x, (draw(L, r) * 2 - 1) * t->new_link_power,
+			    t->max, t->max_int);
+		add_genes(L, g, &x, 1);
+		sort_list(L, nodes, K_ID);
+		lua_settop(L, top);
+		push_gene_table(L, &x);
+		return;
+	}
+	lua_settop(L, top);
+	lua_pushnil(L);
+}
+
+/* neat.lua's mutate_add_node on genome g of population pop (stack
+ * slots), its link chosen there: an enabled link not from the bias node
+ * (unless split_bias), with split_older in a genome of fewer than 15
+ * links the first taken with chance 0.7 in innovation order, else one
+ * drawn uniformly. The link is disabled; from -> new gets weight 1, new ->
+ * to the old weight. Pushes the new node's id, or nil (no link to split,
+ * none taken, or the genome already has the node). */
+static void add_node(lua_State *L, int pop, int g, const struct_opts *t,
+		     rng_src *r)
+{
+	int top = lua_gettop(L);
+	rget(L, g, K_NODES);
+	luaL_checktype(L, -1, LUA_TTABLE);
+	int nodes = lua_gettop(L);
+	node_list nl = read_node_list(L, nodes);
+	int has_bias = 0;
+	lua_Integer bias_id = 0;
+	for (int k = 0; k < nl.n && !t->split_bias && !has_bias; k++)
+		if (nl.kind[k] == 'b') {
+			has_bias = 1;
+			bias_id = nl.id[k];
+		}
+	genes *gs = genome_genes(L, g, 1);
+	int *enabled = lua_newuserdatauv(L, (size_t)(gs->n + 1) * sizeof *enabled, 0);
+	int ne = 0;
+	for (int i = 0; i < gs->n; i++)
+		if (gs->g[i].enabled && !(has_bias && gs->g[i].from == bias_id))
+			enabled[ne++] = i;
+	int link = -1;
+	if (ne > 0 && t->split_older && gs->n < 15) {
+		for (int k = 0; k < ne && link < 0; k++)
+			if (draw(L, r) < 0.7)
+				link = enabled[k];
+	} else if (ne > 0) {
+		link = enabled[pick(draw(L, r), ne) - 1];
+	}
+	lua_settop(L, top);
+	if (link < 0) {
+		lua_pushnil(L);
+		return;
+	}
+	lua_Integer s[3]; /* node, innovation in, innovation out */
+	split_innovation(L, pop, gs->g[link].innov, s);
+	for (int k = 0; k < nl.n; k++)
+		if (nl.id[k] == s[0]) { /* already split this generation */
+			lua_pushnil(L);
+			return;
+		}
+	gene *old = &gs->g[link];
+	old->enabled = 0;
+	/* the new node, in the genome's own list */
+	rget(L, g, K_NODES);
+	nodes = lua_gettop(L);
+	lua_createtable(L, 0, 3);
+	lua_pushinteger(L, s[0]);
+	rset(L, -2, K_ID);
+	lua_pushvalue(L, lua_upvalueindex(K_HIDDEN));
+	rset(L, -2, K_KIND);
+	rget(L, pop, K_OPTIONS);
+	rget(L, -1, K_ACTIVATION);
+	rset(L, -3, K_ACT);
+	lua_pop(L, 1);
+	lua_rawseti(L, nodes, (lua_Integer)lua_rawlen(L, nodes) + 1);
+	gene x[2] = {{s[1], old->from, s[0], 1.0, 0, 1},
+		     {s[2], s[0], old->to, old->weight, old->weight_int, 1}};
+	add_genes(L, g, x, 2);
+	sort_list(L, nodes, K_ID);
+	lua_settop(L, top);
+	lua_pushinteger(L, s[0]);
+}
+
+/* add_link(pop, g, rng) -> the new gene, or nil: add_link. */
+static int l_add_link(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	lua_settop(L, 3);
+	rget(L, 1, K_OPTIONS); /* 4 */
+	luaL_checktype(L, 4, LUA_TTABLE);
+	struct_opts t = struct_opts_of(L, 4);
+	rng_src r;
+	rng_begin(L, 3, &r);
+	add_link(L, 1, 2, &t, &r);
+	rng_done(L, &r);
+	return 1;
+}
+
+/* add_node(pop, g, rng) -> the new node's id, or nil: add_node. */
+static int l_add_node(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	lua_settop(L, 3);
+	rget(L, 1, K_OPTIONS); /* 4 */
+	luaL_checktype(L, 4, LUA_TTABLE);
+	struct_opts t = struct_opts_of(L, 4);
+	rng_src r;
+	rng_begin(L, 3, &r);
+	add_node(L, 1, 2, &t, &r);
+	rng_done(L, &r);
+	return 1;
+}
+
+/* ------------------------------------------------------------------ */
 /* A species' offspring (neat.lua's breed_lua, draw for draw) */
 
 /* What breed reads of the options, once for all its children. */
@@ -1904,11 +2254,13 @@ typedef struct breed_opts {
 	wm_opts wm;
 	cross_opts co;
 	dist_opts dist;
+	struct_opts st;
 } breed_opts;
 
 static breed_opts breed_opts_of(lua_State *L, int o)
 {
 	breed_opts b;
+	b.st = struct_opts_of(L, o);
 	b.mutate_only = num_field(L, o, K_MUTATE_ONLY_PROB);
 	b.interspecies = num_field(L, o, K_INTERSPECIES_PROB);
 	b.mate_only = num_field(L, o, K_MATE_ONLY_PROB);
@@ -1935,33 +2287,33 @@ static void rng_reread(lua_State *L, rng_src *r)
 	}
 }
 
-/* neat.mutate on the genome at g: its first draws and the weights here
- * (l_mutate's), the rest, when there is any, by more(pop, g, rng, what) in Lua
- * (neat.lua's mutate_rest), with the generator's words handed over and
- * taken back. */
+/* neat.mutate on the genome at g (l_mutate's draws, add_node, add_link);
+ * the toggle and re-enable draws that may follow a weight mutation, when
+ * the options ask for them, by more(pop, g, rng, 0) in Lua (neat.lua's
+ * mutate_rest), with the generator's words handed over and taken back. */
 static void breed_mutate(lua_State *L, int g, const breed_opts *b,
 			 rng_src *r, int pop, int more)
 {
-	int what = 0;
+	int top = lua_gettop(L);
 	if (draw(L, r) < b->add_node) {
-		what = 1;
+		add_node(L, pop, g, &b->st, r);
 	} else if (draw(L, r) < b->add_link) {
-		what = 2;
-	} else if (draw(L, r) < b->weight_mut) {
-		int top = lua_gettop(L);
-		mutate_genes(L, genome_genes(L, g, 1), &b->wm, r);
-		lua_settop(L, top);
+		add_link(L, pop, g, &b->st, r);
+	} else {
+		if (draw(L, r) < b->weight_mut)
+			mutate_genes(L, genome_genes(L, g, 1), &b->wm, r);
+		if (b->toggle > 0 || b->reenable > 0) {
+			rng_done(L, r);
+			lua_pushvalue(L, more);
+			lua_pushvalue(L, pop);
+			lua_pushvalue(L, g);
+			lua_pushvalue(L, r->rng);
+			lua_pushinteger(L, 0);
+			lua_call(L, 4, 0);
+			rng_reread(L, r);
+		}
 	}
-	if (what == 0 && !(b->toggle > 0) && !(b->reenable > 0))
-		return;
-	rng_done(L, r);
-	lua_pushvalue(L, more);
-	lua_pushvalue(L, pop);
-	lua_pushvalue(L, g);
-	lua_pushvalue(L, r->rng);
-	lua_pushinteger(L, what);
-	lua_call(L, 4, 0);
-	rng_reread(L, r);
+	lua_settop(L, top);
 }
 
 /* 1 + floor(u * n): a place in a list of n drawn as neat.lua draws it. */
@@ -1999,8 +2351,8 @@ static void push_mate(lua_State *L, const breed_opts *b, rng_src *r,
  * first of sorted, copied and mutated (a lone parent, or with chance
  * mutate_only_prob), else crossed with a mate (push_mate) and mutated
  * unless a draw under mate_only_prob leaves a child of two different
- * genomes as it is. The draws are pop.rng's, in breed_lua's order; the
- * structural mutations are more(pop, g, rng, what)'s, in Lua. Only for
+ * genomes as it is. The draws are pop.rng's, in breed_lua's order; only
+ * the toggles and re-enables are more(pop, g, rng, 0)'s, in Lua. Only for
  * options with tie_smaller (breed_lua crosses equals the paper's way). */
 static int l_breed(lua_State *L)
 {
@@ -2078,6 +2430,8 @@ static const luaL_Reg FUNCS[] = {
     {"draws", l_draws},
     {"crossover", l_crossover},
     {"breed", l_breed},
+    {"add_link", l_add_link},
+    {"add_node", l_add_node},
     {"rank", l_rank},
     {"distance", l_distance},
     {"speciate", l_speciate},

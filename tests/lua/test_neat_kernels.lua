@@ -155,6 +155,73 @@ function T.breeding_is_the_luas_draw_for_draw()
 	check(#neat.load(serialize.load(text, "t")).species > 2, "several species to mate across")
 end
 
+-- fast.add_link and fast.add_node (neat.mutate_add_link and _node in the
+-- loop's state) and the Lua they replace, each on its own copy of the
+-- same population, add the same genes and nodes with the same draws and
+-- the same innovations, under every option that changes them.
+function T.structural_mutations_are_the_luas_draw_for_draw()
+	check(neat.mutate_add_link == fast.add_link, "add-link is C")
+	local text = fast.dump(neat.save(grown_population(), true))
+	local variants = {
+		{},
+		{ recurrent = true },
+		{ recurrent = true, recur_only_prob = 0.5 },
+		{ split_bias = true, split_older = false },
+		{ add_link_tries = 1, weight_max = 1, new_link_power = 5 },
+	}
+	local added = { link = 0, node = 0 }
+	for vi, options in ipairs(variants) do
+		local runs = {}
+		for which, fns in ipairs{ { fast.add_link, fast.add_node },
+			{ neat.mutate_add_link_lua, neat.mutate_add_node_lua } } do
+			local pop = neat.load(serialize.load(text, "t"))
+			for k, v in pairs(options) do pop.options[k] = v end
+			local got = {}
+			for round = 1, 3 do
+				for i, g in ipairs(pop.population) do
+					local what = (i + round) % 2 + 1
+					local r = fns[what](pop, g, pop.rng)
+					got[#got + 1] = r == nil and "none" or r
+					if which == 1 and r ~= nil then
+						added[what == 1 and "link" or "node"] = added[what == 1 and "link" or "node"] + 1
+					end
+				end
+			end
+			runs[which] = fast.dump{ got = got, population = pop.population, rng = pop.rng:save(),
+				innov = pop.next_innov, node = pop.next_node, links = pop.gen_links, splits = pop.gen_splits }
+		end
+		check(runs[1] == runs[2], "variant " .. vi .. ": the same genomes, draws and innovations")
+	end
+	check(added.link > 20 and added.node > 20, "links and nodes were added")
+end
+
+-- By hand: a genome of inputs 0, 1, bias 2 and output 3, linked 0 -> 3
+-- and 2 -> 3. With every draw 0.25, add-node (split_older, fewer than 15
+-- links) takes the first enabled link not from the bias, 0 -> 3 (0.25 <
+-- 0.7): a new node 4 (next_node 3 + 1) between, genes 5 (0 -> 4, weight
+-- 1) and 6 (4 -> 3, the old weight 0.5) after next_innov 4, the old link
+-- off. Add-link then draws nodes[1 + floor(0.25 * 5)] = node 1 for both
+-- ends; node 1 is an input, so no try adds a link.
+function T.structural_mutations_by_hand()
+	local g = { nodes = { { id = 0, kind = "input" }, { id = 1, kind = "input" }, { id = 2, kind = "bias" },
+		{ id = 3, kind = "output", act = "identity" } }, links = {
+		{ innov = 1, from = 2, to = 3, weight = 2.0, enabled = true },
+		{ innov = 3, from = 0, to = 3, weight = 0.5, enabled = true } } }
+	local o = {}
+	for k, v in pairs(neat.defaults) do o[k] = v end
+	local pop = { options = o, next_innov = 4, next_node = 3, gen_links = {}, gen_splits = {} }
+	local quarter = { unit = function() return 0.25 end }
+	check(fast.add_node(pop, g, quarter) == 4, "node 4")
+	check(#g.links == 4 and g.links[2].innov == 3 and not g.links[2].enabled, "0 -> 3 switched off")
+	local l5, l6 = g.links[3], g.links[4]
+	check(l5.innov == 5 and l5.from == 0 and l5.to == 4 and l5.weight == 1.0 and l5.enabled, "gene 5")
+	check(l6.innov == 6 and l6.from == 4 and l6.to == 3 and l6.weight == 0.5 and l6.enabled, "gene 6")
+	check(#g.nodes == 5 and g.nodes[5].id == 4 and g.nodes[5].kind == "hidden"
+		and g.nodes[5].act == o.activation, "hidden node 4")
+	check(pop.next_innov == 6 and pop.next_node == 4 and pop.gen_splits["3"].node == 4, "registry")
+	check(fast.add_link(pop, g, quarter) == nil and #g.links == 4, "no link into an input")
+end
+
 -- By hand, with a generator whose every draw is 0.25: the parent is
 -- sorted[1 + floor(0.25 * 2)] = sorted[1]; 0.25 is not under
 -- mutate_only_prob 0.2, so it mates, with sorted[1] again (no other
