@@ -1068,6 +1068,10 @@ function neat.to_net(g)
 	return { inputs = n, outputs = m, nodes = nodes, outputs_ids = outputs_ids, links = links }
 end
 
+-- evo.neat's C where the state has it: the same table.
+neat.to_net_lua = neat.to_net
+if fast then neat.to_net = fast.to_net end
+
 -- neat.pack_net(g): the network neat.to_net(g) gives, packed for
 -- evo.evaluate (a userdata; only evaluate, success_test and set_team_net
 -- read it). Present only where evo.neat is.

@@ -76,7 +76,8 @@ enum key {
 	K_TOGGLE_PROB, K_REENABLE_PROB, K_MEMBERS, K_OPTIONS, K_RNG,
 	K_RECURRENT, K_RECUR_ONLY_PROB, K_ADD_LINK_TRIES, K_NEW_LINK_POWER,
 	K_SPLIT_BIAS, K_SPLIT_OLDER, K_ACTIVATION, K_GEN_LINKS, K_GEN_SPLITS,
-	K_NEXT_INNOV, K_NEXT_NODE, K_NODE, K_INN_IN, K_INN_OUT, K_COUNT,
+	K_NEXT_INNOV, K_NEXT_NODE, K_NODE, K_INN_IN, K_INN_OUT, K_INPUTS,
+	K_OUTPUTS, K_OUTPUTS_IDS, K_COUNT,
 	/* not a key: the genes' metatable, the last upvalue */
 	UP_GENES_MT = K_COUNT,
 	N_UPVALUES = K_COUNT
@@ -97,7 +98,8 @@ static const char *const KEY_NAMES[K_COUNT] = {
     "rng",	    "recurrent",     "recur_only_prob", "add_link_tries",
     "new_link_power", "split_bias",  "split_older",   "activation",
     "gen_links",    "gen_splits",    "next_innov",    "next_node",
-    "node",	    "inn_in",	     "inn_out",
+    "node",	    "inn_in",	     "inn_out",	      "inputs",
+    "outputs",	    "outputs_ids",
 };
 
 /* Pushes t[key] (t a plain table: no metamethods) and returns its type. */
@@ -2244,6 +2246,126 @@ static int l_add_node(lua_State *L)
 	return 1;
 }
 
+/* Sets field `key` of the table at t to integer v. */
+static void set_int(lua_State *L, int t, enum key key, lua_Integer v)
+{
+	t = lua_absindex(L, t);
+	lua_pushinteger(L, v);
+	rset(L, t, key);
+}
+
+/* to_net(genome) -> the table neat.to_net gives: { inputs, outputs, nodes
+ * = { {id, act, bias}, ... }, outputs_ids, links = { {from, to, weight},
+ * ... } }, its ids and biases pack_net's (the same map, the same sums in
+ * the same order), each node's act the genome's string, each weight as
+ * the gene holds it. */
+static int l_to_net(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	lua_settop(L, 1);
+	rget(L, 1, K_NODES); /* 2 */
+	luaL_checktype(L, 2, LUA_TTABLE);
+	const genes *gs = genome_genes(L, 1, 0); /* 3 */
+	node_list nl = read_node_list(L, 2); /* 4 */
+	int n_in = 0, n_out = 0, n_map = 0, has_bias = 0;
+	lua_Integer bias_id = 0;
+	double bias_value = 1.0;
+	for (int k = 0; k < nl.n; k++) {
+		n_in += nl.kind[k] == 'i';
+		n_out += nl.kind[k] == 'o';
+		if (nl.kind[k] == 'b') { /* the last bias node counts */
+			has_bias = 1;
+			bias_id = nl.id[k];
+			lua_rawgeti(L, 2, k + 1);
+			bias_value = rget(L, -1, K_VALUE) == LUA_TNIL
+					 ? 1.0
+					 : lua_tonumber(L, -1);
+			lua_pop(L, 2);
+		}
+	}
+	/* the genome's ids to the network's, and each node's bias */
+	id_map *map = lua_newuserdatauv(L, (size_t)(nl.n + 1) *
+					       (sizeof *map + sizeof(double)),
+					0); /* 5 */
+	double *bias = (double *)(void *)(map + nl.n + 1);
+	lua_createtable(L, 0, 5); /* 6: the network */
+	int net = 6;
+	set_int(L, net, K_INPUTS, n_in);
+	set_int(L, net, K_OUTPUTS, n_out);
+	lua_createtable(L, nl.n, 0); /* 7: nodes */
+	lua_createtable(L, n_out, 0); /* 8: outputs_ids */
+	int next = n_in, n_nodes = 0, n_outs = 0;
+	for (int pass = 0; pass < 3; pass++)
+		for (int k = 0; k < nl.n; k++) {
+			char want = pass == 0 ? 'i' : pass == 1 ? 'o' : 'h';
+			if (nl.kind[k] != want)
+				continue;
+			if (pass == 0) {
+				map[n_map++] = (id_map){nl.id[k],
+							(uint16_t)nl.id[k]};
+				continue;
+			}
+			if (next > UINT16_MAX)
+				luaL_error(L, "to_net: too many nodes");
+			map[n_map++] = (id_map){nl.id[k], (uint16_t)next};
+			bias[next - n_in] = 0.0;
+			lua_createtable(L, 0, 3);
+			set_int(L, -1, K_ID, next);
+			lua_rawgeti(L, 2, k + 1);
+			rget(L, -1, K_ACT);
+			lua_remove(L, -2);
+			rset(L, -2, K_ACT);
+			lua_rawseti(L, 7, ++n_nodes);
+			if (pass == 1) {
+				lua_pushinteger(L, next);
+				lua_rawseti(L, 8, ++n_outs);
+			}
+			next++;
+		}
+	qsort(map, (size_t)n_map, sizeof *map, by_id);
+	lua_createtable(L, gs->n, 0); /* 9: links */
+	int n_links = 0;
+	for (int i = 0; i < gs->n; i++) {
+		const gene *x = &gs->g[i];
+		if (!x->enabled)
+			continue;
+		int t = map_id(map, n_map, x->to);
+		if (t < n_in)
+			luaL_error(L, "to_net: link %d ends at node %I, which is "
+				      "no output or hidden node of the genome",
+				   i + 1, (LUAI_UACINT)x->to);
+		if (has_bias && x->from == bias_id) {
+			bias[t - n_in] += x->weight * bias_value;
+			continue;
+		}
+		int f = map_id(map, n_map, x->from);
+		if (f < 0)
+			luaL_error(L, "to_net: link %d starts at node %I, which "
+				      "the genome does not have",
+				   i + 1, (LUAI_UACINT)x->from);
+		lua_createtable(L, 0, 3);
+		set_int(L, -1, K_FROM, f);
+		set_int(L, -1, K_TO, t);
+		push_gene_field(L, x, K_WEIGHT);
+		rset(L, -2, K_WEIGHT);
+		lua_rawseti(L, 9, ++n_links);
+	}
+	for (int k = 1; k <= n_nodes; k++) {
+		lua_rawgeti(L, 7, k);
+		lua_pushnumber(L, bias[k - 1]);
+		rset(L, -2, K_BIAS);
+		lua_pop(L, 1);
+	}
+	lua_pushvalue(L, 7);
+	rset(L, net, K_NODES);
+	lua_pushvalue(L, 8);
+	rset(L, net, K_OUTPUTS_IDS);
+	lua_pushvalue(L, 9);
+	rset(L, net, K_LINKS);
+	lua_settop(L, net);
+	return 1;
+}
+
 /* ------------------------------------------------------------------ */
 /* A species' offspring (neat.lua's breed_lua, draw for draw) */
 
@@ -2437,6 +2559,7 @@ static const luaL_Reg FUNCS[] = {
     {"speciate", l_speciate},
     {"copy_genome", l_copy_genome},
     {"pack_net", l_pack_net},
+    {"to_net", l_to_net},
     {"genes", l_genes},
     {"add_gene", l_add_gene},
     {"sort_genes", l_sort_genes},

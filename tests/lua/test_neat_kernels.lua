@@ -222,6 +222,36 @@ function T.structural_mutations_by_hand()
 	check(fast.add_link(pop, g, quarter) == nil and #g.links == 4, "no link into an input")
 end
 
+-- fast.to_net (neat.to_net in the loop's state) gives neat.to_net_lua's
+-- table. By hand: inputs 0, 1, bias 2 of value 0.5, output 3, hidden 7;
+-- the output becomes node 2, the hidden node 3; bias -> 3 (2.0) is the
+-- output's bias 1.0, bias -> 7 (4.0, then 2.0) the hidden node's 3.0;
+-- the disabled 1 -> 3 is left out, the integer weight 8 stays an integer.
+function T.networks_of_genomes_are_the_luas()
+	check(neat.to_net == fast.to_net, "to_net is C")
+	for _, g in ipairs(grown_population():genomes()) do
+		check(fast.dump(fast.to_net(g)) == fast.dump(neat.to_net_lua(g)), "the same network")
+	end
+	local g = { nodes = { { id = 0, kind = "input" }, { id = 1, kind = "input" },
+		{ id = 2, kind = "bias", value = 0.5 }, { id = 3, kind = "output", act = "neat_sigmoid" },
+		{ id = 7, kind = "hidden", act = "tanh" } }, links = {
+		{ innov = 1, from = 0, to = 3, weight = 8, enabled = true },
+		{ innov = 2, from = 1, to = 3, weight = 9.0, enabled = false },
+		{ innov = 3, from = 2, to = 3, weight = 2.0, enabled = true },
+		{ innov = 4, from = 0, to = 7, weight = 0.5, enabled = true },
+		{ innov = 5, from = 7, to = 3, weight = -1.0, enabled = true },
+		{ innov = 6, from = 2, to = 7, weight = 4.0, enabled = true },
+		{ innov = 8, from = 2, to = 7, weight = 2.0, enabled = true } } }
+	local net = fast.to_net(g)
+	check(net.inputs == 2 and net.outputs == 1 and #net.outputs_ids == 1 and net.outputs_ids[1] == 2, "ids")
+	check(#net.nodes == 2 and net.nodes[1].id == 2 and net.nodes[1].act == "neat_sigmoid"
+		and net.nodes[1].bias == 1.0 and net.nodes[2].id == 3 and net.nodes[2].bias == 3.0, "nodes")
+	check(#net.links == 3 and math.type(net.links[1].weight) == "integer" and net.links[1].weight == 8
+		and net.links[2].from == 0 and net.links[2].to == 3 and net.links[3].from == 3
+		and net.links[3].to == 2, "links")
+	check(fast.dump(net) == fast.dump(neat.to_net_lua(g)), "the Lua's")
+end
+
 -- By hand, with a generator whose every draw is 0.25: the parent is
 -- sorted[1 + floor(0.25 * 2)] = sorted[1]; 0.25 is not under
 -- mutate_only_prob 0.2, so it mates, with sorted[1] again (no other
