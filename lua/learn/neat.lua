@@ -678,30 +678,35 @@ local function speciate(pop)
 	for _, s in ipairs(pop.species) do s.members = {} end
 	-- evo.neat's C where the state has it: each genome's species number
 	-- (a new one past the last for a genome that opens a species), found
-	-- with the same distances in the same order
-	local homes
+	-- with the same distances in the same order, the new species made in
+	-- the order they were opened, then the members and each genome's
+	-- species as the loop below gives them
 	if fast and neat.distance == fast.distance then
 		local reps = {}
 		for k, s in ipairs(pop.species) do reps[k] = s.rep end
-		homes = fast.speciate(pop.population, reps, o, threshold)
-	end
-	for gi, g in ipairs(pop.population) do
-		local home
-		if homes then
-			home = pop.species[homes[gi]]
-		else
+		local homes, opened = fast.speciate(pop.population, reps, o, threshold)
+		for _, gi in ipairs(opened) do
+			pop.next_species = pop.next_species + 1
+			pop.species[#pop.species + 1] = { id = pop.next_species, rep = copy_genome(pop.population[gi]),
+				members = {}, best_fitness = -math.huge, last_improved = pop.generation,
+				created = pop.generation }
+		end
+		fast.assign(pop.species, homes, pop.population)
+	else
+		for gi, g in ipairs(pop.population) do
+			local home
 			for _, s in ipairs(pop.species) do
 				if neat.distance(g, s.rep, o) < threshold then home = s break end
 			end
+			if not home then
+				pop.next_species = pop.next_species + 1
+				home = { id = pop.next_species, rep = copy_genome(g), members = {},
+					best_fitness = -math.huge, last_improved = pop.generation, created = pop.generation }
+				pop.species[#pop.species + 1] = home
+			end
+			home.members[#home.members + 1] = gi
+			g.species = home.id
 		end
-		if not home then
-			pop.next_species = pop.next_species + 1
-			home = { id = pop.next_species, rep = copy_genome(g), members = {},
-				best_fitness = -math.huge, last_improved = pop.generation, created = pop.generation }
-			pop.species[#pop.species + 1] = home
-		end
-		home.members[#home.members + 1] = gi
-		g.species = home.id
 	end
 	local kept = {}
 	for _, s in ipairs(pop.species) do
@@ -821,6 +826,14 @@ end
 function Pop:note_best(fitness)
 	local popl = self.population
 	assert(#fitness == #popl, "tell: one fitness per genome")
+	if fast then
+		-- the genome the loop below would copy last, copied once
+		local i = fast.best_of(fitness, self.best and self.best.fitness)
+		if i then
+			self.best = { genome = copy_genome(popl[i]), fitness = fitness[i], generation = self.generation }
+		end
+		return
+	end
 	for i, g in ipairs(popl) do
 		local f = fitness[i]
 		assert(type(f) == "number" and f == f, "tell: fitness must be a number")
@@ -837,12 +850,23 @@ function Pop:reproduce(score)
 	local o, rng, popl = self.options, self.rng, self.population
 	assert(#score == #popl, "tell: one fitness per genome")
 	self.evaluations = self.evaluations + #popl
-	local minf = math.huge
-	for i, g in ipairs(popl) do
-		local f = score[i]
-		assert(type(f) == "number" and f == f, "tell: fitness must be a number")
-		g.fitness = f
-		if f < minf then minf = f end
+	-- each genome's fitness, the least, and each species' most
+	local minf, most
+	if fast then
+		minf, most = fast.tally(popl, score, self.species)
+	else
+		minf, most = math.huge, {}
+		for i, g in ipairs(popl) do
+			local f = score[i]
+			assert(type(f) == "number" and f == f, "tell: fitness must be a number")
+			g.fitness = f
+			if f < minf then minf = f end
+		end
+		for k, s in ipairs(self.species) do
+			local smax = -math.huge
+			for _, gi in ipairs(s.members) do smax = math.max(smax, popl[gi].fitness) end
+			most[k] = smax
+		end
 	end
 	local shift = minf < 0 and -minf or 0
 	local nspecies = #self.species
@@ -851,9 +875,8 @@ function Pop:reproduce(score)
 	-- generation (it is never dropped).
 	local best_species, best_f = nil, -math.huge
 	local smaxes = {}
-	for _, s in ipairs(self.species) do
-		local smax = -math.huge
-		for _, gi in ipairs(s.members) do smax = math.max(smax, popl[gi].fitness) end
+	for k, s in ipairs(self.species) do
+		local smax = most[k]
 		if smax > s.best_fitness then s.best_fitness, s.last_improved = smax, self.generation end
 		if smax > best_f then best_species, best_f = s, smax end
 		smaxes[s] = smax
@@ -868,13 +891,16 @@ function Pop:reproduce(score)
 	end
 
 	-- Explicit fitness sharing: adjusted fitness = fitness / species size.
-	local shares = {}
+	local shares = fast and fast.share(popl, alive, shift) or {}
 	for i, s in ipairs(alive) do
-		local sum = 0
-		for _, gi in ipairs(s.members) do
-			local g = popl[gi]
-			g.adjusted = (g.fitness + shift) / #s.members
-			sum = sum + g.adjusted
+		local sum = shares[i]
+		if not fast then
+			sum = 0
+			for _, gi in ipairs(s.members) do
+				local g = popl[gi]
+				g.adjusted = (g.fitness + shift) / #s.members
+				sum = sum + g.adjusted
+			end
 		end
 		shares[i] = stagnant[i] and sum * o.stagnation_penalty or sum
 	end
@@ -923,28 +949,26 @@ function Pop:reproduce(score)
 	self.gen_links, self.gen_splits = {}, {}
 	local children = {}
 	for si, s in ipairs(alive) do
-		local members = {}
-		for k, gi in ipairs(s.members) do members[k] = popl[gi] end
 		-- Fittest first; equal fitness in random order. Fixed-point
 		-- outputs saturate to exact values, so ties are common (XOR's
 		-- networks that get three cases right score exactly 9), and a
 		-- fixed order would make the same few genomes parents every time.
-		local idx, key
+		local sorted
 		if fast then
 			-- the same draws and the same order, in C
-			key = fast.draws(rng, #members)
-			idx = fast.rank(members, key)
+			sorted = fast.ranked(popl, s.members, rng)
 		else
-			idx, key = {}, {}
+			local members, idx, key = {}, {}, {}
+			for k, gi in ipairs(s.members) do members[k] = popl[gi] end
 			for k = 1, #members do idx[k], key[k] = k, rng:unit() end
 			table.sort(idx, function(x, y)
 				if members[x].fitness ~= members[y].fitness then return members[x].fitness > members[y].fitness end
 				if key[x] ~= key[y] then return key[x] < key[y] end
 				return x < y
 			end)
+			sorted = {}
+			for k, x in ipairs(idx) do sorted[k] = members[x] end
 		end
-		local sorted = {}
-		for k, x in ipairs(idx) do sorted[k] = members[x] end
 		if o.rep_champion then s.rep = copy_genome(sorted[1]) end
 		local n = counts[si]
 		if clones[si] then

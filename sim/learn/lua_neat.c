@@ -77,7 +77,7 @@ enum key {
 	K_RECURRENT, K_RECUR_ONLY_PROB, K_ADD_LINK_TRIES, K_NEW_LINK_POWER,
 	K_SPLIT_BIAS, K_SPLIT_OLDER, K_ACTIVATION, K_GEN_LINKS, K_GEN_SPLITS,
 	K_NEXT_INNOV, K_NEXT_NODE, K_NODE, K_INN_IN, K_INN_OUT, K_INPUTS,
-	K_OUTPUTS, K_OUTPUTS_IDS, K_COUNT,
+	K_OUTPUTS, K_OUTPUTS_IDS, K_SPECIES, K_ADJUSTED, K_COUNT,
 	/* not a key: the genes' metatable, the last upvalue */
 	UP_GENES_MT = K_COUNT,
 	N_UPVALUES = K_COUNT
@@ -99,7 +99,7 @@ static const char *const KEY_NAMES[K_COUNT] = {
     "new_link_power", "split_bias",  "split_older",   "activation",
     "gen_links",    "gen_splits",    "next_innov",    "next_node",
     "node",	    "inn_in",	     "inn_out",	      "inputs",
-    "outputs",	    "outputs_ids",
+    "outputs",	    "outputs_ids",   "species",	      "adjusted",
 };
 
 /* Pushes t[key] (t a plain table: no metamethods) and returns its type. */
@@ -583,12 +583,13 @@ static int l_distance(lua_State *L)
 	return 1;
 }
 
-/* speciate(genomes, reps, o, threshold) -> home: home[i] is the species
+/* speciate(genomes, reps, o, threshold) -> home, opened: home[i] is the species
  * of genome i, as neat.lua's speciate assigns them: the first species
  * whose representative (reps[k], k in order) is within distance
  * `threshold` (distance(genome, rep) < threshold), else a new species
  * numbered #reps + 1, #reps + 2, ... in the order they are opened, whose
- * representative is that genome. */
+ * representative is that genome; and the genomes that opened them, in
+ * that order. */
 static int l_speciate(lua_State *L)
 {
 	luaL_checktype(L, 1, LUA_TTABLE);
@@ -612,18 +613,53 @@ static int l_speciate(lua_State *L)
 	for (int k = 0; k < nr; k++)
 		rep[k] = k;
 	lua_createtable(L, ng, 0);
+	int homes = lua_gettop(L);
+	lua_createtable(L, 0, 0);
+	int opened = lua_gettop(L);
 	for (int i = 0; i < ng; i++) {
 		const genes *g = all[nr + i];
 		int home = 0;
 		while (home < n_rep && !(distance_of(g, all[rep[home]], &o) <
 					 threshold))
 			home++;
-		if (home == n_rep)
+		if (home == n_rep) {
 			rep[n_rep++] = nr + i;
+			lua_pushinteger(L, i + 1);
+			lua_rawseti(L, opened, n_rep - nr);
+		}
 		lua_pushinteger(L, home + 1);
-		lua_rawseti(L, -2, i + 1);
+		lua_rawseti(L, homes, i + 1);
 	}
-	return 1;
+	return 2;
+}
+
+/* assign(species, homes, genomes): genome i joins species[homes[i]]: its
+ * index appended to that species' members, its species field that
+ * species' id (neat.lua's speciate, once the species exist). */
+static int l_assign(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	lua_settop(L, 3);
+	lua_Integer n = (lua_Integer)lua_rawlen(L, 2);
+	for (lua_Integer i = 1; i <= n; i++) {
+		lua_rawgeti(L, 2, i);
+		lua_Integer h = lua_tointeger(L, -1);
+		if (lua_rawgeti(L, 1, h) != LUA_TTABLE) /* 5: the species */
+			luaL_error(L, "assign: genome %I's species %I is none",
+				   (LUAI_UACINT)i, (LUAI_UACINT)h);
+		rget(L, 5, K_MEMBERS); /* 6 */
+		luaL_checktype(L, 6, LUA_TTABLE);
+		lua_pushinteger(L, i);
+		lua_rawseti(L, 6, (lua_Integer)lua_rawlen(L, 6) + 1);
+		if (lua_rawgeti(L, 3, i) != LUA_TTABLE) /* 7: the genome */
+			luaL_error(L, "assign: genome %I is none", (LUAI_UACINT)i);
+		rget(L, 5, K_ID);
+		rset(L, 7, K_SPECIES);
+		lua_settop(L, 3);
+	}
+	return 0;
 }
 
 /* Room in a genome table for its nodes and links and for the fields the
@@ -1741,6 +1777,170 @@ static int l_rank(lua_State *L)
 	return 1;
 }
 
+/* The value at idx is a fitness tell takes: a number, not NaN. */
+static void check_fitness(lua_State *L, int idx)
+{
+	if (lua_type(L, idx) != LUA_TNUMBER ||
+	    (!lua_isinteger(L, idx) && isnan(lua_tonumber(L, idx))))
+		luaL_error(L, "tell: fitness must be a number");
+}
+
+/* tally(genomes, score, species) -> least, most: each genome's fitness
+ * set (genomes[i].fitness = score[i], checked as tell checks it), the
+ * least of them, and for each species the most of its members'
+ * (math.max from -math.huge, in member order): tell's first loops. */
+static int l_tally(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	lua_settop(L, 3);
+	lua_Integer n = (lua_Integer)lua_rawlen(L, 1);
+	if ((lua_Integer)lua_rawlen(L, 2) != n)
+		luaL_error(L, "tell: one fitness per genome");
+	lua_pushnumber(L, HUGE_VAL); /* 4: the least */
+	for (lua_Integer i = 1; i <= n; i++) {
+		lua_rawgeti(L, 2, i); /* 5 */
+		check_fitness(L, 5);
+		if (lua_rawgeti(L, 1, i) != LUA_TTABLE)
+			luaL_error(L, "tell: genome %I is none", (LUAI_UACINT)i);
+		lua_pushvalue(L, 5);
+		rset(L, 6, K_FITNESS);
+		if (lua_compare(L, 5, 4, LUA_OPLT))
+			lua_copy(L, 5, 4);
+		lua_settop(L, 4);
+	}
+	lua_Integer ns = (lua_Integer)lua_rawlen(L, 3);
+	lua_createtable(L, ns > 0 && ns < INT_MAX ? (int)ns : 0, 0); /* 5 */
+	for (lua_Integer k = 1; k <= ns; k++) {
+		lua_rawgeti(L, 3, k); /* 6 */
+		luaL_checktype(L, 6, LUA_TTABLE);
+		rget(L, 6, K_MEMBERS); /* 7 */
+		luaL_checktype(L, 7, LUA_TTABLE);
+		lua_pushnumber(L, -HUGE_VAL); /* 8: the most */
+		lua_Integer m = (lua_Integer)lua_rawlen(L, 7);
+		for (lua_Integer j = 1; j <= m; j++) {
+			lua_rawgeti(L, 7, j);
+			lua_rawgeti(L, 1, lua_tointeger(L, -1));
+			rget(L, -1, K_FITNESS); /* 11 */
+			if (lua_compare(L, 8, 11, LUA_OPLT))
+				lua_copy(L, 11, 8);
+			lua_settop(L, 8);
+		}
+		lua_rawseti(L, 5, k);
+		lua_settop(L, 5);
+	}
+	return 2;
+}
+
+/* share(genomes, species, shift) -> sums: explicit fitness sharing. Each
+ * member g of each species gets g.adjusted = (g.fitness + shift) /
+ * #members (Lua's arithmetic), and sums[k] is species k's sum of them,
+ * added in member order from 0. */
+static int l_share(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checknumber(L, 3);
+	lua_settop(L, 3);
+	lua_Integer ns = (lua_Integer)lua_rawlen(L, 2);
+	lua_createtable(L, ns > 0 && ns < INT_MAX ? (int)ns : 0, 0); /* 4 */
+	for (lua_Integer k = 1; k <= ns; k++) {
+		lua_rawgeti(L, 2, k); /* 5 */
+		luaL_checktype(L, 5, LUA_TTABLE);
+		rget(L, 5, K_MEMBERS); /* 6 */
+		luaL_checktype(L, 6, LUA_TTABLE);
+		lua_Integer m = (lua_Integer)lua_rawlen(L, 6);
+		lua_pushinteger(L, 0); /* 7: the sum */
+		for (lua_Integer j = 1; j <= m; j++) {
+			lua_rawgeti(L, 6, j);
+			lua_rawgeti(L, 1, lua_tointeger(L, -1)); /* 9 */
+			luaL_checktype(L, 9, LUA_TTABLE);
+			rget(L, 9, K_FITNESS);
+			lua_pushvalue(L, 3);
+			lua_arith(L, LUA_OPADD);
+			lua_pushinteger(L, m);
+			lua_arith(L, LUA_OPDIV); /* 10: adjusted */
+			lua_pushvalue(L, 10);
+			rset(L, 9, K_ADJUSTED);
+			lua_pushvalue(L, 7);
+			lua_insert(L, 10);
+			lua_arith(L, LUA_OPADD);
+			lua_copy(L, 10, 7);
+			lua_settop(L, 7);
+		}
+		lua_rawseti(L, 4, k);
+		lua_settop(L, 4);
+	}
+	return 1;
+}
+
+/* best_of(fitness, best) -> i: the first genome of the greatest fitness
+ * above `best` (any, when best is nil), or nil when none is above it;
+ * each fitness checked as tell checks it (note_best's loop, which keeps
+ * a copy of each genome that beats the best so far: the last copy is of
+ * this one). */
+static int l_best_of(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	lua_settop(L, 2);
+	lua_Integer n = (lua_Integer)lua_rawlen(L, 1), best = 0;
+	for (lua_Integer i = 1; i <= n; i++) {
+		lua_rawgeti(L, 1, i); /* 3 */
+		check_fitness(L, 3);
+		if (lua_isnil(L, 2) || lua_compare(L, 2, 3, LUA_OPLT)) {
+			lua_copy(L, 3, 2);
+			best = i;
+		}
+		lua_settop(L, 2);
+	}
+	if (best)
+		lua_pushinteger(L, best);
+	else
+		lua_pushnil(L);
+	return 1;
+}
+
+/* ranked(genomes, members, rng) -> the genomes genomes[members[k]],
+ * fittest first, equal fitness by a key rng:unit() drawn for each member
+ * in member order, then by place: fast.draws and fast.rank in one, the
+ * same draws and the same order. */
+static int l_ranked(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	lua_settop(L, 3);
+	lua_Integer n = (lua_Integer)lua_rawlen(L, 2);
+	if (n >= INT_MAX)
+		luaL_error(L, "ranked: %I members", (LUAI_UACINT)n);
+	ranked *r = lua_newuserdatauv(L, (size_t)(n ? n : 1) * sizeof *r, 0);
+	lua_createtable(L, (int)n, 0); /* 5: the members' genomes */
+	for (lua_Integer i = 0; i < n; i++) {
+		lua_rawgeti(L, 2, i + 1);
+		if (lua_rawgeti(L, 1, lua_tointeger(L, -1)) != LUA_TTABLE)
+			luaL_error(L, "ranked: member %I is no genome",
+				   (LUAI_UACINT)(i + 1));
+		r[i].fitness = num_field(L, -1, K_FITNESS);
+		r[i].index = i + 1;
+		lua_rawseti(L, 5, i + 1);
+		lua_pop(L, 1);
+	}
+	rng_src src;
+	rng_begin(L, 3, &src);
+	for (lua_Integer i = 0; i < n; i++)
+		r[i].key = draw(L, &src);
+	rng_done(L, &src);
+	lua_settop(L, 5);
+	qsort(r, (size_t)n, sizeof *r, by_rank);
+	lua_createtable(L, (int)n, 0);
+	for (lua_Integer i = 0; i < n; i++) {
+		lua_rawgeti(L, 5, r[i].index);
+		lua_rawseti(L, -2, i + 1);
+	}
+	return 1;
+}
+
 /* The options crossover reads. */
 typedef struct cross_opts {
 	int tie_smaller;
@@ -2555,6 +2755,11 @@ static const luaL_Reg FUNCS[] = {
     {"add_link", l_add_link},
     {"add_node", l_add_node},
     {"rank", l_rank},
+    {"ranked", l_ranked},
+    {"tally", l_tally},
+    {"share", l_share},
+    {"best_of", l_best_of},
+    {"assign", l_assign},
     {"distance", l_distance},
     {"speciate", l_speciate},
     {"copy_genome", l_copy_genome},

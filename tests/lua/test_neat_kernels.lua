@@ -252,6 +252,46 @@ function T.networks_of_genomes_are_the_luas()
 	check(fast.dump(net) == fast.dump(neat.to_net_lua(g)), "the Lua's")
 end
 
+-- learn.neat loaded again without evo.neat: the pure Lua every kernel
+-- replaces (its own learn.rng too), for whole generations.
+local function pure_lua_neat()
+	local saved = {}
+	for _, name in ipairs{ "evo.neat", "learn.neat", "learn.rng", "learn.common", "learn.netfile" } do
+		saved[name], package.loaded[name] = package.loaded[name], nil
+	end
+	local ok, slow, slow_rng = pcall(function() return require "learn.neat", require "learn.rng" end)
+	for name, m in pairs(saved) do package.loaded[name] = m end
+	check(ok, slow)
+	return slow, slow_rng
+end
+
+-- Whole generations (tell: fitness, sharing, offspring counts, ranking,
+-- breeding, speciation, the best so far) with the C kernels and with the
+-- pure Lua, from the same seed and the same fitness: the same checkpoint,
+-- byte for byte, after each one, under options that take every branch.
+function T.generations_in_c_are_the_pure_luas()
+	local slow, slow_rng = pure_lua_neat()
+	check(slow ~= neat and slow.breed == slow.breed_lua and slow.to_net == slow.to_net_lua, "pure Lua")
+	for _, options in ipairs{
+		{ pop_size = 60, add_node_prob = 0.2, add_link_prob = 0.3 },
+		{ pop_size = 40, target_species = 4, interspecies_prob = 0.3, recurrent = true,
+			recur_only_prob = 0.4, toggle_prob = 0.2, reenable_prob = 0.2, stagnation = 3 },
+		{ pop_size = 30, pop_stagnation = 2, delta_coding = true, rep_champion = false, split_older = false },
+	} do
+		local pops = {}
+		for which, m in ipairs{ { neat, random }, { slow, slow_rng } } do
+			pops[which] = m[1].new{ inputs = 3, outputs = 2, rng = m[2].new(11), options = options }
+		end
+		for gen = 1, 12 do
+			local fit = {}
+			for i, g in ipairs(pops[1]:genomes()) do fit[i] = (#g.links * 7 + i * gen) % 13 - 2 end
+			for _, pop in ipairs(pops) do pop:tell(fit) end
+			check(fast.dump(neat.save(pops[1], true)) == serialize.dump_lua(slow.save(pops[2], true)),
+				"generation " .. gen .. ": the same population")
+		end
+	end
+end
+
 -- By hand, with a generator whose every draw is 0.25: the parent is
 -- sorted[1 + floor(0.25 * 2)] = sorted[1]; 0.25 is not under
 -- mutate_only_prob 0.2, so it mates, with sorted[1] again (no other
