@@ -450,6 +450,17 @@ function neat.mutate_add_node(pop, g, rng, link)
 	return s.node
 end
 
+-- evo.neat's C where the state has it: the same draws, the same genes
+-- and nodes, the same innovations (add-node with a link given stays Lua's).
+neat.mutate_add_link_lua, neat.mutate_add_node_lua = neat.mutate_add_link, neat.mutate_add_node
+if fast then
+	neat.mutate_add_link = fast.add_link
+	function neat.mutate_add_node(pop, g, rng, link)
+		if link then return neat.mutate_add_node_lua(pop, g, rng, link) end
+		return fast.add_node(pop, g, rng)
+	end
+end
+
 -- NEAT's original code's toggle: a random link is switched on if it is
 -- off, and off if it is on and its source feeds another enabled link (so
 -- no node is cut off from the outputs by it).
@@ -494,20 +505,26 @@ function neat.mutate_lua(pop, g, rng)
 		if o.reenable_prob > 0 and rng:unit() < o.reenable_prob then neat.mutate_reenable(g) end
 	end
 end
+-- What a mutation does after its first draws, `what` as fast.mutate and
+-- fast.breed say it: 1 an add-node mutation, 2 an add-link one, 0 (the
+-- weights done) the toggle and re-enable draws.
+local function mutate_rest(pop, g, rng, what)
+	local o = pop.options
+	if what == 1 then
+		neat.mutate_add_node(pop, g, rng)
+	elseif what == 2 then
+		neat.mutate_add_link(pop, g, rng)
+	else
+		if o.toggle_prob > 0 and rng:unit() < o.toggle_prob then neat.mutate_toggle(g, rng) end
+		if o.reenable_prob > 0 and rng:unit() < o.reenable_prob then neat.mutate_reenable(g) end
+	end
+end
+
 -- evo.neat's C makes the first draws and the weight mutation (the same
 -- draws, the same weights); the structural mutations stay Lua's.
 if fast then
 	function neat.mutate(pop, g, rng)
-		local o = pop.options
-		local what = fast.mutate(g, o, rng)
-		if what == 1 then
-			neat.mutate_add_node(pop, g, rng)
-		elseif what == 2 then
-			neat.mutate_add_link(pop, g, rng)
-		else
-			if o.toggle_prob > 0 and rng:unit() < o.toggle_prob then neat.mutate_toggle(g, rng) end
-			if o.reenable_prob > 0 and rng:unit() < o.reenable_prob then neat.mutate_reenable(g) end
-		end
+		mutate_rest(pop, g, rng, fast.mutate(g, pop.options, rng))
 	end
 else
 	neat.mutate = neat.mutate_lua
@@ -592,6 +609,52 @@ end
 ---------------------------------------------------------------------------
 -- Population
 
+-- n children of one species appended to `children`: each of a parent
+-- drawn among the `parents` first of `sorted` (the species' members,
+-- fittest first), a mutated copy or a crossover with a mate, the mate
+-- from another species of `alive` (genomes of `popl`) once in a while.
+function neat.breed_lua(pop, children, sorted, n, parents, alive, popl)
+	local o, rng = pop.options, pop.rng
+	for _ = 1, n do
+		local p1 = sorted[1 + math.floor(rng:unit() * parents)]
+		local child
+		-- A lone parent can only mate with itself: mutate it instead.
+		if parents == 1 or rng:unit() < o.mutate_only_prob then
+			child = copy_genome(p1)
+			neat.mutate(pop, child, rng)
+		else
+			local p2
+			if rng:unit() < o.interspecies_prob and #alive > 1 then
+				local other = alive[1 + math.floor(rng:unit() * #alive)]
+				p2 = popl[other.members[1 + math.floor(rng:unit() * #other.members)]]
+			else
+				p2 = sorted[1 + math.floor(rng:unit() * parents)]
+			end
+			child = neat.crossover(p1, p1.fitness, p2, p2.fitness, o, rng)
+			-- A child of one genome with itself (or a twin) is a copy:
+			-- it is always mutated, as in NEAT's original code.
+			if rng:unit() >= o.mate_only_prob or p1 == p2 or neat.distance(p1, p2, o) == 0 then
+				neat.mutate(pop, child, rng)
+			end
+		end
+		children[#children + 1] = child
+	end
+end
+-- evo.neat's C where the state has it: the same draws in the same order,
+-- the same children (the structural mutations still Lua's); the paper's
+-- crossover of equals (tie_smaller off) stays with breed_lua.
+if fast then
+	function neat.breed(pop, children, sorted, n, parents, alive, popl)
+		if pop.options.tie_smaller then
+			fast.breed(pop, children, sorted, n, parents, alive, popl, mutate_rest)
+		else
+			neat.breed_lua(pop, children, sorted, n, parents, alive, popl)
+		end
+	end
+else
+	neat.breed = neat.breed_lua
+end
+
 local Pop = {}
 Pop.__index = Pop
 
@@ -615,30 +678,35 @@ local function speciate(pop)
 	for _, s in ipairs(pop.species) do s.members = {} end
 	-- evo.neat's C where the state has it: each genome's species number
 	-- (a new one past the last for a genome that opens a species), found
-	-- with the same distances in the same order
-	local homes
+	-- with the same distances in the same order, the new species made in
+	-- the order they were opened, then the members and each genome's
+	-- species as the loop below gives them
 	if fast and neat.distance == fast.distance then
 		local reps = {}
 		for k, s in ipairs(pop.species) do reps[k] = s.rep end
-		homes = fast.speciate(pop.population, reps, o, threshold)
-	end
-	for gi, g in ipairs(pop.population) do
-		local home
-		if homes then
-			home = pop.species[homes[gi]]
-		else
+		local homes, opened = fast.speciate(pop.population, reps, o, threshold)
+		for _, gi in ipairs(opened) do
+			pop.next_species = pop.next_species + 1
+			pop.species[#pop.species + 1] = { id = pop.next_species, rep = copy_genome(pop.population[gi]),
+				members = {}, best_fitness = -math.huge, last_improved = pop.generation,
+				created = pop.generation }
+		end
+		fast.assign(pop.species, homes, pop.population)
+	else
+		for gi, g in ipairs(pop.population) do
+			local home
 			for _, s in ipairs(pop.species) do
 				if neat.distance(g, s.rep, o) < threshold then home = s break end
 			end
+			if not home then
+				pop.next_species = pop.next_species + 1
+				home = { id = pop.next_species, rep = copy_genome(g), members = {},
+					best_fitness = -math.huge, last_improved = pop.generation, created = pop.generation }
+				pop.species[#pop.species + 1] = home
+			end
+			home.members[#home.members + 1] = gi
+			g.species = home.id
 		end
-		if not home then
-			pop.next_species = pop.next_species + 1
-			home = { id = pop.next_species, rep = copy_genome(g), members = {},
-				best_fitness = -math.huge, last_improved = pop.generation, created = pop.generation }
-			pop.species[#pop.species + 1] = home
-		end
-		home.members[#home.members + 1] = gi
-		g.species = home.id
 	end
 	local kept = {}
 	for _, s in ipairs(pop.species) do
@@ -758,6 +826,14 @@ end
 function Pop:note_best(fitness)
 	local popl = self.population
 	assert(#fitness == #popl, "tell: one fitness per genome")
+	if fast then
+		-- the genome the loop below would copy last, copied once
+		local i = fast.best_of(fitness, self.best and self.best.fitness)
+		if i then
+			self.best = { genome = copy_genome(popl[i]), fitness = fitness[i], generation = self.generation }
+		end
+		return
+	end
 	for i, g in ipairs(popl) do
 		local f = fitness[i]
 		assert(type(f) == "number" and f == f, "tell: fitness must be a number")
@@ -774,12 +850,23 @@ function Pop:reproduce(score)
 	local o, rng, popl = self.options, self.rng, self.population
 	assert(#score == #popl, "tell: one fitness per genome")
 	self.evaluations = self.evaluations + #popl
-	local minf = math.huge
-	for i, g in ipairs(popl) do
-		local f = score[i]
-		assert(type(f) == "number" and f == f, "tell: fitness must be a number")
-		g.fitness = f
-		if f < minf then minf = f end
+	-- each genome's fitness, the least, and each species' most
+	local minf, most
+	if fast then
+		minf, most = fast.tally(popl, score, self.species)
+	else
+		minf, most = math.huge, {}
+		for i, g in ipairs(popl) do
+			local f = score[i]
+			assert(type(f) == "number" and f == f, "tell: fitness must be a number")
+			g.fitness = f
+			if f < minf then minf = f end
+		end
+		for k, s in ipairs(self.species) do
+			local smax = -math.huge
+			for _, gi in ipairs(s.members) do smax = math.max(smax, popl[gi].fitness) end
+			most[k] = smax
+		end
 	end
 	local shift = minf < 0 and -minf or 0
 	local nspecies = #self.species
@@ -788,9 +875,8 @@ function Pop:reproduce(score)
 	-- generation (it is never dropped).
 	local best_species, best_f = nil, -math.huge
 	local smaxes = {}
-	for _, s in ipairs(self.species) do
-		local smax = -math.huge
-		for _, gi in ipairs(s.members) do smax = math.max(smax, popl[gi].fitness) end
+	for k, s in ipairs(self.species) do
+		local smax = most[k]
 		if smax > s.best_fitness then s.best_fitness, s.last_improved = smax, self.generation end
 		if smax > best_f then best_species, best_f = s, smax end
 		smaxes[s] = smax
@@ -805,13 +891,16 @@ function Pop:reproduce(score)
 	end
 
 	-- Explicit fitness sharing: adjusted fitness = fitness / species size.
-	local shares = {}
+	local shares = fast and fast.share(popl, alive, shift) or {}
 	for i, s in ipairs(alive) do
-		local sum = 0
-		for _, gi in ipairs(s.members) do
-			local g = popl[gi]
-			g.adjusted = (g.fitness + shift) / #s.members
-			sum = sum + g.adjusted
+		local sum = shares[i]
+		if not fast then
+			sum = 0
+			for _, gi in ipairs(s.members) do
+				local g = popl[gi]
+				g.adjusted = (g.fitness + shift) / #s.members
+				sum = sum + g.adjusted
+			end
 		end
 		shares[i] = stagnant[i] and sum * o.stagnation_penalty or sum
 	end
@@ -860,28 +949,26 @@ function Pop:reproduce(score)
 	self.gen_links, self.gen_splits = {}, {}
 	local children = {}
 	for si, s in ipairs(alive) do
-		local members = {}
-		for k, gi in ipairs(s.members) do members[k] = popl[gi] end
 		-- Fittest first; equal fitness in random order. Fixed-point
 		-- outputs saturate to exact values, so ties are common (XOR's
 		-- networks that get three cases right score exactly 9), and a
 		-- fixed order would make the same few genomes parents every time.
-		local idx, key
+		local sorted
 		if fast then
 			-- the same draws and the same order, in C
-			key = fast.draws(rng, #members)
-			idx = fast.rank(members, key)
+			sorted = fast.ranked(popl, s.members, rng)
 		else
-			idx, key = {}, {}
+			local members, idx, key = {}, {}, {}
+			for k, gi in ipairs(s.members) do members[k] = popl[gi] end
 			for k = 1, #members do idx[k], key[k] = k, rng:unit() end
 			table.sort(idx, function(x, y)
 				if members[x].fitness ~= members[y].fitness then return members[x].fitness > members[y].fitness end
 				if key[x] ~= key[y] then return key[x] < key[y] end
 				return x < y
 			end)
+			sorted = {}
+			for k, x in ipairs(idx) do sorted[k] = members[x] end
 		end
-		local sorted = {}
-		for k, x in ipairs(idx) do sorted[k] = members[x] end
 		if o.rep_champion then s.rep = copy_genome(sorted[1]) end
 		local n = counts[si]
 		if clones[si] then
@@ -905,30 +992,7 @@ function Pop:reproduce(score)
 		-- The parents: the top survival fraction, floor(survival * n) + 1 as
 		-- NEAT's original code counts them (so a species of 5 has 2).
 		local parents = math.min(#sorted, math.floor(#sorted * o.survival) + 1)
-		for _ = 1, n do
-			local p1 = sorted[1 + math.floor(rng:unit() * parents)]
-			local child
-			-- A lone parent can only mate with itself: mutate it instead.
-			if parents == 1 or rng:unit() < o.mutate_only_prob then
-				child = copy_genome(p1)
-				neat.mutate(self, child, rng)
-			else
-				local p2
-				if rng:unit() < o.interspecies_prob and #alive > 1 then
-					local other = alive[1 + math.floor(rng:unit() * #alive)]
-					p2 = popl[other.members[1 + math.floor(rng:unit() * #other.members)]]
-				else
-					p2 = sorted[1 + math.floor(rng:unit() * parents)]
-				end
-				child = neat.crossover(p1, p1.fitness, p2, p2.fitness, o, rng)
-				-- A child of one genome with itself (or a twin) is a copy:
-				-- it is always mutated, as in NEAT's original code.
-				if rng:unit() >= o.mate_only_prob or p1 == p2 or neat.distance(p1, p2, o) == 0 then
-					neat.mutate(self, child, rng)
-				end
-			end
-			children[#children + 1] = child
-		end
+		if n > 0 then neat.breed(self, children, sorted, n, parents, alive, popl) end
 	end
 	self.species = alive
 	self.population = children
@@ -1027,6 +1091,10 @@ function neat.to_net(g)
 	end
 	return { inputs = n, outputs = m, nodes = nodes, outputs_ids = outputs_ids, links = links }
 end
+
+-- evo.neat's C where the state has it: the same table.
+neat.to_net_lua = neat.to_net
+if fast then neat.to_net = fast.to_net end
 
 -- neat.pack_net(g): the network neat.to_net(g) gives, packed for
 -- evo.evaluate (a userdata; only evaluate, success_test and set_team_net

@@ -71,7 +71,13 @@ enum key {
 	K_C2, K_C3, K_WEIGHT_MAX, K_PERTURB_PROB, K_WEIGHT_MUTATION,
 	K_SEVERE_PROB, K_PERTURB_POWER, K_REPLACE_POWER, K_TIE_SMALLER,
 	K_MATE_AVG_PROB, K_DISABLE_PROB, K_INPUT, K_OUTPUT, K_BIAS, K_HIDDEN,
-	K_CODE, K_ADD_NODE_PROB, K_ADD_LINK_PROB, K_WEIGHT_MUT_PROB, K_COUNT,
+	K_CODE, K_ADD_NODE_PROB, K_ADD_LINK_PROB, K_WEIGHT_MUT_PROB,
+	K_MUTATE_ONLY_PROB, K_INTERSPECIES_PROB, K_MATE_ONLY_PROB,
+	K_TOGGLE_PROB, K_REENABLE_PROB, K_MEMBERS, K_OPTIONS, K_RNG,
+	K_RECURRENT, K_RECUR_ONLY_PROB, K_ADD_LINK_TRIES, K_NEW_LINK_POWER,
+	K_SPLIT_BIAS, K_SPLIT_OLDER, K_ACTIVATION, K_GEN_LINKS, K_GEN_SPLITS,
+	K_NEXT_INNOV, K_NEXT_NODE, K_NODE, K_INN_IN, K_INN_OUT, K_INPUTS,
+	K_OUTPUTS, K_OUTPUTS_IDS, K_SPECIES, K_ADJUSTED, K_COUNT,
 	/* not a key: the genes' metatable, the last upvalue */
 	UP_GENES_MT = K_COUNT,
 	N_UPVALUES = K_COUNT
@@ -87,6 +93,13 @@ static const char *const KEY_NAMES[K_COUNT] = {
     "tie_smaller",  "mate_avg_prob", "disable_prob",  "input",
     "output",	    "bias",	     "hidden",	      "code",
     "add_node_prob", "add_link_prob", "weight_mut_prob",
+    "mutate_only_prob", "interspecies_prob", "mate_only_prob",
+    "toggle_prob",  "reenable_prob", "members",	      "options",
+    "rng",	    "recurrent",     "recur_only_prob", "add_link_tries",
+    "new_link_power", "split_bias",  "split_older",   "activation",
+    "gen_links",    "gen_splits",    "next_innov",    "next_node",
+    "node",	    "inn_in",	     "inn_out",	      "inputs",
+    "outputs",	    "outputs_ids",   "species",	      "adjusted",
 };
 
 /* Pushes t[key] (t a plain table: no metamethods) and returns its type. */
@@ -440,16 +453,13 @@ static int l_sort_genes(lua_State *L)
 	return 0;
 }
 
-/* reaches(g, from, to): does a path from node `from` reach node `to`
- * over g's genes, enabled or not (neat.lua's reaches). */
-static int l_reaches(lua_State *L)
+/* Does a path from node `from` reach node `to` over genes gs, enabled or
+ * not (neat.lua's reaches)? Its room is a userdata, left on the stack. */
+static int genes_reach(lua_State *L, const genes *gs, lua_Integer from,
+		       lua_Integer to)
 {
-	lua_Integer from = luaL_checkinteger(L, 2), to = luaL_checkinteger(L, 3);
-	genes *gs = genome_genes(L, 1, 0);
-	if (from == to) {
-		lua_pushboolean(L, 1);
+	if (from == to)
 		return 1;
-	}
 	/* the nodes seen, as a stack of those still to walk from */
 	lua_Integer *seen = lua_newuserdatauv(L, 2 * ((size_t)gs->n + 1) *
 							 sizeof *seen, 0);
@@ -467,15 +477,22 @@ static int l_reaches(lua_State *L)
 				was = seen[k] == t;
 			if (was)
 				continue;
-			if (t == to) {
-				lua_pushboolean(L, 1);
+			if (t == to)
 				return 1;
-			}
 			seen[n_seen++] = t;
 			stack[top++] = t;
 		}
 	}
-	lua_pushboolean(L, 0);
+	return 0;
+}
+
+/* reaches(g, from, to): does a path from node `from` reach node `to`
+ * over g's genes, enabled or not (neat.lua's reaches). */
+static int l_reaches(lua_State *L)
+{
+	lua_Integer from = luaL_checkinteger(L, 2), to = luaL_checkinteger(L, 3);
+	genes *gs = genome_genes(L, 1, 0);
+	lua_pushboolean(L, genes_reach(L, gs, from, to));
 	return 1;
 }
 
@@ -566,12 +583,13 @@ static int l_distance(lua_State *L)
 	return 1;
 }
 
-/* speciate(genomes, reps, o, threshold) -> home: home[i] is the species
+/* speciate(genomes, reps, o, threshold) -> home, opened: home[i] is the species
  * of genome i, as neat.lua's speciate assigns them: the first species
  * whose representative (reps[k], k in order) is within distance
  * `threshold` (distance(genome, rep) < threshold), else a new species
  * numbered #reps + 1, #reps + 2, ... in the order they are opened, whose
- * representative is that genome. */
+ * representative is that genome; and the genomes that opened them, in
+ * that order. */
 static int l_speciate(lua_State *L)
 {
 	luaL_checktype(L, 1, LUA_TTABLE);
@@ -595,18 +613,80 @@ static int l_speciate(lua_State *L)
 	for (int k = 0; k < nr; k++)
 		rep[k] = k;
 	lua_createtable(L, ng, 0);
+	int homes = lua_gettop(L);
+	lua_createtable(L, 0, 0);
+	int opened = lua_gettop(L);
 	for (int i = 0; i < ng; i++) {
 		const genes *g = all[nr + i];
 		int home = 0;
 		while (home < n_rep && !(distance_of(g, all[rep[home]], &o) <
 					 threshold))
 			home++;
-		if (home == n_rep)
+		if (home == n_rep) {
 			rep[n_rep++] = nr + i;
+			lua_pushinteger(L, i + 1);
+			lua_rawseti(L, opened, n_rep - nr);
+		}
 		lua_pushinteger(L, home + 1);
-		lua_rawseti(L, -2, i + 1);
+		lua_rawseti(L, homes, i + 1);
 	}
-	return 1;
+	return 2;
+}
+
+/* assign(species, homes, genomes): genome i joins species[homes[i]]: its
+ * index appended to that species' members, its species field that
+ * species' id (neat.lua's speciate, once the species exist). */
+static int l_assign(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	lua_settop(L, 3);
+	lua_Integer n = (lua_Integer)lua_rawlen(L, 2);
+	for (lua_Integer i = 1; i <= n; i++) {
+		lua_rawgeti(L, 2, i);
+		lua_Integer h = lua_tointeger(L, -1);
+		if (lua_rawgeti(L, 1, h) != LUA_TTABLE) /* 5: the species */
+			luaL_error(L, "assign: genome %I's species %I is none",
+				   (LUAI_UACINT)i, (LUAI_UACINT)h);
+		rget(L, 5, K_MEMBERS); /* 6 */
+		luaL_checktype(L, 6, LUA_TTABLE);
+		lua_pushinteger(L, i);
+		lua_rawseti(L, 6, (lua_Integer)lua_rawlen(L, 6) + 1);
+		if (lua_rawgeti(L, 3, i) != LUA_TTABLE) /* 7: the genome */
+			luaL_error(L, "assign: genome %I is none", (LUAI_UACINT)i);
+		rget(L, 5, K_ID);
+		rset(L, 7, K_SPECIES);
+		lua_settop(L, 3);
+	}
+	return 0;
+}
+
+/* Room in a genome table for its nodes and links and for the fields the
+ * loop sets on it (fitness, adjusted, species): no table grows twice
+ * every generation. */
+#define GENOME_FIELDS 5
+
+/* Pushes a copy of the genome at g (l_copy_genome's). */
+static void push_copy(lua_State *L, int g)
+{
+	g = lua_absindex(L, g);
+	lua_createtable(L, 0, GENOME_FIELDS);
+	int copy = lua_gettop(L);
+	rget(L, g, K_NODES);
+	int src = copy + 1;
+	luaL_checktype(L, src, LUA_TTABLE);
+	lua_createtable(L, (int)lua_rawlen(L, src), 0);
+	for (lua_Integer i = 1; lua_rawgeti(L, src, i) != LUA_TNIL; i++)
+		lua_rawseti(L, src + 1, i);
+	lua_pop(L, 1);
+	rset(L, copy, K_NODES);
+	lua_pop(L, 1);
+	const genes *gs = genome_genes(L, g, 0);
+	genes *c = new_genes(L, gs->n);
+	memcpy(c->g, gs->g, (size_t)gs->n * sizeof *c->g);
+	rset(L, copy, K_LINKS);
+	lua_settop(L, copy);
 }
 
 /* copy_genome(g) -> a copy of g's nodes and genes (neat.copy_genome):
@@ -617,21 +697,7 @@ static int l_copy_genome(lua_State *L)
 {
 	luaL_checktype(L, 1, LUA_TTABLE);
 	lua_settop(L, 1);
-	lua_createtable(L, 0, 2);
-	rget(L, 1, K_NODES);
-	int src = 3;
-	luaL_checktype(L, src, LUA_TTABLE);
-	lua_createtable(L, (int)lua_rawlen(L, src), 0);
-	for (lua_Integer i = 1; lua_rawgeti(L, src, i) != LUA_TNIL; i++)
-		lua_rawseti(L, 4, i);
-	lua_pop(L, 1);
-	rset(L, 2, K_NODES);
-	lua_pop(L, 1);
-	const genes *g = genome_genes(L, 1, 0);
-	genes *c = new_genes(L, g->n);
-	memcpy(c->g, g->g, (size_t)g->n * sizeof *c->g);
-	rset(L, 2, K_LINKS);
-	lua_settop(L, 2);
+	push_copy(L, 1);
 	return 1;
 }
 
@@ -1445,30 +1511,46 @@ static void set_clamped(gene *x, double w, double m, int max_int)
 	}
 }
 
-/* neat.lua's mutate_weights ("code" and "paper") on genome g with options
- * o (stack slots), drawing from r: the same draws in the same order. */
-static void mutate_weights_with(lua_State *L, int g, int o, rng_src *r)
+/* The options a weight mutation reads. */
+typedef struct wm_opts {
+	double max; /* weight_max */
+	int max_int; /* weight_max is a Lua integer */
+	int code; /* weight_mutation is "code" */
+	double perturb_prob, severe_prob, perturb_power, replace_power;
+} wm_opts;
+
+static wm_opts wm_opts_of(lua_State *L, int o)
 {
-	int top = lua_gettop(L);
-	genes *gs = genome_genes(L, g, 1);
+	wm_opts w;
 	rget(L, o, K_WEIGHT_MAX);
-	double m = lua_tonumber(L, -1);
-	int max_int = lua_isinteger(L, -1);
-	lua_Integer n = gs->n;
-	double perturb = num_field(L, o, K_PERTURB_PROB), replace = 1.0;
-	double newest_after = HUGE_VAL;
-	rget(L, o, K_WEIGHT_MUTATION);
-	int code = is_key(L, -1, K_CODE);
+	w.max = lua_tonumber(L, -1);
+	w.max_int = lua_isinteger(L, -1);
 	lua_pop(L, 1);
-	if (code) {
-		int severe = draw(L, r) < num_field(L, o, K_SEVERE_PROB);
+	rget(L, o, K_WEIGHT_MUTATION);
+	w.code = is_key(L, -1, K_CODE);
+	lua_pop(L, 1);
+	w.perturb_prob = num_field(L, o, K_PERTURB_PROB);
+	w.severe_prob = num_field(L, o, K_SEVERE_PROB);
+	w.perturb_power = num_field(L, o, K_PERTURB_POWER);
+	w.replace_power = num_field(L, o, K_REPLACE_POWER);
+	return w;
+}
+
+/* neat.lua's mutate_weights ("code" and "paper") on genes gs with options
+ * w, drawing from r: the same draws in the same order. */
+static void mutate_genes(lua_State *L, genes *gs, const wm_opts *w,
+			 rng_src *r)
+{
+	lua_Integer n = gs->n;
+	double perturb = w->perturb_prob, replace = 1.0;
+	double newest_after = HUGE_VAL;
+	if (w->code) {
+		int severe = draw(L, r) < w->severe_prob;
 		perturb = severe ? 0.7 : 1.0;
 		replace = severe ? 0.9 : 1.0;
 		if (!severe && n >= 10)
 			newest_after = (double)n * 0.8;
 	}
-	double pp = num_field(L, o, K_PERTURB_POWER);
-	double rp = num_field(L, o, K_REPLACE_POWER);
 	for (lua_Integer k = 1; k <= n; k++) {
 		gene *x = &gs->g[k - 1];
 		double p = perturb, rr = replace;
@@ -1478,11 +1560,23 @@ static void mutate_weights_with(lua_State *L, int g, int o, rng_src *r)
 		}
 		double u = draw(L, r);
 		if (u < p)
-			set_clamped(x, x->weight + (draw(L, r) * 2 - 1) * pp, m,
-				    max_int);
+			set_clamped(x,
+				    x->weight +
+					(draw(L, r) * 2 - 1) * w->perturb_power,
+				    w->max, w->max_int);
 		else if (u < rr)
-			set_clamped(x, (draw(L, r) * 2 - 1) * rp, m, max_int);
+			set_clamped(x, (draw(L, r) * 2 - 1) * w->replace_power,
+				    w->max, w->max_int);
 	}
+}
+
+/* mutate_genes on genome g with the options at o (stack slots). */
+static void mutate_weights_with(lua_State *L, int g, int o, rng_src *r)
+{
+	int top = lua_gettop(L);
+	genes *gs = genome_genes(L, g, 1);
+	wm_opts w = wm_opts_of(L, o);
+	mutate_genes(L, gs, &w, r);
 	lua_settop(L, top);
 }
 
@@ -1683,29 +1777,206 @@ static int l_rank(lua_State *L)
 	return 1;
 }
 
-/* crossover(a, fa, b, fb, o, rng) -> child, as neat.crossover makes it,
- * or nothing when the parents are of equal fitness and o.tie_smaller is
- * off (the paper's way, which neat.crossover keeps in Lua). */
-static int l_crossover(lua_State *L)
+/* The value at idx is a fitness tell takes: a number, not NaN. */
+static void check_fitness(lua_State *L, int idx)
+{
+	if (lua_type(L, idx) != LUA_TNUMBER ||
+	    (!lua_isinteger(L, idx) && isnan(lua_tonumber(L, idx))))
+		luaL_error(L, "tell: fitness must be a number");
+}
+
+/* tally(genomes, score, species) -> least, most: each genome's fitness
+ * set (genomes[i].fitness = score[i], checked as tell checks it), the
+ * least of them, and for each species the most of its members'
+ * (math.max from -math.huge, in member order): tell's first loops. */
+static int l_tally(lua_State *L)
 {
 	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
 	luaL_checktype(L, 3, LUA_TTABLE);
-	luaL_checktype(L, 5, LUA_TTABLE);
-	luaL_checktype(L, 6, LUA_TTABLE);
-	lua_settop(L, 6);
-	int a = 1, b = 3;
-	if (lua_compare(L, 2, 4, LUA_OPLT)) { /* fb > fa */
-		a = 3;
-		b = 1;
+	lua_settop(L, 3);
+	lua_Integer n = (lua_Integer)lua_rawlen(L, 1);
+	if ((lua_Integer)lua_rawlen(L, 2) != n)
+		luaL_error(L, "tell: one fitness per genome");
+	lua_pushnumber(L, HUGE_VAL); /* 4: the least */
+	for (lua_Integer i = 1; i <= n; i++) {
+		lua_rawgeti(L, 2, i); /* 5 */
+		check_fitness(L, 5);
+		if (lua_rawgeti(L, 1, i) != LUA_TTABLE)
+			luaL_error(L, "tell: genome %I is none", (LUAI_UACINT)i);
+		lua_pushvalue(L, 5);
+		rset(L, 6, K_FITNESS);
+		if (lua_compare(L, 5, 4, LUA_OPLT))
+			lua_copy(L, 5, 4);
+		lua_settop(L, 4);
 	}
-	int equal = lua_compare(L, 2, 4, LUA_OPEQ);
-	rget(L, 5, K_TIE_SMALLER);
-	int tie_smaller = lua_toboolean(L, -1);
+	lua_Integer ns = (lua_Integer)lua_rawlen(L, 3);
+	lua_createtable(L, ns > 0 && ns < INT_MAX ? (int)ns : 0, 0); /* 5 */
+	for (lua_Integer k = 1; k <= ns; k++) {
+		lua_rawgeti(L, 3, k); /* 6 */
+		luaL_checktype(L, 6, LUA_TTABLE);
+		rget(L, 6, K_MEMBERS); /* 7 */
+		luaL_checktype(L, 7, LUA_TTABLE);
+		lua_pushnumber(L, -HUGE_VAL); /* 8: the most */
+		lua_Integer m = (lua_Integer)lua_rawlen(L, 7);
+		for (lua_Integer j = 1; j <= m; j++) {
+			lua_rawgeti(L, 7, j);
+			lua_rawgeti(L, 1, lua_tointeger(L, -1));
+			rget(L, -1, K_FITNESS); /* 11 */
+			if (lua_compare(L, 8, 11, LUA_OPLT))
+				lua_copy(L, 11, 8);
+			lua_settop(L, 8);
+		}
+		lua_rawseti(L, 5, k);
+		lua_settop(L, 5);
+	}
+	return 2;
+}
+
+/* share(genomes, species, shift) -> sums: explicit fitness sharing. Each
+ * member g of each species gets g.adjusted = (g.fitness + shift) /
+ * #members (Lua's arithmetic), and sums[k] is species k's sum of them,
+ * added in member order from 0. */
+static int l_share(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checknumber(L, 3);
+	lua_settop(L, 3);
+	lua_Integer ns = (lua_Integer)lua_rawlen(L, 2);
+	lua_createtable(L, ns > 0 && ns < INT_MAX ? (int)ns : 0, 0); /* 4 */
+	for (lua_Integer k = 1; k <= ns; k++) {
+		lua_rawgeti(L, 2, k); /* 5 */
+		luaL_checktype(L, 5, LUA_TTABLE);
+		rget(L, 5, K_MEMBERS); /* 6 */
+		luaL_checktype(L, 6, LUA_TTABLE);
+		lua_Integer m = (lua_Integer)lua_rawlen(L, 6);
+		lua_pushinteger(L, 0); /* 7: the sum */
+		for (lua_Integer j = 1; j <= m; j++) {
+			lua_rawgeti(L, 6, j);
+			lua_rawgeti(L, 1, lua_tointeger(L, -1)); /* 9 */
+			luaL_checktype(L, 9, LUA_TTABLE);
+			rget(L, 9, K_FITNESS);
+			lua_pushvalue(L, 3);
+			lua_arith(L, LUA_OPADD);
+			lua_pushinteger(L, m);
+			lua_arith(L, LUA_OPDIV); /* 10: adjusted */
+			lua_pushvalue(L, 10);
+			rset(L, 9, K_ADJUSTED);
+			lua_pushvalue(L, 7);
+			lua_insert(L, 10);
+			lua_arith(L, LUA_OPADD);
+			lua_copy(L, 10, 7);
+			lua_settop(L, 7);
+		}
+		lua_rawseti(L, 4, k);
+		lua_settop(L, 4);
+	}
+	return 1;
+}
+
+/* best_of(fitness, best) -> i: the first genome of the greatest fitness
+ * above `best` (any, when best is nil), or nil when none is above it;
+ * each fitness checked as tell checks it (note_best's loop, which keeps
+ * a copy of each genome that beats the best so far: the last copy is of
+ * this one). */
+static int l_best_of(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	lua_settop(L, 2);
+	lua_Integer n = (lua_Integer)lua_rawlen(L, 1), best = 0;
+	for (lua_Integer i = 1; i <= n; i++) {
+		lua_rawgeti(L, 1, i); /* 3 */
+		check_fitness(L, 3);
+		if (lua_isnil(L, 2) || lua_compare(L, 2, 3, LUA_OPLT)) {
+			lua_copy(L, 3, 2);
+			best = i;
+		}
+		lua_settop(L, 2);
+	}
+	if (best)
+		lua_pushinteger(L, best);
+	else
+		lua_pushnil(L);
+	return 1;
+}
+
+/* ranked(genomes, members, rng) -> the genomes genomes[members[k]],
+ * fittest first, equal fitness by a key rng:unit() drawn for each member
+ * in member order, then by place: fast.draws and fast.rank in one, the
+ * same draws and the same order. */
+static int l_ranked(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	lua_settop(L, 3);
+	lua_Integer n = (lua_Integer)lua_rawlen(L, 2);
+	if (n >= INT_MAX)
+		luaL_error(L, "ranked: %I members", (LUAI_UACINT)n);
+	ranked *r = lua_newuserdatauv(L, (size_t)(n ? n : 1) * sizeof *r, 0);
+	lua_createtable(L, (int)n, 0); /* 5: the members' genomes */
+	for (lua_Integer i = 0; i < n; i++) {
+		lua_rawgeti(L, 2, i + 1);
+		if (lua_rawgeti(L, 1, lua_tointeger(L, -1)) != LUA_TTABLE)
+			luaL_error(L, "ranked: member %I is no genome",
+				   (LUAI_UACINT)(i + 1));
+		r[i].fitness = num_field(L, -1, K_FITNESS);
+		r[i].index = i + 1;
+		lua_rawseti(L, 5, i + 1);
+		lua_pop(L, 1);
+	}
+	rng_src src;
+	rng_begin(L, 3, &src);
+	for (lua_Integer i = 0; i < n; i++)
+		r[i].key = draw(L, &src);
+	rng_done(L, &src);
+	lua_settop(L, 5);
+	qsort(r, (size_t)n, sizeof *r, by_rank);
+	lua_createtable(L, (int)n, 0);
+	for (lua_Integer i = 0; i < n; i++) {
+		lua_rawgeti(L, 5, r[i].index);
+		lua_rawseti(L, -2, i + 1);
+	}
+	return 1;
+}
+
+/* The options crossover reads. */
+typedef struct cross_opts {
+	int tie_smaller;
+	double mate_avg_prob, disable_prob;
+} cross_opts;
+
+static cross_opts cross_opts_of(lua_State *L, int o)
+{
+	cross_opts c;
+	rget(L, o, K_TIE_SMALLER);
+	c.tie_smaller = lua_toboolean(L, -1);
 	lua_pop(L, 1);
-	if (equal && !tie_smaller)
+	c.mate_avg_prob = num_field(L, o, K_MATE_AVG_PROB);
+	c.disable_prob = num_field(L, o, K_DISABLE_PROB);
+	return c;
+}
+
+/* Pushes the child of genomes a and b of fitness fa and fb (stack slots;
+ * the fitnesses compared as Lua compares them), as neat.crossover makes
+ * it, drawing from r, and returns 1; returns 0 and pushes nothing when
+ * the parents are of equal fitness and tie_smaller is off (the paper's
+ * way, which neat.crossover keeps in Lua). */
+static int push_child(lua_State *L, int a, int fa, int b, int fb,
+		      const cross_opts *co, rng_src *r)
+{
+	int top = lua_gettop(L);
+	if (lua_compare(L, fa, fb, LUA_OPLT)) { /* fb > fa */
+		int t = a;
+		a = b;
+		b = t;
+	}
+	int equal = lua_compare(L, fa, fb, LUA_OPEQ);
+	if (equal && !co->tie_smaller)
 		return 0;
-	const genes *ag = genome_genes(L, a, 0); /* 7 */
-	const genes *bg = genome_genes(L, b, 0); /* 8 */
+	const genes *ag = genome_genes(L, a, 0);
+	const genes *bg = genome_genes(L, b, 0);
 	if (equal && bg->n < ag->n) {
 		const genes *t = ag;
 		ag = bg;
@@ -1714,10 +1985,8 @@ static int l_crossover(lua_State *L)
 		a = b;
 		b = ti;
 	}
-	rng_src r;
-	rng_begin(L, 6, &r); /* may push rng.s */
-	double average = draw(L, &r) < num_field(L, 5, K_MATE_AVG_PROB);
-	double disable = num_field(L, 5, K_DISABLE_PROB);
+	double average = draw(L, r) < co->mate_avg_prob;
+	double disable = co->disable_prob;
 	int na = ag->n, nb = bg->n;
 	rget(L, a, K_NODES);
 	int an = lua_gettop(L);
@@ -1743,7 +2012,7 @@ static int l_crossover(lua_State *L)
 	if (!sorted)
 		qsort(by, (size_t)nb, sizeof *by, by_key_slot);
 	/* the child and its genes */
-	lua_createtable(L, 0, 2);
+	lua_createtable(L, 0, GENOME_FIELDS);
 	int child = lua_gettop(L);
 	genes *cg = new_genes(L, na);
 	rset(L, child, K_LINKS);
@@ -1754,9 +2023,9 @@ static int l_crossover(lua_State *L)
 		int slot = gene_with(by, nb, (double)l->innov);
 		if (slot) {
 			const gene *m = &bg->g[slot - 1];
-			*c = draw(L, &r) < 0.5 ? *l : *m;
+			*c = draw(L, r) < 0.5 ? *l : *m;
 			if (!l->enabled || !m->enabled)
-				c->enabled = draw(L, &r) >= disable;
+				c->enabled = draw(L, r) >= disable;
 			if (average) {
 				c->weight = (l->weight + m->weight) / 2;
 				c->weight_int = 0;
@@ -1812,9 +2081,663 @@ static int l_crossover(lua_State *L)
 		in_order = have[i - 1] < have[i];
 	if (!in_order)
 		sort_list(L, nodes, K_ID);
-	rng_done(L, &r);
 	lua_pushvalue(L, child);
+	lua_replace(L, top + 1);
+	lua_settop(L, top + 1);
 	return 1;
+}
+
+/* crossover(a, fa, b, fb, o, rng) -> child, as neat.crossover makes it,
+ * or nothing when the parents are of equal fitness and o.tie_smaller is
+ * off (push_child). */
+static int l_crossover(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	luaL_checktype(L, 5, LUA_TTABLE);
+	luaL_checktype(L, 6, LUA_TTABLE);
+	lua_settop(L, 6);
+	cross_opts co = cross_opts_of(L, 5);
+	rng_src r;
+	rng_begin(L, 6, &r); /* may push rng.s */
+	if (!push_child(L, 1, 2, 3, 4, &co, &r))
+		return 0;
+	rng_done(L, &r);
+	return 1;
+}
+
+/* ------------------------------------------------------------------ */
+/* Structural mutations (neat.lua's mutate_add_link and mutate_add_node,
+ * draw for draw, with the population's innovation registry) */
+
+/* What the structural mutations read of the options, once. */
+typedef struct struct_opts {
+	int recurrent, split_bias, split_older;
+	double recur_only_prob, new_link_power;
+	lua_Integer add_link_tries;
+	double max; /* weight_max */
+	int max_int;
+} struct_opts;
+
+static struct_opts struct_opts_of(lua_State *L, int o)
+{
+	struct_opts t;
+	rget(L, o, K_RECURRENT);
+	t.recurrent = lua_toboolean(L, -1);
+	rget(L, o, K_SPLIT_BIAS);
+	t.split_bias = lua_toboolean(L, -1);
+	rget(L, o, K_SPLIT_OLDER);
+	t.split_older = lua_toboolean(L, -1);
+	rget(L, o, K_ADD_LINK_TRIES);
+	t.add_link_tries = lua_tointeger(L, -1);
+	rget(L, o, K_WEIGHT_MAX);
+	t.max = lua_tonumber(L, -1);
+	t.max_int = lua_isinteger(L, -1);
+	lua_pop(L, 5);
+	t.recur_only_prob = num_field(L, o, K_RECUR_ONLY_PROB);
+	t.new_link_power = num_field(L, o, K_NEW_LINK_POWER);
+	return t;
+}
+
+/* pop[key], a whole number (the registry's counters). */
+static lua_Integer int_field(lua_State *L, int pop, enum key key)
+{
+	rget(L, pop, key);
+	int ok;
+	lua_Integer v = lua_tointegerx(L, -1, &ok);
+	if (!ok)
+		luaL_error(L, "neat: the population's %s is %s, not a whole "
+			      "number",
+			   KEY_NAMES[key], luaL_typename(L, -1));
+	lua_pop(L, 1);
+	return v;
+}
+
+static void set_int_field(lua_State *L, int pop, enum key key, lua_Integer v)
+{
+	lua_pushinteger(L, v);
+	rset(L, pop, key);
+}
+
+/* The registry table pop[key] (gen_links, gen_splits), pushed. */
+static void push_registry(lua_State *L, int pop, enum key key)
+{
+	if (rget(L, pop, key) != LUA_TTABLE)
+		luaL_error(L, "neat: the population has no %s table",
+			   KEY_NAMES[key]);
+}
+
+/* neat.lua's link_innovation: the innovation of a link from -> to, the
+ * same for every genome that gains it this generation. */
+static lua_Integer link_innovation(lua_State *L, int pop, lua_Integer from,
+				   lua_Integer to)
+{
+	push_registry(L, pop, K_GEN_LINKS);
+	lua_pushfstring(L, "%I>%I", (LUAI_UACINT)from, (LUAI_UACINT)to);
+	lua_pushvalue(L, -1);
+	int ok;
+	lua_rawget(L, -3);
+	lua_Integer inn = lua_tointegerx(L, -1, &ok);
+	lua_pop(L, 1);
+	if (!ok) {
+		inn = int_field(L, pop, K_NEXT_INNOV) + 1;
+		set_int_field(L, pop, K_NEXT_INNOV, inn);
+		lua_pushinteger(L, inn);
+		lua_rawset(L, -3);
+	} else {
+		lua_pop(L, 1);
+	}
+	lua_pop(L, 1);
+	return inn;
+}
+
+/* neat.lua's split_innovation: the node and the two innovations of a
+ * split of the link of innovation `innov`, the same for every genome that
+ * splits it this generation. */
+static void split_innovation(lua_State *L, int pop, lua_Integer innov,
+			     lua_Integer out[3])
+{
+	push_registry(L, pop, K_GEN_SPLITS);
+	lua_pushfstring(L, "%I", (LUAI_UACINT)innov);
+	lua_pushvalue(L, -1);
+	if (lua_rawget(L, -3) == LUA_TTABLE) {
+		int t = lua_gettop(L);
+		out[0] = int_field(L, t, K_NODE);
+		out[1] = int_field(L, t, K_INN_IN);
+		out[2] = int_field(L, t, K_INN_OUT);
+		lua_pop(L, 3);
+		return;
+	}
+	lua_pop(L, 1);
+	lua_Integer inn = int_field(L, pop, K_NEXT_INNOV);
+	out[0] = int_field(L, pop, K_NEXT_NODE) + 1;
+	out[1] = inn + 1;
+	out[2] = inn + 2;
+	set_int_field(L, pop, K_NEXT_NODE, out[0]);
+	set_int_field(L, pop, K_NEXT_INNOV, inn + 2);
+	lua_createtable(L, 0, 3);
+	enum key keys[3] = {K_NODE, K_INN_IN, K_INN_OUT};
+	for (int k = 0; k < 3; k++) {
+		lua_pushinteger(L, out[k]);
+		rset(L, -2, keys[k]);
+	}
+	lua_rawset(L, -3);
+	lua_pop(L, 1);
+}
+
+/* A genome's nodes read: ids and kinds ('i' input, 'b' bias, 'o'
+ * output, 'h' hidden, '?' other), in a userdata left on the stack. */
+typedef struct node_list {
+	int n;
+	lua_Integer *id;
+	char *kind;
+} node_list;
+
+static node_list read_node_list(lua_State *L, int nodes)
+{
+	node_list nl;
+	nl.n = (int)lua_rawlen(L, nodes);
+	nl.id = lua_newuserdatauv(L, (size_t)(nl.n + 1) * (sizeof *nl.id + 1),
+				  0);
+	nl.kind = (char *)(nl.id + nl.n + 1);
+	for (int k = 0; k < nl.n; k++) {
+		lua_rawgeti(L, nodes, k + 1);
+		luaL_checktype(L, -1, LUA_TTABLE);
+		rget(L, -1, K_ID);
+		nl.id[k] = gene_int(L, -1, "node id");
+		rget(L, -2, K_KIND);
+		nl.kind[k] = is_key(L, -1, K_INPUT)    ? 'i'
+			     : is_key(L, -1, K_BIAS)   ? 'b'
+			     : is_key(L, -1, K_OUTPUT) ? 'o'
+			     : is_key(L, -1, K_HIDDEN) ? 'h'
+						       : '?';
+		lua_pop(L, 3);
+	}
+	return nl;
+}
+
+/* Genome g's genes with `extra` more genes (given) added, sorted by
+ * innovation, as g.links: a new block, as add_gene and sort_genes make it. */
+static genes *add_genes(lua_State *L, int g, const gene *extra, int extra_n)
+{
+	int top = lua_gettop(L);
+	genes *old = genome_genes(L, g, 1);
+	genes *gs = new_genes(L, old->n + extra_n);
+	memcpy(gs->g, old->g, (size_t)old->n * sizeof *gs->g);
+	memcpy(gs->g + old->n, extra, (size_t)extra_n * sizeof *extra);
+	int sorted = 1;
+	for (int i = 1; i < gs->n && sorted; i++)
+		sorted = gs->g[i - 1].innov < gs->g[i].innov;
+	if (!sorted)
+		qsort(gs->g, (size_t)gs->n, sizeof *gs->g, by_innov);
+	rset(L, g, K_LINKS);
+	lua_settop(L, top);
+	return gs;
+}
+
+static lua_Integer pick(double u, lua_Integer n);
+
+/* neat.lua's mutate_add_link on genome g of population pop (stack slots):
+ * a link between two unlinked nodes, one that keeps the genome acyclic
+ * unless `recurrent`; with recurrent and recur_only_prob, one that closes
+ * a cycle with that chance and one that does not otherwise. Pushes the new
+ * gene as a gene table, or nil when add_link_tries pairs gave none. */
+static void add_link(lua_State *L, int pop, int g, const struct_opts *t,
+		     rng_src *r)
+{
+	int top = lua_gettop(L);
+	rget(L, g, K_NODES);
+	luaL_checktype(L, -1, LUA_TTABLE);
+	int nodes = lua_gettop(L);
+	node_list nl = read_node_list(L, nodes);
+	int graded = t->recurrent && t->recur_only_prob > 0;
+	int recur = graded && draw(L, r) < t->recur_only_prob;
+	/* the nodes a self-loop may go round, needed only then */
+	int *targets = NULL, nt = 0;
+	if (recur) {
+		targets = lua_newuserdatauv(L, (size_t)(nl.n + 1) * sizeof *targets, 0);
+		for (int k = 0; k < nl.n; k++)
+			if (nl.kind[k] != 'i' && nl.kind[k] != 'b')
+				targets[nt++] = k;
+	}
+	int base = lua_gettop(L);
+	for (lua_Integer tr = 0; tr < t->add_link_tries; tr++) {
+		lua_settop(L, base);
+		int a, b;
+		if (recur && draw(L, r) < 0.5) {
+			if (nt == 0)
+				luaL_error(L, "neat: a self-loop with no node "
+					      "to go round");
+			a = targets[pick(draw(L, r), nt) - 1];
+			b = a;
+		} else {
+			a = (int)pick(draw(L, r), nl.n) - 1;
+			b = (int)pick(draw(L, r), nl.n) - 1;
+		}
+		if (nl.kind[b] == 'i' || nl.kind[b] == 'b')
+			continue;
+		const genes *gs = genome_genes(L, g, 1);
+		lua_Integer from = nl.id[a], to = nl.id[b];
+		int exists = 0;
+		for (int i = 0; i < gs->n && !exists; i++)
+			exists = gs->g[i].from == from && gs->g[i].to == to;
+		int ok = 1;
+		if (!t->recurrent)
+			ok = !genes_reach(L, gs, to, from);
+		else if (graded)
+			ok = genes_reach(L, gs, to, from) == recur;
+		if (exists || !ok)
+			continue;
+		gene x = {link_innovation(L, pop, from, to), from, to, 0, 0, 1};
+		set_clamped(&x, (draw(L, r) * 2 - 1) * t->new_link_power,
+			    t->max, t->max_int);
+		add_genes(L, g, &x, 1);
+		sort_list(L, nodes, K_ID);
+		lua_settop(L, top);
+		push_gene_table(L, &x);
+		return;
+	}
+	lua_settop(L, top);
+	lua_pushnil(L);
+}
+
+/* neat.lua's mutate_add_node on genome g of population pop (stack
+ * slots), its link chosen there: an enabled link not from the bias node
+ * (unless split_bias), with split_older in a genome of fewer than 15
+ * links the first taken with chance 0.7 in innovation order, else one
+ * drawn uniformly. The link is disabled; from -> new gets weight 1, new ->
+ * to the old weight. Pushes the new node's id, or nil (no link to split,
+ * none taken, or the genome already has the node). */
+static void add_node(lua_State *L, int pop, int g, const struct_opts *t,
+		     rng_src *r)
+{
+	int top = lua_gettop(L);
+	rget(L, g, K_NODES);
+	luaL_checktype(L, -1, LUA_TTABLE);
+	int nodes = lua_gettop(L);
+	node_list nl = read_node_list(L, nodes);
+	int has_bias = 0;
+	lua_Integer bias_id = 0;
+	for (int k = 0; k < nl.n && !t->split_bias && !has_bias; k++)
+		if (nl.kind[k] == 'b') {
+			has_bias = 1;
+			bias_id = nl.id[k];
+		}
+	genes *gs = genome_genes(L, g, 1);
+	int *enabled = lua_newuserdatauv(L, (size_t)(gs->n + 1) * sizeof *enabled, 0);
+	int ne = 0;
+	for (int i = 0; i < gs->n; i++)
+		if (gs->g[i].enabled && !(has_bias && gs->g[i].from == bias_id))
+			enabled[ne++] = i;
+	int link = -1;
+	if (ne > 0 && t->split_older && gs->n < 15) {
+		for (int k = 0; k < ne && link < 0; k++)
+			if (draw(L, r) < 0.7)
+				link = enabled[k];
+	} else if (ne > 0) {
+		link = enabled[pick(draw(L, r), ne) - 1];
+	}
+	lua_settop(L, top);
+	if (link < 0) {
+		lua_pushnil(L);
+		return;
+	}
+	lua_Integer s[3]; /* node, innovation in, innovation out */
+	split_innovation(L, pop, gs->g[link].innov, s);
+	for (int k = 0; k < nl.n; k++)
+		if (nl.id[k] == s[0]) { /* already split this generation */
+			lua_pushnil(L);
+			return;
+		}
+	gene *old = &gs->g[link];
+	old->enabled = 0;
+	/* the new node, in the genome's own list */
+	rget(L, g, K_NODES);
+	nodes = lua_gettop(L);
+	lua_createtable(L, 0, 3);
+	lua_pushinteger(L, s[0]);
+	rset(L, -2, K_ID);
+	lua_pushvalue(L, lua_upvalueindex(K_HIDDEN));
+	rset(L, -2, K_KIND);
+	rget(L, pop, K_OPTIONS);
+	rget(L, -1, K_ACTIVATION);
+	rset(L, -3, K_ACT);
+	lua_pop(L, 1);
+	lua_rawseti(L, nodes, (lua_Integer)lua_rawlen(L, nodes) + 1);
+	gene x[2] = {{s[1], old->from, s[0], 1.0, 0, 1},
+		     {s[2], s[0], old->to, old->weight, old->weight_int, 1}};
+	add_genes(L, g, x, 2);
+	sort_list(L, nodes, K_ID);
+	lua_settop(L, top);
+	lua_pushinteger(L, s[0]);
+}
+
+/* add_link(pop, g, rng) -> the new gene, or nil: add_link. */
+static int l_add_link(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	lua_settop(L, 3);
+	rget(L, 1, K_OPTIONS); /* 4 */
+	luaL_checktype(L, 4, LUA_TTABLE);
+	struct_opts t = struct_opts_of(L, 4);
+	rng_src r;
+	rng_begin(L, 3, &r);
+	add_link(L, 1, 2, &t, &r);
+	rng_done(L, &r);
+	return 1;
+}
+
+/* add_node(pop, g, rng) -> the new node's id, or nil: add_node. */
+static int l_add_node(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	lua_settop(L, 3);
+	rget(L, 1, K_OPTIONS); /* 4 */
+	luaL_checktype(L, 4, LUA_TTABLE);
+	struct_opts t = struct_opts_of(L, 4);
+	rng_src r;
+	rng_begin(L, 3, &r);
+	add_node(L, 1, 2, &t, &r);
+	rng_done(L, &r);
+	return 1;
+}
+
+/* Sets field `key` of the table at t to integer v. */
+static void set_int(lua_State *L, int t, enum key key, lua_Integer v)
+{
+	t = lua_absindex(L, t);
+	lua_pushinteger(L, v);
+	rset(L, t, key);
+}
+
+/* to_net(genome) -> the table neat.to_net gives: { inputs, outputs, nodes
+ * = { {id, act, bias}, ... }, outputs_ids, links = { {from, to, weight},
+ * ... } }, its ids and biases pack_net's (the same map, the same sums in
+ * the same order), each node's act the genome's string, each weight as
+ * the gene holds it. */
+static int l_to_net(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	lua_settop(L, 1);
+	rget(L, 1, K_NODES); /* 2 */
+	luaL_checktype(L, 2, LUA_TTABLE);
+	const genes *gs = genome_genes(L, 1, 0); /* 3 */
+	node_list nl = read_node_list(L, 2); /* 4 */
+	int n_in = 0, n_out = 0, n_map = 0, has_bias = 0;
+	lua_Integer bias_id = 0;
+	double bias_value = 1.0;
+	for (int k = 0; k < nl.n; k++) {
+		n_in += nl.kind[k] == 'i';
+		n_out += nl.kind[k] == 'o';
+		if (nl.kind[k] == 'b') { /* the last bias node counts */
+			has_bias = 1;
+			bias_id = nl.id[k];
+			lua_rawgeti(L, 2, k + 1);
+			bias_value = rget(L, -1, K_VALUE) == LUA_TNIL
+					 ? 1.0
+					 : lua_tonumber(L, -1);
+			lua_pop(L, 2);
+		}
+	}
+	/* the genome's ids to the network's, and each node's bias */
+	id_map *map = lua_newuserdatauv(L, (size_t)(nl.n + 1) *
+					       (sizeof *map + sizeof(double)),
+					0); /* 5 */
+	double *bias = (double *)(void *)(map + nl.n + 1);
+	lua_createtable(L, 0, 5); /* 6: the network */
+	int net = 6;
+	set_int(L, net, K_INPUTS, n_in);
+	set_int(L, net, K_OUTPUTS, n_out);
+	lua_createtable(L, nl.n, 0); /* 7: nodes */
+	lua_createtable(L, n_out, 0); /* 8: outputs_ids */
+	int next = n_in, n_nodes = 0, n_outs = 0;
+	for (int pass = 0; pass < 3; pass++)
+		for (int k = 0; k < nl.n; k++) {
+			char want = pass == 0 ? 'i' : pass == 1 ? 'o' : 'h';
+			if (nl.kind[k] != want)
+				continue;
+			if (pass == 0) {
+				map[n_map++] = (id_map){nl.id[k],
+							(uint16_t)nl.id[k]};
+				continue;
+			}
+			if (next > UINT16_MAX)
+				luaL_error(L, "to_net: too many nodes");
+			map[n_map++] = (id_map){nl.id[k], (uint16_t)next};
+			bias[next - n_in] = 0.0;
+			lua_createtable(L, 0, 3);
+			set_int(L, -1, K_ID, next);
+			lua_rawgeti(L, 2, k + 1);
+			rget(L, -1, K_ACT);
+			lua_remove(L, -2);
+			rset(L, -2, K_ACT);
+			lua_rawseti(L, 7, ++n_nodes);
+			if (pass == 1) {
+				lua_pushinteger(L, next);
+				lua_rawseti(L, 8, ++n_outs);
+			}
+			next++;
+		}
+	qsort(map, (size_t)n_map, sizeof *map, by_id);
+	lua_createtable(L, gs->n, 0); /* 9: links */
+	int n_links = 0;
+	for (int i = 0; i < gs->n; i++) {
+		const gene *x = &gs->g[i];
+		if (!x->enabled)
+			continue;
+		int t = map_id(map, n_map, x->to);
+		if (t < n_in)
+			luaL_error(L, "to_net: link %d ends at node %I, which is "
+				      "no output or hidden node of the genome",
+				   i + 1, (LUAI_UACINT)x->to);
+		if (has_bias && x->from == bias_id) {
+			bias[t - n_in] += x->weight * bias_value;
+			continue;
+		}
+		int f = map_id(map, n_map, x->from);
+		if (f < 0)
+			luaL_error(L, "to_net: link %d starts at node %I, which "
+				      "the genome does not have",
+				   i + 1, (LUAI_UACINT)x->from);
+		lua_createtable(L, 0, 3);
+		set_int(L, -1, K_FROM, f);
+		set_int(L, -1, K_TO, t);
+		push_gene_field(L, x, K_WEIGHT);
+		rset(L, -2, K_WEIGHT);
+		lua_rawseti(L, 9, ++n_links);
+	}
+	for (int k = 1; k <= n_nodes; k++) {
+		lua_rawgeti(L, 7, k);
+		lua_pushnumber(L, bias[k - 1]);
+		rset(L, -2, K_BIAS);
+		lua_pop(L, 1);
+	}
+	lua_pushvalue(L, 7);
+	rset(L, net, K_NODES);
+	lua_pushvalue(L, 8);
+	rset(L, net, K_OUTPUTS_IDS);
+	lua_pushvalue(L, 9);
+	rset(L, net, K_LINKS);
+	lua_settop(L, net);
+	return 1;
+}
+
+/* ------------------------------------------------------------------ */
+/* A species' offspring (neat.lua's breed_lua, draw for draw) */
+
+/* What breed reads of the options, once for all its children. */
+typedef struct breed_opts {
+	double mutate_only, interspecies, mate_only;
+	double add_node, add_link, weight_mut, toggle, reenable;
+	wm_opts wm;
+	cross_opts co;
+	dist_opts dist;
+	struct_opts st;
+} breed_opts;
+
+static breed_opts breed_opts_of(lua_State *L, int o)
+{
+	breed_opts b;
+	b.st = struct_opts_of(L, o);
+	b.mutate_only = num_field(L, o, K_MUTATE_ONLY_PROB);
+	b.interspecies = num_field(L, o, K_INTERSPECIES_PROB);
+	b.mate_only = num_field(L, o, K_MATE_ONLY_PROB);
+	b.add_node = num_field(L, o, K_ADD_NODE_PROB);
+	b.add_link = num_field(L, o, K_ADD_LINK_PROB);
+	b.weight_mut = num_field(L, o, K_WEIGHT_MUT_PROB);
+	b.toggle = num_field(L, o, K_TOGGLE_PROB);
+	b.reenable = num_field(L, o, K_REENABLE_PROB);
+	b.wm = wm_opts_of(L, o);
+	b.co = cross_opts_of(L, o);
+	b.dist = dist_opts_of(L, o);
+	return b;
+}
+
+/* The generator's words read again from rng.s (after Lua drew from it). */
+static void rng_reread(lua_State *L, rng_src *r)
+{
+	if (!r->ours)
+		return;
+	for (int k = 0; k < 4; k++) {
+		lua_rawgeti(L, r->state, k + 1);
+		r->s[k] = (uint64_t)lua_tointeger(L, -1);
+		lua_pop(L, 1);
+	}
+}
+
+/* neat.mutate on the genome at g (l_mutate's draws, add_node, add_link);
+ * the toggle and re-enable draws that may follow a weight mutation, when
+ * the options ask for them, by more(pop, g, rng, 0) in Lua (neat.lua's
+ * mutate_rest), with the generator's words handed over and taken back. */
+static void breed_mutate(lua_State *L, int g, const breed_opts *b,
+			 rng_src *r, int pop, int more)
+{
+	int top = lua_gettop(L);
+	if (draw(L, r) < b->add_node) {
+		add_node(L, pop, g, &b->st, r);
+	} else if (draw(L, r) < b->add_link) {
+		add_link(L, pop, g, &b->st, r);
+	} else {
+		if (draw(L, r) < b->weight_mut)
+			mutate_genes(L, genome_genes(L, g, 1), &b->wm, r);
+		if (b->toggle > 0 || b->reenable > 0) {
+			rng_done(L, r);
+			lua_pushvalue(L, more);
+			lua_pushvalue(L, pop);
+			lua_pushvalue(L, g);
+			lua_pushvalue(L, r->rng);
+			lua_pushinteger(L, 0);
+			lua_call(L, 4, 0);
+			rng_reread(L, r);
+		}
+	}
+	lua_settop(L, top);
+}
+
+/* 1 + floor(u * n): a place in a list of n drawn as neat.lua draws it. */
+static lua_Integer pick(double u, lua_Integer n)
+{
+	return 1 + (lua_Integer)floor(u * (double)n);
+}
+
+/* Pushes the second parent of a crossover: from another species with
+ * chance interspecies (alive[k].members[j] of popl), else one of the
+ * `parents` first of sorted. */
+static void push_mate(lua_State *L, const breed_opts *b, rng_src *r,
+		      int sorted, lua_Integer parents, int alive, int popl)
+{
+	lua_Integer n_alive = (lua_Integer)lua_rawlen(L, alive);
+	if (draw(L, r) < b->interspecies && n_alive > 1) {
+		lua_rawgeti(L, alive, pick(draw(L, r), n_alive));
+		luaL_checktype(L, -1, LUA_TTABLE);
+		rget(L, -1, K_MEMBERS);
+		luaL_checktype(L, -1, LUA_TTABLE);
+		lua_Integer m = (lua_Integer)lua_rawlen(L, -1);
+		lua_rawgeti(L, -1, pick(draw(L, r), m));
+		lua_Integer gi = lua_tointeger(L, -1);
+		lua_pop(L, 3);
+		lua_rawgeti(L, popl, gi);
+	} else {
+		lua_rawgeti(L, sorted, pick(draw(L, r), parents));
+	}
+	luaL_checktype(L, -1, LUA_TTABLE);
+}
+
+/* breed(pop, children, sorted, n, parents, alive, popl, more): n children
+ * of one species appended to children, as neat.lua's breed_lua makes
+ * them with the C kernels: each of a parent drawn among the `parents`
+ * first of sorted, copied and mutated (a lone parent, or with chance
+ * mutate_only_prob), else crossed with a mate (push_mate) and mutated
+ * unless a draw under mate_only_prob leaves a child of two different
+ * genomes as it is. The draws are pop.rng's, in breed_lua's order; only
+ * the toggles and re-enables are more(pop, g, rng, 0)'s, in Lua. Only for
+ * options with tie_smaller (breed_lua crosses equals the paper's way). */
+static int l_breed(lua_State *L)
+{
+	luaL_checktype(L, 1, LUA_TTABLE);
+	luaL_checktype(L, 2, LUA_TTABLE);
+	luaL_checktype(L, 3, LUA_TTABLE);
+	lua_Integer n = luaL_checkinteger(L, 4);
+	lua_Integer parents = luaL_checkinteger(L, 5);
+	luaL_checktype(L, 6, LUA_TTABLE);
+	luaL_checktype(L, 7, LUA_TTABLE);
+	luaL_checktype(L, 8, LUA_TFUNCTION);
+	lua_settop(L, 8);
+	if (parents < 1 || parents > (lua_Integer)lua_rawlen(L, 3))
+		luaL_error(L, "breed: %I parents of a species of %I", parents,
+			   (lua_Integer)lua_rawlen(L, 3));
+	luaL_checkstack(L, 40, "breed");
+	rget(L, 1, K_OPTIONS); /* 9 */
+	luaL_checktype(L, 9, LUA_TTABLE);
+	breed_opts b = breed_opts_of(L, 9);
+	if (!b.co.tie_smaller)
+		luaL_error(L, "breed: only with tie_smaller (else breed_lua)");
+	rget(L, 1, K_RNG); /* 10 */
+	luaL_checktype(L, 10, LUA_TTABLE);
+	rng_src r;
+	rng_begin(L, 10, &r); /* may push rng.s */
+	int base = lua_gettop(L);
+	lua_Integer next = (lua_Integer)lua_rawlen(L, 2);
+	for (lua_Integer k = 0; k < n; k++) {
+		lua_settop(L, base);
+		lua_rawgeti(L, 3, pick(draw(L, &r), parents));
+		int p1 = base + 1;
+		luaL_checktype(L, p1, LUA_TTABLE);
+		int child;
+		if (parents == 1 || draw(L, &r) < b.mutate_only) {
+			push_copy(L, p1);
+			child = lua_gettop(L);
+			breed_mutate(L, child, &b, &r, 1, 8);
+		} else {
+			push_mate(L, &b, &r, 3, parents, 6, 7);
+			int p2 = base + 2;
+			rget(L, p1, K_FITNESS);
+			rget(L, p2, K_FITNESS);
+			push_child(L, p1, base + 3, p2, base + 4, &b.co, &r);
+			child = lua_gettop(L);
+			/* a child of one genome with itself (or a twin) is
+			 * a copy: always mutated */
+			int mutate = draw(L, &r) >= b.mate_only ||
+				     lua_rawequal(L, p1, p2);
+			if (!mutate) {
+				const genes *ga = genome_genes(L, p1, 0);
+				const genes *gb = genome_genes(L, p2, 0);
+				mutate = distance_of(ga, gb, &b.dist) == 0;
+				lua_settop(L, child);
+			}
+			if (mutate)
+				breed_mutate(L, child, &b, &r, 1, 8);
+		}
+		lua_pushvalue(L, child);
+		lua_rawseti(L, 2, ++next);
+	}
+	lua_settop(L, base);
+	rng_done(L, &r);
+	return 0;
 }
 
 /* ------------------------------------------------------------------ */
@@ -1828,11 +2751,20 @@ static const luaL_Reg FUNCS[] = {
     {"mutate", l_mutate},
     {"draws", l_draws},
     {"crossover", l_crossover},
+    {"breed", l_breed},
+    {"add_link", l_add_link},
+    {"add_node", l_add_node},
     {"rank", l_rank},
+    {"ranked", l_ranked},
+    {"tally", l_tally},
+    {"share", l_share},
+    {"best_of", l_best_of},
+    {"assign", l_assign},
     {"distance", l_distance},
     {"speciate", l_speciate},
     {"copy_genome", l_copy_genome},
     {"pack_net", l_pack_net},
+    {"to_net", l_to_net},
     {"genes", l_genes},
     {"add_gene", l_add_gene},
     {"sort_genes", l_sort_genes},
@@ -1844,6 +2776,7 @@ static const luaL_Reg FUNCS[] = {
 /* The kernels' upvalues: the keys, then the genes' metatable (at mt). */
 static void push_upvalues(lua_State *L, int mt)
 {
+	luaL_checkstack(L, N_UPVALUES, "evo.neat's upvalues");
 	for (int k = 1; k < K_COUNT; k++)
 		lua_pushstring(L, KEY_NAMES[k]);
 	lua_pushvalue(L, mt);

@@ -116,6 +116,213 @@ function T.crossover_and_weight_mutation_are_the_luas_draw_for_draw()
 	check(fast.crossover(gs[1], 1, gs[2], 1, o, random.new(1)) == nil, "left to Lua")
 end
 
+-- neat.breed (fast.breed, in C) and neat.breed_lua, each on its own copy
+-- of the same population, make the same children with the same draws and
+-- the same new innovations, whichever branch the options favour: copies,
+-- crossovers, mates from other species, structural mutations (Lua's,
+-- called back from C), toggles and re-enables.
+function T.breeding_is_the_luas_draw_for_draw()
+	local text = fast.dump(neat.save(grown_population(), true))
+	local variants = {
+		{},
+		{ mutate_only_prob = 1 },
+		{ mutate_only_prob = 0, mate_only_prob = 0 },
+		{ mutate_only_prob = 0, mate_only_prob = 1 },
+		{ interspecies_prob = 0.5, add_node_prob = 0.4, add_link_prob = 0.5 },
+		{ toggle_prob = 0.5, reenable_prob = 0.5, weight_mutation = "paper" },
+	}
+	for vi, options in ipairs(variants) do
+		local runs = {}
+		for which, breed in ipairs{ neat.breed, neat.breed_lua } do
+			local pop = neat.load(serialize.load(text, "t"))
+			for k, v in pairs(options) do pop.options[k] = v end
+			pop.gen_links, pop.gen_splits = {}, {}
+			for i, g in ipairs(pop.population) do g.fitness = #g.links + (i % 3) end
+			local children = { "before" }
+			for si, s in ipairs(pop.species) do
+				local sorted = {}
+				for k, gi in ipairs(s.members) do sorted[k] = pop.population[gi] end
+				breed(pop, children, sorted, 5 + si, math.min(#sorted, 1 + si % 3), pop.species,
+					pop.population)
+			end
+			check(children[1] == "before", "children appended")
+			table.remove(children, 1)
+			runs[which] = fast.dump{ children = children, rng = pop.rng:save(), innov = pop.next_innov,
+				node = pop.next_node, links = pop.gen_links, splits = pop.gen_splits }
+		end
+		check(runs[1] == runs[2], "variant " .. vi .. ": the same children, draws and innovations")
+	end
+	check(#neat.load(serialize.load(text, "t")).species > 2, "several species to mate across")
+end
+
+-- fast.add_link and fast.add_node (neat.mutate_add_link and _node in the
+-- loop's state) and the Lua they replace, each on its own copy of the
+-- same population, add the same genes and nodes with the same draws and
+-- the same innovations, under every option that changes them.
+function T.structural_mutations_are_the_luas_draw_for_draw()
+	check(neat.mutate_add_link == fast.add_link, "add-link is C")
+	local text = fast.dump(neat.save(grown_population(), true))
+	local variants = {
+		{},
+		{ recurrent = true },
+		{ recurrent = true, recur_only_prob = 0.5 },
+		{ split_bias = true, split_older = false },
+		{ add_link_tries = 1, weight_max = 1, new_link_power = 5 },
+	}
+	local added = { link = 0, node = 0 }
+	for vi, options in ipairs(variants) do
+		local runs = {}
+		for which, fns in ipairs{ { fast.add_link, fast.add_node },
+			{ neat.mutate_add_link_lua, neat.mutate_add_node_lua } } do
+			local pop = neat.load(serialize.load(text, "t"))
+			for k, v in pairs(options) do pop.options[k] = v end
+			local got = {}
+			for round = 1, 3 do
+				for i, g in ipairs(pop.population) do
+					local what = (i + round) % 2 + 1
+					local r = fns[what](pop, g, pop.rng)
+					got[#got + 1] = r == nil and "none" or r
+					if which == 1 and r ~= nil then
+						added[what == 1 and "link" or "node"] = added[what == 1 and "link" or "node"] + 1
+					end
+				end
+			end
+			runs[which] = fast.dump{ got = got, population = pop.population, rng = pop.rng:save(),
+				innov = pop.next_innov, node = pop.next_node, links = pop.gen_links, splits = pop.gen_splits }
+		end
+		check(runs[1] == runs[2], "variant " .. vi .. ": the same genomes, draws and innovations")
+	end
+	check(added.link > 20 and added.node > 20, "links and nodes were added")
+end
+
+-- By hand: a genome of inputs 0, 1, bias 2 and output 3, linked 0 -> 3
+-- and 2 -> 3. With every draw 0.25, add-node (split_older, fewer than 15
+-- links) takes the first enabled link not from the bias, 0 -> 3 (0.25 <
+-- 0.7): a new node 4 (next_node 3 + 1) between, genes 5 (0 -> 4, weight
+-- 1) and 6 (4 -> 3, the old weight 0.5) after next_innov 4, the old link
+-- off. Add-link then draws nodes[1 + floor(0.25 * 5)] = node 1 for both
+-- ends; node 1 is an input, so no try adds a link.
+function T.structural_mutations_by_hand()
+	local g = { nodes = { { id = 0, kind = "input" }, { id = 1, kind = "input" }, { id = 2, kind = "bias" },
+		{ id = 3, kind = "output", act = "identity" } }, links = {
+		{ innov = 1, from = 2, to = 3, weight = 2.0, enabled = true },
+		{ innov = 3, from = 0, to = 3, weight = 0.5, enabled = true } } }
+	local o = {}
+	for k, v in pairs(neat.defaults) do o[k] = v end
+	local pop = { options = o, next_innov = 4, next_node = 3, gen_links = {}, gen_splits = {} }
+	local quarter = { unit = function() return 0.25 end }
+	check(fast.add_node(pop, g, quarter) == 4, "node 4")
+	check(#g.links == 4 and g.links[2].innov == 3 and not g.links[2].enabled, "0 -> 3 switched off")
+	local l5, l6 = g.links[3], g.links[4]
+	check(l5.innov == 5 and l5.from == 0 and l5.to == 4 and l5.weight == 1.0 and l5.enabled, "gene 5")
+	check(l6.innov == 6 and l6.from == 4 and l6.to == 3 and l6.weight == 0.5 and l6.enabled, "gene 6")
+	check(#g.nodes == 5 and g.nodes[5].id == 4 and g.nodes[5].kind == "hidden"
+		and g.nodes[5].act == o.activation, "hidden node 4")
+	check(pop.next_innov == 6 and pop.next_node == 4 and pop.gen_splits["3"].node == 4, "registry")
+	check(fast.add_link(pop, g, quarter) == nil and #g.links == 4, "no link into an input")
+end
+
+-- fast.to_net (neat.to_net in the loop's state) gives neat.to_net_lua's
+-- table. By hand: inputs 0, 1, bias 2 of value 0.5, output 3, hidden 7;
+-- the output becomes node 2, the hidden node 3; bias -> 3 (2.0) is the
+-- output's bias 1.0, bias -> 7 (4.0, then 2.0) the hidden node's 3.0;
+-- the disabled 1 -> 3 is left out, the integer weight 8 stays an integer.
+function T.networks_of_genomes_are_the_luas()
+	check(neat.to_net == fast.to_net, "to_net is C")
+	for _, g in ipairs(grown_population():genomes()) do
+		check(fast.dump(fast.to_net(g)) == fast.dump(neat.to_net_lua(g)), "the same network")
+	end
+	local g = { nodes = { { id = 0, kind = "input" }, { id = 1, kind = "input" },
+		{ id = 2, kind = "bias", value = 0.5 }, { id = 3, kind = "output", act = "neat_sigmoid" },
+		{ id = 7, kind = "hidden", act = "tanh" } }, links = {
+		{ innov = 1, from = 0, to = 3, weight = 8, enabled = true },
+		{ innov = 2, from = 1, to = 3, weight = 9.0, enabled = false },
+		{ innov = 3, from = 2, to = 3, weight = 2.0, enabled = true },
+		{ innov = 4, from = 0, to = 7, weight = 0.5, enabled = true },
+		{ innov = 5, from = 7, to = 3, weight = -1.0, enabled = true },
+		{ innov = 6, from = 2, to = 7, weight = 4.0, enabled = true },
+		{ innov = 8, from = 2, to = 7, weight = 2.0, enabled = true } } }
+	local net = fast.to_net(g)
+	check(net.inputs == 2 and net.outputs == 1 and #net.outputs_ids == 1 and net.outputs_ids[1] == 2, "ids")
+	check(#net.nodes == 2 and net.nodes[1].id == 2 and net.nodes[1].act == "neat_sigmoid"
+		and net.nodes[1].bias == 1.0 and net.nodes[2].id == 3 and net.nodes[2].bias == 3.0, "nodes")
+	check(#net.links == 3 and math.type(net.links[1].weight) == "integer" and net.links[1].weight == 8
+		and net.links[2].from == 0 and net.links[2].to == 3 and net.links[3].from == 3
+		and net.links[3].to == 2, "links")
+	check(fast.dump(net) == fast.dump(neat.to_net_lua(g)), "the Lua's")
+end
+
+-- learn.neat loaded again without evo.neat: the pure Lua every kernel
+-- replaces (its own learn.rng too), for whole generations.
+local function pure_lua_neat()
+	local saved = {}
+	for _, name in ipairs{ "evo.neat", "learn.neat", "learn.rng", "learn.common", "learn.netfile" } do
+		saved[name], package.loaded[name] = package.loaded[name], nil
+	end
+	local ok, slow, slow_rng = pcall(function() return require "learn.neat", require "learn.rng" end)
+	for name, m in pairs(saved) do package.loaded[name] = m end
+	check(ok, slow)
+	return slow, slow_rng
+end
+
+-- Whole generations (tell: fitness, sharing, offspring counts, ranking,
+-- breeding, speciation, the best so far) with the C kernels and with the
+-- pure Lua, from the same seed and the same fitness: the same checkpoint,
+-- byte for byte, after each one, under options that take every branch.
+function T.generations_in_c_are_the_pure_luas()
+	local slow, slow_rng = pure_lua_neat()
+	check(slow ~= neat and slow.breed == slow.breed_lua and slow.to_net == slow.to_net_lua, "pure Lua")
+	for _, options in ipairs{
+		{ pop_size = 60, add_node_prob = 0.2, add_link_prob = 0.3 },
+		{ pop_size = 40, target_species = 4, interspecies_prob = 0.3, recurrent = true,
+			recur_only_prob = 0.4, toggle_prob = 0.2, reenable_prob = 0.2, stagnation = 3 },
+		{ pop_size = 30, pop_stagnation = 2, delta_coding = true, rep_champion = false, split_older = false },
+	} do
+		local pops = {}
+		for which, m in ipairs{ { neat, random }, { slow, slow_rng } } do
+			pops[which] = m[1].new{ inputs = 3, outputs = 2, rng = m[2].new(11), options = options }
+		end
+		for gen = 1, 12 do
+			local fit = {}
+			for i, g in ipairs(pops[1]:genomes()) do fit[i] = (#g.links * 7 + i * gen) % 13 - 2 end
+			for _, pop in ipairs(pops) do pop:tell(fit) end
+			check(fast.dump(neat.save(pops[1], true)) == serialize.dump_lua(slow.save(pops[2], true)),
+				"generation " .. gen .. ": the same population")
+		end
+	end
+end
+
+-- By hand, with a generator whose every draw is 0.25: the parent is
+-- sorted[1 + floor(0.25 * 2)] = sorted[1]; 0.25 is not under
+-- mutate_only_prob 0.2, so it mates, with sorted[1] again (no other
+-- species: 0.25 >= 0.001); the child of a genome with itself is its copy,
+-- always mutated. The weights (weight_mut_prob 1, "code"): 0.25 <
+-- severe_prob makes it severe, and 0.25 < 0.7 perturbs each weight by
+-- (0.25 * 2 - 1) * perturb_power = -1.5. With mutate_only_prob 0.5 the
+-- copy is made directly, mutated the same.
+function T.breeding_by_hand_with_a_fixed_generator()
+	local a = { fitness = 2, nodes = { { id = 0, kind = "input" }, { id = 1, kind = "output", act = "identity" } },
+		links = { { innov = 1, from = 0, to = 1, weight = 1.0, enabled = true },
+			{ innov = 2, from = 0, to = 1, weight = -7.0, enabled = true } } }
+	local b = { fitness = 1, nodes = a.nodes, links = { { innov = 1, from = 0, to = 1, weight = 5.0, enabled = true } } }
+	local o = {}
+	for k, v in pairs(neat.defaults) do o[k] = v end
+	o.add_node_prob, o.add_link_prob, o.weight_mut_prob, o.mutate_only_prob = 0, 0, 1, 0.2
+	for _, only in ipairs{ 0.2, 0.5 } do
+		o.mutate_only_prob = only
+		local pop = { options = o, rng = { unit = function() return 0.25 end } }
+		local children = {}
+		fast.breed(pop, children, { a, b }, 3, 2, { { members = { 1, 2 } } }, { a, b },
+			function() error("no structural mutation") end)
+		check(#children == 3, "three children")
+		for _, c in ipairs(children) do
+			check(c ~= a and #c.links == 2, "a's copy")
+			check(c.links[1].weight == -0.5 and c.links[2].weight == -8.0, "weights 1.5 lower, clamped at -8")
+		end
+		check(a.links[1].weight == 1.0, "the parent unchanged")
+	end
+end
+
 -- By hand: parent a (fitter) has genes 1, 2 (off), 4; b has 1, 3, 4.
 -- Matching 1 and 4 come from either parent; 2 is a's disjoint gene, kept;
 -- b's 3 is not inherited. A generator whose every draw is 0.25 picks a's
