@@ -790,6 +790,22 @@ static int metric_name(lua_State *L)
 	return 1;
 }
 
+/* scene:light{x, y, intensity}, scene:patch{...}: the swarm sensors'
+ * lights and floor (lua_swarm.c). */
+static int scene_light(lua_State *L)
+{
+	evo_scene *sc = evo_lua_ctx(L)->sc;
+	evo_lua_add_light(L, 2, 2, &sc->swarm, &sc->err);
+	return 0;
+}
+
+static int scene_patch(lua_State *L)
+{
+	evo_scene *sc = evo_lua_ctx(L)->sc;
+	evo_lua_add_patch(L, 2, 2, &sc->swarm, &sc->err);
+	return 0;
+}
+
 const luaL_Reg evo_lua_metric_methods[] = {
 	{"set", metric_set},
 	{"add", metric_add},
@@ -819,6 +835,8 @@ const luaL_Reg evo_lua_scene_methods[] = {
     {"zone", scene_zone},
     {"object", scene_object},
     {"grid", scene_grid},
+    {"light", scene_light},
+    {"patch", scene_patch},
     {"reward", scene_reward},
     {"control", scene_control},
     {"element", scene_element},

@@ -483,6 +483,44 @@ static int holding(const evo_bot *b)
 	return 0;
 }
 
+/* ---- the swarm sensors (sim/scene/swarm.h) --------------------------- */
+
+/* A bot as range-and-bearing sensors hear it: its broadcast actuators'
+ * commands, in the order it has them. */
+static int peer_2d(void *ctx, int i, evo_swarm_peer *out)
+{
+	const evo_bot *b = &((const evo_scene *)ctx)->bot[i];
+	out->pos[0] = b->x;
+	out->pos[1] = b->y;
+	out->pos[2] = 0;
+	out->n_values = 0;
+	int any = 0;
+	for (int k = 0; k < b->n_actuators; k++) {
+		if (b->actuator[k].def.kind != EVO_ACTUATOR_BROADCAST)
+			continue;
+		any = 1;
+		if (out->n_values < EVO_SWARM_MAX_VALUES)
+			out->value[out->n_values++] = b->actuator[k].command;
+	}
+	return any;
+}
+
+/* A light, ground or range-and-bearing sensor; obstacles occlude. */
+static double sample_swarm(evo_scene *sc, int bot, const evo_sensor_def *d)
+{
+	const evo_bot *b = &sc->bot[bot];
+	evo_swarm_frame f = evo_swarm_frame_2d(b->x, b->y, b->angle);
+	evo_swarm_rays rays = {sc->be, sc->bw, EVO_CAT_OBSTACLE, b->body, -1};
+	double at[3] = {d->x, d->y, 0};
+	if (d->kind == EVO_SENSOR_LIGHT)
+		return evo_swarm_light(&sc->swarm, &f, at, d->angle,
+				       d->swarm.aperture, &rays);
+	if (d->kind == EVO_SENSOR_GROUND)
+		return evo_swarm_ground(&sc->swarm, &f, at);
+	return evo_swarm_rab(&d->swarm, &f, bot, sc->n_bots, peer_2d, sc,
+			     &rays);
+}
+
 /* One sensor's value; set holds the shapes around the bot for a
  * proximity sensor. */
 static double sample(evo_scene *sc, int bot, evo_sensor *se, const frame *f,
@@ -542,6 +580,10 @@ static double sample(evo_scene *sc, int bot, evo_sensor *se, const frame *f,
 		return sample_radar(sc, bot, d, f);
 	case EVO_SENSOR_BUMPER:
 		return sample_bumper(se, f, set);
+	case EVO_SENSOR_LIGHT:
+	case EVO_SENSOR_GROUND:
+	case EVO_SENSOR_RAB:
+		return sample_swarm(sc, bot, d);
 	case EVO_SENSOR_KIND_COUNT:
 		break;
 	}

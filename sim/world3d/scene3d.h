@@ -25,6 +25,7 @@
 #include "base/err.h"
 #include "base/rng.h"
 #include "scene/kinds.h"
+#include "scene/swarm.h"
 #include "world3d/world3d.h"
 
 /* -std=c11 leaves it out of <math.h>. */
@@ -93,6 +94,11 @@ typedef enum evo_sensor3d_kind {
 	EVO3D_SENSOR_ZONE,	    /* TRUE with the bot's centre in the zone */
 	EVO3D_SENSOR_RANDOM,	    /* uniform in [0, 1) */
 	EVO3D_SENSOR_CONSTANT,	    /* value */
+	/* the swarm sensors (sim/scene/swarm.h): */
+	EVO3D_SENSOR_LIGHT,  /* the lights within aperture of yaw, unoccluded */
+	EVO3D_SENSOR_GROUND, /* the grey level of the floor under pos */
+	EVO3D_SENSOR_RAB,    /* range and bearing: a neighbour's range,
+				bearing, broadcast value, or their count */
 	EVO3D_SENSOR_KIND_COUNT
 } evo_sensor3d_kind;
 
@@ -109,6 +115,9 @@ typedef struct evo_sensor3d_def {
 	int target;    /* element: distance, azimuth, elevation, zone */
 	double scale;  /* distance: what reads 1 (20 m) */
 	double value;  /* constant */
+	/* light (aperture), range and bearing (range 3, slot, read, index,
+	 * occluded, scale) */
+	evo_swarm_sensor swarm;
 } evo_sensor3d_def;
 
 evo_sensor3d_def evo_default_sensor3d_def(evo_sensor3d_kind kind);
@@ -129,6 +138,9 @@ typedef enum evo_actuator3d_kind {
 	EVO3D_ACTUATOR_WHEEL = 0,     /* a wheel on a hinge: (2c - 1) x max */
 	EVO3D_ACTUATOR_PROPELLER = 1, /* thrust (2c - 1) x max_thrust along
 					 axis at pos */
+	/* a value the bot broadcasts to range-and-bearing sensors: its
+	 * command, heard the next tick; it moves nothing */
+	EVO3D_ACTUATOR_BROADCAST = 2,
 	EVO3D_ACTUATOR_KIND_COUNT
 } evo_actuator3d_kind;
 
@@ -262,6 +274,7 @@ typedef struct evo_scene3d {
 	evo_reward3d *reward;
 	evo_control3d *control;
 	evo_obstacle3d *obstacle;
+	evo_swarm swarm; /* lights and floor patches (sim/scene/swarm.h) */
 	double step_reward, episode_reward;
 	/* the body that exploded this episode, in words; "" while none did */
 	char fault[256];

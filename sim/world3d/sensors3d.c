@@ -61,6 +61,46 @@ static int zone_holds(const evo_element3d *z, const double p[3])
 	       fabs(dz) <= z->def.half[2];
 }
 
+/* A bot as range-and-bearing sensors hear it: its broadcast actuators'
+ * commands, in the order it has them. */
+static int peer_3d(void *ctx, int i, evo_swarm_peer *out)
+{
+	const evo_bot3d *b = &((const evo_scene3d *)ctx)->bot[i];
+	for (int k = 0; k < 3; k++)
+		out->pos[k] = b->pos[k];
+	out->n_values = 0;
+	int any = 0;
+	for (int k = 0; k < b->n_actuators; k++) {
+		if (b->actuator[k].def.kind != EVO3D_ACTUATOR_BROADCAST)
+			continue;
+		any = 1;
+		if (out->n_values < EVO_SWARM_MAX_VALUES)
+			out->value[out->n_values++] = b->actuator[k].command;
+	}
+	return any;
+}
+
+/* A light, ground or range-and-bearing sensor (sim/scene/swarm.h);
+ * obstacles occlude, the ground does not. */
+static double swarm(evo_scene3d *sc, int bot, const evo_sensor3d *s)
+{
+	const evo_bot3d *b = &sc->bot[bot];
+	evo_swarm_frame f;
+	for (int k = 0; k < 3; k++)
+		f.pos[k] = b->pos[k];
+	for (int k = 0; k < 9; k++)
+		f.R[k] = b->R[k];
+	evo_swarm_rays rays = {sc->be, sc->bw, EVO_CAT3D_OBSTACLE,
+			       EVO_BODY_NONE, bot};
+	if (s->def.kind == EVO3D_SENSOR_LIGHT)
+		return evo_swarm_light(&sc->swarm, &f, s->def.pos, s->def.yaw,
+				       s->def.swarm.aperture, &rays);
+	if (s->def.kind == EVO3D_SENSOR_GROUND)
+		return evo_swarm_ground(&sc->swarm, &f, s->def.pos);
+	return evo_swarm_rab(&s->def.swarm, &f, bot, sc->n_bots, peer_3d, sc,
+			     &rays);
+}
+
 double evo_sensor3d_sample(evo_scene3d *sc, int bot, int k)
 {
 	evo_bot3d *b = &sc->bot[bot];
@@ -94,6 +134,10 @@ double evo_sensor3d_sample(evo_scene3d *sc, int bot, int k)
 		return evo_rng_unit(&sc->rng);
 	case EVO3D_SENSOR_CONSTANT:
 		return clamp01(s->def.value);
+	case EVO3D_SENSOR_LIGHT:
+	case EVO3D_SENSOR_GROUND:
+	case EVO3D_SENSOR_RAB:
+		return swarm(sc, bot, s);
 	case EVO3D_SENSOR_KIND_COUNT:
 		break;
 	}
