@@ -1,6 +1,7 @@
 /* The swarm sensors' options and the lights and floor patches, as the 2D
  * and 3D scene scripts give them (docs/lua.md, docs/world3d.md): one
  * reading of each for both worlds, over sim/scene/swarm.h. */
+#include <stdio.h>
 #include <string.h>
 
 #include "lua/lua_internal.h"
@@ -29,10 +30,13 @@ static int opt_int(lua_State *L, int idx, const char *key, int dflt, int lo,
 		   int hi, const char *what)
 {
 	double v = evo_lua_opt_num(L, idx, key, dflt, what);
-	if (v != floor(v) || v < lo || v > hi)
+	if (v != floor(v) || v < lo || v > hi) {
+		char found[32]; /* Lua's own format has no %g */
+		snprintf(found, sizeof found, "%g", v);
 		luaL_error(L, "%s: %s must be a whole number from %d to %d, "
-			      "found %g",
-			   what, key, lo, hi, v);
+			      "found %s",
+			   what, key, lo, hi, found);
+	}
 	return (int)v;
 }
 
@@ -64,6 +68,17 @@ void evo_lua_swarm_sensor(lua_State *L, int idx, const char *what,
 			   what);
 }
 
+/* Lights and patches are made in init: made in reset, one more would
+ * pile up every episode. */
+static void in_init(lua_State *L, const char *what)
+{
+	if (evo_lua_ctx(L)->in_reset)
+		luaL_error(L,
+			   "%s: lights and patches are made in init (made in "
+			   "reset, one more would pile up every episode)",
+			   what);
+}
+
 void evo_lua_add_light(lua_State *L, int idx, int dims, evo_swarm *w,
 		       evo_err *err)
 {
@@ -71,6 +86,7 @@ void evo_lua_add_light(lua_State *L, int idx, int dims, evo_swarm *w,
 	static const char *const keys3[] = {"x", "y", "z", "intensity", NULL};
 	const char *what = "scene:light";
 	evo_lua_check_keys(L, idx, what, dims == 3 ? keys3 : keys2);
+	in_init(L, what);
 	evo_light l;
 	memset(&l, 0, sizeof l);
 	l.pos[0] = evo_lua_opt_num(L, idx, "x", 0, what);
@@ -92,6 +108,7 @@ void evo_lua_add_patch(lua_State *L, int idx, int dims, evo_swarm *w,
 					    "yaw", "radius", "grey", NULL};
 	const char *what = "scene:patch";
 	evo_lua_check_keys(L, idx, what, dims == 3 ? keys3 : keys2);
+	in_init(L, what);
 	evo_patch p;
 	memset(&p, 0, sizeof p);
 	p.x = evo_lua_opt_num(L, idx, "x", 0, what);
