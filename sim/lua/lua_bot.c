@@ -30,6 +30,9 @@ static const char *const light_keys[] = {"name", "x", "y", "angle",
 static const char *const ground_keys[] = {"name", "x", "y", NULL};
 static const char *const rab_keys[] = {"name",	"range",    "slot",  "read",
 				       "index", "occluded", "scale", NULL};
+static const char *const camera_keys[] = {"name",   "range",	"slot",
+					  "read",   "colour",	"occluded",
+					  "scale", NULL};
 
 static const char *const *const sensor_keys[EVO_SENSOR_KIND_COUNT] = {
     [EVO_SENSOR_PROXIMITY] = proximity_keys,
@@ -47,6 +50,7 @@ static const char *const *const sensor_keys[EVO_SENSOR_KIND_COUNT] = {
     [EVO_SENSOR_LIGHT] = light_keys,
     [EVO_SENSOR_GROUND] = ground_keys,
     [EVO_SENSOR_RAB] = rab_keys,
+    [EVO_SENSOR_CAMERA] = camera_keys,
 };
 
 /* `sees`: what a proximity sensor's rays hit, into d's mask and its
@@ -122,8 +126,10 @@ static int add_sensor(lua_State *L, evo_sensor_kind kind, const char *what)
 	d.scale = evo_lua_opt_num(L, 2, "scale", d.scale, what);
 	d.reach = evo_lua_opt_num(L, 2, "reach", d.reach, what);
 	d.value = evo_lua_opt_num(L, 2, "value", d.value, what);
-	if (kind == EVO_SENSOR_LIGHT || kind == EVO_SENSOR_RAB)
-		evo_lua_swarm_sensor(L, 2, what, &d.swarm);
+	if (kind == EVO_SENSOR_LIGHT || kind == EVO_SENSOR_RAB ||
+	    kind == EVO_SENSOR_CAMERA)
+		evo_lua_swarm_sensor(L, 2, what, kind == EVO_SENSOR_CAMERA,
+				     &d.swarm);
 	lua_pushinteger(
 	    L, evo_lua_scene_result(
 		   L, evo_scene_add_sensor(evo_lua_ctx(L)->sc, bot, &d)) +
@@ -151,6 +157,7 @@ SENSOR_FN(bumper, EVO_SENSOR_BUMPER)
 SENSOR_FN(light, EVO_SENSOR_LIGHT)
 SENSOR_FN(ground, EVO_SENSOR_GROUND)
 SENSOR_FN(rab, EVO_SENSOR_RAB)
+SENSOR_FN(camera, EVO_SENSOR_CAMERA)
 
 /* Each kind's options: a wheel has no reach and a claw no force, so
  * either one given to the other is an error, as for the sensors. */
@@ -340,6 +347,7 @@ static const char *const sensor_kind_names[EVO_SENSOR_KIND_COUNT] = {
     [EVO_SENSOR_LIGHT] = "light",
     [EVO_SENSOR_GROUND] = "ground",
     [EVO_SENSOR_RAB] = "rab",
+    [EVO_SENSOR_CAMERA] = "camera",
 };
 
 /* bot:sensors(kind[, "untargeted"]): the names of the bot's sensors of a
@@ -419,6 +427,7 @@ const luaL_Reg evo_lua_bot_methods[] = {
     {"light", sensor_light},
     {"ground", sensor_ground},
     {"rab", sensor_rab},
+    {"camera", sensor_camera},
     {"wheel", wheel},
     {"claw", claw},
     {"speed_wheel", speed_wheel},

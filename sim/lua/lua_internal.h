@@ -165,8 +165,12 @@ int evo_lua_check_team(lua_State *L, const char *name, const char *what);
 /* aperture (degrees), range, slot, read, index (1 based), occluded and
  * scale of the options table at idx into s (its values the defaults). */
 void evo_lua_swarm_sensor(lua_State *L, int idx, const char *what,
-			  evo_swarm_sensor *s);
-/* scene:light{x, y[, z], intensity} and scene:patch{...} of the options
+			  int camera, evo_swarm_sensor *s);
+/* scene:colour(handle, name): the colour at stack index 3 given to a
+ * light, bot or element, for cameras. */
+void evo_lua_set_colour(lua_State *L, evo_blob_kind kind, int index,
+			evo_swarm *w, evo_err *err);
+/* scene:light{x, y[, z], intensity, colour} and scene:patch{...} of the options
  * table at idx, into w; dims 2 or 3 says which keys a patch takes. */
 void evo_lua_add_light(lua_State *L, int idx, int dims, evo_swarm *w,
 		       evo_err *err);

@@ -160,6 +160,9 @@ static const char *const light_keys[] = {"name", "x",	     "y",
 static const char *const ground_keys[] = {"name", "x", "y", "z", NULL};
 static const char *const rab_keys[] = {"name",	"range",    "slot",  "read",
 				       "index", "occluded", "scale", NULL};
+static const char *const camera_keys[] = {"name",   "range",	"slot",
+					  "read",   "colour",	"occluded",
+					  "scale", NULL};
 
 /* `sees`: a list of "ground", "obstacles", "bots", "objects". */
 static unsigned parse_sees(lua_State *L, int idx, unsigned dflt,
@@ -248,10 +251,12 @@ static int add_sensor(lua_State *L, evo_sensor3d_kind kind, const char *what,
 		break;
 	case EVO3D_SENSOR_LIGHT:
 		d.yaw = num(L, 2, "yaw", 0, what) * EVO_LUA_DEG;
-		evo_lua_swarm_sensor(L, 2, what, &d.swarm);
+		evo_lua_swarm_sensor(L, 2, what, 0, &d.swarm);
 		break;
 	case EVO3D_SENSOR_RAB:
-		evo_lua_swarm_sensor(L, 2, what, &d.swarm);
+	case EVO3D_SENSOR_CAMERA:
+		evo_lua_swarm_sensor(L, 2, what, kind == EVO3D_SENSOR_CAMERA,
+				     &d.swarm);
 		break;
 	default:
 		break;
@@ -314,6 +319,10 @@ static int bot_ground(lua_State *L)
 static int bot_rab(lua_State *L)
 {
 	return add_sensor(L, EVO3D_SENSOR_RAB, "bot:rab", rab_keys);
+}
+static int bot_camera(lua_State *L)
+{
+	return add_sensor(L, EVO3D_SENSOR_CAMERA, "bot:camera", camera_keys);
 }
 
 /* ---- bot: actuators --------------------------------------------------- */
@@ -432,19 +441,19 @@ static int bot_name(lua_State *L)
 static int bot_sensors(lua_State *L)
 {
 	static const char *const kinds[] = {"proximity", "light", "ground",
-					    "rab"};
+					    "rab", "camera"};
 	static const evo_sensor3d_kind ids[] = {
 	    EVO3D_SENSOR_PROXIMITY, EVO3D_SENSOR_LIGHT, EVO3D_SENSOR_GROUND,
-	    EVO3D_SENSOR_RAB};
+	    EVO3D_SENSOR_RAB, EVO3D_SENSOR_CAMERA};
 	const evo_bot3d *b = &scene3d(L)->bot[check_bot3d(L, 1)];
 	const char *kind = luaL_optstring(L, 2, NULL);
 	int k = -1;
-	for (int i = 0; kind && i < 4; i++)
+	for (int i = 0; kind && i < 5; i++)
 		if (strcmp(kind, kinds[i]) == 0)
 			k = i;
 	if (kind && k < 0)
 		luaL_error(L, "bot:sensors: kind is \"proximity\", \"light\", "
-			      "\"ground\", \"rab\" or nothing");
+			      "\"ground\", \"rab\", \"camera\" or nothing");
 	lua_newtable(L);
 	int n = 0;
 	for (int i = 0; i < b->n_sensors; i++)
@@ -475,7 +484,8 @@ const luaL_Reg evo_lua_bot3d_methods[] = {
     {"name", bot_name},		  {"sensors", bot_sensors},
     {"value", bot_value},	  {"light", bot_light},
     {"ground", bot_ground},	  {"rab", bot_rab},
-    {"broadcast", bot_broadcast}, {NULL, NULL},
+    {"broadcast", bot_broadcast}, {"camera", bot_camera},
+    {NULL, NULL},
 };
 
 /* ---- elements ------------------------------------------------------------ */
@@ -933,6 +943,22 @@ static int scene_patch(lua_State *L)
 	return 0;
 }
 
+/* scene:colour(bot or element, colour): what cameras see it as. */
+static int scene_colour(lua_State *L)
+{
+	evo_scene3d *sc = scene3d(L);
+	if (luaL_testudata(L, 2, EVO_LUA_BOT3D_MT))
+		evo_lua_set_colour(L, EVO_BLOB_BOT, check_bot3d(L, 2),
+				   &sc->swarm, &sc->err);
+	else if (luaL_testudata(L, 2, EVO_LUA_ELEMENT3D_MT))
+		evo_lua_set_colour(L, EVO_BLOB_ELEMENT, check_element3d(L, 2),
+				   &sc->swarm, &sc->err);
+	else
+		luaL_error(L, "scene:colour: a bot or an element, found %s",
+			   luaL_typename(L, 2));
+	return 0;
+}
+
 const luaL_Reg evo_lua_scene3d_methods[] = {
     {"physics", scene_physics},
     {"bot", scene_bot},
@@ -946,6 +972,7 @@ const luaL_Reg evo_lua_scene3d_methods[] = {
     {"obstacle", scene_obstacle},
     {"light", scene_light},
     {"patch", scene_patch},
+    {"colour", scene_colour},
     {"reward", scene_reward},
     {"control", scene_control},
     {"element", scene_element},

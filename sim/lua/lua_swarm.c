@@ -6,23 +6,63 @@
 
 #include "lua/lua_internal.h"
 
-/* The words of `read`, in evo_rab_read's order. */
+/* The words of `read`, in evo_rab_read's order: a range-and-bearing
+ * sensor's first four, a camera's with "colour" for "value". */
 static const char *const read_words[EVO_RAB_READ_COUNT] = {
-    "range", "bearing", "value", "count"};
+    "range", "bearing", "value", "count", "colour"};
 
-static evo_rab_read opt_read(lua_State *L, int idx, const char *what)
+static evo_rab_read opt_read(lua_State *L, int idx, const char *what,
+			     int camera)
 {
 	const char *s = evo_lua_opt_str(L, idx, "read", "range", what);
-	for (int i = 0; i < EVO_RAB_READ_COUNT; i++)
-		if (strcmp(s, read_words[i]) == 0)
-			return (evo_rab_read)i;
-	const char *near = evo_lua_near(s, read_words, EVO_RAB_READ_COUNT);
+	const char *words[4] = {"range", "bearing",
+				camera ? "colour" : "value", "count"};
+	for (int i = 0; i < 4; i++)
+		if (strcmp(s, words[i]) == 0)
+			for (int k = 0; k < EVO_RAB_READ_COUNT; k++)
+				if (strcmp(s, read_words[k]) == 0)
+					return (evo_rab_read)k;
+	const char *near = evo_lua_near(s, words, 4);
 	luaL_error(L,
-		   "%s: read is \"range\", \"bearing\", \"value\" or "
+		   "%s: read is \"range\", \"bearing\", \"%s\" or "
 		   "\"count\", found \"%s\"%s%s%s",
-		   what, s, near ? " (did you mean " : "", near ? near : "",
-		   near ? "?)" : "");
+		   what, words[2], s, near ? " (did you mean " : "",
+		   near ? near : "", near ? "?)" : "");
 	return EVO_RAB_RANGE;
+}
+
+/* A colour's name at the top of the stack (from option `key`): its
+ * number; an unknown one is an error listing the colours. */
+static int check_colour(lua_State *L, const char *what, const char *key)
+{
+	const char *s = lua_tostring(L, -1);
+	int c = lua_type(L, -1) == LUA_TSTRING ? evo_colour_by_name(s) : -1;
+	if (c >= 0)
+		return c;
+	luaL_Buffer b;
+	luaL_buffinit(L, &b);
+	for (int k = 0; k < EVO_COLOUR_COUNT; k++) {
+		luaL_addstring(&b, k ? ", " : "");
+		luaL_addstring(&b, evo_colour_name(k));
+	}
+	luaL_pushresult(&b);
+	const char *names[EVO_COLOUR_COUNT];
+	for (int k = 0; k < EVO_COLOUR_COUNT; k++)
+		names[k] = evo_colour_name(k);
+	const char *near = s ? evo_lua_near(s, names, EVO_COLOUR_COUNT) : NULL;
+	return luaL_error(L, "%s: %s: unknown colour '%s'%s%s%s (known: %s)",
+			  what, key, s ? s : luaL_typename(L, -2),
+			  near ? "; did you mean " : "", near ? near : "",
+			  near ? "?" : "", lua_tostring(L, -1));
+}
+
+/* Option `colour` of the table at idx: its number, or dflt. */
+static int opt_colour(lua_State *L, int idx, int dflt, const char *what)
+{
+	lua_getfield(L, idx, "colour");
+	int c = lua_isnil(L, -1) ? dflt : check_colour(L, what, "colour");
+	lua_pop(L, 1);
+	return c;
 }
 
 /* A whole number option in [lo, hi]. */
@@ -41,7 +81,7 @@ static int opt_int(lua_State *L, int idx, const char *key, int dflt, int lo,
 }
 
 void evo_lua_swarm_sensor(lua_State *L, int idx, const char *what,
-			  evo_swarm_sensor *s)
+			  int camera, evo_swarm_sensor *s)
 {
 	s->aperture =
 	    evo_lua_opt_num(L, idx, "aperture", s->aperture / EVO_LUA_DEG,
@@ -50,7 +90,9 @@ void evo_lua_swarm_sensor(lua_State *L, int idx, const char *what,
 	s->range = evo_lua_opt_num(L, idx, "range", s->range, what);
 	s->slot = opt_int(L, idx, "slot", s->slot, 1, EVO_SWARM_MAX_SLOTS,
 			  what);
-	s->read = opt_read(L, idx, what);
+	s->read = opt_read(L, idx, what, camera);
+	if (camera)
+		s->colour = opt_colour(L, idx, s->colour, what);
 	s->index = opt_int(L, idx, "index", s->index + 1, 1,
 			   EVO_SWARM_MAX_VALUES, what) -
 		   1;
@@ -82,8 +124,10 @@ static void in_init(lua_State *L, const char *what)
 void evo_lua_add_light(lua_State *L, int idx, int dims, evo_swarm *w,
 		       evo_err *err)
 {
-	static const char *const keys2[] = {"x", "y", "intensity", NULL};
-	static const char *const keys3[] = {"x", "y", "z", "intensity", NULL};
+	static const char *const keys2[] = {"x", "y", "intensity", "colour",
+					    NULL};
+	static const char *const keys3[] = {"x",	 "y",	   "z",
+					    "intensity", "colour", NULL};
 	const char *what = "scene:light";
 	evo_lua_check_keys(L, idx, what, dims == 3 ? keys3 : keys2);
 	in_init(L, what);
@@ -93,7 +137,10 @@ void evo_lua_add_light(lua_State *L, int idx, int dims, evo_swarm *w,
 	l.pos[1] = evo_lua_opt_num(L, idx, "y", 0, what);
 	l.pos[2] = dims == 3 ? evo_lua_opt_num(L, idx, "z", 0, what) : 0;
 	l.intensity = evo_lua_opt_num(L, idx, "intensity", 1, what);
-	if (evo_swarm_add_light(w, &l, err) < 0)
+	int colour = opt_colour(L, idx, -1, what);
+	int i = evo_swarm_add_light(w, &l, err);
+	if (i < 0 || (colour >= 0 && evo_swarm_set_colour(w, EVO_BLOB_LIGHT, i,
+							  colour, err) < 0))
 		luaL_error(L, "scene:%s", err->msg);
 }
 
@@ -135,4 +182,13 @@ void evo_lua_add_patch(lua_State *L, int idx, int dims, evo_swarm *w,
 	p.grey = evo_lua_opt_num(L, idx, "grey", 0, what);
 	if (evo_swarm_add_patch(w, &p, err) < 0)
 		luaL_error(L, "scene:%s", err->msg);
+}
+
+void evo_lua_set_colour(lua_State *L, evo_blob_kind kind, int index,
+			evo_swarm *w, evo_err *err)
+{
+	lua_settop(L, 3);
+	int c = check_colour(L, "scene:colour", "its colour");
+	if (evo_swarm_set_colour(w, kind, index, c, err) < 0)
+		luaL_error(L, "scene:colour: %s", err->msg);
 }

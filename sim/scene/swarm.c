@@ -69,10 +69,46 @@ int evo_swarm_add_patch(evo_swarm *w, const evo_patch *p, evo_err *err)
 	return w->n_patches++;
 }
 
+static const char *const colour_names[EVO_COLOUR_COUNT] = {
+    "red", "yellow", "green", "cyan", "blue", "magenta", "white", "black"};
+
+const char *evo_colour_name(int colour)
+{
+	return colour >= 0 && colour < EVO_COLOUR_COUNT ? colour_names[colour]
+							: NULL;
+}
+
+int evo_colour_by_name(const char *name)
+{
+	for (int k = 0; name && k < EVO_COLOUR_COUNT; k++)
+		if (strcmp(name, colour_names[k]) == 0)
+			return k;
+	return -1;
+}
+
+int evo_swarm_set_colour(evo_swarm *w, evo_blob_kind kind, int index,
+			 int colour, evo_err *err)
+{
+	if (!evo_colour_name(colour))
+		return evo_fail(err, "no colour %d", colour);
+	for (int i = 0; i < w->n_blobs; i++)
+		if (w->blob[i].kind == kind && w->blob[i].index == index) {
+			w->blob[i].colour = colour;
+			return i;
+		}
+	void *arr = w->blob;
+	if (grow(&arr, w->n_blobs, &w->cap_blobs, sizeof *w->blob))
+		return evo_fail(err, "out of memory");
+	w->blob = arr;
+	w->blob[w->n_blobs] = (evo_blob){kind, index, colour};
+	return w->n_blobs++;
+}
+
 void evo_swarm_free(evo_swarm *w)
 {
 	free(w->light);
 	free(w->patch);
+	free(w->blob);
 	memset(w, 0, sizeof *w);
 }
 
@@ -85,6 +121,7 @@ evo_swarm_sensor evo_default_swarm_sensor(void)
 	s.slot = 1;
 	s.read = EVO_RAB_RANGE;
 	s.scale = 10;
+	s.colour = -1;
 	return s;
 }
 
@@ -110,6 +147,9 @@ int evo_swarm_check_sensor(const evo_swarm_sensor *s, const char *name,
 	if ((unsigned)s->read >= EVO_RAB_READ_COUNT)
 		return evo_fail(err, "sensor '%s': unknown reading %d", name,
 				(int)s->read);
+	if (s->colour < -1 || s->colour >= EVO_COLOUR_COUNT)
+		return evo_fail(err, "sensor '%s': no colour %d", name,
+				s->colour);
 	if (s->index < 0 || s->index >= EVO_SWARM_MAX_VALUES)
 		return evo_fail(err, "sensor '%s': index must be 1 to %d", name,
 				EVO_SWARM_MAX_VALUES);
@@ -262,39 +302,21 @@ static double clamp01(double v)
 	return v > 1 ? 1 : v;
 }
 
-double evo_swarm_rab(const evo_swarm_sensor *s, const evo_swarm_frame *f,
-		     int self, int n, evo_swarm_peer_fn peer, void *ctx,
-		     const evo_swarm_rays *rays)
+/* The reading of s->read about the ranked ones; a camera's peers carry
+ * their colour's reading as value 0. */
+static double answer(const evo_swarm_sensor *s, const evo_swarm_frame *f,
+		     const ranked *r)
 {
-	ranked r;
-	r.n = r.count = 0;
-	int keep = s->read == EVO_RAB_COUNT ? 1 : s->slot;
-	for (int i = 0; i < n; i++) {
-		evo_swarm_peer p;
-		if (i == self || !peer(ctx, i, &p))
-			continue;
-		double d[3] = {p.pos[0] - f->pos[0], p.pos[1] - f->pos[1],
-			       p.pos[2] - f->pos[2]};
-		double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-		if (!(len <= s->range))
-			continue;
-		if (s->occluded && len > 0) {
-			double u[3] = {d[0] / len, d[1] / len, d[2] / len};
-			if (occluded(rays, f->pos, u, len))
-				continue;
-		}
-		rank(&r, keep, &p, len);
-	}
 	if (s->read == EVO_RAB_COUNT)
-		return clamp01(r.count / s->scale);
-	if (r.n < s->slot)
+		return clamp01(r->count / s->scale);
+	if (r->n < s->slot)
 		return s->read == EVO_RAB_RANGE	    ? 1
 		       : s->read == EVO_RAB_BEARING ? 0.5
 						    : 0;
-	const evo_swarm_peer *p = &r.peer[s->slot - 1];
+	const evo_swarm_peer *p = &r->peer[s->slot - 1];
 	switch (s->read) {
 	case EVO_RAB_RANGE:
-		return clamp01(r.dist[s->slot - 1] / s->range);
+		return clamp01(r->dist[s->slot - 1] / s->range);
 	case EVO_RAB_BEARING: {
 		double d[3] = {p->pos[0] - f->pos[0], p->pos[1] - f->pos[1],
 			       p->pos[2] - f->pos[2]};
@@ -306,9 +328,77 @@ double evo_swarm_rab(const evo_swarm_sensor *s, const evo_swarm_frame *f,
 	case EVO_RAB_VALUE:
 		return s->index < p->n_values ? clamp01(p->value[s->index])
 					      : 0;
+	case EVO_RAB_COLOUR:
+		return p->n_values > 0 ? p->value[0] : 0;
 	case EVO_RAB_COUNT:
 	case EVO_RAB_READ_COUNT:
 		break;
 	}
 	return 0;
+}
+
+/* Rank p if it lies within range of f's centre and, with occlusion, in
+ * sight of it: no obstacle nearer than reach short of it. */
+static void consider(ranked *r, const evo_swarm_sensor *s,
+		     const evo_swarm_frame *f, const evo_swarm_peer *p,
+		     double reach, const evo_swarm_rays *rays)
+{
+	double d[3] = {p->pos[0] - f->pos[0], p->pos[1] - f->pos[1],
+		       p->pos[2] - f->pos[2]};
+	double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+	if (!(len <= s->range))
+		return;
+	if (s->occluded && len > reach) {
+		double u[3] = {d[0] / len, d[1] / len, d[2] / len};
+		/* a body's own rim is no obstacle: short of it by a margin
+		 * past a float engine's rounding */
+		double free = reach > 0 ? (len - reach) * (1 - 1e-4) : len;
+		if (occluded(rays, f->pos, u, free))
+			return;
+	}
+	rank(r, s->read == EVO_RAB_COUNT ? 1 : s->slot, p, len);
+}
+
+double evo_swarm_rab(const evo_swarm_sensor *s, const evo_swarm_frame *f,
+		     int self, int n, evo_swarm_peer_fn peer, void *ctx,
+		     const evo_swarm_rays *rays)
+{
+	ranked r;
+	r.n = r.count = 0;
+	for (int i = 0; i < n; i++) {
+		evo_swarm_peer p;
+		if (i != self && peer(ctx, i, &p))
+			consider(&r, s, f, &p, 0, rays);
+	}
+	return answer(s, f, &r);
+}
+
+/* ---- the omnidirectional camera -------------------------------------------- */
+
+double evo_swarm_camera(const evo_swarm *w, const evo_swarm_sensor *s,
+			const evo_swarm_frame *f, int self,
+			evo_swarm_where_fn where, void *ctx,
+			const evo_swarm_rays *rays)
+{
+	ranked r;
+	r.n = r.count = 0;
+	for (int i = 0; i < w->n_blobs; i++) {
+		const evo_blob *b = &w->blob[i];
+		if ((s->colour >= 0 && b->colour != s->colour) ||
+		    (b->kind == EVO_BLOB_BOT && b->index == self))
+			continue;
+		evo_swarm_peer p;
+		double reach = 0;
+		if (b->kind == EVO_BLOB_LIGHT) {
+			if (b->index < 0 || b->index >= w->n_lights)
+				continue;
+			memcpy(p.pos, w->light[b->index].pos, sizeof p.pos);
+		} else if (!where(ctx, b, p.pos, &reach)) {
+			continue;
+		}
+		p.n_values = 1;
+		p.value[0] = (b->colour + 1.0) / EVO_COLOUR_COUNT;
+		consider(&r, s, f, &p, reach, rays);
+	}
+	return answer(s, f, &r);
 }

@@ -1,7 +1,8 @@
 /* evo — the swarm sensors, once for both worlds (issue 32, "Sensors and
  * robots for swarms"; docs/world.md, "Swarm sensors"): light sources and
  * light sensors, floor patches and ground sensors, range-and-bearing
- * messages between bots.
+ * messages between bots, and omnidirectional cameras that see coloured
+ * blobs.
  *
  * What is here knows nothing of the world it runs in: a bot is a pose (a
  * position of three numbers and a turn R, world = pos + R body; a 2D
@@ -41,13 +42,47 @@ typedef struct evo_patch {
 	double grey;
 } evo_patch;
 
-/* The lights and patches of a scene. The floor outside every patch reads
- * EVO_SWARM_FLOOR; of patches that overlap, the one added last is on top. */
+/* The colours a camera tells apart, in the order of their readings: the
+ * colour of number k reads (k + 1) / EVO_COLOUR_COUNT. */
+typedef enum evo_colour {
+	EVO_COLOUR_RED = 0,
+	EVO_COLOUR_YELLOW,
+	EVO_COLOUR_GREEN,
+	EVO_COLOUR_CYAN,
+	EVO_COLOUR_BLUE,
+	EVO_COLOUR_MAGENTA,
+	EVO_COLOUR_WHITE,
+	EVO_COLOUR_BLACK,
+	EVO_COLOUR_COUNT
+} evo_colour;
+
+/* A colour's name ("red") and the colour of a name, -1 when unknown. */
+const char *evo_colour_name(int colour);
+int evo_colour_by_name(const char *name);
+
+/* What carries a colour a camera sees: a light, a bot or an element (of
+ * the scene's own numbering). */
+typedef enum evo_blob_kind {
+	EVO_BLOB_LIGHT = 0,
+	EVO_BLOB_BOT,
+	EVO_BLOB_ELEMENT,
+} evo_blob_kind;
+
+typedef struct evo_blob {
+	evo_blob_kind kind;
+	int index;
+	int colour; /* evo_colour */
+} evo_blob;
+
+/* The lights, patches and coloured blobs of a scene. The floor outside
+ * every patch reads EVO_SWARM_FLOOR; of patches that overlap, the one
+ * added last is on top. */
 #define EVO_SWARM_FLOOR 1.0
 typedef struct evo_swarm {
-	int n_lights, cap_lights, n_patches, cap_patches;
+	int n_lights, cap_lights, n_patches, cap_patches, n_blobs, cap_blobs;
 	evo_light *light;
 	evo_patch *patch;
+	evo_blob *blob;
 } evo_swarm;
 
 /* Add a light or a patch: its index, or -1 with err set (a value that is
@@ -55,6 +90,10 @@ typedef struct evo_swarm {
  * [0, 1], out of memory). */
 int evo_swarm_add_light(evo_swarm *w, const evo_light *l, evo_err *err);
 int evo_swarm_add_patch(evo_swarm *w, const evo_patch *p, evo_err *err);
+/* Give a light, bot or element a colour (a second call changes it): its
+ * blob's index, or -1 with err set (an unknown colour, out of memory). */
+int evo_swarm_set_colour(evo_swarm *w, evo_blob_kind kind, int index,
+			 int colour, evo_err *err);
 void evo_swarm_free(evo_swarm *w);
 
 /* What a range-and-bearing sensor reads about the neighbour of its slot. */
@@ -63,6 +102,7 @@ typedef enum evo_rab_read {
 	EVO_RAB_BEARING,   /* 0.5 + bearing / 2 pi; 0.5 with none */
 	EVO_RAB_VALUE,	   /* its broadcast value `index`; 0 with none */
 	EVO_RAB_COUNT,	   /* neighbours in range / scale, at most 1 */
+	EVO_RAB_COLOUR,	   /* camera: its colour's reading; 0 with none */
 	EVO_RAB_READ_COUNT
 } evo_rab_read;
 
@@ -76,6 +116,7 @@ typedef struct evo_swarm_sensor {
 	int index;    /* EVO_RAB_VALUE: which of the values, 0 based */
 	int occluded; /* range and bearing: 1, obstacles stop messages */
 	double scale; /* EVO_RAB_COUNT: the count that reads 1 */
+	int colour;   /* camera: the only colour it sees; -1 any (default) */
 } evo_swarm_sensor;
 
 /* Range 1 (2D worlds are tens of metres: the scenes' defaults differ),
@@ -138,5 +179,23 @@ typedef int (*evo_swarm_peer_fn)(void *ctx, int i, evo_swarm_peer *out);
 double evo_swarm_rab(const evo_swarm_sensor *s, const evo_swarm_frame *f,
 		     int self, int n, evo_swarm_peer_fn peer, void *ctx,
 		     const evo_swarm_rays *rays);
+
+/* Where blob b is now (pos) and how far its body reaches from there
+ * (*radius, 0 for a point or a body no ray of the camera hits); 0 when
+ * it is out of the world (a delivered object). */
+typedef int (*evo_swarm_where_fn)(void *ctx, const evo_blob *b,
+				  double pos[3], double *radius);
+
+/* An omnidirectional camera of bot `self` (frame f): the blobs (every
+ * coloured light, bot but self, element) of s->colour (or any) whose
+ * centre lies within range of f's, in sight of it with s->occluded (an
+ * obstacle nearer than the blob's own reach hides it), ranked by
+ * distance (ties: in the order they were coloured); the reading of
+ * s->read (EVO_RAB_RANGE, _BEARING, _COLOUR or _COUNT) about the one of
+ * rank s->slot. */
+double evo_swarm_camera(const evo_swarm *w, const evo_swarm_sensor *s,
+			const evo_swarm_frame *f, int self,
+			evo_swarm_where_fn where, void *ctx,
+			const evo_swarm_rays *rays);
 
 #endif

@@ -133,6 +133,8 @@ typedef enum evo_sensor_kind {
 	EVO_SENSOR_GROUND, /* the grey level of the floor under (x, y) */
 	EVO_SENSOR_RAB,	   /* range and bearing: a neighbour's range, bearing,
 			      broadcast value, or the neighbours' count */
+	EVO_SENSOR_CAMERA, /* omnidirectional: a coloured blob's range,
+			      bearing, colour, or the blobs' count */
 	EVO_SENSOR_KIND_COUNT
 } evo_sensor_kind;
 

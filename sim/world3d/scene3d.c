@@ -369,7 +369,8 @@ int evo_scene3d_add_sensor(evo_scene3d *sc, int bot, const evo_sensor3d_def *d)
 				"sensor '%s': range must be > 0, rays 1 to %d, "
 				"arc >= 0",
 				d->name ? d->name : "?", EVO3D_PROX_MAX_RAYS);
-	if ((d->kind == EVO3D_SENSOR_LIGHT || d->kind == EVO3D_SENSOR_RAB) &&
+	if ((d->kind == EVO3D_SENSOR_LIGHT || d->kind == EVO3D_SENSOR_RAB ||
+	     d->kind == EVO3D_SENSOR_CAMERA) &&
 	    evo_swarm_check_sensor(&d->swarm, d->name, &sc->err))
 		return -1;
 	if (d->kind == EVO3D_SENSOR_DISTANCE && !positive(d->scale))

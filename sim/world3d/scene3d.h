@@ -99,6 +99,8 @@ typedef enum evo_sensor3d_kind {
 	EVO3D_SENSOR_GROUND, /* the grey level of the floor under pos */
 	EVO3D_SENSOR_RAB,    /* range and bearing: a neighbour's range,
 				bearing, broadcast value, or their count */
+	EVO3D_SENSOR_CAMERA, /* omnidirectional: a coloured blob's range,
+				bearing, colour, or the blobs' count */
 	EVO3D_SENSOR_KIND_COUNT
 } evo_sensor3d_kind;
 

@@ -1256,7 +1256,7 @@ static const char *const BOT_PARTS[] = {
     "object_detector", "movement", "random", "constant", "holding",
     "radar",	       "bumper",   "wheel",  "claw",	 "speed_wheel",
     "drive",	       "light",	   "ground", "rab",	 "broadcast",
-    NULL};
+    "camera",	       NULL};
 
 static int write_bot_models(void)
 {
@@ -1506,6 +1506,11 @@ static int render_option_default(const char *fn, const char *opt, char *out,
 	}
 	if (strcmp(fn, "scene:light") == 0 && sc->swarm.n_lights == 1) {
 		const evo_light *l = &sc->swarm.light[0];
+		if (strcmp(opt, "colour") == 0) {
+			snprintf(out, cap, "%s",
+				 sc->swarm.n_blobs ? "a colour" : "none");
+			return 0;
+		}
 		const double v = strcmp(opt, "x") == 0		 ? l->pos[0]
 				 : strcmp(opt, "y") == 0	 ? l->pos[1]
 				 : strcmp(opt, "intensity") == 0 ? l->intensity
@@ -1572,9 +1577,10 @@ static int render_option_default(const char *fn, const char *opt, char *out,
 			return 0;
 		}
 		const evo_swarm_sensor *w = &d->swarm;
-		if (d->kind == EVO_SENSOR_RAB) {
+		if (d->kind == EVO_SENSOR_RAB || d->kind == EVO_SENSOR_CAMERA) {
 			static const char *const reads[] = {
-			    "\"range\"", "\"bearing\"", "\"value\"", "\"count\""};
+			    "\"range\"", "\"bearing\"", "\"value\"", "\"count\"",
+			    "\"colour\""};
 			if (strcmp(opt, "read") == 0)
 				snprintf(out, cap, "%s", reads[w->read]);
 			else if (strcmp(opt, "occluded") == 0)
@@ -1588,6 +1594,11 @@ static int render_option_default(const char *fn, const char *opt, char *out,
 				fmt_num(out, cap, w->slot);
 			else if (strcmp(opt, "index") == 0)
 				fmt_num(out, cap, w->index + 1);
+			else if (strcmp(opt, "colour") == 0)
+				snprintf(out, cap, "%s",
+					 w->colour < 0
+					     ? "any"
+					     : evo_colour_name(w->colour));
 			else
 				return -1;
 			return 0;

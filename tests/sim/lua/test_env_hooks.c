@@ -275,6 +275,19 @@ TEST(swarm_sensors_are_checked_at_their_line)
 	swarm_error("scene:patch{ radius = 1, half_width = 2 }",
 		    "Test.lua:4: scene:patch: a patch is a circle (radius) or "
 		    "a rectangle (half_width, half_height), not both");
+	swarm_error("bot:camera{ name = 'C', colour = 'purple' }",
+		    "Test.lua:4: bot:camera: colour: unknown colour 'purple' "
+		    "(known: red, yellow, green, cyan, blue, magenta, white, "
+		    "black)");
+	swarm_error("scene:colour(bot, 'gren')",
+		    "Test.lua:4: scene:colour: its colour: unknown colour "
+		    "'gren'; did you mean green?");
+	swarm_error("bot:camera{ name = 'C', read = 'value' }",
+		    "Test.lua:4: bot:camera: read is \"range\", \"bearing\", "
+		    "\"colour\" or \"count\", found \"value\"");
+	swarm_error("scene:colour(3, 'red')",
+		    "Test.lua:4: scene:colour: a bot or an element, found "
+		    "number");
 	swarm_error("scene:light{ x = 1, intensity = -3 }",
 		    "Test.lua:4: scene:light: intensity must be above 0, "
 		    "found -3");

@@ -1,8 +1,8 @@
 /* The swarm sensors (sim/scene/swarm.h) in both worlds: light sensors,
- * ground sensors and range-and-bearing sensors placed in known scenes of
+ * ground sensors, range-and-bearing sensors and cameras placed in known scenes of
  * the 2D (Box2D) and the 3D (ODE) world read the values worked out by
- * hand in each test's comment; a wall or box between hides a light or a
- * message; bad settings are refused with the sensor's name. */
+ * hand in each test's comment; a wall or box between hides a light, a
+ * message or a blob; bad settings are refused with the sensor's name. */
 #include <math.h>
 #include <stdio.h>
 
@@ -444,6 +444,142 @@ TEST(rab_3d_ranks_neighbours_by_distance)
 	evo_scene3d_destroy(sc);
 }
 
+/* ---- cameras -------------------------------------------------------- */
+
+static void camera_expect(double got[7], int occluded_light)
+{
+	/* slot 1: B, red, 4 ahead; slot 2: the green blob 5 aside (90
+	 * degrees: right in 2D, left in 3D, 0.75 both); slot 3: the yellow
+	 * light 6 the other side (0.25), unless a box hides it */
+	CHECK(NEAR(got[0], 0.4, 1e-9));
+	CHECK(NEAR(got[1], 0.5, 1e-9));
+	CHECK(NEAR(got[2], 1.0 / 8, 1e-12));
+	CHECK(NEAR(got[3], 0.75, 1e-9));
+	CHECK(NEAR(got[4], 3.0 / 8, 1e-12));
+	if (occluded_light) {
+		CHECK(got[5] == 0.5); /* no third: a bearing of 0.5 */
+		CHECK(NEAR(got[6], 0.5, 1e-12)); /* 2 seen of a scale of 4 */
+	} else {
+		CHECK(NEAR(got[5], 0.25, 1e-9));
+		CHECK(NEAR(got[6], 0.75, 1e-12));
+	}
+}
+
+static const struct {
+	const char *name;
+	int slot;
+	evo_rab_read read;
+} cam[7] = {{"R1", 1, EVO_RAB_RANGE},  {"B1", 1, EVO_RAB_BEARING},
+	    {"C1", 1, EVO_RAB_COLOUR}, {"B2", 2, EVO_RAB_BEARING},
+	    {"C2", 2, EVO_RAB_COLOUR}, {"B3", 3, EVO_RAB_BEARING},
+	    {"N", 1, EVO_RAB_COUNT}};
+
+/* Bot 0 at the origin heading +x; bot B at (4, 0) coloured red; a
+ * cylinder of radius 1 at (0, 5) green; a light at (0, -6) yellow; an
+ * uncoloured cylinder at (-5, 0) unseen. With a box at (0, -3) and
+ * occlusion the light is hidden; the green cylinder's own rim does not
+ * hide it; a camera for green alone sees it first, 5 away. */
+static void camera_2d(int box)
+{
+	evo_scene *sc = scene_with_bot(0, 0, 0);
+	add_bot2d(sc, "B", 4, 0, 0);
+	int green = scene_add_element(sc, EVO_ELEM_CYLINDER, 0, 5, 1);
+	scene_add_element(sc, EVO_ELEM_CYLINDER, -5, 0, 1);
+	if (box)
+		scene_add_box(sc, 0, -3, 0.5, 0.5, 0);
+	light2d(sc, 0, -6, 1);
+	CHECK(evo_swarm_set_colour(&sc->swarm, EVO_BLOB_BOT, 1, EVO_COLOUR_RED,
+				   &sc->err) >= 0);
+	CHECK(evo_swarm_set_colour(&sc->swarm, EVO_BLOB_ELEMENT, green,
+				   EVO_COLOUR_GREEN, &sc->err) >= 0);
+	CHECK(evo_swarm_set_colour(&sc->swarm, EVO_BLOB_LIGHT, 0,
+				   EVO_COLOUR_YELLOW, &sc->err) >= 0);
+	int s[7];
+	for (int i = 0; i < 7; i++) {
+		evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_CAMERA);
+		d.name = cam[i].name;
+		d.swarm.slot = cam[i].slot;
+		d.swarm.read = cam[i].read;
+		d.swarm.range = 10;
+		d.swarm.scale = 4;
+		d.swarm.occluded = box;
+		s[i] = evo_scene_add_sensor(sc, 0, &d);
+		CHECK(s[i] >= 0);
+	}
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_CAMERA);
+	d.name = "G";
+	d.swarm.range = 10;
+	d.swarm.colour = EVO_COLOUR_GREEN;
+	d.swarm.occluded = 1;
+	int g = evo_scene_add_sensor(sc, 0, &d);
+	evo_scene_reset(sc, 1, 1);
+	evo_scene_sense(sc);
+	double got[7];
+	for (int i = 0; i < 7; i++)
+		got[i] = sc->bot[0].sensor[s[i]].value;
+	camera_expect(got, box);
+	CHECK(NEAR(sc->bot[0].sensor[g].value, 0.5, 1e-9));
+	evo_scene_destroy(sc);
+}
+
+TEST(camera_2d_sees_the_nearest_coloured_blobs)
+{
+	camera_2d(0);
+	camera_2d(1);
+}
+
+/* The same in 3D, every centre at z = 2: a sphere of radius 1 for the
+ * cylinder; +y is the bot's left. */
+static void camera_3d(int box)
+{
+	evo_scene3d *sc = scene3d(0);
+	add_bot3d(sc, "B", 4, 0, 2, 0, 0);
+	evo_element3d_def sp = evo_default_element3d_def(EVO3D_ELEM_SPHERE);
+	sp.pos[1] = 5;
+	sp.pos[2] = 2;
+	sp.radius = 1;
+	int green = evo_scene3d_add_element(sc, &sp);
+	CHECK(green >= 0);
+	if (box) {
+		evo_element3d_def bx = evo_default_element3d_def(EVO3D_ELEM_BOX);
+		bx.pos[1] = -3;
+		bx.pos[2] = 2;
+		CHECK(evo_scene3d_add_element(sc, &bx) >= 0);
+	}
+	light3d(sc, 0, -6, 2, 1);
+	CHECK(evo_swarm_set_colour(&sc->swarm, EVO_BLOB_BOT, 1, EVO_COLOUR_RED,
+				   &sc->err) >= 0);
+	CHECK(evo_swarm_set_colour(&sc->swarm, EVO_BLOB_ELEMENT, green,
+				   EVO_COLOUR_GREEN, &sc->err) >= 0);
+	CHECK(evo_swarm_set_colour(&sc->swarm, EVO_BLOB_LIGHT, 0,
+				   EVO_COLOUR_YELLOW, &sc->err) >= 0);
+	int s[7];
+	for (int i = 0; i < 7; i++) {
+		evo_sensor3d_def d = evo_default_sensor3d_def(EVO3D_SENSOR_CAMERA);
+		d.name = cam[i].name;
+		d.swarm.slot = cam[i].slot;
+		d.swarm.read = cam[i].read;
+		d.swarm.range = 10;
+		d.swarm.scale = 4;
+		d.swarm.occluded = box;
+		s[i] = evo_scene3d_add_sensor(sc, 0, &d);
+		CHECK(s[i] >= 0);
+	}
+	CHECK(evo_scene3d_reset(sc, 1, 1) == 0);
+	evo_scene3d_sense(sc);
+	double got[7];
+	for (int i = 0; i < 7; i++)
+		got[i] = sc->bot[0].sensor[s[i]].value;
+	camera_expect(got, box);
+	evo_scene3d_destroy(sc);
+}
+
+TEST(camera_3d_sees_the_nearest_coloured_blobs)
+{
+	camera_3d(0);
+	camera_3d(1);
+}
+
 int main(void)
 {
 	RUN(light_2d_falls_with_the_square_of_distance);
@@ -458,5 +594,7 @@ int main(void)
 	RUN(light_3d_is_hidden_by_an_obstacle);
 	RUN(ground_3d_reads_the_top_patch);
 	RUN(rab_3d_ranks_neighbours_by_distance);
+	RUN(camera_2d_sees_the_nearest_coloured_blobs);
+	RUN(camera_3d_sees_the_nearest_coloured_blobs);
 	return test_summary();
 }
