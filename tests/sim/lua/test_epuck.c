@@ -3,7 +3,8 @@
  * the published e-puck's IR ring (eight sensors on a rim of radius 35 mm
  * at +-17, +-46, +-90 and +-150 degrees), its wheels 53 mm apart and its
  * top speed of 0.128 m/s, worked out by hand below; and its light, ground
- * and range-and-bearing sensors read a light, a patch and a neighbour. */
+ * and range-and-bearing sensors read a light, a patch and a neighbour;
+ * the shipped swarm of them (minds/Phototaxis) gathers at its light. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -205,12 +206,36 @@ TEST(epuck_3d_has_the_published_ring_wheels_and_speed)
 	evo_scene3d_destroy(sc);
 }
 
+/* The shipped swarm (minds/Phototaxis/README.md): the trained network
+ * brings at least three of the five e-pucks onto the light's patch in each
+ * of the DEMO task's first two episodes (5 and 3 when it was trained). */
+TEST(phototaxis_swarm_gathers_at_the_light)
+{
+	static char out[1 << 14];
+	int rc = cli_capture(out, sizeof out,
+			     "%s run minds/Phototaxis/Tasks/"
+			     "Phototaxis-DEMO.simbatch --headless --episodes 2",
+			     cli_evo);
+	CHECK_EQ_INT(rc, 0);
+	int episodes = 0;
+	for (const char *p = out; (p = strstr(p, "at_light ")) != NULL; p++) {
+		int n = -1;
+		sscanf(p, "at_light %d", &n);
+		CHECK(n >= 3);
+		episodes++;
+	}
+	CHECK_EQ_INT(episodes, 2);
+	if (rc != 0 || episodes != 2)
+		printf("  said: %s\n", out);
+}
+
 int main(void)
 {
 	if (cli_setup("epuck") || cli_sh("mkdir -p %s/Envs", cli_tmp))
 		return 1;
 	RUN(epuck_2d_has_the_published_ring_wheels_and_speed);
 	RUN(epuck_3d_has_the_published_ring_wheels_and_speed);
+	RUN(phototaxis_swarm_gathers_at_the_light);
 	cli_cleanup();
 	return test_summary();
 }
