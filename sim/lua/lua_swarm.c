@@ -15,8 +15,8 @@ static evo_rab_read opt_read(lua_State *L, int idx, const char *what,
 			     int camera)
 {
 	const char *s = evo_lua_opt_str(L, idx, "read", "range", what);
-	const char *words[4] = {"range", "bearing",
-				camera ? "colour" : "value", "count"};
+	const char *words[4] = {"range", "bearing", camera ? "colour" : "value",
+				"count"};
 	for (int i = 0; i < 4; i++)
 		if (strcmp(s, words[i]) == 0)
 			for (int k = 0; k < EVO_RAB_READ_COUNT; k++)
@@ -73,23 +73,23 @@ static int opt_int(lua_State *L, int idx, const char *key, int dflt, int lo,
 	if (v != floor(v) || v < lo || v > hi) {
 		char found[32]; /* Lua's own format has no %g */
 		snprintf(found, sizeof found, "%g", v);
-		luaL_error(L, "%s: %s must be a whole number from %d to %d, "
-			      "found %s",
+		luaL_error(L,
+			   "%s: %s must be a whole number from %d to %d, "
+			   "found %s",
 			   what, key, lo, hi, found);
 	}
 	return (int)v;
 }
 
-void evo_lua_swarm_sensor(lua_State *L, int idx, const char *what,
-			  int camera, evo_swarm_sensor *s)
+void evo_lua_swarm_sensor(lua_State *L, int idx, const char *what, int camera,
+			  evo_swarm_sensor *s)
 {
-	s->aperture =
-	    evo_lua_opt_num(L, idx, "aperture", s->aperture / EVO_LUA_DEG,
-			    what) *
-	    EVO_LUA_DEG;
+	s->aperture = evo_lua_opt_num(L, idx, "aperture",
+				      s->aperture / EVO_LUA_DEG, what) *
+		      EVO_LUA_DEG;
 	s->range = evo_lua_opt_num(L, idx, "range", s->range, what);
-	s->slot = opt_int(L, idx, "slot", s->slot, 1, EVO_SWARM_MAX_SLOTS,
-			  what);
+	s->slot =
+	    opt_int(L, idx, "slot", s->slot, 1, EVO_SWARM_MAX_SLOTS, what);
 	s->read = opt_read(L, idx, what, camera);
 	if (camera)
 		s->colour = opt_colour(L, idx, s->colour, what);
@@ -148,9 +148,9 @@ void evo_lua_add_patch(lua_State *L, int idx, int dims, evo_swarm *w,
 		       evo_err *err)
 {
 	/* each world's own words for a box's half sides and turn */
-	static const char *const keys2[] = {"x",	  "y",	    "half_width",
-					    "half_height", "angle", "radius",
-					    "grey",	  NULL};
+	static const char *const keys2[] = {
+	    "x",     "y",      "half_width", "half_height",
+	    "angle", "radius", "grey",	     NULL};
 	static const char *const keys3[] = {"x",   "y",	     "hx",   "hy",
 					    "yaw", "radius", "grey", NULL};
 	const char *what = "scene:patch";
@@ -169,8 +169,9 @@ void evo_lua_add_patch(lua_State *L, int idx, int dims, evo_swarm *w,
 		lua_getfield(L, idx, hx);
 		lua_getfield(L, idx, hy);
 		if (!lua_isnil(L, -1) || !lua_isnil(L, -2))
-			luaL_error(L, "%s: a patch is a circle (radius) or a "
-				      "rectangle (%s, %s), not both",
+			luaL_error(L,
+				   "%s: a patch is a circle (radius) or a "
+				   "rectangle (%s, %s), not both",
 				   what, hx, hy);
 		lua_pop(L, 2);
 	}

@@ -40,7 +40,8 @@ int evo_swarm_add_light(evo_swarm *w, const evo_light *l, evo_err *err)
 	if (!finite_n(l->pos, 3) || !isfinite(l->intensity))
 		return evo_fail(err, "light: a value is not a number");
 	if (!(l->intensity > 0))
-		return evo_fail(err, "light: intensity must be above 0, found %g",
+		return evo_fail(err,
+				"light: intensity must be above 0, found %g",
 				l->intensity);
 	void *arr = w->light;
 	if (grow(&arr, w->n_lights, &w->cap_lights, sizeof *l))
@@ -156,7 +157,8 @@ int evo_swarm_check_sensor(const evo_swarm_sensor *s, const char *name,
 	return 0;
 }
 
-/* ---- frames --------------------------------------------------------------- */
+/* ---- frames ---------------------------------------------------------------
+ */
 
 evo_swarm_frame evo_swarm_frame_2d(double x, double y, double angle)
 {
@@ -212,7 +214,8 @@ static int occluded(const evo_swarm_rays *rays, const double p[3],
 	return h >= 0 && h < len * (1 - 1e-9);
 }
 
-/* ---- light ---------------------------------------------------------------- */
+/* ---- light ----------------------------------------------------------------
+ */
 
 double evo_swarm_light(const evo_swarm *w, const evo_swarm_frame *f,
 		       const double at[3], double yaw, double aperture,
@@ -242,7 +245,8 @@ double evo_swarm_light(const evo_swarm *w, const evo_swarm_frame *f,
 	return sum < 1 ? sum : 1;
 }
 
-/* ---- ground --------------------------------------------------------------- */
+/* ---- ground ---------------------------------------------------------------
+ */
 
 static int patch_holds(const evo_patch *pa, double x, double y)
 {
@@ -265,7 +269,8 @@ double evo_swarm_ground(const evo_swarm *w, const evo_swarm_frame *f,
 	return EVO_SWARM_FLOOR;
 }
 
-/* ---- range and bearing ------------------------------------------------------ */
+/* ---- range and bearing ------------------------------------------------------
+ */
 
 /* The `slot` nearest neighbours heard, nearest first. */
 typedef struct ranked {
@@ -326,8 +331,7 @@ static double answer(const evo_swarm_sensor *s, const evo_swarm_frame *f,
 		return clamp01(0.5 + a / (2 * M_PI));
 	}
 	case EVO_RAB_VALUE:
-		return s->index < p->n_values ? clamp01(p->value[s->index])
-					      : 0;
+		return s->index < p->n_values ? clamp01(p->value[s->index]) : 0;
 	case EVO_RAB_COLOUR:
 		return p->n_values > 0 ? p->value[0] : 0;
 	case EVO_RAB_COUNT:
@@ -373,7 +377,8 @@ double evo_swarm_rab(const evo_swarm_sensor *s, const evo_swarm_frame *f,
 	return answer(s, f, &r);
 }
 
-/* ---- the omnidirectional camera -------------------------------------------- */
+/* ---- the omnidirectional camera --------------------------------------------
+ */
 
 double evo_swarm_camera(const evo_swarm *w, const evo_swarm_sensor *s,
 			const evo_swarm_frame *f, int self,

@@ -22,8 +22,9 @@
 #include "base/err.h"
 #include "scene/backend.h"
 
-#define EVO_SWARM_MAX_SLOTS  16 /* neighbours a range-and-bearing sensor ranks */
-#define EVO_SWARM_MAX_VALUES 8	/* values one bot broadcasts */
+/* neighbours a range-and-bearing sensor ranks, values one bot broadcasts */
+#define EVO_SWARM_MAX_SLOTS  16
+#define EVO_SWARM_MAX_VALUES 8
 
 /* A light source: a point that shines `intensity` (the distance squared,
  * m^2, at which a light sensor facing it reads 1). */
@@ -183,8 +184,8 @@ double evo_swarm_rab(const evo_swarm_sensor *s, const evo_swarm_frame *f,
 /* Where blob b is now (pos) and how far its body reaches from there
  * (*radius, 0 for a point or a body no ray of the camera hits); 0 when
  * it is out of the world (a delivered object). */
-typedef int (*evo_swarm_where_fn)(void *ctx, const evo_blob *b,
-				  double pos[3], double *radius);
+typedef int (*evo_swarm_where_fn)(void *ctx, const evo_blob *b, double pos[3],
+				  double *radius);
 
 /* An omnidirectional camera of bot `self` (frame f): the blobs (every
  * coloured light, bot but self, element) of s->colour (or any) whose

@@ -39,7 +39,8 @@ static evo_lua *build2d(evo_scene **sc, evo_err *err)
 {
 	cli_write(env2d, "%s/Envs/E2.lua", cli_tmp);
 	*sc = evo_scene_create();
-	evo_lua_def ld = {.scene = *sc, .mind_dir = cli_tmp, .botmodel = "EPuck"};
+	evo_lua_def ld = {
+	    .scene = *sc, .mind_dir = cli_tmp, .botmodel = "EPuck"};
 	evo_lua *l = evo_lua_create(&ld, err);
 	if (l && evo_lua_init_env(l, "E2", err)) {
 		evo_lua_destroy(l);
@@ -99,8 +100,8 @@ TEST(epuck_2d_has_the_published_ring_wheels_and_speed)
 	    mr = evo_bot_find_actuator(b, "MotR");
 	CHECK(ml >= 0 && mr >= 0);
 	if (ml >= 0 && mr >= 0)
-		CHECK(NEAR(b->actuator[mr].def.y - b->actuator[ml].def.y,
-			   0.053, 1e-12));
+		CHECK(NEAR(b->actuator[mr].def.y - b->actuator[ml].def.y, 0.053,
+			   1e-12));
 	/* the light 0.2 ahead of the centre: the front sensors, 0.2 -
 	 * 0.035 cos 17 = 0.1665 away, read 1; L2, facing right, and the
 	 * back ones see nothing; the ground under G2 (30 mm ahead) is the

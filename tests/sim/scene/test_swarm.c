@@ -1,8 +1,8 @@
 /* The swarm sensors (sim/scene/swarm.h) in both worlds: light sensors,
- * ground sensors, range-and-bearing sensors and cameras placed in known scenes of
- * the 2D (Box2D) and the 3D (ODE) world read the values worked out by
- * hand in each test's comment; a wall or box between hides a light, a
- * message or a blob; bad settings are refused with the sensor's name. */
+ * ground sensors, range-and-bearing sensors and cameras placed in known scenes
+ * of the 2D (Box2D) and the 3D (ODE) world read the values worked out by hand
+ * in each test's comment; a wall or box between hides a light, a message or a
+ * blob; bad settings are refused with the sensor's name. */
 #include <math.h>
 #include <stdio.h>
 
@@ -541,7 +541,8 @@ static void camera_3d(int box)
 	int green = evo_scene3d_add_element(sc, &sp);
 	CHECK(green >= 0);
 	if (box) {
-		evo_element3d_def bx = evo_default_element3d_def(EVO3D_ELEM_BOX);
+		evo_element3d_def bx =
+		    evo_default_element3d_def(EVO3D_ELEM_BOX);
 		bx.pos[1] = -3;
 		bx.pos[2] = 2;
 		CHECK(evo_scene3d_add_element(sc, &bx) >= 0);
@@ -555,7 +556,8 @@ static void camera_3d(int box)
 				   EVO_COLOUR_YELLOW, &sc->err) >= 0);
 	int s[7];
 	for (int i = 0; i < 7; i++) {
-		evo_sensor3d_def d = evo_default_sensor3d_def(EVO3D_SENSOR_CAMERA);
+		evo_sensor3d_def d =
+		    evo_default_sensor3d_def(EVO3D_SENSOR_CAMERA);
 		d.name = cam[i].name;
 		d.swarm.slot = cam[i].slot;
 		d.swarm.read = cam[i].read;
