@@ -85,7 +85,7 @@ TEST(epuck_2d_has_the_published_ring_wheels_and_speed)
 	const evo_bot *b = &sc->bot[0];
 	CHECK(NEAR(b->radius, 0.035, 1e-12));
 	for (int i = 0; i < 8; i++) {
-		char name[8];
+		char name[16];
 		snprintf(name, sizeof name, "IR%d", i);
 		int k = evo_bot_find_sensor(b, name);
 		CHECK(k >= 0);
@@ -168,7 +168,7 @@ TEST(epuck_3d_has_the_published_ring_wheels_and_speed)
 	}
 	evo_bot3d *b = &sc->bot[0];
 	for (int i = 0; i < 8; i++) {
-		char name[8];
+		char name[16];
 		snprintf(name, sizeof name, "IR%d", i);
 		int k = evo_bot3d_find_sensor(b, name);
 		CHECK(k >= 0);
