@@ -31,12 +31,16 @@
  * runs at once, each with --threads T (the log is the same with any
  * number of threads), and --keep DIR keeps their run folders as
  * DIR/development-S and DIR/flat-S (S the seed) instead of a temporary
- * folder, for bench_openended_curve.
+ * folder; a run kept there with all B batches is read, not run again.
+ * --curve PREFIX draws PREFIX-annecs.png and PREFIX-largest.png, ANNECS
+ * and the largest path per batch of the first seed's two runs, the
+ * batches where the development run added a skill marked.
  *
  * usage: bench_openended [--seeds N] [--first S] [--batches B] [--threads T]
- *                        [--together] [--keep DIR] */
+ *                        [--together] [--keep DIR] [--curve PREFIX] */
 #define _DEFAULT_SOURCE /* wait4 */
 #define _POSIX_C_SOURCE 200809L
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -48,6 +52,7 @@
 #include "bench_proc.h"
 #include "base/fileio.h"
 #include "base/number.h"
+#include "learn/curve.h"
 
 #define SEED_PATH 3 /* GEN_Maze's seed maze: 3 x 2 cells, no wall */
 
@@ -68,11 +73,13 @@ typedef struct result {
 	int skills;	 /* rows of skills.csv */
 	int lost;	 /* mazes lost after the last batch */
 	double secs;	 /* wall time */
-	double cpu;	 /* CPU time of the run and its threads */
+	double cpu;	 /* CPU time of the run and its threads (NaN: not known) */
+	double elapsed;	 /* log.csv's elapsed after the last batch */
 } result;
 
 static char evo_bin[256];
 static char tmpdir[1024];
+static const char *keep_dir, *curve_prefix;
 static int threads = 2, first_seed = 1, batches = 100, together;
 
 /* Field k (0 based) of a CSV row. */
@@ -132,6 +139,10 @@ static int read_run(const char *dir, result *r)
 	for (const char *line = strchr(log, '\n'); line && line[1];
 	     line = strchr(line + 1, '\n')) {
 		row++;
+		if (row == r->batches) {
+			const char *e = field(line + 1, 8);
+			r->elapsed = e ? strtod(e, NULL) : NAN;
+		}
 		for (int k = 0; k < 3; k++) {
 			if (row != at[k])
 				continue;
@@ -161,7 +172,7 @@ typedef struct job {
 	const variant *v;
 	int seed;
 	char dir[1100]; /* its mind folder copy m/, run/ and out.txt */
-	pid_t pid;
+	pid_t pid;	/* 0: a kept run of the whole budget, read again */
 	double t0;
 } job;
 
@@ -172,6 +183,18 @@ static int start(job *j)
 	char cmd[8192];
 	snprintf(j->dir, sizeof j->dir, "%s/%s-%d", tmpdir, j->v->folder,
 		 j->seed);
+	j->pid = 0;
+	if (keep_dir) {
+		char *log = run_file(j->dir, "log.csv", 1);
+		int whole = log && rows(log) == batches;
+		free(log);
+		if (whole) {
+			printf("(%s seed %d: the run kept in %s has all %d "
+			       "batches; read, not run again)\n",
+			       j->v->name, j->seed, j->dir, batches);
+			return 0;
+		}
+	}
 	snprintf(cmd, sizeof cmd,
 		 "rm -rf %s && mkdir -p %s/m && cp -r minds/OpenMaze %s/m/ && "
 		 "rm -rf %s/m/OpenMaze/Runs",
@@ -213,6 +236,13 @@ static int finish(job *j, result *r)
 {
 	int st;
 	struct rusage ru;
+	if (j->pid == 0) { /* kept: its wall time is log.csv's elapsed */
+		r->cpu = NAN;
+		if (read_run(j->dir, r))
+			return -1;
+		r->secs = r->elapsed;
+		return 0;
+	}
 	if (wait4(j->pid, &st, 0, &ru) != j->pid) {
 		perror("bench_openended: wait4");
 		return -1;
@@ -229,6 +259,92 @@ static int finish(job *j, result *r)
 	return read_run(j->dir, r);
 }
 
+/* Column col of each row of dir's log.csv after its header, in a new
+ * array of *n values, or NULL after a message. */
+static double *log_column(const char *dir, int col, int *n)
+{
+	char *log = run_file(dir, "log.csv", 0);
+	if (!log)
+		return NULL;
+	*n = rows(log);
+	double *v = malloc((size_t)(*n > 0 ? *n : 1) * sizeof *v);
+	int i = 0;
+	for (const char *line = strchr(log, '\n'); v && line && line[1] && i < *n;
+	     line = strchr(line + 1, '\n')) {
+		const char *f = field(line + 1, col);
+		v[i++] = f ? strtod(f, NULL) : NAN;
+	}
+	free(log);
+	return v;
+}
+
+/* The batches after which the first seed's development run added a
+ * skill (its skills.csv's batch column), at most cap: how many. */
+static int skill_batches(double *at, int cap)
+{
+	char dir[1100];
+	snprintf(dir, sizeof dir, "%s/%s-%d", tmpdir, develop.folder,
+		 first_seed);
+	char *sk = run_file(dir, "skills.csv", 1);
+	int n = 0;
+	for (const char *line = sk ? strchr(sk, '\n') : NULL;
+	     line && line[1] && n < cap; line = strchr(line + 1, '\n')) {
+		const char *b = field(line + 1, 1);
+		if (b)
+			at[n++] = strtod(b, NULL);
+	}
+	free(sk);
+	return n;
+}
+
+/* PREFIX-annecs.png and PREFIX-largest.png: ANNECS and the largest
+ * solved maze's path per batch, with development and without, for the
+ * first seed: 0, or -1 after a message. */
+static int draw_curves(void)
+{
+	static const struct {
+		const char *file, *title, *label;
+		int col;
+	} plots[2] = {{"annecs", "OpenMaze: ANNECS per batch", "ANNECS", 9},
+		      {"largest", "OpenMaze: largest solved maze per batch",
+		       "solution path (cells)", 10}};
+	const variant *vs[2] = {&develop, &flat};
+	const uint32_t rgb[2] = {EVO_CURVE_BEST, EVO_CURVE_MEAN};
+	int rc = 0;
+	for (int p = 0; p < 2 && rc == 0; p++) {
+		evo_curve_series s[2];
+		double *v[2] = {NULL, NULL};
+		for (int k = 0; k < 2; k++) {
+			char dir[1100];
+			snprintf(dir, sizeof dir, "%s/%s-%d", tmpdir,
+				 vs[k]->folder, first_seed);
+			s[k] = (evo_curve_series){vs[k]->name, rgb[k], NULL, 0};
+			v[k] = log_column(dir, plots[p].col, &s[k].n);
+			s[k].v = v[k];
+			rc = v[k] ? rc : -1;
+		}
+		char title[160], path[600];
+		snprintf(title, sizeof title, "%s, seed %d", plots[p].title,
+			 first_seed);
+		snprintf(path, sizeof path, "%s-%s.png", curve_prefix,
+			 plots[p].file);
+		double marks[64];
+		int n_marks = skill_batches(marks, 64);
+		evo_curve_spec spec = {title, "batch", plots[p].label, s, 2,
+				       marks, n_marks, "skill added"};
+		evo_err err = {{0}};
+		if (rc == 0 && evo_curve_plot(path, &spec, &err)) {
+			fprintf(stderr, "bench_openended: %s\n", err.msg);
+			rc = -1;
+		} else if (rc == 0) {
+			printf("curve: %s\n", path);
+		}
+		free(v[0]);
+		free(v[1]);
+	}
+	return rc;
+}
+
 /* Whether a development run meets acceptance 1. */
 static int meets(const result *r)
 {
@@ -238,11 +354,14 @@ static int meets(const result *r)
 
 static void print_row(const variant *v, int seed, const result *r)
 {
+	char cpu[32] = "       -";
+	if (isfinite(r->cpu))
+		snprintf(cpu, sizeof cpu, "%7.0fs", r->cpu);
 	printf("%-15s %4d  %6ld %6ld %6ld  %5g %5g %5g  %6d %5d  %7.0fs "
-	       "%7.0fs\n",
+	       "%s\n",
 	       v->name, seed, r->annecs[0], r->annecs[1], r->annecs[2],
 	       r->largest[0], r->largest[1], r->largest[2], r->skills,
-	       r->lost, r->secs, r->cpu);
+	       r->lost, r->secs, cpu);
 	fflush(stdout);
 }
 
@@ -272,6 +391,8 @@ static int bench(int n)
 		print_row(&flat, s, &rf);
 		met += meets(&rd);
 	}
+	if (curve_prefix && draw_curves())
+		return -1;
 	int ok = met == n;
 	printf("bar (development): ANNECS rising over the last third, the "
 	       "largest path >= %d (3 x the seed maze's), no maze lost, a "
@@ -307,6 +428,8 @@ int main(int argc, char **argv)
 		int bad = i + 1 >= argc;
 		if (!bad && strcmp(argv[i], "--keep") == 0)
 			keep = argv[i + 1];
+		else if (!bad && strcmp(argv[i], "--curve") == 0)
+			curve_prefix = argv[i + 1];
 		else if (!bad && strcmp(argv[i], "--seeds") == 0)
 			bad = whole_arg(argv[i], argv[i + 1], 1, 1000, &seeds);
 		else if (!bad && strcmp(argv[i], "--first") == 0)
@@ -323,7 +446,7 @@ int main(int argc, char **argv)
 			fprintf(stderr, "usage: bench_openended [--seeds N] "
 					"[--first S] [--batches B] "
 					"[--threads T] [--together] "
-					"[--keep DIR]\n");
+					"[--keep DIR] [--curve PREFIX]\n");
 			return 2;
 		}
 		i++;
@@ -331,13 +454,16 @@ int main(int argc, char **argv)
 	const char *b = getenv("EVO_BUILD");
 	snprintf(evo_bin, sizeof evo_bin, "%s/evo", b && b[0] ? b : "build");
 	if (keep) {
-		if (strlen(keep) >= 512 || (mkdir(keep, 0777) && !evo_file_exists(keep))) {
+		struct stat st;
+		if (strlen(keep) >= 512 || (mkdir(keep, 0777) &&
+					    (stat(keep, &st) || !S_ISDIR(st.st_mode)))) {
 			fprintf(stderr, "bench_openended: --keep %s: cannot make "
 					"that folder\n",
 				keep);
 			return 2;
 		}
 		snprintf(tmpdir, sizeof tmpdir, "%s", keep);
+		keep_dir = keep;
 	} else {
 		snprintf(tmpdir, sizeof tmpdir, "/tmp/evo-bench-openended-XXXXXX");
 		if (!mkdtemp(tmpdir)) {
