@@ -11,9 +11,10 @@
 --   of travel (e-puck.org's page on the IR proximity sensors): 0.128 m/s;
 -- - eight IR proximity sensors IR0..IR7 around the body, at 17, 46, 90 and
 --   150 degrees to the right of ahead and the same to the left (the
---   placement figure of e-puck.org's IR page, as the Webots and ARGoS e-puck
---   models place them), seeing obstacles within about 4 cm (the Webots user
---   guide); the same sensors measure ambient light;
+--   placement figure of e-puck.org's IR page; EPFL's Enki simulator places
+--   them at 16 to 18, 45, 90 and 142 to 150 degrees, its wheels 51 mm
+--   apart, its top speed 12.8 cm/s), seeing obstacles within about 4 cm
+--   (the Webots user guide); the same sensors measure ambient light;
 -- - the ground-sensor extension: three IR sensors under the front, in a
 --   line across it (the Webots user guide, e-puck_line).
 local epuck = {}
