@@ -205,6 +205,12 @@ int evo_lua_load_model(lua_State *L, evo_lua *l, const char *model,
 extern const char evo_lua_reward_resets_key;
 extern const char evo_lua_control_resets_key;
 
+/* A Lua reward's or control's options at 3, {reset = f, bot = b, team =
+ * NAME} (bot and team for a reward only; nil: none): f goes on the list
+ * under resets_key (lua_scene.c, for both dimensions). */
+void evo_lua_function_options(lua_State *L, const char *what,
+			      const void *resets_key, int reward);
+
 /* Call every function of the list under key with the scene, inside the
  * call under way (from a scene method) or as a call of its own with the
  * reset budget. 0, or -1 with err set. */
@@ -227,11 +233,18 @@ int evo_lua_pcall(evo_lua *l, int nargs, int nresults, long budget,
  * in a C function called from the script). */
 void evo_lua_note_where(evo_lua *l, lua_State *L, int level);
 
-int evo_lua_hook_reward(void *c, evo_scene *sc, const evo_reward *r,
+/* The scene's hooks (scene/scoring.h), for a scene of either dimension:
+ * a Lua reward or control function, the environment's post_step. */
+int evo_lua_hook_reward(void *c, evo_err *err, const evo_reward *r,
 			double *out);
-int evo_lua_hook_control(void *c, evo_scene *sc, const evo_control *ctl,
+int evo_lua_hook_control(void *c, evo_err *err, const evo_control *ctl,
 			 int *next);
-int evo_lua_hook_post_step(void *c, evo_scene *sc);
+int evo_lua_hook_post_step(void *c, evo_err *err);
+/* The scene's tick, whatever its dimension. */
+static inline long evo_lua_tick(const evo_lua *l)
+{
+	return l->sc ? l->sc->tick : l->sc3->tick;
+}
 /* Call env[name](scene, arg) if the environment has it: with_arg 0 no
  * argument, 1 the integer arg, 2 the task's table. 0, or -1 with err. */
 int evo_lua_call_env(evo_lua *l, const char *name, int with_arg,

@@ -421,8 +421,8 @@ static const char *const reward_keys[] = {
  * team for a reward only): f goes on the list under resets_key, called
  * with the scene at every episode's reset (and, for a reward, by
  * scene:reset_rewards). */
-static void lua_function_options(lua_State *L, const char *what,
-				 const void *resets_key, int reward)
+void evo_lua_function_options(lua_State *L, const char *what,
+			      const void *resets_key, int reward)
 {
 	static const char *const keys[] = {"reset", NULL};
 	static const char *const rkeys[] = {"reset", "bot", "team", NULL};
@@ -458,7 +458,7 @@ static int function_or_name(lua_State *L, const char *what, const char *noun,
 	if (lua_isfunction(L, 2)) {
 		if (evo_lua_ctx(L)->sc->n_bots == 0)
 			luaL_error(L, "%s: there is no bot yet", what);
-		lua_function_options(L, what,
+		evo_lua_function_options(L, what,
 				     lua_kind == EVO_RW_LUA
 					 ? &evo_lua_reward_resets_key
 					 : &evo_lua_control_resets_key,

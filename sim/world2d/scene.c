@@ -515,64 +515,20 @@ int evo_scene_find_element(const evo_scene *sc, const char *name)
 	return -1;
 }
 
-/* A metric's name goes into `evo run`'s episode lines and a log.csv
- * header: a C identifier needs no quoting in either. */
-static int metric_name_ok(const char *name)
-{
-	if (!((name[0] >= 'A' && name[0] <= 'Z') ||
-	      (name[0] >= 'a' && name[0] <= 'z') || name[0] == '_'))
-		return 0;
-	for (const char *p = name; *p; p++)
-		if (!((*p >= 'A' && *p <= 'Z') || (*p >= 'a' && *p <= 'z') ||
-		      (*p >= '0' && *p <= '9') || *p == '_'))
-			return 0;
-	return 1;
-}
-
 int evo_scene_add_metric(evo_scene *sc, const char *name)
 {
-	int i = evo_scene_find_metric(sc, name);
-	if (i >= 0)
-		return i;
-	if (!metric_name_ok(name))
-		return evo_fail(&sc->err,
-				"'%.40s' is not a metric name: use letters, "
-				"digits and '_', not starting with a digit",
-				name);
-	if (strlen(name) >= EVO_METRIC_NAME_MAX)
-		return evo_fail(&sc->err,
-				"metric name '%.40s...' is longer than %d "
-				"characters",
-				name, EVO_METRIC_NAME_MAX - 1);
-	if (sc->n_metrics == EVO_SCENE_MAX_METRICS)
-		return evo_fail(&sc->err,
-				"metric '%s' is one too many: an environment "
-				"has at most %d",
-				name, EVO_SCENE_MAX_METRICS);
-	evo_metric *m = &sc->metric[sc->n_metrics];
-	strcpy(m->name, name);
-	m->value = 0;
-	return sc->n_metrics++;
+	return evo_metric_add(sc->metric, &sc->n_metrics, name, &sc->err);
 }
 
 int evo_scene_set_metric(evo_scene *sc, int metric, double value)
 {
-	if (metric < 0 || metric >= sc->n_metrics)
-		return evo_fail(&sc->err, "no metric %d", metric);
-	if (!isfinite(value))
-		return evo_fail(&sc->err,
-				"metric '%s': %g is not a finite number",
-				sc->metric[metric].name, value);
-	sc->metric[metric].value = value;
-	return 0;
+	return evo_metric_set(sc->metric, sc->n_metrics, metric, value,
+			      &sc->err);
 }
 
 int evo_scene_find_metric(const evo_scene *sc, const char *name)
 {
-	for (int i = 0; i < sc->n_metrics; i++)
-		if (strcmp(sc->metric[i].name, name) == 0)
-			return i;
-	return -1;
+	return evo_metric_find(sc->metric, sc->n_metrics, name);
 }
 
 int evo_scene_find_bot(const evo_scene *sc, const char *name)
