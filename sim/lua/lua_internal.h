@@ -170,6 +170,9 @@ extern const luaL_Reg evo_lua_element_methods[];
 extern const luaL_Reg evo_lua_metric_methods[];
 extern const luaL_Reg evo_lua_scene_methods[];
 
+/* scene:metric(name), in a scene of either dimension (lua_scene.c) */
+int evo_lua_scene_metric(lua_State *L);
+
 /* lua_scene3d.c: the 3D scene's, its bots' and its elements' */
 extern const luaL_Reg evo_lua_scene3d_methods[];
 extern const luaL_Reg evo_lua_bot3d_methods[];
@@ -244,6 +247,20 @@ int evo_lua_hook_post_step(void *c, evo_err *err);
 static inline long evo_lua_tick(const evo_lua *l)
 {
 	return l->sc ? l->sc->tick : l->sc3->tick;
+}
+
+/* The scene's metrics (scene/scoring.h), whatever its dimension: the
+ * array, with its count in *n, and the scene's error in *err. */
+static inline evo_metric *evo_lua_metrics(evo_lua *l, int **n, evo_err **err)
+{
+	if (l->sc) {
+		*n = &l->sc->n_metrics;
+		*err = &l->sc->err;
+		return l->sc->metric;
+	}
+	*n = &l->sc3->n_metrics;
+	*err = &l->sc3->err;
+	return l->sc3->metric;
 }
 /* Call env[name](scene, arg) if the environment has it: with_arg 0 no
  * argument, 1 the integer arg, 2 the task's table. 0, or -1 with err. */

@@ -950,5 +950,6 @@ const luaL_Reg evo_lua_scene3d_methods[] = {
     {"tick", scene_tick},
     {"episode_reward", scene_episode_reward},
     {"reset_rewards", scene_reset_rewards},
+    {"metric", evo_lua_scene_metric},
     {NULL, NULL},
 };

@@ -6,8 +6,9 @@
 -- Scored by a Lua reward:
 --   +10 for each waypoint the robot comes within 0.5 m of,
 --   -0.01 every tick (the clock);
--- post_step then moves the target to the next waypoint, and a Lua
--- control ends the episode once the last is passed (or at TICKLIM).
+-- post_step then moves the target to the next waypoint and counts it in
+-- the metric `waypoints`, and a Lua control ends the episode once the last
+-- is passed (or at TICKLIM).
 local env = {}
 
 local WAYPOINTS = {
@@ -18,7 +19,7 @@ local WAYPOINTS = {
 }
 local REACH, PAY, CLOCK = 0.5, 10, -0.01
 
-local target, bot
+local target, bot, passed
 local next_wp -- the waypoint the target marks
 local hit -- the reward saw the robot reach it this tick
 local done -- every waypoint passed
@@ -34,15 +35,16 @@ function env.init(scene, task)
 	for _, s in ipairs({ "TARG_AZIM", "TARG_ELEV", "DIST" }) do
 		bot:target(s, target)
 	end
-	scene:reward(function(scene)
+	scene:reward(function()
 		local bx, by, bz = bot:pos()
 		local tx, ty, tz = target:pos()
 		local d = math.sqrt((tx - bx) ^ 2 + (ty - by) ^ 2 + (tz - bz) ^ 2)
 		hit = not done and d < REACH
 		return CLOCK + (hit and PAY or 0)
 	end)
-	scene:control(function(scene) return done end)
+	scene:control(function() return done end)
 	scene:control("NextOnTimeout", { bot = bot, ticks = tonumber(task.TICKLIM) or 1800 })
+	passed = scene:metric("waypoints")
 end
 
 function env.reset(scene, episode)
@@ -56,6 +58,7 @@ function env.post_step(scene)
 		return
 	end
 	hit = false
+	passed:add()
 	if next_wp == #WAYPOINTS then
 		done = true
 	else

@@ -361,7 +361,8 @@ TEST(both_3d_tasks_show_in_the_3d_view)
  * then moves the target 4 m away, so ticks 2 to 5 pay the clock alone:
  * 9.95 after 5 (without post_step every tick would pay 10 more: 49.95).
  * The whole course: the Lua control ends it once the 4 waypoints are
- * passed, before TICKLIM, with 4 x 10 - 0.01 a tick paid. */
+ * passed (the metric `waypoints` counts them), before TICKLIM, with 4 x
+ * 10 - 0.01 a tick paid. */
 TEST(a_3d_course_scored_by_lua_and_post_step_pays_hand_worked_values)
 {
 	const char *task = "minds/Blimp3D/Tasks/Waypoints-DEMO.simbatch";
@@ -369,22 +370,29 @@ TEST(a_3d_course_scored_by_lua_and_post_step_pays_hand_worked_values)
 						  "--ticks 1 2>&1",
 				 cli_evo, task),
 		     0);
-	CHECK_CONTAINS(out, "episode 1: reward 9.990000 over 1 ticks");
+	CHECK_CONTAINS(out, "episode 1: reward 9.990000 over 1 ticks, 0 "
+			    "collision ticks, waypoints 1");
 	CHECK_EQ_INT(cli_capture(out, sizeof out, "%s run %s --headless "
 						  "--ticks 5 2>&1",
 				 cli_evo, task),
 		     0);
-	CHECK_CONTAINS(out, "episode 1: reward 9.950000 over 5 ticks");
+	CHECK_CONTAINS(out, "episode 1: reward 9.950000 over 5 ticks, 0 "
+			    "collision ticks, waypoints 1");
 	CHECK_EQ_INT(
 	    cli_capture(out, sizeof out, "%s run %s --headless 2>&1", cli_evo,
 			task),
 	    0);
 	double reward = 0;
 	long ticks = 0;
-	CHECK_EQ_INT(sscanf(out, "episode 1: reward %lf over %ld ticks",
-			    &reward, &ticks),
-		     2);
-	printf("  the course: %.6f over %ld ticks\n", reward, ticks);
+	int passed = 0, hits = 0;
+	CHECK_EQ_INT(sscanf(out,
+			    "episode 1: reward %lf over %ld ticks, %d "
+			    "collision ticks, waypoints %d",
+			    &reward, &ticks, &hits, &passed),
+		     4);
+	printf("  the course: %.6f over %ld ticks, %d waypoints\n", reward,
+	       ticks, passed);
+	CHECK_EQ_INT(passed, 4);
 	CHECK(ticks > 5 && ticks < 1800);
 	CHECK(fabs(reward - (40 - 0.01 * (double)ticks)) < 1e-6);
 }
