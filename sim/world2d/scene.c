@@ -51,23 +51,10 @@ void evo_scene_destroy(evo_scene *sc)
 	free(sc);
 }
 
-/* Make room for one more item in a growing array. */
-static int grow(void **items, int *cap, int n, size_t size, evo_err *err)
-{
-	if (n < *cap)
-		return 0;
-	int ncap = *cap ? *cap * 2 : 8;
-	void *p = realloc(*items, (size_t)ncap * size);
-	if (!p)
-		return evo_fail(err, "out of memory");
-	*items = p;
-	*cap = ncap;
-	return 0;
-}
-
+/* Room for one more item in array arr of sc (scene/store.h). */
 #define GROW(sc, arr, n, cap)                                                \
-	grow((void **)&(sc)->arr, &(sc)->cap, (sc)->n, sizeof *(sc)->arr,    \
-	     &(sc)->err)
+	evo_store_grow((void **)&(sc)->arr, &(sc)->cap, (sc)->n + 1,         \
+		       sizeof *(sc)->arr, &(sc)->err)
 
 /* Remember who owns body index `index`: a bot (>= 0) or an object
  * (-(element + 2)). */
@@ -89,16 +76,10 @@ static int set_owner(evo_scene *sc, int index, int owner)
 	return 0;
 }
 
+/* A piece's name, "" when it has none. */
 static int set_name(char *dst, const char *src, evo_err *err)
 {
-	dst[0] = 0;
-	if (!src)
-		return 0;
-	if (strlen(src) >= EVO_SCENE_NAME_MAX)
-		return evo_fail(err, "name '%.40s...' is longer than %d bytes",
-				src, EVO_SCENE_NAME_MAX - 1);
-	strcpy(dst, src);
-	return 0;
+	return evo_store_name(dst, src, NULL, 0, err);
 }
 
 static int finite_all(const double *v, int n)
@@ -509,10 +490,8 @@ void evo_scene_set_grid(evo_scene *sc, const evo_grid_def *def)
 
 int evo_scene_find_element(const evo_scene *sc, const char *name)
 {
-	for (int i = 0; i < sc->n_elements; i++)
-		if (strcmp(sc->element[i].name, name) == 0)
-			return i;
-	return -1;
+	return evo_store_find(sc->element, sc->n_elements, sizeof *sc->element,
+			      offsetof(evo_element, name), name);
 }
 
 int evo_scene_add_metric(evo_scene *sc, const char *name)
@@ -533,26 +512,20 @@ int evo_scene_find_metric(const evo_scene *sc, const char *name)
 
 int evo_scene_find_bot(const evo_scene *sc, const char *name)
 {
-	for (int i = 0; i < sc->n_bots; i++)
-		if (strcmp(sc->bot[i].name, name) == 0)
-			return i;
-	return -1;
+	return evo_store_find(sc->bot, sc->n_bots, sizeof *sc->bot,
+			      offsetof(evo_bot, name), name);
 }
 
 int evo_bot_find_sensor(const evo_bot *b, const char *name)
 {
-	for (int i = 0; i < b->n_sensors; i++)
-		if (strcmp(b->sensor[i].name, name) == 0)
-			return i;
-	return -1;
+	return evo_store_find(b->sensor, b->n_sensors, sizeof *b->sensor,
+			      offsetof(evo_sensor, name), name);
 }
 
 int evo_bot_find_actuator(const evo_bot *b, const char *name)
 {
-	for (int i = 0; i < b->n_actuators; i++)
-		if (strcmp(b->actuator[i].name, name) == 0)
-			return i;
-	return -1;
+	return evo_store_find(b->actuator, b->n_actuators, sizeof *b->actuator,
+			      offsetof(evo_actuator, name), name);
 }
 
 void evo_scene_place_bot(evo_scene *sc, int bot, double x, double y,

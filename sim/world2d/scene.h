@@ -28,9 +28,10 @@
 #include "base/rng.h"
 #include "scene/kinds.h"
 #include "scene/scoring.h"
+#include "scene/store.h"
 #include "world2d/world.h"
 
-#define EVO_SCENE_NAME_MAX 64
+#define EVO_SCENE_NAME_MAX EVO_PIECE_NAME_MAX
 #define EVO_PROX_MAX_RAYS 32
 #define EVO_DOF_HISTORY 30 /* ticks of positions the movement sensor spreads over */
 /* EVO_REWARD_MAX_SENSORS, EVO_SCENE_MAX_METRICS, EVO_METRIC_NAME_MAX and

@@ -164,18 +164,7 @@ void evo_scene3d_destroy(evo_scene3d *sc)
 
 static int grow(evo_scene3d *sc, void **p, int *cap, int need, size_t size)
 {
-	if (need <= *cap)
-		return 0;
-	int n = *cap ? *cap * 2 : 8;
-	while (n < need)
-		n *= 2;
-	void *q = realloc(*p, (size_t)n * size);
-	if (!q)
-		return evo_fail(&sc->err, "out of memory");
-	memset((char *)q + (size_t)*cap * size, 0, (size_t)(n - *cap) * size);
-	*p = q;
-	*cap = n;
-	return 0;
+	return evo_store_grow(p, cap, need, size, &sc->err);
 }
 
 static int finite3(const double v[3])
@@ -192,14 +181,7 @@ static int positive(double v)
 static int set_name(evo_scene3d *sc, char *out, const char *name,
 		    const char *dflt, int index)
 {
-	if (name && strlen(name) >= EVO3D_NAME_MAX)
-		return evo_fail(&sc->err, "name '%.40s...' is longer than %d",
-				name, EVO3D_NAME_MAX - 1);
-	if (name && name[0])
-		snprintf(out, EVO3D_NAME_MAX, "%s", name);
-	else
-		snprintf(out, EVO3D_NAME_MAX, "%s%d", dflt, index + 1);
-	return 0;
+	return evo_store_name(out, name, dflt, index, &sc->err);
 }
 
 /* The static shape of a box, cylinder or sphere element. */
@@ -550,34 +532,26 @@ int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o)
 
 int evo_scene3d_find_element(const evo_scene3d *sc, const char *name)
 {
-	for (int i = 0; i < sc->n_elements; i++)
-		if (strcmp(sc->element[i].name, name) == 0)
-			return i;
-	return -1;
+	return evo_store_find(sc->element, sc->n_elements, sizeof *sc->element,
+			      offsetof(evo_element3d, name), name);
 }
 
 int evo_scene3d_find_bot(const evo_scene3d *sc, const char *name)
 {
-	for (int i = 0; i < sc->n_bots; i++)
-		if (strcmp(sc->bot[i].name, name) == 0)
-			return i;
-	return -1;
+	return evo_store_find(sc->bot, sc->n_bots, sizeof *sc->bot,
+			      offsetof(evo_bot3d, name), name);
 }
 
 int evo_bot3d_find_sensor(const evo_bot3d *b, const char *name)
 {
-	for (int i = 0; i < b->n_sensors; i++)
-		if (strcmp(b->sensor[i].name, name) == 0)
-			return i;
-	return -1;
+	return evo_store_find(b->sensor, b->n_sensors, sizeof *b->sensor,
+			      offsetof(evo_sensor3d, name), name);
 }
 
 int evo_bot3d_find_actuator(const evo_bot3d *b, const char *name)
 {
-	for (int i = 0; i < b->n_actuators; i++)
-		if (strcmp(b->actuator[i].name, name) == 0)
-			return i;
-	return -1;
+	return evo_store_find(b->actuator, b->n_actuators, sizeof *b->actuator,
+			      offsetof(evo_actuator3d, name), name);
 }
 
 /* ---- frames ----------------------------------------------------------------

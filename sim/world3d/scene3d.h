@@ -26,6 +26,7 @@
 #include "base/rng.h"
 #include "scene/kinds.h"
 #include "scene/scoring.h"
+#include "scene/store.h"
 #include "world3d/world3d.h"
 
 /* -std=c11 leaves it out of <math.h>. */
@@ -33,7 +34,7 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-#define EVO3D_NAME_MAX	     64
+#define EVO3D_NAME_MAX EVO_PIECE_NAME_MAX
 #define EVO3D_PROX_MAX_RAYS  16
 #define EVO3D_FALSE	     0.2
 #define EVO3D_TRUE	     0.8
