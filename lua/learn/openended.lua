@@ -55,8 +55,9 @@ local options = common.task_options(neat, task, host.task_path, host.task_lines)
 -- docs/lua.md "Limits"): loading it those of loading a script, each
 -- call of its functions those of env.reset; one reached ends the run.
 local guard = host.guard or error("OPENENDED: no guard for the generator", 0)
+local GEN_LOADED = {} -- the modules the generator required in the loop
 local function sandbox()
-	local env, loaded = {}, {}
+	local env, loaded = {}, GEN_LOADED
 	for _, k in ipairs{ "assert", "error", "ipairs", "next", "pairs", "pcall", "print", "rawequal",
 		"rawget", "rawlen", "rawset", "select", "tonumber", "tostring", "type", "xpcall",
 		"getmetatable", "setmetatable" } do
@@ -364,7 +365,8 @@ end
 
 -- The task's mind folder as the grown one starts from, read once (the
 -- checkpoint keeps it): the bot's files, the skills under MASTERSKILL
--- (their SK: outputs followed), the generator when it is the folder's,
+-- (their SK: outputs followed), the generator when it is the folder's and
+-- the folder's modules it required,
 -- the template, the task and a DEMOSIM task of the generator.
 local function base_mind()
 	if S.mind then return S.mind end
@@ -391,6 +393,15 @@ local function base_mind()
 	local envs = host.mind_dir .. "/Envs/"
 	if host.env_path and host.env_path:sub(1, #envs) == envs then
 		local rel = host.env_path:sub(#host.mind_dir + 2)
+		file(rel, mind_file(rel))
+	end
+	-- the modules of the mind folder the generator required, as the
+	-- sandbox finds them (the mind folder first, then lua/)
+	local names = {}
+	for name in pairs(GEN_LOADED) do names[#names + 1] = name end
+	table.sort(names)
+	for _, name in ipairs(names) do
+		local rel = name:gsub("%.", "/") .. ".lua"
 		file(rel, mind_file(rel))
 	end
 	file(task.OPEN_SKILL, TEMPLATE.text)

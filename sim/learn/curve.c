@@ -47,7 +47,8 @@ static double px_y(double v, double lo, double hi)
 	return TOP + (hi - v) / (hi - lo) * (H - TOP - BOTTOM);
 }
 
-static void plot(evo_raster *im, const double *v, int n, double lo,
+/* Series v of n values on an x axis of `of` values. */
+static void plot(evo_raster *im, const double *v, int n, int of, double lo,
 		 double hi, uint32_t rgb)
 {
 	int have = 0;
@@ -57,7 +58,7 @@ static void plot(evo_raster *im, const double *v, int n, double lo,
 			have = 0;
 			continue;
 		}
-		double x = px_x(i, n), y = px_y(v[i], lo, hi);
+		double x = px_x(i, of), y = px_y(v[i], lo, hi);
 		if (have)
 			evo_raster_thick_line(im, x0, y0, x, y, 2.0, rgb, 255);
 		else
@@ -103,32 +104,42 @@ static double *best_ever_of(const double *best, int n)
 	return v;
 }
 
-static void legend(evo_raster *im)
+static void legend(evo_raster *im, const evo_curve_series *s, int ns)
 {
-	static const struct {
-		const char *name;
-		uint32_t rgb;
-	} keys[3] = {{"best", EVO_CURVE_BEST},
-		     {"best ever", EVO_CURVE_BEST_EVER},
-		     {"mean", EVO_CURVE_MEAN}};
 	int x = W - RIGHT;
-	for (int k = 2; k >= 0; k--) {
-		x -= evo_raster_text_width(keys[k].name, 1) + 30;
-		evo_raster_fill_rect(im, x, TOP - 10, 14, 4, keys[k].rgb, 255);
-		evo_raster_text(im, x + 18, TOP - 13, keys[k].name, AXIS, 1);
+	for (int k = ns - 1; k >= 0; k--) {
+		x -= evo_raster_text_width(s[k].name, 1) + 30;
+		evo_raster_fill_rect(im, x, TOP - 10, 14, 4, s[k].rgb, 255);
+		evo_raster_text(im, x + 18, TOP - 13, s[k].name, AXIS, 1);
 	}
 }
 
 int evo_curve_write(const char *path, const char *title, const double *best,
 		    const double *mean, int n, evo_err *err)
 {
+	double *ever = best_ever_of(best, n);
+	evo_curve_series s[3] = {{"best", EVO_CURVE_BEST, best, n},
+				 {"best ever", EVO_CURVE_BEST_EVER, ever, n},
+				 {"mean", EVO_CURVE_MEAN, mean, n}};
+	evo_curve_spec spec = {title, "generation", "fitness", s, 3, NULL, 0, NULL};
+	int rc = evo_curve_plot(path, &spec, err);
+	free(ever);
+	return rc;
+}
+
+int evo_curve_plot(const char *path, const evo_curve_spec *spec, evo_err *err)
+{
 	evo_raster im;
 	if (evo_raster_init(&im, W, H, err))
 		return -1;
 	evo_raster_clear(&im, EVO_CURVE_BACKGROUND);
 	double lo = INFINITY, hi = -INFINITY;
-	range_of(best, n, &lo, &hi);
-	range_of(mean, n, &lo, &hi);
+	int n = 0;
+	for (int k = 0; k < spec->n_series; k++) {
+		const evo_curve_series *sk = &spec->series[k];
+		range_of(sk->v, sk->n, &lo, &hi);
+		n = sk->n > n ? sk->n : n;
+	}
 	if (!(lo <= hi)) {
 		lo = 0;
 		hi = 1;
@@ -171,17 +182,28 @@ int evo_curve_write(const char *path, const char *title, const double *best,
 	evo_raster_line(&im, LEFT, H - BOTTOM, W - RIGHT, H - BOTTOM, AXIS,
 			255);
 	evo_raster_text(&im, (LEFT + W - RIGHT) / 2 - 30, H - BOTTOM + 24,
-			"generation", AXIS, 1);
-	text_up(&im, 8, (TOP + H - BOTTOM) / 2 + 20, "fitness");
+			spec->x_label, AXIS, 1);
+	text_up(&im, 8, (TOP + H - BOTTOM) / 2 + 20, spec->y_label);
 	evo_raster_text(&im, EVO_CURVE_TITLE_X, EVO_CURVE_TITLE_Y,
-			title ? title : "", AXIS, EVO_CURVE_TITLE_SCALE);
-	legend(&im);
-	double *ever = best_ever_of(best, n);
-	plot(&im, mean, n, lo, hi, EVO_CURVE_MEAN);
-	plot(&im, ever, n, lo, hi, EVO_CURVE_BEST_EVER);
-	plot(&im, best, n, lo, hi, EVO_CURVE_BEST);
-	free(ever);
-	/* six colours: a palette image deflates a sixth of the bytes */
+			spec->title ? spec->title : "", AXIS,
+			EVO_CURVE_TITLE_SCALE);
+	legend(&im, spec->series, spec->n_series);
+	for (int k = 0; k < spec->n_marks && n > 1; k++) {
+		double m = spec->marks[k];
+		if (!(m >= 0 && m <= n - 1))
+			continue;
+		int x = (int)px_x((int)m, n);
+		for (int y = TOP; y < H - BOTTOM; y += 6) /* dashed */
+			evo_raster_line(&im, x, y, x, y + 2, EVO_CURVE_MARK, 255);
+		if (spec->mark_label)
+			evo_raster_text(&im, x + 3, TOP + 4 + 12 * (k % 3),
+					spec->mark_label, EVO_CURVE_MARK, 1);
+	}
+	/* the first series drawn last, on top */
+	for (int k = spec->n_series - 1; k >= 0; k--)
+		plot(&im, spec->series[k].v, spec->series[k].n, n, lo, hi,
+		     spec->series[k].rgb);
+	/* a few colours: a palette image deflates a sixth of the bytes */
 	int rc = evo_png_write_indexed(path, im.pixels, im.w, im.h, err);
 	evo_raster_free(&im);
 	return rc;

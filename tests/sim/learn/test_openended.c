@@ -839,6 +839,48 @@ TEST(the_grown_mind_folder_runs_under_demosim_and_exports)
 	CHECK_CONTAINS(out, ": ok");
 }
 
+/* A generator of the user's own in Envs/ that requires modules of its
+ * mind folder (Envs/parts/time.lua, which requires Envs/parts/base.lua):
+ * the grown mind folder gets them beside the generator, and none of
+ * evo's own lua/ modules it required, so DEMOSIM runs the grown folder. */
+TEST(a_generator_requiring_modules_of_its_folder_grows_a_folder_that_runs)
+{
+	make_dev_mind("rq");
+	CHECK_EQ_INT(cli_sh("cd %s/rq/OpenMaze && mkdir -p Envs/parts && "
+			    "printf 'return { extra = 0 }\\n' > Envs/parts/base.lua && "
+			    "printf 'local base = require \"Envs.parts.base\"\\n"
+			    "return function(maze) return function(g) "
+			    "return maze.ticks(g) + base.extra end end\\n' "
+			    "> Envs/parts/time.lua && "
+			    "printf 'local maze = require(\"envs.GEN_Maze\").generator\\n"
+			    "local gen = {}\\nfor k, f in pairs(maze) do gen[k] = f end\\n"
+			    "gen.ticks = require(\"Envs.parts.time\")(maze)\\n"
+			    "return require(\"lib.openended\").env(gen)\\n' "
+			    "> Envs/Own.lua && "
+			    "sed -i 's/^ENV:GEN_Maze$/ENV:Own/' Tasks/OpenMaze.simbatch",
+			    cli_tmp),
+		     0);
+	CHECK_EQ_INT(run_dev("rq", 3, "--threads 2"), 0);
+	char *base = cli_read("%s/rq/run/Mind/Envs/parts/base.lua", cli_tmp);
+	char *time = cli_read("%s/rq/run/Mind/Envs/parts/time.lua", cli_tmp);
+	char *own = cli_read("%s/rq/run/Mind/Envs/Own.lua", cli_tmp);
+	CHECK(base && strstr(base, "extra = 0"));
+	CHECK(time && strstr(time, "require \"Envs.parts.base\""));
+	CHECK(own && strstr(own, "Envs.parts.time"));
+	free(base);
+	free(time);
+	free(own);
+	CHECK(cli_sh("test -e %s/rq/run/Mind/lib || test -e %s/rq/run/Mind/envs",
+		     cli_tmp, cli_tmp) != 0);
+	char out[8192];
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "timeout 60 %s run %s/rq/run/Mind/Tasks/Demo.simbatch "
+				 "--headless 2>&1",
+				 cli_evo, cli_tmp),
+		     0);
+	CHECK_CONTAINS(out, "episode 1: reward");
+}
+
 /* OPEN_PROGRESS:largest counts the batches in a row whose largest solved
  * maze (log.csv's metric:largest) is no larger than before: with
  * OPEN_DEVELOP 2, a skill comes after each second such batch, at most 3,
@@ -1016,6 +1058,7 @@ int main(void)
 	RUN(development_by_the_largest_maze);
 	RUN(a_lost_maze_is_reported);
 	RUN(the_grown_mind_folder_runs_under_demosim_and_exports);
+	RUN(a_generator_requiring_modules_of_its_folder_grows_a_folder_that_runs);
 	RUN(development_gives_the_same_log_with_threads_and_resume);
 	RUN(a_bad_open_skill_is_reported_at_the_tasks_line);
 	cli_cleanup();
