@@ -210,8 +210,7 @@ static int call_ref(evo_lua *l, int ref, const char *what, evo_err *err)
 		if (l->over)
 			evo_fail(err, "%s", evo_lua_errstr(L, -1));
 		else
-			evo_fail(err, "%s (in %s)",
-				 evo_lua_errstr(L, -1), what);
+			evo_fail(err, "%s (in %s)", evo_lua_errstr(L, -1), what);
 		lua_pop(L, 1);
 		return -1;
 	}

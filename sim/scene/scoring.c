@@ -130,8 +130,7 @@ static double moving(const evo_scored *s, const evo_reward *r)
 }
 
 /* Lua: the scene's reward hook gives the value; no hook gives 0. */
-static double lua_reward(const evo_scored *s, const evo_reward *r,
-			 int *failed)
+static double lua_reward(const evo_scored *s, const evo_reward *r, int *failed)
 {
 	double out = 0;
 	const evo_scene_hooks *h = s->hooks;
@@ -351,8 +350,7 @@ int evo_metric_add(evo_metric *metric, int *n, const char *name, evo_err *err)
 	return (*n)++;
 }
 
-int evo_metric_set(evo_metric *metric, int n, int k, double value,
-		   evo_err *err)
+int evo_metric_set(evo_metric *metric, int n, int k, double value, evo_err *err)
 {
 	if (k < 0 || k >= n)
 		return evo_fail(err, "no metric %d", k);

@@ -26,8 +26,8 @@
 
 /* What a target option names besides an element (2D; a 3D target is an
  * element or none). */
-#define EVO_TARGET_NONE		    (-1)
-#define EVO_TARGET_NEAREST_OBJECT   (-2) /* the nearest active, free object */
+#define EVO_TARGET_NONE		  (-1)
+#define EVO_TARGET_NEAREST_OBJECT (-2) /* the nearest active, free object */
 /* The nearest bot of another team, or of the bot's own (docs/teams.md). */
 #define EVO_TARGET_NEAREST_OPPONENT (-3)
 #define EVO_TARGET_NEAREST_TEAMMATE (-4)
@@ -53,7 +53,7 @@ typedef struct evo_reward_def {
 	int target; /* element (zone for Collect) */
 	int n_sensors;
 	int sensor[EVO_REWARD_MAX_SENSORS]; /* indices into the bot's sensors */
-	int lua_ref;			    /* EVO_RW_LUA: a registry reference */
+	int lua_ref; /* EVO_RW_LUA: a registry reference */
 } evo_reward_def;
 
 /* k 1, threshold 0.5, no target, no Lua function. */
@@ -101,8 +101,7 @@ typedef struct evo_metric {
  * characters; at most EVO_SCENE_MAX_METRICS of them. Returns its index
  * (the one it already has when the name is declared), or -1 with err
  * set. */
-int evo_metric_add(evo_metric *metric, int *n, const char *name,
-		   evo_err *err);
+int evo_metric_add(evo_metric *metric, int *n, const char *name, evo_err *err);
 /* Set a metric's value: 0, or -1 with err set when the index names none
  * or the value is not finite (the metric keeps its value). */
 int evo_metric_set(evo_metric *metric, int n, int k, double value,

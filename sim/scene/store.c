@@ -5,8 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-int evo_store_grow(void **items, int *cap, int need, size_t size,
-		   evo_err *err)
+int evo_store_grow(void **items, int *cap, int need, size_t size, evo_err *err)
 {
 	if (need <= *cap)
 		return 0;

@@ -15,8 +15,7 @@
 
 /* Room for `need` items of `size` bytes in *items (capacity *cap, doubled
  * from 8 as needed; new room zeroed): 0, or -1 with err set. */
-int evo_store_grow(void **items, int *cap, int need, size_t size,
-		   evo_err *err);
+int evo_store_grow(void **items, int *cap, int need, size_t size, evo_err *err);
 
 /* A piece's name into out (EVO_PIECE_NAME_MAX bytes): name, or when name is
  * NULL or "", dflt followed by index + 1 ("bot2"), or "" when dflt is NULL

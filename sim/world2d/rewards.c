@@ -206,9 +206,9 @@ static int touching_target(const void *v, int bot, int target)
 {
 	const evo_scene *sc = v;
 	const evo_bot *b = &sc->bot[bot];
-	const evo_element *e =
-	    target >= 0 && target < sc->n_elements ? &sc->element[target]
-						   : NULL;
+	const evo_element *e = target >= 0 && target < sc->n_elements
+				   ? &sc->element[target]
+				   : NULL;
 	if (!e)
 		return 0;
 	switch (e->kind) {

@@ -426,7 +426,8 @@ int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
 static int check_target(evo_scene3d *sc, int target, const char *what,
 			const char *kind)
 {
-	if (target == EVO_TARGET_NONE || (target >= 0 && target < sc->n_elements))
+	if (target == EVO_TARGET_NONE ||
+	    (target >= 0 && target < sc->n_elements))
 		return 0;
 	return evo_fail(&sc->err, "%s %s: no element %d", what, kind, target);
 }

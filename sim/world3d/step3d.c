@@ -1,8 +1,8 @@
 /* The 3D scene's episode and tick (sim/world3d/scene3d.h): the reset, the
  * sensing, and the step (actuators act and the physics steps, substeps
  * times; then the rewards, the post-step hook and the controls of the
- * scene model, sim/scene/scoring.c). The top of the 3D world: it calls the pieces
- * below it, none of which calls back. */
+ * scene model, sim/scene/scoring.c). The top of the 3D world: it calls the
+ * pieces below it, none of which calls back. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>

@@ -366,22 +366,23 @@ TEST(both_3d_tasks_show_in_the_3d_view)
 TEST(a_3d_course_scored_by_lua_and_post_step_pays_hand_worked_values)
 {
 	const char *task = "minds/Blimp3D/Tasks/Waypoints-DEMO.simbatch";
-	CHECK_EQ_INT(cli_capture(out, sizeof out, "%s run %s --headless "
-						  "--ticks 1 2>&1",
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run %s --headless "
+				 "--ticks 1 2>&1",
 				 cli_evo, task),
 		     0);
 	CHECK_CONTAINS(out, "episode 1: reward 9.990000 over 1 ticks, 0 "
 			    "collision ticks, waypoints 1");
-	CHECK_EQ_INT(cli_capture(out, sizeof out, "%s run %s --headless "
-						  "--ticks 5 2>&1",
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run %s --headless "
+				 "--ticks 5 2>&1",
 				 cli_evo, task),
 		     0);
 	CHECK_CONTAINS(out, "episode 1: reward 9.950000 over 5 ticks, 0 "
 			    "collision ticks, waypoints 1");
-	CHECK_EQ_INT(
-	    cli_capture(out, sizeof out, "%s run %s --headless 2>&1", cli_evo,
-			task),
-	    0);
+	CHECK_EQ_INT(cli_capture(out, sizeof out, "%s run %s --headless 2>&1",
+				 cli_evo, task),
+		     0);
 	double reward = 0;
 	long ticks = 0;
 	int passed = 0, hits = 0;
