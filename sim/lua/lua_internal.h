@@ -158,6 +158,24 @@ int evo_lua_opt_bot(lua_State *L, int idx, const char *what);
 int evo_lua_opt_team(lua_State *L, int idx, const char *what);
 /* A team's index by name; raises naming the teams when there is none. */
 int evo_lua_check_team(lua_State *L, const char *name, const char *what);
+
+/* ---- lua_swarm.c: the swarm sensors, lights and patches of both worlds
+ * (sim/scene/swarm.h) ---------------------------------------------------- */
+
+/* aperture (degrees), range, slot, read, index (1 based), occluded and
+ * scale of the options table at idx into s (its values the defaults). */
+void evo_lua_swarm_sensor(lua_State *L, int idx, const char *what,
+			  int camera, evo_swarm_sensor *s);
+/* scene:colour(handle, name): the colour at stack index 3 given to a
+ * light, bot or element, for cameras. */
+void evo_lua_set_colour(lua_State *L, evo_blob_kind kind, int index,
+			evo_swarm *w, evo_err *err);
+/* scene:light{x, y[, z], intensity, colour} and scene:patch{...} of the options
+ * table at idx, into w; dims 2 or 3 says which keys a patch takes. */
+void evo_lua_add_light(lua_State *L, int idx, int dims, evo_swarm *w,
+		       evo_err *err);
+void evo_lua_add_patch(lua_State *L, int idx, int dims, evo_swarm *w,
+		       evo_err *err);
 int evo_lua_bot_sensor_index(lua_State *L, int bot, const char *name,
 			     const char *what);
 /* Turn a scene error (r < 0) into a Lua error at the caller's line. */

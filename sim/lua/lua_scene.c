@@ -799,6 +799,39 @@ static int metric_name(lua_State *L)
 	return 1;
 }
 
+/* scene:light{x, y, intensity}, scene:patch{...}: the swarm sensors'
+ * lights and floor (lua_swarm.c). */
+static int scene_light(lua_State *L)
+{
+	evo_scene *sc = evo_lua_ctx(L)->sc;
+	evo_lua_add_light(L, 2, 2, &sc->swarm, &sc->err);
+	return 0;
+}
+
+static int scene_patch(lua_State *L)
+{
+	evo_scene *sc = evo_lua_ctx(L)->sc;
+	evo_lua_add_patch(L, 2, 2, &sc->swarm, &sc->err);
+	return 0;
+}
+
+/* scene:colour(bot or element, colour): what cameras see it as. */
+static int scene_colour(lua_State *L)
+{
+	evo_scene *sc = evo_lua_ctx(L)->sc;
+	if (luaL_testudata(L, 2, EVO_LUA_BOT_MT))
+		evo_lua_set_colour(L, EVO_BLOB_BOT, evo_lua_check_bot(L, 2),
+				   &sc->swarm, &sc->err);
+	else if (luaL_testudata(L, 2, EVO_LUA_ELEMENT_MT))
+		evo_lua_set_colour(L, EVO_BLOB_ELEMENT,
+				   evo_lua_check_element(L, 2), &sc->swarm,
+				   &sc->err);
+	else
+		luaL_error(L, "scene:colour: a bot or an element, found %s",
+			   luaL_typename(L, 2));
+	return 0;
+}
+
 const luaL_Reg evo_lua_metric_methods[] = {
 	{"set", metric_set},
 	{"add", metric_add},
@@ -828,6 +861,9 @@ const luaL_Reg evo_lua_scene_methods[] = {
     {"zone", scene_zone},
     {"object", scene_object},
     {"grid", scene_grid},
+    {"light", scene_light},
+    {"patch", scene_patch},
+    {"colour", scene_colour},
     {"reward", scene_reward},
     {"control", scene_control},
     {"element", scene_element},

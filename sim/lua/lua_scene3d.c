@@ -155,6 +155,14 @@ static const char *const tsensor_keys[] = {"name",   "x",    "y", "z",
 static const char *const zone_sensor_keys[] = {"name", "target", NULL};
 static const char *const name_keys[] = {"name", NULL};
 static const char *const constant_keys[] = {"name", "value", NULL};
+static const char *const light_keys[] = {"name", "x",	     "y",
+					 "z",	 "yaw", "aperture", NULL};
+static const char *const ground_keys[] = {"name", "x", "y", "z", NULL};
+static const char *const rab_keys[] = {"name",	"range",    "slot",  "read",
+				       "index", "occluded", "scale", NULL};
+static const char *const camera_keys[] = {"name",   "range",	"slot",
+					  "read",   "colour",	"occluded",
+					  "scale", NULL};
 
 /* `sees`: a list of "ground", "obstacles", "bots", "objects". */
 static unsigned parse_sees(lua_State *L, int idx, unsigned dflt,
@@ -241,6 +249,15 @@ static int add_sensor(lua_State *L, evo_sensor3d_kind kind, const char *what,
 	case EVO3D_SENSOR_CONSTANT:
 		d.value = num(L, 2, "value", 0.5, what);
 		break;
+	case EVO3D_SENSOR_LIGHT:
+		d.yaw = num(L, 2, "yaw", 0, what) * EVO_LUA_DEG;
+		evo_lua_swarm_sensor(L, 2, what, 0, &d.swarm);
+		break;
+	case EVO3D_SENSOR_RAB:
+	case EVO3D_SENSOR_CAMERA:
+		evo_lua_swarm_sensor(L, 2, what, kind == EVO3D_SENSOR_CAMERA,
+				     &d.swarm);
+		break;
 	default:
 		break;
 	}
@@ -291,7 +308,39 @@ static int bot_constant(lua_State *L)
 			  constant_keys);
 }
 
+static int bot_light(lua_State *L)
+{
+	return add_sensor(L, EVO3D_SENSOR_LIGHT, "bot:light", light_keys);
+}
+static int bot_ground(lua_State *L)
+{
+	return add_sensor(L, EVO3D_SENSOR_GROUND, "bot:ground", ground_keys);
+}
+static int bot_rab(lua_State *L)
+{
+	return add_sensor(L, EVO3D_SENSOR_RAB, "bot:rab", rab_keys);
+}
+static int bot_camera(lua_State *L)
+{
+	return add_sensor(L, EVO3D_SENSOR_CAMERA, "bot:camera", camera_keys);
+}
+
 /* ---- bot: actuators --------------------------------------------------- */
+
+static int bot_broadcast(lua_State *L)
+{
+	static const char *const keys[] = {"name", NULL};
+	const char *what = "bot:broadcast";
+	int bot = check_bot3d(L, 1);
+	options(L, 2, what, keys);
+	evo_actuator3d_def d =
+	    evo_default_actuator3d_def(EVO3D_ACTUATOR_BROADCAST);
+	d.name = evo_lua_opt_str(L, 2, "name", NULL, what);
+	if (!d.name)
+		luaL_error(L, "%s: an actuator needs a name", what);
+	result(L, evo_scene3d_add_actuator(scene3d(L), bot, &d));
+	return 0;
+}
 
 static int bot_wheel(lua_State *L)
 {
@@ -388,17 +437,27 @@ static int bot_name(lua_State *L)
 	return 1;
 }
 
-/* bot:sensors([kind]): the names of its sensors (of "proximity" only). */
+/* bot:sensors([kind]): the names of its sensors (of one kind). */
 static int bot_sensors(lua_State *L)
 {
+	static const char *const kinds[] = {"proximity", "light", "ground",
+					    "rab", "camera"};
+	static const evo_sensor3d_kind ids[] = {
+	    EVO3D_SENSOR_PROXIMITY, EVO3D_SENSOR_LIGHT, EVO3D_SENSOR_GROUND,
+	    EVO3D_SENSOR_RAB, EVO3D_SENSOR_CAMERA};
 	const evo_bot3d *b = &scene3d(L)->bot[check_bot3d(L, 1)];
 	const char *kind = luaL_optstring(L, 2, NULL);
-	if (kind && strcmp(kind, "proximity") != 0)
-		luaL_error(L, "bot:sensors: kind is \"proximity\" or nothing");
+	int k = -1;
+	for (int i = 0; kind && i < 5; i++)
+		if (strcmp(kind, kinds[i]) == 0)
+			k = i;
+	if (kind && k < 0)
+		luaL_error(L, "bot:sensors: kind is \"proximity\", \"light\", "
+			      "\"ground\", \"rab\", \"camera\" or nothing");
 	lua_newtable(L);
 	int n = 0;
 	for (int i = 0; i < b->n_sensors; i++)
-		if (!kind || b->sensor[i].def.kind == EVO3D_SENSOR_PROXIMITY) {
+		if (!kind || b->sensor[i].def.kind == ids[k]) {
 			lua_pushstring(L, b->sensor[i].name);
 			lua_rawseti(L, -2, ++n);
 		}
@@ -423,7 +482,10 @@ const luaL_Reg evo_lua_bot3d_methods[] = {
     {"propeller", bot_propeller}, {"target", bot_target},
     {"place", bot_place},	  {"pos", bot_pos},
     {"name", bot_name},		  {"sensors", bot_sensors},
-    {"value", bot_value},	  {NULL, NULL},
+    {"value", bot_value},	  {"light", bot_light},
+    {"ground", bot_ground},	  {"rab", bot_rab},
+    {"broadcast", bot_broadcast}, {"camera", bot_camera},
+    {NULL, NULL},
 };
 
 /* ---- elements ------------------------------------------------------------ */
@@ -931,6 +993,37 @@ static int scene_episode_reward(lua_State *L)
 	return 1;
 }
 
+/* scene:light{x, y, z, intensity}, scene:patch{...} (lua_swarm.c) */
+static int scene_light(lua_State *L)
+{
+	evo_scene3d *sc = scene3d(L);
+	evo_lua_add_light(L, 2, 3, &sc->swarm, &sc->err);
+	return 0;
+}
+
+static int scene_patch(lua_State *L)
+{
+	evo_scene3d *sc = scene3d(L);
+	evo_lua_add_patch(L, 2, 3, &sc->swarm, &sc->err);
+	return 0;
+}
+
+/* scene:colour(bot or element, colour): what cameras see it as. */
+static int scene_colour(lua_State *L)
+{
+	evo_scene3d *sc = scene3d(L);
+	if (luaL_testudata(L, 2, EVO_LUA_BOT3D_MT))
+		evo_lua_set_colour(L, EVO_BLOB_BOT, check_bot3d(L, 2),
+				   &sc->swarm, &sc->err);
+	else if (luaL_testudata(L, 2, EVO_LUA_ELEMENT3D_MT))
+		evo_lua_set_colour(L, EVO_BLOB_ELEMENT, check_element3d(L, 2),
+				   &sc->swarm, &sc->err);
+	else
+		luaL_error(L, "scene:colour: a bot or an element, found %s",
+			   luaL_typename(L, 2));
+	return 0;
+}
+
 const luaL_Reg evo_lua_scene3d_methods[] = {
     {"physics", scene_physics},
     {"bot", scene_bot},
@@ -942,6 +1035,9 @@ const luaL_Reg evo_lua_scene3d_methods[] = {
     {"target", scene_target},
     {"object", scene_object},
     {"obstacle", scene_obstacle},
+    {"light", scene_light},
+    {"patch", scene_patch},
+    {"colour", scene_colour},
     {"reward", scene_reward},
     {"control", scene_control},
     {"element", scene_element},

@@ -47,6 +47,7 @@ void evo_scene_destroy(evo_scene *sc)
 	free(sc->body_owner);
 	free(sc->sense_mem);
 	free(sc->sense_shapes);
+	evo_swarm_free(&sc->swarm);
 	sc->be->destroy(sc->bw);
 	free(sc);
 }
@@ -323,6 +324,10 @@ int evo_scene_add_sensor(evo_scene *sc, int bot, const evo_sensor_def *d)
 	    !(d->arc >= 0))
 		return evo_fail(&sc->err, "sensor '%s': arc must be 0 or more",
 				name);
+	if ((d->kind == EVO_SENSOR_LIGHT || d->kind == EVO_SENSOR_RAB ||
+	     d->kind == EVO_SENSOR_CAMERA) &&
+	    evo_swarm_check_sensor(&d->swarm, name, &sc->err))
+		return -1;
 	if (check_target(sc, d->target, name))
 		return -1;
 	if (d->kind == EVO_SENSOR_ZONE && d->target != EVO_TARGET_NONE &&

@@ -29,6 +29,7 @@
 #include "scene/kinds.h"
 #include "scene/scoring.h"
 #include "scene/store.h"
+#include "scene/swarm.h"
 #include "world2d/world.h"
 
 #define EVO_SCENE_NAME_MAX EVO_PIECE_NAME_MAX
@@ -127,6 +128,13 @@ typedef enum evo_sensor_kind {
 	EVO_SENSOR_HOLDING,	  /* TRUE when the bot's claw holds an object */
 	EVO_SENSOR_RADAR,  /* TRUE when the target's bearing is within arc of angle */
 	EVO_SENSOR_BUMPER, /* TRUE when an obstacle within reach lies within arc of angle */
+	/* the swarm sensors (sim/scene/swarm.h): */
+	EVO_SENSOR_LIGHT,  /* the lights within aperture of angle, unoccluded */
+	EVO_SENSOR_GROUND, /* the grey level of the floor under (x, y) */
+	EVO_SENSOR_RAB,	   /* range and bearing: a neighbour's range, bearing,
+			      broadcast value, or the neighbours' count */
+	EVO_SENSOR_CAMERA, /* omnidirectional: a coloured blob's range,
+			      bearing, colour, or the blobs' count */
 	EVO_SENSOR_KIND_COUNT
 } evo_sensor_kind;
 
@@ -159,6 +167,9 @@ typedef struct evo_sensor_def {
 	double reach;
 	/* constant */
 	double value;
+	/* light (aperture), range and bearing (range 30, slot, read, index,
+	 * occluded, scale) */
+	evo_swarm_sensor swarm;
 } evo_sensor_def;
 
 evo_sensor_def evo_default_sensor_def(evo_sensor_kind kind);
@@ -190,6 +201,9 @@ typedef enum evo_actuator_kind {
 	 * it (the mazes' robots, docs/world.md): */
 	EVO_ACTUATOR_SPEED_WHEEL = 2, /* ground speed (2c - 1) * max_speed at (x, y) */
 	EVO_ACTUATOR_DRIVE = 3, /* forward speed or turn rate, set or accelerated */
+	/* a value the bot broadcasts to range-and-bearing sensors: its
+	 * command, heard the next tick; it moves nothing */
+	EVO_ACTUATOR_BROADCAST = 4,
 	EVO_ACTUATOR_KIND_COUNT
 } evo_actuator_kind;
 
@@ -310,6 +324,7 @@ struct evo_scene {
 	size_t sense_cap;
 	void *sense_shapes;
 	size_t sense_shapes_cap;
+	evo_swarm swarm; /* lights and floor patches (sim/scene/swarm.h) */
 	int n_metrics;	       /* declared, in the order they were */
 	evo_metric metric[EVO_SCENE_MAX_METRICS];
 	evo_scene_hooks hooks;

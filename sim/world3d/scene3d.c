@@ -34,6 +34,8 @@ evo_sensor3d_def evo_default_sensor3d_def(evo_sensor3d_kind kind)
 	d.mask = EVO_CAT3D_BOT | EVO_CAT3D_OBSTACLE | EVO_CAT3D_OBJECT;
 	d.target = EVO3D_TARGET_NONE;
 	d.scale = 20;
+	d.swarm = evo_default_swarm_sensor();
+	d.swarm.range = 3;
 	return d;
 }
 
@@ -153,6 +155,7 @@ void evo_scene3d_destroy(evo_scene3d *sc)
 		free(sc->bot[i].actuator);
 	}
 	free(sc->bot);
+	evo_swarm_free(&sc->swarm);
 	free(sc->element);
 	free(sc->reward);
 	free(sc->control);
@@ -328,6 +331,10 @@ int evo_scene3d_add_sensor(evo_scene3d *sc, int bot, const evo_sensor3d_def *d)
 				"sensor '%s': range must be > 0, rays 1 to %d, "
 				"arc >= 0",
 				d->name ? d->name : "?", EVO3D_PROX_MAX_RAYS);
+	if ((d->kind == EVO3D_SENSOR_LIGHT || d->kind == EVO3D_SENSOR_RAB ||
+	     d->kind == EVO3D_SENSOR_CAMERA) &&
+	    evo_swarm_check_sensor(&d->swarm, d->name, &sc->err))
+		return -1;
 	if (d->kind == EVO3D_SENSOR_DISTANCE && !positive(d->scale))
 		return evo_fail(&sc->err, "sensor '%s': scale must be > 0",
 				d->name ? d->name : "?");

@@ -27,6 +27,7 @@
 #include "scene/kinds.h"
 #include "scene/scoring.h"
 #include "scene/store.h"
+#include "scene/swarm.h"
 #include "world3d/world3d.h"
 
 /* -std=c11 leaves it out of <math.h>. */
@@ -94,6 +95,13 @@ typedef enum evo_sensor3d_kind {
 	EVO3D_SENSOR_ZONE,	    /* TRUE with the bot's centre in the zone */
 	EVO3D_SENSOR_RANDOM,	    /* uniform in [0, 1) */
 	EVO3D_SENSOR_CONSTANT,	    /* value */
+	/* the swarm sensors (sim/scene/swarm.h): */
+	EVO3D_SENSOR_LIGHT,  /* the lights within aperture of yaw, unoccluded */
+	EVO3D_SENSOR_GROUND, /* the grey level of the floor under pos */
+	EVO3D_SENSOR_RAB,    /* range and bearing: a neighbour's range,
+				bearing, broadcast value, or their count */
+	EVO3D_SENSOR_CAMERA, /* omnidirectional: a coloured blob's range,
+				bearing, colour, or the blobs' count */
 	EVO3D_SENSOR_KIND_COUNT
 } evo_sensor3d_kind;
 
@@ -110,6 +118,9 @@ typedef struct evo_sensor3d_def {
 	int target;    /* element: distance, azimuth, elevation, zone */
 	double scale;  /* distance: what reads 1 (20 m) */
 	double value;  /* constant */
+	/* light (aperture), range and bearing (range 3, slot, read, index,
+	 * occluded, scale) */
+	evo_swarm_sensor swarm;
 } evo_sensor3d_def;
 
 evo_sensor3d_def evo_default_sensor3d_def(evo_sensor3d_kind kind);
@@ -130,6 +141,9 @@ typedef enum evo_actuator3d_kind {
 	EVO3D_ACTUATOR_WHEEL = 0,     /* a wheel on a hinge: (2c - 1) x max */
 	EVO3D_ACTUATOR_PROPELLER = 1, /* thrust (2c - 1) x max_thrust along
 					 axis at pos */
+	/* a value the bot broadcasts to range-and-bearing sensors: its
+	 * command, heard the next tick; it moves nothing */
+	EVO3D_ACTUATOR_BROADCAST = 2,
 	EVO3D_ACTUATOR_KIND_COUNT
 } evo_actuator3d_kind;
 
@@ -236,6 +250,7 @@ typedef struct evo_scene3d {
 	evo_reward *reward;
 	evo_control *control;
 	evo_obstacle3d *obstacle;
+	evo_swarm swarm; /* lights and floor patches (sim/scene/swarm.h) */
 	double step_reward, episode_reward;
 	/* the body that exploded this episode, in words; "" while none did */
 	char fault[256];

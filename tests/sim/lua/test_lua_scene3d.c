@@ -116,6 +116,44 @@ TEST(sensors_built_from_lua_read_hand_worked_values)
 	evo_scene3d_destroy(sc);
 }
 
+/* The swarm sensors from Lua in 3D (docs/world3d.md): bot A at (0, 0, 2)
+ * with a light of 10 at (4, 3, 2), 5 away and 36.9 degrees to its left
+ * (10 / 25); a patch of grey 0.25 under it; bot B at (3, 4, 2), 5 away,
+ * broadcasting its neutral 0.5. */
+TEST(swarm_sensors_from_lua_read_hand_worked_values)
+{
+	const char *env = "local e = {}\n"
+			  "function e.init(scene)\n"
+			  "  scene:light{ x = 4, y = 3, z = 2, intensity = 10 }\n"
+			  "  scene:patch{ x = 0, y = 0, radius = 1, grey = 0.25 }\n"
+			  "  local a = scene:bot{}\n"
+			  "  local b = scene:bot{ x = 3, y = 4 }\n"
+			  "  a:light{ name = 'L' }\n"
+			  "  a:ground{ name = 'G' }\n"
+			  "  a:rab{ name = 'RR', range = 10 }\n"
+			  "  a:rab{ name = 'RB', range = 10, read = 'bearing' }\n"
+			  "  a:rab{ name = 'RV', range = 10, read = 'value' }\n"
+			  "  b:broadcast{ name = 'TX' }\n"
+			  "end\n"
+			  "return e\n";
+	evo_scene3d *sc;
+	evo_err err = {{0}};
+	evo_lua *l = build(env, &sc, &err);
+	CHECK(l != NULL);
+	if (!l) {
+		printf("  %s\n", err.msg);
+		return;
+	}
+	evo_scene3d_sense(sc);
+	CHECK(NEAR(value(sc, "L"), 0.4, 1e-9));
+	CHECK(NEAR(value(sc, "G"), 0.25, 1e-12));
+	CHECK(NEAR(value(sc, "RR"), 0.5, 1e-9));
+	CHECK(NEAR(value(sc, "RB"), 0.5 + atan2(4, 3) / (2 * M_PI), 1e-9));
+	CHECK(NEAR(value(sc, "RV"), 0.5, 1e-12));
+	evo_lua_destroy(l);
+	evo_scene3d_destroy(sc);
+}
+
 /* Each line is an environment's init body that must fail, and what its
  * message must say. */
 TEST(bad_options_and_misplaced_calls_are_refused_at_their_line)
@@ -176,6 +214,13 @@ TEST(bad_options_and_misplaced_calls_are_refused_at_their_line)
 	     "string"},
 	    {"scene:grid{}",
 	     "E.lua:2: scene:grid is not a method of a 3D scene"},
+	    {"local b = scene:bot{} b:rab{ name = 'R', read = 'rnage' }",
+	     "E.lua:2: bot:rab: read is \"range\", \"bearing\", \"value\" "
+	     "or \"count\", found \"rnage\" (did you mean range?)"},
+	    {"scene:patch{ hx = 0 }",
+	     "E.lua:2: scene:patch: hx and hy must be above 0"},
+	    {"scene:light{ half_width = 1 }",
+	     "E.lua:2: scene:light: unknown option 'half_width'"},
 	};
 	for (unsigned i = 0; i < sizeof bad / sizeof bad[0]; i++) {
 		char env[512];
@@ -275,6 +320,7 @@ int main(void)
 	    cli_sh("mkdir -p %s/Bots %s/Envs", cli_tmp, cli_tmp))
 		return 1;
 	RUN(sensors_built_from_lua_read_hand_worked_values);
+	RUN(swarm_sensors_from_lua_read_hand_worked_values);
 	RUN(bad_options_and_misplaced_calls_are_refused_at_their_line);
 	RUN(lua_rewards_controls_and_post_step_run_in_3d);
 	RUN(a_3d_lua_reward_that_returns_no_number_fails_the_step);
