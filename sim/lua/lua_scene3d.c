@@ -764,6 +764,11 @@ static int kind_by_name(lua_State *L, int idx, int reward, const char *what)
 	    reward ? evo_reward_kind_by_name(s) : evo_control_kind_by_name(s);
 	unsigned dims =
 	    reward ? evo_reward_kind_dims(k) : evo_control_kind_dims(k);
+	if (k == (reward ? (int)EVO_RW_LUA : (int)EVO_CF_LUA))
+		return luaL_error(L,
+				  "%s: for a %s of your own, pass a Lua "
+				  "function, not the name '%s'",
+				  what, noun, s);
 	if (k >= 0 && (dims & EVO_DIM_3D))
 		return k;
 	if (k >= 0)
@@ -775,15 +780,58 @@ static int kind_by_name(lua_State *L, int idx, int reward, const char *what)
 			  noun, s, c ? c : "?");
 }
 
+/* scene:reward(fn, {bot = b, reset = f}) and scene:control(fn, {reset =
+ * f}): a Lua function as a reward (paid to the scene, or to bot) or a
+ * control, called each tick with the scene (sim/lua/lua_hooks.c), as in
+ * 2D. */
+static int lua_function(lua_State *L, int reward, const char *what)
+{
+	static const char *const rkeys[] = {"reset", "bot", NULL};
+	static const char *const ckeys[] = {"reset", NULL};
+	evo_scene3d *sc = scene3d(L);
+	if (sc->n_bots == 0)
+		luaL_error(L, "%s: there is no bot yet", what);
+	if (!lua_isnoneornil(L, 3))
+		evo_lua_check_keys(L, 3, what, reward ? rkeys : ckeys);
+	evo_lua_function_options(L, what,
+				 reward ? &evo_lua_reward_resets_key
+					: &evo_lua_control_resets_key,
+				 reward);
+	lua_pushvalue(L, 2);
+	int ref = luaL_ref(L, LUA_REGISTRYINDEX);
+	if (!reward) {
+		evo_control_def d = evo_default_control_def(EVO_CF_LUA);
+		d.lua_ref = ref;
+		result(L, evo_scene3d_add_control(sc, &d));
+		return 0;
+	}
+	evo_reward_def d = evo_default_reward_def(EVO_RW_LUA);
+	d.lua_ref = ref;
+	d.scope = EVO_SCOPE_SCENE;
+	if (lua_istable(L, 3)) {
+		lua_getfield(L, 3, "bot");
+		int has_bot = !lua_isnil(L, -1);
+		lua_pop(L, 1);
+		if (has_bot) {
+			d.bot = opt_bot(L, 3, what);
+			d.scope = EVO_SCOPE_BOT;
+		}
+	}
+	result(L, evo_scene3d_add_reward(sc, &d));
+	return 0;
+}
+
 static int scene_reward(lua_State *L)
 {
 	static const char *const keys[] = {
 	    "bot", "k", "k2", "threshold", "target", "sensors", NULL};
 	const char *what = "scene:reward";
 	no_new_pieces(L, what);
+	if (lua_isfunction(L, 2))
+		return lua_function(L, 1, what);
 	int kind = kind_by_name(L, 2, 1, what);
 	options(L, 3, what, keys);
-	evo_reward3d_def d = evo_default_reward3d_def((evo_reward_kind)kind);
+	evo_reward_def d = evo_default_reward_def((evo_reward_kind)kind);
 	d.bot = opt_bot(L, 3, what);
 	d.k = num(L, 3, "k", d.k, what);
 	d.k2 = num(L, 3, "k2", d.k2, what);
@@ -792,9 +840,9 @@ static int scene_reward(lua_State *L)
 	if (lua_getfield(L, 3, "sensors") != LUA_TNIL) {
 		luaL_checktype(L, -1, LUA_TTABLE);
 		lua_Integer n = luaL_len(L, -1);
-		if (n > EVO3D_REWARD_SENSORS)
+		if (n > EVO_REWARD_MAX_SENSORS)
 			luaL_error(L, "%s: at most %d sensors", what,
-				   EVO3D_REWARD_SENSORS);
+				   EVO_REWARD_MAX_SENSORS);
 		for (lua_Integer i = 1; i <= n; i++) {
 			lua_geti(L, -1, i);
 			const char *s = lua_tostring(L, -1);
@@ -812,19 +860,22 @@ static int scene_reward(lua_State *L)
 
 static int scene_control(lua_State *L)
 {
-	static const char *const keys[] = {"bot", "ticks", "sensor",
-					   "threshold", NULL};
+	static const char *const keys[] = {"bot",    "ticks",	  "sensor",
+					   "target", "threshold", NULL};
 	const char *what = "scene:control";
 	no_new_pieces(L, what);
+	if (lua_isfunction(L, 2))
+		return lua_function(L, 0, what);
 	int kind = kind_by_name(L, 2, 0, what);
 	options(L, 3, what, keys);
-	evo_control3d_def d = evo_default_control3d_def((evo_control_kind)kind);
+	evo_control_def d = evo_default_control_def((evo_control_kind)kind);
 	d.bot = opt_bot(L, 3, what);
 	double ticks = num(L, 3, "ticks", (double)d.ticks, what);
 	if (ticks < 1 || ticks != floor(ticks) || ticks > 1e15)
 		luaL_error(L, "%s: ticks must be a whole number >= 1", what);
 	d.ticks = (long)ticks;
 	d.threshold = num(L, 3, "threshold", d.threshold, what);
+	d.target = opt_target(L, 3, what);
 	const char *s = evo_lua_opt_str(L, 3, "sensor", NULL, what);
 	if (s)
 		d.sensor = sensor_index(L, d.bot, s, what);
@@ -922,6 +973,20 @@ static int scene_tick(lua_State *L)
 	return 1;
 }
 
+/* Forget what the reward functions remember (ClosingOnTarget's last
+ * distance), e.g. after moving a target, and call the Lua rewards' own
+ * resets: as in 2D. */
+static int scene_reset_rewards(lua_State *L)
+{
+	evo_lua *l = evo_lua_ctx(L);
+	for (int i = 0; i < l->sc3->n_rewards; i++)
+		evo_reward_reset(&l->sc3->reward[i]);
+	evo_err err = {{0}};
+	if (evo_lua_call_resets(l, &evo_lua_reward_resets_key, &err))
+		luaL_error(L, "%s", err.msg);
+	return 0;
+}
+
 static int scene_episode_reward(lua_State *L)
 {
 	lua_pushnumber(L, scene3d(L)->episode_reward);
@@ -980,5 +1045,7 @@ const luaL_Reg evo_lua_scene3d_methods[] = {
     {"layout_random", scene_layout_random},
     {"tick", scene_tick},
     {"episode_reward", scene_episode_reward},
+    {"reset_rewards", scene_reset_rewards},
+    {"metric", evo_lua_scene_metric},
     {NULL, NULL},
 };
