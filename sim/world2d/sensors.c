@@ -273,19 +273,27 @@ static double ray_segment(const evo_shape_info *s, double px, double py,
 	return u >= 0 && u <= 1 ? t : max;
 }
 
-static double ray_shape(const evo_shape_info *s, double px, double py,
-			double dx, double dy, double max)
+/* The n rays p -> p + d[i] against shape s, each keeping the nearer of
+ * its best so far and its crossing. The shape's kind is looked at once,
+ * not once a ray: a loop of one kind each, which the compiler inlines. */
+static void rays_shape(const evo_shape_info *s, double px, double py,
+		       const double *dx, const double *dy, double *best, int n)
 {
 	switch (s->type) {
 	case EVO_SHAPE_CIRCLE:
-		return ray_circle(s, px, py, dx, dy, max);
+		for (int i = 0; i < n; i++)
+			best[i] = ray_circle(s, px, py, dx[i], dy[i], best[i]);
+		return;
 	case EVO_SHAPE_SEGMENT:
-		return ray_segment(s, px, py, dx, dy, max);
+		for (int i = 0; i < n; i++)
+			best[i] = ray_segment(s, px, py, dx[i], dy[i], best[i]);
+		return;
 	case EVO_SHAPE_BOX:
 	case EVO_SHAPE_CYLINDER: /* 3D only: never in a 2D world */
 		break;
 	}
-	return ray_box(s, px, py, dx, dy, max);
+	for (int i = 0; i < n; i++)
+		best[i] = ray_box(s, px, py, dx[i], dy[i], best[i]);
 }
 
 /* A proximity sensor against the shapes of set. */
@@ -334,8 +342,7 @@ static double sample_proximity(evo_sensor *se, const frame *f,
 			if (ox * fy - oy * fx > rr || oy * lx - ox * ly > rr)
 				continue;
 		}
-		for (int i = 0; i < n; i++)
-			best[i] = ray_shape(s, px, py, dx[i], dy[i], best[i]);
+		rays_shape(s, px, py, dx, dy, best, n);
 	}
 
 	/* Rays past n keep the 1 evo_scene_add_sensor gave them. */
