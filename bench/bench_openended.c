@@ -33,7 +33,8 @@
  * DIR/development-S and DIR/flat-S (S the seed) instead of a temporary
  * folder; a run kept there with all B batches is read, not run again.
  * --curve PREFIX draws PREFIX-annecs.png and PREFIX-largest.png, ANNECS
- * and the largest path per batch of the first seed's two runs.
+ * and the largest path per batch of the first seed's two runs, the
+ * batches where the development run added a skill marked.
  *
  * usage: bench_openended [--seeds N] [--first S] [--batches B] [--threads T]
  *                        [--together] [--keep DIR] [--curve PREFIX] */
@@ -277,6 +278,25 @@ static double *log_column(const char *dir, int col, int *n)
 	return v;
 }
 
+/* The batches after which the first seed's development run added a
+ * skill (its skills.csv's batch column), at most cap: how many. */
+static int skill_batches(double *at, int cap)
+{
+	char dir[1100];
+	snprintf(dir, sizeof dir, "%s/%s-%d", tmpdir, develop.folder,
+		 first_seed);
+	char *sk = run_file(dir, "skills.csv", 1);
+	int n = 0;
+	for (const char *line = sk ? strchr(sk, '\n') : NULL;
+	     line && line[1] && n < cap; line = strchr(line + 1, '\n')) {
+		const char *b = field(line + 1, 1);
+		if (b)
+			at[n++] = strtod(b, NULL);
+	}
+	free(sk);
+	return n;
+}
+
 /* PREFIX-annecs.png and PREFIX-largest.png: ANNECS and the largest
  * solved maze's path per batch, with development and without, for the
  * first seed: 0, or -1 after a message. */
@@ -308,7 +328,10 @@ static int draw_curves(void)
 			 first_seed);
 		snprintf(path, sizeof path, "%s-%s.png", curve_prefix,
 			 plots[p].file);
-		evo_curve_spec spec = {title, "batch", plots[p].label, s, 2};
+		double marks[64];
+		int n_marks = skill_batches(marks, 64);
+		evo_curve_spec spec = {title, "batch", plots[p].label, s, 2,
+				       marks, n_marks, "skill added"};
 		evo_err err = {{0}};
 		if (rc == 0 && evo_curve_plot(path, &spec, &err)) {
 			fprintf(stderr, "bench_openended: %s\n", err.msg);

@@ -121,7 +121,7 @@ int evo_curve_write(const char *path, const char *title, const double *best,
 	evo_curve_series s[3] = {{"best", EVO_CURVE_BEST, best, n},
 				 {"best ever", EVO_CURVE_BEST_EVER, ever, n},
 				 {"mean", EVO_CURVE_MEAN, mean, n}};
-	evo_curve_spec spec = {title, "generation", "fitness", s, 3};
+	evo_curve_spec spec = {title, "generation", "fitness", s, 3, NULL, 0, NULL};
 	int rc = evo_curve_plot(path, &spec, err);
 	free(ever);
 	return rc;
@@ -188,6 +188,17 @@ int evo_curve_plot(const char *path, const evo_curve_spec *spec, evo_err *err)
 			spec->title ? spec->title : "", AXIS,
 			EVO_CURVE_TITLE_SCALE);
 	legend(&im, spec->series, spec->n_series);
+	for (int k = 0; k < spec->n_marks && n > 1; k++) {
+		double m = spec->marks[k];
+		if (!(m >= 0 && m <= n - 1))
+			continue;
+		int x = (int)px_x((int)m, n);
+		for (int y = TOP; y < H - BOTTOM; y += 6) /* dashed */
+			evo_raster_line(&im, x, y, x, y + 2, EVO_CURVE_MARK, 255);
+		if (spec->mark_label)
+			evo_raster_text(&im, x + 3, TOP + 4 + 12 * (k % 3),
+					spec->mark_label, EVO_CURVE_MARK, 1);
+	}
 	/* the first series drawn last, on top */
 	for (int k = spec->n_series - 1; k >= 0; k--)
 		plot(&im, spec->series[k].v, spec->series[k].n, n, lo, hi,

@@ -32,6 +32,11 @@ typedef struct evo_curve_spec {
 	const char *title, *x_label, *y_label;
 	const evo_curve_series *series; /* the first is drawn on top */
 	int n_series;
+	/* marks: vertical lines at these x, each labelled mark_label (e.g.
+	 * the batches where an OPENENDED run added a skill); may be NULL */
+	const double *marks;
+	int n_marks;
+	const char *mark_label;
 } evo_curve_spec;
 
 /* Draws spec's series, its title and labelled axes with their ranges, and
@@ -45,6 +50,7 @@ int evo_curve_plot(const char *path, const evo_curve_spec *spec, evo_err *err);
 #define EVO_CURVE_BEST_EVER 0x2AA050u
 #define EVO_CURVE_BACKGROUND 0xFFFFFFu
 #define EVO_CURVE_TEXT 0x303030u
+#define EVO_CURVE_MARK 0x9A9A9Au
 /* Where the title is written (its top-left corner) and its scale. */
 #define EVO_CURVE_TITLE_X 90
 #define EVO_CURVE_TITLE_Y 6

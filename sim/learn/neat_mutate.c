@@ -379,18 +379,22 @@ void neat_add_node(lua_State *L, int pop, int g, const struct_opts *t,
 	} else if (ne > 0) {
 		link = enabled[pick(draw(L, r), ne) - 1];
 	}
-	lua_settop(L, top);
 	if (link < 0) {
+		lua_settop(L, top);
 		lua_pushnil(L);
 		return;
 	}
 	lua_Integer s[3]; /* node, innovation in, innovation out */
 	split_innovation(L, pop, gs->g[link].innov, s);
+	/* nl's block is on the stack above top: read it before it goes */
+	int split = 0;
 	for (int k = 0; k < nl.n; k++)
-		if (nl.id[k] == s[0]) { /* already split this generation */
-			lua_pushnil(L);
-			return;
-		}
+		split |= nl.id[k] == s[0];
+	lua_settop(L, top);
+	if (split) { /* already split this generation */
+		lua_pushnil(L);
+		return;
+	}
 	gene *old = &gs->g[link];
 	old->enabled = 0;
 	/* the new node, in the genome's own list */
