@@ -6,13 +6,9 @@
 #include "cluster/cluster.h"
 
 #include <mpi.h>
-#include <limits.h>
-#include <pthread.h>
-#include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "cluster/cluster_internal.h"
 

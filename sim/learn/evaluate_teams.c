@@ -4,12 +4,9 @@
  * candidates in groups. */
 #define _POSIX_C_SOURCE 200809L
 
-#include <errno.h>
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
-#include <unistd.h>
 
 #include "base/fileio.h"
 #include "learn/evaluate_internal.h"
@@ -17,7 +14,6 @@
 #include "mind/task.h"
 #include "tasksim/tasksim.h"
 #include "world2d/scene.h"
-
 
 /* Before a team batch: every team but the one that learns runs its
  * network of evo_evaluator_set_team_net, or its own as loaded (a team

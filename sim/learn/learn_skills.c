@@ -6,36 +6,23 @@
 
 #include <lauxlib.h>
 #include <lua.h>
-#include <lualib.h>
-#include <limits.h>
-#include <math.h>
-#include <signal.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 #include <sys/stat.h>
-#include <time.h>
-#include <unistd.h>
 
 #include "base/err.h"
 #include "base/fileio.h"
-#include "base/terminal.h"
 #include "learn/curve.h"
 #include "learn/evaluate.h"
 #include "learn/gallery.h"
 #include "learn/heatmap.h"
 #include "learn/learn_internal.h"
 #include "learn/literature.h"
-#include "learn/lua_linalg.h"
-#include "learn/lua_modcache.h"
-#include "learn/lua_neat.h"
-#include "learn/lua_novelty.h"
 #include "learn/runlog.h"
 #include "learn/runopts.h"
 #include "lua/lua_evo.h"
-#include "mind/net_build.h"
 
 /* ---- LEARNSIMCONTINUOUS (docs/learning.md) ----------------------------- */
 

@@ -1,16 +1,12 @@
 /* evo.neat's breeding (sim/learn/neat_internal.h): crossover of two
  * genomes and a species' offspring (breed), draw for draw as
  * lua/learn/neat.lua's. */
-#include <ctype.h>
 #include <lauxlib.h>
-#include <limits.h>
 #include <lua.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
-#include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "learn/neat_internal.h"
 

@@ -2,7 +2,6 @@
  * serialize.dump_lua's text byte for byte, for the checkpoints. */
 #include <ctype.h>
 #include <lauxlib.h>
-#include <limits.h>
 #include <lua.h>
 #include <math.h>
 #include <stddef.h>

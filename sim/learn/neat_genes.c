@@ -2,14 +2,10 @@
  * one userdata of flat arrays, sorted by innovation, with the gene
  * references Lua reads and writes them through, and the kernels genes,
  * add_gene, sort_genes and reaches. */
-#include <ctype.h>
 #include <lauxlib.h>
-#include <limits.h>
 #include <lua.h>
-#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 

@@ -2,14 +2,11 @@
  * (mutate_weights, mutate, draws) and the structural mutations add_link
  * and add_node with the population's innovation registry, draw for draw
  * as lua/learn/neat.lua's. */
-#include <ctype.h>
 #include <lauxlib.h>
-#include <limits.h>
 #include <lua.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 

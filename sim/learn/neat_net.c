@@ -1,14 +1,10 @@
 /* evo.neat's networks (sim/learn/neat_internal.h): a genome packed as the
  * network evo.evaluate runs (pack_net, evo_lua_net_unpack) and as the
  * network table neat.to_net makes (to_net). */
-#include <ctype.h>
 #include <lauxlib.h>
-#include <limits.h>
 #include <lua.h>
-#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 

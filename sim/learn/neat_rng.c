@@ -2,16 +2,11 @@
  * xoshiro256** on the generator's own four words (rng_next, rng_unit,
  * rng_normal), MAP-Elites' isoline variation, and a kernel's hold on a
  * generator while it draws (neat_rng_begin, neat_rng_done). */
-#include <ctype.h>
 #include <lauxlib.h>
 #include <limits.h>
 #include <lua.h>
 #include <math.h>
-#include <stddef.h>
 #include <stdint.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
 
 #include "learn/neat_internal.h"
 

@@ -2,14 +2,11 @@
  * compatibility distance, speciate and assign, copy_genome, and the
  * kernels that rank a species' members and share its offspring (rank,
  * ranked, tally, share, best_of). */
-#include <ctype.h>
 #include <lauxlib.h>
 #include <limits.h>
 #include <lua.h>
 #include <math.h>
 #include <stddef.h>
-#include <stdint.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 

@@ -5,11 +5,8 @@
 
 #include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
-#include "viewer/png.h"
-#include "viewer/sdl_load.h"
 #include "viewer/viewer_internal.h"
 #include "world2d/query.h"
 
