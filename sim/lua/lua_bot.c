@@ -25,6 +25,14 @@ static const char *const radar_keys[] = {"name", "target", "angle", "arc",
 					 NULL};
 static const char *const bumper_keys[] = {"name", "angle", "arc", "reach",
 					  "sees", NULL};
+static const char *const light_keys[] = {"name", "x", "y", "angle",
+					 "aperture", NULL};
+static const char *const ground_keys[] = {"name", "x", "y", NULL};
+static const char *const rab_keys[] = {"name",	"range",    "slot",  "read",
+				       "index", "occluded", "scale", NULL};
+static const char *const camera_keys[] = {"name",   "range",	"slot",
+					  "read",   "colour",	"occluded",
+					  "scale", NULL};
 
 static const char *const *const sensor_keys[EVO_SENSOR_KIND_COUNT] = {
     [EVO_SENSOR_PROXIMITY] = proximity_keys,
@@ -39,6 +47,10 @@ static const char *const *const sensor_keys[EVO_SENSOR_KIND_COUNT] = {
     [EVO_SENSOR_HOLDING] = name_keys,
     [EVO_SENSOR_RADAR] = radar_keys,
     [EVO_SENSOR_BUMPER] = bumper_keys,
+    [EVO_SENSOR_LIGHT] = light_keys,
+    [EVO_SENSOR_GROUND] = ground_keys,
+    [EVO_SENSOR_RAB] = rab_keys,
+    [EVO_SENSOR_CAMERA] = camera_keys,
 };
 
 /* `sees`: what a proximity sensor's rays hit, into d's mask and its
@@ -114,6 +126,10 @@ static int add_sensor(lua_State *L, evo_sensor_kind kind, const char *what)
 	d.scale = evo_lua_opt_num(L, 2, "scale", d.scale, what);
 	d.reach = evo_lua_opt_num(L, 2, "reach", d.reach, what);
 	d.value = evo_lua_opt_num(L, 2, "value", d.value, what);
+	if (kind == EVO_SENSOR_LIGHT || kind == EVO_SENSOR_RAB ||
+	    kind == EVO_SENSOR_CAMERA)
+		evo_lua_swarm_sensor(L, 2, what, kind == EVO_SENSOR_CAMERA,
+				     &d.swarm);
 	lua_pushinteger(
 	    L, evo_lua_scene_result(
 		   L, evo_scene_add_sensor(evo_lua_ctx(L)->sc, bot, &d)) +
@@ -138,6 +154,10 @@ SENSOR_FN(constant, EVO_SENSOR_CONSTANT)
 SENSOR_FN(holding, EVO_SENSOR_HOLDING)
 SENSOR_FN(radar, EVO_SENSOR_RADAR)
 SENSOR_FN(bumper, EVO_SENSOR_BUMPER)
+SENSOR_FN(light, EVO_SENSOR_LIGHT)
+SENSOR_FN(ground, EVO_SENSOR_GROUND)
+SENSOR_FN(rab, EVO_SENSOR_RAB)
+SENSOR_FN(camera, EVO_SENSOR_CAMERA)
 
 /* Each kind's options: a wheel has no reach and a claw no force, so
  * either one given to the other is an error, as for the sensors. */
@@ -149,11 +169,13 @@ static const char *const speed_wheel_keys[] = {"name", "x", "y", "max_speed",
 					       NULL};
 static const char *const drive_keys[] = {"name", "turn", "max_speed", "accel",
 					 NULL};
+static const char *const broadcast_keys[] = {"name", NULL};
 static const char *const *const actuator_keys[EVO_ACTUATOR_KIND_COUNT] = {
     [EVO_ACTUATOR_WHEEL] = wheel_keys,
     [EVO_ACTUATOR_CLAW] = claw_keys,
     [EVO_ACTUATOR_SPEED_WHEEL] = speed_wheel_keys,
     [EVO_ACTUATOR_DRIVE] = drive_keys,
+    [EVO_ACTUATOR_BROADCAST] = broadcast_keys,
 };
 
 static int add_actuator(lua_State *L, evo_actuator_kind kind,
@@ -204,6 +226,11 @@ static int speed_wheel(lua_State *L)
 static int drive(lua_State *L)
 {
 	return add_actuator(L, EVO_ACTUATOR_DRIVE, "bot:drive");
+}
+
+static int broadcast(lua_State *L)
+{
+	return add_actuator(L, EVO_ACTUATOR_BROADCAST, "bot:broadcast");
 }
 
 /* bot:target(sensor name, element or "nearest_object"): what a tracker
@@ -317,6 +344,10 @@ static const char *const sensor_kind_names[EVO_SENSOR_KIND_COUNT] = {
     [EVO_SENSOR_HOLDING] = "holding",
     [EVO_SENSOR_RADAR] = "radar",
     [EVO_SENSOR_BUMPER] = "bumper",
+    [EVO_SENSOR_LIGHT] = "light",
+    [EVO_SENSOR_GROUND] = "ground",
+    [EVO_SENSOR_RAB] = "rab",
+    [EVO_SENSOR_CAMERA] = "camera",
 };
 
 /* bot:sensors(kind[, "untargeted"]): the names of the bot's sensors of a
@@ -393,10 +424,15 @@ const luaL_Reg evo_lua_bot_methods[] = {
     {"holding", sensor_holding},
     {"radar", sensor_radar},
     {"bumper", sensor_bumper},
+    {"light", sensor_light},
+    {"ground", sensor_ground},
+    {"rab", sensor_rab},
+    {"camera", sensor_camera},
     {"wheel", wheel},
     {"claw", claw},
     {"speed_wheel", speed_wheel},
     {"drive", drive},
+    {"broadcast", broadcast},
     {"target", bot_target},
     {"pose", bot_pose},
     {"place", bot_place},

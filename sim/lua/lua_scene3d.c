@@ -155,6 +155,14 @@ static const char *const tsensor_keys[] = {"name",   "x",    "y", "z",
 static const char *const zone_sensor_keys[] = {"name", "target", NULL};
 static const char *const name_keys[] = {"name", NULL};
 static const char *const constant_keys[] = {"name", "value", NULL};
+static const char *const light_keys[] = {"name", "x",	     "y",
+					 "z",	 "yaw", "aperture", NULL};
+static const char *const ground_keys[] = {"name", "x", "y", "z", NULL};
+static const char *const rab_keys[] = {"name",	"range",    "slot",  "read",
+				       "index", "occluded", "scale", NULL};
+static const char *const camera_keys[] = {"name",   "range",	"slot",
+					  "read",   "colour",	"occluded",
+					  "scale", NULL};
 
 /* `sees`: a list of "ground", "obstacles", "bots", "objects". */
 static unsigned parse_sees(lua_State *L, int idx, unsigned dflt,
@@ -241,6 +249,15 @@ static int add_sensor(lua_State *L, evo_sensor3d_kind kind, const char *what,
 	case EVO3D_SENSOR_CONSTANT:
 		d.value = num(L, 2, "value", 0.5, what);
 		break;
+	case EVO3D_SENSOR_LIGHT:
+		d.yaw = num(L, 2, "yaw", 0, what) * EVO_LUA_DEG;
+		evo_lua_swarm_sensor(L, 2, what, 0, &d.swarm);
+		break;
+	case EVO3D_SENSOR_RAB:
+	case EVO3D_SENSOR_CAMERA:
+		evo_lua_swarm_sensor(L, 2, what, kind == EVO3D_SENSOR_CAMERA,
+				     &d.swarm);
+		break;
 	default:
 		break;
 	}
@@ -291,7 +308,39 @@ static int bot_constant(lua_State *L)
 			  constant_keys);
 }
 
+static int bot_light(lua_State *L)
+{
+	return add_sensor(L, EVO3D_SENSOR_LIGHT, "bot:light", light_keys);
+}
+static int bot_ground(lua_State *L)
+{
+	return add_sensor(L, EVO3D_SENSOR_GROUND, "bot:ground", ground_keys);
+}
+static int bot_rab(lua_State *L)
+{
+	return add_sensor(L, EVO3D_SENSOR_RAB, "bot:rab", rab_keys);
+}
+static int bot_camera(lua_State *L)
+{
+	return add_sensor(L, EVO3D_SENSOR_CAMERA, "bot:camera", camera_keys);
+}
+
 /* ---- bot: actuators --------------------------------------------------- */
+
+static int bot_broadcast(lua_State *L)
+{
+	static const char *const keys[] = {"name", NULL};
+	const char *what = "bot:broadcast";
+	int bot = check_bot3d(L, 1);
+	options(L, 2, what, keys);
+	evo_actuator3d_def d =
+	    evo_default_actuator3d_def(EVO3D_ACTUATOR_BROADCAST);
+	d.name = evo_lua_opt_str(L, 2, "name", NULL, what);
+	if (!d.name)
+		luaL_error(L, "%s: an actuator needs a name", what);
+	result(L, evo_scene3d_add_actuator(scene3d(L), bot, &d));
+	return 0;
+}
 
 static int bot_wheel(lua_State *L)
 {
@@ -388,17 +437,27 @@ static int bot_name(lua_State *L)
 	return 1;
 }
 
-/* bot:sensors([kind]): the names of its sensors (of "proximity" only). */
+/* bot:sensors([kind]): the names of its sensors (of one kind). */
 static int bot_sensors(lua_State *L)
 {
+	static const char *const kinds[] = {"proximity", "light", "ground",
+					    "rab", "camera"};
+	static const evo_sensor3d_kind ids[] = {
+	    EVO3D_SENSOR_PROXIMITY, EVO3D_SENSOR_LIGHT, EVO3D_SENSOR_GROUND,
+	    EVO3D_SENSOR_RAB, EVO3D_SENSOR_CAMERA};
 	const evo_bot3d *b = &scene3d(L)->bot[check_bot3d(L, 1)];
 	const char *kind = luaL_optstring(L, 2, NULL);
-	if (kind && strcmp(kind, "proximity") != 0)
-		luaL_error(L, "bot:sensors: kind is \"proximity\" or nothing");
+	int k = -1;
+	for (int i = 0; kind && i < 5; i++)
+		if (strcmp(kind, kinds[i]) == 0)
+			k = i;
+	if (kind && k < 0)
+		luaL_error(L, "bot:sensors: kind is \"proximity\", \"light\", "
+			      "\"ground\", \"rab\", \"camera\" or nothing");
 	lua_newtable(L);
 	int n = 0;
 	for (int i = 0; i < b->n_sensors; i++)
-		if (!kind || b->sensor[i].def.kind == EVO3D_SENSOR_PROXIMITY) {
+		if (!kind || b->sensor[i].def.kind == ids[k]) {
 			lua_pushstring(L, b->sensor[i].name);
 			lua_rawseti(L, -2, ++n);
 		}
@@ -423,7 +482,10 @@ const luaL_Reg evo_lua_bot3d_methods[] = {
     {"propeller", bot_propeller}, {"target", bot_target},
     {"place", bot_place},	  {"pos", bot_pos},
     {"name", bot_name},		  {"sensors", bot_sensors},
-    {"value", bot_value},	  {NULL, NULL},
+    {"value", bot_value},	  {"light", bot_light},
+    {"ground", bot_ground},	  {"rab", bot_rab},
+    {"broadcast", bot_broadcast}, {"camera", bot_camera},
+    {NULL, NULL},
 };
 
 /* ---- elements ------------------------------------------------------------ */
@@ -702,6 +764,11 @@ static int kind_by_name(lua_State *L, int idx, int reward, const char *what)
 	    reward ? evo_reward_kind_by_name(s) : evo_control_kind_by_name(s);
 	unsigned dims =
 	    reward ? evo_reward_kind_dims(k) : evo_control_kind_dims(k);
+	if (k == (reward ? (int)EVO_RW_LUA : (int)EVO_CF_LUA))
+		return luaL_error(L,
+				  "%s: for a %s of your own, pass a Lua "
+				  "function, not the name '%s'",
+				  what, noun, s);
 	if (k >= 0 && (dims & EVO_DIM_3D))
 		return k;
 	if (k >= 0)
@@ -713,15 +780,58 @@ static int kind_by_name(lua_State *L, int idx, int reward, const char *what)
 			  noun, s, c ? c : "?");
 }
 
+/* scene:reward(fn, {bot = b, reset = f}) and scene:control(fn, {reset =
+ * f}): a Lua function as a reward (paid to the scene, or to bot) or a
+ * control, called each tick with the scene (sim/lua/lua_hooks.c), as in
+ * 2D. */
+static int lua_function(lua_State *L, int reward, const char *what)
+{
+	static const char *const rkeys[] = {"reset", "bot", NULL};
+	static const char *const ckeys[] = {"reset", NULL};
+	evo_scene3d *sc = scene3d(L);
+	if (sc->n_bots == 0)
+		luaL_error(L, "%s: there is no bot yet", what);
+	if (!lua_isnoneornil(L, 3))
+		evo_lua_check_keys(L, 3, what, reward ? rkeys : ckeys);
+	evo_lua_function_options(L, what,
+				 reward ? &evo_lua_reward_resets_key
+					: &evo_lua_control_resets_key,
+				 reward);
+	lua_pushvalue(L, 2);
+	int ref = luaL_ref(L, LUA_REGISTRYINDEX);
+	if (!reward) {
+		evo_control_def d = evo_default_control_def(EVO_CF_LUA);
+		d.lua_ref = ref;
+		result(L, evo_scene3d_add_control(sc, &d));
+		return 0;
+	}
+	evo_reward_def d = evo_default_reward_def(EVO_RW_LUA);
+	d.lua_ref = ref;
+	d.scope = EVO_SCOPE_SCENE;
+	if (lua_istable(L, 3)) {
+		lua_getfield(L, 3, "bot");
+		int has_bot = !lua_isnil(L, -1);
+		lua_pop(L, 1);
+		if (has_bot) {
+			d.bot = opt_bot(L, 3, what);
+			d.scope = EVO_SCOPE_BOT;
+		}
+	}
+	result(L, evo_scene3d_add_reward(sc, &d));
+	return 0;
+}
+
 static int scene_reward(lua_State *L)
 {
 	static const char *const keys[] = {
 	    "bot", "k", "k2", "threshold", "target", "sensors", NULL};
 	const char *what = "scene:reward";
 	no_new_pieces(L, what);
+	if (lua_isfunction(L, 2))
+		return lua_function(L, 1, what);
 	int kind = kind_by_name(L, 2, 1, what);
 	options(L, 3, what, keys);
-	evo_reward3d_def d = evo_default_reward3d_def((evo_reward_kind)kind);
+	evo_reward_def d = evo_default_reward_def((evo_reward_kind)kind);
 	d.bot = opt_bot(L, 3, what);
 	d.k = num(L, 3, "k", d.k, what);
 	d.k2 = num(L, 3, "k2", d.k2, what);
@@ -730,9 +840,9 @@ static int scene_reward(lua_State *L)
 	if (lua_getfield(L, 3, "sensors") != LUA_TNIL) {
 		luaL_checktype(L, -1, LUA_TTABLE);
 		lua_Integer n = luaL_len(L, -1);
-		if (n > EVO3D_REWARD_SENSORS)
+		if (n > EVO_REWARD_MAX_SENSORS)
 			luaL_error(L, "%s: at most %d sensors", what,
-				   EVO3D_REWARD_SENSORS);
+				   EVO_REWARD_MAX_SENSORS);
 		for (lua_Integer i = 1; i <= n; i++) {
 			lua_geti(L, -1, i);
 			const char *s = lua_tostring(L, -1);
@@ -750,19 +860,22 @@ static int scene_reward(lua_State *L)
 
 static int scene_control(lua_State *L)
 {
-	static const char *const keys[] = {"bot", "ticks", "sensor",
-					   "threshold", NULL};
+	static const char *const keys[] = {"bot",    "ticks",	  "sensor",
+					   "target", "threshold", NULL};
 	const char *what = "scene:control";
 	no_new_pieces(L, what);
+	if (lua_isfunction(L, 2))
+		return lua_function(L, 0, what);
 	int kind = kind_by_name(L, 2, 0, what);
 	options(L, 3, what, keys);
-	evo_control3d_def d = evo_default_control3d_def((evo_control_kind)kind);
+	evo_control_def d = evo_default_control_def((evo_control_kind)kind);
 	d.bot = opt_bot(L, 3, what);
 	double ticks = num(L, 3, "ticks", (double)d.ticks, what);
 	if (ticks < 1 || ticks != floor(ticks) || ticks > 1e15)
 		luaL_error(L, "%s: ticks must be a whole number >= 1", what);
 	d.ticks = (long)ticks;
 	d.threshold = num(L, 3, "threshold", d.threshold, what);
+	d.target = opt_target(L, 3, what);
 	const char *s = evo_lua_opt_str(L, 3, "sensor", NULL, what);
 	if (s)
 		d.sensor = sensor_index(L, d.bot, s, what);
@@ -860,10 +973,55 @@ static int scene_tick(lua_State *L)
 	return 1;
 }
 
+/* Forget what the reward functions remember (ClosingOnTarget's last
+ * distance), e.g. after moving a target, and call the Lua rewards' own
+ * resets: as in 2D. */
+static int scene_reset_rewards(lua_State *L)
+{
+	evo_lua *l = evo_lua_ctx(L);
+	for (int i = 0; i < l->sc3->n_rewards; i++)
+		evo_reward_reset(&l->sc3->reward[i]);
+	evo_err err = {{0}};
+	if (evo_lua_call_resets(l, &evo_lua_reward_resets_key, &err))
+		luaL_error(L, "%s", err.msg);
+	return 0;
+}
+
 static int scene_episode_reward(lua_State *L)
 {
 	lua_pushnumber(L, scene3d(L)->episode_reward);
 	return 1;
+}
+
+/* scene:light{x, y, z, intensity}, scene:patch{...} (lua_swarm.c) */
+static int scene_light(lua_State *L)
+{
+	evo_scene3d *sc = scene3d(L);
+	evo_lua_add_light(L, 2, 3, &sc->swarm, &sc->err);
+	return 0;
+}
+
+static int scene_patch(lua_State *L)
+{
+	evo_scene3d *sc = scene3d(L);
+	evo_lua_add_patch(L, 2, 3, &sc->swarm, &sc->err);
+	return 0;
+}
+
+/* scene:colour(bot or element, colour): what cameras see it as. */
+static int scene_colour(lua_State *L)
+{
+	evo_scene3d *sc = scene3d(L);
+	if (luaL_testudata(L, 2, EVO_LUA_BOT3D_MT))
+		evo_lua_set_colour(L, EVO_BLOB_BOT, check_bot3d(L, 2),
+				   &sc->swarm, &sc->err);
+	else if (luaL_testudata(L, 2, EVO_LUA_ELEMENT3D_MT))
+		evo_lua_set_colour(L, EVO_BLOB_ELEMENT, check_element3d(L, 2),
+				   &sc->swarm, &sc->err);
+	else
+		luaL_error(L, "scene:colour: a bot or an element, found %s",
+			   luaL_typename(L, 2));
+	return 0;
 }
 
 const luaL_Reg evo_lua_scene3d_methods[] = {
@@ -877,6 +1035,9 @@ const luaL_Reg evo_lua_scene3d_methods[] = {
     {"target", scene_target},
     {"object", scene_object},
     {"obstacle", scene_obstacle},
+    {"light", scene_light},
+    {"patch", scene_patch},
+    {"colour", scene_colour},
     {"reward", scene_reward},
     {"control", scene_control},
     {"element", scene_element},
@@ -884,5 +1045,7 @@ const luaL_Reg evo_lua_scene3d_methods[] = {
     {"layout_random", scene_layout_random},
     {"tick", scene_tick},
     {"episode_reward", scene_episode_reward},
+    {"reset_rewards", scene_reset_rewards},
+    {"metric", evo_lua_scene_metric},
     {NULL, NULL},
 };

@@ -144,6 +144,7 @@ void evo_actuator_act(evo_scene *sc, int bot, int actuator)
 	case EVO_ACTUATOR_DRIVE:
 		set_speed(a); /* evo_bot_drive sets the velocity */
 		break;
+	case EVO_ACTUATOR_BROADCAST: /* heard through its command */
 	case EVO_ACTUATOR_KIND_COUNT:
 		break;
 	}

@@ -483,6 +483,90 @@ static int holding(const evo_bot *b)
 	return 0;
 }
 
+/* ---- the swarm sensors (sim/scene/swarm.h) --------------------------- */
+
+/* A bot as range-and-bearing sensors hear it: its broadcast actuators'
+ * commands, in the order it has them. */
+static int peer_2d(void *ctx, int i, evo_swarm_peer *out)
+{
+	const evo_bot *b = &((const evo_scene *)ctx)->bot[i];
+	out->pos[0] = b->x;
+	out->pos[1] = b->y;
+	out->pos[2] = 0;
+	out->n_values = 0;
+	int any = 0;
+	for (int k = 0; k < b->n_actuators; k++) {
+		if (b->actuator[k].def.kind != EVO_ACTUATOR_BROADCAST)
+			continue;
+		any = 1;
+		if (out->n_values < EVO_SWARM_MAX_VALUES)
+			out->value[out->n_values++] = b->actuator[k].command;
+	}
+	return any;
+}
+
+/* Where a coloured bot or element is now, for a camera; its reach from
+ * there, for occlusion: a cylinder's or box's rim (objects and bots are
+ * no obstacles). */
+static int where_2d(void *ctx, const evo_blob *bl, double pos[3],
+		    double *reach)
+{
+	const evo_scene *sc = ctx;
+	pos[2] = 0;
+	*reach = 0;
+	if (bl->kind == EVO_BLOB_BOT) {
+		if (bl->index < 0 || bl->index >= sc->n_bots)
+			return 0;
+		pos[0] = sc->bot[bl->index].x;
+		pos[1] = sc->bot[bl->index].y;
+		return 1;
+	}
+	if (bl->kind != EVO_BLOB_ELEMENT || bl->index < 0 ||
+	    bl->index >= sc->n_elements)
+		return 0;
+	const evo_element *e = &sc->element[bl->index];
+	pos[0] = e->x;
+	pos[1] = e->y;
+	switch (e->kind) {
+	case EVO_ELEM_OBJECT:
+		if (!e->active)
+			return 0;
+		evo_bpose p = sc->be->pose(sc->bw, e->body);
+		pos[0] = p.pos[0];
+		pos[1] = p.pos[1];
+		return 1;
+	case EVO_ELEM_ZONE:
+		return e->active;
+	case EVO_ELEM_CYLINDER:
+		*reach = e->size;
+		return 1;
+	case EVO_ELEM_BOX:
+		*reach = hypot(e->half_w, e->half_h);
+		return 1;
+	}
+	return 0;
+}
+
+/* A light, ground or range-and-bearing sensor or a camera; obstacles
+ * occlude. */
+static double sample_swarm(evo_scene *sc, int bot, const evo_sensor_def *d)
+{
+	const evo_bot *b = &sc->bot[bot];
+	evo_swarm_frame f = evo_swarm_frame_2d(b->x, b->y, b->angle);
+	evo_swarm_rays rays = {sc->be, sc->bw, EVO_CAT_OBSTACLE, b->body, -1};
+	double at[3] = {d->x, d->y, 0};
+	if (d->kind == EVO_SENSOR_LIGHT)
+		return evo_swarm_light(&sc->swarm, &f, at, d->angle,
+				       d->swarm.aperture, &rays);
+	if (d->kind == EVO_SENSOR_GROUND)
+		return evo_swarm_ground(&sc->swarm, &f, at);
+	if (d->kind == EVO_SENSOR_CAMERA)
+		return evo_swarm_camera(&sc->swarm, &d->swarm, &f, bot,
+					where_2d, sc, &rays);
+	return evo_swarm_rab(&d->swarm, &f, bot, sc->n_bots, peer_2d, sc,
+			     &rays);
+}
+
 /* One sensor's value; set holds the shapes around the bot for a
  * proximity sensor. */
 static double sample(evo_scene *sc, int bot, evo_sensor *se, const frame *f,
@@ -542,6 +626,11 @@ static double sample(evo_scene *sc, int bot, evo_sensor *se, const frame *f,
 		return sample_radar(sc, bot, d, f);
 	case EVO_SENSOR_BUMPER:
 		return sample_bumper(se, f, set);
+	case EVO_SENSOR_LIGHT:
+	case EVO_SENSOR_GROUND:
+	case EVO_SENSOR_RAB:
+	case EVO_SENSOR_CAMERA:
+		return sample_swarm(sc, bot, d);
 	case EVO_SENSOR_KIND_COUNT:
 		break;
 	}

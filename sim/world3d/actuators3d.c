@@ -20,6 +20,8 @@ static void act(evo_scene3d *sc, int bot, const evo_actuator3d *a)
 {
 	const evo_bot3d *b = &sc->bot[bot];
 	double u = signed_command(a->command);
+	if (a->def.kind == EVO3D_ACTUATOR_BROADCAST)
+		return; /* heard through its command */
 	if (a->def.kind == EVO3D_ACTUATOR_WHEEL) {
 		if (a->hinge < 0)
 			return;

@@ -61,6 +61,83 @@ static int zone_holds(const evo_element3d *z, const double p[3])
 	       fabs(dz) <= z->def.half[2];
 }
 
+/* A bot as range-and-bearing sensors hear it: its broadcast actuators'
+ * commands, in the order it has them. */
+static int peer_3d(void *ctx, int i, evo_swarm_peer *out)
+{
+	const evo_bot3d *b = &((const evo_scene3d *)ctx)->bot[i];
+	for (int k = 0; k < 3; k++)
+		out->pos[k] = b->pos[k];
+	out->n_values = 0;
+	int any = 0;
+	for (int k = 0; k < b->n_actuators; k++) {
+		if (b->actuator[k].def.kind != EVO3D_ACTUATOR_BROADCAST)
+			continue;
+		any = 1;
+		if (out->n_values < EVO_SWARM_MAX_VALUES)
+			out->value[out->n_values++] = b->actuator[k].command;
+	}
+	return any;
+}
+
+/* Where a coloured bot or element is now, for a camera; how far its body
+ * reaches from there, for occlusion. */
+static int where_3d(void *ctx, const evo_blob *bl, double pos[3],
+		    double *reach)
+{
+	const evo_scene3d *sc = ctx;
+	*reach = 0;
+	if (bl->kind == EVO_BLOB_BOT) {
+		if (bl->index < 0 || bl->index >= sc->n_bots)
+			return 0;
+		for (int k = 0; k < 3; k++)
+			pos[k] = sc->bot[bl->index].pos[k];
+		return 1;
+	}
+	if (bl->kind != EVO_BLOB_ELEMENT || bl->index < 0 ||
+	    bl->index >= sc->n_elements)
+		return 0;
+	const evo_element3d *e = &sc->element[bl->index];
+	const evo_element3d_def *d = &e->def;
+	for (int k = 0; k < 3; k++)
+		pos[k] = e->pos[k];
+	double box = sqrt(d->half[0] * d->half[0] + d->half[1] * d->half[1] +
+			  d->half[2] * d->half[2]);
+	if (d->kind == EVO3D_ELEM_BOX || (d->kind == EVO3D_ELEM_OBJECT &&
+					  !d->sphere))
+		*reach = box;
+	else if (d->kind == EVO3D_ELEM_CYLINDER)
+		*reach = hypot(d->radius, d->half_length);
+	else if (d->kind == EVO3D_ELEM_SPHERE || d->kind == EVO3D_ELEM_OBJECT)
+		*reach = d->radius;
+	return 1;
+}
+
+/* A light, ground or range-and-bearing sensor or a camera
+ * (sim/scene/swarm.h);
+ * obstacles occlude, the ground does not. */
+static double swarm(evo_scene3d *sc, int bot, const evo_sensor3d *s)
+{
+	const evo_bot3d *b = &sc->bot[bot];
+	evo_swarm_frame f;
+	for (int k = 0; k < 3; k++)
+		f.pos[k] = b->pos[k];
+	for (int k = 0; k < 9; k++)
+		f.R[k] = b->R[k];
+	evo_swarm_rays rays = {sc->be, sc->bw, EVO_CAT3D_OBSTACLE,
+			       EVO_BODY_NONE, bot};
+	if (s->def.kind == EVO3D_SENSOR_LIGHT)
+		return evo_swarm_light(&sc->swarm, &f, s->def.pos, s->def.yaw,
+				       s->def.swarm.aperture, &rays);
+	if (s->def.kind == EVO3D_SENSOR_GROUND)
+		return evo_swarm_ground(&sc->swarm, &f, s->def.pos);
+	if (s->def.kind == EVO3D_SENSOR_CAMERA)
+		return evo_swarm_camera(&sc->swarm, &s->def.swarm, &f, bot,
+					where_3d, sc, &rays);
+	return evo_swarm_rab(&s->def.swarm, &f, bot, sc->n_bots, peer_3d, sc,
+			     &rays);
+}
+
 double evo_sensor3d_sample(evo_scene3d *sc, int bot, int k)
 {
 	evo_bot3d *b = &sc->bot[bot];
@@ -94,6 +171,11 @@ double evo_sensor3d_sample(evo_scene3d *sc, int bot, int k)
 		return evo_rng_unit(&sc->rng);
 	case EVO3D_SENSOR_CONSTANT:
 		return clamp01(s->def.value);
+	case EVO3D_SENSOR_LIGHT:
+	case EVO3D_SENSOR_GROUND:
+	case EVO3D_SENSOR_RAB:
+	case EVO3D_SENSOR_CAMERA:
+		return swarm(sc, bot, s);
 	case EVO3D_SENSOR_KIND_COUNT:
 		break;
 	}

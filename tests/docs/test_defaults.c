@@ -1255,7 +1255,8 @@ static const char *const BOT_PARTS[] = {
     "proximity",       "distance", "zone",   "bearing",	 "presence",
     "object_detector", "movement", "random", "constant", "holding",
     "radar",	       "bumper",   "wheel",  "claw",	 "speed_wheel",
-    "drive",	       NULL};
+    "drive",	       "light",	   "ground", "rab",	 "broadcast",
+    "camera",	       NULL};
 
 static int write_bot_models(void)
 {
@@ -1324,6 +1325,7 @@ static void build_defaults_scene(void)
 		"\tscene:bot{}\n"
 		"\tscene:cylinder{} scene:box{} scene:zone{} scene:object{}\n"
 		"\tscene:grid{}\n"
+		"\tscene:light{} scene:patch{}\n"
 		"\tscene:reward('StepReward') scene:control('NextOnTimeout')\n"
 		"\tscene:reward(function() return 0 end)\n"
 		"\tscene:control(function() return false end)",
@@ -1502,6 +1504,41 @@ static int render_option_default(const char *fn, const char *opt, char *out,
 			return -1;
 		return 0;
 	}
+	if (strcmp(fn, "scene:light") == 0 && sc->swarm.n_lights == 1) {
+		const evo_light *l = &sc->swarm.light[0];
+		if (strcmp(opt, "colour") == 0) {
+			snprintf(out, cap, "%s",
+				 sc->swarm.n_blobs ? "a colour" : "none");
+			return 0;
+		}
+		const double v = strcmp(opt, "x") == 0		 ? l->pos[0]
+				 : strcmp(opt, "y") == 0	 ? l->pos[1]
+				 : strcmp(opt, "intensity") == 0 ? l->intensity
+								 : NAN;
+		if (isnan(v))
+			return -1;
+		fmt_num(out, cap, v);
+		return 0;
+	}
+	if (strcmp(fn, "scene:patch") == 0 && sc->swarm.n_patches == 1) {
+		const evo_patch *p = &sc->swarm.patch[0];
+		if (strcmp(opt, "radius") == 0) {
+			snprintf(out, cap, "%s",
+				 p->circle ? "a circle" : "none");
+			return 0;
+		}
+		const double v = strcmp(opt, "x") == 0		   ? p->x
+				 : strcmp(opt, "y") == 0	   ? p->y
+				 : strcmp(opt, "angle") == 0	   ? p->yaw / deg
+				 : strcmp(opt, "half_width") == 0  ? p->hx
+				 : strcmp(opt, "half_height") == 0 ? p->hy
+				 : strcmp(opt, "grey") == 0	   ? p->grey
+								   : NAN;
+		if (isnan(v))
+			return -1;
+		fmt_num(out, cap, v);
+		return 0;
+	}
 	if (strncmp(fn, "bot:", 4) != 0)
 		return -1;
 	const char *part = fn + 4;
@@ -1537,6 +1574,37 @@ static int render_option_default(const char *fn, const char *opt, char *out,
 		}
 		if (strcmp(opt, "target") == 0) {
 			render_target(out, cap, d->target);
+			return 0;
+		}
+		const evo_swarm_sensor *w = &d->swarm;
+		if (d->kind == EVO_SENSOR_RAB || d->kind == EVO_SENSOR_CAMERA) {
+			static const char *const reads[] = {
+			    "\"range\"", "\"bearing\"", "\"value\"", "\"count\"",
+			    "\"colour\""};
+			if (strcmp(opt, "read") == 0)
+				snprintf(out, cap, "%s", reads[w->read]);
+			else if (strcmp(opt, "occluded") == 0)
+				snprintf(out, cap, "%s",
+					 w->occluded ? "true" : "false");
+			else if (strcmp(opt, "range") == 0)
+				fmt_num(out, cap, w->range);
+			else if (strcmp(opt, "scale") == 0)
+				fmt_num(out, cap, w->scale);
+			else if (strcmp(opt, "slot") == 0)
+				fmt_num(out, cap, w->slot);
+			else if (strcmp(opt, "index") == 0)
+				fmt_num(out, cap, w->index + 1);
+			else if (strcmp(opt, "colour") == 0)
+				snprintf(out, cap, "%s",
+					 w->colour < 0
+					     ? "any"
+					     : evo_colour_name(w->colour));
+			else
+				return -1;
+			return 0;
+		}
+		if (strcmp(opt, "aperture") == 0) {
+			fmt_num(out, cap, w->aperture / deg);
 			return 0;
 		}
 		const double v = strcmp(opt, "x") == 0		? d->x

@@ -236,6 +236,75 @@ TEST(elements_are_not_made_in_reset)
 			    "init and placed in reset");
 }
 
+/* The swarm sensors' names and values are checked like the others: at
+ * the script's line, a near name offered (docs/world.md, "Swarm
+ * sensors"). */
+static void swarm_error(const char *line, const char *said)
+{
+	char lua[1024];
+	snprintf(lua, sizeof lua,
+		 "local env = {}\n"
+		 "function env.init(scene, task)\n"
+		 "  local bot = scene:bot{ x = 0, y = 0 }\n"
+		 "  %s\n"
+		 "end\n"
+		 "return env\n",
+		 line);
+	CHECK_EQ_INT(run_env(lua, 1), 1);
+	CHECK_CONTAINS(out, said);
+}
+
+TEST(swarm_sensors_are_checked_at_their_line)
+{
+	swarm_error("bot:rab{ name = 'R', read = 'bearng' }",
+		    "Test.lua:4: bot:rab: read is \"range\", \"bearing\", "
+		    "\"value\" or \"count\", found \"bearng\" (did you mean "
+		    "bearing?)");
+	swarm_error("bot:rab{ name = 'R', range = -1 }",
+		    "Test.lua:4: bot:rab: aperture must be 0 or more, range and "
+		    "scale above 0");
+	swarm_error("bot:rab{ name = 'R', slot = 0 }",
+		    "Test.lua:4: bot:rab: slot must be a whole number from 1 "
+		    "to 16, found 0");
+	swarm_error("bot:light{ name = 'L', apperture = 30 }",
+		    "Test.lua:4: bot:light: unknown option 'apperture'; did "
+		    "you mean aperture?");
+	swarm_error("bot:lihgt{ name = 'L' }", "did you mean bot:light?");
+	swarm_error("scene:patch{ x = 1, grey = 2 }",
+		    "Test.lua:4: scene:patch: grey must be in [0, 1], found 2");
+	swarm_error("scene:patch{ radius = 1, half_width = 2 }",
+		    "Test.lua:4: scene:patch: a patch is a circle (radius) or "
+		    "a rectangle (half_width, half_height), not both");
+	swarm_error("bot:camera{ name = 'C', colour = 'purple' }",
+		    "Test.lua:4: bot:camera: colour: unknown colour 'purple' "
+		    "(known: red, yellow, green, cyan, blue, magenta, white, "
+		    "black)");
+	swarm_error("scene:colour(bot, 'gren')",
+		    "Test.lua:4: scene:colour: its colour: unknown colour "
+		    "'gren'; did you mean green?");
+	swarm_error("bot:camera{ name = 'C', read = 'value' }",
+		    "Test.lua:4: bot:camera: read is \"range\", \"bearing\", "
+		    "\"colour\" or \"count\", found \"value\"");
+	swarm_error("scene:colour(3, 'red')",
+		    "Test.lua:4: scene:colour: a bot or an element, found "
+		    "number");
+	swarm_error("scene:light{ x = 1, intensity = -3 }",
+		    "Test.lua:4: scene:light: intensity must be above 0, "
+		    "found -3");
+	int rc = run_env("local env = {}\n"
+			 "function env.init(scene, task)\n"
+			 "  env.bot = scene:bot{ x = 0, y = 0 }\n"
+			 "end\n"
+			 "function env.reset(scene, episode)\n"
+			 "  scene:light{ x = 5, y = 5 }\n"
+			 "end\n"
+			 "return env\n",
+			 1);
+	CHECK_EQ_INT(rc, 1);
+	CHECK_CONTAINS(out, "Test.lua:6: scene:light: lights and patches are "
+			    "made in init");
+}
+
 TEST(each_element_takes_its_own_options)
 {
 	/* a zone has a size, not a radius; the message lists the zone's */
@@ -494,6 +563,7 @@ int main(void)
 	RUN(an_environment_makes_its_own_obstacles);
 	RUN(elements_are_not_made_in_reset);
 	RUN(each_element_takes_its_own_options);
+	RUN(swarm_sensors_are_checked_at_their_line);
 	RUN(a_bot_models_mistakes_are_its_own);
 	RUN(a_sensor_option_that_is_not_finite_is_refused);
 	RUN(numbers_past_an_int_are_no_index);
