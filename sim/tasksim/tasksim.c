@@ -10,7 +10,8 @@
 #include "mind/names.h"
 #include "mind/trace.h"
 
-_Static_assert(EVO_MAX_TEAMS <= EVO_SCENE_MAX_TEAMS,
+_Static_assert(EVO_MAX_TEAMS <= EVO_SCENE_MAX_TEAMS &&
+		   EVO_MAX_TEAMS <= EVO3D_MAX_TEAMS,
 	       "a task's teams fit a scene's");
 
 /* "did you mean" over a bot's sensor or actuator names. */
@@ -462,7 +463,9 @@ void evo_sim_trace_header(evo_sim *s)
 int evo_sim_type_is_3d(const char *type)
 {
 	return strcasecmp(type, "DEMO3DSIM") == 0 ||
-	       strcasecmp(type, "LEARN3DSIM") == 0;
+	       strcasecmp(type, "LEARN3DSIM") == 0 ||
+	       strcasecmp(type, "DEMO3DSIMMULTI") == 0 ||
+	       strcasecmp(type, "LEARN3DSIMMULTI") == 0;
 }
 
 double evo_sim_episode_reward(const evo_sim *s)

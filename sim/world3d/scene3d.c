@@ -64,6 +64,7 @@ evo_bot3d_def evo_default_bot3d_def(void)
 	d.half[2] = 0.05;
 	d.mass = 2;
 	d.friction = 0.3;
+	d.team = -1;
 	return d;
 }
 
@@ -134,6 +135,7 @@ evo_scene3d *evo_scene3d_create(const evo_scene3d_def *def)
 	if (!sc)
 		return NULL;
 	sc->def = *def;
+	sc->winner = -1;
 	sc->be = &evo_backend_ode;
 	if (new_world(sc)) {
 		free(sc);
@@ -320,6 +322,9 @@ int evo_scene3d_add_bot(evo_scene3d *sc, const evo_bot3d_def *d)
 					  "and caster must be finite and >= 0");
 	if (d->name && d->name[0] && evo_scene3d_find_bot(sc, d->name) >= 0)
 		return evo_fail(&sc->err, "bot '%s' twice", d->name);
+	if (d->team < -1 || d->team >= EVO3D_MAX_TEAMS)
+		return evo_fail(&sc->err, "a bot's team must be -1 to %d",
+				EVO3D_MAX_TEAMS - 1);
 	if (grow(sc, (void **)&sc->bot, &sc->cap_bots, sc->n_bots + 1,
 		 sizeof *sc->bot))
 		return -1;

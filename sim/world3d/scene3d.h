@@ -36,6 +36,7 @@
 #define EVO3D_NAME_MAX	     64
 #define EVO3D_PROX_MAX_RAYS  16
 #define EVO3D_REWARD_SENSORS 16
+#define EVO3D_MAX_TEAMS	     12 /* teams of bots (docs/teams.md) */
 #define EVO3D_FALSE	     0.2
 #define EVO3D_TRUE	     0.8
 #define EVO3D_TARGET_NONE    (-1)
@@ -190,6 +191,7 @@ typedef struct evo_bot3d_def {
 	 * -angular omega. 0 for a robot on the ground. */
 	double buoyancy, cob[3];
 	double drag_linear, drag_quadratic, drag_angular;
+	int team; /* -1: none; else 0 .. EVO3D_MAX_TEAMS - 1 */
 } evo_bot3d_def;
 
 evo_bot3d_def evo_default_bot3d_def(void);
@@ -206,6 +208,7 @@ typedef struct evo_bot3d {
 	double pos[3], R[9], v[3], omega[3];
 	int touching;	/* contacts this tick with anything but the ground */
 	int collisions; /* ticks spent touching since the reset */
+	double reward;	/* what its rewards paid it since the reset */
 } evo_bot3d;
 
 /* ---- rewards and controls (the 2D ones that make sense in 3D) ---------- */
@@ -278,6 +281,12 @@ typedef struct evo_scene3d {
 	evo_obstacle3d *obstacle;
 	evo_swarm swarm; /* lights and floor patches (sim/scene/swarm.h) */
 	double step_reward, episode_reward;
+	/* Teams (docs/teams.md): what each team's bots were paid since the
+	 * reset (every 3D reward pays a bot: there are no team-wide or
+	 * scene-wide 3D rewards, and a fault's penalty is the scene's), and
+	 * the episode's winner (-1: none yet) */
+	double team_reward[EVO3D_MAX_TEAMS];
+	int winner;
 	/* the body that exploded this episode, in words; "" while none did */
 	char fault[256];
 	evo_err err;

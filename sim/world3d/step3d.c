@@ -20,7 +20,10 @@ int evo_scene3d_reset(evo_scene3d *sc, uint64_t grid_seed,
 		for (int k = 0; k < b->n_actuators; k++)
 			b->actuator[k].command = 0.5;
 		b->touching = b->collisions = 0;
+		b->reward = 0;
 	}
+	memset(sc->team_reward, 0, sizeof sc->team_reward);
+	sc->winner = -1;
 	for (int i = 0; i < sc->n_elements; i++)
 		memcpy(sc->element[i].pos, sc->element[i].def.pos,
 		       sizeof sc->element[i].pos);
@@ -116,8 +119,15 @@ int evo_scene3d_step(evo_scene3d *sc)
 			evo_scene3d_pose(sc, e->body, e->pos, e->R);
 	}
 	double total = 0;
-	for (int i = 0; i < sc->n_rewards; i++)
-		total += evo_reward3d_compute(sc, &sc->reward[i]);
+	for (int i = 0; i < sc->n_rewards; i++) {
+		/* every 3D reward pays its bot, and so the bot's team */
+		double v = evo_reward3d_compute(sc, &sc->reward[i]);
+		evo_bot3d *b = &sc->bot[sc->reward[i].def.bot];
+		b->reward += v;
+		if (b->def.team >= 0)
+			sc->team_reward[b->def.team] += v;
+		total += v;
+	}
 	sc->step_reward = total;
 	sc->episode_reward += total;
 	int next = 0;
