@@ -4,7 +4,8 @@
  * values worked out by hand; the shipped Teams3D-DEMO task's team lines
  * adding up; the shipped Teams3D-NEAT task giving the same log and
  * champion with one thread and with two, its champion beating untrained
- * teams; a bad TEAM line, a bad LEARNINGTEAM and a misspelt 3D team type
+ * teams; the demo's screenshot, drawn without a display, with its second
+ * team in that team's colour; a bad TEAM line, a bad LEARNINGTEAM and a misspelt 3D team type
  * reported at their lines. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -14,6 +15,8 @@
 
 #include "harness.h"
 #include "support/cli.h"
+#include "viewer/png.h"
+#include "viewer/viewer.h"
 
 static char out[65536];
 
@@ -106,7 +109,8 @@ TEST(the_shipped_3d_team_demo_prints_teams_whose_bots_add_up)
 			     cli_evo);
 	CHECK_EQ_INT(rc, 0);
 	CHECK_CONTAINS(out, "episode 1: reward ");
-	const char *names[2] = {"  team Red: reward ", "  team Blue: reward "};
+	const char *names[2] = {"  team Rovers: reward ",
+				"  team Scouts: reward "};
 	double total = 0;
 	for (int k = 0; k < 2; k++) {
 		const char *l = strstr(out, names[k]);
@@ -120,8 +124,52 @@ TEST(the_shipped_3d_team_demo_prints_teams_whose_bots_add_up)
 	}
 	const char *e = strstr(out, "episode 1: reward ");
 	CHECK(e && fabs(strtod(e + 18, NULL) - total) < 2e-6);
-	CHECK_CONTAINS(out, "(Red1 ");
-	CHECK_CONTAINS(out, "(Blue1 ");
+	CHECK_CONTAINS(out, "(Rovers1 ");
+	CHECK_CONTAINS(out, "(Scouts1 ");
+}
+
+/* Pixels of the second team's red (evo_view_team_colour(1), shaded) in
+ * the world's part of a frame: none in a one-agent task's. */
+static long team_red(const char *png)
+{
+	evo_png_image im;
+	evo_err err = {{0}};
+	if (evo_png_read(png, &im, &err))
+		return -1;
+	long n = 0;
+	for (int y = 0; y < im.h; y++)
+		for (int x = 0; x < im.w - EVO_VIEW_PANEL_W; x++) {
+			const uint8_t *p = im.pixels + 3 * ((size_t)y * im.w + x);
+			n += p[0] > 140 && p[0] < 235 && p[1] > 20 &&
+			     p[1] < 80 && p[2] > 20 && p[2] < 80 &&
+			     abs(p[1] - p[2]) < 15;
+		}
+	evo_png_image_free(&im);
+	return n;
+}
+
+/* The demo drawn off screen: its second team's bot is red; the
+ * one-agent Avoid3D demo's robot is not. */
+TEST(the_3d_team_demo_draws_each_team_in_its_colour_without_a_display)
+{
+	const char *task[2] = {"Teams3D-DEMO", "Avoid3D-DEMO"};
+	long n[2];
+	for (int k = 0; k < 2; k++) {
+		int rc = cli_capture(out, sizeof out,
+				     "env -u DISPLAY -u WAYLAND_DISPLAY %s run "
+				     "minds/Wheeled3D/Tasks/%s.simbatch "
+				     "--ticks 30 --screenshot %s/shot%d.png "
+				     "2>&1",
+				     cli_evo, task[k], cli_tmp, k);
+		CHECK_EQ_INT(rc, 0);
+		CHECK_CONTAINS(out, "(tick 30, drawn without a window)");
+		char png[256];
+		snprintf(png, sizeof png, "%s/shot%d.png", cli_tmp, k);
+		n[k] = team_red(png);
+	}
+	printf("  team red pixels: %ld with teams, %ld without\n", n[0], n[1]);
+	CHECK(n[0] > 1000);
+	CHECK(n[1] >= 0 && n[1] < 100);
 }
 
 static int train(const char *name, int threads)
@@ -149,8 +197,8 @@ static double figure(const char *text, const char *label)
 TEST(learn3dsimmulti_threads_agree_and_the_champion_beats_untrained_teams)
 {
 	CHECK_EQ_INT(train("t1", 1), 0);
-	double champ = figure(out, "team Red, champion:");
-	double fresh = figure(out, "team Red, untrained teams");
+	double champ = figure(out, "team Rovers, champion:");
+	double fresh = figure(out, "team Rovers, untrained teams");
 	printf("  champion %.1f, untrained teams %.1f\n", champ, fresh);
 	CHECK(champ > -1e300 && fresh > -1e300);
 	CHECK(champ > fresh);
@@ -226,6 +274,7 @@ int main(void)
 		return 1;
 	RUN(a_3d_team_episode_pays_bots_teams_and_scene_as_worked_out_by_hand);
 	RUN(the_shipped_3d_team_demo_prints_teams_whose_bots_add_up);
+	RUN(the_3d_team_demo_draws_each_team_in_its_colour_without_a_display);
 	RUN(learn3dsimmulti_threads_agree_and_the_champion_beats_untrained_teams);
 	RUN(mistakes_in_a_3d_team_task_are_reported_at_their_line);
 	cli_cleanup();
