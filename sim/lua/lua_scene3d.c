@@ -87,7 +87,9 @@ static void opt_vec(lua_State *L, int idx, const char *key, double v[3],
 	lua_pop(L, 1);
 }
 
-/* A target option: an element handle or nil. */
+/* A target option: an element handle or nil. The 2D trackers of teams,
+ * "nearest_opponent" and "nearest_teammate" (docs/teams.md), are 2D only:
+ * the 3D world has no broad-phase query of bots near a bot yet. */
 static int opt_target(lua_State *L, int idx, const char *what)
 {
 	lua_getfield(L, idx, "target");
@@ -164,7 +166,9 @@ static const char *const camera_keys[] = {"name",   "range",	"slot",
 					  "read",   "colour",	"occluded",
 					  "scale", NULL};
 
-/* `sees`: a list of "ground", "obstacles", "bots", "objects". */
+/* `sees`: a list of "ground", "obstacles", "bots", "objects". A 3D ray
+ * tells no teammate from an opponent: "teammates" and "opponents" are 2D
+ * only (docs/teams.md). */
 static unsigned parse_sees(lua_State *L, int idx, unsigned dflt,
 			   const char *what)
 {
