@@ -15,6 +15,11 @@
 #     through sim/scene/backend.h (the shims and fillings excepted);
 #   - the reward and control kinds are named in sim/scene/kinds.c alone,
 #     where each says the worlds it exists in;
+#   - the rewards, controls, metrics and hooks of both scenes are
+#     sim/scene/scoring's (docs/architecture.md, step 3): their types are
+#     defined in scoring.h alone, the functions chosen by kind in
+#     scoring.c alone, and both scenes pay them through evo_score_step;
+#     the scenes' lookups by name are sim/scene/store.c's;
 #   - every file docs/architecture.md names exists (a bare name such as
 #     `step.c` must name exactly one file of the tree).
 # Run from the repository root (make test does). Ends with
@@ -152,6 +157,27 @@ names=$(grep -rl --include='*.c' '"ClosingOnTarget"\|"NextOnTimeout"' sim |
 	grep -v '^sim/scene/kinds.c$')
 if [ -z "$names" ]; then pass; else
 	fail "reward or control names outside sim/scene/kinds.c: $(echo $names)"; fi
+
+# One scoring for both scenes (step 3): the reward, control, metric and
+# hook types are scoring.h's alone; no file but scoring.c chooses a reward
+# or control function by its kind; both steps hand the tick's rewards and
+# controls to evo_score_step; no scene's storage compares names itself.
+defs=$(grep -rl --include='*.h' \
+	'typedef struct evo_\(reward_def\|control_def\|metric\|scene_hooks\) {' sim |
+	grep -v '^sim/scene/scoring.h$')
+if [ -z "$defs" ]; then pass; else
+	fail "reward, control, metric or hook types outside sim/scene/scoring.h: $(echo $defs)"; fi
+cases=$(grep -rl --include='*.c' 'case EVO_\(RW\|CF\)_' sim |
+	grep -v '^sim/scene/scoring.c$')
+if [ -z "$cases" ]; then pass; else
+	fail "reward or control functions chosen outside sim/scene/scoring.c: $(echo $cases)"; fi
+for f in sim/world2d/rewards.c sim/world3d/rewards3d.c; do
+	if grep -q 'evo_score_step(' "$f"; then pass; else
+		fail "$f does not score its scene through evo_score_step"; fi
+done
+own=$(grep -l 'strcmp(' sim/world2d/scene.c sim/world3d/scene3d.c)
+if [ -z "$own" ]; then pass; else
+	fail "scene storage comparing names around sim/scene/store.c: $(echo $own)"; fi
 
 # Every file docs/architecture.md names exists.
 if [ -f docs/architecture.md ]; then

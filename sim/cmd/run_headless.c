@@ -106,12 +106,12 @@ static void print_teams(const evo_sim *s)
 /* The environment's own metrics at the end of an episode line, in the
  * order it declared them: ", in_zone 123.000000". Nothing when it has
  * none, so such a line is as it always was. */
-static void print_metrics(const evo_scene *sc)
+static void print_metrics(const evo_sim *s)
 {
 	char v[64];
-	for (int i = 0; i < sc->n_metrics; i++)
-		printf(", %s %s", sc->metric[i].name,
-		       evo_number_text(v, sizeof v, sc->metric[i].value, 1));
+	for (int i = 0; i < evo_sim_n_metrics(s); i++)
+		printf(", %s %s", evo_sim_metric_name(s, i),
+		       evo_number_text(v, sizeof v, evo_sim_metric(s, i), 1));
 }
 
 /* What the episode did, when the environment says it (docs/lua.md, "What
@@ -152,6 +152,7 @@ int evo_run_print_episode(evo_sim *s, long e, long t, evo_err *err)
 		printf("episode %ld: reward %.6f over %ld ticks, %d "
 		       "collision ticks",
 		       e, evo_sim_episode_reward(s), t, collisions);
+		print_metrics(s);
 		if (print_outcome(s, err))
 			return -1;
 		printf("\n");
@@ -177,7 +178,7 @@ int evo_run_print_episode(evo_sim *s, long e, long t, evo_err *err)
 		printf(", %d delivered", delivered);
 	if (has_reward(s->scene, EVO_RW_GATHER))
 		printf(", %d gathered", gathered);
-	print_metrics(s->scene);
+	print_metrics(s);
 	if (print_outcome(s, err))
 		return -1;
 	printf("\n");

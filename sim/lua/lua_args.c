@@ -136,7 +136,10 @@ int evo_lua_check_element(lua_State *L, int idx)
 int evo_lua_check_metric(lua_State *L, int idx)
 {
 	int i = *(int *)luaL_checkudata(L, idx, EVO_LUA_METRIC_MT);
-	if (i < 0 || i >= evo_lua_ctx(L)->sc->n_metrics)
+	int *n;
+	evo_err *err;
+	evo_lua_metrics(evo_lua_ctx(L), &n, &err);
+	if (i < 0 || i >= *n)
 		luaL_error(L, "stale metric handle");
 	return i;
 }

@@ -178,6 +178,12 @@ void evo_lua_memory_hit(void *ctx)
 		}
 }
 
+/* The hooks of the scene the state builds, 2D or 3D. */
+static evo_scene_hooks *scene_hooks(evo_lua *l)
+{
+	return l->sc ? &l->sc->hooks : &l->sc3->hooks;
+}
+
 evo_lua *evo_lua_create(const evo_lua_def *def, evo_err *err)
 {
 	evo_lua *l = calloc(1, sizeof *l);
@@ -239,11 +245,10 @@ evo_lua *evo_lua_create(const evo_lua_def *def, evo_err *err)
 		evo_lua_destroy(l);
 		return NULL;
 	}
-	if (l->sc) {
-		l->sc->hooks.ctx = l;
-		l->sc->hooks.reward = evo_lua_hook_reward;
-		l->sc->hooks.control = evo_lua_hook_control;
-	}
+	evo_scene_hooks *h = scene_hooks(l);
+	h->ctx = l;
+	h->reward = evo_lua_hook_reward;
+	h->control = evo_lua_hook_control;
 	return l;
 }
 
@@ -251,8 +256,9 @@ void evo_lua_destroy(evo_lua *l)
 {
 	if (!l)
 		return;
-	if (l->sc && l->sc->hooks.ctx == l)
-		memset(&l->sc->hooks, 0, sizeof l->sc->hooks);
+	evo_scene_hooks *h = scene_hooks(l);
+	if (h->ctx == l)
+		memset(h, 0, sizeof *h);
 	evo_lua_state_close(l->L, l->mem);
 	evo_lua_watch_remove(l->watch);
 	free(l);
@@ -296,7 +302,7 @@ static int init_env3d(evo_lua *l, const char *not3d, evo_err *err);
  * script's code. */
 static int env_fields(lua_State *L)
 {
-	static const char *const not3d[] = {"post_step", "obstacles"};
+	static const char *const not3d[] = {"obstacles"};
 	evo_lua *l = lua_touserdata(L, 1);
 	lua_rawgeti(L, LUA_REGISTRYINDEX, l->env_ref);
 	int env = lua_gettop(L);
@@ -305,7 +311,7 @@ static int env_fields(lua_State *L)
 	lua_pushboolean(L, lua_getfield(L, env, "obstacles") == LUA_TFUNCTION);
 	lua_replace(L, -2);
 	lua_pushnil(L);
-	for (unsigned i = 0; i < 2; i++) {
+	for (unsigned i = 0; i < sizeof not3d / sizeof *not3d; i++) {
 		int has = lua_getfield(L, env, not3d[i]) != LUA_TNIL;
 		lua_pop(L, 1);
 		if (has) {
@@ -348,6 +354,8 @@ int evo_lua_init_env(evo_lua *l, const char *env, evo_err *err)
 	if (lua_isstring(L, -1))
 		snprintf(not3d, sizeof not3d, "%s", lua_tostring(L, -1));
 	lua_pop(L, 3);
+	if (l->has_post_step)
+		scene_hooks(l)->post_step = evo_lua_hook_post_step;
 	if (l->sc3)
 		return init_env3d(l, not3d, err);
 	if (l->sc->n_bots == 0)
@@ -357,8 +365,6 @@ int evo_lua_init_env(evo_lua *l, const char *env, evo_err *err)
 	/* an obstacle generator of its own replaces the grid */
 	if (has_obstacles)
 		l->sc->grid.enabled = 0;
-	if (l->has_post_step)
-		l->sc->hooks.post_step = evo_lua_hook_post_step;
 	return 0;
 }
 
@@ -454,14 +460,18 @@ static int init_env3d(evo_lua *l, const char *not3d, evo_err *err)
 	return 0;
 }
 
-/* A 3D environment's reset: math.random and the layout stream seeded, then
- * its reset(scene, episode). */
+/* A 3D environment's reset: math.random and the layout stream seeded, the
+ * Lua rewards' and controls' own resets, then its reset(scene,
+ * episode). */
 static int reset3d(evo_lua *l, int episode, evo_err *err)
 {
 	evo_rng r = evo_rng_for(l->sc3->rng.s, 0x4c7561 /* "Lua" */, 0, 0);
 	seed_math_random(l->L, evo_rng_next(&r));
 	l->layout_rng =
 	    evo_rng_for(l->sc3->grid_seed, 0x6f6273 /* "obs" */, 0, 0);
+	if (evo_lua_call_resets(l, &evo_lua_reward_resets_key, err) ||
+	    evo_lua_call_resets(l, &evo_lua_control_resets_key, err))
+		return -1;
 	l->episode = episode;
 	l->in_reset = 1;
 	int rc = evo_lua_call_env(l, "reset", 1, episode, err);

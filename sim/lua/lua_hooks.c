@@ -199,7 +199,7 @@ int evo_lua_pcall(evo_lua *l, int nargs, int nresults, long budget,
 /* ---- hooks: Lua reward and control functions ------------------------- */
 
 /* Call the function behind ref with the scene; leaves one result. */
-static int call_ref(evo_lua *l, int ref, const char *what)
+static int call_ref(evo_lua *l, int ref, const char *what, evo_err *err)
 {
 	lua_State *L = l->L;
 	lua_rawgeti(L, LUA_REGISTRYINDEX, ref);
@@ -208,22 +208,20 @@ static int call_ref(evo_lua *l, int ref, const char *what)
 			  what) != LUA_OK) {
 		/* the budget's message names the function already */
 		if (l->over)
-			evo_fail(&l->sc->err, "%s", evo_lua_errstr(L, -1));
+			evo_fail(err, "%s", evo_lua_errstr(L, -1));
 		else
-			evo_fail(&l->sc->err, "%s (in %s)",
-				 evo_lua_errstr(L, -1), what);
+			evo_fail(err, "%s (in %s)", evo_lua_errstr(L, -1), what);
 		lua_pop(L, 1);
 		return -1;
 	}
 	return 0;
 }
 
-int evo_lua_hook_reward(void *c, evo_scene *sc, const evo_reward *r,
+int evo_lua_hook_reward(void *c, evo_err *err, const evo_reward *r,
 			double *out)
 {
 	evo_lua *l = c;
-	(void)sc;
-	if (call_ref(l, r->def.lua_ref, "a reward function"))
+	if (call_ref(l, r->def.lua_ref, "a reward function", err))
 		return -1;
 	int isnum;
 	/* a number, not a string that reads as one ("1.5" is a mistake
@@ -245,21 +243,20 @@ int evo_lua_hook_reward(void *c, evo_scene *sc, const evo_reward *r,
 		lua_Debug ar;
 		lua_rawgeti(L, LUA_REGISTRYINDEX, r->def.lua_ref);
 		lua_getinfo(L, ">S", &ar);
-		evo_fail(&l->sc->err,
+		evo_fail(err,
 			 "%s:%d: the reward function written here returned "
 			 "%s at tick %ld, not a finite number",
-			 ar.short_src, ar.linedefined, got, l->sc->tick);
+			 ar.short_src, ar.linedefined, got, evo_lua_tick(l));
 	}
 	lua_pop(l->L, 1);
 	return ok ? 0 : -1;
 }
 
-int evo_lua_hook_control(void *c, evo_scene *sc, const evo_control *ctl,
+int evo_lua_hook_control(void *c, evo_err *err, const evo_control *ctl,
 			 int *next)
 {
 	evo_lua *l = c;
-	(void)sc;
-	if (call_ref(l, ctl->def.lua_ref, "a control function"))
+	if (call_ref(l, ctl->def.lua_ref, "a control function", err))
 		return -1;
 	*next = lua_toboolean(l->L, -1);
 	lua_pop(l->L, 1);
@@ -321,11 +318,9 @@ int evo_lua_call_env(evo_lua *l, const char *name, int with_arg,
 	return 0;
 }
 
-int evo_lua_hook_post_step(void *c, evo_scene *sc)
+int evo_lua_hook_post_step(void *c, evo_err *err)
 {
-	evo_lua *l = c;
-	(void)sc;
-	return evo_lua_call_env(l, "post_step", 0, 0, &l->sc->err);
+	return evo_lua_call_env(c, "post_step", 0, 0, err);
 }
 
 /* ---- an episode's outcome: env.behaviour and env.solved ---------------- */

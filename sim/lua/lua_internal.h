@@ -201,6 +201,9 @@ extern const luaL_Reg evo_lua_element_methods[];
 extern const luaL_Reg evo_lua_metric_methods[];
 extern const luaL_Reg evo_lua_scene_methods[];
 
+/* scene:metric(name), in a scene of either dimension (lua_scene.c) */
+int evo_lua_scene_metric(lua_State *L);
+
 /* lua_scene3d.c: the 3D scene's, its bots' and its elements' */
 extern const luaL_Reg evo_lua_scene3d_methods[];
 extern const luaL_Reg evo_lua_bot3d_methods[];
@@ -236,6 +239,12 @@ int evo_lua_load_model(lua_State *L, evo_lua *l, const char *model,
 extern const char evo_lua_reward_resets_key;
 extern const char evo_lua_control_resets_key;
 
+/* A Lua reward's or control's options at 3, {reset = f, bot = b, team =
+ * NAME} (bot and team for a reward only; nil: none): f goes on the list
+ * under resets_key (lua_scene.c, for both dimensions). */
+void evo_lua_function_options(lua_State *L, const char *what,
+			      const void *resets_key, int reward);
+
 /* Call every function of the list under key with the scene, inside the
  * call under way (from a scene method) or as a call of its own with the
  * reset budget. 0, or -1 with err set. */
@@ -258,11 +267,32 @@ int evo_lua_pcall(evo_lua *l, int nargs, int nresults, long budget,
  * in a C function called from the script). */
 void evo_lua_note_where(evo_lua *l, lua_State *L, int level);
 
-int evo_lua_hook_reward(void *c, evo_scene *sc, const evo_reward *r,
+/* The scene's hooks (scene/scoring.h), for a scene of either dimension:
+ * a Lua reward or control function, the environment's post_step. */
+int evo_lua_hook_reward(void *c, evo_err *err, const evo_reward *r,
 			double *out);
-int evo_lua_hook_control(void *c, evo_scene *sc, const evo_control *ctl,
+int evo_lua_hook_control(void *c, evo_err *err, const evo_control *ctl,
 			 int *next);
-int evo_lua_hook_post_step(void *c, evo_scene *sc);
+int evo_lua_hook_post_step(void *c, evo_err *err);
+/* The scene's tick, whatever its dimension. */
+static inline long evo_lua_tick(const evo_lua *l)
+{
+	return l->sc ? l->sc->tick : l->sc3->tick;
+}
+
+/* The scene's metrics (scene/scoring.h), whatever its dimension: the
+ * array, with its count in *n, and the scene's error in *err. */
+static inline evo_metric *evo_lua_metrics(evo_lua *l, int **n, evo_err **err)
+{
+	if (l->sc) {
+		*n = &l->sc->n_metrics;
+		*err = &l->sc->err;
+		return l->sc->metric;
+	}
+	*n = &l->sc3->n_metrics;
+	*err = &l->sc3->err;
+	return l->sc3->metric;
+}
 /* Call env[name](scene, arg) if the environment has it: with_arg 0 no
  * argument, 1 the integer arg, 2 the task's table. 0, or -1 with err. */
 int evo_lua_call_env(evo_lua *l, const char *name, int with_arg,

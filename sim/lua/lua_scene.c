@@ -421,8 +421,8 @@ static const char *const reward_keys[] = {
  * team for a reward only): f goes on the list under resets_key, called
  * with the scene at every episode's reset (and, for a reward, by
  * scene:reset_rewards). */
-static void lua_function_options(lua_State *L, const char *what,
-				 const void *resets_key, int reward)
+void evo_lua_function_options(lua_State *L, const char *what,
+			      const void *resets_key, int reward)
 {
 	static const char *const keys[] = {"reset", NULL};
 	static const char *const rkeys[] = {"reset", "bot", "team", NULL};
@@ -458,7 +458,7 @@ static int function_or_name(lua_State *L, const char *what, const char *noun,
 	if (lua_isfunction(L, 2)) {
 		if (evo_lua_ctx(L)->sc->n_bots == 0)
 			luaL_error(L, "%s: there is no bot yet", what);
-		lua_function_options(L, what,
+		evo_lua_function_options(L, what,
 				     lua_kind == EVO_RW_LUA
 					 ? &evo_lua_reward_resets_key
 					 : &evo_lua_control_resets_key,
@@ -712,27 +712,37 @@ static int scene_episode_reward(lua_State *L)
  * handle; later, the handle of a declared one. The set is fixed once init
  * returns, so that every episode, every worker and a log.csv header agree
  * on it. */
-static int scene_metric(lua_State *L)
+int evo_lua_scene_metric(lua_State *L)
 {
 	evo_lua *l = evo_lua_ctx(L);
+	int *n;
+	evo_err *err;
+	evo_metric *metric = evo_lua_metrics(l, &n, &err);
 	const char *name = luaL_checkstring(L, 2);
-	int i = evo_scene_find_metric(l->sc, name);
+	int i = evo_metric_find(metric, *n, name);
 	if (i < 0 && l->ready) {
 		const char *names[EVO_SCENE_MAX_METRICS];
-		for (int k = 0; k < l->sc->n_metrics; k++)
-			names[k] = l->sc->metric[k].name;
-		const char *c = evo_closest_name(name, names,
-						 (size_t)l->sc->n_metrics, NULL);
+		for (int k = 0; k < *n; k++)
+			names[k] = metric[k].name;
+		const char *c = evo_closest_name(name, names, (size_t)*n, NULL);
 		luaL_error(L,
 			   "scene:metric: no metric '%s' was declared; "
 			   "metrics are declared in env.init%s%s%s",
 			   name, c ? " (closest: " : "", c ? c : "",
 			   c ? ")" : "");
 	}
-	if (i < 0 && (i = evo_scene_add_metric(l->sc, name)) < 0)
-		luaL_error(L, "scene:metric: %s", l->sc->err.msg);
+	if (i < 0 && (i = evo_metric_add(metric, n, name, err)) < 0)
+		luaL_error(L, "scene:metric: %s", err->msg);
 	evo_lua_push_handle(L, EVO_LUA_METRIC_MT, i);
 	return 1;
+}
+
+/* Metric i of the scene, 2D or 3D. */
+static evo_metric *metric_at(lua_State *L, int i)
+{
+	int *n;
+	evo_err *err;
+	return &evo_lua_metrics(evo_lua_ctx(L), &n, &err)[i];
 }
 
 /* Set metric i to v for `how` (set or add): a value that is not finite
@@ -741,7 +751,8 @@ static void metric_store(lua_State *L, int i, double v, const char *how,
 			 double arg)
 {
 	evo_lua *l = evo_lua_ctx(L);
-	evo_metric *m = &l->sc->metric[i];
+	evo_metric *m = metric_at(L, i);
+	lua_Integer tick = (lua_Integer)evo_lua_tick(l);
 	if (!l->ready)
 		luaL_error(L,
 			   "metric '%s': %s in env.init, before any episode: "
@@ -751,12 +762,12 @@ static void metric_store(lua_State *L, int i, double v, const char *how,
 	if (!isfinite(arg))
 		luaL_error(L, "metric '%s': %s(%f) at tick %I: not a finite "
 			      "number",
-			   m->name, how, arg, (lua_Integer)l->sc->tick);
+			   m->name, how, arg, tick);
 	if (!isfinite(v))
 		luaL_error(L, "metric '%s': %s(%f) at tick %I makes it %f, not "
 			      "a finite number",
-			   m->name, how, arg, (lua_Integer)l->sc->tick, v);
-	evo_lua_scene_result(L, evo_scene_set_metric(l->sc, i, v));
+			   m->name, how, arg, tick, v);
+	m->value = v;
 }
 
 static int metric_set(lua_State *L)
@@ -772,21 +783,19 @@ static int metric_add(lua_State *L)
 {
 	int i = evo_lua_check_metric(L, 1);
 	double x = luaL_optnumber(L, 2, 1);
-	metric_store(L, i, evo_lua_ctx(L)->sc->metric[i].value + x, "add", x);
+	metric_store(L, i, metric_at(L, i)->value + x, "add", x);
 	return 0;
 }
 
 static int metric_value(lua_State *L)
 {
-	lua_pushnumber(
-	    L, evo_lua_ctx(L)->sc->metric[evo_lua_check_metric(L, 1)].value);
+	lua_pushnumber(L, metric_at(L, evo_lua_check_metric(L, 1))->value);
 	return 1;
 }
 
 static int metric_name(lua_State *L)
 {
-	lua_pushstring(
-	    L, evo_lua_ctx(L)->sc->metric[evo_lua_check_metric(L, 1)].name);
+	lua_pushstring(L, metric_at(L, evo_lua_check_metric(L, 1))->name);
 	return 1;
 }
 
@@ -862,7 +871,7 @@ const luaL_Reg evo_lua_scene_methods[] = {
     {"tick", scene_tick},
     {"episode_reward", scene_episode_reward},
     {"reset_rewards", scene_reset_rewards},
-    {"metric", scene_metric},
+    {"metric", evo_lua_scene_metric},
     {"genome", scene_genome},
     {NULL, NULL},
 };

@@ -785,6 +785,11 @@ static int kind_by_name(lua_State *L, int idx, int reward, const char *what)
 	    reward ? evo_reward_kind_by_name(s) : evo_control_kind_by_name(s);
 	unsigned dims =
 	    reward ? evo_reward_kind_dims(k) : evo_control_kind_dims(k);
+	if (k == (reward ? (int)EVO_RW_LUA : (int)EVO_CF_LUA))
+		return luaL_error(L,
+				  "%s: for a %s of your own, pass a Lua "
+				  "function, not the name '%s'",
+				  what, noun, s);
 	if (k >= 0 && (dims & EVO_DIM_3D))
 		return k;
 	if (k >= 0)
@@ -796,9 +801,9 @@ static int kind_by_name(lua_State *L, int idx, int reward, const char *what)
 			  noun, s, c ? c : "?");
 }
 
-/* The bots a reward or control is for: its `bot` (the first bot when
- * absent), or with `team`, each bot of the team (docs/teams.md). Fills
- * bots (at least EVO_TEAM_BOTS_MAX) and returns how many. */
+/* The bots a built-in reward or control is for: its `bot` (the first bot
+ * when absent), or with `team`, each bot of the team (docs/teams.md).
+ * Fills bots (EVO_TEAM_BOTS_MAX of room) and returns how many. */
 static int scope_bots(lua_State *L, const char *what, int *bots)
 {
 	int team = evo_lua_opt_team(L, 3, what);
@@ -824,16 +829,63 @@ static int scope_bots(lua_State *L, const char *what, int *bots)
 	return n;
 }
 
+/* scene:reward(fn, {bot = b | team = NAME, reset = f}) and
+ * scene:control(fn, {reset = f}): a Lua function as a reward (paid to the
+ * scene, to bot, or to a team as a whole) or a control, called each tick
+ * with the scene (sim/lua/lua_hooks.c), as in 2D. */
+static int lua_function(lua_State *L, int reward, const char *what)
+{
+	static const char *const rkeys[] = {"reset", "bot", "team", NULL};
+	static const char *const ckeys[] = {"reset", NULL};
+	evo_scene3d *sc = scene3d(L);
+	if (sc->n_bots == 0)
+		luaL_error(L, "%s: there is no bot yet", what);
+	if (!lua_isnoneornil(L, 3))
+		evo_lua_check_keys(L, 3, what, reward ? rkeys : ckeys);
+	evo_lua_function_options(L, what,
+				 reward ? &evo_lua_reward_resets_key
+					: &evo_lua_control_resets_key,
+				 reward);
+	lua_pushvalue(L, 2);
+	int ref = luaL_ref(L, LUA_REGISTRYINDEX);
+	if (!reward) {
+		evo_control_def d = evo_default_control_def(EVO_CF_LUA);
+		d.lua_ref = ref;
+		result(L, evo_scene3d_add_control(sc, &d));
+		return 0;
+	}
+	evo_reward_def d = evo_default_reward_def(EVO_RW_LUA);
+	d.lua_ref = ref;
+	d.scope = EVO_SCOPE_SCENE;
+	if (lua_istable(L, 3)) {
+		lua_getfield(L, 3, "bot");
+		int has_bot = !lua_isnil(L, -1);
+		lua_pop(L, 1);
+		int team = evo_lua_opt_team(L, 3, what);
+		if (has_bot && team >= 0)
+			luaL_error(L, "%s: give bot or team, not both", what);
+		if (has_bot) {
+			d.bot = opt_bot(L, 3, what);
+			d.scope = EVO_SCOPE_BOT;
+		} else if (team >= 0) {
+			d.team = team;
+			d.scope = EVO_SCOPE_TEAM;
+		}
+	}
+	result(L, evo_scene3d_add_reward(sc, &d));
+	return 0;
+}
+
 /* The sensors option of a reward, names resolved on d's bot. */
-static void reward_sensors(lua_State *L, evo_reward3d_def *d, const char *what)
+static void reward_sensors(lua_State *L, evo_reward_def *d, const char *what)
 {
 	d->n_sensors = 0;
 	if (lua_getfield(L, 3, "sensors") != LUA_TNIL) {
 		luaL_checktype(L, -1, LUA_TTABLE);
 		lua_Integer n = luaL_len(L, -1);
-		if (n > EVO3D_REWARD_SENSORS)
+		if (n > EVO_REWARD_MAX_SENSORS)
 			luaL_error(L, "%s: at most %d sensors", what,
-				   EVO3D_REWARD_SENSORS);
+				   EVO_REWARD_MAX_SENSORS);
 		for (lua_Integer i = 1; i <= n; i++) {
 			lua_geti(L, -1, i);
 			const char *s = lua_tostring(L, -1);
@@ -856,13 +908,15 @@ static int scene_reward(lua_State *L)
 					   "sensors", NULL};
 	const char *what = "scene:reward";
 	no_new_pieces(L, what);
+	if (lua_isfunction(L, 2))
+		return lua_function(L, 1, what);
 	int kind = kind_by_name(L, 2, 1, what);
 	options(L, 3, what, keys);
 	int bots[EVO_TEAM_BOTS_MAX];
 	int n = scope_bots(L, what, bots);
 	for (int i = 0; i < n; i++) {
-		evo_reward3d_def d =
-		    evo_default_reward3d_def((evo_reward_kind)kind);
+		evo_reward_def d =
+		    evo_default_reward_def((evo_reward_kind)kind);
 		d.bot = bots[i];
 		d.k = num(L, 3, "k", d.k, what);
 		d.k2 = num(L, 3, "k2", d.k2, what);
@@ -879,16 +933,19 @@ static int scene_reward(lua_State *L)
 static int scene_control(lua_State *L)
 {
 	static const char *const keys[] = {"bot",    "team",	  "ticks",
-					   "sensor", "threshold", NULL};
+					   "sensor", "target", "threshold",
+					   NULL};
 	const char *what = "scene:control";
 	no_new_pieces(L, what);
+	if (lua_isfunction(L, 2))
+		return lua_function(L, 0, what);
 	int kind = kind_by_name(L, 2, 0, what);
 	options(L, 3, what, keys);
 	int bots[EVO_TEAM_BOTS_MAX];
 	int n = scope_bots(L, what, bots);
 	for (int i = 0; i < n; i++) {
-		evo_control3d_def d =
-		    evo_default_control3d_def((evo_control_kind)kind);
+		evo_control_def d =
+		    evo_default_control_def((evo_control_kind)kind);
 		d.bot = bots[i];
 		double ticks = num(L, 3, "ticks", (double)d.ticks, what);
 		if (ticks < 1 || ticks != floor(ticks) || ticks > 1e15)
@@ -896,6 +953,7 @@ static int scene_control(lua_State *L)
 				   what);
 		d.ticks = (long)ticks;
 		d.threshold = num(L, 3, "threshold", d.threshold, what);
+		d.target = opt_target(L, 3, what);
 		const char *s = evo_lua_opt_str(L, 3, "sensor", NULL, what);
 		if (s)
 			d.sensor = sensor_index(L, d.bot, s, what);
@@ -1029,6 +1087,20 @@ static int scene_tick(lua_State *L)
 	return 1;
 }
 
+/* Forget what the reward functions remember (ClosingOnTarget's last
+ * distance), e.g. after moving a target, and call the Lua rewards' own
+ * resets: as in 2D. */
+static int scene_reset_rewards(lua_State *L)
+{
+	evo_lua *l = evo_lua_ctx(L);
+	for (int i = 0; i < l->sc3->n_rewards; i++)
+		evo_reward_reset(&l->sc3->reward[i]);
+	evo_err err = {{0}};
+	if (evo_lua_call_resets(l, &evo_lua_reward_resets_key, &err))
+		luaL_error(L, "%s", err.msg);
+	return 0;
+}
+
 static int scene_episode_reward(lua_State *L)
 {
 	lua_pushnumber(L, scene3d(L)->episode_reward);
@@ -1090,5 +1162,7 @@ const luaL_Reg evo_lua_scene3d_methods[] = {
     {"teams", scene_teams},
     {"bots", scene_bots},
     {"winner", scene_winner},
+    {"reset_rewards", scene_reset_rewards},
+    {"metric", evo_lua_scene_metric},
     {NULL, NULL},
 };

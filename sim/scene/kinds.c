@@ -24,11 +24,10 @@ static const kind_row reward_rows[EVO_RW_KIND_COUNT] = {
     [EVO_RW_COLLECT] = {"Collect", EVO_DIM_2D},
     [EVO_RW_FORWARD_SPEED] = {"ForwardSpeed", EVO_DIM_BOTH},
     [EVO_RW_GATHER] = {"Gather", EVO_DIM_2D},
-    /* the 3D scene has no Lua hooks yet (issue 32) */
-    [EVO_RW_LUA] = {"Lua", EVO_DIM_2D},
-    [EVO_RW_DISTANCE] = {"Distance", EVO_DIM_2D},
-    [EVO_RW_FINAL_DISTANCE] = {"FinalDistance", EVO_DIM_2D},
-    [EVO_RW_EFFORT] = {"Effort", EVO_DIM_2D},
+    [EVO_RW_LUA] = {"Lua", EVO_DIM_BOTH},
+    [EVO_RW_DISTANCE] = {"Distance", EVO_DIM_BOTH},
+    [EVO_RW_FINAL_DISTANCE] = {"FinalDistance", EVO_DIM_BOTH},
+    [EVO_RW_EFFORT] = {"Effort", EVO_DIM_BOTH},
 };
 
 static const kind_row control_rows[EVO_CF_KIND_COUNT] = {
@@ -36,12 +35,14 @@ static const kind_row control_rows[EVO_CF_KIND_COUNT] = {
     [EVO_CF_NEXT_ON_COLLISION] = {"NextOnCollision", EVO_DIM_BOTH},
     [EVO_CF_NEXT_ON_COLLISION_AND_TIMEOUT] = {"NextOnCollisionAndTimeout",
 					      EVO_DIM_BOTH},
+    /* a contact with an element's body or obstacle: the 3D scene does
+     * not keep which obstacle an element is */
     [EVO_CF_NEXT_ON_COLLISION_WITH_TARGET] = {"NextOnCollisionWithTarget",
 					      EVO_DIM_2D},
     [EVO_CF_NEXT_ON_SENSOR_BELOW] = {"NextOnSensorBelowThreshold",
 				     EVO_DIM_BOTH},
-    [EVO_CF_LUA] = {"Lua", EVO_DIM_2D},
-    [EVO_CF_NEXT_ON_TARGET_REACHED] = {"NextOnTargetReached", EVO_DIM_2D},
+    [EVO_CF_LUA] = {"Lua", EVO_DIM_BOTH},
+    [EVO_CF_NEXT_ON_TARGET_REACHED] = {"NextOnTargetReached", EVO_DIM_BOTH},
 };
 
 /* Shorter spellings also accepted (evo's own enum names, and 3D's

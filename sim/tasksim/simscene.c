@@ -209,11 +209,14 @@ static void sense_3d(void *sc)
 	evo_scene3d_sense(sc);
 }
 
-/* A 3D step has no hook that can fail: a fault ends the episode. */
-static int step_3d(void *sc, evo_err *err)
+/* A fault ends the episode; a hook that fails fails the step. */
+static int step_3d(void *v, evo_err *err)
 {
-	(void)err;
-	return evo_scene3d_step(sc);
+	evo_scene3d *sc = v;
+	int r = evo_scene3d_step(sc);
+	if (r < 0)
+		evo_fail(err, "%s", sc->err.msg);
+	return r;
 }
 
 static int bot_team_3d(const void *sc, int bot)
@@ -239,23 +242,19 @@ static void wake_scored_3d(void *sc)
 	(void)sc;
 }
 
-/* A 3D environment declares no metrics (yet: docs/architecture.md). */
 static int n_metrics_3d(const void *sc)
 {
-	(void)sc;
-	return 0;
+	return ((const evo_scene3d *)sc)->n_metrics;
 }
 
 static const char *metric_name_3d(const void *sc, int k)
 {
-	(void)sc, (void)k;
-	return "";
+	return ((const evo_scene3d *)sc)->metric[k].name;
 }
 
 static double metric_3d(const void *sc, int k)
 {
-	(void)sc, (void)k;
-	return 0;
+	return ((const evo_scene3d *)sc)->metric[k].value;
 }
 
 static const char *fault_3d(const void *sc)

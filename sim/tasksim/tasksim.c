@@ -10,8 +10,7 @@
 #include "mind/names.h"
 #include "mind/trace.h"
 
-_Static_assert(EVO_MAX_TEAMS <= EVO_SCENE_MAX_TEAMS &&
-		   EVO_MAX_TEAMS <= EVO3D_MAX_TEAMS,
+_Static_assert(EVO_MAX_TEAMS <= EVO_SCENE_MAX_TEAMS,
 	       "a task's teams fit a scene's");
 
 /* "did you mean" over a bot's sensor or actuator names. */

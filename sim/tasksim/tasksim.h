@@ -130,7 +130,7 @@ int evo_sim_type_is_3d(const char *type);
 
 /* The episode's figures, of either world: its reward so far, its ticks,
  * the ticks agent a's bot spent touching something, the environment's
- * metrics (none in 3D), and what broke the episode ("" when nothing did:
+ * metrics, and what broke the episode ("" when nothing did:
  * a 3D body that exploded). */
 double evo_sim_episode_reward(const evo_sim *s);
 long evo_sim_ticks(const evo_sim *s);

@@ -92,27 +92,3 @@ evo_bot_def evo_default_bot_def(void)
 	return d;
 }
 
-evo_reward_def evo_default_reward_def(evo_reward_kind kind)
-{
-	evo_reward_def d;
-	memset(&d, 0, sizeof d);
-	d.kind = kind;
-	d.k = 1.0;
-	d.threshold = 0.5;
-	d.target = EVO_TARGET_NONE;
-	d.lua_ref = -1;
-	return d;
-}
-
-evo_control_def evo_default_control_def(evo_control_kind kind)
-{
-	evo_control_def d;
-	memset(&d, 0, sizeof d);
-	d.kind = kind;
-	d.ticks = 1000;
-	d.target = EVO_TARGET_NONE;
-	d.sensor = -1;
-	d.threshold = 0.5;
-	d.lua_ref = -1;
-	return d;
-}

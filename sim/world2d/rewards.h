@@ -1,6 +1,8 @@
 /* evo — the reward and control functions of the 2D world (docs/world.md):
  * rewards add to the episode's score after each step, controls decide
- * whether the episode goes on. */
+ * whether the episode goes on. They are the scene model's
+ * (scene/scoring.h, which computes them); rewards.c says how they read a
+ * 2D scene and computes the kinds only 2D has. */
 #ifndef EVO_REWARDS_H
 #define EVO_REWARDS_H
 
@@ -11,10 +13,13 @@
 double evo_reward_compute(evo_scene *sc, evo_reward *r, int *failed);
 /* 1: end the episode; 0: go on; -1: hook error. */
 int evo_control_check(evo_scene *sc, evo_control *c);
-void evo_reward_reset(evo_reward *r);
-void evo_control_reset(evo_control *c);
 
-/* The names users write are scene/kinds.h's (evo_reward_kind_by_name,
- * evo_control_kind_by_name, ...). */
+/* Step 5 of the tick: the rewards paid, the post-step hook, the controls
+ * (evo_score_step). 1 when a control ends the episode, 0 when it goes on,
+ * -1 with sc->err set when a hook failed. */
+int evo_scene_score(evo_scene *sc);
+
+/* evo_reward_reset and evo_control_reset, and the names users write, are
+ * the scene model's (scene/scoring.h, scene/kinds.h). */
 
 #endif

@@ -52,23 +52,10 @@ void evo_scene_destroy(evo_scene *sc)
 	free(sc);
 }
 
-/* Make room for one more item in a growing array. */
-static int grow(void **items, int *cap, int n, size_t size, evo_err *err)
-{
-	if (n < *cap)
-		return 0;
-	int ncap = *cap ? *cap * 2 : 8;
-	void *p = realloc(*items, (size_t)ncap * size);
-	if (!p)
-		return evo_fail(err, "out of memory");
-	*items = p;
-	*cap = ncap;
-	return 0;
-}
-
+/* Room for one more item in array arr of sc (scene/store.h). */
 #define GROW(sc, arr, n, cap)                                                \
-	grow((void **)&(sc)->arr, &(sc)->cap, (sc)->n, sizeof *(sc)->arr,    \
-	     &(sc)->err)
+	evo_store_grow((void **)&(sc)->arr, &(sc)->cap, (sc)->n + 1,         \
+		       sizeof *(sc)->arr, &(sc)->err)
 
 /* Remember who owns body index `index`: a bot (>= 0) or an object
  * (-(element + 2)). */
@@ -90,16 +77,10 @@ static int set_owner(evo_scene *sc, int index, int owner)
 	return 0;
 }
 
+/* A piece's name, "" when it has none. */
 static int set_name(char *dst, const char *src, evo_err *err)
 {
-	dst[0] = 0;
-	if (!src)
-		return 0;
-	if (strlen(src) >= EVO_SCENE_NAME_MAX)
-		return evo_fail(err, "name '%.40s...' is longer than %d bytes",
-				src, EVO_SCENE_NAME_MAX - 1);
-	strcpy(dst, src);
-	return 0;
+	return evo_store_name(dst, src, NULL, 0, err);
 }
 
 static int finite_all(const double *v, int n)
@@ -514,94 +495,42 @@ void evo_scene_set_grid(evo_scene *sc, const evo_grid_def *def)
 
 int evo_scene_find_element(const evo_scene *sc, const char *name)
 {
-	for (int i = 0; i < sc->n_elements; i++)
-		if (strcmp(sc->element[i].name, name) == 0)
-			return i;
-	return -1;
-}
-
-/* A metric's name goes into `evo run`'s episode lines and a log.csv
- * header: a C identifier needs no quoting in either. */
-static int metric_name_ok(const char *name)
-{
-	if (!((name[0] >= 'A' && name[0] <= 'Z') ||
-	      (name[0] >= 'a' && name[0] <= 'z') || name[0] == '_'))
-		return 0;
-	for (const char *p = name; *p; p++)
-		if (!((*p >= 'A' && *p <= 'Z') || (*p >= 'a' && *p <= 'z') ||
-		      (*p >= '0' && *p <= '9') || *p == '_'))
-			return 0;
-	return 1;
+	return evo_store_find(sc->element, sc->n_elements, sizeof *sc->element,
+			      offsetof(evo_element, name), name);
 }
 
 int evo_scene_add_metric(evo_scene *sc, const char *name)
 {
-	int i = evo_scene_find_metric(sc, name);
-	if (i >= 0)
-		return i;
-	if (!metric_name_ok(name))
-		return evo_fail(&sc->err,
-				"'%.40s' is not a metric name: use letters, "
-				"digits and '_', not starting with a digit",
-				name);
-	if (strlen(name) >= EVO_METRIC_NAME_MAX)
-		return evo_fail(&sc->err,
-				"metric name '%.40s...' is longer than %d "
-				"characters",
-				name, EVO_METRIC_NAME_MAX - 1);
-	if (sc->n_metrics == EVO_SCENE_MAX_METRICS)
-		return evo_fail(&sc->err,
-				"metric '%s' is one too many: an environment "
-				"has at most %d",
-				name, EVO_SCENE_MAX_METRICS);
-	evo_metric *m = &sc->metric[sc->n_metrics];
-	strcpy(m->name, name);
-	m->value = 0;
-	return sc->n_metrics++;
+	return evo_metric_add(sc->metric, &sc->n_metrics, name, &sc->err);
 }
 
 int evo_scene_set_metric(evo_scene *sc, int metric, double value)
 {
-	if (metric < 0 || metric >= sc->n_metrics)
-		return evo_fail(&sc->err, "no metric %d", metric);
-	if (!isfinite(value))
-		return evo_fail(&sc->err,
-				"metric '%s': %g is not a finite number",
-				sc->metric[metric].name, value);
-	sc->metric[metric].value = value;
-	return 0;
+	return evo_metric_set(sc->metric, sc->n_metrics, metric, value,
+			      &sc->err);
 }
 
 int evo_scene_find_metric(const evo_scene *sc, const char *name)
 {
-	for (int i = 0; i < sc->n_metrics; i++)
-		if (strcmp(sc->metric[i].name, name) == 0)
-			return i;
-	return -1;
+	return evo_metric_find(sc->metric, sc->n_metrics, name);
 }
 
 int evo_scene_find_bot(const evo_scene *sc, const char *name)
 {
-	for (int i = 0; i < sc->n_bots; i++)
-		if (strcmp(sc->bot[i].name, name) == 0)
-			return i;
-	return -1;
+	return evo_store_find(sc->bot, sc->n_bots, sizeof *sc->bot,
+			      offsetof(evo_bot, name), name);
 }
 
 int evo_bot_find_sensor(const evo_bot *b, const char *name)
 {
-	for (int i = 0; i < b->n_sensors; i++)
-		if (strcmp(b->sensor[i].name, name) == 0)
-			return i;
-	return -1;
+	return evo_store_find(b->sensor, b->n_sensors, sizeof *b->sensor,
+			      offsetof(evo_sensor, name), name);
 }
 
 int evo_bot_find_actuator(const evo_bot *b, const char *name)
 {
-	for (int i = 0; i < b->n_actuators; i++)
-		if (strcmp(b->actuator[i].name, name) == 0)
-			return i;
-	return -1;
+	return evo_store_find(b->actuator, b->n_actuators, sizeof *b->actuator,
+			      offsetof(evo_actuator, name), name);
 }
 
 void evo_scene_place_bot(evo_scene *sc, int bot, double x, double y,

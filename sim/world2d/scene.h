@@ -27,16 +27,16 @@
 #include "base/err.h"
 #include "base/rng.h"
 #include "scene/kinds.h"
+#include "scene/scoring.h"
+#include "scene/store.h"
 #include "scene/swarm.h"
 #include "world2d/world.h"
 
-#define EVO_SCENE_NAME_MAX 64
+#define EVO_SCENE_NAME_MAX EVO_PIECE_NAME_MAX
 #define EVO_PROX_MAX_RAYS 32
-#define EVO_REWARD_MAX_SENSORS 16
 #define EVO_DOF_HISTORY 30 /* ticks of positions the movement sensor spreads over */
-#define EVO_SCENE_MAX_METRICS 16 /* an environment's own metrics, at most */
-#define EVO_METRIC_NAME_MAX 32	 /* a metric's name, with its NUL */
-#define EVO_SCENE_MAX_TEAMS   12   /* teams of bots (docs/teams.md) */
+/* EVO_REWARD_MAX_SENSORS, EVO_SCENE_MAX_METRICS, EVO_METRIC_NAME_MAX and
+ * EVO_SCENE_MAX_TEAMS are the scene model's (scene/scoring.h). */
 
 /* -std=c11 leaves these out of <math.h>. */
 #ifndef M_PI
@@ -138,14 +138,11 @@ typedef enum evo_sensor_kind {
 	EVO_SENSOR_KIND_COUNT
 } evo_sensor_kind;
 
-/* What a distance, zone, bearing or presence sensor looks at. */
-#define EVO_TARGET_NEAREST_OBJECT (-2) /* the nearest active, free object */
-#define EVO_TARGET_NONE (-1)
-/* The nearest bot of another team, or of the bot's own (docs/teams.md),
- * within EVO_TEAM_SEARCH metres, found through the broad phase. */
-#define EVO_TARGET_NEAREST_OPPONENT (-3)
-#define EVO_TARGET_NEAREST_TEAMMATE (-4)
-#define EVO_TEAM_SEARCH		    160.0
+/* What a distance, zone, bearing or presence sensor looks at: an element,
+ * or one of scene/scoring.h's EVO_TARGET_* (the nearest bot of another
+ * team or of the bot's own is looked for within EVO_TEAM_SEARCH metres,
+ * through the broad phase). */
+#define EVO_TEAM_SEARCH 160.0
 
 typedef struct evo_sensor_def {
 	evo_sensor_kind kind;
@@ -275,88 +272,15 @@ typedef struct evo_bot {
 	double reward; /* what was paid to it since the reset (its own) */
 } evo_bot;
 
-/* ---- reward and control functions ----------------------------------- */
+/* ---- reward and control functions, metrics, hooks ------------------ */
 
-/* The kinds (evo_reward_kind, evo_control_kind) and their names are the
- * scene model's: scene/kinds.h. */
-
-/* Whom a reward pays (docs/teams.md): its bot (and so the bot's team),
- * a team as a whole, or only the scene's total. Every reward counts in
- * the scene's episode_reward. */
-typedef enum evo_scope {
-	EVO_SCOPE_BOT = 0,
-	EVO_SCOPE_TEAM,
-	EVO_SCOPE_SCENE,
-} evo_scope;
-
-typedef struct evo_reward_def {
-	evo_reward_kind kind;
-	evo_scope scope;
-	int team; /* EVO_SCOPE_TEAM: the team paid */
-	int bot;
-	double k, k2;
-	double threshold;
-	int target; /* element (zone for Collect) */
-	int n_sensors;
-	int sensor[EVO_REWARD_MAX_SENSORS]; /* indices into the bot's sensors */
-	int lua_ref;			    /* EVO_RW_LUA: a registry reference */
-} evo_reward_def;
-
-evo_reward_def evo_default_reward_def(evo_reward_kind kind);
-
-typedef struct evo_reward {
-	evo_reward_def def;
-	double previous; /* ClosingOnTarget: last distance, -1 for none */
-	double total;	 /* this episode */
-} evo_reward;
-
-
-typedef struct evo_control_def {
-	evo_control_kind kind;
-	int bot;
-	long ticks;
-	int target;
-	int sensor;
-	double threshold;
-	int lua_ref;
-} evo_control_def;
-
-evo_control_def evo_default_control_def(evo_control_kind kind);
-
-typedef struct evo_control {
-	evo_control_def def;
-	long counter;
-} evo_control;
-
-/* ---- an environment's own metrics ------------------------------------ */
-
-/* A named figure an environment reports for each episode, beside the
- * reward (time spent in a zone, objects delivered, distance travelled):
- * `evo run` prints it on the episode's line and LEARNSIM logs it
- * (docs/lua.md, "Metrics of your own"). Declared once, before the first
- * episode; its value is 0 at every reset and whatever the environment
- * makes it during the episode. */
-typedef struct evo_metric {
-	char name[EVO_METRIC_NAME_MAX];
-	double value; /* this episode's so far; always finite */
-} evo_metric;
+/* The scene model's (scene/scoring.h): evo_reward_def, evo_reward,
+ * evo_control_def, evo_control, evo_scope, evo_metric and
+ * evo_scene_hooks, with the kinds and their names of scene/kinds.h. */
 
 /* ---- the scene ------------------------------------------------------- */
 
 typedef struct evo_scene evo_scene;
-
-/* Lua (or a test) can hook into a scene. Each hook returns 0, or -1 with
- * the scene's err set (a script error); the step then fails. */
-typedef struct evo_scene_hooks {
-	void *ctx;
-	int (*reward)(void *ctx, evo_scene *sc, const evo_reward *r,
-		      double *out);
-	int (*control)(void *ctx, evo_scene *sc,
-		       const evo_control *c, int *next);
-	/* After each step's rewards, before its controls (EvoAgents'
-	 * postStepOps). */
-	int (*post_step)(void *ctx, evo_scene *sc);
-} evo_scene_hooks;
 
 struct evo_scene {
 	/* The physics, through the backend interface (sim/scene/backend.h):

@@ -12,21 +12,6 @@
 #include "world2d/scene_internal.h"
 #include "world2d/sensors.h"
 
-/* Pay reward r's value v to whom it is for (scene.h, evo_scope); the
- * scene's total has it in any case. */
-static void pay(evo_scene *sc, const evo_reward *r, double v)
-{
-	if (r->def.scope == EVO_SCOPE_TEAM) {
-		sc->team_reward[r->def.team] += v;
-	} else if (r->def.scope == EVO_SCOPE_BOT && r->def.bot >= 0 &&
-		   r->def.bot < sc->n_bots) {
-		evo_bot *b = &sc->bot[r->def.bot];
-		b->reward += v;
-		if (b->team >= 0)
-			sc->team_reward[b->team] += v;
-	}
-}
-
 static void reset_bot(evo_scene *sc, int i)
 {
 	evo_bot *b = &sc->bot[i];
@@ -157,27 +142,6 @@ int evo_scene_step(evo_scene *sc)
 			e->angle = p.yaw;
 		}
 	}
-	double total = 0;
-	for (int i = 0; i < sc->n_rewards; i++) {
-		int failed = 0;
-		double v = evo_reward_compute(sc, &sc->reward[i], &failed);
-		if (failed)
-			return -1;
-		pay(sc, &sc->reward[i], v);
-		total += v;
-	}
-	sc->step_reward = total;
-	sc->episode_reward += total;
-	/* EvoAgents' postStepOps, after the rewards: the bot has been paid
-	 * for this step before the environment moves its target away. */
-	if (sc->hooks.post_step && sc->hooks.post_step(sc->hooks.ctx, sc))
-		return -1;
-	int next = 0;
-	for (int i = 0; i < sc->n_controls; i++) {
-		int r = evo_control_check(sc, &sc->control[i]);
-		if (r < 0)
-			return -1;
-		next |= r;
-	}
-	return next;
+	/* rewards, the post-step hook, controls: the scene model's */
+	return evo_scene_score(sc);
 }

@@ -1,91 +1,91 @@
-/* The 3D reward and control functions (sim/world3d/scene3d.h): the 2D
- * ones that make sense in 3D, with the same names in Lua. */
+/* evo — the 3D scene as the scene model's rewards and controls read it
+ * (sim/scene/scoring.h, which computes them, the same as in 2D): its bots'
+ * contacts, motion, sensors and motors, and the distance to an element.
+ * The kinds only 2D has (Collect, Gather, NextOnCollisionWithTarget) say
+ * so in their rows of sim/scene/kinds.c and are refused when added. */
 #include <math.h>
 
 #include "world3d/scene3d.h"
 #include "world3d/scene3d_internal.h"
 
-void evo_reward3d_reset(evo_scene3d *sc, evo_reward3d *r)
+static int n_bots(const void *sc)
 {
-	(void)sc;
-	r->previous = -1;
-	r->total = 0;
+	return ((const evo_scene3d *)sc)->n_bots;
 }
 
-/* The bot's speed along its heading (its x axis). */
-static double forward_speed(const evo_bot3d *b)
+static int touching(const void *sc, int bot)
 {
-	return b->v[0] * b->R[0] + b->v[1] * b->R[3] + b->v[2] * b->R[6];
+	return ((const evo_scene3d *)sc)->bot[bot].touching;
 }
 
-double evo_reward3d_compute(evo_scene3d *sc, evo_reward3d *r)
+/* The hull's velocity and its x axis (its heading) in the world. */
+static void motion(const void *sc, int bot, double v[3], double ahead[3])
 {
-	const evo_reward3d_def *d = &r->def;
-	const evo_bot3d *b = &sc->bot[d->bot];
-	double v = 0;
-	switch (d->kind) {
-	case EVO_RW_CLOSING_ON_TARGET: {
-		double dist = evo_scene3d_distance(sc, d->bot, d->target);
-		if (r->previous >= 0)
-			v = d->k * (r->previous - dist);
-		r->previous = dist;
-		break;
+	const evo_bot3d *b = &((const evo_scene3d *)sc)->bot[bot];
+	for (int k = 0; k < 3; k++) {
+		v[k] = b->v[k];
+		ahead[k] = b->R[3 * k];
 	}
-	case EVO_RW_SENSOR_OVER:
-		for (int i = 0; i < d->n_sensors; i++) {
-			double s = b->sensor[d->sensor[i]].value;
-			if (s > d->threshold)
-				v += d->k * (s - d->threshold);
-		}
-		break;
-	case EVO_RW_SENSOR_UNDER:
-		for (int i = 0; i < d->n_sensors; i++) {
-			double s = b->sensor[d->sensor[i]].value;
-			if (s <= d->threshold)
-				v += d->k * (d->threshold - s);
-		}
-		break;
-	case EVO_RW_PUNISH_ON_COLLISION:
-		v = b->touching ? d->k : 0;
-		break;
-	case EVO_RW_FORWARD_MOTION: {
-		double f = forward_speed(b);
-		v = f > 0.01 ? d->k : f < -0.01 ? d->k2 : 0;
-		break;
-	}
-	case EVO_RW_FORWARD_SPEED:
-		v = d->k * forward_speed(b);
-		break;
-	case EVO_RW_SPEED:
-		v = d->k *
-		    (b->v[0] * b->v[0] + b->v[1] * b->v[1] + b->v[2] * b->v[2]);
-		break;
-	case EVO_RW_STEP:
-		v = d->k;
-		break;
-	default: /* 2D only: refused when added */
-		break;
-	}
-	if (!isfinite(v))
-		v = 0;
-	r->total += v;
-	return v;
 }
 
-int evo_control3d_check(evo_scene3d *sc, const evo_control3d *c)
+static double distance(const void *v, int bot, int target)
 {
-	const evo_bot3d *b = &sc->bot[c->def.bot];
-	switch (c->def.kind) {
-	case EVO_CF_NEXT_ON_TIMEOUT:
-		return sc->tick >= c->def.ticks;
-	case EVO_CF_NEXT_ON_COLLISION:
-		return b->touching > 0;
-	case EVO_CF_NEXT_ON_COLLISION_AND_TIMEOUT:
-		return b->touching > 0 || sc->tick >= c->def.ticks;
-	case EVO_CF_NEXT_ON_SENSOR_BELOW:
-		return b->sensor[c->def.sensor].value < c->def.threshold;
-	default: /* 2D only: refused when added */
-		break;
+	const evo_scene3d *sc = v;
+	if (target < 0 || target >= sc->n_elements)
+		return -1;
+	return evo_scene3d_distance(sc, bot, target);
+}
+
+static double sensor(const void *v, int bot, int s)
+{
+	const evo_bot3d *b = &((const evo_scene3d *)v)->bot[bot];
+	return s >= 0 && s < b->n_sensors ? b->sensor[s].value : NAN;
+}
+
+/* Every actuator of a 3D bot moves it: its wheels and propellers. */
+static double effort(const void *v, int bot)
+{
+	const evo_bot3d *b = &((const evo_scene3d *)v)->bot[bot];
+	double sum = 0;
+	for (int i = 0; i < b->n_actuators; i++) {
+		double c = b->actuator[i].command;
+		c = isnan(c) ? 0.5 : c < 0 ? 0 : c > 1 ? 1 : c;
+		sum += (2 * c - 1) * (2 * c - 1);
 	}
-	return 0;
+	return sum;
+}
+
+/* Pay reward r's value v to whom it is for (evo_scope), as the 2D scene
+ * does; the scene's total has it in any case. */
+static void pay(void *v, const evo_reward *r, double value)
+{
+	evo_scene3d *sc = v;
+	if (r->def.scope == EVO_SCOPE_TEAM) {
+		sc->team_reward[r->def.team] += value;
+	} else if (r->def.scope == EVO_SCOPE_BOT && r->def.bot >= 0 &&
+		   r->def.bot < sc->n_bots) {
+		evo_bot3d *b = &sc->bot[r->def.bot];
+		b->reward += value;
+		if (b->def.team >= 0)
+			sc->team_reward[b->def.team] += value;
+	}
+}
+
+static const evo_score_ops score_ops_3d = {
+    .dim = EVO_DIM_3D,
+    .n_bots = n_bots,
+    .touching = touching,
+    .motion = motion,
+    .distance = distance,
+    .sensor = sensor,
+    .effort = effort,
+    .pay = pay,
+};
+
+int evo_scene3d_score(evo_scene3d *sc)
+{
+	evo_scored s = {&score_ops_3d, sc, &sc->hooks, &sc->err};
+	return evo_score_step(&s, sc->reward, sc->n_rewards, sc->control,
+			      sc->n_controls, &sc->step_reward,
+			      &sc->episode_reward);
 }

@@ -68,26 +68,6 @@ evo_bot3d_def evo_default_bot3d_def(void)
 	return d;
 }
 
-evo_reward3d_def evo_default_reward3d_def(evo_reward_kind kind)
-{
-	evo_reward3d_def d;
-	memset(&d, 0, sizeof d);
-	d.kind = kind;
-	d.k = 1;
-	d.target = EVO3D_TARGET_NONE;
-	return d;
-}
-
-evo_control3d_def evo_default_control3d_def(evo_control_kind kind)
-{
-	evo_control3d_def d;
-	memset(&d, 0, sizeof d);
-	d.kind = kind;
-	d.ticks = 1000;
-	d.sensor = -1;
-	return d;
-}
-
 evo_scene3d_def evo_default_scene3d_def(void)
 {
 	evo_scene3d_def d;
@@ -189,18 +169,7 @@ void evo_scene3d_destroy(evo_scene3d *sc)
 
 static int grow(evo_scene3d *sc, void **p, int *cap, int need, size_t size)
 {
-	if (need <= *cap)
-		return 0;
-	int n = *cap ? *cap * 2 : 8;
-	while (n < need)
-		n *= 2;
-	void *q = realloc(*p, (size_t)n * size);
-	if (!q)
-		return evo_fail(&sc->err, "out of memory");
-	memset((char *)q + (size_t)*cap * size, 0, (size_t)(n - *cap) * size);
-	*p = q;
-	*cap = n;
-	return 0;
+	return evo_store_grow(p, cap, need, size, &sc->err);
 }
 
 static int finite3(const double v[3])
@@ -217,14 +186,7 @@ static int positive(double v)
 static int set_name(evo_scene3d *sc, char *out, const char *name,
 		    const char *dflt, int index)
 {
-	if (name && strlen(name) >= EVO3D_NAME_MAX)
-		return evo_fail(&sc->err, "name '%.40s...' is longer than %d",
-				name, EVO3D_NAME_MAX - 1);
-	if (name && name[0])
-		snprintf(out, EVO3D_NAME_MAX, "%s", name);
-	else
-		snprintf(out, EVO3D_NAME_MAX, "%s%d", dflt, index + 1);
-	return 0;
+	return evo_store_name(out, name, dflt, index, &sc->err);
 }
 
 /* The static shape of a box, cylinder or sphere element. */
@@ -322,9 +284,9 @@ int evo_scene3d_add_bot(evo_scene3d *sc, const evo_bot3d_def *d)
 					  "and caster must be finite and >= 0");
 	if (d->name && d->name[0] && evo_scene3d_find_bot(sc, d->name) >= 0)
 		return evo_fail(&sc->err, "bot '%s' twice", d->name);
-	if (d->team < -1 || d->team >= EVO3D_MAX_TEAMS)
+	if (d->team < -1 || d->team >= EVO_SCENE_MAX_TEAMS)
 		return evo_fail(&sc->err, "a bot's team must be -1 to %d",
-				EVO3D_MAX_TEAMS - 1);
+				EVO_SCENE_MAX_TEAMS - 1);
 	if (grow(sc, (void **)&sc->bot, &sc->cap_bots, sc->n_bots + 1,
 		 sizeof *sc->bot))
 		return -1;
@@ -472,48 +434,63 @@ int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
 	return b->n_actuators - 1;
 }
 
-int evo_scene3d_add_reward(evo_scene3d *sc, const evo_reward3d_def *d)
+/* A target of a 3D reward or control: an element, or none. */
+static int check_target(evo_scene3d *sc, int target, const char *what,
+			const char *kind)
+{
+	if (target == EVO_TARGET_NONE ||
+	    (target >= 0 && target < sc->n_elements))
+		return 0;
+	return evo_fail(&sc->err, "%s %s: no element %d", what, kind, target);
+}
+
+int evo_scene3d_add_reward(evo_scene3d *sc, const evo_reward_def *d)
 {
 	if ((unsigned)d->kind >= EVO_RW_KIND_COUNT)
 		return evo_fail(&sc->err, "unknown reward kind %d", d->kind);
+	const char *name = evo_reward_kind_name(d->kind);
 	if (!(evo_reward_kind_dims(d->kind) & EVO_DIM_3D))
-		return evo_fail(&sc->err, "reward %s is 2D only",
-				evo_reward_kind_name(d->kind));
+		return evo_fail(&sc->err, "reward %s is 2D only", name);
 	evo_bot3d *b = check_bot(sc, d->bot);
-	if (!b)
+	if (!b || check_target(sc, d->target, "reward", name))
 		return -1;
+	if ((unsigned)d->scope > EVO_SCOPE_SCENE ||
+	    (d->scope == EVO_SCOPE_TEAM &&
+	     (d->team < 0 || d->team >= EVO_SCENE_MAX_TEAMS)))
+		return evo_fail(&sc->err, "reward %s: no team %d", name,
+				d->team);
 	if (!isfinite(d->k) || !isfinite(d->k2) || !isfinite(d->threshold))
 		return evo_fail(&sc->err, "a reward's k, k2 and threshold "
 					  "must be numbers");
-	if (d->n_sensors < 0 || d->n_sensors > EVO3D_REWARD_SENSORS)
+	if (d->n_sensors < 0 || d->n_sensors > EVO_REWARD_MAX_SENSORS)
 		return evo_fail(&sc->err, "a reward reads at most %d sensors",
-				EVO3D_REWARD_SENSORS);
+				EVO_REWARD_MAX_SENSORS);
 	for (int i = 0; i < d->n_sensors; i++)
 		if (d->sensor[i] < 0 || d->sensor[i] >= b->n_sensors)
 			return evo_fail(&sc->err, "bot %s has no sensor %d",
 					b->name, d->sensor[i]);
-	if (d->kind == EVO_RW_CLOSING_ON_TARGET &&
-	    (d->target < 0 || d->target >= sc->n_elements))
-		return evo_fail(&sc->err, "ClosingOnTarget needs a target");
+	if ((d->kind == EVO_RW_CLOSING_ON_TARGET ||
+	     d->kind == EVO_RW_DISTANCE || d->kind == EVO_RW_FINAL_DISTANCE) &&
+	    d->target < 0)
+		return evo_fail(&sc->err, "%s needs a target", name);
 	if (grow(sc, (void **)&sc->reward, &sc->cap_rewards, sc->n_rewards + 1,
 		 sizeof *sc->reward))
 		return -1;
-	evo_reward3d *r = &sc->reward[sc->n_rewards];
+	evo_reward *r = &sc->reward[sc->n_rewards];
 	r->def = *d;
-	r->previous = -1;
-	r->total = 0;
+	evo_reward_reset(r);
 	return sc->n_rewards++;
 }
 
-int evo_scene3d_add_control(evo_scene3d *sc, const evo_control3d_def *d)
+int evo_scene3d_add_control(evo_scene3d *sc, const evo_control_def *d)
 {
 	if ((unsigned)d->kind >= EVO_CF_KIND_COUNT)
 		return evo_fail(&sc->err, "unknown control kind %d", d->kind);
+	const char *name = evo_control_kind_name(d->kind);
 	if (!(evo_control_kind_dims(d->kind) & EVO_DIM_3D))
-		return evo_fail(&sc->err, "control %s is 2D only",
-				evo_control_kind_name(d->kind));
+		return evo_fail(&sc->err, "control %s is 2D only", name);
 	evo_bot3d *b = check_bot(sc, d->bot);
-	if (!b)
+	if (!b || check_target(sc, d->target, "control", name))
 		return -1;
 	if (d->ticks < 1)
 		return evo_fail(&sc->err, "a control's ticks must be >= 1");
@@ -521,11 +498,36 @@ int evo_scene3d_add_control(evo_scene3d *sc, const evo_control3d_def *d)
 	    (d->sensor < 0 || d->sensor >= b->n_sensors))
 		return evo_fail(&sc->err, "NextOnSensorBelow needs a sensor "
 					  "of its bot");
+	if (d->kind == EVO_CF_NEXT_ON_TARGET_REACHED &&
+	    (d->target < 0 || !(d->threshold >= 0)))
+		return evo_fail(&sc->err, "NextOnTargetReached needs a target "
+					  "and a threshold of 0 or more");
 	if (grow(sc, (void **)&sc->control, &sc->cap_controls,
 		 sc->n_controls + 1, sizeof *sc->control))
 		return -1;
-	sc->control[sc->n_controls].def = *d;
+	evo_control *c = &sc->control[sc->n_controls];
+	c->def = *d;
+	/* the episode ends at tick `ticks` (scene3d.h): the shared count
+	 * ends one check after its ticks */
+	c->def.ticks = d->ticks - 1;
+	evo_control_reset(c);
 	return sc->n_controls++;
+}
+
+int evo_scene3d_add_metric(evo_scene3d *sc, const char *name)
+{
+	return evo_metric_add(sc->metric, &sc->n_metrics, name, &sc->err);
+}
+
+int evo_scene3d_set_metric(evo_scene3d *sc, int metric, double value)
+{
+	return evo_metric_set(sc->metric, sc->n_metrics, metric, value,
+			      &sc->err);
+}
+
+int evo_scene3d_find_metric(const evo_scene3d *sc, const char *name)
+{
+	return evo_metric_find(sc->metric, sc->n_metrics, name);
 }
 
 int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o)
@@ -545,34 +547,26 @@ int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o)
 
 int evo_scene3d_find_element(const evo_scene3d *sc, const char *name)
 {
-	for (int i = 0; i < sc->n_elements; i++)
-		if (strcmp(sc->element[i].name, name) == 0)
-			return i;
-	return -1;
+	return evo_store_find(sc->element, sc->n_elements, sizeof *sc->element,
+			      offsetof(evo_element3d, name), name);
 }
 
 int evo_scene3d_find_bot(const evo_scene3d *sc, const char *name)
 {
-	for (int i = 0; i < sc->n_bots; i++)
-		if (strcmp(sc->bot[i].name, name) == 0)
-			return i;
-	return -1;
+	return evo_store_find(sc->bot, sc->n_bots, sizeof *sc->bot,
+			      offsetof(evo_bot3d, name), name);
 }
 
 int evo_bot3d_find_sensor(const evo_bot3d *b, const char *name)
 {
-	for (int i = 0; i < b->n_sensors; i++)
-		if (strcmp(b->sensor[i].name, name) == 0)
-			return i;
-	return -1;
+	return evo_store_find(b->sensor, b->n_sensors, sizeof *b->sensor,
+			      offsetof(evo_sensor3d, name), name);
 }
 
 int evo_bot3d_find_actuator(const evo_bot3d *b, const char *name)
 {
-	for (int i = 0; i < b->n_actuators; i++)
-		if (strcmp(b->actuator[i].name, name) == 0)
-			return i;
-	return -1;
+	return evo_store_find(b->actuator, b->n_actuators, sizeof *b->actuator,
+			      offsetof(evo_actuator3d, name), name);
 }
 
 /* ---- frames ----------------------------------------------------------------

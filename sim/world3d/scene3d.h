@@ -25,6 +25,8 @@
 #include "base/err.h"
 #include "base/rng.h"
 #include "scene/kinds.h"
+#include "scene/scoring.h"
+#include "scene/store.h"
 #include "scene/swarm.h"
 #include "world3d/world3d.h"
 
@@ -33,10 +35,8 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-#define EVO3D_NAME_MAX	     64
+#define EVO3D_NAME_MAX EVO_PIECE_NAME_MAX
 #define EVO3D_PROX_MAX_RAYS  16
-#define EVO3D_REWARD_SENSORS 16
-#define EVO3D_MAX_TEAMS	     12 /* teams of bots (docs/teams.md) */
 #define EVO3D_FALSE	     0.2
 #define EVO3D_TRUE	     0.8
 #define EVO3D_TARGET_NONE    (-1)
@@ -191,7 +191,7 @@ typedef struct evo_bot3d_def {
 	 * -angular omega. 0 for a robot on the ground. */
 	double buoyancy, cob[3];
 	double drag_linear, drag_quadratic, drag_angular;
-	int team; /* -1: none; else 0 .. EVO3D_MAX_TEAMS - 1 */
+	int team; /* -1: none; else 0 .. EVO_SCENE_MAX_TEAMS - 1 */
 } evo_bot3d_def;
 
 evo_bot3d_def evo_default_bot3d_def(void);
@@ -211,43 +211,16 @@ typedef struct evo_bot3d {
 	double reward;	/* what its rewards paid it since the reset */
 } evo_bot3d;
 
-/* ---- rewards and controls (the 2D ones that make sense in 3D) ---------- */
+/* ---- rewards, controls, metrics, hooks ---------------------------------- */
 
-
-/* Kinds are the scene model's (scene/kinds.h), with the 2D world's names;
- * a kind whose row there lacks EVO_DIM_3D is refused. */
-
-typedef struct evo_reward3d_def {
-	evo_reward_kind kind;
-	int bot;
-	double k, k2, threshold;
-	int target;
-	int n_sensors;
-	int sensor[EVO3D_REWARD_SENSORS];
-} evo_reward3d_def;
-
-evo_reward3d_def evo_default_reward3d_def(evo_reward_kind kind);
-
-typedef struct evo_reward3d {
-	evo_reward3d_def def;
-	double previous; /* ClosingOnTarget: -1 for none */
-	double total;
-} evo_reward3d;
-
-
-typedef struct evo_control3d_def {
-	evo_control_kind kind;
-	int bot;
-	long ticks;
-	int sensor;
-	double threshold;
-} evo_control3d_def;
-
-evo_control3d_def evo_default_control3d_def(evo_control_kind kind);
-
-typedef struct evo_control3d {
-	evo_control3d_def def;
-} evo_control3d;
+/* The scene model's (scene/scoring.h): evo_reward_def, evo_reward,
+ * evo_control_def, evo_control, evo_metric and evo_scene_hooks, one
+ * definition for both dimensions. A kind whose row of scene/kinds.c lacks
+ * EVO_DIM_3D is refused when added. A 3D target is an element or
+ * EVO_TARGET_NONE; a reward's scope is its bot's (and so its team's), a
+ * team's or the scene's, as in 2D (docs/teams.md). NextOnTimeout's `ticks` ends the episode at tick `ticks`
+ * in 3D, as it always has (2D's ends one later, the tutorial's rule): the
+ * control keeps ticks - 1 for the shared count. */
 
 /* ---- the scene -------------------------------------------------------- */
 
@@ -276,19 +249,21 @@ typedef struct evo_scene3d {
 	int cap_elements, cap_bots, cap_rewards, cap_controls, cap_obstacles;
 	evo_element3d *element;
 	evo_bot3d *bot;
-	evo_reward3d *reward;
-	evo_control3d *control;
+	evo_reward *reward;
+	evo_control *control;
 	evo_obstacle3d *obstacle;
 	evo_swarm swarm; /* lights and floor patches (sim/scene/swarm.h) */
 	double step_reward, episode_reward;
-	/* Teams (docs/teams.md): what each team's bots were paid since the
-	 * reset (every 3D reward pays a bot: there are no team-wide or
-	 * scene-wide 3D rewards, and a fault's penalty is the scene's), and
-	 * the episode's winner (-1: none yet) */
-	double team_reward[EVO3D_MAX_TEAMS];
+	/* Teams (docs/teams.md): what each team was paid since the reset
+	 * (its bots' own and its team rewards; a fault's penalty is the
+	 * scene's), and the episode's winner (-1: none yet) */
+	double team_reward[EVO_SCENE_MAX_TEAMS];
 	int winner;
 	/* the body that exploded this episode, in words; "" while none did */
 	char fault[256];
+	int n_metrics; /* declared, in the order they were */
+	evo_metric metric[EVO_SCENE_MAX_METRICS];
+	evo_scene_hooks hooks; /* Lua's (sim/lua/lua_hooks.c), or a test's */
 	evo_err err;
 } evo_scene3d;
 
@@ -307,8 +282,14 @@ int evo_scene3d_add_sensor(evo_scene3d *sc, int bot,
 			   const evo_sensor3d_def *def);
 int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
 			     const evo_actuator3d_def *def);
-int evo_scene3d_add_reward(evo_scene3d *sc, const evo_reward3d_def *def);
-int evo_scene3d_add_control(evo_scene3d *sc, const evo_control3d_def *def);
+int evo_scene3d_add_reward(evo_scene3d *sc, const evo_reward_def *def);
+int evo_scene3d_add_control(evo_scene3d *sc, const evo_control_def *def);
+
+/* An environment's metrics (scene/scoring.h's evo_metric_add, _set,
+ * _find on the scene's). */
+int evo_scene3d_add_metric(evo_scene3d *sc, const char *name);
+int evo_scene3d_set_metric(evo_scene3d *sc, int metric, double value);
+int evo_scene3d_find_metric(const evo_scene3d *sc, const char *name);
 
 /* A static obstacle for this episode only (an environment's reset adds
  * them): the next reset removes it. Its category is EVO_CAT3D_GROUND for a
@@ -339,8 +320,10 @@ void evo_scene3d_place_element(evo_scene3d *sc, int element,
 /* Step 1 of the tick: every sensor of every bot samples. */
 void evo_scene3d_sense(evo_scene3d *sc);
 
-/* Steps 3-5. Returns 1 when a control function or a fault ends the
- * episode, 0 when it goes on. */
+/* Steps 3-5: actuators act and the physics steps, rewards add up, the
+ * post-step hook runs, the controls decide. Returns 1 when a control
+ * function or a fault ends the episode, 0 when it goes on, -1 with sc->err
+ * set when a hook failed. */
 int evo_scene3d_step(evo_scene3d *sc);
 
 /* Sample one sensor now (sensors3d.c). */

@@ -33,10 +33,9 @@ void evo_scene3d_refresh_bots(evo_scene3d *sc);
  * forces of the water or air around it (buoyancy, drag). */
 void evo_bot3d_act(evo_scene3d *sc, int bot);
 
-/* rewards3d.c */
-void evo_reward3d_reset(evo_scene3d *sc, evo_reward3d *r);
-double evo_reward3d_compute(evo_scene3d *sc, evo_reward3d *r);
-int evo_control3d_check(evo_scene3d *sc, const evo_control3d *c);
+/* rewards3d.c: step 5 of the tick (scene/scoring.h's evo_score_step on
+ * the 3D scene): 1 ends the episode, 0 goes on, -1 a hook failed. */
+int evo_scene3d_score(evo_scene3d *sc);
 
 /* The distance from bot b's centre to element e's. */
 double evo_scene3d_distance(const evo_scene3d *sc, int bot, int element);

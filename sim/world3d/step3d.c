@@ -1,7 +1,8 @@
 /* The 3D scene's episode and tick (sim/world3d/scene3d.h): the reset, the
  * sensing, and the step (actuators act and the physics steps, substeps
- * times; rewards; controls). The top of the 3D world: it calls the pieces
- * below it, none of which calls back. */
+ * times; then the rewards, the post-step hook and the controls of the
+ * scene model, sim/scene/scoring.c). The top of the 3D world: it calls the
+ * pieces below it, none of which calls back. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -28,7 +29,11 @@ int evo_scene3d_reset(evo_scene3d *sc, uint64_t grid_seed,
 		memcpy(sc->element[i].pos, sc->element[i].def.pos,
 		       sizeof sc->element[i].pos);
 	for (int i = 0; i < sc->n_rewards; i++)
-		evo_reward3d_reset(sc, &sc->reward[i]);
+		evo_reward_reset(&sc->reward[i]);
+	for (int i = 0; i < sc->n_controls; i++)
+		evo_control_reset(&sc->control[i]);
+	for (int i = 0; i < sc->n_metrics; i++)
+		sc->metric[i].value = 0;
 	sc->rng = evo_rng_seed(episode_seed);
 	sc->grid_seed = grid_seed;
 	sc->tick = 0;
@@ -118,20 +123,6 @@ int evo_scene3d_step(evo_scene3d *sc)
 		if (e->body >= 0)
 			evo_scene3d_pose(sc, e->body, e->pos, e->R);
 	}
-	double total = 0;
-	for (int i = 0; i < sc->n_rewards; i++) {
-		/* every 3D reward pays its bot, and so the bot's team */
-		double v = evo_reward3d_compute(sc, &sc->reward[i]);
-		evo_bot3d *b = &sc->bot[sc->reward[i].def.bot];
-		b->reward += v;
-		if (b->def.team >= 0)
-			sc->team_reward[b->def.team] += v;
-		total += v;
-	}
-	sc->step_reward = total;
-	sc->episode_reward += total;
-	int next = 0;
-	for (int i = 0; i < sc->n_controls; i++)
-		next |= evo_control3d_check(sc, &sc->control[i]);
-	return next;
+	/* rewards, the post-step hook, controls: the scene model's */
+	return evo_scene3d_score(sc);
 }

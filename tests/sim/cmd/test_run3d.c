@@ -4,8 +4,11 @@
  * with two, a SIGKILLed run resumes to the same result, and the champion
  * beats untrained networks on unseen episodes; a body that explodes ends
  * its episode with a message and a penalty; a wrong key in a 3D option
- * table is an error naming the file, the line and the known keys. */
+ * table is an error naming the file, the line and the known keys; the
+ * shipped waypoint course, scored by a Lua reward and post_step, pays what
+ * its rules say. */
 #define _POSIX_C_SOURCE 200809L
+#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -352,12 +355,56 @@ TEST(both_3d_tasks_show_in_the_3d_view)
 	CHECK_CONTAINS(out, "(tick 5, drawn without a window)");
 }
 
+/* The shipped waypoint course (minds/Blimp3D/Envs/EXP3D_Waypoints.lua: a
+ * Lua reward, a Lua control and post_step). Hand-worked: the robot starts
+ * inside the first waypoint, so tick 1 pays 10 - 0.01 = 9.99; post_step
+ * then moves the target 4 m away, so ticks 2 to 5 pay the clock alone:
+ * 9.95 after 5 (without post_step every tick would pay 10 more: 49.95).
+ * The whole course: the Lua control ends it once the 4 waypoints are
+ * passed (the metric `waypoints` counts them), before TICKLIM, with 4 x
+ * 10 - 0.01 a tick paid. */
+TEST(a_3d_course_scored_by_lua_and_post_step_pays_hand_worked_values)
+{
+	const char *task = "minds/Blimp3D/Tasks/Waypoints-DEMO.simbatch";
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run %s --headless "
+				 "--ticks 1 2>&1",
+				 cli_evo, task),
+		     0);
+	CHECK_CONTAINS(out, "episode 1: reward 9.990000 over 1 ticks, 0 "
+			    "collision ticks, waypoints 1");
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 "%s run %s --headless "
+				 "--ticks 5 2>&1",
+				 cli_evo, task),
+		     0);
+	CHECK_CONTAINS(out, "episode 1: reward 9.950000 over 5 ticks, 0 "
+			    "collision ticks, waypoints 1");
+	CHECK_EQ_INT(cli_capture(out, sizeof out, "%s run %s --headless 2>&1",
+				 cli_evo, task),
+		     0);
+	double reward = 0;
+	long ticks = 0;
+	int passed = 0, hits = 0;
+	CHECK_EQ_INT(sscanf(out,
+			    "episode 1: reward %lf over %ld ticks, %d "
+			    "collision ticks, waypoints %d",
+			    &reward, &ticks, &hits, &passed),
+		     4);
+	printf("  the course: %.6f over %ld ticks, %d waypoints\n", reward,
+	       ticks, passed);
+	CHECK_EQ_INT(passed, 4);
+	CHECK(ticks > 5 && ticks < 1800);
+	CHECK(fabs(reward - (40 - 0.01 * (double)ticks)) < 1e-6);
+}
+
 int main(void)
 {
 	if (cli_setup("run3d"))
 		return 1;
 	RUN(both_3d_tasks_run_headless_and_one_seed_gives_one_trace);
 	RUN(both_3d_tasks_show_in_the_3d_view);
+	RUN(a_3d_course_scored_by_lua_and_post_step_pays_hand_worked_values);
 	RUN(learn3dsim_threads_agree_and_the_champion_beats_untrained_networks);
 	RUN(a_sigkilled_learn3dsim_run_resumes_to_the_same_result);
 	RUN(an_exploding_robot_ends_its_episode_with_a_message_and_a_penalty);

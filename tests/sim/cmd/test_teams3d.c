@@ -30,9 +30,10 @@ static void copy_mind(const char *name)
 }
 
 /* Three bots, Red1 and Red2 of team Red and Blue1 of team Blue, paid by
- * Step rewards only, for 4 ticks; Blue wins. By hand: Red1 earns
- * 4 x 0.25 (the team's Step) + 4 x 1 (its own) = 5, Red2 4 x 0.25 = 1, so
- * team Red 6; Blue1 and team Blue 4 x -0.5 = -2; the scene 6 - 2 = 4. */
+ * Step rewards and a Lua reward of team Blue as a whole, for 4 ticks; Blue
+ * wins. By hand: Red1 earns 4 x 0.25 (the team's Step) + 4 x 1 (its own)
+ * = 5, Red2 4 x 0.25 = 1, so team Red 6; Blue1 4 x -0.5 = -2, and team
+ * Blue that and the Lua reward's 4 x 0.5, 0; the scene 6 + 0 = 6. */
 static const char step_env[] =
     "local env = {}\n"
     "function env.init(scene)\n"
@@ -42,6 +43,7 @@ static const char step_env[] =
     "\tscene:reward(\"Step\", { team = \"Red\", k = 0.25 })\n"
     "\tscene:reward(\"Step\", { team = \"Blue\", k = -0.5 })\n"
     "\tscene:reward(\"Step\", { bot = scene:get_bot(\"Red1\"), k = 1 })\n"
+    "\tscene:reward(function() return 0.5 end, { team = \"Blue\" })\n"
     "\tscene:control(\"NextOnTimeout\", { ticks = 4 })\n"
     "end\n"
     "function env.reset(scene)\n"
@@ -71,11 +73,11 @@ TEST(a_3d_team_episode_pays_bots_teams_and_scene_as_worked_out_by_hand)
 			     "--headless --episodes 2 2>&1",
 			     cli_evo, cli_tmp);
 	CHECK_EQ_INT(rc, 0);
-	CHECK_CONTAINS(out, "episode 1: reward 4.000000 over 4 ticks");
-	CHECK_CONTAINS(out, "episode 2: reward 4.000000 over 4 ticks");
+	CHECK_CONTAINS(out, "episode 1: reward 6.000000 over 4 ticks");
+	CHECK_CONTAINS(out, "episode 2: reward 6.000000 over 4 ticks");
 	CHECK_CONTAINS(out, "  team Red: reward 6.000000 (Red1 5.000000, "
 			    "Red2 1.000000)\n");
-	CHECK_CONTAINS(out, "  team Blue: reward -2.000000 (Blue1 "
+	CHECK_CONTAINS(out, "  team Blue: reward 0.000000 (Blue1 "
 			    "-2.000000), won\n");
 	CHECK_EQ_INT(cli_count_lines(out, "  team Red: reward 6.000000"), 2);
 	if (rc)

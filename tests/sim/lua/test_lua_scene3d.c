@@ -182,10 +182,17 @@ TEST(bad_options_and_misplaced_calls_are_refused_at_their_line)
 	    {"local b = scene:bot{} scene:reward('Collect', { bot = b })",
 	     "E.lua:2: scene:reward: reward 'Collect' is 2D only "
 	     "(docs/world3d.md)"},
-	    {"local b = scene:bot{} scene:control('CF_NextOnTargetReached', "
-	     "{ bot = b })",
-	     "E.lua:2: scene:control: control 'CF_NextOnTargetReached' is 2D "
-	     "only (docs/world3d.md)"},
+	    {"local b = scene:bot{} scene:control("
+	     "'CF_NextOnCollisionWithTarget', { bot = b })",
+	     "E.lua:2: scene:control: control 'CF_NextOnCollisionWithTarget' "
+	     "is 2D only (docs/world3d.md)"},
+	    {"local b = scene:bot{} scene:reward('Lua', { bot = b })",
+	     "E.lua:2: scene:reward: for a reward of your own, pass a Lua "
+	     "function, not the name 'Lua'"},
+	    {"local b = scene:bot{} scene:reward(function() return 1 end, "
+	     "{ team = 'red' })",
+	     "E.lua:2: scene:reward: no team red: the task has no teams "
+	     "(TEAM lines, docs/teams.md)"},
 	    {"local b = scene:bot{} scene:control('NextOnTimeout', { tick = 5 "
 	     "})",
 	     "E.lua:2: scene:control: unknown option 'tick'"},
@@ -234,6 +241,80 @@ TEST(bad_options_and_misplaced_calls_are_refused_at_their_line)
 	}
 }
 
+/* A Lua reward (half the tick, reset by its own reset function), Step
+ * (2 a tick), a Lua control that ends the episode once post_step has
+ * counted 3 steps, and Distance (-1 a metre) to a target 5 m away (3 up, 4
+ * ahead) from a bot that floats where it is: hand-worked, tick t pays
+ * 0.5 t + 2 - 5, and the third step ends the episode with 1.5 + 3 + 4.5 -
+ * 15 = -6 paid. */
+TEST(lua_rewards_controls_and_post_step_run_in_3d)
+{
+	const char *env =
+	    "local e, n, resets = {}, 0, 0\n"
+	    "function e.init(scene)\n"
+	    "  local t = scene:target{ x = 4, y = 0, z = 5 }\n"
+	    "  local b = scene:bot{}\n"
+	    "  scene:reward(function(s) return s:tick() * 0.5 end,\n"
+	    "    { reset = function() resets = resets + 1 end })\n"
+	    "  scene:reward('Step', { bot = b, k = 2 })\n"
+	    "  scene:reward('Distance', { bot = b, target = t, k = -1 })\n"
+	    "  scene:control(function() return n >= 3 end)\n"
+	    "end\n"
+	    "function e.reset(scene) n = 0 end\n"
+	    "function e.post_step(scene) n = n + 1 end\n"
+	    "return e\n";
+	evo_scene3d *sc;
+	evo_err err = {{0}};
+	evo_lua *l = build(env, &sc, &err);
+	CHECK(l != NULL);
+	if (!l) {
+		printf("  %s\n", err.msg);
+		return;
+	}
+	for (int episode = 1; episode <= 2; episode++) {
+		if (episode == 2) {
+			CHECK_EQ_INT(evo_scene3d_reset(sc, 1, 2), 0);
+			CHECK_EQ_INT(evo_lua_reset(l, 2, &err), 0);
+		}
+		double want[3] = {0.5 + 2 - 5, 1 + 2 - 5, 1.5 + 2 - 5};
+		for (int t = 0; t < 3; t++) {
+			evo_scene3d_sense(sc);
+			int r = evo_scene3d_step(sc);
+			CHECK_EQ_INT(r, t == 2);
+			CHECK(NEAR(sc->step_reward, want[t], 1e-6));
+		}
+		CHECK(NEAR(sc->episode_reward, -6, 1e-6));
+		CHECK(NEAR(sc->reward[0].total, 3, 1e-12));
+	}
+	evo_lua_destroy(l);
+	evo_scene3d_destroy(sc);
+}
+
+/* A Lua reward that returns no number fails the step with the line it
+ * was written at and the tick. */
+TEST(a_3d_lua_reward_that_returns_no_number_fails_the_step)
+{
+	const char *env = "local e = {}\n"
+			  "function e.init(scene)\n"
+			  "  scene:bot{}\n"
+			  "  scene:reward(function(s) return 'x' end)\n"
+			  "end\n"
+			  "return e\n";
+	evo_scene3d *sc;
+	evo_err err = {{0}};
+	evo_lua *l = build(env, &sc, &err);
+	CHECK(l != NULL);
+	if (!l)
+		return;
+	evo_scene3d_sense(sc);
+	CHECK_EQ_INT(evo_scene3d_step(sc), -1);
+	CHECK_CONTAINS(sc->err.msg,
+		       "E.lua:4: the reward function written here returned "
+		       "the string \"x\" at tick 1, not a finite number");
+	evo_lua_destroy(l);
+	evo_scene3d_destroy(sc);
+}
+
 int main(void)
 {
 	if (cli_setup("lua3d") ||
@@ -242,6 +323,8 @@ int main(void)
 	RUN(sensors_built_from_lua_read_hand_worked_values);
 	RUN(swarm_sensors_from_lua_read_hand_worked_values);
 	RUN(bad_options_and_misplaced_calls_are_refused_at_their_line);
+	RUN(lua_rewards_controls_and_post_step_run_in_3d);
+	RUN(a_3d_lua_reward_that_returns_no_number_fails_the_step);
 	cli_cleanup();
 	return test_summary();
 }

@@ -524,26 +524,26 @@ struct hook_log {
 	int fail;
 };
 
-static int reward_hook(void *ctx, evo_scene *sc, const evo_reward *r,
+static int reward_hook(void *ctx, evo_err *err, const evo_reward *r,
 		       double *out)
 {
 	struct hook_log *log = ctx;
 	log->calls++;
 	log->seen = r;
 	if (log->fail)
-		return evo_fail(&sc->err, "reward hook: boom");
+		return evo_fail(err, "reward hook: boom");
 	*out = log->value;
 	return 0;
 }
 
-static int control_hook(void *ctx, evo_scene *sc, const evo_control *c,
+static int control_hook(void *ctx, evo_err *err, const evo_control *c,
 			int *next)
 {
 	struct hook_log *log = ctx;
 	log->calls++;
 	log->seen = c;
 	if (log->fail)
-		return evo_fail(&sc->err, "control hook: boom");
+		return evo_fail(err, "control hook: boom");
 	*next = log->next;
 	return 0;
 }
