@@ -49,7 +49,9 @@ static const char step_env[] =
     "function env.reset(scene)\n"
     "\tassert(#scene:bots(\"Red\") == 2 and #scene:bots() == 3)\n"
     "\tassert(scene:bots(\"Blue\")[1]:team() == \"Blue\")\n"
+    "\tassert(scene:winner() == nil)\n"
     "\tscene:winner(\"Blue\")\n"
+    "\tassert(scene:winner() == \"Blue\")\n"
     "end\n"
     "return env\n";
 
