@@ -986,9 +986,10 @@ static int scene_winner(lua_State *L)
 {
 	evo_scene3d *sc = scene3d(L);
 	int w = evo_lua_winner(L, sc->winner);
-	if (w != -2)
-		sc->winner = w;
-	return lua_gettop(L) < 2 ? 1 : 0;
+	if (w == -2)
+		return 1; /* the name pushed */
+	sc->winner = w;
+	return 0;
 }
 
 static int scene_teams(lua_State *L)
