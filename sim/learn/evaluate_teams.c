@@ -72,7 +72,8 @@ int eval_evaluate_team_unit(worker *w, int j, evo_err *err)
 	memset(u, 0, sizeof *u);
 	for (int i = 0; i < size; i++)
 		own[i] = 0;
-	const evo_scene *sc = w->sim->scene;
+	const evo_simscene *ws = w->sim->world;
+	const void *sc = w->sim->sc;
 	for (int r = 0; r < ev->reps; r++) {
 		if (evo_sim_reset(
 			w->sim, r + 1, evo_eval_grid_seed(ev->seed, ev->gen, r),
@@ -92,16 +93,15 @@ int eval_evaluate_team_unit(worker *w, int j, evo_err *err)
 			if (st2 > 0)
 				break;
 		}
-		u->team_fitness += sc->team_reward[t];
-		u->wins += sc->winner == t;
+		u->team_fitness += ws->team_reward(sc, t);
+		u->wins += ws->winner(sc) == t;
 		for (int i = 0; i < size; i++) {
-			const evo_bot *b =
-			    &sc->bot[w->sim->agent[st->first + i].bot];
-			own[i] += b->reward;
-			u->collisions += b->collisions;
+			int b = w->sim->agent[st->first + i].bot;
+			own[i] += ws->bot_reward(sc, b);
+			u->collisions += ws->collisions(sc, b);
 		}
 		for (int m = 0; m < ev->n_metrics; m++)
-			u->metric[m] += sc->metric[m].value;
+			u->metric[m] += ws->metric(sc, m);
 	}
 	for (int m = 0; m < ev->n_metrics; m++)
 		u->metric[m] /= ev->reps;
