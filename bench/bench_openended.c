@@ -373,7 +373,7 @@ static int bench(int n)
 	       "--threads %d%s; beside it the same task with OPEN_DEVELOP:0\n",
 	       batches, threads, together ? ", the two at once" : "");
 	printf("%-15s %4s  %-20s  %-17s  %6s %5s  %8s %8s\n", "", "seed",
-	       "ANNECS at 1/3 2/3 end", "largest path", "skills", "lost",
+	       "ANNECS by thirds", "largest by thirds", "skills", "lost",
 	       "time", "CPU");
 	int met = 0;
 	for (int s = first_seed; s < first_seed + n; s++) {

@@ -21,7 +21,12 @@
 #     scoring.c alone, and both scenes pay them through evo_score_step;
 #     the scenes' lookups by name are sim/scene/store.c's;
 #   - every file docs/architecture.md names exists (a bare name such as
-#     `step.c` must name exactly one file of the tree).
+#     `step.c` must name exactly one file of the tree);
+#   - no host source (sim/*/*.c, *.cpp) is over 800 lines, but for the few
+#     of an allow-list still being split;
+#   - no include circle: no source includes a .c file, no header reaches
+#     itself through its includes, and no two sources each reach the
+#     other's header (the allow-list's pairs excepted).
 # Run from the repository root (make test does). Ends with
 # "N passed, N failed" and exits non-zero on a failure.
 cd "$(dirname "$0")/.." || exit 2
@@ -196,6 +201,109 @@ if [ -f docs/architecture.md ]; then
 else
 	fail "docs/architecture.md is missing"
 fi
+
+# No host source over 800 lines: a file that long owns more than one thing
+# (STYLE.md); split it by what its parts own. The allow-list holds files
+# others are changing now; take a file off it when it is split (a listed
+# file of 800 lines or fewer fails, so the list cannot go stale).
+MAX_LINES=800
+LONG_ALLOWED="
+sim/world2d/sensors.c
+sim/lua/lua_scene.c
+sim/lua/lua_scene3d.c
+"
+for src in sim/*/*.c sim/*/*.cpp; do
+	[ -f "$src" ] || continue
+	n=$(wc -l <"$src")
+	listed=0
+	case "$LONG_ALLOWED" in *"
+$src
+"*) listed=1 ;; esac
+	if [ "$n" -le $MAX_LINES ] && [ $listed = 1 ]; then
+		fail "$src: $n lines, yet on tests/test_layout.sh's allow-list of long files: take it off"
+	elif [ "$n" -gt $MAX_LINES ] && [ $listed = 0 ]; then
+		fail "$src: $n lines, over $MAX_LINES: split it by what its parts own (STYLE.md)"
+	else pass; fi
+done
+
+# No include circle. The edges: each sim/ file to the sim/ headers it
+# includes ("folder/name.h").
+incs=$(for f in sim/*/*.c sim/*/*.cpp sim/*/*.h; do
+	[ -f "$f" ] || continue
+	sed -n 's/^#include "\([^"]*\)".*/\1/p' "$f" | while read -r inc; do
+		case $inc in
+		*.c | *.cpp) echo "$f sim/$inc" ;;
+		*) [ -f "sim/$inc" ] && echo "$f sim/$inc" ;;
+		esac
+	done
+done)
+[ -n "$incs" ] || fail "no includes found under sim/"
+# No source includes a .c file.
+cinc=$(printf '%s\n' "$incs" | awk '$2 ~ /\.(c|cpp)$/ { print $1 ": " $2 }')
+if [ -z "$cinc" ]; then pass; else fail "sources include .c files: $cinc"; fi
+# No header reaches itself: tsort finds a loop among the headers' edges.
+if printf '%s\n' "$incs" | awk '$1 ~ /\.h$/ && $1 != $2' |
+	tsort >/dev/null 2>&1; then pass; else
+	fail "a header include circle: $(printf '%s\n' "$incs" |
+		awk '$1 ~ /\.h$/ && $1 != $2' | tsort 2>&1 >/dev/null | tr '\n' ' ')"
+fi
+# No two sources each reach the other's header (A.c reaches B.h through its
+# includes, and B.c reaches A.h): they would be one module in two files, or
+# share a type that belongs in a header of its own (as learn/eval_seeds.h
+# holds what evaluate.c and evaluate_remote.c share). The allow-list holds
+# the pairs of folders others are changing now, or that this check found
+# and no one has split yet; a listed pair no longer mutual fails.
+MUTUAL_ALLOWED="
+sim/cmd/mindinfo.c sim/cmd/run.c
+sim/remote/can_robot.c sim/remote/robot.c
+sim/world2d/rewards.c sim/world2d/scene.c
+"
+mutual=$(printf '%s\n' "$incs" | awk '
+	{ to[$1] = to[$1] " " $2; files[$1] = 1 }
+	function reach(f,    todo, n, i, k, parts, x) {
+		delete seen; n = 0
+		todo[++n] = f
+		while (n > 0) {
+			x = todo[n--]
+			k = split(to[x], parts, " ")
+			for (i = 1; i <= k; i++)
+				if (!(parts[i] in seen)) {
+					seen[parts[i]] = 1
+					todo[++n] = parts[i]
+				}
+		}
+	}
+	END {
+		for (f in files) if (f ~ /\.(c|cpp)$/) {
+			h = f; sub(/\.(c|cpp)$/, ".h", h)
+			reach(f)
+			for (x in seen) if (x != h && x ~ /\.h$/) r[f, x] = 1
+			header[f] = h
+		}
+		for (a in header) for (b in header)
+			if (a < b && ((a, header[b]) in r) && ((b, header[a]) in r))
+				print a " " b
+	}' | sort)
+for pair in $(printf '%s\n' "$mutual" | tr ' ' '+'); do
+	pair=$(echo "$pair" | tr '+' ' ')
+	case "$MUTUAL_ALLOWED" in
+	*"
+$pair
+"*) pass ;;
+	*) fail "$(echo "$pair" | sed 's/ / and /') each include the other's header (directly or through headers): move what they share into a header of its own" ;;
+	esac
+done
+for pair in $(printf '%s\n' "$MUTUAL_ALLOWED" | tr ' ' '+'); do
+	pair=$(echo "$pair" | tr '+' ' ')
+	case "
+$mutual
+" in
+	*"
+$pair
+"*) pass ;;
+	*) fail "$pair: no longer include each other; take them off tests/test_layout.sh's allow-list" ;;
+	esac
+done
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -1,6 +1,7 @@
-/* The messages between the ranks of a cluster run (cluster.c), and the
- * checks rank 0 makes of every message a rank sends (cluster_messages.c;
- * its tests and its fuzz target use them too).
+/* The messages between the ranks of a cluster run (cluster_deal.c,
+ * cluster_serve.c), and the checks rank 0 makes of every message a rank
+ * sends (cluster_messages.c; its tests and its fuzz target use them
+ * too).
  *
  * Messages (MPI_BYTE, in this machine's byte order: a cluster of one
  * architecture, as Open MPI's own homogeneous default):

@@ -98,6 +98,7 @@ int evo_task_check(const char *path, evo_task *task, evo_err *err)
 		    "%s: evo run does not run %s tasks yet (it runs "
 		    "DEMOSIM, LEARNSIM, LEARNSIMCONTINUOUS, DEMO3DSIM, "
 		    "LEARN3DSIM, DEMO2DSIMMULTI, LEARN2DSIMMULTI, "
+		    "DEMO3DSIMMULTI, LEARN3DSIMMULTI, "
 		    "DEMOREMOTESIM, "
 		    "LEARNREMOTESIM and DEMOREMOTE)",
 		    path, task->type);

@@ -44,6 +44,8 @@ int evo_run_supports(const char *type)
 	       strcmp(type, "LEARNSIMCONTINUOUS") == 0 ||
 	       strcmp(type, "DEMO2DSIMMULTI") == 0 ||
 	       strcmp(type, "LEARN2DSIMMULTI") == 0 ||
+	       strcmp(type, "DEMO3DSIMMULTI") == 0 ||
+	       strcmp(type, "LEARN3DSIMMULTI") == 0 ||
 	       strcmp(type, "DEMOREMOTESIM") == 0 ||
 	       strcmp(type, "LEARNREMOTESIM") == 0 ||
 	       strcmp(type, "DEMOREMOTE") == 0 ||
@@ -334,6 +336,7 @@ static int run_main(int argc, char **argv)
 	    strcmp(task.type, "LEARN3DSIM") == 0 ||
 	    strcmp(task.type, "LEARNSIMCONTINUOUS") == 0 ||
 	    strcmp(task.type, "LEARN2DSIMMULTI") == 0 ||
+	    strcmp(task.type, "LEARN3DSIMMULTI") == 0 ||
 	    strcmp(task.type, "LEARNREMOTESIM") == 0 ||
 	    (strcmp(task.type, "OPENENDED") == 0 && !o.env)) {
 		if (o.episodes >= 0) {
@@ -364,6 +367,7 @@ static int run_main(int argc, char **argv)
 		    "%s: evo run does not run %s tasks yet (it runs "
 		    "DEMOSIM, LEARNSIM, LEARNSIMCONTINUOUS, DEMO3DSIM, "
 		    "LEARN3DSIM, DEMO2DSIMMULTI, LEARN2DSIMMULTI, "
+		    "DEMO3DSIMMULTI, LEARN3DSIMMULTI, "
 		    "DEMOREMOTESIM, LEARNREMOTESIM and DEMOREMOTE)\n",
 		    o.task, task.type);
 	}

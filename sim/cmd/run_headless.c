@@ -89,17 +89,17 @@ static int has_reward(const evo_scene *sc, evo_reward_kind k)
  * reward, each bot's own, and whether it won. */
 static void print_teams(const evo_sim *s)
 {
-	const evo_scene *sc = s->scene;
+	const evo_simscene *w = s->world;
 	for (int k = 0; s->has_teams && k < s->n_teams; k++) {
 		const evo_sim_team *tm = &s->team[k];
 		printf("  team %s: reward %.6f (", tm->name,
-		       sc->team_reward[k]);
+		       w->team_reward(s->sc, k));
 		for (int i = 0; i < tm->size; i++) {
-			const evo_bot *b =
-			    &sc->bot[s->agent[tm->first + i].bot];
-			printf("%s%s %.6f", i ? ", " : "", b->name, b->reward);
+			int b = s->agent[tm->first + i].bot;
+			printf("%s%s %.6f", i ? ", " : "",
+			       w->bot_name(s->sc, b), w->bot_reward(s->sc, b));
 		}
-		printf(")%s\n", sc->winner == k ? ", won" : "");
+		printf(")%s\n", w->winner(s->sc) == k ? ", won" : "");
 	}
 }
 
@@ -146,16 +146,19 @@ static int print_outcome(evo_sim *s, evo_err *err)
 int evo_run_print_episode(evo_sim *s, long e, long t, evo_err *err)
 {
 	if (s->scene3d) {
+		int collisions = 0;
+		for (int a = 0; a < s->n_agents; a++)
+			collisions += evo_sim_collisions(s, a);
 		printf("episode %ld: reward %.6f over %ld ticks, %d "
 		       "collision ticks",
-		       e, evo_sim_episode_reward(s), t,
-		       evo_sim_collisions(s, 0));
+		       e, evo_sim_episode_reward(s), t, collisions);
 		print_metrics(s);
 		if (print_outcome(s, err))
 			return -1;
 		printf("\n");
 		if (evo_sim_fault(s)[0])
 			printf("  fault: %s\n", evo_sim_fault(s));
+		print_teams(s);
 		fflush(stdout);
 		return 0;
 	}

@@ -11,103 +11,12 @@
 #include <unistd.h>
 
 #include "base/fileio.h"
+#include "learn/evaluate_internal.h"
 #include "learn/evaluate_remote.h"
 #include "learn/literature.h"
 #include "mind/task.h"
 #include "tasksim/tasksim.h"
 #include "world2d/scene.h"
-
-/* Stream tags of evo_rng_for (evaluate.h); `evo run` uses 1 and 2. */
-enum { TAG_GRID = 3, TAG_EPISODE = 4 };
-
-#define MAX_THREADS EVO_EVAL_MAX_THREADS
-
-typedef struct worker {
-	struct evo_evaluator *ev;
-	pthread_t thread;
-	int started;
-	evo_task task;	  /* its own mind folder */
-	evo_sim *sim;	  /* its own world and Lua state */
-	int skill;	  /* the learning skill's index in task.mind */
-	evo_lit_task lit; /* ENV names a literature task: no sim */
-	evo_lit_protocol proto; /* the double pole's POLEPROTOCOL */
-	/* team tasks: each team's learning skill in its mind (-1: none),
-	 * each learning team's members' own minds (heterogeneous), and the
-	 * version of the teams' networks it runs */
-	int team_skill[EVO_MAX_TEAMS];
-	evo_mindfolder **member[EVO_MAX_TEAMS];
-	unsigned long nets_seen;
-	int last_team; /* the team its last batch trained, -1 at first */
-	evo_netdesc *own_net[EVO_MAX_TEAMS]; /* each team's network as loaded */
-} worker;
-
-/* What one evaluation of a team gives, summed over its repetitions. */
-typedef struct unit_result {
-	double team_fitness;
-	long collisions;
-	int wins;
-	double metric[EVO_SCENE_MAX_METRICS];
-} unit_result;
-
-struct evo_evaluator {
-	char *task_path;
-	const evo_eval_def *def; /* while evo_evaluator_create runs */
-	int threads, reps;
-	long ticks;
-	int n_metrics; /* worker 0's scene holds their names */
-	uint64_t seed;
-	unsigned n_in, n_out;
-	worker *w;
-	evo_remote_eval *remote; /* LEARNREMOTESIM: no workers */
-	evo_eval_spread spread;	 /* .evaluate NULL: none */
-	/* team tasks (docs/teams.md): the teams' networks set by
-	 * evo_evaluator_set_team_net (NULL: their own), bumped version */
-	int n_teams;
-	int heterogeneous, own_fitness;
-	evo_netdesc *team_net[EVO_MAX_TEAMS];
-	unsigned long nets_version;
-	char *genome; /* evo_evaluator_set_genome's, NULL: none */
-
-	/* Everything below is guarded by mu. A batch is announced by
-	 * bumping batch_id; each worker counts itself out in `busy`, and
-	 * the caller waits for busy == 0, so no evaluation outlives its
-	 * batch. */
-	pthread_mutex_t mu;
-	pthread_cond_t start_cv, done_cv;
-	unsigned long batch_id;
-	int quit;
-	int busy;
-	/* one thread: the only worker runs on the caller's thread, with no
-	 * hand-off to another thread and back for each batch */
-	int inline_worker;
-	const evo_netdesc *const *cand;
-	int n, gen, next;
-	int first; /* the batch index of cand[0] (evo_evaluate_part) */
-	evo_eval_result *res;
-	/* a team batch: the learning team, the groups, what each group and
-	 * each member gave */
-	int team;
-	const int *groups;
-	unit_result *unit;
-	double *own;
-	int failed;
-	evo_err err; /* the first failure */
-};
-
-uint64_t evo_eval_grid_seed(uint64_t seed, int gen, int rep)
-{
-	evo_rng r = evo_rng_for(seed, (uint64_t)TAG_GRID << 32 | (uint32_t)gen,
-				(uint64_t)rep, 0);
-	return evo_rng_next(&r);
-}
-
-uint64_t evo_eval_episode_seed(uint64_t seed, int gen, int cand, int rep)
-{
-	evo_rng r =
-	    evo_rng_for(seed, (uint64_t)TAG_EPISODE << 32 | (uint32_t)gen,
-			(uint64_t)cand, (uint64_t)rep);
-	return evo_rng_next(&r);
-}
 
 /* At the end of repetition r: add what the episode did to res's
  * behaviour, and fold whether it solved the task into *all_solved (1
@@ -198,99 +107,6 @@ static int evaluate_one(worker *w, int i, evo_eval_result *res, evo_err *err)
 	return 0;
 }
 
-/* Before a team batch: every team but the one that learns runs its
- * network of evo_evaluator_set_team_net, or its own as loaded (a team
- * that learned in an earlier batch still holds a candidate), whenever
- * those changed or another team learns than in w's last batch. */
-static int apply_team_nets(worker *w, evo_err *err)
-{
-	evo_evaluator *ev = w->ev;
-	if (w->nets_seen == ev->nets_version && w->last_team == ev->team)
-		return 0;
-	for (int t = 0; t < ev->n_teams; t++) {
-		if (t == ev->team || w->team_skill[t] < 0)
-			continue;
-		const evo_netdesc *net =
-		    ev->team_net[t] ? ev->team_net[t] : w->own_net[t];
-		evo_mindfolder *m = w->task.team[t].mind;
-		*m->net[w->team_skill[t]] = *net;
-		if (evo_mindfolder_rebuild(m, err) ||
-		    evo_sim_set_team_mind(w->sim, t, m, err))
-			return -1;
-	}
-	w->nets_seen = ev->nets_version;
-	w->last_team = ev->team;
-	return 0;
-}
-
-/* Evaluation j of a team batch on worker w: the learning team's members
- * run their candidates, the repetitions run, and what the team and each
- * member earned is kept in unit[j] and own[j * size ..]. */
-static int evaluate_team_unit(worker *w, int j, evo_err *err)
-{
-	evo_evaluator *ev = w->ev;
-	int t = ev->team;
-	const evo_sim_team *st = &w->sim->team[t];
-	int size = st->size;
-	const int *g = ev->groups + (size_t)j * size;
-	int k = w->team_skill[t];
-	if (!ev->heterogeneous) {
-		evo_mindfolder *m = w->task.team[t].mind;
-		*m->net[k] = *ev->cand[g[0]];
-		if (evo_mindfolder_rebuild(m, err) ||
-		    evo_sim_set_team_mind(w->sim, t, m, err))
-			return -1;
-	} else {
-		for (int i = 0; i < size; i++) {
-			evo_mindfolder *m = w->member[t][i];
-			*m->net[k] = *ev->cand[g[i]];
-			if (evo_mindfolder_rebuild(m, err) ||
-			    evo_sim_set_agent_mind(w->sim, st->first + i, m,
-						   err))
-				return -1;
-		}
-	}
-	unit_result *u = &ev->unit[j];
-	double *own = ev->own + (size_t)j * size;
-	memset(u, 0, sizeof *u);
-	for (int i = 0; i < size; i++)
-		own[i] = 0;
-	const evo_scene *sc = w->sim->scene;
-	for (int r = 0; r < ev->reps; r++) {
-		if (evo_sim_reset(
-			w->sim, r + 1, evo_eval_grid_seed(ev->seed, ev->gen, r),
-			evo_eval_episode_seed(ev->seed, ev->gen, j, r), err)) {
-			evo_err inner = *err;
-			return evo_fail(err, "repetition %d, at its start: %s",
-					r + 1, inner.msg);
-		}
-		for (long tk = 0; tk < ev->ticks; tk++) {
-			int st2 = evo_sim_tick(w->sim, err);
-			if (st2 < 0) {
-				evo_err inner = *err;
-				return evo_fail(err,
-						"repetition %d, tick %ld: %s",
-						r + 1, tk, inner.msg);
-			}
-			if (st2 > 0)
-				break;
-		}
-		u->team_fitness += sc->team_reward[t];
-		u->wins += sc->winner == t;
-		for (int i = 0; i < size; i++) {
-			const evo_bot *b =
-			    &sc->bot[w->sim->agent[st->first + i].bot];
-			own[i] += b->reward;
-			u->collisions += b->collisions;
-		}
-		for (int m = 0; m < ev->n_metrics; m++)
-			u->metric[m] += sc->metric[m].value;
-	}
-	for (int m = 0; m < ev->n_metrics; m++)
-		u->metric[m] /= ev->reps;
-	return 0;
-}
-
 static long simbatch_number(const evo_simbatch *sb, const char *key,
 			    long fallback)
 {
@@ -304,48 +120,6 @@ static long simbatch_number(const evo_simbatch *sb, const char *key,
 	return *end || errno || n <= 0 ? fallback : n;
 }
 
-/* A team task's worker: every team's learning skill, a mind of its own
- * for each member of a heterogeneous learning team, and the scene of
- * every team. */
-static int load_teams(evo_evaluator *ev, worker *w, evo_err *err)
-{
-	evo_task *t = &w->task;
-	for (int k = 0; k < t->n_teams; k++) {
-		const evo_team *tm = &t->team[k];
-		w->team_skill[k] =
-		    tm->learning_skill[0]
-			? evo_mindfolder_skill(tm->mind, tm->learning_skill)
-			: -1;
-		if (w->team_skill[k] >= 0 && !tm->mind->net[w->team_skill[k]])
-			w->team_skill[k] = -1;
-		if (w->team_skill[k] >= 0) {
-			w->own_net[k] = malloc(sizeof *w->own_net[k]);
-			if (!w->own_net[k])
-				return evo_fail(err, "out of memory");
-			*w->own_net[k] = *tm->mind->net[w->team_skill[k]];
-		}
-		if (!tm->learns || !t->heterogeneous)
-			continue;
-		w->member[k] = calloc((size_t)tm->size, sizeof *w->member[k]);
-		if (!w->member[k])
-			return evo_fail(err, "out of memory");
-		evo_mindfolder_opts opts = {
-		    .master = tm->master,
-		    .learning_skill = tm->learning_skill,
-		    .seed = t->seed,
-		};
-		for (int i = 0; i < tm->size; i++)
-			if (!(w->member[k][i] = evo_mindfolder_load(
-				  tm->mind->root, &opts, err)))
-				return -1;
-	}
-	(void)ev;
-	w->last_team = -1;
-	w->skill = w->team_skill[t->learning[0]];
-	w->sim = evo_sim_create_task(t, ev->task_path, err);
-	return w->sim ? 0 : -1;
-}
-
 /* Load worker k's own copy of the task and build its simulation. */
 static int worker_load(evo_evaluator *ev, worker *w, evo_err *err)
 {
@@ -353,7 +127,7 @@ static int worker_load(evo_evaluator *ev, worker *w, evo_err *err)
 	if (evo_task_load_opts(ev->task_path, &to, &w->task, err))
 		return -1;
 	if (w->task.n_teams > 0 && strncmp(w->task.type, "LEARN", 5) == 0)
-		return load_teams(ev, w, err);
+		return eval_load_teams(ev, w, err);
 	const char *learn = ev->def->learning_skill
 				? ev->def->learning_skill
 				: evo_simbatch_get(w->task.sb, "LEARNINGSKILL");
@@ -409,7 +183,7 @@ static void work_batch(worker *w, int locked)
 	if (ev->groups && !ev->failed) {
 		if (locked)
 			pthread_mutex_unlock(&ev->mu);
-		rc = apply_team_nets(w, &e);
+		rc = eval_apply_team_nets(w, &e);
 		if (locked)
 			pthread_mutex_lock(&ev->mu);
 		if (rc && !ev->failed) {
@@ -422,7 +196,7 @@ static void work_batch(worker *w, int locked)
 		if (locked)
 			pthread_mutex_unlock(&ev->mu);
 		evo_eval_result r;
-		rc = ev->groups ? evaluate_team_unit(w, i, &e)
+		rc = ev->groups ? eval_evaluate_team_unit(w, i, &e)
 				: evaluate_one(w, i, &r, &e);
 		if (locked)
 			pthread_mutex_lock(&ev->mu);
@@ -762,7 +536,7 @@ int evo_evaluator_deferred_success(const evo_evaluator *ev)
 /* With ev->mu held and the batch's fields set: the workers run it; the
  * batch's pointers are cleared after. Nonzero when an evaluation failed
  * (*err says why). */
-static int run_batch(evo_evaluator *ev, evo_err *err)
+int eval_run_batch(evo_evaluator *ev, evo_err *err)
 {
 	ev->failed = 0;
 	ev->err.msg[0] = 0;
@@ -834,7 +608,7 @@ int evo_evaluate_part(evo_evaluator *ev, const evo_netdesc *const *candidates,
 	ev->next = 0;
 	ev->first = first;
 	ev->res = res;
-	int failed = run_batch(ev, err);
+	int failed = eval_run_batch(ev, err);
 	ev->first = 0;
 	pthread_mutex_unlock(&ev->mu);
 	return failed ? -1 : 0;
@@ -880,164 +654,4 @@ int evo_evaluate(evo_evaluator *ev, const evo_netdesc *const *candidates, int n,
 		return ev->spread.evaluate(ev->spread.ctx, ev, candidates, n,
 					   gen, res, err);
 	return evo_evaluate_part(ev, candidates, 0, n, gen, res, err);
-}
-
-/* ---- team tasks -----------------------------------------------------------
- */
-
-int evo_evaluator_n_teams(const evo_evaluator *ev)
-{
-	return ev->remote ? 0 : ev->n_teams;
-}
-
-int evo_evaluator_team_size(const evo_evaluator *ev, int team)
-{
-	return team >= 0 && team < evo_evaluator_n_teams(ev)
-		   ? ev->w[0].task.team[team].size
-		   : 0;
-}
-
-static const evo_ades *team_skill(const evo_evaluator *ev, int team)
-{
-	if (team < 0 || team >= evo_evaluator_n_teams(ev) ||
-	    ev->w[0].team_skill[team] < 0)
-		return NULL;
-	return &ev->w[0].task.team[team].mind->skill[ev->w[0].team_skill[team]];
-}
-
-unsigned evo_evaluator_team_n_in(const evo_evaluator *ev, int team)
-{
-	const evo_ades *a = team_skill(ev, team);
-	return a ? a->n_in : 0;
-}
-
-unsigned evo_evaluator_team_n_out(const evo_evaluator *ev, int team)
-{
-	const evo_ades *a = team_skill(ev, team);
-	return a ? a->n_out : 0;
-}
-
-int evo_evaluator_set_team_net(evo_evaluator *ev, int team,
-			       const evo_netdesc *net, evo_err *err)
-{
-	const evo_ades *a = team_skill(ev, team);
-	if (!a)
-		return evo_fail(err, "team %d has no learning skill to set",
-				team);
-	if (net->n_in != a->n_in || net->n_out != a->n_out)
-		return evo_fail(err,
-				"team %s: a network of %u inputs and %u "
-				"outputs for skill %s of %u and %u",
-				ev->w[0].task.team[team].name,
-				(unsigned)net->n_in, (unsigned)net->n_out,
-				a->name, (unsigned)a->n_in, (unsigned)a->n_out);
-	if (!ev->team_net[team] &&
-	    !(ev->team_net[team] = malloc(sizeof *ev->team_net[team])))
-		return evo_fail(err, "out of memory");
-	/* workers are idle between batches: no lock is needed for the
-	 * net, and the version is read under the batch's lock */
-	*ev->team_net[team] = *net;
-	pthread_mutex_lock(&ev->mu);
-	ev->nets_version++;
-	pthread_mutex_unlock(&ev->mu);
-	return 0;
-}
-
-int evo_evaluate_teams(evo_evaluator *ev, int team,
-		       const evo_netdesc *const *candidates, int n,
-		       const int *groups, int n_groups, int gen,
-		       evo_eval_result *res, evo_err *err)
-{
-	const evo_ades *a = team_skill(ev, team);
-	if (!a || !ev->w[0].task.team[team].learns)
-		return evo_fail(err, "team %d is not a learning team", team);
-	int size = ev->w[0].task.team[team].size;
-	if (n < 1 || n_groups < 1 || !candidates || !groups || !res)
-		return evo_fail(err, "evaluate: no candidates or no teams");
-	for (int i = 0; i < n; i++) {
-		const evo_netdesc *c = candidates[i];
-		if (!c)
-			return evo_fail(err, "candidate %d: no network", i);
-		if (c->n_in != a->n_in || c->n_out != a->n_out)
-			return evo_fail(err,
-					"candidate %d: the network has %u "
-					"inputs and %u outputs; skill %s has "
-					"%u inputs and %u outputs",
-					i, (unsigned)c->n_in,
-					(unsigned)c->n_out, a->name,
-					(unsigned)a->n_in, (unsigned)a->n_out);
-	}
-	/* each candidate's first evaluation and member, in order */
-	int *first = malloc((size_t)n * sizeof *first);
-	unit_result *unit = calloc((size_t)n_groups, sizeof *unit);
-	double *own = calloc((size_t)n_groups * size, sizeof *own);
-	if (!first || !unit || !own) {
-		free(first);
-		free(unit);
-		free(own);
-		return evo_fail(err, "out of memory");
-	}
-	for (int i = 0; i < n; i++)
-		first[i] = -1;
-	for (long k = 0; k < (long)n_groups * size; k++) {
-		int c = groups[k];
-		if (c < 0 || c >= n) {
-			free(first);
-			free(unit);
-			free(own);
-			return evo_fail(err,
-					"team %ld, member %ld: no candidate %d",
-					k / size, k % size, c);
-		}
-		if (first[c] < 0)
-			first[c] = (int)(k / size);
-	}
-	for (int i = 0; i < n; i++)
-		if (first[i] < 0) {
-			free(first);
-			free(unit);
-			free(own);
-			return evo_fail(err, "candidate %d is in no team", i);
-		}
-	pthread_mutex_lock(&ev->mu);
-	ev->cand = candidates;
-	ev->n = n_groups;
-	ev->gen = gen;
-	ev->next = 0;
-	ev->res = NULL;
-	ev->team = team;
-	ev->groups = groups;
-	ev->unit = unit;
-	ev->own = own;
-	int failed = run_batch(ev, err);
-	pthread_mutex_unlock(&ev->mu);
-	/* Each candidate's result from its first evaluation, worked out
-	 * here, in order: nothing depends on which worker ran what. */
-	for (int i = 0; i < n && !failed; i++) {
-		int j = first[i];
-		const unit_result *u = &unit[j];
-		evo_eval_result *r = &res[i];
-		memset(r, 0, sizeof *r);
-		r->group = j;
-		r->team_fitness = u->team_fitness;
-		r->wins = u->wins;
-		r->collisions = u->collisions;
-		memcpy(r->metric, u->metric, sizeof r->metric);
-		if (!ev->own_fitness) {
-			r->fitness = u->team_fitness;
-		} else {
-			double sum = 0;
-			int members = 0;
-			for (int m = 0; m < size; m++)
-				if (groups[(size_t)j * size + m] == i) {
-					sum += own[(size_t)j * size + m];
-					members++;
-				}
-			r->fitness = sum / members;
-		}
-	}
-	free(first);
-	free(unit);
-	free(own);
-	return failed ? -1 : 0;
 }

@@ -20,16 +20,10 @@
  * repetitions: where fitness sums, a metric is a mean, comparable with
  * what `evo run` prints for one episode.
  *
- * Seeds: repetition r (0-based) of candidate i (its index in the batch)
- * in generation g runs
- *     episode number  r + 1
- *     grid seed       from evo_rng_for(seed, GRID << 32 | g, r, 0)
- *     episode seed    from evo_rng_for(seed, EPISODE << 32 | g, i, r)
- * (GRID = 3 and EPISODE = 4 are tags that keep the two streams apart and
- * apart from `evo run`'s). Every candidate of a generation thus meets the
- * same obstacle grids, while the rest of its randomness (placements,
- * RANDOM sensors) is its own; and nothing depends on which worker ran
- * which candidate, so results do not depend on the number of threads.
+ * Seeds: each repetition of each candidate runs with seeds that depend on
+ * the run's seed, the generation, the candidate and the repetition only
+ * (sim/learn/eval_seeds.h), so results do not depend on the number of
+ * threads.
  *
  * Literature tasks: when the task's ENV is XOR, DPV or DPNV the workers
  * build no simulation and score each candidate once with sim/learn/literature.h
@@ -49,12 +43,12 @@
 
 #include "base/err.h"
 #include "evo/evo.h"
+#include "learn/eval_seeds.h"
 #include "mind/mindfolder.h"
 #include "tasksim/tasksim.h"
 #include "world2d/scene.h"
 
 typedef struct evo_evaluator evo_evaluator;
-typedef struct evo_eval_result evo_eval_result;
 typedef struct evo_eval_def evo_eval_def;
 
 /* Where a batch may be spread beyond this process's workers: cluster
@@ -123,37 +117,6 @@ int evo_evaluator_remotes(const evo_evaluator *ev);
 int evo_evaluator_n_metrics(const evo_evaluator *ev);
 const char *evo_evaluator_metric_name(const evo_evaluator *ev, int k);
 
-/* The seeds of repetition rep of candidate cand in generation gen (see
- * the top of this file), for replaying one evaluation outside the pool. */
-uint64_t evo_eval_grid_seed(uint64_t seed, int gen, int rep);
-uint64_t evo_eval_episode_seed(uint64_t seed, int gen, int cand, int rep);
-
-/* What an evaluation gives. */
-struct evo_eval_result {
-	double fitness;	 /* summed over the repetitions */
-	long collisions; /* ticks the learning bot spent touching something,
-			  * summed over the repetitions (0 for literature
-			  * tasks) */
-	int solved;	 /* literature tasks: the success criterion was met;
-			  * other one-agent tasks: the environment's
-			  * solved(scene, bot) held at the end of every
-			  * repetition */
-	/* what the episodes did (evo_sim_behaviour), each value the mean
-	 * over the repetitions; n_behaviour of them, 0 for literature and
-	 * team tasks */
-	int n_behaviour;
-	double behaviour[EVO_SIM_MAX_BEHAVIOUR];
-	/* each metric's value at an episode's end, the mean over the
-	 * repetitions (evo_evaluator_n_metrics of them) */
-	double metric[EVO_SCENE_MAX_METRICS];
-	/* team tasks: the team (group) it was scored in, the first when it
-	 * is in several; that team's reward summed over the repetitions;
-	 * the repetitions the learning team won (scene:winner) */
-	int group;
-	double team_fitness;
-	int wins;
-};
-
 /* Evaluate candidates[0 .. n-1] (not owned; read while the call runs) in
  * generation gen, filling res[0 .. n-1]. Returns when the whole batch is
  * done. Returns 0, or -1 with err set to "candidate I: why" (a network
@@ -209,7 +172,7 @@ int evo_evaluator_set_team_net(evo_evaluator *ev, int team,
 /* Evaluate candidates[0 .. n-1] as members of team `team`, in n_groups
  * evaluations: in evaluation j, member m of the team runs candidate
  * groups[j * size + m] (size: the team's). Evaluation j, repetition r of
- * generation g is seeded as candidate j would be (the top of this file).
+ * generation g is seeded as candidate j would be (eval_seeds.h).
  * res[c] for each candidate c, from the first evaluation it is in: its
  * fitness is that team's reward summed over the repetitions, or with
  * TEAMFITNESS:OWN the reward of c's own bot (the mean over its bots when

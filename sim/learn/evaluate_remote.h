@@ -3,7 +3,7 @@
  * simulator that answers on the task's URL, in lockstep, from one thread.
  *
  * An evaluation is a function of its candidate and its seeds only (the
- * seeds of evaluate.h), so which simulator ran it does not matter: the
+ * seeds of eval_seeds.h), so which simulator ran it does not matter: the
  * same seed gives the same fitness whatever the number of simulators, and
  * a simulator lost in the middle of a batch (silent for REMOTETIMEOUT, or
  * restarted) costs only the episodes it was running, which start over on
@@ -13,7 +13,8 @@
 #define EVO_EVALUATE_REMOTE_H
 
 #include "base/err.h"
-#include "learn/evaluate.h"
+#include "evo/evo.h"
+#include "learn/eval_seeds.h"
 
 typedef struct evo_remote_eval evo_remote_eval;
 

@@ -8,23 +8,8 @@
 
 #include "base/err.h"
 #include "learn/evaluate.h"
+#include "learn/learn_opts.h"
 #include "mind/task.h"
-
-typedef struct evo_learn_opts {
-	uint64_t seed;
-	int threads;	     /* 0: one per core */
-	const char *run_dir; /* NULL: <mind>/Runs/<task>-seed<N> */
-	int resume;	     /* go on from the run folder's checkpoint */
-	int generations;     /* 0: NUMGEN */
-	long ticks;	     /* ticks per episode at most; 0: TICKLIM */
-	int no_save;	     /* the champion stays in the run folder:
-			      * Skills/ is left as it is (--no-save) */
-	const char *argv0;   /* evo as it was run, for the resume hint;
-			      * NULL: "evo" */
-	/* where batches go beyond this process (cluster runs,
-	 * sim/cluster/); NULL: its own worker threads */
-	const evo_eval_spread *spread;
-} evo_learn_opts;
 
 /* Run the learning task; prints one line per generation, writes the run
  * folder, saves the champion into the skill's folder (a network there it

@@ -13,7 +13,7 @@
 #include <stdint.h>
 
 #include "base/err.h"
-#include "learn/learn.h"
+#include "learn/learn_opts.h"
 #include "mind/task.h"
 
 typedef struct evo_run_record {

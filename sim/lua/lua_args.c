@@ -4,6 +4,7 @@
  * scene, and every method finds the scene through the state's registry. Options come in
  * tables; an option the function does not know is an error naming the
  * ones it does, so a typo in a script never goes unnoticed. */
+#include <stdio.h>
 #include <string.h>
 
 #include "lua/lua_internal.h"
@@ -205,6 +206,74 @@ int evo_lua_opt_team(lua_State *L, int idx, const char *what)
 	}
 	lua_pop(L, 1);
 	return t;
+}
+
+int evo_lua_bot_team(lua_State *L, int idx, const char *what, int n_bots,
+		     const char **model, char *name, size_t cap)
+{
+	evo_lua *l = evo_lua_ctx(L);
+	int team = evo_lua_opt_team(L, idx, what);
+	if (team < 0) {
+		*model = evo_lua_opt_str(L, idx, "model", l->botmodel, what);
+		if (!(*model)[0] && l->n_teams > 0)
+			luaL_error(L,
+				   "%s: in a team task, a bot belongs to a "
+				   "team (scene:bot{team = NAME}) or names "
+				   "its model",
+				   what);
+		if (!(*model)[0])
+			luaL_error(L, "%s: the task names no BOTMODEL", what);
+		snprintf(name, cap, "bot%d", n_bots + 1);
+		return -1;
+	}
+	lua_getfield(L, idx, "model");
+	if (!lua_isnil(L, -1))
+		luaL_error(L, "%s: a bot of team %s is of its model, %s; leave "
+			      "model out",
+			   what, l->team[team].name, l->team[team].botmodel);
+	lua_pop(L, 1);
+	if (l->team[team].made == l->team[team].size)
+		luaL_error(L,
+			   "%s: team %s has its %d bots already (its SIZE in "
+			   "the task)",
+			   what, l->team[team].name, l->team[team].size);
+	*model = l->team[team].botmodel;
+	snprintf(name, cap, "%s%d", l->team[team].name,
+		 l->team[team].made + 1);
+	return team;
+}
+
+void evo_lua_push_teams(lua_State *L)
+{
+	evo_lua *l = evo_lua_ctx(L);
+	lua_createtable(L, l->n_teams, 0);
+	for (int i = 0; i < l->n_teams; i++) {
+		lua_createtable(L, 0, 4);
+		lua_pushstring(L, l->team[i].name);
+		lua_setfield(L, -2, "name");
+		lua_pushinteger(L, l->team[i].size);
+		lua_setfield(L, -2, "size");
+		lua_pushstring(L, l->team[i].botmodel);
+		lua_setfield(L, -2, "model");
+		lua_pushinteger(L, i + 1);
+		lua_setfield(L, -2, "index");
+		lua_rawseti(L, -2, i + 1);
+	}
+}
+
+int evo_lua_winner(lua_State *L, int winner)
+{
+	evo_lua *l = evo_lua_ctx(L);
+	if (lua_gettop(L) < 2) {
+		if (winner >= 0 && winner < l->n_teams)
+			lua_pushstring(L, l->team[winner].name);
+		else
+			lua_pushnil(L);
+		return -2;
+	}
+	return lua_isnil(L, 2) ? -1
+			       : evo_lua_check_team(L, luaL_checkstring(L, 2),
+						    "scene:winner");
 }
 
 int evo_lua_opt_bot(lua_State *L, int idx, const char *what)

@@ -158,6 +158,19 @@ int evo_lua_opt_bot(lua_State *L, int idx, const char *what);
 int evo_lua_opt_team(lua_State *L, int idx, const char *what);
 /* A team's index by name; raises naming the teams when there is none. */
 int evo_lua_check_team(lua_State *L, const char *name, const char *what);
+/* scene:bot's team option at idx (docs/teams.md; the 3D scene's): the
+ * team's index, its model in *model and its next member's name
+ * ("Red3") in name; or -1, the model option or the task's BOTMODEL and
+ * "bot<n_bots + 1>". Raises on a model given to a team's bot, a team
+ * with its SIZE bots, or no model at all. */
+int evo_lua_bot_team(lua_State *L, int idx, const char *what, int n_bots,
+		     const char **model, char *name, size_t cap);
+/* scene:teams()'s list, {name, size, model, index} each, pushed. */
+void evo_lua_push_teams(lua_State *L);
+/* scene:winner([team]) at stack index 2, for either scene: with no
+ * argument, pushes the name of team `winner` (or nil) and returns -2;
+ * else returns the new winner (-1 for nil). */
+int evo_lua_winner(lua_State *L, int winner);
 
 /* ---- lua_swarm.c: the swarm sensors, lights and patches of both worlds
  * (sim/scene/swarm.h) ---------------------------------------------------- */

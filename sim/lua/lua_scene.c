@@ -359,20 +359,7 @@ static int scene_bot(lua_State *L)
 /* scene:teams(): the task's teams, {name, size, model, index} each. */
 static int scene_teams(lua_State *L)
 {
-	evo_lua *l = evo_lua_ctx(L);
-	lua_createtable(L, l->n_teams, 0);
-	for (int i = 0; i < l->n_teams; i++) {
-		lua_createtable(L, 0, 4);
-		lua_pushstring(L, l->team[i].name);
-		lua_setfield(L, -2, "name");
-		lua_pushinteger(L, l->team[i].size);
-		lua_setfield(L, -2, "size");
-		lua_pushstring(L, l->team[i].botmodel);
-		lua_setfield(L, -2, "model");
-		lua_pushinteger(L, i + 1);
-		lua_setfield(L, -2, "index");
-		lua_rawseti(L, -2, i + 1);
-	}
+	evo_lua_push_teams(L);
 	return 1;
 }
 
@@ -398,19 +385,11 @@ static int scene_bots(lua_State *L)
  * scene:winner() returns its name, or nil. */
 static int scene_winner(lua_State *L)
 {
-	evo_lua *l = evo_lua_ctx(L);
-	if (lua_gettop(L) < 2) {
-		int w = l->sc->winner;
-		if (w >= 0 && w < l->n_teams)
-			lua_pushstring(L, l->team[w].name);
-		else
-			lua_pushnil(L);
-		return 1;
-	}
-	l->sc->winner =
-	    lua_isnil(L, 2)
-		? -1
-		: evo_lua_check_team(L, luaL_checkstring(L, 2), "scene:winner");
+	evo_scene *sc = evo_lua_ctx(L)->sc;
+	int w = evo_lua_winner(L, sc->winner);
+	if (w == -2)
+		return 1; /* the name pushed */
+	sc->winner = w;
 	return 0;
 }
 

@@ -87,7 +87,9 @@ static void opt_vec(lua_State *L, int idx, const char *key, double v[3],
 	lua_pop(L, 1);
 }
 
-/* A target option: an element handle or nil. */
+/* A target option: an element handle or nil. The 2D trackers of teams,
+ * "nearest_opponent" and "nearest_teammate" (docs/teams.md), are 2D only:
+ * the 3D world has no broad-phase query of bots near a bot yet. */
 static int opt_target(lua_State *L, int idx, const char *what)
 {
 	lua_getfield(L, idx, "target");
@@ -164,7 +166,9 @@ static const char *const camera_keys[] = {"name",   "range",	"slot",
 					  "read",   "colour",	"occluded",
 					  "scale", NULL};
 
-/* `sees`: a list of "ground", "obstacles", "bots", "objects". */
+/* `sees`: a list of "ground", "obstacles", "bots", "objects". A 3D ray
+ * tells no teammate from an opponent: "teammates" and "opponents" are 2D
+ * only (docs/teams.md). */
 static unsigned parse_sees(lua_State *L, int idx, unsigned dflt,
 			   const char *what)
 {
@@ -465,6 +469,18 @@ static int bot_sensors(lua_State *L)
 }
 
 /* bot:value(name): the sensor's value now. */
+/* bot:team(): its team's name, or nil. */
+static int bot_team(lua_State *L)
+{
+	evo_lua *l = evo_lua_ctx(L);
+	int t = scene3d(L)->bot[check_bot3d(L, 1)].def.team;
+	if (t >= 0 && t < l->n_teams)
+		lua_pushstring(L, l->team[t].name);
+	else
+		lua_pushnil(L);
+	return 1;
+}
+
 static int bot_value(lua_State *L)
 {
 	int bot = check_bot3d(L, 1);
@@ -485,6 +501,7 @@ const luaL_Reg evo_lua_bot3d_methods[] = {
     {"value", bot_value},	  {"light", bot_light},
     {"ground", bot_ground},	  {"rab", bot_rab},
     {"broadcast", bot_broadcast}, {"camera", bot_camera},
+    {"team", bot_team},
     {NULL, NULL},
 };
 
@@ -709,20 +726,22 @@ static int read_hull(lua_State *L)
  * build(bot). z defaults to the hull's. */
 static int scene_bot(lua_State *L)
 {
-	static const char *const keys[] = {"name", "x",	    "y", "z",
-					   "yaw",  "model", NULL};
+	static const char *const keys[] = {"name",  "x",    "y", "z", "yaw",
+					   "model", "team", NULL};
 	const char *what = "scene:bot";
 	evo_lua *l = evo_lua_ctx(L);
 	no_new_pieces(L, what);
 	options(L, 2, what, keys);
-	const char *model = evo_lua_opt_str(L, 2, "model", l->botmodel, what);
-	if (!model[0])
-		luaL_error(L, "%s: the task names no BOTMODEL", what);
+	char auto_name[64];
+	const char *model;
+	int team = evo_lua_bot_team(L, 2, what, l->sc3->n_bots, &model,
+				    auto_name, sizeof auto_name);
 	lua_settop(L, 2);
-	evo_lua_load_model(L, l, model, NULL); /* the model's table at 3 */
+	/* the model's table at 3 */
+	evo_lua_load_model(L, l, model,
+			   team >= 0 ? l->team[team].mind_dir : NULL);
 	evo_bot3d_def d = evo_default_bot3d_def();
-	char auto_name[32];
-	snprintf(auto_name, sizeof auto_name, "bot%d", l->sc3->n_bots + 1);
+	d.team = team;
 	d.name = evo_lua_opt_str(L, 2, "name", auto_name, what);
 	if (lua_getfield(L, 3, "hull") != LUA_TTABLE)
 		luaL_error(
@@ -740,6 +759,8 @@ static int scene_bot(lua_State *L)
 	opt_xyz(L, 2, d.pos, what);
 	d.yaw = num(L, 2, "yaw", 0, what) * EVO_LUA_DEG;
 	int i = result(L, evo_scene3d_add_bot(l->sc3, &d));
+	if (team >= 0)
+		l->team[team].made++;
 	lua_getfield(L, 3, "build");
 	if (!lua_isfunction(L, -1))
 		luaL_error(L, "bot model %s: has no build(bot) function",
@@ -780,13 +801,41 @@ static int kind_by_name(lua_State *L, int idx, int reward, const char *what)
 			  noun, s, c ? c : "?");
 }
 
-/* scene:reward(fn, {bot = b, reset = f}) and scene:control(fn, {reset =
- * f}): a Lua function as a reward (paid to the scene, or to bot) or a
- * control, called each tick with the scene (sim/lua/lua_hooks.c), as in
- * 2D. */
+/* The bots a built-in reward or control is for: its `bot` (the first bot
+ * when absent), or with `team`, each bot of the team (docs/teams.md).
+ * Fills bots (EVO_TEAM_BOTS_MAX of room) and returns how many. */
+static int scope_bots(lua_State *L, const char *what, int *bots)
+{
+	int team = evo_lua_opt_team(L, 3, what);
+	if (team < 0) {
+		bots[0] = opt_bot(L, 3, what);
+		return 1;
+	}
+	lua_getfield(L, 3, "bot");
+	if (!lua_isnil(L, -1))
+		luaL_error(L, "%s: give bot or team, not both", what);
+	lua_pop(L, 1);
+	const evo_scene3d *sc = scene3d(L);
+	int n = 0;
+	for (int i = 0; i < sc->n_bots && n < EVO_TEAM_BOTS_MAX; i++)
+		if (sc->bot[i].def.team == team)
+			bots[n++] = i;
+	if (n == 0)
+		luaL_error(L,
+			   "%s: team %s has no bots yet: make them "
+			   "(scene:bot{team = ...}) before its rewards and "
+			   "controls",
+			   what, evo_lua_ctx(L)->team[team].name);
+	return n;
+}
+
+/* scene:reward(fn, {bot = b | team = NAME, reset = f}) and
+ * scene:control(fn, {reset = f}): a Lua function as a reward (paid to the
+ * scene, to bot, or to a team as a whole) or a control, called each tick
+ * with the scene (sim/lua/lua_hooks.c), as in 2D. */
 static int lua_function(lua_State *L, int reward, const char *what)
 {
-	static const char *const rkeys[] = {"reset", "bot", NULL};
+	static const char *const rkeys[] = {"reset", "bot", "team", NULL};
 	static const char *const ckeys[] = {"reset", NULL};
 	evo_scene3d *sc = scene3d(L);
 	if (sc->n_bots == 0)
@@ -812,31 +861,25 @@ static int lua_function(lua_State *L, int reward, const char *what)
 		lua_getfield(L, 3, "bot");
 		int has_bot = !lua_isnil(L, -1);
 		lua_pop(L, 1);
+		int team = evo_lua_opt_team(L, 3, what);
+		if (has_bot && team >= 0)
+			luaL_error(L, "%s: give bot or team, not both", what);
 		if (has_bot) {
 			d.bot = opt_bot(L, 3, what);
 			d.scope = EVO_SCOPE_BOT;
+		} else if (team >= 0) {
+			d.team = team;
+			d.scope = EVO_SCOPE_TEAM;
 		}
 	}
 	result(L, evo_scene3d_add_reward(sc, &d));
 	return 0;
 }
 
-static int scene_reward(lua_State *L)
+/* The sensors option of a reward, names resolved on d's bot. */
+static void reward_sensors(lua_State *L, evo_reward_def *d, const char *what)
 {
-	static const char *const keys[] = {
-	    "bot", "k", "k2", "threshold", "target", "sensors", NULL};
-	const char *what = "scene:reward";
-	no_new_pieces(L, what);
-	if (lua_isfunction(L, 2))
-		return lua_function(L, 1, what);
-	int kind = kind_by_name(L, 2, 1, what);
-	options(L, 3, what, keys);
-	evo_reward_def d = evo_default_reward_def((evo_reward_kind)kind);
-	d.bot = opt_bot(L, 3, what);
-	d.k = num(L, 3, "k", d.k, what);
-	d.k2 = num(L, 3, "k2", d.k2, what);
-	d.threshold = num(L, 3, "threshold", d.threshold, what);
-	d.target = opt_target(L, 3, what);
+	d->n_sensors = 0;
 	if (lua_getfield(L, 3, "sensors") != LUA_TNIL) {
 		luaL_checktype(L, -1, LUA_TTABLE);
 		lua_Integer n = luaL_len(L, -1);
@@ -848,39 +891,111 @@ static int scene_reward(lua_State *L)
 			const char *s = lua_tostring(L, -1);
 			if (!s)
 				luaL_error(L, "%s: sensors lists names", what);
-			d.sensor[d.n_sensors++] =
-			    sensor_index(L, d.bot, s, what);
+			d->sensor[d->n_sensors++] =
+			    sensor_index(L, d->bot, s, what);
 			lua_pop(L, 1);
 		}
 	}
 	lua_pop(L, 1);
-	result(L, evo_scene3d_add_reward(scene3d(L), &d));
+}
+
+/* scene:reward(kind, {bot = b | team = NAME, ...}): with team, one such
+ * reward for each bot of the team, each paying its own bot. */
+static int scene_reward(lua_State *L)
+{
+	static const char *const keys[] = {"bot",	"team",	  "k",
+					   "k2",	"threshold", "target",
+					   "sensors", NULL};
+	const char *what = "scene:reward";
+	no_new_pieces(L, what);
+	if (lua_isfunction(L, 2))
+		return lua_function(L, 1, what);
+	int kind = kind_by_name(L, 2, 1, what);
+	options(L, 3, what, keys);
+	int bots[EVO_TEAM_BOTS_MAX];
+	int n = scope_bots(L, what, bots);
+	for (int i = 0; i < n; i++) {
+		evo_reward_def d =
+		    evo_default_reward_def((evo_reward_kind)kind);
+		d.bot = bots[i];
+		d.k = num(L, 3, "k", d.k, what);
+		d.k2 = num(L, 3, "k2", d.k2, what);
+		d.threshold = num(L, 3, "threshold", d.threshold, what);
+		d.target = opt_target(L, 3, what);
+		reward_sensors(L, &d, what);
+		result(L, evo_scene3d_add_reward(scene3d(L), &d));
+	}
 	return 0;
 }
 
+/* scene:control(kind, {bot = b | team = NAME, ...}): with team, one for
+ * each bot of the team, the episode ending when any of them meets it. */
 static int scene_control(lua_State *L)
 {
-	static const char *const keys[] = {"bot",    "ticks",	  "sensor",
-					   "target", "threshold", NULL};
+	static const char *const keys[] = {"bot",    "team",	  "ticks",
+					   "sensor", "target", "threshold",
+					   NULL};
 	const char *what = "scene:control";
 	no_new_pieces(L, what);
 	if (lua_isfunction(L, 2))
 		return lua_function(L, 0, what);
 	int kind = kind_by_name(L, 2, 0, what);
 	options(L, 3, what, keys);
-	evo_control_def d = evo_default_control_def((evo_control_kind)kind);
-	d.bot = opt_bot(L, 3, what);
-	double ticks = num(L, 3, "ticks", (double)d.ticks, what);
-	if (ticks < 1 || ticks != floor(ticks) || ticks > 1e15)
-		luaL_error(L, "%s: ticks must be a whole number >= 1", what);
-	d.ticks = (long)ticks;
-	d.threshold = num(L, 3, "threshold", d.threshold, what);
-	d.target = opt_target(L, 3, what);
-	const char *s = evo_lua_opt_str(L, 3, "sensor", NULL, what);
-	if (s)
-		d.sensor = sensor_index(L, d.bot, s, what);
-	result(L, evo_scene3d_add_control(scene3d(L), &d));
+	int bots[EVO_TEAM_BOTS_MAX];
+	int n = scope_bots(L, what, bots);
+	for (int i = 0; i < n; i++) {
+		evo_control_def d =
+		    evo_default_control_def((evo_control_kind)kind);
+		d.bot = bots[i];
+		double ticks = num(L, 3, "ticks", (double)d.ticks, what);
+		if (ticks < 1 || ticks != floor(ticks) || ticks > 1e15)
+			luaL_error(L, "%s: ticks must be a whole number >= 1",
+				   what);
+		d.ticks = (long)ticks;
+		d.threshold = num(L, 3, "threshold", d.threshold, what);
+		d.target = opt_target(L, 3, what);
+		const char *s = evo_lua_opt_str(L, 3, "sensor", NULL, what);
+		if (s)
+			d.sensor = sensor_index(L, d.bot, s, what);
+		result(L, evo_scene3d_add_control(scene3d(L), &d));
+	}
 	return 0;
+}
+
+/* scene:bots([team]): the bots of a team in member order, or every bot. */
+static int scene_bots(lua_State *L)
+{
+	int team = lua_isnoneornil(L, 2) ? -2
+					 : evo_lua_check_team(
+					       L, luaL_checkstring(L, 2),
+					       "scene:bots");
+	const evo_scene3d *sc = scene3d(L);
+	lua_newtable(L);
+	int n = 0;
+	for (int i = 0; i < sc->n_bots; i++)
+		if (team == -2 || sc->bot[i].def.team == team) {
+			evo_lua_push_handle(L, EVO_LUA_BOT3D_MT, i);
+			lua_rawseti(L, -2, ++n);
+		}
+	return 1;
+}
+
+/* scene:winner(team) sets the episode's winner (nil: none);
+ * scene:winner() returns its name, or nil. */
+static int scene_winner(lua_State *L)
+{
+	evo_scene3d *sc = scene3d(L);
+	int w = evo_lua_winner(L, sc->winner);
+	if (w == -2)
+		return 1; /* the name pushed */
+	sc->winner = w;
+	return 0;
+}
+
+static int scene_teams(lua_State *L)
+{
+	evo_lua_push_teams(L);
+	return 1;
 }
 
 /* ---- scene: the rest
@@ -1045,6 +1160,9 @@ const luaL_Reg evo_lua_scene3d_methods[] = {
     {"layout_random", scene_layout_random},
     {"tick", scene_tick},
     {"episode_reward", scene_episode_reward},
+    {"teams", scene_teams},
+    {"bots", scene_bots},
+    {"winner", scene_winner},
     {"reset_rewards", scene_reset_rewards},
     {"metric", evo_lua_scene_metric},
     {NULL, NULL},

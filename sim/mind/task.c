@@ -41,7 +41,9 @@ static const char *const team_learn_keys[] = {"TEAM", "ENV", "LEARNINGMETHOD",
 int evo_task_type_has_teams(const char *type)
 {
 	return strcmp(type, "DEMO2DSIMMULTI") == 0 ||
-	       strcmp(type, "LEARN2DSIMMULTI") == 0;
+	       strcmp(type, "LEARN2DSIMMULTI") == 0 ||
+	       strcmp(type, "DEMO3DSIMMULTI") == 0 ||
+	       strcmp(type, "LEARN3DSIMMULTI") == 0;
 }
 
 static const char *const *required_keys(const char *type)

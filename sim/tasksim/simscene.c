@@ -67,6 +67,18 @@ static void widen(double *b, double x, double y, double hx, double hy)
 	static int collisions_##SFX(const void *sc, int bot)                   \
 	{                                                                      \
 		return ((const SCENE *)sc)->bot[bot].collisions;               \
+	}                                                                      \
+	static double bot_reward_##SFX(const void *sc, int bot)                \
+	{                                                                      \
+		return ((const SCENE *)sc)->bot[bot].reward;                   \
+	}                                                                      \
+	static double team_reward_##SFX(const void *sc, int team)              \
+	{                                                                      \
+		return ((const SCENE *)sc)->team_reward[team];                 \
+	}                                                                      \
+	static int winner_##SFX(const void *sc)                                \
+	{                                                                      \
+		return ((const SCENE *)sc)->winner;                            \
 	}
 
 EVO_SIMSCENE_COMMON(2d, evo_scene, evo_bot)
@@ -209,8 +221,7 @@ static int step_3d(void *v, evo_err *err)
 
 static int bot_team_3d(const void *sc, int bot)
 {
-	(void)sc, (void)bot;
-	return -1;
+	return ((const evo_scene3d *)sc)->bot[bot].def.team;
 }
 
 static int find_part_3d(const void *sc, int bot, int sensors, const char *name)
@@ -299,6 +310,9 @@ static void arena_3d(const void *v, double *b)
 	    .ticks = ticks_##SFX,                                              \
 	    .episode_reward = episode_reward_##SFX,                            \
 	    .collisions = collisions_##SFX,                                    \
+	    .bot_reward = bot_reward_##SFX,                                    \
+	    .team_reward = team_reward_##SFX,                                  \
+	    .winner = winner_##SFX,                                            \
 	    .n_metrics = n_metrics_##SFX,                                      \
 	    .metric_name = metric_name_##SFX,                                  \
 	    .metric = metric_##SFX,                                            \
@@ -308,4 +322,4 @@ static void arena_3d(const void *v, double *b)
 	}
 
 EVO_SIMSCENE(2d, "2D", 1);
-EVO_SIMSCENE(3d, "3D", 0);
+EVO_SIMSCENE(3d, "3D", 1);

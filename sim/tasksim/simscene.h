@@ -54,6 +54,11 @@ typedef struct evo_simscene {
 	long (*ticks)(const void *sc);
 	double (*episode_reward)(const void *sc);
 	int (*collisions)(const void *sc, int bot);
+	/* Teams (docs/teams.md): what bot was paid, what team was paid (its
+	 * bots' own and its team rewards), the winner (-1: none). */
+	double (*bot_reward)(const void *sc, int bot);
+	double (*team_reward)(const void *sc, int team);
+	int (*winner)(const void *sc);
 	int (*n_metrics)(const void *sc);
 	const char *(*metric_name)(const void *sc, int k);
 	double (*metric)(const void *sc, int k);

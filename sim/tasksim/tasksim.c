@@ -462,7 +462,9 @@ void evo_sim_trace_header(evo_sim *s)
 int evo_sim_type_is_3d(const char *type)
 {
 	return strcasecmp(type, "DEMO3DSIM") == 0 ||
-	       strcasecmp(type, "LEARN3DSIM") == 0;
+	       strcasecmp(type, "LEARN3DSIM") == 0 ||
+	       strcasecmp(type, "DEMO3DSIMMULTI") == 0 ||
+	       strcasecmp(type, "LEARN3DSIMMULTI") == 0;
 }
 
 double evo_sim_episode_reward(const evo_sim *s)

@@ -124,7 +124,8 @@ int evo_sim_tick(evo_sim *s, evo_err *err);
 void evo_sim_sense(evo_sim *s, double *values);
 int evo_sim_act(evo_sim *s, const double *commands, evo_err *err);
 
-/* 1 for the task types that run in the 3D world: DEMO3DSIM, LEARN3DSIM. */
+/* 1 for the task types that run in the 3D world: DEMO3DSIM, LEARN3DSIM,
+ * DEMO3DSIMMULTI, LEARN3DSIMMULTI. */
 int evo_sim_type_is_3d(const char *type);
 
 /* The episode's figures, of either world: its reward so far, its ticks,

@@ -17,6 +17,7 @@
 #include "viewer/png.h"
 #include "viewer/raster.h"
 #include "viewer/sdl_load.h"
+#include "viewer/viewer.h"
 
 struct evo_view3d {
 	SDL_Window *window; /* NULL off screen */
@@ -279,7 +280,10 @@ static void bot(const evo_scene3d *sc, const evo_bot3d *b)
 {
 	glPushMatrix();
 	pose(b->pos, b->R);
-	colour(EVO_VIEW3D_BOT, 1);
+	/* a team's bot in its team's colour, as in the 2D view */
+	colour(b->def.team >= 0 ? evo_view_team_colour(b->def.team)
+				: EVO_VIEW3D_BOT,
+	       1);
 	if (b->def.radius > 0)
 		sphere(b->def.radius);
 	else

@@ -55,6 +55,22 @@ static double effort(const void *v, int bot)
 	return sum;
 }
 
+/* Pay reward r's value v to whom it is for (evo_scope), as the 2D scene
+ * does; the scene's total has it in any case. */
+static void pay(void *v, const evo_reward *r, double value)
+{
+	evo_scene3d *sc = v;
+	if (r->def.scope == EVO_SCOPE_TEAM) {
+		sc->team_reward[r->def.team] += value;
+	} else if (r->def.scope == EVO_SCOPE_BOT && r->def.bot >= 0 &&
+		   r->def.bot < sc->n_bots) {
+		evo_bot3d *b = &sc->bot[r->def.bot];
+		b->reward += value;
+		if (b->def.team >= 0)
+			sc->team_reward[b->def.team] += value;
+	}
+}
+
 static const evo_score_ops score_ops_3d = {
     .dim = EVO_DIM_3D,
     .n_bots = n_bots,
@@ -63,6 +79,7 @@ static const evo_score_ops score_ops_3d = {
     .distance = distance,
     .sensor = sensor,
     .effort = effort,
+    .pay = pay,
 };
 
 int evo_scene3d_score(evo_scene3d *sc)

@@ -64,6 +64,7 @@ evo_bot3d_def evo_default_bot3d_def(void)
 	d.half[2] = 0.05;
 	d.mass = 2;
 	d.friction = 0.3;
+	d.team = -1;
 	return d;
 }
 
@@ -114,6 +115,7 @@ evo_scene3d *evo_scene3d_create(const evo_scene3d_def *def)
 	if (!sc)
 		return NULL;
 	sc->def = *def;
+	sc->winner = -1;
 	sc->be = &evo_backend_ode;
 	if (new_world(sc)) {
 		free(sc);
@@ -282,6 +284,9 @@ int evo_scene3d_add_bot(evo_scene3d *sc, const evo_bot3d_def *d)
 					  "and caster must be finite and >= 0");
 	if (d->name && d->name[0] && evo_scene3d_find_bot(sc, d->name) >= 0)
 		return evo_fail(&sc->err, "bot '%s' twice", d->name);
+	if (d->team < -1 || d->team >= EVO_SCENE_MAX_TEAMS)
+		return evo_fail(&sc->err, "a bot's team must be -1 to %d",
+				EVO_SCENE_MAX_TEAMS - 1);
 	if (grow(sc, (void **)&sc->bot, &sc->cap_bots, sc->n_bots + 1,
 		 sizeof *sc->bot))
 		return -1;
@@ -449,9 +454,11 @@ int evo_scene3d_add_reward(evo_scene3d *sc, const evo_reward_def *d)
 	evo_bot3d *b = check_bot(sc, d->bot);
 	if (!b || check_target(sc, d->target, "reward", name))
 		return -1;
-	if (d->scope == EVO_SCOPE_TEAM)
-		return evo_fail(&sc->err, "reward %s: a 3D scene has no teams",
-				name);
+	if ((unsigned)d->scope > EVO_SCOPE_SCENE ||
+	    (d->scope == EVO_SCOPE_TEAM &&
+	     (d->team < 0 || d->team >= EVO_SCENE_MAX_TEAMS)))
+		return evo_fail(&sc->err, "reward %s: no team %d", name,
+				d->team);
 	if (!isfinite(d->k) || !isfinite(d->k2) || !isfinite(d->threshold))
 		return evo_fail(&sc->err, "a reward's k, k2 and threshold "
 					  "must be numbers");

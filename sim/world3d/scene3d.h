@@ -191,6 +191,7 @@ typedef struct evo_bot3d_def {
 	 * -angular omega. 0 for a robot on the ground. */
 	double buoyancy, cob[3];
 	double drag_linear, drag_quadratic, drag_angular;
+	int team; /* -1: none; else 0 .. EVO_SCENE_MAX_TEAMS - 1 */
 } evo_bot3d_def;
 
 evo_bot3d_def evo_default_bot3d_def(void);
@@ -207,6 +208,7 @@ typedef struct evo_bot3d {
 	double pos[3], R[9], v[3], omega[3];
 	int touching;	/* contacts this tick with anything but the ground */
 	int collisions; /* ticks spent touching since the reset */
+	double reward;	/* what its rewards paid it since the reset */
 } evo_bot3d;
 
 /* ---- rewards, controls, metrics, hooks ---------------------------------- */
@@ -215,8 +217,8 @@ typedef struct evo_bot3d {
  * evo_control_def, evo_control, evo_metric and evo_scene_hooks, one
  * definition for both dimensions. A kind whose row of scene/kinds.c lacks
  * EVO_DIM_3D is refused when added. A 3D target is an element or
- * EVO_TARGET_NONE; a reward's scope is its bot's or the scene's (3D has
- * no teams yet). NextOnTimeout's `ticks` ends the episode at tick `ticks`
+ * EVO_TARGET_NONE; a reward's scope is its bot's (and so its team's), a
+ * team's or the scene's, as in 2D (docs/teams.md). NextOnTimeout's `ticks` ends the episode at tick `ticks`
  * in 3D, as it always has (2D's ends one later, the tutorial's rule): the
  * control keeps ticks - 1 for the shared count. */
 
@@ -252,6 +254,11 @@ typedef struct evo_scene3d {
 	evo_obstacle3d *obstacle;
 	evo_swarm swarm; /* lights and floor patches (sim/scene/swarm.h) */
 	double step_reward, episode_reward;
+	/* Teams (docs/teams.md): what each team was paid since the reset
+	 * (its bots' own and its team rewards; a fault's penalty is the
+	 * scene's), and the episode's winner (-1: none yet) */
+	double team_reward[EVO_SCENE_MAX_TEAMS];
+	int winner;
 	/* the body that exploded this episode, in words; "" while none did */
 	char fault[256];
 	int n_metrics; /* declared, in the order they were */

@@ -21,7 +21,10 @@ int evo_scene3d_reset(evo_scene3d *sc, uint64_t grid_seed,
 		for (int k = 0; k < b->n_actuators; k++)
 			b->actuator[k].command = 0.5;
 		b->touching = b->collisions = 0;
+		b->reward = 0;
 	}
+	memset(sc->team_reward, 0, sizeof sc->team_reward);
+	sc->winner = -1;
 	for (int i = 0; i < sc->n_elements; i++)
 		memcpy(sc->element[i].pos, sc->element[i].def.pos,
 		       sizeof sc->element[i].pos);

@@ -250,7 +250,7 @@ TEST(a_wrong_key_in_a_3d_option_table_names_file_line_and_keys)
 	CHECK_EQ_INT(run("keys", "Blimp3D", "--headless"), 1);
 	CHECK_CONTAINS(out,
 		       "EXP3D_GoToTarget.lua:3: scene:bot: unknown "
-		       "option 'hight' (known: name, x, y, z, yaw, model)");
+		       "option 'hight' (known: name, x, y, z, yaw, model, team)");
 	CHECK_EQ_INT(cli_sh("rm -r %s/keys/Blimp3D/Envs && mkdir -p "
 			    "%s/keys/Blimp3D/Bots && sed 's/drag_linear/drag/' "
 			    "lua/bots/Blimp3D.lua > "

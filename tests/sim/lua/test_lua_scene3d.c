@@ -161,7 +161,7 @@ TEST(bad_options_and_misplaced_calls_are_refused_at_their_line)
 	static const char *const bad[][2] = {
 	    {"scene:bot{ x = 0, hieght = 1 }",
 	     "E.lua:2: scene:bot: unknown option 'hieght' (known: name, x, y, "
-	     "z, yaw, model)"},
+	     "z, yaw, model, team)"},
 	    {"scene:box{ x = 0, size = 1 }",
 	     "E.lua:2: scene:box: unknown option 'size' (known: name, x, y, "
 	     "z, yaw, hx, hy, hz, friction, ground)"},
@@ -191,7 +191,8 @@ TEST(bad_options_and_misplaced_calls_are_refused_at_their_line)
 	     "function, not the name 'Lua'"},
 	    {"local b = scene:bot{} scene:reward(function() return 1 end, "
 	     "{ team = 'red' })",
-	     "E.lua:2: scene:reward: unknown option 'team'"},
+	     "E.lua:2: scene:reward: no team red: the task has no teams "
+	     "(TEAM lines, docs/teams.md)"},
 	    {"local b = scene:bot{} scene:control('NextOnTimeout', { tick = 5 "
 	     "})",
 	     "E.lua:2: scene:control: unknown option 'tick'"},
