@@ -20,6 +20,7 @@
 #include "remote/link.h"
 #include "remote/wire.h"
 #include "support/cli.h"
+#include "support/serve.h"
 
 static char out[1 << 16], out2[1 << 16];
 /* docs/remote.md's blocks marked as checked here, in order, and what the
@@ -52,69 +53,11 @@ static void remote_task(const char *name, const char *extra)
 /* `evo serve` of task `name` under that name, started and ready. */
 static pid_t start_serve(const char *name)
 {
-	char cmd[1024], log[512];
+	char task[512], opts[300], log[512];
+	snprintf(task, sizeof task, "%s/Avoid/Tasks/%s.simbatch", cli_tmp, name);
+	snprintf(opts, sizeof opts, "--name %s", name);
 	snprintf(log, sizeof log, "%s/%s.serve.log", cli_tmp, name);
-	snprintf(cmd, sizeof cmd,
-		 "exec %s serve %s/Avoid/Tasks/%s.simbatch --name %s >%s 2>&1",
-		 cli_evo, cli_tmp, name, name, log);
-	pid_t pid = fork();
-	if (pid == 0) {
-		signal(SIGINT, SIG_DFL);
-		signal(SIGTERM, SIG_DFL);
-		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
-		_exit(127);
-	}
-	double limit = mono() + 30;
-	for (;;) {
-		char *t = cli_read("%s", log);
-		int ready = t && strstr(t, " serves ");
-		free(t);
-		if (ready || mono() > limit)
-			break;
-		struct timespec ms = {0, 5000000};
-		nanosleep(&ms, NULL);
-	}
-	return pid;
-}
-
-/* SIGTERM; the exit status, and how long it took in *secs. */
-static int stop(pid_t pid, double *secs)
-{
-	double t0 = mono();
-	kill(pid, SIGTERM);
-	int st = 0;
-	while (waitpid(pid, &st, WNOHANG) != pid) {
-		if (mono() - t0 > 10) {
-			kill(pid, SIGKILL);
-			waitpid(pid, &st, 0);
-			break;
-		}
-		struct timespec ms = {0, 2000000};
-		nanosleep(&ms, NULL);
-	}
-	*secs = mono() - t0;
-	return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
-
-/* The episode lines of a run, without what DEMOSIM adds after the ticks
- * (collision counts), so the two forms compare. */
-static void episode_lines(const char *text, char *lines, size_t cap)
-{
-	size_t k = 0;
-	lines[0] = 0;
-	/* episode lines only: a drop's sentence says "of episode 2" too */
-	for (const char *p = strncmp(text, "episode ", 8) == 0
-				 ? text
-				 : strstr(text, "\nepisode ");
-	     p; p = strstr(p + 1, "\nepisode ")) {
-		if (*p == '\n')
-			p++;
-		const char *end = strstr(p, " ticks");
-		if (!end || k + (size_t)(end - p) + 8 >= cap)
-			break;
-		k += (size_t)snprintf(lines + k, cap - k, "%.*s ticks\n",
-				      (int)(end - p), p);
-	}
+	return cli_serve_start(task, opts, log);
 }
 
 TEST(a_served_world_runs_as_demosim_does)
@@ -136,8 +79,8 @@ TEST(a_served_world_runs_as_demosim_does)
 			      cli_evo, cli_tmp);
 	CHECK_EQ_INT(rc2, 0);
 	static char a[4096], b[4096];
-	episode_lines(out, a, sizeof a);
-	episode_lines(out2, b, sizeof b);
+	cli_episode_lines(out, a, sizeof a);
+	cli_episode_lines(out2, b, sizeof b);
 	CHECK(a[0] != 0);
 	CHECK_EQ_STR(a, b);
 	/* evo serve sends the episode's behaviour (docs/remote.md): without
@@ -155,7 +98,7 @@ TEST(a_served_world_runs_as_demosim_does)
 	free(ta);
 	free(tb);
 	double secs;
-	CHECK_EQ_INT(stop(srv, &secs), 0);
+	CHECK_EQ_INT(cli_serve_stop(srv, &secs), 0);
 	CHECK(secs < 1.0);
 }
 
@@ -660,7 +603,7 @@ TEST(serve_drops_bad_commands_and_repeats_answers)
 	}
 	evo_link_close(main_l);
 	double secs;
-	CHECK_EQ_INT(stop(srv, &secs), 0);
+	CHECK_EQ_INT(cli_serve_stop(srv, &secs), 0);
 	char *log = cli_read("%s/%s.serve.log", cli_tmp, name);
 	CHECK(log && strstr(log, "dropped a command_t (value: value 0 is nan"));
 	CHECK(log && strstr(log, "dropped a control_t (stale: a late copy of "
@@ -968,7 +911,7 @@ static int attacked_run(const char *name, const char *extra, int mode,
 	if (f > 0)
 		reap_forger(f);
 	double secs;
-	stop(srv, &secs);
+	cli_serve_stop(srv, &secs);
 	return rc;
 }
 

@@ -20,15 +20,9 @@
 
 #include "harness.h"
 #include "support/cli.h"
+#include "support/serve.h"
 
 static char out[1 << 16], out2[1 << 16];
-
-static double mono(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 /* The test's copy of minds/MIND (without its runs), made once. */
 static void copy_mind(const char *mind)
@@ -37,74 +31,12 @@ static void copy_mind(const char *mind)
 	       cli_tmp, mind, mind, cli_tmp, cli_tmp, mind);
 }
 
-/* `evo serve TASK OPTS`, its output in LOG.serve.log, started and ready
- * (its " serves " line printed; at most 30 s). */
+/* `evo serve TASK OPTS`, its output in LOG.serve.log, started and ready. */
 static pid_t start_serve(const char *task, const char *opts, const char *log)
 {
-	char cmd[2048], path[512];
+	char path[512];
 	snprintf(path, sizeof path, "%s/%s.serve.log", cli_tmp, log);
-	unlink(path);
-	snprintf(cmd, sizeof cmd, "exec %s serve %s %s >%s 2>&1", cli_evo,
-		 task, opts, path);
-	pid_t pid = fork();
-	if (pid == 0) {
-		signal(SIGINT, SIG_DFL);
-		signal(SIGTERM, SIG_DFL);
-		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
-		_exit(127);
-	}
-	double limit = mono() + 30;
-	for (;;) {
-		char *t = cli_read("%s", path);
-		int ready = t && strstr(t, " serves ");
-		free(t);
-		if (ready || mono() > limit)
-			break;
-		struct timespec ms = {0, 5000000};
-		nanosleep(&ms, NULL);
-	}
-	return pid;
-}
-
-/* SIGTERM; the exit status (-1: it did not exit, a crash), and how long
- * it took in *secs. */
-static int stop(pid_t pid, double *secs)
-{
-	double t0 = mono();
-	kill(pid, SIGTERM);
-	int st = 0;
-	while (waitpid(pid, &st, WNOHANG) != pid) {
-		if (mono() - t0 > 10) {
-			kill(pid, SIGKILL);
-			waitpid(pid, &st, 0);
-			break;
-		}
-		struct timespec ms = {0, 2000000};
-		nanosleep(&ms, NULL);
-	}
-	*secs = mono() - t0;
-	return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
-
-/* The episode lines of a run up to their tick counts, so that a remote
- * run's (which add the behaviour) and DEMO3DSIM's (the collision ticks)
- * compare. */
-static void episode_lines(const char *text, char *lines, size_t cap)
-{
-	size_t k = 0;
-	lines[0] = 0;
-	for (const char *p = strncmp(text, "episode ", 8) == 0
-				 ? text
-				 : strstr(text, "\nepisode ");
-	     p; p = strstr(p + 1, "\nepisode ")) {
-		if (*p == '\n')
-			p++;
-		const char *end = strstr(p, " ticks");
-		if (!end || k + (size_t)(end - p) + 8 >= cap)
-			break;
-		k += (size_t)snprintf(lines + k, cap - k, "%.*s ticks\n",
-				      (int)(end - p), p);
-	}
+	return cli_serve_start(task, opts, path);
 }
 
 /* MIND's DEMO3DSIM task TASK served under a name of the test's own, and
@@ -153,8 +85,8 @@ static void served_as_demo3dsim(const char *mind, const char *task,
 	CHECK_EQ_INT(rc, 0);
 	/* the same rewards over the same ticks */
 	static char a[4096], b[4096];
-	episode_lines(out, a, sizeof a);
-	episode_lines(out2, b, sizeof b);
+	cli_episode_lines(out, a, sizeof a);
+	cli_episode_lines(out2, b, sizeof b);
 	CHECK(a[0] != 0);
 	CHECK_EQ_STR(a, b);
 	/* the served world's behaviour: the bot's place in the arena */
@@ -180,7 +112,7 @@ static void served_as_demo3dsim(const char *mind, const char *task,
 	free(ta);
 	free(tb);
 	double secs;
-	CHECK_EQ_INT(stop(srv, &secs), 0);
+	CHECK_EQ_INT(cli_serve_stop(srv, &secs), 0);
 	CHECK(secs < 1.0);
 }
 
@@ -253,7 +185,7 @@ TEST(the_served_3d_world_reads_its_rays_as_the_geometry_gives)
 		printf("  tick 0: %.60s\n", strstr(t, "\n0 ") ? strstr(t, "\n0 ") + 1 : t);
 	free(t);
 	double secs;
-	CHECK_EQ_INT(stop(srv, &secs), 0);
+	CHECK_EQ_INT(cli_serve_stop(srv, &secs), 0);
 }
 
 /* The 2D world cannot build a 3D environment; its message is the
@@ -336,7 +268,7 @@ TEST(serve_can_of_a_3d_task_stands_in_for_its_body)
 			    "botdesc");
 	CHECK_CONTAINS(out, "episode 1: reward ");
 	double secs;
-	CHECK_EQ_INT(stop(body, &secs), 0);
+	CHECK_EQ_INT(cli_serve_stop(body, &secs), 0);
 	char pre[256];
 	unsigned long ticks = 0, in_time = 0, late = 0, unanswered = 0,
 		      missing = 0;
@@ -368,8 +300,8 @@ TEST(serve_can_of_a_3d_task_stands_in_for_its_body)
 			 cli_evo, dtask, cli_tmp);
 	CHECK_EQ_INT(rc, 0);
 	static char a[512], b[512];
-	episode_lines(out, a, sizeof a);
-	episode_lines(out2, b, sizeof b);
+	cli_episode_lines(out, a, sizeof a);
+	cli_episode_lines(out2, b, sizeof b);
 	CHECK(a[0] != 0);
 	CHECK_EQ_STR(a, b);
 	char *ta = cli_read("%s/can.trace", cli_tmp);
