@@ -18,7 +18,8 @@
 #   - the rewards, controls, metrics and hooks of both scenes are
 #     sim/scene/scoring's (docs/architecture.md, step 3): their types are
 #     defined in scoring.h alone, the functions chosen by kind in
-#     scoring.c alone, and both scenes pay them through evo_score_step;
+#     scoring.c alone, and both scenes pay them through sim/scene/core.c
+#     (evo_core_score, evo_core_pay);
 #     the scenes' lookups by name are sim/scene/store.c's;
 #   - every file docs/architecture.md names exists (a bare name such as
 #     `step.c` must name exactly one file of the tree);
@@ -176,9 +177,11 @@ cases=$(grep -rl --include='*.c' 'case EVO_\(RW\|CF\)_' sim |
 	grep -v '^sim/scene/scoring.c$')
 if [ -z "$cases" ]; then pass; else
 	fail "reward or control functions chosen outside sim/scene/scoring.c: $(echo $cases)"; fi
+if grep -q 'evo_score_step(' sim/scene/core.c; then pass; else
+	fail "sim/scene/core.c does not score the scenes through evo_score_step"; fi
 for f in sim/world2d/rewards.c sim/world3d/rewards3d.c; do
-	if grep -q 'evo_score_step(' "$f"; then pass; else
-		fail "$f does not score its scene through evo_score_step"; fi
+	if grep -q 'evo_core_pay' "$f"; then pass; else
+		fail "$f does not pay its rewards through sim/scene/core.c's evo_core_pay"; fi
 done
 own=$(grep -l 'strcmp(' sim/world2d/scene.c sim/world3d/scene3d.c)
 if [ -z "$own" ]; then pass; else
@@ -256,7 +259,6 @@ fi
 MUTUAL_ALLOWED="
 sim/cmd/mindinfo.c sim/cmd/run.c
 sim/remote/can_robot.c sim/remote/robot.c
-sim/world2d/rewards.c sim/world2d/scene.c
 "
 mutual=$(printf '%s\n' "$incs" | awk '
 	{ to[$1] = to[$1] " " $2; files[$1] = 1 }

@@ -129,6 +129,12 @@ static double moving(const evo_scored *s, const evo_reward *r)
 	}
 }
 
+double evo_effort_term(double c)
+{
+	c = isnan(c) ? 0.5 : c < 0 ? 0 : c > 1 ? 1 : c;
+	return (2 * c - 1) * (2 * c - 1);
+}
+
 /* Lua: the scene's reward hook gives the value; no hook gives 0. */
 static double lua_reward(const evo_scored *s, const evo_reward *r, int *failed)
 {

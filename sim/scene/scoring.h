@@ -165,6 +165,10 @@ typedef struct evo_scored {
 	evo_err *err;
 } evo_scored;
 
+/* What a command c adds to Effort: (2c - 1)^2, c clamped to [0, 1] and
+ * NaN read as 0.5. */
+double evo_effort_term(double c);
+
 /* One reward's value for the step just taken, added to r->total (0 on a
  * hook error, which sets *s->err and *failed). A reward whose bot index
  * names no bot gives 0; a value that is not finite gives 0. */

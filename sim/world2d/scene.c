@@ -9,7 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "world2d/rewards.h"
 #include "world2d/scene_internal.h"
 
 evo_scene *evo_scene_create(void)
@@ -17,16 +16,15 @@ evo_scene *evo_scene_create(void)
 	evo_scene *sc = calloc(1, sizeof *sc);
 	if (!sc)
 		return NULL;
-	sc->be = &evo_backend_box2d;
-	evo_bworld_def wd = sc->be->world_def();
-	sc->bw = sc->be->create(&wd);
-	sc->world = (evo_world *)sc->bw;
-	if (!sc->bw) {
+	const evo_backend *be = &evo_backend_box2d;
+	evo_bworld_def wd = be->world_def();
+	evo_bworld *bw = be->create(&wd);
+	if (!bw) {
 		free(sc);
 		return NULL;
 	}
-	sc->rng = evo_rng_seed(1);
-	sc->winner = -1;
+	evo_core_init(&sc->core, be, bw, &evo_scene_dim_2d);
+	sc->world = (evo_world *)bw;
 	return sc;
 }
 
@@ -42,12 +40,10 @@ void evo_scene_destroy(evo_scene *sc)
 	free(sc->object);
 	free(sc->bot);
 	free(sc->obstacle);
-	free(sc->reward);
-	free(sc->control);
 	free(sc->body_owner);
 	free(sc->sense_mem);
 	free(sc->sense_shapes);
-	evo_swarm_free(&sc->swarm);
+	evo_core_free(&sc->core);
 	sc->be->destroy(sc->bw);
 	free(sc);
 }
@@ -261,8 +257,7 @@ int evo_scene_add_bot(evo_scene *sc, const evo_bot_def *d)
 		return evo_fail(&sc->err, "bot: its body needs a positive size");
 	if (set_owner(sc, b.body.index, sc->n_bots))
 		return -1;
-	if (d->team >= sc->n_teams)
-		sc->n_teams = d->team + 1;
+	evo_core_note_team(&sc->core, d->team);
 	const evo_bshape *shape = &d->body.shape[0];
 	b.radius = shape->type == EVO_SHAPE_CIRCLE
 		       ? shape->radius
@@ -414,79 +409,58 @@ int evo_scene_add_actuator(evo_scene *sc, int bot, const evo_actuator_def *d)
 	return b->n_actuators++;
 }
 
-int evo_scene_add_reward(evo_scene *sc, const evo_reward_def *d)
+/* ---- what the scene model asks of a 2D scene (scene/core.h) ---------- */
+
+static int n_sensors(const evo_scene_core *c, int bot)
 {
-	if ((unsigned)d->kind >= EVO_RW_KIND_COUNT)
-		return evo_fail(&sc->err, "reward: unknown kind %d",
-				(int)d->kind);
-	if (!(evo_reward_kind_dims(d->kind) & EVO_DIM_2D))
-		return evo_fail(&sc->err, "reward %s is 3D only",
-				evo_reward_kind_name(d->kind));
-	if (check_bot(sc, d->bot) || check_target(sc, d->target, "reward"))
-		return -1;
-	if ((unsigned)d->scope > EVO_SCOPE_SCENE ||
-	    (d->scope == EVO_SCOPE_TEAM &&
-	     (d->team < 0 || d->team >= EVO_SCENE_MAX_TEAMS)))
-		return evo_fail(&sc->err, "reward: no team %d", d->team);
-	if (d->n_sensors < 0 || d->n_sensors > EVO_REWARD_MAX_SENSORS)
-		return evo_fail(&sc->err, "reward: %d sensors (at most %d)",
-				d->n_sensors, EVO_REWARD_MAX_SENSORS);
-	for (int i = 0; i < d->n_sensors; i++)
-		if (d->sensor[i] < 0 ||
-		    d->sensor[i] >= sc->bot[d->bot].n_sensors)
-			return evo_fail(&sc->err, "reward: no sensor %d",
-					d->sensor[i]);
-	if (d->kind == EVO_RW_COLLECT &&
-	    (d->target < 0 || sc->element[d->target].kind != EVO_ELEM_ZONE))
-		return evo_fail(&sc->err, "reward Collect needs a zone");
-	if ((d->kind == EVO_RW_DISTANCE || d->kind == EVO_RW_FINAL_DISTANCE) &&
-	    d->target == EVO_TARGET_NONE)
-		return evo_fail(&sc->err, "reward %s needs a target",
-				d->kind == EVO_RW_DISTANCE ? "Distance"
-							   : "FinalDistance");
-	if (d->kind == EVO_RW_CLOSING_ON_TARGET && d->target == EVO_TARGET_NONE)
-		return evo_fail(&sc->err,
-				"reward ClosingOnTarget needs a target");
-	if (!isfinite(d->k) || !isfinite(d->k2) || !isfinite(d->threshold))
-		return evo_fail(&sc->err, "reward: a value is not a number");
-	if (GROW(sc, reward, n_rewards, cap_rewards))
-		return -1;
-	evo_reward *r = &sc->reward[sc->n_rewards];
-	memset(r, 0, sizeof *r);
-	r->def = *d;
-	evo_reward_reset(r);
-	return sc->n_rewards++;
+	return ((const evo_scene *)c)->bot[bot].n_sensors;
 }
 
-int evo_scene_add_control(evo_scene *sc, const evo_control_def *d)
+/* A 2D target is an element, none, or the nearest object, opponent or
+ * teammate. */
+static int target_ok(evo_scene_core *c, int target, const char *what)
 {
-	if ((unsigned)d->kind >= EVO_CF_KIND_COUNT)
-		return evo_fail(&sc->err, "control: unknown kind %d",
-				(int)d->kind);
-	if (!(evo_control_kind_dims(d->kind) & EVO_DIM_2D))
-		return evo_fail(&sc->err, "control %s is 3D only",
-				evo_control_kind_name(d->kind));
-	if (check_bot(sc, d->bot) || check_target(sc, d->target, "control"))
-		return -1;
-	if (d->kind == EVO_CF_NEXT_ON_SENSOR_BELOW &&
-	    (d->sensor < 0 || d->sensor >= sc->bot[d->bot].n_sensors))
-		return evo_fail(&sc->err, "control: no sensor %d", d->sensor);
-	if (d->kind == EVO_CF_NEXT_ON_COLLISION_WITH_TARGET &&
-	    (d->target < 0 || sc->element[d->target].kind == EVO_ELEM_ZONE))
-		return evo_fail(&sc->err, "control NextOnCollisionWithTarget "
-					  "needs a solid element");
-	if (d->kind == EVO_CF_NEXT_ON_TARGET_REACHED &&
-	    (d->target == EVO_TARGET_NONE || !(d->threshold >= 0)))
-		return evo_fail(&sc->err,
-				"control NextOnTargetReached needs a "
-				"target and a threshold of 0 or more");
-	if (GROW(sc, control, n_controls, cap_controls))
-		return -1;
-	evo_control *c = &sc->control[sc->n_controls];
-	memset(c, 0, sizeof *c);
-	c->def = *d;
-	return sc->n_controls++;
+	return check_target((evo_scene *)c, target, what);
 }
+
+static int zone(const evo_scene *sc, int target)
+{
+	return target >= 0 && sc->element[target].kind == EVO_ELEM_ZONE;
+}
+
+static int check_reward(evo_scene_core *c, const evo_reward_def *d)
+{
+	if (d->kind == EVO_RW_COLLECT && !zone((evo_scene *)c, d->target))
+		return evo_fail(&c->err, "reward Collect needs a zone");
+	return 0;
+}
+
+static int check_control(evo_scene_core *c, const evo_control_def *d)
+{
+	if (d->kind == EVO_CF_NEXT_ON_COLLISION_WITH_TARGET &&
+	    (d->target < 0 || zone((evo_scene *)c, d->target)))
+		return evo_fail(&c->err, "control NextOnCollisionWithTarget "
+					 "needs a solid element");
+	return 0;
+}
+
+static double *bot_account(evo_scene_core *c, int bot, int *team)
+{
+	evo_bot *b = &((evo_scene *)c)->bot[bot];
+	*team = b->team;
+	return &b->reward;
+}
+
+const evo_scene_dim evo_scene_dim_2d = {
+    .name = "2D",
+    .dims = EVO_DIM_2D,
+    .score = &evo_score_ops_2d,
+    .n_sensors = n_sensors,
+    .check_target = target_ok,
+    .check_reward = check_reward,
+    .check_control = check_control,
+    .bot_account = bot_account,
+};
 
 void evo_scene_set_grid(evo_scene *sc, const evo_grid_def *def)
 {
@@ -497,22 +471,6 @@ int evo_scene_find_element(const evo_scene *sc, const char *name)
 {
 	return evo_store_find(sc->element, sc->n_elements, sizeof *sc->element,
 			      offsetof(evo_element, name), name);
-}
-
-int evo_scene_add_metric(evo_scene *sc, const char *name)
-{
-	return evo_metric_add(sc->metric, &sc->n_metrics, name, &sc->err);
-}
-
-int evo_scene_set_metric(evo_scene *sc, int metric, double value)
-{
-	return evo_metric_set(sc->metric, sc->n_metrics, metric, value,
-			      &sc->err);
-}
-
-int evo_scene_find_metric(const evo_scene *sc, const char *name)
-{
-	return evo_metric_find(sc->metric, sc->n_metrics, name);
 }
 
 int evo_scene_find_bot(const evo_scene *sc, const char *name)

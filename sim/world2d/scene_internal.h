@@ -8,6 +8,11 @@
 
 #include "world2d/scene.h"
 
+/* How the scene model reads a 2D scene (rewards.c), and what it asks of
+ * one (scene.c). */
+extern const evo_score_ops evo_score_ops_2d;
+extern const evo_scene_dim evo_scene_dim_2d;
+
 /* Add a static obstacle to the world and the scene's list; its index, or
  * -1 with sc->err set. */
 int evo_scene_add_obstacle(evo_scene *sc, const evo_obstacle *o);

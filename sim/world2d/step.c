@@ -7,7 +7,6 @@
 
 #include "base/rng.h"
 #include "world2d/actuators.h"
-#include "world2d/rewards.h"
 #include "world2d/scene.h"
 #include "world2d/scene_internal.h"
 #include "world2d/sensors.h"
@@ -73,19 +72,7 @@ void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
 		}
 	}
 	evo_grid_rebuild(sc, grid_seed, world_new);
-	sc->grid_seed = grid_seed;
-	for (int i = 0; i < sc->n_rewards; i++)
-		evo_reward_reset(&sc->reward[i]);
-	for (int i = 0; i < sc->n_controls; i++)
-		evo_control_reset(&sc->control[i]);
-	sc->rng = evo_rng_seed(episode_seed);
-	sc->tick = 0;
-	sc->step_reward = sc->episode_reward = 0;
-	for (int i = 0; i < EVO_SCENE_MAX_TEAMS; i++)
-		sc->team_reward[i] = 0;
-	sc->winner = -1;
-	for (int i = 0; i < sc->n_metrics; i++)
-		sc->metric[i].value = 0;
+	evo_core_reset(&sc->core, grid_seed, episode_seed);
 }
 
 /* The bot's pose after the physics step. A bot whose collision is
@@ -143,5 +130,5 @@ int evo_scene_step(evo_scene *sc)
 		}
 	}
 	/* rewards, the post-step hook, controls: the scene model's */
-	return evo_scene_score(sc);
+	return evo_core_score(&sc->core);
 }

@@ -114,9 +114,8 @@ evo_scene3d *evo_scene3d_create(const evo_scene3d_def *def)
 	evo_scene3d *sc = calloc(1, sizeof *sc);
 	if (!sc)
 		return NULL;
+	evo_core_init(&sc->core, &evo_backend_ode, NULL, &evo_scene_dim_3d);
 	sc->def = *def;
-	sc->winner = -1;
-	sc->be = &evo_backend_ode;
 	if (new_world(sc)) {
 		free(sc);
 		return NULL;
@@ -157,11 +156,9 @@ void evo_scene3d_destroy(evo_scene3d *sc)
 		free(sc->bot[i].actuator);
 	}
 	free(sc->bot);
-	evo_swarm_free(&sc->swarm);
 	free(sc->element);
-	free(sc->reward);
-	free(sc->control);
 	free(sc->obstacle);
+	evo_core_free(&sc->core);
 	free(sc);
 }
 
@@ -299,6 +296,7 @@ int evo_scene3d_add_bot(evo_scene3d *sc, const evo_bot3d_def *d)
 	b->body = -1;
 	memcpy(b->start, d->pos, sizeof b->start);
 	b->start_yaw = d->yaw;
+	evo_core_note_team(&sc->core, d->team);
 	sc->n_bots++;
 	if (evo_scene3d_build_world(sc)) {
 		sc->n_bots--;
@@ -434,101 +432,38 @@ int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
 	return b->n_actuators - 1;
 }
 
+/* ---- what the scene model asks of a 3D scene (scene/core.h) ---------- */
+
+static int n_sensors(const evo_scene_core *c, int bot)
+{
+	return ((const evo_scene3d *)c)->bot[bot].n_sensors;
+}
+
 /* A target of a 3D reward or control: an element, or none. */
-static int check_target(evo_scene3d *sc, int target, const char *what,
-			const char *kind)
+static int check_target(evo_scene_core *c, int target, const char *what)
 {
 	if (target == EVO_TARGET_NONE ||
-	    (target >= 0 && target < sc->n_elements))
+	    (target >= 0 && target < ((evo_scene3d *)c)->n_elements))
 		return 0;
-	return evo_fail(&sc->err, "%s %s: no element %d", what, kind, target);
+	return evo_fail(&c->err, "%s: no element %d", what, target);
 }
 
-int evo_scene3d_add_reward(evo_scene3d *sc, const evo_reward_def *d)
+static double *bot_account(evo_scene_core *c, int bot, int *team)
 {
-	if ((unsigned)d->kind >= EVO_RW_KIND_COUNT)
-		return evo_fail(&sc->err, "unknown reward kind %d", d->kind);
-	const char *name = evo_reward_kind_name(d->kind);
-	if (!(evo_reward_kind_dims(d->kind) & EVO_DIM_3D))
-		return evo_fail(&sc->err, "reward %s is 2D only", name);
-	evo_bot3d *b = check_bot(sc, d->bot);
-	if (!b || check_target(sc, d->target, "reward", name))
-		return -1;
-	if ((unsigned)d->scope > EVO_SCOPE_SCENE ||
-	    (d->scope == EVO_SCOPE_TEAM &&
-	     (d->team < 0 || d->team >= EVO_SCENE_MAX_TEAMS)))
-		return evo_fail(&sc->err, "reward %s: no team %d", name,
-				d->team);
-	if (!isfinite(d->k) || !isfinite(d->k2) || !isfinite(d->threshold))
-		return evo_fail(&sc->err, "a reward's k, k2 and threshold "
-					  "must be numbers");
-	if (d->n_sensors < 0 || d->n_sensors > EVO_REWARD_MAX_SENSORS)
-		return evo_fail(&sc->err, "a reward reads at most %d sensors",
-				EVO_REWARD_MAX_SENSORS);
-	for (int i = 0; i < d->n_sensors; i++)
-		if (d->sensor[i] < 0 || d->sensor[i] >= b->n_sensors)
-			return evo_fail(&sc->err, "bot %s has no sensor %d",
-					b->name, d->sensor[i]);
-	if ((d->kind == EVO_RW_CLOSING_ON_TARGET ||
-	     d->kind == EVO_RW_DISTANCE || d->kind == EVO_RW_FINAL_DISTANCE) &&
-	    d->target < 0)
-		return evo_fail(&sc->err, "%s needs a target", name);
-	if (grow(sc, (void **)&sc->reward, &sc->cap_rewards, sc->n_rewards + 1,
-		 sizeof *sc->reward))
-		return -1;
-	evo_reward *r = &sc->reward[sc->n_rewards];
-	r->def = *d;
-	evo_reward_reset(r);
-	return sc->n_rewards++;
+	evo_bot3d *b = &((evo_scene3d *)c)->bot[bot];
+	*team = b->def.team;
+	return &b->reward;
 }
 
-int evo_scene3d_add_control(evo_scene3d *sc, const evo_control_def *d)
-{
-	if ((unsigned)d->kind >= EVO_CF_KIND_COUNT)
-		return evo_fail(&sc->err, "unknown control kind %d", d->kind);
-	const char *name = evo_control_kind_name(d->kind);
-	if (!(evo_control_kind_dims(d->kind) & EVO_DIM_3D))
-		return evo_fail(&sc->err, "control %s is 2D only", name);
-	evo_bot3d *b = check_bot(sc, d->bot);
-	if (!b || check_target(sc, d->target, "control", name))
-		return -1;
-	if (d->ticks < 1)
-		return evo_fail(&sc->err, "a control's ticks must be >= 1");
-	if (d->kind == EVO_CF_NEXT_ON_SENSOR_BELOW &&
-	    (d->sensor < 0 || d->sensor >= b->n_sensors))
-		return evo_fail(&sc->err, "NextOnSensorBelow needs a sensor "
-					  "of its bot");
-	if (d->kind == EVO_CF_NEXT_ON_TARGET_REACHED &&
-	    (d->target < 0 || !(d->threshold >= 0)))
-		return evo_fail(&sc->err, "NextOnTargetReached needs a target "
-					  "and a threshold of 0 or more");
-	if (grow(sc, (void **)&sc->control, &sc->cap_controls,
-		 sc->n_controls + 1, sizeof *sc->control))
-		return -1;
-	evo_control *c = &sc->control[sc->n_controls];
-	c->def = *d;
-	/* the episode ends at tick `ticks` (scene3d.h): the shared count
-	 * ends one check after its ticks */
-	c->def.ticks = d->ticks - 1;
-	evo_control_reset(c);
-	return sc->n_controls++;
-}
-
-int evo_scene3d_add_metric(evo_scene3d *sc, const char *name)
-{
-	return evo_metric_add(sc->metric, &sc->n_metrics, name, &sc->err);
-}
-
-int evo_scene3d_set_metric(evo_scene3d *sc, int metric, double value)
-{
-	return evo_metric_set(sc->metric, sc->n_metrics, metric, value,
-			      &sc->err);
-}
-
-int evo_scene3d_find_metric(const evo_scene3d *sc, const char *name)
-{
-	return evo_metric_find(sc->metric, sc->n_metrics, name);
-}
+const evo_scene_dim evo_scene_dim_3d = {
+    .name = "3D",
+    .dims = EVO_DIM_3D,
+    .score = &evo_score_ops_3d,
+    .n_sensors = n_sensors,
+    .check_target = check_target,
+    .bot_account = bot_account,
+    .timeout_shift = 1,
+};
 
 int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o)
 {

@@ -23,22 +23,10 @@ int evo_scene3d_reset(evo_scene3d *sc, uint64_t grid_seed,
 		b->touching = b->collisions = 0;
 		b->reward = 0;
 	}
-	memset(sc->team_reward, 0, sizeof sc->team_reward);
-	sc->winner = -1;
 	for (int i = 0; i < sc->n_elements; i++)
 		memcpy(sc->element[i].pos, sc->element[i].def.pos,
 		       sizeof sc->element[i].pos);
-	for (int i = 0; i < sc->n_rewards; i++)
-		evo_reward_reset(&sc->reward[i]);
-	for (int i = 0; i < sc->n_controls; i++)
-		evo_control_reset(&sc->control[i]);
-	for (int i = 0; i < sc->n_metrics; i++)
-		sc->metric[i].value = 0;
-	sc->rng = evo_rng_seed(episode_seed);
-	sc->grid_seed = grid_seed;
-	sc->tick = 0;
-	sc->step_reward = sc->episode_reward = 0;
-	sc->fault[0] = 0;
+	evo_core_reset(&sc->core, grid_seed, episode_seed);
 	return evo_scene3d_build_world(sc);
 }
 
@@ -124,5 +112,5 @@ int evo_scene3d_step(evo_scene3d *sc)
 			evo_scene3d_pose(sc, e->body, e->pos, e->R);
 	}
 	/* rewards, the post-step hook, controls: the scene model's */
-	return evo_scene3d_score(sc);
+	return evo_core_score(&sc->core);
 }
