@@ -95,6 +95,25 @@ struct evo_scene_dim {
 	/* 3D's NextOnTimeout ends the episode at tick `ticks`, one tick
 	 * before 2D's (the tutorial's rule): its control keeps ticks - 1 */
 	long timeout_shift;
+
+	/* The tick's parts, in the order evo_core_sense and evo_core_step
+	 * (tick.c) run them. */
+	/* step 1: every sensor of every bot samples */
+	void (*sense)(evo_scene_core *c);
+	/* before the physics (NULL: nothing) */
+	void (*begin)(evo_scene_core *c);
+	/* physics steps in a tick (NULL: one) */
+	int (*substeps)(const evo_scene_core *c);
+	/* before each physics step: every bot's actuators act */
+	void (*act)(evo_scene_core *c);
+	/* after each physics step (NULL: nothing) */
+	void (*after_substep)(evo_scene_core *c);
+	/* after the last: the bots' and objects' poses read back, contacts
+	 * counted */
+	void (*read_back)(evo_scene_core *c);
+	/* a body exploded: say which in c->fault; the penalty paid (NULL
+	 * where the engine never reports one) */
+	double (*fault)(evo_scene_core *c, const evo_bfault *f);
 };
 
 /* A new core: its backend and world, its dimension, the rng seeded with 1,
@@ -130,6 +149,17 @@ void evo_core_reset(evo_scene_core *c, uint64_t grid_seed,
  * bot's team, or a team; the scene's total has it in any case. Both
  * dimensions' evo_score_ops have it as their `pay`. */
 void evo_core_pay(void *core, const evo_reward *r, double v);
+
+/* The tick (tick.c). Step 1: every sensor of every bot samples. */
+void evo_core_sense(evo_scene_core *c);
+/* Steps 3 to 5, after the caller wrote the commands: the actuators act
+ * and the physics steps (substeps times), the tick counts, the poses are
+ * read back, then the rewards are paid, the post-step hook runs and the
+ * controls decide (evo_core_score). A body that explodes ends the episode
+ * with the fault's penalty as the step's reward. 1 when a control or a
+ * fault ends the episode (a scene whose episode a fault ended stays
+ * ended), 0 when it goes on, -1 with c->err set when a hook failed. */
+int evo_core_step(evo_scene_core *c);
 
 /* Step 5 of the tick, after the physics: the rewards paid, the post-step
  * hook, the controls (evo_score_step). 1 when a control ends the episode,

@@ -96,7 +96,7 @@ static int reset_2d(void *sc, uint64_t grid_seed, uint64_t episode_seed,
 
 static void sense_2d(void *sc)
 {
-	evo_scene_sense(sc);
+	evo_scene_sense((evo_scene *)sc);
 }
 
 static int step_2d(void *v, evo_err *err)

@@ -276,7 +276,7 @@ static int check_bot(evo_scene *sc, int bot)
 	return 0;
 }
 
-static int check_target(evo_scene *sc, int target, const char *what)
+int evo_scene_check_target(evo_scene *sc, int target, const char *what)
 {
 	if (target == EVO_TARGET_NONE || target == EVO_TARGET_NEAREST_OBJECT ||
 	    target == EVO_TARGET_NEAREST_OPPONENT ||
@@ -323,7 +323,7 @@ int evo_scene_add_sensor(evo_scene *sc, int bot, const evo_sensor_def *d)
 	     d->kind == EVO_SENSOR_CAMERA) &&
 	    evo_swarm_check_sensor(&d->swarm, name, &sc->err))
 		return -1;
-	if (check_target(sc, d->target, name))
+	if (evo_scene_check_target(sc, d->target, name))
 		return -1;
 	if (d->kind == EVO_SENSOR_ZONE && d->target != EVO_TARGET_NONE &&
 	    (d->target < 0 || sc->element[d->target].kind != EVO_ELEM_ZONE))
@@ -408,59 +408,6 @@ int evo_scene_add_actuator(evo_scene *sc, int bot, const evo_actuator_def *d)
 	a->dir_s = sin(d->angle);
 	return b->n_actuators++;
 }
-
-/* ---- what the scene model asks of a 2D scene (scene/core.h) ---------- */
-
-static int n_sensors(const evo_scene_core *c, int bot)
-{
-	return ((const evo_scene *)c)->bot[bot].n_sensors;
-}
-
-/* A 2D target is an element, none, or the nearest object, opponent or
- * teammate. */
-static int target_ok(evo_scene_core *c, int target, const char *what)
-{
-	return check_target((evo_scene *)c, target, what);
-}
-
-static int zone(const evo_scene *sc, int target)
-{
-	return target >= 0 && sc->element[target].kind == EVO_ELEM_ZONE;
-}
-
-static int check_reward(evo_scene_core *c, const evo_reward_def *d)
-{
-	if (d->kind == EVO_RW_COLLECT && !zone((evo_scene *)c, d->target))
-		return evo_fail(&c->err, "reward Collect needs a zone");
-	return 0;
-}
-
-static int check_control(evo_scene_core *c, const evo_control_def *d)
-{
-	if (d->kind == EVO_CF_NEXT_ON_COLLISION_WITH_TARGET &&
-	    (d->target < 0 || zone((evo_scene *)c, d->target)))
-		return evo_fail(&c->err, "control NextOnCollisionWithTarget "
-					 "needs a solid element");
-	return 0;
-}
-
-static double *bot_account(evo_scene_core *c, int bot, int *team)
-{
-	evo_bot *b = &((evo_scene *)c)->bot[bot];
-	*team = b->team;
-	return &b->reward;
-}
-
-const evo_scene_dim evo_scene_dim_2d = {
-    .name = "2D",
-    .dims = EVO_DIM_2D,
-    .score = &evo_score_ops_2d,
-    .n_sensors = n_sensors,
-    .check_target = target_ok,
-    .check_reward = check_reward,
-    .check_control = check_control,
-    .bot_account = bot_account,
-};
 
 void evo_scene_set_grid(evo_scene *sc, const evo_grid_def *def)
 {

@@ -363,14 +363,14 @@ int evo_bot_find_actuator(const evo_bot *b, const char *name);
  * reseeded from episode_seed. */
 void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed);
 
-/* Step 1 of the tick: every sensor of every bot samples. */
-void evo_scene_sense(evo_scene *sc);
-
-/* Steps 3-5: actuators act on their commands, the physics steps, rewards
- * add up into step_reward and episode_reward, the post-step hook runs,
- * the controls decide. Returns 1 when a control function ends the episode,
- * 0 when it goes on, -1 with sc->err set when a hook failed. */
-int evo_scene_step(evo_scene *sc);
+/* The tick, the scene model's (scene/core.h, sim/scene/tick.c): step 1,
+ * every sensor of every bot samples; steps 3-5, actuators act on their
+ * commands, the physics steps, rewards add up into step_reward and
+ * episode_reward, the post-step hook runs, the controls decide. The step
+ * returns 1 when a control function ends the episode, 0 when it goes on,
+ * -1 with sc->err set when a hook failed. */
+#define evo_scene_sense(sc) evo_core_sense(&(sc)->core)
+#define evo_scene_step(sc)  evo_core_step(&(sc)->core)
 
 /* A static obstacle for this episode only, after the elements' and the
  * grid's: the next reset removes it. An environment's own obstacle

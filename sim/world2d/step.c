@@ -1,15 +1,15 @@
-/* The 2D scene's episode and tick (sim/world2d/scene.h): the reset, then each
- * tick the sensing (step 1 of DESIGN.md's tick) and the step (steps 3-5:
- * actuators act, the physics steps, rewards, the post-step hook, controls).
- * This is the top of the 2D world: it calls the pieces below it (sensors.c,
- * actuators.c, rewards.c, grid.c, scene.c), none of which calls back. */
+/* The 2D scene's episode and its part of the tick (sim/world2d/scene.h):
+ * the reset; before the physics step every bot's actuators act, after it
+ * the poses, movement history and contacts are read back. The tick's
+ * order is the scene model's (sim/scene/tick.c, through dim2d.c). This is
+ * the top of the 2D world: it calls the pieces below it (actuators.c,
+ * grid.c, scene.c), none of which calls back. */
 #include <stdint.h>
 
 #include "base/rng.h"
 #include "world2d/actuators.h"
 #include "world2d/scene.h"
 #include "world2d/scene_internal.h"
-#include "world2d/sensors.h"
 
 static void reset_bot(evo_scene *sc, int i)
 {
@@ -91,20 +91,17 @@ static int undo_blocked_step(evo_scene *sc, evo_bot *b)
 	return 1;
 }
 
-void evo_scene_sense(evo_scene *sc)
-{
-	evo_sense_all(sc);
-}
-
-int evo_scene_step(evo_scene *sc)
+void evo_scene_act(evo_scene *sc)
 {
 	for (int i = 0; i < sc->n_bots; i++) {
 		for (int k = 0; k < sc->bot[i].n_actuators; k++)
 			evo_actuator_act(sc, i, k);
 		evo_bot_drive(sc, i);
 	}
-	sc->be->step(sc->bw, NULL);
-	sc->tick++;
+}
+
+void evo_scene_read_back(evo_scene *sc)
+{
 	for (int i = 0; i < sc->n_bots; i++) {
 		evo_bot *b = &sc->bot[i];
 		int undone = undo_blocked_step(sc, b);
@@ -129,6 +126,4 @@ int evo_scene_step(evo_scene *sc)
 			e->angle = p.yaw;
 		}
 	}
-	/* rewards, the post-step hook, controls: the scene model's */
-	return evo_core_score(&sc->core);
 }

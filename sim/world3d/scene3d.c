@@ -432,39 +432,6 @@ int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
 	return b->n_actuators - 1;
 }
 
-/* ---- what the scene model asks of a 3D scene (scene/core.h) ---------- */
-
-static int n_sensors(const evo_scene_core *c, int bot)
-{
-	return ((const evo_scene3d *)c)->bot[bot].n_sensors;
-}
-
-/* A target of a 3D reward or control: an element, or none. */
-static int check_target(evo_scene_core *c, int target, const char *what)
-{
-	if (target == EVO_TARGET_NONE ||
-	    (target >= 0 && target < ((evo_scene3d *)c)->n_elements))
-		return 0;
-	return evo_fail(&c->err, "%s: no element %d", what, target);
-}
-
-static double *bot_account(evo_scene_core *c, int bot, int *team)
-{
-	evo_bot3d *b = &((evo_scene3d *)c)->bot[bot];
-	*team = b->def.team;
-	return &b->reward;
-}
-
-const evo_scene_dim evo_scene_dim_3d = {
-    .name = "3D",
-    .dims = EVO_DIM_3D,
-    .score = &evo_score_ops_3d,
-    .n_sensors = n_sensors,
-    .check_target = check_target,
-    .bot_account = bot_account,
-    .timeout_shift = 1,
-};
-
 int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o)
 {
 	evo_obstacle3d s = *o;

@@ -304,14 +304,16 @@ int evo_scene3d_place_bot(evo_scene3d *sc, int bot, const double pos[3],
 void evo_scene3d_place_element(evo_scene3d *sc, int element,
 			       const double pos[3]);
 
-/* Step 1 of the tick: every sensor of every bot samples. */
+/* Step 1 of the tick: every sensor of every bot samples (sensors3d.c;
+ * evo_core_sense runs it). */
 void evo_scene3d_sense(evo_scene3d *sc);
 
-/* Steps 3-5: actuators act and the physics steps, rewards add up, the
- * post-step hook runs, the controls decide. Returns 1 when a control
- * function or a fault ends the episode, 0 when it goes on, -1 with sc->err
- * set when a hook failed. */
-int evo_scene3d_step(evo_scene3d *sc);
+/* Steps 3-5, the scene model's (scene/core.h, sim/scene/tick.c):
+ * actuators act and the physics steps, rewards add up, the post-step hook
+ * runs, the controls decide. 1 when a control function or a fault ends
+ * the episode, 0 when it goes on, -1 with sc->err set when a hook
+ * failed. */
+#define evo_scene3d_step(sc) evo_core_step(&(sc)->core)
 
 /* Sample one sensor now (sensors3d.c). */
 double evo_sensor3d_sample(evo_scene3d *sc, int bot, int sensor);

@@ -34,9 +34,15 @@ void evo_scene3d_refresh_bots(evo_scene3d *sc);
 void evo_bot3d_act(evo_scene3d *sc, int bot);
 
 /* How the scene model reads a 3D scene (rewards3d.c), and what it asks
- * of one (scene3d.c). */
+ * of one (dim3d.c). */
 extern const evo_score_ops evo_score_ops_3d;
 extern const evo_scene_dim evo_scene_dim_3d;
+
+/* step3d.c: after the tick's physics, the bots' poses, speeds and
+ * contacts and the objects' poses read back; a body that exploded said
+ * in sc->fault, its penalty returned. */
+void evo_scene3d_read_back(evo_scene3d *sc);
+double evo_scene3d_fault(evo_scene3d *sc, const evo_bfault *f);
 
 /* The distance from bot b's centre to element e's. */
 double evo_scene3d_distance(const evo_scene3d *sc, int bot, int element);

@@ -1,0 +1,95 @@
+/* The 3D scene as the scene model (sim/scene/core.h) asks of it: its
+ * evo_scene_dim, with what a 3D target may be (an element, or none),
+ * whom a bot's reward is paid to, NextOnTimeout's shift, and the tick's
+ * parts (sensors3d.c, actuators3d.c, step3d.c's read-back and fault),
+ * which sim/scene/tick.c runs in their order: contacts counted over the
+ * tick's substeps, a body that explodes ending the episode. */
+#include "world3d/scene3d.h"
+#include "world3d/scene3d_internal.h"
+
+/* ---- the checks at adding ------------------------------------------------ */
+
+static int n_sensors(const evo_scene_core *c, int bot)
+{
+	return ((const evo_scene3d *)c)->bot[bot].n_sensors;
+}
+
+/* A target of a 3D reward or control: an element, or none. */
+static int check_target(evo_scene_core *c, int target, const char *what)
+{
+	if (target == EVO_TARGET_NONE ||
+	    (target >= 0 && target < ((evo_scene3d *)c)->n_elements))
+		return 0;
+	return evo_fail(&c->err, "%s: no element %d", what, target);
+}
+
+static double *bot_account(evo_scene_core *c, int bot, int *team)
+{
+	evo_bot3d *b = &((evo_scene3d *)c)->bot[bot];
+	*team = b->def.team;
+	return &b->reward;
+}
+
+/* ---- the tick ------------------------------------------------------------ */
+
+static void sense(evo_scene_core *c)
+{
+	evo_scene3d_sense((evo_scene3d *)c);
+}
+
+/* Contacts are counted over the tick's substeps. */
+static void begin(evo_scene_core *c)
+{
+	evo_scene3d *sc = (evo_scene3d *)c;
+	for (int i = 0; i < sc->n_bots; i++)
+		sc->bot[i].touching = 0;
+}
+
+static int substeps(const evo_scene_core *c)
+{
+	return ((const evo_scene3d *)c)->def.substeps;
+}
+
+static void act(evo_scene_core *c)
+{
+	evo_scene3d *sc = (evo_scene3d *)c;
+	for (int i = 0; i < sc->n_bots; i++)
+		evo_bot3d_act(sc, i);
+}
+
+static void after_substep(evo_scene_core *c)
+{
+	evo_scene3d *sc = (evo_scene3d *)c;
+	for (int i = 0; i < sc->n_bots; i++)
+		sc->bot[i].touching +=
+		    sc->be->touching(sc->bw, evo_scene3d_body(sc->bot[i].body));
+}
+
+static void read_back(evo_scene_core *c)
+{
+	evo_scene3d_read_back((evo_scene3d *)c);
+}
+
+static double fault(evo_scene_core *c, const evo_bfault *f)
+{
+	return evo_scene3d_fault((evo_scene3d *)c, f);
+}
+
+/* ---- the table ----------------------------------------------------------- */
+
+const evo_scene_dim evo_scene_dim_3d = {
+    .name = "3D",
+    .dims = EVO_DIM_3D,
+    .score = &evo_score_ops_3d,
+    .n_sensors = n_sensors,
+    .check_target = check_target,
+    .bot_account = bot_account,
+    .timeout_shift = 1,
+    .sense = sense,
+    .begin = begin,
+    .substeps = substeps,
+    .act = act,
+    .after_substep = after_substep,
+    .read_back = read_back,
+    .fault = fault,
+};
