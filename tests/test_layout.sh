@@ -8,9 +8,10 @@
 #   - core/ includes nothing of sim/, and nothing includes a header by a
 #     relative path ("../");
 #   - bench/ includes no test code (tests/);
-#   - sim/tasksim/tasksim.c reaches its scene only through
-#     tasksim/simscene.h: it makes and frees a 2D or 3D scene and calls
-#     nothing else of them, nor reads their bots (docs/architecture.md);
+#   - sim/tasksim/tasksim.c reaches its scene only through the scene
+#     model's core (sim/scene/core.h, and its dimension's table): it makes
+#     and frees a 2D or 3D scene and calls nothing else of them, nor reads
+#     their bots (docs/architecture.md);
 #   - world2d/'s and world3d/'s scenes call their physics engine only
 #     through sim/scene/backend.h (the shims and fillings excepted);
 #   - the reward and control kinds are named in sim/scene/kinds.c alone,
@@ -141,11 +142,12 @@ else
 fi
 
 # tasksim.c never asks its scene's dimension: it makes and frees the scene
-# and calls nothing else of world2d/ or world3d/ (simscene.c does).
+# and calls nothing else of world2d/ or world3d/ (the scene's core and its
+# evo_scene_dim do, sim/scene/core.h).
 calls=$(grep -o 'evo_\(scene\|scene3d\|bot\|bot3d\)_[a-z0-9_]*(\|->bot\[' \
 	sim/tasksim/tasksim.c | grep -v '_create($\|_destroy($' | sort -u)
 if [ -z "$calls" ]; then pass; else
-	fail "sim/tasksim/tasksim.c reaches its scene around simscene.h: $(echo $calls)"; fi
+	fail "sim/tasksim/tasksim.c reaches its scene around sim/scene/core.h: $(echo $calls)"; fi
 
 # The scenes reach their physics only through the backend interface
 # (sim/scene/backend.h): no file of world2d/ but its Box2D shim and filling

@@ -19,6 +19,7 @@
 #ifndef EVO_SCENE_CORE_H
 #define EVO_SCENE_CORE_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "base/err.h"
@@ -36,6 +37,7 @@ typedef struct evo_scene_dim evo_scene_dim;
 	const evo_backend *be;                                                 \
 	evo_bworld *bw;                                                        \
 	const evo_scene_dim *dim; /* what differs by dimension */              \
+	int n_bots, n_elements;                                                \
 	long tick;		  /* ticks since the reset */                  \
 	evo_rng rng; /* the episode's randomness (RANDOM sensors) */           \
 	uint64_t grid_seed; /* the last reset's: episode obstacles */          \
@@ -73,6 +75,29 @@ typedef struct evo_scene_core {
 			EVO_SCENE_CORE_FIELDS                                  \
 		};                                                             \
 	}
+
+/* A bot's parts of one kind, its sensors or its actuators, seen from
+ * outside its dimension: n structs, stride bytes apart from base, each
+ * with its name (a char array) name_at bytes in and its value (a double:
+ * a sensor's last sample, an actuator's command) value_at bytes in;
+ * idle_at, the int that marks a sensor nothing reads (not sampled), or 0
+ * where every sensor samples every tick (3D). */
+typedef struct evo_parts {
+	char *base;
+	int n;
+	size_t stride, name_at, value_at, idle_at;
+} evo_parts;
+
+/* A bot as a task's simulation reads it (sim/tasksim/tasksim.c). */
+typedef struct evo_bot_view {
+	const char *name;
+	int team;	/* -1: none */
+	int collisions; /* ticks spent touching since the reset */
+	double reward;	/* what its rewards paid it since the reset */
+	/* where it is on the ground plane, and where it started */
+	double now[2], start[2];
+	evo_parts sensors, actuators;
+} evo_bot_view;
 
 /* What a dimension says of its scene, for the functions below. Each
  * function takes the core, which is its scene's first member. */
@@ -114,6 +139,16 @@ struct evo_scene_dim {
 	/* a body exploded: say which in c->fault; the penalty paid (NULL
 	 * where the engine never reports one) */
 	double (*fault)(evo_scene_core *c, const evo_bfault *f);
+
+	/* What a task's simulation asks (sim/tasksim/tasksim.c). */
+	/* start an episode (the scene's reset): 0, or -1 with c->err set */
+	int (*reset)(evo_scene_core *c, uint64_t grid_seed,
+		     uint64_t episode_seed);
+	/* bot's figures and parts, into *v */
+	void (*bot)(const evo_scene_core *c, int bot, evo_bot_view *v);
+	/* widen box (x0, y0, x1, y1) over the static obstacles the
+	 * environment built (evo_sim_behaviour's arena) */
+	void (*arena)(const evo_scene_core *c, double box[4]);
 };
 
 /* A new core: its backend and world, its dimension, the rng seeded with 1,
@@ -160,6 +195,28 @@ void evo_core_sense(evo_scene_core *c);
  * fault ends the episode (a scene whose episode a fault ended stays
  * ended), 0 when it goes on, -1 with c->err set when a hook failed. */
 int evo_core_step(evo_scene_core *c);
+
+/* ---- the bots, seen from outside their dimension (view.c) ------------- */
+
+/* Bot's figures and parts (dim->bot). */
+void evo_core_bot(const evo_scene_core *c, int bot, evo_bot_view *v);
+/* Part i's name; the index of the part of that name, or -1. */
+const char *evo_parts_name(const evo_parts *p, int i);
+int evo_parts_find(const evo_parts *p, const char *name);
+/* out[i] = part map[i]'s value; part map[i]'s value = in[i]. */
+void evo_parts_read(const evo_parts *p, const int *map, unsigned n,
+		    double *out);
+void evo_parts_write(const evo_parts *p, const int *map, unsigned n,
+		     const double *in);
+/* Mark sensor i idle (1: not sampled) or not; nothing where every sensor
+ * samples every tick. */
+void evo_parts_set_idle(const evo_parts *p, int i, int idle);
+/* Wake the sensors the rewards and controls read. */
+void evo_core_wake_scored(evo_scene_core *c);
+/* For both dimensions' evo_score_ops: how many bots the scene has, and
+ * the last value of bot's sensor s (NaN for none). */
+int evo_core_n_bots(const void *core);
+double evo_core_sensor(const void *core, int bot, int s);
 
 /* Step 5 of the tick, after the physics: the rewards paid, the post-step
  * hook, the controls (evo_score_step). 1 when a control ends the episode,

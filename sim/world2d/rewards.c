@@ -24,11 +24,6 @@ static evo_element *element_at(evo_scene *sc, int e)
 
 /* ---- what the scoring reads --------------------------------------------- */
 
-static int n_bots(const void *sc)
-{
-	return ((const evo_scene *)sc)->n_bots;
-}
-
 static int touching(const void *sc, int bot)
 {
 	return ((const evo_scene *)sc)->bot[bot].touching;
@@ -54,12 +49,6 @@ static double distance(const void *v, int bot, int target)
 	if (!evo_scene_target_pos(sc, bot, target, &tx, &ty))
 		return -1;
 	return hypot(tx - b->x, ty - b->y);
-}
-
-static double sensor(const void *v, int bot, int s)
-{
-	const evo_bot *b = &((const evo_scene *)v)->bot[bot];
-	return s >= 0 && s < b->n_sensors ? b->sensor[s].value : NAN;
 }
 
 /* The bot's wheels of either kind. */
@@ -208,11 +197,11 @@ static int touching_target(const void *v, int bot, int target)
 
 const evo_score_ops evo_score_ops_2d = {
     .dim = EVO_DIM_2D,
-    .n_bots = n_bots,
+    .n_bots = evo_core_n_bots,
     .touching = touching,
     .motion = motion,
     .distance = distance,
-    .sensor = sensor,
+    .sensor = evo_core_sensor,
     .effort = effort,
     .touching_target = touching_target,
     .own_reward = own_reward,

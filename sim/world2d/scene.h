@@ -293,7 +293,7 @@ struct evo_scene {
 	/* The same world as Box2D's own API sees it, for what is 2D only
 	 * outside world2d/ (the viewer, the Lua bot binding, the tests). */
 	evo_world *world;
-	int n_elements, n_bots, n_obstacles;
+	int n_obstacles; /* n_bots and n_elements are the core's */
 	int cap_elements, cap_bots, cap_obstacles;
 	evo_element *element;
 	evo_bot *bot;

@@ -3,7 +3,12 @@
  * whom a bot's reward is paid to, NextOnTimeout's shift, and the tick's
  * parts (sensors3d.c, actuators3d.c, step3d.c's read-back and fault),
  * which sim/scene/tick.c runs in their order: contacts counted over the
- * tick's substeps, a body that explodes ending the episode. */
+ * tick's substeps, a body that explodes ending the episode; and what a
+ * task's simulation reads of it: its reset, a bot's figures and parts,
+ * the arena its obstacles span. */
+#include <math.h>
+#include <stddef.h>
+
 #include "world3d/scene3d.h"
 #include "world3d/scene3d_internal.h"
 
@@ -75,6 +80,54 @@ static double fault(evo_scene_core *c, const evo_bfault *f)
 	return evo_scene3d_fault((evo_scene3d *)c, f);
 }
 
+/* ---- what a task's simulation reads --------------------------------------- */
+
+static int reset(evo_scene_core *c, uint64_t grid_seed, uint64_t episode_seed)
+{
+	return evo_scene3d_reset((evo_scene3d *)c, grid_seed, episode_seed);
+}
+
+static void bot(const evo_scene_core *c, int i, evo_bot_view *v)
+{
+	evo_bot3d *b = &((const evo_scene3d *)c)->bot[i];
+	*v = (evo_bot_view){
+	    .name = b->name,
+	    .team = b->def.team,
+	    .collisions = b->collisions,
+	    .reward = b->reward,
+	    .now = {b->pos[0], b->pos[1]},
+	    .start = {b->start[0], b->start[1]},
+	    .sensors = {(char *)b->sensor, b->n_sensors, sizeof *b->sensor,
+			offsetof(evo_sensor3d, name),
+			offsetof(evo_sensor3d, value), 0},
+	    .actuators = {(char *)b->actuator, b->n_actuators,
+			  sizeof *b->actuator, offsetof(evo_actuator3d, name),
+			  offsetof(evo_actuator3d, command), 0},
+	};
+}
+
+/* The static boxes, cylinders and spheres that are not ground: widen b
+ * (x0, y0, x1, y1) over each. */
+static void arena(const evo_scene_core *c, double *b)
+{
+	const evo_scene3d *sc = (const evo_scene3d *)c;
+	for (int i = 0; i < sc->n_elements; i++) {
+		const evo_element3d_def *d = &sc->element[i].def;
+		if (d->kind > EVO3D_ELEM_SPHERE || d->ground)
+			continue;
+		double cs = fabs(cos(d->yaw)), sn = fabs(sin(d->yaw));
+		double hx = d->radius, hy = d->radius;
+		if (d->kind == EVO3D_ELEM_BOX) {
+			hx = cs * d->half[0] + sn * d->half[1];
+			hy = sn * d->half[0] + cs * d->half[1];
+		}
+		b[0] = fmin(b[0], d->pos[0] - hx);
+		b[1] = fmin(b[1], d->pos[1] - hy);
+		b[2] = fmax(b[2], d->pos[0] + hx);
+		b[3] = fmax(b[3], d->pos[1] + hy);
+	}
+}
+
 /* ---- the table ----------------------------------------------------------- */
 
 const evo_scene_dim evo_scene_dim_3d = {
@@ -92,4 +145,7 @@ const evo_scene_dim evo_scene_dim_3d = {
     .after_substep = after_substep,
     .read_back = read_back,
     .fault = fault,
+    .reset = reset,
+    .bot = bot,
+    .arena = arena,
 };

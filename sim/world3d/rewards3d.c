@@ -8,11 +8,6 @@
 #include "world3d/scene3d.h"
 #include "world3d/scene3d_internal.h"
 
-static int n_bots(const void *sc)
-{
-	return ((const evo_scene3d *)sc)->n_bots;
-}
-
 static int touching(const void *sc, int bot)
 {
 	return ((const evo_scene3d *)sc)->bot[bot].touching;
@@ -36,12 +31,6 @@ static double distance(const void *v, int bot, int target)
 	return evo_scene3d_distance(sc, bot, target);
 }
 
-static double sensor(const void *v, int bot, int s)
-{
-	const evo_bot3d *b = &((const evo_scene3d *)v)->bot[bot];
-	return s >= 0 && s < b->n_sensors ? b->sensor[s].value : NAN;
-}
-
 /* Every actuator of a 3D bot moves it: its wheels and propellers. */
 static double effort(const void *v, int bot)
 {
@@ -54,11 +43,11 @@ static double effort(const void *v, int bot)
 
 const evo_score_ops evo_score_ops_3d = {
     .dim = EVO_DIM_3D,
-    .n_bots = n_bots,
+    .n_bots = evo_core_n_bots,
     .touching = touching,
     .motion = motion,
     .distance = distance,
-    .sensor = sensor,
+    .sensor = evo_core_sensor,
     .effort = effort,
     .pay = evo_core_pay,
 };

@@ -245,7 +245,7 @@ typedef struct evo_scene3d {
 	/* The same world as ODE's own API sees it, for the 3D view and the
 	 * tests. */
 	evo_world3d *world;
-	int n_elements, n_bots, n_obstacles;
+	int n_obstacles; /* n_bots and n_elements are the core's */
 	int n_fixed_obstacles; /* the elements'; the episode's follow */
 	int cap_elements, cap_bots, cap_obstacles;
 	evo_element3d *element;
