@@ -181,10 +181,8 @@ if [ -z "$cases" ]; then pass; else
 	fail "reward or control functions chosen outside sim/scene/scoring.c: $(echo $cases)"; fi
 if grep -q 'evo_score_step(' sim/scene/core.c; then pass; else
 	fail "sim/scene/core.c does not score the scenes through evo_score_step"; fi
-for f in sim/world2d/rewards.c sim/world3d/rewards3d.c; do
-	if grep -q 'evo_core_pay' "$f"; then pass; else
-		fail "$f does not pay its rewards through sim/scene/core.c's evo_core_pay"; fi
-done
+if grep -q 'evo_core_pay(' sim/scene/scoring.c; then pass; else
+	fail "sim/scene/scoring.c does not pay the rewards through sim/scene/core.c's evo_core_pay"; fi
 own=$(grep -l 'strcmp(' sim/world2d/scene.c sim/world3d/scene3d.c)
 if [ -z "$own" ]; then pass; else
 	fail "scene storage comparing names around sim/scene/store.c: $(echo $own)"; fi

@@ -22,6 +22,12 @@ void evo_core_init(evo_scene_core *c, const evo_backend *be, evo_bworld *bw,
 
 void evo_core_free(evo_scene_core *c)
 {
+	for (int i = 0; i < c->n_bots; i++) {
+		evo_bot_view v;
+		evo_core_bot(c, i, &v);
+		free(v.sensors.base);
+		free(v.actuators.base);
+	}
 	free(c->reward);
 	free(c->control);
 	evo_swarm_free(&c->swarm);
@@ -31,7 +37,7 @@ void evo_core_free(evo_scene_core *c)
 
 static int check_bot(evo_scene_core *c, int bot)
 {
-	int n = c->dim->score->n_bots(c);
+	int n = c->n_bots;
 	if (bot < 0 || bot >= n)
 		return evo_fail(&c->err, "no bot %d (there are %d)", bot, n);
 	return 0;
@@ -192,7 +198,7 @@ void evo_core_pay(void *core, const evo_reward *r, double v)
 	if (r->def.scope == EVO_SCOPE_TEAM) {
 		c->team_reward[r->def.team] += v;
 	} else if (r->def.scope == EVO_SCOPE_BOT && r->def.bot >= 0 &&
-		   r->def.bot < c->dim->score->n_bots(c)) {
+		   r->def.bot < c->n_bots) {
 		int team = -1;
 		*c->dim->bot_account(c, r->def.bot, &team) += v;
 		if (team >= 0)

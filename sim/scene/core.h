@@ -155,7 +155,8 @@ struct evo_scene_dim {
  * no winner. */
 void evo_core_init(evo_scene_core *c, const evo_backend *be, evo_bworld *bw,
 		   const evo_scene_dim *dim);
-/* Free what the core owns (not the world: its scene's). */
+/* Free what the core owns, and each bot's sensors and actuators (not the
+ * world, nor the bots: its scene's, which it frees after). */
 void evo_core_free(evo_scene_core *c);
 
 /* Add a reward or control after the checks of both dimensions and the
@@ -179,11 +180,6 @@ void evo_core_note_team(evo_scene_core *c, int team);
  * episode_seed, grid_seed kept. */
 void evo_core_reset(evo_scene_core *c, uint64_t grid_seed,
 		    uint64_t episode_seed);
-
-/* Pay reward r's value v to whom it is for (evo_scope): its bot and the
- * bot's team, or a team; the scene's total has it in any case. Both
- * dimensions' evo_score_ops have it as their `pay`. */
-void evo_core_pay(void *core, const evo_reward *r, double v);
 
 /* The tick (tick.c). Step 1: every sensor of every bot samples. */
 void evo_core_sense(evo_scene_core *c);
@@ -213,11 +209,6 @@ void evo_parts_write(const evo_parts *p, const int *map, unsigned n,
 void evo_parts_set_idle(const evo_parts *p, int i, int idle);
 /* Wake the sensors the rewards and controls read. */
 void evo_core_wake_scored(evo_scene_core *c);
-/* For both dimensions' evo_score_ops: how many bots the scene has, and
- * the last value of bot's sensor s (NaN for none). */
-int evo_core_n_bots(const void *core);
-double evo_core_sensor(const void *core, int bot, int s);
-
 /* Step 5 of the tick, after the physics: the rewards paid, the post-step
  * hook, the controls (evo_score_step). 1 when a control ends the episode,
  * 0 when it goes on, -1 with c->err set when a hook failed. */

@@ -196,16 +196,12 @@ static int touching_target(const void *v, int bot, int target)
 }
 
 const evo_score_ops evo_score_ops_2d = {
-    .dim = EVO_DIM_2D,
-    .n_bots = evo_core_n_bots,
     .touching = touching,
     .motion = motion,
     .distance = distance,
-    .sensor = evo_core_sensor,
     .effort = effort,
     .touching_target = touching_target,
     .own_reward = own_reward,
-    .pay = evo_core_pay,
 };
 
 static evo_scored scored(evo_scene *sc)

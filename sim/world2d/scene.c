@@ -32,10 +32,7 @@ void evo_scene_destroy(evo_scene *sc)
 {
 	if (!sc)
 		return;
-	for (int i = 0; i < sc->n_bots; i++) {
-		free(sc->bot[i].sensor);
-		free(sc->bot[i].actuator);
-	}
+	evo_core_free(&sc->core);
 	free(sc->element);
 	free(sc->object);
 	free(sc->bot);
@@ -43,15 +40,18 @@ void evo_scene_destroy(evo_scene *sc)
 	free(sc->body_owner);
 	free(sc->sense_mem);
 	free(sc->sense_shapes);
-	evo_core_free(&sc->core);
 	sc->be->destroy(sc->bw);
 	free(sc);
 }
 
-/* Room for one more item in array arr of sc (scene/store.h). */
+/* Room for one more item in array arr of sc (scene/store.h); ADD: the
+ * new item, zeroed, or NULL. */
 #define GROW(sc, arr, n, cap)                                                \
 	evo_store_grow((void **)&(sc)->arr, &(sc)->cap, (sc)->n + 1,         \
 		       sizeof *(sc)->arr, &(sc)->err)
+#define ADD(sc, arr, n, cap)                                                 \
+	evo_store_add((void **)&(sc)->arr, &(sc)->cap, (sc)->n,              \
+		      sizeof *(sc)->arr, &(sc)->err)
 
 /* Remember who owns body index `index`: a bot (>= 0) or an object
  * (-(element + 2)). */
@@ -178,11 +178,10 @@ int evo_scene_add_element(evo_scene *sc, const evo_element_def *d)
 	if (sc->n_obstacles > sc->n_fixed_obstacles)
 		return evo_fail(&sc->err,
 				"elements must be added before the first reset");
-	if (GROW(sc, element, n_elements, cap_elements))
-		return -1;
+	evo_element *slot = ADD(sc, element, n_elements, cap_elements);
 	evo_element e;
 	memset(&e, 0, sizeof e);
-	if (set_name(e.name, d->name, &sc->err))
+	if (!slot || set_name(e.name, d->name, &sc->err))
 		return -1;
 	e.kind = d->kind;
 	e.x = d->x;
@@ -222,7 +221,7 @@ int evo_scene_add_element(evo_scene *sc, const evo_element_def *d)
 			return -1;
 		sc->object[sc->n_objects++] = sc->n_elements;
 	}
-	sc->element[sc->n_elements] = e;
+	*slot = e;
 	return sc->n_elements++;
 }
 
@@ -236,35 +235,31 @@ int evo_scene_add_bot(evo_scene *sc, const evo_bot_def *d)
 	if (d->team < -1 || d->team >= EVO_SCENE_MAX_TEAMS)
 		return evo_fail(&sc->err, "bot: no team %d (at most %d teams)",
 				d->team, EVO_SCENE_MAX_TEAMS);
-	if (GROW(sc, bot, n_bots, cap_bots))
+	evo_bot *b = ADD(sc, bot, n_bots, cap_bots);
+	if (!b || set_name(b->name, d->name, &sc->err))
 		return -1;
-	evo_bot b;
-	memset(&b, 0, sizeof b);
-	if (set_name(b.name, d->name, &sc->err))
-		return -1;
-	b.def = *d;
-	b.def.name = NULL;
-	b.def.body.dynamic = 1;
-	b.def.body.pos[0] = d->x;
-	b.def.body.pos[1] = d->y;
-	b.def.body.pos[2] = 0;
-	b.def.body.yaw = d->angle;
-	b.team = d->team;
+	b->def = *d;
+	b->def.name = NULL;
+	b->def.body.dynamic = 1;
+	b->def.body.pos[0] = d->x;
+	b->def.body.pos[1] = d->y;
+	b->def.body.pos[2] = 0;
+	b->def.body.yaw = d->angle;
+	b->team = d->team;
 	if (d->team >= 0)
-		b.def.body.category |= EVO_CAT_TEAM(d->team);
-	b.body = sc->be->add_body(sc->bw, &b.def.body);
-	if (b.body.index < 0)
+		b->def.body.category |= EVO_CAT_TEAM(d->team);
+	b->body = sc->be->add_body(sc->bw, &b->def.body);
+	if (b->body.index < 0)
 		return evo_fail(&sc->err, "bot: its body needs a positive size");
-	if (set_owner(sc, b.body.index, sc->n_bots))
+	if (set_owner(sc, b->body.index, sc->n_bots))
 		return -1;
 	evo_core_note_team(&sc->core, d->team);
 	const evo_bshape *shape = &d->body.shape[0];
-	b.radius = shape->type == EVO_SHAPE_CIRCLE
+	b->radius = shape->type == EVO_SHAPE_CIRCLE
 		       ? shape->radius
 		       : sqrt(shape->half[0] * shape->half[0] +
 			      shape->half[1] * shape->half[1]);
-	sc->bot[sc->n_bots] = b;
-	evo_bot_refresh_pose(sc, &sc->bot[sc->n_bots]);
+	evo_bot_refresh_pose(sc, b);
 	return sc->n_bots++;
 }
 
@@ -331,16 +326,9 @@ int evo_scene_add_sensor(evo_scene *sc, int bot, const evo_sensor_def *d)
 				"sensor '%s': a zone sensor needs a zone", name);
 	if (name[0] && evo_bot_find_sensor(b, name) >= 0)
 		return evo_fail(&sc->err, "sensor '%s' is defined twice", name);
-	if (b->n_sensors % 8 == 0) {
-		evo_sensor *p = realloc(b->sensor, (size_t)(b->n_sensors + 8) *
-							   sizeof *p);
-		if (!p)
-			return evo_fail(&sc->err, "out of memory");
-		b->sensor = p;
-	}
-	evo_sensor *s = &b->sensor[b->n_sensors];
-	memset(s, 0, sizeof *s);
-	if (set_name(s->name, d->name, &sc->err))
+	evo_sensor *s = evo_store_add((void **)&b->sensor, NULL, b->n_sensors,
+				       sizeof *s, &sc->err);
+	if (!s || set_name(s->name, d->name, &sc->err))
 		return -1;
 	s->def = *d;
 	s->def.name = NULL;
@@ -389,16 +377,9 @@ int evo_scene_add_actuator(evo_scene *sc, int bot, const evo_actuator_def *d)
 	if (name[0] && evo_bot_find_actuator(b, name) >= 0)
 		return evo_fail(&sc->err, "actuator '%s' is defined twice",
 				name);
-	if (b->n_actuators % 8 == 0) {
-		evo_actuator *p = realloc(
-			b->actuator, (size_t)(b->n_actuators + 8) * sizeof *p);
-		if (!p)
-			return evo_fail(&sc->err, "out of memory");
-		b->actuator = p;
-	}
-	evo_actuator *a = &b->actuator[b->n_actuators];
-	memset(a, 0, sizeof *a);
-	if (set_name(a->name, d->name, &sc->err))
+	evo_actuator *a = evo_store_add((void **)&b->actuator, NULL,
+					 b->n_actuators, sizeof *a, &sc->err);
+	if (!a || set_name(a->name, d->name, &sc->err))
 		return -1;
 	a->def = *d;
 	a->def.name = NULL;
@@ -412,30 +393,6 @@ int evo_scene_add_actuator(evo_scene *sc, int bot, const evo_actuator_def *d)
 void evo_scene_set_grid(evo_scene *sc, const evo_grid_def *def)
 {
 	sc->grid = *def;
-}
-
-int evo_scene_find_element(const evo_scene *sc, const char *name)
-{
-	return evo_store_find(sc->element, sc->n_elements, sizeof *sc->element,
-			      offsetof(evo_element, name), name);
-}
-
-int evo_scene_find_bot(const evo_scene *sc, const char *name)
-{
-	return evo_store_find(sc->bot, sc->n_bots, sizeof *sc->bot,
-			      offsetof(evo_bot, name), name);
-}
-
-int evo_bot_find_sensor(const evo_bot *b, const char *name)
-{
-	return evo_store_find(b->sensor, b->n_sensors, sizeof *b->sensor,
-			      offsetof(evo_sensor, name), name);
-}
-
-int evo_bot_find_actuator(const evo_bot *b, const char *name)
-{
-	return evo_store_find(b->actuator, b->n_actuators, sizeof *b->actuator,
-			      offsetof(evo_actuator, name), name);
 }
 
 void evo_scene_place_bot(evo_scene *sc, int bot, double x, double y,

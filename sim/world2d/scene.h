@@ -348,10 +348,14 @@ int evo_scene_add_wall(evo_scene *sc, double x1, double y1, double x2,
 #define evo_scene_set_metric(sc, k, v) evo_core_set_metric(&(sc)->core, k, v)
 
 /* Lookups by name; -1 when absent. */
-int evo_scene_find_element(const evo_scene *sc, const char *name);
-int evo_scene_find_bot(const evo_scene *sc, const char *name);
-int evo_bot_find_sensor(const evo_bot *b, const char *name);
-int evo_bot_find_actuator(const evo_bot *b, const char *name);
+#define evo_scene_find_element(sc, key)                                        \
+	EVO_STORE_FIND((sc)->element, (sc)->n_elements, evo_element, key)
+#define evo_scene_find_bot(sc, key)                                            \
+	EVO_STORE_FIND((sc)->bot, (sc)->n_bots, evo_bot, key)
+#define evo_bot_find_sensor(b, key)                                            \
+	EVO_STORE_FIND((b)->sensor, (b)->n_sensors, evo_sensor, key)
+#define evo_bot_find_actuator(b, key)                                          \
+	EVO_STORE_FIND((b)->actuator, (b)->n_actuators, evo_actuator, key)
 #define evo_scene_find_metric(sc, name)                                        \
 	evo_core_find_metric(&(sc)->core, name)
 

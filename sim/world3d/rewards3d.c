@@ -42,12 +42,8 @@ static double effort(const void *v, int bot)
 }
 
 const evo_score_ops evo_score_ops_3d = {
-    .dim = EVO_DIM_3D,
-    .n_bots = evo_core_n_bots,
     .touching = touching,
     .motion = motion,
     .distance = distance,
-    .sensor = evo_core_sensor,
     .effort = effort,
-    .pay = evo_core_pay,
 };

@@ -1,5 +1,5 @@
 /* A 3D scene's storage (sim/world3d/scene3d.h): definitions with their
- * defaults, the adds and lookups, and making the ODE world from them. */
+ * defaults, the adds, and making the ODE world from them. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -151,14 +151,10 @@ void evo_scene3d_destroy(evo_scene3d *sc)
 		return;
 	if (sc->bw)
 		sc->be->destroy(sc->bw);
-	for (int i = 0; i < sc->n_bots; i++) {
-		free(sc->bot[i].sensor);
-		free(sc->bot[i].actuator);
-	}
+	evo_core_free(&sc->core);
 	free(sc->bot);
 	free(sc->element);
 	free(sc->obstacle);
-	evo_core_free(&sc->core);
 	free(sc);
 }
 
@@ -237,12 +233,10 @@ int evo_scene3d_add_element(evo_scene3d *sc, const evo_element3d_def *d)
 		return evo_fail(&sc->err, "an object's mass must be > 0");
 	if (d->name && d->name[0] && evo_scene3d_find_element(sc, d->name) >= 0)
 		return evo_fail(&sc->err, "element '%s' twice", d->name);
-	if (grow(sc, (void **)&sc->element, &sc->cap_elements,
-		 sc->n_elements + 1, sizeof *sc->element))
-		return -1;
-	evo_element3d *e = &sc->element[sc->n_elements];
-	memset(e, 0, sizeof *e);
-	if (set_name(sc, e->name, d->name, "element", sc->n_elements))
+	evo_element3d *e =
+	    evo_store_add((void **)&sc->element, &sc->cap_elements,
+			  sc->n_elements, sizeof *e, &sc->err);
+	if (!e || set_name(sc, e->name, d->name, "element", sc->n_elements))
 		return -1;
 	e->def = *d;
 	e->def.name = e->name;
@@ -284,12 +278,9 @@ int evo_scene3d_add_bot(evo_scene3d *sc, const evo_bot3d_def *d)
 	if (d->team < -1 || d->team >= EVO_SCENE_MAX_TEAMS)
 		return evo_fail(&sc->err, "a bot's team must be -1 to %d",
 				EVO_SCENE_MAX_TEAMS - 1);
-	if (grow(sc, (void **)&sc->bot, &sc->cap_bots, sc->n_bots + 1,
-		 sizeof *sc->bot))
-		return -1;
-	evo_bot3d *b = &sc->bot[sc->n_bots];
-	memset(b, 0, sizeof *b);
-	if (set_name(sc, b->name, d->name, "bot", sc->n_bots))
+	evo_bot3d *b = evo_store_add((void **)&sc->bot, &sc->cap_bots,
+				     sc->n_bots, sizeof *b, &sc->err);
+	if (!b || set_name(sc, b->name, d->name, "bot", sc->n_bots))
 		return -1;
 	b->def = *d;
 	b->def.name = b->name;
@@ -348,14 +339,9 @@ int evo_scene3d_add_sensor(evo_scene3d *sc, int bot, const evo_sensor3d_def *d)
 	if (d->name && d->name[0] && evo_bot3d_find_sensor(b, d->name) >= 0)
 		return evo_fail(&sc->err, "bot %s: sensor '%s' twice", b->name,
 				d->name);
-	evo_sensor3d *s =
-	    realloc(b->sensor, (size_t)(b->n_sensors + 1) * sizeof *s);
-	if (!s)
-		return evo_fail(&sc->err, "out of memory");
-	b->sensor = s;
-	s = &b->sensor[b->n_sensors];
-	memset(s, 0, sizeof *s);
-	if (set_name(sc, s->name, d->name, "sensor", b->n_sensors))
+	evo_sensor3d *s = evo_store_add((void **)&b->sensor, NULL, b->n_sensors,
+					 sizeof *s, &sc->err);
+	if (!s || set_name(sc, s->name, d->name, "sensor", b->n_sensors))
 		return -1;
 	s->def = *d;
 	s->def.name = s->name;
@@ -408,14 +394,10 @@ int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
 	if (d->name && d->name[0] && evo_bot3d_find_actuator(b, d->name) >= 0)
 		return evo_fail(&sc->err, "bot %s: actuator '%s' twice",
 				b->name, d->name);
-	evo_actuator3d *a =
-	    realloc(b->actuator, (size_t)(b->n_actuators + 1) * sizeof *a);
-	if (!a)
-		return evo_fail(&sc->err, "out of memory");
-	b->actuator = a;
-	a = &b->actuator[b->n_actuators];
-	memset(a, 0, sizeof *a);
-	if (set_name(sc, a->name, d->name, "actuator", b->n_actuators))
+	evo_actuator3d *a = evo_store_add((void **)&b->actuator, NULL,
+					   b->n_actuators, sizeof *a, &sc->err);
+	if (!a ||
+	    set_name(sc, a->name, d->name, "actuator", b->n_actuators))
 		return -1;
 	a->def = *d;
 	a->def.name = a->name;
@@ -443,32 +425,6 @@ int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o)
 	if (s.type == EVO_SHAPE3D_CYLINDER)
 		s.axis = 2;
 	return add_obstacle(sc, &s);
-}
-
-/* ---- lookups ------------------------------------------------------------- */
-
-int evo_scene3d_find_element(const evo_scene3d *sc, const char *name)
-{
-	return evo_store_find(sc->element, sc->n_elements, sizeof *sc->element,
-			      offsetof(evo_element3d, name), name);
-}
-
-int evo_scene3d_find_bot(const evo_scene3d *sc, const char *name)
-{
-	return evo_store_find(sc->bot, sc->n_bots, sizeof *sc->bot,
-			      offsetof(evo_bot3d, name), name);
-}
-
-int evo_bot3d_find_sensor(const evo_bot3d *b, const char *name)
-{
-	return evo_store_find(b->sensor, b->n_sensors, sizeof *b->sensor,
-			      offsetof(evo_sensor3d, name), name);
-}
-
-int evo_bot3d_find_actuator(const evo_bot3d *b, const char *name)
-{
-	return evo_store_find(b->actuator, b->n_actuators, sizeof *b->actuator,
-			      offsetof(evo_actuator3d, name), name);
 }
 
 /* ---- frames ----------------------------------------------------------------

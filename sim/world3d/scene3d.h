@@ -284,10 +284,15 @@ int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
  * or -1 with sc->err set. */
 int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o);
 
-int evo_scene3d_find_element(const evo_scene3d *sc, const char *name);
-int evo_scene3d_find_bot(const evo_scene3d *sc, const char *name);
-int evo_bot3d_find_sensor(const evo_bot3d *b, const char *name);
-int evo_bot3d_find_actuator(const evo_bot3d *b, const char *name);
+/* Lookups by name; -1 when absent (scene/store.h). */
+#define evo_scene3d_find_element(sc, key)                                      \
+	EVO_STORE_FIND((sc)->element, (sc)->n_elements, evo_element3d, key)
+#define evo_scene3d_find_bot(sc, key)                                          \
+	EVO_STORE_FIND((sc)->bot, (sc)->n_bots, evo_bot3d, key)
+#define evo_bot3d_find_sensor(b, key)                                          \
+	EVO_STORE_FIND((b)->sensor, (b)->n_sensors, evo_sensor3d, key)
+#define evo_bot3d_find_actuator(b, key)                                        \
+	EVO_STORE_FIND((b)->actuator, (b)->n_actuators, evo_actuator3d, key)
 
 /* Start an episode: a new world with every element and bot where it
  * starts, neutral commands, rewards and controls cleared, the episode's
