@@ -57,8 +57,7 @@ static int check_piece(evo_scene_core *c, const char *what, const char *name,
 }
 
 /* Room for item n of an array of the core, zeroed; NULL with c->err set. */
-static void *slot(evo_scene_core *c, void **items, int n, int *cap,
-		  size_t size)
+static void *slot(evo_scene_core *c, void **items, int n, int *cap, size_t size)
 {
 	if (evo_store_grow(items, cap, n + 1, size, &c->err))
 		return NULL;
@@ -83,7 +82,9 @@ static int check_reward(evo_scene_core *c, const evo_reward_def *d)
 	if (d->n_sensors < 0 || d->n_sensors > EVO_REWARD_MAX_SENSORS)
 		return evo_fail(&c->err, "reward %s: %d sensors (at most %d)",
 				name, d->n_sensors, EVO_REWARD_MAX_SENSORS);
-	int n = c->dim->n_sensors(c, d->bot);
+	evo_bot_view v;
+	evo_core_bot(c, d->bot, &v);
+	int n = v.sensors.n;
 	for (int i = 0; i < d->n_sensors; i++)
 		if (d->sensor[i] < 0 || d->sensor[i] >= n)
 			return evo_fail(&c->err, "reward %s: no sensor %d",
@@ -100,27 +101,28 @@ int evo_core_add_reward(evo_scene_core *c, const evo_reward_def *d)
 	if ((unsigned)d->kind >= EVO_RW_KIND_COUNT)
 		return evo_fail(&c->err, "reward: unknown kind %d",
 				(int)d->kind);
-	evo_reward *r = check_reward(c, d) ? NULL
-					   : slot(c, (void **)&c->reward, c->n_rewards,
-						  &c->cap_rewards, sizeof *r);
-	if (!r)
+	if (check_reward(c, d) || !slot(c, (void **)&c->reward, c->n_rewards,
+					&c->cap_rewards, sizeof(evo_reward)))
 		return -1;
-	r->def = *d;
-	evo_reward_reset(r);
+	c->reward[c->n_rewards].def = *d;
+	evo_reward_reset(&c->reward[c->n_rewards]);
 	return c->n_rewards++;
 }
 
 static int check_control(evo_scene_core *c, const evo_control_def *d)
 {
 	const char *name = evo_control_kind_name(d->kind);
+	evo_bot_view v;
 	if (check_piece(c, "control", name, evo_control_kind_dims(d->kind),
 			d->bot, d->target))
 		return -1;
 	if (d->ticks < c->dim->timeout_shift)
-		return evo_fail(&c->err, "control %s: ticks must be %ld or more",
-				name, c->dim->timeout_shift);
+		return evo_fail(&c->err,
+				"control %s: ticks must be %ld or more", name,
+				c->dim->timeout_shift);
+	evo_core_bot(c, d->bot, &v);
 	if (d->kind == EVO_CF_NEXT_ON_SENSOR_BELOW &&
-	    (d->sensor < 0 || d->sensor >= c->dim->n_sensors(c, d->bot)))
+	    (d->sensor < 0 || d->sensor >= v.sensors.n))
 		return evo_fail(&c->err, "control %s: no sensor %d", name,
 				d->sensor);
 	if (d->kind == EVO_CF_NEXT_ON_TARGET_REACHED &&
@@ -137,13 +139,14 @@ int evo_core_add_control(evo_scene_core *c, const evo_control_def *d)
 	if ((unsigned)d->kind >= EVO_CF_KIND_COUNT)
 		return evo_fail(&c->err, "control: unknown kind %d",
 				(int)d->kind);
-	evo_control *k =
-	    check_control(c, d) ? NULL
-				: slot(c, (void **)&c->control, c->n_controls,
-				       &c->cap_controls, sizeof *k);
+	evo_control *k = check_control(c, d)
+			     ? NULL
+			     : slot(c, (void **)&c->control, c->n_controls,
+				    &c->cap_controls, sizeof *k);
 	if (!k)
 		return -1;
 	k->def = *d;
+	/* 3D's episode ends at tick `ticks` (evo_scene_dim) */
 	k->def.ticks = d->ticks - c->dim->timeout_shift;
 	evo_control_reset(k);
 	return c->n_controls++;
@@ -199,10 +202,11 @@ void evo_core_pay(void *core, const evo_reward *r, double v)
 		c->team_reward[r->def.team] += v;
 	} else if (r->def.scope == EVO_SCOPE_BOT && r->def.bot >= 0 &&
 		   r->def.bot < c->n_bots) {
-		int team = -1;
-		*c->dim->bot_account(c, r->def.bot, &team) += v;
-		if (team >= 0)
-			c->team_reward[team] += v;
+		evo_bot_view b;
+		evo_core_bot(c, r->def.bot, &b);
+		*b.reward += v;
+		if (b.team >= 0)
+			c->team_reward[b.team] += v;
 	}
 }
 

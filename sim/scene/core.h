@@ -33,13 +33,13 @@ typedef struct evo_scene_dim evo_scene_dim;
 
 /* The fields, once: the named struct and the scenes' anonymous one. */
 #define EVO_SCENE_CORE_FIELDS                                                  \
-	/* The physics, through the backend interface (scene/backend.h) */   \
+	/* The physics, through the backend interface (scene/backend.h) */     \
 	const evo_backend *be;                                                 \
 	evo_bworld *bw;                                                        \
 	const evo_scene_dim *dim; /* what differs by dimension */              \
 	int n_bots, n_elements;                                                \
-	long tick;		  /* ticks since the reset */                  \
-	evo_rng rng; /* the episode's randomness (RANDOM sensors) */           \
+	long tick;	    /* ticks since the reset */                        \
+	evo_rng rng;	    /* the episode's randomness (RANDOM sensors) */    \
 	uint64_t grid_seed; /* the last reset's: episode obstacles */          \
 	int n_rewards, n_controls;                                             \
 	int cap_rewards, cap_controls;                                         \
@@ -47,18 +47,18 @@ typedef struct evo_scene_dim evo_scene_dim;
 	evo_control *control;                                                  \
 	double step_reward;    /* what the rewards gave in the last step */    \
 	double episode_reward; /* since the reset */                           \
-	/* Teams (docs/teams.md): one more than the highest team of a bot;    \
-	 * what each team was paid since the reset (its bots' own and its     \
-	 * team rewards; a fault's penalty is the scene's); the episode's     \
+	/* Teams (docs/teams.md): one more than the highest team of a bot;     \
+	 * what each team was paid since the reset (its bots' own and its      \
+	 * team rewards; a fault's penalty is the scene's); the episode's      \
 	 * winner (-1: none yet) */                                            \
 	int n_teams;                                                           \
 	double team_reward[EVO_SCENE_MAX_TEAMS];                               \
 	int winner;                                                            \
-	/* what ended the episode early, in words (a body that exploded);     \
+	/* what ended the episode early, in words (a body that exploded);      \
 	 * "" while nothing did */                                             \
 	char fault[256];                                                       \
 	evo_swarm swarm; /* lights and floor patches (scene/swarm.h) */        \
-	int n_metrics;	 /* declared, in the order they were */               \
+	int n_metrics;	 /* declared, in the order they were */                \
 	evo_metric metric[EVO_SCENE_MAX_METRICS];                              \
 	evo_scene_hooks hooks; /* Lua's (sim/lua/lua_hooks.c), or a test's */  \
 	evo_err err;
@@ -93,7 +93,9 @@ typedef struct evo_bot_view {
 	const char *name;
 	int team;	/* -1: none */
 	int collisions; /* ticks spent touching since the reset */
-	double reward;	/* what its rewards paid it since the reset */
+	/* what its rewards paid it since the reset (evo_core_pay adds to
+	 * it) */
+	double *reward;
 	/* where it is on the ground plane, and where it started */
 	double now[2], start[2];
 	evo_parts sensors, actuators;
@@ -106,8 +108,6 @@ struct evo_scene_dim {
 	unsigned dims;	  /* EVO_DIM_2D or EVO_DIM_3D: the kinds it has */
 	/* how its rewards and controls read it (scene/scoring.h) */
 	const evo_score_ops *score;
-	/* its bots' sensors, for the checks at adding */
-	int (*n_sensors)(const evo_scene_core *c, int bot);
 	/* 0 when target may be a reward's or control's (an element, or
 	 * what else the dimension allows), else -1 with c->err set */
 	int (*check_target)(evo_scene_core *c, int target, const char *what);
@@ -115,8 +115,6 @@ struct evo_scene_dim {
 	 * NULL: none */
 	int (*check_reward)(evo_scene_core *c, const evo_reward_def *d);
 	int (*check_control)(evo_scene_core *c, const evo_control_def *d);
-	/* what a bot is paid into, and its team (-1: none) */
-	double *(*bot_account)(evo_scene_core *c, int bot, int *team);
 	/* 3D's NextOnTimeout ends the episode at tick `ticks`, one tick
 	 * before 2D's (the tutorial's rule): its control keeps ticks - 1 */
 	long timeout_shift;

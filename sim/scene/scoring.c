@@ -263,7 +263,7 @@ int evo_control_check_in(const evo_scored *s, evo_control *c)
 	case EVO_CF_NEXT_ON_SENSOR_BELOW:
 		return b && c->def.sensor >= 0 &&
 		       evo_core_sensor(s->sc, bot, c->def.sensor) <
-			      c->def.threshold;
+			   c->def.threshold;
 	/* NextOnTargetReached: the bot's centre within threshold of the
 	 * target's (the mazes' goal). */
 	case EVO_CF_NEXT_ON_TARGET_REACHED: {

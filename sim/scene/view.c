@@ -30,8 +30,7 @@ static double *value(const evo_parts *p, int i)
 				  p->value_at);
 }
 
-void evo_parts_read(const evo_parts *p, const int *map, unsigned n,
-		    double *out)
+void evo_parts_read(const evo_parts *p, const int *map, unsigned n, double *out)
 {
 	for (unsigned i = 0; i < n; i++)
 		out[i] = *value(p, map[i]);
@@ -47,8 +46,8 @@ void evo_parts_write(const evo_parts *p, const int *map, unsigned n,
 void evo_parts_set_idle(const evo_parts *p, int i, int idle)
 {
 	if (p->idle_at)
-		*(int *)(void *)(p->base + (size_t)i * p->stride +
-				 p->idle_at) = idle;
+		*(int *)(void *)(p->base + (size_t)i * p->stride + p->idle_at) =
+		    idle;
 }
 
 void evo_core_wake_scored(evo_scene_core *c)

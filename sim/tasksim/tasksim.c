@@ -415,8 +415,8 @@ static void step_agent(evo_sim *s, const evo_sim_agent *a, evo_q16 *in,
 		v[i] = evo_q16_to_double(out[i]);
 	evo_parts_write(&bv.actuators, tm->actuator_map, m->n_actuators, v);
 	if (s->trace && s->has_teams)
-		evo_trace_tick_bot(s->trace, s->core->tick, bv.name, m, in,
-				   out, a->state);
+		evo_trace_tick_bot(s->trace, s->core->tick, bv.name, m, in, out,
+				   a->state);
 	else if (s->trace)
 		evo_trace_tick(s->trace, s->core->tick, m, in, out, a->state);
 }
@@ -470,7 +470,8 @@ void evo_sim_trace_header(evo_sim *s)
 		const evo_sim_team *tm = &s->team[k];
 		const char *bots[EVO_TEAM_MAX_SIZE];
 		for (int i = 0; i < tm->size; i++)
-			bots[i] = evo_sim_bot_name(s, s->agent[tm->first + i].bot);
+			bots[i] =
+			    evo_sim_bot_name(s, s->agent[tm->first + i].bot);
 		evo_trace_team_header(s->trace, tm->name, tm->mind, bots,
 				      tm->size);
 	}
@@ -577,5 +578,5 @@ double evo_sim_bot_reward(const evo_sim *s, int bot)
 {
 	evo_bot_view v;
 	evo_core_bot(s->core, bot, &v);
-	return v.reward;
+	return *v.reward;
 }

@@ -1,7 +1,7 @@
 /* The 2D scene as the scene model (sim/scene/core.h) asks of it: its
  * evo_scene_dim, with the checks of rewards and controls only 2D makes
  * (a target may be the nearest object, opponent or teammate; Collect
- * needs a zone), whom a bot's reward is paid to, and the tick's parts
+ * needs a zone), and the tick's parts
  * (sensors.c, and step.c's act and read-back), which sim/scene/tick.c
  * runs in their order; and what a task's simulation reads of it: its
  * reset, a bot's figures and parts, the arena its obstacles span. */
@@ -13,11 +13,6 @@
 #include "world2d/sensors.h"
 
 /* ---- the checks at adding ------------------------------------------------ */
-
-static int n_sensors(const evo_scene_core *c, int bot)
-{
-	return ((const evo_scene *)c)->bot[bot].n_sensors;
-}
 
 /* A 2D target is an element, none, or the nearest object, opponent or
  * teammate. */
@@ -47,13 +42,6 @@ static int check_control(evo_scene_core *c, const evo_control_def *d)
 	return 0;
 }
 
-static double *bot_account(evo_scene_core *c, int bot, int *team)
-{
-	evo_bot *b = &((evo_scene *)c)->bot[bot];
-	*team = b->team;
-	return &b->reward;
-}
-
 /* ---- the tick ------------------------------------------------------------ */
 
 static void sense(evo_scene_core *c)
@@ -61,17 +49,8 @@ static void sense(evo_scene_core *c)
 	evo_sense_all((evo_scene *)c);
 }
 
-static void act(evo_scene_core *c)
-{
-	evo_scene_act((evo_scene *)c);
-}
-
-static void read_back(evo_scene_core *c)
-{
-	evo_scene_read_back((evo_scene *)c);
-}
-
-/* ---- what a task's simulation reads --------------------------------------- */
+/* ---- what a task's simulation reads ---------------------------------------
+ */
 
 static int reset(evo_scene_core *c, uint64_t grid_seed, uint64_t episode_seed)
 {
@@ -86,7 +65,7 @@ static void bot(const evo_scene_core *c, int i, evo_bot_view *v)
 	    .name = b->name,
 	    .team = b->team,
 	    .collisions = b->collisions,
-	    .reward = b->reward,
+	    .reward = &b->reward,
 	    .now = {b->x, b->y},
 	    .start = {b->def.x, b->def.y},
 	    .sensors = {(char *)b->sensor, b->n_sensors, sizeof *b->sensor,
@@ -136,15 +115,16 @@ static void arena(const evo_scene_core *c, double *b)
 const evo_scene_dim evo_scene_dim_2d = {
     .name = "2D",
     .dims = EVO_DIM_2D,
+    /* rewards and controls: how they read it, what they may name */
     .score = &evo_score_ops_2d,
-    .n_sensors = n_sensors,
     .check_target = target_ok,
     .check_reward = check_reward,
     .check_control = check_control,
-    .bot_account = bot_account,
+    /* the tick: one physics step, no fault (Box2D reports none) */
     .sense = sense,
-    .act = act,
-    .read_back = read_back,
+    .act = evo_scene_act,
+    .read_back = evo_scene_read_back,
+    /* what a task's simulation reads */
     .reset = reset,
     .bot = bot,
     .arena = arena,

@@ -46,11 +46,11 @@ void evo_scene_destroy(evo_scene *sc)
 
 /* Room for one more item in array arr of sc (scene/store.h); ADD: the
  * new item, zeroed, or NULL. */
-#define GROW(sc, arr, n, cap)                                                \
-	evo_store_grow((void **)&(sc)->arr, &(sc)->cap, (sc)->n + 1,         \
+#define GROW(sc, arr, n, cap)                                                  \
+	evo_store_grow((void **)&(sc)->arr, &(sc)->cap, (sc)->n + 1,           \
 		       sizeof *(sc)->arr, &(sc)->err)
-#define ADD(sc, arr, n, cap)                                                 \
-	evo_store_add((void **)&(sc)->arr, &(sc)->cap, (sc)->n,              \
+#define ADD(sc, arr, n, cap)                                                   \
+	evo_store_add((void **)&(sc)->arr, &(sc)->cap, (sc)->n,                \
 		      sizeof *(sc)->arr, &(sc)->err)
 
 /* Remember who owns body index `index`: a bot (>= 0) or an object
@@ -327,7 +327,7 @@ int evo_scene_add_sensor(evo_scene *sc, int bot, const evo_sensor_def *d)
 	if (name[0] && evo_bot_find_sensor(b, name) >= 0)
 		return evo_fail(&sc->err, "sensor '%s' is defined twice", name);
 	evo_sensor *s = evo_store_add((void **)&b->sensor, NULL, b->n_sensors,
-				       sizeof *s, &sc->err);
+				      sizeof *s, &sc->err);
 	if (!s || set_name(s->name, d->name, &sc->err))
 		return -1;
 	s->def = *d;
@@ -378,7 +378,7 @@ int evo_scene_add_actuator(evo_scene *sc, int bot, const evo_actuator_def *d)
 		return evo_fail(&sc->err, "actuator '%s' is defined twice",
 				name);
 	evo_actuator *a = evo_store_add((void **)&b->actuator, NULL,
-					 b->n_actuators, sizeof *a, &sc->err);
+					b->n_actuators, sizeof *a, &sc->err);
 	if (!a || set_name(a->name, d->name, &sc->err))
 		return -1;
 	a->def = *d;

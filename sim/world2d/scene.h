@@ -348,16 +348,11 @@ int evo_scene_add_wall(evo_scene *sc, double x1, double y1, double x2,
 #define evo_scene_set_metric(sc, k, v) evo_core_set_metric(&(sc)->core, k, v)
 
 /* Lookups by name; -1 when absent. */
-#define evo_scene_find_element(sc, key)                                        \
-	EVO_STORE_FIND((sc)->element, (sc)->n_elements, evo_element, key)
-#define evo_scene_find_bot(sc, key)                                            \
-	EVO_STORE_FIND((sc)->bot, (sc)->n_bots, evo_bot, key)
-#define evo_bot_find_sensor(b, key)                                            \
-	EVO_STORE_FIND((b)->sensor, (b)->n_sensors, evo_sensor, key)
-#define evo_bot_find_actuator(b, key)                                          \
-	EVO_STORE_FIND((b)->actuator, (b)->n_actuators, evo_actuator, key)
-#define evo_scene_find_metric(sc, name)                                        \
-	evo_core_find_metric(&(sc)->core, name)
+#define evo_scene_find_element(s, k)	EVO_FIND(s, element, evo_element, k)
+#define evo_scene_find_bot(s, k)	EVO_FIND(s, bot, evo_bot, k)
+#define evo_bot_find_sensor(b, k)	EVO_FIND(b, sensor, evo_sensor, k)
+#define evo_bot_find_actuator(b, k)	EVO_FIND(b, actuator, evo_actuator, k)
+#define evo_scene_find_metric(sc, name) evo_core_find_metric(&(sc)->core, name)
 
 /* ---- the episode and the tick (step.c) -------------------------------- */
 

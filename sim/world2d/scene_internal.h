@@ -21,8 +21,8 @@ int evo_scene_check_target(evo_scene *sc, int target, const char *what);
 /* step.c: before the physics step, every bot's actuators act; after it,
  * the bots' poses, movement history and contacts, and the objects'
  * poses, read back. */
-void evo_scene_act(evo_scene *sc);
-void evo_scene_read_back(evo_scene *sc);
+void evo_scene_act(evo_scene_core *c);
+void evo_scene_read_back(evo_scene_core *c);
 
 /* Add a static obstacle to the world and the scene's list; its index, or
  * -1 with sc->err set. */

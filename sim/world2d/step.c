@@ -91,8 +91,9 @@ static int undo_blocked_step(evo_scene *sc, evo_bot *b)
 	return 1;
 }
 
-void evo_scene_act(evo_scene *sc)
+void evo_scene_act(evo_scene_core *c)
 {
+	evo_scene *sc = (evo_scene *)c;
 	for (int i = 0; i < sc->n_bots; i++) {
 		for (int k = 0; k < sc->bot[i].n_actuators; k++)
 			evo_actuator_act(sc, i, k);
@@ -100,8 +101,9 @@ void evo_scene_act(evo_scene *sc)
 	}
 }
 
-void evo_scene_read_back(evo_scene *sc)
+void evo_scene_read_back(evo_scene_core *c)
 {
+	evo_scene *sc = (evo_scene *)c;
 	for (int i = 0; i < sc->n_bots; i++) {
 		evo_bot *b = &sc->bot[i];
 		int undone = undo_blocked_step(sc, b);

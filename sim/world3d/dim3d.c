@@ -1,6 +1,6 @@
 /* The 3D scene as the scene model (sim/scene/core.h) asks of it: its
  * evo_scene_dim, with what a 3D target may be (an element, or none),
- * whom a bot's reward is paid to, NextOnTimeout's shift, and the tick's
+ * NextOnTimeout's shift, and the tick's
  * parts (sensors3d.c, actuators3d.c, step3d.c's read-back and fault),
  * which sim/scene/tick.c runs in their order: contacts counted over the
  * tick's substeps, a body that explodes ending the episode; and what a
@@ -14,11 +14,6 @@
 
 /* ---- the checks at adding ------------------------------------------------ */
 
-static int n_sensors(const evo_scene_core *c, int bot)
-{
-	return ((const evo_scene3d *)c)->bot[bot].n_sensors;
-}
-
 /* A target of a 3D reward or control: an element, or none. */
 static int check_target(evo_scene_core *c, int target, const char *what)
 {
@@ -26,13 +21,6 @@ static int check_target(evo_scene_core *c, int target, const char *what)
 	    (target >= 0 && target < ((evo_scene3d *)c)->n_elements))
 		return 0;
 	return evo_fail(&c->err, "%s: no element %d", what, target);
-}
-
-static double *bot_account(evo_scene_core *c, int bot, int *team)
-{
-	evo_bot3d *b = &((evo_scene3d *)c)->bot[bot];
-	*team = b->def.team;
-	return &b->reward;
 }
 
 /* ---- the tick ------------------------------------------------------------ */
@@ -70,17 +58,8 @@ static void after_substep(evo_scene_core *c)
 		    sc->be->touching(sc->bw, evo_scene3d_body(sc->bot[i].body));
 }
 
-static void read_back(evo_scene_core *c)
-{
-	evo_scene3d_read_back((evo_scene3d *)c);
-}
-
-static double fault(evo_scene_core *c, const evo_bfault *f)
-{
-	return evo_scene3d_fault((evo_scene3d *)c, f);
-}
-
-/* ---- what a task's simulation reads --------------------------------------- */
+/* ---- what a task's simulation reads ---------------------------------------
+ */
 
 static int reset(evo_scene_core *c, uint64_t grid_seed, uint64_t episode_seed)
 {
@@ -94,7 +73,7 @@ static void bot(const evo_scene_core *c, int i, evo_bot_view *v)
 	    .name = b->name,
 	    .team = b->def.team,
 	    .collisions = b->collisions,
-	    .reward = b->reward,
+	    .reward = &b->reward,
 	    .now = {b->pos[0], b->pos[1]},
 	    .start = {b->start[0], b->start[1]},
 	    .sensors = {(char *)b->sensor, b->n_sensors, sizeof *b->sensor,
@@ -133,18 +112,20 @@ static void arena(const evo_scene_core *c, double *b)
 const evo_scene_dim evo_scene_dim_3d = {
     .name = "3D",
     .dims = EVO_DIM_3D,
+    /* rewards and controls: how they read it, what they may name */
     .score = &evo_score_ops_3d,
-    .n_sensors = n_sensors,
     .check_target = check_target,
-    .bot_account = bot_account,
     .timeout_shift = 1,
+    /* the tick: sensing, then before the physics */
     .sense = sense,
     .begin = begin,
     .substeps = substeps,
     .act = act,
+    /* after each physics step, after the last, or when a body exploded */
     .after_substep = after_substep,
-    .read_back = read_back,
-    .fault = fault,
+    .read_back = evo_scene3d_read_back,
+    .fault = evo_scene3d_fault,
+    /* what a task's simulation reads */
     .reset = reset,
     .bot = bot,
     .arena = arena,

@@ -340,7 +340,7 @@ int evo_scene3d_add_sensor(evo_scene3d *sc, int bot, const evo_sensor3d_def *d)
 		return evo_fail(&sc->err, "bot %s: sensor '%s' twice", b->name,
 				d->name);
 	evo_sensor3d *s = evo_store_add((void **)&b->sensor, NULL, b->n_sensors,
-					 sizeof *s, &sc->err);
+					sizeof *s, &sc->err);
 	if (!s || set_name(sc, s->name, d->name, "sensor", b->n_sensors))
 		return -1;
 	s->def = *d;
@@ -395,9 +395,8 @@ int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
 		return evo_fail(&sc->err, "bot %s: actuator '%s' twice",
 				b->name, d->name);
 	evo_actuator3d *a = evo_store_add((void **)&b->actuator, NULL,
-					   b->n_actuators, sizeof *a, &sc->err);
-	if (!a ||
-	    set_name(sc, a->name, d->name, "actuator", b->n_actuators))
+					  b->n_actuators, sizeof *a, &sc->err);
+	if (!a || set_name(sc, a->name, d->name, "actuator", b->n_actuators))
 		return -1;
 	a->def = *d;
 	a->def.name = a->name;

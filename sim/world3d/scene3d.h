@@ -245,7 +245,7 @@ typedef struct evo_scene3d {
 	/* The same world as ODE's own API sees it, for the 3D view and the
 	 * tests. */
 	evo_world3d *world;
-	int n_obstacles; /* n_bots and n_elements are the core's */
+	int n_obstacles;       /* n_bots and n_elements are the core's */
 	int n_fixed_obstacles; /* the elements'; the episode's follow */
 	int cap_elements, cap_bots, cap_obstacles;
 	evo_element3d *element;
@@ -273,10 +273,9 @@ int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
 #define evo_scene3d_add_control(sc, d) evo_core_add_control(&(sc)->core, d)
 
 /* An environment's metrics (scene/core.h). */
-#define evo_scene3d_add_metric(sc, n) evo_core_add_metric(&(sc)->core, n)
-#define evo_scene3d_set_metric(sc, k, v)                                       \
-	evo_core_set_metric(&(sc)->core, k, v)
-#define evo_scene3d_find_metric(sc, n) evo_core_find_metric(&(sc)->core, n)
+#define evo_scene3d_add_metric(sc, n)	 evo_core_add_metric(&(sc)->core, n)
+#define evo_scene3d_set_metric(sc, k, v) evo_core_set_metric(&(sc)->core, k, v)
+#define evo_scene3d_find_metric(sc, n)	 evo_core_find_metric(&(sc)->core, n)
 
 /* A static obstacle for this episode only (an environment's reset adds
  * them): the next reset removes it. Its category is EVO_CAT3D_GROUND for a
@@ -285,14 +284,10 @@ int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
 int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o);
 
 /* Lookups by name; -1 when absent (scene/store.h). */
-#define evo_scene3d_find_element(sc, key)                                      \
-	EVO_STORE_FIND((sc)->element, (sc)->n_elements, evo_element3d, key)
-#define evo_scene3d_find_bot(sc, key)                                          \
-	EVO_STORE_FIND((sc)->bot, (sc)->n_bots, evo_bot3d, key)
-#define evo_bot3d_find_sensor(b, key)                                          \
-	EVO_STORE_FIND((b)->sensor, (b)->n_sensors, evo_sensor3d, key)
-#define evo_bot3d_find_actuator(b, key)                                        \
-	EVO_STORE_FIND((b)->actuator, (b)->n_actuators, evo_actuator3d, key)
+#define evo_scene3d_find_element(s, k) EVO_FIND(s, element, evo_element3d, k)
+#define evo_scene3d_find_bot(s, k)     EVO_FIND(s, bot, evo_bot3d, k)
+#define evo_bot3d_find_sensor(b, k)    EVO_FIND(b, sensor, evo_sensor3d, k)
+#define evo_bot3d_find_actuator(b, k)  EVO_FIND(b, actuator, evo_actuator3d, k)
 
 /* Start an episode: a new world with every element and bot where it
  * starts, neutral commands, rewards and controls cleared, the episode's

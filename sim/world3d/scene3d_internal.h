@@ -41,8 +41,8 @@ extern const evo_scene_dim evo_scene_dim_3d;
 /* step3d.c: after the tick's physics, the bots' poses, speeds and
  * contacts and the objects' poses read back; a body that exploded said
  * in sc->fault, its penalty returned. */
-void evo_scene3d_read_back(evo_scene3d *sc);
-double evo_scene3d_fault(evo_scene3d *sc, const evo_bfault *f);
+void evo_scene3d_read_back(evo_scene_core *c);
+double evo_scene3d_fault(evo_scene_core *c, const evo_bfault *f);
 
 /* The distance from bot b's centre to element e's. */
 double evo_scene3d_distance(const evo_scene3d *sc, int bot, int element);

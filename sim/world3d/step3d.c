@@ -49,8 +49,9 @@ void evo_scene3d_place_element(evo_scene3d *sc, int element,
 }
 
 /* Which bot (or object) a body of the world is, in the fault message. */
-double evo_scene3d_fault(evo_scene3d *sc, const evo_bfault *f)
+double evo_scene3d_fault(evo_scene_core *c, const evo_bfault *f)
 {
+	evo_scene3d *sc = (evo_scene3d *)c;
 	int body = f->body.index;
 	const char *what = "a body";
 	for (int i = 0; i < sc->n_bots; i++) {
@@ -80,8 +81,9 @@ double evo_scene3d_fault(evo_scene3d *sc, const evo_bfault *f)
 	return sc->def.fault_penalty;
 }
 
-void evo_scene3d_read_back(evo_scene3d *sc)
+void evo_scene3d_read_back(evo_scene_core *c)
 {
+	evo_scene3d *sc = (evo_scene3d *)c;
 	evo_scene3d_refresh_bots(sc);
 	for (int i = 0; i < sc->n_bots; i++)
 		if (sc->bot[i].touching)
