@@ -446,20 +446,30 @@ void evo_bot3d_to_body(const evo_bot3d *b, const double v[3], double out[3])
 /* ---- the world -------------------------------------------------------------
  */
 
+/* A dynamic body at pos turned by yaw, of mass, group and category; its
+ * shapes to come. */
+static evo_bbody_def body_def(const double pos[3], double yaw, double mass,
+			      int group, unsigned category)
+{
+	evo_bbody_def d;
+	memset(&d, 0, sizeof d);
+	d.dynamic = 1;
+	memcpy(d.pos, pos, sizeof d.pos);
+	d.yaw = yaw;
+	d.mass = mass;
+	d.group = group;
+	d.category = (uint16_t)category;
+	return d;
+}
+
 /* Bot i's bodies: its hull (with its caster), then a body and a hinge for
  * each wheel, turning about the bot's y axis. */
 static int build_bot(evo_scene3d *sc, int i)
 {
 	evo_bot3d *b = &sc->bot[i];
 	const evo_bot3d_def *d = &b->def;
-	evo_bbody_def bd;
-	memset(&bd, 0, sizeof bd);
-	bd.dynamic = 1;
-	memcpy(bd.pos, b->start, sizeof bd.pos);
-	bd.yaw = b->start_yaw;
-	bd.mass = d->mass;
-	bd.group = i;
-	bd.category = EVO_CAT3D_BOT;
+	evo_bbody_def bd =
+	    body_def(b->start, b->start_yaw, d->mass, i, EVO_CAT3D_BOT);
 	evo_bshape *hull = &bd.shape[bd.n_shapes++];
 	hull->type = d->radius > 0 ? EVO_SHAPE_CIRCLE : EVO_SHAPE_BOX;
 	memcpy(hull->half, d->half, sizeof hull->half);
@@ -481,16 +491,12 @@ static int build_bot(evo_scene3d *sc, int i)
 		evo_actuator3d *a = &b->actuator[k];
 		if (a->def.kind != EVO3D_ACTUATOR_WHEEL)
 			continue;
-		evo_bbody_def wd;
-		memset(&wd, 0, sizeof wd);
-		wd.dynamic = 1;
-		evo_bot3d_to_world(b, a->def.pos, wd.pos);
+		double hub[3];
+		evo_bot3d_to_world(b, a->def.pos, hub);
 		for (int j = 0; j < 3; j++)
-			wd.pos[j] += b->pos[j];
-		wd.yaw = b->start_yaw;
-		wd.mass = a->def.mass;
-		wd.group = i;
-		wd.category = EVO_CAT3D_BOT;
+			hub[j] += b->pos[j];
+		evo_bbody_def wd =
+		    body_def(hub, b->start_yaw, a->def.mass, i, EVO_CAT3D_BOT);
 		wd.n_shapes = 1;
 		wd.shape[0].type = EVO_SHAPE_CYLINDER;
 		wd.shape[0].radius = a->def.radius;
@@ -533,14 +539,8 @@ int evo_scene3d_build_world(evo_scene3d *sc)
 		evo_element3d *e = &sc->element[i];
 		if (e->def.kind != EVO3D_ELEM_OBJECT)
 			continue;
-		evo_bbody_def od;
-		memset(&od, 0, sizeof od);
-		od.dynamic = 1;
-		memcpy(od.pos, e->pos, sizeof od.pos);
-		od.yaw = e->def.yaw;
-		od.mass = e->def.mass;
-		od.group = -1;
-		od.category = EVO_CAT3D_OBJECT;
+		evo_bbody_def od = body_def(e->pos, e->def.yaw, e->def.mass, -1,
+					    EVO_CAT3D_OBJECT);
 		od.n_shapes = 1;
 		od.shape[0].type =
 		    e->def.sphere ? EVO_SHAPE_CIRCLE : EVO_SHAPE_BOX;

@@ -25,14 +25,14 @@ static evo_scene *scene_2d(int team)
 	evo_bot_def b = evo_default_bot_def();
 	b.name = "r";
 	b.team = team;
-	evo_scene_add_bot(sc, &b);
+	evo_actuator_def a = evo_default_actuator_def(EVO_ACTUATOR_WHEEL);
+	a.name = "w";
 	evo_sensor_def s = evo_default_sensor_def(EVO_SENSOR_CONSTANT);
 	s.name = "c";
 	s.value = 0.25;
-	evo_scene_add_sensor(sc, 0, &s);
-	evo_actuator_def a = evo_default_actuator_def(EVO_ACTUATOR_WHEEL);
-	a.name = "w";
-	evo_scene_add_actuator(sc, 0, &a);
+	CHECK(evo_scene_add_bot(sc, &b) == 0 &&
+	      evo_scene_add_sensor(sc, 0, &s) == 0 &&
+	      evo_scene_add_actuator(sc, 0, &a) == 0);
 	return sc;
 }
 
@@ -45,15 +45,15 @@ static evo_scene3d *scene_3d(int team)
 	b.name = "r";
 	b.team = team;
 	b.pos[2] = b.half[2];
-	evo_scene3d_add_bot(sc, &b);
 	evo_sensor3d_def s = evo_default_sensor3d_def(EVO3D_SENSOR_CONSTANT);
 	s.name = "c";
 	s.value = 0.25;
-	evo_scene3d_add_sensor(sc, 0, &s);
 	evo_actuator3d_def a =
 	    evo_default_actuator3d_def(EVO3D_ACTUATOR_PROPELLER);
 	a.name = "p";
-	evo_scene3d_add_actuator(sc, 0, &a);
+	CHECK(evo_scene3d_add_bot(sc, &b) == 0 &&
+	      evo_scene3d_add_sensor(sc, 0, &s) == 0 &&
+	      evo_scene3d_add_actuator(sc, 0, &a) == 0);
 	return sc;
 }
 
