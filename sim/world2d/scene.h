@@ -15,9 +15,12 @@
  * The tick (DESIGN.md): evo_scene_sense, then the caller steps each bot's
  * mind and writes actuator commands, then evo_scene_step (actuators act,
  * physics steps, rewards add up, control functions decide whether the
- * episode goes on). Both are in step.c, which drives the pieces of
- * sensors.h, actuators.h and rewards.h; those read the scene and ask
- * query.h, and call nothing back (sim/world2d/README.md). */
+ * episode goes on). Their order is the scene model's (sim/scene/tick.c,
+ * the same for a 3D scene); this world's parts of them are step.c's and
+ * sensors.c's, through dim2d.c, and drive the pieces of sensors.h,
+ * actuators.h and rewards.h; those read the scene and ask query.h, and
+ * call nothing back (sim/world2d/README.md). What the scene keeps beside
+ * its bots is the scene model's core (scene/core.h), its first member. */
 #ifndef EVO_SCENE_H
 #define EVO_SCENE_H
 

@@ -16,7 +16,10 @@
  * (actuators act and the physics steps, `substeps` times; rewards add up;
  * control functions decide whether the episode goes on). A body that
  * explodes ends the episode with a message in `fault` and the fault
- * penalty added to the reward. */
+ * penalty added to the reward. The order is the scene model's
+ * (sim/scene/tick.c), this world's parts of it dim3d.c's; what the scene
+ * keeps beside its bots is the scene model's core (scene/core.h), its
+ * first member. */
 #ifndef EVO_SCENE3D_H
 #define EVO_SCENE3D_H
 
