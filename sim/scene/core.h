@@ -175,7 +175,8 @@ void evo_core_note_team(evo_scene_core *c, int team);
 
 /* The figures of a new episode: rewards and controls cleared, every metric
  * and team 0, no winner nor fault, tick 0, the rng seeded from
- * episode_seed, grid_seed kept. */
+ * episode_seed, grid_seed remembered (an environment's obstacles draw
+ * from it). */
 void evo_core_reset(evo_scene_core *c, uint64_t grid_seed,
 		    uint64_t episode_seed);
 
