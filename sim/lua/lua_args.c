@@ -120,7 +120,7 @@ void evo_lua_push_handle(lua_State *L, const char *mt, int index)
 int evo_lua_check_bot(lua_State *L, int idx)
 {
 	int i = *(int *)luaL_checkudata(L, idx, EVO_LUA_BOT_MT);
-	if (i < 0 || i >= evo_lua_ctx(L)->sc->n_bots)
+	if (i < 0 || i >= *evo_lua_ctx(L)->v.n_bots)
 		luaL_error(L, "stale bot handle");
 	return i;
 }
@@ -128,7 +128,7 @@ int evo_lua_check_bot(lua_State *L, int idx)
 int evo_lua_check_element(lua_State *L, int idx)
 {
 	int i = *(int *)luaL_checkudata(L, idx, EVO_LUA_ELEMENT_MT);
-	if (i < 0 || i >= evo_lua_ctx(L)->sc->n_elements)
+	if (i < 0 || i >= *evo_lua_ctx(L)->v.n_elements)
 		luaL_error(L, "stale element handle");
 	return i;
 }
@@ -152,6 +152,13 @@ int evo_lua_opt_target(lua_State *L, int idx, const char *key, const char *what)
 	int t = EVO_TARGET_NONE;
 	if (lua_type(L, -1) == LUA_TSTRING) {
 		const char *v = lua_tostring(L, -1);
+		const evo_lua_dim *dim = evo_lua_ctx(L)->dim;
+		if (!dim->named_targets)
+			luaL_error(L,
+				   "%s: %s must be an element; \"%s\" and the "
+				   "other nearest targets are 2D only, and "
+				   "this is a %s scene",
+				   what, key, v, dim->words);
 		if (strcmp(v, "nearest_object") == 0)
 			t = EVO_TARGET_NEAREST_OBJECT;
 		else if (strcmp(v, "nearest_opponent") == 0)
@@ -285,7 +292,7 @@ int evo_lua_opt_bot(lua_State *L, int idx, const char *what)
 			luaL_error(L, "%s: bot must be a bot, found %s", what,
 				   luaL_typename(L, -1));
 		b = evo_lua_check_bot(L, lua_gettop(L));
-	} else if (evo_lua_ctx(L)->sc->n_bots == 0) {
+	} else if (*evo_lua_ctx(L)->v.n_bots == 0) {
 		luaL_error(L, "%s: there is no bot yet", what);
 	}
 	lua_pop(L, 1);
@@ -298,31 +305,77 @@ int evo_lua_opt_bot(lua_State *L, int idx, const char *what)
 int evo_lua_bot_sensor_index(lua_State *L, int bot, const char *name,
 			     const char *what)
 {
-	const evo_bot *b = &evo_lua_ctx(L)->sc->bot[bot];
-	int s = evo_bot_find_sensor(b, name);
-	if (s < 0) {
-		/* the closest of its sensors' names */
-		const char *names[NAMES_MAX];
-		int n = 0;
-		for (int i = 0; i < b->n_sensors && n < NAMES_MAX;
-		     i++)
-			names[n++] = b->sensor[i].name;
-		const char *near = evo_lua_near(name, names, (size_t)n);
-		if (near)
-			luaL_error(L,
-				   "%s: bot '%s' has no sensor '%s'; did you "
-				   "mean %s?",
-				   what, b->name, name, near);
-		luaL_error(L, "%s: bot '%s' has no sensor '%s'", what, b->name,
-			   name);
+	const evo_lua *l = evo_lua_ctx(L);
+	const evo_lua_dim *dim = l->dim;
+	int n = dim->n_sensors(l, bot);
+	const char *names[NAMES_MAX];
+	int m = 0;
+	for (int i = 0; i < n; i++) {
+		const char *s = dim->sensor_name(l, bot, i);
+		if (strcmp(s, name) == 0)
+			return i;
+		if (m < NAMES_MAX)
+			names[m++] = s;
 	}
-	return s;
+	/* the closest of its sensors' names */
+	const char *near = evo_lua_near(name, names, (size_t)m);
+	if (near)
+		luaL_error(L, "%s: bot '%s' has no sensor '%s'; did you mean %s?",
+			   what, dim->bot_name(l, bot), name, near);
+	return luaL_error(L, "%s: bot '%s' has no sensor '%s'", what,
+			  dim->bot_name(l, bot), name);
 }
 
 /* Turn a scene error into a Lua error at the caller's line. */
 int evo_lua_scene_result(lua_State *L, int r)
 {
 	if (r < 0)
-		luaL_error(L, "%s", evo_lua_ctx(L)->sc->err.msg);
+		luaL_error(L, "%s", evo_lua_ctx(L)->v.err->msg);
 	return r;
+}
+
+void evo_lua_options(lua_State *L, int idx, const char *what,
+		     const char *const *keys)
+{
+	if (lua_isnoneornil(L, idx)) {
+		lua_settop(L, idx - 1);
+		lua_newtable(L);
+	}
+	evo_lua_check_keys(L, idx, what, keys);
+}
+
+void evo_lua_opt_pos(lua_State *L, int idx, double p[3], const char *what)
+{
+	static const char *const xyz[] = {"x", "y", "z"};
+	int n = evo_lua_ctx(L)->dim->coords;
+	for (int k = 0; k < n; k++)
+		p[k] = evo_lua_opt_num(L, idx, xyz[k], p[k], what);
+}
+
+void evo_lua_in_init(lua_State *L, const char *what)
+{
+	if (evo_lua_ctx(L)->in_reset)
+		luaL_error(L,
+			   "%s: elements are made in init and placed in reset "
+			   "(made in reset, one more would pile up every "
+			   "episode), as are bots, rewards and controls; "
+			   "per-episode obstacles come from %s (docs/lua.md)",
+			   what,
+			   evo_lua_ctx(L)->dim->dim == EVO_DIM_3D
+			       ? "scene:obstacle{...}"
+			       : "env.obstacles");
+}
+
+const char *const *evo_lua_kind_keys(lua_State *L, const evo_kind_row *row,
+				     const char *what)
+{
+	const evo_lua_dim *dim = evo_lua_ctx(L)->dim;
+	const char *const *keys = evo_kind_keys(row, dim->dim);
+	if (!keys)
+		luaL_error(L,
+			   "%s: %s is %s only, and this is a %s scene "
+			   "(docs/lua.md, \"Which world has what\")",
+			   what, row->name,
+			   dim->dim == EVO_DIM_3D ? "2D" : "3D", dim->words);
+	return keys;
 }

@@ -1,8 +1,10 @@
 /* evo — private to sim/lua/: what the files of the scene scripts' `evo`
  * module share (lua_evo.c sets up a state, lua_sandbox.c loads scripts
- * and holds what they may use, lua_args.c
- * reads options and handles, lua_bot.c and lua_scene.c are the methods
- * of bots, elements, metrics and the scene, lua_hooks.c calls Lua from the tick).
+ * and holds what they may use, lua_args.c reads options and handles,
+ * lua_scene.c, lua_scoring.c, lua_bot.c and lua_element.c are the methods
+ * of the scene, its rewards, controls and metrics, bots and elements, in
+ * either world, and reach the scene through the table of its dimension,
+ * lua_dim2d.c or lua_dim3d.c; lua_hooks.c calls Lua from the tick).
  * No other folder may include it. */
 #ifndef EVO_LUA_INTERNAL_H
 #define EVO_LUA_INTERNAL_H
@@ -14,11 +16,30 @@
 #include "base/rng.h"
 #include "lua/lua_evo.h"
 
+typedef struct evo_lua_dim evo_lua_dim;
+
+/* The fields a scene of either dimension has, by address: what the
+ * methods read and write without asking the dimension. */
+typedef struct evo_lua_view {
+	long *tick;
+	evo_rng *rng; /* the episode's */
+	int *n_bots, *n_elements, *n_rewards, *n_metrics;
+	evo_reward **reward;
+	evo_metric *metric;
+	evo_swarm *swarm;
+	evo_err *err;
+	double *episode_reward;
+	int *winner;
+	uint64_t *grid_seed;
+} evo_lua_view;
+
 struct evo_lua {
 	lua_State *L;
 	evo_scene *sc;	    /* a 2D scene's scripts: this one, */
 	evo_scene3d *sc3;   /* a 3D scene's: this one (the other NULL) */
-	evo_rng layout_rng; /* 3D: scene:layout_random, from the grid seed */
+	const evo_lua_dim *dim; /* the scene's dimension's functions */
+	evo_lua_view v;		/* its fields both dimensions have */
+	evo_rng layout_rng; /* scene:layout_random, from the grid seed */
 	char mind_dir[1024];
 	char lua_dir[1024];
 	char botmodel[EVO_NAME_MAX];
@@ -111,9 +132,6 @@ extern const char evo_lua_scene_key;
 #define EVO_LUA_ELEMENT_MT "evo.element"
 #define EVO_LUA_SCENE_MT "evo.scene"
 #define EVO_LUA_METRIC_MT "evo.metric"
-#define EVO_LUA_SCENE3D_MT   "evo.scene3d"
-#define EVO_LUA_BOT3D_MT     "evo.bot3d"
-#define EVO_LUA_ELEMENT3D_MT "evo.element3d"
 
 /* The most bots one team has (task.h's EVO_TEAM_MAX_SIZE): a team's
  * reward or control is one per bot. */
@@ -194,20 +212,99 @@ int evo_lua_bot_sensor_index(lua_State *L, int bot, const char *name,
 /* Turn a scene error (r < 0) into a Lua error at the caller's line. */
 int evo_lua_scene_result(lua_State *L, int r);
 
-/* ---- the methods of the four classes (lua_bot.c, lua_scene.c) -------- */
+/* ---- the methods of the four classes --------------------------------- */
 
-extern const luaL_Reg evo_lua_bot_methods[];
-extern const luaL_Reg evo_lua_element_methods[];
-extern const luaL_Reg evo_lua_metric_methods[];
-extern const luaL_Reg evo_lua_scene_methods[];
+/* Set the methods of each class into the table on the top of the stack:
+ * the scene's (lua_scene.c, with lua_scoring.c's rewards, controls and
+ * metrics), a bot's (lua_bot.c), an element's and a metric's
+ * (lua_element.c). The kinds of scene:NAME and bot:NAME come from
+ * sim/scene/kinds.c's rows, each a method in either world; called in a
+ * scene of a dimension its row lacks, one raises an error that says so. */
+void evo_lua_scene_methods(lua_State *L);
+void evo_lua_bot_methods(lua_State *L);
+void evo_lua_element_methods(lua_State *L);
+void evo_lua_metric_methods(lua_State *L);
+void evo_lua_scoring_methods(lua_State *L);
 
-/* scene:metric(name), in a scene of either dimension (lua_scene.c) */
-int evo_lua_scene_metric(lua_State *L);
+/* ---- the dimensions: lua_dim2d.c, lua_dim3d.c -------------------------- */
 
-/* lua_scene3d.c: the 3D scene's, its bots' and its elements' */
-extern const luaL_Reg evo_lua_scene3d_methods[];
-extern const luaL_Reg evo_lua_bot3d_methods[];
-extern const luaL_Reg evo_lua_element3d_methods[];
+/* What bot:counts() says. */
+typedef struct evo_lua_counts {
+	int touching, collisions, delivered, gathered, holding;
+	double reward;
+} evo_lua_counts;
+
+/* What differs between a 2D and a 3D scene, as the methods need it: one
+ * table of functions per dimension. Functions of L read the options
+ * table at stack index 2 (its keys already checked against the kind's
+ * row) and raise on a bad value. */
+struct evo_lua_dim {
+	unsigned dim;	   /* EVO_DIM_2D or EVO_DIM_3D */
+	const char *words; /* "2D" or "3D" */
+	int coords;	   /* the numbers of a position: 2 or 3 */
+	int named_targets; /* targets may be "nearest_object" and the like */
+	long min_ticks;	   /* the least NextOnTimeout takes */
+	void (*view)(evo_lua *l, evo_lua_view *v);
+	const char *const *bot_keys; /* scene:bot's options */
+	/* scene:bot: a bot of the model's table at 3 and the options at 2,
+	 * named name, of team (-1: none); its index */
+	int (*add_bot)(lua_State *L, int team, const char *name,
+		       const char *what);
+	/* scene:NAME: a piece of kind (evo_piece_kind); an element's
+	 * index, or -1 for a piece that is not an element */
+	int (*add_piece)(lua_State *L, int kind, const char *what);
+	/* bot:NAME: a sensor (evo_sense_kind) or actuator (evo_act_kind);
+	 * its index */
+	int (*add_sensor)(lua_State *L, int bot, int kind, const char *what);
+	int (*add_actuator)(lua_State *L, int bot, int kind, const char *what);
+	int (*add_reward)(evo_lua *l, const evo_reward_def *d);
+	int (*add_control)(evo_lua *l, const evo_control_def *d);
+	/* names and lookups (-1: none) */
+	int (*find_bot)(const evo_lua *l, const char *name);
+	int (*find_element)(const evo_lua *l, const char *name);
+	const char *(*bot_name)(const evo_lua *l, int bot);
+	int (*bot_team)(const evo_lua *l, int bot);
+	const char *(*element_name)(const evo_lua *l, int e);
+	int (*n_sensors)(const evo_lua *l, int bot);
+	const char *(*sensor_name)(const evo_lua *l, int bot, int s);
+	int (*sensor_kind)(const evo_lua *l, int bot, int s); /* sense kind */
+	int (*sensor_target)(const evo_lua *l, int bot, int s);
+	int (*find_actuator)(const evo_lua *l, int bot, const char *name);
+	double (*command)(const evo_lua *l, int bot, int a);
+	/* reading and moving */
+	void (*set_target)(lua_State *L, int bot, int s, int target);
+	double (*sample)(evo_lua *l, int bot, int s);
+	void (*pose)(const evo_lua *l, int bot, double p[3], double *yaw);
+	void (*start)(const evo_lua *l, int bot, double p[3], double *yaw);
+	int (*place_bot)(evo_lua *l, int bot, const double p[3], double yaw);
+	void (*counts)(const evo_lua *l, int bot, evo_lua_counts *c);
+	void (*element_pos)(const evo_lua *l, int e, double p[3]);
+	/* why element e may not move, or NULL */
+	const char *(*element_fixed)(const evo_lua *l, int e);
+	void (*place_element)(evo_lua *l, int e, const double p[3]);
+	int (*element_active)(const evo_lua *l, int e);
+	/* NULL in a world whose elements are never switched off */
+	void (*set_element_active)(evo_lua *l, int e, int on);
+};
+
+extern const evo_lua_dim evo_lua_dim2d;
+extern const evo_lua_dim evo_lua_dim3d;
+
+/* The options table at idx (none: an empty one put there), its keys
+ * checked against keys. */
+void evo_lua_options(lua_State *L, int idx, const char *what,
+		     const char *const *keys);
+/* x, y (and z in 3D) of the table at idx into p (each defaulting to
+ * p's). */
+void evo_lua_opt_pos(lua_State *L, int idx, double p[3], const char *what);
+/* The options a kind's row (sim/scene/kinds.c) takes in the scene's
+ * dimension; a kind the dimension lacks is an error naming it and the
+ * dimension. */
+const char *const *evo_lua_kind_keys(lua_State *L, const evo_kind_row *row,
+				     const char *what);
+/* Elements, bots, rewards and controls are added in init: made in reset,
+ * one more would pile up every episode. */
+void evo_lua_in_init(lua_State *L, const char *what);
 
 /* ---- lua_sandbox.c: loading scripts, and what they may use ---------- */
 
@@ -277,21 +374,16 @@ int evo_lua_hook_post_step(void *c, evo_err *err);
 /* The scene's tick, whatever its dimension. */
 static inline long evo_lua_tick(const evo_lua *l)
 {
-	return l->sc ? l->sc->tick : l->sc3->tick;
+	return *l->v.tick;
 }
 
 /* The scene's metrics (scene/scoring.h), whatever its dimension: the
  * array, with its count in *n, and the scene's error in *err. */
 static inline evo_metric *evo_lua_metrics(evo_lua *l, int **n, evo_err **err)
 {
-	if (l->sc) {
-		*n = &l->sc->n_metrics;
-		*err = &l->sc->err;
-		return l->sc->metric;
-	}
-	*n = &l->sc3->n_metrics;
-	*err = &l->sc3->err;
-	return l->sc3->metric;
+	*n = l->v.n_metrics;
+	*err = l->v.err;
+	return l->v.metric;
 }
 /* Call env[name](scene, arg) if the environment has it: with_arg 0 no
  * argument, 1 the integer arg, 2 the task's table. 0, or -1 with err. */
