@@ -93,6 +93,16 @@ double evo_lua_opt_num(lua_State *L, int idx, const char *key, double dflt,
 	return v;
 }
 
+void evo_lua_opt_nums(lua_State *L, int idx, const char *what,
+		      const evo_lua_num *nums)
+{
+	for (const evo_lua_num *n = nums; n->key; n++) {
+		double unit = n->unit ? n->unit : 1;
+		*n->v = evo_lua_opt_num(L, idx, n->key, *n->v / unit, what) *
+			unit;
+	}
+}
+
 const char *evo_lua_opt_str(lua_State *L, int idx, const char *key,
 			    const char *dflt, const char *what)
 {
@@ -307,23 +317,22 @@ int evo_lua_bot_sensor_index(lua_State *L, int bot, const char *name,
 {
 	const evo_lua *l = evo_lua_ctx(L);
 	const evo_lua_dim *dim = l->dim;
-	int n = dim->n_sensors(l, bot);
+	evo_lua_sensor se;
 	const char *names[NAMES_MAX];
-	int m = 0;
-	for (int i = 0; i < n; i++) {
-		const char *s = dim->sensor_name(l, bot, i);
-		if (strcmp(s, name) == 0)
+	int m = 0, team;
+	for (int i = 0; i < dim->sensor(l, bot, i, &se); i++) {
+		if (strcmp(se.name, name) == 0)
 			return i;
 		if (m < NAMES_MAX)
-			names[m++] = s;
+			names[m++] = se.name;
 	}
 	/* the closest of its sensors' names */
 	const char *near = evo_lua_near(name, names, (size_t)m);
 	if (near)
 		luaL_error(L, "%s: bot '%s' has no sensor '%s'; did you mean %s?",
-			   what, dim->bot_name(l, bot), name, near);
+			   what, dim->bot(l, bot, &team), name, near);
 	return luaL_error(L, "%s: bot '%s' has no sensor '%s'", what,
-			  dim->bot_name(l, bot), name);
+			  dim->bot(l, bot, &team), name);
 }
 
 /* Turn a scene error into a Lua error at the caller's line. */
@@ -378,4 +387,59 @@ const char *const *evo_lua_kind_keys(lua_State *L, const evo_kind_row *row,
 			   what, row->name,
 			   dim->dim == EVO_DIM_3D ? "2D" : "3D", dim->words);
 	return keys;
+}
+
+int evo_lua_kind_of(const int *rows, int n, int kind)
+{
+	int k = 0;
+	while (k < n - 1 && rows[k] != kind)
+		k++;
+	return k;
+}
+
+const char *evo_lua_opt_name(lua_State *L, const char *what, const char *noun)
+{
+	const char *name = evo_lua_opt_str(L, 2, "name", NULL, what);
+	if (!name)
+		luaL_error(L, "%s: %s %s needs a name", what,
+			   strchr("aeiou", noun[0]) ? "an" : "a", noun);
+	return name;
+}
+
+unsigned evo_lua_opt_words(lua_State *L, int idx, const char *key,
+			   const char *const *words, int n, const char *what,
+			   int *given)
+{
+	unsigned mask = 0;
+	*given = lua_getfield(L, idx, key) != LUA_TNIL;
+	if (*given) {
+		luaL_checktype(L, -1, LUA_TTABLE);
+		lua_Integer len = luaL_len(L, -1);
+		for (lua_Integer i = 1; i <= len; i++) {
+			lua_geti(L, -1, i);
+			const char *s = lua_tostring(L, -1);
+			int w = 0;
+			while (w < n && !(s && strcmp(s, words[w]) == 0))
+				w++;
+			if (w == n) {
+				luaL_Buffer b;
+				luaL_buffinit(L, &b);
+				for (int k = 0; k < n; k++) {
+					luaL_addstring(&b, k == 0 ? "\""
+						       : k < n - 1 ? ", \""
+								   : " or \"");
+					luaL_addstring(&b, words[k]);
+					luaL_addstring(&b, "\"");
+				}
+				luaL_pushresult(&b);
+				luaL_error(L, "%s: %s lists %s, found %s", what,
+					   key, lua_tostring(L, -1),
+					   s ? s : luaL_typename(L, -2));
+			}
+			mask |= 1u << w;
+			lua_pop(L, 1);
+		}
+	}
+	lua_pop(L, 1);
+	return mask;
 }

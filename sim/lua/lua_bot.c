@@ -54,7 +54,8 @@ static int bot_target(lua_State *L)
 	return 0;
 }
 
-/* ---- pose and place ------------------------------------------------------- */
+/* ---- pose and place -------------------------------------------------------
+ */
 
 /* bot:pose(): x, y[, z] and its heading in degrees; bot:pos(): x, y[, z]. */
 static int push_pose(lua_State *L, int with_yaw)
@@ -110,7 +111,8 @@ static int bot_place(lua_State *L)
 	return 0;
 }
 
-/* ---- reading ------------------------------------------------------------------ */
+/* ---- reading
+ * ------------------------------------------------------------------ */
 
 static int bot_value(lua_State *L)
 {
@@ -128,11 +130,12 @@ static int bot_command(lua_State *L)
 	evo_lua *l = evo_lua_ctx(L);
 	int bot = evo_lua_check_bot(L, 1);
 	const char *name = luaL_checkstring(L, 2);
-	int a = l->dim->find_actuator(l, bot, name);
-	if (a < 0)
+	double c;
+	int team;
+	if (l->dim->command(l, bot, name, &c) < 0)
 		luaL_error(L, "bot:command: bot '%s' has no actuator '%s'",
-			   l->dim->bot_name(l, bot), name);
-	lua_pushnumber(L, l->dim->command(l, bot, a));
+			   l->dim->bot(l, bot, &team), name);
+	lua_pushnumber(L, c);
 	return 1;
 }
 
@@ -143,15 +146,18 @@ static int bot_counts(lua_State *L)
 	evo_lua *l = evo_lua_ctx(L);
 	evo_lua_counts c;
 	l->dim->counts(l, evo_lua_check_bot(L, 1), &c);
+	const struct {
+		const char *name;
+		int n;
+	} whole[] = {{"touching", c.touching},
+		     {"collisions", c.collisions},
+		     {"delivered", c.delivered},
+		     {"gathered", c.gathered}};
 	lua_newtable(L);
-	lua_pushinteger(L, c.touching);
-	lua_setfield(L, -2, "touching");
-	lua_pushinteger(L, c.collisions);
-	lua_setfield(L, -2, "collisions");
-	lua_pushinteger(L, c.delivered);
-	lua_setfield(L, -2, "delivered");
-	lua_pushinteger(L, c.gathered);
-	lua_setfield(L, -2, "gathered");
+	for (int i = 0; i < 4; i++) {
+		lua_pushinteger(L, whole[i].n);
+		lua_setfield(L, -2, whole[i].name);
+	}
 	lua_pushnumber(L, c.reward);
 	lua_setfield(L, -2, "reward");
 	lua_pushboolean(L, c.holding);
@@ -190,18 +196,19 @@ static int bot_sensors(lua_State *L)
 	const char *kind = luaL_optstring(L, 2, NULL);
 	const char *filter = luaL_optstring(L, 3, NULL);
 	if (filter && strcmp(filter, "untargeted") != 0)
-		luaL_error(L, "bot:sensors: the filter is \"untargeted\", found "
-			      "\"%s\"",
+		luaL_error(L,
+			   "bot:sensors: the filter is \"untargeted\", found "
+			   "\"%s\"",
 			   filter);
 	int k = kind ? sensor_kind(L, kind) : -1;
 	lua_newtable(L);
 	lua_Integer n = 0;
-	for (int i = 0; i < l->dim->n_sensors(l, bot); i++) {
-		if ((kind && l->dim->sensor_kind(l, bot, i) != k) ||
-		    (filter &&
-		     l->dim->sensor_target(l, bot, i) != EVO_TARGET_NONE))
+	evo_lua_sensor se;
+	for (int i = 0; i < l->dim->sensor(l, bot, i, &se); i++) {
+		if ((kind && se.kind != k) ||
+		    (filter && se.target != EVO_TARGET_NONE))
 			continue;
-		lua_pushstring(L, l->dim->sensor_name(l, bot, i));
+		lua_pushstring(L, se.name);
 		lua_seti(L, -2, ++n);
 	}
 	return 1;
@@ -211,7 +218,8 @@ static int bot_sensors(lua_State *L)
 static int bot_team(lua_State *L)
 {
 	evo_lua *l = evo_lua_ctx(L);
-	int t = l->dim->bot_team(l, evo_lua_check_bot(L, 1));
+	int t;
+	l->dim->bot(l, evo_lua_check_bot(L, 1), &t);
 	if (t >= 0 && t < l->n_teams)
 		lua_pushstring(L, l->team[t].name);
 	else
@@ -222,16 +230,22 @@ static int bot_team(lua_State *L)
 static int bot_name(lua_State *L)
 {
 	evo_lua *l = evo_lua_ctx(L);
-	lua_pushstring(L, l->dim->bot_name(l, evo_lua_check_bot(L, 1)));
+	int team;
+	lua_pushstring(L, l->dim->bot(l, evo_lua_check_bot(L, 1), &team));
 	return 1;
 }
 
-static const luaL_Reg bot_methods[] = {
-    {"target", bot_target},   {"pose", bot_pose},	{"pos", bot_pos},
-    {"place", bot_place},     {"value", bot_value},	{"command", bot_command},
-    {"counts", bot_counts},   {"sensors", bot_sensors}, {"name", bot_name},
-    {"team", bot_team},	      {NULL, NULL},
-};
+static const luaL_Reg bot_methods[] = {{"target", bot_target},
+				       {"pose", bot_pose},
+				       {"pos", bot_pos},
+				       {"place", bot_place},
+				       {"value", bot_value},
+				       {"command", bot_command},
+				       {"counts", bot_counts},
+				       {"sensors", bot_sensors},
+				       {"name", bot_name},
+				       {"team", bot_team},
+				       {NULL, NULL}};
 
 void evo_lua_bot_methods(lua_State *L)
 {

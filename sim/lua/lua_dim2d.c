@@ -15,42 +15,27 @@ static evo_scene *scene(lua_State *L)
 	return evo_lua_ctx(L)->sc;
 }
 
-static void view(evo_lua *l, evo_lua_view *v)
-{
-	evo_scene *sc = l->sc;
-	*v = (evo_lua_view){&sc->tick,	     &sc->rng,	      &sc->n_bots,
-			    &sc->n_elements, &sc->n_rewards,  &sc->n_metrics,
-			    &sc->reward,     sc->metric,      &sc->swarm,
-			    &sc->err,	     &sc->episode_reward, &sc->winner,
-			    &sc->grid_seed};
-}
-
 /* ---- scene pieces ------------------------------------------------------ */
 
-static int add_element(lua_State *L, evo_element_kind kind, const char *what)
+static int add_element(lua_State *L, int kind, const char *what)
 {
-	evo_element_def d = evo_default_element_def(kind);
+	evo_element_def d = evo_default_element_def((evo_element_kind)kind);
 	d.name = evo_lua_opt_str(L, 2, "name", NULL, what);
-	d.x = evo_lua_opt_num(L, 2, "x", 0, what);
-	d.y = evo_lua_opt_num(L, 2, "y", 0, what);
-	d.angle = evo_lua_opt_num(L, 2, "angle", 0, what) * EVO_LUA_DEG;
-	d.size = evo_lua_opt_num(
-	    L, 2, kind == EVO_ELEM_ZONE ? "size" : "radius", d.size, what);
-	d.half_w = evo_lua_opt_num(L, 2, "half_width", d.half_w, what);
-	d.half_h = evo_lua_opt_num(L, 2, "half_height", d.half_h, what);
-	d.density = evo_lua_opt_num(L, 2, "density", d.density, what);
-	d.friction = evo_lua_opt_num(L, 2, "friction", d.friction, what);
-	d.restitution =
-	    evo_lua_opt_num(L, 2, "restitution", d.restitution, what);
-	d.linear_damping =
-	    evo_lua_opt_num(L, 2, "linear_damping", d.linear_damping, what);
-	d.angular_damping =
-	    evo_lua_opt_num(L, 2, "angular_damping", d.angular_damping, what);
+	/* x, y and angle start at 0 (evo_default_element_def) */
+	EVO_LUA_NUMS(L, 2, what, {"x", &d.x, 0}, {"y", &d.y, 0},
+		     {"angle", &d.angle, EVO_LUA_DEG},
+		     {kind == EVO_ELEM_ZONE ? "size" : "radius", &d.size, 0},
+		     {"half_width", &d.half_w, 0},
+		     {"half_height", &d.half_h, 0}, {"density", &d.density, 0},
+		     {"friction", &d.friction, 0},
+		     {"restitution", &d.restitution, 0},
+		     {"linear_damping", &d.linear_damping, 0},
+		     {"angular_damping", &d.angular_damping, 0});
 	return evo_lua_scene_result(L, evo_scene_add_element(scene(L), &d));
 }
 
 /* scene:wall{x1, y1, x2, y2}: a wall of no thickness (docs/lua.md). */
-static int add_wall(lua_State *L, const char *what)
+static void add_wall(lua_State *L, const char *what)
 {
 	static const char *const keys[] = {"x1", "y1", "x2", "y2"};
 	double v[4];
@@ -63,23 +48,18 @@ static int add_wall(lua_State *L, const char *what)
 	}
 	evo_lua_scene_result(
 	    L, evo_scene_add_wall(scene(L), v[0], v[1], v[2], v[3]));
-	return -1;
 }
 
-static int add_grid(lua_State *L, const char *what)
+static void add_grid(lua_State *L, const char *what)
 {
 	evo_grid_def g = evo_default_grid_def();
 	g.enabled = 1;
-	g.x0 = evo_lua_opt_num(L, 2, "x0", g.x0, what);
-	g.y0 = evo_lua_opt_num(L, 2, "y0", g.y0, what);
-	g.x1 = evo_lua_opt_num(L, 2, "x1", g.x1, what);
-	g.y1 = evo_lua_opt_num(L, 2, "y1", g.y1, what);
-	g.spacing = evo_lua_opt_num(L, 2, "spacing", g.spacing, what);
-	g.jitter = evo_lua_opt_num(L, 2, "jitter", g.jitter, what);
-	g.min_size = evo_lua_opt_num(L, 2, "min_size", g.min_size, what);
-	g.size_variability =
-	    evo_lua_opt_num(L, 2, "size_variability", g.size_variability, what);
-	g.clearance = evo_lua_opt_num(L, 2, "clearance", g.clearance, what);
+	EVO_LUA_NUMS(L, 2, what, {"x0", &g.x0, 0}, {"y0", &g.y0, 0},
+		     {"x1", &g.x1, 0}, {"y1", &g.y1, 0},
+		     {"spacing", &g.spacing, 0}, {"jitter", &g.jitter, 0},
+		     {"min_size", &g.min_size, 0},
+		     {"size_variability", &g.size_variability, 0},
+		     {"clearance", &g.clearance, 0});
 	const char *shapes = evo_lua_opt_str(L, 2, "shapes", "cylinders", what);
 	if (strcmp(shapes, "cylinders") == 0)
 		g.boxes = 0;
@@ -101,28 +81,19 @@ static int add_grid(lua_State *L, const char *what)
 	if ((g.x1 - g.x0) / g.spacing * (g.y1 - g.y0) / g.spacing > 1e6)
 		luaL_error(L, "%s: more than a million cells", what);
 	evo_scene_set_grid(scene(L), &g);
-	return -1;
 }
 
-static int add_piece(lua_State *L, int kind, const char *what)
+/* The pieces of kinds.c's rows that are no elements, in 2D. */
+static void add_part(lua_State *L, int kind, const char *what)
 {
-	switch (kind) {
-	case EVO_PIECE_CYLINDER:
-		return add_element(L, EVO_ELEM_CYLINDER, what);
-	case EVO_PIECE_BOX:
-		return add_element(L, EVO_ELEM_BOX, what);
-	case EVO_PIECE_ZONE:
-		return add_element(L, EVO_ELEM_ZONE, what);
-	case EVO_PIECE_OBJECT:
-		return add_element(L, EVO_ELEM_OBJECT, what);
-	case EVO_PIECE_WALL:
-		return add_wall(L, what);
-	default: /* EVO_PIECE_GRID: kinds.c's rows let no other through */
-		return add_grid(L, what);
-	}
+	if (kind == EVO_PIECE_WALL)
+		add_wall(L, what);
+	else
+		add_grid(L, what);
 }
 
-/* ---- bots ----------------------------------------------------------------- */
+/* ---- bots -----------------------------------------------------------------
+ */
 
 /* The line of a bot model's file where its body table starts (the first
  * "body =" outside a comment), 0 when none is found: a table has no line
@@ -171,30 +142,28 @@ static int read_body(lua_State *L)
 		sh->type = EVO_SHAPE_BOX;
 	else
 		luaL_error(L, "%s: shape is \"circle\" or \"box\"", bw);
-	sh->radius = evo_lua_opt_num(L, b, "radius", sh->radius, bw);
-	sh->half[0] = evo_lua_opt_num(L, b, "half_width", sh->half[0], bw);
-	sh->half[1] = evo_lua_opt_num(L, b, "half_height", sh->half[1], bw);
-	body->density = evo_lua_opt_num(L, b, "density", body->density, bw);
-	sh->friction = evo_lua_opt_num(L, b, "friction", sh->friction, bw);
-	sh->restitution =
-	    evo_lua_opt_num(L, b, "restitution", sh->restitution, bw);
-	body->linear_damping =
-	    evo_lua_opt_num(L, b, "linear_damping", body->linear_damping, bw);
-	body->angular_damping =
-	    evo_lua_opt_num(L, b, "angular_damping", body->angular_damping, bw);
+	EVO_LUA_NUMS(
+	    L, b, bw, {"radius", &sh->radius, 0},
+	    {"half_width", &sh->half[0], 0}, {"half_height", &sh->half[1], 0},
+	    {"density", &body->density, 0}, {"friction", &sh->friction, 0},
+	    {"restitution", &sh->restitution, 0},
+	    {"linear_damping", &body->linear_damping, 0},
+	    {"angular_damping", &body->angular_damping, 0});
 	lua_getfield(L, b, "sleep");
 	body->allow_sleep = lua_toboolean(L, -1);
 	lua_pop(L, 1);
 	/* "undo": a kinematic body whose steps into a wall are undone
 	 * (Lehman's maze simulator; docs/world.md, "The mazes") */
-	const char *collision = evo_lua_opt_str(L, b, "collision", "physics", bw);
+	const char *collision =
+	    evo_lua_opt_str(L, b, "collision", "physics", bw);
 	if (strcmp(collision, "physics") == 0)
 		body->kinematic = 0;
 	else if (strcmp(collision, "undo") == 0)
 		body->kinematic = 1;
 	else
-		luaL_error(L, "%s: collision is \"physics\" or \"undo\", not \"%s\"",
-			   bw, collision);
+		luaL_error(
+		    L, "%s: collision is \"physics\" or \"undo\", not \"%s\"",
+		    bw, collision);
 	return 0;
 }
 
@@ -230,33 +199,26 @@ static int add_bot(lua_State *L, int team, const char *name, const char *what)
 
 /* ---- sensors and actuators ---------------------------------------------- */
 
-/* Each 2D sensor kind's row of sim/scene/kinds.c. */
-static const evo_sense_kind sense_of[EVO_SENSOR_KIND_COUNT] = {
-    [EVO_SENSOR_PROXIMITY] = EVO_SENSE_PROXIMITY,
-    [EVO_SENSOR_DISTANCE] = EVO_SENSE_DISTANCE,
-    [EVO_SENSOR_ZONE] = EVO_SENSE_ZONE,
-    [EVO_SENSOR_BEARING] = EVO_SENSE_BEARING,
-    [EVO_SENSOR_PRESENCE] = EVO_SENSE_PRESENCE,
-    [EVO_SENSOR_OBJECT] = EVO_SENSE_OBJECT_DETECTOR,
-    [EVO_SENSOR_MOVEMENT] = EVO_SENSE_MOVEMENT,
-    [EVO_SENSOR_RANDOM] = EVO_SENSE_RANDOM,
-    [EVO_SENSOR_CONSTANT] = EVO_SENSE_CONSTANT,
-    [EVO_SENSOR_HOLDING] = EVO_SENSE_HOLDING,
-    [EVO_SENSOR_RADAR] = EVO_SENSE_RADAR,
-    [EVO_SENSOR_BUMPER] = EVO_SENSE_BUMPER,
-    [EVO_SENSOR_LIGHT] = EVO_SENSE_LIGHT,
-    [EVO_SENSOR_GROUND] = EVO_SENSE_GROUND,
-    [EVO_SENSOR_RAB] = EVO_SENSE_RAB,
-    [EVO_SENSOR_CAMERA] = EVO_SENSE_CAMERA,
-};
+/* Each 2D sensor kind's row of sim/scene/kinds.c, in evo_sensor_kind's
+ * order. */
+static const int sense_of[] = {
+    EVO_SENSE_PROXIMITY, EVO_SENSE_DISTANCE, EVO_SENSE_ZONE,
+    EVO_SENSE_BEARING,	 EVO_SENSE_PRESENCE, EVO_SENSE_OBJECT_DETECTOR,
+    EVO_SENSE_MOVEMENT,	 EVO_SENSE_RANDOM,   EVO_SENSE_CONSTANT,
+    EVO_SENSE_HOLDING,	 EVO_SENSE_RADAR,    EVO_SENSE_BUMPER,
+    EVO_SENSE_LIGHT,	 EVO_SENSE_GROUND,   EVO_SENSE_RAB,
+    EVO_SENSE_CAMERA};
+_Static_assert(sizeof sense_of / sizeof *sense_of == EVO_SENSOR_KIND_COUNT,
+	       "a row for each kind");
 
-static const evo_act_kind act_of[EVO_ACTUATOR_KIND_COUNT] = {
-    [EVO_ACTUATOR_WHEEL] = EVO_ACT_WHEEL,
-    [EVO_ACTUATOR_CLAW] = EVO_ACT_CLAW,
-    [EVO_ACTUATOR_SPEED_WHEEL] = EVO_ACT_SPEED_WHEEL,
-    [EVO_ACTUATOR_DRIVE] = EVO_ACT_DRIVE,
-    [EVO_ACTUATOR_BROADCAST] = EVO_ACT_BROADCAST,
-};
+EVO_LUA_DIM_COMMON(sc, evo_scene, evo_bot, team)
+
+/* Each 2D actuator kind's row of sim/scene/kinds.c, in
+ * evo_actuator_kind's order. */
+static const int act_of[] = {EVO_ACT_WHEEL, EVO_ACT_CLAW, EVO_ACT_SPEED_WHEEL,
+			     EVO_ACT_DRIVE, EVO_ACT_BROADCAST};
+_Static_assert(sizeof act_of / sizeof *act_of == EVO_ACTUATOR_KIND_COUNT,
+	       "a row for each kind");
 
 /* `sees`: what a proximity sensor's rays hit, into d's mask and its
  * teammates and opponents flags (docs/lua.md, docs/teams.md). */
@@ -267,70 +229,47 @@ static void parse_sees(lua_State *L, int idx, const char *what,
 					    "teammates", "opponents"};
 	static const uint16_t bits[] = {EVO_CAT_OBSTACLE, EVO_CAT_BOT,
 					EVO_CAT_OBJECT};
-	lua_getfield(L, idx, "sees");
-	if (!lua_isnil(L, -1)) {
-		luaL_checktype(L, -1, LUA_TTABLE);
-		d->mask = 0;
-		lua_Integer n = luaL_len(L, -1);
-		if (n > 5)
-			luaL_error(L,
-				   "%s: sees lists at most \"obstacles\", "
-				   "\"bots\", \"objects\", \"teammates\" "
-				   "and \"opponents\"",
-				   what);
-		for (lua_Integer i = 1; i <= n; i++) {
-			lua_geti(L, -1, i);
-			const char *s = lua_tostring(L, -1);
-			int w = 0;
-			while (w < 5 && !(s && strcmp(s, words[w]) == 0))
-				w++;
-			if (w < 3)
-				d->mask |= bits[w];
-			else if (w == 3)
-				d->sees_teammates = 1;
-			else if (w == 4)
-				d->sees_opponents = 1;
-			else
-				luaL_error(L,
-					   "%s: sees lists \"obstacles\", "
-					   "\"bots\", \"objects\", "
-					   "\"teammates\" or \"opponents\", "
-					   "found %s",
-					   what, s ? s : luaL_typename(L, -1));
-			lua_pop(L, 1);
-		}
-	}
-	lua_pop(L, 1);
+	int given;
+	unsigned w = evo_lua_opt_words(L, idx, "sees", words, 5, what, &given);
+	if (!given)
+		return;
+	d->mask = 0;
+	for (int k = 0; k < 3; k++)
+		if (w & 1u << k)
+			d->mask |= bits[k];
+	d->sees_teammates = (w & 8u) != 0;
+	d->sees_opponents = (w & 16u) != 0;
+}
+
+/* A sensor's or actuator's x, y and angle on its bot (each defaulting to
+ * what it holds). */
+static void read_place(lua_State *L, double *x, double *y, double *angle,
+		       const char *what)
+{
+	*x = evo_lua_opt_num(L, 2, "x", *x, what);
+	*y = evo_lua_opt_num(L, 2, "y", *y, what);
+	*angle = evo_lua_opt_num(L, 2, "angle", *angle / EVO_LUA_DEG, what) *
+		 EVO_LUA_DEG;
 }
 
 static int add_sensor(lua_State *L, int bot, int kind, const char *what)
 {
-	int k = 0;
-	while (k < EVO_SENSOR_KIND_COUNT - 1 &&
-	       sense_of[k] != (evo_sense_kind)kind)
-		k++;
-	evo_sensor_def d = evo_default_sensor_def((evo_sensor_kind)k);
-	d.name = evo_lua_opt_str(L, 2, "name", NULL, what);
-	if (!d.name)
-		luaL_error(L, "%s: a sensor needs a name", what);
-	d.x = evo_lua_opt_num(L, 2, "x", d.x, what);
-	d.y = evo_lua_opt_num(L, 2, "y", d.y, what);
-	d.angle = evo_lua_opt_num(L, 2, "angle", d.angle / EVO_LUA_DEG, what) *
-		  EVO_LUA_DEG;
-	d.range = evo_lua_opt_num(L, 2, "range", d.range, what);
-	d.arc = evo_lua_opt_num(L, 2, "arc", d.arc / EVO_LUA_DEG, what) *
-		EVO_LUA_DEG;
+	evo_sensor_def d =
+	    evo_default_sensor_def((evo_sensor_kind)evo_lua_kind_of(
+		sense_of, EVO_SENSOR_KIND_COUNT, kind));
+	d.name = evo_lua_opt_name(L, what, "sensor");
+	read_place(L, &d.x, &d.y, &d.angle, what);
+	EVO_LUA_NUMS(L, 2, what, {"range", &d.range, 0},
+		     {"arc", &d.arc, EVO_LUA_DEG}, {"deadzone", &d.deadzone, 0},
+		     {"scale", &d.scale, 0}, {"reach", &d.reach, 0},
+		     {"value", &d.value, 0});
 	double rays = evo_lua_opt_num(L, 2, "rays", d.rays, what);
 	if (rays != floor(rays) || rays < 1 || rays > EVO_PROX_MAX_RAYS)
 		luaL_error(L, "%s: rays must be a whole number from 1 to %d",
 			   what, EVO_PROX_MAX_RAYS);
 	d.rays = (int)rays;
-	d.deadzone = evo_lua_opt_num(L, 2, "deadzone", d.deadzone, what);
 	parse_sees(L, 2, what, &d);
 	d.target = evo_lua_opt_target(L, 2, "target", what);
-	d.scale = evo_lua_opt_num(L, 2, "scale", d.scale, what);
-	d.reach = evo_lua_opt_num(L, 2, "reach", d.reach, what);
-	d.value = evo_lua_opt_num(L, 2, "value", d.value, what);
 	if (kind == EVO_SENSE_LIGHT || kind == EVO_SENSE_RAB ||
 	    kind == EVO_SENSE_CAMERA)
 		evo_lua_swarm_sensor(L, 2, what, kind == EVO_SENSE_CAMERA,
@@ -340,100 +279,25 @@ static int add_sensor(lua_State *L, int bot, int kind, const char *what)
 
 static int add_actuator(lua_State *L, int bot, int kind, const char *what)
 {
-	int k = 0;
-	while (k < EVO_ACTUATOR_KIND_COUNT - 1 &&
-	       act_of[k] != (evo_act_kind)kind)
-		k++;
-	evo_actuator_def d = evo_default_actuator_def((evo_actuator_kind)k);
-	d.name = evo_lua_opt_str(L, 2, "name", NULL, what);
-	if (!d.name)
-		luaL_error(L, "%s: an actuator needs a name", what);
-	d.x = evo_lua_opt_num(L, 2, "x", d.x, what);
-	d.y = evo_lua_opt_num(L, 2, "y", d.y, what);
-	d.angle = evo_lua_opt_num(L, 2, "angle", d.angle / EVO_LUA_DEG, what) *
-		  EVO_LUA_DEG;
-	d.max_force = evo_lua_opt_num(L, 2, "max_force", d.max_force, what);
-	d.reach = evo_lua_opt_num(L, 2, "reach", d.reach, what);
+	evo_actuator_def d =
+	    evo_default_actuator_def((evo_actuator_kind)evo_lua_kind_of(
+		act_of, EVO_ACTUATOR_KIND_COUNT, kind));
 	/* a drive's turn rate is given in degrees, as every angle in Lua */
 	lua_getfield(L, 2, "turn");
 	d.turn = lua_toboolean(L, -1);
 	lua_pop(L, 1);
 	double unit = d.turn ? EVO_LUA_DEG : 1;
-	d.max_speed =
-	    evo_lua_opt_num(L, 2, "max_speed", d.max_speed / unit, what) * unit;
-	d.accel = evo_lua_opt_num(L, 2, "accel", d.accel / unit, what) * unit;
+	d.name = evo_lua_opt_name(L, what, "actuator");
+	read_place(L, &d.x, &d.y, &d.angle, what);
+	EVO_LUA_NUMS(L, 2, what, {"max_force", &d.max_force, 0},
+		     {"reach", &d.reach, 0}, {"max_speed", &d.max_speed, unit},
+		     {"accel", &d.accel, unit});
 	return evo_lua_scene_result(L,
 				    evo_scene_add_actuator(scene(L), bot, &d));
 }
 
-static int add_reward(evo_lua *l, const evo_reward_def *d)
-{
-	return evo_scene_add_reward(l->sc, d);
-}
-
-static int add_control(evo_lua *l, const evo_control_def *d)
-{
-	return evo_scene_add_control(l->sc, d);
-}
-
-/* ---- names and lookups ----------------------------------------------------- */
-
-static int find_bot(const evo_lua *l, const char *name)
-{
-	return evo_scene_find_bot(l->sc, name);
-}
-
-static int find_element(const evo_lua *l, const char *name)
-{
-	return evo_scene_find_element(l->sc, name);
-}
-
-static const char *bot_name(const evo_lua *l, int bot)
-{
-	return l->sc->bot[bot].name;
-}
-
-static int bot_team(const evo_lua *l, int bot)
-{
-	return l->sc->bot[bot].team;
-}
-
-static const char *element_name(const evo_lua *l, int e)
-{
-	return l->sc->element[e].name;
-}
-
-static int n_sensors(const evo_lua *l, int bot)
-{
-	return l->sc->bot[bot].n_sensors;
-}
-
-static const char *sensor_name(const evo_lua *l, int bot, int s)
-{
-	return l->sc->bot[bot].sensor[s].name;
-}
-
-static int sensor_kind(const evo_lua *l, int bot, int s)
-{
-	return sense_of[l->sc->bot[bot].sensor[s].def.kind];
-}
-
-static int sensor_target(const evo_lua *l, int bot, int s)
-{
-	return l->sc->bot[bot].sensor[s].def.target;
-}
-
-static int find_actuator(const evo_lua *l, int bot, const char *name)
-{
-	return evo_bot_find_actuator(&l->sc->bot[bot], name);
-}
-
-static double command(const evo_lua *l, int bot, int a)
-{
-	return l->sc->bot[bot].actuator[a].command;
-}
-
-/* ---- reading and moving --------------------------------------------------- */
+/* ---- reading and moving ---------------------------------------------------
+ */
 
 /* A zone sensor looks at a zone (EvoAgents' setTarget). */
 static void set_target(lua_State *L, int bot, int s, int t)
@@ -465,6 +329,12 @@ static void pose(const evo_lua *l, int bot, double p[3], double *yaw)
 	p[1] = q.y;
 	p[2] = 0;
 	*yaw = q.angle;
+}
+
+/* What bot:place{...} leaves out: where the bot is. */
+static void start(const evo_lua *l, int bot, double p[3], double *yaw)
+{
+	pose(l, bot, p, yaw);
 }
 
 static int place_bot(evo_lua *l, int bot, const double p[3], double yaw)
@@ -526,35 +396,12 @@ const evo_lua_dim evo_lua_dim2d = {
     .coords = 2,
     .named_targets = 1,
     .min_ticks = 0,
-    .view = view,
-    .bot_keys = (const char *const[]){"name", "x", "y", "angle", "model",
-				      "team", NULL},
-    .add_bot = add_bot,
-    .add_piece = add_piece,
-    .add_sensor = add_sensor,
-    .add_actuator = add_actuator,
-    .add_reward = add_reward,
-    .add_control = add_control,
-    .find_bot = find_bot,
-    .find_element = find_element,
-    .bot_name = bot_name,
-    .bot_team = bot_team,
-    .element_name = element_name,
-    .n_sensors = n_sensors,
-    .sensor_name = sensor_name,
-    .sensor_kind = sensor_kind,
-    .sensor_target = sensor_target,
-    .find_actuator = find_actuator,
-    .command = command,
-    .set_target = set_target,
-    .sample = sample,
-    .pose = pose,
-    .start = pose,
-    .place_bot = place_bot,
-    .counts = counts,
-    .element_pos = element_pos,
-    .element_fixed = element_fixed,
-    .place_element = place_element,
-    .element_active = element_active,
+    .bot_keys =
+	(const char *const[]){"name", "x", "y", "angle", "model", "team", NULL},
+    .element_of =
+	(const int[EVO_PIECE_LAST_ELEMENT + 1]){EVO_ELEM_CYLINDER, EVO_ELEM_BOX,
+						EVO_ELEM_ZONE, EVO_ELEM_OBJECT,
+						-1, -1},
+    EVO_LUA_DIM_FUNCTIONS,
     .set_element_active = set_element_active,
 };

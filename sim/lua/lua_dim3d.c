@@ -13,16 +13,6 @@ static evo_scene3d *scene3d(lua_State *L)
 	return evo_lua_ctx(L)->sc3;
 }
 
-static void view(evo_lua *l, evo_lua_view *v)
-{
-	evo_scene3d *sc = l->sc3;
-	*v = (evo_lua_view){&sc->tick,	     &sc->rng,	      &sc->n_bots,
-			    &sc->n_elements, &sc->n_rewards,  &sc->n_metrics,
-			    &sc->reward,     sc->metric,      &sc->swarm,
-			    &sc->err,	     &sc->episode_reward, &sc->winner,
-			    &sc->grid_seed};
-}
-
 static double num(lua_State *L, int idx, const char *key, double dflt,
 		  const char *what)
 {
@@ -59,14 +49,13 @@ static void read_element(lua_State *L, evo_element3d_def *d, const char *what)
 {
 	d->name = evo_lua_opt_str(L, 2, "name", NULL, what);
 	evo_lua_opt_pos(L, 2, d->pos, what);
-	d->yaw = num(L, 2, "yaw", 0, what) * EVO_LUA_DEG;
-	d->half[0] = num(L, 2, "hx", d->half[0], what);
-	d->half[1] = num(L, 2, "hy", d->half[1], what);
-	d->half[2] = num(L, 2, "hz", d->half[2], what);
-	d->radius = num(L, 2, "radius", d->radius, what);
-	d->half_length = num(L, 2, "height", 2 * d->half_length, what) / 2;
-	d->mass = num(L, 2, "mass", d->mass, what);
-	d->friction = num(L, 2, "friction", d->friction, what);
+	/* yaw starts at 0 (evo_default_element3d_def); height is twice
+	 * half_length */
+	EVO_LUA_NUMS(L, 2, what, {"yaw", &d->yaw, EVO_LUA_DEG},
+		     {"hx", &d->half[0], 0}, {"hy", &d->half[1], 0},
+		     {"hz", &d->half[2], 0}, {"radius", &d->radius, 0},
+		     {"height", &d->half_length, 0.5}, {"mass", &d->mass, 0},
+		     {"friction", &d->friction, 0});
 	lua_getfield(L, 2, "ground");
 	if (!lua_isnil(L, -1) && !lua_isboolean(L, -1))
 		luaL_error(L, "%s: ground must be true or false, found %s",
@@ -75,9 +64,10 @@ static void read_element(lua_State *L, evo_element3d_def *d, const char *what)
 	lua_pop(L, 1);
 }
 
-static int add_element(lua_State *L, evo_element3d_kind kind, const char *what)
+static int add_element(lua_State *L, int kind, const char *what)
 {
-	evo_element3d_def d = evo_default_element3d_def(kind);
+	evo_element3d_def d =
+	    evo_default_element3d_def((evo_element3d_kind)kind);
 	read_element(L, &d, what);
 	if (kind == EVO3D_ELEM_OBJECT) {
 		lua_getfield(L, 2, "radius");
@@ -89,7 +79,7 @@ static int add_element(lua_State *L, evo_element3d_kind kind, const char *what)
 
 /* scene:obstacle{shape = "box" | "cylinder" | "sphere", ...}: a static
  * obstacle of this episode only, from an environment's reset. */
-static int add_obstacle(lua_State *L, const char *what)
+static void add_obstacle(lua_State *L, const char *what)
 {
 	if (!evo_lua_ctx(L)->in_reset)
 		luaL_error(L,
@@ -97,19 +87,19 @@ static int add_obstacle(lua_State *L, const char *what)
 			   "environment's reset (scene:box and the others "
 			   "add those of every episode in init)",
 			   what);
+	static const char *const shapes[] = {"box", "cylinder", "sphere"};
+	static const evo_element3d_kind kinds[] = {
+	    EVO3D_ELEM_BOX, EVO3D_ELEM_CYLINDER, EVO3D_ELEM_SPHERE};
 	const char *shape = evo_lua_opt_str(L, 2, "shape", "box", what);
-	evo_element3d_kind kind;
-	if (strcmp(shape, "box") == 0)
-		kind = EVO3D_ELEM_BOX;
-	else if (strcmp(shape, "cylinder") == 0)
-		kind = EVO3D_ELEM_CYLINDER;
-	else if (strcmp(shape, "sphere") == 0)
-		kind = EVO3D_ELEM_SPHERE;
-	else
-		return luaL_error(L,
-				  "%s: shape is \"box\", \"cylinder\" or "
-				  "\"sphere\", found \"%s\"",
-				  what, shape);
+	int at = 0;
+	while (at < 3 && strcmp(shape, shapes[at]) != 0)
+		at++;
+	if (at == 3)
+		luaL_error(L,
+			   "%s: shape is \"box\", \"cylinder\" or "
+			   "\"sphere\", found \"%s\"",
+			   what, shape);
+	evo_element3d_kind kind = kinds[at];
 	evo_element3d_def d = evo_default_element3d_def(kind);
 	read_element(L, &d, what);
 	evo_obstacle3d o;
@@ -124,13 +114,12 @@ static int add_obstacle(lua_State *L, const char *what)
 	o.half_length = d.half_length;
 	o.friction = d.friction;
 	o.category = d.ground ? EVO_CAT3D_GROUND : EVO_CAT3D_OBSTACLE;
-	evo_lua_scene_result(
-	    L, evo_scene3d_add_episode_obstacle(scene3d(L), &o));
-	return -1;
+	evo_lua_scene_result(L,
+			     evo_scene3d_add_episode_obstacle(scene3d(L), &o));
 }
 
 /* scene:physics{...}: the world's settings, before the first bot. */
-static int set_physics(lua_State *L, const char *what)
+static void set_physics(lua_State *L, const char *what)
 {
 	evo_scene3d *sc = scene3d(L);
 	if (sc->n_bots > 0 || sc->n_elements > 0 || evo_lua_ctx(L)->ready)
@@ -145,14 +134,12 @@ static int set_physics(lua_State *L, const char *what)
 			   what);
 	d.substeps = (int)sub;
 	d.world.step = num(L, 2, "step", 1.0 / 30.0, what) / d.substeps;
-	d.world.gravity = num(L, 2, "gravity", d.world.gravity, what);
-	d.world.erp = num(L, 2, "erp", d.world.erp, what);
-	d.world.cfm = num(L, 2, "cfm", d.world.cfm, what);
-	d.world.max_speed = num(L, 2, "max_speed", d.world.max_speed, what);
-	d.world.max_spin = num(L, 2, "max_spin", d.world.max_spin, what);
-	d.world.ground_friction =
-	    num(L, 2, "ground_friction", d.world.ground_friction, what);
-	d.fault_penalty = num(L, 2, "fault_penalty", d.fault_penalty, what);
+	EVO_LUA_NUMS(L, 2, what, {"gravity", &d.world.gravity, 0},
+		     {"erp", &d.world.erp, 0}, {"cfm", &d.world.cfm, 0},
+		     {"max_speed", &d.world.max_speed, 0},
+		     {"max_spin", &d.world.max_spin, 0},
+		     {"ground_friction", &d.world.ground_friction, 0},
+		     {"fault_penalty", &d.fault_penalty, 0});
 	if (!(d.world.step > 0) || !(d.world.max_speed > 0) ||
 	    !(d.world.max_spin > 0) || d.world.erp < 0 || d.world.erp > 1 ||
 	    d.world.cfm < 0 || d.world.ground_friction < 0)
@@ -162,32 +149,19 @@ static int set_physics(lua_State *L, const char *what)
 			   what);
 	if (evo_scene3d_set_def(sc, &d))
 		luaL_error(L, "%s: %s", what, sc->err.msg);
-	return -1;
 }
 
-static int add_piece(lua_State *L, int kind, const char *what)
+/* The pieces of kinds.c's rows that are no elements, in 3D. */
+static void add_part(lua_State *L, int kind, const char *what)
 {
-	switch (kind) {
-	case EVO_PIECE_CYLINDER:
-		return add_element(L, EVO3D_ELEM_CYLINDER, what);
-	case EVO_PIECE_BOX:
-		return add_element(L, EVO3D_ELEM_BOX, what);
-	case EVO_PIECE_ZONE:
-		return add_element(L, EVO3D_ELEM_ZONE, what);
-	case EVO_PIECE_OBJECT:
-		return add_element(L, EVO3D_ELEM_OBJECT, what);
-	case EVO_PIECE_SPHERE:
-		return add_element(L, EVO3D_ELEM_SPHERE, what);
-	case EVO_PIECE_TARGET:
-		return add_element(L, EVO3D_ELEM_TARGET, what);
-	case EVO_PIECE_OBSTACLE:
-		return add_obstacle(L, what);
-	default: /* EVO_PIECE_PHYSICS: kinds.c's rows let no other through */
-		return set_physics(L, what);
-	}
+	if (kind == EVO_PIECE_OBSTACLE)
+		add_obstacle(L, what);
+	else
+		set_physics(L, what);
 }
 
-/* ---- bots ----------------------------------------------------------------- */
+/* ---- bots -----------------------------------------------------------------
+ */
 
 /* The model's hull table (at 1) into the evo_bot3d_def at 2. Called
  * through lua_pcall: scene:bot puts the model's file before its errors. */
@@ -217,21 +191,22 @@ static int read_hull(lua_State *L)
 			   "\"%s\"",
 			   what, shape);
 	}
-	d->mass = num(L, 1, "mass", d->mass, what);
-	d->friction = num(L, 1, "friction", d->friction, what);
-	d->pos[2] = num(L, 1, "z", d->pos[2], what);
-	d->buoyancy = num(L, 1, "buoyancy", 0, what);
+	/* buoyancy and drag start at 0 (evo_default_bot3d_def) */
+	EVO_LUA_NUMS(L, 1, what, {"mass", &d->mass, 0},
+		     {"friction", &d->friction, 0}, {"z", &d->pos[2], 0},
+		     {"buoyancy", &d->buoyancy, 0},
+		     {"drag_linear", &d->drag_linear, 0},
+		     {"drag_quadratic", &d->drag_quadratic, 0},
+		     {"drag_angular", &d->drag_angular, 0});
 	opt_vec(L, 1, "cob", d->cob, what);
-	d->drag_linear = num(L, 1, "drag_linear", 0, what);
-	d->drag_quadratic = num(L, 1, "drag_quadratic", 0, what);
-	d->drag_angular = num(L, 1, "drag_angular", 0, what);
 	if (lua_getfield(L, 1, "caster") != LUA_TNIL) {
 		int c = lua_gettop(L);
 		evo_lua_check_keys(L, c, "hull.caster", caster_keys);
-		d->caster_pos[0] = num(L, c, "x", d->caster_pos[0], "hull.caster");
-		d->caster_pos[1] = num(L, c, "y", d->caster_pos[1], "hull.caster");
-		d->caster_pos[2] = num(L, c, "z", d->caster_pos[2], "hull.caster");
-		d->caster_radius = num(L, c, "radius", 0.04, "hull.caster");
+		d->caster_radius = 0.04;
+		EVO_LUA_NUMS(L, c, "hull.caster", {"x", &d->caster_pos[0], 0},
+			     {"y", &d->caster_pos[1], 0},
+			     {"z", &d->caster_pos[2], 0},
+			     {"radius", &d->caster_radius, 0});
 	}
 	lua_pop(L, 1);
 	return 0;
@@ -242,8 +217,6 @@ static int add_bot(lua_State *L, int team, const char *name, const char *what)
 {
 	evo_lua *l = evo_lua_ctx(L);
 	evo_bot3d_def d = evo_default_bot3d_def();
-	d.team = team;
-	d.name = name;
 	if (lua_getfield(L, 3, "hull") != LUA_TTABLE)
 		luaL_error(
 		    L, "%s: a 3D bot model has a hull table (docs/world3d.md)",
@@ -259,26 +232,24 @@ static int add_bot(lua_State *L, int team, const char *name, const char *what)
 	}
 	evo_lua_opt_pos(L, 2, d.pos, what);
 	d.yaw = num(L, 2, "yaw", 0, what) * EVO_LUA_DEG;
+	d.team = team;
+	d.name = name;
 	return evo_lua_scene_result(L, evo_scene3d_add_bot(l->sc3, &d));
 }
 
 /* ---- sensors and actuators ---------------------------------------------- */
 
-/* Each 3D sensor kind's row of sim/scene/kinds.c (azimuth: the bearing
- * sensor's). */
-static const evo_sense_kind sense_of[EVO3D_SENSOR_KIND_COUNT] = {
-    [EVO3D_SENSOR_PROXIMITY] = EVO_SENSE_PROXIMITY,
-    [EVO3D_SENSOR_DISTANCE] = EVO_SENSE_DISTANCE,
-    [EVO3D_SENSOR_AZIMUTH] = EVO_SENSE_BEARING,
-    [EVO3D_SENSOR_ELEVATION] = EVO_SENSE_ELEVATION,
-    [EVO3D_SENSOR_ZONE] = EVO_SENSE_ZONE,
-    [EVO3D_SENSOR_RANDOM] = EVO_SENSE_RANDOM,
-    [EVO3D_SENSOR_CONSTANT] = EVO_SENSE_CONSTANT,
-    [EVO3D_SENSOR_LIGHT] = EVO_SENSE_LIGHT,
-    [EVO3D_SENSOR_GROUND] = EVO_SENSE_GROUND,
-    [EVO3D_SENSOR_RAB] = EVO_SENSE_RAB,
-    [EVO3D_SENSOR_CAMERA] = EVO_SENSE_CAMERA,
-};
+/* Each 3D sensor kind's row of sim/scene/kinds.c, in evo_sensor3d_kind's
+ * order (azimuth: the bearing sensor's). */
+static const int sense_of[] = {
+    EVO_SENSE_PROXIMITY, EVO_SENSE_DISTANCE, EVO_SENSE_BEARING,
+    EVO_SENSE_ELEVATION, EVO_SENSE_ZONE,     EVO_SENSE_RANDOM,
+    EVO_SENSE_CONSTANT,	 EVO_SENSE_LIGHT,    EVO_SENSE_GROUND,
+    EVO_SENSE_RAB,	 EVO_SENSE_CAMERA};
+_Static_assert(sizeof sense_of / sizeof *sense_of == EVO3D_SENSOR_KIND_COUNT,
+	       "a row for each kind");
+
+EVO_LUA_DIM_COMMON(sc3, evo_scene3d, evo_bot3d, def.team)
 
 /* `sees`: a list of "ground", "obstacles", "bots", "objects". A 3D ray
  * tells no teammate from an opponent: "teammates" and "opponents" are 2D
@@ -286,40 +257,21 @@ static const evo_sense_kind sense_of[EVO3D_SENSOR_KIND_COUNT] = {
 static unsigned parse_sees(lua_State *L, int idx, unsigned dflt,
 			   const char *what)
 {
+	/* EVO_CAT3D_* in this order */
 	static const char *const words[] = {"ground", "bots", "obstacles",
 					    "objects"};
-	lua_getfield(L, idx, "sees");
-	unsigned mask = dflt;
-	if (!lua_isnil(L, -1)) {
-		luaL_checktype(L, -1, LUA_TTABLE);
-		mask = 0;
-		lua_Integer n = luaL_len(L, -1);
-		for (lua_Integer i = 1; i <= n; i++) {
-			lua_geti(L, -1, i);
-			const char *s = lua_tostring(L, -1);
-			int w = 0;
-			while (w < 4 && !(s && strcmp(s, words[w]) == 0))
-				w++;
-			if (w == 4)
-				luaL_error(L,
-					   "%s: sees lists \"ground\", "
-					   "\"bots\", \"obstacles\" or "
-					   "\"objects\", found %s",
-					   what, s ? s : luaL_typename(L, -1));
-			mask |= 1u << w; /* EVO_CAT3D_* in this order */
-			lua_pop(L, 1);
-		}
-	}
-	lua_pop(L, 1);
-	return mask;
+	int given;
+	unsigned mask =
+	    evo_lua_opt_words(L, idx, "sees", words, 4, what, &given);
+	return given ? mask : dflt;
 }
 
 static void read_proximity(lua_State *L, evo_sensor3d_def *d, const char *what)
 {
-	d->yaw = num(L, 2, "yaw", 0, what) * EVO_LUA_DEG;
-	d->pitch = num(L, 2, "pitch", 0, what) * EVO_LUA_DEG;
-	d->range = num(L, 2, "range", d->range, what);
-	d->arc = num(L, 2, "arc", 0, what) * EVO_LUA_DEG;
+	/* yaw, pitch and arc start at 0 (evo_default_sensor3d_def) */
+	EVO_LUA_NUMS(L, 2, what, {"yaw", &d->yaw, EVO_LUA_DEG},
+		     {"pitch", &d->pitch, EVO_LUA_DEG}, {"range", &d->range, 0},
+		     {"arc", &d->arc, EVO_LUA_DEG});
 	double rays = num(L, 2, "rays", d->rays, what);
 	if (rays != floor(rays) || rays < 1 || rays > EVO3D_PROX_MAX_RAYS)
 		luaL_error(L, "%s: rays must be a whole number, 1 to %d", what,
@@ -342,16 +294,11 @@ static evo_sensor3d_kind target_sensor_axis(lua_State *L, const char *what)
 
 static int add_sensor(lua_State *L, int bot, int kind, const char *what)
 {
-	int k = 0;
-	while (k < EVO3D_SENSOR_KIND_COUNT - 1 &&
-	       sense_of[k] != (evo_sense_kind)kind)
-		k++;
+	int k = evo_lua_kind_of(sense_of, EVO3D_SENSOR_KIND_COUNT, kind);
 	if (kind == EVO_SENSE_TARGET_SENSOR)
 		k = target_sensor_axis(L, what);
 	evo_sensor3d_def d = evo_default_sensor3d_def((evo_sensor3d_kind)k);
-	d.name = evo_lua_opt_str(L, 2, "name", NULL, what);
-	if (!d.name)
-		luaL_error(L, "%s: a sensor needs a name", what);
+	d.name = evo_lua_opt_name(L, what, "sensor");
 	evo_lua_opt_pos(L, 2, d.pos, what);
 	switch (d.kind) {
 	case EVO3D_SENSOR_PROXIMITY:
@@ -387,10 +334,11 @@ static int add_sensor(lua_State *L, int bot, int kind, const char *what)
 
 static void read_wheel(lua_State *L, evo_actuator3d_def *d, const char *what)
 {
-	d->radius = num(L, 2, "radius", d->radius, what);
-	d->half_width = num(L, 2, "width", 2 * d->half_width, what) / 2;
-	d->mass = num(L, 2, "mass", d->mass, what);
-	d->friction = num(L, 2, "friction", d->friction, what);
+	EVO_LUA_NUMS(L, 2, what, {"radius", &d->radius, 0},
+		     {"width", &d->half_width, 0.5}, {"mass", &d->mass, 0},
+		     {"friction", &d->friction, 0},
+		     {"max_rate", &d->max_rate, 0},
+		     {"max_torque", &d->max_torque, 0});
 	const char *mode = evo_lua_opt_str(L, 2, "mode", "velocity", what);
 	if (strcmp(mode, "velocity") == 0)
 		d->torque_mode = 0;
@@ -401,8 +349,6 @@ static void read_wheel(lua_State *L, evo_actuator3d_def *d, const char *what)
 			   "%s: mode is \"velocity\" or \"torque\", found "
 			   "\"%s\"",
 			   what, mode);
-	d->max_rate = num(L, 2, "max_rate", d->max_rate, what);
-	d->max_torque = num(L, 2, "max_torque", d->max_torque, what);
 }
 
 static int add_actuator(lua_State *L, int bot, int kind, const char *what)
@@ -412,9 +358,7 @@ static int add_actuator(lua_State *L, int bot, int kind, const char *what)
 				    ? EVO3D_ACTUATOR_PROPELLER
 				    : EVO3D_ACTUATOR_BROADCAST;
 	evo_actuator3d_def d = evo_default_actuator3d_def(k);
-	d.name = evo_lua_opt_str(L, 2, "name", NULL, what);
-	if (!d.name)
-		luaL_error(L, "%s: an actuator needs a name", what);
+	d.name = evo_lua_opt_name(L, what, "actuator");
 	evo_lua_opt_pos(L, 2, d.pos, what);
 	if (k == EVO3D_ACTUATOR_WHEEL)
 		read_wheel(L, &d, what);
@@ -426,74 +370,8 @@ static int add_actuator(lua_State *L, int bot, int kind, const char *what)
 	    L, evo_scene3d_add_actuator(scene3d(L), bot, &d));
 }
 
-static int add_reward(evo_lua *l, const evo_reward_def *d)
-{
-	return evo_scene3d_add_reward(l->sc3, d);
-}
-
-static int add_control(evo_lua *l, const evo_control_def *d)
-{
-	return evo_scene3d_add_control(l->sc3, d);
-}
-
-/* ---- names and lookups ----------------------------------------------------- */
-
-static int find_bot(const evo_lua *l, const char *name)
-{
-	return evo_scene3d_find_bot(l->sc3, name);
-}
-
-static int find_element(const evo_lua *l, const char *name)
-{
-	return evo_scene3d_find_element(l->sc3, name);
-}
-
-static const char *bot_name(const evo_lua *l, int bot)
-{
-	return l->sc3->bot[bot].name;
-}
-
-static int bot_team(const evo_lua *l, int bot)
-{
-	return l->sc3->bot[bot].def.team;
-}
-
-static const char *element_name(const evo_lua *l, int e)
-{
-	return l->sc3->element[e].name;
-}
-
-static int n_sensors(const evo_lua *l, int bot)
-{
-	return l->sc3->bot[bot].n_sensors;
-}
-
-static const char *sensor_name(const evo_lua *l, int bot, int s)
-{
-	return l->sc3->bot[bot].sensor[s].name;
-}
-
-static int sensor_kind(const evo_lua *l, int bot, int s)
-{
-	return sense_of[l->sc3->bot[bot].sensor[s].def.kind];
-}
-
-static int sensor_target(const evo_lua *l, int bot, int s)
-{
-	return l->sc3->bot[bot].sensor[s].def.target;
-}
-
-static int find_actuator(const evo_lua *l, int bot, const char *name)
-{
-	return evo_bot3d_find_actuator(&l->sc3->bot[bot], name);
-}
-
-static double command(const evo_lua *l, int bot, int a)
-{
-	return l->sc3->bot[bot].actuator[a].command;
-}
-
-/* ---- reading and moving --------------------------------------------------- */
+/* ---- reading and moving ---------------------------------------------------
+ */
 
 static void set_target(lua_State *L, int bot, int s, int t)
 {
@@ -562,35 +440,12 @@ const evo_lua_dim evo_lua_dim3d = {
     .coords = 3,
     .named_targets = 0,
     .min_ticks = 1, /* the control keeps ticks - 1 (scene3d.h) */
-    .view = view,
     .bot_keys = (const char *const[]){"name", "x", "y", "z", "yaw", "model",
 				      "team", NULL},
-    .add_bot = add_bot,
-    .add_piece = add_piece,
-    .add_sensor = add_sensor,
-    .add_actuator = add_actuator,
-    .add_reward = add_reward,
-    .add_control = add_control,
-    .find_bot = find_bot,
-    .find_element = find_element,
-    .bot_name = bot_name,
-    .bot_team = bot_team,
-    .element_name = element_name,
-    .n_sensors = n_sensors,
-    .sensor_name = sensor_name,
-    .sensor_kind = sensor_kind,
-    .sensor_target = sensor_target,
-    .find_actuator = find_actuator,
-    .command = command,
-    .set_target = set_target,
-    .sample = sample,
-    .pose = pose,
-    .start = start,
-    .place_bot = place_bot,
-    .counts = counts,
-    .element_pos = element_pos,
-    .element_fixed = element_fixed,
-    .place_element = place_element,
-    .element_active = element_active,
+    .element_of =
+	(const int[EVO_PIECE_LAST_ELEMENT + 1]){
+	    EVO3D_ELEM_CYLINDER, EVO3D_ELEM_BOX, EVO3D_ELEM_ZONE,
+	    EVO3D_ELEM_OBJECT, EVO3D_ELEM_SPHERE, EVO3D_ELEM_TARGET},
+    EVO_LUA_DIM_FUNCTIONS,
     .set_element_active = NULL,
 };

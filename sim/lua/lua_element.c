@@ -76,13 +76,9 @@ static int element_set_active(lua_State *L)
 }
 
 static const luaL_Reg element_methods[] = {
-    {"pos", element_pos},
-    {"place", element_place},
-    {"active", element_active},
-    {"set_active", element_set_active},
-    {"name", element_name},
-    {NULL, NULL},
-};
+    {"pos", element_pos},	{"place", element_place},
+    {"active", element_active}, {"set_active", element_set_active},
+    {"name", element_name},	{NULL, NULL}};
 
 void evo_lua_element_methods(lua_State *L)
 {

@@ -431,43 +431,24 @@ static int init_env3d(evo_lua *l, const char *not3d, evo_err *err)
 	return 0;
 }
 
-/* A 3D environment's reset: math.random and the layout stream seeded, the
- * Lua rewards' and controls' own resets, then its reset(scene,
- * episode). */
-static int reset3d(evo_lua *l, int episode, evo_err *err)
-{
-	evo_rng r = evo_rng_for(l->sc3->rng.s, 0x4c7561 /* "Lua" */, 0, 0);
-	seed_math_random(l->L, evo_rng_next(&r));
-	if (evo_lua_call_resets(l, &evo_lua_reward_resets_key, err) ||
-	    evo_lua_call_resets(l, &evo_lua_control_resets_key, err))
-		return -1;
-	l->episode = episode;
-	l->in_reset = 1;
-	int rc = evo_lua_call_env(l, "reset", 1, episode, err);
-	l->in_reset = 0;
-	return rc;
-}
-
 int evo_lua_reset(evo_lua *l, int episode, evo_err *err)
 {
 	/* scene:layout_random's stream, the same for every candidate */
 	l->layout_rng =
 	    evo_rng_for(*l->v.grid_seed, 0x6f6273 /* "obs" */, 0, 0);
-	if (l->sc3)
-		return reset3d(l, episode, err);
 	/* math.random is seeded per episode from the scene's rng, itself just
 	 * seeded from the episode's seed, through a copy: the scene's stream
 	 * (RANDOM sensors, scene:random) stays as it was. */
-	evo_rng r = evo_rng_for(l->sc->rng.s, 0x4c7561 /* "Lua" */, 0, 0);
+	evo_rng r = evo_rng_for(l->v.rng->s, 0x4c7561 /* "Lua" */, 0, 0);
 	seed_math_random(l->L, evo_rng_next(&r));
 	/* the Lua rewards' and controls' own resets, as the C ones were
-	 * reset by evo_scene_reset, then the environment's obstacles and
-	 * its reset */
+	 * reset by the scene's reset, then a 2D environment's obstacles
+	 * (a 3D one adds them in its reset) and its reset */
 	if (evo_lua_call_resets(l, &evo_lua_reward_resets_key, err) ||
 	    evo_lua_call_resets(l, &evo_lua_control_resets_key, err))
 		return -1;
 	l->episode = episode;
-	if (call_l(l, run_obstacles, 0, 0, "obstacles", err))
+	if (l->sc && call_l(l, run_obstacles, 0, 0, "obstacles", err))
 		return -1;
 	l->in_reset = 1;
 	int rc = evo_lua_call_env(l, "reset", 1, episode, err);

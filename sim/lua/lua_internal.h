@@ -158,6 +158,20 @@ void evo_lua_check_keys(lua_State *L, int idx, const char *what,
 			const char *const *known);
 double evo_lua_opt_num(lua_State *L, int idx, const char *key, double dflt,
 		       const char *what);
+/* Options read into doubles: each key of the table at idx, in units of
+ * unit (0: 1; EVO_LUA_DEG: degrees into radians), into *v, which holds
+ * its default. A list ends with a NULL key. */
+typedef struct evo_lua_num {
+	const char *key;
+	double *v;
+	double unit;
+} evo_lua_num;
+void evo_lua_opt_nums(lua_State *L, int idx, const char *what,
+		      const evo_lua_num *nums);
+/* evo_lua_opt_nums of the entries given, {key, &v, unit} each. */
+#define EVO_LUA_NUMS(L, idx, what, ...)                                       \
+	evo_lua_opt_nums(L, idx, what,                                        \
+			 (const evo_lua_num[]){__VA_ARGS__, {NULL, NULL, 0}})
 const char *evo_lua_opt_str(lua_State *L, int idx, const char *key,
 			    const char *dflt, const char *what);
 /* Push a handle: a userdata holding index, with metatable mt. */
@@ -224,9 +238,21 @@ void evo_lua_scene_methods(lua_State *L);
 void evo_lua_bot_methods(lua_State *L);
 void evo_lua_element_methods(lua_State *L);
 void evo_lua_metric_methods(lua_State *L);
-void evo_lua_scoring_methods(lua_State *L);
+/* scene:reward, scene:control, scene:reset_rewards, scene:metric
+ * (lua_scoring.c) */
+int evo_lua_scene_reward(lua_State *L);
+int evo_lua_scene_control(lua_State *L);
+int evo_lua_scene_reset_rewards(lua_State *L);
+int evo_lua_scene_metric(lua_State *L);
 
 /* ---- the dimensions: lua_dim2d.c, lua_dim3d.c -------------------------- */
+
+/* A bot's sensor as the methods see it. */
+typedef struct evo_lua_sensor {
+	const char *name;
+	int kind;   /* evo_sense_kind */
+	int target; /* an element or EVO_TARGET_* */
+} evo_lua_sensor;
 
 /* What bot:counts() says. */
 typedef struct evo_lua_counts {
@@ -250,27 +276,27 @@ struct evo_lua_dim {
 	 * named name, of team (-1: none); its index */
 	int (*add_bot)(lua_State *L, int team, const char *name,
 		       const char *what);
-	/* scene:NAME: a piece of kind (evo_piece_kind); an element's
-	 * index, or -1 for a piece that is not an element */
-	int (*add_piece)(lua_State *L, int kind, const char *what);
+	/* scene:NAME: an element of the scene's own kind, element_of[k] for
+	 * the piece kind k (evo_piece_kind; -1: none in this world), or a
+	 * piece of kind that is no element; the element's index */
+	const int *element_of;
+	int (*add_element)(lua_State *L, int kind, const char *what);
+	void (*add_part)(lua_State *L, int kind, const char *what);
 	/* bot:NAME: a sensor (evo_sense_kind) or actuator (evo_act_kind);
 	 * its index */
 	int (*add_sensor)(lua_State *L, int bot, int kind, const char *what);
 	int (*add_actuator)(lua_State *L, int bot, int kind, const char *what);
 	int (*add_reward)(evo_lua *l, const evo_reward_def *d);
 	int (*add_control)(evo_lua *l, const evo_control_def *d);
-	/* names and lookups (-1: none) */
-	int (*find_bot)(const evo_lua *l, const char *name);
-	int (*find_element)(const evo_lua *l, const char *name);
-	const char *(*bot_name)(const evo_lua *l, int bot);
-	int (*bot_team)(const evo_lua *l, int bot);
+	/* names and lookups: a bot or element by name (-1: none); a bot's
+	 * name, with its team in *team; its sensors' count, and sensor s
+	 * into *out when s is one of them; the command of its actuator
+	 * name into *c (-1: no such actuator) */
+	int (*find)(const evo_lua *l, const char *name, int element);
+	const char *(*bot)(const evo_lua *l, int bot, int *team);
 	const char *(*element_name)(const evo_lua *l, int e);
-	int (*n_sensors)(const evo_lua *l, int bot);
-	const char *(*sensor_name)(const evo_lua *l, int bot, int s);
-	int (*sensor_kind)(const evo_lua *l, int bot, int s); /* sense kind */
-	int (*sensor_target)(const evo_lua *l, int bot, int s);
-	int (*find_actuator)(const evo_lua *l, int bot, const char *name);
-	double (*command)(const evo_lua *l, int bot, int a);
+	int (*sensor)(const evo_lua *l, int bot, int s, evo_lua_sensor *out);
+	int (*command)(const evo_lua *l, int bot, const char *name, double *c);
 	/* reading and moving */
 	void (*set_target)(lua_State *L, int bot, int s, int target);
 	double (*sample)(evo_lua *l, int bot, int s);
@@ -290,6 +316,74 @@ struct evo_lua_dim {
 extern const evo_lua_dim evo_lua_dim2d;
 extern const evo_lua_dim evo_lua_dim3d;
 
+/* The functions of a dimension's table that read the same fields in
+ * either scene, written once (as tasksim/simscene.c's): SC is the
+ * evo_lua's scene (sc, sc3), SCENE and BOT the prefixes of its scene's
+ * and bot's functions, TEAM the path of a bot's team. The file defines
+ * sense_of[], its sensor kinds' rows of sim/scene/kinds.c. */
+#define EVO_LUA_DIM_COMMON(SC, SCENE, BOT, TEAM)                              \
+	static void view(evo_lua *l, evo_lua_view *v)                         \
+	{                                                                     \
+		*v = (evo_lua_view){                                          \
+		    &l->SC->tick,	 &l->SC->rng,	     &l->SC->n_bots,          \
+		    &l->SC->n_elements, &l->SC->n_rewards, &l->SC->n_metrics,     \
+		    &l->SC->reward,	 l->SC->metric,	     &l->SC->swarm,           \
+		    &l->SC->err,	 &l->SC->episode_reward, &l->SC->winner,      \
+		    &l->SC->grid_seed};                                       \
+	}                                                                     \
+	static int add_reward(evo_lua *l, const evo_reward_def *d)            \
+	{                                                                     \
+		return SCENE##_add_reward(l->SC, d);                          \
+	}                                                                     \
+	static int add_control(evo_lua *l, const evo_control_def *d)          \
+	{                                                                     \
+		return SCENE##_add_control(l->SC, d);                         \
+	}                                                                     \
+	static int find(const evo_lua *l, const char *name, int element)      \
+	{                                                                     \
+		return element ? SCENE##_find_element(l->SC, name)            \
+			       : SCENE##_find_bot(l->SC, name);               \
+	}                                                                     \
+	static const char *bot(const evo_lua *l, int i, int *team)           \
+	{                                                                     \
+		*team = l->SC->bot[i].TEAM;                                   \
+		return l->SC->bot[i].name;                                    \
+	}                                                                     \
+	static const char *element_name(const evo_lua *l, int e)              \
+	{                                                                     \
+		return l->SC->element[e].name;                                \
+	}                                                                     \
+	static int sensor(const evo_lua *l, int i, int s, evo_lua_sensor *out) \
+	{                                                                     \
+		const BOT *b = &l->SC->bot[i];                                \
+		if (s >= 0 && s < b->n_sensors)                               \
+			*out = (evo_lua_sensor){b->sensor[s].name,            \
+						sense_of[b->sensor[s].def.kind], \
+						b->sensor[s].def.target};     \
+		return b->n_sensors;                                          \
+	}                                                                     \
+	static int command(const evo_lua *l, int i, const char *name,         \
+			   double *c)                                         \
+	{                                                                     \
+		int a = BOT##_find_actuator(&l->SC->bot[i], name);            \
+		if (a >= 0)                                                   \
+			*c = l->SC->bot[i].actuator[a].command;               \
+		return a;                                                     \
+	}
+
+/* The fields of a dimension's table its file fills with functions of
+ * the same names. */
+#define EVO_LUA_DIM_FUNCTIONS                                                 \
+	.view = view, .add_bot = add_bot, .add_element = add_element, .add_part = add_part,             \
+	.add_sensor = add_sensor, .add_actuator = add_actuator,               \
+	.add_reward = add_reward, .add_control = add_control,                 \
+	.find = find, .bot = bot, .element_name = element_name,               \
+	.sensor = sensor, .command = command, .set_target = set_target, .sample = sample,       \
+	.pose = pose, .start = start, .place_bot = place_bot,                 \
+	.counts = counts, .element_pos = element_pos,                         \
+	.element_fixed = element_fixed, .place_element = place_element,       \
+	.element_active = element_active
+
 /* The options table at idx (none: an empty one put there), its keys
  * checked against keys. */
 void evo_lua_options(lua_State *L, int idx, const char *what,
@@ -302,6 +396,18 @@ void evo_lua_opt_pos(lua_State *L, int idx, double p[3], const char *what);
  * dimension. */
 const char *const *evo_lua_kind_keys(lua_State *L, const evo_kind_row *row,
 				     const char *what);
+/* The scene's own kind whose row (sense_of[k], for one of n kinds) is
+ * kind: rows maps a dimension's kinds to kinds.c's. */
+int evo_lua_kind_of(const int *rows, int n, int kind);
+/* The `name` option of the table at 2, which a sensor or actuator (noun)
+ * needs. */
+const char *evo_lua_opt_name(lua_State *L, const char *what, const char *noun);
+/* The words of a list option `key` at idx, each one of words[0..n): a
+ * mask with bit w for words[w]; *given says whether the option was
+ * there. Another word is an error listing them. */
+unsigned evo_lua_opt_words(lua_State *L, int idx, const char *key,
+			   const char *const *words, int n, const char *what,
+			   int *given);
 /* Elements, bots, rewards and controls are added in init: made in reset,
  * one more would pile up every episode. */
 void evo_lua_in_init(lua_State *L, const char *what);

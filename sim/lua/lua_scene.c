@@ -9,7 +9,8 @@
 
 #include "lua/lua_internal.h"
 
-/* ---- pieces and bots ------------------------------------------------------ */
+/* ---- pieces and bots ------------------------------------------------------
+ */
 
 /* scene:NAME{...} of a piece kind (upvalue 1) named "scene:NAME"
  * (upvalue 2): an element's handle, or nothing for the other pieces. */
@@ -19,11 +20,13 @@ static int scene_piece(lua_State *L)
 	const char *what = lua_tostring(L, lua_upvalueindex(2));
 	const evo_kind_row *row = evo_piece_kind_row(kind);
 	evo_lua_options(L, 2, what, evo_lua_kind_keys(L, row, what));
-	if (kind <= EVO_PIECE_LAST_ELEMENT)
-		evo_lua_in_init(L, what);
-	int i = evo_lua_ctx(L)->dim->add_piece(L, kind, what);
-	if (i < 0)
+	const evo_lua_dim *dim = evo_lua_ctx(L)->dim;
+	if (kind > EVO_PIECE_LAST_ELEMENT) {
+		dim->add_part(L, kind, what);
 		return 0;
+	}
+	evo_lua_in_init(L, what);
+	int i = dim->add_element(L, dim->element_of[kind], what);
 	evo_lua_push_handle(L, EVO_LUA_ELEMENT_MT, i);
 	return 1;
 }
@@ -40,8 +43,8 @@ static int scene_bot(lua_State *L)
 	evo_lua_in_init(L, what);
 	char auto_name[64];
 	const char *model;
-	int team = evo_lua_bot_team(L, 2, what, *l->v.n_bots, &model,
-				    auto_name, sizeof auto_name);
+	int team = evo_lua_bot_team(L, 2, what, *l->v.n_bots, &model, auto_name,
+				    sizeof auto_name);
 	lua_settop(L, 2);
 	/* the model's table at 3 */
 	evo_lua_load_model(L, l, model,
@@ -52,7 +55,8 @@ static int scene_bot(lua_State *L)
 		l->team[team].made++;
 	lua_getfield(L, 3, "build");
 	if (!lua_isfunction(L, -1))
-		luaL_error(L, "bot model %s: has no build(bot) function", model);
+		luaL_error(L, "bot model %s: has no build(bot) function",
+			   model);
 	evo_lua_push_handle(L, EVO_LUA_BOT_MT, i);
 	lua_call(L, 1, 0);
 	evo_lua_push_handle(L, EVO_LUA_BOT_MT, i);
@@ -76,8 +80,8 @@ static int scene_bots(lua_State *L)
 		: evo_lua_check_team(L, luaL_checkstring(L, 2), "scene:bots");
 	lua_newtable(L);
 	int n = 0;
-	for (int i = 0; i < *l->v.n_bots; i++)
-		if (team == -2 || l->dim->bot_team(l, i) == team) {
+	for (int i = 0, t; i < *l->v.n_bots; i++)
+		if (l->dim->bot(l, i, &t) && (team == -2 || t == team)) {
 			evo_lua_push_handle(L, EVO_LUA_BOT_MT, i);
 			lua_rawseti(L, -2, ++n);
 		}
@@ -96,17 +100,24 @@ static int scene_winner(lua_State *L)
 	return 0;
 }
 
-/* ---- looking up ------------------------------------------------------------ */
+/* ---- looking up ------------------------------------------------------------
+ */
+
+/* A handle of class mt to index i, or nil for i < 0. */
+static int handle_or_nil(lua_State *L, const char *mt, int i)
+{
+	if (i < 0)
+		lua_pushnil(L);
+	else
+		evo_lua_push_handle(L, mt, i);
+	return 1;
+}
 
 static int scene_element(lua_State *L)
 {
 	evo_lua *l = evo_lua_ctx(L);
-	int i = l->dim->find_element(l, luaL_checkstring(L, 2));
-	if (i < 0)
-		lua_pushnil(L);
-	else
-		evo_lua_push_handle(L, EVO_LUA_ELEMENT_MT, i);
-	return 1;
+	return handle_or_nil(L, EVO_LUA_ELEMENT_MT,
+			     l->dim->find(l, luaL_checkstring(L, 2), 1));
 }
 
 /* scene:get_bot(name or number): the bot, or nil. */
@@ -116,20 +127,17 @@ static int scene_get_bot(lua_State *L)
 	int n = *l->v.n_bots;
 	int i;
 	if (lua_type(L, 2) == LUA_TSTRING)
-		i = l->dim->find_bot(l, lua_tostring(L, 2));
+		i = l->dim->find(l, lua_tostring(L, 2), 0);
 	else {
 		/* 1-based; anything past the bots, however large, is nil */
 		lua_Integer k = luaL_checkinteger(L, 2);
 		i = k >= 1 && k <= n ? (int)k - 1 : -1;
 	}
-	if (i < 0 || i >= n)
-		lua_pushnil(L);
-	else
-		evo_lua_push_handle(L, EVO_LUA_BOT_MT, i);
-	return 1;
+	return handle_or_nil(L, EVO_LUA_BOT_MT, i < n ? i : -1);
 }
 
-/* ---- lights, floor and colours (lua_swarm.c) ------------------------------ */
+/* ---- lights, floor and colours (lua_swarm.c) ------------------------------
+ */
 
 /* scene:light{x, y[, z], intensity, colour}, scene:patch{...}: the swarm
  * sensors' lights and floor. */
@@ -164,7 +172,8 @@ static int scene_colour(lua_State *L)
 	return 0;
 }
 
-/* ---- the episode ----------------------------------------------------------- */
+/* ---- the episode -----------------------------------------------------------
+ */
 
 /* scene:random([lo, hi]): the episode's stream (its seed differs for
  * every candidate), uniform in [lo, hi), [0, 1) by default. */
@@ -223,8 +232,11 @@ static const luaL_Reg scene_methods[] = {
     {"tick", scene_tick},
     {"episode_reward", scene_episode_reward},
     {"genome", scene_genome},
-    {NULL, NULL},
-};
+    {"reward", evo_lua_scene_reward},
+    {"control", evo_lua_scene_control},
+    {"reset_rewards", evo_lua_scene_reset_rewards},
+    {"metric", evo_lua_scene_metric},
+    {NULL, NULL}};
 
 void evo_lua_scene_methods(lua_State *L)
 {
@@ -236,5 +248,4 @@ void evo_lua_scene_methods(lua_State *L)
 		lua_pushcclosure(L, scene_piece, 2);
 		lua_setfield(L, -2, name);
 	}
-	evo_lua_scoring_methods(L);
 }

@@ -40,6 +40,7 @@ void evo_lua_function_options(lua_State *L, const char *what,
 
 /* The functions of one family, rewards or controls. */
 typedef struct family {
+	const char *what; /* "scene:reward", "scene:control" */
 	const char *noun; /* "reward", "control" */
 	int lua_kind;	  /* EVO_RW_LUA, EVO_CF_LUA */
 	int (*by_name)(const char *);
@@ -48,13 +49,15 @@ typedef struct family {
 	const void *resets_key;
 } family;
 
-static const family rewards = {"reward",
+static const family rewards = {"scene:reward",
+			       "reward",
 			       EVO_RW_LUA,
 			       evo_reward_kind_by_name,
 			       evo_reward_kind_name,
 			       evo_reward_kind_dims,
 			       &evo_lua_reward_resets_key};
-static const family controls = {"control",
+static const family controls = {"scene:control",
+				"control",
 				EVO_CF_LUA,
 				evo_control_kind_by_name,
 				evo_control_kind_name,
@@ -117,8 +120,8 @@ static int scope_bots(lua_State *L, const char *what, int *bots, int cap)
 		luaL_error(L, "%s: give bot or team, not both", what);
 	lua_pop(L, 1);
 	int n = 0;
-	for (int i = 0; i < *l->v.n_bots && n < cap; i++)
-		if (l->dim->bot_team(l, i) == team)
+	for (int i = 0, t; i < *l->v.n_bots && n < cap; i++)
+		if (l->dim->bot(l, i, &t) && t == team)
 			bots[n++] = i;
 	if (n == 0)
 		luaL_error(L,
@@ -191,25 +194,37 @@ static int lua_function(lua_State *L, const family *f, const char *what)
 	return evo_lua_scene_result(L, l->dim->add_reward(l, &d));
 }
 
+/* The start of scene:reward and scene:control: a Lua function added
+ * (-1), or the kind of the built-in one named, its options (at 3)
+ * checked against keys. */
+static int function_or_kind(lua_State *L, const family *f,
+			    const char *const *keys)
+{
+	const char *what = f->what;
+	evo_lua_in_init(L, what);
+	if (lua_isfunction(L, 2)) {
+		lua_function(L, f, what);
+		return -1;
+	}
+	int kind = kind_by_name(L, f, what);
+	evo_lua_check_keys(L, 3, what, keys);
+	return kind;
+}
+
 /* scene:reward(kind, {bot = b | team = NAME, ...}): with team, one such
  * reward for each bot of the team, each paying its own bot. */
-static int scene_reward(lua_State *L)
+int evo_lua_scene_reward(lua_State *L)
 {
 	static const char *const keys[] = {
 	    "bot", "team", "k", "k2", "threshold", "target", "sensors", NULL};
-	evo_lua *l = evo_lua_ctx(L);
-	const char *what = "scene:reward";
-	evo_lua_in_init(L, what);
-	if (lua_isfunction(L, 2)) {
-		lua_function(L, &rewards, what);
+	int kind = function_or_kind(L, &rewards, keys);
+	if (kind < 0)
 		return 0;
-	}
-	int kind = kind_by_name(L, &rewards, what);
-	evo_lua_check_keys(L, 3, what, keys);
+	const char *what = rewards.what;
+	evo_lua *l = evo_lua_ctx(L);
 	evo_reward_def d = evo_default_reward_def((evo_reward_kind)kind);
-	d.k = evo_lua_opt_num(L, 3, "k", d.k, what);
-	d.k2 = evo_lua_opt_num(L, 3, "k2", d.k2, what);
-	d.threshold = evo_lua_opt_num(L, 3, "threshold", d.threshold, what);
+	EVO_LUA_NUMS(L, 3, what, {"k", &d.k, 0}, {"k2", &d.k2, 0},
+		     {"threshold", &d.threshold, 0});
 	d.target = evo_lua_opt_target(L, 3, "target", what);
 	int bots[EVO_TEAM_BOTS_MAX];
 	int n = scope_bots(L, what, bots, EVO_TEAM_BOTS_MAX);
@@ -223,20 +238,16 @@ static int scene_reward(lua_State *L)
 
 /* scene:control(kind, {bot = b | team = NAME, ...}): with team, one for
  * each bot of the team, the episode ending when any of them meets it. */
-static int scene_control(lua_State *L)
+int evo_lua_scene_control(lua_State *L)
 {
 	static const char *const keys[] = {
 	    "bot", "team", "ticks", "target", "sensor", "threshold", NULL};
-	evo_lua *l = evo_lua_ctx(L);
-	const char *what = "scene:control";
-	evo_lua_in_init(L, what);
-	if (lua_isfunction(L, 2)) {
-		lua_function(L, &controls, what);
+	int kind = function_or_kind(L, &controls, keys);
+	if (kind < 0)
 		return 0;
-	}
-	int kind = kind_by_name(L, &controls, what);
-	evo_lua_check_keys(L, 3, what, keys);
 	evo_control_def d = evo_default_control_def((evo_control_kind)kind);
+	const char *what = controls.what;
+	evo_lua *l = evo_lua_ctx(L);
 	double ticks = evo_lua_opt_num(L, 3, "ticks", (double)d.ticks, what);
 	if (ticks < l->dim->min_ticks || ticks != floor(ticks) || ticks > 1e15)
 		luaL_error(L, "%s: ticks must be a whole number >= %d", what,
@@ -259,7 +270,7 @@ static int scene_control(lua_State *L)
 /* Forget what the reward functions remember (ClosingOnTarget's last
  * distance), e.g. after moving a target, and call the Lua rewards' own
  * resets: EvoAgents' r.reset(). */
-static int scene_reset_rewards(lua_State *L)
+int evo_lua_scene_reset_rewards(lua_State *L)
 {
 	evo_lua *l = evo_lua_ctx(L);
 	for (int i = 0; i < *l->v.n_rewards; i++)
@@ -276,7 +287,7 @@ static int scene_reset_rewards(lua_State *L)
  * handle; later, the handle of a declared one. The set is fixed once init
  * returns, so that every episode, every worker and a log.csv header agree
  * on it. */
-static int scene_metric(lua_State *L)
+int evo_lua_scene_metric(lua_State *L)
 {
 	evo_lua *l = evo_lua_ctx(L);
 	int *n;
@@ -323,12 +334,14 @@ static void metric_store(lua_State *L, int i, double v, const char *how,
 			   "post_step or a reward or control function)",
 			   m->name, how);
 	if (!isfinite(arg))
-		luaL_error(L, "metric '%s': %s(%f) at tick %I: not a finite "
-			      "number",
+		luaL_error(L,
+			   "metric '%s': %s(%f) at tick %I: not a finite "
+			   "number",
 			   m->name, how, arg, tick);
 	if (!isfinite(v))
-		luaL_error(L, "metric '%s': %s(%f) at tick %I makes it %f, not "
-			      "a finite number",
+		luaL_error(L,
+			   "metric '%s': %s(%f) at tick %I makes it %f, not "
+			   "a finite number",
 			   m->name, how, arg, tick, v);
 	m->value = v;
 }
@@ -362,28 +375,13 @@ static int metric_name(lua_State *L)
 	return 1;
 }
 
-static const luaL_Reg metric_methods[] = {
-    {"set", metric_set},
-    {"add", metric_add},
-    {"value", metric_value},
-    {"name", metric_name},
-    {NULL, NULL},
-};
+static const luaL_Reg metric_methods[] = {{"set", metric_set},
+					  {"add", metric_add},
+					  {"value", metric_value},
+					  {"name", metric_name},
+					  {NULL, NULL}};
 
 void evo_lua_metric_methods(lua_State *L)
 {
 	luaL_setfuncs(L, metric_methods, 0);
-}
-
-static const luaL_Reg scoring_methods[] = {
-    {"reward", scene_reward},
-    {"control", scene_control},
-    {"reset_rewards", scene_reset_rewards},
-    {"metric", scene_metric},
-    {NULL, NULL},
-};
-
-void evo_lua_scoring_methods(lua_State *L)
-{
-	luaL_setfuncs(L, scoring_methods, 0);
 }
