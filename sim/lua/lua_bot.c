@@ -80,23 +80,24 @@ static int bot_pos(lua_State *L)
 	return push_pose(L, 0);
 }
 
-/* bot:place(x, y[, z][, angle]) or bot:place{x, y[, z], angle or yaw}:
- * this episode's start (in reset); what a table leaves out stays as
- * the bot's start. */
+/* bot:place(x, y[, z][, angle]), or in 3D bot:place{x, y, z, yaw}: this
+ * episode's start (in reset); what a table leaves out stays as it was. */
 static int bot_place(lua_State *L)
 {
-	static const char *const keys[] = {"x", "y", "z", "angle", "yaw", NULL};
 	const char *what = "bot:place";
 	evo_lua *l = evo_lua_ctx(L);
 	int bot = evo_lua_check_bot(L, 1);
 	int n = l->dim->coords;
 	double p[3], yaw;
 	l->dim->start(l, bot, p, &yaw);
-	if (lua_istable(L, 2)) {
+	const char *const *keys = l->dim->place_keys;
+	if (lua_istable(L, 2) && keys) {
 		evo_lua_check_keys(L, 2, what, keys);
 		evo_lua_opt_pos(L, 2, p, what);
-		yaw = evo_lua_opt_num(L, 2, "angle", yaw / EVO_LUA_DEG, what);
-		yaw = evo_lua_opt_num(L, 2, "yaw", yaw, what) * EVO_LUA_DEG;
+		/* the turn is the last of the keys: angle, or yaw in 3D */
+		while (keys[1])
+			keys++;
+		EVO_LUA_NUMS(L, 2, what, {keys[0], &yaw, EVO_LUA_DEG});
 	} else {
 		for (int k = 0; k < n; k++)
 			p[k] = luaL_checknumber(L, 2 + k);

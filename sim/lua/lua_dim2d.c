@@ -402,6 +402,7 @@ const evo_lua_dim evo_lua_dim2d = {
 	(const int[EVO_PIECE_LAST_ELEMENT + 1]){EVO_ELEM_CYLINDER, EVO_ELEM_BOX,
 						EVO_ELEM_ZONE, EVO_ELEM_OBJECT,
 						-1, -1},
+    .place_keys = NULL,
     EVO_LUA_DIM_FUNCTIONS,
     .set_element_active = set_element_active,
 };

@@ -446,6 +446,7 @@ const evo_lua_dim evo_lua_dim3d = {
 	(const int[EVO_PIECE_LAST_ELEMENT + 1]){
 	    EVO3D_ELEM_CYLINDER, EVO3D_ELEM_BOX, EVO3D_ELEM_ZONE,
 	    EVO3D_ELEM_OBJECT, EVO3D_ELEM_SPHERE, EVO3D_ELEM_TARGET},
+    .place_keys = (const char *const[]){"x", "y", "z", "yaw", NULL},
     EVO_LUA_DIM_FUNCTIONS,
     .set_element_active = NULL,
 };

@@ -271,7 +271,10 @@ struct evo_lua_dim {
 	int named_targets; /* targets may be "nearest_object" and the like */
 	long min_ticks;	   /* the least NextOnTimeout takes */
 	void (*view)(evo_lua *l, evo_lua_view *v);
-	const char *const *bot_keys; /* scene:bot's options */
+	const char *const *bot_keys;   /* scene:bot's options */
+	/* bot:place{...}'s options; NULL: a bot is placed by numbers only,
+	 * bot:place(x, y, angle) */
+	const char *const *place_keys;
 	/* scene:bot: a bot of the model's table at 3 and the options at 2,
 	 * named name, of team (-1: none); its index */
 	int (*add_bot)(lua_State *L, int team, const char *name,
