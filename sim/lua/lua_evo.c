@@ -24,7 +24,7 @@
  * (scene:zonee), an error at the script's line naming the one meant, as
  * the names scene:control and bot:target take get; else nil, so Lua
  * says what it always said. Upvalues: the methods table, the noun. */
-static int index2d(lua_State *L)
+static int class_index(lua_State *L)
 {
 	lua_pushvalue(L, 2);
 	if (lua_rawget(L, lua_upvalueindex(1)) != LUA_TNIL ||
@@ -60,7 +60,7 @@ static void new_class(lua_State *L, const char *mt, void (*fill)(lua_State *),
 	lua_pushvalue(L, -1);
 	lua_setfield(L, -3, "__methods"); /* the table, for tests/docs */
 	lua_pushstring(L, noun);
-	lua_pushcclosure(L, index2d, 2);
+	lua_pushcclosure(L, class_index, 2);
 	lua_setfield(L, -2, "__index");
 	lua_pushstring(L, mt);
 	lua_setfield(L, -2, "__name");
