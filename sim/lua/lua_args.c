@@ -1,9 +1,11 @@
 /* Option tables and handles for the scene scripts' `evo` module
  * (sim/lua/lua_internal.h). Lua holds handles, not pointers: a bot,
  * element or metric handle is a small userdata with its index in the
- * scene, and every method finds the scene through the state's registry. Options come in
- * tables; an option the function does not know is an error naming the
- * ones it does, so a typo in a script never goes unnoticed. */
+ * scene, and every method finds the scene through the state's registry.
+ * Options come in tables; an option the function does not know is an
+ * error naming the ones it does (for a piece, sensor or actuator, the
+ * ones its row of sim/scene/kinds.c gives the scene's world), so a typo
+ * in a script never goes unnoticed. */
 #include <stdio.h>
 #include <string.h>
 

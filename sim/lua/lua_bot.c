@@ -54,8 +54,7 @@ static int bot_target(lua_State *L)
 	return 0;
 }
 
-/* ---- pose and place -------------------------------------------------------
- */
+/* ---- pose and place ------------------------------------------------------ */
 
 /* bot:pose(): x, y[, z] and its heading in degrees; bot:pos(): x, y[, z]. */
 static int push_pose(lua_State *L, int with_yaw)
@@ -112,8 +111,7 @@ static int bot_place(lua_State *L)
 	return 0;
 }
 
-/* ---- reading
- * ------------------------------------------------------------------ */
+/* ---- reading -------------------------------------------------------------- */
 
 static int bot_value(lua_State *L)
 {

@@ -92,8 +92,7 @@ static void add_part(lua_State *L, int kind, const char *what)
 		add_grid(L, what);
 }
 
-/* ---- bots -----------------------------------------------------------------
- */
+/* ---- bots ---------------------------------------------------------------- */
 
 /* The line of a bot model's file where its body table starts (the first
  * "body =" outside a comment), 0 when none is found: a table has no line
@@ -296,8 +295,7 @@ static int add_actuator(lua_State *L, int bot, int kind, const char *what)
 				    evo_scene_add_actuator(scene(L), bot, &d));
 }
 
-/* ---- reading and moving ---------------------------------------------------
- */
+/* ---- reading and moving -------------------------------------------------- */
 
 /* A zone sensor looks at a zone (EvoAgents' setTarget). */
 static void set_target(lua_State *L, int bot, int s, int t)

@@ -160,8 +160,7 @@ static void add_part(lua_State *L, int kind, const char *what)
 		set_physics(L, what);
 }
 
-/* ---- bots -----------------------------------------------------------------
- */
+/* ---- bots ---------------------------------------------------------------- */
 
 /* The model's hull table (at 1) into the evo_bot3d_def at 2. Called
  * through lua_pcall: scene:bot puts the model's file before its errors. */
@@ -370,8 +369,7 @@ static int add_actuator(lua_State *L, int bot, int kind, const char *what)
 	    L, evo_scene3d_add_actuator(scene3d(L), bot, &d));
 }
 
-/* ---- reading and moving ---------------------------------------------------
- */
+/* ---- reading and moving -------------------------------------------------- */
 
 static void set_target(lua_State *L, int bot, int s, int t)
 {

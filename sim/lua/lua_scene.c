@@ -9,8 +9,7 @@
 
 #include "lua/lua_internal.h"
 
-/* ---- pieces and bots ------------------------------------------------------
- */
+/* ---- pieces and bots ----------------------------------------------------- */
 
 /* scene:NAME{...} of a piece kind (upvalue 1) named "scene:NAME"
  * (upvalue 2): an element's handle, or nothing for the other pieces. */
@@ -100,8 +99,7 @@ static int scene_winner(lua_State *L)
 	return 0;
 }
 
-/* ---- looking up ------------------------------------------------------------
- */
+/* ---- looking up ---------------------------------------------------------- */
 
 /* A handle of class mt to index i, or nil for i < 0. */
 static int handle_or_nil(lua_State *L, const char *mt, int i)
@@ -136,8 +134,7 @@ static int scene_get_bot(lua_State *L)
 	return handle_or_nil(L, EVO_LUA_BOT_MT, i < n ? i : -1);
 }
 
-/* ---- lights, floor and colours (lua_swarm.c) ------------------------------
- */
+/* ---- lights, floor and colours (lua_swarm.c) ----------------------------- */
 
 /* scene:light{x, y[, z], intensity, colour}, scene:patch{...}: the swarm
  * sensors' lights and floor. */
@@ -172,8 +169,7 @@ static int scene_colour(lua_State *L)
 	return 0;
 }
 
-/* ---- the episode -----------------------------------------------------------
- */
+/* ---- the episode --------------------------------------------------------- */
 
 /* scene:random([lo, hi]): the episode's stream (its seed differs for
  * every candidate), uniform in [lo, hi), [0, 1) by default. */
