@@ -24,11 +24,10 @@
 #define NEAR(a, b, eps) (fabs((a) - (b)) <= (eps))
 
 /* A 2D bot model and a 3D one, each with an actuator M and a tracker B. */
-static const char *const model2d =
-    "return { build = function(bot)\n"
-    "  bot:wheel{ name = 'M', y = 1 }\n"
-    "  bot:bearing{ name = 'B' }\n"
-    "end }\n";
+static const char *const model2d = "return { build = function(bot)\n"
+				   "  bot:wheel{ name = 'M', y = 1 }\n"
+				   "  bot:bearing{ name = 'B' }\n"
+				   "end }\n";
 static const char *const model3d =
     "return {\n"
     "  hull = { shape = 'sphere', radius = 0.25, mass = 2, z = 2,\n"
@@ -113,57 +112,79 @@ static void check_figures(const evo_metric *m, int n, int coords)
 	CHECK_EQ_INT((int)metric(m, n, "tracked"), 0);
 }
 
-TEST(one_environment_reads_the_same_figures_in_3d)
+/* A scene of either world (three: 3D) and its Lua state, built by
+ * Envs/E.lua with the bot model Mover. */
+typedef struct world {
+	evo_scene *sc;
+	evo_scene3d *sc3;
+	evo_lua *l;
+} world;
+
+/* The world's scene and state, its environment's init run; 0, or -1 with
+ * err set. */
+static int open_world(world *w, int three, evo_err *err)
 {
-	write_files(1);
 	evo_scene3d_def d = evo_default_scene3d_def();
-	evo_scene3d *sc = evo_scene3d_create(&d);
-	evo_lua_def ld = {
-	    .scene3d = sc, .mind_dir = cli_tmp, .botmodel = "Mover"};
-	evo_err err = {{0}};
-	evo_lua *l = evo_lua_create(&ld, &err);
-	int ok = l && !evo_lua_init_env(l, "E", &err) &&
-		 !evo_scene3d_reset(sc, 7, 1) && !evo_lua_reset(l, 1, &err);
-	CHECK(ok);
-	if (!ok)
-		printf("  %s\n", err.msg);
-	else {
-		evo_scene3d_sense(sc);
-		sc->bot[0].actuator[0].command = 0.8;
-		CHECK_EQ_INT(evo_scene3d_step(sc), 0);
-		check_figures(sc->metric, sc->n_metrics, 3);
-	}
-	evo_lua_destroy(l);
-	evo_scene3d_destroy(sc);
+	w->sc = three ? NULL : evo_scene_create();
+	w->sc3 = three ? evo_scene3d_create(&d) : NULL;
+	evo_lua_def ld = {.scene = w->sc,
+			  .scene3d = w->sc3,
+			  .mind_dir = cli_tmp,
+			  .botmodel = "Mover"};
+	w->l = evo_lua_create(&ld, err);
+	return w->l && !evo_lua_init_env(w->l, "E", err) ? 0 : -1;
 }
 
-TEST(one_environment_reads_the_same_figures_in_2d)
+static void close_world(world *w)
 {
-	write_files(0);
-	evo_scene *sc = evo_scene_create();
-	evo_lua_def ld = {.scene = sc, .mind_dir = cli_tmp, .botmodel = "Mover"};
-	evo_err err = {{0}};
-	evo_lua *l = evo_lua_create(&ld, &err);
-	int ok = l && !evo_lua_init_env(l, "E", &err);
-	if (ok) {
-		evo_scene_reset(sc, 7, 1);
-		ok = !evo_lua_reset(l, 1, &err);
-	}
-	CHECK(ok);
-	if (!ok)
-		printf("  %s\n", err.msg);
-	else {
-		evo_scene_sense(sc);
-		sc->bot[0].actuator[0].command = 0.8;
-		CHECK_EQ_INT(evo_scene_step(sc), 0);
-		check_figures(sc->metric, sc->n_metrics, 2);
-	}
-	evo_lua_destroy(l);
-	evo_scene_destroy(sc);
+	evo_lua_destroy(w->l);
+	if (w->sc)
+		evo_scene_destroy(w->sc);
+	if (w->sc3)
+		evo_scene3d_destroy(w->sc3);
 }
 
-/* An init body that must fail in the world given (3: 3D), and what its
- * message must say. */
+/* Reset (grid seed 7), one tick with M's command at 0.8; 0, or -1 with
+ * err set. */
+static int reset_and_step(world *w, evo_err *err)
+{
+	if (w->sc)
+		evo_scene_reset(w->sc, 7, 1);
+	else if (evo_scene3d_reset(w->sc3, 7, 1))
+		return -1;
+	if (evo_lua_reset(w->l, 1, err))
+		return -1;
+	if (w->sc) {
+		evo_scene_sense(w->sc);
+		w->sc->bot[0].actuator[0].command = 0.8;
+		return evo_scene_step(w->sc);
+	}
+	evo_scene3d_sense(w->sc3);
+	w->sc3->bot[0].actuator[0].command = 0.8;
+	return evo_scene3d_step(w->sc3);
+}
+
+TEST(one_environment_reads_the_same_figures_in_both_worlds)
+{
+	for (int three = 0; three <= 1; three++) {
+		write_files(three);
+		world w;
+		evo_err err = {{0}};
+		int ok =
+		    !open_world(&w, three, &err) && !reset_and_step(&w, &err);
+		CHECK(ok);
+		if (!ok)
+			printf("  %s\n", err.msg);
+		else if (three)
+			check_figures(w.sc3->metric, w.sc3->n_metrics, 3);
+		else
+			check_figures(w.sc->metric, w.sc->n_metrics, 2);
+		close_world(&w);
+	}
+}
+
+/* An init body that must fail in the world given (three: 3D), and what
+ * its message must say. */
 static void refused(int three, const char *body, const char *said)
 {
 	char text[1024];
@@ -172,28 +193,17 @@ static void refused(int three, const char *body, const char *said)
 		 body);
 	cli_write(text, "%s/Envs/E.lua", cli_tmp);
 	cli_write(three ? model3d : model2d, "%s/Bots/Mover.lua", cli_tmp);
-	evo_scene *sc = three ? NULL : evo_scene_create();
-	evo_scene3d_def d = evo_default_scene3d_def();
-	evo_scene3d *sc3 = three ? evo_scene3d_create(&d) : NULL;
-	evo_lua_def ld = {.scene = sc,
-			  .scene3d = sc3,
-			  .mind_dir = cli_tmp,
-			  .botmodel = "Mover"};
+	world w;
 	evo_err err = {{0}};
-	evo_lua *l = evo_lua_create(&ld, &err);
-	CHECK(l != NULL);
-	CHECK(l && evo_lua_init_env(l, "E", &err) != 0);
+	CHECK(open_world(&w, three, &err) != 0);
 	if (!strstr(err.msg, said))
 		printf("  %s\n", err.msg);
 	CHECK_CONTAINS(err.msg, said);
-	evo_lua_destroy(l);
-	if (sc)
-		evo_scene_destroy(sc);
-	if (sc3)
-		evo_scene3d_destroy(sc3);
+	close_world(&w);
 }
 
-TEST(a_kind_of_the_other_world_is_refused_naming_it_and_the_world)
+/* The other world's kinds and elements' ways, each refused at its line. */
+static void refusals(void)
 {
 	refused(1, "local b = scene:bot{} b:claw{ name = 'C' }",
 		"E.lua:2: bot:claw: claw is 2D only, and this is a 3D scene");
@@ -215,8 +225,9 @@ TEST(a_kind_of_the_other_world_is_refused_naming_it_and_the_world)
 	refused(1, "scene:zone{ x = 1 }:set_active(false)",
 		"E.lua:2: element:set_active: a 3D scene's elements are never "
 		"switched off");
-	refused(1, "local b = scene:bot{} b:distance{ name = 'D', target = "
-		   "'nearest_object' }",
+	refused(1,
+		"local b = scene:bot{} b:distance{ name = 'D', target = "
+		"'nearest_object' }",
 		"E.lua:2: bot:distance: target must be an element; "
 		"\"nearest_object\" and the other nearest targets are 2D only, "
 		"and this is a 3D scene");
@@ -225,7 +236,7 @@ TEST(a_kind_of_the_other_world_is_refused_naming_it_and_the_world)
 /* docs/lua.md's table "Which world has what" is sim/scene/kinds.c's rows:
  * a line for each piece, sensor and actuator kind, "yes" or "—" in each
  * world's column as its row says, and no line for a kind it lacks. */
-TEST(the_docs_table_of_worlds_is_kinds_c)
+static void docs_table(void)
 {
 	FILE *f = fopen("docs/lua.md", "r");
 	CHECK(f != NULL);
@@ -255,8 +266,9 @@ TEST(the_docs_table_of_worlds_is_kinds_c)
 		unsigned dims = (strcmp(c2, "yes") == 0 ? EVO_DIM_2D : 0) |
 				(strcmp(c3, "yes") == 0 ? EVO_DIM_3D : 0);
 		if (!row || strcmp(row->name, name) != 0 || row->dims != dims) {
-			printf("  docs/lua.md: %s:%s: %s %s, not kinds.c's row\n",
-			       cls, name, c2, c3);
+			printf(
+			    "  docs/lua.md: %s:%s: %s %s, not kinds.c's row\n",
+			    cls, name, c2, c3);
 			bad++;
 		}
 		rows++;
@@ -267,15 +279,19 @@ TEST(the_docs_table_of_worlds_is_kinds_c)
 			       EVO_ACT_KIND_COUNT);
 }
 
+TEST(a_kind_of_the_other_world_is_refused_as_the_docs_table_says)
+{
+	refusals();
+	docs_table();
+}
+
 int main(void)
 {
-	if (cli_setup("luadims") ||
-	    cli_sh("mkdir -p %s/Bots %s/Envs", cli_tmp, cli_tmp))
+	if (cli_setup("luadims"))
 		return 1;
-	RUN(one_environment_reads_the_same_figures_in_3d);
-	RUN(one_environment_reads_the_same_figures_in_2d);
-	RUN(a_kind_of_the_other_world_is_refused_naming_it_and_the_world);
-	RUN(the_docs_table_of_worlds_is_kinds_c);
+	cli_sh("mkdir -p %s/Bots %s/Envs", cli_tmp, cli_tmp);
+	RUN(one_environment_reads_the_same_figures_in_both_worlds);
+	RUN(a_kind_of_the_other_world_is_refused_as_the_docs_table_says);
 	cli_cleanup();
 	return test_summary();
 }
