@@ -206,17 +206,8 @@ static int b_touching(const evo_bworld *w, evo_body_id id)
 
 static int b_step(evo_bworld *w, evo_bfault *fault)
 {
-	evo_world3d_fault f;
-	if (!evo_world3d_step(W(w), &f))
-		return 0;
-	if (fault) {
-		fault->body = (evo_body_id){f.body, 0};
-		fault->kind = f.kind == EVO_FAULT3D_NAN	    ? EVO_BFAULT_NAN
-			      : f.kind == EVO_FAULT3D_SPEED ? EVO_BFAULT_SPEED
-							    : EVO_BFAULT_SPIN;
-		fault->value = f.value;
-	}
-	return -1;
+	evo_bfault unwanted; /* fault may be NULL */
+	return evo_world3d_step(W(w), fault ? fault : &unwanted);
 }
 
 /* NULL: what a 3D world does not do (reset: a 3D scene makes its world

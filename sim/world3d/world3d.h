@@ -144,23 +144,11 @@ void evo_body3d_set_pose(evo_world3d *w, int body, const double pos[3],
 /* The group of a body's shapes (evo_body3d_def), -1 for one of its own. */
 int evo_body3d_group(const evo_world3d *w, int body);
 
-/* What evo_world3d_step found wrong with a body. */
-typedef enum evo_world3d_fault_kind {
-	EVO_FAULT3D_NAN = 0, /* a position, turn or speed not a number */
-	EVO_FAULT3D_SPEED,   /* faster than max_speed */
-	EVO_FAULT3D_SPIN,    /* spinning faster than max_spin */
-} evo_world3d_fault_kind;
-
-typedef struct evo_world3d_fault {
-	int body; /* the first body that exploded */
-	evo_world3d_fault_kind kind;
-	double value; /* its speed (m/s) or spin (rad/s) */
-} evo_world3d_fault;
-
 /* One physics step. Returns 0, or -1 when a body exploded (see
- * evo_world3d_def), with *fault saying which and how. The world is then
- * no longer worth stepping: make it again. */
-int evo_world3d_step(evo_world3d *w, evo_world3d_fault *fault);
+ * evo_world3d_def), with *fault saying which and how (the backend's
+ * evo_bfault, sim/scene/backend.h). The world is then no longer worth
+ * stepping: make it again. */
+int evo_world3d_step(evo_world3d *w, evo_bfault *fault);
 
 /* Contacts in the last step between a shape of group g and a shape of
  * another group that is not the ground. */

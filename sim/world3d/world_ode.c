@@ -495,33 +495,33 @@ static void near(void *data, dGeomID g1, dGeomID g2)
 }
 
 /* 1 when body b has blown up, with f's kind and value set. */
-static int exploded(const evo_world3d *w, dBodyID b, evo_world3d_fault *f)
+static int exploded(const evo_world3d *w, dBodyID b, evo_bfault *f)
 {
 	const dReal *p = dBodyGetPosition(b), *v = dBodyGetLinearVel(b),
 		    *a = dBodyGetAngularVel(b), *q = dBodyGetQuaternion(b);
 	for (int k = 0; k < 3; k++)
 		if (!isfinite(p[k]) || !isfinite(v[k]) || !isfinite(a[k]) ||
 		    !isfinite(q[k]) || !isfinite(q[3])) {
-			f->kind = EVO_FAULT3D_NAN;
+			f->kind = EVO_BFAULT_NAN;
 			f->value = NAN;
 			return 1;
 		}
 	double s = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 	double spin = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
 	if (s > w->def.max_speed) {
-		f->kind = EVO_FAULT3D_SPEED;
+		f->kind = EVO_BFAULT_SPEED;
 		f->value = s;
 		return 1;
 	}
 	if (spin > w->def.max_spin) {
-		f->kind = EVO_FAULT3D_SPIN;
+		f->kind = EVO_BFAULT_SPIN;
 		f->value = spin;
 		return 1;
 	}
 	return 0;
 }
 
-int evo_world3d_step(evo_world3d *w, evo_world3d_fault *fault)
+int evo_world3d_step(evo_world3d *w, evo_bfault *fault)
 {
 	if (ensure_thread())
 		return -1;
@@ -529,7 +529,7 @@ int evo_world3d_step(evo_world3d *w, evo_world3d_fault *fault)
 	 * never reaches ODE's solver, which may abort on it. */
 	for (int i = 0; i < w->n_bodies; i++)
 		if (exploded(w, w->body[i], fault)) {
-			fault->body = i;
+			fault->body = (evo_body_id){i, 0};
 			return -1;
 		}
 	for (int i = 0; i < w->n_groups; i++)
@@ -540,7 +540,7 @@ int evo_world3d_step(evo_world3d *w, evo_world3d_fault *fault)
 	dJointGroupEmpty(w->contacts);
 	for (int i = 0; i < w->n_bodies; i++)
 		if (exploded(w, w->body[i], fault)) {
-			fault->body = i;
+			fault->body = (evo_body_id){i, 0};
 			return -1;
 		}
 	return 0;
