@@ -21,18 +21,21 @@ static int finite_n(const double *v, int n)
 	return 1;
 }
 
-/* Room for one more of size `size` in *arr; 0 or -1. */
-static int grow(void **arr, int n, int *cap, size_t size)
+/* Puts item, of size `size`, at the end of *arr (*n items, room for
+ * *cap), growing it: the item's index, or -1 when out of memory. */
+static int append(void **arr, int *n, int *cap, const void *item,
+		  size_t size)
 {
-	if (n < *cap)
-		return 0;
-	int c = *cap ? 2 * *cap : 4;
-	void *p = realloc(*arr, (size_t)c * size);
-	if (!p)
-		return -1;
-	*arr = p;
-	*cap = c;
-	return 0;
+	if (*n == *cap) {
+		int c = *cap ? 2 * *cap : 4;
+		void *p = realloc(*arr, (size_t)c * size);
+		if (!p)
+			return -1;
+		*arr = p;
+		*cap = c;
+	}
+	memcpy((char *)*arr + (size_t)*n * size, item, size);
+	return (*n)++;
 }
 
 int evo_swarm_add_light(evo_swarm *w, const evo_light *l, evo_err *err)
@@ -44,11 +47,9 @@ int evo_swarm_add_light(evo_swarm *w, const evo_light *l, evo_err *err)
 				"light: intensity must be above 0, found %g",
 				l->intensity);
 	void *arr = w->light;
-	if (grow(&arr, w->n_lights, &w->cap_lights, sizeof *l))
-		return evo_fail(err, "out of memory");
+	int i = append(&arr, &w->n_lights, &w->cap_lights, l, sizeof *l);
 	w->light = arr;
-	w->light[w->n_lights] = *l;
-	return w->n_lights++;
+	return i < 0 ? evo_fail(err, "out of memory") : i;
 }
 
 int evo_swarm_add_patch(evo_swarm *w, const evo_patch *p, evo_err *err)
@@ -63,11 +64,9 @@ int evo_swarm_add_patch(evo_swarm *w, const evo_patch *p, evo_err *err)
 		return evo_fail(err, "patch: grey must be in [0, 1], found %g",
 				p->grey);
 	void *arr = w->patch;
-	if (grow(&arr, w->n_patches, &w->cap_patches, sizeof *p))
-		return evo_fail(err, "out of memory");
+	int i = append(&arr, &w->n_patches, &w->cap_patches, p, sizeof *p);
 	w->patch = arr;
-	w->patch[w->n_patches] = *p;
-	return w->n_patches++;
+	return i < 0 ? evo_fail(err, "out of memory") : i;
 }
 
 static const char *const colour_names[EVO_COLOUR_COUNT] = {
@@ -97,12 +96,11 @@ int evo_swarm_set_colour(evo_swarm *w, evo_blob_kind kind, int index,
 			w->blob[i].colour = colour;
 			return i;
 		}
+	evo_blob b = {kind, index, colour};
 	void *arr = w->blob;
-	if (grow(&arr, w->n_blobs, &w->cap_blobs, sizeof *w->blob))
-		return evo_fail(err, "out of memory");
+	int i = append(&arr, &w->n_blobs, &w->cap_blobs, &b, sizeof b);
 	w->blob = arr;
-	w->blob[w->n_blobs] = (evo_blob){kind, index, colour};
-	return w->n_blobs++;
+	return i < 0 ? evo_fail(err, "out of memory") : i;
 }
 
 void evo_swarm_free(evo_swarm *w)
