@@ -180,8 +180,7 @@ static void to_body(const evo_swarm_frame *f, const double v[3], double b[3])
 		b[i] = f->R[i] * v[0] + f->R[3 + i] * v[1] + f->R[6 + i] * v[2];
 }
 
-/* An angle into (-pi, pi]. */
-static double wrap(double a)
+double evo_wrap_angle(double a)
 {
 	a = fmod(a, 2 * M_PI);
 	if (a > M_PI)
@@ -231,7 +230,7 @@ double evo_swarm_light(const evo_swarm *w, const evo_swarm_frame *f,
 			sum = 1; /* the sensor sits in the light */
 			break;
 		}
-		if (fabs(wrap(bearing(f, d) - yaw)) > aperture)
+		if (fabs(evo_wrap_angle(bearing(f, d) - yaw)) > aperture)
 			continue;
 		double len = sqrt(dd);
 		double u[3] = {d[0] / len, d[1] / len, d[2] / len};

@@ -134,6 +134,10 @@ typedef struct evo_swarm_frame {
 	double R[9]; /* row-major */
 } evo_swarm_frame;
 
+/* An angle (radians) into (-pi, pi], for the bearings of the swarm
+ * sensors here and of the 2D world's radar and bumper. */
+double evo_wrap_angle(double a);
+
 /* The frame of a 2D pose (z = 0, a turn by angle about z). */
 evo_swarm_frame evo_swarm_frame_2d(double x, double y, double angle);
 
