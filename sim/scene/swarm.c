@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "scene/store.h"
+
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
 #endif
@@ -21,20 +23,15 @@ static int finite_n(const double *v, int n)
 	return 1;
 }
 
-/* Puts item, of size `size`, at the end of *arr (*n items, room for
- * *cap), growing it: the item's index, or -1 when out of memory. */
-static int append(void **arr, int *n, int *cap, const void *item,
-		  size_t size)
+/* Item, of size `size`, at the end of *arr (*n items, room for *cap,
+ * as evo_store_add grows it): the item's index, or -1 with err set. */
+static int append(void **arr, int *n, int *cap, const void *item, size_t size,
+		  evo_err *err)
 {
-	if (*n == *cap) {
-		int c = *cap ? 2 * *cap : 4;
-		void *p = realloc(*arr, (size_t)c * size);
-		if (!p)
-			return -1;
-		*arr = p;
-		*cap = c;
-	}
-	memcpy((char *)*arr + (size_t)*n * size, item, size);
+	void *slot = evo_store_add(arr, cap, *n, size, err);
+	if (!slot)
+		return -1;
+	memcpy(slot, item, size);
 	return (*n)++;
 }
 
@@ -46,10 +43,8 @@ int evo_swarm_add_light(evo_swarm *w, const evo_light *l, evo_err *err)
 		return evo_fail(err,
 				"light: intensity must be above 0, found %g",
 				l->intensity);
-	void *arr = w->light;
-	int i = append(&arr, &w->n_lights, &w->cap_lights, l, sizeof *l);
-	w->light = arr;
-	return i < 0 ? evo_fail(err, "out of memory") : i;
+	return append((void **)&w->light, &w->n_lights, &w->cap_lights, l,
+		      sizeof *l, err);
 }
 
 int evo_swarm_add_patch(evo_swarm *w, const evo_patch *p, evo_err *err)
@@ -63,10 +58,8 @@ int evo_swarm_add_patch(evo_swarm *w, const evo_patch *p, evo_err *err)
 	if (!(p->grey >= 0 && p->grey <= 1))
 		return evo_fail(err, "patch: grey must be in [0, 1], found %g",
 				p->grey);
-	void *arr = w->patch;
-	int i = append(&arr, &w->n_patches, &w->cap_patches, p, sizeof *p);
-	w->patch = arr;
-	return i < 0 ? evo_fail(err, "out of memory") : i;
+	return append((void **)&w->patch, &w->n_patches, &w->cap_patches, p,
+		      sizeof *p, err);
 }
 
 static const char *const colour_names[EVO_COLOUR_COUNT] = {
@@ -97,10 +90,8 @@ int evo_swarm_set_colour(evo_swarm *w, evo_blob_kind kind, int index,
 			return i;
 		}
 	evo_blob b = {kind, index, colour};
-	void *arr = w->blob;
-	int i = append(&arr, &w->n_blobs, &w->cap_blobs, &b, sizeof b);
-	w->blob = arr;
-	return i < 0 ? evo_fail(err, "out of memory") : i;
+	return append((void **)&w->blob, &w->n_blobs, &w->cap_blobs, &b,
+		      sizeof b, err);
 }
 
 void evo_swarm_free(evo_swarm *w)
