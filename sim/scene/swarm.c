@@ -102,12 +102,12 @@ void evo_swarm_free(evo_swarm *w)
 	memset(w, 0, sizeof *w);
 }
 
-evo_swarm_sensor evo_default_swarm_sensor(void)
+evo_swarm_sensor evo_default_swarm_sensor(double range)
 {
 	evo_swarm_sensor s;
 	memset(&s, 0, sizeof s);
 	s.aperture = M_PI / 4;
-	s.range = 1;
+	s.range = range;
 	s.slot = 1;
 	s.read = EVO_RAB_RANGE;
 	s.scale = 10;

@@ -120,9 +120,9 @@ typedef struct evo_swarm_sensor {
 	int colour;   /* camera: the only colour it sees; -1 any (default) */
 } evo_swarm_sensor;
 
-/* Range 1 (2D worlds are tens of metres: the scenes' defaults differ),
- * aperture 45 degrees, slot 1, read range, scale 10. */
-evo_swarm_sensor evo_default_swarm_sensor(void);
+/* Aperture 45 degrees, slot 1, read range, scale 10; range (m) is each
+ * world's own, as 2D worlds are tens of metres and 3D ones a few. */
+evo_swarm_sensor evo_default_swarm_sensor(double range);
 
 /* The sensor's settings checked: 0, or -1 with err set naming `name`. */
 int evo_swarm_check_sensor(const evo_swarm_sensor *s, const char *name,

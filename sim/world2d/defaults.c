@@ -53,8 +53,7 @@ evo_sensor_def evo_default_sensor_def(evo_sensor_kind kind)
 	if (kind == EVO_SENSOR_BUMPER)
 		d.reach = 1.05;
 	d.value = 0.5;
-	d.swarm = evo_default_swarm_sensor();
-	d.swarm.range = 30.0; /* BotType8's world: bots 2 m wide */
+	d.swarm = evo_default_swarm_sensor(30.0); /* BotType8's: 2 m wide */
 	return d;
 }
 

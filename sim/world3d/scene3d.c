@@ -34,8 +34,7 @@ evo_sensor3d_def evo_default_sensor3d_def(evo_sensor3d_kind kind)
 	d.mask = EVO_CAT3D_BOT | EVO_CAT3D_OBSTACLE | EVO_CAT3D_OBJECT;
 	d.target = EVO3D_TARGET_NONE;
 	d.scale = 20;
-	d.swarm = evo_default_swarm_sensor();
-	d.swarm.range = 3;
+	d.swarm = evo_default_swarm_sensor(3);
 	return d;
 }
 
