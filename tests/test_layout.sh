@@ -254,8 +254,6 @@ fi
 # the pairs of folders others are changing now, or that this check found
 # and no one has split yet; a listed pair no longer mutual fails.
 MUTUAL_ALLOWED="
-sim/cmd/mindinfo.c sim/cmd/run.c
-sim/remote/can_robot.c sim/remote/robot.c
 sim/world2d/rewards.c sim/world2d/scene.c
 "
 mutual=$(printf '%s\n' "$incs" | awk '
