@@ -385,6 +385,10 @@ static int run_viewer_trail(evo_sim *s, evo_viewer *v, const run_opts *o,
 			  evo_run_episode_seed(seed, 1), err))
 		return -1;
 	trail_restart(tr, o, s);
+	/* a small arena starts zoomed in, as its screenshot is */
+	double fit = evo_view_fit_zoom(s->scene, VIEW_W, VIEW_H);
+	if (fit > 1)
+		evo_viewer_zoom(v, fit);
 	double speed = 1.0, next = evo_clock_now();
 	int paused = 0;
 	for (;;) {

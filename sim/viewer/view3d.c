@@ -276,13 +276,74 @@ static void ground(void)
 	glEnd();
 }
 
+/* A thing's colour: the one it was given (scene:colour), else `plain`. */
+static uint32_t coloured(const evo_scene3d *sc, evo_blob_kind kind, int index,
+			 uint32_t plain)
+{
+	int c = evo_view_colour_of(&sc->swarm, kind, index);
+	return c < 0 ? plain : evo_view_blob_colour(c);
+}
+
+/* The floor patches, on the ground drawn just before: with no depth
+ * test, they paint over it alone and leave its depth as it was. */
+static void patches(const evo_swarm *w)
+{
+	glDisable(GL_DEPTH_TEST);
+	glNormal3d(0, 0, 1);
+	for (int i = 0; i < w->n_patches; i++) {
+		const evo_patch *pa = &w->patch[i];
+		colour(evo_view_grey(pa->grey), 1);
+		glPushMatrix();
+		glTranslated(pa->x, pa->y, 0);
+		glRotated(pa->yaw * 180 / M_PI, 0, 0, 1);
+		glBegin(pa->circle ? GL_TRIANGLE_FAN : GL_QUADS);
+		if (pa->circle) {
+			glVertex3d(0, 0, 0);
+			for (int j = 0; j <= 2 * SLICES; j++) {
+				double b = M_PI * j / SLICES;
+				glVertex3d(pa->radius * cos(b),
+					   pa->radius * sin(b), 0);
+			}
+		} else {
+			glVertex3d(-pa->hx, -pa->hy, 0);
+			glVertex3d(pa->hx, -pa->hy, 0);
+			glVertex3d(pa->hx, pa->hy, 0);
+			glVertex3d(-pa->hx, pa->hy, 0);
+		}
+		glEnd();
+		glPopMatrix();
+	}
+	glEnable(GL_DEPTH_TEST);
+}
+
+/* The lights: spheres that shine, so not shaded. */
+static void light_marks(const evo_scene3d *sc)
+{
+	glDisable(GL_LIGHTING);
+	for (int i = 0; i < sc->swarm.n_lights; i++) {
+		const evo_light *l = &sc->swarm.light[i];
+		double r = 0.25 * sqrt(l->intensity);
+		r = r < EVO_VIEW3D_LIGHT_MIN   ? EVO_VIEW3D_LIGHT_MIN
+		    : r > EVO_VIEW3D_LIGHT_MAX ? EVO_VIEW3D_LIGHT_MAX
+					       : r;
+		colour(coloured(sc, EVO_BLOB_LIGHT, i, EVO_VIEW_LIGHT), 1);
+		glPushMatrix();
+		glTranslated(l->pos[0], l->pos[1], l->pos[2]);
+		sphere(r);
+		glPopMatrix();
+	}
+	glEnable(GL_LIGHTING);
+}
+
 static void bot(const evo_scene3d *sc, const evo_bot3d *b)
 {
 	glPushMatrix();
 	pose(b->pos, b->R);
-	/* a team's bot in its team's colour, as in the 2D view */
-	colour(b->def.team >= 0 ? evo_view_team_colour(b->def.team)
-				: EVO_VIEW3D_BOT,
+	/* a team's bot in its team's colour, as in the 2D view; a bot given
+	 * a colour in that one */
+	colour(coloured(sc, EVO_BLOB_BOT, (int)(b - sc->bot),
+			b->def.team >= 0 ? evo_view_team_colour(b->def.team)
+					 : EVO_VIEW3D_BOT),
 	       1);
 	if (b->def.radius > 0)
 		sphere(b->def.radius);
@@ -368,6 +429,7 @@ static void rays(const evo_bot3d *b)
 static void world(const evo_scene3d *sc)
 {
 	ground();
+	patches(&sc->swarm);
 	for (int i = 0; i < sc->n_obstacles; i++) {
 		const evo_shape3d *o = &sc->obstacle[i];
 		colour(o->category == EVO_CAT3D_GROUND ? EVO_VIEW3D_BUMP
@@ -380,13 +442,17 @@ static void world(const evo_scene3d *sc)
 		if (e->def.kind == EVO3D_ELEM_TARGET) {
 			glPushMatrix();
 			glTranslated(e->pos[0], e->pos[1], e->pos[2]);
-			colour(EVO_VIEW3D_TARGET, 1);
+			colour(coloured(sc, EVO_BLOB_ELEMENT, i,
+					EVO_VIEW3D_TARGET),
+			       1);
 			sphere(e->def.radius);
 			glPopMatrix();
 		} else if (e->def.kind == EVO3D_ELEM_OBJECT) {
 			glPushMatrix();
 			pose(e->pos, e->R);
-			colour(EVO_VIEW_OBJECT, 1);
+			colour(coloured(sc, EVO_BLOB_ELEMENT, i,
+					EVO_VIEW_OBJECT),
+			       1);
 			if (e->def.sphere)
 				sphere(e->def.radius);
 			else
@@ -396,6 +462,7 @@ static void world(const evo_scene3d *sc)
 	}
 	for (int i = 0; i < sc->n_bots; i++)
 		bot(sc, &sc->bot[i]);
+	light_marks(sc);
 	/* translucent last: zones, then the rays */
 	glDepthMask(GL_FALSE);
 	for (int i = 0; i < sc->n_elements; i++) {
@@ -405,7 +472,7 @@ static void world(const evo_scene3d *sc)
 		glPushMatrix();
 		glTranslated(e->pos[0], e->pos[1], e->pos[2]);
 		glRotated(e->def.yaw * 180 / M_PI, 0, 0, 1);
-		colour(EVO_VIEW_ZONE, 0.3);
+		colour(coloured(sc, EVO_BLOB_ELEMENT, i, EVO_VIEW_ZONE), 0.3);
 		box(e->def.half);
 		glPopMatrix();
 	}
