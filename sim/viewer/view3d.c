@@ -18,6 +18,7 @@
 #include "viewer/raster.h"
 #include "viewer/sdl_load.h"
 #include "viewer/viewer.h"
+#include "viewer/viewer_internal.h"
 
 struct evo_view3d {
 	SDL_Window *window; /* NULL off screen */
@@ -80,25 +81,10 @@ static void pin_drivers(void)
 
 evo_view3d *evo_view3d_open(int width, int height, evo_err *err)
 {
-	if (width <= 0 || height <= 0) {
-		width = 1024;
-		height = 720;
-	}
-	if (evo_sdl_load(1, "the 3D view", err))
+	evo_view3d *v = view_start_sdl(1, "the 3D view", &width, &height,
+				       sizeof *v, err);
+	if (!v)
 		return NULL;
-	if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0) {
-		evo_fail(err,
-			 "cannot open the 3D view: %s (no display? set "
-			 "DISPLAY, or run with --headless)",
-			 SDL_GetError());
-		return NULL;
-	}
-	evo_view3d *v = calloc(1, sizeof *v);
-	if (!v) {
-		SDL_QuitSubSystem(SDL_INIT_VIDEO);
-		evo_fail(err, "cannot open the 3D view: out of memory");
-		return NULL;
-	}
 	camera_start(v);
 	SDL_GL_SetAttribute(SDL_GL_DEPTH_SIZE, 24);
 	SDL_GL_SetAttribute(SDL_GL_DOUBLEBUFFER, 1);
@@ -670,19 +656,19 @@ evo_view_action evo_view3d_poll(evo_view3d *v)
 	if (!v->window)
 		return EVO_VIEW_NONE;
 	while (SDL_PollEvent(&ev)) {
-		if (ev.type == SDL_QUIT ||
-		    (ev.type == SDL_WINDOWEVENT &&
-		     ev.window.event == SDL_WINDOWEVENT_CLOSE))
-			return EVO_VIEW_QUIT;
-		if (ev.type == SDL_MOUSEWHEEL) {
-			v->dist *= ev.wheel.y > 0   ? 0.8
-				   : ev.wheel.y < 0 ? 1.25
-						    : 1;
+		evo_view_action a = view_action_of(&ev);
+		if (a != EVO_VIEW_NONE)
+			return a;
+		/* nearer or farther; no zoom to go back to */
+		view_zoom z = view_zoom_of(&ev);
+		if (z == VIEW_ZOOM_IN || z == VIEW_ZOOM_OUT) {
+			v->dist *= z == VIEW_ZOOM_IN ? 0.8 : 1.25;
 			v->dist = v->dist < 0.3	 ? 0.3
 				  : v->dist > 80 ? 80
 						 : v->dist;
-			continue;
 		}
+		if (z != VIEW_ZOOM_NONE || ev.type == SDL_MOUSEWHEEL)
+			continue;
 		if (ev.type == SDL_MOUSEBUTTONDOWN) {
 			v->drag = ev.button.button == SDL_BUTTON_LEFT	 ? 1
 				  : ev.button.button == SDL_BUTTON_RIGHT ? 2
@@ -710,25 +696,6 @@ evo_view_action evo_view3d_poll(evo_view3d *v)
 			v->target[1] +=
 			    (-ev.motion.xrel * c + ev.motion.yrel * s) * k;
 			return EVO_VIEW_FREE;
-		}
-		if (ev.type != SDL_KEYDOWN)
-			continue;
-		evo_view_action a =
-		    evo_view_key(ev.key.keysym.sym, ev.key.repeat);
-		if (a != EVO_VIEW_NONE)
-			return a;
-		switch (ev.key.keysym.sym) {
-		case SDLK_PLUS:
-		case SDLK_EQUALS:
-		case SDLK_KP_PLUS:
-			v->dist = v->dist * 0.8 < 0.3 ? 0.3 : v->dist * 0.8;
-			break;
-		case SDLK_MINUS:
-		case SDLK_KP_MINUS:
-			v->dist = v->dist * 1.25 > 80 ? 80 : v->dist * 1.25;
-			break;
-		default:
-			break;
 		}
 	}
 	return EVO_VIEW_NONE;

@@ -242,6 +242,28 @@ static void box_corners(const evo_view_camera *cam, double x, double y,
 	}
 }
 
+/* A disc of radius r metres at (x, y), filled and edged 1 pixel wide. */
+static void edged_disc(evo_raster *im, const evo_view_camera *cam, double x,
+		       double y, double r, uint32_t fill, uint32_t edge)
+{
+	double sx, sy;
+	evo_view_to_screen(cam, x, y, &sx, &sy);
+	evo_raster_fill_circle(im, sx, sy, r * cam->scale, fill, 255);
+	evo_raster_circle(im, sx, sy, r * cam->scale, 1, edge, 255);
+}
+
+/* A box of half sides (hw, hh) turned by angle about (x, y), filled and
+ * edged. */
+static void edged_box(evo_raster *im, const evo_view_camera *cam, double x,
+		      double y, double angle, double hw, double hh,
+		      uint32_t fill, uint32_t edge)
+{
+	double bx[4], by[4];
+	box_corners(cam, x, y, angle, hw, hh, bx, by);
+	evo_raster_fill_polygon(im, bx, by, 4, fill, 255);
+	evo_raster_polygon(im, bx, by, 4, edge, 255);
+}
+
 /* Faint lines every 10 m (every 50 m when they would crowd), so motion
  * shows while the camera follows a bot. */
 static void draw_grid(evo_raster *im, const evo_view_camera *cam)
@@ -273,17 +295,11 @@ static void draw_patch(evo_raster *im, const evo_view_camera *cam,
 		       const evo_patch *pa)
 {
 	uint32_t grey = evo_view_grey(pa->grey);
-	if (pa->circle) {
-		double sx, sy, r = pa->radius * cam->scale;
-		evo_view_to_screen(cam, pa->x, pa->y, &sx, &sy);
-		evo_raster_fill_circle(im, sx, sy, r, grey, 255);
-		evo_raster_circle(im, sx, sy, r, 1, PATCH_EDGE, 255);
-		return;
-	}
-	double bx[4], by[4];
-	box_corners(cam, pa->x, pa->y, pa->yaw, pa->hx, pa->hy, bx, by);
-	evo_raster_fill_polygon(im, bx, by, 4, grey, 255);
-	evo_raster_polygon(im, bx, by, 4, PATCH_EDGE, 255);
+	if (pa->circle)
+		edged_disc(im, cam, pa->x, pa->y, pa->radius, grey, PATCH_EDGE);
+	else
+		edged_box(im, cam, pa->x, pa->y, pa->yaw, pa->hx, pa->hy, grey,
+			  PATCH_EDGE);
 }
 
 /* A light: a disc in its colour, edged dark, and a ring where a light
@@ -312,28 +328,19 @@ static void draw_coloured_element(evo_raster *im, const evo_view_camera *cam,
 	if (c < 0)
 		return;
 	uint32_t rgb = evo_view_blob_colour(c);
-	if (el->kind == EVO_ELEM_CYLINDER) {
-		double sx, sy, r = el->size * cam->scale;
-		evo_view_to_screen(cam, el->x, el->y, &sx, &sy);
-		evo_raster_fill_circle(im, sx, sy, r, rgb, 255);
-		evo_raster_circle(im, sx, sy, r, 1, OBSTACLE_EDGE, 255);
-	} else if (el->kind == EVO_ELEM_BOX) {
-		double bx[4], by[4];
-		box_corners(cam, el->x, el->y, el->angle, el->half_w,
-			    el->half_h, bx, by);
-		evo_raster_fill_polygon(im, bx, by, 4, rgb, 255);
-		evo_raster_polygon(im, bx, by, 4, OBSTACLE_EDGE, 255);
-	}
+	if (el->kind == EVO_ELEM_CYLINDER)
+		edged_disc(im, cam, el->x, el->y, el->size, rgb, OBSTACLE_EDGE);
+	else if (el->kind == EVO_ELEM_BOX)
+		edged_box(im, cam, el->x, el->y, el->angle, el->half_w,
+			  el->half_h, rgb, OBSTACLE_EDGE);
 }
 
 static void draw_obstacle(evo_raster *im, const evo_view_camera *cam,
 			  const evo_obstacle *o)
 {
 	if (o->shape == EVO_SHAPE_CIRCLE) {
-		double sx, sy, r = o->radius * cam->scale;
-		evo_view_to_screen(cam, o->x, o->y, &sx, &sy);
-		evo_raster_fill_circle(im, sx, sy, r, EVO_VIEW_OBSTACLE, 255);
-		evo_raster_circle(im, sx, sy, r, 1, OBSTACLE_EDGE, 255);
+		edged_disc(im, cam, o->x, o->y, o->radius, EVO_VIEW_OBSTACLE,
+			   OBSTACLE_EDGE);
 		return;
 	}
 	if (o->shape == EVO_SHAPE_SEGMENT) {
@@ -344,10 +351,8 @@ static void draw_obstacle(evo_raster *im, const evo_view_camera *cam,
 				      EVO_VIEW_WALL, 255);
 		return;
 	}
-	double bx[4], by[4];
-	box_corners(cam, o->x, o->y, o->angle, o->half_w, o->half_h, bx, by);
-	evo_raster_fill_polygon(im, bx, by, 4, EVO_VIEW_OBSTACLE, 255);
-	evo_raster_polygon(im, bx, by, 4, OBSTACLE_EDGE, 255);
+	edged_box(im, cam, o->x, o->y, o->angle, o->half_w, o->half_h,
+		  EVO_VIEW_OBSTACLE, OBSTACLE_EDGE);
 }
 
 static void draw_zone(evo_raster *im, const evo_view_camera *cam,
