@@ -75,24 +75,9 @@ int eval_evaluate_team_unit(worker *w, int j, evo_err *err)
 	const evo_simscene *ws = w->sim->world;
 	const void *sc = w->sim->sc;
 	for (int r = 0; r < ev->reps; r++) {
-		if (evo_sim_reset(
-			w->sim, r + 1, evo_eval_grid_seed(ev->seed, ev->gen, r),
-			evo_eval_episode_seed(ev->seed, ev->gen, j, r), err)) {
-			evo_err inner = *err;
-			return evo_fail(err, "repetition %d, at its start: %s",
-					r + 1, inner.msg);
-		}
-		for (long tk = 0; tk < ev->ticks; tk++) {
-			int st2 = evo_sim_tick(w->sim, err);
-			if (st2 < 0) {
-				evo_err inner = *err;
-				return evo_fail(err,
-						"repetition %d, tick %ld: %s",
-						r + 1, tk, inner.msg);
-			}
-			if (st2 > 0)
-				break;
-		}
+		if (eval_run_episode(w->sim, ev->seed, ev->gen, j, r, ev->ticks,
+				     err))
+			return -1;
 		u->team_fitness += ws->team_reward(sc, t);
 		u->wins += ws->winner(sc) == t;
 		for (int i = 0; i < size; i++) {
@@ -267,11 +252,7 @@ int evo_evaluate_teams(evo_evaluator *ev, int team,
 			free(own);
 			return evo_fail(err, "candidate %d is in no team", i);
 		}
-	pthread_mutex_lock(&ev->mu);
-	ev->cand = candidates;
-	ev->n = n_groups;
-	ev->gen = gen;
-	ev->next = 0;
+	eval_begin_batch(ev, candidates, n_groups, gen);
 	ev->res = NULL;
 	ev->team = team;
 	ev->groups = groups;
