@@ -115,6 +115,13 @@ typedef struct panel_data {
 int evo_run_playback(evo_view_action a, int *paused, int *steps, double *speed,
 		     long *t);
 
+/* The s key's screenshot in both views: the file it goes to at `tick`
+ * (evo-screenshot-TICK.png, in a static buffer), and saying how saving
+ * it went (rc: the view's screenshot's), err cleared for the run to go
+ * on. */
+const char *evo_run_shot_path(long tick);
+void evo_run_shot_said(int rc, const char *path, evo_err *err);
+
 /* DEMOSIM in a window: real time (30 ticks a second) times the speed,
  * with pause, single step, speed and reset keys. */
 int evo_run_viewer(evo_sim *s, evo_viewer *v, const run_opts *o, uint64_t seed,

@@ -361,6 +361,22 @@ int evo_run_playback(evo_view_action a, int *paused, int *steps, double *speed,
 	return 1;
 }
 
+const char *evo_run_shot_path(long tick)
+{
+	static char path[64];
+	snprintf(path, sizeof path, "evo-screenshot-%ld.png", tick);
+	return path;
+}
+
+void evo_run_shot_said(int rc, const char *path, evo_err *err)
+{
+	if (rc)
+		fprintf(stderr, "%s\n", err->msg);
+	else
+		printf("saved %s\n", path);
+	err->msg[0] = 0;
+}
+
 static int run_viewer_trail(evo_sim *s, evo_viewer *v, const run_opts *o,
 			    uint64_t seed, trail *tr, evo_err *err);
 
@@ -414,15 +430,11 @@ static int run_viewer_trail(evo_sim *s, evo_viewer *v, const run_opts *o,
 			else if (a == EVO_VIEW_FREE)
 				vs.follow = 0;
 			else if (a == EVO_VIEW_SCREENSHOT) {
-				char path[64];
-				snprintf(path, sizeof path,
-					 "evo-screenshot-%ld.png",
-					 s->scene->tick);
-				if (evo_viewer_screenshot(v, path, err))
-					fprintf(stderr, "%s\n", err->msg);
-				else
-					printf("saved %s\n", path);
-				err->msg[0] = 0;
+				const char *path =
+				    evo_run_shot_path(s->scene->tick);
+				evo_run_shot_said(
+				    evo_viewer_screenshot(v, path, err), path,
+				    err);
 			}
 		}
 		if (t < 0 || (o->episodes && e > o->episodes)) {

@@ -86,15 +86,11 @@ int evo_run_viewer3d(evo_sim *s, evo_view3d *v, const run_opts *o,
 			else if (a == EVO_VIEW_FREE)
 				follow = 0;
 			else if (a == EVO_VIEW_SCREENSHOT) {
-				char path[64];
-				snprintf(path, sizeof path,
-					 "evo-screenshot-%ld.png",
-					 s->scene3d->tick);
-				if (evo_view3d_screenshot(v, path, err))
-					fprintf(stderr, "%s\n", err->msg);
-				else
-					printf("saved %s\n", path);
-				err->msg[0] = 0;
+				const char *path =
+				    evo_run_shot_path(s->scene3d->tick);
+				evo_run_shot_said(
+				    evo_view3d_screenshot(v, path, err), path,
+				    err);
 			}
 		}
 		if (t < 0) {

@@ -6,6 +6,7 @@
 #ifndef EVO_ROBOT_STATUS_H
 #define EVO_ROBOT_STATUS_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 /* Where the episode is, and the counts so far. */
@@ -22,5 +23,12 @@ typedef struct evo_robot_status {
  * what is left until `until`, in ms, at most slice_ms; -1 when nothing is
  * held and the time is up. */
 int evo_robot_wait_ms(int held, double until, double t, int slice_ms);
+
+/* Whether a tick that arrived at `arrived` and was answered at
+ * `answered` (seconds) was answered late, past the robot's period: 1,
+ * with what says so ("was answered 40 ms after it came, past its period
+ * (33 ms)"), else 0. */
+int evo_robot_answered_late(double arrived, double answered, double period,
+			    char *what, size_t cap);
 
 #endif
