@@ -186,6 +186,30 @@ int learn_l_descriptors(lua_State *L)
 	return 1;
 }
 
+/* One field of each of n results, as a Lua list: fitness, solved,
+ * collisions, and for team tasks wins, team fitness and group (1-based). */
+enum result_field {
+	R_FITNESS, R_SOLVED, R_COLLISIONS, R_WINS, R_TEAM_FITNESS, R_GROUP
+};
+static void push_results(lua_State *L, const evo_eval_result *res, int n,
+			 enum result_field f)
+{
+	lua_createtable(L, n, 0);
+	for (int i = 0; i < n; i++) {
+		const evo_eval_result *r = &res[i];
+		if (f == R_FITNESS || f == R_TEAM_FITNESS)
+			lua_pushnumber(L, f == R_FITNESS ? r->fitness
+							 : r->team_fitness);
+		else if (f == R_SOLVED)
+			lua_pushboolean(L, r->solved);
+		else /* Lua integers, as they always were */
+			lua_pushinteger(L, f == R_COLLISIONS ? r->collisions
+					   : f == R_WINS     ? r->wins
+							     : r->group + 1);
+		lua_rawseti(L, -2, i + 1);
+	}
+}
+
 /* evo.evaluate(nets, generation[, groups, team]) -> fitness list,
  * seconds, solved list (booleans: the literature tasks' success
  * criterion), collisions list (ticks the bot spent touching, summed over
@@ -256,22 +280,10 @@ int learn_l_evaluate(lua_State *L)
 	if (rc)
 		return learn_raise_msg(L, err.msg);
 	keep_behaviours(L, l, res, n);
-	lua_createtable(L, n, 0);
-	for (int i = 0; i < n; i++) {
-		lua_pushnumber(L, res[i].fitness);
-		lua_rawseti(L, -2, i + 1);
-	}
+	push_results(L, res, n, R_FITNESS);
 	lua_pushnumber(L, dt);
-	lua_createtable(L, n, 0);
-	for (int i = 0; i < n; i++) {
-		lua_pushboolean(L, res[i].solved);
-		lua_rawseti(L, -2, i + 1);
-	}
-	lua_createtable(L, n, 0);
-	for (int i = 0; i < n; i++) {
-		lua_pushinteger(L, res[i].collisions);
-		lua_rawseti(L, -2, i + 1);
-	}
+	push_results(L, res, n, R_SOLVED);
+	push_results(L, res, n, R_COLLISIONS);
 	int nm = evo_evaluator_n_metrics(l->ev);
 	lua_createtable(L, n, 0);
 	for (int i = 0; i < n; i++) {
@@ -284,21 +296,9 @@ int learn_l_evaluate(lua_State *L)
 	}
 	if (evo_evaluator_n_teams(l->ev) == 0)
 		return 5;
-	lua_createtable(L, n, 0);
-	for (int i = 0; i < n; i++) {
-		lua_pushinteger(L, res[i].wins);
-		lua_rawseti(L, -2, i + 1);
-	}
-	lua_createtable(L, n, 0);
-	for (int i = 0; i < n; i++) {
-		lua_pushnumber(L, res[i].team_fitness);
-		lua_rawseti(L, -2, i + 1);
-	}
-	lua_createtable(L, n, 0);
-	for (int i = 0; i < n; i++) {
-		lua_pushinteger(L, res[i].group + 1);
-		lua_rawseti(L, -2, i + 1);
-	}
+	push_results(L, res, n, R_WINS);
+	push_results(L, res, n, R_TEAM_FITNESS);
+	push_results(L, res, n, R_GROUP);
 	return 8;
 }
 
