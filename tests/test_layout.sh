@@ -15,6 +15,12 @@
 #     through sim/scene/backend.h (the shims and fillings excepted);
 #   - the reward and control kinds are named in sim/scene/kinds.c alone,
 #     where each says the worlds it exists in;
+#   - one Lua binding for both scenes (docs/architecture.md, step 5): no
+#     sim/lua/ file calls a scene's own functions (world3d's, or world2d's
+#     adds, lookups and placing) but that dimension's table, lua_dim3d.c
+#     or lua_dim2d.c, and the piece, sensor and actuator kinds the binding
+#     offers are sim/scene/kinds.c's rows (no method table of sim/lua/
+#     names one);
 #   - the rewards, controls, metrics and hooks of both scenes are
 #     sim/scene/scoring's (docs/architecture.md, step 3): their types are
 #     defined in scoring.h alone, the functions chosen by kind in
@@ -163,6 +169,20 @@ names=$(grep -rl --include='*.c' '"ClosingOnTarget"\|"NextOnTimeout"' sim |
 if [ -z "$names" ]; then pass; else
 	fail "reward or control names outside sim/scene/kinds.c: $(echo $names)"; fi
 
+# One Lua binding (step 5): each scene's own functions are called from its
+# dimension's table alone (lua_evo.c keeps 2D's env.obstacles); the kinds'
+# methods come from kinds.c's rows, never from a method table of their own.
+calls3d=$(grep -l 'evo_\(scene3d\|bot3d\|sensor3d\)_[a-z_]*(' sim/lua/*.c |
+	grep -v '^sim/lua/lua_dim3d.c$')
+calls2d=$(grep -l 'evo_\(scene_add\|scene_find\|scene_place\|bot\|sensor\|body\)_[a-z_]*(' \
+	sim/lua/*.c | grep -v '^sim/lua/lua_dim2d.c$\|^sim/lua/lua_evo.c$')
+if [ -z "$calls3d$calls2d" ]; then pass; else
+	fail "sim/lua/ files calling a scene around its dimension's table: $(echo $calls3d $calls2d)"; fi
+rows=$(grep -l '{"\(proximity\|cylinder\|claw\|propeller\|sphere\)", *[a-z_]*}' sim/lua/*.c)
+if [ -z "$rows" ]; then pass; else
+	fail "kinds given methods of their own around sim/scene/kinds.c's rows: $(echo $rows)"; fi
+[ ! -f sim/lua/lua_scene3d.c ] && pass || fail "sim/lua/lua_scene3d.c is back: one binding serves both scenes"
+
 # One scoring for both scenes (step 3): the reward, control, metric and
 # hook types are scoring.h's alone; no file but scoring.c chooses a reward
 # or control function by its kind; both steps hand the tick's rewards and
@@ -209,8 +229,6 @@ fi
 MAX_LINES=800
 LONG_ALLOWED="
 sim/world2d/sensors.c
-sim/lua/lua_scene.c
-sim/lua/lua_scene3d.c
 "
 for src in sim/*/*.c sim/*/*.cpp; do
 	[ -f "$src" ] || continue
