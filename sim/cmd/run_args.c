@@ -271,14 +271,9 @@ int evo_run_parse_args(int argc, char **argv, run_opts *o)
 			o->record = v;
 			i++;
 		} else if (strcmp(a, "--record-every") == 0) {
-			if (parse_count(a, v, INT_MAX, &o->record_every))
+			if (parse_from_one(a, v, INT_MAX, &o->record_every,
+					   ""))
 				return -1;
-			if (o->record_every < 1) {
-				fprintf(stderr, "evo run: --record-every "
-						"expects a whole number from "
-						"1, found '0'\n");
-				return -1;
-			}
 			i++;
 		} else if (strcmp(a, "--camera") == 0) {
 			if (parse_camera(v, o))

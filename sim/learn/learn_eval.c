@@ -54,6 +54,19 @@ lua_Integer learn_field_int(lua_State *L, int idx, const char *key,
 			  key, (lua_Number)v, lo, hi);
 }
 
+/* Push field `key` of network `which` (the table at idx), a list of at
+ * most max entries: its length. */
+static int push_list(lua_State *L, int idx, const char *key, int max,
+		     int which)
+{
+	lua_getfield(L, idx, key);
+	int n = (int)luaL_len(L, -1);
+	if (n > max)
+		luaL_error(L, "network %d: %d %s (at most %d)", which, n, key,
+			   max);
+	return n;
+}
+
 /* A network table of learn.neat (inputs, outputs, nodes {id, act, bias},
  * outputs_ids, links {from, to, weight}), or a network evo.neat.pack_net
  * packed, as evo's network description (only the nodes and links it has
@@ -68,11 +81,7 @@ static void to_netdesc(lua_State *L, int idx, int which, evo_netdesc *d)
 	d->n_out = (uint16_t)learn_field_int(L, idx, "outputs", 0, UINT16_MAX, which);
 	if (d->n_out > EVO_MAX_SKILL_IO)
 		luaL_error(L, "network %d: %d outputs", which, d->n_out);
-	lua_getfield(L, idx, "nodes");
-	int n = (int)luaL_len(L, -1);
-	if (n > EVO_NET_MAX_NODES)
-		luaL_error(L, "network %d: %d nodes (at most %d)", which, n,
-			   EVO_NET_MAX_NODES);
+	int n = push_list(L, idx, "nodes", EVO_NET_MAX_NODES, which);
 	for (int i = 1; i <= n; i++) {
 		lua_geti(L, -1, i);
 		int t = lua_gettop(L);
@@ -99,11 +108,7 @@ static void to_netdesc(lua_State *L, int idx, int which, evo_netdesc *d)
 		lua_pop(L, 1);
 	}
 	lua_pop(L, 1);
-	lua_getfield(L, idx, "links");
-	n = (int)luaL_len(L, -1);
-	if (n > EVO_NET_MAX_LINKS)
-		luaL_error(L, "network %d: %d links (at most %d)", which, n,
-			   EVO_NET_MAX_LINKS);
+	n = push_list(L, idx, "links", EVO_NET_MAX_LINKS, which);
 	for (int i = 1; i <= n; i++) {
 		lua_geti(L, -1, i);
 		int t = lua_gettop(L);

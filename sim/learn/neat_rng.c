@@ -2,7 +2,8 @@
  * xoshiro256** on the generator's own four words (rng_next, rng_unit,
  * rng_normal), MAP-Elites' isoline variation, and a kernel's hold on a
  * generator while it draws (neat_rng_begin, neat_rng_done); and the
- * check of a binding's table arguments (neat_check_tables). */
+ * check of a binding's table arguments (neat_want_tables,
+ * neat_check_tables). */
 #include <lauxlib.h>
 #include <limits.h>
 #include <lua.h>
@@ -137,9 +138,14 @@ void neat_rng_done(lua_State *L, rng_src *r)
 	rng_write(L, r->s);
 }
 
+void neat_want_tables(lua_State *L, int first, int last)
+{
+	for (int i = first; i <= last; i++)
+		luaL_checktype(L, i, LUA_TTABLE);
+}
+
 void neat_check_tables(lua_State *L, int n)
 {
-	for (int i = 1; i <= n; i++)
-		luaL_checktype(L, i, LUA_TTABLE);
+	neat_want_tables(L, 1, n);
 	lua_settop(L, n);
 }

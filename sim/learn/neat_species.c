@@ -74,9 +74,7 @@ int neat_l_distance(lua_State *L)
  * that order. */
 int neat_l_speciate(lua_State *L)
 {
-	luaL_checktype(L, 1, LUA_TTABLE);
-	luaL_checktype(L, 2, LUA_TTABLE);
-	luaL_checktype(L, 3, LUA_TTABLE);
+	neat_want_tables(L, 1, 3);
 	double threshold = luaL_checknumber(L, 4);
 	dist_opts o = neat_dist_opts_of(L, 3);
 	int ng = (int)lua_rawlen(L, 1), nr = (int)lua_rawlen(L, 2);
@@ -292,8 +290,7 @@ int neat_l_tally(lua_State *L)
  * added in member order from 0. */
 int neat_l_share(lua_State *L)
 {
-	luaL_checktype(L, 1, LUA_TTABLE);
-	luaL_checktype(L, 2, LUA_TTABLE);
+	neat_want_tables(L, 1, 2);
 	luaL_checknumber(L, 3);
 	lua_settop(L, 3);
 	lua_Integer ns = (lua_Integer)lua_rawlen(L, 2);
