@@ -76,6 +76,14 @@ int evo_run_trace_close(trace_file *t, int keep, evo_err *err);
 /* The line of an episode that ended at tick t, with its outcome. */
 int evo_run_print_episode(evo_sim *s, long e, long t, evo_err *err);
 
+/* A window's ticks of a frame: up to `steps` ticks of episode e, at tick
+ * *t, after_tick(ctx, s) after each (may be NULL); when the episode ends
+ * (the environment ends it, or --ticks without --screenshot) its line
+ * printed: 1 (*t then the ticks it lasted); else 0; -1 with err set. */
+int evo_run_steps(evo_sim *s, const run_opts *o, int steps, long e, long *t,
+		  void (*after_tick)(void *ctx, const evo_sim *s), void *ctx,
+		  evo_err *err);
+
 /* DEMOSIM without a window: o->episodes episodes. */
 int evo_run_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 		     evo_err *err);

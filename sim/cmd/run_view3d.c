@@ -99,21 +99,14 @@ int evo_run_viewer3d(evo_sim *s, evo_view3d *v, const run_opts *o,
 					  evo_run_episode_seed(seed, e), err))
 				return -1;
 		}
-		for (int k = 0; k < steps; k++) {
-			int r = evo_sim_tick(s, err);
-			if (r < 0)
-				return -1;
-			t++;
-			if (r > 0 ||
-			    (o->ticks && t >= o->ticks && !o->screenshot)) {
-				if (evo_run_print_episode(s, e, t, err))
-					return -1;
-				if (o->episodes && e >= o->episodes)
-					return 0;
-				e++;
-				t = -1;
-				break;
-			}
+		int ended = evo_run_steps(s, o, steps, e, &t, NULL, NULL, err);
+		if (ended < 0)
+			return -1;
+		if (ended) {
+			if (o->episodes && e >= o->episodes)
+				return 0;
+			e++;
+			t = -1;
 		}
 		evo_viewer_panel p =
 		    evo_run_panel3d(&pd, s, e, o->task, follow);
