@@ -8,9 +8,10 @@
 #   - core/ includes nothing of sim/, and nothing includes a header by a
 #     relative path ("../");
 #   - bench/ includes no test code (tests/);
-#   - sim/tasksim/tasksim.c reaches its scene only through
-#     tasksim/simscene.h: it makes and frees a 2D or 3D scene and calls
-#     nothing else of them, nor reads their bots (docs/architecture.md);
+#   - sim/tasksim/tasksim.c reaches its scene only through the scene
+#     model's core (sim/scene/core.h, and its dimension's table): it makes
+#     and frees a 2D or 3D scene and calls nothing else of them, nor reads
+#     their bots (docs/architecture.md);
 #   - world2d/'s and world3d/'s scenes call their physics engine only
 #     through sim/scene/backend.h (the shims and fillings excepted);
 #   - the reward and control kinds are named in sim/scene/kinds.c alone,
@@ -24,7 +25,8 @@
 #   - the rewards, controls, metrics and hooks of both scenes are
 #     sim/scene/scoring's (docs/architecture.md, step 3): their types are
 #     defined in scoring.h alone, the functions chosen by kind in
-#     scoring.c alone, and both scenes pay them through evo_score_step;
+#     scoring.c alone, and both scenes pay them through sim/scene/core.c
+#     (evo_core_score, evo_core_pay);
 #     the scenes' lookups by name are sim/scene/store.c's;
 #   - every file docs/architecture.md names exists (a bare name such as
 #     `step.c` must name exactly one file of the tree);
@@ -146,11 +148,12 @@ else
 fi
 
 # tasksim.c never asks its scene's dimension: it makes and frees the scene
-# and calls nothing else of world2d/ or world3d/ (simscene.c does).
+# and calls nothing else of world2d/ or world3d/ (the scene's core and its
+# evo_scene_dim do, sim/scene/core.h).
 calls=$(grep -o 'evo_\(scene\|scene3d\|bot\|bot3d\)_[a-z0-9_]*(\|->bot\[' \
 	sim/tasksim/tasksim.c | grep -v '_create($\|_destroy($' | sort -u)
 if [ -z "$calls" ]; then pass; else
-	fail "sim/tasksim/tasksim.c reaches its scene around simscene.h: $(echo $calls)"; fi
+	fail "sim/tasksim/tasksim.c reaches its scene around sim/scene/core.h: $(echo $calls)"; fi
 
 # The scenes reach their physics only through the backend interface
 # (sim/scene/backend.h): no file of world2d/ but its Box2D shim and filling
@@ -196,10 +199,10 @@ cases=$(grep -rl --include='*.c' 'case EVO_\(RW\|CF\)_' sim |
 	grep -v '^sim/scene/scoring.c$')
 if [ -z "$cases" ]; then pass; else
 	fail "reward or control functions chosen outside sim/scene/scoring.c: $(echo $cases)"; fi
-for f in sim/world2d/rewards.c sim/world3d/rewards3d.c; do
-	if grep -q 'evo_score_step(' "$f"; then pass; else
-		fail "$f does not score its scene through evo_score_step"; fi
-done
+if grep -q 'evo_score_step(' sim/scene/core.c; then pass; else
+	fail "sim/scene/core.c does not score the scenes through evo_score_step"; fi
+if grep -q 'evo_core_pay(' sim/scene/scoring.c; then pass; else
+	fail "sim/scene/scoring.c does not pay the rewards through sim/scene/core.c's evo_core_pay"; fi
 own=$(grep -l 'strcmp(' sim/world2d/scene.c sim/world3d/scene3d.c)
 if [ -z "$own" ]; then pass; else
 	fail "scene storage comparing names around sim/scene/store.c: $(echo $own)"; fi
@@ -272,7 +275,6 @@ fi
 # the pairs of folders others are changing now, or that this check found
 # and no one has split yet; a listed pair no longer mutual fails.
 MUTUAL_ALLOWED="
-sim/world2d/rewards.c sim/world2d/scene.c
 "
 mutual=$(printf '%s\n' "$incs" | awk '
 	{ to[$1] = to[$1] " " $2; files[$1] = 1 }
