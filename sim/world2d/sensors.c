@@ -296,7 +296,47 @@ static void rays_shape(const evo_shape_info *s, double px, double py,
 		best[i] = ray_box(s, px, py, dx[i], dy[i], best[i]);
 }
 
-/* A proximity sensor against the shapes of set. */
+/* Ray i's direction in the world, range long: the sensor's own direction
+ * in the bot's frame (worked out once, evo_scene_add_sensor) turned with
+ * the bot. */
+static void ray_dir(const evo_sensor *se, const frame *f, int i, double *dx,
+		    double *dy)
+{
+	double range = se->def.range;
+	*dx = (f->c * se->ray_c[i] - f->s * se->ray_s[i]) * range;
+	*dy = (f->s * se->ray_c[i] + f->c * se->ray_s[i]) * range;
+}
+
+/* Whether shape s's bounding circle may meet the fan from p whose edge
+ * rays are (fx, fy) and (lx, ly): not too far, not behind, not beyond
+ * either edge ray. The edge test holds while the fan is convex (spans
+ * less than half a turn). */
+static int may_meet(const evo_shape_info *s, const evo_sensor_def *d,
+		    double px, double py, int convex, double fx, double fy,
+		    double lx, double ly)
+{
+	if (!(s->category & d->mask))
+		return 0;
+	double ox = s->x - px, oy = s->y - py;
+	double lim = d->range + s->radius;
+	if (ox * ox + oy * oy > lim * lim)
+		return 0;
+	if (!convex)
+		return 1;
+	/* Each test is scaled by range (the rays are range long), and so
+	 * is its bound. */
+	double rr = s->radius * d->range;
+	/* (fx + lx, fy + ly) is at most 2 range long. */
+	if (ox * (fx + lx) + oy * (fy + ly) < -2 * rr)
+		return 0;
+	/* Outward normals: the first edge rotated by -90 degrees, the last
+	 * one by +90. */
+	return !(ox * fy - oy * fx > rr || oy * lx - ox * ly > rr);
+}
+
+/* A proximity sensor against the shapes of set. Most of a tick's fans
+ * meet no shape: only the edge rays are worked out for the culling, the
+ * others once a shape passes it. */
 static double sample_proximity(evo_sensor *se, const frame *f,
 			       const shape_set *set)
 {
@@ -307,47 +347,34 @@ static double sample_proximity(evo_sensor *se, const frame *f,
 	double px, py;
 	to_world(f, d->x, d->y, &px, &py);
 
-	/* Ray directions: the sensor's own, worked out once in the bot's
-	 * frame (evo_scene_add_sensor), turned with the bot. */
+	double fx, fy, lx, ly;
+	ray_dir(se, f, 0, &fx, &fy);
+	ray_dir(se, f, n - 1, &lx, &ly);
+	int convex = 2 * arc < M_PI;
 	double dx[EVO_PROX_MAX_RAYS], dy[EVO_PROX_MAX_RAYS];
 	double best[EVO_PROX_MAX_RAYS];
-	for (int i = 0; i < n; i++) {
-		dx[i] = (f->c * se->ray_c[i] - f->s * se->ray_s[i]) * d->range;
-		dy[i] = (f->s * se->ray_c[i] + f->c * se->ray_s[i]) * d->range;
-		best[i] = 1;
-	}
-
-	/* Cheap culling of shapes whose bounding circle cannot meet the
-	 * fan: too far, behind, or beyond either edge ray. The edge test
-	 * holds while the fan is convex (spans less than half a turn). */
-	double fx = dx[0], fy = dy[0], lx = dx[n - 1], ly = dy[n - 1];
-	int convex = 2 * arc < M_PI;
+	int met = 0;
 	for (int k = 0; k < set->n; k++) {
 		const evo_shape_info *s = &set->s[k];
-		if (!(s->category & d->mask))
+		if (!may_meet(s, d, px, py, convex, fx, fy, lx, ly))
 			continue;
-		double ox = s->x - px, oy = s->y - py;
-		double lim = d->range + s->radius;
-		if (ox * ox + oy * oy > lim * lim)
-			continue;
-		if (convex) {
-			/* Each test is scaled by range (dx, dy are range
-			 * long), and so is its bound. */
-			double rr = s->radius * d->range;
-			/* (fx + lx, fy + ly) is at most 2 range long. */
-			if (ox * (fx + lx) + oy * (fy + ly) < -2 * rr)
-				continue;
-			/* Outward normals: the first edge rotated by -90
-			 * degrees, the last one by +90. */
-			if (ox * fy - oy * fx > rr || oy * lx - ox * ly > rr)
-				continue;
+		if (!met) {
+			for (int i = 0; i < n; i++) {
+				ray_dir(se, f, i, &dx[i], &dy[i]);
+				best[i] = 1;
+			}
+			met = 1;
 		}
 		rays_shape(s, px, py, dx, dy, best, n);
 	}
 
 	/* Rays past n keep the 1 evo_scene_add_sensor gave them. */
 	double nearest = 1;
-	for (int i = 0; i < n; i++) {
+	if (!met) {
+		for (int i = 0; i < n; i++)
+			se->ray[i] = 1;
+	}
+	for (int i = 0; i < n && met; i++) {
 		se->ray[i] = (float)best[i];
 		nearest = best[i] < nearest ? best[i] : nearest;
 	}
@@ -458,23 +485,34 @@ static double sample_radar(const evo_scene *sc, int bot,
 /* ---- the others ------------------------------------------------------- */
 
 /* Spread of the last positions: the root of the summed variances of x
- * and y. The ring's order does not matter to a variance. */
+ * and y. */
 static double spread(const evo_bot *b)
 {
 	int n = b->hist_n < EVO_DOF_HISTORY ? b->hist_n : EVO_DOF_HISTORY;
 	if (n < 2)
 		return 0;
+	/* The positions from the newest back, as two runs of the ring:
+	 * hist_i - 1 down to 0, then the end of the ring down. The sums
+	 * add in this order, whichever n is. */
+	int head = b->hist_i < n ? b->hist_i : n;
+	int tail = EVO_DOF_HISTORY - (n - head);
 	double mx = 0, my = 0;
-	for (int k = 1; k <= n; k++) {
-		int i = (b->hist_i - k + EVO_DOF_HISTORY) % EVO_DOF_HISTORY;
+	for (int i = b->hist_i - 1; i >= b->hist_i - head; i--) {
+		mx += b->hist_x[i];
+		my += b->hist_y[i];
+	}
+	for (int i = EVO_DOF_HISTORY - 1; i >= tail; i--) {
 		mx += b->hist_x[i];
 		my += b->hist_y[i];
 	}
 	mx /= n;
 	my /= n;
 	double v = 0;
-	for (int k = 1; k <= n; k++) {
-		int i = (b->hist_i - k + EVO_DOF_HISTORY) % EVO_DOF_HISTORY;
+	for (int i = b->hist_i - 1; i >= b->hist_i - head; i--) {
+		double ex = b->hist_x[i] - mx, ey = b->hist_y[i] - my;
+		v += ex * ex + ey * ey;
+	}
+	for (int i = EVO_DOF_HISTORY - 1; i >= tail; i--) {
 		double ex = b->hist_x[i] - mx, ey = b->hist_y[i] - my;
 		v += ex * ex + ey * ey;
 	}
