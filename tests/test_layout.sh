@@ -8,17 +8,25 @@
 #   - core/ includes nothing of sim/, and nothing includes a header by a
 #     relative path ("../");
 #   - bench/ includes no test code (tests/);
-#   - sim/tasksim/tasksim.c reaches its scene only through
-#     tasksim/simscene.h: it makes and frees a 2D or 3D scene and calls
-#     nothing else of them, nor reads their bots (docs/architecture.md);
+#   - sim/tasksim/tasksim.c reaches its scene only through the scene
+#     model's core (sim/scene/core.h, and its dimension's table): it makes
+#     and frees a 2D or 3D scene and calls nothing else of them, nor reads
+#     their bots (docs/architecture.md);
 #   - world2d/'s and world3d/'s scenes call their physics engine only
 #     through sim/scene/backend.h (the shims and fillings excepted);
 #   - the reward and control kinds are named in sim/scene/kinds.c alone,
 #     where each says the worlds it exists in;
+#   - one Lua binding for both scenes (docs/architecture.md, step 5): no
+#     sim/lua/ file calls a scene's own functions (world3d's, or world2d's
+#     adds, lookups and placing) but that dimension's table, lua_dim3d.c
+#     or lua_dim2d.c, and the piece, sensor and actuator kinds the binding
+#     offers are sim/scene/kinds.c's rows (no method table of sim/lua/
+#     names one);
 #   - the rewards, controls, metrics and hooks of both scenes are
 #     sim/scene/scoring's (docs/architecture.md, step 3): their types are
 #     defined in scoring.h alone, the functions chosen by kind in
-#     scoring.c alone, and both scenes pay them through evo_score_step;
+#     scoring.c alone, and both scenes pay them through sim/scene/core.c
+#     (evo_core_score, evo_core_pay);
 #     the scenes' lookups by name are sim/scene/store.c's;
 #   - every file docs/architecture.md names exists (a bare name such as
 #     `step.c` must name exactly one file of the tree);
@@ -140,11 +148,12 @@ else
 fi
 
 # tasksim.c never asks its scene's dimension: it makes and frees the scene
-# and calls nothing else of world2d/ or world3d/ (simscene.c does).
+# and calls nothing else of world2d/ or world3d/ (the scene's core and its
+# evo_scene_dim do, sim/scene/core.h).
 calls=$(grep -o 'evo_\(scene\|scene3d\|bot\|bot3d\)_[a-z0-9_]*(\|->bot\[' \
 	sim/tasksim/tasksim.c | grep -v '_create($\|_destroy($' | sort -u)
 if [ -z "$calls" ]; then pass; else
-	fail "sim/tasksim/tasksim.c reaches its scene around simscene.h: $(echo $calls)"; fi
+	fail "sim/tasksim/tasksim.c reaches its scene around sim/scene/core.h: $(echo $calls)"; fi
 
 # The scenes reach their physics only through the backend interface
 # (sim/scene/backend.h): no file of world2d/ but its Box2D shim and filling
@@ -163,6 +172,20 @@ names=$(grep -rl --include='*.c' '"ClosingOnTarget"\|"NextOnTimeout"' sim |
 if [ -z "$names" ]; then pass; else
 	fail "reward or control names outside sim/scene/kinds.c: $(echo $names)"; fi
 
+# One Lua binding (step 5): each scene's own functions are called from its
+# dimension's table alone (lua_evo.c keeps 2D's env.obstacles); the kinds'
+# methods come from kinds.c's rows, never from a method table of their own.
+calls3d=$(grep -l 'evo_\(scene3d\|bot3d\|sensor3d\)_[a-z_]*(' sim/lua/*.c |
+	grep -v '^sim/lua/lua_dim3d.c$')
+calls2d=$(grep -l 'evo_\(scene_add\|scene_find\|scene_place\|bot\|sensor\|body\)_[a-z_]*(' \
+	sim/lua/*.c | grep -v '^sim/lua/lua_dim2d.c$\|^sim/lua/lua_evo.c$')
+if [ -z "$calls3d$calls2d" ]; then pass; else
+	fail "sim/lua/ files calling a scene around its dimension's table: $(echo $calls3d $calls2d)"; fi
+rows=$(grep -l '{"\(proximity\|cylinder\|claw\|propeller\|sphere\)", *[a-z_]*}' sim/lua/*.c)
+if [ -z "$rows" ]; then pass; else
+	fail "kinds given methods of their own around sim/scene/kinds.c's rows: $(echo $rows)"; fi
+[ ! -f sim/lua/lua_scene3d.c ] && pass || fail "sim/lua/lua_scene3d.c is back: one binding serves both scenes"
+
 # One scoring for both scenes (step 3): the reward, control, metric and
 # hook types are scoring.h's alone; no file but scoring.c chooses a reward
 # or control function by its kind; both steps hand the tick's rewards and
@@ -176,10 +199,10 @@ cases=$(grep -rl --include='*.c' 'case EVO_\(RW\|CF\)_' sim |
 	grep -v '^sim/scene/scoring.c$')
 if [ -z "$cases" ]; then pass; else
 	fail "reward or control functions chosen outside sim/scene/scoring.c: $(echo $cases)"; fi
-for f in sim/world2d/rewards.c sim/world3d/rewards3d.c; do
-	if grep -q 'evo_score_step(' "$f"; then pass; else
-		fail "$f does not score its scene through evo_score_step"; fi
-done
+if grep -q 'evo_score_step(' sim/scene/core.c; then pass; else
+	fail "sim/scene/core.c does not score the scenes through evo_score_step"; fi
+if grep -q 'evo_core_pay(' sim/scene/scoring.c; then pass; else
+	fail "sim/scene/scoring.c does not pay the rewards through sim/scene/core.c's evo_core_pay"; fi
 own=$(grep -l 'strcmp(' sim/world2d/scene.c sim/world3d/scene3d.c)
 if [ -z "$own" ]; then pass; else
 	fail "scene storage comparing names around sim/scene/store.c: $(echo $own)"; fi
@@ -208,8 +231,6 @@ fi
 # file of 800 lines or fewer fails, so the list cannot go stale).
 MAX_LINES=800
 LONG_ALLOWED="
-sim/lua/lua_scene.c
-sim/lua/lua_scene3d.c
 "
 for src in sim/*/*.c sim/*/*.cpp; do
 	[ -f "$src" ] || continue
@@ -255,7 +276,6 @@ fi
 MUTUAL_ALLOWED="
 sim/cmd/mindinfo.c sim/cmd/run.c
 sim/remote/can_robot.c sim/remote/robot.c
-sim/world2d/rewards.c sim/world2d/scene.c
 "
 mutual=$(printf '%s\n' "$incs" | awk '
 	{ to[$1] = to[$1] " " $2; files[$1] = 1 }

@@ -89,17 +89,16 @@ static int has_reward(const evo_scene *sc, evo_reward_kind k)
  * reward, each bot's own, and whether it won. */
 static void print_teams(const evo_sim *s)
 {
-	const evo_simscene *w = s->world;
 	for (int k = 0; s->has_teams && k < s->n_teams; k++) {
 		const evo_sim_team *tm = &s->team[k];
 		printf("  team %s: reward %.6f (", tm->name,
-		       w->team_reward(s->sc, k));
+		       evo_sim_team_reward(s, k));
 		for (int i = 0; i < tm->size; i++) {
 			int b = s->agent[tm->first + i].bot;
-			printf("%s%s %.6f", i ? ", " : "",
-			       w->bot_name(s->sc, b), w->bot_reward(s->sc, b));
+			printf("%s%s %.6f", i ? ", " : "", evo_sim_bot_name(s, b),
+			       evo_sim_bot_reward(s, b));
 		}
-		printf(")%s\n", w->winner(s->sc) == k ? ", won" : "");
+		printf(")%s\n", evo_sim_winner(s) == k ? ", won" : "");
 	}
 }
 

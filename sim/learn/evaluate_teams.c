@@ -72,8 +72,6 @@ int eval_evaluate_team_unit(worker *w, int j, evo_err *err)
 	memset(u, 0, sizeof *u);
 	for (int i = 0; i < size; i++)
 		own[i] = 0;
-	const evo_simscene *ws = w->sim->world;
-	const void *sc = w->sim->sc;
 	for (int r = 0; r < ev->reps; r++) {
 		if (evo_sim_reset(
 			w->sim, r + 1, evo_eval_grid_seed(ev->seed, ev->gen, r),
@@ -93,15 +91,15 @@ int eval_evaluate_team_unit(worker *w, int j, evo_err *err)
 			if (st2 > 0)
 				break;
 		}
-		u->team_fitness += ws->team_reward(sc, t);
-		u->wins += ws->winner(sc) == t;
+		u->team_fitness += evo_sim_team_reward(w->sim, t);
+		u->wins += evo_sim_winner(w->sim) == t;
 		for (int i = 0; i < size; i++) {
 			int b = w->sim->agent[st->first + i].bot;
-			own[i] += ws->bot_reward(sc, b);
-			u->collisions += ws->collisions(sc, b);
+			own[i] += evo_sim_bot_reward(w->sim, b);
+			u->collisions += evo_sim_collisions(w->sim, st->first + i);
 		}
 		for (int m = 0; m < ev->n_metrics; m++)
-			u->metric[m] += ws->metric(sc, m);
+			u->metric[m] += evo_sim_metric(w->sim, m);
 	}
 	for (int m = 0; m < ev->n_metrics; m++)
 		u->metric[m] /= ev->reps;

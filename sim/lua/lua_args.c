@@ -1,9 +1,11 @@
 /* Option tables and handles for the scene scripts' `evo` module
  * (sim/lua/lua_internal.h). Lua holds handles, not pointers: a bot,
  * element or metric handle is a small userdata with its index in the
- * scene, and every method finds the scene through the state's registry. Options come in
- * tables; an option the function does not know is an error naming the
- * ones it does, so a typo in a script never goes unnoticed. */
+ * scene, and every method finds the scene through the state's registry.
+ * Options come in tables; an option the function does not know is an
+ * error naming the ones it does (for a piece, sensor or actuator, the
+ * ones its row of sim/scene/kinds.c gives the scene's world), so a typo
+ * in a script never goes unnoticed. */
 #include <stdio.h>
 #include <string.h>
 
@@ -93,6 +95,16 @@ double evo_lua_opt_num(lua_State *L, int idx, const char *key, double dflt,
 	return v;
 }
 
+void evo_lua_opt_nums(lua_State *L, int idx, const char *what,
+		      const evo_lua_num *nums)
+{
+	for (const evo_lua_num *n = nums; n->key; n++) {
+		double unit = n->unit ? n->unit : 1;
+		*n->v = evo_lua_opt_num(L, idx, n->key, *n->v / unit, what) *
+			unit;
+	}
+}
+
 const char *evo_lua_opt_str(lua_State *L, int idx, const char *key,
 			    const char *dflt, const char *what)
 {
@@ -120,7 +132,7 @@ void evo_lua_push_handle(lua_State *L, const char *mt, int index)
 int evo_lua_check_bot(lua_State *L, int idx)
 {
 	int i = *(int *)luaL_checkudata(L, idx, EVO_LUA_BOT_MT);
-	if (i < 0 || i >= evo_lua_ctx(L)->sc->n_bots)
+	if (i < 0 || i >= *evo_lua_ctx(L)->v.n_bots)
 		luaL_error(L, "stale bot handle");
 	return i;
 }
@@ -128,7 +140,7 @@ int evo_lua_check_bot(lua_State *L, int idx)
 int evo_lua_check_element(lua_State *L, int idx)
 {
 	int i = *(int *)luaL_checkudata(L, idx, EVO_LUA_ELEMENT_MT);
-	if (i < 0 || i >= evo_lua_ctx(L)->sc->n_elements)
+	if (i < 0 || i >= *evo_lua_ctx(L)->v.n_elements)
 		luaL_error(L, "stale element handle");
 	return i;
 }
@@ -152,6 +164,13 @@ int evo_lua_opt_target(lua_State *L, int idx, const char *key, const char *what)
 	int t = EVO_TARGET_NONE;
 	if (lua_type(L, -1) == LUA_TSTRING) {
 		const char *v = lua_tostring(L, -1);
+		const evo_lua_dim *dim = evo_lua_ctx(L)->dim;
+		if (!dim->named_targets)
+			luaL_error(L,
+				   "%s: %s must be an element; \"%s\" and the "
+				   "other nearest targets are 2D only, and "
+				   "this is a %s scene",
+				   what, key, v, dim->words);
 		if (strcmp(v, "nearest_object") == 0)
 			t = EVO_TARGET_NEAREST_OBJECT;
 		else if (strcmp(v, "nearest_opponent") == 0)
@@ -285,7 +304,7 @@ int evo_lua_opt_bot(lua_State *L, int idx, const char *what)
 			luaL_error(L, "%s: bot must be a bot, found %s", what,
 				   luaL_typename(L, -1));
 		b = evo_lua_check_bot(L, lua_gettop(L));
-	} else if (evo_lua_ctx(L)->sc->n_bots == 0) {
+	} else if (*evo_lua_ctx(L)->v.n_bots == 0) {
 		luaL_error(L, "%s: there is no bot yet", what);
 	}
 	lua_pop(L, 1);
@@ -298,31 +317,131 @@ int evo_lua_opt_bot(lua_State *L, int idx, const char *what)
 int evo_lua_bot_sensor_index(lua_State *L, int bot, const char *name,
 			     const char *what)
 {
-	const evo_bot *b = &evo_lua_ctx(L)->sc->bot[bot];
-	int s = evo_bot_find_sensor(b, name);
-	if (s < 0) {
-		/* the closest of its sensors' names */
-		const char *names[NAMES_MAX];
-		int n = 0;
-		for (int i = 0; i < b->n_sensors && n < NAMES_MAX;
-		     i++)
-			names[n++] = b->sensor[i].name;
-		const char *near = evo_lua_near(name, names, (size_t)n);
-		if (near)
-			luaL_error(L,
-				   "%s: bot '%s' has no sensor '%s'; did you "
-				   "mean %s?",
-				   what, b->name, name, near);
-		luaL_error(L, "%s: bot '%s' has no sensor '%s'", what, b->name,
-			   name);
+	const evo_lua *l = evo_lua_ctx(L);
+	const evo_lua_dim *dim = l->dim;
+	evo_lua_sensor se;
+	const char *names[NAMES_MAX];
+	int m = 0, team;
+	for (int i = 0; i < dim->sensor(l, bot, i, &se); i++) {
+		if (strcmp(se.name, name) == 0)
+			return i;
+		if (m < NAMES_MAX)
+			names[m++] = se.name;
 	}
-	return s;
+	/* the closest of its sensors' names */
+	const char *near = evo_lua_near(name, names, (size_t)m);
+	if (near)
+		luaL_error(L, "%s: bot '%s' has no sensor '%s'; did you mean %s?",
+			   what, dim->bot(l, bot, &team), name, near);
+	return luaL_error(L, "%s: bot '%s' has no sensor '%s'", what,
+			  dim->bot(l, bot, &team), name);
 }
 
 /* Turn a scene error into a Lua error at the caller's line. */
 int evo_lua_scene_result(lua_State *L, int r)
 {
 	if (r < 0)
-		luaL_error(L, "%s", evo_lua_ctx(L)->sc->err.msg);
+		luaL_error(L, "%s", evo_lua_ctx(L)->v.err->msg);
 	return r;
+}
+
+void evo_lua_options(lua_State *L, int idx, const char *what,
+		     const char *const *keys)
+{
+	if (lua_isnoneornil(L, idx)) {
+		lua_settop(L, idx - 1);
+		lua_newtable(L);
+	}
+	evo_lua_check_keys(L, idx, what, keys);
+}
+
+void evo_lua_opt_pos(lua_State *L, int idx, double p[3], const char *what)
+{
+	static const char *const xyz[] = {"x", "y", "z"};
+	int n = evo_lua_ctx(L)->dim->coords;
+	for (int k = 0; k < n; k++)
+		p[k] = evo_lua_opt_num(L, idx, xyz[k], p[k], what);
+}
+
+void evo_lua_in_init(lua_State *L, const char *what)
+{
+	if (evo_lua_ctx(L)->in_reset)
+		luaL_error(L,
+			   "%s: elements are made in init and placed in reset "
+			   "(made in reset, one more would pile up every "
+			   "episode), as are bots, rewards and controls; "
+			   "per-episode obstacles come from %s (docs/lua.md)",
+			   what,
+			   evo_lua_ctx(L)->dim->dim == EVO_DIM_3D
+			       ? "scene:obstacle{...}"
+			       : "env.obstacles");
+}
+
+const char *const *evo_lua_kind_keys(lua_State *L, const evo_kind_row *row,
+				     const char *what)
+{
+	const evo_lua_dim *dim = evo_lua_ctx(L)->dim;
+	const char *const *keys = evo_kind_keys(row, dim->dim);
+	if (!keys)
+		luaL_error(L,
+			   "%s: %s is %s only, and this is a %s scene "
+			   "(docs/lua.md, \"Which world has what\")",
+			   what, row->name,
+			   dim->dim == EVO_DIM_3D ? "2D" : "3D", dim->words);
+	return keys;
+}
+
+int evo_lua_kind_of(const int *rows, int n, int kind)
+{
+	int k = 0;
+	while (k < n - 1 && rows[k] != kind)
+		k++;
+	return k;
+}
+
+const char *evo_lua_opt_name(lua_State *L, const char *what, const char *noun)
+{
+	const char *name = evo_lua_opt_str(L, 2, "name", NULL, what);
+	if (!name)
+		luaL_error(L, "%s: %s %s needs a name", what,
+			   strchr("aeiou", noun[0]) ? "an" : "a", noun);
+	return name;
+}
+
+unsigned evo_lua_opt_words(lua_State *L, int idx, const char *key,
+			   const char *const *words, int n, const char *what,
+			   int *given)
+{
+	unsigned mask = 0;
+	*given = lua_getfield(L, idx, key) != LUA_TNIL;
+	if (*given) {
+		luaL_checktype(L, -1, LUA_TTABLE);
+		lua_Integer len = luaL_len(L, -1);
+		for (lua_Integer i = 1; i <= len; i++) {
+			lua_geti(L, -1, i);
+			const char *s = lua_tostring(L, -1);
+			int w = 0;
+			while (w < n && !(s && strcmp(s, words[w]) == 0))
+				w++;
+			if (w == n) {
+				luaL_Buffer b;
+				luaL_buffinit(L, &b);
+				for (int k = 0; k < n; k++) {
+					luaL_addstring(&b, k == 0 ? "\""
+						       : k < n - 1 ? ", \""
+								   : " or \"");
+					luaL_addstring(&b, words[k]);
+					luaL_addstring(&b, "\"");
+				}
+				luaL_pushresult(&b);
+				luaL_error(L, "%s: %s lists %s, found %s", what,
+					   key, lua_tostring(L, -1),
+					   s ? s : luaL_typename(L, -2));
+			}
+			mask |= 1u << w;
+			lua_pop(L, 1);
+		}
+	}
+	lua_pop(L, 1);
+	return mask;
 }

@@ -1,8 +1,10 @@
 /* The scene scripts' `evo` module (sim/lua/lua_evo.h, docs/lua.md): a Lua
  * state per scene with the module's classes, and the environment's init
  * and reset. The lua/ folder, loading scripts and the sandbox live in
- * lua_sandbox.c, the methods in lua_bot.c and lua_scene.c, the hooks the
- * tick calls in lua_hooks.c, and what they share in lua_internal.h. */
+ * lua_sandbox.c, the methods in lua_scene.c, lua_scoring.c, lua_bot.c
+ * and lua_element.c (one set for either world, over lua_dim2d.c's or
+ * lua_dim3d.c's table), the hooks the tick calls in lua_hooks.c, and
+ * what they share in lua_internal.h. */
 #define _POSIX_C_SOURCE 200809L
 #include "lua/lua_evo.h"
 
@@ -18,11 +20,11 @@
 
 /* ---- the module ---------------------------------------------------------- */
 
-/* __index of a 2D class: its method; for a name near one of them
+/* __index of a class: its method; for a name near one of them
  * (scene:zonee), an error at the script's line naming the one meant, as
  * the names scene:control and bot:target take get; else nil, so Lua
  * says what it always said. Upvalues: the methods table, the noun. */
-static int index2d(lua_State *L)
+static int class_index(lua_State *L)
 {
 	lua_pushvalue(L, 2);
 	if (lua_rawget(L, lua_upvalueindex(1)) != LUA_TNIL ||
@@ -48,46 +50,17 @@ static int index2d(lua_State *L)
 			  noun, word, an ? "an" : "a", noun, word, noun, near);
 }
 
-static void new_class(lua_State *L, const char *mt, const luaL_Reg *methods,
+/* A class of handles: its methods, set into a table by fill. */
+static void new_class(lua_State *L, const char *mt, void (*fill)(lua_State *),
 		      const char *noun)
 {
 	luaL_newmetatable(L, mt);
 	lua_newtable(L);
-	luaL_setfuncs(L, methods, 0);
+	fill(L);
 	lua_pushvalue(L, -1);
 	lua_setfield(L, -3, "__methods"); /* the table, for tests/docs */
 	lua_pushstring(L, noun);
-	lua_pushcclosure(L, index2d, 2);
-	lua_setfield(L, -2, "__index");
-	lua_pushstring(L, mt);
-	lua_setfield(L, -2, "__name");
-	lua_pop(L, 1);
-}
-
-/* __index of a 3D class: its method, or an error that says the name is
- * not one of a 3D object's (a 2D environment or bot model in a 3D task),
- * at the script's line. Upvalues: the methods table, the class's noun. */
-static int index3d(lua_State *L)
-{
-	lua_pushvalue(L, 2);
-	if (lua_rawget(L, lua_upvalueindex(1)) != LUA_TNIL)
-		return 1;
-	return luaL_error(L,
-			  "%s:%s is not a method of a 3D %s (DEMO3DSIM, "
-			  "LEARN3DSIM: docs/world3d.md)",
-			  lua_tostring(L, lua_upvalueindex(2)),
-			  luaL_tolstring(L, 2, NULL),
-			  lua_tostring(L, lua_upvalueindex(2)));
-}
-
-static void new_class3d(lua_State *L, const char *mt, const luaL_Reg *methods,
-			const char *noun)
-{
-	luaL_newmetatable(L, mt);
-	lua_newtable(L);
-	luaL_setfuncs(L, methods, 0);
-	lua_pushstring(L, noun);
-	lua_pushcclosure(L, index3d, 2);
+	lua_pushcclosure(L, class_index, 2);
 	lua_setfield(L, -2, "__index");
 	lua_pushstring(L, mt);
 	lua_setfield(L, -2, "__name");
@@ -145,13 +118,9 @@ static int setup(lua_State *L)
 	new_class(L, EVO_LUA_ELEMENT_MT, evo_lua_element_methods, "element");
 	new_class(L, EVO_LUA_SCENE_MT, evo_lua_scene_methods, "scene");
 	new_class(L, EVO_LUA_METRIC_MT, evo_lua_metric_methods, "metric");
-	new_class3d(L, EVO_LUA_SCENE3D_MT, evo_lua_scene3d_methods, "scene");
-	new_class3d(L, EVO_LUA_BOT3D_MT, evo_lua_bot3d_methods, "bot");
-	new_class3d(L, EVO_LUA_ELEMENT3D_MT, evo_lua_element3d_methods,
-		    "element");
-	/* the one scene object, of the scene's kind */
+	/* the one scene object */
 	lua_newuserdatauv(L, 1, 0);
-	luaL_setmetatable(L, l->sc3 ? EVO_LUA_SCENE3D_MT : EVO_LUA_SCENE_MT);
+	luaL_setmetatable(L, EVO_LUA_SCENE_MT);
 	lua_rawsetp(L, LUA_REGISTRYINDEX, &evo_lua_scene_key);
 	luaL_requiref(L, "evo", open_evo, 0);
 	lua_pop(L, 1);
@@ -199,6 +168,8 @@ evo_lua *evo_lua_create(const evo_lua_def *def, evo_err *err)
 		evo_fail(err, "a Lua state builds one scene, 2D or 3D");
 		return NULL;
 	}
+	l->dim = l->sc3 ? &evo_lua_dim3d : &evo_lua_dim2d;
+	l->dim->view(l, &l->v);
 	l->env_ref = LUA_NOREF;
 	snprintf(l->mind_dir, sizeof l->mind_dir, "%s",
 		 def->mind_dir ? def->mind_dir : "");
@@ -460,42 +431,24 @@ static int init_env3d(evo_lua *l, const char *not3d, evo_err *err)
 	return 0;
 }
 
-/* A 3D environment's reset: math.random and the layout stream seeded, the
- * Lua rewards' and controls' own resets, then its reset(scene,
- * episode). */
-static int reset3d(evo_lua *l, int episode, evo_err *err)
-{
-	evo_rng r = evo_rng_for(l->sc3->rng.s, 0x4c7561 /* "Lua" */, 0, 0);
-	seed_math_random(l->L, evo_rng_next(&r));
-	l->layout_rng =
-	    evo_rng_for(l->sc3->grid_seed, 0x6f6273 /* "obs" */, 0, 0);
-	if (evo_lua_call_resets(l, &evo_lua_reward_resets_key, err) ||
-	    evo_lua_call_resets(l, &evo_lua_control_resets_key, err))
-		return -1;
-	l->episode = episode;
-	l->in_reset = 1;
-	int rc = evo_lua_call_env(l, "reset", 1, episode, err);
-	l->in_reset = 0;
-	return rc;
-}
-
 int evo_lua_reset(evo_lua *l, int episode, evo_err *err)
 {
-	if (l->sc3)
-		return reset3d(l, episode, err);
+	/* scene:layout_random's stream, the same for every candidate */
+	l->layout_rng =
+	    evo_rng_for(*l->v.grid_seed, 0x6f6273 /* "obs" */, 0, 0);
 	/* math.random is seeded per episode from the scene's rng, itself just
 	 * seeded from the episode's seed, through a copy: the scene's stream
 	 * (RANDOM sensors, scene:random) stays as it was. */
-	evo_rng r = evo_rng_for(l->sc->rng.s, 0x4c7561 /* "Lua" */, 0, 0);
+	evo_rng r = evo_rng_for(l->v.rng->s, 0x4c7561 /* "Lua" */, 0, 0);
 	seed_math_random(l->L, evo_rng_next(&r));
 	/* the Lua rewards' and controls' own resets, as the C ones were
-	 * reset by evo_scene_reset, then the environment's obstacles and
-	 * its reset */
+	 * reset by the scene's reset, then a 2D environment's obstacles
+	 * (a 3D one adds them in its reset) and its reset */
 	if (evo_lua_call_resets(l, &evo_lua_reward_resets_key, err) ||
 	    evo_lua_call_resets(l, &evo_lua_control_resets_key, err))
 		return -1;
 	l->episode = episode;
-	if (call_l(l, run_obstacles, 0, 0, "obstacles", err))
+	if (l->sc && call_l(l, run_obstacles, 0, 0, "obstacles", err))
 		return -1;
 	l->in_reset = 1;
 	int rc = evo_lua_call_env(l, "reset", 1, episode, err);

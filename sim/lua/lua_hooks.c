@@ -342,7 +342,7 @@ static int outcome_call(lua_State *L)
 	lua_pushboolean(L, 1);
 	lua_insert(L, -2);
 	lua_rawgetp(L, LUA_REGISTRYINDEX, &evo_lua_scene_key);
-	evo_lua_push_handle(L, l->sc3 ? EVO_LUA_BOT3D_MT : EVO_LUA_BOT_MT, bot);
+	evo_lua_push_handle(L, EVO_LUA_BOT_MT, bot);
 	lua_call(L, 2, 1);
 	return 2;
 }

@@ -1,8 +1,10 @@
 /* evo — private to sim/lua/: what the files of the scene scripts' `evo`
  * module share (lua_evo.c sets up a state, lua_sandbox.c loads scripts
- * and holds what they may use, lua_args.c
- * reads options and handles, lua_bot.c and lua_scene.c are the methods
- * of bots, elements, metrics and the scene, lua_hooks.c calls Lua from the tick).
+ * and holds what they may use, lua_args.c reads options and handles,
+ * lua_scene.c, lua_scoring.c, lua_bot.c and lua_element.c are the methods
+ * of the scene, its rewards, controls and metrics, bots and elements, in
+ * either world, and reach the scene through the table of its dimension,
+ * lua_dim2d.c or lua_dim3d.c; lua_hooks.c calls Lua from the tick).
  * No other folder may include it. */
 #ifndef EVO_LUA_INTERNAL_H
 #define EVO_LUA_INTERNAL_H
@@ -14,11 +16,30 @@
 #include "base/rng.h"
 #include "lua/lua_evo.h"
 
+typedef struct evo_lua_dim evo_lua_dim;
+
+/* The fields a scene of either dimension has, by address: what the
+ * methods read and write without asking the dimension. */
+typedef struct evo_lua_view {
+	long *tick;
+	evo_rng *rng; /* the episode's */
+	int *n_bots, *n_elements, *n_rewards, *n_metrics;
+	evo_reward **reward;
+	evo_metric *metric;
+	evo_swarm *swarm;
+	evo_err *err;
+	double *episode_reward;
+	int *winner;
+	uint64_t *grid_seed;
+} evo_lua_view;
+
 struct evo_lua {
 	lua_State *L;
 	evo_scene *sc;	    /* a 2D scene's scripts: this one, */
 	evo_scene3d *sc3;   /* a 3D scene's: this one (the other NULL) */
-	evo_rng layout_rng; /* 3D: scene:layout_random, from the grid seed */
+	const evo_lua_dim *dim; /* the scene's dimension's functions */
+	evo_lua_view v;		/* its fields both dimensions have */
+	evo_rng layout_rng; /* scene:layout_random, from the grid seed */
 	char mind_dir[1024];
 	char lua_dir[1024];
 	char botmodel[EVO_NAME_MAX];
@@ -111,9 +132,6 @@ extern const char evo_lua_scene_key;
 #define EVO_LUA_ELEMENT_MT "evo.element"
 #define EVO_LUA_SCENE_MT "evo.scene"
 #define EVO_LUA_METRIC_MT "evo.metric"
-#define EVO_LUA_SCENE3D_MT   "evo.scene3d"
-#define EVO_LUA_BOT3D_MT     "evo.bot3d"
-#define EVO_LUA_ELEMENT3D_MT "evo.element3d"
 
 /* The most bots one team has (task.h's EVO_TEAM_MAX_SIZE): a team's
  * reward or control is one per bot. */
@@ -140,6 +158,20 @@ void evo_lua_check_keys(lua_State *L, int idx, const char *what,
 			const char *const *known);
 double evo_lua_opt_num(lua_State *L, int idx, const char *key, double dflt,
 		       const char *what);
+/* Options read into doubles: each key of the table at idx, in units of
+ * unit (0: 1; EVO_LUA_DEG: degrees into radians), into *v, which holds
+ * its default. A list ends with a NULL key. */
+typedef struct evo_lua_num {
+	const char *key;
+	double *v;
+	double unit;
+} evo_lua_num;
+void evo_lua_opt_nums(lua_State *L, int idx, const char *what,
+		      const evo_lua_num *nums);
+/* evo_lua_opt_nums of the entries given, {key, &v, unit} each. */
+#define EVO_LUA_NUMS(L, idx, what, ...)                                       \
+	evo_lua_opt_nums(L, idx, what,                                        \
+			 (const evo_lua_num[]){__VA_ARGS__, {NULL, NULL, 0}})
 const char *evo_lua_opt_str(lua_State *L, int idx, const char *key,
 			    const char *dflt, const char *what);
 /* Push a handle: a userdata holding index, with metatable mt. */
@@ -194,20 +226,194 @@ int evo_lua_bot_sensor_index(lua_State *L, int bot, const char *name,
 /* Turn a scene error (r < 0) into a Lua error at the caller's line. */
 int evo_lua_scene_result(lua_State *L, int r);
 
-/* ---- the methods of the four classes (lua_bot.c, lua_scene.c) -------- */
+/* ---- the methods of the four classes --------------------------------- */
 
-extern const luaL_Reg evo_lua_bot_methods[];
-extern const luaL_Reg evo_lua_element_methods[];
-extern const luaL_Reg evo_lua_metric_methods[];
-extern const luaL_Reg evo_lua_scene_methods[];
-
-/* scene:metric(name), in a scene of either dimension (lua_scene.c) */
+/* Set the methods of each class into the table on the top of the stack:
+ * the scene's (lua_scene.c, with lua_scoring.c's rewards, controls and
+ * metrics), a bot's (lua_bot.c), an element's and a metric's
+ * (lua_element.c). The kinds of scene:NAME and bot:NAME come from
+ * sim/scene/kinds.c's rows, each a method in either world; called in a
+ * scene of a dimension its row lacks, one raises an error that says so. */
+void evo_lua_scene_methods(lua_State *L);
+void evo_lua_bot_methods(lua_State *L);
+void evo_lua_element_methods(lua_State *L);
+void evo_lua_metric_methods(lua_State *L);
+/* scene:reward, scene:control, scene:reset_rewards, scene:metric
+ * (lua_scoring.c) */
+int evo_lua_scene_reward(lua_State *L);
+int evo_lua_scene_control(lua_State *L);
+int evo_lua_scene_reset_rewards(lua_State *L);
 int evo_lua_scene_metric(lua_State *L);
 
-/* lua_scene3d.c: the 3D scene's, its bots' and its elements' */
-extern const luaL_Reg evo_lua_scene3d_methods[];
-extern const luaL_Reg evo_lua_bot3d_methods[];
-extern const luaL_Reg evo_lua_element3d_methods[];
+/* ---- the dimensions: lua_dim2d.c, lua_dim3d.c -------------------------- */
+
+/* A bot's sensor as the methods see it. */
+typedef struct evo_lua_sensor {
+	const char *name;
+	int kind;   /* evo_sense_kind */
+	int target; /* an element or EVO_TARGET_* */
+} evo_lua_sensor;
+
+/* What bot:counts() says. */
+typedef struct evo_lua_counts {
+	int touching, collisions, delivered, gathered, holding;
+	double reward;
+} evo_lua_counts;
+
+/* What differs between a 2D and a 3D scene, as the methods need it: one
+ * table of functions per dimension. Functions of L read the options
+ * table at stack index 2 (its keys already checked against the kind's
+ * row) and raise on a bad value. */
+struct evo_lua_dim {
+	unsigned dim;	   /* EVO_DIM_2D or EVO_DIM_3D */
+	const char *words; /* "2D" or "3D" */
+	int coords;	   /* the numbers of a position: 2 or 3 */
+	int named_targets; /* targets may be "nearest_object" and the like */
+	long min_ticks;	   /* the least NextOnTimeout takes */
+	void (*view)(evo_lua *l, evo_lua_view *v);
+	const char *const *bot_keys;   /* scene:bot's options */
+	/* bot:place{...}'s options; NULL: a bot is placed by numbers only,
+	 * bot:place(x, y, angle) */
+	const char *const *place_keys;
+	/* scene:bot: a bot of the model's table at 3 and the options at 2,
+	 * named name, of team (-1: none); its index */
+	int (*add_bot)(lua_State *L, int team, const char *name,
+		       const char *what);
+	/* scene:NAME: an element of the scene's own kind, element_of[k] for
+	 * the piece kind k (evo_piece_kind; -1: none in this world), or a
+	 * piece of kind that is no element; the element's index */
+	const int *element_of;
+	int (*add_element)(lua_State *L, int kind, const char *what);
+	void (*add_part)(lua_State *L, int kind, const char *what);
+	/* bot:NAME: a sensor (evo_sense_kind) or actuator (evo_act_kind);
+	 * its index */
+	int (*add_sensor)(lua_State *L, int bot, int kind, const char *what);
+	int (*add_actuator)(lua_State *L, int bot, int kind, const char *what);
+	int (*add_reward)(evo_lua *l, const evo_reward_def *d);
+	int (*add_control)(evo_lua *l, const evo_control_def *d);
+	/* names and lookups: a bot or element by name (-1: none); a bot's
+	 * name, with its team in *team; its sensors' count, and sensor s
+	 * into *out when s is one of them; the command of its actuator
+	 * name into *c (-1: no such actuator) */
+	int (*find)(const evo_lua *l, const char *name, int element);
+	const char *(*bot)(const evo_lua *l, int bot, int *team);
+	const char *(*element_name)(const evo_lua *l, int e);
+	int (*sensor)(const evo_lua *l, int bot, int s, evo_lua_sensor *out);
+	int (*command)(const evo_lua *l, int bot, const char *name, double *c);
+	/* reading and moving */
+	void (*set_target)(lua_State *L, int bot, int s, int target);
+	double (*sample)(evo_lua *l, int bot, int s);
+	void (*pose)(const evo_lua *l, int bot, double p[3], double *yaw);
+	void (*start)(const evo_lua *l, int bot, double p[3], double *yaw);
+	int (*place_bot)(evo_lua *l, int bot, const double p[3], double yaw);
+	void (*counts)(const evo_lua *l, int bot, evo_lua_counts *c);
+	void (*element_pos)(const evo_lua *l, int e, double p[3]);
+	/* why element e may not move, or NULL */
+	const char *(*element_fixed)(const evo_lua *l, int e);
+	void (*place_element)(evo_lua *l, int e, const double p[3]);
+	int (*element_active)(const evo_lua *l, int e);
+	/* NULL in a world whose elements are never switched off */
+	void (*set_element_active)(evo_lua *l, int e, int on);
+};
+
+extern const evo_lua_dim evo_lua_dim2d;
+extern const evo_lua_dim evo_lua_dim3d;
+
+/* The functions of a dimension's table that read the same fields in
+ * either scene, written once (as tasksim/simscene.c's): SC is the
+ * evo_lua's scene (sc, sc3), SCENE and BOT the prefixes of its scene's
+ * and bot's functions, TEAM the path of a bot's team. The file defines
+ * sense_of[], its sensor kinds' rows of sim/scene/kinds.c. */
+#define EVO_LUA_DIM_COMMON(SC, SCENE, BOT, TEAM)                              \
+	static void view(evo_lua *l, evo_lua_view *v)                         \
+	{                                                                     \
+		*v = (evo_lua_view){                                          \
+		    &l->SC->tick,	 &l->SC->rng,	     &l->SC->n_bots,          \
+		    &l->SC->n_elements, &l->SC->n_rewards, &l->SC->n_metrics,     \
+		    &l->SC->reward,	 l->SC->metric,	     &l->SC->swarm,           \
+		    &l->SC->err,	 &l->SC->episode_reward, &l->SC->winner,      \
+		    &l->SC->grid_seed};                                       \
+	}                                                                     \
+	static int add_reward(evo_lua *l, const evo_reward_def *d)            \
+	{                                                                     \
+		return SCENE##_add_reward(l->SC, d);                          \
+	}                                                                     \
+	static int add_control(evo_lua *l, const evo_control_def *d)          \
+	{                                                                     \
+		return SCENE##_add_control(l->SC, d);                         \
+	}                                                                     \
+	static int find(const evo_lua *l, const char *name, int element)      \
+	{                                                                     \
+		return element ? SCENE##_find_element(l->SC, name)            \
+			       : SCENE##_find_bot(l->SC, name);               \
+	}                                                                     \
+	static const char *bot(const evo_lua *l, int i, int *team)           \
+	{                                                                     \
+		*team = l->SC->bot[i].TEAM;                                   \
+		return l->SC->bot[i].name;                                    \
+	}                                                                     \
+	static const char *element_name(const evo_lua *l, int e)              \
+	{                                                                     \
+		return l->SC->element[e].name;                                \
+	}                                                                     \
+	static int sensor(const evo_lua *l, int i, int s, evo_lua_sensor *out) \
+	{                                                                     \
+		const BOT *b = &l->SC->bot[i];                                \
+		if (s >= 0 && s < b->n_sensors)                               \
+			*out = (evo_lua_sensor){b->sensor[s].name,            \
+						sense_of[b->sensor[s].def.kind], \
+						b->sensor[s].def.target};     \
+		return b->n_sensors;                                          \
+	}                                                                     \
+	static int command(const evo_lua *l, int i, const char *name,         \
+			   double *c)                                         \
+	{                                                                     \
+		int a = BOT##_find_actuator(&l->SC->bot[i], name);            \
+		if (a >= 0)                                                   \
+			*c = l->SC->bot[i].actuator[a].command;               \
+		return a;                                                     \
+	}
+
+/* The fields of a dimension's table its file fills with functions of
+ * the same names. */
+#define EVO_LUA_DIM_FUNCTIONS                                                 \
+	.view = view, .add_bot = add_bot, .add_element = add_element, .add_part = add_part,             \
+	.add_sensor = add_sensor, .add_actuator = add_actuator,               \
+	.add_reward = add_reward, .add_control = add_control,                 \
+	.find = find, .bot = bot, .element_name = element_name,               \
+	.sensor = sensor, .command = command, .set_target = set_target, .sample = sample,       \
+	.pose = pose, .start = start, .place_bot = place_bot,                 \
+	.counts = counts, .element_pos = element_pos,                         \
+	.element_fixed = element_fixed, .place_element = place_element,       \
+	.element_active = element_active
+
+/* The options table at idx (none: an empty one put there), its keys
+ * checked against keys. */
+void evo_lua_options(lua_State *L, int idx, const char *what,
+		     const char *const *keys);
+/* x, y (and z in 3D) of the table at idx into p (each defaulting to
+ * p's). */
+void evo_lua_opt_pos(lua_State *L, int idx, double p[3], const char *what);
+/* The options a kind's row (sim/scene/kinds.c) takes in the scene's
+ * dimension; a kind the dimension lacks is an error naming it and the
+ * dimension. */
+const char *const *evo_lua_kind_keys(lua_State *L, const evo_kind_row *row,
+				     const char *what);
+/* The scene's own kind whose row (sense_of[k], for one of n kinds) is
+ * kind: rows maps a dimension's kinds to kinds.c's. */
+int evo_lua_kind_of(const int *rows, int n, int kind);
+/* The `name` option of the table at 2, which a sensor or actuator (noun)
+ * needs. */
+const char *evo_lua_opt_name(lua_State *L, const char *what, const char *noun);
+/* The words of a list option `key` at idx, each one of words[0..n): a
+ * mask with bit w for words[w]; *given says whether the option was
+ * there. Another word is an error listing them. */
+unsigned evo_lua_opt_words(lua_State *L, int idx, const char *key,
+			   const char *const *words, int n, const char *what,
+			   int *given);
+/* Elements, bots, rewards and controls are added in init: made in reset,
+ * one more would pile up every episode. */
+void evo_lua_in_init(lua_State *L, const char *what);
 
 /* ---- lua_sandbox.c: loading scripts, and what they may use ---------- */
 
@@ -277,21 +483,16 @@ int evo_lua_hook_post_step(void *c, evo_err *err);
 /* The scene's tick, whatever its dimension. */
 static inline long evo_lua_tick(const evo_lua *l)
 {
-	return l->sc ? l->sc->tick : l->sc3->tick;
+	return *l->v.tick;
 }
 
 /* The scene's metrics (scene/scoring.h), whatever its dimension: the
  * array, with its count in *n, and the scene's error in *err. */
 static inline evo_metric *evo_lua_metrics(evo_lua *l, int **n, evo_err **err)
 {
-	if (l->sc) {
-		*n = &l->sc->n_metrics;
-		*err = &l->sc->err;
-		return l->sc->metric;
-	}
-	*n = &l->sc3->n_metrics;
-	*err = &l->sc3->err;
-	return l->sc3->metric;
+	*n = l->v.n_metrics;
+	*err = l->v.err;
+	return l->v.metric;
 }
 /* Call env[name](scene, arg) if the environment has it: with_arg 0 no
  * argument, 1 the integer arg, 2 the task's table. 0, or -1 with err. */

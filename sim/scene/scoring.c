@@ -92,7 +92,7 @@ static double sensor_threshold(const evo_scored *s, const evo_reward *r,
 		n = EVO_REWARD_MAX_SENSORS;
 	for (int i = 0; i < n; i++) {
 		/* NaN for a sensor that is not there: neither branch */
-		double v = s->ops->sensor(s->sc, r->def.bot, r->def.sensor[i]);
+		double v = evo_core_sensor(s->sc, r->def.bot, r->def.sensor[i]);
 		if (over && v > r->def.threshold)
 			sum += v - r->def.threshold;
 		else if (!over && v <= r->def.threshold)
@@ -129,6 +129,12 @@ static double moving(const evo_scored *s, const evo_reward *r)
 	}
 }
 
+double evo_effort_term(double c)
+{
+	c = isnan(c) ? 0.5 : c < 0 ? 0 : c > 1 ? 1 : c;
+	return (2 * c - 1) * (2 * c - 1);
+}
+
 /* Lua: the scene's reward hook gives the value; no hook gives 0. */
 static double lua_reward(const evo_scored *s, const evo_reward *r, int *failed)
 {
@@ -145,7 +151,7 @@ static double lua_reward(const evo_scored *s, const evo_reward *r, int *failed)
 
 static int has_bot(const evo_scored *s, int bot)
 {
-	return bot >= 0 && bot < s->ops->n_bots(s->sc);
+	return bot >= 0 && bot < evo_core_n_bots(s->sc);
 }
 
 double evo_reward_compute_in(const evo_scored *s, evo_reward *r, int *failed)
@@ -256,7 +262,8 @@ int evo_control_check_in(const evo_scored *s, evo_control *c)
 	/* NextOnSensorBelow: the sensor's last value < threshold. */
 	case EVO_CF_NEXT_ON_SENSOR_BELOW:
 		return b && c->def.sensor >= 0 &&
-		       o->sensor(s->sc, bot, c->def.sensor) < c->def.threshold;
+		       evo_core_sensor(s->sc, bot, c->def.sensor) <
+			   c->def.threshold;
 	/* NextOnTargetReached: the bot's centre within threshold of the
 	 * target's (the mazes' goal). */
 	case EVO_CF_NEXT_ON_TARGET_REACHED: {
@@ -287,8 +294,7 @@ int evo_score_step(const evo_scored *s, evo_reward *reward, int n_rewards,
 		double v = evo_reward_compute_in(s, &reward[i], &failed);
 		if (failed)
 			return -1;
-		if (s->ops->pay)
-			s->ops->pay(s->sc, &reward[i], v);
+		evo_core_pay(s->sc, &reward[i], v);
 		total += v;
 	}
 	*step_reward = total;

@@ -127,12 +127,12 @@ typedef struct evo_scene_hooks {
 /* ---- what the rewards read of a scene ---------------------------------- */
 
 /* How the functions below read the scene they score, filled by each
- * dimension (world2d/rewards.c, world3d/rewards3d.c). Bot and sensor
+ * dimension (world2d/rewards.c, world3d/rewards3d.c); its bots' count,
+ * their sensors' values and whom a reward is paid to are the scene's
+ * core's (scene/core.h: the scene scored is a scene's core). Bot and sensor
  * indices were checked when the reward or control was added (each scene's
  * add, by kinds.c's rows for the dimension); a target may be gone. */
 typedef struct evo_score_ops {
-	unsigned dim; /* EVO_DIM_2D or EVO_DIM_3D */
-	int (*n_bots)(const void *sc);
 	/* contacts of bot this tick with anything but the ground */
 	int (*touching)(const void *sc, int bot);
 	/* bot's velocity and the unit vector it faces, in the world's
@@ -140,8 +140,6 @@ typedef struct evo_score_ops {
 	void (*motion)(const void *sc, int bot, double v[3], double ahead[3]);
 	/* from bot's centre to target's; -1 when there is no target now */
 	double (*distance)(const void *sc, int bot, int target);
-	/* the last value of bot's sensor s */
-	double (*sensor)(const void *sc, int bot, int s);
 	/* the sum of (2c - 1)^2 over the commands c (clamped to [0, 1], NaN
 	 * 0.5) of the actuators that move bot */
 	double (*effort)(const void *sc, int bot);
@@ -151,10 +149,16 @@ typedef struct evo_score_ops {
 	/* the value of a kind of this dimension only (Collect, Gather); NULL
 	 * when there is none */
 	double (*own_reward)(void *sc, const evo_reward *r);
-	/* pay v to whom r is for, beside the scene's total (bots and
-	 * teams); NULL: the total only */
-	void (*pay)(void *sc, const evo_reward *r, double v);
 } evo_score_ops;
+
+/* What the scoring reads of a scene's core (scene/core.h; core.c and
+ * view.c define them): how many bots it has, the last value of bot's
+ * sensor s (NaN for none), and paying reward r's value v to whom it is
+ * for (evo_scope: its bot and the bot's team, or a team; the scene's
+ * total has it in any case). */
+int evo_core_n_bots(const void *core);
+double evo_core_sensor(const void *core, int bot, int s);
+void evo_core_pay(void *core, const evo_reward *r, double v);
 
 /* The scene being scored: how to read it, the scene itself, its hooks and
  * its error. */
@@ -164,6 +168,10 @@ typedef struct evo_scored {
 	const evo_scene_hooks *hooks;
 	evo_err *err;
 } evo_scored;
+
+/* What a command c adds to Effort: (2c - 1)^2, c clamped to [0, 1] and
+ * NaN read as 0.5. */
+double evo_effort_term(double c);
 
 /* One reward's value for the step just taken, added to r->total (0 on a
  * hook error, which sets *s->err and *failed). A reward whose bot index

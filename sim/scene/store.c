@@ -44,3 +44,18 @@ int evo_store_find(const void *items, int n, size_t stride, size_t name_at,
 			return i;
 	return -1;
 }
+
+void *evo_store_add(void **items, int *cap, int n, size_t size, evo_err *err)
+{
+	if (cap && evo_store_grow(items, cap, n + 1, size, err))
+		return NULL;
+	if (!cap && n % 8 == 0) {
+		void *p = realloc(*items, (size_t)(n + 8) * size);
+		if (!p) {
+			evo_fail(err, "out of memory");
+			return NULL;
+		}
+		*items = p;
+	}
+	return memset((char *)*items + (size_t)n * size, 0, size);
+}

@@ -27,5 +27,15 @@ int evo_store_name(char *out, const char *name, const char *dflt, int index,
  * array name_at bytes into each) is name; -1 when none. */
 int evo_store_find(const void *items, int n, size_t stride, size_t name_at,
 		   const char *name);
+/* The same over owner's array `arr` of n_<arr>s items of `type`, whose
+ * name is its member `name` (a scene's bots, a bot's sensors). */
+#define EVO_FIND(owner, arr, type, key)                                        \
+	evo_store_find((owner)->arr, (owner)->n_##arr##s, sizeof(type),        \
+		       offsetof(type, name), key)
+
+/* Room for item n of an array of n items (capacity *cap, as
+ * evo_store_grow; cap NULL: an array that grows 8 at a time, a bot's
+ * sensors and actuators): the new item, zeroed, or NULL with err set. */
+void *evo_store_add(void **items, int *cap, int n, size_t size, evo_err *err);
 
 #endif

@@ -18,11 +18,12 @@ static const char *closest(const evo_sim *s, const char *word, int bot,
 			   int sensors)
 {
 	const char *names[256];
-	int n = s->world->n_parts(s->sc, bot, sensors);
-	if (n > 256)
-		n = 256;
+	evo_bot_view v;
+	evo_core_bot(s->core, bot, &v);
+	const evo_parts *p = sensors ? &v.sensors : &v.actuators;
+	int n = p->n > 256 ? 256 : p->n;
 	for (int i = 0; i < n; i++)
-		names[i] = s->world->part_name(s->sc, bot, sensors, i);
+		names[i] = evo_parts_name(p, i);
 	const char *c = evo_closest_name(word, names, (size_t)n, NULL);
 	return c ? c : "";
 }
@@ -34,20 +35,22 @@ static const char *closest(const evo_sim *s, const char *word, int bot,
  * nothing. */
 static void mark_idle(evo_sim *s)
 {
-	const evo_simscene *w = s->world;
-	for (int k = 0; k < w->n_bots(s->sc); k++) {
+	evo_bot_view v;
+	for (int k = 0; k < s->core->n_bots; k++) {
 		if (!s->has_teams && k != s->bot)
 			continue;
-		for (int i = 0; i < w->n_parts(s->sc, k, 1); i++)
-			w->set_idle(s->sc, k, i, 1);
+		evo_core_bot(s->core, k, &v);
+		for (int i = 0; i < v.sensors.n; i++)
+			evo_parts_set_idle(&v.sensors, i, 1);
 	}
 	for (int a = 0; a < s->n_agents; a++) {
 		const evo_sim_agent *ag = &s->agent[a];
 		const evo_sim_team *tm = &s->team[ag->team];
+		evo_core_bot(s->core, ag->bot, &v);
 		for (unsigned i = 0; i < tm->mind->botdesc->n_sensors; i++)
-			w->set_idle(s->sc, ag->bot, tm->sensor_map[i], 0);
+			evo_parts_set_idle(&v.sensors, tm->sensor_map[i], 0);
 	}
-	w->wake_scored(s->sc);
+	evo_core_wake_scored(s->core);
 }
 
 /* After a botdesc error, where the team is: " (team Red, T.simbatch:3)". */
@@ -66,15 +69,16 @@ static void team_suffix(const evo_sim *s, const evo_sim_team *tm, char *out,
  * lacks is the botdesc's error, reported at its line. */
 static int bind(evo_sim *s, evo_sim_team *tm, int bot, int first, evo_err *err)
 {
-	const evo_simscene *w = s->world;
-	const char *bot_name = w->bot_name(s->sc, bot);
+	evo_bot_view v;
+	evo_core_bot(s->core, bot, &v);
+	const char *bot_name = v.name;
 	const evo_mindfolder *mind = tm->mind;
 	const evo_botdesc *d = mind->botdesc;
 	const char *model = evo_lua_bot_path(s->lua);
 	char where[1200];
 	team_suffix(s, tm, where, sizeof where);
 	for (unsigned i = 0; i < d->n_sensors; i++) {
-		int k = w->find_part(s->sc, bot, 1, d->sensor[i].name);
+		int k = evo_parts_find(&v.sensors, d->sensor[i].name);
 		if (k < 0)
 			return evo_fail(err,
 					"%s/%s.botdesc:%u: sensor '%s' is not "
@@ -94,7 +98,7 @@ static int bind(evo_sim *s, evo_sim_team *tm, int bot, int first, evo_err *err)
 		tm->sensor_map[i] = k;
 	}
 	for (unsigned i = 0; i < d->n_actuators; i++) {
-		int k = w->find_part(s->sc, bot, 0, d->actuator[i].name);
+		int k = evo_parts_find(&v.actuators, d->actuator[i].name);
 		if (k < 0)
 			return evo_fail(
 			    err,
@@ -186,16 +190,19 @@ int evo_sim_set_mind(evo_sim *s, const evo_mindfolder *mind, evo_err *err)
 	return evo_sim_set_team_mind(s, 0, mind, err);
 }
 
+static int bot_team(const evo_sim *s, int bot)
+{
+	evo_bot_view v;
+	evo_core_bot(s->core, bot, &v);
+	return v.team;
+}
+
 /* Lay out the teams and their agents: team k's agents are its bots in
  * the scene's order. A team task's environment must have made each team
  * its SIZE bots. */
 static int make_agents(evo_sim *s, evo_err *err)
 {
-	const evo_simscene *w = s->world;
 	int n = 0;
-	if (s->has_teams && !w->teams)
-		return evo_fail(err, "%s: %s tasks have one agent, no teams",
-				s->task_path, w->name);
 	for (int k = 0; k < s->n_teams; k++)
 		n += s->team[k].size;
 	s->agent = calloc((size_t)n, sizeof *s->agent);
@@ -212,8 +219,8 @@ static int make_agents(evo_sim *s, evo_err *err)
 		evo_sim_team *tm = &s->team[k];
 		int made = 0;
 		tm->first = next;
-		for (int b = 0; b < w->n_bots(s->sc); b++)
-			if (w->bot_team(s->sc, b) == k && made < tm->size) {
+		for (int b = 0; b < s->core->n_bots; b++)
+			if (bot_team(s, b) == k && made < tm->size) {
 				s->agent[next].bot = b;
 				s->agent[next].team = k;
 				next++;
@@ -244,14 +251,12 @@ static evo_sim *build(evo_sim *s, const evo_simbatch *task,
 	if (type && evo_sim_type_is_3d(type)) {
 		evo_scene3d_def d3 = evo_default_scene3d_def();
 		s->scene3d = evo_scene3d_create(&d3);
-		s->world = &evo_simscene_3d;
-		s->sc = s->scene3d;
+		s->core = s->scene3d ? &s->scene3d->core : NULL;
 	} else {
 		s->scene = evo_scene_create();
-		s->world = &evo_simscene_2d;
-		s->sc = s->scene;
+		s->core = s->scene ? &s->scene->core : NULL;
 	}
-	if (!s->sc) {
+	if (!s->core) {
 		evo_fail(err, "cannot create a physics world");
 		evo_sim_destroy(s);
 		return NULL;
@@ -377,8 +382,8 @@ void evo_sim_destroy(evo_sim *s)
 int evo_sim_reset(evo_sim *s, int episode, uint64_t grid_seed,
 		  uint64_t episode_seed, evo_err *err)
 {
-	if (s->world->reset(s->sc, grid_seed, episode_seed, err))
-		return -1;
+	if (s->core->dim->reset(s->core, grid_seed, episode_seed))
+		return evo_fail(err, "%s", s->core->err.msg);
 	for (int a = 0; a < s->n_agents; a++)
 		evo_state_reset(&s->agent[a].mind->mind, s->agent[a].state);
 	s->episode = episode;
@@ -397,48 +402,61 @@ int evo_sim_agent_of_bot(const evo_sim *s, int bot)
 static void step_agent(evo_sim *s, const evo_sim_agent *a, evo_q16 *in,
 		       evo_q16 *out)
 {
-	const evo_simscene *w = s->world;
 	const evo_sim_team *tm = &s->team[a->team];
 	const evo_mind *m = &a->mind->mind;
 	double v[EVO_MAX_SENSORS + EVO_MAX_ACTUATORS];
-	w->read(s->sc, a->bot, tm->sensor_map, m->n_sensors, v);
+	evo_bot_view bv;
+	evo_core_bot(s->core, a->bot, &bv);
+	evo_parts_read(&bv.sensors, tm->sensor_map, m->n_sensors, v);
 	for (unsigned i = 0; i < m->n_sensors; i++)
 		in[i] = evo_q16_from_sensor(v[i]);
 	evo_mind_step(m, a->state, in, out);
 	for (unsigned i = 0; i < m->n_actuators; i++)
 		v[i] = evo_q16_to_double(out[i]);
-	w->write(s->sc, a->bot, tm->actuator_map, m->n_actuators, v);
+	evo_parts_write(&bv.actuators, tm->actuator_map, m->n_actuators, v);
 	if (s->trace && s->has_teams)
-		evo_trace_tick_bot(s->trace, w->ticks(s->sc),
-				   w->bot_name(s->sc, a->bot), m, in, out,
+		evo_trace_tick_bot(s->trace, s->core->tick, bv.name, m, in, out,
 				   a->state);
 	else if (s->trace)
-		evo_trace_tick(s->trace, w->ticks(s->sc), m, in, out,
-			       a->state);
+		evo_trace_tick(s->trace, s->core->tick, m, in, out, a->state);
+}
+
+/* Steps 3 to 5 of the tick: 1 when the episode ends, 0 when it goes on,
+ * -1 with err set (a hook failed). */
+static int step(evo_sim *s, evo_err *err)
+{
+	int r = evo_core_step(s->core);
+	if (r < 0)
+		evo_fail(err, "%s", s->core->err.msg);
+	return r;
 }
 
 int evo_sim_tick(evo_sim *s, evo_err *err)
 {
-	s->world->sense(s->sc);
+	evo_core_sense(s->core);
 	step_agent(s, &s->agent[0], s->sensors, s->actuators);
 	evo_q16 in[EVO_MAX_SENSORS], out[EVO_MAX_ACTUATORS];
 	for (int a = 1; a < s->n_agents; a++)
 		step_agent(s, &s->agent[a], in, out);
-	return s->world->step(s->sc, err);
+	return step(s, err);
 }
 
 void evo_sim_sense(evo_sim *s, double *values)
 {
-	s->world->sense(s->sc);
-	s->world->read(s->sc, s->bot, s->sensor_map, s->mind->mind.n_sensors,
+	evo_bot_view v;
+	evo_core_sense(s->core);
+	evo_core_bot(s->core, s->bot, &v);
+	evo_parts_read(&v.sensors, s->sensor_map, s->mind->mind.n_sensors,
 		       values);
 }
 
 int evo_sim_act(evo_sim *s, const double *commands, evo_err *err)
 {
-	s->world->write(s->sc, s->bot, s->actuator_map,
+	evo_bot_view v;
+	evo_core_bot(s->core, s->bot, &v);
+	evo_parts_write(&v.actuators, s->actuator_map,
 			s->mind->mind.n_actuators, commands);
-	return s->world->step(s->sc, err);
+	return step(s, err);
 }
 
 void evo_sim_trace_header(evo_sim *s)
@@ -452,8 +470,8 @@ void evo_sim_trace_header(evo_sim *s)
 		const evo_sim_team *tm = &s->team[k];
 		const char *bots[EVO_TEAM_MAX_SIZE];
 		for (int i = 0; i < tm->size; i++)
-			bots[i] = s->world->bot_name(
-			    s->sc, s->agent[tm->first + i].bot);
+			bots[i] =
+			    evo_sim_bot_name(s, s->agent[tm->first + i].bot);
 		evo_trace_team_header(s->trace, tm->name, tm->mind, bots,
 				      tm->size);
 	}
@@ -469,32 +487,34 @@ int evo_sim_type_is_3d(const char *type)
 
 double evo_sim_episode_reward(const evo_sim *s)
 {
-	return s->world->episode_reward(s->sc);
+	return s->core->episode_reward;
 }
 
 long evo_sim_ticks(const evo_sim *s)
 {
-	return s->world->ticks(s->sc);
+	return s->core->tick;
 }
 
 int evo_sim_collisions(const evo_sim *s, int agent)
 {
-	return s->world->collisions(s->sc, s->agent[agent].bot);
+	evo_bot_view v;
+	evo_core_bot(s->core, s->agent[agent].bot, &v);
+	return v.collisions;
 }
 
 int evo_sim_n_metrics(const evo_sim *s)
 {
-	return s->world->n_metrics(s->sc);
+	return s->core->n_metrics;
 }
 
 const char *evo_sim_metric_name(const evo_sim *s, int k)
 {
-	return s->world->metric_name(s->sc, k);
+	return s->core->metric[k].name;
 }
 
 double evo_sim_metric(const evo_sim *s, int k)
 {
-	return s->world->metric(s->sc, k);
+	return s->core->metric[k].value;
 }
 
 static double unit(double v)
@@ -508,13 +528,13 @@ int evo_sim_behaviour(evo_sim *s, double *out, evo_err *err)
 				  err);
 	if (n)
 		return n;
-	double now[2], start[2];
-	s->world->ground_pos(s->sc, s->bot, now, start);
-	double x = now[0], y = now[1], x0 = start[0], y0 = start[1];
+	evo_bot_view v;
+	evo_core_bot(s->core, s->bot, &v);
+	double x = v.now[0], y = v.now[1], x0 = v.start[0], y0 = v.start[1];
 	/* the arena's bounds on the ground plane, if the environment built
 	 * a static obstacle */
 	double box[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
-	s->world->arena(s->sc, box);
+	s->core->dim->arena(s->core, box);
 	if (!(box[2] > box[0] && box[3] > box[1])) {
 		box[0] = x0 - 5, box[1] = y0 - 5;
 		box[2] = x0 + 5, box[3] = y0 + 5;
@@ -534,5 +554,29 @@ int evo_sim_solved(evo_sim *s, int *solved, evo_err *err)
 
 const char *evo_sim_fault(const evo_sim *s)
 {
-	return s->world->fault(s->sc);
+	return s->core->fault;
+}
+
+double evo_sim_team_reward(const evo_sim *s, int team)
+{
+	return s->core->team_reward[team];
+}
+
+int evo_sim_winner(const evo_sim *s)
+{
+	return s->core->winner;
+}
+
+const char *evo_sim_bot_name(const evo_sim *s, int bot)
+{
+	evo_bot_view v;
+	evo_core_bot(s->core, bot, &v);
+	return v.name;
+}
+
+double evo_sim_bot_reward(const evo_sim *s, int bot)
+{
+	evo_bot_view v;
+	evo_core_bot(s->core, bot, &v);
+	return *v.reward;
 }

@@ -20,7 +20,7 @@
 #include "lua/lua_evo.h"
 #include "mind/mindfolder.h"
 #include "mind/task.h"
-#include "tasksim/simscene.h"
+#include "scene/core.h"
 #include "world2d/scene.h"
 #include "world3d/scene3d.h"
 
@@ -48,12 +48,12 @@ typedef struct evo_sim_agent {
 typedef struct evo_sim {
 	/* The task's world: a 2D scene, or for DEMO3DSIM and LEARN3DSIM a
 	 * 3D one (docs/world3d.md), the other NULL. Everything here reaches
-	 * it through `world` (simscene.h) on `sc`, whichever it is; only
-	 * the viewer and the Lua state, made for one world, read the two. */
+	 * it through its core (scene/core.h: the figures, and its
+	 * dimension's table for the rest), whichever it is; only the viewer
+	 * and the Lua state, made for one world, read the two. */
 	evo_scene *scene;
 	evo_scene3d *scene3d;
-	const evo_simscene *world;
-	void *sc; /* scene or scene3d */
+	evo_scene_core *core; /* &scene->core or &scene3d->core */
 	evo_lua *lua;
 	const evo_mindfolder *mind; /* the first team's (not owned) */
 	const evo_simbatch *task; /* not owned */
@@ -139,6 +139,14 @@ int evo_sim_n_metrics(const evo_sim *s);
 const char *evo_sim_metric_name(const evo_sim *s, int k);
 double evo_sim_metric(const evo_sim *s, int k);
 const char *evo_sim_fault(const evo_sim *s);
+
+/* A team task's figures (docs/teams.md): what team k was paid (its bots'
+ * own and its team rewards), the episode's winner (-1: none), and a bot's
+ * name and what it was paid. */
+double evo_sim_team_reward(const evo_sim *s, int team);
+int evo_sim_winner(const evo_sim *s);
+const char *evo_sim_bot_name(const evo_sim *s, int bot);
+double evo_sim_bot_reward(const evo_sim *s, int bot);
 
 /* The most numbers a behaviour descriptor has. */
 #define EVO_SIM_MAX_BEHAVIOUR 16

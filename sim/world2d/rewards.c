@@ -3,7 +3,8 @@
  * sensors, wheels and targets, and the kinds only 2D has by their rows in
  * sim/scene/kinds.c: Collect and Gather (objects carried or gathered)
  * and NextOnCollisionWithTarget (a contact with an element's body or
- * obstacle). evo_scene_step hands each step to evo_score_step with it. */
+ * obstacle). The scene model pays them through evo_score_ops_2d
+ * (scene/core.c's evo_core_score). */
 #include "world2d/rewards.h"
 
 #include <math.h>
@@ -22,11 +23,6 @@ static evo_element *element_at(evo_scene *sc, int e)
 }
 
 /* ---- what the scoring reads --------------------------------------------- */
-
-static int n_bots(const void *sc)
-{
-	return ((const evo_scene *)sc)->n_bots;
-}
 
 static int touching(const void *sc, int bot)
 {
@@ -55,12 +51,6 @@ static double distance(const void *v, int bot, int target)
 	return hypot(tx - b->x, ty - b->y);
 }
 
-static double sensor(const void *v, int bot, int s)
-{
-	const evo_bot *b = &((const evo_scene *)v)->bot[bot];
-	return s >= 0 && s < b->n_sensors ? b->sensor[s].value : NAN;
-}
-
 /* The bot's wheels of either kind. */
 static double effort(const void *v, int bot)
 {
@@ -71,27 +61,9 @@ static double effort(const void *v, int bot)
 		if (a->def.kind != EVO_ACTUATOR_WHEEL &&
 		    a->def.kind != EVO_ACTUATOR_SPEED_WHEEL)
 			continue;
-		double c = a->command;
-		c = isnan(c) ? 0.5 : c < 0 ? 0 : c > 1 ? 1 : c;
-		sum += (2 * c - 1) * (2 * c - 1);
+		sum += evo_effort_term(a->command);
 	}
 	return sum;
-}
-
-/* Pay reward r's value v to whom it is for (evo_scope); the scene's total
- * has it in any case. */
-static void pay(void *v, const evo_reward *r, double value)
-{
-	evo_scene *sc = v;
-	if (r->def.scope == EVO_SCOPE_TEAM) {
-		sc->team_reward[r->def.team] += value;
-	} else if (r->def.scope == EVO_SCOPE_BOT && r->def.bot >= 0 &&
-		   r->def.bot < sc->n_bots) {
-		evo_bot *b = &sc->bot[r->def.bot];
-		b->reward += value;
-		if (b->team >= 0)
-			sc->team_reward[b->team] += value;
-	}
 }
 
 /* ---- the kinds only 2D has ---------------------------------------------- */
@@ -223,17 +195,13 @@ static int touching_target(const void *v, int bot, int target)
 	}
 }
 
-static const evo_score_ops evo_score_ops_2d = {
-    .dim = EVO_DIM_2D,
-    .n_bots = n_bots,
+const evo_score_ops evo_score_ops_2d = {
     .touching = touching,
     .motion = motion,
     .distance = distance,
-    .sensor = sensor,
     .effort = effort,
     .touching_target = touching_target,
     .own_reward = own_reward,
-    .pay = pay,
 };
 
 static evo_scored scored(evo_scene *sc)
@@ -251,12 +219,4 @@ int evo_control_check(evo_scene *sc, evo_control *c)
 {
 	evo_scored s = scored(sc);
 	return evo_control_check_in(&s, c);
-}
-
-int evo_scene_score(evo_scene *sc)
-{
-	evo_scored s = scored(sc);
-	return evo_score_step(&s, sc->reward, sc->n_rewards, sc->control,
-			      sc->n_controls, &sc->step_reward,
-			      &sc->episode_reward);
 }

@@ -14,11 +14,6 @@ double evo_reward_compute(evo_scene *sc, evo_reward *r, int *failed);
 /* 1: end the episode; 0: go on; -1: hook error. */
 int evo_control_check(evo_scene *sc, evo_control *c);
 
-/* Step 5 of the tick: the rewards paid, the post-step hook, the controls
- * (evo_score_step). 1 when a control ends the episode, 0 when it goes on,
- * -1 with sc->err set when a hook failed. */
-int evo_scene_score(evo_scene *sc);
-
 /* evo_reward_reset and evo_control_reset, and the names users write, are
  * the scene model's (scene/scoring.h, scene/kinds.h). */
 

@@ -9,7 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "world2d/rewards.h"
 #include "world2d/scene_internal.h"
 
 evo_scene *evo_scene_create(void)
@@ -17,16 +16,15 @@ evo_scene *evo_scene_create(void)
 	evo_scene *sc = calloc(1, sizeof *sc);
 	if (!sc)
 		return NULL;
-	sc->be = &evo_backend_box2d;
-	evo_bworld_def wd = sc->be->world_def();
-	sc->bw = sc->be->create(&wd);
-	sc->world = (evo_world *)sc->bw;
-	if (!sc->bw) {
+	const evo_backend *be = &evo_backend_box2d;
+	evo_bworld_def wd = be->world_def();
+	evo_bworld *bw = be->create(&wd);
+	if (!bw) {
 		free(sc);
 		return NULL;
 	}
-	sc->rng = evo_rng_seed(1);
-	sc->winner = -1;
+	evo_core_init(&sc->core, be, bw, &evo_scene_dim_2d);
+	sc->world = (evo_world *)bw;
 	return sc;
 }
 
@@ -34,28 +32,26 @@ void evo_scene_destroy(evo_scene *sc)
 {
 	if (!sc)
 		return;
-	for (int i = 0; i < sc->n_bots; i++) {
-		free(sc->bot[i].sensor);
-		free(sc->bot[i].actuator);
-	}
+	evo_core_free(&sc->core);
 	free(sc->element);
 	free(sc->object);
 	free(sc->bot);
 	free(sc->obstacle);
-	free(sc->reward);
-	free(sc->control);
 	free(sc->body_owner);
 	free(sc->sense_mem);
 	free(sc->sense_shapes);
-	evo_swarm_free(&sc->swarm);
 	sc->be->destroy(sc->bw);
 	free(sc);
 }
 
-/* Room for one more item in array arr of sc (scene/store.h). */
-#define GROW(sc, arr, n, cap)                                                \
-	evo_store_grow((void **)&(sc)->arr, &(sc)->cap, (sc)->n + 1,         \
+/* Room for one more item in array arr of sc (scene/store.h); ADD: the
+ * new item, zeroed, or NULL. */
+#define GROW(sc, arr, n, cap)                                                  \
+	evo_store_grow((void **)&(sc)->arr, &(sc)->cap, (sc)->n + 1,           \
 		       sizeof *(sc)->arr, &(sc)->err)
+#define ADD(sc, arr, n, cap)                                                   \
+	evo_store_add((void **)&(sc)->arr, &(sc)->cap, (sc)->n,                \
+		      sizeof *(sc)->arr, &(sc)->err)
 
 /* Remember who owns body index `index`: a bot (>= 0) or an object
  * (-(element + 2)). */
@@ -182,11 +178,10 @@ int evo_scene_add_element(evo_scene *sc, const evo_element_def *d)
 	if (sc->n_obstacles > sc->n_fixed_obstacles)
 		return evo_fail(&sc->err,
 				"elements must be added before the first reset");
-	if (GROW(sc, element, n_elements, cap_elements))
-		return -1;
+	evo_element *slot = ADD(sc, element, n_elements, cap_elements);
 	evo_element e;
 	memset(&e, 0, sizeof e);
-	if (set_name(e.name, d->name, &sc->err))
+	if (!slot || set_name(e.name, d->name, &sc->err))
 		return -1;
 	e.kind = d->kind;
 	e.x = d->x;
@@ -226,7 +221,7 @@ int evo_scene_add_element(evo_scene *sc, const evo_element_def *d)
 			return -1;
 		sc->object[sc->n_objects++] = sc->n_elements;
 	}
-	sc->element[sc->n_elements] = e;
+	*slot = e;
 	return sc->n_elements++;
 }
 
@@ -240,36 +235,31 @@ int evo_scene_add_bot(evo_scene *sc, const evo_bot_def *d)
 	if (d->team < -1 || d->team >= EVO_SCENE_MAX_TEAMS)
 		return evo_fail(&sc->err, "bot: no team %d (at most %d teams)",
 				d->team, EVO_SCENE_MAX_TEAMS);
-	if (GROW(sc, bot, n_bots, cap_bots))
+	evo_bot *b = ADD(sc, bot, n_bots, cap_bots);
+	if (!b || set_name(b->name, d->name, &sc->err))
 		return -1;
-	evo_bot b;
-	memset(&b, 0, sizeof b);
-	if (set_name(b.name, d->name, &sc->err))
-		return -1;
-	b.def = *d;
-	b.def.name = NULL;
-	b.def.body.dynamic = 1;
-	b.def.body.pos[0] = d->x;
-	b.def.body.pos[1] = d->y;
-	b.def.body.pos[2] = 0;
-	b.def.body.yaw = d->angle;
-	b.team = d->team;
+	b->def = *d;
+	b->def.name = NULL;
+	b->def.body.dynamic = 1;
+	b->def.body.pos[0] = d->x;
+	b->def.body.pos[1] = d->y;
+	b->def.body.pos[2] = 0;
+	b->def.body.yaw = d->angle;
+	b->team = d->team;
 	if (d->team >= 0)
-		b.def.body.category |= EVO_CAT_TEAM(d->team);
-	b.body = sc->be->add_body(sc->bw, &b.def.body);
-	if (b.body.index < 0)
+		b->def.body.category |= EVO_CAT_TEAM(d->team);
+	b->body = sc->be->add_body(sc->bw, &b->def.body);
+	if (b->body.index < 0)
 		return evo_fail(&sc->err, "bot: its body needs a positive size");
-	if (set_owner(sc, b.body.index, sc->n_bots))
+	if (set_owner(sc, b->body.index, sc->n_bots))
 		return -1;
-	if (d->team >= sc->n_teams)
-		sc->n_teams = d->team + 1;
+	evo_core_note_team(&sc->core, d->team);
 	const evo_bshape *shape = &d->body.shape[0];
-	b.radius = shape->type == EVO_SHAPE_CIRCLE
+	b->radius = shape->type == EVO_SHAPE_CIRCLE
 		       ? shape->radius
 		       : sqrt(shape->half[0] * shape->half[0] +
 			      shape->half[1] * shape->half[1]);
-	sc->bot[sc->n_bots] = b;
-	evo_bot_refresh_pose(sc, &sc->bot[sc->n_bots]);
+	evo_bot_refresh_pose(sc, b);
 	return sc->n_bots++;
 }
 
@@ -281,7 +271,7 @@ static int check_bot(evo_scene *sc, int bot)
 	return 0;
 }
 
-static int check_target(evo_scene *sc, int target, const char *what)
+int evo_scene_check_target(evo_scene *sc, int target, const char *what)
 {
 	if (target == EVO_TARGET_NONE || target == EVO_TARGET_NEAREST_OBJECT ||
 	    target == EVO_TARGET_NEAREST_OPPONENT ||
@@ -328,7 +318,7 @@ int evo_scene_add_sensor(evo_scene *sc, int bot, const evo_sensor_def *d)
 	     d->kind == EVO_SENSOR_CAMERA) &&
 	    evo_swarm_check_sensor(&d->swarm, name, &sc->err))
 		return -1;
-	if (check_target(sc, d->target, name))
+	if (evo_scene_check_target(sc, d->target, name))
 		return -1;
 	if (d->kind == EVO_SENSOR_ZONE && d->target != EVO_TARGET_NONE &&
 	    (d->target < 0 || sc->element[d->target].kind != EVO_ELEM_ZONE))
@@ -336,16 +326,9 @@ int evo_scene_add_sensor(evo_scene *sc, int bot, const evo_sensor_def *d)
 				"sensor '%s': a zone sensor needs a zone", name);
 	if (name[0] && evo_bot_find_sensor(b, name) >= 0)
 		return evo_fail(&sc->err, "sensor '%s' is defined twice", name);
-	if (b->n_sensors % 8 == 0) {
-		evo_sensor *p = realloc(b->sensor, (size_t)(b->n_sensors + 8) *
-							   sizeof *p);
-		if (!p)
-			return evo_fail(&sc->err, "out of memory");
-		b->sensor = p;
-	}
-	evo_sensor *s = &b->sensor[b->n_sensors];
-	memset(s, 0, sizeof *s);
-	if (set_name(s->name, d->name, &sc->err))
+	evo_sensor *s = evo_store_add((void **)&b->sensor, NULL, b->n_sensors,
+				      sizeof *s, &sc->err);
+	if (!s || set_name(s->name, d->name, &sc->err))
 		return -1;
 	s->def = *d;
 	s->def.name = NULL;
@@ -394,16 +377,9 @@ int evo_scene_add_actuator(evo_scene *sc, int bot, const evo_actuator_def *d)
 	if (name[0] && evo_bot_find_actuator(b, name) >= 0)
 		return evo_fail(&sc->err, "actuator '%s' is defined twice",
 				name);
-	if (b->n_actuators % 8 == 0) {
-		evo_actuator *p = realloc(
-			b->actuator, (size_t)(b->n_actuators + 8) * sizeof *p);
-		if (!p)
-			return evo_fail(&sc->err, "out of memory");
-		b->actuator = p;
-	}
-	evo_actuator *a = &b->actuator[b->n_actuators];
-	memset(a, 0, sizeof *a);
-	if (set_name(a->name, d->name, &sc->err))
+	evo_actuator *a = evo_store_add((void **)&b->actuator, NULL,
+					b->n_actuators, sizeof *a, &sc->err);
+	if (!a || set_name(a->name, d->name, &sc->err))
 		return -1;
 	a->def = *d;
 	a->def.name = NULL;
@@ -414,123 +390,9 @@ int evo_scene_add_actuator(evo_scene *sc, int bot, const evo_actuator_def *d)
 	return b->n_actuators++;
 }
 
-int evo_scene_add_reward(evo_scene *sc, const evo_reward_def *d)
-{
-	if ((unsigned)d->kind >= EVO_RW_KIND_COUNT)
-		return evo_fail(&sc->err, "reward: unknown kind %d",
-				(int)d->kind);
-	if (!(evo_reward_kind_dims(d->kind) & EVO_DIM_2D))
-		return evo_fail(&sc->err, "reward %s is 3D only",
-				evo_reward_kind_name(d->kind));
-	if (check_bot(sc, d->bot) || check_target(sc, d->target, "reward"))
-		return -1;
-	if ((unsigned)d->scope > EVO_SCOPE_SCENE ||
-	    (d->scope == EVO_SCOPE_TEAM &&
-	     (d->team < 0 || d->team >= EVO_SCENE_MAX_TEAMS)))
-		return evo_fail(&sc->err, "reward: no team %d", d->team);
-	if (d->n_sensors < 0 || d->n_sensors > EVO_REWARD_MAX_SENSORS)
-		return evo_fail(&sc->err, "reward: %d sensors (at most %d)",
-				d->n_sensors, EVO_REWARD_MAX_SENSORS);
-	for (int i = 0; i < d->n_sensors; i++)
-		if (d->sensor[i] < 0 ||
-		    d->sensor[i] >= sc->bot[d->bot].n_sensors)
-			return evo_fail(&sc->err, "reward: no sensor %d",
-					d->sensor[i]);
-	if (d->kind == EVO_RW_COLLECT &&
-	    (d->target < 0 || sc->element[d->target].kind != EVO_ELEM_ZONE))
-		return evo_fail(&sc->err, "reward Collect needs a zone");
-	if ((d->kind == EVO_RW_DISTANCE || d->kind == EVO_RW_FINAL_DISTANCE) &&
-	    d->target == EVO_TARGET_NONE)
-		return evo_fail(&sc->err, "reward %s needs a target",
-				d->kind == EVO_RW_DISTANCE ? "Distance"
-							   : "FinalDistance");
-	if (d->kind == EVO_RW_CLOSING_ON_TARGET && d->target == EVO_TARGET_NONE)
-		return evo_fail(&sc->err,
-				"reward ClosingOnTarget needs a target");
-	if (!isfinite(d->k) || !isfinite(d->k2) || !isfinite(d->threshold))
-		return evo_fail(&sc->err, "reward: a value is not a number");
-	if (GROW(sc, reward, n_rewards, cap_rewards))
-		return -1;
-	evo_reward *r = &sc->reward[sc->n_rewards];
-	memset(r, 0, sizeof *r);
-	r->def = *d;
-	evo_reward_reset(r);
-	return sc->n_rewards++;
-}
-
-int evo_scene_add_control(evo_scene *sc, const evo_control_def *d)
-{
-	if ((unsigned)d->kind >= EVO_CF_KIND_COUNT)
-		return evo_fail(&sc->err, "control: unknown kind %d",
-				(int)d->kind);
-	if (!(evo_control_kind_dims(d->kind) & EVO_DIM_2D))
-		return evo_fail(&sc->err, "control %s is 3D only",
-				evo_control_kind_name(d->kind));
-	if (check_bot(sc, d->bot) || check_target(sc, d->target, "control"))
-		return -1;
-	if (d->kind == EVO_CF_NEXT_ON_SENSOR_BELOW &&
-	    (d->sensor < 0 || d->sensor >= sc->bot[d->bot].n_sensors))
-		return evo_fail(&sc->err, "control: no sensor %d", d->sensor);
-	if (d->kind == EVO_CF_NEXT_ON_COLLISION_WITH_TARGET &&
-	    (d->target < 0 || sc->element[d->target].kind == EVO_ELEM_ZONE))
-		return evo_fail(&sc->err, "control NextOnCollisionWithTarget "
-					  "needs a solid element");
-	if (d->kind == EVO_CF_NEXT_ON_TARGET_REACHED &&
-	    (d->target == EVO_TARGET_NONE || !(d->threshold >= 0)))
-		return evo_fail(&sc->err,
-				"control NextOnTargetReached needs a "
-				"target and a threshold of 0 or more");
-	if (GROW(sc, control, n_controls, cap_controls))
-		return -1;
-	evo_control *c = &sc->control[sc->n_controls];
-	memset(c, 0, sizeof *c);
-	c->def = *d;
-	return sc->n_controls++;
-}
-
 void evo_scene_set_grid(evo_scene *sc, const evo_grid_def *def)
 {
 	sc->grid = *def;
-}
-
-int evo_scene_find_element(const evo_scene *sc, const char *name)
-{
-	return evo_store_find(sc->element, sc->n_elements, sizeof *sc->element,
-			      offsetof(evo_element, name), name);
-}
-
-int evo_scene_add_metric(evo_scene *sc, const char *name)
-{
-	return evo_metric_add(sc->metric, &sc->n_metrics, name, &sc->err);
-}
-
-int evo_scene_set_metric(evo_scene *sc, int metric, double value)
-{
-	return evo_metric_set(sc->metric, sc->n_metrics, metric, value,
-			      &sc->err);
-}
-
-int evo_scene_find_metric(const evo_scene *sc, const char *name)
-{
-	return evo_metric_find(sc->metric, sc->n_metrics, name);
-}
-
-int evo_scene_find_bot(const evo_scene *sc, const char *name)
-{
-	return evo_store_find(sc->bot, sc->n_bots, sizeof *sc->bot,
-			      offsetof(evo_bot, name), name);
-}
-
-int evo_bot_find_sensor(const evo_bot *b, const char *name)
-{
-	return evo_store_find(b->sensor, b->n_sensors, sizeof *b->sensor,
-			      offsetof(evo_sensor, name), name);
-}
-
-int evo_bot_find_actuator(const evo_bot *b, const char *name)
-{
-	return evo_store_find(b->actuator, b->n_actuators, sizeof *b->actuator,
-			      offsetof(evo_actuator, name), name);
 }
 
 void evo_scene_place_bot(evo_scene *sc, int bot, double x, double y,

@@ -15,9 +15,12 @@
  * The tick (DESIGN.md): evo_scene_sense, then the caller steps each bot's
  * mind and writes actuator commands, then evo_scene_step (actuators act,
  * physics steps, rewards add up, control functions decide whether the
- * episode goes on). Both are in step.c, which drives the pieces of
- * sensors.h, actuators.h and rewards.h; those read the scene and ask
- * query.h, and call nothing back (sim/world2d/README.md). */
+ * episode goes on). Their order is the scene model's (sim/scene/tick.c,
+ * the same for a 3D scene); this world's parts of them are step.c's and
+ * sensors.c's, through dim2d.c, and drive the pieces of sensors.h,
+ * actuators.h and rewards.h; those read the scene and ask query.h, and
+ * call nothing back (sim/world2d/README.md). What the scene keeps beside
+ * its bots is the scene model's core (scene/core.h), its first member. */
 #ifndef EVO_SCENE_H
 #define EVO_SCENE_H
 
@@ -26,6 +29,7 @@
 
 #include "base/err.h"
 #include "base/rng.h"
+#include "scene/core.h"
 #include "scene/kinds.h"
 #include "scene/scoring.h"
 #include "scene/store.h"
@@ -283,17 +287,17 @@ typedef struct evo_bot {
 typedef struct evo_scene evo_scene;
 
 struct evo_scene {
-	/* The physics, through the backend interface (sim/scene/backend.h):
-	 * be is evo_backend_box2d and bw its world. world is the same world
-	 * as Box2D's own API sees it, for what is 2D only outside world2d/
-	 * (the viewer, the Lua bot binding, the tests). */
-	const evo_backend *be;
-	evo_bworld *bw;
+	/* What both dimensions keep (scene/core.h), first: the physics
+	 * through the backend interface (be is evo_backend_box2d and bw its
+	 * world), the tick, rng, rewards and controls, the episode's figures
+	 * and teams, metrics, hooks, swarm and error, each by its own name
+	 * (sc->tick) and all together as sc->core. */
+	EVO_SCENE_CORE;
+	/* The same world as Box2D's own API sees it, for what is 2D only
+	 * outside world2d/ (the viewer, the Lua bot binding, the tests). */
 	evo_world *world;
-	long tick; /* ticks since the reset */
-	evo_rng rng; /* the episode's randomness (RANDOM sensors, placements) */
-	int n_elements, n_bots, n_obstacles, n_rewards, n_controls;
-	int cap_elements, cap_bots, cap_obstacles, cap_rewards, cap_controls;
+	int n_obstacles; /* n_bots and n_elements are the core's */
+	int cap_elements, cap_bots, cap_obstacles;
 	evo_element *element;
 	evo_bot *bot;
 	int n_objects, cap_objects;
@@ -301,19 +305,7 @@ struct evo_scene {
 	evo_obstacle *obstacle; /* every static obstacle: elements', grid's */
 	int n_fixed_obstacles;	/* the first ones, from elements; the grid follows */
 	int n_walls;		/* of them, walls (evo_scene_add_wall) */
-	evo_reward *reward;
-	evo_control *control;
 	evo_grid_def grid;
-	uint64_t grid_seed; /* the last reset's: an environment's own
-			       obstacle generator draws from it */
-	double step_reward;    /* what the rewards gave in the last step */
-	double episode_reward; /* since the reset */
-	/* Teams: one more than the highest team of a bot; what each team
-	 * was paid since the reset (its bots' own and its team rewards);
-	 * the episode's winner (-1: none yet) */
-	int n_teams;
-	double team_reward[EVO_SCENE_MAX_TEAMS];
-	int winner;
 	/* the bot (>= 0) or object element (-(e + 2)) of each body index,
 	 * -1 for none: what the broad phase finds, named */
 	int *body_owner;
@@ -324,11 +316,6 @@ struct evo_scene {
 	size_t sense_cap;
 	void *sense_shapes;
 	size_t sense_shapes_cap;
-	evo_swarm swarm; /* lights and floor patches (sim/scene/swarm.h) */
-	int n_metrics;	       /* declared, in the order they were */
-	evo_metric metric[EVO_SCENE_MAX_METRICS];
-	evo_scene_hooks hooks;
-	evo_err err;
 };
 
 evo_scene *evo_scene_create(void);
@@ -341,8 +328,9 @@ int evo_scene_add_bot(evo_scene *sc, const evo_bot_def *def);
 int evo_scene_add_sensor(evo_scene *sc, int bot, const evo_sensor_def *def);
 int evo_scene_add_actuator(evo_scene *sc, int bot,
 			   const evo_actuator_def *def);
-int evo_scene_add_reward(evo_scene *sc, const evo_reward_def *def);
-int evo_scene_add_control(evo_scene *sc, const evo_control_def *def);
+/* Rewards and controls are the scene model's (scene/core.h). */
+#define evo_scene_add_reward(sc, def)  evo_core_add_reward(&(sc)->core, def)
+#define evo_scene_add_control(sc, def) evo_core_add_control(&(sc)->core, def)
 void evo_scene_set_grid(evo_scene *sc, const evo_grid_def *def);
 
 /* A wall of no thickness from (x1, y1) to (x2, y2), for the whole run (the
@@ -356,18 +344,18 @@ int evo_scene_add_wall(evo_scene *sc, double x1, double y1, double x2,
  * with a digit, at most EVO_METRIC_NAME_MAX - 1 characters; at most
  * EVO_SCENE_MAX_METRICS of them. Returns its index (the one it already has
  * when the name is declared), or -1 with sc->err set. */
-int evo_scene_add_metric(evo_scene *sc, const char *name);
+#define evo_scene_add_metric(sc, name) evo_core_add_metric(&(sc)->core, name)
 
 /* Set this episode's value of a metric. Returns 0, or -1 with sc->err set
  * when the value is not finite (the metric keeps its value). */
-int evo_scene_set_metric(evo_scene *sc, int metric, double value);
+#define evo_scene_set_metric(sc, k, v) evo_core_set_metric(&(sc)->core, k, v)
 
 /* Lookups by name; -1 when absent. */
-int evo_scene_find_element(const evo_scene *sc, const char *name);
-int evo_scene_find_bot(const evo_scene *sc, const char *name);
-int evo_bot_find_sensor(const evo_bot *b, const char *name);
-int evo_bot_find_actuator(const evo_bot *b, const char *name);
-int evo_scene_find_metric(const evo_scene *sc, const char *name);
+#define evo_scene_find_element(s, k)	EVO_FIND(s, element, evo_element, k)
+#define evo_scene_find_bot(s, k)	EVO_FIND(s, bot, evo_bot, k)
+#define evo_bot_find_sensor(b, k)	EVO_FIND(b, sensor, evo_sensor, k)
+#define evo_bot_find_actuator(b, k)	EVO_FIND(b, actuator, evo_actuator, k)
+#define evo_scene_find_metric(sc, name) evo_core_find_metric(&(sc)->core, name)
 
 /* ---- the episode and the tick (step.c) -------------------------------- */
 
@@ -377,14 +365,14 @@ int evo_scene_find_metric(const evo_scene *sc, const char *name);
  * reseeded from episode_seed. */
 void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed);
 
-/* Step 1 of the tick: every sensor of every bot samples. */
-void evo_scene_sense(evo_scene *sc);
-
-/* Steps 3-5: actuators act on their commands, the physics steps, rewards
- * add up into step_reward and episode_reward, the post-step hook runs,
- * the controls decide. Returns 1 when a control function ends the episode,
- * 0 when it goes on, -1 with sc->err set when a hook failed. */
-int evo_scene_step(evo_scene *sc);
+/* The tick, the scene model's (scene/core.h, sim/scene/tick.c): step 1,
+ * every sensor of every bot samples; steps 3-5, actuators act on their
+ * commands, the physics steps, rewards add up into step_reward and
+ * episode_reward, the post-step hook runs, the controls decide. The step
+ * returns 1 when a control function ends the episode, 0 when it goes on,
+ * -1 with sc->err set when a hook failed. */
+#define evo_scene_sense(sc) evo_core_sense(&(sc)->core)
+#define evo_scene_step(sc)  evo_core_step(&(sc)->core)
 
 /* A static obstacle for this episode only, after the elements' and the
  * grid's: the next reset removes it. An environment's own obstacle

@@ -8,6 +8,22 @@
 
 #include "world2d/scene.h"
 
+/* How the scene model reads a 2D scene (rewards.c), and what it asks of
+ * one (dim2d.c). */
+extern const evo_score_ops evo_score_ops_2d;
+extern const evo_scene_dim evo_scene_dim_2d;
+
+/* 0 when target may be a sensor's, reward's or control's: an element,
+ * none, or the nearest object, opponent or teammate; else -1 with sc->err
+ * set, naming what (scene.c). */
+int evo_scene_check_target(evo_scene *sc, int target, const char *what);
+
+/* step.c: before the physics step, every bot's actuators act; after it,
+ * the bots' poses, movement history and contacts, and the objects'
+ * poses, read back. */
+void evo_scene_act(evo_scene_core *c);
+void evo_scene_read_back(evo_scene_core *c);
+
 /* Add a static obstacle to the world and the scene's list; its index, or
  * -1 with sc->err set. */
 int evo_scene_add_obstacle(evo_scene *sc, const evo_obstacle *o);

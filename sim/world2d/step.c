@@ -1,16 +1,15 @@
-/* The 2D scene's episode and tick (sim/world2d/scene.h): the reset, then each
- * tick the sensing (step 1 of DESIGN.md's tick) and the step (steps 3-5:
- * actuators act, the physics steps, rewards, the post-step hook, controls).
- * This is the top of the 2D world: it calls the pieces below it (sensors.c,
- * actuators.c, rewards.c, grid.c, scene.c), none of which calls back. */
+/* The 2D scene's episode and its part of the tick (sim/world2d/scene.h):
+ * the reset; before the physics step every bot's actuators act, after it
+ * the poses, movement history and contacts are read back. The tick's
+ * order is the scene model's (sim/scene/tick.c, through dim2d.c). This is
+ * the top of the 2D world: it calls the pieces below it (actuators.c,
+ * grid.c, scene.c), none of which calls back. */
 #include <stdint.h>
 
 #include "base/rng.h"
 #include "world2d/actuators.h"
-#include "world2d/rewards.h"
 #include "world2d/scene.h"
 #include "world2d/scene_internal.h"
-#include "world2d/sensors.h"
 
 static void reset_bot(evo_scene *sc, int i)
 {
@@ -73,19 +72,7 @@ void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
 		}
 	}
 	evo_grid_rebuild(sc, grid_seed, world_new);
-	sc->grid_seed = grid_seed;
-	for (int i = 0; i < sc->n_rewards; i++)
-		evo_reward_reset(&sc->reward[i]);
-	for (int i = 0; i < sc->n_controls; i++)
-		evo_control_reset(&sc->control[i]);
-	sc->rng = evo_rng_seed(episode_seed);
-	sc->tick = 0;
-	sc->step_reward = sc->episode_reward = 0;
-	for (int i = 0; i < EVO_SCENE_MAX_TEAMS; i++)
-		sc->team_reward[i] = 0;
-	sc->winner = -1;
-	for (int i = 0; i < sc->n_metrics; i++)
-		sc->metric[i].value = 0;
+	evo_core_reset(&sc->core, grid_seed, episode_seed);
 }
 
 /* The bot's pose after the physics step. A bot whose collision is
@@ -104,20 +91,19 @@ static int undo_blocked_step(evo_scene *sc, evo_bot *b)
 	return 1;
 }
 
-void evo_scene_sense(evo_scene *sc)
+void evo_scene_act(evo_scene_core *c)
 {
-	evo_sense_all(sc);
-}
-
-int evo_scene_step(evo_scene *sc)
-{
+	evo_scene *sc = (evo_scene *)c;
 	for (int i = 0; i < sc->n_bots; i++) {
 		for (int k = 0; k < sc->bot[i].n_actuators; k++)
 			evo_actuator_act(sc, i, k);
 		evo_bot_drive(sc, i);
 	}
-	sc->be->step(sc->bw, NULL);
-	sc->tick++;
+}
+
+void evo_scene_read_back(evo_scene_core *c)
+{
+	evo_scene *sc = (evo_scene *)c;
 	for (int i = 0; i < sc->n_bots; i++) {
 		evo_bot *b = &sc->bot[i];
 		int undone = undo_blocked_step(sc, b);
@@ -142,6 +128,4 @@ int evo_scene_step(evo_scene *sc)
 			e->angle = p.yaw;
 		}
 	}
-	/* rewards, the post-step hook, controls: the scene model's */
-	return evo_scene_score(sc);
 }

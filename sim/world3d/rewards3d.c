@@ -8,11 +8,6 @@
 #include "world3d/scene3d.h"
 #include "world3d/scene3d_internal.h"
 
-static int n_bots(const void *sc)
-{
-	return ((const evo_scene3d *)sc)->n_bots;
-}
-
 static int touching(const void *sc, int bot)
 {
 	return ((const evo_scene3d *)sc)->bot[bot].touching;
@@ -36,56 +31,19 @@ static double distance(const void *v, int bot, int target)
 	return evo_scene3d_distance(sc, bot, target);
 }
 
-static double sensor(const void *v, int bot, int s)
-{
-	const evo_bot3d *b = &((const evo_scene3d *)v)->bot[bot];
-	return s >= 0 && s < b->n_sensors ? b->sensor[s].value : NAN;
-}
-
 /* Every actuator of a 3D bot moves it: its wheels and propellers. */
 static double effort(const void *v, int bot)
 {
 	const evo_bot3d *b = &((const evo_scene3d *)v)->bot[bot];
 	double sum = 0;
-	for (int i = 0; i < b->n_actuators; i++) {
-		double c = b->actuator[i].command;
-		c = isnan(c) ? 0.5 : c < 0 ? 0 : c > 1 ? 1 : c;
-		sum += (2 * c - 1) * (2 * c - 1);
-	}
+	for (int i = 0; i < b->n_actuators; i++)
+		sum += evo_effort_term(b->actuator[i].command);
 	return sum;
 }
 
-/* Pay reward r's value v to whom it is for (evo_scope), as the 2D scene
- * does; the scene's total has it in any case. */
-static void pay(void *v, const evo_reward *r, double value)
-{
-	evo_scene3d *sc = v;
-	if (r->def.scope == EVO_SCOPE_TEAM) {
-		sc->team_reward[r->def.team] += value;
-	} else if (r->def.scope == EVO_SCOPE_BOT && r->def.bot >= 0 &&
-		   r->def.bot < sc->n_bots) {
-		evo_bot3d *b = &sc->bot[r->def.bot];
-		b->reward += value;
-		if (b->def.team >= 0)
-			sc->team_reward[b->def.team] += value;
-	}
-}
-
-static const evo_score_ops score_ops_3d = {
-    .dim = EVO_DIM_3D,
-    .n_bots = n_bots,
+const evo_score_ops evo_score_ops_3d = {
     .touching = touching,
     .motion = motion,
     .distance = distance,
-    .sensor = sensor,
     .effort = effort,
-    .pay = pay,
 };
-
-int evo_scene3d_score(evo_scene3d *sc)
-{
-	evo_scored s = {&score_ops_3d, sc, &sc->hooks, &sc->err};
-	return evo_score_step(&s, sc->reward, sc->n_rewards, sc->control,
-			      sc->n_controls, &sc->step_reward,
-			      &sc->episode_reward);
-}

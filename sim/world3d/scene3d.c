@@ -1,5 +1,5 @@
 /* A 3D scene's storage (sim/world3d/scene3d.h): definitions with their
- * defaults, the adds and lookups, and making the ODE world from them. */
+ * defaults, the adds, and making the ODE world from them. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -114,9 +114,8 @@ evo_scene3d *evo_scene3d_create(const evo_scene3d_def *def)
 	evo_scene3d *sc = calloc(1, sizeof *sc);
 	if (!sc)
 		return NULL;
+	evo_core_init(&sc->core, &evo_backend_ode, NULL, &evo_scene_dim_3d);
 	sc->def = *def;
-	sc->winner = -1;
-	sc->be = &evo_backend_ode;
 	if (new_world(sc)) {
 		free(sc);
 		return NULL;
@@ -152,15 +151,9 @@ void evo_scene3d_destroy(evo_scene3d *sc)
 		return;
 	if (sc->bw)
 		sc->be->destroy(sc->bw);
-	for (int i = 0; i < sc->n_bots; i++) {
-		free(sc->bot[i].sensor);
-		free(sc->bot[i].actuator);
-	}
+	evo_core_free(&sc->core);
 	free(sc->bot);
-	evo_swarm_free(&sc->swarm);
 	free(sc->element);
-	free(sc->reward);
-	free(sc->control);
 	free(sc->obstacle);
 	free(sc);
 }
@@ -240,12 +233,10 @@ int evo_scene3d_add_element(evo_scene3d *sc, const evo_element3d_def *d)
 		return evo_fail(&sc->err, "an object's mass must be > 0");
 	if (d->name && d->name[0] && evo_scene3d_find_element(sc, d->name) >= 0)
 		return evo_fail(&sc->err, "element '%s' twice", d->name);
-	if (grow(sc, (void **)&sc->element, &sc->cap_elements,
-		 sc->n_elements + 1, sizeof *sc->element))
-		return -1;
-	evo_element3d *e = &sc->element[sc->n_elements];
-	memset(e, 0, sizeof *e);
-	if (set_name(sc, e->name, d->name, "element", sc->n_elements))
+	evo_element3d *e =
+	    evo_store_add((void **)&sc->element, &sc->cap_elements,
+			  sc->n_elements, sizeof *e, &sc->err);
+	if (!e || set_name(sc, e->name, d->name, "element", sc->n_elements))
 		return -1;
 	e->def = *d;
 	e->def.name = e->name;
@@ -287,18 +278,16 @@ int evo_scene3d_add_bot(evo_scene3d *sc, const evo_bot3d_def *d)
 	if (d->team < -1 || d->team >= EVO_SCENE_MAX_TEAMS)
 		return evo_fail(&sc->err, "a bot's team must be -1 to %d",
 				EVO_SCENE_MAX_TEAMS - 1);
-	if (grow(sc, (void **)&sc->bot, &sc->cap_bots, sc->n_bots + 1,
-		 sizeof *sc->bot))
-		return -1;
-	evo_bot3d *b = &sc->bot[sc->n_bots];
-	memset(b, 0, sizeof *b);
-	if (set_name(sc, b->name, d->name, "bot", sc->n_bots))
+	evo_bot3d *b = evo_store_add((void **)&sc->bot, &sc->cap_bots,
+				     sc->n_bots, sizeof *b, &sc->err);
+	if (!b || set_name(sc, b->name, d->name, "bot", sc->n_bots))
 		return -1;
 	b->def = *d;
 	b->def.name = b->name;
 	b->body = -1;
 	memcpy(b->start, d->pos, sizeof b->start);
 	b->start_yaw = d->yaw;
+	evo_core_note_team(&sc->core, d->team);
 	sc->n_bots++;
 	if (evo_scene3d_build_world(sc)) {
 		sc->n_bots--;
@@ -350,14 +339,9 @@ int evo_scene3d_add_sensor(evo_scene3d *sc, int bot, const evo_sensor3d_def *d)
 	if (d->name && d->name[0] && evo_bot3d_find_sensor(b, d->name) >= 0)
 		return evo_fail(&sc->err, "bot %s: sensor '%s' twice", b->name,
 				d->name);
-	evo_sensor3d *s =
-	    realloc(b->sensor, (size_t)(b->n_sensors + 1) * sizeof *s);
-	if (!s)
-		return evo_fail(&sc->err, "out of memory");
-	b->sensor = s;
-	s = &b->sensor[b->n_sensors];
-	memset(s, 0, sizeof *s);
-	if (set_name(sc, s->name, d->name, "sensor", b->n_sensors))
+	evo_sensor3d *s = evo_store_add((void **)&b->sensor, NULL, b->n_sensors,
+					sizeof *s, &sc->err);
+	if (!s || set_name(sc, s->name, d->name, "sensor", b->n_sensors))
 		return -1;
 	s->def = *d;
 	s->def.name = s->name;
@@ -410,14 +394,9 @@ int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
 	if (d->name && d->name[0] && evo_bot3d_find_actuator(b, d->name) >= 0)
 		return evo_fail(&sc->err, "bot %s: actuator '%s' twice",
 				b->name, d->name);
-	evo_actuator3d *a =
-	    realloc(b->actuator, (size_t)(b->n_actuators + 1) * sizeof *a);
-	if (!a)
-		return evo_fail(&sc->err, "out of memory");
-	b->actuator = a;
-	a = &b->actuator[b->n_actuators];
-	memset(a, 0, sizeof *a);
-	if (set_name(sc, a->name, d->name, "actuator", b->n_actuators))
+	evo_actuator3d *a = evo_store_add((void **)&b->actuator, NULL,
+					  b->n_actuators, sizeof *a, &sc->err);
+	if (!a || set_name(sc, a->name, d->name, "actuator", b->n_actuators))
 		return -1;
 	a->def = *d;
 	a->def.name = a->name;
@@ -434,102 +413,6 @@ int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
 	return b->n_actuators - 1;
 }
 
-/* A target of a 3D reward or control: an element, or none. */
-static int check_target(evo_scene3d *sc, int target, const char *what,
-			const char *kind)
-{
-	if (target == EVO_TARGET_NONE ||
-	    (target >= 0 && target < sc->n_elements))
-		return 0;
-	return evo_fail(&sc->err, "%s %s: no element %d", what, kind, target);
-}
-
-int evo_scene3d_add_reward(evo_scene3d *sc, const evo_reward_def *d)
-{
-	if ((unsigned)d->kind >= EVO_RW_KIND_COUNT)
-		return evo_fail(&sc->err, "unknown reward kind %d", d->kind);
-	const char *name = evo_reward_kind_name(d->kind);
-	if (!(evo_reward_kind_dims(d->kind) & EVO_DIM_3D))
-		return evo_fail(&sc->err, "reward %s is 2D only", name);
-	evo_bot3d *b = check_bot(sc, d->bot);
-	if (!b || check_target(sc, d->target, "reward", name))
-		return -1;
-	if ((unsigned)d->scope > EVO_SCOPE_SCENE ||
-	    (d->scope == EVO_SCOPE_TEAM &&
-	     (d->team < 0 || d->team >= EVO_SCENE_MAX_TEAMS)))
-		return evo_fail(&sc->err, "reward %s: no team %d", name,
-				d->team);
-	if (!isfinite(d->k) || !isfinite(d->k2) || !isfinite(d->threshold))
-		return evo_fail(&sc->err, "a reward's k, k2 and threshold "
-					  "must be numbers");
-	if (d->n_sensors < 0 || d->n_sensors > EVO_REWARD_MAX_SENSORS)
-		return evo_fail(&sc->err, "a reward reads at most %d sensors",
-				EVO_REWARD_MAX_SENSORS);
-	for (int i = 0; i < d->n_sensors; i++)
-		if (d->sensor[i] < 0 || d->sensor[i] >= b->n_sensors)
-			return evo_fail(&sc->err, "bot %s has no sensor %d",
-					b->name, d->sensor[i]);
-	if ((d->kind == EVO_RW_CLOSING_ON_TARGET ||
-	     d->kind == EVO_RW_DISTANCE || d->kind == EVO_RW_FINAL_DISTANCE) &&
-	    d->target < 0)
-		return evo_fail(&sc->err, "%s needs a target", name);
-	if (grow(sc, (void **)&sc->reward, &sc->cap_rewards, sc->n_rewards + 1,
-		 sizeof *sc->reward))
-		return -1;
-	evo_reward *r = &sc->reward[sc->n_rewards];
-	r->def = *d;
-	evo_reward_reset(r);
-	return sc->n_rewards++;
-}
-
-int evo_scene3d_add_control(evo_scene3d *sc, const evo_control_def *d)
-{
-	if ((unsigned)d->kind >= EVO_CF_KIND_COUNT)
-		return evo_fail(&sc->err, "unknown control kind %d", d->kind);
-	const char *name = evo_control_kind_name(d->kind);
-	if (!(evo_control_kind_dims(d->kind) & EVO_DIM_3D))
-		return evo_fail(&sc->err, "control %s is 2D only", name);
-	evo_bot3d *b = check_bot(sc, d->bot);
-	if (!b || check_target(sc, d->target, "control", name))
-		return -1;
-	if (d->ticks < 1)
-		return evo_fail(&sc->err, "a control's ticks must be >= 1");
-	if (d->kind == EVO_CF_NEXT_ON_SENSOR_BELOW &&
-	    (d->sensor < 0 || d->sensor >= b->n_sensors))
-		return evo_fail(&sc->err, "NextOnSensorBelow needs a sensor "
-					  "of its bot");
-	if (d->kind == EVO_CF_NEXT_ON_TARGET_REACHED &&
-	    (d->target < 0 || !(d->threshold >= 0)))
-		return evo_fail(&sc->err, "NextOnTargetReached needs a target "
-					  "and a threshold of 0 or more");
-	if (grow(sc, (void **)&sc->control, &sc->cap_controls,
-		 sc->n_controls + 1, sizeof *sc->control))
-		return -1;
-	evo_control *c = &sc->control[sc->n_controls];
-	c->def = *d;
-	/* the episode ends at tick `ticks` (scene3d.h): the shared count
-	 * ends one check after its ticks */
-	c->def.ticks = d->ticks - 1;
-	evo_control_reset(c);
-	return sc->n_controls++;
-}
-
-int evo_scene3d_add_metric(evo_scene3d *sc, const char *name)
-{
-	return evo_metric_add(sc->metric, &sc->n_metrics, name, &sc->err);
-}
-
-int evo_scene3d_set_metric(evo_scene3d *sc, int metric, double value)
-{
-	return evo_metric_set(sc->metric, sc->n_metrics, metric, value,
-			      &sc->err);
-}
-
-int evo_scene3d_find_metric(const evo_scene3d *sc, const char *name)
-{
-	return evo_metric_find(sc->metric, sc->n_metrics, name);
-}
-
 int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o)
 {
 	evo_obstacle3d s = *o;
@@ -541,32 +424,6 @@ int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o)
 	if (s.type == EVO_SHAPE3D_CYLINDER)
 		s.axis = 2;
 	return add_obstacle(sc, &s);
-}
-
-/* ---- lookups ------------------------------------------------------------- */
-
-int evo_scene3d_find_element(const evo_scene3d *sc, const char *name)
-{
-	return evo_store_find(sc->element, sc->n_elements, sizeof *sc->element,
-			      offsetof(evo_element3d, name), name);
-}
-
-int evo_scene3d_find_bot(const evo_scene3d *sc, const char *name)
-{
-	return evo_store_find(sc->bot, sc->n_bots, sizeof *sc->bot,
-			      offsetof(evo_bot3d, name), name);
-}
-
-int evo_bot3d_find_sensor(const evo_bot3d *b, const char *name)
-{
-	return evo_store_find(b->sensor, b->n_sensors, sizeof *b->sensor,
-			      offsetof(evo_sensor3d, name), name);
-}
-
-int evo_bot3d_find_actuator(const evo_bot3d *b, const char *name)
-{
-	return evo_store_find(b->actuator, b->n_actuators, sizeof *b->actuator,
-			      offsetof(evo_actuator3d, name), name);
 }
 
 /* ---- frames ----------------------------------------------------------------
@@ -589,20 +446,30 @@ void evo_bot3d_to_body(const evo_bot3d *b, const double v[3], double out[3])
 /* ---- the world -------------------------------------------------------------
  */
 
+/* A dynamic body at pos turned by yaw, of mass, group and category; its
+ * shapes to come. */
+static evo_bbody_def body_def(const double pos[3], double yaw, double mass,
+			      int group, unsigned category)
+{
+	evo_bbody_def d;
+	memset(&d, 0, sizeof d);
+	d.dynamic = 1;
+	memcpy(d.pos, pos, sizeof d.pos);
+	d.yaw = yaw;
+	d.mass = mass;
+	d.group = group;
+	d.category = (uint16_t)category;
+	return d;
+}
+
 /* Bot i's bodies: its hull (with its caster), then a body and a hinge for
  * each wheel, turning about the bot's y axis. */
 static int build_bot(evo_scene3d *sc, int i)
 {
 	evo_bot3d *b = &sc->bot[i];
 	const evo_bot3d_def *d = &b->def;
-	evo_bbody_def bd;
-	memset(&bd, 0, sizeof bd);
-	bd.dynamic = 1;
-	memcpy(bd.pos, b->start, sizeof bd.pos);
-	bd.yaw = b->start_yaw;
-	bd.mass = d->mass;
-	bd.group = i;
-	bd.category = EVO_CAT3D_BOT;
+	evo_bbody_def bd =
+	    body_def(b->start, b->start_yaw, d->mass, i, EVO_CAT3D_BOT);
 	evo_bshape *hull = &bd.shape[bd.n_shapes++];
 	hull->type = d->radius > 0 ? EVO_SHAPE_CIRCLE : EVO_SHAPE_BOX;
 	memcpy(hull->half, d->half, sizeof hull->half);
@@ -624,16 +491,12 @@ static int build_bot(evo_scene3d *sc, int i)
 		evo_actuator3d *a = &b->actuator[k];
 		if (a->def.kind != EVO3D_ACTUATOR_WHEEL)
 			continue;
-		evo_bbody_def wd;
-		memset(&wd, 0, sizeof wd);
-		wd.dynamic = 1;
-		evo_bot3d_to_world(b, a->def.pos, wd.pos);
+		double hub[3];
+		evo_bot3d_to_world(b, a->def.pos, hub);
 		for (int j = 0; j < 3; j++)
-			wd.pos[j] += b->pos[j];
-		wd.yaw = b->start_yaw;
-		wd.mass = a->def.mass;
-		wd.group = i;
-		wd.category = EVO_CAT3D_BOT;
+			hub[j] += b->pos[j];
+		evo_bbody_def wd =
+		    body_def(hub, b->start_yaw, a->def.mass, i, EVO_CAT3D_BOT);
 		wd.n_shapes = 1;
 		wd.shape[0].type = EVO_SHAPE_CYLINDER;
 		wd.shape[0].radius = a->def.radius;
@@ -676,14 +539,8 @@ int evo_scene3d_build_world(evo_scene3d *sc)
 		evo_element3d *e = &sc->element[i];
 		if (e->def.kind != EVO3D_ELEM_OBJECT)
 			continue;
-		evo_bbody_def od;
-		memset(&od, 0, sizeof od);
-		od.dynamic = 1;
-		memcpy(od.pos, e->pos, sizeof od.pos);
-		od.yaw = e->def.yaw;
-		od.mass = e->def.mass;
-		od.group = -1;
-		od.category = EVO_CAT3D_OBJECT;
+		evo_bbody_def od = body_def(e->pos, e->def.yaw, e->def.mass, -1,
+					    EVO_CAT3D_OBJECT);
 		od.n_shapes = 1;
 		od.shape[0].type =
 		    e->def.sphere ? EVO_SHAPE_CIRCLE : EVO_SHAPE_BOX;

@@ -16,7 +16,10 @@
  * (actuators act and the physics steps, `substeps` times; rewards add up;
  * control functions decide whether the episode goes on). A body that
  * explodes ends the episode with a message in `fault` and the fault
- * penalty added to the reward. */
+ * penalty added to the reward. The order is the scene model's
+ * (sim/scene/tick.c), this world's parts of it dim3d.c's; what the scene
+ * keeps beside its bots is the scene model's core (scene/core.h), its
+ * first member. */
 #ifndef EVO_SCENE3D_H
 #define EVO_SCENE3D_H
 
@@ -24,6 +27,7 @@
 
 #include "base/err.h"
 #include "base/rng.h"
+#include "scene/core.h"
 #include "scene/kinds.h"
 #include "scene/scoring.h"
 #include "scene/store.h"
@@ -233,38 +237,23 @@ typedef struct evo_scene3d_def {
 evo_scene3d_def evo_default_scene3d_def(void);
 
 typedef struct evo_scene3d {
+	/* What both dimensions keep (scene/core.h), first: the physics
+	 * through the backend interface (be is evo_backend_ode and bw its
+	 * world, made again at every reset), the tick, rng, rewards and
+	 * controls, the episode's figures and teams (a fault's penalty is
+	 * the scene's), the fault, metrics, hooks, swarm and error, each by
+	 * its own name (sc->tick) and all together as sc->core. */
+	EVO_SCENE_CORE;
 	evo_scene3d_def def;
-	/* The physics, through the backend interface (sim/scene/backend.h):
-	 * be is evo_backend_ode and bw its world, made again at every reset.
-	 * world is the same world as ODE's own API sees it, for the 3D
-	 * view and the tests. */
-	const evo_backend *be;
-	evo_bworld *bw;
+	/* The same world as ODE's own API sees it, for the 3D view and the
+	 * tests. */
 	evo_world3d *world;
-	long tick;
-	evo_rng rng;	    /* the episode's (RANDOM sensors) */
-	uint64_t grid_seed; /* the last reset's: episode obstacles */
-	int n_elements, n_bots, n_rewards, n_controls, n_obstacles;
+	int n_obstacles;       /* n_bots and n_elements are the core's */
 	int n_fixed_obstacles; /* the elements'; the episode's follow */
-	int cap_elements, cap_bots, cap_rewards, cap_controls, cap_obstacles;
+	int cap_elements, cap_bots, cap_obstacles;
 	evo_element3d *element;
 	evo_bot3d *bot;
-	evo_reward *reward;
-	evo_control *control;
 	evo_obstacle3d *obstacle;
-	evo_swarm swarm; /* lights and floor patches (sim/scene/swarm.h) */
-	double step_reward, episode_reward;
-	/* Teams (docs/teams.md): what each team was paid since the reset
-	 * (its bots' own and its team rewards; a fault's penalty is the
-	 * scene's), and the episode's winner (-1: none yet) */
-	double team_reward[EVO_SCENE_MAX_TEAMS];
-	int winner;
-	/* the body that exploded this episode, in words; "" while none did */
-	char fault[256];
-	int n_metrics; /* declared, in the order they were */
-	evo_metric metric[EVO_SCENE_MAX_METRICS];
-	evo_scene_hooks hooks; /* Lua's (sim/lua/lua_hooks.c), or a test's */
-	evo_err err;
 } evo_scene3d;
 
 evo_scene3d *evo_scene3d_create(const evo_scene3d_def *def);
@@ -282,14 +271,14 @@ int evo_scene3d_add_sensor(evo_scene3d *sc, int bot,
 			   const evo_sensor3d_def *def);
 int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
 			     const evo_actuator3d_def *def);
-int evo_scene3d_add_reward(evo_scene3d *sc, const evo_reward_def *def);
-int evo_scene3d_add_control(evo_scene3d *sc, const evo_control_def *def);
+/* Rewards and controls are the scene model's (scene/core.h). */
+#define evo_scene3d_add_reward(sc, d)  evo_core_add_reward(&(sc)->core, d)
+#define evo_scene3d_add_control(sc, d) evo_core_add_control(&(sc)->core, d)
 
-/* An environment's metrics (scene/scoring.h's evo_metric_add, _set,
- * _find on the scene's). */
-int evo_scene3d_add_metric(evo_scene3d *sc, const char *name);
-int evo_scene3d_set_metric(evo_scene3d *sc, int metric, double value);
-int evo_scene3d_find_metric(const evo_scene3d *sc, const char *name);
+/* An environment's metrics (scene/core.h). */
+#define evo_scene3d_add_metric(sc, n)	 evo_core_add_metric(&(sc)->core, n)
+#define evo_scene3d_set_metric(sc, k, v) evo_core_set_metric(&(sc)->core, k, v)
+#define evo_scene3d_find_metric(sc, n)	 evo_core_find_metric(&(sc)->core, n)
 
 /* A static obstacle for this episode only (an environment's reset adds
  * them): the next reset removes it. Its category is EVO_CAT3D_GROUND for a
@@ -297,10 +286,11 @@ int evo_scene3d_find_metric(const evo_scene3d *sc, const char *name);
  * or -1 with sc->err set. */
 int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o);
 
-int evo_scene3d_find_element(const evo_scene3d *sc, const char *name);
-int evo_scene3d_find_bot(const evo_scene3d *sc, const char *name);
-int evo_bot3d_find_sensor(const evo_bot3d *b, const char *name);
-int evo_bot3d_find_actuator(const evo_bot3d *b, const char *name);
+/* Lookups by name; -1 when absent (scene/store.h). */
+#define evo_scene3d_find_element(s, k) EVO_FIND(s, element, evo_element3d, k)
+#define evo_scene3d_find_bot(s, k)     EVO_FIND(s, bot, evo_bot3d, k)
+#define evo_bot3d_find_sensor(b, k)    EVO_FIND(b, sensor, evo_sensor3d, k)
+#define evo_bot3d_find_actuator(b, k)  EVO_FIND(b, actuator, evo_actuator3d, k)
 
 /* Start an episode: a new world with every element and bot where it
  * starts, neutral commands, rewards and controls cleared, the episode's
@@ -317,14 +307,16 @@ int evo_scene3d_place_bot(evo_scene3d *sc, int bot, const double pos[3],
 void evo_scene3d_place_element(evo_scene3d *sc, int element,
 			       const double pos[3]);
 
-/* Step 1 of the tick: every sensor of every bot samples. */
+/* Step 1 of the tick: every sensor of every bot samples (sensors3d.c;
+ * evo_core_sense runs it). */
 void evo_scene3d_sense(evo_scene3d *sc);
 
-/* Steps 3-5: actuators act and the physics steps, rewards add up, the
- * post-step hook runs, the controls decide. Returns 1 when a control
- * function or a fault ends the episode, 0 when it goes on, -1 with sc->err
- * set when a hook failed. */
-int evo_scene3d_step(evo_scene3d *sc);
+/* Steps 3-5, the scene model's (scene/core.h, sim/scene/tick.c):
+ * actuators act and the physics steps, rewards add up, the post-step hook
+ * runs, the controls decide. 1 when a control function or a fault ends
+ * the episode, 0 when it goes on, -1 with sc->err set when a hook
+ * failed. */
+#define evo_scene3d_step(sc) evo_core_step(&(sc)->core)
 
 /* Sample one sensor now (sensors3d.c). */
 double evo_sensor3d_sample(evo_scene3d *sc, int bot, int sensor);

@@ -33,9 +33,16 @@ void evo_scene3d_refresh_bots(evo_scene3d *sc);
  * forces of the water or air around it (buoyancy, drag). */
 void evo_bot3d_act(evo_scene3d *sc, int bot);
 
-/* rewards3d.c: step 5 of the tick (scene/scoring.h's evo_score_step on
- * the 3D scene): 1 ends the episode, 0 goes on, -1 a hook failed. */
-int evo_scene3d_score(evo_scene3d *sc);
+/* How the scene model reads a 3D scene (rewards3d.c), and what it asks
+ * of one (dim3d.c). */
+extern const evo_score_ops evo_score_ops_3d;
+extern const evo_scene_dim evo_scene_dim_3d;
+
+/* step3d.c: after the tick's physics, the bots' poses, speeds and
+ * contacts and the objects' poses read back; a body that exploded said
+ * in sc->fault, its penalty returned. */
+void evo_scene3d_read_back(evo_scene_core *c);
+double evo_scene3d_fault(evo_scene_core *c, const evo_bfault *f);
 
 /* The distance from bot b's centre to element e's. */
 double evo_scene3d_distance(const evo_scene3d *sc, int bot, int element);

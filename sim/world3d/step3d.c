@@ -1,8 +1,7 @@
-/* The 3D scene's episode and tick (sim/world3d/scene3d.h): the reset, the
- * sensing, and the step (actuators act and the physics steps, substeps
- * times; then the rewards, the post-step hook and the controls of the
- * scene model, sim/scene/scoring.c). The top of the 3D world: it calls the
- * pieces below it, none of which calls back. */
+/* The 3D scene's episode and its part of the tick (sim/world3d/scene3d.h):
+ * the reset, placing bots and elements, the poses and contacts read back
+ * after the physics, and the message of a body that exploded. The tick's
+ * order is the scene model's (sim/scene/tick.c, through dim3d.c). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -23,22 +22,10 @@ int evo_scene3d_reset(evo_scene3d *sc, uint64_t grid_seed,
 		b->touching = b->collisions = 0;
 		b->reward = 0;
 	}
-	memset(sc->team_reward, 0, sizeof sc->team_reward);
-	sc->winner = -1;
 	for (int i = 0; i < sc->n_elements; i++)
 		memcpy(sc->element[i].pos, sc->element[i].def.pos,
 		       sizeof sc->element[i].pos);
-	for (int i = 0; i < sc->n_rewards; i++)
-		evo_reward_reset(&sc->reward[i]);
-	for (int i = 0; i < sc->n_controls; i++)
-		evo_control_reset(&sc->control[i]);
-	for (int i = 0; i < sc->n_metrics; i++)
-		sc->metric[i].value = 0;
-	sc->rng = evo_rng_seed(episode_seed);
-	sc->grid_seed = grid_seed;
-	sc->tick = 0;
-	sc->step_reward = sc->episode_reward = 0;
-	sc->fault[0] = 0;
+	evo_core_reset(&sc->core, grid_seed, episode_seed);
 	return evo_scene3d_build_world(sc);
 }
 
@@ -61,9 +48,10 @@ void evo_scene3d_place_element(evo_scene3d *sc, int element,
 	memcpy(sc->element[element].pos, pos, sizeof sc->element[element].pos);
 }
 
-/* Which bot (or object) a body of the world is, for the fault message. */
-static void describe_fault(evo_scene3d *sc, const evo_bfault *f)
+/* Which bot (or object) a body of the world is, in the fault message. */
+double evo_scene3d_fault(evo_scene_core *c, const evo_bfault *f)
 {
+	evo_scene3d *sc = (evo_scene3d *)c;
 	int body = f->body.index;
 	const char *what = "a body";
 	for (int i = 0; i < sc->n_bots; i++) {
@@ -90,30 +78,12 @@ static void describe_fault(evo_scene3d *sc, const evo_bfault *f)
 		 "%s exploded at tick %ld: %s; the episode ends with a penalty "
 		 "of %g",
 		 what, sc->tick, how, sc->def.fault_penalty);
+	return sc->def.fault_penalty;
 }
 
-int evo_scene3d_step(evo_scene3d *sc)
+void evo_scene3d_read_back(evo_scene_core *c)
 {
-	if (sc->fault[0])
-		return 1;
-	for (int i = 0; i < sc->n_bots; i++)
-		sc->bot[i].touching = 0;
-	for (int s = 0; s < sc->def.substeps; s++) {
-		for (int i = 0; i < sc->n_bots; i++)
-			evo_bot3d_act(sc, i);
-		evo_bfault f;
-		if (sc->be->step(sc->bw, &f)) {
-			sc->tick++;
-			describe_fault(sc, &f);
-			sc->step_reward = sc->def.fault_penalty;
-			sc->episode_reward += sc->def.fault_penalty;
-			return 1;
-		}
-		for (int i = 0; i < sc->n_bots; i++)
-			sc->bot[i].touching += sc->be->touching(
-			    sc->bw, evo_scene3d_body(sc->bot[i].body));
-	}
-	sc->tick++;
+	evo_scene3d *sc = (evo_scene3d *)c;
 	evo_scene3d_refresh_bots(sc);
 	for (int i = 0; i < sc->n_bots; i++)
 		if (sc->bot[i].touching)
@@ -123,6 +93,4 @@ int evo_scene3d_step(evo_scene3d *sc)
 		if (e->body >= 0)
 			evo_scene3d_pose(sc, e->body, e->pos, e->R);
 	}
-	/* rewards, the post-step hook, controls: the scene model's */
-	return evo_scene3d_score(sc);
 }

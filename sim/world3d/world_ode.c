@@ -11,6 +11,7 @@
 #include <ode/ode.h>
 #include <ode/threading_impl.h>
 
+#include "scene/store.h"
 #include "world3d/world3d.h"
 
 /* What evo knows of each geom, reached through dGeomGetData as index + 1
@@ -111,19 +112,11 @@ evo_world3d_def evo_default_world3d_def(void)
 	return d;
 }
 
+/* Room for `need` items in *p (scene/store.h's growing arrays). */
 static int grow(void **p, int *cap, int need, size_t size)
 {
-	if (need <= *cap)
-		return 0;
-	int n = *cap ? *cap * 2 : 16;
-	while (n < need)
-		n *= 2;
-	void *q = realloc(*p, (size_t)n * size);
-	if (!q)
-		return -1;
-	*p = q;
-	*cap = n;
-	return 0;
+	evo_err err;
+	return evo_store_grow(p, cap, need, size, &err);
 }
 
 /* Record a geom's category, group and friction. */

@@ -1256,7 +1256,7 @@ static const char *const BOT_PARTS[] = {
     "object_detector", "movement", "random", "constant", "holding",
     "radar",	       "bumper",   "wheel",  "claw",	 "speed_wheel",
     "drive",	       "light",	   "ground", "rab",	 "broadcast",
-    "camera",	       NULL};
+    "camera",	       "azimuth", NULL};
 
 static int write_bot_models(void)
 {

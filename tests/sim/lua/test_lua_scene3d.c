@@ -176,9 +176,8 @@ TEST(bad_options_and_misplaced_calls_are_refused_at_their_line)
 	     "100"},
 	    {"local b = scene:bot{} scene:reward('ClosingOnTraget', { bot = b "
 	     "})",
-	     "E.lua:2: scene:reward: no reward 'ClosingOnTraget' in 3D (did "
-	     "you mean "
-	     "ClosingOnTarget?)"},
+	     "E.lua:2: scene:reward: unknown reward function "
+	     "'ClosingOnTraget'; did you mean ClosingOnTarget?"},
 	    {"local b = scene:bot{} scene:reward('Collect', { bot = b })",
 	     "E.lua:2: scene:reward: reward 'Collect' is 2D only "
 	     "(docs/world3d.md)"},
@@ -214,7 +213,7 @@ TEST(bad_options_and_misplaced_calls_are_refused_at_their_line)
 	     "E.lua:2: scene:sphere: ground must be true or false, found "
 	     "string"},
 	    {"scene:grid{}",
-	     "E.lua:2: scene:grid is not a method of a 3D scene"},
+	     "E.lua:2: scene:grid: grid is 2D only, and this is a 3D scene"},
 	    {"local b = scene:bot{} b:rab{ name = 'R', read = 'rnage' }",
 	     "E.lua:2: bot:rab: read is \"range\", \"bearing\", \"value\" "
 	     "or \"count\", found \"rnage\" (did you mean range?)"},
