@@ -72,6 +72,20 @@ static int overlaps(const shape_bounds *s, const sense_box *a)
 	       s->y0 <= a->y1;
 }
 
+/* A buffer of at least need bytes in *mem (of *cap bytes), kept from one
+ * tick to the next; 0 when memory runs out. */
+static int room(void **mem, size_t *cap, size_t need)
+{
+	if (need > *cap) {
+		void *p = realloc(*mem, need);
+		if (!p)
+			return 0;
+		*mem = p;
+		*cap = need;
+	}
+	return 1;
+}
+
 /* Room for n bots and cells and a hash of 2^bits slots in sc's buffer;
  * NULL when memory runs out. */
 static sense_bot *sense_room(evo_scene *sc, int n, int bits, sense_cell **cells,
@@ -79,13 +93,8 @@ static sense_bot *sense_room(evo_scene *sc, int n, int bits, sense_cell **cells,
 {
 	size_t need = (size_t)n * (sizeof(sense_bot) + sizeof(sense_cell)) +
 		      ((size_t)1 << bits) * sizeof(int);
-	if (need > sc->sense_cap) {
-		void *p = realloc(sc->sense_mem, need);
-		if (!p)
-			return NULL;
-		sc->sense_mem = p;
-		sc->sense_cap = need;
-	}
+	if (!room(&sc->sense_mem, &sc->sense_cap, need))
+		return NULL;
 	sense_bot *sb = sc->sense_mem;
 	*cells = (sense_cell *)(sb + n);
 	*slots = (int *)(*cells + n);
@@ -97,13 +106,8 @@ static evo_shape_info *shape_room(evo_scene *sc, size_t m,
 				  shape_bounds **bounds)
 {
 	size_t need = m * (sizeof(evo_shape_info) + sizeof(shape_bounds));
-	if (need > sc->sense_shapes_cap) {
-		void *p = realloc(sc->sense_shapes, need);
-		if (!p)
-			return NULL;
-		sc->sense_shapes = p;
-		sc->sense_shapes_cap = need;
-	}
+	if (!room(&sc->sense_shapes, &sc->sense_shapes_cap, need))
+		return NULL;
 	*bounds = (shape_bounds *)((evo_shape_info *)sc->sense_shapes + m);
 	return sc->sense_shapes;
 }
