@@ -24,7 +24,9 @@
  * (the rays about a quarter, the area query a tenth), the mind, the
  * rewards and the rest a fifth (callgrind).
  *
- * usage: bench_world [TASK.simbatch] [--ticks N] */
+ * usage: bench_world [TASK.simbatch] [--ticks N] [--only floor|full]
+ * (--only runs one side alone, for a profiler; it prints its rate and
+ * exits 0) */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -141,8 +143,17 @@ int main(int argc, char **argv)
 {
 	const char *task_path = "minds/Avoid/Tasks/Avoid-EXP.simbatch";
 	long ticks = 30000;
+	const char *only = NULL;
 	for (int i = 1; i < argc; i++) {
-		if (strcmp(argv[i], "--ticks") == 0 && i + 1 < argc) {
+		if (strcmp(argv[i], "--only") == 0 && i + 1 < argc) {
+			only = argv[++i];
+			if (strcmp(only, "floor") && strcmp(only, "full")) {
+				fprintf(stderr, "bench_world: --only takes "
+						"floor or full, not '%s'\n",
+					only);
+				return 2;
+			}
+		} else if (strcmp(argv[i], "--ticks") == 0 && i + 1 < argc) {
 			long long n;
 			if (bench_ticks_arg("bench_world", argv[++i], &n))
 				return 2;
@@ -162,6 +173,16 @@ int main(int argc, char **argv)
 		return 1;
 	}
 	uint64_t episode = 1;
+	if (only) {
+		double rate = strcmp(only, "floor") == 0
+				  ? run_floor(s->scene, ticks)
+				  : run_full(s, ticks, &episode);
+		printf("%s alone: %.0f ticks/s  %.2f us/tick\n", only, rate,
+		       1e6 / rate);
+		evo_sim_destroy(s);
+		evo_task_free(&task);
+		return 0;
+	}
 	int n_prox = 0;
 	for (int k = 0; k < s->scene->bot[0].n_sensors; k++)
 		n_prox += s->scene->bot[0].sensor[k].def.kind ==
