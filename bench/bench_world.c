@@ -24,6 +24,24 @@
  * (the rays about a quarter, the area query a tenth), the mind, the
  * rewards and the rest a fifth (callgrind).
  *
+ * Where the time goes (issue 32; perf record, this machine has no
+ * hardware counters for perf stat): counted apart (--only floor, --only
+ * full under callgrind), the floor's tick is about 3,750 instructions
+ * and the full tick's about 19,400, so instructions alone give the ratio
+ * the clock gives (0.19 against 0.21 to 0.23): no cache misses, divisions
+ * or libm calls hide extra time. Of the full tick, perf's samples put
+ * sensing at about 47% (the rays half of it, Box2D's area query through
+ * its tree a quarter), the physics step about a quarter, the mind a
+ * tenth, the rewards and controls a twelfth. The step itself costs more
+ * in the full tick than in the floor (about 5,300 instructions against
+ * 3,400): the world is the same (obstacles, body, start at (0, 5)), but
+ * the floor's robot, under constant forces, leaves the obstacles within a
+ * few thousand ticks and circles in the open, while evo's Avoid robot
+ * spends most of an episode pressed against one obstacle, and a contact
+ * costs the step work; the bench prints both shares. Even with the
+ * full tick's step in the floor the ratio would stay under 0.30: evo's
+ * own work, above all sensing, is what has to shrink.
+ *
  * usage: bench_world [TASK.simbatch] [--ticks N] [--only floor|full]
  * (--only runs one side alone, for a profiler; it prints its rate and
  * exits 0) */
