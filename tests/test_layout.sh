@@ -274,8 +274,6 @@ fi
 # the pairs of folders others are changing now, or that this check found
 # and no one has split yet; a listed pair no longer mutual fails.
 MUTUAL_ALLOWED="
-sim/cmd/mindinfo.c sim/cmd/run.c
-sim/remote/can_robot.c sim/remote/robot.c
 "
 mutual=$(printf '%s\n' "$incs" | awk '
 	{ to[$1] = to[$1] " " $2; files[$1] = 1 }

@@ -1,6 +1,7 @@
-/* evo info and evo tick of a mind image, the check evo check adds to
- * loading a task, and the report of a hierarchy's untrained skills with
- * a task that trains each (sim/cmd/mindinfo.h). */
+/* evo info and evo tick of a mind image, the task types evo run runs and
+ * the check evo check adds to loading a task, and the report of a
+ * hierarchy's untrained skills with a task that trains each
+ * (sim/cmd/mindinfo.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "cmd/mindinfo.h"
 
@@ -10,7 +11,6 @@
 #include <strings.h>
 
 #include "base/fileio.h"
-#include "cmd/run.h"
 #include "evo/image.h"
 #include "evo/status.h"
 #include "learn/learn.h"
@@ -88,6 +88,22 @@ void evo_image_info(const char *path, const evo_mind *m)
 	}
 	printf("mind image: %u bytes; mind state: %zu bytes\n", m->length,
 	       evo_state_size(m));
+}
+
+int evo_run_supports(const char *type)
+{
+	return strcmp(type, "DEMOSIM") == 0 || strcmp(type, "LEARNSIM") == 0 ||
+	       strcmp(type, "DEMO3DSIM") == 0 ||
+	       strcmp(type, "LEARN3DSIM") == 0 ||
+	       strcmp(type, "LEARNSIMCONTINUOUS") == 0 ||
+	       strcmp(type, "DEMO2DSIMMULTI") == 0 ||
+	       strcmp(type, "LEARN2DSIMMULTI") == 0 ||
+	       strcmp(type, "DEMO3DSIMMULTI") == 0 ||
+	       strcmp(type, "LEARN3DSIMMULTI") == 0 ||
+	       strcmp(type, "DEMOREMOTESIM") == 0 ||
+	       strcmp(type, "LEARNREMOTESIM") == 0 ||
+	       strcmp(type, "DEMOREMOTE") == 0 ||
+	       strcmp(type, "OPENENDED") == 0;
 }
 
 int evo_task_check(const char *path, evo_task *task, evo_err *err)

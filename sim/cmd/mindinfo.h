@@ -1,6 +1,7 @@
 /* evo — what `evo info`, `evo tick` and `evo check` say of a mind beyond a
  * trained mind folder: an exported mind image (.bin) on its own, and a
- * hierarchy whose neural skills are not all trained yet. */
+ * hierarchy whose neural skills are not all trained yet; and which task
+ * types `evo run` runs, which `evo check` asks first. */
 #ifndef EVO_MINDINFO_H
 #define EVO_MINDINFO_H
 
@@ -23,6 +24,10 @@ int evo_image_load(const char *path, void **buf, evo_mind *m, evo_err *err);
  * kind, inputs and outputs, network size and sub-skills, from the image's
  * own name table. */
 void evo_image_info(const char *path, const evo_mind *m);
+
+/* 1 when `evo run` runs tasks of this TYPE (DEMOSIM, LEARNSIM,
+ * DEMOREMOTESIM, DEMOREMOTE), which `evo check` also asks. */
+int evo_run_supports(const char *type);
 
 /* What `evo check` adds to loading the task: a type `evo run` runs; for
  * LEARNSIM the learning options; and, where the task runs in the 2D

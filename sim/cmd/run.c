@@ -36,22 +36,6 @@
 #include "viewer/view3d.h"
 #include "viewer/viewer.h"
 
-int evo_run_supports(const char *type)
-{
-	return strcmp(type, "DEMOSIM") == 0 || strcmp(type, "LEARNSIM") == 0 ||
-	       strcmp(type, "DEMO3DSIM") == 0 ||
-	       strcmp(type, "LEARN3DSIM") == 0 ||
-	       strcmp(type, "LEARNSIMCONTINUOUS") == 0 ||
-	       strcmp(type, "DEMO2DSIMMULTI") == 0 ||
-	       strcmp(type, "LEARN2DSIMMULTI") == 0 ||
-	       strcmp(type, "DEMO3DSIMMULTI") == 0 ||
-	       strcmp(type, "LEARN3DSIMMULTI") == 0 ||
-	       strcmp(type, "DEMOREMOTESIM") == 0 ||
-	       strcmp(type, "LEARNREMOTESIM") == 0 ||
-	       strcmp(type, "DEMOREMOTE") == 0 ||
-	       strcmp(type, "OPENENDED") == 0;
-}
-
 /* A learning run started by mpirun (docs/cluster.md): rank 0 learns as a
  * plain run does, with its batches spread over the ranks; the others
  * evaluate what it sends them. One rank is a plain run. */

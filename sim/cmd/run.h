@@ -12,8 +12,4 @@ int evo_run_main(int argc, char **argv);
 /* What `evo run --help` prints. */
 void evo_run_usage(FILE *f);
 
-/* 1 when `evo run` runs tasks of this TYPE (DEMOSIM, LEARNSIM,
- * DEMOREMOTESIM, DEMOREMOTE), which `evo check` also asks. */
-int evo_run_supports(const char *type);
-
 #endif

@@ -157,6 +157,23 @@ static int parse_count(const char *flag, const char *v, long max, long *out)
 	return 0;
 }
 
+/* A count of at least 1 (parse_count's, then 0 refused, with note after
+ * the message). */
+static int parse_from_one(const char *flag, const char *v, long max,
+			  long *out, const char *note)
+{
+	if (parse_count(flag, v, max, out))
+		return -1;
+	if (*out < 1) {
+		fprintf(stderr,
+			"evo run: %s expects a whole number from 1, found "
+			"'%s'%s\n",
+			flag, v, note);
+		return -1;
+	}
+	return 0;
+}
+
 /* --camera X,Y, scene or bot. */
 static int parse_camera(const char *v, run_opts *o)
 {
@@ -206,35 +223,21 @@ int evo_run_parse_args(int argc, char **argv, run_opts *o)
 				return -1;
 			i++;
 		} else if (strcmp(a, "--ticks") == 0) {
-			if (parse_count(a, v, LONG_MAX, &o->ticks))
-				return -1;
 			/* 0 meant TICKLIM, unlike every other count */
-			if (o->ticks < 1) {
-				fprintf(stderr,
-					"evo run: --ticks expects a whole "
-					"number from 1, found '%s' (without "
-					"--ticks an episode lasts the task's "
-					"TICKLIM)\n",
-					v);
+			if (parse_from_one(a, v, LONG_MAX, &o->ticks,
+					   " (without --ticks an episode lasts "
+					   "the task's TICKLIM)"))
 				return -1;
-			}
 			i++;
 		} else if (strcmp(a, "--trace") == 0 && v) {
 			o->trace = v;
 			i++;
 		} else if (strcmp(a, "--generations") == 0) {
 			/* it stands for NUMGEN: the same range */
-			if (parse_count(
+			if (parse_from_one(
 				a, v, (long)evo_simbatch_key_find("NUMGEN")->hi,
-				&o->generations))
+				&o->generations, ""))
 				return -1;
-			if (o->generations < 1) {
-				fprintf(stderr,
-					"evo run: --generations expects a "
-					"whole number from 1, found '%s'\n",
-					v);
-				return -1;
-			}
 			i++;
 		} else if (strcmp(a, "--threads") == 0) {
 			if (parse_count(a, v, EVO_EVAL_MAX_THREADS,
@@ -268,14 +271,9 @@ int evo_run_parse_args(int argc, char **argv, run_opts *o)
 			o->record = v;
 			i++;
 		} else if (strcmp(a, "--record-every") == 0) {
-			if (parse_count(a, v, INT_MAX, &o->record_every))
+			if (parse_from_one(a, v, INT_MAX, &o->record_every,
+					   ""))
 				return -1;
-			if (o->record_every < 1) {
-				fprintf(stderr, "evo run: --record-every "
-						"expects a whole number from "
-						"1, found '0'\n");
-				return -1;
-			}
 			i++;
 		} else if (strcmp(a, "--camera") == 0) {
 			if (parse_camera(v, o))

@@ -76,6 +76,14 @@ int evo_run_trace_close(trace_file *t, int keep, evo_err *err);
 /* The line of an episode that ended at tick t, with its outcome. */
 int evo_run_print_episode(evo_sim *s, long e, long t, evo_err *err);
 
+/* A window's ticks of a frame: up to `steps` ticks of episode e, at tick
+ * *t, after_tick(ctx, s) after each (may be NULL); when the episode ends
+ * (the environment ends it, or --ticks without --screenshot) its line
+ * printed: 1 (*t then the ticks it lasted); else 0; -1 with err set. */
+int evo_run_steps(evo_sim *s, const run_opts *o, int steps, long e, long *t,
+		  void (*after_tick)(void *ctx, const evo_sim *s), void *ctx,
+		  evo_err *err);
+
 /* DEMOSIM without a window: o->episodes episodes. */
 int evo_run_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 		     evo_err *err);
@@ -114,6 +122,13 @@ typedef struct panel_data {
  * 1 when a was one of them. */
 int evo_run_playback(evo_view_action a, int *paused, int *steps, double *speed,
 		     long *t);
+
+/* The s key's screenshot in both views: the file it goes to at `tick`
+ * (evo-screenshot-TICK.png, in a static buffer), and saying how saving
+ * it went (rc: the view's screenshot's), err cleared for the run to go
+ * on. */
+const char *evo_run_shot_path(long tick);
+void evo_run_shot_said(int rc, const char *path, evo_err *err);
 
 /* DEMOSIM in a window: real time (30 ticks a second) times the speed,
  * with pause, single step, speed and reset keys. */

@@ -361,6 +361,45 @@ int evo_run_playback(evo_view_action a, int *paused, int *steps, double *speed,
 	return 1;
 }
 
+int evo_run_steps(evo_sim *s, const run_opts *o, int steps, long e, long *t,
+		  void (*after_tick)(void *ctx, const evo_sim *s), void *ctx,
+		  evo_err *err)
+{
+	for (int k = 0; k < steps; k++) {
+		int r = evo_sim_tick(s, err);
+		if (r < 0)
+			return -1;
+		if (after_tick)
+			after_tick(ctx, s);
+		++*t;
+		if (r > 0 || (o->ticks && *t >= o->ticks && !o->screenshot))
+			return evo_run_print_episode(s, e, *t, err) ? -1 : 1;
+	}
+	return 0;
+}
+
+/* evo_run_steps' after_tick for --trail: the bot's path grows. */
+static void trail_tick(void *tr, const evo_sim *s)
+{
+	trail_add(tr, s);
+}
+
+const char *evo_run_shot_path(long tick)
+{
+	static char path[64];
+	snprintf(path, sizeof path, "evo-screenshot-%ld.png", tick);
+	return path;
+}
+
+void evo_run_shot_said(int rc, const char *path, evo_err *err)
+{
+	if (rc)
+		fprintf(stderr, "%s\n", err->msg);
+	else
+		printf("saved %s\n", path);
+	err->msg[0] = 0;
+}
+
 static int run_viewer_trail(evo_sim *s, evo_viewer *v, const run_opts *o,
 			    uint64_t seed, trail *tr, evo_err *err);
 
@@ -385,6 +424,10 @@ static int run_viewer_trail(evo_sim *s, evo_viewer *v, const run_opts *o,
 			  evo_run_episode_seed(seed, 1), err))
 		return -1;
 	trail_restart(tr, o, s);
+	/* a small arena starts zoomed in, as its screenshot is */
+	double fit = evo_view_fit_zoom(s->scene, VIEW_W, VIEW_H);
+	if (fit > 1)
+		evo_viewer_zoom(v, fit);
 	double speed = 1.0, next = evo_clock_now();
 	int paused = 0;
 	for (;;) {
@@ -410,15 +453,11 @@ static int run_viewer_trail(evo_sim *s, evo_viewer *v, const run_opts *o,
 			else if (a == EVO_VIEW_FREE)
 				vs.follow = 0;
 			else if (a == EVO_VIEW_SCREENSHOT) {
-				char path[64];
-				snprintf(path, sizeof path,
-					 "evo-screenshot-%ld.png",
-					 s->scene->tick);
-				if (evo_viewer_screenshot(v, path, err))
-					fprintf(stderr, "%s\n", err->msg);
-				else
-					printf("saved %s\n", path);
-				err->msg[0] = 0;
+				const char *path =
+				    evo_run_shot_path(s->scene->tick);
+				evo_run_shot_said(
+				    evo_viewer_screenshot(v, path, err), path,
+				    err);
 			}
 		}
 		if (t < 0 || (o->episodes && e > o->episodes)) {
@@ -430,21 +469,13 @@ static int run_viewer_trail(evo_sim *s, evo_viewer *v, const run_opts *o,
 				return -1;
 			trail_restart(tr, o, s);
 		}
-		for (int k = 0; k < steps; k++) {
-			int r = evo_sim_tick(s, err);
-			if (r < 0)
-				return -1;
-			if (o->trail)
-				trail_add(tr, s);
-			t++;
-			if (r > 0 ||
-			    (o->ticks && t >= o->ticks && !o->screenshot)) {
-				if (evo_run_print_episode(s, e, t, err))
-					return -1;
-				e++;
-				t = -1;
-				break;
-			}
+		int ended = evo_run_steps(s, o, steps, e, &t,
+					  o->trail ? trail_tick : NULL, tr, err);
+		if (ended < 0)
+			return -1;
+		if (ended) {
+			e++;
+			t = -1;
 		}
 		evo_viewer_panel p = panel_for(&pd, s, e, o->task, &vs);
 		p.speed = speed;

@@ -86,15 +86,11 @@ int evo_run_viewer3d(evo_sim *s, evo_view3d *v, const run_opts *o,
 			else if (a == EVO_VIEW_FREE)
 				follow = 0;
 			else if (a == EVO_VIEW_SCREENSHOT) {
-				char path[64];
-				snprintf(path, sizeof path,
-					 "evo-screenshot-%ld.png",
-					 s->scene3d->tick);
-				if (evo_view3d_screenshot(v, path, err))
-					fprintf(stderr, "%s\n", err->msg);
-				else
-					printf("saved %s\n", path);
-				err->msg[0] = 0;
+				const char *path =
+				    evo_run_shot_path(s->scene3d->tick);
+				evo_run_shot_said(
+				    evo_view3d_screenshot(v, path, err), path,
+				    err);
 			}
 		}
 		if (t < 0) {
@@ -103,21 +99,14 @@ int evo_run_viewer3d(evo_sim *s, evo_view3d *v, const run_opts *o,
 					  evo_run_episode_seed(seed, e), err))
 				return -1;
 		}
-		for (int k = 0; k < steps; k++) {
-			int r = evo_sim_tick(s, err);
-			if (r < 0)
-				return -1;
-			t++;
-			if (r > 0 ||
-			    (o->ticks && t >= o->ticks && !o->screenshot)) {
-				if (evo_run_print_episode(s, e, t, err))
-					return -1;
-				if (o->episodes && e >= o->episodes)
-					return 0;
-				e++;
-				t = -1;
-				break;
-			}
+		int ended = evo_run_steps(s, o, steps, e, &t, NULL, NULL, err);
+		if (ended < 0)
+			return -1;
+		if (ended) {
+			if (o->episodes && e >= o->episodes)
+				return 0;
+			e++;
+			t = -1;
 		}
 		evo_viewer_panel p =
 		    evo_run_panel3d(&pd, s, e, o->task, follow);

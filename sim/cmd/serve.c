@@ -112,6 +112,18 @@ static void say_which_world(const evo_task *task, const char *task_path,
 		 task_path, task->type);
 }
 
+/* The variable of an LCM option a (--name, --url, --data-url,
+ * --key-file: vars[0..3]), NULL for any other option. */
+static const char **lcm_option(const char *a, const char **vars[4])
+{
+	static const char *const opts[4] = {"--name", "--url", "--data-url",
+					    "--key-file"};
+	for (int k = 0; k < 4; k++)
+		if (strcmp(a, opts[k]) == 0)
+			return vars[k];
+	return NULL;
+}
+
 int evo_serve_main(int argc, char **argv)
 {
 	const char *task_path = NULL, *name = NULL, *url = NULL,
@@ -120,6 +132,7 @@ int evo_serve_main(int argc, char **argv)
 	int as_robot = 0, envs_set = 0;
 	double tick_ms = 1000.0 / 30, timeout = 0.5;
 	const char *robot_opt = NULL, *can_url = NULL, *lcm_opt = NULL;
+	const char **lcm_vars[4] = {&name, &url, &data_url, &key_file};
 	for (int i = 2; i < argc; i++) {
 		const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
 		if (strcmp(a, "--robot") == 0) {
@@ -149,20 +162,8 @@ int evo_serve_main(int argc, char **argv)
 				timeout = x;
 			robot_opt = a;
 			i++;
-		} else if (strcmp(a, "--name") == 0 && v) {
-			name = v;
-			i++;
-			lcm_opt = a;
-		} else if (strcmp(a, "--url") == 0 && v) {
-			url = v;
-			i++;
-			lcm_opt = a;
-		} else if (strcmp(a, "--data-url") == 0 && v) {
-			data_url = v;
-			i++;
-			lcm_opt = a;
-		} else if (strcmp(a, "--key-file") == 0 && v) {
-			key_file = v;
+		} else if (v && lcm_option(a, lcm_vars)) {
+			*lcm_option(a, lcm_vars) = v;
 			i++;
 			lcm_opt = a;
 		} else if (strcmp(a, "--environments") == 0 && v) {

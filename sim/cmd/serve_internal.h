@@ -42,6 +42,14 @@ typedef struct server {
 void evo_serve_drop(server *sv, evo_wire_reason r, const char *type,
 		    const char *why);
 
+/* A command_t for another tick than the one `who` ("this environment",
+ * "the robot") is at (tick, episode), dropped as AHEAD (ahead: for a
+ * tick to come) or STALE, the reason saying both places; state says why
+ * none is awaited (" (ended)"), or is "". */
+void evo_serve_drop_misplaced(server *sv, const evo_wire_command *c,
+			      const char *who, long long tick,
+			      long long episode, const char *state, int ahead);
+
 int evo_serve_publish_hello(server *sv, evo_err *err);
 
 /* Sense env's world and send the sensors_t of its current tick. */

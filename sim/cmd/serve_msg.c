@@ -22,6 +22,20 @@ void evo_serve_drop(server *sv, evo_wire_reason r, const char *type,
 			type, evo_wire_reason_name(r), why);
 }
 
+void evo_serve_drop_misplaced(server *sv, const evo_wire_command *c,
+			      const char *who, long long tick,
+			      long long episode, const char *state, int ahead)
+{
+	char why[256];
+	snprintf(why, sizeof why,
+		 "tick %lld of episode %lld; %s is at tick %lld of episode "
+		 "%lld%s",
+		 (long long)c->tick, (long long)c->episode, who, tick, episode,
+		 state);
+	evo_serve_drop(sv, ahead ? EVO_WIRE_AHEAD : EVO_WIRE_STALE,
+		       "command_t", why);
+}
+
 int evo_serve_publish_hello(server *sv, evo_err *err)
 {
 	unsigned char buf[EVO_WIRE_MAX_BYTES];

@@ -55,18 +55,11 @@ static int robot_command(robot *rb, const evo_link_msg *m, evo_err *err)
 	}
 	if (!s->active || c.episode != s->episode || c.tick != s->tick ||
 	    s->stepped) {
-		snprintf(why, sizeof why,
-			 "tick %lld of episode %lld; the robot is at tick %lld "
-			 "of episode %lld%s",
-			 (long long)c.tick, (long long)c.episode,
-			 (long long)s->tick, (long long)s->episode,
-			 s->active ? "" : " (stopped)");
-		evo_serve_drop(sv,
-			       s->active && c.episode == s->episode &&
-				       c.tick > s->tick
-				   ? EVO_WIRE_AHEAD
-				   : EVO_WIRE_STALE,
-			       "command_t", why);
+		evo_serve_drop_misplaced(sv, &c, "the robot", s->tick,
+					 s->episode,
+					 s->active ? "" : " (stopped)",
+					 s->active && c.episode == s->episode &&
+					     c.tick > s->tick);
 		return 0;
 	}
 	evo_wire_reason r =

@@ -73,19 +73,11 @@ static int on_command(server *sv, const evo_link_msg *m, evo_err *err)
 	if (e->last_len > 0 && c.episode == e->episode && c.tick == e->tick - 1)
 		return evo_serve_resend(sv, e, err);
 	if (!e->active || c.episode != e->episode || c.tick != e->tick) {
-		snprintf(why, sizeof why,
-			 "tick %lld of episode %lld; this environment is at "
-			 "tick %lld of episode %lld%s",
-			 (long long)c.tick, (long long)c.episode,
-			 (long long)e->tick, (long long)e->episode,
-			 e->active ? "" : " (ended)");
-		evo_serve_drop(
-		    sv,
+		evo_serve_drop_misplaced(
+		    sv, &c, "this environment", e->tick, e->episode,
+		    e->active ? "" : " (ended)",
 		    c.episode > e->episode ||
-			    (c.episode == e->episode && c.tick > e->tick)
-			? EVO_WIRE_AHEAD
-			: EVO_WIRE_STALE,
-		    "command_t", why);
+			(c.episode == e->episode && c.tick > e->tick));
 		return 0;
 	}
 	r = evo_wire_check_values(c.value, c.n, NULL, why, sizeof why);

@@ -52,6 +52,38 @@ static int episode_outcome(worker *w, evo_eval_result *res, int *all_solved,
 	return 0;
 }
 
+void eval_begin_batch(evo_evaluator *ev, const evo_netdesc *const *cand,
+		      int n, int gen)
+{
+	pthread_mutex_lock(&ev->mu);
+	ev->cand = cand;
+	ev->n = n;
+	ev->gen = gen;
+	ev->next = 0;
+}
+
+int eval_run_episode(evo_sim *sim, uint64_t seed, int gen, int cand, int r,
+		     long ticks, evo_err *err)
+{
+	if (evo_sim_reset(sim, r + 1, evo_eval_grid_seed(seed, gen, r),
+			  evo_eval_episode_seed(seed, gen, cand, r), err)) {
+		evo_err inner = *err;
+		return evo_fail(err, "repetition %d, at its start: %s", r + 1,
+				inner.msg);
+	}
+	for (long t = 0; t < ticks; t++) {
+		int st = evo_sim_tick(sim, err);
+		if (st < 0) {
+			evo_err inner = *err;
+			return evo_fail(err, "repetition %d, tick %ld: %s",
+					r + 1, t, inner.msg);
+		}
+		if (st > 0)
+			break;
+	}
+	return 0;
+}
+
 /* Candidate i on worker w: bind it, run the reps, sum the rewards. */
 static int evaluate_one(worker *w, int i, evo_eval_result *res, evo_err *err)
 {
@@ -75,23 +107,9 @@ static int evaluate_one(worker *w, int i, evo_eval_result *res, evo_err *err)
 	int c = ev->first + i; /* its index in the whole batch */
 	int all_solved = 1;
 	for (int r = 0; r < ev->reps; r++) {
-		if (evo_sim_reset(
-			w->sim, r + 1, evo_eval_grid_seed(ev->seed, ev->gen, r),
-			evo_eval_episode_seed(ev->seed, ev->gen, c, r), err)) {
-			evo_err inner = *err;
-			return evo_fail(err, "repetition %d, at its start: %s",
-					r + 1, inner.msg);
-		}
-		for (long t = 0; t < ev->ticks; t++) {
-			int st = evo_sim_tick(w->sim, err);
-			if (st < 0) {
-				evo_err inner = *err;
-				return evo_fail(err, "repetition %d, tick %ld: %s",
-						r + 1, t, inner.msg);
-			}
-			if (st > 0)
-				break;
-		}
+		if (eval_run_episode(w->sim, ev->seed, ev->gen, c, r, ev->ticks,
+				     err))
+			return -1;
 		res->fitness += evo_sim_episode_reward(w->sim);
 		res->collisions += evo_sim_collisions(w->sim, 0);
 		for (int k = 0; k < ev->n_metrics; k++)
@@ -601,11 +619,7 @@ int evo_evaluate_part(evo_evaluator *ev, const evo_netdesc *const *candidates,
 		return -1;
 	if (n == 0)
 		return 0;
-	pthread_mutex_lock(&ev->mu);
-	ev->cand = candidates;
-	ev->n = n;
-	ev->gen = gen;
-	ev->next = 0;
+	eval_begin_batch(ev, candidates, n, gen);
 	ev->first = first;
 	ev->res = res;
 	int failed = eval_run_batch(ev, err);

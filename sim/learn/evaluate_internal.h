@@ -86,7 +86,19 @@ struct evo_evaluator {
 };
 
 /* the pool (evaluate.c) */
+/* A batch begun: the pool's lock taken (eval_run_batch's caller frees
+ * it), its n units of candidates cand of generation gen, none taken
+ * yet. */
+void eval_begin_batch(evo_evaluator *ev, const evo_netdesc *const *cand,
+		      int n, int gen);
 int eval_run_batch(evo_evaluator *ev, evo_err *err);
+
+/* Repetition r (0-based) of unit `cand` of the batch (a candidate, or a
+ * team task's unit) run on sim: reset with eval_seeds.h's seeds of
+ * generation gen, then ticked until the environment ends the episode or
+ * `ticks` pass. 0, or -1 with err saying which repetition and tick. */
+int eval_run_episode(evo_sim *sim, uint64_t seed, int gen, int cand, int r,
+		     long ticks, evo_err *err);
 
 /* team tasks (evaluate_teams.c) */
 int eval_apply_team_nets(worker *w, evo_err *err);

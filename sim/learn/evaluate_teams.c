@@ -73,24 +73,9 @@ int eval_evaluate_team_unit(worker *w, int j, evo_err *err)
 	for (int i = 0; i < size; i++)
 		own[i] = 0;
 	for (int r = 0; r < ev->reps; r++) {
-		if (evo_sim_reset(
-			w->sim, r + 1, evo_eval_grid_seed(ev->seed, ev->gen, r),
-			evo_eval_episode_seed(ev->seed, ev->gen, j, r), err)) {
-			evo_err inner = *err;
-			return evo_fail(err, "repetition %d, at its start: %s",
-					r + 1, inner.msg);
-		}
-		for (long tk = 0; tk < ev->ticks; tk++) {
-			int st2 = evo_sim_tick(w->sim, err);
-			if (st2 < 0) {
-				evo_err inner = *err;
-				return evo_fail(err,
-						"repetition %d, tick %ld: %s",
-						r + 1, tk, inner.msg);
-			}
-			if (st2 > 0)
-				break;
-		}
+		if (eval_run_episode(w->sim, ev->seed, ev->gen, j, r, ev->ticks,
+				     err))
+			return -1;
 		u->team_fitness += evo_sim_team_reward(w->sim, t);
 		u->wins += evo_sim_winner(w->sim) == t;
 		for (int i = 0; i < size; i++) {
@@ -265,11 +250,7 @@ int evo_evaluate_teams(evo_evaluator *ev, int team,
 			free(own);
 			return evo_fail(err, "candidate %d is in no team", i);
 		}
-	pthread_mutex_lock(&ev->mu);
-	ev->cand = candidates;
-	ev->n = n_groups;
-	ev->gen = gen;
-	ev->next = 0;
+	eval_begin_batch(ev, candidates, n_groups, gen);
 	ev->res = NULL;
 	ev->team = team;
 	ev->groups = groups;

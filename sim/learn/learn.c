@@ -48,6 +48,25 @@
 #include "lua/lua_evo.h"
 #include "mind/net_build.h"
 
+/* t[key] = v for the table on top of the stack. */
+static void field_int(lua_State *L, const char *key, lua_Integer v)
+{
+	lua_pushinteger(L, v);
+	lua_setfield(L, -2, key);
+}
+
+static void field_str(lua_State *L, const char *key, const char *v)
+{
+	lua_pushstring(L, v);
+	lua_setfield(L, -2, key);
+}
+
+static void field_bool(lua_State *L, const char *key, int v)
+{
+	lua_pushboolean(L, v);
+	lua_setfield(L, -2, key);
+}
+
 static const char LEARN_KEY = 'l';
 
 learn *learn_ctx(lua_State *L)
@@ -126,33 +145,23 @@ static void push_teams(lua_State *L, const learn *l)
 {
 	const evo_task *t = l->task;
 	lua_createtable(L, 0, 4);
-	lua_pushboolean(L, t->heterogeneous);
-	lua_setfield(L, -2, "heterogeneous");
-	lua_pushboolean(L, t->own_fitness);
-	lua_setfield(L, -2, "own");
-	lua_pushinteger(L, t->alternate);
-	lua_setfield(L, -2, "alternate");
+	field_bool(L, "heterogeneous", t->heterogeneous);
+	field_bool(L, "own", t->own_fitness);
+	field_int(L, "alternate", t->alternate);
 	lua_createtable(L, t->n_learning, 0);
 	for (int i = 0; i < t->n_learning; i++) {
 		int k = t->learning[i];
 		const evo_team *tm = &t->team[k];
 		int sk = evo_mindfolder_skill(tm->mind, tm->learning_skill);
 		lua_createtable(L, 0, 7);
-		lua_pushinteger(L, k + 1);
-		lua_setfield(L, -2, "index");
-		lua_pushstring(L, tm->name);
-		lua_setfield(L, -2, "name");
-		lua_pushinteger(L, tm->size);
-		lua_setfield(L, -2, "size");
-		lua_pushstring(L, tm->learning_skill);
-		lua_setfield(L, -2, "skill");
-		lua_pushinteger(L, evo_evaluator_team_n_in(l->ev, k));
-		lua_setfield(L, -2, "inputs");
-		lua_pushinteger(L, evo_evaluator_team_n_out(l->ev, k));
-		lua_setfield(L, -2, "outputs");
-		lua_pushinteger(
-		    L, sk >= 0 ? (lua_Integer)tm->mind->skill[sk].layers : 1);
-		lua_setfield(L, -2, "layers");
+		field_int(L, "index", k + 1);
+		field_str(L, "name", tm->name);
+		field_int(L, "size", tm->size);
+		field_str(L, "skill", tm->learning_skill);
+		field_int(L, "inputs", evo_evaluator_team_n_in(l->ev, k));
+		field_int(L, "outputs", evo_evaluator_team_n_out(l->ev, k));
+		field_int(L, "layers",
+			  sk >= 0 ? (lua_Integer)tm->mind->skill[sk].layers : 1);
 		lua_rawseti(L, -2, i + 1);
 	}
 	lua_setfield(L, -2, "learning");
@@ -168,37 +177,25 @@ static int open_module(lua_State *L)
 	push_task(L, l->task->sb);
 	lua_setfield(L, -3, "task_lines");
 	lua_setfield(L, -2, "task");
-	lua_pushstring(L, l->task_path);
-	lua_setfield(L, -2, "task_path");
+	field_str(L, "task_path", l->task_path);
 	if (evo_evaluator_deferred_success(l->ev)) {
 		lua_pushcfunction(L, learn_l_success_test);
 		lua_setfield(L, -2, "success_test");
 	}
-	lua_pushinteger(L, (lua_Integer)l->opts->seed);
-	lua_setfield(L, -2, "seed");
-	lua_pushinteger(L, (lua_Integer)evo_evaluator_n_in(l->ev));
-	lua_setfield(L, -2, "inputs");
-	lua_pushinteger(L, (lua_Integer)evo_evaluator_n_out(l->ev));
-	lua_setfield(L, -2, "outputs");
-	lua_pushboolean(L, l->opts->resume);
-	lua_setfield(L, -2, "resume");
-	lua_pushstring(L, l->run_dir);
-	lua_setfield(L, -2, "run_dir");
-	lua_pushstring(L, l->skill); /* the learning skill (nil: none) */
-	lua_setfield(L, -2, "skill");
-	lua_pushinteger(L, evo_evaluator_reps(l->ev));
-	lua_setfield(L, -2, "reps");
+	field_int(L, "seed", (lua_Integer)l->opts->seed);
+	field_int(L, "inputs", (lua_Integer)evo_evaluator_n_in(l->ev));
+	field_int(L, "outputs", (lua_Integer)evo_evaluator_n_out(l->ev));
+	field_bool(L, "resume", l->opts->resume);
+	field_str(L, "run_dir", l->run_dir);
+	field_str(L, "skill", l->skill); /* the learning skill (nil: none) */
+	field_int(L, "reps", evo_evaluator_reps(l->ev));
 	/* the environment script's path, and where its require looks
 	 * (OPENENDED loads its generator, in a sandbox of its own) */
 	const char *env_path = evo_evaluator_env_path(l->ev);
-	if (env_path) {
-		lua_pushstring(L, env_path);
-		lua_setfield(L, -2, "env_path");
-	}
-	lua_pushstring(L, l->task->mind->root);
-	lua_setfield(L, -2, "mind_dir");
-	lua_pushstring(L, evo_lua_dir());
-	lua_setfield(L, -2, "lua_dir");
+	if (env_path)
+		field_str(L, "env_path", env_path);
+	field_str(L, "mind_dir", l->task->mind->root);
+	field_str(L, "lua_dir", evo_lua_dir());
 	/* a scene script's limits and require for the generator */
 	evo_lua_limits lim;
 	evo_err lerr;
@@ -207,8 +204,7 @@ static int open_module(lua_State *L)
 		evo_lua_open_guard(L, l->mem, &lim, l->task->mind->root);
 		lua_setfield(L, -2, "guard");
 	}
-	lua_pushinteger(L, (lua_Integer)evo_evaluator_ticks(l->ev));
-	lua_setfield(L, -2, "ticks");
+	field_int(L, "ticks", (lua_Integer)evo_evaluator_ticks(l->ev));
 	/* the environment's metrics, in the order of evaluate's lists */
 	int nm = evo_evaluator_n_metrics(l->ev);
 	lua_createtable(L, nm, 0);
@@ -236,14 +232,10 @@ static int open_module(lua_State *L)
 		for (int i = 0; i < l->n_order; i++) {
 			const evo_ades *a = &l->task->mind->skill[l->order[i]];
 			lua_createtable(L, 0, 4);
-			lua_pushstring(L, a->name);
-			lua_setfield(L, -2, "name");
-			lua_pushinteger(L, (lua_Integer)a->n_in);
-			lua_setfield(L, -2, "inputs");
-			lua_pushinteger(L, (lua_Integer)a->n_out);
-			lua_setfield(L, -2, "outputs");
-			lua_pushinteger(L, (lua_Integer)a->layers);
-			lua_setfield(L, -2, "layers");
+			field_str(L, "name", a->name);
+			field_int(L, "inputs", (lua_Integer)a->n_in);
+			field_int(L, "outputs", (lua_Integer)a->n_out);
+			field_int(L, "layers", (lua_Integer)a->layers);
 			lua_rawseti(L, -2, i + 1);
 		}
 		lua_setfield(L, -2, "order");

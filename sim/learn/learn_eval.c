@@ -54,6 +54,19 @@ lua_Integer learn_field_int(lua_State *L, int idx, const char *key,
 			  key, (lua_Number)v, lo, hi);
 }
 
+/* Push field `key` of network `which` (the table at idx), a list of at
+ * most max entries: its length. */
+static int push_list(lua_State *L, int idx, const char *key, int max,
+		     int which)
+{
+	lua_getfield(L, idx, key);
+	int n = (int)luaL_len(L, -1);
+	if (n > max)
+		luaL_error(L, "network %d: %d %s (at most %d)", which, n, key,
+			   max);
+	return n;
+}
+
 /* A network table of learn.neat (inputs, outputs, nodes {id, act, bias},
  * outputs_ids, links {from, to, weight}), or a network evo.neat.pack_net
  * packed, as evo's network description (only the nodes and links it has
@@ -68,11 +81,7 @@ static void to_netdesc(lua_State *L, int idx, int which, evo_netdesc *d)
 	d->n_out = (uint16_t)learn_field_int(L, idx, "outputs", 0, UINT16_MAX, which);
 	if (d->n_out > EVO_MAX_SKILL_IO)
 		luaL_error(L, "network %d: %d outputs", which, d->n_out);
-	lua_getfield(L, idx, "nodes");
-	int n = (int)luaL_len(L, -1);
-	if (n > EVO_NET_MAX_NODES)
-		luaL_error(L, "network %d: %d nodes (at most %d)", which, n,
-			   EVO_NET_MAX_NODES);
+	int n = push_list(L, idx, "nodes", EVO_NET_MAX_NODES, which);
 	for (int i = 1; i <= n; i++) {
 		lua_geti(L, -1, i);
 		int t = lua_gettop(L);
@@ -99,11 +108,7 @@ static void to_netdesc(lua_State *L, int idx, int which, evo_netdesc *d)
 		lua_pop(L, 1);
 	}
 	lua_pop(L, 1);
-	lua_getfield(L, idx, "links");
-	n = (int)luaL_len(L, -1);
-	if (n > EVO_NET_MAX_LINKS)
-		luaL_error(L, "network %d: %d links (at most %d)", which, n,
-			   EVO_NET_MAX_LINKS);
+	n = push_list(L, idx, "links", EVO_NET_MAX_LINKS, which);
 	for (int i = 1; i <= n; i++) {
 		lua_geti(L, -1, i);
 		int t = lua_gettop(L);
@@ -186,6 +191,30 @@ int learn_l_descriptors(lua_State *L)
 	return 1;
 }
 
+/* One field of each of n results, as a Lua list: fitness, solved,
+ * collisions, and for team tasks wins, team fitness and group (1-based). */
+enum result_field {
+	R_FITNESS, R_SOLVED, R_COLLISIONS, R_WINS, R_TEAM_FITNESS, R_GROUP
+};
+static void push_results(lua_State *L, const evo_eval_result *res, int n,
+			 enum result_field f)
+{
+	lua_createtable(L, n, 0);
+	for (int i = 0; i < n; i++) {
+		const evo_eval_result *r = &res[i];
+		if (f == R_FITNESS || f == R_TEAM_FITNESS)
+			lua_pushnumber(L, f == R_FITNESS ? r->fitness
+							 : r->team_fitness);
+		else if (f == R_SOLVED)
+			lua_pushboolean(L, r->solved);
+		else /* Lua integers, as they always were */
+			lua_pushinteger(L, f == R_COLLISIONS ? r->collisions
+					   : f == R_WINS     ? r->wins
+							     : r->group + 1);
+		lua_rawseti(L, -2, i + 1);
+	}
+}
+
 /* evo.evaluate(nets, generation[, groups, team]) -> fitness list,
  * seconds, solved list (booleans: the literature tasks' success
  * criterion), collisions list (ticks the bot spent touching, summed over
@@ -256,22 +285,10 @@ int learn_l_evaluate(lua_State *L)
 	if (rc)
 		return learn_raise_msg(L, err.msg);
 	keep_behaviours(L, l, res, n);
-	lua_createtable(L, n, 0);
-	for (int i = 0; i < n; i++) {
-		lua_pushnumber(L, res[i].fitness);
-		lua_rawseti(L, -2, i + 1);
-	}
+	push_results(L, res, n, R_FITNESS);
 	lua_pushnumber(L, dt);
-	lua_createtable(L, n, 0);
-	for (int i = 0; i < n; i++) {
-		lua_pushboolean(L, res[i].solved);
-		lua_rawseti(L, -2, i + 1);
-	}
-	lua_createtable(L, n, 0);
-	for (int i = 0; i < n; i++) {
-		lua_pushinteger(L, res[i].collisions);
-		lua_rawseti(L, -2, i + 1);
-	}
+	push_results(L, res, n, R_SOLVED);
+	push_results(L, res, n, R_COLLISIONS);
 	int nm = evo_evaluator_n_metrics(l->ev);
 	lua_createtable(L, n, 0);
 	for (int i = 0; i < n; i++) {
@@ -284,21 +301,9 @@ int learn_l_evaluate(lua_State *L)
 	}
 	if (evo_evaluator_n_teams(l->ev) == 0)
 		return 5;
-	lua_createtable(L, n, 0);
-	for (int i = 0; i < n; i++) {
-		lua_pushinteger(L, res[i].wins);
-		lua_rawseti(L, -2, i + 1);
-	}
-	lua_createtable(L, n, 0);
-	for (int i = 0; i < n; i++) {
-		lua_pushnumber(L, res[i].team_fitness);
-		lua_rawseti(L, -2, i + 1);
-	}
-	lua_createtable(L, n, 0);
-	for (int i = 0; i < n; i++) {
-		lua_pushinteger(L, res[i].group + 1);
-		lua_rawseti(L, -2, i + 1);
-	}
+	push_results(L, res, n, R_WINS);
+	push_results(L, res, n, R_TEAM_FITNESS);
+	push_results(L, res, n, R_GROUP);
 	return 8;
 }
 

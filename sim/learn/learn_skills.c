@@ -26,6 +26,43 @@
 
 /* ---- LEARNSIMCONTINUOUS (docs/learning.md) ----------------------------- */
 
+/* Choice n: skill `name` runs the network of `file` in the run folder. */
+static int choose_net(lua_State *L, learn *l, unsigned n, const char *name,
+		      const char *file)
+{
+	evo_err err = {{0}};
+	if (evo_path_fmt(l->choice_path[n], sizeof l->choice_path[n], &err,
+			 "%s/%s", l->run_dir, file))
+		return learn_raise_msg(L, err.msg);
+	l->choice[n].skill = name;
+	l->choice[n].source = l->choice_path[n];
+	return 0;
+}
+
+/* The evaluator made anew for the candidates running as `skill`, with the
+ * first n choices; with ranks, the MPI ranks' too (sim/cluster/). Pushes
+ * the candidates' inputs and outputs: 2. */
+static int remake_evaluator(lua_State *L, learn *l, const char *skill,
+			    unsigned n, int ranks)
+{
+	evo_err err = {{0}};
+	snprintf(l->skill, sizeof l->skill, "%s", skill);
+	l->ed.learning_skill = l->skill;
+	l->ed.nets = l->choice;
+	l->ed.n_nets = n;
+	evo_evaluator_destroy(l->ev);
+	l->ev = evo_evaluator_create(&l->ed, &err);
+	if (!l->ev)
+		return learn_raise_msg(L, err.msg);
+	const evo_eval_spread *sp = l->ed.spread;
+	if (ranks && sp && sp->remake &&
+	    sp->remake(sp->ctx, l->ev, &l->ed, &err))
+		return learn_raise_msg(L, err.msg);
+	lua_pushinteger(L, (lua_Integer)evo_evaluator_n_in(l->ev));
+	lua_pushinteger(L, (lua_Integer)evo_evaluator_n_out(l->ev));
+	return 2;
+}
+
 /* evo.begin_turn(skill, nets): from now on the candidates run as skill (a
  * name of evo.order), and every skill named in nets (skill -> a file of
  * the run folder) runs that network instead of its Skills/ one. The
@@ -43,33 +80,15 @@ int learn_l_begin_turn(lua_State *L)
 				  "the hierarchy",
 				  skill);
 	unsigned n = 0;
-	evo_err err = {{0}};
 	for (int i = 0; i < l->n_order; i++) {
 		const char *name = l->task->mind->skill[l->order[i]].name;
 		lua_getfield(L, 2, name);
 		const char *file = lua_tostring(L, -1);
-		if (file) {
-			if (evo_path_fmt(l->choice_path[n],
-					 sizeof l->choice_path[n], &err,
-					 "%s/%s", l->run_dir, file))
-				return learn_raise_msg(L, err.msg);
-			l->choice[n].skill = name;
-			l->choice[n].source = l->choice_path[n];
-			n++;
-		}
+		if (file)
+			choose_net(L, l, n++, name, file);
 		lua_pop(L, 1);
 	}
-	snprintf(l->skill, sizeof l->skill, "%s", skill);
-	l->ed.learning_skill = l->skill;
-	l->ed.nets = l->choice;
-	l->ed.n_nets = n;
-	evo_evaluator_destroy(l->ev);
-	l->ev = evo_evaluator_create(&l->ed, &err);
-	if (!l->ev)
-		return learn_raise_msg(L, err.msg);
-	lua_pushinteger(L, (lua_Integer)evo_evaluator_n_in(l->ev));
-	lua_pushinteger(L, (lua_Integer)evo_evaluator_n_out(l->ev));
-	return 2;
+	return remake_evaluator(L, l, skill, n, 0);
 }
 
 /* evo.grow(task, skill, nets): OPENENDED's development (docs/openended.md):
@@ -100,30 +119,13 @@ int learn_l_grow(lua_State *L)
 					  CONT_MAX_SKILLS);
 		snprintf(l->choice_skill[n], sizeof l->choice_skill[n], "%s",
 			 name);
-		if (evo_path_fmt(l->choice_path[n], sizeof l->choice_path[n],
-				 &err, "%s/%s", l->run_dir, file))
-			return learn_raise_msg(L, err.msg);
-		l->choice[n].skill = l->choice_skill[n];
-		l->choice[n].source = l->choice_path[n];
+		choose_net(L, l, n, l->choice_skill[n], file);
 		n++;
 		lua_pop(L, 1);
 	}
-	snprintf(l->skill, sizeof l->skill, "%s", skill);
 	l->ed.task_path = l->grown_task;
-	l->ed.learning_skill = l->skill;
-	l->ed.nets = l->choice;
-	l->ed.n_nets = n;
-	evo_evaluator_destroy(l->ev);
-	l->ev = evo_evaluator_create(&l->ed, &err);
-	if (!l->ev)
-		return learn_raise_msg(L, err.msg);
 	/* MPI ranks (sim/cluster/) make theirs anew the same way */
-	const evo_eval_spread *sp = l->ed.spread;
-	if (sp && sp->remake && sp->remake(sp->ctx, l->ev, &l->ed, &err))
-		return learn_raise_msg(L, err.msg);
-	lua_pushinteger(L, (lua_Integer)evo_evaluator_n_in(l->ev));
-	lua_pushinteger(L, (lua_Integer)evo_evaluator_n_out(l->ev));
-	return 2;
+	return remake_evaluator(L, l, skill, n, 1);
 }
 
 /* evo.read_skill_net(skill) -> the text of Skills/<skill>/<skill>.net, or

@@ -139,6 +139,19 @@ static int l_eigh(lua_State *L)
 	return 3;
 }
 
+void evo_lua_finite_list(lua_State *L, int idx, long long len, double *v,
+			 const char *fn, const char *what)
+{
+	for (lua_Integer i = 0; i < len; i++) {
+		lua_geti(L, idx, i + 1);
+		int ok;
+		v[i] = lua_tonumberx(L, -1, &ok);
+		if (!ok || !isfinite(v[i]))
+			luaL_error(L, "%s: %s[%I] is not a finite number", fn,
+				   what, i + 1);
+		lua_pop(L, 1);
+	}
+}
 /* A flat list of finite numbers at idx, in a userdata left on the stack;
  * its length a multiple of d. */
 static double *vector_list(lua_State *L, int idx, lua_Integer d,
@@ -151,15 +164,7 @@ static double *vector_list(lua_State *L, int idx, lua_Integer d,
 			      "of %I-vectors",
 			   what, len, d);
 	double *v = lua_newuserdatauv(L, (size_t)(len ? len : 1) * sizeof *v, 0);
-	for (lua_Integer i = 0; i < len; i++) {
-		lua_geti(L, idx, i + 1);
-		int ok;
-		v[i] = lua_tonumberx(L, -1, &ok);
-		if (!ok || !isfinite(v[i]))
-			luaL_error(L, "nearest: %s[%I] is not a finite number",
-				   what, i + 1);
-		lua_pop(L, 1);
-	}
+	evo_lua_finite_list(L, idx, len, v, "nearest", what);
 	*count = len / d;
 	return v;
 }

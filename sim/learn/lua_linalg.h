@@ -13,6 +13,12 @@ struct lua_State;
  * not bring the off-diagonal part to rounding level. */
 int evo_linalg_eigh(int n, double *a, double *values, double *vectors);
 
+/* Read the first len values of the list at stack index idx into v, each
+ * a finite number, else a Lua error "fn: what[i] is not a finite
+ * number" (1-based i). For evo.linalg's and evo.novelty's vectors. */
+void evo_lua_finite_list(struct lua_State *L, int idx, long long len,
+			 double *v, const char *fn, const char *what);
+
 /* Registers evo.linalg in L (package.loaded), for require "evo.linalg". */
 void evo_lua_open_linalg(struct lua_State *L);
 

@@ -16,6 +16,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "learn/lua_linalg.h"
 #include "learn/lua_novelty.h"
 
 /* Bounds on what knn takes, far above any task (a descriptor of a few
@@ -85,15 +86,7 @@ static double *read_list(lua_State *L, int idx, const char *what, int *count)
 		luaL_error(L, "knn: %s holds %I numbers (at most %d)", what,
 			   len, MAX_POINTS);
 	double *v = lua_newuserdatauv(L, ((size_t)len + 1) * sizeof *v, 0);
-	for (lua_Integer i = 0; i < len; i++) {
-		int ok;
-		lua_rawgeti(L, idx, i + 1);
-		v[i] = lua_tonumberx(L, -1, &ok);
-		if (!ok || !isfinite(v[i]))
-			luaL_error(L, "knn: %s[%I] is not a finite number",
-				   what, i + 1);
-		lua_pop(L, 1);
-	}
+	evo_lua_finite_list(L, idx, len, v, "knn", what);
 	*count = (int)len;
 	return v;
 }

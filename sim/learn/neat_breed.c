@@ -308,13 +308,10 @@ static void push_mate(lua_State *L, const breed_opts *b, rng_src *r,
  * options with tie_smaller (breed_lua crosses equals the paper's way). */
 int neat_l_breed(lua_State *L)
 {
-	luaL_checktype(L, 1, LUA_TTABLE);
-	luaL_checktype(L, 2, LUA_TTABLE);
-	luaL_checktype(L, 3, LUA_TTABLE);
+	neat_want_tables(L, 1, 3);
 	lua_Integer n = luaL_checkinteger(L, 4);
 	lua_Integer parents = luaL_checkinteger(L, 5);
-	luaL_checktype(L, 6, LUA_TTABLE);
-	luaL_checktype(L, 7, LUA_TTABLE);
+	neat_want_tables(L, 6, 7);
 	luaL_checktype(L, 8, LUA_TFUNCTION);
 	lua_settop(L, 8);
 	if (parents < 1 || parents > (lua_Integer)lua_rawlen(L, 3))

@@ -247,6 +247,10 @@ int neat_l_rng_next(lua_State *L);
 int neat_l_rng_unit(lua_State *L);
 int neat_l_rng_normal(lua_State *L);
 int neat_l_isoline(lua_State *L);
+/* A binding's arguments first..last checked to be tables; arguments
+ * 1..n checked so and the stack cut to them (neat_rng.c). */
+void neat_want_tables(lua_State *L, int first, int last);
+void neat_check_tables(lua_State *L, int n);
 void neat_rng_begin(lua_State *L, int rng, rng_src *r);
 void neat_rng_done(lua_State *L, rng_src *r);
 

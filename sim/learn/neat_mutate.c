@@ -95,10 +95,7 @@ static void mutate_weights_with(lua_State *L, int g, int o, rng_src *r)
 /* mutate_weights(g, o, rng): neat.lua's mutate_weights. */
 int neat_l_mutate_weights(lua_State *L)
 {
-	luaL_checktype(L, 1, LUA_TTABLE);
-	luaL_checktype(L, 2, LUA_TTABLE);
-	luaL_checktype(L, 3, LUA_TTABLE);
-	lua_settop(L, 3);
+	neat_check_tables(L, 3);
 	rng_src r;
 	neat_rng_begin(L, 3, &r);
 	mutate_weights_with(L, 1, 2, &r);
@@ -113,10 +110,7 @@ int neat_l_mutate_weights(lua_State *L)
  * that may follow are Lua's. */
 int neat_l_mutate(lua_State *L)
 {
-	luaL_checktype(L, 1, LUA_TTABLE);
-	luaL_checktype(L, 2, LUA_TTABLE);
-	luaL_checktype(L, 3, LUA_TTABLE);
-	lua_settop(L, 3);
+	neat_check_tables(L, 3);
 	rng_src r;
 	neat_rng_begin(L, 3, &r);
 	int what = 0;
@@ -276,6 +270,17 @@ static genes *add_genes(lua_State *L, int g, const gene *extra, int extra_n)
 	return gs;
 }
 
+/* Push genome g's nodes table (checked to be one) and read it into *nl:
+ * the table's stack index. */
+static int push_nodes(lua_State *L, int g, node_list *nl)
+{
+	rget(L, g, K_NODES);
+	luaL_checktype(L, -1, LUA_TTABLE);
+	int nodes = lua_gettop(L);
+	*nl = neat_read_node_list(L, nodes);
+	return nodes;
+}
+
 /* neat.lua's mutate_add_link on genome g of population pop (stack slots):
  * a link between two unlinked nodes, one that keeps the genome acyclic
  * unless `recurrent`; with recurrent and recur_only_prob, one that closes
@@ -285,10 +290,8 @@ void neat_add_link(lua_State *L, int pop, int g, const struct_opts *t,
 		   rng_src *r)
 {
 	int top = lua_gettop(L);
-	rget(L, g, K_NODES);
-	luaL_checktype(L, -1, LUA_TTABLE);
-	int nodes = lua_gettop(L);
-	node_list nl = neat_read_node_list(L, nodes);
+	node_list nl;
+	int nodes = push_nodes(L, g, &nl);
 	int graded = t->recurrent && t->recur_only_prob > 0;
 	int recur = graded && draw(L, r) < t->recur_only_prob;
 	/* the nodes a self-loop may go round, needed only then */
@@ -351,10 +354,8 @@ void neat_add_node(lua_State *L, int pop, int g, const struct_opts *t,
 		   rng_src *r)
 {
 	int top = lua_gettop(L);
-	rget(L, g, K_NODES);
-	luaL_checktype(L, -1, LUA_TTABLE);
-	int nodes = lua_gettop(L);
-	node_list nl = neat_read_node_list(L, nodes);
+	node_list nl;
+	int nodes = push_nodes(L, g, &nl);
 	int has_bias = 0;
 	lua_Integer bias_id = 0;
 	for (int k = 0; k < nl.n && !t->split_bias && !has_bias; k++)
@@ -415,36 +416,31 @@ void neat_add_node(lua_State *L, int pop, int g, const struct_opts *t,
 	lua_pushinteger(L, s[0]);
 }
 
-/* add_link(pop, g, rng) -> the new gene, or nil: add_link. */
-int neat_l_add_link(lua_State *L)
+/* A structural mutation of genome g (argument 2) of pop (1) with the
+ * generator rng (3), under pop's options: add_link or add_node. */
+typedef void (*structural_fn)(lua_State *L, int pop, int g,
+			      const struct_opts *t, rng_src *r);
+static int structural(lua_State *L, structural_fn mutation)
 {
-	luaL_checktype(L, 1, LUA_TTABLE);
-	luaL_checktype(L, 2, LUA_TTABLE);
-	luaL_checktype(L, 3, LUA_TTABLE);
-	lua_settop(L, 3);
+	neat_check_tables(L, 3);
 	rget(L, 1, K_OPTIONS); /* 4 */
 	luaL_checktype(L, 4, LUA_TTABLE);
 	struct_opts t = neat_struct_opts_of(L, 4);
 	rng_src r;
 	neat_rng_begin(L, 3, &r);
-	neat_add_link(L, 1, 2, &t, &r);
+	mutation(L, 1, 2, &t, &r);
 	neat_rng_done(L, &r);
 	return 1;
+}
+
+/* add_link(pop, g, rng) -> the new gene, or nil: add_link. */
+int neat_l_add_link(lua_State *L)
+{
+	return structural(L, neat_add_link);
 }
 
 /* add_node(pop, g, rng) -> the new node's id, or nil: add_node. */
 int neat_l_add_node(lua_State *L)
 {
-	luaL_checktype(L, 1, LUA_TTABLE);
-	luaL_checktype(L, 2, LUA_TTABLE);
-	luaL_checktype(L, 3, LUA_TTABLE);
-	lua_settop(L, 3);
-	rget(L, 1, K_OPTIONS); /* 4 */
-	luaL_checktype(L, 4, LUA_TTABLE);
-	struct_opts t = neat_struct_opts_of(L, 4);
-	rng_src r;
-	neat_rng_begin(L, 3, &r);
-	neat_add_node(L, 1, 2, &t, &r);
-	neat_rng_done(L, &r);
-	return 1;
+	return structural(L, neat_add_node);
 }

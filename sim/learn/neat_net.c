@@ -86,6 +86,28 @@ typedef struct genome_nodes {
 
 #define GENOME_MAX_NODES (EVO_NET_MAX_NODES + EVO_MAX_SKILL_IO + 2)
 
+/* A network's numbering of a genome's n nodes (kinds and ids): each
+ * input keeps its id; the outputs and then the hidden nodes, each in the
+ * genome's order, are numbered n_in, n_in + 1, ... Appends every node's
+ * (id, number) to map (*n_map of them), and fills order with the index
+ * of the node numbered n_in + j at j; returns how many were numbered. */
+static int number_nodes(const char *kind, const lua_Integer *id, int n,
+			int n_in, id_map *map, int *n_map, int *order)
+{
+	int numbered = 0;
+	for (int pass = 0; pass < 3; pass++)
+		for (int k = 0; k < n; k++) {
+			char want = pass == 0 ? 'i' : pass == 1 ? 'o' : 'h';
+			if (kind[k] != want)
+				continue;
+			lua_Integer to = pass == 0 ? id[k] : n_in + numbered;
+			map[(*n_map)++] = (id_map){id[k], (uint16_t)to};
+			if (pass > 0)
+				order[numbered++] = k;
+		}
+	return numbered;
+}
+
 static void read_nodes(lua_State *L, int list, genome_nodes *g)
 {
 	lua_Integer n = (lua_Integer)lua_rawlen(L, list);
@@ -138,8 +160,7 @@ static void read_nodes(lua_State *L, int list, genome_nodes *g)
  * link order. */
 int neat_l_pack_net(lua_State *L)
 {
-	luaL_checktype(L, 1, LUA_TTABLE);
-	lua_settop(L, 1);
+	neat_check_tables(L, 1);
 	rget(L, 1, K_NODES);
 	luaL_checktype(L, 2, LUA_TTABLE);
 	const genes *gs = neat_genome_genes(L, 1, 0); /* 3 */
@@ -162,27 +183,19 @@ int neat_l_pack_net(lua_State *L)
 	p->n_nodes = (uint16_t)n_nodes;
 	id_map map[GENOME_MAX_NODES];
 	double bias[GENOME_MAX_NODES];
-	int n_map = 0, next = g.n_in, n_out = 0;
-	for (int pass = 0; pass < 3; pass++)
-		for (int k = 0; k < g.n; k++) {
-			char want = pass == 0 ? 'i' : pass == 1 ? 'o' : 'h';
-			if (g.kind[k] != want)
-				continue;
-			if (pass == 0) {
-				map[n_map++] = (id_map){g.id[k],
-							(uint16_t)g.id[k]};
-				continue;
-			}
-			evo_netdesc_node *nd = &p->node[next - g.n_in];
-			nd->id = (uint16_t)next;
-			nd->act = g.act[k];
-			nd->line = 0;
-			bias[next - g.n_in] = 0.0;
-			if (pass == 1)
-				p->out_id[n_out++] = (uint16_t)next;
-			map[n_map++] = (id_map){g.id[k], (uint16_t)next};
-			next++;
-		}
+	int n_map = 0, n_out = 0, order[GENOME_MAX_NODES];
+	int numbered =
+	    number_nodes(g.kind, g.id, g.n, g.n_in, map, &n_map, order);
+	for (int j = 0; j < numbered; j++) {
+		int k = order[j], next = g.n_in + j;
+		evo_netdesc_node *nd = &p->node[j];
+		nd->id = (uint16_t)next;
+		nd->act = g.act[k];
+		nd->line = 0;
+		bias[j] = 0.0;
+		if (g.kind[k] == 'o')
+			p->out_id[n_out++] = (uint16_t)next;
+	}
 	qsort(map, (size_t)n_map, sizeof *map, by_id);
 	evo_netdesc_link *lk = packed_links(p);
 	int n = 0;
@@ -275,8 +288,7 @@ static void set_int(lua_State *L, int t, enum key key, lua_Integer v)
  * the gene holds it. */
 int neat_l_to_net(lua_State *L)
 {
-	luaL_checktype(L, 1, LUA_TTABLE);
-	lua_settop(L, 1);
+	neat_check_tables(L, 1);
 	rget(L, 1, K_NODES); /* 2 */
 	luaL_checktype(L, 2, LUA_TTABLE);
 	const genes *gs = neat_genome_genes(L, 1, 0); /* 3 */
@@ -298,44 +310,37 @@ int neat_l_to_net(lua_State *L)
 		}
 	}
 	/* the genome's ids to the network's, and each node's bias */
-	id_map *map = lua_newuserdatauv(L, (size_t)(nl.n + 1) *
-					       (sizeof *map + sizeof(double)),
-					0); /* 5 */
+	id_map *map = lua_newuserdatauv(
+	    L, (size_t)(nl.n + 1) * (sizeof *map + sizeof(double) + sizeof(int)),
+	    0); /* 5 */
 	double *bias = (double *)(void *)(map + nl.n + 1);
+	int *order = (int *)(void *)(bias + nl.n + 1);
 	lua_createtable(L, 0, 5); /* 6: the network */
 	int net = 6;
 	set_int(L, net, K_INPUTS, n_in);
 	set_int(L, net, K_OUTPUTS, n_out);
 	lua_createtable(L, nl.n, 0); /* 7: nodes */
 	lua_createtable(L, n_out, 0); /* 8: outputs_ids */
-	int next = n_in, n_nodes = 0, n_outs = 0;
-	for (int pass = 0; pass < 3; pass++)
-		for (int k = 0; k < nl.n; k++) {
-			char want = pass == 0 ? 'i' : pass == 1 ? 'o' : 'h';
-			if (nl.kind[k] != want)
-				continue;
-			if (pass == 0) {
-				map[n_map++] = (id_map){nl.id[k],
-							(uint16_t)nl.id[k]};
-				continue;
-			}
-			if (next > UINT16_MAX)
-				luaL_error(L, "to_net: too many nodes");
-			map[n_map++] = (id_map){nl.id[k], (uint16_t)next};
-			bias[next - n_in] = 0.0;
-			lua_createtable(L, 0, 3);
-			set_int(L, -1, K_ID, next);
-			lua_rawgeti(L, 2, k + 1);
-			rget(L, -1, K_ACT);
-			lua_remove(L, -2);
-			rset(L, -2, K_ACT);
-			lua_rawseti(L, 7, ++n_nodes);
-			if (pass == 1) {
-				lua_pushinteger(L, next);
-				lua_rawseti(L, 8, ++n_outs);
-			}
-			next++;
+	int n_nodes = 0, n_outs = 0;
+	int numbered =
+	    number_nodes(nl.kind, nl.id, nl.n, n_in, map, &n_map, order);
+	if (n_in + numbered - 1 > UINT16_MAX)
+		luaL_error(L, "to_net: too many nodes");
+	for (int j = 0; j < numbered; j++) {
+		int k = order[j], next = n_in + j;
+		bias[j] = 0.0;
+		lua_createtable(L, 0, 3);
+		set_int(L, -1, K_ID, next);
+		lua_rawgeti(L, 2, k + 1);
+		rget(L, -1, K_ACT);
+		lua_remove(L, -2);
+		rset(L, -2, K_ACT);
+		lua_rawseti(L, 7, ++n_nodes);
+		if (nl.kind[k] == 'o') {
+			lua_pushinteger(L, next);
+			lua_rawseti(L, 8, ++n_outs);
 		}
+	}
 	qsort(map, (size_t)n_map, sizeof *map, by_id);
 	lua_createtable(L, gs->n, 0); /* 9: links */
 	int n_links = 0;

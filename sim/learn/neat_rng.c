@@ -1,7 +1,9 @@
 /* evo.neat's generator (sim/learn/neat_internal.h): learn.rng's
  * xoshiro256** on the generator's own four words (rng_next, rng_unit,
  * rng_normal), MAP-Elites' isoline variation, and a kernel's hold on a
- * generator while it draws (neat_rng_begin, neat_rng_done). */
+ * generator while it draws (neat_rng_begin, neat_rng_done); and the
+ * check of a binding's table arguments (neat_want_tables,
+ * neat_check_tables). */
 #include <lauxlib.h>
 #include <limits.h>
 #include <lua.h>
@@ -134,4 +136,16 @@ void neat_rng_done(lua_State *L, rng_src *r)
 		return;
 	lua_pushvalue(L, r->state);
 	rng_write(L, r->s);
+}
+
+void neat_want_tables(lua_State *L, int first, int last)
+{
+	for (int i = first; i <= last; i++)
+		luaL_checktype(L, i, LUA_TTABLE);
+}
+
+void neat_check_tables(lua_State *L, int n)
+{
+	neat_want_tables(L, 1, n);
+	lua_settop(L, n);
 }

@@ -74,9 +74,7 @@ int neat_l_distance(lua_State *L)
  * that order. */
 int neat_l_speciate(lua_State *L)
 {
-	luaL_checktype(L, 1, LUA_TTABLE);
-	luaL_checktype(L, 2, LUA_TTABLE);
-	luaL_checktype(L, 3, LUA_TTABLE);
+	neat_want_tables(L, 1, 3);
 	double threshold = luaL_checknumber(L, 4);
 	dist_opts o = neat_dist_opts_of(L, 3);
 	int ng = (int)lua_rawlen(L, 1), nr = (int)lua_rawlen(L, 2);
@@ -120,10 +118,7 @@ int neat_l_speciate(lua_State *L)
  * species' id (neat.lua's speciate, once the species exist). */
 int neat_l_assign(lua_State *L)
 {
-	luaL_checktype(L, 1, LUA_TTABLE);
-	luaL_checktype(L, 2, LUA_TTABLE);
-	luaL_checktype(L, 3, LUA_TTABLE);
-	lua_settop(L, 3);
+	neat_check_tables(L, 3);
 	lua_Integer n = (lua_Integer)lua_rawlen(L, 2);
 	for (lua_Integer i = 1; i <= n; i++) {
 		lua_rawgeti(L, 2, i);
@@ -229,16 +224,33 @@ static void check_fitness(lua_State *L, int idx)
 		luaL_error(L, "tell: fitness must be a number");
 }
 
+/* Push species[k] (species at stack index `species`) and its members
+ * table, both checked to be tables, at the next two indices: its member
+ * count. */
+static lua_Integer push_members(lua_State *L, int species, lua_Integer k)
+{
+	int top = lua_gettop(L);
+	lua_rawgeti(L, species, k);
+	luaL_checktype(L, top + 1, LUA_TTABLE);
+	rget(L, top + 1, K_MEMBERS);
+	luaL_checktype(L, top + 2, LUA_TTABLE);
+	return (lua_Integer)lua_rawlen(L, top + 2);
+}
+
+/* Push member j of a members table and then its genome (of genomes). */
+static void push_member(lua_State *L, int genomes, int members, lua_Integer j)
+{
+	lua_rawgeti(L, members, j);
+	lua_rawgeti(L, genomes, lua_tointeger(L, -1));
+}
+
 /* tally(genomes, score, species) -> least, most: each genome's fitness
  * set (genomes[i].fitness = score[i], checked as tell checks it), the
  * least of them, and for each species the most of its members'
  * (math.max from -math.huge, in member order): tell's first loops. */
 int neat_l_tally(lua_State *L)
 {
-	luaL_checktype(L, 1, LUA_TTABLE);
-	luaL_checktype(L, 2, LUA_TTABLE);
-	luaL_checktype(L, 3, LUA_TTABLE);
-	lua_settop(L, 3);
+	neat_check_tables(L, 3);
 	lua_Integer n = (lua_Integer)lua_rawlen(L, 1);
 	if ((lua_Integer)lua_rawlen(L, 2) != n)
 		luaL_error(L, "tell: one fitness per genome");
@@ -257,15 +269,10 @@ int neat_l_tally(lua_State *L)
 	lua_Integer ns = (lua_Integer)lua_rawlen(L, 3);
 	lua_createtable(L, ns > 0 && ns < INT_MAX ? (int)ns : 0, 0); /* 5 */
 	for (lua_Integer k = 1; k <= ns; k++) {
-		lua_rawgeti(L, 3, k); /* 6 */
-		luaL_checktype(L, 6, LUA_TTABLE);
-		rget(L, 6, K_MEMBERS); /* 7 */
-		luaL_checktype(L, 7, LUA_TTABLE);
-		lua_pushnumber(L, -HUGE_VAL); /* 8: the most */
-		lua_Integer m = (lua_Integer)lua_rawlen(L, 7);
+		lua_Integer m = push_members(L, 3, k); /* 6, 7 */
+		lua_pushnumber(L, -HUGE_VAL);	       /* 8: the most */
 		for (lua_Integer j = 1; j <= m; j++) {
-			lua_rawgeti(L, 7, j);
-			lua_rawgeti(L, 1, lua_tointeger(L, -1));
+			push_member(L, 1, 7, j);
 			rget(L, -1, K_FITNESS); /* 11 */
 			if (lua_compare(L, 8, 11, LUA_OPLT))
 				lua_copy(L, 11, 8);
@@ -283,22 +290,16 @@ int neat_l_tally(lua_State *L)
  * added in member order from 0. */
 int neat_l_share(lua_State *L)
 {
-	luaL_checktype(L, 1, LUA_TTABLE);
-	luaL_checktype(L, 2, LUA_TTABLE);
+	neat_want_tables(L, 1, 2);
 	luaL_checknumber(L, 3);
 	lua_settop(L, 3);
 	lua_Integer ns = (lua_Integer)lua_rawlen(L, 2);
 	lua_createtable(L, ns > 0 && ns < INT_MAX ? (int)ns : 0, 0); /* 4 */
 	for (lua_Integer k = 1; k <= ns; k++) {
-		lua_rawgeti(L, 2, k); /* 5 */
-		luaL_checktype(L, 5, LUA_TTABLE);
-		rget(L, 5, K_MEMBERS); /* 6 */
-		luaL_checktype(L, 6, LUA_TTABLE);
-		lua_Integer m = (lua_Integer)lua_rawlen(L, 6);
-		lua_pushinteger(L, 0); /* 7: the sum */
+		lua_Integer m = push_members(L, 2, k); /* 5, 6 */
+		lua_pushinteger(L, 0);		       /* 7: the sum */
 		for (lua_Integer j = 1; j <= m; j++) {
-			lua_rawgeti(L, 6, j);
-			lua_rawgeti(L, 1, lua_tointeger(L, -1)); /* 9 */
+			push_member(L, 1, 6, j); /* 9 */
 			luaL_checktype(L, 9, LUA_TTABLE);
 			rget(L, 9, K_FITNESS);
 			lua_pushvalue(L, 3);
@@ -351,10 +352,7 @@ int neat_l_best_of(lua_State *L)
  * same draws and the same order. */
 int neat_l_ranked(lua_State *L)
 {
-	luaL_checktype(L, 1, LUA_TTABLE);
-	luaL_checktype(L, 2, LUA_TTABLE);
-	luaL_checktype(L, 3, LUA_TTABLE);
-	lua_settop(L, 3);
+	neat_check_tables(L, 3);
 	lua_Integer n = (lua_Integer)lua_rawlen(L, 2);
 	if (n >= INT_MAX)
 		luaL_error(L, "ranked: %I members", (LUAI_UACINT)n);

@@ -486,14 +486,10 @@ int evo_can_robot_answer(evo_can_robot *r, const evo_q16 *commands,
 		return 0;
 	r->answered = 1;
 	r->answered_at = evo_clock_now();
-	double delay = r->answered_at - r->arrived;
-	if (delay > r->period) {
+	char what[96];
+	if (evo_robot_answered_late(r->arrived, r->answered_at, r->period,
+				    what, sizeof what)) {
 		r->late++;
-		char what[96];
-		snprintf(what, sizeof what,
-			 "was answered %.0f ms after it came, past its period "
-			 "(%.0f ms)",
-			 delay * 1e3, r->period * 1e3);
 		tell_late(r, r->tick, what);
 	} else {
 		r->in_time++;

@@ -27,7 +27,7 @@
 #include "evo/fixed.h"
 #include "evo/wire.h"
 #include "mind/mindfolder.h"
-#include "remote/robot.h"
+#include "remote/robot_status.h"
 
 #define EVO_CAN_MAX_SENSORS   (2 * EVO_WIRE_SENSOR_FRAMES)   /* 128 */
 #define EVO_CAN_MAX_ACTUATORS (2 * EVO_WIRE_ACTUATOR_FRAMES) /* 64 */
@@ -170,7 +170,7 @@ int evo_can_robot_answer(evo_can_robot *r, const evo_q16 *commands,
 /* The held tick's sensor values, botdesc order. */
 void evo_can_robot_sensors(const evo_can_robot *r, evo_q16 *values);
 
-/* Where the episode is, and the counts so far (robot.h). */
+/* Where the episode is, and the counts so far (robot_status.h). */
 void evo_can_robot_status(const evo_can_robot *r, evo_robot_status *s);
 
 /* "robot URL: T ticks: A answered in time, L late (U unanswered), M

@@ -196,14 +196,3 @@ void evo_robot_conn_report(const evo_robot_conn *c)
 	else if (c->rb.set)
 		evo_robot_report(&c->rb);
 }
-
-int evo_robot_wait_ms(int held, double until, double t, int slice_ms)
-{
-	if (held)
-		return 0;
-	double left = until - t;
-	if (left <= 0)
-		return -1;
-	int ms = (int)(left * 1e3) + 1;
-	return ms > slice_ms ? slice_ms : ms;
-}

@@ -13,6 +13,7 @@
 #include "base/err.h"
 #include "evo/fixed.h"
 #include "mind/mindfolder.h"
+#include "remote/robot_status.h"
 
 typedef struct evo_robot_conn evo_robot_conn;
 
@@ -62,24 +63,10 @@ int evo_robot_conn_answer(evo_robot_conn *c, const evo_q16 *commands,
 /* The held tick's sensor values, botdesc order, as the mind reads them. */
 void evo_robot_conn_sensors(const evo_robot_conn *c, evo_q16 *values);
 
-/* Where the episode is, and the counts so far. */
-typedef struct evo_robot_status {
-	int64_t tick; /* the tick held; -1: none yet */
-	int done;     /* the robot ended the episode */
-	double reward;
-	unsigned long in_time, late, unanswered, missing;
-	double quiet; /* seconds since the robot was last heard */
-} evo_robot_status;
-
+/* Where the episode is, and the counts so far (robot_status.h). */
 void evo_robot_conn_status(const evo_robot_conn *c, evo_robot_status *s);
 
 /* The closing line of counts on stdout ("robot NAME: T ticks: ..."). */
 void evo_robot_conn_report(const evo_robot_conn *c);
-
-/* How long a wait for a robot's next tick may block at time t: once a
- * tick is held, 0 (only what has already come: the newest of it); else
- * what is left until `until`, in ms, at most slice_ms; -1 when nothing is
- * held and the time is up. */
-int evo_robot_wait_ms(int held, double until, double t, int slice_ms);
 
 #endif

@@ -215,14 +215,10 @@ int evo_robot_answer(evo_robot *rb, const double *commands, evo_err *err)
 		return 0;
 	rb->answered = 1;
 	rb->answered_at = evo_clock_real();
-	double delay = rb->answered_at - rb->arrived;
-	if (delay > rb->period) {
+	char what[96];
+	if (evo_robot_answered_late(rb->arrived, rb->answered_at, rb->period,
+				    what, sizeof what)) {
 		rb->late++;
-		char what[96];
-		snprintf(what, sizeof what,
-			 "was answered %.0f ms after it came, past its period "
-			 "(%.0f ms)",
-			 delay * 1e3, rb->period * 1e3);
 		tell_late(rb, what);
 	} else {
 		rb->in_time++;

@@ -205,29 +205,22 @@ static const field control_fields[] = {
     {F_I64, 0, "seed"},
 };
 
+/* sensors_t and command_t begin alike: the episode's place, the tick and
+ * at most `most` values. */
+#define TICK_FIELDS(most)                                                    \
+	{F_STR, EVO_REMOTE_NAME_MAX, "name"}, {F_I64, 0, "session"},         \
+	    {F_I32, 0, "env"}, {F_I64, 0, "episode"}, {F_I64, 0, "tick"},    \
+	    {F_COUNT, most, "n"}, {F_F64S, 0, "values"}
+
 static const field sensors_fields[] = {
-    {F_STR, EVO_REMOTE_NAME_MAX, "name"},
-    {F_I64, 0, "session"},
-    {F_I32, 0, "env"},
-    {F_I64, 0, "episode"},
-    {F_I64, 0, "tick"},
-    {F_COUNT, EVO_MAX_SENSORS, "n"},
-    {F_F64S, 0, "values"},
+    TICK_FIELDS(EVO_MAX_SENSORS),
     {F_F64, 0, "reward"},
     {F_I8, 0, "done"},
     {F_COUNT, EVO_WIRE_MAX_BEHAVIOUR, "n_behaviour"},
     {F_F64S, 0, "behaviour"},
 };
 
-static const field command_fields[] = {
-    {F_STR, EVO_REMOTE_NAME_MAX, "name"},
-    {F_I64, 0, "session"},
-    {F_I32, 0, "env"},
-    {F_I64, 0, "episode"},
-    {F_I64, 0, "tick"},
-    {F_COUNT, EVO_MAX_ACTUATORS, "n"},
-    {F_F64S, 0, "values"},
-};
+static const field command_fields[] = {TICK_FIELDS(EVO_MAX_ACTUATORS)};
 
 #define NF(a) (unsigned)(sizeof(a) / sizeof(a)[0])
 
@@ -243,16 +236,46 @@ static evo_wire_reason bad(char *why, size_t cap, const char *fmt,
 	return EVO_WIRE_UNDECODABLE;
 }
 
+/* Walk the bytes of a message of lcm type evo_lcm_<t>, by its `fields`,
+ * then let lcm-gen's decoder fill m; return from the caller with the
+ * reason when either refuses it. */
+#define DECODE(t, fields, m, buf, len, why, cap)                             \
+	do {                                                                 \
+		if (walk(buf, len, __evo_lcm_##t##_get_hash(), fields,       \
+			 NF(fields), #t, why, cap))                          \
+			return EVO_WIRE_UNDECODABLE;                         \
+		if (evo_lcm_##t##_decode(buf, 0, (int)len, &(m)) < 0)        \
+			return bad(why, cap, "%s: refused by its decoder",   \
+				   #t);                                      \
+	} while (0)
+
+/* What every message of an episode starts with: out cleared, then its
+ * remote's name, session, env and episode from the decoded m. */
+#define TAKE_PLACE(out, m)                                                   \
+	do {                                                                 \
+		memset(out, 0, sizeof *(out));                               \
+		copy_name((out)->name, sizeof (out)->name, (m).name);        \
+		(out)->session = (m).session;                                \
+		(out)->env = (m).env;                                        \
+		(out)->episode = (m).episode;                                \
+	} while (0)
+
+/* A tick's values (sensors or commands) from the decoded m. */
+#define TAKE_VALUES(out, m)                                                  \
+	do {                                                                 \
+		(out)->tick = (m).tick;                                      \
+		(out)->n = (unsigned)(m).n;                                  \
+		if ((out)->n)                                                \
+			memcpy((out)->value, (m).values,                     \
+			       (out)->n * sizeof *(out)->value);             \
+	} while (0)
+
 evo_wire_reason evo_wire_decode_hello(const void *buf, size_t len,
 				      evo_wire_hello *out, char *why, size_t cap)
 {
 	out->name[0] = 0;
-	if (walk(buf, len, __evo_lcm_hello_t_get_hash(), hello_fields,
-		 NF(hello_fields), "hello_t", why, cap))
-		return EVO_WIRE_UNDECODABLE;
 	evo_lcm_hello_t m;
-	if (evo_lcm_hello_t_decode(buf, 0, (int)len, &m) < 0)
-		return bad(why, cap, "%s: refused by its decoder", "hello_t");
+	DECODE(hello_t, hello_fields, m, buf, len, why, cap);
 	memset(out, 0, sizeof *out);
 	out->protocol = m.protocol;
 	copy_name(out->name, sizeof out->name, m.name);
@@ -333,12 +356,8 @@ static evo_wire_reason check_place(const char *type, const char *name,
 evo_wire_reason evo_wire_decode_who(const void *buf, size_t len, evo_wire_who *out,
 				    char *why, size_t cap)
 {
-	if (walk(buf, len, __evo_lcm_who_t_get_hash(), who_fields,
-		 NF(who_fields), "who_t", why, cap))
-		return EVO_WIRE_UNDECODABLE;
 	evo_lcm_who_t m;
-	if (evo_lcm_who_t_decode(buf, 0, (int)len, &m) < 0)
-		return bad(why, cap, "%s: refused by its decoder", "who_t");
+	DECODE(who_t, who_fields, m, buf, len, why, cap);
 	out->protocol = m.protocol;
 	copy_name(out->from, sizeof out->from, m.sender);
 	evo_lcm_who_t_decode_cleanup(&m);
@@ -349,18 +368,10 @@ evo_wire_reason evo_wire_decode_control(const void *buf, size_t len,
 					evo_wire_control *out, char *why,
 					size_t cap)
 {
-	if (walk(buf, len, __evo_lcm_control_t_get_hash(), control_fields,
-		 NF(control_fields), "control_t", why, cap))
-		return EVO_WIRE_UNDECODABLE;
 	evo_lcm_control_t m;
-	if (evo_lcm_control_t_decode(buf, 0, (int)len, &m) < 0)
-		return bad(why, cap, "%s: refused by its decoder", "control_t");
-	memset(out, 0, sizeof *out);
-	copy_name(out->name, sizeof out->name, m.name);
-	out->session = m.session;
-	out->env = m.env;
+	DECODE(control_t, control_fields, m, buf, len, why, cap);
+	TAKE_PLACE(out, m);
 	out->op = (evo_wire_control_op)m.op;
-	out->episode = m.episode;
 	out->layout_seed = (uint64_t)m.layout_seed;
 	out->seed = (uint64_t)m.seed;
 	int op = m.op;
@@ -376,21 +387,10 @@ evo_wire_reason evo_wire_decode_sensors(const void *buf, size_t len,
 					evo_wire_sensors *out, char *why,
 					size_t cap)
 {
-	if (walk(buf, len, __evo_lcm_sensors_t_get_hash(), sensors_fields,
-		 NF(sensors_fields), "sensors_t", why, cap))
-		return EVO_WIRE_UNDECODABLE;
 	evo_lcm_sensors_t m;
-	if (evo_lcm_sensors_t_decode(buf, 0, (int)len, &m) < 0)
-		return bad(why, cap, "%s: refused by its decoder", "sensors_t");
-	memset(out, 0, sizeof *out);
-	copy_name(out->name, sizeof out->name, m.name);
-	out->session = m.session;
-	out->env = m.env;
-	out->episode = m.episode;
-	out->tick = m.tick;
-	out->n = (unsigned)m.n;
-	if (out->n)
-		memcpy(out->value, m.values, out->n * sizeof *out->value);
+	DECODE(sensors_t, sensors_fields, m, buf, len, why, cap);
+	TAKE_PLACE(out, m);
+	TAKE_VALUES(out, m);
 	out->reward = m.reward;
 	out->done = m.done != 0;
 	out->n_behaviour = (unsigned)m.n_behaviour;
@@ -406,21 +406,10 @@ evo_wire_reason evo_wire_decode_command(const void *buf, size_t len,
 					evo_wire_command *out, char *why,
 					size_t cap)
 {
-	if (walk(buf, len, __evo_lcm_command_t_get_hash(), command_fields,
-		 NF(command_fields), "command_t", why, cap))
-		return EVO_WIRE_UNDECODABLE;
 	evo_lcm_command_t m;
-	if (evo_lcm_command_t_decode(buf, 0, (int)len, &m) < 0)
-		return bad(why, cap, "%s: refused by its decoder", "command_t");
-	memset(out, 0, sizeof *out);
-	copy_name(out->name, sizeof out->name, m.name);
-	out->session = m.session;
-	out->env = m.env;
-	out->episode = m.episode;
-	out->tick = m.tick;
-	out->n = (unsigned)m.n;
-	if (out->n)
-		memcpy(out->value, m.values, out->n * sizeof *out->value);
+	DECODE(command_t, command_fields, m, buf, len, why, cap);
+	TAKE_PLACE(out, m);
+	TAKE_VALUES(out, m);
 	evo_lcm_command_t_decode_cleanup(&m);
 	return check_place("command_t", out->name, out->env, out->episode,
 			   &out->tick, why, cap);
@@ -464,6 +453,15 @@ static char *str(const char *s)
 {
 	return (char *)(uintptr_t)s;
 }
+
+/* The designated initialisers of a message of an episode's place (c:
+ * its evo_wire_* struct) and of a tick's values. */
+#define PLACE_OF(c)                                                          \
+	.name = str((c)->name), .session = (c)->session, .env = (c)->env,    \
+	.episode = (c)->episode
+#define VALUES_OF(c)                                                         \
+	.tick = (c)->tick, .n = (int32_t)(c)->n,                             \
+	.values = (double *)(uintptr_t)(c)->value
 
 #define ENCODE(type, m, buf, cap)                                            \
 	do {                                                                 \
@@ -509,11 +507,8 @@ int evo_wire_encode_who(const evo_wire_who *w, void *buf, size_t cap)
 int evo_wire_encode_control(const evo_wire_control *c, void *buf, size_t cap)
 {
 	evo_lcm_control_t m = {
-	    .name = str(c->name),
-	    .session = c->session,
-	    .env = c->env,
+	    PLACE_OF(c),
 	    .op = (int8_t)c->op,
-	    .episode = c->episode,
 	    .layout_seed = (int64_t)c->layout_seed,
 	    .seed = (int64_t)c->seed,
 	};
@@ -525,13 +520,8 @@ int evo_wire_encode_sensors(const evo_wire_sensors *s, void *buf, size_t cap)
 	if (s->n > EVO_MAX_SENSORS || s->n_behaviour > EVO_WIRE_MAX_BEHAVIOUR)
 		return -1;
 	evo_lcm_sensors_t m = {
-	    .name = str(s->name),
-	    .session = s->session,
-	    .env = s->env,
-	    .episode = s->episode,
-	    .tick = s->tick,
-	    .n = (int32_t)s->n,
-	    .values = (double *)(uintptr_t)s->value,
+	    PLACE_OF(s),
+	    VALUES_OF(s),
 	    .reward = s->reward,
 	    .done = (int8_t)(s->done != 0),
 	    .n_behaviour = (int32_t)s->n_behaviour,
@@ -544,15 +534,7 @@ int evo_wire_encode_command(const evo_wire_command *c, void *buf, size_t cap)
 {
 	if (c->n > EVO_MAX_ACTUATORS)
 		return -1;
-	evo_lcm_command_t m = {
-	    .name = str(c->name),
-	    .session = c->session,
-	    .env = c->env,
-	    .episode = c->episode,
-	    .tick = c->tick,
-	    .n = (int32_t)c->n,
-	    .values = (double *)(uintptr_t)c->value,
-	};
+	evo_lcm_command_t m = {PLACE_OF(c), VALUES_OF(c)};
 	ENCODE(evo_lcm_command_t, &m, buf, cap);
 }
 

@@ -339,34 +339,39 @@ out:
 	return rc;
 }
 
-int evo_png_write(const char *path, const uint8_t *pixels, int w, int h,
-		  int channels, evo_err *err)
+/* An encoded PNG (encoded: its encoder's result) written to path by
+ * put and freed; an encoder's failure said with the path. */
+typedef int (*write_fn)(const char *path, const void *data, size_t len,
+			evo_err *err);
+static int write_encoded(const char *path, int encoded, uint8_t *png,
+			 size_t len, write_fn put, evo_err *err)
 {
-	uint8_t *png;
-	size_t len;
-	if (evo_png_encode(pixels, w, h, channels, &png, &len, err)) {
+	if (encoded) {
 		char why[sizeof err->msg];
 		snprintf(why, sizeof why, "%s", err ? err->msg : "");
 		return evo_fail(err, "%s: %s", path, why);
 	}
-	int rc = evo_write_file_atomic(path, png, len, err);
+	int rc = put(path, png, len, err);
 	free(png);
 	return rc;
+}
+
+int evo_png_write(const char *path, const uint8_t *pixels, int w, int h,
+		  int channels, evo_err *err)
+{
+	uint8_t *png = NULL;
+	size_t len = 0;
+	int rc = evo_png_encode(pixels, w, h, channels, &png, &len, err);
+	return write_encoded(path, rc, png, len, evo_write_file_atomic, err);
 }
 
 int evo_png_write_indexed(const char *path, const uint8_t *pixels, int w, int h,
 			  evo_err *err)
 {
-	uint8_t *png;
-	size_t len;
-	if (evo_png_encode_indexed(pixels, w, h, &png, &len, err)) {
-		char why[sizeof err->msg];
-		snprintf(why, sizeof why, "%s", err ? err->msg : "");
-		return evo_fail(err, "%s: %s", path, why);
-	}
-	int rc = evo_write_file_replace(path, png, len, err);
-	free(png);
-	return rc;
+	uint8_t *png = NULL;
+	size_t len = 0;
+	int rc = evo_png_encode_indexed(pixels, w, h, &png, &len, err);
+	return write_encoded(path, rc, png, len, evo_write_file_replace, err);
 }
 
 /* ---- reading -------------------------------------------------------- */

@@ -37,14 +37,17 @@ static void *open_library(const char *lib, const char *what, evo_err *err)
 	return h;
 }
 
+/* One function of an X-list from library h (lib), into evo_sdl; from a
+ * function with h, lib, what and err in scope, which it leaves with -1
+ * on a failure. */
+#define EVO_LOAD(f)                                                            \
+	if (load_symbol(h, lib, #f, &evo_sdl.f, what, err))                    \
+		return -1;
+
 /* The GL functions from lib (h), once. */
 static int load_gl(void *h, const char *lib, const char *what, evo_err *err)
 {
-#define EVO_GL_LOAD(f)                                                         \
-	if (load_symbol(h, lib, #f, &evo_sdl.f, what, err))                    \
-		return -1;
-	EVO_GL_FUNCTIONS(EVO_GL_LOAD)
-#undef EVO_GL_LOAD
+	EVO_GL_FUNCTIONS(EVO_LOAD)
 	gl_loaded = 1;
 	return 0;
 }
@@ -65,14 +68,11 @@ int evo_gl_load_offscreen(const char *what, evo_err *err)
 int evo_sdl_load(int gl, const char *what, evo_err *err)
 {
 	if (!sdl_loaded) {
-		void *h = open_library(EVO_SDL_LIB, what, err);
+		const char *lib = EVO_SDL_LIB;
+		void *h = open_library(lib, what, err);
 		if (!h)
 			return -1;
-#define EVO_SDL_LOAD(f)                                                        \
-	if (load_symbol(h, EVO_SDL_LIB, #f, &evo_sdl.f, what, err))            \
-		return -1;
-		EVO_SDL_FUNCTIONS(EVO_SDL_LOAD)
-#undef EVO_SDL_LOAD
+		EVO_SDL_FUNCTIONS(EVO_LOAD)
 		sdl_loaded = 1;
 	}
 	if (gl && !gl_loaded) {

@@ -18,6 +18,7 @@
 #include "viewer/raster.h"
 #include "viewer/sdl_load.h"
 #include "viewer/viewer.h"
+#include "viewer/viewer_internal.h"
 
 struct evo_view3d {
 	SDL_Window *window; /* NULL off screen */
@@ -80,25 +81,10 @@ static void pin_drivers(void)
 
 evo_view3d *evo_view3d_open(int width, int height, evo_err *err)
 {
-	if (width <= 0 || height <= 0) {
-		width = 1024;
-		height = 720;
-	}
-	if (evo_sdl_load(1, "the 3D view", err))
+	evo_view3d *v = view_start_sdl(1, "the 3D view", &width, &height,
+				       sizeof *v, err);
+	if (!v)
 		return NULL;
-	if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0) {
-		evo_fail(err,
-			 "cannot open the 3D view: %s (no display? set "
-			 "DISPLAY, or run with --headless)",
-			 SDL_GetError());
-		return NULL;
-	}
-	evo_view3d *v = calloc(1, sizeof *v);
-	if (!v) {
-		SDL_QuitSubSystem(SDL_INIT_VIDEO);
-		evo_fail(err, "cannot open the 3D view: out of memory");
-		return NULL;
-	}
 	camera_start(v);
 	SDL_GL_SetAttribute(SDL_GL_DEPTH_SIZE, 24);
 	SDL_GL_SetAttribute(SDL_GL_DOUBLEBUFFER, 1);
@@ -276,13 +262,74 @@ static void ground(void)
 	glEnd();
 }
 
+/* A thing's colour: the one it was given (scene:colour), else `plain`. */
+static uint32_t coloured(const evo_scene3d *sc, evo_blob_kind kind, int index,
+			 uint32_t plain)
+{
+	int c = evo_view_colour_of(&sc->swarm, kind, index);
+	return c < 0 ? plain : evo_view_blob_colour(c);
+}
+
+/* The floor patches, on the ground drawn just before: with no depth
+ * test, they paint over it alone and leave its depth as it was. */
+static void patches(const evo_swarm *w)
+{
+	glDisable(GL_DEPTH_TEST);
+	glNormal3d(0, 0, 1);
+	for (int i = 0; i < w->n_patches; i++) {
+		const evo_patch *pa = &w->patch[i];
+		colour(evo_view_grey(pa->grey), 1);
+		glPushMatrix();
+		glTranslated(pa->x, pa->y, 0);
+		glRotated(pa->yaw * 180 / M_PI, 0, 0, 1);
+		glBegin(pa->circle ? GL_TRIANGLE_FAN : GL_QUADS);
+		if (pa->circle) {
+			glVertex3d(0, 0, 0);
+			for (int j = 0; j <= 2 * SLICES; j++) {
+				double b = M_PI * j / SLICES;
+				glVertex3d(pa->radius * cos(b),
+					   pa->radius * sin(b), 0);
+			}
+		} else {
+			glVertex3d(-pa->hx, -pa->hy, 0);
+			glVertex3d(pa->hx, -pa->hy, 0);
+			glVertex3d(pa->hx, pa->hy, 0);
+			glVertex3d(-pa->hx, pa->hy, 0);
+		}
+		glEnd();
+		glPopMatrix();
+	}
+	glEnable(GL_DEPTH_TEST);
+}
+
+/* The lights: spheres that shine, so not shaded. */
+static void light_marks(const evo_scene3d *sc)
+{
+	glDisable(GL_LIGHTING);
+	for (int i = 0; i < sc->swarm.n_lights; i++) {
+		const evo_light *l = &sc->swarm.light[i];
+		double r = 0.25 * sqrt(l->intensity);
+		r = r < EVO_VIEW3D_LIGHT_MIN   ? EVO_VIEW3D_LIGHT_MIN
+		    : r > EVO_VIEW3D_LIGHT_MAX ? EVO_VIEW3D_LIGHT_MAX
+					       : r;
+		colour(coloured(sc, EVO_BLOB_LIGHT, i, EVO_VIEW_LIGHT), 1);
+		glPushMatrix();
+		glTranslated(l->pos[0], l->pos[1], l->pos[2]);
+		sphere(r);
+		glPopMatrix();
+	}
+	glEnable(GL_LIGHTING);
+}
+
 static void bot(const evo_scene3d *sc, const evo_bot3d *b)
 {
 	glPushMatrix();
 	pose(b->pos, b->R);
-	/* a team's bot in its team's colour, as in the 2D view */
-	colour(b->def.team >= 0 ? evo_view_team_colour(b->def.team)
-				: EVO_VIEW3D_BOT,
+	/* a team's bot in its team's colour, as in the 2D view; a bot given
+	 * a colour in that one */
+	colour(coloured(sc, EVO_BLOB_BOT, (int)(b - sc->bot),
+			b->def.team >= 0 ? evo_view_team_colour(b->def.team)
+					 : EVO_VIEW3D_BOT),
 	       1);
 	if (b->def.radius > 0)
 		sphere(b->def.radius);
@@ -368,6 +415,7 @@ static void rays(const evo_bot3d *b)
 static void world(const evo_scene3d *sc)
 {
 	ground();
+	patches(&sc->swarm);
 	for (int i = 0; i < sc->n_obstacles; i++) {
 		const evo_shape3d *o = &sc->obstacle[i];
 		colour(o->category == EVO_CAT3D_GROUND ? EVO_VIEW3D_BUMP
@@ -380,13 +428,17 @@ static void world(const evo_scene3d *sc)
 		if (e->def.kind == EVO3D_ELEM_TARGET) {
 			glPushMatrix();
 			glTranslated(e->pos[0], e->pos[1], e->pos[2]);
-			colour(EVO_VIEW3D_TARGET, 1);
+			colour(coloured(sc, EVO_BLOB_ELEMENT, i,
+					EVO_VIEW3D_TARGET),
+			       1);
 			sphere(e->def.radius);
 			glPopMatrix();
 		} else if (e->def.kind == EVO3D_ELEM_OBJECT) {
 			glPushMatrix();
 			pose(e->pos, e->R);
-			colour(EVO_VIEW_OBJECT, 1);
+			colour(coloured(sc, EVO_BLOB_ELEMENT, i,
+					EVO_VIEW_OBJECT),
+			       1);
 			if (e->def.sphere)
 				sphere(e->def.radius);
 			else
@@ -396,6 +448,7 @@ static void world(const evo_scene3d *sc)
 	}
 	for (int i = 0; i < sc->n_bots; i++)
 		bot(sc, &sc->bot[i]);
+	light_marks(sc);
 	/* translucent last: zones, then the rays */
 	glDepthMask(GL_FALSE);
 	for (int i = 0; i < sc->n_elements; i++) {
@@ -405,7 +458,7 @@ static void world(const evo_scene3d *sc)
 		glPushMatrix();
 		glTranslated(e->pos[0], e->pos[1], e->pos[2]);
 		glRotated(e->def.yaw * 180 / M_PI, 0, 0, 1);
-		colour(EVO_VIEW_ZONE, 0.3);
+		colour(coloured(sc, EVO_BLOB_ELEMENT, i, EVO_VIEW_ZONE), 0.3);
 		box(e->def.half);
 		glPopMatrix();
 	}
@@ -603,19 +656,19 @@ evo_view_action evo_view3d_poll(evo_view3d *v)
 	if (!v->window)
 		return EVO_VIEW_NONE;
 	while (SDL_PollEvent(&ev)) {
-		if (ev.type == SDL_QUIT ||
-		    (ev.type == SDL_WINDOWEVENT &&
-		     ev.window.event == SDL_WINDOWEVENT_CLOSE))
-			return EVO_VIEW_QUIT;
-		if (ev.type == SDL_MOUSEWHEEL) {
-			v->dist *= ev.wheel.y > 0   ? 0.8
-				   : ev.wheel.y < 0 ? 1.25
-						    : 1;
+		evo_view_action a = view_action_of(&ev);
+		if (a != EVO_VIEW_NONE)
+			return a;
+		/* nearer or farther; no zoom to go back to */
+		view_zoom z = view_zoom_of(&ev);
+		if (z == VIEW_ZOOM_IN || z == VIEW_ZOOM_OUT) {
+			v->dist *= z == VIEW_ZOOM_IN ? 0.8 : 1.25;
 			v->dist = v->dist < 0.3	 ? 0.3
 				  : v->dist > 80 ? 80
 						 : v->dist;
-			continue;
 		}
+		if (z != VIEW_ZOOM_NONE || ev.type == SDL_MOUSEWHEEL)
+			continue;
 		if (ev.type == SDL_MOUSEBUTTONDOWN) {
 			v->drag = ev.button.button == SDL_BUTTON_LEFT	 ? 1
 				  : ev.button.button == SDL_BUTTON_RIGHT ? 2
@@ -643,25 +696,6 @@ evo_view_action evo_view3d_poll(evo_view3d *v)
 			v->target[1] +=
 			    (-ev.motion.xrel * c + ev.motion.yrel * s) * k;
 			return EVO_VIEW_FREE;
-		}
-		if (ev.type != SDL_KEYDOWN)
-			continue;
-		evo_view_action a =
-		    evo_view_key(ev.key.keysym.sym, ev.key.repeat);
-		if (a != EVO_VIEW_NONE)
-			return a;
-		switch (ev.key.keysym.sym) {
-		case SDLK_PLUS:
-		case SDLK_EQUALS:
-		case SDLK_KP_PLUS:
-			v->dist = v->dist * 0.8 < 0.3 ? 0.3 : v->dist * 0.8;
-			break;
-		case SDLK_MINUS:
-		case SDLK_KP_MINUS:
-			v->dist = v->dist * 1.25 > 80 ? 80 : v->dist * 1.25;
-			break;
-		default:
-			break;
 		}
 	}
 	return EVO_VIEW_NONE;

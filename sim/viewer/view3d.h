@@ -82,4 +82,14 @@ int evo_view3d_frame(const evo_view3d *v, evo_raster *im);
 #define EVO_VIEW3D_RAY_CLEAR 0xF0B4B4u
 #define EVO_VIEW3D_BUMP	     0xC9BFA0u /* uneven ground */
 
+/* The swarm's world (sim/scene/swarm.h) as the 3D view draws it: each
+ * floor patch flat on the ground in its grey level (evo_view_grey),
+ * shaded as the ground is; each light a sphere without shading, in its
+ * colour (evo_view_blob_colour; EVO_VIEW_LIGHT with none), of radius a
+ * quarter of the square root of its intensity (where a light sensor
+ * facing it reads 1) within [EVO_VIEW3D_LIGHT_MIN, _MAX] metres; a bot,
+ * target, object or zone given a colour (scene:colour), shaded in it. */
+#define EVO_VIEW3D_LIGHT_MIN 0.02
+#define EVO_VIEW3D_LIGHT_MAX 0.5
+
 #endif

@@ -98,7 +98,13 @@ double evo_view_fit_zoom(const evo_scene *sc, int w, int h)
 	double fit = fmin(world_w / ((box[2] - box[0]) * 1.08),
 			  h / ((box[3] - box[1]) * 1.08));
 	double zoom = fit * (2 * EVO_VIEW_HALF_SPAN) / side;
-	return isfinite(zoom) && zoom > 0 && zoom < 1 ? zoom : 1;
+	if (!isfinite(zoom) || !(zoom > 0))
+		return 1;
+	if (zoom < 1)
+		return zoom;
+	/* a small arena (an e-puck's, a few metres) would be a speck at
+	 * zoom 1: the power of two that still shows all of it */
+	return zoom >= 4 ? fmin(64, exp2(floor(log2(zoom)))) : 1;
 }
 
 evo_view_camera evo_view_camera_for(const evo_scene *sc, int follow_bot,
@@ -178,8 +184,48 @@ int evo_view_bot_at(const evo_scene *sc, double x, double y)
 #define ZONE_OFF      0xA8A8A8u
 #define OBJECT_EDGE   0xA0560Au
 #define BOT_EDGE      0x1C447Fu
+#define PATCH_EDGE    0xB4B4B4u
+#define LIGHT_EDGE    0x6B5A10u
 #define GRIP	      0x333333u
 #define SCALE_BAR     0x555555u
+
+/* ---- the swarm's world ----------------------------------------------- */
+
+/* In the order of evo_colour: red, yellow, green, cyan, blue, magenta,
+ * white, black, each far from the view's own colours. */
+static const uint32_t blob_colours[EVO_COLOUR_COUNT] = {
+    0xD62728u, 0xFFD21Fu, 0x2CA02Cu, 0x17BECFu,
+    0x1F3FB4u, 0xC83CC8u, 0xFFFFFFu, 0x202020u};
+
+uint32_t evo_view_blob_colour(int colour)
+{
+	if (colour < 0 || colour >= EVO_COLOUR_COUNT)
+		return EVO_VIEW_LIGHT;
+	return blob_colours[colour];
+}
+
+int evo_view_colour_of(const evo_swarm *w, evo_blob_kind kind, int index)
+{
+	for (int i = 0; i < w->n_blobs; i++)
+		if (w->blob[i].kind == kind && w->blob[i].index == index)
+			return w->blob[i].colour;
+	return -1;
+}
+
+uint32_t evo_view_grey(double grey)
+{
+	double g = grey > 1 ? 1 : grey > 0 ? grey : 0;
+	uint32_t v = (uint32_t)lround(g * 255);
+	return v << 16 | v << 8 | v;
+}
+
+/* A thing's colour: the one it was given, else `plain`. */
+static uint32_t coloured(const evo_scene *sc, evo_blob_kind kind, int index,
+			 uint32_t plain)
+{
+	int c = evo_view_colour_of(&sc->swarm, kind, index);
+	return c < 0 ? plain : evo_view_blob_colour(c);
+}
 
 /* World-space corners of a box of half sides (hw, hh) turned by angle
  * about (x, y), in screen pixels. */
@@ -194,6 +240,28 @@ static void box_corners(const evo_view_camera *cam, double x, double y,
 		evo_view_to_screen(cam, x + c * bx - s * by,
 				   y + s * bx + c * by, &sx[k], &sy[k]);
 	}
+}
+
+/* A disc of radius r metres at (x, y), filled and edged 1 pixel wide. */
+static void edged_disc(evo_raster *im, const evo_view_camera *cam, double x,
+		       double y, double r, uint32_t fill, uint32_t edge)
+{
+	double sx, sy;
+	evo_view_to_screen(cam, x, y, &sx, &sy);
+	evo_raster_fill_circle(im, sx, sy, r * cam->scale, fill, 255);
+	evo_raster_circle(im, sx, sy, r * cam->scale, 1, edge, 255);
+}
+
+/* A box of half sides (hw, hh) turned by angle about (x, y), filled and
+ * edged. */
+static void edged_box(evo_raster *im, const evo_view_camera *cam, double x,
+		      double y, double angle, double hw, double hh,
+		      uint32_t fill, uint32_t edge)
+{
+	double bx[4], by[4];
+	box_corners(cam, x, y, angle, hw, hh, bx, by);
+	evo_raster_fill_polygon(im, bx, by, 4, fill, 255);
+	evo_raster_polygon(im, bx, by, 4, edge, 255);
 }
 
 /* Faint lines every 10 m (every 50 m when they would crowd), so motion
@@ -221,14 +289,58 @@ static void draw_grid(evo_raster *im, const evo_view_camera *cam)
 	}
 }
 
+/* A floor patch, filled with its grey level and edged faintly, so that a
+ * white one shows on the background. */
+static void draw_patch(evo_raster *im, const evo_view_camera *cam,
+		       const evo_patch *pa)
+{
+	uint32_t grey = evo_view_grey(pa->grey);
+	if (pa->circle)
+		edged_disc(im, cam, pa->x, pa->y, pa->radius, grey, PATCH_EDGE);
+	else
+		edged_box(im, cam, pa->x, pa->y, pa->yaw, pa->hx, pa->hy, grey,
+			  PATCH_EDGE);
+}
+
+/* A light: a disc in its colour, edged dark, and a ring where a light
+ * sensor facing it reads 1 (sqrt(intensity) metres away). */
+static void draw_light(evo_raster *im, const evo_view_camera *cam,
+		       const evo_scene *sc, int i)
+{
+	const evo_light *l = &sc->swarm.light[i];
+	uint32_t c = coloured(sc, EVO_BLOB_LIGHT, i, EVO_VIEW_LIGHT);
+	double sx, sy;
+	evo_view_to_screen(cam, l->pos[0], l->pos[1], &sx, &sy);
+	evo_raster_circle(im, sx, sy, sqrt(l->intensity) * cam->scale, 1, c,
+			  160);
+	evo_raster_fill_circle(im, sx, sy, EVO_VIEW_LIGHT_RADIUS, c, 255);
+	evo_raster_circle(im, sx, sy, EVO_VIEW_LIGHT_RADIUS, 1, LIGHT_EDGE,
+			  255);
+}
+
+/* An element given a colour that the obstacles draw grey (a cylinder or
+ * a box): drawn again over them in its colour. */
+static void draw_coloured_element(evo_raster *im, const evo_view_camera *cam,
+				  const evo_scene *sc, int e)
+{
+	const evo_element *el = &sc->element[e];
+	int c = evo_view_colour_of(&sc->swarm, EVO_BLOB_ELEMENT, e);
+	if (c < 0)
+		return;
+	uint32_t rgb = evo_view_blob_colour(c);
+	if (el->kind == EVO_ELEM_CYLINDER)
+		edged_disc(im, cam, el->x, el->y, el->size, rgb, OBSTACLE_EDGE);
+	else if (el->kind == EVO_ELEM_BOX)
+		edged_box(im, cam, el->x, el->y, el->angle, el->half_w,
+			  el->half_h, rgb, OBSTACLE_EDGE);
+}
+
 static void draw_obstacle(evo_raster *im, const evo_view_camera *cam,
 			  const evo_obstacle *o)
 {
 	if (o->shape == EVO_SHAPE_CIRCLE) {
-		double sx, sy, r = o->radius * cam->scale;
-		evo_view_to_screen(cam, o->x, o->y, &sx, &sy);
-		evo_raster_fill_circle(im, sx, sy, r, EVO_VIEW_OBSTACLE, 255);
-		evo_raster_circle(im, sx, sy, r, 1, OBSTACLE_EDGE, 255);
+		edged_disc(im, cam, o->x, o->y, o->radius, EVO_VIEW_OBSTACLE,
+			   OBSTACLE_EDGE);
 		return;
 	}
 	if (o->shape == EVO_SHAPE_SEGMENT) {
@@ -239,29 +351,30 @@ static void draw_obstacle(evo_raster *im, const evo_view_camera *cam,
 				      EVO_VIEW_WALL, 255);
 		return;
 	}
-	double bx[4], by[4];
-	box_corners(cam, o->x, o->y, o->angle, o->half_w, o->half_h, bx, by);
-	evo_raster_fill_polygon(im, bx, by, 4, EVO_VIEW_OBSTACLE, 255);
-	evo_raster_polygon(im, bx, by, 4, OBSTACLE_EDGE, 255);
+	edged_box(im, cam, o->x, o->y, o->angle, o->half_w, o->half_h,
+		  EVO_VIEW_OBSTACLE, OBSTACLE_EDGE);
 }
 
 static void draw_zone(evo_raster *im, const evo_view_camera *cam,
-		      const evo_element *z)
+		      const evo_scene *sc, int e)
 {
+	const evo_element *z = &sc->element[e];
 	double bx[4], by[4];
 	box_corners(cam, z->x, z->y, z->angle, z->size, z->size, bx, by);
 	if (!z->active) {
 		evo_raster_polygon(im, bx, by, 4, ZONE_OFF, 255);
 		return;
 	}
-	evo_raster_fill_polygon(im, bx, by, 4, EVO_VIEW_ZONE,
+	evo_raster_fill_polygon(im, bx, by, 4,
+				coloured(sc, EVO_BLOB_ELEMENT, e, EVO_VIEW_ZONE),
 				EVO_VIEW_ZONE_ALPHA);
 	evo_raster_polygon(im, bx, by, 4, ZONE_EDGE, 255);
 }
 
 static void draw_object(evo_raster *im, const evo_view_camera *cam,
-			const evo_scene *sc, const evo_element *o)
+			const evo_scene *sc, int e)
 {
+	const evo_element *o = &sc->element[e];
 	double x = o->x, y = o->y;
 	if (evo_body_valid(sc->world, o->body)) {
 		evo_pose p = evo_body_pose(sc->world, o->body);
@@ -276,7 +389,9 @@ static void draw_object(evo_raster *im, const evo_view_camera *cam,
 		evo_raster_circle(im, sx, sy, r, 1, OBJECT_EDGE, 70);
 		return;
 	}
-	evo_raster_fill_circle(im, sx, sy, r, EVO_VIEW_OBJECT, 255);
+	evo_raster_fill_circle(im, sx, sy, r,
+			       coloured(sc, EVO_BLOB_ELEMENT, e, EVO_VIEW_OBJECT),
+			       255);
 	evo_raster_circle(im, sx, sy, r, 1, OBJECT_EDGE, 255);
 	if (o->held_by >= 0)
 		evo_raster_circle(im, sx, sy, r + 3, 2, EVO_VIEW_HELD, 255);
@@ -323,7 +438,9 @@ static void draw_bot(evo_raster *im, const evo_view_camera *cam,
 	evo_pose p = evo_body_pose(sc->world, bot->body);
 	double sx, sy, r = bot->radius * cam->scale;
 	evo_view_to_screen(cam, p.x, p.y, &sx, &sy);
-	evo_raster_fill_circle(im, sx, sy, r, evo_view_team_colour(bot->team),
+	evo_raster_fill_circle(im, sx, sy, r,
+			       coloured(sc, EVO_BLOB_BOT, b,
+					evo_view_team_colour(bot->team)),
 			       255);
 	evo_raster_circle(im, sx, sy, r, r > 8 ? 2 : 1, BOT_EDGE, 255);
 	double hx, hy;
@@ -417,15 +534,19 @@ void evo_view_render(evo_raster *im, const evo_scene *sc,
 {
 	evo_raster_clear(im, EVO_VIEW_BACKGROUND);
 	draw_grid(im, cam);
+	for (int i = 0; i < sc->swarm.n_patches; i++)
+		draw_patch(im, cam, &sc->swarm.patch[i]);
 	for (int e = 0; e < sc->n_elements; e++)
 		if (sc->element[e].kind == EVO_ELEM_ZONE)
-			draw_zone(im, cam, &sc->element[e]);
+			draw_zone(im, cam, sc, e);
 	for (int o = 0; o < sc->n_obstacles; o++)
 		draw_obstacle(im, cam, &sc->obstacle[o]);
-	for (int e = 0; e < sc->n_elements; e++)
+	for (int e = 0; e < sc->n_elements; e++) {
+		draw_coloured_element(im, cam, sc, e);
 		if (sc->element[e].kind == EVO_ELEM_OBJECT &&
 		    sc->element[e].held_by < 0)
-			draw_object(im, cam, sc, &sc->element[e]);
+			draw_object(im, cam, sc, e);
+	}
 	draw_trail(im, cam, p);
 	for (int b = 0; b < sc->n_bots; b++)
 		draw_bot(im, cam, sc, b);
@@ -443,9 +564,12 @@ void evo_view_render(evo_raster *im, const evo_scene *sc,
 	for (int e = 0; e < sc->n_elements; e++)
 		if (sc->element[e].kind == EVO_ELEM_OBJECT &&
 		    sc->element[e].held_by >= 0)
-			draw_object(im, cam, sc, &sc->element[e]);
+			draw_object(im, cam, sc, e);
 	for (int b = 0; b < sc->n_bots; b++)
 		draw_claws(im, cam, sc, b);
+	/* Lights over everything: a swarm gathers under them. */
+	for (int i = 0; i < sc->swarm.n_lights; i++)
+		draw_light(im, cam, sc, i);
 	/* Names only where there is more than one bot to tell apart. */
 	if (sc->n_bots > 1)
 		for (int b = 0; b < sc->n_bots; b++) {

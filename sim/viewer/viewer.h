@@ -127,7 +127,10 @@ evo_view_camera evo_view_camera_for(const evo_scene *sc, int follow_bot,
 
 /* The zoom at which the scene as it starts (its elements, bots' starts,
  * fixed obstacles and walls) fits in the world area of a w x h frame
- * with a small margin: 1 if it fits at zoom 1 already, less otherwise. */
+ * with a small margin: less than 1 where it does not fit at zoom 1; for a
+ * scene that spans less than a quarter of zoom 1's view (an e-puck arena
+ * of a few metres), the largest power of two at which it fits (at most
+ * 64); 1 otherwise. */
 double evo_view_fit_zoom(const evo_scene *sc, int w, int h);
 
 /* Where world point (x, y) falls in a frame drawn with cam, in pixels
@@ -136,11 +139,16 @@ void evo_view_to_screen(const evo_view_camera *cam, double x, double y,
 			double *sx, double *sy);
 
 /* Draw sc into im as cam sees it, with the panel (p may be NULL: the
- * scene's own tick and rewards are shown). Colours: obstacles grey, zones
+ * scene's own tick and rewards are shown). Colours: floor patches in
+ * their grey level under everything else, obstacles grey, zones
  * translucent green, objects orange (a faint outline once delivered),
- * bots blue with a white heading line, proximity rays red up to what they
- * hit and faint where clear, a claw's grip dark with the object it holds
- * ringed. */
+ * bots blue (a team's in its colour) with a white heading line,
+ * proximity rays red up to what they hit and faint where clear, a claw's
+ * grip dark with the object it holds ringed; a bot, object or element
+ * given a colour (scene:colour) in that colour; each light a disc of
+ * EVO_VIEW_LIGHT_RADIUS pixels in its colour (EVO_VIEW_LIGHT with none)
+ * over everything, ringed where a light sensor facing it reads 1 (the
+ * square root of its intensity, in metres). */
 void evo_view_render(evo_raster *im, const evo_scene *sc,
 		     const evo_view_camera *cam, const evo_viewer_panel *p);
 
@@ -156,6 +164,16 @@ int evo_view_bot_at(const evo_scene *sc, double x, double y);
 /* The colour of team k's bots (a palette of 12), EVO_VIEW_BOT for a bot
  * of no team (k < 0). */
 uint32_t evo_view_team_colour(int k);
+
+/* The swarm's world (sim/scene/swarm.h, docs/world.md "Swarm sensors"),
+ * as both views draw it: the colour a blob of evo_colour k is drawn in
+ * (EVO_VIEW_LIGHT for a number that is no colour); the colour given to
+ * the light, bot or element `index` of `kind` (evo_swarm_set_colour),
+ * -1 when it has none; the colour of a floor patch's grey level in
+ * [0, 1] (clamped), 0 black to 1 white. */
+uint32_t evo_view_blob_colour(int colour);
+int evo_view_colour_of(const evo_swarm *w, evo_blob_kind kind, int index);
+uint32_t evo_view_grey(double grey);
 
 /* The colours evo_view_render uses, for tests that look for them. */
 #define EVO_VIEW_BACKGROUND	 0xF2F1ECu
@@ -174,6 +192,8 @@ uint32_t evo_view_team_colour(int k);
 #define EVO_VIEW_SELECTED	 0xFF3CC8u /* the ring around the selected bot */
 #define EVO_VIEW_TRAIL		 0xD2287Eu /* the bot's path (--trail) */
 #define EVO_VIEW_WALL		 0x5E5E5Eu /* a wall of no thickness (mazes) */
+#define EVO_VIEW_LIGHT		 0xFFD21Fu /* a light given no colour */
+#define EVO_VIEW_LIGHT_RADIUS	 6 /* pixels: the 2D view's mark of a light */
 
 /* ---- a remote robot, with no world to draw (DEMOREMOTE) -------------- */
 

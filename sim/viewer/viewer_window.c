@@ -31,34 +31,44 @@ struct evo_viewer {
 	int press_x, press_y;
 };
 
-evo_viewer *evo_viewer_open(int width, int height, evo_err *err)
+void *view_start_sdl(int gl, const char *what, int *w, int *h, size_t size,
+		     evo_err *err)
 {
-	if (width <= 0 || height <= 0) {
-		width = 1024;
-		height = 720;
+	if (*w <= 0 || *h <= 0) {
+		*w = 1024;
+		*h = 720;
 	}
-	if (evo_sdl_load(0, "the viewer", err))
+	if (evo_sdl_load(gl, what, err))
 		return NULL;
 	/* Left alone, SDL backs the window of a software renderer with a
 	 * GL texture, loading Mesa (llvmpipe under Xvfb) for each window
 	 * only to copy a bitmap. Plain X11 (XShm) images are enough; at
 	 * default priority, so SDL_FRAMEBUFFER_ACCELERATION in the
 	 * environment still wins. */
-	SDL_SetHintWithPriority(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0",
-				SDL_HINT_DEFAULT);
+	if (!gl)
+		SDL_SetHintWithPriority(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0",
+					SDL_HINT_DEFAULT);
 	if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0) {
 		evo_fail(err,
-			 "cannot open the viewer: %s (no display? set "
-			 "DISPLAY, or run with --headless)",
-			 SDL_GetError());
+			 "cannot open %s: %s (no display? set DISPLAY, or run "
+			 "with --headless)",
+			 what, SDL_GetError());
 		return NULL;
 	}
-	evo_viewer *v = calloc(1, sizeof *v);
+	void *v = calloc(1, size);
 	if (!v) {
-		evo_fail(err, "cannot open the viewer: out of memory");
+		evo_fail(err, "cannot open %s: out of memory", what);
 		SDL_QuitSubSystem(SDL_INIT_VIDEO);
-		return NULL;
 	}
+	return v;
+}
+
+evo_viewer *evo_viewer_open(int width, int height, evo_err *err)
+{
+	evo_viewer *v = view_start_sdl(0, "the viewer", &width, &height,
+				       sizeof *v, err);
+	if (!v)
+		return NULL;
 	v->zoom = 1;
 	v->window = SDL_CreateWindow("evo", SDL_WINDOWPOS_CENTERED,
 				     SDL_WINDOWPOS_CENTERED, width, height,
@@ -224,17 +234,16 @@ evo_view_action evo_viewer_poll(evo_viewer *v)
 {
 	SDL_Event ev;
 	while (SDL_PollEvent(&ev)) {
-		if (ev.type == SDL_QUIT)
-			return EVO_VIEW_QUIT;
-		if (ev.type == SDL_WINDOWEVENT &&
-		    ev.window.event == SDL_WINDOWEVENT_CLOSE)
-			return EVO_VIEW_QUIT;
-		if (ev.type == SDL_MOUSEWHEEL) {
-			evo_viewer_zoom(v, ev.wheel.y > 0   ? 1.25
-					   : ev.wheel.y < 0 ? 0.8
-							    : 1);
+		evo_view_action a = view_action_of(&ev);
+		if (a != EVO_VIEW_NONE)
+			return a;
+		view_zoom z = view_zoom_of(&ev);
+		if (z == VIEW_ZOOM_HOME)
+			v->zoom = 1;
+		else if (z != VIEW_ZOOM_NONE)
+			evo_viewer_zoom(v, z == VIEW_ZOOM_IN ? 1.25 : 0.8);
+		if (z != VIEW_ZOOM_NONE || ev.type == SDL_MOUSEWHEEL)
 			continue;
-		}
 		/* A click on the world selects; a drag moves the free
 		 * camera (and frees it). */
 		if (ev.type == SDL_MOUSEBUTTONDOWN &&
@@ -281,33 +290,44 @@ evo_view_action evo_viewer_poll(evo_viewer *v)
 			    (ev.button.y + 0.5 - v->cam.cy) / v->cam.scale;
 			return EVO_VIEW_SELECT;
 		}
-		if (ev.type != SDL_KEYDOWN)
-			continue;
-		evo_view_action a =
-		    evo_view_key(ev.key.keysym.sym, ev.key.repeat);
-		if (a != EVO_VIEW_NONE)
-			return a;
-		switch (ev.key.keysym.sym) {
-		case SDLK_TAB:
+		if (ev.type == SDL_KEYDOWN && ev.key.keysym.sym == SDLK_TAB)
 			return EVO_VIEW_NEXT_BOT;
-		case SDLK_PLUS:
-		case SDLK_EQUALS:
-		case SDLK_KP_PLUS:
-			evo_viewer_zoom(v, 1.25);
-			break;
-		case SDLK_MINUS:
-		case SDLK_KP_MINUS:
-			evo_viewer_zoom(v, 0.8);
-			break;
-		case SDLK_0:
-		case SDLK_KP_0:
-			v->zoom = 1;
-			break;
-		default:
-			break;
-		}
 	}
 	return EVO_VIEW_NONE;
+}
+
+evo_view_action view_action_of(const SDL_Event *ev)
+{
+	if (ev->type == SDL_QUIT || (ev->type == SDL_WINDOWEVENT &&
+				     ev->window.event == SDL_WINDOWEVENT_CLOSE))
+		return EVO_VIEW_QUIT;
+	if (ev->type != SDL_KEYDOWN)
+		return EVO_VIEW_NONE;
+	return evo_view_key(ev->key.keysym.sym, ev->key.repeat);
+}
+
+view_zoom view_zoom_of(const SDL_Event *ev)
+{
+	if (ev->type == SDL_MOUSEWHEEL)
+		return ev->wheel.y > 0	 ? VIEW_ZOOM_IN
+		       : ev->wheel.y < 0 ? VIEW_ZOOM_OUT
+					 : VIEW_ZOOM_NONE;
+	if (ev->type != SDL_KEYDOWN)
+		return VIEW_ZOOM_NONE;
+	switch (ev->key.keysym.sym) {
+	case SDLK_PLUS:
+	case SDLK_EQUALS:
+	case SDLK_KP_PLUS:
+		return VIEW_ZOOM_IN;
+	case SDLK_MINUS:
+	case SDLK_KP_MINUS:
+		return VIEW_ZOOM_OUT;
+	case SDLK_0:
+	case SDLK_KP_0:
+		return VIEW_ZOOM_HOME;
+	default:
+		return VIEW_ZOOM_NONE;
+	}
 }
 
 evo_view_action evo_view_key(int sym, int repeat)

@@ -146,9 +146,9 @@ TEST(check_knows_openended_and_3d_tasks)
 						    "T.simbatch",
 				 cli_evo, cli_tmp),
 		     1);
-	CHECK_CONTAINS(out1,
-		       "Roam.lua:20: scene:grid is not a method of a "
-		       "3D scene (DEMO3DSIM, LEARN3DSIM: docs/world3d.md)");
+	CHECK_CONTAINS(out1, "Roam.lua:20: scene:grid: grid is 2D only, and "
+			     "this is a 3D scene (docs/lua.md, \"Which world "
+			     "has what\")");
 }
 
 TEST(type_is_read_in_any_case)

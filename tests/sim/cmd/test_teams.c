@@ -5,7 +5,8 @@
  * line per bot and tick; the Lua side (scene:teams, scene:bot{team},
  * team rewards, scene:winner) works; and a team the environment does not
  * make, or whose botdesc its bot model does not fit, stops the run before
- * its first tick with the file and line. */
+ * its first tick with the file and line; the swarm of minds/Phototaxis
+ * shows its light and floor patch in a screenshot. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -333,6 +334,49 @@ TEST(the_shipped_team_tasks_show_in_the_viewer)
 	check_screenshot("minds/Pursuer/Tasks/Pursuit-DEMO.simbatch", 2);
 }
 
+/* The swarm of minds/Phototaxis in a frame drawn without a window, its
+ * camera on the light at (0, 0) at zoom 32 (32 * 720 px / 60 m = 384
+ * pixels a metre; the world area 1024 - 264 = 760 wide, its middle at
+ * (380, 360)): the light, yellow, at the middle; its black patch (radius
+ * 0.2 m) at (-0.1, -0.05) m, pixel (341, 340), bots starting 0.45 m out
+ * at least. Left to choose its zoom, the frame shows the arena of 1.6 m
+ * zoomed in: its black patch more than 1,000 pixels (some 4,500 at
+ * zoom 16, a disc of 38 pixels), not the 20 or so of zoom 1. */
+TEST(the_phototaxis_swarm_shows_its_light_and_patch)
+{
+	static const char *const how[] = {
+	    "%s run %s -nog --ticks 1 --camera 0,0 --zoom 32 --screenshot %s",
+	    "%s run %s -nog --ticks 1 --screenshot %s"};
+	for (int k = 0; k < 2; k++) {
+		char png[512];
+		snprintf(png, sizeof png, "%s/swarm%d.png", cli_tmp, k);
+		int rc = cli_capture(out, sizeof out, how[k], cli_evo,
+				     "minds/Phototaxis/Tasks/"
+				     "Phototaxis-DEMO.simbatch",
+				     png);
+		CHECK_EQ_INT(rc, 0);
+		evo_png_image im;
+		evo_err err = {{0}};
+		CHECK_EQ_INT(evo_png_read(png, &im, &err), 0);
+		if (!im.pixels)
+			continue;
+		const uint8_t *c = im.pixels + (360 * (size_t)im.w + 380) * 3;
+		const uint8_t *g = im.pixels + (340 * (size_t)im.w + 341) * 3;
+		uint32_t light = (uint32_t)c[0] << 16 | c[1] << 8 | c[2];
+		uint32_t patch = (uint32_t)g[0] << 16 | g[1] << 8 | g[2];
+		long black = count_rgb(&im, 0, im.w - EVO_VIEW_PANEL_W, 0);
+		printf("  frame %d: light pixel %06X, patch pixel %06X, %ld "
+		       "black pixels\n",
+		       k, (unsigned)light, (unsigned)patch, black);
+		if (k == 0) {
+			CHECK_EQ_INT(light, EVO_VIEW_LIGHT);
+			CHECK_EQ_INT(patch, evo_view_grey(0));
+		}
+		CHECK(black > 1000);
+		evo_png_image_free(&im);
+	}
+}
+
 /* The competitive task runs headless: one team wins each episode. */
 TEST(pursuit_names_a_winner_every_episode)
 {
@@ -407,6 +451,7 @@ int main(void)
 	RUN(a_team_the_environment_does_not_make_stops_the_run);
 	RUN(a_mind_folder_its_bot_model_does_not_fit_stops_the_run);
 	RUN(the_shipped_team_tasks_show_in_the_viewer);
+	RUN(the_phototaxis_swarm_shows_its_light_and_patch);
 	RUN(pursuit_names_a_winner_every_episode);
 	RUN(evo_check_passes_the_shipped_team_tasks);
 	cli_cleanup();

@@ -12,7 +12,8 @@
  * target); `--screenshot` at a tick is `--record`'s frame of that tick;
  * the same frame drawn in a window (Xvfb) is the same, byte for byte; a
  * run that draws nothing in 3D never loads EGL, and a missing library is
- * named with its Debian package. */
+ * named with its Debian package. A light, a floor patch and a bot's
+ * colour (sim/scene/swarm.h) show where worked out the same way. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -256,6 +257,62 @@ TEST(a_missing_library_is_named_with_its_debian_package)
 	}
 }
 
+/* The swarm's world in 3D: the scene of make_task with a light at (2, 0,
+ * 0.5), a patch of grey 0.25 and radius 1 on the ground at (-2, 0) and
+ * the blimp given the colour red. At tick 0 (the camera of
+ * a_3d_recording_...), the light shows on the middle column at the row
+ * worked out from the pose, unshaded in EVO_VIEW_LIGHT; the patch at
+ * (-2, 0, 0) in its grey, lit from above as the ground is; the blimp's
+ * centre in red (evo_view_blob_colour), shaded as its blue was. */
+TEST(a_3d_frame_shows_lights_patches_and_colours)
+{
+	CHECK_EQ_INT(
+	    cli_write(
+		"local env = {}\n"
+		"function env.init(scene, task)\n"
+		"  local t = scene:target{ name = 'goal', x = 4, y = 0, z = 3,"
+		" radius = 0.2 }\n"
+		"  local bot = scene:bot{ x = 0, y = 0, z = 3 }\n"
+		"  bot:target('TARG_AZIM', t)\n"
+		"  bot:target('TARG_ELEV', t)\n"
+		"  bot:target('DIST', t)\n"
+		"  scene:light{ x = 2, y = 0, z = 0.5, intensity = 10 }\n"
+		"  scene:patch{ x = -2, y = 0, radius = 1, grey = 0.25 }\n"
+		"  scene:colour(bot, 'red')\n"
+		"  scene:control('NextOnTimeout', { bot = bot, ticks = 300 })\n"
+		"end\n"
+		"return env\n",
+		"%s/m/Blimp3D/Envs/Swarm.lua", cli_tmp),
+	    0);
+	CHECK_EQ_INT(cli_write("TYPE:DEMO3DSIM\nBOTMODEL:Blimp3D\n"
+			       "MASTERSKILL:GoToTarget\nENV:Swarm\n",
+			       "%s/m/Blimp3D/Tasks/Swarm.simbatch", cli_tmp),
+		     0);
+	CHECK_EQ_INT(cli_capture(out, sizeof out,
+				 NOX "%s run %s/m/Blimp3D/Tasks/Swarm.simbatch "
+				     "--ticks 1 --record %s/sw --record-every "
+				     "1 2>&1",
+				 cli_evo, cli_tmp, cli_tmp),
+		     0);
+	evo_png_image a = {0};
+	evo_err err = {{0}};
+	char path[512];
+	snprintf(path, sizeof path, "%s/sw/frame-000001.png", cli_tmp);
+	CHECK_EQ_INT(evo_png_read(path, &a, &err), 0);
+	if (!a.pixels) {
+		printf("  %s\n%s\n", err.msg, out);
+		return;
+	}
+	int cx = (W - EVO_VIEW_PANEL_W) / 2, cy = H / 2;
+	double up[3] = {0, 0, 1};
+	double n_bot[3] = {-cos(PITCH), 0, sin(PITCH)};
+	CHECK(near(&a, cx, row_of(2, 0.5), EVO_VIEW_LIGHT, 1, 2));
+	CHECK(near(&a, cx, row_of(-2, 0), evo_view_grey(0.25), light(up), 2));
+	CHECK(near(&a, cx, cy, evo_view_blob_colour(EVO_COLOUR_RED),
+		   light(n_bot), 4));
+	evo_png_image_free(&a);
+}
+
 /* --camera, --zoom and --trail place 2D frames: a 3D task refuses them
  * with the reason. */
 TEST(a_3d_frame_refuses_the_2d_camera_options)
@@ -276,6 +333,7 @@ int main(void)
 		return 1;
 	RUN(a_3d_recording_without_a_display_shows_the_scene_where_worked_out);
 	RUN(a_3d_screenshot_without_a_display_is_the_windows_frame);
+	RUN(a_3d_frame_shows_lights_patches_and_colours);
 	RUN(a_3d_run_that_draws_nothing_never_loads_egl);
 	RUN(a_missing_library_is_named_with_its_debian_package);
 	RUN(a_3d_frame_refuses_the_2d_camera_options);
