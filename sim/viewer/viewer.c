@@ -85,25 +85,50 @@ static void scene_middle(const evo_scene *sc, int at_start, double *x,
 	*y = (box[1] + box[3]) / 2;
 }
 
+/* The zoom that shows box in a view of w x h pixels with 4% to spare
+ * each side (1 shows EVO_VIEW_HALF_SPAN metres each way); 1 where none
+ * does. */
+static double zoom_to_fit(const double box[4], int w, int h)
+{
+	double world_w = w - panel_width(w);
+	double side = world_w < h ? world_w : h;
+	if (!(side > 0))
+		return 1;
+	/* pixels per metre that show the box */
+	double fit = fmin(world_w / ((box[2] - box[0]) * 1.08),
+			  h / ((box[3] - box[1]) * 1.08));
+	double zoom = fit * (2 * EVO_VIEW_HALF_SPAN) / side;
+	return isfinite(zoom) && zoom > 0 ? zoom : 1;
+}
+
 double evo_view_fit_zoom(const evo_scene *sc, int w, int h)
 {
 	double box[4];
 	if (!scene_box(sc, 1, box))
 		return 1;
-	double world_w = w - panel_width(w);
-	double side = world_w < h ? world_w : h;
-	if (!(side > 0))
-		return 1;
-	/* pixels per metre that show the box with 4% to spare each side */
-	double fit = fmin(world_w / ((box[2] - box[0]) * 1.08),
-			  h / ((box[3] - box[1]) * 1.08));
-	double zoom = fit * (2 * EVO_VIEW_HALF_SPAN) / side;
-	if (!isfinite(zoom) || !(zoom > 0))
-		return 1;
-	if (zoom < 1)
-		return zoom;
-	/* a small arena (an e-puck's, a few metres) would be a speck at
-	 * zoom 1: the power of two that still shows all of it */
+	double zoom = zoom_to_fit(box, w, h);
+	if (zoom < 4)
+		return zoom < 1 ? zoom : 1;
+	/* A small arena (an e-puck's, a few metres) would be a speck at
+	 * zoom 1: the power of two that still shows all of it, with the
+	 * obstacles its environment placed for this episode, which
+	 * scene_box leaves out (a maze's walls are such). */
+	for (int o = sc->n_fixed_obstacles; o < sc->n_obstacles; o++) {
+		const evo_obstacle *ob = &sc->obstacle[o];
+		if (ob->shape == EVO_SHAPE_SEGMENT) {
+			box[0] = fmin(box[0], fmin(ob->x, ob->x2));
+			box[2] = fmax(box[2], fmax(ob->x, ob->x2));
+			box[1] = fmin(box[1], fmin(ob->y, ob->y2));
+			box[3] = fmax(box[3], fmax(ob->y, ob->y2));
+			continue;
+		}
+		double r = fmax(ob->radius, hypot(ob->half_w, ob->half_h));
+		box[0] = fmin(box[0], ob->x - r);
+		box[2] = fmax(box[2], ob->x + r);
+		box[1] = fmin(box[1], ob->y - r);
+		box[3] = fmax(box[3], ob->y + r);
+	}
+	zoom = zoom_to_fit(box, w, h);
 	return zoom >= 4 ? fmin(64, exp2(floor(log2(zoom)))) : 1;
 }
 

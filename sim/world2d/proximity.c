@@ -109,9 +109,10 @@ void evo_fan_box(const evo_sensor *se, const sense_frame *f, sense_box *area)
 
 /* The segment p -> p + d against a circle, as b2CircleShape::RayCast
  * does it: the fraction of the first crossing of the rim if it lies in
- * [0, max], else max. A segment that starts inside sees nothing. */
+ * [0, max], else max. A segment that starts inside sees nothing. rr is
+ * d's squared length, the same for every shape a ray meets. */
 static double ray_circle(const evo_shape_info *s, double px, double py,
-			 double dx, double dy, double max)
+			 double dx, double dy, double rr, double max)
 {
 	double sx = px - s->x, sy = py - s->y;
 	double b = sx * sx + sy * sy - s->radius * s->radius;
@@ -119,7 +120,6 @@ static double ray_circle(const evo_shape_info *s, double px, double py,
 	/* Inside, or outside and heading away: no crossing ahead. */
 	if (b < 0 || c > 0)
 		return max;
-	double rr = dx * dx + dy * dy;
 	double sigma = c * c - rr * b;
 	if (sigma < 0)
 		return max;
@@ -184,12 +184,14 @@ static double ray_segment(const evo_shape_info *s, double px, double py,
  * its best so far and its crossing. The shape's kind is looked at once,
  * not once a ray: a loop of one kind each, which the compiler inlines. */
 static void rays_shape(const evo_shape_info *s, double px, double py,
-		       const double *dx, const double *dy, double *best, int n)
+		       const double *dx, const double *dy, const double *rr,
+		       double *best, int n)
 {
 	switch (s->type) {
 	case EVO_SHAPE_CIRCLE:
 		for (int i = 0; i < n; i++)
-			best[i] = ray_circle(s, px, py, dx[i], dy[i], best[i]);
+			best[i] = ray_circle(s, px, py, dx[i], dy[i], rr[i],
+					     best[i]);
 		return;
 	case EVO_SHAPE_SEGMENT:
 		for (int i = 0; i < n; i++)
@@ -259,7 +261,7 @@ double evo_proximity_sample(evo_sensor *se, const sense_frame *f,
 	ray_dir(se, f, n - 1, &lx, &ly);
 	int convex = 2 * arc < M_PI;
 	double dx[EVO_PROX_MAX_RAYS], dy[EVO_PROX_MAX_RAYS];
-	double best[EVO_PROX_MAX_RAYS];
+	double rr[EVO_PROX_MAX_RAYS], best[EVO_PROX_MAX_RAYS];
 	int met = 0;
 	for (int k = 0; k < set->n; k++) {
 		const evo_shape_info *s = &set->s[k];
@@ -268,11 +270,12 @@ double evo_proximity_sample(evo_sensor *se, const sense_frame *f,
 		if (!met) {
 			for (int i = 0; i < n; i++) {
 				ray_dir(se, f, i, &dx[i], &dy[i]);
+				rr[i] = dx[i] * dx[i] + dy[i] * dy[i];
 				best[i] = 1;
 			}
 			met = 1;
 		}
-		rays_shape(s, px, py, dx, dy, best, n);
+		rays_shape(s, px, py, dx, dy, rr, best, n);
 	}
 
 	/* Rays past n keep the 1 evo_scene_add_sensor gave them. */
