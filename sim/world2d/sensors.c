@@ -21,17 +21,6 @@ static double boolean(int v)
 
 /* ---- bumper and radar -------------------------------------------------- */
 
-/* An angle into (-pi, pi]. */
-static double wrap_angle(double a)
-{
-	a = fmod(a, 2 * M_PI);
-	if (a > M_PI)
-		a -= 2 * M_PI;
-	else if (a <= -M_PI)
-		a += 2 * M_PI;
-	return a;
-}
-
 /* The nearest point of the segment a -> b to p, the parameter clamped to
  * [0, 1] (Kheperax's bumper rule, docs/world.md). */
 static void nearest_on_segment(double ax, double ay, double bx, double by,
@@ -97,7 +86,7 @@ static double sample_bumper(const evo_sensor *se, const sense_frame *f,
 		/* the direction in the bot's frame: + to its right */
 		double delta =
 		    atan2(-f->s * dx + f->c * dy, f->c * dx + f->s * dy);
-		double off = fabs(wrap_angle(delta - d->angle));
+		double off = fabs(evo_wrap_angle(delta - d->angle));
 		if (off < d->arc ||
 		    (off == d->arc && fabs(delta) < fabs(d->angle)))
 			return EVO_TRUE;
@@ -116,7 +105,7 @@ static double sample_radar(const evo_scene *sc, int bot,
 		return EVO_FALSE;
 	double ox = tx - f->x, oy = ty - f->y;
 	double a = atan2(-f->s * ox + f->c * oy, f->c * ox + f->s * oy);
-	double delta = wrap_angle(a - d->angle);
+	double delta = evo_wrap_angle(a - d->angle);
 	return boolean(delta >= -d->arc && delta < d->arc);
 }
 
