@@ -294,6 +294,12 @@ int evo_lua_scene_metric(lua_State *L)
 	evo_err *err;
 	evo_metric *metric = evo_lua_metrics(l, &n, &err);
 	const char *name = luaL_checkstring(L, 2);
+	if (lua_gettop(L) > 2)
+		luaL_error(L,
+			   "scene:metric takes a metric's name only; change "
+			   "its value through the handle it returns: "
+			   "scene:metric(\"%s\"):set(x) or :add(x)",
+			   name);
 	int i = evo_metric_find(metric, *n, name);
 	if (i < 0 && l->ready) {
 		const char *names[EVO_SCENE_MAX_METRICS];

@@ -538,6 +538,12 @@ TEST(a_bad_metric_is_reported_at_its_line)
 	CHECK_CONTAINS(out, "Envs/Test.lua:7: scene:metric: no metric 'in_zon' "
 			    "was declared; metrics are declared in env.init "
 			    "(closest: in_zone)");
+	/* a value given to scene:metric itself would be lost: refused */
+	CHECK_EQ_INT(run_step("scene:metric('in_zone', 3)"), 1);
+	CHECK_CONTAINS(out, "Envs/Test.lua:7: scene:metric takes a metric's "
+			    "name only; change its value through the handle "
+			    "it returns: scene:metric(\"in_zone\"):set(x) or "
+			    ":add(x)");
 	/* a value set in init would be 0 again when the first episode starts */
 	CHECK_EQ_INT(run_env("local env = {}\n"
 			     "function env.init(scene, task)\n"
