@@ -272,6 +272,8 @@ test: deps
 	@$(MAKE) --no-print-directory $(TEST_J) fuzz FUZZ_SECONDS=$(TEST_FUZZ_SECONDS) \
 		FUZZ_NET_SECONDS=$(TEST_FUZZ_SECONDS)
 	@$(MAKE) --no-print-directory $(TEST_J) test-plain
+	@# the benchmarks built too: a change that breaks one fails here, not at the next make bench
+	@$(MAKE) --no-print-directory $(TEST_J) $(BENCH_BINS)
 	@$(MAKE) --no-print-directory $(TEST_J) test-asan
 	@$(MAKE) --no-print-directory $(TEST_J) test-tsan
 	@$(MAKE) --no-print-directory $(TEST_J) firmware-test

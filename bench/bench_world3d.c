@@ -102,7 +102,7 @@ static double run_floor(evo_sim *s, long ticks, const replay *rp)
 				    (2 * rp->cmd[t][a] - 1) * w->def.max_rate,
 				    w->def.max_torque);
 			}
-			evo_world3d_fault f;
+			evo_bfault f;
 			if (evo_world3d_step(sc->world, &f)) {
 				fprintf(stderr, "bench_world3d: the floor's "
 						"world exploded\n");
