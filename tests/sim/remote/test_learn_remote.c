@@ -16,6 +16,8 @@
 #include "harness.h"
 #include "support/doc_block.h"
 #include "support/cli.h"
+#include "support/serve.h"
+#include "support/serve.h"
 
 static char out[1 << 16];
 
@@ -55,30 +57,12 @@ static void make_avoid(const char *dir)
 
 static pid_t start_serve(const char *dir, const char *name)
 {
-	char cmd[1024], log[512];
+	char task[512], opts[128], log[512];
+	snprintf(task, sizeof task, "%s/%s/Avoid/Tasks/R.simbatch", cli_tmp,
+		 dir);
+	snprintf(opts, sizeof opts, "--name %s", name);
 	snprintf(log, sizeof log, "%s/%s/%s.log", cli_tmp, dir, name);
-	snprintf(cmd, sizeof cmd,
-		 "exec %s serve %s/%s/Avoid/Tasks/R.simbatch --name %s >%s "
-		 "2>&1",
-		 cli_evo, cli_tmp, dir, name, log);
-	pid_t pid = fork();
-	if (pid == 0) {
-		signal(SIGINT, SIG_DFL);
-		signal(SIGTERM, SIG_DFL);
-		execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
-		_exit(127);
-	}
-	double limit = mono() + 30;
-	for (;;) {
-		char *t = cli_read("%s", log);
-		int ready = t && strstr(t, " serves ");
-		free(t);
-		if (ready || mono() > limit)
-			break;
-		struct timespec ms = {0, 5000000};
-		nanosleep(&ms, NULL);
-	}
-	return pid;
+	return cli_serve_start(task, opts, log);
 }
 
 static void stop_serve(pid_t pid, int sig)
