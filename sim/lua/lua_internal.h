@@ -279,10 +279,9 @@ struct evo_lua_dim {
 	 * named name, of team (-1: none); its index */
 	int (*add_bot)(lua_State *L, int team, const char *name,
 		       const char *what);
-	/* scene:NAME: an element of the scene's own kind, element_of[k] for
-	 * the piece kind k (evo_piece_kind; -1: none in this world), or a
-	 * piece of kind that is no element; the element's index */
-	const int *element_of;
+	/* scene:NAME: an element of piece kind k (evo_piece_kind, one of
+	 * this world's, scene/element.h), or a piece of kind that is no
+	 * element; the element's index */
 	int (*add_element)(lua_State *L, int kind, const char *what);
 	void (*add_part)(lua_State *L, int kind, const char *what);
 	/* bot:NAME: a sensor (evo_sense_kind) or actuator (evo_act_kind);

@@ -6,19 +6,6 @@
 
 #include "world2d/scene.h"
 
-evo_element_def evo_default_element_def(evo_element_kind kind)
-{
-	evo_element_def d;
-	memset(&d, 0, sizeof d);
-	d.kind = kind;
-	d.size = 1.0;
-	d.half_w = d.half_h = 1.0;
-	d.density = 2.0;
-	d.linear_damping = 5.0;
-	d.angular_damping = 5.0;
-	return d;
-}
-
 evo_grid_def evo_default_grid_def(void)
 {
 	evo_grid_def g;

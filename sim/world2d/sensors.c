@@ -200,23 +200,24 @@ static int where_2d(void *ctx, const evo_blob *bl, double pos[3],
 	pos[0] = e->x;
 	pos[1] = e->y;
 	switch (e->kind) {
-	case EVO_ELEM_OBJECT:
+	case EVO_PIECE_OBJECT:
 		if (!e->active)
 			return 0;
 		evo_bpose p = sc->be->pose(sc->bw, e->body);
 		pos[0] = p.pos[0];
 		pos[1] = p.pos[1];
 		return 1;
-	case EVO_ELEM_ZONE:
+	case EVO_PIECE_ZONE:
 		return e->active;
-	case EVO_ELEM_CYLINDER:
+	case EVO_PIECE_CYLINDER:
 		*reach = e->size;
 		return 1;
-	case EVO_ELEM_BOX:
+	case EVO_PIECE_BOX:
 		*reach = hypot(e->half_w, e->half_h);
 		return 1;
+	default: /* no other kind in 2D */
+		return 0;
 	}
-	return 0;
 }
 
 /* A light, ground or range-and-bearing sensor or a camera; obstacles

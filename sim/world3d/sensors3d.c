@@ -51,7 +51,7 @@ static double proximity(evo_scene3d *sc, int bot, evo_sensor3d *s)
 
 /* A zone's trigger volume holds point p: p in the zone's own frame
  * (turned by its yaw) lies within its half sides. */
-static int zone_holds(const evo_element3d *z, const double p[3])
+static int zone_holds(const evo_element *z, const double p[3])
 {
 	double dx = p[0] - z->pos[0], dy = p[1] - z->pos[1],
 	       dz = p[2] - z->pos[2];
@@ -97,18 +97,18 @@ static int where_3d(void *ctx, const evo_blob *bl, double pos[3],
 	if (bl->kind != EVO_BLOB_ELEMENT || bl->index < 0 ||
 	    bl->index >= sc->n_elements)
 		return 0;
-	const evo_element3d *e = &sc->element[bl->index];
-	const evo_element3d_def *d = &e->def;
+	const evo_element *e = &sc->element[bl->index];
+	const evo_element_def *d = &e->def;
 	for (int k = 0; k < 3; k++)
 		pos[k] = e->pos[k];
 	double box = sqrt(d->half[0] * d->half[0] + d->half[1] * d->half[1] +
 			  d->half[2] * d->half[2]);
-	if (d->kind == EVO3D_ELEM_BOX || (d->kind == EVO3D_ELEM_OBJECT &&
+	if (d->kind == EVO_PIECE_BOX || (d->kind == EVO_PIECE_OBJECT &&
 					  !d->sphere))
 		*reach = box;
-	else if (d->kind == EVO3D_ELEM_CYLINDER)
+	else if (d->kind == EVO_PIECE_CYLINDER)
 		*reach = hypot(d->radius, d->half_length);
-	else if (d->kind == EVO3D_ELEM_SPHERE || d->kind == EVO3D_ELEM_OBJECT)
+	else if (d->kind == EVO_PIECE_SPHERE || d->kind == EVO_PIECE_OBJECT)
 		*reach = d->radius;
 	return 1;
 }

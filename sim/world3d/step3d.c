@@ -62,7 +62,7 @@ double evo_scene3d_fault(evo_scene_core *c, const evo_bfault *f)
 				what = sc->bot[i].actuator[k].name;
 	}
 	for (int i = 0; i < sc->n_elements; i++)
-		if (sc->element[i].body == body)
+		if (sc->element[i].body.index == body)
 			what = sc->element[i].name;
 	char how[96];
 	if (f->kind == EVO_BFAULT_NAN)
@@ -89,8 +89,8 @@ void evo_scene3d_read_back(evo_scene_core *c)
 		if (sc->bot[i].touching)
 			sc->bot[i].collisions++;
 	for (int i = 0; i < sc->n_elements; i++) {
-		evo_element3d *e = &sc->element[i];
-		if (e->body >= 0)
-			evo_scene3d_pose(sc, e->body, e->pos, e->R);
+		evo_element *e = &sc->element[i];
+		if (e->body.index >= 0)
+			evo_scene3d_pose(sc, e->body.index, e->pos, e->R);
 	}
 }
