@@ -424,12 +424,14 @@ static void place_element(evo_lua *l, int e, const double p[3])
 	evo_scene3d_place_element(l->sc3, e, p);
 }
 
-/* 3D elements are never switched off. */
 static int element_active(const evo_lua *l, int e)
 {
-	(void)l;
-	(void)e;
-	return 1;
+	return l->sc3->element[e].active;
+}
+
+static void set_element_active(evo_lua *l, int e, int on)
+{
+	evo_scene3d_set_active(l->sc3, e, on);
 }
 
 const evo_lua_dim evo_lua_dim3d = {
@@ -442,5 +444,5 @@ const evo_lua_dim evo_lua_dim3d = {
 				      "team", NULL},
     .place_keys = (const char *const[]){"x", "y", "z", "yaw", NULL},
     EVO_LUA_DIM_FUNCTIONS,
-    .set_element_active = NULL,
+    .set_element_active = set_element_active,
 };

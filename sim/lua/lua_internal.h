@@ -311,7 +311,8 @@ struct evo_lua_dim {
 	const char *(*element_fixed)(const evo_lua *l, int e);
 	void (*place_element)(evo_lua *l, int e, const double p[3]);
 	int (*element_active)(const evo_lua *l, int e);
-	/* NULL in a world whose elements are never switched off */
+	/* until the next reset: an object off the world, a zone or target
+	 * no sensor or reward sees */
 	void (*set_element_active)(evo_lua *l, int e, int on);
 };
 

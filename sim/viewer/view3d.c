@@ -428,12 +428,13 @@ static void world(const evo_scene3d *sc)
 		if (e->def.kind == EVO_PIECE_TARGET) {
 			glPushMatrix();
 			glTranslated(e->pos[0], e->pos[1], e->pos[2]);
+			/* one set off shows faintly, as 2D's zones */
 			colour(coloured(sc, EVO_BLOB_ELEMENT, i,
 					EVO_VIEW3D_TARGET),
-			       1);
+			       e->active ? 1 : 0.2);
 			sphere(e->def.radius);
 			glPopMatrix();
-		} else if (e->def.kind == EVO_PIECE_OBJECT) {
+		} else if (e->def.kind == EVO_PIECE_OBJECT && e->active) {
 			glPushMatrix();
 			pose(e->pos, e->R);
 			colour(coloured(sc, EVO_BLOB_ELEMENT, i,
@@ -458,7 +459,8 @@ static void world(const evo_scene3d *sc)
 		glPushMatrix();
 		glTranslated(e->pos[0], e->pos[1], e->pos[2]);
 		glRotated(e->def.yaw * 180 / M_PI, 0, 0, 1);
-		colour(coloured(sc, EVO_BLOB_ELEMENT, i, EVO_VIEW_ZONE), 0.3);
+		colour(coloured(sc, EVO_BLOB_ELEMENT, i, EVO_VIEW_ZONE),
+		       e->active ? 0.3 : 0.1);
 		box(e->def.half);
 		glPopMatrix();
 	}

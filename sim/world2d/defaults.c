@@ -1,6 +1,7 @@
 /* The defaults every Def of the 2D world starts from (sim/world2d/scene.h):
  * EvoAgents' values, so a bot model or environment that leaves a field
- * out gets what the tutorial's did. */
+ * out gets what the tutorial's did. An element's are the scene model's
+ * (scene/element.c, evo_default_element_def). */
 #include <math.h>
 #include <string.h>
 

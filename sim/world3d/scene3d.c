@@ -1,5 +1,7 @@
 /* A 3D scene's storage (sim/world3d/scene3d.h): definitions with their
- * defaults, the adds, and making the ODE world from them. */
+ * defaults (an element's are the scene model's, scene/element.c), the
+ * adds (an element's checks and copy are scene/element.c's too; its ODE
+ * shape is made here), and making the ODE world from them. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -516,6 +518,8 @@ int evo_scene3d_build_world(evo_scene3d *sc)
 					e->name);
 		double v[3];
 		evo_scene3d_pose(sc, e->body.index, v, e->R);
+		if (!e->active) /* set off this episode: out of the world */
+			sc->be->set_enabled(sc->bw, e->body, 0);
 	}
 	return 0;
 }

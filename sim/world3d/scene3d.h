@@ -280,6 +280,13 @@ int evo_scene3d_place_bot(evo_scene3d *sc, int bot, const double pos[3],
 void evo_scene3d_place_element(evo_scene3d *sc, int element,
 			       const double pos[3]);
 
+/* Switch an element off (on 0) or back on until the next reset, which
+ * switches every element on: one set off is no sensor's or reward's
+ * target and no camera's blob, and an object set off leaves the world (no
+ * contact, ray or step sees it) and comes back where it was. A cylinder,
+ * box or sphere set off stays an obstacle, as in 2D. */
+void evo_scene3d_set_active(evo_scene3d *sc, int element, int on);
+
 /* Step 1 of the tick: every sensor of every bot samples (sensors3d.c;
  * evo_core_sense runs it). */
 void evo_scene3d_sense(evo_scene3d *sc);

@@ -99,6 +99,8 @@ static int where_3d(void *ctx, const evo_blob *bl, double pos[3],
 		return 0;
 	const evo_element *e = &sc->element[bl->index];
 	const evo_element_def *d = &e->def;
+	if (!e->active)
+		return 0;
 	for (int k = 0; k < 3; k++)
 		pos[k] = e->pos[k];
 	double box = sqrt(d->half[0] * d->half[0] + d->half[1] * d->half[1] +
@@ -142,7 +144,9 @@ double evo_sensor3d_sample(evo_scene3d *sc, int bot, int k)
 {
 	evo_bot3d *b = &sc->bot[bot];
 	evo_sensor3d *s = &b->sensor[k];
-	int has = s->def.target >= 0 && s->def.target < sc->n_elements;
+	/* a target set off is seen by none (element:set_active) */
+	int has = s->def.target >= 0 && s->def.target < sc->n_elements &&
+		  sc->element[s->def.target].active;
 	double t[3];
 	switch (s->def.kind) {
 	case EVO3D_SENSOR_PROXIMITY:

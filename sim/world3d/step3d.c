@@ -1,5 +1,5 @@
 /* The 3D scene's episode and its part of the tick (sim/world3d/scene3d.h):
- * the reset, placing bots and elements, the poses and contacts read back
+ * the reset, placing bots and elements, switching elements off and on, the poses and contacts read back
  * after the physics, and the message of a body that exploded. The tick's
  * order is the scene model's (sim/scene/tick.c, through dim3d.c). */
 #include <math.h>
@@ -22,9 +22,11 @@ int evo_scene3d_reset(evo_scene3d *sc, uint64_t grid_seed,
 		b->touching = b->collisions = 0;
 		b->reward = 0;
 	}
-	for (int i = 0; i < sc->n_elements; i++)
+	for (int i = 0; i < sc->n_elements; i++) {
 		memcpy(sc->element[i].pos, sc->element[i].def.pos,
 		       sizeof sc->element[i].pos);
+		sc->element[i].active = 1;
+	}
 	evo_core_reset(&sc->core, grid_seed, episode_seed);
 	return evo_scene3d_build_world(sc);
 }
@@ -46,6 +48,18 @@ void evo_scene3d_place_element(evo_scene3d *sc, int element,
 			       const double pos[3])
 {
 	memcpy(sc->element[element].pos, pos, sizeof sc->element[element].pos);
+}
+
+void evo_scene3d_set_active(evo_scene3d *sc, int element, int on)
+{
+	if (element < 0 || element >= sc->n_elements)
+		return;
+	evo_element *e = &sc->element[element];
+	on = on != 0;
+	if (e->kind == EVO_PIECE_OBJECT && e->body.index >= 0 &&
+	    e->active != on)
+		sc->be->set_enabled(sc->bw, e->body, on);
+	e->active = on;
 }
 
 /* Which bot (or object) a body of the world is, in the fault message. */
