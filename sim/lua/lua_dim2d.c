@@ -19,7 +19,8 @@ static evo_scene *scene(lua_State *L)
 
 static int add_element(lua_State *L, int kind, const char *what)
 {
-	evo_element_def d = evo_default_element_def((evo_piece_kind)kind, EVO_DIM_2D);
+	evo_element_def d =
+	    evo_default_element_def((evo_piece_kind)kind, EVO_DIM_2D);
 	d.name = evo_lua_opt_str(L, 2, "name", NULL, what);
 	/* x, y and angle start at 0 (evo_default_element_def) */
 	EVO_LUA_NUMS(L, 2, what, {"x", &d.x, 0}, {"y", &d.y, 0},

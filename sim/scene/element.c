@@ -60,10 +60,12 @@ static int check(const evo_element_def *d, unsigned dim, evo_err *err)
 		return evo_fail(err, "element: unknown kind %d", (int)d->kind);
 	const evo_kind_row *row = evo_piece_kind_row(d->kind);
 	if (!(row->dims & dim))
-		return evo_fail(err, "element: a %s is no element of the %s "
-				     "world", row->name, world);
-	double v[] = {d->pos[0],  d->pos[1],  d->pos[2], d->angle,
-		      d->size,	  d->half[0], d->half[1], d->half[2]};
+		return evo_fail(err,
+				"element: a %s is no element of the %s "
+				"world",
+				row->name, world);
+	double v[] = {d->pos[0], d->pos[1],  d->pos[2],	 d->angle,
+		      d->size,	 d->half[0], d->half[1], d->half[2]};
 	if (!all_finite(v, (int)(sizeof v / sizeof v[0])))
 		return evo_fail(err, "element: a value is not a number");
 	int axes = dim == EVO_DIM_2D ? 2 : 3;

@@ -82,9 +82,9 @@ typedef struct evo_element {
 			double x, y, z;
 		};
 	};
-	double angle;	/* 2D: its turn now (def.angle, an object's moves) */
-	double size;	/* 2D: def.size */
-	union {		/* 2D: def.half_w, def.half_h */
+	double angle; /* 2D: its turn now (def.angle, an object's moves) */
+	double size;  /* 2D: def.size */
+	union {	      /* 2D: def.half_w, def.half_h */
 		double half[3];
 		struct {
 			double half_w, half_h, half_d;

@@ -1,7 +1,8 @@
 /* The 3D scene's episode and its part of the tick (sim/world3d/scene3d.h):
- * the reset, placing bots and elements, switching elements off and on, the poses and contacts read back
- * after the physics, and the message of a body that exploded. The tick's
- * order is the scene model's (sim/scene/tick.c, through dim3d.c). */
+ * the reset, placing bots and elements, switching elements off and on,
+ * the poses and contacts read back after the physics, and the message of
+ * a body that exploded. The tick's order is the scene model's
+ * (sim/scene/tick.c, through dim3d.c). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>

@@ -534,7 +534,8 @@ static void camera_3d(int box)
 {
 	evo_scene3d *sc = scene3d(0);
 	add_bot3d(sc, "B", 4, 0, 2, 0, 0);
-	evo_element_def sp = evo_default_element_def(EVO_PIECE_SPHERE, EVO_DIM_3D);
+	evo_element_def sp =
+	    evo_default_element_def(EVO_PIECE_SPHERE, EVO_DIM_3D);
 	sp.pos[1] = 5;
 	sp.pos[2] = 2;
 	sp.radius = 1;

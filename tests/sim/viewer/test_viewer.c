@@ -44,7 +44,8 @@ static evo_scene *make_scene(void)
 	evo_scene *sc = evo_scene_create();
 	if (!sc)
 		return NULL;
-	evo_element_def e = evo_default_element_def(EVO_PIECE_CYLINDER, EVO_DIM_2D);
+	evo_element_def e =
+	    evo_default_element_def(EVO_PIECE_CYLINDER, EVO_DIM_2D);
 	e.name = "pillar";
 	e.x = BX + 6;
 	e.y = BY;
