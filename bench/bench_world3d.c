@@ -177,7 +177,7 @@ int main(int argc, char **argv)
 	const evo_scene3d *sc = s->scene3d;
 	int rays = 0;
 	for (int k = 0; k < sc->bot[0].n_sensors; k++)
-		if (sc->bot[0].sensor[k].def.kind == EVO3D_SENSOR_PROXIMITY)
+		if (sc->bot[0].sensor[k].def.kind == EVO_SENSE_PROXIMITY)
 			rays += sc->bot[0].sensor[k].def.rays;
 	double ratio = best_full / best_floor;
 	printf("EXP3D_Avoid, one robot (%s), %d static obstacles, %d physics "

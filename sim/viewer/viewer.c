@@ -581,7 +581,7 @@ void evo_view_render(evo_raster *im, const evo_scene *sc,
 	for (int b = 0; b < sc->n_bots; b++)
 		for (int s = 0; s < sc->bot[b].n_sensors; s++)
 			if (sc->bot[b].sensor[s].def.kind ==
-				    EVO_SENSOR_PROXIMITY &&
+				    EVO_SENSE_PROXIMITY &&
 			    !sc->bot[b].sensor[s].idle)
 				draw_rays(im, cam, sc, b,
 					  &sc->bot[b].sensor[s]);

@@ -24,9 +24,9 @@ evo_element3d_def evo_default_element3d_def(evo_element3d_kind kind)
 	return d;
 }
 
-evo_sensor3d_def evo_default_sensor3d_def(evo_sensor3d_kind kind)
+evo_sensor_def evo_default_sensor3d_def(evo_sense_kind kind)
 {
-	evo_sensor3d_def d;
+	evo_sensor_def d;
 	memset(&d, 0, sizeof d);
 	d.kind = kind;
 	d.range = 3;
@@ -304,55 +304,28 @@ static evo_bot3d *check_bot(evo_scene3d *sc, int bot)
 	return &sc->bot[bot];
 }
 
-int evo_scene3d_add_sensor(evo_scene3d *sc, int bot, const evo_sensor3d_def *d)
+int evo_scene3d_add_sensor(evo_scene3d *sc, int bot, const evo_sensor_def *d)
 {
 	evo_bot3d *b = check_bot(sc, bot);
 	if (!b)
 		return -1;
-	if ((unsigned)d->kind >= EVO3D_SENSOR_KIND_COUNT)
-		return evo_fail(&sc->err, "unknown sensor kind %d", d->kind);
-	if (!finite3(d->pos) || !isfinite(d->yaw) || !isfinite(d->pitch) ||
-	    !isfinite(d->arc) || !isfinite(d->value))
-		return evo_fail(&sc->err,
-				"sensor '%s': a position or angle "
-				"that is not a number",
-				d->name ? d->name : "?");
-	if (d->kind == EVO3D_SENSOR_PROXIMITY &&
-	    (!positive(d->range) || d->rays < 1 ||
-	     d->rays > EVO3D_PROX_MAX_RAYS || d->arc < 0))
-		return evo_fail(&sc->err,
-				"sensor '%s': range must be > 0, rays 1 to %d, "
-				"arc >= 0",
-				d->name ? d->name : "?", EVO3D_PROX_MAX_RAYS);
-	if ((d->kind == EVO3D_SENSOR_LIGHT || d->kind == EVO3D_SENSOR_RAB ||
-	     d->kind == EVO3D_SENSOR_CAMERA) &&
-	    evo_swarm_check_sensor(&d->swarm, d->name, &sc->err))
-		return -1;
-	if (d->kind == EVO3D_SENSOR_DISTANCE && !positive(d->scale))
-		return evo_fail(&sc->err, "sensor '%s': scale must be > 0",
-				d->name ? d->name : "?");
 	if (d->target != EVO3D_TARGET_NONE &&
 	    (d->target < 0 || d->target >= sc->n_elements))
 		return evo_fail(&sc->err, "sensor '%s': no element %d",
 				d->name ? d->name : "?", d->target);
-	if (d->name && d->name[0] && evo_bot3d_find_sensor(b, d->name) >= 0)
-		return evo_fail(&sc->err, "bot %s: sensor '%s' twice", b->name,
-				d->name);
-	evo_sensor3d *s = evo_store_add((void **)&b->sensor, NULL, b->n_sensors,
-					sizeof *s, &sc->err);
-	if (!s || set_name(sc, s->name, d->name, "sensor", b->n_sensors))
+	evo_sensor *s = evo_sensor_store(&b->sensor, b->n_sensors, d,
+					 EVO_DIM_3D, b->name, "sensor", &sc->err);
+	if (!s)
 		return -1;
-	s->def = *d;
-	s->def.name = s->name;
 	s->value = 0.5;
-	for (int r = 0; r < d->rays; r++) {
+	/* the rays fan out over yaw +- arc, all at one pitch */
+	s->ray_z = sin(d->pitch);
+	for (int r = 0; d->kind == EVO_SENSE_PROXIMITY && r < d->rays; r++) {
 		double yaw = d->rays == 1 ? d->yaw
 					  : d->yaw - d->arc +
 						2 * d->arc * r / (d->rays - 1);
-		s->dir[r][0] = cos(d->pitch) * cos(yaw);
-		s->dir[r][1] = cos(d->pitch) * sin(yaw);
-		s->dir[r][2] = sin(d->pitch);
-		s->hit[r] = d->range;
+		s->ray_c[r] = cos(d->pitch) * cos(yaw);
+		s->ray_s[r] = cos(d->pitch) * sin(yaw);
 	}
 	return b->n_sensors++;
 }

@@ -76,7 +76,7 @@ static evo_scene *make_scene(void)
 	b.x = BX;
 	b.y = BY;
 	ok &= evo_scene_add_bot(sc, &b) == 0;
-	evo_sensor_def s = evo_default_sensor_def(EVO_SENSOR_PROXIMITY);
+	evo_sensor_def s = evo_default_sensor_def(EVO_SENSE_PROXIMITY);
 	s.name = "ProxFront";
 	s.x = 1;
 	ok &= evo_scene_add_sensor(sc, 0, &s) == 0;

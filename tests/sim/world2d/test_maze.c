@@ -29,7 +29,7 @@ static double value(evo_scene *sc, int sensor)
 /* A rangefinder: one ray from the bot's centre, range 10. */
 static int add_finder(evo_scene *sc, double angle)
 {
-	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_PROXIMITY);
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_PROXIMITY);
 	d.angle = angle;
 	d.range = 10;
 	d.arc = 0;
@@ -209,7 +209,7 @@ TEST(a_wall_of_no_length_is_refused)
 
 static int add_radar(evo_scene *sc, double angle, int target)
 {
-	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_RADAR);
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_RADAR);
 	d.angle = angle;
 	d.arc = 45 * DEG;
 	d.target = target;
@@ -251,7 +251,7 @@ TEST(radars_cut_the_bearing_into_four_slices)
 
 static int add_bumper(evo_scene *sc, double angle)
 {
-	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_BUMPER);
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_BUMPER);
 	d.angle = angle;
 	d.arc = M_PI / 4;
 	return evo_scene_add_sensor(sc, 0, &d);

@@ -39,7 +39,7 @@ static int add_box(evo_scene *sc, double x, double y, double half_w,
 
 static int add_constant_sensor(evo_scene *sc, double value)
 {
-	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_CONSTANT);
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_CONSTANT);
 	d.value = value;
 	int i = evo_scene_add_sensor(sc, 0, &d);
 	CHECK(i >= 0);

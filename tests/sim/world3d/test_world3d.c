@@ -67,13 +67,13 @@ static evo_scene3d *floating(double yaw, int *target)
 	b.yaw = yaw;
 	b.buoyancy = 1;
 	evo_scene3d_add_bot(sc, &b);
-	evo_sensor3d_def az = evo_default_sensor3d_def(EVO3D_SENSOR_AZIMUTH);
+	evo_sensor_def az = evo_default_sensor3d_def(EVO_SENSE_BEARING);
 	az.name = "TARG_AZIM";
 	az.target = *target;
-	evo_sensor3d_def el = evo_default_sensor3d_def(EVO3D_SENSOR_ELEVATION);
+	evo_sensor_def el = evo_default_sensor3d_def(EVO_SENSE_ELEVATION);
 	el.name = "TARG_ELEV";
 	el.target = *target;
-	evo_sensor3d_def di = evo_default_sensor3d_def(EVO3D_SENSOR_DISTANCE);
+	evo_sensor_def di = evo_default_sensor3d_def(EVO_SENSE_DISTANCE);
 	di.name = "DIST";
 	di.target = *target;
 	di.scale = 10;
@@ -97,7 +97,7 @@ TEST(target_sensor_azimuth_and_elevation)
 {
 	int t;
 	evo_scene3d *sc = floating(0, &t);
-	const evo_sensor3d *s = sc->bot[0].sensor;
+	const evo_sensor *s = sc->bot[0].sensor;
 	target_at(sc, t, 3, 3, 2); /* ahead-left, 45 degrees */
 	CHECK(NEAR(s[0].value, 0.625, 1e-9));
 	CHECK(NEAR(s[1].value, 0.5, 1e-9));
@@ -144,7 +144,7 @@ static evo_scene3d *wheeled(void)
 	w.name = "MotR";
 	w.pos[1] = -0.18;
 	evo_scene3d_add_actuator(sc, 0, &w);
-	evo_sensor3d_def p = evo_default_sensor3d_def(EVO3D_SENSOR_PROXIMITY);
+	evo_sensor_def p = evo_default_sensor3d_def(EVO_SENSE_PROXIMITY);
 	p.name = "S1";
 	p.pos[0] = 0.2;
 	evo_scene3d_add_sensor(sc, 0, &p);
@@ -243,7 +243,7 @@ TEST(proximity_reads_the_nearest_obstacle)
 	evo_scene3d_reset(sc, 1, 1);
 	evo_scene3d_sense(sc);
 	CHECK(NEAR(sc->bot[0].sensor[0].value, 1.3 / 3, 1e-6));
-	CHECK(NEAR(sc->bot[0].sensor[0].hit[0], 1.3, 1e-6));
+	CHECK(NEAR(sc->bot[0].sensor[0].ray[0] * 3.0, 1.3, 1e-6));
 	/* turned away, nothing within 3 m */
 	sc->bot[0].def.yaw = M_PI;
 	evo_scene3d_reset(sc, 1, 1);
@@ -354,7 +354,7 @@ TEST(objects_fall_and_zones_trigger)
 	evo_element3d_def z = evo_default_element3d_def(EVO3D_ELEM_ZONE);
 	z.pos[2] = 2; /* around the bot at (0, 0, 2): half sides 0.5 */
 	int zone = evo_scene3d_add_element(sc, &z);
-	evo_sensor3d_def zs = evo_default_sensor3d_def(EVO3D_SENSOR_ZONE);
+	evo_sensor_def zs = evo_default_sensor3d_def(EVO_SENSE_ZONE);
 	zs.name = "INZONE";
 	zs.target = zone;
 	int k = evo_scene3d_add_sensor(sc, 0, &zs);
@@ -389,7 +389,7 @@ TEST(bad_definitions_are_refused)
 	p.axis[0] = 0;
 	CHECK(evo_scene3d_add_actuator(sc, 0, &p) < 0);
 	CHECK_CONTAINS(sc->err.msg, "axis");
-	evo_sensor3d_def s = evo_default_sensor3d_def(EVO3D_SENSOR_PROXIMITY);
+	evo_sensor_def s = evo_default_sensor3d_def(EVO_SENSE_PROXIMITY);
 	s.rays = 0;
 	CHECK(evo_scene3d_add_sensor(sc, 0, &s) < 0);
 	evo_element3d_def e = evo_default_element3d_def(EVO3D_ELEM_CYLINDER);
