@@ -2,7 +2,8 @@
  * actuators, rewards and controls, lookups by name, and placing bots and
  * elements (sim/world2d/scene.h). It calls nothing above it: the pieces that
  * run each tick (sensors.c, actuators.c, rewards.c) read the scene, and
- * step.c drives them. */
+ * step.c drives them. A sensor's checks and storage are the scene model's
+ * (scene/sensor.c); its rays' directions and team masks are made here. */
 #include "world2d/scene.h"
 
 #include <math.h>

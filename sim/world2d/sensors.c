@@ -1,4 +1,4 @@
-/* evo — the sensors of a bot (sim/world2d/scene.h): each one samples the
+/* evo — the sensors of a 2D bot (sim/scene/sensor.h): each one samples the
  * scene and gives a value in [0, 1]; booleans read EVO_FALSE or EVO_TRUE.
  * Here each kind is sampled, and a bot's sensors all at once with one
  * area query among them; the proximity sensors' rays are proximity.c's,

@@ -1,5 +1,7 @@
 /* A 3D scene's storage (sim/world3d/scene3d.h): definitions with their
- * defaults, the adds, and making the ODE world from them. */
+ * defaults, the adds, and making the ODE world from them. A sensor's
+ * checks and storage are the scene model's (scene/sensor.c); its rays'
+ * directions are made here. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -1,7 +1,8 @@
-/* The 3D sensors (sim/world3d/scene3d.h): proximity rays, distance,
- * the tutorial's target sensor (azimuth and elevation), zones, random and
- * constant values. Each reads the scene and asks the world's ray cast;
- * none calls back up. */
+/* The 3D sensors (the one evo_sensor of sim/scene/sensor.h, sampled in a
+ * 3D scene): proximity rays, distance, the tutorial's target sensor
+ * (azimuth, the bearing sensor, and elevation), zones, random and
+ * constant values, and the swarm sensors (scene/swarm.h). Each reads the
+ * scene and asks the world's ray cast; none calls back up. */
 #include <math.h>
 
 #include "world3d/scene3d.h"
