@@ -58,9 +58,11 @@ static int check_kind(const evo_sensor_def *d, unsigned dim, const char *name,
 				(int)d->kind);
 	const evo_kind_row *row = evo_sense_kind_row(d->kind);
 	if (!(row->dims & dim))
-		return evo_fail(err, "sensor '%s': %s is no sensor of the %s "
-				     "world",
-				name, row->name, dim == EVO_DIM_2D ? "2D" : "3D");
+		return evo_fail(err,
+				"sensor '%s': %s is no sensor of the %s "
+				"world",
+				name, row->name,
+				dim == EVO_DIM_2D ? "2D" : "3D");
 	/* bot:target_sensor makes a bearing or an elevation sensor of its
 	 * axis: nothing samples the name itself */
 	if (d->kind == EVO_SENSE_TARGET_SENSOR)

@@ -293,8 +293,8 @@ int evo_scene_add_sensor(evo_scene *sc, int bot, const evo_sensor_def *d)
 		return -1;
 	if (d->kind == EVO_SENSE_ZONE && d->target != EVO_TARGET_NONE &&
 	    (d->target < 0 || sc->element[d->target].kind != EVO_ELEM_ZONE))
-		return evo_fail(&sc->err,
-				"sensor '%s': a zone sensor needs a zone", name);
+		return evo_fail(
+		    &sc->err, "sensor '%s': a zone sensor needs a zone", name);
 	evo_sensor *s = evo_sensor_store(&b->sensor, b->n_sensors, d,
 					 EVO_DIM_2D, b->name, NULL, &sc->err);
 	if (!s)

@@ -315,8 +315,9 @@ int evo_scene3d_add_sensor(evo_scene3d *sc, int bot, const evo_sensor_def *d)
 	    (d->target < 0 || d->target >= sc->n_elements))
 		return evo_fail(&sc->err, "sensor '%s': no element %d",
 				d->name ? d->name : "?", d->target);
-	evo_sensor *s = evo_sensor_store(&b->sensor, b->n_sensors, d,
-					 EVO_DIM_3D, b->name, "sensor", &sc->err);
+	evo_sensor *s =
+	    evo_sensor_store(&b->sensor, b->n_sensors, d, EVO_DIM_3D, b->name,
+			     "sensor", &sc->err);
 	if (!s)
 		return -1;
 	s->value = 0.5;

@@ -11,9 +11,9 @@
 #include "world2d/scene.h"
 #include "world3d/scene3d.h"
 
-#define DEG (M_PI / 180)
+#define DEG  (M_PI / 180)
 #define RAYS 21
-#define ARC (30 * DEG)
+#define ARC  (30 * DEG)
 
 /* Ray i of the fan: from -30 to +30 degrees, 3 degrees apart; the wall's
  * face is 1.5 m ahead of the sensor, the range 12 m. */
