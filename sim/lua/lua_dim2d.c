@@ -200,13 +200,6 @@ static int add_bot(lua_State *L, int team, const char *name, const char *what)
 
 EVO_LUA_DIM_COMMON(sc, evo_scene, evo_bot, team)
 
-/* Each 2D actuator kind's row of sim/scene/kinds.c, in
- * evo_actuator_kind's order. */
-static const int act_of[] = {EVO_ACT_WHEEL, EVO_ACT_CLAW, EVO_ACT_SPEED_WHEEL,
-			     EVO_ACT_DRIVE, EVO_ACT_BROADCAST};
-_Static_assert(sizeof act_of / sizeof *act_of == EVO_ACTUATOR_KIND_COUNT,
-	       "a row for each kind");
-
 /* `sees`: what a proximity sensor's rays hit, into d's mask and its
  * teammates and opponents flags (docs/lua.md, docs/teams.md). */
 static void parse_sees(lua_State *L, int idx, const char *what,
@@ -264,9 +257,8 @@ static int add_sensor(lua_State *L, int bot, int kind, const char *what)
 
 static int add_actuator(lua_State *L, int bot, int kind, const char *what)
 {
-	evo_actuator_def d =
-	    evo_default_actuator_def((evo_actuator_kind)evo_lua_kind_of(
-		act_of, EVO_ACTUATOR_KIND_COUNT, kind));
+	/* kinds.c's row let only a 2D kind through */
+	evo_actuator_def d = evo_default_actuator_def((evo_act_kind)kind);
 	/* a drive's turn rate is given in degrees, as every angle in Lua */
 	lua_getfield(L, 2, "turn");
 	d.turn = lua_toboolean(L, -1);

@@ -321,7 +321,7 @@ static int add_sensor(lua_State *L, int bot, int kind, const char *what)
 	    L, evo_scene3d_add_sensor(scene3d(L), bot, &d));
 }
 
-static void read_wheel(lua_State *L, evo_actuator3d_def *d, const char *what)
+static void read_wheel(lua_State *L, evo_actuator_def *d, const char *what)
 {
 	EVO_LUA_NUMS(L, 2, what, {"radius", &d->radius, 0},
 		     {"width", &d->half_width, 0.5}, {"mass", &d->mass, 0},
@@ -342,16 +342,14 @@ static void read_wheel(lua_State *L, evo_actuator3d_def *d, const char *what)
 
 static int add_actuator(lua_State *L, int bot, int kind, const char *what)
 {
-	evo_actuator3d_kind k = kind == EVO_ACT_WHEEL ? EVO3D_ACTUATOR_WHEEL
-				: kind == EVO_ACT_PROPELLER
-				    ? EVO3D_ACTUATOR_PROPELLER
-				    : EVO3D_ACTUATOR_BROADCAST;
-	evo_actuator3d_def d = evo_default_actuator3d_def(k);
+	/* kinds.c's row let only a 3D kind through */
+	evo_act_kind k = (evo_act_kind)kind;
+	evo_actuator_def d = evo_default_actuator_def(k);
 	d.name = evo_lua_opt_name(L, what, "actuator");
 	evo_lua_opt_pos(L, 2, d.pos, what);
-	if (k == EVO3D_ACTUATOR_WHEEL)
+	if (k == EVO_ACT_WHEEL)
 		read_wheel(L, &d, what);
-	if (k == EVO3D_ACTUATOR_PROPELLER) {
+	if (k == EVO_ACT_PROPELLER) {
 		opt_vec(L, 2, "axis", d.axis, what);
 		d.max_thrust = num(L, 2, "max_thrust", d.max_thrust, what);
 	}

@@ -352,8 +352,8 @@ static void bot(const evo_scene3d *sc, const evo_bot3d *b)
 		glPopMatrix();
 	}
 	for (int k = 0; k < b->n_actuators; k++) {
-		const evo_actuator3d *a = &b->actuator[k];
-		if (a->def.kind != EVO3D_ACTUATOR_PROPELLER)
+		const evo_actuator *a = &b->actuator[k];
+		if (a->def.kind != EVO_ACT_PROPELLER)
 			continue;
 		colour(0x303030u, 1);
 		glPushMatrix();
@@ -369,7 +369,7 @@ static void bot(const evo_scene3d *sc, const evo_bot3d *b)
 	glPopMatrix();
 	/* wheels, each its own body */
 	for (int k = 0; k < b->n_actuators; k++) {
-		const evo_actuator3d *a = &b->actuator[k];
+		const evo_actuator *a = &b->actuator[k];
 		if (a->body < 0 || !sc->world)
 			continue;
 		double p[3], R[9];

@@ -482,7 +482,7 @@ static void draw_claws(evo_raster *im, const evo_view_camera *cam,
 	const evo_bot *bot = &sc->bot[b];
 	for (int k = 0; k < bot->n_actuators; k++) {
 		const evo_actuator *a = &bot->actuator[k];
-		if (a->def.kind != EVO_ACTUATOR_CLAW)
+		if (a->def.kind != EVO_ACT_CLAW)
 			continue;
 		double cx, cy, sx, sy;
 		evo_bot_to_world(sc, b, a->def.x, a->def.y, &cx, &cy);

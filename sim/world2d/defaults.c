@@ -57,19 +57,6 @@ evo_sensor_def evo_default_sensor_def(evo_sense_kind kind)
 	return d;
 }
 
-evo_actuator_def evo_default_actuator_def(evo_actuator_kind kind)
-{
-	evo_actuator_def d;
-	memset(&d, 0, sizeof d);
-	d.kind = kind;
-	d.max_force = 80.0;
-	d.reach = 1.5;
-	d.max_speed = 1.0;
-	if (kind == EVO_ACTUATOR_CLAW)
-		d.x = 1.0;
-	return d;
-}
-
 evo_bot_def evo_default_bot_def(void)
 {
 	evo_bot_def d;

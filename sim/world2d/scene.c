@@ -323,35 +323,9 @@ int evo_scene_add_actuator(evo_scene *sc, int bot, const evo_actuator_def *d)
 	if (check_bot(sc, bot))
 		return -1;
 	evo_bot *b = &sc->bot[bot];
-	const char *name = d->name ? d->name : "";
-	double v[] = {d->x,	d->y,	      d->angle, d->max_force,
-		      d->reach, d->max_speed, d->accel};
-	if (!finite_all(v, 7))
-		return evo_fail(&sc->err,
-				"actuator '%s': a value is not a number", name);
-	if ((d->kind == EVO_ACTUATOR_SPEED_WHEEL ||
-	     d->kind == EVO_ACTUATOR_DRIVE) &&
-	    (!(d->max_speed > 0) || d->accel < 0))
-		return evo_fail(&sc->err,
-				"actuator '%s': max_speed must be positive "
-				"and accel 0 or more",
-				name);
-	if ((unsigned)d->kind >= EVO_ACTUATOR_KIND_COUNT)
-		return evo_fail(&sc->err, "actuator '%s': unknown kind %d",
-				name, (int)d->kind);
-	if (name[0] && evo_bot_find_actuator(b, name) >= 0)
-		return evo_fail(&sc->err, "actuator '%s' is defined twice",
-				name);
-	evo_actuator *a = evo_store_add((void **)&b->actuator, NULL,
-					b->n_actuators, sizeof *a, &sc->err);
-	if (!a || set_name(a->name, d->name, &sc->err))
+	if (!evo_actuator_append(&b->actuator, b->n_actuators, d, EVO_DIM_2D,
+				 NULL, &sc->err))
 		return -1;
-	a->def = *d;
-	a->def.name = NULL;
-	a->command = a->previous = 0.5;
-	a->held = a->joint = -1;
-	a->dir_c = cos(d->angle);
-	a->dir_s = sin(d->angle);
 	return b->n_actuators++;
 }
 

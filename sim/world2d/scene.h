@@ -29,6 +29,7 @@
 
 #include "base/err.h"
 #include "base/rng.h"
+#include "scene/actuator.h"
 #include "scene/core.h"
 #include "scene/kinds.h"
 #include "scene/scoring.h"
@@ -133,50 +134,7 @@ evo_grid_def evo_default_grid_def(void);
  * detector, radar or bumper 45 degrees each side. */
 evo_sensor_def evo_default_sensor_def(evo_sense_kind kind);
 
-/* ---- actuators ------------------------------------------------------ */
-
-typedef enum evo_actuator_kind {
-	EVO_ACTUATOR_WHEEL =
-	    0, /* force (2c - 1) * max_force along angle at (x, y) */
-	EVO_ACTUATOR_CLAW = 1, /* grabs on a rising crossing of 0.5, releases on
-				  a falling one */
-	/* Speed wheels and drives set the bot's velocity instead of pushing
-	 * it (the mazes' robots, docs/world.md): */
-	EVO_ACTUATOR_SPEED_WHEEL = 2, /* ground speed (2c - 1) * max_speed at (x, y) */
-	EVO_ACTUATOR_DRIVE = 3, /* forward speed or turn rate, set or accelerated */
-	/* a value the bot broadcasts to range-and-bearing sensors: its
-	 * command, heard the next tick; it moves nothing */
-	EVO_ACTUATOR_BROADCAST = 4,
-	EVO_ACTUATOR_KIND_COUNT
-} evo_actuator_kind;
-
-typedef struct evo_actuator_def {
-	evo_actuator_kind kind;
-	const char *name;
-	double x, y, angle; /* body frame */
-	double max_force;   /* wheel: 80 */
-	double reach;	    /* claw: 1.5, from (x, y) */
-	/* speed wheel, drive: the top speed, m/s (a turning drive: rad/s), 1 */
-	double max_speed;
-	/* drive: 0, the command sets the speed to (2c - 1) * max_speed;
-	 * above 0, it changes the speed by (2c - 1) * accel each step,
-	 * within +-max_speed */
-	double accel;
-	int turn; /* drive: 1 turns (+ clockwise on screen), 0 drives ahead */
-} evo_actuator_def;
-
-evo_actuator_def evo_default_actuator_def(evo_actuator_kind kind);
-
-typedef struct evo_actuator {
-	char name[EVO_SCENE_NAME_MAX];
-	evo_actuator_def def;
-	double command; /* [0, 1], written by the caller before evo_scene_step */
-	double previous; /* the command of the previous step (claw edges) */
-	int held;	 /* claw: element index held, or -1 */
-	int joint;	 /* claw: the weld's id in the world, or -1 */
-	double speed;	 /* speed wheel, drive: the speed it set last step */
-	double dir_c, dir_s; /* cos and sin of def.angle */
-} evo_actuator;
+/* ---- actuators: the scene model's (scene/actuator.h) ---------------- */
 
 /* ---- bots ------------------------------------------------------------ */
 

@@ -149,7 +149,7 @@ static double spread(const evo_bot *b)
 static int holding(const evo_bot *b)
 {
 	for (int i = 0; i < b->n_actuators; i++)
-		if (b->actuator[i].def.kind == EVO_ACTUATOR_CLAW &&
+		if (b->actuator[i].def.kind == EVO_ACT_CLAW &&
 		    b->actuator[i].held >= 0)
 			return 1;
 	return 0;
@@ -168,7 +168,7 @@ static int peer_2d(void *ctx, int i, evo_swarm_peer *out)
 	out->n_values = 0;
 	int any = 0;
 	for (int k = 0; k < b->n_actuators; k++) {
-		if (b->actuator[k].def.kind != EVO_ACTUATOR_BROADCAST)
+		if (b->actuator[k].def.kind != EVO_ACT_BROADCAST)
 			continue;
 		any = 1;
 		if (out->n_values < EVO_SWARM_MAX_VALUES)

@@ -80,8 +80,8 @@ static void bot(const evo_scene_core *c, int i, evo_bot_view *v)
 			offsetof(evo_sensor, name),
 			offsetof(evo_sensor, value), 0},
 	    .actuators = {(char *)b->actuator, b->n_actuators,
-			  sizeof *b->actuator, offsetof(evo_actuator3d, name),
-			  offsetof(evo_actuator3d, command), 0},
+			  sizeof *b->actuator, offsetof(evo_actuator, name),
+			  offsetof(evo_actuator, command), 0},
 	};
 }
 

@@ -40,22 +40,6 @@ evo_sensor_def evo_default_sensor3d_def(evo_sense_kind kind)
 	return d;
 }
 
-evo_actuator3d_def evo_default_actuator3d_def(evo_actuator3d_kind kind)
-{
-	evo_actuator3d_def d;
-	memset(&d, 0, sizeof d);
-	d.kind = kind;
-	d.axis[0] = 1;
-	d.radius = 0.08;
-	d.half_width = 0.02;
-	d.mass = 0.2;
-	d.friction = 1;
-	d.max_rate = 15;
-	d.max_torque = 2;
-	d.max_thrust = 10;
-	return d;
-}
-
 evo_bot3d_def evo_default_bot3d_def(void)
 {
 	evo_bot3d_def d;
@@ -334,54 +318,15 @@ int evo_scene3d_add_sensor(evo_scene3d *sc, int bot, const evo_sensor_def *d)
 }
 
 int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
-			     const evo_actuator3d_def *d)
+			     const evo_actuator_def *d)
 {
 	evo_bot3d *b = check_bot(sc, bot);
-	if (!b)
+	if (!b || !evo_actuator_append(&b->actuator, b->n_actuators, d,
+				       EVO_DIM_3D, "actuator", &sc->err))
 		return -1;
-	const char *n = d->name ? d->name : "?";
-	if ((unsigned)d->kind >= EVO3D_ACTUATOR_KIND_COUNT)
-		return evo_fail(&sc->err, "unknown actuator kind %d", d->kind);
-	if (!finite3(d->pos) || !finite3(d->axis))
-		return evo_fail(&sc->err,
-				"actuator '%s': a position or axis "
-				"that is not a number",
-				n);
-	if (d->kind == EVO3D_ACTUATOR_WHEEL &&
-	    (!positive(d->radius) || !positive(d->half_width) ||
-	     !positive(d->mass) || !(d->friction >= 0) ||
-	     !isfinite(d->friction) || !(d->max_rate >= 0) ||
-	     !isfinite(d->max_rate) || !(d->max_torque >= 0) ||
-	     !isfinite(d->max_torque)))
-		return evo_fail(&sc->err,
-				"wheel '%s': radius, width and mass must be > "
-				"0, friction, max_rate and max_torque finite "
-				"and >= 0",
-				n);
-	double len = sqrt(d->axis[0] * d->axis[0] + d->axis[1] * d->axis[1] +
-			  d->axis[2] * d->axis[2]);
-	if (d->kind == EVO3D_ACTUATOR_PROPELLER &&
-	    (!(len > 1e-9) || !isfinite(d->max_thrust) || d->max_thrust < 0))
-		return evo_fail(&sc->err,
-				"propeller '%s': its axis must not be 0 and "
-				"max_thrust finite and >= 0",
-				n);
-	if (d->name && d->name[0] && evo_bot3d_find_actuator(b, d->name) >= 0)
-		return evo_fail(&sc->err, "bot %s: actuator '%s' twice",
-				b->name, d->name);
-	evo_actuator3d *a = evo_store_add((void **)&b->actuator, NULL,
-					  b->n_actuators, sizeof *a, &sc->err);
-	if (!a || set_name(sc, a->name, d->name, "actuator", b->n_actuators))
-		return -1;
-	a->def = *d;
-	a->def.name = a->name;
-	if (d->kind == EVO3D_ACTUATOR_PROPELLER)
-		for (int k = 0; k < 3; k++)
-			a->def.axis[k] = d->axis[k] / len;
-	a->command = 0.5;
-	a->body = a->hinge = -1;
 	b->n_actuators++;
-	if (d->kind == EVO3D_ACTUATOR_WHEEL && evo_scene3d_build_world(sc)) {
+	/* a wheel is a body of its own, on a hinge */
+	if (d->kind == EVO_ACT_WHEEL && evo_scene3d_build_world(sc)) {
 		b->n_actuators--;
 		return -1;
 	}
@@ -463,8 +408,8 @@ static int build_bot(evo_scene3d *sc, int i)
 				b->name);
 	evo_scene3d_pose(sc, b->body, b->pos, b->R);
 	for (int k = 0; k < b->n_actuators; k++) {
-		evo_actuator3d *a = &b->actuator[k];
-		if (a->def.kind != EVO3D_ACTUATOR_WHEEL)
+		evo_actuator *a = &b->actuator[k];
+		if (a->def.kind != EVO_ACT_WHEEL)
 			continue;
 		double hub[3];
 		evo_bot3d_to_world(b, a->def.pos, hub);

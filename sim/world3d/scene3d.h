@@ -27,6 +27,7 @@
 
 #include "base/err.h"
 #include "base/rng.h"
+#include "scene/actuator.h"
 #include "scene/core.h"
 #include "scene/kinds.h"
 #include "scene/scoring.h"
@@ -95,41 +96,7 @@ typedef evo_shape3d evo_obstacle3d;
  * 3 m seeing bots, obstacles and objects; a distance's scale 20 m. */
 evo_sensor_def evo_default_sensor3d_def(evo_sense_kind kind);
 
-/* ---- actuators -------------------------------------------------------- */
-
-typedef enum evo_actuator3d_kind {
-	EVO3D_ACTUATOR_WHEEL = 0,     /* a wheel on a hinge: (2c - 1) x max */
-	EVO3D_ACTUATOR_PROPELLER = 1, /* thrust (2c - 1) x max_thrust along
-					 axis at pos */
-	/* a value the bot broadcasts to range-and-bearing sensors: its
-	 * command, heard the next tick; it moves nothing */
-	EVO3D_ACTUATOR_BROADCAST = 2,
-	EVO3D_ACTUATOR_KIND_COUNT
-} evo_actuator3d_kind;
-
-typedef struct evo_actuator3d_def {
-	evo_actuator3d_kind kind;
-	const char *name;
-	double pos[3];	/* body frame: the wheel's hub, the propeller */
-	double axis[3]; /* propeller: direction of its thrust (unit) */
-	/* wheel */
-	double radius, half_width, mass, friction; /* 0.08, 0.02, 0.2, 1 */
-	int torque_mode;   /* 0: velocity (rate, max_torque); 1: torque */
-	double max_rate;   /* rad/s at c = 1 (15) */
-	double max_torque; /* N m (2) */
-	/* propeller */
-	double max_thrust; /* N (10) */
-} evo_actuator3d_def;
-
-evo_actuator3d_def evo_default_actuator3d_def(evo_actuator3d_kind kind);
-
-typedef struct evo_actuator3d {
-	char name[EVO3D_NAME_MAX];
-	evo_actuator3d_def def;
-	double command; /* [0, 1], 0.5 neutral */
-	int body;	/* wheel: its body in the world */
-	int hinge;	/* wheel: its hinge */
-} evo_actuator3d;
+/* ---- actuators: the scene model's (scene/actuator.h) ------------------ */
 
 /* ---- bots ------------------------------------------------------------- */
 
@@ -163,7 +130,7 @@ typedef struct evo_bot3d {
 	double start[3], start_yaw; /* this episode's start pose */
 	int n_sensors, n_actuators;
 	evo_sensor *sensor;	  /* owned */
-	evo_actuator3d *actuator; /* owned */
+	evo_actuator *actuator; /* owned */
 	/* after the last step or reset */
 	double pos[3], R[9], v[3], omega[3];
 	int touching;	/* contacts this tick with anything but the ground */
@@ -226,7 +193,7 @@ int evo_scene3d_add_bot(evo_scene3d *sc, const evo_bot3d_def *def);
 int evo_scene3d_add_sensor(evo_scene3d *sc, int bot,
 			   const evo_sensor_def *def);
 int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
-			     const evo_actuator3d_def *def);
+			     const evo_actuator_def *def);
 /* Rewards and controls are the scene model's (scene/core.h). */
 #define evo_scene3d_add_reward(sc, d)  evo_core_add_reward(&(sc)->core, d)
 #define evo_scene3d_add_control(sc, d) evo_core_add_control(&(sc)->core, d)
@@ -246,7 +213,7 @@ int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o);
 #define evo_scene3d_find_element(s, k) EVO_FIND(s, element, evo_element3d, k)
 #define evo_scene3d_find_bot(s, k)     EVO_FIND(s, bot, evo_bot3d, k)
 #define evo_bot3d_find_sensor(b, k)    EVO_FIND(b, sensor, evo_sensor, k)
-#define evo_bot3d_find_actuator(b, k)  EVO_FIND(b, actuator, evo_actuator3d, k)
+#define evo_bot3d_find_actuator(b, k)  EVO_FIND(b, actuator, evo_actuator, k)
 
 /* Start an episode: a new world with every element and bot where it
  * starts, neutral commands, rewards and controls cleared, the episode's

@@ -73,7 +73,7 @@ static int peer_3d(void *ctx, int i, evo_swarm_peer *out)
 	out->n_values = 0;
 	int any = 0;
 	for (int k = 0; k < b->n_actuators; k++) {
-		if (b->actuator[k].def.kind != EVO3D_ACTUATOR_BROADCAST)
+		if (b->actuator[k].def.kind != EVO_ACT_BROADCAST)
 			continue;
 		any = 1;
 		if (out->n_values < EVO_SWARM_MAX_VALUES)

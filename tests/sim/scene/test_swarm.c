@@ -145,7 +145,7 @@ static void add_bot2d(evo_scene *sc, const char *name, double x, double y,
 	CHECK(b >= 0);
 	if (broadcasts) {
 		evo_actuator_def a =
-		    evo_default_actuator_def(EVO_ACTUATOR_BROADCAST);
+		    evo_default_actuator_def(EVO_ACT_BROADCAST);
 		a.name = "TX";
 		CHECK(evo_scene_add_actuator(sc, b, &a) == 0);
 	}
@@ -174,7 +174,7 @@ static int rab2d(evo_scene *sc, const char *name, int slot, evo_rab_read r,
 static evo_scene *rab_scene2d(int box)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	evo_actuator_def a = evo_default_actuator_def(EVO_ACTUATOR_BROADCAST);
+	evo_actuator_def a = evo_default_actuator_def(EVO_ACT_BROADCAST);
 	a.name = "TX";
 	CHECK(evo_scene_add_actuator(sc, 0, &a) == 0);
 	add_bot2d(sc, "B", 3, 4, 1);
@@ -274,8 +274,8 @@ static int add_bot3d(evo_scene3d *sc, const char *name, double x, double y,
 	int i = evo_scene3d_add_bot(sc, &b);
 	CHECK(i >= 0);
 	if (broadcasts) {
-		evo_actuator3d_def a =
-		    evo_default_actuator3d_def(EVO3D_ACTUATOR_BROADCAST);
+		evo_actuator_def a =
+		    evo_default_actuator_def(EVO_ACT_BROADCAST);
 		a.name = "TX";
 		CHECK(evo_scene3d_add_actuator(sc, i, &a) == 0);
 	}
@@ -407,8 +407,8 @@ static int rab3d(evo_scene3d *sc, const char *name, int slot, evo_rab_read r,
 TEST(rab_3d_ranks_neighbours_by_distance)
 {
 	evo_scene3d *sc = scene3d(0);
-	evo_actuator3d_def a =
-	    evo_default_actuator3d_def(EVO3D_ACTUATOR_BROADCAST);
+	evo_actuator_def a =
+	    evo_default_actuator_def(EVO_ACT_BROADCAST);
 	a.name = "TX";
 	CHECK(evo_scene3d_add_actuator(sc, 0, &a) == 0);
 	add_bot3d(sc, "B", 3, 4, 2, 0, 1);

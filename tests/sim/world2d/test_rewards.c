@@ -48,7 +48,7 @@ static int add_constant_sensor(evo_scene *sc, double value)
 
 static int add_claw(evo_scene *sc, double x, double y)
 {
-	evo_actuator_def d = evo_default_actuator_def(EVO_ACTUATOR_CLAW);
+	evo_actuator_def d = evo_default_actuator_def(EVO_ACT_CLAW);
 	d.x = x;
 	d.y = y;
 	int i = evo_scene_add_actuator(sc, 0, &d);

@@ -178,7 +178,7 @@ TEST(proximity_ignores_an_object_its_claw_holds)
 	d.x = 1;
 	d.mask = EVO_CAT_OBSTACLE | EVO_CAT_BOT | EVO_CAT_OBJECT;
 	int s = evo_scene_add_sensor(sc, 0, &d);
-	evo_actuator_def c = evo_default_actuator_def(EVO_ACTUATOR_CLAW);
+	evo_actuator_def c = evo_default_actuator_def(EVO_ACT_CLAW);
 	int claw = evo_scene_add_actuator(sc, 0, &c);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
@@ -482,7 +482,7 @@ TEST(presence_of_the_target)
 	sc = scene_with_bot(0, 0, 0);
 	int o = scene_add_element(sc, EVO_ELEM_OBJECT, 2, 0, 0.5);
 	obj = add_sensor(sc, EVO_SENSE_PRESENCE, EVO_TARGET_NEAREST_OBJECT);
-	evo_actuator_def c = evo_default_actuator_def(EVO_ACTUATOR_CLAW);
+	evo_actuator_def c = evo_default_actuator_def(EVO_ACT_CLAW);
 	int claw = evo_scene_add_actuator(sc, 0, &c);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
@@ -545,7 +545,7 @@ TEST(object_detector_ignores_held_and_inactive_objects)
 
 static void wheels(evo_scene *sc, int bot)
 {
-	evo_actuator_def w = evo_default_actuator_def(EVO_ACTUATOR_WHEEL);
+	evo_actuator_def w = evo_default_actuator_def(EVO_ACT_WHEEL);
 	w.name = "MotL";
 	w.y = -1;
 	evo_scene_add_actuator(sc, bot, &w);
@@ -667,7 +667,7 @@ TEST(holding_while_the_claw_holds)
 	evo_scene *sc = scene_with_bot(0, 0, 0);
 	scene_add_element(sc, EVO_ELEM_OBJECT, 2.0, 0, 0.5);
 	int s = add_sensor(sc, EVO_SENSE_HOLDING, EVO_TARGET_NONE);
-	evo_actuator_def c = evo_default_actuator_def(EVO_ACTUATOR_CLAW);
+	evo_actuator_def c = evo_default_actuator_def(EVO_ACT_CLAW);
 	int claw = evo_scene_add_actuator(sc, 0, &c);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);

@@ -137,7 +137,7 @@ static evo_scene3d *wheeled(void)
 	b.caster_pos[2] = -0.04;
 	b.caster_radius = 0.04;
 	evo_scene3d_add_bot(sc, &b);
-	evo_actuator3d_def w = evo_default_actuator3d_def(EVO3D_ACTUATOR_WHEEL);
+	evo_actuator_def w = evo_default_actuator_def(EVO_ACT_WHEEL);
 	w.name = "MotL";
 	w.pos[1] = 0.18;
 	evo_scene3d_add_actuator(sc, 0, &w);
@@ -308,8 +308,8 @@ TEST(an_exploding_body_ends_the_episode_with_a_penalty)
 {
 	int t;
 	evo_scene3d *sc = floating(0, &t);
-	evo_actuator3d_def p =
-	    evo_default_actuator3d_def(EVO3D_ACTUATOR_PROPELLER);
+	evo_actuator_def p =
+	    evo_default_actuator_def(EVO_ACT_PROPELLER);
 	p.name = "M1";
 	p.max_thrust = 1e7;
 	CHECK(evo_scene3d_add_actuator(sc, 0, &p) == 0);
@@ -384,8 +384,8 @@ TEST(bad_definitions_are_refused)
 	CHECK_CONTAINS(sc->err.msg, "mass");
 	b = evo_default_bot3d_def();
 	CHECK(evo_scene3d_add_bot(sc, &b) == 0);
-	evo_actuator3d_def p =
-	    evo_default_actuator3d_def(EVO3D_ACTUATOR_PROPELLER);
+	evo_actuator_def p =
+	    evo_default_actuator_def(EVO_ACT_PROPELLER);
 	p.axis[0] = 0;
 	CHECK(evo_scene3d_add_actuator(sc, 0, &p) < 0);
 	CHECK_CONTAINS(sc->err.msg, "axis");
