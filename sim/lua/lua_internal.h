@@ -361,7 +361,7 @@ extern const evo_lua_dim evo_lua_dim3d;
 		const BOT *b = &l->SC->bot[i];                                \
 		if (s >= 0 && s < b->n_sensors)                               \
 			*out = (evo_lua_sensor){b->sensor[s].name,            \
-						sense_of[b->sensor[s].def.kind], \
+						(int)b->sensor[s].def.kind,   \
 						b->sensor[s].def.target};     \
 		return b->n_sensors;                                          \
 	}                                                                     \

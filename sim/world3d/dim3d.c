@@ -77,11 +77,11 @@ static void bot(const evo_scene_core *c, int i, evo_bot_view *v)
 	    .now = {b->pos[0], b->pos[1]},
 	    .start = {b->start[0], b->start[1]},
 	    .sensors = {(char *)b->sensor, b->n_sensors, sizeof *b->sensor,
-			offsetof(evo_sensor3d, name),
-			offsetof(evo_sensor3d, value), 0},
+			offsetof(evo_sensor, name),
+			offsetof(evo_sensor, value), 0},
 	    .actuators = {(char *)b->actuator, b->n_actuators,
-			  sizeof *b->actuator, offsetof(evo_actuator3d, name),
-			  offsetof(evo_actuator3d, command), 0},
+			  sizeof *b->actuator, offsetof(evo_actuator, name),
+			  offsetof(evo_actuator, command), 0},
 	};
 }
 

@@ -174,7 +174,7 @@ TEST(epuck_3d_has_the_published_ring_wheels_and_speed)
 		CHECK(k >= 0);
 		if (k < 0)
 			continue;
-		const evo_sensor3d_def *sd = &b->sensor[k].def;
+		const evo_sensor_def *sd = &b->sensor[k].def;
 		CHECK(NEAR(sd->yaw, -ir_angles[i] * DEG, 1e-12));
 		CHECK(NEAR(hypot(sd->pos[0], sd->pos[1]), 0.035, 1e-12));
 	}

@@ -68,13 +68,13 @@ static evo_scene3d *floating(double yaw, int *target)
 	b.yaw = yaw;
 	b.buoyancy = 1;
 	evo_scene3d_add_bot(sc, &b);
-	evo_sensor3d_def az = evo_default_sensor3d_def(EVO3D_SENSOR_AZIMUTH);
+	evo_sensor_def az = evo_default_sensor3d_def(EVO_SENSE_BEARING);
 	az.name = "TARG_AZIM";
 	az.target = *target;
-	evo_sensor3d_def el = evo_default_sensor3d_def(EVO3D_SENSOR_ELEVATION);
+	evo_sensor_def el = evo_default_sensor3d_def(EVO_SENSE_ELEVATION);
 	el.name = "TARG_ELEV";
 	el.target = *target;
-	evo_sensor3d_def di = evo_default_sensor3d_def(EVO3D_SENSOR_DISTANCE);
+	evo_sensor_def di = evo_default_sensor3d_def(EVO_SENSE_DISTANCE);
 	di.name = "DIST";
 	di.target = *target;
 	di.scale = 10;
@@ -98,7 +98,7 @@ TEST(target_sensor_azimuth_and_elevation)
 {
 	int t;
 	evo_scene3d *sc = floating(0, &t);
-	const evo_sensor3d *s = sc->bot[0].sensor;
+	const evo_sensor *s = sc->bot[0].sensor;
 	target_at(sc, t, 3, 3, 2); /* ahead-left, 45 degrees */
 	CHECK(NEAR(s[0].value, 0.625, 1e-9));
 	CHECK(NEAR(s[1].value, 0.5, 1e-9));
@@ -138,14 +138,14 @@ static evo_scene3d *wheeled(void)
 	b.caster_pos[2] = -0.04;
 	b.caster_radius = 0.04;
 	evo_scene3d_add_bot(sc, &b);
-	evo_actuator3d_def w = evo_default_actuator3d_def(EVO3D_ACTUATOR_WHEEL);
+	evo_actuator_def w = evo_default_actuator_def(EVO_ACT_WHEEL);
 	w.name = "MotL";
 	w.pos[1] = 0.18;
 	evo_scene3d_add_actuator(sc, 0, &w);
 	w.name = "MotR";
 	w.pos[1] = -0.18;
 	evo_scene3d_add_actuator(sc, 0, &w);
-	evo_sensor3d_def p = evo_default_sensor3d_def(EVO3D_SENSOR_PROXIMITY);
+	evo_sensor_def p = evo_default_sensor3d_def(EVO_SENSE_PROXIMITY);
 	p.name = "S1";
 	p.pos[0] = 0.2;
 	evo_scene3d_add_sensor(sc, 0, &p);
@@ -245,7 +245,7 @@ TEST(proximity_reads_the_nearest_obstacle)
 	evo_scene3d_reset(sc, 1, 1);
 	evo_scene3d_sense(sc);
 	CHECK(NEAR(sc->bot[0].sensor[0].value, 1.3 / 3, 1e-6));
-	CHECK(NEAR(sc->bot[0].sensor[0].hit[0], 1.3, 1e-6));
+	CHECK(NEAR(sc->bot[0].sensor[0].ray[0] * 3.0, 1.3, 1e-6));
 	/* turned away, nothing within 3 m */
 	sc->bot[0].def.yaw = M_PI;
 	evo_scene3d_reset(sc, 1, 1);
@@ -312,8 +312,8 @@ TEST(an_exploding_body_ends_the_episode_with_a_penalty)
 {
 	int t;
 	evo_scene3d *sc = floating(0, &t);
-	evo_actuator3d_def p =
-	    evo_default_actuator3d_def(EVO3D_ACTUATOR_PROPELLER);
+	evo_actuator_def p =
+	    evo_default_actuator_def(EVO_ACT_PROPELLER);
 	p.name = "M1";
 	p.max_thrust = 1e7;
 	CHECK(evo_scene3d_add_actuator(sc, 0, &p) == 0);
@@ -359,7 +359,7 @@ TEST(objects_fall_and_zones_trigger)
 	evo_element_def z = evo_default_element_def(EVO_PIECE_ZONE, EVO_DIM_3D);
 	z.pos[2] = 2; /* around the bot at (0, 0, 2): half sides 0.5 */
 	int zone = evo_scene3d_add_element(sc, &z);
-	evo_sensor3d_def zs = evo_default_sensor3d_def(EVO3D_SENSOR_ZONE);
+	evo_sensor_def zs = evo_default_sensor3d_def(EVO_SENSE_ZONE);
 	zs.name = "INZONE";
 	zs.target = zone;
 	int k = evo_scene3d_add_sensor(sc, 0, &zs);
@@ -389,12 +389,12 @@ TEST(bad_definitions_are_refused)
 	CHECK_CONTAINS(sc->err.msg, "mass");
 	b = evo_default_bot3d_def();
 	CHECK(evo_scene3d_add_bot(sc, &b) == 0);
-	evo_actuator3d_def p =
-	    evo_default_actuator3d_def(EVO3D_ACTUATOR_PROPELLER);
+	evo_actuator_def p =
+	    evo_default_actuator_def(EVO_ACT_PROPELLER);
 	p.axis[0] = 0;
 	CHECK(evo_scene3d_add_actuator(sc, 0, &p) < 0);
 	CHECK_CONTAINS(sc->err.msg, "axis");
-	evo_sensor3d_def s = evo_default_sensor3d_def(EVO3D_SENSOR_PROXIMITY);
+	evo_sensor_def s = evo_default_sensor3d_def(EVO_SENSE_PROXIMITY);
 	s.rays = 0;
 	CHECK(evo_scene3d_add_sensor(sc, 0, &s) < 0);
 	evo_element_def e =
