@@ -45,9 +45,9 @@ static int nonneg(double v)
 static int check_values(const evo_actuator_def *d, const char *name,
 			evo_err *err)
 {
-	double v[] = {d->pos[0],  d->pos[1],	 d->pos[2],  d->angle,
-		      d->max_force, d->reach,	 d->max_speed, d->accel,
-		      d->axis[0], d->axis[1],	 d->axis[2]};
+	double v[] = {d->pos[0],    d->pos[1],	d->pos[2],    d->angle,
+		      d->max_force, d->reach,	d->max_speed, d->accel,
+		      d->axis[0],   d->axis[1], d->axis[2]};
 	if (!finite_all(v, (int)(sizeof v / sizeof *v)))
 		return evo_fail(err, "actuator '%s': a value is not a number",
 				name);
@@ -81,8 +81,7 @@ static int check_wheel3d(const evo_actuator_def *d, const char *name,
 {
 	if (d->radius > 0 && isfinite(d->radius) && d->half_width > 0 &&
 	    isfinite(d->half_width) && d->mass > 0 && isfinite(d->mass) &&
-	    nonneg(d->friction) && nonneg(d->max_rate) &&
-	    nonneg(d->max_torque))
+	    nonneg(d->friction) && nonneg(d->max_rate) && nonneg(d->max_torque))
 		return 0;
 	return evo_fail(err,
 			"wheel '%s': radius, width and mass must be > 0, "
@@ -99,9 +98,9 @@ static int check(const evo_actuator_def *d, unsigned dim, evo_err *err)
 				(int)d->kind);
 	if (!(row->dims & dim))
 		return evo_fail(err,
-				"actuator '%s': %s is %s only, and this is a "
-				"%s scene",
-				name, row->name, dim == EVO_DIM_2D ? "3D" : "2D",
+				"actuator '%s': %s is no actuator of the %s "
+				"world",
+				name, row->name,
 				dim == EVO_DIM_2D ? "2D" : "3D");
 	if (check_values(d, name, err))
 		return -1;
@@ -110,28 +109,29 @@ static int check(const evo_actuator_def *d, unsigned dim, evo_err *err)
 	return 0;
 }
 
-evo_actuator *evo_actuator_append(evo_actuator **arr, int n,
-				  const evo_actuator_def *d, unsigned dim,
-				  const char *dflt, evo_err *err)
+evo_actuator *evo_actuator_store(evo_actuator **arr, int n,
+				 const evo_actuator_def *d, unsigned dim,
+				 const char *bot, const char *dflt,
+				 evo_err *err)
 {
 	if (check(d, dim, err))
 		return NULL;
 	if (d->name && d->name[0] &&
 	    evo_store_find(*arr, n, sizeof **arr, offsetof(evo_actuator, name),
 			   d->name) >= 0) {
-		evo_fail(err, "actuator '%s' is defined twice", d->name);
+		evo_fail(err, "bot %s: actuator '%s' is defined twice",
+			 bot && bot[0] ? bot : "?", d->name);
 		return NULL;
 	}
-	evo_actuator *a =
-	    evo_store_add((void **)arr, NULL, n, sizeof *a, err);
+	evo_actuator *a = evo_store_add((void **)arr, NULL, n, sizeof *a, err);
 	if (!a || evo_store_name(a->name, d->name, dflt, n, err))
 		return NULL;
 	a->def = *d;
 	a->def.name = NULL;
 	if (d->kind == EVO_ACT_PROPELLER) {
-		double len = sqrt(d->axis[0] * d->axis[0] +
-				  d->axis[1] * d->axis[1] +
-				  d->axis[2] * d->axis[2]);
+		double len =
+		    sqrt(d->axis[0] * d->axis[0] + d->axis[1] * d->axis[1] +
+			 d->axis[2] * d->axis[2]);
 		for (int k = 0; k < 3; k++)
 			a->def.axis[k] = d->axis[k] / len;
 	}
