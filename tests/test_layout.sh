@@ -197,6 +197,15 @@ defs=$(grep -rl --include='*.h' --include='*.c' \
 if [ -z "$defs" ]; then pass; else
 	fail "sensor structs or kinds outside sim/scene/sensor.h and kinds.h: $(echo $defs)"; fi
 
+# One actuator for both worlds (step 4): evo_actuator_def and evo_actuator
+# are sim/scene/actuator.h's alone, with kinds.h's evo_act_kind; no world
+# defines an actuator struct or kind enum of its own.
+defs=$(grep -rl --include='*.h' --include='*.c' \
+	-e 'struct evo_actuator\(_def\)\? {' -e 'struct evo_actuator3d' \
+	-e 'enum evo_actuator\(3d\)\?_kind' sim | grep -v '^sim/scene/actuator.h$')
+if [ -z "$defs" ]; then pass; else
+	fail "actuator structs or kinds outside sim/scene/actuator.h and kinds.h: $(echo $defs)"; fi
+
 # One scoring for both scenes (step 3): the reward, control, metric and
 # hook types are scoring.h's alone; no file but scoring.c chooses a reward
 # or control function by its kind; both steps hand the tick's rewards and

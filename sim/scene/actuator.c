@@ -1,5 +1,6 @@
 /* A bot's actuators, one definition for both worlds (scene/actuator.h):
- * their defaults, and adding one with the checks of both worlds. */
+ * their defaults, adding one with the checks of both worlds, and what a
+ * bot broadcasts. */
 #include "scene/actuator.h"
 
 #include <math.h>
@@ -45,9 +46,9 @@ static int nonneg(double v)
 static int check_values(const evo_actuator_def *d, const char *name,
 			evo_err *err)
 {
-	double v[] = {d->pos[0],  d->pos[1],	 d->pos[2],  d->angle,
-		      d->max_force, d->reach,	 d->max_speed, d->accel,
-		      d->axis[0], d->axis[1],	 d->axis[2]};
+	double v[] = {d->pos[0],    d->pos[1],	d->pos[2],    d->angle,
+		      d->max_force, d->reach,	d->max_speed, d->accel,
+		      d->axis[0],   d->axis[1], d->axis[2]};
 	if (!finite_all(v, (int)(sizeof v / sizeof *v)))
 		return evo_fail(err, "actuator '%s': a value is not a number",
 				name);
@@ -81,8 +82,7 @@ static int check_wheel3d(const evo_actuator_def *d, const char *name,
 {
 	if (d->radius > 0 && isfinite(d->radius) && d->half_width > 0 &&
 	    isfinite(d->half_width) && d->mass > 0 && isfinite(d->mass) &&
-	    nonneg(d->friction) && nonneg(d->max_rate) &&
-	    nonneg(d->max_torque))
+	    nonneg(d->friction) && nonneg(d->max_rate) && nonneg(d->max_torque))
 		return 0;
 	return evo_fail(err,
 			"wheel '%s': radius, width and mass must be > 0, "
@@ -99,9 +99,9 @@ static int check(const evo_actuator_def *d, unsigned dim, evo_err *err)
 				(int)d->kind);
 	if (!(row->dims & dim))
 		return evo_fail(err,
-				"actuator '%s': %s is %s only, and this is a "
-				"%s scene",
-				name, row->name, dim == EVO_DIM_2D ? "3D" : "2D",
+				"actuator '%s': %s is no actuator of the %s "
+				"world",
+				name, row->name,
 				dim == EVO_DIM_2D ? "2D" : "3D");
 	if (check_values(d, name, err))
 		return -1;
@@ -110,28 +110,29 @@ static int check(const evo_actuator_def *d, unsigned dim, evo_err *err)
 	return 0;
 }
 
-evo_actuator *evo_actuator_append(evo_actuator **arr, int n,
-				  const evo_actuator_def *d, unsigned dim,
-				  const char *dflt, evo_err *err)
+evo_actuator *evo_actuator_store(evo_actuator **arr, int n,
+				 const evo_actuator_def *d, unsigned dim,
+				 const char *bot, const char *dflt,
+				 evo_err *err)
 {
 	if (check(d, dim, err))
 		return NULL;
 	if (d->name && d->name[0] &&
 	    evo_store_find(*arr, n, sizeof **arr, offsetof(evo_actuator, name),
 			   d->name) >= 0) {
-		evo_fail(err, "actuator '%s' is defined twice", d->name);
+		evo_fail(err, "bot %s: actuator '%s' is defined twice",
+			 bot && bot[0] ? bot : "?", d->name);
 		return NULL;
 	}
-	evo_actuator *a =
-	    evo_store_add((void **)arr, NULL, n, sizeof *a, err);
+	evo_actuator *a = evo_store_add((void **)arr, NULL, n, sizeof *a, err);
 	if (!a || evo_store_name(a->name, d->name, dflt, n, err))
 		return NULL;
 	a->def = *d;
 	a->def.name = NULL;
 	if (d->kind == EVO_ACT_PROPELLER) {
-		double len = sqrt(d->axis[0] * d->axis[0] +
-				  d->axis[1] * d->axis[1] +
-				  d->axis[2] * d->axis[2]);
+		double len =
+		    sqrt(d->axis[0] * d->axis[0] + d->axis[1] * d->axis[1] +
+			 d->axis[2] * d->axis[2]);
 		for (int k = 0; k < 3; k++)
 			a->def.axis[k] = d->axis[k] / len;
 	}
@@ -141,4 +142,18 @@ evo_actuator *evo_actuator_append(evo_actuator **arr, int n,
 	a->dir_c = cos(d->angle);
 	a->dir_s = sin(d->angle);
 	return a;
+}
+
+int evo_actuator_broadcasts(const evo_actuator *a, int n, evo_swarm_peer *out)
+{
+	out->n_values = 0;
+	int any = 0;
+	for (int k = 0; k < n; k++) {
+		if (a[k].def.kind != EVO_ACT_BROADCAST)
+			continue;
+		any = 1;
+		if (out->n_values < EVO_SWARM_MAX_VALUES)
+			out->value[out->n_values++] = a[k].command;
+	}
+	return any;
 }

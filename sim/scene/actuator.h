@@ -4,7 +4,7 @@
  * in 2D, a propeller in 3D, a broadcast in both). Each field below says
  * which world reads it; the other world leaves it at its default.
  *
- * Adding one is written here once (evo_actuator_append: the checks, the
+ * Adding one is written here once (evo_actuator_store: the checks, the
  * name, the storage, the state a new actuator starts with); how an
  * actuator acts on its world's bodies is that world's
  * (sim/world2d/actuators.c pushes a Box2D body at a point, claws weld;
@@ -17,6 +17,7 @@
 #include "base/err.h"
 #include "scene/kinds.h"
 #include "scene/store.h"
+#include "scene/swarm.h"
 
 typedef struct evo_actuator_def {
 	evo_act_kind kind;
@@ -42,7 +43,8 @@ typedef struct evo_actuator_def {
 	 * above 0, it changes the speed by (2c - 1) * accel each step,
 	 * within +-max_speed */
 	double accel;
-	int turn; /* 2D drive: 1 turns (+ clockwise on screen), 0 drives ahead */
+	int turn; /* 2D drive: 1 turns (+ clockwise on screen), 0 drives ahead
+		   */
 	/* 3D propeller: the direction of its thrust (made unit when added;
 	 * (1, 0, 0)) and its thrust at c = 1, N (10) */
 	double axis[3];
@@ -66,23 +68,34 @@ typedef struct evo_actuator {
 	double command;
 	/* 2D: the command of the previous step (claw edges) */
 	double previous;
-	int held;	     /* 2D claw: element index held, or -1 */
-	int joint;	     /* 2D claw: the weld's id in the world, or -1 */
-	double speed;	     /* 2D speed wheel, drive: the speed it set last step */
+	int held;     /* 2D claw: element index held, or -1 */
+	int joint;    /* 2D claw: the weld's id in the world, or -1 */
+	double speed; /* 2D speed wheel, drive: the speed it set last step */
 	double dir_c, dir_s; /* 2D: cos and sin of def.angle */
 	int body;	     /* 3D wheel: its body in the world, or -1 */
 	int hinge;	     /* 3D wheel: its hinge, or -1 */
 } evo_actuator;
 
-/* Check def for a bot of a scene of dimension dim (EVO_DIM_2D or
- * EVO_DIM_3D) and add it after the bot's n actuators in *arr: a kind of
- * that world (kinds.c's row, in its words), values that are numbers and
- * in range, a name not used twice. An actuator with no name is called
- * dflt followed by its number ("actuator2"), or "" when dflt is NULL.
- * The new actuator, neutral (command 0.5, nothing held, no body yet), or
- * NULL with err set. The caller counts it. */
-evo_actuator *evo_actuator_append(evo_actuator **arr, int n,
-				  const evo_actuator_def *def, unsigned dim,
-				  const char *dflt, evo_err *err);
+/* Adding an actuator, both worlds' part: checks d for world dim
+ * (EVO_DIM_2D or EVO_DIM_3D: a kind of that world by its row of kinds.c,
+ * numbers, a speed wheel's or drive's max_speed and accel, a propeller's
+ * axis and thrust, a 3D wheel's body and drive, a name not used by the
+ * first n actuators of *arr) and stores it as actuator n of *arr (a bot's
+ * actuators, which grow 8 at a time), named d->name or, unnamed, dflt
+ * and its number ("actuator3"; "" when dflt is NULL), neutral (command
+ * 0.5, nothing held, no body yet; a propeller's axis made unit). bot
+ * names the bot in the messages. The new actuator, or NULL with err set;
+ * the caller makes what its world needs (a 3D wheel's body) and counts
+ * it. */
+evo_actuator *evo_actuator_store(evo_actuator **arr, int n,
+				 const evo_actuator_def *d, unsigned dim,
+				 const char *bot, const char *dflt,
+				 evo_err *err);
+
+/* What a bot of n actuators a broadcasts, as range-and-bearing sensors
+ * hear it: its broadcast actuators' commands, in the order it has them,
+ * into out's values (its position is the caller's). 1 when it has a
+ * broadcast actuator, 0 when none (it is not heard). */
+int evo_actuator_broadcasts(const evo_actuator *a, int n, evo_swarm_peer *out);
 
 #endif

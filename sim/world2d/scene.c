@@ -297,8 +297,8 @@ int evo_scene_add_actuator(evo_scene *sc, int bot, const evo_actuator_def *d)
 	if (check_bot(sc, bot))
 		return -1;
 	evo_bot *b = &sc->bot[bot];
-	if (!evo_actuator_append(&b->actuator, b->n_actuators, d, EVO_DIM_2D,
-				 NULL, &sc->err))
+	if (!evo_actuator_store(&b->actuator, b->n_actuators, d, EVO_DIM_2D,
+				b->name, NULL, &sc->err))
 		return -1;
 	return b->n_actuators++;
 }

@@ -165,16 +165,7 @@ static int peer_2d(void *ctx, int i, evo_swarm_peer *out)
 	out->pos[0] = b->x;
 	out->pos[1] = b->y;
 	out->pos[2] = 0;
-	out->n_values = 0;
-	int any = 0;
-	for (int k = 0; k < b->n_actuators; k++) {
-		if (b->actuator[k].def.kind != EVO_ACT_BROADCAST)
-			continue;
-		any = 1;
-		if (out->n_values < EVO_SWARM_MAX_VALUES)
-			out->value[out->n_values++] = b->actuator[k].command;
-	}
-	return any;
+	return evo_actuator_broadcasts(b->actuator, b->n_actuators, out);
 }
 
 /* Where a coloured bot or element is now, for a camera; its reach from

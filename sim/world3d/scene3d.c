@@ -287,8 +287,8 @@ int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
 			     const evo_actuator_def *d)
 {
 	evo_bot3d *b = check_bot(sc, bot);
-	if (!b || !evo_actuator_append(&b->actuator, b->n_actuators, d,
-				       EVO_DIM_3D, "actuator", &sc->err))
+	if (!b || !evo_actuator_store(&b->actuator, b->n_actuators, d,
+				      EVO_DIM_3D, b->name, "actuator", &sc->err))
 		return -1;
 	b->n_actuators++;
 	/* a wheel is a body of its own, on a hinge */

@@ -70,16 +70,7 @@ static int peer_3d(void *ctx, int i, evo_swarm_peer *out)
 	const evo_bot3d *b = &((const evo_scene3d *)ctx)->bot[i];
 	for (int k = 0; k < 3; k++)
 		out->pos[k] = b->pos[k];
-	out->n_values = 0;
-	int any = 0;
-	for (int k = 0; k < b->n_actuators; k++) {
-		if (b->actuator[k].def.kind != EVO_ACT_BROADCAST)
-			continue;
-		any = 1;
-		if (out->n_values < EVO_SWARM_MAX_VALUES)
-			out->value[out->n_values++] = b->actuator[k].command;
-	}
-	return any;
+	return evo_actuator_broadcasts(b->actuator, b->n_actuators, out);
 }
 
 /* Where a coloured bot or element is now, for a camera; how far its body
