@@ -175,7 +175,7 @@ if [ -z "$names" ]; then pass; else
 	fail "reward or control names outside sim/scene/kinds.c: $(echo $names)"; fi
 
 # One Lua binding (step 5): each scene's own functions are called from its
-# dimension's table alone (lua_evo.c keeps 2D's env.obstacles); the kinds'
+# dimension's table alone (lua_evo.c makes env.obstacles' 2D entries); the kinds'
 # methods come from kinds.c's rows, never from a method table of their own.
 calls3d=$(grep -l 'evo_\(scene3d\|bot3d\|sensor3d\)_[a-z_]*(' sim/lua/*.c |
 	grep -v '^sim/lua/lua_dim3d.c$')

@@ -265,15 +265,11 @@ static int load_env(lua_State *L)
 	return 1;
 }
 
-static int init_env3d(evo_lua *l, const char *not3d, evo_err *err);
-
 /* What the environment's table has after init: post_step and obstacles
- * functions, and the first of the 2D hooks a 3D environment may not
- * have. Read in a call of its own: an __index of the table is the
+ * functions. Read in a call of its own: an __index of the table is the
  * script's code. */
 static int env_fields(lua_State *L)
 {
-	static const char *const not3d[] = {"obstacles"};
 	evo_lua *l = lua_touserdata(L, 1);
 	lua_rawgeti(L, LUA_REGISTRYINDEX, l->env_ref);
 	int env = lua_gettop(L);
@@ -281,17 +277,7 @@ static int env_fields(lua_State *L)
 	lua_replace(L, -2);
 	lua_pushboolean(L, lua_getfield(L, env, "obstacles") == LUA_TFUNCTION);
 	lua_replace(L, -2);
-	lua_pushnil(L);
-	for (unsigned i = 0; i < sizeof not3d / sizeof *not3d; i++) {
-		int has = lua_getfield(L, env, not3d[i]) != LUA_TNIL;
-		lua_pop(L, 1);
-		if (has) {
-			lua_pushstring(L, not3d[i]);
-			lua_replace(L, -2);
-			break;
-		}
-	}
-	return 3;
+	return 2;
 }
 
 int evo_lua_init_env(evo_lua *l, const char *env, evo_err *err)
@@ -317,24 +303,19 @@ int evo_lua_init_env(evo_lua *l, const char *env, evo_err *err)
 	if (evo_lua_call_env(l, "init", 2, 0, err))
 		return -1;
 	l->ready = 1;
-	if (call_l(l, env_fields, 3, 1, "init", err))
+	if (call_l(l, env_fields, 2, 1, "init", err))
 		return -1;
-	int has_obstacles = lua_toboolean(L, -2);
-	l->has_post_step = lua_toboolean(L, -3);
-	char not3d[16] = "";
-	if (lua_isstring(L, -1))
-		snprintf(not3d, sizeof not3d, "%s", lua_tostring(L, -1));
-	lua_pop(L, 3);
+	int has_obstacles = lua_toboolean(L, -1);
+	l->has_post_step = lua_toboolean(L, -2);
+	lua_pop(L, 2);
 	if (l->has_post_step)
 		scene_hooks(l)->post_step = evo_lua_hook_post_step;
-	if (l->sc3)
-		return init_env3d(l, not3d, err);
-	if (l->sc->n_bots == 0)
+	if ((l->sc3 ? l->sc3->n_bots : l->sc->n_bots) == 0)
 		return evo_fail(err,
 				"%s: init added no bot (call scene:bot{...})",
 				l->env_path);
 	/* an obstacle generator of its own replaces the grid */
-	if (has_obstacles)
+	if (has_obstacles && l->sc)
 		l->sc->grid.enabled = 0;
 	return 0;
 }
@@ -349,9 +330,25 @@ static int obstacle_random(lua_State *L)
 	return 1;
 }
 
-/* env.obstacles(scene, random, episode), when the environment has it: a list of
- * {x, y, size, angle, shape} added for this episode (the tutorial's
- * generateObstaclesParameters). Raises with the environment's path. */
+/* A 3D entry of env.obstacles (at t): what scene:obstacle takes, added
+ * through it. Raises with the environment's path and the entry. */
+static void add_obstacle3d(lua_State *L, evo_lua *l, int scene, int t,
+			   const char *what)
+{
+	lua_getfield(L, scene, "obstacle");
+	lua_pushvalue(L, scene);
+	lua_pushvalue(L, t);
+	if (lua_pcall(L, 2, 0, 0) != LUA_OK)
+		luaL_error(L, "%s: %s: %s", l->env_path, what,
+			   lua_tostring(L, -1));
+	lua_pop(L, 1); /* the entry */
+}
+
+/* env.obstacles(scene, random, episode), when the environment has it: a
+ * list of obstacles added for this episode (the tutorial's
+ * generateObstaclesParameters): in 2D each {x, y, size, angle, shape}, in
+ * 3D each what scene:obstacle takes. Raises with the environment's
+ * path. */
 static int run_obstacles(lua_State *L)
 {
 	static const char *const keys[] = {"x",	    "y",     "size",
@@ -360,9 +357,13 @@ static int run_obstacles(lua_State *L)
 	lua_rawgeti(L, LUA_REGISTRYINDEX, l->env_ref);
 	if (lua_getfield(L, -1, "obstacles") != LUA_TFUNCTION)
 		return 0;
+	/* the scene below the function, kept for 3D's entries */
 	lua_rawgetp(L, LUA_REGISTRYINDEX, &evo_lua_scene_key);
+	lua_insert(L, -2);
+	int scene = lua_gettop(L) - 1;
+	lua_pushvalue(L, scene);
 	evo_rng *r = lua_newuserdatauv(L, sizeof *r, 0);
-	*r = evo_rng_for(l->sc->grid_seed, 0x6f6273 /* "obs" */, 0, 0);
+	*r = evo_rng_for(*l->v.grid_seed, 0x6f6273 /* "obs" */, 0, 0);
 	lua_pushcclosure(L, obstacle_random, 1);
 	lua_pushinteger(L, l->episode);
 	lua_call(L, 3, 1);
@@ -382,6 +383,10 @@ static int run_obstacles(lua_State *L)
 					  l->env_path, what,
 					  luaL_typename(L, -1));
 		int t = lua_gettop(L);
+		if (l->sc3) {
+			add_obstacle3d(L, l, scene, t, what);
+			continue;
+		}
 		evo_lua_check_keys(L, t, what, keys);
 		evo_obstacle o;
 		memset(&o, 0, sizeof o);
@@ -413,24 +418,6 @@ static int run_obstacles(lua_State *L)
 	return 0;
 }
 
-/* A 3D environment after its init: a bot, and none of the 2D hooks it
- * cannot have yet (docs/world3d.md); not3d names the first it has. */
-static int init_env3d(evo_lua *l, const char *not3d, evo_err *err)
-{
-	if (l->sc3->n_bots == 0)
-		return evo_fail(err,
-				"%s: init added no bot (call scene:bot{...})",
-				l->env_path);
-	if (not3d[0])
-		return evo_fail(err,
-				"%s: env.%s is for 2D environments; a "
-				"3D one adds its episode's obstacles "
-				"with scene:obstacle{...} in reset "
-				"(docs/world3d.md)",
-				l->env_path, not3d);
-	return 0;
-}
-
 int evo_lua_reset(evo_lua *l, int episode, evo_err *err)
 {
 	/* scene:layout_random's stream, the same for every candidate */
@@ -442,16 +429,16 @@ int evo_lua_reset(evo_lua *l, int episode, evo_err *err)
 	evo_rng r = evo_rng_for(l->v.rng->s, 0x4c7561 /* "Lua" */, 0, 0);
 	seed_math_random(l->L, evo_rng_next(&r));
 	/* the Lua rewards' and controls' own resets, as the C ones were
-	 * reset by the scene's reset, then a 2D environment's obstacles
-	 * (a 3D one adds them in its reset) and its reset */
+	 * reset by the scene's reset, then the environment's obstacles and
+	 * its reset (both may add an episode's obstacles) */
 	if (evo_lua_call_resets(l, &evo_lua_reward_resets_key, err) ||
 	    evo_lua_call_resets(l, &evo_lua_control_resets_key, err))
 		return -1;
 	l->episode = episode;
-	if (l->sc && call_l(l, run_obstacles, 0, 0, "obstacles", err))
-		return -1;
 	l->in_reset = 1;
-	int rc = evo_lua_call_env(l, "reset", 1, episode, err);
+	int rc = call_l(l, run_obstacles, 0, 0, "obstacles", err);
+	if (rc == 0)
+		rc = evo_lua_call_env(l, "reset", 1, episode, err);
 	l->in_reset = 0;
 	return rc;
 }

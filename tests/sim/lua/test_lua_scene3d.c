@@ -384,6 +384,55 @@ TEST(a_3d_lua_reward_that_returns_no_number_fails_the_step)
 	evo_scene3d_destroy(sc);
 }
 
+/* env.obstacles in 3D (docs/lua.md, "Obstacles of your own"): each entry
+ * is what scene:obstacle takes, added for the episode before env.reset.
+ * Episode 1: a box whose face is 2.25 - 0.5 = 1.75 from the bot's centre
+ * ahead, 1.5 from the ray's start: P reads 1.5 / 4; episode 2 moves it
+ * 1 m further: 2.5 / 4; each episode has its box alone. An entry of no
+ * known shape is refused, naming the environment and the entry. */
+TEST(env_obstacles_add_an_episodes_obstacles_in_3d)
+{
+	const char *env =
+	    "local e = {}\n"
+	    "function e.init(scene) scene:bot{} end\n"
+	    "function e.obstacles(scene, random, episode)\n"
+	    "  local x = episode == 1 and 2.25 or 3.25\n"
+	    "  return { { shape = 'box', x = x, y = 0, z = 2, hx = 0.5,"
+	    " hy = 0.5, hz = 0.5 } }\n"
+	    "end\n"
+	    "return e\n";
+	evo_scene3d *sc;
+	evo_err err = {{0}};
+	evo_lua *l = build(env, &sc, &err);
+	CHECK(l != NULL);
+	if (!l) {
+		printf("  %s\n", err.msg);
+		return;
+	}
+	evo_scene3d_sense(sc);
+	CHECK(NEAR(value(sc, "P"), 1.5 / 4, 1e-6));
+	CHECK_EQ_INT(sc->n_obstacles, 1);
+	CHECK_EQ_INT(evo_scene3d_reset(sc, 1, 2), 0);
+	CHECK_EQ_INT(evo_lua_reset(l, 2, &err), 0);
+	evo_scene3d_sense(sc);
+	CHECK(NEAR(value(sc, "P"), 2.5 / 4, 1e-6));
+	CHECK_EQ_INT(sc->n_obstacles, 1);
+	evo_lua_destroy(l);
+	evo_scene3d_destroy(sc);
+
+	const char *bad = "local e = {}\n"
+			  "function e.init(scene) scene:bot{} end\n"
+			  "function e.obstacles(scene, random, episode)\n"
+			  "  return { { shape = 'box' }, { shape = 'cone' } }\n"
+			  "end\n"
+			  "return e\n";
+	l = build(bad, &sc, &err);
+	CHECK(l == NULL);
+	CHECK_CONTAINS(err.msg, "Envs/E.lua: env.obstacles: obstacle 2: ");
+	CHECK_CONTAINS(err.msg, "shape is \"box\", \"cylinder\" or "
+				"\"sphere\", found \"cone\"");
+}
+
 int main(void)
 {
 	if (cli_setup("lua3d") ||
@@ -395,6 +444,7 @@ int main(void)
 	RUN(bad_options_and_misplaced_calls_are_refused_at_their_line);
 	RUN(lua_rewards_controls_and_post_step_run_in_3d);
 	RUN(a_3d_lua_reward_that_returns_no_number_fails_the_step);
+	RUN(env_obstacles_add_an_episodes_obstacles_in_3d);
 	cli_cleanup();
 	return test_summary();
 }
