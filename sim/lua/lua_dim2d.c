@@ -174,7 +174,7 @@ static int add_bot(lua_State *L, int team, const char *name, const char *what)
 	d.name = name;
 	d.x = evo_lua_opt_num(L, 2, "x", 0, what);
 	d.y = evo_lua_opt_num(L, 2, "y", 0, what);
-	d.angle = evo_lua_opt_num(L, 2, "angle", 0, what) * EVO_LUA_DEG;
+	d.yaw = evo_lua_opt_num(L, 2, "angle", 0, what) * EVO_LUA_DEG;
 	lua_getfield(L, 3, "body");
 	if (!lua_isnil(L, -1)) {
 		/* a mistake in the body is the bot model's: its file first */
@@ -210,7 +210,7 @@ static const int sense_of[] = {
 _Static_assert(sizeof sense_of / sizeof *sense_of == EVO_SENSOR_KIND_COUNT,
 	       "a row for each kind");
 
-EVO_LUA_DIM_COMMON(sc, evo_scene, evo_bot, team)
+EVO_LUA_DIM_COMMON(sc, evo_scene, evo_bot, sensor, actuator)
 
 /* Each 2D actuator kind's row of sim/scene/kinds.c, in
  * evo_actuator_kind's order. */

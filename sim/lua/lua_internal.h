@@ -322,9 +322,10 @@ extern const evo_lua_dim evo_lua_dim3d;
 /* The functions of a dimension's table that read the same fields in
  * either scene, written once (as tasksim/simscene.c's): SC is the
  * evo_lua's scene (sc, sc3), SCENE and BOT the prefixes of its scene's
- * and bot's functions, TEAM the path of a bot's team. The file defines
- * sense_of[], its sensor kinds' rows of sim/scene/kinds.c. */
-#define EVO_LUA_DIM_COMMON(SC, SCENE, BOT, TEAM)                              \
+ * and bot's functions, SENSOR and ACTUATOR the members of the one evo_bot
+ * (scene/bot.h) that hold its world's sensors and actuators. The file
+ * defines sense_of[], its sensor kinds' rows of sim/scene/kinds.c. */
+#define EVO_LUA_DIM_COMMON(SC, SCENE, BOT, SENSOR, ACTUATOR)                  \
 	static void view(evo_lua *l, evo_lua_view *v)                         \
 	{                                                                     \
 		*v = (evo_lua_view){                                          \
@@ -349,7 +350,7 @@ extern const evo_lua_dim evo_lua_dim3d;
 	}                                                                     \
 	static const char *bot(const evo_lua *l, int i, int *team)           \
 	{                                                                     \
-		*team = l->SC->bot[i].TEAM;                                   \
+		*team = l->SC->bot[i].team;                                   \
 		return l->SC->bot[i].name;                                    \
 	}                                                                     \
 	static const char *element_name(const evo_lua *l, int e)              \
@@ -358,11 +359,11 @@ extern const evo_lua_dim evo_lua_dim3d;
 	}                                                                     \
 	static int sensor(const evo_lua *l, int i, int s, evo_lua_sensor *out) \
 	{                                                                     \
-		const BOT *b = &l->SC->bot[i];                                \
+		const evo_bot *b = &l->SC->bot[i];                            \
 		if (s >= 0 && s < b->n_sensors)                               \
-			*out = (evo_lua_sensor){b->sensor[s].name,            \
-						sense_of[b->sensor[s].def.kind], \
-						b->sensor[s].def.target};     \
+			*out = (evo_lua_sensor){b->SENSOR[s].name,            \
+						sense_of[b->SENSOR[s].def.kind], \
+						b->SENSOR[s].def.target};     \
 		return b->n_sensors;                                          \
 	}                                                                     \
 	static int command(const evo_lua *l, int i, const char *name,         \
@@ -370,7 +371,7 @@ extern const evo_lua_dim evo_lua_dim3d;
 	{                                                                     \
 		int a = BOT##_find_actuator(&l->SC->bot[i], name);            \
 		if (a >= 0)                                                   \
-			*c = l->SC->bot[i].actuator[a].command;               \
+			*c = l->SC->bot[i].ACTUATOR[a].command;               \
 		return a;                                                     \
 	}
 

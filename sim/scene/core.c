@@ -28,6 +28,7 @@ void evo_core_free(evo_scene_core *c)
 		free(v.sensors.base);
 		free(v.actuators.base);
 	}
+	free(c->bot);
 	free(c->reward);
 	free(c->control);
 	evo_swarm_free(&c->swarm);

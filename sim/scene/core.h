@@ -25,6 +25,7 @@
 #include "base/err.h"
 #include "base/rng.h"
 #include "scene/backend.h"
+#include "scene/bot.h"
 #include "scene/kinds.h"
 #include "scene/scoring.h"
 #include "scene/swarm.h"
@@ -38,6 +39,9 @@ typedef struct evo_scene_dim evo_scene_dim;
 	evo_bworld *bw;                                                        \
 	const evo_scene_dim *dim; /* what differs by dimension */              \
 	int n_bots, n_elements;                                                \
+	/* the bots (scene/bot.h), added by evo_core_add_bot */                \
+	evo_bot *bot;                                                          \
+	int cap_bots;                                                          \
 	long tick;	    /* ticks since the reset */                        \
 	evo_rng rng;	    /* the episode's randomness (RANDOM sensors) */    \
 	uint64_t grid_seed; /* the last reset's: episode obstacles */          \
@@ -88,7 +92,9 @@ typedef struct evo_parts {
 	size_t stride, name_at, value_at, idle_at;
 } evo_parts;
 
-/* A bot as a task's simulation reads it (sim/tasksim/tasksim.c). */
+/* A bot as a task's simulation reads it (sim/tasksim/tasksim.c): its
+ * figures, read from the core's bot (view.c), and its parts, which its
+ * dimension gives (dim->parts). */
 typedef struct evo_bot_view {
 	const char *name;
 	int team;	/* -1: none */
@@ -142,8 +148,9 @@ struct evo_scene_dim {
 	/* start an episode (the scene's reset): 0, or -1 with c->err set */
 	int (*reset)(evo_scene_core *c, uint64_t grid_seed,
 		     uint64_t episode_seed);
-	/* bot's figures and parts, into *v */
-	void (*bot)(const evo_scene_core *c, int bot, evo_bot_view *v);
+	/* bot's sensors and actuators, into *sensors and *actuators */
+	void (*parts)(const evo_scene_core *c, int bot, evo_parts *sensors,
+		      evo_parts *actuators);
 	/* widen box (x0, y0, x1, y1) over the static obstacles the
 	 * environment built (evo_sim_behaviour's arena) */
 	void (*arena)(const evo_scene_core *c, double box[4]);
@@ -153,8 +160,9 @@ struct evo_scene_dim {
  * no winner. */
 void evo_core_init(evo_scene_core *c, const evo_backend *be, evo_bworld *bw,
 		   const evo_scene_dim *dim);
-/* Free what the core owns, and each bot's sensors and actuators (not the
- * world, nor the bots: its scene's, which it frees after). */
+/* Free what the core owns: the bots with their sensors and actuators,
+ * the rewards, controls and swarm (not the world: its scene's, which it
+ * frees after). */
 void evo_core_free(evo_scene_core *c);
 
 /* Add a reward or control after the checks of both dimensions and the
@@ -193,7 +201,7 @@ int evo_core_step(evo_scene_core *c);
 
 /* ---- the bots, seen from outside their dimension (view.c) ------------- */
 
-/* Bot's figures and parts (dim->bot). */
+/* Bot's figures (read from c->bot) and parts (dim->parts). */
 void evo_core_bot(const evo_scene_core *c, int bot, evo_bot_view *v);
 /* Part i's name; the index of the part of that name, or -1. */
 const char *evo_parts_name(const evo_parts *p, int i);

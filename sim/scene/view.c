@@ -1,8 +1,9 @@
 /* A scene's bots seen from outside their dimension (sim/scene/core.h): a
- * bot's figures, and its sensors and actuators as arrays of structs whose
- * names and values lie at offsets its dimension gives (evo_parts), so
- * that a task's simulation binds, reads and writes them, and the scoring
- * reads a sensor, the same way in 2D and 3D. */
+ * bot's figures, read from the one evo_bot (scene/bot.h), and its sensors
+ * and actuators as arrays of structs whose names and values lie at
+ * offsets its dimension gives (evo_parts), so that a task's simulation
+ * binds, reads and writes them, and the scoring reads a sensor, the same
+ * way in 2D and 3D. */
 #include "scene/core.h"
 
 #include <math.h>
@@ -11,7 +12,16 @@
 
 void evo_core_bot(const evo_scene_core *c, int bot, evo_bot_view *v)
 {
-	c->dim->bot(c, bot, v);
+	const evo_bot *b = &c->bot[bot];
+	*v = (evo_bot_view){
+	    .name = b->name,
+	    .team = b->team,
+	    .collisions = b->collisions,
+	    .reward = &c->bot[bot].reward,
+	    .now = {b->pos[0], b->pos[1]},
+	    .start = {b->start[0], b->start[1]},
+	};
+	c->dim->parts(c, bot, &v->sensors, &v->actuators);
 }
 
 const char *evo_parts_name(const evo_parts *p, int i)

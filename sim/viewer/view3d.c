@@ -321,7 +321,7 @@ static void light_marks(const evo_scene3d *sc)
 	glEnable(GL_LIGHTING);
 }
 
-static void bot(const evo_scene3d *sc, const evo_bot3d *b)
+static void bot(const evo_scene3d *sc, const evo_bot *b)
 {
 	glPushMatrix();
 	pose(b->pos, b->R);
@@ -352,7 +352,7 @@ static void bot(const evo_scene3d *sc, const evo_bot3d *b)
 		glPopMatrix();
 	}
 	for (int k = 0; k < b->n_actuators; k++) {
-		const evo_actuator3d *a = &b->actuator[k];
+		const evo_actuator3d *a = &b->actuator3d[k];
 		if (a->def.kind != EVO3D_ACTUATOR_PROPELLER)
 			continue;
 		colour(0x303030u, 1);
@@ -369,7 +369,7 @@ static void bot(const evo_scene3d *sc, const evo_bot3d *b)
 	glPopMatrix();
 	/* wheels, each its own body */
 	for (int k = 0; k < b->n_actuators; k++) {
-		const evo_actuator3d *a = &b->actuator[k];
+		const evo_actuator3d *a = &b->actuator3d[k];
 		if (a->body < 0 || !sc->world)
 			continue;
 		double p[3], R[9];
@@ -386,12 +386,12 @@ static void bot(const evo_scene3d *sc, const evo_bot3d *b)
 /* Each proximity ray from its sensor to what it hit (red), or to its
  * range, pale, when clear. Unshaded, and opaque: every pixel of a ray is
  * one of the two colours. */
-static void rays(const evo_bot3d *b)
+static void rays(const evo_bot *b)
 {
 	glLineWidth(2);
 	glBegin(GL_LINES);
 	for (int k = 0; k < b->n_sensors; k++) {
-		const evo_sensor3d *s = &b->sensor[k];
+		const evo_sensor3d *s = &b->sensor3d[k];
 		if (s->def.kind != EVO3D_SENSOR_PROXIMITY)
 			continue;
 		double from[3], dir[3];

@@ -17,7 +17,7 @@ static double clamp01(double v)
 
 /* Where the sensor sits in the world, and the target in the bot's frame
  * seen from there. */
-static void target_in_body(const evo_scene3d *sc, const evo_bot3d *b,
+static void target_in_body(const evo_scene3d *sc, const evo_bot *b,
 			   const evo_sensor3d *s, double out[3])
 {
 	double at[3], d[3];
@@ -31,7 +31,7 @@ static void target_in_body(const evo_scene3d *sc, const evo_bot3d *b,
 /* The nearest hit over the sensor's rays, / range; 1 when clear. */
 static double proximity(evo_scene3d *sc, int bot, evo_sensor3d *s)
 {
-	const evo_bot3d *b = &sc->bot[bot];
+	const evo_bot *b = &sc->bot[bot];
 	double from[3], dir[3];
 	evo_bot3d_to_world(b, s->def.pos, from);
 	for (int k = 0; k < 3; k++)
@@ -65,17 +65,17 @@ static int zone_holds(const evo_element3d *z, const double p[3])
  * commands, in the order it has them. */
 static int peer_3d(void *ctx, int i, evo_swarm_peer *out)
 {
-	const evo_bot3d *b = &((const evo_scene3d *)ctx)->bot[i];
+	const evo_bot *b = &((const evo_scene3d *)ctx)->bot[i];
 	for (int k = 0; k < 3; k++)
 		out->pos[k] = b->pos[k];
 	out->n_values = 0;
 	int any = 0;
 	for (int k = 0; k < b->n_actuators; k++) {
-		if (b->actuator[k].def.kind != EVO3D_ACTUATOR_BROADCAST)
+		if (b->actuator3d[k].def.kind != EVO3D_ACTUATOR_BROADCAST)
 			continue;
 		any = 1;
 		if (out->n_values < EVO_SWARM_MAX_VALUES)
-			out->value[out->n_values++] = b->actuator[k].command;
+			out->value[out->n_values++] = b->actuator3d[k].command;
 	}
 	return any;
 }
@@ -118,7 +118,7 @@ static int where_3d(void *ctx, const evo_blob *bl, double pos[3],
  * obstacles occlude, the ground does not. */
 static double swarm(evo_scene3d *sc, int bot, const evo_sensor3d *s)
 {
-	const evo_bot3d *b = &sc->bot[bot];
+	const evo_bot *b = &sc->bot[bot];
 	evo_swarm_frame f;
 	for (int k = 0; k < 3; k++)
 		f.pos[k] = b->pos[k];
@@ -140,8 +140,8 @@ static double swarm(evo_scene3d *sc, int bot, const evo_sensor3d *s)
 
 double evo_sensor3d_sample(evo_scene3d *sc, int bot, int k)
 {
-	evo_bot3d *b = &sc->bot[bot];
-	evo_sensor3d *s = &b->sensor[k];
+	evo_bot *b = &sc->bot[bot];
+	evo_sensor3d *s = &b->sensor3d[k];
 	int has = s->def.target >= 0 && s->def.target < sc->n_elements;
 	double t[3];
 	switch (s->def.kind) {
@@ -186,6 +186,6 @@ void evo_scene3d_sense(evo_scene3d *sc)
 {
 	for (int i = 0; i < sc->n_bots; i++)
 		for (int k = 0; k < sc->bot[i].n_sensors; k++)
-			sc->bot[i].sensor[k].value =
+			sc->bot[i].sensor3d[k].value =
 			    evo_sensor3d_sample(sc, i, k);
 }

@@ -41,7 +41,7 @@ static evo_scene3d *scene_3d(int team)
 {
 	evo_scene3d_def d = evo_default_scene3d_def();
 	evo_scene3d *sc = evo_scene3d_create(&d);
-	evo_bot3d_def b = evo_default_bot3d_def();
+	evo_bot_def b = evo_default_bot_def3d();
 	b.name = "r";
 	b.team = team;
 	b.pos[2] = b.half[2];
@@ -146,7 +146,7 @@ static void refused_alike(void)
 static void teams_3d(void)
 {
 	evo_scene3d *s3 = scene_3d(0);
-	evo_bot3d_def b = evo_default_bot3d_def();
+	evo_bot_def b = evo_default_bot_def3d();
 	b.team = 2;
 	b.pos[0] = 2;
 	b.pos[2] = b.half[2];
@@ -184,7 +184,7 @@ static void bots_alike(void)
 	bot_view(&s2->core, "w");
 	bot_view(&s3->core, "p");
 	CHECK(NEAR(s2->bot[0].actuator[0].command, 0.9));
-	CHECK(NEAR(s3->bot[0].actuator[0].command, 0.9));
+	CHECK(NEAR(s3->bot[0].actuator3d[0].command, 0.9));
 	evo_scene_destroy(s2);
 	evo_scene3d_destroy(s3);
 }

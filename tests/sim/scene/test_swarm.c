@@ -263,7 +263,7 @@ TEST(bad_settings_are_refused)
 static int add_bot3d(evo_scene3d *sc, const char *name, double x, double y,
 		     double z, double yaw, int broadcasts)
 {
-	evo_bot3d_def b = evo_default_bot3d_def();
+	evo_bot_def b = evo_default_bot_def3d();
 	b.name = name;
 	b.radius = 0.25;
 	b.pos[0] = x;
@@ -312,7 +312,7 @@ static void light3d(evo_scene3d *sc, double x, double y, double z, double i)
 static double read3d(evo_scene3d *sc, int bot, int s)
 {
 	evo_scene3d_sense(sc);
-	return sc->bot[bot].sensor[s].value;
+	return sc->bot[bot].sensor3d[s].value;
 }
 
 /* The bot at (0, 0, 2) heading +x. A light of 10 at (4, 3, 2): 5 away,
@@ -326,9 +326,9 @@ TEST(light_3d_falls_with_the_square_of_distance)
 	int s = sensor3d(sc, 0, EVO3D_SENSOR_LIGHT, "L", 0, 0, 0);
 	CHECK(evo_scene3d_reset(sc, 1, 1) == 0);
 	CHECK(NEAR(read3d(sc, 0, s), 0.4, 1e-9));
-	sc->bot[0].sensor[s].def.swarm.aperture = 30 * DEG;
+	sc->bot[0].sensor3d[s].def.swarm.aperture = 30 * DEG;
 	CHECK(NEAR(read3d(sc, 0, s), 0.0, 1e-12));
-	sc->bot[0].sensor[s].def.swarm.aperture = 45 * DEG;
+	sc->bot[0].sensor3d[s].def.swarm.aperture = 45 * DEG;
 	sc->swarm.light[0].pos[2] = 5;
 	CHECK(NEAR(read3d(sc, 0, s), 10.0 / 34, 1e-9));
 	evo_scene3d_destroy(sc);
@@ -422,9 +422,9 @@ TEST(rab_3d_ranks_neighbours_by_distance)
 	int n = rab3d(sc, "N", 1, EVO_RAB_COUNT, 0);
 	int hid = rab3d(sc, "HID", 2, EVO_RAB_RANGE, 1);
 	CHECK(evo_scene3d_reset(sc, 1, 1) == 0);
-	sc->bot[1].actuator[0].command = 0.3;
+	sc->bot[1].actuator3d[0].command = 0.3;
 	evo_scene3d_sense(sc);
-	const evo_sensor3d *s = sc->bot[0].sensor;
+	const evo_sensor3d *s = sc->bot[0].sensor3d;
 	CHECK(NEAR(s[r1].value, 0.5, 1e-9));
 	CHECK(NEAR(s[b1].value, BEARING_34, 1e-9));
 	CHECK(NEAR(s[v1].value, 0.3, 1e-12));
@@ -571,7 +571,7 @@ static void camera_3d(int box)
 	evo_scene3d_sense(sc);
 	double got[7];
 	for (int i = 0; i < 7; i++)
-		got[i] = sc->bot[0].sensor[s[i]].value;
+		got[i] = sc->bot[0].sensor3d[s[i]].value;
 	camera_expect(got, box);
 	evo_scene3d_destroy(sc);
 }
