@@ -210,7 +210,7 @@ static const int sense_of[] = {
 _Static_assert(sizeof sense_of / sizeof *sense_of == EVO_SENSOR_KIND_COUNT,
 	       "a row for each kind");
 
-EVO_LUA_DIM_COMMON(sc, evo_scene, evo_bot, sensor, actuator)
+EVO_LUA_DIM_COMMON(sc, evo_scene, evo_bot_find_actuator, sensor, actuator)
 
 /* Each 2D actuator kind's row of sim/scene/kinds.c, in
  * evo_actuator_kind's order. */

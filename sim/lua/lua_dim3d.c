@@ -248,7 +248,8 @@ static const int sense_of[] = {
 _Static_assert(sizeof sense_of / sizeof *sense_of == EVO3D_SENSOR_KIND_COUNT,
 	       "a row for each kind");
 
-EVO_LUA_DIM_COMMON(sc3, evo_scene3d, evo_bot3d, sensor3d, actuator3d)
+EVO_LUA_DIM_COMMON(sc3, evo_scene3d, evo_bot3d_find_actuator, sensor3d,
+		   actuator3d)
 
 /* `sees`: a list of "ground", "obstacles", "bots", "objects". A 3D ray
  * tells no teammate from an opponent: "teammates" and "opponents" are 2D

@@ -321,11 +321,12 @@ extern const evo_lua_dim evo_lua_dim3d;
 
 /* The functions of a dimension's table that read the same fields in
  * either scene, written once (as tasksim/simscene.c's): SC is the
- * evo_lua's scene (sc, sc3), SCENE and BOT the prefixes of its scene's
- * and bot's functions, SENSOR and ACTUATOR the members of the one evo_bot
- * (scene/bot.h) that hold its world's sensors and actuators. The file
+ * evo_lua's scene (sc, sc3), SCENE the prefix of its scene's functions,
+ * FIND_ACTUATOR its lookup of a bot's actuator by name, SENSOR and
+ * ACTUATOR the members of the one evo_bot (scene/bot.h) that hold its
+ * world's sensors and actuators. The file
  * defines sense_of[], its sensor kinds' rows of sim/scene/kinds.c. */
-#define EVO_LUA_DIM_COMMON(SC, SCENE, BOT, SENSOR, ACTUATOR)                  \
+#define EVO_LUA_DIM_COMMON(SC, SCENE, FIND_ACTUATOR, SENSOR, ACTUATOR)        \
 	static void view(evo_lua *l, evo_lua_view *v)                         \
 	{                                                                     \
 		*v = (evo_lua_view){                                          \
@@ -369,7 +370,7 @@ extern const evo_lua_dim evo_lua_dim3d;
 	static int command(const evo_lua *l, int i, const char *name,         \
 			   double *c)                                         \
 	{                                                                     \
-		int a = BOT##_find_actuator(&l->SC->bot[i], name);            \
+		int a = FIND_ACTUATOR(&l->SC->bot[i], name);                  \
 		if (a >= 0)                                                   \
 			*c = l->SC->bot[i].ACTUATOR[a].command;               \
 		return a;                                                     \

@@ -6,7 +6,7 @@
  * reads it: "both", "2D" or "3D".
  *
  * The bots of a scene are the scene model's core's (scene/core.h:
- * c->bot, c->n_bots), added through evo_core_add_bot below, which checks
+ * c->bot, c->n_bots), added through core.h's evo_core_add_bot, which checks
  * and stores what both worlds repeat (the pose a number, the name once,
  * the team in range); each world then makes the bot's body, which is its
  * own (world2d/scene.c: one Box2D body; world3d/scene3d.c: a hull and a
@@ -24,7 +24,6 @@
 #ifndef EVO_SCENE_BOT_H
 #define EVO_SCENE_BOT_H
 
-#include "base/err.h"
 #include "scene/backend.h"
 #include "scene/store.h"
 
@@ -116,17 +115,5 @@ typedef struct evo_bot {
 	int gathered;	/* 2D: objects it gathered (reward Gather) since then */
 	double reward;	/* both: what was paid to it since the reset (its own) */
 } evo_bot;
-
-typedef struct evo_scene_core evo_scene_core;
-
-/* Check and store a new bot in core c, as both worlds do: its pose a
- * number, its name not used by another bot, its team -1 to
- * EVO_SCENE_MAX_TEAMS - 1. The new bot (not yet counted in c->n_bots)
- * has its name (d->name, or when that is NULL or "", dflt and its index
- * + 1; "" when dflt is NULL too), its def, team and start pose, no body;
- * its team joins c's teams. Its world then makes its body and counts
- * it. NULL with c->err set. */
-evo_bot *evo_core_add_bot(evo_scene_core *c, const evo_bot_def *d,
-			  const char *dflt);
 
 #endif

@@ -1,11 +1,13 @@
-/* evo — what a scene of either dimension keeps beside its bots and elements
+/* evo — what a scene of either dimension keeps beside its elements
  * (docs/architecture.md, "Where the layout is going", step 4): its physics
- * through the backend interface, the episode's figures (tick, step and
+ * through the backend interface, its bots (scene/bot.h, added by
+ * evo_core_add_bot in scene/bot.c), the episode's figures (tick, step and
  * episode reward, what each team was paid, the winner, the fault that
  * ended it), its rewards and controls, metrics, hooks, swarm, randomness
  * and error; with the functions that keep them, written once: the adds of
  * rewards and controls with their checks, the metrics, the reset of the
- * figures, and paying the rewards.
+ * figures, paying the rewards, and the bots seen alike in both worlds
+ * (view.c).
  *
  * The 2D scene (world2d/scene.h) and the 3D one (world3d/scene3d.h) each
  * hold one as their first member, EVO_SCENE_CORE: an anonymous union of
@@ -177,6 +179,16 @@ int evo_core_add_control(evo_scene_core *c, const evo_control_def *d);
 int evo_core_add_metric(evo_scene_core *c, const char *name);
 int evo_core_set_metric(evo_scene_core *c, int metric, double value);
 int evo_core_find_metric(const evo_scene_core *c, const char *name);
+
+/* Check and store a new bot (scene/bot.h), as both worlds do: its pose a
+ * number, its name not used by another bot, its team -1 to
+ * EVO_SCENE_MAX_TEAMS - 1. The new bot (not yet counted in c->n_bots)
+ * has its name (d->name, or when that is NULL or "", dflt and its index
+ * + 1; "" when dflt is NULL too), its def, team and start pose, no body;
+ * its team joins c's teams. Its world then makes its body and counts
+ * it. NULL with c->err set. */
+evo_bot *evo_core_add_bot(evo_scene_core *c, const evo_bot_def *d,
+			  const char *dflt);
 
 /* A bot's team joins the scene's teams: n_teams grows to hold it. */
 void evo_core_note_team(evo_scene_core *c, int team);

@@ -19,8 +19,9 @@
  * the same for a 3D scene); this world's parts of them are step.c's and
  * sensors.c's, through dim2d.c, and drive the pieces of sensors.h,
  * actuators.h and rewards.h; those read the scene and ask query.h, and
- * call nothing back (sim/world2d/README.md). What the scene keeps beside
- * its bots is the scene model's core (scene/core.h), its first member. */
+ * call nothing back (sim/world2d/README.md). Its bots (scene/bot.h, one
+ * struct for both worlds) and what it keeps beside them are the scene
+ * model's core (scene/core.h), its first member. */
 #ifndef EVO_SCENE_H
 #define EVO_SCENE_H
 

@@ -17,9 +17,9 @@
  * control functions decide whether the episode goes on). A body that
  * explodes ends the episode with a message in `fault` and the fault
  * penalty added to the reward. The order is the scene model's
- * (sim/scene/tick.c), this world's parts of it dim3d.c's; what the scene
- * keeps beside its bots is the scene model's core (scene/core.h), its
- * first member. */
+ * (sim/scene/tick.c), this world's parts of it dim3d.c's; its bots
+ * (scene/bot.h, one struct for both worlds) and what it keeps beside them
+ * are the scene model's core (scene/core.h), its first member. */
 #ifndef EVO_SCENE3D_H
 #define EVO_SCENE3D_H
 
