@@ -238,11 +238,10 @@ void evo_core_pay(void *core, const evo_reward *r, double v)
 		c->team_reward[r->def.team] += v;
 	} else if (r->def.scope == EVO_SCOPE_BOT && r->def.bot >= 0 &&
 		   r->def.bot < c->n_bots) {
-		evo_bot_view b;
-		evo_core_bot(c, r->def.bot, &b);
-		*b.reward += v;
-		if (b.team >= 0)
-			c->team_reward[b.team] += v;
+		evo_bot *b = &c->bot[r->def.bot];
+		b->reward += v;
+		if (b->team >= 0)
+			c->team_reward[b->team] += v;
 	}
 }
 

@@ -1,7 +1,7 @@
 /* evo — what a scene of either dimension keeps beside its elements
  * (docs/architecture.md, "Where the layout is going", step 4): its physics
  * through the backend interface, its bots (scene/bot.h, added by
- * evo_core_add_bot in scene/bot.c), the episode's figures (tick, step and
+ * evo_core_add_bot below), the episode's figures (tick, step and
  * episode reward, what each team was paid, the winner, the fault that
  * ended it), its rewards and controls, metrics, hooks, swarm, randomness
  * and error; with the functions that keep them, written once: the adds of

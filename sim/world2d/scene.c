@@ -224,7 +224,7 @@ int evo_scene_add_element(evo_scene *sc, const evo_element_def *d)
 	return sc->n_elements++;
 }
 
-/* The checks and the storing are the scene model's (scene/bot.c); the
+/* The checks and the storing are the scene model's (scene/core.c); the
  * body, one Box2D body of def.body at the start pose, is 2D's. */
 int evo_scene_add_bot(evo_scene *sc, const evo_bot_def *d)
 {

@@ -254,7 +254,7 @@ int evo_scene3d_add_element(evo_scene3d *sc, const evo_element3d_def *d)
 }
 
 /* The hull's checks are 3D's; the pose's, name's and team's and the
- * storing are the scene model's (scene/bot.c); the bodies are made by
+ * storing are the scene model's (scene/core.c); the bodies are made by
  * making the world again. */
 int evo_scene3d_add_bot(evo_scene3d *sc, const evo_bot_def *d)
 {
