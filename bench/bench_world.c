@@ -154,7 +154,7 @@ static double raycast_sensing_us(evo_sim *s, long ticks)
 		double t0 = bench_now();
 		for (int k = 0; k < b->n_sensors; k++) {
 			const evo_sensor_def *d = &b->sensor[k].def;
-			if (d->kind != EVO_SENSOR_PROXIMITY)
+			if (d->kind != EVO_SENSE_PROXIMITY)
 				continue;
 			double x0, y0;
 			evo_bot_to_world(sc, 0, d->x, d->y, &x0, &y0);
@@ -225,7 +225,7 @@ int main(int argc, char **argv)
 	int n_prox = 0;
 	for (int k = 0; k < s->scene->bot[0].n_sensors; k++)
 		n_prox += s->scene->bot[0].sensor[k].def.kind ==
-			  EVO_SENSOR_PROXIMITY;
+			  EVO_SENSE_PROXIMITY;
 	/* Alternate the two, best of ROUNDS each: the machine's noise hits
 	 * both alike, and a run is short (tens of milliseconds), so enough
 	 * of them find a quiet spell. */

@@ -70,8 +70,8 @@ static double run_full(evo_sim *s, long ticks, uint64_t *episode, replay *rp)
 			exit(1);
 		}
 		double p0 = bench_now();
-		rp->cmd[t][0] = b->actuator3d[0].command;
-		rp->cmd[t][1] = b->actuator3d[1].command;
+		rp->cmd[t][0] = b->actuator[0].command;
+		rp->cmd[t][1] = b->actuator[1].command;
 		rp->reset_after[t] = r > 0;
 		paused += bench_now() - p0;
 		if (r > 0)
@@ -96,7 +96,7 @@ static double run_floor(evo_sim *s, long ticks, const replay *rp)
 		const evo_bot *b = &sc->bot[0];
 		for (int k = 0; k < sc->def.substeps; k++) {
 			for (int a = 0; a < 2; a++) {
-				const evo_actuator3d *w = &b->actuator3d[a];
+				const evo_actuator *w = &b->actuator[a];
 				evo_world3d_hinge_velocity(
 				    sc->world, w->hinge,
 				    (2 * rp->cmd[t][a] - 1) * w->def.max_rate,
@@ -155,8 +155,8 @@ int main(int argc, char **argv)
 		return 1;
 	}
 	if (s->scene3d->bot[0].n_actuators < 2 ||
-	    s->scene3d->bot[0].actuator3d[0].def.kind != EVO3D_ACTUATOR_WHEEL ||
-	    s->scene3d->bot[0].actuator3d[1].def.kind != EVO3D_ACTUATOR_WHEEL) {
+	    s->scene3d->bot[0].actuator[0].def.kind != EVO_ACT_WHEEL ||
+	    s->scene3d->bot[0].actuator[1].def.kind != EVO_ACT_WHEEL) {
 		fprintf(stderr, "bench_world3d: the bot has no two wheels\n");
 		return 1;
 	}
@@ -177,8 +177,8 @@ int main(int argc, char **argv)
 	const evo_scene3d *sc = s->scene3d;
 	int rays = 0;
 	for (int k = 0; k < sc->bot[0].n_sensors; k++)
-		if (sc->bot[0].sensor3d[k].def.kind == EVO3D_SENSOR_PROXIMITY)
-			rays += sc->bot[0].sensor3d[k].def.rays;
+		if (sc->bot[0].sensor[k].def.kind == EVO_SENSE_PROXIMITY)
+			rays += sc->bot[0].sensor[k].def.rays;
 	double ratio = best_full / best_floor;
 	printf("EXP3D_Avoid, one robot (%s), %d static obstacles, %d physics "
 	       "steps a tick, best of %d runs of %ld ticks:\n",

@@ -22,6 +22,7 @@
 #     or lua_dim2d.c, and the piece, sensor and actuator kinds the binding
 #     offers are sim/scene/kinds.c's rows (no method table of sim/lua/
 #     names one);
+#   - one sensor struct for both worlds (step 4): sim/scene/sensor.h's;
 #   - the rewards, controls, metrics and hooks of both scenes are
 #     sim/scene/scoring's (docs/architecture.md, step 3): their types are
 #     defined in scoring.h alone, the functions chosen by kind in
@@ -185,6 +186,24 @@ rows=$(grep -l '{"\(proximity\|cylinder\|claw\|propeller\|sphere\)", *[a-z_]*}' 
 if [ -z "$rows" ]; then pass; else
 	fail "kinds given methods of their own around sim/scene/kinds.c's rows: $(echo $rows)"; fi
 [ ! -f sim/lua/lua_scene3d.c ] && pass || fail "sim/lua/lua_scene3d.c is back: one binding serves both scenes"
+
+# One sensor for both worlds (step 4): evo_sensor_def and evo_sensor are
+# sim/scene/sensor.h's alone, with kinds.h's evo_sense_kind; no world
+# defines a sensor struct or kind enum of its own.
+defs=$(grep -rl --include='*.h' --include='*.c' \
+	-e 'struct evo_sensor\(_def\)\? {' -e 'struct evo_sensor3d' \
+	-e 'enum evo_sensor\(3d\)\?_kind' sim | grep -v '^sim/scene/sensor.h$')
+if [ -z "$defs" ]; then pass; else
+	fail "sensor structs or kinds outside sim/scene/sensor.h and kinds.h: $(echo $defs)"; fi
+
+# One actuator for both worlds (step 4): evo_actuator_def and evo_actuator
+# are sim/scene/actuator.h's alone, with kinds.h's evo_act_kind; no world
+# defines an actuator struct or kind enum of its own.
+defs=$(grep -rl --include='*.h' --include='*.c' \
+	-e 'struct evo_actuator\(_def\)\? {' -e 'struct evo_actuator3d' \
+	-e 'enum evo_actuator\(3d\)\?_kind' sim | grep -v '^sim/scene/actuator.h$')
+if [ -z "$defs" ]; then pass; else
+	fail "actuator structs or kinds outside sim/scene/actuator.h and kinds.h: $(echo $defs)"; fi
 
 # One scoring for both scenes (step 3): the reward, control, metric and
 # hook types are scoring.h's alone; no file but scoring.c chooses a reward

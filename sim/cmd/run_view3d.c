@@ -28,11 +28,11 @@ evo_viewer_panel evo_run_panel3d(panel_data *pd, const evo_sim *s, long e,
 	}
 	for (unsigned i = 0; i < m->n_sensors; i++) {
 		pd->sensor_name[i] = evo_mind_sensor_name(m, i);
-		pd->sensor[i] = b->sensor3d[s->sensor_map[i]].value;
+		pd->sensor[i] = b->sensor[s->sensor_map[i]].value;
 	}
 	for (unsigned i = 0; i < m->n_actuators; i++) {
 		pd->actuator_name[i] = evo_mind_actuator_name(m, i);
-		pd->actuator[i] = b->actuator3d[s->actuator_map[i]].command;
+		pd->actuator[i] = b->actuator[s->actuator_map[i]].command;
 	}
 	evo_viewer_panel p = {
 	    .title = title,

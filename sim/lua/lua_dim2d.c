@@ -198,26 +198,7 @@ static int add_bot(lua_State *L, int team, const char *name, const char *what)
 
 /* ---- sensors and actuators ---------------------------------------------- */
 
-/* Each 2D sensor kind's row of sim/scene/kinds.c, in evo_sensor_kind's
- * order. */
-static const int sense_of[] = {
-    EVO_SENSE_PROXIMITY, EVO_SENSE_DISTANCE, EVO_SENSE_ZONE,
-    EVO_SENSE_BEARING,	 EVO_SENSE_PRESENCE, EVO_SENSE_OBJECT_DETECTOR,
-    EVO_SENSE_MOVEMENT,	 EVO_SENSE_RANDOM,   EVO_SENSE_CONSTANT,
-    EVO_SENSE_HOLDING,	 EVO_SENSE_RADAR,    EVO_SENSE_BUMPER,
-    EVO_SENSE_LIGHT,	 EVO_SENSE_GROUND,   EVO_SENSE_RAB,
-    EVO_SENSE_CAMERA};
-_Static_assert(sizeof sense_of / sizeof *sense_of == EVO_SENSOR_KIND_COUNT,
-	       "a row for each kind");
-
-EVO_LUA_DIM_COMMON(sc, evo_scene, evo_bot_find_actuator, sensor, actuator)
-
-/* Each 2D actuator kind's row of sim/scene/kinds.c, in
- * evo_actuator_kind's order. */
-static const int act_of[] = {EVO_ACT_WHEEL, EVO_ACT_CLAW, EVO_ACT_SPEED_WHEEL,
-			     EVO_ACT_DRIVE, EVO_ACT_BROADCAST};
-_Static_assert(sizeof act_of / sizeof *act_of == EVO_ACTUATOR_KIND_COUNT,
-	       "a row for each kind");
+EVO_LUA_DIM_COMMON(sc, evo_scene, evo_bot_find_actuator)
 
 /* `sees`: what a proximity sensor's rays hit, into d's mask and its
  * teammates and opponents flags (docs/lua.md, docs/teams.md). */
@@ -253,9 +234,7 @@ static void read_place(lua_State *L, double *x, double *y, double *angle,
 
 static int add_sensor(lua_State *L, int bot, int kind, const char *what)
 {
-	evo_sensor_def d =
-	    evo_default_sensor_def((evo_sensor_kind)evo_lua_kind_of(
-		sense_of, EVO_SENSOR_KIND_COUNT, kind));
+	evo_sensor_def d = evo_default_sensor_def((evo_sense_kind)kind);
 	d.name = evo_lua_opt_name(L, what, "sensor");
 	read_place(L, &d.x, &d.y, &d.angle, what);
 	EVO_LUA_NUMS(L, 2, what, {"range", &d.range, 0},
@@ -278,9 +257,8 @@ static int add_sensor(lua_State *L, int bot, int kind, const char *what)
 
 static int add_actuator(lua_State *L, int bot, int kind, const char *what)
 {
-	evo_actuator_def d =
-	    evo_default_actuator_def((evo_actuator_kind)evo_lua_kind_of(
-		act_of, EVO_ACTUATOR_KIND_COUNT, kind));
+	/* kinds.c's row let only a 2D kind through */
+	evo_actuator_def d = evo_default_actuator_def((evo_act_kind)kind);
 	/* a drive's turn rate is given in degrees, as every angle in Lua */
 	lua_getfield(L, 2, "turn");
 	d.turn = lua_toboolean(L, -1);
@@ -302,7 +280,7 @@ static void set_target(lua_State *L, int bot, int s, int t)
 {
 	evo_scene *sc = scene(L);
 	evo_sensor *sn = &sc->bot[bot].sensor[s];
-	if (sn->def.kind == EVO_SENSOR_ZONE && t >= 0 &&
+	if (sn->def.kind == EVO_SENSE_ZONE && t >= 0 &&
 	    sc->element[t].kind != EVO_ELEM_ZONE)
 		luaL_error(L, "bot:target: zone sensor '%s' needs a zone",
 			   sn->name);

@@ -238,18 +238,7 @@ static int add_bot(lua_State *L, int team, const char *name, const char *what)
 
 /* ---- sensors and actuators ---------------------------------------------- */
 
-/* Each 3D sensor kind's row of sim/scene/kinds.c, in evo_sensor3d_kind's
- * order (azimuth: the bearing sensor's). */
-static const int sense_of[] = {
-    EVO_SENSE_PROXIMITY, EVO_SENSE_DISTANCE, EVO_SENSE_BEARING,
-    EVO_SENSE_ELEVATION, EVO_SENSE_ZONE,     EVO_SENSE_RANDOM,
-    EVO_SENSE_CONSTANT,	 EVO_SENSE_LIGHT,    EVO_SENSE_GROUND,
-    EVO_SENSE_RAB,	 EVO_SENSE_CAMERA};
-_Static_assert(sizeof sense_of / sizeof *sense_of == EVO3D_SENSOR_KIND_COUNT,
-	       "a row for each kind");
-
-EVO_LUA_DIM_COMMON(sc3, evo_scene3d, evo_bot3d_find_actuator, sensor3d,
-		   actuator3d)
+EVO_LUA_DIM_COMMON(sc3, evo_scene3d, evo_bot3d_find_actuator)
 
 /* `sees`: a list of "ground", "obstacles", "bots", "objects". A 3D ray
  * tells no teammate from an opponent: "teammates" and "opponents" are 2D
@@ -266,22 +255,22 @@ static unsigned parse_sees(lua_State *L, int idx, unsigned dflt,
 	return given ? mask : dflt;
 }
 
-static void read_proximity(lua_State *L, evo_sensor3d_def *d, const char *what)
+static void read_proximity(lua_State *L, evo_sensor_def *d, const char *what)
 {
 	/* yaw, pitch and arc start at 0 (evo_default_sensor3d_def) */
 	EVO_LUA_NUMS(L, 2, what, {"yaw", &d->yaw, EVO_LUA_DEG},
 		     {"pitch", &d->pitch, EVO_LUA_DEG}, {"range", &d->range, 0},
 		     {"arc", &d->arc, EVO_LUA_DEG});
 	double rays = num(L, 2, "rays", d->rays, what);
-	if (rays != floor(rays) || rays < 1 || rays > EVO3D_PROX_MAX_RAYS)
+	if (rays != floor(rays) || rays < 1 || rays > EVO_PROX_MAX_RAYS)
 		luaL_error(L, "%s: rays must be a whole number, 1 to %d", what,
-			   EVO3D_PROX_MAX_RAYS);
+			   EVO_PROX_MAX_RAYS);
 	d->rays = (int)rays;
 	d->mask = parse_sees(L, 2, d->mask, what);
 }
 
 /* The tutorial's TargetSensor:1 and TargetSensor:2. */
-static evo_sensor3d_kind target_sensor_axis(lua_State *L, const char *what)
+static evo_sense_kind target_sensor_axis(lua_State *L, const char *what)
 {
 	double axis = num(L, 2, "axis", 1, what);
 	if (axis != 1 && axis != 2)
@@ -289,40 +278,40 @@ static evo_sensor3d_kind target_sensor_axis(lua_State *L, const char *what)
 			   "%s: axis is 1 (azimuth) or 2 (elevation), as in "
 			   "the tutorial's TargetSensor:1 and TargetSensor:2",
 			   what);
-	return axis == 1 ? EVO3D_SENSOR_AZIMUTH : EVO3D_SENSOR_ELEVATION;
+	return axis == 1 ? EVO_SENSE_BEARING : EVO_SENSE_ELEVATION;
 }
 
 static int add_sensor(lua_State *L, int bot, int kind, const char *what)
 {
-	int k = evo_lua_kind_of(sense_of, EVO3D_SENSOR_KIND_COUNT, kind);
-	if (kind == EVO_SENSE_TARGET_SENSOR)
-		k = target_sensor_axis(L, what);
-	evo_sensor3d_def d = evo_default_sensor3d_def((evo_sensor3d_kind)k);
+	evo_sense_kind k = kind == EVO_SENSE_TARGET_SENSOR
+			       ? target_sensor_axis(L, what)
+			       : (evo_sense_kind)kind;
+	evo_sensor_def d = evo_default_sensor3d_def(k);
 	d.name = evo_lua_opt_name(L, what, "sensor");
 	evo_lua_opt_pos(L, 2, d.pos, what);
 	switch (d.kind) {
-	case EVO3D_SENSOR_PROXIMITY:
+	case EVO_SENSE_PROXIMITY:
 		read_proximity(L, &d, what);
 		break;
-	case EVO3D_SENSOR_DISTANCE:
+	case EVO_SENSE_DISTANCE:
 		d.scale = num(L, 2, "scale", d.scale, what);
 		d.target = evo_lua_opt_target(L, 2, "target", what);
 		break;
-	case EVO3D_SENSOR_AZIMUTH:
-	case EVO3D_SENSOR_ELEVATION:
-	case EVO3D_SENSOR_ZONE:
+	case EVO_SENSE_BEARING:
+	case EVO_SENSE_ELEVATION:
+	case EVO_SENSE_ZONE:
 		d.target = evo_lua_opt_target(L, 2, "target", what);
 		break;
-	case EVO3D_SENSOR_CONSTANT:
+	case EVO_SENSE_CONSTANT:
 		d.value = num(L, 2, "value", 0.5, what);
 		break;
-	case EVO3D_SENSOR_LIGHT:
+	case EVO_SENSE_LIGHT:
 		d.yaw = num(L, 2, "yaw", 0, what) * EVO_LUA_DEG;
 		evo_lua_swarm_sensor(L, 2, what, 0, &d.swarm);
 		break;
-	case EVO3D_SENSOR_RAB:
-	case EVO3D_SENSOR_CAMERA:
-		evo_lua_swarm_sensor(L, 2, what, d.kind == EVO3D_SENSOR_CAMERA,
+	case EVO_SENSE_RAB:
+	case EVO_SENSE_CAMERA:
+		evo_lua_swarm_sensor(L, 2, what, d.kind == EVO_SENSE_CAMERA,
 				     &d.swarm);
 		break;
 	default:
@@ -332,7 +321,7 @@ static int add_sensor(lua_State *L, int bot, int kind, const char *what)
 	    L, evo_scene3d_add_sensor(scene3d(L), bot, &d));
 }
 
-static void read_wheel(lua_State *L, evo_actuator3d_def *d, const char *what)
+static void read_wheel(lua_State *L, evo_actuator_def *d, const char *what)
 {
 	EVO_LUA_NUMS(L, 2, what, {"radius", &d->radius, 0},
 		     {"width", &d->half_width, 0.5}, {"mass", &d->mass, 0},
@@ -353,16 +342,14 @@ static void read_wheel(lua_State *L, evo_actuator3d_def *d, const char *what)
 
 static int add_actuator(lua_State *L, int bot, int kind, const char *what)
 {
-	evo_actuator3d_kind k = kind == EVO_ACT_WHEEL ? EVO3D_ACTUATOR_WHEEL
-				: kind == EVO_ACT_PROPELLER
-				    ? EVO3D_ACTUATOR_PROPELLER
-				    : EVO3D_ACTUATOR_BROADCAST;
-	evo_actuator3d_def d = evo_default_actuator3d_def(k);
+	/* kinds.c's row let only a 3D kind through */
+	evo_act_kind k = (evo_act_kind)kind;
+	evo_actuator_def d = evo_default_actuator_def(k);
 	d.name = evo_lua_opt_name(L, what, "actuator");
 	evo_lua_opt_pos(L, 2, d.pos, what);
-	if (k == EVO3D_ACTUATOR_WHEEL)
+	if (k == EVO_ACT_WHEEL)
 		read_wheel(L, &d, what);
-	if (k == EVO3D_ACTUATOR_PROPELLER) {
+	if (k == EVO_ACT_PROPELLER) {
 		opt_vec(L, 2, "axis", d.axis, what);
 		d.max_thrust = num(L, 2, "max_thrust", d.max_thrust, what);
 	}
@@ -374,7 +361,7 @@ static int add_actuator(lua_State *L, int bot, int kind, const char *what)
 
 static void set_target(lua_State *L, int bot, int s, int t)
 {
-	scene3d(L)->bot[bot].sensor3d[s].def.target = t;
+	scene3d(L)->bot[bot].sensor[s].def.target = t;
 }
 
 static double sample(evo_lua *l, int bot, int s)

@@ -322,11 +322,9 @@ extern const evo_lua_dim evo_lua_dim3d;
 /* The functions of a dimension's table that read the same fields in
  * either scene, written once (as tasksim/simscene.c's): SC is the
  * evo_lua's scene (sc, sc3), SCENE the prefix of its scene's functions,
- * FIND_ACTUATOR its lookup of a bot's actuator by name, SENSOR and
- * ACTUATOR the members of the one evo_bot (scene/bot.h) that hold its
- * world's sensors and actuators. The file
- * defines sense_of[], its sensor kinds' rows of sim/scene/kinds.c. */
-#define EVO_LUA_DIM_COMMON(SC, SCENE, FIND_ACTUATOR, SENSOR, ACTUATOR)        \
+ * FIND_ACTUATOR its lookup of a bot's actuator by name; the bots are the
+ * one evo_bot of both worlds (scene/bot.h). */
+#define EVO_LUA_DIM_COMMON(SC, SCENE, FIND_ACTUATOR)                         \
 	static void view(evo_lua *l, evo_lua_view *v)                         \
 	{                                                                     \
 		*v = (evo_lua_view){                                          \
@@ -362,9 +360,9 @@ extern const evo_lua_dim evo_lua_dim3d;
 	{                                                                     \
 		const evo_bot *b = &l->SC->bot[i];                            \
 		if (s >= 0 && s < b->n_sensors)                               \
-			*out = (evo_lua_sensor){b->SENSOR[s].name,            \
-						sense_of[b->SENSOR[s].def.kind], \
-						b->SENSOR[s].def.target};     \
+			*out = (evo_lua_sensor){b->sensor[s].name,            \
+						(int)b->sensor[s].def.kind,   \
+						b->sensor[s].def.target};     \
 		return b->n_sensors;                                          \
 	}                                                                     \
 	static int command(const evo_lua *l, int i, const char *name,         \
@@ -372,7 +370,7 @@ extern const evo_lua_dim evo_lua_dim3d;
 	{                                                                     \
 		int a = FIND_ACTUATOR(&l->SC->bot[i], name);                  \
 		if (a >= 0)                                                   \
-			*c = l->SC->bot[i].ACTUATOR[a].command;               \
+			*c = l->SC->bot[i].actuator[a].command;               \
 		return a;                                                     \
 	}
 

@@ -24,20 +24,13 @@
 #ifndef EVO_SCENE_BOT_H
 #define EVO_SCENE_BOT_H
 
+#include "scene/actuator.h"
 #include "scene/backend.h"
+#include "scene/sensor.h"
 #include "scene/store.h"
 
 /* ticks of positions the movement sensor spreads over (2D) */
 #define EVO_DOF_HISTORY 30
-
-/* The sensors and actuators of each world, until they are one struct
- * each (sim/scene/sensor.h and actuator.h, being written beside this):
- * 2D's evo_sensor and evo_actuator, 3D's evo_sensor3d and
- * evo_actuator3d, defined by their worlds. */
-typedef struct evo_sensor evo_sensor;
-typedef struct evo_actuator evo_actuator;
-typedef struct evo_sensor3d evo_sensor3d;
-typedef struct evo_actuator3d evo_actuator3d;
 
 typedef struct evo_bot_def {
 	const char *name; /* both: NULL or "" for none (2D) or "botN" (3D) */
@@ -82,13 +75,8 @@ typedef struct evo_bot {
 	 * evo_scene3d_place_bot moves it; 2D: def's) */
 	double start[3], start_yaw;
 	int n_sensors, n_actuators; /* both */
-	/* Owned, of the bot's world's types until sensor.h and actuator.h
-	 * make them one: 2D's in sensor and actuator, 3D's in sensor3d and
-	 * actuator3d (the other pair NULL). */
-	evo_sensor *sensor;	    /* 2D */
-	evo_actuator *actuator;	    /* 2D */
-	evo_sensor3d *sensor3d;	    /* 3D */
-	evo_actuator3d *actuator3d; /* 3D */
+	evo_sensor *sensor;	/* both: owned (scene/sensor.h) */
+	evo_actuator *actuator; /* both: owned (scene/actuator.h) */
 	/* both: its centre after the last step or placement (2D: x, y;
 	 * z 0) */
 	union {

@@ -352,8 +352,8 @@ static void bot(const evo_scene3d *sc, const evo_bot *b)
 		glPopMatrix();
 	}
 	for (int k = 0; k < b->n_actuators; k++) {
-		const evo_actuator3d *a = &b->actuator3d[k];
-		if (a->def.kind != EVO3D_ACTUATOR_PROPELLER)
+		const evo_actuator *a = &b->actuator[k];
+		if (a->def.kind != EVO_ACT_PROPELLER)
 			continue;
 		colour(0x303030u, 1);
 		glPushMatrix();
@@ -369,7 +369,7 @@ static void bot(const evo_scene3d *sc, const evo_bot *b)
 	glPopMatrix();
 	/* wheels, each its own body */
 	for (int k = 0; k < b->n_actuators; k++) {
-		const evo_actuator3d *a = &b->actuator3d[k];
+		const evo_actuator *a = &b->actuator[k];
 		if (a->body < 0 || !sc->world)
 			continue;
 		double p[3], R[9];
@@ -391,22 +391,24 @@ static void rays(const evo_bot *b)
 	glLineWidth(2);
 	glBegin(GL_LINES);
 	for (int k = 0; k < b->n_sensors; k++) {
-		const evo_sensor3d *s = &b->sensor3d[k];
-		if (s->def.kind != EVO3D_SENSOR_PROXIMITY)
+		const evo_sensor *s = &b->sensor[k];
+		if (s->def.kind != EVO_SENSE_PROXIMITY)
 			continue;
 		double from[3], dir[3];
 		evo_bot3d_to_world(b, s->def.pos, from);
 		for (int i = 0; i < 3; i++)
 			from[i] += b->pos[i];
 		for (int r = 0; r < s->def.rays; r++) {
-			evo_bot3d_to_world(b, s->dir[r], dir);
-			int hit = s->hit[r] < s->def.range;
-			colour(hit ? EVO_VIEW_RAY_HIT : EVO_VIEW3D_RAY_CLEAR,
+			double ray[3] = {s->ray_c[r], s->ray_s[r], s->ray_z};
+			evo_bot3d_to_world(b, ray, dir);
+			double len = s->ray[r] * s->def.range;
+			colour(s->ray[r] < 1 ? EVO_VIEW_RAY_HIT
+					     : EVO_VIEW3D_RAY_CLEAR,
 			       1);
 			glVertex3dv(from);
-			glVertex3d(from[0] + dir[0] * s->hit[r],
-				   from[1] + dir[1] * s->hit[r],
-				   from[2] + dir[2] * s->hit[r]);
+			glVertex3d(from[0] + dir[0] * len,
+				   from[1] + dir[1] * len,
+				   from[2] + dir[2] * len);
 		}
 	}
 	glEnd();

@@ -482,7 +482,7 @@ static void draw_claws(evo_raster *im, const evo_view_camera *cam,
 	const evo_bot *bot = &sc->bot[b];
 	for (int k = 0; k < bot->n_actuators; k++) {
 		const evo_actuator *a = &bot->actuator[k];
-		if (a->def.kind != EVO_ACTUATOR_CLAW)
+		if (a->def.kind != EVO_ACT_CLAW)
 			continue;
 		double cx, cy, sx, sy;
 		evo_bot_to_world(sc, b, a->def.x, a->def.y, &cx, &cy);
@@ -581,7 +581,7 @@ void evo_view_render(evo_raster *im, const evo_scene *sc,
 	for (int b = 0; b < sc->n_bots; b++)
 		for (int s = 0; s < sc->bot[b].n_sensors; s++)
 			if (sc->bot[b].sensor[s].def.kind ==
-				    EVO_SENSOR_PROXIMITY &&
+				    EVO_SENSE_PROXIMITY &&
 			    !sc->bot[b].sensor[s].idle)
 				draw_rays(im, cam, sc, b,
 					  &sc->bot[b].sensor[s]);

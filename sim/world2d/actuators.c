@@ -43,7 +43,7 @@ static void set_speed(evo_actuator *a)
 {
 	double u = 2 * command01(a->command) - 1;
 	const evo_actuator_def *d = &a->def;
-	if (d->kind == EVO_ACTUATOR_SPEED_WHEEL || d->accel <= 0) {
+	if (d->kind == EVO_ACT_SPEED_WHEEL || d->accel <= 0) {
 		a->speed = u * d->max_speed;
 		return;
 	}
@@ -65,13 +65,13 @@ void evo_bot_drive(evo_scene *sc, int bot)
 	int wheels = 0, driven = 0;
 	for (int i = 0; i < b->n_actuators; i++) {
 		const evo_actuator *a = &b->actuator[i];
-		if (a->def.kind == EVO_ACTUATOR_DRIVE) {
+		if (a->def.kind == EVO_ACT_DRIVE) {
 			driven = 1;
 			if (a->def.turn)
 				w += a->speed;
 			else
 				v += a->speed;
-		} else if (a->def.kind == EVO_ACTUATOR_SPEED_WHEEL) {
+		} else if (a->def.kind == EVO_ACT_SPEED_WHEEL) {
 			wheels++;
 			sum_s += a->speed;
 			sum_ys += a->def.y * a->speed;
@@ -128,10 +128,10 @@ void evo_actuator_act(evo_scene *sc, int bot, int actuator)
 	assert(actuator >= 0 && actuator < b->n_actuators);
 	evo_actuator *a = &b->actuator[actuator];
 	switch (a->def.kind) {
-	case EVO_ACTUATOR_WHEEL:
+	case EVO_ACT_WHEEL:
 		wheel(sc, b, a);
 		break;
-	case EVO_ACTUATOR_CLAW:
+	case EVO_ACT_CLAW:
 		/* Edges, not levels: a claw held shut does not keep
 		 * grabbing, and one that was opened from outside (a
 		 * delivery) waits for the next closing. */
@@ -140,12 +140,13 @@ void evo_actuator_act(evo_scene *sc, int bot, int actuator)
 		else if (a->previous >= 0.5 && a->command < 0.5)
 			claw_open(sc, a);
 		break;
-	case EVO_ACTUATOR_SPEED_WHEEL:
-	case EVO_ACTUATOR_DRIVE:
+	case EVO_ACT_SPEED_WHEEL:
+	case EVO_ACT_DRIVE:
 		set_speed(a); /* evo_bot_drive sets the velocity */
 		break;
-	case EVO_ACTUATOR_BROADCAST: /* heard through its command */
-	case EVO_ACTUATOR_KIND_COUNT:
+	case EVO_ACT_BROADCAST: /* heard through its command */
+	case EVO_ACT_PROPELLER: /* 3D only: refused when added */
+	case EVO_ACT_KIND_COUNT:
 		break;
 	}
 	a->previous = a->command;
@@ -156,6 +157,6 @@ void evo_bot_release(evo_scene *sc, int bot)
 	assert(bot >= 0 && bot < sc->n_bots);
 	evo_bot *b = &sc->bot[bot];
 	for (int i = 0; i < b->n_actuators; i++)
-		if (b->actuator[i].def.kind == EVO_ACTUATOR_CLAW)
+		if (b->actuator[i].def.kind == EVO_ACT_CLAW)
 			claw_open(sc, &b->actuator[i]);
 }

@@ -32,7 +32,7 @@ evo_grid_def evo_default_grid_def(void)
 	return g;
 }
 
-evo_sensor_def evo_default_sensor_def(evo_sensor_kind kind)
+evo_sensor_def evo_default_sensor_def(evo_sense_kind kind)
 {
 	evo_sensor_def d;
 	memset(&d, 0, sizeof d);
@@ -43,30 +43,17 @@ evo_sensor_def evo_default_sensor_def(evo_sensor_kind kind)
 	d.deadzone = 0.005;
 	d.mask = EVO_CAT_OBSTACLE | EVO_CAT_BOT;
 	d.target = EVO_TARGET_NONE;
-	d.scale = kind == EVO_SENSOR_MOVEMENT ? 1.5 : 100.0;
+	d.scale = kind == EVO_SENSE_MOVEMENT ? 1.5 : 100.0;
 	d.reach = 1.5;
-	if (kind == EVO_SENSOR_OBJECT || kind == EVO_SENSOR_RADAR ||
-	    kind == EVO_SENSOR_BUMPER) {
-		d.x = kind == EVO_SENSOR_OBJECT ? 1.0 : 0.0;
+	if (kind == EVO_SENSE_OBJECT_DETECTOR || kind == EVO_SENSE_RADAR ||
+	    kind == EVO_SENSE_BUMPER) {
+		d.x = kind == EVO_SENSE_OBJECT_DETECTOR ? 1.0 : 0.0;
 		d.arc = 45.0 * M_PI / 180.0;
 	}
-	if (kind == EVO_SENSOR_BUMPER)
+	if (kind == EVO_SENSE_BUMPER)
 		d.reach = 1.05;
 	d.value = 0.5;
 	d.swarm = evo_default_swarm_sensor(30.0); /* BotType8's: 2 m wide */
-	return d;
-}
-
-evo_actuator_def evo_default_actuator_def(evo_actuator_kind kind)
-{
-	evo_actuator_def d;
-	memset(&d, 0, sizeof d);
-	d.kind = kind;
-	d.max_force = 80.0;
-	d.reach = 1.5;
-	d.max_speed = 1.0;
-	if (kind == EVO_ACTUATOR_CLAW)
-		d.x = 1.0;
 	return d;
 }
 

@@ -309,11 +309,11 @@ uint16_t evo_sense_area(const evo_bot *b, const sense_frame *f, sense_box *area)
 	double reach = 0, bump = 0;
 	for (int i = 0; i < b->n_sensors; i++) {
 		const evo_sensor *se = &b->sensor[i];
-		if (se->def.kind == EVO_SENSOR_BUMPER && !se->idle) {
+		if (se->def.kind == EVO_SENSE_BUMPER && !se->idle) {
 			bump = se->def.reach > bump ? se->def.reach : bump;
 			mask |= se->def.mask;
 		}
-		if (se->def.kind != EVO_SENSOR_PROXIMITY || se->idle)
+		if (se->def.kind != EVO_SENSE_PROXIMITY || se->idle)
 			continue;
 		double r = sensor_reach(&se->def);
 		reach = r > reach ? r : reach;
@@ -332,7 +332,7 @@ uint16_t evo_sense_area(const evo_bot *b, const sense_frame *f, sense_box *area)
 	area->x1 = area->y1 = -INFINITY;
 	for (int i = 0; i < b->n_sensors; i++) {
 		const evo_sensor *se = &b->sensor[i];
-		if (se->def.kind == EVO_SENSOR_PROXIMITY && !se->idle)
+		if (se->def.kind == EVO_SENSE_PROXIMITY && !se->idle)
 			evo_fan_box(se, f, area);
 	}
 	if (bump > 0) {

@@ -58,8 +58,8 @@ static double effort(const void *v, int bot)
 	double sum = 0;
 	for (int i = 0; i < b->n_actuators; i++) {
 		const evo_actuator *a = &b->actuator[i];
-		if (a->def.kind != EVO_ACTUATOR_WHEEL &&
-		    a->def.kind != EVO_ACTUATOR_SPEED_WHEEL)
+		if (a->def.kind != EVO_ACT_WHEEL &&
+		    a->def.kind != EVO_ACT_SPEED_WHEEL)
 			continue;
 		sum += evo_effort_term(a->command);
 	}

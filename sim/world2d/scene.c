@@ -2,7 +2,8 @@
  * actuators, rewards and controls, lookups by name, and placing bots and
  * elements (sim/world2d/scene.h). It calls nothing above it: the pieces that
  * run each tick (sensors.c, actuators.c, rewards.c) read the scene, and
- * step.c drives them. */
+ * step.c drives them. A sensor's checks and storage are the scene model's
+ * (scene/sensor.c); its rays' directions and team masks are made here. */
 #include "world2d/scene.h"
 
 #include <math.h>
@@ -277,50 +278,16 @@ int evo_scene_add_sensor(evo_scene *sc, int bot, const evo_sensor_def *d)
 		return -1;
 	evo_bot *b = &sc->bot[bot];
 	const char *name = d->name ? d->name : "";
-	double v[] = {d->x, d->y, d->angle, d->range, d->arc, d->deadzone,
-		      d->scale, d->reach, d->value};
-	if (!finite_all(v, 9))
-		return evo_fail(&sc->err, "sensor '%s': a value is not a number",
-				name);
-	if ((unsigned)d->kind >= EVO_SENSOR_KIND_COUNT)
-		return evo_fail(&sc->err, "sensor '%s': unknown kind %d", name,
-				(int)d->kind);
-	if (d->kind == EVO_SENSOR_PROXIMITY &&
-	    (!(d->range > 0) || d->rays < 1 || d->rays > EVO_PROX_MAX_RAYS ||
-	     d->arc < 0))
-		return evo_fail(&sc->err,
-				"sensor '%s': proximity needs range > 0, "
-				"arc >= 0 and 1 to %d rays",
-				name, EVO_PROX_MAX_RAYS);
-	if ((d->kind == EVO_SENSOR_DISTANCE || d->kind == EVO_SENSOR_MOVEMENT) &&
-	    !(d->scale > 0))
-		return evo_fail(&sc->err, "sensor '%s': scale must be positive",
-				name);
-	if (d->kind == EVO_SENSOR_BUMPER && !(d->reach > 0))
-		return evo_fail(&sc->err, "sensor '%s': reach must be positive",
-				name);
-	if ((d->kind == EVO_SENSOR_BUMPER || d->kind == EVO_SENSOR_RADAR) &&
-	    !(d->arc >= 0))
-		return evo_fail(&sc->err, "sensor '%s': arc must be 0 or more",
-				name);
-	if ((d->kind == EVO_SENSOR_LIGHT || d->kind == EVO_SENSOR_RAB ||
-	     d->kind == EVO_SENSOR_CAMERA) &&
-	    evo_swarm_check_sensor(&d->swarm, name, &sc->err))
-		return -1;
 	if (evo_scene_check_target(sc, d->target, name))
 		return -1;
-	if (d->kind == EVO_SENSOR_ZONE && d->target != EVO_TARGET_NONE &&
+	if (d->kind == EVO_SENSE_ZONE && d->target != EVO_TARGET_NONE &&
 	    (d->target < 0 || sc->element[d->target].kind != EVO_ELEM_ZONE))
-		return evo_fail(&sc->err,
-				"sensor '%s': a zone sensor needs a zone", name);
-	if (name[0] && evo_bot_find_sensor(b, name) >= 0)
-		return evo_fail(&sc->err, "sensor '%s' is defined twice", name);
-	evo_sensor *s = evo_store_add((void **)&b->sensor, NULL, b->n_sensors,
-				      sizeof *s, &sc->err);
-	if (!s || set_name(s->name, d->name, &sc->err))
+		return evo_fail(
+		    &sc->err, "sensor '%s': a zone sensor needs a zone", name);
+	evo_sensor *s = evo_sensor_store(&b->sensor, b->n_sensors, d,
+					 EVO_DIM_2D, b->name, NULL, &sc->err);
+	if (!s)
 		return -1;
-	s->def = *d;
-	s->def.name = NULL;
 	/* Teammates and opponents are the bots of the sensor's team and of
 	 * the others; a bot of no team has no teammates. */
 	if (d->sees_teammates && b->team >= 0)
@@ -329,9 +296,7 @@ int evo_scene_add_sensor(evo_scene *sc, int bot, const evo_sensor_def *d)
 		s->def.mask |=
 		    (uint16_t)(EVO_CAT_TEAMS &
 			       ~(b->team >= 0 ? EVO_CAT_TEAM(b->team) : 0u));
-	for (int i = 0; i < EVO_PROX_MAX_RAYS; i++)
-		s->ray[i] = 1.0f;
-	if (d->kind == EVO_SENSOR_PROXIMITY) {
+	if (d->kind == EVO_SENSE_PROXIMITY) {
 		double arc = d->rays > 1 ? fabs(d->arc) : 0;
 		double step = d->rays > 1 ? 2 * arc / (d->rays - 1) : 0;
 		for (int i = 0; i < d->rays; i++) {
@@ -347,35 +312,9 @@ int evo_scene_add_actuator(evo_scene *sc, int bot, const evo_actuator_def *d)
 	if (check_bot(sc, bot))
 		return -1;
 	evo_bot *b = &sc->bot[bot];
-	const char *name = d->name ? d->name : "";
-	double v[] = {d->x,	d->y,	      d->angle, d->max_force,
-		      d->reach, d->max_speed, d->accel};
-	if (!finite_all(v, 7))
-		return evo_fail(&sc->err,
-				"actuator '%s': a value is not a number", name);
-	if ((d->kind == EVO_ACTUATOR_SPEED_WHEEL ||
-	     d->kind == EVO_ACTUATOR_DRIVE) &&
-	    (!(d->max_speed > 0) || d->accel < 0))
-		return evo_fail(&sc->err,
-				"actuator '%s': max_speed must be positive "
-				"and accel 0 or more",
-				name);
-	if ((unsigned)d->kind >= EVO_ACTUATOR_KIND_COUNT)
-		return evo_fail(&sc->err, "actuator '%s': unknown kind %d",
-				name, (int)d->kind);
-	if (name[0] && evo_bot_find_actuator(b, name) >= 0)
-		return evo_fail(&sc->err, "actuator '%s' is defined twice",
-				name);
-	evo_actuator *a = evo_store_add((void **)&b->actuator, NULL,
-					b->n_actuators, sizeof *a, &sc->err);
-	if (!a || set_name(a->name, d->name, &sc->err))
+	if (!evo_actuator_store(&b->actuator, b->n_actuators, d, EVO_DIM_2D,
+				b->name, NULL, &sc->err))
 		return -1;
-	a->def = *d;
-	a->def.name = NULL;
-	a->command = a->previous = 0.5;
-	a->held = a->joint = -1;
-	a->dir_c = cos(d->angle);
-	a->dir_s = sin(d->angle);
 	return b->n_actuators++;
 }
 

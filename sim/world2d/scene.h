@@ -30,16 +30,17 @@
 
 #include "base/err.h"
 #include "base/rng.h"
+#include "scene/actuator.h"
 #include "scene/bot.h"
 #include "scene/core.h"
 #include "scene/kinds.h"
 #include "scene/scoring.h"
+#include "scene/sensor.h"
 #include "scene/store.h"
 #include "scene/swarm.h"
 #include "world2d/world.h"
 
 #define EVO_SCENE_NAME_MAX EVO_PIECE_NAME_MAX
-#define EVO_PROX_MAX_RAYS 32
 /* EVO_REWARD_MAX_SENSORS, EVO_SCENE_MAX_METRICS, EVO_METRIC_NAME_MAX and
  * EVO_SCENE_MAX_TEAMS are the scene model's (scene/scoring.h). */
 
@@ -120,28 +121,8 @@ evo_grid_def evo_default_grid_def(void);
 
 /* ---- sensors -------------------------------------------------------- */
 
-typedef enum evo_sensor_kind {
-	EVO_SENSOR_PROXIMITY = 0, /* rays over an arc: distance/range, 1 = clear */
-	EVO_SENSOR_DISTANCE,	  /* distance to target / scale, clamped */
-	EVO_SENSOR_ZONE,	  /* TRUE when the bot's centre is in the target zone */
-	EVO_SENSOR_BEARING,	  /* 0.5 + angle to target / 2 pi; 0.5 ahead */
-	EVO_SENSOR_PRESENCE,	  /* TRUE when the target exists (is active) */
-	EVO_SENSOR_OBJECT,	  /* TRUE when a free object is within reach ahead */
-	EVO_SENSOR_MOVEMENT,	  /* spread of recent positions / scale, clamped */
-	EVO_SENSOR_RANDOM,	  /* uniform in [0, 1) from the scene's rng */
-	EVO_SENSOR_CONSTANT,	  /* value */
-	EVO_SENSOR_HOLDING,	  /* TRUE when the bot's claw holds an object */
-	EVO_SENSOR_RADAR,  /* TRUE when the target's bearing is within arc of angle */
-	EVO_SENSOR_BUMPER, /* TRUE when an obstacle within reach lies within arc of angle */
-	/* the swarm sensors (sim/scene/swarm.h): */
-	EVO_SENSOR_LIGHT,  /* the lights within aperture of angle, unoccluded */
-	EVO_SENSOR_GROUND, /* the grey level of the floor under (x, y) */
-	EVO_SENSOR_RAB,	   /* range and bearing: a neighbour's range, bearing,
-			      broadcast value, or the neighbours' count */
-	EVO_SENSOR_CAMERA, /* omnidirectional: a coloured blob's range,
-			      bearing, colour, or the blobs' count */
-	EVO_SENSOR_KIND_COUNT
-} evo_sensor_kind;
+/* evo_sensor_def and evo_sensor are the scene model's (scene/sensor.h),
+ * their kinds scene/kinds.h's evo_sense_kind. */
 
 /* What a distance, zone, bearing or presence sensor looks at: an element,
  * or one of scene/scoring.h's EVO_TARGET_* (the nearest bot of another
@@ -149,96 +130,12 @@ typedef enum evo_sensor_kind {
  * through the broad phase). */
 #define EVO_TEAM_SEARCH 160.0
 
-typedef struct evo_sensor_def {
-	evo_sensor_kind kind;
-	const char *name;
-	double x, y;  /* body frame */
-	double angle; /* radians, body frame */
-	/* proximity */
-	double range;	 /* 12 */
-	double arc;	 /* half angle, radians (6 degrees) */
-	int rays;	 /* 9, spread evenly over [-arc, +arc] */
-	double deadzone; /* 0.005: a reading below it is 0 */
-	uint16_t mask;	 /* what the rays see: obstacles and bots */
-	/* and the bots of the sensor's own team, of the others: made into
-	 * mask bits when the sensor is added to a bot of a team */
-	int sees_teammates, sees_opponents;
-	/* distance, zone, bearing, presence */
-	int target; /* element index or EVO_TARGET_NEAREST_OBJECT */
-	/* distance (100), movement (1.5): the distance that reads 1 */
-	double scale;
-	/* object detector: reach ahead of (x, y) along angle; bumper: how
-	 * near the bot's centre a shape must come (1.05) */
-	double reach;
-	/* constant */
-	double value;
-	/* light (aperture), range and bearing (range 30, slot, read, index,
-	 * occluded, scale) */
-	evo_swarm_sensor swarm;
-} evo_sensor_def;
+/* The 2D defaults (EvoAgents' values): 9 rays of 12 m over 6 degrees each
+ * side, seeing obstacles and bots; scale 100 (movement 1.5); an object
+ * detector, radar or bumper 45 degrees each side. */
+evo_sensor_def evo_default_sensor_def(evo_sense_kind kind);
 
-evo_sensor_def evo_default_sensor_def(evo_sensor_kind kind);
-
-typedef struct evo_sensor {
-	char name[EVO_SCENE_NAME_MAX];
-	evo_sensor_def def; /* def.name points at name */
-	double value;	    /* the last sample, in [0, 1] */
-	/* 1: evo_bot_sense skips it, because nothing reads it (evo_sim sets
-	 * this from the botdesc and the rewards); evo_sensor_sample still
-	 * samples it */
-	int idle;
-	/* proximity: each ray's hit fraction in [0, 1] (1: nothing), for the
-	 * viewer */
-	float ray[EVO_PROX_MAX_RAYS];
-	/* proximity: each ray's unit direction in the bot's frame, worked
-	 * out once when the sensor is added */
-	double ray_c[EVO_PROX_MAX_RAYS], ray_s[EVO_PROX_MAX_RAYS];
-} evo_sensor;
-
-/* ---- actuators ------------------------------------------------------ */
-
-typedef enum evo_actuator_kind {
-	EVO_ACTUATOR_WHEEL =
-	    0, /* force (2c - 1) * max_force along angle at (x, y) */
-	EVO_ACTUATOR_CLAW = 1, /* grabs on a rising crossing of 0.5, releases on
-				  a falling one */
-	/* Speed wheels and drives set the bot's velocity instead of pushing
-	 * it (the mazes' robots, docs/world.md): */
-	EVO_ACTUATOR_SPEED_WHEEL = 2, /* ground speed (2c - 1) * max_speed at (x, y) */
-	EVO_ACTUATOR_DRIVE = 3, /* forward speed or turn rate, set or accelerated */
-	/* a value the bot broadcasts to range-and-bearing sensors: its
-	 * command, heard the next tick; it moves nothing */
-	EVO_ACTUATOR_BROADCAST = 4,
-	EVO_ACTUATOR_KIND_COUNT
-} evo_actuator_kind;
-
-typedef struct evo_actuator_def {
-	evo_actuator_kind kind;
-	const char *name;
-	double x, y, angle; /* body frame */
-	double max_force;   /* wheel: 80 */
-	double reach;	    /* claw: 1.5, from (x, y) */
-	/* speed wheel, drive: the top speed, m/s (a turning drive: rad/s), 1 */
-	double max_speed;
-	/* drive: 0, the command sets the speed to (2c - 1) * max_speed;
-	 * above 0, it changes the speed by (2c - 1) * accel each step,
-	 * within +-max_speed */
-	double accel;
-	int turn; /* drive: 1 turns (+ clockwise on screen), 0 drives ahead */
-} evo_actuator_def;
-
-evo_actuator_def evo_default_actuator_def(evo_actuator_kind kind);
-
-typedef struct evo_actuator {
-	char name[EVO_SCENE_NAME_MAX];
-	evo_actuator_def def;
-	double command; /* [0, 1], written by the caller before evo_scene_step */
-	double previous; /* the command of the previous step (claw edges) */
-	int held;	 /* claw: element index held, or -1 */
-	int joint;	 /* claw: the weld's id in the world, or -1 */
-	double speed;	 /* speed wheel, drive: the speed it set last step */
-	double dir_c, dir_s; /* cos and sin of def.angle */
-} evo_actuator;
+/* ---- actuators: the scene model's (scene/actuator.h) ---------------- */
 
 /* ---- bots ------------------------------------------------------------ */
 

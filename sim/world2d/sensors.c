@@ -1,4 +1,4 @@
-/* evo — the sensors of a bot (sim/world2d/scene.h): each one samples the
+/* evo — the sensors of a 2D bot (sim/scene/sensor.h): each one samples the
  * scene and gives a value in [0, 1]; booleans read EVO_FALSE or EVO_TRUE.
  * Here each kind is sampled, and a bot's sensors all at once with one
  * area query among them; the proximity sensors' rays are proximity.c's,
@@ -149,7 +149,7 @@ static double spread(const evo_bot *b)
 static int holding(const evo_bot *b)
 {
 	for (int i = 0; i < b->n_actuators; i++)
-		if (b->actuator[i].def.kind == EVO_ACTUATOR_CLAW &&
+		if (b->actuator[i].def.kind == EVO_ACT_CLAW &&
 		    b->actuator[i].held >= 0)
 			return 1;
 	return 0;
@@ -168,7 +168,7 @@ static int peer_2d(void *ctx, int i, evo_swarm_peer *out)
 	out->n_values = 0;
 	int any = 0;
 	for (int k = 0; k < b->n_actuators; k++) {
-		if (b->actuator[k].def.kind != EVO_ACTUATOR_BROADCAST)
+		if (b->actuator[k].def.kind != EVO_ACT_BROADCAST)
 			continue;
 		any = 1;
 		if (out->n_values < EVO_SWARM_MAX_VALUES)
@@ -227,12 +227,12 @@ static double sample_swarm(evo_scene *sc, int bot, const evo_sensor_def *d)
 	evo_swarm_frame f = evo_swarm_frame_2d(b->x, b->y, b->angle);
 	evo_swarm_rays rays = {sc->be, sc->bw, EVO_CAT_OBSTACLE, b->body, -1};
 	double at[3] = {d->x, d->y, 0};
-	if (d->kind == EVO_SENSOR_LIGHT)
+	if (d->kind == EVO_SENSE_LIGHT)
 		return evo_swarm_light(&sc->swarm, &f, at, d->angle,
 				       d->swarm.aperture, &rays);
-	if (d->kind == EVO_SENSOR_GROUND)
+	if (d->kind == EVO_SENSE_GROUND)
 		return evo_swarm_ground(&sc->swarm, &f, at);
-	if (d->kind == EVO_SENSOR_CAMERA)
+	if (d->kind == EVO_SENSE_CAMERA)
 		return evo_swarm_camera(&sc->swarm, &d->swarm, &f, bot,
 					where_2d, sc, &rays);
 	return evo_swarm_rab(&d->swarm, &f, bot, sc->n_bots, peer_2d, sc,
@@ -248,18 +248,18 @@ static double sample(evo_scene *sc, int bot, evo_sensor *se, const sense_frame *
 	const evo_sensor_def *d = &se->def;
 	double px, py, tx, ty;
 	switch (d->kind) {
-	case EVO_SENSOR_PROXIMITY:
+	case EVO_SENSE_PROXIMITY:
 		return evo_proximity_sample(se, f, set);
-	case EVO_SENSOR_DISTANCE:
+	case EVO_SENSE_DISTANCE:
 		if (!evo_scene_target_pos(sc, bot, d->target, &tx, &ty))
 			return 1;
 		to_world(f, d->x, d->y, &px, &py);
 		return clamp01(hypot(tx - px, ty - py) / d->scale);
-	case EVO_SENSOR_ZONE:
+	case EVO_SENSE_ZONE:
 		return boolean(
 		    d->target >= 0 && d->target < sc->n_elements &&
 		    evo_zone_contains(&sc->element[d->target], f->x, f->y));
-	case EVO_SENSOR_BEARING: {
+	case EVO_SENSE_BEARING: {
 		if (!evo_scene_target_pos(sc, bot, d->target, &tx, &ty))
 			return 0.5;
 		/* The target in the bot's frame: +y is its right. */
@@ -271,7 +271,7 @@ static double sample(evo_scene *sc, int bot, evo_sensor *se, const sense_frame *
 			a = M_PI; /* straight behind reads 1, never 0 */
 		return clamp01(0.5 + a / (2 * M_PI));
 	}
-	case EVO_SENSOR_PRESENCE:
+	case EVO_SENSE_PRESENCE:
 		if (d->target >= 0 && d->target < sc->n_elements)
 			return boolean(sc->element[d->target].active);
 		return boolean(
@@ -279,31 +279,33 @@ static double sample(evo_scene *sc, int bot, evo_sensor *se, const sense_frame *
 		     d->target == EVO_TARGET_NEAREST_OPPONENT ||
 		     d->target == EVO_TARGET_NEAREST_TEAMMATE) &&
 		    evo_scene_target_pos(sc, bot, d->target, &tx, &ty));
-	case EVO_SENSOR_OBJECT: {
+	case EVO_SENSE_OBJECT_DETECTOR: {
 		to_world(f, d->x, d->y, &px, &py);
 		double ux = f->c * cos(d->angle) - f->s * sin(d->angle);
 		double uy = f->s * cos(d->angle) + f->c * sin(d->angle);
 		return boolean(
 		    evo_scene_object_in_reach(sc, px, py, ux, uy, d->reach, d->arc) >= 0);
 	}
-	case EVO_SENSOR_MOVEMENT:
+	case EVO_SENSE_MOVEMENT:
 		return clamp01(spread(b) / d->scale);
-	case EVO_SENSOR_RANDOM:
+	case EVO_SENSE_RANDOM:
 		return evo_rng_unit(&sc->rng);
-	case EVO_SENSOR_CONSTANT:
+	case EVO_SENSE_CONSTANT:
 		return clamp01(d->value);
-	case EVO_SENSOR_HOLDING:
+	case EVO_SENSE_HOLDING:
 		return boolean(holding(b));
-	case EVO_SENSOR_RADAR:
+	case EVO_SENSE_RADAR:
 		return sample_radar(sc, bot, d, f);
-	case EVO_SENSOR_BUMPER:
+	case EVO_SENSE_BUMPER:
 		return sample_bumper(se, f, set);
-	case EVO_SENSOR_LIGHT:
-	case EVO_SENSOR_GROUND:
-	case EVO_SENSOR_RAB:
-	case EVO_SENSOR_CAMERA:
+	case EVO_SENSE_LIGHT:
+	case EVO_SENSE_GROUND:
+	case EVO_SENSE_RAB:
+	case EVO_SENSE_CAMERA:
 		return sample_swarm(sc, bot, d);
-	case EVO_SENSOR_KIND_COUNT:
+	case EVO_SENSE_ELEVATION: /* 3D only: refused when added */
+	case EVO_SENSE_TARGET_SENSOR:
+	case EVO_SENSE_KIND_COUNT:
 		break;
 	}
 	return 0;
@@ -319,11 +321,11 @@ double evo_sensor_sample(evo_scene *sc, int bot, int sensor)
 	shape_set set;
 	set.s = set.local;
 	set.n = 0;
-	if (se->def.kind == EVO_SENSOR_PROXIMITY) {
+	if (se->def.kind == EVO_SENSE_PROXIMITY) {
 		sense_box area = {INFINITY, INFINITY, -INFINITY, -INFINITY};
 		evo_fan_box(se, &f, &area);
 		evo_shapes_gather(sc, b, &area, se->def.mask, &set);
-	} else if (se->def.kind == EVO_SENSOR_BUMPER) {
+	} else if (se->def.kind == EVO_SENSE_BUMPER) {
 		double r = se->def.reach;
 		sense_box area = {f.x - r, f.y - r, f.x + r, f.y + r};
 		evo_shapes_gather(sc, b, &area, se->def.mask, &set);

@@ -1,5 +1,6 @@
-/* evo — the sensors of the 2D world (the kinds in world2d/scene.h,
- * docs/world.md): each samples the scene into a value in [0, 1]. */
+/* evo — the sensors of the 2D world (the one evo_sensor of scene/sensor.h,
+ * its kinds scene/kinds.h's, docs/world.md): each samples the scene into a
+ * value in [0, 1]. */
 #ifndef EVO_SENSORS_H
 #define EVO_SENSORS_H
 

@@ -94,7 +94,7 @@ static inline int unseen(const evo_scene *sc, const evo_bot *b, evo_body_id id)
 		return 1;
 	for (int i = 0; i < b->n_actuators; i++) {
 		int held = b->actuator[i].held;
-		if (b->actuator[i].def.kind == EVO_ACTUATOR_CLAW && held >= 0 &&
+		if (b->actuator[i].def.kind == EVO_ACT_CLAW && held >= 0 &&
 		    held < sc->n_elements &&
 		    same_body(id, sc->element[held].body))
 			return 1;

@@ -16,13 +16,13 @@ static double signed_command(double c)
 	return 2 * c - 1;
 }
 
-static void act(evo_scene3d *sc, int bot, const evo_actuator3d *a)
+static void act(evo_scene3d *sc, int bot, const evo_actuator *a)
 {
 	const evo_bot *b = &sc->bot[bot];
 	double u = signed_command(a->command);
-	if (a->def.kind == EVO3D_ACTUATOR_BROADCAST)
+	if (a->def.kind == EVO_ACT_BROADCAST)
 		return; /* heard through its command */
-	if (a->def.kind == EVO3D_ACTUATOR_WHEEL) {
+	if (a->def.kind == EVO_ACT_WHEEL) {
 		if (a->hinge < 0)
 			return;
 		if (a->def.torque_mode)
@@ -32,7 +32,7 @@ static void act(evo_scene3d *sc, int bot, const evo_actuator3d *a)
 			sc->be->hinge_velocity(sc->bw, a->hinge,
 					       u * a->def.max_rate,
 					       a->def.max_torque);
-	} else {
+	} else if (a->def.kind == EVO_ACT_PROPELLER) {
 		double f[3];
 		for (int k = 0; k < 3; k++)
 			f[k] = u * a->def.max_thrust * a->def.axis[k];
@@ -47,7 +47,7 @@ void evo_bot3d_act(evo_scene3d *sc, int bot)
 	evo_bot *b = &sc->bot[bot];
 	const evo_bot_def *d = &b->def;
 	for (int k = 0; k < b->n_actuators; k++)
-		act(sc, bot, &b->actuator3d[k]);
+		act(sc, bot, &b->actuator[k]);
 	if (d->buoyancy > 0) {
 		double up[3] = {0, 0,
 				d->buoyancy * d->mass * sc->def.world.gravity};

@@ -72,17 +72,17 @@ static void parts(const evo_scene_core *c, int i, evo_parts *sensors,
 		  evo_parts *actuators)
 {
 	const evo_bot *b = &c->bot[i];
-	*sensors = (evo_parts){(char *)b->sensor3d,
+	*sensors = (evo_parts){(char *)b->sensor,
 			       b->n_sensors,
-			       sizeof *b->sensor3d,
-			       offsetof(evo_sensor3d, name),
-			       offsetof(evo_sensor3d, value),
+			       sizeof *b->sensor,
+			       offsetof(evo_sensor, name),
+			       offsetof(evo_sensor, value),
 			       0};
-	*actuators = (evo_parts){(char *)b->actuator3d,
+	*actuators = (evo_parts){(char *)b->actuator,
 				 b->n_actuators,
-				 sizeof *b->actuator3d,
-				 offsetof(evo_actuator3d, name),
-				 offsetof(evo_actuator3d, command),
+				 sizeof *b->actuator,
+				 offsetof(evo_actuator, name),
+				 offsetof(evo_actuator, command),
 				 0};
 }
 

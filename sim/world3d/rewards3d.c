@@ -37,7 +37,7 @@ static double effort(const void *v, int bot)
 	const evo_bot *b = &((const evo_scene3d *)v)->bot[bot];
 	double sum = 0;
 	for (int i = 0; i < b->n_actuators; i++)
-		sum += evo_effort_term(b->actuator3d[i].command);
+		sum += evo_effort_term(b->actuator[i].command);
 	return sum;
 }
 

@@ -1,5 +1,7 @@
 /* A 3D scene's storage (sim/world3d/scene3d.h): definitions with their
- * defaults, the adds, and making the ODE world from them. */
+ * defaults, the adds, and making the ODE world from them. A sensor's
+ * checks and storage are the scene model's (scene/sensor.c); its rays'
+ * directions are made here. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -24,9 +26,9 @@ evo_element3d_def evo_default_element3d_def(evo_element3d_kind kind)
 	return d;
 }
 
-evo_sensor3d_def evo_default_sensor3d_def(evo_sensor3d_kind kind)
+evo_sensor_def evo_default_sensor3d_def(evo_sense_kind kind)
 {
-	evo_sensor3d_def d;
+	evo_sensor_def d;
 	memset(&d, 0, sizeof d);
 	d.kind = kind;
 	d.range = 3;
@@ -35,22 +37,6 @@ evo_sensor3d_def evo_default_sensor3d_def(evo_sensor3d_kind kind)
 	d.target = EVO3D_TARGET_NONE;
 	d.scale = 20;
 	d.swarm = evo_default_swarm_sensor(3);
-	return d;
-}
-
-evo_actuator3d_def evo_default_actuator3d_def(evo_actuator3d_kind kind)
-{
-	evo_actuator3d_def d;
-	memset(&d, 0, sizeof d);
-	d.kind = kind;
-	d.axis[0] = 1;
-	d.radius = 0.08;
-	d.half_width = 0.02;
-	d.mass = 0.2;
-	d.friction = 1;
-	d.max_rate = 15;
-	d.max_torque = 2;
-	d.max_thrust = 10;
 	return d;
 }
 
@@ -291,108 +277,43 @@ static evo_bot *check_bot(evo_scene3d *sc, int bot)
 	return &sc->bot[bot];
 }
 
-int evo_scene3d_add_sensor(evo_scene3d *sc, int bot, const evo_sensor3d_def *d)
+int evo_scene3d_add_sensor(evo_scene3d *sc, int bot, const evo_sensor_def *d)
 {
 	evo_bot *b = check_bot(sc, bot);
 	if (!b)
 		return -1;
-	if ((unsigned)d->kind >= EVO3D_SENSOR_KIND_COUNT)
-		return evo_fail(&sc->err, "unknown sensor kind %d", d->kind);
-	if (!finite3(d->pos) || !isfinite(d->yaw) || !isfinite(d->pitch) ||
-	    !isfinite(d->arc) || !isfinite(d->value))
-		return evo_fail(&sc->err,
-				"sensor '%s': a position or angle "
-				"that is not a number",
-				d->name ? d->name : "?");
-	if (d->kind == EVO3D_SENSOR_PROXIMITY &&
-	    (!positive(d->range) || d->rays < 1 ||
-	     d->rays > EVO3D_PROX_MAX_RAYS || d->arc < 0))
-		return evo_fail(&sc->err,
-				"sensor '%s': range must be > 0, rays 1 to %d, "
-				"arc >= 0",
-				d->name ? d->name : "?", EVO3D_PROX_MAX_RAYS);
-	if ((d->kind == EVO3D_SENSOR_LIGHT || d->kind == EVO3D_SENSOR_RAB ||
-	     d->kind == EVO3D_SENSOR_CAMERA) &&
-	    evo_swarm_check_sensor(&d->swarm, d->name, &sc->err))
-		return -1;
-	if (d->kind == EVO3D_SENSOR_DISTANCE && !positive(d->scale))
-		return evo_fail(&sc->err, "sensor '%s': scale must be > 0",
-				d->name ? d->name : "?");
 	if (d->target != EVO3D_TARGET_NONE &&
 	    (d->target < 0 || d->target >= sc->n_elements))
 		return evo_fail(&sc->err, "sensor '%s': no element %d",
 				d->name ? d->name : "?", d->target);
-	if (d->name && d->name[0] && evo_bot3d_find_sensor(b, d->name) >= 0)
-		return evo_fail(&sc->err, "bot %s: sensor '%s' twice", b->name,
-				d->name);
-	evo_sensor3d *s = evo_store_add((void **)&b->sensor3d, NULL, b->n_sensors,
-					sizeof *s, &sc->err);
-	if (!s || set_name(sc, s->name, d->name, "sensor", b->n_sensors))
+	evo_sensor *s =
+	    evo_sensor_store(&b->sensor, b->n_sensors, d, EVO_DIM_3D, b->name,
+			     "sensor", &sc->err);
+	if (!s)
 		return -1;
-	s->def = *d;
-	s->def.name = s->name;
 	s->value = 0.5;
-	for (int r = 0; r < d->rays; r++) {
+	/* the rays fan out over yaw +- arc, all at one pitch */
+	s->ray_z = sin(d->pitch);
+	for (int r = 0; d->kind == EVO_SENSE_PROXIMITY && r < d->rays; r++) {
 		double yaw = d->rays == 1 ? d->yaw
 					  : d->yaw - d->arc +
 						2 * d->arc * r / (d->rays - 1);
-		s->dir[r][0] = cos(d->pitch) * cos(yaw);
-		s->dir[r][1] = cos(d->pitch) * sin(yaw);
-		s->dir[r][2] = sin(d->pitch);
-		s->hit[r] = d->range;
+		s->ray_c[r] = cos(d->pitch) * cos(yaw);
+		s->ray_s[r] = cos(d->pitch) * sin(yaw);
 	}
 	return b->n_sensors++;
 }
 
 int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
-			     const evo_actuator3d_def *d)
+			     const evo_actuator_def *d)
 {
 	evo_bot *b = check_bot(sc, bot);
-	if (!b)
+	if (!b || !evo_actuator_store(&b->actuator, b->n_actuators, d,
+				      EVO_DIM_3D, b->name, "actuator", &sc->err))
 		return -1;
-	const char *n = d->name ? d->name : "?";
-	if ((unsigned)d->kind >= EVO3D_ACTUATOR_KIND_COUNT)
-		return evo_fail(&sc->err, "unknown actuator kind %d", d->kind);
-	if (!finite3(d->pos) || !finite3(d->axis))
-		return evo_fail(&sc->err,
-				"actuator '%s': a position or axis "
-				"that is not a number",
-				n);
-	if (d->kind == EVO3D_ACTUATOR_WHEEL &&
-	    (!positive(d->radius) || !positive(d->half_width) ||
-	     !positive(d->mass) || !(d->friction >= 0) ||
-	     !isfinite(d->friction) || !(d->max_rate >= 0) ||
-	     !isfinite(d->max_rate) || !(d->max_torque >= 0) ||
-	     !isfinite(d->max_torque)))
-		return evo_fail(&sc->err,
-				"wheel '%s': radius, width and mass must be > "
-				"0, friction, max_rate and max_torque finite "
-				"and >= 0",
-				n);
-	double len = sqrt(d->axis[0] * d->axis[0] + d->axis[1] * d->axis[1] +
-			  d->axis[2] * d->axis[2]);
-	if (d->kind == EVO3D_ACTUATOR_PROPELLER &&
-	    (!(len > 1e-9) || !isfinite(d->max_thrust) || d->max_thrust < 0))
-		return evo_fail(&sc->err,
-				"propeller '%s': its axis must not be 0 and "
-				"max_thrust finite and >= 0",
-				n);
-	if (d->name && d->name[0] && evo_bot3d_find_actuator(b, d->name) >= 0)
-		return evo_fail(&sc->err, "bot %s: actuator '%s' twice",
-				b->name, d->name);
-	evo_actuator3d *a = evo_store_add((void **)&b->actuator3d, NULL,
-					  b->n_actuators, sizeof *a, &sc->err);
-	if (!a || set_name(sc, a->name, d->name, "actuator", b->n_actuators))
-		return -1;
-	a->def = *d;
-	a->def.name = a->name;
-	if (d->kind == EVO3D_ACTUATOR_PROPELLER)
-		for (int k = 0; k < 3; k++)
-			a->def.axis[k] = d->axis[k] / len;
-	a->command = 0.5;
-	a->body = a->hinge = -1;
 	b->n_actuators++;
-	if (d->kind == EVO3D_ACTUATOR_WHEEL && evo_scene3d_build_world(sc)) {
+	/* a wheel is a body of its own, on a hinge */
+	if (d->kind == EVO_ACT_WHEEL && evo_scene3d_build_world(sc)) {
 		b->n_actuators--;
 		return -1;
 	}
@@ -474,8 +395,8 @@ static int build_bot(evo_scene3d *sc, int i)
 				b->name);
 	evo_scene3d_pose(sc, b->body.index, b->pos, b->R);
 	for (int k = 0; k < b->n_actuators; k++) {
-		evo_actuator3d *a = &b->actuator3d[k];
-		if (a->def.kind != EVO3D_ACTUATOR_WHEEL)
+		evo_actuator *a = &b->actuator[k];
+		if (a->def.kind != EVO_ACT_WHEEL)
 			continue;
 		double hub[3];
 		evo_bot3d_to_world(b, a->def.pos, hub);

@@ -27,10 +27,12 @@
 
 #include "base/err.h"
 #include "base/rng.h"
+#include "scene/actuator.h"
 #include "scene/bot.h"
 #include "scene/core.h"
 #include "scene/kinds.h"
 #include "scene/scoring.h"
+#include "scene/sensor.h"
 #include "scene/store.h"
 #include "scene/swarm.h"
 #include "world3d/world3d.h"
@@ -41,7 +43,6 @@
 #endif
 
 #define EVO3D_NAME_MAX EVO_PIECE_NAME_MAX
-#define EVO3D_PROX_MAX_RAYS  16
 #define EVO3D_FALSE	     0.2
 #define EVO3D_TRUE	     0.8
 #define EVO3D_TARGET_NONE    (-1)
@@ -91,96 +92,17 @@ typedef evo_shape3d evo_obstacle3d;
 
 /* ---- sensors ---------------------------------------------------------- */
 
-typedef enum evo_sensor3d_kind {
-	EVO3D_SENSOR_PROXIMITY = 0, /* nearest hit of its rays / range;
-				       1 = clear */
-	EVO3D_SENSOR_DISTANCE,	    /* distance to target / scale, clamped */
-	EVO3D_SENSOR_AZIMUTH,	    /* 0.5 + azimuth / 2 pi (TargetSensor:1) */
-	EVO3D_SENSOR_ELEVATION,	    /* 0.5 + elevation / pi (TargetSensor:2) */
-	EVO3D_SENSOR_ZONE,	    /* TRUE with the bot's centre in the zone */
-	EVO3D_SENSOR_RANDOM,	    /* uniform in [0, 1) */
-	EVO3D_SENSOR_CONSTANT,	    /* value */
-	/* the swarm sensors (sim/scene/swarm.h): */
-	EVO3D_SENSOR_LIGHT,  /* the lights within aperture of yaw, unoccluded */
-	EVO3D_SENSOR_GROUND, /* the grey level of the floor under pos */
-	EVO3D_SENSOR_RAB,    /* range and bearing: a neighbour's range,
-				bearing, broadcast value, or their count */
-	EVO3D_SENSOR_CAMERA, /* omnidirectional: a coloured blob's range,
-				bearing, colour, or the blobs' count */
-	EVO3D_SENSOR_KIND_COUNT
-} evo_sensor3d_kind;
+/* evo_sensor_def and evo_sensor are the scene model's (scene/sensor.h),
+ * their kinds scene/kinds.h's evo_sense_kind. The 3D defaults: one ray of
+ * 3 m seeing bots, obstacles and objects; a distance's scale 20 m. */
+evo_sensor_def evo_default_sensor3d_def(evo_sense_kind kind);
 
-typedef struct evo_sensor3d_def {
-	evo_sensor3d_kind kind;
-	const char *name;
-	double pos[3]; /* body frame */
-	double yaw;    /* direction: turn about z, then */
-	double pitch;  /* up from the horizontal (radians) */
-	double range;  /* proximity: 3 m */
-	double arc;    /* proximity: half angle of its fan of rays (0) */
-	int rays;      /* proximity: 1 */
-	unsigned mask; /* proximity: what its rays see (all) */
-	int target;    /* element: distance, azimuth, elevation, zone */
-	double scale;  /* distance: what reads 1 (20 m) */
-	double value;  /* constant */
-	/* light (aperture), range and bearing (range 3, slot, read, index,
-	 * occluded, scale) */
-	evo_swarm_sensor swarm;
-} evo_sensor3d_def;
-
-evo_sensor3d_def evo_default_sensor3d_def(evo_sensor3d_kind kind);
-
-typedef struct evo_sensor3d {
-	char name[EVO3D_NAME_MAX];
-	evo_sensor3d_def def;
-	double value; /* the last sample, in [0, 1] */
-	/* proximity: each ray's unit direction in the bot's frame, and its
-	 * last hit distance (range: nothing), for the viewer */
-	double dir[EVO3D_PROX_MAX_RAYS][3];
-	double hit[EVO3D_PROX_MAX_RAYS];
-} evo_sensor3d;
-
-/* ---- actuators -------------------------------------------------------- */
-
-typedef enum evo_actuator3d_kind {
-	EVO3D_ACTUATOR_WHEEL = 0,     /* a wheel on a hinge: (2c - 1) x max */
-	EVO3D_ACTUATOR_PROPELLER = 1, /* thrust (2c - 1) x max_thrust along
-					 axis at pos */
-	/* a value the bot broadcasts to range-and-bearing sensors: its
-	 * command, heard the next tick; it moves nothing */
-	EVO3D_ACTUATOR_BROADCAST = 2,
-	EVO3D_ACTUATOR_KIND_COUNT
-} evo_actuator3d_kind;
-
-typedef struct evo_actuator3d_def {
-	evo_actuator3d_kind kind;
-	const char *name;
-	double pos[3];	/* body frame: the wheel's hub, the propeller */
-	double axis[3]; /* propeller: direction of its thrust (unit) */
-	/* wheel */
-	double radius, half_width, mass, friction; /* 0.08, 0.02, 0.2, 1 */
-	int torque_mode;   /* 0: velocity (rate, max_torque); 1: torque */
-	double max_rate;   /* rad/s at c = 1 (15) */
-	double max_torque; /* N m (2) */
-	/* propeller */
-	double max_thrust; /* N (10) */
-} evo_actuator3d_def;
-
-evo_actuator3d_def evo_default_actuator3d_def(evo_actuator3d_kind kind);
-
-typedef struct evo_actuator3d {
-	char name[EVO3D_NAME_MAX];
-	evo_actuator3d_def def;
-	double command; /* [0, 1], 0.5 neutral */
-	int body;	/* wheel: its body in the world */
-	int hinge;	/* wheel: its hinge */
-} evo_actuator3d;
+/* ---- actuators: the scene model's (scene/actuator.h) ------------------ */
 
 /* ---- bots ------------------------------------------------------------- */
 
 /* evo_bot_def and evo_bot are the scene model's, one for both worlds
- * (scene/bot.h); a 3D bot reads the fields marked "3D" or "both", its
- * sensors and actuators in sensor3d and actuator3d. */
+ * (scene/bot.h); a 3D bot reads the fields marked "3D" or "both". */
 
 /* A box of half sides 0.2 x 0.15 x 0.05 m, 2 kg, friction 0.3, of no
  * team (scene3d.c). */
@@ -238,9 +160,9 @@ void evo_scene3d_destroy(evo_scene3d *sc);
 int evo_scene3d_add_element(evo_scene3d *sc, const evo_element3d_def *def);
 int evo_scene3d_add_bot(evo_scene3d *sc, const evo_bot_def *def);
 int evo_scene3d_add_sensor(evo_scene3d *sc, int bot,
-			   const evo_sensor3d_def *def);
+			   const evo_sensor_def *def);
 int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
-			     const evo_actuator3d_def *def);
+			     const evo_actuator_def *def);
 /* Rewards and controls are the scene model's (scene/core.h). */
 #define evo_scene3d_add_reward(sc, d)  evo_core_add_reward(&(sc)->core, d)
 #define evo_scene3d_add_control(sc, d) evo_core_add_control(&(sc)->core, d)
@@ -259,12 +181,8 @@ int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o);
 /* Lookups by name; -1 when absent (scene/store.h). */
 #define evo_scene3d_find_element(s, k) EVO_FIND(s, element, evo_element3d, k)
 #define evo_scene3d_find_bot(s, k)     EVO_FIND(s, bot, evo_bot, k)
-#define evo_bot3d_find_sensor(b, k)                                            \
-	evo_store_find((b)->sensor3d, (b)->n_sensors, sizeof(evo_sensor3d),   \
-		       offsetof(evo_sensor3d, name), k)
-#define evo_bot3d_find_actuator(b, k)                                          \
-	evo_store_find((b)->actuator3d, (b)->n_actuators,                      \
-		       sizeof(evo_actuator3d), offsetof(evo_actuator3d, name), k)
+#define evo_bot3d_find_sensor(b, k)    EVO_FIND(b, sensor, evo_sensor, k)
+#define evo_bot3d_find_actuator(b, k)  EVO_FIND(b, actuator, evo_actuator, k)
 
 /* Start an episode: a new world with every element and bot where it
  * starts, neutral commands, rewards and controls cleared, the episode's

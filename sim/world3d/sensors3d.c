@@ -1,7 +1,8 @@
-/* The 3D sensors (sim/world3d/scene3d.h): proximity rays, distance,
- * the tutorial's target sensor (azimuth and elevation), zones, random and
- * constant values. Each reads the scene and asks the world's ray cast;
- * none calls back up. */
+/* The 3D sensors (the one evo_sensor of sim/scene/sensor.h, sampled in a
+ * 3D scene): proximity rays, distance, the tutorial's target sensor
+ * (azimuth, the bearing sensor, and elevation), zones, random and
+ * constant values, and the swarm sensors (scene/swarm.h). Each reads the
+ * scene and asks the world's ray cast; none calls back up. */
 #include <math.h>
 
 #include "world3d/scene3d.h"
@@ -18,7 +19,7 @@ static double clamp01(double v)
 /* Where the sensor sits in the world, and the target in the bot's frame
  * seen from there. */
 static void target_in_body(const evo_scene3d *sc, const evo_bot *b,
-			   const evo_sensor3d *s, double out[3])
+			   const evo_sensor *s, double out[3])
 {
 	double at[3], d[3];
 	evo_bot3d_to_world(b, s->def.pos, at);
@@ -29,7 +30,7 @@ static void target_in_body(const evo_scene3d *sc, const evo_bot *b,
 }
 
 /* The nearest hit over the sensor's rays, / range; 1 when clear. */
-static double proximity(evo_scene3d *sc, int bot, evo_sensor3d *s)
+static double proximity(evo_scene3d *sc, int bot, evo_sensor *s)
 {
 	const evo_bot *b = &sc->bot[bot];
 	double from[3], dir[3];
@@ -38,13 +39,14 @@ static double proximity(evo_scene3d *sc, int bot, evo_sensor3d *s)
 		from[k] += b->pos[k];
 	double best = s->def.range;
 	for (int r = 0; r < s->def.rays; r++) {
-		evo_bot3d_to_world(b, s->dir[r], dir);
-		double h =
-		    sc->be->raycast(sc->bw, from, dir, s->def.range,
-				    (uint16_t)s->def.mask, EVO_BODY_NONE, bot);
-		s->hit[r] = h < 0 ? s->def.range : h;
-		if (s->hit[r] < best)
-			best = s->hit[r];
+		double ray[3] = {s->ray_c[r], s->ray_s[r], s->ray_z};
+		evo_bot3d_to_world(b, ray, dir);
+		double h = sc->be->raycast(sc->bw, from, dir, s->def.range,
+					   s->def.mask, EVO_BODY_NONE, bot);
+		double hit = h < 0 ? s->def.range : h;
+		s->ray[r] = (float)(hit / s->def.range);
+		if (hit < best)
+			best = hit;
 	}
 	return best / s->def.range;
 }
@@ -71,11 +73,11 @@ static int peer_3d(void *ctx, int i, evo_swarm_peer *out)
 	out->n_values = 0;
 	int any = 0;
 	for (int k = 0; k < b->n_actuators; k++) {
-		if (b->actuator3d[k].def.kind != EVO3D_ACTUATOR_BROADCAST)
+		if (b->actuator[k].def.kind != EVO_ACT_BROADCAST)
 			continue;
 		any = 1;
 		if (out->n_values < EVO_SWARM_MAX_VALUES)
-			out->value[out->n_values++] = b->actuator3d[k].command;
+			out->value[out->n_values++] = b->actuator[k].command;
 	}
 	return any;
 }
@@ -116,7 +118,7 @@ static int where_3d(void *ctx, const evo_blob *bl, double pos[3],
 /* A light, ground or range-and-bearing sensor or a camera
  * (sim/scene/swarm.h);
  * obstacles occlude, the ground does not. */
-static double swarm(evo_scene3d *sc, int bot, const evo_sensor3d *s)
+static double swarm(evo_scene3d *sc, int bot, const evo_sensor *s)
 {
 	const evo_bot *b = &sc->bot[bot];
 	evo_swarm_frame f;
@@ -126,12 +128,12 @@ static double swarm(evo_scene3d *sc, int bot, const evo_sensor3d *s)
 		f.R[k] = b->R[k];
 	evo_swarm_rays rays = {sc->be, sc->bw, EVO_CAT3D_OBSTACLE,
 			       EVO_BODY_NONE, bot};
-	if (s->def.kind == EVO3D_SENSOR_LIGHT)
+	if (s->def.kind == EVO_SENSE_LIGHT)
 		return evo_swarm_light(&sc->swarm, &f, s->def.pos, s->def.yaw,
 				       s->def.swarm.aperture, &rays);
-	if (s->def.kind == EVO3D_SENSOR_GROUND)
+	if (s->def.kind == EVO_SENSE_GROUND)
 		return evo_swarm_ground(&sc->swarm, &f, s->def.pos);
-	if (s->def.kind == EVO3D_SENSOR_CAMERA)
+	if (s->def.kind == EVO_SENSE_CAMERA)
 		return evo_swarm_camera(&sc->swarm, &s->def.swarm, &f, bot,
 					where_3d, sc, &rays);
 	return evo_swarm_rab(&s->def.swarm, &f, bot, sc->n_bots, peer_3d, sc,
@@ -141,42 +143,49 @@ static double swarm(evo_scene3d *sc, int bot, const evo_sensor3d *s)
 double evo_sensor3d_sample(evo_scene3d *sc, int bot, int k)
 {
 	evo_bot *b = &sc->bot[bot];
-	evo_sensor3d *s = &b->sensor3d[k];
+	evo_sensor *s = &b->sensor[k];
 	int has = s->def.target >= 0 && s->def.target < sc->n_elements;
 	double t[3];
 	switch (s->def.kind) {
-	case EVO3D_SENSOR_PROXIMITY:
+	case EVO_SENSE_PROXIMITY:
 		return clamp01(proximity(sc, bot, s));
-	case EVO3D_SENSOR_DISTANCE:
+	case EVO_SENSE_DISTANCE:
 		if (!has)
 			return 1;
 		target_in_body(sc, b, s, t);
 		return clamp01(sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]) /
 			       s->def.scale);
-	case EVO3D_SENSOR_AZIMUTH:
+	case EVO_SENSE_BEARING:
 		if (!has)
 			return 0.5;
 		target_in_body(sc, b, s, t);
 		return clamp01(0.5 + atan2(t[1], t[0]) / (2 * M_PI));
-	case EVO3D_SENSOR_ELEVATION:
+	case EVO_SENSE_ELEVATION:
 		if (!has)
 			return 0.5;
 		target_in_body(sc, b, s, t);
 		return clamp01(0.5 + atan2(t[2], hypot(t[0], t[1])) / M_PI);
-	case EVO3D_SENSOR_ZONE:
+	case EVO_SENSE_ZONE:
 		return has && zone_holds(&sc->element[s->def.target], b->pos)
 			   ? EVO3D_TRUE
 			   : EVO3D_FALSE;
-	case EVO3D_SENSOR_RANDOM:
+	case EVO_SENSE_RANDOM:
 		return evo_rng_unit(&sc->rng);
-	case EVO3D_SENSOR_CONSTANT:
+	case EVO_SENSE_CONSTANT:
 		return clamp01(s->def.value);
-	case EVO3D_SENSOR_LIGHT:
-	case EVO3D_SENSOR_GROUND:
-	case EVO3D_SENSOR_RAB:
-	case EVO3D_SENSOR_CAMERA:
+	case EVO_SENSE_LIGHT:
+	case EVO_SENSE_GROUND:
+	case EVO_SENSE_RAB:
+	case EVO_SENSE_CAMERA:
 		return swarm(sc, bot, s);
-	case EVO3D_SENSOR_KIND_COUNT:
+	case EVO_SENSE_PRESENCE: /* 2D only: refused when added */
+	case EVO_SENSE_OBJECT_DETECTOR:
+	case EVO_SENSE_MOVEMENT:
+	case EVO_SENSE_HOLDING:
+	case EVO_SENSE_RADAR:
+	case EVO_SENSE_BUMPER:
+	case EVO_SENSE_TARGET_SENSOR:
+	case EVO_SENSE_KIND_COUNT:
 		break;
 	}
 	return 0.5;
@@ -186,6 +195,6 @@ void evo_scene3d_sense(evo_scene3d *sc)
 {
 	for (int i = 0; i < sc->n_bots; i++)
 		for (int k = 0; k < sc->bot[i].n_sensors; k++)
-			sc->bot[i].sensor3d[k].value =
+			sc->bot[i].sensor[k].value =
 			    evo_sensor3d_sample(sc, i, k);
 }

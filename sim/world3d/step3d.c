@@ -18,7 +18,7 @@ int evo_scene3d_reset(evo_scene3d *sc, uint64_t grid_seed,
 		memcpy(b->start, b->def.pos, sizeof b->start);
 		b->start_yaw = b->def.yaw;
 		for (int k = 0; k < b->n_actuators; k++)
-			b->actuator3d[k].command = 0.5;
+			b->actuator[k].command = 0.5;
 		b->touching = b->collisions = 0;
 		b->reward = 0;
 	}
@@ -58,8 +58,8 @@ double evo_scene3d_fault(evo_scene_core *c, const evo_bfault *f)
 		if (sc->bot[i].body.index == body)
 			what = sc->bot[i].name;
 		for (int k = 0; k < sc->bot[i].n_actuators; k++)
-			if (sc->bot[i].actuator3d[k].body == body)
-				what = sc->bot[i].actuator3d[k].name;
+			if (sc->bot[i].actuator[k].body == body)
+				what = sc->bot[i].actuator[k].name;
 	}
 	for (int i = 0; i < sc->n_elements; i++)
 		if (sc->element[i].body == body)

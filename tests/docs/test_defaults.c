@@ -1577,7 +1577,7 @@ static int render_option_default(const char *fn, const char *opt, char *out,
 			return 0;
 		}
 		const evo_swarm_sensor *w = &d->swarm;
-		if (d->kind == EVO_SENSOR_RAB || d->kind == EVO_SENSOR_CAMERA) {
+		if (d->kind == EVO_SENSE_RAB || d->kind == EVO_SENSE_CAMERA) {
 			static const char *const reads[] = {
 			    "\"range\"", "\"bearing\"", "\"value\"", "\"count\"",
 			    "\"colour\""};

@@ -174,7 +174,7 @@ TEST(epuck_3d_has_the_published_ring_wheels_and_speed)
 		CHECK(k >= 0);
 		if (k < 0)
 			continue;
-		const evo_sensor3d_def *sd = &b->sensor3d[k].def;
+		const evo_sensor_def *sd = &b->sensor[k].def;
 		CHECK(NEAR(sd->yaw, -ir_angles[i] * DEG, 1e-12));
 		CHECK(NEAR(hypot(sd->pos[0], sd->pos[1]), 0.035, 1e-12));
 	}
@@ -186,12 +186,12 @@ TEST(epuck_3d_has_the_published_ring_wheels_and_speed)
 		evo_scene3d_destroy(sc);
 		return;
 	}
-	CHECK(NEAR(b->actuator3d[ml].def.pos[1] - b->actuator3d[mr].def.pos[1],
+	CHECK(NEAR(b->actuator[ml].def.pos[1] - b->actuator[mr].def.pos[1],
 		   0.053, 1e-12));
-	CHECK(NEAR(b->actuator3d[ml].def.radius, 0.0205, 1e-12));
+	CHECK(NEAR(b->actuator[ml].def.radius, 0.0205, 1e-12));
 	CHECK_EQ_INT(b->n_actuators, 4); /* two wheels, two broadcasts */
-	CHECK(NEAR(b->actuator3d[ml].def.max_rate, 0.128 / 0.0205, 1e-9));
-	b->actuator3d[ml].command = b->actuator3d[mr].command = 1;
+	CHECK(NEAR(b->actuator[ml].def.max_rate, 0.128 / 0.0205, 1e-9));
+	b->actuator[ml].command = b->actuator[mr].command = 1;
 	double x2 = 0;
 	for (int t = 0; t < 90; t++) { /* 3 s */
 		if (t == 60)

@@ -160,7 +160,7 @@ static int reset_and_step(world *w, evo_err *err)
 		return evo_scene_step(w->sc);
 	}
 	evo_scene3d_sense(w->sc3);
-	w->sc3->bot[0].actuator3d[0].command = 0.8;
+	w->sc3->bot[0].actuator[0].command = 0.8;
 	return evo_scene3d_step(w->sc3);
 }
 

@@ -59,7 +59,7 @@ static double value(const evo_scene3d *sc, const char *name)
 {
 	const evo_bot *b = &sc->bot[0];
 	int k = evo_bot3d_find_sensor(b, name);
-	return k >= 0 ? b->sensor3d[k].value : -1;
+	return k >= 0 ? b->sensor[k].value : -1;
 }
 
 /* A target up 3 and ahead 4, then moved by reset to the left; a box 2.25
@@ -202,7 +202,7 @@ TEST(bad_options_and_misplaced_calls_are_refused_at_their_line)
 	     "E.lua:2: bot:target_sensor: axis is 1 (azimuth) or 2 "
 	     "(elevation)"},
 	    {"local b = scene:bot{} b:proximity{ name = 'Q', rays = 40 }",
-	     "E.lua:2: bot:proximity: rays must be a whole number, 1 to 16"},
+	     "E.lua:2: bot:proximity: rays must be a whole number, 1 to 32"},
 	    {"local b = scene:bot{} b:propeller{ name = 'Q', axis = { 1, 0 } }",
 	     "E.lua:2: bot:propeller: axis must be a list of three numbers"},
 	    {"local b = scene:bot{} b:proximity{ name = 'Q', sees = { 'walls' "

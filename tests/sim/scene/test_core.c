@@ -27,9 +27,9 @@ static evo_scene *scene_2d(int team)
 	evo_bot_def b = evo_default_bot_def();
 	b.name = "r";
 	b.team = team;
-	evo_actuator_def a = evo_default_actuator_def(EVO_ACTUATOR_WHEEL);
+	evo_actuator_def a = evo_default_actuator_def(EVO_ACT_WHEEL);
 	a.name = "w";
-	evo_sensor_def s = evo_default_sensor_def(EVO_SENSOR_CONSTANT);
+	evo_sensor_def s = evo_default_sensor_def(EVO_SENSE_CONSTANT);
 	s.name = "c";
 	s.value = 0.25;
 	CHECK(evo_scene_add_bot(sc, &b) == 0 &&
@@ -47,11 +47,11 @@ static evo_scene3d *scene_3d(int team)
 	b.name = "r";
 	b.team = team;
 	b.pos[2] = b.half[2];
-	evo_sensor3d_def s = evo_default_sensor3d_def(EVO3D_SENSOR_CONSTANT);
+	evo_sensor_def s = evo_default_sensor3d_def(EVO_SENSE_CONSTANT);
 	s.name = "c";
 	s.value = 0.25;
-	evo_actuator3d_def a =
-	    evo_default_actuator3d_def(EVO3D_ACTUATOR_PROPELLER);
+	evo_actuator_def a =
+	    evo_default_actuator_def(EVO_ACT_PROPELLER);
 	a.name = "p";
 	CHECK(evo_scene3d_add_bot(sc, &b) == 0 &&
 	      evo_scene3d_add_sensor(sc, 0, &s) == 0 &&
@@ -186,7 +186,7 @@ static void bots_alike(void)
 	bot_view(&s2->core, "w");
 	bot_view(&s3->core, "p");
 	CHECK(NEAR(s2->bot[0].actuator[0].command, 0.9));
-	CHECK(NEAR(s3->bot[0].actuator3d[0].command, 0.9));
+	CHECK(NEAR(s3->bot[0].actuator[0].command, 0.9));
 	evo_scene_destroy(s2);
 	evo_scene3d_destroy(s3);
 }

@@ -25,7 +25,7 @@ static void light2d(evo_scene *sc, double x, double y, double intensity)
 	CHECK(evo_swarm_add_light(&sc->swarm, &l, &sc->err) >= 0);
 }
 
-static int sensor2d(evo_scene *sc, int bot, evo_sensor_kind kind,
+static int sensor2d(evo_scene *sc, int bot, evo_sense_kind kind,
 		    const char *name, double x, double y, double angle)
 {
 	evo_sensor_def d = evo_default_sensor_def(kind);
@@ -51,7 +51,7 @@ TEST(light_2d_falls_with_the_square_of_distance)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
 	light2d(sc, 4, 3, 10);
-	int s = sensor2d(sc, 0, EVO_SENSOR_LIGHT, "L", 0, 0, 0);
+	int s = sensor2d(sc, 0, EVO_SENSE_LIGHT, "L", 0, 0, 0);
 	evo_scene_reset(sc, 1, 1);
 	CHECK(NEAR(read2d(sc, 0, s), 0.4, 1e-12));
 	sc->bot[0].sensor[s].def.swarm.aperture = 30 * DEG;
@@ -72,8 +72,8 @@ TEST(light_2d_turns_with_the_bot)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 90 * DEG);
 	light2d(sc, 0, 5, 4);
-	int s = sensor2d(sc, 0, EVO_SENSOR_LIGHT, "L", 1, 0, 0);
-	int back = sensor2d(sc, 0, EVO_SENSOR_LIGHT, "B", -1, 0, 180 * DEG);
+	int s = sensor2d(sc, 0, EVO_SENSE_LIGHT, "L", 1, 0, 0);
+	int back = sensor2d(sc, 0, EVO_SENSE_LIGHT, "B", -1, 0, 180 * DEG);
 	evo_scene_reset(sc, 1, 1);
 	CHECK(NEAR(read2d(sc, 0, s), 0.25, 1e-12));
 	CHECK(NEAR(read2d(sc, 0, back), 0.0, 1e-12));
@@ -85,14 +85,14 @@ TEST(light_2d_is_hidden_by_an_obstacle)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
 	light2d(sc, 6, 0, 9);
-	int s = sensor2d(sc, 0, EVO_SENSOR_LIGHT, "L", 0, 0, 0);
+	int s = sensor2d(sc, 0, EVO_SENSE_LIGHT, "L", 0, 0, 0);
 	evo_scene_reset(sc, 1, 1);
 	CHECK(NEAR(read2d(sc, 0, s), 0.25, 1e-12));
 	evo_scene_destroy(sc);
 	sc = scene_with_bot(0, 0, 0);
 	light2d(sc, 6, 0, 9);
 	scene_add_box(sc, 3, 0, 0.5, 5, 0);
-	s = sensor2d(sc, 0, EVO_SENSOR_LIGHT, "L", 0, 0, 0);
+	s = sensor2d(sc, 0, EVO_SENSE_LIGHT, "L", 0, 0, 0);
 	evo_scene_reset(sc, 1, 1);
 	CHECK(NEAR(read2d(sc, 0, s), 0.0, 1e-12));
 	evo_scene_destroy(sc);
@@ -109,9 +109,9 @@ TEST(ground_2d_reads_the_top_patch)
 	evo_patch ci = {1, 5, 0.5, 0, 0, 0, 0.5, 0.7};
 	CHECK_EQ_INT(evo_swarm_add_patch(&sc->swarm, &sq, &sc->err), 0);
 	CHECK_EQ_INT(evo_swarm_add_patch(&sc->swarm, &ci, &sc->err), 1);
-	int c = sensor2d(sc, 0, EVO_SENSOR_GROUND, "G0", 0, 0, 0);
-	int a = sensor2d(sc, 0, EVO_SENSOR_GROUND, "G1", 0.5, 0.5, 0);
-	int b = sensor2d(sc, 0, EVO_SENSOR_GROUND, "G2", -5, 0, 0);
+	int c = sensor2d(sc, 0, EVO_SENSE_GROUND, "G0", 0, 0, 0);
+	int a = sensor2d(sc, 0, EVO_SENSE_GROUND, "G1", 0.5, 0.5, 0);
+	int b = sensor2d(sc, 0, EVO_SENSE_GROUND, "G2", -5, 0, 0);
 	evo_scene_reset(sc, 1, 1);
 	CHECK(NEAR(read2d(sc, 0, c), 0.3, 1e-12));
 	CHECK(NEAR(read2d(sc, 0, a), 0.7, 1e-12));
@@ -145,7 +145,7 @@ static void add_bot2d(evo_scene *sc, const char *name, double x, double y,
 	CHECK(b >= 0);
 	if (broadcasts) {
 		evo_actuator_def a =
-		    evo_default_actuator_def(EVO_ACTUATOR_BROADCAST);
+		    evo_default_actuator_def(EVO_ACT_BROADCAST);
 		a.name = "TX";
 		CHECK(evo_scene_add_actuator(sc, b, &a) == 0);
 	}
@@ -154,7 +154,7 @@ static void add_bot2d(evo_scene *sc, const char *name, double x, double y,
 static int rab2d(evo_scene *sc, const char *name, int slot, evo_rab_read r,
 		 double range, int occluded)
 {
-	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_RAB);
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_RAB);
 	d.name = name;
 	d.swarm.slot = slot;
 	d.swarm.read = r;
@@ -174,7 +174,7 @@ static int rab2d(evo_scene *sc, const char *name, int slot, evo_rab_read r,
 static evo_scene *rab_scene2d(int box)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	evo_actuator_def a = evo_default_actuator_def(EVO_ACTUATOR_BROADCAST);
+	evo_actuator_def a = evo_default_actuator_def(EVO_ACT_BROADCAST);
 	a.name = "TX";
 	CHECK(evo_scene_add_actuator(sc, 0, &a) == 0);
 	add_bot2d(sc, "B", 3, 4, 1);
@@ -232,7 +232,7 @@ TEST(rab_2d_occlusion_is_an_option)
 TEST(bad_settings_are_refused)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_RAB);
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_RAB);
 	d.name = "RX";
 	d.swarm.range = -1;
 	CHECK(evo_scene_add_sensor(sc, 0, &d) < 0);
@@ -240,7 +240,7 @@ TEST(bad_settings_are_refused)
 	d.swarm.range = 1;
 	d.swarm.slot = 0;
 	CHECK(evo_scene_add_sensor(sc, 0, &d) < 0);
-	d = evo_default_sensor_def(EVO_SENSOR_LIGHT);
+	d = evo_default_sensor_def(EVO_SENSE_LIGHT);
 	d.name = "L";
 	d.swarm.aperture = -0.1;
 	CHECK(evo_scene_add_sensor(sc, 0, &d) < 0);
@@ -274,8 +274,8 @@ static int add_bot3d(evo_scene3d *sc, const char *name, double x, double y,
 	int i = evo_scene3d_add_bot(sc, &b);
 	CHECK(i >= 0);
 	if (broadcasts) {
-		evo_actuator3d_def a =
-		    evo_default_actuator3d_def(EVO3D_ACTUATOR_BROADCAST);
+		evo_actuator_def a =
+		    evo_default_actuator_def(EVO_ACT_BROADCAST);
 		a.name = "TX";
 		CHECK(evo_scene3d_add_actuator(sc, i, &a) == 0);
 	}
@@ -290,10 +290,10 @@ static evo_scene3d *scene3d(double yaw)
 	return sc;
 }
 
-static int sensor3d(evo_scene3d *sc, int bot, evo_sensor3d_kind kind,
+static int sensor3d(evo_scene3d *sc, int bot, evo_sense_kind kind,
 		    const char *name, double x, double y, double yaw)
 {
-	evo_sensor3d_def d = evo_default_sensor3d_def(kind);
+	evo_sensor_def d = evo_default_sensor3d_def(kind);
 	d.name = name;
 	d.pos[0] = x;
 	d.pos[1] = y;
@@ -312,7 +312,7 @@ static void light3d(evo_scene3d *sc, double x, double y, double z, double i)
 static double read3d(evo_scene3d *sc, int bot, int s)
 {
 	evo_scene3d_sense(sc);
-	return sc->bot[bot].sensor3d[s].value;
+	return sc->bot[bot].sensor[s].value;
 }
 
 /* The bot at (0, 0, 2) heading +x. A light of 10 at (4, 3, 2): 5 away,
@@ -323,12 +323,12 @@ TEST(light_3d_falls_with_the_square_of_distance)
 {
 	evo_scene3d *sc = scene3d(0);
 	light3d(sc, 4, 3, 2, 10);
-	int s = sensor3d(sc, 0, EVO3D_SENSOR_LIGHT, "L", 0, 0, 0);
+	int s = sensor3d(sc, 0, EVO_SENSE_LIGHT, "L", 0, 0, 0);
 	CHECK(evo_scene3d_reset(sc, 1, 1) == 0);
 	CHECK(NEAR(read3d(sc, 0, s), 0.4, 1e-9));
-	sc->bot[0].sensor3d[s].def.swarm.aperture = 30 * DEG;
+	sc->bot[0].sensor[s].def.swarm.aperture = 30 * DEG;
 	CHECK(NEAR(read3d(sc, 0, s), 0.0, 1e-12));
-	sc->bot[0].sensor3d[s].def.swarm.aperture = 45 * DEG;
+	sc->bot[0].sensor[s].def.swarm.aperture = 45 * DEG;
 	sc->swarm.light[0].pos[2] = 5;
 	CHECK(NEAR(read3d(sc, 0, s), 10.0 / 34, 1e-9));
 	evo_scene3d_destroy(sc);
@@ -336,8 +336,8 @@ TEST(light_3d_falls_with_the_square_of_distance)
 	 * is 5 ahead: 4 / 25; a sensor facing back sees nothing */
 	sc = scene3d(90 * DEG);
 	light3d(sc, 0, 5, 2, 4);
-	s = sensor3d(sc, 0, EVO3D_SENSOR_LIGHT, "L", 0, 0, 0);
-	int back = sensor3d(sc, 0, EVO3D_SENSOR_LIGHT, "B", 0, 0, 180 * DEG);
+	s = sensor3d(sc, 0, EVO_SENSE_LIGHT, "L", 0, 0, 0);
+	int back = sensor3d(sc, 0, EVO_SENSE_LIGHT, "B", 0, 0, 180 * DEG);
 	CHECK(evo_scene3d_reset(sc, 1, 1) == 0);
 	CHECK(NEAR(read3d(sc, 0, s), 0.16, 1e-9));
 	CHECK(NEAR(read3d(sc, 0, back), 0.0, 1e-12));
@@ -350,7 +350,7 @@ TEST(light_3d_is_hidden_by_an_obstacle)
 {
 	evo_scene3d *sc = scene3d(0);
 	light3d(sc, 6, 0, 2, 9);
-	int s = sensor3d(sc, 0, EVO3D_SENSOR_LIGHT, "L", 0, 0, 0);
+	int s = sensor3d(sc, 0, EVO_SENSE_LIGHT, "L", 0, 0, 0);
 	CHECK(evo_scene3d_reset(sc, 1, 1) == 0);
 	CHECK(NEAR(read3d(sc, 0, s), 0.25, 1e-9));
 	evo_element3d_def bx = evo_default_element3d_def(EVO3D_ELEM_BOX);
@@ -374,9 +374,9 @@ TEST(ground_3d_reads_the_top_patch)
 	evo_patch ci = {1, 5, 0.5, 0, 0, 0, 0.5, 0.7};
 	CHECK_EQ_INT(evo_swarm_add_patch(&sc->swarm, &sq, &sc->err), 0);
 	CHECK_EQ_INT(evo_swarm_add_patch(&sc->swarm, &ci, &sc->err), 1);
-	int c = sensor3d(sc, 0, EVO3D_SENSOR_GROUND, "G0", 0, 0, 0);
-	int a = sensor3d(sc, 0, EVO3D_SENSOR_GROUND, "G1", 0.5, 0.5, 0);
-	int b = sensor3d(sc, 0, EVO3D_SENSOR_GROUND, "G2", -5, 0, 0);
+	int c = sensor3d(sc, 0, EVO_SENSE_GROUND, "G0", 0, 0, 0);
+	int a = sensor3d(sc, 0, EVO_SENSE_GROUND, "G1", 0.5, 0.5, 0);
+	int b = sensor3d(sc, 0, EVO_SENSE_GROUND, "G2", -5, 0, 0);
 	CHECK(evo_scene3d_reset(sc, 1, 1) == 0);
 	CHECK(NEAR(read3d(sc, 0, c), 0.3, 1e-9));
 	CHECK(NEAR(read3d(sc, 0, a), 0.7, 1e-9));
@@ -387,7 +387,7 @@ TEST(ground_3d_reads_the_top_patch)
 static int rab3d(evo_scene3d *sc, const char *name, int slot, evo_rab_read r,
 		 int occluded)
 {
-	evo_sensor3d_def d = evo_default_sensor3d_def(EVO3D_SENSOR_RAB);
+	evo_sensor_def d = evo_default_sensor3d_def(EVO_SENSE_RAB);
 	d.name = name;
 	d.swarm.slot = slot;
 	d.swarm.read = r;
@@ -407,8 +407,8 @@ static int rab3d(evo_scene3d *sc, const char *name, int slot, evo_rab_read r,
 TEST(rab_3d_ranks_neighbours_by_distance)
 {
 	evo_scene3d *sc = scene3d(0);
-	evo_actuator3d_def a =
-	    evo_default_actuator3d_def(EVO3D_ACTUATOR_BROADCAST);
+	evo_actuator_def a =
+	    evo_default_actuator_def(EVO_ACT_BROADCAST);
 	a.name = "TX";
 	CHECK(evo_scene3d_add_actuator(sc, 0, &a) == 0);
 	add_bot3d(sc, "B", 3, 4, 2, 0, 1);
@@ -422,9 +422,9 @@ TEST(rab_3d_ranks_neighbours_by_distance)
 	int n = rab3d(sc, "N", 1, EVO_RAB_COUNT, 0);
 	int hid = rab3d(sc, "HID", 2, EVO_RAB_RANGE, 1);
 	CHECK(evo_scene3d_reset(sc, 1, 1) == 0);
-	sc->bot[1].actuator3d[0].command = 0.3;
+	sc->bot[1].actuator[0].command = 0.3;
 	evo_scene3d_sense(sc);
-	const evo_sensor3d *s = sc->bot[0].sensor3d;
+	const evo_sensor *s = sc->bot[0].sensor;
 	CHECK(NEAR(s[r1].value, 0.5, 1e-9));
 	CHECK(NEAR(s[b1].value, BEARING_34, 1e-9));
 	CHECK(NEAR(s[v1].value, 0.3, 1e-12));
@@ -496,7 +496,7 @@ static void camera_2d(int box)
 				   EVO_COLOUR_YELLOW, &sc->err) >= 0);
 	int s[7];
 	for (int i = 0; i < 7; i++) {
-		evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_CAMERA);
+		evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_CAMERA);
 		d.name = cam[i].name;
 		d.swarm.slot = cam[i].slot;
 		d.swarm.read = cam[i].read;
@@ -506,7 +506,7 @@ static void camera_2d(int box)
 		s[i] = evo_scene_add_sensor(sc, 0, &d);
 		CHECK(s[i] >= 0);
 	}
-	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_CAMERA);
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_CAMERA);
 	d.name = "G";
 	d.swarm.range = 10;
 	d.swarm.colour = EVO_COLOUR_GREEN;
@@ -556,8 +556,8 @@ static void camera_3d(int box)
 				   EVO_COLOUR_YELLOW, &sc->err) >= 0);
 	int s[7];
 	for (int i = 0; i < 7; i++) {
-		evo_sensor3d_def d =
-		    evo_default_sensor3d_def(EVO3D_SENSOR_CAMERA);
+		evo_sensor_def d =
+		    evo_default_sensor3d_def(EVO_SENSE_CAMERA);
 		d.name = cam[i].name;
 		d.swarm.slot = cam[i].slot;
 		d.swarm.read = cam[i].read;
@@ -571,7 +571,7 @@ static void camera_3d(int box)
 	evo_scene3d_sense(sc);
 	double got[7];
 	for (int i = 0; i < 7; i++)
-		got[i] = sc->bot[0].sensor3d[s[i]].value;
+		got[i] = sc->bot[0].sensor[s[i]].value;
 	camera_expect(got, box);
 	evo_scene3d_destroy(sc);
 }

@@ -76,7 +76,7 @@ static evo_scene *make_scene(void)
 	b.x = BX;
 	b.y = BY;
 	ok &= evo_scene_add_bot(sc, &b) == 0;
-	evo_sensor_def s = evo_default_sensor_def(EVO_SENSOR_PROXIMITY);
+	evo_sensor_def s = evo_default_sensor_def(EVO_SENSE_PROXIMITY);
 	s.name = "ProxFront";
 	s.x = 1;
 	ok &= evo_scene_add_sensor(sc, 0, &s) == 0;
@@ -84,7 +84,7 @@ static evo_scene *make_scene(void)
 	s.x = -1;
 	s.angle = PI;
 	ok &= evo_scene_add_sensor(sc, 0, &s) == 1;
-	evo_actuator_def a = evo_default_actuator_def(EVO_ACTUATOR_CLAW);
+	evo_actuator_def a = evo_default_actuator_def(EVO_ACT_CLAW);
 	a.name = "Claw";
 	a.x = 1;
 	ok &= evo_scene_add_actuator(sc, 0, &a) == 0;

@@ -20,14 +20,14 @@ enum { MOT_L = 0, MOT_R = 1, CLAW = 2 };
 static evo_scene *bot_with_wheels_and_claw(double x, double y, double angle)
 {
 	evo_scene *sc = scene_with_bot(x, y, angle);
-	evo_actuator_def w = evo_default_actuator_def(EVO_ACTUATOR_WHEEL);
+	evo_actuator_def w = evo_default_actuator_def(EVO_ACT_WHEEL);
 	w.name = "MotL";
 	w.y = -1;
 	evo_scene_add_actuator(sc, 0, &w);
 	w.name = "MotR";
 	w.y = 1;
 	evo_scene_add_actuator(sc, 0, &w);
-	evo_actuator_def c = evo_default_actuator_def(EVO_ACTUATOR_CLAW);
+	evo_actuator_def c = evo_default_actuator_def(EVO_ACT_CLAW);
 	c.name = "Claw";
 	evo_scene_add_actuator(sc, 0, &c);
 	return sc;
@@ -164,7 +164,7 @@ TEST(a_wheel_pushes_along_its_own_angle)
 	evo_scene *sc = evo_scene_create();
 	evo_bot_def b = evo_default_bot_def();
 	evo_scene_add_bot(sc, &b);
-	evo_actuator_def w = evo_default_actuator_def(EVO_ACTUATOR_WHEEL);
+	evo_actuator_def w = evo_default_actuator_def(EVO_ACT_WHEEL);
 	w.angle = 90 * DEG;
 	int a = evo_scene_add_actuator(sc, 0, &w);
 	evo_scene_reset(sc, 1, 1);
@@ -299,7 +299,7 @@ TEST(a_held_object_is_not_taken_by_another_bot)
 	b.x = 4.4;
 	b.yaw = M_PI;
 	int other = evo_scene_add_bot(sc, &b);
-	evo_actuator_def c = evo_default_actuator_def(EVO_ACTUATOR_CLAW);
+	evo_actuator_def c = evo_default_actuator_def(EVO_ACT_CLAW);
 	int oc = evo_scene_add_actuator(sc, other, &c);
 	evo_scene_reset(sc, 1, 1);
 	sc->bot[0].actuator[CLAW].command = 1;

@@ -29,7 +29,7 @@ static double value(evo_scene *sc, int sensor)
 /* A rangefinder: one ray from the bot's centre, range 10. */
 static int add_finder(evo_scene *sc, double angle)
 {
-	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_PROXIMITY);
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_PROXIMITY);
 	d.angle = angle;
 	d.range = 10;
 	d.arc = 0;
@@ -52,7 +52,7 @@ static evo_scene *scene_with_free_bot(void)
 
 static int add_speed_wheel(evo_scene *sc, const char *name, double y)
 {
-	evo_actuator_def d = evo_default_actuator_def(EVO_ACTUATOR_SPEED_WHEEL);
+	evo_actuator_def d = evo_default_actuator_def(EVO_ACT_SPEED_WHEEL);
 	d.name = name;
 	d.y = y;
 	d.max_speed = 3;
@@ -115,7 +115,7 @@ static evo_scene *scene_with_undo_bot(double x, double y, double angle,
 	b.yaw = angle;
 	b.body.kinematic = 1;
 	evo_scene_add_bot(sc, &b);
-	evo_actuator_def d = evo_default_actuator_def(EVO_ACTUATOR_DRIVE);
+	evo_actuator_def d = evo_default_actuator_def(EVO_ACT_DRIVE);
 	d.name = "SPEED";
 	d.max_speed = 3;
 	*speed = evo_scene_add_actuator(sc, 0, &d);
@@ -209,7 +209,7 @@ TEST(a_wall_of_no_length_is_refused)
 
 static int add_radar(evo_scene *sc, double angle, int target)
 {
-	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_RADAR);
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_RADAR);
 	d.angle = angle;
 	d.arc = 45 * DEG;
 	d.target = target;
@@ -251,7 +251,7 @@ TEST(radars_cut_the_bearing_into_four_slices)
 
 static int add_bumper(evo_scene *sc, double angle)
 {
-	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_BUMPER);
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_BUMPER);
 	d.angle = angle;
 	d.arc = M_PI / 4;
 	return evo_scene_add_sensor(sc, 0, &d);
@@ -325,7 +325,7 @@ TEST(an_accelerating_drive_adds_up_to_its_top_speed)
 	/* accel 0.5 at full command: speeds 0.5, 1, ..., 3 (the top) over six
 	 * steps, 10.5 / 30 = 0.35 m; then 3 m/s: 0.1 m a step. */
 	evo_scene *sc = scene_with_free_bot();
-	evo_actuator_def d = evo_default_actuator_def(EVO_ACTUATOR_DRIVE);
+	evo_actuator_def d = evo_default_actuator_def(EVO_ACT_DRIVE);
 	d.name = "SPEED";
 	d.max_speed = 3;
 	d.accel = 0.5;

@@ -39,7 +39,7 @@ static int add_box(evo_scene *sc, double x, double y, double half_w,
 
 static int add_constant_sensor(evo_scene *sc, double value)
 {
-	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_CONSTANT);
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_CONSTANT);
 	d.value = value;
 	int i = evo_scene_add_sensor(sc, 0, &d);
 	CHECK(i >= 0);
@@ -48,7 +48,7 @@ static int add_constant_sensor(evo_scene *sc, double value)
 
 static int add_claw(evo_scene *sc, double x, double y)
 {
-	evo_actuator_def d = evo_default_actuator_def(EVO_ACTUATOR_CLAW);
+	evo_actuator_def d = evo_default_actuator_def(EVO_ACT_CLAW);
 	d.x = x;
 	d.y = y;
 	int i = evo_scene_add_actuator(sc, 0, &d);

@@ -19,14 +19,14 @@
  * nine rays. */
 static int add_prox(evo_scene *sc, double angle)
 {
-	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_PROXIMITY);
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_PROXIMITY);
 	d.x = cos(angle);
 	d.y = sin(angle);
 	d.angle = angle;
 	return evo_scene_add_sensor(sc, 0, &d);
 }
 
-static int add_sensor(evo_scene *sc, evo_sensor_kind kind, int target)
+static int add_sensor(evo_scene *sc, evo_sense_kind kind, int target)
 {
 	evo_sensor_def d = evo_default_sensor_def(kind);
 	d.target = target;
@@ -141,7 +141,7 @@ TEST(proximity_ignores_its_own_body)
 {
 	/* A sensor behind the bot looking forward through it. */
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_PROXIMITY);
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_PROXIMITY);
 	d.x = -3;
 	int s = evo_scene_add_sensor(sc, 0, &d);
 	evo_scene_reset(sc, 1, 1);
@@ -158,7 +158,7 @@ TEST(proximity_sees_other_bots_and_masks_them)
 	other.x = 6; /* its rim at 5: 4 from the sensor */
 	evo_scene_add_bot(sc, &other);
 	int s = add_prox(sc, 0);
-	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_PROXIMITY);
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_PROXIMITY);
 	d.name = "obstacles only";
 	d.x = 1;
 	d.mask = EVO_CAT_OBSTACLE;
@@ -174,11 +174,11 @@ TEST(proximity_ignores_an_object_its_claw_holds)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
 	int obj = scene_add_element(sc, EVO_ELEM_OBJECT, 2.0, 0, 0.5);
-	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_PROXIMITY);
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_PROXIMITY);
 	d.x = 1;
 	d.mask = EVO_CAT_OBSTACLE | EVO_CAT_BOT | EVO_CAT_OBJECT;
 	int s = evo_scene_add_sensor(sc, 0, &d);
-	evo_actuator_def c = evo_default_actuator_def(EVO_ACTUATOR_CLAW);
+	evo_actuator_def c = evo_default_actuator_def(EVO_ACT_CLAW);
 	int claw = evo_scene_add_actuator(sc, 0, &c);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
@@ -256,7 +256,7 @@ static void compare_with_box2d(evo_scene *sc, agreement *ag)
 static void add_random_sensors(evo_scene *sc, evo_rng *r)
 {
 	for (int i = 0; i < 10; i++) {
-		evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_PROXIMITY);
+		evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_PROXIMITY);
 		double a = evo_rng_range(r, -M_PI, M_PI);
 		double rim = evo_rng_range(r, 0.5, 1.5);
 		d.x = rim * cos(a);
@@ -370,11 +370,11 @@ TEST(distance_to_the_target)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
 	int z = scene_add_element(sc, EVO_ELEM_ZONE, 30, 0, 2);
-	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_DISTANCE);
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_DISTANCE);
 	d.target = z;
 	d.x = 1; /* measured from the sensor's point */
 	int s = evo_scene_add_sensor(sc, 0, &d);
-	int none = add_sensor(sc, EVO_SENSOR_DISTANCE, EVO_TARGET_NONE);
+	int none = add_sensor(sc, EVO_SENSE_DISTANCE, EVO_TARGET_NONE);
 	d.name = "far";
 	d.target = z;
 	d.scale = 10; /* 29 / 10: clamped */
@@ -396,7 +396,7 @@ TEST(distance_to_the_nearest_object)
 	evo_scene *sc = scene_with_bot(0, 0, 0);
 	scene_add_element(sc, EVO_ELEM_OBJECT, 0, 40, 0.5);
 	scene_add_element(sc, EVO_ELEM_OBJECT, -20, 0, 0.5);
-	int s = add_sensor(sc, EVO_SENSOR_DISTANCE, EVO_TARGET_NEAREST_OBJECT);
+	int s = add_sensor(sc, EVO_SENSE_DISTANCE, EVO_TARGET_NEAREST_OBJECT);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
 	CHECK(NEAR(value(sc, s), 20.0 / 100, 1e-6));
@@ -414,7 +414,7 @@ TEST(bearing_of_the_target)
 	for (unsigned k = 0; k < sizeof cases / sizeof cases[0]; k++) {
 		evo_scene *sc = scene_with_bot(5, 5, 0);
 		int z = scene_add_element(sc, EVO_ELEM_ZONE, 5 + cases[k].x, 5 + cases[k].y, 1);
-		int s = add_sensor(sc, EVO_SENSOR_BEARING, z);
+		int s = add_sensor(sc, EVO_SENSE_BEARING, z);
 		evo_scene_reset(sc, 1, 1);
 		evo_scene_sense(sc);
 		CHECK(NEAR(value(sc, s), cases[k].want, 1e-6));
@@ -425,9 +425,9 @@ TEST(bearing_of_the_target)
 	evo_scene *sc = scene_with_bot(0, 0, 90 * DEG);
 	int ahead = scene_add_element(sc, EVO_ELEM_ZONE, 0, 20, 1);
 	int left = scene_add_element(sc, EVO_ELEM_ZONE, 20, 0, 1);
-	int s1 = add_sensor(sc, EVO_SENSOR_BEARING, ahead);
-	int s2 = add_sensor(sc, EVO_SENSOR_BEARING, left);
-	int s3 = add_sensor(sc, EVO_SENSOR_BEARING, EVO_TARGET_NONE);
+	int s1 = add_sensor(sc, EVO_SENSE_BEARING, ahead);
+	int s2 = add_sensor(sc, EVO_SENSE_BEARING, left);
+	int s3 = add_sensor(sc, EVO_SENSE_BEARING, EVO_TARGET_NONE);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
 	CHECK(NEAR(value(sc, s1), 0.5, 1e-6));
@@ -441,8 +441,8 @@ TEST(zone_in_and_out)
 	evo_scene *sc = scene_with_bot(0, 0, 0);
 	int home = scene_add_element(sc, EVO_ELEM_ZONE, 1, 1, 3);
 	int away = scene_add_element(sc, EVO_ELEM_ZONE, 20, 0, 3);
-	int in = add_sensor(sc, EVO_SENSOR_ZONE, home);
-	int out = add_sensor(sc, EVO_SENSOR_ZONE, away);
+	int in = add_sensor(sc, EVO_SENSE_ZONE, home);
+	int out = add_sensor(sc, EVO_SENSE_ZONE, away);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
 	CHECK(value(sc, in) == EVO_TRUE);
@@ -464,10 +464,10 @@ TEST(presence_of_the_target)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
 	int z = scene_add_element(sc, EVO_ELEM_ZONE, 10, 0, 3);
-	int s = add_sensor(sc, EVO_SENSOR_PRESENCE, z);
+	int s = add_sensor(sc, EVO_SENSE_PRESENCE, z);
 	int obj =
-	    add_sensor(sc, EVO_SENSOR_PRESENCE, EVO_TARGET_NEAREST_OBJECT);
-	int none = add_sensor(sc, EVO_SENSOR_PRESENCE, EVO_TARGET_NONE);
+	    add_sensor(sc, EVO_SENSE_PRESENCE, EVO_TARGET_NEAREST_OBJECT);
+	int none = add_sensor(sc, EVO_SENSE_PRESENCE, EVO_TARGET_NONE);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
 	CHECK(value(sc, s) == EVO_TRUE);
@@ -481,8 +481,8 @@ TEST(presence_of_the_target)
 	/* Objects: present while one is active and free. */
 	sc = scene_with_bot(0, 0, 0);
 	int o = scene_add_element(sc, EVO_ELEM_OBJECT, 2, 0, 0.5);
-	obj = add_sensor(sc, EVO_SENSOR_PRESENCE, EVO_TARGET_NEAREST_OBJECT);
-	evo_actuator_def c = evo_default_actuator_def(EVO_ACTUATOR_CLAW);
+	obj = add_sensor(sc, EVO_SENSE_PRESENCE, EVO_TARGET_NEAREST_OBJECT);
+	evo_actuator_def c = evo_default_actuator_def(EVO_ACT_CLAW);
 	int claw = evo_scene_add_actuator(sc, 0, &c);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
@@ -515,7 +515,7 @@ TEST(object_detector_in_reach_ahead_only)
 	for (unsigned k = 0; k < sizeof cases / sizeof cases[0]; k++) {
 		evo_scene *sc = scene_with_bot(0, 0, 0);
 		scene_add_element(sc, EVO_ELEM_OBJECT, cases[k].x, cases[k].y, 0.5);
-		int s = add_sensor(sc, EVO_SENSOR_OBJECT, EVO_TARGET_NONE);
+		int s = add_sensor(sc, EVO_SENSE_OBJECT_DETECTOR, EVO_TARGET_NONE);
 		evo_scene_reset(sc, 1, 1);
 		evo_scene_sense(sc);
 		CHECK(value(sc, s) == cases[k].want);
@@ -529,7 +529,7 @@ TEST(object_detector_ignores_held_and_inactive_objects)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
 	int o = scene_add_element(sc, EVO_ELEM_OBJECT, 2.0, 0, 0.5);
-	int s = add_sensor(sc, EVO_SENSOR_OBJECT, EVO_TARGET_NONE);
+	int s = add_sensor(sc, EVO_SENSE_OBJECT_DETECTOR, EVO_TARGET_NONE);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
 	CHECK(value(sc, s) == EVO_TRUE);
@@ -545,7 +545,7 @@ TEST(object_detector_ignores_held_and_inactive_objects)
 
 static void wheels(evo_scene *sc, int bot)
 {
-	evo_actuator_def w = evo_default_actuator_def(EVO_ACTUATOR_WHEEL);
+	evo_actuator_def w = evo_default_actuator_def(EVO_ACT_WHEEL);
 	w.name = "MotL";
 	w.y = -1;
 	evo_scene_add_actuator(sc, bot, &w);
@@ -558,7 +558,7 @@ TEST(movement_zero_when_still_positive_when_driving)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
 	wheels(sc, 0);
-	int s = add_sensor(sc, EVO_SENSOR_MOVEMENT, EVO_TARGET_NONE);
+	int s = add_sensor(sc, EVO_SENSE_MOVEMENT, EVO_TARGET_NONE);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
 	CHECK(value(sc, s) == 0); /* no positions yet */
@@ -584,7 +584,7 @@ TEST(movement_zero_when_still_positive_when_driving)
 TEST(movement_is_the_spread_of_the_history)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	int s = add_sensor(sc, EVO_SENSOR_MOVEMENT, EVO_TARGET_NONE);
+	int s = add_sensor(sc, EVO_SENSE_MOVEMENT, EVO_TARGET_NONE);
 	evo_scene_reset(sc, 1, 1);
 	evo_bot *b = &sc->bot[0];
 	/* Two positions 2 apart: variance 1 on x. */
@@ -607,7 +607,7 @@ TEST(random_in_unit_interval_and_reproducible)
 	double *out[3] = {first, again, other};
 	for (int run = 0; run < 3; run++) {
 		evo_scene *sc = scene_with_bot(0, 0, 0);
-		int s = add_sensor(sc, EVO_SENSOR_RANDOM, EVO_TARGET_NONE);
+		int s = add_sensor(sc, EVO_SENSE_RANDOM, EVO_TARGET_NONE);
 		evo_scene_reset(sc, 1, seeds[run]);
 		for (int i = 0; i < 8; i++) {
 			evo_scene_sense(sc);
@@ -629,7 +629,7 @@ TEST(random_in_unit_interval_and_reproducible)
 TEST(constant_reads_its_value_clamped_and_nan_as_one_half)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_CONSTANT);
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_CONSTANT);
 	d.name = "a";
 	d.value = 0.3;
 	int a = evo_scene_add_sensor(sc, 0, &d);
@@ -648,7 +648,7 @@ TEST(constant_reads_its_value_clamped_and_nan_as_one_half)
 	 * world blown up by its physics could give any sensor) reads 0.5,
 	 * as docs/mind.md's rule says, not 0: a robot's mind reads the same
 	 * wherever the value comes from. */
-	evo_sensor_def bad = evo_default_sensor_def(EVO_SENSOR_CONSTANT);
+	evo_sensor_def bad = evo_default_sensor_def(EVO_SENSE_CONSTANT);
 	bad.name = "nan";
 	bad.value = NAN;
 	CHECK(evo_scene_add_sensor(sc, 0, &bad) < 0);
@@ -666,8 +666,8 @@ TEST(holding_while_the_claw_holds)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
 	scene_add_element(sc, EVO_ELEM_OBJECT, 2.0, 0, 0.5);
-	int s = add_sensor(sc, EVO_SENSOR_HOLDING, EVO_TARGET_NONE);
-	evo_actuator_def c = evo_default_actuator_def(EVO_ACTUATOR_CLAW);
+	int s = add_sensor(sc, EVO_SENSE_HOLDING, EVO_TARGET_NONE);
+	evo_actuator_def c = evo_default_actuator_def(EVO_ACT_CLAW);
 	int claw = evo_scene_add_actuator(sc, 0, &c);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);

@@ -170,14 +170,14 @@ TEST(trackers_find_the_nearest_opponent_and_teammate)
 	CHECK(evo_scene_target_pos(sc, 3, EVO_TARGET_NEAREST_TEAMMATE, &x, &y));
 	CHECK(NEAR(x, 40) && NEAR(y, 0));
 	/* a bearing sensor on it: the opponent straight ahead reads 0.5 */
-	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_BEARING);
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_BEARING);
 	d.name = "OPP";
 	d.target = EVO_TARGET_NEAREST_OPPONENT;
 	int s = evo_scene_add_sensor(sc, 0, &d);
 	CHECK(s >= 0);
 	CHECK(NEAR(evo_sensor_sample(sc, 0, s), 0.5));
 	/* a presence sensor: TRUE while there is one within reach */
-	evo_sensor_def p = evo_default_sensor_def(EVO_SENSOR_PRESENCE);
+	evo_sensor_def p = evo_default_sensor_def(EVO_SENSE_PRESENCE);
 	p.name = "HAS";
 	p.target = EVO_TARGET_NEAREST_OPPONENT;
 	s = evo_scene_add_sensor(sc, 0, &p);
@@ -208,7 +208,7 @@ static double ray_reading(int teammates, int opponents, int bots)
 	add_bot(sc, 0, 0, 0, 0);
 	add_bot(sc, 0, 5, 0, 0);
 	add_bot(sc, 1, 8, 0, 0);
-	evo_sensor_def d = evo_default_sensor_def(EVO_SENSOR_PROXIMITY);
+	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_PROXIMITY);
 	d.name = "P";
 	d.rays = 1;
 	d.x = 1;
@@ -257,7 +257,7 @@ TEST(a_crowd_senses_as_each_bot_alone)
 				evo_rng_range(&r, -M_PI, M_PI));
 		for (int k = 0; k < 3; k++) {
 			evo_sensor_def d =
-			    evo_default_sensor_def(EVO_SENSOR_PROXIMITY);
+			    evo_default_sensor_def(EVO_SENSE_PROXIMITY);
 			char name[16];
 			snprintf(name, sizeof name, "P%d", k);
 			d.name = name;

@@ -67,13 +67,13 @@ static evo_scene3d *floating(double yaw, int *target)
 	b.yaw = yaw;
 	b.buoyancy = 1;
 	evo_scene3d_add_bot(sc, &b);
-	evo_sensor3d_def az = evo_default_sensor3d_def(EVO3D_SENSOR_AZIMUTH);
+	evo_sensor_def az = evo_default_sensor3d_def(EVO_SENSE_BEARING);
 	az.name = "TARG_AZIM";
 	az.target = *target;
-	evo_sensor3d_def el = evo_default_sensor3d_def(EVO3D_SENSOR_ELEVATION);
+	evo_sensor_def el = evo_default_sensor3d_def(EVO_SENSE_ELEVATION);
 	el.name = "TARG_ELEV";
 	el.target = *target;
-	evo_sensor3d_def di = evo_default_sensor3d_def(EVO3D_SENSOR_DISTANCE);
+	evo_sensor_def di = evo_default_sensor3d_def(EVO_SENSE_DISTANCE);
 	di.name = "DIST";
 	di.target = *target;
 	di.scale = 10;
@@ -97,7 +97,7 @@ TEST(target_sensor_azimuth_and_elevation)
 {
 	int t;
 	evo_scene3d *sc = floating(0, &t);
-	const evo_sensor3d *s = sc->bot[0].sensor3d;
+	const evo_sensor *s = sc->bot[0].sensor;
 	target_at(sc, t, 3, 3, 2); /* ahead-left, 45 degrees */
 	CHECK(NEAR(s[0].value, 0.625, 1e-9));
 	CHECK(NEAR(s[1].value, 0.5, 1e-9));
@@ -113,7 +113,7 @@ TEST(target_sensor_azimuth_and_elevation)
 	evo_scene3d_destroy(sc);
 	/* the same target seen by a bot turned 90 degrees left: ahead */
 	sc = floating(M_PI / 2, &t);
-	s = sc->bot[0].sensor3d;
+	s = sc->bot[0].sensor;
 	target_at(sc, t, 0, 5, 2);
 	CHECK(NEAR(s[0].value, 0.5, 1e-9));
 	target_at(sc, t, 5, 0, 2); /* now on its right: -90 degrees */
@@ -137,14 +137,14 @@ static evo_scene3d *wheeled(void)
 	b.caster_pos[2] = -0.04;
 	b.caster_radius = 0.04;
 	evo_scene3d_add_bot(sc, &b);
-	evo_actuator3d_def w = evo_default_actuator3d_def(EVO3D_ACTUATOR_WHEEL);
+	evo_actuator_def w = evo_default_actuator_def(EVO_ACT_WHEEL);
 	w.name = "MotL";
 	w.pos[1] = 0.18;
 	evo_scene3d_add_actuator(sc, 0, &w);
 	w.name = "MotR";
 	w.pos[1] = -0.18;
 	evo_scene3d_add_actuator(sc, 0, &w);
-	evo_sensor3d_def p = evo_default_sensor3d_def(EVO3D_SENSOR_PROXIMITY);
+	evo_sensor_def p = evo_default_sensor3d_def(EVO_SENSE_PROXIMITY);
 	p.name = "S1";
 	p.pos[0] = 0.2;
 	evo_scene3d_add_sensor(sc, 0, &p);
@@ -186,8 +186,8 @@ TEST(wheels_drive_ahead_and_turn)
 	evo_scene3d *sc = wheeled();
 	evo_scene3d_reset(sc, 1, 1);
 	for (int t = 0; t < 60; t++) {
-		sc->bot[0].actuator3d[0].command = 1;
-		sc->bot[0].actuator3d[1].command = 1;
+		sc->bot[0].actuator[0].command = 1;
+		sc->bot[0].actuator[1].command = 1;
 		evo_scene3d_step(sc);
 	}
 	printf("  2 s ahead: x %.3f y %.3f\n", sc->bot[0].pos[0],
@@ -196,7 +196,7 @@ TEST(wheels_drive_ahead_and_turn)
 	CHECK(fabs(sc->bot[0].pos[1]) < 0.05);
 	evo_scene3d_reset(sc, 1, 1);
 	for (int t = 0; t < 30; t++) {
-		sc->bot[0].actuator3d[0].command = 1;
+		sc->bot[0].actuator[0].command = 1;
 		evo_scene3d_step(sc);
 	}
 	double yaw = atan2(sc->bot[0].R[3], sc->bot[0].R[0]);
@@ -205,13 +205,13 @@ TEST(wheels_drive_ahead_and_turn)
 	 * 3 m/s^2, so about 1.5 m/s after half a second (2 N m would lift
 	 * its nose: more than its weight's moment about the caster) */
 	for (int k = 0; k < 2; k++) {
-		sc->bot[0].actuator3d[k].def.torque_mode = 1;
-		sc->bot[0].actuator3d[k].def.max_torque = 0.3;
+		sc->bot[0].actuator[k].def.torque_mode = 1;
+		sc->bot[0].actuator[k].def.max_torque = 0.3;
 	}
 	evo_scene3d_reset(sc, 1, 1);
 	for (int t = 0; t < 15; t++) {
-		sc->bot[0].actuator3d[0].command = 1;
-		sc->bot[0].actuator3d[1].command = 1;
+		sc->bot[0].actuator[0].command = 1;
+		sc->bot[0].actuator[1].command = 1;
 		evo_scene3d_step(sc);
 	}
 	printf("  torque mode, 0.5 s: %.3f m/s\n", sc->bot[0].v[0]);
@@ -242,13 +242,13 @@ TEST(proximity_reads_the_nearest_obstacle)
 	evo_scene3d_add_element(sc, &cy);
 	evo_scene3d_reset(sc, 1, 1);
 	evo_scene3d_sense(sc);
-	CHECK(NEAR(sc->bot[0].sensor3d[0].value, 1.3 / 3, 1e-6));
-	CHECK(NEAR(sc->bot[0].sensor3d[0].hit[0], 1.3, 1e-6));
+	CHECK(NEAR(sc->bot[0].sensor[0].value, 1.3 / 3, 1e-6));
+	CHECK(NEAR(sc->bot[0].sensor[0].ray[0] * 3.0, 1.3, 1e-6));
 	/* turned away, nothing within 3 m */
 	sc->bot[0].def.yaw = M_PI;
 	evo_scene3d_reset(sc, 1, 1);
 	evo_scene3d_sense(sc);
-	CHECK(NEAR(sc->bot[0].sensor3d[0].value, 1.0, 1e-12));
+	CHECK(NEAR(sc->bot[0].sensor[0].value, 1.0, 1e-12));
 	evo_scene3d_destroy(sc);
 }
 
@@ -267,12 +267,12 @@ TEST(bumps_of_the_ground_are_driven_over)
 	CHECK_EQ_INT((int)sc->obstacle[0].category, (int)EVO_CAT3D_GROUND);
 	evo_scene3d_reset(sc, 1, 1);
 	evo_scene3d_sense(sc);
-	CHECK(sc->bot[0].sensor3d[0].value == 1.0);
+	CHECK(sc->bot[0].sensor[0].value == 1.0);
 	int touched = 0;
 	double top = 0;
 	for (int t = 0; t < 60; t++) {
-		sc->bot[0].actuator3d[0].command = 1;
-		sc->bot[0].actuator3d[1].command = 1;
+		sc->bot[0].actuator[0].command = 1;
+		sc->bot[0].actuator[1].command = 1;
 		CHECK_EQ_INT(evo_scene3d_step(sc), 0);
 		touched += sc->bot[0].touching;
 		if (sc->bot[0].pos[2] > top)
@@ -292,8 +292,8 @@ TEST(bumps_of_the_ground_are_driven_over)
 	evo_scene3d_reset(sc, 1, 1);
 	touched = 0;
 	for (int t = 0; t < 60; t++) {
-		sc->bot[0].actuator3d[0].command = 1;
-		sc->bot[0].actuator3d[1].command = 1;
+		sc->bot[0].actuator[0].command = 1;
+		sc->bot[0].actuator[1].command = 1;
 		evo_scene3d_step(sc);
 		touched += sc->bot[0].touching;
 	}
@@ -308,13 +308,13 @@ TEST(an_exploding_body_ends_the_episode_with_a_penalty)
 {
 	int t;
 	evo_scene3d *sc = floating(0, &t);
-	evo_actuator3d_def p =
-	    evo_default_actuator3d_def(EVO3D_ACTUATOR_PROPELLER);
+	evo_actuator_def p =
+	    evo_default_actuator_def(EVO_ACT_PROPELLER);
 	p.name = "M1";
 	p.max_thrust = 1e7;
 	CHECK(evo_scene3d_add_actuator(sc, 0, &p) == 0);
 	evo_scene3d_reset(sc, 1, 1);
-	sc->bot[0].actuator3d[0].command = 1;
+	sc->bot[0].actuator[0].command = 1;
 	int r = 0, ticks = 0;
 	while (r == 0 && ticks < 100) {
 		evo_scene3d_sense(sc);
@@ -335,7 +335,7 @@ TEST(an_exploding_body_ends_the_episode_with_a_penalty)
 	CHECK_CONTAINS(sc->fault, "not a number");
 	evo_scene3d_sense(sc);
 	for (int k = 0; k < sc->bot[0].n_sensors; k++)
-		CHECK(isfinite(sc->bot[0].sensor3d[k].value));
+		CHECK(isfinite(sc->bot[0].sensor[k].value));
 	evo_scene3d_destroy(sc);
 }
 
@@ -354,7 +354,7 @@ TEST(objects_fall_and_zones_trigger)
 	evo_element3d_def z = evo_default_element3d_def(EVO3D_ELEM_ZONE);
 	z.pos[2] = 2; /* around the bot at (0, 0, 2): half sides 0.5 */
 	int zone = evo_scene3d_add_element(sc, &z);
-	evo_sensor3d_def zs = evo_default_sensor3d_def(EVO3D_SENSOR_ZONE);
+	evo_sensor_def zs = evo_default_sensor3d_def(EVO_SENSE_ZONE);
 	zs.name = "INZONE";
 	zs.target = zone;
 	int k = evo_scene3d_add_sensor(sc, 0, &zs);
@@ -365,11 +365,11 @@ TEST(objects_fall_and_zones_trigger)
 	CHECK(NEAR(sc->element[obj].pos[2], 0.2, 0.01));
 	CHECK(NEAR(sc->element[obj].pos[0], 3, 1e-6));
 	evo_scene3d_sense(sc);
-	CHECK(sc->bot[0].sensor3d[k].value == EVO3D_TRUE);
+	CHECK(sc->bot[0].sensor[k].value == EVO3D_TRUE);
 	double away[3] = {0, 0.7, 2};
 	evo_scene3d_place_element(sc, zone, away);
 	evo_scene3d_sense(sc);
-	CHECK(sc->bot[0].sensor3d[k].value == EVO3D_FALSE);
+	CHECK(sc->bot[0].sensor[k].value == EVO3D_FALSE);
 	evo_scene3d_destroy(sc);
 }
 
@@ -384,12 +384,12 @@ TEST(bad_definitions_are_refused)
 	CHECK_CONTAINS(sc->err.msg, "mass");
 	b = evo_default_bot_def3d();
 	CHECK(evo_scene3d_add_bot(sc, &b) == 0);
-	evo_actuator3d_def p =
-	    evo_default_actuator3d_def(EVO3D_ACTUATOR_PROPELLER);
+	evo_actuator_def p =
+	    evo_default_actuator_def(EVO_ACT_PROPELLER);
 	p.axis[0] = 0;
 	CHECK(evo_scene3d_add_actuator(sc, 0, &p) < 0);
 	CHECK_CONTAINS(sc->err.msg, "axis");
-	evo_sensor3d_def s = evo_default_sensor3d_def(EVO3D_SENSOR_PROXIMITY);
+	evo_sensor_def s = evo_default_sensor3d_def(EVO_SENSE_PROXIMITY);
 	s.rays = 0;
 	CHECK(evo_scene3d_add_sensor(sc, 0, &s) < 0);
 	evo_element3d_def e = evo_default_element3d_def(EVO3D_ELEM_CYLINDER);
