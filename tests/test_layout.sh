@@ -29,6 +29,7 @@
 #     scoring.c alone, and both scenes pay them through sim/scene/core.c
 #     (evo_core_score, evo_core_pay);
 #     the scenes' lookups by name are sim/scene/store.c's;
+#   - the elements of both scenes are one struct, sim/scene/element.h's;
 #   - every file docs/architecture.md names exists (a bare name such as
 #     `step.c` must name exactly one file of the tree);
 #   - no host source (sim/*/*.c, *.cpp) is over 800 lines, but for the few
@@ -235,6 +236,13 @@ if [ -z "$defs" ]; then pass; else
 old=$(grep -rlw --exclude=test_layout.sh 'evo_bot3d\|evo_bot3d_def' sim tests bench docs)
 if [ -z "$old" ]; then pass; else
 	fail "3D's own bot struct is back: $(echo $old)"; fi
+# One element for both scenes (step 4): evo_element_def and evo_element are
+# sim/scene/element.h's alone; no 3D element struct or kind enum is back.
+defs=$(grep -rl --include='*.h' \
+	'typedef struct evo_element\(_def\)\? {\|struct evo_element3d\|EVO3D_ELEM_\|evo_element_kind' sim |
+	grep -v '^sim/scene/element.h$')
+if [ -z "$defs" ]; then pass; else
+	fail "element structs or kinds outside sim/scene/element.h: $(echo $defs)"; fi
 
 # Every file docs/architecture.md names exists.
 if [ -f docs/architecture.md ]; then

@@ -19,12 +19,13 @@ static evo_scene *scene(lua_State *L)
 
 static int add_element(lua_State *L, int kind, const char *what)
 {
-	evo_element_def d = evo_default_element_def((evo_element_kind)kind);
+	evo_element_def d =
+	    evo_default_element_def((evo_piece_kind)kind, EVO_DIM_2D);
 	d.name = evo_lua_opt_str(L, 2, "name", NULL, what);
 	/* x, y and angle start at 0 (evo_default_element_def) */
 	EVO_LUA_NUMS(L, 2, what, {"x", &d.x, 0}, {"y", &d.y, 0},
 		     {"angle", &d.angle, EVO_LUA_DEG},
-		     {kind == EVO_ELEM_ZONE ? "size" : "radius", &d.size, 0},
+		     {kind == EVO_PIECE_ZONE ? "size" : "radius", &d.size, 0},
 		     {"half_width", &d.half_w, 0},
 		     {"half_height", &d.half_h, 0}, {"density", &d.density, 0},
 		     {"friction", &d.friction, 0},
@@ -281,7 +282,7 @@ static void set_target(lua_State *L, int bot, int s, int t)
 	evo_scene *sc = scene(L);
 	evo_sensor *sn = &sc->bot[bot].sensor[s];
 	if (sn->def.kind == EVO_SENSE_ZONE && t >= 0 &&
-	    sc->element[t].kind != EVO_ELEM_ZONE)
+	    sc->element[t].kind != EVO_PIECE_ZONE)
 		luaL_error(L, "bot:target: zone sensor '%s' needs a zone",
 			   sn->name);
 	sn->def.target = t;
@@ -338,8 +339,8 @@ static void element_pos(const evo_lua *l, int e, double p[3])
 
 static const char *element_fixed(const evo_lua *l, int e)
 {
-	evo_element_kind k = l->sc->element[e].kind;
-	return k == EVO_ELEM_CYLINDER || k == EVO_ELEM_BOX
+	evo_piece_kind k = l->sc->element[e].kind;
+	return k == EVO_PIECE_CYLINDER || k == EVO_PIECE_BOX
 		   ? "static elements do not move"
 		   : NULL;
 }
@@ -358,7 +359,7 @@ static void set_element_active(evo_lua *l, int i, int on)
 {
 	evo_scene *sc = l->sc;
 	evo_element *e = &sc->element[i];
-	if (e->kind == EVO_ELEM_OBJECT) {
+	if (e->kind == EVO_PIECE_OBJECT) {
 		if (!on && e->held_by >= 0)
 			evo_bot_release(sc, e->held_by);
 		evo_body_set_enabled(sc->world, e->body, on);
@@ -374,10 +375,6 @@ const evo_lua_dim evo_lua_dim2d = {
     .min_ticks = 0,
     .bot_keys =
 	(const char *const[]){"name", "x", "y", "angle", "model", "team", NULL},
-    .element_of =
-	(const int[EVO_PIECE_LAST_ELEMENT + 1]){EVO_ELEM_CYLINDER, EVO_ELEM_BOX,
-						EVO_ELEM_ZONE, EVO_ELEM_OBJECT,
-						-1, -1},
     .place_keys = NULL,
     EVO_LUA_DIM_FUNCTIONS,
     .set_element_active = set_element_active,

@@ -45,11 +45,11 @@ static void opt_vec(lua_State *L, int idx, const char *key, double v[3],
 
 /* ---- scene pieces ------------------------------------------------------ */
 
-static void read_element(lua_State *L, evo_element3d_def *d, const char *what)
+static void read_element(lua_State *L, evo_element_def *d, const char *what)
 {
 	d->name = evo_lua_opt_str(L, 2, "name", NULL, what);
 	evo_lua_opt_pos(L, 2, d->pos, what);
-	/* yaw starts at 0 (evo_default_element3d_def); height is twice
+	/* yaw starts at 0 (evo_default_element_def); height is twice
 	 * half_length */
 	EVO_LUA_NUMS(L, 2, what, {"yaw", &d->yaw, EVO_LUA_DEG},
 		     {"hx", &d->half[0], 0}, {"hy", &d->half[1], 0},
@@ -66,10 +66,10 @@ static void read_element(lua_State *L, evo_element3d_def *d, const char *what)
 
 static int add_element(lua_State *L, int kind, const char *what)
 {
-	evo_element3d_def d =
-	    evo_default_element3d_def((evo_element3d_kind)kind);
+	evo_element_def d =
+	    evo_default_element_def((evo_piece_kind)kind, EVO_DIM_3D);
 	read_element(L, &d, what);
-	if (kind == EVO3D_ELEM_OBJECT) {
+	if (kind == EVO_PIECE_OBJECT) {
 		lua_getfield(L, 2, "radius");
 		d.sphere = !lua_isnil(L, -1);
 		lua_pop(L, 1);
@@ -88,8 +88,8 @@ static void add_obstacle(lua_State *L, const char *what)
 			   "add those of every episode in init)",
 			   what);
 	static const char *const shapes[] = {"box", "cylinder", "sphere"};
-	static const evo_element3d_kind kinds[] = {
-	    EVO3D_ELEM_BOX, EVO3D_ELEM_CYLINDER, EVO3D_ELEM_SPHERE};
+	static const evo_piece_kind kinds[] = {
+	    EVO_PIECE_BOX, EVO_PIECE_CYLINDER, EVO_PIECE_SPHERE};
 	const char *shape = evo_lua_opt_str(L, 2, "shape", "box", what);
 	int at = 0;
 	while (at < 3 && strcmp(shape, shapes[at]) != 0)
@@ -99,13 +99,13 @@ static void add_obstacle(lua_State *L, const char *what)
 			   "%s: shape is \"box\", \"cylinder\" or "
 			   "\"sphere\", found \"%s\"",
 			   what, shape);
-	evo_element3d_kind kind = kinds[at];
-	evo_element3d_def d = evo_default_element3d_def(kind);
+	evo_piece_kind kind = kinds[at];
+	evo_element_def d = evo_default_element_def(kind, EVO_DIM_3D);
 	read_element(L, &d, what);
 	evo_obstacle3d o;
 	memset(&o, 0, sizeof o);
-	o.type = kind == EVO3D_ELEM_BOX	       ? EVO_SHAPE3D_BOX
-		 : kind == EVO3D_ELEM_CYLINDER ? EVO_SHAPE3D_CYLINDER
+	o.type = kind == EVO_PIECE_BOX	       ? EVO_SHAPE3D_BOX
+		 : kind == EVO_PIECE_CYLINDER ? EVO_SHAPE3D_CYLINDER
 					       : EVO_SHAPE3D_SPHERE;
 	memcpy(o.pos, d.pos, sizeof o.pos);
 	o.yaw = d.yaw;
@@ -401,8 +401,8 @@ static void element_pos(const evo_lua *l, int e, double p[3])
 
 static const char *element_fixed(const evo_lua *l, int e)
 {
-	evo_element3d_kind k = l->sc3->element[e].def.kind;
-	return k == EVO3D_ELEM_TARGET || k == EVO3D_ELEM_ZONE
+	evo_piece_kind k = l->sc3->element[e].def.kind;
+	return k == EVO_PIECE_TARGET || k == EVO_PIECE_ZONE
 		   ? NULL
 		   : "only targets and zones move";
 }
@@ -412,12 +412,14 @@ static void place_element(evo_lua *l, int e, const double p[3])
 	evo_scene3d_place_element(l->sc3, e, p);
 }
 
-/* 3D elements are never switched off. */
 static int element_active(const evo_lua *l, int e)
 {
-	(void)l;
-	(void)e;
-	return 1;
+	return l->sc3->element[e].active;
+}
+
+static void set_element_active(evo_lua *l, int e, int on)
+{
+	evo_scene3d_set_active(l->sc3, e, on);
 }
 
 const evo_lua_dim evo_lua_dim3d = {
@@ -428,11 +430,7 @@ const evo_lua_dim evo_lua_dim3d = {
     .min_ticks = 1, /* the control keeps ticks - 1 (scene3d.h) */
     .bot_keys = (const char *const[]){"name", "x", "y", "z", "yaw", "model",
 				      "team", NULL},
-    .element_of =
-	(const int[EVO_PIECE_LAST_ELEMENT + 1]){
-	    EVO3D_ELEM_CYLINDER, EVO3D_ELEM_BOX, EVO3D_ELEM_ZONE,
-	    EVO3D_ELEM_OBJECT, EVO3D_ELEM_SPHERE, EVO3D_ELEM_TARGET},
     .place_keys = (const char *const[]){"x", "y", "z", "yaw", NULL},
     EVO_LUA_DIM_FUNCTIONS,
-    .set_element_active = NULL,
+    .set_element_active = set_element_active,
 };

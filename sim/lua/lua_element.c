@@ -59,18 +59,12 @@ static int element_active(lua_State *L)
 	return 1;
 }
 
-/* element:set_active(on): an object off the world, a zone its sensors no
- * longer see. */
+/* element:set_active(on), in either world until the next reset: an object
+ * off the world, a zone or target no sensor or reward sees. */
 static int element_set_active(lua_State *L)
 {
 	evo_lua *l = evo_lua_ctx(L);
 	int e = evo_lua_check_element(L, 1);
-	if (!l->dim->set_element_active)
-		luaL_error(L,
-			   "element:set_active: a %s scene's elements are "
-			   "never switched off (docs/lua.md, \"Which world "
-			   "has what\")",
-			   l->dim->words);
 	l->dim->set_element_active(l, e, lua_toboolean(L, 2));
 	return 0;
 }

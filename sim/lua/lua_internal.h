@@ -279,10 +279,9 @@ struct evo_lua_dim {
 	 * named name, of team (-1: none); its index */
 	int (*add_bot)(lua_State *L, int team, const char *name,
 		       const char *what);
-	/* scene:NAME: an element of the scene's own kind, element_of[k] for
-	 * the piece kind k (evo_piece_kind; -1: none in this world), or a
-	 * piece of kind that is no element; the element's index */
-	const int *element_of;
+	/* scene:NAME: an element of piece kind k (evo_piece_kind, one of
+	 * this world's, scene/element.h), or a piece of kind that is no
+	 * element; the element's index */
 	int (*add_element)(lua_State *L, int kind, const char *what);
 	void (*add_part)(lua_State *L, int kind, const char *what);
 	/* bot:NAME: a sensor (evo_sense_kind) or actuator (evo_act_kind);
@@ -312,7 +311,8 @@ struct evo_lua_dim {
 	const char *(*element_fixed)(const evo_lua *l, int e);
 	void (*place_element)(evo_lua *l, int e, const double p[3]);
 	int (*element_active)(const evo_lua *l, int e);
-	/* NULL in a world whose elements are never switched off */
+	/* until the next reset: an object off the world, a zone or target
+	 * no sensor or reward sees */
 	void (*set_element_active)(evo_lua *l, int e, int on);
 };
 

@@ -25,7 +25,7 @@ static int scene_piece(lua_State *L)
 		return 0;
 	}
 	evo_lua_in_init(L, what);
-	int i = dim->add_element(L, dim->element_of[kind], what);
+	int i = dim->add_element(L, kind, what);
 	evo_lua_push_handle(L, EVO_LUA_ELEMENT_MT, i);
 	return 1;
 }

@@ -1,5 +1,6 @@
 /* A bot's actuators, one definition for both worlds (scene/actuator.h):
- * their defaults, and adding one with the checks of both worlds. */
+ * their defaults, adding one with the checks of both worlds, and what a
+ * bot broadcasts. */
 #include "scene/actuator.h"
 
 #include <math.h>
@@ -141,4 +142,18 @@ evo_actuator *evo_actuator_store(evo_actuator **arr, int n,
 	a->dir_c = cos(d->angle);
 	a->dir_s = sin(d->angle);
 	return a;
+}
+
+int evo_actuator_broadcasts(const evo_actuator *a, int n, evo_swarm_peer *out)
+{
+	out->n_values = 0;
+	int any = 0;
+	for (int k = 0; k < n; k++) {
+		if (a[k].def.kind != EVO_ACT_BROADCAST)
+			continue;
+		any = 1;
+		if (out->n_values < EVO_SWARM_MAX_VALUES)
+			out->value[out->n_values++] = a[k].command;
+	}
+	return any;
 }

@@ -17,6 +17,7 @@
 #include "base/err.h"
 #include "scene/kinds.h"
 #include "scene/store.h"
+#include "scene/swarm.h"
 
 typedef struct evo_actuator_def {
 	evo_act_kind kind;
@@ -90,5 +91,11 @@ evo_actuator *evo_actuator_store(evo_actuator **arr, int n,
 				 const evo_actuator_def *d, unsigned dim,
 				 const char *bot, const char *dflt,
 				 evo_err *err);
+
+/* What a bot of n actuators a broadcasts, as range-and-bearing sensors
+ * hear it: its broadcast actuators' commands, in the order it has them,
+ * into out's values (its position is the caller's). 1 when it has a
+ * broadcast actuator, 0 when none (it is not heard). */
+int evo_actuator_broadcasts(const evo_actuator *a, int n, evo_swarm_peer *out);
 
 #endif

@@ -218,7 +218,8 @@ static const evo_kind_row sense_rows[EVO_SENSE_KIND_COUNT] = {
 			     K("name", "x", "y", "z", "target", "scale")}},
     [EVO_SENSE_ZONE] = {"zone", EVO_DIM_BOTH, {TRACKER2, TRACKER2}},
     [EVO_SENSE_BEARING] = {"bearing", EVO_DIM_BOTH, {TRACKER2, TRACKER3}},
-    /* an element switched off (element:set_active): 2D's only */
+    /* an element switched off (element:set_active; 3D has it too, this
+     * sensor not yet) */
     [EVO_SENSE_PRESENCE] = {"presence", EVO_DIM_2D, {TRACKER2, NULL}},
     /* objects carried by a claw, and Box2D's contacts and broad phase */
     [EVO_SENSE_OBJECT_DETECTOR] = {"object_detector",

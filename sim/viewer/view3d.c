@@ -426,16 +426,17 @@ static void world(const evo_scene3d *sc)
 		shape(o);
 	}
 	for (int i = 0; i < sc->n_elements; i++) {
-		const evo_element3d *e = &sc->element[i];
-		if (e->def.kind == EVO3D_ELEM_TARGET) {
+		const evo_element *e = &sc->element[i];
+		if (e->def.kind == EVO_PIECE_TARGET) {
 			glPushMatrix();
 			glTranslated(e->pos[0], e->pos[1], e->pos[2]);
+			/* one set off shows faintly, as 2D's zones */
 			colour(coloured(sc, EVO_BLOB_ELEMENT, i,
 					EVO_VIEW3D_TARGET),
-			       1);
+			       e->active ? 1 : 0.2);
 			sphere(e->def.radius);
 			glPopMatrix();
-		} else if (e->def.kind == EVO3D_ELEM_OBJECT) {
+		} else if (e->def.kind == EVO_PIECE_OBJECT && e->active) {
 			glPushMatrix();
 			pose(e->pos, e->R);
 			colour(coloured(sc, EVO_BLOB_ELEMENT, i,
@@ -454,13 +455,14 @@ static void world(const evo_scene3d *sc)
 	/* translucent last: zones, then the rays */
 	glDepthMask(GL_FALSE);
 	for (int i = 0; i < sc->n_elements; i++) {
-		const evo_element3d *e = &sc->element[i];
-		if (e->def.kind != EVO3D_ELEM_ZONE)
+		const evo_element *e = &sc->element[i];
+		if (e->def.kind != EVO_PIECE_ZONE)
 			continue;
 		glPushMatrix();
 		glTranslated(e->pos[0], e->pos[1], e->pos[2]);
 		glRotated(e->def.yaw * 180 / M_PI, 0, 0, 1);
-		colour(coloured(sc, EVO_BLOB_ELEMENT, i, EVO_VIEW_ZONE), 0.3);
+		colour(coloured(sc, EVO_BLOB_ELEMENT, i, EVO_VIEW_ZONE),
+		       e->active ? 0.3 : 0.1);
 		box(e->def.half);
 		glPopMatrix();
 	}
@@ -528,8 +530,8 @@ static void first_view(evo_view3d *v, const evo_scene3d *sc)
 {
 	const double *b = sc->bot[0].pos;
 	for (int i = 0; i < sc->n_elements; i++) {
-		const evo_element3d *e = &sc->element[i];
-		if (e->def.kind != EVO3D_ELEM_TARGET)
+		const evo_element *e = &sc->element[i];
+		if (e->def.kind != EVO_PIECE_TARGET)
 			continue;
 		double dx = b[0] - e->pos[0], dy = b[1] - e->pos[1];
 		double d = sqrt(dx * dx + dy * dy);

@@ -353,9 +353,9 @@ static void draw_coloured_element(evo_raster *im, const evo_view_camera *cam,
 	if (c < 0)
 		return;
 	uint32_t rgb = evo_view_blob_colour(c);
-	if (el->kind == EVO_ELEM_CYLINDER)
+	if (el->kind == EVO_PIECE_CYLINDER)
 		edged_disc(im, cam, el->x, el->y, el->size, rgb, OBSTACLE_EDGE);
-	else if (el->kind == EVO_ELEM_BOX)
+	else if (el->kind == EVO_PIECE_BOX)
 		edged_box(im, cam, el->x, el->y, el->angle, el->half_w,
 			  el->half_h, rgb, OBSTACLE_EDGE);
 }
@@ -562,13 +562,13 @@ void evo_view_render(evo_raster *im, const evo_scene *sc,
 	for (int i = 0; i < sc->swarm.n_patches; i++)
 		draw_patch(im, cam, &sc->swarm.patch[i]);
 	for (int e = 0; e < sc->n_elements; e++)
-		if (sc->element[e].kind == EVO_ELEM_ZONE)
+		if (sc->element[e].kind == EVO_PIECE_ZONE)
 			draw_zone(im, cam, sc, e);
 	for (int o = 0; o < sc->n_obstacles; o++)
 		draw_obstacle(im, cam, &sc->obstacle[o]);
 	for (int e = 0; e < sc->n_elements; e++) {
 		draw_coloured_element(im, cam, sc, e);
-		if (sc->element[e].kind == EVO_ELEM_OBJECT &&
+		if (sc->element[e].kind == EVO_PIECE_OBJECT &&
 		    sc->element[e].held_by < 0)
 			draw_object(im, cam, sc, e);
 	}
@@ -587,7 +587,7 @@ void evo_view_render(evo_raster *im, const evo_scene *sc,
 					  &sc->bot[b].sensor[s]);
 	/* Held objects over the bot that carries them. */
 	for (int e = 0; e < sc->n_elements; e++)
-		if (sc->element[e].kind == EVO_ELEM_OBJECT &&
+		if (sc->element[e].kind == EVO_PIECE_OBJECT &&
 		    sc->element[e].held_by >= 0)
 			draw_object(im, cam, sc, e);
 	for (int b = 0; b < sc->n_bots; b++)

@@ -1,23 +1,11 @@
 /* The defaults every Def of the 2D world starts from (sim/world2d/scene.h):
  * EvoAgents' values, so a bot model or environment that leaves a field
- * out gets what the tutorial's did. */
+ * out gets what the tutorial's did. An element's are the scene model's
+ * (scene/element.c, evo_default_element_def). */
 #include <math.h>
 #include <string.h>
 
 #include "world2d/scene.h"
-
-evo_element_def evo_default_element_def(evo_element_kind kind)
-{
-	evo_element_def d;
-	memset(&d, 0, sizeof d);
-	d.kind = kind;
-	d.size = 1.0;
-	d.half_w = d.half_h = 1.0;
-	d.density = 2.0;
-	d.linear_damping = 5.0;
-	d.angular_damping = 5.0;
-	return d;
-}
 
 evo_grid_def evo_default_grid_def(void)
 {

@@ -23,7 +23,7 @@ static int target_ok(evo_scene_core *c, int target, const char *what)
 
 static int zone(const evo_scene *sc, int target)
 {
-	return target >= 0 && sc->element[target].kind == EVO_ELEM_ZONE;
+	return target >= 0 && sc->element[target].kind == EVO_PIECE_ZONE;
 }
 
 static int check_reward(evo_scene_core *c, const evo_reward_def *d)

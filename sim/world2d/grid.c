@@ -19,8 +19,8 @@ static double clear_distance(const evo_scene *sc, double x, double y)
 	}
 	for (int i = 0; i < sc->n_elements; i++) {
 		const evo_element *e = &sc->element[i];
-		double size = e->kind == EVO_ELEM_ZONE ? e->size * M_SQRT2
-			      : e->kind == EVO_ELEM_OBJECT ? e->size
+		double size = e->kind == EVO_PIECE_ZONE ? e->size * M_SQRT2
+			      : e->kind == EVO_PIECE_OBJECT ? e->size
 							   : -1;
 		if (size < 0)
 			continue;

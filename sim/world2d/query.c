@@ -149,7 +149,7 @@ int evo_scene_object_in_reach(const evo_scene *sc, double px, double py,
 
 int evo_zone_contains(const evo_element *z, double x, double y)
 {
-	if (z->kind != EVO_ELEM_ZONE || !z->active)
+	if (z->kind != EVO_PIECE_ZONE || !z->active)
 		return 0;
 	double c = cos(z->angle), s = sin(z->angle);
 	double dx = x - z->x, dy = y - z->y;

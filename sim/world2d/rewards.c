@@ -69,7 +69,7 @@ static double effort(const void *v, int bot)
 /* ---- the kinds only 2D has ---------------------------------------------- */
 
 /* Collect: k for each active object the bot holds whose centre lies in the
- * target zone (an active EVO_ELEM_ZONE; anything else gives 0). A delivery
+ * target zone (an active EVO_PIECE_ZONE; anything else gives 0). A delivery
  * opens the bot's claws (all of them), takes the object off the world
  * until the next reset and counts it in bot->delivered.
  *
@@ -84,11 +84,11 @@ static double collect(evo_scene *sc, const evo_reward *r, evo_bot *b)
 {
 	const evo_element *z = element_at(sc, r->def.target);
 	int n = 0;
-	if (!z || z->kind != EVO_ELEM_ZONE || !z->active)
+	if (!z || z->kind != EVO_PIECE_ZONE || !z->active)
 		return 0;
 	for (int i = 0; i < sc->n_elements; i++) {
 		evo_element *e = &sc->element[i];
-		if (e->kind != EVO_ELEM_OBJECT || !e->active ||
+		if (e->kind != EVO_PIECE_OBJECT || !e->active ||
 		    e->held_by != r->def.bot)
 			continue;
 		evo_bpose p = sc->be->pose(sc->bw, e->body);
@@ -102,7 +102,7 @@ static double collect(evo_scene *sc, const evo_reward *r, evo_bot *b)
 	evo_bot_release(sc, r->def.bot);
 	for (int i = 0; i < sc->n_elements; i++) {
 		evo_element *e = &sc->element[i];
-		if (e->kind == EVO_ELEM_OBJECT && !e->active)
+		if (e->kind == EVO_PIECE_OBJECT && !e->active)
 			sc->be->set_enabled(sc->bw, e->body, 0);
 	}
 	b->delivered += n;
@@ -184,11 +184,11 @@ static int touching_target(const void *v, int bot, int target)
 	if (!e)
 		return 0;
 	switch (e->kind) {
-	case EVO_ELEM_OBJECT:
+	case EVO_PIECE_OBJECT:
 		return e->active &&
 		       sc->be->touching_body(sc->bw, b->body, e->body);
-	case EVO_ELEM_CYLINDER:
-	case EVO_ELEM_BOX:
+	case EVO_PIECE_CYLINDER:
+	case EVO_PIECE_BOX:
 		return sc->be->touching_obstacle(sc->bw, b->body, e->obstacle);
 	default:
 		return 0;

@@ -44,14 +44,10 @@ void evo_scene_destroy(evo_scene *sc)
 	free(sc);
 }
 
-/* Room for one more item in array arr of sc (scene/store.h); ADD: the
- * new item, zeroed, or NULL. */
+/* Room for one more item in array arr of sc (scene/store.h). */
 #define GROW(sc, arr, n, cap)                                                  \
 	evo_store_grow((void **)&(sc)->arr, &(sc)->cap, (sc)->n + 1,           \
 		       sizeof *(sc)->arr, &(sc)->err)
-#define ADD(sc, arr, n, cap)                                                   \
-	evo_store_add((void **)&(sc)->arr, &(sc)->cap, (sc)->n,                \
-		      sizeof *(sc)->arr, &(sc)->err)
 
 /* Remember who owns body index `index`: a bot (>= 0) or an object
  * (-(element + 2)). */
@@ -71,12 +67,6 @@ static int set_owner(evo_scene *sc, int index, int owner)
 	}
 	sc->body_owner[index] = owner;
 	return 0;
-}
-
-/* A piece's name, "" when it has none. */
-static int set_name(char *dst, const char *src, evo_err *err)
-{
-	return evo_store_name(dst, src, NULL, 0, err);
 }
 
 static int finite_all(const double *v, int n)
@@ -163,65 +153,39 @@ int evo_scene_add_wall(evo_scene *sc, double x1, double y1, double x2,
 
 int evo_scene_add_element(evo_scene *sc, const evo_element_def *d)
 {
-	double v[] = {d->x, d->y, d->angle, d->size, d->half_w, d->half_h};
-	if (!finite_all(v, 6))
-		return evo_fail(&sc->err, "element: a value is not a number");
-	if ((unsigned)d->kind > EVO_ELEM_OBJECT)
-		return evo_fail(&sc->err, "element: unknown kind %d",
-				(int)d->kind);
-	if (d->kind == EVO_ELEM_BOX ? !(d->half_w > 0 && d->half_h > 0)
-				    : !(d->size > 0))
-		return evo_fail(&sc->err, "element: size must be positive");
-	if (d->name && d->name[0] && evo_scene_find_element(sc, d->name) >= 0)
-		return evo_fail(&sc->err, "element '%s' is defined twice",
-				d->name);
 	if (sc->n_obstacles > sc->n_fixed_obstacles)
 		return evo_fail(&sc->err,
 				"elements must be added before the first reset");
-	evo_element *slot = ADD(sc, element, n_elements, cap_elements);
-	evo_element e;
-	memset(&e, 0, sizeof e);
-	if (!slot || set_name(e.name, d->name, &sc->err))
+	evo_element *e =
+	    evo_element_store(&sc->element, &sc->cap_elements, sc->n_elements,
+			      d, EVO_DIM_2D, NULL, &sc->err);
+	if (!e)
 		return -1;
-	e.kind = d->kind;
-	e.x = d->x;
-	e.y = d->y;
-	e.angle = d->angle;
-	e.size = d->size;
-	e.half_w = d->half_w;
-	e.half_h = d->half_h;
-	e.active = 1;
-	e.held_by = -1;
-	e.body = EVO_BODY_NONE;
-	e.obstacle = -1;
-	e.def = *d;
-	e.def.name = NULL;
-	if (d->kind == EVO_ELEM_CYLINDER || d->kind == EVO_ELEM_BOX) {
+	if (d->kind == EVO_PIECE_CYLINDER || d->kind == EVO_PIECE_BOX) {
 		evo_obstacle o;
 		memset(&o, 0, sizeof o);
-		o.shape = d->kind == EVO_ELEM_CYLINDER ? EVO_SHAPE_CIRCLE
-						       : EVO_SHAPE_BOX;
+		o.shape = d->kind == EVO_PIECE_CYLINDER ? EVO_SHAPE_CIRCLE
+							: EVO_SHAPE_BOX;
 		o.x = d->x;
 		o.y = d->y;
 		o.angle = d->angle;
 		o.radius = d->size;
 		o.half_w = d->half_w;
 		o.half_h = d->half_h;
-		e.obstacle = evo_scene_add_obstacle(sc, &o);
-		if (e.obstacle < 0)
+		e->obstacle = evo_scene_add_obstacle(sc, &o);
+		if (e->obstacle < 0)
 			return -1;
 		sc->n_fixed_obstacles = sc->n_obstacles;
-	} else if (d->kind == EVO_ELEM_OBJECT) {
+	} else if (d->kind == EVO_PIECE_OBJECT) {
 		if (GROW(sc, object, n_objects, cap_objects))
 			return -1;
-		e.body = add_object_body(sc, d);
-		if (e.body.index < 0)
+		e->body = add_object_body(sc, d);
+		if (e->body.index < 0)
 			return evo_fail(&sc->err, "element: bad object");
-		if (set_owner(sc, e.body.index, -(sc->n_elements + 2)))
+		if (set_owner(sc, e->body.index, -(sc->n_elements + 2)))
 			return -1;
 		sc->object[sc->n_objects++] = sc->n_elements;
 	}
-	*slot = e;
 	return sc->n_elements++;
 }
 
@@ -281,7 +245,7 @@ int evo_scene_add_sensor(evo_scene *sc, int bot, const evo_sensor_def *d)
 	if (evo_scene_check_target(sc, d->target, name))
 		return -1;
 	if (d->kind == EVO_SENSE_ZONE && d->target != EVO_TARGET_NONE &&
-	    (d->target < 0 || sc->element[d->target].kind != EVO_ELEM_ZONE))
+	    (d->target < 0 || sc->element[d->target].kind != EVO_PIECE_ZONE))
 		return evo_fail(
 		    &sc->err, "sensor '%s': a zone sensor needs a zone", name);
 	evo_sensor *s = evo_sensor_store(&b->sensor, b->n_sensors, d,
@@ -342,7 +306,7 @@ void evo_scene_place_element(evo_scene *sc, int element, double x, double y)
 	evo_element *e = &sc->element[element];
 	e->x = x;
 	e->y = y;
-	if (e->kind == EVO_ELEM_OBJECT) {
+	if (e->kind == EVO_PIECE_OBJECT) {
 		static const double zero[3] = {0, 0, 0};
 		sc->be->set_pose(sc->bw, e->body, (const double[3]){x, y, 0},
 				 e->angle);

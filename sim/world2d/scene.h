@@ -33,6 +33,7 @@
 #include "scene/actuator.h"
 #include "scene/bot.h"
 #include "scene/core.h"
+#include "scene/element.h"
 #include "scene/kinds.h"
 #include "scene/scoring.h"
 #include "scene/sensor.h"
@@ -58,39 +59,11 @@
 
 /* ---- world elements ------------------------------------------------ */
 
-typedef enum evo_element_kind {
-	EVO_ELEM_CYLINDER = 0, /* static circle, radius = size */
-	EVO_ELEM_BOX = 1,      /* static box, half sides half_w x half_h */
-	EVO_ELEM_ZONE = 2,     /* trigger zone: a square of half side size, no body */
-	EVO_ELEM_OBJECT = 3,   /* dynamic circle of radius size, can be carried */
-} evo_element_kind;
-
-typedef struct evo_element_def {
-	evo_element_kind kind;
-	const char *name; /* may be NULL */
-	double x, y, angle;
-	double size;	       /* cylinder/object radius, zone half side */
-	double half_w, half_h; /* box */
-	/* objects: Box2D properties (defaults: density 2, friction 0,
-	 * restitution 0, linear damping 5, angular damping 5) */
-	double density, friction, restitution, linear_damping, angular_damping;
-} evo_element_def;
-
-evo_element_def evo_default_element_def(evo_element_kind kind);
-
-typedef struct evo_element {
-	evo_element_kind kind;
-	char name[EVO_SCENE_NAME_MAX];
-	double x, y, angle; /* where it starts each episode */
-	double size, half_w, half_h;
-	/* Objects: 0 once delivered (off the world until the next reset);
-	 * zones: 1 unless the environment turns them off. */
-	int active;
-	int held_by;	  /* objects: index of the bot whose claw holds it, or -1 */
-	evo_body_id body; /* objects only */
-	int obstacle;	  /* cylinders and boxes: their obstacle index */
-	evo_element_def def;
-} evo_element;
+/* evo_element_def and evo_element are the scene model's
+ * (scene/element.h), one for both worlds; a 2D element's kind is an
+ * EVO_PIECE_CYLINDER (radius size), EVO_PIECE_BOX (half sides half_w x
+ * half_h), EVO_PIECE_ZONE (a square of half side size, no body) or
+ * EVO_PIECE_OBJECT (a dynamic circle of radius size, can be carried). */
 
 /* A static obstacle as the viewer and the sensors see it. The grid's
  * obstacles are not elements: there are hundreds, rebuilt every episode. */

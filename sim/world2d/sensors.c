@@ -165,16 +165,7 @@ static int peer_2d(void *ctx, int i, evo_swarm_peer *out)
 	out->pos[0] = b->x;
 	out->pos[1] = b->y;
 	out->pos[2] = 0;
-	out->n_values = 0;
-	int any = 0;
-	for (int k = 0; k < b->n_actuators; k++) {
-		if (b->actuator[k].def.kind != EVO_ACT_BROADCAST)
-			continue;
-		any = 1;
-		if (out->n_values < EVO_SWARM_MAX_VALUES)
-			out->value[out->n_values++] = b->actuator[k].command;
-	}
-	return any;
+	return evo_actuator_broadcasts(b->actuator, b->n_actuators, out);
 }
 
 /* Where a coloured bot or element is now, for a camera; its reach from
@@ -200,23 +191,24 @@ static int where_2d(void *ctx, const evo_blob *bl, double pos[3],
 	pos[0] = e->x;
 	pos[1] = e->y;
 	switch (e->kind) {
-	case EVO_ELEM_OBJECT:
+	case EVO_PIECE_OBJECT:
 		if (!e->active)
 			return 0;
 		evo_bpose p = sc->be->pose(sc->bw, e->body);
 		pos[0] = p.pos[0];
 		pos[1] = p.pos[1];
 		return 1;
-	case EVO_ELEM_ZONE:
+	case EVO_PIECE_ZONE:
 		return e->active;
-	case EVO_ELEM_CYLINDER:
+	case EVO_PIECE_CYLINDER:
 		*reach = e->size;
 		return 1;
-	case EVO_ELEM_BOX:
+	case EVO_PIECE_BOX:
 		*reach = hypot(e->half_w, e->half_h);
 		return 1;
+	default: /* no other kind in 2D */
+		return 0;
 	}
-	return 0;
 }
 
 /* A light, ground or range-and-bearing sensor or a camera; obstacles

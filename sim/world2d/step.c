@@ -54,7 +54,7 @@ void evo_scene_reset(evo_scene *sc, uint64_t grid_seed, uint64_t episode_seed)
 	for (int i = 0; i < sc->n_elements; i++) {
 		evo_element *e = &sc->element[i];
 		e->held_by = -1;
-		if (e->kind == EVO_ELEM_OBJECT) {
+		if (e->kind == EVO_PIECE_OBJECT) {
 			e->active = 1;
 			/* its starting angle, not the one the last episode
 			 * left: a circle's turn changes Box2D's rounding, and

@@ -140,6 +140,11 @@ static void b_set_velocity(evo_bworld *w, evo_body_id id, const double v[3],
 	evo_body3d_set_velocity(W(w), id.index, v, omega);
 }
 
+static void b_set_enabled(evo_bworld *w, evo_body_id id, int enabled)
+{
+	evo_body3d_set_enabled(W(w), id.index, enabled);
+}
+
 static void b_apply_force_at(evo_bworld *w, evo_body_id id, const double f[3],
 			     const double at[3], unsigned frames)
 {
@@ -211,8 +216,9 @@ static int b_step(evo_bworld *w, evo_bfault *fault)
 }
 
 /* NULL: what a 3D world does not do (reset: a 3D scene makes its world
- * again; bodies are never removed, disabled or asleep; no welds, no
- * broad-phase query, no static of its own to touch, no kinematic body). */
+ * again; bodies are never removed or asleep (set_enabled takes an object
+ * set off out of the world); no welds, no broad-phase query, no static of
+ * its own to touch, no kinematic body). */
 const evo_backend evo_backend_ode = {
     .name = "ODE",
     .dims = 3,
@@ -226,6 +232,7 @@ const evo_backend evo_backend_ode = {
     .set_pose = b_set_pose,
     .velocity = b_velocity,
     .set_velocity = b_set_velocity,
+    .set_enabled = b_set_enabled,
     .apply_force_at = b_apply_force_at,
     .add_torque = b_add_torque,
     .hinge = b_hinge,

@@ -92,12 +92,12 @@ static void arena(const evo_scene_core *c, double *b)
 {
 	const evo_scene3d *sc = (const evo_scene3d *)c;
 	for (int i = 0; i < sc->n_elements; i++) {
-		const evo_element3d_def *d = &sc->element[i].def;
-		if (d->kind > EVO3D_ELEM_SPHERE || d->ground)
+		const evo_element_def *d = &sc->element[i].def;
+		if (!evo_element_is_solid(d->kind) || d->ground)
 			continue;
 		double cs = fabs(cos(d->yaw)), sn = fabs(sin(d->yaw));
 		double hx = d->radius, hy = d->radius;
-		if (d->kind == EVO3D_ELEM_BOX) {
+		if (d->kind == EVO_PIECE_BOX) {
 			hx = cs * d->half[0] + sn * d->half[1];
 			hy = sn * d->half[0] + cs * d->half[1];
 		}

@@ -1,6 +1,7 @@
 /* evo — the 3D scene as the scene model's rewards and controls read it
  * (sim/scene/scoring.h, which computes them, the same as in 2D): its bots'
- * contacts, motion, sensors and motors, and the distance to an element.
+ * contacts, motion, sensors and motors, and the distance to an element
+ * (none to one set off).
  * The kinds only 2D has (Collect, Gather, NextOnCollisionWithTarget) say
  * so in their rows of sim/scene/kinds.c and are refused when added. */
 #include <math.h>
@@ -26,7 +27,8 @@ static void motion(const void *sc, int bot, double v[3], double ahead[3])
 static double distance(const void *v, int bot, int target)
 {
 	const evo_scene3d *sc = v;
-	if (target < 0 || target >= sc->n_elements)
+	if (target < 0 || target >= sc->n_elements ||
+	    !sc->element[target].active)
 		return -1;
 	return evo_scene3d_distance(sc, bot, target);
 }

@@ -1,5 +1,7 @@
 /* A 3D scene's storage (sim/world3d/scene3d.h): definitions with their
- * defaults, the adds, and making the ODE world from them. A sensor's
+ * defaults (an element's are the scene model's, scene/element.c), the
+ * adds (an element's checks and copy are scene/element.c's too; its ODE
+ * shape is made here), and making the ODE world from them. A sensor's
  * checks and storage are the scene model's (scene/sensor.c); its rays'
  * directions are made here. */
 #include <math.h>
@@ -11,20 +13,6 @@
 #include "world3d/scene3d_internal.h"
 
 /* ---- defaults ------------------------------------------------------- */
-
-evo_element3d_def evo_default_element3d_def(evo_element3d_kind kind)
-{
-	evo_element3d_def d;
-	memset(&d, 0, sizeof d);
-	d.kind = kind;
-	d.half[0] = d.half[1] = d.half[2] = 0.5;
-	d.radius = 0.5;
-	d.half_length = 0.5;
-	d.mass = 1;
-	d.friction = 0.5;
-	d.sphere = 1;
-	return d;
-}
 
 evo_sensor_def evo_default_sensor3d_def(evo_sense_kind kind)
 {
@@ -159,15 +147,8 @@ static int positive(double v)
 	return isfinite(v) && v > 0;
 }
 
-/* Copy a name (NULL or "": `dflt` and the index) into out. */
-static int set_name(evo_scene3d *sc, char *out, const char *name,
-		    const char *dflt, int index)
-{
-	return evo_store_name(out, name, dflt, index, &sc->err);
-}
-
 /* The static shape of a box, cylinder or sphere element. */
-static evo_shape3d element_shape(const evo_element3d_def *d)
+static evo_shape3d element_shape(const evo_element_def *d)
 {
 	evo_shape3d s;
 	memset(&s, 0, sizeof s);
@@ -179,8 +160,8 @@ static evo_shape3d element_shape(const evo_element3d_def *d)
 	s.axis = 2;
 	s.friction = d->friction;
 	s.category = d->ground ? EVO_CAT3D_GROUND : EVO_CAT3D_OBSTACLE;
-	s.type = d->kind == EVO3D_ELEM_BOX	  ? EVO_SHAPE3D_BOX
-		 : d->kind == EVO3D_ELEM_CYLINDER ? EVO_SHAPE3D_CYLINDER
+	s.type = d->kind == EVO_PIECE_BOX	  ? EVO_SHAPE3D_BOX
+		 : d->kind == EVO_PIECE_CYLINDER ? EVO_SHAPE3D_CYLINDER
 						  : EVO_SHAPE3D_SPHERE;
 	return s;
 }
@@ -197,36 +178,14 @@ static int add_obstacle(evo_scene3d *sc, const evo_obstacle3d *o)
 	return sc->n_obstacles++;
 }
 
-int evo_scene3d_add_element(evo_scene3d *sc, const evo_element3d_def *d)
+int evo_scene3d_add_element(evo_scene3d *sc, const evo_element_def *d)
 {
-	if ((unsigned)d->kind >= EVO3D_ELEM_KIND_COUNT)
-		return evo_fail(&sc->err, "unknown element kind %d", d->kind);
-	if (!finite3(d->pos) || !isfinite(d->yaw))
-		return evo_fail(&sc->err, "an element's position is not a "
-					  "number");
-	int box = d->kind == EVO3D_ELEM_BOX || d->kind == EVO3D_ELEM_ZONE ||
-		  (d->kind == EVO3D_ELEM_OBJECT && !d->sphere);
-	if (box && !(positive(d->half[0]) && positive(d->half[1]) &&
-		     positive(d->half[2])))
-		return evo_fail(&sc->err, "a box's half sides must be > 0");
-	if (!box && !positive(d->radius))
-		return evo_fail(&sc->err, "a radius must be > 0");
-	if (d->kind == EVO3D_ELEM_CYLINDER && !positive(d->half_length))
-		return evo_fail(&sc->err, "a cylinder's height must be > 0");
-	if (d->kind == EVO3D_ELEM_OBJECT && !positive(d->mass))
-		return evo_fail(&sc->err, "an object's mass must be > 0");
-	if (d->name && d->name[0] && evo_scene3d_find_element(sc, d->name) >= 0)
-		return evo_fail(&sc->err, "element '%s' twice", d->name);
-	evo_element3d *e =
-	    evo_store_add((void **)&sc->element, &sc->cap_elements,
-			  sc->n_elements, sizeof *e, &sc->err);
-	if (!e || set_name(sc, e->name, d->name, "element", sc->n_elements))
+	evo_element *e =
+	    evo_element_store(&sc->element, &sc->cap_elements, sc->n_elements,
+			      d, EVO_DIM_3D, "element", &sc->err);
+	if (!e)
 		return -1;
-	e->def = *d;
-	e->def.name = e->name;
-	memcpy(e->pos, d->pos, sizeof e->pos);
-	e->body = -1;
-	if (d->kind <= EVO3D_ELEM_SPHERE) {
+	if (evo_element_is_solid(d->kind)) {
 		evo_shape3d s = element_shape(d);
 		/* kept out of the episode's obstacles: before them */
 		if (sc->n_obstacles != sc->n_fixed_obstacles)
@@ -443,8 +402,8 @@ int evo_scene3d_build_world(evo_scene3d *sc)
 			return -1;
 	evo_scene3d_refresh_bots(sc);
 	for (int i = 0; i < sc->n_elements; i++) {
-		evo_element3d *e = &sc->element[i];
-		if (e->def.kind != EVO3D_ELEM_OBJECT)
+		evo_element *e = &sc->element[i];
+		if (e->def.kind != EVO_PIECE_OBJECT)
 			continue;
 		evo_bbody_def od = body_def(e->pos, e->def.yaw, e->def.mass, -1,
 					    EVO_CAT3D_OBJECT);
@@ -454,12 +413,14 @@ int evo_scene3d_build_world(evo_scene3d *sc)
 		od.shape[0].radius = e->def.radius;
 		memcpy(od.shape[0].half, e->def.half, sizeof od.shape[0].half);
 		od.shape[0].friction = e->def.friction;
-		e->body = sc->be->add_body(sc->bw, &od).index;
-		if (e->body < 0)
+		e->body = sc->be->add_body(sc->bw, &od);
+		if (e->body.index < 0)
 			return evo_fail(&sc->err, "object %s: cannot make it",
 					e->name);
 		double v[3];
-		evo_scene3d_pose(sc, e->body, v, e->R);
+		evo_scene3d_pose(sc, e->body.index, v, e->R);
+		if (!e->active) /* set off this episode: out of the world */
+			sc->be->set_enabled(sc->bw, e->body, 0);
 	}
 	return 0;
 }

@@ -30,6 +30,7 @@
 #include "scene/actuator.h"
 #include "scene/bot.h"
 #include "scene/core.h"
+#include "scene/element.h"
 #include "scene/kinds.h"
 #include "scene/scoring.h"
 #include "scene/sensor.h"
@@ -49,42 +50,14 @@
 
 /* ---- elements ------------------------------------------------------- */
 
-typedef enum evo_element3d_kind {
-	EVO3D_ELEM_BOX = 0,	 /* static box */
-	EVO3D_ELEM_CYLINDER = 1, /* static upright cylinder */
-	EVO3D_ELEM_SPHERE = 2,	 /* static sphere */
-	EVO3D_ELEM_ZONE = 3,	 /* trigger volume: a box, no body */
-	EVO3D_ELEM_TARGET = 4,	 /* a point to reach: a sphere, no body */
-	EVO3D_ELEM_OBJECT = 5,	 /* dynamic box or sphere */
-	EVO3D_ELEM_KIND_COUNT
-} evo_element3d_kind;
-
-typedef struct evo_element3d_def {
-	evo_element3d_kind kind;
-	const char *name; /* may be NULL */
-	double pos[3];	  /* its centre */
-	double yaw;
-	double half[3];	    /* box, zone, box object */
-	double radius;	    /* cylinder, sphere, target, sphere object */
-	double half_length; /* cylinder: half its height */
-	double mass;	    /* object (1 kg) */
-	double friction;    /* 0.5 */
-	int sphere;	    /* object: 1 a sphere, 0 a box */
-	/* box, cylinder, sphere: part of the ground (a bump, a ramp):
-	 * touching it is no collision, and rays see it only where they see
-	 * the ground */
-	int ground;
-} evo_element3d_def;
-
-evo_element3d_def evo_default_element3d_def(evo_element3d_kind kind);
-
-typedef struct evo_element3d {
-	char name[EVO3D_NAME_MAX];
-	evo_element3d_def def;
-	double pos[3]; /* now (objects move; the rest stay where they start) */
-	double R[9];   /* objects: their turn */
-	int body;      /* objects: the world's body, else -1 */
-} evo_element3d;
+/* evo_element_def and evo_element are the scene model's
+ * (scene/element.h), one for both worlds; a 3D element's kind is an
+ * EVO_PIECE_BOX (static), EVO_PIECE_CYLINDER (static, upright),
+ * EVO_PIECE_SPHERE (static), EVO_PIECE_ZONE (a trigger volume: a box, no
+ * body), EVO_PIECE_TARGET (a point to reach: a sphere, no body) or
+ * EVO_PIECE_OBJECT (a dynamic box or sphere). An element set off
+ * (element:set_active) is seen by no sensor and pays no reward, and an
+ * object set off leaves the world, until the next reset. */
 
 /* A static obstacle as the viewer and the tests see it: an element's, or
  * one of the episode's (evo_scene3d_add_episode_obstacle). */
@@ -144,7 +117,7 @@ typedef struct evo_scene3d {
 	int n_obstacles; /* the bots, n_bots and n_elements are the core's */
 	int n_fixed_obstacles; /* the elements'; the episode's follow */
 	int cap_elements, cap_obstacles;
-	evo_element3d *element;
+	evo_element *element;
 	evo_obstacle3d *obstacle;
 } evo_scene3d;
 
@@ -157,7 +130,7 @@ void evo_scene3d_destroy(evo_scene3d *sc);
 
 /* Each add returns the new index, or -1 with sc->err set (a bad value, an
  * unknown bot or sensor, a name used twice). */
-int evo_scene3d_add_element(evo_scene3d *sc, const evo_element3d_def *def);
+int evo_scene3d_add_element(evo_scene3d *sc, const evo_element_def *def);
 int evo_scene3d_add_bot(evo_scene3d *sc, const evo_bot_def *def);
 int evo_scene3d_add_sensor(evo_scene3d *sc, int bot,
 			   const evo_sensor_def *def);
@@ -179,7 +152,7 @@ int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
 int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o);
 
 /* Lookups by name; -1 when absent (scene/store.h). */
-#define evo_scene3d_find_element(s, k) EVO_FIND(s, element, evo_element3d, k)
+#define evo_scene3d_find_element(s, k) EVO_FIND(s, element, evo_element, k)
 #define evo_scene3d_find_bot(s, k)     EVO_FIND(s, bot, evo_bot, k)
 #define evo_bot3d_find_sensor(b, k)    EVO_FIND(b, sensor, evo_sensor, k)
 #define evo_bot3d_find_actuator(b, k)  EVO_FIND(b, actuator, evo_actuator, k)
@@ -198,6 +171,13 @@ int evo_scene3d_place_bot(evo_scene3d *sc, int bot, const double pos[3],
 /* Move a target or zone (not a body) to pos. */
 void evo_scene3d_place_element(evo_scene3d *sc, int element,
 			       const double pos[3]);
+
+/* Switch an element off (on 0) or back on until the next reset, which
+ * switches every element on: one set off is no sensor's or reward's
+ * target and no camera's blob, and an object set off leaves the world (no
+ * contact, ray or step sees it) and comes back where it was. A cylinder,
+ * box or sphere set off stays an obstacle, as in 2D. */
+void evo_scene3d_set_active(evo_scene3d *sc, int element, int on);
 
 /* Step 1 of the tick: every sensor of every bot samples (sensors3d.c;
  * evo_core_sense runs it). */

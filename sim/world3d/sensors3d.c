@@ -53,7 +53,7 @@ static double proximity(evo_scene3d *sc, int bot, evo_sensor *s)
 
 /* A zone's trigger volume holds point p: p in the zone's own frame
  * (turned by its yaw) lies within its half sides. */
-static int zone_holds(const evo_element3d *z, const double p[3])
+static int zone_holds(const evo_element *z, const double p[3])
 {
 	double dx = p[0] - z->pos[0], dy = p[1] - z->pos[1],
 	       dz = p[2] - z->pos[2];
@@ -70,16 +70,7 @@ static int peer_3d(void *ctx, int i, evo_swarm_peer *out)
 	const evo_bot *b = &((const evo_scene3d *)ctx)->bot[i];
 	for (int k = 0; k < 3; k++)
 		out->pos[k] = b->pos[k];
-	out->n_values = 0;
-	int any = 0;
-	for (int k = 0; k < b->n_actuators; k++) {
-		if (b->actuator[k].def.kind != EVO_ACT_BROADCAST)
-			continue;
-		any = 1;
-		if (out->n_values < EVO_SWARM_MAX_VALUES)
-			out->value[out->n_values++] = b->actuator[k].command;
-	}
-	return any;
+	return evo_actuator_broadcasts(b->actuator, b->n_actuators, out);
 }
 
 /* Where a coloured bot or element is now, for a camera; how far its body
@@ -99,18 +90,20 @@ static int where_3d(void *ctx, const evo_blob *bl, double pos[3],
 	if (bl->kind != EVO_BLOB_ELEMENT || bl->index < 0 ||
 	    bl->index >= sc->n_elements)
 		return 0;
-	const evo_element3d *e = &sc->element[bl->index];
-	const evo_element3d_def *d = &e->def;
+	const evo_element *e = &sc->element[bl->index];
+	const evo_element_def *d = &e->def;
+	if (!e->active)
+		return 0;
 	for (int k = 0; k < 3; k++)
 		pos[k] = e->pos[k];
 	double box = sqrt(d->half[0] * d->half[0] + d->half[1] * d->half[1] +
 			  d->half[2] * d->half[2]);
-	if (d->kind == EVO3D_ELEM_BOX || (d->kind == EVO3D_ELEM_OBJECT &&
+	if (d->kind == EVO_PIECE_BOX || (d->kind == EVO_PIECE_OBJECT &&
 					  !d->sphere))
 		*reach = box;
-	else if (d->kind == EVO3D_ELEM_CYLINDER)
+	else if (d->kind == EVO_PIECE_CYLINDER)
 		*reach = hypot(d->radius, d->half_length);
-	else if (d->kind == EVO3D_ELEM_SPHERE || d->kind == EVO3D_ELEM_OBJECT)
+	else if (d->kind == EVO_PIECE_SPHERE || d->kind == EVO_PIECE_OBJECT)
 		*reach = d->radius;
 	return 1;
 }
@@ -144,7 +137,9 @@ double evo_sensor3d_sample(evo_scene3d *sc, int bot, int k)
 {
 	evo_bot *b = &sc->bot[bot];
 	evo_sensor *s = &b->sensor[k];
-	int has = s->def.target >= 0 && s->def.target < sc->n_elements;
+	/* a target set off is seen by none (element:set_active) */
+	int has = s->def.target >= 0 && s->def.target < sc->n_elements &&
+		  sc->element[s->def.target].active;
 	double t[3];
 	switch (s->def.kind) {
 	case EVO_SENSE_PROXIMITY:

@@ -1,7 +1,8 @@
 /* The 3D scene's episode and its part of the tick (sim/world3d/scene3d.h):
- * the reset, placing bots and elements, the poses and contacts read back
- * after the physics, and the message of a body that exploded. The tick's
- * order is the scene model's (sim/scene/tick.c, through dim3d.c). */
+ * the reset, placing bots and elements, switching elements off and on,
+ * the poses and contacts read back after the physics, and the message of
+ * a body that exploded. The tick's order is the scene model's
+ * (sim/scene/tick.c, through dim3d.c). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -22,9 +23,11 @@ int evo_scene3d_reset(evo_scene3d *sc, uint64_t grid_seed,
 		b->touching = b->collisions = 0;
 		b->reward = 0;
 	}
-	for (int i = 0; i < sc->n_elements; i++)
+	for (int i = 0; i < sc->n_elements; i++) {
 		memcpy(sc->element[i].pos, sc->element[i].def.pos,
 		       sizeof sc->element[i].pos);
+		sc->element[i].active = 1;
+	}
 	evo_core_reset(&sc->core, grid_seed, episode_seed);
 	return evo_scene3d_build_world(sc);
 }
@@ -48,6 +51,18 @@ void evo_scene3d_place_element(evo_scene3d *sc, int element,
 	memcpy(sc->element[element].pos, pos, sizeof sc->element[element].pos);
 }
 
+void evo_scene3d_set_active(evo_scene3d *sc, int element, int on)
+{
+	if (element < 0 || element >= sc->n_elements)
+		return;
+	evo_element *e = &sc->element[element];
+	on = on != 0;
+	if (e->kind == EVO_PIECE_OBJECT && e->body.index >= 0 &&
+	    e->active != on)
+		sc->be->set_enabled(sc->bw, e->body, on);
+	e->active = on;
+}
+
 /* Which bot (or object) a body of the world is, in the fault message. */
 double evo_scene3d_fault(evo_scene_core *c, const evo_bfault *f)
 {
@@ -62,7 +77,7 @@ double evo_scene3d_fault(evo_scene_core *c, const evo_bfault *f)
 				what = sc->bot[i].actuator[k].name;
 	}
 	for (int i = 0; i < sc->n_elements; i++)
-		if (sc->element[i].body == body)
+		if (sc->element[i].body.index == body)
 			what = sc->element[i].name;
 	char how[96];
 	if (f->kind == EVO_BFAULT_NAN)
@@ -89,8 +104,8 @@ void evo_scene3d_read_back(evo_scene_core *c)
 		if (sc->bot[i].touching)
 			sc->bot[i].collisions++;
 	for (int i = 0; i < sc->n_elements; i++) {
-		evo_element3d *e = &sc->element[i];
-		if (e->body >= 0)
-			evo_scene3d_pose(sc, e->body, e->pos, e->R);
+		evo_element *e = &sc->element[i];
+		if (e->body.index >= 0)
+			evo_scene3d_pose(sc, e->body.index, e->pos, e->R);
 	}
 }

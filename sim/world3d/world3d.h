@@ -120,6 +120,9 @@ void evo_body3d_velocity(const evo_world3d *w, int body, double v[3],
 void evo_body3d_set_velocity(evo_world3d *w, int body, const double v[3],
 			     const double omega[3]);
 void evo_body3d_set_position(evo_world3d *w, int body, const double pos[3]);
+/* Take a body out of the world (enabled 0: it stops where it is, and no
+ * contact, ray or step sees it) or put it back (1). */
+void evo_body3d_set_enabled(evo_world3d *w, int body, int enabled);
 double evo_body3d_mass(const evo_world3d *w, int body);
 
 /* Forces for the next step only (ODE clears them when it steps): a force

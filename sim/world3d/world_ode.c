@@ -393,6 +393,24 @@ void evo_body3d_set_position(evo_world3d *w, int i, const double pos[3])
 	dBodySetPosition(w->body[i], pos[0], pos[1], pos[2]);
 }
 
+void evo_body3d_set_enabled(evo_world3d *w, int i, int enabled)
+{
+	dBodyID b = w->body[i];
+	for (dGeomID g = dBodyGetFirstGeom(b); g; g = dBodyGetNextGeom(g)) {
+		if (enabled)
+			dGeomEnable(g);
+		else
+			dGeomDisable(g);
+	}
+	if (enabled) {
+		dBodyEnable(b);
+		return;
+	}
+	dBodySetLinearVel(b, 0, 0, 0);
+	dBodySetAngularVel(b, 0, 0, 0);
+	dBodyDisable(b);
+}
+
 double evo_body3d_mass(const evo_world3d *w, int i)
 {
 	dMass m;

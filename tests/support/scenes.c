@@ -13,10 +13,10 @@ evo_scene *scene_with_bot(double x, double y, double angle)
 	return sc;
 }
 
-int scene_add_element(evo_scene *sc, evo_element_kind kind, double x,
+int scene_add_element(evo_scene *sc, evo_piece_kind kind, double x,
 		      double y, double size)
 {
-	evo_element_def e = evo_default_element_def(kind);
+	evo_element_def e = evo_default_element_def(kind, EVO_DIM_2D);
 	e.x = x;
 	e.y = y;
 	e.size = size;
@@ -26,7 +26,7 @@ int scene_add_element(evo_scene *sc, evo_element_kind kind, double x,
 int scene_add_box(evo_scene *sc, double x, double y, double hw, double hh,
 		  double angle)
 {
-	evo_element_def e = evo_default_element_def(EVO_ELEM_BOX);
+	evo_element_def e = evo_default_element_def(EVO_PIECE_BOX, EVO_DIM_2D);
 	e.x = x;
 	e.y = y;
 	e.half_w = hw;

@@ -222,9 +222,6 @@ static void refusals(void)
 		"E.lua:2: scene:zone: unknown option 'hx'; did you mean x? "
 		"(known: x, y, size, angle, name)");
 	/* and what the other world's elements do */
-	refused(1, "scene:zone{ x = 1 }:set_active(false)",
-		"E.lua:2: element:set_active: a 3D scene's elements are never "
-		"switched off");
 	refused(1,
 		"local b = scene:bot{} b:distance{ name = 'D', target = "
 		"'nearest_object' }",

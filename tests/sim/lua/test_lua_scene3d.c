@@ -154,6 +154,76 @@ TEST(swarm_sensors_from_lua_read_hand_worked_values)
 	evo_scene3d_destroy(sc);
 }
 
+/* element:set_active in 3D (docs/lua.md, "Elements"): episode 1 sees a
+ * target 4 ahead (distance 4 / 10 = 0.4, a Distance reward of -1 per
+ * metre pays -4), a zone around the bot (TRUE) and a ball object of
+ * radius 0.5 at 2.25 ahead, whose near side is 1.5 from the proximity
+ * ray's start at 0.25 (1.5 / 4). Episode 2's reset switches all three
+ * off: the target is no one's (the distance sensor reads 1 as with no
+ * target, the reward pays 0), the zone holds nothing (FALSE), the ball
+ * leaves the world (the ray reads clear, 1, and the ball does not fall
+ * while the world steps). Episode 3 has them back: every reset switches
+ * every element on. */
+TEST(elements_set_off_in_3d_leave_sensors_rewards_and_the_world)
+{
+	const char *env =
+	    "local e, t, z, o, m = {}\n"
+	    "function e.init(scene)\n"
+	    "  t = scene:target{ x = 4, y = 0, z = 2 }\n"
+	    "  z = scene:zone{ x = 0, y = 0, z = 2, hx = 1, hy = 1, hz = 1 }\n"
+	    "  o = scene:object{ x = 2.25, y = 0, z = 2, radius = 0.5 }\n"
+	    "  local b = scene:bot{}\n"
+	    "  b:target('D', t)\n"
+	    "  b:target('Z', z)\n"
+	    "  scene:reward('Distance', { bot = b, target = t, k = -1 })\n"
+	    "  m = scene:metric('on')\n"
+	    "end\n"
+	    "function e.reset(scene, episode)\n"
+	    "  if episode == 2 then\n"
+	    "    for _, x in ipairs{ t, z, o } do x:set_active(false) end\n"
+	    "  end\n"
+	    "  m:set((t:active() and 1 or 0) + (z:active() and 2 or 0) +\n"
+	    "        (o:active() and 4 or 0))\n"
+	    "end\n"
+	    "return e\n";
+	evo_scene3d *sc;
+	evo_err err = {{0}};
+	evo_lua *l = build(env, &sc, &err);
+	CHECK(l != NULL);
+	if (!l) {
+		printf("  %s\n", err.msg);
+		return;
+	}
+	static const struct {
+		double on, d, z, p, reward;
+	} want[] = {{7, 0.4, EVO3D_TRUE, 1.5 / 4, -4},
+		    {0, 1, EVO3D_FALSE, 1, 0},
+		    {7, 0.4, EVO3D_TRUE, 1.5 / 4, -4}};
+	for (int ep = 1; ep <= 3; ep++) {
+		if (ep > 1) {
+			CHECK_EQ_INT(evo_scene3d_reset(sc, 1, ep), 0);
+			CHECK_EQ_INT(evo_lua_reset(l, ep, &err), 0);
+		}
+		const evo_element *ball = &sc->element[2];
+		evo_scene3d_sense(sc);
+		CHECK(NEAR(sc->metric[0].value, want[ep - 1].on, 0));
+		CHECK(NEAR(value(sc, "D"), want[ep - 1].d, 1e-9));
+		CHECK(value(sc, "Z") == want[ep - 1].z);
+		CHECK(NEAR(value(sc, "P"), want[ep - 1].p, 1e-6));
+		CHECK(evo_scene3d_step(sc) >= 0);
+		CHECK(NEAR(sc->step_reward, want[ep - 1].reward, 1e-3));
+		for (int i = 0; i < 10; i++)
+			evo_scene3d_step(sc);
+		/* 11 ticks of 1/30 s: a falling ball drops g t^2 / 2, 0.66 m */
+		if (ep == 2)
+			CHECK(ball->pos[2] == 2);
+		else
+			CHECK(ball->pos[2] < 1.5);
+	}
+	evo_lua_destroy(l);
+	evo_scene3d_destroy(sc);
+}
+
 /* Each line is an environment's init body that must fail, and what its
  * message must say. */
 TEST(bad_options_and_misplaced_calls_are_refused_at_their_line)
@@ -321,6 +391,7 @@ int main(void)
 		return 1;
 	RUN(sensors_built_from_lua_read_hand_worked_values);
 	RUN(swarm_sensors_from_lua_read_hand_worked_values);
+	RUN(elements_set_off_in_3d_leave_sensors_rewards_and_the_world);
 	RUN(bad_options_and_misplaced_calls_are_refused_at_their_line);
 	RUN(lua_rewards_controls_and_post_step_run_in_3d);
 	RUN(a_3d_lua_reward_that_returns_no_number_fails_the_step);

@@ -57,7 +57,8 @@ TEST(a_fan_of_21_rays_reads_a_wall_the_same_in_2d_and_3d)
 	/* 3D: the same, the bot resting on the ground, the box 2 m high */
 	evo_scene3d_def sd = evo_default_scene3d_def();
 	evo_scene3d *s3 = evo_scene3d_create(&sd);
-	evo_element3d_def bx = evo_default_element3d_def(EVO3D_ELEM_BOX);
+	evo_element_def bx =
+	    evo_default_element_def(EVO_PIECE_BOX, EVO_DIM_3D);
 	bx.pos[0] = 3.0;
 	bx.pos[2] = 1.0;
 	bx.half[0] = 0.5;

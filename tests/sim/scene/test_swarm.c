@@ -353,7 +353,7 @@ TEST(light_3d_is_hidden_by_an_obstacle)
 	int s = sensor3d(sc, 0, EVO_SENSE_LIGHT, "L", 0, 0, 0);
 	CHECK(evo_scene3d_reset(sc, 1, 1) == 0);
 	CHECK(NEAR(read3d(sc, 0, s), 0.25, 1e-9));
-	evo_element3d_def bx = evo_default_element3d_def(EVO3D_ELEM_BOX);
+	evo_element_def bx = evo_default_element_def(EVO_PIECE_BOX, EVO_DIM_3D);
 	bx.pos[0] = 3;
 	bx.pos[2] = 2;
 	CHECK(evo_scene3d_add_element(sc, &bx) >= 0);
@@ -432,7 +432,7 @@ TEST(rab_3d_ranks_neighbours_by_distance)
 	CHECK(NEAR(s[b2].value, 1.0, 1e-9));
 	CHECK(NEAR(s[n].value, 0.5, 1e-12));
 	CHECK(NEAR(s[hid].value, 0.5, 1e-9)); /* nothing in the way yet */
-	evo_element3d_def bx = evo_default_element3d_def(EVO3D_ELEM_BOX);
+	evo_element_def bx = evo_default_element_def(EVO_PIECE_BOX, EVO_DIM_3D);
 	bx.pos[0] = -1.5;
 	bx.pos[2] = 4;
 	bx.half[0] = bx.half[1] = bx.half[2] = 0.3;
@@ -483,8 +483,8 @@ static void camera_2d(int box)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
 	add_bot2d(sc, "B", 4, 0, 0);
-	int green = scene_add_element(sc, EVO_ELEM_CYLINDER, 0, 5, 1);
-	scene_add_element(sc, EVO_ELEM_CYLINDER, -5, 0, 1);
+	int green = scene_add_element(sc, EVO_PIECE_CYLINDER, 0, 5, 1);
+	scene_add_element(sc, EVO_PIECE_CYLINDER, -5, 0, 1);
 	if (box)
 		scene_add_box(sc, 0, -3, 0.5, 0.5, 0);
 	light2d(sc, 0, -6, 1);
@@ -534,15 +534,16 @@ static void camera_3d(int box)
 {
 	evo_scene3d *sc = scene3d(0);
 	add_bot3d(sc, "B", 4, 0, 2, 0, 0);
-	evo_element3d_def sp = evo_default_element3d_def(EVO3D_ELEM_SPHERE);
+	evo_element_def sp =
+	    evo_default_element_def(EVO_PIECE_SPHERE, EVO_DIM_3D);
 	sp.pos[1] = 5;
 	sp.pos[2] = 2;
 	sp.radius = 1;
 	int green = evo_scene3d_add_element(sc, &sp);
 	CHECK(green >= 0);
 	if (box) {
-		evo_element3d_def bx =
-		    evo_default_element3d_def(EVO3D_ELEM_BOX);
+		evo_element_def bx =
+		    evo_default_element_def(EVO_PIECE_BOX, EVO_DIM_3D);
 		bx.pos[1] = -3;
 		bx.pos[2] = 2;
 		CHECK(evo_scene3d_add_element(sc, &bx) >= 0);

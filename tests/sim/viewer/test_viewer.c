@@ -44,13 +44,14 @@ static evo_scene *make_scene(void)
 	evo_scene *sc = evo_scene_create();
 	if (!sc)
 		return NULL;
-	evo_element_def e = evo_default_element_def(EVO_ELEM_CYLINDER);
+	evo_element_def e =
+	    evo_default_element_def(EVO_PIECE_CYLINDER, EVO_DIM_2D);
 	e.name = "pillar";
 	e.x = BX + 6;
 	e.y = BY;
 	e.size = 1.5;
 	int ok = evo_scene_add_element(sc, &e) == CYLINDER;
-	e = evo_default_element_def(EVO_ELEM_BOX);
+	e = evo_default_element_def(EVO_PIECE_BOX, EVO_DIM_2D);
 	e.name = "crate";
 	e.x = BX - 8;
 	e.y = BY + 5;
@@ -58,13 +59,13 @@ static evo_scene *make_scene(void)
 	e.half_w = 2;
 	e.half_h = 1;
 	ok &= evo_scene_add_element(sc, &e) == BOX;
-	e = evo_default_element_def(EVO_ELEM_ZONE);
+	e = evo_default_element_def(EVO_PIECE_ZONE, EVO_DIM_2D);
 	e.name = "nest";
 	e.x = BX;
 	e.y = BY - 10;
 	e.size = 3;
 	ok &= evo_scene_add_element(sc, &e) == ZONE;
-	e = evo_default_element_def(EVO_ELEM_OBJECT);
+	e = evo_default_element_def(EVO_PIECE_OBJECT, EVO_DIM_2D);
 	e.name = "food";
 	e.x = BX - 6;
 	e.y = BY - 4;

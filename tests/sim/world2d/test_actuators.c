@@ -190,7 +190,7 @@ static void claw(evo_scene *sc, double command)
 TEST(claw_grabs_on_a_rising_edge_and_carries)
 {
 	evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
-	int obj = scene_add_element(sc, EVO_ELEM_OBJECT, 2.2, 0, 0.5); /* surface 0.7 from the claw */
+	int obj = scene_add_element(sc, EVO_PIECE_OBJECT, 2.2, 0, 0.5); /* surface 0.7 from the claw */
 	evo_scene_reset(sc, 1, 1);
 	const evo_actuator *a = &sc->bot[0].actuator[CLAW];
 	claw(sc, 0.5);
@@ -218,7 +218,7 @@ TEST(claw_grabs_on_a_rising_edge_and_carries)
 TEST(claw_releases_on_a_falling_edge)
 {
 	evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
-	int obj = scene_add_element(sc, EVO_ELEM_OBJECT, 2.2, 0, 0.5);
+	int obj = scene_add_element(sc, EVO_PIECE_OBJECT, 2.2, 0, 0.5);
 	evo_scene_reset(sc, 1, 1);
 	const evo_actuator *a = &sc->bot[0].actuator[CLAW];
 	claw(sc, 1);
@@ -242,7 +242,7 @@ TEST(claw_grabs_on_the_edge_not_the_level)
 	/* Shut while nothing was in reach: an object arriving later is not
 	 * taken until the claw opens and closes again. */
 	evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
-	int obj = scene_add_element(sc, EVO_ELEM_OBJECT, 10, 0, 0.5);
+	int obj = scene_add_element(sc, EVO_PIECE_OBJECT, 10, 0, 0.5);
 	evo_scene_reset(sc, 1, 1);
 	const evo_actuator *a = &sc->bot[0].actuator[CLAW];
 	claw(sc, 1);
@@ -268,7 +268,7 @@ TEST(claw_does_not_grab_out_of_reach_or_behind)
 	};
 	for (unsigned k = 0; k < sizeof where / sizeof where[0]; k++) {
 		evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
-		int obj = scene_add_element(sc, EVO_ELEM_OBJECT, where[k][0], where[k][1], 0.5);
+		int obj = scene_add_element(sc, EVO_PIECE_OBJECT, where[k][0], where[k][1], 0.5);
 		evo_scene_reset(sc, 1, 1);
 		claw(sc, 1);
 		CHECK_EQ_INT(sc->bot[0].actuator[CLAW].held, -1);
@@ -280,8 +280,8 @@ TEST(claw_does_not_grab_out_of_reach_or_behind)
 TEST(claw_takes_the_nearest_free_object)
 {
 	evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
-	int far = scene_add_element(sc, EVO_ELEM_OBJECT, 2.8, 0.9, 0.5);
-	int near = scene_add_element(sc, EVO_ELEM_OBJECT, 2.3, -0.4, 0.5);
+	int far = scene_add_element(sc, EVO_PIECE_OBJECT, 2.8, 0.9, 0.5);
+	int near = scene_add_element(sc, EVO_PIECE_OBJECT, 2.3, -0.4, 0.5);
 	evo_scene_reset(sc, 1, 1);
 	claw(sc, 1);
 	CHECK_EQ_INT(sc->bot[0].actuator[CLAW].held, near);
@@ -292,7 +292,7 @@ TEST(claw_takes_the_nearest_free_object)
 TEST(a_held_object_is_not_taken_by_another_bot)
 {
 	evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
-	int obj = scene_add_element(sc, EVO_ELEM_OBJECT, 2.2, 0, 0.5);
+	int obj = scene_add_element(sc, EVO_PIECE_OBJECT, 2.2, 0, 0.5);
 	/* A second bot facing the first, its claw reaching the object. */
 	evo_bot_def b = evo_default_bot_def();
 	b.name = "other";
@@ -314,7 +314,7 @@ TEST(a_held_object_is_not_taken_by_another_bot)
 TEST(release_opens_every_claw)
 {
 	evo_scene *sc = bot_with_wheels_and_claw(0, 0, 0);
-	int obj = scene_add_element(sc, EVO_ELEM_OBJECT, 2.2, 0, 0.5);
+	int obj = scene_add_element(sc, EVO_PIECE_OBJECT, 2.2, 0, 0.5);
 	evo_scene_reset(sc, 1, 1);
 	claw(sc, 1);
 	CHECK_EQ_INT(sc->element[obj].held_by, 0);

@@ -221,7 +221,7 @@ TEST(radars_cut_the_bearing_into_four_slices)
 	/* Slices [-45, 45), [45, 135), [135, 225), [-135, -45) of the
 	 * bearing, + to the bot's right (+y). */
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	int goal = scene_add_element(sc, EVO_ELEM_ZONE, 3, 0, 0.5);
+	int goal = scene_add_element(sc, EVO_PIECE_ZONE, 3, 0, 0.5);
 	int s[4];
 	for (int k = 0; k < 4; k++)
 		s[k] = add_radar(sc, (k == 3 ? -90 : 90 * k) * DEG, goal);
@@ -366,7 +366,7 @@ TEST(maze_rewards_pay_what_the_papers_do)
 	/* The goal at (10, 0); the bot drives at 3 m/s (0.1 a step) with
 	 * commands 1 and 0.75, (2c - 1)^2 = 1 + 0.25. */
 	evo_scene *sc = scene_with_free_bot();
-	int goal = scene_add_element(sc, EVO_ELEM_ZONE, 10, 0, 0.5);
+	int goal = scene_add_element(sc, EVO_PIECE_ZONE, 10, 0, 0.5);
 	int l = add_speed_wheel(sc, "L", -1), r = add_speed_wheel(sc, "R", 1);
 	int dist = add_reward(sc, EVO_RW_DISTANCE, -1, 0, goal);
 	int fin = add_reward(sc, EVO_RW_FINAL_DISTANCE, -1, 300, goal);

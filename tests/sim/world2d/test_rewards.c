@@ -21,7 +21,7 @@ static evo_scene *scene_with_one_bot(double x, double y, double angle)
 	return sc;
 }
 
-static int add_element(evo_scene *sc, evo_element_kind kind, double x, double y,
+static int add_element(evo_scene *sc, evo_piece_kind kind, double x, double y,
 		       double size)
 {
 	int i = scene_add_element(sc, kind, x, y, size);
@@ -160,7 +160,7 @@ TEST(names_resolve_with_and_without_their_prefix)
 TEST(closing_on_target_pays_k_per_unit_of_distance_gained)
 {
 	evo_scene *sc = scene_with_one_bot(0, 0, 0);
-	int zone = add_element(sc, EVO_ELEM_ZONE, 10, 0, 1);
+	int zone = add_element(sc, EVO_PIECE_ZONE, 10, 0, 1);
 	evo_reward_def d = reward_def(EVO_RW_CLOSING_ON_TARGET, 0.5);
 	d.target = zone;
 	int r = add_reward(sc, &d);
@@ -195,8 +195,8 @@ TEST(closing_on_target_pays_k_per_unit_of_distance_gained)
 TEST(closing_on_the_nearest_object_and_on_no_target)
 {
 	evo_scene *sc = scene_with_one_bot(0, 0, 0);
-	int a = add_element(sc, EVO_ELEM_OBJECT, 5, 0, 0.5);
-	int b = add_element(sc, EVO_ELEM_OBJECT, -8, 0, 0.5);
+	int a = add_element(sc, EVO_PIECE_OBJECT, 5, 0, 0.5);
+	int b = add_element(sc, EVO_PIECE_OBJECT, -8, 0, 0.5);
 	evo_reward_def d = reward_def(EVO_RW_CLOSING_ON_TARGET, 1.0);
 	d.target = EVO_TARGET_NEAREST_OBJECT;
 	int r = add_reward(sc, &d);
@@ -407,8 +407,8 @@ static void grab(evo_scene *sc)
 TEST(collect_delivers_a_carried_object_once)
 {
 	evo_scene *sc = scene_with_one_bot(0, 0, 0);
-	int obj = add_element(sc, EVO_ELEM_OBJECT, 1.6, 0, 0.5);
-	int zone = add_element(sc, EVO_ELEM_ZONE, 6, 0, 1);
+	int obj = add_element(sc, EVO_PIECE_OBJECT, 1.6, 0, 0.5);
+	int zone = add_element(sc, EVO_PIECE_ZONE, 6, 0, 1);
 	int claw = add_claw(sc, 1, 0);
 	evo_reward_def d = reward_def(EVO_RW_COLLECT, 10);
 	d.target = zone;
@@ -456,8 +456,8 @@ TEST(collect_delivers_a_carried_object_once)
 TEST(collect_ignores_a_free_object_in_the_zone)
 {
 	evo_scene *sc = scene_with_one_bot(0, 0, 0);
-	int obj = add_element(sc, EVO_ELEM_OBJECT, 6, 0, 0.5);
-	int zone = add_element(sc, EVO_ELEM_ZONE, 6, 0, 2);
+	int obj = add_element(sc, EVO_PIECE_OBJECT, 6, 0, 0.5);
+	int zone = add_element(sc, EVO_PIECE_ZONE, 6, 0, 2);
 	add_claw(sc, 1, 0);
 	evo_reward_def d = reward_def(EVO_RW_COLLECT, 10);
 	d.target = zone;
@@ -480,9 +480,9 @@ TEST(collect_ignores_a_free_object_in_the_zone)
 TEST(collect_two_objects_in_the_last_step)
 {
 	evo_scene *sc = scene_with_one_bot(0, 0, 0);
-	int o1 = add_element(sc, EVO_ELEM_OBJECT, 1.6, -1, 0.4);
-	int o2 = add_element(sc, EVO_ELEM_OBJECT, 1.6, 1, 0.4);
-	int zone = add_element(sc, EVO_ELEM_ZONE, 1.6, 0, 1.5);
+	int o1 = add_element(sc, EVO_PIECE_OBJECT, 1.6, -1, 0.4);
+	int o2 = add_element(sc, EVO_PIECE_OBJECT, 1.6, 1, 0.4);
+	int zone = add_element(sc, EVO_PIECE_ZONE, 1.6, 0, 1.5);
 	int c1 = add_claw(sc, 1, -1);
 	int c2 = add_claw(sc, 1, 1);
 	evo_reward_def d = reward_def(EVO_RW_COLLECT, 10);
@@ -681,10 +681,10 @@ static int drive_until_touching(evo_scene *sc, double vx, double vy)
 TEST(collision_with_target_ends_only_on_that_element)
 {
 	evo_scene *sc = scene_with_one_bot(0, 0, 0);
-	int cyl = add_element(sc, EVO_ELEM_CYLINDER, 0, -4, 1);
+	int cyl = add_element(sc, EVO_PIECE_CYLINDER, 0, -4, 1);
 	int box = add_box(sc, 4, 0, 0.5, 1);
-	int obj = add_element(sc, EVO_ELEM_OBJECT, -3.5, 0, 0.5);
-	int zone = add_element(sc, EVO_ELEM_ZONE, 0, 0, 3);
+	int obj = add_element(sc, EVO_PIECE_OBJECT, -3.5, 0, 0.5);
+	int zone = add_element(sc, EVO_PIECE_ZONE, 0, 0, 3);
 	int c_cyl =
 	    add_control(sc, EVO_CF_NEXT_ON_COLLISION_WITH_TARGET, 0, cyl);
 	int c_box =

@@ -61,7 +61,7 @@ TEST(proximity_reads_a_wall_ahead)
 TEST(proximity_reads_a_cylinder_ahead)
 {
 	evo_scene *sc = scene_with_bot(10, -4, 0);
-	scene_add_element(sc, EVO_ELEM_CYLINDER, 10 + 1 + 4 + 2, -4, 2); /* rim 4 away */
+	scene_add_element(sc, EVO_PIECE_CYLINDER, 10 + 1 + 4 + 2, -4, 2); /* rim 4 away */
 	int s = add_prox(sc, 0);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
@@ -72,9 +72,9 @@ TEST(proximity_reads_a_cylinder_ahead)
 TEST(proximity_reads_one_when_clear)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	scene_add_element(sc, EVO_ELEM_CYLINDER, 30, 0, 2); /* beyond the range */
-	scene_add_element(sc, EVO_ELEM_CYLINDER, -5, 0, 2); /* behind */
-	scene_add_element(sc, EVO_ELEM_CYLINDER, 6, 4, 1);  /* beside the fan (±6°) */
+	scene_add_element(sc, EVO_PIECE_CYLINDER, 30, 0, 2); /* beyond the range */
+	scene_add_element(sc, EVO_PIECE_CYLINDER, -5, 0, 2); /* behind */
+	scene_add_element(sc, EVO_PIECE_CYLINDER, 6, 4, 1);  /* beside the fan (±6°) */
 	int s = add_prox(sc, 0);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
@@ -111,7 +111,7 @@ TEST(proximity_at_90_degrees_looks_right)
 	for (int k = 0; k < 2; k++) {
 		double side = k == 0 ? 1 : -1;
 		evo_scene *sc = scene_with_bot(0, 0, 0);
-		scene_add_element(sc, EVO_ELEM_CYLINDER, 0, 5 * side, 1);
+		scene_add_element(sc, EVO_PIECE_CYLINDER, 0, 5 * side, 1);
 		int right = add_prox(sc, 90 * DEG);
 		int left = add_prox(sc, -90 * DEG);
 		evo_scene_reset(sc, 1, 1);
@@ -129,7 +129,7 @@ TEST(proximity_turns_with_the_bot)
 	/* Facing +y (90° clockwise on screen), the front sensor sees what
 	 * lies below the bot on screen. */
 	evo_scene *sc = scene_with_bot(0, 0, 90 * DEG);
-	scene_add_element(sc, EVO_ELEM_CYLINDER, 0, 7, 1);
+	scene_add_element(sc, EVO_PIECE_CYLINDER, 0, 7, 1);
 	int front = add_prox(sc, 0);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
@@ -173,7 +173,7 @@ TEST(proximity_sees_other_bots_and_masks_them)
 TEST(proximity_ignores_an_object_its_claw_holds)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	int obj = scene_add_element(sc, EVO_ELEM_OBJECT, 2.0, 0, 0.5);
+	int obj = scene_add_element(sc, EVO_PIECE_OBJECT, 2.0, 0, 0.5);
 	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_PROXIMITY);
 	d.x = 1;
 	d.mask = EVO_CAT_OBSTACLE | EVO_CAT_BOT | EVO_CAT_OBJECT;
@@ -195,7 +195,7 @@ TEST(proximity_ignores_an_object_its_claw_holds)
 TEST(sample_of_one_sensor_matches_sense)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0.3);
-	scene_add_element(sc, EVO_ELEM_CYLINDER, 6, 3, 1.5);
+	scene_add_element(sc, EVO_PIECE_CYLINDER, 6, 3, 1.5);
 	scene_add_box(sc, 4, -4, 1, 2, 0.4);
 	int ids[10];
 	for (int i = 0; i < 10; i++)
@@ -295,7 +295,7 @@ TEST(proximity_agrees_with_box2d_ray_casts)
 			double x = evo_rng_range(&r, -15, 15);
 			double y = evo_rng_range(&r, -15, 15);
 			if (evo_rng_unit(&r) < 0.5)
-				scene_add_element(sc, EVO_ELEM_CYLINDER, x, y,
+				scene_add_element(sc, EVO_PIECE_CYLINDER, x, y,
 					     evo_rng_range(&r, 0.3, 4));
 			else
 				scene_add_box(sc, x, y, evo_rng_range(&r, 0.2, 3),
@@ -303,7 +303,7 @@ TEST(proximity_agrees_with_box2d_ray_casts)
 					evo_rng_range(&r, -M_PI, M_PI));
 		}
 		for (int i = 0; i < 4; i++)
-			scene_add_element(sc, EVO_ELEM_OBJECT, evo_rng_range(&r, -12, 12),
+			scene_add_element(sc, EVO_PIECE_OBJECT, evo_rng_range(&r, -12, 12),
 				   evo_rng_range(&r, -12, 12),
 				   evo_rng_range(&r, 0.3, 1));
 		for (int i = 0; i < 3; i++) {
@@ -369,7 +369,7 @@ TEST(proximity_in_a_crowd)
 TEST(distance_to_the_target)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	int z = scene_add_element(sc, EVO_ELEM_ZONE, 30, 0, 2);
+	int z = scene_add_element(sc, EVO_PIECE_ZONE, 30, 0, 2);
 	evo_sensor_def d = evo_default_sensor_def(EVO_SENSE_DISTANCE);
 	d.target = z;
 	d.x = 1; /* measured from the sensor's point */
@@ -394,8 +394,8 @@ TEST(distance_to_the_target)
 TEST(distance_to_the_nearest_object)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	scene_add_element(sc, EVO_ELEM_OBJECT, 0, 40, 0.5);
-	scene_add_element(sc, EVO_ELEM_OBJECT, -20, 0, 0.5);
+	scene_add_element(sc, EVO_PIECE_OBJECT, 0, 40, 0.5);
+	scene_add_element(sc, EVO_PIECE_OBJECT, -20, 0, 0.5);
 	int s = add_sensor(sc, EVO_SENSE_DISTANCE, EVO_TARGET_NEAREST_OBJECT);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
@@ -413,7 +413,7 @@ TEST(bearing_of_the_target)
 		     {-20, 0, 1.0}, {20, 20, 0.625}, {-20, -20, 0.125}};
 	for (unsigned k = 0; k < sizeof cases / sizeof cases[0]; k++) {
 		evo_scene *sc = scene_with_bot(5, 5, 0);
-		int z = scene_add_element(sc, EVO_ELEM_ZONE, 5 + cases[k].x, 5 + cases[k].y, 1);
+		int z = scene_add_element(sc, EVO_PIECE_ZONE, 5 + cases[k].x, 5 + cases[k].y, 1);
 		int s = add_sensor(sc, EVO_SENSE_BEARING, z);
 		evo_scene_reset(sc, 1, 1);
 		evo_scene_sense(sc);
@@ -423,8 +423,8 @@ TEST(bearing_of_the_target)
 	/* The bearing is relative to the heading: facing +y, a target at
 	 * +y is ahead and one at +x is on the left. */
 	evo_scene *sc = scene_with_bot(0, 0, 90 * DEG);
-	int ahead = scene_add_element(sc, EVO_ELEM_ZONE, 0, 20, 1);
-	int left = scene_add_element(sc, EVO_ELEM_ZONE, 20, 0, 1);
+	int ahead = scene_add_element(sc, EVO_PIECE_ZONE, 0, 20, 1);
+	int left = scene_add_element(sc, EVO_PIECE_ZONE, 20, 0, 1);
 	int s1 = add_sensor(sc, EVO_SENSE_BEARING, ahead);
 	int s2 = add_sensor(sc, EVO_SENSE_BEARING, left);
 	int s3 = add_sensor(sc, EVO_SENSE_BEARING, EVO_TARGET_NONE);
@@ -439,8 +439,8 @@ TEST(bearing_of_the_target)
 TEST(zone_in_and_out)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	int home = scene_add_element(sc, EVO_ELEM_ZONE, 1, 1, 3);
-	int away = scene_add_element(sc, EVO_ELEM_ZONE, 20, 0, 3);
+	int home = scene_add_element(sc, EVO_PIECE_ZONE, 1, 1, 3);
+	int away = scene_add_element(sc, EVO_PIECE_ZONE, 20, 0, 3);
 	int in = add_sensor(sc, EVO_SENSE_ZONE, home);
 	int out = add_sensor(sc, EVO_SENSE_ZONE, away);
 	evo_scene_reset(sc, 1, 1);
@@ -463,7 +463,7 @@ TEST(zone_in_and_out)
 TEST(presence_of_the_target)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	int z = scene_add_element(sc, EVO_ELEM_ZONE, 10, 0, 3);
+	int z = scene_add_element(sc, EVO_PIECE_ZONE, 10, 0, 3);
 	int s = add_sensor(sc, EVO_SENSE_PRESENCE, z);
 	int obj =
 	    add_sensor(sc, EVO_SENSE_PRESENCE, EVO_TARGET_NEAREST_OBJECT);
@@ -480,7 +480,7 @@ TEST(presence_of_the_target)
 
 	/* Objects: present while one is active and free. */
 	sc = scene_with_bot(0, 0, 0);
-	int o = scene_add_element(sc, EVO_ELEM_OBJECT, 2, 0, 0.5);
+	int o = scene_add_element(sc, EVO_PIECE_OBJECT, 2, 0, 0.5);
 	obj = add_sensor(sc, EVO_SENSE_PRESENCE, EVO_TARGET_NEAREST_OBJECT);
 	evo_actuator_def c = evo_default_actuator_def(EVO_ACT_CLAW);
 	int claw = evo_scene_add_actuator(sc, 0, &c);
@@ -514,7 +514,7 @@ TEST(object_detector_in_reach_ahead_only)
 	};
 	for (unsigned k = 0; k < sizeof cases / sizeof cases[0]; k++) {
 		evo_scene *sc = scene_with_bot(0, 0, 0);
-		scene_add_element(sc, EVO_ELEM_OBJECT, cases[k].x, cases[k].y, 0.5);
+		scene_add_element(sc, EVO_PIECE_OBJECT, cases[k].x, cases[k].y, 0.5);
 		int s = add_sensor(sc, EVO_SENSE_OBJECT_DETECTOR, EVO_TARGET_NONE);
 		evo_scene_reset(sc, 1, 1);
 		evo_scene_sense(sc);
@@ -528,7 +528,7 @@ TEST(object_detector_in_reach_ahead_only)
 TEST(object_detector_ignores_held_and_inactive_objects)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	int o = scene_add_element(sc, EVO_ELEM_OBJECT, 2.0, 0, 0.5);
+	int o = scene_add_element(sc, EVO_PIECE_OBJECT, 2.0, 0, 0.5);
 	int s = add_sensor(sc, EVO_SENSE_OBJECT_DETECTOR, EVO_TARGET_NONE);
 	evo_scene_reset(sc, 1, 1);
 	evo_scene_sense(sc);
@@ -665,7 +665,7 @@ TEST(constant_reads_its_value_clamped_and_nan_as_one_half)
 TEST(holding_while_the_claw_holds)
 {
 	evo_scene *sc = scene_with_bot(0, 0, 0);
-	scene_add_element(sc, EVO_ELEM_OBJECT, 2.0, 0, 0.5);
+	scene_add_element(sc, EVO_PIECE_OBJECT, 2.0, 0, 0.5);
 	int s = add_sensor(sc, EVO_SENSE_HOLDING, EVO_TARGET_NONE);
 	evo_actuator_def c = evo_default_actuator_def(EVO_ACT_CLAW);
 	int claw = evo_scene_add_actuator(sc, 0, &c);

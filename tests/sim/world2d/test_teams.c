@@ -50,7 +50,8 @@ TEST(bots_of_a_team_are_numbered_and_named_by_body)
 	CHECK_EQ_INT(sc->n_teams, 3);
 	CHECK_EQ_INT(evo_scene_bot_of_body(sc, sc->bot[b].body.index), b);
 	CHECK_EQ_INT(evo_scene_object_of_body(sc, sc->bot[b].body.index), -1);
-	evo_element_def o = evo_default_element_def(EVO_ELEM_OBJECT);
+	evo_element_def o =
+	    evo_default_element_def(EVO_PIECE_OBJECT, EVO_DIM_2D);
 	o.x = 10;
 	int e = evo_scene_add_element(sc, &o);
 	CHECK_EQ_INT(evo_scene_object_of_body(sc, sc->element[e].body.index),
@@ -106,7 +107,8 @@ TEST(gather_takes_the_objects_a_bot_touches)
 	evo_scene *sc = evo_scene_create();
 	int b = add_bot(sc, 0, 0, 0, 0);
 	add_bot(sc, 0, 20, 0, 0);
-	evo_element_def o = evo_default_element_def(EVO_ELEM_OBJECT);
+	evo_element_def o =
+	    evo_default_element_def(EVO_PIECE_OBJECT, EVO_DIM_2D);
 	o.size = 0.5;
 	o.x = 1.5; /* touching bot 0: 1 + 0.5 */
 	int near = evo_scene_add_element(sc, &o);
@@ -131,7 +133,8 @@ TEST(gather_takes_the_objects_a_bot_touches)
 	evo_scene *heap = evo_scene_create();
 	add_bot(heap, 0, 0, 0, 0);
 	for (int i = 0; i < 40; i++) {
-		evo_element_def h = evo_default_element_def(EVO_ELEM_OBJECT);
+		evo_element_def h =
+		    evo_default_element_def(EVO_PIECE_OBJECT, EVO_DIM_2D);
 		h.size = 0.1;
 		h.x = 1.1 * cos(i * 2 * M_PI / 40);
 		h.y = 1.1 * sin(i * 2 * M_PI / 40);
@@ -240,13 +243,13 @@ TEST(a_crowd_senses_as_each_bot_alone)
 	evo_rng r = evo_rng_seed(42);
 	for (int i = 0; i < 40; i++) {
 		evo_element_def e = evo_default_element_def(
-		    i % 2 ? EVO_ELEM_CYLINDER : EVO_ELEM_OBJECT);
+		    i % 2 ? EVO_PIECE_CYLINDER : EVO_PIECE_OBJECT, EVO_DIM_2D);
 		e.x = evo_rng_range(&r, -40, 40);
 		e.y = evo_rng_range(&r, -40, 40);
 		e.size = evo_rng_range(&r, 0.3, 2);
 		evo_scene_add_element(sc, &e);
 	}
-	evo_element_def bx = evo_default_element_def(EVO_ELEM_BOX);
+	evo_element_def bx = evo_default_element_def(EVO_PIECE_BOX, EVO_DIM_2D);
 	bx.half_w = 3;
 	bx.half_h = 0.5;
 	bx.angle = 0.4;

@@ -58,7 +58,8 @@ static evo_scene3d *floating(double yaw, int *target)
 {
 	evo_scene3d_def sd = evo_default_scene3d_def();
 	evo_scene3d *sc = evo_scene3d_create(&sd);
-	evo_element3d_def t = evo_default_element3d_def(EVO3D_ELEM_TARGET);
+	evo_element_def t =
+	    evo_default_element_def(EVO_PIECE_TARGET, EVO_DIM_3D);
 	t.name = "goal";
 	*target = evo_scene3d_add_element(sc, &t);
 	evo_bot_def b = evo_default_bot_def3d();
@@ -228,11 +229,12 @@ TEST(proximity_reads_the_nearest_obstacle)
 {
 	evo_scene3d_def sd = evo_default_scene3d_def();
 	evo_scene3d *sc = evo_scene3d_create(&sd);
-	evo_element3d_def bx = evo_default_element3d_def(EVO3D_ELEM_BOX);
+	evo_element_def bx = evo_default_element_def(EVO_PIECE_BOX, EVO_DIM_3D);
 	bx.pos[0] = 2.8;
 	bx.pos[2] = 0.5;
 	evo_scene3d_add_element(sc, &bx);
-	evo_element3d_def cy = evo_default_element3d_def(EVO3D_ELEM_CYLINDER);
+	evo_element_def cy =
+	    evo_default_element_def(EVO_PIECE_CYLINDER, EVO_DIM_3D);
 	cy.pos[0] = 2;
 	cy.pos[2] = 0.5;
 	evo_scene3d_add_element(sc, &cy);
@@ -258,7 +260,8 @@ TEST(proximity_reads_the_nearest_obstacle)
 TEST(bumps_of_the_ground_are_driven_over)
 {
 	evo_scene3d *sc = wheeled();
-	evo_element3d_def bump = evo_default_element3d_def(EVO3D_ELEM_SPHERE);
+	evo_element_def bump =
+	    evo_default_element_def(EVO_PIECE_SPHERE, EVO_DIM_3D);
 	bump.radius = 6;
 	bump.pos[0] = 1;
 	bump.pos[2] = 0.04 - 6;
@@ -284,7 +287,8 @@ TEST(bumps_of_the_ground_are_driven_over)
 	evo_scene3d_destroy(sc);
 	/* the same height as an obstacle: a box 4 cm high */
 	sc = wheeled();
-	evo_element3d_def box = evo_default_element3d_def(EVO3D_ELEM_BOX);
+	evo_element_def box =
+	    evo_default_element_def(EVO_PIECE_BOX, EVO_DIM_3D);
 	box.pos[0] = 1;
 	box.half[2] = 0.02;
 	box.pos[2] = 0.02;
@@ -346,12 +350,13 @@ TEST(objects_fall_and_zones_trigger)
 {
 	int t;
 	evo_scene3d *sc = floating(0, &t);
-	evo_element3d_def o = evo_default_element3d_def(EVO3D_ELEM_OBJECT);
+	evo_element_def o =
+	    evo_default_element_def(EVO_PIECE_OBJECT, EVO_DIM_3D);
 	o.pos[0] = 3;
 	o.pos[2] = 1;
 	o.radius = 0.2;
 	int obj = evo_scene3d_add_element(sc, &o);
-	evo_element3d_def z = evo_default_element3d_def(EVO3D_ELEM_ZONE);
+	evo_element_def z = evo_default_element_def(EVO_PIECE_ZONE, EVO_DIM_3D);
 	z.pos[2] = 2; /* around the bot at (0, 0, 2): half sides 0.5 */
 	int zone = evo_scene3d_add_element(sc, &z);
 	evo_sensor_def zs = evo_default_sensor3d_def(EVO_SENSE_ZONE);
@@ -392,7 +397,8 @@ TEST(bad_definitions_are_refused)
 	evo_sensor_def s = evo_default_sensor3d_def(EVO_SENSE_PROXIMITY);
 	s.rays = 0;
 	CHECK(evo_scene3d_add_sensor(sc, 0, &s) < 0);
-	evo_element3d_def e = evo_default_element3d_def(EVO3D_ELEM_CYLINDER);
+	evo_element_def e =
+	    evo_default_element_def(EVO_PIECE_CYLINDER, EVO_DIM_3D);
 	e.radius = 0;
 	CHECK(evo_scene3d_add_element(sc, &e) < 0);
 	evo_scene3d_destroy(sc);
