@@ -98,7 +98,7 @@ typedef struct evo_element {
 	int active;
 	int held_by;	  /* 2D: objects: the bot whose claw holds it, or -1 */
 	evo_body_id body; /* both: an object's body, else EVO_BODY_NONE */
-	int obstacle;	  /* 2D: cylinders and boxes: their obstacle index */
+	int obstacle; /* both: a static solid's obstacle index, else -1 */
 } evo_element;
 
 /* Whether kind is a static solid (a cylinder, box or sphere): an obstacle

@@ -414,14 +414,26 @@ static void rays(const evo_bot *b)
 	glEnd();
 }
 
+/* Obstacle i's colour: the one its element was given (scene:colour, a
+ * box, cylinder or sphere), else `plain`. */
+static uint32_t obstacle_colour(const evo_scene3d *sc, int i, uint32_t plain)
+{
+	for (int e = 0; e < sc->n_elements; e++)
+		if (sc->element[e].obstacle == i)
+			return coloured(sc, EVO_BLOB_ELEMENT, e, plain);
+	return plain;
+}
+
 static void world(const evo_scene3d *sc)
 {
 	ground();
 	patches(&sc->swarm);
 	for (int i = 0; i < sc->n_obstacles; i++) {
 		const evo_shape3d *o = &sc->obstacle[i];
-		colour(o->category == EVO_CAT3D_GROUND ? EVO_VIEW3D_BUMP
-						       : EVO_VIEW3D_OBSTACLE,
+		colour(obstacle_colour(sc, i,
+				       o->category == EVO_CAT3D_GROUND
+					   ? EVO_VIEW3D_BUMP
+					   : EVO_VIEW3D_OBSTACLE),
 		       1);
 		shape(o);
 	}

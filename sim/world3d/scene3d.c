@@ -191,7 +191,8 @@ int evo_scene3d_add_element(evo_scene3d *sc, const evo_element_def *d)
 		if (sc->n_obstacles != sc->n_fixed_obstacles)
 			return evo_fail(&sc->err, "elements are added before "
 						  "the first episode");
-		if (add_obstacle(sc, &s) < 0)
+		e->obstacle = add_obstacle(sc, &s);
+		if (e->obstacle < 0)
 			return -1;
 		sc->n_fixed_obstacles = sc->n_obstacles;
 	}

@@ -259,11 +259,13 @@ TEST(a_missing_library_is_named_with_its_debian_package)
 
 /* The swarm's world in 3D: the scene of make_task with a light at (2, 0,
  * 0.5), a patch of grey 0.25 and radius 1 on the ground at (-2, 0) and
- * the blimp given the colour red. At tick 0 (the camera of
+ * the blimp given the colour red, and a 2 m box at (8, 0, 1) given the
+ * colour blue. At tick 0 (the camera of
  * a_3d_recording_...), the light shows on the middle column at the row
  * worked out from the pose, unshaded in EVO_VIEW_LIGHT; the patch at
  * (-2, 0, 0) in its grey, lit from above as the ground is; the blimp's
- * centre in red (evo_view_blob_colour), shaded as its blue was. */
+ * centre in red (evo_view_blob_colour), shaded as its blue was; the
+ * box's top face in blue, lit from above. */
 TEST(a_3d_frame_shows_lights_patches_and_colours)
 {
 	CHECK_EQ_INT(
@@ -279,6 +281,9 @@ TEST(a_3d_frame_shows_lights_patches_and_colours)
 		"  scene:light{ x = 2, y = 0, z = 0.5, intensity = 10 }\n"
 		"  scene:patch{ x = -2, y = 0, radius = 1, grey = 0.25 }\n"
 		"  scene:colour(bot, 'red')\n"
+		"  local b = scene:box{ x = 8, y = 0, z = 1, hx = 1, hy = 1,"
+		" hz = 1 }\n"
+		"  scene:colour(b, 'blue')\n"
 		"  scene:control('NextOnTimeout', { bot = bot, ticks = 300 })\n"
 		"end\n"
 		"return env\n",
@@ -310,6 +315,9 @@ TEST(a_3d_frame_shows_lights_patches_and_colours)
 	CHECK(near(&a, cx, row_of(-2, 0), evo_view_grey(0.25), light(up), 2));
 	CHECK(near(&a, cx, cy, evo_view_blob_colour(EVO_COLOUR_RED),
 		   light(n_bot), 4));
+	/* the box's top face, at (8, 0, 2), in blue lit from above */
+	CHECK(near(&a, cx, row_of(8, 2), evo_view_blob_colour(EVO_COLOUR_BLUE),
+		   light(up), 2));
 	evo_png_image_free(&a);
 }
 
