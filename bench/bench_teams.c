@@ -133,7 +133,7 @@ static evo_world *floor_world(const evo_scene *sc, evo_body_id *bots)
 		evo_bbody_def d = sc->bot[b].def.body;
 		d.pos[0] = sc->bot[b].def.x;
 		d.pos[1] = sc->bot[b].def.y;
-		d.yaw = sc->bot[b].def.angle;
+		d.yaw = sc->bot[b].def.yaw;
 		bots[b] = evo_backend_box2d.add_body((evo_bworld *)w, &d);
 	}
 	return w;

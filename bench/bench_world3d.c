@@ -34,7 +34,7 @@
 static void hull_position(const evo_scene3d *sc, double pos[3])
 {
 	double R[9];
-	evo_body3d_pose(sc->world, sc->bot[0].body, pos, R);
+	evo_body3d_pose(sc->world, sc->bot[0].body.index, pos, R);
 }
 
 /* What the full tick's run did, for the floor to do again: each tick's
@@ -61,7 +61,7 @@ static double run_full(evo_sim *s, long ticks, uint64_t *episode, replay *rp)
 	evo_err err;
 	rp->first_episode = *episode;
 	reset(s, *episode);
-	const evo_bot3d *b = &s->scene3d->bot[0];
+	const evo_bot *b = &s->scene3d->bot[0];
 	double t0 = bench_now(), paused = 0;
 	for (long t = 0; t < ticks; t++) {
 		int r = evo_sim_tick(s, &err);
@@ -93,7 +93,7 @@ static double run_floor(evo_sim *s, long ticks, const replay *rp)
 	double total = 0;
 	double t0 = bench_now();
 	for (long t = 0; t < ticks; t++) {
-		const evo_bot3d *b = &sc->bot[0];
+		const evo_bot *b = &sc->bot[0];
 		for (int k = 0; k < sc->def.substeps; k++) {
 			for (int a = 0; a < 2; a++) {
 				const evo_actuator *w = &b->actuator[a];

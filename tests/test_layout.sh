@@ -227,6 +227,15 @@ own=$(grep -l 'strcmp(' sim/world2d/scene.c sim/world3d/scene3d.c)
 if [ -z "$own" ]; then pass; else
 	fail "scene storage comparing names around sim/scene/store.c: $(echo $own)"; fi
 
+# One bot for both worlds (step 4): evo_bot and evo_bot_def are
+# sim/scene/bot.h's alone, and 3D's own evo_bot3d is gone.
+defs=$(grep -rl --include='*.h' 'typedef struct evo_bot\(_def\)\? {' sim |
+	grep -v '^sim/scene/bot.h$')
+if [ -z "$defs" ]; then pass; else
+	fail "a bot struct outside sim/scene/bot.h: $(echo $defs)"; fi
+old=$(grep -rlw --exclude=test_layout.sh 'evo_bot3d\|evo_bot3d_def' sim tests bench docs)
+if [ -z "$old" ]; then pass; else
+	fail "3D's own bot struct is back: $(echo $old)"; fi
 # One element for both scenes (step 4): evo_element_def and evo_element are
 # sim/scene/element.h's alone; no 3D element struct or kind enum is back.
 defs=$(grep -rl --include='*.h' \

@@ -19,7 +19,7 @@ evo_viewer_panel evo_run_panel3d(panel_data *pd, const evo_sim *s, long e,
 				 const char *title, int follow)
 {
 	const evo_scene3d *sc = s->scene3d;
-	const evo_bot3d *b = &sc->bot[0];
+	const evo_bot *b = &sc->bot[0];
 	const evo_mind *m = &s->mind->mind;
 	int n = m->n_skills < 256 ? (int)m->n_skills : 256;
 	for (int i = 0; i < n; i++) {

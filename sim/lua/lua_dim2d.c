@@ -175,7 +175,7 @@ static int add_bot(lua_State *L, int team, const char *name, const char *what)
 	d.name = name;
 	d.x = evo_lua_opt_num(L, 2, "x", 0, what);
 	d.y = evo_lua_opt_num(L, 2, "y", 0, what);
-	d.angle = evo_lua_opt_num(L, 2, "angle", 0, what) * EVO_LUA_DEG;
+	d.yaw = evo_lua_opt_num(L, 2, "angle", 0, what) * EVO_LUA_DEG;
 	lua_getfield(L, 3, "body");
 	if (!lua_isnil(L, -1)) {
 		/* a mistake in the body is the bot model's: its file first */
@@ -199,7 +199,7 @@ static int add_bot(lua_State *L, int team, const char *name, const char *what)
 
 /* ---- sensors and actuators ---------------------------------------------- */
 
-EVO_LUA_DIM_COMMON(sc, evo_scene, evo_bot, team)
+EVO_LUA_DIM_COMMON(sc, evo_scene, evo_bot_find_actuator)
 
 /* `sees`: what a proximity sensor's rays hit, into d's mask and its
  * teammates and opponents flags (docs/lua.md, docs/teams.md). */

@@ -162,7 +162,7 @@ static void add_part(lua_State *L, int kind, const char *what)
 
 /* ---- bots ---------------------------------------------------------------- */
 
-/* The model's hull table (at 1) into the evo_bot3d_def at 2. Called
+/* The model's hull table (at 1) into the evo_bot_def at 2. Called
  * through lua_pcall: scene:bot puts the model's file before its errors. */
 static int read_hull(lua_State *L)
 {
@@ -174,7 +174,7 @@ static int read_hull(lua_State *L)
 	static const char *const caster_keys[] = {"x", "y", "z", "radius",
 						  NULL};
 	const char *what = "hull";
-	evo_bot3d_def *d = lua_touserdata(L, 2);
+	evo_bot_def *d = lua_touserdata(L, 2);
 	evo_lua_options(L, 1, what, keys);
 	const char *shape = evo_lua_opt_str(L, 1, "shape", "box", what);
 	if (strcmp(shape, "box") == 0) {
@@ -190,7 +190,7 @@ static int read_hull(lua_State *L)
 			   "\"%s\"",
 			   what, shape);
 	}
-	/* buoyancy and drag start at 0 (evo_default_bot3d_def) */
+	/* buoyancy and drag start at 0 (evo_default_bot_def3d) */
 	EVO_LUA_NUMS(L, 1, what, {"mass", &d->mass, 0},
 		     {"friction", &d->friction, 0}, {"z", &d->pos[2], 0},
 		     {"buoyancy", &d->buoyancy, 0},
@@ -215,7 +215,7 @@ static int read_hull(lua_State *L)
 static int add_bot(lua_State *L, int team, const char *name, const char *what)
 {
 	evo_lua *l = evo_lua_ctx(L);
-	evo_bot3d_def d = evo_default_bot3d_def();
+	evo_bot_def d = evo_default_bot_def3d();
 	if (lua_getfield(L, 3, "hull") != LUA_TTABLE)
 		luaL_error(
 		    L, "%s: a 3D bot model has a hull table (docs/world3d.md)",
@@ -238,7 +238,7 @@ static int add_bot(lua_State *L, int team, const char *name, const char *what)
 
 /* ---- sensors and actuators ---------------------------------------------- */
 
-EVO_LUA_DIM_COMMON(sc3, evo_scene3d, evo_bot3d, def.team)
+EVO_LUA_DIM_COMMON(sc3, evo_scene3d, evo_bot3d_find_actuator)
 
 /* `sees`: a list of "ground", "obstacles", "bots", "objects". A 3D ray
  * tells no teammate from an opponent: "teammates" and "opponents" are 2D
@@ -371,14 +371,14 @@ static double sample(evo_lua *l, int bot, int s)
 
 static void pose(const evo_lua *l, int bot, double p[3], double *yaw)
 {
-	const evo_bot3d *b = &l->sc3->bot[bot];
+	const evo_bot *b = &l->sc3->bot[bot];
 	memcpy(p, b->pos, 3 * sizeof *p);
 	*yaw = atan2(b->R[3], b->R[0]);
 }
 
 static void start(const evo_lua *l, int bot, double p[3], double *yaw)
 {
-	const evo_bot3d *b = &l->sc3->bot[bot];
+	const evo_bot *b = &l->sc3->bot[bot];
 	memcpy(p, b->start, 3 * sizeof *p);
 	*yaw = b->start_yaw;
 }
@@ -390,7 +390,7 @@ static int place_bot(evo_lua *l, int bot, const double p[3], double yaw)
 
 static void counts(const evo_lua *l, int bot, evo_lua_counts *c)
 {
-	const evo_bot3d *b = &l->sc3->bot[bot];
+	const evo_bot *b = &l->sc3->bot[bot];
 	*c = (evo_lua_counts){b->touching, b->collisions, 0, 0, 0, b->reward};
 }
 

@@ -321,10 +321,10 @@ extern const evo_lua_dim evo_lua_dim3d;
 
 /* The functions of a dimension's table that read the same fields in
  * either scene, written once (as tasksim/simscene.c's): SC is the
- * evo_lua's scene (sc, sc3), SCENE and BOT the prefixes of its scene's
- * and bot's functions, TEAM the path of a bot's team. The file defines
- * sense_of[], its sensor kinds' rows of sim/scene/kinds.c. */
-#define EVO_LUA_DIM_COMMON(SC, SCENE, BOT, TEAM)                              \
+ * evo_lua's scene (sc, sc3), SCENE the prefix of its scene's functions,
+ * FIND_ACTUATOR its lookup of a bot's actuator by name; the bots are the
+ * one evo_bot of both worlds (scene/bot.h). */
+#define EVO_LUA_DIM_COMMON(SC, SCENE, FIND_ACTUATOR)                         \
 	static void view(evo_lua *l, evo_lua_view *v)                         \
 	{                                                                     \
 		*v = (evo_lua_view){                                          \
@@ -349,7 +349,7 @@ extern const evo_lua_dim evo_lua_dim3d;
 	}                                                                     \
 	static const char *bot(const evo_lua *l, int i, int *team)           \
 	{                                                                     \
-		*team = l->SC->bot[i].TEAM;                                   \
+		*team = l->SC->bot[i].team;                                   \
 		return l->SC->bot[i].name;                                    \
 	}                                                                     \
 	static const char *element_name(const evo_lua *l, int e)              \
@@ -358,7 +358,7 @@ extern const evo_lua_dim evo_lua_dim3d;
 	}                                                                     \
 	static int sensor(const evo_lua *l, int i, int s, evo_lua_sensor *out) \
 	{                                                                     \
-		const BOT *b = &l->SC->bot[i];                                \
+		const evo_bot *b = &l->SC->bot[i];                            \
 		if (s >= 0 && s < b->n_sensors)                               \
 			*out = (evo_lua_sensor){b->sensor[s].name,            \
 						(int)b->sensor[s].def.kind,   \
@@ -368,7 +368,7 @@ extern const evo_lua_dim evo_lua_dim3d;
 	static int command(const evo_lua *l, int i, const char *name,         \
 			   double *c)                                         \
 	{                                                                     \
-		int a = BOT##_find_actuator(&l->SC->bot[i], name);            \
+		int a = FIND_ACTUATOR(&l->SC->bot[i], name);                  \
 		if (a >= 0)                                                   \
 			*c = l->SC->bot[i].actuator[a].command;               \
 		return a;                                                     \

@@ -1,7 +1,8 @@
 /* What both scenes keep beside their bots, and its functions, once
  * (sim/scene/core.h): making and freeing the core, adding rewards and
- * controls with the checks of both dimensions, the metrics, the figures
- * of a new episode, and paying the rewards. */
+ * controls with the checks of both dimensions, storing a bot with the
+ * checks both worlds make (scene/bot.h), the metrics, the figures of a
+ * new episode, and paying the rewards. */
 #include "scene/core.h"
 
 #include <math.h>
@@ -28,6 +29,7 @@ void evo_core_free(evo_scene_core *c)
 		free(v.sensors.base);
 		free(v.actuators.base);
 	}
+	free(c->bot);
 	free(c->reward);
 	free(c->control);
 	evo_swarm_free(&c->swarm);
@@ -175,6 +177,40 @@ void evo_core_note_team(evo_scene_core *c, int team)
 		c->n_teams = team + 1;
 }
 
+/* ---- bots ---------------------------------------------------------------- */
+
+evo_bot *evo_core_add_bot(evo_scene_core *c, const evo_bot_def *d,
+			  const char *dflt)
+{
+	if (!isfinite(d->pos[0]) || !isfinite(d->pos[1]) ||
+	    !isfinite(d->pos[2]) || !isfinite(d->yaw)) {
+		evo_fail(&c->err, "bot: its position or yaw is not a number");
+		return NULL;
+	}
+	if (d->name && d->name[0] && EVO_FIND(c, bot, evo_bot, d->name) >= 0) {
+		evo_fail(&c->err, "bot '%s' is defined twice", d->name);
+		return NULL;
+	}
+	if (d->team < -1 || d->team >= EVO_SCENE_MAX_TEAMS) {
+		evo_fail(&c->err, "bot: no team %d (at most %d teams)", d->team,
+			 EVO_SCENE_MAX_TEAMS);
+		return NULL;
+	}
+	evo_bot *b = evo_store_add((void **)&c->bot, &c->cap_bots, c->n_bots,
+				   sizeof *b, &c->err);
+	if (!b || evo_store_name(b->name, d->name, dflt, c->n_bots, &c->err))
+		return NULL;
+	b->def = *d;
+	b->def.name = NULL;
+	b->body = EVO_BODY_NONE;
+	b->team = d->team;
+	for (int k = 0; k < 3; k++)
+		b->start[k] = d->pos[k];
+	b->start_yaw = d->yaw;
+	evo_core_note_team(c, d->team);
+	return b;
+}
+
 /* ---- the episode --------------------------------------------------------- */
 
 void evo_core_reset(evo_scene_core *c, uint64_t grid_seed,
@@ -202,11 +238,10 @@ void evo_core_pay(void *core, const evo_reward *r, double v)
 		c->team_reward[r->def.team] += v;
 	} else if (r->def.scope == EVO_SCOPE_BOT && r->def.bot >= 0 &&
 		   r->def.bot < c->n_bots) {
-		evo_bot_view b;
-		evo_core_bot(c, r->def.bot, &b);
-		*b.reward += v;
-		if (b.team >= 0)
-			c->team_reward[b.team] += v;
+		evo_bot *b = &c->bot[r->def.bot];
+		b->reward += v;
+		if (b->team >= 0)
+			c->team_reward[b->team] += v;
 	}
 }
 

@@ -1,11 +1,13 @@
-/* evo — what a scene of either dimension keeps beside its bots and elements
+/* evo — what a scene of either dimension keeps beside its elements
  * (docs/architecture.md, "Where the layout is going", step 4): its physics
- * through the backend interface, the episode's figures (tick, step and
+ * through the backend interface, its bots (scene/bot.h, added by
+ * evo_core_add_bot below), the episode's figures (tick, step and
  * episode reward, what each team was paid, the winner, the fault that
  * ended it), its rewards and controls, metrics, hooks, swarm, randomness
  * and error; with the functions that keep them, written once: the adds of
  * rewards and controls with their checks, the metrics, the reset of the
- * figures, and paying the rewards.
+ * figures, paying the rewards, and the bots seen alike in both worlds
+ * (view.c).
  *
  * The 2D scene (world2d/scene.h) and the 3D one (world3d/scene3d.h) each
  * hold one as their first member, EVO_SCENE_CORE: an anonymous union of
@@ -25,6 +27,7 @@
 #include "base/err.h"
 #include "base/rng.h"
 #include "scene/backend.h"
+#include "scene/bot.h"
 #include "scene/kinds.h"
 #include "scene/scoring.h"
 #include "scene/swarm.h"
@@ -38,6 +41,9 @@ typedef struct evo_scene_dim evo_scene_dim;
 	evo_bworld *bw;                                                        \
 	const evo_scene_dim *dim; /* what differs by dimension */              \
 	int n_bots, n_elements;                                                \
+	/* the bots (scene/bot.h), added by evo_core_add_bot */                \
+	evo_bot *bot;                                                          \
+	int cap_bots;                                                          \
 	long tick;	    /* ticks since the reset */                        \
 	evo_rng rng;	    /* the episode's randomness (RANDOM sensors) */    \
 	uint64_t grid_seed; /* the last reset's: episode obstacles */          \
@@ -88,7 +94,9 @@ typedef struct evo_parts {
 	size_t stride, name_at, value_at, idle_at;
 } evo_parts;
 
-/* A bot as a task's simulation reads it (sim/tasksim/tasksim.c). */
+/* A bot as a task's simulation reads it (sim/tasksim/tasksim.c): its
+ * figures, read from the core's bot (view.c), and its parts, which its
+ * dimension gives (dim->parts). */
 typedef struct evo_bot_view {
 	const char *name;
 	int team;	/* -1: none */
@@ -142,8 +150,9 @@ struct evo_scene_dim {
 	/* start an episode (the scene's reset): 0, or -1 with c->err set */
 	int (*reset)(evo_scene_core *c, uint64_t grid_seed,
 		     uint64_t episode_seed);
-	/* bot's figures and parts, into *v */
-	void (*bot)(const evo_scene_core *c, int bot, evo_bot_view *v);
+	/* bot's sensors and actuators, into *sensors and *actuators */
+	void (*parts)(const evo_scene_core *c, int bot, evo_parts *sensors,
+		      evo_parts *actuators);
 	/* widen box (x0, y0, x1, y1) over the static obstacles the
 	 * environment built (evo_sim_behaviour's arena) */
 	void (*arena)(const evo_scene_core *c, double box[4]);
@@ -153,8 +162,9 @@ struct evo_scene_dim {
  * no winner. */
 void evo_core_init(evo_scene_core *c, const evo_backend *be, evo_bworld *bw,
 		   const evo_scene_dim *dim);
-/* Free what the core owns, and each bot's sensors and actuators (not the
- * world, nor the bots: its scene's, which it frees after). */
+/* Free what the core owns: the bots with their sensors and actuators,
+ * the rewards, controls and swarm (not the world: its scene's, which it
+ * frees after). */
 void evo_core_free(evo_scene_core *c);
 
 /* Add a reward or control after the checks of both dimensions and the
@@ -169,6 +179,16 @@ int evo_core_add_control(evo_scene_core *c, const evo_control_def *d);
 int evo_core_add_metric(evo_scene_core *c, const char *name);
 int evo_core_set_metric(evo_scene_core *c, int metric, double value);
 int evo_core_find_metric(const evo_scene_core *c, const char *name);
+
+/* Check and store a new bot (scene/bot.h), as both worlds do: its pose a
+ * number, its name not used by another bot, its team -1 to
+ * EVO_SCENE_MAX_TEAMS - 1. The new bot (not yet counted in c->n_bots)
+ * has its name (d->name, or when that is NULL or "", dflt and its index
+ * + 1; "" when dflt is NULL too), its def, team and start pose, no body;
+ * its team joins c's teams. Its world then makes its body and counts
+ * it. NULL with c->err set. */
+evo_bot *evo_core_add_bot(evo_scene_core *c, const evo_bot_def *d,
+			  const char *dflt);
 
 /* A bot's team joins the scene's teams: n_teams grows to hold it. */
 void evo_core_note_team(evo_scene_core *c, int team);
@@ -193,7 +213,7 @@ int evo_core_step(evo_scene_core *c);
 
 /* ---- the bots, seen from outside their dimension (view.c) ------------- */
 
-/* Bot's figures and parts (dim->bot). */
+/* Bot's figures (read from c->bot) and parts (dim->parts). */
 void evo_core_bot(const evo_scene_core *c, int bot, evo_bot_view *v);
 /* Part i's name; the index of the part of that name, or -1. */
 const char *evo_parts_name(const evo_parts *p, int i);

@@ -1,17 +1,28 @@
 /* A scene's bots seen from outside their dimension (sim/scene/core.h): a
- * bot's figures, and its sensors and actuators as arrays of structs whose
- * names and values lie at offsets its dimension gives (evo_parts), so
- * that a task's simulation binds, reads and writes them, and the scoring
- * reads a sensor, the same way in 2D and 3D. */
+ * bot's figures, read from the one evo_bot (scene/bot.h), and its sensors
+ * and actuators as arrays of structs whose names and values lie at
+ * offsets its dimension gives (evo_parts), so that a task's simulation
+ * binds, reads and writes them, and the scoring reads a sensor, the same
+ * way in 2D and 3D. */
 #include "scene/core.h"
 
 #include <math.h>
 
 #include "scene/store.h"
 
+/* Field by field: tasksim reads a view of each agent every tick. */
 void evo_core_bot(const evo_scene_core *c, int bot, evo_bot_view *v)
 {
-	c->dim->bot(c, bot, v);
+	evo_bot *b = &c->bot[bot];
+	v->name = b->name;
+	v->team = b->team;
+	v->collisions = b->collisions;
+	v->reward = &b->reward;
+	v->now[0] = b->pos[0];
+	v->now[1] = b->pos[1];
+	v->start[0] = b->start[0];
+	v->start[1] = b->start[1];
+	c->dim->parts(c, bot, &v->sensors, &v->actuators);
 }
 
 const char *evo_parts_name(const evo_parts *p, int i)
@@ -72,9 +83,11 @@ int evo_core_n_bots(const void *core)
 	return ((const evo_scene_core *)core)->n_bots;
 }
 
+/* Its parts alone: the rewards read a sensor every tick. */
 double evo_core_sensor(const void *core, int bot, int s)
 {
-	evo_bot_view v;
-	evo_core_bot(core, bot, &v);
-	return s >= 0 && s < v.sensors.n ? *value(&v.sensors, s) : NAN;
+	const evo_scene_core *c = core;
+	evo_parts sensors, actuators;
+	c->dim->parts(c, bot, &sensors, &actuators);
+	return s >= 0 && s < sensors.n ? *value(&sensors, s) : NAN;
 }

@@ -321,7 +321,7 @@ static void light_marks(const evo_scene3d *sc)
 	glEnable(GL_LIGHTING);
 }
 
-static void bot(const evo_scene3d *sc, const evo_bot3d *b)
+static void bot(const evo_scene3d *sc, const evo_bot *b)
 {
 	glPushMatrix();
 	pose(b->pos, b->R);
@@ -386,7 +386,7 @@ static void bot(const evo_scene3d *sc, const evo_bot3d *b)
 /* Each proximity ray from its sensor to what it hit (red), or to its
  * range, pale, when clear. Unshaded, and opaque: every pixel of a ray is
  * one of the two colours. */
-static void rays(const evo_bot3d *b)
+static void rays(const evo_bot *b)
 {
 	glLineWidth(2);
 	glBegin(GL_LINES);

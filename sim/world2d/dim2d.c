@@ -4,7 +4,7 @@
  * needs a zone), and the tick's parts
  * (sensors.c, and step.c's act and read-back), which sim/scene/tick.c
  * runs in their order; and what a task's simulation reads of it: its
- * reset, a bot's figures and parts, the arena its obstacles span. */
+ * reset, a bot's sensors and actuators, the arena its obstacles span. */
 #include <math.h>
 #include <stddef.h>
 
@@ -58,23 +58,24 @@ static int reset(evo_scene_core *c, uint64_t grid_seed, uint64_t episode_seed)
 	return 0;
 }
 
-static void bot(const evo_scene_core *c, int i, evo_bot_view *v)
+/* A bot's sensors and actuators, 2D's structs (its figures are read from
+ * the one evo_bot, sim/scene/view.c). */
+static void parts(const evo_scene_core *c, int i, evo_parts *sensors,
+		  evo_parts *actuators)
 {
-	evo_bot *b = &((const evo_scene *)c)->bot[i];
-	*v = (evo_bot_view){
-	    .name = b->name,
-	    .team = b->team,
-	    .collisions = b->collisions,
-	    .reward = &b->reward,
-	    .now = {b->x, b->y},
-	    .start = {b->def.x, b->def.y},
-	    .sensors = {(char *)b->sensor, b->n_sensors, sizeof *b->sensor,
-			offsetof(evo_sensor, name), offsetof(evo_sensor, value),
-			offsetof(evo_sensor, idle)},
-	    .actuators = {(char *)b->actuator, b->n_actuators,
-			  sizeof *b->actuator, offsetof(evo_actuator, name),
-			  offsetof(evo_actuator, command), 0},
-	};
+	const evo_bot *b = &c->bot[i];
+	*sensors = (evo_parts){(char *)b->sensor,
+			       b->n_sensors,
+			       sizeof *b->sensor,
+			       offsetof(evo_sensor, name),
+			       offsetof(evo_sensor, value),
+			       offsetof(evo_sensor, idle)};
+	*actuators = (evo_parts){(char *)b->actuator,
+				 b->n_actuators,
+				 sizeof *b->actuator,
+				 offsetof(evo_actuator, name),
+				 offsetof(evo_actuator, command),
+				 0};
 }
 
 /* Widen b (x0, y0, x1, y1) to hold the box of half sizes hx, hy at x, y. */
@@ -126,6 +127,6 @@ const evo_scene_dim evo_scene_dim_2d = {
     .read_back = evo_scene_read_back,
     /* what a task's simulation reads */
     .reset = reset,
-    .bot = bot,
+    .parts = parts,
     .arena = arena,
 };

@@ -36,7 +36,6 @@ void evo_scene_destroy(evo_scene *sc)
 	evo_core_free(&sc->core);
 	free(sc->element);
 	free(sc->object);
-	free(sc->bot);
 	free(sc->obstacle);
 	free(sc->body_owner);
 	free(sc->sense_mem);
@@ -45,14 +44,10 @@ void evo_scene_destroy(evo_scene *sc)
 	free(sc);
 }
 
-/* Room for one more item in array arr of sc (scene/store.h); ADD: the
- * new item, zeroed, or NULL. */
+/* Room for one more item in array arr of sc (scene/store.h). */
 #define GROW(sc, arr, n, cap)                                                  \
 	evo_store_grow((void **)&(sc)->arr, &(sc)->cap, (sc)->n + 1,           \
 		       sizeof *(sc)->arr, &(sc)->err)
-#define ADD(sc, arr, n, cap)                                                   \
-	evo_store_add((void **)&(sc)->arr, &(sc)->cap, (sc)->n,                \
-		      sizeof *(sc)->arr, &(sc)->err)
 
 /* Remember who owns body index `index`: a bot (>= 0) or an object
  * (-(element + 2)). */
@@ -72,12 +67,6 @@ static int set_owner(evo_scene *sc, int index, int owner)
 	}
 	sc->body_owner[index] = owner;
 	return 0;
-}
-
-/* A piece's name, "" when it has none. */
-static int set_name(char *dst, const char *src, evo_err *err)
-{
-	return evo_store_name(dst, src, NULL, 0, err);
 }
 
 static int finite_all(const double *v, int n)
@@ -200,27 +189,18 @@ int evo_scene_add_element(evo_scene *sc, const evo_element_def *d)
 	return sc->n_elements++;
 }
 
+/* The checks and the storing are the scene model's (scene/core.c); the
+ * body, one Box2D body of def.body at the start pose, is 2D's. */
 int evo_scene_add_bot(evo_scene *sc, const evo_bot_def *d)
 {
-	double v[] = {d->x, d->y, d->angle};
-	if (!finite_all(v, 3))
-		return evo_fail(&sc->err, "bot: a value is not a number");
-	if (d->name && d->name[0] && evo_scene_find_bot(sc, d->name) >= 0)
-		return evo_fail(&sc->err, "bot '%s' is defined twice", d->name);
-	if (d->team < -1 || d->team >= EVO_SCENE_MAX_TEAMS)
-		return evo_fail(&sc->err, "bot: no team %d (at most %d teams)",
-				d->team, EVO_SCENE_MAX_TEAMS);
-	evo_bot *b = ADD(sc, bot, n_bots, cap_bots);
-	if (!b || set_name(b->name, d->name, &sc->err))
+	evo_bot *b = evo_core_add_bot(&sc->core, d, NULL);
+	if (!b)
 		return -1;
-	b->def = *d;
-	b->def.name = NULL;
 	b->def.body.dynamic = 1;
 	b->def.body.pos[0] = d->x;
 	b->def.body.pos[1] = d->y;
 	b->def.body.pos[2] = 0;
-	b->def.body.yaw = d->angle;
-	b->team = d->team;
+	b->def.body.yaw = d->yaw;
 	if (d->team >= 0)
 		b->def.body.category |= EVO_CAT_TEAM(d->team);
 	b->body = sc->be->add_body(sc->bw, &b->def.body);
@@ -228,7 +208,6 @@ int evo_scene_add_bot(evo_scene *sc, const evo_bot_def *d)
 		return evo_fail(&sc->err, "bot: its body needs a positive size");
 	if (set_owner(sc, b->body.index, sc->n_bots))
 		return -1;
-	evo_core_note_team(&sc->core, d->team);
 	const evo_bshape *shape = &d->body.shape[0];
 	b->radius = shape->type == EVO_SHAPE_CIRCLE
 		       ? shape->radius

@@ -19,8 +19,9 @@
  * the same for a 3D scene); this world's parts of them are step.c's and
  * sensors.c's, through dim2d.c, and drive the pieces of sensors.h,
  * actuators.h and rewards.h; those read the scene and ask query.h, and
- * call nothing back (sim/world2d/README.md). What the scene keeps beside
- * its bots is the scene model's core (scene/core.h), its first member. */
+ * call nothing back (sim/world2d/README.md). Its bots (scene/bot.h, one
+ * struct for both worlds) and what it keeps beside them are the scene
+ * model's core (scene/core.h), its first member. */
 #ifndef EVO_SCENE_H
 #define EVO_SCENE_H
 
@@ -30,6 +31,7 @@
 #include "base/err.h"
 #include "base/rng.h"
 #include "scene/actuator.h"
+#include "scene/bot.h"
 #include "scene/core.h"
 #include "scene/element.h"
 #include "scene/kinds.h"
@@ -40,7 +42,6 @@
 #include "world2d/world.h"
 
 #define EVO_SCENE_NAME_MAX EVO_PIECE_NAME_MAX
-#define EVO_DOF_HISTORY 30 /* ticks of positions the movement sensor spreads over */
 /* EVO_REWARD_MAX_SENSORS, EVO_SCENE_MAX_METRICS, EVO_METRIC_NAME_MAX and
  * EVO_SCENE_MAX_TEAMS are the scene model's (scene/scoring.h). */
 
@@ -111,40 +112,12 @@ evo_sensor_def evo_default_sensor_def(evo_sense_kind kind);
 
 /* ---- bots ------------------------------------------------------------ */
 
-typedef struct evo_bot_def {
-	const char *name;
-	int team;	   /* -1: none; else 0 .. EVO_SCENE_MAX_TEAMS - 1 */
-	evo_bbody_def body; /* a dynamic circle: radius 1, density 2,
-			       friction 0, damping 5 / 20, never sleeps
-			       (BotType8) */
-	double x, y, angle; /* start pose */
-} evo_bot_def;
+/* evo_bot_def and evo_bot are the scene model's, one for both worlds
+ * (scene/bot.h); a 2D bot reads the fields marked "2D" or "both". */
 
+/* BotType8: a dynamic circle of radius 1, density 2, friction 0, damping
+ * 5 / 20, never sleeping, of no team (world2d/defaults.c). */
 evo_bot_def evo_default_bot_def(void);
-
-typedef struct evo_bot {
-	char name[EVO_SCENE_NAME_MAX];
-	evo_bot_def def;
-	evo_body_id body;
-	double radius; /* bounding radius */
-	int n_sensors, n_actuators;
-	evo_sensor *sensor; /* owned */
-	evo_actuator *actuator; /* owned */
-	/* movement: a ring of the last EVO_DOF_HISTORY positions */
-	double hist_x[EVO_DOF_HISTORY], hist_y[EVO_DOF_HISTORY];
-	int hist_n, hist_i;
-	/* The body's pose after the last step or placement, with its
-	 * cosine and sine: worked out once and read by the sensors, the
-	 * actuators and the rewards of the tick (the pose changes only
-	 * there) */
-	double x, y, angle, c, s;
-	int touching;	 /* contacts this tick */
-	int collisions;	 /* ticks spent touching since the reset */
-	int delivered;	 /* objects this bot carried into a zone since the reset */
-	int gathered;  /* objects it gathered (reward Gather) since the reset */
-	int team;      /* def.team */
-	double reward; /* what was paid to it since the reset (its own) */
-} evo_bot;
 
 /* ---- reward and control functions, metrics, hooks ------------------ */
 
@@ -166,10 +139,9 @@ struct evo_scene {
 	/* The same world as Box2D's own API sees it, for what is 2D only
 	 * outside world2d/ (the viewer, the Lua bot binding, the tests). */
 	evo_world *world;
-	int n_obstacles; /* n_bots and n_elements are the core's */
-	int cap_elements, cap_bots, cap_obstacles;
+	int n_obstacles; /* the bots, n_bots and n_elements are the core's */
+	int cap_elements, cap_obstacles;
 	evo_element *element;
-	evo_bot *bot;
 	int n_objects, cap_objects;
 	int *object; /* the element indices of the objects, in order */
 	evo_obstacle *obstacle; /* every static obstacle: elements', grid's */

@@ -15,7 +15,7 @@ static void reset_bot(evo_scene *sc, int i)
 {
 	evo_bot *b = &sc->bot[i];
 	evo_bot_release(sc, i);
-	evo_scene_place_bot(sc, i, b->def.x, b->def.y, b->def.angle);
+	evo_scene_place_bot(sc, i, b->def.x, b->def.y, b->def.yaw);
 	for (int k = 0; k < b->n_actuators; k++) {
 		b->actuator[k].command = b->actuator[k].previous = 0.5;
 		b->actuator[k].speed = 0;

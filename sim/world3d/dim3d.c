@@ -4,8 +4,8 @@
  * parts (sensors3d.c, actuators3d.c, step3d.c's read-back and fault),
  * which sim/scene/tick.c runs in their order: contacts counted over the
  * tick's substeps, a body that explodes ending the episode; and what a
- * task's simulation reads of it: its reset, a bot's figures and parts,
- * the arena its obstacles span. */
+ * task's simulation reads of it: its reset, a bot's sensors and
+ * actuators, the arena its obstacles span. */
 #include <math.h>
 #include <stddef.h>
 
@@ -55,7 +55,7 @@ static void after_substep(evo_scene_core *c)
 	evo_scene3d *sc = (evo_scene3d *)c;
 	for (int i = 0; i < sc->n_bots; i++)
 		sc->bot[i].touching +=
-		    sc->be->touching(sc->bw, evo_scene3d_body(sc->bot[i].body));
+		    sc->be->touching(sc->bw, sc->bot[i].body);
 }
 
 /* ---- what a task's simulation reads ---------------------------------------
@@ -66,23 +66,24 @@ static int reset(evo_scene_core *c, uint64_t grid_seed, uint64_t episode_seed)
 	return evo_scene3d_reset((evo_scene3d *)c, grid_seed, episode_seed);
 }
 
-static void bot(const evo_scene_core *c, int i, evo_bot_view *v)
+/* A bot's sensors and actuators, 3D's structs (its figures are read from
+ * the one evo_bot, sim/scene/view.c). */
+static void parts(const evo_scene_core *c, int i, evo_parts *sensors,
+		  evo_parts *actuators)
 {
-	evo_bot3d *b = &((const evo_scene3d *)c)->bot[i];
-	*v = (evo_bot_view){
-	    .name = b->name,
-	    .team = b->def.team,
-	    .collisions = b->collisions,
-	    .reward = &b->reward,
-	    .now = {b->pos[0], b->pos[1]},
-	    .start = {b->start[0], b->start[1]},
-	    .sensors = {(char *)b->sensor, b->n_sensors, sizeof *b->sensor,
-			offsetof(evo_sensor, name),
-			offsetof(evo_sensor, value), 0},
-	    .actuators = {(char *)b->actuator, b->n_actuators,
-			  sizeof *b->actuator, offsetof(evo_actuator, name),
-			  offsetof(evo_actuator, command), 0},
-	};
+	const evo_bot *b = &c->bot[i];
+	*sensors = (evo_parts){(char *)b->sensor,
+			       b->n_sensors,
+			       sizeof *b->sensor,
+			       offsetof(evo_sensor, name),
+			       offsetof(evo_sensor, value),
+			       0};
+	*actuators = (evo_parts){(char *)b->actuator,
+				 b->n_actuators,
+				 sizeof *b->actuator,
+				 offsetof(evo_actuator, name),
+				 offsetof(evo_actuator, command),
+				 0};
 }
 
 /* The static boxes, cylinders and spheres that are not ground: widen b
@@ -127,6 +128,6 @@ const evo_scene_dim evo_scene_dim_3d = {
     .fault = evo_scene3d_fault,
     /* what a task's simulation reads */
     .reset = reset,
-    .bot = bot,
+    .parts = parts,
     .arena = arena,
 };

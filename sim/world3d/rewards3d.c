@@ -17,7 +17,7 @@ static int touching(const void *sc, int bot)
 /* The hull's velocity and its x axis (its heading) in the world. */
 static void motion(const void *sc, int bot, double v[3], double ahead[3])
 {
-	const evo_bot3d *b = &((const evo_scene3d *)sc)->bot[bot];
+	const evo_bot *b = &((const evo_scene3d *)sc)->bot[bot];
 	for (int k = 0; k < 3; k++) {
 		v[k] = b->v[k];
 		ahead[k] = b->R[3 * k];
@@ -36,7 +36,7 @@ static double distance(const void *v, int bot, int target)
 /* Every actuator of a 3D bot moves it: its wheels and propellers. */
 static double effort(const void *v, int bot)
 {
-	const evo_bot3d *b = &((const evo_scene3d *)v)->bot[bot];
+	const evo_bot *b = &((const evo_scene3d *)v)->bot[bot];
 	double sum = 0;
 	for (int i = 0; i < b->n_actuators; i++)
 		sum += evo_effort_term(b->actuator[i].command);

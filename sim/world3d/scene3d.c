@@ -28,9 +28,9 @@ evo_sensor_def evo_default_sensor3d_def(evo_sense_kind kind)
 	return d;
 }
 
-evo_bot3d_def evo_default_bot3d_def(void)
+evo_bot_def evo_default_bot_def3d(void)
 {
-	evo_bot3d_def d;
+	evo_bot_def d;
 	memset(&d, 0, sizeof d);
 	d.half[0] = 0.2;
 	d.half[1] = 0.15;
@@ -125,7 +125,6 @@ void evo_scene3d_destroy(evo_scene3d *sc)
 	if (sc->bw)
 		sc->be->destroy(sc->bw);
 	evo_core_free(&sc->core);
-	free(sc->bot);
 	free(sc->element);
 	free(sc->obstacle);
 	free(sc);
@@ -146,13 +145,6 @@ static int finite3(const double v[3])
 static int positive(double v)
 {
 	return isfinite(v) && v > 0;
-}
-
-/* Copy a name (NULL or "": `dflt` and the index) into out. */
-static int set_name(evo_scene3d *sc, char *out, const char *name,
-		    const char *dflt, int index)
-{
-	return evo_store_name(out, name, dflt, index, &sc->err);
 }
 
 /* The static shape of a box, cylinder or sphere element. */
@@ -207,11 +199,12 @@ int evo_scene3d_add_element(evo_scene3d *sc, const evo_element_def *d)
 	return sc->n_elements++;
 }
 
-int evo_scene3d_add_bot(evo_scene3d *sc, const evo_bot3d_def *d)
+/* The hull's checks are 3D's; the pose's, name's and team's and the
+ * storing are the scene model's (scene/core.c); the bodies are made by
+ * making the world again. */
+int evo_scene3d_add_bot(evo_scene3d *sc, const evo_bot_def *d)
 {
 	int sphere = d->radius > 0;
-	if (!finite3(d->pos) || !isfinite(d->yaw))
-		return evo_fail(&sc->err, "a bot's position is not a number");
 	if (!sphere && !(positive(d->half[0]) && positive(d->half[1]) &&
 			 positive(d->half[2])))
 		return evo_fail(&sc->err, "a bot's half sides must be > 0");
@@ -225,21 +218,8 @@ int evo_scene3d_add_bot(evo_scene3d *sc, const evo_bot3d_def *d)
 		      d->drag_angular + d->friction + d->caster_radius))
 		return evo_fail(&sc->err, "a bot's friction, buoyancy, drag "
 					  "and caster must be finite and >= 0");
-	if (d->name && d->name[0] && evo_scene3d_find_bot(sc, d->name) >= 0)
-		return evo_fail(&sc->err, "bot '%s' twice", d->name);
-	if (d->team < -1 || d->team >= EVO_SCENE_MAX_TEAMS)
-		return evo_fail(&sc->err, "a bot's team must be -1 to %d",
-				EVO_SCENE_MAX_TEAMS - 1);
-	evo_bot3d *b = evo_store_add((void **)&sc->bot, &sc->cap_bots,
-				     sc->n_bots, sizeof *b, &sc->err);
-	if (!b || set_name(sc, b->name, d->name, "bot", sc->n_bots))
+	if (!evo_core_add_bot(&sc->core, d, "bot"))
 		return -1;
-	b->def = *d;
-	b->def.name = b->name;
-	b->body = -1;
-	memcpy(b->start, d->pos, sizeof b->start);
-	b->start_yaw = d->yaw;
-	evo_core_note_team(&sc->core, d->team);
 	sc->n_bots++;
 	if (evo_scene3d_build_world(sc)) {
 		sc->n_bots--;
@@ -248,7 +228,7 @@ int evo_scene3d_add_bot(evo_scene3d *sc, const evo_bot3d_def *d)
 	return sc->n_bots - 1;
 }
 
-static evo_bot3d *check_bot(evo_scene3d *sc, int bot)
+static evo_bot *check_bot(evo_scene3d *sc, int bot)
 {
 	if (bot < 0 || bot >= sc->n_bots) {
 		evo_fail(&sc->err, "no bot %d", bot);
@@ -259,7 +239,7 @@ static evo_bot3d *check_bot(evo_scene3d *sc, int bot)
 
 int evo_scene3d_add_sensor(evo_scene3d *sc, int bot, const evo_sensor_def *d)
 {
-	evo_bot3d *b = check_bot(sc, bot);
+	evo_bot *b = check_bot(sc, bot);
 	if (!b)
 		return -1;
 	if (d->target != EVO3D_TARGET_NONE &&
@@ -287,7 +267,7 @@ int evo_scene3d_add_sensor(evo_scene3d *sc, int bot, const evo_sensor_def *d)
 int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
 			     const evo_actuator_def *d)
 {
-	evo_bot3d *b = check_bot(sc, bot);
+	evo_bot *b = check_bot(sc, bot);
 	if (!b || !evo_actuator_store(&b->actuator, b->n_actuators, d,
 				      EVO_DIM_3D, b->name, "actuator", &sc->err))
 		return -1;
@@ -316,14 +296,14 @@ int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o)
 /* ---- frames ----------------------------------------------------------------
  */
 
-void evo_bot3d_to_world(const evo_bot3d *b, const double v[3], double out[3])
+void evo_bot3d_to_world(const evo_bot *b, const double v[3], double out[3])
 {
 	for (int i = 0; i < 3; i++)
 		out[i] = b->R[3 * i] * v[0] + b->R[3 * i + 1] * v[1] +
 			 b->R[3 * i + 2] * v[2];
 }
 
-void evo_bot3d_to_body(const evo_bot3d *b, const double v[3], double out[3])
+void evo_bot3d_to_body(const evo_bot *b, const double v[3], double out[3])
 {
 	for (int i = 0; i < 3; i++)
 		out[i] =
@@ -353,8 +333,8 @@ static evo_bbody_def body_def(const double pos[3], double yaw, double mass,
  * each wheel, turning about the bot's y axis. */
 static int build_bot(evo_scene3d *sc, int i)
 {
-	evo_bot3d *b = &sc->bot[i];
-	const evo_bot3d_def *d = &b->def;
+	evo_bot *b = &sc->bot[i];
+	const evo_bot_def *d = &b->def;
 	evo_bbody_def bd =
 	    body_def(b->start, b->start_yaw, d->mass, i, EVO_CAT3D_BOT);
 	evo_bshape *hull = &bd.shape[bd.n_shapes++];
@@ -369,11 +349,11 @@ static int build_bot(evo_scene3d *sc, int i)
 		c->radius = d->caster_radius;
 		c->friction = 0;
 	}
-	b->body = sc->be->add_body(sc->bw, &bd).index;
-	if (b->body < 0)
+	b->body = sc->be->add_body(sc->bw, &bd);
+	if (b->body.index < 0)
 		return evo_fail(&sc->err, "bot %s: cannot make its body",
 				b->name);
-	evo_scene3d_pose(sc, b->body, b->pos, b->R);
+	evo_scene3d_pose(sc, b->body.index, b->pos, b->R);
 	for (int k = 0; k < b->n_actuators; k++) {
 		evo_actuator *a = &b->actuator[k];
 		if (a->def.kind != EVO_ACT_WHEEL)
@@ -398,7 +378,7 @@ static int build_bot(evo_scene3d *sc, int i)
 			       ? -1
 			       : sc->be->hinge(
 				     sc->bw, evo_scene3d_body(a->body),
-				     evo_scene3d_body(b->body), wd.pos, axis);
+				     b->body, wd.pos, axis);
 		if (a->hinge < 0)
 			return evo_fail(&sc->err,
 					"bot %s: cannot make wheel %s", b->name,
@@ -417,7 +397,7 @@ int evo_scene3d_build_world(evo_scene3d *sc)
 		if (add_static(sc, &sc->obstacle[i]) < 0)
 			return evo_fail(&sc->err, "obstacle %d: bad size", i);
 	for (int i = 0; i < sc->n_bots; i++)
-		sc->bot[i].body = -1;
+		sc->bot[i].body = EVO_BODY_NONE;
 	for (int i = 0; i < sc->n_bots; i++)
 		if (build_bot(sc, i))
 			return -1;
@@ -449,11 +429,11 @@ int evo_scene3d_build_world(evo_scene3d *sc)
 void evo_scene3d_refresh_bots(evo_scene3d *sc)
 {
 	for (int i = 0; i < sc->n_bots; i++) {
-		evo_bot3d *b = &sc->bot[i];
-		if (b->body < 0)
+		evo_bot *b = &sc->bot[i];
+		if (b->body.index < 0)
 			continue;
-		evo_scene3d_pose(sc, b->body, b->pos, b->R);
-		sc->be->velocity(sc->bw, evo_scene3d_body(b->body), b->v,
+		evo_scene3d_pose(sc, b->body.index, b->pos, b->R);
+		sc->be->velocity(sc->bw, b->body, b->v,
 				 b->omega);
 	}
 }

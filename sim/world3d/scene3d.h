@@ -17,9 +17,9 @@
  * control functions decide whether the episode goes on). A body that
  * explodes ends the episode with a message in `fault` and the fault
  * penalty added to the reward. The order is the scene model's
- * (sim/scene/tick.c), this world's parts of it dim3d.c's; what the scene
- * keeps beside its bots is the scene model's core (scene/core.h), its
- * first member. */
+ * (sim/scene/tick.c), this world's parts of it dim3d.c's; its bots
+ * (scene/bot.h, one struct for both worlds) and what it keeps beside them
+ * are the scene model's core (scene/core.h), its first member. */
 #ifndef EVO_SCENE3D_H
 #define EVO_SCENE3D_H
 
@@ -28,6 +28,7 @@
 #include "base/err.h"
 #include "base/rng.h"
 #include "scene/actuator.h"
+#include "scene/bot.h"
 #include "scene/core.h"
 #include "scene/element.h"
 #include "scene/kinds.h"
@@ -73,43 +74,12 @@ evo_sensor_def evo_default_sensor3d_def(evo_sense_kind kind);
 
 /* ---- bots ------------------------------------------------------------- */
 
-typedef struct evo_bot3d_def {
-	const char *name;
-	double pos[3]; /* start: its centre */
-	double yaw;
-	/* the hull: a box of half sides half[] or, with radius > 0, a
-	 * sphere */
-	double half[3];
-	double radius;
-	double mass;	 /* kg (2) */
-	double friction; /* of the hull (0.3) */
-	/* a frictionless ball under the hull (a caster), when radius > 0 */
-	double caster_pos[3], caster_radius;
-	/* Buoyancy as a fraction of the bot's weight (its hull's; wheels
-	 * weigh on), pushing up at cob (body frame); drag against the
-	 * hull's motion in water or air: -(linear + quadratic |v|) v and
-	 * -angular omega. 0 for a robot on the ground. */
-	double buoyancy, cob[3];
-	double drag_linear, drag_quadratic, drag_angular;
-	int team; /* -1: none; else 0 .. EVO_SCENE_MAX_TEAMS - 1 */
-} evo_bot3d_def;
+/* evo_bot_def and evo_bot are the scene model's, one for both worlds
+ * (scene/bot.h); a 3D bot reads the fields marked "3D" or "both". */
 
-evo_bot3d_def evo_default_bot3d_def(void);
-
-typedef struct evo_bot3d {
-	char name[EVO3D_NAME_MAX];
-	evo_bot3d_def def;
-	int body;		    /* the hull's in the world */
-	double start[3], start_yaw; /* this episode's start pose */
-	int n_sensors, n_actuators;
-	evo_sensor *sensor;	  /* owned */
-	evo_actuator *actuator; /* owned */
-	/* after the last step or reset */
-	double pos[3], R[9], v[3], omega[3];
-	int touching;	/* contacts this tick with anything but the ground */
-	int collisions; /* ticks spent touching since the reset */
-	double reward;	/* what its rewards paid it since the reset */
-} evo_bot3d;
+/* A box of half sides 0.2 x 0.15 x 0.05 m, 2 kg, friction 0.3, of no
+ * team (scene3d.c). */
+evo_bot_def evo_default_bot_def3d(void);
 
 /* ---- rewards, controls, metrics, hooks ---------------------------------- */
 
@@ -144,11 +114,10 @@ typedef struct evo_scene3d {
 	/* The same world as ODE's own API sees it, for the 3D view and the
 	 * tests. */
 	evo_world3d *world;
-	int n_obstacles;       /* n_bots and n_elements are the core's */
+	int n_obstacles; /* the bots, n_bots and n_elements are the core's */
 	int n_fixed_obstacles; /* the elements'; the episode's follow */
-	int cap_elements, cap_bots, cap_obstacles;
+	int cap_elements, cap_obstacles;
 	evo_element *element;
-	evo_bot3d *bot;
 	evo_obstacle3d *obstacle;
 } evo_scene3d;
 
@@ -162,7 +131,7 @@ void evo_scene3d_destroy(evo_scene3d *sc);
 /* Each add returns the new index, or -1 with sc->err set (a bad value, an
  * unknown bot or sensor, a name used twice). */
 int evo_scene3d_add_element(evo_scene3d *sc, const evo_element_def *def);
-int evo_scene3d_add_bot(evo_scene3d *sc, const evo_bot3d_def *def);
+int evo_scene3d_add_bot(evo_scene3d *sc, const evo_bot_def *def);
 int evo_scene3d_add_sensor(evo_scene3d *sc, int bot,
 			   const evo_sensor_def *def);
 int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
@@ -184,7 +153,7 @@ int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o);
 
 /* Lookups by name; -1 when absent (scene/store.h). */
 #define evo_scene3d_find_element(s, k) EVO_FIND(s, element, evo_element, k)
-#define evo_scene3d_find_bot(s, k)     EVO_FIND(s, bot, evo_bot3d, k)
+#define evo_scene3d_find_bot(s, k)     EVO_FIND(s, bot, evo_bot, k)
 #define evo_bot3d_find_sensor(b, k)    EVO_FIND(b, sensor, evo_sensor, k)
 #define evo_bot3d_find_actuator(b, k)  EVO_FIND(b, actuator, evo_actuator, k)
 
@@ -225,7 +194,7 @@ void evo_scene3d_sense(evo_scene3d *sc);
 double evo_sensor3d_sample(evo_scene3d *sc, int bot, int sensor);
 
 /* Turn v of the bot's frame into the world's, and back. */
-void evo_bot3d_to_world(const evo_bot3d *b, const double v[3], double out[3]);
-void evo_bot3d_to_body(const evo_bot3d *b, const double v[3], double out[3]);
+void evo_bot3d_to_world(const evo_bot *b, const double v[3], double out[3]);
+void evo_bot3d_to_body(const evo_bot *b, const double v[3], double out[3]);
 
 #endif

@@ -18,7 +18,7 @@ static double clamp01(double v)
 
 /* Where the sensor sits in the world, and the target in the bot's frame
  * seen from there. */
-static void target_in_body(const evo_scene3d *sc, const evo_bot3d *b,
+static void target_in_body(const evo_scene3d *sc, const evo_bot *b,
 			   const evo_sensor *s, double out[3])
 {
 	double at[3], d[3];
@@ -32,7 +32,7 @@ static void target_in_body(const evo_scene3d *sc, const evo_bot3d *b,
 /* The nearest hit over the sensor's rays, / range; 1 when clear. */
 static double proximity(evo_scene3d *sc, int bot, evo_sensor *s)
 {
-	const evo_bot3d *b = &sc->bot[bot];
+	const evo_bot *b = &sc->bot[bot];
 	double from[3], dir[3];
 	evo_bot3d_to_world(b, s->def.pos, from);
 	for (int k = 0; k < 3; k++)
@@ -67,7 +67,7 @@ static int zone_holds(const evo_element *z, const double p[3])
  * commands, in the order it has them. */
 static int peer_3d(void *ctx, int i, evo_swarm_peer *out)
 {
-	const evo_bot3d *b = &((const evo_scene3d *)ctx)->bot[i];
+	const evo_bot *b = &((const evo_scene3d *)ctx)->bot[i];
 	for (int k = 0; k < 3; k++)
 		out->pos[k] = b->pos[k];
 	return evo_actuator_broadcasts(b->actuator, b->n_actuators, out);
@@ -113,7 +113,7 @@ static int where_3d(void *ctx, const evo_blob *bl, double pos[3],
  * obstacles occlude, the ground does not. */
 static double swarm(evo_scene3d *sc, int bot, const evo_sensor *s)
 {
-	const evo_bot3d *b = &sc->bot[bot];
+	const evo_bot *b = &sc->bot[bot];
 	evo_swarm_frame f;
 	for (int k = 0; k < 3; k++)
 		f.pos[k] = b->pos[k];
@@ -135,7 +135,7 @@ static double swarm(evo_scene3d *sc, int bot, const evo_sensor *s)
 
 double evo_sensor3d_sample(evo_scene3d *sc, int bot, int k)
 {
-	evo_bot3d *b = &sc->bot[bot];
+	evo_bot *b = &sc->bot[bot];
 	evo_sensor *s = &b->sensor[k];
 	/* a target set off is seen by none (element:set_active) */
 	int has = s->def.target >= 0 && s->def.target < sc->n_elements &&

@@ -15,7 +15,7 @@ int evo_scene3d_reset(evo_scene3d *sc, uint64_t grid_seed,
 {
 	sc->n_obstacles = sc->n_fixed_obstacles;
 	for (int i = 0; i < sc->n_bots; i++) {
-		evo_bot3d *b = &sc->bot[i];
+		evo_bot *b = &sc->bot[i];
 		memcpy(b->start, b->def.pos, sizeof b->start);
 		b->start_yaw = b->def.yaw;
 		for (int k = 0; k < b->n_actuators; k++)
@@ -70,7 +70,7 @@ double evo_scene3d_fault(evo_scene_core *c, const evo_bfault *f)
 	int body = f->body.index;
 	const char *what = "a body";
 	for (int i = 0; i < sc->n_bots; i++) {
-		if (sc->bot[i].body == body)
+		if (sc->bot[i].body.index == body)
 			what = sc->bot[i].name;
 		for (int k = 0; k < sc->bot[i].n_actuators; k++)
 			if (sc->bot[i].actuator[k].body == body)

@@ -1352,7 +1352,7 @@ static int render_option_default(const char *fn, const char *opt, char *out,
 		else if (strcmp(opt, "y") == 0)
 			fmt_num(out, cap, b->def.y);
 		else if (strcmp(opt, "angle") == 0)
-			fmt_num(out, cap, b->def.angle / deg);
+			fmt_num(out, cap, b->def.yaw / deg);
 		else if (strcmp(opt, "name") == 0)
 			snprintf(out, cap, "%s",
 				 strcmp(sc->bot[0].name, "bot1") == 0 &&

@@ -8,7 +8,7 @@ evo_scene *scene_with_bot(double x, double y, double angle)
 	b.name = "bot";
 	b.x = x;
 	b.y = y;
-	b.angle = angle;
+	b.yaw = angle;
 	evo_scene_add_bot(sc, &b);
 	return sc;
 }

@@ -166,7 +166,7 @@ TEST(epuck_3d_has_the_published_ring_wheels_and_speed)
 		evo_scene3d_destroy(sc);
 		return;
 	}
-	evo_bot3d *b = &sc->bot[0];
+	evo_bot *b = &sc->bot[0];
 	for (int i = 0; i < 8; i++) {
 		char name[16];
 		snprintf(name, sizeof name, "IR%d", i);

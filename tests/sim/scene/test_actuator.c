@@ -16,7 +16,7 @@ TEST(a_propellers_thrust_is_f_over_m_along_its_unit_axis)
 	evo_scene3d_def sd = evo_default_scene3d_def();
 	sd.world.gravity = 0;
 	evo_scene3d *sc = evo_scene3d_create(&sd);
-	evo_bot3d_def b = evo_default_bot3d_def();
+	evo_bot_def b = evo_default_bot_def3d();
 	b.radius = 0.2; /* a sphere, floating 1 m up, nothing touching */
 	b.pos[2] = 1;
 	b.mass = 2;
@@ -64,7 +64,7 @@ TEST(the_other_worlds_kinds_and_a_name_twice_are_refused_alike)
 
 	evo_scene3d_def sd = evo_default_scene3d_def();
 	evo_scene3d *s3 = evo_scene3d_create(&sd);
-	evo_bot3d_def b = evo_default_bot3d_def();
+	evo_bot_def b = evo_default_bot_def3d();
 	b.name = "r";
 	CHECK(evo_scene3d_add_bot(s3, &b) == 0);
 	d = evo_default_actuator_def(EVO_ACT_CLAW);

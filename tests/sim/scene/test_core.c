@@ -7,7 +7,9 @@
  * dimension, or a team that does not exist, is refused with the same
  * words in both; a 3D scene counts its teams; a bot's sensors and
  * actuators are read, written and found by name through its
- * evo_bot_view the same way in 2D and 3D. */
+ * evo_bot_view the same way in 2D and 3D; a bot is refused with the same
+ * words in both (one add, scene/bot.h), and the view reads its name,
+ * team, pose and reward from the one struct. */
 #include <math.h>
 #include <string.h>
 
@@ -41,7 +43,7 @@ static evo_scene3d *scene_3d(int team)
 {
 	evo_scene3d_def d = evo_default_scene3d_def();
 	evo_scene3d *sc = evo_scene3d_create(&d);
-	evo_bot3d_def b = evo_default_bot3d_def();
+	evo_bot_def b = evo_default_bot_def3d();
 	b.name = "r";
 	b.team = team;
 	b.pos[2] = b.half[2];
@@ -146,7 +148,7 @@ static void refused_alike(void)
 static void teams_3d(void)
 {
 	evo_scene3d *s3 = scene_3d(0);
-	evo_bot3d_def b = evo_default_bot3d_def();
+	evo_bot_def b = evo_default_bot_def3d();
 	b.team = 2;
 	b.pos[0] = 2;
 	b.pos[2] = b.half[2];
@@ -189,6 +191,89 @@ static void bots_alike(void)
 	evo_scene3d_destroy(s3);
 }
 
+/* A second bot "r", a bot of team 12 and a bot at no number are refused
+ * with the same words in both worlds (scene/bot.h's one add), and the
+ * scene keeps its one bot; a bot of no name is "" in 2D and "bot2" in
+ * 3D. */
+static void bots_refused_alike(void)
+{
+	evo_scene *s2 = scene_2d(-1);
+	evo_scene3d *s3 = scene_3d(-1);
+	evo_bot_def b2 = evo_default_bot_def(), b3 = evo_default_bot_def3d();
+	b2.name = b3.name = "r";
+	CHECK_EQ_INT(evo_scene_add_bot(s2, &b2), -1);
+	CHECK_EQ_INT(evo_scene3d_add_bot(s3, &b3), -1);
+	CHECK_CONTAINS(s2->err.msg, "bot 'r' is defined twice");
+	CHECK_CONTAINS(s3->err.msg, "bot 'r' is defined twice");
+	b2.name = b3.name = "t";
+	b2.team = b3.team = 12;
+	CHECK_EQ_INT(evo_scene_add_bot(s2, &b2), -1);
+	CHECK_EQ_INT(evo_scene3d_add_bot(s3, &b3), -1);
+	CHECK_CONTAINS(s2->err.msg, "bot: no team 12 (at most 12 teams)");
+	CHECK_CONTAINS(s3->err.msg, "bot: no team 12 (at most 12 teams)");
+	b2.team = b3.team = -1;
+	b2.yaw = b3.yaw = NAN;
+	CHECK_EQ_INT(evo_scene_add_bot(s2, &b2), -1);
+	CHECK_EQ_INT(evo_scene3d_add_bot(s3, &b3), -1);
+	CHECK_CONTAINS(s2->err.msg, "bot: its position or yaw is not a number");
+	CHECK_CONTAINS(s3->err.msg, "bot: its position or yaw is not a number");
+	CHECK_EQ_INT(s2->n_bots, 1);
+	CHECK_EQ_INT(s3->n_bots, 1);
+	b2.name = b3.name = NULL;
+	b2.yaw = b3.yaw = 0;
+	b3.pos[0] = 2;
+	b3.pos[2] = b3.half[2];
+	CHECK_EQ_INT(evo_scene_add_bot(s2, &b2), 1);
+	CHECK_EQ_INT(evo_scene3d_add_bot(s3, &b3), 1);
+	CHECK(strcmp(s2->bot[1].name, "") == 0);
+	CHECK(strcmp(s3->bot[1].name, "bot2") == 0);
+	evo_scene_destroy(s2);
+	evo_scene3d_destroy(s3);
+}
+
+/* The view reads the pose from the one bot: a 2D bot of team 1 added at
+ * (3, 4) and placed at (5, 6) started at (3, 4) and is at (5, 6); a 3D
+ * bot of team 2 at (1, 2) resting on the ground starts there and, with
+ * nothing pushing it, is still there (within 1 mm) after a reset. */
+static void view_reads_the_bot(void)
+{
+	evo_scene *s2 = evo_scene_create();
+	evo_bot_def b2 = evo_default_bot_def();
+	b2.name = "a";
+	b2.team = 1;
+	b2.x = 3;
+	b2.y = 4;
+	CHECK_EQ_INT(evo_scene_add_bot(s2, &b2), 0);
+	evo_scene_reset(s2, 1, 1);
+	evo_scene_place_bot(s2, 0, 5, 6, 0);
+	evo_bot_view v;
+	evo_core_bot(&s2->core, 0, &v);
+	CHECK(strcmp(v.name, "a") == 0);
+	CHECK_EQ_INT(v.team, 1);
+	CHECK(NEAR(v.start[0], 3) && NEAR(v.start[1], 4));
+	CHECK(fabs(v.now[0] - 5) < 1e-6 && fabs(v.now[1] - 6) < 1e-6);
+	*v.reward = 2.5;
+	CHECK(NEAR(s2->bot[0].reward, 2.5));
+	evo_scene_destroy(s2);
+
+	evo_scene3d_def d = evo_default_scene3d_def();
+	evo_scene3d *s3 = evo_scene3d_create(&d);
+	evo_bot_def b3 = evo_default_bot_def3d();
+	b3.name = "b";
+	b3.team = 2;
+	b3.pos[0] = 1;
+	b3.pos[1] = 2;
+	b3.pos[2] = b3.half[2];
+	CHECK_EQ_INT(evo_scene3d_add_bot(s3, &b3), 0);
+	CHECK_EQ_INT(evo_scene3d_reset(s3, 1, 1), 0);
+	evo_core_bot(&s3->core, 0, &v);
+	CHECK(strcmp(v.name, "b") == 0);
+	CHECK_EQ_INT(v.team, 2);
+	CHECK(NEAR(v.start[0], 1) && NEAR(v.start[1], 2));
+	CHECK(fabs(v.now[0] - 1) < 1e-3 && fabs(v.now[1] - 2) < 1e-3);
+	evo_scene3d_destroy(s3);
+}
+
 int main(void)
 {
 	RUN(core_is_first);
@@ -196,5 +281,7 @@ int main(void)
 	RUN(refused_alike);
 	RUN(teams_3d);
 	RUN(bots_alike);
+	RUN(bots_refused_alike);
+	RUN(view_reads_the_bot);
 	return test_summary();
 }

@@ -65,7 +65,7 @@ TEST(a_fan_of_21_rays_reads_a_wall_the_same_in_2d_and_3d)
 	bx.half[1] = 10;
 	bx.half[2] = 1.0;
 	CHECK(evo_scene3d_add_element(s3, &bx) == 0);
-	evo_bot3d_def b = evo_default_bot3d_def();
+	evo_bot_def b = evo_default_bot_def3d();
 	b.pos[2] = b.half[2];
 	CHECK(evo_scene3d_add_bot(s3, &b) == 0);
 	evo_sensor_def d3 = fan(evo_default_sensor3d_def(EVO_SENSE_PROXIMITY));
@@ -94,7 +94,7 @@ TEST(the_other_worlds_kinds_and_a_name_twice_are_refused_alike)
 
 	evo_scene3d_def sd = evo_default_scene3d_def();
 	evo_scene3d *s3 = evo_scene3d_create(&sd);
-	evo_bot3d_def b = evo_default_bot3d_def();
+	evo_bot_def b = evo_default_bot_def3d();
 	b.name = "r";
 	CHECK(evo_scene3d_add_bot(s3, &b) == 0);
 	d = evo_default_sensor3d_def(EVO_SENSE_BUMPER);

@@ -263,7 +263,7 @@ TEST(bad_settings_are_refused)
 static int add_bot3d(evo_scene3d *sc, const char *name, double x, double y,
 		     double z, double yaw, int broadcasts)
 {
-	evo_bot3d_def b = evo_default_bot3d_def();
+	evo_bot_def b = evo_default_bot_def3d();
 	b.name = name;
 	b.radius = 0.25;
 	b.pos[0] = x;

@@ -297,7 +297,7 @@ TEST(a_held_object_is_not_taken_by_another_bot)
 	evo_bot_def b = evo_default_bot_def();
 	b.name = "other";
 	b.x = 4.4;
-	b.angle = M_PI;
+	b.yaw = M_PI;
 	int other = evo_scene_add_bot(sc, &b);
 	evo_actuator_def c = evo_default_actuator_def(EVO_ACT_CLAW);
 	int oc = evo_scene_add_actuator(sc, other, &c);

@@ -112,7 +112,7 @@ static evo_scene *scene_with_undo_bot(double x, double y, double angle,
 	b.name = "bot";
 	b.x = x;
 	b.y = y;
-	b.angle = angle;
+	b.yaw = angle;
 	b.body.kinematic = 1;
 	evo_scene_add_bot(sc, &b);
 	evo_actuator_def d = evo_default_actuator_def(EVO_ACT_DRIVE);

@@ -21,7 +21,7 @@ static int add_bot(evo_scene *sc, int team, double x, double y, double angle)
 	d.team = team;
 	d.x = x;
 	d.y = y;
-	d.angle = angle;
+	d.yaw = angle;
 	int i = evo_scene_add_bot(sc, &d);
 	CHECK(i >= 0);
 	return i;

@@ -62,7 +62,7 @@ static evo_scene3d *floating(double yaw, int *target)
 	    evo_default_element_def(EVO_PIECE_TARGET, EVO_DIM_3D);
 	t.name = "goal";
 	*target = evo_scene3d_add_element(sc, &t);
-	evo_bot3d_def b = evo_default_bot3d_def();
+	evo_bot_def b = evo_default_bot_def3d();
 	b.radius = 0.25;
 	b.pos[2] = 2;
 	b.yaw = yaw;
@@ -129,7 +129,7 @@ static evo_scene3d *wheeled(void)
 {
 	evo_scene3d_def sd = evo_default_scene3d_def();
 	evo_scene3d *sc = evo_scene3d_create(&sd);
-	evo_bot3d_def b = evo_default_bot3d_def();
+	evo_bot_def b = evo_default_bot_def3d();
 	b.half[0] = 0.2;
 	b.half[1] = 0.15;
 	b.half[2] = 0.04;
@@ -334,7 +334,7 @@ TEST(an_exploding_body_ends_the_episode_with_a_penalty)
 	evo_scene3d_reset(sc, 1, 1);
 	CHECK(sc->fault[0] == 0);
 	double nan3[3] = {NAN, 0, 0};
-	evo_body3d_set_position(sc->world, sc->bot[0].body, nan3);
+	evo_body3d_set_position(sc->world, sc->bot[0].body.index, nan3);
 	CHECK(evo_scene3d_step(sc) == 1);
 	CHECK_CONTAINS(sc->fault, "not a number");
 	evo_scene3d_sense(sc);
@@ -383,11 +383,11 @@ TEST(bad_definitions_are_refused)
 {
 	evo_scene3d_def sd = evo_default_scene3d_def();
 	evo_scene3d *sc = evo_scene3d_create(&sd);
-	evo_bot3d_def b = evo_default_bot3d_def();
+	evo_bot_def b = evo_default_bot_def3d();
 	b.mass = -1;
 	CHECK(evo_scene3d_add_bot(sc, &b) < 0);
 	CHECK_CONTAINS(sc->err.msg, "mass");
-	b = evo_default_bot3d_def();
+	b = evo_default_bot_def3d();
 	CHECK(evo_scene3d_add_bot(sc, &b) == 0);
 	evo_actuator_def p =
 	    evo_default_actuator_def(EVO_ACT_PROPELLER);
