@@ -151,8 +151,9 @@ fi
 
 # tasksim.c never asks its scene's dimension: it makes and frees the scene
 # and calls nothing else of world2d/ or world3d/ (the scene's core and its
-# evo_scene_dim do, sim/scene/core.h).
-calls=$(grep -o 'evo_\(scene\|scene3d\|bot\|bot3d\)_[a-z0-9_]*(\|->bot\[' \
+# evo_scene_dim do, sim/scene/core.h); the bots it reads are the core's
+# one evo_bot (sim/scene/bot.h, view.c).
+calls=$(grep -o 'evo_\(scene\|scene3d\|bot3d\)_[a-z0-9_]*(\|scene3\?d\?->bot\[' \
 	sim/tasksim/tasksim.c | grep -v '_create($\|_destroy($' | sort -u)
 if [ -z "$calls" ]; then pass; else
 	fail "sim/tasksim/tasksim.c reaches its scene around sim/scene/core.h: $(echo $calls)"; fi

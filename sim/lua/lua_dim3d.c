@@ -238,7 +238,7 @@ static int add_bot(lua_State *L, int team, const char *name, const char *what)
 
 /* ---- sensors and actuators ---------------------------------------------- */
 
-EVO_LUA_DIM_COMMON(sc3, evo_scene3d, evo_bot3d_find_actuator)
+EVO_LUA_DIM_COMMON(sc3, evo_scene3d, evo_bot_find_actuator)
 
 /* `sees`: a list of "ground", "obstacles", "bots", "objects". A 3D ray
  * tells no teammate from an opponent: "teammates" and "opponents" are 2D

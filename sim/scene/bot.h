@@ -104,4 +104,8 @@ typedef struct evo_bot {
 	double reward;	/* both: what was paid to it since the reset (its own) */
 } evo_bot;
 
+/* A bot's sensor or actuator by name; -1 when absent (scene/store.h). */
+#define evo_bot_find_sensor(b, k)   EVO_FIND(b, sensor, evo_sensor, k)
+#define evo_bot_find_actuator(b, k) EVO_FIND(b, actuator, evo_actuator, k)
+
 #endif

@@ -24,10 +24,8 @@ void evo_core_init(evo_scene_core *c, const evo_backend *be, evo_bworld *bw,
 void evo_core_free(evo_scene_core *c)
 {
 	for (int i = 0; i < c->n_bots; i++) {
-		evo_bot_view v;
-		evo_core_bot(c, i, &v);
-		free(v.sensors.base);
-		free(v.actuators.base);
+		free(c->bot[i].sensor);
+		free(c->bot[i].actuator);
 	}
 	free(c->bot);
 	free(c->reward);
@@ -84,9 +82,7 @@ static int check_reward(evo_scene_core *c, const evo_reward_def *d)
 	if (d->n_sensors < 0 || d->n_sensors > EVO_REWARD_MAX_SENSORS)
 		return evo_fail(&c->err, "reward %s: %d sensors (at most %d)",
 				name, d->n_sensors, EVO_REWARD_MAX_SENSORS);
-	evo_bot_view v;
-	evo_core_bot(c, d->bot, &v);
-	int n = v.sensors.n;
+	int n = c->bot[d->bot].n_sensors;
 	for (int i = 0; i < d->n_sensors; i++)
 		if (d->sensor[i] < 0 || d->sensor[i] >= n)
 			return evo_fail(&c->err, "reward %s: no sensor %d",
@@ -114,7 +110,6 @@ int evo_core_add_reward(evo_scene_core *c, const evo_reward_def *d)
 static int check_control(evo_scene_core *c, const evo_control_def *d)
 {
 	const char *name = evo_control_kind_name(d->kind);
-	evo_bot_view v;
 	if (check_piece(c, "control", name, evo_control_kind_dims(d->kind),
 			d->bot, d->target))
 		return -1;
@@ -122,9 +117,8 @@ static int check_control(evo_scene_core *c, const evo_control_def *d)
 		return evo_fail(&c->err,
 				"control %s: ticks must be %ld or more", name,
 				c->dim->timeout_shift);
-	evo_core_bot(c, d->bot, &v);
 	if (d->kind == EVO_CF_NEXT_ON_SENSOR_BELOW &&
-	    (d->sensor < 0 || d->sensor >= v.sensors.n))
+	    (d->sensor < 0 || d->sensor >= c->bot[d->bot].n_sensors))
 		return evo_fail(&c->err, "control %s: no sensor %d", name,
 				d->sensor);
 	if (d->kind == EVO_CF_NEXT_ON_TARGET_REACHED &&

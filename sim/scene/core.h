@@ -82,33 +82,6 @@ typedef struct evo_scene_core {
 		};                                                             \
 	}
 
-/* A bot's parts of one kind, its sensors or its actuators, seen from
- * outside its dimension: n structs, stride bytes apart from base, each
- * with its name (a char array) name_at bytes in and its value (a double:
- * a sensor's last sample, an actuator's command) value_at bytes in;
- * idle_at, the int that marks a sensor nothing reads (not sampled), or 0
- * where every sensor samples every tick (3D). */
-typedef struct evo_parts {
-	char *base;
-	int n;
-	size_t stride, name_at, value_at, idle_at;
-} evo_parts;
-
-/* A bot as a task's simulation reads it (sim/tasksim/tasksim.c): its
- * figures, read from the core's bot (view.c), and its parts, which its
- * dimension gives (dim->parts). */
-typedef struct evo_bot_view {
-	const char *name;
-	int team;	/* -1: none */
-	int collisions; /* ticks spent touching since the reset */
-	/* what its rewards paid it since the reset (evo_core_pay adds to
-	 * it) */
-	double *reward;
-	/* where it is on the ground plane, and where it started */
-	double now[2], start[2];
-	evo_parts sensors, actuators;
-} evo_bot_view;
-
 /* What a dimension says of its scene, for the functions below. Each
  * function takes the core, which is its scene's first member. */
 struct evo_scene_dim {
@@ -150,9 +123,6 @@ struct evo_scene_dim {
 	/* start an episode (the scene's reset): 0, or -1 with c->err set */
 	int (*reset)(evo_scene_core *c, uint64_t grid_seed,
 		     uint64_t episode_seed);
-	/* bot's sensors and actuators, into *sensors and *actuators */
-	void (*parts)(const evo_scene_core *c, int bot, evo_parts *sensors,
-		      evo_parts *actuators);
 	/* widen box (x0, y0, x1, y1) over the static obstacles the
 	 * environment built (evo_sim_behaviour's arena) */
 	void (*arena)(const evo_scene_core *c, double box[4]);
@@ -213,19 +183,12 @@ int evo_core_step(evo_scene_core *c);
 
 /* ---- the bots, seen from outside their dimension (view.c) ------------- */
 
-/* Bot's figures (read from c->bot) and parts (dim->parts). */
-void evo_core_bot(const evo_scene_core *c, int bot, evo_bot_view *v);
-/* Part i's name; the index of the part of that name, or -1. */
-const char *evo_parts_name(const evo_parts *p, int i);
-int evo_parts_find(const evo_parts *p, const char *name);
-/* out[i] = part map[i]'s value; part map[i]'s value = in[i]. */
-void evo_parts_read(const evo_parts *p, const int *map, unsigned n,
-		    double *out);
-void evo_parts_write(const evo_parts *p, const int *map, unsigned n,
-		     const double *in);
-/* Mark sensor i idle (1: not sampled) or not; nothing where every sensor
- * samples every tick. */
-void evo_parts_set_idle(const evo_parts *p, int i, int idle);
+/* out[i] = the last sample of b's sensor map[i]; b's actuator map[i]'s
+ * command = in[i]: what a task's minds read and write each tick. */
+void evo_bot_read_sensors(const evo_bot *b, const int *map, unsigned n,
+			  double *out);
+void evo_bot_write_actuators(evo_bot *b, const int *map, unsigned n,
+			     const double *in);
 /* Wake the sensors the rewards and controls read. */
 void evo_core_wake_scored(evo_scene_core *c);
 /* Step 5 of the tick, after the physics: the rewards paid, the post-step

@@ -18,12 +18,11 @@ static const char *closest(const evo_sim *s, const char *word, int bot,
 			   int sensors)
 {
 	const char *names[256];
-	evo_bot_view v;
-	evo_core_bot(s->core, bot, &v);
-	const evo_parts *p = sensors ? &v.sensors : &v.actuators;
-	int n = p->n > 256 ? 256 : p->n;
+	const evo_bot *b = &s->core->bot[bot];
+	int n = sensors ? b->n_sensors : b->n_actuators;
+	n = n > 256 ? 256 : n;
 	for (int i = 0; i < n; i++)
-		names[i] = evo_parts_name(p, i);
+		names[i] = sensors ? b->sensor[i].name : b->actuator[i].name;
 	const char *c = evo_closest_name(word, names, (size_t)n, NULL);
 	return c ? c : "";
 }
@@ -35,20 +34,19 @@ static const char *closest(const evo_sim *s, const char *word, int bot,
  * nothing. */
 static void mark_idle(evo_sim *s)
 {
-	evo_bot_view v;
 	for (int k = 0; k < s->core->n_bots; k++) {
 		if (!s->has_teams && k != s->bot)
 			continue;
-		evo_core_bot(s->core, k, &v);
-		for (int i = 0; i < v.sensors.n; i++)
-			evo_parts_set_idle(&v.sensors, i, 1);
+		evo_bot *b = &s->core->bot[k];
+		for (int i = 0; i < b->n_sensors; i++)
+			b->sensor[i].idle = 1;
 	}
 	for (int a = 0; a < s->n_agents; a++) {
 		const evo_sim_agent *ag = &s->agent[a];
 		const evo_sim_team *tm = &s->team[ag->team];
-		evo_core_bot(s->core, ag->bot, &v);
+		evo_bot *b = &s->core->bot[ag->bot];
 		for (unsigned i = 0; i < tm->mind->botdesc->n_sensors; i++)
-			evo_parts_set_idle(&v.sensors, tm->sensor_map[i], 0);
+			b->sensor[tm->sensor_map[i]].idle = 0;
 	}
 	evo_core_wake_scored(s->core);
 }
@@ -69,16 +67,15 @@ static void team_suffix(const evo_sim *s, const evo_sim_team *tm, char *out,
  * lacks is the botdesc's error, reported at its line. */
 static int bind(evo_sim *s, evo_sim_team *tm, int bot, int first, evo_err *err)
 {
-	evo_bot_view v;
-	evo_core_bot(s->core, bot, &v);
-	const char *bot_name = v.name;
+	const evo_bot *b = &s->core->bot[bot];
+	const char *bot_name = b->name;
 	const evo_mindfolder *mind = tm->mind;
 	const evo_botdesc *d = mind->botdesc;
 	const char *model = evo_lua_bot_path(s->lua);
 	char where[1200];
 	team_suffix(s, tm, where, sizeof where);
 	for (unsigned i = 0; i < d->n_sensors; i++) {
-		int k = evo_parts_find(&v.sensors, d->sensor[i].name);
+		int k = evo_bot_find_sensor(b, d->sensor[i].name);
 		if (k < 0)
 			return evo_fail(err,
 					"%s/%s.botdesc:%u: sensor '%s' is not "
@@ -98,7 +95,7 @@ static int bind(evo_sim *s, evo_sim_team *tm, int bot, int first, evo_err *err)
 		tm->sensor_map[i] = k;
 	}
 	for (unsigned i = 0; i < d->n_actuators; i++) {
-		int k = evo_parts_find(&v.actuators, d->actuator[i].name);
+		int k = evo_bot_find_actuator(b, d->actuator[i].name);
 		if (k < 0)
 			return evo_fail(
 			    err,
@@ -192,9 +189,7 @@ int evo_sim_set_mind(evo_sim *s, const evo_mindfolder *mind, evo_err *err)
 
 static int bot_team(const evo_sim *s, int bot)
 {
-	evo_bot_view v;
-	evo_core_bot(s->core, bot, &v);
-	return v.team;
+	return s->core->bot[bot].team;
 }
 
 /* Lay out the teams and their agents: team k's agents are its bots in
@@ -405,17 +400,16 @@ static void step_agent(evo_sim *s, const evo_sim_agent *a, evo_q16 *in,
 	const evo_sim_team *tm = &s->team[a->team];
 	const evo_mind *m = &a->mind->mind;
 	double v[EVO_MAX_SENSORS + EVO_MAX_ACTUATORS];
-	evo_bot_view bv;
-	evo_core_bot(s->core, a->bot, &bv);
-	evo_parts_read(&bv.sensors, tm->sensor_map, m->n_sensors, v);
+	evo_bot *b = &s->core->bot[a->bot];
+	evo_bot_read_sensors(b, tm->sensor_map, m->n_sensors, v);
 	for (unsigned i = 0; i < m->n_sensors; i++)
 		in[i] = evo_q16_from_sensor(v[i]);
 	evo_mind_step(m, a->state, in, out);
 	for (unsigned i = 0; i < m->n_actuators; i++)
 		v[i] = evo_q16_to_double(out[i]);
-	evo_parts_write(&bv.actuators, tm->actuator_map, m->n_actuators, v);
+	evo_bot_write_actuators(b, tm->actuator_map, m->n_actuators, v);
 	if (s->trace && s->has_teams)
-		evo_trace_tick_bot(s->trace, s->core->tick, bv.name, m, in, out,
+		evo_trace_tick_bot(s->trace, s->core->tick, b->name, m, in, out,
 				   a->state);
 	else if (s->trace)
 		evo_trace_tick(s->trace, s->core->tick, m, in, out, a->state);
@@ -443,19 +437,15 @@ int evo_sim_tick(evo_sim *s, evo_err *err)
 
 void evo_sim_sense(evo_sim *s, double *values)
 {
-	evo_bot_view v;
 	evo_core_sense(s->core);
-	evo_core_bot(s->core, s->bot, &v);
-	evo_parts_read(&v.sensors, s->sensor_map, s->mind->mind.n_sensors,
-		       values);
+	evo_bot_read_sensors(&s->core->bot[s->bot], s->sensor_map,
+			     s->mind->mind.n_sensors, values);
 }
 
 int evo_sim_act(evo_sim *s, const double *commands, evo_err *err)
 {
-	evo_bot_view v;
-	evo_core_bot(s->core, s->bot, &v);
-	evo_parts_write(&v.actuators, s->actuator_map,
-			s->mind->mind.n_actuators, commands);
+	evo_bot_write_actuators(&s->core->bot[s->bot], s->actuator_map,
+				s->mind->mind.n_actuators, commands);
 	return step(s, err);
 }
 
@@ -497,9 +487,7 @@ long evo_sim_ticks(const evo_sim *s)
 
 int evo_sim_collisions(const evo_sim *s, int agent)
 {
-	evo_bot_view v;
-	evo_core_bot(s->core, s->agent[agent].bot, &v);
-	return v.collisions;
+	return s->core->bot[s->agent[agent].bot].collisions;
 }
 
 int evo_sim_n_metrics(const evo_sim *s)
@@ -528,9 +516,8 @@ int evo_sim_behaviour(evo_sim *s, double *out, evo_err *err)
 				  err);
 	if (n)
 		return n;
-	evo_bot_view v;
-	evo_core_bot(s->core, s->bot, &v);
-	double x = v.now[0], y = v.now[1], x0 = v.start[0], y0 = v.start[1];
+	const evo_bot *b = &s->core->bot[s->bot];
+	double x = b->pos[0], y = b->pos[1], x0 = b->start[0], y0 = b->start[1];
 	/* the arena's bounds on the ground plane, if the environment built
 	 * a static obstacle */
 	double box[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
@@ -569,14 +556,10 @@ int evo_sim_winner(const evo_sim *s)
 
 const char *evo_sim_bot_name(const evo_sim *s, int bot)
 {
-	evo_bot_view v;
-	evo_core_bot(s->core, bot, &v);
-	return v.name;
+	return s->core->bot[bot].name;
 }
 
 double evo_sim_bot_reward(const evo_sim *s, int bot)
 {
-	evo_bot_view v;
-	evo_core_bot(s->core, bot, &v);
-	return *v.reward;
+	return s->core->bot[bot].reward;
 }

@@ -58,26 +58,6 @@ static int reset(evo_scene_core *c, uint64_t grid_seed, uint64_t episode_seed)
 	return 0;
 }
 
-/* A bot's sensors and actuators, 2D's structs (its figures are read from
- * the one evo_bot, sim/scene/view.c). */
-static void parts(const evo_scene_core *c, int i, evo_parts *sensors,
-		  evo_parts *actuators)
-{
-	const evo_bot *b = &c->bot[i];
-	*sensors = (evo_parts){(char *)b->sensor,
-			       b->n_sensors,
-			       sizeof *b->sensor,
-			       offsetof(evo_sensor, name),
-			       offsetof(evo_sensor, value),
-			       offsetof(evo_sensor, idle)};
-	*actuators = (evo_parts){(char *)b->actuator,
-				 b->n_actuators,
-				 sizeof *b->actuator,
-				 offsetof(evo_actuator, name),
-				 offsetof(evo_actuator, command),
-				 0};
-}
-
 /* Widen b (x0, y0, x1, y1) to hold the box of half sizes hx, hy at x, y. */
 static void widen(double *b, double x, double y, double hx, double hy)
 {
@@ -127,6 +107,5 @@ const evo_scene_dim evo_scene_dim_2d = {
     .read_back = evo_scene_read_back,
     /* what a task's simulation reads */
     .reset = reset,
-    .parts = parts,
     .arena = arena,
 };

@@ -195,8 +195,6 @@ int evo_scene_add_wall(evo_scene *sc, double x1, double y1, double x2,
 /* Lookups by name; -1 when absent. */
 #define evo_scene_find_element(s, k)	EVO_FIND(s, element, evo_element, k)
 #define evo_scene_find_bot(s, k)	EVO_FIND(s, bot, evo_bot, k)
-#define evo_bot_find_sensor(b, k)	EVO_FIND(b, sensor, evo_sensor, k)
-#define evo_bot_find_actuator(b, k)	EVO_FIND(b, actuator, evo_actuator, k)
 #define evo_scene_find_metric(sc, name) evo_core_find_metric(&(sc)->core, name)
 
 /* ---- the episode and the tick (step.c) -------------------------------- */

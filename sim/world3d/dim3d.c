@@ -66,26 +66,6 @@ static int reset(evo_scene_core *c, uint64_t grid_seed, uint64_t episode_seed)
 	return evo_scene3d_reset((evo_scene3d *)c, grid_seed, episode_seed);
 }
 
-/* A bot's sensors and actuators, 3D's structs (its figures are read from
- * the one evo_bot, sim/scene/view.c). */
-static void parts(const evo_scene_core *c, int i, evo_parts *sensors,
-		  evo_parts *actuators)
-{
-	const evo_bot *b = &c->bot[i];
-	*sensors = (evo_parts){(char *)b->sensor,
-			       b->n_sensors,
-			       sizeof *b->sensor,
-			       offsetof(evo_sensor, name),
-			       offsetof(evo_sensor, value),
-			       0};
-	*actuators = (evo_parts){(char *)b->actuator,
-				 b->n_actuators,
-				 sizeof *b->actuator,
-				 offsetof(evo_actuator, name),
-				 offsetof(evo_actuator, command),
-				 0};
-}
-
 /* The static boxes, cylinders and spheres that are not ground: widen b
  * (x0, y0, x1, y1) over each. */
 static void arena(const evo_scene_core *c, double *b)
@@ -128,6 +108,5 @@ const evo_scene_dim evo_scene_dim_3d = {
     .fault = evo_scene3d_fault,
     /* what a task's simulation reads */
     .reset = reset,
-    .parts = parts,
     .arena = arena,
 };

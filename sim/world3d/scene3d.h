@@ -154,8 +154,6 @@ int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o);
 /* Lookups by name; -1 when absent (scene/store.h). */
 #define evo_scene3d_find_element(s, k) EVO_FIND(s, element, evo_element, k)
 #define evo_scene3d_find_bot(s, k)     EVO_FIND(s, bot, evo_bot, k)
-#define evo_bot3d_find_sensor(b, k)    EVO_FIND(b, sensor, evo_sensor, k)
-#define evo_bot3d_find_actuator(b, k)  EVO_FIND(b, actuator, evo_actuator, k)
 
 /* Start an episode: a new world with every element and bot where it
  * starts, neutral commands, rewards and controls cleared, the episode's

@@ -170,7 +170,7 @@ TEST(epuck_3d_has_the_published_ring_wheels_and_speed)
 	for (int i = 0; i < 8; i++) {
 		char name[16];
 		snprintf(name, sizeof name, "IR%d", i);
-		int k = evo_bot3d_find_sensor(b, name);
+		int k = evo_bot_find_sensor(b, name);
 		CHECK(k >= 0);
 		if (k < 0)
 			continue;
@@ -178,8 +178,8 @@ TEST(epuck_3d_has_the_published_ring_wheels_and_speed)
 		CHECK(NEAR(sd->yaw, -ir_angles[i] * DEG, 1e-12));
 		CHECK(NEAR(hypot(sd->pos[0], sd->pos[1]), 0.035, 1e-12));
 	}
-	int ml = evo_bot3d_find_actuator(b, "MotL"),
-	    mr = evo_bot3d_find_actuator(b, "MotR");
+	int ml = evo_bot_find_actuator(b, "MotL"),
+	    mr = evo_bot_find_actuator(b, "MotR");
 	CHECK(ml >= 0 && mr >= 0);
 	if (ml < 0 || mr < 0) {
 		evo_lua_destroy(l);

@@ -58,7 +58,7 @@ static evo_lua *build(const char *env, evo_scene3d **sc, evo_err *err)
 static double value(const evo_scene3d *sc, const char *name)
 {
 	const evo_bot *b = &sc->bot[0];
-	int k = evo_bot3d_find_sensor(b, name);
+	int k = evo_bot_find_sensor(b, name);
 	return k >= 0 ? b->sensor[k].value : -1;
 }
 

@@ -6,10 +6,10 @@
  * tutorial's rule) and a 3D one at the 3rd; a kind of the other
  * dimension, or a team that does not exist, is refused with the same
  * words in both; a 3D scene counts its teams; a bot's sensors and
- * actuators are read, written and found by name through its
- * evo_bot_view the same way in 2D and 3D; a bot is refused with the same
- * words in both (one add, scene/bot.h), and the view reads its name,
- * team, pose and reward from the one struct. */
+ * actuators are read, written and found by name through the one evo_bot
+ * (scene/bot.h) the same way in 2D and 3D; a bot is refused with the
+ * same words in both (one add), and its name, team, start, pose and
+ * reward are the core's bot's in both. */
 #include <math.h>
 #include <string.h>
 
@@ -50,8 +50,7 @@ static evo_scene3d *scene_3d(int team)
 	evo_sensor_def s = evo_default_sensor3d_def(EVO_SENSE_CONSTANT);
 	s.name = "c";
 	s.value = 0.25;
-	evo_actuator_def a =
-	    evo_default_actuator_def(EVO_ACT_PROPELLER);
+	evo_actuator_def a = evo_default_actuator_def(EVO_ACT_PROPELLER);
 	a.name = "p";
 	CHECK(evo_scene3d_add_bot(sc, &b) == 0 &&
 	      evo_scene3d_add_sensor(sc, 0, &s) == 0 &&
@@ -90,12 +89,10 @@ static int run_to_timeout(evo_scene_core *c)
 	while (!end && steps < 10) {
 		end = evo_core_step(c);
 		steps++;
-		evo_bot_view v;
-		evo_core_bot(c, 0, &v);
 		CHECK_EQ_INT((int)c->tick, steps);
 		CHECK(NEAR(c->step_reward, 0.5));
 		CHECK(NEAR(c->episode_reward, 0.5 * steps));
-		CHECK(NEAR(*v.reward, 0.5 * steps));
+		CHECK(NEAR(c->bot[0].reward, 0.5 * steps));
 		CHECK(NEAR(c->team_reward[1], 0.5 * steps));
 		CHECK(NEAR(c->team_reward[0], 0));
 	}
@@ -158,25 +155,24 @@ static void teams_3d(void)
 }
 
 /* The constant sensor reads 0.25 after the sensing; a command written
- * through the view is the actuator's. */
+ * through evo_bot_write_actuators is the actuator's. */
 static void bot_view(evo_scene_core *c, const char *actuator)
 {
-	evo_bot_view v;
 	CHECK_EQ_INT(c->dim->reset(c, 1, 2), 0);
 	evo_core_sense(c);
-	evo_core_bot(c, 0, &v);
-	CHECK(strcmp(v.name, "r") == 0);
-	CHECK_EQ_INT(v.team, -1);
-	int s = evo_parts_find(&v.sensors, "c");
-	int a = evo_parts_find(&v.actuators, actuator);
+	evo_bot *b = &c->bot[0];
+	CHECK(strcmp(b->name, "r") == 0);
+	CHECK_EQ_INT(b->team, -1);
+	int s = evo_bot_find_sensor(b, "c");
+	int a = evo_bot_find_actuator(b, actuator);
 	CHECK_EQ_INT(s, 0);
 	CHECK_EQ_INT(a, 0);
-	CHECK_EQ_INT(evo_parts_find(&v.sensors, "nothing"), -1);
-	CHECK(strcmp(evo_parts_name(&v.actuators, 0), actuator) == 0);
+	CHECK_EQ_INT(evo_bot_find_sensor(b, "nothing"), -1);
 	double value = 0, command = 0.9;
-	evo_parts_read(&v.sensors, &s, 1, &value);
-	evo_parts_write(&v.actuators, &a, 1, &command);
+	evo_bot_read_sensors(b, &s, 1, &value);
+	evo_bot_write_actuators(b, &a, 1, &command);
 	CHECK(NEAR(value, 0.25));
+	CHECK(NEAR(b->actuator[0].command, 0.9));
 }
 
 static void bots_alike(void)
@@ -231,11 +227,11 @@ static void bots_refused_alike(void)
 	evo_scene3d_destroy(s3);
 }
 
-/* The view reads the pose from the one bot: a 2D bot of team 1 added at
- * (3, 4) and placed at (5, 6) started at (3, 4) and is at (5, 6); a 3D
- * bot of team 2 at (1, 2) resting on the ground starts there and, with
- * nothing pushing it, is still there (within 1 mm) after a reset. */
-static void view_reads_the_bot(void)
+/* The one bot keeps its start and pose in both worlds: a 2D bot of team 1 added
+ * at (3, 4) and placed at (5, 6) started at (3, 4) and is at (5, 6); a 3D bot
+ * of team 2 at (1, 2) resting on the ground starts there and, with nothing
+ * pushing it, is still there (within 1 mm) after a reset. */
+static void bot_keeps_start_and_pose(void)
 {
 	evo_scene *s2 = evo_scene_create();
 	evo_bot_def b2 = evo_default_bot_def();
@@ -246,14 +242,11 @@ static void view_reads_the_bot(void)
 	CHECK_EQ_INT(evo_scene_add_bot(s2, &b2), 0);
 	evo_scene_reset(s2, 1, 1);
 	evo_scene_place_bot(s2, 0, 5, 6, 0);
-	evo_bot_view v;
-	evo_core_bot(&s2->core, 0, &v);
-	CHECK(strcmp(v.name, "a") == 0);
-	CHECK_EQ_INT(v.team, 1);
-	CHECK(NEAR(v.start[0], 3) && NEAR(v.start[1], 4));
-	CHECK(fabs(v.now[0] - 5) < 1e-6 && fabs(v.now[1] - 6) < 1e-6);
-	*v.reward = 2.5;
-	CHECK(NEAR(s2->bot[0].reward, 2.5));
+	const evo_bot *v = &s2->core.bot[0];
+	CHECK(strcmp(v->name, "a") == 0);
+	CHECK_EQ_INT(v->team, 1);
+	CHECK(NEAR(v->start[0], 3) && NEAR(v->start[1], 4));
+	CHECK(fabs(v->pos[0] - 5) < 1e-6 && fabs(v->pos[1] - 6) < 1e-6);
 	evo_scene_destroy(s2);
 
 	evo_scene3d_def d = evo_default_scene3d_def();
@@ -266,11 +259,11 @@ static void view_reads_the_bot(void)
 	b3.pos[2] = b3.half[2];
 	CHECK_EQ_INT(evo_scene3d_add_bot(s3, &b3), 0);
 	CHECK_EQ_INT(evo_scene3d_reset(s3, 1, 1), 0);
-	evo_core_bot(&s3->core, 0, &v);
-	CHECK(strcmp(v.name, "b") == 0);
-	CHECK_EQ_INT(v.team, 2);
-	CHECK(NEAR(v.start[0], 1) && NEAR(v.start[1], 2));
-	CHECK(fabs(v.now[0] - 1) < 1e-3 && fabs(v.now[1] - 2) < 1e-3);
+	v = &s3->core.bot[0];
+	CHECK(strcmp(v->name, "b") == 0);
+	CHECK_EQ_INT(v->team, 2);
+	CHECK(NEAR(v->start[0], 1) && NEAR(v->start[1], 2));
+	CHECK(fabs(v->pos[0] - 1) < 1e-3 && fabs(v->pos[1] - 2) < 1e-3);
 	evo_scene3d_destroy(s3);
 }
 
@@ -282,6 +275,6 @@ int main(void)
 	RUN(teams_3d);
 	RUN(bots_alike);
 	RUN(bots_refused_alike);
-	RUN(view_reads_the_bot);
+	RUN(bot_keeps_start_and_pose);
 	return test_summary();
 }
