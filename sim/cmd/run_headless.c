@@ -67,20 +67,12 @@ int evo_run_trace_close(trace_file *t, int keep, evo_err *err)
 	return 0;
 }
 
-/* 1 when the scene can deliver objects: it has a Collect reward. */
-static int delivers(const evo_scene *sc)
+/* 1 when the scene has a reward of kind k (a Collect makes deliveries,
+ * a Gather gatherings). */
+static int has_reward(const evo_scene_core *c, evo_reward_kind k)
 {
-	for (int i = 0; i < sc->n_rewards; i++)
-		if (sc->reward[i].def.kind == EVO_RW_COLLECT)
-			return 1;
-	return 0;
-}
-
-/* 1 when the scene has a reward of kind k. */
-static int has_reward(const evo_scene *sc, evo_reward_kind k)
-{
-	for (int i = 0; i < sc->n_rewards; i++)
-		if (sc->reward[i].def.kind == k)
+	for (int i = 0; i < c->n_rewards; i++)
+		if (c->reward[i].def.kind == k)
 			return 1;
 	return 0;
 }
@@ -144,43 +136,30 @@ static int print_outcome(evo_sim *s, evo_err *err)
  * every team's counts. */
 int evo_run_print_episode(evo_sim *s, long e, long t, evo_err *err)
 {
-	if (s->scene3d) {
-		int collisions = 0;
-		for (int a = 0; a < s->n_agents; a++)
-			collisions += evo_sim_collisions(s, a);
-		printf("episode %ld: reward %.6f over %ld ticks, %d "
-		       "collision ticks",
-		       e, evo_sim_episode_reward(s), t, collisions);
-		print_metrics(s);
-		if (print_outcome(s, err))
-			return -1;
-		printf("\n");
-		if (evo_sim_fault(s)[0])
-			printf("  fault: %s\n", evo_sim_fault(s));
-		print_teams(s);
-		fflush(stdout);
-		return 0;
-	}
 	/* the agents' counts: the one agent's, or every team's */
+	const evo_scene_core *c = s->core;
 	int collisions = 0, delivered = 0, gathered = 0;
 	for (int a = 0; a < s->n_agents; a++) {
-		const evo_bot *b = &s->scene->bot[s->agent[a].bot];
+		const evo_bot *b = &c->bot[s->agent[a].bot];
 		collisions += b->collisions;
 		delivered += b->delivered;
 		gathered += b->gathered;
 	}
 	printf("episode %ld: reward %.6f over %ld ticks, %d collision "
 	       "ticks",
-	       e, s->scene->episode_reward, t, collisions);
-	/* deliveries only where a Collect reward can make them */
-	if (delivers(s->scene))
+	       e, c->episode_reward, t, collisions);
+	/* deliveries and gatherings only where a reward can make them (2D's
+	 * Collect and Gather) */
+	if (has_reward(c, EVO_RW_COLLECT))
 		printf(", %d delivered", delivered);
-	if (has_reward(s->scene, EVO_RW_GATHER))
+	if (has_reward(c, EVO_RW_GATHER))
 		printf(", %d gathered", gathered);
 	print_metrics(s);
 	if (print_outcome(s, err))
 		return -1;
 	printf("\n");
+	if (c->fault[0]) /* a body that exploded (3D) */
+		printf("  fault: %s\n", c->fault);
 	print_teams(s);
 	fflush(stdout);
 	return 0;

@@ -334,7 +334,7 @@ int evo_run_screenshot_headless(evo_sim *s, const run_opts *o, uint64_t seed,
 	if (rc == 0)
 		printf("saved %s (tick %ld, drawn without a window)\n",
 		       o->screenshot,
-		       s->scene3d ? s->scene3d->tick : s->scene->tick);
+		       s->core->tick);
 	if (rc == 0 && evo_run_print_episode(s, 1, t, err))
 		return -1;
 	return rc;

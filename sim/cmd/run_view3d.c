@@ -87,7 +87,7 @@ int evo_run_viewer3d(evo_sim *s, evo_view3d *v, const run_opts *o,
 				follow = 0;
 			else if (a == EVO_VIEW_SCREENSHOT) {
 				const char *path =
-				    evo_run_shot_path(s->scene3d->tick);
+				    evo_run_shot_path(s->core->tick);
 				evo_run_shot_said(
 				    evo_view3d_screenshot(v, path, err), path,
 				    err);
@@ -117,7 +117,7 @@ int evo_run_viewer3d(evo_sim *s, evo_view3d *v, const run_opts *o,
 			if (evo_view3d_screenshot(v, o->screenshot, err))
 				return -1;
 			printf("saved %s (tick %ld)\n", o->screenshot,
-			       s->scene3d->tick);
+			       s->core->tick);
 			return 0;
 		}
 		evo_run_pace(&next, speed);
