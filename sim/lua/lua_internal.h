@@ -344,8 +344,8 @@ extern const evo_lua_dim evo_lua_dim3d;
 	}                                                                     \
 	static int find(const evo_lua *l, const char *name, int element)      \
 	{                                                                     \
-		return element ? SCENE##_find_element(l->SC, name)            \
-			       : SCENE##_find_bot(l->SC, name);               \
+		return element ? evo_scene_find_element(l->SC, name)          \
+			       : evo_scene_find_bot(l->SC, name);             \
 	}                                                                     \
 	static const char *bot(const evo_lua *l, int i, int *team)           \
 	{                                                                     \

@@ -28,6 +28,7 @@ void evo_core_free(evo_scene_core *c)
 		free(c->bot[i].actuator);
 	}
 	free(c->bot);
+	free(c->element);
 	free(c->reward);
 	free(c->control);
 	evo_swarm_free(&c->swarm);

@@ -1,9 +1,9 @@
-/* evo — what a scene of either dimension keeps beside its elements
+/* evo — what a scene of either dimension keeps beside its obstacles
  * (docs/architecture.md, "Where the layout is going", step 4): its physics
  * through the backend interface, its bots (scene/bot.h, added by
- * evo_core_add_bot below), the episode's figures (tick, step and
- * episode reward, what each team was paid, the winner, the fault that
- * ended it), its rewards and controls, metrics, hooks, swarm, randomness
+ * evo_core_add_bot below) and elements (scene/element.h), the episode's
+ * figures (tick, step and episode reward, what each team was paid, the
+ * winner, the fault that ended it), its rewards and controls, metrics, hooks, swarm, randomness
  * and error; with the functions that keep them, written once: the adds of
  * rewards and controls with their checks, the metrics, the reset of the
  * figures, paying the rewards, and the bots seen alike in both worlds
@@ -28,6 +28,7 @@
 #include "base/rng.h"
 #include "scene/backend.h"
 #include "scene/bot.h"
+#include "scene/element.h"
 #include "scene/kinds.h"
 #include "scene/scoring.h"
 #include "scene/swarm.h"
@@ -44,6 +45,9 @@ typedef struct evo_scene_dim evo_scene_dim;
 	/* the bots (scene/bot.h), added by evo_core_add_bot */                \
 	evo_bot *bot;                                                          \
 	int cap_bots;                                                          \
+	/* the elements (scene/element.h), stored by evo_element_store */      \
+	evo_element *element;                                                  \
+	int cap_elements;                                                      \
 	long tick;	    /* ticks since the reset */                        \
 	evo_rng rng;	    /* the episode's randomness (RANDOM sensors) */    \
 	uint64_t grid_seed; /* the last reset's: episode obstacles */          \
@@ -128,13 +132,18 @@ struct evo_scene_dim {
 	void (*arena)(const evo_scene_core *c, double box[4]);
 };
 
+/* A scene's (2D, 3D, or its core's) element or bot by name; -1 when
+ * absent (scene/store.h). */
+#define evo_scene_find_element(s, k) EVO_FIND(s, element, evo_element, k)
+#define evo_scene_find_bot(s, k)     EVO_FIND(s, bot, evo_bot, k)
+
 /* A new core: its backend and world, its dimension, the rng seeded with 1,
  * no winner. */
 void evo_core_init(evo_scene_core *c, const evo_backend *be, evo_bworld *bw,
 		   const evo_scene_dim *dim);
-/* Free what the core owns: the bots with their sensors and actuators,
- * the rewards, controls and swarm (not the world: its scene's, which it
- * frees after). */
+/* Free what the core owns: the bots with their sensors and actuators, the
+ * elements, the rewards, controls and swarm (not the world: its scene's,
+ * which it frees after). */
 void evo_core_free(evo_scene_core *c);
 
 /* Add a reward or control after the checks of both dimensions and the

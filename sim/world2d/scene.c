@@ -34,7 +34,6 @@ void evo_scene_destroy(evo_scene *sc)
 	if (!sc)
 		return;
 	evo_core_free(&sc->core);
-	free(sc->element);
 	free(sc->object);
 	free(sc->obstacle);
 	free(sc->body_owner);

@@ -139,9 +139,8 @@ struct evo_scene {
 	/* The same world as Box2D's own API sees it, for what is 2D only
 	 * outside world2d/ (the viewer, the Lua bot binding, the tests). */
 	evo_world *world;
-	int n_obstacles; /* the bots, n_bots and n_elements are the core's */
-	int cap_elements, cap_obstacles;
-	evo_element *element;
+	int n_obstacles; /* the bots and elements are the core's */
+	int cap_obstacles;
 	int n_objects, cap_objects;
 	int *object; /* the element indices of the objects, in order */
 	evo_obstacle *obstacle; /* every static obstacle: elements', grid's */
@@ -192,9 +191,8 @@ int evo_scene_add_wall(evo_scene *sc, double x1, double y1, double x2,
  * when the value is not finite (the metric keeps its value). */
 #define evo_scene_set_metric(sc, k, v) evo_core_set_metric(&(sc)->core, k, v)
 
-/* Lookups by name; -1 when absent. */
-#define evo_scene_find_element(s, k)	EVO_FIND(s, element, evo_element, k)
-#define evo_scene_find_bot(s, k)	EVO_FIND(s, bot, evo_bot, k)
+/* Lookups by name; -1 when absent (elements and bots: scene/core.h's
+ * evo_scene_find_element and evo_scene_find_bot, for either world). */
 #define evo_scene_find_metric(sc, name) evo_core_find_metric(&(sc)->core, name)
 
 /* ---- the episode and the tick (step.c) -------------------------------- */

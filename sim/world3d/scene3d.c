@@ -125,7 +125,6 @@ void evo_scene3d_destroy(evo_scene3d *sc)
 	if (sc->bw)
 		sc->be->destroy(sc->bw);
 	evo_core_free(&sc->core);
-	free(sc->element);
 	free(sc->obstacle);
 	free(sc);
 }

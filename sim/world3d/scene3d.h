@@ -114,10 +114,9 @@ typedef struct evo_scene3d {
 	/* The same world as ODE's own API sees it, for the 3D view and the
 	 * tests. */
 	evo_world3d *world;
-	int n_obstacles; /* the bots, n_bots and n_elements are the core's */
+	int n_obstacles; /* the bots and elements are the core's */
 	int n_fixed_obstacles; /* the elements'; the episode's follow */
-	int cap_elements, cap_obstacles;
-	evo_element *element;
+	int cap_obstacles;
 	evo_obstacle3d *obstacle;
 } evo_scene3d;
 
@@ -151,9 +150,9 @@ int evo_scene3d_add_actuator(evo_scene3d *sc, int bot,
  * or -1 with sc->err set. */
 int evo_scene3d_add_episode_obstacle(evo_scene3d *sc, const evo_obstacle3d *o);
 
-/* Lookups by name; -1 when absent (scene/store.h). */
-#define evo_scene3d_find_element(s, k) EVO_FIND(s, element, evo_element, k)
-#define evo_scene3d_find_bot(s, k)     EVO_FIND(s, bot, evo_bot, k)
+/* Lookups by name: scene/core.h's evo_scene_find_element and
+ * evo_scene_find_bot, and evo_bot_find_sensor and evo_bot_find_actuator
+ * (scene/bot.h), for either world. */
 
 /* Start an episode: a new world with every element and bot where it
  * starts, neutral commands, rewards and controls cleared, the episode's
