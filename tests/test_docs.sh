@@ -10,6 +10,8 @@
 #       <!-- example: environment -->  Envs/DocExample.lua in a copy of
 #           minds/Avoid, run headless for two short episodes (so its init,
 #           reset and hooks all run);
+#       <!-- example: 3D environment -->  the same in a copy of
+#           minds/Wheeled3D (DEMO3DSIM, its trained Avoid3D skill);
 #       <!-- example: bot model -->    Bots/DocBot.lua, with a mind folder
 #           whose botdesc names the model's sensors and actuators, checked
 #           by `evo check` (which builds the scene);
@@ -96,6 +98,14 @@ avoid_copy() {
 	rm -rf "$tmp/Avoid" && cp -r minds/Avoid "$tmp/"
 	printf 'TYPE:DEMOSIM\nBOTMODEL:BotType8\nMASTERSKILL:Avoid\nENV:%s\n' \
 		"$1" >"$tmp/Avoid/Tasks/T.simbatch"
+}
+
+# A copy of minds/Wheeled3D with task T.simbatch running 3D environment ENV.
+wheeled3d_copy() {
+	rm -rf "$tmp/Wheeled3D" && cp -r minds/Wheeled3D "$tmp/"
+	mkdir -p "$tmp/Wheeled3D/Envs"
+	printf 'TYPE:DEMO3DSIM\nBOTMODEL:Wheeled3D\nMASTERSKILL:Avoid3D\nENV:%s\n' \
+		"$1" >"$tmp/Wheeled3D/Tasks/T.simbatch"
 }
 
 # A mind folder Doc whose botdesc lists the sensors and actuators the bot
@@ -283,12 +293,21 @@ while read -r file line info mark block; do
 		cp "$tmp/out" "$tmp/last.out"
 		last_file=$file
 		result $rc "$where" "the environment example failed"
+	elif [ "$mark" = example:_3D_environment ]; then
+		wheeled3d_copy DocExample
+		cp "$block" "$tmp/Wheeled3D/Envs/DocExample.lua"
+		timeout -k 5 120 "$evo" run "$tmp/Wheeled3D/Tasks/T.simbatch" \
+			--headless --episodes 2 --ticks 300 >"$tmp/out" 2>&1
+		rc=$?
+		cp "$tmp/out" "$tmp/last.out"
+		last_file=$file
+		result $rc "$where" "the 3D environment example failed"
 	elif [ "$mark" = example:_bot_model ]; then
 		doc_mind "$block"
 		timeout -k 5 120 "$evo" check "$tmp/Doc/Tasks/T.simbatch" >"$tmp/out" 2>&1
 		result $? "$where" "the bot model example failed"
 	else
-		result 1 "$where" "a lua example needs <!-- example: environment --> or <!-- example: bot model --> before it"
+		result 1 "$where" "a lua example needs <!-- example: environment -->, <!-- example: 3D environment --> or <!-- example: bot model --> before it"
 	fi
 done <"$tmp/examples"
 
