@@ -14,6 +14,8 @@
 #ifndef EVO_SCENE_ACTUATOR_H
 #define EVO_SCENE_ACTUATOR_H
 
+#include <math.h>
+
 #include "base/err.h"
 #include "scene/kinds.h"
 #include "scene/store.h"
@@ -57,6 +59,13 @@ typedef struct evo_actuator_def {
 	int torque_mode;
 	double max_rate, max_torque;
 } evo_actuator_def;
+
+/* A command as every actuator of either world reads it: into [0, 1],
+ * and one that is not a number neutral (0.5) rather than full reverse. */
+static inline double evo_command01(double c)
+{
+	return isnan(c) ? 0.5 : c < 0 ? 0 : c > 1 ? 1 : c;
+}
 
 /* The defaults of every field above, for a kind of either world. */
 evo_actuator_def evo_default_actuator_def(evo_act_kind kind);

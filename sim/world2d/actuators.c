@@ -17,9 +17,7 @@
  * pushes with no force rather than full reverse. */
 static void wheel(evo_scene *sc, const evo_bot *b, const evo_actuator *a)
 {
-	double c = a->command;
-	c = isnan(c) ? 0.5 : c < 0 ? 0 : c > 1 ? 1 : c;
-	double f = (2 * c - 1) * a->def.max_force;
+	double f = (2 * evo_command01(a->command) - 1) * a->def.max_force;
 	if (f == 0)
 		return;
 	double wx = b->x + b->c * a->def.x - b->s * a->def.y;
@@ -32,16 +30,10 @@ static void wheel(evo_scene *sc, const evo_bot *b, const evo_actuator *a)
 			       (const double[3]){wx, wy, 0}, 0);
 }
 
-/* A command into [0, 1]; not a number is neutral. */
-static double command01(double c)
-{
-	return isnan(c) ? 0.5 : c < 0 ? 0 : c > 1 ? 1 : c;
-}
-
 /* A speed wheel's or drive's speed for this step (a->speed). */
 static void set_speed(evo_actuator *a)
 {
-	double u = 2 * command01(a->command) - 1;
+	double u = 2 * evo_command01(a->command) - 1;
 	const evo_actuator_def *d = &a->def;
 	if (d->kind == EVO_ACT_SPEED_WHEEL || d->accel <= 0) {
 		a->speed = u * d->max_speed;

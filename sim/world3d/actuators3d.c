@@ -1,25 +1,17 @@
 /* The 3D actuators (sim/world3d/scene3d.h): wheels on hinges, driven by a
  * target rate or a torque, and propellers that push along an axis; and
  * the forces of the water or air a bot moves in (buoyancy, drag). A
- * command of 0.5 is neutral everywhere: (2c - 1) times the maximum. */
+ * command of 0.5 is neutral everywhere: (2c - 1) times the maximum, c
+ * clamped into [0, 1] as in 2D (evo_command01). */
 #include <math.h>
 
 #include "world3d/scene3d.h"
 #include "world3d/scene3d_internal.h"
 
-static double signed_command(double c)
-{
-	if (!(c >= 0)) /* NaN too */
-		c = 0.5;
-	if (c > 1)
-		c = 1;
-	return 2 * c - 1;
-}
-
 static void act(evo_scene3d *sc, int bot, const evo_actuator *a)
 {
 	const evo_bot *b = &sc->bot[bot];
-	double u = signed_command(a->command);
+	double u = 2 * evo_command01(a->command) - 1;
 	if (a->def.kind == EVO_ACT_BROADCAST)
 		return; /* heard through its command */
 	if (a->def.kind == EVO_ACT_WHEEL) {

@@ -1,8 +1,9 @@
 /* The one actuator of both worlds (sim/scene/actuator.h): a propeller's
  * axis is made unit when it is added, and its thrust moves a weightless
- * bot by F / m per second, worked out by hand; a kind of the other world
- * and a name used twice are refused with the same words in both; an
- * unnamed actuator is named as its world names it. */
+ * bot by F / m per second, worked out by hand, a command below 0 as 0
+ * (full reverse) and one not a number as 0.5 (none), as in 2D; a kind
+ * of the other world and a name used twice are refused with the same
+ * words in both; an unnamed actuator is named as its world names it. */
 #include <math.h>
 #include <string.h>
 
@@ -40,6 +41,17 @@ TEST(a_propellers_thrust_is_f_over_m_along_its_unit_axis)
 	CHECK(fabs(sc->bot[0].v[0] - 0.1) < 1e-9);
 	CHECK(fabs(sc->bot[0].v[1] - 8.0 / 60) < 1e-9);
 	CHECK(fabs(sc->bot[0].v[2]) < 1e-12);
+	/* a command below 0 is full reverse, as in 2D (clamped into
+	 * [0, 1]); one that is not a number is neutral */
+	double commands[] = {-3, NAN}, want[] = {-1, 0};
+	for (int k = 0; k < 2; k++) {
+		CHECK(evo_scene3d_reset(sc, 1, 1) == 0);
+		sc->bot[0].actuator[0].command = commands[k];
+		evo_scene3d_sense(sc);
+		CHECK(evo_scene3d_step(sc) == 0);
+		CHECK(fabs(sc->bot[0].v[0] - want[k] * 0.1) < 1e-9);
+		CHECK(fabs(sc->bot[0].v[1] - want[k] * 8.0 / 60) < 1e-9);
+	}
 	evo_scene3d_destroy(sc);
 }
 
