@@ -1,5 +1,5 @@
-/* evo — the actuators of a bot (sim/world2d/scene.h): wheels push, claws grab and
- * let go. evo_scene_step calls evo_actuator_act on each one before the
+/* evo — the actuators of a bot (sim/world2d/scene.h): wheels push, claws grab
+ * and let go. evo_scene_step calls evo_actuator_act on each one before the
  * physics steps; a command is in [0, 1] and 0.5 is neutral. */
 #include "world2d/actuators.h"
 
@@ -90,7 +90,7 @@ static void claw_grab(evo_scene *sc, int bot, evo_actuator *a)
 	double ux = b->c * a->dir_c - b->s * a->dir_s;
 	double uy = b->s * a->dir_c + b->c * a->dir_s;
 	int k = evo_scene_object_in_reach(sc, px, py, ux, uy, a->def.reach,
-				CLAW_ARC);
+					  CLAW_ARC);
 	if (k < 0)
 		return;
 	evo_element *e = &sc->element[k];
