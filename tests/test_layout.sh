@@ -189,24 +189,6 @@ if [ -z "$rows" ]; then pass; else
 	fail "kinds given methods of their own around sim/scene/kinds.c's rows: $(echo $rows)"; fi
 [ ! -f sim/lua/lua_scene3d.c ] && pass || fail "sim/lua/lua_scene3d.c is back: one binding serves both scenes"
 
-# One sensor for both worlds (step 4): evo_sensor_def and evo_sensor are
-# sim/scene/sensor.h's alone, with kinds.h's evo_sense_kind; no world
-# defines a sensor struct or kind enum of its own.
-defs=$(grep -rl --include='*.h' --include='*.c' \
-	-e 'struct evo_sensor\(_def\)\? {' -e 'struct evo_sensor3d' \
-	-e 'enum evo_sensor\(3d\)\?_kind' sim | grep -v '^sim/scene/sensor.h$')
-if [ -z "$defs" ]; then pass; else
-	fail "sensor structs or kinds outside sim/scene/sensor.h and kinds.h: $(echo $defs)"; fi
-
-# One actuator for both worlds (step 4): evo_actuator_def and evo_actuator
-# are sim/scene/actuator.h's alone, with kinds.h's evo_act_kind; no world
-# defines an actuator struct or kind enum of its own.
-defs=$(grep -rl --include='*.h' --include='*.c' \
-	-e 'struct evo_actuator\(_def\)\? {' -e 'struct evo_actuator3d' \
-	-e 'enum evo_actuator\(3d\)\?_kind' sim | grep -v '^sim/scene/actuator.h$')
-if [ -z "$defs" ]; then pass; else
-	fail "actuator structs or kinds outside sim/scene/actuator.h and kinds.h: $(echo $defs)"; fi
-
 # One scoring for both scenes (step 3): the reward, control, metric and
 # hook types are scoring.h's alone; no file but scoring.c chooses a reward
 # or control function by its kind; both steps hand the tick's rewards and
@@ -228,22 +210,23 @@ own=$(grep -l 'strcmp(' sim/world2d/scene.c sim/world3d/scene3d.c)
 if [ -z "$own" ]; then pass; else
 	fail "scene storage comparing names around sim/scene/store.c: $(echo $own)"; fi
 
-# One bot for both worlds (step 4): evo_bot and evo_bot_def are
-# sim/scene/bot.h's alone, and 3D's own evo_bot3d is gone.
-defs=$(grep -rl --include='*.h' 'typedef struct evo_bot\(_def\)\? {' sim |
-	grep -v '^sim/scene/bot.h$')
-if [ -z "$defs" ]; then pass; else
-	fail "a bot struct outside sim/scene/bot.h: $(echo $defs)"; fi
-old=$(grep -rlw --exclude=test_layout.sh 'evo_bot3d\|evo_bot3d_def' sim tests bench docs)
-if [ -z "$old" ]; then pass; else
-	fail "3D's own bot struct is back: $(echo $old)"; fi
-# One element for both scenes (step 4): evo_element_def and evo_element are
-# sim/scene/element.h's alone; no 3D element struct or kind enum is back.
-defs=$(grep -rl --include='*.h' \
-	'typedef struct evo_element\(_def\)\? {\|struct evo_element3d\|EVO3D_ELEM_\|evo_element_kind' sim |
-	grep -v '^sim/scene/element.h$')
-if [ -z "$defs" ]; then pass; else
-	fail "element structs or kinds outside sim/scene/element.h: $(echo $defs)"; fi
+# One struct per piece for both worlds (step 4): evo_X_def and evo_X of
+# the sensor, actuator, element and bot are sim/scene/X.h's alone, their
+# kinds kinds.h's; no world defines one of its own, and no 3D struct or
+# kind of before (evo_X3d, EVO3D_SENSOR_...) is back anywhere.
+for part in sensor:SENSOR actuator:ACTUATOR element:ELEM bot:BOT; do
+	name=${part%:*} caps=${part#*:}
+	defs=$(grep -rl --include='*.h' --include='*.c' \
+		-e "struct evo_$name\(_def\)\? {" -e "struct evo_${name}3d" \
+		-e "enum evo_$name\(3d\)\?_kind" sim | grep -v "^sim/scene/$name.h\$")
+	if [ -z "$defs" ]; then pass; else
+		fail "$name structs or kinds outside sim/scene/$name.h and kinds.h: $(echo $defs)"; fi
+	old=$(grep -rlw --exclude=test_layout.sh \
+		-e "evo_${name}3d" -e "evo_${name}3d_def" -e "evo_${name}_kind" sim tests bench docs
+		grep -rl --exclude=test_layout.sh "EVO3D_${caps}_" sim tests bench docs)
+	if [ -z "$old" ]; then pass; else
+		fail "3D's own $name struct or kind is back: $(echo $old)"; fi
+done
 
 # Every file docs/architecture.md names exists.
 if [ -f docs/architecture.md ]; then
