@@ -18,6 +18,7 @@
 
 #include "base/err.h"
 #include "scene/kinds.h"
+#include "scene/place.h"
 #include "scene/store.h"
 #include "scene/swarm.h"
 
@@ -26,12 +27,7 @@ typedef struct evo_actuator_def {
 	const char *name; /* may be NULL */
 	/* both: where it is, in the bot's frame (2D reads x and y; in 3D the
 	 * wheel's hub, the propeller) */
-	union {
-		double pos[3];
-		struct {
-			double x, y, z;
-		};
-	};
+	EVO_POSITION;
 	/* 2D: the direction it pushes or grabs, radians from the heading */
 	double angle;
 	/* 2D wheel: force (2c - 1) * max_force along angle (80) */

@@ -26,6 +26,7 @@
 
 #include "scene/actuator.h"
 #include "scene/backend.h"
+#include "scene/place.h"
 #include "scene/sensor.h"
 #include "scene/store.h"
 
@@ -36,12 +37,7 @@ typedef struct evo_bot_def {
 	const char *name; /* both: NULL or "" for none (2D) or "botN" (3D) */
 	int team;	  /* both: -1 none; else 0 .. EVO_SCENE_MAX_TEAMS - 1 */
 	/* both: the start pose; 2D reads x, y and leaves z 0 */
-	union {
-		double pos[3];
-		struct {
-			double x, y, z;
-		};
-	};
+	EVO_POSITION;
 	double yaw;
 	/* 2D: the body, a dynamic circle: radius 1, density 2, friction
 	 * 0, damping 5 / 20, never sleeps (BotType8); its pose is pos and
@@ -79,12 +75,7 @@ typedef struct evo_bot {
 	evo_actuator *actuator; /* both: owned (scene/actuator.h) */
 	/* both: its centre after the last step or placement (2D: x, y;
 	 * z 0) */
-	union {
-		double pos[3];
-		struct {
-			double x, y, z;
-		};
-	};
+	EVO_POSITION;
 	/* 2D: its turn then, with its cosine and sine: worked out once and
 	 * read by the sensors, the actuators and the rewards of the tick
 	 * (the pose changes only there) */

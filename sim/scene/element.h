@@ -20,23 +20,16 @@
 #include "base/err.h"
 #include "scene/backend.h"
 #include "scene/kinds.h"
+#include "scene/place.h"
 #include "scene/store.h"
 
 typedef struct evo_element_def {
 	evo_piece_kind kind; /* both: EVO_PIECE_CYLINDER .. EVO_PIECE_TARGET */
 	const char *name;    /* both; may be NULL */
 	/* both: its centre (2D: x, y; 3D: pos[]) */
-	union {
-		double pos[3];
-		struct {
-			double x, y, z;
-		};
-	};
+	EVO_POSITION;
 	/* both: its turn (2D: angle, clockwise on screen; 3D: yaw) */
-	union {
-		double angle;
-		double yaw;
-	};
+	EVO_TURN;
 	/* both: 2D a cylinder's and an object's radius, a zone's half side;
 	 * 3D a cylinder's, sphere's, target's and sphere object's radius */
 	union {
@@ -76,12 +69,7 @@ typedef struct evo_element {
 	/* both: where it is. 2D: where it starts each episode (an object's
 	 * current place after each step); 3D: now (objects move; a reset
 	 * puts it back at def.pos) */
-	union {
-		double pos[3];
-		struct {
-			double x, y, z;
-		};
-	};
+	EVO_POSITION;
 	double angle; /* 2D: its turn now (def.angle, an object's moves) */
 	double size;  /* 2D: def.size */
 	union {	      /* 2D: def.half_w, def.half_h */
@@ -98,7 +86,7 @@ typedef struct evo_element {
 	int active;
 	int held_by;	  /* 2D: objects: the bot whose claw holds it, or -1 */
 	evo_body_id body; /* both: an object's body, else EVO_BODY_NONE */
-	int obstacle; /* both: a static solid's obstacle index, else -1 */
+	int obstacle;	  /* both: a static solid's obstacle index, else -1 */
 } evo_element;
 
 /* Whether kind is a static solid (a cylinder, box or sphere): an obstacle

@@ -44,6 +44,7 @@
 
 #include "base/err.h"
 #include "scene/kinds.h"
+#include "scene/place.h"
 #include "scene/store.h"
 #include "scene/swarm.h"
 
@@ -54,18 +55,10 @@ typedef struct evo_sensor_def {
 	evo_sense_kind kind; /* both: a kind of the world's (kinds.c) */
 	const char *name;    /* both; may be NULL */
 	/* both: where it sits in the bot's frame (2D: x, y; 3D: pos[]) */
-	union {
-		double pos[3];
-		struct {
-			double x, y, z;
-		};
-	};
+	EVO_POSITION;
 	/* both: which way it faces in the bot's frame (2D: angle, + to the
 	 * bot's right; 3D: yaw, + to its left), radians */
-	union {
-		double angle;
-		double yaw;
-	};
+	EVO_TURN;
 	double pitch; /* 3D: up from the horizontal, radians */
 	/* proximity, both: how far its rays reach (2D 12, 3D 3 m), the half
 	 * angle of their fan (2D 6 degrees, 3D 0) and how many (2D 9, 3D 1),
