@@ -1,4 +1,5 @@
-/* Whole numbers as a user writes them (sim/base/number.h). */
+/* Numbers from outside: whole numbers as a user writes them, figures as
+ * evo prints them, finite or not (sim/base/number.h). */
 #include "base/number.h"
 
 #include <math.h>
@@ -52,4 +53,12 @@ const char *evo_number_text(char *buf, size_t cap, double v,
 	else
 		snprintf(buf, cap, "%.6f", v);
 	return buf;
+}
+
+int evo_finite_all(const double *v, int n)
+{
+	for (int i = 0; i < n; i++)
+		if (!isfinite(v[i]))
+			return 0;
+	return 1;
 }

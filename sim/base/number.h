@@ -1,6 +1,6 @@
-/* Whole numbers as a user writes them, in a file, a message or on a
- * command line: decimal digits, with a '-' in front only where the range
- * has negatives; no '+', no space before. Unlike strtol, strtoul and
+/* Numbers from outside. Whole numbers as a user writes them, in a file, a
+ * message or on a command line: decimal digits, with a '-' in front only
+ * where the range has negatives; no '+', no space before. Unlike strtol, strtoul and
  * atoi, "-5" is no count (strtoul makes it 4294967291), 2^64 and more
  * are no wrap-round or saturation, and "12abc" is no 12. */
 #ifndef EVO_NUMBER_H
@@ -21,5 +21,9 @@ int evo_parse_whole(const char *s, const char **end, long long lo,
  * not "486.000000". */
 const char *evo_number_text(char *buf, size_t cap, double v,
 			    int whole);
+
+/* 1 when each of the n numbers at v is finite (no NaN, no infinity): the
+ * first check of a scene's piece as it is added. */
+int evo_finite_all(const double *v, int n);
 
 #endif

@@ -6,6 +6,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "base/number.h"
+
 evo_actuator_def evo_default_actuator_def(evo_act_kind kind)
 {
 	evo_actuator_def d;
@@ -29,14 +31,6 @@ evo_actuator_def evo_default_actuator_def(evo_act_kind kind)
 	return d;
 }
 
-static int finite_all(const double *v, int n)
-{
-	for (int i = 0; i < n; i++)
-		if (!isfinite(v[i]))
-			return 0;
-	return 1;
-}
-
 static int nonneg(double v)
 {
 	return v >= 0 && isfinite(v);
@@ -49,7 +43,7 @@ static int check_values(const evo_actuator_def *d, const char *name,
 	double v[] = {d->pos[0],    d->pos[1],	d->pos[2],    d->angle,
 		      d->max_force, d->reach,	d->max_speed, d->accel,
 		      d->axis[0],   d->axis[1], d->axis[2]};
-	if (!finite_all(v, (int)(sizeof v / sizeof *v)))
+	if (!evo_finite_all(v, (int)(sizeof v / sizeof *v)))
 		return evo_fail(err, "actuator '%s': a value is not a number",
 				name);
 	switch (d->kind) {

@@ -6,6 +6,8 @@
 #include <stddef.h>
 #include <string.h>
 
+#include "base/number.h"
+
 evo_element_def evo_default_element_def(evo_piece_kind kind, unsigned dim)
 {
 	evo_element_def d;
@@ -26,14 +28,6 @@ evo_element_def evo_default_element_def(evo_piece_kind kind, unsigned dim)
 	d.friction = 0.5;
 	d.sphere = 1;
 	return d;
-}
-
-static int all_finite(const double *v, int n)
-{
-	for (int i = 0; i < n; i++)
-		if (!isfinite(v[i]))
-			return 0;
-	return 1;
 }
 
 static int positive(double v)
@@ -66,7 +60,7 @@ static int check(const evo_element_def *d, unsigned dim, evo_err *err)
 				row->name, world);
 	double v[] = {d->pos[0], d->pos[1],  d->pos[2],	 d->angle,
 		      d->size,	 d->half[0], d->half[1], d->half[2]};
-	if (!all_finite(v, (int)(sizeof v / sizeof v[0])))
+	if (!evo_finite_all(v, (int)(sizeof v / sizeof v[0])))
 		return evo_fail(err, "element: a value is not a number");
 	int axes = dim == EVO_DIM_2D ? 2 : 3;
 	if (has_sides(d, dim)) {

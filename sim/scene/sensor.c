@@ -5,13 +5,7 @@
 #include <math.h>
 #include <stddef.h>
 
-static int all_finite(const double *v, int n)
-{
-	for (int i = 0; i < n; i++)
-		if (!isfinite(v[i]))
-			return 0;
-	return 1;
-}
+#include "base/number.h"
 
 /* 0 when the numbers d's kind reads are ones it can use, or -1 with err
  * set naming the sensor. */
@@ -21,7 +15,7 @@ static int check_numbers(const evo_sensor_def *d, const char *name,
 	double v[] = {d->pos[0], d->pos[1], d->pos[2], d->angle,
 		      d->pitch,	 d->range,  d->arc,    d->deadzone,
 		      d->scale,	 d->reach,  d->value};
-	if (!all_finite(v, (int)(sizeof v / sizeof v[0])))
+	if (!evo_finite_all(v, (int)(sizeof v / sizeof v[0])))
 		return evo_fail(err, "sensor '%s': a value is not a number",
 				name);
 	if (d->kind == EVO_SENSE_PROXIMITY &&

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/number.h"
 #include "world2d/scene_internal.h"
 
 evo_scene *evo_scene_create(void)
@@ -68,14 +69,6 @@ static int set_owner(evo_scene *sc, int index, int owner)
 	return 0;
 }
 
-static int finite_all(const double *v, int n)
-{
-	for (int i = 0; i < n; i++)
-		if (!isfinite(v[i]))
-			return 0;
-	return 1;
-}
-
 int evo_scene_add_obstacle(evo_scene *sc, const evo_obstacle *o)
 {
 	if (GROW(sc, obstacle, n_obstacles, cap_obstacles))
@@ -125,7 +118,7 @@ int evo_scene_add_wall(evo_scene *sc, double x1, double y1, double x2,
 		       double y2)
 {
 	double v[] = {x1, y1, x2, y2};
-	if (!finite_all(v, 4))
+	if (!evo_finite_all(v, 4))
 		return evo_fail(&sc->err, "wall: a value is not a number");
 	if (sc->n_obstacles > sc->n_fixed_obstacles)
 		return evo_fail(&sc->err,
