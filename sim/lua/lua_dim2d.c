@@ -7,7 +7,6 @@
 #include <string.h>
 
 #include "lua/lua_internal.h"
-#include "world2d/actuators.h"
 #include "world2d/sensors.h"
 
 static evo_scene *scene(lua_State *L)
@@ -357,14 +356,7 @@ static int element_active(const evo_lua *l, int e)
 
 static void set_element_active(evo_lua *l, int i, int on)
 {
-	evo_scene *sc = l->sc;
-	evo_element *e = &sc->element[i];
-	if (e->kind == EVO_PIECE_OBJECT) {
-		if (!on && e->held_by >= 0)
-			evo_bot_release(sc, e->held_by);
-		evo_body_set_enabled(sc->world, e->body, on);
-	}
-	e->active = on;
+	evo_scene_set_active(l->sc, i, on);
 }
 
 const evo_lua_dim evo_lua_dim2d = {

@@ -194,13 +194,18 @@ typedef struct evo_backend {
 			 const double hi[3], uint16_t mask, evo_shape_info *out,
 			 int cap);
 
-	/* What a body touches now: how many bodies or statics; 1 when it
-	 * touches body other, or static `obstacle` (2D). */
+	/* What a body touches now: how many bodies or statics. */
 	int (*touching)(const evo_bworld *w, evo_body_id id);
+	/* 1 when body id touches body other, or the static of index
+	 * `obstacle` (add_static's): in 2D now, in 3D in any step since
+	 * forget_touches (3D only: a scene calls it as a tick begins, so
+	 * that a touch in any of the tick's substeps counts; a world keeps
+	 * these touches only once it has been called). */
 	int (*touching_body)(const evo_bworld *w, evo_body_id id,
 			     evo_body_id other);
 	int (*touching_obstacle)(const evo_bworld *w, evo_body_id id,
 				 int obstacle);
+	void (*forget_touches)(evo_bworld *w);
 	/* 2D only: 1 when body id lies closer than its size to what its
 	 * mask takes (a kinematic body's step to undo, docs/world.md). */
 	int (*blocked)(const evo_bworld *w, evo_body_id id);

@@ -30,7 +30,8 @@
 #include "scene/sensor.h"
 #include "scene/store.h"
 
-/* ticks of positions the movement sensor spreads over (2D) */
+/* ticks of positions the movement sensor spreads over (one simulated
+ * second in either world) */
 #define EVO_DOF_HISTORY 30
 
 typedef struct evo_bot_def {
@@ -83,7 +84,8 @@ typedef struct evo_bot {
 	/* 3D: its turn (row-major, world = R body), speed and spin then */
 	double R[9], v[3], omega[3];
 	double radius; /* 2D: bounding radius */
-	/* 2D: movement, a ring of the last EVO_DOF_HISTORY positions */
+	/* both: movement, a ring of the last EVO_DOF_HISTORY positions
+	 * (x, y: the ground's plane in 3D) */
 	double hist_x[EVO_DOF_HISTORY], hist_y[EVO_DOF_HISTORY];
 	int hist_n, hist_i;
 	/* both: contacts this tick (3D: with anything but the ground,
@@ -98,5 +100,13 @@ typedef struct evo_bot {
 /* A bot's sensor or actuator by name; -1 when absent (scene/store.h). */
 #define evo_bot_find_sensor(b, k)   EVO_FIND(b, sensor, evo_sensor, k)
 #define evo_bot_find_actuator(b, k) EVO_FIND(b, actuator, evo_actuator, k)
+
+/* The ring of a bot's last places (scene/bot.c), which the movement
+ * sensor reads: emptied at a reset, b's x and y added after each tick's
+ * physics; the spread of what it holds, sqrt(var x + var y) (0 for
+ * fewer than two places). */
+void evo_bot_forget_places(evo_bot *b);
+void evo_bot_remember_place(evo_bot *b);
+double evo_bot_spread(const evo_bot *b);
 
 #endif

@@ -34,10 +34,9 @@ static const kind_row control_rows[EVO_CF_KIND_COUNT] = {
     [EVO_CF_NEXT_ON_COLLISION] = {"NextOnCollision", EVO_DIM_BOTH},
     [EVO_CF_NEXT_ON_COLLISION_AND_TIMEOUT] = {"NextOnCollisionAndTimeout",
 					      EVO_DIM_BOTH},
-    /* a contact with an element's body or obstacle: the 3D scene does
-     * not keep which obstacle an element is */
+    /* a contact with an element's body or obstacle */
     [EVO_CF_NEXT_ON_COLLISION_WITH_TARGET] = {"NextOnCollisionWithTarget",
-					      EVO_DIM_2D},
+					      EVO_DIM_BOTH},
     [EVO_CF_NEXT_ON_SENSOR_BELOW] = {"NextOnSensorBelowThreshold",
 				     EVO_DIM_BOTH},
     [EVO_CF_LUA] = {"Lua", EVO_DIM_BOTH},
@@ -218,9 +217,8 @@ static const evo_kind_row sense_rows[EVO_SENSE_KIND_COUNT] = {
 			     K("name", "x", "y", "z", "target", "scale")}},
     [EVO_SENSE_ZONE] = {"zone", EVO_DIM_BOTH, {TRACKER2, TRACKER2}},
     [EVO_SENSE_BEARING] = {"bearing", EVO_DIM_BOTH, {TRACKER2, TRACKER3}},
-    /* an element switched off (element:set_active; 3D has it too, this
-     * sensor not yet) */
-    [EVO_SENSE_PRESENCE] = {"presence", EVO_DIM_2D, {TRACKER2, NULL}},
+    /* an element switched off (element:set_active) */
+    [EVO_SENSE_PRESENCE] = {"presence", EVO_DIM_BOTH, {TRACKER2, TRACKER2}},
     /* objects carried by a claw, and Box2D's contacts and broad phase */
     [EVO_SENSE_OBJECT_DETECTOR] = {"object_detector",
 				   EVO_DIM_2D,
@@ -228,8 +226,8 @@ static const evo_kind_row sense_rows[EVO_SENSE_KIND_COUNT] = {
 				      "arc"),
 				    NULL}},
     [EVO_SENSE_MOVEMENT] = {"movement",
-			    EVO_DIM_2D,
-			    {K("name", "scale"), NULL}},
+			    EVO_DIM_BOTH,
+			    {K("name", "scale"), K("name", "scale")}},
     [EVO_SENSE_RANDOM] = {"random", EVO_DIM_BOTH, {K("name"), K("name")}},
     [EVO_SENSE_CONSTANT] = {"constant",
 			    EVO_DIM_BOTH,

@@ -212,7 +212,8 @@ static int b_step(evo_bworld *w, evo_bfault *fault)
 	return 0;
 }
 
-/* NULL: ODE's hinges. */
+/* NULL: ODE's hinges, and forget_touches (a 2D tick is one step, and
+ * Box2D's contacts are those of the last). */
 const evo_backend evo_backend_box2d = {
     .name = "Box2D",
     .dims = 2,

@@ -224,4 +224,12 @@ void evo_scene_place_bot(evo_scene *sc, int bot, double x, double y,
 			 double angle);
 void evo_scene_place_element(evo_scene *sc, int element, double x, double y);
 
+/* Switch an element on or off until the next reset (element:set_active;
+ * step.c),
+ * as evo_scene3d_set_active does in 3D: one set off is no sensor's or
+ * reward's target and no camera's blob; an object set off is dropped by
+ * a claw that held it and leaves the world (no contact, query or ray
+ * sees it). */
+void evo_scene_set_active(evo_scene *sc, int element, int on);
+
 #endif

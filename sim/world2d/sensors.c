@@ -111,41 +111,6 @@ static double sample_radar(const evo_scene *sc, int bot,
 
 /* ---- the others ------------------------------------------------------- */
 
-/* Spread of the last positions: the root of the summed variances of x
- * and y. */
-static double spread(const evo_bot *b)
-{
-	int n = b->hist_n < EVO_DOF_HISTORY ? b->hist_n : EVO_DOF_HISTORY;
-	if (n < 2)
-		return 0;
-	/* The positions from the newest back, as two runs of the ring:
-	 * hist_i - 1 down to 0, then the end of the ring down. The sums
-	 * add in this order, whichever n is. */
-	int head = b->hist_i < n ? b->hist_i : n;
-	int tail = EVO_DOF_HISTORY - (n - head);
-	double mx = 0, my = 0;
-	for (int i = b->hist_i - 1; i >= b->hist_i - head; i--) {
-		mx += b->hist_x[i];
-		my += b->hist_y[i];
-	}
-	for (int i = EVO_DOF_HISTORY - 1; i >= tail; i--) {
-		mx += b->hist_x[i];
-		my += b->hist_y[i];
-	}
-	mx /= n;
-	my /= n;
-	double v = 0;
-	for (int i = b->hist_i - 1; i >= b->hist_i - head; i--) {
-		double ex = b->hist_x[i] - mx, ey = b->hist_y[i] - my;
-		v += ex * ex + ey * ey;
-	}
-	for (int i = EVO_DOF_HISTORY - 1; i >= tail; i--) {
-		double ex = b->hist_x[i] - mx, ey = b->hist_y[i] - my;
-		v += ex * ex + ey * ey;
-	}
-	return sqrt(v / n);
-}
-
 static int holding(const evo_bot *b)
 {
 	for (int i = 0; i < b->n_actuators; i++)
@@ -279,7 +244,7 @@ static double sample(evo_scene *sc, int bot, evo_sensor *se, const sense_frame *
 		    evo_scene_object_in_reach(sc, px, py, ux, uy, d->reach, d->arc) >= 0);
 	}
 	case EVO_SENSE_MOVEMENT:
-		return clamp01(spread(b) / d->scale);
+		return clamp01(evo_bot_spread(b) / d->scale);
 	case EVO_SENSE_RANDOM:
 		return evo_rng_unit(&sc->rng);
 	case EVO_SENSE_CONSTANT:

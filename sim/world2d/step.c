@@ -1,9 +1,10 @@
 /* The 2D scene's episode and its part of the tick (sim/world2d/scene.h):
- * the reset; before the physics step every bot's actuators act, after it
- * the poses, movement history and contacts are read back. The tick's
- * order is the scene model's (sim/scene/tick.c, through dim2d.c). This is
- * the top of the 2D world: it calls the pieces below it (actuators.c,
- * grid.c, scene.c), none of which calls back. */
+ * the reset and switching elements off and on; before the physics step
+ * every bot's actuators act, after it the poses, movement history and
+ * contacts are read back. The tick's order is the scene model's
+ * (sim/scene/tick.c, through dim2d.c). This is the top of the 2D world:
+ * it calls the pieces below it (actuators.c, grid.c, scene.c), none of
+ * which calls back. */
 #include <stdint.h>
 
 #include "base/rng.h"
@@ -20,7 +21,7 @@ static void reset_bot(evo_scene *sc, int i)
 		b->actuator[k].command = b->actuator[k].previous = 0.5;
 		b->actuator[k].speed = 0;
 	}
-	b->hist_n = b->hist_i = 0;
+	evo_bot_forget_places(b);
 	b->touching = b->collisions = b->delivered = b->gathered = 0;
 	b->reward = 0;
 }
@@ -107,11 +108,7 @@ void evo_scene_read_back(evo_scene_core *c)
 	for (int i = 0; i < sc->n_bots; i++) {
 		evo_bot *b = &sc->bot[i];
 		int undone = undo_blocked_step(sc, b);
-		b->hist_x[b->hist_i] = b->x;
-		b->hist_y[b->hist_i] = b->y;
-		b->hist_i = (b->hist_i + 1) % EVO_DOF_HISTORY;
-		if (b->hist_n < EVO_DOF_HISTORY)
-			b->hist_n++;
+		evo_bot_remember_place(b);
 		b->touching = undone || sc->be->touching(sc->bw, b->body);
 		/* A held object is welded and does not collide with its
 		 * bot, so it never counts. */
@@ -128,4 +125,18 @@ void evo_scene_read_back(evo_scene_core *c)
 			e->angle = p.yaw;
 		}
 	}
+}
+
+void evo_scene_set_active(evo_scene *sc, int element, int on)
+{
+	if (element < 0 || element >= sc->n_elements)
+		return;
+	evo_element *e = &sc->element[element];
+	on = on != 0;
+	if (e->kind == EVO_PIECE_OBJECT) {
+		if (!on && e->held_by >= 0)
+			evo_bot_release(sc, e->held_by);
+		sc->be->set_enabled(sc->bw, e->body, on);
+	}
+	e->active = on;
 }

@@ -209,6 +209,30 @@ static int b_touching(const evo_bworld *w, evo_body_id id)
 					  evo_body3d_group(CW(w), id.index));
 }
 
+/* What the body's group touched since b_forget_touches. */
+static int b_touching_body(const evo_bworld *w, evo_body_id id,
+			   evo_body_id other)
+{
+	if (!body_ok(w, id) || !body_ok(w, other))
+		return 0;
+	return evo_world3d_group_touched_body(
+	    CW(w), evo_body3d_group(CW(w), id.index), other.index);
+}
+
+static int b_touching_obstacle(const evo_bworld *w, evo_body_id id,
+			       int obstacle)
+{
+	if (!body_ok(w, id))
+		return 0;
+	return evo_world3d_group_touched(
+	    CW(w), evo_body3d_group(CW(w), id.index), obstacle);
+}
+
+static void b_forget_touches(evo_bworld *w)
+{
+	evo_world3d_forget_touches(W(w));
+}
+
 static int b_step(evo_bworld *w, evo_bfault *fault)
 {
 	evo_bfault unwanted; /* fault may be NULL */
@@ -217,8 +241,8 @@ static int b_step(evo_bworld *w, evo_bfault *fault)
 
 /* NULL: what a 3D world does not do (reset: a 3D scene makes its world
  * again; bodies are never removed or asleep (set_enabled takes an object
- * set off out of the world); no welds, no broad-phase query, no static of
- * its own to touch, no kinematic body). */
+ * set off out of the world); no welds, no broad-phase query, no
+ * kinematic body). */
 const evo_backend evo_backend_ode = {
     .name = "ODE",
     .dims = 3,
@@ -241,5 +265,8 @@ const evo_backend evo_backend_ode = {
     .hinge_rate = b_hinge_rate,
     .raycast = b_raycast,
     .touching = b_touching,
+    .touching_body = b_touching_body,
+    .touching_obstacle = b_touching_obstacle,
+    .forget_touches = b_forget_touches,
     .step = b_step,
 };

@@ -164,6 +164,10 @@ double evo_sensor3d_sample(evo_scene3d *sc, int bot, int k)
 		return has && zone_holds(&sc->element[s->def.target], b->pos)
 			   ? EVO3D_TRUE
 			   : EVO3D_FALSE;
+	case EVO_SENSE_PRESENCE:
+		return has ? EVO3D_TRUE : EVO3D_FALSE;
+	case EVO_SENSE_MOVEMENT:
+		return clamp01(evo_bot_spread(b) / s->def.scale);
 	case EVO_SENSE_RANDOM:
 		return evo_rng_unit(&sc->rng);
 	case EVO_SENSE_CONSTANT:
@@ -173,9 +177,7 @@ double evo_sensor3d_sample(evo_scene3d *sc, int bot, int k)
 	case EVO_SENSE_RAB:
 	case EVO_SENSE_CAMERA:
 		return swarm(sc, bot, s);
-	case EVO_SENSE_PRESENCE: /* 2D only: refused when added */
-	case EVO_SENSE_OBJECT_DETECTOR:
-	case EVO_SENSE_MOVEMENT:
+	case EVO_SENSE_OBJECT_DETECTOR: /* 2D only: refused when added */
 	case EVO_SENSE_HOLDING:
 	case EVO_SENSE_RADAR:
 	case EVO_SENSE_BUMPER:

@@ -22,6 +22,7 @@ int evo_scene3d_reset(evo_scene3d *sc, uint64_t grid_seed,
 			b->actuator[k].command = 0.5;
 		b->touching = b->collisions = 0;
 		b->reward = 0;
+		evo_bot_forget_places(b);
 	}
 	for (int i = 0; i < sc->n_elements; i++) {
 		memcpy(sc->element[i].pos, sc->element[i].def.pos,
@@ -100,9 +101,11 @@ void evo_scene3d_read_back(evo_scene_core *c)
 {
 	evo_scene3d *sc = (evo_scene3d *)c;
 	evo_scene3d_refresh_bots(sc);
-	for (int i = 0; i < sc->n_bots; i++)
+	for (int i = 0; i < sc->n_bots; i++) {
+		evo_bot_remember_place(&sc->bot[i]);
 		if (sc->bot[i].touching)
 			sc->bot[i].collisions++;
+	}
 	for (int i = 0; i < sc->n_elements; i++) {
 		evo_element *e = &sc->element[i];
 		if (e->body.index >= 0)

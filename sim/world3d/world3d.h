@@ -157,6 +157,16 @@ int evo_world3d_step(evo_world3d *w, evo_bfault *fault);
  * another group that is not the ground. */
 int evo_world3d_group_touching(const evo_world3d *w, int group);
 
+/* Which shapes a group touched (not the ground, and not a shape of the
+ * same group) in the steps since the last evo_world3d_forget_touches: 1
+ * when group touched the static `geom` (evo_world3d_add_static's index),
+ * or a shape of body `body`. A world keeps these pairs only once
+ * evo_world3d_forget_touches has been called: a world nobody asks does
+ * not pay for them. */
+void evo_world3d_forget_touches(evo_world3d *w);
+int evo_world3d_group_touched(const evo_world3d *w, int group, int geom);
+int evo_world3d_group_touched_body(const evo_world3d *w, int group, int body);
+
 /* The nearest hit of the ray from `from` along the unit vector dir, up to
  * len, among shapes whose category is in mask and whose group is not
  * ignore_group: its distance, or -1 when nothing is within len. */

@@ -23,6 +23,11 @@ typedef struct geom_info {
 	double friction;
 } geom_info;
 
+/* Group `group` touched the shape of geom index `geom`. */
+struct touch {
+	int group, geom;
+};
+
 struct evo_world3d {
 	evo_world3d_def def;
 	dWorldID world;
@@ -42,6 +47,12 @@ struct evo_world3d {
 	dJointID *hinge;
 	int n_groups; /* touching[] covers groups 0 .. n_groups - 1 */
 	int *touching;
+	/* which shapes each group touched since evo_world3d_forget_touches:
+	 * a (group, geom index) pair once each; kept only once it has been
+	 * called (keep_touches) */
+	int keep_touches;
+	int n_touches, cap_touches;
+	struct touch *touch;
 	/* the ray cast under way */
 	double ray_best;
 	unsigned ray_mask;
@@ -189,6 +200,7 @@ void evo_world3d_destroy(evo_world3d *w)
 	free(w->body);
 	free(w->hinge);
 	free(w->touching);
+	free(w->touch);
 	free(w);
 }
 
@@ -480,6 +492,21 @@ static double mix_friction(double a, double b)
 	return a <= 0 || b <= 0 ? 0 : sqrt(a * b);
 }
 
+/* Group g touched geom k: kept once. Should memory run out, the pair is
+ * not kept, and NextOnCollisionWithTarget misses that touch. */
+static void remember_touch(evo_world3d *w, int g, int k)
+{
+	if (!w->keep_touches)
+		return;
+	for (int i = 0; i < w->n_touches; i++)
+		if (w->touch[i].group == g && w->touch[i].geom == k)
+			return;
+	if (grow((void **)&w->touch, &w->cap_touches, w->n_touches + 1,
+		 sizeof *w->touch))
+		return;
+	w->touch[w->n_touches++] = (struct touch){g, k};
+}
+
 static void near(void *data, dGeomID g1, dGeomID g2)
 {
 	evo_world3d *w = data;
@@ -506,10 +533,14 @@ static void near(void *data, dGeomID g1, dGeomID g2)
 	int ground = (a->category | b->category) & EVO_CAT3D_GROUND;
 	if (ground)
 		return;
-	if (a->group >= 0 && a->group < w->n_groups)
+	if (a->group >= 0 && a->group < w->n_groups) {
 		w->touching[a->group] += n;
-	if (b->group >= 0 && b->group < w->n_groups)
+		remember_touch(w, a->group, (int)(b - w->geom));
+	}
+	if (b->group >= 0 && b->group < w->n_groups) {
 		w->touching[b->group] += n;
+		remember_touch(w, b->group, (int)(a - w->geom));
+	}
 }
 
 /* 1 when body b has blown up, with f's kind and value set. */
@@ -567,6 +598,31 @@ int evo_world3d_step(evo_world3d *w, evo_bfault *fault)
 int evo_world3d_group_touching(const evo_world3d *w, int group)
 {
 	return group >= 0 && group < w->n_groups ? w->touching[group] : 0;
+}
+
+void evo_world3d_forget_touches(evo_world3d *w)
+{
+	w->keep_touches = 1;
+	w->n_touches = 0;
+}
+
+int evo_world3d_group_touched(const evo_world3d *w, int group, int geom)
+{
+	for (int i = 0; i < w->n_touches; i++)
+		if (w->touch[i].group == group && w->touch[i].geom == geom)
+			return 1;
+	return 0;
+}
+
+int evo_world3d_group_touched_body(const evo_world3d *w, int group, int body)
+{
+	if (body < 0 || body >= w->n_bodies)
+		return 0;
+	for (int i = 0; i < w->n_touches; i++)
+		if (w->touch[i].group == group &&
+		    dGeomGetBody(w->geom[w->touch[i].geom].g) == w->body[body])
+			return 1;
+	return 0;
 }
 
 /* ---- rays --------------------------------------------------------------- */

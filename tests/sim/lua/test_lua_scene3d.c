@@ -251,10 +251,13 @@ TEST(bad_options_and_misplaced_calls_are_refused_at_their_line)
 	    {"local b = scene:bot{} scene:reward('Collect', { bot = b })",
 	     "E.lua:2: scene:reward: reward 'Collect' is 2D only "
 	     "(docs/world3d.md)"},
-	    {"local b = scene:bot{} scene:control("
-	     "'CF_NextOnCollisionWithTarget', { bot = b })",
-	     "E.lua:2: scene:control: control 'CF_NextOnCollisionWithTarget' "
-	     "is 2D only (docs/world3d.md)"},
+	    {"local b = scene:bot{} local z = scene:zone{} scene:control("
+	     "'CF_NextOnCollisionWithTarget', { bot = b, target = z })",
+	     "E.lua:2: control NextOnCollisionWithTarget needs a solid "
+	     "element (a box, cylinder, sphere or object)"},
+	    {"local b = scene:bot{} b:object_detector{ name = 'O' }",
+	     "E.lua:2: bot:object_detector: object_detector is 2D only, and "
+	     "this is a 3D scene (docs/lua.md, \"Which world has what\")"},
 	    {"local b = scene:bot{} scene:reward('Lua', { bot = b })",
 	     "E.lua:2: scene:reward: for a reward of your own, pass a Lua "
 	     "function, not the name 'Lua'"},

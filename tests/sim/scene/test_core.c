@@ -4,8 +4,9 @@
  * the one tick of sim/scene/tick.c, with figures worked out by hand; a
  * NextOnTimeout of 3 ticks ends a 2D episode at the 4th step (the
  * tutorial's rule) and a 3D one at the 3rd; a kind of the other
- * dimension, or a team that does not exist, is refused with the same
- * words in both; a 3D scene counts its teams; a bot's sensors and
+ * dimension is refused by its name, and a team that does not exist or a
+ * NextOnCollisionWithTarget with nothing to touch with the same words in
+ * both; a 3D scene counts its teams; a bot's sensors and
  * actuators are read, written and found by name through the one evo_bot
  * (scene/bot.h) the same way in 2D and 3D; a bot is refused with the
  * same words in both (one add), and its name, team, start, pose and
@@ -118,9 +119,14 @@ static void refused_alike(void)
 	CHECK_CONTAINS(s3->err.msg, "reward Collect is 2D only");
 	evo_control_def c =
 	    evo_default_control_def(EVO_CF_NEXT_ON_COLLISION_WITH_TARGET);
+	CHECK_EQ_INT(evo_scene_add_control(s2, &c), -1);
 	CHECK_EQ_INT(evo_scene3d_add_control(s3, &c), -1);
-	CHECK_CONTAINS(s3->err.msg,
-		       "control NextOnCollisionWithTarget is 2D only");
+	CHECK_CONTAINS(
+	    s2->err.msg,
+	    "control NextOnCollisionWithTarget needs a solid element");
+	CHECK_CONTAINS(
+	    s3->err.msg,
+	    "control NextOnCollisionWithTarget needs a solid element");
 	r = evo_default_reward_def(EVO_RW_STEP);
 	r.scope = EVO_SCOPE_TEAM;
 	r.team = 12;

@@ -529,7 +529,7 @@ TEST(camera_2d_sees_the_nearest_coloured_blobs)
 }
 
 /* The same in 3D, every centre at z = 2: a sphere of radius 1 for the
- * cylinder; +y is the bot's left. */
+ * cylinder; +y is the bot's left. The sphere set off is seen no more. */
 static void camera_3d(int box)
 {
 	evo_scene3d *sc = scene3d(0);
@@ -574,6 +574,15 @@ static void camera_3d(int box)
 	for (int i = 0; i < 7; i++)
 		got[i] = sc->bot[0].sensor[s[i]].value;
 	camera_expect(got, box);
+	if (!box) {
+		/* the green sphere set off is no blob: the light is second
+		 * (bearing 0.25), there is no third (0.5), 2 seen of 4 */
+		evo_scene3d_set_active(sc, green, 0);
+		evo_scene3d_sense(sc);
+		CHECK(NEAR(sc->bot[0].sensor[s[3]].value, 0.25, 1e-9));
+		CHECK(sc->bot[0].sensor[s[5]].value == 0.5);
+		CHECK(NEAR(sc->bot[0].sensor[s[6]].value, 0.5, 1e-12));
+	}
 	evo_scene3d_destroy(sc);
 }
 
