@@ -300,7 +300,11 @@ static int add_sensor(lua_State *L, int bot, int kind, const char *what)
 	case EVO_SENSE_BEARING:
 	case EVO_SENSE_ELEVATION:
 	case EVO_SENSE_ZONE:
+	case EVO_SENSE_PRESENCE:
 		d.target = evo_lua_opt_target(L, 2, "target", what);
+		break;
+	case EVO_SENSE_MOVEMENT:
+		d.scale = num(L, 2, "scale", d.scale, what);
 		break;
 	case EVO_SENSE_CONSTANT:
 		d.value = num(L, 2, "value", 0.5, what);

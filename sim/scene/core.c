@@ -128,7 +128,19 @@ static int check_control(evo_scene_core *c, const evo_control_def *d)
 				"control %s needs a target and a threshold of "
 				"0 or more",
 				name);
-	return c->dim->check_control ? c->dim->check_control(c, d) : 0;
+	if (d->kind == EVO_CF_NEXT_ON_COLLISION_WITH_TARGET) {
+		evo_piece_kind k = d->target >= 0 && d->target < c->n_elements
+				       ? c->element[d->target].kind
+				       : EVO_PIECE_ZONE;
+		if (k != EVO_PIECE_OBJECT && !evo_element_is_solid(k))
+			return evo_fail(&c->err,
+					"control %s needs an element a bot can "
+					"touch: a cylinder, box or object (or "
+					"a 3D sphere)",
+					name);
+		c->keeps_touches = 1;
+	}
+	return 0;
 }
 
 int evo_core_add_control(evo_scene_core *c, const evo_control_def *d)

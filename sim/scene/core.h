@@ -48,6 +48,13 @@ typedef struct evo_scene_dim evo_scene_dim;
 	/* the elements (scene/element.h), stored by evo_element_store */      \
 	evo_element *element;                                                  \
 	int cap_elements;                                                      \
+	/* the backend's static index of obstacle 0 (2D: 0; 3D: set by         \
+	 * evo_scene3d_build_world): element e's is first_static +             \
+	 * e.obstacle */                                                       \
+	int first_static;                                                      \
+	/* a NextOnCollisionWithTarget asks what the bots touch: each tick     \
+	 * begins with the backend's forget_touches */                         \
+	int keeps_touches;                                                     \
 	long tick;	    /* ticks since the reset */                        \
 	evo_rng rng;	    /* the episode's randomness (RANDOM sensors) */    \
 	uint64_t grid_seed; /* the last reset's: episode obstacles */          \
@@ -96,10 +103,9 @@ struct evo_scene_dim {
 	/* 0 when target may be a reward's or control's (an element, or
 	 * what else the dimension allows), else -1 with c->err set */
 	int (*check_target)(evo_scene_core *c, int target, const char *what);
-	/* the checks of one dimension alone (a 2D Collect needs a zone);
-	 * NULL: none */
+	/* the checks of a reward in one dimension alone (a 2D Collect needs
+	 * a zone); NULL: none */
 	int (*check_reward)(evo_scene_core *c, const evo_reward_def *d);
-	int (*check_control)(evo_scene_core *c, const evo_control_def *d);
 	/* 3D's NextOnTimeout ends the episode at tick `ticks`, one tick
 	 * before 2D's (the tutorial's rule): its control keeps ticks - 1 */
 	long timeout_shift;

@@ -257,8 +257,7 @@ int evo_control_check_in(const evo_scored *s, evo_control *c)
 	}
 	/* NextOnCollisionWithTarget: the bot touches the target element. */
 	case EVO_CF_NEXT_ON_COLLISION_WITH_TARGET:
-		return b && o->touching_target &&
-		       o->touching_target(s->sc, bot, c->def.target);
+		return b && evo_core_touching(s->sc, bot, c->def.target);
 	/* NextOnSensorBelow: the sensor's last value < threshold. */
 	case EVO_CF_NEXT_ON_SENSOR_BELOW:
 		return b && c->def.sensor >= 0 &&

@@ -9,10 +9,9 @@
  *
  * Which kinds exist in which dimension is said in kinds.c's rows, and
  * nowhere else: a kind whose row lacks the scene's dimension is refused
- * when it is added, with its name. A kind only one
- * dimension has (Collect and Gather: objects carried or gathered; the
- * contact NextOnCollisionWithTarget asks for) is computed by that scene's
- * `own_reward` or `touching_target`, which the other leaves NULL. */
+ * when it is added, with its name. A kind only one dimension has
+ * (Collect and Gather: objects carried or gathered, 2D) is computed by
+ * that scene's `own_reward`, which the other leaves NULL. */
 #ifndef EVO_SCORING_H
 #define EVO_SCORING_H
 
@@ -143,9 +142,6 @@ typedef struct evo_score_ops {
 	/* the sum of (2c - 1)^2 over the commands c (clamped to [0, 1], NaN
 	 * 0.5) of the actuators that move bot */
 	double (*effort)(const void *sc, int bot);
-	/* NextOnCollisionWithTarget: bot touches the target element; NULL
-	 * in a dimension without that kind */
-	int (*touching_target)(const void *sc, int bot, int target);
 	/* the value of a kind of this dimension only (Collect, Gather); NULL
 	 * when there is none */
 	double (*own_reward)(void *sc, const evo_reward *r);
@@ -153,11 +149,14 @@ typedef struct evo_score_ops {
 
 /* What the scoring reads of a scene's core (scene/core.h; core.c and
  * view.c define them): how many bots it has, the last value of bot's
- * sensor s (NaN for none), and paying reward r's value v to whom it is
- * for (evo_scope: its bot and the bot's team, or a team; the scene's
- * total has it in any case). */
+ * sensor s (NaN for none), whether bot touched element `target` this
+ * tick (NextOnCollisionWithTarget: an object that is on, or a cylinder's,
+ * box's or sphere's obstacle, through the backend), and paying reward
+ * r's value v to whom it is for (evo_scope: its bot and the bot's team,
+ * or a team; the scene's total has it in any case). */
 int evo_core_n_bots(const void *core);
 double evo_core_sensor(const void *core, int bot, int s);
+int evo_core_touching(const void *core, int bot, int target);
 void evo_core_pay(void *core, const evo_reward *r, double v);
 
 /* The scene being scored: how to read it, the scene itself, its hooks and

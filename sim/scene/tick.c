@@ -33,6 +33,8 @@ int evo_core_step(evo_scene_core *c)
 	const evo_scene_dim *d = c->dim;
 	if (c->fault[0])
 		return 1;
+	if (c->keeps_touches && c->be->forget_touches)
+		c->be->forget_touches(c->bw);
 	if (d->begin)
 		d->begin(c);
 	int n = d->substeps ? d->substeps(c) : 1;

@@ -1,6 +1,7 @@
 /* A scene's bots as a task's simulation and the scoring read them, the
  * same in 2D and 3D (sim/scene/core.h): the sensors' last samples, the
- * actuators' commands, the sensors nothing reads. */
+ * actuators' commands, the sensors nothing reads, and what a bot
+ * touched (NextOnCollisionWithTarget). */
 #include "scene/core.h"
 
 #include <math.h>
@@ -42,4 +43,21 @@ double evo_core_sensor(const void *core, int bot, int s)
 {
 	const evo_bot *b = &((const evo_scene_core *)core)->bot[bot];
 	return s >= 0 && s < b->n_sensors ? b->sensor[s].value : NAN;
+}
+
+/* A zone or target has no body, and an object set off no contacts: they
+ * are never touched (core.c refuses them as the control's target). */
+int evo_core_touching(const void *core, int bot, int target)
+{
+	const evo_scene_core *c = core;
+	if (target < 0 || target >= c->n_elements)
+		return 0;
+	const evo_element *e = &c->element[target];
+	evo_body_id body = c->bot[bot].body;
+	if (e->kind == EVO_PIECE_OBJECT)
+		return e->active && c->be->touching_body(c->bw, body, e->body);
+	if (evo_element_is_solid(e->kind))
+		return c->be->touching_obstacle(c->bw, body,
+						c->first_static + e->obstacle);
+	return 0;
 }

@@ -33,15 +33,6 @@ static int check_reward(evo_scene_core *c, const evo_reward_def *d)
 	return 0;
 }
 
-static int check_control(evo_scene_core *c, const evo_control_def *d)
-{
-	if (d->kind == EVO_CF_NEXT_ON_COLLISION_WITH_TARGET &&
-	    (d->target < 0 || zone((evo_scene *)c, d->target)))
-		return evo_fail(&c->err, "control NextOnCollisionWithTarget "
-					 "needs a solid element");
-	return 0;
-}
-
 /* ---- the tick ------------------------------------------------------------ */
 
 static void sense(evo_scene_core *c)
@@ -100,7 +91,6 @@ const evo_scene_dim evo_scene_dim_2d = {
     .score = &evo_score_ops_2d,
     .check_target = target_ok,
     .check_reward = check_reward,
-    .check_control = check_control,
     /* the tick: one physics step, no fault (Box2D reports none) */
     .sense = sense,
     .act = evo_scene_act,

@@ -1,9 +1,8 @@
 /* evo — the 2D scene as the scene model's rewards and controls read it
  * (sim/scene/scoring.h, which computes them): its bots' contacts, motion,
  * sensors, wheels and targets, and the kinds only 2D has by their rows in
- * sim/scene/kinds.c: Collect and Gather (objects carried or gathered)
- * and NextOnCollisionWithTarget (a contact with an element's body or
- * obstacle). The scene model pays them through evo_score_ops_2d
+ * sim/scene/kinds.c: Collect and Gather (objects carried or gathered).
+ * The scene model pays them through evo_score_ops_2d
  * (scene/core.c's evo_core_score). */
 #include "world2d/rewards.h"
 
@@ -171,36 +170,11 @@ static double own_reward(void *v, const evo_reward *r)
 	return 0;
 }
 
-/* NextOnCollisionWithTarget: the bot touches the target element: an object
- * body, or a cylinder's or box's obstacle. A zone has no body and an
- * inactive object no contacts, so neither ever ends the episode. */
-static int touching_target(const void *v, int bot, int target)
-{
-	const evo_scene *sc = v;
-	const evo_bot *b = &sc->bot[bot];
-	const evo_element *e = target >= 0 && target < sc->n_elements
-				   ? &sc->element[target]
-				   : NULL;
-	if (!e)
-		return 0;
-	switch (e->kind) {
-	case EVO_PIECE_OBJECT:
-		return e->active &&
-		       sc->be->touching_body(sc->bw, b->body, e->body);
-	case EVO_PIECE_CYLINDER:
-	case EVO_PIECE_BOX:
-		return sc->be->touching_obstacle(sc->bw, b->body, e->obstacle);
-	default:
-		return 0;
-	}
-}
-
 const evo_score_ops evo_score_ops_2d = {
     .touching = touching,
     .motion = motion,
     .distance = distance,
     .effort = effort,
-    .touching_target = touching_target,
     .own_reward = own_reward,
 };
 

@@ -23,23 +23,6 @@ static int check_target(evo_scene_core *c, int target, const char *what)
 	return evo_fail(&c->err, "%s: no element %d", what, target);
 }
 
-/* NextOnCollisionWithTarget: a target a bot can touch (a box, cylinder,
- * sphere or object); the world then keeps what each bot touches. */
-static int check_control(evo_scene_core *c, const evo_control_def *d)
-{
-	evo_scene3d *sc = (evo_scene3d *)c;
-	if (d->kind != EVO_CF_NEXT_ON_COLLISION_WITH_TARGET)
-		return 0;
-	if (d->target < 0 || d->target >= sc->n_elements ||
-	    !(evo_element_is_solid(sc->element[d->target].def.kind) ||
-	      sc->element[d->target].def.kind == EVO_PIECE_OBJECT))
-		return evo_fail(&c->err, "control NextOnCollisionWithTarget "
-					 "needs a solid element (a box, "
-					 "cylinder, sphere or object)");
-	sc->keeps_touches = 1;
-	return 0;
-}
-
 /* ---- the tick ------------------------------------------------------------ */
 
 static void sense(evo_scene_core *c)
@@ -47,15 +30,12 @@ static void sense(evo_scene_core *c)
 	evo_scene3d_sense((evo_scene3d *)c);
 }
 
-/* Contacts are counted, and what was touched kept, over the tick's
- * substeps. */
+/* Contacts are counted over the tick's substeps. */
 static void begin(evo_scene_core *c)
 {
 	evo_scene3d *sc = (evo_scene3d *)c;
 	for (int i = 0; i < sc->n_bots; i++)
 		sc->bot[i].touching = 0;
-	if (sc->keeps_touches)
-		sc->be->forget_touches(sc->bw);
 }
 
 static int substeps(const evo_scene_core *c)
@@ -116,7 +96,6 @@ const evo_scene_dim evo_scene_dim_3d = {
     /* rewards and controls: how they read it, what they may name */
     .score = &evo_score_ops_3d,
     .check_target = check_target,
-    .check_control = check_control,
     .timeout_shift = 1,
     /* the tick: sensing, then before the physics */
     .sense = sense,

@@ -1,8 +1,7 @@
 /* evo — the 3D scene as the scene model's rewards and controls read it
  * (sim/scene/scoring.h, which computes them, the same as in 2D): its bots'
  * contacts, motion, sensors and motors, and the distance to an element
- * (none to one set off), and what a bot touched this tick
- * (NextOnCollisionWithTarget).
+ * (none to one set off).
  * The kinds only 2D has (Collect, Gather: objects carried) say so in
  * their rows of sim/scene/kinds.c and are refused when added. */
 #include <math.h>
@@ -44,29 +43,9 @@ static double effort(const void *v, int bot)
 	return sum;
 }
 
-/* NextOnCollisionWithTarget: the bot touched the target element in one of
- * the tick's substeps: an object that is on, or a box's, cylinder's or
- * sphere's obstacle (dim3d.c's check_control refuses other targets). */
-static int touching_target(const void *v, int bot, int target)
-{
-	const evo_scene3d *sc = v;
-	if (target < 0 || target >= sc->n_elements)
-		return 0;
-	const evo_element *e = &sc->element[target];
-	evo_body_id body = sc->bot[bot].body;
-	if (e->def.kind == EVO_PIECE_OBJECT)
-		return e->active &&
-		       sc->be->touching_body(sc->bw, body, e->body);
-	if (e->obstacle >= 0)
-		return sc->be->touching_obstacle(
-		    sc->bw, body, sc->first_static + e->obstacle);
-	return 0;
-}
-
 const evo_score_ops evo_score_ops_3d = {
     .touching = touching,
     .motion = motion,
     .distance = distance,
     .effort = effort,
-    .touching_target = touching_target,
 };

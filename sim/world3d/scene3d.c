@@ -398,7 +398,7 @@ int evo_scene3d_build_world(evo_scene3d *sc)
 		int k = add_static(sc, &sc->obstacle[i]);
 		if (k < 0)
 			return evo_fail(&sc->err, "obstacle %d: bad size", i);
-		if (i == 0)
+		if (i == 0) /* the core's: for NextOnCollisionWithTarget */
 			sc->first_static = k;
 		else if (k != sc->first_static + i)
 			return evo_fail(&sc->err, "obstacle %d: out of order",

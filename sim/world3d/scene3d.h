@@ -118,12 +118,6 @@ typedef struct evo_scene3d {
 	int n_fixed_obstacles; /* the elements'; the episode's follow */
 	int cap_obstacles;
 	evo_obstacle3d *obstacle;
-	/* the world's static index of obstacle 0; obstacle i is first_static
-	 * + i (evo_scene3d_build_world adds them in order) */
-	int first_static;
-	/* a NextOnCollisionWithTarget control asks which shapes a bot
-	 * touched: the world keeps them, each tick anew */
-	int keeps_touches;
 } evo_scene3d;
 
 evo_scene3d *evo_scene3d_create(const evo_scene3d_def *def);

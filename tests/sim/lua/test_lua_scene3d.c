@@ -28,6 +28,8 @@ static const char *const model =
     "    bot:distance{ name = 'D', scale = 10 }\n"
     "    bot:zone{ name = 'Z' }\n"
     "    bot:constant{ name = 'C', value = 0.3 }\n"
+    "    bot:presence{ name = 'PR' }\n"
+    "    bot:movement{ name = 'MV', scale = 2 }\n"
     "    bot:propeller{ name = 'M', x = -0.25, axis = { 1, 0, 0 } }\n"
     "  end,\n"
     "}\n";
@@ -103,6 +105,13 @@ TEST(sensors_built_from_lua_read_hand_worked_values)
 	CHECK(NEAR(value(sc, "P"), 1.5 / 4, 1e-6));
 	CHECK(value(sc, "Z") == EVO3D_TRUE);
 	CHECK(NEAR(value(sc, "C"), 0.3, 1e-12));
+	/* no target yet; a bot that has not moved; movement's own scale */
+	CHECK(value(sc, "PR") == EVO3D_FALSE);
+	CHECK(value(sc, "MV") == 0);
+	{
+		const evo_bot *b = &sc->bot[0];
+		CHECK(b->sensor[evo_bot_find_sensor(b, "MV")].def.scale == 2);
+	}
 	CHECK_EQ_INT(sc->n_obstacles, 2); /* the box, and reset's sphere */
 	/* episode 2: the target 3 to the left, level */
 	CHECK_EQ_INT(evo_scene3d_reset(sc, 1, 2), 0);
@@ -160,7 +169,8 @@ TEST(swarm_sensors_from_lua_read_hand_worked_values)
  * radius 0.5 at 2.25 ahead, whose near side is 1.5 from the proximity
  * ray's start at 0.25 (1.5 / 4). Episode 2's reset switches all three
  * off: the target is no one's (the distance sensor reads 1 as with no
- * target, the reward pays 0), the zone holds nothing (FALSE), the ball
+ * target, the reward pays 0), the zone holds nothing (FALSE), presence
+ * sensors on the target and the ball read FALSE, not TRUE, the ball
  * leaves the world (the ray reads clear, 1, and the ball does not fall
  * while the world steps). Episode 3 has them back: every reset switches
  * every element on. */
@@ -175,6 +185,8 @@ TEST(elements_set_off_in_3d_leave_sensors_rewards_and_the_world)
 	    "  local b = scene:bot{}\n"
 	    "  b:target('D', t)\n"
 	    "  b:target('Z', z)\n"
+	    "  b:target('PR', t)\n"
+	    "  b:presence{ name = 'PO', target = o }\n"
 	    "  scene:reward('Distance', { bot = b, target = t, k = -1 })\n"
 	    "  m = scene:metric('on')\n"
 	    "end\n"
@@ -209,6 +221,8 @@ TEST(elements_set_off_in_3d_leave_sensors_rewards_and_the_world)
 		CHECK(NEAR(sc->metric[0].value, want[ep - 1].on, 0));
 		CHECK(NEAR(value(sc, "D"), want[ep - 1].d, 1e-9));
 		CHECK(value(sc, "Z") == want[ep - 1].z);
+		CHECK(value(sc, "PR") == want[ep - 1].z); /* the target's */
+		CHECK(value(sc, "PO") == want[ep - 1].z); /* the object's */
 		CHECK(NEAR(value(sc, "P"), want[ep - 1].p, 1e-6));
 		CHECK(evo_scene3d_step(sc) >= 0);
 		CHECK(NEAR(sc->step_reward, want[ep - 1].reward, 1e-3));
@@ -253,8 +267,8 @@ TEST(bad_options_and_misplaced_calls_are_refused_at_their_line)
 	     "(docs/world3d.md)"},
 	    {"local b = scene:bot{} local z = scene:zone{} scene:control("
 	     "'CF_NextOnCollisionWithTarget', { bot = b, target = z })",
-	     "E.lua:2: control NextOnCollisionWithTarget needs a solid "
-	     "element (a box, cylinder, sphere or object)"},
+	     "E.lua:2: control NextOnCollisionWithTarget needs an element a "
+	     "bot can touch: a cylinder, box or object (or a 3D sphere)"},
 	    {"local b = scene:bot{} b:object_detector{ name = 'O' }",
 	     "E.lua:2: bot:object_detector: object_detector is 2D only, and "
 	     "this is a 3D scene (docs/lua.md, \"Which world has what\")"},

@@ -121,12 +121,10 @@ static void refused_alike(void)
 	    evo_default_control_def(EVO_CF_NEXT_ON_COLLISION_WITH_TARGET);
 	CHECK_EQ_INT(evo_scene_add_control(s2, &c), -1);
 	CHECK_EQ_INT(evo_scene3d_add_control(s3, &c), -1);
-	CHECK_CONTAINS(
-	    s2->err.msg,
-	    "control NextOnCollisionWithTarget needs a solid element");
-	CHECK_CONTAINS(
-	    s3->err.msg,
-	    "control NextOnCollisionWithTarget needs a solid element");
+	CHECK_CONTAINS(s2->err.msg, "control NextOnCollisionWithTarget needs "
+				    "an element a bot can touch");
+	CHECK_CONTAINS(s3->err.msg, "control NextOnCollisionWithTarget needs "
+				    "an element a bot can touch");
 	r = evo_default_reward_def(EVO_RW_STEP);
 	r.scope = EVO_SCOPE_TEAM;
 	r.team = 12;

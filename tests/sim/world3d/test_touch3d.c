@@ -129,10 +129,12 @@ TEST(a_target_that_cannot_be_touched_is_refused)
 	z.name = "home";
 	int zone = evo_scene3d_add_element(sc, &z);
 	CHECK_EQ_INT(control_on(sc, zone), -1);
-	CHECK_CONTAINS(sc->err.msg, "control NextOnCollisionWithTarget needs "
-				    "a solid element");
+	CHECK_CONTAINS(sc->err.msg,
+		       "control NextOnCollisionWithTarget needs an element a "
+		       "bot can touch: a cylinder, box or object (or a 3D "
+		       "sphere)");
 	CHECK_EQ_INT(control_on(sc, EVO_TARGET_NONE), -1);
-	CHECK_CONTAINS(sc->err.msg, "needs a solid element");
+	CHECK_CONTAINS(sc->err.msg, "needs an element a bot can touch");
 	evo_scene3d_destroy(sc);
 }
 
