@@ -306,6 +306,11 @@ static int add_sensor(lua_State *L, int bot, int kind, const char *what)
 	case EVO_SENSE_MOVEMENT:
 		d.scale = num(L, 2, "scale", d.scale, what);
 		break;
+	case EVO_SENSE_RADAR:
+		d.target = evo_lua_opt_target(L, 2, "target", what);
+		EVO_LUA_NUMS(L, 2, what, {"yaw", &d.yaw, EVO_LUA_DEG},
+			     {"arc", &d.arc, EVO_LUA_DEG});
+		break;
 	case EVO_SENSE_CONSTANT:
 		d.value = num(L, 2, "value", 0.5, what);
 		break;

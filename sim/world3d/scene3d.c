@@ -26,6 +26,8 @@ evo_sensor_def evo_default_sensor3d_def(evo_sense_kind kind)
 	/* a distance's 20 m; movement's spread about 1 at 1.2 m/s, the
 	 * wheeled bot's top speed (30 places 4 cm apart spread 0.35 m) */
 	d.scale = kind == EVO_SENSE_MOVEMENT ? 0.35 : 20;
+	/* a radar's slice: a quarter of the pie, as in 2D */
+	d.arc = kind == EVO_SENSE_RADAR ? 45.0 * M_PI / 180.0 : 0;
 	d.swarm = evo_default_swarm_sensor(3);
 	return d;
 }

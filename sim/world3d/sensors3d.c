@@ -166,6 +166,17 @@ double evo_sensor3d_sample(evo_scene3d *sc, int bot, int k)
 			   : EVO3D_FALSE;
 	case EVO_SENSE_PRESENCE:
 		return has ? EVO3D_TRUE : EVO3D_FALSE;
+	case EVO_SENSE_RADAR: {
+		/* the target's azimuth from the bot's heading (+ to its
+		 * left) in [yaw - arc, yaw + arc) */
+		if (!has)
+			return EVO3D_FALSE;
+		target_in_body(sc, b, s, t);
+		double delta = evo_wrap_angle(atan2(t[1], t[0]) - s->def.yaw);
+		return delta >= -s->def.arc && delta < s->def.arc
+			   ? EVO3D_TRUE
+			   : EVO3D_FALSE;
+	}
 	case EVO_SENSE_MOVEMENT:
 		return clamp01(evo_bot_spread(b) / s->def.scale);
 	case EVO_SENSE_RANDOM:
@@ -179,7 +190,6 @@ double evo_sensor3d_sample(evo_scene3d *sc, int bot, int k)
 		return swarm(sc, bot, s);
 	case EVO_SENSE_OBJECT_DETECTOR: /* 2D only: refused when added */
 	case EVO_SENSE_HOLDING:
-	case EVO_SENSE_RADAR:
 	case EVO_SENSE_BUMPER:
 	case EVO_SENSE_TARGET_SENSOR:
 	case EVO_SENSE_KIND_COUNT:

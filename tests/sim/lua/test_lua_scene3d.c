@@ -30,6 +30,7 @@ static const char *const model =
     "    bot:constant{ name = 'C', value = 0.3 }\n"
     "    bot:presence{ name = 'PR' }\n"
     "    bot:movement{ name = 'MV', scale = 2 }\n"
+    "    bot:radar{ name = 'RD', yaw = 90, arc = 30 }\n"
     "    bot:propeller{ name = 'M', x = -0.25, axis = { 1, 0, 0 } }\n"
     "  end,\n"
     "}\n";
@@ -79,8 +80,8 @@ TEST(sensors_built_from_lua_read_hand_worked_values)
 	    "  scene:box{ x = 2.25, y = 0, z = 2, hx = 0.5, hy = 0.5, hz = 0.5 "
 	    "}\n"
 	    "  local b = scene:bot{}\n"
-	    "  for _, s in ipairs{ 'AZ', 'EL', 'BR', 'D' } do b:target(s, t) "
-	    "end\n"
+	    "  for _, s in ipairs{ 'AZ', 'EL', 'BR', 'D', 'RD' } do "
+	    "b:target(s, t) end\n"
 	    "  b:target('Z', z)\n"
 	    "end\n"
 	    "function e.reset(scene, episode)\n"
@@ -102,6 +103,7 @@ TEST(sensors_built_from_lua_read_hand_worked_values)
 	CHECK(NEAR(value(sc, "EL"), 0.5 + atan2(3, 4) / M_PI, 1e-9));
 	CHECK(NEAR(value(sc, "BR"), 0.5, 1e-9));
 	CHECK(NEAR(value(sc, "D"), 0.5, 1e-9));
+	CHECK(value(sc, "RD") == EVO3D_FALSE); /* ahead: not in 60..120 */
 	CHECK(NEAR(value(sc, "P"), 1.5 / 4, 1e-6));
 	CHECK(value(sc, "Z") == EVO3D_TRUE);
 	CHECK(NEAR(value(sc, "C"), 0.3, 1e-12));
@@ -119,6 +121,7 @@ TEST(sensors_built_from_lua_read_hand_worked_values)
 	evo_scene3d_sense(sc);
 	CHECK(NEAR(value(sc, "AZ"), 0.75, 1e-9));
 	CHECK(NEAR(value(sc, "EL"), 0.5, 1e-9));
+	CHECK(value(sc, "RD") == EVO3D_TRUE); /* 90 to the left */
 	CHECK(NEAR(value(sc, "D"), 0.3, 1e-9));
 	CHECK_EQ_INT(sc->n_obstacles, 2); /* the last episode's is gone */
 	evo_lua_destroy(l);

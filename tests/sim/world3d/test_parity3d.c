@@ -3,7 +3,8 @@
  * touches its target (a box or an object), and not for a box it never
  * touches; a target a bot cannot touch is refused; the presence sensor
  * reads 0.8 for a target that is on and 0.2 for one set off or none; the
- * movement sensor reads the spread of the last 30 places over its scale.
+ * movement sensor reads the spread of the last 30 places over its scale;
+ * a radar reads TRUE for a target whose azimuth lies in its slice.
  *
  * The worked case: no gravity, a bot (half length 0.2) floating at
  * x = 0 with its front at 0.2, sent along +x at 1.5 m/s; a tick is two
@@ -175,6 +176,46 @@ TEST(movement_reads_the_spread_of_the_last_second)
 	evo_scene3d_destroy(sc);
 }
 
+/* A radar of slice [yaw - 45, yaw + 45) degrees, + to the bot's left: a
+ * target at (1, 1) is at 45 degrees, the slice's edge: in the slice
+ * about 90 (its lower end counts), not in the one about 0 (its upper end
+ * does not); at (-1, 0), 180 degrees, in the slice about 180 only. */
+TEST(radar_reads_whether_the_target_is_in_its_slice)
+{
+	evo_scene3d *sc = floating_bot();
+	evo_element_def t =
+	    evo_default_element_def(EVO_PIECE_TARGET, EVO_DIM_3D);
+	t.name = "goal";
+	t.pos[0] = 1;
+	t.pos[1] = 1;
+	t.pos[2] = 0.5;
+	int goal = evo_scene3d_add_element(sc, &t);
+	static const double yaw[3] = {0, 90, 180};
+	int k[3];
+	for (int i = 0; i < 3; i++) {
+		evo_sensor_def r = evo_default_sensor3d_def(EVO_SENSE_RADAR);
+		CHECK(NEAR(r.arc, M_PI / 4, 1e-15));
+		r.name = i == 0 ? "ahead" : i == 1 ? "left" : "behind";
+		r.yaw = yaw[i] * M_PI / 180;
+		r.target = goal;
+		k[i] = evo_scene3d_add_sensor(sc, 0, &r);
+		CHECK(k[i] >= 0);
+	}
+	CHECK_EQ_INT(evo_scene3d_reset(sc, 1, 1), 0);
+	CHECK(evo_sensor3d_sample(sc, 0, k[0]) == EVO3D_FALSE);
+	CHECK(evo_sensor3d_sample(sc, 0, k[1]) == EVO3D_TRUE);
+	CHECK(evo_sensor3d_sample(sc, 0, k[2]) == EVO3D_FALSE);
+	const double behind[3] = {-1, 0, 0.5};
+	evo_scene3d_place_element(sc, goal, behind);
+	CHECK(evo_sensor3d_sample(sc, 0, k[0]) == EVO3D_FALSE);
+	CHECK(evo_sensor3d_sample(sc, 0, k[1]) == EVO3D_FALSE);
+	CHECK(evo_sensor3d_sample(sc, 0, k[2]) == EVO3D_TRUE);
+	/* set off: no target, FALSE */
+	evo_scene3d_set_active(sc, goal, 0);
+	CHECK(evo_sensor3d_sample(sc, 0, k[2]) == EVO3D_FALSE);
+	evo_scene3d_destroy(sc);
+}
+
 int main(void)
 {
 	RUN(collision_with_a_target_box_ends_the_episode_at_first_touch);
@@ -183,5 +224,6 @@ int main(void)
 	RUN(a_target_that_cannot_be_touched_is_refused);
 	RUN(presence_reads_whether_the_target_is_on);
 	RUN(movement_reads_the_spread_of_the_last_second);
+	RUN(radar_reads_whether_the_target_is_in_its_slice);
 	return test_summary();
 }
