@@ -66,7 +66,8 @@ int main(int argc, char **argv)
 		evo_evaluator_destroy(e1);
 		return 2;
 	}
-	unsigned n_in = evo_evaluator_n_in(e1), n_out = evo_evaluator_n_out(e1);
+	const evo_eval_settings *set = evo_evaluator_settings(e1);
+	unsigned n_in = set->n_in, n_out = set->n_out;
 	size_t nw = evo_net_layered_weight_count(n_in, n_out, 0, 1);
 	double *w = malloc(nw * sizeof *w);
 	evo_netdesc *net = calloc(N_CAND, sizeof *net);
@@ -90,7 +91,7 @@ int main(int argc, char **argv)
 	if (time_batch(e1, c, f1) < 0 || time_batch(e2, c, f2) < 0)
 		goto out;
 	printf("evaluator on %s: %d candidates x %d reps x %ld ticks\n", task,
-	       N_CAND, evo_evaluator_reps(e1), evo_evaluator_ticks(e1));
+	       N_CAND, set->reps, set->ticks);
 	double best1 = 1e30, best2 = 1e30;
 	for (int k = 0; k < ROUNDS; k++) {
 		double t1 = time_batch(e1, c, f1);

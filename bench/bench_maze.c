@@ -50,7 +50,8 @@ static double rate(const char *task, long ticks, double *cpu)
 		fprintf(stderr, "bench_maze: %s\n", err.msg);
 		return -1;
 	}
-	unsigned n_in = evo_evaluator_n_in(ev), n_out = evo_evaluator_n_out(ev);
+	const evo_eval_settings *set = evo_evaluator_settings(ev);
+	unsigned n_in = set->n_in, n_out = set->n_out;
 	size_t nw = evo_net_layered_weight_count(n_in, n_out, 0, 1);
 	double *w = malloc(nw * sizeof *w);
 	evo_netdesc *net = calloc(N_CAND, sizeof *net);

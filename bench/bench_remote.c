@@ -294,7 +294,7 @@ static double one_rate(const evo_eval_def *d, int want,
 	else
 		rate = eval_rate(ev, c, res);
 	if (ev)
-		*reps = evo_evaluator_reps(ev);
+		*reps = evo_evaluator_settings(ev)->reps;
 	evo_evaluator_destroy(ev);
 	return rate;
 }

@@ -77,7 +77,7 @@ static void *own_share(void *arg)
 {
 	batch *b = arg;
 	int first, k;
-	int threads = evo_evaluator_threads(b->ev);
+	int threads = evo_evaluator_settings(b->ev)->threads;
 	while ((k = take(b, threads, &first)) > 0) {
 		evo_err e = {{0}};
 		if (evo_evaluate_part(b->ev, b->cand + first, first, k, b->gen,
@@ -111,13 +111,13 @@ static int greet(evo_cluster *c, const evo_evaluator *ev, evo_err *err)
 		*err = c->greet_err;
 		return -1;
 	}
-	c->peer[0].threads = evo_evaluator_threads(ev);
+	c->peer[0].threads = evo_evaluator_settings(ev)->threads;
 	evo_cluster_task t = {
 	    .seed = c->seed,
-	    .reps = evo_evaluator_reps(ev),
-	    .ticks = evo_evaluator_ticks(ev),
-	    .n_in = evo_evaluator_n_in(ev),
-	    .n_out = evo_evaluator_n_out(ev),
+	    .reps = evo_evaluator_settings(ev)->reps,
+	    .ticks = evo_evaluator_settings(ev)->ticks,
+	    .n_in = evo_evaluator_settings(ev)->n_in,
+	    .n_out = evo_evaluator_settings(ev)->n_out,
 	};
 	int rc = 0;
 	for (int r = 1; r < c->size; r++) {

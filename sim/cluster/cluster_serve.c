@@ -130,12 +130,12 @@ static void say_hello(const evo_evaluator *ev, const evo_eval_def *def,
 	snprintf(h.host, sizeof h.host, "%.63s", host);
 	if (ev) {
 		h.ok = 1;
-		h.threads = evo_evaluator_threads(ev);
-		h.reps = evo_evaluator_reps(ev);
-		h.ticks = evo_evaluator_ticks(ev);
+		h.threads = evo_evaluator_settings(ev)->threads;
+		h.reps = evo_evaluator_settings(ev)->reps;
+		h.ticks = evo_evaluator_settings(ev)->ticks;
 		h.seed = def->seed;
-		h.n_in = evo_evaluator_n_in(ev);
-		h.n_out = evo_evaluator_n_out(ev);
+		h.n_in = evo_evaluator_settings(ev)->n_in;
+		h.n_out = evo_evaluator_settings(ev)->n_out;
 	} else {
 		snprintf(h.msg, sizeof h.msg, "%s", err->msg);
 	}

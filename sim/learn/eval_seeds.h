@@ -39,7 +39,7 @@ struct evo_eval_result {
 	int n_behaviour;
 	double behaviour[EVO_SIM_MAX_BEHAVIOUR];
 	/* each metric's value at an episode's end, the mean over the
-	 * repetitions (evo_evaluator_n_metrics of them) */
+	 * repetitions (the settings' n_metrics of them) */
 	double metric[EVO_SCENE_MAX_METRICS];
 	/* team tasks: the team (group) it was scored in, the first when it
 	 * is in several; that team's reward summed over the repetitions;

@@ -504,34 +504,9 @@ const char *evo_evaluator_genome(const evo_evaluator *ev)
 	return ev->genome;
 }
 
-int evo_evaluator_threads(const evo_evaluator *ev)
+const evo_eval_settings *evo_evaluator_settings(const evo_evaluator *ev)
 {
-	return ev->threads;
-}
-
-int evo_evaluator_reps(const evo_evaluator *ev)
-{
-	return ev->reps;
-}
-
-long evo_evaluator_ticks(const evo_evaluator *ev)
-{
-	return ev->ticks;
-}
-
-unsigned evo_evaluator_n_in(const evo_evaluator *ev)
-{
-	return ev->n_in;
-}
-
-unsigned evo_evaluator_n_out(const evo_evaluator *ev)
-{
-	return ev->n_out;
-}
-
-int evo_evaluator_n_metrics(const evo_evaluator *ev)
-{
-	return ev->n_metrics;
+	return &ev->settings;
 }
 
 int evo_evaluator_remotes(const evo_evaluator *ev)

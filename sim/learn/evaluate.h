@@ -99,22 +99,31 @@ evo_evaluator *evo_evaluator_create(const evo_eval_def *def, evo_err *err);
 /* Stop and join the workers, free everything. NULL is allowed. */
 void evo_evaluator_destroy(evo_evaluator *ev);
 
-/* The effective settings (after defaults). */
-int evo_evaluator_threads(const evo_evaluator *ev);
-int evo_evaluator_reps(const evo_evaluator *ev);
-long evo_evaluator_ticks(const evo_evaluator *ev);
+/* What an evaluator settled on, after the defaults: its threads (the
+ * environments a batch runs on at once), the episodes of a candidate and
+ * the ticks of an episode; the learning skill's inputs and outputs, which
+ * a candidate must match; how many metrics the environment declared (0
+ * for literature tasks). The fields, once: evo_eval_settings, and the
+ * evaluator's own struct, which reads them by their names too. */
+#define EVO_EVAL_SETTINGS_FIELDS                                               \
+	int threads, reps;                                                     \
+	long ticks;                                                            \
+	unsigned n_in, n_out;                                                  \
+	int n_metrics;
 
-/* The learning skill's inputs and outputs: a candidate must match them. */
-unsigned evo_evaluator_n_in(const evo_evaluator *ev);
-unsigned evo_evaluator_n_out(const evo_evaluator *ev);
+typedef struct evo_eval_settings {
+	EVO_EVAL_SETTINGS_FIELDS
+} evo_eval_settings;
+
+/* Valid while ev lives. */
+const evo_eval_settings *evo_evaluator_settings(const evo_evaluator *ev);
 
 /* LEARNREMOTESIM: the remote simulators in use (their environments are
- * evo_evaluator_threads); 0 for an evaluator of threads. */
+ * the settings' threads); 0 for an evaluator of threads. */
 int evo_evaluator_remotes(const evo_evaluator *ev);
 
-/* The environment's metrics: how many (0 for literature tasks), and the
- * name of metric k, in the order the environment declared them. */
-int evo_evaluator_n_metrics(const evo_evaluator *ev);
+/* The name of the environment's metric k, in the order it declared
+ * them. */
 const char *evo_evaluator_metric_name(const evo_evaluator *ev, int k);
 
 /* Evaluate candidates[0 .. n-1] (not owned; read while the call runs) in

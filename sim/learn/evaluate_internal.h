@@ -43,11 +43,15 @@ typedef struct unit_result {
 struct evo_evaluator {
 	char *task_path;
 	const evo_eval_def *def; /* while evo_evaluator_create runs */
-	int threads, reps;
-	long ticks;
-	int n_metrics; /* worker 0's scene holds their names */
+	/* the settings (evaluate.h), by their own names too; worker 0's
+	 * scene holds the metrics' names */
+	union {
+		evo_eval_settings settings;
+		struct {
+			EVO_EVAL_SETTINGS_FIELDS
+		};
+	};
 	uint64_t seed;
-	unsigned n_in, n_out;
 	worker *w;
 	evo_remote_eval *remote; /* LEARNREMOTESIM: no workers */
 	evo_eval_spread spread;	 /* .evaluate NULL: none */

@@ -183,12 +183,13 @@ static int open_module(lua_State *L)
 		lua_setfield(L, -2, "success_test");
 	}
 	field_int(L, "seed", (lua_Integer)l->opts->seed);
-	field_int(L, "inputs", (lua_Integer)evo_evaluator_n_in(l->ev));
-	field_int(L, "outputs", (lua_Integer)evo_evaluator_n_out(l->ev));
+	const evo_eval_settings *set = evo_evaluator_settings(l->ev);
+	field_int(L, "inputs", (lua_Integer)set->n_in);
+	field_int(L, "outputs", (lua_Integer)set->n_out);
 	field_bool(L, "resume", l->opts->resume);
 	field_str(L, "run_dir", l->run_dir);
 	field_str(L, "skill", l->skill); /* the learning skill (nil: none) */
-	field_int(L, "reps", evo_evaluator_reps(l->ev));
+	field_int(L, "reps", set->reps);
 	/* the environment script's path, and where its require looks
 	 * (OPENENDED loads its generator, in a sandbox of its own) */
 	const char *env_path = evo_evaluator_env_path(l->ev);
@@ -204,9 +205,9 @@ static int open_module(lua_State *L)
 		evo_lua_open_guard(L, l->mem, &lim, l->task->mind->root);
 		lua_setfield(L, -2, "guard");
 	}
-	field_int(L, "ticks", (lua_Integer)evo_evaluator_ticks(l->ev));
+	field_int(L, "ticks", (lua_Integer)set->ticks);
 	/* the environment's metrics, in the order of evaluate's lists */
-	int nm = evo_evaluator_n_metrics(l->ev);
+	int nm = set->n_metrics;
 	lua_createtable(L, nm, 0);
 	for (int k = 0; k < nm; k++) {
 		lua_pushstring(L, evo_evaluator_metric_name(l->ev, k));
@@ -543,7 +544,7 @@ int evo_learn_run(const char *task_path, evo_task *task,
 		close(lock);
 		return -1;
 	}
-	int threads = evo_evaluator_threads(l.ev);
+	int threads = evo_evaluator_settings(l.ev)->threads;
 	int sims = evo_evaluator_remotes(l.ev);
 	char where[96];
 	if (sims)

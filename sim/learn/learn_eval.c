@@ -289,7 +289,7 @@ int learn_l_evaluate(lua_State *L)
 	lua_pushnumber(L, dt);
 	push_results(L, res, n, R_SOLVED);
 	push_results(L, res, n, R_COLLISIONS);
-	int nm = evo_evaluator_n_metrics(l->ev);
+	int nm = evo_evaluator_settings(l->ev)->n_metrics;
 	lua_createtable(L, n, 0);
 	for (int i = 0; i < n; i++) {
 		lua_createtable(L, nm, 0);

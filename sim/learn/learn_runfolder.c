@@ -34,7 +34,7 @@ int learn_l_open_log(lua_State *L)
 	evo_err err = {{0}};
 	l->first = (int)luaL_checkinteger(L, 1);
 	const char *names[EVO_SCENE_MAX_METRICS + 8];
-	int nm = evo_evaluator_n_metrics(l->ev);
+	int nm = evo_evaluator_settings(l->ev)->n_metrics;
 	for (int k = 0; k < nm; k++)
 		names[k] = evo_evaluator_metric_name(l->ev, k);
 	/* the loop's own columns after the environment's metrics
@@ -79,7 +79,7 @@ int learn_l_log(lua_State *L)
 	if (!l->log_open)
 		return luaL_error(L, "evo.log before evo.open_log");
 	double metrics[EVO_SCENE_MAX_METRICS + 8];
-	int nm = evo_evaluator_n_metrics(l->ev) + l->n_extra +
+	int nm = evo_evaluator_settings(l->ev)->n_metrics + l->n_extra +
 		 (evo_evaluator_n_teams(l->ev) > 0 ? 2 : 0);
 	lua_getfield(L, 1, "metrics");
 	if (nm > 0 && (!lua_istable(L, -1) || luaL_len(L, -1) != nm))

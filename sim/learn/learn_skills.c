@@ -58,8 +58,8 @@ static int remake_evaluator(lua_State *L, learn *l, const char *skill,
 	if (ranks && sp && sp->remake &&
 	    sp->remake(sp->ctx, l->ev, &l->ed, &err))
 		return learn_raise_msg(L, err.msg);
-	lua_pushinteger(L, (lua_Integer)evo_evaluator_n_in(l->ev));
-	lua_pushinteger(L, (lua_Integer)evo_evaluator_n_out(l->ev));
+	lua_pushinteger(L, (lua_Integer)evo_evaluator_settings(l->ev)->n_in);
+	lua_pushinteger(L, (lua_Integer)evo_evaluator_settings(l->ev)->n_out);
 	return 2;
 }
 

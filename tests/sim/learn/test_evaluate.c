@@ -84,13 +84,14 @@ TEST(defaults_from_the_task)
 	CHECK(ev != NULL);
 	if (!ev)
 		return;
-	CHECK(evo_evaluator_threads(ev) >= 1);
-	CHECK_EQ_INT(evo_evaluator_reps(ev), 2);     /* EVALREP:2 */
-	CHECK_EQ_INT(evo_evaluator_ticks(ev), 2000); /* TICKLIM:2000 */
-	CHECK_EQ_INT(evo_evaluator_n_in(ev), 11);
-	CHECK_EQ_INT(evo_evaluator_n_out(ev), 2);
+	CHECK(evo_evaluator_settings(ev)->threads >= 1);
+	const evo_eval_settings *set = evo_evaluator_settings(ev);
+	CHECK_EQ_INT(set->reps, 2);	/* EVALREP:2 */
+	CHECK_EQ_INT(set->ticks, 2000); /* TICKLIM:2000 */
+	CHECK_EQ_INT(evo_evaluator_settings(ev)->n_in, 11);
+	CHECK_EQ_INT(evo_evaluator_settings(ev)->n_out, 2);
 	/* EXP_Avoid reports no metrics of its own */
-	CHECK_EQ_INT(evo_evaluator_n_metrics(ev), 0);
+	CHECK_EQ_INT(evo_evaluator_settings(ev)->n_metrics, 0);
 	CHECK(evo_evaluator_metric_name(ev, 0) == NULL);
 	evo_evaluator_destroy(ev);
 }
