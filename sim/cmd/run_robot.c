@@ -41,15 +41,15 @@ static void robot_view_init(robot_view *rv, const evo_mind *m,
 	p->remote = evo_robot_conn_name(r);
 	p->period_ms = evo_robot_conn_period(r) * 1e3;
 	p->tick = -1;
-	p->n_sensors = (int)m->n_sensors;
-	p->sensor_name = rv->sensor_name;
-	p->sensor = rv->sensor;
-	p->n_actuators = (int)m->n_actuators;
-	p->actuator_name = rv->actuator_name;
-	p->actuator = rv->actuator;
-	p->n_influence = n;
-	p->influence_name = rv->skill_name;
-	p->influence = rv->influence;
+	p->sensors.n = (int)m->n_sensors;
+	p->sensors.name = rv->sensor_name;
+	p->sensors.value = rv->sensor;
+	p->actuators.n = (int)m->n_actuators;
+	p->actuators.name = rv->actuator_name;
+	p->actuators.value = rv->actuator;
+	p->influence.n = n;
+	p->influence.name = rv->skill_name;
+	p->influence.value = rv->influence;
 }
 
 /* The link's state and the counts, as they are now. */
@@ -188,7 +188,7 @@ int evo_run_robot(const evo_task *task, const run_opts *o, uint64_t seed,
 				if (trace)
 					evo_trace_tick(trace, (long)st.tick, m,
 						       qin, qout, state);
-				for (int i = 0; i < rv.p.n_influence; i++)
+				for (int i = 0; i < rv.p.influence.n; i++)
 					rv.influence[i] = evo_q16_to_double(
 					    state->influence[i]);
 				rv.p.tick = (long)st.tick;

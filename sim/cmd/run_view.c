@@ -83,9 +83,9 @@ static void panel_bot(panel_data *pd, evo_viewer_panel *p, const evo_sim *s,
 			pd->actuator_name[i] = b->actuator[i].name;
 			pd->actuator[i] = b->actuator[i].command;
 		}
-		p->n_sensors = ns;
-		p->n_actuators = na;
-		p->n_influence = 0;
+		p->sensors.n = ns;
+		p->actuators.n = na;
+		p->influence.n = 0;
 	} else {
 		/* what its mind reads and writes, in botdesc order */
 		const evo_sim_agent *ag = &s->agent[a];
@@ -100,20 +100,20 @@ static void panel_bot(panel_data *pd, evo_viewer_panel *p, const evo_sim *s,
 			pd->actuator[i] =
 			    b->actuator[tm->actuator_map[i]].command;
 		}
-		p->n_sensors = (int)m->n_sensors;
-		p->n_actuators = (int)m->n_actuators;
+		p->sensors.n = (int)m->n_sensors;
+		p->actuators.n = (int)m->n_actuators;
 		int n = m->n_skills < 256 ? (int)m->n_skills : 256;
 		for (int i = 0; i < n; i++) {
 			pd->names[i] = evo_mind_skill_name(m, (unsigned)i);
 			pd->infl[i] =
 			    evo_q16_to_double(ag->state->influence[i]);
 		}
-		p->n_influence = n;
+		p->influence.n = n;
 	}
-	p->sensor_name = pd->sensor_name;
-	p->sensor = pd->sensor;
-	p->actuator_name = pd->actuator_name;
-	p->actuator = pd->actuator;
+	p->sensors.name = pd->sensor_name;
+	p->sensors.value = pd->sensor;
+	p->actuators.name = pd->actuator_name;
+	p->actuators.value = pd->actuator;
 }
 
 static evo_viewer_panel panel_for(panel_data *pd, const evo_sim *s, long e,
@@ -130,9 +130,9 @@ static evo_viewer_panel panel_for(panel_data *pd, const evo_sim *s, long e,
 	    .episode = (int)e,
 	    .step_reward = s->scene->step_reward,
 	    .episode_reward = s->scene->episode_reward,
-	    .n_influence = n,
-	    .influence_name = pd->names,
-	    .influence = pd->infl,
+	    .influence.n = n,
+	    .influence.name = pd->names,
+	    .influence.value = pd->infl,
 	    .title = title,
 	    .following = vs->follow,
 	};

@@ -33,17 +33,23 @@
 #include "viewer/raster.h"
 #include "world2d/scene.h"
 
+/* A column of n bars, one for each name, of values in [0, 1] (clamped
+ * when drawn); either pointer may be NULL. */
+typedef struct evo_view_bars {
+	int n;
+	const char *const *name;
+	const double *value;
+} evo_view_bars;
+
 /* What the panel shows beside the world. Every pointer may be NULL. */
 typedef struct evo_viewer_panel {
 	const char *title; /* the task's name; also the window's title */
 	long tick;
 	int episode;
 	double step_reward, episode_reward;
-	/* The live influence of each skill of the hierarchy, in [0, 1]
-	 * (clamped when drawn), one bar each, named. */
-	int n_influence;
-	const char *const *influence_name;
-	const double *influence;
+	/* The live influence of each skill of the hierarchy, one bar
+	 * each, named. */
+	evo_view_bars influence;
 	double speed; /* simulated time per real time; 0 hides it */
 	int paused;
 	/* Teams (docs/teams.md): their names and rewards, listed with the
@@ -59,12 +65,7 @@ typedef struct evo_viewer_panel {
 	int bot;	      /* its index in the scene */
 	const char *bot_team; /* NULL: no team */
 	double bot_reward;
-	int n_sensors;
-	const char *const *sensor_name;
-	const double *sensor;
-	int n_actuators;
-	const char *const *actuator_name;
-	const double *actuator;
+	evo_view_bars sensors, actuators;
 	int following; /* the camera follows it (else: free) */
 	/* The path a bot took this episode (`evo run --trail`), n_trail world
 	 * points, oldest first, drawn as a line under the bots; none when 0. */
@@ -220,15 +221,7 @@ typedef struct evo_view_remote {
 	long tick;	    /* the robot's tick last answered */
 	double reward;	    /* the last sensors_t's */
 	unsigned long in_time, late, missing;
-	int n_sensors;
-	const char *const *sensor_name;
-	const double *sensor;
-	int n_actuators;
-	const char *const *actuator_name;
-	const double *actuator;
-	int n_influence;
-	const char *const *influence_name;
-	const double *influence;
+	evo_view_bars sensors, actuators, influence;
 } evo_view_remote;
 
 /* Draw the robot's frame into im (any size; rows that do not fit are left

@@ -69,9 +69,12 @@ static void title_fit(evo_raster *im, int x, int y, const char *title,
  * fit, and the rest left out with a note of how many. Returns the y
  * below the last row. */
 static int draw_bars(evo_raster *im, int x, int y, int w, int y_end,
-		     const char *title, int n, const char *const *names,
-		     const double *values, uint32_t colour, int neutral)
+		     const char *title, const evo_view_bars *bars,
+		     uint32_t colour, int neutral)
 {
+	int n = bars->n;
+	const char *const *names = bars->name;
+	const double *values = bars->value;
 	char line[64];
 	snprintf(line, sizeof line, "%s (%d)", title, n);
 	text_fit(im, x, y, line, w / EVO_FONT_CELL_W, PANEL_DIM, 1);
@@ -147,10 +150,10 @@ static int draw_selected(evo_raster *im, int x, int y, int w, int y_end,
 	y += EVO_FONT_CELL_H + 6;
 	/* sensors get two thirds of the room, actuators the rest */
 	int room = y_end - y;
-	y = draw_bars(im, x, y, w, y + room * 2 / 3, "sensors", p->n_sensors,
-		      p->sensor_name, p->sensor, EVO_VIEW_SENSOR_BAR, 0);
-	y = draw_bars(im, x, y + 4, w, y_end, "actuators", p->n_actuators,
-		      p->actuator_name, p->actuator, EVO_VIEW_ACTUATOR_BAR, 1);
+	y = draw_bars(im, x, y, w, y + room * 2 / 3, "sensors", &p->sensors,
+		      EVO_VIEW_SENSOR_BAR, 0);
+	y = draw_bars(im, x, y + 4, w, y_end, "actuators", &p->actuators,
+		      EVO_VIEW_ACTUATOR_BAR, 1);
 	return y + 4;
 }
 
@@ -222,7 +225,7 @@ static void panel_at(evo_raster *im, int x0, const evo_scene *sc,
 		y = draw_teams(im, x, y + 6, w - 24, p);
 	if (p && p->bot_name) {
 		/* the skills keep at least a third of what is left */
-		int n_sk = p->influence ? p->n_influence : 0;
+		int n_sk = p->influence.value ? p->influence.n : 0;
 		int skills_h = n_sk * (EVO_FONT_CELL_H + 4) + lh + 10;
 		int left = im->h - help_h - y;
 		if (skills_h > left / 3)
@@ -230,7 +233,7 @@ static void panel_at(evo_raster *im, int x0, const evo_scene *sc,
 		y = draw_selected(im, x, y + 6, w - 24,
 				  im->h - help_h - skills_h, p);
 	}
-	int n = p && p->influence ? p->n_influence : 0;
+	int n = p && p->influence.value ? p->influence.n : 0;
 	if (n > 0) {
 		y += 10;
 		text_fit(im, x, y, "skills", chars, PANEL_DIM, scale);
@@ -242,11 +245,11 @@ static void panel_at(evo_raster *im, int x0, const evo_scene *sc,
 		if (compact)
 			row = EVO_FONT_CELL_H + 4;
 		for (int k = 0; k < n && y + row <= im->h - help_h; k++) {
-			double v = p->influence[k];
+			double v = p->influence.value[k];
 			v = v > 1 ? 1 : v > 0 ? v : 0; /* NaN: 0 */
 			const char *name =
-			    p->influence_name && p->influence_name[k]
-				? p->influence_name[k]
+			    p->influence.name && p->influence.name[k]
+				? p->influence.name[k]
 				: "?";
 			int bar_x = x, bar_y = y + lh, bar_w = w - 24,
 			    bar_h = 9;
@@ -342,14 +345,12 @@ void evo_view_render_remote(evo_raster *im, const evo_view_remote *p)
 	int col_w = (im->w - 24 - 2 * gap) / 3;
 	int y_end = im->h - help_h;
 	if (col_w >= 40) {
-		draw_bars(im, x, y, col_w, y_end, "sensors", p->n_sensors,
-			  p->sensor_name, p->sensor, EVO_VIEW_SENSOR_BAR, 0);
+		draw_bars(im, x, y, col_w, y_end, "sensors", &p->sensors,
+			  EVO_VIEW_SENSOR_BAR, 0);
 		draw_bars(im, x + col_w + gap, y, col_w, y_end, "actuators",
-			  p->n_actuators, p->actuator_name, p->actuator,
-			  EVO_VIEW_ACTUATOR_BAR, 1);
+			  &p->actuators, EVO_VIEW_ACTUATOR_BAR, 1);
 		draw_bars(im, x + 2 * (col_w + gap), y, col_w, y_end,
-			  "skills", p->n_influence, p->influence_name,
-			  p->influence, EVO_VIEW_BAR, 0);
+			  "skills", &p->influence, EVO_VIEW_BAR, 0);
 	}
 	text_fit(im, x, im->h - help_h + 4, "q quit   s screenshot",
 		 (im->w - 24) / EVO_FONT_CELL_W, PANEL_DIM, 1);

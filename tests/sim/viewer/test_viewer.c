@@ -111,9 +111,9 @@ static evo_viewer_panel make_panel(void)
 	p.episode = 3;
 	p.step_reward = 0.125;
 	p.episode_reward = 7.5;
-	p.n_influence = 3;
-	p.influence_name = skill_names;
-	p.influence = skill_influence;
+	p.influence.n = 3;
+	p.influence.name = skill_names;
+	p.influence.value = skill_influence;
 	p.speed = 2;
 	p.paused = 1;
 	return p;
@@ -387,12 +387,12 @@ TEST(teams_are_coloured_and_the_selected_bot_shown)
 	p.bot_name = "Blue1";
 	p.bot = 1;
 	p.bot_team = "Blue";
-	p.n_sensors = 2;
-	p.sensor_name = sn;
-	p.sensor = sv;
-	p.n_actuators = 1;
-	p.actuator_name = an;
-	p.actuator = av;
+	p.sensors.n = 2;
+	p.sensors.name = sn;
+	p.sensors.value = sv;
+	p.actuators.n = 1;
+	p.actuators.name = an;
+	p.actuators.value = av;
 	evo_view_camera cam = evo_view_camera_for(sc, -1, 1, im.w, im.h);
 	evo_view_render(&im, sc, &cam, &p);
 	view v = {im.pixels, im.w, im.h};
@@ -447,15 +447,15 @@ static void render_remote(evo_raster *im, double s, double a, double k,
 	    .in_time = 1230,
 	    .late = 3,
 	    .missing = 1,
-	    .n_sensors = n_sensors,
-	    .sensor_name = names,
-	    .sensor = sv,
-	    .n_actuators = 2,
-	    .actuator_name = names,
-	    .actuator = av,
-	    .n_influence = 3,
-	    .influence_name = names,
-	    .influence = kv,
+	    .sensors.n = n_sensors,
+	    .sensors.name = names,
+	    .sensors.value = sv,
+	    .actuators.n = 2,
+	    .actuators.name = names,
+	    .actuators.value = av,
+	    .influence.n = 3,
+	    .influence.name = names,
+	    .influence.value = kv,
 	};
 	evo_view_render_remote(im, &p);
 }
