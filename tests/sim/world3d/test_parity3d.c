@@ -39,25 +39,42 @@ static evo_scene3d *floating_bot(void)
 	return sc;
 }
 
-/* A box of half side 0.1 at (x, y, 0.5): its near face at x - 0.1. */
-static int add_box(evo_scene3d *sc, const char *name, double x, double y)
+/* An element of kind at (x, y, 0.5), of half side or radius 0.1: a box's
+ * or a sphere's near side at x - 0.1. */
+static int add_piece(evo_scene3d *sc, evo_piece_kind kind, const char *name,
+		     double x, double y)
 {
-	evo_element_def e = evo_default_element_def(EVO_PIECE_BOX, EVO_DIM_3D);
+	evo_element_def e = evo_default_element_def(kind, EVO_DIM_3D);
 	e.name = name;
 	e.pos[0] = x;
 	e.pos[1] = y;
 	e.pos[2] = 0.5;
 	e.half[0] = e.half[1] = e.half[2] = 0.1;
+	e.radius = 0.1;
 	return evo_scene3d_add_element(sc, &e);
 }
 
-/* Reset, send the bot along +x at 1.5 m/s, and step until the episode
- * ends or 40 ticks pass: the tick it ended at, or 0. */
-static int ticks_to_end(evo_scene3d *sc)
+static int add_box(evo_scene3d *sc, const char *name, double x, double y)
+{
+	return add_piece(sc, EVO_PIECE_BOX, name, x, y);
+}
+
+/* The bot sent along +x at vx m/s. */
+static void send(evo_scene3d *sc, double vx)
+{
+	const double v[3] = {vx, 0, 0}, w[3] = {0, 0, 0};
+	sc->be->set_velocity(sc->bw, sc->bot[0].body, v, w);
+}
+
+/* Reset, switch element `off` off (-1: none), send the bot along +x at
+ * 1.5 m/s, and step until the episode ends or 40 ticks pass: the tick it
+ * ended at, or 0. */
+static int ticks_to_end(evo_scene3d *sc, int off)
 {
 	CHECK_EQ_INT(evo_scene3d_reset(sc, 1, 1), 0);
-	const double v[3] = {1.5, 0, 0}, w[3] = {0, 0, 0};
-	sc->be->set_velocity(sc->bw, sc->bot[0].body, v, w);
+	if (off >= 0)
+		evo_scene3d_set_active(sc, off, 0);
+	send(sc, 1.5);
 	for (int t = 1; t <= 40; t++) {
 		int r = evo_scene3d_step(sc);
 		CHECK(r >= 0);
@@ -80,7 +97,7 @@ TEST(collision_with_a_target_box_ends_the_episode_at_first_touch)
 	evo_scene3d *sc = floating_bot();
 	int box = add_box(sc, "wall", 1.01, 0);
 	CHECK_EQ_INT(control_on(sc, box), 0);
-	CHECK_EQ_INT(ticks_to_end(sc), 15);
+	CHECK_EQ_INT(ticks_to_end(sc, -1), 15);
 	/* its front then: 0.2 + 30 steps of 0.025, into the face at 0.91
 	 * by under a step and the push back */
 	CHECK(NEAR(sc->bot[0].pos[0] + 0.2, 0.95, 0.03));
@@ -93,7 +110,7 @@ TEST(a_box_never_touched_does_not_end_the_episode)
 	add_box(sc, "wall", 1.01, 0);
 	int aside = add_box(sc, "aside", 1.01, 3);
 	CHECK_EQ_INT(control_on(sc, aside), 0);
-	CHECK_EQ_INT(ticks_to_end(sc), 0);
+	CHECK_EQ_INT(ticks_to_end(sc, -1), 0);
 	/* the bot did touch the other box */
 	CHECK(sc->bot[0].collisions > 0);
 	evo_scene3d_destroy(sc);
@@ -102,33 +119,19 @@ TEST(a_box_never_touched_does_not_end_the_episode)
 TEST(collision_with_a_target_object_ends_the_episode)
 {
 	evo_scene3d *sc = floating_bot();
-	evo_element_def e =
-	    evo_default_element_def(EVO_PIECE_OBJECT, EVO_DIM_3D);
-	e.name = "ball";
-	e.pos[0] = 1.01;
-	e.pos[2] = 0.5;
-	e.radius = 0.1; /* a sphere: its near point at 0.91 */
-	int ball = evo_scene3d_add_element(sc, &e);
+	/* a sphere: its near point at 0.91 */
+	int ball = add_piece(sc, EVO_PIECE_OBJECT, "ball", 1.01, 0);
 	CHECK_EQ_INT(control_on(sc, ball), 0);
-	CHECK_EQ_INT(ticks_to_end(sc), 15);
+	CHECK_EQ_INT(ticks_to_end(sc, -1), 15);
 	/* set off, the object leaves the world: nothing to touch */
-	evo_scene3d_reset(sc, 1, 1);
-	evo_scene3d_set_active(sc, ball, 0);
-	const double v[3] = {1.5, 0, 0}, w[3] = {0, 0, 0};
-	sc->be->set_velocity(sc->bw, sc->bot[0].body, v, w);
-	int ended = 0;
-	for (int t = 1; t <= 40 && !ended; t++)
-		ended = evo_scene3d_step(sc);
-	CHECK_EQ_INT(ended, 0);
+	CHECK_EQ_INT(ticks_to_end(sc, ball), 0);
 	evo_scene3d_destroy(sc);
 }
 
 TEST(a_target_that_cannot_be_touched_is_refused)
 {
 	evo_scene3d *sc = floating_bot();
-	evo_element_def z = evo_default_element_def(EVO_PIECE_ZONE, EVO_DIM_3D);
-	z.name = "home";
-	int zone = evo_scene3d_add_element(sc, &z);
+	int zone = add_piece(sc, EVO_PIECE_ZONE, "home", 0, 0);
 	CHECK_EQ_INT(control_on(sc, zone), -1);
 	CHECK_CONTAINS(sc->err.msg,
 		       "control NextOnCollisionWithTarget needs an element a "
@@ -163,8 +166,7 @@ TEST(movement_reads_the_spread_of_the_last_second)
 	for (int t = 0; t < 35; t++)
 		CHECK_EQ_INT(evo_scene3d_step(sc), 0);
 	CHECK(NEAR(evo_sensor3d_sample(sc, 0, 1), 0, 1e-9));
-	const double v[3] = {1.2, 0, 0}, w[3] = {0, 0, 0};
-	sc->be->set_velocity(sc->bw, sc->bot[0].body, v, w);
+	send(sc, 1.2);
 	for (int t = 0; t < 35; t++)
 		CHECK_EQ_INT(evo_scene3d_step(sc), 0);
 	double want = 0.04 * sqrt((30.0 * 30.0 - 1) / 12) / 0.35;
@@ -183,13 +185,7 @@ TEST(movement_reads_the_spread_of_the_last_second)
 TEST(radar_reads_whether_the_target_is_in_its_slice)
 {
 	evo_scene3d *sc = floating_bot();
-	evo_element_def t =
-	    evo_default_element_def(EVO_PIECE_TARGET, EVO_DIM_3D);
-	t.name = "goal";
-	t.pos[0] = 1;
-	t.pos[1] = 1;
-	t.pos[2] = 0.5;
-	int goal = evo_scene3d_add_element(sc, &t);
+	int goal = add_piece(sc, EVO_PIECE_TARGET, "goal", 1, 1);
 	static const double yaw[3] = {0, 90, 180};
 	int k[3];
 	for (int i = 0; i < 3; i++) {
