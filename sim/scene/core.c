@@ -129,10 +129,12 @@ static int check_control(evo_scene_core *c, const evo_control_def *d)
 				"0 or more",
 				name);
 	if (d->kind == EVO_CF_NEXT_ON_COLLISION_WITH_TARGET) {
-		evo_piece_kind k = d->target >= 0 && d->target < c->n_elements
-				       ? c->element[d->target].kind
-				       : EVO_PIECE_ZONE;
-		if (k != EVO_PIECE_OBJECT && !evo_element_is_solid(k))
+		const evo_element *e =
+		    d->target >= 0 && d->target < c->n_elements
+			? &c->element[d->target]
+			: NULL;
+		if (!e || (e->kind != EVO_PIECE_OBJECT &&
+			   !evo_element_is_solid(e->kind)))
 			return evo_fail(&c->err,
 					"control %s needs an element a bot can "
 					"touch: a cylinder, box or object (or "
